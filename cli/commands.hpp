@@ -1,0 +1,14 @@
+// One function per top-level command; each takes the arguments after the command name and returns
+// the process exit code (or throws UsageError / dynid::Error, mapped to 2 / 1 by main).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dynid::cli {
+
+int runModel(const std::vector<std::string>& args);
+int runDynamics(const std::vector<std::string>& args);
+int runSimulate(const std::vector<std::string>& args);
+
+}  // namespace dynid::cli

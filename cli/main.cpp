@@ -1,0 +1,58 @@
+// dynid: estimate and explain the inertial parameters of robot manipulators.
+#include <exception>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+
+namespace {
+
+const char* kUsage =
+    "usage: dynid <command> [options]   (dynid <command> --help for its options)\n"
+    "\n"
+    "commands:\n"
+    "  model show|check|export  inspect a robot, check physical consistency, export URDF/JSON\n"
+    "  dynamics                 inverse dynamics, mass matrix and forward dynamics at a state\n"
+    "  simulate                 simulate a controlled robot and write a dataset CSV\n"
+    "\n"
+    "robots: --robot puma560 (built in), a .urdf file, or a dynid .json model\n"
+    "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace dynid::cli;
+  const std::vector<std::string> all(argv + 1, argv + argc);
+  if (all.empty()) {
+    std::cerr << kUsage;
+    return kExitUsage;
+  }
+  const std::string& command = all[0];
+  if (command == "--help" || command == "-h" || command == "help") {
+    std::cout << kUsage;
+    return kExitOk;
+  }
+  if (command == "--version") {
+    std::cout << "dynid " << DYNID_VERSION << "\n";
+    return kExitOk;
+  }
+  const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
+      {"model", runModel}, {"dynamics", runDynamics}, {"simulate", runSimulate}};
+  const auto it = commands.find(command);
+  if (it == commands.end()) {
+    std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;
+    return kExitUsage;
+  }
+  try {
+    return it->second(std::vector<std::string>(all.begin() + 1, all.end()));
+  } catch (const UsageError& e) {
+    std::cerr << "dynid " << command << ": " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "dynid " << command << ": error: " << e.what() << "\n";
+    return kExitError;
+  }
+}

@@ -1,0 +1,35 @@
+# dynid_add_library(NAME SOURCES... DEPS...): one library per module, exported as dynid::NAME.
+# Headers live beside the sources (core/rnea.hpp) and are included as "core/rnea.hpp"; they are
+# installed under include/dynid/<module>/.
+function(dynid_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_library(dynid_${name} ${ARG_SOURCES})
+  add_library(dynid::${name} ALIAS dynid_${name})
+  set_target_properties(dynid_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME dynid_${name}
+                                                 POSITION_INDEPENDENT_CODE ON)
+  target_include_directories(dynid_${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/dynid>)
+  target_link_libraries(dynid_${name} PUBLIC ${ARG_DEPS} PRIVATE $<BUILD_INTERFACE:dynid_warnings>)
+  install(TARGETS dynid_${name} EXPORT dynidTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynid/${name}
+          FILES_MATCHING PATTERN "*.hpp")
+endfunction()
+
+# dynid_add_test(path/to/name_test.cpp DEPS...): one GoogleTest executable per source file; the
+# test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test).
+function(dynid_add_test source)
+  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  get_filename_component(stem ${source} NAME_WE)
+  get_filename_component(dir ${source} DIRECTORY)
+  get_filename_component(module ${dir} NAME)
+  set(target ${module}_${stem})
+  add_executable(${target} ${source})
+  target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
+                                          dynid_warnings)
+  set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  include(GoogleTest)
+  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
+                       PROPERTIES ENVIRONMENT "DYNID_BIN=$<TARGET_FILE:dynid>")
+endfunction()

@@ -1,0 +1,23 @@
+// Articulated-body algorithm: forward dynamics.
+#pragma once
+
+#include "core/data.hpp"
+
+namespace dynid {
+
+/// Forward dynamics: ddq = M(q)^-1 (tau - C(q, dq) dq - g(q) - friction(dq)), with the rotor
+/// inertias Ia added to M when the model's drives are enabled. q, dq, tau have n entries each.
+/// Throws InputError on a size mismatch. A massless subtree on a joint without rotor inertia makes
+/// M singular and gives non-finite ddq. Overwrites data.liMi, data.v, data.a, data.c, data.U,
+/// data.D, data.u, data.articulated_inertia, data.bias_force, data.ddq. Returns data.ddq. Allocates
+/// nothing.
+template <typename Scalar>
+const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                           const ConstVectorRef<Scalar>& q, const ConstVectorRef<Scalar>& dq,
+                           const ConstVectorRef<Scalar>& tau);
+
+extern template const VectorX<double>& aba(const Model&, Data&, const ConstVectorRef<double>&,
+                                           const ConstVectorRef<double>&,
+                                           const ConstVectorRef<double>&);
+
+}  // namespace dynid

@@ -1,0 +1,94 @@
+#include "core/controllers.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "core/checks.hpp"
+#include "core/crba.hpp"
+#include "core/rnea.hpp"
+
+namespace dynid {
+
+namespace {
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+void evaluate(const SinusoidalReference& r, double t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
+              Eigen::VectorXd& ddq) {
+  const Eigen::Index n = r.q0.size();
+  if (r.amplitude.size() != n || r.frequency.size() != n || r.phase.size() != n)
+    throw InputError("sinusoidal reference: q0, amplitude, frequency and phase need " +
+                     std::to_string(n) + " entries each");
+  q.resize(n), dq.resize(n), ddq.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w = kTwoPi * r.frequency[i];
+    const double s = std::sin(w * t + r.phase[i]), c = std::cos(w * t + r.phase[i]);
+    q[i] = r.q0[i] + r.amplitude[i] * s;
+    dq[i] = r.amplitude[i] * w * c;
+    ddq[i] = -r.amplitude[i] * w * w * s;
+  }
+}
+
+void evaluate(const FourierReference& r, double t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
+              Eigen::VectorXd& ddq) {
+  const Eigen::Index n = r.q0.size();
+  if (r.sine.rows() != n || r.cosine.rows() != n || r.sine.cols() != r.cosine.cols())
+    throw InputError("Fourier reference: sine and cosine need " + std::to_string(n) +
+                     " rows and the same number of harmonics");
+  q = r.q0;
+  dq.setZero(n);
+  ddq.setZero(n);
+  const double w = kTwoPi * r.base_frequency;
+  for (Eigen::Index k = 1; k <= r.sine.cols(); ++k) {
+    const double wk = w * static_cast<double>(k);
+    const double s = std::sin(wk * t), c = std::cos(wk * t);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double a = r.sine(i, k - 1), b = r.cosine(i, k - 1);
+      q[i] += a / wk * s - b / wk * c;
+      dq[i] += a * c + b * s;
+      ddq[i] += -a * wk * s + b * wk * c;
+    }
+  }
+}
+}  // namespace
+
+void evaluateReference(const Reference& reference, double t, Eigen::VectorXd& q,
+                       Eigen::VectorXd& dq, Eigen::VectorXd& ddq) {
+  std::visit([&](const auto& r) { evaluate(r, t, q, dq, ddq); }, reference);
+}
+
+TrackingGains defaultGains(const Model& model, const Eigen::VectorXd& q, double bandwidth_hz,
+                           double damping) {
+  Data data(model);
+  const Eigen::VectorXd diag = crba(model, data, q).diagonal();
+  const double w = kTwoPi * bandwidth_hz;
+  return {diag * (w * w), diag * (2.0 * damping * w)};
+}
+
+TrackingController::TrackingController(const Model& model, Reference reference,
+                                       TrackingGains gains, Eigen::VectorXd torque_limit)
+    : model_(model),
+      data_(model_),
+      reference_(std::move(reference)),
+      gains_(std::move(gains)),
+      torque_limit_(std::move(torque_limit)) {
+  checkSize(model_, gains_.kp, "kp");
+  checkSize(model_, gains_.kd, "kd");
+  checkSize(model_, torque_limit_, "torque limit");
+  if ((torque_limit_.array() <= 0.0).any() || torque_limit_.hasNaN())
+    throw InputError("torque limits must be positive");
+  evaluateReference(reference_, 0.0, q_des_, dq_des_, ddq_des_);
+  checkSize(model_, q_des_, "controller reference");
+  zero_ = Eigen::VectorXd::Zero(model_.numJoints());
+}
+
+void TrackingController::compute(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                 const Eigen::Ref<const Eigen::VectorXd>& dq,
+                                 Eigen::Ref<Eigen::VectorXd> tau) {
+  evaluateReference(reference_, t, q_des_, dq_des_, ddq_des_);
+  // tau = Kp e + Kd de + g_ctrl(q), saturated.
+  const Eigen::VectorXd& gravity = rnea(model_, data_, q, zero_, zero_);
+  tau = gains_.kp.cwiseProduct(q_des_ - q) + gains_.kd.cwiseProduct(dq_des_ - dq) + gravity;
+  tau = tau.cwiseMax(-torque_limit_).cwiseMin(torque_limit_);
+}
+
+}  // namespace dynid

@@ -1,0 +1,70 @@
+// Joint-space trajectory tracking controllers that generate motion data.
+//
+// The paper's "GC sinusoidal controller" is TrackingController with a SinusoidalReference: joint i
+// tracks q0_i + A_i sin(2 pi f_i t + phi_i), each joint at its own frequency, with
+//     tau = Kp (q_des - q) + Kd (dq_des - dq) + g_ctrl(q),
+// where g_ctrl is the gravity torque computed from the controller's own model (which need not be
+// the true robot), then saturated to +-torque_limit.
+#pragma once
+
+#include <variant>
+
+#include "core/data.hpp"
+
+namespace dynid {
+
+/// q_des(t) = q0 + A sin(2 pi f t + phi), per joint. Vectors of n entries; f in Hz, A in rad.
+struct SinusoidalReference {
+  Eigen::VectorXd q0, amplitude, frequency, phase;
+};
+
+/// Finite Fourier series (Swevers et al.): with w = 2 pi base_frequency,
+///   q_des(t) = q0 + sum_k [a_k / (w k)] sin(w k t) - [b_k / (w k)] cos(w k t),  k = 1..H.
+/// sine and cosine are n x H matrices (a_k in rad/s, b_k in rad/s).
+struct FourierReference {
+  Eigen::VectorXd q0;
+  double base_frequency = 0.1;  // [Hz]
+  Eigen::MatrixXd sine, cosine;
+};
+
+using Reference = std::variant<SinusoidalReference, FourierReference>;
+
+/// Desired position, velocity and acceleration at time t [s]; each output gets n entries.
+/// Throws InputError when the reference's vectors disagree in size.
+void evaluateReference(const Reference& reference, double t, Eigen::VectorXd& q,
+                       Eigen::VectorXd& dq, Eigen::VectorXd& ddq);
+
+struct TrackingGains {
+  Eigen::VectorXd kp;  // [N m / rad]
+  Eigen::VectorXd kd;  // [N m s / rad]
+};
+
+/// Critically damped gains from the controller model's mass-matrix diagonal at q:
+/// kp_i = M_ii (2 pi bandwidth)^2, kd_i = 2 damping M_ii (2 pi bandwidth).
+TrackingGains defaultGains(const Model& model, const Eigen::VectorXd& q, double bandwidth_hz = 5.0,
+                           double damping = 1.0);
+
+class TrackingController {
+ public:
+  /// `model` is the controller's own model (copied), used for gravity feed-forward. torque_limit
+  /// has n entries (+inf for none). Throws InputError on size mismatches or non-positive limits.
+  TrackingController(const Model& model, Reference reference, TrackingGains gains,
+                     Eigen::VectorXd torque_limit);
+
+  /// Torque at time t for the measured state (q, dq), saturated; n entries written to tau.
+  void compute(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+               const Eigen::Ref<const Eigen::VectorXd>& dq, Eigen::Ref<Eigen::VectorXd> tau);
+
+  const Reference& reference() const { return reference_; }
+  int numJoints() const { return model_.numJoints(); }
+
+ private:
+  Model model_;
+  Data data_;
+  Reference reference_;
+  TrackingGains gains_;
+  Eigen::VectorXd torque_limit_;
+  Eigen::VectorXd q_des_, dq_des_, ddq_des_, zero_;
+};
+
+}  // namespace dynid

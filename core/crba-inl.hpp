@@ -1,0 +1,38 @@
+#pragma once
+
+#include "core/checks.hpp"
+#include "core/crba.hpp"
+
+namespace dynid {
+
+template <typename Scalar>
+const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                            const ConstVectorRef<Scalar>& q) {
+  checkData(model, data);
+  checkSize(model, q, "q");
+  const int n = model.numJoints();
+  for (int i = 0; i < n; ++i) {
+    data.liMi[i] = jointTransform(model, i, q[i]);
+    data.composite[i] = model.inertias[i];
+  }
+  // Composite inertias: Ic_p += pXi* Ic_i iXp.
+  for (int i = n - 1; i >= 0; --i) {
+    const int p = model.parents[i];
+    if (p >= 0) data.composite[p] += data.composite[i].transformedBy(data.liMi[i]);
+  }
+  // M_ij = S_j^T (jXi* Ic_i S_i) for every ancestor j of i; other entries are zero.
+  data.M.setZero();
+  for (int i = 0; i < n; ++i) {
+    Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces[i]);
+    data.M(i, i) = model.motion_subspaces[i].dot(F);
+    if (model.drives_enabled) data.M(i, i) += model.drives[i].rotor_inertia;
+    for (int j = i; model.parents[j] >= 0;) {
+      F = data.liMi[j].actForce(F);
+      j = model.parents[j];
+      data.M(j, i) = data.M(i, j) = model.motion_subspaces[j].dot(F);
+    }
+  }
+  return data.M;
+}
+
+}  // namespace dynid

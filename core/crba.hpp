@@ -1,0 +1,17 @@
+// Composite rigid-body algorithm: the joint-space mass matrix.
+#pragma once
+
+#include "core/data.hpp"
+
+namespace dynid {
+
+/// Mass matrix M(q) (n x n, symmetric, both triangles filled), including the rotor inertias Ia on
+/// the diagonal when the model's drives are enabled. q has n entries. Throws InputError on a size
+/// mismatch. Overwrites data.liMi, data.composite, data.M. Returns data.M. Allocates nothing.
+template <typename Scalar>
+const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                            const ConstVectorRef<Scalar>& q);
+
+extern template const MatrixX<double>& crba(const Model&, Data&, const ConstVectorRef<double>&);
+
+}  // namespace dynid

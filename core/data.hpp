@@ -1,0 +1,73 @@
+// The workspace of every algorithm: built once from a Model (`Data data(model)`), it holds every
+// result and scratch buffer, so the algorithms allocate nothing once it exists. One Data per thread;
+// the Model is shared read-only.
+#pragma once
+
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace dynid {
+
+template <typename Scalar>
+struct DataTpl {
+  explicit DataTpl(const ModelTpl<Scalar>& model);
+
+  // Kinematics (forwardKinematics, and every dynamics algorithm for liMi).
+  std::vector<Pose<Scalar>> liMi;  // body i in its parent's frame
+  std::vector<Pose<Scalar>> oMi;   // body i in the base frame (forwardKinematics only)
+
+  // Recursive algorithms: body velocity, acceleration (including -gravity at the base) and the
+  // force each body transmits to its parent, all in the body's own frame.
+  std::vector<Vector6<Scalar>> v, a, f;
+
+  VectorX<Scalar> tau;  // rnea output [N m]
+  VectorX<Scalar> ddq;  // aba output [rad/s^2]
+  MatrixX<Scalar> M;    // crba output, the joint-space mass matrix [kg m^2]
+
+  // CRBA: composite inertia of each subtree, in the subtree root's frame.
+  std::vector<RigidInertia<Scalar>> composite;
+
+  // ABA: articulated inertias and bias forces, U = IA S, D = S^T IA S (+ Ia), u, bias accel c.
+  std::vector<Matrix6<Scalar>> articulated_inertia;
+  std::vector<Vector6<Scalar>> bias_force, U, c;
+  VectorX<Scalar> D, u;
+
+  // Integrators: stage state and accumulated increments.
+  VectorX<Scalar> q_stage, dq_stage, q_increment, dq_increment;
+};
+
+using Data = DataTpl<double>;
+
+template <typename Scalar>
+DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
+  const int n = model.numJoints();
+  liMi.assign(n, Pose<Scalar>());
+  oMi.assign(n, Pose<Scalar>());
+  v.assign(n, Vector6<Scalar>::Zero());
+  a.assign(n, Vector6<Scalar>::Zero());
+  f.assign(n, Vector6<Scalar>::Zero());
+  tau = VectorX<Scalar>::Zero(n);
+  ddq = VectorX<Scalar>::Zero(n);
+  M = MatrixX<Scalar>::Zero(n, n);
+  composite.assign(n, RigidInertia<Scalar>());
+  articulated_inertia.assign(n, Matrix6<Scalar>::Zero());
+  bias_force.assign(n, Vector6<Scalar>::Zero());
+  U.assign(n, Vector6<Scalar>::Zero());
+  c.assign(n, Vector6<Scalar>::Zero());
+  D = VectorX<Scalar>::Zero(n);
+  u = VectorX<Scalar>::Zero(n);
+  q_stage = VectorX<Scalar>::Zero(n);
+  dq_stage = VectorX<Scalar>::Zero(n);
+  q_increment = VectorX<Scalar>::Zero(n);
+  dq_increment = VectorX<Scalar>::Zero(n);
+}
+
+/// Input vectors of the compiled algorithms. Scalar is deduced from the model argument only, so
+/// a VectorXd, a column of a matrix or a segment can be passed without a copy.
+template <typename Scalar>
+using ConstVectorRef = std::type_identity_t<Eigen::Ref<const VectorX<Scalar>>>;
+template <typename Scalar>
+using VectorRef = std::type_identity_t<Eigen::Ref<VectorX<Scalar>>>;
+
+}  // namespace dynid

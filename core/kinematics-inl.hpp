@@ -1,0 +1,23 @@
+#pragma once
+
+#include "core/checks.hpp"
+#include "core/kinematics.hpp"
+
+namespace dynid {
+
+template <typename Scalar>
+const std::vector<Pose<Scalar>>& forwardKinematics(const ModelTpl<Scalar>& model,
+                                                   DataTpl<Scalar>& data,
+                                                   const ConstVectorRef<Scalar>& q) {
+  checkData(model, data);
+  checkSize(model, q, "q");
+  for (int i = 0; i < model.numJoints(); ++i) {
+    // oMi = oMparent * liMi
+    data.liMi[i] = jointTransform(model, i, q[i]);
+    const int p = model.parents[i];
+    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+  }
+  return data.oMi;
+}
+
+}  // namespace dynid

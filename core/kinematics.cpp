@@ -1,0 +1,6 @@
+#include "core/kinematics-inl.hpp"
+
+namespace dynid {
+template const std::vector<Pose<double>>& forwardKinematics(const Model&, Data&,
+                                                            const ConstVectorRef<double>&);
+}  // namespace dynid

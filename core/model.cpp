@@ -1,0 +1,19 @@
+#include "core/model-inl.hpp"
+
+namespace dynid {
+
+const char* jointTypeName(JointType type) {
+  switch (type) {
+    case JointType::kRevolute:
+      return "revolute";
+    case JointType::kContinuous:
+      return "continuous";
+    case JointType::kPrismatic:
+      return "prismatic";
+  }
+  return "unknown";
+}
+
+template struct ModelTpl<double>;
+
+}  // namespace dynid

@@ -1,0 +1,184 @@
+// The kinematic tree and its parameters. A Model is built once (addBody, then finalize) and then
+// only read: algorithms take it by const reference and put every result in a Data (data.hpp).
+//
+// Bodies are numbered 0..n-1 in topological order (parent index < child index); parent -1 is the
+// fixed base. Every body has exactly one joint with one degree of freedom connecting it to its
+// parent (fixed joints are merged into the parent body by the loaders), so n bodies = n joints =
+// n entries of q, dq, ddq and tau. Joint i places body i in its parent's frame as
+//     liMi(q_i) = joint_placement_i * J(q_i) * body_placement_i
+// where J is a rotation about `axis` (revolute, continuous) or a translation along it (prismatic).
+// URDF models have body_placement = identity; standard Denavit-Hartenberg models (joint i turns about
+// z_{i-1}, frame i at the distal end) have joint_placement = identity and
+// body_placement = Tz(d) Tx(a) Rx(alpha), so each link's parameters stay in its DH frame.
+//
+// Symbols: q joint positions [rad or m], dq velocities, ddq accelerations, tau joint torques
+// [N m or N], theta the standard parameter vector (parameters.hpp).
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/parameters.hpp"
+#include "core/spatial.hpp"
+
+namespace dynid {
+
+enum class JointType { kRevolute, kContinuous, kPrismatic };
+
+/// "revolute", "continuous" or "prismatic".
+const char* jointTypeName(JointType type);
+
+struct JointLimits {
+  double lower = -std::numeric_limits<double>::infinity();  // [rad or m]
+  double upper = std::numeric_limits<double>::infinity();
+  double velocity = std::numeric_limits<double>::infinity();  // [rad/s or m/s]
+  double effort = std::numeric_limits<double>::infinity();    // [N m or N]
+};
+
+/// Joint-side drive parameters (see parameters.hpp for the friction law).
+template <typename Scalar>
+struct DriveParameters {
+  Scalar rotor_inertia = Scalar(0);  // Ia [kg m^2]
+  Scalar viscous = Scalar(0);        // Fv [N m s/rad]
+  Scalar coulomb = Scalar(0);        // Fc [N m]
+  Scalar offset = Scalar(0);         // Fo [N m]
+};
+
+/// How a joint's axis is stored, so the hot path can skip Rodrigues' formula for unit axes.
+enum class AxisKind { kX, kY, kZ, kGeneral };
+
+template <typename Scalar>
+struct ModelTpl {
+  std::string name;
+  std::vector<std::string> link_names;
+  std::vector<std::string> joint_names;
+  std::vector<int> parents;
+  std::vector<JointType> joint_types;
+  std::vector<Pose<Scalar>> joint_placements;
+  std::vector<Pose<Scalar>> body_placements;
+  std::vector<Vector3<Scalar>> axes;  // unit vectors in the joint frame
+  std::vector<RigidInertia<Scalar>> inertias;
+  std::vector<DriveParameters<Scalar>> drives;
+  std::vector<JointLimits> limits;
+  Vector3<Scalar> gravity = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));  // [m/s^2]
+  bool drives_enabled = false;   // rotor inertia and friction act (and are parameters)
+  bool offsets_enabled = false;  // Fo acts (only with drives)
+
+  // Derived by finalize(); do not set by hand.
+  std::vector<Vector6<Scalar>> motion_subspaces;  // S_i in body i's frame
+  std::vector<AxisKind> axis_kinds;
+  std::vector<char> has_joint_placement;  // 0 when identity
+  std::vector<char> has_body_placement;   // 0 when identity
+
+  int numJoints() const { return static_cast<int>(parents.size()); }
+
+  /// Appends a body and its joint; returns its index. `parent` is -1 (base) or an existing index.
+  /// Call finalize() after the last body. Throws InputError on an invalid parent.
+  int addBody(int parent, std::string link_name, std::string joint_name, JointType type,
+              const Pose<Scalar>& joint_placement, const Vector3<Scalar>& axis,
+              const Pose<Scalar>& body_placement, const RigidInertia<Scalar>& inertia,
+              const JointLimits& joint_limits = {},
+              const DriveParameters<Scalar>& drive = {});
+
+  /// Validates the model (topological order, unit axes, finite numbers) and derives the cached
+  /// fields. Throws InputError naming the body at fault.
+  void finalize();
+
+  ParameterLayout parameterLayout() const { return {numJoints(), drives_enabled, offsets_enabled}; }
+
+  /// The standard parameter vector theta (order: parameters.hpp), size parameterLayout().size().
+  VectorX<Scalar> standardParameters() const;
+  /// Sets every inertial (and drive, when enabled) parameter from theta. Throws InputError on a
+  /// size mismatch.
+  void setStandardParameters(const VectorX<Scalar>& theta);
+
+  /// The same model with every number converted to NewScalar (e.g. ceres::Jet).
+  template <typename NewScalar>
+  ModelTpl<NewScalar> cast() const;
+};
+
+using Model = ModelTpl<double>;
+
+/// The joint's own displacement J(q_i) for joint i (rotation about, or translation along, its axis).
+template <typename Scalar>
+inline Pose<Scalar> jointMotion(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
+  using std::cos;
+  using std::sin;
+  Pose<Scalar> out;
+  if (model.joint_types[i] == JointType::kPrismatic) {
+    out.translation = model.axes[i] * qi;
+    return out;
+  }
+  const Scalar s = sin(qi), c = cos(qi);
+  Matrix3<Scalar>& r = out.rotation;
+  switch (model.axis_kinds[i]) {
+    case AxisKind::kX:
+      r(1, 1) = c, r(1, 2) = -s, r(2, 1) = s, r(2, 2) = c;
+      break;
+    case AxisKind::kY:
+      r(0, 0) = c, r(0, 2) = s, r(2, 0) = -s, r(2, 2) = c;
+      break;
+    case AxisKind::kZ:
+      r(0, 0) = c, r(0, 1) = -s, r(1, 0) = s, r(1, 1) = c;
+      break;
+    case AxisKind::kGeneral: {
+      const Matrix3<Scalar> k = skew(model.axes[i]);
+      r.noalias() += s * k + (Scalar(1) - c) * (k * k);
+      break;
+    }
+  }
+  return out;
+}
+
+/// liMi(q_i): body i's frame placed in its parent's frame.
+template <typename Scalar>
+inline Pose<Scalar> jointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
+  Pose<Scalar> out = jointMotion(model, i, qi);
+  if (model.has_body_placement[i]) out = out * model.body_placements[i];
+  if (model.has_joint_placement[i]) out = model.joint_placements[i] * out;
+  return out;
+}
+
+// ---- template implementation ----
+
+template <typename Scalar>
+template <typename NewScalar>
+ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
+  ModelTpl<NewScalar> out;
+  out.name = name;
+  out.link_names = link_names;
+  out.joint_names = joint_names;
+  out.parents = parents;
+  out.joint_types = joint_types;
+  out.limits = limits;
+  out.drives_enabled = drives_enabled;
+  out.offsets_enabled = offsets_enabled;
+  out.axis_kinds = axis_kinds;
+  out.has_joint_placement = has_joint_placement;
+  out.has_body_placement = has_body_placement;
+  out.gravity = gravity.template cast<NewScalar>();
+  const int n = numJoints();
+  out.joint_placements.resize(n);
+  out.body_placements.resize(n);
+  out.axes.resize(n);
+  out.inertias.resize(n);
+  out.drives.resize(n);
+  out.motion_subspaces.resize(n);
+  for (int i = 0; i < n; ++i) {
+    out.joint_placements[i] = joint_placements[i].template cast<NewScalar>();
+    out.body_placements[i] = body_placements[i].template cast<NewScalar>();
+    out.axes[i] = axes[i].template cast<NewScalar>();
+    out.inertias[i] = inertias[i].template cast<NewScalar>();
+    out.drives[i].rotor_inertia = NewScalar(drives[i].rotor_inertia);
+    out.drives[i].viscous = NewScalar(drives[i].viscous);
+    out.drives[i].coulomb = NewScalar(drives[i].coulomb);
+    out.drives[i].offset = NewScalar(drives[i].offset);
+    out.motion_subspaces[i] = motion_subspaces[i].template cast<NewScalar>();
+  }
+  return out;
+}
+
+extern template struct ModelTpl<double>;
+
+}  // namespace dynid

@@ -1,0 +1,122 @@
+// The one place that defines dynid's parameter conventions. Every report, JSON file, test and
+// estimator uses these names and this order.
+//
+// Standard parameters, per link i (1-based in names), in this order:
+//   m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz
+// where (mx, my, mz) = m c is the first moment (c the centre of mass in the link frame) and I is
+// the rotational inertia about the link frame origin, in link-frame axes. SI units: kg, kg m,
+// kg m^2.
+// When drives are enabled each joint i adds, directly after its link's 10: Ia (rotor inertia
+// reflected to the joint, kg m^2), Fv (viscous friction, N m s/rad or N s/m), Fc (Coulomb friction,
+// N m or N), and Fo (Coulomb offset, N m or N) when offsets are enabled. The joint friction torque
+// is  tau_f = Fv dq + Fc sign(dq) + Fo |sign(dq)|:  Fc and Fo together represent an asymmetric
+// Coulomb friction (Fc + Fo for dq > 0, -Fc + Fo for dq < 0) and vanish at rest.
+// Names carry the 1-based link index: m3, mx3, Ixx3, Ia3, Fv3.
+//
+// The paper's 7 parameters per link: m, cx, cy, cz (centre of mass, m) and the principal moments
+// Ixx, Iyy, Izz of the inertia about the centre of mass, with axes parallel to the link frame and
+// products of inertia zero.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/spatial.hpp"
+
+namespace dynid {
+
+inline constexpr int kLinkParameterCount = 10;
+inline constexpr std::array<std::string_view, 10> kLinkParameterNames = {
+    "m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+inline constexpr std::array<std::string_view, 4> kDriveParameterNames = {"Ia", "Fv", "Fc", "Fo"};
+inline constexpr int kPaperParameterCount = 7;
+inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   "cx",  "cy", "cz",
+                                                                         "Ixx", "Iyy", "Izz"};
+
+/// Which parameter columns a model carries per joint.
+struct ParameterLayout {
+  int num_links = 0;
+  bool drives = false;   // Ia, Fv, Fc per joint
+  bool offsets = false;  // Fo per joint (only with drives)
+
+  int perLink() const { return kLinkParameterCount + (drives ? (offsets ? 4 : 3) : 0); }
+  int size() const { return num_links * perLink(); }
+  /// Index of link `link` (0-based) parameter `k` (0..9) in the standard vector.
+  int linkIndex(int link, int k) const { return link * perLink() + k; }
+  /// Index of drive parameter `k` (0 = Ia, 1 = Fv, 2 = Fc, 3 = Fo) of joint `link` (0-based).
+  int driveIndex(int link, int k) const { return link * perLink() + kLinkParameterCount + k; }
+};
+
+/// Names of the standard parameter vector, e.g. {"m1", "mx1", ..., "Izz1", "Ia1", ...}.
+std::vector<std::string> standardParameterNames(const ParameterLayout& layout);
+/// Names of the paper's 7-per-link vector, e.g. {"m1", "cx1", ..., "Izz1", "m2", ...}.
+std::vector<std::string> paperParameterNames(int num_links);
+
+/// Standard 10-vector [m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz] of a rigid inertia.
+template <typename Scalar>
+Eigen::Matrix<Scalar, 10, 1> toStandardVector(const RigidInertia<Scalar>& inertia) {
+  Eigen::Matrix<Scalar, 10, 1> p;
+  const Matrix3<Scalar>& i = inertia.inertia;
+  p << inertia.mass, inertia.first_moment.x(), inertia.first_moment.y(), inertia.first_moment.z(),
+      i(0, 0), i(0, 1), i(0, 2), i(1, 1), i(1, 2), i(2, 2);
+  return p;
+}
+
+/// Rigid inertia from a standard 10-vector (any Eigen expression of 10 entries).
+template <typename Derived>
+RigidInertia<typename Derived::Scalar> fromStandardVector(const Eigen::MatrixBase<Derived>& p) {
+  using Scalar = typename Derived::Scalar;
+  RigidInertia<Scalar> out;
+  out.mass = p(0);
+  out.first_moment << p(1), p(2), p(3);
+  out.inertia << p(4), p(5), p(6), p(5), p(7), p(8), p(6), p(8), p(9);
+  return out;
+}
+
+/// Paper 7-vector [m, cx, cy, cz, Ixx, Iyy, Izz] -> standard 10-vector, exactly:
+/// h = m c, I_origin = diag(Ixx, Iyy, Izz) - m [c]x [c]x (parallel-axis theorem).
+template <typename Derived>
+Eigen::Matrix<typename Derived::Scalar, 10, 1> paperToStandard(const Eigen::MatrixBase<Derived>& p) {
+  using Scalar = typename Derived::Scalar;
+  const Scalar m = p(0);
+  const Vector3<Scalar> c(p(1), p(2), p(3));
+  RigidInertia<Scalar> out;
+  out.mass = m;
+  out.first_moment = m * c;
+  const Matrix3<Scalar> sc = skew(c);
+  out.inertia = Vector3<Scalar>(p(4), p(5), p(6)).asDiagonal();
+  out.inertia -= m * (sc * sc);
+  return toStandardVector(out);
+}
+
+/// Standard 10-vector -> paper 7-vector. Exact for inertias whose products about the centre of mass
+/// are zero; otherwise the products are dropped and, when `dropped_products` is given, the largest
+/// magnitude dropped is written there. A zero mass gives c = 0 (the first moment must then be 0).
+Eigen::Matrix<double, 7, 1> standardToPaper(const Eigen::Matrix<double, 10, 1>& standard,
+                                            double* dropped_products = nullptr);
+
+/// Inertia about the centre of mass, in link axes: I_c = I_origin + [h]x[h]x / m (m > 0), or
+/// I_origin when m == 0.
+Eigen::Matrix3d inertiaAboutCom(const RigidInertia<double>& inertia);
+
+/// One violated physical-consistency condition of one link.
+struct ConsistencyViolation {
+  int link = 0;              // 0-based
+  std::string link_name;     // the model's name for the link
+  std::string condition;     // e.g. "mass >= 0", "triangle inequality I1 + I2 >= I3"
+  std::string detail;        // the numbers, e.g. "0 + 0 < 0.35"
+};
+
+/// Checks one link's 10 standard parameters for physical realisability: mass >= 0; a massless link
+/// has no first moment; the inertia about the centre of mass is positive semi-definite; its
+/// principal moments satisfy the triangle inequalities. `tolerance` is relative to the trace of
+/// the inertia about the centre of mass (default: 1e-12, round-off of the conversions).
+std::vector<ConsistencyViolation> checkPhysicalConsistency(const RigidInertia<double>& inertia,
+                                                           int link, const std::string& link_name,
+                                                           double tolerance = 1e-12);
+
+}  // namespace dynid

@@ -1,0 +1,26 @@
+// A sampled joint trajectory: what a simulation produces and a dataset file holds.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// Column k of each matrix is sample k (n x N); time has N entries [s], strictly increasing.
+/// tau[:, k] is the torque applied from time[k] to time[k+1] (zero-order hold).
+struct Trajectory {
+  Eigen::VectorXd time;
+  Eigen::MatrixXd q, dq, ddq, tau;
+
+  int numSamples() const { return static_cast<int>(time.size()); }
+  int numJoints() const { return static_cast<int>(q.rows()); }
+  /// Allocates n x N zero matrices.
+  void resize(int num_joints, int num_samples) {
+    time.setZero(num_samples);
+    q.setZero(num_joints, num_samples);
+    dq.setZero(num_joints, num_samples);
+    ddq.setZero(num_joints, num_samples);
+    tau.setZero(num_joints, num_samples);
+  }
+};
+
+}  // namespace dynid

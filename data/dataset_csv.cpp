@@ -1,0 +1,139 @@
+#include "data/dataset_csv.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <string_view>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "data/io.hpp"
+
+namespace dynid {
+
+namespace {
+std::vector<std::string> columnNames(int n) {
+  std::vector<std::string> names{"t"};
+  for (const char* prefix : {"q", "dq", "ddq", "tau"})
+    for (int i = 1; i <= n; ++i) names.push_back(prefix + std::to_string(i));
+  return names;
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    fields.push_back(line.substr(start, comma - start));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+}  // namespace
+
+std::string datasetHeader(int num_joints) {
+  std::string header;
+  for (const std::string& name : columnNames(num_joints)) {
+    if (!header.empty()) header += ',';
+    header += name;
+  }
+  return header;
+}
+
+void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
+  const int n = trajectory.numJoints(), samples = trajectory.numSamples();
+  for (const Eigen::MatrixXd* m : {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
+    if (m->rows() != n || m->cols() != samples)
+      throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
+                       std::to_string(samples));
+  std::string out = datasetHeader(n) + "\n";
+  out.reserve(out.size() + static_cast<std::size_t>(samples) * (1 + 4 * n) * 22);
+  for (int k = 0; k < samples; ++k) {
+    out += formatDouble(trajectory.time[k]);
+    for (const Eigen::MatrixXd* m :
+         {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
+      for (int i = 0; i < n; ++i) {
+        out += ',';
+        out += formatDouble((*m)(i, k));
+      }
+    out += '\n';
+  }
+  writeFileAtomically(path, out);
+}
+
+Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
+  const std::string text = readFile(path);
+  std::vector<std::string_view> lines;
+  for (std::size_t start = 0; start < text.size();) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    lines.push_back(std::string_view(text).substr(start, end - start));
+    start = end + 1;
+  }
+  // Blank lines at the end of the file are ignored; elsewhere they are errors.
+  while (!lines.empty() && trim(lines.back()).empty()) lines.pop_back();
+  if (lines.empty()) throw ParseError(path, 1, "", "empty file: expected the header " +
+                                                   datasetHeader(expected_joints > 0 ? expected_joints : 1));
+
+  // Header: t, then 4 blocks of n names.
+  std::vector<std::string_view> header = splitFields(lines[0]);
+  for (auto& h : header) h = trim(h);
+  if ((header.size() - 1) % 4 != 0 || header.size() < 5)
+    throw ParseError(path, 1, "", "header has " + std::to_string(header.size()) +
+                                      " columns; expected t,q1..qn,dq1..dqn,ddq1..ddqn,tau1..taun "
+                                      "(1 + 4n columns)");
+  const int n = static_cast<int>((header.size() - 1) / 4);
+  if (expected_joints >= 0 && n != expected_joints)
+    throw ParseError(path, 1, "", "header describes " + std::to_string(n) +
+                                      " joints, the model has " + std::to_string(expected_joints));
+  const std::vector<std::string> names = columnNames(n);
+  for (std::size_t c = 0; c < names.size(); ++c)
+    if (header[c] != names[c])
+      throw ParseError(path, 1, "column " + std::to_string(c + 1),
+                       "expected '" + names[c] + "', found '" + std::string(header[c]) + "'");
+
+  const int samples = static_cast<int>(lines.size()) - 1;
+  if (samples < 1) throw ParseError(path, 1, "", "no data rows after the header");
+  Trajectory out;
+  out.resize(n, samples);
+  std::string field_copy;
+  for (int k = 0; k < samples; ++k) {
+    const int line_number = k + 2;
+    const std::vector<std::string_view> fields = splitFields(lines[k + 1]);
+    if (fields.size() != names.size())
+      throw ParseError(path, line_number, "",
+                       "row has " + std::to_string(fields.size()) + " fields, the header has " +
+                           std::to_string(names.size()));
+    for (std::size_t c = 0; c < fields.size(); ++c) {
+      const std::string_view field = trim(fields[c]);
+      field_copy.assign(field);
+      char* end = nullptr;
+      const double x = field_copy.empty() ? NAN : std::strtod(field_copy.c_str(), &end);
+      if (field_copy.empty() || end != field_copy.c_str() + field_copy.size())
+        throw ParseError(path, line_number, names[c],
+                         "'" + field_copy + "' is not a number");
+      if (!std::isfinite(x))
+        throw ParseError(path, line_number, names[c], "'" + field_copy + "' is not finite");
+      if (c == 0) {
+        out.time[k] = x;
+        if (k > 0 && !(x > out.time[k - 1]))
+          throw ParseError(path, line_number, "t",
+                           "time must increase strictly (" + field_copy + " after " +
+                               formatDouble(out.time[k - 1]) + ")");
+        continue;
+      }
+      const int block = static_cast<int>((c - 1) / n), joint = static_cast<int>((c - 1) % n);
+      Eigen::MatrixXd* target[] = {&out.q, &out.dq, &out.ddq, &out.tau};
+      (*target[block])(joint, k) = x;
+    }
+  }
+  return out;
+}
+
+}  // namespace dynid

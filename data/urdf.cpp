@@ -1,0 +1,355 @@
+#include "data/urdf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include "core/errors.hpp"
+#include "core/parameters.hpp"
+#include "data/io.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// Where each <link> and <joint> is defined: document order and line, by name.
+struct ElementIndex {
+  std::map<std::string, int> joint_order, joint_line, link_line;
+};
+
+ElementIndex indexElements(const std::string& text) {
+  ElementIndex index;
+  int order = 0;
+  for (const std::string tag : {"<joint", "<link"}) {
+    for (std::size_t pos = text.find(tag); pos != std::string::npos; pos = text.find(tag, pos + 1)) {
+      const char next = pos + tag.size() < text.size() ? text[pos + tag.size()] : '\0';
+      if (next != ' ' && next != '\t' && next != '\n' && next != '\r') continue;
+      const std::size_t end = text.find('>', pos);
+      const std::string element = text.substr(pos, end - pos);
+      const std::size_t name_at = element.find("name=");
+      if (name_at == std::string::npos || name_at + 6 > element.size()) continue;
+      const char quote = element[name_at + 5];
+      const std::size_t close = element.find(quote, name_at + 6);
+      if (close == std::string::npos) continue;
+      const std::string name = element.substr(name_at + 6, close - name_at - 6);
+      const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
+      auto& lines = tag == "<joint" ? index.joint_line : index.link_line;
+      if (lines.count(name)) continue;  // <transmission> repeats joint names later
+      lines[name] = line;
+      if (tag == "<joint") index.joint_order[name] = order++;
+    }
+  }
+  return index;
+}
+
+/// Collects urdfdom's console_bridge messages while parsing (console_bridge is global state).
+class CapturingHandler : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+  }
+  std::string first_error;
+};
+std::mutex console_mutex;
+
+Pose<double> toPose(const urdf::Pose& p) {
+  Pose<double> out;
+  const Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  out.rotation = q.normalized().toRotationMatrix();
+  out.translation = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  return out;
+}
+
+bool finitePose(const urdf::Pose& p) {
+  return std::isfinite(p.position.x) && std::isfinite(p.position.y) &&
+         std::isfinite(p.position.z) && std::isfinite(p.rotation.x) &&
+         std::isfinite(p.rotation.y) && std::isfinite(p.rotation.z) && std::isfinite(p.rotation.w);
+}
+
+class UrdfBuilder {
+ public:
+  UrdfBuilder(const urdf::ModelInterface& urdf, const std::string& file, const ElementIndex& index,
+              const UrdfOptions& options, std::vector<std::string>* warnings)
+      : urdf_(urdf), file_(file), index_(index), options_(options), warnings_(warnings) {}
+
+  Model build() {
+    model_.name = urdf_.getName();
+    model_.drives_enabled = options_.drives;
+    for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
+    for (const auto& [name, link] : urdf_.links_) checkLink(*link);
+    visit(*urdf_.getRoot(), -1, Pose<double>());
+    if (model_.numJoints() == 0)
+      throw ParseError(file_, 0, "robot '" + model_.name + "'", "has no moving joint");
+    try {
+      model_.finalize();
+    } catch (const InputError& e) {
+      throw ParseError(file_, 0, "", e.what());
+    }
+    return std::move(model_);
+  }
+
+ private:
+  [[noreturn]] void failJoint(const std::string& name, const std::string& message) const {
+    const auto it = index_.joint_line.find(name);
+    throw ParseError(file_, it == index_.joint_line.end() ? 0 : it->second,
+                     "joint '" + name + "'", message);
+  }
+  [[noreturn]] void failLink(const std::string& name, const std::string& message) const {
+    const auto it = index_.link_line.find(name);
+    throw ParseError(file_, it == index_.link_line.end() ? 0 : it->second, "link '" + name + "'",
+                     message);
+  }
+
+  void checkJoint(const urdf::Joint& joint) const {
+    switch (joint.type) {
+      case urdf::Joint::FLOATING:
+        failJoint(joint.name, "floating joints are not supported (dynid models fixed-base robots)");
+      case urdf::Joint::PLANAR:
+        failJoint(joint.name, "planar joints are not supported (1-dof joints only)");
+      case urdf::Joint::UNKNOWN:
+        failJoint(joint.name, "unknown joint type");
+      default:
+        break;
+    }
+    if (!finitePose(joint.parent_to_joint_origin_transform))
+      failJoint(joint.name, "<origin> has a non-finite number");
+    if (!std::isfinite(joint.axis.x) || !std::isfinite(joint.axis.y) || !std::isfinite(joint.axis.z))
+      failJoint(joint.name, "<axis> has a non-finite number");
+    if (joint.type != urdf::Joint::FIXED &&
+        std::sqrt(joint.axis.x * joint.axis.x + joint.axis.y * joint.axis.y +
+                  joint.axis.z * joint.axis.z) < 1e-12)
+      failJoint(joint.name, "<axis> is the zero vector");
+    if (joint.limits && (std::isnan(joint.limits->lower) || std::isnan(joint.limits->upper) ||
+                         std::isnan(joint.limits->effort) || std::isnan(joint.limits->velocity)))
+      failJoint(joint.name, "<limit> has a non-finite number");
+    if (joint.dynamics &&
+        (!std::isfinite(joint.dynamics->damping) || !std::isfinite(joint.dynamics->friction)))
+      failJoint(joint.name, "<dynamics> has a non-finite number");
+  }
+
+  void checkLink(const urdf::Link& link) const {
+    if (!link.inertial) return;
+    const urdf::Inertial& in = *link.inertial;
+    for (double x : {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz})
+      if (!std::isfinite(x)) failLink(link.name, "<inertial> has a non-finite number");
+    if (!finitePose(in.origin)) failLink(link.name, "<inertial><origin> has a non-finite number");
+    if (in.mass < 0.0)
+      failLink(link.name, "negative mass " + formatDouble(in.mass) + " kg in <inertial><mass>");
+  }
+
+  /// The link's inertia about its own frame origin, in its frame.
+  RigidInertia<double> linkInertia(const urdf::Link& link, bool moving) const {
+    RigidInertia<double> out;
+    if (!link.inertial) {
+      if (moving) {
+        const std::string message =
+            "has no <inertial>: treated as massless (a massless subtree makes the mass matrix "
+            "singular)";
+        if (options_.strict) failLink(link.name, message);
+        if (warnings_) warnings_->push_back(file_ + ": link '" + link.name + "' " + message);
+      }
+      return out;
+    }
+    const urdf::Inertial& in = *link.inertial;
+    const Pose<double> origin = toPose(in.origin);
+    // About the centre of mass in inertial-frame axes, rotated into link axes.
+    Eigen::Matrix3d i_com;
+    i_com << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+    i_com = origin.rotation * i_com * origin.rotation.transpose();
+    // Standard parameters: h = m c, I_origin = I_com - m [c]x [c]x.
+    const Eigen::Matrix3d sc = skew(origin.translation);
+    out.mass = in.mass;
+    out.first_moment = in.mass * origin.translation;
+    out.inertia = i_com - in.mass * sc * sc;
+    return out;
+  }
+
+  void visit(const urdf::Link& link, int body, const Pose<double>& link_in_body) {
+    std::vector<urdf::JointSharedPtr> joints = link.child_joints;
+    std::sort(joints.begin(), joints.end(), [&](const auto& a, const auto& b) {
+      return order(a->name) < order(b->name);
+    });
+    for (const urdf::JointSharedPtr& joint : joints) {
+      const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
+      if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
+      const Pose<double> placement = link_in_body * toPose(joint->parent_to_joint_origin_transform);
+      if (joint->type == urdf::Joint::FIXED) {
+        // Merge the child into this body (the base ignores its inertia: it does not move).
+        if (body >= 0)
+          model_.inertias[body] += linkInertia(*child, false).transformedBy(placement);
+        visit(*child, body, placement);
+        continue;
+      }
+      JointType type = JointType::kRevolute;
+      if (joint->type == urdf::Joint::CONTINUOUS) type = JointType::kContinuous;
+      if (joint->type == urdf::Joint::PRISMATIC) type = JointType::kPrismatic;
+      const Eigen::Vector3d axis =
+          Eigen::Vector3d(joint->axis.x, joint->axis.y, joint->axis.z).normalized();
+      JointLimits limits;
+      if (joint->limits) {
+        if (type != JointType::kContinuous) {
+          limits.lower = joint->limits->lower;
+          limits.upper = joint->limits->upper;
+        }
+        if (joint->limits->velocity > 0.0) limits.velocity = joint->limits->velocity;
+        if (joint->limits->effort > 0.0) limits.effort = joint->limits->effort;
+      }
+      DriveParameters<double> drive;
+      if (joint->dynamics) {
+        drive.viscous = joint->dynamics->damping;
+        drive.coulomb = joint->dynamics->friction;
+      }
+      const int index = model_.addBody(body, child->name, joint->name, type, placement, axis,
+                                       Pose<double>(), linkInertia(*child, true), limits, drive);
+      visit(*child, index, Pose<double>());
+    }
+  }
+
+  int order(const std::string& joint) const {
+    const auto it = index_.joint_order.find(joint);
+    return it == index_.joint_order.end() ? 1 << 30 : it->second;
+  }
+
+  const urdf::ModelInterface& urdf_;
+  const std::string& file_;
+  const ElementIndex& index_;
+  const UrdfOptions& options_;
+  std::vector<std::string>* warnings_;
+  Model model_;
+};
+
+/// The line of the first "[name]" in urdfdom's message that names a known element.
+int lineOfMessage(const std::string& message, const ElementIndex& index, std::string* element) {
+  for (std::size_t open = message.find('['); open != std::string::npos;
+       open = message.find('[', open + 1)) {
+    const std::size_t close = message.find(']', open);
+    if (close == std::string::npos) break;
+    const std::string name = message.substr(open + 1, close - open - 1);
+    if (auto it = index.joint_line.find(name); it != index.joint_line.end()) {
+      *element = "joint '" + name + "'";
+      return it->second;
+    }
+    if (auto it = index.link_line.find(name); it != index.link_line.end()) {
+      *element = "link '" + name + "'";
+      return it->second;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options,
+                std::vector<std::string>* warnings) {
+  const ElementIndex index = indexElements(text);
+  urdf::ModelInterfaceSharedPtr urdf;
+  std::string error;
+  {
+    std::lock_guard<std::mutex> lock(console_mutex);
+    CapturingHandler handler;
+    console_bridge::useOutputHandler(&handler);
+    try {
+      urdf = urdf::parseURDF(text);
+    } catch (const std::exception& e) {
+      handler.first_error = e.what();
+    }
+    console_bridge::restorePreviousOutputHandler();
+    error = handler.first_error;
+  }
+  if (!urdf) {
+    if (error.empty()) error = "not a valid URDF document";
+    std::string element;
+    const int line = lineOfMessage(error, index, &element);
+    throw ParseError(file, line, element, "urdfdom: " + error);
+  }
+  return UrdfBuilder(*urdf, file, index, options, warnings).build();
+}
+
+Model loadUrdf(const std::string& path, const UrdfOptions& options,
+               std::vector<std::string>* warnings) {
+  return parseUrdf(readFile(path), path, options, warnings);
+}
+
+namespace {
+std::string vec(const Eigen::Vector3d& v) {
+  return formatDouble(v.x()) + " " + formatDouble(v.y()) + " " + formatDouble(v.z());
+}
+std::string origin(const Pose<double>& pose) {
+  return "<origin xyz=\"" + vec(pose.translation) + "\" rpy=\"" + vec(rpyFromRotation(pose.rotation)) +
+         "\"/>";
+}
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+}  // namespace
+
+std::string modelToUrdf(const Model& model) {
+  std::string base = "base_link";
+  while (std::find(model.link_names.begin(), model.link_names.end(), base) !=
+         model.link_names.end())
+    base = "_" + base;
+  std::ostringstream out;
+  out << "<?xml version=\"1.0\"?>\n";
+  out << "<!-- Exported by dynid. Link frames are joint frames; inertial origins at the centre of "
+         "mass. -->\n";
+  out << "<robot name=\"" << escape(model.name) << "\">\n";
+  out << "  <link name=\"" << escape(base) << "\"/>\n";
+  for (int i = 0; i < model.numJoints(); ++i) {
+    // The URDF link frame is the joint frame; re-express the body inertia there.
+    const RigidInertia<double> in = model.inertias[i].transformedBy(model.body_placements[i]);
+    const Eigen::Vector3d c =
+        in.mass > 0.0 ? Eigen::Vector3d(in.first_moment / in.mass) : Eigen::Vector3d::Zero();
+    const Eigen::Matrix3d ic = inertiaAboutCom(in);
+    out << "  <link name=\"" << escape(model.link_names[i]) << "\">\n"
+        << "    <inertial>\n"
+        << "      <origin xyz=\"" << vec(c) << "\" rpy=\"0 0 0\"/>\n"
+        << "      <mass value=\"" << formatDouble(in.mass) << "\"/>\n"
+        << "      <inertia ixx=\"" << formatDouble(ic(0, 0)) << "\" ixy=\"" << formatDouble(ic(0, 1))
+        << "\" ixz=\"" << formatDouble(ic(0, 2)) << "\" iyy=\"" << formatDouble(ic(1, 1))
+        << "\" iyz=\"" << formatDouble(ic(1, 2)) << "\" izz=\"" << formatDouble(ic(2, 2)) << "\"/>\n"
+        << "    </inertial>\n"
+        << "  </link>\n";
+    const int p = model.parents[i];
+    const Pose<double> placement =
+        p < 0 ? model.joint_placements[i] : model.body_placements[p] * model.joint_placements[i];
+    const JointLimits& l = model.limits[i];
+    out << "  <joint name=\"" << escape(model.joint_names[i]) << "\" type=\""
+        << jointTypeName(model.joint_types[i]) << "\">\n"
+        << "    <parent link=\"" << escape(p < 0 ? base : model.link_names[p]) << "\"/>\n"
+        << "    <child link=\"" << escape(model.link_names[i]) << "\"/>\n"
+        << "    " << origin(placement) << "\n"
+        << "    <axis xyz=\"" << vec(model.axes[i]) << "\"/>\n";
+    if (model.joint_types[i] != JointType::kContinuous || std::isfinite(l.effort) ||
+        std::isfinite(l.velocity)) {
+      auto finite_or = [](double x, double fallback) { return std::isfinite(x) ? x : fallback; };
+      out << "    <limit lower=\"" << formatDouble(finite_or(l.lower, -1e9)) << "\" upper=\""
+          << formatDouble(finite_or(l.upper, 1e9)) << "\" effort=\""
+          << formatDouble(finite_or(l.effort, 0.0)) << "\" velocity=\""
+          << formatDouble(finite_or(l.velocity, 0.0)) << "\"/>\n";
+    }
+    if (model.drives_enabled)
+      out << "    <dynamics damping=\"" << formatDouble(model.drives[i].viscous) << "\" friction=\""
+          << formatDouble(model.drives[i].coulomb) << "\"/>\n";
+    out << "  </joint>\n";
+  }
+  out << "</robot>\n";
+  return out.str();
+}
+
+}  // namespace dynid

@@ -1,0 +1,39 @@
+// URDF models through urdfdom: loading any fixed-base serial or tree robot, and exporting any Model.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace dynid {
+
+struct UrdfOptions {
+  /// Enable drives: Fv from <dynamics damping>, Fc from <dynamics friction>, Ia = 0.
+  bool drives = false;
+  /// Turn warnings (a moving link without <inertial>) into errors.
+  bool strict = false;
+};
+
+/// Loads a URDF file. The root link is the fixed base; revolute, continuous and prismatic joints
+/// become dynid joints in depth-first order (children in document order); fixed joints are merged
+/// into their parent body (inertia transformed by the joint origin, grandchildren re-attached).
+/// Throws ParseError naming the file, the line when known and the element ("joint 'elbow'") for:
+/// XML or urdfdom errors (unknown parents, cycles, several roots, missing <mass>), floating or
+/// planar joints, negative masses, non-finite numbers, a zero joint axis. Warnings (unless strict)
+/// are appended to `warnings` when given.
+Model loadUrdf(const std::string& path, const UrdfOptions& options = {},
+               std::vector<std::string>* warnings = nullptr);
+
+/// Same as loadUrdf, from URDF text; `file` names the source in errors.
+Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options = {},
+                std::vector<std::string>* warnings = nullptr);
+
+/// The model as URDF text, numbers in shortest round-trip form. URDF link frames are the joint
+/// frames: for models with a body placement after the joint (Denavit-Hartenberg), each link's
+/// inertia is re-expressed in its joint frame, so the dynamics are identical but the standard
+/// parameters of a reloaded model are those of the joint frames. Drives export as
+/// <dynamics damping="Fv" friction="Fc"/>; Ia, Fo and gravity have no URDF element and are lost.
+std::string modelToUrdf(const Model& model);
+
+}  // namespace dynid
