@@ -24,6 +24,7 @@ void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& child,
   parent.template bottomLeftCorner<3, 3>() += B2.transpose();
   parent.template bottomRightCorner<3, 3>() += C;
 }
+
 }  // namespace aba_detail
 
 template <typename Scalar>
@@ -40,30 +41,33 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
   // inertias and bias forces pA_i = v_i x* I v_i.
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i] = jointTransform(model, i, q[i]);
-    const Vector6<Scalar>& S = model.motion_subspaces[i];
     const int p = model.parents[i];
-    const Vector6<Scalar> vJ = S * dq[i];
+    Vector6<Scalar>& v = data.v[i];
     if (p < 0) {
-      data.v[i] = vJ;
+      v = jointMotionAt(model, i, dq[i]);
       data.c[i].setZero();
     } else {
-      data.v[i] = X.actInvMotion(data.v[p]) + vJ;
-      data.c[i] = crossMotion(data.v[i], vJ);
+      v = X.actInvMotion(data.v[p]);
+      addJointMotion(model, i, dq[i], v);
+      data.c[i] = crossJointMotion(model, i, v, dq[i]);
     }
-    const RigidInertia<Scalar>& I = model.inertias[i];
+    const RigidInertia<Scalar>& I = model.frame_inertias[i];
     data.articulated_inertia[i] = I.matrix();
-    data.bias_force[i] = crossForce(data.v[i], I.apply(data.v[i]));
+    data.bias_force[i] = crossForce(v, I.apply(v));
     data.u[i] = tau[i] - jointFriction(model, i, dq[i]);
   }
   // Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
   // IA - U U^T / D and pA + Ia c + U u / D.
   for (int i = n - 1; i >= 0; --i) {
-    const Vector6<Scalar>& S = model.motion_subspaces[i];
     const Matrix6<Scalar>& IA = data.articulated_inertia[i];
-    data.U[i].noalias() = IA * S;
-    data.D[i] = S.dot(data.U[i]);
+    const int k = model.subspace_index[i];
+    if (k >= 0)
+      data.U[i] = IA.col(k);
+    else
+      data.U[i].noalias() = IA * model.motion_subspaces[i];
+    data.D[i] = projectOnJoint(model, i, data.U[i]);
     if (model.drives_enabled) data.D[i] += model.drives[i].rotor_inertia;
-    data.u[i] -= S.dot(data.bias_force[i]);
+    data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);
     const int p = model.parents[i];
     if (p < 0) continue;
     const Scalar inv_d = Scalar(1) / data.D[i];
@@ -78,10 +82,9 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
   base_acceleration << Scalar(0), Scalar(0), Scalar(0), -model.gravity;
   for (int i = 0; i < n; ++i) {
     const int p = model.parents[i];
-    const Vector6<Scalar> a_parent =
-        data.liMi[i].actInvMotion(p < 0 ? base_acceleration : data.a[p]) + data.c[i];
-    data.ddq[i] = (data.u[i] - data.U[i].dot(a_parent)) / data.D[i];
-    data.a[i] = a_parent + model.motion_subspaces[i] * data.ddq[i];
+    data.a[i] = data.liMi[i].actInvMotion(p < 0 ? base_acceleration : data.a[p]) + data.c[i];
+    data.ddq[i] = (data.u[i] - data.U[i].dot(data.a[i])) / data.D[i];
+    addJointMotion(model, i, data.ddq[i], data.a[i]);
   }
   return data.ddq;
 }

@@ -5,16 +5,12 @@
 
 namespace dynid {
 
+namespace crba_detail {
+/// CRBA from the joint transforms already in data.liMi (set by crba or rnea).
 template <typename Scalar>
-const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
-                            const ConstVectorRef<Scalar>& q) {
-  checkData(model, data);
-  checkSize(model, q, "q");
+void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
   const int n = model.numJoints();
-  for (int i = 0; i < n; ++i) {
-    data.liMi[i] = jointTransform(model, i, q[i]);
-    data.composite[i] = model.inertias[i];
-  }
+  for (int i = 0; i < n; ++i) data.composite[i] = model.frame_inertias[i];
   // Composite inertias: Ic_p += pXi* Ic_i iXp.
   for (int i = n - 1; i >= 0; --i) {
     const int p = model.parents[i];
@@ -24,14 +20,24 @@ const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   data.M.setZero();
   for (int i = 0; i < n; ++i) {
     Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces[i]);
-    data.M(i, i) = model.motion_subspaces[i].dot(F);
+    data.M(i, i) = projectOnJoint(model, i, F);
     if (model.drives_enabled) data.M(i, i) += model.drives[i].rotor_inertia;
     for (int j = i; model.parents[j] >= 0;) {
       F = data.liMi[j].actForce(F);
       j = model.parents[j];
-      data.M(j, i) = data.M(i, j) = model.motion_subspaces[j].dot(F);
+      data.M(j, i) = data.M(i, j) = projectOnJoint(model, j, F);
     }
   }
+}
+}  // namespace crba_detail
+
+template <typename Scalar>
+const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                            const ConstVectorRef<Scalar>& q) {
+  checkData(model, data);
+  checkSize(model, q, "q");
+  for (int i = 0; i < model.numJoints(); ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  crba_detail::massMatrixFromTransforms(model, data);
   return data.M;
 }
 

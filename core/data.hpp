@@ -13,12 +13,16 @@ template <typename Scalar>
 struct DataTpl {
   explicit DataTpl(const ModelTpl<Scalar>& model);
 
-  // Kinematics (forwardKinematics, and every dynamics algorithm for liMi).
-  std::vector<Pose<Scalar>> liMi;  // body i in its parent's frame
-  std::vector<Pose<Scalar>> oMi;   // body i in the base frame (forwardKinematics only)
+  // Kinematics. The recursive algorithms work in joint frames (model.hpp): liMi places joint frame
+  // i in its parent's joint frame (every dynamics algorithm sets it); forwardKinematics also sets
+  // oMj (joint frame i in the base frame) and oMi (link frame i, the frame of the user's
+  // parameters, in the base frame).
+  std::vector<Pose<Scalar>> liMi;
+  std::vector<Pose<Scalar>> oMj;
+  std::vector<Pose<Scalar>> oMi;
 
   // Recursive algorithms: body velocity, acceleration (including -gravity at the base) and the
-  // force each body transmits to its parent, all in the body's own frame.
+  // force each body transmits to its parent, all in joint frame i.
   std::vector<Vector6<Scalar>> v, a, f;
 
   VectorX<Scalar> tau;  // rnea output [N m]
@@ -43,6 +47,7 @@ template <typename Scalar>
 DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   const int n = model.numJoints();
   liMi.assign(n, Pose<Scalar>());
+  oMj.assign(n, Pose<Scalar>());
   oMi.assign(n, Pose<Scalar>());
   v.assign(n, Vector6<Scalar>::Zero());
   a.assign(n, Vector6<Scalar>::Zero());

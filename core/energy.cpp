@@ -11,11 +11,11 @@ double kineticEnergy(const Model& model, Data& data, const ConstVectorRef<double
   forwardKinematics(model, data, q);
   double energy = 0.0;
   for (int i = 0; i < model.numJoints(); ++i) {
-    // v_i = iXp v_p + S dq;  T += 1/2 v_i . I v_i
+    // v_i = iXp v_p + S dq;  T += 1/2 v_i . I v_i (joint frames)
     const int p = model.parents[i];
-    data.v[i] = model.motion_subspaces[i] * dq[i];
+    data.v[i] = jointMotionAt(model, i, dq[i]);
     if (p >= 0) data.v[i] += data.liMi[i].actInvMotion(data.v[p]);
-    energy += 0.5 * data.v[i].dot(model.inertias[i].apply(data.v[i]));
+    energy += 0.5 * data.v[i].dot(model.frame_inertias[i].apply(data.v[i]));
     if (model.drives_enabled) energy += 0.5 * model.drives[i].rotor_inertia * dq[i] * dq[i];
   }
   return energy;

@@ -12,10 +12,11 @@ const std::vector<Pose<Scalar>>& forwardKinematics(const ModelTpl<Scalar>& model
   checkData(model, data);
   checkSize(model, q, "q");
   for (int i = 0; i < model.numJoints(); ++i) {
-    // oMi = oMparent * liMi
+    // oMj_i = oMj_parent liMi;  oMi = oMj_i body_placement_i
     data.liMi[i] = jointTransform(model, i, q[i]);
     const int p = model.parents[i];
-    data.oMi[i] = p < 0 ? data.liMi[i] : data.oMi[p] * data.liMi[i];
+    data.oMj[i] = p < 0 ? data.liMi[i] : data.oMj[p] * data.liMi[i];
+    data.oMi[i] = data.oMj[i] * model.body_placements[i];
   }
   return data.oMi;
 }

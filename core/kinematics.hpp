@@ -5,9 +5,10 @@
 
 namespace dynid {
 
-/// Computes data.liMi (body i in its parent's frame) and data.oMi (body i in the base frame) at
-/// joint positions q (n entries, rad or m). Throws InputError on a size mismatch. Overwrites
-/// data.liMi, data.oMi. Returns data.oMi.
+/// Places every body at joint positions q (n entries, rad or m): data.oMi[i] is link frame i (the
+/// frame of its parameters) in the base frame; data.oMj and data.liMi hold the joint frames
+/// (data.hpp). Throws InputError on a size mismatch. Overwrites data.liMi, data.oMj, data.oMi.
+/// Returns data.oMi.
 template <typename Scalar>
 const std::vector<Pose<Scalar>>& forwardKinematics(const ModelTpl<Scalar>& model,
                                                    DataTpl<Scalar>& data,

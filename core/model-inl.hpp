@@ -68,9 +68,10 @@ void ModelTpl<Scalar>::finalize() {
   using model_detail::value;
   const int n = numJoints();
   motion_subspaces.assign(n, Vector6<Scalar>::Zero());
+  frame_placements.assign(n, Pose<Scalar>());
   axis_kinds.assign(n, AxisKind::kGeneral);
-  has_joint_placement.assign(n, 1);
-  has_body_placement.assign(n, 1);
+  subspace_index.assign(n, -1);
+  has_frame_placement.assign(n, 1);
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(value(gravity(i)))) throw InputError("model gravity is not finite");
   for (int i = 0; i < n; ++i) {
@@ -96,16 +97,19 @@ void ModelTpl<Scalar>::finalize() {
     if (a == Vector3<double>::UnitX()) axis_kinds[i] = AxisKind::kX;
     if (a == Vector3<double>::UnitY()) axis_kinds[i] = AxisKind::kY;
     if (a == Vector3<double>::UnitZ()) axis_kinds[i] = AxisKind::kZ;
-    has_joint_placement[i] = !model_detail::isIdentity(joint_placements[i]);
-    has_body_placement[i] = !model_detail::isIdentity(body_placements[i]);
-    // S in the joint frame is (axis, 0) or (0, axis); the body frame sits body_placement further.
-    Vector6<Scalar> s_joint = Vector6<Scalar>::Zero();
-    if (joint_types[i] == JointType::kPrismatic)
-      s_joint.template tail<3>() = axes[i];
+    // Joint frame i in the parent's joint frame at q_i = 0.
+    frame_placements[i] =
+        parents[i] < 0 ? joint_placements[i] : body_placements[parents[i]] * joint_placements[i];
+    has_frame_placement[i] = !model_detail::isIdentity(frame_placements[i]);
+    const bool prismatic = joint_types[i] == JointType::kPrismatic;
+    if (prismatic)
+      motion_subspaces[i].template tail<3>() = axes[i];
     else
-      s_joint.template head<3>() = axes[i];
-    motion_subspaces[i] = body_placements[i].actInvMotion(s_joint);
+      motion_subspaces[i].template head<3>() = axes[i];
+    if (axis_kinds[i] != AxisKind::kGeneral)
+      subspace_index[i] = static_cast<int>(axis_kinds[i]) + (prismatic ? 3 : 0);
   }
+  updateFrameInertias();
   if (offsets_enabled && !drives_enabled)
     throw InputError("model '" + name + "': offsets (Fo) need drives enabled");
 }
@@ -139,6 +143,7 @@ void ModelTpl<Scalar>::setStandardParameters(const VectorX<Scalar>& theta) {
     drives[i].coulomb = theta(layout.driveIndex(i, 2));
     if (offsets_enabled) drives[i].offset = theta(layout.driveIndex(i, 3));
   }
+  updateFrameInertias();
 }
 
 }  // namespace dynid

@@ -65,11 +65,16 @@ struct ModelTpl {
   bool drives_enabled = false;   // rotor inertia and friction act (and are parameters)
   bool offsets_enabled = false;  // Fo acts (only with drives)
 
-  // Derived by finalize(); do not set by hand.
-  std::vector<Vector6<Scalar>> motion_subspaces;  // S_i in body i's frame
+  // Derived by finalize() (and setStandardParameters); do not set by hand. The algorithms work in
+  // joint frames: joint frame i is body i's frame before body_placement_i, so that the motion
+  // subspace there is the constant (axis, 0) or (0, axis) and, for a unit axis, a single entry.
+  std::vector<Pose<Scalar>> frame_placements;    // joint frame i at q_i = 0 in the parent's joint
+                                                 // frame: body_placement_p * joint_placement_i
+  std::vector<RigidInertia<Scalar>> frame_inertias;  // body i's inertia in joint frame i
+  std::vector<Vector6<Scalar>> motion_subspaces;     // S_i in joint frame i
   std::vector<AxisKind> axis_kinds;
-  std::vector<char> has_joint_placement;  // 0 when identity
-  std::vector<char> has_body_placement;   // 0 when identity
+  std::vector<int> subspace_index;  // k when S_i is the unit vector e_k (0..5), else -1
+  std::vector<char> has_frame_placement;  // 0 when identity
 
   int numJoints() const { return static_cast<int>(parents.size()); }
 
@@ -82,16 +87,23 @@ struct ModelTpl {
               const DriveParameters<Scalar>& drive = {});
 
   /// Validates the model (topological order, unit axes, finite numbers) and derives the cached
-  /// fields. Throws InputError naming the body at fault.
+  /// fields. Call it again after changing any field. Throws InputError naming the body at fault.
   void finalize();
 
   ParameterLayout parameterLayout() const { return {numJoints(), drives_enabled, offsets_enabled}; }
 
   /// The standard parameter vector theta (order: parameters.hpp), size parameterLayout().size().
   VectorX<Scalar> standardParameters() const;
-  /// Sets every inertial (and drive, when enabled) parameter from theta. Throws InputError on a
-  /// size mismatch.
+  /// Sets every inertial (and drive, when enabled) parameter from theta and updates the derived
+  /// joint-frame inertias. Throws InputError on a size mismatch.
   void setStandardParameters(const VectorX<Scalar>& theta);
+
+  /// Recomputes frame_inertias from inertias (after changing inertias by hand).
+  void updateFrameInertias() {
+    frame_inertias.resize(inertias.size());
+    for (std::size_t i = 0; i < inertias.size(); ++i)
+      frame_inertias[i] = inertias[i].transformedBy(body_placements[i]);
+  }
 
   /// The same model with every number converted to NewScalar (e.g. ceres::Jet).
   template <typename NewScalar>
@@ -100,18 +112,45 @@ struct ModelTpl {
 
 using Model = ModelTpl<double>;
 
-/// The joint's own displacement J(q_i) for joint i (rotation about, or translation along, its axis).
 template <typename Scalar>
-inline Pose<Scalar> jointMotion(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
+DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
+                                            const Scalar& c);
+
+/// Joint frame i placed in its parent's joint frame: frame_placement_i * J(q_i), where J rotates
+/// about (revolute, continuous) or translates along (prismatic) the joint axis.
+template <typename Scalar>
+DYNID_INLINE Pose<Scalar> jointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
   using std::cos;
   using std::sin;
+  const Pose<Scalar>& placement = model.frame_placements[i];
   Pose<Scalar> out;
   if (model.joint_types[i] == JointType::kPrismatic) {
-    out.translation = model.axes[i] * qi;
+    out.rotation = placement.rotation;
+    out.translation = placement.translation + placement.rotation * (model.axes[i] * qi);
     return out;
   }
-  const Scalar s = sin(qi), c = cos(qi);
-  Matrix3<Scalar>& r = out.rotation;
+  return revoluteTransform(model, i, Scalar(sin(qi)), Scalar(cos(qi)));
+}
+
+/// jointTransform of revolute (or continuous) joint i from s = sin(q_i), c = cos(q_i).
+template <typename Scalar>
+DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
+                                            const Scalar& c) {
+  const Pose<Scalar>& placement = model.frame_placements[i];
+  Pose<Scalar> out;
+  if (model.axis_kinds[i] == AxisKind::kZ) {
+    // P Rz(q): only the first two columns of P mix.
+    if (!model.has_frame_placement[i]) {
+      out.rotation(0, 0) = c, out.rotation(0, 1) = -s, out.rotation(1, 0) = s, out.rotation(1, 1) = c;
+      return out;
+    }
+    out.rotation.col(0) = c * placement.rotation.col(0) + s * placement.rotation.col(1);
+    out.rotation.col(1) = c * placement.rotation.col(1) - s * placement.rotation.col(0);
+    out.rotation.col(2) = placement.rotation.col(2);
+    out.translation = placement.translation;
+    return out;
+  }
+  Matrix3<Scalar> r = Matrix3<Scalar>::Identity();
   switch (model.axis_kinds[i]) {
     case AxisKind::kX:
       r(1, 1) = c, r(1, 2) = -s, r(2, 1) = s, r(2, 2) = c;
@@ -119,25 +158,56 @@ inline Pose<Scalar> jointMotion(const ModelTpl<Scalar>& model, int i, const Scal
     case AxisKind::kY:
       r(0, 0) = c, r(0, 2) = s, r(2, 0) = -s, r(2, 2) = c;
       break;
-    case AxisKind::kZ:
-      r(0, 0) = c, r(0, 1) = -s, r(1, 0) = s, r(1, 1) = c;
-      break;
-    case AxisKind::kGeneral: {
+    default: {
       const Matrix3<Scalar> k = skew(model.axes[i]);
       r.noalias() += s * k + (Scalar(1) - c) * (k * k);
       break;
     }
   }
+  out.rotation.noalias() = placement.rotation * r;
+  out.translation = placement.translation;
   return out;
 }
 
-/// liMi(q_i): body i's frame placed in its parent's frame.
+/// S_i x: the joint's motion at rate x, in joint frame i.
 template <typename Scalar>
-inline Pose<Scalar> jointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
-  Pose<Scalar> out = jointMotion(model, i, qi);
-  if (model.has_body_placement[i]) out = out * model.body_placements[i];
-  if (model.has_joint_placement[i]) out = model.joint_placements[i] * out;
+DYNID_INLINE Vector6<Scalar> jointMotionAt(const ModelTpl<Scalar>& model, int i, const Scalar& x) {
+  const int k = model.subspace_index[i];
+  if (k < 0) return model.motion_subspaces[i] * x;
+  Vector6<Scalar> out = Vector6<Scalar>::Zero();
+  out[k] = x;
   return out;
+}
+
+/// m += S_i x.
+template <typename Scalar>
+DYNID_INLINE void addJointMotion(const ModelTpl<Scalar>& model, int i, const Scalar& x,
+                                 Vector6<Scalar>& m) {
+  const int k = model.subspace_index[i];
+  if (k >= 0)
+    m[k] += x;
+  else
+    m += model.motion_subspaces[i] * x;
+}
+
+/// S_i^T f: the generalized force of a spatial force f on joint i.
+template <typename Scalar>
+DYNID_INLINE Scalar projectOnJoint(const ModelTpl<Scalar>& model, int i, const Vector6<Scalar>& f) {
+  const int k = model.subspace_index[i];
+  return k >= 0 ? f[k] : model.motion_subspaces[i].dot(f);
+}
+
+/// v x (S_i x), the velocity-product acceleration of joint i.
+template <typename Scalar>
+DYNID_INLINE Vector6<Scalar> crossJointMotion(const ModelTpl<Scalar>& model, int i,
+                                              const Vector6<Scalar>& v, const Scalar& x) {
+  if (model.subspace_index[i] == 2) {
+    // S = (e_z, 0): (w x e_z, v x e_z) x.
+    Vector6<Scalar> out;
+    out << v[1] * x, -v[0] * x, Scalar(0), v[4] * x, -v[3] * x, Scalar(0);
+    return out;
+  }
+  return crossMotion(v, jointMotionAt(model, i, x));
 }
 
 // ---- template implementation ----
@@ -155,8 +225,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.drives_enabled = drives_enabled;
   out.offsets_enabled = offsets_enabled;
   out.axis_kinds = axis_kinds;
-  out.has_joint_placement = has_joint_placement;
-  out.has_body_placement = has_body_placement;
+  out.subspace_index = subspace_index;
+  out.has_frame_placement = has_frame_placement;
   out.gravity = gravity.template cast<NewScalar>();
   const int n = numJoints();
   out.joint_placements.resize(n);
@@ -165,6 +235,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.inertias.resize(n);
   out.drives.resize(n);
   out.motion_subspaces.resize(n);
+  out.frame_placements.resize(n);
+  out.frame_inertias.resize(n);
   for (int i = 0; i < n; ++i) {
     out.joint_placements[i] = joint_placements[i].template cast<NewScalar>();
     out.body_placements[i] = body_placements[i].template cast<NewScalar>();
@@ -175,6 +247,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
     out.drives[i].coulomb = NewScalar(drives[i].coulomb);
     out.drives[i].offset = NewScalar(drives[i].offset);
     out.motion_subspaces[i] = motion_subspaces[i].template cast<NewScalar>();
+    out.frame_placements[i] = frame_placements[i].template cast<NewScalar>();
+    out.frame_inertias[i] = frame_inertias[i].template cast<NewScalar>();
   }
   return out;
 }

@@ -15,34 +15,63 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   checkSize(model, dq, "dq");
   checkSize(model, ddq, "ddq");
   const int n = model.numJoints();
-  // The base accelerates at -g, which adds gravity to every body.
-  Vector6<Scalar> base_acceleration;
-  base_acceleration << Scalar(0), Scalar(0), Scalar(0), -model.gravity;
+  // The recursion works on the angular and linear 3-vector halves of each spatial vector
+  // separately: mixing scalar stores and packed loads on 6-vectors stalls store forwarding.
+  using V3 = Vector3<Scalar>;
 
   // Forward pass: v_i = iXp v_p + S dq,  a_i = iXp a_p + S ddq + v_i x S dq,
-  // f_i = I a_i + v_i x* I v_i.
+  // f_i = I a_i + v_i x* I v_i.  The base accelerates at -g, which adds gravity to every body.
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i] = jointTransform(model, i, q[i]);
-    const Vector6<Scalar>& S = model.motion_subspaces[i];
     const int p = model.parents[i];
-    const Vector6<Scalar> vJ = S * dq[i];
+    V3 w, v, dw, dv;
     if (p < 0) {
-      data.v[i] = vJ;
-      data.a[i] = X.actInvMotion(base_acceleration) + S * ddq[i];
+      w.setZero(), v.setZero(), dw.setZero();
+      dv.noalias() = X.rotation.transpose() * (-model.gravity);
     } else {
-      data.v[i] = X.actInvMotion(data.v[p]) + vJ;
-      data.a[i] = X.actInvMotion(data.a[p]) + S * ddq[i] + crossMotion(data.v[i], vJ);
+      // iXp m = (R^T w, R^T (v - p x w))
+      const V3 wp = data.v[p].template head<3>(), vp = data.v[p].template tail<3>();
+      const V3 dwp = data.a[p].template head<3>(), dvp = data.a[p].template tail<3>();
+      w.noalias() = X.rotation.transpose() * wp;
+      v.noalias() = X.rotation.transpose() * (vp - cross(X.translation, wp));
+      dw.noalias() = X.rotation.transpose() * dwp;
+      dv.noalias() = X.rotation.transpose() * (dvp - cross(X.translation, dwp));
     }
-    const RigidInertia<Scalar>& I = model.inertias[i];
-    data.f[i] = I.apply(data.a[i]) + crossForce(data.v[i], I.apply(data.v[i]));
+    Vector6<Scalar> vel, acc;
+    vel << w, v;
+    addJointMotion(model, i, dq[i], vel);
+    acc << dw, dv;
+    if (p >= 0) {
+      const Vector6<Scalar> c = crossJointMotion(model, i, vel, dq[i]);
+      acc.template head<3>() += c.template head<3>();
+      acc.template tail<3>() += c.template tail<3>();
+    }
+    addJointMotion(model, i, ddq[i], acc);
+    data.v[i] = vel;
+    data.a[i] = acc;
+    // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w).
+    const RigidInertia<Scalar>& I = model.frame_inertias[i];
+    const V3 wi = vel.template head<3>(), vi = vel.template tail<3>();
+    const V3 ai = acc.template head<3>(), li = acc.template tail<3>();
+    const V3 hw = I.inertia * wi + cross(I.first_moment, vi);
+    const V3 hv = I.mass * vi - cross(I.first_moment, wi);
+    const V3 n_i = I.inertia * ai + cross(I.first_moment, li) + cross(wi, hw) + cross(vi, hv);
+    const V3 f_i = I.mass * li - cross(I.first_moment, ai) + cross(wi, hv);
+    data.f[i].template head<3>() = n_i;
+    data.f[i].template tail<3>() = f_i;
   }
-  // Backward pass: tau_i = S^T f_i (+ drives), f_p += pXi* f_i.
+  // Backward pass: tau_i = S^T f_i (+ drives), f_p += pXi* f_i = (R n + p x R f, R f).
   for (int i = n - 1; i >= 0; --i) {
-    data.tau[i] = model.motion_subspaces[i].dot(data.f[i]);
+    data.tau[i] = projectOnJoint(model, i, data.f[i]);
     if (model.drives_enabled)
       data.tau[i] += model.drives[i].rotor_inertia * ddq[i] + jointFriction(model, i, dq[i]);
     const int p = model.parents[i];
-    if (p >= 0) data.f[p] += data.liMi[i].actForce(data.f[i]);
+    if (p < 0) continue;
+    const Pose<Scalar>& X = data.liMi[i];
+    const V3 rf = X.rotation * V3(data.f[i].template tail<3>());
+    const V3 rn = X.rotation * V3(data.f[i].template head<3>()) + cross(X.translation, rf);
+    data.f[p].template head<3>() += rn;
+    data.f[p].template tail<3>() += rf;
   }
   return data.tau;
 }

@@ -11,6 +11,13 @@
 
 #include <Eigen/Core>
 
+// Small spatial operations sit on the hot path of every recursive algorithm: force inlining.
+#if defined(__GNUC__)
+#define DYNID_INLINE inline __attribute__((always_inline))
+#else
+#define DYNID_INLINE inline
+#endif
+
 namespace dynid {
 
 template <typename Scalar>
@@ -28,14 +35,14 @@ using MatrixX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
 
 /// Cross product a x b of two 3-vectors (any Eigen expressions; avoids including Eigen/Geometry).
 template <typename A, typename B>
-Vector3<typename A::Scalar> cross(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+DYNID_INLINE Vector3<typename A::Scalar> cross(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return Vector3<typename A::Scalar>(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(),
                                      a.x() * b.y() - a.y() * b.x());
 }
 
 /// The skew-symmetric matrix [a]x with [a]x b = a x b.
 template <typename Scalar>
-Matrix3<Scalar> skew(const Vector3<Scalar>& a) {
+DYNID_INLINE Matrix3<Scalar> skew(const Vector3<Scalar>& a) {
   Matrix3<Scalar> s;
   s << Scalar(0), -a.z(), a.y(), a.z(), Scalar(0), -a.x(), -a.y(), a.x(), Scalar(0);
   return s;
@@ -84,7 +91,7 @@ struct Pose {
   static Pose Identity() { return Pose(); }
 
   /// Composition: (this * other) places other's child in this pose's parent frame.
-  Pose operator*(const Pose& other) const {
+  DYNID_INLINE Pose operator*(const Pose& other) const {
     Pose out;
     out.rotation.noalias() = rotation * other.rotation;
     out.translation.noalias() = rotation * other.translation;
@@ -99,7 +106,7 @@ struct Pose {
   }
 
   /// Motion vector given in the child frame, expressed in the parent frame.
-  Vector6<Scalar> actMotion(const Vector6<Scalar>& m) const {
+  DYNID_INLINE Vector6<Scalar> actMotion(const Vector6<Scalar>& m) const {
     Vector6<Scalar> out;
     out.template head<3>().noalias() = rotation * m.template head<3>();
     out.template tail<3>().noalias() = rotation * m.template tail<3>();
@@ -107,7 +114,7 @@ struct Pose {
     return out;
   }
   /// Motion vector given in the parent frame, expressed in the child frame.
-  Vector6<Scalar> actInvMotion(const Vector6<Scalar>& m) const {
+  DYNID_INLINE Vector6<Scalar> actInvMotion(const Vector6<Scalar>& m) const {
     Vector6<Scalar> out;
     out.template head<3>().noalias() = rotation.transpose() * m.template head<3>();
     const Vector3<Scalar> v = m.template tail<3>() - cross(translation, m.template head<3>());
@@ -115,7 +122,7 @@ struct Pose {
     return out;
   }
   /// Force vector given in the child frame, expressed in the parent frame.
-  Vector6<Scalar> actForce(const Vector6<Scalar>& f) const {
+  DYNID_INLINE Vector6<Scalar> actForce(const Vector6<Scalar>& f) const {
     Vector6<Scalar> out;
     out.template tail<3>().noalias() = rotation * f.template tail<3>();
     out.template head<3>().noalias() = rotation * f.template head<3>();
@@ -134,7 +141,7 @@ struct Pose {
 
 /// Spatial cross product for motions: m1 x m2.
 template <typename Scalar>
-Vector6<Scalar> crossMotion(const Vector6<Scalar>& m1, const Vector6<Scalar>& m2) {
+DYNID_INLINE Vector6<Scalar> crossMotion(const Vector6<Scalar>& m1, const Vector6<Scalar>& m2) {
   Vector6<Scalar> out;
   out.template head<3>() = cross(m1.template head<3>(), m2.template head<3>());
   out.template tail<3>() = cross(m1.template head<3>(), m2.template tail<3>()) +
@@ -144,7 +151,7 @@ Vector6<Scalar> crossMotion(const Vector6<Scalar>& m1, const Vector6<Scalar>& m2
 
 /// Spatial cross product of a motion with a force: m x* f.
 template <typename Scalar>
-Vector6<Scalar> crossForce(const Vector6<Scalar>& m, const Vector6<Scalar>& f) {
+DYNID_INLINE Vector6<Scalar> crossForce(const Vector6<Scalar>& m, const Vector6<Scalar>& f) {
   Vector6<Scalar> out;
   out.template head<3>() = cross(m.template head<3>(), f.template head<3>()) +
                            cross(m.template tail<3>(), f.template tail<3>());
@@ -160,7 +167,7 @@ struct RigidInertia {
   Matrix3<Scalar> inertia = Matrix3<Scalar>::Zero();          // about the origin [kg m^2]
 
   /// Momentum (force-type vector) of the body moving with spatial velocity m: I * m.
-  Vector6<Scalar> apply(const Vector6<Scalar>& m) const {
+  DYNID_INLINE Vector6<Scalar> apply(const Vector6<Scalar>& m) const {
     const auto w = m.template head<3>();
     const auto v = m.template tail<3>();
     Vector6<Scalar> out;

@@ -1,0 +1,93 @@
+// Core dynamics on the built-in PUMA 560, single-threaded, at seeded random states within the
+// joint limits. Run: build/bench/bench_core --benchmark_repetitions=5 --benchmark_report_aggregates_only
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "core/aba.hpp"
+#include "core/crba.hpp"
+#include "core/integrators.hpp"
+#include "core/rnea.hpp"
+#include "data/puma560.hpp"
+
+namespace {
+
+using dynid::Data;
+using dynid::Model;
+
+/// 64 seeded random states (q within limits, dq and ddq in [-2, 2]); benchmarks cycle through them
+/// so branch predictors and caches see varied inputs.
+struct States {
+  explicit States(const Model& model) {
+    std::mt19937_64 rng(42);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int k = 0; k < kCount; ++k) {
+      Eigen::VectorXd q(model.numJoints()), dq(model.numJoints()), ddq(model.numJoints());
+      for (int i = 0; i < model.numJoints(); ++i) {
+        q[i] = u(rng) * model.limits[i].upper;
+        dq[i] = 2.0 * u(rng);
+        ddq[i] = 2.0 * u(rng);
+      }
+      this->q.push_back(q), this->dq.push_back(dq), this->ddq.push_back(ddq);
+    }
+  }
+  static constexpr int kCount = 64;
+  std::vector<Eigen::VectorXd> q, dq, ddq;
+};
+
+void BM_Rnea(benchmark::State& state) {
+  const Model model = dynid::makePuma560(state.range(0) != 0);
+  Data data(model);
+  const States s(model);
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(dynid::rnea(model, data, s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_Rnea)->Arg(0)->Arg(1)->ArgName("drives");
+
+void BM_Crba(benchmark::State& state) {
+  const Model model = dynid::makePuma560(false);
+  Data data(model);
+  const States s(model);
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(dynid::crba(model, data, s.q[k]).data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_Crba);
+
+void BM_Aba(benchmark::State& state) {
+  const Model model = dynid::makePuma560(state.range(0) != 0);
+  Data data(model);
+  const States s(model);
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(dynid::aba(model, data, s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_Aba)->Arg(0)->Arg(1)->ArgName("drives");
+
+void BM_Rk4Step(benchmark::State& state) {
+  const Model model = dynid::makePuma560(false);
+  Data data(model);
+  const States s(model);
+  Eigen::VectorXd q = s.q[0], dq = s.dq[0];
+  int k = 0;
+  for (auto _ : state) {
+    // Restart from a stored state each step so the trajectory stays bounded.
+    q = s.q[k];
+    dq = s.dq[k];
+    dynid::rk4Step(model, data, q, dq, s.ddq[k], 1e-3);
+    benchmark::DoNotOptimize(q.data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_Rk4Step);
+
+}  // namespace
+
+BENCHMARK_MAIN();
