@@ -17,6 +17,8 @@ function(dynid_add_library name)
           FILES_MATCHING PATTERN "*.hpp")
 endfunction()
 
+include(GoogleTest)
+
 # dynid_add_test(path/to/name_test.cpp DEPS...): one GoogleTest executable per source file; the
 # test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test).
 function(dynid_add_test source)
@@ -29,7 +31,5 @@ function(dynid_add_test source)
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
-  include(GoogleTest)
-  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
-                       PROPERTIES ENVIRONMENT "DYNID_BIN=$<TARGET_FILE:dynid>")
+  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60)
 endfunction()

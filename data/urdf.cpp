@@ -48,13 +48,17 @@ ElementIndex indexElements(const std::string& text) {
   return index;
 }
 
-/// Collects urdfdom's console_bridge messages while parsing (console_bridge is global state).
+/// Collects urdfdom's console_bridge error messages while parsing (console_bridge is global state).
+/// urdfdom 3.0 logs some errors (a bad <inertial>: missing or unparsable mass) and still returns a
+/// model with those values zeroed, so any logged error fails the load.
 class CapturingHandler : public console_bridge::OutputHandler {
  public:
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first_error.empty()) first_error = text;
+    if (level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+    if (!errors.empty()) errors += "; ";
+    errors += text;
   }
-  std::string first_error;
+  std::string errors;
 };
 std::mutex console_mutex;
 
@@ -83,7 +87,8 @@ class UrdfBuilder {
     model_.drives_enabled = options_.drives;
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
-    visit(*urdf_.getRoot(), -1, Pose<double>());
+    walk(*urdf_.getRoot(), -1, Pose<double>());
+    addBodies();
     if (model_.numJoints() == 0)
       throw ParseError(file_, 0, "robot '" + model_.name + "'", "has no moving joint");
     try {
@@ -170,45 +175,82 @@ class UrdfBuilder {
     return out;
   }
 
-  void visit(const urdf::Link& link, int body, const Pose<double>& link_in_body) {
-    std::vector<urdf::JointSharedPtr> joints = link.child_joints;
-    std::sort(joints.begin(), joints.end(), [&](const auto& a, const auto& b) {
-      return order(a->name) < order(b->name);
-    });
-    for (const urdf::JointSharedPtr& joint : joints) {
+  /// A moving joint found by the walk: its parent (another record, or -1 for the base) and its
+  /// placement in that parent's link frame (fixed joints in between composed in).
+  struct MovingJoint {
+    const urdf::Joint* joint;
+    const urdf::Link* child;
+    int parent_record;
+    Pose<double> placement;
+  };
+  /// A link merged by a fixed joint into a record's body (-1: the base) at a placement.
+  struct Merge {
+    const urdf::Link* link;
+    int record;
+    Pose<double> placement;
+  };
+
+  void walk(const urdf::Link& link, int record, const Pose<double>& link_in_body) {
+    for (const urdf::JointSharedPtr& joint : link.child_joints) {
       const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
       if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
       const Pose<double> placement = link_in_body * toPose(joint->parent_to_joint_origin_transform);
       if (joint->type == urdf::Joint::FIXED) {
-        // Merge the child into this body (the base ignores its inertia: it does not move).
-        if (body >= 0)
-          model_.inertias[body] += linkInertia(*child, false).transformedBy(placement);
-        visit(*child, body, placement);
-        continue;
+        merges_.push_back({child.get(), record, placement});
+        walk(*child, record, placement);
+      } else {
+        moving_.push_back({joint.get(), child.get(), record, placement});
+        walk(*child, static_cast<int>(moving_.size()) - 1, Pose<double>());
       }
+    }
+  }
+
+  /// Bodies in topological order, choosing the joint defined first in the file whenever several
+  /// are ready: a file that lists parents first keeps its joint order exactly.
+  void addBodies() {
+    const int count = static_cast<int>(moving_.size());
+    std::vector<int> body_of(count, -1);
+    std::vector<char> added(count, 0);
+    for (int placed = 0; placed < count; ++placed) {
+      int best = -1;
+      for (int r = 0; r < count; ++r) {
+        if (added[r]) continue;
+        const int parent = moving_[r].parent_record;
+        if (parent >= 0 && !added[parent]) continue;
+        if (best < 0 || order(moving_[r].joint->name) < order(moving_[best].joint->name)) best = r;
+      }
+      const MovingJoint& m = moving_[best];
+      const urdf::Joint& joint = *m.joint;
       JointType type = JointType::kRevolute;
-      if (joint->type == urdf::Joint::CONTINUOUS) type = JointType::kContinuous;
-      if (joint->type == urdf::Joint::PRISMATIC) type = JointType::kPrismatic;
+      if (joint.type == urdf::Joint::CONTINUOUS) type = JointType::kContinuous;
+      if (joint.type == urdf::Joint::PRISMATIC) type = JointType::kPrismatic;
       const Eigen::Vector3d axis =
-          Eigen::Vector3d(joint->axis.x, joint->axis.y, joint->axis.z).normalized();
+          Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z).normalized();
       JointLimits limits;
-      if (joint->limits) {
+      if (joint.limits) {
         if (type != JointType::kContinuous) {
-          limits.lower = joint->limits->lower;
-          limits.upper = joint->limits->upper;
+          limits.lower = joint.limits->lower;
+          limits.upper = joint.limits->upper;
         }
-        if (joint->limits->velocity > 0.0) limits.velocity = joint->limits->velocity;
-        if (joint->limits->effort > 0.0) limits.effort = joint->limits->effort;
+        if (joint.limits->velocity > 0.0) limits.velocity = joint.limits->velocity;
+        if (joint.limits->effort > 0.0) limits.effort = joint.limits->effort;
       }
       DriveParameters<double> drive;
-      if (joint->dynamics) {
-        drive.viscous = joint->dynamics->damping;
-        drive.coulomb = joint->dynamics->friction;
+      if (joint.dynamics) {
+        drive.viscous = joint.dynamics->damping;
+        drive.coulomb = joint.dynamics->friction;
       }
-      const int index = model_.addBody(body, child->name, joint->name, type, placement, axis,
-                                       Pose<double>(), linkInertia(*child, true), limits, drive);
-      visit(*child, index, Pose<double>());
+      const int parent_body = m.parent_record < 0 ? -1 : body_of[m.parent_record];
+      body_of[best] = model_.addBody(parent_body, m.child->name, joint.name, type, m.placement,
+                                     axis, Pose<double>(), linkInertia(*m.child, true), limits,
+                                     drive);
+      added[best] = 1;
     }
+    // Fixed children join their body (the base ignores its inertia: it does not move).
+    for (const Merge& merge : merges_)
+      if (merge.record >= 0)
+        model_.inertias[body_of[merge.record]] +=
+            linkInertia(*merge.link, false).transformedBy(merge.placement);
   }
 
   int order(const std::string& joint) const {
@@ -221,6 +263,8 @@ class UrdfBuilder {
   const ElementIndex& index_;
   const UrdfOptions& options_;
   std::vector<std::string>* warnings_;
+  std::vector<MovingJoint> moving_;
+  std::vector<Merge> merges_;
   Model model_;
 };
 
@@ -257,12 +301,12 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
     try {
       urdf = urdf::parseURDF(text);
     } catch (const std::exception& e) {
-      handler.first_error = e.what();
+      handler.errors = e.what();
     }
     console_bridge::restorePreviousOutputHandler();
-    error = handler.first_error;
+    error = handler.errors;
   }
-  if (!urdf) {
+  if (!urdf || !error.empty()) {
     if (error.empty()) error = "not a valid URDF document";
     std::string element;
     const int line = lineOfMessage(error, index, &element);

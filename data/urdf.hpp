@@ -16,8 +16,9 @@ struct UrdfOptions {
 };
 
 /// Loads a URDF file. The root link is the fixed base; revolute, continuous and prismatic joints
-/// become dynid joints in depth-first order (children in document order); fixed joints are merged
-/// into their parent body (inertia transformed by the joint origin, grandchildren re-attached).
+/// become dynid joints in topological order, earliest in the file first (a file that lists parents
+/// before children keeps its joint order); fixed joints are merged into their parent body (inertia
+/// transformed by the joint origin, grandchildren re-attached).
 /// Throws ParseError naming the file, the line when known and the element ("joint 'elbow'") for:
 /// XML or urdfdom errors (unknown parents, cycles, several roots, missing <mass>), floating or
 /// planar joints, negative masses, non-finite numbers, a zero joint axis. Warnings (unless strict)

@@ -1,0 +1,150 @@
+// The dynid executable end to end: exit codes (0 ok, 1 runtime or data error, 2 usage error),
+// messages that name the file, row or field, JSON output, and files written whole or not at all.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/io.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+Result run(const std::string& args) {
+  const std::string out = test::tempPath("stdout"), err = test::tempPath("stderr");
+  const int status = std::system((std::string(DYNID_BIN) + " " + args + " >" + out + " 2>" + err).c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readFile(out);
+  r.err = readFile(err);
+  return r;
+}
+
+bool contains(const std::string& s, const std::string& fragment) {
+  return s.find(fragment) != std::string::npos;
+}
+
+TEST(Cli, VersionHelpAndUsage) {
+  EXPECT_EQ(run("--version").code, 0);
+  EXPECT_TRUE(contains(run("--help").out, "commands:"));
+  EXPECT_EQ(run("").code, 2);
+  const Result unknown = run("fly");
+  EXPECT_EQ(unknown.code, 2);
+  EXPECT_TRUE(contains(unknown.err, "unknown command 'fly'"));
+  for (const char* command : {"dynamics", "simulate", "model show", "model check", "model export"}) {
+    const Result help = run(std::string(command) + " --help");
+    EXPECT_EQ(help.code, 0) << command;
+    EXPECT_TRUE(contains(help.out, "usage: dynid")) << command;
+  }
+}
+
+TEST(Cli, DynamicsJson) {
+  const Result r = run("dynamics --robot puma560 --q 0,0.7853981633974483,3.141592653589793,0,"
+                       "0.7853981633974483,0 --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["schema_version"], 1);
+  ASSERT_EQ(j["tau"].size(), 6u);
+  ASSERT_EQ(j["M"].size(), 6u);
+  ASSERT_EQ(j["ddq"].size(), 6u);
+  // Robotics Toolbox p560.gravload(qn) = (0, 31.6399, 6.0351, 0, 0.0283, 0).
+  EXPECT_NEAR(j["tau"][1].get<double>(), 31.6399, 1e-4);
+  EXPECT_NEAR(j["tau"][2].get<double>(), 6.0351, 1e-4);
+  const Result with_tau = run("dynamics --robot puma560 --drives --q 0,0,0,0,0,0 --dq=-1,0,0,0,0,0 "
+                              "--tau 1,2,3,4,5,6 --json");
+  ASSERT_EQ(with_tau.code, 0) << with_tau.err;
+  EXPECT_EQ(nlohmann::json::parse(with_tau.out)["tau"][5], 6.0);
+  EXPECT_EQ(run("dynamics --robot puma560 --q -0.5,0,0,0,0,0").code, 0);
+}
+
+TEST(Cli, UsageErrorsNameTheOption) {
+  Result r = run("dynamics --robot puma560 --q 1,2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--q has 2 entries, the robot has 6 joints")) << r.err;
+  r = run("dynamics --robot puma560 --dq 1,x,0,0,0,0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--dq: entry 2 'x' is not a finite number")) << r.err;
+  r = run("dynamics --robot puma560 --ddq 0,0,0,0,0,0 --tau 0,0,0,0,0,0");
+  EXPECT_EQ(r.code, 2);
+  r = run("dynamics --q 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--robot")) << r.err;
+  r = run("simulate --robot puma560 --out x.csv --integrator rk45");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "unknown integrator 'rk45'")) << r.err;
+  r = run("model export --robot puma560 --format sdf --out x");
+  EXPECT_EQ(r.code, 2);
+}
+
+TEST(Cli, DataErrorsNameTheFile) {
+  const Result r = run("dynamics --robot /nonexistent/arm.urdf");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "/nonexistent/arm.urdf")) << r.err;
+  const std::string bad = test::tempPath("bad.urdf");
+  std::ofstream(bad) << "<robot name='x'><link name='a'/><link name='b'><inertial><mass value='-1'/>"
+                        "<inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link>"
+                        "<joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
+                        "<limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>";
+  const Result urdf = run("model show --robot " + bad);
+  EXPECT_EQ(urdf.code, 1);
+  EXPECT_TRUE(contains(urdf.err, bad + ":1: link 'b': negative mass")) << urdf.err;
+}
+
+TEST(Cli, SimulateWritesADatasetAndSummary) {
+  const std::string path = test::tempPath("sim.csv");
+  const Result r = run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + path);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "501 samples x 6 joints")) << r.out;
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.substr(0, 8), "t,q1,q2,");
+  // Same seed, same file; the Fourier controller runs too.
+  const std::string again = test::tempPath("sim2.csv");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + again).code, 0);
+  EXPECT_EQ(readFile(path), readFile(again));
+  EXPECT_EQ(run("simulate --robot puma560 --drives --controller fourier --duration 0.2 --out " + again).code, 0);
+}
+
+TEST(Cli, FailedWritesLeaveNoPartialFile) {
+  const std::string dir = test::tempPath("no-such-dir");
+  const Result r = run("simulate --robot puma560 --duration 0.1 --out " + dir + "/sim.csv");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, dir + "/sim.csv")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+  const Result bad_rate = run("simulate --robot puma560 --dt 3e-4 --out " + test::tempPath("x.csv"));
+  EXPECT_EQ(bad_rate.code, 1);
+  EXPECT_TRUE(contains(bad_rate.err, "not a whole multiple")) << bad_rate.err;
+}
+
+TEST(Cli, ModelExportAndReload) {
+  const std::string json = test::tempPath("puma.json"), urdf = test::tempPath("puma.urdf");
+  ASSERT_EQ(run("model export --robot puma560 --drives --format json --out " + json).code, 0);
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
+  const std::string args = " --q 0.1,0.2,0.3,0.4,0.5,0.6 --dq 1,1,1,1,1,1 --json";
+  const auto builtin = nlohmann::json::parse(run("dynamics --robot puma560 --drives" + args).out);
+  const auto reloaded = nlohmann::json::parse(run("dynamics --robot " + json + args).out);
+  EXPECT_EQ(builtin["tau"], reloaded["tau"]);
+  EXPECT_EQ(run("dynamics --robot " + urdf + args).code, 0);
+  const Result check = run("model check --robot puma560 --json");
+  EXPECT_EQ(check.code, 1);  // the published link 1 and link 3 violate the triangle inequality
+  const auto report = nlohmann::json::parse(check.out);
+  EXPECT_FALSE(report["consistent"].get<bool>());
+  EXPECT_EQ(report["violations"].size(), 2u);
+  const Result show = run("model show --robot puma560 --drives");
+  EXPECT_EQ(show.code, 0);
+  EXPECT_TRUE(contains(show.out, "Ia6")) << show.out;
+}
+
+}  // namespace
+}  // namespace dynid

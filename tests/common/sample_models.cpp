@@ -1,0 +1,121 @@
+#include "tests/common/sample_models.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <unistd.h>
+
+#include "core/parameters.hpp"
+
+namespace dynid::test {
+
+Eigen::VectorXd randomVector(std::mt19937_64& rng, int n, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = u(rng);
+  return v;
+}
+
+namespace {
+Eigen::Matrix3d randomRotation(std::mt19937_64& rng) {
+  const Eigen::VectorXd rpy = randomVector(rng, 3, 3.0);
+  return rotationFromRpy(rpy[0], rpy[1], rpy[2]);
+}
+}  // namespace
+
+Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Model model;
+  model.name = "random_tree_" + std::to_string(seed);
+  model.gravity = Eigen::Vector3d(0.3, -0.2, -9.81);
+  model.drives_enabled = options.drives;
+  model.offsets_enabled = options.drives;
+  for (int i = 0; i < options.num_bodies; ++i) {
+    const int parent =
+        options.chain ? i - 1 : static_cast<int>(std::floor(unit(rng) * (i + 1))) - 1;
+    const double kind = unit(rng);
+    const JointType type = options.prismatic && kind < 0.25 ? JointType::kPrismatic
+                           : kind < 0.4                     ? JointType::kContinuous
+                                                            : JointType::kRevolute;
+    Eigen::Vector3d axis = Eigen::Vector3d::Unit(static_cast<int>(unit(rng) * 3) % 3);
+    if (options.general_axes && unit(rng) < 0.5) axis = randomVector(rng, 3, 1.0).normalized();
+    Pose<double> joint_placement;
+    joint_placement.rotation = randomRotation(rng);
+    joint_placement.translation = randomVector(rng, 3, 0.5);
+    Pose<double> body_placement;
+    if (options.body_placements && unit(rng) < 0.5) {
+      body_placement.rotation = randomRotation(rng);
+      body_placement.translation = randomVector(rng, 3, 0.3);
+    }
+    // Physically consistent: principal moments with the triangle inequality, rotated.
+    Eigen::Matrix<double, 7, 1> paper;
+    const double a = 0.02 + 0.2 * unit(rng), b = 0.02 + 0.2 * unit(rng);
+    const double c = std::abs(a - b) + (a + b - std::abs(a - b)) * unit(rng);
+    paper << 0.5 + 4.5 * unit(rng), randomVector(rng, 3, 0.2), a, b, c;
+    RigidInertia<double> inertia = fromStandardVector(paperToStandard(paper));
+    const Eigen::Matrix3d rot = randomRotation(rng);
+    const Eigen::Matrix3d ic = inertiaAboutCom(inertia);
+    inertia.inertia += rot * ic * rot.transpose() - ic;
+    DriveParameters<double> drive;
+    if (options.drives) {
+      drive.rotor_inertia = 0.5 * unit(rng);
+      drive.viscous = unit(rng);
+      drive.coulomb = unit(rng);
+      drive.offset = 0.2 * (unit(rng) - 0.5);
+    }
+    JointLimits limits;
+    if (type == JointType::kRevolute) limits.lower = -2.5, limits.upper = 2.5;
+    if (type == JointType::kPrismatic) limits.lower = -0.5, limits.upper = 0.5;
+    model.addBody(parent, "body" + std::to_string(i + 1), "joint" + std::to_string(i + 1), type,
+                  joint_placement, axis, body_placement, inertia, limits, drive);
+  }
+  model.finalize();
+  return model;
+}
+
+Model Planar2R::model() const {
+  Model model;
+  model.name = "planar_2r";
+  model.gravity = Eigen::Vector3d(0.0, -g, 0.0);
+  auto link = [](double m, double lc, double izz) {
+    Eigen::Matrix<double, 7, 1> paper;
+    paper << m, lc, 0.0, 0.0, 0.01, 0.01 + izz, izz;  // Ixx, Iyy arbitrary: out of plane
+    return fromStandardVector(paperToStandard(paper));
+  };
+  Pose<double> elbow;
+  elbow.translation = Eigen::Vector3d(l1, 0.0, 0.0);
+  model.addBody(-1, "link1", "shoulder", JointType::kContinuous, Pose<double>(),
+                Eigen::Vector3d::UnitZ(), Pose<double>(), link(m1, lc1, I1));
+  model.addBody(0, "link2", "elbow", JointType::kContinuous, elbow, Eigen::Vector3d::UnitZ(),
+                Pose<double>(), link(m2, lc2, I2));
+  model.finalize();
+  return model;
+}
+
+Eigen::Matrix2d Planar2R::massMatrix(const Eigen::Vector2d& q) const {
+  const double c2 = std::cos(q[1]);
+  const double d11 = m1 * lc1 * lc1 + m2 * (l1 * l1 + lc2 * lc2 + 2 * l1 * lc2 * c2) + I1 + I2;
+  const double d12 = m2 * (lc2 * lc2 + l1 * lc2 * c2) + I2;
+  const double d22 = m2 * lc2 * lc2 + I2;
+  Eigen::Matrix2d m;
+  m << d11, d12, d12, d22;
+  return m;
+}
+
+Eigen::Vector2d Planar2R::coriolis(const Eigen::Vector2d& q, const Eigen::Vector2d& dq) const {
+  const double h = -m2 * l1 * lc2 * std::sin(q[1]);
+  return {2 * h * dq[0] * dq[1] + h * dq[1] * dq[1], -h * dq[0] * dq[0]};
+}
+
+Eigen::Vector2d Planar2R::gravity(const Eigen::Vector2d& q) const {
+  const double c1 = std::cos(q[0]), c12 = std::cos(q[0] + q[1]);
+  return {(m1 * lc1 + m2 * l1) * g * c1 + m2 * lc2 * g * c12, m2 * lc2 * g * c12};
+}
+
+std::string tempPath(const std::string& name) {
+  static std::atomic<int> counter{0};
+  return std::string(DYNID_TEST_TMP) + "/" + std::to_string(::getpid()) + "_" +
+         std::to_string(counter++) + "_" + name;
+}
+
+}  // namespace dynid::test

@@ -1,0 +1,85 @@
+#include "core/controllers.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "core/rnea.hpp"
+#include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+void expectDerivativesConsistent(const Reference& reference) {
+  Eigen::VectorXd q, dq, ddq, qp, dqp, ddqp, qm, dqm, ddqm;
+  const double t = 1.3, h = 1e-5;
+  evaluateReference(reference, t, q, dq, ddq);
+  evaluateReference(reference, t + h, qp, dqp, ddqp);
+  evaluateReference(reference, t - h, qm, dqm, ddqm);
+  // Central differences, truncation O(h^2 q''') ~ 1e-10 for rad-scale motions.
+  EXPECT_LT(((qp - qm) / (2 * h) - dq).norm(), 1e-8);
+  EXPECT_LT(((dqp - dqm) / (2 * h) - ddq).norm(), 1e-8);
+}
+
+TEST(Controllers, SinusoidalReferenceIsConsistent) {
+  SinusoidalReference r;
+  r.q0 = Eigen::Vector3d(0.1, -0.2, 0.3);
+  r.amplitude = Eigen::Vector3d(0.5, 0.4, 0.3);
+  r.frequency = Eigen::Vector3d(0.2, 0.35, 0.5);
+  r.phase = Eigen::Vector3d(0.0, 1.0, -0.5);
+  Eigen::VectorXd q, dq, ddq;
+  evaluateReference(r, 0.0, q, dq, ddq);
+  EXPECT_NEAR(q[1], -0.2 + 0.4 * std::sin(1.0), 1e-15);
+  expectDerivativesConsistent(r);
+  r.phase.resize(2);
+  EXPECT_THROW(evaluateReference(r, 0.0, q, dq, ddq), InputError);
+}
+
+TEST(Controllers, FourierReferenceIsConsistent) {
+  FourierReference r;
+  r.q0 = Eigen::Vector2d(0.1, 0.2);
+  r.base_frequency = 0.1;
+  r.sine = Eigen::Matrix<double, 2, 3>::Random();
+  r.cosine = Eigen::Matrix<double, 2, 3>::Random();
+  expectDerivativesConsistent(r);
+}
+
+TEST(Controllers, FeedForwardUsesTheControllersOwnModel) {
+  const Model truth = makePuma560();
+  Model controller_model = truth;
+  controller_model.inertias[1].mass *= 1.2;
+  controller_model.finalize();
+  SinusoidalReference r;
+  r.q0 = puma560Pose("qn");
+  r.amplitude = r.frequency = r.phase = Eigen::VectorXd::Zero(6);
+  TrackingController controller(controller_model, r, defaultGains(controller_model, r.q0),
+                                Eigen::VectorXd::Constant(6, 1e9));
+  // On the reference, tau is the controller model's gravity torque, not the truth's.
+  Eigen::VectorXd tau(6);
+  controller.compute(0.0, r.q0, Eigen::VectorXd::Zero(6), tau);
+  Data data(controller_model);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(6);
+  EXPECT_LT((tau - rnea(controller_model, data, r.q0, zero, zero)).norm(), 1e-12);
+  Data truth_data(truth);
+  EXPECT_GT((tau - rnea(truth, truth_data, r.q0, zero, zero)).norm(), 0.1);
+}
+
+TEST(Controllers, SaturatesAndTracksWithPdGains) {
+  const Model model = makePuma560();
+  SinusoidalReference r;
+  r.q0 = Eigen::VectorXd::Zero(6);
+  r.amplitude = r.frequency = r.phase = Eigen::VectorXd::Zero(6);
+  TrackingGains gains{Eigen::VectorXd::Constant(6, 100.0), Eigen::VectorXd::Constant(6, 10.0)};
+  TrackingController controller(model, r, gains, Eigen::VectorXd::Constant(6, 2.0));
+  Eigen::VectorXd tau(6);
+  controller.compute(0.0, Eigen::VectorXd::Constant(6, 0.5), Eigen::VectorXd::Zero(6), tau);
+  // Kp e = -50 on every joint, clamped to the +-2 N m limit.
+  EXPECT_TRUE((tau.array() == -2.0).all()) << tau.transpose();
+  EXPECT_THROW(TrackingController(model, r, gains, Eigen::VectorXd::Constant(6, -1.0)), InputError);
+  const TrackingGains g = defaultGains(model, r.q0, 5.0, 1.0);
+  EXPECT_GT(g.kp.minCoeff(), 0.0);
+  EXPECT_NEAR(g.kd[0] / g.kp[0], 2.0 / (2 * M_PI * 5.0), 1e-12);
+}
+
+}  // namespace
+}  // namespace dynid

@@ -1,0 +1,40 @@
+#include "core/crba.hpp"
+
+#include <Eigen/Cholesky>
+#include <gtest/gtest.h>
+
+#include "core/energy.hpp"
+#include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+TEST(Crba, PlanarTwoLinkMatchesTheTextbook) {
+  const test::Planar2R arm;
+  const Model model = arm.model();
+  Data data(model);
+  for (double q2 : {-2.0, 0.0, 0.4, 1.9}) {
+    const Eigen::Vector2d q(0.3, q2);
+    EXPECT_LT((crba(model, data, q) - arm.massMatrix(q)).norm(), 1e-14);
+  }
+}
+
+TEST(Crba, SymmetricPositiveDefiniteAndMatchesKineticEnergy) {
+  std::mt19937_64 rng(2);
+  for (int seed = 0; seed < 8; ++seed) {
+    const Model model = seed == 0 ? makePuma560(true) : test::randomTree(seed, {.drives = seed % 2 == 1});
+    Data data(model);
+    const int n = model.numJoints();
+    const Eigen::VectorXd q = test::randomVector(rng, n, 2.0), dq = test::randomVector(rng, n, 2.0);
+    const Eigen::MatrixXd M = crba(model, data, q);
+    EXPECT_EQ(M, M.transpose()) << "seed " << seed;
+    EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(M).info(), Eigen::Success) << "seed " << seed;
+    // 1/2 dq^T M dq against the sum of body kinetic energies; round-off relative to the energy.
+    const double energy = kineticEnergy(model, data, q, dq);
+    EXPECT_NEAR(0.5 * dq.dot(M * dq), energy, 1e-12 * energy) << "seed " << seed;
+  }
+}
+
+}  // namespace
+}  // namespace dynid

@@ -1,0 +1,84 @@
+#include "data/dataset_csv.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+Trajectory sampleTrajectory() {
+  std::mt19937_64 rng(1);
+  Trajectory t;
+  t.resize(2, 4);
+  t.time << 0.0, 0.001, 0.002, 0.003;
+  t.q = Eigen::MatrixXd::Random(2, 4);
+  t.dq = Eigen::MatrixXd::Random(2, 4) * 1e-7;
+  t.ddq = Eigen::MatrixXd::Random(2, 4) * 1e5;
+  t.tau = Eigen::MatrixXd::Random(2, 4) / 3.0;
+  return t;
+}
+
+TEST(DatasetCsv, RoundTripIsExact) {
+  const std::string path = test::tempPath("round.csv");
+  const Trajectory t = sampleTrajectory();
+  writeDatasetCsv(path, t);
+  const Trajectory back = readDatasetCsv(path, 2);
+  EXPECT_EQ(back.time, t.time);
+  EXPECT_EQ(back.q, t.q);
+  EXPECT_EQ(back.dq, t.dq);
+  EXPECT_EQ(back.ddq, t.ddq);
+  EXPECT_EQ(back.tau, t.tau);
+  std::ifstream in(path);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "t,q1,q2,dq1,dq2,ddq1,ddq2,tau1,tau2");
+}
+
+void expectError(const std::string& content, int expected_joints, const std::string& fragment) {
+  const std::string path = test::tempPath("bad.csv");
+  std::ofstream(path) << content;
+  try {
+    readDatasetCsv(path, expected_joints);
+    FAIL() << "expected ParseError containing " << fragment;
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_EQ(e.file(), path);
+  }
+}
+
+TEST(DatasetCsv, ErrorsNameTheLineAndColumn) {
+  const std::string header = "t,q1,dq1,ddq1,tau1\n";
+  expectError(header + "0,1,2,3,4\n0.1,1,2,x,4\n", -1, ":3: ddq1: 'x' is not a number");
+  expectError(header + "0,1,2,3,4\n0.1,1,2,3\n", -1, ":3: row has 4 fields, the header has 5");
+  expectError(header + "0,1,nan,3,4\n", -1, ":2: dq1: 'nan' is not finite");
+  expectError(header + "0,1,2,3,4\n0,1,2,3,4\n", -1, ":3: t: time must increase strictly");
+  expectError("t,q1,dq1,ddq1,torque1\n0,1,2,3,4\n", -1,
+              ":1: column 5: expected 'tau1', found 'torque1'");
+  expectError("t,q1,q2\n", -1, ":1: header has 3 columns");
+  expectError(header + "0,1,2,3,4\n", 6, "header describes 1 joints, the model has 6");
+  expectError("", -1, "empty file");
+  expectError(header, -1, "no data rows");
+  expectError(header + "0,1,2,3,4\n\n0.1,1,2,3,4\n", -1, ":3: row has 1 fields");
+}
+
+TEST(DatasetCsv, AcceptsCrlfAndTrailingBlankLines) {
+  const std::string path = test::tempPath("crlf.csv");
+  std::ofstream(path) << "t,q1,dq1,ddq1,tau1\r\n0,1,2,3,4\r\n0.5,1,2,3,4e-3\r\n\r\n";
+  const Trajectory t = readDatasetCsv(path);
+  EXPECT_EQ(t.numSamples(), 2);
+  EXPECT_DOUBLE_EQ(t.tau(0, 1), 4e-3);
+}
+
+TEST(DatasetCsv, UnwritablePathLeavesNoFile) {
+  const std::string path = test::tempPath("missing-dir") + "/out.csv";
+  EXPECT_THROW(writeDatasetCsv(path, sampleTrajectory()), Error);
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(path).parent_path()));
+}
+
+}  // namespace
+}  // namespace dynid

@@ -1,0 +1,62 @@
+#include "data/model_json.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+void expectSameModel(const Model& a, const Model& b) {
+  ASSERT_EQ(a.numJoints(), b.numJoints());
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.gravity, b.gravity);
+  EXPECT_EQ(a.drives_enabled, b.drives_enabled);
+  EXPECT_EQ(a.offsets_enabled, b.offsets_enabled);
+  EXPECT_EQ(a.parents, b.parents);
+  EXPECT_EQ(a.joint_types, b.joint_types);
+  EXPECT_EQ(a.standardParameters(), b.standardParameters());  // bit for bit
+  for (int i = 0; i < a.numJoints(); ++i) {
+    EXPECT_EQ(a.joint_placements[i].rotation, b.joint_placements[i].rotation);
+    EXPECT_EQ(a.joint_placements[i].translation, b.joint_placements[i].translation);
+    EXPECT_EQ(a.body_placements[i].rotation, b.body_placements[i].rotation);
+    EXPECT_EQ(a.axes[i], b.axes[i]);
+    EXPECT_EQ(a.limits[i].upper, b.limits[i].upper);
+    EXPECT_EQ(a.drives[i].offset, b.drives[i].offset);
+  }
+}
+
+TEST(ModelJson, RoundTripIsExact) {
+  expectSameModel(makePuma560(true), modelFromJson(modelToJson(makePuma560(true)), "p.json"));
+  const Model tree = test::randomTree(9, {.drives = true});
+  expectSameModel(tree, modelFromJson(modelToJson(tree), "t.json"));
+}
+
+void expectError(const std::string& from, const std::string& to, const std::string& fragment) {
+  std::string text = modelToJson(makePuma560());
+  const std::size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  try {
+    modelFromJson(text, "robot.json");
+    FAIL() << "expected ParseError containing " << fragment;
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    EXPECT_EQ(e.file(), "robot.json");
+  }
+}
+
+TEST(ModelJson, ErrorsNameTheJsonPath) {
+  expectError("\"m\": 17.4", "\"m\": \"heavy\"", "bodies[1].inertial.m: expected a number");
+  expectError("\"m\": 17.4", "\"m\": -17.4", "bodies[1].inertial.m: negative mass");
+  expectError("\"m\": 17.4", "\"mass\": 17.4", "bodies[1].inertial.m: missing");
+  expectError("\"parent\": \"link2\"", "\"parent\": \"link9\"", "bodies[2].parent: unknown parent");
+  expectError("\"type\": \"revolute\"", "\"type\": \"floating\"", "bodies[0].joint.type");
+  expectError("\"schema_version\": 1", "\"schema_version\": 7", "schema_version: unsupported");
+  expectError("\"bodies\": [", "\"bodies\": [[", "invalid JSON");
+}
+
+}  // namespace
+}  // namespace dynid
