@@ -1,5 +1,6 @@
 // Core dynamics on the built-in PUMA 560, single-threaded, at seeded random states within the
-// joint limits. Run: build/bench/bench_core --benchmark_repetitions=5 --benchmark_report_aggregates_only
+// joint limits. Run: build/bench/bench_core --benchmark_repetitions=5
+// --benchmark_report_aggregates_only
 #include <random>
 
 #include <benchmark/benchmark.h>

@@ -24,12 +24,14 @@ void printVector(const char* name, const char* unit, const Eigen::VectorXd& v) {
 int runDynamics(const std::vector<std::string>& args) {
   po::options_description options("dynid dynamics");
   addRobotOptions(options);
-  options.add_options()("q", po::value<std::string>(), "joint positions, comma-separated [rad] "
-                                                       "(default all 0)")(
-      "dq", po::value<std::string>(), "joint velocities [rad/s] (default all 0)")(
+  options.add_options()("q", po::value<std::string>(),
+                        "joint positions, comma-separated [rad] "
+                        "(default all 0)")("dq", po::value<std::string>(),
+                                           "joint velocities [rad/s] (default all 0)")(
       "ddq", po::value<std::string>(), "joint accelerations [rad/s^2]: tau = RNEA(q, dq, ddq)")(
       "tau", po::value<std::string>(), "joint torques [N m]: ddq = ABA(q, dq, tau)")(
-      "json", po::bool_switch(), "print {\"schema_version\", \"tau\", \"M\", \"ddq\", ...} as JSON");
+      "json", po::bool_switch(),
+      "print {\"schema_version\", \"tau\", \"M\", \"ddq\", ...} as JSON");
   po::variables_map vm;
   const std::string usage =
       "dynid dynamics --robot R [--drives] [--q LIST] [--dq LIST] [--ddq LIST | --tau LIST] "
@@ -58,10 +60,14 @@ int runDynamics(const std::vector<std::string>& args) {
   if (vm["json"].as<bool>()) {
     nlohmann::json m = nlohmann::json::array();
     for (int r = 0; r < n; ++r) m.push_back(toJson(M.row(r).transpose()));
-    std::cout << nlohmann::json{{"schema_version", 1}, {"robot", model.name},
-                                {"drives", model.drives_enabled}, {"q", toJson(q)},
-                                {"dq", toJson(dq)}, {"tau", toJson(tau)},
-                                {"M", m}, {"ddq", toJson(ddq)}}
+    std::cout << nlohmann::json{{"schema_version", 1},
+                                {"robot", model.name},
+                                {"drives", model.drives_enabled},
+                                {"q", toJson(q)},
+                                {"dq", toJson(dq)},
+                                {"tau", toJson(tau)},
+                                {"M", m},
+                                {"ddq", toJson(ddq)}}
                      .dump()
               << "\n";
     return kExitOk;

@@ -103,8 +103,7 @@ int runModel(const std::vector<std::string>& args) {
     options.add_options()("format", po::value<std::string>()->required(), "urdf or json")(
         "out", po::value<std::string>()->required(), "output file, or - for standard output");
   po::variables_map vm;
-  if (!parseCommandLine({args.begin() + 1, args.end()}, options, "dynid model " + sub + " ...",
-                        vm))
+  if (!parseCommandLine({args.begin() + 1, args.end()}, options, "dynid model " + sub + " ...", vm))
     return kExitOk;
   std::string format;
   if (sub == "export") {

@@ -65,35 +65,38 @@ FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd&
 int runSimulate(const std::vector<std::string>& args) {
   po::options_description options("dynid simulate");
   addRobotOptions(options);
-  options.add_options()
-      ("controller", po::value<std::string>()->default_value("sinusoidal"),
-       "sinusoidal (q0 + A sin(2 pi f t + phase), the paper's GC sinusoidal controller) or fourier "
-       "(seeded finite Fourier series)")
-      ("q0", po::value<std::string>(), "centre of the motion [rad] (default: middle of the limits)")
-      ("amplitude", po::value<std::string>()->default_value("0.5"),
-       "amplitude per joint [rad] (one value for all); fourier: excursion bound")
-      ("frequency", po::value<std::string>(),
-       "sinusoidal: frequency per joint [Hz] (default 0.15, 0.22, 0.29, ...)")
-      ("phase", po::value<std::string>(), "sinusoidal: phase per joint [rad] (default 0)")
-      ("base-frequency", po::value<double>()->default_value(0.1), "fourier: base frequency [Hz]")
-      ("harmonics", po::value<int>()->default_value(5), "fourier: number of harmonics")
-      ("kp", po::value<std::string>(), "position gains [N m/rad] (default: M_ii (2 pi bandwidth)^2)")
-      ("kd", po::value<std::string>(), "velocity gains [N m s/rad] (default: 2 M_ii 2 pi bandwidth)")
-      ("bandwidth", po::value<double>()->default_value(5.0), "bandwidth for default gains [Hz]")
-      ("tau-max", po::value<std::string>(), "torque limits [N m] (default: the model's effort limits)")
-      ("controller-robot", po::value<std::string>(),
-       "model used by the controller's gravity feed-forward (default: the simulated robot)")
-      ("controller-perturb", po::value<double>()->default_value(0.0),
-       "perturb the controller model's parameters by up to this fraction (seeded)")
-      ("duration", po::value<double>()->default_value(10.0), "simulated time [s]")
-      ("dt", po::value<double>()->default_value(1e-3), "integration step [s]")
-      ("rate", po::value<double>()->default_value(1000.0), "recording and control rate [Hz]")
-      ("integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler")
-      ("seed", po::value<std::uint64_t>()->default_value(1), "seed for noise and random choices")
-      ("noise-q", po::value<double>()->default_value(0.0), "std. dev. of noise on recorded q [rad]")
-      ("noise-dq", po::value<double>()->default_value(0.0), "... on recorded dq [rad/s]")
-      ("noise-tau", po::value<double>()->default_value(0.0), "... on recorded tau [N m]")
-      ("out", po::value<std::string>()->required(), "dataset CSV to write");
+  options.add_options()(
+      "controller", po::value<std::string>()->default_value("sinusoidal"),
+      "sinusoidal (q0 + A sin(2 pi f t + phase), the paper's GC sinusoidal controller) or fourier "
+      "(seeded finite Fourier series)")(
+      "q0", po::value<std::string>(), "centre of the motion [rad] (default: middle of the limits)")(
+      "amplitude", po::value<std::string>()->default_value("0.5"),
+      "amplitude per joint [rad] (one value for all); fourier: excursion bound")(
+      "frequency", po::value<std::string>(),
+      "sinusoidal: frequency per joint [Hz] (default 0.15, 0.22, 0.29, ...)")(
+      "phase", po::value<std::string>(), "sinusoidal: phase per joint [rad] (default 0)")(
+      "base-frequency", po::value<double>()->default_value(0.1), "fourier: base frequency [Hz]")(
+      "harmonics", po::value<int>()->default_value(5), "fourier: number of harmonics")(
+      "kp", po::value<std::string>(),
+      "position gains [N m/rad] (default: M_ii (2 pi bandwidth)^2)")(
+      "kd", po::value<std::string>(),
+      "velocity gains [N m s/rad] (default: 2 M_ii 2 pi bandwidth)")(
+      "bandwidth", po::value<double>()->default_value(5.0), "bandwidth for default gains [Hz]")(
+      "tau-max", po::value<std::string>(),
+      "torque limits [N m] (default: the model's effort limits)")(
+      "controller-robot", po::value<std::string>(),
+      "model used by the controller's gravity feed-forward (default: the simulated robot)")(
+      "controller-perturb", po::value<double>()->default_value(0.0),
+      "perturb the controller model's parameters by up to this fraction (seeded)")(
+      "duration", po::value<double>()->default_value(10.0), "simulated time [s]")(
+      "dt", po::value<double>()->default_value(1e-3), "integration step [s]")(
+      "rate", po::value<double>()->default_value(1000.0), "recording and control rate [Hz]")(
+      "integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler")(
+      "seed", po::value<std::uint64_t>()->default_value(1), "seed for noise and random choices")(
+      "noise-q", po::value<double>()->default_value(0.0), "std. dev. of noise on recorded q [rad]")(
+      "noise-dq", po::value<double>()->default_value(0.0), "... on recorded dq [rad/s]")(
+      "noise-tau", po::value<double>()->default_value(0.0), "... on recorded tau [N m]")(
+      "out", po::value<std::string>()->required(), "dataset CSV to write");
   po::variables_map vm;
   const std::string usage = "dynid simulate --robot R [options] --out FILE.csv";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
@@ -145,8 +148,8 @@ int runSimulate(const std::vector<std::string>& args) {
     r.phase = vm.count("phase") ? joint_vector("phase", true) : Eigen::VectorXd::Zero(n);
     reference = r;
   } else {
-    reference = randomFourier(q0, amplitude, vm["base-frequency"].as<double>(), harmonics,
-                              sim.seed);
+    reference =
+        randomFourier(q0, amplitude, vm["base-frequency"].as<double>(), harmonics, sim.seed);
   }
   TrackingGains gains = defaultGains(controller_model, q0, vm["bandwidth"].as<double>());
   if (vm.count("kp")) gains.kp = joint_vector("kp", true);
@@ -167,12 +170,13 @@ int runSimulate(const std::vector<std::string>& args) {
     evaluateReference(reference, trajectory.time[k], q_des, dq_des, ddq_des);
     squared_error += (trajectory.q.col(k) - q_des).squaredNorm();
   }
-  std::printf("wrote %s: %s, %d samples x %d joints, t = 0..%g s, tracking error RMS %.3g rad, "
-              "peak |tau| %.4g N m\n",
-              out.c_str(), truth.name.c_str(), trajectory.numSamples(), n,
-              trajectory.time[trajectory.numSamples() - 1],
-              std::sqrt(squared_error / (static_cast<double>(trajectory.numSamples()) * n)),
-              trajectory.tau.cwiseAbs().maxCoeff());
+  std::printf(
+      "wrote %s: %s, %d samples x %d joints, t = 0..%g s, tracking error RMS %.3g rad, "
+      "peak |tau| %.4g N m\n",
+      out.c_str(), truth.name.c_str(), trajectory.numSamples(), n,
+      trajectory.time[trajectory.numSamples() - 1],
+      std::sqrt(squared_error / (static_cast<double>(trajectory.numSamples()) * n)),
+      trajectory.tau.cwiseAbs().maxCoeff());
   return kExitOk;
 }
 

@@ -64,8 +64,8 @@ TrackingGains defaultGains(const Model& model, const Eigen::VectorXd& q, double 
   return {diag * (w * w), diag * (2.0 * damping * w)};
 }
 
-TrackingController::TrackingController(const Model& model, Reference reference,
-                                       TrackingGains gains, Eigen::VectorXd torque_limit)
+TrackingController::TrackingController(const Model& model, Reference reference, TrackingGains gains,
+                                       Eigen::VectorXd torque_limit)
     : model_(model),
       data_(model_),
       reference_(std::move(reference)),

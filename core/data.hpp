@@ -1,6 +1,6 @@
 // The workspace of every algorithm: built once from a Model (`Data data(model)`), it holds every
-// result and scratch buffer, so the algorithms allocate nothing once it exists. One Data per thread;
-// the Model is shared read-only.
+// result and scratch buffer, so the algorithms allocate nothing once it exists. One Data per
+// thread; the Model is shared read-only.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,6 @@
 // Fixed-step integrators of the forward dynamics, with the joint torque held constant over the step
-// (zero-order hold). The state is (q, dq); q is a plain vector (revolute and prismatic joints only).
+// (zero-order hold). The state is (q, dq); q is a plain vector (revolute and prismatic joints
+// only).
 #pragma once
 
 #include <string>

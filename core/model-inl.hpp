@@ -133,8 +133,8 @@ template <typename Scalar>
 void ModelTpl<Scalar>::setStandardParameters(const VectorX<Scalar>& theta) {
   const ParameterLayout layout = parameterLayout();
   if (theta.size() != layout.size())
-    throw InputError("parameter vector has " + std::to_string(theta.size()) +
-                     " entries, model '" + name + "' has " + std::to_string(layout.size()));
+    throw InputError("parameter vector has " + std::to_string(theta.size()) + " entries, model '" +
+                     name + "' has " + std::to_string(layout.size()));
   for (int i = 0; i < numJoints(); ++i) {
     inertias[i] = fromStandardVector(theta.template segment<10>(layout.linkIndex(i, 0)));
     if (!drives_enabled) continue;

@@ -7,9 +7,9 @@
 // n entries of q, dq, ddq and tau. Joint i places body i in its parent's frame as
 //     liMi(q_i) = joint_placement_i * J(q_i) * body_placement_i
 // where J is a rotation about `axis` (revolute, continuous) or a translation along it (prismatic).
-// URDF models have body_placement = identity; standard Denavit-Hartenberg models (joint i turns about
-// z_{i-1}, frame i at the distal end) have joint_placement = identity and
-// body_placement = Tz(d) Tx(a) Rx(alpha), so each link's parameters stay in its DH frame.
+// URDF models have body_placement = identity; standard Denavit-Hartenberg models (joint i turns
+// about z_{i-1}, frame i at the distal end) have joint_placement = identity and body_placement =
+// Tz(d) Tx(a) Rx(alpha), so each link's parameters stay in its DH frame.
 //
 // Symbols: q joint positions [rad or m], dq velocities, ddq accelerations, tau joint torques
 // [N m or N], theta the standard parameter vector (parameters.hpp).
@@ -68,12 +68,12 @@ struct ModelTpl {
   // Derived by finalize() (and setStandardParameters); do not set by hand. The algorithms work in
   // joint frames: joint frame i is body i's frame before body_placement_i, so that the motion
   // subspace there is the constant (axis, 0) or (0, axis) and, for a unit axis, a single entry.
-  std::vector<Pose<Scalar>> frame_placements;    // joint frame i at q_i = 0 in the parent's joint
-                                                 // frame: body_placement_p * joint_placement_i
+  std::vector<Pose<Scalar>> frame_placements;  // joint frame i at q_i = 0 in the parent's joint
+                                               // frame: body_placement_p * joint_placement_i
   std::vector<RigidInertia<Scalar>> frame_inertias;  // body i's inertia in joint frame i
   std::vector<Vector6<Scalar>> motion_subspaces;     // S_i in joint frame i
   std::vector<AxisKind> axis_kinds;
-  std::vector<int> subspace_index;  // k when S_i is the unit vector e_k (0..5), else -1
+  std::vector<int> subspace_index;        // k when S_i is the unit vector e_k (0..5), else -1
   std::vector<char> has_frame_placement;  // 0 when identity
 
   int numJoints() const { return static_cast<int>(parents.size()); }
@@ -83,8 +83,7 @@ struct ModelTpl {
   int addBody(int parent, std::string link_name, std::string joint_name, JointType type,
               const Pose<Scalar>& joint_placement, const Vector3<Scalar>& axis,
               const Pose<Scalar>& body_placement, const RigidInertia<Scalar>& inertia,
-              const JointLimits& joint_limits = {},
-              const DriveParameters<Scalar>& drive = {});
+              const JointLimits& joint_limits = {}, const DriveParameters<Scalar>& drive = {});
 
   /// Validates the model (topological order, unit axes, finite numbers) and derives the cached
   /// fields. Call it again after changing any field. Throws InputError naming the body at fault.
@@ -141,7 +140,8 @@ DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i
   if (model.axis_kinds[i] == AxisKind::kZ) {
     // P Rz(q): only the first two columns of P mix.
     if (!model.has_frame_placement[i]) {
-      out.rotation(0, 0) = c, out.rotation(0, 1) = -s, out.rotation(1, 0) = s, out.rotation(1, 1) = c;
+      out.rotation(0, 0) = c, out.rotation(0, 1) = -s, out.rotation(1, 0) = s,
+                      out.rotation(1, 1) = c;
       return out;
     }
     out.rotation.col(0) = c * placement.rotation.col(0) + s * placement.rotation.col(1);

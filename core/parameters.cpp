@@ -38,8 +38,8 @@ Eigen::Matrix<double, 7, 1> standardToPaper(const Eigen::Matrix<double, 10, 1>& 
                                             double* dropped_products) {
   const RigidInertia<double> inertia = fromStandardVector(standard);
   const double m = inertia.mass;
-  const Eigen::Vector3d c = m != 0.0 ? Eigen::Vector3d(inertia.first_moment / m)
-                                     : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d c =
+      m != 0.0 ? Eigen::Vector3d(inertia.first_moment / m) : Eigen::Vector3d::Zero();
   const Eigen::Matrix3d ic = inertiaAboutCom(inertia);
   if (dropped_products != nullptr)
     *dropped_products = std::max({std::abs(ic(0, 1)), std::abs(ic(0, 2)), std::abs(ic(1, 2))});

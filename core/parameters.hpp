@@ -80,7 +80,8 @@ RigidInertia<typename Derived::Scalar> fromStandardVector(const Eigen::MatrixBas
 /// Paper 7-vector [m, cx, cy, cz, Ixx, Iyy, Izz] -> standard 10-vector, exactly:
 /// h = m c, I_origin = diag(Ixx, Iyy, Izz) - m [c]x [c]x (parallel-axis theorem).
 template <typename Derived>
-Eigen::Matrix<typename Derived::Scalar, 10, 1> paperToStandard(const Eigen::MatrixBase<Derived>& p) {
+Eigen::Matrix<typename Derived::Scalar, 10, 1> paperToStandard(
+    const Eigen::MatrixBase<Derived>& p) {
   using Scalar = typename Derived::Scalar;
   const Scalar m = p(0);
   const Vector3<Scalar> c(p(1), p(2), p(3));
@@ -105,10 +106,10 @@ Eigen::Matrix3d inertiaAboutCom(const RigidInertia<double>& inertia);
 
 /// One violated physical-consistency condition of one link.
 struct ConsistencyViolation {
-  int link = 0;              // 0-based
-  std::string link_name;     // the model's name for the link
-  std::string condition;     // e.g. "mass >= 0", "triangle inequality I1 + I2 >= I3"
-  std::string detail;        // the numbers, e.g. "0 + 0 < 0.35"
+  int link = 0;           // 0-based
+  std::string link_name;  // the model's name for the link
+  std::string condition;  // e.g. "mass >= 0", "triangle inequality I1 + I2 >= I3"
+  std::string detail;     // the numbers, e.g. "0 + 0 < 0.35"
 };
 
 /// Checks one link's 10 standard parameters for physical realisability: mass >= 0; a massless link

@@ -26,7 +26,8 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
     perturbed.inertia += products;
     inertia = perturbed;
     DriveParameters<double>& d = out.drives[i];
-    for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.offset}) *x *= 1.0 + uniform(rng);
+    for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.offset})
+      *x *= 1.0 + uniform(rng);
   }
   return out;
 }

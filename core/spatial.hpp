@@ -35,7 +35,8 @@ using MatrixX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
 
 /// Cross product a x b of two 3-vectors (any Eigen expressions; avoids including Eigen/Geometry).
 template <typename A, typename B>
-DYNID_INLINE Vector3<typename A::Scalar> cross(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+DYNID_INLINE Vector3<typename A::Scalar> cross(const Eigen::MatrixBase<A>& a,
+                                               const Eigen::MatrixBase<B>& b) {
   return Vector3<typename A::Scalar>(a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(),
                                      a.x() * b.y() - a.y() * b.x());
 }
@@ -163,8 +164,8 @@ DYNID_INLINE Vector6<Scalar> crossForce(const Vector6<Scalar>& m, const Vector6<
 template <typename Scalar>
 struct RigidInertia {
   Scalar mass = Scalar(0);
-  Vector3<Scalar> first_moment = Vector3<Scalar>::Zero();     // h = m c [kg m]
-  Matrix3<Scalar> inertia = Matrix3<Scalar>::Zero();          // about the origin [kg m^2]
+  Vector3<Scalar> first_moment = Vector3<Scalar>::Zero();  // h = m c [kg m]
+  Matrix3<Scalar> inertia = Matrix3<Scalar>::Zero();       // about the origin [kg m^2]
 
   /// Momentum (force-type vector) of the body moving with spatial velocity m: I * m.
   DYNID_INLINE Vector6<Scalar> apply(const Vector6<Scalar>& m) const {

@@ -32,7 +32,8 @@ std::vector<std::string_view> splitFields(std::string_view line) {
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 }  // namespace
@@ -78,20 +79,24 @@ Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
   }
   // Blank lines at the end of the file are ignored; elsewhere they are errors.
   while (!lines.empty() && trim(lines.back()).empty()) lines.pop_back();
-  if (lines.empty()) throw ParseError(path, 1, "", "empty file: expected the header " +
-                                                   datasetHeader(expected_joints > 0 ? expected_joints : 1));
+  if (lines.empty())
+    throw ParseError(path, 1, "",
+                     "empty file: expected the header " +
+                         datasetHeader(expected_joints > 0 ? expected_joints : 1));
 
   // Header: t, then 4 blocks of n names.
   std::vector<std::string_view> header = splitFields(lines[0]);
   for (auto& h : header) h = trim(h);
   if ((header.size() - 1) % 4 != 0 || header.size() < 5)
-    throw ParseError(path, 1, "", "header has " + std::to_string(header.size()) +
-                                      " columns; expected t,q1..qn,dq1..dqn,ddq1..ddqn,tau1..taun "
-                                      "(1 + 4n columns)");
+    throw ParseError(path, 1, "",
+                     "header has " + std::to_string(header.size()) +
+                         " columns; expected t,q1..qn,dq1..dqn,ddq1..ddqn,tau1..taun "
+                         "(1 + 4n columns)");
   const int n = static_cast<int>((header.size() - 1) / 4);
   if (expected_joints >= 0 && n != expected_joints)
-    throw ParseError(path, 1, "", "header describes " + std::to_string(n) +
-                                      " joints, the model has " + std::to_string(expected_joints));
+    throw ParseError(path, 1, "",
+                     "header describes " + std::to_string(n) + " joints, the model has " +
+                         std::to_string(expected_joints));
   const std::vector<std::string> names = columnNames(n);
   for (std::size_t c = 0; c < names.size(); ++c)
     if (header[c] != names[c])
@@ -116,8 +121,7 @@ Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
       char* end = nullptr;
       const double x = field_copy.empty() ? NAN : std::strtod(field_copy.c_str(), &end);
       if (field_copy.empty() || end != field_copy.c_str() + field_copy.size())
-        throw ParseError(path, line_number, names[c],
-                         "'" + field_copy + "' is not a number");
+        throw ParseError(path, line_number, names[c], "'" + field_copy + "' is not a number");
       if (!std::isfinite(x))
         throw ParseError(path, line_number, names[c], "'" + field_copy + "' is not finite");
       if (c == 0) {

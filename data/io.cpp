@@ -17,8 +17,7 @@ namespace dynid {
 void writeFileAtomically(const std::string& path, const std::string& content) {
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());
   std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr)
-    throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  if (file == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
   const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
   const bool flushed = std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
   const bool closed = std::fclose(file) == 0;

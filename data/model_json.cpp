@@ -49,7 +49,8 @@ class Reader {
   double number(const json& object, const std::string& path, const char* key) const {
     return number(field(object, path, key), join(path, key));
   }
-  double limit(const json& object, const std::string& path, const char* key, double unlimited) const {
+  double limit(const json& object, const std::string& path, const char* key,
+               double unlimited) const {
     const auto it = object.find(key);
     if (it == object.end() || it->is_null()) return unlimited;
     return number(*it, join(path, key));
@@ -111,24 +112,21 @@ std::string modelToJson(const Model& model) {
       inertial[std::string(kLinkParameterNames[k])] = theta(k);
     const DriveParameters<double>& d = model.drives[i];
     const int p = model.parents[i];
-    bodies.push_back({{"name", model.link_names[i]},
-                      {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},
-                      {"joint", joint},
-                      {"inertial", inertial},
-                      {"drive",
-                       {{"Ia", d.rotor_inertia},
-                        {"Fv", d.viscous},
-                        {"Fc", d.coulomb},
-                        {"Fo", d.offset}}}});
+    bodies.push_back(
+        {{"name", model.link_names[i]},
+         {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},
+         {"joint", joint},
+         {"inertial", inertial},
+         {"drive",
+          {{"Ia", d.rotor_inertia}, {"Fv", d.viscous}, {"Fc", d.coulomb}, {"Fo", d.offset}}}});
   }
-  const json document = {
-      {"schema_version", kModelSchemaVersion},
-      {"kind", "dynid.model"},
-      {"name", model.name},
-      {"gravity", {model.gravity.x(), model.gravity.y(), model.gravity.z()}},
-      {"drives", model.drives_enabled},
-      {"offsets", model.offsets_enabled},
-      {"bodies", bodies}};
+  const json document = {{"schema_version", kModelSchemaVersion},
+                         {"kind", "dynid.model"},
+                         {"name", model.name},
+                         {"gravity", {model.gravity.x(), model.gravity.y(), model.gravity.z()}},
+                         {"drives", model.drives_enabled},
+                         {"offsets", model.offsets_enabled},
+                         {"bodies", bodies}};
   // nlohmann prints doubles with max_digits10, which round-trips exactly.
   return document.dump(2) + "\n";
 }
@@ -143,8 +141,8 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   Reader read(file);
   const json& version = read.field(document, "", "schema_version");
   if (!version.is_number_integer() || version.get<int>() != kModelSchemaVersion)
-    read.fail("schema_version", "unsupported (this dynid reads version " +
-                                    std::to_string(kModelSchemaVersion) + ")");
+    read.fail("schema_version",
+              "unsupported (this dynid reads version " + std::to_string(kModelSchemaVersion) + ")");
   Model model;
   model.name = read.string(document, "", "name");
   model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
@@ -179,8 +177,8 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     else if (type_name == "prismatic")
       type = JointType::kPrismatic;
     else
-      read.fail(jpath + ".type", "unsupported joint type '" + type_name +
-                                     "' (revolute, continuous or prismatic)");
+      read.fail(jpath + ".type",
+                "unsupported joint type '" + type_name + "' (revolute, continuous or prismatic)");
     const Eigen::Vector3d axis = read.vector3(read.field(joint, jpath, "axis"), jpath + ".axis");
     if (std::abs(axis.norm() - 1.0) > 1e-9) read.fail(jpath + ".axis", "not a unit vector");
     JointLimits limits;

@@ -9,7 +9,8 @@
 namespace dynid {
 
 struct RobotOptions {
-  bool drives = false;  // enable rotor inertia and friction (PUMA: published values; URDF: <dynamics>)
+  bool drives =
+      false;  // enable rotor inertia and friction (PUMA: published values; URDF: <dynamics>)
   bool strict = false;  // URDF warnings become errors
 };
 

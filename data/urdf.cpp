@@ -6,9 +6,9 @@
 #include <mutex>
 #include <sstream>
 
-#include <Eigen/Geometry>
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
+#include <Eigen/Geometry>
 
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
@@ -27,7 +27,8 @@ ElementIndex indexElements(const std::string& text) {
   ElementIndex index;
   int order = 0;
   for (const std::string tag : {"<joint", "<link"}) {
-    for (std::size_t pos = text.find(tag); pos != std::string::npos; pos = text.find(tag, pos + 1)) {
+    for (std::size_t pos = text.find(tag); pos != std::string::npos;
+         pos = text.find(tag, pos + 1)) {
       const char next = pos + tag.size() < text.size() ? text[pos + tag.size()] : '\0';
       if (next != ' ' && next != '\t' && next != '\n' && next != '\r') continue;
       const std::size_t end = text.find('>', pos);
@@ -102,8 +103,8 @@ class UrdfBuilder {
  private:
   [[noreturn]] void failJoint(const std::string& name, const std::string& message) const {
     const auto it = index_.joint_line.find(name);
-    throw ParseError(file_, it == index_.joint_line.end() ? 0 : it->second,
-                     "joint '" + name + "'", message);
+    throw ParseError(file_, it == index_.joint_line.end() ? 0 : it->second, "joint '" + name + "'",
+                     message);
   }
   [[noreturn]] void failLink(const std::string& name, const std::string& message) const {
     const auto it = index_.link_line.find(name);
@@ -124,7 +125,8 @@ class UrdfBuilder {
     }
     if (!finitePose(joint.parent_to_joint_origin_transform))
       failJoint(joint.name, "<origin> has a non-finite number");
-    if (!std::isfinite(joint.axis.x) || !std::isfinite(joint.axis.y) || !std::isfinite(joint.axis.z))
+    if (!std::isfinite(joint.axis.x) || !std::isfinite(joint.axis.y) ||
+        !std::isfinite(joint.axis.z))
       failJoint(joint.name, "<axis> has a non-finite number");
     if (joint.type != urdf::Joint::FIXED &&
         std::sqrt(joint.axis.x * joint.axis.x + joint.axis.y * joint.axis.y +
@@ -241,9 +243,9 @@ class UrdfBuilder {
         drive.coulomb = joint.dynamics->friction;
       }
       const int parent_body = m.parent_record < 0 ? -1 : body_of[m.parent_record];
-      body_of[best] = model_.addBody(parent_body, m.child->name, joint.name, type, m.placement,
-                                     axis, Pose<double>(), linkInertia(*m.child, true), limits,
-                                     drive);
+      body_of[best] =
+          model_.addBody(parent_body, m.child->name, joint.name, type, m.placement, axis,
+                         Pose<double>(), linkInertia(*m.child, true), limits, drive);
       added[best] = 1;
     }
     // Fixed children join their body (the base ignores its inertia: it does not move).
@@ -325,18 +327,27 @@ std::string vec(const Eigen::Vector3d& v) {
   return formatDouble(v.x()) + " " + formatDouble(v.y()) + " " + formatDouble(v.z());
 }
 std::string origin(const Pose<double>& pose) {
-  return "<origin xyz=\"" + vec(pose.translation) + "\" rpy=\"" + vec(rpyFromRotation(pose.rotation)) +
-         "\"/>";
+  return "<origin xyz=\"" + vec(pose.translation) + "\" rpy=\"" +
+         vec(rpyFromRotation(pose.rotation)) + "\"/>";
 }
 std::string escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -364,9 +375,10 @@ std::string modelToUrdf(const Model& model) {
         << "    <inertial>\n"
         << "      <origin xyz=\"" << vec(c) << "\" rpy=\"0 0 0\"/>\n"
         << "      <mass value=\"" << formatDouble(in.mass) << "\"/>\n"
-        << "      <inertia ixx=\"" << formatDouble(ic(0, 0)) << "\" ixy=\"" << formatDouble(ic(0, 1))
-        << "\" ixz=\"" << formatDouble(ic(0, 2)) << "\" iyy=\"" << formatDouble(ic(1, 1))
-        << "\" iyz=\"" << formatDouble(ic(1, 2)) << "\" izz=\"" << formatDouble(ic(2, 2)) << "\"/>\n"
+        << "      <inertia ixx=\"" << formatDouble(ic(0, 0)) << "\" ixy=\""
+        << formatDouble(ic(0, 1)) << "\" ixz=\"" << formatDouble(ic(0, 2)) << "\" iyy=\""
+        << formatDouble(ic(1, 1)) << "\" iyz=\"" << formatDouble(ic(1, 2)) << "\" izz=\""
+        << formatDouble(ic(2, 2)) << "\"/>\n"
         << "    </inertial>\n"
         << "  </link>\n";
     const int p = model.parents[i];

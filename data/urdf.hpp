@@ -1,4 +1,5 @@
-// URDF models through urdfdom: loading any fixed-base serial or tree robot, and exporting any Model.
+// URDF models through urdfdom: loading any fixed-base serial or tree robot, and exporting any
+// Model.
 #pragma once
 
 #include <string>

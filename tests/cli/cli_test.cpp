@@ -22,7 +22,8 @@ struct Result {
 
 Result run(const std::string& args) {
   const std::string out = test::tempPath("stdout"), err = test::tempPath("stderr");
-  const int status = std::system((std::string(DYNID_BIN) + " " + args + " >" + out + " 2>" + err).c_str());
+  const int status =
+      std::system((std::string(DYNID_BIN) + " " + args + " >" + out + " 2>" + err).c_str());
   Result r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = readFile(out);
@@ -41,7 +42,8 @@ TEST(Cli, VersionHelpAndUsage) {
   const Result unknown = run("fly");
   EXPECT_EQ(unknown.code, 2);
   EXPECT_TRUE(contains(unknown.err, "unknown command 'fly'"));
-  for (const char* command : {"dynamics", "simulate", "model show", "model check", "model export"}) {
+  for (const char* command :
+       {"dynamics", "simulate", "model show", "model check", "model export"}) {
     const Result help = run(std::string(command) + " --help");
     EXPECT_EQ(help.code, 0) << command;
     EXPECT_TRUE(contains(help.out, "usage: dynid")) << command;
@@ -49,8 +51,9 @@ TEST(Cli, VersionHelpAndUsage) {
 }
 
 TEST(Cli, DynamicsJson) {
-  const Result r = run("dynamics --robot puma560 --q 0,0.7853981633974483,3.141592653589793,0,"
-                       "0.7853981633974483,0 --json");
+  const Result r =
+      run("dynamics --robot puma560 --q 0,0.7853981633974483,3.141592653589793,0,"
+          "0.7853981633974483,0 --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["schema_version"], 1);
@@ -60,8 +63,9 @@ TEST(Cli, DynamicsJson) {
   // Robotics Toolbox p560.gravload(qn) = (0, 31.6399, 6.0351, 0, 0.0283, 0).
   EXPECT_NEAR(j["tau"][1].get<double>(), 31.6399, 1e-4);
   EXPECT_NEAR(j["tau"][2].get<double>(), 6.0351, 1e-4);
-  const Result with_tau = run("dynamics --robot puma560 --drives --q 0,0,0,0,0,0 --dq=-1,0,0,0,0,0 "
-                              "--tau 1,2,3,4,5,6 --json");
+  const Result with_tau =
+      run("dynamics --robot puma560 --drives --q 0,0,0,0,0,0 --dq=-1,0,0,0,0,0 "
+          "--tau 1,2,3,4,5,6 --json");
   ASSERT_EQ(with_tau.code, 0) << with_tau.err;
   EXPECT_EQ(nlohmann::json::parse(with_tau.out)["tau"][5], 6.0);
   EXPECT_EQ(run("dynamics --robot puma560 --q -0.5,0,0,0,0,0").code, 0);
@@ -91,10 +95,11 @@ TEST(Cli, DataErrorsNameTheFile) {
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(contains(r.err, "/nonexistent/arm.urdf")) << r.err;
   const std::string bad = test::tempPath("bad.urdf");
-  std::ofstream(bad) << "<robot name='x'><link name='a'/><link name='b'><inertial><mass value='-1'/>"
-                        "<inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link>"
-                        "<joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
-                        "<limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>";
+  std::ofstream(bad)
+      << "<robot name='x'><link name='a'/><link name='b'><inertial><mass value='-1'/>"
+         "<inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link>"
+         "<joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
+         "<limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>";
   const Result urdf = run("model show --robot " + bad);
   EXPECT_EQ(urdf.code, 1);
   EXPECT_TRUE(contains(urdf.err, bad + ":1: link 'b': negative mass")) << urdf.err;
@@ -102,7 +107,8 @@ TEST(Cli, DataErrorsNameTheFile) {
 
 TEST(Cli, SimulateWritesADatasetAndSummary) {
   const std::string path = test::tempPath("sim.csv");
-  const Result r = run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + path);
+  const Result r =
+      run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + path);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "501 samples x 6 joints")) << r.out;
   std::ifstream in(path);
@@ -111,9 +117,14 @@ TEST(Cli, SimulateWritesADatasetAndSummary) {
   EXPECT_EQ(header.substr(0, 8), "t,q1,q2,");
   // Same seed, same file; the Fourier controller runs too.
   const std::string again = test::tempPath("sim2.csv");
-  ASSERT_EQ(run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + again).code, 0);
+  ASSERT_EQ(
+      run("simulate --robot puma560 --duration 0.5 --noise-q 1e-4 --seed 3 --out " + again).code,
+      0);
   EXPECT_EQ(readFile(path), readFile(again));
-  EXPECT_EQ(run("simulate --robot puma560 --drives --controller fourier --duration 0.2 --out " + again).code, 0);
+  EXPECT_EQ(
+      run("simulate --robot puma560 --drives --controller fourier --duration 0.2 --out " + again)
+          .code,
+      0);
 }
 
 TEST(Cli, FailedWritesLeaveNoPartialFile) {
@@ -122,7 +133,8 @@ TEST(Cli, FailedWritesLeaveNoPartialFile) {
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(contains(r.err, dir + "/sim.csv")) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir));
-  const Result bad_rate = run("simulate --robot puma560 --dt 3e-4 --out " + test::tempPath("x.csv"));
+  const Result bad_rate =
+      run("simulate --robot puma560 --dt 3e-4 --out " + test::tempPath("x.csv"));
   EXPECT_EQ(bad_rate.code, 1);
   EXPECT_TRUE(contains(bad_rate.err, "not a whole multiple")) << bad_rate.err;
 }

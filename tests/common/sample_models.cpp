@@ -1,8 +1,8 @@
 #include "tests/common/sample_models.hpp"
 
+#include <unistd.h>
 #include <atomic>
 #include <cmath>
-#include <unistd.h>
 
 #include "core/parameters.hpp"
 

@@ -14,11 +14,11 @@ namespace dynid::test {
 
 struct RandomTreeOptions {
   int num_bodies = 7;
-  bool chain = false;            // each body's parent is the previous one
-  bool prismatic = true;         // some joints prismatic
-  bool general_axes = true;      // some axes not along x, y or z
-  bool body_placements = true;   // some DH-style placements after the joint
-  bool drives = false;           // random rotor inertia and friction (with offsets)
+  bool chain = false;           // each body's parent is the previous one
+  bool prismatic = true;        // some joints prismatic
+  bool general_axes = true;     // some axes not along x, y or z
+  bool body_placements = true;  // some DH-style placements after the joint
+  bool drives = false;          // random rotor inertia and friction (with offsets)
 };
 
 /// A random, physically consistent tree (masses 0.5..5 kg, centres within 0.2 m, principal moments

@@ -1,7 +1,7 @@
 #include "core/aba.hpp"
 
-#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 
 #include "core/crba.hpp"
 #include "core/rnea.hpp"

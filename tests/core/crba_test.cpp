@@ -1,7 +1,7 @@
 #include "core/crba.hpp"
 
-#include <Eigen/Cholesky>
 #include <gtest/gtest.h>
+#include <Eigen/Cholesky>
 
 #include "core/energy.hpp"
 #include "data/puma560.hpp"
@@ -23,7 +23,8 @@ TEST(Crba, PlanarTwoLinkMatchesTheTextbook) {
 TEST(Crba, SymmetricPositiveDefiniteAndMatchesKineticEnergy) {
   std::mt19937_64 rng(2);
   for (int seed = 0; seed < 8; ++seed) {
-    const Model model = seed == 0 ? makePuma560(true) : test::randomTree(seed, {.drives = seed % 2 == 1});
+    const Model model =
+        seed == 0 ? makePuma560(true) : test::randomTree(seed, {.drives = seed % 2 == 1});
     Data data(model);
     const int n = model.numJoints();
     const Eigen::VectorXd q = test::randomVector(rng, n, 2.0), dq = test::randomVector(rng, n, 2.0);

@@ -19,7 +19,8 @@ TEST(Energy, PotentialGradientIsTheGravityTorque) {
   for (int i = 0; i < n; ++i) {
     Eigen::VectorXd qp = q, qm = q;
     qp[i] += h, qm[i] -= h;
-    const double gradient = (potentialEnergy(model, data, qp) - potentialEnergy(model, data, qm)) / (2 * h);
+    const double gradient =
+        (potentialEnergy(model, data, qp) - potentialEnergy(model, data, qm)) / (2 * h);
     // Central difference: truncation O(h^2) ~ 1e-12, cancellation ~ 1e-16 * 50 J / 1e-6 ~ 1e-8.
     EXPECT_NEAR(gradient, gravity[i], 1e-7) << "joint " << i;
   }

@@ -20,7 +20,8 @@ double totalEnergy(const Model& model, Data& data, const Eigen::VectorXd& q,
 TEST(Integrators, Rk4ConservesEnergyWithoutTorqueOrFriction) {
   // RK4, 1 ms, 2 s, zero torque: the PUMA falls and swings under gravity alone.
   for (int seed = 0; seed < 3; ++seed) {
-    const Model model = seed == 0 ? makePuma560(false) : test::randomTree(seed, {.prismatic = false});
+    const Model model =
+        seed == 0 ? makePuma560(false) : test::randomTree(seed, {.prismatic = false});
     Data data(model);
     const int n = model.numJoints();
     std::mt19937_64 rng(seed);
@@ -60,8 +61,8 @@ double errorWithStep(IntegratorType type, double h) {
 
 TEST(Integrators, ConvergeAtTheirOrder) {
   // Halving the step divides the error by 2^order: 16 for RK4, 2 for semi-implicit Euler.
-  const double rk4_ratio = errorWithStep(IntegratorType::kRk4, 4e-3) /
-                           errorWithStep(IntegratorType::kRk4, 2e-3);
+  const double rk4_ratio =
+      errorWithStep(IntegratorType::kRk4, 4e-3) / errorWithStep(IntegratorType::kRk4, 2e-3);
   EXPECT_GT(rk4_ratio, 12.0);
   EXPECT_LT(rk4_ratio, 20.0);
   const double euler_ratio = errorWithStep(IntegratorType::kSemiImplicitEuler, 4e-3) /

@@ -36,7 +36,8 @@ Eigen::VectorXd values(const VectorJ& x) {
 class JetOnModels : public ::testing::TestWithParam<int> {
  protected:
   Model model() const {
-    return GetParam() == 0 ? makePuma560(true) : test::randomTree(GetParam(), {.num_bodies = 6, .drives = true});
+    return GetParam() == 0 ? makePuma560(true)
+                           : test::randomTree(GetParam(), {.num_bodies = 6, .drives = true});
   }
 };
 
@@ -96,8 +97,10 @@ TEST_P(JetOnModels, ParameterDerivativesThroughRneaAndAba) {
     const Model plus = with(h), minus = with(-h);
     Data dp(plus), dm(minus);
     // tau is linear in theta: the difference quotient is exact up to cancellation (~1e-9).
-    const Eigen::VectorXd fd_tau = (rnea(plus, dp, q, dq, ddq) - rnea(minus, dm, q, dq, ddq)) / (2 * h);
-    const Eigen::VectorXd fd_ddq = (aba(plus, dp, q, dq, tau) - aba(minus, dm, q, dq, tau)) / (2 * h);
+    const Eigen::VectorXd fd_tau =
+        (rnea(plus, dp, q, dq, ddq) - rnea(minus, dm, q, dq, ddq)) / (2 * h);
+    const Eigen::VectorXd fd_ddq =
+        (aba(plus, dp, q, dq, tau) - aba(minus, dm, q, dq, tau)) / (2 * h);
     for (int i = 0; i < n; ++i) {
       EXPECT_NEAR(tau_j[i].v[k], fd_tau[i], 1e-6 * (1 + std::abs(fd_tau[i])));
       EXPECT_NEAR(ddq_j[i].v[k], fd_ddq[i], 1e-5 * (1 + std::abs(fd_ddq[i])));

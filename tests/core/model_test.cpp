@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/data.hpp"
 #include "core/errors.hpp"
 #include "core/kinematics.hpp"
-#include "core/data.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -12,15 +12,15 @@ namespace {
 
 TEST(Model, AddBodyRejectsUnknownParent) {
   Model model;
-  EXPECT_THROW(model.addBody(0, "a", "j", JointType::kRevolute, {}, Eigen::Vector3d::UnitZ(), {},
-                             {}),
-               InputError);
+  EXPECT_THROW(
+      model.addBody(0, "a", "j", JointType::kRevolute, {}, Eigen::Vector3d::UnitZ(), {}, {}),
+      InputError);
 }
 
 TEST(Model, FinalizeNamesTheBodyAtFault) {
   Model model;
-  model.addBody(-1, "upper_arm", "shoulder", JointType::kRevolute, {}, Eigen::Vector3d(1, 1, 0),
-                {}, {});
+  model.addBody(-1, "upper_arm", "shoulder", JointType::kRevolute, {}, Eigen::Vector3d(1, 1, 0), {},
+                {});
   try {
     model.finalize();
     FAIL() << "expected InputError";

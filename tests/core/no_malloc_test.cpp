@@ -34,7 +34,8 @@ TEST_F(NoMalloc, AlgorithmsAllocateNothing) {
     const Model model = makePuma560(drives);
     Data data(model);
     Eigen::VectorXd q = puma560Pose("qn"), dq = Eigen::VectorXd::Constant(6, 0.3),
-                    ddq = Eigen::VectorXd::Constant(6, -0.2), tau = Eigen::VectorXd::Constant(6, 1.0);
+                    ddq = Eigen::VectorXd::Constant(6, -0.2),
+                    tau = Eigen::VectorXd::Constant(6, 1.0);
     Eigen::internal::set_is_malloc_allowed(false);
     rnea(model, data, q, dq, ddq);
     crba(model, data, q);

@@ -103,9 +103,9 @@ TEST(Simulate, ReportsDivergence) {
   r.q0 = Eigen::VectorXd::Zero(6);
   r.amplitude = r.frequency = r.phase = Eigen::VectorXd::Zero(6);
   // Absurd gains with a coarse step make the discrete loop unstable.
-  TrackingController controller(model, r,
-                                {Eigen::VectorXd::Constant(6, 1e9), Eigen::VectorXd::Constant(6, 1e7)},
-                                Eigen::VectorXd::Constant(6, 1e300));
+  TrackingController controller(
+      model, r, {Eigen::VectorXd::Constant(6, 1e9), Eigen::VectorXd::Constant(6, 1e7)},
+      Eigen::VectorXd::Constant(6, 1e300));
   SimulationOptions options;
   options.duration = 5.0;
   options.step = 1e-2;

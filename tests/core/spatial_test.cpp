@@ -51,9 +51,9 @@ TEST(Spatial, CrossProductsAreDual) {
   // (v x* f) . m = -f . (v x m)
   EXPECT_NEAR(crossForce(v, f).dot(m), -f.dot(crossMotion(v, m)), kTol);
   EXPECT_LT(crossMotion(v, v).norm(), kTol);
-  EXPECT_LT((cross(Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()) - Eigen::Vector3d::UnitZ())
-                .norm(),
-            0.0 + 1e-300);
+  EXPECT_LT(
+      (cross(Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()) - Eigen::Vector3d::UnitZ()).norm(),
+      0.0 + 1e-300);
 }
 
 TEST(Spatial, InertiaTransformMatchesTransformedMomentum) {

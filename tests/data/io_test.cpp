@@ -17,7 +17,8 @@ TEST(Io, AtomicWriteReplacesWholeFileAndLeavesNoTemporary) {
   writeFileAtomically(path, "first");
   writeFileAtomically(path, "second version");
   EXPECT_EQ(readFile(path), "second version");
-  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(path).parent_path()))
     EXPECT_EQ(entry.path().string().find(path + ".tmp"), std::string::npos);
   EXPECT_THROW(writeFileAtomically("/nonexistent-dir/x.txt", "x"), Error);
   EXPECT_THROW(readFile("/nonexistent-dir/x.txt"), Error);

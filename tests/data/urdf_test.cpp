@@ -78,8 +78,10 @@ TEST(Urdf, ExportLoadRoundTrip) {
   // Round-off of c = h/m, rpy <-> rotation and quaternion conversions.
   EXPECT_LT((back.standardParameters() - model.standardParameters()).cwiseAbs().maxCoeff(), 1e-12);
   for (int i = 0; i < model.numJoints(); ++i) {
-    EXPECT_LT((back.joint_placements[i].rotation - model.joint_placements[i].rotation).norm(), 1e-12);
-    EXPECT_LT((back.joint_placements[i].translation - model.joint_placements[i].translation).norm(), 1e-12);
+    EXPECT_LT((back.joint_placements[i].rotation - model.joint_placements[i].rotation).norm(),
+              1e-12);
+    EXPECT_LT((back.joint_placements[i].translation - model.joint_placements[i].translation).norm(),
+              1e-12);
     EXPECT_LT((back.axes[i] - model.axes[i]).norm(), 1e-12);
     EXPECT_EQ(back.limits[i].lower, model.limits[i].lower);
   }
@@ -101,7 +103,8 @@ TEST(Urdf, DenavitHartenbergModelsExportWithIdenticalDynamics) {
       gravity_fixed.finalize();
       Data c(gravity_fixed);
       const Eigen::VectorXd expected = rnea(model, a, q, dq, ddq);
-      EXPECT_LT((rnea(gravity_fixed, c, q, dq, ddq) - expected).norm(), 1e-12 * (1 + expected.norm()));
+      EXPECT_LT((rnea(gravity_fixed, c, q, dq, ddq) - expected).norm(),
+                1e-12 * (1 + expected.norm()));
     }
   }
 }
@@ -145,8 +148,11 @@ TEST(Urdf, RejectsBadInputWithFileAndElement) {
   two_roots.erase(start, two_roots.find("</joint>", start) + 9 - start);
   expectError(two_roots, {"robot.urdf", "root"});
   // A cycle: base becomes the child of fore.
-  expectError(edited("</robot>", R"(<joint name="loop" type="fixed"><parent link="fore"/><child link="base"/></joint></robot>)"),
-              {"robot.urdf", "root"});
+  expectError(
+      edited(
+          "</robot>",
+          R"(<joint name="loop" type="fixed"><parent link="fore"/><child link="base"/></joint></robot>)"),
+      {"robot.urdf", "root"});
   expectError(edited(R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 0 0"/>)"),
               {"robot.urdf:25", "joint 'elbow'", "zero vector"});
   expectError("<robot", {"robot.urdf", "urdfdom"});
@@ -154,7 +160,8 @@ TEST(Urdf, RejectsBadInputWithFileAndElement) {
 
 TEST(Urdf, WarnsOrFailsOnAMovingLinkWithoutInertial) {
   const std::string text = edited(R"(<inertial><mass value="0.7"/>
-      <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial>)", "");
+      <inertia ixx="0.002" ixy="0" ixz="0" iyy="0.002" iyz="0" izz="0.002"/></inertial>)",
+                                  "");
   std::vector<std::string> warnings;
   const Model model = parseUrdf(text, "robot.urdf", {}, &warnings);
   ASSERT_EQ(warnings.size(), 1u);
