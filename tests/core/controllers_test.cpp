@@ -31,7 +31,7 @@ TEST(Controllers, SinusoidalReferenceIsConsistent) {
   evaluateReference(r, 0.0, q, dq, ddq);
   EXPECT_NEAR(q[1], -0.2 + 0.4 * std::sin(1.0), 1e-15);
   expectDerivativesConsistent(r);
-  r.phase.resize(2);
+  r.phase = Eigen::Vector2d::Zero();  // wrong size
   EXPECT_THROW(evaluateReference(r, 0.0, q, dq, ddq), InputError);
 }
 
