@@ -57,6 +57,10 @@ int runDynamics(const std::vector<std::string>& args) {
     tau = rnea(model, data, q, dq, ddq);
   }
   const Eigen::MatrixXd M = crba(model, data, q);
+  if (!ddq.allFinite() || !tau.allFinite() || !M.allFinite())
+    throw NumericalError("the dynamics of '" + model.name +
+                         "' are singular at this state: the mass matrix is not positive definite "
+                         "(is a moving subtree massless?)");
   if (vm["json"].as<bool>()) {
     nlohmann::json m = nlohmann::json::array();
     for (int r = 0; r < n; ++r) m.push_back(toJson(M.row(r).transpose()));

@@ -42,6 +42,8 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
                      std::to_string(options.step) + " s");
   const long samples = std::lround(std::floor(options.duration * options.record_rate + 1e-9)) + 1;
   if (samples > 100'000'000) throw InputError("simulation would record more than 1e8 samples");
+  if (static_cast<double>(samples - 1) * static_cast<double>(substeps) > 1e9)
+    throw InputError("simulation would take more than 1e9 integration steps (duration / step)");
 
   Trajectory out;
   out.resize(n, static_cast<int>(samples));

@@ -185,12 +185,14 @@ struct RigidInertia {
     const Vector3<Scalar> hr = pose.rotation * first_moment;
     const Vector3<Scalar>& p = pose.translation;
     out.first_moment = hr + mass * p;
-    // I' = R I R^T - m [p]x[p]x - [p]x[hr]x - [hr]x[p]x   (parallel-axis theorem).
-    const Matrix3<Scalar> sp = skew(p), sh = skew(hr);
-    out.inertia.noalias() = pose.rotation * inertia * pose.rotation.transpose();
-    out.inertia.noalias() -= mass * (sp * sp);
-    out.inertia.noalias() -= sp * sh;
-    out.inertia.noalias() -= sh * sp;
+    // I' = R I R^T - m [p]x[p]x - [p]x[hr]x - [hr]x[p]x  (parallel-axis theorem), expanded with
+    // [a]x[b]x = b a^T - (a.b) 1:  I' = R I R^T + (m |p|^2 + 2 p.hr) 1 - m p p^T - hr p^T - p hr^T.
+    Matrix3<Scalar> half;
+    half.noalias() = pose.rotation * inertia;
+    out.inertia.noalias() = half * pose.rotation.transpose();
+    out.inertia.noalias() -= (mass * p + hr) * p.transpose();
+    out.inertia.noalias() -= p * hr.transpose();
+    out.inertia.diagonal().array() += mass * p.squaredNorm() + Scalar(2) * p.dot(hr);
     return out;
   }
 

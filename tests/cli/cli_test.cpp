@@ -103,6 +103,16 @@ TEST(Cli, DataErrorsNameTheFile) {
   const Result urdf = run("model show --robot " + bad);
   EXPECT_EQ(urdf.code, 1);
   EXPECT_TRUE(contains(urdf.err, bad + ":1: link 'b': negative mass")) << urdf.err;
+  // A massless moving link: loads with a warning, and its dynamics are reported singular.
+  const std::string massless = test::tempPath("massless.urdf");
+  std::ofstream(massless) << "<robot name='x'><link name='a'/><link name='b'/>"
+                             "<joint name='j' type='continuous'><parent link='a'/><child link='b'/>"
+                             "</joint></robot>";
+  const Result singular = run("dynamics --robot " + massless + " --tau 1");
+  EXPECT_EQ(singular.code, 1);
+  EXPECT_TRUE(contains(singular.err, "warning: " + massless + ": link 'b' has no <inertial>"))
+      << singular.err;
+  EXPECT_TRUE(contains(singular.err, "singular")) << singular.err;
 }
 
 TEST(Cli, SimulateWritesADatasetAndSummary) {

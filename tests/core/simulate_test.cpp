@@ -95,6 +95,9 @@ TEST(Simulate, RejectsBadSettings) {
   options.duration = 1.0;
   options.noise_dq = std::nan("");
   EXPECT_THROW(simulate(model, controller, options), InputError);
+  options.noise_dq = 0.0;
+  options.step = 1e-12;  // would never finish
+  EXPECT_THROW(simulate(model, controller, options), InputError);
 }
 
 TEST(Simulate, ReportsDivergence) {
