@@ -54,7 +54,8 @@ Model makePuma560(bool drives) {
     // Joint i turns about z_{i-1}; link frame i sits Tz(d) Tx(a) Rx(alpha) further.
     Pose<double> body_placement;
     // Rx(alpha); the twists are quarter turns, whose cosine is exactly 0 (not cos(pi/2) = 6e-17).
-    const double ca = kDh[i].alpha == 0.0 ? 1.0 : 0.0, sa = kDh[i].alpha > 0 ? 1.0 : (kDh[i].alpha < 0 ? -1.0 : 0.0);
+    const double ca = kDh[i].alpha == 0.0 ? 1.0 : 0.0,
+                 sa = kDh[i].alpha > 0 ? 1.0 : (kDh[i].alpha < 0 ? -1.0 : 0.0);
     body_placement.rotation << 1, 0, 0, 0, ca, -sa, 0, sa, ca;
     body_placement.translation = Eigen::Vector3d(kDh[i].a, 0.0, kDh[i].d);
     const Eigen::Matrix<double, 7, 1> paper(kLinks[i].data());

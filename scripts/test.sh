@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Quick start, step 2 (and what CI runs): install what is missing, build everything with the tests
+# and benchmarks, and run the whole test suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/install-deps.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=ON
+cmake --build build -j"$(nproc)"
+ctest --test-dir build --output-on-failure -j"$(nproc)"
