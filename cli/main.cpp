@@ -17,6 +17,8 @@ const char* kUsage =
     "  model show|check|export  inspect a robot, check physical consistency, export URDF/JSON\n"
     "  dynamics                 inverse dynamics, mass matrix and forward dynamics at a state\n"
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
+    "  identifiability          base parameters: what the torques can and cannot determine\n"
+    "  identify                 least-squares (OLS/WLS) estimate of the base parameters\n"
     "\n"
     "robots: --robot puma560 (built in), a .urdf file, or a dynid .json model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
@@ -40,7 +42,11 @@ int main(int argc, char** argv) {
     return kExitOk;
   }
   const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
-      {"model", runModel}, {"dynamics", runDynamics}, {"simulate", runSimulate}};
+      {"model", runModel},
+      {"dynamics", runDynamics},
+      {"simulate", runSimulate},
+      {"identifiability", runIdentifiability},
+      {"identify", runIdentify}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

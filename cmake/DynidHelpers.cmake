@@ -31,5 +31,10 @@ function(dynid_add_test source)
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
-  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60)
+  set(environment "")
+  if(DYNID_SANITIZE)
+    set(environment "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
+  endif()
+  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
+                       PROPERTIES ENVIRONMENT "${environment}")
 endfunction()

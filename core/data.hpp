@@ -28,6 +28,7 @@ struct DataTpl {
   VectorX<Scalar> tau;  // rnea output [N m]
   VectorX<Scalar> ddq;  // aba output [rad/s^2]
   MatrixX<Scalar> M;    // crba output, the joint-space mass matrix [kg m^2]
+  MatrixX<Scalar> Y;    // jointTorqueRegressor output, n x parameterLayout().size()
 
   // CRBA: composite inertia of each subtree, in the subtree root's frame.
   std::vector<RigidInertia<Scalar>> composite;
@@ -55,6 +56,7 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   tau = VectorX<Scalar>::Zero(n);
   ddq = VectorX<Scalar>::Zero(n);
   M = MatrixX<Scalar>::Zero(n, n);
+  Y = MatrixX<Scalar>::Zero(n, model.parameterLayout().size());
   composite.assign(n, RigidInertia<Scalar>());
   articulated_inertia.assign(n, Matrix6<Scalar>::Zero());
   bias_force.assign(n, Vector6<Scalar>::Zero());

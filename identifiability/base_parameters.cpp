@@ -1,0 +1,232 @@
+#include "identifiability/base_parameters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+namespace {
+/// |R_jj| of the Householder QR (no pivoting) of W with unit-norm columns; norms returned too.
+Eigen::VectorXd scaledRDiagonal(const Eigen::MatrixXd& W, Eigen::VectorXd* norms) {
+  const Eigen::Index p = W.cols();
+  *norms = W.colwise().norm().transpose();
+  Eigen::MatrixXd scaled = W;
+  for (Eigen::Index j = 0; j < p; ++j)
+    if ((*norms)[j] > 0.0) scaled.col(j) /= (*norms)[j];
+  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(scaled);
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(p);
+  const Eigen::Index m = std::min(W.rows(), p);
+  for (Eigen::Index j = 0; j < m; ++j) diagonal[j] = std::abs(qr.matrixQR()(j, j));
+  for (Eigen::Index j = 0; j < p; ++j)
+    if ((*norms)[j] == 0.0) diagonal[j] = 0.0;
+  return diagonal;
+}
+
+/// 1e-8 (about sqrt(machine epsilon)) of the largest |R_jj|. Dependent columns of an unpivoted QR
+/// keep round-off that grows with the conditioning of W (seen up to 3e-13 on the PUMA's random
+/// states), while genuinely independent unit columns of a structural W keep |R_jj| >= 1e-4; an
+/// eps-based tolerance (MATLAB's max(m, p) eps max|R_jj|) lands inside that round-off.
+double defaultTolerance(const Eigen::VectorXd& diagonal) {
+  return 1e-8 * (diagonal.size() > 0 ? diagonal.maxCoeff() : 0.0);
+}
+
+std::string formatCoefficient(double x, int digits) {
+  std::ostringstream s;
+  s.precision(digits);
+  s << x;
+  return s.str();
+}
+}  // namespace
+
+double BaseParameters::rankGap() const {
+  return largest_dropped > 0.0 ? smallest_kept / largest_dropped
+                               : std::numeric_limits<double>::infinity();
+}
+
+Eigen::VectorXd BaseParameters::project(const Eigen::VectorXd& theta) const {
+  if (theta.size() != numStandard())
+    throw InputError("parameter vector has " + std::to_string(theta.size()) +
+                     " entries, expected " + std::to_string(numStandard()));
+  Eigen::VectorXd theta2(dependent.size());
+  for (std::size_t k = 0; k < dependent.size(); ++k) theta2[k] = theta[dependent[k]];
+  Eigen::VectorXd beta = K * theta2;
+  for (int j = 0; j < numBase(); ++j) beta[j] += theta[independent[j]];
+  return beta;
+}
+
+Eigen::VectorXd BaseParameters::standardFromBase(const Eigen::VectorXd& beta,
+                                                 const Eigen::VectorXd& prior) const {
+  if (beta.size() != numBase())
+    throw InputError("base vector has " + std::to_string(beta.size()) + " entries, expected " +
+                     std::to_string(numBase()));
+  if (prior.size() != numStandard())
+    throw InputError("prior has " + std::to_string(prior.size()) + " entries, expected " +
+                     std::to_string(numStandard()));
+  Eigen::VectorXd theta = prior;
+  Eigen::VectorXd theta2(dependent.size());
+  for (std::size_t k = 0; k < dependent.size(); ++k) theta2[k] = prior[dependent[k]];
+  const Eigen::VectorXd theta1 = beta - K * theta2;
+  for (int j = 0; j < numBase(); ++j) theta[independent[j]] = theta1[j];
+  return theta;
+}
+
+Eigen::MatrixXd BaseParameters::baseRegressor(const Eigen::MatrixXd& W) const {
+  if (W.cols() != numStandard())
+    throw InputError("observation matrix has " + std::to_string(W.cols()) + " columns, expected " +
+                     std::to_string(numStandard()));
+  Eigen::MatrixXd out(W.rows(), numBase());
+  for (int j = 0; j < numBase(); ++j) out.col(j) = W.col(independent[j]);
+  return out;
+}
+
+Eigen::MatrixXd BaseParameters::nullSpace() const {
+  const int d = static_cast<int>(dependent.size());
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(numStandard(), d);
+  for (int k = 0; k < d; ++k) {
+    N(dependent[k], k) = 1.0;
+    for (int j = 0; j < numBase(); ++j) N(independent[j], k) = -K(j, k);
+  }
+  return N;
+}
+
+std::vector<std::pair<std::string, double>> BaseParameters::combination(int j,
+                                                                        double relative) const {
+  std::vector<std::pair<std::string, double>> out{{standard_names[independent[j]], 1.0}};
+  const double lead = column_norms[independent[j]];
+  for (std::size_t k = 0; k < dependent.size(); ++k) {
+    // Effect on the scaled W: K_jk |w_k| relative to |w_j|.
+    if (std::abs(K(j, k)) * column_norms[dependent[k]] <= relative * lead) continue;
+    out.emplace_back(standard_names[dependent[k]], K(j, k));
+  }
+  return out;
+}
+
+std::string BaseParameters::baseName(int j) const {
+  return standard_names[independent[j]] + (combination(j).size() > 1 ? "R" : "");
+}
+
+std::string BaseParameters::expression(int j, int digits) const {
+  std::string out;
+  for (const auto& [name, coefficient] : combination(j)) {
+    if (out.empty()) {
+      out = name;
+      continue;
+    }
+    const double magnitude = std::abs(coefficient);
+    out += coefficient < 0 ? " - " : " + ";
+    if (std::abs(magnitude - 1.0) > 1e-12) out += formatCoefficient(magnitude, digits) + "*";
+    out += name;
+  }
+  return out;
+}
+
+std::vector<int> defaultPreference(int num_links, int per_link) {
+  // Offsets within a link block: inertias (4..9), first moments (1..3), mass (0), drives (10..).
+  std::vector<int> within = {4, 5, 6, 7, 8, 9, 1, 2, 3, 0};
+  for (int k = 10; k < per_link; ++k) within.push_back(k);
+  std::vector<int> order;
+  for (int i = 0; i < num_links; ++i)
+    for (int k : within) order.push_back(i * per_link + k);
+  return order;
+}
+
+BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
+                                     const std::vector<std::string>& names, double tolerance,
+                                     const std::vector<int>& preference) {
+  const Eigen::Index p = W.cols();
+  if (static_cast<Eigen::Index>(names.size()) != p)
+    throw InputError("observation matrix has " + std::to_string(p) + " columns but " +
+                     std::to_string(names.size()) + " parameter names");
+  if (!W.allFinite()) throw InputError("observation matrix has a non-finite entry");
+  std::vector<int> order = preference;
+  if (order.empty())
+    for (int j = 0; j < p; ++j) order.push_back(j);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int j = 0; j < p; ++j)
+    if (static_cast<Eigen::Index>(sorted.size()) != p || sorted[j] != j)
+      throw InputError("the preference order must list every column exactly once");
+
+  BaseParameters out;
+  out.standard_names = names;
+  // Unpivoted QR of the columns in preference order; results mapped back to standard order.
+  Eigen::MatrixXd ordered(W.rows(), p);
+  for (int j = 0; j < p; ++j) ordered.col(j) = W.col(order[j]);
+  Eigen::VectorXd ordered_norms;
+  const Eigen::VectorXd ordered_diagonal = scaledRDiagonal(ordered, &ordered_norms);
+  out.r_diagonal.resize(p);
+  out.column_norms.resize(p);
+  for (int j = 0; j < p; ++j) {
+    out.r_diagonal[order[j]] = ordered_diagonal[j];
+    out.column_norms[order[j]] = ordered_norms[j];
+  }
+  out.tolerance = tolerance > 0.0 ? tolerance : defaultTolerance(out.r_diagonal);
+  out.smallest_kept = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < p; ++j) {
+    if (out.column_norms[j] == 0.0) {
+      out.zero_columns.push_back(j);
+      out.dependent.push_back(j);
+      out.column_norms[j] = 1.0;
+    } else if (out.r_diagonal[j] > out.tolerance) {
+      out.independent.push_back(j);
+      out.smallest_kept = std::min(out.smallest_kept, out.r_diagonal[j]);
+    } else {
+      out.dependent.push_back(j);
+      out.largest_dropped = std::max(out.largest_dropped, out.r_diagonal[j]);
+    }
+  }
+  // K = W1^+ W2: the dependent columns expressed in the independent ones (scaled for accuracy).
+  Eigen::MatrixXd W1(W.rows(), out.numBase()), W2(W.rows(), out.dependent.size());
+  for (int j = 0; j < out.numBase(); ++j)
+    W1.col(j) = W.col(out.independent[j]) / out.column_norms[out.independent[j]];
+  for (std::size_t k = 0; k < out.dependent.size(); ++k)
+    W2.col(k) = W.col(out.dependent[k]) / out.column_norms[out.dependent[k]];
+  const Eigen::MatrixXd K_scaled = Eigen::HouseholderQR<Eigen::MatrixXd>(W1).solve(W2);
+  out.K.resize(out.numBase(), out.dependent.size());
+  for (int j = 0; j < out.numBase(); ++j)
+    for (std::size_t k = 0; k < out.dependent.size(); ++k)
+      out.K(j, k) = K_scaled(j, k) * out.column_norms[out.dependent[k]] /
+                    out.column_norms[out.independent[j]];
+  return out;
+}
+
+Excitation measureExcitation(const Eigen::MatrixXd& base_regressor) {
+  Excitation out;
+  Eigen::VectorXd norms;
+  out.r_diagonal = scaledRDiagonal(base_regressor, &norms);
+  out.tolerance = defaultTolerance(out.r_diagonal);
+  for (Eigen::Index j = 0; j < out.r_diagonal.size(); ++j) {
+    if (out.r_diagonal[j] > out.tolerance)
+      ++out.rank;
+    else
+      out.unexcited.push_back(static_cast<int>(j));
+  }
+  return out;
+}
+
+}  // namespace dynid
+
+namespace dynid {
+double scaledConditionNumber(const Eigen::MatrixXd& A) {
+  Eigen::MatrixXd scaled = A;
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    const double norm = A.col(j).norm();
+    if (norm > 0.0) scaled.col(j) /= norm;
+  }
+  // Singular values of the small R factor equal those of A.
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(scaled);
+  const Eigen::Index b = A.cols();
+  const Eigen::MatrixXd R =
+      qr.matrixQR().topRows(std::min(A.rows(), b)).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+  if (s.size() < b || s[s.size() - 1] == 0.0) return std::numeric_limits<double>::infinity();
+  return s[0] / s[s.size() - 1];
+}
+}  // namespace dynid

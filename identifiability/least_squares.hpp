@@ -1,0 +1,52 @@
+// Least-squares identification of the base parameters from torque data, W1 beta = tau.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/observation.hpp"
+
+namespace dynid {
+
+enum class LeastSquaresMethod {
+  kOrdinary,  // OLS: every row weighted equally
+  kWeighted,  // WLS (Gautier): joint j's rows weighted by 1 / sigma_j, sigma_j from OLS residuals
+};
+
+/// "ols" or "wls"; throws InputError otherwise.
+LeastSquaresMethod parseLeastSquaresMethod(const std::string& name);
+const char* leastSquaresMethodName(LeastSquaresMethod method);
+
+struct BaseEstimate {
+  LeastSquaresMethod method = LeastSquaresMethod::kOrdinary;
+  Eigen::VectorXd beta;        // base parameter estimates (BaseParameters order), SI units
+  Eigen::MatrixXd covariance;  // of beta
+  Eigen::VectorXd std_dev;     // sqrt(diag(covariance))
+  Eigen::VectorXd relative_std_dev_percent;  // 100 std_dev / |beta| (infinity when beta = 0)
+  double condition_number = 0.0;             // of the column-scaled (and weighted) base regressor
+  Eigen::VectorXd joint_sigma;   // per-joint torque noise estimated from the OLS residuals [N m]
+  Eigen::VectorXd residual_rms;  // per-joint RMS of tau - W1 beta [N m]
+  int num_samples = 0;
+};
+
+/// Estimates beta from an observation (rows k n + j). OLS: sigma^2 = |r|^2 / (nN - b),
+/// covariance sigma^2 (W1^T W1)^-1. WLS: sigma_j^2 = |r_j|^2 / (N - b/n) from the OLS residuals of
+/// joint j, rows weighted by 1/sigma_j, covariance (W1^T G^-1 W1)^-1 with G = diag(sigma_j^2).
+/// Solved by Householder QR of the column-scaled regressor. Throws NumericalError when the data do
+/// not excite every base parameter (naming the unexcited ones; rank-deficient data is never
+/// solved), InputError when the observation has fewer rows than base parameters.
+BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observation& observation,
+                                    LeastSquaresMethod method);
+
+/// Torque prediction W1 beta against a held-out observation.
+struct Validation {
+  Eigen::VectorXd torque_rms;      // per joint RMS of tau - W1 beta [N m]
+  Eigen::VectorXd normalised_rms;  // torque_rms / RMS(tau) per joint (infinity for a zero tau)
+  int num_samples = 0;
+};
+Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorXd& beta,
+                                const Observation& observation);
+
+}  // namespace dynid

@@ -1,0 +1,86 @@
+#include "identifiability/observation.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "core/data.hpp"
+#include "core/errors.hpp"
+#include "identifiability/regressor.hpp"
+
+namespace dynid {
+
+namespace {
+void appendSample(const Model& model, Data& data, int k, const Eigen::VectorXd& q,
+                  const Eigen::VectorXd& dq, const Eigen::VectorXd& ddq, Observation& out) {
+  const int n = model.numJoints();
+  out.W.middleRows(static_cast<Eigen::Index>(k) * n, n) =
+      jointTorqueRegressor(model, data, q, dq, ddq);
+}
+}  // namespace
+
+Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory) {
+  const int n = model.numJoints(), samples = trajectory.numSamples();
+  if (trajectory.numJoints() != n)
+    throw InputError("the data has " + std::to_string(trajectory.numJoints()) + " joints, model '" +
+                     model.name + "' has " + std::to_string(n));
+  Observation out;
+  out.num_samples = samples;
+  out.num_joints = n;
+  out.W.resize(static_cast<Eigen::Index>(samples) * n, model.parameterLayout().size());
+  out.tau.resize(static_cast<Eigen::Index>(samples) * n);
+  Data data(model);
+  Eigen::VectorXd q(n), dq(n), ddq(n);
+  for (int k = 0; k < samples; ++k) {
+    // Reject non-finite samples by name before they reach the regressor.
+    const char* names[] = {"q", "dq", "ddq", "tau"};
+    const Eigen::MatrixXd* blocks[] = {&trajectory.q, &trajectory.dq, &trajectory.ddq,
+                                       &trajectory.tau};
+    for (int b = 0; b < 4; ++b)
+      for (int j = 0; j < n; ++j)
+        if (!std::isfinite((*blocks[b])(j, k))) {
+          std::ostringstream msg;
+          msg << "sample " << k + 1 << " (t = " << trajectory.time[k] << " s): " << names[b]
+              << j + 1 << " is not finite";
+          throw InputError(msg.str());
+        }
+    q = trajectory.q.col(k);
+    dq = trajectory.dq.col(k);
+    ddq = trajectory.ddq.col(k);
+    appendSample(model, data, k, q, dq, ddq, out);
+    out.tau.segment(static_cast<Eigen::Index>(k) * n, n) = trajectory.tau.col(k);
+  }
+  return out;
+}
+
+Observation observationFromRandomStates(const Model& model, int num_samples, std::uint64_t seed) {
+  if (num_samples < 1) throw InputError("need at least one random state");
+  const int n = model.numJoints();
+  Observation out;
+  out.num_samples = num_samples;
+  out.num_joints = n;
+  out.W.resize(static_cast<Eigen::Index>(num_samples) * n, model.parameterLayout().size());
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Data data(model);
+  Eigen::VectorXd q(n), dq(n), ddq(n);
+  for (int k = 0; k < num_samples; ++k) {
+    for (int i = 0; i < n; ++i) {
+      const JointLimits& l = model.limits[i];
+      double lower = l.lower, upper = l.upper;
+      if (!std::isfinite(lower) || !std::isfinite(upper)) {
+        const double span = model.joint_types[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
+        lower = -span, upper = span;
+      }
+      q[i] = lower + (upper - lower) * unit(rng);
+      dq[i] = -2.0 + 4.0 * unit(rng);
+      ddq[i] = -5.0 + 10.0 * unit(rng);
+    }
+    appendSample(model, data, k, q, dq, ddq, out);
+  }
+  out.tau = out.W * model.standardParameters();
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,32 @@
+// Observation matrices: the regressor stacked over many samples, W theta = tau.
+#pragma once
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "core/trajectory.hpp"
+
+namespace dynid {
+
+/// Rows k n + j hold joint j of sample k: W (nN x p) and the measured torques tau (nN).
+struct Observation {
+  Eigen::MatrixXd W;
+  Eigen::VectorXd tau;
+  int num_samples = 0;
+  int num_joints = 0;
+};
+
+/// W and tau from a trajectory (q, dq, ddq, tau of every sample). Throws InputError when the
+/// trajectory's joint count differs from the model's, or a value is not finite (naming the sample,
+/// its time and the column, e.g. "sample 17 (t = 0.016 s): dq3 is not finite").
+Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory);
+
+/// W from seeded random states for structural analysis: q uniform within the joint limits
+/// (revolute joints without limits in [-pi, pi], prismatic in [-1, 1] m), dq uniform in
+/// [-2, 2] rad/s, ddq uniform in [-5, 5] rad/s^2; tau = W theta of the model. Throws InputError
+/// unless num_samples >= 1.
+Observation observationFromRandomStates(const Model& model, int num_samples, std::uint64_t seed);
+
+}  // namespace dynid

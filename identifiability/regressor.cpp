@@ -1,0 +1,8 @@
+#include "identifiability/regressor-inl.hpp"
+
+namespace dynid {
+template const MatrixX<double>& jointTorqueRegressor(const Model&, Data&,
+                                                     const ConstVectorRef<double>&,
+                                                     const ConstVectorRef<double>&,
+                                                     const ConstVectorRef<double>&);
+}  // namespace dynid
