@@ -12,5 +12,6 @@ int runDynamics(const std::vector<std::string>& args);
 int runSimulate(const std::vector<std::string>& args);
 int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
+int runSearch(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

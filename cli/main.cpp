@@ -19,6 +19,7 @@ const char* kUsage =
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
     "  identify                 least-squares (OLS/WLS) estimate of the base parameters\n"
+    "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "\n"
     "robots: --robot puma560 (built in), a .urdf file, or a dynid .json model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
@@ -42,11 +43,9 @@ int main(int argc, char** argv) {
     return kExitOk;
   }
   const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
-      {"model", runModel},
-      {"dynamics", runDynamics},
-      {"simulate", runSimulate},
-      {"identifiability", runIdentifiability},
-      {"identify", runIdentify}};
+      {"model", runModel},       {"dynamics", runDynamics},
+      {"simulate", runSimulate}, {"identifiability", runIdentifiability},
+      {"identify", runIdentify}, {"search", runSearch}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

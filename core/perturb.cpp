@@ -29,6 +29,7 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
     for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.offset})
       *x *= 1.0 + uniform(rng);
   }
+  out.finalize();  // re-derive the joint-frame inertias the algorithms use
   return out;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.hpp"
+#include "core/rnea.hpp"
 #include "data/puma560.hpp"
 
 namespace dynid {
@@ -29,6 +30,11 @@ TEST(Perturb, StaysWithinTheFractionAndKeepsZeros) {
   EXPECT_EQ(perturbedModel(truth, 0.3, 1).standardParameters(), guess.standardParameters());
   EXPECT_NE(perturbedModel(truth, 0.3, 2).standardParameters(), guess.standardParameters());
   EXPECT_THROW(perturbedModel(truth, 1.0, 1), InputError);
+  // The dynamics use the perturbed parameters (the derived joint-frame inertias are refreshed).
+  Data a(truth), b(guess);
+  const Eigen::VectorXd q = puma560Pose("qn"), zero = Eigen::VectorXd::Zero(6);
+  const Eigen::VectorXd tau_truth = rnea(truth, a, q, zero, zero);
+  EXPECT_GT((rnea(guess, b, q, zero, zero) - tau_truth).norm(), 0.01 * tau_truth.norm());
 }
 
 }  // namespace

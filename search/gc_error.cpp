@@ -1,0 +1,111 @@
+#include "search/gc_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
+  const int samples = data.numSamples(), n = data.numJoints();
+  if (samples < 2) throw InputError("the dataset needs at least 2 samples for GC error segments");
+  const double period = (data.time[samples - 1] - data.time[0]) / (samples - 1);
+  for (int k = 1; k < samples; ++k)
+    if (std::abs(data.time[k] - data.time[k - 1] - period) > 1e-6 * period)
+      throw InputError("GC error needs a constant sample period; samples " + std::to_string(k) +
+                       " and " + std::to_string(k + 1) + " are " +
+                       std::to_string(data.time[k] - data.time[k - 1]) + " s apart, not " +
+                       std::to_string(period));
+  if (!(options.horizon > 0.0)) throw InputError("the horizon must be positive");
+  const double per = options.horizon / period;
+  const int segment_samples = static_cast<int>(std::lround(per));
+  if (segment_samples < 1 || std::abs(per - segment_samples) > 1e-6 * per)
+    throw InputError("the horizon " + std::to_string(options.horizon) +
+                     " s is not a whole number of sample periods (" + std::to_string(period) +
+                     " s)");
+  GcProblem problem;
+  problem.data = data;
+  problem.samples_per_segment = segment_samples;
+  problem.integrator = options.integrator;
+  problem.step = options.step > 0.0 ? options.step : period;
+  const double sub = period / problem.step;
+  problem.substeps = static_cast<int>(std::lround(sub));
+  if (problem.substeps < 1 || std::abs(sub - problem.substeps) > 1e-6 * sub)
+    throw InputError("the integration step does not divide the sample period");
+  const int available = (samples - 1) / segment_samples;  // non-overlapping segments
+  if (available < 1) throw InputError("the dataset is shorter than one horizon");
+  int count = options.num_segments <= 0 ? available : options.num_segments;
+  if (!options.random_starts) {
+    if (count > available)
+      throw InputError("asked for " + std::to_string(count) + " segments of " +
+                       std::to_string(options.horizon) + " s; the dataset has room for " +
+                       std::to_string(available) + " without overlap");
+    // Evenly spaced starts over the whole dataset.
+    for (int s = 0; s < count; ++s)
+      problem.starts.push_back(static_cast<int>(static_cast<long>(s) * available / count) *
+                               segment_samples);
+  } else {
+    std::mt19937_64 rng(options.seed);
+    std::uniform_int_distribution<int> start(0, samples - 1 - segment_samples);
+    for (int s = 0; s < count; ++s) problem.starts.push_back(start(rng));
+    std::sort(problem.starts.begin(), problem.starts.end());
+  }
+  problem.weight_q = Eigen::VectorXd::Ones(n);
+  problem.weight_dq = Eigen::VectorXd::Ones(n);
+  if (options.normalise) {
+    // 1 / standard deviation over the dataset (1 for a joint that does not move).
+    for (int j = 0; j < n; ++j) {
+      const auto spread = [&](const Eigen::MatrixXd& m) {
+        const double mean = m.row(j).mean();
+        const double sd = std::sqrt((m.row(j).array() - mean).square().mean());
+        return sd > 0.0 ? 1.0 / sd : 1.0;
+      };
+      problem.weight_q[j] = spread(data.q);
+      problem.weight_dq[j] = spread(data.dq);
+    }
+  }
+  return problem;
+}
+
+GcWorkspace::GcWorkspace(const Model& model, int num_threads) {
+  for (int t = 0; t < num_threads; ++t) {
+    data.emplace_back(model);
+    q.emplace_back(model.numJoints());
+    dq.emplace_back(model.numJoints());
+  }
+}
+
+double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
+               ThreadPool& pool) {
+  const int n = candidate.numJoints();
+  if (problem.data.numJoints() != n)
+    throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
+                     " joints, the model " + std::to_string(n));
+  workspace.segment_errors.resize(problem.numSegments());
+  pool.parallelFor(problem.numSegments(), [&](int s, int thread) {
+    // Roll out from the recorded start with the recorded (held) torques.
+    Data& data = workspace.data[thread];
+    Eigen::VectorXd& q = workspace.q[thread];
+    Eigen::VectorXd& dq = workspace.dq[thread];
+    const int start = problem.starts[s];
+    q = problem.data.q.col(start);
+    dq = problem.data.dq.col(start);
+    for (int k = start; k < start + problem.samples_per_segment; ++k)
+      for (int sub = 0; sub < problem.substeps; ++sub)
+        integratorStep(problem.integrator, candidate, data, q, dq, problem.data.tau.col(k),
+                       problem.step);
+    const int end = start + problem.samples_per_segment;
+    const double error =
+        (q - problem.data.q.col(end)).cwiseProduct(problem.weight_q).squaredNorm() +
+        (dq - problem.data.dq.col(end)).cwiseProduct(problem.weight_dq).squaredNorm();
+    workspace.segment_errors[s] =
+        std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
+  });
+  double total = 0.0;
+  for (int s = 0; s < problem.numSegments(); ++s) total += workspace.segment_errors[s];
+  return total;
+}
+
+}  // namespace dynid

@@ -1,0 +1,68 @@
+// The paper's generalized-coordinate (GC) error: how well a candidate model predicts the recorded
+// state a short horizon ahead.
+//
+// A segment starts at a recorded sample (q, dq), applies the recorded torques (each held until the
+// next sample, as recorded) for `horizon` seconds with the given integrator and step, and compares
+// the predicted state with the recorded one at the end. The GC error is the paper's eq. (2):
+//     GC = sum over segments i of |s_i - s_hat_i|^2,   s = (q, dq),
+// optionally with q_j and dq_j divided by their standard deviation over the dataset so that
+// neither dominates.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/integrators.hpp"
+#include "core/trajectory.hpp"
+#include "search/parallel.hpp"
+
+namespace dynid {
+
+struct SegmentOptions {
+  double horizon = 0.05;       // [s]; the paper's "fixed time interval"
+  int num_segments = 100;      // 0: every non-overlapping segment of the dataset
+  bool random_starts = false;  // seeded random starts instead of evenly spaced ones
+  std::uint64_t seed = 1;
+  IntegratorType integrator = IntegratorType::kRk4;
+  double step = 0.0;       // integration step [s]; 0: the dataset's sample period
+  bool normalise = false;  // divide q_j, dq_j errors by their spread over the dataset
+};
+
+/// The prepared problem: the dataset, the segments and the weights.
+struct GcProblem {
+  Trajectory data;
+  std::vector<int> starts;  // sample index of each segment's start
+  int samples_per_segment = 0;
+  int substeps = 1;  // integration steps per sample period
+  double step = 0.0;
+  IntegratorType integrator = IntegratorType::kRk4;
+  Eigen::VectorXd weight_q, weight_dq;  // per joint (1 without normalisation)
+
+  int numSegments() const { return static_cast<int>(starts.size()); }
+};
+
+/// Builds segments from a dataset. Throws InputError when the horizon is not a whole number of
+/// sample periods (to 1e-6), the sample period is not constant (to 1e-6 relative), the step does
+/// not divide it, or the dataset is shorter than one segment; asks for no more segments than fit
+/// without overlap when evenly spaced.
+GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options);
+
+/// A segment whose prediction diverges (non-finite, or a squared error above this) counts as this,
+/// so optimisers always see a finite error.
+inline constexpr double kMaxSegmentError = 1e6;
+
+/// Per-thread workspace for GC-error evaluations of one model structure.
+struct GcWorkspace {
+  explicit GcWorkspace(const Model& model, int num_threads);
+  std::vector<Data> data;
+  std::vector<Eigen::VectorXd> q, dq;
+  Eigen::VectorXd segment_errors;
+};
+
+/// Squared prediction error of each segment into workspace.segment_errors, summed in segment order
+/// (the same result for any thread count). Throws InputError when the model's joint count differs
+/// from the data's.
+double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
+               ThreadPool& pool);
+
+}  // namespace dynid

@@ -1,0 +1,390 @@
+#include "search/optimizers.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include <nlopt.hpp>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// Counts evaluations, enforces the budgets and the stop flag, and tracks the best candidate and
+/// the smallest parameter error since the last history entry.
+class Evaluator {
+ public:
+  Evaluator(const SearchContext& context, SearchState& state)
+      : context_(context),
+        space_(*context.space),
+        state_(state),
+        workspace_(context.space->modelAt(context.space->initial()), context.pool->numThreads()),
+        scratch_(context.space->modelAt(context.space->initial())),
+        start_(std::chrono::steady_clock::now()),
+        seconds_offset_(state.seconds) {}
+
+  /// GC error at the feasible point x (projected by the caller).
+  double evaluate(const Eigen::VectorXd& x) {
+    space_.apply(x, scratch_);
+    const double gc = gcError(scratch_, *context_.problem, workspace_, *context_.pool);
+    ++state_.evaluations;
+    if (context_.on_evaluation) context_.on_evaluation(x, gc);
+    if (gc < state_.best_gc) {
+      state_.best_gc = gc;
+      state_.best_x = x;
+    }
+    if (context_.truth_full != nullptr) {
+      const double pe = space_.parameterError(x, *context_.truth_full);
+      min_parameter_error_ = std::min(min_parameter_error_, pe);
+      if (evaluated_.size() < 2'000'000) evaluated_.emplace_back(gc, pe);
+    }
+    return gc;
+  }
+
+  double seconds() const {
+    return seconds_offset_ +
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+  /// Why the search must stop now, or "" to go on.
+  std::string stopReason() const {
+    const SearchBudget& b = context_.budget;
+    if (context_.stop != nullptr && context_.stop->load()) return "interrupted";
+    if (state_.best_gc <= b.gc_tolerance) return "tolerance";
+    if (b.max_evaluations > 0 && state_.evaluations >= b.max_evaluations) return "evaluations";
+    if (b.max_seconds > 0.0 && seconds() >= b.max_seconds) return "seconds";
+    return "";
+  }
+
+  /// Appends a history entry for this round or generation and reports the state.
+  void record(const std::string& stage, double extra_min_parameter_error = INFINITY) {
+    HistoryEntry h;
+    h.stage = stage;
+    h.iteration = state_.iteration;
+    h.best_gc = state_.best_gc;
+    if (context_.truth_full != nullptr) {
+      h.best_parameter_error = space_.parameterError(state_.best_x, *context_.truth_full);
+      h.min_parameter_error = std::min(min_parameter_error_, extra_min_parameter_error);
+    }
+    h.evaluations = state_.evaluations;
+    h.seconds = seconds();
+    state_.seconds = h.seconds;
+    state_.history.push_back(h);
+    min_parameter_error_ = INFINITY;
+    if (context_.on_iteration) context_.on_iteration(state_);
+  }
+
+  double parameterError(const Eigen::VectorXd& x) const {
+    return context_.truth_full ? space_.parameterError(x, *context_.truth_full) : NAN;
+  }
+
+  std::vector<std::pair<double, double>>& evaluated() { return evaluated_; }
+
+ private:
+  const SearchContext& context_;
+  const ParameterSpace& space_;
+  SearchState& state_;
+  GcWorkspace workspace_;
+  Model scratch_;
+  std::chrono::steady_clock::time_point start_;
+  double seconds_offset_;
+  double min_parameter_error_ = INFINITY;
+  std::vector<std::pair<double, double>> evaluated_;
+};
+
+std::string saveRng(const std::mt19937_64& rng) {
+  std::ostringstream s;
+  s << rng;
+  return s.str();
+}
+void loadRng(const std::string& text, std::mt19937_64& rng) {
+  std::istringstream s(text);
+  s >> rng;
+  if (!s) throw InputError("checkpoint: the random generator state is corrupt");
+}
+
+/// x (1 + N(0, scale)) on every parameter; a parameter at 0 moves by scale times its range.
+Eigen::VectorXd mutateAll(const ParameterSpace& space, const Eigen::VectorXd& x, double scale,
+                          std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd y = x;
+  for (Eigen::Index p = 0; p < x.size(); ++p) {
+    const double magnitude =
+        x[p] != 0.0 ? std::abs(x[p]) : 0.5 * (space.upper()[p] - space.lower()[p]);
+    y[p] += scale * magnitude * normal(rng);
+  }
+  return space.project(y);
+}
+
+SearchState initialState(const SearchContext& context, const std::string& method) {
+  if (context.resume != nullptr) {
+    if (context.resume->method != method)
+      throw InputError("the checkpoint is for method '" + context.resume->method + "', not '" +
+                       method + "'");
+    if (context.resume->best_x.size() != context.space->numFree())
+      throw InputError("the checkpoint has " + std::to_string(context.resume->best_x.size()) +
+                       " free parameters, this search " + std::to_string(context.space->numFree()));
+    return *context.resume;
+  }
+  SearchState state;
+  state.method = method;
+  state.best_x = context.space->project(context.space->initial());
+  return state;
+}
+
+SearchResult finish(SearchState& state, Evaluator& evaluator, const std::string& termination) {
+  SearchResult result;
+  result.method = state.method;
+  result.termination = termination.empty() ? "completed" : termination;
+  result.best_x = state.best_x;
+  result.initial_gc = state.initial_gc;
+  result.best_gc = state.best_gc;
+  result.evaluations = state.evaluations;
+  result.seconds = evaluator.seconds();
+  result.history = state.history;
+  result.evaluated = std::move(evaluator.evaluated());
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------------
+// NLO: each round optimises the current best and two mutations of it with COBYLA and keeps the
+// best of the three.
+
+struct CobylaData {
+  Evaluator* evaluator;
+  const ParameterSpace* space;
+  nlopt::opt* opt;
+  double penalty_scale;
+  Eigen::VectorXd best_x;
+  double best_gc;
+};
+
+double cobylaObjective(unsigned n, const double* x, double*, void* raw) {
+  auto* d = static_cast<CobylaData*>(raw);
+  const Eigen::Map<const Eigen::VectorXd> xv(x, n);
+  // Evaluate at the feasible point; penalise COBYLA's distance from it.
+  const Eigen::VectorXd y = d->space->project(xv);
+  const double gc = d->evaluator->evaluate(y);
+  if (gc < d->best_gc) d->best_gc = gc, d->best_x = y;
+  if (!d->evaluator->stopReason().empty()) d->opt->force_stop();
+  const Eigen::VectorXd range = d->space->upper() - d->space->lower();
+  const double distance = (xv - y).cwiseQuotient(range).squaredNorm();
+  return gc + d->penalty_scale * distance;
+}
+
+double totalMassConstraint(unsigned n, const double* x, double*, void* raw) {
+  auto* d = static_cast<CobylaData*>(raw);
+  return d->space->totalMass(Eigen::Map<const Eigen::VectorXd>(x, n)) -
+         d->space->options().total_mass;
+}
+
+/// One COBYLA run from `seed`; returns its best feasible point and GC error.
+std::pair<Eigen::VectorXd, double> cobyla(Evaluator& evaluator, const ParameterSpace& space,
+                                          const NloOptions& options, const Eigen::VectorXd& seed,
+                                          double penalty_scale) {
+  const int n = space.numFree();
+  nlopt::opt opt(nlopt::LN_COBYLA, n);
+  CobylaData data{&evaluator, &space, &opt, penalty_scale, seed, INFINITY};
+  opt.set_min_objective(cobylaObjective, &data);
+  opt.set_lower_bounds(std::vector<double>(space.lower().data(), space.lower().data() + n));
+  opt.set_upper_bounds(std::vector<double>(space.upper().data(), space.upper().data() + n));
+  if (space.options().total_mass_constraint)
+    opt.add_equality_constraint(totalMassConstraint, &data,
+                                1e-9 * (1 + space.options().total_mass));
+  const Eigen::VectorXd step = options.initial_step * (space.upper() - space.lower());
+  opt.set_initial_step(std::vector<double>(step.data(), step.data() + n));
+  opt.set_maxeval(options.evaluations_per_seed);
+  opt.set_xtol_rel(1e-10);
+  std::vector<double> x(seed.data(), seed.data() + n);
+  double value = 0.0;
+  try {
+    opt.optimize(x, value);
+  } catch (const nlopt::forced_stop&) {
+    // the budget ran out or the user interrupted: keep the best so far
+  } catch (const nlopt::roundoff_limited&) {
+    // converged as far as round-off allows
+  }
+  return {data.best_x, data.best_gc};
+}
+
+void nloRounds(const SearchContext& context, const NloOptions& options, SearchState& state,
+               Evaluator& evaluator, std::mt19937_64& rng, std::string& termination) {
+  const ParameterSpace& space = *context.space;
+  const double penalty_scale =
+      std::isfinite(state.initial_gc) ? std::max(state.initial_gc, 1e-12) : 1.0;
+  state.stage = "nlo";
+  while ((termination = evaluator.stopReason()).empty()) {
+    // The current best and two mutations of it.
+    const Eigen::VectorXd current = state.best_x;
+    const Eigen::VectorXd seeds[3] = {current,
+                                      mutateAll(space, current, options.mutation_scale, rng),
+                                      mutateAll(space, current, options.mutation_scale, rng)};
+    for (const Eigen::VectorXd& seed : seeds) {
+      if (!evaluator.stopReason().empty()) break;
+      cobyla(evaluator, space, options, seed, penalty_scale);
+    }
+    ++state.iteration;
+    state.rng = saveRng(rng);
+    evaluator.record("nlo");
+  }
+}
+
+void checkNlo(const NloOptions& o) {
+  if (o.evaluations_per_seed < 1 || !(o.mutation_scale >= 0) || !(o.initial_step > 0))
+    throw InputError("NLO options: evaluations per seed >= 1, mutation scale >= 0, step > 0");
+}
+
+// ---------------------------------------------------------------------------------------------
+// GA: roulette-wheel selection on 1 / GC, uniform crossover, per-parameter Gaussian mutation,
+// migration away from the centroid, elitism.
+
+void checkGa(const GaOptions& o) {
+  if (o.population < 2 || o.elites < 0 || o.elites >= o.population || !(o.crossover_rate >= 0) ||
+      o.crossover_rate > 1 || !(o.mutation_rate >= 0) || o.mutation_rate > 1 ||
+      !(o.mutation_scale >= 0) || !(o.migration >= 0))
+    throw InputError(
+        "GA options: population >= 2, 0 <= elites < population, rates in [0, 1], "
+        "scales >= 0");
+}
+
+void gaGenerations(const SearchContext& context, const GaOptions& options, SearchState& state,
+                   Evaluator& evaluator, std::mt19937_64& rng, std::string& termination,
+                   long evaluation_limit, double seconds_limit) {
+  const ParameterSpace& space = *context.space;
+  auto limit_reached = [&] {
+    termination = evaluator.stopReason();
+    if (!termination.empty()) return true;
+    return (evaluation_limit > 0 && state.evaluations >= evaluation_limit) ||
+           (seconds_limit > 0 && evaluator.seconds() >= seconds_limit);
+  };
+  state.stage = "ga";
+  std::vector<Eigen::VectorXd>& population = state.population;
+  std::vector<double>& fitness_gc = state.population_gc;
+  if (population.empty()) {
+    // Generation 0: the initial estimate and mutations of it.
+    population.push_back(state.best_x);
+    while (static_cast<int>(population.size()) < options.population)
+      population.push_back(mutateAll(space, state.best_x, options.mutation_scale, rng));
+    for (const Eigen::VectorXd& x : population) fitness_gc.push_back(evaluator.evaluate(x));
+    state.rng = saveRng(rng);
+    evaluator.record("ga");
+  }
+  const int P = options.population;
+  while (!limit_reached()) {
+    // Fresh distributions each generation: std::normal_distribution caches a second value, which a
+    // checkpoint (the generator's state only) could not restore.
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    // Roulette wheel on fitness 1 / GC.
+    std::vector<double> cumulative(P);
+    double total = 0.0;
+    for (int i = 0; i < P; ++i) cumulative[i] = total += 1.0 / std::max(fitness_gc[i], 1e-300);
+    auto pick = [&] {
+      const double r = unit(rng) * total;
+      return static_cast<int>(std::lower_bound(cumulative.begin(), cumulative.end(), r) -
+                              cumulative.begin());
+    };
+    std::vector<int> order(P);
+    for (int i = 0; i < P; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return fitness_gc[a] < fitness_gc[b]; });
+    std::vector<Eigen::VectorXd> next;
+    std::vector<double> next_gc;
+    for (int e = 0; e < options.elites; ++e) {
+      next.push_back(population[order[e]]);
+      next_gc.push_back(fitness_gc[order[e]]);
+    }
+    while (static_cast<int>(next.size()) < P) {
+      const Eigen::VectorXd& a = population[std::min(pick(), P - 1)];
+      const Eigen::VectorXd& b = population[std::min(pick(), P - 1)];
+      Eigen::VectorXd child = a;
+      if (unit(rng) < options.crossover_rate)
+        for (Eigen::Index p = 0; p < child.size(); ++p) child[p] = unit(rng) < 0.5 ? a[p] : b[p];
+      for (Eigen::Index p = 0; p < child.size(); ++p)
+        if (unit(rng) < options.mutation_rate) {
+          const double magnitude =
+              child[p] != 0.0 ? std::abs(child[p]) : 0.5 * (space.upper()[p] - space.lower()[p]);
+          child[p] += options.mutation_scale * magnitude * normal(rng);
+        }
+      next.push_back(space.project(child));
+      next_gc.push_back(NAN);
+    }
+    // Migration: move every non-elite away from the population's centroid.
+    Eigen::VectorXd centroid = Eigen::VectorXd::Zero(space.numFree());
+    for (const Eigen::VectorXd& x : next) centroid += x;
+    centroid /= P;
+    for (int i = options.elites; i < P; ++i)
+      next[i] = space.project(centroid + (1.0 + options.migration) * (next[i] - centroid));
+    // Evaluate the new individuals; a budget cut mid-generation keeps the old ones.
+    double elite_min_pe = INFINITY;
+    for (int e = 0; e < options.elites; ++e)
+      elite_min_pe = std::min(elite_min_pe, evaluator.parameterError(next[e]));
+    for (int i = options.elites; i < P; ++i) next_gc[i] = evaluator.evaluate(next[i]);
+    population = std::move(next);
+    fitness_gc = std::move(next_gc);
+    ++state.iteration;
+    state.rng = saveRng(rng);
+    evaluator.record("ga", elite_min_pe);
+  }
+}
+
+}  // namespace
+
+SearchResult runNlo(const SearchContext& context, const NloOptions& options) {
+  checkNlo(options);
+  SearchState state = initialState(context, "nlo");
+  Evaluator evaluator(context, state);
+  std::mt19937_64 rng(context.seed);
+  if (!state.rng.empty()) loadRng(state.rng, rng);
+  if (std::isnan(state.initial_gc)) {
+    state.initial_gc = evaluator.evaluate(state.best_x);
+    state.rng = saveRng(rng);
+    evaluator.record("nlo");
+  }
+  std::string termination;
+  nloRounds(context, options, state, evaluator, rng, termination);
+  return finish(state, evaluator, termination);
+}
+
+SearchResult runGa(const SearchContext& context, const GaOptions& options) {
+  checkGa(options);
+  SearchState state = initialState(context, "ga");
+  Evaluator evaluator(context, state);
+  std::mt19937_64 rng(context.seed);
+  if (!state.rng.empty()) loadRng(state.rng, rng);
+  if (std::isnan(state.initial_gc)) state.initial_gc = evaluator.evaluate(state.best_x);
+  std::string termination;
+  gaGenerations(context, options, state, evaluator, rng, termination, 0, 0.0);
+  return finish(state, evaluator, termination);
+}
+
+SearchResult runHybrid(const SearchContext& context, const GaOptions& ga, const NloOptions& nlo) {
+  checkGa(ga);
+  checkNlo(nlo);
+  SearchState state = initialState(context, "hybrid");
+  Evaluator evaluator(context, state);
+  std::mt19937_64 rng(context.seed);
+  if (!state.rng.empty()) loadRng(state.rng, rng);
+  if (std::isnan(state.initial_gc)) state.initial_gc = evaluator.evaluate(state.best_x);
+  std::string termination;
+  // GA for half of each budget, then NLO from the GA's best (state.best_x).
+  if (state.stage != "nlo") {
+    const SearchBudget& b = context.budget;
+    gaGenerations(context, ga, state, evaluator, rng, termination,
+                  b.max_evaluations > 0 ? b.max_evaluations / 2 : 0,
+                  b.max_seconds > 0 ? b.max_seconds / 2 : 0.0);
+    state.population.clear();
+    state.population_gc.clear();
+  }
+  if (termination.empty() || termination == "completed") {
+    state.iteration = 0;
+    nloRounds(context, nlo, state, evaluator, rng, termination);
+  }
+  return finish(state, evaluator, termination);
+}
+
+}  // namespace dynid

@@ -1,0 +1,41 @@
+// A small fixed pool of worker threads for data-parallel loops. Results must be written per index
+// (never accumulated across threads) so that they do not depend on the thread count.
+#pragma once
+
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace dynid {
+
+class ThreadPool {
+ public:
+  /// num_threads >= 1 (the calling thread is one of them); 0 means all hardware threads.
+  explicit ThreadPool(int num_threads);
+  ~ThreadPool();
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  int numThreads() const { return static_cast<int>(workers_.size()) + 1; }
+
+  /// Calls body(index, thread) for index in [0, count), thread in [0, numThreads()), indices split
+  /// into contiguous blocks; returns when all are done. body must not throw. Not re-entrant.
+  void parallelFor(int count, const std::function<void(int, int)>& body);
+
+ private:
+  void workerLoop(int thread);
+  void runBlock(int thread);
+
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable start_, done_;
+  const std::function<void(int, int)>* body_ = nullptr;
+  int count_ = 0;
+  long generation_ = 0;
+  int pending_ = 0;
+  bool stop_ = false;
+};
+
+}  // namespace dynid

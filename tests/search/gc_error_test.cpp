@@ -1,0 +1,87 @@
+#include "search/gc_error.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "core/perturb.hpp"
+#include "core/simulate.hpp"
+#include "data/puma560.hpp"
+
+namespace dynid {
+namespace {
+
+Trajectory pumaData(double duration = 6.0) {
+  const Model model = makePuma560();
+  SinusoidalReference r;
+  r.q0 = puma560Pose("qn");
+  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
+  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.2, 0.6);
+  r.phase = Eigen::VectorXd::Zero(6);
+  TrackingController controller(model, r, defaultGains(model, r.q0),
+                                Eigen::VectorXd::Constant(6, 1e9));
+  SimulationOptions options;
+  options.duration = duration;
+  return simulate(model, controller, options);
+}
+
+TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
+  const Model truth = makePuma560();
+  const GcProblem problem = makeGcProblem(pumaData(), {});
+  EXPECT_EQ(problem.numSegments(), 100);
+  EXPECT_EQ(problem.samples_per_segment, 50);
+  ThreadPool pool(1);
+  GcWorkspace workspace(truth, 1);
+  // Same integrator, step and held torques as the recording: the replay is bit for bit.
+  EXPECT_EQ(gcError(truth, problem, workspace, pool), 0.0);
+  const double perturbed = gcError(perturbedModel(truth, 0.3, 1), problem, workspace, pool);
+  EXPECT_GT(perturbed, 1e-6);
+  // The paper's eq. (2): the sum of the per-segment squared state errors.
+  EXPECT_DOUBLE_EQ(perturbed, workspace.segment_errors.sum());
+}
+
+TEST(GcError, SameResultForAnyThreadCount) {
+  const Model guess = perturbedModel(makePuma560(), 0.3, 2);
+  const GcProblem problem = makeGcProblem(pumaData(), {.horizon = 0.02, .num_segments = 37});
+  ThreadPool one(1), two(2);
+  GcWorkspace w1(guess, 1), w2(guess, 2);
+  EXPECT_EQ(gcError(guess, problem, w1, one), gcError(guess, problem, w2, two));
+}
+
+TEST(GcError, DivergingRolloutsAreLargeAndFinite) {
+  Model bad = makePuma560();
+  bad.inertias[5] = RigidInertia<double>();  // a massless last link: singular mass matrix
+  bad.updateFrameInertias();
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  ThreadPool pool(2);
+  GcWorkspace workspace(bad, 2);
+  const double error = gcError(bad, problem, workspace, pool);
+  EXPECT_TRUE(std::isfinite(error));
+  EXPECT_EQ(error, 10 * kMaxSegmentError);
+}
+
+TEST(GcError, NormalisationAndSegmentChoices) {
+  const Trajectory data = pumaData();
+  const GcProblem plain = makeGcProblem(data, {});
+  const GcProblem normalised = makeGcProblem(data, {.normalise = true});
+  EXPECT_EQ(plain.weight_q, Eigen::VectorXd::Ones(6));
+  EXPECT_NEAR(normalised.weight_q[0],
+              1.0 / std::sqrt((data.q.row(0).array() - data.q.row(0).mean()).square().mean()),
+              1e-9);
+  const GcProblem random_a = makeGcProblem(data, {.random_starts = true, .seed = 3});
+  const GcProblem random_b = makeGcProblem(data, {.random_starts = true, .seed = 3});
+  EXPECT_EQ(random_a.starts, random_b.starts);
+  EXPECT_EQ(makeGcProblem(data, {.num_segments = 0}).numSegments(), 120);
+}
+
+TEST(GcError, RejectsBadSettings) {
+  const Trajectory data = pumaData(0.5);
+  EXPECT_THROW(makeGcProblem(data, {.horizon = 0.0125}), InputError);    // not whole samples
+  EXPECT_THROW(makeGcProblem(data, {.num_segments = 100}), InputError);  // room for 10
+  EXPECT_THROW(makeGcProblem(data, {.step = 3e-4}), InputError);
+  Trajectory uneven = data;
+  uneven.time[3] += 3e-4;
+  EXPECT_THROW(makeGcProblem(uneven, {}), InputError);
+}
+
+}  // namespace
+}  // namespace dynid
