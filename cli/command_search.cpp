@@ -29,6 +29,13 @@ extern "C" void onInterrupt(int) { interrupted.store(true); }
 
 json numberOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
+/// The settings a checkpoint must share with the run that resumes it: all but the budgets and the
+/// tolerance, which only decide when to stop (so a run can be resumed with a larger budget).
+json fingerprint(json settings) {
+  for (const char* key : {"budget_evaluations", "budget_seconds", "gc_tolerance"}) settings.erase(key);
+  return settings;
+}
+
 json vectorJson(const Eigen::VectorXd& v) { return std::vector<double>(v.begin(), v.end()); }
 Eigen::VectorXd vectorFrom(const json& j) {
   const std::vector<double> v = j.get<std::vector<double>>();
@@ -263,7 +270,7 @@ int runSearch(const std::vector<std::string>& args) {
     } catch (const json::parse_error& e) {
       throw ParseError(checkpoint, 0, "", std::string("invalid JSON: ") + e.what());
     }
-    if (!saved.contains("settings") || saved["settings"] != settings ||
+    if (!saved.contains("settings") || saved["settings"] != fingerprint(settings) ||
         saved.value("method", "") != method)
       throw InputError(checkpoint +
                        ": the checkpoint was written with other settings; remove it "
@@ -283,7 +290,7 @@ int runSearch(const std::vector<std::string>& args) {
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   context.on_iteration = [&](const SearchState& state) {
     if (!checkpoint.empty())
-      writeFileAtomically(checkpoint, stateJson(state, settings).dump() + "\n");
+      writeFileAtomically(checkpoint, stateJson(state, fingerprint(settings)).dump() + "\n");
     if (terminal && !state.history.empty()) {
       const HistoryEntry& h = state.history.back();
       std::fprintf(stderr, "\r[%s] %s %d: GC error %.4g (initial %.4g), %ld evaluations, %.1f s   ",

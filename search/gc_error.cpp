@@ -69,12 +69,15 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   return problem;
 }
 
+GcWorkspace::PerThread::PerThread(const Model& model)
+    : padding_before(256),
+      data(model),
+      q(model.numJoints()),
+      dq(model.numJoints()),
+      padding_after(256) {}
+
 GcWorkspace::GcWorkspace(const Model& model, int num_threads) {
-  for (int t = 0; t < num_threads; ++t) {
-    data.emplace_back(model);
-    q.emplace_back(model.numJoints());
-    dq.emplace_back(model.numJoints());
-  }
+  for (int t = 0; t < num_threads; ++t) threads.push_back(std::make_unique<PerThread>(model));
 }
 
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
@@ -86,9 +89,10 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
   workspace.segment_errors.resize(problem.numSegments());
   pool.parallelFor(problem.numSegments(), [&](int s, int thread) {
     // Roll out from the recorded start with the recorded (held) torques.
-    Data& data = workspace.data[thread];
-    Eigen::VectorXd& q = workspace.q[thread];
-    Eigen::VectorXd& dq = workspace.dq[thread];
+    GcWorkspace::PerThread& own = *workspace.threads[thread];
+    Data& data = own.data;
+    Eigen::VectorXd& q = own.q;
+    Eigen::VectorXd& dq = own.dq;
     const int start = problem.starts[s];
     q = problem.data.q.col(start);
     dq = problem.data.dq.col(start);

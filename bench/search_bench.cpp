@@ -1,0 +1,47 @@
+// GC-error evaluation on the PUMA 560: 100 segments x 50 RK4 steps (0.05 s at 1 kHz) of a candidate
+// model 30 % off, with 1 and 2 threads. items_per_second counts RK4 steps. Run:
+//   build/bench/bench_search --benchmark_repetitions=5 --benchmark_report_aggregates_only
+#include <benchmark/benchmark.h>
+
+#include "core/perturb.hpp"
+#include "core/simulate.hpp"
+#include "data/puma560.hpp"
+#include "search/gc_error.hpp"
+
+namespace {
+
+using namespace dynid;
+
+GcProblem pumaProblem(int segments) {
+  const Model model = makePuma560();
+  SinusoidalReference r;
+  r.q0 = puma560Pose("qn");
+  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
+  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.15, 0.5);
+  r.phase = Eigen::VectorXd::Zero(6);
+  TrackingController controller(model, r, defaultGains(model, r.q0),
+                                Eigen::VectorXd::Constant(6, 1e9));
+  SimulationOptions options;
+  options.duration = segments * 0.05 + 0.001;
+  return makeGcProblem(simulate(model, controller, options), {.num_segments = segments});
+}
+
+void BM_GcError(benchmark::State& state) {
+  const int segments = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  const GcProblem problem = pumaProblem(segments);
+  const Model candidate = perturbedModel(makePuma560(), 0.3, 1);
+  ThreadPool pool(threads);
+  GcWorkspace workspace(candidate, threads);
+  for (auto _ : state) benchmark::DoNotOptimize(gcError(candidate, problem, workspace, pool));
+  state.SetItemsProcessed(state.iterations() * segments * problem.samples_per_segment);
+}
+BENCHMARK(BM_GcError)
+    ->Args({100, 1})
+    ->Args({100, 2})
+    ->ArgNames({"segments", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
