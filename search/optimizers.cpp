@@ -323,7 +323,17 @@ void gaGenerations(const SearchContext& context, const GaOptions& options, Searc
     double elite_min_pe = INFINITY;
     for (int e = 0; e < options.elites; ++e)
       elite_min_pe = std::min(elite_min_pe, evaluator.parameterError(next[e]));
-    for (int i = options.elites; i < P; ++i) next_gc[i] = evaluator.evaluate(next[i]);
+    bool cut = false;
+    for (int i = options.elites; i < P && !cut; ++i) {
+      next_gc[i] = evaluator.evaluate(next[i]);
+      cut = !evaluator.stopReason().empty();
+    }
+    if (cut) {
+      // A budget or an interrupt mid-generation: keep the last complete generation (the best
+      // candidate evaluated is still kept by the evaluator).
+      termination = evaluator.stopReason();
+      break;
+    }
     population = std::move(next);
     fitness_gc = std::move(next_gc);
     ++state.iteration;
