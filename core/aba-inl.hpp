@@ -50,10 +50,7 @@ template <typename Scalar>
 const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                            const ConstVectorRef<Scalar>& q, const ConstVectorRef<Scalar>& dq,
                            const ConstVectorRef<Scalar>& tau) {
-  checkData(model, data);
-  checkSize(model, q, "q");
-  checkSize(model, dq, "dq");
-  checkSize(model, tau, "tau");
+  checkState(model, data, q, dq, tau, "tau");
   const int n = model.numJoints();
 
   // Pass 1: velocities, velocity-product accelerations c_i = v_i x S dq, and the rigid-body

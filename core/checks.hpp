@@ -24,4 +24,14 @@ void checkData(const ModelTpl<Scalar>& model, const DataTpl<Scalar>& data) {
                      "' was not finalized");
 }
 
+/// The checks of every (q, dq, x) algorithm: Data for this model, and n entries in each vector.
+template <typename Scalar, typename Q, typename DQ, typename X>
+void checkState(const ModelTpl<Scalar>& model, const DataTpl<Scalar>& data, const Q& q,
+                const DQ& dq, const X& x, const char* x_name) {
+  checkData(model, data);
+  checkSize(model, q, "q");
+  checkSize(model, dq, "dq");
+  checkSize(model, x, x_name);
+}
+
 }  // namespace dynid

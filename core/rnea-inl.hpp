@@ -10,10 +10,7 @@ template <typename Scalar>
 const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                             const ConstVectorRef<Scalar>& q, const ConstVectorRef<Scalar>& dq,
                             const ConstVectorRef<Scalar>& ddq) {
-  checkData(model, data);
-  checkSize(model, q, "q");
-  checkSize(model, dq, "dq");
-  checkSize(model, ddq, "ddq");
+  checkState(model, data, q, dq, ddq, "ddq");
   const int n = model.numJoints();
   // The recursion works on the angular and linear 3-vector halves of each spatial vector
   // separately: mixing scalar stores and packed loads on 6-vectors stalls store forwarding.

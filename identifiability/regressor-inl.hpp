@@ -38,10 +38,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
                                             const ConstVectorRef<Scalar>& q,
                                             const ConstVectorRef<Scalar>& dq,
                                             const ConstVectorRef<Scalar>& ddq) {
-  checkData(model, data);
-  checkSize(model, q, "q");
-  checkSize(model, dq, "dq");
-  checkSize(model, ddq, "ddq");
+  checkState(model, data, q, dq, ddq, "ddq");
   const int n = model.numJoints();
   const ParameterLayout layout = model.parameterLayout();
   Vector6<Scalar> base_acceleration;

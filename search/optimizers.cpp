@@ -136,7 +136,7 @@ SearchState initialState(const SearchContext& context, const std::string& method
   return state;
 }
 
-SearchResult finish(SearchState& state, Evaluator& evaluator, const std::string& termination) {
+SearchResult finishRun(SearchState& state, Evaluator& evaluator, const std::string& termination) {
   SearchResult result;
   result.method = state.method;
   result.termination = termination.empty() ? "completed" : termination;
@@ -344,57 +344,63 @@ void gaGenerations(const SearchContext& context, const GaOptions& options, Searc
 
 }  // namespace
 
+namespace {
+
+/// The state, evaluator and generator of one search, started afresh (the initial estimate
+/// evaluated) or resumed from a checkpoint.
+struct Run {
+  Run(const SearchContext& context, const std::string& method)
+      : state(initialState(context, method)), evaluator(context, state), rng(context.seed) {
+    if (!state.rng.empty()) loadRng(state.rng, rng);
+    if (std::isnan(state.initial_gc)) state.initial_gc = evaluator.evaluate(state.best_x);
+  }
+  bool fresh() const { return state.history.empty() && state.population.empty(); }
+  SearchResult finish() { return finishRun(state, evaluator, termination); }
+
+  SearchState state;
+  Evaluator evaluator;
+  std::mt19937_64 rng;
+  std::string termination;
+};
+
+}  // namespace
+
 SearchResult runNlo(const SearchContext& context, const NloOptions& options) {
   checkNlo(options);
-  SearchState state = initialState(context, "nlo");
-  Evaluator evaluator(context, state);
-  std::mt19937_64 rng(context.seed);
-  if (!state.rng.empty()) loadRng(state.rng, rng);
-  if (std::isnan(state.initial_gc)) {
-    state.initial_gc = evaluator.evaluate(state.best_x);
-    state.rng = saveRng(rng);
-    evaluator.record("nlo");
+  Run run(context, "nlo");
+  if (run.fresh()) {
+    run.state.rng = saveRng(run.rng);
+    run.evaluator.record("nlo");
   }
-  std::string termination;
-  nloRounds(context, options, state, evaluator, rng, termination);
-  return finish(state, evaluator, termination);
+  nloRounds(context, options, run.state, run.evaluator, run.rng, run.termination);
+  return run.finish();
 }
 
 SearchResult runGa(const SearchContext& context, const GaOptions& options) {
   checkGa(options);
-  SearchState state = initialState(context, "ga");
-  Evaluator evaluator(context, state);
-  std::mt19937_64 rng(context.seed);
-  if (!state.rng.empty()) loadRng(state.rng, rng);
-  if (std::isnan(state.initial_gc)) state.initial_gc = evaluator.evaluate(state.best_x);
-  std::string termination;
-  gaGenerations(context, options, state, evaluator, rng, termination, 0, 0.0);
-  return finish(state, evaluator, termination);
+  Run run(context, "ga");
+  gaGenerations(context, options, run.state, run.evaluator, run.rng, run.termination, 0, 0.0);
+  return run.finish();
 }
 
 SearchResult runHybrid(const SearchContext& context, const GaOptions& ga, const NloOptions& nlo) {
   checkGa(ga);
   checkNlo(nlo);
-  SearchState state = initialState(context, "hybrid");
-  Evaluator evaluator(context, state);
-  std::mt19937_64 rng(context.seed);
-  if (!state.rng.empty()) loadRng(state.rng, rng);
-  if (std::isnan(state.initial_gc)) state.initial_gc = evaluator.evaluate(state.best_x);
-  std::string termination;
+  Run run(context, "hybrid");
   // GA for half of each budget, then NLO from the GA's best (state.best_x).
-  if (state.stage != "nlo") {
+  if (run.state.stage != "nlo") {
     const SearchBudget& b = context.budget;
-    gaGenerations(context, ga, state, evaluator, rng, termination,
+    gaGenerations(context, ga, run.state, run.evaluator, run.rng, run.termination,
                   b.max_evaluations > 0 ? b.max_evaluations / 2 : 0,
                   b.max_seconds > 0 ? b.max_seconds / 2 : 0.0);
-    state.population.clear();
-    state.population_gc.clear();
+    run.state.population.clear();
+    run.state.population_gc.clear();
   }
-  if (termination.empty() || termination == "completed") {
-    state.iteration = 0;
-    nloRounds(context, nlo, state, evaluator, rng, termination);
+  if (run.termination.empty()) {
+    run.state.iteration = 0;
+    nloRounds(context, nlo, run.state, run.evaluator, run.rng, run.termination);
   }
-  return finish(state, evaluator, termination);
+  return run.finish();
 }
 
 }  // namespace dynid
