@@ -32,7 +32,8 @@ json numberOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr);
 /// The settings a checkpoint must share with the run that resumes it: all but the budgets and the
 /// tolerance, which only decide when to stop (so a run can be resumed with a larger budget).
 json fingerprint(json settings) {
-  for (const char* key : {"budget_evaluations", "budget_seconds", "gc_tolerance"}) settings.erase(key);
+  for (const char* key : {"budget_evaluations", "budget_seconds", "gc_tolerance"})
+    settings.erase(key);
   return settings;
 }
 
@@ -151,6 +152,7 @@ int runSearch(const std::vector<std::string>& args) {
                                              "bounds: initial estimate +- this fraction")(
       "absolute-range", po::value<double>()->default_value(0.0),
       "range of parameters whose initial estimate is 0 (0: they stay fixed)")(
+      "fix", po::value<std::string>(), "parameters held at their initial estimate, e.g. m2,cx3")(
       "mass-constraint", po::value<std::string>()->default_value("auto"),
       "on, off or auto (on for nlo and hybrid, off for ga, as in the paper)")(
       "total-mass", po::value<double>(),
@@ -221,6 +223,14 @@ int runSearch(const std::vector<std::string>& args) {
     throw UsageError(std::string("--form: ") + e.what());
   }
   space_options.relative_range = vm["range"].as<double>();
+  if (vm.count("fix")) {
+    const std::string list = vm["fix"].as<std::string>();
+    for (std::size_t start = 0; start <= list.size();) {
+      const std::size_t comma = std::min(list.find(',', start), list.size());
+      if (comma > start) space_options.fixed.push_back(list.substr(start, comma - start));
+      start = comma + 1;
+    }
+  }
   space_options.absolute_range = vm["absolute-range"].as<double>();
   space_options.total_mass_constraint = mass == "on" || (mass == "auto" && method != "ga");
   auto total = [](const Model& m) {

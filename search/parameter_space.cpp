@@ -1,5 +1,6 @@
 #include "search/parameter_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/errors.hpp"
@@ -33,11 +34,29 @@ ParameterSpace::ParameterSpace(const Model& initial, const SpaceOptions& options
     throw InputError("parameter ranges must be >= 0");
   full_initial_ = fullVector(initial);
   const int per = perLink(options.form);
+  // The free-parameter mask: names in the form's naming.
+  const std::vector<std::string> names =
+      options.form == ParameterForm::kPaper
+          ? paperParameterNames(initial.numJoints())
+          : standardParameterNames({initial.numJoints(), false, false});
+  std::vector<char> held(names.size(), 0);
+  for (const std::string& name : options.fixed) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end())
+      throw InputError("cannot fix '" + name + "': no such parameter in the " +
+                       parameterFormName(options.form) + " form (names like m2, " +
+                       names[std::min<std::size_t>(8, names.size() - 1)] + ")");
+    held[it - names.begin()] = 1;
+  }
   std::vector<double> lower, upper, start;
   for (int index = 0; index < numFull(); ++index) {
     const int k = index % per;
     const double x0 = full_initial_[index];
     double lo, hi;
+    if (held[index]) {
+      if (k == 0) fixed_mass_ += x0;
+      continue;
+    }
     if (x0 != 0.0) {
       lo = x0 - options.relative_range * std::abs(x0);
       hi = x0 + options.relative_range * std::abs(x0);

@@ -24,6 +24,8 @@ struct SpaceOptions {
   /// A parameter whose initial estimate is 0 stays fixed at 0 unless this is > 0; it then ranges
   /// over [-absolute_range, absolute_range] (masses and principal inertias over [0, range]).
   double absolute_range = 0.0;
+  /// Parameters held at their initial estimate, by name in the form ("m2", "cx3", "Ixy4").
+  std::vector<std::string> fixed = {};
   bool total_mass_constraint = false;  // sum of masses fixed to total_mass (the paper's NLO)
   double total_mass = 0.0;             // [kg]; used when the constraint is on
 };
@@ -32,7 +34,8 @@ struct SpaceOptions {
 class ParameterSpace {
  public:
   /// `initial` supplies the structure and every parameter's initial estimate. Throws InputError
-  /// for a negative range, a total mass the bounds cannot reach, or a free mass set without one.
+  /// for a negative range, an unknown name in `fixed`, a total mass the bounds cannot reach, or
+  /// the constraint without a free mass.
   ParameterSpace(const Model& initial, const SpaceOptions& options);
 
   int numFree() const { return static_cast<int>(free_.size()); }

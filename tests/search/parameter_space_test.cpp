@@ -57,5 +57,27 @@ TEST(ParameterSpace, StandardFormAndParameterError) {
   EXPECT_THROW(parseParameterForm("dh"), InputError);
 }
 
+TEST(ParameterSpace, FixedMaskHoldsNamedParameters) {
+  const Model puma = makePuma560();
+  const ParameterSpace all(puma, {});
+  const ParameterSpace masked(puma, {.fixed = {"m2", "cx3", "Iyy1"}});
+  EXPECT_EQ(masked.numFree(), all.numFree() - 3);
+  for (const std::string& name : masked.freeNames()) {
+    EXPECT_NE(name, "m2");
+    EXPECT_NE(name, "Iyy1");
+  }
+  // The held mass still counts towards the total.
+  const ParameterSpace constrained(
+      puma, {.fixed = {"m2"}, .total_mass_constraint = true, .total_mass = 23.45});
+  EXPECT_NEAR(constrained.totalMass(constrained.initial()), 23.45, 1e-12);
+  EXPECT_EQ(masked.modelAt(masked.initial()).inertias[1].mass, 17.4);
+  try {
+    ParameterSpace(puma, {.fixed = {"mass2"}});
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot fix 'mass2'"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace dynid
