@@ -186,6 +186,7 @@ int runSearch(const std::vector<std::string>& args) {
   const long budget_evals = vm["budget-evals"].as<long>();
   double budget_seconds = vm["budget-seconds"].as<double>();
   if (budget_evals < 0 || budget_seconds < 0) throw UsageError("budgets must be >= 0");
+  if (vm["threads"].as<int>() < 0) throw UsageError("--threads must be >= 0 (0: all cores)");
   if (budget_evals == 0 && budget_seconds == 0 && vm["gc-tolerance"].as<double>() <= 0)
     budget_seconds = 60.0;  // never run unbounded
   const std::string mass = vm["mass-constraint"].as<std::string>();
