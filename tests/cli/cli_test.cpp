@@ -43,8 +43,8 @@ TEST(Cli, VersionHelpAndUsage) {
   const Result unknown = run("fly");
   EXPECT_EQ(unknown.code, 2);
   EXPECT_TRUE(contains(unknown.err, "unknown command 'fly'"));
-  for (const char* command :
-       {"dynamics", "simulate", "model show", "model check", "model export"}) {
+  for (const char* command : {"dynamics", "simulate", "model show", "model check", "model export",
+                              "identifiability", "identify", "search"}) {
     const Result help = run(std::string(command) + " --help");
     EXPECT_EQ(help.code, 0) << command;
     EXPECT_TRUE(contains(help.out, "usage: dynid")) << command;
@@ -295,6 +295,7 @@ TEST(Cli, SearchStopsCleanlyOnInterrupt) {
 
 TEST(Cli, SearchUsageErrors) {
   EXPECT_EQ(run("search --method sgd --robot puma560 --data x.csv --out d").code, 2);
+  EXPECT_EQ(run("search --method ga --robot puma560 --data x.csv --threads -1 --out d").code, 2);
   EXPECT_EQ(
       run("search --method ga --robot puma560 --data x.csv --init puma560 --perturb 0.1 --out d")
           .code,
