@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "core/parameters.hpp"
+#include "core/simulate.hpp"
+#include "data/puma560.hpp"
 
 namespace dynid::test {
 
@@ -110,6 +112,24 @@ Eigen::Vector2d Planar2R::coriolis(const Eigen::Vector2d& q, const Eigen::Vector
 Eigen::Vector2d Planar2R::gravity(const Eigen::Vector2d& q) const {
   const double c1 = std::cos(q[0]), c12 = std::cos(q[0] + q[1]);
   return {(m1 * lc1 + m2 * l1) * g * c1 + m2 * lc2 * g * c12, m2 * lc2 * g * c12};
+}
+
+TrackingController pumaSinusoidController(const Model& model, double amplitude, double f_low,
+                                          double f_high) {
+  SinusoidalReference r;
+  r.q0 = puma560Pose("qn");
+  r.amplitude = Eigen::VectorXd::Constant(6, amplitude);
+  r.frequency = Eigen::VectorXd::LinSpaced(6, f_low, f_high);
+  r.phase = Eigen::VectorXd::Zero(6);
+  return TrackingController(model, r, defaultGains(model, r.q0), Eigen::VectorXd::Constant(6, 1e9));
+}
+
+Trajectory pumaSinusoidTrajectory(const Model& model, double duration, double amplitude,
+                                  double f_low, double f_high) {
+  TrackingController controller = pumaSinusoidController(model, amplitude, f_low, f_high);
+  SimulationOptions options;
+  options.duration = duration;
+  return simulate(model, controller, options);
 }
 
 std::string tempPath(const std::string& name) {

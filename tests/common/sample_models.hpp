@@ -8,7 +8,9 @@
 
 #include <Eigen/Core>
 
+#include "core/controllers.hpp"
 #include "core/model.hpp"
+#include "core/trajectory.hpp"
 
 namespace dynid::test {
 
@@ -37,6 +39,14 @@ struct Planar2R {
   Eigen::Vector2d coriolis(const Eigen::Vector2d& q, const Eigen::Vector2d& dq) const;
   Eigen::Vector2d gravity(const Eigen::Vector2d& q) const;
 };
+
+/// The PUMA's GC sinusoidal controller around qn: every joint at `amplitude` [rad], frequencies
+/// evenly spaced over [f_low, f_high] Hz, zero phase, default gains, no torque limit.
+TrackingController pumaSinusoidController(const Model& model, double amplitude, double f_low,
+                                          double f_high);
+/// That controller simulated for `duration` s (RK4, 1 ms, recorded at 1 kHz, no noise).
+Trajectory pumaSinusoidTrajectory(const Model& model, double duration, double amplitude,
+                                  double f_low, double f_high);
 
 /// Uniform random vector in [-scale, scale]^n.
 Eigen::VectorXd randomVector(std::mt19937_64& rng, int n, double scale);

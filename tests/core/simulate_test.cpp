@@ -5,17 +5,13 @@
 #include "core/aba.hpp"
 #include "core/errors.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
 
 namespace dynid {
 namespace {
 
 TrackingController sinusoidalController(const Model& model) {
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.amplitude = Eigen::VectorXd::Constant(6, 0.4);
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.2, 0.6);
-  r.phase = Eigen::VectorXd::Zero(6);
-  return TrackingController(model, r, defaultGains(model, r.q0), Eigen::VectorXd::Constant(6, 1e9));
+  return test::pumaSinusoidController(model, 0.4, 0.2, 0.6);
 }
 
 TEST(Simulate, RecordsExactAccelerationsAndReplaysFromRecordedTorques) {

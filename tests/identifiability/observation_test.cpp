@@ -5,21 +5,13 @@
 #include "core/errors.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
 
 namespace dynid {
 namespace {
 
 Trajectory shortTrajectory(const Model& model) {
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.3, 0.8);
-  r.phase = Eigen::VectorXd::Zero(6);
-  TrackingController controller(model, r, defaultGains(model, r.q0),
-                                Eigen::VectorXd::Constant(6, 1e9));
-  SimulationOptions options;
-  options.duration = 0.2;
-  return simulate(model, controller, options);
+  return test::pumaSinusoidTrajectory(model, 0.2, 0.5, 0.3, 0.8);
 }
 
 TEST(Observation, StacksSamplesJointMajor) {

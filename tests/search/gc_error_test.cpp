@@ -6,22 +6,13 @@
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
 
 namespace dynid {
 namespace {
 
 Trajectory pumaData(double duration = 6.0) {
-  const Model model = makePuma560();
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.2, 0.6);
-  r.phase = Eigen::VectorXd::Zero(6);
-  TrackingController controller(model, r, defaultGains(model, r.q0),
-                                Eigen::VectorXd::Constant(6, 1e9));
-  SimulationOptions options;
-  options.duration = duration;
-  return simulate(model, controller, options);
+  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
 }
 
 TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
