@@ -86,6 +86,41 @@ Eigen::MatrixXd BaseParameters::baseRegressor(const Eigen::MatrixXd& W) const {
   return out;
 }
 
+Eigen::MatrixXd BaseParameters::projectionMatrix() const {
+  // beta_j = theta_independent(j) + sum_k K_jk theta_dependent(k).
+  Eigen::MatrixXd P = Eigen::MatrixXd::Zero(numBase(), numStandard());
+  for (int j = 0; j < numBase(); ++j) {
+    P(j, independent[j]) = 1.0;
+    for (std::size_t k = 0; k < dependent.size(); ++k) P(j, dependent[k]) += K(j, k);
+  }
+  return P;
+}
+
+double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth, double* max) {
+  if (beta.size() != truth.size())
+    throw InputError("base estimate has " + std::to_string(beta.size()) + " entries, truth " +
+                     std::to_string(truth.size()));
+  if (truth.size() == 0) return 0.0;
+  // A true value below 1e-9 of the mean magnitude is a round-off zero (a regrouping such as
+  // Iyy - Ixx of a symmetric link), normalised like an exact 0.
+  const double mean = truth.cwiseAbs().mean();
+  const auto zero = [&](double v) { return std::abs(v) <= 1e-9 * mean; };
+  double fallback = 0.0;
+  int nonzero = 0;
+  for (int j = 0; j < truth.size(); ++j)
+    if (!zero(truth[j])) fallback += std::abs(truth[j]), ++nonzero;
+  fallback = nonzero > 0 ? fallback / nonzero : 1.0;
+  double sum = 0.0, largest = 0.0;
+  for (int j = 0; j < truth.size(); ++j) {
+    const double e =
+        std::abs(beta[j] - truth[j]) / (zero(truth[j]) ? fallback : std::abs(truth[j]));
+    sum += e * e;
+    largest = std::max(largest, e);
+  }
+  if (max != nullptr) *max = largest;
+  return std::sqrt(sum / static_cast<double>(truth.size()));
+}
+
 Eigen::MatrixXd BaseParameters::nullSpace() const {
   const int d = static_cast<int>(dependent.size());
   Eigen::MatrixXd N = Eigen::MatrixXd::Zero(numStandard(), d);

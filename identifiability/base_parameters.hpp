@@ -45,6 +45,8 @@ struct BaseParameters {
   Eigen::VectorXd standardFromBase(const Eigen::VectorXd& beta, const Eigen::VectorXd& prior) const;
   /// The base regressor W1 = W(:, independent): W theta = W1 beta.
   Eigen::MatrixXd baseRegressor(const Eigen::MatrixXd& W) const;
+  /// The projection as a matrix P (num_base x p): beta = P theta.
+  Eigen::MatrixXd projectionMatrix() const;
   /// Null-space basis in standard coordinates (p x (p - num_base)): W N = 0.
   Eigen::MatrixXd nullSpace() const;
   /// Name of base parameter j: its leading standard parameter, with "R" appended when others
@@ -70,6 +72,14 @@ struct BaseParameters {
 BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
                                      const std::vector<std::string>& names, double tolerance = 0.0,
                                      const std::vector<int>& preference = {});
+
+/// Relative error of a base estimate against the true base parameters: e_j = |beta_j - truth_j| /
+/// s_j with s_j = |truth_j|, or, for a true value of 0 (below 1e-9 of the mean magnitude:
+/// round-off), the mean magnitude of the non-zero true values (as the paper's parameter error, eq.
+/// 1). Returns the RMS of e over j (`max`, when given, receives the largest e_j). Throws InputError
+/// on a size mismatch.
+double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth,
+                          double* max = nullptr);
 
 /// The default preference for a parameter layout (core/parameters.hpp): links in order; within a
 /// link Ixx, Ixy, Ixz, Iyy, Iyz, Izz, mx, my, mz, m, then Ia, Fv, Fc, Fo.

@@ -33,6 +33,10 @@ ParameterSpace::ParameterSpace(const Model& initial, const SpaceOptions& options
   if (!(options.relative_range >= 0.0) || !(options.absolute_range >= 0.0))
     throw InputError("parameter ranges must be >= 0");
   full_initial_ = fullVector(initial);
+  for (const RigidInertia<double>& inertia : initial.inertias) {
+    com_products_.push_back(inertiaAboutCom(inertia));
+    com_products_.back().diagonal().setZero();
+  }
   const int per = perLink(options.form);
   // The free-parameter mask: names in the form's naming.
   const std::vector<std::string> names =
@@ -166,9 +170,7 @@ void ParameterSpace::apply(const Eigen::VectorXd& x, Model& model) const {
     if (options_.form == ParameterForm::kPaper) {
       // Keep the initial model's products of inertia about the COM (zero for the PUMA).
       RigidInertia<double> inertia = fromStandardVector(paperToStandard(full.segment<7>(per * i)));
-      Eigen::Matrix3d products = inertiaAboutCom(initial_model_.inertias[i]);
-      products.diagonal().setZero();
-      inertia.inertia += products;
+      inertia.inertia += com_products_[i];
       model.inertias[i] = inertia;
     } else {
       model.inertias[i] = fromStandardVector(full.segment<10>(per * i));

@@ -66,6 +66,14 @@ class ParameterSpace {
   Model modelAt(const Eigen::VectorXd& x) const;
   /// The standard 10-per-link (plus drives) vector at x.
   Eigen::VectorXd standardAt(const Eigen::VectorXd& x) const;
+  /// The links' inertias at x (numFree() entries) for any Scalar (e.g. ceres::Jet), exactly as
+  /// apply() sets them; `out` gets one entry per link.
+  template <typename T>
+  void linkInertiasAt(const T* x, std::vector<RigidInertia<T>>& out) const;
+  /// The free masses' positions in x and the sum of the fixed masses [kg]: the total mass is
+  /// fixedMass() + the sum of x over massPositions().
+  const std::vector<int>& massPositions() const { return mass_positions_; }
+  double fixedMass() const { return fixed_mass_; }
 
   /// The paper's parameter error, eq. (1): sum over free parameters of ((p - p') / p)^2, with p
   /// the true value. A true value of 0 is normalised by the mean magnitude of the non-zero true
@@ -80,6 +88,26 @@ class ParameterSpace {
   std::vector<int> mass_positions_;  // positions in x of free masses
   double fixed_mass_ = 0.0;
   Eigen::VectorXd initial_, lower_, upper_;
+  std::vector<Eigen::Matrix3d> com_products_;  // the initial products of inertia about each COM
 };
+
+template <typename T>
+void ParameterSpace::linkInertiasAt(const T* x, std::vector<RigidInertia<T>>& out) const {
+  const int n = initial_model_.numJoints();
+  const int per = options_.form == ParameterForm::kPaper ? 7 : 10;
+  // The full vector: free entries from x, the others at their initial value.
+  VectorX<T> full = full_initial_.cast<T>();
+  for (int p = 0; p < numFree(); ++p) full[free_[p]] = x[p];
+  out.resize(n);
+  for (int i = 0; i < n; ++i) {
+    if (options_.form == ParameterForm::kPaper) {
+      // Keep the initial model's products of inertia about the COM (zero for the PUMA).
+      out[i] = fromStandardVector(paperToStandard(full.template segment<7>(per * i)));
+      out[i].inertia += com_products_[i].cast<T>();
+    } else {
+      out[i] = fromStandardVector(full.template segment<10>(per * i));
+    }
+  }
+}
 
 }  // namespace dynid

@@ -1,0 +1,75 @@
+// Ceres refinement of the GC error on the PUMA 560 (segments of 50 RK4 steps, 0.05 s at 1 kHz):
+// the cost of one residual-and-Jacobian evaluation of a segment, and of one Levenberg-Marquardt
+// iteration against the number of segments, with and without estimating each segment's start
+// (block-sparse Jacobian, Schur elimination of the starts). Run:
+//   build/bench/bench_refine --benchmark_repetitions=3 --benchmark_report_aggregates_only
+#include <benchmark/benchmark.h>
+#include <ceres/cost_function.h>
+
+#include "core/perturb.hpp"
+#include "core/simulate.hpp"
+#include "data/puma560.hpp"
+#include "search/refine.hpp"
+
+namespace {
+
+using namespace dynid;
+
+GcProblem pumaProblem(int segments) {
+  const Model model = makePuma560();
+  SinusoidalReference r;
+  r.q0 = puma560Pose("qn");
+  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
+  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.15, 0.5);
+  r.phase = Eigen::VectorXd::Zero(6);
+  TrackingController controller(model, r, defaultGains(model, r.q0),
+                                Eigen::VectorXd::Constant(6, 1e9));
+  SimulationOptions options;
+  options.duration = segments * 0.05 + 0.001;
+  return makeGcProblem(simulate(model, controller, options), {.num_segments = segments});
+}
+
+// One segment's residuals and Jacobian (29 free paper parameters, optionally its 12-entry start).
+void BM_SegmentJacobian(benchmark::State& state) {
+  const bool with_start = state.range(0) != 0;
+  const GcProblem problem = pumaProblem(1);
+  const ParameterSpace space(perturbedModel(makePuma560(), 0.3, 1), {});
+  const Model structure = space.modelAt(space.initial());
+  const auto cost = makeSegmentCost(structure, space, problem, 0, with_start);
+  Eigen::VectorXd start(12);
+  start << problem.data.q.col(0), problem.data.dq.col(0);
+  const double* parameters[2] = {space.initial().data(), start.data()};
+  Eigen::VectorXd residuals(with_start ? 24 : 12);
+  Eigen::MatrixXd jx(residuals.size(), space.numFree()), js(residuals.size(), 12);
+  double* jacobians[2] = {jx.data(), js.data()};
+  for (auto _ : state)
+    benchmark::DoNotOptimize(cost->Evaluate(parameters, residuals.data(), jacobians));
+  state.SetItemsProcessed(state.iterations() * problem.samples_per_segment);
+}
+BENCHMARK(BM_SegmentJacobian)->Arg(0)->Arg(1)->ArgName("with_start")->Unit(benchmark::kMillisecond);
+
+// Five Levenberg-Marquardt iterations from a 30 % perturbation; time per iteration.
+void BM_RefineIterations(benchmark::State& state) {
+  const int segments = static_cast<int>(state.range(0));
+  const bool with_start = state.range(1) != 0;
+  const GcProblem problem = pumaProblem(segments);
+  const ParameterSpace space(perturbedModel(makePuma560(), 0.3, 1), {});
+  RefineOptions options;
+  options.estimate_initial_states = with_start;
+  options.max_iterations = 5;
+  options.function_tolerance = 0.0;
+  options.parameter_tolerance = 0.0;
+  int iterations = 0;
+  for (auto _ : state) iterations += refineGc(space, problem, space.initial(), options).iterations;
+  state.counters["seconds_per_iteration"] = benchmark::Counter(
+      static_cast<double>(iterations), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_RefineIterations)
+    ->ArgsProduct({{10, 20, 40, 80}, {0, 1}})
+    ->ArgNames({"segments", "with_start"})
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,275 @@
+#include "identifiability/physically_consistent.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <ceres/ceres.h>
+#include <Eigen/QR>
+
+#include "core/errors.hpp"
+#include "core/log_cholesky.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// Residuals of the physically consistent problem for any Scalar (double or ceres::Jet).
+struct PhysicalFunctor {
+  PhysicalProblem problem;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    const ParameterLayout& layout = problem.layout;
+    const int per = layout.perLink(), p = layout.size();
+    // theta from the log-Cholesky and drive blocks.
+    VectorX<T> theta(p);
+    for (int i = 0; i < layout.num_links; ++i) {
+      theta.template segment<10>(i * per) = logCholeskyToStandard(blocks[i]);
+      for (int k = 0; k < per - kLinkParameterCount; ++k)
+        theta[i * per + kLinkParameterCount + k] = blocks[layout.num_links + i][k];
+    }
+    // Data term (R P theta - c) / sigma.
+    const int b = static_cast<int>(problem.c.size());
+    VectorX<T> beta(b);
+    for (int j = 0; j < b; ++j) {
+      T sum(0.0);
+      for (int k = 0; k < p; ++k)
+        if (problem.P(j, k) != 0.0) sum += problem.P(j, k) * theta[k];
+      beta[j] = sum;
+    }
+    const double inv_sigma = 1.0 / problem.sigma;
+    for (int j = 0; j < b; ++j) {
+      T sum(-problem.c[j]);
+      for (int k = j; k < b; ++k) sum += problem.R(j, k) * beta[k];
+      residuals[j] = sum * inv_sigma;
+    }
+    // Prior term sqrt(lambda) N_D^T D (theta - theta_prior).
+    if (problem.prior_weight > 0.0) {
+      const double w = std::sqrt(problem.prior_weight);
+      for (int r = 0; r < problem.prior_map.rows(); ++r) {
+        T sum(0.0);
+        for (int k = 0; k < p; ++k)
+          if (problem.prior_map(r, k) != 0.0)
+            sum += problem.prior_map(r, k) * (theta[k] - problem.prior_theta[k]);
+        residuals[b + r] = w * sum;
+      }
+    }
+    return true;
+  }
+};
+
+/// Typical magnitude of each standard parameter's kind in theta (RMS over links of the non-zero
+/// values; 1 when all are zero).
+Eigen::VectorXd kindScales(const ParameterLayout& layout, const Eigen::VectorXd& theta) {
+  const int per = layout.perLink();
+  auto kind = [](int k) { return k == 0 ? 0 : k <= 3 ? 1 : k <= 9 ? 2 : k - 7; };
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(8), count = Eigen::VectorXd::Zero(8);
+  for (int i = 0; i < layout.size(); ++i)
+    if (theta[i] != 0.0) sum[kind(i % per)] += theta[i] * theta[i], count[kind(i % per)] += 1;
+  Eigen::VectorXd out(layout.size());
+  for (int i = 0; i < layout.size(); ++i) {
+    const int k = kind(i % per);
+    out[i] = count[k] > 0 ? std::sqrt(sum[k] / count[k]) : 1.0;
+  }
+  return out;
+}
+
+class IterateCallback : public ceres::IterationCallback {
+ public:
+  IterateCallback(const ParameterLayout& layout, const Eigen::VectorXd& x,
+                  const std::function<void(const Eigen::VectorXd&)>& on_iterate)
+      : layout_(layout), x_(x), on_iterate_(on_iterate) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
+    on_iterate_(standardFromPhysicalBlocks(layout_, x_));
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const ParameterLayout& layout_;
+  const Eigen::VectorXd& x_;
+  const std::function<void(const Eigen::VectorXd&)>& on_iterate_;
+};
+
+}  // namespace
+
+std::vector<int> PhysicalProblem::blockSizes() const {
+  std::vector<int> sizes(layout.num_links, kLogCholeskyCount);
+  if (layout.drives)
+    sizes.insert(sizes.end(), layout.num_links, layout.perLink() - kLinkParameterCount);
+  return sizes;
+}
+
+int PhysicalProblem::numResiduals() const {
+  return static_cast<int>(c.size()) + (prior_weight > 0.0 ? static_cast<int>(prior_map.rows()) : 0);
+}
+
+PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
+                                    const Eigen::VectorXd& prior, double prior_weight,
+                                    double sigma) {
+  if (prior.size() != base.numStandard())
+    throw InputError("the prior has " + std::to_string(prior.size()) + " parameters, expected " +
+                     std::to_string(base.numStandard()));
+  if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight))
+    throw InputError("the prior weight must be finite and >= 0");
+  if (!(sigma > 0.0)) throw InputError("sigma must be positive");
+  const int p = base.numStandard();
+  const int per = p / std::max(observation.num_joints, 1);
+  PhysicalProblem problem;
+  problem.layout = {observation.num_joints, per > kLinkParameterCount,
+                    per > kLinkParameterCount + 3};
+  if (problem.layout.size() != p)
+    throw InputError("the base parameters do not match the observation's joint count");
+  // Q R = W1; c = Q^T tau (the thin part).
+  const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
+  const int b = base.numBase();
+  if (W1.rows() < b) throw InputError("fewer torque rows than base parameters");
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W1);
+  problem.R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
+  problem.c = (qr.householderQ().transpose() * observation.tau).head(b);
+  problem.sigma = sigma;
+  problem.P = base.projectionMatrix();
+  problem.prior_theta = prior;
+  problem.prior_weight = prior_weight;
+  // N_D: orthonormal basis of D N.
+  const Eigen::VectorXd d = kindScales(problem.layout, prior).cwiseInverse();
+  const Eigen::MatrixXd dn = d.asDiagonal() * base.nullSpace();
+  if (dn.cols() > 0) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> null_qr(dn);
+    const Eigen::MatrixXd q = null_qr.householderQ() * Eigen::MatrixXd::Identity(p, dn.cols());
+    problem.prior_map = q.transpose() * d.asDiagonal();
+  } else {
+    problem.prior_map.resize(0, p);
+  }
+  return problem;
+}
+
+std::unique_ptr<ceres::CostFunction> makePhysicalCost(const PhysicalProblem& problem) {
+  // Stride 10: one pass per link block.
+  auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<PhysicalFunctor, 10>>(
+      new PhysicalFunctor{problem});
+  for (int size : problem.blockSizes()) cost->AddParameterBlock(size);
+  cost->SetNumResiduals(problem.numResiduals());
+  return cost;
+}
+
+Eigen::VectorXd standardFromPhysicalBlocks(const ParameterLayout& layout,
+                                           const Eigen::VectorXd& blocks) {
+  const int per = layout.perLink(), drive = per - kLinkParameterCount;
+  if (blocks.size() != layout.num_links * (kLogCholeskyCount + drive))
+    throw InputError("wrong number of physically consistent parameters");
+  Eigen::VectorXd theta(layout.size());
+  for (int i = 0; i < layout.num_links; ++i) {
+    theta.segment<10>(i * per) = logCholeskyToStandard(blocks.data() + kLogCholeskyCount * i);
+    theta.segment(i * per + kLinkParameterCount, drive) =
+        blocks.segment(kLogCholeskyCount * layout.num_links + drive * i, drive);
+  }
+  return theta;
+}
+
+Eigen::VectorXd physicalBlocksFromStandard(const ParameterLayout& layout,
+                                           const Eigen::VectorXd& theta) {
+  const int per = layout.perLink(), drive = per - kLinkParameterCount;
+  if (theta.size() != layout.size()) throw InputError("wrong number of standard parameters");
+  Eigen::VectorXd blocks(layout.num_links * (kLogCholeskyCount + drive));
+  for (int i = 0; i < layout.num_links; ++i) {
+    blocks.segment<10>(kLogCholeskyCount * i) = standardToLogCholesky(theta.segment<10>(i * per));
+    blocks.segment(kLogCholeskyCount * layout.num_links + drive * i, drive) =
+        theta.segment(i * per + kLinkParameterCount, drive);
+  }
+  return blocks;
+}
+
+PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
+                                              const Observation& observation,
+                                              const Eigen::VectorXd& prior,
+                                              const PhysicalOptions& options) {
+  PhysicalEstimate out;
+  out.ols = estimateBaseParameters(base, observation, LeastSquaresMethod::kOrdinary);
+  const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
+  const int b = base.numBase();
+  const auto rows = static_cast<double>(W1.rows());
+  // sigma from the OLS residuals, floored so that exact (noise-free) data keep a finite scale.
+  const double tau_rms = observation.tau.norm() / std::sqrt(std::max(rows, 1.0));
+  const double sigma_ols =
+      std::max((W1 * out.ols.beta - observation.tau).norm() / std::sqrt(std::max(rows - b, 1.0)),
+               1e-12 * tau_rms + 1e-300);
+  const PhysicalProblem problem =
+      makePhysicalProblem(base, observation, prior, options.prior_weight, sigma_ols);
+  const ParameterLayout& layout = problem.layout;
+  const int per = layout.perLink(), drive = per - kLinkParameterCount;
+
+  // Start: OLS lifted with the prior, each inconsistent link moved to the nearest consistent one.
+  Eigen::VectorXd start = base.standardFromBase(out.ols.beta, prior);
+  for (int i = 0; i < layout.num_links; ++i) {
+    const Eigen::Matrix<double, 10, 1> link = start.segment<10>(i * per);
+    const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link);
+    if (fixed != link) out.inconsistent_links.push_back(i);
+    start.segment<10>(i * per) = fixed;
+    for (int k = 0; k < std::min(drive, 3); ++k)
+      start[i * per + kLinkParameterCount + k] =
+          std::max(start[i * per + kLinkParameterCount + k], 0.0);
+  }
+  out.start_theta = start;
+  Eigen::VectorXd x = physicalBlocksFromStandard(layout, start);
+
+  // One residual block over every parameter block; drive Ia, Fv, Fc >= 0.
+  ceres::Problem solver_problem;
+  std::vector<double*> pointers;
+  {
+    int offset = 0;
+    for (int size : problem.blockSizes()) pointers.push_back(x.data() + offset), offset += size;
+  }
+  solver_problem.AddResidualBlock(makePhysicalCost(problem).release(), nullptr, pointers);
+  for (int i = 0; i < layout.num_links && layout.drives; ++i)
+    for (int k = 0; k < 3; ++k)
+      solver_problem.SetParameterLowerBound(pointers[layout.num_links + i], k, 0.0);
+
+  ceres::Solver::Options solver;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = 1e-16;
+  solver.parameter_tolerance = 1e-14;
+  solver.num_threads = std::max(options.num_threads, 1);
+  solver.logging_type = ceres::SILENT;
+  std::unique_ptr<IterateCallback> callback;
+  if (options.on_iterate) {
+    callback = std::make_unique<IterateCallback>(layout, x, options.on_iterate);
+    solver.update_state_every_iteration = true;
+    solver.callbacks.push_back(callback.get());
+  }
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &solver_problem, &summary);
+
+  out.theta = standardFromPhysicalBlocks(layout, x);
+  out.beta = base.project(out.theta);
+  for (const ceres::IterationSummary& it : summary.iterations) out.cost_history.push_back(it.cost);
+  out.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+                    summary.message;
+  out.usable = summary.IsSolutionUsable();
+  out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  const std::vector<std::string> names = standardParameterNames(layout);
+  for (int i = 0; i < layout.num_links && layout.drives; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (out.theta[i * per + kLinkParameterCount + k] <= 0.0)
+        out.at_bound.push_back(names[i * per + kLinkParameterCount + k]);
+
+  // Residuals and the base covariance sigma^2 (R^T R)^-1 at the estimate.
+  const Eigen::VectorXd residual = W1 * out.beta - observation.tau;
+  const int n = observation.num_joints;
+  out.residual_rms.resize(n);
+  for (int j = 0; j < n; ++j) {
+    double sum = 0.0;
+    for (int k = 0; k < observation.num_samples; ++k)
+      sum += residual[k * n + j] * residual[k * n + j];
+    out.residual_rms[j] = std::sqrt(sum / std::max(observation.num_samples, 1));
+  }
+  const double sigma2 = residual.squaredNorm() / std::max(rows - b, 1.0);
+  const Eigen::MatrixXd r_inv =
+      problem.R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
+  out.covariance = sigma2 * r_inv * r_inv.transpose();
+  out.std_dev = out.covariance.diagonal().cwiseSqrt();
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,426 @@
+#include "search/refine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <ceres/ceres.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "core/errors.hpp"
+#include "core/integrators-inl.hpp"
+#include "core/model-inl.hpp"
+
+namespace dynid {
+
+namespace {
+
+// Jet width of the automatic differentiation passes: DynamicAutoDiffCostFunction differentiates
+// this many parameters per rollout.
+constexpr int kStride = 8;
+
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// Model parameters from the search's free parameters x.
+struct FreeMap {
+  const ParameterSpace* space;
+  template <typename T>
+  void apply(const T* x, ModelTpl<T>& model) const {
+    space->linkInertiasAt(x, model.inertias);
+    model.updateFrameInertias();
+  }
+};
+
+/// Model parameters from base parameters beta: theta = theta_ref + L (beta - beta_ref), L a right
+/// inverse of P.
+struct BetaMap {
+  Eigen::VectorXd theta_ref, beta_ref;
+  Eigen::MatrixXd lift;  // p x b
+  template <typename T>
+  void apply(const T* beta, ModelTpl<T>& model) const {
+    VectorX<T> theta = theta_ref.cast<T>();
+    for (int j = 0; j < beta_ref.size(); ++j) {
+      const T delta = beta[j] - beta_ref[j];
+      for (int k = 0; k < theta.size(); ++k)
+        if (lift(k, j) != 0.0) theta[k] += lift(k, j) * delta;
+    }
+    model.setStandardParameters(theta);
+  }
+};
+
+/// Residuals of one segment (see refine.hpp) for any Scalar.
+template <typename Map>
+struct SegmentFunctor {
+  Model structure;
+  Map map;
+  const GcProblem* problem;
+  int segment;
+  bool with_start;
+
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    using std::isfinite;
+    const int n = structure.numJoints();
+    ModelTpl<T> model = structure.template cast<T>();
+    map.apply(blocks[0], model);
+    DataTpl<T> data(model);
+    const Trajectory& recorded = problem->data;
+    const int start = problem->starts[segment];
+    const int end = start + problem->samples_per_segment;
+    // Start state: estimated or measured.
+    VectorX<T> q(n), dq(n), tau(n);
+    for (int j = 0; j < n; ++j) {
+      q[j] = with_start ? blocks[1][j] : T(recorded.q(j, start));
+      dq[j] = with_start ? blocks[1][n + j] : T(recorded.dq(j, start));
+    }
+    // Roll out with the recorded (held) torques.
+    const T h(problem->step);
+    for (int k = start; k < end; ++k) {
+      for (int j = 0; j < n; ++j) tau[j] = T(recorded.tau(j, k));
+      for (int sub = 0; sub < problem->substeps; ++sub)
+        integratorStep(problem->integrator, model, data, q, dq, tau, h);
+    }
+    int r = 0;
+    if (with_start) {
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = problem->weight_q[j] * (blocks[1][j] - recorded.q(j, start));
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = problem->weight_dq[j] * (blocks[1][n + j] - recorded.dq(j, start));
+    }
+    for (int j = 0; j < n; ++j) residuals[r++] = problem->weight_q[j] * (q[j] - recorded.q(j, end));
+    for (int j = 0; j < n; ++j)
+      residuals[r++] = problem->weight_dq[j] * (dq[j] - recorded.dq(j, end));
+    // A diverged rollout is an evaluation failure: Ceres rejects the step.
+    for (int i = 0; i < r; ++i)
+      if (!isfinite(residuals[i])) return false;
+    return true;
+  }
+};
+
+template <typename Map>
+std::unique_ptr<ceres::CostFunction> segmentCost(const Model& structure, const Map& map,
+                                                 int map_size, const GcProblem& problem,
+                                                 int segment, bool with_start) {
+  const int n = structure.numJoints();
+  auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<SegmentFunctor<Map>, kStride>>(
+      new SegmentFunctor<Map>{structure, map, &problem, segment, with_start});
+  cost->AddParameterBlock(map_size);
+  if (with_start) cost->AddParameterBlock(2 * n);
+  cost->SetNumResiduals((with_start ? 4 : 2) * n);
+  return cost;
+}
+
+/// theta(x) as residuals, to differentiate the parameter map.
+struct StandardOfFree {
+  Model structure;
+  FreeMap map;
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    ModelTpl<T> model = structure.template cast<T>();
+    map.apply(blocks[0], model);
+    const VectorX<T> theta = model.standardParameters();
+    for (int k = 0; k < theta.size(); ++k) residuals[k] = theta[k];
+    return true;
+  }
+};
+
+/// Linear residuals r = A x - b on the free parameters (the total mass and the gauge).
+class LinearResidual : public ceres::CostFunction {
+ public:
+  LinearResidual(Eigen::MatrixXd a, Eigen::VectorXd b) : a_(std::move(a)), b_(std::move(b)) {
+    set_num_residuals(static_cast<int>(a_.rows()));
+    mutable_parameter_block_sizes()->push_back(static_cast<int>(a_.cols()));
+  }
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const Eigen::Map<const Eigen::VectorXd> x(parameters[0], a_.cols());
+    Eigen::Map<Eigen::VectorXd>(residuals, a_.rows()) = a_ * x - b_;
+    if (jacobians != nullptr && jacobians[0] != nullptr)
+      Eigen::Map<RowMajor>(jacobians[0], a_.rows(), a_.cols()) = a_;
+    return true;
+  }
+
+ private:
+  Eigen::MatrixXd a_;
+  Eigen::VectorXd b_;
+};
+
+class RefineCallback : public ceres::IterationCallback {
+ public:
+  RefineCallback(std::vector<RefineIteration>& history, const std::atomic<bool>* stop,
+                 bool& interrupted)
+      : history_(history), stop_(stop), interrupted_(interrupted) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    history_.push_back({summary.iteration, summary.cost, summary.gradient_max_norm,
+                        summary.cumulative_time_in_seconds});
+    if (stop_ != nullptr && stop_->load()) {
+      interrupted_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::vector<RefineIteration>& history_;
+  const std::atomic<bool>* stop_;
+  bool& interrupted_;
+};
+
+/// Typical magnitude for scaling: |v_j|, or the mean magnitude of the non-zero entries for a 0
+/// (an entry below 1e-9 of the mean magnitude counts as a round-off 0).
+Eigen::VectorXd magnitudes(const Eigen::VectorXd& v) {
+  const double mean = v.size() > 0 ? v.cwiseAbs().mean() : 0.0;
+  const auto zero = [&](double e) { return std::abs(e) <= 1e-9 * mean; };
+  double sum = 0.0;
+  int count = 0;
+  for (double e : v)
+    if (!zero(e)) sum += std::abs(e), ++count;
+  const double fallback = count > 0 ? sum / count : 1.0;
+  Eigen::VectorXd out(v.size());
+  for (int j = 0; j < v.size(); ++j) out[j] = zero(v[j]) ? fallback : std::abs(v[j]);
+  return out;
+}
+
+/// d beta / d x = P d theta / d x at x, with beta scaled by its magnitudes and x by its own (or
+/// half its range for a zero): singular values, numerical rank and right singular vectors.
+struct FreeAnalysis {
+  Eigen::VectorXd singular_values, x_scale;
+  Eigen::MatrixXd v;  // k x k; columns rank.. span the free directions (in scaled x)
+  int rank = 0;
+};
+
+FreeAnalysis analyseFreeDirections(const Model& structure, const ParameterSpace& space,
+                                   const Eigen::MatrixXd& P, const Eigen::VectorXd& x) {
+  const int k = space.numFree();
+  const int p = static_cast<int>(P.cols());
+  auto map_cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<StandardOfFree, kStride>>(
+      new StandardOfFree{structure, FreeMap{&space}});
+  map_cost->AddParameterBlock(k);
+  map_cost->SetNumResiduals(p);
+  RowMajor jtheta(p, k);
+  Eigen::VectorXd theta(p);
+  const double* x_pointer[1] = {x.data()};
+  double* jacobian[1] = {jtheta.data()};
+  map_cost->Evaluate(x_pointer, theta.data(), jacobian);
+  FreeAnalysis out;
+  out.x_scale = magnitudes(x);
+  for (int j = 0; j < k; ++j)
+    if (x[j] == 0.0) out.x_scale[j] = 0.5 * (space.upper()[j] - space.lower()[j]);
+  const Eigen::MatrixXd scaled =
+      magnitudes(P * theta).cwiseInverse().asDiagonal() * P * jtheta * out.x_scale.asDiagonal();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
+  out.singular_values = svd.singularValues();
+  out.v = svd.matrixV();
+  const double top = out.singular_values.size() > 0 ? out.singular_values[0] : 0.0;
+  for (double s : out.singular_values)
+    if (s > 1e-9 * top) ++out.rank;
+  return out;
+}
+
+/// Base-coordinate uncertainty and the free directions of x (see refine.hpp).
+void baseUncertainty(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+                     const BaseCoordinates& base, bool with_start, RefineResult& result,
+                     ThreadPool& pool) {
+  const Eigen::VectorXd theta = space.standardAt(result.x);
+  const Eigen::MatrixXd& P = base.projection;
+  if (P.cols() != theta.size())
+    throw InputError("the base coordinates have " + std::to_string(P.cols()) +
+                     " standard parameters, the model " + std::to_string(theta.size()));
+  const int b = static_cast<int>(P.rows()), n = structure.numJoints();
+  const int segments = problem.numSegments();
+  result.beta = P * theta;
+  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
+  const BetaMap map{theta, result.beta, lift};
+
+  // Per segment: Schur complement of its start in J^T J, and its squared residuals.
+  std::vector<Eigen::MatrixXd> information(segments);
+  Eigen::VectorXd squared(segments);
+  const int m = (with_start ? 4 : 2) * n;
+  pool.parallelFor(segments, [&](int s, int) {
+    const auto cost = segmentCost(structure, map, b, problem, s, with_start);
+    Eigen::VectorXd start = result.initial_states.col(s);
+    const double* parameters[2] = {result.beta.data(), start.data()};
+    RowMajor jb(m, b), js(m, 2 * n);
+    double* jacobians[2] = {jb.data(), js.data()};
+    Eigen::VectorXd r(m);
+    if (!cost->Evaluate(parameters, r.data(), jacobians)) {
+      information[s] = Eigen::MatrixXd::Zero(b, b);
+      squared[s] = std::numeric_limits<double>::quiet_NaN();
+      return;
+    }
+    Eigen::MatrixXd h = jb.transpose() * jb;
+    if (with_start) {
+      const Eigen::MatrixXd cross = js.transpose() * jb;
+      h -= cross.transpose() * (js.transpose() * js).ldlt().solve(cross);
+    }
+    information[s] = h;
+    squared[s] = r.squaredNorm();
+  });
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
+  for (const Eigen::MatrixXd& h : information) H += h;
+  const long rows = static_cast<long>(segments) * m;
+  const long unknowns = b + (with_start ? 2L * n * segments : 0L);
+  result.degrees_of_freedom = static_cast<int>(std::max(rows - unknowns, 1L));
+  result.sigma2 = squared.sum() / result.degrees_of_freedom;
+  // cov = sigma^2 H^-1, through the symmetric eigendecomposition of the Jacobi-scaled H.
+  Eigen::VectorXd d(b);
+  for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(d.asDiagonal() * H * d.asDiagonal());
+  const Eigen::VectorXd values = eigen.eigenvalues();
+  const double largest = values.cwiseAbs().maxCoeff();
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(b);
+  result.information_rank = 0;
+  for (int j = 0; j < b; ++j)
+    if (values[j] > 1e-12 * largest) inverse[j] = 1.0 / values[j], ++result.information_rank;
+  result.beta_covariance = result.sigma2 * d.asDiagonal() * eigen.eigenvectors() *
+                           inverse.asDiagonal() * eigen.eigenvectors().transpose() * d.asDiagonal();
+  result.beta_std_dev = result.beta_covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+
+  // The directions of x that leave beta unchanged, at the estimate.
+  if (space.numFree() == 0) return;
+  const FreeAnalysis analysis = analyseFreeDirections(structure, space, P, result.x);
+  result.beta_singular = analysis.singular_values;
+  result.free_parameter_rank = analysis.rank;
+  const std::vector<std::string> names = space.freeNames();
+  for (int c = analysis.rank; c < space.numFree(); ++c) {
+    const Eigen::VectorXd v = analysis.x_scale.asDiagonal() * analysis.v.col(c);
+    const double lead = v.cwiseAbs().maxCoeff();
+    std::vector<std::pair<std::string, double>> combination;
+    for (int j = 0; j < space.numFree(); ++j)
+      if (std::abs(v[j]) >= 1e-3 * lead) combination.emplace_back(names[j], v[j] / lead);
+    std::sort(combination.begin(), combination.end(), [](const auto& a, const auto& b2) {
+      return std::abs(a.second) > std::abs(b2.second);
+    });
+    // Sign: the leading coefficient positive.
+    if (!combination.empty() && combination.front().second < 0)
+      for (auto& entry : combination) entry.second = -entry.second;
+    result.free_directions.push_back({combination});
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
+                                                     const ParameterSpace& space,
+                                                     const GcProblem& problem, int segment,
+                                                     bool with_start) {
+  return segmentCost(structure, FreeMap{&space}, space.numFree(), problem, segment, with_start);
+}
+
+std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space) {
+  // w (fixed mass + sum of free masses - total), w = 1 / (1e-6 total).
+  const double total = space.options().total_mass;
+  const double w = 1.0 / (1e-6 * std::max(std::abs(total), 1e-12));
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(1, space.numFree());
+  for (int p : space.massPositions()) a(0, p) = w;
+  return std::make_unique<LinearResidual>(
+      a, Eigen::VectorXd::Constant(1, w * (total - space.fixedMass())));
+}
+
+RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
+                      const Eigen::VectorXd& x0, const RefineOptions& options,
+                      const BaseCoordinates* base) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  if (x0.size() != space.numFree())
+    throw InputError("the start has " + std::to_string(x0.size()) + " free parameters, expected " +
+                     std::to_string(space.numFree()));
+  if (space.numFree() == 0) throw InputError("refinement needs at least one free parameter");
+  RefineResult result;
+  result.x = space.project(x0);
+  const Model structure = space.modelAt(result.x);
+  const int n = structure.numJoints(), segments = problem.numSegments();
+  if (problem.data.numJoints() != n)
+    throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
+                     " joints, the model " + std::to_string(n));
+  const bool with_start = options.estimate_initial_states;
+  result.initial_states.resize(2 * n, segments);
+  for (int s = 0; s < segments; ++s) {
+    result.initial_states.col(s).head(n) = problem.data.q.col(problem.starts[s]);
+    result.initial_states.col(s).tail(n) = problem.data.dq.col(problem.starts[s]);
+  }
+  ThreadPool pool(std::max(options.num_threads, 1));
+  GcWorkspace workspace(structure, pool.numThreads());
+  result.initial_gc = gcError(structure, problem, workspace, pool);
+
+  // Residual blocks: one per segment, and the total mass.
+  ceres::Problem solver_problem;
+  for (int s = 0; s < segments; ++s) {
+    std::vector<double*> blocks{result.x.data()};
+    if (with_start) blocks.push_back(result.initial_states.col(s).data());
+    solver_problem.AddResidualBlock(
+        makeSegmentCost(structure, space, problem, s, with_start).release(), nullptr, blocks);
+  }
+  if (space.options().total_mass_constraint)
+    solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
+  // Gauge: hold the start's free directions (G (x - x0) = 0, G their scaled basis), so the
+  // solver does not drift along directions the data cannot see; a zero-residual point with the
+  // gauge satisfied exists, so it biases nothing.
+  if (base != nullptr && options.fix_gauge) {
+    const FreeAnalysis analysis =
+        analyseFreeDirections(structure, space, base->projection, result.x);
+    const int free = space.numFree() - analysis.rank;
+    if (free > 0) {
+      const double w = std::sqrt(std::max(result.initial_gc, 1e-300));
+      const Eigen::MatrixXd g =
+          w * analysis.v.rightCols(free).transpose() * analysis.x_scale.cwiseInverse().asDiagonal();
+      solver_problem.AddResidualBlock(new LinearResidual(g, g * result.x), nullptr,
+                                      result.x.data());
+      result.gauge_dimension = free;
+    }
+  }
+  for (int j = 0; j < space.numFree(); ++j) {
+    solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
+    solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
+  }
+
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  if (with_start) {
+    // Eliminate the starts (group 0) first: block-sparse Schur complement on x.
+    solver.linear_solver_type =
+        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SPARSE_SCHUR
+                                                                              : ceres::DENSE_SCHUR;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (int s = 0; s < segments; ++s)
+      ordering->AddElementToGroup(result.initial_states.col(s).data(), 0);
+    ordering->AddElementToGroup(result.x.data(), 1);
+    solver.linear_solver_ordering = ordering;
+  } else {
+    solver.linear_solver_type = ceres::DENSE_QR;
+  }
+  result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = options.gradient_tolerance;
+  solver.parameter_tolerance = options.parameter_tolerance;
+  if (options.max_seconds > 0.0) solver.max_solver_time_in_seconds = options.max_seconds;
+  solver.num_threads = std::max(options.num_threads, 1);
+  solver.logging_type = ceres::SILENT;
+  RefineCallback callback(result.history, options.stop, result.interrupted);
+  solver.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &solver_problem, &summary);
+
+  result.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) +
+                       ": " + summary.message;
+  result.usable = summary.IsSolutionUsable();
+  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.final_cost;
+  result.final_gc = gcError(space.modelAt(result.x), problem, workspace, pool);
+  const std::vector<std::string> names = space.freeNames();
+  for (int j = 0; j < space.numFree(); ++j) {
+    const double tolerance = 1e-9 * (space.upper()[j] - space.lower()[j]);
+    if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
+      result.at_bound.push_back(names[j]);
+  }
+  if (base != nullptr) baseUncertainty(structure, space, problem, *base, with_start, result, pool);
+  result.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  return result;
+}
+
+}  // namespace dynid

@@ -1,0 +1,124 @@
+// Refinement of a GC-error estimate by nonlinear least squares (Ceres): the search's rough answer
+// turned into the best answer the data allow, with exact derivatives.
+//
+// Residuals: per segment i of a GcProblem (gc_error.hpp) the 2n weighted state-prediction errors
+//     r_i = (w_q (q_hat_i - q_i), w_dq (dq_hat_i - dq_i))   at the segment's end,
+// so that sum |r_i|^2 is the GC error. The rollout runs in ceres::Jet through the templated
+// dynamics and integrator (automatic differentiation, no finite differences).
+// With `estimate_initial_states`, each segment's start state s0_i (2n) is a parameter too, and the
+// segment adds the 2n residuals w (s0_i - s0_i measured): the measured start is then one more
+// noisy observation instead of being taken as exact (errors in variables). The Jacobian is block
+// sparse (each segment sees the model parameters and its own start); it is solved by Schur
+// elimination of the starts (SPARSE_SCHUR with SuiteSparse), so the cost grows linearly with the
+// number of segments.
+// The free parameters, their bounds and the parameter form are the search's (ParameterSpace);
+// bounds are Ceres parameter bounds. With the total-mass constraint on, one more residual
+// (sum of masses - total) / (1e-6 total) holds it to about 1e-6 relative at a solution with
+// non-zero GC residuals, and exactly at a zero-residual one.
+//
+// Uncertainty is computed in base-parameter coordinates, never on the rank-deficient parameter set:
+// the dynamics, hence the residuals, depend on the standard parameters theta only through
+// beta = P theta. The residuals are differentiated with respect to beta at the estimate (theta
+// moved along a right inverse of P), the starts are eliminated by their Schur complement, and
+// cov(beta) = sigma^2 H^-1 with sigma^2 = sum r^2 / (residuals - unknowns).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "search/gc_error.hpp"
+#include "search/parameter_space.hpp"
+
+namespace ceres {
+class CostFunction;
+}
+
+namespace dynid {
+
+/// Base-parameter coordinates, supplied by the caller (identifiability's BaseParameters): the
+/// search module depends on core only.
+struct BaseCoordinates {
+  Eigen::MatrixXd projection;      // P, num_base x p: beta = P theta
+  std::vector<std::string> names;  // num_base names
+};
+
+struct RefineOptions {
+  bool estimate_initial_states = false;
+  int max_iterations = 200;
+  double function_tolerance = 1e-16;   // Ceres: relative cost change
+  double gradient_tolerance = 1e-20;   // Ceres: max-norm of the projected gradient
+  double parameter_tolerance = 1e-14;  // Ceres: relative step size
+  double max_seconds = 0.0;            // wall-time budget (0: none)
+  int num_threads = 1;                 // Ceres's threads and the GC-error evaluations'
+  /// With base coordinates: hold the free parameters' components along the directions that leave
+  /// beta unchanged at the start (a gauge), so the solver does not wander along them into the
+  /// bounds. The GC residuals depend on beta only, so this changes no beta the solver can reach.
+  bool fix_gauge = true;
+  const std::atomic<bool>* stop = nullptr;  // stops after the current iteration when set
+};
+
+struct RefineIteration {
+  int iteration = 0;
+  double cost = 0.0;  // Ceres cost 1/2 sum r^2 (with the start and mass residuals)
+  double gradient_max_norm = 0.0;
+  double seconds = 0.0;
+};
+
+/// A direction of the free parameters that leaves beta unchanged (to first order) at the estimate:
+/// the GC error cannot determine movement along it.
+struct FreeDirection {
+  std::vector<std::pair<std::string, double>> combination;  // largest |coefficient| = 1
+};
+
+struct RefineResult {
+  Eigen::VectorXd x;               // refined free parameters (ParameterSpace)
+  Eigen::MatrixXd initial_states;  // 2n x segments: (q; dq) at each start, estimated or measured
+  double initial_gc = 0.0;         // GC error (measured starts) at the start and the end
+  double final_gc = 0.0;
+  double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs
+  std::vector<RefineIteration> history;
+  std::string termination;  // Ceres termination type and message ("USER_SUCCESS: ..." on stop)
+  bool usable = false;      // Ceres's IsSolutionUsable()
+  bool interrupted = false;
+  int iterations = 0;
+  double seconds = 0.0;
+  std::string linear_solver;
+  int gauge_dimension = 0;            // free directions held at the start (fix_gauge)
+  std::vector<std::string> at_bound;  // free parameters at a bound (to 1e-9 of their range)
+
+  // In base coordinates (when BaseCoordinates are given).
+  Eigen::VectorXd beta;
+  Eigen::MatrixXd beta_covariance;
+  Eigen::VectorXd beta_std_dev;
+  double sigma2 = 0.0;            // residual variance
+  int degrees_of_freedom = 0;     // residuals - unknowns
+  int information_rank = 0;       // numerical rank of H (num_base when all are determined)
+  Eigen::VectorXd beta_singular;  // singular values of d beta / d x (scaled)
+  int free_parameter_rank = 0;    // how many beta directions the free parameters can move
+  std::vector<FreeDirection> free_directions;
+};
+
+/// Refines x0 (numFree() entries, projected onto the bounds first). `base` may be null (no
+/// uncertainty). Throws InputError when the problem's joint count differs from the space's model
+/// or x0 has the wrong size.
+RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
+                      const Eigen::VectorXd& x0, const RefineOptions& options,
+                      const BaseCoordinates* base = nullptr);
+
+/// The cost function of segment `segment` (parameter blocks: x, then the start when
+/// `with_start`); exposed for gradient checks. The caller owns it; it refers to its arguments.
+std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
+                                                     const ParameterSpace& space,
+                                                     const GcProblem& problem, int segment,
+                                                     bool with_start);
+/// The total-mass residual's cost function (parameter block: x).
+std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space);
+
+}  // namespace dynid

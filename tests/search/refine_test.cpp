@@ -1,0 +1,148 @@
+#include "search/refine.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "core/perturb.hpp"
+#include "data/puma560.hpp"
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/observation.hpp"
+#include "tests/common/gradient_check.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+Trajectory pumaData(double duration) {
+  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
+}
+
+BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = nullptr) {
+  const Observation structural = observationFromRandomStates(model, 200, 1);
+  const ParameterLayout layout = model.parameterLayout();
+  const BaseParameters base =
+      computeBaseParameters(structural.W, standardParameterNames(layout), 0.0,
+                            defaultPreference(layout.num_links, layout.perLink()));
+  BaseCoordinates out{base.projectionMatrix(), {}};
+  for (int j = 0; j < base.numBase(); ++j) out.names.push_back(base.baseName(j));
+  if (names != nullptr) *names = out.names;
+  return out;
+}
+
+// Ridders' differences of a 50-step RK4 rollout agree with exact derivatives to about 1e-8
+// relative (round-off of the rollout); 1e-5 leaves room without hiding a wrong derivative.
+constexpr double kGradientPrecision = 1e-5;
+
+TEST(Refine, GradientCheckerOnEverySegmentCost) {
+  const Model truth = makePuma560();
+  const ParameterSpace space(perturbedModel(truth, 0.2, 3),
+                             {.total_mass_constraint = true, .total_mass = 20.0});
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 4});
+  const Model structure = space.modelAt(space.initial());
+  const Eigen::VectorXd x = space.initial();
+  for (bool with_start : {false, true}) {
+    for (int s = 0; s < problem.numSegments(); ++s) {
+      const auto cost = makeSegmentCost(structure, space, problem, s, with_start);
+      Eigen::VectorXd start(12);
+      start << problem.data.q.col(problem.starts[s]), problem.data.dq.col(problem.starts[s]);
+      start.array() += 0.01;  // away from the measured start, so the start residuals are not 0
+      std::vector<Eigen::VectorXd> blocks{x};
+      if (with_start) blocks.push_back(start);
+      std::string log;
+      EXPECT_TRUE(test::gradientsAgree(*cost, blocks, kGradientPrecision, &log))
+          << "segment " << s << " with start " << with_start << ": " << log;
+    }
+  }
+  // The total-mass residual is linear: its analytic Jacobian is exact.
+  const auto mass = makeTotalMassCost(space);
+  std::string log;
+  EXPECT_TRUE(test::gradientsAgree(*mass, {x}, 1e-9, &log)) << log;
+}
+
+TEST(Refine, SegmentCostEqualsTheGcError) {
+  const Model guess = perturbedModel(makePuma560(), 0.2, 5);
+  const ParameterSpace space(guess, {});
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
+  ThreadPool pool(1);
+  GcWorkspace workspace(guess, 1);
+  const double gc = gcError(space.modelAt(space.initial()), problem, workspace, pool);
+  const Model structure = space.modelAt(space.initial());
+  double sum = 0.0;
+  for (int s = 0; s < problem.numSegments(); ++s) {
+    const auto cost = makeSegmentCost(structure, space, problem, s, false);
+    Eigen::VectorXd r(12);
+    const double* parameters[1] = {space.initial().data()};
+    ASSERT_TRUE(cost->Evaluate(parameters, r.data(), nullptr));
+    sum += r.squaredNorm();
+  }
+  // The same rollout in the same order: equal to round-off of the summation.
+  EXPECT_NEAR(sum, gc, 1e-12 * gc);
+}
+
+TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
+  const Model truth = makePuma560();
+  const ParameterSpace space(perturbedModel(truth, 0.1, 7), {});
+  const GcProblem problem = makeGcProblem(pumaData(4.0), {.num_segments = 20});
+  std::vector<std::string> names;
+  const BaseCoordinates base = pumaBase(truth, &names);
+  const RefineResult result = refineGc(space, problem, space.initial(), {.num_threads = 2}, &base);
+  EXPECT_TRUE(result.usable) << result.termination;
+  EXPECT_LT(result.final_gc, 1e-8 * result.initial_gc) << result.termination;
+  // Noise-free data determine every base parameter: the refined ones equal the truth's.
+  const Eigen::VectorXd beta_true = base.projection * truth.standardParameters();
+  double largest = 0.0;
+  EXPECT_LT(baseParameterError(result.beta, beta_true, &largest), 1e-4);
+  EXPECT_GT(result.gauge_dimension, 0);
+  // ...while the paper parameters that the data cannot see stay where the search left them.
+  const Eigen::VectorXd truth_full = space.fullVector(truth);
+  EXPECT_GT(space.parameterError(result.x, truth_full), 1e-3);
+  // Every direction the free parameters cannot move beta along is reported.
+  EXPECT_EQ(static_cast<int>(result.free_directions.size()),
+            space.numFree() - result.free_parameter_rank);
+  EXPECT_FALSE(result.free_directions.empty());
+  EXPECT_EQ(result.beta_covariance.rows(), static_cast<int>(names.size()));
+  EXPECT_EQ(result.history.front().cost, result.initial_cost);
+}
+
+TEST(Refine, EstimatedStartsStayAtExactMeasurements) {
+  const Model truth = makePuma560();
+  const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
+  const GcProblem problem = makeGcProblem(pumaData(2.0), {.num_segments = 10});
+  const RefineResult result = refineGc(space, problem, space.initial(),
+                                       {.estimate_initial_states = true, .num_threads = 2});
+  EXPECT_EQ(result.linear_solver, "SPARSE_SCHUR");
+  EXPECT_LT(result.final_gc, 1e-8 * result.initial_gc) << result.termination;
+  // Noise-free starts are exact: the estimated ones end where they were measured.
+  for (int s = 0; s < problem.numSegments(); ++s) {
+    Eigen::VectorXd measured(12);
+    measured << problem.data.q.col(problem.starts[s]), problem.data.dq.col(problem.starts[s]);
+    EXPECT_LT((result.initial_states.col(s) - measured).norm(), 1e-7) << "segment " << s;
+  }
+}
+
+TEST(Refine, FlagsBoundsAndStops) {
+  const Model truth = makePuma560();
+  // A 1 % range around a 10 % perturbation: the truth is out of reach and bounds become active.
+  const ParameterSpace space(perturbedModel(truth, 0.1, 11), {.relative_range = 0.01});
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  const RefineResult result = refineGc(space, problem, space.initial(), {.max_iterations = 20});
+  EXPECT_FALSE(result.at_bound.empty());
+  for (int j = 0; j < space.numFree(); ++j) {
+    EXPECT_GE(result.x[j], space.lower()[j]);
+    EXPECT_LE(result.x[j], space.upper()[j]);
+  }
+  std::atomic<bool> stop{true};
+  const RefineResult stopped =
+      refineGc(space, problem, space.initial(), {.max_iterations = 20, .stop = &stop});
+  EXPECT_TRUE(stopped.interrupted);
+  EXPECT_LE(stopped.iterations, 1);
+}
+
+TEST(Refine, RefusesMismatchedInput) {
+  const ParameterSpace space(makePuma560(), {});
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});
+  EXPECT_THROW(refineGc(space, problem, Eigen::VectorXd::Zero(3), {}), InputError);
+}
+
+}  // namespace
+}  // namespace dynid
