@@ -86,25 +86,35 @@ inline Eigen::Matrix<double, 10, 1> standardToLogCholesky(const Eigen::Matrix<do
   return phi;
 }
 
-/// The physically consistent standard 10-vector nearest to p in the pseudo-inertia's Frobenius
-/// norm, with every eigenvalue of J at least `relative_floor` times the largest (so that its
-/// log-Cholesky form exists). p itself when it already satisfies that.
+/// A physically consistent standard 10-vector near p: the pseudo-inertia J is scaled to a unit
+/// diagonal (J_n = D^-1/2 J D^-1/2, D = |diag J|, so that mass and second moments weigh alike),
+/// its eigenvalues raised to at least `floor`, and scaled back. p itself when every eigenvalue of
+/// J_n is already at least `floor`. A small floor gives the nearest consistent body; a larger one
+/// (1e-2, say) a body safely inside the consistent set, where log-Cholesky coordinates are not
+/// degenerate.
 inline Eigen::Matrix<double, 10, 1> nearestConsistent(const Eigen::Matrix<double, 10, 1>& p,
-                                                      double relative_floor = 1e-9) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(pseudoInertia(p));
-  Eigen::Vector4d values = eigen.eigenvalues();
-  const double floor = relative_floor * std::max(values.cwiseAbs().maxCoeff(), 1e-300);
-  if (values.minCoeff() >= floor) return p;
-  values = values.cwiseMax(floor);
-  const Eigen::Matrix4d j =
-      eigen.eigenvectors() * values.asDiagonal() * eigen.eigenvectors().transpose();
+                                                      double floor = 1e-9) {
+  const Eigen::Matrix4d j = pseudoInertia(p);
+  // D: |diag J|, a zero entry replaced by the mean of the others (or 1).
+  Eigen::Vector4d d = j.diagonal().cwiseAbs();
+  const double mean = d.sum() > 0.0 ? d.sum() / (d.array() > 0.0).count() : 1.0;
+  for (double& e : d)
+    if (e == 0.0) e = mean;
+  const Eigen::Vector4d root = d.cwiseSqrt();
+  const Eigen::Matrix4d normalised =
+      root.cwiseInverse().asDiagonal() * j * root.cwiseInverse().asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eigen(normalised);
+  if (eigen.eigenvalues().minCoeff() >= floor) return p;
+  const Eigen::Vector4d values = eigen.eigenvalues().cwiseMax(floor);
+  const Eigen::Matrix4d repaired = root.asDiagonal() * eigen.eigenvectors() * values.asDiagonal() *
+                                   eigen.eigenvectors().transpose() * root.asDiagonal();
   // Back from J: m = J33, h = J(0:3, 3), I = tr(Sigma) 1 - Sigma.
-  const Eigen::Matrix3d sigma = j.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d sigma = repaired.topLeftCorner<3, 3>();
   Eigen::Matrix3d inertia = -sigma;
   inertia.diagonal().array() += sigma.trace();
   Eigen::Matrix<double, 10, 1> out;
-  out << j(3, 3), j(0, 3), j(1, 3), j(2, 3), inertia(0, 0), inertia(0, 1), inertia(0, 2),
-      inertia(1, 1), inertia(1, 2), inertia(2, 2);
+  out << repaired(3, 3), repaired(0, 3), repaired(1, 3), repaired(2, 3), inertia(0, 0),
+      inertia(0, 1), inertia(0, 2), inertia(1, 1), inertia(1, 2), inertia(2, 2);
   return out;
 }
 

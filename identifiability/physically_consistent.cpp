@@ -43,16 +43,20 @@ struct PhysicalFunctor {
       for (int k = j; k < b; ++k) sum += problem.R(j, k) * beta[k];
       residuals[j] = sum * inv_sigma;
     }
-    // Prior term sqrt(lambda) N_D^T D (theta - theta_prior).
+    // Prior term sqrt(lambda) (phi - phi_prior), drives scaled by their prior magnitudes.
     if (problem.prior_weight > 0.0) {
       const double w = std::sqrt(problem.prior_weight);
-      for (int r = 0; r < problem.prior_map.rows(); ++r) {
-        T sum(0.0);
-        for (int k = 0; k < p; ++k)
-          if (problem.prior_map(r, k) != 0.0)
-            sum += problem.prior_map(r, k) * (theta[k] - problem.prior_theta[k]);
-        residuals[b + r] = w * sum;
-      }
+      int r = b;
+      for (int i = 0; i < layout.num_links; ++i)
+        for (int k = 0; k < kLogCholeskyCount; ++k)
+          residuals[r++] = w * (blocks[i][k] - problem.prior_blocks[kLogCholeskyCount * i + k]);
+      const int drive = per - kLinkParameterCount;
+      for (int i = 0; i < layout.num_links && drive > 0; ++i)
+        for (int k = 0; k < drive; ++k) {
+          const int index = kLogCholeskyCount * layout.num_links + drive * i + k;
+          residuals[r++] = w * (blocks[layout.num_links + i][k] - problem.prior_blocks[index]) /
+                           problem.drive_scales[drive * i + k];
+        }
     }
     return true;
   }
@@ -100,7 +104,8 @@ std::vector<int> PhysicalProblem::blockSizes() const {
 }
 
 int PhysicalProblem::numResiduals() const {
-  return static_cast<int>(c.size()) + (prior_weight > 0.0 ? static_cast<int>(prior_map.rows()) : 0);
+  return static_cast<int>(c.size()) +
+         (prior_weight > 0.0 ? static_cast<int>(prior_blocks.size()) : 0);
 }
 
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
@@ -128,18 +133,20 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observatio
   problem.c = (qr.householderQ().transpose() * observation.tau).head(b);
   problem.sigma = sigma;
   problem.P = base.projectionMatrix();
-  problem.prior_theta = prior;
   problem.prior_weight = prior_weight;
-  // N_D: orthonormal basis of D N.
-  const Eigen::VectorXd d = kindScales(problem.layout, prior).cwiseInverse();
-  const Eigen::MatrixXd dn = d.asDiagonal() * base.nullSpace();
-  if (dn.cols() > 0) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> null_qr(dn);
-    const Eigen::MatrixXd q = null_qr.householderQ() * Eigen::MatrixXd::Identity(p, dn.cols());
-    problem.prior_map = q.transpose() * d.asDiagonal();
-  } else {
-    problem.prior_map.resize(0, p);
-  }
+  // The prior in the solver's coordinates: each link moved well inside the consistent set.
+  Eigen::VectorXd consistent_prior = prior;
+  const int per_link = problem.layout.perLink();
+  for (int i = 0; i < problem.layout.num_links; ++i)
+    consistent_prior.segment<10>(i * per_link) =
+        nearestConsistent(prior.segment<10>(i * per_link).eval(), 1e-2);
+  problem.prior_blocks = physicalBlocksFromStandard(problem.layout, consistent_prior);
+  const Eigen::VectorXd scales = kindScales(problem.layout, prior);
+  const int drive = per_link - kLinkParameterCount;
+  problem.drive_scales.resize(problem.layout.num_links * drive);
+  for (int i = 0; i < problem.layout.num_links; ++i)
+    for (int k = 0; k < drive; ++k)
+      problem.drive_scales[drive * i + k] = scales[i * per_link + kLinkParameterCount + k];
   return problem;
 }
 
@@ -188,11 +195,12 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
   const int b = base.numBase();
   const auto rows = static_cast<double>(W1.rows());
-  // sigma from the OLS residuals, floored so that exact (noise-free) data keep a finite scale.
+  // sigma from the OLS residuals, floored at 1e-6 of the torques' RMS: with exact (noise-free)
+  // data the prior term must keep a weight that holds the directions the data cannot see.
   const double tau_rms = observation.tau.norm() / std::sqrt(std::max(rows, 1.0));
   const double sigma_ols =
       std::max((W1 * out.ols.beta - observation.tau).norm() / std::sqrt(std::max(rows - b, 1.0)),
-               1e-12 * tau_rms + 1e-300);
+               1e-6 * tau_rms + 1e-300);
   const PhysicalProblem problem =
       makePhysicalProblem(base, observation, prior, options.prior_weight, sigma_ols);
   const ParameterLayout& layout = problem.layout;
@@ -202,7 +210,9 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   Eigen::VectorXd start = base.standardFromBase(out.ols.beta, prior);
   for (int i = 0; i < layout.num_links; ++i) {
     const Eigen::Matrix<double, 10, 1> link = start.segment<10>(i * per);
-    const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link);
+    // Inside the consistent set by a margin (1e-2 of the normalised pseudo-inertia), where the
+    // log-Cholesky coordinates are well conditioned.
+    const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-2);
     if (fixed != link) out.inconsistent_links.push_back(i);
     start.segment<10>(i * per) = fixed;
     for (int k = 0; k < std::min(drive, 3); ++k)

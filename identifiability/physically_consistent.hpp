@@ -4,16 +4,17 @@
 //
 // The problem, for the observation W theta = tau with base parameters beta = P theta:
 //     min over phi, d of  1/2 |(R P theta(phi, d) - c) / sigma|^2
-//                       + 1/2 lambda |N_D^T D (theta(phi, d) - theta_prior)|^2
+//                       + 1/2 lambda (|phi - phi_prior|^2 + |(d - d_prior) / s_d|^2)
 // where Q R = W1 (the base regressor; c = Q^T tau, so the first term equals the full residual up to
-// a constant), sigma is the OLS residual standard deviation (so the first term is a chi-square),
-// D = diag(1 / scale) scales each parameter by the typical magnitude of its kind in the prior, and
-// the columns of N_D are an orthonormal basis of D times the null space of W. The prior term moves
-// only the directions the data cannot see: with lambda > 0 it pulls them toward the prior without
-// biasing the base parameters (unless a physical constraint is active).
+// a constant), sigma is the OLS residual standard deviation, floored at 1e-6 of the torques' RMS
+// (so the first term is a chi-square), phi are the log-Cholesky coordinates of every link, d the
+// drive parameters and s_d their prior magnitudes. phi_prior are those of the prior, each link
+// moved inside the consistent set first. The prior term pulls the directions the data cannot see
+// toward the prior; where the data do see, its pull is lambda against the chi-square's curvature,
+// negligible for a small lambda. (A prior on the null-space component of theta alone would bias
+// nothing, but it pulls inconsistent priors' links to the boundary of the consistent set, where
+// log-Cholesky coordinates diverge and the solver stalls: tried and dropped.)
 // Solved by Ceres (Levenberg-Marquardt, dense QR), starting from OLS: beta_OLS lifted to standard
-// coordinates with the prior's dependent parameters, each inconsistent link moved to the nearest
-// consistent one (nearestConsistent), negative drive parameters set to 0.
 #pragma once
 
 #include <functional>
@@ -35,7 +36,9 @@ class CostFunction;
 namespace dynid {
 
 struct PhysicalOptions {
-  double prior_weight = 1e-3;  // lambda; 0: no prior (the null-space directions then drift freely)
+  /// lambda; 0 (default): no prior, the unseen directions stay near the start. With exact data a
+  /// prior slows convergence: the chi-square then outweighs it by about 1e12.
+  double prior_weight = 0.0;
   int max_iterations = 200;
   double function_tolerance = 1e-12;  // Ceres's relative cost-change tolerance
   int num_threads = 1;
@@ -46,12 +49,12 @@ struct PhysicalOptions {
 /// The prepared problem (see the header comment for the symbols).
 struct PhysicalProblem {
   ParameterLayout layout;
-  Eigen::MatrixXd R;          // num_base x num_base
-  Eigen::VectorXd c;          // num_base
-  double sigma = 1.0;         // [N m]
-  Eigen::MatrixXd P;          // num_base x p
-  Eigen::MatrixXd prior_map;  // (p - num_base) x p: N_D^T D
-  Eigen::VectorXd prior_theta;
+  Eigen::MatrixXd R;             // num_base x num_base
+  Eigen::VectorXd c;             // num_base
+  double sigma = 1.0;            // [N m]
+  Eigen::MatrixXd P;             // num_base x p
+  Eigen::VectorXd prior_blocks;  // the prior's parameter blocks (phi_prior, d_prior), concatenated
+  Eigen::VectorXd drive_scales;  // s_d, one per drive parameter
   double prior_weight = 0.0;
 
   /// Parameter blocks of the cost: per link its 10 log-Cholesky entries, then, with drives, per
@@ -67,7 +70,7 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observatio
                                     double sigma);
 
 /// The cost function of the problem (automatic differentiation; the caller owns it). Its residuals:
-/// the data term's num_base, then the prior term's p - num_base.
+/// the data term's num_base, then (lambda > 0) the prior term's, one per parameter.
 std::unique_ptr<ceres::CostFunction> makePhysicalCost(const PhysicalProblem& problem);
 
 /// The standard parameter vector of the parameter blocks (blockSizes(), concatenated).
