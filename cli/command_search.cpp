@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/search_output.hpp"
 #include "core/parameters.hpp"
 #include "core/perturb.hpp"
 #include "data/dataset_csv.hpp"
@@ -113,20 +114,6 @@ SearchState stateFrom(const json& j, const std::string& file) {
   } catch (const json::exception& e) {
     throw ParseError(file, 0, "", std::string("not a dynid search checkpoint: ") + e.what());
   }
-}
-
-json estimateJson(const ParameterSpace& space, const Eigen::VectorXd& x) {
-  const Model model = space.modelAt(x);
-  json paper = json::object(), standard = json::object();
-  const std::vector<std::string> paper_names = paperParameterNames(model.numJoints());
-  for (int i = 0; i < model.numJoints(); ++i) {
-    const auto p = standardToPaper(toStandardVector(model.inertias[i]));
-    for (int k = 0; k < 7; ++k) paper[paper_names[7 * i + k]] = p[k];
-  }
-  const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
-  const Eigen::VectorXd theta = model.standardParameters();
-  for (int k = 0; k < theta.size(); ++k) standard[names[k]] = theta[k];
-  return {{"paper", paper}, {"standard", standard}};
 }
 
 }  // namespace
@@ -340,8 +327,8 @@ int runSearch(const std::vector<std::string>& args) {
                  {"termination", result.termination},
                  {"initial_gc_error", result.initial_gc},
                  {"final_gc_error", result.best_gc},
-                 {"estimate", estimateJson(space, result.best_x)},
-                 {"initial_estimate", estimateJson(space, space.project(space.initial()))},
+                 {"estimate", searchEstimateJson(space, result.best_x)},
+                 {"initial_estimate", searchEstimateJson(space, space.project(space.initial()))},
                  {"history", historyJson(result.history)},
                  {"evaluations", result.evaluations},
                  {"seconds", result.seconds}};

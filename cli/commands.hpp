@@ -13,5 +13,6 @@ int runSimulate(const std::vector<std::string>& args);
 int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);
+int runRefine(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

@@ -18,8 +18,9 @@ const char* kUsage =
     "  dynamics                 inverse dynamics, mass matrix and forward dynamics at a state\n"
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
-    "  identify                 least-squares (OLS/WLS) estimate of the base parameters\n"
+    "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
+    "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "\n"
     "robots: --robot puma560 (built in), a .urdf file, or a dynid .json model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
   const std::map<std::string, int (*)(const std::vector<std::string>&)> commands = {
       {"model", runModel},       {"dynamics", runDynamics},
       {"simulate", runSimulate}, {"identifiability", runIdentifiability},
-      {"identify", runIdentify}, {"search", runSearch}};
+      {"identify", runIdentify}, {"search", runSearch},
+      {"refine", runRefine}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

@@ -44,7 +44,7 @@ TEST(Cli, VersionHelpAndUsage) {
   EXPECT_EQ(unknown.code, 2);
   EXPECT_TRUE(contains(unknown.err, "unknown command 'fly'"));
   for (const char* command : {"dynamics", "simulate", "model show", "model check", "model export",
-                              "identifiability", "identify", "search"}) {
+                              "identifiability", "identify", "search", "refine"}) {
     const Result help = run(std::string(command) + " --help");
     EXPECT_EQ(help.code, 0) << command;
     EXPECT_TRUE(contains(help.out, "usage: dynid")) << command;
@@ -275,6 +275,56 @@ TEST(Cli, SearchWritesHistoryAndResumesFromACheckpoint) {
           " --out " + resumed);
   EXPECT_EQ(refused.code, 1);
   EXPECT_TRUE(contains(refused.err, "other settings")) << refused.err;
+}
+
+TEST(Cli, RefineFromASearchAndFromAnEstimate) {
+  const std::string train = test::tempPath("refine_train.csv"), dir = test::tempPath("refine_s"),
+                    refined = test::tempPath("refined");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 2 --out " + train).code, 0);
+  ASSERT_EQ(run("search --method ga --robot puma560 --data " + train +
+                " --perturb 0.1 --truth puma560 --seed 1 --segments 10 --threads 2 --population 10 "
+                "--budget-evals 20 --out " +
+                dir)
+                .code,
+            0);
+  const Result r = run("refine --robot puma560 --from " + dir + "/search.json --data " + train +
+                       " --truth puma560 --max-iterations 5 --threads 2 --out " + refined);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(refined + "/refine.json"));
+  for (const char* key :
+       {"schema_version", "estimate", "cost_history", "termination", "solution_usable",
+        "base_parameters", "identifiability", "final_base_parameter_error", "parameters_at_bound"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  // The search's settings carry over: 10 segments, the same free parameters.
+  EXPECT_EQ(j["settings"]["segments"], 10);
+  const auto s = nlohmann::json::parse(readFile(dir + "/search.json"));
+  EXPECT_EQ(j["settings"]["free_parameters"], s["settings"]["free_parameters"]);
+  EXPECT_LT(j["final_gc_error"].get<double>(), j["initial_gc_error"].get<double>());
+  EXPECT_EQ(j["base_parameters"]["values"].size(), 36u);
+  EXPECT_EQ(j["base_parameters"]["covariance"].size(), 36u);
+  EXPECT_FALSE(j["identifiability"]["free_directions"].empty());
+  EXPECT_EQ(j["cost_history"].size(), j["iterations"].get<std::size_t>() + 1);
+  // From an identify estimate (physically consistent), estimating the starts too.
+  const std::string estimate = test::tempPath("pc_estimate");
+  const Result pc =
+      run("identify --method pc --robot puma560 --data " + train + " --out " + estimate);
+  ASSERT_EQ(pc.code, 0) << pc.err;
+  const auto e = nlohmann::json::parse(readFile(estimate + "/estimate.json"));
+  EXPECT_EQ(e["method"], "pc");
+  EXPECT_TRUE(e["physically_consistent"]["solution_usable"].get<bool>());
+  const Result from_estimate = run(
+      "refine --robot puma560 --from " + estimate + "/estimate.json --data " + train +
+      " --segments 10 --estimate-initial-states --max-iterations 3 --threads 2 --out " + refined);
+  ASSERT_EQ(from_estimate.code, 0) << from_estimate.err;
+  const auto k = nlohmann::json::parse(readFile(refined + "/refine.json"));
+  EXPECT_EQ(k["settings"]["linear_solver"], "SPARSE_SCHUR");
+  EXPECT_TRUE(k.contains("initial_states"));
+  // Not a start file: a data error naming the file.
+  const Result bad =
+      run("refine --robot puma560 --from " + train + " --data " + train + " --out " + refined);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(contains(bad.err, train)) << bad.err;
+  EXPECT_EQ(run("refine --robot puma560 --from x --data y --max-iterations 0 --out d").code, 2);
 }
 
 TEST(Cli, SearchStopsCleanlyOnInterrupt) {
