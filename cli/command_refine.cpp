@@ -29,8 +29,6 @@ using nlohmann::json;
 std::atomic<bool> interrupted{false};
 extern "C" void onRefineInterrupt(int) { interrupted.store(true); }
 
-json numberOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 /// A standard vector from {name: value} (every name of the layout required).
 Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>& names,
                              const std::string& file, const std::string& where) {

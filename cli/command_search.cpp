@@ -28,8 +28,6 @@ using nlohmann::json;
 std::atomic<bool> interrupted{false};
 extern "C" void onInterrupt(int) { interrupted.store(true); }
 
-json numberOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
-
 /// The settings a checkpoint must share with the run that resumes it: all but the budgets and the
 /// tolerance, which only decide when to stop (so a run can be resumed with a larger budget).
 json fingerprint(json settings) {

@@ -2,11 +2,13 @@
 // codes (0 success, 1 runtime or data error, 2 usage error).
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <boost/program_options.hpp>
+#include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
 #include "core/model.hpp"
@@ -41,5 +43,10 @@ Eigen::VectorXd parseJointVector(const std::string& text, const std::string& opt
 void addRobotOptions(po::options_description& options);
 /// Loads the robot named by --robot (warnings to stderr).
 Model loadRobotFromOptions(const po::variables_map& vm);
+
+/// A finite number, or null (JSON has no infinity or NaN).
+inline nlohmann::json numberOrNull(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
 
 }  // namespace dynid::cli

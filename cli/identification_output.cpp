@@ -15,7 +15,6 @@ json vectorJson(const Eigen::VectorXd& v) {
   for (double x : v) out.push_back(std::isfinite(x) ? json(x) : json(nullptr));
   return out;
 }
-json numberOrNull(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 }  // namespace
 
 std::string formatShort(double x) {

@@ -3,6 +3,8 @@
 #include <ceres/cost_function.h>
 #include <gtest/gtest.h>
 
+#include "tests/common/identification.hpp"
+
 #include "core/errors.hpp"
 #include "core/log_cholesky.hpp"
 #include "core/perturb.hpp"
@@ -14,30 +16,8 @@
 namespace dynid {
 namespace {
 
-BaseParameters pumaBase(const Model& model) {
-  const ParameterLayout layout = model.parameterLayout();
-  return computeBaseParameters(observationFromRandomStates(model, 150, 1).W,
-                               standardParameterNames(layout), 0.0,
-                               defaultPreference(layout.num_links, layout.perLink()));
-}
-
-Trajectory pumaTrajectory(const Model& model, double duration, double noise_tau, std::uint64_t seed,
-                          double frequency_scale = 1.0) {
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.q0[2] = 0.5 * M_PI;
-  r.amplitude.resize(6);
-  r.amplitude << 1.2, 0.8, 0.9, 1.5, 1.2, 1.5;
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.23, 0.71) * frequency_scale;
-  r.phase = Eigen::VectorXd::LinSpaced(6, 0.0, 2.5);
-  TrackingController controller(model, r, defaultGains(model, r.q0, 8.0),
-                                Eigen::VectorXd::Constant(6, 1e9));
-  SimulationOptions options;
-  options.duration = duration;
-  options.noise_tau = noise_tau;
-  options.seed = seed;
-  return simulate(model, controller, options);
-}
+using test::pumaBase;
+using test::pumaTrajectory;
 
 bool consistent(const ParameterLayout& layout, const Eigen::VectorXd& theta, int* bad = nullptr) {
   int count = 0;
