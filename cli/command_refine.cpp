@@ -54,7 +54,10 @@ int runRefine(const std::vector<std::string>& args) {
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
       "estimate-initial-states", po::bool_switch(),
       "estimate each segment's start state with the parameters (noisy measured starts)")(
-      "max-iterations", po::value<int>()->default_value(200), "Levenberg-Marquardt iterations")(
+      "max-iterations", po::value<int>()->default_value(200),
+      "Levenberg-Marquardt iterations per stage")(
+      "no-base-stage", po::bool_switch(),
+      "refine the free parameters directly, without first solving in base coordinates")(
       "no-gauge", po::bool_switch(),
       "let the directions that change no base parameter move (slower; for starts at a bound)")(
       "budget-seconds", po::value<double>()->default_value(0.0), "stop after this time (0: none)")(
@@ -156,6 +159,7 @@ int runRefine(const std::vector<std::string>& args) {
   refine.estimate_initial_states = vm["estimate-initial-states"].as<bool>();
   refine.max_iterations = vm["max-iterations"].as<int>();
   refine.fix_gauge = !vm["no-gauge"].as<bool>();
+  refine.base_stage = !vm["no-base-stage"].as<bool>();
   refine.max_seconds = vm["budget-seconds"].as<double>();
   refine.num_threads = threads;
   refine.stop = &interrupted;
@@ -172,7 +176,8 @@ int runRefine(const std::vector<std::string>& args) {
 
   json history = json::array();
   for (const RefineIteration& h : result.history)
-    history.push_back({{"iteration", h.iteration},
+    history.push_back({{"stage", h.stage},
+                       {"iteration", h.iteration},
                        {"cost", h.cost},
                        {"gradient_max_norm", h.gradient_max_norm},
                        {"seconds", h.seconds}});
@@ -216,8 +221,19 @@ int runRefine(const std::vector<std::string>& args) {
         {"segments", problem.numSegments()},
         {"estimate_initial_states", refine.estimate_initial_states},
         {"gauge", refine.fix_gauge},
+        {"base_stage", refine.base_stage},
         {"max_iterations", refine.max_iterations},
         {"linear_solver", result.linear_solver}}},
+      {"base_stage",
+       {{"run", result.base_stage},
+        {"gc_error", result.base_gc},
+        {"iterations", result.base_iterations},
+        {"termination", result.base_termination},
+        {"map_back_error", result.map_back_error},
+        {"map_back_used", result.map_back_used},
+        {"note",
+         "solved in base coordinates first, then the free parameters fitted to that beta within "
+         "their bounds (map_back_error: RMS relative difference), then polished"}}},
       {"termination", result.termination},
       {"solution_usable", result.usable},
       {"interrupted", result.interrupted},
@@ -283,7 +299,13 @@ int runRefine(const std::vector<std::string>& args) {
   std::filesystem::create_directories(dir);
   writeFileAtomically(dir + "/refine.json", report.dump(1) + "\n");
   std::cout << robot.name << " refine: GC error " << result.initial_gc << " -> " << result.final_gc
-            << " in " << result.iterations << " iterations, " << result.seconds << " s ("
+            << " in ";
+  if (result.base_stage)
+    std::cout << result.base_iterations << " + " << result.iterations
+              << " iterations (base coordinates + parameters), ";
+  else
+    std::cout << result.iterations << " iterations, ";
+  std::cout << result.seconds << " s ("
             << result.termination.substr(0, result.termination.find(':')) << ")";
   if (report.contains("final_base_parameter_error"))
     std::cout << "; base-parameter error " << report["initial_base_parameter_error"].get<double>()

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include <ceres/ceres.h>
 #include <Eigen/Eigenvalues>
@@ -126,6 +128,27 @@ struct StandardOfFree {
   }
 };
 
+/// W (P theta(x) - beta_target), W = diag(1 / |beta_target|): the map back from beta to x.
+struct BetaOfFree {
+  Model structure;
+  FreeMap map;
+  Eigen::MatrixXd weighted_projection;  // W P
+  Eigen::VectorXd weighted_target;      // W beta_target
+  template <typename T>
+  bool operator()(T const* const* blocks, T* residuals) const {
+    ModelTpl<T> model = structure.template cast<T>();
+    map.apply(blocks[0], model);
+    const VectorX<T> theta = model.standardParameters();
+    for (int i = 0; i < weighted_projection.rows(); ++i) {
+      T sum = T(-weighted_target[i]);
+      for (int k = 0; k < theta.size(); ++k)
+        if (weighted_projection(i, k) != 0.0) sum += weighted_projection(i, k) * theta[k];
+      residuals[i] = sum;
+    }
+    return true;
+  }
+};
+
 /// Linear residuals r = A x - b on the free parameters (the total mass and the gauge).
 class LinearResidual : public ceres::CostFunction {
  public:
@@ -150,11 +173,15 @@ class LinearResidual : public ceres::CostFunction {
 class RefineCallback : public ceres::IterationCallback {
  public:
   RefineCallback(std::vector<RefineIteration>& history, const std::atomic<bool>* stop,
-                 bool& interrupted)
-      : history_(history), stop_(stop), interrupted_(interrupted) {}
+                 bool& interrupted, std::string stage, double time_offset)
+      : history_(history),
+        stop_(stop),
+        interrupted_(interrupted),
+        stage_(std::move(stage)),
+        time_offset_(time_offset) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
-    history_.push_back({summary.iteration, summary.cost, summary.gradient_max_norm,
-                        summary.cumulative_time_in_seconds});
+    history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
+                        time_offset_ + summary.cumulative_time_in_seconds});
     if (stop_ != nullptr && stop_->load()) {
       interrupted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
@@ -166,6 +193,8 @@ class RefineCallback : public ceres::IterationCallback {
   std::vector<RefineIteration>& history_;
   const std::atomic<bool>* stop_;
   bool& interrupted_;
+  std::string stage_;
+  double time_offset_;
 };
 
 /// Typical magnitude for scaling: |v_j|, or the mean magnitude of the non-zero entries for a 0
@@ -219,29 +248,33 @@ FreeAnalysis analyseFreeDirections(const Model& structure, const ParameterSpace&
   return out;
 }
 
-/// Base-coordinate uncertainty and the free directions of x (see refine.hpp).
-void baseUncertainty(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
-                     const BaseCoordinates& base, bool with_start, RefineResult& result,
-                     ThreadPool& pool) {
-  const Eigen::VectorXd theta = space.standardAt(result.x);
-  const Eigen::MatrixXd& P = base.projection;
-  if (P.cols() != theta.size())
-    throw InputError("the base coordinates have " + std::to_string(P.cols()) +
-                     " standard parameters, the model " + std::to_string(theta.size()));
-  const int b = static_cast<int>(P.rows()), n = structure.numJoints();
-  const int segments = problem.numSegments();
-  result.beta = P * theta;
-  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
-  const BetaMap map{theta, result.beta, lift};
+/// w (fixed mass + sum of free masses - total), w = 1 / (tolerance total): the total mass held to
+/// about `tolerance` relative.
+std::unique_ptr<ceres::CostFunction> totalMassCost(const ParameterSpace& space, double tolerance) {
+  const double total = space.options().total_mass;
+  const double w = 1.0 / (tolerance * std::max(std::abs(total), 1e-12));
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(1, space.numFree());
+  for (int p : space.massPositions()) a(0, p) = w;
+  return std::make_unique<LinearResidual>(
+      a, Eigen::VectorXd::Constant(1, w * (total - space.fixedMass())));
+}
 
-  // Per segment: Schur complement of its start in J^T J, and its squared residuals.
+/// J^T J of the GC residuals with respect to beta at `beta` (`map` lifts beta to the model), the
+/// starts eliminated by their Schur complement when estimated; `squared` gets the sum of squared
+/// residuals (NaN when a rollout diverged).
+Eigen::MatrixXd betaInformation(const Model& structure, const BetaMap& map,
+                                const GcProblem& problem, const Eigen::VectorXd& beta,
+                                const Eigen::MatrixXd& starts, bool with_start, ThreadPool& pool,
+                                double& squared_sum) {
+  const int b = static_cast<int>(beta.size()), n = structure.numJoints();
+  const int segments = problem.numSegments();
   std::vector<Eigen::MatrixXd> information(segments);
   Eigen::VectorXd squared(segments);
   const int m = (with_start ? 4 : 2) * n;
   pool.parallelFor(segments, [&](int s, int) {
     const auto cost = segmentCost(structure, map, b, problem, s, with_start);
-    Eigen::VectorXd start = result.initial_states.col(s);
-    const double* parameters[2] = {result.beta.data(), start.data()};
+    Eigen::VectorXd start = starts.col(s);
+    const double* parameters[2] = {beta.data(), start.data()};
     RowMajor jb(m, b), js(m, 2 * n);
     double* jacobians[2] = {jb.data(), js.data()};
     Eigen::VectorXd r(m);
@@ -260,10 +293,29 @@ void baseUncertainty(const Model& structure, const ParameterSpace& space, const 
   });
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
   for (const Eigen::MatrixXd& h : information) H += h;
+  squared_sum = squared.sum();
+  return H;
+}
+
+/// Base-coordinate uncertainty and the free directions of x (see refine.hpp).
+void baseUncertainty(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+                     const BaseCoordinates& base, bool with_start, RefineResult& result,
+                     ThreadPool& pool) {
+  const Eigen::VectorXd theta = space.standardAt(result.x);
+  const Eigen::MatrixXd& P = base.projection;  // its size checked by refineGc
+  const int b = static_cast<int>(P.rows()), n = structure.numJoints();
+  const int segments = problem.numSegments();
+  result.beta = P * theta;
+  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
+  const BetaMap map{theta, result.beta, lift};
+  double squared = 0.0;
+  const Eigen::MatrixXd H = betaInformation(structure, map, problem, result.beta,
+                                            result.initial_states, with_start, pool, squared);
+  const int m = (with_start ? 4 : 2) * n;
   const long rows = static_cast<long>(segments) * m;
   const long unknowns = b + (with_start ? 2L * n * segments : 0L);
   result.degrees_of_freedom = static_cast<int>(std::max(rows - unknowns, 1L));
-  result.sigma2 = squared.sum() / result.degrees_of_freedom;
+  result.sigma2 = squared / result.degrees_of_freedom;
   // cov = sigma^2 H^-1, through the symmetric eigendecomposition of the Jacobi-scaled H.
   Eigen::VectorXd d(b);
   for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
@@ -310,14 +362,187 @@ std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
 }
 
 std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space) {
-  // w (fixed mass + sum of free masses - total), w = 1 / (1e-6 total).
-  const double total = space.options().total_mass;
-  const double w = 1.0 / (1e-6 * std::max(std::abs(total), 1e-12));
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(1, space.numFree());
-  for (int p : space.massPositions()) a(0, p) = w;
-  return std::make_unique<LinearResidual>(
-      a, Eigen::VectorXd::Constant(1, w * (total - space.fixedMass())));
+  return totalMassCost(space, 1e-6);
 }
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Solver settings shared by the stages: Levenberg-Marquardt; the starts (when estimated)
+/// eliminated first by a block-sparse Schur complement.
+ceres::Solver::Options solverOptions(const RefineOptions& options, double* model_block,
+                                     Eigen::MatrixXd& starts, bool with_start,
+                                     double seconds_left) {
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  if (with_start) {
+    solver.linear_solver_type =
+        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SPARSE_SCHUR
+                                                                              : ceres::DENSE_SCHUR;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (int s = 0; s < starts.cols(); ++s) ordering->AddElementToGroup(starts.col(s).data(), 0);
+    ordering->AddElementToGroup(model_block, 1);
+    solver.linear_solver_ordering = ordering;
+  } else {
+    solver.linear_solver_type = ceres::DENSE_QR;
+  }
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = options.gradient_tolerance;
+  solver.parameter_tolerance = options.parameter_tolerance;
+  if (options.max_seconds > 0.0) solver.max_solver_time_in_seconds = std::max(seconds_left, 1e-3);
+  solver.num_threads = std::max(options.num_threads, 1);
+  solver.logging_type = ceres::SILENT;
+  return solver;
+}
+
+std::string terminationOf(const ceres::Solver::Summary& summary) {
+  return std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+         summary.message;
+}
+
+/// The base stage: the GC residuals as a function of beta, solved by Levenberg-Marquardt from
+/// beta(x); then x is fitted to the solution's beta within the bounds (and on the total-mass
+/// plane). Updates result.x (when the map back predicts no worse than the start), the starts and
+/// the base-stage fields.
+void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+               const BaseCoordinates& base, const RefineOptions& options,
+               std::chrono::steady_clock::time_point clock_start, GcWorkspace& workspace,
+               ThreadPool& pool, RefineResult& result) {
+  const bool with_start = options.estimate_initial_states;
+  const Eigen::MatrixXd& P = base.projection;
+  const Eigen::VectorXd theta0 = space.standardAt(result.x);
+  const int b = static_cast<int>(P.rows());
+  Eigen::VectorXd beta = P * theta0;
+  const BetaMap map{theta0, beta, P.completeOrthogonalDecomposition().pseudoInverse()};
+
+  ceres::Problem beta_problem;
+  for (int s = 0; s < problem.numSegments(); ++s) {
+    std::vector<double*> blocks{beta.data()};
+    if (with_start) blocks.push_back(result.initial_states.col(s).data());
+    beta_problem.AddResidualBlock(segmentCost(structure, map, b, problem, s, with_start).release(),
+                                  nullptr, blocks);
+  }
+  ceres::Solver::Options solver =
+      solverOptions(options, beta.data(), result.initial_states, with_start,
+                    options.max_seconds - secondsSince(clock_start));
+  RefineCallback callback(result.history, options.stop, result.interrupted, "base",
+                          secondsSince(clock_start));
+  solver.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &beta_problem, &summary);
+  result.base_stage = true;
+  result.base_termination = terminationOf(summary);
+  result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  {
+    Model at_beta = structure;
+    at_beta.setStandardParameters(theta0 + map.lift * (beta - map.beta_ref));
+    result.base_gc = gcError(at_beta, problem, workspace, pool);
+  }
+
+  // Map back: min |R (P theta(x) - beta)|^2 over x within the bounds, with R^T R = H the GC
+  // residuals' J^T J in beta at the solution: the Gauss-Newton model of the GC error's increase,
+  // so that a beta the free parameters cannot reproduce exactly (noisy data) is approached where
+  // the data determine it best. R is normalised to a unit misfit at the estimate. Should a rollout
+  // diverge there, relative weights 1 / |beta| replace it.
+  const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
+  Eigen::MatrixXd weighting = weights.asDiagonal();
+  {
+    double squared = 0.0;
+    const Eigen::MatrixXd H = betaInformation(structure, map, problem, beta, result.initial_states,
+                                              with_start, pool, squared);
+    if (H.allFinite()) {
+      Eigen::VectorXd d(b);
+      for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(d.asDiagonal() * H *
+                                                                 d.asDiagonal());
+      const Eigen::VectorXd root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+      const Eigen::MatrixXd r =
+          root.asDiagonal() * eigen.eigenvectors().transpose() * d.cwiseInverse().asDiagonal();
+      const double misfit = (r * (P * theta0 - beta)).norm();
+      if (misfit > 0.0 && std::isfinite(misfit)) weighting = r / misfit;
+    }
+  }
+  const Eigen::MatrixXd weighted_projection = weighting * P;
+  const Eigen::VectorXd weighted_target = weighting * beta;
+  const int k = space.numFree();
+  const int tries = 2 + std::max(options.map_back_starts, 0);
+  std::vector<Eigen::VectorXd> fitted(tries);
+  Eigen::VectorXd fit_cost(tries);
+  std::mt19937_64 random(20260101);  // fixed: refinement is deterministic
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Eigen::VectorXd centre = 0.5 * (space.lower() + space.upper());
+  const Eigen::VectorXd half_range = (0.5 * (space.upper() - space.lower())).cwiseMax(1e-300);
+  for (int t = 0; t < tries; ++t) {
+    fitted[t] = t == 0 ? result.x : centre;
+    if (t > 1)
+      for (int j = 0; j < k; ++j)
+        fitted[t][j] = space.lower()[j] + uniform(random) * (space.upper()[j] - space.lower()[j]);
+    fitted[t] = space.project(fitted[t]);
+  }
+  pool.parallelFor(tries, [&](int t, int) {
+    Eigen::VectorXd& x = fitted[t];
+    // The map is curved (products m c, m c c^T) and LM from a point alone stops at a bound: each
+    // fit is a continuation, with a pull eps |(x - centre) / half range|^2 towards the box's
+    // centre taken down from 1e-1 to 0.
+    for (const double eps : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0}) {
+      auto fit = std::make_unique<ceres::DynamicAutoDiffCostFunction<BetaOfFree, kStride>>(
+          new BetaOfFree{structure, FreeMap{&space}, weighted_projection, weighted_target});
+      fit->AddParameterBlock(k);
+      fit->SetNumResiduals(static_cast<int>(weighted_projection.rows()));
+      ceres::Problem map_problem;
+      map_problem.AddResidualBlock(fit.release(), nullptr, x.data());
+      // The total mass weighted like the beta residuals (relative), for conditioning.
+      if (space.options().total_mass_constraint)
+        map_problem.AddResidualBlock(totalMassCost(space, 1.0).release(), nullptr, x.data());
+      if (eps > 0.0) {
+        const Eigen::MatrixXd pull = eps * half_range.cwiseInverse().asDiagonal().toDenseMatrix();
+        map_problem.AddResidualBlock(new LinearResidual(pull, pull * centre), nullptr, x.data());
+      }
+      for (int j = 0; j < k; ++j) {
+        map_problem.SetParameterLowerBound(x.data(), j, space.lower()[j]);
+        map_problem.SetParameterUpperBound(x.data(), j, space.upper()[j]);
+      }
+      ceres::Solver::Options map_solver;
+      map_solver.linear_solver_type = ceres::DENSE_QR;
+      map_solver.max_num_iterations = 200;
+      map_solver.function_tolerance = 1e-20;
+      map_solver.gradient_tolerance = 1e-24;
+      map_solver.parameter_tolerance = 1e-16;
+      map_solver.logging_type = ceres::SILENT;
+      ceres::Solver::Summary map_summary;
+      ceres::Solve(map_solver, &map_problem, &map_summary);
+    }
+    fit_cost[t] = (weighted_projection * space.standardAt(x) - weighted_target).squaredNorm();
+    if (space.options().total_mass_constraint)
+      fit_cost[t] += std::pow(space.totalMass(x) / space.options().total_mass - 1.0, 2);
+    if (!std::isfinite(fit_cost[t])) fit_cost[t] = std::numeric_limits<double>::infinity();
+  });
+  const double best = fit_cost.minCoeff();
+  const Eigen::VectorXd x_scale = magnitudes(result.x);
+  int chosen = 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int t = 0; t < tries; ++t) {
+    // "Best": within round-off of the lowest (b residuals of relative size ~1e-12).
+    if (!(fit_cost[t] <= best * (1.0 + 1e-6) + 1e-24 * b)) continue;
+    const double distance = (fitted[t] - result.x).cwiseQuotient(x_scale).norm();
+    if (distance < nearest) nearest = distance, chosen = t;
+  }
+  const Eigen::VectorXd& x = fitted[chosen];
+  result.map_back_error =
+      (weights.cwiseProduct(P * space.standardAt(x) - beta)).norm() / std::sqrt(std::max(b, 1));
+  // Keep the mapped-back point only when it predicts no worse than the start.
+  const double gc_mapped = gcError(space.modelAt(x), problem, workspace, pool);
+  result.map_back_used = std::isfinite(gc_mapped) && gc_mapped <= result.initial_gc;
+  if (result.map_back_used) result.x = x;
+}
+
+}  // namespace
 
 RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const Eigen::VectorXd& x0, const RefineOptions& options,
@@ -334,6 +559,10 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   if (problem.data.numJoints() != n)
     throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
                      " joints, the model " + std::to_string(n));
+  if (base != nullptr && base->projection.cols() != structure.parameterLayout().size())
+    throw InputError("the base coordinates have " + std::to_string(base->projection.cols()) +
+                     " standard parameters, the model " +
+                     std::to_string(structure.parameterLayout().size()));
   const bool with_start = options.estimate_initial_states;
   result.initial_states.resize(2 * n, segments);
   for (int s = 0; s < segments; ++s) {
@@ -344,7 +573,10 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   GcWorkspace workspace(structure, pool.numThreads());
   result.initial_gc = gcError(structure, problem, workspace, pool);
 
-  // Residual blocks: one per segment, and the total mass.
+  if (base != nullptr && options.base_stage)
+    baseStage(structure, space, problem, *base, options, clock_start, workspace, pool, result);
+
+  // The parameter stage. Residual blocks: one per segment, and the total mass.
   ceres::Problem solver_problem;
   for (int s = 0; s < segments; ++s) {
     std::vector<double*> blocks{result.x.data()};
@@ -354,7 +586,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   }
   if (space.options().total_mass_constraint)
     solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
-  // Gauge: hold the start's free directions (G (x - x0) = 0, G their scaled basis), so the
+  // Gauge: hold the current free directions (G (x - x_start) = 0, G their scaled basis), so the
   // solver does not drift along directions the data cannot see; a zero-residual point with the
   // gauge satisfied exists, so it biases nothing.
   if (base != nullptr && options.fix_gauge) {
@@ -374,42 +606,24 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
     solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
   }
-
-  ceres::Solver::Options solver;
-  solver.minimizer_type = ceres::TRUST_REGION;
-  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  if (with_start) {
-    // Eliminate the starts (group 0) first: block-sparse Schur complement on x.
-    solver.linear_solver_type =
-        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SPARSE_SCHUR
-                                                                              : ceres::DENSE_SCHUR;
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (int s = 0; s < segments; ++s)
-      ordering->AddElementToGroup(result.initial_states.col(s).data(), 0);
-    ordering->AddElementToGroup(result.x.data(), 1);
-    solver.linear_solver_ordering = ordering;
-  } else {
-    solver.linear_solver_type = ceres::DENSE_QR;
-  }
+  ceres::Solver::Options solver =
+      solverOptions(options, result.x.data(), result.initial_states, with_start,
+                    options.max_seconds - secondsSince(clock_start));
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
-  solver.gradient_tolerance = options.gradient_tolerance;
-  solver.parameter_tolerance = options.parameter_tolerance;
-  if (options.max_seconds > 0.0) solver.max_solver_time_in_seconds = options.max_seconds;
-  solver.num_threads = std::max(options.num_threads, 1);
-  solver.logging_type = ceres::SILENT;
-  RefineCallback callback(result.history, options.stop, result.interrupted);
+  RefineCallback callback(result.history, options.stop, result.interrupted, "parameters",
+                          secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &solver_problem, &summary);
+  if (!result.interrupted) ceres::Solve(solver, &solver_problem, &summary);
 
-  result.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) +
-                       ": " + summary.message;
-  result.usable = summary.IsSolutionUsable();
-  result.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  result.initial_cost = summary.initial_cost;
-  result.final_cost = summary.final_cost;
+  result.termination = result.interrupted && summary.iterations.empty()
+                           ? "USER_SUCCESS: interrupted in the base stage"
+                           : terminationOf(summary);
+  result.usable =
+      result.interrupted && summary.iterations.empty() ? true : summary.IsSolutionUsable();
+  result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
+  if (!result.base_stage) result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.iterations.empty() ? result.initial_cost : summary.final_cost;
   result.final_gc = gcError(space.modelAt(result.x), problem, workspace, pool);
   const std::vector<std::string> names = space.freeNames();
   for (int j = 0; j < space.numFree(); ++j) {
@@ -418,8 +632,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
       result.at_bound.push_back(names[j]);
   }
   if (base != nullptr) baseUncertainty(structure, space, problem, *base, with_start, result, pool);
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - clock_start).count();
+  result.seconds = secondsSince(clock_start);
   return result;
 }
 

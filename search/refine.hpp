@@ -16,6 +16,14 @@
 // (sum of masses - total) / (1e-6 total) holds it to about 1e-6 relative at a solution with
 // non-zero GC residuals, and exactly at a zero-residual one.
 //
+// Stages (with base coordinates): the residuals depend on the parameters only through the base
+// parameters beta = P theta, so the problem is first solved in beta (full rank, no curvature from
+// the parameter form, no bounds to stall on). The free parameters are then fitted to that beta
+// within their bounds (the map back: Levenberg-Marquardt continuation from the estimate, the
+// centre of the bounds and a few fixed pseudo-random points, pulled towards the centre with a
+// weight taken to 0; the fit nearest the estimate among the best is kept) and polished in the free
+// parameters (with the gauge). A noise-free start thus reaches the truth's beta even when the
+// search left parameters at a bound, where LM in the free parameters alone stalls.
 // Uncertainty is computed in base-parameter coordinates, never on the rank-deficient parameter set:
 // the dynamics, hence the residuals, depend on the standard parameters theta only through
 // beta = P theta. The residuals are differentiated with respect to beta at the estimate (theta
@@ -51,7 +59,7 @@ struct BaseCoordinates {
 
 struct RefineOptions {
   bool estimate_initial_states = false;
-  int max_iterations = 200;
+  int max_iterations = 200;            // per stage
   double function_tolerance = 1e-16;   // Ceres: relative cost change
   double gradient_tolerance = 1e-20;   // Ceres: max-norm of the projected gradient
   double parameter_tolerance = 1e-14;  // Ceres: relative step size
@@ -61,10 +69,18 @@ struct RefineOptions {
   /// beta unchanged at the start (a gauge), so the solver does not wander along them into the
   /// bounds. The GC residuals depend on beta only, so this changes no beta the solver can reach.
   bool fix_gauge = true;
+  /// With base coordinates: solve first in beta (full rank, and free of the parameter form's
+  /// curvature), map the solution back to the free parameters within their bounds, then polish
+  /// in the free parameters. Without it the free parameters are refined directly.
+  bool base_stage = true;
+  /// Pseudo-random starts (fixed seed) of the map back from beta to the free parameters, besides
+  /// the current estimate and the centre of the bounds.
+  int map_back_starts = 14;
   const std::atomic<bool>* stop = nullptr;  // stops after the current iteration when set
 };
 
 struct RefineIteration {
+  std::string stage;  // "base" (in beta) or "parameters" (in the free parameters)
   int iteration = 0;
   double cost = 0.0;  // Ceres cost 1/2 sum r^2 (with the start and mass residuals)
   double gradient_max_norm = 0.0;
@@ -82,8 +98,18 @@ struct RefineResult {
   Eigen::MatrixXd initial_states;  // 2n x segments: (q; dq) at each start, estimated or measured
   double initial_gc = 0.0;         // GC error (measured starts) at the start and the end
   double final_gc = 0.0;
-  double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs
-  std::vector<RefineIteration> history;
+  double initial_cost = 0.0, final_cost = 0.0;  // Ceres costs, of the first and the last stage
+  std::vector<RefineIteration> history;         // both stages, in order
+  // The base stage (RefineOptions::base_stage): its GC error, iterations and termination, and how
+  // closely the free parameters reproduce its beta after the map back (RMS of the differences
+  // relative to |beta|, see baseParameterError); map_back_used is false when the mapped-back point
+  // predicted worse than the start and the polish started from the start instead.
+  bool base_stage = false;
+  double base_gc = 0.0;
+  int base_iterations = 0;
+  std::string base_termination;
+  double map_back_error = 0.0;
+  bool map_back_used = false;
   std::string termination;  // Ceres termination type and message ("USER_SUCCESS: ..." on stop)
   bool usable = false;      // Ceres's IsSolutionUsable()
   bool interrupted = false;
@@ -106,8 +132,9 @@ struct RefineResult {
 };
 
 /// Refines x0 (numFree() entries, projected onto the bounds first). `base` may be null (no
-/// uncertainty). Throws InputError when the problem's joint count differs from the space's model
-/// or x0 has the wrong size.
+/// uncertainty, no base stage). `termination`, `usable` and `iterations` are the final stage's;
+/// the time budget and the stop flag cover both. Throws InputError when the problem's joint count
+/// differs from the space's model or x0 has the wrong size.
 RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const Eigen::VectorXd& x0, const RefineOptions& options,
                       const BaseCoordinates* base = nullptr);

@@ -104,6 +104,35 @@ TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
   EXPECT_EQ(result.history.front().cost, result.initial_cost);
 }
 
+// A search result with parameters at their bounds and the total mass held (as the paper's NLO
+// leaves it): the base stage reaches the truth's beta and maps it back inside the bounds.
+TEST(Refine, BaseStageReachesTheTruthFromAStartAtTheBounds) {
+  const Model truth = makePuma560();
+  const Model guess = perturbedModel(truth, 0.3, 13);
+  const ParameterSpace space(
+      guess, {.total_mass_constraint = true,
+              .total_mass = truth.standardParameters()(Eigen::seqN(0, 6, 10)).sum()});
+  const GcProblem problem = makeGcProblem(pumaData(2.0), {.num_segments = 10});
+  const BaseCoordinates base = pumaBase(truth);
+  // Every third free parameter at its lower bound, every third at its upper one.
+  Eigen::VectorXd x0 = space.initial();
+  for (int j = 0; j < space.numFree(); ++j)
+    if (j % 3 != 2) x0[j] = j % 3 == 0 ? space.lower()[j] : space.upper()[j];
+  x0 = space.project(x0);
+  const RefineResult result = refineGc(space, problem, x0, {.num_threads = 2}, &base);
+  EXPECT_TRUE(result.base_stage);
+  EXPECT_TRUE(result.map_back_used);
+  // The truth is inside the bounds and on the mass plane, so the map back is exact: 1e-13 measured,
+  // 1e-9 allows for LM stopping at its tolerances on another platform, far below a wrong fit's.
+  EXPECT_LT(result.map_back_error, 1e-9);
+  EXPECT_LT(result.final_gc, 1e-8 * result.initial_gc) << result.termination;
+  const Eigen::VectorXd beta_true = base.projection * truth.standardParameters();
+  EXPECT_LT(baseParameterError(result.beta, beta_true), 1e-6);
+  EXPECT_TRUE(space.feasible(result.x));
+  EXPECT_EQ(result.history.front().stage, "base");
+  EXPECT_EQ(result.history.back().stage, "parameters");
+}
+
 TEST(Refine, EstimatedStartsStayAtExactMeasurements) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
