@@ -60,6 +60,31 @@ BENCHMARK(BM_IdentifyPuma)
     ->ArgNames({"seconds", "drives"})
     ->Unit(benchmark::kMillisecond);
 
+// Scaling with the number of samples (1e3 to 1e6 random states, rigid PUMA): building W (the
+// regressor of every sample) and the base least squares (QR of the base columns, covariance).
+// The structural base parameters are computed once, outside the timing.
+void BM_ObservationAndQr(benchmark::State& state) {
+  const Model model = makePuma560(false);
+  const ParameterLayout layout = model.parameterLayout();
+  const BaseParameters base = computeBaseParameters(
+      observationFromRandomStates(model, 100, 1).W, standardParameterNames(layout), 0.0,
+      defaultPreference(layout.num_links, layout.perLink()));
+  const int samples = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    const Observation observation = observationFromRandomStates(model, samples, 2);
+    benchmark::DoNotOptimize(
+        estimateBaseParameters(base, observation, LeastSquaresMethod::kOrdinary).beta.data());
+  }
+  state.SetItemsProcessed(state.iterations() * samples);
+}
+BENCHMARK(BM_ObservationAndQr)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Arg(100000)
+    ->Arg(1000000)
+    ->ArgName("samples")
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -1,5 +1,6 @@
-// GC-error evaluation on the PUMA 560: 100 segments x 50 RK4 steps (0.05 s at 1 kHz) of a candidate
-// model 30 % off, with 1 and 2 threads. items_per_second counts RK4 steps. Run:
+// GC-error evaluation on the PUMA 560: segments of 50 RK4 steps (0.05 s at 1 kHz) of a candidate
+// model 30 % off, 1 to 10,000 segments, with 1 and 2 threads. items_per_second counts RK4 steps.
+// Run:
 //   build/bench/bench_search --benchmark_repetitions=5 --benchmark_report_aggregates_only
 #include <benchmark/benchmark.h>
 
@@ -35,9 +36,9 @@ void BM_GcError(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(gcError(candidate, problem, workspace, pool));
   state.SetItemsProcessed(state.iterations() * segments * problem.samples_per_segment);
 }
+// Scaling: 1 to 10,000 segments of 50 steps, 1 and 2 threads (docs/PERFORMANCE.md).
 BENCHMARK(BM_GcError)
-    ->Args({100, 1})
-    ->Args({100, 2})
+    ->ArgsProduct({{1, 10, 100, 1000, 10000}, {1, 2}})
     ->ArgNames({"segments", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

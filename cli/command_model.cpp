@@ -8,6 +8,7 @@
 #include "cli/common.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
+#include "data/mjcf.hpp"
 #include "data/model_json.hpp"
 #include "data/urdf.hpp"
 
@@ -84,7 +85,7 @@ int check(const Model& model, bool json) {
 int runModel(const std::vector<std::string>& args) {
   const std::string usage =
       "dynid model show|check|export --robot R [--drives] [--json] "
-      "[--format urdf|json --out FILE]";
+      "[--format urdf|json|mjcf --out FILE]";
   if (args.empty() || (args[0] != "show" && args[0] != "check" && args[0] != "export")) {
     if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
       std::cout << "usage: " << usage
@@ -100,7 +101,8 @@ int runModel(const std::vector<std::string>& args) {
   addRobotOptions(options);
   if (sub == "check") options.add_options()("json", po::bool_switch(), "print JSON");
   if (sub == "export")
-    options.add_options()("format", po::value<std::string>()->required(), "urdf or json")(
+    options.add_options()("format", po::value<std::string>()->required(),
+                          "urdf, json or mjcf (MuJoCo)")(
         "out", po::value<std::string>()->required(), "output file, or - for standard output");
   po::variables_map vm;
   if (!parseCommandLine({args.begin() + 1, args.end()}, options, "dynid model " + sub + " ...", vm))
@@ -108,8 +110,8 @@ int runModel(const std::vector<std::string>& args) {
   std::string format;
   if (sub == "export") {
     format = vm["format"].as<std::string>();
-    if (format != "urdf" && format != "json")
-      throw UsageError("--format must be urdf or json, not '" + format + "'");
+    if (format != "urdf" && format != "json" && format != "mjcf")
+      throw UsageError("--format must be urdf, json or mjcf, not '" + format + "'");
   }
   const Model model = loadRobotFromOptions(vm);
   if (sub == "show") {
@@ -117,7 +119,9 @@ int runModel(const std::vector<std::string>& args) {
     return kExitOk;
   }
   if (sub == "check") return check(model, vm["json"].as<bool>());
-  const std::string text = format == "urdf" ? modelToUrdf(model) : modelToJson(model);
+  const std::string text = format == "urdf"   ? modelToUrdf(model)
+                           : format == "mjcf" ? modelToMjcf(model)
+                                              : modelToJson(model);
   const std::string out = vm["out"].as<std::string>();
   if (out == "-") {
     std::cout << text;

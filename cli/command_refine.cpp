@@ -190,6 +190,7 @@ int runRefine(const std::vector<std::string>& args) {
          {"expression", base.expression(j)},
          {"initial", beta0[j]},
          {"estimate", result.beta[j]},
+         {"base_stage_estimate", numberOrNull(result.base_stage ? result.base_beta[j] : NAN)},
          {"std_dev", sd},
          {"confidence_95", {result.beta[j] - 1.96 * sd, result.beta[j] + 1.96 * sd}},
          {"relative_std_dev_percent",
@@ -284,6 +285,9 @@ int runRefine(const std::vector<std::string>& args) {
     report["initial_base_parameter_error"] = baseParameterError(beta0, beta_true, &initial_max);
     report["final_base_parameter_error"] = baseParameterError(result.beta, beta_true, &final_max);
     report["final_base_parameter_error_max"] = final_max;
+    if (result.base_stage)
+      report["base_stage"]["base_parameter_error"] =
+          baseParameterError(result.base_beta, beta_true);
   }
   if (vm.count("validate")) {
     const std::string file = vm["validate"].as<std::string>();

@@ -59,7 +59,7 @@ Eigen::VectorXd parseJointVector(const std::string& text, const std::string& opt
 
 void addRobotOptions(po::options_description& options) {
   options.add_options()("robot", po::value<std::string>()->required(),
-                        "puma560, a .urdf file or a dynid .json model")(
+                        "puma560, puma560-consistent, a .urdf file or a dynid .json model")(
       "drives", po::bool_switch(), "enable rotor inertia and joint friction")(
       "strict", po::bool_switch(), "treat URDF warnings as errors");
 }

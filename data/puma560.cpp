@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 
@@ -73,6 +75,27 @@ Model makePuma560(bool drives) {
     model.addBody(i - 1, "link" + index, "joint" + index, JointType::kRevolute, Pose<double>(),
                   Eigen::Vector3d::UnitZ(), body_placement, inertia, limits, drive);
   }
+  model.finalize();
+  return model;
+}
+
+Model makePuma560Consistent(bool drives) {
+  Model model = makePuma560(drives);
+  model.name = "puma560-consistent";
+  // Link 1: 1 kg at the origin (on joint 1's axis), isotropic 0.35 kg m^2 (its axis inertia).
+  model.inertias[0].mass = 1.0;
+  model.inertias[0].first_moment.setZero();
+  model.inertias[0].inertia = 0.35 * Eigen::Matrix3d::Identity();
+  // Link 3: the smallest principal inertia about the centre of mass to 0.0215 kg m^2.
+  RigidInertia<double>& link3 = model.inertias[2];
+  const Eigen::Vector3d c = link3.first_moment / link3.mass;
+  const Eigen::Matrix3d shift =
+      link3.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(link3.inertia - shift);
+  Eigen::Vector3d principal = eigen.eigenvalues();  // ascending
+  principal[0] = 0.0215;
+  link3.inertia =
+      eigen.eigenvectors() * principal.asDiagonal() * eigen.eigenvectors().transpose() + shift;
   model.finalize();
   return model;
 }

@@ -15,6 +15,14 @@ namespace dynid {
 /// offset Fo = |G| (Tc+ + Tc-) / 2 (offsets enabled).
 Model makePuma560(bool drives = false);
 
+/// The built-in PUMA 560 made physically consistent, for engines that refuse the original (MuJoCo)
+/// and for comparisons that need a realisable body: link 1 (massless, rank-1 inertia) gets 1 kg at
+/// its origin, which lies on joint 1's axis, and the isotropic inertia 0.35 kg m^2, so every joint
+/// torque is unchanged; link 3 (0.066 + 0.0125 < 0.086, the triangle inequality fails) gets its
+/// smallest principal inertia about the centre of mass raised from 0.0125 to 0.0215 kg m^2, which
+/// does change its dynamics. Named "puma560-consistent".
+Model makePuma560Consistent(bool drives = false);
+
 /// Named poses [rad]: "qz" (zero), "qr" (ready), "qs" (stretch), "qn" (nominal). Throws InputError
 /// for any other name.
 Eigen::VectorXd puma560Pose(const std::string& name);

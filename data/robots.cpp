@@ -18,6 +18,7 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 Model loadRobot(const std::string& spec, const RobotOptions& options,
                 std::vector<std::string>* warnings) {
   if (spec == "puma560") return makePuma560(options.drives);
+  if (spec == "puma560-consistent") return makePuma560Consistent(options.drives);
   if (endsWith(spec, ".urdf") || endsWith(spec, ".xml"))
     return loadUrdf(spec, {options.drives, options.strict}, warnings);
   if (endsWith(spec, ".json")) {
@@ -29,7 +30,7 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
     return model;
   }
   throw InputError("unknown robot '" + spec +
-                   "': expected puma560, a .urdf file or a dynid .json model");
+                   "': expected puma560, puma560-consistent, a .urdf file or a dynid .json model");
 }
 
 }  // namespace dynid

@@ -14,9 +14,10 @@ struct RobotOptions {
   bool strict = false;  // URDF warnings become errors
 };
 
-/// "puma560" (built in), a path ending in .urdf, or a path ending in .json (modelToJson format).
-/// Throws InputError for anything else, ParseError for a malformed file. For a JSON model, `drives`
-/// enables its drives if the file has them disabled (never disables them).
+/// "puma560" or "puma560-consistent" (built in, data/puma560.hpp), a path ending in .urdf, or a
+/// path ending in .json (modelToJson format). Throws InputError for anything else, ParseError for a
+/// malformed file. For a JSON model, `drives` enables its drives if the file has them disabled
+/// (never disables them).
 Model loadRobot(const std::string& spec, const RobotOptions& options = {},
                 std::vector<std::string>* warnings = nullptr);
 

@@ -9,24 +9,33 @@
 #include <Eigen/SVD>
 
 #include "core/errors.hpp"
+#include "identifiability/tall_qr.hpp"
 
 namespace dynid {
 
 namespace {
+/// R of A D^-1 (D = diag(norms), a zero norm taken as 1), streamed through TallQr in row blocks.
+Eigen::MatrixXd scaledTriangularFactor(const Eigen::MatrixXd& A, const Eigen::VectorXd& norms) {
+  Eigen::VectorXd inverse(norms.size());
+  for (Eigen::Index j = 0; j < norms.size(); ++j)
+    inverse[j] = norms[j] > 0.0 ? 1.0 / norms[j] : 1.0;
+  constexpr Eigen::Index kBlock = 1024;
+  TallQr factor(A.cols(), kBlock);
+  for (Eigen::Index start = 0; start < A.rows(); start += kBlock) {
+    const Eigen::Index k = std::min(kBlock, A.rows() - start);
+    factor.add(A.middleRows(start, k) * inverse.asDiagonal());
+  }
+  return factor.r();
+}
+
 /// |R_jj| of the Householder QR (no pivoting) of W with unit-norm columns; norms returned too.
 Eigen::VectorXd scaledRDiagonal(const Eigen::MatrixXd& W, Eigen::VectorXd* norms) {
-  const Eigen::Index p = W.cols();
   *norms = W.colwise().norm().transpose();
-  Eigen::MatrixXd scaled = W;
-  for (Eigen::Index j = 0; j < p; ++j)
-    if ((*norms)[j] > 0.0) scaled.col(j) /= (*norms)[j];
-  Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(scaled);
-  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(p);
-  const Eigen::Index m = std::min(W.rows(), p);
-  for (Eigen::Index j = 0; j < m; ++j) diagonal[j] = std::abs(qr.matrixQR()(j, j));
-  for (Eigen::Index j = 0; j < p; ++j)
-    if ((*norms)[j] == 0.0) diagonal[j] = 0.0;
-  return diagonal;
+  const Eigen::VectorXd diagonal = scaledTriangularFactor(W, *norms).diagonal().cwiseAbs();
+  Eigen::VectorXd out = diagonal;
+  for (Eigen::Index j = 0; j < W.cols(); ++j)
+    if ((*norms)[j] == 0.0) out[j] = 0.0;
+  return out;
 }
 
 /// 1e-8 (about sqrt(machine epsilon)) of the largest |R_jj|. Dependent columns of an unpivoted QR
@@ -233,9 +242,13 @@ BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
 }
 
 Excitation measureExcitation(const Eigen::MatrixXd& base_regressor) {
-  Excitation out;
   Eigen::VectorXd norms;
-  out.r_diagonal = scaledRDiagonal(base_regressor, &norms);
+  return excitationFromRDiagonal(scaledRDiagonal(base_regressor, &norms));
+}
+
+Excitation excitationFromRDiagonal(const Eigen::VectorXd& r_diagonal) {
+  Excitation out;
+  out.r_diagonal = r_diagonal;
   out.tolerance = defaultTolerance(out.r_diagonal);
   for (Eigen::Index j = 0; j < out.r_diagonal.size(); ++j) {
     if (out.r_diagonal[j] > out.tolerance)
@@ -250,18 +263,14 @@ Excitation measureExcitation(const Eigen::MatrixXd& base_regressor) {
 
 namespace dynid {
 double scaledConditionNumber(const Eigen::MatrixXd& A) {
-  Eigen::MatrixXd scaled = A;
-  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    const double norm = A.col(j).norm();
-    if (norm > 0.0) scaled.col(j) /= norm;
-  }
+  const Eigen::VectorXd norms = A.colwise().norm().transpose();
+  for (Eigen::Index j = 0; j < norms.size(); ++j)
+    if (norms[j] == 0.0) return std::numeric_limits<double>::infinity();
   // Singular values of the small R factor equal those of A.
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(scaled);
-  const Eigen::Index b = A.cols();
-  const Eigen::MatrixXd R =
-      qr.matrixQR().topRows(std::min(A.rows(), b)).triangularView<Eigen::Upper>();
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
-  if (s.size() < b || s[s.size() - 1] == 0.0) return std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd s =
+      Eigen::JacobiSVD<Eigen::MatrixXd>(scaledTriangularFactor(A, norms)).singularValues();
+  if (A.rows() < A.cols() || s.size() == 0 || s[s.size() - 1] == 0.0)
+    return std::numeric_limits<double>::infinity();
   return s[0] / s[s.size() - 1];
 }
 }  // namespace dynid

@@ -94,6 +94,9 @@ struct Excitation {
   std::vector<int> unexcited;  // base parameters (indices) with |R_jj| <= tolerance
 };
 Excitation measureExcitation(const Eigen::MatrixXd& base_regressor);
+/// The same from |R_jj| already computed (e.g. by a least-squares solve of the same scaled
+/// columns).
+Excitation excitationFromRDiagonal(const Eigen::VectorXd& r_diagonal);
 
 }  // namespace dynid
 

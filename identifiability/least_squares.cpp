@@ -4,8 +4,10 @@
 #include <limits>
 
 #include <Eigen/QR>
+#include <Eigen/SVD>
 
 #include "core/errors.hpp"
+#include "identifiability/tall_qr.hpp"
 
 namespace dynid {
 
@@ -32,34 +34,83 @@ struct Solution {
   Eigen::VectorXd beta, residual;
   Eigen::MatrixXd covariance_unit;  // (A^T A)^-1 in physical units for the weighted system
   double condition_number;
+  Eigen::VectorXd r_diagonal;  // |R_jj| of the column-scaled A (unpivoted QR)
 };
 
-/// Solves diag(w) W1 beta = diag(w) tau, with w the per-joint row weights.
-Solution solveWeighted(const Eigen::MatrixXd& W1, const Eigen::VectorXd& tau,
-                       const Eigen::VectorXd& joint_weight) {
-  const Eigen::Index rows = W1.rows(), b = W1.cols();
+constexpr Eigen::Index kBlockRows = 1024;
+
+/// Rows [start, start + k) of W1 = W(:, columns), contiguous.
+Eigen::MatrixXd baseBlock(const Eigen::MatrixXd& W, const std::vector<int>& columns,
+                          Eigen::Index start, Eigen::Index k) {
+  Eigen::MatrixXd block(k, static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t j = 0; j < columns.size(); ++j)
+    block.col(static_cast<Eigen::Index>(j)) = W.col(columns[j]).segment(start, k);
+  return block;
+}
+
+/// Solves diag(w) W1 beta = diag(w) tau, with w the per-joint row weights and W1 = W(:, columns),
+/// streaming W's rows: column norms, then the triangular factor of [A D^-1 | y] (unit-norm columns
+/// for accuracy, A = diag(w) W1, y = diag(w) tau) by TallQr, then the residual. Memory O(b^2)
+/// beyond W, time linear in the rows.
+Solution solveWeighted(const Eigen::MatrixXd& W, const std::vector<int>& columns,
+                       const Eigen::VectorXd& tau, const Eigen::VectorXd& joint_weight) {
+  const Eigen::Index rows = W.rows(), b = static_cast<Eigen::Index>(columns.size());
   const int n = static_cast<int>(joint_weight.size());
-  Eigen::MatrixXd A = W1;
-  Eigen::VectorXd y = tau;
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    A.row(r) *= joint_weight[r % n];
-    y[r] *= joint_weight[r % n];
+  const auto weighted = [&](Eigen::Index start, Eigen::Index k, Eigen::MatrixXd& block,
+                            Eigen::VectorXd& y) {
+    block = baseBlock(W, columns, start, k);
+    y = tau.segment(start, k);
+    for (Eigen::Index r = 0; r < k; ++r) {
+      const double w = joint_weight[(start + r) % n];
+      block.row(r) *= w;
+      y[r] *= w;
+    }
+  };
+  Eigen::MatrixXd block;
+  Eigen::VectorXd y;
+  Eigen::VectorXd squared = Eigen::VectorXd::Zero(b);
+  for (Eigen::Index start = 0; start < rows; start += kBlockRows) {
+    weighted(start, std::min(kBlockRows, rows - start), block, y);
+    squared += block.colwise().squaredNorm().transpose();
   }
-  // Unit-norm columns for accuracy: A = As D.
-  const Eigen::VectorXd norms = A.colwise().norm().transpose();
-  for (Eigen::Index j = 0; j < b; ++j) A.col(j) /= norms[j];
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
+  Eigen::VectorXd norms = squared.cwiseSqrt();
+  for (Eigen::Index j = 0; j < b; ++j)
+    if (norms[j] == 0.0) norms[j] = 1.0;  // an unexcited column: R_jj = 0 says so
+  TallQr factor(b + 1, kBlockRows);
+  Eigen::MatrixXd augmented;
+  for (Eigen::Index start = 0; start < rows; start += kBlockRows) {
+    const Eigen::Index k = std::min(kBlockRows, rows - start);
+    weighted(start, k, block, y);
+    augmented.resize(k, b + 1);
+    augmented.leftCols(b) = block * norms.cwiseInverse().asDiagonal();
+    augmented.col(b) = y;
+    factor.add(augmented);
+  }
+  const Eigen::MatrixXd R_augmented = factor.r();
+  const Eigen::MatrixXd R = R_augmented.topLeftCorner(b, b);
   Solution out;
-  out.beta = qr.solve(y).cwiseQuotient(norms);
-  out.residual = tau - W1 * out.beta;
+  out.r_diagonal = R.diagonal().cwiseAbs();
+  for (Eigen::Index j = 0; j < b; ++j)
+    if (squared[j] == 0.0) out.r_diagonal[j] = 0.0;
+  out.beta =
+      R.triangularView<Eigen::Upper>().solve(R_augmented.col(b).head(b)).cwiseQuotient(norms);
+  out.residual.resize(rows);
+  for (Eigen::Index start = 0; start < rows; start += kBlockRows) {
+    const Eigen::Index k = std::min(kBlockRows, rows - start);
+    out.residual.segment(start, k) =
+        tau.segment(start, k) - baseBlock(W, columns, start, k) * out.beta;
+  }
   // (As^T As)^-1 = R^-1 R^-T, unscaled by D^-1 on both sides.
   const Eigen::MatrixXd R_inverse =
       R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
   const Eigen::VectorXd inv_norms = norms.cwiseInverse();
   out.covariance_unit =
       inv_norms.asDiagonal() * (R_inverse * R_inverse.transpose()) * inv_norms.asDiagonal();
-  out.condition_number = scaledConditionNumber(A);
+  // Singular values of R equal those of the column-scaled A.
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+  out.condition_number = s.size() == 0 || s[s.size() - 1] == 0.0
+                             ? std::numeric_limits<double>::infinity()
+                             : s[0] / s[s.size() - 1];
   return out;
 }
 
@@ -68,11 +119,16 @@ Solution solveWeighted(const Eigen::MatrixXd& W1, const Eigen::VectorXd& tau,
 BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observation& observation,
                                     LeastSquaresMethod method) {
   const int n = observation.num_joints, b = base.numBase();
-  const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
-  if (W1.rows() < b)
-    throw InputError("the data has " + std::to_string(W1.rows()) + " torque rows, fewer than the " +
+  const Eigen::MatrixXd& W = observation.W;
+  if (W.cols() != base.numStandard())
+    throw InputError("observation matrix has " + std::to_string(W.cols()) + " columns, expected " +
+                     std::to_string(base.numStandard()));
+  if (W.rows() < b)
+    throw InputError("the data has " + std::to_string(W.rows()) + " torque rows, fewer than the " +
                      std::to_string(b) + " base parameters");
-  const Excitation excitation = measureExcitation(W1);
+  // OLS first: its factor measures the excitation, its residuals give the per-joint noise (WLS).
+  Solution ols = solveWeighted(W, base.independent, observation.tau, Eigen::VectorXd::Ones(n));
+  const Excitation excitation = excitationFromRDiagonal(ols.r_diagonal);
   if (!excitation.unexcited.empty()) {
     std::string names;
     for (int j : excitation.unexcited) names += (names.empty() ? "" : ", ") + base.baseName(j);
@@ -84,8 +140,6 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
   BaseEstimate out;
   out.method = method;
   out.num_samples = observation.num_samples;
-  // OLS first: its residuals give the per-joint noise for WLS.
-  Solution ols = solveWeighted(W1, observation.tau, Eigen::VectorXd::Ones(n));
   const double dof_per_joint =
       static_cast<double>(observation.num_samples) - static_cast<double>(b) / n;
   const Eigen::VectorXd rms = jointRms(ols.residual, n);
@@ -94,7 +148,7 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
   Solution chosen;
   if (method == LeastSquaresMethod::kOrdinary) {
     const double sigma2 =
-        ols.residual.squaredNorm() / std::max(static_cast<double>(W1.rows() - b), 1.0);
+        ols.residual.squaredNorm() / std::max(static_cast<double>(W.rows() - b), 1.0);
     chosen = std::move(ols);
     out.covariance = sigma2 * chosen.covariance_unit;
   } else {
@@ -102,7 +156,7 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
     Eigen::VectorXd sigma = out.joint_sigma;
     const double floor = 1e-15 * (1.0 + observation.tau.cwiseAbs().maxCoeff());
     for (Eigen::Index j = 0; j < n; ++j) sigma[j] = std::max(sigma[j], floor);
-    chosen = solveWeighted(W1, observation.tau, sigma.cwiseInverse());
+    chosen = solveWeighted(W, base.independent, observation.tau, sigma.cwiseInverse());
     out.covariance = chosen.covariance_unit;
   }
   out.beta = chosen.beta;
@@ -123,7 +177,13 @@ Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorX
   if (beta.size() != base.numBase())
     throw InputError("base estimate has " + std::to_string(beta.size()) + " entries, expected " +
                      std::to_string(base.numBase()));
-  const Eigen::VectorXd residual = observation.tau - base.baseRegressor(observation.W) * beta;
+  if (observation.W.cols() != base.numStandard())
+    throw InputError("observation matrix has " + std::to_string(observation.W.cols()) +
+                     " columns, expected " + std::to_string(base.numStandard()));
+  // tau - W1 beta as tau - W theta1, theta1 = beta at the independent columns (no copy of W1).
+  Eigen::VectorXd theta1 = Eigen::VectorXd::Zero(base.numStandard());
+  for (int j = 0; j < base.numBase(); ++j) theta1[base.independent[j]] = beta[j];
+  const Eigen::VectorXd residual = observation.tau - observation.W * theta1;
   Validation out;
   out.num_samples = observation.num_samples;
   out.torque_rms = jointRms(residual, n);

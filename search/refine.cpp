@@ -436,6 +436,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &beta_problem, &summary);
   result.base_stage = true;
+  result.base_beta = beta;
   result.base_termination = terminationOf(summary);
   result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
   result.initial_cost = summary.initial_cost;

@@ -105,6 +105,7 @@ struct RefineResult {
   // relative to |beta|, see baseParameterError); map_back_used is false when the mapped-back point
   // predicted worse than the start and the polish started from the start instead.
   bool base_stage = false;
+  Eigen::VectorXd base_beta;  // the base stage's solution (unconstrained by the parameter form)
   double base_gc = 0.0;
   int base_iterations = 0;
   std::string base_termination;

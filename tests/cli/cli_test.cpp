@@ -303,7 +303,13 @@ TEST(Cli, RefineFromASearchAndFromAnEstimate) {
   EXPECT_EQ(j["base_parameters"]["values"].size(), 36u);
   EXPECT_EQ(j["base_parameters"]["covariance"].size(), 36u);
   EXPECT_FALSE(j["identifiability"]["free_directions"].empty());
-  EXPECT_EQ(j["cost_history"].size(), j["iterations"].get<std::size_t>() + 1);
+  // Both stages' iterations (0 .. N each) are in the history, base coordinates first.
+  EXPECT_TRUE(j["base_stage"]["run"].get<bool>());
+  EXPECT_EQ(j["cost_history"].size(), j["base_stage"]["iterations"].get<std::size_t>() + 1 +
+                                          j["iterations"].get<std::size_t>() + 1);
+  EXPECT_EQ(j["cost_history"].front()["stage"], "base");
+  EXPECT_EQ(j["cost_history"].back()["stage"], "parameters");
+  EXPECT_TRUE(j["base_stage"].contains("base_parameter_error"));
   // From an identify estimate (physically consistent), estimating the starts too.
   const std::string estimate = test::tempPath("pc_estimate");
   const Result pc =

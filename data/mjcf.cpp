@@ -1,0 +1,113 @@
+#include "data/mjcf.hpp"
+
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "data/io.hpp"
+
+namespace dynid {
+
+namespace {
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string numbers(std::initializer_list<double> values) {
+  std::string out;
+  for (double v : values) {
+    if (!out.empty()) out += ' ';
+    out += formatDouble(v);
+  }
+  return out;
+}
+
+void writeBody(const Model& model, const std::vector<std::vector<int>>& children, int i, int depth,
+               std::ostringstream& out) {
+  const std::string indent(2 * depth, ' ');
+  const Pose<double>& placement = model.frame_placements[i];
+  const Eigen::Quaterniond quat(placement.rotation);
+  const Eigen::Vector3d& p = placement.translation;
+  out << indent << "<body name=\"" << escape(model.link_names[i]) << "\" pos=\""
+      << numbers({p.x(), p.y(), p.z()}) << "\" quat=\""
+      << numbers({quat.w(), quat.x(), quat.y(), quat.z()}) << "\">\n";
+  const Eigen::Vector3d& a = model.axes[i];
+  out << indent << "  <joint name=\"" << escape(model.joint_names[i]) << "\" type=\""
+      << (model.joint_types[i] == JointType::kPrismatic ? "slide" : "hinge")
+      << "\" pos=\"0 0 0\" axis=\"" << numbers({a.x(), a.y(), a.z()})
+      << "\" limited=\"false\" damping=\"0\" armature=\"0\"/>\n";
+  // Inertia in the joint frame, about the centre of mass.
+  const RigidInertia<double>& inertia = model.frame_inertias[i];
+  const double m = inertia.mass;
+  const Eigen::Vector3d c =
+      m != 0.0 ? Eigen::Vector3d(inertia.first_moment / m) : Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d Ic =
+      inertia.inertia - m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  out << indent << "  <inertial pos=\"" << numbers({c.x(), c.y(), c.z()}) << "\" mass=\""
+      << formatDouble(m) << "\" fullinertia=\""
+      << numbers({Ic(0, 0), Ic(1, 1), Ic(2, 2), Ic(0, 1), Ic(0, 2), Ic(1, 2)}) << "\"/>\n";
+  for (int child : children[i]) writeBody(model, children, child, depth + 1, out);
+  out << indent << "</body>\n";
+}
+
+/// Each body's children and the roots, in dynid order.
+std::pair<std::vector<std::vector<int>>, std::vector<int>> tree(const Model& model) {
+  std::vector<std::vector<int>> children(model.numJoints());
+  std::vector<int> roots;
+  for (int i = 0; i < model.numJoints(); ++i)
+    (model.parents[i] < 0 ? roots : children[model.parents[i]]).push_back(i);
+  return {children, roots};
+}
+
+void depthFirst(const std::vector<std::vector<int>>& children, int i, std::vector<int>& order) {
+  order.push_back(i);
+  for (int child : children[i]) depthFirst(children, child, order);
+}
+
+}  // namespace
+
+std::vector<int> mjcfJointOrder(const Model& model) {
+  const auto [children, roots] = tree(model);
+  std::vector<int> order;
+  for (int root : roots) depthFirst(children, root, order);
+  return order;
+}
+
+std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
+  const auto [children, roots] = tree(model);
+  std::ostringstream out;
+  const Eigen::Vector3d& g = model.gravity;
+  out << "<mujoco model=\"" << escape(model.name) << "\">\n"
+      << "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or drives -->\n"
+      << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+      << "  <option timestep=\"" << formatDouble(options.timestep) << "\" integrator=\""
+      << escape(options.integrator) << "\" gravity=\"" << numbers({g.x(), g.y(), g.z()}) << "\">\n"
+      << "    <flag contact=\"disable\"/>\n"
+      << "  </option>\n"
+      << "  <worldbody>\n";
+  for (int root : roots) writeBody(model, children, root, 2, out);
+  out << "  </worldbody>\n</mujoco>\n";
+  return out.str();
+}
+
+}  // namespace dynid
