@@ -16,23 +16,6 @@ namespace dynid::cli {
 
 namespace {
 
-/// Distinct default frequencies, one per joint: 0.15, 0.22, 0.29, ... Hz.
-Eigen::VectorXd defaultFrequencies(int n) {
-  Eigen::VectorXd f(n);
-  for (int i = 0; i < n; ++i) f[i] = 0.15 + 0.07 * i;
-  return f;
-}
-
-/// Midpoint of finite limits, else 0.
-Eigen::VectorXd defaultCentre(const Model& model) {
-  Eigen::VectorXd q0(model.numJoints());
-  for (int i = 0; i < model.numJoints(); ++i) {
-    const JointLimits& l = model.limits[i];
-    q0[i] = std::isfinite(l.lower) && std::isfinite(l.upper) ? 0.5 * (l.lower + l.upper) : 0.0;
-  }
-  return q0;
-}
-
 /// Seeded Fourier coefficients, scaled so each joint's excursion bound sum (|a|+|b|)/(w k) equals
 /// its amplitude.
 FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,

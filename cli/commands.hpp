@@ -14,5 +14,6 @@ int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);
 int runRefine(const std::vector<std::string>& args);
+int runDemo(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

@@ -9,6 +9,21 @@
 
 namespace dynid {
 
+Eigen::VectorXd defaultFrequencies(int n) {
+  Eigen::VectorXd f(n);
+  for (int i = 0; i < n; ++i) f[i] = 0.15 + 0.07 * i;
+  return f;
+}
+
+Eigen::VectorXd defaultCentre(const Model& model) {
+  Eigen::VectorXd q0(model.numJoints());
+  for (int i = 0; i < model.numJoints(); ++i) {
+    const JointLimits& l = model.limits[i];
+    q0[i] = std::isfinite(l.lower) && std::isfinite(l.upper) ? 0.5 * (l.lower + l.upper) : 0.0;
+  }
+  return q0;
+}
+
 namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 

@@ -29,6 +29,11 @@ struct FourierReference {
 
 using Reference = std::variant<SinusoidalReference, FourierReference>;
 
+/// The default sinusoid frequencies of `dynid simulate`: 0.15 + 0.07 i Hz for joint i = 0..n-1.
+Eigen::VectorXd defaultFrequencies(int n);
+/// The midpoint of each joint's finite limits, else 0: the default centre of a reference.
+Eigen::VectorXd defaultCentre(const Model& model);
+
 /// Desired position, velocity and acceleration at time t [s]; each output gets n entries.
 /// Throws InputError when the reference's vectors disagree in size.
 void evaluateReference(const Reference& reference, double t, Eigen::VectorXd& q,

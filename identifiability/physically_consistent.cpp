@@ -58,6 +58,11 @@ struct PhysicalFunctor {
                            problem.drive_scales[drive * i + k];
         }
     }
+    // An overflowing exp (a step far out in log-Cholesky coordinates) is an evaluation failure:
+    // Ceres rejects the step and shrinks its trust region.
+    using std::isfinite;
+    for (int j = 0; j < b; ++j)
+      if (!isfinite(residuals[j])) return false;
     return true;
   }
 };
@@ -206,33 +211,26 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   const ParameterLayout& layout = problem.layout;
   const int per = layout.perLink(), drive = per - kLinkParameterCount;
 
-  // Start: OLS lifted with the prior, each inconsistent link moved to the nearest consistent one.
-  Eigen::VectorXd start = base.standardFromBase(out.ols.beta, prior);
-  for (int i = 0; i < layout.num_links; ++i) {
-    const Eigen::Matrix<double, 10, 1> link = start.segment<10>(i * per);
-    // Inside the consistent set by a margin (1e-2 of the normalised pseudo-inertia), where the
-    // log-Cholesky coordinates are well conditioned.
-    const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-2);
-    if (fixed != link) out.inconsistent_links.push_back(i);
-    start.segment<10>(i * per) = fixed;
-    for (int k = 0; k < std::min(drive, 3); ++k)
-      start[i * per + kLinkParameterCount + k] =
-          std::max(start[i * per + kLinkParameterCount + k], 0.0);
-  }
-  out.start_theta = start;
-  Eigen::VectorXd x = physicalBlocksFromStandard(layout, start);
-
-  // One residual block over every parameter block; drive Ia, Fv, Fc >= 0.
-  ceres::Problem solver_problem;
-  std::vector<double*> pointers;
-  {
-    int offset = 0;
-    for (int size : problem.blockSizes()) pointers.push_back(x.data() + offset), offset += size;
-  }
-  solver_problem.AddResidualBlock(makePhysicalCost(problem).release(), nullptr, pointers);
-  for (int i = 0; i < layout.num_links && layout.drives; ++i)
-    for (int k = 0; k < 3; ++k)
-      solver_problem.SetParameterLowerBound(pointers[layout.num_links + i], k, 0.0);
+  // Starts, each link moved inside the consistent set by a margin (1e-2 of the normalised
+  // pseudo-inertia, where the log-Cholesky coordinates are well conditioned) and Ia, Fv, Fc >= 0:
+  // OLS lifted with the prior's dependent parameters, and the prior itself. A lift whose dependent
+  // parameters are far off can land where Levenberg-Marquardt stalls, so both are solved and the
+  // lower cost is kept.
+  const auto consistentStart = [&](Eigen::VectorXd theta, std::vector<int>* moved) {
+    for (int i = 0; i < layout.num_links; ++i) {
+      const Eigen::Matrix<double, 10, 1> link = theta.segment<10>(i * per);
+      const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-2);
+      if (moved != nullptr && fixed != link) moved->push_back(i);
+      theta.segment<10>(i * per) = fixed;
+      for (int k = 0; k < std::min(drive, 3); ++k)
+        theta[i * per + kLinkParameterCount + k] =
+            std::max(theta[i * per + kLinkParameterCount + k], 0.0);
+    }
+    return theta;
+  };
+  const std::vector<Eigen::VectorXd> starts = {
+      consistentStart(base.standardFromBase(out.ols.beta, prior), &out.inconsistent_links),
+      consistentStart(prior, nullptr)};
 
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_QR;
@@ -242,14 +240,35 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   solver.parameter_tolerance = 1e-14;
   solver.num_threads = std::max(options.num_threads, 1);
   solver.logging_type = ceres::SILENT;
-  std::unique_ptr<IterateCallback> callback;
-  if (options.on_iterate) {
-    callback = std::make_unique<IterateCallback>(layout, x, options.on_iterate);
-    solver.update_state_every_iteration = true;
-    solver.callbacks.push_back(callback.get());
-  }
+  Eigen::VectorXd x;
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &solver_problem, &summary);
+  for (const Eigen::VectorXd& start : starts) {
+    Eigen::VectorXd y = physicalBlocksFromStandard(layout, start);
+    // One residual block over every parameter block; drive Ia, Fv, Fc >= 0.
+    ceres::Problem solver_problem;
+    std::vector<double*> pointers;
+    int offset = 0;
+    for (int size : problem.blockSizes()) pointers.push_back(y.data() + offset), offset += size;
+    solver_problem.AddResidualBlock(makePhysicalCost(problem).release(), nullptr, pointers);
+    for (int i = 0; i < layout.num_links && layout.drives; ++i)
+      for (int k = 0; k < 3; ++k)
+        solver_problem.SetParameterLowerBound(pointers[layout.num_links + i], k, 0.0);
+    ceres::Solver::Options this_solver = solver;
+    std::unique_ptr<IterateCallback> callback;
+    if (options.on_iterate) {
+      callback = std::make_unique<IterateCallback>(layout, y, options.on_iterate);
+      this_solver.update_state_every_iteration = true;
+      this_solver.callbacks.push_back(callback.get());
+    }
+    ceres::Solver::Summary this_summary;
+    ceres::Solve(this_solver, &solver_problem, &this_summary);
+    if (x.size() == 0 || (this_summary.IsSolutionUsable() &&
+                          (!summary.IsSolutionUsable() || this_summary.final_cost < summary.final_cost))) {
+      x = y;
+      summary = this_summary;
+      out.start_theta = start;
+    }
+  }
 
   out.theta = standardFromPhysicalBlocks(layout, x);
   out.beta = base.project(out.theta);

@@ -1,0 +1,57 @@
+// The main job, `dynid demo`: the paper's study on the built-in PUMA 560 end to end. Simulate
+// training and held-out data, find the base parameters, identify them by least squares (OLS, WLS,
+// physically consistent), search the GC error (NLO, GA, hybrid), refine the NLO and GA results,
+// and measure every estimate in the same coordinates (comparison.hpp).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "analysis/comparison.hpp"
+
+namespace dynid {
+
+struct DemoOptions {
+  bool quick = false;         // 2 s of data, 20 segments, 2 s searches (the tests' mode)
+  std::uint64_t seed = 1;     // the initial guess's perturbation and the searches
+  int threads = 0;            // 0: all cores
+  double search_seconds = 0;  // per search; 0: 30 s (2 s quick)
+  const std::atomic<bool>* stop = nullptr;  // set (SIGINT): finish the current stage, skip the rest
+  std::function<void(const std::string&)> progress;  // one line per stage
+};
+
+struct DemoSettings {
+  std::string robot;
+  double train_seconds = 0.0, test_seconds = 0.0;
+  int segments = 0;
+  double horizon = 0.0;
+  double perturb = 0.0;  // the initial guess: every parameter times (1 + U(-perturb, perturb))
+  double search_seconds = 0.0;
+  int refine_iterations = 0;
+  std::uint64_t seed = 1;
+  int threads = 1;
+  bool quick = false;
+};
+
+struct DemoIdentifiability {
+  int num_standard = 0, num_base = 0;
+  std::vector<std::string> base_names, base_expressions;
+  std::vector<std::string> unidentifiable;  // standard parameters in no base parameter
+  double condition_number = 0.0;            // of the training base regressor, unit columns
+};
+
+struct DemoResult {
+  DemoSettings settings;
+  DemoIdentifiability identifiability;
+  std::vector<MethodMetrics> methods;  // in the order ols, wls, pc, nlo, ga, hybrid, refined
+  bool interrupted = false;
+  double seconds = 0.0;
+};
+
+/// Runs the demo. Throws what its stages throw (InputError, NumericalError).
+DemoResult runDemo(const DemoOptions& options);
+
+}  // namespace dynid

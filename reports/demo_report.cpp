@@ -1,0 +1,266 @@
+#include "reports/demo_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace dynid {
+
+namespace {
+
+using nlohmann::json;
+
+json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+/// Three significant digits, as every table prints them.
+std::string g3(double x) {
+  if (!std::isfinite(x)) return "n/a";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
+  return buffer;
+}
+
+const char* describe(const std::string& key) {
+  if (key == "ols") return "ordinary least squares on the torques";
+  if (key == "wls") return "weighted least squares (per-joint noise)";
+  if (key == "pc") return "physically consistent least squares (log-Cholesky)";
+  if (key == "nlo") return "GC-error search: multistart COBYLA";
+  if (key == "ga") return "GC-error search: genetic algorithm";
+  if (key == "hybrid") return "GC-error search: GA, then COBYLA";
+  if (key == "nlo_refined") return "NLO result refined by Ceres";
+  if (key == "ga_refined") return "GA result refined by Ceres";
+  return "";
+}
+
+const MethodMetrics* find(const DemoResult& result, const std::string& key) {
+  for (const MethodMetrics& m : result.methods)
+    if (m.key == key) return &m;
+  return nullptr;
+}
+
+struct Column {
+  const char* header;
+  std::string (*format)(const MethodMetrics&);
+};
+
+const Column kColumns[] = {
+    {"GC initial", [](const MethodMetrics& m) { return g3(m.gc_error_initial); }},
+    {"GC train", [](const MethodMetrics& m) { return g3(m.gc_error_train); }},
+    {"GC test", [](const MethodMetrics& m) { return g3(m.gc_error_test); }},
+    {"torque RMS test [N m]", [](const MethodMetrics& m) { return g3(m.torque_rms_test); }},
+    {"param error", [](const MethodMetrics& m) { return g3(m.param_error); }},
+    {"base param error", [](const MethodMetrics& m) { return g3(m.base_param_error); }},
+    {"evaluations", [](const MethodMetrics& m) { return std::to_string(m.evaluations); }},
+    {"seconds", [](const MethodMetrics& m) { return g3(m.seconds); }},
+};
+
+/// What the table shows, in sentences computed from it.
+std::vector<std::string> conclusions(const DemoResult& result) {
+  std::vector<std::string> out;
+  if (const MethodMetrics* ols = find(result, "ols"))
+    out.push_back("Least squares on the torques recovers the " +
+                  std::to_string(result.identifiability.num_base) +
+                  " base parameters to a relative error of " + g3(ols->base_param_error) +
+                  " in " + g3(ols->seconds) + " s; its 7-parameter error, " +
+                  g3(ols->param_error) +
+                  ", is that of the initial guess's unidentifiable parameters, which the data "
+                  "cannot correct.");
+  for (const char* key : {"nlo", "ga", "hybrid"})
+    if (const MethodMetrics* m = find(result, key))
+      out.push_back(std::string(key) + " cuts the training GC error " +
+                    g3(m->gc_error_initial / m->gc_error_train) + "x (" +
+                    g3(m->gc_error_initial) + " to " + g3(m->gc_error_train) + ") in " +
+                    std::to_string(m->evaluations) + " evaluations, with a base-parameter error of " +
+                    g3(m->base_param_error) + " and a 7-parameter error of " +
+                    g3(m->param_error) + ".");
+  for (const char* key : {"nlo_refined", "ga_refined"})
+    if (const MethodMetrics* m = find(result, key))
+      out.push_back(std::string(key) + ": refinement takes the GC error to " +
+                    g3(m->gc_error_train) + " and the base-parameter error to " +
+                    g3(m->base_param_error) + ", while the 7-parameter error stays at " +
+                    g3(m->param_error) +
+                    ": a lower prediction error does not give lower parameter errors, because "
+                    "the GC error depends on the base parameters only (the paper's finding).");
+  return out;
+}
+
+std::string escapeHtml(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else
+      out += c;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string demoSummaryJson(const DemoResult& result) {
+  json methods = json::object();
+  json order = json::array();
+  for (const MethodMetrics& m : result.methods) {
+    order.push_back(m.key);
+    methods[m.key] = {{"gc_error_initial", number(m.gc_error_initial)},
+                      {"gc_error_train", number(m.gc_error_train)},
+                      {"gc_error_test", number(m.gc_error_test)},
+                      {"torque_rms_test", number(m.torque_rms_test)},
+                      {"param_error", number(m.param_error)},
+                      {"base_param_error", number(m.base_param_error)},
+                      {"evaluations", m.evaluations},
+                      {"seconds", number(m.seconds)}};
+  }
+  const DemoSettings& s = result.settings;
+  const DemoIdentifiability& id = result.identifiability;
+  json base = json::array();
+  for (std::size_t j = 0; j < id.base_names.size(); ++j)
+    base.push_back({{"name", id.base_names[j]}, {"expression", id.base_expressions[j]}});
+  const json summary = {
+      {"schema_version", 1},
+      {"kind", "dynid.demo"},
+      {"methods", methods},
+      {"order", order},
+      {"settings",
+       {{"robot", s.robot},
+        {"train_seconds", s.train_seconds},
+        {"test_seconds", s.test_seconds},
+        {"segments", s.segments},
+        {"horizon", s.horizon},
+        {"perturb", s.perturb},
+        {"search_seconds", s.search_seconds},
+        {"refine_iterations", s.refine_iterations},
+        {"seed", s.seed},
+        {"threads", s.threads},
+        {"quick", s.quick}}},
+      {"identifiability",
+       {{"num_standard", id.num_standard},
+        {"num_base", id.num_base},
+        {"base_parameters", base},
+        {"unidentifiable", id.unidentifiable},
+        {"condition_number", number(id.condition_number)}}},
+      {"interrupted", result.interrupted},
+      {"seconds", result.seconds}};
+  return summary.dump(1) + "\n";
+}
+
+std::string demoTable(const DemoResult& result) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line, sizeof(line), "%-12s", "method");
+  out << line;
+  for (const Column& c : kColumns) {
+    std::snprintf(line, sizeof(line), " %12.12s", c.header);
+    out << line;
+  }
+  out << "\n";
+  for (const MethodMetrics& m : result.methods) {
+    std::snprintf(line, sizeof(line), "%-12s", m.key.c_str());
+    out << line;
+    for (const Column& c : kColumns) {
+      std::snprintf(line, sizeof(line), " %12s", c.format(m).c_str());
+      out << line;
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string demoMarkdown(const DemoResult& result) {
+  const DemoSettings& s = result.settings;
+  const DemoIdentifiability& id = result.identifiability;
+  std::ostringstream out;
+  out << "# dynid demo: " << s.robot << "\n\n";
+  if (result.interrupted) out << "**Interrupted**: the table has the stages that finished.\n\n";
+  out << "Noise-free simulated data: " << s.train_seconds << " s of training data (the default "
+      << "sinusoidal controller) and " << s.test_seconds
+      << " s held out on another control path, sampled at 1 kHz. The initial guess perturbs "
+         "every parameter by up to "
+      << 100.0 * s.perturb << " % (seed " << s.seed << "). GC error: " << s.segments
+      << " segments of " << s.horizon << " s. Searches: " << s.search_seconds
+      << " s each; refinement: at most " << s.refine_iterations << " iterations per stage. "
+      << s.threads << " threads; " << g3(result.seconds) << " s in all.\n\n";
+  out << "## Identifiability\n\n"
+      << id.num_base << " of the " << id.num_standard
+      << " standard parameters are identifiable as base parameters; the condition number of the "
+         "training base regressor (unit columns) is "
+      << g3(id.condition_number) << ".\n\n";
+  if (!id.unidentifiable.empty()) {
+    out << "Parameters that never affect the torques:";
+    for (const std::string& name : id.unidentifiable) out << " " << name;
+    out << ".\n\n";
+  }
+  out << "| base parameter | combination of standard parameters |\n|---|---|\n";
+  for (std::size_t j = 0; j < id.base_names.size(); ++j)
+    out << "| " << id.base_names[j] << " | " << id.base_expressions[j] << " |\n";
+  out << "\n## Comparison\n\n| method |";
+  for (const Column& c : kColumns) out << " " << c.header << " |";
+  out << "\n|---|";
+  for (std::size_t c = 0; c < std::size(kColumns); ++c) out << "---|";
+  out << "\n";
+  for (const MethodMetrics& m : result.methods) {
+    out << "| " << m.key << " |";
+    for (const Column& c : kColumns) out << " " << c.format(m) << " |";
+    out << "\n";
+  }
+  out << "\nGC errors are the paper's sum of squared state-prediction errors; the parameter error "
+         "is the paper's eq. (1) over the searched parameters (m, c, principal inertias per "
+         "link); the base-parameter error is the RMS of the base parameters' relative errors; "
+         "evaluations are GC evaluations for searches, Levenberg-Marquardt iterations for "
+         "refinement and pc.\n\n";
+  out << "| method | what it is |\n|---|---|\n";
+  for (const MethodMetrics& m : result.methods)
+    out << "| " << m.key << " | " << describe(m.key) << " |\n";
+  out << "\n## What to conclude\n\n";
+  for (const std::string& sentence : conclusions(result)) out << "- " << sentence << "\n";
+  return out.str();
+}
+
+std::string demoHtml(const DemoResult& result) {
+  const DemoSettings& s = result.settings;
+  const DemoIdentifiability& id = result.identifiability;
+  std::ostringstream out;
+  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      << "<title>dynid demo: " << escapeHtml(s.robot) << "</title>\n"
+      << "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}"
+         "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
+         "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
+         "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
+         "</style>\n</head>\n<body>\n";
+  out << "<h1>dynid demo: " << escapeHtml(s.robot) << "</h1>\n";
+  if (result.interrupted)
+    out << "<p><strong>Interrupted</strong>: the table has the stages that finished.</p>\n";
+  out << "<p>Noise-free simulated data: " << s.train_seconds << " s training, " << s.test_seconds
+      << " s held out; initial guess perturbed by up to " << 100.0 * s.perturb << " % (seed "
+      << s.seed << "); " << s.segments << " GC segments of " << s.horizon << " s; searches "
+      << s.search_seconds << " s each; " << g3(result.seconds) << " s in all.</p>\n";
+  out << "<h2>Identifiability</h2>\n<p>" << id.num_base << " of " << id.num_standard
+      << " standard parameters are identifiable as base parameters; condition number "
+      << g3(id.condition_number) << ".</p>\n";
+  out << "<table id=\"base\"><tr><th>base parameter</th><th>combination</th></tr>\n";
+  for (std::size_t j = 0; j < id.base_names.size(); ++j)
+    out << "<tr><td>" << escapeHtml(id.base_names[j]) << "</td><td>"
+        << escapeHtml(id.base_expressions[j]) << "</td></tr>\n";
+  out << "</table>\n<h2>Comparison</h2>\n<table id=\"comparison\">\n<tr><th>method</th>";
+  for (const Column& c : kColumns) out << "<th>" << escapeHtml(c.header) << "</th>";
+  out << "</tr>\n";
+  for (const MethodMetrics& m : result.methods) {
+    out << "<tr><td>" << escapeHtml(m.key) << "</td>";
+    for (const Column& c : kColumns) out << "<td>" << escapeHtml(c.format(m)) << "</td>";
+    out << "</tr>\n";
+  }
+  out << "<caption>Every estimate measured against the same truth, data and coordinates.</caption>"
+         "\n</table>\n<h2>What to conclude</h2>\n<ul>\n";
+  for (const std::string& sentence : conclusions(result))
+    out << "<li>" << escapeHtml(sentence) << "</li>\n";
+  out << "</ul>\n</body>\n</html>\n";
+  return out.str();
+}
+
+}  // namespace dynid

@@ -1,0 +1,23 @@
+// The demo's outputs: summary.json (the comparison table and the settings), a Markdown report and
+// a self-contained HTML report (no network access needed to view it), and the console table.
+#pragma once
+
+#include <string>
+
+#include "analysis/demo.hpp"
+
+namespace dynid {
+
+/// summary.json: schema_version 1, kind "dynid.demo", `methods` keyed by method (ols, wls, pc,
+/// nlo, ga, hybrid, nlo_refined, ga_refined), each with gc_error_initial, gc_error_train,
+/// gc_error_test, torque_rms_test, param_error, base_param_error, evaluations, seconds; plus
+/// `order`, `settings`, `identifiability`, `interrupted` and `seconds`. Non-finite numbers are null.
+std::string demoSummaryJson(const DemoResult& result);
+/// The comparison table as fixed-width text (what `dynid demo` prints).
+std::string demoTable(const DemoResult& result);
+/// The report in Markdown: settings, identifiability, the comparison table and what to conclude.
+std::string demoMarkdown(const DemoResult& result);
+/// The same report as one HTML file with inline CSS and no external resources.
+std::string demoHtml(const DemoResult& result);
+
+}  // namespace dynid

@@ -1,0 +1,61 @@
+#include "reports/demo_report.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+namespace dynid {
+namespace {
+
+DemoResult sample() {
+  DemoResult r;
+  r.settings.robot = "puma560";
+  r.settings.train_seconds = r.settings.test_seconds = 4.0;
+  r.settings.segments = 20;
+  r.identifiability.num_standard = 60;
+  r.identifiability.num_base = 2;
+  r.identifiability.base_names = {"Izz1R", "m2"};
+  r.identifiability.base_expressions = {"Izz1 + Iyy2", "m2"};
+  r.identifiability.unidentifiable = {"m1"};
+  r.identifiability.condition_number = 142.5;
+  MethodMetrics ols{"ols", 5.0, 1e-23, 2e-22, 3e-14, 49.2, 2e-12, 0, 0.02};
+  MethodMetrics nlo{"nlo", 5.0, 0.1, 0.2, 0.3, 1.3, 0.5, 750, 2.0};
+  nlo.gc_error_test = std::numeric_limits<double>::quiet_NaN();  // a diverged held-out rollout
+  r.methods = {ols, nlo};
+  return r;
+}
+
+TEST(DemoReport, SummaryJsonHasEveryFieldAndNullForNonFinite) {
+  const auto j = nlohmann::json::parse(demoSummaryJson(sample()));
+  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["order"], (std::vector<std::string>{"ols", "nlo"}));
+  EXPECT_EQ(j["methods"]["ols"]["base_param_error"].get<double>(), 2e-12);
+  EXPECT_EQ(j["methods"]["nlo"]["evaluations"], 750);
+  EXPECT_TRUE(j["methods"]["nlo"]["gc_error_test"].is_null());
+  EXPECT_EQ(j["identifiability"]["num_base"], 2);
+  EXPECT_EQ(j["identifiability"]["base_parameters"][0]["expression"], "Izz1 + Iyy2");
+}
+
+TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
+  const DemoResult r = sample();
+  const std::string md = demoMarkdown(r);
+  EXPECT_NE(md.find("| ols | 5 | 1e-23 | 2e-22 | 3e-14 | 49.2 | 2e-12 | 0 | 0.02 |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| nlo | 5 | 0.1 | n/a |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| Izz1R | Izz1 + Iyy2 |"), std::string::npos);
+  EXPECT_NE(md.find("nlo cuts the training GC error 50x"), std::string::npos) << md;
+  const std::string html = demoHtml(r);
+  EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(html.find("<tr><td>ols</td><td>5</td><td>1e-23</td>"), std::string::npos);
+  EXPECT_EQ(html.find("http"), std::string::npos);
+  const std::string table = demoTable(r);
+  EXPECT_NE(table.find("ols"), std::string::npos);
+  EXPECT_NE(table.find("n/a"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dynid
