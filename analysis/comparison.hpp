@@ -19,7 +19,7 @@ namespace dynid {
 
 /// One row of the comparison table (summary.json's `methods`).
 struct MethodMetrics {
-  std::string key;             // ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined, ...
+  std::string key;                // ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined, ...
   double gc_error_initial = 0.0;  // training GC error of the method's start
   double gc_error_train = 0.0;    // training GC error of the estimate
   double gc_error_test = 0.0;     // held-out GC error of the estimate

@@ -95,8 +95,7 @@ DemoResult runDemo(const DemoOptions& options) {
   const ParameterLayout layout = truth.parameterLayout();
   const std::vector<std::string> names = standardParameterNames(layout);
   const BaseParameters base = computeBaseParameters(
-      observationFromRandomStates(truth, std::max(100, 5 * layout.size() / truth.numJoints()), 1)
-          .W,
+      observationFromRandomStates(truth, std::max(100, 5 * layout.size() / truth.numJoints()), 1).W,
       names, 0.0, defaultPreference(layout.num_links, layout.perLink()));
   DemoIdentifiability& ident = result.identifiability;
   ident.num_standard = base.numStandard();
@@ -126,7 +125,8 @@ DemoResult runDemo(const DemoOptions& options) {
   };
 
   // Least squares on the torques.
-  for (const LeastSquaresMethod method : {LeastSquaresMethod::kOrdinary, LeastSquaresMethod::kWeighted}) {
+  for (const LeastSquaresMethod method :
+       {LeastSquaresMethod::kOrdinary, LeastSquaresMethod::kWeighted}) {
     say(std::string("identify: ") + leastSquaresMethodName(method));
     const auto t0 = Clock::now();
     const BaseEstimate estimate = estimateBaseParameters(base, observation, method);
@@ -138,8 +138,8 @@ DemoResult runDemo(const DemoOptions& options) {
     say("identify: pc (physically consistent)");
     const auto t0 = Clock::now();
     const PhysicalEstimate pc = estimatePhysicallyConsistent(base, observation, prior);
-    result.methods.push_back(comparison.measure("pc", modelWith(pc.theta), initial_gc,
-                                                pc.iterations, since(t0)));
+    result.methods.push_back(
+        comparison.measure("pc", modelWith(pc.theta), initial_gc, pc.iterations, since(t0)));
   }
 
   // The paper's searches, then refinement of the NLO and GA results.
@@ -179,10 +179,9 @@ DemoResult runDemo(const DemoOptions& options) {
     refine.max_iterations = settings.refine_iterations;
     refine.stop = options.stop;
     const RefineResult refined = refineGc(space, train, found.best_x, refine, &coordinates);
-    result.methods.push_back(comparison.measure(method + "_refined", space.modelAt(refined.x),
-                                                refined.initial_gc,
-                                                refined.base_iterations + refined.iterations,
-                                                refined.seconds));
+    result.methods.push_back(
+        comparison.measure(method + "_refined", space.modelAt(refined.x), refined.initial_gc,
+                           refined.base_iterations + refined.iterations, refined.seconds));
   }
   result.interrupted = stopped();
   result.seconds = since(start);

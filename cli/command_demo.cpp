@@ -44,7 +44,8 @@ int runDemo(const std::vector<std::string>& args) {
   demo.search_seconds = search_seconds;
   demo.stop = &interrupted;
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
-  if (terminal) demo.progress = [](const std::string& line) { std::cerr << "[demo] " << line << "\n"; };
+  if (terminal)
+    demo.progress = [](const std::string& line) { std::cerr << "[demo] " << line << "\n"; };
   interrupted.store(false);
   auto previous = std::signal(SIGINT, onDemoInterrupt);
   DemoResult result;

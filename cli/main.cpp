@@ -14,16 +14,19 @@ const char* kUsage =
     "usage: dynid <command> [options]   (dynid <command> --help for its options)\n"
     "\n"
     "commands:\n"
-    "  model show|check|export  inspect a robot, check physical consistency, export URDF/JSON/MJCF\n"
+    "  model show|check|export  inspect a robot, check physical consistency, export "
+    "URDF/JSON/MJCF\n"
     "  dynamics                 inverse dynamics, mass matrix and forward dynamics at a state\n"
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
-    "  demo                     the paper's study on the built-in PUMA 560, end to end, with a report\n"
+    "  demo                     the paper's study on the built-in PUMA 560, end to end, with a "
+    "report\n"
     "\n"
-    "robots: --robot puma560 or puma560-consistent (built in), a .urdf file, or a dynid .json model\n"
+    "robots: --robot puma560 or puma560-consistent (built in), a .urdf file, or a dynid .json "
+    "model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
 
 }  // namespace

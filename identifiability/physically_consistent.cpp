@@ -262,8 +262,9 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
     }
     ceres::Solver::Summary this_summary;
     ceres::Solve(this_solver, &solver_problem, &this_summary);
-    if (x.size() == 0 || (this_summary.IsSolutionUsable() &&
-                          (!summary.IsSolutionUsable() || this_summary.final_cost < summary.final_cost))) {
+    if (x.size() == 0 ||
+        (this_summary.IsSolutionUsable() &&
+         (!summary.IsSolutionUsable() || this_summary.final_cost < summary.final_cost))) {
       x = y;
       summary = this_summary;
       out.start_theta = start;

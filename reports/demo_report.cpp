@@ -62,19 +62,17 @@ std::vector<std::string> conclusions(const DemoResult& result) {
   if (const MethodMetrics* ols = find(result, "ols"))
     out.push_back("Least squares on the torques recovers the " +
                   std::to_string(result.identifiability.num_base) +
-                  " base parameters to a relative error of " + g3(ols->base_param_error) +
-                  " in " + g3(ols->seconds) + " s; its 7-parameter error, " +
-                  g3(ols->param_error) +
+                  " base parameters to a relative error of " + g3(ols->base_param_error) + " in " +
+                  g3(ols->seconds) + " s; its 7-parameter error, " + g3(ols->param_error) +
                   ", is that of the initial guess's unidentifiable parameters, which the data "
                   "cannot correct.");
   for (const char* key : {"nlo", "ga", "hybrid"})
     if (const MethodMetrics* m = find(result, key))
       out.push_back(std::string(key) + " cuts the training GC error " +
-                    g3(m->gc_error_initial / m->gc_error_train) + "x (" +
-                    g3(m->gc_error_initial) + " to " + g3(m->gc_error_train) + ") in " +
-                    std::to_string(m->evaluations) + " evaluations, with a base-parameter error of " +
-                    g3(m->base_param_error) + " and a 7-parameter error of " +
-                    g3(m->param_error) + ".");
+                    g3(m->gc_error_initial / m->gc_error_train) + "x (" + g3(m->gc_error_initial) +
+                    " to " + g3(m->gc_error_train) + ") in " + std::to_string(m->evaluations) +
+                    " evaluations, with a base-parameter error of " + g3(m->base_param_error) +
+                    " and a 7-parameter error of " + g3(m->param_error) + ".");
   for (const char* key : {"nlo_refined", "ga_refined"})
     if (const MethodMetrics* m = find(result, key))
       out.push_back(std::string(key) + ": refinement takes the GC error to " +
@@ -122,31 +120,30 @@ std::string demoSummaryJson(const DemoResult& result) {
   json base = json::array();
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
     base.push_back({{"name", id.base_names[j]}, {"expression", id.base_expressions[j]}});
-  const json summary = {
-      {"schema_version", 1},
-      {"kind", "dynid.demo"},
-      {"methods", methods},
-      {"order", order},
-      {"settings",
-       {{"robot", s.robot},
-        {"train_seconds", s.train_seconds},
-        {"test_seconds", s.test_seconds},
-        {"segments", s.segments},
-        {"horizon", s.horizon},
-        {"perturb", s.perturb},
-        {"search_seconds", s.search_seconds},
-        {"refine_iterations", s.refine_iterations},
-        {"seed", s.seed},
-        {"threads", s.threads},
-        {"quick", s.quick}}},
-      {"identifiability",
-       {{"num_standard", id.num_standard},
-        {"num_base", id.num_base},
-        {"base_parameters", base},
-        {"unidentifiable", id.unidentifiable},
-        {"condition_number", number(id.condition_number)}}},
-      {"interrupted", result.interrupted},
-      {"seconds", result.seconds}};
+  const json summary = {{"schema_version", 1},
+                        {"kind", "dynid.demo"},
+                        {"methods", methods},
+                        {"order", order},
+                        {"settings",
+                         {{"robot", s.robot},
+                          {"train_seconds", s.train_seconds},
+                          {"test_seconds", s.test_seconds},
+                          {"segments", s.segments},
+                          {"horizon", s.horizon},
+                          {"perturb", s.perturb},
+                          {"search_seconds", s.search_seconds},
+                          {"refine_iterations", s.refine_iterations},
+                          {"seed", s.seed},
+                          {"threads", s.threads},
+                          {"quick", s.quick}}},
+                        {"identifiability",
+                         {{"num_standard", id.num_standard},
+                          {"num_base", id.num_base},
+                          {"base_parameters", base},
+                          {"unidentifiable", id.unidentifiable},
+                          {"condition_number", number(id.condition_number)}}},
+                        {"interrupted", result.interrupted},
+                        {"seconds", result.seconds}};
   return summary.dump(1) + "\n";
 }
 

@@ -384,13 +384,13 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   const auto j = nlohmann::json::parse(readFile(dir + "/summary.json"));
   EXPECT_EQ(j["schema_version"], 1);
   EXPECT_EQ(j["kind"], "dynid.demo");
-  const std::vector<std::string> keys = {"ols", "wls", "pc", "nlo", "ga", "hybrid",
-                                         "nlo_refined", "ga_refined"};
+  const std::vector<std::string> keys = {"ols", "wls",    "pc",          "nlo",
+                                         "ga",  "hybrid", "nlo_refined", "ga_refined"};
   for (const std::string& key : keys) {
     ASSERT_TRUE(j["methods"].contains(key)) << key;
-    for (const char* field : {"gc_error_initial", "gc_error_train", "gc_error_test",
-                              "torque_rms_test", "param_error", "base_param_error",
-                              "evaluations", "seconds"})
+    for (const char* field :
+         {"gc_error_initial", "gc_error_train", "gc_error_test", "torque_rms_test", "param_error",
+          "base_param_error", "evaluations", "seconds"})
       EXPECT_TRUE(j["methods"][key][field].is_number()) << key << "." << field;
   }
   const auto& m = j["methods"];
@@ -398,7 +398,8 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   EXPECT_LT(m["ols"]["base_param_error"].get<double>(), 1e-6);
   // The searches cut the training GC error at least 10x (about 50x measured in 2 s searches).
   for (const char* key : {"nlo", "ga"})
-    EXPECT_GE(m[key]["gc_error_initial"].get<double>(), 10.0 * m[key]["gc_error_train"].get<double>())
+    EXPECT_GE(m[key]["gc_error_initial"].get<double>(),
+              10.0 * m[key]["gc_error_train"].get<double>())
         << key;
   // Refinement reaches the base parameters (1e-12 measured) but not the unidentifiable 7-parameter
   // set: its error stays visibly above zero.
