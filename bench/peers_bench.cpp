@@ -83,6 +83,16 @@ const States& states() {
   return s;
 }
 
+/// The timed loop: body(k) for state k, cycling through the 64 states.
+template <typename Body>
+void cycle(benchmark::State& state, Body body) {
+  int k = 0;
+  for (auto _ : state) {
+    body(k);
+    k = (k + 1) % States::kCount;
+  }
+}
+
 /// |a - b| <= 1e-9 max(|a|, 1): the engines agree to round-off.
 bool agree(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::string& what,
            std::string& why) {
@@ -97,42 +107,33 @@ bool agree(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::string
 
 void dynidRnea(benchmark::State& state) {
   Data data(model());
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     benchmark::DoNotOptimize(dynid::rnea(model(), data, s.q[k], s.dq[k], s.ddq[k]).data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void dynidMass(benchmark::State& state) {
   Data data(model());
-  int k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(dynid::crba(model(), data, states().q[k]).data());
-    k = (k + 1) % States::kCount;
-  }
+  cycle(state,
+        [&](int k) { benchmark::DoNotOptimize(dynid::crba(model(), data, states().q[k]).data()); });
 }
 void dynidForward(benchmark::State& state) {
   Data data(model());
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     benchmark::DoNotOptimize(dynid::aba(model(), data, s.q[k], s.dq[k], s.tau[k]).data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void dynidRk4(benchmark::State& state) {
   Data data(model());
   Eigen::VectorXd q, dq;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     q = s.q[k];
     dq = s.dq[k];
     dynid::rk4Step(model(), data, q, dq, s.tau[k], kStep);
     benchmark::DoNotOptimize(q.data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 
 // ----- Orocos KDL -----
@@ -201,33 +202,27 @@ struct Kdl {
 
 void kdlRnea(benchmark::State& state) {
   Kdl kdl;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     kdl.load(k, states().ddq[k]);
     kdl.id.CartToJnt(kdl.q, kdl.dq, kdl.ddq, kdl.wrenches, kdl.tau);
     benchmark::DoNotOptimize(kdl.tau.data.data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void kdlMass(benchmark::State& state) {
   Kdl kdl;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     kdl.q.data = states().q[k];
     kdl.param.JntToMass(kdl.q, kdl.mass);
     benchmark::DoNotOptimize(kdl.mass.data.data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void kdlForward(benchmark::State& state) {
   Kdl kdl;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     kdl.load(k, states().tau[k]);  // ddq holds the torques here
     kdl.fd.CartToJnt(kdl.q, kdl.dq, kdl.ddq, kdl.wrenches, kdl.tau);
     benchmark::DoNotOptimize(kdl.tau.data.data());
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 
 std::string checkKdl() {
@@ -289,39 +284,33 @@ struct MuJoCo {
 
 void mujocoInverse(benchmark::State& state) {
   MuJoCo mj;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     mj.set(s.q[k], s.dq[k]);
     mj.vec(mj.d->qacc) = s.ddq[k];
     mj_inverse(mj.m, mj.d);
     benchmark::DoNotOptimize(mj.d->qfrc_inverse);
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void mujocoForward(benchmark::State& state) {
   MuJoCo mj;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     mj.set(s.q[k], s.dq[k]);
     mj.vec(mj.d->qfrc_applied) = s.tau[k];
     mj_forward(mj.m, mj.d);
     benchmark::DoNotOptimize(mj.d->qacc);
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 void mujocoStep(benchmark::State& state) {
   MuJoCo mj;
-  int k = 0;
-  for (auto _ : state) {
+  cycle(state, [&](int k) {
     const States& s = states();
     mj.set(s.q[k], s.dq[k]);
     mj.vec(mj.d->qfrc_applied) = s.tau[k];
     mj_step(mj.m, mj.d);
     benchmark::DoNotOptimize(mj.d->qpos);
-    k = (k + 1) % States::kCount;
-  }
+  });
 }
 
 std::string checkMujoco() {

@@ -16,4 +16,7 @@ std::string readFile(const std::string& path);
 /// Shortest decimal form that parses back to exactly x ("0.1", "1e-300", "inf", "nan").
 std::string formatDouble(double x);
 
+/// Text with &, <, > and " escaped for XML and HTML attribute values and content.
+std::string escapeXml(const std::string& text);
+
 }  // namespace dynid

@@ -10,29 +10,6 @@ namespace dynid {
 
 namespace {
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::string numbers(std::initializer_list<double> values) {
   std::string out;
   for (double v : values) {
@@ -48,11 +25,11 @@ void writeBody(const Model& model, const std::vector<std::vector<int>>& children
   const Pose<double>& placement = model.frame_placements[i];
   const Eigen::Quaterniond quat(placement.rotation);
   const Eigen::Vector3d& p = placement.translation;
-  out << indent << "<body name=\"" << escape(model.link_names[i]) << "\" pos=\""
+  out << indent << "<body name=\"" << escapeXml(model.link_names[i]) << "\" pos=\""
       << numbers({p.x(), p.y(), p.z()}) << "\" quat=\""
       << numbers({quat.w(), quat.x(), quat.y(), quat.z()}) << "\">\n";
   const Eigen::Vector3d& a = model.axes[i];
-  out << indent << "  <joint name=\"" << escape(model.joint_names[i]) << "\" type=\""
+  out << indent << "  <joint name=\"" << escapeXml(model.joint_names[i]) << "\" type=\""
       << (model.joint_types[i] == JointType::kPrismatic ? "slide" : "hinge")
       << "\" pos=\"0 0 0\" axis=\"" << numbers({a.x(), a.y(), a.z()})
       << "\" limited=\"false\" damping=\"0\" armature=\"0\"/>\n";
@@ -97,11 +74,12 @@ std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
   const auto [children, roots] = tree(model);
   std::ostringstream out;
   const Eigen::Vector3d& g = model.gravity;
-  out << "<mujoco model=\"" << escape(model.name) << "\">\n"
+  out << "<mujoco model=\"" << escapeXml(model.name) << "\">\n"
       << "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or drives -->\n"
       << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
       << "  <option timestep=\"" << formatDouble(options.timestep) << "\" integrator=\""
-      << escape(options.integrator) << "\" gravity=\"" << numbers({g.x(), g.y(), g.z()}) << "\">\n"
+      << escapeXml(options.integrator) << "\" gravity=\"" << numbers({g.x(), g.y(), g.z()})
+      << "\">\n"
       << "    <flag contact=\"disable\"/>\n"
       << "  </option>\n"
       << "  <worldbody>\n";

@@ -330,28 +330,6 @@ std::string origin(const Pose<double>& pose) {
   return "<origin xyz=\"" + vec(pose.translation) + "\" rpy=\"" +
          vec(rpyFromRotation(pose.rotation)) + "\"/>";
 }
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 }  // namespace
 
 std::string modelToUrdf(const Model& model) {
@@ -363,15 +341,15 @@ std::string modelToUrdf(const Model& model) {
   out << "<?xml version=\"1.0\"?>\n";
   out << "<!-- Exported by dynid. Link frames are joint frames; inertial origins at the centre of "
          "mass. -->\n";
-  out << "<robot name=\"" << escape(model.name) << "\">\n";
-  out << "  <link name=\"" << escape(base) << "\"/>\n";
+  out << "<robot name=\"" << escapeXml(model.name) << "\">\n";
+  out << "  <link name=\"" << escapeXml(base) << "\"/>\n";
   for (int i = 0; i < model.numJoints(); ++i) {
     // The URDF link frame is the joint frame; re-express the body inertia there.
     const RigidInertia<double> in = model.inertias[i].transformedBy(model.body_placements[i]);
     const Eigen::Vector3d c =
         in.mass > 0.0 ? Eigen::Vector3d(in.first_moment / in.mass) : Eigen::Vector3d::Zero();
     const Eigen::Matrix3d ic = inertiaAboutCom(in);
-    out << "  <link name=\"" << escape(model.link_names[i]) << "\">\n"
+    out << "  <link name=\"" << escapeXml(model.link_names[i]) << "\">\n"
         << "    <inertial>\n"
         << "      <origin xyz=\"" << vec(c) << "\" rpy=\"0 0 0\"/>\n"
         << "      <mass value=\"" << formatDouble(in.mass) << "\"/>\n"
@@ -385,10 +363,10 @@ std::string modelToUrdf(const Model& model) {
     const Pose<double> placement =
         p < 0 ? model.joint_placements[i] : model.body_placements[p] * model.joint_placements[i];
     const JointLimits& l = model.limits[i];
-    out << "  <joint name=\"" << escape(model.joint_names[i]) << "\" type=\""
+    out << "  <joint name=\"" << escapeXml(model.joint_names[i]) << "\" type=\""
         << jointTypeName(model.joint_types[i]) << "\">\n"
-        << "    <parent link=\"" << escape(p < 0 ? base : model.link_names[p]) << "\"/>\n"
-        << "    <child link=\"" << escape(model.link_names[i]) << "\"/>\n"
+        << "    <parent link=\"" << escapeXml(p < 0 ? base : model.link_names[p]) << "\"/>\n"
+        << "    <child link=\"" << escapeXml(model.link_names[i]) << "\"/>\n"
         << "    " << origin(placement) << "\n"
         << "    <axis xyz=\"" << vec(model.axes[i]) << "\"/>\n";
     if (model.joint_types[i] != JointType::kContinuous || std::isfinite(l.effort) ||

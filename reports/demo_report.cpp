@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "data/io.hpp"
+
 namespace dynid {
 
 namespace {
@@ -81,21 +83,6 @@ std::vector<std::string> conclusions(const DemoResult& result) {
                     g3(m->param_error) +
                     ": a lower prediction error does not give lower parameter errors, because "
                     "the GC error depends on the base parameters only (the paper's finding).");
-  return out;
-}
-
-std::string escapeHtml(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
   return out;
 }
 
@@ -224,13 +211,13 @@ std::string demoHtml(const DemoResult& result) {
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      << "<title>dynid demo: " << escapeHtml(s.robot) << "</title>\n"
+      << "<title>dynid demo: " << escapeXml(s.robot) << "</title>\n"
       << "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}"
          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
          "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
          "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
          "</style>\n</head>\n<body>\n";
-  out << "<h1>dynid demo: " << escapeHtml(s.robot) << "</h1>\n";
+  out << "<h1>dynid demo: " << escapeXml(s.robot) << "</h1>\n";
   if (result.interrupted)
     out << "<p><strong>Interrupted</strong>: the table has the stages that finished.</p>\n";
   out << "<p>Noise-free simulated data: " << s.train_seconds << " s training, " << s.test_seconds
@@ -242,20 +229,20 @@ std::string demoHtml(const DemoResult& result) {
       << g3(id.condition_number) << ".</p>\n";
   out << "<table id=\"base\"><tr><th>base parameter</th><th>combination</th></tr>\n";
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
-    out << "<tr><td>" << escapeHtml(id.base_names[j]) << "</td><td>"
-        << escapeHtml(id.base_expressions[j]) << "</td></tr>\n";
+    out << "<tr><td>" << escapeXml(id.base_names[j]) << "</td><td>"
+        << escapeXml(id.base_expressions[j]) << "</td></tr>\n";
   out << "</table>\n<h2>Comparison</h2>\n<table id=\"comparison\">\n<tr><th>method</th>";
-  for (const Column& c : kColumns) out << "<th>" << escapeHtml(c.header) << "</th>";
+  for (const Column& c : kColumns) out << "<th>" << escapeXml(c.header) << "</th>";
   out << "</tr>\n";
   for (const MethodMetrics& m : result.methods) {
-    out << "<tr><td>" << escapeHtml(m.key) << "</td>";
-    for (const Column& c : kColumns) out << "<td>" << escapeHtml(c.format(m)) << "</td>";
+    out << "<tr><td>" << escapeXml(m.key) << "</td>";
+    for (const Column& c : kColumns) out << "<td>" << escapeXml(c.format(m)) << "</td>";
     out << "</tr>\n";
   }
   out << "<caption>Every estimate measured against the same truth, data and coordinates.</caption>"
          "\n</table>\n<h2>What to conclude</h2>\n<ul>\n";
   for (const std::string& sentence : conclusions(result))
-    out << "<li>" << escapeHtml(sentence) << "</li>\n";
+    out << "<li>" << escapeXml(sentence) << "</li>\n";
   out << "</ul>\n</body>\n</html>\n";
   return out.str();
 }
