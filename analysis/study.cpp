@@ -1,0 +1,180 @@
+#include "analysis/study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/controllers.hpp"
+#include "core/errors.hpp"
+#include "core/perturb.hpp"
+#include "core/simulate.hpp"
+#include "data/robots.hpp"
+#include "identifiability/least_squares.hpp"
+#include "identifiability/physically_consistent.hpp"
+#include "search/refine.hpp"
+
+namespace dynid {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The default sinusoidal tracking run of `dynid simulate` (train) or the held-out control path
+/// of docs/SEARCH.md's default scenario (test), with the setting's noise.
+Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out) {
+  const int n = truth.numJoints();
+  SinusoidalReference r;
+  r.q0 = defaultCentre(truth);
+  if (held_out) {
+    r.amplitude = Eigen::VectorXd::Constant(n, 0.7);
+    r.frequency.resize(n);
+    const double f[] = {0.27, 0.19, 0.41, 0.33, 0.6, 0.5};
+    for (int i = 0; i < n; ++i) r.frequency[i] = f[i % 6];
+    r.phase = Eigen::VectorXd::Constant(n, 0.5);
+  } else {
+    r.amplitude = Eigen::VectorXd::Constant(n, 0.5);
+    r.frequency = defaultFrequencies(n);
+    r.phase = Eigen::VectorXd::Zero(n);
+  }
+  Eigen::VectorXd tau_max(n);
+  for (int i = 0; i < n; ++i) tau_max[i] = truth.limits[i].effort;
+  TrackingController controller(truth, r, defaultGains(truth, r.q0, 5.0), tau_max);
+  SimulationOptions options;
+  options.duration = held_out ? s.test_seconds : s.train_seconds;
+  options.noise_q = s.noise_q;
+  options.noise_dq = s.noise_dq;
+  options.noise_tau = s.noise_tau;
+  options.seed = held_out ? s.seed + 1000 : s.seed;
+  return simulate(truth, controller, options);
+}
+
+double totalMass(const Model& model) {
+  double total = 0.0;
+  for (const auto& inertia : model.inertias) total += inertia.mass;
+  return total;
+}
+
+}  // namespace
+
+const std::vector<std::string>& studyMethods() {
+  static const std::vector<std::string> methods = {"ols", "wls",    "pc",          "nlo",
+                                                   "ga",  "hybrid", "nlo_refined", "ga_refined"};
+  return methods;
+}
+
+Study::Study(const StudySettings& settings, std::function<void(const std::string&)> progress)
+    : settings_(settings), progress_(std::move(progress)) {
+  const auto say = [&](const std::string& line) {
+    if (progress_) progress_(line);
+  };
+  if (!(settings_.train_seconds > 0.0) || !(settings_.test_seconds > 0.0))
+    throw InputError("the training and held-out durations must be > 0");
+  if (settings_.search_seconds <= 0.0 && settings_.search_evaluations <= 0)
+    throw InputError("a search needs a time or an evaluation budget");
+  if (settings_.threads < 1) throw InputError("threads must be >= 1");
+  truth_ = loadRobot(settings_.robot);
+  initial_ = perturbedModel(truth_, settings_.perturb, settings_.seed);
+  say("simulating " + std::to_string(settings_.train_seconds) + " s of training and " +
+      std::to_string(settings_.test_seconds) + " s of held-out data");
+  train_data_ = simulateRun(truth_, settings_, false);
+  test_data_ = simulateRun(truth_, settings_, true);
+  SegmentOptions segments;
+  segments.horizon = settings_.horizon;
+  segments.num_segments = settings_.segments;
+  train_ = makeGcProblem(train_data_, segments);
+  test_ = makeGcProblem(test_data_, segments);
+
+  say("base parameters");
+  const ParameterLayout layout = truth_.parameterLayout();
+  base_ = computeBaseParameters(
+      observationFromRandomStates(truth_, std::max(100, 5 * layout.size() / truth_.numJoints()), 1)
+          .W,
+      standardParameterNames(layout), 0.0, defaultPreference(layout.num_links, layout.perLink()));
+  observation_ = observationFromTrajectory(truth_, train_data_);
+
+  // The spaces the searches move in (the paper's form; NLO holds the total mass, GA does not).
+  SpaceOptions nlo_options;
+  nlo_options.total_mass_constraint = true;
+  nlo_options.total_mass = totalMass(truth_);
+  nlo_space_ = std::make_unique<ParameterSpace>(initial_, nlo_options);
+  ga_space_ = std::make_unique<ParameterSpace>(initial_, SpaceOptions{});
+  pool_ = std::make_unique<ThreadPool>(settings_.threads);
+  comparison_ =
+      std::make_unique<Comparison>(truth_, *ga_space_, base_, train_, test_, test_data_, *pool_);
+  initial_gc_ = comparison_->trainGc(initial_);
+  truth_full_ = ga_space_->fullVector(truth_);
+}
+
+const SearchResult& Study::search(const std::string& method, const std::atomic<bool>* stop) {
+  const auto found = searches_.find(method);
+  if (found != searches_.end()) return found->second;
+  if (progress_) progress_("search: " + method);
+  SearchContext context;
+  context.space = method == "ga" ? ga_space_.get() : nlo_space_.get();
+  context.problem = &train_;
+  context.pool = pool_.get();
+  context.truth_full = &truth_full_;
+  context.budget.max_seconds = settings_.search_seconds;
+  context.budget.max_evaluations = settings_.search_evaluations;
+  context.seed = settings_.seed;
+  context.stop = stop;
+  SearchResult result = method == "nlo"  ? runNlo(context, NloOptions{})
+                        : method == "ga" ? runGa(context, GaOptions{})
+                                         : runHybrid(context, GaOptions{}, NloOptions{});
+  return searches_.emplace(method, std::move(result)).first->second;
+}
+
+MethodMetrics Study::run(const std::string& method, const std::atomic<bool>* stop) {
+  const auto say = [&](const std::string& line) {
+    if (progress_) progress_(line);
+  };
+  const Eigen::VectorXd prior = initial_.standardParameters();
+  const auto modelWith = [&](const Eigen::VectorXd& theta) {
+    Model m = truth_;
+    m.setStandardParameters(theta);
+    return m;
+  };
+  if (method == "ols" || method == "wls") {
+    say("identify: " + method);
+    const auto t0 = Clock::now();
+    const BaseEstimate estimate =
+        estimateBaseParameters(base_, observation_, parseLeastSquaresMethod(method));
+    return comparison_->measure(method, modelWith(base_.standardFromBase(estimate.beta, prior)),
+                                initial_gc_, 0, since(t0));
+  }
+  if (method == "pc") {
+    say("identify: pc (physically consistent)");
+    const auto t0 = Clock::now();
+    const PhysicalEstimate pc = estimatePhysicallyConsistent(base_, observation_, prior);
+    return comparison_->measure("pc", modelWith(pc.theta), initial_gc_, pc.iterations, since(t0));
+  }
+  if (method == "nlo" || method == "ga" || method == "hybrid") {
+    const SearchResult& found = search(method, stop);
+    const ParameterSpace& space = method == "ga" ? *ga_space_ : *nlo_space_;
+    return comparison_->measure(method, space.modelAt(found.best_x), initial_gc_, found.evaluations,
+                                found.seconds);
+  }
+  if (method == "nlo_refined" || method == "ga_refined") {
+    const std::string searched = method.substr(0, method.find('_'));
+    const SearchResult& found = search(searched, stop);
+    say("refine: " + searched);
+    const ParameterSpace& space = searched == "ga" ? *ga_space_ : *nlo_space_;
+    BaseCoordinates coordinates{base_.projectionMatrix(), {}};
+    for (int j = 0; j < base_.numBase(); ++j) coordinates.names.push_back(base_.baseName(j));
+    RefineOptions refine;
+    refine.num_threads = settings_.threads;
+    refine.max_iterations = settings_.refine_iterations;
+    refine.stop = stop;
+    const RefineResult refined = refineGc(space, train_, found.best_x, refine, &coordinates);
+    return comparison_->measure(method, space.modelAt(refined.x), refined.initial_gc,
+                                refined.base_iterations + refined.iterations, refined.seconds);
+  }
+  throw InputError("unknown method '" + method +
+                   "' (expected ols, wls, pc, nlo, ga, hybrid, nlo_refined or ga_refined)");
+}
+
+}  // namespace dynid

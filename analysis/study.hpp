@@ -1,0 +1,74 @@
+// One study setting of the paper's experiment, shared by `dynid demo` and each `dynid batch` run:
+// a robot, simulated training and held-out data (with optional noise), a perturbed initial guess,
+// the base parameters, and every estimation method measured in the same coordinates.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/comparison.hpp"
+#include "identifiability/observation.hpp"
+#include "search/optimizers.hpp"
+
+namespace dynid {
+
+struct StudySettings {
+  std::string robot = "puma560";  // a robot spec (data/robots.hpp)
+  double train_seconds = 10.0;    // the default sinusoidal tracking run of `dynid simulate`
+  double test_seconds = 10.0;     // docs/SEARCH.md's held-out control path
+  double noise_q = 0.0, noise_dq = 0.0, noise_tau = 0.0;  // on the recorded data, both sets
+  int segments = 100;
+  double horizon = 0.05;   // [s]
+  double perturb = 0.3;    // the initial guess: every parameter times (1 + U(-perturb, perturb))
+  std::uint64_t seed = 1;  // the initial guess, the noise (held-out: seed + 1000) and the searches
+  double search_seconds = 30.0;  // per search (0: no time limit)
+  long search_evaluations = 0;   // per search (0: no limit); one of the two must be set
+  int refine_iterations = 200;   // per refinement stage
+  int threads = 1;
+};
+
+/// The methods, in table order.
+const std::vector<std::string>& studyMethods();
+
+class Study {
+ public:
+  /// Simulates the data and finds the base parameters. Throws InputError for a bad setting (an
+  /// unknown robot, a non-positive duration, neither search budget set).
+  explicit Study(const StudySettings& settings,
+                 std::function<void(const std::string&)> progress = {});
+  Study(const Study&) = delete;
+  Study& operator=(const Study&) = delete;
+
+  /// Runs one method (studyMethods()) and measures its estimate. "nlo_refined" and "ga_refined"
+  /// refine the search's result, searching first when that search has not run. Throws InputError
+  /// for an unknown method.
+  MethodMetrics run(const std::string& method, const std::atomic<bool>* stop = nullptr);
+
+  const StudySettings& settings() const { return settings_; }
+  const Model& truth() const { return truth_; }
+  const BaseParameters& base() const { return base_; }
+  const Observation& observation() const { return observation_; }
+
+ private:
+  const SearchResult& search(const std::string& method, const std::atomic<bool>* stop);
+  StudySettings settings_;
+  std::function<void(const std::string&)> progress_;
+  Model truth_, initial_;
+  Trajectory train_data_, test_data_;
+  GcProblem train_, test_;
+  BaseParameters base_;
+  Observation observation_;
+  std::unique_ptr<ParameterSpace> nlo_space_, ga_space_;
+  std::unique_ptr<ThreadPool> pool_;
+  std::unique_ptr<Comparison> comparison_;
+  double initial_gc_ = 0.0;
+  Eigen::VectorXd truth_full_;
+  std::map<std::string, SearchResult> searches_;
+};
+
+}  // namespace dynid
