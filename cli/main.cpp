@@ -22,8 +22,8 @@ const char* kUsage =
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
-    "  demo                     the paper's study on the built-in PUMA 560, end to end, with a "
-    "report\n"
+    "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
+    "  batch                    a grid of study runs in parallel, resumable and shardable; merge\n"
     "\n"
     "robots: --robot puma560 or puma560-consistent (built in), a .urdf file, or a dynid .json "
     "model\n"
@@ -51,7 +51,8 @@ int main(int argc, char** argv) {
       {"model", runModel},       {"dynamics", runDynamics},
       {"simulate", runSimulate}, {"identifiability", runIdentifiability},
       {"identify", runIdentify}, {"search", runSearch},
-      {"refine", runRefine},     {"demo", runDemo}};
+      {"refine", runRefine},     {"demo", runDemo},
+      {"batch", runBatch}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;
