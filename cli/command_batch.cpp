@@ -23,6 +23,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "data/io.hpp"
+#include "reports/metrics_json.hpp"
 
 extern char** environ;
 
@@ -242,19 +243,10 @@ int runOne(const std::vector<std::string>& args) {
     if (!spec.contains(key)) throw UsageError("--spec lacks '" + key + "'");
   Study study(settingsOf(spec));
   const MethodMetrics m = study.run(spec["method"]);
-  const auto number = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
   const json result = {{"schema_version", 1},
                        {"kind", "dynid.batch.run"},
                        {"spec", spec},
-                       {"metrics",
-                        {{"gc_error_initial", number(m.gc_error_initial)},
-                         {"gc_error_train", number(m.gc_error_train)},
-                         {"gc_error_test", number(m.gc_error_test)},
-                         {"torque_rms_test", number(m.torque_rms_test)},
-                         {"param_error", number(m.param_error)},
-                         {"base_param_error", number(m.base_param_error)},
-                         {"evaluations", m.evaluations},
-                         {"seconds", number(m.seconds)}}}};
+                       {"metrics", metricsJson(m)}};
   writeFileAtomically(vm["out"].as<std::string>(), result.dump(1) + "\n");
   return kExitOk;
 }

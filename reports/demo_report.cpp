@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "data/io.hpp"
+#include "reports/metrics_json.hpp"
 
 namespace dynid {
 
@@ -88,19 +89,23 @@ std::vector<std::string> conclusions(const DemoResult& result) {
 
 }  // namespace
 
+nlohmann::json metricsJson(const MethodMetrics& m) {
+  return {{"gc_error_initial", number(m.gc_error_initial)},
+          {"gc_error_train", number(m.gc_error_train)},
+          {"gc_error_test", number(m.gc_error_test)},
+          {"torque_rms_test", number(m.torque_rms_test)},
+          {"param_error", number(m.param_error)},
+          {"base_param_error", number(m.base_param_error)},
+          {"evaluations", m.evaluations},
+          {"seconds", number(m.seconds)}};
+}
+
 std::string demoSummaryJson(const DemoResult& result) {
   json methods = json::object();
   json order = json::array();
   for (const MethodMetrics& m : result.methods) {
     order.push_back(m.key);
-    methods[m.key] = {{"gc_error_initial", number(m.gc_error_initial)},
-                      {"gc_error_train", number(m.gc_error_train)},
-                      {"gc_error_test", number(m.gc_error_test)},
-                      {"torque_rms_test", number(m.torque_rms_test)},
-                      {"param_error", number(m.param_error)},
-                      {"base_param_error", number(m.base_param_error)},
-                      {"evaluations", m.evaluations},
-                      {"seconds", number(m.seconds)}};
+    methods[m.key] = metricsJson(m);
   }
   const DemoSettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
