@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
+#include "analysis/metrics.hpp"
 #include "analysis/study.hpp"
 
 namespace dynid {
@@ -52,6 +54,21 @@ DemoResult runDemo(const DemoOptions& options) {
   for (const std::string& method : studyMethods()) {
     if (method != "ols" && method != "wls" && stopped()) break;
     result.methods.push_back(study.run(method, options.stop));
+  }
+  for (const char* method : {"nlo", "ga", "hybrid"}) {
+    const SearchResult* found = study.searchResult(method);
+    if (found == nullptr) continue;
+    DemoSearchTrace trace;
+    trace.method = method;
+    trace.history = found->history;
+    trace.candidates = static_cast<long>(found->evaluated.size());
+    std::vector<double> gc, error;
+    for (const auto& [g, e] : found->evaluated)
+      if (g > 0.0 && e > 0.0 && std::isfinite(g) && std::isfinite(e))
+        gc.push_back(std::log10(g)), error.push_back(std::log10(e));
+    trace.pearson_log = pearson(gc, error);
+    trace.spearman = spearman(gc, error);
+    result.searches.push_back(std::move(trace));
   }
   result.interrupted = stopped();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "analysis/comparison.hpp"
+#include "search/optimizers.hpp"
 
 namespace dynid {
 
@@ -43,10 +44,21 @@ struct DemoIdentifiability {
   double condition_number = 0.0;            // of the training base regressor, unit columns
 };
 
+/// One search's course (the paper's Figs. 2 and 5) and how its two errors relate.
+struct DemoSearchTrace {
+  std::string method;                 // nlo, ga, hybrid
+  std::vector<HistoryEntry> history;  // per round (NLO) or generation (GA)
+  long candidates = 0;                // candidates evaluated
+  /// Over every evaluated candidate: Pearson's r of log10 GC error and log10 parameter error,
+  /// and Spearman's rank correlation (NaN with fewer than 3 candidates).
+  double pearson_log = 0.0, spearman = 0.0;
+};
+
 struct DemoResult {
   DemoSettings settings;
   DemoIdentifiability identifiability;
   std::vector<MethodMetrics> methods;  // in the order ols, wls, pc, nlo, ga, hybrid, refined
+  std::vector<DemoSearchTrace> searches;
   bool interrupted = false;
   double seconds = 0.0;
 };

@@ -49,6 +49,12 @@ class Study {
   /// for an unknown method.
   MethodMetrics run(const std::string& method, const std::atomic<bool>* stop = nullptr);
 
+  /// The search `method` ("nlo", "ga", "hybrid") when it has run, else null. Its `evaluated`
+  /// holds (GC error, parameter error) of every candidate.
+  const SearchResult* searchResult(const std::string& method) const {
+    const auto it = searches_.find(method);
+    return it == searches_.end() ? nullptr : &it->second;
+  }
   const StudySettings& settings() const { return settings_; }
   const Model& truth() const { return truth_; }
   const BaseParameters& base() const { return base_; }

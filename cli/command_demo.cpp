@@ -57,10 +57,15 @@ int runDemo(const std::vector<std::string>& args) {
   }
   std::signal(SIGINT, previous);
 
+  std::string warning;
+  const std::vector<Figure> figures = demoFigures(result, &warning);
+  if (!warning.empty()) std::cerr << "dynid demo: warning: " << warning << "\n";
   std::filesystem::create_directories(dir);
+  for (const Figure& figure : figures)
+    writeFileAtomically(dir + "/" + figure.name + ".svg", figure.svg);
   writeFileAtomically(dir + "/summary.json", demoSummaryJson(result));
-  writeFileAtomically(dir + "/report.md", demoMarkdown(result));
-  writeFileAtomically(dir + "/report.html", demoHtml(result));
+  writeFileAtomically(dir + "/report.md", demoMarkdown(result, figures));
+  writeFileAtomically(dir + "/report.html", demoHtml(result, figures));
   std::cout << demoTable(result);
   if (result.interrupted) std::cout << "interrupted: the table has the stages that finished\n";
   std::cout << "report: " << dir << "/report.html (and report.md, summary.json)\n";

@@ -112,6 +112,22 @@ std::string demoSummaryJson(const DemoResult& result) {
   json base = json::array();
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
     base.push_back({{"name", id.base_names[j]}, {"expression", id.base_expressions[j]}});
+  json searches = json::array();
+  for (const DemoSearchTrace& t : result.searches) {
+    json history = json::array();
+    for (const HistoryEntry& h : t.history)
+      history.push_back({{"stage", h.stage},
+                         {"iteration", h.iteration},
+                         {"best_gc", number(h.best_gc)},
+                         {"best_parameter_error", number(h.best_parameter_error)},
+                         {"min_parameter_error", number(h.min_parameter_error)},
+                         {"evaluations", h.evaluations}});
+    searches.push_back({{"method", t.method},
+                        {"candidates", t.candidates},
+                        {"pearson_log", number(t.pearson_log)},
+                        {"spearman", number(t.spearman)},
+                        {"history", history}});
+  }
   const json summary = {{"schema_version", 1},
                         {"kind", "dynid.demo"},
                         {"methods", methods},
@@ -134,6 +150,7 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"base_parameters", base},
                           {"unidentifiable", id.unidentifiable},
                           {"condition_number", number(id.condition_number)}}},
+                        {"searches", searches},
                         {"interrupted", result.interrupted},
                         {"seconds", result.seconds}};
   return summary.dump(1) + "\n";
@@ -161,7 +178,7 @@ std::string demoTable(const DemoResult& result) {
   return out.str();
 }
 
-std::string demoMarkdown(const DemoResult& result) {
+std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& figures) {
   const DemoSettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
@@ -208,10 +225,16 @@ std::string demoMarkdown(const DemoResult& result) {
     out << "| " << m.key << " | " << describe(m.key) << " |\n";
   out << "\n## What to conclude\n\n";
   for (const std::string& sentence : conclusions(result)) out << "- " << sentence << "\n";
+  if (!figures.empty()) {
+    out << "\n## Figures\n";
+    for (std::size_t f = 0; f < figures.size(); ++f)
+      out << "\n![Figure " << f + 1 << "](" << figures[f].name << ".svg)\n\n**Figure " << f + 1
+          << ".** " << figures[f].caption << "\n";
+  }
   return out.str();
 }
 
-std::string demoHtml(const DemoResult& result) {
+std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figures) {
   const DemoSettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
@@ -221,7 +244,7 @@ std::string demoHtml(const DemoResult& result) {
          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
          "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
          "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
-         "</style>\n</head>\n<body>\n";
+         "figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}</style>\n</head>\n<body>\n";
   out << "<h1>dynid demo: " << escapeXml(s.robot) << "</h1>\n";
   if (result.interrupted)
     out << "<p><strong>Interrupted</strong>: the table has the stages that finished.</p>\n";
@@ -248,7 +271,17 @@ std::string demoHtml(const DemoResult& result) {
          "\n</table>\n<h2>What to conclude</h2>\n<ul>\n";
   for (const std::string& sentence : conclusions(result))
     out << "<li>" << escapeXml(sentence) << "</li>\n";
-  out << "</ul>\n</body>\n</html>\n";
+  out << "</ul>\n";
+  if (!figures.empty()) out << "<h2>Figures</h2>\n";
+  for (std::size_t f = 0; f < figures.size(); ++f) {
+    // Inline: the SVG element without gnuplot's XML prolog.
+    const std::string& svg = figures[f].svg;
+    const std::size_t start = svg.find("<svg");
+    out << "<figure id=\"" << escapeXml(figures[f].name) << "\">\n"
+        << svg.substr(start == std::string::npos ? 0 : start) << "\n<figcaption><b>Figure " << f + 1
+        << ".</b> " << escapeXml(figures[f].caption) << "</figcaption>\n</figure>\n";
+  }
+  out << "</body>\n</html>\n";
   return out.str();
 }
 

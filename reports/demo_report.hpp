@@ -5,6 +5,7 @@
 #include <string>
 
 #include "analysis/demo.hpp"
+#include "reports/plots.hpp"
 
 namespace dynid {
 
@@ -16,9 +17,10 @@ namespace dynid {
 std::string demoSummaryJson(const DemoResult& result);
 /// The comparison table as fixed-width text (what `dynid demo` prints).
 std::string demoTable(const DemoResult& result);
-/// The report in Markdown: settings, identifiability, the comparison table and what to conclude.
-std::string demoMarkdown(const DemoResult& result);
-/// The same report as one HTML file with inline CSS and no external resources.
-std::string demoHtml(const DemoResult& result);
+/// The report in Markdown: settings, identifiability, the comparison table, what to conclude, and
+/// the figures as `NAME.svg` files beside it (the caller writes them).
+std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& figures = {});
+/// The same report as one HTML file with inline CSS and inline SVG figures: no external resources.
+std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figures = {});
 
 }  // namespace dynid

@@ -432,8 +432,21 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
     EXPECT_TRUE(contains(markdown, md_row)) << md_row;
     EXPECT_TRUE(contains(html, html_row)) << html_row;
   }
-  // Self-contained: no external resources to fetch.
-  EXPECT_FALSE(contains(html, "http://") || contains(html, "https://") || contains(html, "src="));
+  // Self-contained: figures inline, nothing to fetch (SVG's xmlns URIs are names, not fetched).
+  EXPECT_FALSE(contains(html, "src=") || contains(html, "<link") || contains(html, "url(") ||
+               contains(html, "@import"));
+  std::size_t figures = 0;
+  for (std::size_t at = html.find("<figure"); at != std::string::npos;
+       at = html.find("<figure", at + 1))
+    ++figures;
+  EXPECT_GE(figures, 4u);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/gc_error_iterations.svg"));
+  EXPECT_TRUE(contains(markdown, "![Figure 1](gc_error_iterations.svg)"));
+  // The correlations in the figure's caption are summary.json's.
+  for (const auto& search : j["searches"])
+    EXPECT_TRUE(contains(markdown, search["method"].get<std::string>() +
+                                       " r = " + g3(search["pearson_log"].get<double>())))
+        << search["method"];
   EXPECT_EQ(run("demo --threads -1").code, 2);
 }
 

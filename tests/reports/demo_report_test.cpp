@@ -57,5 +57,36 @@ TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
   EXPECT_NE(table.find("n/a"), std::string::npos);
 }
 
+TEST(DemoReport, FiguresFromGnuplotOrAWarningWithoutIt) {
+  DemoResult r = sample();
+  DemoSearchTrace trace;
+  trace.method = "nlo";
+  for (int i = 0; i < 5; ++i)
+    trace.history.push_back({"nlo", i, 5.0 / (1 + 10 * i), 1.5, 1.0, 100L * i, 0.5 * i});
+  trace.candidates = 500;
+  trace.pearson_log = -0.3;
+  trace.spearman = -0.25;
+  r.searches = {trace};
+  std::string warning;
+  const std::vector<Figure> figures = demoFigures(r, &warning);
+  // gnuplot is installed by scripts/install-deps.sh (gnuplot-nox).
+  ASSERT_EQ(figures.size(), 4u) << warning;
+  for (const Figure& f : figures) {
+    EXPECT_NE(f.svg.find("<svg"), std::string::npos) << f.name;
+    EXPECT_FALSE(f.caption.empty()) << f.name;
+  }
+  EXPECT_NE(figures[1].caption.find("nlo r = -0.3"), std::string::npos) << figures[1].caption;
+  const std::string html = demoHtml(r, figures);
+  EXPECT_NE(html.find("<figure id=\"gc_error_iterations\">\n<svg"), std::string::npos);
+  EXPECT_EQ(html.find("<?xml"), std::string::npos);
+  // Without gnuplot: no figures, a warning, no failure.
+  ::setenv("DYNID_GNUPLOT", "/nonexistent/gnuplot", 1);
+  warning.clear();
+  EXPECT_TRUE(demoFigures(r, &warning).empty());
+  EXPECT_NE(warning.find("gnuplot"), std::string::npos);
+  ::unsetenv("DYNID_GNUPLOT");
+  EXPECT_EQ(demoMarkdown(r, {}).find("## Figures"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace dynid

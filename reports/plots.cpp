@@ -1,0 +1,167 @@
+#include "reports/plots.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace dynid {
+
+namespace {
+
+std::string g3(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
+  return buffer;
+}
+
+/// Gnuplot's opening lines: an SVG terminal and a plain style.
+std::string header(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
+  return "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
+         "set title '" +
+         title + "'\nset xlabel '" + xlabel + "'\nset ylabel '" + ylabel +
+         "'\nset grid\nset key top right\nset logscale y\nset format y '10^{%L}'\n";
+}
+
+const MethodMetrics* find(const DemoResult& result, const std::string& key) {
+  for (const MethodMetrics& m : result.methods)
+    if (m.key == key) return &m;
+  return nullptr;
+}
+
+}  // namespace
+
+std::optional<std::string> gnuplotSvg(const std::string& script) {
+  const char* configured = std::getenv("DYNID_GNUPLOT");
+  const std::string program = configured != nullptr ? configured : "gnuplot";
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("dynid_plot_" + std::to_string(::getpid()) + ".gp");
+  {
+    std::ofstream out(path);
+    out << script;
+  }
+  const std::string command = "'" + program + "' '" + path.string() + "' 2>/dev/null";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  std::string svg;
+  if (pipe != nullptr) {
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof(buffer), pipe)) > 0) svg.append(buffer, n);
+    const int status = ::pclose(pipe);
+    if (status != 0) svg.clear();
+  }
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+  if (svg.find("<svg") == std::string::npos || svg.find("</svg>") == std::string::npos)
+    return std::nullopt;
+  return svg;
+}
+
+std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) {
+  std::vector<Figure> figures;
+  const auto add = [&](const std::string& name, const std::string& caption,
+                       const std::string& script) {
+    if (const auto svg = gnuplotSvg(script)) {
+      figures.push_back({name, caption, *svg});
+      return true;
+    }
+    return false;
+  };
+
+  // Figs. 2 and 5: the searches' course.
+  if (!result.searches.empty()) {
+    std::ostringstream gc, errors;
+    gc << header("GC error of the best candidate (paper Fig. 2)", "iteration (round or generation)",
+                 "training GC error");
+    errors << header("Parameter errors during the searches (paper Fig. 5)",
+                     "iteration (round or generation)", "7-parameter error, eq. (1)");
+    std::string gc_plot = "plot ", errors_plot = "plot ";
+    for (std::size_t s = 0; s < result.searches.size(); ++s) {
+      const DemoSearchTrace& t = result.searches[s];
+      gc << "$" << t.method << " << EOD\n";
+      errors << "$" << t.method << " << EOD\n";
+      for (const HistoryEntry& h : t.history) {
+        gc << h.iteration << " " << h.best_gc << "\n";
+        errors << h.iteration << " " << h.best_parameter_error << " " << h.min_parameter_error
+               << "\n";
+      }
+      gc << "EOD\n";
+      errors << "EOD\n";
+      const std::string sep = s == 0 ? "" : ", ";
+      gc_plot += sep + "$" + t.method + " using 1:2 with linespoints title '" + t.method + "'";
+      errors_plot += sep + "$" + t.method + " using 1:2 with lines title '" + t.method +
+                     ": best-GC candidate', $" + t.method + " using 1:3 with lines dt 2 title '" +
+                     t.method + ": lowest parameter error'";
+    }
+    gc << gc_plot << "\n";
+    errors << errors_plot << "\n";
+    std::string gc_caption =
+        "The training GC error of each search's best candidate at every round (NLO) or generation "
+        "(GA). Every search cuts the error by orders of magnitude:";
+    for (const DemoSearchTrace& t : result.searches)
+      if (!t.history.empty())
+        gc_caption += " " + t.method + " " + g3(t.history.front().best_gc) + " to " +
+                      g3(t.history.back().best_gc) + ";";
+    gc_caption.back() = '.';
+    add("gc_error_iterations", gc_caption, gc.str());
+    std::string error_caption =
+        "The 7-parameter error of the best-GC candidate (solid) and the lowest parameter error in "
+        "the population (dashed). Over every evaluated candidate, the correlation of log GC error "
+        "with log parameter error is";
+    double strongest = -1.0;
+    for (const DemoSearchTrace& t : result.searches) {
+      error_caption += " " + t.method + " r = " + g3(t.pearson_log) + " (Spearman " +
+                       g3(t.spearman) + ", " + std::to_string(t.candidates) + " candidates);";
+      if (std::isfinite(t.pearson_log)) strongest = std::max(strongest, t.pearson_log);
+    }
+    error_caption.back() = '.';
+    error_caption += strongest < 0.5
+                         ? " So a lower prediction error does not mean lower parameter errors "
+                           "here, the paper's finding: the GC error sees the base parameters only."
+                         : " Here the two errors fall together.";
+    add("parameter_error_iterations", error_caption, errors.str());
+  }
+
+  // Every method, in base coordinates and in prediction.
+  if (!result.methods.empty()) {
+    std::ostringstream base, gc;
+    base << header("Base-parameter error by method", "",
+                   "RMS relative error of the base parameters")
+         << "set style data histograms\nset style fill solid 0.7\nset boxwidth 0.7\n"
+            "set xtics rotate by -30\nunset key\n$d << EOD\n";
+    gc << header("GC error by method: training and held-out data", "", "GC error")
+       << "set style data histograms\nset style histogram clustered\nset style fill solid 0.7\n"
+          "set xtics rotate by -30\n$d << EOD\n";
+    for (const MethodMetrics& m : result.methods) {
+      base << m.key << " " << m.base_param_error << "\n";
+      gc << m.key << " " << m.gc_error_train << " " << m.gc_error_test << "\n";
+    }
+    base << "EOD\nplot $d using 2:xtic(1)\n";
+    gc << "EOD\nplot $d using 2:xtic(1) title 'training', '' using 3 title 'held out'\n";
+    std::string base_caption =
+        "Each method's error in the coordinates the data determine, the base parameters.";
+    const MethodMetrics* ols = find(result, "ols");
+    const MethodMetrics* refined = find(result, "nlo_refined");
+    const MethodMetrics* nlo = find(result, "nlo");
+    if (ols != nullptr && nlo != nullptr && refined != nullptr)
+      base_caption += " Least squares (" + g3(ols->base_param_error) + ") and refined searches (" +
+                      g3(refined->base_param_error) + ") reach them; the searches alone stop at " +
+                      g3(nlo->base_param_error) + " (NLO).";
+    add("base_parameter_error", base_caption, base.str());
+    add("gc_error_methods",
+        "The GC error of each estimate on the training data and on a held-out control path. An "
+        "estimate whose base parameters are right predicts the held-out motion as well as the "
+        "training motion; the searches' residual errors grow on the new path.",
+        gc.str());
+  }
+  if (figures.empty() && warning != nullptr)
+    *warning = "gnuplot not available (DYNID_GNUPLOT or gnuplot on the PATH): no figures";
+  return figures;
+}
+
+}  // namespace dynid
