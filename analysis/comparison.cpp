@@ -21,6 +21,7 @@ Comparison::Comparison(const Model& truth, const ParameterSpace& space, const Ba
       beta_true_(base.project(truth.standardParameters())) {}
 
 double Comparison::trainGc(const Model& model) { return gcError(model, train_, workspace_, pool_); }
+double Comparison::testGc(const Model& model) { return gcError(model, test_, workspace_, pool_); }
 
 MethodMetrics Comparison::measure(const std::string& key, const Model& estimate,
                                   double gc_error_initial, long evaluations, double seconds) {

@@ -42,6 +42,7 @@ class Comparison {
   MethodMetrics measure(const std::string& key, const Model& estimate, double gc_error_initial,
                         long evaluations, double seconds);
   double trainGc(const Model& model);
+  double testGc(const Model& model);
 
  private:
   const Model& truth_;

@@ -61,7 +61,11 @@ DemoResult runDemo(const DemoOptions& options) {
     DemoSearchTrace trace;
     trace.method = method;
     trace.history = found->history;
+    if (const std::vector<double>* e = study.searchBaseErrors(method)) trace.base_errors = *e;
     trace.candidates = static_cast<long>(found->evaluated.size());
+    const std::size_t every = found->evaluated.size() / 2000 + 1;
+    for (std::size_t i = 0; i < found->evaluated.size(); i += every)
+      trace.evaluated.push_back(found->evaluated[i]);
     std::vector<double> gc, error;
     for (const auto& [g, e] : found->evaluated)
       if (g > 0.0 && e > 0.0 && std::isfinite(g) && std::isfinite(e))
@@ -70,6 +74,11 @@ DemoResult runDemo(const DemoOptions& options) {
     trace.spearman = spearman(gc, error);
     result.searches.push_back(std::move(trace));
   }
+  if (!result.methods.empty()) result.initial_gc_train = result.methods.front().gc_error_initial;
+  result.initial_gc_test = study.initialTestGc();
+  for (const MethodMetrics& m : result.methods)
+    if (m.key == "nlo" && !stopped())
+      result.near_truth = study.nearTruth(options.quick ? 40 : 200, 0.02, "nlo", m.gc_error_test);
   result.interrupted = stopped();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "analysis/comparison.hpp"
+#include "analysis/study.hpp"
 #include "search/optimizers.hpp"
 
 namespace dynid {
@@ -48,7 +49,10 @@ struct DemoIdentifiability {
 struct DemoSearchTrace {
   std::string method;                 // nlo, ga, hybrid
   std::vector<HistoryEntry> history;  // per round (NLO) or generation (GA)
+  std::vector<double> base_errors;    // the best candidate's base-parameter error, per entry
   long candidates = 0;                // candidates evaluated
+  /// (GC error, 7-parameter error) of the evaluated candidates, every k-th so at most 2000.
+  std::vector<std::pair<double, double>> evaluated;
   /// Over every evaluated candidate: Pearson's r of log10 GC error and log10 parameter error,
   /// and Spearman's rank correlation (NaN with fewer than 3 candidates).
   double pearson_log = 0.0, spearman = 0.0;
@@ -59,6 +63,8 @@ struct DemoResult {
   DemoIdentifiability identifiability;
   std::vector<MethodMetrics> methods;  // in the order ols, wls, pc, nlo, ga, hybrid, refined
   std::vector<DemoSearchTrace> searches;
+  double initial_gc_train = 0.0, initial_gc_test = 0.0;  // the initial guess's GC errors
+  NearTruth near_truth;  // the paper's Fig. 4, for the NLO estimate (empty when interrupted)
   bool interrupted = false;
   double seconds = 0.0;
 };

@@ -106,7 +106,29 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
   comparison_ =
       std::make_unique<Comparison>(truth_, *ga_space_, base_, train_, test_, test_data_, *pool_);
   initial_gc_ = comparison_->trainGc(initial_);
+  initial_test_gc_ = comparison_->testGc(initial_);
   truth_full_ = ga_space_->fullVector(truth_);
+  beta_true_ = base_.project(truth_.standardParameters());
+}
+
+NearTruth Study::nearTruth(int samples, double range, const std::string& estimate,
+                           double estimate_gc) {
+  if (progress_)
+    progress_("GC errors of " + std::to_string(samples) + " configurations near the truth");
+  NearTruth out;
+  out.range = range;
+  out.estimate = estimate;
+  out.estimate_gc = estimate_gc;
+  int below = 0;
+  for (int k = 0; k < samples; ++k) {
+    // Seeds apart from the initial guess's (settings_.seed).
+    const double gc =
+        comparison_->testGc(perturbedModel(truth_, range, settings_.seed * 7919 + k + 1));
+    out.gc_errors.push_back(gc);
+    if (gc <= estimate_gc) ++below;
+  }
+  out.percentile = samples > 0 ? 100.0 * below / samples : 0.0;
+  return out;
 }
 
 const SearchResult& Study::search(const std::string& method, const std::atomic<bool>* stop) {
@@ -122,6 +144,13 @@ const SearchResult& Study::search(const std::string& method, const std::atomic<b
   context.budget.max_evaluations = settings_.search_evaluations;
   context.seed = settings_.seed;
   context.stop = stop;
+  std::vector<double>& base_errors = search_base_errors_[method];
+  base_errors.clear();
+  const ParameterSpace& space = *context.space;
+  context.on_iteration = [&](const SearchState& state) {
+    base_errors.push_back(
+        baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
+  };
   SearchResult result = method == "nlo"  ? runNlo(context, NloOptions{})
                         : method == "ga" ? runGa(context, GaOptions{})
                                          : runHybrid(context, GaOptions{}, NloOptions{});

@@ -35,6 +35,16 @@ struct StudySettings {
 /// The methods, in table order.
 const std::vector<std::string>& studyMethods();
 
+/// The paper's Fig. 4: held-out GC errors of random configurations near the truth (every paper
+/// parameter within +-range of its true value), and where an estimate's falls among them.
+struct NearTruth {
+  double range = 0.02;
+  std::vector<double> gc_errors;  // one per configuration, held-out data
+  std::string estimate;           // the method compared
+  double estimate_gc = 0.0;       // its held-out GC error
+  double percentile = 0.0;        // % of the configurations with a GC error <= the estimate's
+};
+
 class Study {
  public:
   /// Simulates the data and finds the base parameters. Throws InputError for a bad setting (an
@@ -55,6 +65,16 @@ class Study {
     const auto it = searches_.find(method);
     return it == searches_.end() ? nullptr : &it->second;
   }
+  /// The base-parameter error of the search's best candidate after each of its history entries.
+  const std::vector<double>* searchBaseErrors(const std::string& method) const {
+    const auto it = search_base_errors_.find(method);
+    return it == search_base_errors_.end() ? nullptr : &it->second;
+  }
+  /// The initial guess's GC error on the held-out data.
+  double initialTestGc() const { return initial_test_gc_; }
+  /// `samples` configurations near the truth (seeded by the setting's seed), compared with the
+  /// held-out GC error `estimate_gc` of `estimate`.
+  NearTruth nearTruth(int samples, double range, const std::string& estimate, double estimate_gc);
   const StudySettings& settings() const { return settings_; }
   const Model& truth() const { return truth_; }
   const BaseParameters& base() const { return base_; }
@@ -75,6 +95,9 @@ class Study {
   double initial_gc_ = 0.0;
   Eigen::VectorXd truth_full_;
   std::map<std::string, SearchResult> searches_;
+  std::map<std::string, std::vector<double>> search_base_errors_;
+  Eigen::VectorXd beta_true_;
+  double initial_test_gc_ = 0.0;
 };
 
 }  // namespace dynid

@@ -76,6 +76,13 @@ std::vector<std::string> conclusions(const DemoResult& result) {
                     " to " + g3(m->gc_error_train) + ") in " + std::to_string(m->evaluations) +
                     " evaluations, with a base-parameter error of " + g3(m->base_param_error) +
                     " and a 7-parameter error of " + g3(m->param_error) + ".");
+  if (!result.near_truth.gc_errors.empty())
+    out.push_back("Among " + std::to_string(result.near_truth.gc_errors.size()) +
+                  " random configurations within " + g3(100.0 * result.near_truth.range) +
+                  " % of the truth, " + g3(result.near_truth.percentile) +
+                  " % predict the held-out path as well as the " + result.near_truth.estimate +
+                  " estimate or better (held-out GC error " + g3(result.near_truth.estimate_gc) +
+                  "), although its parameters are much further from the truth.");
   for (const char* key : {"nlo_refined", "ga_refined"})
     if (const MethodMetrics* m = find(result, key))
       out.push_back(std::string(key) + ": refinement takes the GC error to " +
@@ -122,6 +129,8 @@ std::string demoSummaryJson(const DemoResult& result) {
                          {"best_parameter_error", number(h.best_parameter_error)},
                          {"min_parameter_error", number(h.min_parameter_error)},
                          {"evaluations", h.evaluations}});
+    for (std::size_t i = 0; i < history.size() && i < t.base_errors.size(); ++i)
+      history[i]["best_base_parameter_error"] = number(t.base_errors[i]);
     searches.push_back({{"method", t.method},
                         {"candidates", t.candidates},
                         {"pearson_log", number(t.pearson_log)},
@@ -151,6 +160,16 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"unidentifiable", id.unidentifiable},
                           {"condition_number", number(id.condition_number)}}},
                         {"searches", searches},
+                        {"initial_guess",
+                         {{"gc_error_train", number(result.initial_gc_train)},
+                          {"gc_error_test", number(result.initial_gc_test)}}},
+                        {"near_truth",
+                         {{"range", result.near_truth.range},
+                          {"samples", result.near_truth.gc_errors.size()},
+                          {"gc_errors_test", result.near_truth.gc_errors},
+                          {"estimate", result.near_truth.estimate},
+                          {"estimate_gc_test", number(result.near_truth.estimate_gc)},
+                          {"percentile", number(result.near_truth.percentile)}}},
                         {"interrupted", result.interrupted},
                         {"seconds", result.seconds}};
   return summary.dump(1) + "\n";

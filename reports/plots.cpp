@@ -79,16 +79,17 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     gc << header("GC error of the best candidate (paper Fig. 2)", "iteration (round or generation)",
                  "training GC error");
     errors << header("Parameter errors during the searches (paper Fig. 5)",
-                     "iteration (round or generation)", "7-parameter error, eq. (1)");
+                     "iteration (round or generation)", "error");
     std::string gc_plot = "plot ", errors_plot = "plot ";
     for (std::size_t s = 0; s < result.searches.size(); ++s) {
       const DemoSearchTrace& t = result.searches[s];
       gc << "$" << t.method << " << EOD\n";
       errors << "$" << t.method << " << EOD\n";
-      for (const HistoryEntry& h : t.history) {
+      for (std::size_t i = 0; i < t.history.size(); ++i) {
+        const HistoryEntry& h = t.history[i];
         gc << h.iteration << " " << h.best_gc << "\n";
         errors << h.iteration << " " << h.best_parameter_error << " " << h.min_parameter_error
-               << "\n";
+               << " " << (i < t.base_errors.size() ? t.base_errors[i] : NAN) << "\n";
       }
       gc << "EOD\n";
       errors << "EOD\n";
@@ -96,7 +97,9 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
       gc_plot += sep + "$" + t.method + " using 1:2 with linespoints title '" + t.method + "'";
       errors_plot += sep + "$" + t.method + " using 1:2 with lines title '" + t.method +
                      ": best-GC candidate', $" + t.method + " using 1:3 with lines dt 2 title '" +
-                     t.method + ": lowest parameter error'";
+                     t.method + ": lowest in population', $" + t.method +
+                     " using 1:4 with lines dt 3 lw 2 title '" + t.method +
+                     ": best-GC candidate, base parameters'";
     }
     gc << gc_plot << "\n";
     errors << errors_plot << "\n";
@@ -110,9 +113,10 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     gc_caption.back() = '.';
     add("gc_error_iterations", gc_caption, gc.str());
     std::string error_caption =
-        "The 7-parameter error of the best-GC candidate (solid) and the lowest parameter error in "
-        "the population (dashed). Over every evaluated candidate, the correlation of log GC error "
-        "with log parameter error is";
+        "The 7-parameter error, eq. (1), of the best-GC candidate (solid) and the lowest one in "
+        "the population (dashed), and the best-GC candidate's base-parameter error (dotted), the "
+        "same candidate measured in the coordinates the data determine. Over every evaluated "
+        "candidate, the correlation of log GC error with log 7-parameter error is";
     double strongest = -1.0;
     for (const DemoSearchTrace& t : result.searches) {
       error_caption += " " + t.method + " r = " + g3(t.pearson_log) + " (Spearman " +
@@ -127,6 +131,30 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     add("parameter_error_iterations", error_caption, errors.str());
   }
 
+  // The correlation behind Fig. 5: every evaluated candidate's two errors.
+  if (!result.searches.empty()) {
+    std::ostringstream scatter;
+    scatter << header("GC error against 7-parameter error, every evaluated candidate",
+                      "7-parameter error, eq. (1)", "training GC error")
+            << "set logscale x\nset format x '10^{%L}'\n";
+    std::string plot = "plot ";
+    for (std::size_t s = 0; s < result.searches.size(); ++s) {
+      const DemoSearchTrace& t = result.searches[s];
+      scatter << "$" << t.method << " << EOD\n";
+      for (const auto& [gc, error] : t.evaluated) scatter << error << " " << gc << "\n";
+      scatter << "EOD\n";
+      plot += (s == 0 ? "" : ", ") + std::string("$") + t.method +
+              " using 1:2 with points pt 7 ps 0.3 title '" + t.method + "'";
+    }
+    scatter << plot << "\n";
+    add("gc_against_parameter_error",
+        "Each point is one candidate a search evaluated (at most 2000 per search shown): its "
+        "7-parameter error against its GC error. Were the GC error a guide to the parameters, the "
+        "points would fall along a rising line towards the origin; the correlations are in "
+        "Figure 2's caption and summary.json.",
+        scatter.str());
+  }
+
   // Every method, in base coordinates and in prediction.
   if (!result.methods.empty()) {
     std::ostringstream base, gc;
@@ -134,9 +162,10 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
                    "RMS relative error of the base parameters")
          << "set style data histograms\nset style fill solid 0.7\nset boxwidth 0.7\n"
             "set xtics rotate by -30\nunset key\n$d << EOD\n";
-    gc << header("GC error by method: training and held-out data", "", "GC error")
+    gc << header("GC error on the training and a held-out path (paper Fig. 3)", "", "GC error")
        << "set style data histograms\nset style histogram clustered\nset style fill solid 0.7\n"
           "set xtics rotate by -30\n$d << EOD\n";
+    gc << "initial_guess " << result.initial_gc_train << " " << result.initial_gc_test << "\n";
     for (const MethodMetrics& m : result.methods) {
       base << m.key << " " << m.base_param_error << "\n";
       gc << m.key << " " << m.gc_error_train << " " << m.gc_error_test << "\n";
@@ -154,10 +183,46 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
                       g3(nlo->base_param_error) + " (NLO).";
     add("base_parameter_error", base_caption, base.str());
     add("gc_error_methods",
-        "The GC error of each estimate on the training data and on a held-out control path. An "
-        "estimate whose base parameters are right predicts the held-out motion as well as the "
-        "training motion; the searches' residual errors grow on the new path.",
+        "The GC error of the initial guess and of each estimate on the training data and on a "
+        "held-out control path (other frequencies, amplitude and phase). Every estimate predicts "
+        "the new path better than the initial guess (" +
+            g3(result.initial_gc_test) +
+            "); those whose base parameters are right predict it as well as the training one.",
         gc.str());
+  }
+  // Fig. 4: near-truth configurations' held-out GC errors, the estimate's marked.
+  const NearTruth& near = result.near_truth;
+  if (!near.gc_errors.empty()) {
+    double lo = std::log10(near.estimate_gc), hi = lo;
+    for (double g : near.gc_errors)
+      if (g > 0.0) lo = std::min(lo, std::log10(g)), hi = std::max(hi, std::log10(g));
+    const int bins = 20;
+    const double width = std::max((hi - lo) / bins, 1e-12);
+    std::vector<int> counts(bins, 0);
+    for (double g : near.gc_errors)
+      if (g > 0.0) ++counts[std::min(bins - 1, static_cast<int>((std::log10(g) - lo) / width))];
+    const int mark =
+        std::min(bins - 1, static_cast<int>((std::log10(near.estimate_gc) - lo) / width));
+    std::ostringstream h;
+    h << "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
+         "set title 'Held-out GC errors of configurations within "
+      << g3(100.0 * near.range)
+      << " % of the truth (paper Fig. 4)'\nset xlabel 'log10 held-out GC error'\n"
+         "set ylabel 'configurations'\nset grid\nset style fill solid 0.7\nset boxwidth "
+      << 0.9 * width << "\n$d << EOD\n";
+    for (int b = 0; b < bins; ++b)
+      h << lo + (b + 0.5) * width << " " << counts[b] << " " << (b == mark ? counts[b] : 0) << "\n";
+    h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations', "
+         "$d using 1:3 with boxes lc rgb '#228833' title '"
+      << "bucket of the " << near.estimate << " estimate'\n";
+    add("near_truth_histogram",
+        "The held-out GC errors of " + std::to_string(near.gc_errors.size()) +
+            " random configurations whose every parameter is within " + g3(100.0 * near.range) +
+            " % of its true value; the green bar is the bucket of the " + near.estimate +
+            " estimate (" + g3(near.estimate_gc) + "). " + g3(near.percentile) +
+            " % of the near-truth configurations do as well or better: a search can predict as "
+            "well as configurations much closer to the truth.",
+        h.str());
   }
   if (figures.empty() && warning != nullptr)
     *warning = "gnuplot not available (DYNID_GNUPLOT or gnuplot on the PATH): no figures";

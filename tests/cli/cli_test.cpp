@@ -439,10 +439,13 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   for (std::size_t at = html.find("<figure"); at != std::string::npos;
        at = html.find("<figure", at + 1))
     ++figures;
-  EXPECT_GE(figures, 4u);
+  EXPECT_GE(figures, 6u);
   EXPECT_TRUE(std::filesystem::exists(dir + "/gc_error_iterations.svg"));
   EXPECT_TRUE(contains(markdown, "![Figure 1](gc_error_iterations.svg)"));
-  // The correlations in the figure's caption are summary.json's.
+  // The near-truth percentile and the correlations in the captions are summary.json's.
+  EXPECT_EQ(j["near_truth"]["samples"], 40);
+  EXPECT_TRUE(contains(markdown, g3(j["near_truth"]["percentile"].get<double>()) +
+                                     " % of the near-truth configurations"));
   for (const auto& search : j["searches"])
     EXPECT_TRUE(contains(markdown, search["method"].get<std::string>() +
                                        " r = " + g3(search["pearson_log"].get<double>())))

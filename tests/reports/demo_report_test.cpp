@@ -66,16 +66,24 @@ TEST(DemoReport, FiguresFromGnuplotOrAWarningWithoutIt) {
   trace.candidates = 500;
   trace.pearson_log = -0.3;
   trace.spearman = -0.25;
+  r.initial_gc_test = 5.0;
+  r.near_truth.gc_errors = {0.01, 0.02, 0.05, 0.1, 0.2};
+  r.near_truth.estimate = "nlo";
+  r.near_truth.estimate_gc = 0.04;
+  r.near_truth.percentile = 40.0;
+  trace.evaluated = {{0.1, 1.0}, {0.2, 1.5}, {0.05, 2.0}};
   r.searches = {trace};
   std::string warning;
   const std::vector<Figure> figures = demoFigures(r, &warning);
-  // gnuplot is installed by scripts/install-deps.sh (gnuplot-nox).
-  ASSERT_EQ(figures.size(), 4u) << warning;
+  // gnuplot is installed by scripts/install-deps.sh (gnuplot-nox): one figure per kind.
+  ASSERT_EQ(figures.size(), 6u) << warning;
   for (const Figure& f : figures) {
     EXPECT_NE(f.svg.find("<svg"), std::string::npos) << f.name;
     EXPECT_FALSE(f.caption.empty()) << f.name;
   }
   EXPECT_NE(figures[1].caption.find("nlo r = -0.3"), std::string::npos) << figures[1].caption;
+  EXPECT_NE(figures.back().caption.find("40 % of the near-truth"), std::string::npos)
+      << figures.back().caption;
   const std::string html = demoHtml(r, figures);
   EXPECT_NE(html.find("<figure id=\"gc_error_iterations\">\n<svg"), std::string::npos);
   EXPECT_EQ(html.find("<?xml"), std::string::npos);
