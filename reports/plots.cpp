@@ -201,25 +201,26 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     std::vector<int> counts(bins, 0);
     for (double g : near.gc_errors)
       if (g > 0.0) ++counts[std::min(bins - 1, static_cast<int>((std::log10(g) - lo) / width))];
-    const int mark =
-        std::min(bins - 1, static_cast<int>((std::log10(near.estimate_gc) - lo) / width));
+    const double mark = std::log10(near.estimate_gc);
     std::ostringstream h;
     h << "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
          "set title 'Held-out GC errors of configurations within "
       << g3(100.0 * near.range)
       << " % of the truth (paper Fig. 4)'\nset xlabel 'log10 held-out GC error'\n"
-         "set ylabel 'configurations'\nset grid\nset style fill solid 0.7\nset boxwidth "
-      << 0.9 * width << "\n$d << EOD\n";
-    for (int b = 0; b < bins; ++b)
-      h << lo + (b + 0.5) * width << " " << counts[b] << " " << (b == mark ? counts[b] : 0) << "\n";
-    h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations', "
-         "$d using 1:3 with boxes lc rgb '#228833' title '"
-      << "bucket of the " << near.estimate << " estimate'\n";
+         "set ylabel 'configurations'\nset grid\nset key top left\nset style fill solid 0.7\n"
+         "set boxwidth "
+      << 0.9 * width << "\nset yrange [0:*]\n"
+      << "set arrow from " << mark << ", graph 0 to " << mark
+      << ", graph 1 nohead lc rgb '#228833' lw 3\n"
+      << "set label '" << near.estimate << " estimate' at " << mark
+      << ", graph 0.95 offset 0.5,0 tc rgb '#228833'\n$d << EOD\n";
+    for (int b = 0; b < bins; ++b) h << lo + (b + 0.5) * width << " " << counts[b] << "\n";
+    h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations'\n";
     add("near_truth_histogram",
         "The held-out GC errors of " + std::to_string(near.gc_errors.size()) +
             " random configurations whose every parameter is within " + g3(100.0 * near.range) +
-            " % of its true value; the green bar is the bucket of the " + near.estimate +
-            " estimate (" + g3(near.estimate_gc) + "). " + g3(near.percentile) +
+            " % of its true value; the green line marks the " + near.estimate + " estimate (" +
+            g3(near.estimate_gc) + "). " + g3(near.percentile) +
             " % of the near-truth configurations do as well or better: a search can predict as "
             "well as configurations much closer to the truth.",
         h.str());
