@@ -75,6 +75,9 @@ DemoResult runDemo(const DemoOptions& options) {
     result.searches.push_back(std::move(trace));
   }
   if (!result.methods.empty()) result.initial_gc_train = result.methods.front().gc_error_initial;
+  const Eigen::VectorXd& sigma = study.olsRelativeStdDev();
+  ident.ols_relative_std_dev.assign(sigma.data(), sigma.data() + sigma.size());
+  if (!stopped()) result.null_spaces = study.nullSpaces();
   result.initial_gc_test = study.initialTestGc();
   for (const MethodMetrics& m : result.methods)
     if (m.key == "nlo" && !stopped())

@@ -41,8 +41,9 @@ struct DemoSettings {
 struct DemoIdentifiability {
   int num_standard = 0, num_base = 0;
   std::vector<std::string> base_names, base_expressions;
-  std::vector<std::string> unidentifiable;  // standard parameters in no base parameter
-  double condition_number = 0.0;            // of the training base regressor, unit columns
+  std::vector<std::string> unidentifiable;   // standard parameters in no base parameter
+  double condition_number = 0.0;             // of the training base regressor, unit columns
+  std::vector<double> ols_relative_std_dev;  // %sigma of the OLS estimate, per base parameter
 };
 
 /// One search's course (the paper's Figs. 2 and 5) and how its two errors relate.
@@ -64,7 +65,8 @@ struct DemoResult {
   std::vector<MethodMetrics> methods;  // in the order ols, wls, pc, nlo, ga, hybrid, refined
   std::vector<DemoSearchTrace> searches;
   double initial_gc_train = 0.0, initial_gc_test = 0.0;  // the initial guess's GC errors
-  NearTruth near_truth;  // the paper's Fig. 4, for the NLO estimate (empty when interrupted)
+  NearTruth near_truth;    // the paper's Fig. 4, for the NLO estimate (empty when interrupted)
+  NullSpaces null_spaces;  // what explains it: the GC error's blind directions
   bool interrupted = false;
   double seconds = 0.0;
 };

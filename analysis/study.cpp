@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cmath>
 
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
@@ -111,6 +114,41 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
   beta_true_ = base_.project(truth_.standardParameters());
 }
 
+NullSpaces Study::nullSpaces() {
+  if (progress_) progress_("null spaces: the GC residuals' Jacobian at the truth");
+  NullSpaces out;
+  const Eigen::MatrixXd J = gcJacobian(truth_, train_, settings_.threads);
+  const int p = static_cast<int>(J.cols());
+  out.standard = p;
+  // Unit-norm columns (a column the GC error does not see at all keeps scale 1).
+  Eigen::VectorXd d = J.colwise().norm().transpose();
+  for (int k = 0; k < p; ++k)
+    if (d[k] == 0.0) d[k] = 1.0;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J * d.cwiseInverse().asDiagonal(),
+                                              Eigen::ComputeThinV);
+  const Eigen::VectorXd sigma = svd.singularValues();
+  out.gc_singular_values.assign(sigma.data(), sigma.data() + sigma.size());
+  int rank = 0;
+  for (int k = 0; k < sigma.size(); ++k)
+    if (sigma[k] > out.tolerance * sigma[0]) ++rank;
+  out.gc_near_null = p - rank;
+  const Eigen::MatrixXd gc_null = svd.matrixV().rightCols(p - rank);  // orthonormal, scaled coords
+  // The regressor's null space in the same scaled coordinates, orthonormalised.
+  const Eigen::MatrixXd regressor_null = d.asDiagonal() * base_.nullSpace();
+  out.regressor_null = static_cast<int>(regressor_null.cols());
+  if (gc_null.cols() > 0 && regressor_null.cols() > 0) {
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(regressor_null);
+    const Eigen::MatrixXd q =
+        qr.householderQ() * Eigen::MatrixXd::Identity(p, regressor_null.cols());
+    const Eigen::VectorXd cosines =
+        Eigen::JacobiSVD<Eigen::MatrixXd>(q.transpose() * gc_null).singularValues();
+    for (int k = 0; k < cosines.size(); ++k)
+      out.principal_angles_deg.push_back(std::acos(std::clamp(cosines[k], -1.0, 1.0)) * 180.0 /
+                                         M_PI);
+  }
+  return out;
+}
+
 NearTruth Study::nearTruth(int samples, double range, const std::string& estimate,
                            double estimate_gc) {
   if (progress_)
@@ -172,6 +210,7 @@ MethodMetrics Study::run(const std::string& method, const std::atomic<bool>* sto
     const auto t0 = Clock::now();
     const BaseEstimate estimate =
         estimateBaseParameters(base_, observation_, parseLeastSquaresMethod(method));
+    if (method == "ols") ols_relative_std_dev_ = estimate.relative_std_dev_percent;
     return comparison_->measure(method, modelWith(base_.standardFromBase(estimate.beta, prior)),
                                 initial_gc_, 0, since(t0));
   }

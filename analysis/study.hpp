@@ -45,6 +45,21 @@ struct NearTruth {
   double percentile = 0.0;        // % of the configurations with a GC error <= the estimate's
 };
 
+/// What explains the searches (issue 6, item 2): the GC error's blind directions against the
+/// regressor's. The GC residuals' Jacobian with respect to the standard parameters at the truth,
+/// columns scaled to unit norm, has singular values; those at or below `tolerance` times the
+/// largest span its near-null space. The principal angles between that space and the regressor's
+/// null space (base parameters) show whether the GC error is blind to the same parameter
+/// combinations as the torques.
+struct NullSpaces {
+  int standard = 0;        // p
+  int regressor_null = 0;  // p - num_base
+  int gc_near_null = 0;    // singular values <= tolerance * largest
+  double tolerance = 1e-7;
+  std::vector<double> gc_singular_values;    // descending, of the column-scaled Jacobian
+  std::vector<double> principal_angles_deg;  // ascending, min(dimensions) of them
+};
+
 class Study {
  public:
   /// Simulates the data and finds the base parameters. Throws InputError for a bad setting (an
@@ -70,6 +85,10 @@ class Study {
     const auto it = search_base_errors_.find(method);
     return it == search_base_errors_.end() ? nullptr : &it->second;
   }
+  /// The null spaces of the GC residuals and of the regressor, compared at the truth.
+  NullSpaces nullSpaces();
+  /// The OLS estimate's relative standard deviations [%], per base parameter, once OLS has run.
+  const Eigen::VectorXd& olsRelativeStdDev() const { return ols_relative_std_dev_; }
   /// The initial guess's GC error on the held-out data.
   double initialTestGc() const { return initial_test_gc_; }
   /// `samples` configurations near the truth (seeded by the setting's seed), compared with the
@@ -98,6 +117,7 @@ class Study {
   std::map<std::string, std::vector<double>> search_base_errors_;
   Eigen::VectorXd beta_true_;
   double initial_test_gc_ = 0.0;
+  Eigen::VectorXd ols_relative_std_dev_;
 };
 
 }  // namespace dynid

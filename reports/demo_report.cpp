@@ -94,6 +94,35 @@ std::vector<std::string> conclusions(const DemoResult& result) {
   return out;
 }
 
+/// What the null spaces say, in sentences computed from them.
+std::vector<std::string> nullSpaceSentences(const DemoResult& result) {
+  const NullSpaces& ns = result.null_spaces;
+  std::vector<std::string> out;
+  if (ns.standard == 0) return out;
+  std::string line =
+      "The torques cannot determine " + std::to_string(ns.regressor_null) + " of the " +
+      std::to_string(ns.standard) +
+      " standard parameter directions (the regressor's null space). The GC residuals' "
+      "Jacobian at the truth (unit columns) has " +
+      std::to_string(ns.gc_near_null) + " singular values at or below " + g3(ns.tolerance) +
+      " of its largest";
+  if (!ns.principal_angles_deg.empty())
+    line +=
+        "; the principal angles between that near-null space and the regressor's null space "
+        "range from " +
+        g3(ns.principal_angles_deg.front()) + " to " + g3(ns.principal_angles_deg.back()) +
+        " degrees";
+  line += ".";
+  out.push_back(line);
+  if (ns.gc_near_null == ns.regressor_null && !ns.principal_angles_deg.empty() &&
+      ns.principal_angles_deg.back() < 1.0)
+    out.push_back(
+        "So the GC error is blind to exactly the parameter combinations the torques are blind "
+        "to: a search on the GC error can at best find the base parameters, never the "
+        "7 paper parameters of every link.");
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json metricsJson(const MethodMetrics& m) {
@@ -158,8 +187,16 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"num_base", id.num_base},
                           {"base_parameters", base},
                           {"unidentifiable", id.unidentifiable},
+                          {"ols_relative_std_dev_percent", id.ols_relative_std_dev},
                           {"condition_number", number(id.condition_number)}}},
                         {"searches", searches},
+                        {"null_spaces",
+                         {{"standard", result.null_spaces.standard},
+                          {"regressor_null", result.null_spaces.regressor_null},
+                          {"gc_near_null", result.null_spaces.gc_near_null},
+                          {"tolerance", result.null_spaces.tolerance},
+                          {"gc_singular_values", result.null_spaces.gc_singular_values},
+                          {"principal_angles_deg", result.null_spaces.principal_angles_deg}}},
                         {"initial_guess",
                          {{"gc_error_train", number(result.initial_gc_train)},
                           {"gc_error_test", number(result.initial_gc_test)}}},
@@ -221,9 +258,12 @@ std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& fi
     for (const std::string& name : id.unidentifiable) out << " " << name;
     out << ".\n\n";
   }
-  out << "| base parameter | combination of standard parameters |\n|---|---|\n";
+  out << "| base parameter | combination of standard parameters | %σ (OLS) |\n|---|---|---|\n";
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
-    out << "| " << id.base_names[j] << " | " << id.base_expressions[j] << " |\n";
+    out << "| " << id.base_names[j] << " | " << id.base_expressions[j] << " | "
+        << (j < id.ols_relative_std_dev.size() ? g3(id.ols_relative_std_dev[j]) : "n/a") << " |\n";
+  out << "\n%σ: the OLS estimate's standard deviation relative to its value, in %.\n";
+  for (const std::string& line : nullSpaceSentences(result)) out << "\n" << line << "\n";
   out << "\n## Comparison\n\n| method |";
   for (const Column& c : kColumns) out << " " << c.header << " |";
   out << "\n|---|";
@@ -274,11 +314,18 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
   out << "<h2>Identifiability</h2>\n<p>" << id.num_base << " of " << id.num_standard
       << " standard parameters are identifiable as base parameters; condition number "
       << g3(id.condition_number) << ".</p>\n";
-  out << "<table id=\"base\"><tr><th>base parameter</th><th>combination</th></tr>\n";
+  out << "<table id=\"base\"><tr><th>base parameter</th><th>combination</th><th>%&sigma; "
+         "(OLS)</th></tr>\n";
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
     out << "<tr><td>" << escapeXml(id.base_names[j]) << "</td><td>"
-        << escapeXml(id.base_expressions[j]) << "</td></tr>\n";
-  out << "</table>\n<h2>Comparison</h2>\n<table id=\"comparison\">\n<tr><th>method</th>";
+        << escapeXml(id.base_expressions[j]) << "</td><td>"
+        << (j < id.ols_relative_std_dev.size() ? g3(id.ols_relative_std_dev[j]) : "n/a")
+        << "</td></tr>\n";
+  out << "<caption>%&sigma;: the OLS estimate's standard deviation relative to its value.</caption>"
+         "</table>\n";
+  for (const std::string& line : nullSpaceSentences(result))
+    out << "<p>" << escapeXml(line) << "</p>\n";
+  out << "\n<h2>Comparison</h2>\n<table id=\"comparison\">\n<tr><th>method</th>";
   for (const Column& c : kColumns) out << "<th>" << escapeXml(c.header) << "</th>";
   out << "</tr>\n";
   for (const MethodMetrics& m : result.methods) {

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,12 +21,18 @@ std::string g3(double x) {
   return buffer;
 }
 
+/// A gnuplot single-quoted string: quotes inside are doubled.
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
 /// Gnuplot's opening lines: an SVG terminal and a plain style.
 std::string header(const std::string& title, const std::string& xlabel, const std::string& ylabel) {
-  return "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
-         "set title '" +
-         title + "'\nset xlabel '" + xlabel + "'\nset ylabel '" + ylabel +
-         "'\nset grid\nset key top right\nset logscale y\nset format y '10^{%L}'\n";
+  return "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\nset title " +
+         quoted(title) + "\nset xlabel " + quoted(xlabel) + "\nset ylabel " + quoted(ylabel) +
+         "\nset grid\nset key top right\nset logscale y\nset format y '10^{%L}'\n";
 }
 
 const MethodMetrics* find(const DemoResult& result, const std::string& key) {
@@ -39,8 +46,10 @@ const MethodMetrics* find(const DemoResult& result, const std::string& key) {
 std::optional<std::string> gnuplotSvg(const std::string& script) {
   const char* configured = std::getenv("DYNID_GNUPLOT");
   const std::string program = configured != nullptr ? configured : "gnuplot";
+  static std::atomic<int> counter{0};
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("dynid_plot_" + std::to_string(::getpid()) + ".gp");
+      std::filesystem::temp_directory_path() /
+      ("dynid_plot_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".gp");
   {
     std::ofstream out(path);
     out << script;
@@ -56,7 +65,7 @@ std::optional<std::string> gnuplotSvg(const std::string& script) {
     if (status != 0) svg.clear();
   }
   std::error_code ec;
-  std::filesystem::remove(path, ec);
+  if (std::getenv("DYNID_PLOT_KEEP") == nullptr) std::filesystem::remove(path, ec);
   if (svg.find("<svg") == std::string::npos || svg.find("</svg>") == std::string::npos)
     return std::nullopt;
   return svg;
@@ -190,6 +199,37 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
             "); those whose base parameters are right predict it as well as the training one.",
         gc.str());
   }
+  // What explains the figures: the GC error's blind directions.
+  const NullSpaces& ns = result.null_spaces;
+  if (!ns.gc_singular_values.empty()) {
+    std::ostringstream sv;
+    sv << header("Singular values of the GC residuals' Jacobian at the truth", "index",
+                 "singular value (unit columns)")
+       << "set yrange [1e-18:*]\n";
+    const int rank = ns.standard - ns.gc_near_null;
+    sv << "set arrow from " << rank + 0.5 << ", graph 0 to " << rank + 0.5
+       << ", graph 1 nohead lc rgb '#228833' lw 2\nset label 'base parameters: "
+       << ns.standard - ns.regressor_null << "' at " << rank + 0.5
+       << ", graph 0.5 left offset 0.5,0 tc rgb '#228833'\n$d << EOD\n";
+    for (std::size_t k = 0; k < ns.gc_singular_values.size(); ++k)
+      // Exact zeros (parameters no rollout depends on) at the plot's floor.
+      sv << k + 1 << " " << std::max(ns.gc_singular_values[k], 1e-18) << "\n";
+    sv << "EOD\nplot $d using 1:2 with impulses lw 4 lc rgb '#4477aa' title 'GC Jacobian'\n";
+    std::string caption =
+        "The singular values of the Jacobian of the GC residuals with respect to the " +
+        std::to_string(ns.standard) +
+        " standard parameters at the truth, columns scaled to unit norm. The green line is the "
+        "number of base parameters, the torques' rank. " +
+        std::to_string(ns.gc_near_null) + " singular values are at round-off";
+    if (!ns.principal_angles_deg.empty())
+      caption +=
+          ", and their span meets the regressor's null space at principal angles of at "
+          "most " +
+          g3(ns.principal_angles_deg.back()) + " degrees";
+    caption += ": the GC error sees the base parameters and nothing else.";
+    add("gc_jacobian_singular_values", caption, sv.str());
+  }
+
   // Fig. 4: near-truth configurations' held-out GC errors, the estimate's marked.
   const NearTruth& near = result.near_truth;
   if (!near.gc_errors.empty()) {

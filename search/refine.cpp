@@ -35,6 +35,15 @@ struct FreeMap {
   }
 };
 
+/// Model parameters from the standard parameters theta directly.
+struct StandardMap {
+  template <typename T>
+  void apply(const T* theta, ModelTpl<T>& model) const {
+    const int p = model.parameterLayout().size();
+    model.setStandardParameters(Eigen::Map<const VectorX<T>>(theta, p));
+  }
+};
+
 /// Model parameters from base parameters beta: theta = theta_ref + L (beta - beta_ref), L a right
 /// inverse of P.
 struct BetaMap {
@@ -359,6 +368,30 @@ std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const GcProblem& problem, int segment,
                                                      bool with_start) {
   return segmentCost(structure, FreeMap{&space}, space.numFree(), problem, segment, with_start);
+}
+
+Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads) {
+  const int n = model.numJoints(), p = model.parameterLayout().size();
+  if (problem.data.numJoints() != n)
+    throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
+                     " joints, the model " + std::to_string(n));
+  const int segments = problem.numSegments();
+  Eigen::MatrixXd J(2 * n * segments, p);
+  const Eigen::VectorXd theta = model.standardParameters();
+  std::vector<char> ok(segments, 1);
+  ThreadPool pool(std::max(num_threads, 1));
+  pool.parallelFor(segments, [&](int s, int) {
+    const auto cost = segmentCost(model, StandardMap{}, p, problem, s, false);
+    RowMajor js(2 * n, p);
+    Eigen::VectorXd r(2 * n);
+    const double* parameters[1] = {theta.data()};
+    double* jacobians[1] = {js.data()};
+    ok[s] = cost->Evaluate(parameters, r.data(), jacobians) ? 1 : 0;
+    J.middleRows(2 * n * s, 2 * n) = js;
+  });
+  for (int s = 0; s < segments; ++s)
+    if (!ok[s]) throw NumericalError("the rollout of segment " + std::to_string(s) + " diverged");
+  return J;
 }
 
 std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space) {

@@ -146,6 +146,11 @@ std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,
                                                      bool with_start);
+/// The Jacobian of every segment's 2n GC residuals (measured starts) with respect to the standard
+/// parameters theta at `model` (rows: segment by segment; columns: theta's order), by automatic
+/// differentiation. Throws InputError on a joint-count mismatch, NumericalError when a rollout
+/// diverges.
+Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads = 1);
 /// The total-mass residual's cost function (parameter block: x).
 std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space);
 

@@ -439,9 +439,15 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   for (std::size_t at = html.find("<figure"); at != std::string::npos;
        at = html.find("<figure", at + 1))
     ++figures;
-  EXPECT_GE(figures, 6u);
+  EXPECT_GE(figures, 7u);
   EXPECT_TRUE(std::filesystem::exists(dir + "/gc_error_iterations.svg"));
   EXPECT_TRUE(contains(markdown, "![Figure 1](gc_error_iterations.svg)"));
+  // The GC error is blind to the regressor's null space and to nothing more: 24 of 60 directions,
+  // principal angles at round-off (4e-6 degrees measured).
+  EXPECT_EQ(j["null_spaces"]["regressor_null"], 24);
+  EXPECT_EQ(j["null_spaces"]["gc_near_null"], 24);
+  EXPECT_LT(j["null_spaces"]["principal_angles_deg"].back().get<double>(), 1e-3);
+  EXPECT_EQ(j["identifiability"]["ols_relative_std_dev_percent"].size(), 36u);
   // The near-truth percentile and the correlations in the captions are summary.json's.
   EXPECT_EQ(j["near_truth"]["samples"], 40);
   EXPECT_TRUE(contains(markdown, g3(j["near_truth"]["percentile"].get<double>()) +

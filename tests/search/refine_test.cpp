@@ -167,6 +167,28 @@ TEST(Refine, FlagsBoundsAndStops) {
   EXPECT_LE(stopped.iterations, 1);
 }
 
+// The GC residuals' Jacobian in standard coordinates sees nothing of the regressor's null space:
+// a parameter no torque depends on (m1: link 1's mass on the fixed axis) has a zero column, and
+// every null-space direction is mapped to round-off.
+TEST(Refine, GcJacobianVanishesOnTheRegressorNullSpace) {
+  const Model truth = makePuma560();
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
+  const Eigen::MatrixXd J = gcJacobian(truth, problem, 2);
+  ASSERT_EQ(J.rows(), 5 * 12);
+  ASSERT_EQ(J.cols(), 60);
+  EXPECT_EQ(J.col(0).norm(), 0.0);  // m1
+  const ParameterLayout layout = truth.parameterLayout();
+  const BaseParameters base = computeBaseParameters(
+      observationFromRandomStates(truth, 200, 1).W, standardParameterNames(layout), 0.0,
+      defaultPreference(layout.num_links, layout.perLink()));
+  const Eigen::MatrixXd N = base.nullSpace();
+  ASSERT_EQ(N.cols(), 24);
+  // Relative to |J| |N|: 1e-9 allows round-off through 50 RK4 steps (1e-17 measured) and
+  // is far below a direction the GC error sees (singular values down to 1e-2 of the largest).
+  EXPECT_LT((J * N).norm(), 1e-9 * J.norm() * N.norm());
+  EXPECT_THROW(gcJacobian(test::randomTree(2), problem), InputError);
+}
+
 TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});
