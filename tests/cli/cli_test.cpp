@@ -531,7 +531,7 @@ TEST(Cli, BatchRunsTheGridResumesShardsAndMerges) {
 }
 
 TEST(Cli, ExampleManifestsRunInQuickMode) {
-  for (const char* name : {"noise_study", "horizon_study"}) {
+  for (const char* name : {"paper_searches", "noise_study", "horizon_study"}) {
     const std::string dir = test::tempPath(std::string("example_") + name);
     std::filesystem::remove_all(dir);
     const Result r = run(std::string("batch ") + DYNID_EXAMPLES + "/" + name +
