@@ -1,7 +1,7 @@
 // The main job, `dynid demo`: the paper's study on the built-in PUMA 560 end to end. Simulate
 // training and held-out data, find the base parameters, identify them by least squares (OLS, WLS,
-// physically consistent), search the GC error (NLO, GA, hybrid), refine the NLO and GA results,
-// and measure every estimate in the same coordinates (comparison.hpp).
+// physically consistent), search the GC error (NLO, GA, hybrid), refine the NLO, GA and hybrid
+// results, and measure every estimate in the same coordinates (comparison.hpp).
 #pragma once
 
 #include <atomic>

@@ -64,8 +64,8 @@ double totalMass(const Model& model) {
 }  // namespace
 
 const std::vector<std::string>& studyMethods() {
-  static const std::vector<std::string> methods = {"ols", "wls",    "pc",          "nlo",
-                                                   "ga",  "hybrid", "nlo_refined", "ga_refined"};
+  static const std::vector<std::string> methods = {
+      "ols", "wls", "pc", "nlo", "ga", "hybrid", "nlo_refined", "ga_refined", "hybrid_refined"};
   return methods;
 }
 
@@ -226,7 +226,7 @@ MethodMetrics Study::run(const std::string& method, const std::atomic<bool>* sto
     return comparison_->measure(method, space.modelAt(found.best_x), initial_gc_, found.evaluations,
                                 found.seconds);
   }
-  if (method == "nlo_refined" || method == "ga_refined") {
+  if (method == "nlo_refined" || method == "ga_refined" || method == "hybrid_refined") {
     const std::string searched = method.substr(0, method.find('_'));
     const SearchResult& found = search(searched, stop);
     say("refine: " + searched);
@@ -242,7 +242,8 @@ MethodMetrics Study::run(const std::string& method, const std::atomic<bool>* sto
                                 refined.base_iterations + refined.iterations, refined.seconds);
   }
   throw InputError("unknown method '" + method +
-                   "' (expected ols, wls, pc, nlo, ga, hybrid, nlo_refined or ga_refined)");
+                   "' (expected ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined or "
+                   "hybrid_refined)");
 }
 
 }  // namespace dynid

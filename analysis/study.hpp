@@ -69,7 +69,8 @@ class Study {
   Study(const Study&) = delete;
   Study& operator=(const Study&) = delete;
 
-  /// Runs one method (studyMethods()) and measures its estimate. "nlo_refined" and "ga_refined"
+  /// Runs one method (studyMethods()) and measures its estimate. "nlo_refined", "ga_refined" and
+  /// "hybrid_refined"
   /// refine the search's result, searching first when that search has not run. Throws InputError
   /// for an unknown method.
   MethodMetrics run(const std::string& method, const std::atomic<bool>* stop = nullptr);

@@ -89,7 +89,8 @@ void checkValue(const std::string& key, const json& value, const std::string& fi
     if (std::find(m.begin(), m.end(), value.get<std::string>()) == m.end())
       throw ParseError(file, 0, where,
                        "unknown method " + value.dump() +
-                           " (ols, wls, pc, nlo, ga, hybrid, nlo_refined or ga_refined)");
+                           " (ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined or "
+                           "hybrid_refined)");
   }
 }
 

@@ -33,6 +33,7 @@ const char* describe(const std::string& key) {
   if (key == "ga") return "GC-error search: genetic algorithm";
   if (key == "hybrid") return "GC-error search: GA, then COBYLA";
   if (key == "nlo_refined") return "NLO result refined by Ceres";
+  if (key == "hybrid_refined") return "hybrid result refined by Ceres";
   if (key == "ga_refined") return "GA result refined by Ceres";
   return "";
 }
@@ -83,7 +84,7 @@ std::vector<std::string> conclusions(const DemoResult& result) {
                   " % predict the held-out path as well as the " + result.near_truth.estimate +
                   " estimate or better (held-out GC error " + g3(result.near_truth.estimate_gc) +
                   "), although its parameters are much further from the truth.");
-  for (const char* key : {"nlo_refined", "ga_refined"})
+  for (const char* key : {"nlo_refined", "ga_refined", "hybrid_refined"})
     if (const MethodMetrics* m = find(result, key))
       out.push_back(std::string(key) + ": refinement takes the GC error to " +
                     g3(m->gc_error_train) + " and the base-parameter error to " +

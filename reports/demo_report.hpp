@@ -10,10 +10,10 @@
 namespace dynid {
 
 /// summary.json: schema_version 1, kind "dynid.demo", `methods` keyed by method (ols, wls, pc,
-/// nlo, ga, hybrid, nlo_refined, ga_refined), each with gc_error_initial, gc_error_train,
-/// gc_error_test, torque_rms_test, param_error, base_param_error, evaluations, seconds; plus
-/// `order`, `settings`, `identifiability`, `interrupted` and `seconds`. Non-finite numbers are
-/// null.
+/// nlo, ga, hybrid, nlo_refined, ga_refined, hybrid_refined), each with gc_error_initial,
+/// gc_error_train, gc_error_test, torque_rms_test, param_error, base_param_error, evaluations,
+/// seconds; plus `order`, `settings`, `identifiability`, `interrupted` and `seconds`. Non-finite
+/// numbers are null.
 std::string demoSummaryJson(const DemoResult& result);
 /// The comparison table as fixed-width text (what `dynid demo` prints).
 std::string demoTable(const DemoResult& result);

@@ -385,8 +385,8 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   const auto j = nlohmann::json::parse(readFile(dir + "/summary.json"));
   EXPECT_EQ(j["schema_version"], 1);
   EXPECT_EQ(j["kind"], "dynid.demo");
-  const std::vector<std::string> keys = {"ols", "wls",    "pc",          "nlo",
-                                         "ga",  "hybrid", "nlo_refined", "ga_refined"};
+  const std::vector<std::string> keys = {
+      "ols", "wls", "pc", "nlo", "ga", "hybrid", "nlo_refined", "ga_refined", "hybrid_refined"};
   for (const std::string& key : keys) {
     ASSERT_TRUE(j["methods"].contains(key)) << key;
     for (const char* field :
@@ -404,7 +404,7 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
         << key;
   // Refinement reaches the base parameters (1e-12 measured) but not the unidentifiable 7-parameter
   // set: its error stays visibly above zero.
-  for (const char* key : {"nlo_refined", "ga_refined"}) {
+  for (const char* key : {"nlo_refined", "ga_refined", "hybrid_refined"}) {
     EXPECT_LT(m[key]["base_param_error"].get<double>(), 1e-4) << key;
     EXPECT_GT(m[key]["param_error"].get<double>(), 1e-3) << key;
   }
