@@ -18,12 +18,7 @@ using nlohmann::json;
 json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 /// Three significant digits, as every table prints them.
-std::string g3(double x) {
-  if (!std::isfinite(x)) return "n/a";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
-}
+std::string g3(double x) { return threeDigits(x); }
 
 const char* describe(const std::string& key) {
   if (key == "ols") return "ordinary least squares on the torques";

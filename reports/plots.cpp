@@ -15,11 +15,7 @@ namespace dynid {
 
 namespace {
 
-std::string g3(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
-}
+std::string g3(double x) { return threeDigits(x); }
 
 /// A gnuplot single-quoted string: quotes inside are doubled.
 std::string quoted(const std::string& text) {
@@ -42,6 +38,13 @@ const MethodMetrics* find(const DemoResult& result, const std::string& key) {
 }
 
 }  // namespace
+
+std::string threeDigits(double x) {
+  if (!std::isfinite(x)) return "n/a";
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
+  return buffer;
+}
 
 std::optional<std::string> gnuplotSvg(const std::string& script) {
   const char* configured = std::getenv("DYNID_GNUPLOT");
