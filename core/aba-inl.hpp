@@ -55,8 +55,10 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
 
   // Pass 1: velocities, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
   // inertias and bias forces pA_i = v_i x* I v_i.
+  // The joint transforms first (see rnea): independent sin/cos calls overlap.
+  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
   for (int i = 0; i < n; ++i) {
-    const Pose<Scalar>& X = data.liMi[i] = jointTransform(model, i, q[i]);
+    const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];
     Vector6<Scalar>& v = data.v[i];
     if (p < 0) {

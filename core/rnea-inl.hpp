@@ -18,8 +18,11 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
 
   // Forward pass: v_i = iXp v_p + S dq,  a_i = iXp a_p + S ddq + v_i x S dq,
   // f_i = I a_i + v_i x* I v_i.  The base accelerates at -g, which adds gravity to every body.
+  // The joint transforms first: their sin/cos calls are independent of each other and of the
+  // recursion, so the processor overlaps them instead of waiting in the dependency chain.
+  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
   for (int i = 0; i < n; ++i) {
-    const Pose<Scalar>& X = data.liMi[i] = jointTransform(model, i, q[i]);
+    const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];
     V3 w, v, dw, dv;
     if (p < 0) {

@@ -44,9 +44,11 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
   Vector6<Scalar> base_acceleration;
   base_acceleration << Scalar(0), Scalar(0), Scalar(0), -model.gravity;
   data.Y.setZero();
-  // Velocities and accelerations in joint frames, as in rnea (gravity as a base acceleration).
+  // Velocities and accelerations in joint frames, as in rnea (gravity as a base acceleration);
+  // the joint transforms first, so their sin/cos calls overlap.
+  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
   for (int i = 0; i < n; ++i) {
-    const Pose<Scalar>& X = data.liMi[i] = jointTransform(model, i, q[i]);
+    const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];
     if (p < 0) {
       data.v[i] = jointMotionAt(model, i, dq[i]);
