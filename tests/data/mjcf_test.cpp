@@ -46,10 +46,11 @@ TEST(Mjcf, OneBodyAndJointPerDynidJoint) {
 #ifdef DYNID_HAVE_MUJOCO
 /// MuJoCo loads the exported text (through a temporary file); null and the error when it refuses.
 mjModel* load(const std::string& text, std::string& error) {
-  const std::filesystem::path path = std::filesystem::path(DYNID_TEST_TMP) / "mjcf_test_model.xml";
+  const std::string path = test::tempPath("model.xml");  // unique to this process and call
   std::ofstream(path) << text;
   char buffer[1000] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, buffer, sizeof(buffer));
+  std::filesystem::remove(path);
   error = buffer;
   return m;
 }
