@@ -69,16 +69,33 @@ const std::vector<std::string>& studyMethods() {
   return methods;
 }
 
+void validateStudySettings(const StudySettings& s) {
+  const auto require = [](bool ok, const char* field, const std::string& rule) {
+    if (!ok) throw InputError(std::string(field) + " " + rule);
+  };
+  const auto finite = [](double x) { return std::isfinite(x); };
+  require(finite(s.train_seconds) && s.train_seconds > 0.0, "train_seconds", "must be > 0");
+  require(finite(s.test_seconds) && s.test_seconds > 0.0, "test_seconds", "must be > 0");
+  require(finite(s.noise_q) && s.noise_q >= 0.0, "noise_q", "must be >= 0");
+  require(finite(s.noise_dq) && s.noise_dq >= 0.0, "noise_dq", "must be >= 0");
+  require(finite(s.noise_tau) && s.noise_tau >= 0.0, "noise_tau", "must be >= 0");
+  require(s.segments >= 0, "segments", "must be >= 0 (0: every segment)");
+  require(finite(s.horizon) && s.horizon > 0.0, "horizon", "must be > 0");
+  require(finite(s.perturb) && s.perturb >= 0.0 && s.perturb < 1.0, "perturb", "must be in [0, 1)");
+  require(finite(s.search_seconds) && s.search_seconds >= 0.0, "search_seconds", "must be >= 0");
+  require(s.search_evaluations >= 0, "search_evaluations", "must be >= 0");
+  require(s.search_seconds > 0.0 || s.search_evaluations > 0, "search_seconds",
+          "or search_evaluations must be > 0: a search needs a budget");
+  require(s.refine_iterations >= 1, "refine_iterations", "must be >= 1");
+  require(s.threads >= 1, "threads", "must be >= 1");
+}
+
 Study::Study(const StudySettings& settings, std::function<void(const std::string&)> progress)
     : settings_(settings), progress_(std::move(progress)) {
   const auto say = [&](const std::string& line) {
     if (progress_) progress_(line);
   };
-  if (!(settings_.train_seconds > 0.0) || !(settings_.test_seconds > 0.0))
-    throw InputError("the training and held-out durations must be > 0");
-  if (settings_.search_seconds <= 0.0 && settings_.search_evaluations <= 0)
-    throw InputError("a search needs a time or an evaluation budget");
-  if (settings_.threads < 1) throw InputError("threads must be >= 1");
+  validateStudySettings(settings_);
   truth_ = loadRobot(settings_.robot);
   initial_ = perturbedModel(truth_, settings_.perturb, settings_.seed);
   say("simulating " + std::to_string(settings_.train_seconds) + " s of training and " +

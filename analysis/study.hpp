@@ -35,6 +35,11 @@ struct StudySettings {
 /// The methods, in table order.
 const std::vector<std::string>& studyMethods();
 
+/// Throws InputError naming the first invalid field (by its StudySettings and manifest name):
+/// durations and the horizon must be > 0, noise, segments and budgets >= 0 with one budget set,
+/// perturb in [0, 1), refine_iterations and threads >= 1. The robot is checked when loaded.
+void validateStudySettings(const StudySettings& settings);
+
 /// The paper's Fig. 4: held-out GC errors of random configurations near the truth (every paper
 /// parameter within +-range of its true value), and where an estimate's falls among them.
 struct NearTruth {

@@ -6,8 +6,8 @@
 #include <benchmark/benchmark.h>
 #include <ceres/cost_function.h>
 
+#include "bench/puma_problem.hpp"
 #include "core/perturb.hpp"
-#include "core/simulate.hpp"
 #include "data/puma560.hpp"
 #include "search/refine.hpp"
 
@@ -15,19 +15,7 @@ namespace {
 
 using namespace dynid;
 
-GcProblem pumaProblem(int segments) {
-  const Model model = makePuma560();
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.15, 0.5);
-  r.phase = Eigen::VectorXd::Zero(6);
-  TrackingController controller(model, r, defaultGains(model, r.q0),
-                                Eigen::VectorXd::Constant(6, 1e9));
-  SimulationOptions options;
-  options.duration = segments * 0.05 + 0.001;
-  return makeGcProblem(simulate(model, controller, options), {.num_segments = segments});
-}
+using bench::pumaProblem;
 
 // One segment's residuals and Jacobian (29 free paper parameters, optionally its 12-entry start).
 void BM_SegmentJacobian(benchmark::State& state) {

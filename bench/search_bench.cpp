@@ -4,8 +4,8 @@
 //   build/bench/bench_search --benchmark_repetitions=5 --benchmark_report_aggregates_only
 #include <benchmark/benchmark.h>
 
+#include "bench/puma_problem.hpp"
 #include "core/perturb.hpp"
-#include "core/simulate.hpp"
 #include "data/puma560.hpp"
 #include "search/gc_error.hpp"
 
@@ -13,19 +13,7 @@ namespace {
 
 using namespace dynid;
 
-GcProblem pumaProblem(int segments) {
-  const Model model = makePuma560();
-  SinusoidalReference r;
-  r.q0 = puma560Pose("qn");
-  r.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  r.frequency = Eigen::VectorXd::LinSpaced(6, 0.15, 0.5);
-  r.phase = Eigen::VectorXd::Zero(6);
-  TrackingController controller(model, r, defaultGains(model, r.q0),
-                                Eigen::VectorXd::Constant(6, 1e9));
-  SimulationOptions options;
-  options.duration = segments * 0.05 + 0.001;
-  return makeGcProblem(simulate(model, controller, options), {.num_segments = segments});
-}
+using bench::pumaProblem;
 
 void BM_GcError(benchmark::State& state) {
   const int segments = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));

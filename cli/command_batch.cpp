@@ -369,6 +369,14 @@ int runBatch(const std::vector<std::string>& args) {
       run["search_evaluations"] = 100;
       run["refine_iterations"] = 20;
     }
+  // Every run's values checked before anything starts (a bad one would only fail in its worker).
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    try {
+      validateStudySettings(settingsOf(runs[i]));
+    } catch (const InputError& e) {
+      throw ParseError(manifest, 0, "run " + std::to_string(i), e.what());
+    }
+  }
   std::filesystem::create_directories(dir + "/runs");
 
   // This shard's runs; those with a valid stored result are skipped.

@@ -68,7 +68,7 @@ std::optional<std::string> gnuplotSvg(const std::string& script) {
     if (status != 0) svg.clear();
   }
   std::error_code ec;
-  if (std::getenv("DYNID_PLOT_KEEP") == nullptr) std::filesystem::remove(path, ec);
+  std::filesystem::remove(path, ec);
   if (svg.find("<svg") == std::string::npos || svg.find("</svg>") == std::string::npos)
     return std::nullopt;
   return svg;

@@ -526,6 +526,15 @@ TEST(Cli, BatchRunsTheGridResumesShardsAndMerges) {
   const std::string unknown = writeManifest("batch_unknown.json", R"({"schema_version": 1,
     "fixed": {"method": "ols", "speed": 3}})");
   EXPECT_TRUE(contains(run("batch " + unknown + " --out " + dir).err, "fixed.speed"));
+  // A value out of range: refused before any run starts, naming the run and the field, and
+  // nothing written.
+  const std::string negative = writeManifest("batch_negative.json", R"({"schema_version": 1,
+    "grid": {"method": ["ols"], "train_seconds": [2, -1]}})");
+  const std::string untouched = test::tempPath("batch_untouched");
+  const Result n = run("batch " + negative + " --out " + untouched);
+  EXPECT_EQ(n.code, 1);
+  EXPECT_TRUE(contains(n.err, "run 1") && contains(n.err, "train_seconds must be > 0")) << n.err;
+  EXPECT_FALSE(std::filesystem::exists(untouched));
   EXPECT_EQ(run("batch " + manifest + " --jobs 0 --out " + dir).code, 2);
   EXPECT_EQ(run("batch " + manifest + " --shard 3/2 --out " + dir).code, 2);
 }
