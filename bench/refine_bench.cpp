@@ -1,7 +1,8 @@
 // Ceres refinement of the GC error on the PUMA 560 (segments of 50 RK4 steps, 0.05 s at 1 kHz):
 // the cost of one residual-and-Jacobian evaluation of a segment, and of one Levenberg-Marquardt
-// iteration against the number of segments, with and without estimating each segment's start
-// (block-sparse Jacobian, Schur elimination of the starts). Run:
+// iteration against the number of segments: starts measured, estimated independently (block-sparse
+// Jacobian, Schur elimination of the starts), and estimated and chained (the segments are
+// contiguous: multiple shooting, sparse Cholesky). Run:
 //   build/bench/bench_refine --benchmark_repetitions=3 --benchmark_report_aggregates_only
 #include <benchmark/benchmark.h>
 #include <ceres/cost_function.h>
@@ -36,14 +37,16 @@ void BM_SegmentJacobian(benchmark::State& state) {
 }
 BENCHMARK(BM_SegmentJacobian)->Arg(0)->Arg(1)->ArgName("with_start")->Unit(benchmark::kMillisecond);
 
-// Five Levenberg-Marquardt iterations from a 30 % perturbation; time per iteration.
+// Five Levenberg-Marquardt iterations from a 30 % perturbation; time per iteration. starts: 0
+// measured, 1 estimated independently, 2 estimated and chained.
 void BM_RefineIterations(benchmark::State& state) {
   const int segments = static_cast<int>(state.range(0));
-  const bool with_start = state.range(1) != 0;
+  const int starts = static_cast<int>(state.range(1));
   const GcProblem problem = pumaProblem(segments);
   const ParameterSpace space(perturbedModel(makePuma560(), 0.3, 1), {});
   RefineOptions options;
-  options.estimate_initial_states = with_start;
+  options.estimate_initial_states = starts > 0;
+  options.continuity_weight = starts == 2 ? 10.0 : 0.0;
   options.max_iterations = 5;
   options.function_tolerance = 0.0;
   options.parameter_tolerance = 0.0;
@@ -53,8 +56,8 @@ void BM_RefineIterations(benchmark::State& state) {
       static_cast<double>(iterations), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_RefineIterations)
-    ->ArgsProduct({{10, 20, 40, 80}, {0, 1}})
-    ->ArgNames({"segments", "with_start"})
+    ->ArgsProduct({{10, 20, 40, 80}, {0, 1, 2}})
+    ->ArgNames({"segments", "starts"})
     ->Unit(benchmark::kSecond)
     ->UseRealTime();
 

@@ -54,8 +54,11 @@ int runRefine(const std::vector<std::string>& args) {
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
       "estimate-initial-states", po::bool_switch(),
       "estimate each segment's start state with the parameters (noisy measured starts)")(
-      "max-iterations", po::value<int>()->default_value(200),
-      "Levenberg-Marquardt iterations per stage")(
+      "continuity-weight", po::value<double>()->default_value(10.0),
+      "with --estimate-initial-states: weight of the gap between a segment's predicted end and "
+      "the next segment's start where they meet (contiguous segments, multiple shooting); 0 keeps "
+      "the measured end states")("max-iterations", po::value<int>()->default_value(200),
+                                 "Levenberg-Marquardt iterations per stage")(
       "no-base-stage", po::bool_switch(),
       "refine the free parameters directly, without first solving in base coordinates")(
       "no-gauge", po::bool_switch(),
@@ -78,6 +81,9 @@ int runRefine(const std::vector<std::string>& args) {
   if (vm["max-iterations"].as<int>() < 1) throw UsageError("--max-iterations must be >= 1");
   if (vm["threads"].as<int>() < 0) throw UsageError("--threads must be >= 0 (0: all cores)");
   if (vm["budget-seconds"].as<double>() < 0) throw UsageError("--budget-seconds must be >= 0");
+  if (!(vm["continuity-weight"].as<double>() >= 0.0) ||
+      !std::isfinite(vm["continuity-weight"].as<double>()))
+    throw UsageError("--continuity-weight must be a finite number >= 0");
 
   const Model robot = loadRobotFromOptions(vm);
   const RobotOptions robot_options{vm["drives"].as<bool>(), vm["strict"].as<bool>()};
@@ -157,6 +163,7 @@ int runRefine(const std::vector<std::string>& args) {
 
   RefineOptions refine;
   refine.estimate_initial_states = vm["estimate-initial-states"].as<bool>();
+  refine.continuity_weight = vm["continuity-weight"].as<double>();
   refine.max_iterations = vm["max-iterations"].as<int>();
   refine.fix_gauge = !vm["no-gauge"].as<bool>();
   refine.base_stage = !vm["no-base-stage"].as<bool>();
@@ -221,6 +228,8 @@ int runRefine(const std::vector<std::string>& args) {
         {"horizon", segments.horizon},
         {"segments", problem.numSegments()},
         {"estimate_initial_states", refine.estimate_initial_states},
+        {"continuity_weight", refine.continuity_weight},
+        {"chained_segments", result.chained_segments},
         {"gauge", refine.fix_gauge},
         {"base_stage", refine.base_stage},
         {"max_iterations", refine.max_iterations},

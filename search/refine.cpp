@@ -10,6 +10,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "core/errors.hpp"
 #include "core/integrators-inl.hpp"
@@ -61,7 +63,9 @@ struct BetaMap {
   }
 };
 
-/// Residuals of one segment (see refine.hpp) for any Scalar.
+/// Residuals of one segment (see refine.hpp) for any Scalar. Parameter blocks: the model's, then
+/// the segment's start when `with_start`, then the next segment's start when `continuity` > 0
+/// (its end residual then measures the gap to that start instead of to the measured end state).
 template <typename Map>
 struct SegmentFunctor {
   Model structure;
@@ -69,6 +73,7 @@ struct SegmentFunctor {
   const GcProblem* problem;
   int segment;
   bool with_start;
+  double continuity;
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
@@ -100,9 +105,17 @@ struct SegmentFunctor {
       for (int j = 0; j < n; ++j)
         residuals[r++] = problem->weight_dq[j] * (blocks[1][n + j] - recorded.dq(j, start));
     }
-    for (int j = 0; j < n; ++j) residuals[r++] = problem->weight_q[j] * (q[j] - recorded.q(j, end));
-    for (int j = 0; j < n; ++j)
-      residuals[r++] = problem->weight_dq[j] * (dq[j] - recorded.dq(j, end));
+    if (continuity > 0.0) {
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = continuity * problem->weight_q[j] * (q[j] - blocks[2][j]);
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = continuity * problem->weight_dq[j] * (dq[j] - blocks[2][n + j]);
+    } else {
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = problem->weight_q[j] * (q[j] - recorded.q(j, end));
+      for (int j = 0; j < n; ++j)
+        residuals[r++] = problem->weight_dq[j] * (dq[j] - recorded.dq(j, end));
+    }
     // A diverged rollout is an evaluation failure: Ceres rejects the step.
     for (int i = 0; i < r; ++i)
       if (!isfinite(residuals[i])) return false;
@@ -110,17 +123,50 @@ struct SegmentFunctor {
   }
 };
 
+/// `continuity` > 0 only with `with_start`: the segment then ends on the next one's start.
 template <typename Map>
 std::unique_ptr<ceres::CostFunction> segmentCost(const Model& structure, const Map& map,
                                                  int map_size, const GcProblem& problem,
-                                                 int segment, bool with_start) {
+                                                 int segment, bool with_start,
+                                                 double continuity = 0.0) {
   const int n = structure.numJoints();
+  if (!with_start) continuity = 0.0;
   auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<SegmentFunctor<Map>, kStride>>(
-      new SegmentFunctor<Map>{structure, map, &problem, segment, with_start});
+      new SegmentFunctor<Map>{structure, map, &problem, segment, with_start, continuity});
   cost->AddParameterBlock(map_size);
   if (with_start) cost->AddParameterBlock(2 * n);
+  if (continuity > 0.0) cost->AddParameterBlock(2 * n);
   cost->SetNumResiduals((with_start ? 4 : 2) * n);
   return cost;
+}
+
+/// The segment that starts where segment s ends, or -1 (see RefineOptions::continuity_weight).
+int nextSegment(const GcProblem& problem, int s) {
+  if (s + 1 >= problem.numSegments()) return -1;
+  return problem.starts[s + 1] == problem.starts[s] + problem.samples_per_segment ? s + 1 : -1;
+}
+
+/// The continuity weight of segment s's end residual: > 0 when it ends on the next start.
+double continuityOf(const GcProblem& problem, const RefineOptions& options, int s) {
+  if (!options.estimate_initial_states || options.continuity_weight <= 0.0) return 0.0;
+  return nextSegment(problem, s) >= 0 ? options.continuity_weight : 0.0;
+}
+
+/// Whether any segment ends on the next one's start (the starts are then not independent).
+bool anyChained(const GcProblem& problem, const RefineOptions& options) {
+  for (int s = 0; s < problem.numSegments(); ++s)
+    if (continuityOf(problem, options, s) > 0.0) return true;
+  return false;
+}
+
+/// The parameter blocks of segment s's residuals: `model_block`, then its start and the next
+/// segment's start as needed.
+std::vector<double*> segmentBlocks(const GcProblem& problem, const RefineOptions& options, int s,
+                                   double* model_block, Eigen::MatrixXd& starts) {
+  std::vector<double*> blocks{model_block};
+  if (options.estimate_initial_states) blocks.push_back(starts.col(s).data());
+  if (continuityOf(problem, options, s) > 0.0) blocks.push_back(starts.col(s + 1).data());
+  return blocks;
 }
 
 /// theta(x) as residuals, to differentiate the parameter map.
@@ -269,47 +315,74 @@ std::unique_ptr<ceres::CostFunction> totalMassCost(const ParameterSpace& space, 
 }
 
 /// J^T J of the GC residuals with respect to beta at `beta` (`map` lifts beta to the model), the
-/// starts eliminated by their Schur complement when estimated; `squared` gets the sum of squared
-/// residuals (NaN when a rollout diverged).
+/// starts eliminated by their Schur complement when estimated (a sparse LDL^T of the starts' block
+/// tridiagonal J^T J, block diagonal when no segment ends on the next start); `squared` gets the
+/// sum of squared residuals (NaN when a rollout diverged).
 Eigen::MatrixXd betaInformation(const Model& structure, const BetaMap& map,
                                 const GcProblem& problem, const Eigen::VectorXd& beta,
-                                const Eigen::MatrixXd& starts, bool with_start, ThreadPool& pool,
-                                double& squared_sum) {
+                                Eigen::MatrixXd starts, const RefineOptions& options,
+                                ThreadPool& pool, double& squared_sum) {
   const int b = static_cast<int>(beta.size()), n = structure.numJoints();
   const int segments = problem.numSegments();
-  std::vector<Eigen::MatrixXd> information(segments);
-  Eigen::VectorXd squared(segments);
+  const bool with_start = options.estimate_initial_states;
   const int m = (with_start ? 4 : 2) * n;
+  std::vector<RowMajor> jb(segments), js(segments), jn(segments);
+  Eigen::VectorXd squared(segments);
   pool.parallelFor(segments, [&](int s, int) {
-    const auto cost = segmentCost(structure, map, b, problem, s, with_start);
-    Eigen::VectorXd start = starts.col(s);
-    const double* parameters[2] = {beta.data(), start.data()};
-    RowMajor jb(m, b), js(m, 2 * n);
-    double* jacobians[2] = {jb.data(), js.data()};
+    const double continuity = continuityOf(problem, options, s);
+    const auto cost = segmentCost(structure, map, b, problem, s, with_start, continuity);
+    Eigen::VectorXd probe = beta;
+    const std::vector<double*> blocks = segmentBlocks(problem, options, s, probe.data(), starts);
+    const std::vector<const double*> parameters(blocks.begin(), blocks.end());
+    jb[s].resize(m, b);
+    js[s].resize(m, with_start ? 2 * n : 0);
+    jn[s].resize(m, continuity > 0.0 ? 2 * n : 0);
+    double* jacobians[3] = {jb[s].data(), js[s].data(), jn[s].data()};
     Eigen::VectorXd r(m);
-    if (!cost->Evaluate(parameters, r.data(), jacobians)) {
-      information[s] = Eigen::MatrixXd::Zero(b, b);
+    if (!cost->Evaluate(parameters.data(), r.data(), jacobians)) {
+      jb[s].setZero(), js[s].setZero(), jn[s].setZero();
       squared[s] = std::numeric_limits<double>::quiet_NaN();
       return;
     }
-    Eigen::MatrixXd h = jb.transpose() * jb;
-    if (with_start) {
-      const Eigen::MatrixXd cross = js.transpose() * jb;
-      h -= cross.transpose() * (js.transpose() * js).ldlt().solve(cross);
-    }
-    information[s] = h;
     squared[s] = r.squaredNorm();
   });
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
-  for (const Eigen::MatrixXd& h : information) H += h;
   squared_sum = squared.sum();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
+  for (const RowMajor& j : jb) H.noalias() += j.transpose() * j;
+  if (!with_start) return H;
+  // H - B^T A^-1 B with A = Js^T Js and B = Js^T Jb over the stacked starts.
+  const int w = 2 * n;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(w) * segments, b);
+  const auto add = [&](int row_block, int col_block, const Eigen::MatrixXd& block) {
+    for (int i = 0; i < w; ++i)
+      for (int j = 0; j < w; ++j)
+        entries.emplace_back(row_block * w + i, col_block * w + j, block(i, j));
+  };
+  for (int s = 0; s < segments; ++s) {
+    add(s, s, js[s].transpose() * js[s]);
+    B.middleRows(static_cast<Eigen::Index>(s) * w, w).noalias() += js[s].transpose() * jb[s];
+    if (jn[s].cols() == 0) continue;
+    const Eigen::MatrixXd cross = js[s].transpose() * jn[s];
+    add(s, s + 1, cross);
+    add(s + 1, s, cross.transpose());
+    add(s + 1, s + 1, jn[s].transpose() * jn[s]);
+    B.middleRows(static_cast<Eigen::Index>(s + 1) * w, w).noalias() += jn[s].transpose() * jb[s];
+  }
+  Eigen::SparseMatrix<double> A(static_cast<Eigen::Index>(w) * segments,
+                                static_cast<Eigen::Index>(w) * segments);
+  A.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+  if (ldlt.info() != Eigen::Success) return Eigen::MatrixXd::Constant(b, b, std::nan(""));
+  H.noalias() -= B.transpose() * ldlt.solve(B);
   return H;
 }
 
 /// Base-coordinate uncertainty and the free directions of x (see refine.hpp).
 void baseUncertainty(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
-                     const BaseCoordinates& base, bool with_start, RefineResult& result,
-                     ThreadPool& pool) {
+                     const BaseCoordinates& base, const RefineOptions& options,
+                     RefineResult& result, ThreadPool& pool) {
+  const bool with_start = options.estimate_initial_states;
   const Eigen::VectorXd theta = space.standardAt(result.x);
   const Eigen::MatrixXd& P = base.projection;  // its size checked by refineGc
   const int b = static_cast<int>(P.rows()), n = structure.numJoints();
@@ -319,7 +392,7 @@ void baseUncertainty(const Model& structure, const ParameterSpace& space, const 
   const BetaMap map{theta, result.beta, lift};
   double squared = 0.0;
   const Eigen::MatrixXd H = betaInformation(structure, map, problem, result.beta,
-                                            result.initial_states, with_start, pool, squared);
+                                            result.initial_states, options, pool, squared);
   const int m = (with_start ? 4 : 2) * n;
   const long rows = static_cast<long>(segments) * m;
   const long unknowns = b + (with_start ? 2L * n * segments : 0L);
@@ -366,8 +439,9 @@ void baseUncertainty(const Model& structure, const ParameterSpace& space, const 
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,
-                                                     bool with_start) {
-  return segmentCost(structure, FreeMap{&space}, space.numFree(), problem, segment, with_start);
+                                                     bool with_start, double continuity) {
+  return segmentCost(structure, FreeMap{&space}, space.numFree(), problem, segment, with_start,
+                     continuity);
 }
 
 Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads) {
@@ -404,18 +478,21 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Solver settings shared by the stages: Levenberg-Marquardt; the starts (when estimated)
-/// eliminated first by a block-sparse Schur complement.
-ceres::Solver::Options solverOptions(const RefineOptions& options, double* model_block,
-                                     Eigen::MatrixXd& starts, bool with_start,
+/// Solver settings shared by the stages: Levenberg-Marquardt. Independent starts (when
+/// estimated) are eliminated first by a block-sparse Schur complement; chained ones (a segment
+/// ending on the next start, so no longer an independent set) go with the model parameters into a
+/// sparse Cholesky factorisation of the normal equations, whose starts' part is block tridiagonal.
+ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProblem& problem,
+                                     double* model_block, Eigen::MatrixXd& starts,
                                      double seconds_left) {
   ceres::Solver::Options solver;
   solver.minimizer_type = ceres::TRUST_REGION;
   solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  if (with_start) {
-    solver.linear_solver_type =
-        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SPARSE_SCHUR
-                                                                              : ceres::DENSE_SCHUR;
+  const bool sparse = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
+  if (options.estimate_initial_states && anyChained(problem, options)) {
+    solver.linear_solver_type = sparse ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
+  } else if (options.estimate_initial_states) {
+    solver.linear_solver_type = sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (int s = 0; s < starts.cols(); ++s) ordering->AddElementToGroup(starts.col(s).data(), 0);
     ordering->AddElementToGroup(model_block, 1);
@@ -455,13 +532,13 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
 
   ceres::Problem beta_problem;
   for (int s = 0; s < problem.numSegments(); ++s) {
-    std::vector<double*> blocks{beta.data()};
-    if (with_start) blocks.push_back(result.initial_states.col(s).data());
-    beta_problem.AddResidualBlock(segmentCost(structure, map, b, problem, s, with_start).release(),
-                                  nullptr, blocks);
+    beta_problem.AddResidualBlock(
+        segmentCost(structure, map, b, problem, s, with_start, continuityOf(problem, options, s))
+            .release(),
+        nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
   }
   ceres::Solver::Options solver =
-      solverOptions(options, beta.data(), result.initial_states, with_start,
+      solverOptions(options, problem, beta.data(), result.initial_states,
                     options.max_seconds - secondsSince(clock_start));
   RefineCallback callback(result.history, options.stop, result.interrupted, "base",
                           secondsSince(clock_start));
@@ -489,7 +566,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   {
     double squared = 0.0;
     const Eigen::MatrixXd H = betaInformation(structure, map, problem, beta, result.initial_states,
-                                              with_start, pool, squared);
+                                              options, pool, squared);
     if (H.allFinite()) {
       Eigen::VectorXd d(b);
       for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
@@ -598,6 +675,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                      " standard parameters, the model " +
                      std::to_string(structure.parameterLayout().size()));
   const bool with_start = options.estimate_initial_states;
+  for (int s = 0; s < segments; ++s)
+    if (continuityOf(problem, options, s) > 0.0) ++result.chained_segments;
   result.initial_states.resize(2 * n, segments);
   for (int s = 0; s < segments; ++s) {
     result.initial_states.col(s).head(n) = problem.data.q.col(problem.starts[s]);
@@ -613,10 +692,10 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   // The parameter stage. Residual blocks: one per segment, and the total mass.
   ceres::Problem solver_problem;
   for (int s = 0; s < segments; ++s) {
-    std::vector<double*> blocks{result.x.data()};
-    if (with_start) blocks.push_back(result.initial_states.col(s).data());
     solver_problem.AddResidualBlock(
-        makeSegmentCost(structure, space, problem, s, with_start).release(), nullptr, blocks);
+        makeSegmentCost(structure, space, problem, s, with_start, continuityOf(problem, options, s))
+            .release(),
+        nullptr, segmentBlocks(problem, options, s, result.x.data(), result.initial_states));
   }
   if (space.options().total_mass_constraint)
     solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
@@ -641,7 +720,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
   }
   ceres::Solver::Options solver =
-      solverOptions(options, result.x.data(), result.initial_states, with_start,
+      solverOptions(options, problem, result.x.data(), result.initial_states,
                     options.max_seconds - secondsSince(clock_start));
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
   RefineCallback callback(result.history, options.stop, result.interrupted, "parameters",
@@ -665,7 +744,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
       result.at_bound.push_back(names[j]);
   }
-  if (base != nullptr) baseUncertainty(structure, space, problem, *base, with_start, result, pool);
+  if (base != nullptr) baseUncertainty(structure, space, problem, *base, options, result, pool);
   result.seconds = secondsSince(clock_start);
   return result;
 }

@@ -11,6 +11,15 @@
 // sparse (each segment sees the model parameters and its own start); it is solved by Schur
 // elimination of the starts (SPARSE_SCHUR with SuiteSparse), so the cost grows linearly with the
 // number of segments.
+// Where a segment ends on the sample where the next one starts (contiguous segments, e.g.
+// SegmentOptions::num_segments = 0), its end residual becomes
+//     c w (s_hat_i - s0_{i+1})   (c = RefineOptions::continuity_weight)
+// instead of w (s_hat_i - s_{i+1} measured): the segments join into one trajectory (multiple
+// shooting) and every sample is observed once, through the start residual of the segment it
+// starts. The estimate then uses each noisy sample as a measurement of a state the dynamics must
+// connect to its neighbours, not as an exact start (with independent segments, profiling out the
+// start gives back the plain GC residual up to a weighting, and hence nearly the same estimate).
+// The starts are then no longer an independent set: SPARSE_NORMAL_CHOLESKY replaces SPARSE_SCHUR.
 // The free parameters, their bounds and the parameter form are the search's (ParameterSpace);
 // bounds are Ceres parameter bounds. With the total-mass constraint on, one more residual
 // (sum of masses - total) / (1e-6 total) holds it to about 1e-6 relative at a solution with
@@ -59,6 +68,10 @@ struct BaseCoordinates {
 
 struct RefineOptions {
   bool estimate_initial_states = false;
+  /// With estimate_initial_states: the weight c of the gap between a segment's predicted end and
+  /// the next segment's start, relative to the measurement weights, where the two meet; 0 keeps
+  /// every segment's end residual on its measured end state (independent segments).
+  double continuity_weight = 10.0;
   int max_iterations = 200;            // per stage
   double function_tolerance = 1e-16;   // Ceres: relative cost change
   double gradient_tolerance = 1e-20;   // Ceres: max-norm of the projected gradient
@@ -117,6 +130,7 @@ struct RefineResult {
   int iterations = 0;
   double seconds = 0.0;
   std::string linear_solver;
+  int chained_segments = 0;           // segments whose end residual is on the next start
   int gauge_dimension = 0;            // free directions held at the start (fix_gauge)
   std::vector<std::string> at_bound;  // free parameters at a bound (to 1e-9 of their range)
 
@@ -141,11 +155,12 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const BaseCoordinates* base = nullptr);
 
 /// The cost function of segment `segment` (parameter blocks: x, then the start when
+/// `with_start`, then the next segment's start when `continuity` > 0, which also needs
 /// `with_start`); exposed for gradient checks. The caller owns it; it refers to its arguments.
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,
-                                                     bool with_start);
+                                                     bool with_start, double continuity = 0.0);
 /// The Jacobian of every segment's 2n GC residuals (measured starts) with respect to the standard
 /// parameters theta at `model` (rows: segment by segment; columns: theta's order), by automatic
 /// differentiation. Throws InputError on a joint-count mismatch, NumericalError when a rollout

@@ -325,7 +325,10 @@ TEST(Cli, RefineFromASearchAndFromAnEstimate) {
       " --segments 10 --estimate-initial-states --max-iterations 3 --threads 2 --out " + refined);
   ASSERT_EQ(from_estimate.code, 0) << from_estimate.err;
   const auto k = nlohmann::json::parse(readFile(refined + "/refine.json"));
+  // 10 segments spread over the data, with gaps: independent starts, Schur elimination.
   EXPECT_EQ(k["settings"]["linear_solver"], "SPARSE_SCHUR");
+  EXPECT_EQ(k["settings"]["chained_segments"], 0);
+  EXPECT_EQ(k["settings"]["continuity_weight"], 10.0);
   EXPECT_TRUE(k.contains("initial_states"));
   // Not a start file: a data error naming the file.
   const Result bad =
@@ -333,6 +336,7 @@ TEST(Cli, RefineFromASearchAndFromAnEstimate) {
   EXPECT_EQ(bad.code, 1);
   EXPECT_TRUE(contains(bad.err, train)) << bad.err;
   EXPECT_EQ(run("refine --robot puma560 --from x --data y --max-iterations 0 --out d").code, 2);
+  EXPECT_EQ(run("refine --robot puma560 --from x --data y --continuity-weight -1 --out d").code, 2);
 }
 
 TEST(Cli, SearchStopsCleanlyOnInterrupt) {
