@@ -44,6 +44,12 @@ void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
   parent.template bottomRightCorner<3, 3>() += C;
 }
 
+/// aba with data.liMi already holding the joint transforms at q (the sizes checked by the caller).
+template <typename Scalar>
+const VectorX<Scalar>& abaAtTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                       const ConstVectorRef<Scalar>& dq,
+                                       const ConstVectorRef<Scalar>& tau);
+
 }  // namespace aba_detail
 
 template <typename Scalar>
@@ -51,12 +57,19 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                            const ConstVectorRef<Scalar>& q, const ConstVectorRef<Scalar>& dq,
                            const ConstVectorRef<Scalar>& tau) {
   checkState(model, data, q, dq, tau, "tau");
-  const int n = model.numJoints();
+  // The joint transforms first (see rnea): independent sin/cos calls overlap.
+  for (int i = 0; i < model.numJoints(); ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  return aba_detail::abaAtTransforms(model, data, dq, tau);
+}
 
+template <typename Scalar>
+const VectorX<Scalar>& aba_detail::abaAtTransforms(const ModelTpl<Scalar>& model,
+                                                   DataTpl<Scalar>& data,
+                                                   const ConstVectorRef<Scalar>& dq,
+                                                   const ConstVectorRef<Scalar>& tau) {
+  const int n = model.numJoints();
   // Pass 1: velocities, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
   // inertias and bias forces pA_i = v_i x* I v_i.
-  // The joint transforms first (see rnea): independent sin/cos calls overlap.
-  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];

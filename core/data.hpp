@@ -38,8 +38,9 @@ struct DataTpl {
   std::vector<Vector6<Scalar>> bias_force, U, c;
   VectorX<Scalar> D, u;
 
-  // Integrators: stage state and accumulated increments.
-  VectorX<Scalar> q_stage, dq_stage, q_increment, dq_increment;
+  // Integrators: stage state and accumulated increments; sin q and cos q of the step's start
+  // (revolute joints), from which RK4 forms its later stages' joint transforms.
+  VectorX<Scalar> q_stage, dq_stage, q_increment, dq_increment, sin_q, cos_q;
 };
 
 using Data = DataTpl<double>;
@@ -68,6 +69,8 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   dq_stage = VectorX<Scalar>::Zero(n);
   q_increment = VectorX<Scalar>::Zero(n);
   dq_increment = VectorX<Scalar>::Zero(n);
+  sin_q = VectorX<Scalar>::Zero(n);
+  cos_q = VectorX<Scalar>::Zero(n);
 }
 
 /// Input vectors of the compiled algorithms. Scalar is deduced from the model argument only, so

@@ -4,8 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include "core/aba.hpp"
 #include "core/energy.hpp"
 #include "core/errors.hpp"
+#include "core/integrators-inl.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -57,6 +59,67 @@ double errorWithStep(IntegratorType type, double h) {
     return x;
   };
   return (run(h) - run(h / 16)).norm();
+}
+
+// RK4's stages 2-4 form their joint transforms from the step's sin q and cos q by angle addition
+// (a series for the small stage offset, sin/cos calls beyond 1e-2 rad); the step must equal the
+// textbook one built from four plain forward-dynamics calls. Trees with prismatic and
+// arbitrary-axis joints; slow states (series) and fast ones with a long step (the sin/cos
+// fallback).
+TEST(Integrators, Rk4StagesEqualTheTextbookStep) {
+  for (int seed = 0; seed < 4; ++seed) {
+    const Model model = seed == 0 ? makePuma560(true) : test::randomTree(seed);
+    Data data(model), reference(model);
+    const int n = model.numJoints();
+    std::mt19937_64 rng(seed + 100);
+    for (const auto& [speed, h] : {std::pair{1.0, 1e-3}, std::pair{50.0, 1e-2}}) {
+      const Eigen::VectorXd q0 = test::randomVector(rng, n, 2.0);
+      const Eigen::VectorXd dq0 = test::randomVector(rng, n, speed);
+      const Eigen::VectorXd tau = test::randomVector(rng, n, 5.0);
+      Eigen::VectorXd q = q0, dq = dq0;
+      rk4Step(model, data, q, dq, tau, h);
+      // k_i = (dq_i, ddq_i) at the stage states.
+      const auto f = [&](const Eigen::VectorXd& qs, const Eigen::VectorXd& dqs) {
+        return Eigen::VectorXd(aba(model, reference, qs, dqs, tau));
+      };
+      const Eigen::VectorXd a1 = f(q0, dq0);
+      const Eigen::VectorXd v2 = dq0 + h / 2 * a1, a2 = f(q0 + h / 2 * dq0, v2);
+      const Eigen::VectorXd v3 = dq0 + h / 2 * a2, a3 = f(q0 + h / 2 * v2, v3);
+      const Eigen::VectorXd v4 = dq0 + h * a3, a4 = f(q0 + h * v3, v4);
+      const Eigen::VectorXd q_ref = q0 + h / 6 * (dq0 + 2 * v2 + 2 * v3 + v4);
+      const Eigen::VectorXd dq_ref = dq0 + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
+      // The series are exact to 3e-22 relative: only round-off of sin/cos (1 ulp) and of the
+      // recursion separates the two, 1e-12 of the state's scale far above it and below any
+      // error in a stage's angle (h dq ~ 1e-3, so a wrong stage shows at 1e-6 or more).
+      EXPECT_LT((q - q_ref).norm(), 1e-12 * (1.0 + q_ref.norm())) << "seed " << seed;
+      EXPECT_LT((dq - dq_ref).norm(), 1e-12 * (1.0 + dq_ref.norm()))
+          << "seed " << seed << ", speed " << speed;
+    }
+  }
+}
+
+// The stage transforms by angle addition equal the joint transforms at the stage angle, across
+// the series' range (|d| <= 1e-2) and beyond it (sin/cos calls).
+TEST(Integrators, StageTransformsEqualTheJointTransforms) {
+  const Model model = test::randomTree(5);
+  Data data(model);
+  const int n = model.numJoints();
+  std::mt19937_64 rng(7);
+  const Eigen::VectorXd q = test::randomVector(rng, n, 3.0);
+  for (int i = 0; i < n; ++i) data.sin_q[i] = std::sin(q[i]), data.cos_q[i] = std::cos(q[i]);
+  for (const double d : {1e-9, -3e-6, 1e-3, -9.9e-3, 1e-2, 2e-2, -0.7}) {
+    const Eigen::VectorXd q_stage = q + Eigen::VectorXd::Constant(n, d);
+    integrators_detail::stageTransforms(model, data, q, q_stage);
+    for (int i = 0; i < n; ++i) {
+      const Pose<double> expected = jointTransform(model, i, q_stage[i]);
+      // Entries of a rotation are at most 1: a few ulps of round-off; a wrong series term shows
+      // at d^3 / 6 ~ 1e-7 for d near 1e-2.
+      EXPECT_LT((data.liMi[i].rotation - expected.rotation).cwiseAbs().maxCoeff(), 1e-15)
+          << "joint " << i << ", d " << d;
+      EXPECT_LT((data.liMi[i].translation - expected.translation).cwiseAbs().maxCoeff(), 1e-15)
+          << "joint " << i << ", d " << d;
+    }
+  }
 }
 
 TEST(Integrators, ConvergeAtTheirOrder) {
