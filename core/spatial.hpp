@@ -14,8 +14,10 @@
 // Small spatial operations sit on the hot path of every recursive algorithm: force inlining.
 #if defined(__GNUC__)
 #define DYNID_INLINE inline __attribute__((always_inline))
+#define DYNID_NOINLINE __attribute__((noinline))
 #else
 #define DYNID_INLINE inline
+#define DYNID_NOINLINE
 #endif
 
 namespace dynid {
