@@ -36,41 +36,43 @@ using nlohmann::json;
 std::atomic<bool> interrupted{false};
 extern "C" void onBatchInterrupt(int) { interrupted.store(true); }
 
-/// The keys a run's spec has, with their defaults (StudySettings), in the table's column order.
+/// Calls f(name, member) for every StudySettings field a run's spec sets, in the table's column
+/// order: the one list behind the spec's defaults, its columns and settingsOf. (threads is not a
+/// spec field: batch parallelism is across runs, --jobs.)
+template <typename Settings, typename F>
+void forEachSpecField(Settings& s, F&& f) {
+  f("robot", s.robot);
+  f("seed", s.seed);
+  f("noise_q", s.noise_q);
+  f("noise_dq", s.noise_dq);
+  f("noise_tau", s.noise_tau);
+  f("train_seconds", s.train_seconds);
+  f("test_seconds", s.test_seconds);
+  f("segments", s.segments);
+  f("horizon", s.horizon);
+  f("perturb", s.perturb);
+  f("search_seconds", s.search_seconds);
+  f("search_evaluations", s.search_evaluations);
+  f("refine_iterations", s.refine_iterations);
+}
+
+/// The keys a run's spec has, with their defaults (StudySettings).
 const json& specDefaults() {
   static const json defaults = [] {
+    json out{{"method", nullptr}};
     const StudySettings s;
-    return json{{"method", nullptr},
-                {"robot", s.robot},
-                {"seed", s.seed},
-                {"noise_q", s.noise_q},
-                {"noise_dq", s.noise_dq},
-                {"noise_tau", s.noise_tau},
-                {"train_seconds", s.train_seconds},
-                {"test_seconds", s.test_seconds},
-                {"segments", s.segments},
-                {"horizon", s.horizon},
-                {"perturb", s.perturb},
-                {"search_seconds", s.search_seconds},
-                {"search_evaluations", s.search_evaluations},
-                {"refine_iterations", s.refine_iterations}};
+    forEachSpecField(s, [&](const char* key, const auto& value) { out[key] = value; });
+    return out;
   }();
   return defaults;
 }
-const std::vector<std::string> kColumns = {"method",
-                                           "robot",
-                                           "seed",
-                                           "noise_q",
-                                           "noise_dq",
-                                           "noise_tau",
-                                           "train_seconds",
-                                           "test_seconds",
-                                           "segments",
-                                           "horizon",
-                                           "perturb",
-                                           "search_seconds",
-                                           "search_evaluations",
-                                           "refine_iterations"};
+/// The results table's spec columns: the method, then the settings.
+const std::vector<std::string> kColumns = [] {
+  std::vector<std::string> out{"method"};
+  const StudySettings s;
+  forEachSpecField(s, [&](const char* key, const auto&) { out.emplace_back(key); });
+  return out;
+}();
 const std::vector<std::string> kMetrics = {"gc_error_initial", "gc_error_train", "gc_error_test",
                                            "torque_rms_test",  "param_error",    "base_param_error",
                                            "evaluations",      "seconds"};
@@ -169,19 +171,9 @@ json storedResult(const std::string& path, const json& spec) {
 
 StudySettings settingsOf(const json& spec) {
   StudySettings s;
-  s.robot = spec["robot"];
-  s.seed = spec["seed"];
-  s.noise_q = spec["noise_q"];
-  s.noise_dq = spec["noise_dq"];
-  s.noise_tau = spec["noise_tau"];
-  s.train_seconds = spec["train_seconds"];
-  s.test_seconds = spec["test_seconds"];
-  s.segments = spec["segments"];
-  s.horizon = spec["horizon"];
-  s.perturb = spec["perturb"];
-  s.search_seconds = spec["search_seconds"];
-  s.search_evaluations = spec["search_evaluations"];
-  s.refine_iterations = spec["refine_iterations"];
+  forEachSpecField(s, [&](const char* key, auto& value) {
+    value = spec.at(key).get<std::decay_t<decltype(value)>>();
+  });
   s.threads = 1;  // batch parallelism is across runs (--jobs)
   return s;
 }

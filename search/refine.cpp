@@ -663,6 +663,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     throw InputError("the start has " + std::to_string(x0.size()) + " free parameters, expected " +
                      std::to_string(space.numFree()));
   if (space.numFree() == 0) throw InputError("refinement needs at least one free parameter");
+  if (!std::isfinite(options.continuity_weight) || options.continuity_weight < 0.0)
+    throw InputError("the continuity weight must be a finite number >= 0");
   RefineResult result;
   result.x = space.project(x0);
   const Model structure = space.modelAt(result.x);

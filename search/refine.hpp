@@ -149,7 +149,8 @@ struct RefineResult {
 /// Refines x0 (numFree() entries, projected onto the bounds first). `base` may be null (no
 /// uncertainty, no base stage). `termination`, `usable` and `iterations` are the final stage's;
 /// the time budget and the stop flag cover both. Throws InputError when the problem's joint count
-/// differs from the space's model or x0 has the wrong size.
+/// differs from the space's model, x0 has the wrong size or the continuity weight is negative or
+/// not finite.
 RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const Eigen::VectorXd& x0, const RefineOptions& options,
                       const BaseCoordinates* base = nullptr);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "core/errors.hpp"
@@ -278,6 +279,11 @@ TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});
   EXPECT_THROW(refineGc(space, problem, Eigen::VectorXd::Zero(3), {}), InputError);
+  for (const double weight : {-1.0, std::nan("")})
+    EXPECT_THROW(refineGc(space, problem, space.initial(),
+                          {.estimate_initial_states = true, .continuity_weight = weight}),
+                 InputError)
+        << weight;
 }
 
 }  // namespace
