@@ -18,7 +18,8 @@ IntegratorType parseIntegrator(const std::string& name);
 
 /// Classical 4th-order Runge-Kutta step of length h [s]: four forward-dynamics evaluations.
 /// q, dq (n entries) are advanced in place; tau (n entries) is held over the step.
-/// Overwrites the ABA fields of data and data.q_stage, dq_stage, q_increment, dq_increment.
+/// Overwrites the ABA fields of data and data.q_stage, dq_stage, q_increment, dq_increment, sin_q,
+/// cos_q (stages 2-4 form their joint transforms from sin q and cos q by angle addition).
 /// Allocates nothing. tau must not alias data's buffers.
 template <typename Scalar>
 void rk4Step(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, VectorRef<Scalar> q,
