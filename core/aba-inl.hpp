@@ -7,28 +7,24 @@
 namespace dynid {
 
 namespace aba_detail {
-/// parent += pXi* Ia iXp, where Ia = IA - U (U / D)^T is the articulated inertia the child hands
-/// on (formed block by block here, never stored), with pXi* = [[R, [p]x R], [0, R]]: rotate the
-/// three 3x3 blocks, then shift by p.
+/// parent += pXi* Ia iXp, with Ia = IA - U U^T / D the articulated inertia the child hands on and
+/// pXi* = [[R, [p]x R], [0, R]]: rotate IA's three 3x3 blocks, shift them by p, then subtract
+/// U' U'^T / D with U' = pXi* U. The congruence of IA does not wait for the division by D.
+/// Writes U' to U_parent (pass 3 uses it).
 template <typename Scalar>
 void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
-                           const Vector6<Scalar>& U, const Vector6<Scalar>& U_over_D,
-                           Matrix6<Scalar>& parent) {
+                           const Vector6<Scalar>& U, const Scalar& inv_d, Matrix6<Scalar>& parent,
+                           Vector6<Scalar>& U_parent) {
   const Matrix3<Scalar>& R = X.rotation;
-  const auto Ut = U.template head<3>(), Ub = U.template tail<3>();
-  const auto Vt = U_over_D.template head<3>(), Vb = U_over_D.template tail<3>();
-  Matrix3<Scalar> block, half;
-  // A = R (IA_tl - Ut Vt^T) R^T, B = R (IA_tr - Ut Vb^T) R^T, C = R (IA_br - Ub Vb^T) R^T.
-  block.noalias() = IA.template topLeftCorner<3, 3>() - Ut * Vt.transpose();
-  half.noalias() = R * block;
+  // A = R IA_tl R^T, B = R IA_tr R^T, C = R IA_br R^T.
+  Matrix3<Scalar> half;
+  half.noalias() = R * IA.template topLeftCorner<3, 3>();
   Matrix3<Scalar> A;
   A.noalias() = half * R.transpose();
-  block.noalias() = IA.template topRightCorner<3, 3>() - Ut * Vb.transpose();
-  half.noalias() = R * block;
+  half.noalias() = R * IA.template topRightCorner<3, 3>();
   Matrix3<Scalar> B;
   B.noalias() = half * R.transpose();
-  block.noalias() = IA.template bottomRightCorner<3, 3>() - Ub * Vb.transpose();
-  half.noalias() = R * block;
+  half.noalias() = R * IA.template bottomRightCorner<3, 3>();
   Matrix3<Scalar> C;
   C.noalias() = half * R.transpose();
   // [[1, P], [0, 1]] [[A, B], [B^T, C]] [[1, 0], [P^T, 1]] with P = [p]x, P^T = -P:
@@ -38,10 +34,82 @@ void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
   for (int j = 0; j < 3; ++j) B2.col(j) = B.col(j) + cross(p, C.col(j));
   for (int j = 0; j < 3; ++j) A.col(j) += cross(p, B.row(j).transpose());
   for (int r = 0; r < 3; ++r) A.row(r) += cross(p, B2.row(r).transpose()).transpose();
+  const Vector3<Scalar> Uf = R * U.template tail<3>();
+  const Vector3<Scalar> Un = R * U.template head<3>() + cross(p, Uf);
+  const Vector3<Scalar> Vn = Un * inv_d, Vf = Uf * inv_d;
+  A.noalias() -= Un * Vn.transpose();
+  B2.noalias() -= Un * Vf.transpose();
+  C.noalias() -= Uf * Vf.transpose();
   parent.template topLeftCorner<3, 3>() += A;
   parent.template topRightCorner<3, 3>() += B2;
   parent.template bottomLeftCorner<3, 3>() += B2.transpose();
   parent.template bottomRightCorner<3, 3>() += C;
+  U_parent.template head<3>() = Un;
+  U_parent.template tail<3>() = Uf;
+}
+
+/// G M G^T for G = [[g00, g01, 0], [g10, g11, 0], [0, 0, g22]] (a rotation about z with signed
+/// rows): rows 0 and 1 mix, row 2 scales, then the same for the columns.
+template <typename Scalar, typename Block>
+DYNID_INLINE Matrix3<Scalar> rotateAboutZ(const Scalar& g00, const Scalar& g01, const Scalar& g10,
+                                          const Scalar& g11, const Scalar& g22,
+                                          const Eigen::MatrixBase<Block>& M) {
+  Matrix3<Scalar> T, out;
+  T.row(0) = g00 * M.row(0) + g01 * M.row(1);
+  T.row(1) = g10 * M.row(0) + g11 * M.row(1);
+  T.row(2) = g22 * M.row(2);
+  out.col(0) = g00 * T.col(0) + g01 * T.col(1);
+  out.col(1) = g10 * T.col(0) + g11 * T.col(1);
+  out.col(2) = g22 * T.col(2);
+  return out;
+}
+
+/// addTransformedInertia for a revolute z joint whose frame placement rotates by a signed
+/// permutation, kAxisPermutations[K] = pi (Model::placement_permutation). Then R = Pi G with G =
+/// Pi^T R a rotation about z with signed rows, and pXi* = Rot(Pi) T(s) Rot(G), s = det(Pi) Pi^T p
+/// (Model::placement_shift), because [p]x Pi = det(Pi) Pi [Pi^T p]x. Rotating about z and
+/// permuting the result into the parent costs about half the multiplications of a general
+/// rotation. The permutation is a template parameter, so the parent's entries are addressed at
+/// compile time.
+template <int K, typename Scalar>
+void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
+                                   const Matrix6<Scalar>& IA, const Vector6<Scalar>& U,
+                                   const Scalar& inv_d, Matrix6<Scalar>& parent,
+                                   Vector6<Scalar>& U_parent) {
+  constexpr int p0 = kAxisPermutations[K][0], p1 = kAxisPermutations[K][1],
+                p2 = kAxisPermutations[K][2];
+  // G(j, :) = R(pi^-1(j), :).
+  constexpr int r0 = p0 == 0 ? 0 : (p1 == 0 ? 1 : 2), r1 = p0 == 1 ? 0 : (p1 == 1 ? 1 : 2),
+                r2 = p0 == 2 ? 0 : (p1 == 2 ? 1 : 2);
+  const Matrix3<Scalar>& R = X.rotation;
+  const Scalar g00 = R(r0, 0), g01 = R(r0, 1), g10 = R(r1, 0), g11 = R(r1, 1), g22 = R(r2, 2);
+  Matrix3<Scalar> A = rotateAboutZ(g00, g01, g10, g11, g22, IA.template topLeftCorner<3, 3>());
+  const Matrix3<Scalar> B =
+      rotateAboutZ(g00, g01, g10, g11, g22, IA.template topRightCorner<3, 3>());
+  Matrix3<Scalar> C = rotateAboutZ(g00, g01, g10, g11, g22, IA.template bottomRightCorner<3, 3>());
+  Matrix3<Scalar> B2;
+  for (int j = 0; j < 3; ++j) B2.col(j) = B.col(j) + cross(s, C.col(j));
+  for (int j = 0; j < 3; ++j) A.col(j) += cross(s, B.row(j).transpose());
+  for (int r = 0; r < 3; ++r) A.row(r) += cross(s, B2.row(r).transpose()).transpose();
+  // - (T(s) Rot(G) U)(T(s) Rot(G) U)^T / D, applied after the congruence of IA so that the
+  // division by D overlaps with it.
+  const Vector3<Scalar> Uf(g00 * U[3] + g01 * U[4], g10 * U[3] + g11 * U[4], g22 * U[5]);
+  const Vector3<Scalar> Un =
+      Vector3<Scalar>(g00 * U[0] + g01 * U[1], g10 * U[0] + g11 * U[1], g22 * U[2]) + cross(s, Uf);
+  const Vector3<Scalar> Vn = Un * inv_d, Vf = Uf * inv_d;
+  A.noalias() -= Un * Vn.transpose();
+  B2.noalias() -= Un * Vf.transpose();
+  C.noalias() -= Uf * Vf.transpose();
+  // parent += Rot(Pi) M Rot(Pi)^T: entry (a, b) of each block takes M's (pi(a), pi(b)).
+  constexpr int pi[3] = {p0, p1, p2};
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a) {
+      parent(a, b) += A(pi[a], pi[b]);
+      parent(a, b + 3) += B2(pi[a], pi[b]);
+      parent(a + 3, b) += B2(pi[b], pi[a]);
+      parent(a + 3, b + 3) += C(pi[a], pi[b]);
+    }
+  U_parent << Un(p0), Un(p1), Un(p2), Uf(p0), Uf(p1), Uf(p2);
 }
 
 /// ABA's three passes with data.liMi already holding the joint transforms at q (the sizes checked
@@ -70,7 +138,7 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                            const ConstVectorRef<Scalar>& tau) {
   checkState(model, data, q, dq, tau, "tau");
   // The joint transforms first (see rnea): independent sin/cos calls overlap.
-  for (int i = 0; i < model.numJoints(); ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  for (int i = 0; i < model.numJoints(); ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   return aba_detail::abaPasses(model, data, dq, tau);
 }
 
@@ -80,26 +148,41 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
                                                           const ConstVectorRef<Scalar>& dq,
                                                           const ConstVectorRef<Scalar>& tau) {
   const int n = model.numJoints();
-  // Pass 1: velocities, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
+  // Every 6-vector is built and read as its angular and linear 3-vector halves, and S x is added
+  // as arithmetic on S's halves rather than by writing one entry: a 6-vector written entry by
+  // entry and then loaded as packed pairs stalls store-to-load forwarding (see rnea).
+  //
+  // Pass 1: velocities v_i, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
   // inertias and bias forces pA_i = v_i x* I v_i.
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];
-    Vector6<Scalar>& v = data.v[i];
+    const Vector6<Scalar>& S = model.motion_subspaces[i];
+    const Vector3<Scalar> sw = S.template head<3>() * dq[i], sv = S.template tail<3>() * dq[i];
+    Vector3<Scalar> w, vl;
     if (p < 0) {
-      v = jointMotionAt(model, i, dq[i]);
+      w = sw;
+      vl = sv;
       data.c[i].setZero();
     } else {
-      // v = iXp v_p + S dq on 3-vector halves (see rnea).
+      // v = iXp v_p + S dq; c = v x S dq = (iXp v_p) x S dq, since (S dq) x (S dq) = 0.
       const Vector3<Scalar> wp = data.v[p].template head<3>(), vp = data.v[p].template tail<3>();
-      v.template head<3>().noalias() = X.rotation.transpose() * wp;
-      v.template tail<3>().noalias() = X.rotation.transpose() * (vp - cross(X.translation, wp));
-      addJointMotion(model, i, dq[i], v);
-      data.c[i] = crossJointMotion(model, i, v, dq[i]);
+      const Vector3<Scalar> wj = X.rotation.transpose() * wp;
+      const Vector3<Scalar> vj = X.rotation.transpose() * (vp - cross(X.translation, wp));
+      data.c[i].template head<3>() = cross(wj, sw);
+      data.c[i].template tail<3>() = cross(vj, sw) + cross(wj, sv);
+      w = wj + sw;
+      vl = vj + sv;
     }
+    data.v[i].template head<3>() = w;
+    data.v[i].template tail<3>() = vl;
+    // pA = v x* (I v), I v = (Ibar w + h x vl, m vl - h x w).
     const RigidInertia<Scalar>& I = model.frame_inertias[i];
-    data.articulated_inertia[i] = I.matrix();
-    data.bias_force[i] = crossForce(v, I.apply(v));
+    const Vector3<Scalar> hw = I.inertia * w + cross(I.first_moment, vl);
+    const Vector3<Scalar> hv = I.mass * vl - cross(I.first_moment, w);
+    data.bias_force[i].template head<3>() = cross(w, hw) + cross(vl, hv);
+    data.bias_force[i].template tail<3>() = cross(w, hv);
+    data.articulated_inertia[i] = model.frame_inertia_matrices[i];
     data.u[i] = tau[i] - jointFriction(model, i, dq[i]);
   }
   // Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
@@ -113,40 +196,77 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
       data.U[i].noalias() = IA * model.motion_subspaces[i];
     data.D[i] = projectOnJoint(model, i, data.U[i]);
     if (model.drives_enabled) data.D[i] += model.drives[i].rotor_inertia;
+    const Scalar inv_d = Scalar(1) / data.D[i];
+    data.D_inv[i] = inv_d;
     data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);
     const int p = model.parents[i];
     if (p < 0) continue;
-    const Scalar inv_d = Scalar(1) / data.D[i];
-    // pa = pA + Ia c + U u / D with Ia c = IA c - U (U . c) / D.
+    // pa = pA + Ia c + U u / D with Ia c = IA c - U (U . c) / D. Pass 3 needs u - U . c too.
+    data.u_minus_Uc[i] = data.u[i] - data.U[i].dot(data.c[i]);
     Vector6<Scalar> pa = data.bias_force[i];
     pa.noalias() += IA * data.c[i];
-    pa += data.U[i] * ((data.u[i] - data.U[i].dot(data.c[i])) * inv_d);
-    const Vector6<Scalar> U_over_D = data.U[i] * inv_d;
-    aba_detail::addTransformedInertia(data.liMi[i], IA, data.U[i], U_over_D,
-                                      data.articulated_inertia[p]);
-    data.bias_force[p] += data.liMi[i].actForce(pa);
+    pa += data.U[i] * (data.u_minus_Uc[i] * inv_d);
+    const Pose<Scalar>& X = data.liMi[i];
+    Matrix6<Scalar>& parent = data.articulated_inertia[p];
+    const Vector3<Scalar>& s = model.placement_shift[i];
+    const Vector6<Scalar>& U = data.U[i];
+    Vector6<Scalar>& Up = data.U_parent[i];
+    switch (model.placement_permutation[i]) {
+      case 0:
+        addTransformedInertiaPermuted<0>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      case 1:
+        addTransformedInertiaPermuted<1>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      case 2:
+        addTransformedInertiaPermuted<2>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      case 3:
+        addTransformedInertiaPermuted<3>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      case 4:
+        addTransformedInertiaPermuted<4>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      case 5:
+        addTransformedInertiaPermuted<5>(X, s, IA, U, inv_d, parent, Up);
+        break;
+      default:
+        addTransformedInertia(X, IA, U, inv_d, parent, Up);
+    }
+    // The parent's bias force += pXi* pa.
+    const Vector3<Scalar> f = X.rotation * pa.template tail<3>();
+    const Vector3<Scalar> n_f = X.rotation * pa.template head<3>() + cross(X.translation, f);
+    data.bias_force[p].template head<3>() += n_f;
+    data.bias_force[p].template tail<3>() += f;
   }
-  // Pass 3 (root to leaves): a' = iXp a_p + c, ddq = (u - U^T a') / D, a = a' + S ddq, on
-  // 3-vector halves (see rnea).
+  // Pass 3 (root to leaves): a' = iXp a_p + c, ddq = (u - U^T a') / D, a = a' + S ddq. With
+  // U^T iXp a_p = (pXi* U)^T a_p (pass 2's U_parent), ddq needs only a dot product with a_p, and
+  // the transform of a_p runs beside it: the chain from joint to joint is shorter.
   for (int i = 0; i < n; ++i) {
     const int p = model.parents[i];
     const Pose<Scalar>& X = data.liMi[i];
     Vector3<Scalar> dw, dv;
+    Scalar ddq;
     if (p < 0) {
-      dw.setZero();
+      dw = data.c[i].template head<3>();
       dv.noalias() = X.rotation.transpose() * (-model.gravity);
+      dv += data.c[i].template tail<3>();
+      const Scalar ua = data.U[i].template head<3>().dot(dw) + data.U[i].template tail<3>().dot(dv);
+      ddq = (data.u[i] - ua) * data.D_inv[i];
     } else {
       const Vector3<Scalar> dwp = data.a[p].template head<3>(), dvp = data.a[p].template tail<3>();
+      const Scalar ua = data.U_parent[i].template head<3>().dot(dwp) +
+                        data.U_parent[i].template tail<3>().dot(dvp);
+      ddq = (data.u_minus_Uc[i] - ua) * data.D_inv[i];
       dw.noalias() = X.rotation.transpose() * dwp;
       dv.noalias() = X.rotation.transpose() * (dvp - cross(X.translation, dwp));
+      dw += data.c[i].template head<3>();
+      dv += data.c[i].template tail<3>();
     }
-    dw += data.c[i].template head<3>();
-    dv += data.c[i].template tail<3>();
-    const Scalar ua = data.U[i].template head<3>().dot(dw) + data.U[i].template tail<3>().dot(dv);
-    data.ddq[i] = (data.u[i] - ua) / data.D[i];
-    data.a[i].template head<3>() = dw;
-    data.a[i].template tail<3>() = dv;
-    addJointMotion(model, i, data.ddq[i], data.a[i]);
+    data.ddq[i] = ddq;
+    const Vector6<Scalar>& S = model.motion_subspaces[i];
+    data.a[i].template head<3>() = dw + S.template head<3>() * ddq;
+    data.a[i].template tail<3>() = dv + S.template tail<3>() * ddq;
   }
   return data.ddq;
 }

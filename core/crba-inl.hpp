@@ -36,7 +36,7 @@ const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
                             const ConstVectorRef<Scalar>& q) {
   checkData(model, data);
   checkSize(model, q, "q");
-  for (int i = 0; i < model.numJoints(); ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  for (int i = 0; i < model.numJoints(); ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   crba_detail::massMatrixFromTransforms(model, data);
   return data.M;
 }

@@ -36,7 +36,8 @@ struct DataTpl {
   // ABA: articulated inertias and bias forces, U = IA S, D = S^T IA S (+ Ia), u, bias accel c.
   std::vector<Matrix6<Scalar>> articulated_inertia;
   std::vector<Vector6<Scalar>> bias_force, U, c;
-  VectorX<Scalar> D, u;
+  std::vector<Vector6<Scalar>> U_parent;  // pXi* U, U in the parent's frame
+  VectorX<Scalar> D, D_inv, u, u_minus_Uc;
 
   // Integrators: stage state and accumulated increments; sin q and cos q of the step's start
   // (revolute joints), from which RK4 forms its later stages' joint transforms.
@@ -63,7 +64,10 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   bias_force.assign(n, Vector6<Scalar>::Zero());
   U.assign(n, Vector6<Scalar>::Zero());
   c.assign(n, Vector6<Scalar>::Zero());
+  U_parent.assign(n, Vector6<Scalar>::Zero());
+  u_minus_Uc = VectorX<Scalar>::Zero(n);
   D = VectorX<Scalar>::Zero(n);
+  D_inv = VectorX<Scalar>::Zero(n);
   u = VectorX<Scalar>::Zero(n);
   q_stage = VectorX<Scalar>::Zero(n);
   dq_stage = VectorX<Scalar>::Zero(n);

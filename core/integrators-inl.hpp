@@ -18,25 +18,26 @@ void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
   using std::abs;
   for (int i = 0; i < model.numJoints(); ++i) {
     if (model.joint_types[i] == JointType::kPrismatic) {
-      data.liMi[i] = jointTransform(model, i, q_stage[i]);
+      setJointTransform(model, i, q_stage[i], data.liMi[i]);
       continue;
     }
     const Scalar d = q_stage[i] - q[i];
     if (!(abs(d) <= Scalar(1e-2))) {
-      data.liMi[i] = jointTransform(model, i, q_stage[i]);
+      setJointTransform(model, i, q_stage[i], data.liMi[i]);
       continue;
     }
+    // Horner form with the coefficients as constants: a division by 6 or 20 is not turned into a
+    // multiplication by the compiler, and six divisions per joint were the loop's main cost.
     const Scalar d2 = d * d;
     const Scalar sin_d =
-        d * (Scalar(1) -
-             d2 / Scalar(6) * (Scalar(1) - d2 / Scalar(20) * (Scalar(1) - d2 / Scalar(42))));
+        d * (Scalar(1) +
+             d2 * (Scalar(-1.0 / 6.0) + d2 * (Scalar(1.0 / 120.0) + d2 * Scalar(-1.0 / 5040.0))));
     const Scalar cos_d =
-        Scalar(1) -
-        d2 / Scalar(2) *
-            (Scalar(1) -
-             d2 / Scalar(12) * (Scalar(1) - d2 / Scalar(30) * (Scalar(1) - d2 / Scalar(56))));
-    data.liMi[i] = revoluteTransform(model, i, data.sin_q[i] * cos_d + data.cos_q[i] * sin_d,
-                                     data.cos_q[i] * cos_d - data.sin_q[i] * sin_d);
+        Scalar(1) +
+        d2 * (Scalar(-0.5) +
+              d2 * (Scalar(1.0 / 24.0) + d2 * (Scalar(-1.0 / 720.0) + d2 * Scalar(1.0 / 40320.0))));
+    setRevoluteTransform(model, i, data.sin_q[i] * cos_d + data.cos_q[i] * sin_d,
+                         data.cos_q[i] * cos_d - data.sin_q[i] * sin_d, data.liMi[i]);
   }
 }
 
@@ -52,12 +53,15 @@ void rk4Step(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, VectorRef<Sca
   // k1 = (dq, ddq(q, dq)); the step's sines and cosines kept for the other stages.
   for (int i = 0; i < model.numJoints(); ++i) {
     if (model.joint_types[i] == JointType::kPrismatic) {
-      data.liMi[i] = jointTransform(model, i, q[i]);
+      setJointTransform(model, i, q[i], data.liMi[i]);
       continue;
     }
-    data.sin_q[i] = sin(q[i]);
-    data.cos_q[i] = cos(q[i]);
-    data.liMi[i] = revoluteTransform(model, i, data.sin_q[i], data.cos_q[i]);
+    // q[i] read once: a store to sin_q could alias q, and a reload would keep the compiler from
+    // merging sin and cos into one sincos call.
+    const Scalar qi = q[i];
+    data.sin_q[i] = sin(qi);
+    data.cos_q[i] = cos(qi);
+    setRevoluteTransform(model, i, data.sin_q[i], data.cos_q[i], data.liMi[i]);
   }
   aba_detail::abaAtTransforms(model, data, dq, tau);
   data.q_increment = dq;

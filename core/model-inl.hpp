@@ -36,6 +36,27 @@ bool allFinite(const Pose<Scalar>& pose) {
   }
   return true;
 }
+/// The index into kAxisPermutations of the permutation pi with rotation(a, pi(a)) = +-1 and every
+/// other entry exactly 0, or -1 when the rotation is not such a signed permutation (or, for a
+/// dual number, carries a derivative: ABA's permuted path treats it as a constant).
+template <typename Scalar>
+int signedPermutationIndex(const Matrix3<Scalar>& rotation) {
+  if constexpr (!std::is_arithmetic_v<Scalar>) {
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        if (!rotation(a, b).v.isZero()) return -1;
+  }
+  for (int k = 0; k < 6; ++k) {
+    bool match = true;
+    for (int a = 0; a < 3 && match; ++a)
+      for (int b = 0; b < 3 && match; ++b) {
+        const double x = value(rotation(a, b));
+        match = b == kAxisPermutations[k][a] ? (x == 1.0 || x == -1.0) : x == 0.0;
+      }
+    if (match) return k;
+  }
+  return -1;
+}
 }  // namespace model_detail
 
 const char* jointTypeName(JointType type);
@@ -72,6 +93,8 @@ void ModelTpl<Scalar>::finalize() {
   axis_kinds.assign(n, AxisKind::kGeneral);
   subspace_index.assign(n, -1);
   has_frame_placement.assign(n, 1);
+  placement_permutation.assign(n, -1);
+  placement_shift.assign(n, Vector3<Scalar>::Zero());
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(value(gravity(i)))) throw InputError("model gravity is not finite");
   for (int i = 0; i < n; ++i) {
@@ -108,6 +131,13 @@ void ModelTpl<Scalar>::finalize() {
       motion_subspaces[i].template head<3>() = axes[i];
     if (axis_kinds[i] != AxisKind::kGeneral)
       subspace_index[i] = static_cast<int>(axis_kinds[i]) + (prismatic ? 3 : 0);
+    const int k = model_detail::signedPermutationIndex(frame_placements[i].rotation);
+    if (!prismatic && axis_kinds[i] == AxisKind::kZ && k >= 0) {
+      placement_permutation[i] = k;
+      for (int j = 0; j < 3; ++j)  // (Pi^T t)_j = t_{pi^-1(j)}
+        placement_shift[i](kAxisPermutations[k][j]) =
+            Scalar(kAxisPermutationSigns[k]) * frame_placements[i].translation(j);
+    }
   }
   updateFrameInertias();
   if (offsets_enabled && !drives_enabled)

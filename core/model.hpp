@@ -48,6 +48,11 @@ struct DriveParameters {
 /// How a joint's axis is stored, so the hot path can skip Rodrigues' formula for unit axes.
 enum class AxisKind { kX, kY, kZ, kGeneral };
 
+/// The six permutations of (0, 1, 2) in lexicographic order, and their determinants.
+inline constexpr int kAxisPermutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                                {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+inline constexpr int kAxisPermutationSigns[6] = {1, -1, -1, 1, 1, -1};
+
 template <typename Scalar>
 struct ModelTpl {
   std::string name;
@@ -70,11 +75,19 @@ struct ModelTpl {
   // subspace there is the constant (axis, 0) or (0, axis) and, for a unit axis, a single entry.
   std::vector<Pose<Scalar>> frame_placements;  // joint frame i at q_i = 0 in the parent's joint
                                                // frame: body_placement_p * joint_placement_i
-  std::vector<RigidInertia<Scalar>> frame_inertias;  // body i's inertia in joint frame i
-  std::vector<Vector6<Scalar>> motion_subspaces;     // S_i in joint frame i
+  std::vector<RigidInertia<Scalar>> frame_inertias;     // body i's inertia in joint frame i
+  std::vector<Matrix6<Scalar>> frame_inertia_matrices;  // the same as 6x6 matrices (aba)
+  std::vector<Vector6<Scalar>> motion_subspaces;        // S_i in joint frame i
   std::vector<AxisKind> axis_kinds;
   std::vector<int> subspace_index;        // k when S_i is the unit vector e_k (0..5), else -1
   std::vector<char> has_frame_placement;  // 0 when identity
+  // For a revolute z joint whose frame placement rotates by a signed permutation (exact 0 and +-1
+  // entries, as DH twists of 0 and +-90 degrees give): the index into kAxisPermutations of the
+  // permutation pi with rotation(a, pi(a)) = +-1, else -1; and det(Pi) Pi^T t, t the placement's
+  // translation. ABA's articulated-inertia transform then rotates about z and permutes
+  // (aba_detail::addTransformedInertiaPermuted).
+  std::vector<int> placement_permutation;
+  std::vector<Vector3<Scalar>> placement_shift;
 
   int numJoints() const { return static_cast<int>(parents.size()); }
 
@@ -97,11 +110,15 @@ struct ModelTpl {
   /// joint-frame inertias. Throws InputError on a size mismatch.
   void setStandardParameters(const VectorX<Scalar>& theta);
 
-  /// Recomputes frame_inertias from inertias (after changing inertias by hand).
+  /// Recomputes frame_inertias and frame_inertia_matrices from inertias (after changing inertias
+  /// by hand).
   void updateFrameInertias() {
     frame_inertias.resize(inertias.size());
-    for (std::size_t i = 0; i < inertias.size(); ++i)
+    frame_inertia_matrices.resize(inertias.size());
+    for (std::size_t i = 0; i < inertias.size(); ++i) {
       frame_inertias[i] = inertias[i].transformedBy(body_placements[i]);
+      frame_inertia_matrices[i] = frame_inertias[i].matrix();
+    }
   }
 
   /// The same model with every number converted to NewScalar (e.g. ceres::Jet).
@@ -111,44 +128,25 @@ struct ModelTpl {
 
 using Model = ModelTpl<double>;
 
+/// Writes revolute (or continuous) joint i's jointTransform into `out` from s = sin(q_i),
+/// c = cos(q_i). In place, entry by entry: a Pose built in a temporary and copied would be
+/// written as scalars and reloaded as packed pairs, which stalls store-to-load forwarding.
 template <typename Scalar>
-DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
-                                            const Scalar& c);
-
-/// Joint frame i placed in its parent's joint frame: frame_placement_i * J(q_i), where J rotates
-/// about (revolute, continuous) or translates along (prismatic) the joint axis.
-template <typename Scalar>
-DYNID_INLINE Pose<Scalar> jointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
-  using std::cos;
-  using std::sin;
+DYNID_INLINE void setRevoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
+                                       const Scalar& c, Pose<Scalar>& out) {
   const Pose<Scalar>& placement = model.frame_placements[i];
-  Pose<Scalar> out;
-  if (model.joint_types[i] == JointType::kPrismatic) {
-    out.rotation = placement.rotation;
-    out.translation = placement.translation + placement.rotation * (model.axes[i] * qi);
-    return out;
-  }
-  return revoluteTransform(model, i, Scalar(sin(qi)), Scalar(cos(qi)));
-}
-
-/// jointTransform of revolute (or continuous) joint i from s = sin(q_i), c = cos(q_i).
-template <typename Scalar>
-DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
-                                            const Scalar& c) {
-  const Pose<Scalar>& placement = model.frame_placements[i];
-  Pose<Scalar> out;
   if (model.axis_kinds[i] == AxisKind::kZ) {
     // P Rz(q): only the first two columns of P mix.
     if (!model.has_frame_placement[i]) {
-      out.rotation(0, 0) = c, out.rotation(0, 1) = -s, out.rotation(1, 0) = s,
-                      out.rotation(1, 1) = c;
-      return out;
+      out.rotation << c, -s, Scalar(0), s, c, Scalar(0), Scalar(0), Scalar(0), Scalar(1);
+      out.translation.setZero();
+      return;
     }
     out.rotation.col(0) = c * placement.rotation.col(0) + s * placement.rotation.col(1);
     out.rotation.col(1) = c * placement.rotation.col(1) - s * placement.rotation.col(0);
     out.rotation.col(2) = placement.rotation.col(2);
     out.translation = placement.translation;
-    return out;
+    return;
   }
   Matrix3<Scalar> r = Matrix3<Scalar>::Identity();
   switch (model.axis_kinds[i]) {
@@ -166,6 +164,38 @@ DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i
   }
   out.rotation.noalias() = placement.rotation * r;
   out.translation = placement.translation;
+}
+
+/// Writes joint i's jointTransform at q_i into `out` (see setRevoluteTransform).
+template <typename Scalar>
+DYNID_INLINE void setJointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi,
+                                    Pose<Scalar>& out) {
+  using std::cos;
+  using std::sin;
+  if (model.joint_types[i] == JointType::kPrismatic) {
+    const Pose<Scalar>& placement = model.frame_placements[i];
+    out.rotation = placement.rotation;
+    out.translation = placement.translation + placement.rotation * (model.axes[i] * qi);
+    return;
+  }
+  setRevoluteTransform(model, i, Scalar(sin(qi)), Scalar(cos(qi)), out);
+}
+
+/// Joint frame i placed in its parent's joint frame: frame_placement_i * J(q_i), where J rotates
+/// about (revolute, continuous) or translates along (prismatic) the joint axis.
+template <typename Scalar>
+DYNID_INLINE Pose<Scalar> jointTransform(const ModelTpl<Scalar>& model, int i, const Scalar& qi) {
+  Pose<Scalar> out;
+  setJointTransform(model, i, qi, out);
+  return out;
+}
+
+/// jointTransform of revolute (or continuous) joint i from s = sin(q_i), c = cos(q_i).
+template <typename Scalar>
+DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
+                                            const Scalar& c) {
+  Pose<Scalar> out;
+  setRevoluteTransform(model, i, s, c, out);
   return out;
 }
 
@@ -227,6 +257,7 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.axis_kinds = axis_kinds;
   out.subspace_index = subspace_index;
   out.has_frame_placement = has_frame_placement;
+  out.placement_permutation = placement_permutation;
   out.gravity = gravity.template cast<NewScalar>();
   const int n = numJoints();
   out.joint_placements.resize(n);
@@ -237,6 +268,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.motion_subspaces.resize(n);
   out.frame_placements.resize(n);
   out.frame_inertias.resize(n);
+  out.frame_inertia_matrices.resize(n);
+  out.placement_shift.resize(n);
   for (int i = 0; i < n; ++i) {
     out.joint_placements[i] = joint_placements[i].template cast<NewScalar>();
     out.body_placements[i] = body_placements[i].template cast<NewScalar>();
@@ -249,6 +282,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
     out.motion_subspaces[i] = motion_subspaces[i].template cast<NewScalar>();
     out.frame_placements[i] = frame_placements[i].template cast<NewScalar>();
     out.frame_inertias[i] = frame_inertias[i].template cast<NewScalar>();
+    out.frame_inertia_matrices[i] = frame_inertia_matrices[i].template cast<NewScalar>();
+    out.placement_shift[i] = placement_shift[i].template cast<NewScalar>();
   }
   return out;
 }

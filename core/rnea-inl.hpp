@@ -20,7 +20,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   // f_i = I a_i + v_i x* I v_i.  The base accelerates at -g, which adds gravity to every body.
   // The joint transforms first: their sin/cos calls are independent of each other and of the
   // recursion, so the processor overlaps them instead of waiting in the dependency chain.
-  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];

@@ -46,7 +46,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
   data.Y.setZero();
   // Velocities and accelerations in joint frames, as in rnea (gravity as a base acceleration);
   // the joint transforms first, so their sin/cos calls overlap.
-  for (int i = 0; i < n; ++i) data.liMi[i] = jointTransform(model, i, q[i]);
+  for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents[i];

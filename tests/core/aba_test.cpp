@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "core/crba.hpp"
 #include "core/rnea.hpp"
@@ -40,6 +41,57 @@ TEST(Aba, EqualsInverseMassMatrixTimesForce) {
   const Eigen::VectorXd bias = rnea(model, data, q, dq, Eigen::VectorXd::Zero(n));
   const Eigen::VectorXd expected = crba(model, data, q).ldlt().solve(tau - bias);
   EXPECT_LT((aba(model, data, q, dq, tau) - expected).norm(), 1e-10 * (1.0 + expected.norm()));
+}
+
+/// A random tree whose joints turn about z and whose joint placements rotate by signed
+/// permutations, two joints for each of the six permutations (ABA's permuted path), with random
+/// signs and translations; every second body has two children.
+Model permutedTree(std::uint64_t seed, bool drives) {
+  Model model = test::randomTree(seed, {.num_bodies = 12,
+                                        .prismatic = false,
+                                        .general_axes = false,
+                                        .body_placements = false,
+                                        .drives = drives});
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> coin(0, 1);
+  for (int i = 0; i < model.numJoints(); ++i) {
+    model.parents[i] = i / 2 - 1;
+    model.axes[i] = Eigen::Vector3d::UnitZ();
+    Eigen::Matrix3d r = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 3; ++a) r(a, kAxisPermutations[i % 6][a]) = coin(rng) ? 1.0 : -1.0;
+    if (r.determinant() < 0) r.row(0) *= -1.0;  // a rotation, not a reflection
+    model.joint_placements[i].rotation = r;
+    model.joint_placements[i].translation = test::randomVector(rng, 3, 0.5);
+  }
+  model.finalize();
+  return model;
+}
+
+TEST(Aba, PermutedPlacementsAgreeWithTheGeneralPath) {
+  std::mt19937_64 rng(5);
+  for (int seed = 0; seed < 4; ++seed) {
+    const Model model = permutedTree(100 + seed, seed % 2 == 1);
+    // Every permutation is taken, so each of the six compiled transforms is exercised.
+    for (int i = 0; i < model.numJoints(); ++i)
+      ASSERT_EQ(model.placement_permutation[i], i % 6) << seed << "/" << i;
+    Model general = model;
+    general.placement_permutation.assign(model.numJoints(), -1);
+    Data data(model), data_general(general);
+    const int n = model.numJoints();
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::VectorXd q = test::randomVector(rng, n, 2.0),
+                            dq = test::randomVector(rng, n, 2.0),
+                            ddq = test::randomVector(rng, n, 3.0);
+      const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
+      const Eigen::VectorXd permuted = aba(model, data, q, dq, tau);
+      // The two paths round differently; both are a few ulps of the O(10) accelerations.
+      EXPECT_LT((permuted - aba(general, data_general, q, dq, tau)).norm(),
+                1e-12 * (1 + ddq.norm()))
+          << seed << "/" << trial;
+      // Against the independent inverse dynamics: the inertias span 1e-3..5, hence 1e-9.
+      EXPECT_LT((permuted - ddq).norm(), 1e-9) << seed << "/" << trial;
+    }
+  }
 }
 
 }  // namespace

@@ -143,5 +143,16 @@ TEST_P(JetOnModels, Rk4RolloutAndMassMatrix) {
 
 INSTANTIATE_TEST_SUITE_P(Models, JetOnModels, ::testing::Values(0, 3, 4));
 
+TEST(Jet, PlacementWithADerivativeTakesTheGeneralAbaPath) {
+  // ABA's permuted path treats a signed-permutation placement as constant; an exact 0 whose
+  // derivative is not 0 (a kinematic parameter being differentiated) must not be taken for one.
+  ModelTpl<Jet> mj = makePuma560(false).cast<Jet>();
+  mj.finalize();
+  EXPECT_EQ(mj.placement_permutation[2], 0);
+  mj.body_placements[1].rotation(0, 1) = Jet(0.0, 0);
+  mj.finalize();
+  EXPECT_EQ(mj.placement_permutation[2], -1);
+}
+
 }  // namespace
 }  // namespace dynid

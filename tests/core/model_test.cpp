@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/data.hpp"
 #include "core/errors.hpp"
 #include "core/kinematics.hpp"
+#include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -33,6 +36,25 @@ TEST(Model, FinalizeNamesTheBodyAtFault) {
   bad.mass = std::nan("");
   nan_model.addBody(-1, "l", "j", JointType::kRevolute, {}, Eigen::Vector3d::UnitZ(), {}, bad);
   EXPECT_THROW(nan_model.finalize(), InputError);
+}
+
+TEST(Model, FinalizeFindsSignedPermutationPlacements) {
+  // The PUMA's DH twists are 0 and +-90 degrees, written with exact 0 and +-1 entries.
+  const Model puma = makePuma560(false);
+  for (int i = 1; i < puma.numJoints(); ++i) EXPECT_GE(puma.placement_permutation[i], 0) << i;
+  // Rx(pi/2) from its cosine (6e-17, not 0) is not a signed permutation: the general path.
+  Model model = puma;
+  const double c = std::cos(M_PI / 2), s = std::sin(M_PI / 2);
+  model.body_placements[0].rotation << 1, 0, 0, 0, c, -s, 0, s, c;
+  model.finalize();
+  EXPECT_EQ(model.placement_permutation[1], -1);
+  // Rz(90 degrees) maps x to y: rotation(0, 1) = -1, rotation(1, 0) = 1, permutation (1, 0, 2).
+  model.body_placements[0].rotation << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  model.body_placements[0].translation << 0.1, 0.2, 0.3;
+  model.finalize();
+  EXPECT_EQ(model.placement_permutation[1], 2);
+  // det(Pi) Pi^T t = -(0.2, 0.1, 0.3) for the odd permutation (1, 0, 2).
+  EXPECT_EQ(model.placement_shift[1], Eigen::Vector3d(-0.2, -0.1, -0.3));
 }
 
 TEST(Model, StandardParametersRoundTrip) {
