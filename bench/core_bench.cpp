@@ -60,6 +60,15 @@ void BM_Crba(benchmark::State& state) {
 }
 BENCHMARK(BM_Crba);
 
+/// The PUMA with ABA's permuted transform path switched off (placement_permutation = -1), as for
+/// a robot whose joint placements are not exact signed permutations (e.g. a URDF's rpy of
+/// 1.5707963 rad, whose cosine is 6e-17).
+Model generalPuma(bool drives) {
+  Model model = dynid::makePuma560(drives);
+  model.placement_permutation.assign(model.numJoints(), -1);
+  return model;
+}
+
 void BM_Aba(benchmark::State& state) {
   const Model model = dynid::makePuma560(state.range(0) != 0);
   Data data(model);
@@ -71,6 +80,18 @@ void BM_Aba(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Aba)->Arg(0)->Arg(1)->ArgName("drives");
+
+void BM_AbaGeneralPlacements(benchmark::State& state) {
+  const Model model = generalPuma(false);
+  Data data(model);
+  const States s(model);
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(dynid::aba(model, data, s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_AbaGeneralPlacements);
 
 void BM_Rk4Step(benchmark::State& state) {
   const Model model = dynid::makePuma560(false);
@@ -88,6 +109,22 @@ void BM_Rk4Step(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Rk4Step);
+
+void BM_Rk4StepGeneralPlacements(benchmark::State& state) {
+  const Model model = generalPuma(false);
+  Data data(model);
+  const States s(model);
+  Eigen::VectorXd q = s.q[0], dq = s.dq[0];
+  int k = 0;
+  for (auto _ : state) {
+    q = s.q[k];
+    dq = s.dq[k];
+    dynid::rk4Step(model, data, q, dq, s.ddq[k], 1e-3);
+    benchmark::DoNotOptimize(q.data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_Rk4StepGeneralPlacements);
 
 }  // namespace
 
