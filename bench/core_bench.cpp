@@ -69,8 +69,7 @@ Model generalPuma(bool drives) {
   return model;
 }
 
-void BM_Aba(benchmark::State& state) {
-  const Model model = dynid::makePuma560(state.range(0) != 0);
+void abaLoop(benchmark::State& state, const Model& model) {
   Data data(model);
   const States s(model);
   int k = 0;
@@ -79,22 +78,12 @@ void BM_Aba(benchmark::State& state) {
     k = (k + 1) % States::kCount;
   }
 }
+void BM_Aba(benchmark::State& state) { abaLoop(state, dynid::makePuma560(state.range(0) != 0)); }
 BENCHMARK(BM_Aba)->Arg(0)->Arg(1)->ArgName("drives");
-
-void BM_AbaGeneralPlacements(benchmark::State& state) {
-  const Model model = generalPuma(false);
-  Data data(model);
-  const States s(model);
-  int k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(dynid::aba(model, data, s.q[k], s.dq[k], s.ddq[k]).data());
-    k = (k + 1) % States::kCount;
-  }
-}
+void BM_AbaGeneralPlacements(benchmark::State& state) { abaLoop(state, generalPuma(false)); }
 BENCHMARK(BM_AbaGeneralPlacements);
 
-void BM_Rk4Step(benchmark::State& state) {
-  const Model model = dynid::makePuma560(false);
+void rk4Loop(benchmark::State& state, const Model& model) {
   Data data(model);
   const States s(model);
   Eigen::VectorXd q = s.q[0], dq = s.dq[0];
@@ -108,22 +97,9 @@ void BM_Rk4Step(benchmark::State& state) {
     k = (k + 1) % States::kCount;
   }
 }
+void BM_Rk4Step(benchmark::State& state) { rk4Loop(state, dynid::makePuma560(false)); }
 BENCHMARK(BM_Rk4Step);
-
-void BM_Rk4StepGeneralPlacements(benchmark::State& state) {
-  const Model model = generalPuma(false);
-  Data data(model);
-  const States s(model);
-  Eigen::VectorXd q = s.q[0], dq = s.dq[0];
-  int k = 0;
-  for (auto _ : state) {
-    q = s.q[k];
-    dq = s.dq[k];
-    dynid::rk4Step(model, data, q, dq, s.ddq[k], 1e-3);
-    benchmark::DoNotOptimize(q.data());
-    k = (k + 1) % States::kCount;
-  }
-}
+void BM_Rk4StepGeneralPlacements(benchmark::State& state) { rk4Loop(state, generalPuma(false)); }
 BENCHMARK(BM_Rk4StepGeneralPlacements);
 
 }  // namespace

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <array>
+#include <utility>
+
 #include "core/aba.hpp"
 #include "core/checks.hpp"
 #include "core/friction.hpp"
@@ -112,6 +115,15 @@ void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Vector3<Scalar>&
   U_parent << Un(p0), Un(p1), Un(p2), Uf(p0), Uf(p1), Uf(p2);
 }
 
+/// addTransformedInertiaPermuted<K> for K = 0..5, indexed by Model::placement_permutation.
+template <typename Scalar, int... K>
+constexpr auto permutedTransforms(std::integer_sequence<int, K...>) {
+  return std::array{&addTransformedInertiaPermuted<K, Scalar>...};
+}
+template <typename Scalar>
+inline constexpr auto kPermutedTransforms =
+    permutedTransforms<Scalar>(std::make_integer_sequence<int, 6>());
+
 /// ABA's three passes with data.liMi already holding the joint transforms at q (the sizes checked
 /// by the caller). Inlined into aba and into abaAtTransforms.
 template <typename Scalar>
@@ -211,28 +223,11 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     const Vector3<Scalar>& s = model.placement_shift[i];
     const Vector6<Scalar>& U = data.U[i];
     Vector6<Scalar>& Up = data.U_parent[i];
-    switch (model.placement_permutation[i]) {
-      case 0:
-        addTransformedInertiaPermuted<0>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      case 1:
-        addTransformedInertiaPermuted<1>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      case 2:
-        addTransformedInertiaPermuted<2>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      case 3:
-        addTransformedInertiaPermuted<3>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      case 4:
-        addTransformedInertiaPermuted<4>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      case 5:
-        addTransformedInertiaPermuted<5>(X, s, IA, U, inv_d, parent, Up);
-        break;
-      default:
-        addTransformedInertia(X, IA, U, inv_d, parent, Up);
-    }
+    const int permutation = model.placement_permutation[i];
+    if (permutation >= 0)
+      kPermutedTransforms<Scalar>[permutation](X, s, IA, U, inv_d, parent, Up);
+    else
+      addTransformedInertia(X, IA, U, inv_d, parent, Up);
     // The parent's bias force += pXi* pa.
     const Vector3<Scalar> f = X.rotation * pa.template tail<3>();
     const Vector3<Scalar> n_f = X.rotation * pa.template head<3>() + cross(X.translation, f);
