@@ -347,35 +347,7 @@ Eigen::MatrixXd betaInformation(const Model& structure, const BetaMap& map,
     squared[s] = r.squaredNorm();
   });
   squared_sum = squared.sum();
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
-  for (const RowMajor& j : jb) H.noalias() += j.transpose() * j;
-  if (!with_start) return H;
-  // H - B^T A^-1 B with A = Js^T Js and B = Js^T Jb over the stacked starts.
-  const int w = 2 * n;
-  std::vector<Eigen::Triplet<double>> entries;
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(w) * segments, b);
-  const auto add = [&](int row_block, int col_block, const Eigen::MatrixXd& block) {
-    for (int i = 0; i < w; ++i)
-      for (int j = 0; j < w; ++j)
-        entries.emplace_back(row_block * w + i, col_block * w + j, block(i, j));
-  };
-  for (int s = 0; s < segments; ++s) {
-    add(s, s, js[s].transpose() * js[s]);
-    B.middleRows(static_cast<Eigen::Index>(s) * w, w).noalias() += js[s].transpose() * jb[s];
-    if (jn[s].cols() == 0) continue;
-    const Eigen::MatrixXd cross = js[s].transpose() * jn[s];
-    add(s, s + 1, cross);
-    add(s + 1, s, cross.transpose());
-    add(s + 1, s + 1, jn[s].transpose() * jn[s]);
-    B.middleRows(static_cast<Eigen::Index>(s + 1) * w, w).noalias() += jn[s].transpose() * jb[s];
-  }
-  Eigen::SparseMatrix<double> A(static_cast<Eigen::Index>(w) * segments,
-                                static_cast<Eigen::Index>(w) * segments);
-  A.setFromTriplets(entries.begin(), entries.end());
-  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
-  if (ldlt.info() != Eigen::Success) return Eigen::MatrixXd::Constant(b, b, std::nan(""));
-  H.noalias() -= B.transpose() * ldlt.solve(B);
-  return H;
+  return eliminateStarts(jb, js, jn);
 }
 
 /// Base-coordinate uncertainty and the free directions of x (see refine.hpp).
@@ -435,6 +407,42 @@ void baseUncertainty(const Model& structure, const ParameterSpace& space, const 
 }
 
 }  // namespace
+
+Eigen::MatrixXd eliminateStarts(const std::vector<RowMajor>& jb, const std::vector<RowMajor>& js,
+                                const std::vector<RowMajor>& jn) {
+  const int segments = static_cast<int>(jb.size());
+  if (segments == 0) return {};
+  const Eigen::Index b = jb[0].cols();
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(b, b);
+  for (const RowMajor& j : jb) H.noalias() += j.transpose() * j;
+  const Eigen::Index w = js[0].cols();
+  if (w == 0) return H;
+  // H - B^T A^-1 B with A = Js^T Js (block tridiagonal when chained) and B = Js^T Jb over the
+  // stacked starts.
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(w * segments, b);
+  const auto add = [&](int row_block, int col_block, const Eigen::MatrixXd& block) {
+    for (Eigen::Index i = 0; i < w; ++i)
+      for (Eigen::Index j = 0; j < w; ++j)
+        entries.emplace_back(row_block * w + i, col_block * w + j, block(i, j));
+  };
+  for (int s = 0; s < segments; ++s) {
+    add(s, s, js[s].transpose() * js[s]);
+    B.middleRows(s * w, w).noalias() += js[s].transpose() * jb[s];
+    if (jn[s].cols() == 0) continue;
+    const Eigen::MatrixXd cross = js[s].transpose() * jn[s];
+    add(s, s + 1, cross);
+    add(s + 1, s, cross.transpose());
+    add(s + 1, s + 1, jn[s].transpose() * jn[s]);
+    B.middleRows((s + 1) * w, w).noalias() += jn[s].transpose() * jb[s];
+  }
+  Eigen::SparseMatrix<double> A(w * segments, w * segments);
+  A.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(A);
+  if (ldlt.info() != Eigen::Success) return Eigen::MatrixXd::Constant(b, b, std::nan(""));
+  H.noalias() -= B.transpose() * ldlt.solve(B);
+  return H;
+}
 
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,

@@ -167,6 +167,15 @@ std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
 /// differentiation. Throws InputError on a joint-count mismatch, NumericalError when a rollout
 /// diverges.
 Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads = 1);
+/// The information about beta left after eliminating the starts: with segment s's Jacobian blocks
+/// jb[s] (beta), js[s] (its start; no columns when the starts are measured) and jn[s] (the next
+/// segment's start, for chained starts; no columns otherwise), H_bb - H_bs H_ss^-1 H_sb of
+/// H = J^T J for the stacked J, by a sparse LDL^T of H_ss (block tridiagonal). A matrix of NaN when
+/// H_ss is singular; empty without segments. Exposed for tests.
+Eigen::MatrixXd eliminateStarts(
+    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& jb,
+    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& js,
+    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& jn);
 /// The total-mass residual's cost function (parameter block: x).
 std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space);
 
