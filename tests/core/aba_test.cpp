@@ -12,18 +12,28 @@
 namespace dynid {
 namespace {
 
+/// A random state (q and dq within 2, ddq within 3) and the torques rnea gives for it.
+struct Sample {
+  Eigen::VectorXd q, dq, ddq, tau;
+};
+Sample randomSample(const Model& model, Data& data, std::mt19937_64& rng) {
+  const int n = model.numJoints();
+  Sample out{test::randomVector(rng, n, 2.0),
+             test::randomVector(rng, n, 2.0),
+             test::randomVector(rng, n, 3.0),
+             {}};
+  out.tau = rnea(model, data, out.q, out.dq, out.ddq);
+  return out;
+}
+
 TEST(Aba, InvertsRnea) {
   std::mt19937_64 rng(3);
   for (int seed = 0; seed < 10; ++seed) {
     const Model model =
         seed < 2 ? makePuma560(seed == 1) : test::randomTree(seed, {.drives = seed % 2 == 1});
     Data data(model);
-    const int n = model.numJoints();
     for (int trial = 0; trial < 5; ++trial) {
-      const Eigen::VectorXd q = test::randomVector(rng, n, 2.0),
-                            dq = test::randomVector(rng, n, 2.0),
-                            ddq = test::randomVector(rng, n, 3.0);
-      const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
+      const auto [q, dq, ddq, tau] = randomSample(model, data, rng);
       // Accelerations of order 1 rad/s^2; the PUMA's wrist inertias (1e-4 kg m^2) against its
       // base (3 kg m^2) cost a few digits, hence 1e-9.
       EXPECT_LT((aba(model, data, q, dq, tau) - ddq).norm(), 1e-9) << seed << "/" << trial;
@@ -77,12 +87,8 @@ TEST(Aba, PermutedPlacementsAgreeWithTheGeneralPath) {
     Model general = model;
     general.placement_permutation.assign(model.numJoints(), -1);
     Data data(model), data_general(general);
-    const int n = model.numJoints();
     for (int trial = 0; trial < 5; ++trial) {
-      const Eigen::VectorXd q = test::randomVector(rng, n, 2.0),
-                            dq = test::randomVector(rng, n, 2.0),
-                            ddq = test::randomVector(rng, n, 3.0);
-      const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
+      const auto [q, dq, ddq, tau] = randomSample(model, data, rng);
       const Eigen::VectorXd permuted = aba(model, data, q, dq, tau);
       // The two paths round differently; both are a few ulps of the O(10) accelerations.
       EXPECT_LT((permuted - aba(general, data_general, q, dq, tau)).norm(),
