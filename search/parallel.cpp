@@ -18,12 +18,13 @@ ThreadPool::~ThreadPool() {
   for (std::thread& w : workers_) w.join();
 }
 
-void ThreadPool::runBlock(int thread) {
-  // Thread t takes the t-th contiguous block of indices.
-  const int threads = numThreads();
-  const int begin = static_cast<int>(static_cast<long>(count_) * thread / threads);
-  const int end = static_cast<int>(static_cast<long>(count_) * (thread + 1) / threads);
-  for (int i = begin; i < end; ++i) (*body_)(i, thread);
+void ThreadPool::runIndices(int thread) {
+  // Dynamic scheduling: each thread takes the next unclaimed index, so a thread that runs slower
+  // (a busy core, a virtual CPU that loses time) takes fewer. The results do not depend on which
+  // thread ran an index, because the body writes per index.
+  for (int i = next_.fetch_add(1, std::memory_order_relaxed); i < count_;
+       i = next_.fetch_add(1, std::memory_order_relaxed))
+    (*body_)(i, thread);
 }
 
 void ThreadPool::parallelFor(int count, const std::function<void(int, int)>& body) {
@@ -36,10 +37,11 @@ void ThreadPool::parallelFor(int count, const std::function<void(int, int)>& bod
     body_ = &body;
     count_ = count;
     pending_ = static_cast<int>(workers_.size());
+    next_.store(0, std::memory_order_relaxed);
     ++generation_;
   }
   start_.notify_all();
-  runBlock(0);
+  runIndices(0);
   std::unique_lock<std::mutex> lock(mutex_);
   done_.wait(lock, [this] { return pending_ == 0; });
   body_ = nullptr;
@@ -54,7 +56,7 @@ void ThreadPool::workerLoop(int thread) {
       if (stop_) return;
       seen = generation_;
     }
-    runBlock(thread);
+    runIndices(thread);
     {
       std::lock_guard<std::mutex> lock(mutex_);
       --pending_;

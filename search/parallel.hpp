@@ -2,6 +2,7 @@
 // (never accumulated across threads) so that they do not depend on the thread count.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <functional>
 #include <mutex>
@@ -20,19 +21,22 @@ class ThreadPool {
 
   int numThreads() const { return static_cast<int>(workers_.size()) + 1; }
 
-  /// Calls body(index, thread) for index in [0, count), thread in [0, numThreads()), indices split
-  /// into contiguous blocks; returns when all are done. body must not throw. Not re-entrant.
+  /// Calls body(index, thread) for index in [0, count), thread in [0, numThreads()); each thread
+  /// takes the next unclaimed index, so which thread runs an index varies from call to call.
+  /// Returns when all are done. body must not throw. Not re-entrant.
   void parallelFor(int count, const std::function<void(int, int)>& body);
 
  private:
   void workerLoop(int thread);
-  void runBlock(int thread);
+  void runIndices(int thread);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable start_, done_;
   const std::function<void(int, int)>* body_ = nullptr;
   int count_ = 0;
+  alignas(64) std::atomic<int> next_{0};  // the next unclaimed index, on its own cache line
+  char padding_[64] = {};
   long generation_ = 0;
   int pending_ = 0;
   bool stop_ = false;
