@@ -11,7 +11,8 @@ namespace integrators_detail {
 /// A revolute joint's stage angle differs from q by a small d = q_stage - q (h/2 dq or h dq), so
 /// sin(q + d) = sin q cos d + cos q sin d, with cos d and sin d from their Taylor series: a few
 /// multiplications instead of a sin/cos call (RK4's stages 2 to 4). For |d| <= 1e-2 the series,
-/// cut after d^8 and d^7, are exact to 3e-22 relative; a larger d calls sin and cos.
+/// cut after d^5 and d^6, are off by at most d^7 / 7! = 2e-18 and d^8 / 8! = 2.5e-21: absolute
+/// errors in the rotation's entries below 2 % of an ulp of 1. A larger d calls sin and cos.
 template <typename Scalar>
 void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                      const ConstVectorRef<Scalar>& q, const VectorX<Scalar>& q_stage) {
@@ -29,13 +30,9 @@ void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
     // Horner form with the coefficients as constants: a division by 6 or 20 is not turned into a
     // multiplication by the compiler, and six divisions per joint were the loop's main cost.
     const Scalar d2 = d * d;
-    const Scalar sin_d =
-        d * (Scalar(1) +
-             d2 * (Scalar(-1.0 / 6.0) + d2 * (Scalar(1.0 / 120.0) + d2 * Scalar(-1.0 / 5040.0))));
+    const Scalar sin_d = d * (Scalar(1) + d2 * (Scalar(-1.0 / 6.0) + d2 * Scalar(1.0 / 120.0)));
     const Scalar cos_d =
-        Scalar(1) +
-        d2 * (Scalar(-0.5) +
-              d2 * (Scalar(1.0 / 24.0) + d2 * (Scalar(-1.0 / 720.0) + d2 * Scalar(1.0 / 40320.0))));
+        Scalar(1) + d2 * (Scalar(-0.5) + d2 * (Scalar(1.0 / 24.0) + d2 * Scalar(-1.0 / 720.0)));
     setRevoluteTransform(model, i, data.sin_q[i] * cos_d + data.cos_q[i] * sin_d,
                          data.cos_q[i] * cos_d - data.sin_q[i] * sin_d, data.liMi[i]);
   }

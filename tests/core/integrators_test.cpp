@@ -88,7 +88,7 @@ TEST(Integrators, Rk4StagesEqualTheTextbookStep) {
       const Eigen::VectorXd v4 = dq0 + h * a3, a4 = f(q0 + h * v3, v4);
       const Eigen::VectorXd q_ref = q0 + h / 6 * (dq0 + 2 * v2 + 2 * v3 + v4);
       const Eigen::VectorXd dq_ref = dq0 + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4);
-      // The series are exact to 3e-22 relative: only round-off of sin/cos (1 ulp) and of the
+      // The series are off by under 2 % of an ulp: only round-off of sin/cos (1 ulp) and of the
       // recursion separates the two, 1e-12 of the state's scale far above it and below any
       // error in a stage's angle (h dq ~ 1e-3, so a wrong stage shows at 1e-6 or more).
       EXPECT_LT((q - q_ref).norm(), 1e-12 * (1.0 + q_ref.norm())) << "seed " << seed;
