@@ -9,10 +9,10 @@
 #include <Eigen/Core>
 
 #include "core/model.hpp"
+#include "core/parallel.hpp"
 #include "core/trajectory.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "search/gc_error.hpp"
-#include "search/parallel.hpp"
 #include "search/parameter_space.hpp"
 
 namespace dynid {

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <thread>
 
-#include "analysis/metrics.hpp"
+#include "analysis/correlation.hpp"
+#include "analysis/runs.hpp"
 #include "analysis/study.hpp"
 
 namespace dynid {
@@ -16,28 +17,18 @@ DemoResult runDemo(const DemoOptions& options) {
   StudySettings study_settings;
   study_settings.train_seconds = study_settings.test_seconds = options.quick ? 4.0 : 10.0;
   study_settings.segments = options.quick ? 20 : 100;
-  study_settings.search_seconds =
-      options.search_seconds > 0 ? options.search_seconds : (options.quick ? 2.0 : 30.0);
+  study_settings.search_evaluations = options.search_evaluations;
+  study_settings.search_seconds = options.search_seconds > 0       ? options.search_seconds
+                                  : options.search_evaluations > 0 ? 0.0
+                                                                   : (options.quick ? 2.0 : 30.0);
   study_settings.refine_iterations = options.quick ? 30 : 200;
   study_settings.seed = options.seed;
-  study_settings.threads =
-      options.threads > 0 ? options.threads
-                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  study_settings.threads = resolveThreads(options.threads);
   Study study(study_settings, options.progress);
 
   DemoResult result;
-  DemoSettings& settings = result.settings;
-  settings.robot = study.truth().name;
-  settings.quick = options.quick;
-  settings.seed = options.seed;
-  settings.train_seconds = study_settings.train_seconds;
-  settings.test_seconds = study_settings.test_seconds;
-  settings.segments = study_settings.segments;
-  settings.horizon = study_settings.horizon;
-  settings.perturb = study_settings.perturb;
-  settings.search_seconds = study_settings.search_seconds;
-  settings.refine_iterations = study_settings.refine_iterations;
-  settings.threads = study_settings.threads;
+  result.settings = study_settings;
+  result.quick = options.quick;
 
   const BaseParameters& base = study.base();
   DemoIdentifiability& ident = result.identifiability;
@@ -51,15 +42,15 @@ DemoResult runDemo(const DemoOptions& options) {
   ident.condition_number = scaledConditionNumber(base.baseRegressor(study.observation().W));
 
   // Least squares always; the rest stage by stage until interrupted.
-  for (const std::string& method : studyMethods()) {
-    if (method != "ols" && method != "wls" && stopped()) break;
+  for (Method method : allMethods()) {
+    if (method != Method::kOls && method != Method::kWls && stopped()) break;
     result.methods.push_back(study.run(method, options.stop));
   }
-  for (const char* method : {"nlo", "ga", "hybrid"}) {
+  for (Method method : searchMethods()) {
     const SearchResult* found = study.searchResult(method);
     if (found == nullptr) continue;
     DemoSearchTrace trace;
-    trace.method = method;
+    trace.method = methodName(method);
     trace.history = found->history;
     if (const std::vector<double>* e = study.searchBaseErrors(method)) trace.base_errors = *e;
     trace.candidates = static_cast<long>(found->evaluated.size());

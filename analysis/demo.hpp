@@ -17,25 +17,13 @@
 namespace dynid {
 
 struct DemoOptions {
-  bool quick = false;         // 2 s of data, 20 segments, 2 s searches (the tests' mode)
-  std::uint64_t seed = 1;     // the initial guess's perturbation and the searches
-  int threads = 0;            // 0: all cores
-  double search_seconds = 0;  // per search; 0: 30 s (2 s quick)
+  bool quick = false;           // 4 s of data, 20 segments, 2 s searches (the tests' mode)
+  std::uint64_t seed = 1;       // the initial guess's perturbation and the searches
+  int threads = 0;              // 0: all cores
+  double search_seconds = 0;    // per search; 0: 30 s (2 s quick), unless evaluations are set
+  long search_evaluations = 0;  // per search; 0: no limit (then search_seconds applies)
   const std::atomic<bool>* stop = nullptr;  // set (SIGINT): finish the current stage, skip the rest
   std::function<void(const std::string&)> progress;  // one line per stage
-};
-
-struct DemoSettings {
-  std::string robot;
-  double train_seconds = 0.0, test_seconds = 0.0;
-  int segments = 0;
-  double horizon = 0.0;
-  double perturb = 0.0;  // the initial guess: every parameter times (1 + U(-perturb, perturb))
-  double search_seconds = 0.0;
-  int refine_iterations = 0;
-  std::uint64_t seed = 1;
-  int threads = 1;
-  bool quick = false;
 };
 
 struct DemoIdentifiability {
@@ -60,7 +48,8 @@ struct DemoSearchTrace {
 };
 
 struct DemoResult {
-  DemoSettings settings;
+  StudySettings settings;  // as run (robot, durations, budgets, seed, threads)
+  bool quick = false;
   DemoIdentifiability identifiability;
   std::vector<MethodMetrics> methods;  // in the order ols, wls, pc, nlo, ga, hybrid, refined
   std::vector<DemoSearchTrace> searches;

@@ -7,14 +7,14 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include "analysis/runs.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/robots.hpp"
-#include "identifiability/least_squares.hpp"
-#include "identifiability/physically_consistent.hpp"
-#include "search/refine.hpp"
+#include "search/refinement/costs.hpp"
+#include "search/refinement/refine.hpp"
 
 namespace dynid {
 
@@ -55,19 +55,7 @@ Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out
   return simulate(truth, controller, options);
 }
 
-double totalMass(const Model& model) {
-  double total = 0.0;
-  for (const auto& inertia : model.inertias) total += inertia.mass;
-  return total;
-}
-
 }  // namespace
-
-const std::vector<std::string>& studyMethods() {
-  static const std::vector<std::string> methods = {
-      "ols", "wls", "pc", "nlo", "ga", "hybrid", "nlo_refined", "ga_refined", "hybrid_refined"};
-  return methods;
-}
 
 void validateStudySettings(const StudySettings& s) {
   const auto require = [](bool ok, const char* field, const std::string& rule) {
@@ -109,11 +97,7 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
   test_ = makeGcProblem(test_data_, segments);
 
   say("base parameters");
-  const ParameterLayout layout = truth_.parameterLayout();
-  base_ = computeBaseParameters(
-      observationFromRandomStates(truth_, std::max(100, 5 * layout.size() / truth_.numJoints()), 1)
-          .W,
-      standardParameterNames(layout), 0.0, defaultPreference(layout.num_links, layout.perLink()));
+  base_ = structuralBaseParameters(truth_);
   observation_ = observationFromTrajectory(truth_, train_data_);
 
   // The spaces the searches move in (the paper's form; NLO holds the total mass, GA does not).
@@ -186,12 +170,12 @@ NearTruth Study::nearTruth(int samples, double range, const std::string& estimat
   return out;
 }
 
-const SearchResult& Study::search(const std::string& method, const std::atomic<bool>* stop) {
+const SearchResult& Study::search(Method method, const std::atomic<bool>* stop) {
   const auto found = searches_.find(method);
   if (found != searches_.end()) return found->second;
-  if (progress_) progress_("search: " + method);
+  if (progress_) progress_(std::string("search: ") + methodName(method));
   SearchContext context;
-  context.space = method == "ga" ? ga_space_.get() : nlo_space_.get();
+  context.space = method == Method::kGa ? ga_space_.get() : nlo_space_.get();
   context.problem = &train_;
   context.pool = pool_.get();
   context.truth_full = &truth_full_;
@@ -206,61 +190,46 @@ const SearchResult& Study::search(const std::string& method, const std::atomic<b
     base_errors.push_back(
         baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
   };
-  SearchResult result = method == "nlo"  ? runNlo(context, NloOptions{})
-                        : method == "ga" ? runGa(context, GaOptions{})
-                                         : runHybrid(context, GaOptions{}, NloOptions{});
+  SearchResult result = method == Method::kNlo  ? runNlo(context, NloOptions{})
+                        : method == Method::kGa ? runGa(context, GaOptions{})
+                                                : runHybrid(context, GaOptions{}, NloOptions{});
   return searches_.emplace(method, std::move(result)).first->second;
 }
 
-MethodMetrics Study::run(const std::string& method, const std::atomic<bool>* stop) {
+MethodMetrics Study::run(Method method, const std::atomic<bool>* stop) {
   const auto say = [&](const std::string& line) {
     if (progress_) progress_(line);
   };
-  const Eigen::VectorXd prior = initial_.standardParameters();
+  const std::string name = methodName(method);
   const auto modelWith = [&](const Eigen::VectorXd& theta) {
     Model m = truth_;
     m.setStandardParameters(theta);
     return m;
   };
-  if (method == "ols" || method == "wls") {
-    say("identify: " + method);
+  if (!isSearch(method) && !isRefined(method)) {
+    say(method == Method::kPc ? "identify: pc (physically consistent)" : "identify: " + name);
     const auto t0 = Clock::now();
-    const BaseEstimate estimate =
-        estimateBaseParameters(base_, observation_, parseLeastSquaresMethod(method));
-    if (method == "ols") ols_relative_std_dev_ = estimate.relative_std_dev_percent;
-    return comparison_->measure(method, modelWith(base_.standardFromBase(estimate.beta, prior)),
-                                initial_gc_, 0, since(t0));
+    const LeastSquaresOutcome ls =
+        estimateLeastSquares(method, base_, observation_, initial_.standardParameters());
+    if (method == Method::kOls) ols_relative_std_dev_ = ls.estimate.relative_std_dev_percent;
+    return comparison_->measure(name, modelWith(ls.standard), initial_gc_,
+                                ls.pc ? ls.pc->iterations : 0, since(t0));
   }
-  if (method == "pc") {
-    say("identify: pc (physically consistent)");
-    const auto t0 = Clock::now();
-    const PhysicalEstimate pc = estimatePhysicallyConsistent(base_, observation_, prior);
-    return comparison_->measure("pc", modelWith(pc.theta), initial_gc_, pc.iterations, since(t0));
-  }
-  if (method == "nlo" || method == "ga" || method == "hybrid") {
-    const SearchResult& found = search(method, stop);
-    const ParameterSpace& space = method == "ga" ? *ga_space_ : *nlo_space_;
-    return comparison_->measure(method, space.modelAt(found.best_x), initial_gc_, found.evaluations,
+  const Method searched = searchOf(method);
+  const SearchResult& found = search(searched, stop);
+  const ParameterSpace& space = searched == Method::kGa ? *ga_space_ : *nlo_space_;
+  if (isSearch(method))
+    return comparison_->measure(name, space.modelAt(found.best_x), initial_gc_, found.evaluations,
                                 found.seconds);
-  }
-  if (method == "nlo_refined" || method == "ga_refined" || method == "hybrid_refined") {
-    const std::string searched = method.substr(0, method.find('_'));
-    const SearchResult& found = search(searched, stop);
-    say("refine: " + searched);
-    const ParameterSpace& space = searched == "ga" ? *ga_space_ : *nlo_space_;
-    BaseCoordinates coordinates{base_.projectionMatrix(), {}};
-    for (int j = 0; j < base_.numBase(); ++j) coordinates.names.push_back(base_.baseName(j));
-    RefineOptions refine;
-    refine.num_threads = settings_.threads;
-    refine.max_iterations = settings_.refine_iterations;
-    refine.stop = stop;
-    const RefineResult refined = refineGc(space, train_, found.best_x, refine, &coordinates);
-    return comparison_->measure(method, space.modelAt(refined.x), refined.initial_gc,
-                                refined.base_iterations + refined.iterations, refined.seconds);
-  }
-  throw InputError("unknown method '" + method +
-                   "' (expected ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined or "
-                   "hybrid_refined)");
+  say(std::string("refine: ") + methodName(searched));
+  const BaseCoordinates coordinates = base_.coordinates();
+  RefineOptions refine;
+  refine.num_threads = settings_.threads;
+  refine.max_iterations = settings_.refine_iterations;
+  refine.stop = stop;
+  const RefineResult refined = refineGc(space, train_, found.best_x, refine, &coordinates);
+  return comparison_->measure(name, space.modelAt(refined.x), refined.initial_gc,
+                              refined.base_iterations + refined.iterations, refined.seconds);
 }
 
 }  // namespace dynid

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/comparison.hpp"
+#include "analysis/methods.hpp"
 #include "identifiability/observation.hpp"
 #include "search/optimizers.hpp"
 
@@ -32,9 +33,6 @@ struct StudySettings {
   int threads = 1;
 };
 
-/// The methods, in table order.
-const std::vector<std::string>& studyMethods();
-
 /// Throws InputError naming the first invalid field (by its StudySettings and manifest name):
 /// durations and the horizon must be > 0, noise, segments and budgets >= 0 with one budget set,
 /// perturb in [0, 1), refine_iterations and threads >= 1. The robot is checked when loaded.
@@ -50,12 +48,11 @@ struct NearTruth {
   double percentile = 0.0;        // % of the configurations with a GC error <= the estimate's
 };
 
-/// What explains the searches (issue 6, item 2): the GC error's blind directions against the
-/// regressor's. The GC residuals' Jacobian with respect to the standard parameters at the truth,
-/// columns scaled to unit norm, has singular values; those at or below `tolerance` times the
-/// largest span its near-null space. The principal angles between that space and the regressor's
-/// null space (base parameters) show whether the GC error is blind to the same parameter
-/// combinations as the torques.
+/// What explains the searches: the GC error's blind directions against the regressor's. The GC
+/// residuals' Jacobian with respect to the standard parameters at the truth, columns scaled to unit
+/// norm, has singular values; those at or below `tolerance` times the largest span its near-null
+/// space. The principal angles between that space and the regressor's null space (base parameters)
+/// show whether the GC error is blind to the same parameter combinations as the torques.
 struct NullSpaces {
   int standard = 0;        // p
   int regressor_null = 0;  // p - num_base
@@ -74,20 +71,18 @@ class Study {
   Study(const Study&) = delete;
   Study& operator=(const Study&) = delete;
 
-  /// Runs one method (studyMethods()) and measures its estimate. "nlo_refined", "ga_refined" and
-  /// "hybrid_refined"
-  /// refine the search's result, searching first when that search has not run. Throws InputError
-  /// for an unknown method.
-  MethodMetrics run(const std::string& method, const std::atomic<bool>* stop = nullptr);
+  /// Runs one method and measures its estimate. The refined methods refine the search's result,
+  /// searching first when that search has not run.
+  MethodMetrics run(Method method, const std::atomic<bool>* stop = nullptr);
 
-  /// The search `method` ("nlo", "ga", "hybrid") when it has run, else null. Its `evaluated`
-  /// holds (GC error, parameter error) of every candidate.
-  const SearchResult* searchResult(const std::string& method) const {
+  /// The search `method` (nlo, ga, hybrid) when it has run, else null. Its `evaluated` holds
+  /// (GC error, parameter error) of every candidate.
+  const SearchResult* searchResult(Method method) const {
     const auto it = searches_.find(method);
     return it == searches_.end() ? nullptr : &it->second;
   }
   /// The base-parameter error of the search's best candidate after each of its history entries.
-  const std::vector<double>* searchBaseErrors(const std::string& method) const {
+  const std::vector<double>* searchBaseErrors(Method method) const {
     const auto it = search_base_errors_.find(method);
     return it == search_base_errors_.end() ? nullptr : &it->second;
   }
@@ -106,7 +101,7 @@ class Study {
   const Observation& observation() const { return observation_; }
 
  private:
-  const SearchResult& search(const std::string& method, const std::atomic<bool>* stop);
+  const SearchResult& search(Method method, const std::atomic<bool>* stop);
   StudySettings settings_;
   std::function<void(const std::string&)> progress_;
   Model truth_, initial_;
@@ -119,8 +114,8 @@ class Study {
   std::unique_ptr<Comparison> comparison_;
   double initial_gc_ = 0.0;
   Eigen::VectorXd truth_full_;
-  std::map<std::string, SearchResult> searches_;
-  std::map<std::string, std::vector<double>> search_base_errors_;
+  std::map<Method, SearchResult> searches_;
+  std::map<Method, std::vector<double>> search_base_errors_;
   Eigen::VectorXd beta_true_;
   double initial_test_gc_ = 0.0;
   Eigen::VectorXd ols_relative_std_dev_;

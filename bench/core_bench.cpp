@@ -65,7 +65,7 @@ BENCHMARK(BM_Crba);
 /// 1.5707963 rad, whose cosine is 6e-17).
 Model generalPuma(bool drives) {
   Model model = dynid::makePuma560(drives);
-  model.placement_permutation.assign(model.numJoints(), -1);
+  model.setPermutedPlacements(false);
   return model;
 }
 

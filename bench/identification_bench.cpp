@@ -5,10 +5,10 @@
 #include <benchmark/benchmark.h>
 
 #include "core/parameters.hpp"
+#include "core/regressor.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
 #include "identifiability/least_squares.hpp"
-#include "identifiability/regressor.hpp"
 
 namespace {
 

@@ -144,19 +144,20 @@ void dynidRk4(benchmark::State& state) {
 KDL::Chain kdlChain(const Model& m) {
   KDL::Chain chain;
   for (int i = 0; i < m.numJoints(); ++i) {
-    if (m.parents[i] != i - 1) throw std::runtime_error("KDL: not a serial chain");
-    const dynid::Pose<double>& placement = m.frame_placements[i];
+    if (m.parents()[i] != i - 1) throw std::runtime_error("KDL: not a serial chain");
+    const dynid::Pose<double>& placement = m.frame_placements()[i];
     const Eigen::Matrix3d& R = placement.rotation;
     const Eigen::Vector3d& t = placement.translation;
-    const Eigen::Vector3d axis = R * m.axes[i];
+    const Eigen::Vector3d axis = R * m.axes()[i];
     const KDL::Joint joint(m.joint_names[i], KDL::Vector(t.x(), t.y(), t.z()),
                            KDL::Vector(axis.x(), axis.y(), axis.z()),
-                           m.joint_types[i] == dynid::JointType::kPrismatic ? KDL::Joint::TransAxis
-                                                                            : KDL::Joint::RotAxis);
+                           m.joint_types()[i] == dynid::JointType::kPrismatic
+                               ? KDL::Joint::TransAxis
+                               : KDL::Joint::RotAxis);
     const KDL::Frame tip(KDL::Rotation(R(0, 0), R(0, 1), R(0, 2), R(1, 0), R(1, 1), R(1, 2),
                                        R(2, 0), R(2, 1), R(2, 2)),
                          KDL::Vector(t.x(), t.y(), t.z()));
-    const dynid::RigidInertia<double>& I = m.frame_inertias[i];
+    const dynid::RigidInertia<double>& I = m.frame_inertias()[i];
     const Eigen::Vector3d c =
         I.mass != 0.0 ? Eigen::Vector3d(I.first_moment / I.mass) : Eigen::Vector3d::Zero();
     const Eigen::Matrix3d Ic =

@@ -10,7 +10,8 @@
 #include "bench/puma_problem.hpp"
 #include "core/perturb.hpp"
 #include "data/puma560.hpp"
-#include "search/refine.hpp"
+#include "search/refinement/costs.hpp"
+#include "search/refinement/refine.hpp"
 
 namespace {
 

@@ -1,22 +1,31 @@
 #include "cli/common.hpp"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
 
-#include "data/robots.hpp"
-
 namespace dynid::cli {
 
+namespace {
+std::atomic<bool> interrupted{false};
+extern "C" void onInterrupt(int) { interrupted.store(true); }
+}  // namespace
+
 bool parseCommandLine(const std::vector<std::string>& args, const po::options_description& options,
-                      const std::string& usage, po::variables_map& vm) {
+                      const std::string& usage, po::variables_map& vm,
+                      const po::positional_options_description* positional) {
   po::options_description all;
   all.add_options()("help,h", "show this help");
   all.add(options);
   try {
     // Long options only, so negative numbers ("--q -0.5,1") are values, not short options.
     const auto style = po::command_line_style::unix_style ^ po::command_line_style::allow_short;
-    po::store(po::command_line_parser(args).options(all).style(style).run(), vm);
+    po::command_line_parser parser(args);
+    parser.options(all).style(style);
+    if (positional != nullptr) parser.positional(*positional);
+    po::store(parser.run(), vm);
     if (vm.count("help")) {
       std::cout << "usage: " << usage << "\n\n" << all << "\n";
       return false;
@@ -57,6 +66,21 @@ Eigen::VectorXd parseJointVector(const std::string& text, const std::string& opt
   return Eigen::Map<const Eigen::VectorXd>(list.data(), n);
 }
 
+std::optional<Eigen::VectorXd> optionalJointVector(const po::variables_map& vm, const char* name,
+                                                   int n, bool allow_broadcast) {
+  if (!vm.count(name)) return std::nullopt;
+  return parseJointVector(vm[name].as<std::string>(), name, n, allow_broadcast);
+}
+
+void addThreadsOption(po::options_description& options) {
+  options.add_options()("threads", po::value<int>()->default_value(0), "threads (0: all cores)");
+}
+
+int threadsOption(const po::variables_map& vm) {
+  return checkedOption<int>(
+      vm, "threads", [](int t) { return t >= 0; }, ">= 0 (0: all cores)");
+}
+
 void addRobotOptions(po::options_description& options) {
   options.add_options()("robot", po::value<std::string>()->required(),
                         "puma560, puma560-consistent, a .urdf file or a dynid .json model")(
@@ -71,5 +95,35 @@ Model loadRobotFromOptions(const po::variables_map& vm) {
   for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
   return model;
 }
+
+Model loadOtherRobot(const po::variables_map& vm, const char* option) {
+  return loadRobot(vm[option].as<std::string>(),
+                   {vm["drives"].as<bool>(), vm["strict"].as<bool>()});
+}
+
+void addStructuralOptions(po::options_description& options) {
+  options.add_options()("samples", po::value<int>()->default_value(0),
+                        "random states for the structural analysis (0: max(100, 5 p / n))")(
+      "seed", po::value<std::uint64_t>()->default_value(1), "seed of the random states")(
+      "tolerance", po::value<double>()->default_value(0.0),
+      "rank tolerance on |R_jj| of the unit-column W (0: 1e-8 max|R_jj|)");
+}
+
+StructuralOptions structuralOptions(const po::variables_map& vm) {
+  return {checkedOption<int>(
+              vm, "samples", [](int s) { return s >= 0; }, ">= 0"),
+          vm["seed"].as<std::uint64_t>(), vm["tolerance"].as<double>()};
+}
+
+bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
+
+InterruptGuard::InterruptGuard() {
+  interrupted.store(false);
+  previous_ = std::signal(SIGINT, onInterrupt);
+}
+
+InterruptGuard::~InterruptGuard() { std::signal(SIGINT, previous_); }
+
+const std::atomic<bool>* InterruptGuard::flag() const { return &interrupted; }
 
 }  // namespace dynid::cli

@@ -1,17 +1,19 @@
-// Shared pieces of the dynid commands: option parsing helpers, the usage-error type and the exit
-// codes (0 success, 1 runtime or data error, 2 usage error).
+// Shared pieces of the dynid commands: option parsing, the usage-error type, the exit codes
+// (0 success, 1 runtime or data error, 2 usage error), the SIGINT guard and the robot options.
 #pragma once
 
-#include <cmath>
+#include <atomic>
+#include <csignal>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 #include <boost/program_options.hpp>
-#include <nlohmann/json.hpp>
 
+#include "analysis/runs.hpp"
 #include "core/errors.hpp"
-#include "core/model.hpp"
+#include "data/robots.hpp"
 
 namespace dynid::cli {
 
@@ -28,25 +30,66 @@ class UsageError : public Error {
 };
 
 /// Parses the options of one command; prints help and returns false on --help. Throws UsageError
-/// (with the usage line) on unknown or malformed options.
+/// (with the usage line) on unknown or malformed options. `positional` names options that may be
+/// given without their flag, in order (-1 entries: the rest).
 bool parseCommandLine(const std::vector<std::string>& args, const po::options_description& options,
-                      const std::string& usage, po::variables_map& vm);
+                      const std::string& usage, po::variables_map& vm,
+                      const po::positional_options_description* positional = nullptr);
 
 /// "0,0.785,3.14" -> {0, 0.785, 3.14}; names the option and the entry at fault.
 std::vector<double> parseList(const std::string& text, const std::string& option);
-
 /// A list of exactly n entries, or one entry broadcast to n; names the option on mismatch.
 Eigen::VectorXd parseJointVector(const std::string& text, const std::string& option, int n,
                                  bool allow_broadcast);
+/// The joint vector of option `name` when given.
+std::optional<Eigen::VectorXd> optionalJointVector(const po::variables_map& vm, const char* name,
+                                                   int n, bool allow_broadcast);
+/// Calls parse(text) and turns its InputError into a UsageError naming --option.
+template <typename F>
+auto parseOption(const po::variables_map& vm, const char* option, F parse) {
+  try {
+    return parse(vm[option].as<std::string>());
+  } catch (const InputError& e) {
+    throw UsageError(std::string("--") + option + ": " + e.what());
+  }
+}
+/// The value of a numeric option, checked: a UsageError "--name must be <rule>" unless ok(value).
+template <typename T, typename Ok>
+T checkedOption(const po::variables_map& vm, const char* option, Ok ok, const char* rule) {
+  const T value = vm[option].as<T>();
+  if (!ok(value)) throw UsageError(std::string("--") + option + " must be " + rule);
+  return value;
+}
+/// --threads, >= 0 (0: all cores).
+void addThreadsOption(po::options_description& options);
+int threadsOption(const po::variables_map& vm);
 
 /// The options every robot-using command takes: --robot, --drives, --strict.
 void addRobotOptions(po::options_description& options);
 /// Loads the robot named by --robot (warnings to stderr).
 Model loadRobotFromOptions(const po::variables_map& vm);
+/// Loads another robot spec (--init, --truth, --prior) with the same --drives and --strict.
+Model loadOtherRobot(const po::variables_map& vm, const char* option);
 
-/// A finite number, or null (JSON has no infinity or NaN).
-inline nlohmann::json numberOrNull(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
-}
+/// --samples, --seed, --tolerance of the structural analysis, and their values.
+void addStructuralOptions(po::options_description& options);
+StructuralOptions structuralOptions(const po::variables_map& vm);
+
+/// Whether standard error is a terminal (progress lines go there only then).
+bool stderrIsTerminal();
+
+/// For its lifetime, SIGINT sets flag() instead of ending the process (the run then stops
+/// cleanly, writing its best result); the previous handler comes back on destruction.
+class InterruptGuard {
+ public:
+  InterruptGuard();
+  ~InterruptGuard();
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  const std::atomic<bool>* flag() const;
+
+ private:
+  void (*previous_)(int);
+};
 
 }  // namespace dynid::cli

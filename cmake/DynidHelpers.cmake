@@ -1,8 +1,11 @@
 # dynid_add_library(NAME SOURCES... DEPS...): one library per module, exported as dynid::NAME.
 # Headers live beside the sources (core/rnea.hpp) and are included as "core/rnea.hpp"; they are
-# installed under include/dynid/<module>/.
+# installed under include/dynid/<module>/ (or include/dynid/<HEADER_DIR>/ for a nested module).
 function(dynid_add_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "HEADER_DIR" "SOURCES;DEPS" ${ARGN})
+  if(NOT ARG_HEADER_DIR)
+    set(ARG_HEADER_DIR ${name})
+  endif()
   add_library(dynid_${name} ${ARG_SOURCES})
   add_library(dynid::${name} ALIAS dynid_${name})
   set_target_properties(dynid_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME dynid_${name}
@@ -13,7 +16,7 @@ function(dynid_add_library name)
   target_link_libraries(dynid_${name} PUBLIC ${ARG_DEPS} PRIVATE $<BUILD_INTERFACE:dynid_warnings>)
   install(TARGETS dynid_${name} EXPORT dynidTargets
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynid/${name}
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynid/${ARG_HEADER_DIR}
           FILES_MATCHING PATTERN "*.hpp")
 endfunction()
 

@@ -168,8 +168,8 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
   // inertias and bias forces pA_i = v_i x* I v_i.
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
-    const int p = model.parents[i];
-    const Vector6<Scalar>& S = model.motion_subspaces[i];
+    const int p = model.parents()[i];
+    const Vector6<Scalar>& S = model.motion_subspaces()[i];
     const Vector3<Scalar> sw = S.template head<3>() * dq[i], sv = S.template tail<3>() * dq[i];
     Vector3<Scalar> w, vl;
     if (p < 0) {
@@ -189,29 +189,29 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     data.v[i].template head<3>() = w;
     data.v[i].template tail<3>() = vl;
     // pA = v x* (I v), I v = (Ibar w + h x vl, m vl - h x w).
-    const RigidInertia<Scalar>& I = model.frame_inertias[i];
+    const RigidInertia<Scalar>& I = model.frame_inertias()[i];
     const Vector3<Scalar> hw = I.inertia * w + cross(I.first_moment, vl);
     const Vector3<Scalar> hv = I.mass * vl - cross(I.first_moment, w);
     data.bias_force[i].template head<3>() = cross(w, hw) + cross(vl, hv);
     data.bias_force[i].template tail<3>() = cross(w, hv);
-    data.articulated_inertia[i] = model.frame_inertia_matrices[i];
+    data.articulated_inertia[i] = model.frame_inertia_matrices()[i];
     data.u[i] = tau[i] - jointFriction(model, i, dq[i]);
   }
   // Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
   // IA - U U^T / D and pA + Ia c + U u / D.
   for (int i = n - 1; i >= 0; --i) {
     const Matrix6<Scalar>& IA = data.articulated_inertia[i];
-    const int k = model.subspace_index[i];
+    const int k = model.subspace_index()[i];
     if (k >= 0)
       data.U[i] = IA.col(k);
     else
-      data.U[i].noalias() = IA * model.motion_subspaces[i];
+      data.U[i].noalias() = IA * model.motion_subspaces()[i];
     data.D[i] = projectOnJoint(model, i, data.U[i]);
-    if (model.drives_enabled) data.D[i] += model.drives[i].rotor_inertia;
+    if (model.drives_enabled) data.D[i] += model.drives()[i].rotor_inertia;
     const Scalar inv_d = Scalar(1) / data.D[i];
     data.D_inv[i] = inv_d;
     data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     if (p < 0) continue;
     // pa = pA + Ia c + U u / D with Ia c = IA c - U (U . c) / D. Pass 3 needs u - U . c too.
     data.u_minus_Uc[i] = data.u[i] - data.U[i].dot(data.c[i]);
@@ -220,10 +220,10 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     pa += data.U[i] * (data.u_minus_Uc[i] * inv_d);
     const Pose<Scalar>& X = data.liMi[i];
     Matrix6<Scalar>& parent = data.articulated_inertia[p];
-    const Vector3<Scalar>& s = model.placement_shift[i];
+    const Vector3<Scalar>& s = model.placement_shift()[i];
     const Vector6<Scalar>& U = data.U[i];
     Vector6<Scalar>& Up = data.U_parent[i];
-    const int permutation = model.placement_permutation[i];
+    const int permutation = model.placement_permutation()[i];
     if (permutation >= 0)
       kPermutedTransforms<Scalar>[permutation](X, s, IA, U, inv_d, parent, Up);
     else
@@ -238,7 +238,7 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
   // U^T iXp a_p = (pXi* U)^T a_p (pass 2's U_parent), ddq needs only a dot product with a_p, and
   // the transform of a_p runs beside it: the chain from joint to joint is shorter.
   for (int i = 0; i < n; ++i) {
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     const Pose<Scalar>& X = data.liMi[i];
     Vector3<Scalar> dw, dv;
     Scalar ddq;
@@ -259,7 +259,7 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
       dv += data.c[i].template tail<3>();
     }
     data.ddq[i] = ddq;
-    const Vector6<Scalar>& S = model.motion_subspaces[i];
+    const Vector6<Scalar>& S = model.motion_subspaces()[i];
     data.a[i].template head<3>() = dw + S.template head<3>() * ddq;
     data.a[i].template tail<3>() = dv + S.template tail<3>() * ddq;
   }

@@ -18,8 +18,7 @@ void checkSize(const ModelTpl<Scalar>& model, const Vector& x, const char* name)
 
 template <typename Scalar>
 void checkData(const ModelTpl<Scalar>& model, const DataTpl<Scalar>& data) {
-  if (static_cast<int>(data.liMi.size()) != model.numJoints() ||
-      static_cast<int>(model.motion_subspaces.size()) != model.numJoints())
+  if (static_cast<int>(data.liMi.size()) != model.numJoints() || !model.finalized())
     throw InputError("Data was built for another model, or the model '" + model.name +
                      "' was not finalized");
 }

@@ -10,21 +10,21 @@ namespace crba_detail {
 template <typename Scalar>
 void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
   const int n = model.numJoints();
-  for (int i = 0; i < n; ++i) data.composite[i] = model.frame_inertias[i];
+  for (int i = 0; i < n; ++i) data.composite[i] = model.frame_inertias()[i];
   // Composite inertias: Ic_p += pXi* Ic_i iXp.
   for (int i = n - 1; i >= 0; --i) {
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     if (p >= 0) data.composite[p] += data.composite[i].transformedBy(data.liMi[i]);
   }
   // M_ij = S_j^T (jXi* Ic_i S_i) for every ancestor j of i; other entries are zero.
   data.M.setZero();
   for (int i = 0; i < n; ++i) {
-    Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces[i]);
+    Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces()[i]);
     data.M(i, i) = projectOnJoint(model, i, F);
-    if (model.drives_enabled) data.M(i, i) += model.drives[i].rotor_inertia;
-    for (int j = i; model.parents[j] >= 0;) {
+    if (model.drives_enabled) data.M(i, i) += model.drives()[i].rotor_inertia;
+    for (int j = i; model.parents()[j] >= 0;) {
       F = data.liMi[j].actForce(F);
-      j = model.parents[j];
+      j = model.parents()[j];
       data.M(j, i) = data.M(i, j) = projectOnJoint(model, j, F);
     }
   }

@@ -3,6 +3,7 @@
 // thread; the Model is shared read-only.
 #pragma once
 
+#include <cassert>
 #include <vector>
 
 #include "core/model.hpp"
@@ -48,6 +49,7 @@ using Data = DataTpl<double>;
 
 template <typename Scalar>
 DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
+  assert(model.cachesAreCurrent() && "the model's derived caches are stale");
   const int n = model.numJoints();
   liMi.assign(n, Pose<Scalar>());
   oMj.assign(n, Pose<Scalar>());

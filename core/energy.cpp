@@ -12,11 +12,11 @@ double kineticEnergy(const Model& model, Data& data, const ConstVectorRef<double
   double energy = 0.0;
   for (int i = 0; i < model.numJoints(); ++i) {
     // v_i = iXp v_p + S dq;  T += 1/2 v_i . I v_i (joint frames)
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     data.v[i] = jointMotionAt(model, i, dq[i]);
     if (p >= 0) data.v[i] += data.liMi[i].actInvMotion(data.v[p]);
-    energy += 0.5 * data.v[i].dot(model.frame_inertias[i].apply(data.v[i]));
-    if (model.drives_enabled) energy += 0.5 * model.drives[i].rotor_inertia * dq[i] * dq[i];
+    energy += 0.5 * data.v[i].dot(model.frame_inertias()[i].apply(data.v[i]));
+    if (model.drives_enabled) energy += 0.5 * model.drives()[i].rotor_inertia * dq[i] * dq[i];
   }
   return energy;
 }
@@ -27,7 +27,7 @@ double potentialEnergy(const Model& model, Data& data, const ConstVectorRef<doub
   for (int i = 0; i < model.numJoints(); ++i) {
     // m c in the base frame = m p + R h.
     const Pose<double>& X = data.oMi[i];
-    const RigidInertia<double>& I = model.inertias[i];
+    const RigidInertia<double>& I = model.inertias()[i];
     const Eigen::Vector3d mc = I.mass * X.translation + X.rotation * I.first_moment;
     energy -= model.gravity.dot(mc);
   }

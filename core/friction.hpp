@@ -17,7 +17,7 @@ inline Scalar signum(const Scalar& x) {
 template <typename Scalar>
 inline Scalar jointFriction(const ModelTpl<Scalar>& model, int i, const Scalar& dqi) {
   if (!model.drives_enabled) return Scalar(0);
-  const DriveParameters<Scalar>& d = model.drives[i];
+  const DriveParameters<Scalar>& d = model.drives()[i];
   const Scalar s = signum(dqi);
   Scalar out = d.viscous * dqi + d.coulomb * s;
   if (model.offsets_enabled && s != Scalar(0)) out += d.offset;

@@ -18,7 +18,7 @@ void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                      const ConstVectorRef<Scalar>& q, const VectorX<Scalar>& q_stage) {
   using std::abs;
   for (int i = 0; i < model.numJoints(); ++i) {
-    if (model.joint_types[i] == JointType::kPrismatic) {
+    if (model.joint_types()[i] == JointType::kPrismatic) {
       setJointTransform(model, i, q_stage[i], data.liMi[i]);
       continue;
     }
@@ -49,7 +49,7 @@ void rk4Step(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, VectorRef<Sca
   const Scalar half = h / Scalar(2);
   // k1 = (dq, ddq(q, dq)); the step's sines and cosines kept for the other stages.
   for (int i = 0; i < model.numJoints(); ++i) {
-    if (model.joint_types[i] == JointType::kPrismatic) {
+    if (model.joint_types()[i] == JointType::kPrismatic) {
       setJointTransform(model, i, q[i], data.liMi[i]);
       continue;
     }

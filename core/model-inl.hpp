@@ -71,16 +71,16 @@ int ModelTpl<Scalar>::addBody(int parent, std::string link_name, std::string joi
   if (parent < -1 || parent >= index)
     throw InputError("body '" + link_name + "': parent index " + std::to_string(parent) +
                      " is not an existing body (bodies must be added parents first)");
-  parents.push_back(parent);
+  parents_.push_back(parent);
   link_names.push_back(std::move(link_name));
   joint_names.push_back(std::move(joint_name));
-  joint_types.push_back(type);
-  joint_placements.push_back(joint_placement);
-  body_placements.push_back(body_placement);
-  axes.push_back(axis);
-  inertias.push_back(inertia);
+  joint_types_.push_back(type);
+  joint_placements_.push_back(joint_placement);
+  body_placements_.push_back(body_placement);
+  axes_.push_back(axis);
+  inertias_.push_back(inertia);
   limits.push_back(joint_limits);
-  drives.push_back(drive);
+  drives_.push_back(drive);
   return index;
 }
 
@@ -88,55 +88,55 @@ template <typename Scalar>
 void ModelTpl<Scalar>::finalize() {
   using model_detail::value;
   const int n = numJoints();
-  motion_subspaces.assign(n, Vector6<Scalar>::Zero());
-  frame_placements.assign(n, Pose<Scalar>());
-  axis_kinds.assign(n, AxisKind::kGeneral);
-  subspace_index.assign(n, -1);
-  has_frame_placement.assign(n, 1);
-  placement_permutation.assign(n, -1);
-  placement_shift.assign(n, Vector3<Scalar>::Zero());
+  motion_subspaces_.assign(n, Vector6<Scalar>::Zero());
+  frame_placements_.assign(n, Pose<Scalar>());
+  axis_kinds_.assign(n, AxisKind::kGeneral);
+  subspace_index_.assign(n, -1);
+  has_frame_placement_.assign(n, 1);
+  placement_permutation_.assign(n, -1);
+  placement_shift_.assign(n, Vector3<Scalar>::Zero());
   for (int i = 0; i < 3; ++i)
     if (!std::isfinite(value(gravity(i)))) throw InputError("model gravity is not finite");
   for (int i = 0; i < n; ++i) {
     const std::string who = "body '" + link_names[i] + "' (joint '" + joint_names[i] + "')";
-    if (parents[i] >= i) throw InputError(who + ": parent must come before the child");
-    const double norm = value(axes[i].norm());
+    if (parents_[i] >= i) throw InputError(who + ": parent must come before the child");
+    const double norm = value(axes_[i].norm());
     if (!std::isfinite(norm) || std::abs(norm - 1.0) > 1e-9)
       throw InputError(who + ": joint axis must be a unit vector (norm " + std::to_string(norm) +
                        ")");
-    if (!model_detail::allFinite(joint_placements[i]) ||
-        !model_detail::allFinite(body_placements[i]))
+    if (!model_detail::allFinite(joint_placements_[i]) ||
+        !model_detail::allFinite(body_placements_[i]))
       throw InputError(who + ": joint or body placement has a non-finite entry");
-    const auto theta = toStandardVector(inertias[i]);
+    const auto theta = toStandardVector(inertias_[i]);
     for (int k = 0; k < 10; ++k)
       if (!std::isfinite(value(theta(k))))
         throw InputError(who + ": inertial parameter " + std::string(kLinkParameterNames[k]) +
                          " is not finite");
-    const DriveParameters<Scalar>& d = drives[i];
+    const DriveParameters<Scalar>& d = drives_[i];
     if (!std::isfinite(value(d.rotor_inertia)) || !std::isfinite(value(d.viscous)) ||
         !std::isfinite(value(d.coulomb)) || !std::isfinite(value(d.offset)))
       throw InputError(who + ": a drive parameter is not finite");
-    const Vector3<double> a(value(axes[i].x()), value(axes[i].y()), value(axes[i].z()));
-    if (a == Vector3<double>::UnitX()) axis_kinds[i] = AxisKind::kX;
-    if (a == Vector3<double>::UnitY()) axis_kinds[i] = AxisKind::kY;
-    if (a == Vector3<double>::UnitZ()) axis_kinds[i] = AxisKind::kZ;
+    const Vector3<double> a(value(axes_[i].x()), value(axes_[i].y()), value(axes_[i].z()));
+    if (a == Vector3<double>::UnitX()) axis_kinds_[i] = AxisKind::kX;
+    if (a == Vector3<double>::UnitY()) axis_kinds_[i] = AxisKind::kY;
+    if (a == Vector3<double>::UnitZ()) axis_kinds_[i] = AxisKind::kZ;
     // Joint frame i in the parent's joint frame at q_i = 0.
-    frame_placements[i] =
-        parents[i] < 0 ? joint_placements[i] : body_placements[parents[i]] * joint_placements[i];
-    has_frame_placement[i] = !model_detail::isIdentity(frame_placements[i]);
-    const bool prismatic = joint_types[i] == JointType::kPrismatic;
+    frame_placements_[i] = parents_[i] < 0 ? joint_placements_[i]
+                                           : body_placements_[parents_[i]] * joint_placements_[i];
+    has_frame_placement_[i] = !model_detail::isIdentity(frame_placements_[i]);
+    const bool prismatic = joint_types_[i] == JointType::kPrismatic;
     if (prismatic)
-      motion_subspaces[i].template tail<3>() = axes[i];
+      motion_subspaces_[i].template tail<3>() = axes_[i];
     else
-      motion_subspaces[i].template head<3>() = axes[i];
-    if (axis_kinds[i] != AxisKind::kGeneral)
-      subspace_index[i] = static_cast<int>(axis_kinds[i]) + (prismatic ? 3 : 0);
-    const int k = model_detail::signedPermutationIndex(frame_placements[i].rotation);
-    if (!prismatic && axis_kinds[i] == AxisKind::kZ && k >= 0) {
-      placement_permutation[i] = k;
+      motion_subspaces_[i].template head<3>() = axes_[i];
+    if (axis_kinds_[i] != AxisKind::kGeneral)
+      subspace_index_[i] = static_cast<int>(axis_kinds_[i]) + (prismatic ? 3 : 0);
+    const int k = model_detail::signedPermutationIndex(frame_placements_[i].rotation);
+    if (permuted_placements_ && !prismatic && axis_kinds_[i] == AxisKind::kZ && k >= 0) {
+      placement_permutation_[i] = k;
       for (int j = 0; j < 3; ++j)  // (Pi^T t)_j = t_{pi^-1(j)}
-        placement_shift[i](kAxisPermutations[k][j]) =
-            Scalar(kAxisPermutationSigns[k]) * frame_placements[i].translation(j);
+        placement_shift_[i](kAxisPermutations[k][j]) =
+            Scalar(kAxisPermutationSigns[k]) * frame_placements_[i].translation(j);
     }
   }
   updateFrameInertias();
@@ -149,12 +149,12 @@ VectorX<Scalar> ModelTpl<Scalar>::standardParameters() const {
   const ParameterLayout layout = parameterLayout();
   VectorX<Scalar> theta(layout.size());
   for (int i = 0; i < numJoints(); ++i) {
-    theta.template segment<10>(layout.linkIndex(i, 0)) = toStandardVector(inertias[i]);
+    theta.template segment<10>(layout.linkIndex(i, 0)) = toStandardVector(inertias_[i]);
     if (!drives_enabled) continue;
-    theta(layout.driveIndex(i, 0)) = drives[i].rotor_inertia;
-    theta(layout.driveIndex(i, 1)) = drives[i].viscous;
-    theta(layout.driveIndex(i, 2)) = drives[i].coulomb;
-    if (offsets_enabled) theta(layout.driveIndex(i, 3)) = drives[i].offset;
+    theta(layout.driveIndex(i, 0)) = drives_[i].rotor_inertia;
+    theta(layout.driveIndex(i, 1)) = drives_[i].viscous;
+    theta(layout.driveIndex(i, 2)) = drives_[i].coulomb;
+    if (offsets_enabled) theta(layout.driveIndex(i, 3)) = drives_[i].offset;
   }
   return theta;
 }
@@ -166,14 +166,117 @@ void ModelTpl<Scalar>::setStandardParameters(const VectorX<Scalar>& theta) {
     throw InputError("parameter vector has " + std::to_string(theta.size()) + " entries, model '" +
                      name + "' has " + std::to_string(layout.size()));
   for (int i = 0; i < numJoints(); ++i) {
-    inertias[i] = fromStandardVector(theta.template segment<10>(layout.linkIndex(i, 0)));
+    inertias_[i] = fromStandardVector(theta.template segment<10>(layout.linkIndex(i, 0)));
     if (!drives_enabled) continue;
-    drives[i].rotor_inertia = theta(layout.driveIndex(i, 0));
-    drives[i].viscous = theta(layout.driveIndex(i, 1));
-    drives[i].coulomb = theta(layout.driveIndex(i, 2));
-    if (offsets_enabled) drives[i].offset = theta(layout.driveIndex(i, 3));
+    drives_[i].rotor_inertia = theta(layout.driveIndex(i, 0));
+    drives_[i].viscous = theta(layout.driveIndex(i, 1));
+    drives_[i].coulomb = theta(layout.driveIndex(i, 2));
+    if (offsets_enabled) drives_[i].offset = theta(layout.driveIndex(i, 3));
   }
   updateFrameInertias();
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::checkIndex(int i, const char* what) const {
+  if (i < 0 || i >= numJoints())
+    throw InputError(std::string(what) + " index " + std::to_string(i) +
+                     " is out of range: model '" + name + "' has " + std::to_string(numJoints()) +
+                     " bodies and joints");
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setLinkInertia(int i, const RigidInertia<Scalar>& inertia) {
+  checkIndex(i, "link");
+  inertias_[i] = inertia;
+  if (frame_inertias_.size() == inertias_.size()) updateFrameInertia(i);
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setLinkInertias(const std::vector<RigidInertia<Scalar>>& inertias) {
+  if (static_cast<int>(inertias.size()) != numJoints())
+    throw InputError(std::to_string(inertias.size()) + " link inertias given, model '" + name +
+                     "' has " + std::to_string(numJoints()) + " links");
+  inertias_ = inertias;
+  if (finalized()) updateFrameInertias();
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setDrive(int i, const DriveParameters<Scalar>& drive) {
+  checkIndex(i, "joint");
+  drives_[i] = drive;
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setJointPlacement(int i, const Pose<Scalar>& placement) {
+  checkIndex(i, "joint");
+  const bool was_finalized = finalized();
+  joint_placements_[i] = placement;
+  if (was_finalized) finalize();
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setBodyPlacement(int i, const Pose<Scalar>& placement) {
+  checkIndex(i, "body");
+  const bool was_finalized = finalized();
+  body_placements_[i] = placement;
+  if (was_finalized) finalize();
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setPermutedPlacements(bool enabled) {
+  const bool was_finalized = finalized();
+  permuted_placements_ = enabled;
+  if (was_finalized) finalize();
+}
+
+namespace model_detail {
+template <typename A, typename B>
+bool same(const A& a, const B& b) {
+  if (a.size() != b.size()) return false;
+  for (Eigen::Index k = 0; k < a.size(); ++k)
+    if (!(a.data()[k] == b.data()[k])) return false;
+  return true;
+}
+template <typename Scalar>
+bool same(const Pose<Scalar>& a, const Pose<Scalar>& b) {
+  return same(a.rotation, b.rotation) && same(a.translation, b.translation);
+}
+template <typename Scalar>
+bool same(const RigidInertia<Scalar>& a, const RigidInertia<Scalar>& b) {
+  return a.mass == b.mass && same(a.first_moment, b.first_moment) && same(a.inertia, b.inertia);
+}
+template <typename T>
+bool sameAll(const std::vector<T>& a, const std::vector<T>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) {
+      if (a[i] != b[i]) return false;
+    } else if (!same(a[i], b[i])) {
+      return false;
+    }
+  }
+  return true;
+}
+}  // namespace model_detail
+
+template <typename Scalar>
+bool ModelTpl<Scalar>::cachesAreCurrent() const {
+  using model_detail::sameAll;
+  ModelTpl fresh = *this;
+  try {
+    fresh.finalize();
+  } catch (const InputError&) {
+    return false;
+  }
+  return sameAll(frame_placements_, fresh.frame_placements_) &&
+         sameAll(frame_inertias_, fresh.frame_inertias_) &&
+         sameAll(frame_inertia_matrices_, fresh.frame_inertia_matrices_) &&
+         sameAll(motion_subspaces_, fresh.motion_subspaces_) &&
+         sameAll(axis_kinds_, fresh.axis_kinds_) &&
+         sameAll(subspace_index_, fresh.subspace_index_) &&
+         sameAll(has_frame_placement_, fresh.has_frame_placement_) &&
+         sameAll(placement_permutation_, fresh.placement_permutation_) &&
+         sameAll(placement_shift_, fresh.placement_shift_);
 }
 
 }  // namespace dynid

@@ -14,6 +14,6 @@ const char* jointTypeName(JointType type) {
   return "unknown";
 }
 
-template struct ModelTpl<double>;
+template class ModelTpl<double>;
 
 }  // namespace dynid

@@ -53,43 +53,58 @@ inline constexpr int kAxisPermutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
                                                 {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
 inline constexpr int kAxisPermutationSigns[6] = {1, -1, -1, 1, 1, -1};
 
+/// A robot model, sealed: the kinematic structure and the inertial and drive parameters are
+/// written only through addBody (before finalize) and the parameter setters, which refresh the
+/// derived joint-frame caches, so no public call can leave a cache stale (Pinocchio's route: the
+/// caches are private and read through const accessors). `name`, the names, `limits`, `gravity`
+/// and the drive switches feed no cache and stay plain fields.
 template <typename Scalar>
-struct ModelTpl {
+class ModelTpl {
+ public:
   std::string name;
   std::vector<std::string> link_names;
   std::vector<std::string> joint_names;
-  std::vector<int> parents;
-  std::vector<JointType> joint_types;
-  std::vector<Pose<Scalar>> joint_placements;
-  std::vector<Pose<Scalar>> body_placements;
-  std::vector<Vector3<Scalar>> axes;  // unit vectors in the joint frame
-  std::vector<RigidInertia<Scalar>> inertias;
-  std::vector<DriveParameters<Scalar>> drives;
   std::vector<JointLimits> limits;
   Vector3<Scalar> gravity = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));  // [m/s^2]
   bool drives_enabled = false;   // rotor inertia and friction act (and are parameters)
   bool offsets_enabled = false;  // Fo acts (only with drives)
 
-  // Derived by finalize() (and setStandardParameters); do not set by hand. The algorithms work in
-  // joint frames: joint frame i is body i's frame before body_placement_i, so that the motion
-  // subspace there is the constant (axis, 0) or (0, axis) and, for a unit axis, a single entry.
-  std::vector<Pose<Scalar>> frame_placements;  // joint frame i at q_i = 0 in the parent's joint
-                                               // frame: body_placement_p * joint_placement_i
-  std::vector<RigidInertia<Scalar>> frame_inertias;     // body i's inertia in joint frame i
-  std::vector<Matrix6<Scalar>> frame_inertia_matrices;  // the same as 6x6 matrices (aba)
-  std::vector<Vector6<Scalar>> motion_subspaces;        // S_i in joint frame i
-  std::vector<AxisKind> axis_kinds;
-  std::vector<int> subspace_index;        // k when S_i is the unit vector e_k (0..5), else -1
-  std::vector<char> has_frame_placement;  // 0 when identity
-  // For a revolute z joint whose frame placement rotates by a signed permutation (exact 0 and +-1
-  // entries, as DH twists of 0 and +-90 degrees give): the index into kAxisPermutations of the
-  // permutation pi with rotation(a, pi(a)) = +-1, else -1; and det(Pi) Pi^T t, t the placement's
-  // translation. ABA's articulated-inertia transform then rotates about z and permutes
-  // (aba_detail::addTransformedInertiaPermuted).
-  std::vector<int> placement_permutation;
-  std::vector<Vector3<Scalar>> placement_shift;
+  // The structure and parameters, read-only (addBody and the setters write them).
+  const std::vector<int>& parents() const { return parents_; }
+  const std::vector<JointType>& joint_types() const { return joint_types_; }
+  const std::vector<Pose<Scalar>>& joint_placements() const { return joint_placements_; }
+  const std::vector<Pose<Scalar>>& body_placements() const { return body_placements_; }
+  const std::vector<Vector3<Scalar>>& axes() const { return axes_; }  // unit, in the joint frame
+  const std::vector<RigidInertia<Scalar>>& inertias() const { return inertias_; }  // link frames
+  const std::vector<DriveParameters<Scalar>>& drives() const { return drives_; }
 
-  int numJoints() const { return static_cast<int>(parents.size()); }
+  // Derived by finalize() and refreshed by every setter. The algorithms work in joint frames:
+  // joint frame i is body i's frame before body_placement_i, so that the motion subspace there is
+  // the constant (axis, 0) or (0, axis) and, for a unit axis, a single entry.
+  /// Joint frame i at q_i = 0 in the parent's joint frame: body_placement_p * joint_placement_i.
+  const std::vector<Pose<Scalar>>& frame_placements() const { return frame_placements_; }
+  /// Body i's inertia in joint frame i, and the same as 6x6 matrices (aba).
+  const std::vector<RigidInertia<Scalar>>& frame_inertias() const { return frame_inertias_; }
+  const std::vector<Matrix6<Scalar>>& frame_inertia_matrices() const {
+    return frame_inertia_matrices_;
+  }
+  const std::vector<Vector6<Scalar>>& motion_subspaces() const { return motion_subspaces_; }
+  const std::vector<AxisKind>& axis_kinds() const { return axis_kinds_; }
+  /// k when S_i is the unit vector e_k (0..5), else -1.
+  const std::vector<int>& subspace_index() const { return subspace_index_; }
+  /// 0 when joint i's frame placement is the identity.
+  const std::vector<char>& has_frame_placement() const { return has_frame_placement_; }
+  /// For a revolute z joint whose frame placement rotates by a signed permutation (exact 0 and
+  /// +-1 entries, as DH twists of 0 and +-90 degrees give): the index into kAxisPermutations of
+  /// the permutation pi with rotation(a, pi(a)) = +-1, else -1; and det(Pi) Pi^T t, t the
+  /// placement's translation. ABA's articulated-inertia transform then rotates about z and
+  /// permutes (aba_detail::addTransformedInertiaPermuted).
+  const std::vector<int>& placement_permutation() const { return placement_permutation_; }
+  const std::vector<Vector3<Scalar>>& placement_shift() const { return placement_shift_; }
+
+  int numJoints() const { return static_cast<int>(parents_.size()); }
+  /// Whether finalize() has run since the last addBody.
+  bool finalized() const { return static_cast<int>(motion_subspaces_.size()) == numJoints(); }
 
   /// Appends a body and its joint; returns its index. `parent` is -1 (base) or an existing index.
   /// Call finalize() after the last body. Throws InputError on an invalid parent.
@@ -99,7 +114,8 @@ struct ModelTpl {
               const JointLimits& joint_limits = {}, const DriveParameters<Scalar>& drive = {});
 
   /// Validates the model (topological order, unit axes, finite numbers) and derives the cached
-  /// fields. Call it again after changing any field. Throws InputError naming the body at fault.
+  /// fields. Call it after the last addBody (and again after changing gravity or the drive
+  /// switches, to validate them). Throws InputError naming the body at fault.
   void finalize();
 
   ParameterLayout parameterLayout() const { return {numJoints(), drives_enabled, offsets_enabled}; }
@@ -109,24 +125,79 @@ struct ModelTpl {
   /// Sets every inertial (and drive, when enabled) parameter from theta and updates the derived
   /// joint-frame inertias. Throws InputError on a size mismatch.
   void setStandardParameters(const VectorX<Scalar>& theta);
+  /// Sets link i's inertia (in its link frame) and, once finalized, its joint-frame caches.
+  /// Throws InputError on an index out of range.
+  void setLinkInertia(int i, const RigidInertia<Scalar>& inertia);
+  /// Sets every link's inertia (numJoints() entries) and the joint-frame caches. Throws InputError
+  /// on a size mismatch.
+  void setLinkInertias(const std::vector<RigidInertia<Scalar>>& inertias);
+  /// Sets joint i's drive parameters. Throws InputError on an index out of range.
+  void setDrive(int i, const DriveParameters<Scalar>& drive);
+  /// Sets joint i's joint placement (in the parent link frame) or body i's placement (link frame
+  /// in joint frame), and, once finalized, re-derives every cache (finalize(): its InputErrors
+  /// too). Throws InputError on an index out of range.
+  void setJointPlacement(int i, const Pose<Scalar>& placement);
+  void setBodyPlacement(int i, const Pose<Scalar>& placement);
+  /// Whether finalize() marks signed-permutation placements for ABA's permuted transform path
+  /// (default true); false makes every joint take the general path, as a robot whose placements
+  /// are not exact permutations does (benchmarks and tests compare the two). Re-derives the caches
+  /// once finalized.
+  void setPermutedPlacements(bool enabled);
 
-  /// Recomputes frame_inertias and frame_inertia_matrices from inertias (after changing inertias
-  /// by hand).
-  void updateFrameInertias() {
-    frame_inertias.resize(inertias.size());
-    frame_inertia_matrices.resize(inertias.size());
-    for (std::size_t i = 0; i < inertias.size(); ++i) {
-      frame_inertias[i] = inertias[i].transformedBy(body_placements[i]);
-      frame_inertia_matrices[i] = frame_inertias[i].matrix();
-    }
-  }
+  /// Whether every derived cache equals what finalize() derives from the current structure and
+  /// parameters (Pinocchio's model.check()): true for any model built through the public API.
+  /// Debug builds assert it when a Data is built.
+  bool cachesAreCurrent() const;
 
   /// The same model with every number converted to NewScalar (e.g. ceres::Jet).
   template <typename NewScalar>
   ModelTpl<NewScalar> cast() const;
+
+ private:
+  template <typename>
+  friend class ModelTpl;
+
+  /// Throws InputError unless 0 <= i < numJoints() ("link index 7 is out of range: ...").
+  void checkIndex(int i, const char* what) const;
+  /// Recomputes frame_inertias and frame_inertia_matrices from inertias.
+  void updateFrameInertias() {
+    frame_inertias_.resize(inertias_.size());
+    frame_inertia_matrices_.resize(inertias_.size());
+    for (std::size_t i = 0; i < inertias_.size(); ++i) updateFrameInertia(static_cast<int>(i));
+  }
+  void updateFrameInertia(int i) {
+    frame_inertias_[i] = inertias_[i].transformedBy(body_placements_[i]);
+    frame_inertia_matrices_[i] = frame_inertias_[i].matrix();
+  }
+
+  std::vector<int> parents_;
+  std::vector<JointType> joint_types_;
+  std::vector<Pose<Scalar>> joint_placements_;
+  std::vector<Pose<Scalar>> body_placements_;
+  std::vector<Vector3<Scalar>> axes_;
+  std::vector<RigidInertia<Scalar>> inertias_;
+  std::vector<DriveParameters<Scalar>> drives_;
+  std::vector<Pose<Scalar>> frame_placements_;
+  std::vector<RigidInertia<Scalar>> frame_inertias_;
+  std::vector<Matrix6<Scalar>> frame_inertia_matrices_;
+  std::vector<Vector6<Scalar>> motion_subspaces_;
+  std::vector<AxisKind> axis_kinds_;
+  std::vector<int> subspace_index_;
+  std::vector<char> has_frame_placement_;
+  std::vector<int> placement_permutation_;
+  std::vector<Vector3<Scalar>> placement_shift_;
+  bool permuted_placements_ = true;
 };
 
 using Model = ModelTpl<double>;
+
+/// The sum of the links' masses [kg].
+template <typename Scalar>
+Scalar totalMass(const ModelTpl<Scalar>& model) {
+  Scalar total(0);
+  for (const RigidInertia<Scalar>& inertia : model.inertias()) total += inertia.mass;
+  return total;
+}
 
 /// Writes revolute (or continuous) joint i's jointTransform into `out` from s = sin(q_i),
 /// c = cos(q_i). In place, entry by entry: a Pose built in a temporary and copied would be
@@ -134,10 +205,10 @@ using Model = ModelTpl<double>;
 template <typename Scalar>
 DYNID_INLINE void setRevoluteTransform(const ModelTpl<Scalar>& model, int i, const Scalar& s,
                                        const Scalar& c, Pose<Scalar>& out) {
-  const Pose<Scalar>& placement = model.frame_placements[i];
-  if (model.axis_kinds[i] == AxisKind::kZ) {
+  const Pose<Scalar>& placement = model.frame_placements()[i];
+  if (model.axis_kinds()[i] == AxisKind::kZ) {
     // P Rz(q): only the first two columns of P mix.
-    if (!model.has_frame_placement[i]) {
+    if (!model.has_frame_placement()[i]) {
       out.rotation << c, -s, Scalar(0), s, c, Scalar(0), Scalar(0), Scalar(0), Scalar(1);
       out.translation.setZero();
       return;
@@ -149,7 +220,7 @@ DYNID_INLINE void setRevoluteTransform(const ModelTpl<Scalar>& model, int i, con
     return;
   }
   Matrix3<Scalar> r = Matrix3<Scalar>::Identity();
-  switch (model.axis_kinds[i]) {
+  switch (model.axis_kinds()[i]) {
     case AxisKind::kX:
       r(1, 1) = c, r(1, 2) = -s, r(2, 1) = s, r(2, 2) = c;
       break;
@@ -157,7 +228,7 @@ DYNID_INLINE void setRevoluteTransform(const ModelTpl<Scalar>& model, int i, con
       r(0, 0) = c, r(0, 2) = s, r(2, 0) = -s, r(2, 2) = c;
       break;
     default: {
-      const Matrix3<Scalar> k = skew(model.axes[i]);
+      const Matrix3<Scalar> k = skew(model.axes()[i]);
       r.noalias() += s * k + (Scalar(1) - c) * (k * k);
       break;
     }
@@ -172,10 +243,10 @@ DYNID_INLINE void setJointTransform(const ModelTpl<Scalar>& model, int i, const 
                                     Pose<Scalar>& out) {
   using std::cos;
   using std::sin;
-  if (model.joint_types[i] == JointType::kPrismatic) {
-    const Pose<Scalar>& placement = model.frame_placements[i];
+  if (model.joint_types()[i] == JointType::kPrismatic) {
+    const Pose<Scalar>& placement = model.frame_placements()[i];
     out.rotation = placement.rotation;
-    out.translation = placement.translation + placement.rotation * (model.axes[i] * qi);
+    out.translation = placement.translation + placement.rotation * (model.axes()[i] * qi);
     return;
   }
   setRevoluteTransform(model, i, Scalar(sin(qi)), Scalar(cos(qi)), out);
@@ -202,8 +273,8 @@ DYNID_INLINE Pose<Scalar> revoluteTransform(const ModelTpl<Scalar>& model, int i
 /// S_i x: the joint's motion at rate x, in joint frame i.
 template <typename Scalar>
 DYNID_INLINE Vector6<Scalar> jointMotionAt(const ModelTpl<Scalar>& model, int i, const Scalar& x) {
-  const int k = model.subspace_index[i];
-  if (k < 0) return model.motion_subspaces[i] * x;
+  const int k = model.subspace_index()[i];
+  if (k < 0) return model.motion_subspaces()[i] * x;
   Vector6<Scalar> out = Vector6<Scalar>::Zero();
   out[k] = x;
   return out;
@@ -213,25 +284,25 @@ DYNID_INLINE Vector6<Scalar> jointMotionAt(const ModelTpl<Scalar>& model, int i,
 template <typename Scalar>
 DYNID_INLINE void addJointMotion(const ModelTpl<Scalar>& model, int i, const Scalar& x,
                                  Vector6<Scalar>& m) {
-  const int k = model.subspace_index[i];
+  const int k = model.subspace_index()[i];
   if (k >= 0)
     m[k] += x;
   else
-    m += model.motion_subspaces[i] * x;
+    m += model.motion_subspaces()[i] * x;
 }
 
 /// S_i^T f: the generalized force of a spatial force f on joint i.
 template <typename Scalar>
 DYNID_INLINE Scalar projectOnJoint(const ModelTpl<Scalar>& model, int i, const Vector6<Scalar>& f) {
-  const int k = model.subspace_index[i];
-  return k >= 0 ? f[k] : model.motion_subspaces[i].dot(f);
+  const int k = model.subspace_index()[i];
+  return k >= 0 ? f[k] : model.motion_subspaces()[i].dot(f);
 }
 
 /// v x (S_i x), the velocity-product acceleration of joint i.
 template <typename Scalar>
 DYNID_INLINE Vector6<Scalar> crossJointMotion(const ModelTpl<Scalar>& model, int i,
                                               const Vector6<Scalar>& v, const Scalar& x) {
-  if (model.subspace_index[i] == 2) {
+  if (model.subspace_index()[i] == 2) {
     // S = (e_z, 0): (w x e_z, v x e_z) x.
     Vector6<Scalar> out;
     out << v[1] * x, -v[0] * x, Scalar(0), v[4] * x, -v[3] * x, Scalar(0);
@@ -249,45 +320,46 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.name = name;
   out.link_names = link_names;
   out.joint_names = joint_names;
-  out.parents = parents;
-  out.joint_types = joint_types;
+  out.parents_ = parents_;
+  out.joint_types_ = joint_types_;
   out.limits = limits;
   out.drives_enabled = drives_enabled;
   out.offsets_enabled = offsets_enabled;
-  out.axis_kinds = axis_kinds;
-  out.subspace_index = subspace_index;
-  out.has_frame_placement = has_frame_placement;
-  out.placement_permutation = placement_permutation;
+  out.axis_kinds_ = axis_kinds_;
+  out.subspace_index_ = subspace_index_;
+  out.has_frame_placement_ = has_frame_placement_;
+  out.placement_permutation_ = placement_permutation_;
+  out.permuted_placements_ = permuted_placements_;
   out.gravity = gravity.template cast<NewScalar>();
   const int n = numJoints();
-  out.joint_placements.resize(n);
-  out.body_placements.resize(n);
-  out.axes.resize(n);
-  out.inertias.resize(n);
-  out.drives.resize(n);
-  out.motion_subspaces.resize(n);
-  out.frame_placements.resize(n);
-  out.frame_inertias.resize(n);
-  out.frame_inertia_matrices.resize(n);
-  out.placement_shift.resize(n);
+  out.joint_placements_.resize(n);
+  out.body_placements_.resize(n);
+  out.axes_.resize(n);
+  out.inertias_.resize(n);
+  out.drives_.resize(n);
+  out.motion_subspaces_.resize(n);
+  out.frame_placements_.resize(n);
+  out.frame_inertias_.resize(n);
+  out.frame_inertia_matrices_.resize(n);
+  out.placement_shift_.resize(n);
   for (int i = 0; i < n; ++i) {
-    out.joint_placements[i] = joint_placements[i].template cast<NewScalar>();
-    out.body_placements[i] = body_placements[i].template cast<NewScalar>();
-    out.axes[i] = axes[i].template cast<NewScalar>();
-    out.inertias[i] = inertias[i].template cast<NewScalar>();
-    out.drives[i].rotor_inertia = NewScalar(drives[i].rotor_inertia);
-    out.drives[i].viscous = NewScalar(drives[i].viscous);
-    out.drives[i].coulomb = NewScalar(drives[i].coulomb);
-    out.drives[i].offset = NewScalar(drives[i].offset);
-    out.motion_subspaces[i] = motion_subspaces[i].template cast<NewScalar>();
-    out.frame_placements[i] = frame_placements[i].template cast<NewScalar>();
-    out.frame_inertias[i] = frame_inertias[i].template cast<NewScalar>();
-    out.frame_inertia_matrices[i] = frame_inertia_matrices[i].template cast<NewScalar>();
-    out.placement_shift[i] = placement_shift[i].template cast<NewScalar>();
+    out.joint_placements_[i] = joint_placements_[i].template cast<NewScalar>();
+    out.body_placements_[i] = body_placements_[i].template cast<NewScalar>();
+    out.axes_[i] = axes_[i].template cast<NewScalar>();
+    out.inertias_[i] = inertias_[i].template cast<NewScalar>();
+    out.drives_[i].rotor_inertia = NewScalar(drives_[i].rotor_inertia);
+    out.drives_[i].viscous = NewScalar(drives_[i].viscous);
+    out.drives_[i].coulomb = NewScalar(drives_[i].coulomb);
+    out.drives_[i].offset = NewScalar(drives_[i].offset);
+    out.motion_subspaces_[i] = motion_subspaces_[i].template cast<NewScalar>();
+    out.frame_placements_[i] = frame_placements_[i].template cast<NewScalar>();
+    out.frame_inertias_[i] = frame_inertias_[i].template cast<NewScalar>();
+    out.frame_inertia_matrices_[i] = frame_inertia_matrices_[i].template cast<NewScalar>();
+    out.placement_shift_[i] = placement_shift_[i].template cast<NewScalar>();
   }
   return out;
 }
 
-extern template struct ModelTpl<double>;
+extern template class ModelTpl<double>;
 
 }  // namespace dynid

@@ -120,4 +120,12 @@ std::vector<ConsistencyViolation> checkPhysicalConsistency(const RigidInertia<do
                                                            int link, const std::string& link_name,
                                                            double tolerance = 1e-12);
 
+/// Base-parameter coordinates beta = P theta: which combinations of the standard parameters the
+/// torques (and the GC error) determine. identifiability's BaseParameters::coordinates() makes
+/// them; the search and refinement modules take them, so they depend on core only.
+struct BaseCoordinates {
+  Eigen::MatrixXd projection;      // P, num_base x p
+  std::vector<std::string> names;  // num_base names ("Izz1 + Ia1 + Iyy2", ...)
+};
+
 }  // namespace dynid

@@ -15,7 +15,7 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
   std::uniform_real_distribution<double> uniform(-fraction, fraction);
   Model out = model;
   for (int i = 0; i < out.numJoints(); ++i) {
-    RigidInertia<double>& inertia = out.inertias[i];
+    const RigidInertia<double>& inertia = out.inertias()[i];
     // Perturb in paper form (m, c, principal moments), keep the products about the COM.
     const Eigen::Matrix3d ic = inertiaAboutCom(inertia);
     Eigen::Matrix<double, 7, 1> paper = standardToPaper(toStandardVector(inertia));
@@ -24,12 +24,12 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
     Eigen::Matrix3d products = ic;
     products.diagonal().setZero();
     perturbed.inertia += products;
-    inertia = perturbed;
-    DriveParameters<double>& d = out.drives[i];
+    out.setLinkInertia(i, perturbed);
+    DriveParameters<double> d = out.drives()[i];
     for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.offset})
       *x *= 1.0 + uniform(rng);
+    out.setDrive(i, d);
   }
-  out.finalize();  // re-derive the joint-frame inertias the algorithms use
   return out;
 }
 

@@ -23,7 +23,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     V3 w, v, dw, dv;
     if (p < 0) {
       w.setZero(), v.setZero(), dw.setZero();
@@ -50,7 +50,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
     data.v[i] = vel;
     data.a[i] = acc;
     // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w).
-    const RigidInertia<Scalar>& I = model.frame_inertias[i];
+    const RigidInertia<Scalar>& I = model.frame_inertias()[i];
     const V3 wi = vel.template head<3>(), vi = vel.template tail<3>();
     const V3 ai = acc.template head<3>(), li = acc.template tail<3>();
     const V3 hw = I.inertia * wi + cross(I.first_moment, vi);
@@ -64,8 +64,8 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   for (int i = n - 1; i >= 0; --i) {
     data.tau[i] = projectOnJoint(model, i, data.f[i]);
     if (model.drives_enabled)
-      data.tau[i] += model.drives[i].rotor_inertia * ddq[i] + jointFriction(model, i, dq[i]);
-    const int p = model.parents[i];
+      data.tau[i] += model.drives()[i].rotor_inertia * ddq[i] + jointFriction(model, i, dq[i]);
+    const int p = model.parents()[i];
     if (p < 0) continue;
     const Pose<Scalar>& X = data.liMi[i];
     const V3 rf = X.rotation * V3(data.f[i].template tail<3>());

@@ -22,19 +22,19 @@ std::string numbers(std::initializer_list<double> values) {
 void writeBody(const Model& model, const std::vector<std::vector<int>>& children, int i, int depth,
                std::ostringstream& out) {
   const std::string indent(2 * depth, ' ');
-  const Pose<double>& placement = model.frame_placements[i];
+  const Pose<double>& placement = model.frame_placements()[i];
   const Eigen::Quaterniond quat(placement.rotation);
   const Eigen::Vector3d& p = placement.translation;
   out << indent << "<body name=\"" << escapeXml(model.link_names[i]) << "\" pos=\""
       << numbers({p.x(), p.y(), p.z()}) << "\" quat=\""
       << numbers({quat.w(), quat.x(), quat.y(), quat.z()}) << "\">\n";
-  const Eigen::Vector3d& a = model.axes[i];
+  const Eigen::Vector3d& a = model.axes()[i];
   out << indent << "  <joint name=\"" << escapeXml(model.joint_names[i]) << "\" type=\""
-      << (model.joint_types[i] == JointType::kPrismatic ? "slide" : "hinge")
+      << (model.joint_types()[i] == JointType::kPrismatic ? "slide" : "hinge")
       << "\" pos=\"0 0 0\" axis=\"" << numbers({a.x(), a.y(), a.z()})
       << "\" limited=\"false\" damping=\"0\" armature=\"0\"/>\n";
   // Inertia in the joint frame, about the centre of mass.
-  const RigidInertia<double>& inertia = model.frame_inertias[i];
+  const RigidInertia<double>& inertia = model.frame_inertias()[i];
   const double m = inertia.mass;
   const Eigen::Vector3d c =
       m != 0.0 ? Eigen::Vector3d(inertia.first_moment / m) : Eigen::Vector3d::Zero();
@@ -52,7 +52,7 @@ std::pair<std::vector<std::vector<int>>, std::vector<int>> tree(const Model& mod
   std::vector<std::vector<int>> children(model.numJoints());
   std::vector<int> roots;
   for (int i = 0; i < model.numJoints(); ++i)
-    (model.parents[i] < 0 ? roots : children[model.parents[i]]).push_back(i);
+    (model.parents()[i] < 0 ? roots : children[model.parents()[i]]).push_back(i);
   return {children, roots};
 }
 

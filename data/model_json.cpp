@@ -9,6 +9,7 @@
 
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
+#include "data/json_number.hpp"
 
 namespace dynid {
 
@@ -23,8 +24,6 @@ json poseToJson(const Pose<double>& pose) {
   return {{"rotation", rotation},
           {"translation", {pose.translation.x(), pose.translation.y(), pose.translation.z()}}};
 }
-
-json limitToJson(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 /// Reads fields of a JSON document, naming the path of whatever is wrong.
 class Reader {
@@ -97,21 +96,21 @@ std::string modelToJson(const Model& model) {
   for (int i = 0; i < model.numJoints(); ++i) {
     const JointLimits& l = model.limits[i];
     json joint = {{"name", model.joint_names[i]},
-                  {"type", jointTypeName(model.joint_types[i])},
-                  {"axis", {model.axes[i].x(), model.axes[i].y(), model.axes[i].z()}},
-                  {"placement", poseToJson(model.joint_placements[i])},
-                  {"body_placement", poseToJson(model.body_placements[i])},
+                  {"type", jointTypeName(model.joint_types()[i])},
+                  {"axis", {model.axes()[i].x(), model.axes()[i].y(), model.axes()[i].z()}},
+                  {"placement", poseToJson(model.joint_placements()[i])},
+                  {"body_placement", poseToJson(model.body_placements()[i])},
                   {"limits",
-                   {{"lower", limitToJson(l.lower)},
-                    {"upper", limitToJson(l.upper)},
-                    {"velocity", limitToJson(l.velocity)},
-                    {"effort", limitToJson(l.effort)}}}};
+                   {{"lower", numberOrNull(l.lower)},
+                    {"upper", numberOrNull(l.upper)},
+                    {"velocity", numberOrNull(l.velocity)},
+                    {"effort", numberOrNull(l.effort)}}}};
     json inertial = json::object();
-    const auto theta = toStandardVector(model.inertias[i]);
+    const auto theta = toStandardVector(model.inertias()[i]);
     for (int k = 0; k < kLinkParameterCount; ++k)
       inertial[std::string(kLinkParameterNames[k])] = theta(k);
-    const DriveParameters<double>& d = model.drives[i];
-    const int p = model.parents[i];
+    const DriveParameters<double>& d = model.drives()[i];
+    const int p = model.parents()[i];
     bodies.push_back(
         {{"name", model.link_names[i]},
          {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},

@@ -83,11 +83,12 @@ Model makePuma560Consistent(bool drives) {
   Model model = makePuma560(drives);
   model.name = "puma560-consistent";
   // Link 1: 1 kg at the origin (on joint 1's axis), isotropic 0.35 kg m^2 (its axis inertia).
-  model.inertias[0].mass = 1.0;
-  model.inertias[0].first_moment.setZero();
-  model.inertias[0].inertia = 0.35 * Eigen::Matrix3d::Identity();
+  RigidInertia<double> link1;
+  link1.mass = 1.0;
+  link1.inertia = 0.35 * Eigen::Matrix3d::Identity();
+  model.setLinkInertia(0, link1);
   // Link 3: the smallest principal inertia about the centre of mass to 0.0215 kg m^2.
-  RigidInertia<double>& link3 = model.inertias[2];
+  RigidInertia<double> link3 = model.inertias()[2];
   const Eigen::Vector3d c = link3.first_moment / link3.mass;
   const Eigen::Matrix3d shift =
       link3.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
@@ -96,7 +97,7 @@ Model makePuma560Consistent(bool drives) {
   principal[0] = 0.0215;
   link3.inertia =
       eigen.eigenvectors() * principal.asDiagonal() * eigen.eigenvectors().transpose() + shift;
-  model.finalize();
+  model.setLinkInertia(2, link3);
   return model;
 }
 

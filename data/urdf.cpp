@@ -250,9 +250,12 @@ class UrdfBuilder {
     }
     // Fixed children join their body (the base ignores its inertia: it does not move).
     for (const Merge& merge : merges_)
-      if (merge.record >= 0)
-        model_.inertias[body_of[merge.record]] +=
-            linkInertia(*merge.link, false).transformedBy(merge.placement);
+      if (merge.record >= 0) {
+        const int body = body_of[merge.record];
+        RigidInertia<double> merged = model_.inertias()[body];
+        merged += linkInertia(*merge.link, false).transformedBy(merge.placement);
+        model_.setLinkInertia(body, merged);
+      }
   }
 
   int order(const std::string& joint) const {
@@ -345,7 +348,7 @@ std::string modelToUrdf(const Model& model) {
   out << "  <link name=\"" << escapeXml(base) << "\"/>\n";
   for (int i = 0; i < model.numJoints(); ++i) {
     // The URDF link frame is the joint frame; re-express the body inertia there.
-    const RigidInertia<double> in = model.inertias[i].transformedBy(model.body_placements[i]);
+    const RigidInertia<double> in = model.inertias()[i].transformedBy(model.body_placements()[i]);
     const Eigen::Vector3d c =
         in.mass > 0.0 ? Eigen::Vector3d(in.first_moment / in.mass) : Eigen::Vector3d::Zero();
     const Eigen::Matrix3d ic = inertiaAboutCom(in);
@@ -359,17 +362,17 @@ std::string modelToUrdf(const Model& model) {
         << formatDouble(ic(2, 2)) << "\"/>\n"
         << "    </inertial>\n"
         << "  </link>\n";
-    const int p = model.parents[i];
-    const Pose<double> placement =
-        p < 0 ? model.joint_placements[i] : model.body_placements[p] * model.joint_placements[i];
+    const int p = model.parents()[i];
+    const Pose<double> placement = p < 0 ? model.joint_placements()[i]
+                                         : model.body_placements()[p] * model.joint_placements()[i];
     const JointLimits& l = model.limits[i];
     out << "  <joint name=\"" << escapeXml(model.joint_names[i]) << "\" type=\""
-        << jointTypeName(model.joint_types[i]) << "\">\n"
+        << jointTypeName(model.joint_types()[i]) << "\">\n"
         << "    <parent link=\"" << escapeXml(p < 0 ? base : model.link_names[p]) << "\"/>\n"
         << "    <child link=\"" << escapeXml(model.link_names[i]) << "\"/>\n"
         << "    " << origin(placement) << "\n"
-        << "    <axis xyz=\"" << vec(model.axes[i]) << "\"/>\n";
-    if (model.joint_types[i] != JointType::kContinuous || std::isfinite(l.effort) ||
+        << "    <axis xyz=\"" << vec(model.axes()[i]) << "\"/>\n";
+    if (model.joint_types()[i] != JointType::kContinuous || std::isfinite(l.effort) ||
         std::isfinite(l.velocity)) {
       auto finite_or = [](double x, double fallback) { return std::isfinite(x) ? x : fallback; };
       out << "    <limit lower=\"" << formatDouble(finite_or(l.lower, -1e9)) << "\" upper=\""
@@ -378,8 +381,8 @@ std::string modelToUrdf(const Model& model) {
           << formatDouble(finite_or(l.velocity, 0.0)) << "\"/>\n";
     }
     if (model.drives_enabled)
-      out << "    <dynamics damping=\"" << formatDouble(model.drives[i].viscous) << "\" friction=\""
-          << formatDouble(model.drives[i].coulomb) << "\"/>\n";
+      out << "    <dynamics damping=\"" << formatDouble(model.drives()[i].viscous)
+          << "\" friction=\"" << formatDouble(model.drives()[i].coulomb) << "\"/>\n";
     out << "  </joint>\n";
   }
   out << "</robot>\n";

@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include "core/errors.hpp"
+#include "identifiability/observation.hpp"
 #include "identifiability/tall_qr.hpp"
 
 namespace dynid {
@@ -103,6 +104,25 @@ Eigen::MatrixXd BaseParameters::projectionMatrix() const {
     for (std::size_t k = 0; k < dependent.size(); ++k) P(j, dependent[k]) += K(j, k);
   }
   return P;
+}
+
+BaseCoordinates BaseParameters::coordinates() const {
+  BaseCoordinates out{projectionMatrix(), {}};
+  for (int j = 0; j < numBase(); ++j) out.names.push_back(baseName(j));
+  return out;
+}
+
+BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options) {
+  if (options.samples < 0)
+    throw InputError("the structural analysis needs samples >= 0 (0: the default), not " +
+                     std::to_string(options.samples));
+  if (model.numJoints() == 0) throw InputError("model '" + model.name + "' has no joints");
+  const ParameterLayout layout = model.parameterLayout();
+  const int samples =
+      options.samples > 0 ? options.samples : std::max(100, 5 * layout.size() / model.numJoints());
+  return computeBaseParameters(observationFromRandomStates(model, samples, options.seed).W,
+                               standardParameterNames(layout), options.tolerance,
+                               defaultPreference(layout.num_links, layout.perLink()));
 }
 
 double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth, double* max) {

@@ -13,10 +13,14 @@
 // K = W1^+ W2 by least squares. The null space of W in standard coordinates is P [-K; I].
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "core/parameters.hpp"
 
 namespace dynid {
 
@@ -47,6 +51,8 @@ struct BaseParameters {
   Eigen::MatrixXd baseRegressor(const Eigen::MatrixXd& W) const;
   /// The projection as a matrix P (num_base x p): beta = P theta.
   Eigen::MatrixXd projectionMatrix() const;
+  /// P with the base names (baseName), for the search and refinement modules.
+  BaseCoordinates coordinates() const;
   /// Null-space basis in standard coordinates (p x (p - num_base)): W N = 0.
   Eigen::MatrixXd nullSpace() const;
   /// Name of base parameter j: its leading standard parameter, with "R" appended when others
@@ -72,6 +78,18 @@ struct BaseParameters {
 BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
                                      const std::vector<std::string>& names, double tolerance = 0.0,
                                      const std::vector<int>& preference = {});
+
+/// The structural analysis: how many seeded random states, their seed and the rank tolerance.
+struct StructuralOptions {
+  int samples = 0;  // random states; 0: max(100, 5 p / n)
+  std::uint64_t seed = 1;
+  double tolerance = 0.0;  // on |R_jj| of the unit-column W; 0: the default (computeBaseParameters)
+};
+
+/// The model's base parameters from `options.samples` seeded random states (the structural rank,
+/// independent of any dataset), with the default preference. Throws InputError when samples < 0
+/// or the model has no joints.
+BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options = {});
 
 /// Relative error of a base estimate against the true base parameters: e_j = |beta_j - truth_j| /
 /// s_j with s_j = |truth_j|, or, for a true value of 0 (below 1e-9 of the mean magnitude:

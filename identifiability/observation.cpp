@@ -7,7 +7,7 @@
 
 #include "core/data.hpp"
 #include "core/errors.hpp"
-#include "identifiability/regressor.hpp"
+#include "core/regressor.hpp"
 
 namespace dynid {
 
@@ -70,7 +70,8 @@ Observation observationFromRandomStates(const Model& model, int num_samples, std
       const JointLimits& l = model.limits[i];
       double lower = l.lower, upper = l.upper;
       if (!std::isfinite(lower) || !std::isfinite(upper)) {
-        const double span = model.joint_types[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
+        const double span =
+            model.joint_types()[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
         lower = -span, upper = span;
       }
       q[i] = lower + (upper - lower) * unit(rng);

@@ -14,7 +14,9 @@
 // negligible for a small lambda. (A prior on the null-space component of theta alone would bias
 // nothing, but it pulls inconsistent priors' links to the boundary of the consistent set, where
 // log-Cholesky coordinates diverge and the solver stalls: tried and dropped.)
-// Solved by Ceres (Levenberg-Marquardt, dense QR), starting from OLS: beta_OLS lifted to standard
+// Solved by Ceres (Levenberg-Marquardt, dense QR) from two starts, and the lower final cost kept:
+// beta_OLS lifted to standard parameters with the prior's dependent ones, and the prior itself,
+// each link first moved inside the consistent set by a margin (Ia, Fv, Fc clamped to >= 0).
 #pragma once
 
 #include <functional>

@@ -6,16 +6,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/run_json.hpp"
 #include "data/io.hpp"
-#include "reports/metrics_json.hpp"
+#include "data/json_number.hpp"
+#include "reports/output.hpp"
 
 namespace dynid {
 
 namespace {
 
 using nlohmann::json;
-
-json number(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
 
 /// Three significant digits, as every table prints them.
 std::string g3(double x) { return threeDigits(x); }
@@ -121,17 +121,6 @@ std::vector<std::string> nullSpaceSentences(const DemoResult& result) {
 
 }  // namespace
 
-nlohmann::json metricsJson(const MethodMetrics& m) {
-  return {{"gc_error_initial", number(m.gc_error_initial)},
-          {"gc_error_train", number(m.gc_error_train)},
-          {"gc_error_test", number(m.gc_error_test)},
-          {"torque_rms_test", number(m.torque_rms_test)},
-          {"param_error", number(m.param_error)},
-          {"base_param_error", number(m.base_param_error)},
-          {"evaluations", m.evaluations},
-          {"seconds", number(m.seconds)}};
-}
-
 std::string demoSummaryJson(const DemoResult& result) {
   json methods = json::object();
   json order = json::array();
@@ -139,7 +128,7 @@ std::string demoSummaryJson(const DemoResult& result) {
     order.push_back(m.key);
     methods[m.key] = metricsJson(m);
   }
-  const DemoSettings& s = result.settings;
+  const StudySettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   json base = json::array();
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
@@ -150,16 +139,16 @@ std::string demoSummaryJson(const DemoResult& result) {
     for (const HistoryEntry& h : t.history)
       history.push_back({{"stage", h.stage},
                          {"iteration", h.iteration},
-                         {"best_gc", number(h.best_gc)},
-                         {"best_parameter_error", number(h.best_parameter_error)},
-                         {"min_parameter_error", number(h.min_parameter_error)},
+                         {"best_gc", numberOrNull(h.best_gc)},
+                         {"best_parameter_error", numberOrNull(h.best_parameter_error)},
+                         {"min_parameter_error", numberOrNull(h.min_parameter_error)},
                          {"evaluations", h.evaluations}});
     for (std::size_t i = 0; i < history.size() && i < t.base_errors.size(); ++i)
-      history[i]["best_base_parameter_error"] = number(t.base_errors[i]);
+      history[i]["best_base_parameter_error"] = numberOrNull(t.base_errors[i]);
     searches.push_back({{"method", t.method},
                         {"candidates", t.candidates},
-                        {"pearson_log", number(t.pearson_log)},
-                        {"spearman", number(t.spearman)},
+                        {"pearson_log", numberOrNull(t.pearson_log)},
+                        {"spearman", numberOrNull(t.spearman)},
                         {"history", history}});
   }
   const json summary = {{"schema_version", 1},
@@ -177,14 +166,14 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"refine_iterations", s.refine_iterations},
                           {"seed", s.seed},
                           {"threads", s.threads},
-                          {"quick", s.quick}}},
+                          {"quick", result.quick}}},
                         {"identifiability",
                          {{"num_standard", id.num_standard},
                           {"num_base", id.num_base},
                           {"base_parameters", base},
                           {"unidentifiable", id.unidentifiable},
                           {"ols_relative_std_dev_percent", id.ols_relative_std_dev},
-                          {"condition_number", number(id.condition_number)}}},
+                          {"condition_number", numberOrNull(id.condition_number)}}},
                         {"searches", searches},
                         {"null_spaces",
                          {{"standard", result.null_spaces.standard},
@@ -194,15 +183,15 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"gc_singular_values", result.null_spaces.gc_singular_values},
                           {"principal_angles_deg", result.null_spaces.principal_angles_deg}}},
                         {"initial_guess",
-                         {{"gc_error_train", number(result.initial_gc_train)},
-                          {"gc_error_test", number(result.initial_gc_test)}}},
+                         {{"gc_error_train", numberOrNull(result.initial_gc_train)},
+                          {"gc_error_test", numberOrNull(result.initial_gc_test)}}},
                         {"near_truth",
                          {{"range", result.near_truth.range},
                           {"samples", result.near_truth.gc_errors.size()},
                           {"gc_errors_test", result.near_truth.gc_errors},
                           {"estimate", result.near_truth.estimate},
-                          {"estimate_gc_test", number(result.near_truth.estimate_gc)},
-                          {"percentile", number(result.near_truth.percentile)}}},
+                          {"estimate_gc_test", numberOrNull(result.near_truth.estimate_gc)},
+                          {"percentile", numberOrNull(result.near_truth.percentile)}}},
                         {"interrupted", result.interrupted},
                         {"seconds", result.seconds}};
   return summary.dump(1) + "\n";
@@ -231,7 +220,7 @@ std::string demoTable(const DemoResult& result) {
 }
 
 std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& figures) {
-  const DemoSettings& s = result.settings;
+  const StudySettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
   out << "# dynid demo: " << s.robot << "\n\n";
@@ -290,7 +279,7 @@ std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& fi
 }
 
 std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figures) {
-  const DemoSettings& s = result.settings;
+  const StudySettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
   out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
@@ -345,6 +334,16 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
   }
   out << "</body>\n</html>\n";
   return out.str();
+}
+
+void writeDemoReport(const std::string& dir, const DemoResult& result,
+                     const std::vector<Figure>& figures) {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const Figure& figure : figures) files.emplace_back(figure.name + ".svg", figure.svg);
+  files.emplace_back("summary.json", demoSummaryJson(result));
+  files.emplace_back("report.md", demoMarkdown(result, figures));
+  files.emplace_back("report.html", demoHtml(result, figures));
+  writeReportFiles(dir, files);
 }
 
 }  // namespace dynid

@@ -22,5 +22,8 @@ std::string demoTable(const DemoResult& result);
 std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& figures = {});
 /// The same report as one HTML file with inline CSS and inline SVG figures: no external resources.
 std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figures = {});
+/// Writes the figures (NAME.svg), summary.json, report.md and report.html into `dir`.
+void writeDemoReport(const std::string& dir, const DemoResult& result,
+                     const std::vector<Figure>& figures);
 
 }  // namespace dynid

@@ -88,10 +88,11 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
   // Figs. 2 and 5: the searches' course.
   if (!result.searches.empty()) {
     std::ostringstream gc, errors;
-    gc << header("GC error of the best candidate (paper Fig. 2)", "iteration (round or generation)",
-                 "training GC error");
-    errors << header("Parameter errors during the searches (paper Fig. 5)",
-                     "iteration (round or generation)", "error");
+    // x counts a search's rounds and generations in order, so the hybrid's NLO rounds continue
+    // after its GA generations instead of starting again at 1.
+    const std::string xlabel = "round (NLO) or generation (GA); hybrid: generations, then rounds";
+    gc << header("GC error of the best candidate (paper Fig. 2)", xlabel, "training GC error");
+    errors << header("Parameter errors during the searches (paper Fig. 5)", xlabel, "error");
     std::string gc_plot = "plot ", errors_plot = "plot ";
     for (std::size_t s = 0; s < result.searches.size(); ++s) {
       const DemoSearchTrace& t = result.searches[s];
@@ -99,9 +100,9 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
       errors << "$" << t.method << " << EOD\n";
       for (std::size_t i = 0; i < t.history.size(); ++i) {
         const HistoryEntry& h = t.history[i];
-        gc << h.iteration << " " << h.best_gc << "\n";
-        errors << h.iteration << " " << h.best_parameter_error << " " << h.min_parameter_error
-               << " " << (i < t.base_errors.size() ? t.base_errors[i] : NAN) << "\n";
+        gc << i + 1 << " " << h.best_gc << "\n";
+        errors << i + 1 << " " << h.best_parameter_error << " " << h.min_parameter_error << " "
+               << (i < t.base_errors.size() ? t.base_errors[i] : NAN) << "\n";
       }
       gc << "EOD\n";
       errors << "EOD\n";
@@ -250,7 +251,7 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
          "set title 'Held-out GC errors of configurations within "
       << g3(100.0 * near.range)
       << " % of the truth (paper Fig. 4)'\nset xlabel 'log10 held-out GC error'\n"
-         "set ylabel 'configurations'\nset grid\nset key top left\nset style fill solid 0.7\n"
+         "set ylabel 'configurations'\nset grid\nset key below\nset style fill solid 0.7\n"
          "set boxwidth "
       << 0.9 * width << "\nset yrange [0:*]\n"
       << "set arrow from " << mark << ", graph 0 to " << mark

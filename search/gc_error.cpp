@@ -5,6 +5,7 @@
 #include <random>
 
 #include "core/errors.hpp"
+#include "search/gc_rollout.hpp"
 
 namespace dynid {
 
@@ -74,6 +75,7 @@ GcWorkspace::PerThread::PerThread(const Model& model)
       data(model),
       q(model.numJoints()),
       dq(model.numJoints()),
+      tau(0),
       padding_after(256) {}
 
 GcWorkspace::GcWorkspace(const Model& model, int num_threads) {
@@ -90,16 +92,12 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
   pool.parallelFor(problem.numSegments(), [&](int s, int thread) {
     // Roll out from the recorded start with the recorded (held) torques.
     GcWorkspace::PerThread& own = *workspace.threads[thread];
-    Data& data = own.data;
     Eigen::VectorXd& q = own.q;
     Eigen::VectorXd& dq = own.dq;
     const int start = problem.starts[s];
     q = problem.data.q.col(start);
     dq = problem.data.dq.col(start);
-    for (int k = start; k < start + problem.samples_per_segment; ++k)
-      for (int sub = 0; sub < problem.substeps; ++sub)
-        integratorStep(problem.integrator, candidate, data, q, dq, problem.data.tau.col(k),
-                       problem.step);
+    rollOutSegment(candidate, own.data, problem, s, q, dq, own.tau);
     const int end = start + problem.samples_per_segment;
     const double error =
         (q - problem.data.q.col(end)).cwiseProduct(problem.weight_q).squaredNorm() +

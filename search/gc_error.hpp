@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "core/integrators.hpp"
+#include "core/parallel.hpp"
 #include "core/trajectory.hpp"
-#include "search/parallel.hpp"
 
 namespace dynid {
 
@@ -61,7 +61,7 @@ struct GcWorkspace {
     explicit PerThread(const Model& model);
     std::vector<char> padding_before;
     Data data;
-    Eigen::VectorXd q, dq;
+    Eigen::VectorXd q, dq, tau;  // tau: rollOutSegment's scratch (unused for double)
     std::vector<char> padding_after;
   };
   std::vector<std::unique_ptr<PerThread>> threads;

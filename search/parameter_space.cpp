@@ -33,7 +33,7 @@ ParameterSpace::ParameterSpace(const Model& initial, const SpaceOptions& options
   if (!(options.relative_range >= 0.0) || !(options.absolute_range >= 0.0))
     throw InputError("parameter ranges must be >= 0");
   full_initial_ = fullVector(initial);
-  for (const RigidInertia<double>& inertia : initial.inertias) {
+  for (const RigidInertia<double>& inertia : initial.inertias()) {
     com_products_.push_back(inertiaAboutCom(inertia));
     com_products_.back().diagonal().setZero();
   }
@@ -109,7 +109,7 @@ Eigen::VectorXd ParameterSpace::fullVector(const Model& model) const {
   const int per = perLink(options_.form), n = model.numJoints();
   Eigen::VectorXd full(per * n);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Matrix<double, 10, 1> standard = toStandardVector(model.inertias[i]);
+    const Eigen::Matrix<double, 10, 1> standard = toStandardVector(model.inertias()[i]);
     if (options_.form == ParameterForm::kPaper)
       full.segment<7>(7 * i) = standardToPaper(standard);
     else
@@ -171,12 +171,11 @@ void ParameterSpace::apply(const Eigen::VectorXd& x, Model& model) const {
       // Keep the initial model's products of inertia about the COM (zero for the PUMA).
       RigidInertia<double> inertia = fromStandardVector(paperToStandard(full.segment<7>(per * i)));
       inertia.inertia += com_products_[i];
-      model.inertias[i] = inertia;
+      model.setLinkInertia(i, inertia);
     } else {
-      model.inertias[i] = fromStandardVector(full.segment<10>(per * i));
+      model.setLinkInertia(i, fromStandardVector(full.segment<10>(per * i)));
     }
   }
-  model.updateFrameInertias();
 }
 
 Model ParameterSpace::modelAt(const Eigen::VectorXd& x) const {

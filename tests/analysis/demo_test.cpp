@@ -8,7 +8,7 @@ namespace dynid {
 namespace {
 
 // Ctrl-C before the searches: the demo returns what finished (the least-squares rows), marked
-// interrupted, instead of running on. (The full quick demo runs in cli_test's
+// interrupted, instead of running on. (The full quick demo runs in cli/command_demo_test's
 // DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson.)
 TEST(Demo, StopsAfterTheCurrentStageWhenInterrupted) {
   std::atomic<bool> stop{true};

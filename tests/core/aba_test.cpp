@@ -57,21 +57,28 @@ TEST(Aba, EqualsInverseMassMatrixTimesForce) {
 /// permutations, two joints for each of the six permutations (ABA's permuted path), with random
 /// signs and translations; every second body has two children.
 Model permutedTree(std::uint64_t seed, bool drives) {
-  Model model = test::randomTree(seed, {.num_bodies = 12,
-                                        .prismatic = false,
-                                        .general_axes = false,
-                                        .body_placements = false,
-                                        .drives = drives});
+  const Model tree = test::randomTree(seed, {.num_bodies = 12,
+                                             .prismatic = false,
+                                             .general_axes = false,
+                                             .body_placements = false,
+                                             .drives = drives});
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<int> coin(0, 1);
-  for (int i = 0; i < model.numJoints(); ++i) {
-    model.parents[i] = i / 2 - 1;
-    model.axes[i] = Eigen::Vector3d::UnitZ();
-    Eigen::Matrix3d r = Eigen::Matrix3d::Zero();
-    for (int a = 0; a < 3; ++a) r(a, kAxisPermutations[i % 6][a]) = coin(rng) ? 1.0 : -1.0;
-    if (r.determinant() < 0) r.row(0) *= -1.0;  // a rotation, not a reflection
-    model.joint_placements[i].rotation = r;
-    model.joint_placements[i].translation = test::randomVector(rng, 3, 0.5);
+  // The tree's inertias, drives and limits on a new structure.
+  Model model;
+  model.gravity = tree.gravity;
+  model.drives_enabled = tree.drives_enabled;
+  model.offsets_enabled = tree.offsets_enabled;
+  for (int i = 0; i < tree.numJoints(); ++i) {
+    Pose<double> placement;
+    placement.rotation.setZero();
+    for (int a = 0; a < 3; ++a)
+      placement.rotation(a, kAxisPermutations[i % 6][a]) = coin(rng) ? 1.0 : -1.0;
+    if (placement.rotation.determinant() < 0) placement.rotation.row(0) *= -1.0;  // a rotation
+    placement.translation = test::randomVector(rng, 3, 0.5);
+    model.addBody(i / 2 - 1, tree.link_names[i], tree.joint_names[i], JointType::kRevolute,
+                  placement, Eigen::Vector3d::UnitZ(), tree.body_placements()[i],
+                  tree.inertias()[i], tree.limits[i], tree.drives()[i]);
   }
   model.finalize();
   return model;
@@ -83,9 +90,9 @@ TEST(Aba, PermutedPlacementsAgreeWithTheGeneralPath) {
     const Model model = permutedTree(100 + seed, seed % 2 == 1);
     // Every permutation is taken, so each of the six compiled transforms is exercised.
     for (int i = 0; i < model.numJoints(); ++i)
-      ASSERT_EQ(model.placement_permutation[i], i % 6) << seed << "/" << i;
+      ASSERT_EQ(model.placement_permutation()[i], i % 6) << seed << "/" << i;
     Model general = model;
-    general.placement_permutation.assign(model.numJoints(), -1);
+    general.setPermutedPlacements(false);
     Data data(model), data_general(general);
     for (int trial = 0; trial < 5; ++trial) {
       const auto [q, dq, ddq, tau] = randomSample(model, data, rng);

@@ -47,8 +47,9 @@ TEST(Controllers, FourierReferenceIsConsistent) {
 TEST(Controllers, FeedForwardUsesTheControllersOwnModel) {
   const Model truth = makePuma560();
   Model controller_model = truth;
-  controller_model.inertias[1].mass *= 1.2;
-  controller_model.finalize();
+  RigidInertia<double> heavier = controller_model.inertias()[1];
+  heavier.mass *= 1.2;
+  controller_model.setLinkInertia(1, heavier);
   SinusoidalReference r;
   r.q0 = puma560Pose("qn");
   r.amplitude = r.frequency = r.phase = Eigen::VectorXd::Zero(6);

@@ -148,10 +148,11 @@ TEST(Jet, PlacementWithADerivativeTakesTheGeneralAbaPath) {
   // derivative is not 0 (a kinematic parameter being differentiated) must not be taken for one.
   ModelTpl<Jet> mj = makePuma560(false).cast<Jet>();
   mj.finalize();
-  EXPECT_EQ(mj.placement_permutation[2], 0);
-  mj.body_placements[1].rotation(0, 1) = Jet(0.0, 0);
-  mj.finalize();
-  EXPECT_EQ(mj.placement_permutation[2], -1);
+  EXPECT_EQ(mj.placement_permutation()[2], 0);
+  Pose<Jet> placement = mj.body_placements()[1];
+  placement.rotation(0, 1) = Jet(0.0, 0);
+  mj.setBodyPlacement(1, placement);
+  EXPECT_EQ(mj.placement_permutation()[2], -1);
 }
 
 }  // namespace

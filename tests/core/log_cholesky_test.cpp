@@ -16,10 +16,11 @@ TEST(LogCholesky, RoundTripsEveryConsistentBody) {
   // Random consistent bodies, and the PUMA's links 2, 4, 5, 6 (link 1 is massless and link 3
   // breaks the triangle inequality: neither has a positive definite pseudo-inertia).
   std::vector<Eigen::Matrix<double, 10, 1>> bodies;
-  for (int i : {1, 3, 4, 5}) bodies.push_back(toStandardVector(makePuma560().inertias[i]));
-  for (std::uint64_t seed = 1; seed <= 20; ++seed)
-    for (const auto& inertia : test::randomTree(seed, {.num_bodies = 3}).inertias)
-      bodies.push_back(toStandardVector(inertia));
+  for (int i : {1, 3, 4, 5}) bodies.push_back(toStandardVector(makePuma560().inertias()[i]));
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const Model tree = test::randomTree(seed, {.num_bodies = 3});
+    for (const auto& inertia : tree.inertias()) bodies.push_back(toStandardVector(inertia));
+  }
   for (const auto& p : bodies) {
     const Eigen::Matrix<double, 10, 1> phi = standardToLogCholesky(p);
     const Eigen::Matrix<double, 10, 1> back = logCholeskyToStandard(phi.data());
@@ -44,7 +45,7 @@ TEST(LogCholesky, EveryPhiIsPhysicallyConsistent) {
 }
 
 TEST(LogCholesky, NearestConsistentRepairsOnlyWhatIsBroken) {
-  const Eigen::Matrix<double, 10, 1> p = toStandardVector(makePuma560().inertias[1]);
+  const Eigen::Matrix<double, 10, 1> p = toStandardVector(makePuma560().inertias()[1]);
   EXPECT_EQ(nearestConsistent(p), p);
   // A negative principal moment about the centre of mass: repaired, and close.
   Eigen::Matrix<double, 10, 1> broken = p;
@@ -52,7 +53,7 @@ TEST(LogCholesky, NearestConsistentRepairsOnlyWhatIsBroken) {
   ASSERT_FALSE(checkPhysicalConsistency(fromStandardVector(broken), 0, "l").empty());
   const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(broken);
   // The PUMA's link 3 violates the triangle inequality: repaired too.
-  const Eigen::Matrix<double, 10, 1> link3 = toStandardVector(makePuma560().inertias[2]);
+  const Eigen::Matrix<double, 10, 1> link3 = toStandardVector(makePuma560().inertias()[2]);
   EXPECT_TRUE(
       checkPhysicalConsistency(fromStandardVector(nearestConsistent(link3)), 2, "l", 1e-9).empty());
   EXPECT_TRUE(checkPhysicalConsistency(fromStandardVector(fixed), 0, "l", 1e-9).empty());

@@ -13,8 +13,8 @@ TEST(Perturb, StaysWithinTheFractionAndKeepsZeros) {
   const Model truth = makePuma560(true);
   const Model guess = perturbedModel(truth, 0.3, 1);
   for (int i = 0; i < 6; ++i) {
-    const auto p = standardToPaper(toStandardVector(truth.inertias[i]));
-    const auto g = standardToPaper(toStandardVector(guess.inertias[i]));
+    const auto p = standardToPaper(toStandardVector(truth.inertias()[i]));
+    const auto g = standardToPaper(toStandardVector(guess.inertias()[i]));
     for (int k = 0; k < 7; ++k) {
       if (p(k) == 0.0) {
         EXPECT_EQ(g(k), 0.0);

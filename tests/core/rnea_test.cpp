@@ -61,7 +61,7 @@ TEST(Rnea, DrivesAddRotorInertiaAndFriction) {
   const Eigen::VectorXd difference =
       rnea(driven, data_driven, q, dq, ddq) - rnea(rigid, data_rigid, q, dq, ddq);
   for (int i = 0; i < 6; ++i) {
-    const DriveParameters<double>& d = driven.drives[i];
+    const DriveParameters<double>& d = driven.drives()[i];
     const double s = dq[i] > 0 ? 1.0 : (dq[i] < 0 ? -1.0 : 0.0);
     const double expected =
         d.rotor_inertia * ddq[i] + d.viscous * dq[i] + d.coulomb * s + (s != 0.0 ? d.offset : 0.0);

@@ -34,7 +34,7 @@ TEST(Mjcf, OneBodyAndJointPerDynidJoint) {
   EXPECT_EQ(count(text, "<inertial "), model.numJoints());
   EXPECT_EQ(count(text, "type=\"slide\""), [&] {
     int n = 0;
-    for (JointType t : model.joint_types) n += t == JointType::kPrismatic;
+    for (JointType t : model.joint_types()) n += t == JointType::kPrismatic;
     return n;
   }());
   EXPECT_NE(text.find("timestep=\"0.002\" integrator=\"Euler\""), std::string::npos);
@@ -112,7 +112,7 @@ TEST(Mjcf, MuJoCoSimulatesTreesWithGeneralAxesSlidesAndPlacementsLikeDynid) {
 
 TEST(Mjcf, JointOrderIsDepthFirst) {
   Model model;  // base -> 0 -> {1, 2}, 1 -> 3: MuJoCo's order 0, 1, 3, 2
-  const RigidInertia<double> body = test::randomTree(1).inertias[0];
+  const RigidInertia<double> body = test::randomTree(1).inertias()[0];
   model.addBody(-1, "a", "ja", JointType::kRevolute, {}, Eigen::Vector3d::UnitZ(), {}, body);
   model.addBody(0, "b", "jb", JointType::kRevolute, {}, Eigen::Vector3d::UnitY(), {}, body);
   model.addBody(0, "c", "jc", JointType::kRevolute, {}, Eigen::Vector3d::UnitY(), {}, body);

@@ -15,16 +15,16 @@ void expectSameModel(const Model& a, const Model& b) {
   EXPECT_EQ(a.gravity, b.gravity);
   EXPECT_EQ(a.drives_enabled, b.drives_enabled);
   EXPECT_EQ(a.offsets_enabled, b.offsets_enabled);
-  EXPECT_EQ(a.parents, b.parents);
-  EXPECT_EQ(a.joint_types, b.joint_types);
+  EXPECT_EQ(a.parents(), b.parents());
+  EXPECT_EQ(a.joint_types(), b.joint_types());
   EXPECT_EQ(a.standardParameters(), b.standardParameters());  // bit for bit
   for (int i = 0; i < a.numJoints(); ++i) {
-    EXPECT_EQ(a.joint_placements[i].rotation, b.joint_placements[i].rotation);
-    EXPECT_EQ(a.joint_placements[i].translation, b.joint_placements[i].translation);
-    EXPECT_EQ(a.body_placements[i].rotation, b.body_placements[i].rotation);
-    EXPECT_EQ(a.axes[i], b.axes[i]);
+    EXPECT_EQ(a.joint_placements()[i].rotation, b.joint_placements()[i].rotation);
+    EXPECT_EQ(a.joint_placements()[i].translation, b.joint_placements()[i].translation);
+    EXPECT_EQ(a.body_placements()[i].rotation, b.body_placements()[i].rotation);
+    EXPECT_EQ(a.axes()[i], b.axes()[i]);
     EXPECT_EQ(a.limits[i].upper, b.limits[i].upper);
-    EXPECT_EQ(a.drives[i].offset, b.drives[i].offset);
+    EXPECT_EQ(a.drives()[i].offset, b.drives()[i].offset);
   }
 }
 

@@ -16,12 +16,12 @@ TEST(Puma560, ParametersAreThePublishedOnes) {
   EXPECT_FALSE(model.drives_enabled);
   EXPECT_EQ(model.gravity, Eigen::Vector3d(0, 0, -9.81));
   // Link 2 in paper form, back from the standard parameters (shared/reference/puma560.md).
-  const auto p2 = standardToPaper(toStandardVector(model.inertias[1]));
+  const auto p2 = standardToPaper(toStandardVector(model.inertias()[1]));
   Eigen::Matrix<double, 7, 1> expected;
   expected << 17.4, -0.3638, 0.006, 0.2275, 0.13, 0.524, 0.539;
   EXPECT_LT((p2 - expected).cwiseAbs().maxCoeff(), 1e-15);
-  EXPECT_EQ(model.inertias[0].mass, 0.0);
-  EXPECT_DOUBLE_EQ(model.inertias[0].inertia(1, 1), 0.35);
+  EXPECT_EQ(model.inertias()[0].mass, 0.0);
+  EXPECT_DOUBLE_EQ(model.inertias()[0].inertia(1, 1), 0.35);
   EXPECT_DOUBLE_EQ(model.limits[3].upper, 266.0 * std::numbers::pi / 180.0);
 }
 
@@ -29,7 +29,7 @@ TEST(Puma560, DrivesOnTheJointSide) {
   const Model model = makePuma560(true);
   EXPECT_TRUE(model.drives_enabled && model.offsets_enabled);
   EXPECT_EQ(model.parameterLayout().size(), 84);
-  const DriveParameters<double>& d1 = model.drives[0];
+  const DriveParameters<double>& d1 = model.drives()[0];
   EXPECT_DOUBLE_EQ(d1.rotor_inertia, 200e-6 * 62.6111 * 62.6111);
   EXPECT_DOUBLE_EQ(d1.viscous, 62.6111 * 62.6111 * 1.48e-3);
   // |G| Tc+ for dq > 0 and |G| Tc- for dq < 0, as Fc sign(dq) + Fo.
@@ -42,7 +42,7 @@ TEST(Puma560, ConsistencyCheckReportsThePublishedValuesUnchanged) {
   const Model model = makePuma560();
   std::vector<std::string> failing;
   for (int i = 0; i < 6; ++i)
-    for (const auto& v : checkPhysicalConsistency(model.inertias[i], i, model.link_names[i]))
+    for (const auto& v : checkPhysicalConsistency(model.inertias()[i], i, model.link_names[i]))
       failing.push_back(v.link_name + ": " + v.condition);
   ASSERT_EQ(failing.size(), 2u);
   EXPECT_EQ(failing[0].substr(0, 7), "link1: ");

@@ -55,19 +55,19 @@ TEST(Urdf, LoadsATreeAndMergesFixedJoints) {
   const Model model = parseUrdf(kTree, "tree.urdf");
   ASSERT_EQ(model.numJoints(), 3);
   EXPECT_EQ(model.joint_names, (std::vector<std::string>{"shoulder", "elbow", "slider"}));
-  EXPECT_EQ(model.parents, (std::vector<int>{-1, 0, 0}));
-  EXPECT_EQ(model.joint_types[2], JointType::kPrismatic);
-  EXPECT_NEAR(model.axes[2].norm(), 1.0, 1e-15);
+  EXPECT_EQ(model.parents(), (std::vector<int>{-1, 0, 0}));
+  EXPECT_EQ(model.joint_types()[2], JointType::kPrismatic);
+  EXPECT_NEAR(model.axes()[2].norm(), 1.0, 1e-15);
   // The tool is merged into "fore": 1.0 + 0.5 kg, its centre at 0.3 along x then 0.05 along the
   // rotated z (which is +x after the pi/2 pitch): first moment x = 1.0*0.15 + 0.5*0.35.
-  EXPECT_DOUBLE_EQ(model.inertias[1].mass, 1.5);
-  EXPECT_NEAR(model.inertias[1].first_moment.x(), 0.15 + 0.5 * 0.35, 1e-12);
+  EXPECT_DOUBLE_EQ(model.inertias()[1].mass, 1.5);
+  EXPECT_NEAR(model.inertias()[1].first_moment.x(), 0.15 + 0.5 * 0.35, 1e-12);
   EXPECT_DOUBLE_EQ(model.limits[0].effort, 50.0);
   EXPECT_FALSE(model.drives_enabled);
   const Model driven = parseUrdf(kTree, "tree.urdf", {.drives = true});
   EXPECT_TRUE(driven.drives_enabled);
-  EXPECT_DOUBLE_EQ(driven.drives[0].viscous, 0.5);
-  EXPECT_DOUBLE_EQ(driven.drives[0].coulomb, 0.2);
+  EXPECT_DOUBLE_EQ(driven.drives()[0].viscous, 0.5);
+  EXPECT_DOUBLE_EQ(driven.drives()[0].coulomb, 0.2);
 }
 
 TEST(Urdf, ExportLoadRoundTrip) {
@@ -78,11 +78,12 @@ TEST(Urdf, ExportLoadRoundTrip) {
   // Round-off of c = h/m, rpy <-> rotation and quaternion conversions.
   EXPECT_LT((back.standardParameters() - model.standardParameters()).cwiseAbs().maxCoeff(), 1e-12);
   for (int i = 0; i < model.numJoints(); ++i) {
-    EXPECT_LT((back.joint_placements[i].rotation - model.joint_placements[i].rotation).norm(),
+    EXPECT_LT((back.joint_placements()[i].rotation - model.joint_placements()[i].rotation).norm(),
               1e-12);
-    EXPECT_LT((back.joint_placements[i].translation - model.joint_placements[i].translation).norm(),
-              1e-12);
-    EXPECT_LT((back.axes[i] - model.axes[i]).norm(), 1e-12);
+    EXPECT_LT(
+        (back.joint_placements()[i].translation - model.joint_placements()[i].translation).norm(),
+        1e-12);
+    EXPECT_LT((back.axes()[i] - model.axes()[i]).norm(), 1e-12);
     EXPECT_EQ(back.limits[i].lower, model.limits[i].lower);
   }
 }
@@ -166,7 +167,7 @@ TEST(Urdf, WarnsOrFailsOnAMovingLinkWithoutInertial) {
   const Model model = parseUrdf(text, "robot.urdf", {}, &warnings);
   ASSERT_EQ(warnings.size(), 1u);
   EXPECT_NE(warnings[0].find("link 'side' has no <inertial>"), std::string::npos);
-  EXPECT_EQ(model.inertias[2].mass, 0.0);
+  EXPECT_EQ(model.inertias()[2].mass, 0.0);
   EXPECT_THROW(parseUrdf(text, "robot.urdf", {.strict = true}), ParseError);
 }
 

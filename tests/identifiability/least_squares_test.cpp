@@ -23,7 +23,7 @@ TEST(LeastSquares, NoiseFreeDataGiveTheTrueProjection) {
     const Eigen::VectorXd truth = base.project(model.standardParameters());
     for (auto method : {LeastSquaresMethod::kOrdinary, LeastSquaresMethod::kWeighted}) {
       const BaseEstimate e = estimateBaseParameters(base, train, method);
-      // The bound: 1e-8 relative, on the vector (several base values are exact zeros).
+      // The required bound: 1e-8 relative, on the vector (several base values are exact zeros).
       EXPECT_LT((e.beta - truth).norm(), 1e-8 * truth.norm())
           << "drives " << drives << ", " << leastSquaresMethodName(method);
       EXPECT_LT(e.residual_rms.maxCoeff(), 1e-8);

@@ -40,8 +40,7 @@ TEST(GcError, SameResultForAnyThreadCount) {
 
 TEST(GcError, DivergingRolloutsAreLargeAndFinite) {
   Model bad = makePuma560();
-  bad.inertias[5] = RigidInertia<double>();  // a massless last link: singular mass matrix
-  bad.updateFrameInertias();
+  bad.setLinkInertia(5, RigidInertia<double>());  // a massless last link: singular mass matrix
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
   ThreadPool pool(2);
   GcWorkspace workspace(bad, 2);

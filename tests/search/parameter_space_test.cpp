@@ -70,7 +70,7 @@ TEST(ParameterSpace, FixedMaskHoldsNamedParameters) {
   const ParameterSpace constrained(
       puma, {.fixed = {"m2"}, .total_mass_constraint = true, .total_mass = 23.45});
   EXPECT_NEAR(constrained.totalMass(constrained.initial()), 23.45, 1e-12);
-  EXPECT_EQ(masked.modelAt(masked.initial()).inertias[1].mass, 17.4);
+  EXPECT_EQ(masked.modelAt(masked.initial()).inertias()[1].mass, 17.4);
   try {
     ParameterSpace(puma, {.fixed = {"mass2"}});
     FAIL();

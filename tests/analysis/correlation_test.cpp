@@ -1,4 +1,4 @@
-#include "analysis/metrics.hpp"
+#include "analysis/correlation.hpp"
 
 #include <gtest/gtest.h>
 

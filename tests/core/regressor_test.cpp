@@ -1,13 +1,13 @@
-#include "identifiability/regressor.hpp"
+#include "core/regressor.hpp"
 
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
 #include "core/model-inl.hpp"
+#include "core/regressor-inl.hpp"
 #include "core/rnea-inl.hpp"
 #include "core/rnea.hpp"
 #include "data/puma560.hpp"
-#include "identifiability/regressor-inl.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -34,7 +34,7 @@ TEST_P(RegressorOnModels, TimesThetaEqualsRnea) {
     ASSERT_EQ(Y.rows(), n);
     ASSERT_EQ(Y.cols(), m.parameterLayout().size());
     const Eigen::VectorXd tau = rnea(m, data, q, dq, ddq);
-    // The bound: 1e-10 N m on torques of order 10-100 N m.
+    // The required bound: 1e-10 N m on torques of order 10-100 N m.
     EXPECT_LT((Y * m.standardParameters() - tau).cwiseAbs().maxCoeff(), 1e-10) << "trial " << trial;
     // Linear in theta: any other parameter vector, through setStandardParameters and RNEA.
     Model other = m;

@@ -1,5 +1,7 @@
 // Refinement of a GC-error estimate by nonlinear least squares (Ceres): the search's rough answer
-// turned into the best answer the data allow, with exact derivatives.
+// turned into the best answer the data allow, with exact derivatives. The module has three parts:
+// the cost functions (costs.hpp), the uncertainty in base coordinates (uncertainty.hpp) and this
+// driver (the stages, the map back, the solver settings).
 //
 // Residuals: per segment i of a GcProblem (gc_error.hpp) the 2n weighted state-prediction errors
 //     r_i = (w_q (q_hat_i - q_i), w_dq (dq_hat_i - dq_i))   at the segment's end,
@@ -50,21 +52,11 @@
 #include <Eigen/Core>
 
 #include "core/model.hpp"
+#include "core/parameters.hpp"
 #include "search/gc_error.hpp"
 #include "search/parameter_space.hpp"
 
-namespace ceres {
-class CostFunction;
-}
-
 namespace dynid {
-
-/// Base-parameter coordinates, supplied by the caller (identifiability's BaseParameters): the
-/// search module depends on core only.
-struct BaseCoordinates {
-  Eigen::MatrixXd projection;      // P, num_base x p: beta = P theta
-  std::vector<std::string> names;  // num_base names
-};
 
 struct RefineOptions {
   bool estimate_initial_states = false;
@@ -154,29 +146,5 @@ struct RefineResult {
 RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const Eigen::VectorXd& x0, const RefineOptions& options,
                       const BaseCoordinates* base = nullptr);
-
-/// The cost function of segment `segment` (parameter blocks: x, then the start when
-/// `with_start`, then the next segment's start when `continuity` > 0, which also needs
-/// `with_start`); exposed for gradient checks. The caller owns it; it refers to its arguments.
-std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
-                                                     const ParameterSpace& space,
-                                                     const GcProblem& problem, int segment,
-                                                     bool with_start, double continuity = 0.0);
-/// The Jacobian of every segment's 2n GC residuals (measured starts) with respect to the standard
-/// parameters theta at `model` (rows: segment by segment; columns: theta's order), by automatic
-/// differentiation. Throws InputError on a joint-count mismatch, NumericalError when a rollout
-/// diverges.
-Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads = 1);
-/// The information about beta left after eliminating the starts: with segment s's Jacobian blocks
-/// jb[s] (beta), js[s] (its start; no columns when the starts are measured) and jn[s] (the next
-/// segment's start, for chained starts; no columns otherwise), H_bb - H_bs H_ss^-1 H_sb of
-/// H = J^T J for the stacked J, by a sparse LDL^T of H_ss (block tridiagonal). A matrix of NaN when
-/// H_ss is singular; empty without segments. Exposed for tests.
-Eigen::MatrixXd eliminateStarts(
-    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& jb,
-    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& js,
-    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>& jn);
-/// The total-mass residual's cost function (parameter block: x).
-std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space);
 
 }  // namespace dynid

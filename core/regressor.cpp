@@ -1,4 +1,4 @@
-#include "identifiability/regressor-inl.hpp"
+#include "core/regressor-inl.hpp"
 
 namespace dynid {
 template const MatrixX<double>& jointTorqueRegressor(const Model&, Data&,

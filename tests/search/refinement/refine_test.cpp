@@ -1,4 +1,6 @@
-#include "search/refine.hpp"
+// The refinement driver: from perturbed starts and starts at the bounds to the truth, estimated and
+// chained starts, bounds, stops and bad input.
+#include "search/refinement/refine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -21,13 +23,7 @@ Trajectory pumaData(double duration) {
 }
 
 BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = nullptr) {
-  const Observation structural = observationFromRandomStates(model, 200, 1);
-  const ParameterLayout layout = model.parameterLayout();
-  const BaseParameters base =
-      computeBaseParameters(structural.W, standardParameterNames(layout), 0.0,
-                            defaultPreference(layout.num_links, layout.perLink()));
-  BaseCoordinates out{base.projectionMatrix(), {}};
-  for (int j = 0; j < base.numBase(); ++j) out.names.push_back(base.baseName(j));
+  const BaseCoordinates out = structuralBaseParameters(model, {.samples = 200}).coordinates();
   if (names != nullptr) *names = out.names;
   return out;
 }
@@ -35,68 +31,6 @@ BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = n
 // Ridders' differences of a 50-step RK4 rollout agree with exact derivatives to about 1e-8
 // relative (round-off of the rollout); 1e-5 leaves room without hiding a wrong derivative.
 constexpr double kGradientPrecision = 1e-5;
-
-TEST(Refine, GradientCheckerOnEverySegmentCost) {
-  const Model truth = makePuma560();
-  const ParameterSpace space(perturbedModel(truth, 0.2, 3),
-                             {.total_mass_constraint = true, .total_mass = 20.0});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 4});
-  const Model structure = space.modelAt(space.initial());
-  const Eigen::VectorXd x = space.initial();
-  for (bool with_start : {false, true}) {
-    for (int s = 0; s < problem.numSegments(); ++s) {
-      const auto cost = makeSegmentCost(structure, space, problem, s, with_start);
-      Eigen::VectorXd start(12);
-      start << problem.data.q.col(problem.starts[s]), problem.data.dq.col(problem.starts[s]);
-      start.array() += 0.01;  // away from the measured start, so the start residuals are not 0
-      std::vector<Eigen::VectorXd> blocks{x};
-      if (with_start) blocks.push_back(start);
-      std::string log;
-      EXPECT_TRUE(test::gradientsAgree(*cost, blocks, kGradientPrecision, &log))
-          << "segment " << s << " with start " << with_start << ": " << log;
-    }
-  }
-  // Contiguous segments chained (multiple shooting): a third block, the next segment's start.
-  const GcProblem chained = makeGcProblem(pumaData(0.3), {.num_segments = 0});
-  ASSERT_EQ(chained.starts[1], chained.starts[0] + chained.samples_per_segment);
-  for (int s = 0; s + 1 < chained.numSegments(); ++s) {
-    const auto cost = makeSegmentCost(structure, space, chained, s, true, 10.0);
-    std::vector<Eigen::VectorXd> blocks{x};
-    for (int k : {s, s + 1}) {
-      Eigen::VectorXd start(12);
-      start << chained.data.q.col(chained.starts[k]), chained.data.dq.col(chained.starts[k]);
-      start.array() += 0.01 * (k - s + 1);
-      blocks.push_back(start);
-    }
-    std::string log;
-    EXPECT_TRUE(test::gradientsAgree(*cost, blocks, kGradientPrecision, &log))
-        << "chained segment " << s << ": " << log;
-  }
-  // The total-mass residual is linear: its analytic Jacobian is exact.
-  const auto mass = makeTotalMassCost(space);
-  std::string log;
-  EXPECT_TRUE(test::gradientsAgree(*mass, {x}, 1e-9, &log)) << log;
-}
-
-TEST(Refine, SegmentCostEqualsTheGcError) {
-  const Model guess = perturbedModel(makePuma560(), 0.2, 5);
-  const ParameterSpace space(guess, {});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
-  ThreadPool pool(1);
-  GcWorkspace workspace(guess, 1);
-  const double gc = gcError(space.modelAt(space.initial()), problem, workspace, pool);
-  const Model structure = space.modelAt(space.initial());
-  double sum = 0.0;
-  for (int s = 0; s < problem.numSegments(); ++s) {
-    const auto cost = makeSegmentCost(structure, space, problem, s, false);
-    Eigen::VectorXd r(12);
-    const double* parameters[1] = {space.initial().data()};
-    ASSERT_TRUE(cost->Evaluate(parameters, r.data(), nullptr));
-    sum += r.squaredNorm();
-  }
-  // The same rollout in the same order: equal to round-off of the summation.
-  EXPECT_NEAR(sum, gc, 1e-12 * gc);
-}
 
 TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
   const Model truth = makePuma560();
@@ -122,9 +56,6 @@ TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
   EXPECT_EQ(result.beta_covariance.rows(), static_cast<int>(names.size()));
   EXPECT_EQ(result.history.front().cost, result.initial_cost);
 }
-
-// A search result with parameters at their bounds and the total mass held (as the paper's NLO
-// leaves it): the base stage reaches the truth's beta and maps it back inside the bounds.
 TEST(Refine, BaseStageReachesTheTruthFromAStartAtTheBounds) {
   const Model truth = makePuma560();
   const Model guess = perturbedModel(truth, 0.3, 13);
@@ -151,7 +82,6 @@ TEST(Refine, BaseStageReachesTheTruthFromAStartAtTheBounds) {
   EXPECT_EQ(result.history.front().stage, "base");
   EXPECT_EQ(result.history.back().stage, "parameters");
 }
-
 TEST(Refine, EstimatedStartsStayAtExactMeasurements) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
@@ -167,7 +97,6 @@ TEST(Refine, EstimatedStartsStayAtExactMeasurements) {
     EXPECT_LT((result.initial_states.col(s) - measured).norm(), 1e-7) << "segment " << s;
   }
 }
-
 TEST(Refine, ChainedStartsStayAtExactMeasurements) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
@@ -191,10 +120,6 @@ TEST(Refine, ChainedStartsStayAtExactMeasurements) {
   EXPECT_EQ(independent.linear_solver, "SPARSE_SCHUR");
   EXPECT_EQ(independent.chained_segments, 0);
 }
-
-// Chained starts are a smoother: on noisy states, with the true parameters held, the estimated
-// starts lie closer to the true states than the measured ones do (each sample is tied to its
-// neighbours by the dynamics).
 TEST(Refine, ChainedStartsRemoveStateNoise) {
   const Model truth = makePuma560();
   const Trajectory clean = pumaData(1.0);
@@ -234,50 +159,6 @@ TEST(Refine, ChainedStartsRemoveStateNoise) {
   EXPECT_LT(dq_chained, 0.5 * dq_measured);
   EXPECT_LT(q_chained, 0.9 * q_measured);
 }
-
-Eigen::MatrixXd uniformMatrix(std::mt19937_64& rng, int rows, int cols) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::MatrixXd out(rows, cols);
-  for (int c = 0; c < cols; ++c)
-    for (int r = 0; r < rows; ++r) out(r, c) = u(rng);
-  return out;
-}
-
-TEST(Refine, EliminateStartsEqualsTheDenseSchurComplement) {
-  // Five segments with beta (4 columns) and starts (3 columns each); segments 0, 1 and 3 chain
-  // into the next one's start, segment 2 ends at a gap and segment 4 is the last.
-  using Block = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const int segments = 5, b = 4, w = 3, m = 6;
-  std::mt19937_64 rng(7);
-  std::vector<Block> jb(segments), js(segments), jn(segments);
-  const bool chained[segments] = {true, true, false, true, false};
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(m * segments, b + w * segments);
-  for (int s = 0; s < segments; ++s) {
-    jb[s] = uniformMatrix(rng, m, b);
-    js[s] = uniformMatrix(rng, m, w);
-    jn[s] = chained[s] ? Block(uniformMatrix(rng, m, w)) : Block(m, 0);
-    J.block(m * s, 0, m, b) = jb[s];
-    J.block(m * s, b + w * s, m, w) = js[s];
-    if (chained[s]) J.block(m * s, b + w * (s + 1), m, w) = jn[s];
-  }
-  const Eigen::MatrixXd H = J.transpose() * J;
-  const Eigen::MatrixXd Hss = H.bottomRightCorner(w * segments, w * segments);
-  const Eigen::MatrixXd expected =
-      H.topLeftCorner(b, b) -
-      H.topRightCorner(b, w * segments) * Hss.ldlt().solve(H.bottomLeftCorner(w * segments, b));
-  // Both are the same 4x4 matrix of O(10) entries from well-conditioned blocks: round-off only.
-  EXPECT_LT((eliminateStarts(jb, js, jn) - expected).norm(), 1e-10 * expected.norm());
-  // Measured starts (no start columns): the plain Gauss-Newton matrix.
-  std::vector<Block> none(segments, Block(m, 0));
-  Eigen::MatrixXd plain = Eigen::MatrixXd::Zero(b, b);
-  for (const Block& j : jb) plain += j.transpose() * j;
-  EXPECT_LT((eliminateStarts(jb, none, none) - plain).norm(), 1e-12 * plain.norm());
-  // A start no residual sees (segment 0's: no segment chains into it) leaves H_ss singular: NaN,
-  // not a number that looks valid.
-  js[0].setZero();
-  EXPECT_TRUE(eliminateStarts(jb, js, jn).array().isNaN().all());
-}
-
 TEST(Refine, FlagsBoundsAndStops) {
   const Model truth = makePuma560();
   // A 1 % range around a 10 % perturbation: the truth is out of reach and bounds become active.
@@ -295,29 +176,6 @@ TEST(Refine, FlagsBoundsAndStops) {
   EXPECT_TRUE(stopped.interrupted);
   EXPECT_LE(stopped.iterations, 1);
 }
-
-// The GC residuals' Jacobian in standard coordinates sees nothing of the regressor's null space:
-// a parameter no torque depends on (m1: link 1's mass on the fixed axis) has a zero column, and
-// every null-space direction is mapped to round-off.
-TEST(Refine, GcJacobianVanishesOnTheRegressorNullSpace) {
-  const Model truth = makePuma560();
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
-  const Eigen::MatrixXd J = gcJacobian(truth, problem, 2);
-  ASSERT_EQ(J.rows(), 5 * 12);
-  ASSERT_EQ(J.cols(), 60);
-  EXPECT_EQ(J.col(0).norm(), 0.0);  // m1
-  const ParameterLayout layout = truth.parameterLayout();
-  const BaseParameters base = computeBaseParameters(
-      observationFromRandomStates(truth, 200, 1).W, standardParameterNames(layout), 0.0,
-      defaultPreference(layout.num_links, layout.perLink()));
-  const Eigen::MatrixXd N = base.nullSpace();
-  ASSERT_EQ(N.cols(), 24);
-  // Relative to |J| |N|: 1e-9 allows round-off through 50 RK4 steps (1e-17 measured) and
-  // is far below a direction the GC error sees (singular values down to 1e-2 of the largest).
-  EXPECT_LT((J * N).norm(), 1e-9 * J.norm() * N.norm());
-  EXPECT_THROW(gcJacobian(test::randomTree(2), problem), InputError);
-}
-
 TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});

@@ -2,7 +2,7 @@
 
 #include "core/checks.hpp"
 #include "core/friction.hpp"
-#include "identifiability/regressor.hpp"
+#include "core/regressor.hpp"
 
 namespace dynid {
 
@@ -49,7 +49,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
   for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
-    const int p = model.parents[i];
+    const int p = model.parents()[i];
     if (p < 0) {
       data.v[i] = jointMotionAt(model, i, dq[i]);
       data.a[i] = X.actInvMotion(base_acceleration);
@@ -63,7 +63,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
   for (int i = 0; i < n; ++i) {
     // Body i's force in its link frame is A theta_i; express it in joint frame i, then hand it up
     // the chain: Y(j, cols_i) = S_j^T jXi* F for i and every ancestor j.
-    const Pose<Scalar>& B = model.body_placements[i];
+    const Pose<Scalar>& B = model.body_placements()[i];
     const Eigen::Matrix<Scalar, 6, 10> A = regressor_detail::bodyRegressor<Scalar>(
         B.actInvMotion(data.v[i]), B.actInvMotion(data.a[i]));
     Eigen::Matrix<Scalar, 6, 10> F;
@@ -72,7 +72,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
     for (int j = i;;) {
       for (int k = 0; k < 10; ++k)
         data.Y(j, column + k) = projectOnJoint(model, j, Vector6<Scalar>(F.col(k)));
-      const int p = model.parents[j];
+      const int p = model.parents()[j];
       if (p < 0) break;
       for (int k = 0; k < 10; ++k) F.col(k) = data.liMi[j].actForce(F.col(k));
       j = p;

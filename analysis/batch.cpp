@@ -1,0 +1,302 @@
+#include "analysis/batch.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <filesystem>
+
+#include "analysis/run_json.hpp"
+#include "core/errors.hpp"
+#include "data/io.hpp"
+
+extern char** environ;
+
+namespace dynid {
+
+using nlohmann::json;
+
+namespace {
+
+/// Calls f(name, member) for every StudySettings field a run's spec sets, in the table's column
+/// order: the one list behind the spec's defaults, its columns and studySettingsOf. (threads is not
+/// a spec field: batch parallelism is across runs, --jobs.)
+template <typename Settings, typename F>
+void forEachSpecField(Settings& s, F&& f) {
+  f("robot", s.robot);
+  f("seed", s.seed);
+  f("noise_q", s.noise_q);
+  f("noise_dq", s.noise_dq);
+  f("noise_tau", s.noise_tau);
+  f("train_seconds", s.train_seconds);
+  f("test_seconds", s.test_seconds);
+  f("segments", s.segments);
+  f("horizon", s.horizon);
+  f("perturb", s.perturb);
+  f("search_seconds", s.search_seconds);
+  f("search_evaluations", s.search_evaluations);
+  f("refine_iterations", s.refine_iterations);
+}
+
+/// Checks one spec value's type against its default; `where` names it in errors.
+void checkValue(const std::string& key, const json& value, const std::string& file,
+                const std::string& where) {
+  const json& d = batchSpecDefaults().at(key);
+  const bool ok = key == "method" || key == "robot" ? value.is_string()
+                  : key == "seed"                   ? value.is_number_unsigned()
+                  : d.is_number_integer()           ? value.is_number_integer()
+                                                    : value.is_number();
+  if (!ok) throw ParseError(file, 0, where, "has the wrong type: " + value.dump());
+  if (key == "method") {
+    try {
+      parseMethod(value.get<std::string>());
+    } catch (const InputError& e) {
+      throw ParseError(file, 0, where, e.what());
+    }
+  }
+}
+
+/// FNV-1a of the spec's JSON text, as 16 hex digits: the run's identity.
+std::string specHash(const json& spec) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : spec.dump()) h = (h ^ c) * 1099511628211ULL;
+  char buffer[17];
+  std::snprintf(buffer, sizeof(buffer), "%016llx", static_cast<unsigned long long>(h));
+  return buffer;
+}
+
+/// The stored result of a run when it is complete and for this very spec, else null.
+json storedResult(const std::string& path, const json& spec) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return nullptr;
+  try {
+    json r = json::parse(readFile(path));
+    if (r.value("kind", "") == "dynid.batch.run" && r["spec"] == spec && r["metrics"].is_object())
+      return r;
+  } catch (const std::exception&) {
+  }
+  return nullptr;
+}
+
+/// Reads every run result under dir/runs: (name, result).
+std::map<std::string, json> readRuns(const std::string& dir) {
+  std::map<std::string, json> out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir + "/runs", ec)) {
+    if (entry.path().extension() != ".json") continue;
+    try {
+      json r = json::parse(readFile(entry.path().string()));
+      if (r.value("kind", "") == "dynid.batch.run") out[entry.path().stem().string()] = r;
+    } catch (const std::exception&) {
+    }
+  }
+  if (ec) throw InputError(dir + "/runs: " + ec.message());
+  return out;
+}
+
+}  // namespace
+
+const json& batchSpecDefaults() {
+  static const json defaults = [] {
+    json out{{"method", nullptr}};
+    const StudySettings s;
+    forEachSpecField(s, [&](const char* key, const auto& value) { out[key] = value; });
+    return out;
+  }();
+  return defaults;
+}
+
+const std::vector<std::string>& batchSpecColumns() {
+  static const std::vector<std::string> columns = [] {
+    std::vector<std::string> out{"method"};
+    const StudySettings s;
+    forEachSpecField(s, [&](const char* key, const auto&) { out.emplace_back(key); });
+    return out;
+  }();
+  return columns;
+}
+
+const std::vector<std::string>& batchMetricColumns() {
+  static const std::vector<std::string> metrics = {
+      "gc_error_initial", "gc_error_train",   "gc_error_test", "torque_rms_test",
+      "param_error",      "base_param_error", "evaluations",   "seconds"};
+  return metrics;
+}
+
+std::vector<json> expandManifest(const std::string& file) {
+  const json manifest = parseJson(readFile(file), file);
+  if (!manifest.is_object() || manifest.value("schema_version", 0) != 1)
+    throw ParseError(file, 0, "schema_version", "must be 1");
+  for (const auto& [key, value] : manifest.items())
+    if (key != "schema_version" && key != "grid" && key != "fixed" && key != "description")
+      throw ParseError(file, 0, key, "unknown key (schema_version, description, grid, fixed)");
+  json base = batchSpecDefaults();
+  const json fixed = manifest.value("fixed", json::object());
+  const json grid = manifest.value("grid", json::object());
+  if (!fixed.is_object()) throw ParseError(file, 0, "fixed", "must be an object");
+  if (!grid.is_object()) throw ParseError(file, 0, "grid", "must be an object");
+  for (const auto& [key, value] : fixed.items()) {
+    if (!base.contains(key)) throw ParseError(file, 0, "fixed." + key, "unknown parameter");
+    if (grid.contains(key)) throw ParseError(file, 0, "fixed." + key, "is also in grid");
+    checkValue(key, value, file, "fixed." + key);
+    base[key] = value;
+  }
+  std::vector<json> runs = {base};
+  for (const auto& [key, values] : grid.items()) {
+    if (!base.contains(key)) throw ParseError(file, 0, "grid." + key, "unknown parameter");
+    if (!values.is_array() || values.empty())
+      throw ParseError(file, 0, "grid." + key, "must be a non-empty array");
+    std::vector<json> next;
+    for (const json& run : runs)
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        checkValue(key, values[i], file, "grid." + key + "[" + std::to_string(i) + "]");
+        json r = run;
+        r[key] = values[i];
+        next.push_back(r);
+      }
+    runs = std::move(next);
+    if (runs.size() > 1000000) throw ParseError(file, 0, "grid", "expands to over 1e6 runs");
+  }
+  if (runs.front()["method"].is_null())
+    throw ParseError(file, 0, "method", "missing: give it in grid or fixed");
+  return runs;
+}
+
+StudySettings studySettingsOf(const json& spec) {
+  StudySettings s;
+  forEachSpecField(s, [&](const char* key, auto& value) {
+    value = spec.at(key).get<std::decay_t<decltype(value)>>();
+  });
+  s.threads = 1;  // batch parallelism is across runs (--jobs)
+  return s;
+}
+
+std::string batchRunName(std::size_t index, const json& spec) {
+  char buffer[16];
+  std::snprintf(buffer, sizeof(buffer), "%06zu", index);
+  return std::string(buffer) + "-" + specHash(spec);
+}
+
+json runBatchSpec(const json& spec) {
+  for (const auto& [key, value] : batchSpecDefaults().items())
+    if (!spec.contains(key)) throw InputError("the run's spec lacks '" + key + "'");
+  Study study(studySettingsOf(spec));
+  const MethodMetrics m = study.run(parseMethod(spec.at("method").get<std::string>()));
+  return {{"schema_version", 1},
+          {"kind", "dynid.batch.run"},
+          {"spec", spec},
+          {"metrics", metricsJson(m)}};
+}
+
+std::string BatchPlan::path(std::size_t i) const {
+  return dir + "/runs/" + batchRunName(i, runs[i]) + ".json";
+}
+
+BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool quick, int shard,
+                    int shards) {
+  BatchPlan plan{manifest, dir, expandManifest(manifest), {}, {}};
+  if (quick)
+    for (json& run : plan.runs) {
+      run["train_seconds"] = 4.0;
+      run["test_seconds"] = 4.0;
+      run["segments"] = 20;
+      run["search_seconds"] = 0.0;
+      run["search_evaluations"] = 100;
+      run["refine_iterations"] = 20;
+    }
+  // Every run's values checked before anything starts (a bad one would only fail in its worker).
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    try {
+      validateStudySettings(studySettingsOf(plan.runs[i]));
+    } catch (const InputError& e) {
+      throw ParseError(manifest, 0, "run " + std::to_string(i), e.what());
+    }
+  }
+  // This shard's runs; those with a valid stored result are skipped.
+  for (std::size_t i = 0; i < plan.runs.size(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(shards)) == shard - 1) plan.mine.push_back(i);
+  for (std::size_t i : plan.mine)
+    if (storedResult(plan.path(i), plan.runs[i]).is_null()) plan.todo.push_back(i);
+  return plan;
+}
+
+BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker,
+                      const std::atomic<bool>* stop,
+                      const std::function<void(std::size_t, std::size_t)>& on_finished) {
+  const auto stopped = [&] { return stop != nullptr && stop->load(); };
+  std::filesystem::create_directories(plan.dir + "/runs");
+  BatchOutcome out;
+  out.total = plan.runs.size();
+  // Worker processes, `jobs` at a time.
+  std::map<pid_t, std::size_t> running;
+  std::size_t next = 0, finished = 0;
+  while ((next < plan.todo.size() && !stopped()) || !running.empty()) {
+    while (next < plan.todo.size() && static_cast<int>(running.size()) < jobs && !stopped()) {
+      const std::size_t i = plan.todo[next++];
+      const std::vector<std::string> argv_strings = {
+          worker, "batch", "run", "--spec", plan.runs[i].dump(), "--out", plan.path(i)};
+      std::vector<char*> argv;
+      for (const std::string& a : argv_strings) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      pid_t pid = 0;
+      if (posix_spawn(&pid, worker.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
+        out.failed.push_back(batchRunName(i, plan.runs[i]) + " (could not start a worker)");
+        continue;
+      }
+      running[pid] = i;
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const std::size_t i = it->second;
+    running.erase(it);
+    ++finished;
+    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) && !stopped())
+      out.failed.push_back(batchRunName(i, plan.runs[i]));
+    if (on_finished) on_finished(finished, plan.todo.size());
+  }
+  out.interrupted = stopped();
+  for (std::size_t i : plan.mine) {
+    json r = storedResult(plan.path(i), plan.runs[i]);
+    if (r.is_null())
+      out.missing.push_back(batchRunName(i, plan.runs[i]));
+    else
+      out.done.emplace_back(batchRunName(i, plan.runs[i]), std::move(r));
+  }
+  return out;
+}
+
+BatchOutcome mergeBatches(const std::vector<std::string>& dirs) {
+  std::map<std::string, json> merged;
+  BatchOutcome out;
+  for (const std::string& dir : dirs) {
+    const std::string file = dir + "/results.json";
+    const json table = parseJson(readFile(file), file);
+    out.total = std::max<std::size_t>(out.total, table.value("runs_total", 0));
+    for (auto& [name, result] : readRuns(dir)) {
+      const auto [it, inserted] = merged.emplace(name, result);
+      if (!inserted && it->second["spec"] != result["spec"])
+        throw InputError("run " + name + " differs between the shards (" + dir + ")");
+    }
+  }
+  out.done.assign(merged.begin(), merged.end());
+  return out;
+}
+
+std::string selfExecutable() {
+  std::error_code ec;
+  const auto path = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) throw InputError("cannot find the dynid executable (/proc/self/exe)");
+  return path.string();
+}
+
+}  // namespace dynid

@@ -1,0 +1,73 @@
+// Batch studies (`dynid batch`, docs/BATCH.md): a manifest's grid of Study runs, each run in a
+// worker process, resumable from the results already stored, shardable across machines, with
+// shards merged afterwards. The tables are written by reports/batch_report.hpp.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/study.hpp"
+
+namespace dynid {
+
+/// The keys a run's spec has, with their defaults (StudySettings; "method" has none).
+const nlohmann::json& batchSpecDefaults();
+/// The results table's columns: the spec's (method, then the settings), then the metrics.
+const std::vector<std::string>& batchSpecColumns();
+const std::vector<std::string>& batchMetricColumns();
+
+/// Every run of a manifest, in grid order (keys sorted, the last varying fastest). Throws
+/// ParseError naming the file and the key or grid entry at fault.
+std::vector<nlohmann::json> expandManifest(const std::string& file);
+/// A run's StudySettings (threads 1: batch parallelism is across runs).
+StudySettings studySettingsOf(const nlohmann::json& spec);
+/// "000012-<16 hex digits of the spec's hash>": the run's identity and file stem.
+std::string batchRunName(std::size_t index, const nlohmann::json& spec);
+
+/// A run record: {schema_version, kind "dynid.batch.run", spec, metrics}.
+using RunRecord = std::pair<std::string, nlohmann::json>;  // (name, record)
+
+/// Runs one spec in this process (a worker's job): its Study and method, measured.
+nlohmann::json runBatchSpec(const nlohmann::json& spec);
+
+struct BatchPlan {
+  std::string manifest, dir;
+  std::vector<nlohmann::json> runs;       // the whole grid
+  std::vector<std::size_t> mine;          // this shard's runs
+  std::vector<std::size_t> todo;          // this shard's runs without a valid stored result
+  std::string path(std::size_t i) const;  // dir/runs/<name>.json
+};
+/// Expands the manifest, applies --quick, validates every run before anything starts (naming the
+/// run and field), and finds what is already done. `shard` is 1-based, 1 <= shard <= shards.
+BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool quick, int shard,
+                    int shards);
+
+struct BatchOutcome {
+  std::vector<RunRecord> done;       // this shard's stored results, in index order
+  std::vector<std::string> missing;  // this shard's runs without one
+  std::vector<std::string> failed;   // runs whose worker failed (not when interrupted)
+  std::size_t total = 0;             // runs in the whole grid
+  bool interrupted = false;
+};
+/// Runs plan.todo in worker processes (`worker` is the dynid executable, started as
+/// `worker batch run --spec JSON --out FILE`), `jobs` at a time; stops starting runs when *stop
+/// is set. `on_finished(finished, todo)` after each worker exits.
+BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker,
+                      const std::atomic<bool>* stop,
+                      const std::function<void(std::size_t, std::size_t)>& on_finished = {});
+
+/// Every run stored under the shard directories (their results.json gives the grid's size).
+/// Throws InputError when a run differs between shards, ParseError for a corrupt results.json.
+BatchOutcome mergeBatches(const std::vector<std::string>& dirs);
+
+/// This executable's path (/proc/self/exe), to start the workers.
+std::string selfExecutable();
+
+}  // namespace dynid

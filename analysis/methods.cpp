@@ -1,0 +1,88 @@
+#include "analysis/methods.hpp"
+
+#include <algorithm>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+namespace {
+struct Entry {
+  Method method;
+  const char* name;
+};
+// The one name table.
+constexpr Entry kTable[] = {{Method::kOls, "ols"},
+                            {Method::kWls, "wls"},
+                            {Method::kPc, "pc"},
+                            {Method::kNlo, "nlo"},
+                            {Method::kGa, "ga"},
+                            {Method::kHybrid, "hybrid"},
+                            {Method::kNloRefined, "nlo_refined"},
+                            {Method::kGaRefined, "ga_refined"},
+                            {Method::kHybridRefined, "hybrid_refined"}};
+}  // namespace
+
+const std::vector<Method>& allMethods() {
+  static const std::vector<Method> all = [] {
+    std::vector<Method> out;
+    for (const Entry& e : kTable) out.push_back(e.method);
+    return out;
+  }();
+  return all;
+}
+
+const std::vector<Method>& leastSquaresMethods() {
+  static const std::vector<Method> methods = {Method::kOls, Method::kWls, Method::kPc};
+  return methods;
+}
+
+const std::vector<Method>& searchMethods() {
+  static const std::vector<Method> methods = {Method::kNlo, Method::kGa, Method::kHybrid};
+  return methods;
+}
+
+const char* methodName(Method method) {
+  for (const Entry& e : kTable)
+    if (e.method == method) return e.name;
+  return "unknown";
+}
+
+std::string methodList(const std::vector<Method>& methods) {
+  std::string out;
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    if (i > 0) out += i + 1 == methods.size() ? " or " : ", ";
+    out += methodName(methods[i]);
+  }
+  return out;
+}
+
+Method parseMethod(const std::string& name, const std::vector<Method>& allowed) {
+  for (Method m : allowed)
+    if (name == methodName(m)) return m;
+  throw InputError("unknown method '" + name + "' (expected " + methodList(allowed) + ")");
+}
+
+bool isSearch(Method method) {
+  return method == Method::kNlo || method == Method::kGa || method == Method::kHybrid;
+}
+
+bool isRefined(Method method) {
+  return method == Method::kNloRefined || method == Method::kGaRefined ||
+         method == Method::kHybridRefined;
+}
+
+Method searchOf(Method method) {
+  switch (method) {
+    case Method::kNloRefined:
+      return Method::kNlo;
+    case Method::kGaRefined:
+      return Method::kGa;
+    case Method::kHybridRefined:
+      return Method::kHybrid;
+    default:
+      return method;
+  }
+}
+
+}  // namespace dynid

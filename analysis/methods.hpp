@@ -1,0 +1,42 @@
+// The estimation methods dynid compares, with their one name table: what `identify --method`,
+// `search --method`, a batch manifest's "method" and the demo's table rows all use.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dynid {
+
+enum class Method {
+  kOls,            // ordinary least squares on the torques
+  kWls,            // weighted least squares (Gautier)
+  kPc,             // physically consistent least squares (log-Cholesky)
+  kNlo,            // the paper's multistart COBYLA on the GC error
+  kGa,             // the paper's genetic algorithm
+  kHybrid,         // GA, then NLO from its best
+  kNloRefined,     // NLO, then Ceres refinement on the GC residuals
+  kGaRefined,      // GA, then refinement
+  kHybridRefined,  // hybrid, then refinement
+};
+
+/// Every method in table order (ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined,
+/// hybrid_refined).
+const std::vector<Method>& allMethods();
+/// The methods of one command: least squares (ols, wls, pc) or searches (nlo, ga, hybrid).
+const std::vector<Method>& leastSquaresMethods();
+const std::vector<Method>& searchMethods();
+
+/// "ols", "nlo_refined", ...
+const char* methodName(Method method);
+/// The method named `name` among `allowed`. Throws InputError listing them otherwise ("unknown
+/// method 'x' (expected ols, wls or pc)").
+Method parseMethod(const std::string& name, const std::vector<Method>& allowed = allMethods());
+/// "ols, wls or pc".
+std::string methodList(const std::vector<Method>& methods);
+
+bool isSearch(Method method);   // nlo, ga, hybrid
+bool isRefined(Method method);  // *_refined
+/// The search a refined method starts from (kNloRefined -> kNlo); the method itself otherwise.
+Method searchOf(Method method);
+
+}  // namespace dynid

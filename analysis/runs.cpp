@@ -1,0 +1,401 @@
+#include "analysis/runs.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <thread>
+
+#include "analysis/run_json.hpp"
+#include "core/aba.hpp"
+#include "core/controllers.hpp"
+#include "core/crba.hpp"
+#include "core/errors.hpp"
+#include "core/perturb.hpp"
+#include "core/rnea.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+
+namespace dynid {
+
+int resolveThreads(int threads) {
+  return threads > 0 ? threads
+                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// ---- models and dynamics ----
+
+std::vector<ConsistencyViolation> consistencyViolations(const Model& model) {
+  std::vector<ConsistencyViolation> all;
+  for (int i = 0; i < model.numJoints(); ++i) {
+    auto v = checkPhysicalConsistency(model.inertias()[i], i, model.link_names[i]);
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  return all;
+}
+
+DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                           const std::optional<Eigen::VectorXd>& ddq,
+                           const std::optional<Eigen::VectorXd>& tau) {
+  const int n = model.numJoints();
+  Data data(model);
+  DynamicsOutcome out{q, dq, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), {}};
+  // With tau: ddq = ABA(q, dq, tau), and tau is echoed; otherwise tau = RNEA(q, dq, ddq).
+  if (tau) {
+    out.tau = *tau;
+    out.ddq = aba(model, data, q, dq, *tau);
+  } else {
+    if (ddq) out.ddq = *ddq;
+    out.tau = rnea(model, data, q, dq, out.ddq);
+  }
+  out.M = crba(model, data, q);
+  if (!out.ddq.allFinite() || !out.tau.allFinite() || !out.M.allFinite())
+    throw NumericalError("the dynamics of '" + model.name +
+                         "' are singular at this state: the mass matrix is not positive definite "
+                         "(is a moving subtree massless?)");
+  return out;
+}
+
+// ---- simulation ----
+
+FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
+                               double base_frequency, int harmonics, std::uint64_t seed) {
+  FourierReference r;
+  r.q0 = q0;
+  r.base_frequency = base_frequency;
+  const int n = static_cast<int>(q0.size());
+  r.sine.resize(n, harmonics);
+  r.cosine.resize(n, harmonics);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const double w = 2.0 * std::numbers::pi * base_frequency;
+  for (int i = 0; i < n; ++i) {
+    double bound = 0.0;
+    for (int k = 0; k < harmonics; ++k) {
+      r.sine(i, k) = uniform(rng);
+      r.cosine(i, k) = uniform(rng);
+      bound += (std::abs(r.sine(i, k)) + std::abs(r.cosine(i, k))) / (w * (k + 1));
+    }
+    const double scale = bound > 0.0 ? amplitude[i] / bound : 0.0;
+    r.sine.row(i) *= scale;
+    r.cosine.row(i) *= scale;
+  }
+  return r;
+}
+
+SimulateOutcome simulateRun(const SimulateRequest& request) {
+  const Model& truth = request.robot;
+  const int n = truth.numJoints();
+  if (request.harmonics < 1) throw InputError("harmonics must be at least 1");
+  // The controller's own model: another robot, or the truth, optionally perturbed.
+  Model controller_model = request.controller_model.value_or(truth);
+  if (controller_model.numJoints() != n)
+    throw InputError("the controller's robot has " + std::to_string(controller_model.numJoints()) +
+                     " joints, the robot has " + std::to_string(n));
+  if (request.controller_perturb != 0.0)
+    controller_model =
+        perturbedModel(controller_model, request.controller_perturb, request.simulation.seed);
+
+  const Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
+  Reference reference;
+  if (!request.fourier) {
+    SinusoidalReference r;
+    r.q0 = q0;
+    r.amplitude = request.amplitude;
+    r.frequency = request.frequency.value_or(defaultFrequencies(n));
+    r.phase = request.phase.value_or(Eigen::VectorXd::Zero(n));
+    reference = r;
+  } else {
+    reference = randomFourier(q0, request.amplitude, request.base_frequency, request.harmonics,
+                              request.simulation.seed);
+  }
+  TrackingGains gains = defaultGains(controller_model, q0, request.bandwidth);
+  if (request.kp) gains.kp = *request.kp;
+  if (request.kd) gains.kd = *request.kd;
+  Eigen::VectorXd tau_max(n);
+  for (int i = 0; i < n; ++i) tau_max[i] = truth.limits[i].effort;
+  if (request.tau_max) tau_max = *request.tau_max;
+
+  TrackingController controller(controller_model, reference, gains, tau_max);
+  SimulateOutcome out;
+  out.trajectory = simulate(truth, controller, request.simulation);
+  // Tracking error RMS and peak torque.
+  const Trajectory& t = out.trajectory;
+  Eigen::VectorXd q_des, dq_des, ddq_des;
+  double squared_error = 0.0;
+  for (int k = 0; k < t.numSamples(); ++k) {
+    evaluateReference(reference, t.time[k], q_des, dq_des, ddq_des);
+    squared_error += (t.q.col(k) - q_des).squaredNorm();
+  }
+  out.tracking_rms = std::sqrt(squared_error / (static_cast<double>(t.numSamples()) * n));
+  out.peak_torque = t.tau.cwiseAbs().maxCoeff();
+  return out;
+}
+
+// ---- identifiability ----
+
+IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
+                                          const std::string& data_file) {
+  IdentifiabilityOutcome out;
+  out.structural = structural;
+  out.base = structuralBaseParameters(model, structural);
+  out.model_beta = out.base.project(model.standardParameters());
+  // The conditioning on fresh random states (the next seed).
+  const Observation check = observationFromRandomStates(
+      model, std::max(100, out.base.numStandard()), structural.seed + 1);
+  out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
+  if (!data_file.empty()) {
+    const Observation observation =
+        observationFromTrajectory(model, readDatasetCsv(data_file, model.numJoints()));
+    const Eigen::MatrixXd W1 = out.base.baseRegressor(observation.W);
+    out.data = DataExcitation{data_file, observation.num_samples, measureExcitation(W1),
+                              scaledConditionNumber(W1)};
+  }
+  return out;
+}
+
+// ---- identification ----
+
+LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& base,
+                                         const Observation& observation,
+                                         const Eigen::VectorXd& prior,
+                                         const PhysicalOptions& pc_options) {
+  LeastSquaresOutcome out;
+  if (method == Method::kOls || method == Method::kWls) {
+    out.estimate = estimateBaseParameters(
+        base, observation,
+        method == Method::kOls ? LeastSquaresMethod::kOrdinary : LeastSquaresMethod::kWeighted);
+    out.standard = base.standardFromBase(out.estimate.beta, prior);
+    return out;
+  }
+  if (method != Method::kPc)
+    throw InputError(std::string("'") + methodName(method) + "' is not a least-squares method (" +
+                     methodList(leastSquaresMethods()) + ")");
+  const PhysicalEstimate pc = estimatePhysicallyConsistent(base, observation, prior, pc_options);
+  // The base estimate's fields from the physically consistent solution.
+  out.estimate = pc.ols;
+  out.estimate.beta = pc.beta;
+  out.estimate.covariance = pc.covariance;
+  out.estimate.std_dev = pc.std_dev;
+  out.estimate.residual_rms = pc.residual_rms;
+  for (int j = 0; j < base.numBase(); ++j)
+    out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
+                                                   ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])
+                                                   : std::numeric_limits<double>::infinity();
+  out.standard = pc.theta;
+  out.pc = pc;
+  return out;
+}
+
+IdentifyOutcome identifyRun(const IdentifyRequest& request) {
+  const Model& model = request.model;
+  IdentifyOutcome out;
+  out.method = request.method;
+  out.prior_weight = request.prior_weight;
+  out.data_file = request.data_file;
+  const Observation train =
+      observationFromTrajectory(model, readDatasetCsv(request.data_file, model.numJoints()));
+  out.base = structuralBaseParameters(model, request.structural);
+  out.model_beta = out.base.project(model.standardParameters());
+  if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
+    throw InputError("the prior model has another parameter layout than the robot");
+  const Eigen::VectorXd prior = request.method == Method::kPc && request.prior
+                                    ? request.prior->standardParameters()
+                                    : model.standardParameters();
+  PhysicalOptions pc_options;
+  pc_options.prior_weight = request.prior_weight;
+  out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
+  if (out.result.pc)
+    for (int i : out.result.pc->inconsistent_links)
+      out.pc_inconsistent_links.push_back(model.link_names[i]);
+  if (!request.validate_file.empty()) {
+    const Observation test =
+        observationFromTrajectory(model, readDatasetCsv(request.validate_file, model.numJoints()));
+    out.validation = validateBaseEstimate(out.base, out.result.estimate.beta, test);
+    out.validate_file = request.validate_file;
+  }
+  return out;
+}
+
+// ---- the GC-error searches ----
+
+std::pair<double, double> heldOutGc(const Model& first, const Model& second,
+                                    const std::string& file, const SegmentOptions& segments,
+                                    int threads) {
+  const GcProblem test = makeGcProblem(readDatasetCsv(file, first.numJoints()), segments);
+  ThreadPool pool(resolveThreads(threads));
+  GcWorkspace workspace(first, pool.numThreads());
+  const double a = gcError(first, test, workspace, pool);
+  return {a, gcError(second, test, workspace, pool)};
+}
+
+namespace {
+
+/// The checkpoint at `path` when it exists: its state, after checking it was written with the
+/// same settings and method.
+std::optional<SearchState> resumeFrom(const std::string& path, const nlohmann::json& settings,
+                                      Method method) {
+  if (path.empty() || !std::filesystem::exists(path)) return std::nullopt;
+  const nlohmann::json saved = parseJson(readFile(path), path);
+  if (!saved.contains("settings") || saved["settings"] != checkpointFingerprint(settings) ||
+      saved.value("method", "") != methodName(method))
+    throw InputError(path +
+                     ": the checkpoint was written with other settings; remove it to start "
+                     "afresh");
+  return checkpointFrom(saved, path);
+}
+
+}  // namespace
+
+SearchOutcome searchRun(const SearchRequest& request) {
+  const Model& robot = request.robot;
+  if (!isSearch(request.method))
+    throw InputError(std::string("'") + methodName(request.method) + "' is not a search (" +
+                     methodList(searchMethods()) + ")");
+  SearchBudget budget = request.budget;
+  if (budget.max_evaluations < 0 || budget.max_seconds < 0)
+    throw InputError("budgets must be >= 0");
+  if (budget.max_evaluations == 0 && budget.max_seconds == 0 && budget.gc_tolerance <= 0)
+    budget.max_seconds = 60.0;  // never run unbounded
+  const std::string& mass = request.mass_constraint;
+  if (mass != "on" && mass != "off" && mass != "auto")
+    throw InputError("the mass constraint must be on, off or auto, not '" + mass + "'");
+
+  Model initial = request.init.value_or(robot);
+  if (request.perturb) initial = perturbedModel(robot, *request.perturb, request.seed);
+  const Model* truth = request.truth ? &*request.truth : nullptr;
+  for (const Model* m : {static_cast<const Model*>(&initial), truth})
+    if (m != nullptr && (m->numJoints() != robot.numJoints() || m->parents() != robot.parents()))
+      throw InputError("the initial and true models must have the robot's kinematic structure");
+
+  SpaceOptions space_options = request.space;
+  space_options.total_mass_constraint =
+      mass == "on" || (mass == "auto" && request.method != Method::kGa);
+  space_options.total_mass =
+      request.total_mass.value_or(totalMass(request.truth ? *request.truth : initial));
+  SearchOutcome out;
+  out.robot = robot.name;
+  out.method = request.method;
+  out.space = std::make_shared<const ParameterSpace>(initial, space_options);
+  const ParameterSpace& space = *out.space;
+  SegmentOptions segments = request.segments;
+  segments.seed = request.seed;
+  const GcProblem problem =
+      makeGcProblem(readDatasetCsv(request.data_file, robot.numJoints()), segments);
+  ThreadPool pool(resolveThreads(request.threads));
+  Eigen::VectorXd truth_full;
+  if (request.truth) truth_full = space.fullVector(*request.truth);
+
+  SearchSettingsRecord record{space_options, space.freeNames(), segments,    request.seed,
+                              budget,        request.ga,        request.nlo, request.data_file};
+  record.segments.num_segments = problem.numSegments();
+  record.segments.step = problem.step;
+  out.settings = searchSettingsJson(record);
+  // Checkpoints resume only runs with the same settings (threads may differ: results do not).
+  const std::optional<SearchState> resume =
+      resumeFrom(request.checkpoint, out.settings, request.method);
+
+  SearchContext context;
+  context.space = &space;
+  context.problem = &problem;
+  context.pool = &pool;
+  context.truth_full = request.truth ? &truth_full : nullptr;
+  context.budget = budget;
+  context.seed = request.seed;
+  context.stop = request.control.stop;
+  context.resume = resume ? &*resume : nullptr;
+  context.on_iteration = [&](const SearchState& state) {
+    if (!request.checkpoint.empty())
+      writeFileAtomically(request.checkpoint, checkpointJson(state, out.settings).dump() + "\n");
+    if (request.on_iteration) request.on_iteration(state);
+  };
+  out.result = request.method == Method::kNlo  ? runNlo(context, request.nlo)
+               : request.method == Method::kGa ? runGa(context, request.ga)
+                                               : runHybrid(context, request.ga, request.nlo);
+  const Eigen::VectorXd x_initial = space.project(space.initial());
+  if (request.truth) {
+    out.initial_parameter_error = space.parameterError(x_initial, truth_full);
+    out.final_parameter_error = space.parameterError(out.result.best_x, truth_full);
+  }
+  if (!request.validate_file.empty()) {
+    out.validate_file = request.validate_file;
+    std::tie(out.validate_initial_gc, out.validate_final_gc) =
+        heldOutGc(space.modelAt(x_initial), space.modelAt(out.result.best_x), request.validate_file,
+                  segments, pool.numThreads());
+  }
+  return out;
+}
+
+// ---- refinement ----
+
+RefineOutcome refineRun(const RefineRequest& request) {
+  const Model& robot = request.robot;
+  RefineOutcome out;
+  out.robot = robot.name;
+  out.from_file = request.from_file;
+  out.data_file = request.data_file;
+  out.options = request.options;
+  out.options.num_threads = resolveThreads(request.options.num_threads);
+  out.options.stop = request.control.stop;
+  if (out.options.max_iterations < 1) throw InputError("max_iterations must be >= 1");
+
+  // The search's space and segments (search.json), or the request's (estimate.json).
+  SpaceOptions space_options;
+  space_options.form = request.form;
+  space_options.relative_range = request.range;
+  SegmentOptions segment_options;
+  segment_options.horizon = request.horizon;
+  segment_options.num_segments = request.segments;
+  const RefineStart start =
+      refineStartFrom(parseJson(readFile(request.from_file), request.from_file), request.from_file,
+                      robot, space_options, segment_options);
+  out.from_kind = start.kind;
+  out.segment_options = start.segments;
+  out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);
+  const ParameterSpace& space = *out.space;
+  out.x0 = space.project(space.freeOf(space.fullVector(start.estimate)));
+  const GcProblem problem =
+      makeGcProblem(readDatasetCsv(request.data_file, robot.numJoints()), start.segments);
+  out.num_segments = problem.numSegments();
+  if (request.truth && request.truth->parameterLayout().size() != robot.parameterLayout().size())
+    throw InputError("the true model has another parameter layout than the robot");
+  // Base coordinates from the structural analysis (the same defaults as dynid identifiability).
+  out.base = structuralBaseParameters(robot);
+  const BaseCoordinates coordinates = out.base.coordinates();
+  out.result = refineGc(space, problem, out.x0, out.options, &coordinates);
+  out.beta0 = out.base.project(space.standardAt(out.x0));
+
+  const RefineResult& result = out.result;
+  if (out.options.estimate_initial_states) {
+    Eigen::VectorXd shift(problem.numSegments());
+    for (int s = 0; s < problem.numSegments(); ++s) {
+      Eigen::VectorXd measured(2 * robot.numJoints());
+      measured << problem.data.q.col(problem.starts[s]), problem.data.dq.col(problem.starts[s]);
+      shift[s] = (result.initial_states.col(s) - measured).norm();
+    }
+    out.rms_start_shift = std::sqrt(shift.squaredNorm() / problem.numSegments());
+  }
+  if (request.truth) {
+    const Model& truth = *request.truth;
+    out.has_truth = true;
+    const Eigen::VectorXd truth_full = space.fullVector(truth);
+    const Eigen::VectorXd beta_true = out.base.project(truth.standardParameters());
+    out.initial_parameter_error = space.parameterError(out.x0, truth_full);
+    out.final_parameter_error = space.parameterError(result.x, truth_full);
+    out.initial_base_error = baseParameterError(out.beta0, beta_true);
+    out.final_base_error = baseParameterError(result.beta, beta_true, &out.final_base_error_max);
+    if (result.base_stage)
+      out.base_stage_base_error = baseParameterError(result.base_beta, beta_true);
+  }
+  if (!request.validate_file.empty()) {
+    out.validate_file = request.validate_file;
+    std::tie(out.validate_initial_gc, out.validate_final_gc) =
+        heldOutGc(space.modelAt(out.x0), space.modelAt(result.x), request.validate_file,
+                  start.segments, out.options.num_threads);
+  }
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,231 @@
+// The one hallway: every pipeline a command runs is wired here, once, and used alike by the CLI,
+// by Study (the demo) and by batch runs. A run takes a request (models already loaded, settings
+// validated at the boundary by its caller), reads the datasets it names, and returns an outcome
+// that reports/ turns into documents. Nothing here prints or writes a report.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "analysis/methods.hpp"
+#include "core/model.hpp"
+#include "core/parameters.hpp"
+#include "core/simulate.hpp"
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/least_squares.hpp"
+#include "identifiability/observation.hpp"
+#include "identifiability/physically_consistent.hpp"
+#include "search/optimizers.hpp"
+#include "search/refinement/refine.hpp"
+
+namespace dynid {
+
+// ---- models and dynamics ----
+
+/// Every physical-consistency violation of the model's links (empty: all consistent).
+std::vector<ConsistencyViolation> consistencyViolations(const Model& model);
+
+/// The dynamics at one state: tau = RNEA(q, dq, ddq), or ddq = ABA(q, dq, tau) when `tau` is
+/// given; M = CRBA(q) either way.
+struct DynamicsOutcome {
+  Eigen::VectorXd q, dq, ddq, tau;
+  Eigen::MatrixXd M;
+};
+/// q, dq and the given one of ddq, tau have n entries (InputError otherwise). Throws
+/// NumericalError when the dynamics are singular at the state (a massless moving subtree).
+DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                           const std::optional<Eigen::VectorXd>& ddq,
+                           const std::optional<Eigen::VectorXd>& tau);
+
+// ---- simulation ----
+
+struct SimulateRequest {
+  Model robot;                            // the simulated truth
+  std::optional<Model> controller_model;  // the controller's model (default: the robot)
+  double controller_perturb = 0.0;        // its parameters perturbed by up to this fraction
+  bool fourier = false;                   // seeded Fourier series instead of sinusoids
+  std::optional<Eigen::VectorXd> q0;      // centre [rad] (default: the middle of the limits)
+  Eigen::VectorXd amplitude;              // n entries [rad]
+  std::optional<Eigen::VectorXd> frequency, phase;  // sinusoidal [Hz], [rad]
+  double base_frequency = 0.1;                      // fourier [Hz]
+  int harmonics = 5;                                // fourier, >= 1
+  std::optional<Eigen::VectorXd> kp, kd, tau_max;   // default gains and effort limits otherwise
+  double bandwidth = 5.0;                           // for the default gains [Hz]
+  SimulationOptions simulation;
+};
+struct SimulateOutcome {
+  Trajectory trajectory;
+  double tracking_rms = 0.0;  // RMS of q - q_desired over samples and joints [rad]
+  double peak_torque = 0.0;   // max |tau| [N m]
+};
+/// Simulates the robot under a tracking controller. Throws InputError for a controller model of
+/// another joint count or harmonics < 1, and what simulate() throws.
+SimulateOutcome simulateRun(const SimulateRequest& request);
+
+/// Seeded Fourier coefficients, scaled so each joint's excursion bound sum (|a|+|b|)/(w k) equals
+/// its amplitude.
+FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
+                               double base_frequency, int harmonics, std::uint64_t seed);
+
+// ---- identifiability ----
+
+/// How well a dataset excites the base parameters.
+struct DataExcitation {
+  std::string file;
+  int samples = 0;
+  Excitation excitation;
+  double condition_number = 0.0;  // of the unit-column base regressor
+};
+
+struct IdentifiabilityOutcome {
+  BaseParameters base;
+  StructuralOptions structural;
+  double condition_number = 0.0;  // of the unit-column base regressor on fresh random states
+  Eigen::VectorXd model_beta;     // the model's own base parameters
+  std::optional<DataExcitation> data;
+};
+/// The structural base parameters of `model`, and, when `data_file` is not empty, how that
+/// dataset excites them.
+IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
+                                          const std::string& data_file = "");
+
+// ---- identification ----
+
+/// One least-squares estimate (ols, wls or pc) of the base parameters from an observation: the
+/// step Study and identifyRun share.
+struct LeastSquaresOutcome {
+  BaseEstimate estimate;  // for pc: the base fields of the consistent solution
+  std::optional<PhysicalEstimate> pc;
+  Eigen::VectorXd standard;  // a full standard vector: pc's, or beta with the rest from `prior`
+};
+/// `method` is ols, wls or pc (InputError otherwise); `prior` (p entries) fills what the data
+/// cannot see and is pc's prior.
+LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& base,
+                                         const Observation& observation,
+                                         const Eigen::VectorXd& prior,
+                                         const PhysicalOptions& pc_options = {});
+
+struct IdentifyRequest {
+  Model model;
+  Method method = Method::kOls;  // ols, wls or pc
+  std::optional<Model> prior;    // pc: the prior model (default: the model's own parameters)
+  double prior_weight = 0.0;     // pc, >= 0
+  std::string data_file;
+  std::string validate_file;  // empty: no held-out validation
+  StructuralOptions structural;
+};
+struct IdentifyOutcome {
+  Method method = Method::kOls;
+  BaseParameters base;
+  LeastSquaresOutcome result;
+  double prior_weight = 0.0;
+  std::vector<std::string> pc_inconsistent_links;  // names of the links OLS lifted inconsistently
+  Eigen::VectorXd model_beta;                      // the model's own base parameters
+  std::string data_file;
+  std::optional<Validation> validation;
+  std::string validate_file;
+};
+/// Throws InputError for a prior of another layout, ParseError for a bad dataset.
+IdentifyOutcome identifyRun(const IdentifyRequest& request);
+
+// ---- the GC-error searches ----
+
+/// A stop flag (SIGINT) and a progress hook shared by the long runs.
+struct RunControl {
+  const std::atomic<bool>* stop = nullptr;
+  std::function<void(const std::string&)> progress;  // one line per stage
+};
+
+struct SearchRequest {
+  Model robot;
+  Method method = Method::kNlo;   // nlo, ga or hybrid
+  std::optional<Model> init;      // initial estimate (default: the robot's parameters)
+  std::optional<double> perturb;  // or: the robot's parameters perturbed by up to this fraction
+  std::optional<Model> truth;     // for parameter errors
+  std::string data_file, validate_file;
+  SpaceOptions space;                    // total_mass and total_mass_constraint resolved below
+  std::string mass_constraint = "auto";  // on, off or auto (on for nlo and hybrid)
+  std::optional<double> total_mass;      // default: the truth's, else the initial estimate's
+  SegmentOptions segments;               // segments.seed is set from `seed`
+  SearchBudget budget;                   // all zero: 60 s
+  NloOptions nlo;
+  GaOptions ga;
+  std::uint64_t seed = 1;
+  int threads = 0;         // 0: all cores
+  std::string checkpoint;  // saved after every round or generation; resumed when it exists
+  RunControl control;
+  std::function<void(const SearchState&)> on_iteration;  // progress (after the checkpoint)
+};
+
+struct SearchOutcome {
+  std::string robot;
+  Method method = Method::kNlo;
+  nlohmann::json settings;  // search.json's "settings" (analysis/run_json.hpp)
+  std::shared_ptr<const ParameterSpace> space;
+  SearchResult result;
+  std::optional<double> initial_parameter_error, final_parameter_error;  // with a truth
+  std::string validate_file;
+  double validate_initial_gc = 0.0, validate_final_gc = 0.0;  // with a validate file
+};
+/// Runs the search. Throws InputError for models of another structure, a checkpoint written with
+/// other settings or invalid options, ParseError for bad files.
+SearchOutcome searchRun(const SearchRequest& request);
+
+// ---- refinement ----
+
+struct RefineRequest {
+  Model robot;
+  std::string from_file;  // a search.json (dynid search) or an estimate.json (dynid identify)
+  std::string data_file, validate_file;
+  std::optional<Model> truth;
+  RefineOptions options;  // num_threads 0: all cores; stop from `control`
+  // For a start from estimate.json: the space and segments (a search.json carries its own).
+  ParameterForm form = ParameterForm::kPaper;
+  double range = 0.5;
+  double horizon = 0.05;
+  int segments = 100;
+  RunControl control;
+};
+
+struct RefineOutcome {
+  std::string robot;
+  std::string from_file, from_kind;  // "search" or "estimate"
+  std::string data_file;
+  std::shared_ptr<const ParameterSpace> space;
+  SegmentOptions segment_options;
+  int num_segments = 0;
+  RefineOptions options;
+  RefineResult result;
+  BaseParameters base;
+  Eigen::VectorXd x0, beta0;              // the start, in free and base coordinates
+  std::optional<double> rms_start_shift;  // estimated starts' RMS shift from the measured ones
+  // With a truth:
+  bool has_truth = false;
+  double initial_parameter_error = 0.0, final_parameter_error = 0.0;
+  double initial_base_error = 0.0, final_base_error = 0.0, final_base_error_max = 0.0;
+  std::optional<double> base_stage_base_error;
+  // With a validate file:
+  std::string validate_file;
+  double validate_initial_gc = 0.0, validate_final_gc = 0.0;
+};
+/// Throws ParseError for a start file that is neither document (or lacks a field), InputError for
+/// a truth of another layout or invalid options.
+RefineOutcome refineRun(const RefineRequest& request);
+
+/// The GC errors of two models on a held-out dataset, with the given segments: (first, second).
+std::pair<double, double> heldOutGc(const Model& first, const Model& second,
+                                    const std::string& file, const SegmentOptions& segments,
+                                    int threads);
+
+/// `threads`, or every core for 0.
+int resolveThreads(int threads);
+
+}  // namespace dynid

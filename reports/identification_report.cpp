@@ -1,0 +1,244 @@
+#include "reports/identification_report.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "core/parameters.hpp"
+#include "data/json_number.hpp"
+
+namespace dynid {
+
+using nlohmann::json;
+
+std::string formatShort(double x) {
+  if (std::isinf(x)) return "inf";
+  std::ostringstream s;
+  s.precision(4);
+  s << x;
+  return s.str();
+}
+
+namespace {
+json excitationJson(const BaseParameters& base, const DataExcitation& data) {
+  const Excitation& excitation = data.excitation;
+  json per = json::array(), unexcited = json::array();
+  for (int j = 0; j < base.numBase(); ++j)
+    per.push_back({{"name", base.baseName(j)},
+                   {"r_diagonal", excitation.r_diagonal[j]},
+                   {"excited", excitation.r_diagonal[j] > excitation.tolerance}});
+  for (int j : excitation.unexcited) unexcited.push_back(base.baseName(j));
+  // The rank the data reach on the full standard set (may exceed nothing: at most num_base).
+  return {{"file", data.file},
+          {"samples", data.samples},
+          {"rank", excitation.rank},
+          {"structural_rank", base.numBase()},
+          {"unexcited", unexcited},
+          {"excitation", per},
+          {"condition_number", numberOrNull(data.condition_number)}};
+}
+}  // namespace
+
+json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outcome) {
+  const BaseParameters& base = outcome.base;
+  const Eigen::VectorXd& beta = outcome.model_beta;
+  json bases = json::array();
+  for (int j = 0; j < base.numBase(); ++j) {
+    json coefficients = json::object();
+    for (const auto& [name, c] : base.combination(j)) coefficients[name] = c;
+    bases.push_back({{"name", base.baseName(j)},
+                     {"expression", base.expression(j)},
+                     {"coefficients", coefficients},
+                     {"model_value", beta[j]}});
+  }
+  json unidentifiable = json::array(), regrouped = json::array();
+  for (int k : base.zero_columns) unidentifiable.push_back(base.standard_names[k]);
+  for (int k : base.dependent)
+    if (std::find(base.zero_columns.begin(), base.zero_columns.end(), k) == base.zero_columns.end())
+      regrouped.push_back(base.standard_names[k]);
+  const Eigen::MatrixXd N = base.nullSpace();
+  json basis = json::array();
+  for (Eigen::Index c = 0; c < N.cols(); ++c) basis.push_back(numbersOrNull(N.col(c)));
+  json report = {{"schema_version", kIdentificationSchemaVersion},
+                 {"robot", model.name},
+                 {"drives", model.drives_enabled},
+                 {"offsets", model.offsets_enabled},
+                 {"num_standard", base.numStandard()},
+                 {"num_base", base.numBase()},
+                 {"rank_tolerance", base.tolerance},
+                 {"smallest_kept_r", numberOrNull(base.smallest_kept)},
+                 {"largest_dropped_r", base.largest_dropped},
+                 {"rank_gap", numberOrNull(base.rankGap())},
+                 {"standard_parameters", base.standard_names},
+                 {"base_parameters", bases},
+                 {"unidentifiable", unidentifiable},
+                 {"regrouped", regrouped},
+                 {"null_space", {{"parameters", base.standard_names}, {"basis", basis}}},
+                 {"condition_number", numberOrNull(outcome.condition_number)},
+                 {"structural",
+                  {{"method", "column-scaled Householder QR without pivoting (Gautier)"},
+                   {"random_states", outcome.structural.samples},
+                   {"seed", outcome.structural.seed}}}};
+  if (outcome.data) report["data"] = excitationJson(base, *outcome.data);
+  return report;
+}
+
+std::string identifiabilityMarkdown(const json& r) {
+  std::ostringstream md;
+  md << "# Identifiability of " << r["robot"].get<std::string>() << "\n\n";
+  md << "- Standard parameters: " << r["num_standard"] << " (drives "
+     << (r["drives"].get<bool>() ? "on" : "off") << ")\n";
+  md << "- Base parameters (structural rank): **" << r["num_base"] << "**\n";
+  md << "- Rank gap (smallest kept / largest dropped |R_jj|): "
+     << (r["rank_gap"].is_null() ? "inf" : formatShort(r["rank_gap"].get<double>())) << "\n";
+  md << "- Condition number of the column-scaled base regressor on random states: "
+     << (r["condition_number"].is_null() ? "inf" : formatShort(r["condition_number"].get<double>()))
+     << "\n\n";
+  md << "## Base parameters\n\nEach is identifiable; the standard parameters after the first are "
+        "regrouped into it and cannot be told apart.\n\n| # | name | combination | model value |\n"
+        "|---|---|---|---|\n";
+  int index = 1;
+  for (const auto& b : r["base_parameters"])
+    md << "| " << index++ << " | " << b["name"].get<std::string>() << " | `"
+       << b["expression"].get<std::string>() << "` | "
+       << formatShort(b["model_value"].get<double>()) << " |\n";
+  md << "\n## Never affect the torques\n\n";
+  if (r["unidentifiable"].empty()) md << "(none)\n";
+  for (const auto& name : r["unidentifiable"]) md << "`" << name.get<std::string>() << "` ";
+  md << "\n\n## Identifiable only in combination\n\n";
+  if (r["regrouped"].empty()) md << "(none)\n";
+  for (const auto& name : r["regrouped"]) md << "`" << name.get<std::string>() << "` ";
+  md << "\n";
+  if (r.contains("data")) {
+    const json& d = r["data"];
+    md << "\n## Excitation by " << d["file"].get<std::string>()
+       << "\n\n- Rank reached: " << d["rank"] << " of " << d["structural_rank"]
+       << "\n- Condition number: "
+       << (d["condition_number"].is_null() ? "inf"
+                                           : formatShort(d["condition_number"].get<double>()))
+       << "\n- Not excited: ";
+    if (d["unexcited"].empty()) md << "(none)";
+    for (const auto& name : d["unexcited"]) md << "`" << name.get<std::string>() << "` ";
+    md << "\n\n| base parameter | scaled abs(R_jj) |\n|---|---|\n";
+    for (const auto& e : d["excitation"])
+      md << "| " << e["name"].get<std::string>() << " | "
+         << formatShort(e["r_diagonal"].get<double>())
+         << (e["excited"].get<bool>() ? "" : " (not excited)") << " |\n";
+  }
+  return md.str();
+}
+
+json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
+  const BaseParameters& base = outcome.base;
+  const BaseEstimate& estimate = outcome.result.estimate;
+  const Eigen::VectorXd& model_beta = outcome.model_beta;
+  json params = json::array();
+  for (int j = 0; j < base.numBase(); ++j)
+    params.push_back(
+        {{"name", base.baseName(j)},
+         {"expression", base.expression(j)},
+         {"estimate", estimate.beta[j]},
+         {"std_dev", estimate.std_dev[j]},
+         {"relative_std_dev_percent", numberOrNull(estimate.relative_std_dev_percent[j])},
+         {"model_value", model_beta[j]}});
+  const Eigen::VectorXd& standard = outcome.result.standard;
+  json standard_json = json::object();
+  for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
+  json report = {{"schema_version", kIdentificationSchemaVersion},
+                 {"robot", model.name},
+                 {"drives", model.drives_enabled},
+                 {"method", methodName(outcome.method)},
+                 {"data", {{"file", outcome.data_file}, {"samples", estimate.num_samples}}},
+                 {"num_base", base.numBase()},
+                 {"base_parameters", params},
+                 {"condition_number", numberOrNull(estimate.condition_number)},
+                 {"joint_sigma", numbersOrNull(estimate.joint_sigma)},
+                 {"residual_rms", numbersOrNull(estimate.residual_rms)},
+                 {"standard_estimate",
+                  {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
+                   {"values", standard_json}}}};
+  if (const auto& pc = outcome.result.pc) {
+    report["standard_estimate"]["note"] =
+        "physically consistent on every link (log-Cholesky parameters)";
+    report["physically_consistent"] = {
+        {"termination", pc->termination},
+        {"solution_usable", pc->usable},
+        {"iterations", pc->iterations},
+        {"prior_weight", outcome.prior_weight},
+        {"ols_lift_inconsistent_links", outcome.pc_inconsistent_links},
+        {"drive_parameters_at_bound", pc->at_bound},
+        {"cost_history", pc->cost_history}};
+  }
+  if (const auto& v = outcome.validation)
+    report["validation"] = {{"file", outcome.validate_file},
+                            {"samples", v->num_samples},
+                            {"torque_rms", numbersOrNull(v->torque_rms)},
+                            {"normalised_rms", numbersOrNull(v->normalised_rms)}};
+  return report;
+}
+
+std::string estimateMarkdown(const json& r) {
+  std::ostringstream md;
+  md << "# " << r["method"].get<std::string>() << " estimate for " << r["robot"].get<std::string>()
+     << "\n\nData: " << r["data"]["file"].get<std::string>() << " (" << r["data"]["samples"]
+     << " samples). Condition number of the scaled base regressor: "
+     << (r["condition_number"].is_null() ? "inf" : formatShort(r["condition_number"].get<double>()))
+     << ".\n\n| base parameter | estimate | std. dev. | %σ | model value "
+        "|\n|---|---|---|---|---|\n";
+  for (const auto& p : r["base_parameters"])
+    md << "| `" << p["expression"].get<std::string>() << "` | "
+       << formatShort(p["estimate"].get<double>()) << " | "
+       << formatShort(p["std_dev"].get<double>()) << " | "
+       << (p["relative_std_dev_percent"].is_null()
+               ? "inf"
+               : formatShort(p["relative_std_dev_percent"].get<double>()))
+       << " | " << formatShort(p["model_value"].get<double>()) << " |\n";
+  md << "\n| joint | residual RMS [N m] |";
+  const bool validated = r.contains("validation");
+  if (validated) md << " held-out RMS [N m] | normalised |";
+  md << "\n|---|---|" << (validated ? "---|---|" : "") << "\n";
+  for (std::size_t j = 0; j < r["residual_rms"].size(); ++j) {
+    md << "| " << j + 1 << " | " << formatShort(r["residual_rms"][j].get<double>()) << " |";
+    if (validated) {
+      const json& v = r["validation"];
+      md << " " << formatShort(v["torque_rms"][j].get<double>()) << " | "
+         << (v["normalised_rms"][j].is_null() ? "inf"
+                                              : formatShort(v["normalised_rms"][j].get<double>()))
+         << " |";
+    }
+    md << "\n";
+  }
+  return md.str();
+}
+
+}  // namespace dynid
+
+namespace dynid {
+
+std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutcome& outcome,
+                                   const std::string& dir) {
+  const BaseParameters& base = outcome.base;
+  std::ostringstream out;
+  out << model.name << ": " << base.numStandard() << " standard parameters, " << base.numBase()
+      << " base parameters (rank gap " << formatShort(base.rankGap()) << "), "
+      << base.zero_columns.size() << " never affect the torques";
+  if (outcome.data) out << "; the data reach rank " << outcome.data->excitation.rank;
+  out << "\nwrote " << dir << "/identifiability.json and " << dir << "/identifiability.md\n";
+  return out.str();
+}
+
+std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
+                            const std::string& dir) {
+  const BaseEstimate& estimate = outcome.result.estimate;
+  std::ostringstream out;
+  out << model.name << ": " << methodName(outcome.method) << " estimate of "
+      << outcome.base.numBase() << " base parameters from " << estimate.num_samples
+      << " samples, condition number " << formatShort(estimate.condition_number)
+      << ", residual RMS "
+      << formatShort(estimate.residual_rms.norm() / std::sqrt(model.numJoints())) << " N m";
+  if (outcome.validation)
+    out << ", held-out RMS " << formatShort(outcome.validation->torque_rms[0]);
+  out << "\nwrote " << dir << "/estimate.json and " << dir << "/estimate.md\n";
+  return out.str();
+}
+
+}  // namespace dynid

@@ -1,0 +1,35 @@
+// The documents of `dynid identifiability` (identifiability.json, identifiability.md) and
+// `dynid identify` (estimate.json, estimate.md), and their console lines.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/runs.hpp"
+
+namespace dynid {
+
+inline constexpr int kIdentificationSchemaVersion = 1;
+
+/// identifiability.json: the base parameters (names, expressions, coefficients, the model's
+/// values), the parameters that never act, the regrouped ones, the null space, the rank gap and
+/// conditioning, and with data, how it excites each base parameter.
+nlohmann::json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outcome);
+std::string identifiabilityMarkdown(const nlohmann::json& report);
+/// "puma560: 60 standard parameters, 36 base parameters (rank gap ...), ..." and the files.
+std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutcome& outcome,
+                                   const std::string& dir);
+
+/// estimate.json: the base estimates with %sigma, the full standard vector, residuals, and the
+/// physically consistent solver's record (pc) and the held-out validation when present.
+nlohmann::json estimateJson(const Model& model, const IdentifyOutcome& outcome);
+std::string estimateMarkdown(const nlohmann::json& report);
+/// "puma560: ols estimate of 36 base parameters from N samples, ..." and the files.
+std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
+                            const std::string& dir);
+
+/// 4 significant digits ("3.2e+11", "inf").
+std::string formatShort(double x);
+
+}  // namespace dynid

@@ -1,0 +1,142 @@
+#include "reports/model_report.hpp"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "core/errors.hpp"
+#include "core/parameters.hpp"
+#include "data/mjcf.hpp"
+#include "data/model_json.hpp"
+#include "data/urdf.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// printf into a string.
+void appendf(std::string& out, const char* format, ...) {
+  char buffer[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buffer, sizeof(buffer), format, args);
+  va_end(args);
+  out += buffer;
+}
+
+nlohmann::json toJson(const Eigen::VectorXd& v) { return std::vector<double>(v.begin(), v.end()); }
+
+void appendVector(std::string& out, const char* name, const char* unit, const Eigen::VectorXd& v) {
+  appendf(out, "%-4s [%s]:", name, unit);
+  for (double x : v) appendf(out, " % .10g", x);
+  out += "\n";
+}
+
+}  // namespace
+
+std::string modelShowText(const Model& model) {
+  std::string out;
+  appendf(out, "robot %s: %d joints, gravity (%g, %g, %g) m/s^2, drives %s\n", model.name.c_str(),
+          model.numJoints(), model.gravity.x(), model.gravity.y(), model.gravity.z(),
+          model.drives_enabled ? (model.offsets_enabled ? "on (with offsets)" : "on") : "off");
+  appendf(out, "\n%-4s %-16s %-16s %-11s %-12s %s\n", "#", "link", "joint", "type", "parent",
+          "limits [rad or m]");
+  for (int i = 0; i < model.numJoints(); ++i) {
+    const int p = model.parents()[i];
+    appendf(out, "%-4d %-16s %-16s %-11s %-12s [%g, %g]\n", i + 1, model.link_names[i].c_str(),
+            model.joint_names[i].c_str(), jointTypeName(model.joint_types()[i]),
+            p < 0 ? "(base)" : model.link_names[p].c_str(), model.limits[i].lower,
+            model.limits[i].upper);
+  }
+  const ParameterLayout layout = model.parameterLayout();
+  const std::vector<std::string> names = standardParameterNames(layout);
+  const Eigen::VectorXd theta = model.standardParameters();
+  out += "\nstandard parameters (link frame origin; SI units):\n";
+  for (int i = 0; i < model.numJoints(); ++i) {
+    for (int k = 0; k < layout.perLink(); ++k) {
+      const int index = i * layout.perLink() + k;
+      appendf(out, "  %-7s % .6g%s", names[index].c_str(), theta(index),
+              (k + 1) % 5 == 0 || k + 1 == layout.perLink() ? "\n" : "");
+    }
+  }
+  out += "\npaper parameters (m, centre of mass, principal inertia about it):\n";
+  for (int i = 0; i < model.numJoints(); ++i) {
+    double dropped = 0.0;
+    const auto paper = standardToPaper(toStandardVector(model.inertias()[i]), &dropped);
+    appendf(out, "  link %-3d m %-9.6g c (%.6g, %.6g, %.6g)  I (%.6g, %.6g, %.6g)%s\n", i + 1,
+            paper(0), paper(1), paper(2), paper(3), paper(4), paper(5), paper(6),
+            dropped > 1e-12 ? "  [has products of inertia]" : "");
+  }
+  return out;
+}
+
+std::string modelCheckText(const Model& model, const std::vector<ConsistencyViolation>& all) {
+  std::string out;
+  if (all.empty())
+    appendf(out, "%s: all %d links are physically consistent\n", model.name.c_str(),
+            model.numJoints());
+  for (const auto& v : all)
+    appendf(out, "%s: link %d (%s) violates %s: %s\n", model.name.c_str(), v.link + 1,
+            v.link_name.c_str(), v.condition.c_str(), v.detail.c_str());
+  return out;
+}
+
+nlohmann::json modelCheckJson(const Model& model, const std::vector<ConsistencyViolation>& all) {
+  nlohmann::json violations = nlohmann::json::array();
+  for (const auto& v : all)
+    violations.push_back({{"link", v.link + 1},
+                          {"link_name", v.link_name},
+                          {"condition", v.condition},
+                          {"detail", v.detail}});
+  return {{"schema_version", 1},
+          {"robot", model.name},
+          {"consistent", all.empty()},
+          {"violations", violations}};
+}
+
+std::string modelDocument(const Model& model, const std::string& format) {
+  if (format == "urdf") return modelToUrdf(model);
+  if (format == "mjcf") return modelToMjcf(model);
+  if (format == "json") return modelToJson(model);
+  throw InputError("the format must be urdf, json or mjcf, not '" + format + "'");
+}
+
+nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
+  nlohmann::json m = nlohmann::json::array();
+  for (int r = 0; r < model.numJoints(); ++r) m.push_back(toJson(o.M.row(r).transpose()));
+  return {{"schema_version", 1},
+          {"robot", model.name},
+          {"drives", model.drives_enabled},
+          {"q", toJson(o.q)},
+          {"dq", toJson(o.dq)},
+          {"tau", toJson(o.tau)},
+          {"M", m},
+          {"ddq", toJson(o.ddq)}};
+}
+
+std::string dynamicsText(const Model& model, const DynamicsOutcome& o) {
+  std::string out;
+  appendf(out, "robot %s (drives %s)\n", model.name.c_str(), model.drives_enabled ? "on" : "off");
+  appendVector(out, "q", "rad", o.q);
+  appendVector(out, "dq", "rad/s", o.dq);
+  appendVector(out, "ddq", "rad/s^2", o.ddq);
+  appendVector(out, "tau", "N m", o.tau);
+  out += "M(q) [kg m^2]:\n";
+  for (int r = 0; r < model.numJoints(); ++r) {
+    for (int c = 0; c < model.numJoints(); ++c) appendf(out, " % .6e", o.M(r, c));
+    out += "\n";
+  }
+  return out;
+}
+
+std::string simulateSummary(const Model& model, const SimulateOutcome& o, const std::string& file) {
+  const Trajectory& t = o.trajectory;
+  std::string out;
+  appendf(out,
+          "wrote %s: %s, %d samples x %d joints, t = 0..%g s, tracking error RMS %.3g rad, "
+          "peak |tau| %.4g N m\n",
+          file.c_str(), model.name.c_str(), t.numSamples(), model.numJoints(),
+          t.time[t.numSamples() - 1], o.tracking_rms, o.peak_torque);
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,38 @@
+// The one GC-error segment rollout, for any Scalar: gcError (double) and the refinement's cost
+// functors (ceres::Jet) both call it, so the prediction they measure is the same code.
+// For a Scalar other than double, include core/integrators-inl.hpp too (the integrators' bodies).
+#pragma once
+
+#include <type_traits>
+
+#include "core/integrators.hpp"
+#include "search/gc_error.hpp"
+
+namespace dynid {
+
+/// Rolls segment `segment` of `problem` forward: on entry q, dq (n entries) hold the segment's
+/// start state, on return its predicted end after problem.samples_per_segment sample periods,
+/// each applying the recorded torque of its first sample (held, as recorded) over
+/// problem.substeps integration steps of problem.step. `tau` (n entries) is scratch for the
+/// torques in Scalar (untouched when Scalar is double: the recorded column is used directly).
+/// Overwrites what the integrator overwrites in `data`. Sizes are the caller's to check.
+template <typename Scalar>
+void rollOutSegment(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, const GcProblem& problem,
+                    int segment, VectorX<Scalar>& q, VectorX<Scalar>& dq, VectorX<Scalar>& tau) {
+  const Trajectory& recorded = problem.data;
+  const int start = problem.starts[segment];
+  const Scalar h(problem.step);
+  for (int k = start; k < start + problem.samples_per_segment; ++k) {
+    if constexpr (std::is_same_v<Scalar, double>) {
+      for (int sub = 0; sub < problem.substeps; ++sub)
+        integratorStep(problem.integrator, model, data, q, dq, recorded.tau.col(k), h);
+    } else {
+      // tau_k in Scalar, once per sample period.
+      for (int j = 0; j < model.numJoints(); ++j) tau[j] = Scalar(recorded.tau(j, k));
+      for (int sub = 0; sub < problem.substeps; ++sub)
+        integratorStep(problem.integrator, model, data, q, dq, tau, h);
+    }
+  }
+}
+
+}  // namespace dynid

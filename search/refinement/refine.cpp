@@ -1,0 +1,327 @@
+#include "search/refinement/refine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <ceres/ceres.h>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "core/errors.hpp"
+#include "search/refinement/costs.hpp"
+#include "search/refinement/uncertainty.hpp"
+
+namespace dynid {
+
+namespace {
+
+class RefineCallback : public ceres::IterationCallback {
+ public:
+  RefineCallback(std::vector<RefineIteration>& history, const std::atomic<bool>* stop,
+                 bool& interrupted, std::string stage, double time_offset)
+      : history_(history),
+        stop_(stop),
+        interrupted_(interrupted),
+        stage_(std::move(stage)),
+        time_offset_(time_offset) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
+                        time_offset_ + summary.cumulative_time_in_seconds});
+    if (stop_ != nullptr && stop_->load()) {
+      interrupted_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::vector<RefineIteration>& history_;
+  const std::atomic<bool>* stop_;
+  bool& interrupted_;
+  std::string stage_;
+  double time_offset_;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Solver settings shared by the stages: Levenberg-Marquardt. Independent starts (when
+/// estimated) are eliminated first by a block-sparse Schur complement; chained ones (a segment
+/// ending on the next start, so no longer an independent set) go with the model parameters into a
+/// sparse Cholesky factorisation of the normal equations, whose starts' part is block tridiagonal.
+ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProblem& problem,
+                                     double* model_block, Eigen::MatrixXd& starts,
+                                     double seconds_left) {
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  const bool sparse = ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
+  if (options.estimate_initial_states && anyChained(problem, options)) {
+    solver.linear_solver_type = sparse ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
+  } else if (options.estimate_initial_states) {
+    solver.linear_solver_type = sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (int s = 0; s < starts.cols(); ++s) ordering->AddElementToGroup(starts.col(s).data(), 0);
+    ordering->AddElementToGroup(model_block, 1);
+    solver.linear_solver_ordering = ordering;
+  } else {
+    solver.linear_solver_type = ceres::DENSE_QR;
+  }
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = options.gradient_tolerance;
+  solver.parameter_tolerance = options.parameter_tolerance;
+  if (options.max_seconds > 0.0) solver.max_solver_time_in_seconds = std::max(seconds_left, 1e-3);
+  solver.num_threads = std::max(options.num_threads, 1);
+  solver.logging_type = ceres::SILENT;
+  return solver;
+}
+
+std::string terminationOf(const ceres::Solver::Summary& summary) {
+  return std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
+         summary.message;
+}
+
+/// The base stage: the GC residuals as a function of beta, solved by Levenberg-Marquardt from
+/// beta(x); then x is fitted to the solution's beta within the bounds (and on the total-mass
+/// plane). Updates result.x (when the map back predicts no worse than the start), the starts and
+/// the base-stage fields.
+void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+               const BaseCoordinates& base, const RefineOptions& options,
+               std::chrono::steady_clock::time_point clock_start, GcWorkspace& workspace,
+               ThreadPool& pool, RefineResult& result) {
+  const bool with_start = options.estimate_initial_states;
+  const Eigen::MatrixXd& P = base.projection;
+  const Eigen::VectorXd theta0 = space.standardAt(result.x);
+  const int b = static_cast<int>(P.rows());
+  Eigen::VectorXd beta = P * theta0;
+  const BetaLift map{theta0, beta, P.completeOrthogonalDecomposition().pseudoInverse()};
+
+  ceres::Problem beta_problem;
+  for (int s = 0; s < problem.numSegments(); ++s) {
+    beta_problem.AddResidualBlock(
+        makeBetaSegmentCost(structure, map, problem, s, with_start,
+                            continuityOf(problem, options, s))
+            .release(),
+        nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
+  }
+  ceres::Solver::Options solver =
+      solverOptions(options, problem, beta.data(), result.initial_states,
+                    options.max_seconds - secondsSince(clock_start));
+  RefineCallback callback(result.history, options.stop, result.interrupted, "base",
+                          secondsSince(clock_start));
+  solver.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &beta_problem, &summary);
+  result.base_stage = true;
+  result.base_beta = beta;
+  result.base_termination = terminationOf(summary);
+  result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  {
+    Model at_beta = structure;
+    at_beta.setStandardParameters(theta0 + map.lift * (beta - map.beta_ref));
+    result.base_gc = gcError(at_beta, problem, workspace, pool);
+  }
+
+  // Map back: min |R (P theta(x) - beta)|^2 over x within the bounds, with R^T R = H the GC
+  // residuals' J^T J in beta at the solution: the Gauss-Newton model of the GC error's increase,
+  // so that a beta the free parameters cannot reproduce exactly (noisy data) is approached where
+  // the data determine it best. R is normalised to a unit misfit at the estimate. Should a rollout
+  // diverge there, relative weights 1 / |beta| replace it.
+  const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
+  Eigen::MatrixXd weighting = weights.asDiagonal();
+  {
+    double squared = 0.0;
+    const Eigen::MatrixXd H = betaInformation(structure, map, problem, beta, result.initial_states,
+                                              options, pool, squared);
+    if (H.allFinite()) {
+      Eigen::VectorXd d(b);
+      for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(d.asDiagonal() * H *
+                                                                 d.asDiagonal());
+      const Eigen::VectorXd root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+      const Eigen::MatrixXd r =
+          root.asDiagonal() * eigen.eigenvectors().transpose() * d.cwiseInverse().asDiagonal();
+      const double misfit = (r * (P * theta0 - beta)).norm();
+      if (misfit > 0.0 && std::isfinite(misfit)) weighting = r / misfit;
+    }
+  }
+  const Eigen::MatrixXd weighted_projection = weighting * P;
+  const Eigen::VectorXd weighted_target = weighting * beta;
+  const int k = space.numFree();
+  const int tries = 2 + std::max(options.map_back_starts, 0);
+  std::vector<Eigen::VectorXd> fitted(tries);
+  Eigen::VectorXd fit_cost(tries);
+  std::mt19937_64 random(20260101);  // fixed: refinement is deterministic
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Eigen::VectorXd centre = 0.5 * (space.lower() + space.upper());
+  const Eigen::VectorXd half_range = (0.5 * (space.upper() - space.lower())).cwiseMax(1e-300);
+  for (int t = 0; t < tries; ++t) {
+    fitted[t] = t == 0 ? result.x : centre;
+    if (t > 1)
+      for (int j = 0; j < k; ++j)
+        fitted[t][j] = space.lower()[j] + uniform(random) * (space.upper()[j] - space.lower()[j]);
+    fitted[t] = space.project(fitted[t]);
+  }
+  pool.parallelFor(tries, [&](int t, int) {
+    Eigen::VectorXd& x = fitted[t];
+    // The map is curved (products m c, m c c^T) and LM from a point alone stops at a bound: each
+    // fit is a continuation, with a pull eps |(x - centre) / half range|^2 towards the box's
+    // centre taken down from 1e-1 to 0.
+    for (const double eps : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0}) {
+      auto fit = makeBetaOfFreeCost(structure, space, weighted_projection, weighted_target);
+      ceres::Problem map_problem;
+      map_problem.AddResidualBlock(fit.release(), nullptr, x.data());
+      // The total mass weighted like the beta residuals (relative), for conditioning.
+      if (space.options().total_mass_constraint)
+        map_problem.AddResidualBlock(makeTotalMassCost(space, 1.0).release(), nullptr, x.data());
+      if (eps > 0.0) {
+        const Eigen::MatrixXd pull = eps * half_range.cwiseInverse().asDiagonal().toDenseMatrix();
+        map_problem.AddResidualBlock(makeLinearCost(pull, pull * centre).release(), nullptr,
+                                     x.data());
+      }
+      for (int j = 0; j < k; ++j) {
+        map_problem.SetParameterLowerBound(x.data(), j, space.lower()[j]);
+        map_problem.SetParameterUpperBound(x.data(), j, space.upper()[j]);
+      }
+      ceres::Solver::Options map_solver;
+      map_solver.linear_solver_type = ceres::DENSE_QR;
+      map_solver.max_num_iterations = 200;
+      map_solver.function_tolerance = 1e-20;
+      map_solver.gradient_tolerance = 1e-24;
+      map_solver.parameter_tolerance = 1e-16;
+      map_solver.logging_type = ceres::SILENT;
+      ceres::Solver::Summary map_summary;
+      ceres::Solve(map_solver, &map_problem, &map_summary);
+    }
+    fit_cost[t] = (weighted_projection * space.standardAt(x) - weighted_target).squaredNorm();
+    if (space.options().total_mass_constraint)
+      fit_cost[t] += std::pow(space.totalMass(x) / space.options().total_mass - 1.0, 2);
+    if (!std::isfinite(fit_cost[t])) fit_cost[t] = std::numeric_limits<double>::infinity();
+  });
+  const double best = fit_cost.minCoeff();
+  const Eigen::VectorXd x_scale = magnitudes(result.x);
+  int chosen = 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int t = 0; t < tries; ++t) {
+    // "Best": within round-off of the lowest (b residuals of relative size ~1e-12).
+    if (!(fit_cost[t] <= best * (1.0 + 1e-6) + 1e-24 * b)) continue;
+    const double distance = (fitted[t] - result.x).cwiseQuotient(x_scale).norm();
+    if (distance < nearest) nearest = distance, chosen = t;
+  }
+  const Eigen::VectorXd& x = fitted[chosen];
+  result.map_back_error =
+      (weights.cwiseProduct(P * space.standardAt(x) - beta)).norm() / std::sqrt(std::max(b, 1));
+  // Keep the mapped-back point only when it predicts no worse than the start.
+  const double gc_mapped = gcError(space.modelAt(x), problem, workspace, pool);
+  result.map_back_used = std::isfinite(gc_mapped) && gc_mapped <= result.initial_gc;
+  if (result.map_back_used) result.x = x;
+}
+
+}  // namespace
+
+RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
+                      const Eigen::VectorXd& x0, const RefineOptions& options,
+                      const BaseCoordinates* base) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  if (x0.size() != space.numFree())
+    throw InputError("the start has " + std::to_string(x0.size()) + " free parameters, expected " +
+                     std::to_string(space.numFree()));
+  if (space.numFree() == 0) throw InputError("refinement needs at least one free parameter");
+  if (!std::isfinite(options.continuity_weight) || options.continuity_weight < 0.0)
+    throw InputError("the continuity weight must be a finite number >= 0");
+  RefineResult result;
+  result.x = space.project(x0);
+  const Model structure = space.modelAt(result.x);
+  const int n = structure.numJoints(), segments = problem.numSegments();
+  if (problem.data.numJoints() != n)
+    throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
+                     " joints, the model " + std::to_string(n));
+  if (base != nullptr && base->projection.cols() != structure.parameterLayout().size())
+    throw InputError("the base coordinates have " + std::to_string(base->projection.cols()) +
+                     " standard parameters, the model " +
+                     std::to_string(structure.parameterLayout().size()));
+  const bool with_start = options.estimate_initial_states;
+  for (int s = 0; s < segments; ++s)
+    if (continuityOf(problem, options, s) > 0.0) ++result.chained_segments;
+  result.initial_states.resize(2 * n, segments);
+  for (int s = 0; s < segments; ++s) {
+    result.initial_states.col(s).head(n) = problem.data.q.col(problem.starts[s]);
+    result.initial_states.col(s).tail(n) = problem.data.dq.col(problem.starts[s]);
+  }
+  ThreadPool pool(std::max(options.num_threads, 1));
+  GcWorkspace workspace(structure, pool.numThreads());
+  result.initial_gc = gcError(structure, problem, workspace, pool);
+
+  if (base != nullptr && options.base_stage)
+    baseStage(structure, space, problem, *base, options, clock_start, workspace, pool, result);
+
+  // The parameter stage. Residual blocks: one per segment, and the total mass.
+  ceres::Problem solver_problem;
+  for (int s = 0; s < segments; ++s) {
+    solver_problem.AddResidualBlock(
+        makeSegmentCost(structure, space, problem, s, with_start, continuityOf(problem, options, s))
+            .release(),
+        nullptr, segmentBlocks(problem, options, s, result.x.data(), result.initial_states));
+  }
+  if (space.options().total_mass_constraint)
+    solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
+  // Gauge: hold the current free directions (G (x - x_start) = 0, G their scaled basis), so the
+  // solver does not drift along directions the data cannot see; a zero-residual point with the
+  // gauge satisfied exists, so it biases nothing.
+  if (base != nullptr && options.fix_gauge) {
+    const FreeAnalysis analysis =
+        analyseFreeDirections(structure, space, base->projection, result.x);
+    const int free = space.numFree() - analysis.rank;
+    if (free > 0) {
+      const double w = std::sqrt(std::max(result.initial_gc, 1e-300));
+      const Eigen::MatrixXd g =
+          w * analysis.v.rightCols(free).transpose() * analysis.x_scale.cwiseInverse().asDiagonal();
+      solver_problem.AddResidualBlock(makeLinearCost(g, g * result.x).release(), nullptr,
+                                      result.x.data());
+      result.gauge_dimension = free;
+    }
+  }
+  for (int j = 0; j < space.numFree(); ++j) {
+    solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
+    solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
+  }
+  ceres::Solver::Options solver =
+      solverOptions(options, problem, result.x.data(), result.initial_states,
+                    options.max_seconds - secondsSince(clock_start));
+  result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
+  RefineCallback callback(result.history, options.stop, result.interrupted, "parameters",
+                          secondsSince(clock_start));
+  solver.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  if (!result.interrupted) ceres::Solve(solver, &solver_problem, &summary);
+
+  result.termination = result.interrupted && summary.iterations.empty()
+                           ? "USER_SUCCESS: interrupted in the base stage"
+                           : terminationOf(summary);
+  result.usable =
+      result.interrupted && summary.iterations.empty() ? true : summary.IsSolutionUsable();
+  result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
+  if (!result.base_stage) result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.iterations.empty() ? result.initial_cost : summary.final_cost;
+  result.final_gc = gcError(space.modelAt(result.x), problem, workspace, pool);
+  const std::vector<std::string> names = space.freeNames();
+  for (int j = 0; j < space.numFree(); ++j) {
+    const double tolerance = 1e-9 * (space.upper()[j] - space.lower()[j]);
+    if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
+      result.at_bound.push_back(names[j]);
+  }
+  if (base != nullptr) baseUncertainty(structure, space, problem, *base, options, result, pool);
+  result.seconds = secondsSince(clock_start);
+  return result;
+}
+
+}  // namespace dynid

@@ -1,0 +1,112 @@
+// dynid batch: the grid, resuming, shards and merging; the example manifests.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+std::string writeManifest(const std::string& name, const std::string& text) {
+  const std::string path = test::tempPath(name);
+  std::ofstream(path) << text;
+  return path;
+}
+
+nlohmann::json resultsOf(const std::string& dir) {
+  return nlohmann::json::parse(readFile(dir + "/results.json"));
+}
+
+TEST(Cli, BatchRunsTheGridResumesShardsAndMerges) {
+  const std::string manifest = writeManifest("batch.json", R"({
+    "schema_version": 1,
+    "grid": {"method": ["ols", "nlo"], "seed": [1, 2]},
+    "fixed": {"train_seconds": 2, "test_seconds": 2, "segments": 10,
+              "search_seconds": 0, "search_evaluations": 50}})");
+  const std::string dir = test::tempPath("batch_all");
+  std::filesystem::remove_all(dir);
+  const Result all = run("batch " + manifest + " --jobs 2 --out " + dir);
+  ASSERT_EQ(all.code, 0) << all.err;
+  const auto table = resultsOf(dir);
+  ASSERT_EQ(table["rows"].size(), 4u);
+  EXPECT_EQ(table["rows"][0]["method"], "ols");
+  EXPECT_EQ(table["rows"][3]["method"], "nlo");
+  EXPECT_EQ(table["rows"][3]["seed"], 2);
+  EXPECT_EQ(table["rows"][3]["evaluations"], 50);
+  const std::string csv = readFile(dir + "/results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);  // header + 4 rows
+  // A run that is already done is skipped; one whose result is gone (killed midway) runs again.
+  std::filesystem::remove(dir + "/runs/" + table["rows"][1]["run"].get<std::string>() + ".json");
+  const Result again = run("batch " + manifest + " --jobs 2 --out " + dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_TRUE(contains(again.err, "3 already done")) << again.err;
+  const auto resumed = resultsOf(dir);
+  ASSERT_EQ(resumed["rows"].size(), 4u);
+  // The re-run run reproduces its result (deterministic); wall time aside.
+  EXPECT_EQ(resumed["rows"][1]["gc_error_train"], table["rows"][1]["gc_error_train"]);
+  EXPECT_EQ(resumed["rows"][1]["base_param_error"], table["rows"][1]["base_param_error"]);
+  // Shards split the grid; merged, they give the same table (searches are deterministic).
+  const std::string s1 = test::tempPath("batch_s1"), s2 = test::tempPath("batch_s2"),
+                    merged = test::tempPath("batch_merged");
+  for (const std::string& d : {s1, s2, merged}) std::filesystem::remove_all(d);
+  ASSERT_EQ(run("batch " + manifest + " --shard 1/2 --out " + s1).code, 0);
+  ASSERT_EQ(run("batch " + manifest + " --shard 2/2 --out " + s2).code, 0);
+  EXPECT_EQ(resultsOf(s1)["rows"].size(), 2u);
+  ASSERT_EQ(run("batch merge " + s1 + " " + s2 + " --out " + merged).code, 0);
+  const auto m = resultsOf(merged);
+  ASSERT_EQ(m["rows"].size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(m["rows"][i]["run"], table["rows"][i]["run"]);
+    EXPECT_EQ(m["rows"][i]["gc_error_train"], table["rows"][i]["gc_error_train"]);
+  }
+  // Bad input: a data error naming the file and the field, or a usage error.
+  const std::string bad = writeManifest("batch_bad.json", R"({"schema_version": 1,
+    "grid": {"method": ["ols", "bogus"]}})");
+  const Result b = run("batch " + bad + " --out " + dir);
+  EXPECT_EQ(b.code, 1);
+  EXPECT_TRUE(contains(b.err, bad) && contains(b.err, "grid.method[1]")) << b.err;
+  const std::string unknown = writeManifest("batch_unknown.json", R"({"schema_version": 1,
+    "fixed": {"method": "ols", "speed": 3}})");
+  EXPECT_TRUE(contains(run("batch " + unknown + " --out " + dir).err, "fixed.speed"));
+  // A value out of range: refused before any run starts, naming the run and the field, and
+  // nothing written.
+  const std::string negative = writeManifest("batch_negative.json", R"({"schema_version": 1,
+    "grid": {"method": ["ols"], "train_seconds": [2, -1]}})");
+  const std::string untouched = test::tempPath("batch_untouched");
+  const Result n = run("batch " + negative + " --out " + untouched);
+  EXPECT_EQ(n.code, 1);
+  EXPECT_TRUE(contains(n.err, "run 1") && contains(n.err, "train_seconds must be > 0")) << n.err;
+  EXPECT_FALSE(std::filesystem::exists(untouched));
+  EXPECT_EQ(run("batch " + manifest + " --jobs 0 --out " + dir).code, 2);
+  EXPECT_EQ(run("batch " + manifest + " --shard 3/2 --out " + dir).code, 2);
+}
+TEST(Cli, ExampleManifestsRunInQuickMode) {
+  for (const char* name : {"paper_searches", "noise_study", "horizon_study"}) {
+    const std::string dir = test::tempPath(std::string("example_") + name);
+    std::filesystem::remove_all(dir);
+    const Result r = run(std::string("batch ") + DYNID_EXAMPLES + "/" + name +
+                         ".json --quick --jobs 2 --out " + dir);
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+    const auto table = resultsOf(dir);
+    EXPECT_EQ(table["runs_done"], table["runs_total"]) << name;
+    EXPECT_TRUE(table["missing"].empty()) << name;
+  }
+}
+
+}  // namespace
+}  // namespace dynid

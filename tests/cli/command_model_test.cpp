@@ -1,0 +1,45 @@
+// dynid model: export to JSON and URDF and load again with the same dynamics.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, ModelExportAndReload) {
+  const std::string json = test::tempPath("puma.json"), urdf = test::tempPath("puma.urdf");
+  ASSERT_EQ(run("model export --robot puma560 --drives --format json --out " + json).code, 0);
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
+  const std::string args = " --q 0.1,0.2,0.3,0.4,0.5,0.6 --dq 1,1,1,1,1,1 --json";
+  const auto builtin = nlohmann::json::parse(run("dynamics --robot puma560 --drives" + args).out);
+  const auto reloaded = nlohmann::json::parse(run("dynamics --robot " + json + args).out);
+  EXPECT_EQ(builtin["tau"], reloaded["tau"]);
+  EXPECT_EQ(run("dynamics --robot " + urdf + args).code, 0);
+  const Result check = run("model check --robot puma560 --json");
+  EXPECT_EQ(check.code, 1);  // the published link 1 and link 3 violate the triangle inequality
+  const auto report = nlohmann::json::parse(check.out);
+  EXPECT_FALSE(report["consistent"].get<bool>());
+  EXPECT_EQ(report["violations"].size(), 2u);
+  const Result show = run("model show --robot puma560 --drives");
+  EXPECT_EQ(show.code, 0);
+  EXPECT_TRUE(contains(show.out, "Ia6")) << show.out;
+}
+
+}  // namespace
+}  // namespace dynid

@@ -1,0 +1,86 @@
+// dynid refine: from a search.json and from an estimate.json.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, RefineFromASearchAndFromAnEstimate) {
+  const std::string train = test::tempPath("refine_train.csv"), dir = test::tempPath("refine_s"),
+                    refined = test::tempPath("refined");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 2 --out " + train).code, 0);
+  ASSERT_EQ(run("search --method ga --robot puma560 --data " + train +
+                " --perturb 0.1 --truth puma560 --seed 1 --segments 10 --threads 2 --population 10 "
+                "--budget-evals 20 --out " +
+                dir)
+                .code,
+            0);
+  const Result r = run("refine --robot puma560 --from " + dir + "/search.json --data " + train +
+                       " --truth puma560 --max-iterations 5 --threads 2 --out " + refined);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(refined + "/refine.json"));
+  for (const char* key :
+       {"schema_version", "estimate", "cost_history", "termination", "solution_usable",
+        "base_parameters", "identifiability", "final_base_parameter_error", "parameters_at_bound"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  // The search's settings carry over: 10 segments, the same free parameters.
+  EXPECT_EQ(j["settings"]["segments"], 10);
+  const auto s = nlohmann::json::parse(readFile(dir + "/search.json"));
+  EXPECT_EQ(j["settings"]["free_parameters"], s["settings"]["free_parameters"]);
+  EXPECT_LT(j["final_gc_error"].get<double>(), j["initial_gc_error"].get<double>());
+  EXPECT_EQ(j["base_parameters"]["values"].size(), 36u);
+  EXPECT_EQ(j["base_parameters"]["covariance"].size(), 36u);
+  EXPECT_FALSE(j["identifiability"]["free_directions"].empty());
+  // Both stages' iterations (0 .. N each) are in the history, base coordinates first.
+  EXPECT_TRUE(j["base_stage"]["run"].get<bool>());
+  EXPECT_EQ(j["cost_history"].size(), j["base_stage"]["iterations"].get<std::size_t>() + 1 +
+                                          j["iterations"].get<std::size_t>() + 1);
+  EXPECT_EQ(j["cost_history"].front()["stage"], "base");
+  EXPECT_EQ(j["cost_history"].back()["stage"], "parameters");
+  EXPECT_TRUE(j["base_stage"].contains("base_parameter_error"));
+  // From an identify estimate (physically consistent), estimating the starts too.
+  const std::string estimate = test::tempPath("pc_estimate");
+  const Result pc =
+      run("identify --method pc --robot puma560 --data " + train + " --out " + estimate);
+  ASSERT_EQ(pc.code, 0) << pc.err;
+  const auto e = nlohmann::json::parse(readFile(estimate + "/estimate.json"));
+  EXPECT_EQ(e["method"], "pc");
+  EXPECT_TRUE(e["physically_consistent"]["solution_usable"].get<bool>());
+  const Result from_estimate = run(
+      "refine --robot puma560 --from " + estimate + "/estimate.json --data " + train +
+      " --segments 10 --estimate-initial-states --max-iterations 3 --threads 2 --out " + refined);
+  ASSERT_EQ(from_estimate.code, 0) << from_estimate.err;
+  const auto k = nlohmann::json::parse(readFile(refined + "/refine.json"));
+  // 10 segments spread over the data, with gaps: independent starts, Schur elimination.
+  EXPECT_EQ(k["settings"]["linear_solver"], "SPARSE_SCHUR");
+  EXPECT_EQ(k["settings"]["chained_segments"], 0);
+  EXPECT_EQ(k["settings"]["continuity_weight"], 10.0);
+  EXPECT_TRUE(k.contains("initial_states"));
+  // Not a start file: a data error naming the file.
+  const Result bad =
+      run("refine --robot puma560 --from " + train + " --data " + train + " --out " + refined);
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(contains(bad.err, train)) << bad.err;
+  EXPECT_EQ(run("refine --robot puma560 --from x --data y --max-iterations 0 --out d").code, 2);
+  EXPECT_EQ(run("refine --robot puma560 --from x --data y --continuity-weight -1 --out d").code, 2);
+}
+
+}  // namespace
+}  // namespace dynid

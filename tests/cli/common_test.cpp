@@ -1,0 +1,70 @@
+// What every command shares (cli/common.cpp): option values checked and named, robot files that
+// fail to load named with their line.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, UsageErrorsNameTheOption) {
+  Result r = run("dynamics --robot puma560 --q 1,2");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--q has 2 entries, the robot has 6 joints")) << r.err;
+  r = run("dynamics --robot puma560 --dq 1,x,0,0,0,0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--dq: entry 2 'x' is not a finite number")) << r.err;
+  r = run("dynamics --robot puma560 --ddq 0,0,0,0,0,0 --tau 0,0,0,0,0,0");
+  EXPECT_EQ(r.code, 2);
+  r = run("dynamics --q 0");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--robot")) << r.err;
+  r = run("simulate --robot puma560 --out x.csv --integrator rk45");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "unknown integrator 'rk45'")) << r.err;
+  r = run("model export --robot puma560 --format sdf --out x");
+  EXPECT_EQ(r.code, 2);
+}
+TEST(Cli, DataErrorsNameTheFile) {
+  const Result r = run("dynamics --robot /nonexistent/arm.urdf");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "/nonexistent/arm.urdf")) << r.err;
+  const std::string bad = test::tempPath("bad.urdf");
+  std::ofstream(bad)
+      << "<robot name='x'><link name='a'/><link name='b'><inertial><mass value='-1'/>"
+         "<inertia ixx='1' ixy='0' ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link>"
+         "<joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
+         "<limit lower='-1' upper='1' effort='1' velocity='1'/></joint></robot>";
+  const Result urdf = run("model show --robot " + bad);
+  EXPECT_EQ(urdf.code, 1);
+  EXPECT_TRUE(contains(urdf.err, bad + ":1: link 'b': negative mass")) << urdf.err;
+  // A massless moving link: loads with a warning, and its dynamics are reported singular.
+  const std::string massless = test::tempPath("massless.urdf");
+  std::ofstream(massless) << "<robot name='x'><link name='a'/><link name='b'/>"
+                             "<joint name='j' type='continuous'><parent link='a'/><child link='b'/>"
+                             "</joint></robot>";
+  const Result singular = run("dynamics --robot " + massless + " --tau 1");
+  EXPECT_EQ(singular.code, 1);
+  EXPECT_TRUE(contains(singular.err, "warning: " + massless + ": link 'b' has no <inertial>"))
+      << singular.err;
+  EXPECT_TRUE(contains(singular.err, "singular")) << singular.err;
+}
+
+}  // namespace
+}  // namespace dynid

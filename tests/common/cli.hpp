@@ -1,0 +1,35 @@
+// Running the dynid executable from the CLI tests: its exit code, standard output and error.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "data/io.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid::test {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+/// Runs `dynid ARGS` through the shell (ARGS may hold redirections), capturing both streams.
+inline Result run(const std::string& args) {
+  const std::string out = tempPath("stdout"), err = tempPath("stderr");
+  const int status =
+      std::system((std::string(DYNID_BIN) + " " + args + " >" + out + " 2>" + err).c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readFile(out);
+  r.err = readFile(err);
+  return r;
+}
+
+inline bool contains(const std::string& s, const std::string& fragment) {
+  return s.find(fragment) != std::string::npos;
+}
+
+}  // namespace dynid::test
