@@ -21,12 +21,6 @@ Trajectory pumaData(double duration) {
   return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
 }
 
-BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = nullptr) {
-  const BaseCoordinates out = structuralBaseParameters(model, {.samples = 200}).coordinates();
-  if (names != nullptr) *names = out.names;
-  return out;
-}
-
 // Ridders' differences of a 50-step RK4 rollout agree with exact derivatives to about 1e-8
 // relative (round-off of the rollout); 1e-5 leaves room without hiding a wrong derivative.
 constexpr double kGradientPrecision = 1e-5;
