@@ -13,6 +13,7 @@
 #include "core/controllers.hpp"
 #include "core/crba.hpp"
 #include "core/errors.hpp"
+#include "core/kinematics.hpp"
 #include "core/perturb.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
@@ -26,6 +27,11 @@ int resolveThreads(int threads) {
 }
 
 // ---- models and dynamics ----
+
+std::vector<Pose<double>> linkFramesAtZero(const Model& model) {
+  Data data(model);
+  return forwardKinematics(model, data, Eigen::VectorXd::Zero(model.numJoints()));
+}
 
 std::vector<ConsistencyViolation> consistencyViolations(const Model& model) {
   std::vector<ConsistencyViolation> all;

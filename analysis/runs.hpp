@@ -30,6 +30,9 @@ namespace dynid {
 
 // ---- models and dynamics ----
 
+/// Each link frame in the base frame at q = 0, to compare with a datasheet's drawing.
+std::vector<Pose<double>> linkFramesAtZero(const Model& model);
+
 /// Every physical-consistency violation of the model's links (empty: all consistent).
 std::vector<ConsistencyViolation> consistencyViolations(const Model& model);
 

@@ -32,8 +32,9 @@ const char* jointTypeName(JointType type);
 struct JointLimits {
   double lower = -std::numeric_limits<double>::infinity();  // [rad or m]
   double upper = std::numeric_limits<double>::infinity();
-  double velocity = std::numeric_limits<double>::infinity();  // [rad/s or m/s]
-  double effort = std::numeric_limits<double>::infinity();    // [N m or N]
+  double velocity = std::numeric_limits<double>::infinity();      // [rad/s or m/s]
+  double acceleration = std::numeric_limits<double>::infinity();  // [rad/s^2 or m/s^2]
+  double effort = std::numeric_limits<double>::infinity();        // [N m or N]
 };
 
 /// Joint-side drive parameters (see parameters.hpp for the friction law).

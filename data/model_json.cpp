@@ -9,6 +9,7 @@
 
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
+#include "data/dh.hpp"
 #include "data/json_number.hpp"
 
 namespace dynid {
@@ -81,6 +82,45 @@ class Reader {
     out.translation = vector3(field(value, path, "translation"), path + ".translation");
     return out;
   }
+  /// Fails on a key of `object` that is not in `allowed` (a misspelt key must not pass silently).
+  void onlyKeys(const json& object, const std::string& path,
+                std::initializer_list<const char*> allowed) const {
+    for (const auto& [key, value] : object.items()) {
+      bool known = false;
+      for (const char* a : allowed) known = known || key == a;
+      if (!known) {
+        std::string list;
+        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+        fail(join(path, key.c_str()), "unknown key (expected " + list + ")");
+      }
+    }
+  }
+  JointLimits limits(const json& object, const std::string& path) const {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (!object.is_object()) fail(path, "expected an object");
+    onlyKeys(object, path, {"lower", "upper", "velocity", "acceleration", "effort"});
+    JointLimits out;
+    out.lower = limit(object, path, "lower", -inf);
+    out.upper = limit(object, path, "upper", inf);
+    out.velocity = limit(object, path, "velocity", inf);
+    out.acceleration = limit(object, path, "acceleration", inf);
+    out.effort = limit(object, path, "effort", inf);
+    if (out.lower > out.upper) fail(path, "lower is above upper");
+    return out;
+  }
+  DriveParameters<double> drive(const json& object, const std::string& path) const {
+    onlyKeys(object, path, {"Ia", "Fv", "Fc", "Fo"});
+    return {number(object, path, "Ia"), number(object, path, "Fv"), number(object, path, "Fc"),
+            number(object, path, "Fo")};
+  }
+  JointType jointType(const json& object, const std::string& path) const {
+    const std::string name = string(object, path, "type");
+    if (name == "revolute") return JointType::kRevolute;
+    if (name == "continuous") return JointType::kContinuous;
+    if (name == "prismatic") return JointType::kPrismatic;
+    fail(join(path, "type"),
+         "unsupported joint type '" + name + "' (revolute, continuous or prismatic)");
+  }
   static std::string join(const std::string& path, const char* key) {
     return path.empty() ? key : path + "." + key;
   }
@@ -88,6 +128,88 @@ class Reader {
  private:
   std::string file_;
 };
+
+/// The inertial block of a DH row: the standard 10 about the link frame origin, or
+/// {"m", "com": [3], "inertia": {"Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"}} about the centre of
+/// mass.
+RigidInertia<double> dhInertia(const json& inertial, const std::string& path, bool at_com,
+                               const Reader& read) {
+  if (!at_com) {
+    read.onlyKeys(inertial, path,
+                  {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"});
+    Eigen::Matrix<double, 10, 1> theta;
+    for (int k = 0; k < kLinkParameterCount; ++k)
+      theta(k) = read.number(inertial, path, std::string(kLinkParameterNames[k]).c_str());
+    if (theta(0) < 0.0) read.fail(path + ".m", "negative mass");
+    return fromStandardVector(theta);
+  }
+  read.onlyKeys(inertial, path, {"m", "com", "inertia"});
+  const double mass = read.number(inertial, path, "m");
+  if (mass < 0.0) read.fail(path + ".m", "negative mass");
+  const Eigen::Vector3d com = read.vector3(read.field(inertial, path, "com"), path + ".com");
+  const std::string ipath = path + ".inertia";
+  const json& I = read.field(inertial, path, "inertia");
+  read.onlyKeys(I, ipath, {"Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"});
+  Eigen::Matrix3d about_com;
+  about_com(0, 0) = read.number(I, ipath, "Ixx");
+  about_com(0, 1) = about_com(1, 0) = read.number(I, ipath, "Ixy");
+  about_com(0, 2) = about_com(2, 0) = read.number(I, ipath, "Ixz");
+  about_com(1, 1) = read.number(I, ipath, "Iyy");
+  about_com(1, 2) = about_com(2, 1) = read.number(I, ipath, "Iyz");
+  about_com(2, 2) = read.number(I, ipath, "Izz");
+  return inertiaFromCom(mass, com, about_com);
+}
+
+/// A model from the document's "dh" block (data/dh.hpp); `model` carries the common fields.
+Model dhModelFromJson(const json& document, const Model& model, const Reader& read,
+                      const std::string& file) {
+  const json& block = read.field(document, "", "dh");
+  read.onlyKeys(block, "dh", {"convention", "inertia_about", "joints"});
+  DhModel dh;
+  dh.name = model.name;
+  dh.gravity = model.gravity;
+  dh.drives = model.drives_enabled;
+  dh.offsets = model.offsets_enabled;
+  const std::string convention = read.string(block, "dh", "convention");
+  if (convention != "standard" && convention != "modified")
+    read.fail("dh.convention", "unknown convention '" + convention + "' (standard or modified)");
+  dh.convention = convention == "standard" ? DhConvention::kStandard : DhConvention::kModified;
+  const std::string about = read.string(block, "dh", "inertia_about");
+  if (about != "com" && about != "origin")
+    read.fail("dh.inertia_about",
+              "must be \"com\" (centre of mass) or \"origin\" (link frame "
+              "origin), not '" +
+                  about + "'");
+  const json& joints = read.field(block, "dh", "joints");
+  if (!joints.is_array() || joints.empty()) read.fail("dh.joints", "expected a non-empty array");
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const std::string path = "dh.joints[" + std::to_string(i) + "]";
+    const json& j = joints[i];
+    read.onlyKeys(
+        j, path,
+        {"name", "link", "type", "a", "d", "alpha", "theta_offset", "limits", "inertial", "drive"});
+    DhRow row;
+    row.joint_name = read.string(j, path, "name");
+    row.link_name = read.string(j, path, "link");
+    row.type = read.jointType(j, path);
+    row.a = read.number(j, path, "a");
+    row.d = read.number(j, path, "d");
+    row.alpha = read.number(j, path, "alpha");
+    row.theta_offset = j.contains("theta_offset") ? read.number(j, path, "theta_offset") : 0.0;
+    if (const auto it = j.find("limits"); it != j.end())
+      row.limits = read.limits(*it, path + ".limits");
+    row.inertia =
+        dhInertia(read.field(j, path, "inertial"), path + ".inertial", about == "com", read);
+    if (const auto it = j.find("drive"); it != j.end())
+      row.drive = read.drive(*it, path + ".drive");
+    dh.rows.push_back(row);
+  }
+  try {
+    return modelFromDh(dh);
+  } catch (const InputError& e) {
+    throw ParseError(file, 0, "dh", e.what());
+  }
+}
 
 }  // namespace
 
@@ -104,6 +226,7 @@ std::string modelToJson(const Model& model) {
                    {{"lower", numberOrNull(l.lower)},
                     {"upper", numberOrNull(l.upper)},
                     {"velocity", numberOrNull(l.velocity)},
+                    {"acceleration", numberOrNull(l.acceleration)},
                     {"effort", numberOrNull(l.effort)}}}};
     json inertial = json::object();
     const auto theta = toStandardVector(model.inertias()[i]);
@@ -142,17 +265,23 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   if (!version.is_number_integer() || version.get<int>() != kModelSchemaVersion)
     read.fail("schema_version",
               "unsupported (this dynid reads version " + std::to_string(kModelSchemaVersion) + ")");
+  read.onlyKeys(document, "",
+                {"schema_version", "kind", "name", "gravity", "drives", "offsets", "bodies", "dh"});
+  if (document.contains("dh") == document.contains("bodies"))
+    read.fail("", "give the kinematics as either \"bodies\" or \"dh\", not both or neither");
   Model model;
   model.name = read.string(document, "", "name");
   model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
   model.drives_enabled = read.boolean(document, "", "drives");
   model.offsets_enabled = read.boolean(document, "", "offsets");
+  if (document.contains("dh")) return dhModelFromJson(document, model, read, file);
   const json& bodies = read.field(document, "", "bodies");
   if (!bodies.is_array() || bodies.empty()) read.fail("bodies", "expected a non-empty array");
   std::map<std::string, int> index_of;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const std::string path = "bodies[" + std::to_string(b) + "]";
     const json& body = bodies[b];
+    read.onlyKeys(body, path, {"name", "parent", "joint", "inertial", "drive"});
     const std::string name = read.string(body, path, "name");
     if (index_of.count(name)) read.fail(path + ".name", "duplicate body name '" + name + "'");
     const json& parent_json = read.field(body, path, "parent");
@@ -167,28 +296,13 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     }
     const std::string jpath = path + ".joint";
     const json& joint = read.field(body, path, "joint");
-    const std::string type_name = read.string(joint, jpath, "type");
-    JointType type;
-    if (type_name == "revolute")
-      type = JointType::kRevolute;
-    else if (type_name == "continuous")
-      type = JointType::kContinuous;
-    else if (type_name == "prismatic")
-      type = JointType::kPrismatic;
-    else
-      read.fail(jpath + ".type",
-                "unsupported joint type '" + type_name + "' (revolute, continuous or prismatic)");
+    read.onlyKeys(joint, jpath, {"name", "type", "axis", "placement", "body_placement", "limits"});
+    const JointType type = read.jointType(joint, jpath);
     const Eigen::Vector3d axis = read.vector3(read.field(joint, jpath, "axis"), jpath + ".axis");
     if (std::abs(axis.norm() - 1.0) > 1e-9) read.fail(jpath + ".axis", "not a unit vector");
     JointLimits limits;
-    if (const auto it = joint.find("limits"); it != joint.end()) {
-      const std::string lpath = jpath + ".limits";
-      constexpr double inf = std::numeric_limits<double>::infinity();
-      limits.lower = read.limit(*it, lpath, "lower", -inf);
-      limits.upper = read.limit(*it, lpath, "upper", inf);
-      limits.velocity = read.limit(*it, lpath, "velocity", inf);
-      limits.effort = read.limit(*it, lpath, "effort", inf);
-    }
+    if (const auto it = joint.find("limits"); it != joint.end())
+      limits = read.limits(*it, jpath + ".limits");
     const std::string ipath = path + ".inertial";
     const json& inertial = read.field(body, path, "inertial");
     Eigen::Matrix<double, 10, 1> theta;
@@ -196,13 +310,8 @@ Model modelFromJson(const std::string& text, const std::string& file) {
       theta(k) = read.number(inertial, ipath, std::string(kLinkParameterNames[k]).c_str());
     if (theta(0) < 0.0) read.fail(ipath + ".m", "negative mass");
     DriveParameters<double> drive;
-    if (const auto it = body.find("drive"); it != body.end()) {
-      const std::string dpath = path + ".drive";
-      drive.rotor_inertia = read.number(*it, dpath, "Ia");
-      drive.viscous = read.number(*it, dpath, "Fv");
-      drive.coulomb = read.number(*it, dpath, "Fc");
-      drive.offset = read.number(*it, dpath, "Fo");
-    }
+    if (const auto it = body.find("drive"); it != body.end())
+      drive = read.drive(*it, path + ".drive");
     index_of[name] = model.addBody(
         parent, name, read.string(joint, jpath, "name"), type,
         read.pose(read.field(joint, jpath, "placement"), jpath + ".placement"), axis,

@@ -9,6 +9,18 @@
 //              (null = unlimited)},
 //              "inertial": {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"},
 //              "drive": {"Ia", "Fv", "Fc", "Fo"}}]}
+//
+// Or, instead of "bodies", a Denavit-Hartenberg chain (data/dh.hpp):
+//  "dh": {"convention": "standard" | "modified",
+//         "inertia_about": "com" | "origin",
+//         "joints": [{"name", "link", "type", "a", "d", "alpha", "theta_offset" (default 0),
+//                     "limits": {"lower", "upper", "velocity", "acceleration", "effort"},
+//                     "inertial": with "com": {"m", "com": [3], "inertia": {"Ixx", "Ixy", "Ixz",
+//                                 "Iyy", "Iyz", "Izz"}} (about the centre of mass, link axes);
+//                                 with "origin": {"m", "mx", ..., "Izz"} (about the frame origin),
+//                     "drive": {"Ia", "Fv", "Fc", "Fo"}}]}
+// in the DH link frames, SI units and radians. Unknown keys are errors (a misspelt key must not
+// silently become a default); limits may be omitted or null (unlimited).
 #pragma once
 
 #include <string>

@@ -3,6 +3,7 @@
 #include "core/errors.hpp"
 #include "data/io.hpp"
 #include "data/model_json.hpp"
+#include "data/panda.hpp"
 #include "data/puma560.hpp"
 #include "data/urdf.hpp"
 
@@ -19,6 +20,7 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
                 std::vector<std::string>* warnings) {
   if (spec == "puma560") return makePuma560(options.drives);
   if (spec == "puma560-consistent") return makePuma560Consistent(options.drives);
+  if (spec == "panda") return makePanda(options.drives);
   if (endsWith(spec, ".urdf") || endsWith(spec, ".xml"))
     return loadUrdf(spec, {options.drives, options.strict}, warnings);
   if (endsWith(spec, ".json")) {
@@ -29,8 +31,9 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
     }
     return model;
   }
-  throw InputError("unknown robot '" + spec +
-                   "': expected puma560, puma560-consistent, a .urdf file or a dynid .json model");
+  throw InputError(
+      "unknown robot '" + spec +
+      "': expected puma560, puma560-consistent, panda, a .urdf file or a dynid .json model");
 }
 
 }  // namespace dynid

@@ -14,7 +14,8 @@ struct RobotOptions {
   bool strict = false;  // URDF warnings become errors
 };
 
-/// "puma560" or "puma560-consistent" (built in, data/puma560.hpp), a path ending in .urdf, or a
+/// "puma560" or "puma560-consistent" (built in, data/puma560.hpp), "panda" (data/panda.hpp), a path
+/// ending in .urdf, or a
 /// path ending in .json (modelToJson format). Throws InputError for anything else, ParseError for a
 /// malformed file. For a JSON model, `drives` enables its drives if the file has them disabled
 /// (never disables them).

@@ -39,6 +39,11 @@ Eigen::VectorXd scaledRDiagonal(const Eigen::MatrixXd& W, Eigen::VectorXd* norms
   return out;
 }
 
+/// A column whose norm is at most this fraction of the largest column's is round-off, not a
+/// parameter that acts: trigonometric round-off (cos(pi/2) = 6e-17) leaves columns of 1e-17 to
+/// 1e-14 of the largest, while the smallest real ones (a light wrist's inertias) stay above 1e-6.
+constexpr double kNegligibleColumn = 1e-10;
+
 /// 1e-8 (about sqrt(machine epsilon)) of the largest |R_jj|. Dependent columns of an unpivoted QR
 /// keep round-off that grows with the conditioning of W (seen up to 3e-13 on the PUMA's random
 /// states), while genuinely independent unit columns of a structural W keep |R_jj| >= 1e-4; an
@@ -232,26 +237,46 @@ BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
     out.column_norms[order[j]] = ordered_norms[j];
   }
   out.tolerance = tolerance > 0.0 ? tolerance : defaultTolerance(out.r_diagonal);
+  // Two tests, both must pass for a column to be independent: its unit-column |R_jj| above the
+  // tolerance (relative: not a combination of the columns before it), and its component
+  // orthogonal to them, |R_jj| times its norm, above kNegligibleColumn of the largest column norm
+  // (absolute: not round-off blown up by the unit scaling). The significance s_j is the smaller of
+  // the two ratios to their thresholds; the rank gap compares the kept and dropped s_j.
+  const double largest_norm = out.column_norms.size() > 0 ? out.column_norms.maxCoeff() : 0.0;
+  const double absolute = kNegligibleColumn * largest_norm;
+  out.significance.resize(p);
   out.smallest_kept = std::numeric_limits<double>::infinity();
   for (int j = 0; j < p; ++j) {
-    if (out.column_norms[j] == 0.0) {
+    const double norm = out.column_norms[j];
+    out.significance[j] = norm <= absolute ? 0.0
+                                           : std::min(out.r_diagonal[j] / out.tolerance,
+                                                      out.r_diagonal[j] * norm / absolute);
+    if (norm <= absolute) {
+      // Exactly zero, or round-off: the parameter never affects the torques.
       out.zero_columns.push_back(j);
       out.dependent.push_back(j);
-      out.column_norms[j] = 1.0;
-    } else if (out.r_diagonal[j] > out.tolerance) {
+      out.column_norms[j] = 0.0;
+    } else if (out.significance[j] > 1.0) {
       out.independent.push_back(j);
-      out.smallest_kept = std::min(out.smallest_kept, out.r_diagonal[j]);
+      out.smallest_kept = std::min(out.smallest_kept, out.significance[j]);
     } else {
       out.dependent.push_back(j);
-      out.largest_dropped = std::max(out.largest_dropped, out.r_diagonal[j]);
+      out.largest_dropped = std::max(out.largest_dropped, out.significance[j]);
     }
   }
+  // A zero column's K entries are 0: scale 1 keeps the solve well defined.
+  for (int j : out.zero_columns) out.column_norms[j] = 1.0;
   // K = W1^+ W2: the dependent columns expressed in the independent ones (scaled for accuracy).
   Eigen::MatrixXd W1(W.rows(), out.numBase()), W2(W.rows(), out.dependent.size());
   for (int j = 0; j < out.numBase(); ++j)
     W1.col(j) = W.col(out.independent[j]) / out.column_norms[out.independent[j]];
-  for (std::size_t k = 0; k < out.dependent.size(); ++k)
-    W2.col(k) = W.col(out.dependent[k]) / out.column_norms[out.dependent[k]];
+  for (std::size_t k = 0; k < out.dependent.size(); ++k) {
+    const int j = out.dependent[k];
+    const bool zero =
+        std::find(out.zero_columns.begin(), out.zero_columns.end(), j) != out.zero_columns.end();
+    W2.col(k) =
+        zero ? Eigen::VectorXd::Zero(W.rows()).eval() : (W.col(j) / out.column_norms[j]).eval();
+  }
   const Eigen::MatrixXd K_scaled = Eigen::HouseholderQR<Eigen::MatrixXd>(W1).solve(W2);
   out.K.resize(out.numBase(), out.dependent.size());
   for (int j = 0; j < out.numBase(); ++j)

@@ -3,7 +3,10 @@
 // Method (Gautier 1990, "Numerical calculation of the base inertial parameters of robots"): scale
 // each column of an observation matrix W to unit norm, take its Householder QR without pivoting,
 // and call column j dependent when |R_jj| <= tolerance: it is then a linear combination of the
-// columns before it.
+// columns before it. Round-off cannot pass for a parameter: a column at most 1e-10 of the largest
+// column's norm never acts, and a column is independent only if its component orthogonal to the
+// columns before it, |R_jj| times its norm, also exceeds 1e-10 of the largest column norm
+// (docs/IDENTIFIABILITY.md, "The rank rule").
 // Columns are tried in a preference order; computeBaseParameters' default takes link 1 first and,
 // within each link, the inertias before the first moments, the mass and the drive parameters, so
 // that masses and rotor inertias regroup into inertias and first moments as in Khalil's rules
@@ -31,14 +34,17 @@ struct BaseParameters {
   std::vector<int> zero_columns;  // parameters that never affect the torques
   Eigen::MatrixXd K;              // num_base x dependent.size(), physical units
   Eigen::VectorXd r_diagonal;     // |R_jj| of the scaled W, in standard order (0 for zero columns)
-  double tolerance = 0.0;         // the rank threshold used on |R_jj|
-  double smallest_kept = 0.0;     // min |R_jj| over independent columns
-  double largest_dropped = 0.0;   // max |R_jj| over dependent non-zero columns (0 if none)
+  double tolerance = 0.0;         // the relative rank threshold used on |R_jj|
+  /// Per column (standard order): min(|R_jj| / tolerance, |R_jj| norm_j / (1e-10 max norm)), the
+  /// margin of the tighter test; independent when > 1, 0 for a column that never acts.
+  Eigen::VectorXd significance;
+  double smallest_kept = 0.0;    // min significance over independent columns
+  double largest_dropped = 0.0;  // max significance over dependent acting columns (0 if none)
 
   int numStandard() const { return static_cast<int>(standard_names.size()); }
   int numBase() const { return static_cast<int>(independent.size()); }
   /// smallest_kept / largest_dropped: how clearly the rank is determined (infinity when nothing
-  /// was dropped).
+  /// was dropped; below 1e4 the decision is close and `dynid identifiability` warns).
   double rankGap() const;
 
   /// beta = theta1 + K theta2 for a standard vector (p entries). Throws InputError on a size

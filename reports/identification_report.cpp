@@ -1,6 +1,8 @@
 #include "reports/identification_report.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/parameters.hpp"
@@ -19,6 +21,15 @@ std::string formatShort(double x) {
 }
 
 namespace {
+/// The smallest unit-column |R_jj| kept (kept) or the largest dropped among acting columns.
+double keptR(const BaseParameters& base, bool kept) {
+  double out = kept ? std::numeric_limits<double>::infinity() : 0.0;
+  for (int j : kept ? base.independent : base.dependent)
+    if (base.significance.size() == 0 || base.significance[j] > 0.0)
+      out = kept ? std::min(out, base.r_diagonal[j]) : std::max(out, base.r_diagonal[j]);
+  return out;
+}
+
 json excitationJson(const BaseParameters& base, const DataExcitation& data) {
   const Excitation& excitation = data.excitation;
   json per = json::array(), unexcited = json::array();
@@ -65,8 +76,8 @@ json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outco
                  {"num_standard", base.numStandard()},
                  {"num_base", base.numBase()},
                  {"rank_tolerance", base.tolerance},
-                 {"smallest_kept_r", numberOrNull(base.smallest_kept)},
-                 {"largest_dropped_r", base.largest_dropped},
+                 {"smallest_kept_r", numberOrNull(keptR(base, true))},
+                 {"largest_dropped_r", keptR(base, false)},
                  {"rank_gap", numberOrNull(base.rankGap())},
                  {"standard_parameters", base.standard_names},
                  {"base_parameters", bases},

@@ -1,5 +1,7 @@
 #include "reports/model_report.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 
@@ -46,6 +48,17 @@ std::string modelShowText(const Model& model) {
             model.joint_names[i].c_str(), jointTypeName(model.joint_types()[i]),
             p < 0 ? "(base)" : model.link_names[p].c_str(), model.limits[i].lower,
             model.limits[i].upper);
+  }
+  // The link frames at q = 0, to compare with the datasheet (roll-pitch-yaw: R = Rz Ry Rx).
+  out += "\nlink frames at q = 0, in the base frame: origin [m], roll pitch yaw [rad]\n";
+  const std::vector<Pose<double>> frames = linkFramesAtZero(model);
+  for (int i = 0; i < model.numJoints(); ++i) {
+    const Eigen::Matrix3d& r = frames[i].rotation;
+    const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+    const double roll = std::atan2(r(2, 1), r(2, 2)), yaw = std::atan2(r(1, 0), r(0, 0));
+    const Eigen::Vector3d& p = frames[i].translation;
+    appendf(out, "  %-16s (% .6f, % .6f, % .6f)  rpy (% .6f, % .6f, % .6f)\n",
+            model.link_names[i].c_str(), p.x(), p.y(), p.z(), roll, pitch, yaw);
   }
   const ParameterLayout layout = model.parameterLayout();
   const std::vector<std::string> names = standardParameterNames(layout);

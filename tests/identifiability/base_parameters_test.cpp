@@ -2,9 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
+#include "data/dh.hpp"
+#include "data/panda.hpp"
 #include "data/puma560.hpp"
+#include "data/urdf.hpp"
 #include "identifiability/observation.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -82,6 +87,87 @@ TEST(BaseParameters, PumaStructuralCounts) {
   EXPECT_EQ(std::find(exprs.begin(), exprs.end(), "Ia2"), exprs.end());
   // The same structure from another seed.
   EXPECT_EQ(structural(makePuma560(true), 150, 7).independent, driven.independent);
+}
+
+/// A DH chain with generic link parameters (seeded): random masses, centres of mass and positive
+/// definite inertias, so that no parameter vanishes by accident.
+DhModel genericDh(const std::string& name, DhConvention convention, const std::vector<double>& a,
+                  const std::vector<double>& d, const std::vector<double>& alpha) {
+  std::mt19937_64 rng(42);
+  DhModel dh;
+  dh.name = name;
+  dh.convention = convention;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    DhRow r;
+    r.joint_name = "j" + std::to_string(i + 1);
+    r.link_name = "l" + std::to_string(i + 1);
+    r.a = a[i], r.d = d[i], r.alpha = alpha[i];
+    const Eigen::Vector3d com = test::randomVector(rng, 3, 0.1);
+    const Eigen::Matrix3d m = test::randomVector(rng, 9, 0.1).reshaped(3, 3);
+    r.inertia = inertiaFromCom(1.0 + std::abs(com.x()) * 10, com,
+                               m * m.transpose() + 0.01 * Eigen::Matrix3d::Identity());
+    dh.rows.push_back(r);
+  }
+  return dh;
+}
+
+/// The same robot through a URDF: its joint rotations written as rpy and read back with
+/// trigonometric round-off (cos(pi/2) = 6e-17), as most real URDFs carry.
+Model throughUrdf(const Model& model) { return parseUrdf(modelToUrdf(model), "x.urdf", {}); }
+
+TEST(BaseParameters, RealKinematicsGiveTheSameRankFromDhAndFromUrdf) {
+  constexpr double h = 1.5707963267948966;
+  struct Case {
+    const char* name;
+    Model dh;
+    int base;
+  };
+  const std::vector<Case> cases = {
+      {"puma560", makePuma560(false), 36},
+      {"panda", makePanda(false), 43},
+      {"kuka_lwr4",
+       modelFromDh(genericDh("kuka_lwr4", DhConvention::kStandard, {0, 0, 0, 0, 0, 0, 0},
+                             {0.3105, 0, 0.4, 0, 0.39, 0, 0.078}, {h, -h, -h, h, h, -h, 0})),
+       43},
+      {"ur5",
+       modelFromDh(genericDh("ur5", DhConvention::kStandard, {0, -0.425, -0.39225, 0, 0, 0},
+                             {0.089159, 0, 0, 0.10915, 0.09465, 0.0823}, {h, 0, 0, h, -h, 0})),
+       36}};
+  for (const Case& c : cases) {
+    const Model urdf = throughUrdf(c.dh);
+    // The URDF's placements do carry round-off (else this test would prove nothing).
+    bool round_off = false;
+    for (int i = 0; i < urdf.numJoints(); ++i)
+      for (int k = 0; k < 9; ++k) {
+        const double x = std::abs(urdf.joint_placements()[i].rotation.data()[k]);
+        round_off = round_off || (x > 0.0 && x < 1e-15);
+      }
+    EXPECT_TRUE(round_off || c.dh.name == "puma560") << c.name;
+    const BaseParameters from_dh = structural(c.dh), from_urdf = structural(urdf);
+    EXPECT_EQ(from_dh.numBase(), c.base) << c.name;
+    EXPECT_EQ(from_urdf.numBase(), c.base) << c.name;
+    // Where the URDF's link frames are the DH ones (modified DH: link frames on the joints), the
+    // same parameters are kept; standard DH's are re-expressed in joint frames by the export.
+    bool link_frames_on_joints = true;
+    for (const Pose<double>& p : c.dh.body_placements())
+      link_frames_on_joints = link_frames_on_joints && p.translation.norm() == 0.0 &&
+                              p.rotation == Eigen::Matrix3d::Identity();
+    if (link_frames_on_joints) EXPECT_EQ(from_urdf.independent, from_dh.independent) << c.name;
+    EXPECT_GT(from_urdf.rankGap(), 1e4) << c.name;
+  }
+}
+
+TEST(BaseParameters, ARoundOffColumnNeverActs) {
+  // The Panda's mz2 gives tau = 0 exactly; through a URDF its column is round-off. It must be a
+  // parameter that never acts, not an independent one scaled up from noise.
+  const Model urdf = throughUrdf(makePanda(false));
+  const BaseParameters base = structural(urdf);
+  const int mz2 = 10 + 3;
+  EXPECT_NE(std::find(base.zero_columns.begin(), base.zero_columns.end(), mz2),
+            base.zero_columns.end());
+  EXPECT_EQ(base.significance[mz2], 0.0);
+  EXPECT_EQ(std::find(base.independent.begin(), base.independent.end(), mz2),
+            base.independent.end());
 }
 
 TEST(BaseParameters, ExcitationFindsAnUnmovedJoint) {
