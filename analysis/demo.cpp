@@ -71,8 +71,9 @@ DemoResult runDemo(const DemoOptions& options) {
   if (!stopped()) result.null_spaces = study.nullSpaces();
   result.initial_gc_test = study.initialTestGc();
   for (const MethodMetrics& m : result.methods)
-    if (m.key == "nlo" && !stopped())
-      result.near_truth = study.nearTruth(options.quick ? 40 : 200, 0.02, "nlo", m.gc_error_test);
+    if (m.key == methodName(Method::kNlo) && !stopped())
+      result.near_truth = study.nearTruth(options.quick ? 40 : 200, 0.02, methodName(Method::kNlo),
+                                          m.gc_error_test);
   result.interrupted = stopped();
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -10,17 +10,19 @@ namespace {
 struct Entry {
   Method method;
   const char* name;
+  const char* description;
 };
 // The one name table.
-constexpr Entry kTable[] = {{Method::kOls, "ols"},
-                            {Method::kWls, "wls"},
-                            {Method::kPc, "pc"},
-                            {Method::kNlo, "nlo"},
-                            {Method::kGa, "ga"},
-                            {Method::kHybrid, "hybrid"},
-                            {Method::kNloRefined, "nlo_refined"},
-                            {Method::kGaRefined, "ga_refined"},
-                            {Method::kHybridRefined, "hybrid_refined"}};
+constexpr Entry kTable[] = {
+    {Method::kOls, "ols", "ordinary least squares on the torques"},
+    {Method::kWls, "wls", "weighted least squares (per-joint noise)"},
+    {Method::kPc, "pc", "physically consistent least squares (log-Cholesky)"},
+    {Method::kNlo, "nlo", "GC-error search: multistart COBYLA"},
+    {Method::kGa, "ga", "GC-error search: genetic algorithm"},
+    {Method::kHybrid, "hybrid", "GC-error search: GA, then COBYLA"},
+    {Method::kNloRefined, "nlo_refined", "NLO result refined by Ceres"},
+    {Method::kGaRefined, "ga_refined", "GA result refined by Ceres"},
+    {Method::kHybridRefined, "hybrid_refined", "hybrid result refined by Ceres"}};
 }  // namespace
 
 const std::vector<Method>& allMethods() {
@@ -46,6 +48,12 @@ const char* methodName(Method method) {
   for (const Entry& e : kTable)
     if (e.method == method) return e.name;
   return "unknown";
+}
+
+const char* methodDescription(Method method) {
+  for (const Entry& e : kTable)
+    if (e.method == method) return e.description;
+  return "";
 }
 
 std::string methodList(const std::vector<Method>& methods) {

@@ -28,6 +28,8 @@ const std::vector<Method>& searchMethods();
 
 /// "ols", "nlo_refined", ...
 const char* methodName(Method method);
+/// One line for tables: "ordinary least squares on the torques", ...
+const char* methodDescription(Method method);
 /// The method named `name` among `allowed`. Throws InputError listing them otherwise ("unknown
 /// method 'x' (expected ols, wls or pc)").
 Method parseMethod(const std::string& name, const std::vector<Method>& allowed = allMethods());

@@ -186,6 +186,7 @@ LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& ba
   out.estimate.covariance = pc.covariance;
   out.estimate.std_dev = pc.std_dev;
   out.estimate.residual_rms = pc.residual_rms;
+  setRelativeErrors(out.estimate);
   for (int j = 0; j < base.numBase(); ++j)
     out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
                                                    ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])

@@ -45,6 +45,8 @@ int runIdentify(const std::vector<std::string>& args) {
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(
       dir, {{"estimate.json", report.dump(2) + "\n"}, {"estimate.md", estimateMarkdown(report)}});
+  if (const std::string warning = solverWarning(outcome); !warning.empty())
+    std::cerr << "warning: " << warning << "\n";
   std::cout << estimateSummary(request.model, outcome, dir);
   return kExitOk;
 }

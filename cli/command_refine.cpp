@@ -77,6 +77,8 @@ int runRefine(const std::vector<std::string>& args) {
   const RefineOutcome outcome = refineRun(request);
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"refine.json", refineJson(outcome).dump(1) + "\n"}});
+  if (const std::string warning = refineWarning(outcome); !warning.empty())
+    std::cerr << "warning: " << warning << "\n";
   std::cout << refineSummary(outcome, dir);
   return kExitOk;
 }

@@ -34,6 +34,7 @@ struct Solution {
   Eigen::VectorXd beta, residual;
   Eigen::MatrixXd covariance_unit;  // (A^T A)^-1 in physical units for the weighted system
   double condition_number;
+  double condition_number_unscaled;
   Eigen::VectorXd r_diagonal;  // |R_jj| of the column-scaled A (unpivoted QR)
 };
 
@@ -107,10 +108,14 @@ Solution solveWeighted(const Eigen::MatrixXd& W, const std::vector<int>& columns
   out.covariance_unit =
       inv_norms.asDiagonal() * (R_inverse * R_inverse.transpose()) * inv_norms.asDiagonal();
   // Singular values of R equal those of the column-scaled A.
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
-  out.condition_number = s.size() == 0 || s[s.size() - 1] == 0.0
-                             ? std::numeric_limits<double>::infinity()
-                             : s[0] / s[s.size() - 1];
+  const auto condition = [](const Eigen::MatrixXd& m) {
+    const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues();
+    return s.size() == 0 || s[s.size() - 1] == 0.0 ? std::numeric_limits<double>::infinity()
+                                                   : s[0] / s[s.size() - 1];
+  };
+  out.condition_number = condition(R);
+  // R D is the triangular factor of A itself: the unscaled condition number.
+  out.condition_number_unscaled = condition(R * norms.asDiagonal());
   return out;
 }
 
@@ -161,6 +166,7 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
   }
   out.beta = chosen.beta;
   out.condition_number = chosen.condition_number;
+  out.condition_number_unscaled = chosen.condition_number_unscaled;
   out.std_dev = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   out.relative_std_dev_percent.resize(b);
   for (int j = 0; j < b; ++j)
@@ -168,7 +174,21 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
                                           ? 100.0 * out.std_dev[j] / std::abs(out.beta[j])
                                           : std::numeric_limits<double>::infinity();
   out.residual_rms = jointRms(chosen.residual, n);
+  out.measured_rms = jointRms(observation.tau, n);
+  setRelativeErrors(out);
   return out;
+}
+
+void setRelativeErrors(BaseEstimate& e) {
+  const Eigen::Index n = e.residual_rms.size();
+  e.joint_relative_error.resize(n);
+  for (Eigen::Index j = 0; j < n; ++j)
+    e.joint_relative_error[j] = e.measured_rms[j] > 0.0 ? e.residual_rms[j] / e.measured_rms[j]
+                                                        : std::numeric_limits<double>::infinity();
+  // Every joint has the same number of samples: the norms over all rows from the per-joint RMS.
+  const double measured = e.measured_rms.norm();
+  e.relative_error =
+      measured > 0.0 ? e.residual_rms.norm() / measured : std::numeric_limits<double>::infinity();
 }
 
 Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorXd& beta,
@@ -188,6 +208,8 @@ Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorX
   out.num_samples = observation.num_samples;
   out.torque_rms = jointRms(residual, n);
   const Eigen::VectorXd tau_rms = jointRms(observation.tau, n);
+  out.relative_error = tau_rms.norm() > 0.0 ? out.torque_rms.norm() / tau_rms.norm()
+                                            : std::numeric_limits<double>::infinity();
   out.normalised_rms.resize(n);
   for (int j = 0; j < n; ++j)
     out.normalised_rms[j] =

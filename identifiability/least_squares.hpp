@@ -26,8 +26,16 @@ struct BaseEstimate {
   Eigen::VectorXd std_dev;     // sqrt(diag(covariance))
   Eigen::VectorXd relative_std_dev_percent;  // 100 std_dev / |beta| (infinity when beta = 0)
   double condition_number = 0.0;             // of the column-scaled (and weighted) base regressor
+  /// Of the base regressor as it is (weighted for WLS), in physical units: what most papers report
+  /// (it depends on the units of the parameters; the column-scaled one does not).
+  double condition_number_unscaled = 0.0;
   Eigen::VectorXd joint_sigma;   // per-joint torque noise estimated from the OLS residuals [N m]
   Eigen::VectorXd residual_rms;  // per-joint RMS of tau - W1 beta [N m]
+  Eigen::VectorXd measured_rms;  // per-joint RMS of the measured tau [N m]
+  /// |tau - W1 beta| / |tau| over every joint and sample (the literature's relative error), and
+  /// per joint (residual_rms / measured_rms; infinity for a joint whose torque is 0).
+  double relative_error = 0.0;
+  Eigen::VectorXd joint_relative_error;
   int num_samples = 0;
 };
 
@@ -44,8 +52,12 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
 struct Validation {
   Eigen::VectorXd torque_rms;      // per joint RMS of tau - W1 beta [N m]
   Eigen::VectorXd normalised_rms;  // torque_rms / RMS(tau) per joint (infinity for a zero tau)
+  double relative_error = 0.0;     // |tau - W1 beta| / |tau| over every joint and sample
   int num_samples = 0;
 };
+/// Sets estimate.relative_error and joint_relative_error from its residual_rms and measured_rms.
+void setRelativeErrors(BaseEstimate& estimate);
+
 Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorXd& beta,
                                 const Observation& observation);
 

@@ -20,22 +20,11 @@ using nlohmann::json;
 /// Three significant digits, as every table prints them.
 std::string g3(double x) { return threeDigits(x); }
 
-const char* describe(const std::string& key) {
-  if (key == "ols") return "ordinary least squares on the torques";
-  if (key == "wls") return "weighted least squares (per-joint noise)";
-  if (key == "pc") return "physically consistent least squares (log-Cholesky)";
-  if (key == "nlo") return "GC-error search: multistart COBYLA";
-  if (key == "ga") return "GC-error search: genetic algorithm";
-  if (key == "hybrid") return "GC-error search: GA, then COBYLA";
-  if (key == "nlo_refined") return "NLO result refined by Ceres";
-  if (key == "hybrid_refined") return "hybrid result refined by Ceres";
-  if (key == "ga_refined") return "GA result refined by Ceres";
-  return "";
-}
+const char* describe(const std::string& key) { return methodDescription(parseMethod(key)); }
 
-const MethodMetrics* find(const DemoResult& result, const std::string& key) {
+const MethodMetrics* find(const DemoResult& result, Method method) {
   for (const MethodMetrics& m : result.methods)
-    if (m.key == key) return &m;
+    if (m.key == methodName(method)) return &m;
   return nullptr;
 }
 
@@ -58,16 +47,16 @@ const Column kColumns[] = {
 /// What the table shows, in sentences computed from it.
 std::vector<std::string> conclusions(const DemoResult& result) {
   std::vector<std::string> out;
-  if (const MethodMetrics* ols = find(result, "ols"))
+  if (const MethodMetrics* ols = find(result, Method::kOls))
     out.push_back("Least squares on the torques recovers the " +
                   std::to_string(result.identifiability.num_base) +
                   " base parameters to a relative error of " + g3(ols->base_param_error) + " in " +
                   g3(ols->seconds) + " s; its 7-parameter error, " + g3(ols->param_error) +
                   ", is that of the initial guess's unidentifiable parameters, which the data "
                   "cannot correct.");
-  for (const char* key : {"nlo", "ga", "hybrid"})
-    if (const MethodMetrics* m = find(result, key))
-      out.push_back(std::string(key) + " cuts the training GC error " +
+  for (Method method : searchMethods())
+    if (const MethodMetrics* m = find(result, method))
+      out.push_back(std::string(methodName(method)) + " cuts the training GC error " +
                     g3(m->gc_error_initial / m->gc_error_train) + "x (" + g3(m->gc_error_initial) +
                     " to " + g3(m->gc_error_train) + ") in " + std::to_string(m->evaluations) +
                     " evaluations, with a base-parameter error of " + g3(m->base_param_error) +
@@ -79,9 +68,9 @@ std::vector<std::string> conclusions(const DemoResult& result) {
                   " % predict the held-out path as well as the " + result.near_truth.estimate +
                   " estimate or better (held-out GC error " + g3(result.near_truth.estimate_gc) +
                   "), although its parameters are much further from the truth.");
-  for (const char* key : {"nlo_refined", "ga_refined", "hybrid_refined"})
-    if (const MethodMetrics* m = find(result, key))
-      out.push_back(std::string(key) + ": refinement takes the GC error to " +
+  for (Method method : {Method::kNloRefined, Method::kGaRefined, Method::kHybridRefined})
+    if (const MethodMetrics* m = find(result, method))
+      out.push_back(std::string(methodName(method)) + ": refinement takes the GC error to " +
                     g3(m->gc_error_train) + " and the base-parameter error to " +
                     g3(m->base_param_error) + ", while the 7-parameter error stays at " +
                     g3(m->param_error) +

@@ -162,8 +162,12 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                  {"num_base", base.numBase()},
                  {"base_parameters", params},
                  {"condition_number", numberOrNull(estimate.condition_number)},
+                 {"condition_number_unscaled", numberOrNull(estimate.condition_number_unscaled)},
                  {"joint_sigma", numbersOrNull(estimate.joint_sigma)},
                  {"residual_rms", numbersOrNull(estimate.residual_rms)},
+                 {"measured_rms", numbersOrNull(estimate.measured_rms)},
+                 {"relative_error", numberOrNull(estimate.relative_error)},
+                 {"joint_relative_error", numbersOrNull(estimate.joint_relative_error)},
                  {"standard_estimate",
                   {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
                    {"values", standard_json}}}};
@@ -183,38 +187,46 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
                             {"torque_rms", numbersOrNull(v->torque_rms)},
-                            {"normalised_rms", numbersOrNull(v->normalised_rms)}};
+                            {"normalised_rms", numbersOrNull(v->normalised_rms)},
+                            {"relative_error", numberOrNull(v->relative_error)}};
   return report;
 }
 
 std::string estimateMarkdown(const json& r) {
+  const auto number = [](const json& x) {
+    return x.is_null() ? std::string("inf") : formatShort(x.get<double>());
+  };
+  const auto percent = [&](const json& x) {
+    return x.is_null() ? std::string("inf") : formatShort(100.0 * x.get<double>()) + " %";
+  };
   std::ostringstream md;
   md << "# " << r["method"].get<std::string>() << " estimate for " << r["robot"].get<std::string>()
      << "\n\nData: " << r["data"]["file"].get<std::string>() << " (" << r["data"]["samples"]
-     << " samples). Condition number of the scaled base regressor: "
-     << (r["condition_number"].is_null() ? "inf" : formatShort(r["condition_number"].get<double>()))
-     << ".\n\n| base parameter | estimate | std. dev. | %σ | model value "
-        "|\n|---|---|---|---|---|\n";
-  for (const auto& p : r["base_parameters"])
-    md << "| `" << p["expression"].get<std::string>() << "` | "
-       << formatShort(p["estimate"].get<double>()) << " | "
-       << formatShort(p["std_dev"].get<double>()) << " | "
-       << (p["relative_std_dev_percent"].is_null()
-               ? "inf"
-               : formatShort(p["relative_std_dev_percent"].get<double>()))
-       << " | " << formatShort(p["model_value"].get<double>()) << " |\n";
-  md << "\n| joint | residual RMS [N m] |";
+     << " samples).\n\n- Condition number of the base regressor: "
+     << number(r["condition_number_unscaled"]) << " as it is (physical units, as most papers "
+     << "report it), " << number(r["condition_number"]) << " with unit-norm columns.\n"
+     << "- Relative torque error |tau - tau_hat| / |tau| over all joints: "
+     << percent(r["relative_error"]) << " (training)";
   const bool validated = r.contains("validation");
-  if (validated) md << " held-out RMS [N m] | normalised |";
-  md << "\n|---|---|" << (validated ? "---|---|" : "") << "\n";
+  if (validated) md << ", " << percent(r["validation"]["relative_error"]) << " (held out)";
+  md << ".\n";
+  if (r.contains("physically_consistent"))
+    md << "- Physically consistent solver: " << r["physically_consistent"]["iterations"]
+       << " iterations, " << r["physically_consistent"]["termination"].get<std::string>() << ".\n";
+  md << "\n| base parameter | estimate | std. dev. | %σ | model value |\n|---|---|---|---|---|\n";
+  for (const auto& p : r["base_parameters"])
+    md << "| `" << p["expression"].get<std::string>() << "` | " << number(p["estimate"]) << " | "
+       << number(p["std_dev"]) << " | " << number(p["relative_std_dev_percent"]) << " | "
+       << number(p["model_value"]) << " |\n";
+  md << "\n| joint | residual RMS [N m] | relative error |";
+  if (validated) md << " held-out RMS [N m] | held-out relative error |";
+  md << "\n|---|---|---|" << (validated ? "---|---|" : "") << "\n";
   for (std::size_t j = 0; j < r["residual_rms"].size(); ++j) {
-    md << "| " << j + 1 << " | " << formatShort(r["residual_rms"][j].get<double>()) << " |";
+    md << "| " << j + 1 << " | " << number(r["residual_rms"][j]) << " | "
+       << percent(r["joint_relative_error"][j]) << " |";
     if (validated) {
       const json& v = r["validation"];
-      md << " " << formatShort(v["torque_rms"][j].get<double>()) << " | "
-         << (v["normalised_rms"][j].is_null() ? "inf"
-                                              : formatShort(v["normalised_rms"][j].get<double>()))
-         << " |";
+      md << " " << number(v["torque_rms"][j]) << " | " << percent(v["normalised_rms"][j]) << " |";
     }
     md << "\n";
   }
@@ -243,13 +255,29 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
   std::ostringstream out;
   out << model.name << ": " << methodName(outcome.method) << " estimate of "
       << outcome.base.numBase() << " base parameters from " << estimate.num_samples
-      << " samples, condition number " << formatShort(estimate.condition_number)
-      << ", residual RMS "
-      << formatShort(estimate.residual_rms.norm() / std::sqrt(model.numJoints())) << " N m";
-  if (outcome.validation)
-    out << ", held-out RMS " << formatShort(outcome.validation->torque_rms[0]);
+      << " samples; condition number " << formatShort(estimate.condition_number_unscaled)
+      << " (unscaled), " << formatShort(estimate.condition_number) << " (unit columns)\n"
+      << "  relative torque error " << formatShort(100.0 * estimate.relative_error)
+      << " %; per joint RMS [N m]:";
+  for (Eigen::Index j = 0; j < estimate.residual_rms.size(); ++j)
+    out << " " << formatShort(estimate.residual_rms[j]);
+  if (const auto& v = outcome.validation) {
+    out << "\n  held out: relative torque error " << formatShort(100.0 * v->relative_error)
+        << " %; per joint RMS [N m]:";
+    for (Eigen::Index j = 0; j < v->torque_rms.size(); ++j)
+      out << " " << formatShort(v->torque_rms[j]);
+  }
   out << "\nwrote " << dir << "/estimate.json and " << dir << "/estimate.md\n";
   return out.str();
+}
+
+std::string solverWarning(const IdentifyOutcome& outcome) {
+  if (!outcome.result.pc) return "";
+  const PhysicalEstimate& pc = *outcome.result.pc;
+  if (pc.termination.rfind("CONVERGENCE", 0) == 0) return "";
+  return "the physically consistent solver stopped before converging after " +
+         std::to_string(pc.iterations) + " iterations (" + pc.termination +
+         "): the estimate is its last iterate";
 }
 
 }  // namespace dynid

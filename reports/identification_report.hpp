@@ -29,6 +29,9 @@ std::string estimateMarkdown(const nlohmann::json& report);
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir);
 
+/// A warning when a solver stopped at its iteration cap or failed (empty otherwise).
+std::string solverWarning(const IdentifyOutcome& outcome);
+
 /// 4 significant digits ("3.2e+11", "inf").
 std::string formatShort(double x);
 

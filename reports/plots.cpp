@@ -31,9 +31,9 @@ std::string header(const std::string& title, const std::string& xlabel, const st
          "\nset grid\nset key top right\nset logscale y\nset format y '10^{%L}'\n";
 }
 
-const MethodMetrics* find(const DemoResult& result, const std::string& key) {
+const MethodMetrics* find(const DemoResult& result, Method method) {
   for (const MethodMetrics& m : result.methods)
-    if (m.key == key) return &m;
+    if (m.key == methodName(method)) return &m;
   return nullptr;
 }
 
@@ -187,9 +187,9 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     gc << "EOD\nplot $d using 2:xtic(1) title 'training', '' using 3 title 'held out'\n";
     std::string base_caption =
         "Each method's error in the coordinates the data determine, the base parameters.";
-    const MethodMetrics* ols = find(result, "ols");
-    const MethodMetrics* refined = find(result, "nlo_refined");
-    const MethodMetrics* nlo = find(result, "nlo");
+    const MethodMetrics* ols = find(result, Method::kOls);
+    const MethodMetrics* refined = find(result, Method::kNloRefined);
+    const MethodMetrics* nlo = find(result, Method::kNlo);
     if (ols != nullptr && nlo != nullptr && refined != nullptr)
       base_caption += " Least squares (" + g3(ols->base_param_error) + ") and refined searches (" +
                       g3(refined->base_param_error) + ") reach them; the searches alone stop at " +

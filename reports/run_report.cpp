@@ -206,3 +206,15 @@ std::string refineSummary(const RefineOutcome& o, const std::string& dir) {
 }
 
 }  // namespace dynid
+
+namespace dynid {
+
+std::string refineWarning(const RefineOutcome& o) {
+  const std::string& t = o.result.termination;
+  if (t.rfind("CONVERGENCE", 0) == 0 || o.result.interrupted) return "";
+  return "the refinement stopped before converging (" + t.substr(0, t.find(':')) + " after " +
+         std::to_string(o.result.iterations) +
+         " iterations): raise --max-iterations or --budget-seconds to go on";
+}
+
+}  // namespace dynid

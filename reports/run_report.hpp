@@ -26,5 +26,7 @@ std::string searchProgressLine(Method method, const SearchState& state);
 nlohmann::json refineJson(const RefineOutcome& outcome);
 /// "puma560 refine: GC error a -> b in ... iterations, T s (termination)" and the file.
 std::string refineSummary(const RefineOutcome& outcome, const std::string& dir);
+/// A warning when the refinement stopped at its iteration cap or time budget (empty otherwise).
+std::string refineWarning(const RefineOutcome& outcome);
 
 }  // namespace dynid

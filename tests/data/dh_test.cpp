@@ -17,6 +17,11 @@
 namespace dynid {
 namespace {
 
+// Joint and link names of the test chains (as constants: GCC 12 warns falsely, -Wrestrict, on
+// strings built in these loops).
+const std::string kNames[7][2] = {{"j1", "l1"}, {"j2", "l2"}, {"j3", "l3"}, {"j4", "l4"},
+                                  {"j5", "l5"}, {"j6", "l6"}, {"j7", "l7"}};
+
 constexpr double kPi = std::numbers::pi;
 
 /// The planar 2R of tests/common as a DH chain: link i has mass m_i at lc_i from joint i along
@@ -32,8 +37,8 @@ DhModel planarDh(DhConvention convention) {
   const double l[2] = {arm.l1, l2};
   for (int i = 0; i < 2; ++i) {
     DhRow r;
-    r.joint_name = "j" + std::to_string(i + 1);
-    r.link_name = "l" + std::to_string(i + 1);
+    r.joint_name = kNames[i][0];
+    r.link_name = kNames[i][1];
     Eigen::Matrix3d about_com = Eigen::Matrix3d::Identity() * 0.01;
     about_com(2, 2) = izz[i];
     if (convention == DhConvention::kStandard) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include "tests/common/identification.hpp"
 
 #include "core/errors.hpp"
@@ -67,6 +69,37 @@ TEST(LeastSquares, ValidationOnHeldOutData) {
   EXPECT_LT(v.normalised_rms.maxCoeff(), 0.05);
   // The torque noise estimated per joint is close to the simulated 0.02 N m.
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(e.joint_sigma[j], 0.02, 0.002) << j;
+}
+
+TEST(LeastSquares, RelativeErrorsAndBothConditionNumbersFromTheirDefinitions) {
+  const Model model = makePuma560(false);
+  const BaseParameters base = pumaBase(model);
+  const Observation obs = observationFromTrajectory(model, pumaTrajectory(model, 2.0, 0.2, 5));
+  const BaseEstimate e = estimateBaseParameters(base, obs, LeastSquaresMethod::kOrdinary);
+  // |tau - W1 beta| / |tau| over every row, and per joint, computed directly.
+  const Eigen::MatrixXd W1 = base.baseRegressor(obs.W);
+  const Eigen::VectorXd residual = obs.tau - W1 * e.beta;
+  // Round-off of sums over 12000 rows.
+  EXPECT_NEAR(e.relative_error, residual.norm() / obs.tau.norm(), 1e-12);
+  for (int j = 0; j < 6; ++j) {
+    double r2 = 0.0, t2 = 0.0;
+    for (int k = 0; k < obs.num_samples; ++k)
+      r2 += residual[k * 6 + j] * residual[k * 6 + j],
+          t2 += obs.tau[k * 6 + j] * obs.tau[k * 6 + j];
+    EXPECT_NEAR(e.joint_relative_error[j], std::sqrt(r2 / t2), 1e-12) << j;
+  }
+  // Condition numbers: the SVD of W1 as it is, and with unit-norm columns.
+  const auto condition = [](const Eigen::MatrixXd& m) {
+    const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(m).singularValues();
+    return s[0] / s[s.size() - 1];
+  };
+  const Eigen::VectorXd norms = W1.colwise().norm().transpose();
+  // Two routes to the same singular values (QR then SVD of R, or SVD of W1): 1e-8 relative for
+  // condition numbers up to 1e5.
+  EXPECT_NEAR(e.condition_number_unscaled / condition(W1), 1.0, 1e-8);
+  EXPECT_NEAR(e.condition_number / condition(W1 * norms.cwiseInverse().asDiagonal()), 1.0, 1e-8);
+  // Physical units make the unscaled one the larger here (masses against light wrist inertias).
+  EXPECT_GT(e.condition_number_unscaled, e.condition_number);
 }
 
 TEST(LeastSquares, RefusesRankDeficientData) {
