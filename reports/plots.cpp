@@ -92,7 +92,10 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     // after its GA generations instead of starting again at 1.
     const std::string xlabel = "round (NLO) or generation (GA); hybrid: generations, then rounds";
     gc << header("GC error of the best candidate (paper Fig. 2)", xlabel, "training GC error");
-    errors << header("Parameter errors during the searches (paper Fig. 5)", xlabel, "error");
+    errors << header("Parameter errors during the searches (paper Fig. 5)", xlabel, "error")
+           // Nine entries: below the plot in three rows, on a taller canvas, clear of the lines.
+           << "set terminal svg size 720,500 font 'sans,12' background rgb 'white'\n"
+              "set key below horizontal maxcols 3\n";
     std::string gc_plot = "plot ", errors_plot = "plot ";
     for (std::size_t s = 0; s < result.searches.size(); ++s) {
       const DemoSearchTrace& t = result.searches[s];
@@ -108,11 +111,11 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
       errors << "EOD\n";
       const std::string sep = s == 0 ? "" : ", ";
       gc_plot += sep + "$" + t.method + " using 1:2 with linespoints title '" + t.method + "'";
+      // Short titles (the caption says what each is), three to a row below the plot.
       errors_plot += sep + "$" + t.method + " using 1:2 with lines title '" + t.method +
-                     ": best-GC candidate', $" + t.method + " using 1:3 with lines dt 2 title '" +
-                     t.method + ": lowest in population', $" + t.method +
-                     " using 1:4 with lines dt 3 lw 2 title '" + t.method +
-                     ": best-GC candidate, base parameters'";
+                     " best-GC', $" + t.method + " using 1:3 with lines dt 2 title '" + t.method +
+                     " lowest', $" + t.method + " using 1:4 with lines dt 3 lw 2 title '" +
+                     t.method + " best-GC, base'";
     }
     gc << gc_plot << "\n";
     errors << errors_plot << "\n";
@@ -256,8 +259,10 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
       << 0.9 * width << "\nset yrange [0:*]\n"
       << "set arrow from " << mark << ", graph 0 to " << mark
       << ", graph 1 nohead lc rgb '#228833' lw 3\n"
-      << "set label '" << near.estimate << " estimate' at " << mark
-      << ", graph 0.95 offset 0.5,0 tc rgb '#228833'\n$d << EOD\n";
+      // The label on the side of the line with room: left of it in the right half of the axis.
+      << "set label '" << near.estimate << " estimate' at " << mark << ", graph 0.95 "
+      << (mark > 0.5 * (lo + hi) ? "right offset -0.5,0" : "offset 0.5,0")
+      << " tc rgb '#228833'\n$d << EOD\n";
     for (int b = 0; b < bins; ++b) h << lo + (b + 0.5) * width << " " << counts[b] << "\n";
     h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations'\n";
     add("near_truth_histogram",
