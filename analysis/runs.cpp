@@ -256,6 +256,21 @@ std::optional<SearchState> resumeFrom(const std::string& path, const nlohmann::j
 
 }  // namespace
 
+SearchResult runSearch(Method method, const SearchContext& context, const GaOptions& ga,
+                       const NloOptions& nlo) {
+  switch (method) {
+    case Method::kNlo:
+      return runNlo(context, nlo);
+    case Method::kGa:
+      return runGa(context, ga);
+    case Method::kHybrid:
+      return runHybrid(context, ga, nlo);
+    default:
+      throw InputError(std::string("'") + methodName(method) + "' is not a search (" +
+                       methodList(searchMethods()) + ")");
+  }
+}
+
 SearchOutcome searchRun(const SearchRequest& request) {
   const Model& robot = request.robot;
   if (!isSearch(request.method))
@@ -318,9 +333,7 @@ SearchOutcome searchRun(const SearchRequest& request) {
       writeFileAtomically(request.checkpoint, checkpointJson(state, out.settings).dump() + "\n");
     if (request.on_iteration) request.on_iteration(state);
   };
-  out.result = request.method == Method::kNlo  ? runNlo(context, request.nlo)
-               : request.method == Method::kGa ? runGa(context, request.ga)
-                                               : runHybrid(context, request.ga, request.nlo);
+  out.result = runSearch(request.method, context, request.ga, request.nlo);
   const Eigen::VectorXd x_initial = space.project(space.initial());
   if (request.truth) {
     out.initial_parameter_error = space.parameterError(x_initial, truth_full);

@@ -147,6 +147,11 @@ struct RunControl {
   std::function<void(const std::string&)> progress;  // one line per stage
 };
 
+/// Runs the search `method` (nlo, ga or hybrid; InputError otherwise) on a prepared context: the
+/// one dispatch searchRun and Study share.
+SearchResult runSearch(Method method, const SearchContext& context, const GaOptions& ga,
+                       const NloOptions& nlo);
+
 struct SearchRequest {
   Model robot;
   Method method = Method::kNlo;   // nlo, ga or hybrid

@@ -190,9 +190,7 @@ const SearchResult& Study::search(Method method, const std::atomic<bool>* stop) 
     base_errors.push_back(
         baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
   };
-  SearchResult result = method == Method::kNlo  ? runNlo(context, NloOptions{})
-                        : method == Method::kGa ? runGa(context, GaOptions{})
-                                                : runHybrid(context, GaOptions{}, NloOptions{});
+  SearchResult result = runSearch(method, context, GaOptions{}, NloOptions{});
   return searches_.emplace(method, std::move(result)).first->second;
 }
 
