@@ -1,5 +1,6 @@
 #include "data/io.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -14,7 +15,33 @@
 
 namespace dynid {
 
+namespace {
+
+/// Writes `content` straight into an existing stream-like target (a FIFO, a terminal, a character
+/// device such as /dev/null or /dev/stdout): renaming a temporary over it would replace the
+/// special file with a regular one.
+void writeThrough(const std::string& path, const std::string& content) {
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  if (file == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
+  const bool flushed = std::fflush(file) == 0;
+  const bool closed = std::fclose(file) == 0;
+  if (!written || !flushed || !closed)
+    throw Error("cannot write '" + path + "': " + std::strerror(errno));
+}
+
+}  // namespace
+
 void writeFileAtomically(const std::string& path, const std::string& content) {
+  // The target's type decides: a regular file (or none) is replaced whole by a rename; a stream
+  // (FIFO, character device) is written through; anything else (a directory, a socket, a block
+  // device) is refused.
+  struct stat target {};
+  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
+    if (S_ISFIFO(target.st_mode) || S_ISCHR(target.st_mode)) return writeThrough(path, content);
+    throw Error("cannot write '" + path + "': it exists and is not a regular file" +
+                (S_ISDIR(target.st_mode) ? " (a directory)" : ""));
+  }
   const std::string temporary = path + ".tmp." + std::to_string(::getpid());
   std::FILE* file = std::fopen(temporary.c_str(), "wb");
   if (file == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));

@@ -6,7 +6,9 @@
 namespace dynid {
 
 /// Writes `content` to `path` through a temporary file in the same directory and a rename, so
-/// readers see the old file or the whole new one. Throws Error naming the path on failure (the
+/// readers see the old file or the whole new one. A path that names a stream (a FIFO, or a
+/// character device such as /dev/null or /dev/stdout) is written through instead, never replaced;
+/// a directory or other special file is refused. Throws Error naming the path on failure (the
 /// temporary is removed).
 void writeFileAtomically(const std::string& path, const std::string& content);
 

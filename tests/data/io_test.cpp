@@ -1,8 +1,11 @@
 #include "data/io.hpp"
 
+#include <sys/stat.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -22,6 +25,34 @@ TEST(Io, AtomicWriteReplacesWholeFileAndLeavesNoTemporary) {
     EXPECT_EQ(entry.path().string().find(path + ".tmp"), std::string::npos);
   EXPECT_THROW(writeFileAtomically("/nonexistent-dir/x.txt", "x"), Error);
   EXPECT_THROW(readFile("/nonexistent-dir/x.txt"), Error);
+}
+
+TEST(Io, AFifoIsWrittenThroughNotReplaced) {
+  // A FIFO in the test's own directory (never a system device: a regression would replace it).
+  const std::string fifo = test::tempPath("out.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = readFile(fifo); });
+  writeFileAtomically(fifo, "through the pipe");
+  reader.join();
+  EXPECT_EQ(received, "through the pipe");
+  struct stat after {};
+  ASSERT_EQ(::stat(fifo.c_str(), &after), 0);
+  EXPECT_TRUE(S_ISFIFO(after.st_mode));
+  std::filesystem::remove(fifo);
+}
+
+TEST(Io, ADirectoryTargetIsRefusedAndLeftAlone) {
+  const std::string dir = test::tempPath("a-directory");
+  std::filesystem::create_directories(dir);
+  try {
+    writeFileAtomically(dir, "x");
+    FAIL() << "expected Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a regular file (a directory)"), std::string::npos);
+  }
+  EXPECT_TRUE(std::filesystem::is_directory(dir));
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
 TEST(Io, FormatDoubleRoundTrips) {
