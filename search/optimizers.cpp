@@ -125,10 +125,25 @@ SearchState initialState(const SearchContext& context, const std::string& method
     if (context.resume->method != method)
       throw InputError("the checkpoint is for method '" + context.resume->method + "', not '" +
                        method + "'");
-    if (context.resume->best_x.size() != context.space->numFree())
-      throw InputError("the checkpoint has " + std::to_string(context.resume->best_x.size()) +
-                       " free parameters, this search " + std::to_string(context.space->numFree()));
-    return *context.resume;
+    const SearchState& r = *context.resume;
+    const int k = context.space->numFree();
+    if (r.best_x.size() != k)
+      throw InputError("the checkpoint has " + std::to_string(r.best_x.size()) +
+                       " free parameters, this search " + std::to_string(k));
+    // A corrupt or hand-edited state must fail here, not deep inside a generation.
+    if (r.evaluations < 0 || r.iteration < 0 || !(r.seconds >= 0.0))
+      throw InputError("the checkpoint's evaluations, iteration and seconds must be >= 0");
+    if (r.population_gc.size() != r.population.size())
+      throw InputError("the checkpoint has " + std::to_string(r.population.size()) +
+                       " population members but " + std::to_string(r.population_gc.size()) +
+                       " GC errors for them");
+    for (std::size_t i = 0; i < r.population.size(); ++i)
+      if (r.population[i].size() != k || !r.population[i].allFinite())
+        throw InputError("the checkpoint's population member " + std::to_string(i) + " has " +
+                         std::to_string(r.population[i].size()) +
+                         " entries or a non-finite one; this search has " + std::to_string(k) +
+                         " free parameters");
+    return r;
   }
   SearchState state;
   state.method = method;
@@ -274,6 +289,9 @@ void gaGenerations(const SearchContext& context, const GaOptions& options, Searc
     evaluator.record("ga");
   }
   const int P = options.population;
+  if (static_cast<int>(population.size()) != P)
+    throw InputError("the resumed population has " + std::to_string(population.size()) +
+                     " members, the GA's population is " + std::to_string(P));
   while (!limit_reached()) {
     // Fresh distributions each generation: std::normal_distribution caches a second value, which a
     // checkpoint (the generator's state only) could not restore.

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
+
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
@@ -138,6 +141,38 @@ TEST(Optimizers, CheckpointResumeEqualsAnUninterruptedRun) {
     EXPECT_EQ(rest.evaluations, whole.evaluations) << method;
     EXPECT_EQ(rest.history.size(), whole.history.size()) << method;
   }
+}
+
+TEST(Optimizers, ACorruptCheckpointStateIsAnInputErrorNotACrash) {
+  // A GA state saved after 2 generations of a 20-member population, then corrupted the ways a
+  // hand-edited or truncated checkpoint can be: each must be refused before any generation runs.
+  const SmallProblem small;
+  const ParameterSpace space(perturbedModel(small.truth, 0.3, 7), {});
+  ThreadPool pool(1);
+  SearchState saved;
+  int iterations = 0;
+  SearchContext first = context(space, small.problem, pool, 200, 4);
+  first.on_iteration = [&](const SearchState& s) {
+    if (++iterations == 2) saved = s;
+  };
+  runGa(first, {.population = 20});
+  ASSERT_EQ(saved.population.size(), 20u);
+  const auto refused = [&](const std::function<void(SearchState&)>& corrupt) {
+    SearchState bad = saved;
+    corrupt(bad);
+    SearchContext resumed = context(space, small.problem, pool, 400, 4);
+    resumed.resume = &bad;
+    EXPECT_THROW(runGa(resumed, {.population = 20}), InputError);
+  };
+  refused([](SearchState& s) { s.population.resize(5), s.population_gc.resize(5); });  // short
+  refused([](SearchState& s) { s.population_gc.pop_back(); });
+  refused([](SearchState& s) { s.population[3].resize(2); });
+  refused([](SearchState& s) { s.population[0][0] = std::nan(""); });
+  refused([](SearchState& s) { s.evaluations = -5; });
+  // The intact state resumes.
+  SearchContext resumed = context(space, small.problem, pool, 400, 4);
+  resumed.resume = &saved;
+  EXPECT_NO_THROW(runGa(resumed, {.population = 20}));
 }
 
 TEST(Optimizers, RejectsBadOptions) {
