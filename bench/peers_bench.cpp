@@ -94,8 +94,8 @@ void cycle(benchmark::State& state, Body body) {
 }
 
 /// |a - b| <= 1e-9 max(|a|, 1): the engines agree to round-off (unused without a peer).
-[[maybe_unused]] bool agree(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const std::string& what,
-           std::string& why) {
+[[maybe_unused]] bool agree(const Eigen::VectorXd& a, const Eigen::VectorXd& b,
+                            const std::string& what, std::string& why) {
   const double scale = std::max(a.cwiseAbs().maxCoeff(), 1.0);
   const double error = (a - b).cwiseAbs().maxCoeff();
   if (error <= 1e-9 * scale) return true;
