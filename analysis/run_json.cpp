@@ -189,7 +189,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
       const std::vector<std::string> all =
           out.space.form == ParameterForm::kPaper
               ? paperParameterNames(robot.numJoints())
-              : standardParameterNames({robot.numJoints(), false, false});
+              : standardParameterNames({robot.numJoints(), DriveTerms::none()});
       for (const std::string& name : all)
         if (std::find(free.begin(), free.end(), name) == free.end())
           out.space.fixed.push_back(name);

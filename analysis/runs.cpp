@@ -18,6 +18,8 @@
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
+#include "data/model_json.hpp"
+#include "data/urdf_writeback.hpp"
 
 namespace dynid {
 
@@ -222,6 +224,23 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
         observationFromTrajectory(model, readDatasetCsv(request.validate_file, model.numJoints()));
     out.validation = validateBaseEstimate(out.base, out.result.estimate.beta, test);
     out.validate_file = request.validate_file;
+  }
+  if (!request.write_back_from.empty()) {
+    Model identified = model;
+    identified.setStandardParameters(out.result.standard);
+    const std::vector<ConsistencyViolation> violations = consistencyViolations(identified);
+    if (!violations.empty())
+      throw InputError("cannot write the " + std::string(methodName(request.method)) +
+                       " estimate back: link '" + violations.front().link_name +
+                       "' is not "
+                       "physically consistent (" +
+                       violations.front().condition + "); use --method pc");
+    WriteBack back;
+    back.urdf =
+        urdfWithParameters(readFile(request.write_back_from), request.write_back_from, identified);
+    back.model_json = modelToJson(identified);
+    back.unseen_directions = out.base.numStandard() - out.base.numBase();
+    out.write_back = std::move(back);
   }
   return out;
 }

@@ -120,23 +120,33 @@ struct IdentifyRequest {
   Model model;
   Method method = Method::kOls;  // ols, wls or pc
   std::optional<Model> prior;    // pc: the prior model (default: the model's own parameters)
-  double prior_weight = 0.0;     // pc, >= 0
+  double prior_weight = 1.0;     // pc, > 0 (PhysicalOptions::prior_weight)
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
   StructuralOptions structural;
+  /// The URDF the model was loaded from, to write the estimate back into (empty: no write-back).
+  std::string write_back_from;
+};
+/// The estimate written back into the robot's own files (data/urdf_writeback.hpp).
+struct WriteBack {
+  std::string urdf;           // the input URDF carrying the estimate
+  std::string model_json;     // the identified model as dynid JSON, every drive term included
+  int unseen_directions = 0;  // standard-parameter directions the data cannot see (from the prior)
 };
 struct IdentifyOutcome {
   Method method = Method::kOls;
   BaseParameters base;
   LeastSquaresOutcome result;
-  double prior_weight = 0.0;
+  double prior_weight = 1.0;
   std::vector<std::string> pc_inconsistent_links;  // names of the links OLS lifted inconsistently
   Eigen::VectorXd model_beta;                      // the model's own base parameters
   std::string data_file;
   std::optional<Validation> validation;
   std::string validate_file;
+  std::optional<WriteBack> write_back;  // when requested
 };
-/// Throws InputError for a prior of another layout, ParseError for a bad dataset.
+/// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
+/// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.
 IdentifyOutcome identifyRun(const IdentifyRequest& request);
 
 // ---- the GC-error searches ----

@@ -18,11 +18,14 @@ int runIdentify(const std::vector<std::string>& args) {
                         "consistent: log-Cholesky least squares from OLS)")(
       "prior", po::value<std::string>(),
       "pc: prior model (robot spec; default: the robot's own parameters)")(
-      "prior-weight", po::value<double>()->default_value(0.0),
-      "pc: weight of the pull toward the prior (0: none)")(
+      "prior-weight", po::value<double>()->default_value(1.0),
+      "pc: weight of the divergence from the prior, in chi-square units (> 0)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
-      "out", po::value<std::string>()->required(), "output directory (estimate.json, estimate.md)");
+      "out", po::value<std::string>()->required(), "output directory (estimate.json, estimate.md)")(
+      "write-urdf", po::value<std::string>(),
+      "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
+      "the full model as .dynid.json beside it");
   po::variables_map vm;
   const std::string usage =
       "dynid identify --method ols|wls|pc --robot R [--drives] --data train.csv [--validate "
@@ -33,14 +36,22 @@ int runIdentify(const std::vector<std::string>& args) {
     return parseMethod(name, leastSquaresMethods());
   });
   request.prior_weight = checkedOption<double>(
-      vm, "prior-weight", [](double w) { return w >= 0.0 && std::isfinite(w); }, "finite and >= 0");
+      vm, "prior-weight", [](double w) { return w > 0.0 && std::isfinite(w); }, "finite and > 0");
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);
   if (request.method == Method::kPc && vm.count("prior"))
     request.prior = loadOtherRobot(vm, "prior");
   request.data_file = vm["data"].as<std::string>();
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
+  if (vm.count("write-urdf")) {
+    request.write_back_from = vm["robot"].as<std::string>();
+    if (!isUrdfSpec(request.write_back_from))
+      throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
+                       request.write_back_from + "'");
+  }
   const IdentifyOutcome outcome = identifyRun(request);
+  if (outcome.write_back)
+    std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
   const nlohmann::json report = estimateJson(request.model, outcome);
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(

@@ -83,22 +83,41 @@ int threadsOption(const po::variables_map& vm) {
 
 void addRobotOptions(po::options_description& options) {
   options.add_options()("robot", po::value<std::string>()->required(),
-                        "puma560, puma560-consistent, a .urdf file or a dynid .json model")(
-      "drives", po::bool_switch(), "enable rotor inertia and joint friction")(
-      "strict", po::bool_switch(), "treat URDF warnings as errors");
+                        "puma560, puma560-consistent, panda, a .urdf file or a dynid .json model")(
+      "drives", po::bool_switch(),
+      "the robot's own drive terms (puma560: ia,fv,fc,fa; panda: fv,fc,fo; others: ia,fv,fc)")(
+      "drive-terms", po::value<std::string>(),
+      "exactly these drive terms, e.g. fv,fc,fo: ia rotor inertia, fv viscous, fc Coulomb, fo "
+      "constant offset, fa Coulomb asymmetry; none")("strict", po::bool_switch(),
+                                                     "treat URDF warnings as errors");
 }
+
+namespace {
+RobotOptions robotOptions(const po::variables_map& vm) {
+  RobotOptions out;
+  out.drives = vm["drives"].as<bool>();
+  out.strict = vm["strict"].as<bool>();
+  if (vm.count("drive-terms")) {
+    if (out.drives) throw UsageError("give --drives or --drive-terms, not both");
+    try {
+      out.drive_terms = parseDriveTerms(vm["drive-terms"].as<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("--drive-terms: ") + e.what());
+    }
+  }
+  return out;
+}
+}  // namespace
 
 Model loadRobotFromOptions(const po::variables_map& vm) {
   std::vector<std::string> warnings;
-  Model model = loadRobot(vm["robot"].as<std::string>(),
-                          {vm["drives"].as<bool>(), vm["strict"].as<bool>()}, &warnings);
+  Model model = loadRobot(vm["robot"].as<std::string>(), robotOptions(vm), &warnings);
   for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
   return model;
 }
 
 Model loadOtherRobot(const po::variables_map& vm, const char* option) {
-  return loadRobot(vm[option].as<std::string>(),
-                   {vm["drives"].as<bool>(), vm["strict"].as<bool>()});
+  return loadRobot(vm[option].as<std::string>(), robotOptions(vm));
 }
 
 void addStructuralOptions(po::options_description& options) {

@@ -207,7 +207,8 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     else
       data.U[i].noalias() = IA * model.motion_subspaces()[i];
     data.D[i] = projectOnJoint(model, i, data.U[i]);
-    if (model.drives_enabled) data.D[i] += model.drives()[i].rotor_inertia;
+    if (model.drive_terms.has(DriveTerm::kRotorInertia))
+      data.D[i] += model.drives()[i].rotor_inertia;
     const Scalar inv_d = Scalar(1) / data.D[i];
     data.D_inv[i] = inv_d;
     data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);

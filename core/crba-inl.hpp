@@ -21,7 +21,8 @@ void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& da
   for (int i = 0; i < n; ++i) {
     Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces()[i]);
     data.M(i, i) = projectOnJoint(model, i, F);
-    if (model.drives_enabled) data.M(i, i) += model.drives()[i].rotor_inertia;
+    if (model.drive_terms.has(DriveTerm::kRotorInertia))
+      data.M(i, i) += model.drives()[i].rotor_inertia;
     for (int j = i; model.parents()[j] >= 0;) {
       F = data.liMi[j].actForce(F);
       j = model.parents()[j];

@@ -16,7 +16,8 @@ double kineticEnergy(const Model& model, Data& data, const ConstVectorRef<double
     data.v[i] = jointMotionAt(model, i, dq[i]);
     if (p >= 0) data.v[i] += data.liMi[i].actInvMotion(data.v[p]);
     energy += 0.5 * data.v[i].dot(model.frame_inertias()[i].apply(data.v[i]));
-    if (model.drives_enabled) energy += 0.5 * model.drives()[i].rotor_inertia * dq[i] * dq[i];
+    if (model.drive_terms.has(DriveTerm::kRotorInertia))
+      energy += 0.5 * model.drives()[i].rotor_inertia * dq[i] * dq[i];
   }
   return energy;
 }

@@ -113,9 +113,10 @@ void ModelTpl<Scalar>::finalize() {
         throw InputError(who + ": inertial parameter " + std::string(kLinkParameterNames[k]) +
                          " is not finite");
     const DriveParameters<Scalar>& d = drives_[i];
-    if (!std::isfinite(value(d.rotor_inertia)) || !std::isfinite(value(d.viscous)) ||
-        !std::isfinite(value(d.coulomb)) || !std::isfinite(value(d.offset)))
-      throw InputError(who + ": a drive parameter is not finite");
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (!std::isfinite(value(d.term(k))))
+        throw InputError(who + ": drive parameter " + std::string(kDriveParameterNames[k]) +
+                         " is not finite");
     const Vector3<double> a(value(axes_[i].x()), value(axes_[i].y()), value(axes_[i].z()));
     if (a == Vector3<double>::UnitX()) axis_kinds_[i] = AxisKind::kX;
     if (a == Vector3<double>::UnitY()) axis_kinds_[i] = AxisKind::kY;
@@ -140,8 +141,6 @@ void ModelTpl<Scalar>::finalize() {
     }
   }
   updateFrameInertias();
-  if (offsets_enabled && !drives_enabled)
-    throw InputError("model '" + name + "': offsets (Fo) need drives enabled");
 }
 
 template <typename Scalar>
@@ -150,11 +149,8 @@ VectorX<Scalar> ModelTpl<Scalar>::standardParameters() const {
   VectorX<Scalar> theta(layout.size());
   for (int i = 0; i < numJoints(); ++i) {
     theta.template segment<10>(layout.linkIndex(i, 0)) = toStandardVector(inertias_[i]);
-    if (!drives_enabled) continue;
-    theta(layout.driveIndex(i, 0)) = drives_[i].rotor_inertia;
-    theta(layout.driveIndex(i, 1)) = drives_[i].viscous;
-    theta(layout.driveIndex(i, 2)) = drives_[i].coulomb;
-    if (offsets_enabled) theta(layout.driveIndex(i, 3)) = drives_[i].offset;
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (drive_terms.has(k)) theta(layout.driveIndex(i, k)) = drives_[i].term(k);
   }
   return theta;
 }
@@ -167,11 +163,8 @@ void ModelTpl<Scalar>::setStandardParameters(const VectorX<Scalar>& theta) {
                      name + "' has " + std::to_string(layout.size()));
   for (int i = 0; i < numJoints(); ++i) {
     inertias_[i] = fromStandardVector(theta.template segment<10>(layout.linkIndex(i, 0)));
-    if (!drives_enabled) continue;
-    drives_[i].rotor_inertia = theta(layout.driveIndex(i, 0));
-    drives_[i].viscous = theta(layout.driveIndex(i, 1));
-    drives_[i].coulomb = theta(layout.driveIndex(i, 2));
-    if (offsets_enabled) drives_[i].offset = theta(layout.driveIndex(i, 3));
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (drive_terms.has(k)) drives_[i].term(k) = theta(layout.driveIndex(i, k));
   }
   updateFrameInertias();
 }

@@ -37,13 +37,21 @@ struct JointLimits {
   double effort = std::numeric_limits<double>::infinity();        // [N m or N]
 };
 
-/// Joint-side drive parameters (see parameters.hpp for the friction law).
+/// Joint-side drive parameters (see parameters.hpp for the drive terms and the friction law).
 template <typename Scalar>
 struct DriveParameters {
   Scalar rotor_inertia = Scalar(0);  // Ia [kg m^2]
   Scalar viscous = Scalar(0);        // Fv [N m s/rad]
   Scalar coulomb = Scalar(0);        // Fc [N m]
-  Scalar offset = Scalar(0);         // Fo [N m]
+  Scalar offset = Scalar(0);         // Fo [N m], constant
+  Scalar asymmetry = Scalar(0);      // Fa [N m], Coulomb asymmetry
+
+  /// Term k (DriveTerm order: Ia, Fv, Fc, Fo, Fa).
+  Scalar& term(int k) {
+    Scalar* fields[kDriveTermCount] = {&rotor_inertia, &viscous, &coulomb, &offset, &asymmetry};
+    return *fields[k];
+  }
+  const Scalar& term(int k) const { return const_cast<DriveParameters*>(this)->term(k); }
 };
 
 /// How a joint's axis is stored, so the hot path can skip Rodrigues' formula for unit axes.
@@ -58,7 +66,7 @@ inline constexpr int kAxisPermutationSigns[6] = {1, -1, -1, 1, 1, -1};
 /// written only through addBody (before finalize) and the parameter setters, which refresh the
 /// derived joint-frame caches, so no public call can leave a cache stale (Pinocchio's route: the
 /// caches are private and read through const accessors). `name`, the names, `limits`, `gravity`
-/// and the drive switches feed no cache and stay plain fields.
+/// and the drive terms feed no cache and stay plain fields.
 template <typename Scalar>
 class ModelTpl {
  public:
@@ -67,8 +75,7 @@ class ModelTpl {
   std::vector<std::string> joint_names;
   std::vector<JointLimits> limits;
   Vector3<Scalar> gravity = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));  // [m/s^2]
-  bool drives_enabled = false;   // rotor inertia and friction act (and are parameters)
-  bool offsets_enabled = false;  // Fo acts (only with drives)
+  DriveTerms drive_terms;  // the drive terms that act (and are parameters); none by default
 
   // The structure and parameters, read-only (addBody and the setters write them).
   const std::vector<int>& parents() const { return parents_; }
@@ -115,11 +122,11 @@ class ModelTpl {
               const JointLimits& joint_limits = {}, const DriveParameters<Scalar>& drive = {});
 
   /// Validates the model (topological order, unit axes, finite numbers) and derives the cached
-  /// fields. Call it after the last addBody (and again after changing gravity or the drive
-  /// switches, to validate them). Throws InputError naming the body at fault.
+  /// fields. Call it after the last addBody (and again after changing gravity, to validate it).
+  /// Throws InputError naming the body at fault.
   void finalize();
 
-  ParameterLayout parameterLayout() const { return {numJoints(), drives_enabled, offsets_enabled}; }
+  ParameterLayout parameterLayout() const { return {numJoints(), drive_terms}; }
 
   /// The standard parameter vector theta (order: parameters.hpp), size parameterLayout().size().
   VectorX<Scalar> standardParameters() const;
@@ -324,8 +331,7 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.parents_ = parents_;
   out.joint_types_ = joint_types_;
   out.limits = limits;
-  out.drives_enabled = drives_enabled;
-  out.offsets_enabled = offsets_enabled;
+  out.drive_terms = drive_terms;
   out.axis_kinds_ = axis_kinds_;
   out.subspace_index_ = subspace_index_;
   out.has_frame_placement_ = has_frame_placement_;
@@ -352,6 +358,7 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
     out.drives_[i].viscous = NewScalar(drives_[i].viscous);
     out.drives_[i].coulomb = NewScalar(drives_[i].coulomb);
     out.drives_[i].offset = NewScalar(drives_[i].offset);
+    out.drives_[i].asymmetry = NewScalar(drives_[i].asymmetry);
     out.motion_subspaces_[i] = motion_subspaces_[i].template cast<NewScalar>();
     out.frame_placements_[i] = frame_placements_[i].template cast<NewScalar>();
     out.frame_inertias_[i] = frame_inertias_[i].template cast<NewScalar>();

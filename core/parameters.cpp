@@ -1,7 +1,9 @@
 #include "core/parameters.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 
@@ -10,14 +12,51 @@ namespace dynid {
 std::vector<std::string> standardParameterNames(const ParameterLayout& layout) {
   std::vector<std::string> names;
   names.reserve(layout.size());
-  const int drive_count = layout.perLink() - kLinkParameterCount;
   for (int i = 0; i < layout.num_links; ++i) {
     const std::string suffix = std::to_string(i + 1);
     for (auto n : kLinkParameterNames) names.push_back(std::string(n) + suffix);
-    for (int k = 0; k < drive_count; ++k)
-      names.push_back(std::string(kDriveParameterNames[k]) + suffix);
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (layout.drives.has(k)) names.push_back(std::string(kDriveParameterNames[k]) + suffix);
   }
   return names;
+}
+
+std::vector<std::string> driveTermsKeys(DriveTerms terms) {
+  std::vector<std::string> out;
+  for (int k = 0; k < kDriveTermCount; ++k)
+    if (terms.has(k)) out.emplace_back(kDriveTermKeys[k]);
+  return out;
+}
+
+std::string driveTermsText(DriveTerms terms) {
+  std::string out;
+  for (const std::string& key : driveTermsKeys(terms)) {
+    if (!out.empty()) out += ',';
+    out += key;
+  }
+  return out.empty() ? "none" : out;
+}
+
+DriveTerms parseDriveTerms(std::string_view text) {
+  DriveTerms out;
+  if (text == "none") return out;
+  const std::string valid = "valid terms: ia, fv, fc, fo, fa, or none";
+  if (text.empty()) throw std::invalid_argument("empty drive-term list (" + valid + ")");
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    const std::string_view key = text.substr(start, end - start);
+    int found = -1;
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (key == kDriveTermKeys[k]) found = k;
+    if (found < 0)
+      throw std::invalid_argument("unknown drive term '" + std::string(key) + "' (" + valid + ")");
+    if (out.has(found))
+      throw std::invalid_argument("drive term '" + std::string(key) + "' is listed twice");
+    out.mask |= 1u << found;
+    start = end + 1;
+  }
+  return out;
 }
 
 std::vector<std::string> paperParameterNames(int num_links) {

@@ -6,11 +6,16 @@
 // where (mx, my, mz) = m c is the first moment (c the centre of mass in the link frame) and I is
 // the rotational inertia about the link frame origin, in link-frame axes. SI units: kg, kg m,
 // kg m^2.
-// When drives are enabled each joint i adds, directly after its link's 10: Ia (rotor inertia
-// reflected to the joint, kg m^2), Fv (viscous friction, N m s/rad or N s/m), Fc (Coulomb friction,
-// N m or N), and Fo (Coulomb offset, N m or N) when offsets are enabled. The joint friction torque
-// is  tau_f = Fv dq + Fc sign(dq) + Fo |sign(dq)|:  Fc and Fo together represent an asymmetric
-// Coulomb friction (Fc + Fo for dq > 0, -Fc + Fo for dq < 0) and vanish at rest.
+// Each joint may add drive parameters, directly after its link's 10, in this order and only the
+// terms the model enables (DriveTerms):
+//   Ia  rotor inertia reflected to the joint [kg m^2]            tau += Ia ddq
+//   Fv  viscous friction [N m s/rad or N s/m]                   tau += Fv dq
+//   Fc  Coulomb friction [N m or N]                              tau += Fc sign(dq)
+//   Fo  constant offset (sensor or current bias) [N m or N]      tau += Fo        (also at rest)
+//   Fa  Coulomb asymmetry [N m or N]                             tau += Fa |sign(dq)|
+// Fc and Fa together are an asymmetric Coulomb friction (Fc + Fa for dq > 0, -Fc + Fa for dq < 0,
+// 0 at rest; Corke's PUMA 560 has one). Joint-torque-sensor robots (Panda, KUKA LWR/iiwa) usually
+// need fv,fc,fo; motor-current robots need ia too.
 // Names carry the 1-based link index: m3, mx3, Ixx3, Ia3, Fv3.
 //
 // The paper's 7 parameters per link: m, cx, cy, cz (centre of mass, m) and the principal moments
@@ -19,6 +24,7 @@
 #pragma once
 
 #include <array>
+#include <initializer_list>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,23 +38,82 @@ namespace dynid {
 inline constexpr int kLinkParameterCount = 10;
 inline constexpr std::array<std::string_view, 10> kLinkParameterNames = {
     "m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
-inline constexpr std::array<std::string_view, 4> kDriveParameterNames = {"Ia", "Fv", "Fc", "Fo"};
+inline constexpr int kDriveTermCount = 5;
+inline constexpr std::array<std::string_view, kDriveTermCount> kDriveParameterNames = {
+    "Ia", "Fv", "Fc", "Fo", "Fa"};
+/// The drive terms' keys in flags and JSON ("--drive-terms fv,fc,fo").
+inline constexpr std::array<std::string_view, kDriveTermCount> kDriveTermKeys = {"ia", "fv", "fc",
+                                                                                 "fo", "fa"};
 inline constexpr int kPaperParameterCount = 7;
 inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   "cx",  "cy", "cz",
                                                                          "Ixx", "Iyy", "Izz"};
 
+/// One drive term; its value is its index in kDriveParameterNames and its column order.
+enum class DriveTerm { kRotorInertia = 0, kViscous, kCoulomb, kOffset, kCoulombAsymmetry };
+
+/// Which drive terms every joint of a model carries (the same set for all joints).
+struct DriveTerms {
+  unsigned mask = 0;  // bit k set: term k (DriveTerm) is enabled
+
+  static DriveTerms none() { return {}; }
+  /// ia,fv,fc: the `--drives` set of a robot that names none of its own.
+  static DriveTerms rotorAndFriction() {
+    return of({DriveTerm::kRotorInertia, DriveTerm::kViscous, DriveTerm::kCoulomb});
+  }
+  static DriveTerms of(std::initializer_list<DriveTerm> terms) {
+    DriveTerms out;
+    for (DriveTerm t : terms) out.mask |= 1u << static_cast<int>(t);
+    return out;
+  }
+  bool has(DriveTerm t) const { return (mask >> static_cast<int>(t)) & 1u; }
+  bool has(int k) const { return (mask >> k) & 1u; }
+  bool any() const { return mask != 0; }
+  /// Whether any friction or offset term (anything but Ia) is enabled.
+  bool friction() const { return (mask & ~1u) != 0; }
+  int count() const {
+    int n = 0;
+    for (int k = 0; k < kDriveTermCount; ++k) n += has(k) ? 1 : 0;
+    return n;
+  }
+  /// Position of term k among the enabled terms (0-based), or -1 when it is not enabled.
+  int column(int k) const {
+    if (!has(k)) return -1;
+    int n = 0;
+    for (int j = 0; j < k; ++j) n += has(j) ? 1 : 0;
+    return n;
+  }
+  /// The term at position `column` among the enabled terms (0 <= column < count()).
+  int termAt(int column) const {
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (has(k) && column-- == 0) return k;
+    return -1;
+  }
+  bool operator==(const DriveTerms& other) const { return mask == other.mask; }
+  bool operator!=(const DriveTerms& other) const { return mask != other.mask; }
+};
+
+/// "ia,fv,fc" (the enabled keys in column order), "none" when empty.
+std::string driveTermsText(DriveTerms terms);
+/// The enabled keys, in column order.
+std::vector<std::string> driveTermsKeys(DriveTerms terms);
+/// Parses a comma-separated list of keys ("fv,fc,fo", any order, no repeats) or "none". Throws
+/// std::invalid_argument naming the offending entry and listing the valid keys.
+DriveTerms parseDriveTerms(std::string_view text);
+
 /// Which parameter columns a model carries per joint.
 struct ParameterLayout {
   int num_links = 0;
-  bool drives = false;   // Ia, Fv, Fc per joint
-  bool offsets = false;  // Fo per joint (only with drives)
+  DriveTerms drives;  // the drive terms each joint adds after its link's 10
 
-  int perLink() const { return kLinkParameterCount + (drives ? (offsets ? 4 : 3) : 0); }
+  int perLink() const { return kLinkParameterCount + drives.count(); }
   int size() const { return num_links * perLink(); }
   /// Index of link `link` (0-based) parameter `k` (0..9) in the standard vector.
   int linkIndex(int link, int k) const { return link * perLink() + k; }
-  /// Index of drive parameter `k` (0 = Ia, 1 = Fv, 2 = Fc, 3 = Fo) of joint `link` (0-based).
-  int driveIndex(int link, int k) const { return link * perLink() + kLinkParameterCount + k; }
+  /// Index of drive term `k` (DriveTerm value) of joint `link` (0-based); the term must be enabled.
+  int driveIndex(int link, int k) const {
+    return link * perLink() + kLinkParameterCount + drives.column(k);
+  }
+  int driveIndex(int link, DriveTerm t) const { return driveIndex(link, static_cast<int>(t)); }
 };
 
 /// Names of the standard parameter vector, e.g. {"m1", "mx1", ..., "Izz1", "Ia1", ...}.

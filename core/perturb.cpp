@@ -26,8 +26,11 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
     perturbed.inertia += products;
     out.setLinkInertia(i, perturbed);
     DriveParameters<double> d = out.drives()[i];
-    for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.offset})
+    // Ia, Fv, Fc, Fa draw as they always have (seeded results stay the same); Fo only when the
+    // model carries it.
+    for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.asymmetry})
       *x *= 1.0 + uniform(rng);
+    if (out.drive_terms.has(DriveTerm::kOffset)) d.offset *= 1.0 + uniform(rng);
     out.setDrive(i, d);
   }
   return out;

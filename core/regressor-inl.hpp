@@ -77,13 +77,15 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
       for (int k = 0; k < 10; ++k) F.col(k) = data.liMi[j].actForce(F.col(k));
       j = p;
     }
-    if (!model.drives_enabled) continue;
-    // Drive columns act on joint i only.
+    const DriveTerms terms = model.drive_terms;
+    if (!terms.any()) continue;
+    // Drive columns act on joint i only: ddq, dq, sign(dq), 1, |sign(dq)| (parameters.hpp).
     const Scalar s = signum(dq[i]);
-    data.Y(i, layout.driveIndex(i, 0)) = ddq[i];
-    data.Y(i, layout.driveIndex(i, 1)) = dq[i];
-    data.Y(i, layout.driveIndex(i, 2)) = s;
-    if (model.offsets_enabled) data.Y(i, layout.driveIndex(i, 3)) = s * s;
+    if (terms.has(DriveTerm::kRotorInertia)) data.Y(i, layout.driveIndex(i, 0)) = ddq[i];
+    if (terms.has(DriveTerm::kViscous)) data.Y(i, layout.driveIndex(i, 1)) = dq[i];
+    if (terms.has(DriveTerm::kCoulomb)) data.Y(i, layout.driveIndex(i, 2)) = s;
+    if (terms.has(DriveTerm::kOffset)) data.Y(i, layout.driveIndex(i, 3)) = Scalar(1);
+    if (terms.has(DriveTerm::kCoulombAsymmetry)) data.Y(i, layout.driveIndex(i, 4)) = s * s;
   }
   return data.Y;
 }

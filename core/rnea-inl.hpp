@@ -63,8 +63,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   // Backward pass: tau_i = S^T f_i (+ drives), f_p += pXi* f_i = (R n + p x R f, R f).
   for (int i = n - 1; i >= 0; --i) {
     data.tau[i] = projectOnJoint(model, i, data.f[i]);
-    if (model.drives_enabled)
-      data.tau[i] += model.drives()[i].rotor_inertia * ddq[i] + jointFriction(model, i, dq[i]);
+    if (model.drive_terms.any()) data.tau[i] += driveTorque(model, i, dq[i], ddq[i]);
     const int p = model.parents()[i];
     if (p < 0) continue;
     const Pose<Scalar>& X = data.liMi[i];

@@ -71,8 +71,7 @@ Model modelFromDh(const DhModel& dh) {
   Model model;
   model.name = dh.name;
   model.gravity = dh.gravity;
-  model.drives_enabled = dh.drives;
-  model.offsets_enabled = dh.offsets;
+  model.drive_terms = dh.drive_terms;
   for (std::size_t i = 0; i < dh.rows.size(); ++i) {
     const DhRow& r = dh.rows[i];
     for (double x : {r.a, r.d, r.alpha, r.theta_offset})

@@ -38,7 +38,7 @@ struct DhModel {
   std::string name;
   DhConvention convention = DhConvention::kStandard;
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  bool drives = false, offsets = false;
+  DriveTerms drive_terms;
   std::vector<DhRow> rows;  // joints 1..n, each the child of the previous one (a serial chain)
 };
 

@@ -108,10 +108,51 @@ class Reader {
     if (out.lower > out.upper) fail(path, "lower is above upper");
     return out;
   }
+  /// A drive object: any of Ia, Fv, Fc, Fo, Fa (a missing one is 0).
   DriveParameters<double> drive(const json& object, const std::string& path) const {
-    onlyKeys(object, path, {"Ia", "Fv", "Fc", "Fo"});
-    return {number(object, path, "Ia"), number(object, path, "Fv"), number(object, path, "Fc"),
-            number(object, path, "Fo")};
+    if (!object.is_object()) fail(path, "expected an object");
+    onlyKeys(object, path, {"Ia", "Fv", "Fc", "Fo", "Fa"});
+    DriveParameters<double> out;
+    for (int k = 0; k < kDriveTermCount; ++k) {
+      const std::string key(kDriveParameterNames[k]);
+      if (const auto it = object.find(key); it != object.end())
+        out.term(k) = number(*it, join(path, key.c_str()));
+    }
+    return out;
+  }
+  /// The document's drive terms: "drive_terms": ["fv", "fc", "fo"] (or [] / absent: none). The
+  /// older "drives": true means ["ia", "fv", "fc"]; the older "offsets": true (an asymmetric
+  /// Coulomb term then called Fo) is refused with the new spelling.
+  DriveTerms driveTerms(const json& document) const {
+    if (document.contains("drive_terms") &&
+        (document.contains("drives") || document.contains("offsets")))
+      fail("drive_terms",
+           "give either \"drive_terms\" or the older \"drives\"/\"offsets\", not both");
+    if (document.contains("offsets") && boolean(document, "", "offsets"))
+      fail("offsets",
+           "\"offsets\" is no longer read: the asymmetric Coulomb term is now \"fa\" (value "
+           "\"Fa\"); write \"drive_terms\": [\"ia\", \"fv\", \"fc\", \"fa\"] and rename each "
+           "drive's \"Fo\" to \"Fa\" (\"fo\"/\"Fo\" is now a constant offset)");
+    if (document.contains("drives"))
+      return boolean(document, "", "drives") ? DriveTerms::rotorAndFriction() : DriveTerms::none();
+    const auto it = document.find("drive_terms");
+    if (it == document.end()) return {};
+    if (!it->is_array())
+      fail("drive_terms", "expected an array of term names (ia, fv, fc, fo, fa)");
+    std::string list;
+    for (std::size_t k = 0; k < it->size(); ++k) {
+      const json& term = (*it)[k];
+      if (!term.is_string())
+        fail("drive_terms[" + std::to_string(k) + "]", "expected a term name (ia, fv, fc, fo, fa)");
+      if (!list.empty()) list += ',';
+      list += term.get<std::string>();
+    }
+    if (list.empty()) return {};
+    try {
+      return parseDriveTerms(list);
+    } catch (const std::invalid_argument& e) {
+      fail("drive_terms", e.what());
+    }
   }
   JointType jointType(const json& object, const std::string& path) const {
     const std::string name = string(object, path, "type");
@@ -168,8 +209,7 @@ Model dhModelFromJson(const json& document, const Model& model, const Reader& re
   DhModel dh;
   dh.name = model.name;
   dh.gravity = model.gravity;
-  dh.drives = model.drives_enabled;
-  dh.offsets = model.offsets_enabled;
+  dh.drive_terms = model.drive_terms;
   const std::string convention = read.string(block, "dh", "convention");
   if (convention != "standard" && convention != "modified")
     read.fail("dh.convention", "unknown convention '" + convention + "' (standard or modified)");
@@ -234,20 +274,22 @@ std::string modelToJson(const Model& model) {
       inertial[std::string(kLinkParameterNames[k])] = theta(k);
     const DriveParameters<double>& d = model.drives()[i];
     const int p = model.parents()[i];
-    bodies.push_back(
-        {{"name", model.link_names[i]},
-         {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},
-         {"joint", joint},
-         {"inertial", inertial},
-         {"drive",
-          {{"Ia", d.rotor_inertia}, {"Fv", d.viscous}, {"Fc", d.coulomb}, {"Fo", d.offset}}}});
+    bodies.push_back({{"name", model.link_names[i]},
+                      {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},
+                      {"joint", joint},
+                      {"inertial", inertial},
+                      {"drive",
+                       {{"Ia", d.rotor_inertia},
+                        {"Fv", d.viscous},
+                        {"Fc", d.coulomb},
+                        {"Fo", d.offset},
+                        {"Fa", d.asymmetry}}}});
   }
   const json document = {{"schema_version", kModelSchemaVersion},
                          {"kind", "dynid.model"},
                          {"name", model.name},
                          {"gravity", {model.gravity.x(), model.gravity.y(), model.gravity.z()}},
-                         {"drives", model.drives_enabled},
-                         {"offsets", model.offsets_enabled},
+                         {"drive_terms", driveTermsKeys(model.drive_terms)},
                          {"bodies", bodies}};
   // nlohmann prints doubles with max_digits10, which round-trips exactly.
   return document.dump(2) + "\n";
@@ -266,14 +308,14 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     read.fail("schema_version",
               "unsupported (this dynid reads version " + std::to_string(kModelSchemaVersion) + ")");
   read.onlyKeys(document, "",
-                {"schema_version", "kind", "name", "gravity", "drives", "offsets", "bodies", "dh"});
+                {"schema_version", "kind", "name", "gravity", "drive_terms", "drives", "offsets",
+                 "bodies", "dh"});
   if (document.contains("dh") == document.contains("bodies"))
     read.fail("", "give the kinematics as either \"bodies\" or \"dh\", not both or neither");
   Model model;
   model.name = read.string(document, "", "name");
   model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
-  model.drives_enabled = read.boolean(document, "", "drives");
-  model.offsets_enabled = read.boolean(document, "", "offsets");
+  model.drive_terms = read.driveTerms(document);
   if (document.contains("dh")) return dhModelFromJson(document, model, read, file);
   const json& bodies = read.field(document, "", "bodies");
   if (!bodies.is_array() || bodies.empty()) read.fail("bodies", "expected a non-empty array");

@@ -2,13 +2,14 @@
 // parameters, limits, gravity), exactly, so export -> load reproduces the model bit for bit.
 //
 // {"schema_version": 1, "kind": "dynid.model", "name": ..., "gravity": [gx, gy, gz],
-//  "drives": bool, "offsets": bool,
+//  "drive_terms": ["ia", "fv", "fc", "fo", "fa"] (any subset, core/parameters.hpp; absent or []:
+//  none; the older "drives": bool is read as ["ia", "fv", "fc"]),
 //  "bodies": [{"name", "parent" (name or null), "joint": {"name", "type", "axis": [3],
 //              "placement": {"rotation": [[3],[3],[3]], "translation": [3]},
 //              "body_placement": {...}, "limits": {"lower", "upper", "velocity", "effort"}
 //              (null = unlimited)},
 //              "inertial": {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"},
-//              "drive": {"Ia", "Fv", "Fc", "Fo"}}]}
+//              "drive": {"Ia", "Fv", "Fc", "Fo", "Fa"} (a missing one is 0)}]}
 //
 // Or, instead of "bodies", a Denavit-Hartenberg chain (data/dh.hpp):
 //  "dh": {"convention": "standard" | "modified",
@@ -18,7 +19,7 @@
 //                     "inertial": with "com": {"m", "com": [3], "inertia": {"Ixx", "Ixy", "Ixz",
 //                                 "Iyy", "Iyz", "Izz"}} (about the centre of mass, link axes);
 //                                 with "origin": {"m", "mx", ..., "Izz"} (about the frame origin),
-//                     "drive": {"Ia", "Fv", "Fc", "Fo"}}]}
+//                     "drive": {"Ia", "Fv", "Fc", "Fo", "Fa"}}]}
 // in the DH link frames, SI units and radians. Unknown keys are errors (a misspelt key must not
 // silently become a default); limits may be omitted or null (unlimited).
 #pragma once

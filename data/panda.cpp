@@ -45,7 +45,7 @@ DhModel pandaDh(bool drives) {
   DhModel dh;
   dh.name = "panda";
   dh.convention = DhConvention::kModified;
-  dh.drives = drives;
+  if (drives) dh.drive_terms = kPandaDriveTerms;
   for (int i = 0; i < 7; ++i) {
     DhRow r;
     r.joint_name = "joint" + std::to_string(i + 1);

@@ -49,8 +49,7 @@ Model makePuma560(bool drives) {
   Model model;
   model.name = "puma560";
   model.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  model.drives_enabled = drives;
-  model.offsets_enabled = drives;
+  if (drives) model.drive_terms = kPuma560DriveTerms;
   for (int i = 0; i < 6; ++i) {
     const std::string index = std::to_string(i + 1);
     // Joint i turns about z_{i-1}; link frame i sits Tz(d) Tx(a) Rx(alpha) further.
@@ -71,7 +70,7 @@ Model makePuma560(bool drives) {
     drive.rotor_inertia = r.jm * g * g;
     drive.viscous = g * g * r.viscous;
     drive.coulomb = abs_g * (r.coulomb_plus - r.coulomb_minus) / 2.0;
-    drive.offset = abs_g * (r.coulomb_plus + r.coulomb_minus) / 2.0;
+    drive.asymmetry = abs_g * (r.coulomb_plus + r.coulomb_minus) / 2.0;
     model.addBody(i - 1, "link" + index, "joint" + index, JointType::kRevolute, Pose<double>(),
                   Eigen::Vector3d::UnitZ(), body_placement, inertia, limits, drive);
   }

@@ -12,8 +12,13 @@ namespace dynid {
 /// The PUMA 560. Rigid body only by default; with `drives` the joint-side rotor inertia
 /// Ia = Jm G^2, viscous friction Fv = G^2 B, and the published asymmetric Coulomb friction
 /// (|G| Tc+ for dq > 0, |G| Tc- for dq < 0) represented exactly by Fc = |G| (Tc+ - Tc-) / 2 and the
-/// offset Fo = |G| (Tc+ + Tc-) / 2 (offsets enabled).
+/// Coulomb asymmetry Fa = |G| (Tc+ + Tc-) / 2: drive terms kPuma560DriveTerms.
 Model makePuma560(bool drives = false);
+
+/// ia, fv, fc, fa: the PUMA 560's published drive model (Corke and Armstrong-Helouvry).
+inline const DriveTerms kPuma560DriveTerms =
+    DriveTerms::of({DriveTerm::kRotorInertia, DriveTerm::kViscous, DriveTerm::kCoulomb,
+                    DriveTerm::kCoulombAsymmetry});
 
 /// The built-in PUMA 560 made physically consistent, for engines that refuse the original (MuJoCo)
 /// and for comparisons that need a realisable body: link 1 (massless, rank-1 inertia) gets 1 kg at

@@ -16,24 +16,33 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 }
 }  // namespace
 
+bool isUrdfSpec(const std::string& spec) {
+  return endsWith(spec, ".urdf") || endsWith(spec, ".xml");
+}
+
 Model loadRobot(const std::string& spec, const RobotOptions& options,
                 std::vector<std::string>* warnings) {
-  if (spec == "puma560") return makePuma560(options.drives);
-  if (spec == "puma560-consistent") return makePuma560Consistent(options.drives);
-  if (spec == "panda") return makePanda(options.drives);
-  if (endsWith(spec, ".urdf") || endsWith(spec, ".xml"))
-    return loadUrdf(spec, {options.drives, options.strict}, warnings);
-  if (endsWith(spec, ".json")) {
-    Model model = modelFromJson(readFile(spec), spec);
-    if (options.drives && !model.drives_enabled) {
-      model.drives_enabled = true;
-      model.finalize();
-    }
-    return model;
+  const bool drives = options.drives || options.drive_terms.has_value();
+  Model model;
+  if (spec == "puma560") {
+    model = makePuma560(drives);
+  } else if (spec == "puma560-consistent") {
+    model = makePuma560Consistent(drives);
+  } else if (spec == "panda") {
+    model = makePanda(drives);
+  } else if (isUrdfSpec(spec)) {
+    model = loadUrdf(spec, {drives, options.strict}, warnings);
+  } else if (endsWith(spec, ".json")) {
+    model = modelFromJson(readFile(spec), spec);
+    if (options.drives && !model.drive_terms.any())
+      model.drive_terms = DriveTerms::rotorAndFriction();
+  } else {
+    throw InputError(
+        "unknown robot '" + spec +
+        "': expected puma560, puma560-consistent, panda, a .urdf file or a dynid .json model");
   }
-  throw InputError(
-      "unknown robot '" + spec +
-      "': expected puma560, puma560-consistent, panda, a .urdf file or a dynid .json model");
+  if (options.drive_terms) model.drive_terms = *options.drive_terms;
+  return model;
 }
 
 }  // namespace dynid

@@ -1,6 +1,7 @@
 // One entry point for "--robot R": the built-in PUMA 560, a URDF file, or a dynid JSON model.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,16 +10,24 @@
 namespace dynid {
 
 struct RobotOptions {
-  bool drives =
-      false;  // enable rotor inertia and friction (PUMA: published values; URDF: <dynamics>)
+  /// `--drives`: the robot's own drive terms (puma560: ia,fv,fc,fa with the published values;
+  /// panda: fv,fc,fo; a JSON model: its "drive_terms", or ia,fv,fc when it names none; a URDF:
+  /// ia,fv,fc with Fv, Fc from <dynamics>).
+  bool drives = false;
+  /// `--drive-terms`: exactly these terms (values from the robot where it has them, else 0).
+  /// Overrides `drives`.
+  std::optional<DriveTerms> drive_terms;
   bool strict = false;  // URDF warnings become errors
 };
 
 /// "puma560" or "puma560-consistent" (built in, data/puma560.hpp), "panda" (data/panda.hpp), a path
 /// ending in .urdf, or a
 /// path ending in .json (modelToJson format). Throws InputError for anything else, ParseError for a
-/// malformed file. For a JSON model, `drives` enables its drives if the file has them disabled
-/// (never disables them).
+/// malformed file. Drive terms: RobotOptions; without either option a built-in robot is rigid, a
+/// URDF rigid and a JSON model keeps its file's terms.
+/// Whether a robot spec names a URDF file (ends in .urdf or .xml).
+bool isUrdfSpec(const std::string& spec);
+
 Model loadRobot(const std::string& spec, const RobotOptions& options = {},
                 std::vector<std::string>* warnings = nullptr);
 

@@ -85,7 +85,7 @@ class UrdfBuilder {
 
   Model build() {
     model_.name = urdf_.getName();
-    model_.drives_enabled = options_.drives;
+    if (options_.drives) model_.drive_terms = DriveTerms::rotorAndFriction();
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
     walk(*urdf_.getRoot(), -1, Pose<double>());
@@ -380,7 +380,7 @@ std::string modelToUrdf(const Model& model) {
           << formatDouble(finite_or(l.effort, 0.0)) << "\" velocity=\""
           << formatDouble(finite_or(l.velocity, 0.0)) << "\"/>\n";
     }
-    if (model.drives_enabled)
+    if (model.drive_terms.any())
       out << "    <dynamics damping=\"" << formatDouble(model.drives()[i].viscous)
           << "\" friction=\"" << formatDouble(model.drives()[i].coulomb) << "\"/>\n";
     out << "  </joint>\n";

@@ -10,7 +10,8 @@
 namespace dynid {
 
 struct UrdfOptions {
-  /// Enable drives: Fv from <dynamics damping>, Fc from <dynamics friction>, Ia = 0.
+  /// Enable drive terms ia, fv, fc. The values always come from the file: Fv from <dynamics
+  /// damping>, Fc from <dynamics friction>, the others 0.
   bool drives = false;
   /// Turn warnings (a moving link without <inertial>) into errors.
   bool strict = false;
@@ -35,7 +36,8 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
 /// frames: for models with a body placement after the joint (Denavit-Hartenberg), each link's
 /// inertia is re-expressed in its joint frame, so the dynamics are identical but the standard
 /// parameters of a reloaded model are those of the joint frames. Drives export as
-/// <dynamics damping="Fv" friction="Fc"/>; Ia, Fo and gravity have no URDF element and are lost.
+/// <dynamics damping="Fv" friction="Fc"/>; Ia, Fo, Fa and gravity have no URDF element and are
+/// lost.
 std::string modelToUrdf(const Model& model);
 
 }  // namespace dynid

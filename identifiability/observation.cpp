@@ -28,7 +28,8 @@ Observation observationFromTrajectory(const Model& model, const Trajectory& traj
   Observation out;
   out.num_samples = samples;
   out.num_joints = n;
-  out.W.resize(static_cast<Eigen::Index>(samples) * n, model.parameterLayout().size());
+  out.layout = model.parameterLayout();
+  out.W.resize(static_cast<Eigen::Index>(samples) * n, out.layout.size());
   out.tau.resize(static_cast<Eigen::Index>(samples) * n);
   Data data(model);
   Eigen::VectorXd q(n), dq(n), ddq(n);
@@ -60,7 +61,8 @@ Observation observationFromRandomStates(const Model& model, int num_samples, std
   Observation out;
   out.num_samples = num_samples;
   out.num_joints = n;
-  out.W.resize(static_cast<Eigen::Index>(num_samples) * n, model.parameterLayout().size());
+  out.layout = model.parameterLayout();
+  out.W.resize(static_cast<Eigen::Index>(num_samples) * n, out.layout.size());
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Data data(model);

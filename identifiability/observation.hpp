@@ -16,6 +16,7 @@ struct Observation {
   Eigen::VectorXd tau;
   int num_samples = 0;
   int num_joints = 0;
+  ParameterLayout layout;  // W's columns: the model's standard parameters
 };
 
 /// W and tau from a trajectory (q, dq, ddq, tau of every sample). Throws InputError when the

@@ -1,9 +1,12 @@
 #include "identifiability/physically_consistent.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <sstream>
 
-#include <ceres/ceres.h>
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 
 #include "core/errors.hpp"
@@ -13,65 +16,14 @@ namespace dynid {
 
 namespace {
 
-/// Residuals of the physically consistent problem for any Scalar (double or ceres::Jet).
-struct PhysicalFunctor {
-  PhysicalProblem problem;
-
-  template <typename T>
-  bool operator()(T const* const* blocks, T* residuals) const {
-    const ParameterLayout& layout = problem.layout;
-    const int per = layout.perLink(), p = layout.size();
-    // theta from the log-Cholesky and drive blocks.
-    VectorX<T> theta(p);
-    for (int i = 0; i < layout.num_links; ++i) {
-      theta.template segment<10>(i * per) = logCholeskyToStandard(blocks[i]);
-      for (int k = 0; k < per - kLinkParameterCount; ++k)
-        theta[i * per + kLinkParameterCount + k] = blocks[layout.num_links + i][k];
-    }
-    // Data term (R P theta - c) / sigma.
-    const int b = static_cast<int>(problem.c.size());
-    VectorX<T> beta(b);
-    for (int j = 0; j < b; ++j) {
-      T sum(0.0);
-      for (int k = 0; k < p; ++k)
-        if (problem.P(j, k) != 0.0) sum += problem.P(j, k) * theta[k];
-      beta[j] = sum;
-    }
-    const double inv_sigma = 1.0 / problem.sigma;
-    for (int j = 0; j < b; ++j) {
-      T sum(-problem.c[j]);
-      for (int k = j; k < b; ++k) sum += problem.R(j, k) * beta[k];
-      residuals[j] = sum * inv_sigma;
-    }
-    // Prior term sqrt(lambda) (phi - phi_prior), drives scaled by their prior magnitudes.
-    if (problem.prior_weight > 0.0) {
-      const double w = std::sqrt(problem.prior_weight);
-      int r = b;
-      for (int i = 0; i < layout.num_links; ++i)
-        for (int k = 0; k < kLogCholeskyCount; ++k)
-          residuals[r++] = w * (blocks[i][k] - problem.prior_blocks[kLogCholeskyCount * i + k]);
-      const int drive = per - kLinkParameterCount;
-      for (int i = 0; i < layout.num_links && drive > 0; ++i)
-        for (int k = 0; k < drive; ++k) {
-          const int index = kLogCholeskyCount * layout.num_links + drive * i + k;
-          residuals[r++] = w * (blocks[layout.num_links + i][k] - problem.prior_blocks[index]) /
-                           problem.drive_scales[drive * i + k];
-        }
-    }
-    // An overflowing exp (a step far out in log-Cholesky coordinates) is an evaluation failure:
-    // Ceres rejects the step and shrinks its trust region.
-    using std::isfinite;
-    for (int j = 0; j < b; ++j)
-      if (!isfinite(residuals[j])) return false;
-    return true;
-  }
-};
-
 /// Typical magnitude of each standard parameter's kind in theta (RMS over links of the non-zero
 /// values; 1 when all are zero).
 Eigen::VectorXd kindScales(const ParameterLayout& layout, const Eigen::VectorXd& theta) {
   const int per = layout.perLink();
-  auto kind = [](int k) { return k == 0 ? 0 : k <= 3 ? 1 : k <= 9 ? 2 : k - 7; };
+  // Kinds: mass, first moments, inertias, then one per drive term.
+  const auto kind = [&](int k) {
+    return k == 0 ? 0 : k <= 3 ? 1 : k <= 9 ? 2 : 3 + layout.drives.termAt(k - kLinkParameterCount);
+  };
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(8), count = Eigen::VectorXd::Zero(8);
   for (int i = 0; i < layout.size(); ++i)
     if (theta[i] != 0.0) sum[kind(i % per)] += theta[i] * theta[i], count[kind(i % per)] += 1;
@@ -83,35 +35,35 @@ Eigen::VectorXd kindScales(const ParameterLayout& layout, const Eigen::VectorXd&
   return out;
 }
 
-class IterateCallback : public ceres::IterationCallback {
- public:
-  IterateCallback(const ParameterLayout& layout, const Eigen::VectorXd& x,
-                  const std::function<void(const Eigen::VectorXd&)>& on_iterate)
-      : layout_(layout), x_(x), on_iterate_(on_iterate) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary&) override {
-    on_iterate_(standardFromPhysicalBlocks(layout_, x_));
-    return ceres::SOLVER_CONTINUE;
-  }
+/// The pseudo-inertia's derivative with respect to each of the 10 standard parameters (J is
+/// linear in them).
+const std::array<Eigen::Matrix4d, 10>& pseudoInertiaBasis() {
+  static const std::array<Eigen::Matrix4d, 10> basis = [] {
+    std::array<Eigen::Matrix4d, 10> out;
+    for (int k = 0; k < 10; ++k) out[k] = pseudoInertia(Eigen::Matrix<double, 10, 1>::Unit(k));
+    return out;
+  }();
+  return basis;
+}
 
- private:
-  const ParameterLayout& layout_;
-  const Eigen::VectorXd& x_;
-  const std::function<void(const Eigen::VectorXd&)>& on_iterate_;
-};
+/// log det of a positive definite J, or NaN when J is not positive definite.
+double logDet(const Eigen::Matrix4d& j, Eigen::Matrix4d* inverse = nullptr) {
+  const Eigen::LLT<Eigen::Matrix4d> llt(j);
+  if (llt.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Vector4d diagonal = llt.matrixLLT().diagonal();
+  if (!(diagonal.array() > 0.0).all()) return std::numeric_limits<double>::quiet_NaN();
+  if (inverse != nullptr) *inverse = llt.solve(Eigen::Matrix4d::Identity());
+  return 2.0 * diagonal.array().log().sum();
+}
+
+std::string formatShortNumber(double x) {
+  std::ostringstream out;
+  out.precision(3);
+  out << x;
+  return out.str();
+}
 
 }  // namespace
-
-std::vector<int> PhysicalProblem::blockSizes() const {
-  std::vector<int> sizes(layout.num_links, kLogCholeskyCount);
-  if (layout.drives)
-    sizes.insert(sizes.end(), layout.num_links, layout.perLink() - kLinkParameterCount);
-  return sizes;
-}
-
-int PhysicalProblem::numResiduals() const {
-  return static_cast<int>(c.size()) +
-         (prior_weight > 0.0 ? static_cast<int>(prior_blocks.size()) : 0);
-}
 
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
                                     const Eigen::VectorXd& prior, double prior_weight,
@@ -119,76 +71,106 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observatio
   if (prior.size() != base.numStandard())
     throw InputError("the prior has " + std::to_string(prior.size()) + " parameters, expected " +
                      std::to_string(base.numStandard()));
-  if (!(prior_weight >= 0.0) || !std::isfinite(prior_weight))
-    throw InputError("the prior weight must be finite and >= 0");
+  if (!(prior_weight > 0.0) || !std::isfinite(prior_weight))
+    throw InputError("the prior weight must be finite and > 0");
   if (!(sigma > 0.0)) throw InputError("sigma must be positive");
   const int p = base.numStandard();
-  const int per = p / std::max(observation.num_joints, 1);
   PhysicalProblem problem;
-  problem.layout = {observation.num_joints, per > kLinkParameterCount,
-                    per > kLinkParameterCount + 3};
-  if (problem.layout.size() != p)
+  problem.layout = observation.layout;
+  if (problem.layout.size() != p || problem.layout.num_links != observation.num_joints)
     throw InputError("the base parameters do not match the observation's joint count");
-  // Q R = W1; c = Q^T tau (the thin part).
+  // Q R = W1; the data term is |R P theta - c|^2 / sigma^2 up to a constant, c = Q^T tau.
   const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
   const int b = base.numBase();
   if (W1.rows() < b) throw InputError("fewer torque rows than base parameters");
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W1);
-  problem.R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
-  problem.c = (qr.householderQ().transpose() * observation.tau).head(b);
+  const Eigen::MatrixXd R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd c = (qr.householderQ().transpose() * observation.tau).head(b);
+  problem.A = R * base.projectionMatrix() / sigma;
+  problem.b = c / sigma;
   problem.sigma = sigma;
-  problem.P = base.projectionMatrix();
   problem.prior_weight = prior_weight;
-  // The prior in the solver's coordinates: each link moved well inside the consistent set.
-  Eigen::VectorXd consistent_prior = prior;
-  const int per_link = problem.layout.perLink();
-  for (int i = 0; i < problem.layout.num_links; ++i)
-    consistent_prior.segment<10>(i * per_link) =
-        nearestConsistent(prior.segment<10>(i * per_link).eval(), 1e-2);
-  problem.prior_blocks = physicalBlocksFromStandard(problem.layout, consistent_prior);
-  const Eigen::VectorXd scales = kindScales(problem.layout, prior);
-  const int drive = per_link - kLinkParameterCount;
-  problem.drive_scales.resize(problem.layout.num_links * drive);
-  for (int i = 0; i < problem.layout.num_links; ++i)
-    for (int k = 0; k < drive; ++k)
-      problem.drive_scales[drive * i + k] = scales[i * per_link + kLinkParameterCount + k];
+  // The prior: each link moved well inside the physical set; its pseudo-inertia's inverse.
+  const ParameterLayout& layout = problem.layout;
+  const int per = layout.perLink();
+  problem.prior = prior;
+  for (int i = 0; i < layout.num_links; ++i) {
+    problem.prior.segment<10>(i * per) = nearestConsistent(prior.segment<10>(i * per).eval(), 1e-2);
+    Eigen::Matrix4d inverse;
+    const double log_det = logDet(pseudoInertia(problem.prior.segment<10>(i * per)), &inverse);
+    if (!std::isfinite(log_det))
+      throw NumericalError("the prior's link " + std::to_string(i + 1) +
+                           " has no positive definite pseudo-inertia");
+    problem.prior_inverse.push_back(inverse);
+    problem.prior_log_det.push_back(log_det);
+  }
+  // Drive terms: positive ones (Ia, Fv, Fc) and their scales.
+  const Eigen::VectorXd kinds = kindScales(layout, prior);
+  problem.scales = kinds;
+  problem.positive.assign(p, 0);
+  for (int i = 0; i < layout.num_links; ++i)
+    for (int k = 0; k < per - kLinkParameterCount; ++k) {
+      const int index = i * per + kLinkParameterCount + k;
+      problem.positive[index] =
+          layout.drives.termAt(k) <= static_cast<int>(DriveTerm::kCoulomb) ? 1 : 0;
+      if (problem.positive[index] && prior[index] > 0.0) problem.scales[index] = prior[index];
+    }
   return problem;
 }
 
-std::unique_ptr<ceres::CostFunction> makePhysicalCost(const PhysicalProblem& problem) {
-  // Stride 10: one pass per link block.
-  auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<PhysicalFunctor, 10>>(
-      new PhysicalFunctor{problem});
-  for (int size : problem.blockSizes()) cost->AddParameterBlock(size);
-  cost->SetNumResiduals(problem.numResiduals());
-  return cost;
+double PhysicalProblem::cost(const Eigen::VectorXd& theta) const {
+  double out = 0.5 * (A * theta - b).squaredNorm();
+  const int per = layout.perLink();
+  for (int i = 0; i < layout.num_links; ++i) {
+    const Eigen::Matrix4d j = pseudoInertia(theta.segment<10>(i * per));
+    const double log_det = logDet(j);
+    if (!std::isfinite(log_det)) return std::numeric_limits<double>::infinity();
+    out += prior_weight * ((prior_inverse[i] * j).trace() - log_det + prior_log_det[i] - 4.0);
+    for (int k = i * per + kLinkParameterCount; k < (i + 1) * per; ++k) {
+      const double x = theta[k] / scales[k];
+      if (positive[k]) {
+        if (!(x > 0.0)) return std::numeric_limits<double>::infinity();
+        out += prior_weight * (x - std::log(x) - 1.0);
+      } else {
+        const double d = (theta[k] - prior[k]) / scales[k];
+        out += prior_weight * 0.5 * d * d;
+      }
+    }
+  }
+  return out;
 }
 
-Eigen::VectorXd standardFromPhysicalBlocks(const ParameterLayout& layout,
-                                           const Eigen::VectorXd& blocks) {
-  const int per = layout.perLink(), drive = per - kLinkParameterCount;
-  if (blocks.size() != layout.num_links * (kLogCholeskyCount + drive))
-    throw InputError("wrong number of physically consistent parameters");
-  Eigen::VectorXd theta(layout.size());
+void PhysicalProblem::derivatives(const Eigen::VectorXd& theta, Eigen::VectorXd* gradient,
+                                  Eigen::MatrixXd* hessian) const {
+  *gradient = A.transpose() * (A * theta - b);
+  *hessian = A.transpose() * A;
+  const std::array<Eigen::Matrix4d, 10>& basis = pseudoInertiaBasis();
+  const int per = layout.perLink();
   for (int i = 0; i < layout.num_links; ++i) {
-    theta.segment<10>(i * per) = logCholeskyToStandard(blocks.data() + kLogCholeskyCount * i);
-    theta.segment(i * per + kLinkParameterCount, drive) =
-        blocks.segment(kLogCholeskyCount * layout.num_links + drive * i, drive);
+    Eigen::Matrix4d inverse;
+    logDet(pseudoInertia(theta.segment<10>(i * per)), &inverse);
+    // d/dtheta_k [tr(Jp^-1 J) - log det J] = tr(Jp^-1 E_k) - tr(J^-1 E_k);
+    // d2/dtheta_k dtheta_l = tr(J^-1 E_k J^-1 E_l).
+    std::array<Eigen::Matrix4d, 10> products;
+    for (int k = 0; k < 10; ++k) {
+      products[k] = inverse * basis[k];
+      (*gradient)[i * per + k] +=
+          prior_weight * ((prior_inverse[i] * basis[k]).trace() - products[k].trace());
+    }
+    for (int k = 0; k < 10; ++k)
+      for (int l = 0; l < 10; ++l)
+        (*hessian)(i * per + k, i * per + l) += prior_weight * (products[k] * products[l]).trace();
+    for (int k = i * per + kLinkParameterCount; k < (i + 1) * per; ++k) {
+      const double s = scales[k];
+      if (positive[k]) {
+        (*gradient)[k] += prior_weight * (1.0 / s - 1.0 / theta[k]);
+        (*hessian)(k, k) += prior_weight / (theta[k] * theta[k]);
+      } else {
+        (*gradient)[k] += prior_weight * (theta[k] - prior[k]) / (s * s);
+        (*hessian)(k, k) += prior_weight / (s * s);
+      }
+    }
   }
-  return theta;
-}
-
-Eigen::VectorXd physicalBlocksFromStandard(const ParameterLayout& layout,
-                                           const Eigen::VectorXd& theta) {
-  const int per = layout.perLink(), drive = per - kLinkParameterCount;
-  if (theta.size() != layout.size()) throw InputError("wrong number of standard parameters");
-  Eigen::VectorXd blocks(layout.num_links * (kLogCholeskyCount + drive));
-  for (int i = 0; i < layout.num_links; ++i) {
-    blocks.segment<10>(kLogCholeskyCount * i) = standardToLogCholesky(theta.segment<10>(i * per));
-    blocks.segment(kLogCholeskyCount * layout.num_links + drive * i, drive) =
-        theta.segment(i * per + kLinkParameterCount, drive);
-  }
-  return blocks;
 }
 
 PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
@@ -209,80 +191,92 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   const PhysicalProblem problem =
       makePhysicalProblem(base, observation, prior, options.prior_weight, sigma_ols);
   const ParameterLayout& layout = problem.layout;
-  const int per = layout.perLink(), drive = per - kLinkParameterCount;
+  const int per = layout.perLink(), p = layout.size();
 
-  // Starts, each link moved inside the consistent set by a margin (1e-2 of the normalised
-  // pseudo-inertia, where the log-Cholesky coordinates are well conditioned) and Ia, Fv, Fc >= 0:
-  // OLS lifted with the prior's dependent parameters, and the prior itself. A lift whose dependent
-  // parameters are far off can land where Levenberg-Marquardt stalls, so both are solved and the
-  // lower cost is kept.
-  const auto consistentStart = [&](Eigen::VectorXd theta, std::vector<int>* moved) {
-    for (int i = 0; i < layout.num_links; ++i) {
-      const Eigen::Matrix<double, 10, 1> link = theta.segment<10>(i * per);
-      const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-2);
-      if (moved != nullptr && fixed != link) moved->push_back(i);
-      theta.segment<10>(i * per) = fixed;
-      for (int k = 0; k < std::min(drive, 3); ++k)
-        theta[i * per + kLinkParameterCount + k] =
-            std::max(theta[i * per + kLinkParameterCount + k], 0.0);
-    }
-    return theta;
-  };
-  const std::vector<Eigen::VectorXd> starts = {
-      consistentStart(base.standardFromBase(out.ols.beta, prior), &out.inconsistent_links),
-      consistentStart(prior, nullptr)};
-
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
-  solver.gradient_tolerance = 1e-16;
-  solver.parameter_tolerance = 1e-14;
-  solver.num_threads = std::max(options.num_threads, 1);
-  solver.logging_type = ceres::SILENT;
-  Eigen::VectorXd x;
-  ceres::Solver::Summary summary;
-  for (const Eigen::VectorXd& start : starts) {
-    Eigen::VectorXd y = physicalBlocksFromStandard(layout, start);
-    // One residual block over every parameter block; drive Ia, Fv, Fc >= 0.
-    ceres::Problem solver_problem;
-    std::vector<double*> pointers;
-    int offset = 0;
-    for (int size : problem.blockSizes()) pointers.push_back(y.data() + offset), offset += size;
-    solver_problem.AddResidualBlock(makePhysicalCost(problem).release(), nullptr, pointers);
-    for (int i = 0; i < layout.num_links && layout.drives; ++i)
-      for (int k = 0; k < 3; ++k)
-        solver_problem.SetParameterLowerBound(pointers[layout.num_links + i], k, 0.0);
-    ceres::Solver::Options this_solver = solver;
-    std::unique_ptr<IterateCallback> callback;
-    if (options.on_iterate) {
-      callback = std::make_unique<IterateCallback>(layout, y, options.on_iterate);
-      this_solver.update_state_every_iteration = true;
-      this_solver.callbacks.push_back(callback.get());
-    }
-    ceres::Solver::Summary this_summary;
-    ceres::Solve(this_solver, &solver_problem, &this_summary);
-    if (x.size() == 0 ||
-        (this_summary.IsSolutionUsable() &&
-         (!summary.IsSolutionUsable() || this_summary.final_cost < summary.final_cost))) {
-      x = y;
-      summary = this_summary;
-      out.start_theta = start;
-    }
+  // The start: OLS lifted with the prior's dependent parameters, each link that is not inside the
+  // physical set moved just inside (1e-8 of the normalised pseudo-inertia), and the positive drive
+  // terms raised to at least 1e-2 of their scale. F is strictly convex: any interior start reaches
+  // the one minimum.
+  Eigen::VectorXd theta = base.standardFromBase(out.ols.beta, prior);
+  for (int i = 0; i < layout.num_links; ++i) {
+    const Eigen::Matrix<double, 10, 1> link = theta.segment<10>(i * per);
+    const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-8);
+    if (fixed != link) out.inconsistent_links.push_back(i);
+    theta.segment<10>(i * per) = fixed;
   }
+  for (int k = 0; k < p; ++k)
+    if (problem.positive[k]) theta[k] = std::max(theta[k], 1e-2 * problem.scales[k]);
+  out.start_theta = theta;
 
-  out.theta = standardFromPhysicalBlocks(layout, x);
+  // Damped Newton along the barrier path: lambda starts at the data term's size at the start (the
+  // divergence then weighs as much as the misfit, the minimiser is well inside the physical set
+  // and Newton converges in a few steps) and falls tenfold per stage to the requested value, each
+  // stage starting from the last one's minimiser (the interior-point method's central path). Each
+  // step solves the Jacobi-scaled Newton system (the Hessian mixes the data's curvature, up to
+  // 1/sigma^2, with the barrier's); backtracking (Armijo, halving) keeps every iterate inside.
+  PhysicalProblem stage = problem;
+  int stages = 0;
+  const double misfit = 0.5 * (problem.A * theta - problem.b).squaredNorm();
+  while (stage.prior_weight < misfit && stages < 30) stage.prior_weight *= 10.0, ++stages;
+  double cost = stage.cost(theta);
+  out.cost_history.push_back(problem.cost(theta));
+  bool converged = false;
+  std::string why;
+  Eigen::VectorXd gradient;
+  Eigen::MatrixXd hessian;
+  int iteration = 0;
+  for (; iteration < options.max_iterations; ++iteration) {
+    stage.derivatives(theta, &gradient, &hessian);
+    const Eigen::VectorXd scale = hessian.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    Eigen::MatrixXd scaled = scale.asDiagonal() * hessian * scale.asDiagonal();
+    Eigen::LLT<Eigen::MatrixXd> llt(scaled);
+    for (double damping = 1e-14; llt.info() != Eigen::Success && damping < 1.0; damping *= 100.0)
+      llt.compute(scaled + damping * Eigen::MatrixXd::Identity(p, p));
+    const Eigen::VectorXd step = scale.asDiagonal() * llt.solve(-(scale.asDiagonal() * gradient));
+    const double decrement = -gradient.dot(step);  // lambda^2; F - min of the quadratic model = /2
+    if (!std::isfinite(decrement) || llt.info() != Eigen::Success) {
+      why = "the Newton system could not be solved";
+      break;
+    }
+    const bool last_stage = stage.prior_weight == problem.prior_weight;
+    if (decrement / 2.0 <= (last_stage ? options.tolerance : 1e-3)) {
+      if (!last_stage) {  // the next stage of the path
+        stage.prior_weight = stages == 1 ? problem.prior_weight : stage.prior_weight / 10.0;
+        --stages;
+        cost = stage.cost(theta);
+        continue;
+      }
+      converged = true;
+      why = "Newton decrement / 2 = " + formatShortNumber(decrement / 2.0) +
+            " <= " + formatShortNumber(options.tolerance);
+      break;
+    }
+    double t = 1.0, trial = stage.cost(theta + step);
+    while (!(trial <= cost - 0.25 * t * decrement) && t > 1e-12) {
+      t *= 0.5;
+      trial = stage.cost(theta + t * step);
+    }
+    if (t <= 1e-12) {
+      why = "no decrease along the Newton step (decrement / 2 = " +
+            formatShortNumber(decrement / 2.0) + ", F = " + formatShortNumber(cost) + ")";
+      break;
+    }
+    theta += t * step;
+    cost = trial;
+    out.cost_history.push_back(problem.cost(theta));
+    if (options.on_iterate) options.on_iterate(theta);
+  }
+  if (!converged && why.empty())
+    why = "Maximum number of iterations reached (" + std::to_string(options.max_iterations) + ")";
+  out.termination = std::string(converged ? "CONVERGENCE: " : "NO_CONVERGENCE: ") + why;
+  out.iterations = iteration;
+  out.theta = theta;
   out.beta = base.project(out.theta);
-  for (const ceres::IterationSummary& it : summary.iterations) out.cost_history.push_back(it.cost);
-  out.termination = std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
-                    summary.message;
-  out.usable = summary.IsSolutionUsable();
-  out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+  out.usable = std::isfinite(problem.cost(theta));
   const std::vector<std::string> names = standardParameterNames(layout);
-  for (int i = 0; i < layout.num_links && layout.drives; ++i)
-    for (int k = 0; k < 3; ++k)
-      if (out.theta[i * per + kLinkParameterCount + k] <= 0.0)
-        out.at_bound.push_back(names[i * per + kLinkParameterCount + k]);
+  for (int k = 0; k < p; ++k)
+    if (problem.positive[k] && out.theta[k] <= 1e-6 * problem.scales[k])
+      out.at_bound.push_back(names[k]);
 
   // Residuals and the base covariance sigma^2 (R^T R)^-1 at the estimate.
   const Eigen::VectorXd residual = W1 * out.beta - observation.tau;
@@ -295,8 +289,10 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
     out.residual_rms[j] = std::sqrt(sum / std::max(observation.num_samples, 1));
   }
   const double sigma2 = residual.squaredNorm() / std::max(rows - b, 1.0);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W1);
+  const Eigen::MatrixXd R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
   const Eigen::MatrixXd r_inv =
-      problem.R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
+      R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
   out.covariance = sigma2 * r_inv * r_inv.transpose();
   out.std_dev = out.covariance.diagonal().cwiseSqrt();
   return out;

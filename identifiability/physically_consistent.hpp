@@ -1,26 +1,36 @@
-// Physically consistent identification: least squares on the torque residuals with every link's
-// 10 inertial parameters in log-Cholesky form (core/log_cholesky.hpp), so every iterate is a
-// realisable body, and the drive parameters Ia, Fv, Fc bounded below by 0 (Fo is free).
+// Physically consistent identification: the least-squares fit of the torques over the standard
+// parameters theta whose links all have a positive definite pseudo-inertia J_i(theta)
+// (core/log_cholesky.hpp: J = [Sigma h; h^T m] >= 0 is exactly physical realisability), with the
+// drive parameters Ia, Fv, Fc positive (Fo and Fa free):
 //
-// The problem, for the observation W theta = tau with base parameters beta = P theta:
-//     min over phi, d of  1/2 |(R P theta(phi, d) - c) / sigma|^2
-//                       + 1/2 lambda (|phi - phi_prior|^2 + |(d - d_prior) / s_d|^2)
-// where Q R = W1 (the base regressor; c = Q^T tau, so the first term equals the full residual up to
-// a constant), sigma is the OLS residual standard deviation, floored at 1e-6 of the torques' RMS
-// (so the first term is a chi-square), phi are the log-Cholesky coordinates of every link, d the
-// drive parameters and s_d their prior magnitudes. phi_prior are those of the prior, each link
-// moved inside the consistent set first. The prior term pulls the directions the data cannot see
-// toward the prior; where the data do see, its pull is lambda against the chi-square's curvature,
-// negligible for a small lambda. (A prior on the null-space component of theta alone would bias
-// nothing, but it pulls inconsistent priors' links to the boundary of the consistent set, where
-// log-Cholesky coordinates diverge and the solver stalls: tried and dropped.)
-// Solved by Ceres (Levenberg-Marquardt, dense QR) from two starts, and the lower final cost kept:
-// beta_OLS lifted to standard parameters with the prior's dependent ones, and the prior itself,
-// each link first moved inside the consistent set by a margin (Ia, Fv, Fc clamped to >= 0).
+//     min over theta of  F(theta) = 1/2 |(R P theta - c) / sigma|^2
+//                                 + lambda sum_i d(J_i(theta), J_i,prior)
+//                                 + lambda sum_j b(x_j / s_j)
+// where
+// - Q R = W1 (the base regressor; c = Q^T tau, so the first term is the full residual's chi-square
+//   up to a constant), sigma the OLS residual standard deviation, floored at 1e-6 of the torques'
+//   RMS;
+// - d(J, J_p) = tr(J_p^-1 J) - log det(J_p^-1 J) - 4, the entropic (log-determinant) divergence of
+//   Lee, Wensing & Park ("Geometric robot dynamic identification: a convex programming approach",
+//   IEEE T-RO 2020): dimensionless, convex in theta, zero at the prior and infinite on the boundary
+//   of the physical set, so the minimiser is an interior point and unique;
+// - b(x/s) = x/s - log(x/s) - 1 for the positive drive terms (the same divergence in one
+//   dimension, s the prior's magnitude), and ((x - x_p)/s)^2 / 2 for the free ones;
+// - J_i,prior: the prior's links, each moved inside the physical set first.
+// lambda (PhysicalOptions::prior_weight) is in chi-square units: a change of one standard deviation
+// in a base parameter costs 1/2, so with lambda << 1 the data decide every direction they see, and
+// the prior the directions they cannot see (the null space of W) and how close to the boundary a
+// link may come. F is strictly convex; Newton's method with a backtracking line search that keeps
+// every iterate inside the physical set converges quadratically from any consistent start, and
+// stops when the Newton decrement says F is within `tolerance` of its minimum.
+//
+// (The earlier solver, Levenberg-Marquardt over log-Cholesky coordinates in Ceres, did not
+// converge on real data: the optimum lies on the boundary, at infinite log-Cholesky coordinates,
+// and Ceres's LM, dogleg, non-monotonic steps and a plain Cholesky factor all crawled for 3000
+// iterations on Gaz et al.'s Panda log. docs/IDENTIFIABILITY.md has the numbers.)
 #pragma once
 
 #include <functional>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,19 +41,18 @@
 #include "identifiability/least_squares.hpp"
 #include "identifiability/observation.hpp"
 
-namespace ceres {
-class CostFunction;
-}
-
 namespace dynid {
 
 struct PhysicalOptions {
-  /// lambda; 0 (default): no prior, the unseen directions stay near the start. With exact data a
-  /// prior slows convergence: the chi-square then outweighs it by about 1e12.
-  double prior_weight = 0.0;
-  int max_iterations = 200;
-  double function_tolerance = 1e-12;  // Ceres's relative cost-change tolerance
-  int num_threads = 1;
+  /// lambda, > 0: the weight of the divergence from the prior, in chi-square units (see above).
+  /// 1: the prior counts about like one more observation. Much smaller weights leave the unseen
+  /// directions free to take implausible values that buy room from the boundary (on the Panda log
+  /// 1e-3 gives link 2 a mass of 50 kg; 1 gives 2 kg) and take many more Newton steps.
+  double prior_weight = 1.0;
+  int max_iterations = 1000;
+  /// Newton decrement tolerance: stop when the quadratic model says F is within this of its
+  /// minimum [chi-square units; 1/2 is one standard deviation].
+  double tolerance = 1e-9;
   /// Called with the standard parameters of every iterate (tests check consistency there).
   std::function<void(const Eigen::VectorXd& theta)> on_iterate = {};
 };
@@ -51,37 +60,28 @@ struct PhysicalOptions {
 /// The prepared problem (see the header comment for the symbols).
 struct PhysicalProblem {
   ParameterLayout layout;
-  Eigen::MatrixXd R;             // num_base x num_base
-  Eigen::VectorXd c;             // num_base
-  double sigma = 1.0;            // [N m]
-  Eigen::MatrixXd P;             // num_base x p
-  Eigen::VectorXd prior_blocks;  // the prior's parameter blocks (phi_prior, d_prior), concatenated
-  Eigen::VectorXd drive_scales;  // s_d, one per drive parameter
-  double prior_weight = 0.0;
+  Eigen::MatrixXd A;      // R P / sigma, num_base x p: the data term is |A theta - b|^2 / 2
+  Eigen::VectorXd b;      // c / sigma
+  double sigma = 1.0;     // [N m]
+  Eigen::VectorXd prior;  // the prior, each link moved inside the physical set
+  std::vector<Eigen::Matrix4d> prior_inverse;  // J_i,prior^-1
+  std::vector<double> prior_log_det;           // log det J_i,prior
+  Eigen::VectorXd scales;      // s_j per standard parameter (used for the drive terms)
+  std::vector<char> positive;  // per standard parameter: a drive term bounded below by 0
+  double prior_weight = 1.0;
 
-  /// Parameter blocks of the cost: per link its 10 log-Cholesky entries, then, with drives, per
-  /// joint its 3 or 4 drive parameters.
-  std::vector<int> blockSizes() const;
-  int numResiduals() const;
+  /// F(theta), or +inf when theta is outside the physical set.
+  double cost(const Eigen::VectorXd& theta) const;
+  /// Gradient and Hessian of F at a theta inside the physical set.
+  void derivatives(const Eigen::VectorXd& theta, Eigen::VectorXd* gradient,
+                   Eigen::MatrixXd* hessian) const;
 };
 
-/// Builds the problem. Throws InputError on size mismatches, NumericalError when the data do not
-/// excite every base parameter.
+/// Builds the problem. Throws InputError on size mismatches or prior_weight <= 0, NumericalError
+/// when the data do not excite every base parameter.
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
                                     const Eigen::VectorXd& prior, double prior_weight,
                                     double sigma);
-
-/// The cost function of the problem (automatic differentiation; the caller owns it). Its residuals:
-/// the data term's num_base, then (lambda > 0) the prior term's, one per parameter.
-std::unique_ptr<ceres::CostFunction> makePhysicalCost(const PhysicalProblem& problem);
-
-/// The standard parameter vector of the parameter blocks (blockSizes(), concatenated).
-Eigen::VectorXd standardFromPhysicalBlocks(const ParameterLayout& layout,
-                                           const Eigen::VectorXd& blocks);
-/// The parameter blocks, concatenated, of a standard vector whose links all have positive definite
-/// pseudo-inertias (throws NumericalError otherwise).
-Eigen::VectorXd physicalBlocksFromStandard(const ParameterLayout& layout,
-                                           const Eigen::VectorXd& theta);
 
 struct PhysicalEstimate {
   Eigen::VectorXd theta;                // standard parameters, physically consistent
@@ -92,10 +92,10 @@ struct PhysicalEstimate {
   Eigen::MatrixXd covariance;           // of beta: sigma_pc^2 (W1^T W1)^-1 (constraints inactive)
   Eigen::VectorXd std_dev;
   Eigen::VectorXd residual_rms;       // per joint [N m]
-  std::vector<std::string> at_bound;  // drive parameters held at their bound 0
-  std::vector<double> cost_history;   // Ceres cost at every iteration (the first is the start)
-  std::string termination;            // Ceres termination type and message
-  bool usable = false;                // Ceres's IsSolutionUsable()
+  std::vector<std::string> at_bound;  // positive drive terms pressed to 0 (below 1e-6 of scale)
+  std::vector<double> cost_history;   // F at every iteration (the first is the start)
+  std::string termination;  // "CONVERGENCE: ..." or "NO_CONVERGENCE: ..." with the numbers
+  bool usable = false;      // finite and physically consistent
   int iterations = 0;
 };
 

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
 #include "core/parameters.hpp"
+#include "data/io.hpp"
 #include "data/json_number.hpp"
 
 namespace dynid {
@@ -71,8 +73,8 @@ json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outco
   for (Eigen::Index c = 0; c < N.cols(); ++c) basis.push_back(numbersOrNull(N.col(c)));
   json report = {{"schema_version", kIdentificationSchemaVersion},
                  {"robot", model.name},
-                 {"drives", model.drives_enabled},
-                 {"offsets", model.offsets_enabled},
+                 {"drives", model.drive_terms.any()},
+                 {"drive_terms", driveTermsKeys(model.drive_terms)},
                  {"num_standard", base.numStandard()},
                  {"num_base", base.numBase()},
                  {"rank_tolerance", base.tolerance},
@@ -96,8 +98,13 @@ json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outco
 std::string identifiabilityMarkdown(const json& r) {
   std::ostringstream md;
   md << "# Identifiability of " << r["robot"].get<std::string>() << "\n\n";
-  md << "- Standard parameters: " << r["num_standard"] << " (drives "
-     << (r["drives"].get<bool>() ? "on" : "off") << ")\n";
+  std::string terms;
+  for (const json& t : r["drive_terms"]) {
+    if (!terms.empty()) terms += ',';
+    terms += t.get<std::string>();
+  }
+  md << "- Standard parameters: " << r["num_standard"] << " (drive terms "
+     << (terms.empty() ? "none" : terms) << ")\n";
   md << "- Base parameters (structural rank): **" << r["num_base"] << "**\n";
   md << "- Rank gap (smallest kept / largest dropped |R_jj|): "
      << (r["rank_gap"].is_null() ? "inf" : formatShort(r["rank_gap"].get<double>())) << "\n";
@@ -156,7 +163,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
   json report = {{"schema_version", kIdentificationSchemaVersion},
                  {"robot", model.name},
-                 {"drives", model.drives_enabled},
+                 {"drives", model.drive_terms.any()},
+                 {"drive_terms", driveTermsKeys(model.drive_terms)},
                  {"method", methodName(outcome.method)},
                  {"data", {{"file", outcome.data_file}, {"samples", estimate.num_samples}}},
                  {"num_base", base.numBase()},
@@ -269,6 +277,26 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
   }
   out << "\nwrote " << dir << "/estimate.json and " << dir << "/estimate.md\n";
   return out.str();
+}
+
+std::string writeBackJsonPath(const std::string& urdf_path) {
+  return std::filesystem::path(urdf_path).replace_extension(".dynid.json").string();
+}
+
+std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back) {
+  const std::string json_path = writeBackJsonPath(urdf_path);
+  writeFileAtomically(urdf_path, back.urdf);
+  try {
+    writeFileAtomically(json_path, back.model_json);
+  } catch (...) {
+    std::filesystem::remove(urdf_path);  // both or neither
+    throw;
+  }
+  return "wrote " + urdf_path +
+         " (mass, centre of mass, inertia; <dynamics> Fv, Fc where the "
+         "model has them) and " +
+         json_path + " (every parameter); the " + std::to_string(back.unseen_directions) +
+         " directions the data cannot see come from the input model\n";
 }
 
 std::string solverWarning(const IdentifyOutcome& outcome) {

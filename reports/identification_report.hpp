@@ -32,6 +32,12 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
 /// A warning when a solver stopped at its iteration cap or failed (empty otherwise).
 std::string solverWarning(const IdentifyOutcome& outcome);
 
+/// Where the write-back's dynid JSON goes beside `urdf_path`: out.urdf -> out.dynid.json.
+std::string writeBackJsonPath(const std::string& urdf_path);
+/// Writes the write-back's URDF to `urdf_path` and its JSON beside it, each atomically, both or
+/// neither. Returns the console line that says what was written. Throws Error naming the path.
+std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back);
+
 /// 4 significant digits ("3.2e+11", "inf").
 std::string formatShort(double x);
 

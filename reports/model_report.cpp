@@ -37,9 +37,9 @@ void appendVector(std::string& out, const char* name, const char* unit, const Ei
 
 std::string modelShowText(const Model& model) {
   std::string out;
-  appendf(out, "robot %s: %d joints, gravity (%g, %g, %g) m/s^2, drives %s\n", model.name.c_str(),
-          model.numJoints(), model.gravity.x(), model.gravity.y(), model.gravity.z(),
-          model.drives_enabled ? (model.offsets_enabled ? "on (with offsets)" : "on") : "off");
+  appendf(out, "robot %s: %d joints, gravity (%g, %g, %g) m/s^2, drive terms %s\n",
+          model.name.c_str(), model.numJoints(), model.gravity.x(), model.gravity.y(),
+          model.gravity.z(), driveTermsText(model.drive_terms).c_str());
   appendf(out, "\n%-4s %-16s %-16s %-11s %-12s %s\n", "#", "link", "joint", "type", "parent",
           "limits [rad or m]");
   for (int i = 0; i < model.numJoints(); ++i) {
@@ -118,7 +118,8 @@ nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
   for (int r = 0; r < model.numJoints(); ++r) m.push_back(toJson(o.M.row(r).transpose()));
   return {{"schema_version", 1},
           {"robot", model.name},
-          {"drives", model.drives_enabled},
+          {"drives", model.drive_terms.any()},
+          {"drive_terms", driveTermsKeys(model.drive_terms)},
           {"q", toJson(o.q)},
           {"dq", toJson(o.dq)},
           {"tau", toJson(o.tau)},
@@ -128,7 +129,8 @@ nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
 
 std::string dynamicsText(const Model& model, const DynamicsOutcome& o) {
   std::string out;
-  appendf(out, "robot %s (drives %s)\n", model.name.c_str(), model.drives_enabled ? "on" : "off");
+  appendf(out, "robot %s (drive terms %s)\n", model.name.c_str(),
+          driveTermsText(model.drive_terms).c_str());
   appendVector(out, "q", "rad", o.q);
   appendVector(out, "dq", "rad/s", o.dq);
   appendVector(out, "ddq", "rad/s^2", o.ddq);

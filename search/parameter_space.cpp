@@ -42,7 +42,7 @@ ParameterSpace::ParameterSpace(const Model& initial, const SpaceOptions& options
   const std::vector<std::string> names =
       options.form == ParameterForm::kPaper
           ? paperParameterNames(initial.numJoints())
-          : standardParameterNames({initial.numJoints(), false, false});
+          : standardParameterNames({initial.numJoints(), DriveTerms::none()});
   std::vector<char> held(names.size(), 0);
   for (const std::string& name : options.fixed) {
     const auto it = std::find(names.begin(), names.end(), name);
@@ -99,7 +99,7 @@ std::vector<std::string> ParameterSpace::freeNames() const {
   const std::vector<std::string> all =
       options_.form == ParameterForm::kPaper
           ? paperParameterNames(initial_model_.numJoints())
-          : standardParameterNames({initial_model_.numJoints(), false, false});
+          : standardParameterNames({initial_model_.numJoints(), DriveTerms::none()});
   std::vector<std::string> out;
   for (int index : free_) out.push_back(all[index]);
   return out;

@@ -39,6 +39,23 @@ TEST(Cli, ModelExportAndReload) {
   const Result show = run("model show --robot puma560 --drives");
   EXPECT_EQ(show.code, 0);
   EXPECT_TRUE(contains(show.out, "Ia6")) << show.out;
+  EXPECT_TRUE(contains(show.out, "Fa6")) << show.out;  // the PUMA's asymmetric Coulomb term
+}
+
+TEST(Cli, DriveTermsPickTheColumnsAndBadTermsAreUsageErrors) {
+  const Result panda = run("model show --robot panda --drives");
+  ASSERT_EQ(panda.code, 0) << panda.err;
+  EXPECT_TRUE(contains(panda.out, "drive terms fv,fc,fo")) << panda.out;
+  EXPECT_TRUE(contains(panda.out, "Fo7")) << panda.out;
+  EXPECT_FALSE(contains(panda.out, "Ia1")) << panda.out;
+  const Result picked = run("model show --robot puma560 --drive-terms ia,fo");
+  ASSERT_EQ(picked.code, 0) << picked.err;
+  EXPECT_TRUE(contains(picked.out, "Fo6") && contains(picked.out, "Ia6")) << picked.out;
+  EXPECT_FALSE(contains(picked.out, "Fv6")) << picked.out;
+  const Result bad = run("model show --robot panda --drive-terms fv,friction");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_TRUE(contains(bad.err, "unknown drive term 'friction'")) << bad.err;
+  EXPECT_EQ(run("model show --robot panda --drives --drive-terms fv").code, 2);
 }
 
 }  // namespace

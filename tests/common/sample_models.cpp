@@ -30,8 +30,7 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
   Model model;
   model.name = "random_tree_" + std::to_string(seed);
   model.gravity = Eigen::Vector3d(0.3, -0.2, -9.81);
-  model.drives_enabled = options.drives;
-  model.offsets_enabled = options.drives;
+  if (options.drives) model.drive_terms.mask = (1u << kDriveTermCount) - 1;  // every term
   for (int i = 0; i < options.num_bodies; ++i) {
     const int parent =
         options.chain ? i - 1 : static_cast<int>(std::floor(unit(rng) * (i + 1))) - 1;
@@ -64,6 +63,7 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
       drive.viscous = unit(rng);
       drive.coulomb = unit(rng);
       drive.offset = 0.2 * (unit(rng) - 0.5);
+      drive.asymmetry = 0.2 * (unit(rng) - 0.5);
     }
     JointLimits limits;
     if (type == JointType::kRevolute) limits.lower = -2.5, limits.upper = 2.5;

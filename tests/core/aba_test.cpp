@@ -67,8 +67,7 @@ Model permutedTree(std::uint64_t seed, bool drives) {
   // The tree's inertias, drives and limits on a new structure.
   Model model;
   model.gravity = tree.gravity;
-  model.drives_enabled = tree.drives_enabled;
-  model.offsets_enabled = tree.offsets_enabled;
+  model.drive_terms = tree.drive_terms;
   for (int i = 0; i < tree.numJoints(); ++i) {
     Pose<double> placement;
     placement.rotation.setZero();

@@ -63,7 +63,7 @@ TEST(Model, FinalizeFindsSignedPermutationPlacements) {
 TEST(Model, StandardParametersRoundTrip) {
   Model model = test::randomTree(5, {.drives = true});
   const Eigen::VectorXd theta = model.standardParameters();
-  EXPECT_EQ(theta.size(), model.numJoints() * 14);
+  EXPECT_EQ(theta.size(), model.numJoints() * 15);  // 10 inertial + all 5 drive terms
   Eigen::VectorXd changed = theta * 1.5;
   model.setStandardParameters(changed);
   EXPECT_EQ(model.standardParameters(), changed);

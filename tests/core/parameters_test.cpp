@@ -6,19 +6,29 @@ namespace dynid {
 namespace {
 
 TEST(Parameters, NamesFollowTheConvention) {
-  const std::vector<std::string> rigid = standardParameterNames({2, false, false});
+  const std::vector<std::string> rigid = standardParameterNames({2, DriveTerms::none()});
   ASSERT_EQ(rigid.size(), 20u);
   EXPECT_EQ(rigid[0], "m1");
   EXPECT_EQ(rigid[1], "mx1");
   EXPECT_EQ(rigid[9], "Izz1");
   EXPECT_EQ(rigid[14], "Ixx2");
-  const ParameterLayout drives{6, true, true};
+  const ParameterLayout drives{6, DriveTerms::of({DriveTerm::kRotorInertia, DriveTerm::kViscous,
+                                                  DriveTerm::kCoulomb, DriveTerm::kOffset})};
   const std::vector<std::string> names = standardParameterNames(drives);
   ASSERT_EQ(static_cast<int>(names.size()), drives.size());
   EXPECT_EQ(drives.size(), 84);
   EXPECT_EQ(names[drives.driveIndex(2, 0)], "Ia3");
   EXPECT_EQ(names[drives.driveIndex(2, 1)], "Fv3");
   EXPECT_EQ(names[drives.driveIndex(5, 3)], "Fo6");
+  // A subset keeps the column order and the names: fv,fc,fo gives Fv, Fc, Fo after each link.
+  const ParameterLayout sensor{
+      7, DriveTerms::of({DriveTerm::kOffset, DriveTerm::kViscous, DriveTerm::kCoulomb})};
+  const std::vector<std::string> sensor_names = standardParameterNames(sensor);
+  ASSERT_EQ(sensor.size(), 91);
+  EXPECT_EQ(sensor_names[10], "Fv1");
+  EXPECT_EQ(sensor_names[12], "Fo1");
+  EXPECT_EQ(sensor_names[sensor.driveIndex(6, DriveTerm::kCoulomb)], "Fc7");
+  EXPECT_EQ(sensor_names[13], "m2");
   EXPECT_EQ(names[drives.linkIndex(3, 0)], "m4");
   EXPECT_EQ(paperParameterNames(2)[8], "cx2");
 }
@@ -78,6 +88,27 @@ TEST(Parameters, EachViolationIsNamed) {
   v = checkPhysicalConsistency(massless, 0, "l");
   ASSERT_EQ(v.size(), 1u);
   EXPECT_EQ(v[0].condition, "a massless link has no first moment");
+}
+
+TEST(Parameters, DriveTermsParseAndPrint) {
+  const DriveTerms terms = parseDriveTerms("fo,fv,fc");
+  EXPECT_EQ(terms, DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb, DriveTerm::kOffset}));
+  EXPECT_EQ(driveTermsText(terms), "fv,fc,fo");  // column order, whatever the input order
+  EXPECT_EQ(terms.count(), 3);
+  EXPECT_EQ(terms.column(static_cast<int>(DriveTerm::kOffset)), 2);
+  EXPECT_EQ(terms.column(static_cast<int>(DriveTerm::kRotorInertia)), -1);
+  EXPECT_EQ(terms.termAt(0), static_cast<int>(DriveTerm::kViscous));
+  EXPECT_FALSE(parseDriveTerms("none").any());
+  EXPECT_EQ(driveTermsText(DriveTerms::none()), "none");
+  EXPECT_EQ(driveTermsText(parseDriveTerms("fa,ia")), "ia,fa");
+  for (const char* bad : {"", "fv,", "fv,fx", "FV", "fv,fv", "fv fc"})
+    EXPECT_THROW(parseDriveTerms(bad), std::invalid_argument) << bad;
+  try {
+    parseDriveTerms("fv,fx");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'fx'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

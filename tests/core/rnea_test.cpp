@@ -57,14 +57,14 @@ TEST(Rnea, DrivesAddRotorInertiaAndFriction) {
   std::mt19937_64 rng(7);
   Eigen::VectorXd q = test::randomVector(rng, 6, 2.0), dq = test::randomVector(rng, 6, 2.0),
                   ddq = test::randomVector(rng, 6, 2.0);
-  dq[3] = 0.0;  // at rest: no Coulomb friction and no offset
+  dq[3] = 0.0;  // at rest: no Coulomb friction and no asymmetry
   const Eigen::VectorXd difference =
       rnea(driven, data_driven, q, dq, ddq) - rnea(rigid, data_rigid, q, dq, ddq);
   for (int i = 0; i < 6; ++i) {
     const DriveParameters<double>& d = driven.drives()[i];
     const double s = dq[i] > 0 ? 1.0 : (dq[i] < 0 ? -1.0 : 0.0);
-    const double expected =
-        d.rotor_inertia * ddq[i] + d.viscous * dq[i] + d.coulomb * s + (s != 0.0 ? d.offset : 0.0);
+    const double expected = d.rotor_inertia * ddq[i] + d.viscous * dq[i] + d.coulomb * s +
+                            (s != 0.0 ? d.asymmetry : 0.0);
     EXPECT_NEAR(difference[i], expected, 1e-12) << "joint " << i + 1;
   }
 }

@@ -115,10 +115,11 @@ TEST(Dh, ModifiedPandaExportsToAUrdfWithTheSameDynamics) {
 
 TEST(Dh, AJsonDhBlockLoadsAndNamesItsErrors) {
   const std::string good = R"({"schema_version": 1, "kind": "dynid.model", "name": "two",
-    "gravity": [0, 0, -9.81], "drives": false, "offsets": false,
+    "gravity": [0, 0, -9.81], "drive_terms": ["fv", "fc", "fo"],
     "dh": {"convention": "modified", "inertia_about": "com", "joints": [
       {"name": "j1", "link": "l1", "type": "revolute", "a": 0, "d": 0.3, "alpha": 0,
        "limits": {"lower": -2, "upper": 2, "velocity": 2, "acceleration": 10, "effort": 50},
+       "drive": {"Fv": 0.5, "Fo": -0.25},
        "inertial": {"m": 2, "com": [0, 0.1, 0],
                     "inertia": {"Ixx": 0.1, "Ixy": 0, "Ixz": 0, "Iyy": 0.1, "Iyz": 0, "Izz": 0.1}}},
       {"name": "j2", "link": "l2", "type": "prismatic", "a": 0.1, "d": 0, "alpha": -1.5707963267948966,
@@ -129,6 +130,10 @@ TEST(Dh, AJsonDhBlockLoadsAndNamesItsErrors) {
   EXPECT_EQ(model.limits[0].acceleration, 10.0);
   EXPECT_EQ(model.joint_types()[1], JointType::kPrismatic);
   EXPECT_NEAR(model.inertias()[0].first_moment.y(), 0.2, 1e-15);  // m c
+  EXPECT_EQ(driveTermsText(model.drive_terms), "fv,fc,fo");
+  EXPECT_EQ(model.drives()[0].viscous, 0.5);
+  EXPECT_EQ(model.drives()[0].offset, -0.25);
+  EXPECT_EQ(model.drives()[0].coulomb, 0.0);  // absent: 0
   // Each mistake is named by its JSON path.
   const auto fails_at = [&](const std::string& from, const std::string& to,
                             const std::string& element) {
@@ -151,6 +156,11 @@ TEST(Dh, AJsonDhBlockLoadsAndNamesItsErrors) {
   fails_at(R"("type": "prismatic")", R"("type": "screw")", "dh.joints[1].type");
   fails_at(R"("m": 1,)", R"("m": -1,)", "dh.joints[1].inertial.m");
   fails_at(R"("dh": {)", R"("bodies": [], "dh": {)", "");
+  fails_at(R"(["fv", "fc", "fo"])", R"(["fv", "fx", "fo"])", "drive_terms");
+  fails_at(R"(["fv", "fc", "fo"])", R"(["fv", 3])", "drive_terms[1]");
+  fails_at(R"("drive_terms": ["fv", "fc", "fo"])", R"("drives": true, "offsets": true)", "offsets");
+  fails_at(R"("Fo": -0.25)", R"("Fo": NaN)", "");  // not JSON: a parse error of the file
+  fails_at(R"("Fo": -0.25)", R"("F0": -0.25)", "dh.joints[0].drive.F0");
 }
 
 TEST(Dh, QuarterTurnsAreExact) {

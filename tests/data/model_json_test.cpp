@@ -13,8 +13,7 @@ void expectSameModel(const Model& a, const Model& b) {
   ASSERT_EQ(a.numJoints(), b.numJoints());
   EXPECT_EQ(a.name, b.name);
   EXPECT_EQ(a.gravity, b.gravity);
-  EXPECT_EQ(a.drives_enabled, b.drives_enabled);
-  EXPECT_EQ(a.offsets_enabled, b.offsets_enabled);
+  EXPECT_EQ(a.drive_terms, b.drive_terms);
   EXPECT_EQ(a.parents(), b.parents());
   EXPECT_EQ(a.joint_types(), b.joint_types());
   EXPECT_EQ(a.standardParameters(), b.standardParameters());  // bit for bit
@@ -24,7 +23,8 @@ void expectSameModel(const Model& a, const Model& b) {
     EXPECT_EQ(a.body_placements()[i].rotation, b.body_placements()[i].rotation);
     EXPECT_EQ(a.axes()[i], b.axes()[i]);
     EXPECT_EQ(a.limits[i].upper, b.limits[i].upper);
-    EXPECT_EQ(a.drives()[i].offset, b.drives()[i].offset);
+    for (int k = 0; k < kDriveTermCount; ++k)
+      EXPECT_EQ(a.drives()[i].term(k), b.drives()[i].term(k));
   }
 }
 

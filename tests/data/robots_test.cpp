@@ -5,22 +5,61 @@
 #include "core/errors.hpp"
 #include "data/io.hpp"
 #include "data/model_json.hpp"
+#include "data/panda.hpp"
+#include "data/puma560.hpp"
 #include "data/urdf.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
 namespace {
 
+RobotOptions withDrives() {
+  RobotOptions out;
+  out.drives = true;
+  return out;
+}
+
+RobotOptions withTerms(const char* terms) {
+  RobotOptions out;
+  out.drive_terms = parseDriveTerms(terms);
+  return out;
+}
+
 TEST(Robots, LoadsEachKind) {
   EXPECT_EQ(loadRobot("puma560").numJoints(), 6);
-  EXPECT_TRUE(loadRobot("puma560", {.drives = true}).drives_enabled);
   const Model tree = test::randomTree(2, {.drives = false});
   const std::string json = test::tempPath("tree.json"), urdf = test::tempPath("tree.urdf");
   writeFileAtomically(json, modelToJson(tree));
   writeFileAtomically(urdf, modelToUrdf(tree));
   EXPECT_EQ(loadRobot(json).standardParameters(), tree.standardParameters());
-  EXPECT_TRUE(loadRobot(json, {.drives = true}).drives_enabled);
   EXPECT_EQ(loadRobot(urdf).numJoints(), tree.numJoints());
+}
+
+TEST(Robots, DrivesGiveEachRobotItsOwnTermsAndDriveTermsOverride) {
+  // --drives: the robot's published drive model, or ia,fv,fc for a file that names none.
+  EXPECT_FALSE(loadRobot("puma560").drive_terms.any());
+  EXPECT_EQ(loadRobot("puma560", withDrives()).drive_terms, kPuma560DriveTerms);
+  EXPECT_EQ(loadRobot("panda", withDrives()).drive_terms, kPandaDriveTerms);
+  const Model tree = test::randomTree(2, {.drives = false});
+  const std::string json = test::tempPath("terms.json"), urdf = test::tempPath("terms.urdf");
+  writeFileAtomically(json, modelToJson(tree));
+  writeFileAtomically(urdf, modelToUrdf(tree));
+  EXPECT_EQ(loadRobot(json, withDrives()).drive_terms, DriveTerms::rotorAndFriction());
+  EXPECT_EQ(loadRobot(urdf, withDrives()).drive_terms, DriveTerms::rotorAndFriction());
+  // --drive-terms: exactly those, the values kept where the robot has them.
+  const Model puma = loadRobot("puma560", withTerms("fv,fo"));
+  EXPECT_EQ(driveTermsText(puma.drive_terms), "fv,fo");
+  EXPECT_EQ(puma.parameterLayout().size(), 6 * 12);
+  EXPECT_EQ(puma.drives()[0].viscous, makePuma560(true).drives()[0].viscous);
+  EXPECT_EQ(driveTermsText(loadRobot(urdf, withTerms("fc")).drive_terms), "fc");
+  EXPECT_FALSE(loadRobot("panda", withTerms("none")).drive_terms.any());
+  // A JSON model keeps its own terms unless told otherwise.
+  Model sensor = tree;
+  sensor.drive_terms = kPandaDriveTerms;
+  writeFileAtomically(json, modelToJson(sensor));
+  EXPECT_EQ(loadRobot(json).drive_terms, kPandaDriveTerms);
+  EXPECT_EQ(loadRobot(json, withDrives()).drive_terms, kPandaDriveTerms);
+  EXPECT_EQ(driveTermsText(loadRobot(json, withTerms("ia")).drive_terms), "ia");
 }
 
 TEST(Robots, UnknownSpecIsAnInputError) {

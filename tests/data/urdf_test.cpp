@@ -63,9 +63,9 @@ TEST(Urdf, LoadsATreeAndMergesFixedJoints) {
   EXPECT_DOUBLE_EQ(model.inertias()[1].mass, 1.5);
   EXPECT_NEAR(model.inertias()[1].first_moment.x(), 0.15 + 0.5 * 0.35, 1e-12);
   EXPECT_DOUBLE_EQ(model.limits[0].effort, 50.0);
-  EXPECT_FALSE(model.drives_enabled);
+  EXPECT_FALSE(model.drive_terms.any());
   const Model driven = parseUrdf(kTree, "tree.urdf", {.drives = true});
-  EXPECT_TRUE(driven.drives_enabled);
+  EXPECT_EQ(driven.drive_terms, DriveTerms::rotorAndFriction());
   EXPECT_DOUBLE_EQ(driven.drives()[0].viscous, 0.5);
   EXPECT_DOUBLE_EQ(driven.drives()[0].coulomb, 0.2);
 }

@@ -1,7 +1,8 @@
 #include "identifiability/physically_consistent.hpp"
 
-#include <ceres/cost_function.h>
 #include <gtest/gtest.h>
+
+#include <limits>
 
 #include "tests/common/identification.hpp"
 
@@ -10,7 +11,6 @@
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
-#include "tests/common/gradient_check.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -36,33 +36,41 @@ Model consistentChain() {
   return test::randomTree(4, {.num_bodies = 6, .chain = true, .prismatic = false, .drives = true});
 }
 
-TEST(PhysicallyConsistent, GradientCheckerOnTheCost) {
+TEST(PhysicallyConsistent, DerivativesMatchFiniteDifferences) {
   for (bool drives : {false, true}) {
     Model model = consistentChain();
-    model.drives_enabled = drives;
-    model.offsets_enabled = drives;
-    model.finalize();
+    if (!drives) model.drive_terms = DriveTerms::none();
     const BaseParameters base = pumaBase(model);
-    const Observation data =
-        observationFromRandomStates(model, 300, 2);  // any rows will do for derivatives
+    const Observation data = observationFromRandomStates(model, 300, 2);
     const Eigen::VectorXd prior = perturbedModel(model, 0.3, 2).standardParameters();
     const PhysicalProblem problem = makePhysicalProblem(base, data, prior, 0.5, 0.1);
-    const auto cost = makePhysicalCost(problem);
-    // At a point away from the truth, well inside the consistent set (the perturbed model's links,
-    // moved inside where needed): at the boundary some derivatives fall below the residuals'
-    // round-off and no finite difference can check them.
-    Eigen::VectorXd theta = prior;
-    for (int i = 0; i < problem.layout.num_links; ++i)
-      theta.segment<10>(i * problem.layout.perLink()) =
-          nearestConsistent(theta.segment<10>(i * problem.layout.perLink()).eval(), 1e-2);
-    const Eigen::VectorXd x = physicalBlocksFromStandard(problem.layout, theta);
-    std::vector<Eigen::VectorXd> blocks;
-    int offset = 0;
-    for (int size : problem.blockSizes()) blocks.push_back(x.segment(offset, size)), offset += size;
-    std::string log;
-    // Residuals of order 1e2 built from entries of order 1e-4: Ridders' differences carry about
-    // 1e-8 relative round-off; 1e-5 leaves room without hiding a wrong derivative.
-    EXPECT_TRUE(test::gradientsAgree(*cost, blocks, 1e-5, &log)) << "drives " << drives << log;
+    // At a point inside the physical set, away from the prior: the model's own parameters.
+    const Eigen::VectorXd theta = model.standardParameters();
+    Eigen::VectorXd gradient;
+    Eigen::MatrixXd hessian;
+    problem.derivatives(theta, &gradient, &hessian);
+    const int p = static_cast<int>(theta.size());
+    for (int k = 0; k < p; ++k) {
+      // Central differences with h ~ 1e-6 of the entry: truncation ~h^2, round-off ~1e-16 F / h.
+      const double h = 1e-6 * std::max(std::abs(theta[k]), 1e-2);
+      Eigen::VectorXd up = theta, down = theta;
+      up[k] += h, down[k] -= h;
+      const double numeric = (problem.cost(up) - problem.cost(down)) / (2 * h);
+      EXPECT_NEAR(gradient[k], numeric, 1e-5 * (1.0 + std::abs(numeric)))
+          << "drives " << drives << " k " << k;
+      Eigen::VectorXd g_up, g_down;
+      Eigen::MatrixXd unused;
+      problem.derivatives(up, &g_up, &unused);
+      problem.derivatives(down, &g_down, &unused);
+      const Eigen::VectorXd column = (g_up - g_down) / (2 * h);
+      EXPECT_LT((hessian.col(k) - column).cwiseAbs().maxCoeff(),
+                1e-5 * (1.0 + column.cwiseAbs().maxCoeff()))
+          << "drives " << drives << " k " << k;
+    }
+    // Outside the physical set the cost is infinite: a negative mass.
+    Eigen::VectorXd outside = theta;
+    outside[0] = -1.0;
+    EXPECT_EQ(problem.cost(outside), std::numeric_limits<double>::infinity());
   }
 }
 
@@ -74,6 +82,7 @@ TEST(PhysicallyConsistent, NoiseFreeDataGiveTheTrueBaseParameters) {
   const Eigen::VectorXd prior = perturbedModel(model, 0.3, 4).standardParameters();
   const PhysicalEstimate e = estimatePhysicallyConsistent(base, train, prior);
   EXPECT_TRUE(e.usable) << e.termination;
+  EXPECT_EQ(e.termination.rfind("CONVERGENCE", 0), 0u) << e.termination;
   const Eigen::VectorXd truth = base.project(model.standardParameters());
   // Exact data: the least-squares optimum is the truth up to the solver's convergence.
   EXPECT_LT(baseParameterError(e.beta, truth), 1e-6);
@@ -111,24 +120,30 @@ TEST(PhysicallyConsistent, ConsistentAtEveryIterateWhereOlsIsNot) {
   EXPECT_TRUE((pc.std_dev.array() > 0).all());
 }
 
-TEST(PhysicallyConsistent, PriorPullsWhatTheDataCannotSee) {
+TEST(PhysicallyConsistent, ThePriorDecidesWhatTheDataCannotSee) {
   const Model model = makePuma560();
   const BaseParameters base = pumaBase(model);
   const Observation train = observationFromTrajectory(model, pumaTrajectory(model, 3.0, 0.5, 7));
   Eigen::VectorXd prior = perturbedModel(model, 0.3, 5).standardParameters();
   for (int i = 0; i < 6; ++i)
     prior.segment<10>(10 * i) = nearestConsistent(prior.segment<10>(10 * i).eval(), 1e-2);
-  PhysicalOptions with_prior;
-  with_prior.prior_weight = 1.0;
-  const PhysicalEstimate free = estimatePhysicallyConsistent(base, train, prior);
-  const PhysicalEstimate pulled = estimatePhysicallyConsistent(base, train, prior, with_prior);
-  // Closer to the prior in the directions the data cannot see (the null space of W)...
-  const Eigen::MatrixXd N = base.nullSpace();
-  const Eigen::MatrixXd projector = N * (N.transpose() * N).ldlt().solve(N.transpose());
-  EXPECT_LT((projector * (pulled.theta - prior)).norm(), (projector * (free.theta - prior)).norm());
-  // ...at little cost in fit: lambda = 1 weighs each parameter's prior like one chi-square unit,
-  // so the base parameters move by less than one standard deviation.
-  EXPECT_LT(((pulled.beta - free.beta).array() / free.std_dev.array()).abs().maxCoeff(), 1.0);
+  // Another prior that differs only in a direction the data cannot see (a null-space vector).
+  const Eigen::VectorXd n = base.nullSpace().col(0).normalized();
+  const Eigen::VectorXd other = prior + 1e-4 * n;
+  ASSERT_LT((base.project(other) - base.project(prior)).norm(), 1e-12);
+  const PhysicalEstimate a = estimatePhysicallyConsistent(base, train, prior);
+  const PhysicalEstimate b = estimatePhysicallyConsistent(base, train, other);
+  EXPECT_EQ(a.termination.rfind("CONVERGENCE", 0), 0u) << a.termination;
+  // The data decide the base parameters (well within a standard deviation)...
+  EXPECT_LT(((a.beta - b.beta).array() / a.std_dev.array()).abs().maxCoeff(), 1e-2);
+  // ...and the prior the unseen direction: the estimate moves with it.
+  EXPECT_GT((b.theta - a.theta).dot(n) / 1e-4, 0.5);
+  // A heavy prior weight pulls the base parameters toward the prior's, a light one does not.
+  PhysicalOptions heavy;
+  heavy.prior_weight = 1e4;
+  const PhysicalEstimate pulled = estimatePhysicallyConsistent(base, train, prior, heavy);
+  const Eigen::VectorXd prior_beta = base.project(prior);
+  EXPECT_LT((pulled.beta - prior_beta).norm(), (a.beta - prior_beta).norm());
 }
 
 TEST(PhysicallyConsistent, DriveParametersStayNonNegative) {
