@@ -181,7 +181,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                    {"values", standard_json}}}};
   if (const auto& pc = outcome.result.pc) {
     report["standard_estimate"]["note"] =
-        "physically consistent on every link (log-Cholesky parameters)";
+        "physically consistent on every link (positive definite pseudo-inertias)";
     report["physically_consistent"] = {
         {"termination", pc->termination},
         {"solution_usable", pc->usable},
@@ -191,6 +191,12 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"drive_parameters_at_bound", pc->at_bound},
         {"cost_history", pc->cost_history}};
   }
+  if (const auto& back = outcome.write_back)
+    report["write_back"] = {
+        {"unseen_directions", back->unseen_directions},
+        {"note",
+         "the written URDF and JSON carry the standard estimate; the directions the data cannot "
+         "see come from the input model (the prior)"}};
   if (const auto& v = outcome.validation)
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
@@ -221,6 +227,9 @@ std::string estimateMarkdown(const json& r) {
   if (r.contains("physically_consistent"))
     md << "- Physically consistent solver: " << r["physically_consistent"]["iterations"]
        << " iterations, " << r["physically_consistent"]["termination"].get<std::string>() << ".\n";
+  if (r.contains("write_back"))
+    md << "- Written back to the robot's files: " << r["write_back"]["unseen_directions"]
+       << " directions the data cannot see come from the input model (the prior).\n";
   md << "\n| base parameter | estimate | std. dev. | %σ | model value |\n|---|---|---|---|---|\n";
   for (const auto& p : r["base_parameters"])
     md << "| `" << p["expression"].get<std::string>() << "` | " << number(p["estimate"]) << " | "

@@ -97,6 +97,7 @@ TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
   terms.drive_terms = parseDriveTerms("fv,fc");
   Model estimate = loadRobot(urdf, terms);
   const auto report = nlohmann::json::parse(readFile(out + "/estimate.json"));
+  EXPECT_GT(report["write_back"]["unseen_directions"].get<int>(), 0);  // said in the report too
   const auto& values = report["standard_estimate"]["values"];
   const std::vector<std::string> names = standardParameterNames(estimate.parameterLayout());
   Eigen::VectorXd theta(static_cast<Eigen::Index>(names.size()));
