@@ -18,6 +18,7 @@ const char* kUsage =
     "URDF/JSON/MJCF\n"
     "  dynamics                 inverse dynamics, mass matrix and forward dynamics at a state\n"
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
+    "  prepare                  a raw log (irregular stamps, no ddq) into a filtered dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
@@ -25,7 +26,8 @@ const char* kUsage =
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
     "  batch                    a grid of study runs in parallel, resumable and shardable; merge\n"
     "\n"
-    "robots: --robot puma560 or puma560-consistent (built in), a .urdf file, or a dynid .json "
+    "robots: --robot puma560, puma560-consistent or panda (built in), a .urdf file, or a dynid "
+    ".json "
     "model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
 
@@ -52,7 +54,7 @@ int main(int argc, char** argv) {
       {"simulate", runSimulate}, {"identifiability", runIdentifiability},
       {"identify", runIdentify}, {"search", runSearch},
       {"refine", runRefine},     {"demo", runDemo},
-      {"batch", runBatch}};
+      {"batch", runBatch},       {"prepare", runPrepare}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

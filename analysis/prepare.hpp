@@ -1,0 +1,61 @@
+// dynid prepare: a raw log in, a dynid dataset out (data/dataset_csv.hpp). The pipeline, per run
+// (samples between gaps):
+//   read (data/raw_log.hpp) -> units -> sort by time, drop repeated stamps -> split at gaps ->
+//   resample to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
+//   ("parallel filtering") -> dq (when not logged, or asked) and ddq by central differences ->
+//   trim the filter's edge transients -> decimate -> concatenate -> split train / validate.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/trajectory.hpp"
+
+namespace dynid {
+
+/// Where the signals are: one table with column selectors (data/raw_log.hpp's selectColumns), or
+/// one file per signal (a value per line, n per sample).
+struct LogSource {
+  std::string table;  // a delimited table; empty: one file per signal
+  std::string time_column = "1", q_columns, dq_columns, tau_columns;  // table selectors
+  std::string time_file, q_file, dq_file, tau_file;                   // one file per signal
+  int num_joints = 0;  // 0: the q selector's count (a table) or required (files)
+};
+
+struct PrepareOptions {
+  double time_scale = 1.0;         // seconds per time unit (ms: 1e-3)
+  double angle_scale = 1.0;        // radians per angle unit of q and dq (deg: pi/180)
+  double rate = 0.0;               // output rate before decimation [Hz]; 0: the log's median rate
+  double cutoff = 10.0;            // low-pass -3 dB frequency [Hz] (single pass); 0: no filter
+  int order = 4;                   // Butterworth order
+  int decimate = 1;                // keep every Nth sample
+  double max_gap = 0.0;            // split the log at larger steps [s]; 0: 5 median steps
+  double trim = -1.0;              // dropped at each run's ends [s]; < 0: 2 / cutoff
+  bool derive_dq = false;          // dq from q even when dq is logged
+  double validate_fraction = 0.0;  // the last fraction of each run held out (0: none)
+};
+
+/// One run of the log: consecutive samples without a gap.
+struct PreparedRun {
+  double start = 0.0, end = 0.0;     // [s], in the log's time
+  int raw_samples = 0, samples = 0;  // in and out (after trimming and decimation)
+};
+
+struct PrepareOutcome {
+  Trajectory train, validate;  // validate empty without a validate fraction
+  int raw_samples = 0, repeated_stamps = 0, unsorted_stamps = 0;
+  double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // raw [s]
+  std::vector<std::pair<double, double>> gaps;               // (at [s], length [s])
+  std::vector<PreparedRun> runs;
+  std::vector<PreparedRun> dropped_runs;  // runs shorter than the filter's transient
+  double rate = 0.0, cutoff = 0.0, trim = 0.0, max_gap = 0.0;
+  int order = 0, decimate = 1;
+  bool dq_derived = false;
+  Eigen::VectorXd tau_noise;  // per joint: RMS of the resampled minus the filtered torque [N m]
+};
+
+/// Runs the pipeline. Throws ParseError for a malformed file (file, line, column), InputError for
+/// inconsistent options (cutoff above Nyquist, a run shorter than the filter, no sample left).
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options);
+
+}  // namespace dynid

@@ -1,0 +1,135 @@
+#include "core/signal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <string>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+std::vector<Biquad> butterworthLowPass(int order, double cutoff, double rate) {
+  if (!(order >= 1 && order <= 12))
+    throw InputError("the filter order must be 1 to 12, not " + std::to_string(order));
+  if (!(rate > 0.0) || !std::isfinite(rate))
+    throw InputError("the sampling rate must be finite and positive");
+  if (!(cutoff > 0.0) || !(cutoff < rate / 2.0))
+    throw InputError("the cutoff " + std::to_string(cutoff) +
+                     " Hz must be above 0 and below the Nyquist frequency " +
+                     std::to_string(rate / 2.0) + " Hz");
+  // Pre-warped analog cutoff: the bilinear transform s = 2 rate (z - 1) / (z + 1) maps it onto
+  // the digital one exactly.
+  const double k = std::tan(std::numbers::pi * cutoff / rate);  // wa / (2 rate)
+  std::vector<Biquad> out;
+  // Analog poles of a unit Butterworth on the left half circle, in conjugate pairs:
+  // s_m = exp(i pi (2m + order + 1) / (2 order)), m = 0..order/2-1; a real pole -1 for odd order.
+  for (int m = 0; m < order / 2; ++m) {
+    const double theta = std::numbers::pi * (2.0 * m + order + 1) / (2.0 * order);
+    const double q = -2.0 * std::cos(theta);  // s^2 + q s + 1, q > 0
+    // H(s) = 1 / (s^2/k^2 + q s / k + 1) with s -> (z - 1) / (z + 1) (k absorbs 2 rate / wa).
+    const double a0 = 1.0 + q * k + k * k;
+    Biquad b;
+    b.b0 = k * k / a0, b.b1 = 2.0 * k * k / a0, b.b2 = k * k / a0;
+    b.a1 = 2.0 * (k * k - 1.0) / a0;
+    b.a2 = (1.0 - q * k + k * k) / a0;
+    out.push_back(b);
+  }
+  if (order % 2 == 1) {  // 1 / (s / k + 1)
+    const double a0 = 1.0 + k;
+    Biquad b;
+    b.b0 = k / a0, b.b1 = k / a0, b.b2 = 0.0;
+    b.a1 = (k - 1.0) / a0, b.a2 = 0.0;
+    out.push_back(b);
+  }
+  return out;
+}
+
+double magnitudeResponse(const std::vector<Biquad>& sections, double f, double rate) {
+  const std::complex<double> z1 = std::polar(1.0, -2.0 * std::numbers::pi * f / rate);  // z^-1
+  std::complex<double> h = 1.0;
+  for (const Biquad& s : sections)
+    h *= (s.b0 + s.b1 * z1 + s.b2 * z1 * z1) / (1.0 + s.a1 * z1 + s.a2 * z1 * z1);
+  return std::abs(h);
+}
+
+int padTransient(const std::vector<Biquad>& sections) {
+  // The slowest pole's radius r: its transient falls below 1e-9 after ln(1e-9) / ln(r) samples.
+  double radius = 0.0;
+  for (const Biquad& s : sections) {
+    const double disc = s.a1 * s.a1 - 4.0 * s.a2;
+    const double r = disc < 0.0 ? std::sqrt(s.a2)
+                                : 0.5 * (std::abs(s.a1) + std::sqrt(std::max(disc, 0.0)));
+    radius = std::max(radius, r);
+  }
+  if (radius <= 0.0) return 1;
+  if (radius >= 1.0) return 1 << 20;
+  return static_cast<int>(std::ceil(std::log(1e-9) / std::log(radius)));
+}
+
+namespace {
+
+/// The cascade over x in place (transposed direct form II), each section starting in its steady
+/// state for a constant input x[0].
+void filterInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
+  for (const Biquad& s : sections) {
+    // Steady state for a constant input u: y = g u (g the DC gain), s1 = y - b0 u,
+    // s2 = b2 u - a2 y.
+    const double u0 = x[0];
+    const double g = (s.b0 + s.b1 + s.b2) / (1.0 + s.a1 + s.a2);
+    double s1 = g * u0 - s.b0 * u0, s2 = s.b2 * u0 - s.a2 * g * u0;
+    for (Eigen::Index n = 0; n < x.size(); ++n) {
+      const double u = x[n];
+      const double y = s.b0 * u + s1;
+      s1 = s.b1 * u - s.a1 * y + s2;
+      s2 = s.b2 * u - s.a2 * y;
+      x[n] = y;
+    }
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x) {
+  const Eigen::Index n = x.size();
+  if (n < 2) throw InputError("a signal to filter needs at least 2 samples");
+  const Eigen::Index pad = std::min<Eigen::Index>(padTransient(sections), n - 1);
+  Eigen::VectorXd y(n + 2 * pad);
+  for (Eigen::Index k = 0; k < pad; ++k) {
+    y[k] = 2.0 * x[0] - x[pad - k];
+    y[n + pad + k] = 2.0 * x[n - 1] - x[n - 2 - k];
+  }
+  y.segment(pad, n) = x;
+  filterInPlace(sections, y);
+  y.reverseInPlace();
+  filterInPlace(sections, y);
+  y.reverseInPlace();
+  return y.segment(pad, n);
+}
+
+Eigen::MatrixXd resampleLinear(const Eigen::VectorXd& time, const Eigen::MatrixXd& x, double t0,
+                               double rate, int count) {
+  Eigen::MatrixXd out(count, x.cols());
+  Eigen::Index j = 0;
+  for (int k = 0; k < count; ++k) {
+    const double t = t0 + k / rate;
+    while (j + 2 < time.size() && time[j + 1] < t) ++j;
+    const double span = time[j + 1] - time[j];
+    const double w = std::clamp((t - time[j]) / span, 0.0, 1.0);
+    out.row(k) = (1.0 - w) * x.row(j) + w * x.row(j + 1);
+  }
+  return out;
+}
+
+Eigen::VectorXd derivative(const Eigen::VectorXd& x, double h) {
+  const Eigen::Index n = x.size();
+  if (n < 3) throw InputError("a derivative needs at least 3 samples");
+  Eigen::VectorXd out(n);
+  for (Eigen::Index k = 1; k + 1 < n; ++k) out[k] = (x[k + 1] - x[k - 1]) / (2.0 * h);
+  out[0] = (-3.0 * x[0] + 4.0 * x[1] - x[2]) / (2.0 * h);
+  out[n - 1] = (3.0 * x[n - 1] - 4.0 * x[n - 2] + x[n - 3]) / (2.0 * h);
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,51 @@
+// Signal processing for logged joint signals: zero-phase Butterworth low-pass filtering, uniform
+// resampling and finite-difference derivatives. Every function works on one run: samples that are
+// consecutive in time, with no gap (data/raw_log.hpp splits logs into runs).
+//
+// Symbols: x a signal (one value per sample, an Eigen vector), rate the sampling rate [Hz],
+// cutoff the filter's -3 dB frequency [Hz].
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// One second-order section y = (b0 + b1 z^-1 + b2 z^-2) / (1 + a1 z^-1 + a2 z^-2) x.
+struct Biquad {
+  double b0 = 1.0, b1 = 0.0, b2 = 0.0, a1 = 0.0, a2 = 0.0;
+};
+
+/// A digital Butterworth low-pass of `order` (1..12) with its -3 dB point at `cutoff`, designed
+/// by the bilinear transform with the cutoff pre-warped, as second-order sections (a first-order
+/// section, b2 = a2 = 0, for an odd order). Unit gain at DC. Throws InputError unless
+/// 0 < cutoff < rate / 2 and 1 <= order <= 12.
+std::vector<Biquad> butterworthLowPass(int order, double cutoff, double rate);
+
+/// |H(e^{i 2 pi f / rate})| of the cascade: its magnitude response at frequency f [Hz].
+double magnitudeResponse(const std::vector<Biquad>& sections, double f, double rate);
+
+/// The cascade run forward, then backward over the result (zero phase; the magnitude response is
+/// squared: -6 dB at the cutoff). The ends are extended by odd reflection (2 x(0) - x(k)) over
+/// `padTransient(sections)` samples (fewer when the signal is shorter) and each section starts
+/// in its steady state for the first padded value, so a constant passes unchanged and a line
+/// does to 1e-9 of its edge transient when the signal is longer than the padding.
+/// Throws InputError when the signal has fewer than 2 samples.
+Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x);
+
+/// The number of samples by which the ends are padded: until the slowest pole's transient has
+/// fallen to 1e-9 (scipy's 3 x (2 x sections + 1) is too short for low cutoffs: a ramp's edge
+/// transient then reaches the data).
+int padTransient(const std::vector<Biquad>& sections);
+
+/// Samples of (time, x) at the uniform times t0, t0 + 1/rate, ... <= time.back(), by linear
+/// interpolation (time strictly increasing, x one column per signal, one row per sample).
+Eigen::MatrixXd resampleLinear(const Eigen::VectorXd& time, const Eigen::MatrixXd& x, double t0,
+                               double rate, int count);
+
+/// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
+/// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.
+Eigen::VectorXd derivative(const Eigen::VectorXd& x, double h);
+
+}  // namespace dynid

@@ -1,0 +1,42 @@
+// Raw robot logs as they come: delimited tables (comma, semicolon, tab or whitespace, with or
+// without a header line) and one-signal-per-file layouts (a value per line, n values per sample,
+// like Gaz et al.'s Panda log). Only reading and column selection live here; cleaning, filtering
+// and differentiation are analysis/prepare.hpp's.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// A table: column names (from the header, or "1", "2", ... when there is none) and the values,
+/// one row per sample.
+struct RawTable {
+  std::string file;
+  std::vector<std::string> names;
+  Eigen::MatrixXd values;   // rows x names.size()
+  int first_data_line = 1;  // the file line of values.row(0)
+};
+
+/// Reads a table. The delimiter is the first of ',', ';', '\t' found on the first data line, else
+/// runs of blanks. The first line is a header when any of its fields is not a number. Blank lines
+/// and lines starting with '#' are skipped. Throws ParseError naming the file, line and column of
+/// a short or long row or a field that is not a finite number, or Error when the file cannot be
+/// read.
+RawTable readRawTable(const std::string& path);
+
+/// Reads a one-signal-per-file log: every whitespace-separated number in the file, in order,
+/// shaped into samples of `width` values (width 1 for a time file). Throws ParseError naming the
+/// line of a non-numeric or non-finite value, or when the count is not a multiple of `width`.
+Eigen::MatrixXd readValueFile(const std::string& path, int width);
+
+/// The columns of `table` a selector names, in order: a comma-separated list of column names,
+/// 1-based indices, or shell globs over the names ("q*", "tau_?"; several matches are taken in
+/// the file's order). Throws ParseError (file, element = the selector) when an entry matches
+/// nothing, when `expected` >= 0 and the count differs, or when a column is matched twice.
+std::vector<int> selectColumns(const RawTable& table, const std::string& selector, int expected,
+                               const std::string& what);
+
+}  // namespace dynid

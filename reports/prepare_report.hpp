@@ -1,0 +1,22 @@
+// What `dynid prepare` writes: the dataset CSV(s) and prepare.json (what was done, rates, jitter,
+// gaps, runs, the filter, the torque noise), and its console summary.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/prepare.hpp"
+
+namespace dynid {
+
+inline constexpr int kPrepareSchemaVersion = 1;
+
+nlohmann::json prepareJson(const LogSource& source, const PrepareOutcome& outcome);
+
+/// Writes train.csv, validate.csv (when there is a validation part) and prepare.json into `dir`,
+/// each atomically. Returns the console summary.
+std::string writePrepared(const std::string& dir, const LogSource& source,
+                          const PrepareOutcome& outcome);
+
+}  // namespace dynid

@@ -1,0 +1,74 @@
+// dynid prepare: raw logs into datasets, and the errors a user meets first.
+#include <filesystem>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+/// One joint at 500 Hz in a whitespace table without a header: t, q [deg], tau.
+std::string writeLog(const std::string& name, const std::string& bad_row = "") {
+  std::ostringstream out;
+  for (int k = 0; k < 2000; ++k) {
+    const double t = k * 2e-3;
+    out << t << " " << 20.0 * std::sin(t) << " " << 3.0 * std::cos(t) << "\n";
+    if (k == 10 && !bad_row.empty()) out << bad_row << "\n";
+  }
+  const std::string path = test::tempPath(name);
+  writeFileAtomically(path, out.str());
+  return path;
+}
+
+TEST(Cli, PrepareWritesADatasetAndItsRecord) {
+  const std::string log = writeLog("one_joint.txt"), dir = test::tempPath("prepared");
+  const Result r = run("prepare --log " + log + " --q 2 --tau 3 --angle-unit deg --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "1 runs at 500 Hz")) << r.out;
+  const Trajectory d = readDatasetCsv(dir + "/train.csv", 1);
+  // 0.2 s trimmed at each end of 4 s at 500 Hz.
+  EXPECT_EQ(d.numSamples(), 2000 - 2 * 100);
+  // q in radians now; ddq = -q for a sine of 1 rad/s (the filter and differences: ~1e-4).
+  const double deg = 3.141592653589793 / 180.0;
+  EXPECT_NEAR(d.q(0, 500), 20.0 * deg * std::sin(d.time[500]), 1e-6);
+  EXPECT_NEAR(d.ddq(0, 500), -d.q(0, 500), 1e-4);
+  const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
+  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["samples"]["train"], d.numSamples());
+  EXPECT_EQ(j["filter"]["cutoff_hz"], 10.0);
+}
+
+TEST(Cli, PrepareNamesWhatIsWrongAndWritesNothing) {
+  const std::string dir = test::tempPath("never_prepared");
+  // A bad cell: the file, the line and the column.
+  const std::string bad = writeLog("bad_cell.txt", "0.0205 1.0 oops");
+  const Result cell = run("prepare --log " + bad + " --q 2 --tau 3 --out " + dir);
+  EXPECT_EQ(cell.code, 1);
+  EXPECT_TRUE(contains(cell.err, bad + ":12") && contains(cell.err, "'oops'")) << cell.err;
+  const std::string log = writeLog("good.txt");
+  // Usage errors: no source, no torque selector, a cutoff above Nyquist, an unknown unit.
+  EXPECT_EQ(run("prepare --out " + dir).code, 2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --out " + dir).code, 2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --time-unit min --out " + dir).code, 2);
+  const Result nyquist = run("prepare --log " + log + " --q 2 --tau 3 --cutoff 300 --out " + dir);
+  EXPECT_EQ(nyquist.code, 1);
+  EXPECT_TRUE(contains(nyquist.err, "Nyquist")) << nyquist.err;
+  // A selector that matches nothing names the columns there are.
+  const Result column = run("prepare --log " + log + " --q 2 --tau 7 --out " + dir);
+  EXPECT_EQ(column.code, 1);
+  EXPECT_TRUE(contains(column.err, "out of range")) << column.err;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+}
+
+}  // namespace
+}  // namespace dynid

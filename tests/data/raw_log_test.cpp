@@ -1,0 +1,80 @@
+#include "data/raw_log.hpp"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "data/io.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = test::tempPath(name);
+  writeFileAtomically(path, text);
+  return path;
+}
+
+TEST(RawLog, TablesWithAndWithoutHeadersAndAnyDelimiter) {
+  const RawTable csv = readRawTable(writeTemp(
+      "a.csv", "# a comment\ntime,q_1,q_2,tau_1,tau_2\n0,1,2,3,4\n\n0.001,1.5,2.5,3.5,4.5\n"));
+  ASSERT_EQ(csv.names.size(), 5u);
+  EXPECT_EQ(csv.names[1], "q_1");
+  EXPECT_EQ(csv.values.rows(), 2);
+  EXPECT_EQ(csv.values(1, 4), 4.5);
+  EXPECT_EQ(csv.first_data_line, 3);
+  const RawTable tsv = readRawTable(writeTemp("a.tsv", "0\t1\t2\n1\t3\t4\n"));
+  EXPECT_EQ(tsv.names, (std::vector<std::string>{"1", "2", "3"}));
+  const RawTable blanks = readRawTable(writeTemp("a.txt", "t  a b\n 0   1 2\n1 3   4\n"));
+  EXPECT_EQ(blanks.names[2], "b");
+  EXPECT_EQ(blanks.values(1, 2), 4.0);
+  const RawTable semicolons = readRawTable(writeTemp("b.csv", "t;x\n0;1e-3\n"));
+  EXPECT_EQ(semicolons.values(0, 1), 1e-3);
+}
+
+TEST(RawLog, ErrorsNameTheFileLineAndColumn) {
+  const auto fails = [](const std::string& text, int line, const std::string& column) {
+    const std::string path = writeTemp("bad.csv", text);
+    try {
+      readRawTable(path);
+      ADD_FAILURE() << text;
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.file(), path);
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_EQ(e.element(), column) << e.what();
+    }
+  };
+  fails("t,q1\n0,1\n1,nan\n", 3, "q1");
+  fails("t,q1\n0,1\n1,2,3\n", 3, "");
+  fails("t,q1\n0,1\n1,abc\n", 3, "q1");
+  fails("t,q1\n", 0, "");
+}
+
+TEST(RawLog, ValueFilesShapeIntoSamples) {
+  const Eigen::MatrixXd m = readValueFile(writeTemp("q.txt", "1\n2\n3\n4\n5\n6\n"), 3);
+  ASSERT_EQ(m.rows(), 2);
+  EXPECT_EQ(m(1, 0), 4.0);
+  EXPECT_THROW(readValueFile(writeTemp("short.txt", "1\n2\n3\n4\n"), 3), ParseError);
+  try {
+    readValueFile(writeTemp("bad.txt", "1\n2\nx\n"), 1);
+    FAIL();
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 3);
+  }
+}
+
+TEST(RawLog, SelectorsByNameIndexAndGlob) {
+  const RawTable t = readRawTable(
+      writeTemp("sel.csv", "time,q1,q2,q3,dq1,dq2,dq3,tau1,tau2,tau3\n0,1,2,3,4,5,6,7,8,9\n"));
+  EXPECT_EQ(selectColumns(t, "q*", 3, "q"), (std::vector<int>{1, 2, 3}));
+  EXPECT_EQ(selectColumns(t, "tau?", -1, "tau"), (std::vector<int>{7, 8, 9}));
+  EXPECT_EQ(selectColumns(t, "1", 1, "time"), (std::vector<int>{0}));
+  EXPECT_EQ(selectColumns(t, "dq3,dq1", 2, "dq"), (std::vector<int>{6, 4}));
+  EXPECT_THROW(selectColumns(t, "q*", 2, "q"), ParseError);          // the wrong count
+  EXPECT_THROW(selectColumns(t, "torque*", -1, "tau"), ParseError);  // matches nothing
+  EXPECT_THROW(selectColumns(t, "q1,q*", -1, "q"), ParseError);      // q1 twice
+  EXPECT_THROW(selectColumns(t, "11", 1, "time"), ParseError);       // out of range
+}
+
+}  // namespace
+}  // namespace dynid
