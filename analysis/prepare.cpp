@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <tuple>
 
@@ -84,6 +85,20 @@ void appendTrajectory(Trajectory& to, const Eigen::VectorXd& time, const Eigen::
 }
 
 }  // namespace
+
+double timeUnitScale(const std::string& unit) {
+  if (unit == "s") return 1.0;
+  if (unit == "ms") return 1e-3;
+  if (unit == "us") return 1e-6;
+  if (unit == "ns") return 1e-9;
+  throw InputError("unknown time unit '" + unit + "' (s, ms, us or ns)");
+}
+
+double angleUnitScale(const std::string& unit) {
+  if (unit == "rad") return 1.0;
+  if (unit == "deg") return std::numbers::pi / 180.0;
+  throw InputError("unknown angle unit '" + unit + "' (rad or deg)");
+}
 
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
   if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))

@@ -54,6 +54,11 @@ struct PrepareOutcome {
   Eigen::VectorXd tau_noise;  // per joint: RMS of the resampled minus the filtered torque [N m]
 };
 
+/// Seconds per unit of "s", "ms", "us" or "ns"; radians per unit of "rad" or "deg". Throw
+/// InputError naming the valid units.
+double timeUnitScale(const std::string& unit);
+double angleUnitScale(const std::string& unit);
+
 /// Runs the pipeline. Throws ParseError for a malformed file (file, line, column), InputError for
 /// inconsistent options (cutoff above Nyquist, a run shorter than the filter, no sample left).
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options);

@@ -19,6 +19,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/model_json.hpp"
+#include "data/robots.hpp"
 #include "data/urdf_writeback.hpp"
 
 namespace dynid {
@@ -219,10 +220,13 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   if (out.result.pc)
     for (int i : out.result.pc->inconsistent_links)
       out.pc_inconsistent_links.push_back(model.link_names[i]);
+  out.robot_spec = request.robot_spec;
   if (!request.validate_file.empty()) {
-    const Observation test =
-        observationFromTrajectory(model, readDatasetCsv(request.validate_file, model.numJoints()));
-    out.validation = validateBaseEstimate(out.base, out.result.estimate.beta, test);
+    Model identified = model;
+    identified.setStandardParameters(out.result.standard);
+    out.validation =
+        predictTorques(identified, readDatasetCsv(request.validate_file, model.numJoints()))
+            .validation;
     out.validate_file = request.validate_file;
   }
   if (!request.write_back_from.empty()) {
@@ -242,6 +246,115 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     back.unseen_directions = out.base.numStandard() - out.base.numBase();
     out.write_back = std::move(back);
   }
+  return out;
+}
+
+// ---- applying an estimate to data ----
+
+Eigen::MatrixXd kinematicsSignature(const Model& model) {
+  const std::vector<Pose<double>> frames = linkFramesAtZero(model);
+  Eigen::MatrixXd out(model.numJoints(), 15);
+  for (int i = 0; i < model.numJoints(); ++i) {
+    const Eigen::Matrix3d& r = frames[i].rotation;
+    // The axis is given in the joint frame; the link frame is the joint frame times the body
+    // placement, so the axis in the base frame is R_link R_body^T axis.
+    const Eigen::Vector3d axis =
+        r * model.body_placements()[i].rotation.transpose() * model.axes()[i];
+    out.row(i) << r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2),
+        frames[i].translation.transpose(), axis.transpose();
+  }
+  return out;
+}
+
+Prediction predictTorques(const Model& model, const Trajectory& data) {
+  const int n = model.numJoints(), samples = data.numSamples();
+  if (data.numJoints() != n)
+    throw InputError("the data have " + std::to_string(data.numJoints()) + " joints, robot '" +
+                     model.name + "' has " + std::to_string(n));
+  Prediction out;
+  out.time = data.time;
+  out.measured = data.tau;
+  out.predicted.resize(n, samples);
+  Data work(model);
+  for (int k = 0; k < samples; ++k)
+    out.predicted.col(k) = rnea(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k));
+  const Eigen::MatrixXd residual = data.tau - out.predicted;
+  Validation& v = out.validation;
+  v.num_samples = samples;
+  const double count = std::max(samples, 1);
+  v.torque_rms = (residual.rowwise().squaredNorm() / count).cwiseSqrt();
+  const Eigen::VectorXd tau_rms = (data.tau.rowwise().squaredNorm() / count).cwiseSqrt();
+  const double inf = std::numeric_limits<double>::infinity();
+  v.relative_error = tau_rms.norm() > 0.0 ? v.torque_rms.norm() / tau_rms.norm() : inf;
+  v.normalised_rms.resize(n);
+  for (int j = 0; j < n; ++j)
+    v.normalised_rms[j] = tau_rms[j] > 0.0 ? v.torque_rms[j] / tau_rms[j] : inf;
+  return out;
+}
+
+PredictOutcome predictRun(const PredictRequest& request) {
+  const nlohmann::json estimate = parseJson(readFile(request.estimate_file), request.estimate_file);
+  const auto field = [&](const char* key) -> const nlohmann::json& {
+    if (!estimate.is_object() || !estimate.contains(key))
+      throw ParseError(request.estimate_file, 0, key, "missing: not a dynid identify estimate");
+    return estimate[key];
+  };
+  PredictOutcome out;
+  out.robot_spec = request.robot_spec;
+  if (out.robot_spec.empty()) {
+    if (!field("robot_spec").is_string() || field("robot_spec").get<std::string>().empty())
+      throw ParseError(request.estimate_file, 0, "robot_spec",
+                       "the estimate does not say which robot it is for: give --robot");
+    out.robot_spec = field("robot_spec").get<std::string>();
+  }
+  out.method = field("method").is_string() ? field("method").get<std::string>() : "";
+  std::string terms;
+  for (const nlohmann::json& t : field("drive_terms")) {
+    if (!t.is_string()) throw ParseError(request.estimate_file, 0, "drive_terms", "expected names");
+    if (!terms.empty()) terms += ',';
+    terms += t.get<std::string>();
+  }
+  RobotOptions options;
+  try {
+    options.drive_terms = parseDriveTerms(terms.empty() ? "none" : terms);
+  } catch (const std::invalid_argument& e) {
+    throw ParseError(request.estimate_file, 0, "drive_terms", e.what());
+  }
+  out.model = loadRobot(out.robot_spec, options);
+  const nlohmann::json& values = field("standard_estimate")["values"];
+  const std::vector<std::string> names = standardParameterNames(out.model.parameterLayout());
+  if (!values.is_object() || values.size() != names.size())
+    throw InputError(request.estimate_file + ": the estimate has " +
+                     std::to_string(values.is_object() ? values.size() : 0) +
+                     " standard parameters, robot '" + out.robot_spec + "' with drive terms " +
+                     driveTermsText(options.drive_terms.value()) + " has " +
+                     std::to_string(names.size()) + ": it was made for another robot");
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto it = values.find(names[k]);
+    if (it == values.end() || !it->is_number())
+      throw InputError(request.estimate_file + ": parameter '" + names[k] + "' of robot '" +
+                       out.robot_spec + "' is not in the estimate: it was made for another robot");
+    theta[static_cast<Eigen::Index>(k)] = it->get<double>();
+  }
+  out.model.setStandardParameters(theta);
+  // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
+  // differ) would give wrong torques silently: compare the recorded kinematics.
+  if (estimate.contains("kinematics")) {
+    const Eigen::MatrixXd mine = kinematicsSignature(out.model);
+    const nlohmann::json& recorded = estimate["kinematics"];
+    bool same = recorded.is_array() && recorded.size() == static_cast<std::size_t>(mine.rows());
+    for (Eigen::Index i = 0; same && i < mine.rows(); ++i)
+      for (Eigen::Index c = 0; same && c < 15; ++c)
+        same = recorded[i].is_array() && recorded[i].size() == 15 && recorded[i][c].is_number() &&
+               std::abs(recorded[i][c].get<double>() - mine(i, c)) <= 1e-9;
+    if (!same)
+      throw InputError(request.estimate_file + ": robot '" + out.robot_spec +
+                       "' has other link frames or axes than the robot the estimate was made for: "
+                       "it was made for another robot");
+  }
+  out.prediction =
+      predictTorques(out.model, readDatasetCsv(request.data_file, out.model.numJoints()));
   return out;
 }
 

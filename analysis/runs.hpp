@@ -19,6 +19,7 @@
 #include "core/model.hpp"
 #include "core/parameters.hpp"
 #include "core/simulate.hpp"
+#include "core/trajectory.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares.hpp"
 #include "identifiability/observation.hpp"
@@ -32,6 +33,10 @@ namespace dynid {
 
 /// Each link frame in the base frame at q = 0, to compare with a datasheet's drawing.
 std::vector<Pose<double>> linkFramesAtZero(const Model& model);
+/// The kinematics an estimate's parameters refer to: per link its frame at q = 0 (rotation
+/// row-major, then origin) and its joint axis in the base frame at q = 0, 15 numbers per link.
+/// Estimates record it, and `predict` refuses a robot whose kinematics differ.
+Eigen::MatrixXd kinematicsSignature(const Model& model);
 
 /// Every physical-consistency violation of the model's links (empty: all consistent).
 std::vector<ConsistencyViolation> consistencyViolations(const Model& model);
@@ -126,6 +131,7 @@ struct IdentifyRequest {
   StructuralOptions structural;
   /// The URDF the model was loaded from, to write the estimate back into (empty: no write-back).
   std::string write_back_from;
+  std::string robot_spec;  // how the robot was named (--robot), recorded for `dynid predict`
 };
 /// The estimate written back into the robot's own files (data/urdf_writeback.hpp).
 struct WriteBack {
@@ -144,10 +150,38 @@ struct IdentifyOutcome {
   std::optional<Validation> validation;
   std::string validate_file;
   std::optional<WriteBack> write_back;  // when requested
+  std::string robot_spec;
 };
 /// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
 /// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.
 IdentifyOutcome identifyRun(const IdentifyRequest& request);
+
+// ---- applying an estimate to data ----
+
+/// A model's torques on a dataset, against the measured ones.
+struct Prediction {
+  Eigen::VectorXd time;
+  Eigen::MatrixXd measured, predicted;  // n x samples [N m]
+  Validation validation;                // residual RMS, normalised RMS, relative error
+};
+/// RNEA of `model` (its parameters and drive terms) at every sample. `identify --validate` and
+/// `dynid predict` both use it. Throws InputError when the joint counts differ.
+Prediction predictTorques(const Model& model, const Trajectory& data);
+
+struct PredictRequest {
+  std::string estimate_file;  // an identify estimate.json
+  std::string data_file;      // a dataset CSV
+  std::string robot_spec;     // empty: the estimate's own
+};
+struct PredictOutcome {
+  Model model;  // the robot with the estimate's standard parameters
+  std::string robot_spec, method;
+  Prediction prediction;
+};
+/// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
+/// standard parameters and predicts. Throws ParseError for a malformed estimate, InputError when
+/// the estimate does not fit the robot (another robot, another drive model: the parameter named).
+PredictOutcome predictRun(const PredictRequest& request);
 
 // ---- the GC-error searches ----
 

@@ -39,6 +39,7 @@ int runIdentify(const std::vector<std::string>& args) {
       vm, "prior-weight", [](double w) { return w > 0.0 && std::isfinite(w); }, "finite and > 0");
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);
+  request.robot_spec = vm["robot"].as<std::string>();
   if (request.method == Method::kPc && vm.count("prior"))
     request.prior = loadOtherRobot(vm, "prior");
   request.data_file = vm["data"].as<std::string>();

@@ -1,6 +1,5 @@
 // dynid prepare: a raw log (a table, or one file per signal) into dynid dataset CSVs.
 #include <iostream>
-#include <numbers>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -40,30 +39,16 @@ int runPrepare(const std::vector<std::string>& args) {
   const auto text = [&](const char* key) {
     return vm.count(key) ? vm[key].as<std::string>() : std::string();
   };
-  LogSource source;
-  source.table = text("log");
-  source.time_column = text("time"), source.q_columns = text("q"), source.dq_columns = text("dq");
-  source.tau_columns = text("tau"), source.time_file = text("time-file");
-  source.q_file = text("q-file"), source.dq_file = text("dq-file"),
-  source.tau_file = text("tau-file");
-  source.num_joints = vm["joints"].as<int>();
+  const LogSource source{text("log"),      text("time"),          text("q"),      text("dq"),
+                         text("tau"),      text("time-file"),     text("q-file"), text("dq-file"),
+                         text("tau-file"), vm["joints"].as<int>()};
   if (source.table.empty() == source.q_file.empty())
     throw UsageError("give either --log (a table) or --q-file (one file per signal)");
   if (!source.table.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
     throw UsageError("a table needs --q and --tau column selectors");
   PrepareOptions o;
-  o.time_scale = parseOption(vm, "time-unit", [](const std::string& u) {
-    if (u == "s") return 1.0;
-    if (u == "ms") return 1e-3;
-    if (u == "us") return 1e-6;
-    if (u == "ns") return 1e-9;
-    throw InputError("unknown time unit '" + u + "' (s, ms, us or ns)");
-  });
-  o.angle_scale = parseOption(vm, "angle-unit", [](const std::string& u) {
-    if (u == "rad") return 1.0;
-    if (u == "deg") return std::numbers::pi / 180.0;
-    throw InputError("unknown angle unit '" + u + "' (rad or deg)");
-  });
+  o.time_scale = parseOption(vm, "time-unit", timeUnitScale);
+  o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
   o.rate = checkedOption<double>(
       vm, "rate", [](double r) { return r >= 0.0; }, ">= 0");
   o.cutoff = checkedOption<double>(

@@ -11,6 +11,7 @@ int runModel(const std::vector<std::string>& args);
 int runDynamics(const std::vector<std::string>& args);
 int runSimulate(const std::vector<std::string>& args);
 int runPrepare(const std::vector<std::string>& args);
+int runPredict(const std::vector<std::string>& args);
 int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);

@@ -21,6 +21,7 @@ const char* kUsage =
     "  prepare                  a raw log (irregular stamps, no ddq) into a filtered dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
+    "  predict                  a saved estimate's torques on a dataset, errors and a figure\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
@@ -54,7 +55,8 @@ int main(int argc, char** argv) {
       {"simulate", runSimulate}, {"identifiability", runIdentifiability},
       {"identify", runIdentify}, {"search", runSearch},
       {"refine", runRefine},     {"demo", runDemo},
-      {"batch", runBatch},       {"prepare", runPrepare}};
+      {"batch", runBatch},       {"prepare", runPrepare},
+      {"predict", runPredict}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

@@ -145,6 +145,16 @@ std::string identifiabilityMarkdown(const json& r) {
   return md.str();
 }
 
+namespace {
+/// kinematicsSignature as rows of 15 numbers (the frames at q = 0 and the axes).
+json kinematicsJson(const Model& model) {
+  const Eigen::MatrixXd k = kinematicsSignature(model);
+  json rows = json::array();
+  for (Eigen::Index i = 0; i < k.rows(); ++i) rows.push_back(numbersOrNull(k.row(i).transpose()));
+  return rows;
+}
+}  // namespace
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -163,6 +173,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
   json report = {{"schema_version", kIdentificationSchemaVersion},
                  {"robot", model.name},
+                 {"robot_spec", outcome.robot_spec},
+                 {"kinematics", kinematicsJson(model)},
                  {"drives", model.drive_terms.any()},
                  {"drive_terms", driveTermsKeys(model.drive_terms)},
                  {"method", methodName(outcome.method)},

@@ -23,7 +23,12 @@ for method in ols wls pc; do
     --data "$out/data/train.csv" --validate "$out/data/validate.csv" --out "$out/$method"
 done
 
-# 3. The physically consistent estimate written back into a URDF of the Panda.
+# 3. The OLS estimate applied to the held-out part: predicted torques, errors and the figure of
+#    measured against predicted torque for every joint (panda-out/predict/torques.svg).
+"$dynid" predict --estimate "$out/ols/estimate.json" --data "$out/data/validate.csv" \
+  --out "$out/predict"
+
+# 4. The physically consistent estimate written back into a URDF of the Panda.
 "$dynid" model export --robot panda --format urdf --out "$out/panda.urdf"
 "$dynid" identify --method pc --robot "$out/panda.urdf" --drive-terms fv,fc,fo \
   --data "$out/data/train.csv" --out "$out/pc-urdf" --write-urdf "$out/panda_identified.urdf"

@@ -1,0 +1,28 @@
+// dynid predict: a saved estimate applied to a dataset.
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "reports/prediction_report.hpp"
+
+namespace dynid::cli {
+
+int runPredict(const std::vector<std::string>& args) {
+  po::options_description options("dynid predict");
+  options.add_options()("estimate", po::value<std::string>()->required(),
+                        "identify's estimate.json")("data", po::value<std::string>()->required(),
+                                                    "dataset CSV")(
+      "robot", po::value<std::string>(), "robot spec (default: the one the estimate names)")(
+      "out", po::value<std::string>()->required(), "output directory");
+  po::variables_map vm;
+  if (!parseCommandLine(args, options, "dynid predict --estimate E --data D.csv --out DIR", vm))
+    return kExitOk;
+  PredictRequest request{vm["estimate"].as<std::string>(), vm["data"].as<std::string>(),
+                         vm.count("robot") ? vm["robot"].as<std::string>() : ""};
+  const PredictOutcome outcome = predictRun(request);
+  std::cout << writePrediction(vm["out"].as<std::string>(), outcome, request.estimate_file,
+                               request.data_file);
+  return kExitOk;
+}
+
+}  // namespace dynid::cli

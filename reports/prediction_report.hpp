@@ -1,0 +1,27 @@
+// What `dynid predict` writes: predicted.csv (time, measured and predicted torque per joint),
+// prediction.json (relative error overall and per joint, RMS per joint) and torques.svg (measured
+// against predicted torque for every joint, the figure every identification paper shows).
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/runs.hpp"
+
+namespace dynid {
+
+inline constexpr int kPredictionSchemaVersion = 1;
+
+nlohmann::json predictionJson(const PredictOutcome& outcome, const std::string& estimate_file,
+                              const std::string& data_file);
+
+/// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.
+std::optional<std::string> torqueFigure(const Prediction& prediction, const std::string& title);
+
+/// Writes the three files into `dir` (the figure only when gnuplot works; a warning line is then
+/// part of the summary). Returns the console summary.
+std::string writePrediction(const std::string& dir, const PredictOutcome& outcome,
+                            const std::string& estimate_file, const std::string& data_file);
+
+}  // namespace dynid

@@ -1,0 +1,63 @@
+// dynid predict: a saved estimate applied to data.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, PredictReproducesTheEstimatesResidualsAndRefusesAnotherRobot) {
+  const std::string train = test::tempPath("predict_train.csv"),
+                    est = test::tempPath("predict_estimate"), out = test::tempPath("predicted");
+  ASSERT_EQ(run("simulate --robot puma560 --drives --duration 3 --amplitude 1 --q0 "
+                "0,0.8,1.5,0,0.8,0 --frequency 0.23,0.31,0.41,0.53,0.61,0.71 --bandwidth 8 "
+                "--noise-tau 0.05 --seed 4 --out " +
+                train)
+                .code,
+            0);
+  ASSERT_EQ(
+      run("identify --method wls --robot puma560 --drives --data " + train + " --out " + est).code,
+      0);
+  const Result r =
+      run("predict --estimate " + est + "/estimate.json --data " + train + " --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto e = nlohmann::json::parse(readFile(est + "/estimate.json"));
+  const auto p = nlohmann::json::parse(readFile(out + "/prediction.json"));
+  EXPECT_EQ(p["robot_spec"], "puma560");
+  // The estimate on its own training data: its residuals again, to round-off (RNEA against the
+  // regressor times the base parameters, on torques of order 10 N m).
+  ASSERT_EQ(p["torque_rms"].size(), 6u);
+  for (int j = 0; j < 6; ++j)
+    EXPECT_NEAR(p["torque_rms"][j].get<double>(), e["residual_rms"][j].get<double>(),
+                1e-9 * e["residual_rms"][j].get<double>())
+        << "joint " << j + 1;
+  EXPECT_NEAR(p["relative_error"].get<double>(), e["relative_error"].get<double>(), 1e-9);
+  const std::string csv = readFile(out + "/predicted.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "t,tau1,tau2,tau3,tau4,tau5,tau6,tau_hat1,tau_hat2,"
+            "tau_hat3,tau_hat4,tau_hat5,tau_hat6");
+  // Another robot (a URDF of 6 joints without drives): named, nothing written.
+  const std::string urdf = test::tempPath("predict_other.urdf"), never = test::tempPath("never");
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
+  const Result other = run("predict --estimate " + est + "/estimate.json --robot " + urdf +
+                           " --data " + train + " --out " + never);
+  EXPECT_EQ(other.code, 1);
+  EXPECT_TRUE(contains(other.err, "another robot")) << other.err;
+  // Not an estimate.
+  const Result junk = run("predict --estimate " + train + " --data " + train + " --out " + never);
+  EXPECT_EQ(junk.code, 1);
+  EXPECT_TRUE(contains(junk.err, train)) << junk.err;
+  EXPECT_FALSE(std::filesystem::exists(never));
+}
+
+}  // namespace
+}  // namespace dynid
