@@ -59,8 +59,8 @@ int padTransient(const std::vector<Biquad>& sections) {
   double radius = 0.0;
   for (const Biquad& s : sections) {
     const double disc = s.a1 * s.a1 - 4.0 * s.a2;
-    const double r = disc < 0.0 ? std::sqrt(s.a2)
-                                : 0.5 * (std::abs(s.a1) + std::sqrt(std::max(disc, 0.0)));
+    const double r =
+        disc < 0.0 ? std::sqrt(s.a2) : 0.5 * (std::abs(s.a1) + std::sqrt(std::max(disc, 0.0)));
     radius = std::max(radius, r);
   }
   if (radius <= 0.0) return 1;
