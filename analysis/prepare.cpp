@@ -139,14 +139,13 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   out.max_step = *std::max_element(steps.begin(), steps.end());
   out.rate = options.rate > 0.0 ? options.rate : 1.0 / out.median_step;
   out.max_gap = options.max_gap > 0.0 ? options.max_gap : 5.0 * out.median_step;
-  out.cutoff = options.cutoff;
+  out.cutoff = options.cutoff >= 0.0 ? options.cutoff : std::min(10.0, out.rate / 4.0);
   out.order = options.order;
   out.decimate = options.decimate;
   out.dq_derived = !has_dq || options.derive_dq;
   std::vector<Biquad> filter;
-  if (options.cutoff > 0.0) filter = butterworthLowPass(options.order, options.cutoff, out.rate);
-  out.trim =
-      options.trim >= 0.0 ? options.trim : (options.cutoff > 0.0 ? 2.0 / options.cutoff : 0.0);
+  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
+  out.trim = options.trim >= 0.0 ? options.trim : (out.cutoff > 0.0 ? 2.0 / out.cutoff : 0.0);
 
   // Runs: split where a step exceeds the gap limit.
   std::vector<std::pair<Eigen::Index, Eigen::Index>> runs;  // [begin, end)

@@ -23,10 +23,12 @@ struct LogSource {
 };
 
 struct PrepareOptions {
-  double time_scale = 1.0;         // seconds per time unit (ms: 1e-3)
-  double angle_scale = 1.0;        // radians per angle unit of q and dq (deg: pi/180)
-  double rate = 0.0;               // output rate before decimation [Hz]; 0: the log's median rate
-  double cutoff = 10.0;            // low-pass -3 dB frequency [Hz] (single pass); 0: no filter
+  double time_scale = 1.0;   // seconds per time unit (ms: 1e-3)
+  double angle_scale = 1.0;  // radians per angle unit of q and dq (deg: pi/180)
+  double rate = 0.0;         // output rate before decimation [Hz]; 0: the log's median rate
+  /// Low-pass -3 dB frequency [Hz] (single pass); 0: no filter; < 0: 10 Hz, or a quarter of the
+  /// rate for logs slower than 40 Hz.
+  double cutoff = -1.0;
   int order = 4;                   // Butterworth order
   int decimate = 1;                // keep every Nth sample
   double max_gap = 0.0;            // split the log at larger steps [s]; 0: 5 median steps

@@ -22,7 +22,7 @@ int runPrepare(const std::vector<std::string>& args) {
       "time-unit", po::value<std::string>()->default_value("s"), "s, ms, us or ns")(
       "angle-unit", po::value<std::string>()->default_value("rad"), "rad or deg (q and dq)")(
       "rate", po::value<double>()->default_value(0.0), "resampling rate [Hz] (0: median)")(
-      "cutoff", po::value<double>()->default_value(10.0), "low-pass cutoff [Hz] (0: none)")(
+      "cutoff", po::value<double>()->default_value(-1.0), "low-pass [Hz] (0: none; <0: 10)")(
       "order", po::value<int>()->default_value(4), "Butterworth order")(
       "decimate", po::value<int>()->default_value(1), "keep every Nth sample")(
       "max-gap", po::value<double>()->default_value(0.0), "split at longer steps [s] (0: 5 steps)")(
@@ -51,8 +51,7 @@ int runPrepare(const std::vector<std::string>& args) {
   o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
   o.rate = checkedOption<double>(
       vm, "rate", [](double r) { return r >= 0.0; }, ">= 0");
-  o.cutoff = checkedOption<double>(
-      vm, "cutoff", [](double c) { return c >= 0.0; }, ">= 0");
+  o.cutoff = vm["cutoff"].as<double>();
   o.order = checkedOption<int>(
       vm, "order", [](int k) { return k >= 1 && k <= 12; }, "1 to 12");
   o.decimate = checkedOption<int>(

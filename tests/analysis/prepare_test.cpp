@@ -115,6 +115,22 @@ TEST(Prepare, ValidationFractionDecimationAndLoggedDq) {
     EXPECT_GT(out.train.time[k], out.train.time[k - 1]);  // strictly increasing across runs
 }
 
+TEST(Prepare, TheDefaultCutoffFitsSlowLogs) {
+  // A 30 Hz log: 10 Hz would be too close to its 15 Hz Nyquist frequency; the default takes a
+  // quarter of the rate.
+  std::ostringstream text;
+  text.precision(17);
+  for (int k = 0; k < 900; ++k) text << k / 30.0 << " " << std::sin(k / 30.0) << " 0.5\n";
+  const std::string path = test::tempPath("slow.txt");
+  writeFileAtomically(path, text.str());
+  // The table, its time, q, dq (none) and tau columns; no per-signal files; joints from q.
+  const LogSource s{path, "1", "2", "", "3", "", "", "", "", 0};
+  const PrepareOutcome o = prepareLog(s, PrepareOptions{});
+  EXPECT_NEAR(o.rate, 30.0, 1e-9);
+  EXPECT_NEAR(o.cutoff, 7.5, 1e-9);
+  EXPECT_NEAR(prepareLog(tableSource(writeLog(0.0)), msAndDegrees()).cutoff, 10.0, 1e-12);
+}
+
 TEST(Prepare, RefusesWhatItCannotDo) {
   const std::string log = writeLog(0.0);
   PrepareOptions above_nyquist = msAndDegrees();
