@@ -321,7 +321,10 @@ PredictOutcome predictRun(const PredictRequest& request) {
     throw ParseError(request.estimate_file, 0, "drive_terms", e.what());
   }
   out.model = loadRobot(out.robot_spec, options);
-  const nlohmann::json& values = field("standard_estimate")["values"];
+  const nlohmann::json& standard = field("standard_estimate");
+  if (!standard.is_object() || !standard.contains("values"))
+    throw ParseError(request.estimate_file, 0, "standard_estimate", "expected {\"values\": ...}");
+  const nlohmann::json& values = standard["values"];
   const std::vector<std::string> names = standardParameterNames(out.model.parameterLayout());
   if (!values.is_object() || values.size() != names.size())
     throw InputError(request.estimate_file + ": the estimate has " +
