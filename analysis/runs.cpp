@@ -199,14 +199,30 @@ LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& ba
   return out;
 }
 
+std::optional<nlohmann::json> preparationRecord(const std::string& data_file) {
+  const std::filesystem::path path(data_file);
+  const std::string name = path.filename().string();
+  if (name != "train.csv" && name != "validate.csv") return std::nullopt;
+  const std::filesystem::path record = path.parent_path() / "prepare.json";
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(record, error)) return std::nullopt;
+  try {
+    nlohmann::json j = nlohmann::json::parse(readFile(record.string()));
+    if (j.is_object() && j.value("kind", "") == "dynid.prepare") return j;
+  } catch (const std::exception&) {
+    // An unreadable record is not the dataset's problem: the report leaves the section out.
+  }
+  return std::nullopt;
+}
+
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   const Model& model = request.model;
   IdentifyOutcome out;
   out.method = request.method;
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
-  const Observation train =
-      observationFromTrajectory(model, readDatasetCsv(request.data_file, model.numJoints()));
+  const Trajectory train_data = readDatasetCsv(request.data_file, model.numJoints());
+  const Observation train = observationFromTrajectory(model, train_data);
   out.base = structuralBaseParameters(model, request.structural);
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
@@ -221,24 +237,23 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     for (int i : out.result.pc->inconsistent_links)
       out.pc_inconsistent_links.push_back(model.link_names[i]);
   out.robot_spec = request.robot_spec;
+  Model identified = model;
+  identified.setStandardParameters(out.result.standard);
+  out.violations = consistencyViolations(identified);
+  out.fit = predictTorques(identified, train_data);
+  out.preparation = preparationRecord(request.data_file);
   if (!request.validate_file.empty()) {
-    Model identified = model;
-    identified.setStandardParameters(out.result.standard);
-    out.validation =
-        predictTorques(identified, readDatasetCsv(request.validate_file, model.numJoints()))
-            .validation;
+    out.validate_fit =
+        predictTorques(identified, readDatasetCsv(request.validate_file, model.numJoints()));
+    out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
   }
   if (!request.write_back_from.empty()) {
-    Model identified = model;
-    identified.setStandardParameters(out.result.standard);
-    const std::vector<ConsistencyViolation> violations = consistencyViolations(identified);
-    if (!violations.empty())
+    if (!out.violations.empty())
       throw InputError("cannot write the " + std::string(methodName(request.method)) +
-                       " estimate back: link '" + violations.front().link_name +
-                       "' is not "
-                       "physically consistent (" +
-                       violations.front().condition + "); use --method pc");
+                       " estimate back: link '" + out.violations.front().link_name +
+                       "' is not physically consistent (" + out.violations.front().condition +
+                       "); use --method pc");
     WriteBack back;
     back.urdf =
         urdfWithParameters(readFile(request.write_back_from), request.write_back_from, identified);

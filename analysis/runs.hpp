@@ -121,6 +121,17 @@ LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& ba
                                          const Eigen::VectorXd& prior,
                                          const PhysicalOptions& pc_options = {});
 
+/// A model's torques on a dataset, against the measured ones.
+struct Prediction {
+  Eigen::VectorXd time;
+  Eigen::MatrixXd measured, predicted;  // n x samples [N m]
+  Validation validation;                // residual RMS, normalised RMS, relative error
+};
+
+/// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
+/// validate.csv); nullopt otherwise, or when the record is unreadable.
+std::optional<nlohmann::json> preparationRecord(const std::string& data_file);
+
 struct IdentifyRequest {
   Model model;
   Method method = Method::kOls;  // ols, wls or pc
@@ -151,6 +162,13 @@ struct IdentifyOutcome {
   std::string validate_file;
   std::optional<WriteBack> write_back;  // when requested
   std::string robot_spec;
+  // For the report:
+  Prediction fit;                                // the estimate's torques on the training data
+  std::optional<Prediction> validate_fit;        // and on the held-out data
+  std::vector<ConsistencyViolation> violations;  // of the standard estimate, per link
+  /// prepare.json when the training data is a `dynid prepare` output (train.csv or validate.csv
+  /// beside it): how the log was cleaned, filtered and differentiated.
+  std::optional<nlohmann::json> preparation;
 };
 /// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
 /// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.
@@ -158,12 +176,6 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request);
 
 // ---- applying an estimate to data ----
 
-/// A model's torques on a dataset, against the measured ones.
-struct Prediction {
-  Eigen::VectorXd time;
-  Eigen::MatrixXd measured, predicted;  // n x samples [N m]
-  Validation validation;                // residual RMS, normalised RMS, relative error
-};
 /// RNEA of `model` (its parameters and drive terms) at every sample. `identify --validate` and
 /// `dynid predict` both use it. Throws InputError when the joint counts differ.
 Prediction predictTorques(const Model& model, const Trajectory& data);

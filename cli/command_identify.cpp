@@ -5,7 +5,6 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/identification_report.hpp"
-#include "reports/output.hpp"
 
 namespace dynid::cli {
 
@@ -22,7 +21,8 @@ int runIdentify(const std::vector<std::string>& args) {
       "pc: weight of the divergence from the prior, in chi-square units (> 0)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
-      "out", po::value<std::string>()->required(), "output directory (estimate.json, estimate.md)")(
+      "out", po::value<std::string>()->required(),
+      "output directory (estimate.json, report.md, report.html)")(
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
       "the full model as .dynid.json beside it");
@@ -53,13 +53,9 @@ int runIdentify(const std::vector<std::string>& args) {
   const IdentifyOutcome outcome = identifyRun(request);
   if (outcome.write_back)
     std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
-  const nlohmann::json report = estimateJson(request.model, outcome);
-  const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(
-      dir, {{"estimate.json", report.dump(2) + "\n"}, {"estimate.md", estimateMarkdown(report)}});
   if (const std::string warning = solverWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
-  std::cout << estimateSummary(request.model, outcome, dir);
+  std::cout << writeIdentification(vm["out"].as<std::string>(), request.model, outcome);
   return kExitOk;
 }
 

@@ -35,7 +35,8 @@ struct Solution {
   Eigen::MatrixXd covariance_unit;  // (A^T A)^-1 in physical units for the weighted system
   double condition_number;
   double condition_number_unscaled;
-  Eigen::VectorXd r_diagonal;  // |R_jj| of the column-scaled A (unpivoted QR)
+  Eigen::VectorXd r_diagonal;    // |R_jj| of the column-scaled A (unpivoted QR)
+  Eigen::VectorXd independence;  // BaseEstimate::independence
 };
 
 constexpr Eigen::Index kBlockRows = 1024;
@@ -104,6 +105,8 @@ Solution solveWeighted(const Eigen::MatrixXd& W, const std::vector<int>& columns
   // (As^T As)^-1 = R^-1 R^-T, unscaled by D^-1 on both sides.
   const Eigen::MatrixXd R_inverse =
       R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
+  // With unit columns, (As^T As)^-1 = R^-1 R^-T: its diagonal is the variance inflation factor.
+  out.independence = R_inverse.rowwise().norm().cwiseInverse();
   const Eigen::VectorXd inv_norms = norms.cwiseInverse();
   out.covariance_unit =
       inv_norms.asDiagonal() * (R_inverse * R_inverse.transpose()) * inv_norms.asDiagonal();
@@ -167,6 +170,7 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
   out.beta = chosen.beta;
   out.condition_number = chosen.condition_number;
   out.condition_number_unscaled = chosen.condition_number_unscaled;
+  out.independence = chosen.independence;
   out.std_dev = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
   out.relative_std_dev_percent.resize(b);
   for (int j = 0; j < b; ++j)

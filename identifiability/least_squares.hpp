@@ -29,6 +29,11 @@ struct BaseEstimate {
   /// Of the base regressor as it is (weighted for WLS), in physical units: what most papers report
   /// (it depends on the units of the parameters; the column-scaled one does not).
   double condition_number_unscaled = 0.0;
+  /// How well the data excite each base parameter on its own: sqrt(1 - R^2) of its (weighted)
+  /// column regressed on the other base columns, i.e. 1 / sqrt(variance inflation factor), in
+  /// (0, 1]. 1: no other parameter's torque signature mimics it; near 0: nearly a combination of
+  /// the others, so its estimate is as uncertain as that combination.
+  Eigen::VectorXd independence;
   Eigen::VectorXd joint_sigma;   // per-joint torque noise estimated from the OLS residuals [N m]
   Eigen::VectorXd residual_rms;  // per-joint RMS of tau - W1 beta [N m]
   Eigen::VectorXd measured_rms;  // per-joint RMS of the measured tau [N m]

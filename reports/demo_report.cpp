@@ -9,6 +9,7 @@
 #include "analysis/run_json.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "reports/document.hpp"
 #include "reports/output.hpp"
 
 namespace dynid {
@@ -261,8 +262,7 @@ std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& fi
   if (!figures.empty()) {
     out << "\n## Figures\n";
     for (std::size_t f = 0; f < figures.size(); ++f)
-      out << "\n![Figure " << f + 1 << "](" << figures[f].name << ".svg)\n\n**Figure " << f + 1
-          << ".** " << figures[f].caption << "\n";
+      out << "\n" << markdownFigure(figures[f], static_cast<int>(f) + 1);
   }
   return out.str();
 }
@@ -271,14 +271,7 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
   const StudySettings& s = result.settings;
   const DemoIdentifiability& id = result.identifiability;
   std::ostringstream out;
-  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      << "<title>dynid demo: " << escapeXml(s.robot) << "</title>\n"
-      << "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 1em}"
-         "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
-         "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
-         "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
-         "figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}</style>\n</head>\n<body>\n";
-  out << "<h1>dynid demo: " << escapeXml(s.robot) << "</h1>\n";
+  out << htmlHead("dynid demo: " + s.robot);
   if (result.interrupted)
     out << "<p><strong>Interrupted</strong>: the table has the stages that finished.</p>\n";
   out << "<p>Noise-free simulated data: " << s.train_seconds << " s training, " << s.test_seconds
@@ -313,14 +306,8 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
     out << "<li>" << escapeXml(sentence) << "</li>\n";
   out << "</ul>\n";
   if (!figures.empty()) out << "<h2>Figures</h2>\n";
-  for (std::size_t f = 0; f < figures.size(); ++f) {
-    // Inline: the SVG element without gnuplot's XML prolog.
-    const std::string& svg = figures[f].svg;
-    const std::size_t start = svg.find("<svg");
-    out << "<figure id=\"" << escapeXml(figures[f].name) << "\">\n"
-        << svg.substr(start == std::string::npos ? 0 : start) << "\n<figcaption><b>Figure " << f + 1
-        << ".</b> " << escapeXml(figures[f].caption) << "</figcaption>\n</figure>\n";
-  }
+  for (std::size_t f = 0; f < figures.size(); ++f)
+    out << htmlFigure(figures[f], static_cast<int>(f) + 1);
   out << "</body>\n</html>\n";
   return out.str();
 }

@@ -218,50 +218,6 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   return report;
 }
 
-std::string estimateMarkdown(const json& r) {
-  const auto number = [](const json& x) {
-    return x.is_null() ? std::string("inf") : formatShort(x.get<double>());
-  };
-  const auto percent = [&](const json& x) {
-    return x.is_null() ? std::string("inf") : formatShort(100.0 * x.get<double>()) + " %";
-  };
-  std::ostringstream md;
-  md << "# " << r["method"].get<std::string>() << " estimate for " << r["robot"].get<std::string>()
-     << "\n\nData: " << r["data"]["file"].get<std::string>() << " (" << r["data"]["samples"]
-     << " samples).\n\n- Condition number of the base regressor: "
-     << number(r["condition_number_unscaled"]) << " as it is (physical units, as most papers "
-     << "report it), " << number(r["condition_number"]) << " with unit-norm columns.\n"
-     << "- Relative torque error |tau - tau_hat| / |tau| over all joints: "
-     << percent(r["relative_error"]) << " (training)";
-  const bool validated = r.contains("validation");
-  if (validated) md << ", " << percent(r["validation"]["relative_error"]) << " (held out)";
-  md << ".\n";
-  if (r.contains("physically_consistent"))
-    md << "- Physically consistent solver: " << r["physically_consistent"]["iterations"]
-       << " iterations, " << r["physically_consistent"]["termination"].get<std::string>() << ".\n";
-  if (r.contains("write_back"))
-    md << "- Written back to the robot's files: " << r["write_back"]["unseen_directions"]
-       << " directions the data cannot see come from the input model (the prior).\n";
-  md << "\n| base parameter | estimate | std. dev. | %σ | model value |\n|---|---|---|---|---|\n";
-  for (const auto& p : r["base_parameters"])
-    md << "| `" << p["expression"].get<std::string>() << "` | " << number(p["estimate"]) << " | "
-       << number(p["std_dev"]) << " | " << number(p["relative_std_dev_percent"]) << " | "
-       << number(p["model_value"]) << " |\n";
-  md << "\n| joint | residual RMS [N m] | relative error |";
-  if (validated) md << " held-out RMS [N m] | held-out relative error |";
-  md << "\n|---|---|---|" << (validated ? "---|---|" : "") << "\n";
-  for (std::size_t j = 0; j < r["residual_rms"].size(); ++j) {
-    md << "| " << j + 1 << " | " << number(r["residual_rms"][j]) << " | "
-       << percent(r["joint_relative_error"][j]) << " |";
-    if (validated) {
-      const json& v = r["validation"];
-      md << " " << number(v["torque_rms"][j]) << " | " << percent(v["normalised_rms"][j]) << " |";
-    }
-    md << "\n";
-  }
-  return md.str();
-}
-
 }  // namespace dynid
 
 namespace dynid {
@@ -296,7 +252,8 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
     for (Eigen::Index j = 0; j < v->torque_rms.size(); ++j)
       out << " " << formatShort(v->torque_rms[j]);
   }
-  out << "\nwrote " << dir << "/estimate.json and " << dir << "/estimate.md\n";
+  out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir
+      << "/report.html\n";
   return out.str();
 }
 

@@ -1,5 +1,6 @@
 // The documents of `dynid identifiability` (identifiability.json, identifiability.md) and
-// `dynid identify` (estimate.json, estimate.md), and their console lines.
+// `dynid identify` (estimate.json, and the report: report.md, report.html and its figures), and
+// their console lines.
 #pragma once
 
 #include <string>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/runs.hpp"
+#include "reports/document.hpp"
 
 namespace dynid {
 
@@ -24,10 +26,21 @@ std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutc
 /// estimate.json: the base estimates with %sigma, the full standard vector, residuals, and the
 /// physically consistent solver's record (pc) and the held-out validation when present.
 nlohmann::json estimateJson(const Model& model, const IdentifyOutcome& outcome);
-std::string estimateMarkdown(const nlohmann::json& report);
 /// "puma560: ols estimate of 36 base parameters from N samples, ..." and the files.
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir);
+
+/// The identification report: the torque fit on training and held-out data (table and figures:
+/// measured against predicted torques, residuals against time, their histograms), the
+/// preprocessing when the data came from `dynid prepare`, the base parameters with estimates,
+/// %sigma and excitation, both condition numbers, each link's physical-consistency verdict, and
+/// what the data cannot determine. Figures gnuplot could not draw are named in `missing_figures`.
+Document identificationDocument(const Model& model, const IdentifyOutcome& outcome,
+                                std::vector<std::string>* missing_figures = nullptr);
+/// Writes estimate.json, report.md, report.html and the figures (NAME.svg) into `dir`; returns
+/// the console summary (with a warning line when gnuplot did not run).
+std::string writeIdentification(const std::string& dir, const Model& model,
+                                const IdentifyOutcome& outcome);
 
 /// A warning when a solver stopped at its iteration cap or failed (empty otherwise).
 std::string solverWarning(const IdentifyOutcome& outcome);

@@ -1,6 +1,7 @@
 #include "reports/prediction_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "data/io.hpp"
@@ -29,7 +30,7 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
   const auto n = static_cast<int>(p.measured.rows());
   const auto samples = static_cast<int>(p.measured.cols());
   if (n == 0 || samples == 0) return std::nullopt;
-  const int stride = std::max(1, samples / 2000);  // at most ~2000 points per line
+  const int stride = std::max(1, samples / 1000);  // at most ~1000 points per line
   std::ostringstream s;
   s.precision(9);
   s << "set terminal svg size 900," << 160 * n + 60 << " font 'sans,11' background rgb 'white'\n"
@@ -44,6 +45,78 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
       << (j + 1 == n ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot $j" << j
       << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
       << " using 1:3 with lines lw 1.2 lc rgb '#ee6677' title 'predicted'\n";
+  }
+  s << "unset multiplot\n";
+  return gnuplotSvg(s.str());
+}
+
+namespace {
+/// Inline gnuplot data "$<prefix><j> << EOD": (time, residual of joint j), at most ~1000 points.
+void residualBlock(std::ostringstream& s, char prefix, const Prediction& p, int j) {
+  const auto samples = static_cast<int>(p.measured.cols());
+  const int stride = std::max(1, samples / 1000);
+  s << "$" << prefix << j << " << EOD\n";
+  for (int k = 0; k < samples; k += stride)
+    s << p.time[k] << " " << p.measured(j, k) - p.predicted(j, k) << "\n";
+  s << "EOD\n";
+}
+}  // namespace
+
+std::optional<std::string> residualFigure(const Prediction& train, const Prediction* validate) {
+  const auto n = static_cast<int>(train.measured.rows());
+  if (n == 0 || train.measured.cols() == 0) return std::nullopt;
+  std::ostringstream s;
+  s.precision(9);
+  s << "set terminal svg size 900," << 130 * n + 60 << " font 'sans,11' background rgb 'white'\n"
+    << "set multiplot layout " << n << ",1 title 'torque residuals (measured - predicted)'\n"
+    << "set key top right horizontal\nset grid\nset lmargin 10\n";
+  for (int j = 0; j < n; ++j) {
+    residualBlock(s, 't', train, j);
+    const bool held_out = validate != nullptr && validate->measured.cols() > 0;
+    if (held_out) residualBlock(s, 'v', *validate, j);
+    s << "set ylabel 'r" << j + 1 << " [N m]'\n"
+      << (j + 1 == n ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot $t" << j
+      << " using 1:2 with lines lw 1 lc rgb '#4477aa' title 'training'";
+    if (held_out)
+      s << ", $v" << j << " using 1:2 with lines lw 1 lc rgb '#ee6677' title 'held out'";
+    s << "\n";
+  }
+  s << "unset multiplot\n";
+  return gnuplotSvg(s.str());
+}
+
+std::optional<std::string> residualHistogram(const Prediction& train) {
+  const auto n = static_cast<int>(train.measured.rows());
+  const auto samples = train.measured.cols();
+  if (n == 0 || samples == 0) return std::nullopt;
+  constexpr int kBins = 41;
+  const int columns = n > 1 ? 2 : 1, rows = (n + columns - 1) / columns;
+  std::ostringstream s;
+  s.precision(9);
+  s << "set terminal svg size 900," << 220 * rows + 60 << " font 'sans,11' background rgb 'white'\n"
+    << "set multiplot layout " << rows << "," << columns
+    << " title 'training residuals: histogram and the normal density of the same RMS'\n"
+    << "set key top right\nset grid\nset style fill solid 0.5 noborder\n";
+  for (int j = 0; j < n; ++j) {
+    const Eigen::VectorXd r = (train.measured.row(j) - train.predicted.row(j)).transpose();
+    const double rms = std::sqrt(r.squaredNorm() / static_cast<double>(samples));
+    if (!(rms > 0.0) || !std::isfinite(rms)) continue;  // a perfect fit has no histogram
+    const double width = 8.0 * rms / kBins;
+    Eigen::VectorXd counts = Eigen::VectorXd::Zero(kBins);
+    for (Eigen::Index k = 0; k < r.size(); ++k) {
+      const double bin = std::floor((r[k] + 4.0 * rms) / width);
+      if (bin >= 0.0 && bin < kBins) counts[static_cast<int>(bin)] += 1.0;
+    }
+    s << "$h" << j << " << EOD\n";
+    for (int b = 0; b < kBins; ++b)
+      s << -4.0 * rms + (b + 0.5) * width << " "
+        << counts[b] / (static_cast<double>(samples) * width) << "\n";
+    s << "EOD\n"
+      << "s" << j << " = " << rms << "\n"
+      << "set xlabel 'r" << j + 1 << " [N m]'\nset xrange [" << -4.0 * rms << ":" << 4.0 * rms
+      << "]\nset boxwidth " << width << "\nplot $h" << j
+      << " using 1:2 with boxes lc rgb '#4477aa' title 'joint " << j + 1 << "', exp(-x**2/(2*s" << j
+      << "**2))/(s" << j << "*sqrt(2*pi)) with lines lw 1.5 lc rgb '#ee6677' title 'normal'\n";
   }
   s << "unset multiplot\n";
   return gnuplotSvg(s.str());

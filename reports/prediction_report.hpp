@@ -19,6 +19,14 @@ nlohmann::json predictionJson(const PredictOutcome& outcome, const std::string& 
 /// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.
 std::optional<std::string> torqueFigure(const Prediction& prediction, const std::string& title);
 
+/// The residuals tau - tau_hat per joint against time: the training data's, and the held-out
+/// data's in another colour when given. nullopt without gnuplot.
+std::optional<std::string> residualFigure(const Prediction& train, const Prediction* validate);
+/// Per joint, the histogram of the training residuals as a density over +-4 RMS, with the normal
+/// density of the same RMS: a bias, heavy tails or two modes (unmodelled friction) show. nullopt
+/// without gnuplot.
+std::optional<std::string> residualHistogram(const Prediction& train);
+
 /// Writes the three files into `dir` (the figure only when gnuplot works; a warning line is then
 /// part of the summary). Returns the console summary.
 std::string writePrediction(const std::string& dir, const PredictOutcome& outcome,

@@ -53,7 +53,9 @@ TEST(Cli, IdentifyFromSimulatedData) {
   ASSERT_EQ(j["validation"]["torque_rms"].size(), 6u);
   // 0.01 N m torque noise: the held-out prediction error stays of that order.
   for (const auto& rms : j["validation"]["torque_rms"]) EXPECT_LT(rms.get<double>(), 0.05);
-  EXPECT_TRUE(contains(readFile(dir + "/estimate.md"), "| joint | residual RMS [N m] |"));
+  EXPECT_TRUE(
+      contains(readFile(dir + "/report.md"), "| joint | measured RMS [N m] | residual RMS"));
+  EXPECT_TRUE(contains(readFile(dir + "/report.html"), "<figure id=\"torques_validate\">"));
   // The same data with joint 1 exactly still: rank deficient, refused with the parameters named.
   Trajectory still_joint = readDatasetCsv(train);
   still_joint.q.row(0).setZero();
@@ -204,6 +206,15 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
   const std::string termination = pc["physically_consistent"]["termination"];
   EXPECT_EQ(termination.rfind("CONVERGENCE", 0), 0u) << termination;
   EXPECT_TRUE(std::filesystem::exists(out + "/panda_identified.urdf"));
+  // The report: measured against predicted torque for all 7 joints, training and held out, and
+  // the preprocessing that made the data.
+  const std::string html = readFile(out + "/ols/report.html");
+  for (const char* figure : {"torques_train", "torques_validate", "residuals"})
+    EXPECT_NE(html.find("<figure id=\"" + std::string(figure) + "\">"), std::string::npos)
+        << figure;
+  for (int j = 1; j <= 7; ++j)
+    EXPECT_NE(html.find("tau" + std::to_string(j) + " [N m]"), std::string::npos) << j;
+  EXPECT_NE(html.find("Preprocessing (dynid prepare)"), std::string::npos);
 }
 
 }  // namespace

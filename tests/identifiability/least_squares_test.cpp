@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "tests/common/identification.hpp"
@@ -100,6 +101,27 @@ TEST(LeastSquares, RelativeErrorsAndBothConditionNumbersFromTheirDefinitions) {
   EXPECT_NEAR(e.condition_number / condition(W1 * norms.cwiseInverse().asDiagonal()), 1.0, 1e-8);
   // Physical units make the unscaled one the larger here (masses against light wrist inertias).
   EXPECT_GT(e.condition_number_unscaled, e.condition_number);
+}
+
+TEST(LeastSquares, IndependenceIsTheUnexplainedShareOfEachColumn) {
+  const Model model = makePuma560(false);
+  const BaseParameters base = pumaBase(model);
+  const Observation obs = observationFromTrajectory(model, pumaTrajectory(model, 2.0, 0.2, 5));
+  const BaseEstimate e = estimateBaseParameters(base, obs, LeastSquaresMethod::kOrdinary);
+  const Eigen::MatrixXd W1 = base.baseRegressor(obs.W);
+  ASSERT_EQ(e.independence.size(), W1.cols());
+  // The definition: each column regressed on all the others by least squares; the share of its
+  // norm that the others leave unexplained.
+  for (Eigen::Index j = 0; j < W1.cols(); ++j) {
+    Eigen::MatrixXd others(W1.rows(), W1.cols() - 1);
+    others << W1.leftCols(j), W1.rightCols(W1.cols() - 1 - j);
+    const Eigen::VectorXd fit = others.colPivHouseholderQr().solve(W1.col(j));
+    const double unexplained = (W1.col(j) - others * fit).norm() / W1.col(j).norm();
+    // Two factorisations of the same columns: round-off relative to the condition number (~1e2).
+    EXPECT_NEAR(e.independence[j], unexplained, 1e-9 + 1e-7 * unexplained) << base.baseName(j);
+    EXPECT_GT(e.independence[j], 0.0);
+    EXPECT_LE(e.independence[j], 1.0 + 1e-12);
+  }
 }
 
 TEST(LeastSquares, RefusesRankDeficientData) {

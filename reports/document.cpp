@@ -1,0 +1,141 @@
+#include "reports/document.hpp"
+
+#include <sstream>
+
+#include "data/io.hpp"
+
+namespace dynid {
+
+void Document::heading(const std::string& text) {
+  blocks_.push_back({Kind::kHeading, {text}, {}, -1});
+}
+void Document::paragraph(const std::string& text) {
+  blocks_.push_back({Kind::kParagraph, {text}, {}, -1});
+}
+void Document::bullets(const std::vector<std::string>& items) {
+  if (!items.empty()) blocks_.push_back({Kind::kBullets, items, {}, -1});
+}
+void Document::table(const DocumentTable& table) {
+  blocks_.push_back({Kind::kTable, {}, table, -1});
+}
+void Document::figure(const Figure& figure) {
+  figures_.push_back(figure);
+  blocks_.push_back({Kind::kFigure, {}, {}, static_cast<int>(figures_.size()) - 1});
+}
+
+namespace {
+/// A Markdown table cell: pipes escaped, line breaks flattened.
+std::string markdownCell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|')
+      out += "\\|";
+    else
+      out += c == '\n' ? ' ' : c;
+  }
+  return out;
+}
+}  // namespace
+
+std::string Document::markdown() const {
+  std::ostringstream out;
+  out << "# " << title_ << "\n";
+  for (const Block& b : blocks_) {
+    out << "\n";
+    switch (b.kind) {
+      case Kind::kHeading:
+        out << "## " << b.text[0] << "\n";
+        break;
+      case Kind::kParagraph:
+        out << b.text[0] << "\n";
+        break;
+      case Kind::kBullets:
+        for (const std::string& item : b.text) out << "- " << item << "\n";
+        break;
+      case Kind::kTable: {
+        out << "|";
+        for (const std::string& h : b.table.header) out << " " << markdownCell(h) << " |";
+        out << "\n|";
+        for (std::size_t c = 0; c < b.table.header.size(); ++c) out << "---|";
+        out << "\n";
+        for (const auto& row : b.table.rows) {
+          out << "|";
+          for (const std::string& cell : row) out << " " << markdownCell(cell) << " |";
+          out << "\n";
+        }
+        if (!b.table.caption.empty()) out << "\n" << b.table.caption << "\n";
+        break;
+      }
+      case Kind::kFigure:
+        out << markdownFigure(figures_[static_cast<std::size_t>(b.figure)], b.figure + 1);
+        break;
+    }
+  }
+  return out.str();
+}
+
+std::string markdownFigure(const Figure& figure, int number) {
+  const std::string label = "Figure " + std::to_string(number);
+  return "![" + label + "](" + figure.name + ".svg)\n\n**" + label + ".** " + figure.caption + "\n";
+}
+
+std::string htmlHead(const std::string& title) {
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+         escapeXml(title) +
+         "</title>\n<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;padding:0 "
+         "1em}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
+         "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
+         "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
+         "figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}</style>\n</head>\n"
+         "<body>\n<h1>" +
+         escapeXml(title) + "</h1>\n";
+}
+
+std::string htmlFigure(const Figure& figure, int number) {
+  // Inline: the SVG element without gnuplot's XML prolog.
+  const std::size_t start = figure.svg.find("<svg");
+  return "<figure id=\"" + escapeXml(figure.name) + "\">\n" +
+         figure.svg.substr(start == std::string::npos ? 0 : start) + "\n<figcaption><b>Figure " +
+         std::to_string(number) + ".</b> " + escapeXml(figure.caption) +
+         "</figcaption>\n</figure>\n";
+}
+
+std::string Document::html() const {
+  std::ostringstream out;
+  out << htmlHead(title_);
+  for (const Block& b : blocks_) {
+    switch (b.kind) {
+      case Kind::kHeading:
+        out << "<h2>" << escapeXml(b.text[0]) << "</h2>\n";
+        break;
+      case Kind::kParagraph:
+        out << "<p>" << escapeXml(b.text[0]) << "</p>\n";
+        break;
+      case Kind::kBullets:
+        out << "<ul>\n";
+        for (const std::string& item : b.text) out << "<li>" << escapeXml(item) << "</li>\n";
+        out << "</ul>\n";
+        break;
+      case Kind::kTable:
+        out << "<table>\n<tr>";
+        for (const std::string& h : b.table.header) out << "<th>" << escapeXml(h) << "</th>";
+        out << "</tr>\n";
+        for (const auto& row : b.table.rows) {
+          out << "<tr>";
+          for (const std::string& cell : row) out << "<td>" << escapeXml(cell) << "</td>";
+          out << "</tr>\n";
+        }
+        if (!b.table.caption.empty())
+          out << "<caption>" << escapeXml(b.table.caption) << "</caption>\n";
+        out << "</table>\n";
+        break;
+      case Kind::kFigure:
+        out << htmlFigure(figures_[static_cast<std::size_t>(b.figure)], b.figure + 1);
+        break;
+    }
+  }
+  out << "</body>\n</html>\n";
+  return out.str();
+}
+
+}  // namespace dynid

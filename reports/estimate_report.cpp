@@ -1,0 +1,263 @@
+// The identification report of `dynid identify` (report.md, report.html and their figures), and
+// the files of an identification written together.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "reports/document.hpp"
+#include "reports/identification_report.hpp"
+#include "reports/output.hpp"
+#include "reports/prediction_report.hpp"
+
+namespace dynid {
+
+namespace {
+
+std::string percent(double fraction) { return threeDigits(100.0 * fraction) + " %"; }
+
+/// "a, b and c" (at most `limit` names, then "and N more").
+std::string nameList(const std::vector<std::string>& names, std::size_t limit = 40) {
+  std::string out;
+  const std::size_t shown = std::min(names.size(), limit);
+  for (std::size_t k = 0; k < shown; ++k) {
+    if (k > 0) out += k + 1 == shown && shown == names.size() ? " and " : ", ";
+    out += names[k];
+  }
+  if (shown < names.size()) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
+}
+
+void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::string>& missing) {
+  doc.heading("Torque fit");
+  const Validation& t = o.fit.validation;
+  const Validation* v = o.validate_fit ? &o.validate_fit->validation : nullptr;
+  doc.paragraph(
+      "Relative torque error |tau - tau_hat| / |tau| over every joint and sample (the "
+      "literature's measure): " +
+      percent(t.relative_error) + " on the " + std::to_string(t.num_samples) +
+      " training samples of " + o.data_file +
+      (v ? ", " + percent(v->relative_error) + " on the " + std::to_string(v->num_samples) +
+               " held-out samples of " + o.validate_file
+         : std::string(", no held-out data (give --validate to measure it)")) +
+      ".");
+  DocumentTable table;
+  table.header = {"joint", "measured RMS [N m]", "residual RMS [N m]", "relative error"};
+  if (v)
+    table.header.insert(table.header.end(),
+                        {"held-out residual RMS [N m]", "held-out relative error"});
+  const Eigen::Index n = t.torque_rms.size();
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double measured =
+        std::sqrt(o.fit.measured.row(j).squaredNorm() /
+                  std::max<double>(1.0, static_cast<double>(o.fit.measured.cols())));
+    std::vector<std::string> row = {std::to_string(j + 1), threeDigits(measured),
+                                    threeDigits(t.torque_rms[j]), percent(t.normalised_rms[j])};
+    if (v) row.insert(row.end(), {threeDigits(v->torque_rms[j]), percent(v->normalised_rms[j])});
+    table.rows.push_back(row);
+  }
+  table.caption = "Relative error per joint: residual RMS over measured RMS.";
+  doc.table(table);
+  const auto add = [&](const std::string& name, const std::optional<std::string>& svg,
+                       const std::string& caption) {
+    if (svg)
+      doc.figure({name, caption, *svg});
+    else
+      missing.push_back(name + ".svg");
+  };
+  add("torques_train", torqueFigure(o.fit, "training data: measured and predicted torques"),
+      "Measured (blue) against predicted (red) joint torques on the training data.");
+  if (o.validate_fit)
+    add("torques_validate",
+        torqueFigure(*o.validate_fit, "held-out data: measured and predicted torques"),
+        "Measured against predicted joint torques on the held-out data: what the estimate "
+        "predicts on motion it was not fitted to.");
+  add("residuals", residualFigure(o.fit, o.validate_fit ? &*o.validate_fit : nullptr),
+      "Torque residuals against time. Structure that repeats with the motion (spikes at velocity "
+      "reversals, drift with temperature) is unmodelled dynamics, not noise.");
+  add("residual_histogram", residualHistogram(o.fit),
+      "Histogram of each joint's training residuals against the normal density of the same RMS. "
+      "A shifted peak is a bias (an offset the drive terms lack), two peaks unmodelled Coulomb "
+      "friction.");
+}
+
+void preparationSection(Document& doc, const nlohmann::json& p) {
+  doc.heading("Preprocessing (dynid prepare)");
+  std::vector<std::string> items;
+  const auto number = [](const nlohmann::json& x) {
+    return x.is_number() ? threeDigits(x.get<double>()) : std::string("n/a");
+  };
+  try {
+    const nlohmann::json& raw = p.at("raw");
+    const auto ms = [&](const nlohmann::json& x) {
+      return x.is_number() ? formatShort(1e3 * x.get<double>()) + " ms" : std::string("n/a");
+    };
+    items.push_back(std::to_string(raw.at("samples").get<long>()) +
+                    " raw samples; time step median " + ms(raw.at("median_step")) + ", from " +
+                    ms(raw.at("min_step")) + " to " + ms(raw.at("max_step")) + "; " +
+                    std::to_string(raw.at("repeated_stamps_dropped").get<long>()) +
+                    " repeated stamps dropped.");
+    items.push_back("Gaps longer than " + ms(p.at("max_gap")) + ": " +
+                    std::to_string(p.at("gaps").size()) +
+                    "; runs between them: " + std::to_string(p.at("runs").size()) + " kept, " +
+                    std::to_string(p.at("dropped_runs").size()) +
+                    " dropped (shorter than the filter's transient).");
+    const nlohmann::json& f = p.at("filter");
+    items.push_back("Resampled to " + formatShort(p.at("resampled_rate").get<double>()) +
+                    " Hz; filter: " + f.at("kind").get<std::string>() +
+                    (f.at("cutoff_hz").get<double>() > 0.0
+                         ? ", order " + std::to_string(f.at("order").get<int>()) + ", cutoff " +
+                               formatShort(f.at("cutoff_hz").get<double>()) + " Hz, applied to " +
+                               f.at("applied_to").get<std::string>()
+                         : std::string()) +
+                    ".");
+    items.push_back("dq: " + p.at("dq").get<std::string>() +
+                    "; ddq: " + p.at("ddq").get<std::string>() + "; " +
+                    number(p.at("trimmed_each_end")) + " s trimmed at each run's ends; every " +
+                    std::to_string(p.at("decimate").get<int>()) + " sample kept.");
+    std::string noise;
+    for (const nlohmann::json& x : p.at("tau_noise_rms"))
+      noise += (noise.empty() ? "" : ", ") + number(x);
+    items.push_back("Torque noise removed by the filter (RMS per joint) [N m]: " + noise + ".");
+  } catch (const nlohmann::json::exception&) {
+    items.push_back("(prepare.json lacks fields this version reads; see the file itself)");
+  }
+  doc.bullets(items);
+}
+
+void identifiabilitySection(const Model& model, Document& doc, const IdentifyOutcome& o) {
+  const BaseParameters& base = o.base;
+  const BaseEstimate& e = o.result.estimate;
+  doc.heading("What the data identify");
+  doc.paragraph(std::to_string(base.numBase()) + " of the " + std::to_string(base.numStandard()) +
+                " standard parameters of " + model.name + " (drive terms " +
+                driveTermsText(model.drive_terms) +
+                ") are identifiable, as the base parameters below. Condition number of the "
+                "training base regressor: " +
+                threeDigits(e.condition_number_unscaled) +
+                " as it is (physical units, what most papers report), " +
+                threeDigits(e.condition_number) + " with unit columns (independent of units).");
+  DocumentTable table;
+  table.header = {"#",  "base parameter", "combination", "estimate",
+                  "%σ", "excitation",     "model value"};
+  // The model's base values are projections: round-off of the largest shows as 1e-16 noise.
+  const double floor = 1e-12 * o.model_beta.cwiseAbs().maxCoeff();
+  for (int j = 0; j < base.numBase(); ++j)
+    table.rows.push_back({std::to_string(j + 1), base.baseName(j), base.expression(j),
+                          formatShort(e.beta[j]), threeDigits(e.relative_std_dev_percent[j]),
+                          j < e.independence.size() ? threeDigits(e.independence[j]) : "n/a",
+                          formatShort(std::abs(o.model_beta[j]) <= floor ? 0.0 : o.model_beta[j])});
+  table.caption =
+      "%σ: the estimate's standard deviation relative to its value. Excitation: the share of the "
+      "parameter's torque signature (its regressor column) that no other base parameter's "
+      "explains, sqrt(1 - R²), from 1 (on its own) to 0 (a combination of the others).";
+  doc.table(table);
+}
+
+void consistencySection(Document& doc, const Model& model, const IdentifyOutcome& o) {
+  doc.heading("Physical consistency");
+  if (o.result.pc)
+    doc.paragraph("The physically consistent solver (pc) stopped after " +
+                  std::to_string(o.result.pc->iterations) + " iterations: " +
+                  o.result.pc->termination + ". Prior weight " + threeDigits(o.prior_weight) + ".");
+  else
+    doc.paragraph("The " + std::string(methodName(o.method)) +
+                  " estimate fixes the base parameters only; the standard parameters checked here "
+                  "take the directions the data cannot see from the model. An inconsistent link "
+                  "means this lift is unphysical, not that no physical lift exists: --method pc "
+                  "finds one.");
+  DocumentTable table;
+  table.header = {"link", "verdict"};
+  for (int i = 0; i < model.numJoints(); ++i) {
+    std::string verdict;
+    for (const ConsistencyViolation& v : o.violations)
+      if (v.link == i)
+        verdict += (verdict.empty() ? "violates: " : "; ") + v.condition + " (" + v.detail + ")";
+    table.rows.push_back({model.link_names[i], verdict.empty() ? "consistent" : verdict});
+  }
+  doc.table(table);
+}
+
+void unknownsSection(Document& doc, const IdentifyOutcome& o) {
+  const BaseParameters& base = o.base;
+  const BaseEstimate& e = o.result.estimate;
+  doc.heading("What the data cannot determine");
+  std::vector<std::string> never, regrouped, uncertain, collinear;
+  for (int k : base.zero_columns) never.push_back(base.standard_names[k]);
+  for (int k : base.dependent)
+    if (std::find(base.zero_columns.begin(), base.zero_columns.end(), k) == base.zero_columns.end())
+      regrouped.push_back(base.standard_names[k]);
+  for (int j = 0; j < base.numBase(); ++j) {
+    if (!(e.relative_std_dev_percent[j] <= 10.0))
+      uncertain.push_back(base.baseName(j) + " (" + threeDigits(e.relative_std_dev_percent[j]) +
+                          " %)");
+    if (j < e.independence.size() && e.independence[j] < 0.1)
+      collinear.push_back(base.baseName(j) + " (" + threeDigits(e.independence[j]) + ")");
+  }
+  std::vector<std::string> items;
+  items.push_back(never.empty() ? "Every standard parameter acts on the torques."
+                                : std::to_string(never.size()) +
+                                      " standard parameters never act on the torques, whatever "
+                                      "the motion: " +
+                                      nameList(never) + ".");
+  if (!regrouped.empty())
+    items.push_back(std::to_string(regrouped.size()) +
+                    " are identifiable only in the combinations of the table above, never "
+                    "alone: " +
+                    nameList(regrouped) + ".");
+  items.push_back(uncertain.empty() ? "Every base parameter has %σ at most 10 %."
+                                    : std::to_string(uncertain.size()) +
+                                          " base parameters have %σ above 10 % (the usual "
+                                          "threshold for a well-identified parameter; often "
+                                          "small values whose torque is near the noise): " +
+                                          nameList(uncertain) + ".");
+  if (!collinear.empty())
+    items.push_back(std::to_string(collinear.size()) +
+                    " base parameters are excited mostly in combination with others (excitation "
+                    "below 0.1): " +
+                    nameList(collinear) +
+                    ". A motion that moves their joints differently would separate them.");
+  items.push_back(std::to_string(base.numStandard() - base.numBase()) +
+                  " directions of the standard parameters are invisible to torque data; the "
+                  "standard estimate takes them from the " +
+                  (o.result.pc ? "prior" : "model") + ".");
+  doc.bullets(items);
+}
+
+}  // namespace
+
+Document identificationDocument(const Model& model, const IdentifyOutcome& o,
+                                std::vector<std::string>* missing_figures) {
+  Document doc("dynid identify: " + model.name + " (" + methodName(o.method) + ")");
+  doc.paragraph(std::string(methodDescription(o.method)) + ": " + std::to_string(o.base.numBase()) +
+                " base parameters from " + std::to_string(o.result.estimate.num_samples) +
+                " samples of " + o.data_file +
+                (o.robot_spec.empty() ? "" : "; robot " + o.robot_spec) + ".");
+  if (const std::string warning = solverWarning(o); !warning.empty())
+    doc.paragraph("Warning: " + warning);
+  std::vector<std::string> missing;
+  torqueFitSection(doc, o, missing);
+  if (o.preparation) preparationSection(doc, *o.preparation);
+  identifiabilitySection(model, doc, o);
+  consistencySection(doc, model, o);
+  unknownsSection(doc, o);
+  if (missing_figures) *missing_figures = missing;
+  return doc;
+}
+
+std::string writeIdentification(const std::string& dir, const Model& model,
+                                const IdentifyOutcome& outcome) {
+  std::vector<std::string> missing;
+  const Document doc = identificationDocument(model, outcome, &missing);
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"estimate.json", estimateJson(model, outcome).dump(2) + "\n"},
+      {"report.md", doc.markdown()},
+      {"report.html", doc.html()}};
+  for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);
+  writeReportFiles(dir, files);
+  std::string out = estimateSummary(model, outcome, dir);
+  if (!missing.empty())
+    out += "warning: gnuplot did not run: the report has no figures (" + nameList(missing) + ")\n";
+  return out;
+}
+
+}  // namespace dynid

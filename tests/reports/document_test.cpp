@@ -1,0 +1,54 @@
+#include "reports/document.hpp"
+
+#include <gtest/gtest.h>
+
+namespace dynid {
+namespace {
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+Document sample() {
+  Document doc("fit <of> a | b");
+  doc.heading("Torque & fit");
+  doc.paragraph("relative error 1.01 %");
+  doc.bullets({});  // nothing for an empty list
+  doc.bullets({"first", "x < y"});
+  doc.table({{"name", "combination"}, {{"Izz1R", "Izz1 + Iyy2"}, {"p|q", "a<b"}}, "cap"});
+  doc.figure({"residuals", "the residuals", "<?xml version='1.0'?>\n<svg id='r'></svg>"});
+  doc.figure({"torques", "the torques", "<svg id='t'></svg>"});
+  return doc;
+}
+
+TEST(Document, MarkdownEscapesTableCellsAndNumbersFigures) {
+  const std::string md = sample().markdown();
+  EXPECT_EQ(md.rfind("# fit <of> a | b\n", 0), 0u) << md;
+  EXPECT_TRUE(contains(md, "\n## Torque & fit\n"));
+  EXPECT_TRUE(contains(md, "\n- first\n- x < y\n"));
+  EXPECT_FALSE(contains(md, "\n- \n"));
+  // A pipe inside a cell would split the row: escaped.
+  EXPECT_TRUE(contains(md, "| p\\|q | a<b |"));
+  EXPECT_TRUE(contains(md, "|---|---|\n| Izz1R | Izz1 + Iyy2 |"));
+  EXPECT_TRUE(contains(md, "![Figure 1](residuals.svg)\n\n**Figure 1.** the residuals"));
+  EXPECT_TRUE(contains(md, "![Figure 2](torques.svg)\n\n**Figure 2.** the torques"));
+}
+
+TEST(Document, HtmlIsSelfContainedAndEscaped) {
+  const Document doc = sample();
+  const std::string html = doc.html();
+  EXPECT_TRUE(contains(html, "<h1>fit &lt;of&gt; a | b</h1>"));
+  EXPECT_TRUE(contains(html, "<h2>Torque &amp; fit</h2>"));
+  EXPECT_TRUE(contains(html, "<td>p|q</td><td>a&lt;b</td>"));
+  EXPECT_TRUE(contains(html, "<li>x &lt; y</li>"));
+  // Figures inline without their XML prolog, numbered in order.
+  EXPECT_TRUE(contains(html, "<figure id=\"residuals\">\n<svg id='r'></svg>"));
+  EXPECT_FALSE(contains(html, "<?xml"));
+  EXPECT_TRUE(contains(html, "<b>Figure 2.</b> the torques"));
+  for (const char* external : {"<script", "<link", "src=\"http", "@import"})
+    EXPECT_FALSE(contains(html, external)) << external;
+  EXPECT_EQ(doc.figures().size(), 2u);
+}
+
+}  // namespace
+}  // namespace dynid

@@ -1,0 +1,126 @@
+// The identification report (report.md, report.html) of an identify run on simulated PUMA data.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "tests/common/identification.hpp"
+#include "tests/common/sample_models.hpp"
+
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "reports/identification_report.hpp"
+
+namespace dynid {
+namespace {
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+struct Fixture {
+  std::string dir, train, validate;
+};
+
+/// train.csv and validate.csv of the PUMA with drives, beside a prepare.json when `prepared`.
+Fixture writeData(bool prepared) {
+  Fixture f;
+  f.dir = test::tempPath(prepared ? "prepared" : "plain");
+  std::filesystem::create_directories(f.dir);
+  const Model model = makePuma560(true);
+  f.train = f.dir + "/train.csv";
+  f.validate = f.dir + "/validate.csv";
+  writeDatasetCsv(f.train, test::pumaTrajectory(model, 3.0, 0.05, 1));
+  writeDatasetCsv(f.validate, test::pumaTrajectory(model, 1.0, 0.05, 2, 1.3));
+  if (prepared)
+    writeFileAtomically(f.dir + "/prepare.json", R"({"kind": "dynid.prepare",
+      "raw": {"samples": 4321, "median_step": 0.001, "min_step": 0.0007, "max_step": 0.0088,
+              "repeated_stamps_dropped": 3},
+      "gaps": [], "max_gap": 0.02, "runs": [{}], "dropped_runs": [], "resampled_rate": 1000,
+      "filter": {"kind": "Butterworth", "order": 4, "cutoff_hz": 7.5, "applied_to": "q, dq, tau"},
+      "dq": "logged", "ddq": "central differences", "trimmed_each_end": 0.4, "decimate": 1,
+      "tau_noise_rms": [0.1, 0.2]})");
+  return f;
+}
+
+IdentifyRequest request(const Fixture& f, Method method) {
+  IdentifyRequest r;
+  r.model = makePuma560(true);
+  r.method = method;
+  r.data_file = f.train;
+  r.validate_file = f.validate;
+  r.robot_spec = "puma560";
+  return r;
+}
+
+TEST(EstimateReport, ShowsTheFitTheBaseParametersTheVerdictsAndTheUnknowns) {
+  const Fixture f = writeData(true);
+  IdentifyRequest r = request(f, Method::kOls);
+  // m1 never acts on the torques: the model's (the lift's) negative m1 makes link 1 inconsistent.
+  Eigen::VectorXd theta = r.model.standardParameters();
+  theta[r.model.parameterLayout().linkIndex(0, 0)] = -1.0;
+  r.model.setStandardParameters(theta);
+  const IdentifyOutcome o = identifyRun(r);
+  ASSERT_TRUE(o.preparation.has_value());
+  std::vector<std::string> missing;
+  const Document doc = identificationDocument(r.model, o, &missing);
+  const std::string md = doc.markdown();
+  // The torque table: every joint, training and held-out columns.
+  EXPECT_TRUE(contains(md,
+                       "| joint | measured RMS [N m] | residual RMS [N m] | relative error | "
+                       "held-out residual RMS [N m] | held-out relative error |"));
+  for (int j = 1; j <= 6; ++j) EXPECT_TRUE(contains(md, "\n| " + std::to_string(j) + " | ")) << j;
+  // The preprocessing record beside train.csv.
+  EXPECT_TRUE(contains(md, "## Preprocessing (dynid prepare)"));
+  EXPECT_TRUE(contains(md, "4321 raw samples")) << md;
+  EXPECT_TRUE(contains(md, "cutoff 7.5 Hz"));
+  // Both condition numbers, as the estimate has them.
+  EXPECT_TRUE(contains(md, formatShort(o.result.estimate.condition_number_unscaled).substr(0, 3)));
+  // The base-parameter table: every base parameter with its excitation.
+  EXPECT_TRUE(contains(md, "| # | base parameter | combination | estimate | %σ | excitation |"));
+  EXPECT_TRUE(contains(md, "\n| 1 | Iyy1R | Iyy1 + Ia1 ")) << md;
+  // Link 1 violates the mass condition; the PUMA's other links are consistent.
+  EXPECT_TRUE(contains(md, "| link1 | violates: mass >= 0")) << md;
+  EXPECT_TRUE(contains(md, "| link2 | consistent |"));
+  // What the data cannot determine: m1 never acts.
+  EXPECT_TRUE(contains(md, "never act on the torques, whatever the motion: m1, "));
+  // gnuplot (installed by scripts/install-deps.sh) draws the four figures.
+  EXPECT_TRUE(missing.empty());
+  std::vector<std::string> names;
+  for (const Figure& fig : doc.figures()) names.push_back(fig.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"torques_train", "torques_validate", "residuals",
+                                             "residual_histogram"}));
+  const std::string html = doc.html();
+  EXPECT_TRUE(contains(html, "<figure id=\"torques_validate\">"));
+  for (int j = 1; j <= 6; ++j)  // a panel per joint
+    EXPECT_TRUE(contains(html, "tau" + std::to_string(j) + " [N m]")) << j;
+}
+
+TEST(EstimateReport, WritesEveryFileAndPcIsConsistentOnEveryLink) {
+  const Fixture f = writeData(false);
+  const IdentifyRequest r = request(f, Method::kPc);
+  const IdentifyOutcome o = identifyRun(r);
+  EXPECT_FALSE(o.preparation.has_value());  // no prepare.json beside the data
+  EXPECT_TRUE(o.violations.empty());
+  const std::string out = test::tempPath("report");
+  const std::string summary = writeIdentification(out, r.model, o);
+  EXPECT_TRUE(contains(summary, "report.html"));
+  for (const char* name : {"estimate.json", "report.md", "report.html", "torques_train.svg",
+                           "torques_validate.svg", "residuals.svg", "residual_histogram.svg"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(out + "/" + name)) << name;
+  const std::string md = readFile(out + "/report.md");
+  EXPECT_FALSE(contains(md, "Preprocessing"));
+  EXPECT_FALSE(contains(md, "violates"));
+  EXPECT_TRUE(contains(md, "The physically consistent solver (pc) stopped after"));
+  // Without gnuplot: the report and a warning, no figures.
+  ::setenv("DYNID_GNUPLOT", "/nonexistent/gnuplot", 1);
+  const std::string bare = test::tempPath("bare");
+  const std::string warned = writeIdentification(bare, r.model, o);
+  ::unsetenv("DYNID_GNUPLOT");
+  EXPECT_TRUE(contains(warned, "warning: gnuplot did not run")) << warned;
+  EXPECT_TRUE(std::filesystem::is_regular_file(bare + "/report.html"));
+  EXPECT_FALSE(std::filesystem::exists(bare + "/residuals.svg"));
+}
+
+}  // namespace
+}  // namespace dynid
