@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <tuple>
@@ -20,15 +21,19 @@ struct RawSignals {
   Eigen::MatrixXd q, dq, tau;  // dq empty when not logged
 };
 
-RawSignals readSignals(const LogSource& source, const PrepareOptions& options) {
+/// One table's signals, or the per-signal files' when `table` is empty.
+RawSignals readSignals(const LogSource& source, const std::string& table_path,
+                       const PrepareOptions& options) {
   RawSignals out;
   int n = source.num_joints;
-  if (!source.table.empty()) {
-    const RawTable table = readRawTable(source.table);
+  std::string tau_file = table_path;
+  if (!table_path.empty()) {
+    const RawTable table = readRawTable(table_path);
     const std::vector<int> q = selectColumns(table, source.q_columns, n > 0 ? n : -1, "q");
     n = static_cast<int>(q.size());
     const std::vector<int> t = selectColumns(table, source.time_column, 1, "time");
-    const std::vector<int> tau = selectColumns(table, source.tau_columns, n, "tau");
+    const std::vector<int> tau =
+        selectColumns(table, source.tau_columns, n, source.current ? "current" : "tau");
     out.time = table.values.col(t[0]);
     out.q = table.values(Eigen::all, q);
     out.tau = table.values(Eigen::all, tau);
@@ -38,10 +43,11 @@ RawSignals readSignals(const LogSource& source, const PrepareOptions& options) {
     if (n <= 0)
       throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
     if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
-      throw InputError("one-file-per-signal logs need the time, q and tau files");
+      throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
     out.time = readValueFile(source.time_file, 1).col(0);
     out.q = readValueFile(source.q_file, n);
     out.tau = readValueFile(source.tau_file, n);
+    tau_file = source.tau_file;
     if (!source.dq_file.empty()) out.dq = readValueFile(source.dq_file, n);
     const Eigen::Index samples = out.time.size();
     for (const auto& [name, m, file] :
@@ -57,6 +63,27 @@ RawSignals readSignals(const LogSource& source, const PrepareOptions& options) {
   out.time *= options.time_scale;
   out.q *= options.angle_scale;
   if (out.dq.size() > 0) out.dq *= options.angle_scale;
+  if (source.current) {
+    const Eigen::Index joints = out.q.cols();
+    const auto check = [&](const Eigen::VectorXd& v, const char* what, bool required) {
+      if (v.size() == 0 && !required) return;
+      if (v.size() != joints)
+        throw InputError(tau_file + ": motor currents need " + what +
+                         " with one value per joint (" + std::to_string(joints) + "), got " +
+                         std::to_string(v.size()));
+      for (Eigen::Index j = 0; j < joints; ++j)
+        if (!std::isfinite(v[j]) || v[j] == 0.0)
+          throw InputError(std::string(what) + " of joint " + std::to_string(j + 1) +
+                           " must be finite and non-zero");
+    };
+    check(options.torque_constants, "torque constants", true);
+    check(options.gear_ratios, "gear ratios", false);
+    Eigen::VectorXd scale = options.torque_constants;
+    if (options.gear_ratios.size() > 0) scale = scale.cwiseProduct(options.gear_ratios);
+    out.tau = out.tau * scale.asDiagonal();
+  } else if (options.torque_constants.size() > 0 || options.gear_ratios.size() > 0) {
+    throw InputError("torque constants and gear ratios apply to motor currents (--current)");
+  }
   return out;
 }
 
@@ -100,22 +127,14 @@ double angleUnitScale(const std::string& unit) {
   throw InputError("unknown angle unit '" + unit + "' (rad or deg)");
 }
 
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
-  if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))
-    throw InputError("the time and angle units must be positive");
-  if (options.decimate < 1) throw InputError("--decimate must be >= 1");
-  if (!(options.validate_fraction >= 0.0 && options.validate_fraction < 1.0))
-    throw InputError("the validation fraction must be in [0, 1)");
-  RawSignals raw = readSignals(source, options);
-  PrepareOutcome out;
-  out.raw_samples = static_cast<int>(raw.time.size());
-  if (out.raw_samples < 3) throw InputError("the log has fewer than 3 samples");
-  const int n = static_cast<int>(raw.q.cols());
+namespace {
 
-  // Sort by time (stable) and keep the first of each repeated stamp.
-  std::vector<int> order(static_cast<std::size_t>(out.raw_samples));
+/// Sorts by time (stable) and keeps the first sample of each repeated stamp; counts both.
+RawSignals sortAndDeduplicate(RawSignals raw, PrepareOutcome& out) {
+  const auto samples = static_cast<int>(raw.time.size());
+  std::vector<int> order(static_cast<std::size_t>(samples));
   std::iota(order.begin(), order.end(), 0);
-  for (int k = 1; k < out.raw_samples; ++k)
+  for (int k = 1; k < samples; ++k)
     if (raw.time[k] < raw.time[k - 1]) ++out.unsorted_stamps;
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return raw.time[a] < raw.time[b]; });
@@ -127,97 +146,180 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     }
     kept.push_back(k);
   }
-  const Eigen::VectorXd time = raw.time(kept);
-  const Eigen::MatrixXd q = raw.q(kept, Eigen::all), tau = raw.tau(kept, Eigen::all);
-  const bool has_dq = raw.dq.size() > 0;
-  const Eigen::MatrixXd dq = has_dq ? Eigen::MatrixXd(raw.dq(kept, Eigen::all)) : Eigen::MatrixXd();
-  if (time.size() < 3) throw InputError("the log has fewer than 3 distinct time stamps");
-  std::vector<double> steps(static_cast<std::size_t>(time.size() - 1));
-  for (Eigen::Index k = 0; k + 1 < time.size(); ++k) steps[k] = time[k + 1] - time[k];
-  out.median_step = median(steps);
-  out.min_step = *std::min_element(steps.begin(), steps.end());
-  out.max_step = *std::max_element(steps.begin(), steps.end());
+  RawSignals clean;
+  clean.time = raw.time(kept);
+  clean.q = raw.q(kept, Eigen::all);
+  clean.tau = raw.tau(kept, Eigen::all);
+  if (raw.dq.size() > 0) clean.dq = raw.dq(kept, Eigen::all);
+  return clean;
+}
+
+bool sameSample(const RawSignals& s, Eigen::Index a, Eigen::Index b) {
+  return s.q.row(a) == s.q.row(b) && s.tau.row(a) == s.tau.row(b) &&
+         (s.dq.size() == 0 || s.dq.row(a) == s.dq.row(b));
+}
+
+/// Drops stalled repeats (PrepareOptions::keep_stalled): within each stretch of samples identical
+/// to its first, the repeats go when the stretch ends within `max_gap` of its first stamp.
+RawSignals dropStalled(RawSignals s, double max_gap, PrepareOutcome& out) {
+  const Eigen::Index samples = s.time.size();
+  std::vector<int> kept;
+  Eigen::Index k = 0;
+  while (k < samples) {
+    Eigen::Index last = k;
+    while (last + 1 < samples && sameSample(s, k, last + 1)) ++last;
+    kept.push_back(static_cast<int>(k));
+    const double bridged = (last + 1 < samples ? s.time[last + 1] : s.time[last]) - s.time[k];
+    if (last > k && bridged <= max_gap) {
+      out.stalled_repeats += static_cast<int>(last - k);
+    } else {
+      for (Eigen::Index r = k + 1; r <= last; ++r) kept.push_back(static_cast<int>(r));
+    }
+    k = last + 1;
+  }
+  if (static_cast<Eigen::Index>(kept.size()) == samples) return s;
+  RawSignals out_signals;
+  out_signals.time = s.time(kept);
+  out_signals.q = s.q(kept, Eigen::all);
+  out_signals.tau = s.tau(kept, Eigen::all);
+  if (s.dq.size() > 0) out_signals.dq = s.dq(kept, Eigen::all);
+  return out_signals;
+}
+
+std::vector<double> steps(const Eigen::VectorXd& time) {
+  std::vector<double> out(static_cast<std::size_t>(std::max<Eigen::Index>(time.size() - 1, 0)));
+  for (Eigen::Index k = 0; k + 1 < time.size(); ++k) out[k] = time[k + 1] - time[k];
+  return out;
+}
+
+/// One run, resampled, filtered, differentiated, trimmed and decimated, appended to `out`'s
+/// train and validate sets; dropped (recorded) when too short for the filter.
+void prepareRun(const RawSignals& s, Eigen::Index b, Eigen::Index e, PreparedRun run,
+                const std::vector<Biquad>& filter, const PrepareOptions& options,
+                Eigen::VectorXd& noise_sum, double& noise_count, PrepareOutcome& out) {
+  const int n = static_cast<int>(s.q.cols());
+  const double h = 1.0 / out.rate;
+  run.start = s.time[b];
+  run.end = s.time[e - 1];
+  run.raw_samples = static_cast<int>(e - b);
+  const int count = static_cast<int>(std::floor((run.end - run.start) * out.rate + 1e-9)) + 1;
+  const int edge = static_cast<int>(std::ceil(out.trim * out.rate));
+  // Enough samples for the filter's padding, the derivatives and the trimmed edges.
+  if (count < std::max(2 * edge + 3, filter.empty() ? 3 : padTransient(filter) + 1)) {
+    out.dropped_runs.push_back(run);
+    return;
+  }
+  const Eigen::VectorXd run_time = s.time.segment(b, e - b);
+  Eigen::MatrixXd rq =
+      resampleLinear(run_time, s.q.middleRows(b, e - b), run.start, out.rate, count);
+  Eigen::MatrixXd rtau =
+      resampleLinear(run_time, s.tau.middleRows(b, e - b), run.start, out.rate, count);
+  Eigen::MatrixXd rdq = out.dq_derived ? Eigen::MatrixXd()
+                                       : resampleLinear(run_time, s.dq.middleRows(b, e - b),
+                                                        run.start, out.rate, count);
+  if (!filter.empty()) {
+    for (int j = 0; j < n; ++j) {
+      const Eigen::VectorXd filtered = filtfilt(filter, rtau.col(j));
+      noise_sum[j] += (rtau.col(j) - filtered).squaredNorm();
+      rtau.col(j) = filtered;
+      rq.col(j) = filtfilt(filter, rq.col(j));
+      if (rdq.size() > 0) rdq.col(j) = filtfilt(filter, rdq.col(j));
+    }
+    noise_count += count;
+  }
+  Eigen::MatrixXd rddq(count, n);
+  if (rdq.size() == 0) {
+    rdq.resize(count, n);
+    for (int j = 0; j < n; ++j) rdq.col(j) = derivative(rq.col(j), h);
+  }
+  for (int j = 0; j < n; ++j) rddq.col(j) = derivative(rdq.col(j), h);
+  // Trim, decimate.
+  std::vector<int> rows;
+  for (int k = edge; k < count - edge; k += options.decimate) rows.push_back(k);
+  Eigen::VectorXd out_time(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    out_time[static_cast<Eigen::Index>(k)] = run.start + run.time_offset + rows[k] * h;
+  run.samples = static_cast<int>(rows.size());
+  const auto take = [&](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m(rows, Eigen::all)); };
+  const Eigen::MatrixXd oq = take(rq), odq = take(rdq), oddq = take(rddq), otau = take(rtau);
+  const auto split = static_cast<Eigen::Index>(
+      std::floor((1.0 - options.validate_fraction) * static_cast<double>(rows.size())));
+  appendTrajectory(out.train, out_time.head(split), oq.topRows(split), odq.topRows(split),
+                   oddq.topRows(split), otau.topRows(split));
+  const Eigen::Index rest = out_time.size() - split;
+  if (rest > 0)
+    appendTrajectory(out.validate, out_time.tail(rest), oq.bottomRows(rest), odq.bottomRows(rest),
+                     oddq.bottomRows(rest), otau.bottomRows(rest));
+  out.runs.push_back(run);
+}
+
+}  // namespace
+
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
+  if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))
+    throw InputError("the time and angle units must be positive");
+  if (options.decimate < 1) throw InputError("--decimate must be >= 1");
+  if (!(options.validate_fraction >= 0.0 && options.validate_fraction < 1.0))
+    throw InputError("the validation fraction must be in [0, 1)");
+  PrepareOutcome out;
+  // Every file read, sorted and de-duplicated; the defaults from the median step over all.
+  std::vector<RawSignals> files;
+  std::vector<std::string> names = source.tables;
+  if (names.empty()) names.push_back("");  // the per-signal files
+  std::vector<double> all_steps;
+  for (const std::string& name : names) {
+    RawSignals raw = readSignals(source, name, options);
+    out.raw_samples += static_cast<int>(raw.time.size());
+    if (!files.empty() && raw.q.cols() != files.front().q.cols())
+      throw InputError(name + ": " + std::to_string(raw.q.cols()) + " joints, the first log " +
+                       std::to_string(files.front().q.cols()));
+    files.push_back(sortAndDeduplicate(std::move(raw), out));
+    const std::string label = name.empty() ? source.time_file : name;
+    if (files.back().time.size() < 3)
+      throw InputError(label + ": fewer than 3 distinct time stamps");
+    const std::vector<double> s = steps(files.back().time);
+    all_steps.insert(all_steps.end(), s.begin(), s.end());
+  }
+  const int n = static_cast<int>(files.front().q.cols());
+  out.median_step = median(all_steps);
   out.rate = options.rate > 0.0 ? options.rate : 1.0 / out.median_step;
   out.max_gap = options.max_gap > 0.0 ? options.max_gap : 5.0 * out.median_step;
   out.cutoff = options.cutoff >= 0.0 ? options.cutoff : std::min(10.0, out.rate / 4.0);
   out.order = options.order;
   out.decimate = options.decimate;
-  out.dq_derived = !has_dq || options.derive_dq;
+  out.dq_derived = files.front().dq.size() == 0 || options.derive_dq;
   std::vector<Biquad> filter;
   if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
   out.trim = options.trim >= 0.0 ? options.trim : (out.cutoff > 0.0 ? 2.0 / out.cutoff : 0.0);
 
-  // Runs: split where a step exceeds the gap limit.
-  std::vector<std::pair<Eigen::Index, Eigen::Index>> runs;  // [begin, end)
-  Eigen::Index begin = 0;
-  for (Eigen::Index k = 0; k + 1 < time.size(); ++k)
-    if (steps[k] > out.max_gap) {
-      out.gaps.emplace_back(time[k], steps[k]);
-      runs.emplace_back(begin, k + 1);
-      begin = k + 1;
-    }
-  runs.emplace_back(begin, time.size());
-
-  const double h = 1.0 / out.rate;
+  out.min_step = std::numeric_limits<double>::infinity();
   Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
-  double noise_count = 0.0;
-  for (const auto& [b, e] : runs) {
+  double noise_count = 0.0, previous_end = -std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    RawSignals& signals = files[f];
+    if (!options.keep_stalled) signals = dropStalled(std::move(signals), out.max_gap, out);
+    if ((signals.dq.size() == 0) != (files.front().dq.size() == 0))
+      throw InputError(names[f] + ": dq is logged in some files and not in others");
+    const std::vector<double> s = steps(signals.time);
+    out.min_step = std::min(out.min_step, *std::min_element(s.begin(), s.end()));
+    out.max_step = std::max(out.max_step, *std::max_element(s.begin(), s.end()));
     PreparedRun run;
-    run.start = time[b];
-    run.end = time[e - 1];
-    run.raw_samples = static_cast<int>(e - b);
-    const int count = static_cast<int>(std::floor((run.end - run.start) * out.rate + 1e-9)) + 1;
-    const int edge = static_cast<int>(std::ceil(out.trim * out.rate));
-    // Enough samples for the filter's padding, the derivatives and the trimmed edges.
-    if (count < std::max(2 * edge + 3, filter.empty() ? 3 : padTransient(filter) + 1)) {
-      out.dropped_runs.push_back(run);
-      continue;
-    }
-    const Eigen::VectorXd run_time = time.segment(b, e - b);
-    Eigen::MatrixXd rq =
-        resampleLinear(run_time, q.middleRows(b, e - b), run.start, out.rate, count);
-    Eigen::MatrixXd rtau =
-        resampleLinear(run_time, tau.middleRows(b, e - b), run.start, out.rate, count);
-    Eigen::MatrixXd rdq =
-        has_dq && !options.derive_dq
-            ? resampleLinear(run_time, dq.middleRows(b, e - b), run.start, out.rate, count)
-            : Eigen::MatrixXd();
-    if (!filter.empty()) {
-      for (int j = 0; j < n; ++j) {
-        const Eigen::VectorXd filtered = filtfilt(filter, rtau.col(j));
-        noise_sum[j] += (rtau.col(j) - filtered).squaredNorm();
-        rtau.col(j) = filtered;
-        rq.col(j) = filtfilt(filter, rq.col(j));
-        if (rdq.size() > 0) rdq.col(j) = filtfilt(filter, rdq.col(j));
+    run.file = static_cast<int>(f);
+    const double spacing = std::max(1.0, 2.0 * out.max_gap);
+    if (signals.time[0] < previous_end + spacing && f > 0)
+      run.time_offset = previous_end + spacing - signals.time[0];
+    previous_end = signals.time[signals.time.size() - 1] + run.time_offset;
+    // Runs: split where a step exceeds the gap limit.
+    Eigen::Index begin = 0;
+    for (Eigen::Index k = 0; k + 1 < signals.time.size(); ++k)
+      if (s[k] > out.max_gap) {
+        out.gaps.emplace_back(signals.time[k] + run.time_offset, s[k]);
+        prepareRun(signals, begin, k + 1, run, filter, options, noise_sum, noise_count, out);
+        begin = k + 1;
       }
-      noise_count += count;
-    }
-    Eigen::MatrixXd rddq(count, n);
-    if (rdq.size() == 0) {
-      rdq.resize(count, n);
-      for (int j = 0; j < n; ++j) rdq.col(j) = derivative(rq.col(j), h);
-    }
-    for (int j = 0; j < n; ++j) rddq.col(j) = derivative(rdq.col(j), h);
-    // Trim, decimate.
-    std::vector<int> rows;
-    for (int k = edge; k < count - edge; k += options.decimate) rows.push_back(k);
-    Eigen::VectorXd out_time(static_cast<Eigen::Index>(rows.size()));
-    for (std::size_t k = 0; k < rows.size(); ++k)
-      out_time[static_cast<Eigen::Index>(k)] = run.start + rows[k] * h;
-    run.samples = static_cast<int>(rows.size());
-    const auto take = [&](const Eigen::MatrixXd& m) {
-      return Eigen::MatrixXd(m(rows, Eigen::all));
-    };
-    const Eigen::MatrixXd oq = take(rq), odq = take(rdq), oddq = take(rddq), otau = take(rtau);
-    const auto split = static_cast<Eigen::Index>(
-        std::floor((1.0 - options.validate_fraction) * static_cast<double>(rows.size())));
-    appendTrajectory(out.train, out_time.head(split), oq.topRows(split), odq.topRows(split),
-                     oddq.topRows(split), otau.topRows(split));
-    const Eigen::Index rest = out_time.size() - split;
-    if (rest > 0)
-      appendTrajectory(out.validate, out_time.tail(rest), oq.bottomRows(rest), odq.bottomRows(rest),
-                       oddq.bottomRows(rest), otau.bottomRows(rest));
-    out.runs.push_back(run);
+    prepareRun(signals, begin, signals.time.size(), run, filter, options, noise_sum, noise_count,
+               out);
+    signals = RawSignals();  // done with this file
   }
   if (out.train.time.size() == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +

@@ -1,9 +1,12 @@
-// dynid prepare: a raw log in, a dynid dataset out (data/dataset_csv.hpp). The pipeline, per run
-// (samples between gaps):
-//   read (data/raw_log.hpp) -> units -> sort by time, drop repeated stamps -> split at gaps ->
-//   resample to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
+// dynid prepare: a raw log in, a dynid dataset out (data/dataset_csv.hpp). The pipeline, per file
+// and per run (samples between gaps):
+//   read (data/raw_log.hpp) -> units (degrees, time unit, motor current x torque constant x gear
+//   ratio) -> sort by time, drop repeated stamps and stalled repeats -> split at gaps -> resample
+//   to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
 //   ("parallel filtering") -> dq (when not logged, or asked) and ddq by central differences ->
 //   trim the filter's edge transients -> decimate -> concatenate -> split train / validate.
+// Several tables are separate recordings: each is its own runs, never resampled, filtered or
+// differentiated across a file boundary.
 #pragma once
 
 #include <string>
@@ -13,13 +16,14 @@
 
 namespace dynid {
 
-/// Where the signals are: one table with column selectors (data/raw_log.hpp's selectColumns), or
-/// one file per signal (a value per line, n per sample).
+/// Where the signals are: tables with column selectors (data/raw_log.hpp's selectColumns), or one
+/// file per signal (a value per line, n per sample).
 struct LogSource {
-  std::string table;  // a delimited table; empty: one file per signal
+  std::vector<std::string> tables;  // delimited tables, in order; empty: one file per signal
   std::string time_column = "1", q_columns, dq_columns, tau_columns;  // table selectors
   std::string time_file, q_file, dq_file, tau_file;                   // one file per signal
-  int num_joints = 0;  // 0: the q selector's count (a table) or required (files)
+  int num_joints = 0;    // 0: the q selector's count (tables) or required (files)
+  bool current = false;  // the tau selector or file holds motor currents [A]
 };
 
 struct PrepareOptions {
@@ -35,17 +39,27 @@ struct PrepareOptions {
   double trim = -1.0;              // dropped at each run's ends [s]; < 0: 2 / cutoff
   bool derive_dq = false;          // dq from q even when dq is logged
   double validate_fraction = 0.0;  // the last fraction of each run held out (0: none)
+  /// With LogSource::current: tau_j = current_j * torque_constants_j * gear_ratios_j (motor
+  /// torque constant [N m/A] and gear ratio; the joint-side torque, drive losses left to the
+  /// friction terms). One entry per joint each; gear ratios empty: 1.
+  Eigen::VectorXd torque_constants, gear_ratios;
+  /// Samples whose every signal repeats the previous sample bit for bit while the stamp advances
+  /// are a logger that stalled: dropped (the gap is bridged) when the stall is shorter than the
+  /// gap limit; a longer identical stretch is the robot at rest and kept. true: keep them all.
+  bool keep_stalled = false;
 };
 
 /// One run of the log: consecutive samples without a gap.
 struct PreparedRun {
-  double start = 0.0, end = 0.0;     // [s], in the log's time
+  int file = 0;                      // index into LogSource::tables (0 for per-signal files)
+  double start = 0.0, end = 0.0;     // [s], in the file's time
+  double time_offset = 0.0;          // added to the file's time in the output [s]
   int raw_samples = 0, samples = 0;  // in and out (after trimming and decimation)
 };
 
 struct PrepareOutcome {
   Trajectory train, validate;  // validate empty without a validate fraction
-  int raw_samples = 0, repeated_stamps = 0, unsorted_stamps = 0;
+  int raw_samples = 0, repeated_stamps = 0, unsorted_stamps = 0, stalled_repeats = 0;
   double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // raw [s]
   std::vector<std::pair<double, double>> gaps;               // (at [s], length [s])
   std::vector<PreparedRun> runs;
@@ -61,8 +75,11 @@ struct PrepareOutcome {
 double timeUnitScale(const std::string& unit);
 double angleUnitScale(const std::string& unit);
 
-/// Runs the pipeline. Throws ParseError for a malformed file (file, line, column), InputError for
-/// inconsistent options (cutoff above Nyquist, a run shorter than the filter, no sample left).
+/// Runs the pipeline. The rate, gap limit and cutoff defaults come from the median step over every
+/// file. A later file whose stamps do not start after the previous file's end is shifted to start
+/// max(1 s, 2 gap limits) after it (PreparedRun::time_offset). Throws ParseError for a malformed
+/// file (file, line, column), InputError for inconsistent options (cutoff above Nyquist, a run
+/// shorter than the filter, no sample left, currents without one torque constant per joint).
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options);
 
 }  // namespace dynid

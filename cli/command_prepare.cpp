@@ -9,15 +9,20 @@ namespace dynid::cli {
 
 int runPrepare(const std::vector<std::string>& args) {
   po::options_description options("dynid prepare");
-  options.add_options()("log", po::value<std::string>(), "a delimited table (header optional)")(
+  options.add_options()("log", po::value<std::vector<std::string>>()->multitoken(),
+                        "delimited tables (header optional); several: separate recordings")(
       "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
       "q", po::value<std::string>(), "table: q columns (names, 1-based indices or globs: q*)")(
       "dq", po::value<std::string>(), "table: dq columns (default: derived from q)")(
       "tau", po::value<std::string>(), "table: torque columns")(
+      "current", po::value<std::string>(), "table: motor current columns [A], instead of --tau")(
       "time-file", po::value<std::string>(), "one value per line: time")(
       "q-file", po::value<std::string>(), "one value per line, --joints per sample: q")(
       "dq-file", po::value<std::string>(), "same layout: dq (default: derived from q)")(
       "tau-file", po::value<std::string>(), "same layout: torques")(
+      "current-file", po::value<std::string>(), "same layout: motor currents [A]")(
+      "torque-constants", po::value<std::string>(), "with currents: N m/A per joint")(
+      "gear-ratios", po::value<std::string>(), "with currents: per joint (default 1)")(
       "joints", po::value<int>()->default_value(0), "joints (files: required)")(
       "time-unit", po::value<std::string>()->default_value("s"), "s, ms, us or ns")(
       "angle-unit", po::value<std::string>()->default_value("rad"), "rad or deg (q and dq)")(
@@ -28,24 +33,41 @@ int runPrepare(const std::vector<std::string>& args) {
       "max-gap", po::value<double>()->default_value(0.0), "split at longer steps [s] (0: 5 steps)")(
       "trim", po::value<double>()->default_value(-1.0), "dropped at run ends [s] (<0: 2/cutoff)")(
       "derive-dq", po::bool_switch(), "dq from q even when logged")(
+      "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
       "validate-fraction", po::value<double>()->default_value(0.0),
       "hold out the last fraction of each run as validate.csv")(
       "out", po::value<std::string>()->required(), "output directory");
   po::variables_map vm;
   const std::string usage =
-      "dynid prepare (--log log.csv --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
+      "dynid prepare (--log log.csv... --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
       "--joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   const auto text = [&](const char* key) {
     return vm.count(key) ? vm[key].as<std::string>() : std::string();
   };
-  const LogSource source{text("log"),      text("time"),          text("q"),      text("dq"),
-                         text("tau"),      text("time-file"),     text("q-file"), text("dq-file"),
-                         text("tau-file"), vm["joints"].as<int>()};
-  if (source.table.empty() == source.q_file.empty())
-    throw UsageError("give either --log (a table) or --q-file (one file per signal)");
-  if (!source.table.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
-    throw UsageError("a table needs --q and --tau column selectors");
+  if (vm.count("tau") + vm.count("current") + vm.count("tau-file") + vm.count("current-file") != 1)
+    throw UsageError("give one of --tau, --current, --tau-file or --current-file");
+  LogSource source;
+  if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
+  source.time_column = text("time");
+  source.q_columns = text("q");
+  source.dq_columns = text("dq");
+  source.tau_columns = vm.count("current") ? text("current") : text("tau");
+  source.time_file = text("time-file");
+  source.q_file = text("q-file");
+  source.dq_file = text("dq-file");
+  source.tau_file = vm.count("current-file") ? text("current-file") : text("tau-file");
+  source.num_joints = vm["joints"].as<int>();
+  source.current = vm.count("current") + vm.count("current-file") > 0;
+  if (source.tables.empty() == source.q_file.empty())
+    throw UsageError("give either --log (tables) or --q-file (one file per signal)");
+  if (!source.tables.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
+    throw UsageError("a table needs --q and --tau (or --current) column selectors");
+  if (source.current != (vm.count("torque-constants") > 0))
+    throw UsageError(source.current ? "motor currents need --torque-constants (N m/A per joint)"
+                                    : "--torque-constants applies to --current or --current-file");
+  if (vm.count("gear-ratios") && !source.current)
+    throw UsageError("--gear-ratios applies to --current or --current-file");
   PrepareOptions o;
   o.time_scale = parseOption(vm, "time-unit", timeUnitScale);
   o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
@@ -60,10 +82,18 @@ int runPrepare(const std::vector<std::string>& args) {
       vm, "max-gap", [](double g) { return g >= 0.0; }, ">= 0");
   o.trim = vm["trim"].as<double>();
   o.derive_dq = vm["derive-dq"].as<bool>();
+  o.keep_stalled = vm["keep-stalled"].as<bool>();
+  for (const auto& [key, target] : {std::pair{"torque-constants", &o.torque_constants},
+                                    std::pair{"gear-ratios", &o.gear_ratios}})
+    if (vm.count(key)) {
+      const std::vector<double> values = parseList(text(key), key);
+      *target = Eigen::Map<const Eigen::VectorXd>(values.data(),
+                                                  static_cast<Eigen::Index>(values.size()));
+    }
   o.validate_fraction = checkedOption<double>(
       vm, "validate-fraction", [](double f) { return f >= 0.0 && f < 1.0; }, "in [0, 1)");
   const PrepareOutcome outcome = prepareLog(source, o);
-  std::cout << writePrepared(vm["out"].as<std::string>(), source, outcome);
+  std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome);
   return kExitOk;
 }
 

@@ -10,13 +10,16 @@
 
 namespace dynid {
 
-inline constexpr int kPrepareSchemaVersion = 1;
+/// 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled repeats,
+/// current_to_torque.
+inline constexpr int kPrepareSchemaVersion = 2;
 
-nlohmann::json prepareJson(const LogSource& source, const PrepareOutcome& outcome);
+nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& options,
+                           const PrepareOutcome& outcome);
 
 /// Writes train.csv, validate.csv (when there is a validation part) and prepare.json into `dir`,
 /// each atomically. Returns the console summary.
 std::string writePrepared(const std::string& dir, const LogSource& source,
-                          const PrepareOutcome& outcome);
+                          const PrepareOptions& options, const PrepareOutcome& outcome);
 
 }  // namespace dynid

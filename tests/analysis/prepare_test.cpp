@@ -54,7 +54,7 @@ std::string writeLog(double noise) {
 
 LogSource tableSource(const std::string& path) {
   LogSource s;
-  s.table = path;
+  s.tables = {path};
   s.time_column = "time_ms";
   s.q_columns = "q_*";
   s.tau_columns = "tau_a,tau_b";
@@ -124,11 +124,146 @@ TEST(Prepare, TheDefaultCutoffFitsSlowLogs) {
   const std::string path = test::tempPath("slow.txt");
   writeFileAtomically(path, text.str());
   // The table, its time, q, dq (none) and tau columns; no per-signal files; joints from q.
-  const LogSource s{path, "1", "2", "", "3", "", "", "", "", 0};
+  const LogSource s{{path}, "1", "2", "", "3", "", "", "", "", 0};
   const PrepareOutcome o = prepareLog(s, PrepareOptions{});
   EXPECT_NEAR(o.rate, 30.0, 1e-9);
   EXPECT_NEAR(o.cutoff, 7.5, 1e-9);
   EXPECT_NEAR(prepareLog(tableSource(writeLog(0.0)), msAndDegrees()).cutoff, 10.0, 1e-12);
+}
+
+/// A clean 1 kHz table in seconds and radians over [t0, t1): time, q1, q2, then the torque divided
+/// by `divide` per joint (a motor current when `divide` holds torque constant x gear ratio).
+/// `stall` repeats the sample at 2.5 s that many times with advancing stamps (a stalled logger);
+/// `rest` holds the signals bit-identical from 1 s to 3 s (the robot at rest).
+std::string writeCleanLog(const std::string& name, double t0, double t1, Eigen::Vector2d divide,
+                          int stall = 0, bool rest = false) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "t,q1,q2,c1,c2\n";
+  int held = 0;
+  double frozen = -1.0;
+  for (int k = 0; t0 + k * 1e-3 < t1; ++k) {
+    const double stamp = t0 + k * 1e-3;
+    double t = stamp;
+    if (rest && stamp >= 1.0 && stamp < 3.0) t = 1.0;
+    if (stall > 0 && std::abs(stamp - 2.5) < 1e-9) frozen = t;
+    if (frozen >= 0.0 && held < stall && stamp > 2.5) {
+      t = frozen;
+      ++held;
+    }
+    out << stamp;
+    for (int j = 0; j < 2; ++j) out << "," << q(j, t);
+    for (int j = 0; j < 2; ++j) out << "," << (3.0 * q(j, t) + 0.5 * ddq(j, t)) / divide[j];
+    out << "\n";
+  }
+  const std::string path = test::tempPath(name);
+  writeFileAtomically(path, out.str());
+  return path;
+}
+
+LogSource cleanSource(std::vector<std::string> tables) {
+  LogSource s;
+  s.tables = std::move(tables);
+  s.time_column = "t";
+  s.q_columns = "q*";
+  s.tau_columns = "c*";
+  return s;
+}
+
+TEST(Prepare, CurrentsBecomeTorquesThroughTorqueConstantsAndGearRatios) {
+  const Eigen::Vector2d kt(0.2, 0.05), gear(100.0, 50.0);
+  const PrepareOutcome torques =
+      prepareLog(cleanSource({writeCleanLog("tau.csv", 0, 4, Eigen::Vector2d::Ones())}), {});
+  LogSource currents = cleanSource({writeCleanLog("amps.csv", 0, 4, kt.cwiseProduct(gear))});
+  currents.current = true;
+  PrepareOptions o;
+  o.torque_constants = kt;
+  o.gear_ratios = gear;
+  const PrepareOutcome converted = prepareLog(currents, o);
+  ASSERT_EQ(converted.train.numSamples(), torques.train.numSamples());
+  // current x kt x G reproduces the torque up to the round-off of the division in the file.
+  EXPECT_LT((converted.train.tau - torques.train.tau).cwiseAbs().maxCoeff(), 1e-12);
+  // Currents without torque constants, with the wrong count, or a zero constant are refused;
+  // constants without currents too.
+  PrepareOptions missing;
+  EXPECT_THROW(prepareLog(currents, missing), InputError);
+  PrepareOptions short_list;
+  short_list.torque_constants = Eigen::VectorXd::Constant(1, 0.2);
+  EXPECT_THROW(prepareLog(currents, short_list), InputError);
+  PrepareOptions zero = o;
+  zero.gear_ratios[1] = 0.0;
+  EXPECT_THROW(prepareLog(currents, zero), InputError);
+  EXPECT_THROW(prepareLog(cleanSource({writeCleanLog("t2.csv", 0, 4, Eigen::Vector2d::Ones())}), o),
+               InputError);
+}
+
+TEST(Prepare, StalledRepeatsAreDroppedAndRestIsKept) {
+  const Eigen::Vector2d one = Eigen::Vector2d::Ones();
+  // A 3-sample stall at 2.5 s: dropped and bridged; the result matches the clean log's.
+  const PrepareOutcome clean = prepareLog(cleanSource({writeCleanLog("c.csv", 0, 5, one)}), {});
+  const PrepareOutcome stalled =
+      prepareLog(cleanSource({writeCleanLog("s.csv", 0, 5, one, 3)}), {});
+  EXPECT_EQ(clean.stalled_repeats, 0);
+  EXPECT_EQ(stalled.stalled_repeats, 3);
+  ASSERT_EQ(stalled.runs.size(), 1u);
+  ASSERT_EQ(stalled.train.numSamples(), clean.train.numSamples());
+  // Linear interpolation over the 4 ms bridge of a < 0.5 Hz motion, then the 10 Hz filter.
+  EXPECT_LT((stalled.train.q - clean.train.q).cwiseAbs().maxCoeff(), 1e-6);
+  PrepareOptions keep;
+  keep.keep_stalled = true;
+  EXPECT_EQ(prepareLog(cleanSource({writeCleanLog("k.csv", 0, 5, one, 3)}), keep).stalled_repeats,
+            0);
+  // Two seconds bit-identical: the robot at rest, far longer than the gap limit: kept whole, no
+  // gap, one run.
+  const PrepareOutcome rest =
+      prepareLog(cleanSource({writeCleanLog("r.csv", 0, 5, one, 0, true)}), {});
+  EXPECT_EQ(rest.stalled_repeats, 0);
+  EXPECT_TRUE(rest.gaps.empty());
+  EXPECT_EQ(rest.runs.size(), 1u);
+}
+
+TEST(Prepare, SeveralFilesAreSeparateRunsNeverJoined) {
+  const Eigen::Vector2d one = Eigen::Vector2d::Ones();
+  // Two recordings whose clocks both start at 0 (and a third in absolute time, later on).
+  const std::string a = writeCleanLog("a.csv", 0, 3, one), b = writeCleanLog("b.csv", 0, 2, one),
+                    c = writeCleanLog("c.csv", 100, 102, one);
+  const PrepareOutcome o = prepareLog(cleanSource({a, b, c}), {});
+  ASSERT_EQ(o.runs.size(), 3u);
+  EXPECT_EQ(o.runs[0].file, 0);
+  EXPECT_EQ(o.runs[1].file, 1);
+  EXPECT_EQ(o.runs[2].file, 2);
+  EXPECT_EQ(o.runs[0].time_offset, 0.0);
+  // b shifted to start 1 s after a ends; c already starts later and keeps its stamps.
+  EXPECT_NEAR(o.runs[1].time_offset, 3.0 - 1e-3 + 1.0, 1e-9);
+  EXPECT_EQ(o.runs[2].time_offset, 0.0);
+  EXPECT_TRUE(o.gaps.empty());  // file boundaries are not gaps
+  EXPECT_EQ(o.raw_samples, 3000 + 2000 + 2000);
+  for (int k = 1; k < o.train.numSamples(); ++k)
+    ASSERT_GT(o.train.time[k], o.train.time[k - 1]) << k;
+  // Each file's samples are its own: every output sample of b matches b's signals at its own
+  // time (no derivative or filter across the boundary from a's end, where q differs).
+  double worst = 0.0;
+  for (int k = 0; k < o.train.numSamples(); ++k) {
+    const double t = o.train.time[k];
+    if (t < o.runs[1].start + o.runs[1].time_offset || t > 10.0) continue;
+    const double local = t - o.runs[1].time_offset;
+    for (int j = 0; j < 2; ++j)
+      worst = std::max(worst, std::abs(o.train.ddq(j, k) - ddq(j, local)));
+  }
+  // Twice-differenced filtered q: the bound of the single-file test above.
+  EXPECT_LT(worst, 2e-2);
+  // A file whose q glob matches another joint count is refused, naming it.
+  std::ostringstream three;
+  three << "t,q1,q2,q3,c1,c2,c3\n";
+  for (int k = 0; k < 2000; ++k) three << k * 1e-3 << ",0,0,0,0,0,0\n";
+  const std::string wide = test::tempPath("wide.csv");
+  writeFileAtomically(wide, three.str());
+  try {
+    prepareLog(cleanSource({a, wide}), {});
+    ADD_FAILURE() << "a 3-joint file after a 2-joint one was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("wide.csv"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Prepare, RefusesWhatItCannotDo) {

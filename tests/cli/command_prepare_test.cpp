@@ -43,7 +43,7 @@ TEST(Cli, PrepareWritesADatasetAndItsRecord) {
   EXPECT_NEAR(d.q(0, 500), 20.0 * deg * std::sin(d.time[500]), 1e-6);
   EXPECT_NEAR(d.ddq(0, 500), -d.q(0, 500), 1e-4);
   const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
   EXPECT_EQ(j["samples"]["train"], d.numSamples());
   EXPECT_EQ(j["filter"]["cutoff_hz"], 10.0);
 }
@@ -67,7 +67,33 @@ TEST(Cli, PrepareNamesWhatIsWrongAndWritesNothing) {
   const Result column = run("prepare --log " + log + " --q 2 --tau 7 --out " + dir);
   EXPECT_EQ(column.code, 1);
   EXPECT_TRUE(contains(column.err, "out of range")) << column.err;
+  // Currents: torque constants required (exit 2), and they only apply to currents.
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --current 3 --out " + dir).code, 2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --torque-constants 0.1 --out " + dir).code,
+            2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --current 3 --out " + dir).code, 2);
+  const Result count =
+      run("prepare --log " + log + " --q 2 --current 3 --torque-constants 0.1,0.2 --out " + dir);
+  EXPECT_EQ(count.code, 1);
+  EXPECT_TRUE(contains(count.err, "one value per joint (1), got 2")) << count.err;
   EXPECT_FALSE(std::filesystem::exists(dir));
+}
+
+TEST(Cli, PrepareConvertsCurrentsAndJoinsNoFiles) {
+  const std::string a = writeLog("amps_a.txt"), b = writeLog("amps_b.txt");
+  const std::string dir = test::tempPath("from_currents");
+  const Result r = run("prepare --log " + a + " " + b +
+                       " --q 2 --current 3 --torque-constants 0.5 --gear-ratios 100 --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Trajectory d = readDatasetCsv(dir + "/train.csv", 1);
+  // 3 cos(t) A x 0.5 N m/A x 100, through the 10 Hz filter (~1e-5 of a 1 rad/s cosine).
+  EXPECT_NEAR(d.tau(0, 500), 150.0 * std::cos(d.time[500]), 1e-2);
+  const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
+  EXPECT_EQ(j["source"]["tables"].size(), 2u);
+  EXPECT_EQ(j["source"]["current_to_torque"]["gear_ratios"][0], 100.0);
+  ASSERT_EQ(j["runs"].size(), 2u);
+  EXPECT_EQ(j["runs"][1]["file"], 1);
+  EXPECT_GT(j["runs"][1]["time_offset"].get<double>(), 4.0);
 }
 
 }  // namespace
