@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <sstream>
 #include <tuple>
 
 #include "core/errors.hpp"
@@ -193,9 +194,10 @@ std::vector<double> steps(const Eigen::VectorXd& time) {
 }
 
 /// One run, resampled, filtered, differentiated, trimmed and decimated, appended to `out`'s
-/// train and validate sets; dropped (recorded) when too short for the filter.
+/// train and validate sets; dropped (recorded) when too short for the filter. `excerpt`: record
+/// PrepareOutcome's excerpt from this run.
 void prepareRun(const RawSignals& s, Eigen::Index b, Eigen::Index e, PreparedRun run,
-                const std::vector<Biquad>& filter, const PrepareOptions& options,
+                const std::vector<Biquad>& filter, const PrepareOptions& options, bool excerpt,
                 Eigen::VectorXd& noise_sum, double& noise_count, PrepareOutcome& out) {
   const int n = static_cast<int>(s.q.cols());
   const double h = 1.0 / out.rate;
@@ -228,11 +230,35 @@ void prepareRun(const RawSignals& s, Eigen::Index b, Eigen::Index e, PreparedRun
     noise_count += count;
   }
   Eigen::MatrixXd rddq(count, n);
+  const int window = std::min(out.savgol_window, count % 2 == 1 ? count : count - 1);
+  const auto differentiate = [&](const Eigen::VectorXd& x, int order) {
+    if (!options.savitzky_golay)
+      return order == 1 ? derivative(x, h) : derivative(derivative(x, h), h);
+    return savitzkyGolay(x, h, window, options.savgol_degree, order);
+  };
   if (rdq.size() == 0) {
     rdq.resize(count, n);
-    for (int j = 0; j < n; ++j) rdq.col(j) = derivative(rq.col(j), h);
+    for (int j = 0; j < n; ++j) {
+      rdq.col(j) = differentiate(rq.col(j), 1);
+      // Savitzky-Golay: ddq from the same polynomials as dq; central differences: of dq.
+      rddq.col(j) =
+          options.savitzky_golay ? differentiate(rq.col(j), 2) : derivative(rdq.col(j), h);
+    }
+  } else {
+    for (int j = 0; j < n; ++j) rddq.col(j) = differentiate(rdq.col(j), 1);
   }
-  for (int j = 0; j < n; ++j) rddq.col(j) = derivative(rdq.col(j), h);
+  if (excerpt && !filter.empty()) {
+    // 2 s (or the run) from its middle, before the trimming: what the filter did.
+    const int length = std::min(count, static_cast<int>(std::lround(2.0 * out.rate)));
+    const int first = (count - length) / 2;
+    out.excerpt_time =
+        Eigen::VectorXd::LinSpaced(length, run.start + run.time_offset + first * h,
+                                   run.start + run.time_offset + (first + length - 1) * h);
+    out.excerpt_raw =
+        resampleLinear(run_time, s.tau.middleRows(b, e - b), run.start, out.rate, count)
+            .middleRows(first, length);
+    out.excerpt_filtered = rtau.middleRows(first, length);
+  }
   // Trim, decimate.
   std::vector<int> rows;
   for (int k = edge; k < count - edge; k += options.decimate) rows.push_back(k);
@@ -251,6 +277,100 @@ void prepareRun(const RawSignals& s, Eigen::Index b, Eigen::Index e, PreparedRun
     appendTrajectory(out.validate, out_time.tail(rest), oq.bottomRows(rest), odq.bottomRows(rest),
                      oddq.bottomRows(rest), otau.bottomRows(rest));
   out.runs.push_back(run);
+}
+
+/// Consecutive samples of one file without a gap.
+struct RunSpan {
+  std::size_t file = 0;
+  Eigen::Index begin = 0, end = 0;  // [begin, end)
+  PreparedRun run;                  // file and time offset set
+};
+
+int resampledCount(const RawSignals& s, const RunSpan& span, double rate) {
+  return static_cast<int>(std::floor((s.time[span.end - 1] - s.time[span.begin]) * rate + 1e-9)) +
+         1;
+}
+
+/// Spectra of q and tau over every run at least one segment long (each joint normalised to unit
+/// power, then summed), the trajectory band and the noise edge.
+void measureSpectra(const std::vector<RawSignals>& files, const std::vector<RunSpan>& spans,
+                    PrepareOutcome& out) {
+  int longest = 0;
+  for (const RunSpan& span : spans)
+    longest = std::max(longest, resampledCount(files[span.file], span, out.rate));
+  // Resolution: segments of up to 16 s (a power of two), at least 64 samples.
+  int segment = 64;
+  while (2 * segment <= longest && 2 * segment <= 16.0 * out.rate) segment *= 2;
+  if (longest < segment) return;
+  const int n = static_cast<int>(files.front().q.cols());
+  std::vector<Eigen::VectorXd> q_sum(static_cast<std::size_t>(n)), tau_sum(q_sum);
+  for (const RunSpan& span : spans) {
+    const RawSignals& s = files[span.file];
+    const int count = resampledCount(s, span, out.rate);
+    if (count < segment) continue;
+    const Eigen::VectorXd time = s.time.segment(span.begin, span.end - span.begin);
+    const double t0 = s.time[span.begin];
+    const Eigen::MatrixXd rq = resampleLinear(
+        time, s.q.middleRows(span.begin, span.end - span.begin), t0, out.rate, count);
+    const Eigen::MatrixXd rtau = resampleLinear(
+        time, s.tau.middleRows(span.begin, span.end - span.begin), t0, out.rate, count);
+    // Weighted by the run's length: long runs dominate, as in one Welch average.
+    const double weight = static_cast<double>(count);
+    for (int j = 0; j < n; ++j) {
+      const Spectrum sq = welchSpectrum(rq.col(j), out.rate, segment, 16);
+      const Spectrum st = welchSpectrum(rtau.col(j), out.rate, segment, 16);
+      if (q_sum[j].size() == 0) {
+        q_sum[j] = Eigen::VectorXd::Zero(sq.density.size());
+        tau_sum[j] = q_sum[j];
+        out.q_spectrum.frequency = sq.frequency;
+      }
+      q_sum[j] += weight * sq.density;
+      tau_sum[j] += weight * st.density;
+    }
+  }
+  out.q_spectrum.density = Eigen::VectorXd::Zero(out.q_spectrum.frequency.size());
+  out.tau_spectrum = out.q_spectrum;
+  for (int j = 0; j < n; ++j) {
+    // Unit power without the DC bin (the detrended mean's leakage).
+    const double q_power = q_sum[j].tail(q_sum[j].size() - 1).sum();
+    const double tau_power = tau_sum[j].tail(tau_sum[j].size() - 1).sum();
+    if (q_power > 0.0) out.q_spectrum.density += q_sum[j] / q_power;
+    if (tau_power > 0.0) out.tau_spectrum.density += tau_sum[j] / tau_power;
+  }
+  const Eigen::VectorXd& d = out.q_spectrum.density;
+  const Eigen::VectorXd& f = out.q_spectrum.frequency;
+  const double total = d.tail(d.size() - 1).sum();
+  if (!(total > 0.0)) return;  // q never moves
+  double cumulative = 0.0;
+  Eigen::Index band = 1;
+  for (; band < d.size(); ++band) {
+    cumulative += d[band];
+    if (cumulative >= 0.995 * total) break;
+  }
+  out.trajectory_band = f[std::min(band, d.size() - 1)];
+  // The noise floor: the median density from ten times the band to a quarter of the rate (above
+  // it, the resampling's interpolation bends the floor down), else over the upper half.
+  std::vector<double> upper;
+  for (Eigen::Index k = band; k < d.size(); ++k)
+    if (f[k] >= 10.0 * out.trajectory_band && f[k] <= out.rate / 4.0) upper.push_back(d[k]);
+  if (upper.size() < 8) {
+    upper.clear();
+    for (Eigen::Index k = d.size() / 2; k < d.size(); ++k) upper.push_back(d[k]);
+  }
+  const double floor = median(upper);
+  out.noise_edge = f[d.size() - 1];
+  for (Eigen::Index k = band; k < d.size(); ++k)
+    if (d[k] <= 10.0 * floor) {
+      out.noise_edge = f[k];
+      break;
+    }
+}
+
+std::string hz(double f) {
+  std::ostringstream s;
+  s.precision(3);
+  s << f << " Hz";
+  return s.str();
 }
 
 }  // namespace
@@ -280,21 +400,17 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     const std::vector<double> s = steps(files.back().time);
     all_steps.insert(all_steps.end(), s.begin(), s.end());
   }
-  const int n = static_cast<int>(files.front().q.cols());
   out.median_step = median(all_steps);
   out.rate = options.rate > 0.0 ? options.rate : 1.0 / out.median_step;
   out.max_gap = options.max_gap > 0.0 ? options.max_gap : 5.0 * out.median_step;
-  out.cutoff = options.cutoff >= 0.0 ? options.cutoff : std::min(10.0, out.rate / 4.0);
   out.order = options.order;
   out.decimate = options.decimate;
   out.dq_derived = files.front().dq.size() == 0 || options.derive_dq;
-  std::vector<Biquad> filter;
-  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
-  out.trim = options.trim >= 0.0 ? options.trim : (out.cutoff > 0.0 ? 2.0 / out.cutoff : 0.0);
 
+  // Pass 1: stalls, steps, time offsets and the runs between gaps.
   out.min_step = std::numeric_limits<double>::infinity();
-  Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
-  double noise_count = 0.0, previous_end = -std::numeric_limits<double>::infinity();
+  std::vector<RunSpan> spans;
+  double previous_end = -std::numeric_limits<double>::infinity();
   for (std::size_t f = 0; f < files.size(); ++f) {
     RawSignals& signals = files[f];
     if (!options.keep_stalled) signals = dropStalled(std::move(signals), out.max_gap, out);
@@ -303,23 +419,79 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     const std::vector<double> s = steps(signals.time);
     out.min_step = std::min(out.min_step, *std::min_element(s.begin(), s.end()));
     out.max_step = std::max(out.max_step, *std::max_element(s.begin(), s.end()));
-    PreparedRun run;
-    run.file = static_cast<int>(f);
+    RunSpan span;
+    span.file = f;
+    span.run.file = static_cast<int>(f);
     const double spacing = std::max(1.0, 2.0 * out.max_gap);
     if (signals.time[0] < previous_end + spacing && f > 0)
-      run.time_offset = previous_end + spacing - signals.time[0];
-    previous_end = signals.time[signals.time.size() - 1] + run.time_offset;
-    // Runs: split where a step exceeds the gap limit.
-    Eigen::Index begin = 0;
+      span.run.time_offset = previous_end + spacing - signals.time[0];
+    previous_end = signals.time[signals.time.size() - 1] + span.run.time_offset;
     for (Eigen::Index k = 0; k + 1 < signals.time.size(); ++k)
       if (s[k] > out.max_gap) {
-        out.gaps.emplace_back(signals.time[k] + run.time_offset, s[k]);
-        prepareRun(signals, begin, k + 1, run, filter, options, noise_sum, noise_count, out);
-        begin = k + 1;
+        out.gaps.emplace_back(signals.time[k] + span.run.time_offset, s[k]);
+        span.end = k + 1;
+        spans.push_back(span);
+        span.begin = k + 1;
       }
-    prepareRun(signals, begin, signals.time.size(), run, filter, options, noise_sum, noise_count,
-               out);
-    signals = RawSignals();  // done with this file
+    span.end = signals.time.size();
+    spans.push_back(span);
+  }
+
+  // Pass 2: the spectra, and the cutoff.
+  measureSpectra(files, spans, out);
+  if (options.auto_cutoff) {
+    if (out.q_spectrum.density.size() == 0 || !(out.trajectory_band > 0.0))
+      throw InputError("--cutoff auto needs a moving run of at least 64 samples; give --cutoff");
+    const double chosen = std::min({5.0 * out.trajectory_band, out.noise_edge, out.rate / 4.0});
+    out.cutoff = std::max(chosen, std::min(1.5 * out.trajectory_band, 0.45 * out.rate));
+    out.cutoff_reason = "auto: 99.5 % of q's power lies below " + hz(out.trajectory_band) +
+                        " (the trajectory band); the cutoff is " + hz(out.cutoff) +
+                        ", five times that, at most where q's spectrum meets its noise floor (" +
+                        hz(out.noise_edge) + ") and a quarter of the rate";
+  } else if (options.cutoff >= 0.0) {
+    out.cutoff = options.cutoff;
+    out.cutoff_reason = options.cutoff > 0.0 ? "given" : "no filter (--cutoff 0)";
+  } else {
+    out.cutoff = std::min(10.0, out.rate / 4.0);
+    out.cutoff_reason = out.cutoff == 10.0 ? "the default, 10 Hz"
+                                           : "the default for logs slower than 40 Hz: a quarter "
+                                             "of the rate";
+  }
+  std::vector<Biquad> filter;
+  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
+  out.trim = options.trim >= 0.0 ? options.trim : (out.cutoff > 0.0 ? 2.0 / out.cutoff : 0.0);
+  if (options.savitzky_golay) {
+    if (options.savgol_degree < 2 || options.savgol_degree > 6)
+      throw InputError("the Savitzky-Golay degree must be 2 to 6 (ddq needs 2), not " +
+                       std::to_string(options.savgol_degree));
+    if (options.savgol_window > 0 &&
+        (options.savgol_window % 2 == 0 || options.savgol_window <= options.savgol_degree))
+      throw InputError("the Savitzky-Golay window must be odd and longer than the degree, not " +
+                       std::to_string(options.savgol_window));
+    // Default: about a quarter period of the cutoff (10 Hz without a filter).
+    const double reference = out.cutoff > 0.0 ? out.cutoff : 10.0;
+    int minimum = options.savgol_degree + 2;
+    if (minimum % 2 == 0) ++minimum;
+    out.savgol_window =
+        options.savgol_window > 0
+            ? options.savgol_window
+            : std::max(minimum,
+                       2 * static_cast<int>(std::lround(out.rate / (8.0 * reference))) + 1);
+  }
+
+  // Pass 3: every run resampled, filtered, differentiated, trimmed and split.
+  std::size_t longest = 0;
+  for (std::size_t r = 0; r < spans.size(); ++r)
+    if (spans[r].end - spans[r].begin > spans[longest].end - spans[longest].begin) longest = r;
+  const int n = static_cast<int>(files.front().q.cols());
+  Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
+  double noise_count = 0.0;
+  for (std::size_t r = 0; r < spans.size(); ++r) {
+    const RunSpan& span = spans[r];
+    prepareRun(files[span.file], span.begin, span.end, span.run, filter, options, r == longest,
+               noise_sum, noise_count, out);
+    if (r + 1 == spans.size() || spans[r + 1].file != span.file)
+      files[span.file] = RawSignals();  // done with this file
   }
   if (out.train.time.size() == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/signal.hpp"
 #include "core/trajectory.hpp"
 
 namespace dynid {
@@ -33,11 +34,20 @@ struct PrepareOptions {
   /// Low-pass -3 dB frequency [Hz] (single pass); 0: no filter; < 0: 10 Hz, or a quarter of the
   /// rate for logs slower than 40 Hz.
   double cutoff = -1.0;
-  int order = 4;                   // Butterworth order
-  int decimate = 1;                // keep every Nth sample
-  double max_gap = 0.0;            // split the log at larger steps [s]; 0: 5 median steps
-  double trim = -1.0;              // dropped at each run's ends [s]; < 0: 2 / cutoff
-  bool derive_dq = false;          // dq from q even when dq is logged
+  /// Choose the cutoff from q's spectrum instead (cutoff ignored): five times the trajectory band
+  /// (the frequency below which 99.5 % of q's power lies, every joint weighted alike), but below
+  /// where q's spectrum meets its noise floor and at most a quarter of the rate.
+  bool auto_cutoff = false;
+  int order = 4;           // Butterworth order
+  int decimate = 1;        // keep every Nth sample
+  double max_gap = 0.0;    // split the log at larger steps [s]; 0: 5 median steps
+  double trim = -1.0;      // dropped at each run's ends [s]; < 0: 2 / cutoff
+  bool derive_dq = false;  // dq from q even when dq is logged
+  /// Derivatives by central differences, or by Savitzky-Golay polynomials of `savgol_degree` over
+  /// `savgol_window` samples (odd; 0: the odd count nearest a quarter period of the cutoff, 10 Hz
+  /// without a filter; at least degree + 2).
+  bool savitzky_golay = false;
+  int savgol_window = 0, savgol_degree = 3;
   double validate_fraction = 0.0;  // the last fraction of each run held out (0: none)
   /// With LogSource::current: tau_j = current_j * torque_constants_j * gear_ratios_j (motor
   /// torque constant [N m/A] and gear ratio; the joint-side torque, drive losses left to the
@@ -67,7 +77,20 @@ struct PrepareOutcome {
   double rate = 0.0, cutoff = 0.0, trim = 0.0, max_gap = 0.0;
   int order = 0, decimate = 1;
   bool dq_derived = false;
+  int savgol_window = 0;      // with Savitzky-Golay derivatives, the window used
   Eigen::VectorXd tau_noise;  // per joint: RMS of the resampled minus the filtered torque [N m]
+  /// The cutoff's evidence, from the resampled runs before filtering: q's and tau's power spectra,
+  /// each joint normalised to unit power and then summed (every joint counts alike).
+  Spectrum q_spectrum, tau_spectrum;
+  double trajectory_band = 0.0;  // 99.5 % of q's power lies below it [Hz]
+  /// Above the band, where q's spectrum falls to 10x its noise floor (the median density from 10x
+  /// the band to a quarter of the rate) [Hz].
+  double noise_edge = 0.0;
+  std::string cutoff_reason;  // how the cutoff was chosen, one sentence
+  /// Up to 2 s from the middle of the longest run: the resampled torque before and after the
+  /// filter (rows: samples; columns: joints) and the times.
+  Eigen::VectorXd excerpt_time;
+  Eigen::MatrixXd excerpt_raw, excerpt_filtered;
 };
 
 /// Seconds per unit of "s", "ms", "us" or "ns"; radians per unit of "rad" or "deg". Throw

@@ -27,12 +27,17 @@ int runPrepare(const std::vector<std::string>& args) {
       "time-unit", po::value<std::string>()->default_value("s"), "s, ms, us or ns")(
       "angle-unit", po::value<std::string>()->default_value("rad"), "rad or deg (q and dq)")(
       "rate", po::value<double>()->default_value(0.0), "resampling rate [Hz] (0: median)")(
-      "cutoff", po::value<double>()->default_value(-1.0), "low-pass [Hz] (0: none; <0: 10)")(
+      "cutoff", po::value<std::string>()->default_value("default"),
+      "low-pass [Hz], 0 (none), auto (from q's spectrum) or default (10, rate/4 below 40 Hz)")(
       "order", po::value<int>()->default_value(4), "Butterworth order")(
       "decimate", po::value<int>()->default_value(1), "keep every Nth sample")(
       "max-gap", po::value<double>()->default_value(0.0), "split at longer steps [s] (0: 5 steps)")(
       "trim", po::value<double>()->default_value(-1.0), "dropped at run ends [s] (<0: 2/cutoff)")(
       "derive-dq", po::bool_switch(), "dq from q even when logged")(
+      "derivative", po::value<std::string>()->default_value("central"),
+      "central (differences) or savgol (Savitzky-Golay)")(
+      "savgol-window", po::value<int>()->default_value(0), "savgol: odd samples (0: auto)")(
+      "savgol-degree", po::value<int>()->default_value(3), "savgol: polynomial degree (2 to 6)")(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
       "validate-fraction", po::value<double>()->default_value(0.0),
       "hold out the last fraction of each run as validate.csv")(
@@ -73,7 +78,21 @@ int runPrepare(const std::vector<std::string>& args) {
   o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
   o.rate = checkedOption<double>(
       vm, "rate", [](double r) { return r >= 0.0; }, ">= 0");
-  o.cutoff = vm["cutoff"].as<double>();
+  const std::string cutoff = text("cutoff");
+  o.auto_cutoff = cutoff == "auto";
+  if (!o.auto_cutoff && cutoff != "default") {
+    const std::vector<double> value = parseList(cutoff, "cutoff");
+    if (value.size() != 1 || !(value[0] >= 0.0))
+      throw UsageError("--cutoff must be a frequency >= 0 [Hz], auto or default, not '" + cutoff +
+                       "'");
+    o.cutoff = value[0];
+  }
+  const std::string derivative = text("derivative");
+  if (derivative != "central" && derivative != "savgol")
+    throw UsageError("--derivative must be central or savgol, not '" + derivative + "'");
+  o.savitzky_golay = derivative == "savgol";
+  o.savgol_window = vm["savgol-window"].as<int>();
+  o.savgol_degree = vm["savgol-degree"].as<int>();
   o.order = checkedOption<int>(
       vm, "order", [](int k) { return k >= 1 && k <= 12; }, "1 to 12");
   o.decimate = checkedOption<int>(

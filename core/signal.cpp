@@ -5,6 +5,10 @@
 #include <complex>
 #include <numbers>
 #include <string>
+#include <vector>
+
+#include <Eigen/QR>
+#include <unsupported/Eigen/FFT>
 
 #include "core/errors.hpp"
 
@@ -129,6 +133,94 @@ Eigen::VectorXd derivative(const Eigen::VectorXd& x, double h) {
   for (Eigen::Index k = 1; k + 1 < n; ++k) out[k] = (x[k + 1] - x[k - 1]) / (2.0 * h);
   out[0] = (-3.0 * x[0] + 4.0 * x[1] - x[2]) / (2.0 * h);
   out[n - 1] = (3.0 * x[n - 1] - 4.0 * x[n - 2] + x[n - 3]) / (2.0 * h);
+  return out;
+}
+
+Eigen::VectorXd savitzkyGolay(const Eigen::VectorXd& x, double h, int window, int degree,
+                              int order) {
+  if (window % 2 == 0 || window <= degree || degree < 0 || order < 0 || order > degree)
+    throw InputError("Savitzky-Golay needs an odd window longer than the degree (window " +
+                     std::to_string(window) + ", degree " + std::to_string(degree) +
+                     ") and a derivative order at most the degree");
+  const Eigen::Index n = x.size();
+  if (n < window)
+    throw InputError("the signal (" + std::to_string(n) +
+                     " samples) is shorter than the Savitzky-Golay window (" +
+                     std::to_string(window) + ")");
+  const int half = window / 2;
+  // Least squares over u = (k - centre) / half in [-1, 1] (well conditioned): coefficients of
+  // the fit a = P x with P = (V^T V)^-1 V^T; the order-th derivative at u = s is
+  // sum_i a_i i! / (i - order)! s^(i - order) / (half h)^order.
+  Eigen::MatrixXd V(window, degree + 1);
+  for (int r = 0; r < window; ++r) {
+    const double u = static_cast<double>(r - half) / half;
+    double power = 1.0;
+    for (int i = 0; i <= degree; ++i, power *= u) V(r, i) = power;
+  }
+  const Eigen::MatrixXd P =
+      V.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(window, window));
+  const double scale = std::pow(half * h, -order);
+  // The weights that evaluate the derivative at window position r (0..window-1).
+  const auto weights = [&](int r) {
+    const double s = static_cast<double>(r - half) / half;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(degree + 1);
+    for (int i = order; i <= degree; ++i) {
+      double falling = 1.0;
+      for (int k = 0; k < order; ++k) falling *= i - k;
+      d[i] = falling * std::pow(s, i - order);
+    }
+    return Eigen::VectorXd(scale * (P.transpose() * d));
+  };
+  Eigen::VectorXd out(n);
+  const Eigen::VectorXd centre = weights(half);
+  for (Eigen::Index k = half; k < n - half; ++k) out[k] = centre.dot(x.segment(k - half, window));
+  for (int r = 0; r < half; ++r) {
+    out[r] = weights(r).dot(x.head(window));
+    out[n - half + r] = weights(half + 1 + r).dot(x.tail(window));
+  }
+  return out;
+}
+
+Spectrum welchSpectrum(const Eigen::VectorXd& x, double rate, int segment, int max_segments) {
+  if (segment < 8 || segment % 2 != 0)
+    throw InputError("a spectrum segment must be even and at least 8 samples");
+  if (x.size() < segment)
+    throw InputError("the signal (" + std::to_string(x.size()) +
+                     " samples) is shorter than a spectrum segment (" + std::to_string(segment) +
+                     ")");
+  Eigen::VectorXd window(segment);
+  for (int k = 0; k < segment; ++k)
+    window[k] = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * k / segment);  // periodic Hann
+  const double window_power = window.squaredNorm();
+  // Detrending: least squares on (1, k) over a segment.
+  const Eigen::VectorXd ramp = Eigen::VectorXd::LinSpaced(segment, 0.0, segment - 1.0);
+  const double ramp_mean = ramp.mean();
+  const double ramp_var = (ramp.array() - ramp_mean).square().sum();
+  Eigen::FFT<double> fft;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(segment / 2 + 1);
+  int segments = 0;
+  std::vector<double> piece(static_cast<std::size_t>(segment));
+  std::vector<std::complex<double>> spectrum;
+  Eigen::Index hop = segment / 2;
+  if (max_segments > 1)
+    hop = std::max(hop, (x.size() - segment) / (max_segments - 1));
+  else if (max_segments == 1)
+    hop = x.size();
+  for (Eigen::Index start = 0; start + segment <= x.size(); start += hop, ++segments) {
+    const Eigen::VectorXd y = x.segment(start, segment);
+    const double mean = y.mean();
+    const double slope = (ramp.array() - ramp_mean).matrix().dot(y) / ramp_var;
+    for (int k = 0; k < segment; ++k)
+      piece[static_cast<std::size_t>(k)] = (y[k] - mean - slope * (k - ramp_mean)) * window[k];
+    fft.fwd(spectrum, piece);
+    for (int k = 0; k <= segment / 2; ++k)
+      sum[k] += std::norm(spectrum[static_cast<std::size_t>(k)]);
+  }
+  Spectrum out;
+  out.frequency = Eigen::VectorXd::LinSpaced(segment / 2 + 1, 0.0, rate / 2.0);
+  // One-sided: bins strictly between DC and Nyquist count twice.
+  out.density = sum / (segments * rate * window_power);
+  out.density.segment(1, segment / 2 - 1) *= 2.0;
   return out;
 }
 

@@ -1,6 +1,7 @@
 // Signal processing for logged joint signals: zero-phase Butterworth low-pass filtering, uniform
-// resampling and finite-difference derivatives. Every function works on one run: samples that are
-// consecutive in time, with no gap (data/raw_log.hpp splits logs into runs).
+// resampling, finite-difference and Savitzky-Golay derivatives, and power spectra. Every function
+// works on one run: samples that are consecutive in time, with no gap (data/raw_log.hpp splits logs
+// into runs).
 //
 // Symbols: x a signal (one value per sample, an Eigen vector), rate the sampling rate [Hz],
 // cutoff the filter's -3 dB frequency [Hz].
@@ -47,5 +48,25 @@ Eigen::MatrixXd resampleLinear(const Eigen::VectorXd& time, const Eigen::MatrixX
 /// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
 /// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.
 Eigen::VectorXd derivative(const Eigen::VectorXd& x, double h);
+
+/// Savitzky-Golay: at every sample, the least-squares polynomial of `degree` through the
+/// `window` samples around it (odd window > degree), differentiated `order` times (0: smoothed
+/// value, 1, 2; step h [s]). Near the ends the window stays inside the signal and the polynomial
+/// is evaluated off-centre. Exact for polynomials of degree <= `degree`. Throws InputError for an
+/// even window, window <= degree, order > degree, or a signal shorter than the window.
+Eigen::VectorXd savitzkyGolay(const Eigen::VectorXd& x, double h, int window, int degree,
+                              int order);
+
+/// A one-sided power spectral density: density[k] at frequency[k] = k rate / segment, in
+/// (signal unit)^2 / Hz, so that its sum times rate / segment is the signal's variance.
+struct Spectrum {
+  Eigen::VectorXd frequency, density;
+};
+/// Welch's estimate: Hann-windowed segments of `segment` samples (even, >= 8) with 50 % overlap,
+/// each with its mean and linear trend removed, periodograms averaged. With `max_segments` > 0,
+/// at most that many segments, spread evenly over the signal (less overlap, same estimate of a
+/// stationary signal; bounded time on long logs). Throws InputError when the signal is shorter
+/// than one segment.
+Spectrum welchSpectrum(const Eigen::VectorXd& x, double rate, int segment, int max_segments = 0);
 
 }  // namespace dynid

@@ -110,6 +110,8 @@ void preparationSection(Document& doc, const nlohmann::json& p) {
                                f.at("applied_to").get<std::string>()
                          : std::string()) +
                     ".");
+    if (f.contains("cutoff_choice") && f["cutoff_choice"].is_string())
+      items.push_back("Cutoff: " + f["cutoff_choice"].get<std::string>() + ".");
     items.push_back("dq: " + p.at("dq").get<std::string>() +
                     "; ddq: " + p.at("ddq").get<std::string>() + "; " +
                     number(p.at("trimmed_each_end")) + " s trimmed at each run's ends; every " +

@@ -1,11 +1,14 @@
 #include "reports/prepare_report.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
+#include "reports/plots.hpp"
 
 namespace dynid {
 
@@ -44,6 +47,10 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
                                                        : numbersOrNull(Eigen::VectorXd::Ones(
                                                              options.torque_constants.size()))},
         {"torque", "current x torque constant x gear ratio (joint side)"}};
+  const std::string derivatives =
+      o.savgol_window > 0 ? "Savitzky-Golay (degree " + std::to_string(options.savgol_degree) +
+                                ", " + std::to_string(o.savgol_window) + " samples)"
+                          : std::string("central differences");
   return {
       {"schema_version", kPrepareSchemaVersion},
       {"kind", "dynid.prepare"},
@@ -65,13 +72,65 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
        {{"kind", o.cutoff > 0.0 ? "Butterworth low-pass, zero phase (forward-backward)" : "none"},
         {"order", o.order},
         {"cutoff_hz", o.cutoff},
+        {"cutoff_choice", o.cutoff_reason},
+        {"trajectory_band_hz", o.trajectory_band},
+        {"noise_edge_hz", o.noise_edge},
         {"applied_to", "q, dq, tau (parallel filtering)"}}},
-      {"dq", o.dq_derived ? "central differences of the filtered q" : "logged, filtered"},
-      {"ddq", "central differences of dq"},
+      {"dq", o.dq_derived ? derivatives + " of the filtered q" : std::string("logged, filtered")},
+      {"ddq",
+       derivatives + (o.dq_derived && o.savgol_window > 0 ? " of the filtered q" : " of dq")},
       {"trimmed_each_end", o.trim},
       {"decimate", o.decimate},
       {"samples", {{"train", o.train.numSamples()}, {"validate", o.validate.numSamples()}}},
       {"tau_noise_rms", numbersOrNull(o.tau_noise)}};
+}
+
+std::optional<std::string> spectrumFigure(const PrepareOutcome& o) {
+  const Spectrum& q = o.q_spectrum;
+  const Spectrum& tau = o.tau_spectrum;
+  if (q.frequency.size() < 3) return std::nullopt;
+  std::ostringstream s;
+  s.precision(6);
+  s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\n"
+    << "set title 'power spectra of the resampled log (each joint normalised to unit power, "
+       "summed)'\n"
+    << "set logscale xy\nset grid\nset key top right\nset xlabel 'frequency [Hz]'\n"
+    << "set ylabel 'density [1/Hz]'\nset format y '10^{%L}'\n";
+  s << "$s << EOD\n";
+  for (Eigen::Index k = 1; k < q.frequency.size(); ++k)
+    s << q.frequency[k] << " " << std::max(q.density[k], 1e-30) << " "
+      << std::max(tau.density[k], 1e-30) << "\n";
+  s << "EOD\n";
+  const auto line = [&](double f, const char* colour, const std::string& label) {
+    if (f > 0.0)
+      s << "set arrow from " << f << ", graph 0 to " << f << ", graph 1 nohead lw 1.5 lc rgb '"
+        << colour << "'\nset label '" << label << "' at " << f
+        << ", graph 0.95 offset 0.5,0 tc rgb '" << colour << "'\n";
+  };
+  line(o.trajectory_band, "#228833", "trajectory band");
+  if (o.cutoff > 0.0) line(o.cutoff, "#aa3377", "cutoff");
+  s << "plot $s using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'q', "
+       "$s using 1:3 with lines lw 1 lc rgb '#ee6677' title 'tau'\n";
+  return gnuplotSvg(s.str());
+}
+
+std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
+  if (o.excerpt_time.size() < 2 || o.tau_noise.size() == 0) return std::nullopt;
+  Eigen::Index joint = 0;
+  o.tau_noise.maxCoeff(&joint);
+  std::ostringstream s;
+  s.precision(9);
+  s << "set terminal svg size 900,380 font 'sans,11' background rgb 'white'\n"
+    << "set title 'joint " << joint + 1
+    << " (the noisiest): resampled torque before and after the zero-phase filter'\n"
+    << "set grid\nset key top right\nset xlabel 't [s]'\nset ylabel 'tau" << joint + 1
+    << " [N m]'\n$e << EOD\n";
+  for (Eigen::Index k = 0; k < o.excerpt_time.size(); ++k)
+    s << o.excerpt_time[k] << " " << o.excerpt_raw(k, joint) << " " << o.excerpt_filtered(k, joint)
+      << "\n";
+  s << "EOD\nplot $e using 1:2 with lines lw 1 lc rgb '#bbbbbb' title 'raw (resampled)', "
+       "$e using 1:3 with lines lw 2 lc rgb '#4477aa' title 'filtered'\n";
+  return gnuplotSvg(s.str());
 }
 
 std::string writePrepared(const std::string& dir, const LogSource& source,
@@ -79,7 +138,16 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   std::filesystem::create_directories(dir);
   writeDatasetCsv(dir + "/train.csv", outcome.train);
   if (outcome.validate.numSamples() > 0) writeDatasetCsv(dir + "/validate.csv", outcome.validate);
-  writeReportFiles(dir, {{"prepare.json", prepareJson(source, options, outcome).dump(2) + "\n"}});
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"prepare.json", prepareJson(source, options, outcome).dump(2) + "\n"}};
+  std::vector<std::string> figures;
+  for (const auto& [name, svg] : {std::pair{"spectrum.svg", spectrumFigure(outcome)},
+                                  std::pair{"filtered.svg", filteredFigure(outcome)}})
+    if (svg) {
+      files.emplace_back(name, *svg);
+      figures.push_back(name);
+    }
+  writeReportFiles(dir, files);
   std::ostringstream out;
   out << "prepared " << outcome.raw_samples << " raw samples (median step "
       << outcome.median_step * 1e3 << " ms, " << outcome.min_step * 1e3 << " to "
@@ -92,12 +160,19 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
         << " Hz (zero phase), ";
   else
     out << "no filter, ";
-  out << (outcome.dq_derived ? "dq and ddq" : "ddq") << " by central differences, " << outcome.trim
-      << " s trimmed at each end, every " << outcome.decimate << " kept\n"
+  out << (outcome.dq_derived ? "dq and ddq" : "ddq") << " by "
+      << (outcome.savgol_window > 0
+              ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
+              : std::string("central differences"))
+      << ", " << outcome.trim << " s trimmed at each end, every " << outcome.decimate << " kept\n"
       << "wrote " << dir << "/train.csv (" << outcome.train.numSamples() << " samples)";
   if (outcome.validate.numSamples() > 0)
     out << ", " << dir << "/validate.csv (" << outcome.validate.numSamples() << ")";
-  out << " and " << dir << "/prepare.json\n";
+  out << ", " << dir << "/prepare.json";
+  for (const std::string& name : figures) out << ", " << dir << "/" << name;
+  out << "\n  cutoff: " << (outcome.cutoff_reason.empty() ? "given" : outcome.cutoff_reason)
+      << "\n";
+  if (figures.empty()) out << "warning: gnuplot did not run: no spectrum.svg or filtered.svg\n";
   return out.str();
 }
 

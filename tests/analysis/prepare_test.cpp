@@ -266,6 +266,69 @@ TEST(Prepare, SeveralFilesAreSeparateRunsNeverJoined) {
   }
 }
 
+/// One joint at 1 kHz for 60 s: q = 0.5 sin(2 pi 0.2 t) + 0.3 sin(2 pi 0.5 t) rad plus white
+/// noise of `noise` rad; tau = 2 q.
+std::string writeSpectrumLog(const std::string& name, double noise) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> gauss(0.0, noise);
+  std::ostringstream out;
+  out.precision(17);
+  for (int k = 0; k < 60000; ++k) {
+    const double t = k * 1e-3;
+    const double x = 0.5 * std::sin(2 * kPi * 0.2 * t) + 0.3 * std::sin(2 * kPi * 0.5 * t);
+    out << t << " " << x + gauss(rng) << " " << 2.0 * x << "\n";
+  }
+  const std::string path = test::tempPath(name);
+  writeFileAtomically(path, out.str());
+  return path;
+}
+
+TEST(Prepare, AutoCutoffIsFiveTimesTheTrajectoryBandBelowTheNoise) {
+  PrepareOptions o;
+  o.auto_cutoff = true;
+  // Quiet encoders: the band edge is the 0.5 Hz sine (bins of 1000 / 16384 Hz; Hann spreads a
+  // line over +-2 bins), the cutoff five times it.
+  const LogSource quiet{
+      {writeSpectrumLog("quiet.txt", 1e-6)}, "1", "2", "", "3", "", "", "", "", 0};
+  const PrepareOutcome a = prepareLog(quiet, o);
+  EXPECT_GT(a.trajectory_band, 0.45);
+  EXPECT_LT(a.trajectory_band, 0.7);
+  EXPECT_NEAR(a.cutoff, 5.0 * a.trajectory_band, 1e-12);
+  EXPECT_GT(a.noise_edge, a.cutoff);
+  EXPECT_NE(a.cutoff_reason.find("auto"), std::string::npos);
+  // Noisy encoders (1e-3 rad white, a floor of 2e-9 rad^2/Hz): the spectrum meets the floor
+  // below five times the band, and the cutoff stops there.
+  const LogSource noisy{
+      {writeSpectrumLog("noisy.txt", 1e-3)}, "1", "2", "", "3", "", "", "", "", 0};
+  const PrepareOutcome b = prepareLog(noisy, o);
+  EXPECT_LT(b.noise_edge, 5.0 * b.trajectory_band);
+  EXPECT_NEAR(b.cutoff, std::max(b.noise_edge, 1.5 * b.trajectory_band), 1e-12);
+  // The spectra are normalised: one joint's q integrates to 1 (without DC).
+  const Spectrum& q = a.q_spectrum;
+  EXPECT_NEAR(q.density.tail(q.density.size() - 1).sum(), 1.0, 1e-9);
+  // The excerpt: 2 s of the raw and filtered torque.
+  EXPECT_EQ(a.excerpt_time.size(), 2000);
+  EXPECT_EQ(a.excerpt_raw.cols(), 1);
+}
+
+TEST(Prepare, SavitzkyGolayDerivativesMatchTheMotion) {
+  PrepareOptions o = msAndDegrees();
+  o.savitzky_golay = true;
+  o.rate = 1000.0;
+  o.cutoff = 8.0;
+  const PrepareOutcome out = prepareLog(tableSource(writeLog(0.0)), o);
+  EXPECT_EQ(out.savgol_window, 2 * 16 + 1);  // a quarter period of 8 Hz: 1000 / (8 x 8) = 15.6
+  double worst_ddq = 0.0;
+  for (int k = 0; k < out.train.numSamples(); ++k)
+    for (int j = 0; j < 2; ++j)
+      worst_ddq = std::max(worst_ddq, std::abs(out.train.ddq(j, k) - ddq(j, out.train.time[k])));
+  // The central-difference bound of the first test: jittered stamps interpolated, then filtered.
+  EXPECT_LT(worst_ddq, 2e-2);
+  PrepareOptions even = o;
+  even.savgol_window = 20;
+  EXPECT_THROW(prepareLog(tableSource(writeLog(0.0)), even), InputError);
+}
+
 TEST(Prepare, RefusesWhatItCannotDo) {
   const std::string log = writeLog(0.0);
   PrepareOptions above_nyquist = msAndDegrees();

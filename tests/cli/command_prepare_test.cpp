@@ -46,6 +46,19 @@ TEST(Cli, PrepareWritesADatasetAndItsRecord) {
   EXPECT_EQ(j["schema_version"], 2);
   EXPECT_EQ(j["samples"]["train"], d.numSamples());
   EXPECT_EQ(j["filter"]["cutoff_hz"], 10.0);
+  // The figures: the spectra with the cutoff, the torque before and after the filter.
+  for (const char* figure : {"spectrum.svg", "filtered.svg"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + figure)) << figure;
+  // The cutoff from the spectrum, and Savitzky-Golay derivatives: said on the console and in
+  // prepare.json.
+  const std::string auto_dir = test::tempPath("prepared_auto");
+  const Result a = run("prepare --log " + log +
+                       " --q 2 --tau 3 --cutoff auto --derivative savgol --out " + auto_dir);
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_TRUE(contains(a.out, "cutoff: auto: 99.5 % of q's power lies below")) << a.out;
+  const auto ja = nlohmann::json::parse(readFile(auto_dir + "/prepare.json"));
+  EXPECT_GT(ja["filter"]["trajectory_band_hz"].get<double>(), 0.0);
+  EXPECT_EQ(ja["dq"].get<std::string>().rfind("Savitzky-Golay", 0), 0u) << ja["dq"];
 }
 
 TEST(Cli, PrepareNamesWhatIsWrongAndWritesNothing) {
@@ -67,6 +80,10 @@ TEST(Cli, PrepareNamesWhatIsWrongAndWritesNothing) {
   const Result column = run("prepare --log " + log + " --q 2 --tau 7 --out " + dir);
   EXPECT_EQ(column.code, 1);
   EXPECT_TRUE(contains(column.err, "out of range")) << column.err;
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --cutoff fast --out " + dir).code, 2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --cutoff -1 --out " + dir).code, 2);
+  EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --derivative spline --out " + dir).code,
+            2);
   // Currents: torque constants required (exit 2), and they only apply to currents.
   EXPECT_EQ(run("prepare --log " + log + " --q 2 --current 3 --out " + dir).code, 2);
   EXPECT_EQ(run("prepare --log " + log + " --q 2 --tau 3 --torque-constants 0.1 --out " + dir).code,

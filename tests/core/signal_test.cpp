@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "core/errors.hpp"
 
@@ -110,6 +111,77 @@ TEST(Signal, ResamplingIsExactForLinesOnIrregularStamps) {
     EXPECT_NEAR(y(k, 0), 3.0 * k * 1e-3 + 1.0, 1e-14) << k;
     EXPECT_NEAR(y(k, 1), -k * 1e-3, 1e-14) << k;
   }
+}
+
+}  // namespace
+}  // namespace dynid
+
+namespace dynid {
+namespace {
+
+TEST(Signal, SavitzkyGolayIsExactForPolynomialsOfItsDegreeEverywhere) {
+  // A cubic with an off-centre root, sampled at 200 Hz; degree 3, windows 7 and 21.
+  const double h = 5e-3;
+  const int n = 60;
+  Eigen::VectorXd x(n), dx(n), ddx(n);
+  for (int k = 0; k < n; ++k) {
+    const double t = k * h - 0.1;
+    x[k] = 2.0 - 3.0 * t + 4.0 * t * t - 5.0 * t * t * t;
+    dx[k] = -3.0 + 8.0 * t - 15.0 * t * t;
+    ddx[k] = 8.0 - 30.0 * t;
+  }
+  for (int window : {7, 21}) {
+    // Round-off of the least-squares weights, amplified by 1/h^order.
+    EXPECT_LT((savitzkyGolay(x, h, window, 3, 0) - x).cwiseAbs().maxCoeff(), 1e-12) << window;
+    EXPECT_LT((savitzkyGolay(x, h, window, 3, 1) - dx).cwiseAbs().maxCoeff(), 1e-9) << window;
+    EXPECT_LT((savitzkyGolay(x, h, window, 3, 2) - ddx).cwiseAbs().maxCoeff(), 1e-6) << window;
+  }
+  // Degree 2 cannot follow the cubic: not exact (the test can fail).
+  EXPECT_GT((savitzkyGolay(x, h, 21, 2, 2) - ddx).cwiseAbs().maxCoeff(), 1e-3);
+  EXPECT_THROW(savitzkyGolay(x, h, 8, 3, 1), InputError);          // even window
+  EXPECT_THROW(savitzkyGolay(x, h, 3, 3, 1), InputError);          // window <= degree
+  EXPECT_THROW(savitzkyGolay(x, h, 7, 2, 3), InputError);          // order > degree
+  EXPECT_THROW(savitzkyGolay(x.head(5), h, 7, 3, 1), InputError);  // shorter than the window
+}
+
+TEST(Signal, SavitzkyGolaySmoothsNoiseLikeItsLeastSquaresVarianceSays) {
+  // White noise of unit variance: the centred degree-2 smoother of window 2m+1 leaves variance
+  // 3(3m^2 + 3m - 1) / ((2m - 1)(2m + 1)(2m + 3)) (Savitzky & Golay's noise reduction).
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  Eigen::VectorXd x(200000);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] = gauss(rng);
+  const int m = 10;
+  const Eigen::VectorXd y = savitzkyGolay(x, 1.0, 2 * m + 1, 2, 0);
+  const double expected =
+      3.0 * (3.0 * m * m + 3.0 * m - 1.0) / ((2.0 * m - 1.0) * (2.0 * m + 1.0) * (2.0 * m + 3.0));
+  const double variance = y.segment(m, y.size() - 2 * m).squaredNorm() / (y.size() - 2 * m);
+  // 2e5 correlated samples: a few per cent of sampling error.
+  EXPECT_NEAR(variance / expected, 1.0, 0.05);
+}
+
+TEST(Signal, WelchSpectrumIntegratesToTheVariance) {
+  const double rate = 1000.0;
+  const int segment = 1024;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> gauss(0.0, 0.3);
+  Eigen::VectorXd x(60000);
+  // A 2 V amplitude sine at 62.5 Hz (bin 64 exactly) on white noise of 0.3 V RMS.
+  for (Eigen::Index k = 0; k < x.size(); ++k)
+    x[k] = 2.0 * std::sin(2.0 * std::numbers::pi * 62.5 * k / rate) + gauss(rng);
+  const Spectrum s = welchSpectrum(x, rate, segment);
+  ASSERT_EQ(s.frequency.size(), segment / 2 + 1);
+  EXPECT_DOUBLE_EQ(s.frequency[64], 62.5);
+  const double df = rate / segment;
+  // Parseval: the sum is the variance, 2^2 / 2 + 0.3^2 (the Hann window's leakage stays within
+  // the sum; sampling error of the noise ~1 %).
+  EXPECT_NEAR(s.density.sum() * df, 2.0 + 0.09, 0.03);
+  // The sine's power within +-2 bins (Hann spreads it over 3): 2 V^2.
+  EXPECT_NEAR(s.density.segment(62, 5).sum() * df, 2.0, 0.02);
+  // The noise floor far from the sine: 2 sigma^2 / rate per Hz, one-sided.
+  const double floor = s.density.segment(300, 200).mean();
+  EXPECT_NEAR(floor / (2.0 * 0.09 / rate), 1.0, 0.05);
+  EXPECT_THROW(welchSpectrum(x.head(100), rate, segment), InputError);
 }
 
 }  // namespace
