@@ -112,16 +112,19 @@ Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::Vecto
   return y.segment(pad, n);
 }
 
-Eigen::MatrixXd resampleLinear(const Eigen::VectorXd& time, const Eigen::MatrixXd& x, double t0,
-                               double rate, int count) {
+Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
+                               const Eigen::Ref<const Eigen::MatrixXd>& x, double t0, double rate,
+                               int count) {
   Eigen::MatrixXd out(count, x.cols());
-  Eigen::Index j = 0;
-  for (int k = 0; k < count; ++k) {
-    const double t = t0 + k / rate;
-    while (j + 2 < time.size() && time[j + 1] < t) ++j;
-    const double span = time[j + 1] - time[j];
-    const double w = std::clamp((t - time[j]) / span, 0.0, 1.0);
-    out.row(k) = (1.0 - w) * x.row(j) + w * x.row(j + 1);
+  const Eigen::Index last = time.size() - 2;
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    Eigen::Index j = 0;
+    for (int k = 0; k < count; ++k) {
+      const double t = t0 + k / rate;
+      while (j < last && time[j + 1] < t) ++j;
+      const double w = std::clamp((t - time[j]) / (time[j + 1] - time[j]), 0.0, 1.0);
+      out(k, c) = (1.0 - w) * x(j, c) + w * x(j + 1, c);
+    }
   }
   return out;
 }

@@ -42,8 +42,9 @@ int padTransient(const std::vector<Biquad>& sections);
 
 /// Samples of (time, x) at the uniform times t0, t0 + 1/rate, ... <= time.back(), by linear
 /// interpolation (time strictly increasing, x one column per signal, one row per sample).
-Eigen::MatrixXd resampleLinear(const Eigen::VectorXd& time, const Eigen::MatrixXd& x, double t0,
-                               double rate, int count);
+Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
+                               const Eigen::Ref<const Eigen::MatrixXd>& x, double t0, double rate,
+                               int count);
 
 /// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
 /// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.

@@ -1,5 +1,7 @@
 #include "data/dataset_csv.hpp"
 
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <string_view>
@@ -53,19 +55,28 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
     if (m->rows() != n || m->cols() != samples)
       throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
                        std::to_string(samples));
-  std::string out = datasetHeader(n) + "\n";
-  out.reserve(out.size() + static_cast<std::size_t>(samples) * (1 + 4 * n) * 22);
+  // Streamed: one row at a time through the writer's buffer, memory independent of the length.
+  AtomicWriter out(path);
+  out.write(datasetHeader(n) + "\n");
+  std::string row;
+  std::array<char, 32> number;
+  const auto append = [&](double x) {
+    const auto end = std::to_chars(number.data(), number.data() + number.size(), x).ptr;
+    row.append(number.data(), end);
+  };
   for (int k = 0; k < samples; ++k) {
-    out += formatDouble(trajectory.time[k]);
+    row.clear();
+    append(trajectory.time[k]);
     for (const Eigen::MatrixXd* m :
          {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
       for (int i = 0; i < n; ++i) {
-        out += ',';
-        out += formatDouble((*m)(i, k));
+        row += ',';
+        append((*m)(i, k));
       }
-    out += '\n';
+    row += '\n';
+    out.write(row);
   }
-  writeFileAtomically(path, out);
+  out.commit();
 }
 
 Trajectory readDatasetCsv(const std::string& path, int expected_joints) {

@@ -15,49 +15,64 @@
 
 namespace dynid {
 
-namespace {
-
-/// Writes `content` straight into an existing stream-like target (a FIFO, a terminal, a character
-/// device such as /dev/null or /dev/stdout): renaming a temporary over it would replace the
-/// special file with a regular one.
-void writeThrough(const std::string& path, const std::string& content) {
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
-  const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
-  const bool flushed = std::fflush(file) == 0;
-  const bool closed = std::fclose(file) == 0;
-  if (!written || !flushed || !closed)
-    throw Error("cannot write '" + path + "': " + std::strerror(errno));
-}
-
-}  // namespace
-
-void writeFileAtomically(const std::string& path, const std::string& content) {
+AtomicWriter::AtomicWriter(const std::string& path) : path_(path) {
   // The target's type decides: a regular file (or none) is replaced whole by a rename; a stream
   // (FIFO, character device) is written through; anything else (a directory, a socket, a block
   // device) is refused.
   struct stat target {};
+  std::string open_path = path;
   if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
-    if (S_ISFIFO(target.st_mode) || S_ISCHR(target.st_mode)) return writeThrough(path, content);
-    throw Error("cannot write '" + path + "': it exists and is not a regular file" +
-                (S_ISDIR(target.st_mode) ? " (a directory)" : ""));
+    if (!S_ISFIFO(target.st_mode) && !S_ISCHR(target.st_mode))
+      throw Error("cannot write '" + path + "': it exists and is not a regular file" +
+                  (S_ISDIR(target.st_mode) ? " (a directory)" : ""));
+  } else {
+    temporary_ = path + ".tmp." + std::to_string(::getpid());
+    open_path = temporary_;
   }
-  const std::string temporary = path + ".tmp." + std::to_string(::getpid());
-  std::FILE* file = std::fopen(temporary.c_str(), "wb");
-  if (file == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
-  const bool written = std::fwrite(content.data(), 1, content.size(), file) == content.size();
-  const bool flushed = std::fflush(file) == 0 && ::fsync(::fileno(file)) == 0;
-  const bool closed = std::fclose(file) == 0;
-  if (!written || !flushed || !closed) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw Error("cannot write '" + path + "': " + reason);
+  file_ = std::fopen(open_path.c_str(), "wb");
+  if (file_ == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  buffer_.reserve(kBuffer);
+}
+
+AtomicWriter::~AtomicWriter() {
+  if (file_ != nullptr) std::fclose(file_);
+  if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
+}
+
+void AtomicWriter::write(std::string_view text) {
+  if (buffer_.size() + text.size() < kBuffer) {
+    buffer_.append(text);
+    return;
   }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    const std::string reason = std::strerror(errno);
-    std::remove(temporary.c_str());
-    throw Error("cannot write '" + path + "': " + reason);
-  }
+  flush();
+  if (std::fwrite(text.data(), 1, text.size(), file_) != text.size())
+    throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+}
+
+void AtomicWriter::flush() {
+  if (buffer_.empty()) return;
+  if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
+    throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+  buffer_.clear();
+}
+
+void AtomicWriter::commit() {
+  if (committed_) return;
+  flush();
+  const bool flushed =
+      std::fflush(file_) == 0 && (temporary_.empty() || ::fsync(::fileno(file_)) == 0);
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!flushed || !closed) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+  if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0)
+    throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+  committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  AtomicWriter out(path);
+  out.write(content);
+  out.commit();
 }
 
 std::string readFile(const std::string& path) {

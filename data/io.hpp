@@ -1,9 +1,34 @@
 // File output that never leaves a partial file, and number formatting that round-trips.
 #pragma once
 
+#include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace dynid {
+
+/// A file written piece by piece with writeFileAtomically's guarantees: through a temporary in
+/// the same directory, renamed over `path` by commit(); a stream target (FIFO, character device)
+/// is written through; a directory or other special file is refused. Destroyed without commit
+/// (an exception on the way), the temporary is removed and the target untouched. Throws Error
+/// naming the path on failure.
+class AtomicWriter {
+ public:
+  explicit AtomicWriter(const std::string& path);
+  AtomicWriter(const AtomicWriter&) = delete;
+  AtomicWriter& operator=(const AtomicWriter&) = delete;
+  ~AtomicWriter();
+  void write(std::string_view text);  // buffered
+  void commit();                      // flush, sync, rename; at most once
+
+ private:
+  void flush();
+  static constexpr std::size_t kBuffer = 1 << 20;
+  std::string path_, temporary_;  // temporary_ empty: written through
+  std::FILE* file_ = nullptr;
+  std::string buffer_;
+  bool committed_ = false;
+};
 
 /// Writes `content` to `path` through a temporary file in the same directory and a rename, so
 /// readers see the old file or the whole new one. A path that names a stream (a FIFO, or a

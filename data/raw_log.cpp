@@ -3,7 +3,12 @@
 #include <fnmatch.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
 #include <sstream>
 
 #include "core/errors.hpp"
@@ -49,85 +54,182 @@ bool parseNumber(const std::string& field, double* out) {
   return used == field.size();
 }
 
+/// The number in [begin, end) (blanks around it allowed, a leading '+' too), or false.
+bool parseNumber(const char* begin, const char* end, double* out) {
+  while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
+  while (end > begin && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r')) --end;
+  if (begin < end && *begin == '+') ++begin;
+  if (begin == end) return false;
+  const auto result = std::from_chars(begin, end, *out);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+/// Calls f(begin, end, line_number) for each line of the file, without its newline, reading it in
+/// blocks (memory independent of the file's size); stops when f returns false.
+template <class F>
+void forEachLine(const std::string& path, F f) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
+  if (!file) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+  constexpr std::size_t kBlock = 1 << 22;
+  std::vector<char> buffer(kBlock);
+  std::size_t kept = 0;  // bytes of an unfinished line at the buffer's start
+  int line = 0;
+  while (true) {
+    if (kept == buffer.size()) buffer.resize(2 * buffer.size());  // a line longer than a block
+    const std::size_t got = std::fread(buffer.data() + kept, 1, buffer.size() - kept, file.get());
+    if (got == 0 && std::ferror(file.get())) throw Error("cannot read '" + path + "'");
+    const char* start = buffer.data();
+    const char* const stop = buffer.data() + kept + got;
+    const bool last = got == 0;
+    while (true) {
+      const char* newline = static_cast<const char*>(
+          std::memchr(start, '\n', static_cast<std::size_t>(stop - start)));
+      if (newline == nullptr) break;
+      if (!f(start, newline, ++line)) return;
+      start = newline + 1;
+    }
+    kept = static_cast<std::size_t>(stop - start);
+    if (last) {
+      if (kept > 0) f(start, stop, ++line);
+      return;
+    }
+    std::memmove(buffer.data(), start, kept);
+  }
+}
+
+/// Whether the line holds data: not blank, not a '#' comment.
+bool isDataLine(const char* begin, const char* end) {
+  while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
+  return begin < end && *begin != '#';
+}
+
+/// Calls f(field_begin, field_end) for each field of a line: split at `delimiter`, or at runs of
+/// blanks when it is ' '. Returns the number of fields.
+template <class F>
+int forEachField(const char* begin, const char* end, char delimiter, F f) {
+  int count = 0;
+  if (delimiter == ' ') {
+    const char* p = begin;
+    while (true) {
+      while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+      if (p == end) return count;
+      const char* q = p;
+      while (q < end && *q != ' ' && *q != '\t' && *q != '\r') ++q;
+      f(p, q, count++);
+      p = q;
+    }
+  }
+  const char* p = begin;
+  while (true) {
+    const char* q =
+        static_cast<const char*>(std::memchr(p, delimiter, static_cast<std::size_t>(end - p)));
+    f(p, q == nullptr ? end : q, count++);
+    if (q == nullptr) return count;
+    p = q + 1;
+  }
+}
+
 }  // namespace
 
-RawTable readRawTable(const std::string& path) {
-  const std::string text = readFile(path);
-  std::istringstream in(text);
+RawTable readRawHeader(const std::string& path) {
   RawTable table;
   table.file = path;
-  char delimiter = 0;
-  std::vector<std::vector<double>> rows;
-  int line_number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_number;
-    const std::string content = trim(line);
-    if (content.empty() || content[0] == '#') continue;
-    if (delimiter == 0) {
-      delimiter = ' ';
+  bool header_seen = false;
+  forEachLine(path, [&](const char* begin, const char* end, int line) {
+    if (!isDataLine(begin, end)) return true;
+    if (table.delimiter == 0) {
+      table.delimiter = ' ';
       for (char d : {',', ';', '\t'})
-        if (content.find(d) != std::string::npos) {
-          delimiter = d;
+        if (std::memchr(begin, d, static_cast<std::size_t>(end - begin)) != nullptr) {
+          table.delimiter = d;
           break;
         }
-    }
-    const std::vector<std::string> fields = splitFields(content, delimiter);
-    std::vector<double> row(fields.size());
-    bool numeric = true;
-    for (std::size_t c = 0; c < fields.size(); ++c)
-      numeric = numeric && parseNumber(fields[c], &row[c]);
-    if (table.names.empty() && rows.empty()) {
-      if (!numeric) {  // a header
+      std::vector<std::string> fields;
+      bool numeric = true;
+      forEachField(begin, end, table.delimiter, [&](const char* b, const char* e, int) {
+        double x = 0.0;
+        numeric = numeric && parseNumber(b, e, &x);
+        fields.push_back(trim(std::string(b, e)));
+      });
+      if (!numeric) {
         table.names = fields;
-        continue;
+        header_seen = true;
+        return true;  // the data start on a later line
       }
       for (std::size_t c = 0; c < fields.size(); ++c) table.names.push_back(std::to_string(c + 1));
     }
-    if (rows.empty()) table.first_data_line = line_number;
-    if (fields.size() != table.names.size())
-      throw ParseError(path, line_number, "",
-                       "has " + std::to_string(fields.size()) + " fields, the table has " +
-                           std::to_string(table.names.size()) + " columns");
-    for (std::size_t c = 0; c < fields.size(); ++c)
-      if (!parseNumber(fields[c], &row[c]) || !std::isfinite(row[c]))
-        throw ParseError(path, line_number, table.names[c],
-                         "'" + fields[c] + "' is not a finite number");
-    rows.push_back(std::move(row));
-  }
-  if (rows.empty()) throw ParseError(path, 0, "", "has no data rows");
-  table.values.resize(static_cast<Eigen::Index>(rows.size()),
-                      static_cast<Eigen::Index>(table.names.size()));
-  for (std::size_t r = 0; r < rows.size(); ++r)
-    for (std::size_t c = 0; c < rows[r].size(); ++c)
-      table.values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = rows[r][c];
+    table.first_data_line = line;
+    return false;
+  });
+  if (table.first_data_line == 0) throw ParseError(path, 0, "", "has no data rows");
+  (void)header_seen;
+  return table;
+}
+
+Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns) {
+  const std::string& path = header.file;
+  const auto width = static_cast<int>(header.names.size());
+  // Pass 1: the rows, to allocate once.
+  Eigen::Index rows = 0;
+  forEachLine(path, [&](const char* begin, const char* end, int line) {
+    if (line >= header.first_data_line && isDataLine(begin, end)) ++rows;
+    return true;
+  });
+  // Where each table column goes (-1: not kept).
+  std::vector<int> target(static_cast<std::size_t>(width), -1);
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    target.at(static_cast<std::size_t>(columns[k])) = static_cast<int>(k);
+  Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
+  Eigen::Index row = 0;
+  forEachLine(path, [&](const char* begin, const char* end, int line) {
+    if (line < header.first_data_line || !isDataLine(begin, end)) return true;
+    const int fields =
+        forEachField(begin, end, header.delimiter, [&](const char* b, const char* e, int c) {
+          if (c >= width || target[static_cast<std::size_t>(c)] < 0) return;
+          double x = 0.0;
+          if (!parseNumber(b, e, &x) || !std::isfinite(x))
+            throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
+                             "'" + trim(std::string(b, e)) + "' is not a finite number");
+          values(row, target[static_cast<std::size_t>(c)]) = x;
+        });
+    if (fields != width)
+      throw ParseError(path, line, "",
+                       "has " + std::to_string(fields) + " fields, the table has " +
+                           std::to_string(width) + " columns");
+    ++row;
+    return true;
+  });
+  return values;
+}
+
+RawTable readRawTable(const std::string& path) {
+  RawTable table = readRawHeader(path);
+  std::vector<int> all(table.names.size());
+  for (std::size_t c = 0; c < all.size(); ++c) all[c] = static_cast<int>(c);
+  table.values = readRawColumns(table, all);
   return table;
 }
 
 Eigen::MatrixXd readValueFile(const std::string& path, int width) {
-  const std::string text = readFile(path);
-  std::istringstream in(text);
   std::vector<double> values;
-  int line_number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_number;
-    std::istringstream fields(line);
-    for (std::string field; fields >> field;) {
+  forEachLine(path, [&](const char* begin, const char* end, int line) {
+    forEachField(begin, end, ' ', [&](const char* b, const char* e, int) {
       double x = 0.0;
-      if (!parseNumber(field, &x) || !std::isfinite(x))
-        throw ParseError(path, line_number, "", "'" + field + "' is not a finite number");
+      if (!parseNumber(b, e, &x) || !std::isfinite(x))
+        throw ParseError(path, line, "", "'" + std::string(b, e) + "' is not a finite number");
       values.push_back(x);
-    }
-  }
+    });
+    return true;
+  });
   if (values.empty()) throw ParseError(path, 0, "", "has no values");
   if (values.size() % static_cast<std::size_t>(width) != 0)
     throw ParseError(path, 0, "",
                      "has " + std::to_string(values.size()) + " values, not a multiple of " +
                          std::to_string(width) + " (one per joint per sample)");
   const auto rows = static_cast<Eigen::Index>(values.size() / static_cast<std::size_t>(width));
-  Eigen::MatrixXd out(rows, width);
-  for (Eigen::Index r = 0; r < rows; ++r)
-    for (int c = 0; c < width; ++c) out(r, c) = values[static_cast<std::size_t>(r * width + c)];
-  return out;
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), rows, width);
 }
 
 std::vector<int> selectColumns(const RawTable& table, const std::string& selector, int expected,

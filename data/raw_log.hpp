@@ -16,8 +16,9 @@ namespace dynid {
 struct RawTable {
   std::string file;
   std::vector<std::string> names;
-  Eigen::MatrixXd values;   // rows x names.size()
-  int first_data_line = 1;  // the file line of values.row(0)
+  Eigen::MatrixXd values;   // rows x names.size() (readRawTable), empty from readRawHeader
+  int first_data_line = 0;  // the file line of the first data row
+  char delimiter = 0;       // ',', ';', '\t', or ' ' for runs of blanks
 };
 
 /// Reads a table. The delimiter is the first of ',', ';', '\t' found on the first data line, else
@@ -26,6 +27,15 @@ struct RawTable {
 /// a short or long row or a field that is not a finite number, or Error when the file cannot be
 /// read.
 RawTable readRawTable(const std::string& path);
+
+/// The table's names, delimiter and first data line, without its values (reads up to the first
+/// data line).
+RawTable readRawHeader(const std::string& path);
+/// Only the given columns of the table (indices into header.names), in that order: rows = data
+/// lines. Every row's field count is checked, and the kept fields must be finite numbers (a text
+/// column that is not asked for is never parsed). Streams the file twice (count, then parse):
+/// memory is the result plus a 4 MB block. Errors as readRawTable's.
+Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns);
 
 /// Reads a one-signal-per-file log: every whitespace-separated number in the file, in order,
 /// shaped into samples of `width` values (width 1 for a time file). Throws ParseError naming the
