@@ -16,7 +16,7 @@ struct Entry {
 constexpr Entry kTable[] = {
     {Method::kOls, "ols", "ordinary least squares on the torques"},
     {Method::kWls, "wls", "weighted least squares (per-joint noise)"},
-    {Method::kPc, "pc", "physically consistent least squares (log-Cholesky)"},
+    {Method::kPc, "pc", "physically consistent least squares (entropic prior)"},
     {Method::kNlo, "nlo", "GC-error search: multistart COBYLA"},
     {Method::kGa, "ga", "GC-error search: genetic algorithm"},
     {Method::kHybrid, "hybrid", "GC-error search: GA, then COBYLA"},
@@ -69,6 +69,21 @@ Method parseMethod(const std::string& name, const std::vector<Method>& allowed) 
   for (Method m : allowed)
     if (name == methodName(m)) return m;
   throw InputError("unknown method '" + name + "' (expected " + methodList(allowed) + ")");
+}
+
+std::vector<Method> parseMethods(const std::string& list, const std::vector<Method>& allowed) {
+  if (list == "all") return allowed;
+  std::vector<Method> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = list.find(',', start);
+    const Method m = parseMethod(list.substr(start, comma - start), allowed);
+    if (std::find(out.begin(), out.end(), m) != out.end())
+      throw InputError(std::string("method '") + methodName(m) + "' is listed twice");
+    out.push_back(m);
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
 }
 
 bool isSearch(Method method) {

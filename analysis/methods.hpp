@@ -10,7 +10,7 @@ namespace dynid {
 enum class Method {
   kOls,            // ordinary least squares on the torques
   kWls,            // weighted least squares (Gautier)
-  kPc,             // physically consistent least squares (log-Cholesky)
+  kPc,             // physically consistent least squares (entropic divergence from a prior)
   kNlo,            // the paper's multistart COBYLA on the GC error
   kGa,             // the paper's genetic algorithm
   kHybrid,         // GA, then NLO from its best
@@ -33,6 +33,10 @@ const char* methodDescription(Method method);
 /// The method named `name` among `allowed`. Throws InputError listing them otherwise ("unknown
 /// method 'x' (expected ols, wls or pc)").
 Method parseMethod(const std::string& name, const std::vector<Method>& allowed = allMethods());
+/// Comma-separated names ("ols,nlo_refined"), each parsed by parseMethod, in order; "all" is
+/// every allowed method. Throws InputError for an unknown, repeated or empty name.
+std::vector<Method> parseMethods(const std::string& list,
+                                 const std::vector<Method>& allowed = allMethods());
 /// "ols, wls or pc".
 std::string methodList(const std::vector<Method>& methods);
 

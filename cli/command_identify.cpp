@@ -12,9 +12,10 @@ int runIdentify(const std::vector<std::string>& args) {
   po::options_description options("dynid identify");
   addRobotOptions(options);
   addStructuralOptions(options);
-  options.add_options()("method", po::value<std::string>()->default_value("ols"),
-                        "ols (ordinary), wls (weighted per joint, Gautier) or pc (physically "
-                        "consistent: log-Cholesky least squares from OLS)")(
+  options.add_options()(
+      "method", po::value<std::string>()->default_value("ols"),
+      "ols (ordinary), wls (weighted per joint, Gautier) or pc (physically "
+      "consistent: least squares regularised by the entropic divergence from the prior)")(
       "prior", po::value<std::string>(),
       "pc: prior model (robot spec; default: the robot's own parameters)")(
       "prior-weight", po::value<double>()->default_value(1.0),

@@ -11,42 +11,54 @@ namespace dynid::cli {
 
 namespace {
 
-void addSearchOptions(po::options_description& options) {
+/// The options, bound to the request's fields (po::notify stores them).
+void addSearchOptions(po::options_description& options, SearchRequest& r) {
   options.add_options()("method", po::value<std::string>()->required(),
                         "nlo (multistart COBYLA), ga or hybrid")(
-      "data", po::value<std::string>()->required(), "training dataset CSV")(
+      "data", po::value(&r.data_file)->required(), "training dataset CSV")(
       "init", po::value<std::string>(), "initial estimate: a robot spec (puma560, .urdf, .json)")(
       "perturb", po::value<double>(),
       "initial estimate: the robot's parameters perturbed uniformly by up to this fraction")(
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
-      "validate", po::value<std::string>(), "held-out dataset CSV: its GC error before and after")(
-      "seed", po::value<std::uint64_t>()->default_value(1), "seed of every random choice")(
-      "budget-evals", po::value<long>()->default_value(0), "stop after this many GC evaluations")(
-      "budget-seconds", po::value<double>()->default_value(0.0), "stop after this wall time [s]")(
-      "gc-tolerance", po::value<double>()->default_value(0.0), "stop at this GC error")(
-      "form", po::value<std::string>()->default_value("paper"),
-      "paper (7 per link) or standard (10)")("range", po::value<double>()->default_value(0.5),
-                                             "bounds: initial estimate +- this fraction")(
-      "absolute-range", po::value<double>()->default_value(0.0),
+      "validate", po::value(&r.validate_file),
+      "held-out dataset CSV: its GC error before and after")(
+      "seed", po::value(&r.seed)->default_value(1), "seed of every random choice")(
+      "budget-evals", po::value(&r.budget.max_evaluations)->default_value(0),
+      "stop after this many GC evaluations")("budget-seconds",
+                                             po::value(&r.budget.max_seconds)->default_value(0.0),
+                                             "stop after this wall time [s]")(
+      "gc-tolerance", po::value(&r.budget.gc_tolerance)->default_value(0.0),
+      "stop at this GC error")("form", po::value<std::string>()->default_value("paper"),
+                               "paper (7 per link) or standard (10)")(
+      "range", po::value(&r.space.relative_range)->default_value(0.5),
+      "bounds: initial estimate +- this fraction")(
+      "absolute-range", po::value(&r.space.absolute_range)->default_value(0.0),
       "range of parameters whose initial estimate is 0 (0: they stay fixed)")(
       "fix", po::value<std::string>(), "parameters held at their initial estimate, e.g. m2,cx3")(
-      "mass-constraint", po::value<std::string>()->default_value("auto"),
+      "mass-constraint", po::value(&r.mass_constraint)->default_value("auto"),
       "on, off or auto (on for nlo and hybrid, off for ga, as in the paper)")(
       "total-mass", po::value<double>(),
       "total mass [kg] (default: the truth's, else the initial's)")(
-      "horizon", po::value<double>()->default_value(0.05), "prediction horizon [s]")(
-      "segments", po::value<int>()->default_value(100), "segments (0: all non-overlapping)")(
-      "random-segments", po::bool_switch(), "seeded random segment starts")(
+      "horizon", po::value(&r.segments.horizon)->default_value(0.05), "prediction horizon [s]")(
+      "segments", po::value(&r.segments.num_segments)->default_value(100),
+      "segments (0: all non-overlapping)")("random-segments",
+                                           po::bool_switch(&r.segments.random_starts),
+                                           "seeded random segment starts")(
       "integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler (as the data)")(
-      "step", po::value<double>()->default_value(0.0), "integration step [s] (0: sample period)")(
-      "normalise", po::bool_switch(), "weight q and dq errors by 1 / their spread")(
-      "population", po::value<int>()->default_value(100), "GA population")(
-      "elites", po::value<int>()->default_value(1), "GA elites")(
-      "migration", po::value<double>()->default_value(0.05), "GA migration factor")(
-      "mutation-rate", po::value<double>()->default_value(0.1), "GA per-parameter mutation rate")(
-      "mutation-scale", po::value<double>()->default_value(0.1), "mutation sigma / |value|")(
-      "evals-per-seed", po::value<int>()->default_value(400), "NLO COBYLA evaluations per seed")(
-      "checkpoint", po::value<std::string>(),
+      "step", po::value(&r.segments.step)->default_value(0.0),
+      "integration step [s] (0: sample period)")("normalise",
+                                                 po::bool_switch(&r.segments.normalise),
+                                                 "weight q and dq errors by 1 / their spread")(
+      "population", po::value(&r.ga.population)->default_value(100), "GA population")(
+      "elites", po::value(&r.ga.elites)->default_value(1), "GA elites")(
+      "migration", po::value(&r.ga.migration)->default_value(0.05), "GA migration factor")(
+      "mutation-rate", po::value(&r.ga.mutation_rate)->default_value(0.1),
+      "GA per-parameter mutation rate")("mutation-scale",
+                                        po::value(&r.ga.mutation_scale)->default_value(0.1),
+                                        "mutation sigma / |value| (GA and NLO)")(
+      "evals-per-seed", po::value(&r.nlo.evaluations_per_seed)->default_value(400),
+      "NLO COBYLA evaluations per seed")(
+      "checkpoint", po::value(&r.checkpoint),
       "save after every round or generation; resume if it exists")(
       "out", po::value<std::string>()->required(), "output directory (search.json)");
   addThreadsOption(options);
@@ -63,53 +75,33 @@ std::vector<std::string> splitNames(const std::string& list) {
   return out;
 }
 
-/// The request's settings from the options (everything but the models).
+/// What the bound options leave: the parsed ones and the checks.
 void readSearchSettings(const po::variables_map& vm, SearchRequest& r) {
-  r.budget = {vm["budget-evals"].as<long>(), vm["budget-seconds"].as<double>(),
-              vm["gc-tolerance"].as<double>()};
   if (r.budget.max_evaluations < 0 || r.budget.max_seconds < 0)
     throw UsageError("budgets must be >= 0");
-  r.mass_constraint = vm["mass-constraint"].as<std::string>();
   if (r.mass_constraint != "on" && r.mass_constraint != "off" && r.mass_constraint != "auto")
     throw UsageError("--mass-constraint must be on, off or auto");
   r.segments.integrator = parseOption(vm, "integrator", parseIntegrator);
-  r.segments.horizon = vm["horizon"].as<double>();
-  r.segments.num_segments = vm["segments"].as<int>();
-  r.segments.random_starts = vm["random-segments"].as<bool>();
-  r.segments.step = vm["step"].as<double>();
-  r.segments.normalise = vm["normalise"].as<bool>();
   r.space.form = parseOption(vm, "form", parseParameterForm);
-  r.space.relative_range = vm["range"].as<double>();
-  r.space.absolute_range = vm["absolute-range"].as<double>();
   if (vm.count("fix")) r.space.fixed = splitNames(vm["fix"].as<std::string>());
   if (vm.count("total-mass")) r.total_mass = vm["total-mass"].as<double>();
-  r.seed = vm["seed"].as<std::uint64_t>();
   r.threads = threadsOption(vm);
-  r.nlo.evaluations_per_seed = vm["evals-per-seed"].as<int>();
-  r.nlo.mutation_scale = vm["mutation-scale"].as<double>();
-  r.ga.population = vm["population"].as<int>();
-  r.ga.elites = vm["elites"].as<int>();
-  r.ga.migration = vm["migration"].as<double>();
-  r.ga.mutation_rate = vm["mutation-rate"].as<double>();
-  r.ga.mutation_scale = vm["mutation-scale"].as<double>();
-  if (vm.count("checkpoint")) r.checkpoint = vm["checkpoint"].as<std::string>();
-  r.data_file = vm["data"].as<std::string>();
-  if (vm.count("validate")) r.validate_file = vm["validate"].as<std::string>();
+  r.nlo.mutation_scale = r.ga.mutation_scale;
 }
 
 }  // namespace
 
 int runSearch(const std::vector<std::string>& args) {
   po::options_description options("dynid search");
+  SearchRequest request;
   addRobotOptions(options);
-  addSearchOptions(options);
+  addSearchOptions(options, request);
   po::variables_map vm;
   const std::string usage =
       "dynid search --method nlo|ga|hybrid --robot R --data train.csv [--init guess.json | "
       "--perturb 0.3] [--truth truth.json] --seed S [--budget-evals N] [--budget-seconds T] --out "
       "DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  SearchRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, searchMethods()); });
   if (vm.count("init") && vm.count("perturb"))

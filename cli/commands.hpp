@@ -17,6 +17,7 @@ int runIdentify(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);
 int runRefine(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);
+int runStudy(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

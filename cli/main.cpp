@@ -25,6 +25,7 @@ const char* kUsage =
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
+    "  study                    every method on your own log: torque fit and motion prediction\n"
     "  batch                    a grid of study runs in parallel, resumable and shardable; merge\n"
     "\n"
     "robots: --robot puma560, puma560-consistent or panda (built in), a .urdf file, or a dynid "
@@ -56,7 +57,7 @@ int main(int argc, char** argv) {
       {"identify", runIdentify}, {"search", runSearch},
       {"refine", runRefine},     {"demo", runDemo},
       {"batch", runBatch},       {"prepare", runPrepare},
-      {"predict", runPredict}};
+      {"predict", runPredict},   {"study", runStudy}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

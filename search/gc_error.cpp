@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "search/gc_rollout.hpp"
@@ -12,13 +14,40 @@ namespace dynid {
 GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   const int samples = data.numSamples(), n = data.numJoints();
   if (samples < 2) throw InputError("the dataset needs at least 2 samples for GC error segments");
-  const double period = (data.time[samples - 1] - data.time[0]) / (samples - 1);
+  // Runs: a step longer than 1.5 median steps ends one, as in a `dynid prepare` output split at
+  // gaps. The sample period is the mean step within the runs (for one run, (t_end - t_0) /
+  // (samples - 1)), and every step within a run must equal it to 1e-6.
+  std::vector<double> steps(static_cast<std::size_t>(samples - 1));
+  for (int k = 1; k < samples; ++k) steps[k - 1] = data.time[k] - data.time[k - 1];
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0.0)) throw InputError("the dataset's time stamps do not increase");
+  std::vector<std::pair<int, int>> runs;  // [begin, end) sample ranges
+  int begin = 0;
   for (int k = 1; k < samples; ++k)
-    if (std::abs(data.time[k] - data.time[k - 1] - period) > 1e-6 * period)
+    if (steps[k - 1] > 1.5 * median) {
+      runs.emplace_back(begin, k);
+      begin = k;
+    }
+  runs.emplace_back(begin, samples);
+  double span = 0.0;
+  int intervals = 0;
+  for (const auto& [b, e] : runs) {
+    span += data.time[e - 1] - data.time[b];
+    intervals += e - 1 - b;
+  }
+  const double period = runs.size() == 1 ? (data.time[samples - 1] - data.time[0]) / (samples - 1)
+                                         : span / std::max(intervals, 1);
+  for (int k = 1; k < samples; ++k) {
+    const double step = steps[k - 1];
+    if (step <= 1.5 * median && std::abs(step - period) > 1e-6 * period)
       throw InputError("GC error needs a constant sample period; samples " + std::to_string(k) +
-                       " and " + std::to_string(k + 1) + " are " +
-                       std::to_string(data.time[k] - data.time[k - 1]) + " s apart, not " +
-                       std::to_string(period));
+                       " and " + std::to_string(k + 1) + " are " + std::to_string(step) +
+                       " s apart, not " + std::to_string(period) +
+                       " (resample the log with dynid prepare)");
+  }
   if (!(options.horizon > 0.0)) throw InputError("the horizon must be positive");
   const double per = options.horizon / period;
   const int segment_samples = static_cast<int>(std::lround(per));
@@ -35,22 +64,38 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   problem.substeps = static_cast<int>(std::lround(sub));
   if (problem.substeps < 1 || std::abs(sub - problem.substeps) > 1e-6 * sub)
     throw InputError("the integration step does not divide the sample period");
-  const int available = (samples - 1) / segment_samples;  // non-overlapping segments
+  // Segments never cross a run boundary: non-overlapping slots per run, and valid random starts.
+  std::vector<long> slots, valid;  // per run
+  long available = 0, starts_total = 0;
+  for (const auto& [b, e] : runs) {
+    slots.push_back((e - b - 1) / segment_samples);
+    valid.push_back(std::max(0, e - b - segment_samples));
+    available += slots.back();
+    starts_total += valid.back();
+  }
   if (available < 1) throw InputError("the dataset is shorter than one horizon");
-  int count = options.num_segments <= 0 ? available : options.num_segments;
+  int count = options.num_segments <= 0 ? static_cast<int>(available) : options.num_segments;
   if (!options.random_starts) {
     if (count > available)
       throw InputError("asked for " + std::to_string(count) + " segments of " +
                        std::to_string(options.horizon) + " s; the dataset has room for " +
                        std::to_string(available) + " without overlap");
-    // Evenly spaced starts over the whole dataset.
-    for (int s = 0; s < count; ++s)
-      problem.starts.push_back(static_cast<int>(static_cast<long>(s) * available / count) *
-                               segment_samples);
+    // Evenly spaced over the slots of every run.
+    for (int s = 0; s < count; ++s) {
+      long slot = static_cast<long>(s) * available / count;
+      std::size_t r = 0;
+      while (slot >= slots[r]) slot -= slots[r++];
+      problem.starts.push_back(runs[r].first + static_cast<int>(slot) * segment_samples);
+    }
   } else {
     std::mt19937_64 rng(options.seed);
-    std::uniform_int_distribution<int> start(0, samples - 1 - segment_samples);
-    for (int s = 0; s < count; ++s) problem.starts.push_back(start(rng));
+    std::uniform_int_distribution<long> start(0, starts_total - 1);
+    for (int s = 0; s < count; ++s) {
+      long at = start(rng);
+      std::size_t r = 0;
+      while (at >= valid[r]) at -= valid[r++];
+      problem.starts.push_back(runs[r].first + static_cast<int>(at));
+    }
     std::sort(problem.starts.begin(), problem.starts.end());
   }
   problem.weight_q = Eigen::VectorXd::Ones(n);

@@ -42,10 +42,12 @@ struct GcProblem {
   int numSegments() const { return static_cast<int>(starts.size()); }
 };
 
-/// Builds segments from a dataset. Throws InputError when the horizon is not a whole number of
-/// sample periods (to 1e-6), the sample period is not constant (to 1e-6 relative), the step does
-/// not divide it, or the dataset is shorter than one segment; asks for no more segments than fit
-/// without overlap when evenly spaced.
+/// Builds segments from a dataset. The sample period is the median step; a step longer than 1.5
+/// periods separates two runs (a `dynid prepare` output split at gaps, or several files), and no
+/// segment crosses it. Throws InputError when the horizon is not a whole number of sample periods
+/// (to 1e-6), another step differs from the period (to 1e-6 relative), the step does not divide
+/// it, or no run holds one segment; asks for no more segments than fit without overlap when
+/// evenly spaced.
 GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options);
 
 /// A segment whose prediction diverges (non-finite, or a squared error above this) counts as this,

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
@@ -61,6 +63,34 @@ TEST(GcError, NormalisationAndSegmentChoices) {
   const GcProblem random_b = makeGcProblem(data, {.random_starts = true, .seed = 3});
   EXPECT_EQ(random_a.starts, random_b.starts);
   EXPECT_EQ(makeGcProblem(data, {.num_segments = 0}).numSegments(), 120);
+}
+
+TEST(GcError, SegmentsNeverCrossARunBoundary) {
+  // Two runs, as `dynid prepare` writes a log split at a gap: the second starts 2 s after the
+  // first ends. 0.05 s horizons at 1 kHz: 50 samples per segment.
+  const Trajectory data = pumaData(0.5);
+  Trajectory runs = data;
+  const int n = data.numSamples(), half = n / 2;
+  for (int k = half; k < n; ++k) runs.time[k] += 2.0;
+  for (bool random : {false, true}) {
+    SegmentOptions options;
+    options.num_segments = 0;
+    options.random_starts = random;
+    if (random) options.num_segments = 200;
+    const GcProblem p = makeGcProblem(runs, options);
+    ASSERT_GT(p.numSegments(), 0);
+    for (int start : p.starts) {
+      const int end = start + p.samples_per_segment;
+      ASSERT_LT(end, n);
+      // Inside one run: no step of the segment is the 2 s jump.
+      EXPECT_NEAR(runs.time[end] - runs.time[start], 0.05, 1e-9) << start;
+    }
+    if (!random) {
+      // Every non-overlapping slot of each run: (half - 1) / 50 + (n - half - 1) / 50.
+      EXPECT_EQ(p.numSegments(), (half - 1) / 50 + (n - half - 1) / 50);
+      EXPECT_TRUE(std::find(p.starts.begin(), p.starts.end(), half) != p.starts.end());
+    }
+  }
 }
 
 TEST(GcError, RejectsBadSettings) {

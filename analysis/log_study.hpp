@@ -1,0 +1,65 @@
+// The paper's comparison on the user's own log (`dynid study`): every estimation method, least
+// squares (ols, wls, pc) and the GC-error searches (nlo, ga, hybrid) with their refinements, run
+// on a real dataset and measured side by side on the two things a user wants from a model: how
+// well it fits the measured torques (the relative error ||tau - tau_hat|| / ||tau||) and how well
+// it predicts the motion (the GC error: states rolled out over short horizons from the recorded
+// states with the recorded torques), each on the training data and on held-out data. There is
+// no truth: which estimate to trust for simulation is exactly what the table answers.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "analysis/methods.hpp"
+#include "analysis/runs.hpp"
+#include "search/gc_error.hpp"
+
+namespace dynid {
+
+struct LogStudyRequest {
+  Model robot;             // its parameters: the user's model (CAD, datasheet, published)
+  std::string robot_spec;  // how it was named
+  std::string data_file, validate_file;  // dataset CSVs (dynid prepare's train.csv, validate.csv)
+  std::vector<Method> methods;           // empty: every method, in allMethods() order
+  SegmentOptions segments;       // the GC error's; num_segments capped at what each dataset holds
+  double search_seconds = 30.0;  // per search (0: no time limit)
+  long search_evaluations = 0;   // per search (0: no limit); one of the two must be set
+  int refine_iterations = 50;    // per refinement stage
+  double refine_seconds = 60.0;  // per refinement (0: no limit)
+  /// A refinement stops when an iteration lowers the cost by less than this fraction.
+  double refine_tolerance = 1e-6;
+  std::uint64_t seed = 1;
+  int threads = 0;  // 0: every core
+  RunControl control;
+};
+
+/// One model measured on both datasets.
+struct LogStudyRow {
+  std::string key;  // "model" (the robot's own parameters), "start" (the searches' start: the pc
+                    // estimate; only when a search runs), or a method name
+  double torque_train = 0.0, torque_test = 0.0;  // relative torque errors
+  double gc_train = 0.0, gc_test = 0.0;          // GC errors
+  bool consistent = false;                       // every link physically consistent
+  long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc)
+  double seconds = 0.0;
+  std::string note;  // e.g. "stopped at its time budget"
+};
+
+struct LogStudyOutcome {
+  std::string robot_spec, data_file, validate_file;
+  int train_samples = 0, test_samples = 0;
+  int num_base = 0, num_standard = 0;
+  int train_segments = 0, test_segments = 0;
+  double horizon = 0.0;
+  std::vector<LogStudyRow> rows;  // "model", "start", then each method in the request's order
+  bool interrupted = false;
+  double seconds = 0.0;
+};
+
+/// Throws InputError for an invalid setting (named), a dataset of another joint count, a held-out
+/// file that is missing (validate_file is required), data too short for one GC segment; ParseError
+/// for a malformed dataset; NumericalError when the data do not excite every base parameter.
+LogStudyOutcome logStudyRun(const LogStudyRequest& request);
+
+}  // namespace dynid

@@ -1,0 +1,69 @@
+// dynid study: every method on the user's own log, torque fit and motion prediction side by side
+// (analysis/log_study.hpp), with its report.
+#include <iostream>
+
+#include "analysis/log_study.hpp"
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "reports/log_study_report.hpp"
+
+namespace dynid::cli {
+
+int runStudy(const std::vector<std::string>& args) {
+  po::options_description options("dynid study");
+  addRobotOptions(options);
+  options.add_options()("data", po::value<std::string>()->required(), "training dataset CSV")(
+      "validate", po::value<std::string>()->required(), "held-out dataset CSV")(
+      "methods", po::value<std::string>()->default_value("all"),
+      "comma-separated methods, or all (ols,wls,pc,nlo,ga,hybrid and the *_refined)")(
+      "horizon", po::value<double>()->default_value(0.05), "GC error horizon [s]")(
+      "segments", po::value<int>()->default_value(100), "GC error segments (at most that fit)")(
+      "search-seconds", po::value<double>()->default_value(30.0), "wall time of each search")(
+      "search-evaluations", po::value<long>()->default_value(0), "GC evaluations of each search")(
+      "refine-iterations", po::value<int>()->default_value(50), "per refinement stage")(
+      "refine-seconds", po::value<double>()->default_value(60.0), "per refinement (0: no limit)")(
+      "seed", po::value<std::uint64_t>()->default_value(1), "seed of the searches")(
+      "out", po::value<std::string>()->required(), "output directory");
+  addThreadsOption(options);
+  po::variables_map vm;
+  if (!parseCommandLine(args, options,
+                        "dynid study --robot R [--drive-terms T] --data train.csv --validate "
+                        "held.csv --out DIR",
+                        vm))
+    return kExitOk;
+  LogStudyRequest request;
+  request.robot = loadRobotFromOptions(vm);
+  request.robot_spec = vm["robot"].as<std::string>();
+  request.data_file = vm["data"].as<std::string>();
+  request.validate_file = vm["validate"].as<std::string>();
+  request.methods =
+      parseOption(vm, "methods", [](const std::string& list) { return parseMethods(list); });
+  request.segments.horizon = checkedOption<double>(
+      vm, "horizon", [](double h) { return h > 0.0; }, "> 0");
+  request.segments.num_segments = checkedOption<int>(
+      vm, "segments", [](int s) { return s >= 1; }, ">= 1");
+  request.segments.seed = vm["seed"].as<std::uint64_t>();
+  request.search_seconds = checkedOption<double>(
+      vm, "search-seconds", [](double s) { return s >= 0.0; }, ">= 0");
+  request.search_evaluations = checkedOption<long>(
+      vm, "search-evaluations", [](long e) { return e >= 0; }, ">= 0");
+  if (request.search_seconds == 0.0 && request.search_evaluations == 0)
+    throw UsageError("a search needs a budget: --search-seconds or --search-evaluations > 0");
+  request.refine_iterations = checkedOption<int>(
+      vm, "refine-iterations", [](int i) { return i >= 1; }, ">= 1");
+  request.refine_seconds = checkedOption<double>(
+      vm, "refine-seconds", [](double s) { return s >= 0.0; }, ">= 0");
+  request.seed = vm["seed"].as<std::uint64_t>();
+  request.threads = threadsOption(vm);
+  if (stderrIsTerminal())
+    request.control.progress = [](const std::string& line) {
+      std::cerr << "[study] " << line << "\n";
+    };
+  const InterruptGuard guard;
+  request.control.stop = guard.flag();
+  const LogStudyOutcome outcome = logStudyRun(request);
+  std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome);
+  return kExitOk;
+}
+
+}  // namespace dynid::cli

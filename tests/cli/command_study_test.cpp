@@ -1,0 +1,73 @@
+// dynid study: every method on a dataset, torque fit and GC error side by side, and its errors.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
+  const std::string train = test::tempPath("study_train.csv"),
+                    held = test::tempPath("study_held.csv"), dir = test::tempPath("study");
+  ASSERT_EQ(
+      run("simulate --robot puma560 --duration 2 --noise-tau 0.05 --seed 2 --out " + train).code,
+      0);
+  ASSERT_EQ(run("simulate --robot puma560 --duration 1 --controller fourier --amplitude 0.6 "
+                "--seed 3 --out " +
+                held)
+                .code,
+            0);
+  const std::string common = "study --robot puma560 --data " + train + " --validate " + held +
+                             " --segments 10 --search-evaluations 60 --refine-iterations 2 ";
+  const Result r = run(common + "--methods ols,pc,ga,ga_refined --threads 1 --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "Best held-out torque fit:")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
+  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["order"],
+            (std::vector<std::string>{"model", "start", "ols", "pc", "ga", "ga_refined"}));
+  for (const char* key : {"torque_relative_error_train", "torque_relative_error_test",
+                          "gc_error_train", "gc_error_test", "physically_consistent"})
+    EXPECT_TRUE(j["methods"]["ga"].contains(key)) << key;
+  // The GA finishes the generation in which the budget runs out.
+  EXPECT_GE(j["methods"]["ga"]["evaluations"].get<long>(), 60);
+  for (const char* file : {"report.md", "report.html", "torque_vs_gc.svg"})
+    EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + file)) << file;
+  // The same seed, two threads: the same table.
+  const std::string dir2 = test::tempPath("study2");
+  ASSERT_EQ(run(common + "--methods ols,pc,ga,ga_refined --threads 2 --out " + dir2).code, 0);
+  const auto j2 = nlohmann::json::parse(readFile(dir2 + "/study.json"));
+  EXPECT_EQ(j2["methods"]["ga_refined"]["gc_error_test"],
+            j["methods"]["ga_refined"]["gc_error_test"]);
+
+  // Usage errors (exit 2): an unknown or repeated method, no budget, no held-out data.
+  const std::string none = test::tempPath("never_studied");
+  EXPECT_EQ(run(common + "--methods ols,lasso --out " + none).code, 2);
+  EXPECT_EQ(run(common + "--methods ols,ols --out " + none).code, 2);
+  EXPECT_EQ(run("study --robot puma560 --data " + train + " --validate " + held +
+                " --search-seconds 0 --out " + none)
+                .code,
+            2);
+  EXPECT_EQ(run("study --robot puma560 --data " + train + " --out " + none).code, 2);
+  // Data errors (exit 1): a missing file named, data of another robot.
+  const Result missing = run("study --robot puma560 --data " + train + " --validate " +
+                             test::tempPath("nope.csv") + " --out " + none);
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_TRUE(contains(missing.err, "nope.csv")) << missing.err;
+  EXPECT_EQ(
+      run("study --robot panda --data " + train + " --validate " + held + " --out " + none).code,
+      1);
+  EXPECT_FALSE(std::filesystem::exists(none));
+}
+
+}  // namespace
+}  // namespace dynid
