@@ -182,13 +182,13 @@ std::vector<double> steps(const RawSignals& s) {
 /// Consecutive samples of one file without a gap, and where its output goes.
 struct RunSpan {
   std::size_t file = 0;
-  Eigen::Index begin = 0, end = 0;             // [begin, end) in the file's samples
-  PreparedRun run;                             // file and time offset set
-  int count = 0, edge = 0;                     // resampled samples; trimmed at each end
-  bool kept = false;                           // long enough for the filter
-  std::vector<int> rows;                       // the resampled samples written (trimmed, decimated)
-  Eigen::Index split = 0;                      // rows before it train, from it validate
-  Eigen::Index train_at = 0, validate_at = 0;  // first output column in each set
+  Eigen::Index begin = 0, end = 0;  // [begin, end) in the file's samples
+  PreparedRun run;                  // file and time offset set
+  int count = 0, edge = 0;          // resampled samples; trimmed at each end
+  bool kept = false;                // long enough for the filter
+  std::vector<int> rows;            // the resampled samples written (trimmed, decimated)
+  std::vector<char> held;           // per row: 1 when it goes to the validate set
+  std::vector<Eigen::Index> slot;   // per row: its column in the train or validate set
 };
 
 int resampledCount(const RawSignals& s, const RunSpan& span, double rate) {
@@ -355,23 +355,12 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const std::vector<Biqu
       return order == 1 ? derivative(x, h) : derivative(derivative(x, h), h);
     return savitzkyGolay(x, h, window, options.savgol_degree, order);
   };
-  const auto rows = static_cast<Eigen::Index>(span.rows.size());
   const auto store = [&](Eigen::MatrixXd Trajectory::*member, int j, const Eigen::VectorXd& x) {
-    for (Eigen::Index r = 0; r < rows; ++r) {
-      const double value = x[span.rows[static_cast<std::size_t>(r)]];
-      if (r < span.split)
-        (out.train.*member)(j, span.train_at + r) = value;
-      else
-        (out.validate.*member)(j, span.validate_at + r - span.split) = value;
-    }
+    for (std::size_t r = 0; r < span.rows.size(); ++r)
+      ((span.held[r] ? out.validate : out.train).*member)(j, span.slot[r]) = x[span.rows[r]];
   };
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    const double t = t0 + span.rows[static_cast<std::size_t>(r)] * h;
-    if (r < span.split)
-      out.train.time[span.train_at + r] = t;
-    else
-      out.validate.time[span.validate_at + r - span.split] = t;
-  }
+  for (std::size_t r = 0; r < span.rows.size(); ++r)
+    (span.held[r] ? out.validate : out.train).time[span.slot[r]] = t0 + span.rows[r] * h;
   if (excerpt && !filter.empty()) {
     const int length = std::min(count, static_cast<int>(std::lround(2.0 * out.rate)));
     const int first = (count - length) / 2;
@@ -524,15 +513,30 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     }
     for (int k = span.edge; k < span.count - span.edge; k += options.decimate)
       span.rows.push_back(k);
-    span.split = static_cast<Eigen::Index>(
+    // Held out: the run when listed, the samples within a validation time range, and the last
+    // fraction of every run.
+    const auto split = static_cast<std::size_t>(
         std::floor((1.0 - options.validate_fraction) * static_cast<double>(span.rows.size())));
-    span.train_at = train_samples;
-    span.validate_at = validate_samples;
-    train_samples += span.split;
-    validate_samples += static_cast<Eigen::Index>(span.rows.size()) - span.split;
+    const bool whole = std::find(options.validate_runs.begin(), options.validate_runs.end(),
+                                 static_cast<int>(out.runs_planned)) != options.validate_runs.end();
+    ++out.runs_planned;
+    const double t0 = span.run.start + span.run.time_offset;
+    for (std::size_t k = 0; k < span.rows.size(); ++k) {
+      const double t = t0 + span.rows[k] / out.rate;
+      bool held = whole || k >= split;
+      for (const auto& [from, to] : options.validate_ranges) held = held || (t >= from && t <= to);
+      span.held.push_back(held ? 1 : 0);
+      span.slot.push_back(held ? validate_samples++ : train_samples++);
+    }
     span.run.samples = static_cast<int>(span.rows.size());
     if (longest == spans.size() || span.count > spans[longest].count) longest = r;
   }
+  for (int r : options.validate_runs)
+    if (r < 0 || r >= out.runs_planned)
+      throw InputError("validation run " + std::to_string(r + 1) + " does not exist: the log has " +
+                       std::to_string(out.runs_planned) + " runs long enough for the filter");
+  if (train_samples == 0 && validate_samples > 0)
+    throw InputError("every sample is held out for validation: nothing is left to train on");
   if (train_samples == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +
                      std::to_string(out.trim) + " s trimmed at each end); lower --trim or " +

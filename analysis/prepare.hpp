@@ -4,12 +4,14 @@
 //   ratio) -> sort by time, drop repeated stamps and stalled repeats -> split at gaps -> resample
 //   to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
 //   ("parallel filtering") -> dq (when not logged, or asked) and ddq by central differences ->
-//   trim the filter's edge transients -> decimate -> concatenate -> split train / validate.
+//   trim the filter's edge transients -> decimate -> concatenate -> split train / validate (the
+//   last fraction of each run, whole runs, time ranges).
 // Several tables are separate recordings: each is its own runs, never resampled, filtered or
 // differentiated across a file boundary.
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/signal.hpp"
@@ -49,6 +51,9 @@ struct PrepareOptions {
   bool savitzky_golay = false;
   int savgol_window = 0, savgol_degree = 3;
   double validate_fraction = 0.0;  // the last fraction of each run held out (0: none)
+  std::vector<int> validate_runs;  // whole runs held out: 0-based among the kept runs, in order
+  /// Held-out time ranges [from, to] in the output's time [s] (the log's, plus any file offset).
+  std::vector<std::pair<double, double>> validate_ranges;
   /// With LogSource::current: tau_j = current_j * torque_constants_j * gear_ratios_j (motor
   /// torque constant [N m/A] and gear ratio; the joint-side torque, drive losses left to the
   /// friction terms). One entry per joint each; gear ratios empty: 1.
@@ -73,6 +78,7 @@ struct PrepareOutcome {
   double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // raw [s]
   std::vector<std::pair<double, double>> gaps;               // (at [s], length [s])
   std::vector<PreparedRun> runs;
+  int runs_planned = 0;  // runs long enough for the filter (validate_runs index them)
   std::vector<PreparedRun> dropped_runs;  // runs shorter than the filter's transient
   double rate = 0.0, cutoff = 0.0, trim = 0.0, max_gap = 0.0;
   int order = 0, decimate = 1;

@@ -1,4 +1,5 @@
 // dynid prepare: a raw log (a table, or one file per signal) into dynid dataset CSVs.
+#include <cmath>
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -41,6 +42,8 @@ int runPrepare(const std::vector<std::string>& args) {
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
       "validate-fraction", po::value<double>()->default_value(0.0),
       "hold out the last fraction of each run as validate.csv")(
+      "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
+      "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(
       "out", po::value<std::string>()->required(), "output directory");
   po::variables_map vm;
   const std::string usage =
@@ -111,6 +114,22 @@ int runPrepare(const std::vector<std::string>& args) {
     }
   o.validate_fraction = checkedOption<double>(
       vm, "validate-fraction", [](double f) { return f >= 0.0 && f < 1.0; }, "in [0, 1)");
+  if (vm.count("validate-runs"))
+    for (double r : parseList(text("validate-runs"), "validate-runs")) {
+      if (r < 1 || r != std::floor(r)) throw UsageError("--validate-runs: runs count from 1");
+      o.validate_runs.push_back(static_cast<int>(r) - 1);
+    }
+  if (vm.count("validate-time")) {
+    std::string ranges = text("validate-time");
+    for (char& c : ranges) c = c == ':' ? ',' : c;
+    const std::vector<double> bounds = parseList(ranges, "validate-time");
+    for (std::size_t k = 0; k + 1 < bounds.size(); k += 2) {
+      if (!(bounds[k] < bounds[k + 1]))
+        throw UsageError("--validate-time: each range is from:to with from < to");
+      o.validate_ranges.emplace_back(bounds[k], bounds[k + 1]);
+    }
+    if (bounds.size() % 2 != 0) throw UsageError("--validate-time: ranges are from:to pairs");
+  }
   const PrepareOutcome outcome = prepareLog(source, o);
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome);
   return kExitOk;

@@ -51,6 +51,12 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
       o.savgol_window > 0 ? "Savitzky-Golay (degree " + std::to_string(options.savgol_degree) +
                                 ", " + std::to_string(o.savgol_window) + " samples)"
                           : std::string("central differences");
+  nlohmann::json ranges = nlohmann::json::array(), held_runs = nlohmann::json::array();
+  for (const auto& [from, to] : options.validate_ranges) ranges.push_back({from, to});
+  for (int r : options.validate_runs) held_runs.push_back(r + 1);
+  const nlohmann::json held_out = {{"fraction_of_each_run", options.validate_fraction},
+                                   {"runs", held_runs},
+                                   {"time_ranges", ranges}};
   return {
       {"schema_version", kPrepareSchemaVersion},
       {"kind", "dynid.prepare"},
@@ -82,6 +88,7 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
       {"trimmed_each_end", o.trim},
       {"decimate", o.decimate},
       {"samples", {{"train", o.train.numSamples()}, {"validate", o.validate.numSamples()}}},
+      {"held_out", held_out},
       {"tau_noise_rms", numbersOrNull(o.tau_noise)}};
 }
 

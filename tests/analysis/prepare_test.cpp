@@ -329,6 +329,40 @@ TEST(Prepare, SavitzkyGolayDerivativesMatchTheMotion) {
   EXPECT_THROW(prepareLog(tableSource(writeLog(0.0)), even), InputError);
 }
 
+TEST(Prepare, HoldsOutWholeRunsAndTimeRanges) {
+  const Eigen::Vector2d one = Eigen::Vector2d::Ones();
+  const std::string a = writeCleanLog("ha.csv", 0, 3, one), b = writeCleanLog("hb.csv", 0, 2, one);
+  // The second recording held out whole.
+  PrepareOptions by_run;
+  by_run.validate_runs = {1};
+  const PrepareOutcome r = prepareLog(cleanSource({a, b}), by_run);
+  ASSERT_EQ(r.runs.size(), 2u);
+  EXPECT_EQ(r.train.numSamples(), r.runs[0].samples);
+  EXPECT_EQ(r.validate.numSamples(), r.runs[1].samples);
+  EXPECT_GE(r.validate.time[0], r.runs[1].start + r.runs[1].time_offset);
+  // A time range inside the first recording, plus the last 10 % of each run.
+  PrepareOptions by_time;
+  by_time.validate_ranges = {{1.0, 1.5}};
+  by_time.validate_fraction = 0.1;
+  const PrepareOutcome t = prepareLog(cleanSource({a, b}), by_time);
+  int in_range = 0;
+  for (int k = 0; k < t.validate.numSamples(); ++k)
+    if (t.validate.time[k] >= 1.0 && t.validate.time[k] <= 1.5) ++in_range;
+  // 1.0 to 1.5 s at 1 kHz, both ends; an end stamp may fall past 1.5 by round-off.
+  EXPECT_NEAR(in_range, 501, 1);
+  for (int k = 0; k < t.train.numSamples(); ++k)
+    EXPECT_FALSE(t.train.time[k] >= 1.0 && t.train.time[k] <= 1.5) << t.train.time[k];
+  const int total = r.train.numSamples() + r.validate.numSamples();
+  EXPECT_EQ(t.train.numSamples() + t.validate.numSamples(), total);  // every sample once
+  // A run that does not exist, or everything held out, is refused.
+  PrepareOptions missing;
+  missing.validate_runs = {2};
+  EXPECT_THROW(prepareLog(cleanSource({a, b}), missing), InputError);
+  PrepareOptions everything;
+  everything.validate_runs = {0, 1};
+  EXPECT_THROW(prepareLog(cleanSource({a, b}), everything), InputError);
+}
+
 TEST(Prepare, RefusesWhatItCannotDo) {
   const std::string log = writeLog(0.0);
   PrepareOptions above_nyquist = msAndDegrees();

@@ -111,6 +111,18 @@ TEST(Cli, PrepareConvertsCurrentsAndJoinsNoFiles) {
   ASSERT_EQ(j["runs"].size(), 2u);
   EXPECT_EQ(j["runs"][1]["file"], 1);
   EXPECT_GT(j["runs"][1]["time_offset"].get<double>(), 4.0);
+  // The second file held out whole; time ranges parse as from:to pairs.
+  const std::string held = test::tempPath("held_run");
+  ASSERT_EQ(run("prepare --log " + a + " " + b +
+                " --q 2 --tau 3 --validate-runs 2 --validate-time 1:1.5 --out " + held)
+                .code,
+            0);
+  const auto jh = nlohmann::json::parse(readFile(held + "/prepare.json"));
+  EXPECT_EQ(jh["held_out"]["runs"], nlohmann::json::array({2}));
+  EXPECT_EQ(jh["held_out"]["time_ranges"][0][1], 1.5);
+  EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-time 2:1 --out " + held).code, 2);
+  EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-runs 0 --out " + held).code, 2);
+  EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-runs 5 --out " + held).code, 1);
 }
 
 }  // namespace
