@@ -15,13 +15,14 @@ namespace dynid {
 
 namespace {
 
-/// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) when
-/// logged. Only the first `rows` rows are live (dropping samples compacts in place).
+/// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) and
+/// ddq (n) when logged. Only the first `rows` rows are live (dropping samples compacts in place).
 struct RawSignals {
   Eigen::MatrixXd values;
   Eigen::Index rows = 0;
   int n = 0;
-  bool has_dq = false;
+  bool has_dq = false, has_ddq = false;
+  int ddq_at = 0;  // ddq's first column
   auto time() const { return values.col(0).head(rows); }
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }
@@ -43,12 +44,15 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
     const std::vector<int> tau =
         selectColumns(header, source.tau_columns, n, source.current ? "current" : "tau");
     columns.insert(columns.end(), tau.begin(), tau.end());
-    if (!source.dq_columns.empty()) {
-      const std::vector<int> dq = selectColumns(header, source.dq_columns, n, "dq");
-      columns.insert(columns.end(), dq.begin(), dq.end());
-    }
+    for (const auto& [selector, what] :
+         {std::pair{&source.dq_columns, "dq"}, std::pair{&source.ddq_columns, "ddq"}})
+      if (!selector->empty()) {
+        const std::vector<int> more = selectColumns(header, *selector, n, what);
+        columns.insert(columns.end(), more.begin(), more.end());
+      }
     out.values = readRawColumns(header, columns);
     out.has_dq = !source.dq_columns.empty();
+    out.has_ddq = !source.ddq_columns.empty();
   } else {
     if (n <= 0)
       throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
@@ -57,13 +61,15 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
     const Eigen::VectorXd time = readValueFile(source.time_file, 1).col(0);
     const Eigen::Index samples = time.size();
     out.has_dq = !source.dq_file.empty();
-    out.values.resize(samples, 1 + (out.has_dq ? 3 : 2) * n);
+    out.has_ddq = !source.ddq_file.empty();
+    out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * n);
     out.values.col(0) = time;
     int at = 1;
     for (const auto& [name, file] :
          {std::pair<const char*, const std::string*>{"q", &source.q_file},
           {source.current ? "current" : "tau", &source.tau_file},
-          {"dq", &source.dq_file}}) {
+          {"dq", &source.dq_file},
+          {"ddq", &source.ddq_file}}) {
       if (file->empty()) continue;
       const Eigen::MatrixXd m = readValueFile(*file, n);
       if (m.rows() != samples)
@@ -79,7 +85,9 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
   out.rows = out.values.rows();
   out.values.col(0) *= options.time_scale;
   out.values.middleCols(1, n) *= options.angle_scale;
+  out.ddq_at = 1 + (out.has_dq ? 3 : 2) * n;
   if (out.has_dq) out.values.middleCols(1 + 2 * n, n) *= options.angle_scale;
+  if (out.has_ddq) out.values.middleCols(out.ddq_at, n) *= options.angle_scale;
   if (source.current) {
     const auto check = [&](const Eigen::VectorXd& v, const char* what, bool required) {
       if (v.size() == 0 && !required) return;
@@ -387,11 +395,17 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const std::vector<Biqu
       if (dq.size() > 0) dq = filtfilt(filter, dq);
     }
     Eigen::VectorXd ddq;
-    if (dq.size() == 0) {
+    if (out.ddq_logged) {
+      ddq = resampled(s, span, s.ddq_at + j, out.rate, count);
+      if (!filter.empty()) ddq = filtfilt(filter, ddq);
+    }
+    if (dq.size() == 0 && ddq.size() > 0) {
+      dq = differentiate(q, 1);
+    } else if (dq.size() == 0) {
       dq = differentiate(q, 1);
       // Savitzky-Golay: ddq from the same polynomials as dq; central differences: of dq.
       ddq = options.savitzky_golay ? differentiate(q, 2) : derivative(dq, h);
-    } else {
+    } else if (ddq.size() == 0) {
       ddq = differentiate(dq, 1);
     }
     store(&Trajectory::q, j, q);
@@ -445,8 +459,8 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     if (s.n != files.front().n)
       throw InputError(label + ": " + std::to_string(s.n) + " joints, the first log " +
                        std::to_string(files.front().n));
-    if (s.has_dq != files.front().has_dq)
-      throw InputError(label + ": dq is logged in some files and not in others");
+    if (s.has_dq != files.front().has_dq || s.has_ddq != files.front().has_ddq)
+      throw InputError(label + ": dq or ddq is logged in some files and not in others");
     sortAndDeduplicate(s, out);
     if (s.rows < 3) throw InputError(label + ": fewer than 3 distinct time stamps");
     const std::vector<double> st = steps(s);
@@ -459,6 +473,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   out.order = options.order;
   out.decimate = options.decimate;
   out.dq_derived = !files.front().has_dq || options.derive_dq;
+  out.ddq_logged = files.front().has_ddq && !options.derive_ddq;
 
   // Pass 1: stalls, steps, time offsets and the runs between gaps.
   out.min_step = std::numeric_limits<double>::infinity();

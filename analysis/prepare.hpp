@@ -25,8 +25,9 @@ struct LogSource {
   std::vector<std::string> tables;  // delimited tables, in order; empty: one file per signal
   std::string time_column = "1", q_columns, dq_columns, tau_columns;  // table selectors
   std::string time_file, q_file, dq_file, tau_file;                   // one file per signal
-  int num_joints = 0;    // 0: the q selector's count (tables) or required (files)
-  bool current = false;  // the tau selector or file holds motor currents [A]
+  int num_joints = 0;                 // 0: the q selector's count (tables) or required (files)
+  bool current = false;               // the tau selector or file holds motor currents [A]
+  std::string ddq_columns, ddq_file;  // logged accelerations (rare): a table selector or a file
 };
 
 struct PrepareOptions {
@@ -40,11 +41,12 @@ struct PrepareOptions {
   /// (the frequency below which 99.5 % of q's power lies, every joint weighted alike), but below
   /// where q's spectrum meets its noise floor and at most a quarter of the rate.
   bool auto_cutoff = false;
-  int order = 4;           // Butterworth order
-  int decimate = 1;        // keep every Nth sample
-  double max_gap = 0.0;    // split the log at larger steps [s]; 0: 5 median steps
-  double trim = -1.0;      // dropped at each run's ends [s]; < 0: 2 / cutoff
-  bool derive_dq = false;  // dq from q even when dq is logged
+  int order = 4;            // Butterworth order
+  int decimate = 1;         // keep every Nth sample
+  double max_gap = 0.0;     // split the log at larger steps [s]; 0: 5 median steps
+  double trim = -1.0;       // dropped at each run's ends [s]; < 0: 2 / cutoff
+  bool derive_dq = false;   // dq from q even when dq is logged
+  bool derive_ddq = false;  // ddq from dq (or q) even when ddq is logged
   /// Derivatives by central differences, or by Savitzky-Golay polynomials of `savgol_degree` over
   /// `savgol_window` samples (odd; 0: the odd count nearest a quarter period of the cutoff, 10 Hz
   /// without a filter; at least degree + 2).
@@ -83,6 +85,7 @@ struct PrepareOutcome {
   double rate = 0.0, cutoff = 0.0, trim = 0.0, max_gap = 0.0;
   int order = 0, decimate = 1;
   bool dq_derived = false;
+  bool ddq_logged = false;    // the logged ddq, resampled and filtered, is used
   int savgol_window = 0;      // with Savitzky-Golay derivatives, the window used
   Eigen::VectorXd tau_noise;  // per joint: RMS of the resampled minus the filtered torque [N m]
   /// The cutoff's evidence, from the resampled runs before filtering: q's and tau's power spectra,

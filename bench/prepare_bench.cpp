@@ -59,7 +59,8 @@ std::string writeLog(long samples) {
 void BM_Prepare(benchmark::State& state) {
   const long samples = state.range(0);
   // The table, its time, q, dq (none) and tau columns; no per-signal files; joints from q.
-  const LogSource source{{writeLog(samples)}, "t", "q*", "", "tau*", "", "", "", "", 0, false};
+  const LogSource source{
+      {writeLog(samples)}, "t", "q*", "", "tau*", "", "", "", "", 0, false, "", ""};
   PrepareOptions options;
   options.validate_fraction = 0.2;
   const std::string dir =

@@ -15,11 +15,13 @@ int runPrepare(const std::vector<std::string>& args) {
       "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
       "q", po::value<std::string>(), "table: q columns (names, 1-based indices or globs: q*)")(
       "dq", po::value<std::string>(), "table: dq columns (default: derived from q)")(
+      "ddq", po::value<std::string>(), "table: ddq columns (default: derived)")(
       "tau", po::value<std::string>(), "table: torque columns")(
       "current", po::value<std::string>(), "table: motor current columns [A], instead of --tau")(
       "time-file", po::value<std::string>(), "one value per line: time")(
       "q-file", po::value<std::string>(), "one value per line, --joints per sample: q")(
       "dq-file", po::value<std::string>(), "same layout: dq (default: derived from q)")(
+      "ddq-file", po::value<std::string>(), "same layout: ddq (default: derived)")(
       "tau-file", po::value<std::string>(), "same layout: torques")(
       "current-file", po::value<std::string>(), "same layout: motor currents [A]")(
       "torque-constants", po::value<std::string>(), "with currents: N m/A per joint")(
@@ -35,6 +37,7 @@ int runPrepare(const std::vector<std::string>& args) {
       "max-gap", po::value<double>()->default_value(0.0), "split at longer steps [s] (0: 5 steps)")(
       "trim", po::value<double>()->default_value(-1.0), "dropped at run ends [s] (<0: 2/cutoff)")(
       "derive-dq", po::bool_switch(), "dq from q even when logged")(
+      "derive-ddq", po::bool_switch(), "ddq by differentiation even when logged")(
       "derivative", po::value<std::string>()->default_value("central"),
       "central (differences) or savgol (Savitzky-Golay)")(
       "savgol-window", po::value<int>()->default_value(0), "savgol: odd samples (0: auto)")(
@@ -67,6 +70,8 @@ int runPrepare(const std::vector<std::string>& args) {
   source.tau_file = vm.count("current-file") ? text("current-file") : text("tau-file");
   source.num_joints = vm["joints"].as<int>();
   source.current = vm.count("current") + vm.count("current-file") > 0;
+  source.ddq_columns = text("ddq");
+  source.ddq_file = text("ddq-file");
   if (source.tables.empty() == source.q_file.empty())
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
   if (!source.tables.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
@@ -104,6 +109,7 @@ int runPrepare(const std::vector<std::string>& args) {
       vm, "max-gap", [](double g) { return g >= 0.0; }, ">= 0");
   o.trim = vm["trim"].as<double>();
   o.derive_dq = vm["derive-dq"].as<bool>();
+  o.derive_ddq = vm["derive-ddq"].as<bool>();
   o.keep_stalled = vm["keep-stalled"].as<bool>();
   for (const auto& [key, target] : {std::pair{"torque-constants", &o.torque_constants},
                                     std::pair{"gear-ratios", &o.gear_ratios}})

@@ -31,15 +31,16 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   for (const PreparedRun& r : o.dropped_runs) dropped.push_back(runJson(r));
   for (const auto& [at, length] : o.gaps) gaps.push_back({{"at", at}, {"length", length}});
   const char* tau_key = source.current ? "current" : "tau";
-  nlohmann::json sources = source.tables.empty() ? nlohmann::json{{"time", source.time_file},
-                                                                  {"q", source.q_file},
-                                                                  {"dq", source.dq_file},
-                                                                  {tau_key, source.tau_file}}
-                                                 : nlohmann::json{{"tables", source.tables},
-                                                                  {"time", source.time_column},
-                                                                  {"q", source.q_columns},
-                                                                  {"dq", source.dq_columns},
-                                                                  {tau_key, source.tau_columns}};
+  nlohmann::json sources =
+      source.tables.empty()
+          ? nlohmann::json{{"time", source.time_file},
+                           {"q", source.q_file},
+                           {"dq", source.dq_file},
+                           {"ddq", source.ddq_file},
+                           {tau_key, source.tau_file}}
+          : nlohmann::json{{"tables", source.tables},   {"time", source.time_column},
+                           {"q", source.q_columns},     {"dq", source.dq_columns},
+                           {"ddq", source.ddq_columns}, {tau_key, source.tau_columns}};
   if (source.current)
     sources["current_to_torque"] = {
         {"torque_constants", numbersOrNull(options.torque_constants)},
@@ -84,7 +85,9 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
         {"applied_to", "q, dq, tau (parallel filtering)"}}},
       {"dq", o.dq_derived ? derivatives + " of the filtered q" : std::string("logged, filtered")},
       {"ddq",
-       derivatives + (o.dq_derived && o.savgol_window > 0 ? " of the filtered q" : " of dq")},
+       o.ddq_logged
+           ? std::string("logged, filtered")
+           : derivatives + (o.dq_derived && o.savgol_window > 0 ? " of the filtered q" : " of dq")},
       {"trimmed_each_end", o.trim},
       {"decimate", o.decimate},
       {"samples", {{"train", o.train.numSamples()}, {"validate", o.validate.numSamples()}}},
@@ -167,11 +170,15 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
         << " Hz (zero phase), ";
   else
     out << "no filter, ";
-  out << (outcome.dq_derived ? "dq and ddq" : "ddq") << " by "
-      << (outcome.savgol_window > 0
-              ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
-              : std::string("central differences"))
-      << ", " << outcome.trim << " s trimmed at each end, every " << outcome.decimate << " kept\n"
+  const std::string method =
+      outcome.savgol_window > 0
+          ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
+          : std::string("central differences");
+  if (outcome.dq_derived)
+    out << (outcome.ddq_logged ? "dq by " + method + ", ddq logged" : "dq and ddq by " + method);
+  else
+    out << (outcome.ddq_logged ? std::string("dq and ddq logged") : "ddq by " + method);
+  out << ", " << outcome.trim << " s trimmed at each end, every " << outcome.decimate << " kept\n"
       << "wrote " << dir << "/train.csv (" << outcome.train.numSamples() << " samples)";
   if (outcome.validate.numSamples() > 0)
     out << ", " << dir << "/validate.csv (" << outcome.validate.numSamples() << ")";

@@ -124,7 +124,7 @@ TEST(Prepare, TheDefaultCutoffFitsSlowLogs) {
   const std::string path = test::tempPath("slow.txt");
   writeFileAtomically(path, text.str());
   // The table, its time, q, dq (none) and tau columns; no per-signal files; joints from q.
-  const LogSource s{{path}, "1", "2", "", "3", "", "", "", "", 0};
+  const LogSource s{{path}, "1", "2", "", "3", "", "", "", "", 0, false, "", ""};
   const PrepareOutcome o = prepareLog(s, PrepareOptions{});
   EXPECT_NEAR(o.rate, 30.0, 1e-9);
   EXPECT_NEAR(o.cutoff, 7.5, 1e-9);
@@ -289,7 +289,7 @@ TEST(Prepare, AutoCutoffIsFiveTimesTheTrajectoryBandBelowTheNoise) {
   // Quiet encoders: the band edge is the 0.5 Hz sine (bins of 1000 / 16384 Hz; Hann spreads a
   // line over +-2 bins), the cutoff five times it.
   const LogSource quiet{
-      {writeSpectrumLog("quiet.txt", 1e-6)}, "1", "2", "", "3", "", "", "", "", 0};
+      {writeSpectrumLog("quiet.txt", 1e-6)}, "1", "2", "", "3", "", "", "", "", 0, false, "", ""};
   const PrepareOutcome a = prepareLog(quiet, o);
   EXPECT_GT(a.trajectory_band, 0.45);
   EXPECT_LT(a.trajectory_band, 0.7);
@@ -299,7 +299,7 @@ TEST(Prepare, AutoCutoffIsFiveTimesTheTrajectoryBandBelowTheNoise) {
   // Noisy encoders (1e-3 rad white, a floor of 2e-9 rad^2/Hz): the spectrum meets the floor
   // below five times the band, and the cutoff stops there.
   const LogSource noisy{
-      {writeSpectrumLog("noisy.txt", 1e-3)}, "1", "2", "", "3", "", "", "", "", 0};
+      {writeSpectrumLog("noisy.txt", 1e-3)}, "1", "2", "", "3", "", "", "", "", 0, false, "", ""};
   const PrepareOutcome b = prepareLog(noisy, o);
   EXPECT_LT(b.noise_edge, 5.0 * b.trajectory_band);
   EXPECT_NEAR(b.cutoff, std::max(b.noise_edge, 1.5 * b.trajectory_band), 1e-12);
@@ -361,6 +361,38 @@ TEST(Prepare, HoldsOutWholeRunsAndTimeRanges) {
   PrepareOptions everything;
   everything.validate_runs = {0, 1};
   EXPECT_THROW(prepareLog(cleanSource({a, b}), everything), InputError);
+}
+
+TEST(Prepare, LoggedAccelerationsAreUsedUnlessAsked) {
+  // A log whose ddq column is twice the true acceleration (a signal that differs from d2q/dt2):
+  // used when logged, ignored with derive_ddq.
+  std::ostringstream text;
+  text.precision(17);
+  text << "t,q1,tau1,a1\n";
+  for (int k = 0; k < 5000; ++k) {
+    const double t = k * 1e-3;
+    text << t << "," << q(0, t) << "," << 3.0 * q(0, t) << "," << 2.0 * ddq(0, t) << "\n";
+  }
+  const std::string path = test::tempPath("accel.csv");
+  writeFileAtomically(path, text.str());
+  LogSource s;
+  s.tables = {path};
+  s.time_column = "t";
+  s.q_columns = "q1";
+  s.tau_columns = "tau1";
+  s.ddq_columns = "a1";
+  const PrepareOutcome logged = prepareLog(s, {});
+  EXPECT_TRUE(logged.ddq_logged);
+  PrepareOptions derive;
+  derive.derive_ddq = true;
+  const PrepareOutcome derived = prepareLog(s, derive);
+  EXPECT_FALSE(derived.ddq_logged);
+  for (int k = 0; k < logged.train.numSamples(); k += 500) {
+    const double t = logged.train.time[k];
+    // The filtered 1.1 rad/s motion: ~1e-6 on the logged signal, ~1e-4 on twice-differenced q.
+    EXPECT_NEAR(logged.train.ddq(0, k), 2.0 * ddq(0, t), 1e-5) << t;
+    EXPECT_NEAR(derived.train.ddq(0, k), ddq(0, t), 1e-3) << t;
+  }
 }
 
 TEST(Prepare, RefusesWhatItCannotDo) {
