@@ -8,8 +8,9 @@
 
 namespace dynid::cli {
 
-int runPrepare(const std::vector<std::string>& args) {
-  po::options_description options("dynid prepare");
+namespace {
+
+void addPrepareOptions(po::options_description& options) {
   options.add_options()("log", po::value<std::vector<std::string>>()->multitoken(),
                         "delimited tables (header optional); several: separate recordings")(
       "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
@@ -48,30 +49,30 @@ int runPrepare(const std::vector<std::string>& args) {
       "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
       "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(
       "out", po::value<std::string>()->required(), "output directory");
-  po::variables_map vm;
-  const std::string usage =
-      "dynid prepare (--log log.csv... --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
-      "--joints N) --out DIR";
-  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  const auto text = [&](const char* key) {
-    return vm.count(key) ? vm[key].as<std::string>() : std::string();
-  };
+}
+
+std::string text(const po::variables_map& vm, const char* key) {
+  return vm.count(key) ? vm[key].as<std::string>() : std::string();
+}
+
+/// Where the signals are, and the usage errors of their options.
+LogSource logSource(const po::variables_map& vm) {
   if (vm.count("tau") + vm.count("current") + vm.count("tau-file") + vm.count("current-file") != 1)
     throw UsageError("give one of --tau, --current, --tau-file or --current-file");
   LogSource source;
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
-  source.time_column = text("time");
-  source.q_columns = text("q");
-  source.dq_columns = text("dq");
-  source.tau_columns = vm.count("current") ? text("current") : text("tau");
-  source.time_file = text("time-file");
-  source.q_file = text("q-file");
-  source.dq_file = text("dq-file");
-  source.tau_file = vm.count("current-file") ? text("current-file") : text("tau-file");
+  source.time_column = text(vm, "time");
+  source.q_columns = text(vm, "q");
+  source.dq_columns = text(vm, "dq");
+  source.tau_columns = vm.count("current") ? text(vm, "current") : text(vm, "tau");
+  source.time_file = text(vm, "time-file");
+  source.q_file = text(vm, "q-file");
+  source.dq_file = text(vm, "dq-file");
+  source.tau_file = vm.count("current-file") ? text(vm, "current-file") : text(vm, "tau-file");
   source.num_joints = vm["joints"].as<int>();
   source.current = vm.count("current") + vm.count("current-file") > 0;
-  source.ddq_columns = text("ddq");
-  source.ddq_file = text("ddq-file");
+  source.ddq_columns = text(vm, "ddq");
+  source.ddq_file = text(vm, "ddq-file");
   if (source.tables.empty() == source.q_file.empty())
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
   if (!source.tables.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
@@ -81,12 +82,16 @@ int runPrepare(const std::vector<std::string>& args) {
                                     : "--torque-constants applies to --current or --current-file");
   if (vm.count("gear-ratios") && !source.current)
     throw UsageError("--gear-ratios applies to --current or --current-file");
-  PrepareOptions o;
+  return source;
+}
+
+/// Units, rate, filter and derivatives.
+void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
   o.time_scale = parseOption(vm, "time-unit", timeUnitScale);
   o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
   o.rate = checkedOption<double>(
       vm, "rate", [](double r) { return r >= 0.0; }, ">= 0");
-  const std::string cutoff = text("cutoff");
+  const std::string cutoff = text(vm, "cutoff");
   o.auto_cutoff = cutoff == "auto";
   if (!o.auto_cutoff && cutoff != "default") {
     const std::vector<double> value = parseList(cutoff, "cutoff");
@@ -95,7 +100,7 @@ int runPrepare(const std::vector<std::string>& args) {
                        "'");
     o.cutoff = value[0];
   }
-  const std::string derivative = text("derivative");
+  const std::string derivative = text(vm, "derivative");
   if (derivative != "central" && derivative != "savgol")
     throw UsageError("--derivative must be central or savgol, not '" + derivative + "'");
   o.savitzky_golay = derivative == "savgol";
@@ -114,19 +119,23 @@ int runPrepare(const std::vector<std::string>& args) {
   for (const auto& [key, target] : {std::pair{"torque-constants", &o.torque_constants},
                                     std::pair{"gear-ratios", &o.gear_ratios}})
     if (vm.count(key)) {
-      const std::vector<double> values = parseList(text(key), key);
+      const std::vector<double> values = parseList(text(vm, key), key);
       *target = Eigen::Map<const Eigen::VectorXd>(values.data(),
                                                   static_cast<Eigen::Index>(values.size()));
     }
+}
+
+/// What is held out for validation.
+void readHoldOut(const po::variables_map& vm, PrepareOptions& o) {
   o.validate_fraction = checkedOption<double>(
       vm, "validate-fraction", [](double f) { return f >= 0.0 && f < 1.0; }, "in [0, 1)");
   if (vm.count("validate-runs"))
-    for (double r : parseList(text("validate-runs"), "validate-runs")) {
+    for (double r : parseList(text(vm, "validate-runs"), "validate-runs")) {
       if (r < 1 || r != std::floor(r)) throw UsageError("--validate-runs: runs count from 1");
       o.validate_runs.push_back(static_cast<int>(r) - 1);
     }
   if (vm.count("validate-time")) {
-    std::string ranges = text("validate-time");
+    std::string ranges = text(vm, "validate-time");
     for (char& c : ranges) c = c == ':' ? ',' : c;
     const std::vector<double> bounds = parseList(ranges, "validate-time");
     for (std::size_t k = 0; k + 1 < bounds.size(); k += 2) {
@@ -136,6 +145,22 @@ int runPrepare(const std::vector<std::string>& args) {
     }
     if (bounds.size() % 2 != 0) throw UsageError("--validate-time: ranges are from:to pairs");
   }
+}
+
+}  // namespace
+
+int runPrepare(const std::vector<std::string>& args) {
+  po::options_description options("dynid prepare");
+  addPrepareOptions(options);
+  po::variables_map vm;
+  const std::string usage =
+      "dynid prepare (--log log.csv... --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
+      "--joints N) --out DIR";
+  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  const LogSource source = logSource(vm);
+  PrepareOptions o;
+  readProcessing(vm, o);
+  readHoldOut(vm, o);
   const PrepareOutcome outcome = prepareLog(source, o);
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome);
   return kExitOk;
