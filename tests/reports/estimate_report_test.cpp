@@ -10,6 +10,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "reports/identification_report.hpp"
+#include "reports/plots.hpp"
 
 namespace dynid {
 namespace {
@@ -75,7 +76,12 @@ TEST(EstimateReport, ShowsTheFitTheBaseParametersTheVerdictsAndTheUnknowns) {
   EXPECT_TRUE(contains(md, "4321 raw samples")) << md;
   EXPECT_TRUE(contains(md, "cutoff 7.5 Hz"));
   // Both condition numbers, as the estimate has them.
-  EXPECT_TRUE(contains(md, formatShort(o.result.estimate.condition_number_unscaled).substr(0, 3)));
+  EXPECT_TRUE(contains(
+      md, "training base regressor: " + threeDigits(o.result.estimate.condition_number_unscaled) +
+              " as it is"))
+      << md;
+  EXPECT_TRUE(
+      contains(md, ", " + threeDigits(o.result.estimate.condition_number) + " with unit columns"));
   // The base-parameter table: every base parameter with its excitation.
   EXPECT_TRUE(contains(md, "| # | base parameter | combination | estimate | %σ | excitation |"));
   EXPECT_TRUE(contains(md, "\n| 1 | Iyy1R | Iyy1 + Ia1 ")) << md;
