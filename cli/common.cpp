@@ -5,12 +5,127 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
+
+#include "data/io.hpp"
 
 namespace dynid::cli {
 
 namespace {
 std::atomic<bool> interrupted{false};
 extern "C" void onInterrupt(int) { interrupted.store(true); }
+
+/// Boost converts "-1" to an unsigned option as 2^64 - 1; an unsigned option (--seed) given a
+/// negative value is a usage error instead.
+void rejectNegativeUnsigned(const po::parsed_options& parsed,
+                            const po::options_description& options) {
+  for (const po::option& o : parsed.options) {
+    const po::option_description* d = options.find_nothrow(o.string_key, false);
+    if (d == nullptr) continue;
+    const po::value_semantic* semantic = d->semantic().get();
+    const bool is_unsigned =
+        dynamic_cast<const po::typed_value<std::uint64_t>*>(semantic) != nullptr ||
+        dynamic_cast<const po::typed_value<unsigned>*>(semantic) != nullptr;
+    for (const std::string& v : o.value)
+      if (is_unsigned && v.find('-') != std::string::npos)
+        throw po::error("--" + o.string_key + " must be a non-negative integer, not '" + v + "'");
+  }
+}
+
+/// The documented range of every numeric option, checked when the command line is parsed so that
+/// a hostile value is a usage error naming the option before any work starts (docs/RELIABILITY.md
+/// lists them). `command` empty: every command; zero_ok: 0 (a default or "none") is also taken.
+struct OptionRange {
+  const char* command;
+  const char* option;
+  double lo, hi;
+  bool lo_open, zero_ok;
+};
+constexpr double kNoLimit = std::numeric_limits<double>::max();
+constexpr OptionRange kOptionRanges[] = {
+    {"", "duration", 0.0, 1e6, true, false},
+    {"", "dt", 1e-7, 1.0, false, false},
+    {"simulate", "rate", 0.0, 1e6, true, false},
+    {"prepare", "rate", 1e-3, 1e7, false, true},
+    {"", "noise-q", 0.0, kNoLimit, false, false},
+    {"", "noise-dq", 0.0, kNoLimit, false, false},
+    {"", "noise-tau", 0.0, kNoLimit, false, false},
+    {"", "amplitude", 0.0, 100.0, false, false},
+    {"", "base-frequency", 0.0, 1e3, true, false},
+    {"", "harmonics", 1.0, 1000.0, false, false},
+    {"", "bandwidth", 0.0, 1e4, true, false},
+    {"", "controller-perturb", 0.0, 0.999, false, false},
+    {"", "perturb", 0.0, 0.999, false, false},
+    {"", "budget-evals", 0.0, 1e12, false, false},
+    {"", "budget-seconds", 0.0, 1e9, false, false},
+    {"", "gc-tolerance", 0.0, kNoLimit, false, false},
+    {"", "range", 0.0, 1e3, false, false},
+    {"", "absolute-range", 0.0, 1e6, false, false},
+    {"", "total-mass", 0.0, 1e6, true, false},
+    {"", "horizon", 0.0, 1e4, true, false},
+    {"", "segments", 0.0, 1e6, false, false},
+    {"", "step", 1e-6, 10.0, false, true},
+    {"", "population", 2.0, 1e6, false, false},
+    {"", "elites", 0.0, 1e6, false, false},
+    {"", "migration", 0.0, 1.0, false, false},
+    {"", "mutation-rate", 0.0, 1.0, false, false},
+    {"", "mutation-scale", 0.0, 1e3, false, false},
+    {"", "evals-per-seed", 1.0, 1e9, false, false},
+    {"", "samples", 0.0, 1e6, false, false},
+    {"", "tolerance", 0.0, 1.0, false, false},
+    {"", "prior-weight", 0.0, 1e12, false, false},
+    {"", "max-iterations", 0.0, 1e6, false, false},
+    {"", "continuity-weight", 0.0, 1e12, false, false},
+    {"", "search-seconds", 0.0, 1e9, false, false},
+    {"", "search-evaluations", 0.0, 1e12, false, false},
+    {"", "refine-iterations", 0.0, 1e6, false, false},
+    {"", "refine-seconds", 0.0, 1e9, false, false},
+    {"", "joints", 0.0, 1000.0, false, false},
+    {"", "order", 1.0, 12.0, false, false},
+    {"", "decimate", 1.0, 1e6, false, false},
+    {"", "max-gap", 0.0, 1e6, false, false},
+    {"", "validate-fraction", 0.0, 0.999, false, false},
+    {"", "savgol-window", 0.0, 1e5, false, false},
+    {"", "savgol-degree", 2.0, 6.0, false, false},
+};
+
+/// The numeric value of an option as a double (false when it is not numeric).
+bool numericValue(const boost::any& value, double* x) {
+  if (const auto* d = boost::any_cast<double>(&value))
+    *x = *d;
+  else if (const auto* i = boost::any_cast<int>(&value))
+    *x = *i;
+  else if (const auto* l = boost::any_cast<long>(&value))
+    *x = static_cast<double>(*l);
+  else if (const auto* ll = boost::any_cast<long long>(&value))
+    *x = static_cast<double>(*ll);
+  else
+    return false;
+  return true;
+}
+
+std::string rangeText(const OptionRange& r) {
+  std::string text = r.lo_open ? "> " + formatDouble(r.lo) : ">= " + formatDouble(r.lo);
+  if (r.hi < kNoLimit) text += " and <= " + formatDouble(r.hi);
+  if (r.zero_ok) text = "0 or " + text;
+  return text;
+}
+
+/// Every numeric option finite and within its range (kOptionRanges), defaults included.
+void checkRanges(const po::variables_map& vm, const std::string& command) {
+  for (const auto& [name, entry] : vm) {
+    double x = 0.0;
+    if (!numericValue(entry.value(), &x)) continue;
+    if (!std::isfinite(x)) throw po::error("--" + name + " must be a finite number");
+    for (const OptionRange& r : kOptionRanges) {
+      if (name != r.option || (r.command[0] != '\0' && command != r.command)) continue;
+      const bool ok = (r.zero_ok && x == 0.0) || ((r.lo_open ? x > r.lo : x >= r.lo) && x <= r.hi);
+      if (!ok)
+        throw po::error("--" + name + " must be " + rangeText(r) + ", not " + formatDouble(x));
+    }
+  }
+}
+
 }  // namespace
 
 bool parseCommandLine(const std::vector<std::string>& args, const po::options_description& options,
@@ -25,12 +140,17 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
     po::command_line_parser parser(args);
     parser.options(all).style(style);
     if (positional != nullptr) parser.positional(*positional);
-    po::store(parser.run(), vm);
+    const po::parsed_options parsed = parser.run();
+    rejectNegativeUnsigned(parsed, all);
+    po::store(parsed, vm);
     if (vm.count("help")) {
       std::cout << "usage: " << usage << "\n\n" << all << "\n";
       return false;
     }
     po::notify(vm);
+    // The command: the usage line's second word ("dynid simulate ...").
+    const std::size_t start = usage.find(' ') + 1, end = usage.find(' ', start);
+    checkRanges(vm, usage.substr(start, end - start));
   } catch (const po::error& e) {
     throw UsageError(std::string(e.what()) + "\nusage: " + usage + " (--help for the options)");
   }
@@ -78,7 +198,8 @@ void addThreadsOption(po::options_description& options) {
 
 int threadsOption(const po::variables_map& vm) {
   return checkedOption<int>(
-      vm, "threads", [](int t) { return t >= 0; }, ">= 0 (0: all cores)");
+      vm, "threads", [](int t) { return t >= 0 && t <= kMaxThreadsOption; },
+      "0 (all cores) to " + std::to_string(kMaxThreadsOption));
 }
 
 void addRobotOptions(po::options_description& options) {

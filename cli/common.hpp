@@ -55,12 +55,14 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
 }
 /// The value of a numeric option, checked: a UsageError "--name must be <rule>" unless ok(value).
 template <typename T, typename Ok>
-T checkedOption(const po::variables_map& vm, const char* option, Ok ok, const char* rule) {
+T checkedOption(const po::variables_map& vm, const char* option, Ok ok, const std::string& rule) {
   const T value = vm[option].as<T>();
   if (!ok(value)) throw UsageError(std::string("--") + option + " must be " + rule);
   return value;
 }
-/// --threads, >= 0 (0: all cores).
+/// --threads: 0 (all cores) to kMaxThreadsOption (more threads than cores only slow a run down,
+/// and thousands exhaust the system's process table).
+constexpr int kMaxThreadsOption = 256;
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);
 

@@ -1,21 +1,42 @@
 #include "core/parallel.hpp"
 
 #include <algorithm>
+#include <string>
+#include <system_error>
+
+#include "core/errors.hpp"
 
 namespace dynid {
 
 ThreadPool::ThreadPool(int num_threads) {
   if (num_threads <= 0) num_threads = std::max(1u, std::thread::hardware_concurrency());
-  for (int t = 1; t < num_threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
+  if (num_threads > kMaxThreads)
+    throw InputError("at most " + std::to_string(kMaxThreads) + " threads, not " +
+                     std::to_string(num_threads));
+  workers_.reserve(static_cast<std::size_t>(num_threads - 1));
+  try {
+    for (int t = 1; t < num_threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
+  } catch (const std::system_error& e) {
+    // The system would not create another thread (a process or memory limit): stop and join the
+    // ones that started, so nothing waits on them, and say so.
+    const std::size_t started = workers_.size();
+    stopAndJoin();
+    throw Error("could not start " + std::to_string(num_threads) + " threads (the system " +
+                "refused after " + std::to_string(started + 1) + "): " + e.what() +
+                "; use fewer --threads");
+  }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stopAndJoin(); }
+
+void ThreadPool::stopAndJoin() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
   }
   start_.notify_all();
   for (std::thread& w : workers_) w.join();
+  workers_.clear();
 }
 
 void ThreadPool::runIndices(int thread) {

@@ -13,7 +13,10 @@ namespace dynid {
 
 class ThreadPool {
  public:
-  /// num_threads >= 1 (the calling thread is one of them); 0 means all hardware threads.
+  static constexpr int kMaxThreads = 1024;
+  /// num_threads >= 1 (the calling thread is one of them); 0 means all hardware threads. Throws
+  /// InputError above kMaxThreads, and Error (after joining those that started) when the system
+  /// refuses to create a thread.
   explicit ThreadPool(int num_threads);
   ~ThreadPool();
   ThreadPool(const ThreadPool&) = delete;
@@ -28,6 +31,7 @@ class ThreadPool {
 
  private:
   void workerLoop(int thread);
+  void stopAndJoin();
   void runIndices(int thread);
 
   std::vector<std::thread> workers_;

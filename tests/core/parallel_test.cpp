@@ -6,6 +6,8 @@
 #include <chrono>
 #include <vector>
 
+#include "core/errors.hpp"
+
 namespace dynid {
 namespace {
 
@@ -44,6 +46,15 @@ TEST(ThreadPool, ASlowThreadTakesFewerIndices) {
     }
   });
   EXPECT_GE(by_caller.load(), 30);
+}
+
+// More threads than the pool allows is refused up front (thousands exhaust the process table; the
+// pool used to deadlock when the system refused one), and a refused pool leaves nothing running.
+TEST(ThreadPool, RefusesMoreThreadsThanItsLimit) {
+  EXPECT_THROW(ThreadPool(ThreadPool::kMaxThreads + 1), InputError);
+  EXPECT_THROW(ThreadPool(100000), InputError);
+  ThreadPool most(8);
+  EXPECT_EQ(most.numThreads(), 8);
 }
 
 }  // namespace
