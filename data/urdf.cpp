@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <mutex>
+#include <queue>
 #include <sstream>
+#include <string_view>
 
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
@@ -27,19 +30,24 @@ ElementIndex indexElements(const std::string& text) {
   ElementIndex index;
   int order = 0;
   for (const std::string tag : {"<joint", "<link"}) {
+    // Lines counted incrementally (positions only grow within a tag's scan): linear in the text.
+    int line = 1;
+    std::size_t counted = 0;
     for (std::size_t pos = text.find(tag); pos != std::string::npos;
          pos = text.find(tag, pos + 1)) {
       const char next = pos + tag.size() < text.size() ? text[pos + tag.size()] : '\0';
       if (next != ' ' && next != '\t' && next != '\n' && next != '\r') continue;
-      const std::size_t end = text.find('>', pos);
-      const std::string element = text.substr(pos, end - pos);
+      const std::size_t end = std::min(text.find('>', pos), text.size());
+      const std::string_view element(text.data() + pos, end - pos);
       const std::size_t name_at = element.find("name=");
       if (name_at == std::string::npos || name_at + 6 > element.size()) continue;
       const char quote = element[name_at + 5];
       const std::size_t close = element.find(quote, name_at + 6);
       if (close == std::string::npos) continue;
-      const std::string name = element.substr(name_at + 6, close - name_at - 6);
-      const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + pos, '\n'));
+      const std::string name(element.substr(name_at + 6, close - name_at - 6));
+      line += static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(counted),
+                                          text.begin() + static_cast<std::ptrdiff_t>(pos), '\n'));
+      counted = pos;
       auto& lines = tag == "<joint" ? index.joint_line : index.link_line;
       if (lines.count(name)) continue;  // <transmission> repeats joint names later
       lines[name] = line;
@@ -47,6 +55,42 @@ ElementIndex indexElements(const std::string& text) {
     }
   }
   return index;
+}
+
+/// Refuses a document nested deeper than kMaxXmlDepth elements before any XML parser sees it: the
+/// parser under urdfdom recurses once per level and overflows the stack on deep nesting (a URDF
+/// is about 5 levels deep). Linear in the text; comments, CDATA, declarations and quoted
+/// attribute values are skipped.
+constexpr int kMaxXmlDepth = 100;
+void checkXmlDepth(const std::string& text, const std::string& file) {
+  int depth = 0;
+  const std::size_t n = text.size();
+  for (std::size_t i = text.find('<'); i < n; i = text.find('<', i)) {
+    const auto skipTo = [&](const char* end) {
+      const std::size_t at = text.find(end, i);
+      return at == std::string::npos ? n : at + std::strlen(end);
+    };
+    if (text.compare(i, 4, "<!--") == 0) {
+      i = skipTo("-->");
+    } else if (text.compare(i, 9, "<![CDATA[") == 0) {
+      i = skipTo("]]>");
+    } else if (text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0) {
+      i = skipTo(">");
+    } else if (text.compare(i, 2, "</") == 0) {
+      --depth;
+      i = skipTo(">");
+    } else {
+      const std::size_t j = xmlTagEnd(text, i + 1);
+      if (j < n && text[j - 1] != '/' && ++depth > kMaxXmlDepth) {
+        const auto at = text.begin() + static_cast<std::ptrdiff_t>(i);
+        const int line = 1 + static_cast<int>(std::count(text.begin(), at, '\n'));
+        throw ParseError(file, line, "",
+                         "XML elements nested deeper than " + std::to_string(kMaxXmlDepth) +
+                             " levels (a URDF needs about 5): not a robot description");
+      }
+      i = j;
+    }
+  }
 }
 
 /// Collects urdfdom's console_bridge error messages while parsing (console_bridge is global state).
@@ -88,7 +132,7 @@ class UrdfBuilder {
     if (options_.drives) model_.drive_terms = DriveTerms::rotorAndFriction();
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
-    walk(*urdf_.getRoot(), -1, Pose<double>());
+    walk(*urdf_.getRoot());
     addBodies();
     if (model_.numJoints() == 0)
       throw ParseError(file_, 0, "robot '" + model_.name + "'", "has no moving joint");
@@ -135,6 +179,12 @@ class UrdfBuilder {
     if (joint.limits && (std::isnan(joint.limits->lower) || std::isnan(joint.limits->upper) ||
                          std::isnan(joint.limits->effort) || std::isnan(joint.limits->velocity)))
       failJoint(joint.name, "<limit> has a non-finite number");
+    if (joint.limits && joint.type != urdf::Joint::CONTINUOUS &&
+        joint.limits->lower > joint.limits->upper)
+      failJoint(joint.name, "<limit> lower " + formatDouble(joint.limits->lower) +
+                                " is above upper " + formatDouble(joint.limits->upper));
+    if (joint.limits && (joint.limits->effort < 0.0 || joint.limits->velocity < 0.0))
+      failJoint(joint.name, "<limit> effort and velocity must be >= 0");
     if (joint.dynamics &&
         (!std::isfinite(joint.dynamics->damping) || !std::isfinite(joint.dynamics->friction)))
       failJoint(joint.name, "<dynamics> has a non-finite number");
@@ -192,18 +242,39 @@ class UrdfBuilder {
     Pose<double> placement;
   };
 
-  void walk(const urdf::Link& link, int record, const Pose<double>& link_in_body) {
-    for (const urdf::JointSharedPtr& joint : link.child_joints) {
-      const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
-      if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
-      const Pose<double> placement = link_in_body * toPose(joint->parent_to_joint_origin_transform);
-      if (joint->type == urdf::Joint::FIXED) {
-        merges_.push_back({child.get(), record, placement});
-        walk(*child, record, placement);
-      } else {
-        moving_.push_back({joint.get(), child.get(), record, placement});
-        walk(*child, static_cast<int>(moving_.size()) - 1, Pose<double>());
+  /// Depth first from the root, iteratively (a long chain must not exhaust the stack). A link
+  /// reached twice has two parent joints: refused, not duplicated.
+  void walk(const urdf::Link& root) {
+    struct Pending {
+      const urdf::Link* link;
+      int record;
+      Pose<double> link_in_body;
+    };
+    std::vector<Pending> stack = {{&root, -1, Pose<double>()}};
+    std::map<const urdf::Link*, const urdf::Joint*> reached_by;
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      std::vector<Pending> children;
+      for (const urdf::JointSharedPtr& joint : p.link->child_joints) {
+        const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
+        if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
+        const auto [seen, fresh] = reached_by.emplace(child.get(), joint.get());
+        if (!fresh)
+          failLink(child->name, "is the child of two joints ('" + seen->second->name + "' and '" +
+                                    joint->name + "'): a link has one parent joint");
+        const Pose<double> placement =
+            p.link_in_body * toPose(joint->parent_to_joint_origin_transform);
+        if (joint->type == urdf::Joint::FIXED) {
+          merges_.push_back({child.get(), p.record, placement});
+          children.push_back({child.get(), p.record, placement});
+        } else {
+          moving_.push_back({joint.get(), child.get(), p.record, placement});
+          children.push_back({child.get(), static_cast<int>(moving_.size()) - 1, Pose<double>()});
+        }
       }
+      // Reversed, so the first child is explored first, as the recursion did.
+      stack.insert(stack.end(), children.rbegin(), children.rend());
     }
   }
 
@@ -211,16 +282,22 @@ class UrdfBuilder {
   /// are ready: a file that lists parents first keeps its joint order exactly.
   void addBodies() {
     const int count = static_cast<int>(moving_.size());
-    std::vector<int> body_of(count, -1);
-    std::vector<char> added(count, 0);
-    for (int placed = 0; placed < count; ++placed) {
-      int best = -1;
-      for (int r = 0; r < count; ++r) {
-        if (added[r]) continue;
-        const int parent = moving_[r].parent_record;
-        if (parent >= 0 && !added[parent]) continue;
-        if (best < 0 || order(moving_[r].joint->name) < order(moving_[best].joint->name)) best = r;
-      }
+    std::vector<int> body_of(static_cast<std::size_t>(count), -1);
+    std::vector<std::vector<int>> children(static_cast<std::size_t>(count));
+    // Ready records (parent placed), smallest file order first: O(n log n).
+    using Ready = std::pair<int, int>;  // (file order, record)
+    std::priority_queue<Ready, std::vector<Ready>, std::greater<>> ready;
+    for (int r = 0; r < count; ++r) {
+      if (moving_[r].parent_record < 0)
+        ready.emplace(order(moving_[r].joint->name), r);
+      else
+        children[static_cast<std::size_t>(moving_[r].parent_record)].push_back(r);
+    }
+    while (!ready.empty()) {
+      const int best = ready.top().second;
+      ready.pop();
+      for (int c : children[static_cast<std::size_t>(best)])
+        ready.emplace(order(moving_[c].joint->name), c);
       const MovingJoint& m = moving_[best];
       const urdf::Joint& joint = *m.joint;
       JointType type = JointType::kRevolute;
@@ -246,7 +323,6 @@ class UrdfBuilder {
       body_of[best] =
           model_.addBody(parent_body, m.child->name, joint.name, type, m.placement, axis,
                          Pose<double>(), linkInertia(*m.child, true), limits, drive);
-      added[best] = 1;
     }
     // Fixed children join their body (the base ignores its inertia: it does not move).
     for (const Merge& merge : merges_)
@@ -294,8 +370,24 @@ int lineOfMessage(const std::string& message, const ElementIndex& index, std::st
 
 }  // namespace
 
+std::size_t xmlTagEnd(const std::string& text, std::size_t from) {
+  char quote = 0;
+  for (std::size_t j = from; j < text.size(); ++j) {
+    const char c = text[j];
+    if (quote != 0) {
+      if (c == quote) quote = 0;
+    } else if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '>') {
+      return j;
+    }
+  }
+  return text.size();
+}
+
 Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options,
                 std::vector<std::string>* warnings) {
+  checkXmlDepth(text, file);
   const ElementIndex index = indexElements(text);
   urdf::ModelInterfaceSharedPtr urdf;
   std::string error;

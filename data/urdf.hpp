@@ -40,4 +40,8 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
 /// lost.
 std::string modelToUrdf(const Model& model);
 
+/// The index of the '>' that closes an XML tag whose attributes start at `from`, skipping quoted
+/// attribute values (which may hold '>'); text.size() when the tag is unterminated.
+std::size_t xmlTagEnd(const std::string& text, std::size_t from);
+
 }  // namespace dynid

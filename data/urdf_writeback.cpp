@@ -59,18 +59,7 @@ class Scanner {
         while (i < text_.size() && !isSpace(text_[i]) && text_[i] != '>' && text_[i] != '/') ++i;
         e.tag = text_.substr(pos + 1, i - pos - 1);
         // Attributes up to the tag's '>' (quotes may contain '>').
-        std::size_t tag_end = i;
-        char quote = 0;
-        for (; tag_end < text_.size(); ++tag_end) {
-          const char c = text_[tag_end];
-          if (quote != 0) {
-            if (c == quote) quote = 0;
-          } else if (c == '"' || c == '\'') {
-            quote = c;
-          } else if (c == '>') {
-            break;
-          }
-        }
+        const std::size_t tag_end = xmlTagEnd(text_, i);
         if (tag_end >= text_.size()) fail(pos, "an unterminated tag");
         e.name = attribute(text_.substr(i, tag_end - i), "name");
         e.self_closing = text_[tag_end - 1] == '/';
