@@ -128,7 +128,8 @@ const std::vector<std::string>& batchMetricColumns() {
 
 std::vector<json> expandManifest(const std::string& file) {
   const json manifest = parseJson(readFile(file), file);
-  if (!manifest.is_object() || manifest.value("schema_version", 0) != 1)
+  if (!manifest.is_object() || !manifest.contains("schema_version") ||
+      !manifest["schema_version"].is_number_integer() || manifest["schema_version"] != 1)
     throw ParseError(file, 0, "schema_version", "must be 1");
   for (const auto& [key, value] : manifest.items())
     if (key != "schema_version" && key != "grid" && key != "fixed" && key != "description")
@@ -144,6 +145,13 @@ std::vector<json> expandManifest(const std::string& file) {
     checkValue(key, value, file, "fixed." + key);
     base[key] = value;
   }
+  // The grid's size before expanding it: a small manifest can describe 1e9 runs.
+  double product = 1.0;
+  for (const auto& [key, values] : grid.items())
+    if (values.is_array()) product *= static_cast<double>(std::max<std::size_t>(values.size(), 1));
+  if (product > 1e6)
+    throw ParseError(file, 0, "grid",
+                     "expands to " + formatDouble(product) + " runs (at most 1e6 in one manifest)");
   std::vector<json> runs = {base};
   for (const auto& [key, values] : grid.items()) {
     if (!base.contains(key)) throw ParseError(file, 0, "grid." + key, "unknown parameter");

@@ -1,11 +1,14 @@
 #include "analysis/run_json.hpp"
 
 #include <algorithm>
+#include <random>
+#include <sstream>
 
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
 #include "core/parameters.hpp"
 #include "data/json_number.hpp"
+#include "data/json_reader.hpp"
 
 namespace dynid {
 
@@ -14,27 +17,6 @@ using nlohmann::json;
 namespace {
 
 json vectorJson(const Eigen::VectorXd& v) { return std::vector<double>(v.begin(), v.end()); }
-Eigen::VectorXd vectorFrom(const json& j) {
-  const std::vector<double> v = j.get<std::vector<double>>();
-  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
-std::vector<HistoryEntry> historyFrom(const json& j) {
-  std::vector<HistoryEntry> out;
-  for (const json& e : j) {
-    HistoryEntry h;
-    h.stage = e.at("stage");
-    h.iteration = e.at("iteration");
-    h.best_gc = e.at("best_gc_error");
-    h.best_parameter_error = numberOrNan(e.at("best_parameter_error"));
-    h.min_parameter_error = numberOrNan(e.at("min_parameter_error"));
-    h.evaluations = e.at("evaluations");
-    h.seconds = e.at("seconds");
-    out.push_back(h);
-  }
-  return out;
-}
-
 /// A standard vector from {name: value} (every name of the layout required).
 Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>& names,
                              const std::string& file, const std::string& where) {
@@ -110,25 +92,76 @@ json checkpointJson(const SearchState& s, const json& settings) {
           {"history", historyJson(s.history)}};
 }
 
-SearchState checkpointFrom(const json& j, const std::string& file) {
-  try {
-    SearchState s;
-    s.method = j.at("method");
-    s.stage = j.at("stage");
-    s.iteration = j.at("iteration");
-    s.rng = j.at("rng");
-    s.best_x = vectorFrom(j.at("best_x"));
-    s.best_gc = j.at("best_gc");
-    s.initial_gc = numberOrNan(j.at("initial_gc"));
-    for (const json& x : j.at("population")) s.population.push_back(vectorFrom(x));
-    s.population_gc = j.at("population_gc").get<std::vector<double>>();
-    s.evaluations = j.at("evaluations");
-    s.seconds = j.at("seconds");
-    s.history = historyFrom(j.at("history"));
-    return s;
-  } catch (const json::exception& e) {
-    throw ParseError(file, 0, "", std::string("not a dynid search checkpoint: ") + e.what());
+SearchState checkpointFrom(const json& j, const std::string& file, const CheckpointShape& shape) {
+  const JsonReader read(file);
+  read.header(j, 1, "dynid.search_checkpoint");
+  read.onlyKeys(j, "",
+                {"schema_version", "kind", "settings", "method", "stage", "iteration", "rng",
+                 "best_x", "best_gc", "initial_gc", "population", "population_gc", "evaluations",
+                 "seconds", "history"});
+  read.object(read.field(j, "", "settings"), "settings");
+  constexpr long long kMaxCount = 1'000'000'000'000'000LL;  // far beyond any run's evaluations
+  SearchState s;
+  s.method = read.string(j, "", "method");
+  if (s.method != "nlo" && s.method != "ga" && s.method != "hybrid")
+    read.fail("method", "must be nlo, ga or hybrid, not \"" + s.method + "\"");
+  if (!shape.method.empty() && s.method != shape.method)
+    read.fail("method", "the checkpoint is of a " + s.method + " search, not " + shape.method);
+  s.stage = read.string(j, "", "stage");
+  if (s.stage != "nlo" && s.stage != "ga")
+    read.fail("stage", "must be nlo or ga, not \"" + s.stage + "\"");
+  s.iteration = static_cast<int>(read.integer(j, "", "iteration", 0, 1'000'000'000));
+  s.rng = read.string(j, "", "rng");
+  {
+    std::istringstream in(s.rng);
+    std::mt19937_64 probe;
+    if (!(in >> probe) || !(in >> std::ws).eof())
+      read.fail("rng", "not a std::mt19937_64 state (312 numbers and an index)");
   }
+  s.best_x = read.vector(read.field(j, "", "best_x"), "best_x", shape.dimension);
+  s.best_gc = read.number(j, "", "best_gc", 0.0);
+  const json& initial = read.field(j, "", "initial_gc");
+  s.initial_gc = initial.is_null() ? std::nan("") : read.number(initial, "initial_gc", 0.0);
+  const json& population = read.array(read.field(j, "", "population"), "population");
+  if (shape.population > 0 && !population.empty() &&
+      static_cast<long>(population.size()) != shape.population)
+    read.fail("population", "has " + std::to_string(population.size()) +
+                                " members; the search's population is " +
+                                std::to_string(shape.population));
+  for (std::size_t i = 0; i < population.size(); ++i)
+    s.population.push_back(
+        read.vector(population[i], JsonReader::index("population", i), shape.dimension));
+  const Eigen::VectorXd gc = read.vector(read.field(j, "", "population_gc"), "population_gc",
+                                         static_cast<long>(population.size()));
+  for (Eigen::Index i = 0; i < gc.size(); ++i) {
+    if (gc[i] < 0.0)
+      read.fail(JsonReader::index("population_gc", static_cast<std::size_t>(i)),
+                "a GC error is >= 0");
+    s.population_gc.push_back(gc[i]);
+  }
+  s.evaluations = static_cast<long>(read.integer(j, "", "evaluations", 0, kMaxCount));
+  s.seconds = read.number(j, "", "seconds", 0.0, 1e12);
+  const json& history = read.array(read.field(j, "", "history"), "history");
+  for (std::size_t i = 0; i < history.size(); ++i) {
+    const std::string path = JsonReader::index("history", i);
+    const json& e = history[i];
+    read.onlyKeys(e, path,
+                  {"stage", "iteration", "best_gc_error", "best_parameter_error",
+                   "min_parameter_error", "evaluations", "seconds"});
+    HistoryEntry h;
+    h.stage = read.string(e, path, "stage");
+    h.iteration = static_cast<int>(read.integer(e, path, "iteration", 0, 1'000'000'000));
+    h.best_gc = read.number(e, path, "best_gc_error", 0.0);
+    for (auto [key, target] : {std::pair{"best_parameter_error", &h.best_parameter_error},
+                               std::pair{"min_parameter_error", &h.min_parameter_error}}) {
+      const json& v = read.field(e, path, key);
+      *target = v.is_null() ? std::nan("") : read.number(v, JsonReader::join(path, key), 0.0);
+    }
+    h.evaluations = static_cast<long>(read.integer(e, path, "evaluations", 0, kMaxCount));
+    h.seconds = read.number(e, path, "seconds", 0.0, 1e12);
+    s.history.push_back(h);
+  }
+  return s;
 }
 
 json historyJson(const std::vector<HistoryEntry>& history) {
@@ -165,27 +198,69 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
   try {
     if (start.contains("settings") && start.contains("estimate")) {
       out.kind = "search";
-      const json& s = start.at("settings");
+      const JsonReader read(from);
+      read.header(start, 1, nullptr);
+      read.onlyKeys(
+          start, "",
+          {"schema_version", "method", "robot", "settings", "termination", "initial_gc_error",
+           "final_gc_error", "estimate", "initial_estimate", "history", "evaluations", "seconds",
+           "initial_parameter_error", "final_parameter_error", "evaluated", "validation"});
+      const json& s = read.field(start, "", "settings");
+      read.onlyKeys(s, "settings",
+                    {"form",
+                     "free_parameters",
+                     "range",
+                     "absolute_range",
+                     "mass_constraint",
+                     "total_mass",
+                     "horizon",
+                     "segments",
+                     "random_segments",
+                     "integrator",
+                     "step",
+                     "normalise",
+                     "seed",
+                     "budget_evaluations",
+                     "budget_seconds",
+                     "gc_tolerance",
+                     "population",
+                     "elites",
+                     "migration",
+                     "mutation_rate",
+                     "mutation_scale",
+                     "evaluations_per_seed",
+                     "data"});
+      const auto named = [&](const char* key, auto parse) {
+        const std::string text = read.string(s, "settings", key);
+        try {
+          return parse(text);
+        } catch (const std::exception& e) {
+          read.fail(std::string("settings.") + key, e.what());
+        }
+      };
       out.space = SpaceOptions{};
-      out.space.form = parseParameterForm(s.at("form"));
-      out.space.relative_range = s.at("range");
-      out.space.absolute_range = s.at("absolute_range");
-      out.space.total_mass_constraint = s.at("mass_constraint");
-      out.space.total_mass = s.at("total_mass");
+      out.space.form = named("form", [](const std::string& t) { return parseParameterForm(t); });
+      out.space.relative_range = read.number(s, "settings", "range", 0.0, 1e3);
+      out.space.absolute_range = read.number(s, "settings", "absolute_range", 0.0, 1e6);
+      out.space.total_mass_constraint = read.boolean(s, "settings", "mass_constraint");
+      out.space.total_mass = read.number(s, "settings", "total_mass", 1e-12, 1e6);
       out.segments = SegmentOptions{};
-      out.segments.horizon = s.at("horizon");
-      out.segments.num_segments = s.at("segments");
-      out.segments.random_starts = s.at("random_segments");
-      out.segments.seed = s.at("seed");
-      out.segments.integrator = parseIntegrator(s.at("integrator"));
-      out.segments.step = s.at("step");
-      out.segments.normalise = s.at("normalise");
+      out.segments.horizon = read.number(s, "settings", "horizon", 1e-9, 1e4);
+      out.segments.num_segments =
+          static_cast<int>(read.integer(s, "settings", "segments", 0, 1000000));
+      out.segments.random_starts = read.boolean(s, "settings", "random_segments");
+      out.segments.seed = read.unsignedInteger(s, "settings", "seed");
+      out.segments.integrator =
+          named("integrator", [](const std::string& t) { return parseIntegrator(t); });
+      out.segments.step = read.number(s, "settings", "step", 1e-6, 10.0);
+      out.segments.normalise = read.boolean(s, "settings", "normalise");
       out.initial.setStandardParameters(standardFrom(start.at("initial_estimate").at("standard"),
                                                      names, from, "initial_estimate.standard"));
       out.estimate.setStandardParameters(
           standardFrom(start.at("estimate").at("standard"), names, from, "estimate.standard"));
       // Free exactly what the search freed.
-      const std::vector<std::string> free = s.at("free_parameters");
+      const std::vector<std::string> free =
+          read.strings(read.field(s, "settings", "free_parameters"), "settings.free_parameters");
       const std::vector<std::string> all =
           out.space.form == ParameterForm::kPaper
               ? paperParameterNames(robot.numJoints())
@@ -193,6 +268,9 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
       for (const std::string& name : all)
         if (std::find(free.begin(), free.end(), name) == free.end())
           out.space.fixed.push_back(name);
+      for (const std::string& name : free)
+        if (std::find(all.begin(), all.end(), name) == all.end())
+          read.fail("settings.free_parameters", "'" + name + "' is not a parameter of the robot");
     } else if (start.contains("standard_estimate")) {
       out.kind = "estimate";
       out.initial.setStandardParameters(standardFrom(start.at("standard_estimate").at("values"),

@@ -39,9 +39,18 @@ nlohmann::json searchSettingsJson(const SearchSettingsRecord& settings);
 nlohmann::json checkpointFingerprint(nlohmann::json settings);
 /// The checkpoint document of a search state (schema_version 1, kind dynid.search_checkpoint).
 nlohmann::json checkpointJson(const SearchState& state, const nlohmann::json& settings);
-/// The state in a checkpoint document. Throws ParseError naming `file` when a field is missing or
-/// malformed.
-SearchState checkpointFrom(const nlohmann::json& document, const std::string& file);
+/// What a checkpoint must match to resume a run: its method, the number of free parameters and
+/// the GA population (empty / -1 / 0: not checked).
+struct CheckpointShape {
+  std::string method;
+  long dimension = -1;
+  long population = 0;
+};
+/// The state in a checkpoint document. Throws ParseError naming `file` and the field when a field
+/// is missing, of the wrong type, out of range (negative counts, a corrupt generator state), of
+/// the wrong size for `shape`, or unknown.
+SearchState checkpointFrom(const nlohmann::json& document, const std::string& file,
+                           const CheckpointShape& shape = {});
 
 /// The per-round (NLO) or per-generation (GA) history.
 nlohmann::json historyJson(const std::vector<HistoryEntry>& history);

@@ -396,12 +396,15 @@ std::optional<SearchState> resumeFrom(const std::string& path, const nlohmann::j
                                       Method method) {
   if (path.empty() || !std::filesystem::exists(path)) return std::nullopt;
   const nlohmann::json saved = parseJson(readFile(path), path);
-  if (!saved.contains("settings") || saved["settings"] != checkpointFingerprint(settings) ||
-      saved.value("method", "") != methodName(method))
-    throw InputError(path +
-                     ": the checkpoint was written with other settings; remove it to start "
-                     "afresh");
-  return checkpointFrom(saved, path);
+  CheckpointShape shape;
+  shape.method = methodName(method);
+  shape.dimension = static_cast<long>(settings.at("free_parameters").size());
+  shape.population = settings.at("population").get<long>();
+  if (saved.is_object() && saved.contains("settings") &&
+      saved["settings"] != checkpointFingerprint(settings))
+    throw ParseError(path, 0, "settings",
+                     "the checkpoint was written with other settings; remove it to start afresh");
+  return checkpointFrom(saved, path, shape);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "core/parameters.hpp"
 #include "data/dh.hpp"
 #include "data/json_number.hpp"
+#include "data/json_reader.hpp"
 
 namespace dynid {
 
@@ -85,15 +86,7 @@ class Reader {
   /// Fails on a key of `object` that is not in `allowed` (a misspelt key must not pass silently).
   void onlyKeys(const json& object, const std::string& path,
                 std::initializer_list<const char*> allowed) const {
-    for (const auto& [key, value] : object.items()) {
-      bool known = false;
-      for (const char* a : allowed) known = known || key == a;
-      if (!known) {
-        std::string list;
-        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-        fail(join(path, key.c_str()), "unknown key (expected " + list + ")");
-      }
-    }
+    JsonReader(file_).onlyKeys(object, path, allowed);
   }
   JointLimits limits(const json& object, const std::string& path) const {
     constexpr double inf = std::numeric_limits<double>::infinity();
@@ -304,12 +297,14 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   }
   Reader read(file);
   const json& version = read.field(document, "", "schema_version");
-  if (!version.is_number_integer() || version.get<int>() != kModelSchemaVersion)
+  if (!version.is_number_integer() || version != kModelSchemaVersion)
     read.fail("schema_version",
               "unsupported (this dynid reads version " + std::to_string(kModelSchemaVersion) + ")");
   read.onlyKeys(document, "",
                 {"schema_version", "kind", "name", "gravity", "drive_terms", "drives", "offsets",
                  "bodies", "dh"});
+  if (document.contains("kind") && document["kind"] != "dynid.model")
+    read.fail("kind", "must be \"dynid.model\", not " + document["kind"].dump());
   if (document.contains("dh") == document.contains("bodies"))
     read.fail("", "give the kinematics as either \"bodies\" or \"dh\", not both or neither");
   Model model;
@@ -347,6 +342,8 @@ Model modelFromJson(const std::string& text, const std::string& file) {
       limits = read.limits(*it, jpath + ".limits");
     const std::string ipath = path + ".inertial";
     const json& inertial = read.field(body, path, "inertial");
+    read.onlyKeys(inertial, ipath,
+                  {"m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"});
     Eigen::Matrix<double, 10, 1> theta;
     for (int k = 0; k < kLinkParameterCount; ++k)
       theta(k) = read.number(inertial, ipath, std::string(kLinkParameterNames[k]).c_str());

@@ -289,9 +289,14 @@ void gaGenerations(const SearchContext& context, const GaOptions& options, Searc
     evaluator.record("ga");
   }
   const int P = options.population;
-  if (static_cast<int>(population.size()) != P)
+  if (static_cast<int>(population.size()) != P || fitness_gc.size() != population.size())
     throw InputError("the resumed population has " + std::to_string(population.size()) +
-                     " members, the GA's population is " + std::to_string(P));
+                     " members and " + std::to_string(fitness_gc.size()) +
+                     " GC errors; the GA's population is " + std::to_string(P));
+  for (const Eigen::VectorXd& x : population)
+    if (x.size() != space.numFree())
+      throw InputError("a resumed population member has " + std::to_string(x.size()) +
+                       " parameters, the search " + std::to_string(space.numFree()));
   while (!limit_reached()) {
     // Fresh distributions each generation: std::normal_distribution caches a second value, which a
     // checkpoint (the generator's state only) could not restore.

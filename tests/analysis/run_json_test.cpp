@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <sstream>
 
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
@@ -16,7 +18,9 @@ SearchState sampleState() {
   s.method = "hybrid";
   s.stage = "ga";
   s.iteration = 4;
-  s.rng = "12345 678";
+  std::ostringstream rng;
+  rng << std::mt19937_64(12345);  // a real generator state: a corrupt one is refused on reading
+  s.rng = rng.str();
   s.best_x = Eigen::VectorXd::LinSpaced(5, -1.0, 3.0);
   s.best_gc = 0.125;
   s.initial_gc = std::nan("");  // written as null, read back as NaN
@@ -75,7 +79,8 @@ TEST(RunJson, ARefineStartReadsBackTheSearchsSpaceAndEstimate) {
   SearchSettingsRecord record{space_options, space.freeNames(), {}, 7, {}, {}, {}, "train.csv"};
   record.segments.num_segments = 12;
   record.segments.step = 1e-3;
-  const nlohmann::json doc = {{"settings", searchSettingsJson(record)},
+  const nlohmann::json doc = {{"schema_version", 1},
+                              {"settings", searchSettingsJson(record)},
                               {"estimate", estimateJson(space, space.initial() * 1.01)},
                               {"initial_estimate", estimateJson(space, space.initial())}};
   const RefineStart start = refineStartFrom(doc, "search.json", robot, {}, {});

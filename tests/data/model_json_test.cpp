@@ -51,7 +51,7 @@ void expectError(const std::string& from, const std::string& to, const std::stri
 TEST(ModelJson, ErrorsNameTheJsonPath) {
   expectError("\"m\": 17.4", "\"m\": \"heavy\"", "bodies[1].inertial.m: expected a number");
   expectError("\"m\": 17.4", "\"m\": -17.4", "bodies[1].inertial.m: negative mass");
-  expectError("\"m\": 17.4", "\"mass\": 17.4", "bodies[1].inertial.m: missing");
+  expectError("\"m\": 17.4", "\"mass\": 17.4", "bodies[1].inertial.mass: unknown key");
   expectError("\"parent\": \"link2\"", "\"parent\": \"link9\"", "bodies[2].parent: unknown parent");
   expectError("\"type\": \"revolute\"", "\"type\": \"floating\"", "bodies[0].joint.type");
   expectError("\"schema_version\": 1", "\"schema_version\": 7", "schema_version: unsupported");
