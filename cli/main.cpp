@@ -1,12 +1,15 @@
 // dynid: estimate and explain the inertial parameters of robot manipulators.
+#include <csignal>
 #include <exception>
 #include <iostream>
 #include <map>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/io.hpp"
 
 namespace {
 
@@ -32,6 +35,14 @@ const char* kUsage =
     ".json "
     "model\n"
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
+
+/// SIGTERM, SIGHUP and (outside a search's own handler) SIGINT: remove the temporaries of the
+/// files being written, then die of the signal as before (exit status 128 + signal).
+extern "C" void onTerminate(int signal) {
+  dynid::removeLiveTemporaries();
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
 
 }  // namespace
 
@@ -63,11 +74,17 @@ int main(int argc, char** argv) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;
     return kExitUsage;
   }
+  for (int signal : {SIGTERM, SIGHUP, SIGINT}) std::signal(signal, onTerminate);
   try {
     return it->second(std::vector<std::string>(all.begin() + 1, all.end()));
   } catch (const UsageError& e) {
     std::cerr << "dynid " << command << ": " << e.what() << "\n";
     return kExitUsage;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "dynid " << command
+              << ": error: out of memory (the input is too large for this machine's memory or "
+                 "the process's limit; nothing was written)\n";
+    return kExitError;
   } catch (const std::exception& e) {
     std::cerr << "dynid " << command << ": error: " << e.what() << "\n";
     return kExitError;

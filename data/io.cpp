@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -14,6 +15,30 @@
 #include "core/errors.hpp"
 
 namespace dynid {
+
+namespace {
+// The open temporaries' paths, for removeLiveTemporaries in a signal handler: a fixed table of
+// atomic pointers (no allocation, no lock). A writer beyond the table's size is not registered;
+// its temporary survives a signal, as any does after SIGKILL (the next run ignores it).
+constexpr int kSlots = 64;
+std::atomic<const char*> live_temporaries[kSlots];
+
+int registerTemporary(const char* path) {
+  for (int k = 0; k < kSlots; ++k) {
+    const char* expected = nullptr;
+    if (live_temporaries[k].compare_exchange_strong(expected, path)) return k;
+  }
+  return -1;
+}
+void unregisterTemporary(int slot) {
+  if (slot >= 0) live_temporaries[slot].store(nullptr);
+}
+}  // namespace
+
+void removeLiveTemporaries() noexcept {
+  for (auto& slot : live_temporaries)
+    if (const char* path = slot.load(); path != nullptr) ::unlink(path);
+}
 
 AtomicWriter::AtomicWriter(const std::string& path) : path_(path) {
   // The target's type decides: a regular file (or none) is replaced whole by a rename; a stream
@@ -29,14 +54,19 @@ AtomicWriter::AtomicWriter(const std::string& path) : path_(path) {
     temporary_ = path + ".tmp." + std::to_string(::getpid());
     open_path = temporary_;
   }
+  if (!temporary_.empty()) slot_ = registerTemporary(temporary_.c_str());
   file_ = std::fopen(open_path.c_str(), "wb");
-  if (file_ == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  if (file_ == nullptr) {
+    unregisterTemporary(slot_);
+    throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  }
   buffer_.reserve(kBuffer);
 }
 
 AtomicWriter::~AtomicWriter() {
   if (file_ != nullptr) std::fclose(file_);
   if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
+  unregisterTemporary(slot_);
 }
 
 void AtomicWriter::write(std::string_view text) {

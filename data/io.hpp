@@ -28,7 +28,12 @@ class AtomicWriter {
   std::FILE* file_ = nullptr;
   std::string buffer_;
   bool committed_ = false;
+  int slot_ = -1;  // this temporary's slot in the registry removeLiveTemporaries reads
 };
+
+/// Removes every temporary an AtomicWriter of this process has open (the targets are left as they
+/// were). Async-signal-safe: for a SIGTERM or SIGINT handler, before the process dies.
+void removeLiveTemporaries() noexcept;
 
 /// Writes `content` to `path` through a temporary file in the same directory and a rename, so
 /// readers see the old file or the whole new one. A path that names a stream (a FIFO, or a
