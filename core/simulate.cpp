@@ -6,6 +6,7 @@
 
 #include "core/aba.hpp"
 #include "core/errors.hpp"
+#include "core/memory.hpp"
 
 namespace dynid {
 
@@ -46,6 +47,8 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
     throw InputError("simulation would take more than 1e9 integration steps (duration / step)");
 
   Trajectory out;
+  requireMemory(static_cast<double>(samples) * (1 + 4 * n) * sizeof(double),
+                "a simulation of " + std::to_string(samples) + " samples");
   out.resize(n, static_cast<int>(samples));
   Data data(truth);
   Eigen::VectorXd q, dq, ddq_ref;

@@ -26,7 +26,8 @@ struct SimulationOptions {
 /// step-sized integrator steps until the next sample; noise is added to the recorded q, dq, tau
 /// only (never to the simulated state). Throws InputError when 1/record_rate is not a whole
 /// multiple of step (to 1e-9 relative), a setting is non-positive or non-finite, the run would
-/// record over 1e8 samples or take over 1e9 steps, or the controller has a different joint count;
+/// record over 1e8 samples, take over 1e9 steps or need more memory than the process may use
+/// (core/memory.hpp), or the controller has a different joint count;
 /// NumericalError when the state becomes non-finite (names the time).
 Trajectory simulate(const Model& truth, TrackingController& controller,
                     const SimulationOptions& options);

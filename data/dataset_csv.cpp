@@ -4,10 +4,12 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <string_view>
 #include <vector>
 
 #include "core/errors.hpp"
+#include "core/memory.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -80,7 +82,7 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
 }
 
 Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
-  const std::string text = readFile(path);
+  const std::string text = readFile(path, std::numeric_limits<double>::infinity());
   std::vector<std::string_view> lines;
   for (std::size_t start = 0; start < text.size();) {
     std::size_t end = text.find('\n', start);
@@ -114,8 +116,13 @@ Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
       throw ParseError(path, 1, "column " + std::to_string(c + 1),
                        "expected '" + names[c] + "', found '" + std::string(header[c]) + "'");
 
+  if (lines.size() - 1 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw ParseError(path, 0, "", "more than 2^31 - 1 rows");
   const int samples = static_cast<int>(lines.size()) - 1;
   if (samples < 1) throw ParseError(path, 1, "", "no data rows after the header");
+  requireMemory(
+      static_cast<double>(samples) * (1 + 4 * n) * sizeof(double),
+      path + ": " + std::to_string(samples) + " samples of " + std::to_string(n) + " joints");
   Trajectory out;
   out.resize(n, samples);
   std::string field_copy;

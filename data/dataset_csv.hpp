@@ -19,7 +19,8 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
 /// Reads a dataset. Checks the header (names the column that differs), that every row has
 /// 1 + 4n fields, that every field is a finite number, and that time strictly increases; when
 /// expected_joints >= 0, also that n matches it. Throws ParseError(file, line, column, ...) naming
-/// the line and column at fault, or Error when the file cannot be read.
+/// the line and column at fault, Error when the file cannot be read, and InputError naming the file
+/// before allocating when the file or its samples would not fit in memory (core/memory.hpp).
 Trajectory readDatasetCsv(const std::string& path, int expected_joints = -1);
 
 }  // namespace dynid

@@ -1,18 +1,24 @@
 #include "data/io.hpp"
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/memory.hpp"
 
 namespace dynid {
 
@@ -32,6 +38,27 @@ int registerTemporary(const char* path) {
 }
 void unregisterTemporary(int slot) {
   if (slot >= 0) live_temporaries[slot].store(nullptr);
+}
+
+/// Removes `<path>.tmp.<pid>` files of processes that no longer exist: what a writer killed by
+/// SIGKILL (or a power cut) left. Best effort: errors are ignored.
+void removeStaleTemporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const std::string prefix = target.filename().string() + ".tmp.";
+  std::error_code ec;
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
 }
 }  // namespace
 
@@ -97,6 +124,7 @@ void AtomicWriter::commit() {
   if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
   committed_ = true;
+  if (!temporary_.empty()) removeStaleTemporaries(path_);
 }
 
 void writeFileAtomically(const std::string& path, const std::string& content) {
@@ -105,13 +133,43 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   out.commit();
 }
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "': " + std::strerror(errno));
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw Error("cannot read '" + path + "'");
-  return s.str();
+std::string readFile(const std::string& path, double max_bytes) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+  const std::unique_ptr<int, void (*)(int*)> closer(new int(fd), [](int* f) {
+    ::close(*f);
+    delete f;
+  });
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+  if (S_ISDIR(st.st_mode)) throw Error("cannot read '" + path + "': it is a directory");
+  std::string out;
+  const bool regular = S_ISREG(st.st_mode);
+  if (regular) {
+    const auto size = static_cast<double>(st.st_size);
+    if (size > max_bytes)
+      throw InputError("'" + path + "' is " + formatBytes(size) + ", more than the " +
+                       formatBytes(max_bytes) + " this file may be");
+    requireMemory(size, "reading '" + path + "'");
+    out.reserve(static_cast<std::size_t>(st.st_size));
+  } else {
+    max_bytes = std::min(max_bytes, kMaxDocumentBytes);
+  }
+  std::array<char, 1 << 16> buffer;
+  while (true) {
+    const ssize_t got = ::read(fd, buffer.data(), buffer.size());
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw Error("cannot read '" + path + "': " + std::strerror(errno));
+    }
+    if (got == 0) break;
+    if (static_cast<double>(out.size()) + static_cast<double>(got) > max_bytes)
+      throw InputError("'" + path + "' holds more than " + formatBytes(max_bytes) +
+                       (regular ? " (it grew while being read)"
+                                : " (a stream is read up to that; save it to a file)"));
+    out.append(buffer.data(), static_cast<std::size_t>(got));
+  }
+  return out;
 }
 
 std::string formatDouble(double x) {

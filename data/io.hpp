@@ -10,8 +10,9 @@ namespace dynid {
 /// A file written piece by piece with writeFileAtomically's guarantees: through a temporary in
 /// the same directory, renamed over `path` by commit(); a stream target (FIFO, character device)
 /// is written through; a directory or other special file is refused. Destroyed without commit
-/// (an exception on the way), the temporary is removed and the target untouched. Throws Error
-/// naming the path on failure.
+/// (an exception on the way), the temporary is removed and the target untouched. A commit also
+/// removes the target's stale temporaries (`<path>.tmp.<pid>` of processes that no longer exist:
+/// what a SIGKILL left). Throws Error naming the path on failure.
 class AtomicWriter {
  public:
   explicit AtomicWriter(const std::string& path);
@@ -42,8 +43,15 @@ void removeLiveTemporaries() noexcept;
 /// temporary is removed).
 void writeFileAtomically(const std::string& path, const std::string& content);
 
-/// Reads a whole file. Throws Error naming the path when it cannot be read.
-std::string readFile(const std::string& path);
+/// The most a stream (a pipe, a device: its size unknown in advance) or a document (JSON, URDF)
+/// is read: 1 GiB, far above any model, settings file or checkpoint dynid writes.
+inline constexpr double kMaxDocumentBytes = 1073741824.0;
+
+/// Reads a whole file: a regular file of at most `max_bytes` that fits in memory
+/// (core/memory.hpp), or a stream (a pipe or device) up to min(max_bytes, kMaxDocumentBytes).
+/// Throws Error naming the path when it cannot be read or is a directory, InputError naming it
+/// when it is larger than that or than the memory this process may use.
+std::string readFile(const std::string& path, double max_bytes = kMaxDocumentBytes);
 
 /// Shortest decimal form that parses back to exactly x ("0.1", "1e-300", "inf", "nan").
 std::string formatDouble(double x);

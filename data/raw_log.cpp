@@ -1,6 +1,7 @@
 #include "data/raw_log.hpp"
 
 #include <fnmatch.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -12,6 +13,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/memory.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -72,11 +74,18 @@ void forEachLine(const std::string& path, F f) {
                                                        &std::fclose);
   if (!file) throw Error("cannot read '" + path + "': " + std::strerror(errno));
   constexpr std::size_t kBlock = 1 << 22;
+  constexpr std::size_t kMaxLineBytes = 1 << 26;  // 64 MiB: far above any log's row
   std::vector<char> buffer(kBlock);
   std::size_t kept = 0;  // bytes of an unfinished line at the buffer's start
   int line = 0;
   while (true) {
-    if (kept == buffer.size()) buffer.resize(2 * buffer.size());  // a line longer than a block
+    if (kept == buffer.size()) {  // a line longer than a block
+      if (buffer.size() >= kMaxLineBytes)
+        throw ParseError(path, line + 1, "",
+                         "a line longer than " + formatBytes(kMaxLineBytes) +
+                             ": not a text log (or a missing line break)");
+      buffer.resize(2 * buffer.size());
+    }
     const std::size_t got = std::fread(buffer.data() + kept, 1, buffer.size() - kept, file.get());
     if (got == 0 && std::ferror(file.get())) throw Error("cannot read '" + path + "'");
     const char* start = buffer.data();
@@ -170,6 +179,11 @@ RawTable readRawHeader(const std::string& path) {
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns) {
   const std::string& path = header.file;
   const auto width = static_cast<int>(header.names.size());
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw ParseError(path, 0, "",
+                     "is not a regular file: a table is read twice (count, then parse); save the "
+                     "stream to a file first");
   // Pass 1: the rows, to allocate once.
   Eigen::Index rows = 0;
   forEachLine(path, [&](const char* begin, const char* end, int line) {
@@ -180,10 +194,17 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
   std::vector<int> target(static_cast<std::size_t>(width), -1);
   for (std::size_t k = 0; k < columns.size(); ++k)
     target.at(static_cast<std::size_t>(columns[k])) = static_cast<int>(k);
+  requireMemory(static_cast<double>(rows) * static_cast<double>(columns.size()) * sizeof(double),
+                path + ": " + std::to_string(rows) + " rows of " + std::to_string(columns.size()) +
+                    " columns");
   Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
   Eigen::Index row = 0;
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     if (line < header.first_data_line || !isDataLine(begin, end)) return true;
+    if (row == rows)
+      throw ParseError(path, line, "",
+                       "the file grew while being read (" + std::to_string(rows) +
+                           " rows when counted): read a finished log");
     const int fields =
         forEachField(begin, end, header.delimiter, [&](const char* b, const char* e, int c) {
           if (c >= width || target[static_cast<std::size_t>(c)] < 0) return;
@@ -200,6 +221,10 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
     ++row;
     return true;
   });
+  if (row != rows)
+    throw ParseError(path, 0, "",
+                     "the file shrank while being read (" + std::to_string(rows) +
+                         " rows when counted, " + std::to_string(row) + " when parsed)");
   return values;
 }
 
@@ -209,6 +234,29 @@ RawTable readRawTable(const std::string& path) {
   for (std::size_t c = 0; c < all.size(); ++c) all[c] = static_cast<int>(c);
   table.values = readRawColumns(table, all);
   return table;
+}
+
+int rawRowLine(const RawTable& header, Eigen::Index row) {
+  int found = 0;
+  Eigen::Index seen = 0;
+  forEachLine(header.file, [&](const char* begin, const char* end, int line) {
+    if (line < header.first_data_line || !isDataLine(begin, end)) return true;
+    if (seen++ == row) found = line;
+    return found == 0;
+  });
+  return found;
+}
+
+int valueFileLine(const std::string& path, Eigen::Index index) {
+  int found = 0;
+  Eigen::Index seen = 0;
+  forEachLine(path, [&](const char* begin, const char* end, int line) {
+    forEachField(begin, end, ' ', [&](const char*, const char*, int) {
+      if (seen++ == index && found == 0) found = line;
+    });
+    return found == 0;
+  });
+  return found;
 }
 
 Eigen::MatrixXd readValueFile(const std::string& path, int width) {

@@ -37,6 +37,12 @@ RawTable readRawHeader(const std::string& path);
 /// memory is the result plus a 4 MB block. Errors as readRawTable's.
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns);
 
+/// The file line of data row `row` (0-based, in file order) of a table, or 0 past the end: for
+/// messages about a row found wrong after reading (it re-reads the file).
+int rawRowLine(const RawTable& header, Eigen::Index row);
+/// The file line holding value `index` (0-based) of a one-signal-per-file log, or 0 past the end.
+int valueFileLine(const std::string& path, Eigen::Index index);
+
 /// Reads a one-signal-per-file log: every whitespace-separated number in the file, in order,
 /// shaped into samples of `width` values (width 1 for a time file). Throws ParseError naming the
 /// line of a non-numeric or non-finite value, or when the count is not a multiple of `width`.

@@ -7,6 +7,7 @@
 
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/memory.hpp"
 #include "core/regressor.hpp"
 
 namespace dynid {
@@ -29,6 +30,12 @@ Observation observationFromTrajectory(const Model& model, const Trajectory& traj
   out.num_samples = samples;
   out.num_joints = n;
   out.layout = model.parameterLayout();
+  // W, and the base regressor and its QR factor that every estimator builds from it.
+  const double rows = static_cast<double>(samples) * n;
+  requireMemory(3.0 * rows * out.layout.size() * sizeof(double),
+                "the observation matrix of " + std::to_string(samples) + " samples x " +
+                    std::to_string(n) + " joints x " + std::to_string(out.layout.size()) +
+                    " parameters (with its factorisation)");
   out.W.resize(static_cast<Eigen::Index>(samples) * n, out.layout.size());
   out.tau.resize(static_cast<Eigen::Index>(samples) * n);
   Data data(model);

@@ -21,7 +21,8 @@ struct Observation {
 
 /// W and tau from a trajectory (q, dq, ddq, tau of every sample). Throws InputError when the
 /// trajectory's joint count differs from the model's, or a value is not finite (naming the sample,
-/// its time and the column, e.g. "sample 17 (t = 0.016 s): dq3 is not finite").
+/// its time and the column, e.g. "sample 17 (t = 0.016 s): dq3 is not finite"), and before
+/// allocating W when it and its factorisation would not fit in memory (core/memory.hpp).
 Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory);
 
 /// W from seeded random states for structural analysis: q uniform within the joint limits
