@@ -17,15 +17,19 @@ using nlohmann::json;
 namespace {
 
 json vectorJson(const Eigen::VectorXd& v) { return std::vector<double>(v.begin(), v.end()); }
-/// A standard vector from {name: value} (every name of the layout required).
+/// A standard vector from {name: value} (every name of the layout required, each a finite number
+/// within +-kMaxParameterMagnitude).
 Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>& names,
                              const std::string& file, const std::string& where) {
+  const JsonReader read(file);
+  read.object(values, where);
   Eigen::VectorXd theta(static_cast<Eigen::Index>(names.size()));
   for (std::size_t k = 0; k < names.size(); ++k) {
-    if (!values.contains(names[k]) || !values[names[k]].is_number())
-      throw ParseError(file, 0, where + "." + names[k],
-                       "missing or not a number (does --robot/--drives match the run?)");
-    theta[static_cast<Eigen::Index>(k)] = values[names[k]].get<double>();
+    const std::string path = where + "." + names[k];
+    if (!values.contains(names[k]))
+      read.fail(path, "missing (does --robot/--drives match the run?)");
+    theta[static_cast<Eigen::Index>(k)] =
+        read.number(values[names[k]], path, -kMaxParameterMagnitude, kMaxParameterMagnitude);
   }
   return theta;
 }
@@ -273,8 +277,8 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
           read.fail("settings.free_parameters", "'" + name + "' is not a parameter of the robot");
     } else if (start.contains("standard_estimate")) {
       out.kind = "estimate";
-      out.initial.setStandardParameters(standardFrom(start.at("standard_estimate").at("values"),
-                                                     names, from, "standard_estimate.values"));
+      out.initial.setStandardParameters(
+          standardVectorFrom(estimateRecordFrom(start, from), names, from, ""));
       out.estimate = out.initial;
     } else {
       throw ParseError(from, 0, "", "neither a dynid search.json nor an identify estimate.json");
@@ -283,6 +287,80 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
     throw ParseError(from, 0, "", std::string("missing or malformed field: ") + e.what());
   }
   return out;
+}
+
+EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
+  const JsonReader read(file);
+  read.header(document, kEstimateSchemaVersion, nullptr);
+  read.onlyKeys(document, "",
+                {"schema_version",
+                 "robot",
+                 "robot_spec",
+                 "kinematics",
+                 "drives",
+                 "drive_terms",
+                 "method",
+                 "data",
+                 "num_base",
+                 "base_parameters",
+                 "condition_number",
+                 "condition_number_unscaled",
+                 "joint_sigma",
+                 "residual_rms",
+                 "measured_rms",
+                 "relative_error",
+                 "joint_relative_error",
+                 "standard_estimate",
+                 "physically_consistent",
+                 "write_back",
+                 "validation"});
+  EstimateRecord out;
+  if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");
+  if (document.contains("method")) out.method = read.string(document, "", "method");
+  if (document.contains("drive_terms"))
+    out.drive_terms = read.strings(document["drive_terms"], "drive_terms");
+  const json& standard = read.field(document, "", "standard_estimate");
+  read.onlyKeys(standard, "standard_estimate", {"note", "values"});
+  const json& values =
+      read.object(read.field(standard, "standard_estimate", "values"), "standard_estimate.values");
+  for (const auto& [name, value] : values.items())
+    out.standard[name] = read.number(value, "standard_estimate.values." + name,
+                                     -kMaxParameterMagnitude, kMaxParameterMagnitude);
+  if (document.contains("kinematics")) {
+    const json& rows = read.array(document["kinematics"], "kinematics");
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const std::string path = JsonReader::index("kinematics", i);
+      if (!rows[i].is_array() || rows[i].size() != 15) read.fail(path, "expected 15 numbers");
+      for (std::size_t c = 0; c < 15; ++c)
+        if (!rows[i][c].is_number() && !rows[i][c].is_null())
+          read.fail(JsonReader::index(path, c), "expected a number");
+    }
+    out.kinematics = rows;
+  }
+  return out;
+}
+
+Eigen::VectorXd standardVectorFrom(const EstimateRecord& record,
+                                   const std::vector<std::string>& names, const std::string& file,
+                                   const std::string& robot_spec) {
+  const std::string robot = robot_spec.empty() ? "the robot" : "robot '" + robot_spec + "'";
+  Eigen::VectorXd theta(static_cast<Eigen::Index>(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const auto it = record.standard.find(names[k]);
+    if (it == record.standard.end())
+      throw ParseError(file, 0, "standard_estimate.values." + names[k],
+                       "missing: " + robot + " has this parameter (" +
+                           std::to_string(names.size()) + " in all, the estimate " +
+                           std::to_string(record.standard.size()) +
+                           "): the estimate was made for another robot or drive terms, or edited");
+    theta[static_cast<Eigen::Index>(k)] = it->second;
+  }
+  for (const auto& [name, value] : record.standard)
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw ParseError(file, 0, "standard_estimate.values." + name,
+                       "is not a parameter of " + robot +
+                           ": the estimate was made for another robot or drive terms");
+  return theta;
 }
 
 json metricsJson(const MethodMetrics& m) {

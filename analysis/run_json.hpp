@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,30 @@ struct RefineStart {
 RefineStart refineStartFrom(const nlohmann::json& document, const std::string& file,
                             const Model& robot, const SpaceOptions& space,
                             const SegmentOptions& segments);
+
+/// estimate.json's schema_version (written by reports/identification_report).
+inline constexpr int kEstimateSchemaVersion = 1;
+
+/// What predict and refine read from an `identify` estimate.json.
+struct EstimateRecord {
+  std::string robot_spec;                  // "" when the estimate does not say
+  std::string method;                      // "" when absent
+  std::vector<std::string> drive_terms;    // keys: "fv", "fc", ...
+  std::map<std::string, double> standard;  // standard_estimate.values
+  nlohmann::json kinematics;               // the recorded kinematics signature, or null
+};
+/// Reads an estimate.json document strictly: schema_version exactly kEstimateSchemaVersion,
+/// unknown top-level keys refused, robot_spec a string, drive_terms an array of names,
+/// standard_estimate {note, values} with every value a finite number within
+/// +-kMaxParameterMagnitude, kinematics an array of 15-entry rows. Throws ParseError naming `file`
+/// and the field.
+EstimateRecord estimateRecordFrom(const nlohmann::json& document, const std::string& file);
+/// The standard vector in the order of `names` (a robot's layout). Throws ParseError naming the
+/// first missing or extra parameter ("standard_estimate.values.Ixx3") and saying the estimate was
+/// made for another robot (or edited) when the names differ.
+Eigen::VectorXd standardVectorFrom(const EstimateRecord& record,
+                                   const std::vector<std::string>& names, const std::string& file,
+                                   const std::string& robot_spec);
 
 /// A comparison row: {gc_error_initial, gc_error_train, gc_error_test, torque_rms_test,
 /// param_error, base_param_error, evaluations, seconds}; non-finite numbers are null.

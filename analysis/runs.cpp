@@ -145,6 +145,18 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
 // ---- identifiability ----
 
+namespace {
+/// The observation of a dataset file; its errors (a non-finite sample, too large for memory) name
+/// the file.
+Observation observationOfFile(const Model& model, const Trajectory& data, const std::string& file) {
+  try {
+    return observationFromTrajectory(model, data);
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  }
+}
+}  // namespace
+
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
                                           const std::string& data_file) {
   IdentifiabilityOutcome out;
@@ -157,7 +169,7 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
   out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
   if (!data_file.empty()) {
     const Observation observation =
-        observationFromTrajectory(model, readDatasetCsv(data_file, model.numJoints()));
+        observationOfFile(model, readDatasetCsv(data_file, model.numJoints()), data_file);
     const Eigen::MatrixXd W1 = out.base.baseRegressor(observation.W);
     out.data = DataExcitation{data_file, observation.num_samples, measureExcitation(W1),
                               scaledConditionNumber(W1)};
@@ -222,7 +234,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
   const Trajectory train_data = readDatasetCsv(request.data_file, model.numJoints());
-  const Observation train = observationFromTrajectory(model, train_data);
+  const Observation train = observationOfFile(model, train_data, request.data_file);
   out.base = structuralBaseParameters(model, request.structural);
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
@@ -308,66 +320,37 @@ Prediction predictTorques(const Model& model, const Trajectory& data) {
 }
 
 PredictOutcome predictRun(const PredictRequest& request) {
-  const nlohmann::json estimate = parseJson(readFile(request.estimate_file), request.estimate_file);
-  const auto field = [&](const char* key) -> const nlohmann::json& {
-    if (!estimate.is_object() || !estimate.contains(key))
-      throw ParseError(request.estimate_file, 0, key, "missing: not a dynid identify estimate");
-    return estimate[key];
-  };
+  const std::string& file = request.estimate_file;
+  const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
   PredictOutcome out;
-  out.robot_spec = request.robot_spec;
-  if (out.robot_spec.empty()) {
-    if (!field("robot_spec").is_string() || field("robot_spec").get<std::string>().empty())
-      throw ParseError(request.estimate_file, 0, "robot_spec",
-                       "the estimate does not say which robot it is for: give --robot");
-    out.robot_spec = field("robot_spec").get<std::string>();
-  }
-  out.method = field("method").is_string() ? field("method").get<std::string>() : "";
+  out.robot_spec = request.robot_spec.empty() ? estimate.robot_spec : request.robot_spec;
+  if (out.robot_spec.empty())
+    throw ParseError(file, 0, "robot_spec",
+                     "the estimate does not say which robot it is for: give --robot");
+  out.method = estimate.method;
   std::string terms;
-  for (const nlohmann::json& t : field("drive_terms")) {
-    if (!t.is_string()) throw ParseError(request.estimate_file, 0, "drive_terms", "expected names");
-    if (!terms.empty()) terms += ',';
-    terms += t.get<std::string>();
-  }
+  for (const std::string& t : estimate.drive_terms) terms += (terms.empty() ? "" : ",") + t;
   RobotOptions options;
   try {
     options.drive_terms = parseDriveTerms(terms.empty() ? "none" : terms);
   } catch (const std::invalid_argument& e) {
-    throw ParseError(request.estimate_file, 0, "drive_terms", e.what());
+    throw ParseError(file, 0, "drive_terms", e.what());
   }
   out.model = loadRobot(out.robot_spec, options);
-  const nlohmann::json& standard = field("standard_estimate");
-  if (!standard.is_object() || !standard.contains("values"))
-    throw ParseError(request.estimate_file, 0, "standard_estimate", "expected {\"values\": ...}");
-  const nlohmann::json& values = standard["values"];
-  const std::vector<std::string> names = standardParameterNames(out.model.parameterLayout());
-  if (!values.is_object() || values.size() != names.size())
-    throw InputError(request.estimate_file + ": the estimate has " +
-                     std::to_string(values.is_object() ? values.size() : 0) +
-                     " standard parameters, robot '" + out.robot_spec + "' with drive terms " +
-                     driveTermsText(options.drive_terms.value()) + " has " +
-                     std::to_string(names.size()) + ": it was made for another robot");
-  Eigen::VectorXd theta(static_cast<Eigen::Index>(names.size()));
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const auto it = values.find(names[k]);
-    if (it == values.end() || !it->is_number())
-      throw InputError(request.estimate_file + ": parameter '" + names[k] + "' of robot '" +
-                       out.robot_spec + "' is not in the estimate: it was made for another robot");
-    theta[static_cast<Eigen::Index>(k)] = it->get<double>();
-  }
-  out.model.setStandardParameters(theta);
+  out.model.setStandardParameters(standardVectorFrom(
+      estimate, standardParameterNames(out.model.parameterLayout()), file, out.robot_spec));
   // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
   // differ) would give wrong torques silently: compare the recorded kinematics.
-  if (estimate.contains("kinematics")) {
+  if (!estimate.kinematics.is_null()) {
     const Eigen::MatrixXd mine = kinematicsSignature(out.model);
-    const nlohmann::json& recorded = estimate["kinematics"];
-    bool same = recorded.is_array() && recorded.size() == static_cast<std::size_t>(mine.rows());
+    const nlohmann::json& recorded = estimate.kinematics;
+    bool same = recorded.size() == static_cast<std::size_t>(mine.rows());
     for (Eigen::Index i = 0; same && i < mine.rows(); ++i)
       for (Eigen::Index c = 0; same && c < 15; ++c)
-        same = recorded[i].is_array() && recorded[i].size() == 15 && recorded[i][c].is_number() &&
+        same = recorded[i][c].is_number() &&
                std::abs(recorded[i][c].get<double>() - mine(i, c)) <= 1e-9;
     if (!same)
-      throw InputError(request.estimate_file + ": robot '" + out.robot_spec +
+      throw InputError(file + ": robot '" + out.robot_spec +
                        "' has other link frames or axes than the robot the estimate was made for: "
                        "it was made for another robot");
   }

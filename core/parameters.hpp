@@ -44,6 +44,11 @@ inline constexpr std::array<std::string_view, kDriveTermCount> kDriveParameterNa
 /// The drive terms' keys in flags and JSON ("--drive-terms fv,fc,fo").
 inline constexpr std::array<std::string_view, kDriveTermCount> kDriveTermKeys = {"ia", "fv", "fc",
                                                                                  "fo", "fa"};
+/// The largest magnitude an inertial or drive parameter read from a file may have (kg, kg m,
+/// kg m^2, N m s/rad, N m). The heaviest manipulator links weigh about 1e3 kg with inertias about
+/// 1e3 kg m^2; 1e6 leaves three orders of margin, refuses unit slips such as g mm^2 (1e9 times
+/// too large) and keeps every product in RNEA/ABA far from overflow.
+inline constexpr double kMaxParameterMagnitude = 1e6;
 inline constexpr int kPaperParameterCount = 7;
 inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   "cx",  "cy", "cz",
                                                                          "Ixx", "Iyy", "Izz"};

@@ -10,6 +10,7 @@
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "data/dh.hpp"
+#include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "data/json_reader.hpp"
 
@@ -83,6 +84,14 @@ class Reader {
     out.translation = vector3(field(value, path, "translation"), path + ".translation");
     return out;
   }
+  /// Fails unless every standard parameter is within +-kMaxParameterMagnitude (core/parameters).
+  void parameterMagnitudes(const Eigen::Matrix<double, 10, 1>& theta,
+                           const std::string& path) const {
+    for (int k = 0; k < kLinkParameterCount; ++k)
+      if (std::abs(theta(k)) > kMaxParameterMagnitude)
+        fail(path, std::string(kLinkParameterNames[k]) + " = " + formatDouble(theta(k)) +
+                       " is beyond +-1e6 (SI units: kg, kg m, kg m^2)");
+  }
   /// Fails on a key of `object` that is not in `allowed` (a misspelt key must not pass silently).
   void onlyKeys(const json& object, const std::string& path,
                 std::initializer_list<const char*> allowed) const {
@@ -108,8 +117,11 @@ class Reader {
     DriveParameters<double> out;
     for (int k = 0; k < kDriveTermCount; ++k) {
       const std::string key(kDriveParameterNames[k]);
-      if (const auto it = object.find(key); it != object.end())
+      if (const auto it = object.find(key); it != object.end()) {
         out.term(k) = number(*it, join(path, key.c_str()));
+        if (std::abs(out.term(k)) > kMaxParameterMagnitude)
+          fail(join(path, key.c_str()), formatDouble(out.term(k)) + " is beyond +-1e6 (SI units)");
+      }
     }
     return out;
   }
@@ -175,6 +187,7 @@ RigidInertia<double> dhInertia(const json& inertial, const std::string& path, bo
     for (int k = 0; k < kLinkParameterCount; ++k)
       theta(k) = read.number(inertial, path, std::string(kLinkParameterNames[k]).c_str());
     if (theta(0) < 0.0) read.fail(path + ".m", "negative mass");
+    read.parameterMagnitudes(theta, path);
     return fromStandardVector(theta);
   }
   read.onlyKeys(inertial, path, {"m", "com", "inertia"});
@@ -191,7 +204,9 @@ RigidInertia<double> dhInertia(const json& inertial, const std::string& path, bo
   about_com(1, 1) = read.number(I, ipath, "Iyy");
   about_com(1, 2) = about_com(2, 1) = read.number(I, ipath, "Iyz");
   about_com(2, 2) = read.number(I, ipath, "Izz");
-  return inertiaFromCom(mass, com, about_com);
+  const RigidInertia<double> out = inertiaFromCom(mass, com, about_com);
+  read.parameterMagnitudes(toStandardVector(out), path);
+  return out;
 }
 
 /// A model from the document's "dh" block (data/dh.hpp); `model` carries the common fields.
@@ -348,6 +363,7 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     for (int k = 0; k < kLinkParameterCount; ++k)
       theta(k) = read.number(inertial, ipath, std::string(kLinkParameterNames[k]).c_str());
     if (theta(0) < 0.0) read.fail(ipath + ".m", "negative mass");
+    read.parameterMagnitudes(theta, ipath);
     DriveParameters<double> drive;
     if (const auto it = body.find("drive"); it != body.end())
       drive = read.drive(*it, path + ".drive");

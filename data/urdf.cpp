@@ -214,6 +214,14 @@ class UrdfBuilder {
       return out;
     }
     const urdf::Inertial& in = *link.inertial;
+    if (moving && in.mass == 0.0 && in.ixx == 0.0 && in.ixy == 0.0 && in.ixz == 0.0 &&
+        in.iyy == 0.0 && in.iyz == 0.0 && in.izz == 0.0) {
+      const std::string message =
+          "has a zero <mass> and <inertia>: treated as massless (a massless subtree makes the "
+          "mass matrix singular)";
+      if (options_.strict) failLink(link.name, message);
+      if (warnings_) warnings_->push_back(file_ + ": link '" + link.name + "' " + message);
+    }
     const Pose<double> origin = toPose(in.origin);
     // About the centre of mass in inertial-frame axes, rotated into link axes.
     Eigen::Matrix3d i_com;
@@ -224,6 +232,12 @@ class UrdfBuilder {
     out.mass = in.mass;
     out.first_moment = in.mass * origin.translation;
     out.inertia = i_com - in.mass * sc * sc;
+    const Eigen::Matrix<double, 10, 1> theta = toStandardVector(out);
+    for (int k = 0; k < kLinkParameterCount; ++k)
+      if (std::abs(theta(k)) > kMaxParameterMagnitude)
+        failLink(link.name, "<inertial> gives " + std::string(kLinkParameterNames[k]) + " = " +
+                                formatDouble(theta(k)) +
+                                ", beyond +-1e6 (SI units: kg, m, kg m^2)");
     return out;
   }
 

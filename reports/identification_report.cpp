@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "analysis/run_json.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
@@ -171,7 +172,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const Eigen::VectorXd& standard = outcome.result.standard;
   json standard_json = json::object();
   for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
-  json report = {{"schema_version", kIdentificationSchemaVersion},
+  json report = {{"schema_version", kEstimateSchemaVersion},
                  {"robot", model.name},
                  {"robot_spec", outcome.robot_spec},
                  {"kinematics", kinematicsJson(model)},

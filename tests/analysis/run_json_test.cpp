@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/parameters.hpp"
 #include "core/perturb.hpp"
 #include "data/puma560.hpp"
 
@@ -97,7 +98,7 @@ TEST(RunJson, ARefineStartReadsBackTheSearchsSpaceAndEstimate) {
 
 TEST(RunJson, ARefineStartNamesTheMissingField) {
   const Model robot = makePuma560(false);
-  nlohmann::json doc = {{"standard_estimate", {{"values", {{"m1", 1.0}}}}}};
+  nlohmann::json doc = {{"schema_version", 1}, {"standard_estimate", {{"values", {{"m1", 1.0}}}}}};
   try {
     refineStartFrom(doc, "est.json", robot, {}, {});
     FAIL() << "expected ParseError";
@@ -107,6 +108,52 @@ TEST(RunJson, ARefineStartNamesTheMissingField) {
   }
   EXPECT_THROW(refineStartFrom(nlohmann::json::object(), "x.json", robot, {}, {}), ParseError);
   EXPECT_THROW(parseJson("{not json", "x.json"), ParseError);
+}
+
+/// The element of the ParseError that reading `doc` as an estimate.json for the PUMA throws.
+std::string estimateFault(const nlohmann::json& doc) {
+  const std::vector<std::string> names =
+      standardParameterNames(makePuma560(false).parameterLayout());
+  try {
+    standardVectorFrom(estimateRecordFrom(doc, "est.json"), names, "est.json", "puma560");
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), "est.json");
+    return e.element();
+  }
+  return "";
+}
+
+TEST(RunJson, AnEstimateIsReadStrictly) {
+  const Model robot = makePuma560(false);
+  const std::vector<std::string> names = standardParameterNames(robot.parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (std::size_t k = 0; k < names.size(); ++k) values[names[k]] = 0.5 + static_cast<double>(k);
+  const nlohmann::json good = {{"schema_version", 1},
+                               {"robot_spec", "puma560"},
+                               {"drive_terms", nlohmann::json::array()},
+                               {"standard_estimate", {{"note", "n"}, {"values", values}}}};
+  const Eigen::VectorXd theta =
+      standardVectorFrom(estimateRecordFrom(good, "est.json"), names, "est.json", "puma560");
+  EXPECT_EQ(theta[3], 3.5);  // in the layout's order, whatever the document's key order
+  EXPECT_EQ(estimateFault(good), "");
+  nlohmann::json bad = good;
+  bad["schema_version"] = 99;
+  EXPECT_EQ(estimateFault(bad), "schema_version");
+  bad = good;
+  bad["standard_estimat"] = nlohmann::json::object();
+  EXPECT_EQ(estimateFault(bad), "standard_estimat");
+  bad = good;
+  bad["standard_estimate"]["values"]["m3"] = 1e300;  // finite, but no robot's parameter
+  EXPECT_EQ(estimateFault(bad), "standard_estimate.values.m3");
+  bad = good;
+  bad["standard_estimate"]["values"].erase("Ixx3");
+  EXPECT_EQ(estimateFault(bad), "standard_estimate.values.Ixx3");
+  bad = good;
+  bad["standard_estimate"]["values"]["Ia3"] = 0.1;  // a drive parameter this robot does not have
+  EXPECT_EQ(estimateFault(bad), "standard_estimate.values.Ia3");
+  bad = good;
+  bad["drive_terms"] = {"fv", 3};
+  EXPECT_EQ(estimateFault(bad), "drive_terms[1]");
 }
 
 }  // namespace
