@@ -12,6 +12,8 @@
 #include "analysis/run_json.hpp"
 #include "core/errors.hpp"
 #include "data/io.hpp"
+#include "data/json_reader.hpp"
+#include "data/robots.hpp"
 
 extern char** environ;
 
@@ -41,7 +43,15 @@ void forEachSpecField(Settings& s, F&& f) {
   f("refine_iterations", s.refine_iterations);
 }
 
-/// Checks one spec value's type against its default; `where` names it in errors.
+/// The range of each integer spec value (the StudySettings field's own limits).
+std::pair<long long, long long> integerRange(const std::string& key) {
+  if (key == "segments") return {0, 1000000};
+  if (key == "refine_iterations") return {1, 1000000};
+  return {0, 1000000000000LL};  // search_evaluations
+}
+
+/// Checks one spec value's type and, for integers, its range against the field; `where` names it
+/// in errors. A robot is loaded once here, so a missing or malformed model fails before any run.
 void checkValue(const std::string& key, const json& value, const std::string& file,
                 const std::string& where) {
   const json& d = batchSpecDefaults().at(key);
@@ -50,12 +60,15 @@ void checkValue(const std::string& key, const json& value, const std::string& fi
                   : d.is_number_integer()           ? value.is_number_integer()
                                                     : value.is_number();
   if (!ok) throw ParseError(file, 0, where, "has the wrong type: " + value.dump());
-  if (key == "method") {
-    try {
-      parseMethod(value.get<std::string>());
-    } catch (const InputError& e) {
-      throw ParseError(file, 0, where, e.what());
-    }
+  if (d.is_number_integer() && key != "seed") {
+    const auto [lo, hi] = integerRange(key);
+    JsonReader(file).integer(value, where, lo, hi);
+  }
+  try {
+    if (key == "method") parseMethod(value.get<std::string>());
+    if (key == "robot") loadRobot(value.get<std::string>());
+  } catch (const Error& e) {
+    throw ParseError(file, 0, where, e.what());
   }
 }
 
@@ -81,20 +94,36 @@ json storedResult(const std::string& path, const json& spec) {
   return nullptr;
 }
 
-/// Reads every run result under dir/runs: (name, result).
+/// Reads every run record under dir/runs strictly: (name, record). A file that is not a run record
+/// is a ParseError naming it (a merge must not drop a run silently).
 std::map<std::string, json> readRuns(const std::string& dir) {
   std::map<std::string, json> out;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir + "/runs", ec)) {
-    if (entry.path().extension() != ".json") continue;
-    try {
-      json r = json::parse(readFile(entry.path().string()));
-      if (r.value("kind", "") == "dynid.batch.run") out[entry.path().stem().string()] = r;
-    } catch (const std::exception&) {
-    }
+    if (entry.path().extension() != ".json") continue;  // a killed worker's *.tmp.<pid>
+    const std::string file = entry.path().string();
+    const json r = parseJson(readFile(file), file);
+    const JsonReader read(file);
+    read.header(r, 1, "dynid.batch.run");
+    read.onlyKeys(r, "", {"schema_version", "kind", "spec", "metrics"});
+    read.object(read.field(r, "", "spec"), "spec");
+    read.object(read.field(r, "", "metrics"), "metrics");
+    out[entry.path().stem().string()] = r;
   }
-  if (ec) throw InputError(dir + "/runs: " + ec.message());
+  if (ec) throw ParseError(dir + "/runs", 0, "", ec.message());
   return out;
+}
+
+/// --quick: every run short (tests, trials).
+void applyQuick(std::vector<json>& runs) {
+  for (json& run : runs) {
+    run["train_seconds"] = 4.0;
+    run["test_seconds"] = 4.0;
+    run["segments"] = 20;
+    run["search_seconds"] = 0.0;
+    run["search_evaluations"] = 100;
+    run["refine_iterations"] = 20;
+  }
 }
 
 }  // namespace
@@ -127,7 +156,10 @@ const std::vector<std::string>& batchMetricColumns() {
 }
 
 std::vector<json> expandManifest(const std::string& file) {
-  const json manifest = parseJson(readFile(file), file);
+  return expandManifest(parseJson(readFile(file), file), file);
+}
+
+std::vector<json> expandManifest(const json& manifest, const std::string& file) {
   if (!manifest.is_object() || !manifest.contains("schema_version") ||
       !manifest["schema_version"].is_number_integer() || manifest["schema_version"] != 1)
     throw ParseError(file, 0, "schema_version", "must be 1");
@@ -149,9 +181,10 @@ std::vector<json> expandManifest(const std::string& file) {
   double product = 1.0;
   for (const auto& [key, values] : grid.items())
     if (values.is_array()) product *= static_cast<double>(std::max<std::size_t>(values.size(), 1));
-  if (product > 1e6)
+  if (product > kMaxBatchRuns)
     throw ParseError(file, 0, "grid",
-                     "expands to " + formatDouble(product) + " runs (at most 1e6 in one manifest)");
+                     "expands to " + formatDouble(product) +
+                         " runs (at most 1e5 in one manifest: split it into several)");
   std::vector<json> runs = {base};
   for (const auto& [key, values] : grid.items()) {
     if (!base.contains(key)) throw ParseError(file, 0, "grid." + key, "unknown parameter");
@@ -166,7 +199,8 @@ std::vector<json> expandManifest(const std::string& file) {
         next.push_back(r);
       }
     runs = std::move(next);
-    if (runs.size() > 1000000) throw ParseError(file, 0, "grid", "expands to over 1e6 runs");
+    if (static_cast<double>(runs.size()) > kMaxBatchRuns)
+      throw ParseError(file, 0, "grid", "expands to over 1e5 runs");
   }
   if (runs.front()["method"].is_null())
     throw ParseError(file, 0, "method", "missing: give it in grid or fixed");
@@ -205,16 +239,10 @@ std::string BatchPlan::path(std::size_t i) const {
 
 BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool quick, int shard,
                     int shards) {
-  BatchPlan plan{manifest, dir, expandManifest(manifest), {}, {}};
-  if (quick)
-    for (json& run : plan.runs) {
-      run["train_seconds"] = 4.0;
-      run["test_seconds"] = 4.0;
-      run["segments"] = 20;
-      run["search_seconds"] = 0.0;
-      run["search_evaluations"] = 100;
-      run["refine_iterations"] = 20;
-    }
+  const json document = parseJson(readFile(manifest), manifest);
+  BatchPlan plan{manifest, dir, expandManifest(document, manifest), {}, {}, {}};
+  plan.record = {{"manifest", document}, {"quick", quick}, {"shard", shard}, {"shards", shards}};
+  if (quick) applyQuick(plan.runs);
   // Every run's values checked before anything starts (a bad one would only fail in its worker).
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     try {
@@ -238,6 +266,7 @@ BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker
   std::filesystem::create_directories(plan.dir + "/runs");
   BatchOutcome out;
   out.total = plan.runs.size();
+  out.plan = plan.record;
   // Worker processes, `jobs` at a time.
   std::map<pid_t, std::size_t> running;
   std::size_t next = 0, finished = 0;
@@ -283,20 +312,73 @@ BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker
   return out;
 }
 
-BatchOutcome mergeBatches(const std::vector<std::string>& dirs) {
-  std::map<std::string, json> merged;
-  BatchOutcome out;
+BatchOutcome mergeBatches(const std::vector<std::string>& dirs, bool allow_missing) {
+  // Every shard's plan (results.json) must be of the same manifest and settings.
+  json reference;
+  std::string reference_file;
+  std::vector<bool> shard_given;
   for (const std::string& dir : dirs) {
     const std::string file = dir + "/results.json";
     const json table = parseJson(readFile(file), file);
-    out.total = std::max<std::size_t>(out.total, table.value("runs_total", 0));
-    for (auto& [name, result] : readRuns(dir)) {
-      const auto [it, inserted] = merged.emplace(name, result);
-      if (!inserted && it->second["spec"] != result["spec"])
-        throw InputError("run " + name + " differs between the shards (" + dir + ")");
+    const JsonReader read(file);
+    read.header(table, 1, "dynid.batch.results");
+    const json& plan = read.field(table, "", "plan");
+    read.onlyKeys(plan, "plan", {"manifest", "quick", "shard", "shards"});
+    read.object(read.field(plan, "plan", "manifest"), "plan.manifest");
+    read.boolean(plan, "plan", "quick");
+    const long long shards = read.integer(plan, "plan", "shards", 1, 1000000);
+    const long long shard = read.integer(plan, "plan", "shard", 1, shards);
+    if (reference.is_null()) {
+      reference = plan;
+      reference_file = file;
+      shard_given.assign(static_cast<std::size_t>(shards), false);
+    } else if (plan["manifest"] != reference["manifest"] || plan["quick"] != reference["quick"] ||
+               plan["shards"] != reference["shards"]) {
+      read.fail("plan", "another manifest, --quick or shard count than " + reference_file +
+                            ": these are not shards of one batch");
     }
+    shard_given[static_cast<std::size_t>(shard - 1)] = true;
   }
-  out.done.assign(merged.begin(), merged.end());
+  if (reference.is_null()) throw InputError("batch merge: no shard directories given");
+  std::vector<json> runs = expandManifest(reference["manifest"], reference_file + " (plan)");
+  if (reference["quick"].get<bool>()) applyQuick(runs);
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < runs.size(); ++i) index[batchRunName(i, runs[i])] = i;
+
+  std::map<std::string, json> merged;
+  for (const std::string& dir : dirs)
+    for (auto& [name, result] : readRuns(dir)) {
+      const std::string file = dir + "/runs/" + name + ".json";
+      const auto at = index.find(name);
+      if (at == index.end() || result["spec"] != runs[at->second])
+        throw ParseError(file, 0, "spec", "not a run of this batch's manifest");
+      merged.emplace(name, result);  // a run in two shards: the same spec, either will do
+    }
+  BatchOutcome out;
+  out.total = runs.size();
+  out.plan = reference;
+  out.plan["shard"] = 1;
+  out.plan["shards"] = 1;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::string name = batchRunName(i, runs[i]);
+    const auto it = merged.find(name);
+    if (it == merged.end())
+      out.missing.push_back(name);
+    else
+      out.done.emplace_back(name, it->second);
+  }
+  if (!out.missing.empty() && !allow_missing) {
+    std::string absent;
+    for (std::size_t k = 0; k < shard_given.size(); ++k)
+      if (!shard_given[k])
+        absent += (absent.empty() ? "" : ", ") + std::to_string(k + 1) + "/" +
+                  std::to_string(shard_given.size());
+    throw InputError("the merge is incomplete: " + std::to_string(out.missing.size()) + " of " +
+                     std::to_string(runs.size()) +
+                     " runs are missing (first: " + out.missing.front() + ")" +
+                     (absent.empty() ? "" : "; shards not given: " + absent) +
+                     ". Finish them (run each shard's command again) or pass --allow-missing");
+  }
   return out;
 }
 

@@ -17,6 +17,10 @@
 
 namespace dynid {
 
+/// The most runs one manifest may describe: 1e5 study runs are about a day on a 32-core node, and
+/// their expanded specs take about 150 MB (1e6 would take 1.5 GB before the first run starts).
+inline constexpr double kMaxBatchRuns = 1e5;
+
 /// The keys a run's spec has, with their defaults (StudySettings; "method" has none).
 const nlohmann::json& batchSpecDefaults();
 /// The results table's columns: the spec's (method, then the settings), then the metrics.
@@ -24,8 +28,11 @@ const std::vector<std::string>& batchSpecColumns();
 const std::vector<std::string>& batchMetricColumns();
 
 /// Every run of a manifest, in grid order (keys sorted, the last varying fastest). Throws
-/// ParseError naming the file and the key or grid entry at fault.
+/// ParseError naming the file and the key or grid entry at fault: an unknown key, a value of the
+/// wrong type or out of its integer range, an unknown method, a robot that does not load.
 std::vector<nlohmann::json> expandManifest(const std::string& file);
+/// The same for a manifest already parsed; `file` names it in errors.
+std::vector<nlohmann::json> expandManifest(const nlohmann::json& manifest, const std::string& file);
 /// A run's StudySettings (threads 1: batch parallelism is across runs).
 StudySettings studySettingsOf(const nlohmann::json& spec);
 /// "000012-<16 hex digits of the spec's hash>": the run's identity and file stem.
@@ -39,9 +46,10 @@ nlohmann::json runBatchSpec(const nlohmann::json& spec);
 
 struct BatchPlan {
   std::string manifest, dir;
-  std::vector<nlohmann::json> runs;       // the whole grid
-  std::vector<std::size_t> mine;          // this shard's runs
-  std::vector<std::size_t> todo;          // this shard's runs without a valid stored result
+  std::vector<nlohmann::json> runs;  // the whole grid
+  std::vector<std::size_t> mine;     // this shard's runs
+  std::vector<std::size_t> todo;     // this shard's runs without a valid stored result
+  nlohmann::json record;  // {manifest, quick, shard, shards}: results.json's "plan", for merging
   std::string path(std::size_t i) const;  // dir/runs/<name>.json
 };
 /// Expands the manifest, applies --quick, validates every run before anything starts (naming the
@@ -54,6 +62,7 @@ struct BatchOutcome {
   std::vector<std::string> missing;  // this shard's runs without one
   std::vector<std::string> failed;   // runs whose worker failed (not when interrupted)
   std::size_t total = 0;             // runs in the whole grid
+  nlohmann::json plan;               // the BatchPlan's record (merged: shard 1 of 1)
   bool interrupted = false;
 };
 /// Runs plan.todo in worker processes (`worker` is the dynid executable, started as
@@ -63,9 +72,12 @@ BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker
                       const std::atomic<bool>* stop,
                       const std::function<void(std::size_t, std::size_t)>& on_finished = {});
 
-/// Every run stored under the shard directories (their results.json gives the grid's size).
-/// Throws InputError when a run differs between shards, ParseError for a corrupt results.json.
-BatchOutcome mergeBatches(const std::vector<std::string>& dirs);
+/// Every run stored under the shard directories, checked against the grid their results.json's
+/// plan describes (the manifest itself, --quick and the shard count, equal in every shard).
+/// Throws ParseError naming the file for a corrupt or foreign results.json or run record (a run
+/// whose spec is not its grid entry's), and InputError naming the missing runs and
+/// the shards not given when the merge is incomplete, unless `allow_missing`.
+BatchOutcome mergeBatches(const std::vector<std::string>& dirs, bool allow_missing = false);
 
 /// This executable's path (/proc/self/exe), to start the workers.
 std::string selfExecutable();

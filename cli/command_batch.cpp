@@ -37,14 +37,18 @@ int runMerge(const std::vector<std::string>& args) {
   po::options_description options("dynid batch merge");
   options.add_options()("dirs", po::value<std::vector<std::string>>()->multitoken()->required(),
                         "shard output directories")("out", po::value<std::string>()->required(),
-                                                    "merged output directory");
+                                                    "merged output directory")(
+      "allow-missing", po::bool_switch(),
+      "merge what is there when runs or shards are missing (they are listed in results.json)");
   po::positional_options_description positional;
   positional.add("dirs", -1);
   po::variables_map vm;
-  if (!parseCommandLine(args, options, "dynid batch merge DIR... --out DIR", vm, &positional))
+  if (!parseCommandLine(args, options, "dynid batch merge DIR... [--allow-missing] --out DIR", vm,
+                        &positional))
     return kExitOk;
   const std::string out = vm["out"].as<std::string>();
-  const BatchOutcome merged = mergeBatches(vm["dirs"].as<std::vector<std::string>>());
+  const BatchOutcome merged =
+      mergeBatches(vm["dirs"].as<std::vector<std::string>>(), vm["allow-missing"].as<bool>());
   std::vector<std::pair<std::string, std::string>> runs;
   for (const auto& [name, result] : merged.done)
     runs.emplace_back(name + ".json", batchRunDocument(result));
@@ -52,6 +56,9 @@ int runMerge(const std::vector<std::string>& args) {
   writeBatchTables(out, merged);
   std::cout << "merged " << merged.done.size() << " of " << merged.total << " runs into " << out
             << "/results.csv and results.json\n";
+  if (!merged.missing.empty())
+    std::cerr << "dynid batch merge: " << merged.missing.size()
+              << " runs missing (--allow-missing); results.json lists them\n";
   return kExitOk;
 }
 

@@ -21,9 +21,13 @@ json rowOf(const RunRecord& run) {
 std::string batchResultsJson(const BatchOutcome& outcome) {
   json rows = json::array();
   for (const RunRecord& run : outcome.done) rows.push_back(rowOf(run));
-  const json table = {{"schema_version", 1},         {"kind", "dynid.batch.results"},
-                      {"runs_total", outcome.total}, {"runs_done", outcome.done.size()},
-                      {"missing", outcome.missing},  {"rows", rows}};
+  const json table = {{"schema_version", 1},
+                      {"kind", "dynid.batch.results"},
+                      {"runs_total", outcome.total},
+                      {"runs_done", outcome.done.size()},
+                      {"missing", outcome.missing},
+                      {"plan", outcome.plan},
+                      {"rows", rows}};
   return table.dump(1) + "\n";
 }
 

@@ -9,7 +9,8 @@
 
 namespace dynid {
 
-/// results.json: schema_version 1, kind dynid.batch.results, runs_total, runs_done, missing, rows.
+/// results.json: schema_version 1, kind dynid.batch.results, runs_total, runs_done, missing,
+/// plan (the manifest, --quick, shard, shards: what `batch merge` checks), rows.
 std::string batchResultsJson(const BatchOutcome& outcome);
 /// results.csv: run, the spec's columns, the metrics (an empty cell for a null metric).
 std::string batchResultsCsv(const BatchOutcome& outcome);
