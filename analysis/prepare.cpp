@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <numeric>
@@ -9,6 +10,7 @@
 #include <tuple>
 
 #include "core/errors.hpp"
+#include "data/io.hpp"
 #include "data/raw_log.hpp"
 
 namespace dynid {
@@ -22,7 +24,9 @@ struct RawSignals {
   Eigen::Index rows = 0;
   int n = 0;
   bool has_dq = false, has_ddq = false;
-  int ddq_at = 0;  // ddq's first column
+  int ddq_at = 0;                            // ddq's first column
+  std::function<int(Eigen::Index)> line_of;  // the file line of a raw row (before sorting)
+  std::string file;                          // the file holding the time stamps
   auto time() const { return values.col(0).head(rows); }
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }
@@ -37,20 +41,21 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
   std::string tau_file = table_path;
   if (!table_path.empty()) {
     const RawTable header = readRawHeader(table_path);
-    const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "q");
+    const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "--q");
     n = static_cast<int>(q.size());
-    std::vector<int> columns = selectColumns(header, source.time_column, 1, "time");
+    std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
     columns.insert(columns.end(), q.begin(), q.end());
     const std::vector<int> tau =
-        selectColumns(header, source.tau_columns, n, source.current ? "current" : "tau");
+        selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
     columns.insert(columns.end(), tau.begin(), tau.end());
     for (const auto& [selector, what] :
-         {std::pair{&source.dq_columns, "dq"}, std::pair{&source.ddq_columns, "ddq"}})
+         {std::pair{&source.dq_columns, "--dq"}, std::pair{&source.ddq_columns, "--ddq"}})
       if (!selector->empty()) {
         const std::vector<int> more = selectColumns(header, *selector, n, what);
         columns.insert(columns.end(), more.begin(), more.end());
       }
     out.values = readRawColumns(header, columns);
+    out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
     out.has_dq = !source.dq_columns.empty();
     out.has_ddq = !source.ddq_columns.empty();
   } else {
@@ -59,6 +64,7 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
     if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
       throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
     const Eigen::VectorXd time = readValueFile(source.time_file, 1).col(0);
+    out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
     const Eigen::Index samples = time.size();
     out.has_dq = !source.dq_file.empty();
     out.has_ddq = !source.ddq_file.empty();
@@ -83,6 +89,7 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
   }
   out.n = n;
   out.rows = out.values.rows();
+  out.file = table_path.empty() ? source.time_file : table_path;
   out.values.col(0) *= options.time_scale;
   out.values.middleCols(1, n) *= options.angle_scale;
   out.ddq_at = 1 + (out.has_dq ? 3 : 2) * n;
@@ -92,16 +99,16 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
     const auto check = [&](const Eigen::VectorXd& v, const char* what, bool required) {
       if (v.size() == 0 && !required) return;
       if (v.size() != n)
-        throw InputError(tau_file + ": motor currents need " + what +
-                         " with one value per joint (" + std::to_string(n) + "), got " +
-                         std::to_string(v.size()));
+        throw InputError(std::string(what) + " has " + std::to_string(v.size()) +
+                         " values; the log (" + tau_file + ") has " + std::to_string(n) +
+                         " joints: give one per joint");
       for (Eigen::Index j = 0; j < n; ++j)
         if (!std::isfinite(v[j]) || v[j] == 0.0)
-          throw InputError(std::string(what) + " of joint " + std::to_string(j + 1) +
+          throw InputError(std::string(what) + ": the value of joint " + std::to_string(j + 1) +
                            " must be finite and non-zero");
     };
-    check(options.torque_constants, "torque constants", true);
-    check(options.gear_ratios, "gear ratios", false);
+    check(options.torque_constants, "--torque-constants", true);
+    check(options.gear_ratios, "--gear-ratios", false);
     for (int j = 0; j < n; ++j)
       out.values.col(1 + n + j) *= options.torque_constants[j] *
                                    (options.gear_ratios.size() > 0 ? options.gear_ratios[j] : 1.0);
@@ -126,11 +133,29 @@ void compact(RawSignals& s, const std::vector<Eigen::Index>& kept) {
   s.rows = to;
 }
 
-/// Sorts by time (stable) and keeps the first sample of each repeated stamp; counts both.
-void sortAndDeduplicate(RawSignals& s, PrepareOutcome& out) {
+/// Sorts by time (stable) and keeps the first sample of each repeated stamp; counts both. A stamp
+/// that goes back further than the gap limit (`max_gap`, or 5 median forward steps) is not jitter
+/// but a clock reset or a second recording appended: sorting would interleave two recordings, so
+/// it is a ParseError naming the line.
+void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
+  if (!(max_gap > 0.0)) {
+    std::vector<double> forward;
+    for (Eigen::Index k = 1; k < s.rows; ++k)
+      if (s.values(k, 0) > s.values(k - 1, 0))
+        forward.push_back(s.values(k, 0) - s.values(k - 1, 0));
+    max_gap = forward.empty() ? 0.0 : 5.0 * median(forward);
+  }
   bool sorted = true;
   for (Eigen::Index k = 1; k < s.rows; ++k)
     if (s.values(k, 0) < s.values(k - 1, 0)) {
+      const double back = s.values(k - 1, 0) - s.values(k, 0);
+      if (back > max_gap)
+        throw ParseError(s.file, s.line_of ? s.line_of(k) : 0, "time",
+                         "the stamp goes back " + formatDouble(back) +
+                             " s, more than the gap limit " + formatDouble(max_gap) +
+                             " s: a clock reset or two recordings in one file? Split them into "
+                             "separate files (prepare --log a.csv b.csv) or raise --max-gap to "
+                             "sort them together");
       ++out.unsorted_stamps;
       sorted = false;
     }
@@ -461,7 +486,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
                        std::to_string(files.front().n));
     if (s.has_dq != files.front().has_dq || s.has_ddq != files.front().has_ddq)
       throw InputError(label + ": dq or ddq is logged in some files and not in others");
-    sortAndDeduplicate(s, out);
+    sortAndDeduplicate(s, options.max_gap, out);
     if (s.rows < 3) throw InputError(label + ": fewer than 3 distinct time stamps");
     const std::vector<double> st = steps(s);
     all_steps.insert(all_steps.end(), st.begin(), st.end());
@@ -548,8 +573,9 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   }
   for (int r : options.validate_runs)
     if (r < 0 || r >= out.runs_planned)
-      throw InputError("validation run " + std::to_string(r + 1) + " does not exist: the log has " +
-                       std::to_string(out.runs_planned) + " runs long enough for the filter");
+      throw InputError("--validate-runs: run " + std::to_string(r + 1) +
+                       " does not exist: the log has " + std::to_string(out.runs_planned) +
+                       " runs long enough for the filter");
   if (train_samples == 0 && validate_samples > 0)
     throw InputError("every sample is held out for validation: nothing is left to train on");
   if (train_samples == 0)

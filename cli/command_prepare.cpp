@@ -77,6 +77,9 @@ LogSource logSource(const po::variables_map& vm) {
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
   if (!source.tables.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
     throw UsageError("a table needs --q and --tau (or --current) column selectors");
+  if (source.tables.empty() && source.num_joints <= 0)
+    throw UsageError(
+        "one-file-per-signal logs need --joints N (the values per sample in each file)");
   if (source.current != (vm.count("torque-constants") > 0))
     throw UsageError(source.current ? "motor currents need --torque-constants (N m/A per joint)"
                                     : "--torque-constants applies to --current or --current-file");
