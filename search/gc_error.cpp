@@ -1,7 +1,10 @@
 #include "search/gc_error.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -10,6 +13,14 @@
 #include "search/gc_rollout.hpp"
 
 namespace dynid {
+
+namespace {
+std::string formatCount(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
+  return buffer;
+}
+}  // namespace
 
 GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   const int samples = data.numSamples(), n = data.numJoints();
@@ -50,6 +61,12 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   }
   if (!(options.horizon > 0.0)) throw InputError("the horizon must be positive");
   const double per = options.horizon / period;
+  const double step = options.step > 0.0 ? options.step : period;
+  if (!(options.horizon / step <= kMaxSegmentSteps))
+    throw InputError("a segment of " + std::to_string(options.horizon) + " s in steps of " +
+                     std::to_string(step) + " s is " + formatCount(options.horizon / step) +
+                     " integration steps, more than " + formatCount(kMaxSegmentSteps) +
+                     ": shorten the horizon or lengthen the step");
   const int segment_samples = static_cast<int>(std::lround(per));
   if (segment_samples < 1 || std::abs(per - segment_samples) > 1e-6 * per)
     throw InputError("the horizon " + std::to_string(options.horizon) +
@@ -59,7 +76,7 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   problem.data = data;
   problem.samples_per_segment = segment_samples;
   problem.integrator = options.integrator;
-  problem.step = options.step > 0.0 ? options.step : period;
+  problem.step = step;
   const double sub = period / problem.step;
   problem.substeps = static_cast<int>(std::lround(sub));
   if (problem.substeps < 1 || std::abs(sub - problem.substeps) > 1e-6 * sub)
@@ -127,14 +144,25 @@ GcWorkspace::GcWorkspace(const Model& model, int num_threads) {
   for (int t = 0; t < num_threads; ++t) threads.push_back(std::make_unique<PerThread>(model));
 }
 
+bool GcStop::requested() const {
+  return (flag != nullptr && flag->load(std::memory_order_relaxed)) ||
+         (deadline != std::chrono::steady_clock::time_point::max() &&
+          std::chrono::steady_clock::now() >= deadline);
+}
+
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
-               ThreadPool& pool) {
+               ThreadPool& pool, const GcStop& stop) {
   const int n = candidate.numJoints();
   if (problem.data.numJoints() != n)
     throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
                      " joints, the model " + std::to_string(n));
   workspace.segment_errors.resize(problem.numSegments());
+  std::atomic<bool> stopped{false};
   pool.parallelFor(problem.numSegments(), [&](int s, int thread) {
+    if (stopped.load(std::memory_order_relaxed) || stop.requested()) {
+      stopped.store(true, std::memory_order_relaxed);
+      return;
+    }
     // Roll out from the recorded start with the recorded (held) torques.
     GcWorkspace::PerThread& own = *workspace.threads[thread];
     Eigen::VectorXd& q = own.q;
@@ -150,6 +178,7 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
     workspace.segment_errors[s] =
         std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
   });
+  if (stopped.load()) return std::numeric_limits<double>::quiet_NaN();
   double total = 0.0;
   for (int s = 0; s < problem.numSegments(); ++s) total += workspace.segment_errors[s];
   return total;

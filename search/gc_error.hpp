@@ -9,6 +9,8 @@
 // neither dominates.
 #pragma once
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -46,9 +48,13 @@ struct GcProblem {
 /// periods separates two runs (a `dynid prepare` output split at gaps, or several files), and no
 /// segment crosses it. Throws InputError when the horizon is not a whole number of sample periods
 /// (to 1e-6), another step differs from the period (to 1e-6 relative), the step does not divide
-/// it, or no run holds one segment; asks for no more segments than fit without overlap when
-/// evenly spaced.
+/// it, a segment would take more than kMaxSegmentSteps integration steps, or no run holds one
+/// segment; asks for no more segments than fit without overlap when evenly spaced.
 GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options);
+
+/// The most integration steps one segment may take (horizon / step): about 1.5 s of RK4 on a
+/// 6-joint arm, so a GC evaluation polls its stop condition (GcStop) at least that often.
+inline constexpr double kMaxSegmentSteps = 1e6;
 
 /// A segment whose prediction diverges (non-finite, or a squared error above this) counts as this,
 /// so optimisers always see a finite error.
@@ -70,10 +76,18 @@ struct GcWorkspace {
   Eigen::VectorXd segment_errors;
 };
 
+/// When an evaluation must stop early: an interrupt flag (Ctrl-C) and a deadline (a time budget).
+struct GcStop {
+  const std::atomic<bool>* flag = nullptr;
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  bool requested() const;
+};
+
 /// Squared prediction error of each segment into workspace.segment_errors, summed in segment order
-/// (the same result for any thread count). Throws InputError when the model's joint count differs
-/// from the data's.
+/// (the same result for any thread count). Before each segment it polls `stop`: once requested,
+/// the remaining segments are skipped and the result is NaN (the evaluation did not finish).
+/// Throws InputError when the model's joint count differs from the data's.
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
-               ThreadPool& pool);
+               ThreadPool& pool, const GcStop& stop = {});
 
 }  // namespace dynid

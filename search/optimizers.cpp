@@ -27,10 +27,18 @@ class Evaluator {
         start_(std::chrono::steady_clock::now()),
         seconds_offset_(state.seconds) {}
 
-  /// GC error at the feasible point x (projected by the caller).
+  /// GC error at the feasible point x (projected by the caller). An evaluation cut short by the
+  /// stop flag or the time budget counts for nothing and returns +inf; stopReason() then says why.
   double evaluate(const Eigen::VectorXd& x) {
     space_.apply(x, scratch_);
-    const double gc = gcError(scratch_, *context_.problem, workspace_, *context_.pool);
+    GcStop stop;
+    stop.flag = context_.stop;
+    if (context_.budget.max_seconds > 0.0)
+      stop.deadline = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                   std::chrono::duration<double>(std::max(
+                                       context_.budget.max_seconds - seconds_offset_, 0.0)));
+    const double gc = gcError(scratch_, *context_.problem, workspace_, *context_.pool, stop);
+    if (std::isnan(gc)) return INFINITY;
     ++state_.evaluations;
     if (context_.on_evaluation) context_.on_evaluation(x, gc);
     if (gc < state_.best_gc) {

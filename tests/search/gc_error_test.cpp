@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
 
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
@@ -38,6 +41,36 @@ TEST(GcError, SameResultForAnyThreadCount) {
   ThreadPool one(1), two(2);
   GcWorkspace w1(guess, 1), w2(guess, 2);
   EXPECT_EQ(gcError(guess, problem, w1, one), gcError(guess, problem, w2, two));
+}
+
+TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
+  const Model guess = perturbedModel(makePuma560(), 0.3, 2);
+  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  ThreadPool pool(2);
+  GcWorkspace workspace(guess, 2);
+  std::atomic<bool> flag{false};
+  GcStop stop;
+  stop.flag = &flag;
+  const double full = gcError(guess, problem, workspace, pool, stop);
+  EXPECT_TRUE(std::isfinite(full));  // a flag that is not set changes nothing
+  EXPECT_EQ(full, gcError(guess, problem, workspace, pool));
+  flag = true;
+  EXPECT_TRUE(std::isnan(gcError(guess, problem, workspace, pool, stop)));
+  GcStop late;
+  late.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  EXPECT_TRUE(std::isnan(gcError(guess, problem, workspace, pool, late)));
+}
+
+TEST(GcError, RefusesSegmentsOfMoreThanAMillionSteps) {
+  // 0.05 s in steps of 1e-6 s is 5e4 steps: accepted; 2 s in steps of 1e-6 s is 2e6: refused.
+  const Trajectory data = pumaData(6.0);
+  EXPECT_NO_THROW(makeGcProblem(data, {.num_segments = 1, .step = 1e-6}));
+  try {
+    makeGcProblem(data, {.horizon = 2.0, .num_segments = 1, .step = 1e-6});
+    ADD_FAILURE() << "a 2e6-step segment was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("2e+06 integration steps"), std::string::npos) << e.what();
+  }
 }
 
 TEST(GcError, DivergingRolloutsAreLargeAndFinite) {
