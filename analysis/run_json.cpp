@@ -37,11 +37,7 @@ Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>&
 }  // namespace
 
 json parseJson(const std::string& text, const std::string& file) {
-  try {
-    return json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw ParseError(file, 0, "", std::string("invalid JSON: ") + e.what());
-  }
+  return parseJsonDocument(text, file);
 }
 
 json searchSettingsJson(const SearchSettingsRecord& s) {

@@ -25,7 +25,7 @@ int runOne(const std::vector<std::string>& args) {
   nlohmann::json spec;
   try {
     spec = nlohmann::json::parse(vm["spec"].as<std::string>());
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error or out_of_range (1e400)
     throw UsageError(std::string("--spec is not JSON: ") + e.what());
   }
   writeOutput(vm["out"].as<std::string>(), batchRunDocument(runBatchSpec(spec)));
@@ -99,6 +99,7 @@ int runBatch(const std::vector<std::string>& args) {
   const auto [shard, shards] =
       vm.count("shard") ? parseShard(vm["shard"].as<std::string>()) : std::pair{1, 1};
   const std::string dir = vm["out"].as<std::string>();
+  checkOutputDirectory(dir);  // before the runs, not after them
   const BatchPlan plan =
       planBatch(vm["manifest"].as<std::string>(), dir, vm["quick"].as<bool>(), shard, shards);
   std::cerr << "dynid batch: " << plan.runs.size() << " runs in the grid, " << plan.mine.size()

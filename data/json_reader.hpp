@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,28 @@
 #include "core/errors.hpp"
 
 namespace dynid {
+
+/// Parses a JSON document dynid reads. Throws ParseError naming `file` for invalid JSON (with
+/// nlohmann's line and column), a number beyond a double (1e400), and a key given twice in one
+/// object (which value was meant cannot be known; nlohmann would keep the last silently).
+inline nlohmann::json parseJsonDocument(const std::string& text, const std::string& file) {
+  using json = nlohmann::json;
+  std::vector<std::set<std::string>> keys;  // the keys seen in each open object
+  const json::parser_callback_t check = [&](int, json::parse_event_t event, json& parsed) {
+    if (event == json::parse_event_t::object_start) keys.emplace_back();
+    if (event == json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    if (event == json::parse_event_t::key && !keys.empty() &&
+        !keys.back().insert(parsed.get<std::string>()).second)
+      throw ParseError(file, 0, parsed.get<std::string>(),
+                       "appears twice in one object: which value is meant?");
+    return true;
+  };
+  try {
+    return json::parse(text, check);
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number like 1e400
+    throw ParseError(file, 0, "", std::string("invalid JSON: ") + e.what());
+  }
+}
 
 class JsonReader {
  public:

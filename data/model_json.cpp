@@ -304,12 +304,7 @@ std::string modelToJson(const Model& model) {
 }
 
 Model modelFromJson(const std::string& text, const std::string& file) {
-  json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw ParseError(file, 0, "", std::string("invalid JSON: ") + e.what());
-  }
+  const json document = parseJsonDocument(text, file);
   Reader read(file);
   const json& version = read.field(document, "", "schema_version");
   if (!version.is_number_integer() || version != kModelSchemaVersion)
