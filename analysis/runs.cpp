@@ -244,7 +244,11 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
                                     : model.standardParameters();
   PhysicalOptions pc_options;
   pc_options.prior_weight = request.prior_weight;
-  out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
+  try {
+    out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
+  } catch (const InputError& e) {  // too few samples, unexcited data: the dataset's fault
+    throw InputError(request.data_file + ": " + e.what());
+  }
   if (out.result.pc)
     for (int i : out.result.pc->inconsistent_links)
       out.pc_inconsistent_links.push_back(model.link_names[i]);

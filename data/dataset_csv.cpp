@@ -84,7 +84,9 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
 Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
   const std::string text = readFile(path, std::numeric_limits<double>::infinity());
   std::vector<std::string_view> lines;
-  for (std::size_t start = 0; start < text.size();) {
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the header.
+  const std::size_t first = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
+  for (std::size_t start = first; start < text.size();) {
     std::size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
     lines.push_back(std::string_view(text).substr(start, end - start));

@@ -90,6 +90,9 @@ void forEachLine(const std::string& path, F f) {
     if (got == 0 && std::ferror(file.get())) throw Error("cannot read '" + path + "'");
     const char* start = buffer.data();
     const char* const stop = buffer.data() + kept + got;
+    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first line.
+    if (line == 0 && kept == 0 && got >= 3 && std::memcmp(start, "\xEF\xBB\xBF", 3) == 0)
+      start += 3;
     const bool last = got == 0;
     while (true) {
       const char* newline = static_cast<const char*>(

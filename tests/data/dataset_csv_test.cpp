@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.hpp"
+#include "data/io.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -72,6 +73,15 @@ TEST(DatasetCsv, AcceptsCrlfAndTrailingBlankLines) {
   const Trajectory t = readDatasetCsv(path);
   EXPECT_EQ(t.numSamples(), 2);
   EXPECT_DOUBLE_EQ(t.tau(0, 1), 4e-3);
+}
+
+TEST(DatasetCsv, AcceptsAByteOrderMark) {
+  const std::string path = test::tempPath("bom.csv");
+  const Trajectory t = sampleTrajectory();
+  writeDatasetCsv(path, t);
+  const std::string text = "\xEF\xBB\xBF" + readFile(path);
+  writeFileAtomically(path, text);
+  EXPECT_EQ(readDatasetCsv(path).q, t.q);
 }
 
 TEST(DatasetCsv, UnwritablePathLeavesNoFile) {

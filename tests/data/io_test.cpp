@@ -1,6 +1,8 @@
 #include "data/io.hpp"
 
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -53,6 +55,38 @@ TEST(Io, ADirectoryTargetIsRefusedAndLeftAlone) {
   }
   EXPECT_TRUE(std::filesystem::is_directory(dir));
   EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(Io, ReadFileRefusesDirectoriesAndCapsStreams) {
+  EXPECT_THROW(readFile(std::string(DYNID_TEST_TMP)), Error);
+  // /dev/zero never ends: a stream is read up to its cap, then refused naming the file.
+  try {
+    readFile("/dev/zero", 1e6);
+    ADD_FAILURE() << "an endless stream was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'/dev/zero' holds more than 1 MB"), std::string::npos)
+        << e.what();
+  }
+  const std::string path = test::tempPath("capped.txt");
+  writeFileAtomically(path, std::string(2000, 'x'));
+  EXPECT_EQ(readFile(path, 2000).size(), 2000u);
+  EXPECT_THROW(readFile(path, 1999), InputError);  // a regular file over its cap
+}
+
+TEST(Io, ACommitRemovesTheTemporariesOfDeadWriters) {
+  const std::string path = test::tempPath("target.txt");
+  // A pid that existed and has ended (a child, reaped), and this process's own.
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  const std::string stale = path + ".tmp." + std::to_string(dead);
+  const std::string alive = path + ".tmp." + std::to_string(::getppid());  // our parent lives
+  writeFileAtomically(stale, "left by a SIGKILL");
+  writeFileAtomically(alive, "another writer at work");
+  writeFileAtomically(path, "new");
+  EXPECT_FALSE(std::filesystem::exists(stale));
+  EXPECT_TRUE(std::filesystem::exists(alive));
+  EXPECT_EQ(readFile(path), "new");
 }
 
 TEST(Io, FormatDoubleRoundTrips) {

@@ -1,5 +1,7 @@
 #include "data/raw_log.hpp"
 
+#include <sys/stat.h>
+
 #include <gtest/gtest.h>
 
 #include "core/errors.hpp"
@@ -48,6 +50,33 @@ TEST(RawLog, ErrorsNameTheFileLineAndColumn) {
   fails("t,q1\n0,1\n1,2,3\n", 3, "");
   fails("t,q1\n0,1\n1,abc\n", 3, "q1");
   fails("t,q1\n", 0, "");
+}
+
+TEST(RawLog, AByteOrderMarkIsNotPartOfTheHeader) {
+  const RawTable t = readRawTable(writeTemp("bom.csv", "\xEF\xBB\xBFtime,q1\n0,1\n1,2\n"));
+  ASSERT_EQ(t.names.size(), 2u);
+  EXPECT_EQ(t.names[0], "time");
+  EXPECT_EQ(selectColumns(t, "time", 1, "--time"), std::vector<int>{0});
+}
+
+TEST(RawLog, ATableMustBeARegularFileAndLinesHaveALimit) {
+  // A table is read twice: a FIFO (a pipe) is refused before it is opened.
+  const std::string fifo = test::tempPath("log.fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  RawTable header;
+  header.file = fifo;
+  header.names = {"t", "q1"};
+  header.first_data_line = 1;
+  header.delimiter = ',';
+  EXPECT_THROW(readRawColumns(header, {0, 1}), ParseError);
+  // A line of 65 MiB without a break is not a log.
+  const std::string long_line = writeTemp("long.csv", std::string((65u << 20), '1'));
+  try {
+    readRawHeader(long_line);
+    ADD_FAILURE() << "a 65 MiB line was read";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 1);
+  }
 }
 
 TEST(RawLog, ValueFilesShapeIntoSamples) {
