@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/demo_report.hpp"
+#include "reports/output.hpp"
 
 namespace dynid::cli {
 
@@ -24,6 +25,7 @@ int runDemo(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid demo [--out DIR] [--quick] [--seed S]", vm))
     return kExitOk;
+  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   DemoOptions demo;
   demo.threads = threadsOption(vm);
   demo.search_seconds = checkedOption<double>(

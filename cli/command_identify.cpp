@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/identification_report.hpp"
+#include "reports/output.hpp"
 
 namespace dynid::cli {
 
@@ -32,6 +33,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "dynid identify --method ols|wls|pc --robot R [--drives] --data train.csv [--validate "
       "test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   IdentifyRequest request;
   request.method = parseOption(vm, "method", [](const std::string& name) {
     return parseMethod(name, leastSquaresMethods());

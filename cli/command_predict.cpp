@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "reports/output.hpp"
 #include "reports/prediction_report.hpp"
 
 namespace dynid::cli {
@@ -17,6 +18,7 @@ int runPredict(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid predict --estimate E --data D.csv --out DIR", vm))
     return kExitOk;
+  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   PredictRequest request{vm["estimate"].as<std::string>(), vm["data"].as<std::string>(),
                          vm.count("robot") ? vm["robot"].as<std::string>() : ""};
   const PredictOutcome outcome = predictRun(request);

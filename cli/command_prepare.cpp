@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "reports/output.hpp"
 #include "reports/prepare_report.hpp"
 
 namespace dynid::cli {
@@ -160,6 +161,7 @@ int runPrepare(const std::vector<std::string>& args) {
       "dynid prepare (--log log.csv... --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
       "--joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   const LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);

@@ -6,6 +6,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/log_study_report.hpp"
+#include "reports/output.hpp"
 
 namespace dynid::cli {
 
@@ -31,6 +32,7 @@ int runStudy(const std::vector<std::string>& args) {
                         "held.csv --out DIR",
                         vm))
     return kExitOk;
+  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   LogStudyRequest request;
   request.robot = loadRobotFromOptions(vm);
   request.robot_spec = vm["robot"].as<std::string>();

@@ -151,6 +151,17 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
     // The command: the usage line's second word ("dynid simulate ...").
     const std::size_t start = usage.find(' ') + 1, end = usage.find(' ', start);
     checkRanges(vm, usage.substr(start, end - start));
+    // An empty value given on the command line ("--out ''", an unset shell variable) is a usage
+    // error, not a file named "".
+    for (const auto& [name, value] : vm) {
+      if (value.defaulted()) continue;
+      const auto* text = boost::any_cast<std::string>(&value.value());
+      if (text != nullptr && text->empty()) throw UsageError("--" + name + " is empty");
+      const auto* texts = boost::any_cast<std::vector<std::string>>(&value.value());
+      if (texts != nullptr)
+        for (const std::string& t : *texts)
+          if (t.empty()) throw UsageError("--" + name + " has an empty value");
+    }
   } catch (const po::error& e) {
     throw UsageError(std::string(e.what()) + "\nusage: " + usage + " (--help for the options)");
   }

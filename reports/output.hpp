@@ -13,6 +13,11 @@ namespace dynid {
 void writeReportFiles(const std::string& dir,
                       const std::vector<std::pair<std::string, std::string>>& files);
 
+/// Checks, before a command starts its work, that `dir` can become its output directory: an
+/// existing directory, or a path whose nearest existing ancestor is a writable directory. Creates
+/// nothing. Throws Error naming the path otherwise (a long run must not fail at its end).
+void checkOutputDirectory(const std::string& dir);
+
 /// Writes `content` to `path` atomically, or to standard output when `path` is "-". Returns
 /// whether it went to a file.
 bool writeOutput(const std::string& path, const std::string& content);

@@ -40,6 +40,10 @@ TEST(Cli, UsageErrorsNameTheOption) {
   EXPECT_TRUE(contains(r.err, "unknown integrator 'rk45'")) << r.err;
   r = run("model export --robot puma560 --format sdf --out x");
   EXPECT_EQ(r.code, 2);
+  // An empty value (an unset shell variable) is a usage error naming the option.
+  r = run("model export --robot puma560 --format json --out ''");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--out is empty")) << r.err;
 }
 TEST(Cli, DataErrorsNameTheFile) {
   const Result r = run("dynamics --robot /nonexistent/arm.urdf");
