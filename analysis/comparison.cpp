@@ -9,8 +9,7 @@ namespace dynid {
 Comparison::Comparison(const Model& truth, const ParameterSpace& space, const BaseParameters& base,
                        const GcProblem& train, const GcProblem& test, const Trajectory& test_data,
                        ThreadPool& pool)
-    : truth_(truth),
-      space_(space),
+    : space_(space),
       base_(base),
       train_(train),
       test_(test),

@@ -30,7 +30,8 @@ struct MethodMetrics {
   double seconds = 0.0;           // wall time of the method itself
 };
 
-/// Measures estimates against a known truth. Holds references to its arguments.
+/// Measures estimates against a known truth. Holds references to its arguments (all but the truth,
+/// which it reads once).
 class Comparison {
  public:
   /// `space` defines the paper's parameter error (its form and free parameters); `base` the base
@@ -45,7 +46,6 @@ class Comparison {
   double testGc(const Model& model);
 
  private:
-  const Model& truth_;
   const ParameterSpace& space_;
   const BaseParameters& base_;
   const GcProblem& train_;

@@ -1,8 +1,10 @@
 // Template bodies of ModelTpl's non-inline members; include only to instantiate a new Scalar.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 #include "core/errors.hpp"
 #include "core/model.hpp"
@@ -223,11 +225,24 @@ void ModelTpl<Scalar>::setPermutedPlacements(bool enabled) {
 }
 
 namespace model_detail {
+/// Equal entries: exactly for double, whose caches finalize() recomputes along the same path; to
+/// 1e-12 relative for another scalar (a Jet model cast from a double one carries caches computed
+/// in double, where Eigen's vectorised products sum in another order than the Jet's scalar ones,
+/// so the last bit may differ). A stale cache differs by far more.
+template <typename Scalar>
+bool sameEntry(const Scalar& a, const Scalar& b) {
+  if constexpr (std::is_same_v<Scalar, double>) {
+    return a == b;
+  } else {
+    const double x = value(a), y = value(b);
+    return std::abs(x - y) <= 1e-12 * (1.0 + std::max(std::abs(x), std::abs(y)));
+  }
+}
 template <typename A, typename B>
 bool same(const A& a, const B& b) {
   if (a.size() != b.size()) return false;
   for (Eigen::Index k = 0; k < a.size(); ++k)
-    if (!(a.data()[k] == b.data()[k])) return false;
+    if (!sameEntry(a.data()[k], b.data()[k])) return false;
   return true;
 }
 template <typename Scalar>
@@ -236,7 +251,8 @@ bool same(const Pose<Scalar>& a, const Pose<Scalar>& b) {
 }
 template <typename Scalar>
 bool same(const RigidInertia<Scalar>& a, const RigidInertia<Scalar>& b) {
-  return a.mass == b.mass && same(a.first_moment, b.first_moment) && same(a.inertia, b.inertia);
+  return sameEntry(a.mass, b.mass) && same(a.first_moment, b.first_moment) &&
+         same(a.inertia, b.inertia);
 }
 template <typename T>
 bool sameAll(const std::vector<T>& a, const std::vector<T>& b) {

@@ -154,6 +154,8 @@ class ModelTpl {
 
   /// Whether every derived cache equals what finalize() derives from the current structure and
   /// parameters (Pinocchio's model.check()): true for any model built through the public API.
+  /// Exactly for double; to 1e-12 relative for another scalar (a cast model's caches were computed
+  /// in double).
   /// Debug builds assert it when a Data is built.
   bool cachesAreCurrent() const;
 

@@ -40,8 +40,7 @@ class ThreadPool {
   const std::function<void(int, int)>* body_ = nullptr;
   int count_ = 0;
   alignas(64) std::atomic<int> next_{0};  // the next unclaimed index, on its own cache line
-  char padding_[64] = {};
-  long generation_ = 0;
+  alignas(64) long generation_ = 0;
   int pending_ = 0;
   bool stop_ = false;
 };

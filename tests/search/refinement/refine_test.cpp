@@ -28,10 +28,6 @@ BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = n
   return out;
 }
 
-// Ridders' differences of a 50-step RK4 rollout agree with exact derivatives to about 1e-8
-// relative (round-off of the rollout); 1e-5 leaves room without hiding a wrong derivative.
-constexpr double kGradientPrecision = 1e-5;
-
 TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.1, 7), {});
