@@ -23,13 +23,17 @@ endfunction()
 include(GoogleTest)
 
 # dynid_add_test(path/to/name_test.cpp DEPS...): one GoogleTest executable per source file; the
-# test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test).
+# test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test). In sanitizer
+# builds the programs listed in DYNID_SANITIZER_SKIPPED_TESTS are not made.
 function(dynid_add_test source)
   cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
   get_filename_component(stem ${source} NAME_WE)
   get_filename_component(dir ${source} DIRECTORY)
   get_filename_component(module ${dir} NAME)
   set(target ${module}_${stem})
+  if(DYNID_SANITIZE AND target IN_LIST DYNID_SANITIZER_SKIPPED_TESTS)
+    return()  # see tests/CMakeLists.txt
+  endif()
   add_executable(${target} ${source})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages dynid needs to build, test and benchmark.
+# Installs the Debian 12 packages dynid needs to build, test and benchmark, including the sanitizer
+# and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports).
 # Idempotent: installs only what is missing, and does nothing (not even apt-get update) when all
 # packages are present. Runs as root, or through sudo when not root.
 #   scripts/install-deps.sh            build + test + bench dependencies
@@ -12,6 +13,7 @@ packages=(
   libboost-program-options-dev liburdfdom-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox clang-format
+  clang libclang-rt-14-dev llvm-14
 )
 if [[ "${DYNID_WITH_PEERS:-0}" == "1" ]]; then
   packages+=(liborocos-kdl-dev libmujoco-dev)

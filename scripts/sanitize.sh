@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# The sanitizer and fuzz jobs (scripts/test.sh runs this after the release suite; so does CI).
+#   1. builds dynid, the unit tests and the fuzz targets with clang, AddressSanitizer and
+#      UndefinedBehaviorSanitizer in build-asan/ (-O1 with dynid's assertions on; Eigen's own index
+#      checks off: AddressSanitizer catches the out-of-bounds accesses they would, and with them
+#      a search's test ran 160x slower than in the release build). The long end-to-end test
+#      programs are not built there (DYNID_SANITIZER_SKIPPED_TESTS in tests/CMakeLists.txt);
+#   2. runs the unit tests and the whole bad-input suite there, except the long tests listed in
+#      SKIP below (they run in the release suite);
+#   3. fuzzes each target for DYNID_FUZZ_SECONDS (default 20) from its seed corpus.
+# Any sanitizer report fails the test that triggered it (halt_on_error, -fno-sanitize-recover).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${DYNID_ASAN_BUILD:-build-asan}
+seconds=${DYNID_FUZZ_SECONDS:-20}
+jobs=$(nproc)
+cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
+  -DCMAKE_CXX_FLAGS="-O1 -g1 -DEIGEN_NO_DEBUG" -DDYNID_SANITIZE=ON -DDYNID_FUZZ=ON -DDYNID_FUZZ_SECONDS="$seconds" \
+  -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=OFF
+cmake --build "$build" -j"$jobs"
+export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+# End-to-end runs in programs that are otherwise kept: minutes each under the sanitizers.
+SKIP='PandaExampleRunsAndBeatsThePublishedFit|RefineFromASearchAndFromAnEstimate'
+ctest --test-dir "$build" --output-on-failure -j"$jobs" -LE fuzz -E "$SKIP"
+ctest --test-dir "$build" --output-on-failure -j"$jobs" -L fuzz

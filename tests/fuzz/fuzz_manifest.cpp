@@ -1,0 +1,22 @@
+// libFuzzer target: batch manifests (analysis/batch.hpp): parsing, the grid's expansion and every
+// run's settings.
+#include <cstdint>
+
+#include "analysis/batch.hpp"
+#include "analysis/run_json.hpp"
+#include "core/errors.hpp"
+#include "tests/fuzz/fuzz_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  try {
+    const nlohmann::json manifest = dynid::parseJson(dynid::fuzz::text(data, size), "m.json");
+    for (const nlohmann::json& run : dynid::expandManifest(manifest, "m.json")) {
+      try {
+        dynid::validateStudySettings(dynid::studySettingsOf(run));
+      } catch (const dynid::InputError&) {
+      }
+    }
+  } catch (const dynid::Error&) {
+  }
+  return 0;
+}
