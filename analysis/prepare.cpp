@@ -536,6 +536,10 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   measureSpectra(files, spans, out);
   chooseFilter(options, out);
   std::vector<Biquad> filter;
+  if (out.cutoff > 0.0 && !(out.cutoff < out.rate / 2.0))
+    throw InputError("--cutoff " + formatDouble(out.cutoff) +
+                     " Hz must be below the Nyquist frequency of the output rate (" +
+                     formatDouble(out.rate / 2.0) + " Hz; --rate " + formatDouble(out.rate) + ")");
   if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
 
   // Pass 3: which runs are long enough, and where their samples go.

@@ -49,6 +49,11 @@ inline constexpr std::array<std::string_view, kDriveTermCount> kDriveTermKeys = 
 /// 1e3 kg m^2; 1e6 leaves three orders of margin, refuses unit slips such as g mm^2 (1e9 times
 /// too large) and keeps every product in RNEA/ABA far from overflow.
 inline constexpr double kMaxParameterMagnitude = 1e6;
+/// The largest distance a model file may give (a placement, a DH length) [m], and the largest
+/// gravity [m/s^2]: far beyond any manipulator and any planet, small enough that products in the
+/// dynamics stay finite.
+inline constexpr double kMaxModelLength = 1e6;
+inline constexpr double kMaxGravity = 1e3;
 inline constexpr int kPaperParameterCount = 7;
 inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   "cx",  "cy", "cz",
                                                                          "Ixx", "Iyy", "Izz"};

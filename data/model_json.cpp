@@ -82,6 +82,8 @@ class Reader {
         out.rotation.determinant() < 0.0)
       fail(path + ".rotation", "not a rotation matrix");
     out.translation = vector3(field(value, path, "translation"), path + ".translation");
+    if (out.translation.cwiseAbs().maxCoeff() > kMaxModelLength)
+      fail(path + ".translation", "beyond +-1e6 m");
     return out;
   }
   /// Fails unless every standard parameter is within +-kMaxParameterMagnitude (core/parameters).
@@ -242,6 +244,8 @@ Model dhModelFromJson(const json& document, const Model& model, const Reader& re
     row.type = read.jointType(j, path);
     row.a = read.number(j, path, "a");
     row.d = read.number(j, path, "d");
+    if (std::abs(row.a) > kMaxModelLength || std::abs(row.d) > kMaxModelLength)
+      read.fail(path, "a or d beyond +-1e6 m");
     row.alpha = read.number(j, path, "alpha");
     row.theta_offset = j.contains("theta_offset") ? read.number(j, path, "theta_offset") : 0.0;
     if (const auto it = j.find("limits"); it != j.end())
@@ -320,6 +324,7 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   Model model;
   model.name = read.string(document, "", "name");
   model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
+  if (model.gravity.norm() > kMaxGravity) read.fail("gravity", "beyond 1e3 m/s^2");
   model.drive_terms = read.driveTerms(document);
   if (document.contains("dh")) return dhModelFromJson(document, model, read, file);
   const json& bodies = read.field(document, "", "bodies");

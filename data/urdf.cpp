@@ -115,10 +115,12 @@ Pose<double> toPose(const urdf::Pose& p) {
   return out;
 }
 
+/// Finite, with a position within +-kMaxModelLength (a unit slip or garbage otherwise).
 bool finitePose(const urdf::Pose& p) {
-  return std::isfinite(p.position.x) && std::isfinite(p.position.y) &&
-         std::isfinite(p.position.z) && std::isfinite(p.rotation.x) &&
-         std::isfinite(p.rotation.y) && std::isfinite(p.rotation.z) && std::isfinite(p.rotation.w);
+  return std::isfinite(p.rotation.x) && std::isfinite(p.rotation.y) &&
+         std::isfinite(p.rotation.z) && std::isfinite(p.rotation.w) &&
+         std::abs(p.position.x) <= kMaxModelLength && std::abs(p.position.y) <= kMaxModelLength &&
+         std::abs(p.position.z) <= kMaxModelLength;
 }
 
 class UrdfBuilder {
@@ -168,7 +170,7 @@ class UrdfBuilder {
         break;
     }
     if (!finitePose(joint.parent_to_joint_origin_transform))
-      failJoint(joint.name, "<origin> has a non-finite number");
+      failJoint(joint.name, "<origin> has a non-finite number or one beyond +-1e6 m");
     if (!std::isfinite(joint.axis.x) || !std::isfinite(joint.axis.y) ||
         !std::isfinite(joint.axis.z))
       failJoint(joint.name, "<axis> has a non-finite number");
@@ -188,6 +190,14 @@ class UrdfBuilder {
     if (joint.dynamics &&
         (!std::isfinite(joint.dynamics->damping) || !std::isfinite(joint.dynamics->friction)))
       failJoint(joint.name, "<dynamics> has a non-finite number");
+    if (joint.mimic && joint.type != urdf::Joint::FIXED) {
+      // A gripper finger that mimics another: dynid has no coupled joints.
+      const std::string message = "has <mimic joint=\"" + joint.mimic->joint_name +
+                                  "\">: treated as an independent joint (its coordinate must be "
+                                  "in the data); make it fixed to merge the finger into its parent";
+      if (options_.strict) failJoint(joint.name, message);
+      if (warnings_) warnings_->push_back(file_ + ": joint '" + joint.name + "' " + message);
+    }
   }
 
   void checkLink(const urdf::Link& link) const {
@@ -195,7 +205,8 @@ class UrdfBuilder {
     const urdf::Inertial& in = *link.inertial;
     for (double x : {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz})
       if (!std::isfinite(x)) failLink(link.name, "<inertial> has a non-finite number");
-    if (!finitePose(in.origin)) failLink(link.name, "<inertial><origin> has a non-finite number");
+    if (!finitePose(in.origin))
+      failLink(link.name, "<inertial><origin> has a non-finite number or one beyond +-1e6 m");
     if (in.mass < 0.0)
       failLink(link.name, "negative mass " + formatDouble(in.mass) + " kg in <inertial><mass>");
   }
