@@ -75,7 +75,13 @@ void forEachLine(const std::string& path, F f) {
   if (!file) throw Error("cannot read '" + path + "': " + std::strerror(errno));
   constexpr std::size_t kBlock = 1 << 22;
   constexpr std::size_t kMaxLineBytes = 1 << 26;  // 64 MiB: far above any log's row
-  std::vector<char> buffer(kBlock);
+  // A small file gets a block of its own size (a 4 MiB block per call made the raw_log fuzz
+  // target, whose inputs are a few kB, run at 17 inputs per second).
+  struct stat st {};
+  std::size_t block = kBlock;
+  if (::fstat(::fileno(file.get()), &st) == 0 && S_ISREG(st.st_mode))
+    block = std::clamp<std::size_t>(static_cast<std::size_t>(st.st_size) + 1, 4096, kBlock);
+  std::vector<char> buffer(block);
   std::size_t kept = 0;  // bytes of an unfinished line at the buffer's start
   int line = 0;
   while (true) {
