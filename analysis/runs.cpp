@@ -18,6 +18,7 @@
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
+#include "data/json_number.hpp"
 #include "data/model_json.hpp"
 #include "data/robots.hpp"
 #include "data/urdf_writeback.hpp"
@@ -470,7 +471,7 @@ SearchOutcome searchRun(const SearchRequest& request) {
   context.resume = resume ? &*resume : nullptr;
   context.on_iteration = [&](const SearchState& state) {
     if (!request.checkpoint.empty())
-      writeFileAtomically(request.checkpoint, checkpointJson(state, out.settings).dump() + "\n");
+      writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n");
     if (request.on_iteration) request.on_iteration(state);
   };
   out.result = runSearch(request.method, context, request.ga, request.nlo);

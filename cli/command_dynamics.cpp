@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/json_number.hpp"
 #include "reports/model_report.hpp"
 
 namespace dynid::cli {
@@ -32,7 +33,7 @@ int runDynamics(const std::vector<std::string>& args) {
       optionalJointVector(vm, "dq", n, false).value_or(zero),
       optionalJointVector(vm, "ddq", n, false), optionalJointVector(vm, "tau", n, false));
   if (vm["json"].as<bool>())
-    std::cout << dynamicsJson(model, outcome).dump() << "\n";
+    std::cout << jsonText(dynamicsJson(model, outcome)) << "\n";
   else
     std::cout << dynamicsText(model, outcome);
   return kExitOk;

@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/json_number.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/output.hpp"
 
@@ -29,7 +30,7 @@ int runIdentifiability(const std::vector<std::string>& args) {
       identifiabilityRun(model, structural, vm.count("data") ? vm["data"].as<std::string>() : "");
   const nlohmann::json report = identifiabilityJson(model, outcome);
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"identifiability.json", report.dump(2) + "\n"},
+  writeReportFiles(dir, {{"identifiability.json", jsonText(report, 2) + "\n"},
                          {"identifiability.md", identifiabilityMarkdown(report)}});
   if (outcome.base.rankGap() < 1e4)
     std::cerr << "warning: the rank gap is only " << formatShort(outcome.base.rankGap())

@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/json_number.hpp"
 #include "reports/model_report.hpp"
 #include "reports/output.hpp"
 
@@ -44,7 +45,7 @@ int runModel(const std::vector<std::string>& args) {
   if (sub == "check") {
     const std::vector<ConsistencyViolation> violations = consistencyViolations(model);
     if (vm["json"].as<bool>())
-      std::cout << modelCheckJson(model, violations).dump(2) << "\n";
+      std::cout << jsonText(modelCheckJson(model, violations), 2) << "\n";
     else
       std::cout << modelCheckText(model, violations);
     return violations.empty() ? kExitOk : kExitError;

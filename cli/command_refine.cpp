@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/json_number.hpp"
 #include "reports/output.hpp"
 #include "reports/run_report.hpp"
 
@@ -77,7 +78,7 @@ int runRefine(const std::vector<std::string>& args) {
   request.control.stop = guard.flag();
   const RefineOutcome outcome = refineRun(request);
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"refine.json", refineJson(outcome).dump(1) + "\n"}});
+  writeReportFiles(dir, {{"refine.json", jsonText(refineJson(outcome), 1) + "\n"}});
   if (const std::string warning = refineWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << refineSummary(outcome, dir);

@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/json_number.hpp"
 #include "reports/output.hpp"
 #include "reports/run_report.hpp"
 
@@ -123,7 +124,7 @@ int runSearch(const std::vector<std::string>& args) {
   const SearchOutcome outcome = searchRun(request);
   if (terminal) std::fprintf(stderr, "\n");
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"search.json", searchJson(outcome).dump(1) + "\n"}});
+  writeReportFiles(dir, {{"search.json", jsonText(searchJson(outcome), 1) + "\n"}});
   std::cout << searchSummary(outcome, dir);
   return kExitOk;
 }

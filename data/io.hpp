@@ -56,6 +56,11 @@ std::string readFile(const std::string& path, double max_bytes = kMaxDocumentByt
 /// Shortest decimal form that parses back to exactly x ("0.1", "1e-300", "inf", "nan").
 std::string formatDouble(double x);
 
+/// True when `text` is valid UTF-8 (no overlong forms, surrogates or code points past U+10FFFF)
+/// without control characters (below U+0020, or DEL): what a name (robot, link, joint, column)
+/// must be to appear in dynid's JSON, XML and HTML outputs.
+bool isPrintableUtf8(std::string_view text);
+
 /// Text with &, <, > and " escaped for XML and HTML attribute values and content.
 std::string escapeXml(const std::string& text);
 

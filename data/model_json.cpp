@@ -304,7 +304,7 @@ std::string modelToJson(const Model& model) {
                          {"drive_terms", driveTermsKeys(model.drive_terms)},
                          {"bodies", bodies}};
   // nlohmann prints doubles with max_digits10, which round-trips exactly.
-  return document.dump(2) + "\n";
+  return jsonText(document, 2) + "\n";
 }
 
 Model modelFromJson(const std::string& text, const std::string& file) {

@@ -115,6 +115,28 @@ Pose<double> toPose(const urdf::Pose& p) {
   return out;
 }
 
+/// A name as it may be shown in a message: bytes that are not printable UTF-8 as \xNN.
+std::string shownName(const std::string& name) {
+  if (isPrintableUtf8(name)) return name;
+  std::string out;
+  for (char c : name) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      out += c;
+    } else {
+      static const char* const kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4];
+      out += kHex[byte & 15];
+    }
+  }
+  return out;
+}
+
+const char* const kNotPrintable =
+    "is not UTF-8 text without control characters: names appear in dynid's JSON, XML and HTML "
+    "outputs (save the file as UTF-8)";
+
 /// Finite, with a position within +-kMaxModelLength (a unit slip or garbage otherwise).
 bool finitePose(const urdf::Pose& p) {
   return std::isfinite(p.rotation.x) && std::isfinite(p.rotation.y) &&
@@ -131,6 +153,8 @@ class UrdfBuilder {
 
   Model build() {
     model_.name = urdf_.getName();
+    if (!isPrintableUtf8(model_.name))
+      throw ParseError(file_, 0, "robot name '" + shownName(model_.name) + "'", kNotPrintable);
     if (options_.drives) model_.drive_terms = DriveTerms::rotorAndFriction();
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
@@ -149,16 +173,17 @@ class UrdfBuilder {
  private:
   [[noreturn]] void failJoint(const std::string& name, const std::string& message) const {
     const auto it = index_.joint_line.find(name);
-    throw ParseError(file_, it == index_.joint_line.end() ? 0 : it->second, "joint '" + name + "'",
-                     message);
+    throw ParseError(file_, it == index_.joint_line.end() ? 0 : it->second,
+                     "joint '" + shownName(name) + "'", message);
   }
   [[noreturn]] void failLink(const std::string& name, const std::string& message) const {
     const auto it = index_.link_line.find(name);
-    throw ParseError(file_, it == index_.link_line.end() ? 0 : it->second, "link '" + name + "'",
-                     message);
+    throw ParseError(file_, it == index_.link_line.end() ? 0 : it->second,
+                     "link '" + shownName(name) + "'", message);
   }
 
   void checkJoint(const urdf::Joint& joint) const {
+    if (!isPrintableUtf8(joint.name)) failJoint(joint.name, kNotPrintable);
     switch (joint.type) {
       case urdf::Joint::FLOATING:
         failJoint(joint.name, "floating joints are not supported (dynid models fixed-base robots)");
@@ -201,6 +226,7 @@ class UrdfBuilder {
   }
 
   void checkLink(const urdf::Link& link) const {
+    if (!isPrintableUtf8(link.name)) failLink(link.name, kNotPrintable);
     if (!link.inertial) return;
     const urdf::Inertial& in = *link.inertial;
     for (double x : {in.mass, in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz})

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "data/json_number.hpp"
 #include "reports/output.hpp"
 
 namespace dynid {
@@ -28,7 +29,7 @@ std::string batchResultsJson(const BatchOutcome& outcome) {
                       {"missing", outcome.missing},
                       {"plan", outcome.plan},
                       {"rows", rows}};
-  return table.dump(1) + "\n";
+  return jsonText(table, 1) + "\n";
 }
 
 std::string batchResultsCsv(const BatchOutcome& outcome) {
@@ -41,18 +42,18 @@ std::string batchResultsCsv(const BatchOutcome& outcome) {
     csv << name;
     for (const std::string& c : batchSpecColumns()) {
       const json& v = result["spec"][c];
-      csv << "," << (v.is_string() ? v.get<std::string>() : v.dump());
+      csv << "," << (v.is_string() ? v.get<std::string>() : jsonText(v));
     }
     for (const std::string& m : batchMetricColumns()) {
       const json& v = result["metrics"][m];
-      csv << "," << (v.is_null() ? "" : v.dump());
+      csv << "," << (v.is_null() ? "" : jsonText(v));
     }
     csv << "\n";
   }
   return csv.str();
 }
 
-std::string batchRunDocument(const json& record) { return record.dump(1) + "\n"; }
+std::string batchRunDocument(const json& record) { return jsonText(record, 1) + "\n"; }
 
 void writeBatchTables(const std::string& dir, const BatchOutcome& outcome) {
   writeReportFiles(dir, {{"results.json", batchResultsJson(outcome)},

@@ -184,7 +184,7 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"percentile", numberOrNull(result.near_truth.percentile)}}},
                         {"interrupted", result.interrupted},
                         {"seconds", result.seconds}};
-  return summary.dump(1) + "\n";
+  return jsonText(summary, 1) + "\n";
 }
 
 std::string demoTable(const DemoResult& result) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "data/json_number.hpp"
 #include "reports/document.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/output.hpp"
@@ -251,7 +252,7 @@ std::string writeIdentification(const std::string& dir, const Model& model,
   std::vector<std::string> missing;
   const Document doc = identificationDocument(model, outcome, &missing);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"estimate.json", estimateJson(model, outcome).dump(2) + "\n"},
+      {"estimate.json", jsonText(estimateJson(model, outcome), 2) + "\n"},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);

@@ -188,7 +188,7 @@ Document logStudyDocument(const LogStudyOutcome& o) {
 std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o) {
   const Document doc = logStudyDocument(o);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"study.json", logStudyJson(o).dump(2) + "\n"},
+      {"study.json", jsonText(logStudyJson(o), 2) + "\n"},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);

@@ -139,7 +139,7 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   }
   std::vector<std::pair<std::string, std::string>> files = {
       {"predicted.csv", csv.str()},
-      {"prediction.json", predictionJson(o, estimate_file, data_file).dump(2) + "\n"}};
+      {"prediction.json", jsonText(predictionJson(o, estimate_file, data_file), 2) + "\n"}};
   const std::optional<std::string> figure =
       torqueFigure(p, "measured and predicted joint torques: " + o.robot_spec);
   if (figure) files.emplace_back("torques.svg", *figure);

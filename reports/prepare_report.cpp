@@ -149,7 +149,7 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   writeDatasetCsv(dir + "/train.csv", outcome.train);
   if (outcome.validate.numSamples() > 0) writeDatasetCsv(dir + "/validate.csv", outcome.validate);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"prepare.json", prepareJson(source, options, outcome).dump(2) + "\n"}};
+      {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
   std::vector<std::string> figures;
   for (const auto& [name, svg] : {std::pair{"spectrum.svg", spectrumFigure(outcome)},
                                   std::pair{"filtered.svg", filteredFigure(outcome)}})

@@ -31,7 +31,9 @@ for t in "${targets[@]}"; do
     -rss_limit_mb=2048 -dict=tests/fuzz/dynid.dict -artifact_prefix="$build/fuzz/crashes/${t}-" \
     "$corpus" "tests/fuzz/corpus/$t" 2>&1 | tee "$build/fuzz/$t.out" | grep -E "^#|ERROR|DONE" || status=$?
   end=$(date +%s)
-  echo "$(date -u +%FT%TZ) $t $((end - start)) s x $(nproc) cores, corpus $(ls "$corpus" | wc -l) inputs," \
-    "$(grep -c "ERROR" "$build/fuzz/$t.out" || true) errors" >> "$build/fuzz/log.txt"
+  execs=$(grep -oE "^#[0-9]+" "$build/fuzz/$t.out" | tail -n 1 | tr -d '#' || true)
+  echo "$(date -u +%FT%TZ) $t $((end - start)) s x $(nproc) cores, ${execs:-0} inputs run," \
+    "corpus $(ls "$corpus" | wc -l) inputs, $(grep -c "ERROR" "$build/fuzz/$t.out" || true) errors" \
+    >> "$build/fuzz/log.txt"
 done
 tail -n "${#targets[@]}" "$build/fuzz/log.txt"

@@ -251,12 +251,15 @@ void setUp(const Case& c, const std::string& dir) {
           parent.erase(pointer.back());
       }
       std::ofstream(path, std::ios::binary) << j.dump(1);
-    } else if (op == "replace") {  // replace FILE |old|new|: every occurrence
+    } else if (op == "replace") {  // replace FILE |old|new|: every occurrence; \xNN: that byte
       const std::string spec = step.at(2);
       const char delimiter = spec.at(0);
       const std::size_t middle = spec.find(delimiter, 1);
       const std::string from = spec.substr(1, middle - 1);
-      const std::string to = spec.substr(middle + 1, spec.size() - middle - 2);
+      std::string to = spec.substr(middle + 1, spec.size() - middle - 2);
+      for (std::size_t k = to.find("\\x"); k != std::string::npos && k + 4 <= to.size();
+           k = to.find("\\x", k + 1))
+        to.replace(k, 4, 1, static_cast<char>(std::stoi(to.substr(k + 2, 2), nullptr, 16)));
       std::string text = readFile(path);
       const std::size_t at = text.find(from);
       if (at == std::string::npos)

@@ -100,3 +100,18 @@ TEST(Io, FormatDoubleRoundTrips) {
 
 }  // namespace
 }  // namespace dynid
+
+TEST(Io, PrintableUtf8AcceptsTextAndRefusesBadBytesAndControls) {
+  using namespace std::string_literals;
+  for (const std::string& good :
+       {"link3"s, ""s, "Gelenk_Ärmel"s, "\u8155"s, "\U0001F916"s, "tab-free name with spaces"s})
+    EXPECT_TRUE(dynid::isPrintableUtf8(good)) << good;
+  for (const std::string& bad : {"puma\xe4"s,          // Latin-1 ä
+                                 "\xc3"s,              // truncated two-byte sequence
+                                 "\xc0\xaf"s,          // overlong '/'
+                                 "\xed\xa0\x80"s,      // a UTF-16 surrogate
+                                 "\xf4\x90\x80\x80"s,  // past U+10FFFF
+                                 "\x80"s,              // a continuation byte alone
+                                 "a\tb"s, "a\nb"s, "a\x7f"s, "a\0b"s})
+    EXPECT_FALSE(dynid::isPrintableUtf8(bad)) << bad;
+}

@@ -157,6 +157,20 @@ TEST(Urdf, RejectsBadInputWithFileAndElement) {
   expectError(edited(R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 0 0"/>)"),
               {"robot.urdf:25", "joint 'elbow'", "zero vector"});
   expectError("<robot", {"robot.urdf", "urdfdom"});
+  // Names go into JSON, XML and HTML outputs: not UTF-8 text is refused (found by fuzzing: a
+  // Latin-1 robot name loaded, and its exported URDF did not load back).
+  // (Without an XML declaration: with one, TinyXML refuses the bytes itself.)
+  expectError(edited("<?xml version=\"1.0\"?>\n<robot name=\"tree\">",
+                     "<robot name=\"tr\xe9"
+                     "e\">"),
+              {"robot.urdf", "robot name 'tr\\xe9e'", "UTF-8"});
+  std::string control = kTree;
+  for (std::size_t k = control.find("\"fore\""); k != std::string::npos;
+       k = control.find("\"fore\"", k))
+    control.replace(k, 6, "\"fo\x01re\"");
+  expectError(control, {"robot.urdf", "link 'fo\\x01re'", "UTF-8"});
+  expectError(edited(R"(joint name="elbow")", "joint name=\"elb\xffow\""),
+              {"robot.urdf:", "joint 'elb\\xffow'", "UTF-8"});
 }
 
 TEST(Urdf, WarnsOrFailsOnAMovingLinkWithoutInertial) {
