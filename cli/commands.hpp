@@ -19,5 +19,6 @@ int runRefine(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
+int runExcite(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

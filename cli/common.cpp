@@ -87,6 +87,17 @@ constexpr OptionRange kOptionRanges[] = {
     {"", "validate-fraction", 0.0, 0.999, false, false},
     {"", "savgol-window", 0.0, 1e5, false, false},
     {"", "savgol-degree", 2.0, 6.0, false, false},
+    {"excite", "period", 0.0, 1e4, true, false},
+    {"excite", "harmonics", 2.0, 50.0, false, false},
+    {"excite", "starts", 1.0, 1e4, false, false},
+    {"excite", "evaluations", 1.0, 1e8, false, false},
+    {"excite", "grid-rate", 0.0, 1e5, true, false},
+    {"excite", "check-rate", 0.0, 1e6, true, false},
+    {"excite", "csv-rate", 0.0, 1e6, true, false},
+    {"excite", "torque-noise", 0.0, 1e6, true, false},
+    {"excite", "torque-margin", 0.0, 1.0, true, false},
+    {"excite", "base-radius", 0.0, 1e3, false, false},
+    {"excite", "floor", -1e3, 1e3, false, false},
 };
 
 /// The numeric value of an option as a double (false when it is not numeric).

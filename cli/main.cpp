@@ -23,6 +23,7 @@ const char* kUsage =
     "  simulate                 simulate a controlled robot and write a dataset CSV\n"
     "  prepare                  a raw log (irregular stamps, no ddq) into a filtered dataset CSV\n"
     "  identifiability          base parameters: what the torques can and cannot determine\n"
+    "  excite                   design the motion that best determines the base parameters\n"
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  predict                  a saved estimate's torques on a dataset, errors and a figure\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
@@ -68,7 +69,8 @@ int main(int argc, char** argv) {
       {"identify", runIdentify}, {"search", runSearch},
       {"refine", runRefine},     {"demo", runDemo},
       {"batch", runBatch},       {"prepare", runPrepare},
-      {"predict", runPredict},   {"study", runStudy}};
+      {"predict", runPredict},   {"study", runStudy},
+      {"excite", runExcite}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

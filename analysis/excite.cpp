@@ -1,0 +1,705 @@
+#include "analysis/excite.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <nlopt.hpp>
+
+#include "core/errors.hpp"
+#include "core/kinematics.hpp"
+#include "core/memory.hpp"
+#include "core/parallel.hpp"
+#include "core/regressor.hpp"
+#include "core/rnea.hpp"
+#include "data/io.hpp"
+
+namespace dynid {
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+/// The optimiser keeps this fraction of every limit on its coarse grid; the check at check_rate
+/// then shrinks the design if a peak between grid points still crosses a limit.
+constexpr double kGridMargin = 0.99;
+
+/// Objective of a rank-deficient or non-finite design: worse than any real one (log cond <= 37
+/// in double precision).
+constexpr double kInfeasibleObjective = 1e3;
+
+std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+std::string jointName(const Model& model, int j) { return model.joint_names[j]; }
+
+/// Sine and cosine of every harmonic on a time grid: the design's q, dq, ddq are then products.
+struct Grid {
+  Eigen::VectorXd time;
+  Eigen::MatrixXd sine, cosine;  // H x M
+  Grid(double period, int harmonics, int points, bool closed) {
+    time.resize(points);
+    const double step = period / (closed ? points - 1 : points);
+    for (int m = 0; m < points; ++m) time[m] = m * step;
+    if (closed) time[points - 1] = period;
+    sine.resize(harmonics, points);
+    cosine.resize(harmonics, points);
+    const double w = kTwoPi / period;
+    for (int k = 0; k < harmonics; ++k)
+      for (int m = 0; m < points; ++m) {
+        sine(k, m) = std::sin(w * (k + 1) * time[m]);
+        cosine(k, m) = std::cos(w * (k + 1) * time[m]);
+      }
+  }
+  int points() const { return static_cast<int>(time.size()); }
+};
+
+/// q, dq, ddq of a design on a grid (n x M each).
+void motionOnGrid(const FourierDesign& d, const Grid& g, Eigen::MatrixXd& q, Eigen::MatrixXd& dq,
+                  Eigen::MatrixXd& ddq) {
+  const int n = d.numJoints(), h = d.harmonics();
+  const double w = kTwoPi / d.period;
+  Eigen::MatrixXd aq(n, h), bq(n, h), aa(n, h), ba(n, h);
+  for (int k = 0; k < h; ++k) {
+    const double wk = w * (k + 1);
+    aq.col(k) = d.a.col(k) / wk;
+    bq.col(k) = -d.b.col(k) / wk;
+    aa.col(k) = -d.a.col(k) * wk;
+    ba.col(k) = d.b.col(k) * wk;
+  }
+  q.noalias() = aq * g.sine + bq * g.cosine;
+  q.colwise() += d.offset;
+  dq.noalias() = d.a * g.cosine + d.b * g.sine;
+  ddq.noalias() = aa * g.sine + ba * g.cosine;
+}
+
+Trajectory sampleOn(const FourierDesign& d, const Model& model, const Grid& g) {
+  Trajectory t;
+  t.time = g.time;
+  motionOnGrid(d, g, t.q, t.dq, t.ddq);
+  t.tau.resize(d.numJoints(), g.points());
+  Data data(model);
+  for (int m = 0; m < g.points(); ++m)
+    t.tau.col(m) = rnea(model, data, t.q.col(m), t.dq.col(m), t.ddq.col(m));
+  return t;
+}
+
+/// The design's free variables, scaled so that 1 is about a limit: per joint the offset (when
+/// optimised) as a fraction of the half range about the middle, then a_j1..a_j(H-1) and
+/// b_j1..b_j(H-1) as fractions of the velocity limit. a_jH and b_jH follow from rest at t = 0.
+class Coding {
+ public:
+  Coding(const ExcitationLimits& limits, int harmonics, double period,
+         const std::optional<Eigen::VectorXd>& offset)
+      : limits_(limits), h_(harmonics), period_(period), fixed_offset_(offset) {}
+
+  int n() const { return static_cast<int>(limits_.q_min.size()); }
+  int perJoint() const { return (fixed_offset_ ? 0 : 1) + 2 * (h_ - 1); }
+  int size() const { return n() * perJoint(); }
+
+  FourierDesign decode(const double* x) const {
+    FourierDesign d;
+    d.period = period_;
+    d.offset.resize(n());
+    d.a.resize(n(), h_);
+    d.b.resize(n(), h_);
+    for (int j = 0; j < n(); ++j) {
+      const double* u = x + j * perJoint();
+      if (fixed_offset_) {
+        d.offset[j] = (*fixed_offset_)[j];
+      } else {
+        d.offset[j] = middle(j) + half(j) * *u++;
+      }
+      double sum_a = 0.0, sum_kb = 0.0;
+      for (int k = 0; k < h_ - 1; ++k) {
+        d.a(j, k) = limits_.dq_max[j] * u[k];
+        d.b(j, k) = limits_.dq_max[j] * u[h_ - 1 + k];
+        sum_a += d.a(j, k);
+        sum_kb += (k + 1) * d.b(j, k);
+      }
+      d.a(j, h_ - 1) = -sum_a;
+      d.b(j, h_ - 1) = -sum_kb / h_;
+    }
+    return d;
+  }
+
+  std::vector<double> encode(const FourierDesign& d) const {
+    std::vector<double> x(size());
+    for (int j = 0; j < n(); ++j) {
+      double* u = x.data() + j * perJoint();
+      if (!fixed_offset_) *u++ = (d.offset[j] - middle(j)) / half(j);
+      for (int k = 0; k < h_ - 1; ++k) {
+        u[k] = d.a(j, k) / limits_.dq_max[j];
+        u[h_ - 1 + k] = d.b(j, k) / limits_.dq_max[j];
+      }
+    }
+    return x;
+  }
+
+  double middle(int j) const { return 0.5 * (limits_.q_min[j] + limits_.q_max[j]); }
+  double half(int j) const { return 0.5 * (limits_.q_max[j] - limits_.q_min[j]); }
+  bool offsetFixed() const { return fixed_offset_.has_value(); }
+
+ private:
+  const ExcitationLimits& limits_;
+  int h_;
+  double period_;
+  std::optional<Eigen::VectorXd> fixed_offset_;
+};
+
+/// Peaks of q, dq, ddq of joint j on the grid rows.
+struct JointPeaks {
+  double q_low, q_high, dq, ddq;
+};
+JointPeaks peaksOf(const Eigen::MatrixXd& q, const Eigen::MatrixXd& dq, const Eigen::MatrixXd& ddq,
+                   int j) {
+  return {q.row(j).minCoeff(), q.row(j).maxCoeff(), dq.row(j).cwiseAbs().maxCoeff(),
+          ddq.row(j).cwiseAbs().maxCoeff()};
+}
+
+/// Scales joint j's coefficients about its offset so that its excursion, speed and acceleration
+/// use at most `fraction` of the limits (positions: of the room between the offset and each
+/// limit). Returns false when the offset itself lies outside the limits.
+bool fitJoints(FourierDesign& d, const Grid& g, const ExcitationLimits& limits, double fraction) {
+  Eigen::MatrixXd q, dq, ddq;
+  motionOnGrid(d, g, q, dq, ddq);
+  for (int j = 0; j < d.numJoints(); ++j) {
+    const JointPeaks p = peaksOf(q, dq, ddq, j);
+    const double up = limits.q_max[j] - d.offset[j], down = d.offset[j] - limits.q_min[j];
+    if (!(up > 0.0) || !(down > 0.0)) return false;
+    double s = std::numeric_limits<double>::infinity();
+    if (p.q_high > d.offset[j]) s = std::min(s, fraction * up / (p.q_high - d.offset[j]));
+    if (p.q_low < d.offset[j]) s = std::min(s, fraction * down / (d.offset[j] - p.q_low));
+    if (p.dq > 0.0) s = std::min(s, fraction * limits.dq_max[j] / p.dq);
+    if (p.ddq > 0.0) s = std::min(s, fraction * limits.ddq_max[j] / p.ddq);
+    if (std::isfinite(s) && s < 1.0) {
+      d.a.row(j) *= s;
+      d.b.row(j) *= s;
+    }
+  }
+  return true;
+}
+
+/// The optimisation problem on the coarse grid: criterion and normalised constraints (<= 0).
+class DesignProblem {
+ public:
+  DesignProblem(const Model& model, const BaseParameters& base, const ExciteRequest& request,
+                const ExcitationLimits& limits, const Coding& coding, const Grid& grid)
+      : model_(model),
+        base_(base),
+        request_(request),
+        limits_(limits),
+        coding_(coding),
+        grid_(grid),
+        theta_(model.standardParameters()) {}
+
+  int numConstraints() const {
+    int per_joint = 4;
+    if (limits_.tau_max.allFinite()) per_joint = 5;
+    return per_joint * model_.numJoints() + (limits_.floor ? 1 : 0) +
+           (limits_.base_radius > 0.0 ? 1 : 0);
+  }
+
+  /// Per-thread scratch.
+  struct Workspace {
+    explicit Workspace(const Model& model) : data(model) {}
+    Data data;
+    Eigen::MatrixXd q, dq, ddq, tau, w1, gram;
+  };
+
+  /// The criterion at x, and the constraints into c (numConstraints() entries).
+  double evaluate(const double* x, double* c, Workspace& w) const {
+    const FourierDesign d = coding_.decode(x);
+    const int n = model_.numJoints(), m_count = grid_.points(), b = base_.numBase();
+    motionOnGrid(d, grid_, w.q, w.dq, w.ddq);
+    w.w1.resize(static_cast<Eigen::Index>(m_count) * n, b);
+    w.tau.resize(n, m_count);
+    double lowest = std::numeric_limits<double>::infinity(),
+           nearest = std::numeric_limits<double>::infinity();
+    for (int m = 0; m < m_count; ++m) {
+      const Eigen::MatrixXd& Y =
+          jointTorqueRegressor(model_, w.data, w.q.col(m), w.dq.col(m), w.ddq.col(m));
+      w.tau.col(m).noalias() = Y * theta_;
+      for (int j = 0; j < b; ++j) w.w1.block(m * n, j, n, 1) = Y.col(base_.independent[j]);
+      if (limits_.floor || limits_.base_radius > 0.0) {
+        const auto& frames = forwardKinematics(model_, w.data, w.q.col(m));
+        for (const auto& f : frames) lowest = std::min(lowest, f.translation.z());
+        nearest = std::min(nearest, frames.back().translation.head<2>().norm());
+      }
+    }
+    int i = 0;
+    for (int j = 0; j < n; ++j) {
+      const JointPeaks p = peaksOf(w.q, w.dq, w.ddq, j);
+      const double half = coding_.half(j), room = (1.0 - kGridMargin) * half;
+      c[i++] = (p.q_high - (limits_.q_max[j] - room)) / half;
+      c[i++] = ((limits_.q_min[j] + room) - p.q_low) / half;
+      c[i++] = p.dq / (kGridMargin * limits_.dq_max[j]) - 1.0;
+      c[i++] = p.ddq / (kGridMargin * limits_.ddq_max[j]) - 1.0;
+      if (limits_.tau_max.allFinite())
+        c[i++] = w.tau.row(j).cwiseAbs().maxCoeff() /
+                     (kGridMargin * limits_.torque_margin * limits_.tau_max[j]) -
+                 1.0;
+    }
+    if (limits_.floor) c[i++] = *limits_.floor - lowest;  // [m]
+    if (limits_.base_radius > 0.0) c[i++] = 1.0 - nearest / limits_.base_radius;
+
+    w.gram.setZero(b, b);
+    w.gram.selfadjointView<Eigen::Lower>().rankUpdate(w.w1.transpose());
+    return criterion(w.gram.selfadjointView<Eigen::Lower>(), static_cast<double>(w.w1.rows()));
+  }
+
+ private:
+  double criterion(const Eigen::MatrixXd& gram, double rows) const {
+    if (!gram.allFinite()) return kInfeasibleObjective;
+    switch (request_.criterion) {
+      case ExcitationCriterion::kDOptimal: {
+        const Eigen::LLT<Eigen::MatrixXd> llt(gram / rows);
+        if (llt.info() != Eigen::Success) return kInfeasibleObjective;
+        return -2.0 * llt.matrixLLT().diagonal().array().log().sum();
+      }
+      case ExcitationCriterion::kConditionUnit: {
+        const Eigen::VectorXd d = gram.diagonal().cwiseSqrt();
+        if (!(d.minCoeff() > 0.0)) return kInfeasibleObjective;
+        const Eigen::VectorXd inv = d.cwiseInverse();
+        return logCondition(inv.asDiagonal() * gram * inv.asDiagonal());
+      }
+      case ExcitationCriterion::kCondition:
+        return logCondition(gram);
+    }
+    return kInfeasibleObjective;
+  }
+
+  /// log cond of W1 from its Gram matrix G: half the log of G's eigenvalue ratio.
+  static double logCondition(const Eigen::MatrixXd& gram) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram, Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& l = eigen.eigenvalues();
+    if (eigen.info() != Eigen::Success || !(l[0] > 0.0)) return kInfeasibleObjective;
+    return 0.5 * std::log(l[l.size() - 1] / l[0]);
+  }
+
+  const Model& model_;
+  const BaseParameters& base_;
+  const ExciteRequest& request_;
+  const ExcitationLimits& limits_;
+  const Coding& coding_;
+  const Grid& grid_;
+  Eigen::VectorXd theta_;
+};
+
+/// A start's random design: coefficients N(0, 1/k) (lower harmonics carry more), rest at t = 0,
+/// the offset at mid-range (or fixed), scaled per joint to 80 % of the limits on the grid.
+FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, const Grid& grid,
+                          int harmonics, double period, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> x(coding.size(), 0.0);
+  const int per = coding.perJoint(), skip = coding.offsetFixed() ? 0 : 1;
+  for (int j = 0; j < coding.n(); ++j)
+    for (int k = 0; k < 2 * (harmonics - 1); ++k)
+      x[j * per + skip + k] = normal(rng) / (1 + k % (harmonics - 1));
+  FourierDesign d = coding.decode(x.data());
+  (void)period;
+  fitJoints(d, grid, limits, 0.8);
+  return d;
+}
+
+void checkJointVector(const Eigen::VectorXd& v, int n, const std::string& what) {
+  if (v.size() != n)
+    throw InputError(what + " has " + std::to_string(v.size()) + " entries, the model has " +
+                     std::to_string(n) + " joints");
+}
+
+}  // namespace
+
+const std::vector<std::string>& excitationCriterionNames() {
+  static const std::vector<std::string> names = {"cond", "cond-unscaled", "d-optimal"};
+  return names;
+}
+
+std::string excitationCriterionName(ExcitationCriterion criterion) {
+  return excitationCriterionNames()[static_cast<int>(criterion)];
+}
+
+ExcitationCriterion parseExcitationCriterion(const std::string& name) {
+  const auto& names = excitationCriterionNames();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<ExcitationCriterion>(i);
+  throw InputError("unknown criterion '" + name + "': expected cond, cond-unscaled or d-optimal");
+}
+
+SinusoidalReference defaultSinusoid(const Model& model) {
+  const int n = model.numJoints();
+  SinusoidalReference r;
+  r.q0 = defaultCentre(model);
+  r.amplitude = Eigen::VectorXd::Constant(n, 0.5);
+  r.frequency = defaultFrequencies(n);
+  r.phase = Eigen::VectorXd::Zero(n);
+  return r;
+}
+
+ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
+  const int n = model.numJoints();
+  for (const auto* v : {&o.q_min, &o.q_max, &o.dq_max, &o.ddq_max, &o.tau_max})
+    if (*v) checkJointVector(**v, n, "a limit");
+  ExcitationLimits l;
+  l.q_min.resize(n);
+  l.q_max.resize(n);
+  l.dq_max.resize(n);
+  l.ddq_max.resize(n);
+  l.tau_max.resize(n);
+  std::vector<std::string> position, velocity, acceleration, torque;
+  for (int j = 0; j < n; ++j) {
+    const JointLimits& m = model.limits[j];
+    const bool prismatic = model.joint_types()[j] == JointType::kPrismatic;
+    const double range = prismatic ? kDefaultPrismaticRange : kDefaultRevoluteRange;
+    l.q_min[j] = o.q_min ? (*o.q_min)[j] : m.lower;
+    l.q_max[j] = o.q_max ? (*o.q_max)[j] : m.upper;
+    if (!std::isfinite(l.q_min[j]) || !std::isfinite(l.q_max[j])) {
+      if (!std::isfinite(l.q_min[j])) l.q_min[j] = -range;
+      if (!std::isfinite(l.q_max[j])) l.q_max[j] = range;
+      position.push_back(jointName(model, j));
+    }
+    l.dq_max[j] = o.dq_max ? (*o.dq_max)[j] : m.velocity;
+    if (!std::isfinite(l.dq_max[j])) {
+      l.dq_max[j] = kDefaultVelocityLimit;
+      velocity.push_back(jointName(model, j));
+    }
+    l.ddq_max[j] = o.ddq_max ? (*o.ddq_max)[j] : m.acceleration;
+    if (!std::isfinite(l.ddq_max[j])) {
+      l.ddq_max[j] = kDefaultAccelerationLimit;
+      acceleration.push_back(jointName(model, j));
+    }
+    l.tau_max[j] = o.tau_max ? (*o.tau_max)[j] : m.effort;
+    if (!std::isfinite(l.tau_max[j])) torque.push_back(jointName(model, j));
+    const std::string joint = "joint '" + jointName(model, j) + "': ";
+    if (!(l.q_min[j] < l.q_max[j]))
+      throw InputError(joint + "the position range [" + formatDouble(l.q_min[j]) + ", " +
+                       formatDouble(l.q_max[j]) + "] is empty");
+    if (!(l.dq_max[j] > 0.0))
+      throw InputError(joint + "the velocity limit must be > 0, not " + formatDouble(l.dq_max[j]));
+    if (!(l.ddq_max[j] > 0.0))
+      throw InputError(joint + "the acceleration limit must be > 0, not " +
+                       formatDouble(l.ddq_max[j]));
+    if (!(l.tau_max[j] > 0.0))
+      throw InputError(joint + "the torque limit must be > 0, not " + formatDouble(l.tau_max[j]));
+  }
+  // A torque limit on some joints only: the others get none (no constraint).
+  if (!torque.empty() && static_cast<int>(torque.size()) < n)
+    for (int j = 0; j < n; ++j)
+      if (!std::isfinite(l.tau_max[j])) l.tau_max[j] = std::numeric_limits<double>::infinity();
+  auto note = [&](const std::vector<std::string>& joints, const std::string& what,
+                  const std::string& used) {
+    if (joints.empty()) return;
+    std::string list;
+    for (const std::string& j : joints) list += (list.empty() ? "" : ", ") + j;
+    l.notes.push_back("the model gives no " + what + " for " + list + ": " + used);
+  };
+  note(position, "position limits",
+       "+-" + formatDouble(kDefaultRevoluteRange) + " rad (+-" +
+           formatDouble(kDefaultPrismaticRange) + " m prismatic) used");
+  note(velocity, "velocity limit", formatDouble(kDefaultVelocityLimit) + " rad/s used");
+  note(acceleration, "acceleration limit",
+       formatDouble(kDefaultAccelerationLimit) + " rad/s^2 used");
+  note(torque, "torque limit", "torques not limited");
+  if (!(o.torque_margin > 0.0 && o.torque_margin <= 1.0))
+    throw InputError("the torque margin must be in (0, 1], not " + formatDouble(o.torque_margin));
+  if (!(o.base_radius >= 0.0) || !std::isfinite(o.base_radius))
+    throw InputError("the base radius must be >= 0 and finite, not " + formatDouble(o.base_radius));
+  if (o.floor && !std::isfinite(*o.floor)) throw InputError("the floor must be finite");
+  l.torque_margin = o.torque_margin;
+  l.floor = o.floor;
+  l.base_radius = o.base_radius;
+  return l;
+}
+
+FourierReference FourierDesign::reference() const {
+  FourierReference r;
+  r.q0 = offset;
+  r.base_frequency = 1.0 / period;
+  r.sine = a;
+  r.cosine = b;
+  return r;
+}
+
+Trajectory FourierDesign::sample(const Model& model, double rate) const {
+  if (numJoints() != model.numJoints())
+    throw InputError("the design has " + std::to_string(numJoints()) + " joints, model '" +
+                     model.name + "' has " + std::to_string(model.numJoints()));
+  if (!(rate > 0.0) || !std::isfinite(rate)) throw InputError("the sample rate must be > 0");
+  const double points = std::round(period * rate) + 1.0;
+  requireMemory(points * model.numJoints() * 5 * sizeof(double), "the sampled design");
+  return sampleOn(*this, model, Grid(period, harmonics(), static_cast<int>(points), true));
+}
+
+LimitCheck checkLimits(const Model& model, const Trajectory& motion,
+                       const ExcitationLimits& limits) {
+  const int n = model.numJoints();
+  LimitCheck c;
+  c.rate = motion.numSamples() > 1
+               ? (motion.numSamples() - 1) / (motion.time[motion.numSamples() - 1] - motion.time[0])
+               : 0.0;
+  c.q_low = motion.q.rowwise().minCoeff();
+  c.q_high = motion.q.rowwise().maxCoeff();
+  c.dq_peak = motion.dq.cwiseAbs().rowwise().maxCoeff();
+  c.ddq_peak = motion.ddq.cwiseAbs().rowwise().maxCoeff();
+  c.tau_peak = motion.tau.cwiseAbs().rowwise().maxCoeff();
+  auto violation = [&](int j, const std::string& what, double value, double limit) {
+    c.violations.push_back("joint '" + model.joint_names[j] + "': " + what + " " +
+                           formatDouble(value) + " beyond " + formatDouble(limit));
+  };
+  for (int j = 0; j < n; ++j) {
+    if (c.q_low[j] < limits.q_min[j]) violation(j, "position", c.q_low[j], limits.q_min[j]);
+    if (c.q_high[j] > limits.q_max[j]) violation(j, "position", c.q_high[j], limits.q_max[j]);
+    if (c.dq_peak[j] > limits.dq_max[j]) violation(j, "speed", c.dq_peak[j], limits.dq_max[j]);
+    if (c.ddq_peak[j] > limits.ddq_max[j])
+      violation(j, "acceleration", c.ddq_peak[j], limits.ddq_max[j]);
+    const double tau_limit = limits.torque_margin * limits.tau_max[j];
+    if (c.tau_peak[j] > tau_limit) violation(j, "torque", c.tau_peak[j], tau_limit);
+  }
+  if (limits.floor || limits.base_radius > 0.0) {
+    Data data(model);
+    c.lowest_origin = c.nearest_base = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < motion.numSamples(); ++k) {
+      const auto& frames = forwardKinematics(model, data, motion.q.col(k));
+      for (const auto& f : frames) c.lowest_origin = std::min(c.lowest_origin, f.translation.z());
+      c.nearest_base = std::min(c.nearest_base, frames.back().translation.head<2>().norm());
+    }
+    if (limits.floor && c.lowest_origin < *limits.floor)
+      c.violations.push_back("a link origin at z = " + formatDouble(c.lowest_origin) +
+                             " m, below the floor at " + formatDouble(*limits.floor) + " m");
+    if (c.nearest_base < limits.base_radius)
+      c.violations.push_back("the last link's origin " + formatDouble(c.nearest_base) +
+                             " m from the base axis, inside the radius " +
+                             formatDouble(limits.base_radius) + " m");
+  }
+  return c;
+}
+
+ExciteOutcome exciteRun(const ExciteRequest& request) {
+  const Model& model = request.robot;
+  const int n = model.numJoints();
+  const ExcitationLimits& limits = request.limits;
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw InputError(message);
+  };
+  require(std::isfinite(request.period) && request.period > 0.0 && request.period <= 1e4,
+          "the period must be in (0, 1e4] s");
+  require(request.harmonics >= 2 && request.harmonics <= 50,
+          "harmonics must be 2 to 50 (rest at both ends takes two per joint)");
+  require(request.starts >= 1 && request.starts <= 10000, "starts must be 1 to 10000");
+  require(request.evaluations >= 1 && request.evaluations <= 100000000,
+          "evaluations must be 1 to 1e8");
+  require(request.grid_rate > 0.0 && std::isfinite(request.grid_rate), "the grid rate must be > 0");
+  require(request.check_rate > 0.0 && std::isfinite(request.check_rate),
+          "the check rate must be > 0");
+  require(request.torque_noise > 0.0 && std::isfinite(request.torque_noise),
+          "the torque noise must be > 0");
+  require(!(request.max_seconds <= 0.0), "the time budget must be > 0");
+  require(limits.q_min.size() == n, "the limits are for another joint count");
+  const double grid_points = std::ceil(request.period * request.grid_rate);
+  require(grid_points <= 1e6, "the optimiser's grid would have more than 1e6 points");
+  requireMemory(request.period * request.check_rate * n * 7 * sizeof(double),
+                "the design sampled at the check rate");
+  if (request.offset) {
+    checkJointVector(*request.offset, n, "--offset");
+    for (int j = 0; j < n; ++j)
+      require(
+          request.offset->coeff(j) > limits.q_min[j] && request.offset->coeff(j) < limits.q_max[j],
+          "joint '" + model.joint_names[j] + "': the offset " +
+              formatDouble(request.offset->coeff(j)) + " is not inside the position range");
+  }
+
+  const auto started = std::chrono::steady_clock::now();
+  const auto deadline =
+      std::isfinite(request.max_seconds)
+          ? started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(request.max_seconds))
+          : std::chrono::steady_clock::time_point::max();
+
+  ExciteOutcome out;
+  out.criterion = request.criterion;
+  out.limits = limits;
+  out.torque_noise = request.torque_noise;
+  out.check_rate = request.check_rate;
+  out.grid_rate = request.grid_rate;
+  out.seed = request.seed;
+  out.base = structuralBaseParameters(model, request.structural);
+
+  const Coding coding(limits, request.harmonics, request.period, request.offset);
+  const Grid grid(request.period, request.harmonics, static_cast<int>(grid_points), false);
+  const DesignProblem problem(model, out.base, request, limits, coding, grid);
+  const int m = problem.numConstraints();
+
+  struct Best {
+    std::vector<double> x;
+    double objective = std::numeric_limits<double>::infinity();
+    int evaluations = 0;
+  };
+  std::vector<Best> best(request.starts);
+  std::atomic<bool> timed_out{false}, interrupted{false};
+  std::mutex progress_mutex;
+  int finished = 0;
+
+  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
+  std::vector<std::unique_ptr<DesignProblem::Workspace>> workspaces;
+  for (int t = 0; t < pool.numThreads(); ++t)
+    workspaces.push_back(std::make_unique<DesignProblem::Workspace>(model));
+
+  pool.parallelFor(request.starts, [&](int s, int thread) {
+    Best& mine = best[s];
+    DesignProblem::Workspace& w = *workspaces[thread];
+    const FourierDesign start =
+        randomStart(coding, limits, grid, request.harmonics, request.period,
+                    splitmix(request.seed ^ splitmix(static_cast<std::uint64_t>(s))));
+    std::vector<double> x = coding.encode(start);
+    // COBYLA asks for the objective and then the constraints at the same x: one evaluation
+    // serves both.
+    std::vector<double> last_x, last_c(m);
+    double last_f = 0.0;
+    auto evaluate = [&](const double* at) {
+      if (!last_x.empty() && std::equal(last_x.begin(), last_x.end(), at)) return;
+      if ((request.control.stop && request.control.stop->load()) ||
+          std::chrono::steady_clock::now() > deadline) {
+        if (request.control.stop && request.control.stop->load())
+          interrupted = true;
+        else
+          timed_out = true;
+        throw nlopt::forced_stop();
+      }
+      last_x.assign(at, at + x.size());
+      last_f = problem.evaluate(at, last_c.data(), w);
+      ++mine.evaluations;
+      const bool feasible =
+          std::all_of(last_c.begin(), last_c.end(), [](double c) { return c <= 0.0; });
+      if (feasible && last_f < mine.objective) {
+        mine.objective = last_f;
+        mine.x = last_x;
+      }
+    };
+    struct Callbacks {
+      decltype(evaluate)* eval;
+      double* f;
+      std::vector<double>* c;
+    } callbacks{&evaluate, &last_f, &last_c};
+    nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(x.size()));
+    opt.set_min_objective(
+        [](unsigned, const double* at, double*, void* data) {
+          auto* cb = static_cast<Callbacks*>(data);
+          (*cb->eval)(at);
+          return *cb->f;
+        },
+        &callbacks);
+    opt.add_inequality_mconstraint(
+        [](unsigned count, double* result, unsigned, const double* at, double*, void* data) {
+          auto* cb = static_cast<Callbacks*>(data);
+          (*cb->eval)(at);
+          std::copy(cb->c->begin(), cb->c->begin() + count, result);
+        },
+        &callbacks, std::vector<double>(m, 0.0));
+    opt.set_maxeval(request.evaluations);
+    opt.set_initial_step(0.05);
+    opt.set_xtol_rel(1e-6);
+    double f = 0.0;
+    try {
+      opt.optimize(x, f);
+    } catch (const nlopt::forced_stop&) {
+    } catch (const nlopt::roundoff_limited&) {
+    } catch (const std::exception&) {
+      // nlopt's failure (e.g. a non-finite step): the best feasible point so far stands.
+    }
+    if (request.control.progress) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      ++finished;
+      std::ostringstream line;
+      line << "start " << finished << "/" << request.starts << ": "
+           << (std::isfinite(mine.objective) ? "criterion " + formatDouble(mine.objective)
+                                             : std::string("no design within the limits"))
+           << " after " << mine.evaluations << " evaluations";
+      request.control.progress(line.str());
+    }
+  });
+
+  out.starts.resize(request.starts);
+  for (int s = 0; s < request.starts; ++s) {
+    out.starts[s].evaluations = best[s].evaluations;
+    out.evaluations += best[s].evaluations;
+    if (std::isfinite(best[s].objective)) {
+      out.starts[s].objective = best[s].objective;
+      if (out.best_start < 0 || best[s].objective < best[out.best_start].objective)
+        out.best_start = s;
+    }
+  }
+  out.termination = interrupted ? "interrupted" : timed_out ? "seconds" : "evaluations";
+  if (out.best_start < 0) {
+    // Say which limit the starts could not meet: the constraints of start 0's initial design.
+    DesignProblem::Workspace w(model);
+    std::vector<double> c(m);
+    const FourierDesign start = randomStart(coding, limits, grid, request.harmonics, request.period,
+                                            splitmix(request.seed ^ splitmix(0)));
+    problem.evaluate(coding.encode(start).data(), c.data(), w);
+    const LimitCheck check = checkLimits(model, sampleOn(start, model, grid), limits);
+    std::string why = check.violations.empty() ? "" : ": " + check.violations.front();
+    if (out.termination != "evaluations")
+      throw Error("the design was stopped (" + out.termination +
+                  ") before any start met the limits" + why);
+    throw Error("no start met the limits" + why +
+                " (raise the limit, lower the torque margin's demand, or use --offset)");
+  }
+
+  // The check at check_rate: shrink the coefficients until no limit is crossed between grid
+  // points (positions, speeds and accelerations scale with them; torques are re-checked).
+  out.design = coding.decode(best[out.best_start].x.data());
+  Trajectory motion = out.design.sample(model, request.check_rate);
+  out.check = checkLimits(model, motion, limits);
+  for (int tries = 0; !out.check.violations.empty() && tries < 200; ++tries) {
+    const FourierDesign before = out.design;
+    fitJoints(out.design, Grid(request.period, request.harmonics, motion.numSamples(), true),
+              limits, 1.0);
+    if (out.design.a == before.a && out.design.b == before.b) {  // torque or workspace: shrink all
+      out.design.a *= 0.98;
+      out.design.b *= 0.98;
+    }
+    motion = out.design.sample(model, request.check_rate);
+    out.check = checkLimits(model, motion, limits);
+  }
+  if (!out.check.violations.empty())
+    throw Error("the best design still breaks a limit at " + formatDouble(request.check_rate) +
+                " Hz after shrinking: " + out.check.violations.front());
+  const Eigen::MatrixXd& a0 = coding.decode(best[out.best_start].x.data()).a;
+  out.shrink = a0.norm() > 0.0 ? out.design.a.norm() / a0.norm() : 1.0;
+  out.score = scoreMotion(model, out.base, motion, request.torque_noise);
+
+  // The default sinusoid over the same duration, at the same rate.
+  const SinusoidalReference sinusoid = defaultSinusoid(model);
+  const Grid check_grid(request.period, 1, motion.numSamples(), true);
+  Trajectory baseline;
+  baseline.resize(n, motion.numSamples());
+  baseline.time = check_grid.time;
+  {
+    Data data(model);
+    Eigen::VectorXd q(n), dq(n), ddq(n);
+    for (int k = 0; k < baseline.numSamples(); ++k) {
+      evaluateReference(sinusoid, baseline.time[k], q, dq, ddq);
+      baseline.q.col(k) = q;
+      baseline.dq.col(k) = dq;
+      baseline.ddq.col(k) = ddq;
+      baseline.tau.col(k) = rnea(model, data, q, dq, ddq);
+    }
+  }
+  out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
+  out.baseline_check = checkLimits(model, baseline, limits);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,128 @@
+// dynid excite: design the motion that makes every base parameter visible (analysis/excite.hpp).
+#include <cstdio>
+#include <iostream>
+
+#include "analysis/excite.hpp"
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "data/io.hpp"
+#include "reports/excitation_report.hpp"
+#include "reports/output.hpp"
+
+namespace dynid::cli {
+
+namespace {
+void addExciteOptions(po::options_description& options) {
+  options.add_options()(
+      "criterion", po::value<std::string>()->default_value("cond"),
+      "what to minimise: cond (unit-column condition number of the base regressor), "
+      "cond-unscaled (in SI units) or d-optimal (-log det of the information per row)")(
+      "period", po::value<double>()->default_value(10.0), "period of the motion [s]")(
+      "harmonics", po::value<int>()->default_value(5), "harmonics per joint (2 to 50)")(
+      "offset", po::value<std::string>(),
+      "fixed centre of each joint's motion [rad] (default: optimised from the middle of the "
+      "limits)")("q-min", po::value<std::string>(),
+                 "lower position limits [rad] (default: the "
+                 "model's)")("q-max", po::value<std::string>(),
+                             "upper position limits [rad] (default: the model's)")(
+      "dq-max", po::value<std::string>(), "velocity limits [rad/s] (default: the model's, else 2)")(
+      "ddq-max", po::value<std::string>(),
+      "acceleration limits [rad/s^2] (default: the model's, else 5)")(
+      "tau-max", po::value<std::string>(),
+      "torque limits [N m] (default: the model's effort limits, else none)")(
+      "torque-margin", po::value<double>()->default_value(0.9),
+      "keep |tau| within this fraction of the torque limits")(
+      "floor", po::value<double>(),
+      "keep every link origin above this height in the base frame [m] (default: no floor)")(
+      "base-radius", po::value<double>()->default_value(0.0),
+      "keep the last link's origin this far from the base z axis [m]")(
+      "starts", po::value<int>()->default_value(8), "optimiser starts (seeded random designs)")(
+      "evaluations", po::value<int>()->default_value(2000), "COBYLA evaluations per start")(
+      "budget-seconds", po::value<double>()->default_value(0.0),
+      "stop after this wall time and keep the best design [s] (0: no limit)")(
+      "grid-rate", po::value<double>()->default_value(25.0),
+      "samples per second of the optimiser's criterion and limits [Hz]")(
+      "check-rate", po::value<double>()->default_value(1000.0),
+      "samples per second of the final limit check and the scores [Hz]")(
+      "csv-rate", po::value<double>()->default_value(1000.0),
+      "samples per second of excitation.csv [Hz]")(
+      "torque-noise", po::value<double>()->default_value(0.05),
+      "torque noise for the expected standard deviations [N m]")(
+      "out", po::value<std::string>()->required(),
+      "output directory (excitation.json, excitation.csv, report.md, report.html)");
+  addThreadsOption(options);
+}
+}  // namespace
+
+int runExcite(const std::vector<std::string>& args) {
+  po::options_description options("dynid excite");
+  addRobotOptions(options);
+  addStructuralOptions(options);
+  addExciteOptions(options);
+  po::variables_map vm;
+  const std::string usage =
+      "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal] [--period T] "
+      "[--harmonics H] [limits] [--seed S] --out DIR";
+  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  const std::string dir = vm["out"].as<std::string>();
+  checkOutputDirectory(dir);  // before the work, not after it
+
+  ExciteRequest request;
+  request.criterion = parseOption(vm, "criterion", parseExcitationCriterion);
+  request.period = vm["period"].as<double>();
+  request.harmonics = vm["harmonics"].as<int>();
+  request.starts = vm["starts"].as<int>();
+  request.evaluations = vm["evaluations"].as<int>();
+  if (const double s = vm["budget-seconds"].as<double>(); s > 0.0) request.max_seconds = s;
+  request.grid_rate = vm["grid-rate"].as<double>();
+  request.check_rate = vm["check-rate"].as<double>();
+  request.torque_noise = vm["torque-noise"].as<double>();
+  request.seed = vm["seed"].as<std::uint64_t>();  // --seed (structural options): also the starts
+  request.threads = threadsOption(vm);
+  request.structural = structuralOptions(vm);
+  request.robot = loadRobotFromOptions(vm);
+  const int n = request.robot.numJoints();
+  request.offset = optionalJointVector(vm, "offset", n, true);
+  LimitOverrides overrides;
+  overrides.q_min = optionalJointVector(vm, "q-min", n, true);
+  overrides.q_max = optionalJointVector(vm, "q-max", n, true);
+  overrides.dq_max = optionalJointVector(vm, "dq-max", n, true);
+  overrides.ddq_max = optionalJointVector(vm, "ddq-max", n, true);
+  overrides.tau_max = optionalJointVector(vm, "tau-max", n, true);
+  overrides.torque_margin = vm["torque-margin"].as<double>();
+  if (vm.count("floor")) overrides.floor = vm["floor"].as<double>();
+  overrides.base_radius = vm["base-radius"].as<double>();
+  try {
+    request.limits = excitationLimits(request.robot, overrides);
+  } catch (const InputError& e) {
+    throw UsageError(std::string("the limits: ") + e.what());
+  }
+  if (request.offset)
+    for (int j = 0; j < n; ++j)
+      if (!((*request.offset)[j] > request.limits.q_min[j] &&
+            (*request.offset)[j] < request.limits.q_max[j]))
+        throw UsageError("--offset: joint '" + request.robot.joint_names[j] + "' at " +
+                         formatDouble((*request.offset)[j]) +
+                         " is not inside its position range (" +
+                         formatDouble(request.limits.q_min[j]) + ", " +
+                         formatDouble(request.limits.q_max[j]) + ")");
+
+  const InterruptGuard guard;
+  request.control.stop = guard.flag();
+  if (stderrIsTerminal())
+    request.control.progress = [](const std::string& line) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    };
+  const ExciteOutcome outcome = exciteRun(request);
+  ExcitationSettings settings;
+  settings.robot = vm["robot"].as<std::string>();
+  settings.harmonics = request.harmonics;
+  settings.starts = request.starts;
+  settings.evaluations = request.evaluations;
+  settings.period = request.period;
+  settings.csv_rate = vm["csv-rate"].as<double>();
+  std::cout << writeExcitation(dir, request.robot, settings, outcome);
+  return kExitOk;
+}
+
+}  // namespace dynid::cli

@@ -1,0 +1,317 @@
+#include "reports/excitation_report.hpp"
+
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "data/io.hpp"
+#include "data/json_number.hpp"
+#include "reports/identification_report.hpp"
+#include "reports/output.hpp"
+#include "reports/plots.hpp"
+
+namespace dynid {
+
+namespace {
+
+nlohmann::json vectorJson(const Eigen::VectorXd& v) { return numbersOrNull(v); }
+
+nlohmann::json rowsJson(const Eigen::MatrixXd& m) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) rows.push_back(numbersOrNull(m.row(i).transpose()));
+  return rows;
+}
+
+nlohmann::json scoreJson(const MotionScore& s) {
+  return {{"samples", s.samples},
+          {"condition_unit", numberOrNull(s.condition_unit)},
+          {"condition", numberOrNull(s.condition)},
+          {"log_det", numberOrNull(s.log_det)},
+          {"std_dev", vectorJson(s.std_dev)},
+          {"relative_std_percent", vectorJson(s.relative_std)}};
+}
+
+nlohmann::json checkJson(const LimitCheck& c) {
+  return {{"rate", c.rate},
+          {"q_low", vectorJson(c.q_low)},
+          {"q_high", vectorJson(c.q_high)},
+          {"dq_peak", vectorJson(c.dq_peak)},
+          {"ddq_peak", vectorJson(c.ddq_peak)},
+          {"tau_peak", vectorJson(c.tau_peak)},
+          {"lowest_origin", numberOrNull(c.lowest_origin)},
+          {"nearest_base", numberOrNull(c.nearest_base)},
+          {"violations", c.violations}};
+}
+
+std::vector<std::string> baseNames(const BaseParameters& base) {
+  std::vector<std::string> names;
+  for (int j = 0; j < base.numBase(); ++j) names.push_back(base.baseName(j));
+  return names;
+}
+
+std::string percent(double x) {
+  if (!std::isfinite(x)) return "n/a";
+  std::ostringstream s;
+  s.precision(x < 10.0 ? 2 : 3);
+  s << x << " %";
+  return s.str();
+}
+
+/// Each joint's q, dq and ddq over the period as fractions of its limits (1: at the limit).
+std::optional<std::string> trajectoryFigure(const Model& model, const ExciteOutcome& o) {
+  const Trajectory t = o.design.sample(model, std::max(50.0, 400.0 / o.design.period));
+  const ExcitationLimits& l = o.limits;
+  std::ostringstream s;
+  s.precision(6);
+  s << "set terminal svg size 900,720 font 'sans,11' background rgb 'white'\n"
+    << "set multiplot layout 3,1 title 'the design against its limits (1 = at the limit)'\n"
+    << "set grid\nset key outside right\nset yrange [-1.1:1.1]\n"
+    << "set arrow 1 from graph 0, first 1 to graph 1, first 1 nohead lw 2 lc rgb '#aa3377'\n"
+    << "set arrow 2 from graph 0, first -1 to graph 1, first -1 nohead lw 2 lc rgb '#aa3377'\n";
+  const int n = model.numJoints();
+  const char* kinds[] = {"position (q - middle) / half range", "velocity dq / dq_max",
+                         "acceleration ddq / ddq_max"};
+  for (int kind = 0; kind < 3; ++kind) {
+    s << "$d" << kind << " << EOD\n";
+    for (int k = 0; k < t.numSamples(); ++k) {
+      s << t.time[k];
+      for (int j = 0; j < n; ++j) {
+        const double half = 0.5 * (l.q_max[j] - l.q_min[j]),
+                     middle = 0.5 * (l.q_max[j] + l.q_min[j]);
+        const double v = kind == 0   ? (t.q(j, k) - middle) / half
+                         : kind == 1 ? t.dq(j, k) / l.dq_max[j]
+                                     : t.ddq(j, k) / l.ddq_max[j];
+        s << " " << v;
+      }
+      s << "\n";
+    }
+    s << "EOD\nset ylabel '" << kinds[kind] << "'\n";
+    if (kind == 2) s << "set xlabel 't [s]'\n";
+    s << "plot ";
+    for (int j = 0; j < n; ++j)
+      s << (j ? ", " : "") << "$d" << kind << " using 1:" << j + 2 << " with lines lw 1.5 title '"
+        << escapeXml(model.joint_names[j]) << "'";
+    s << "\n";
+  }
+  s << "unset multiplot\n";
+  return gnuplotSvg(s.str());
+}
+
+/// Expected relative standard deviation of every base parameter, designed vs the sinusoid.
+std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
+  const int b = o.base.numBase();
+  std::ostringstream s;
+  s.precision(6);
+  s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\n"
+    << "set title 'expected relative standard deviation of each base parameter at "
+    << formatDouble(o.torque_noise) << " N m torque noise'\n"
+    << "set logscale y\nset grid ytics\nset key top left\nset ylabel '%'\n"
+    << "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8\n"
+    << "set xtics rotate by -60 font 'sans,8'\n$d << EOD\n";
+  for (int j = 0; j < b; ++j) {
+    const double designed = o.score.relative_std[j], sinusoid = o.baseline.relative_std[j];
+    s << '"' << o.base.baseName(j) << "\" " << (std::isfinite(designed) ? designed : 1e6) << " "
+      << (std::isfinite(sinusoid) ? sinusoid : 1e6) << "\n";
+  }
+  s << "EOD\nplot $d using 2:xtic(1) title 'designed' lc rgb '#4477aa', '' using 3 title "
+       "'default sinusoid' lc rgb '#ee6677'\n";
+  return gnuplotSvg(s.str());
+}
+
+}  // namespace
+
+nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,
+                              const ExciteOutcome& o) {
+  const ExcitationLimits& l = o.limits;
+  return {{"schema_version", kExcitationSchemaVersion},
+          {"kind", "dynid.excitation"},
+          {"robot", settings.robot},
+          {"model", model.name},
+          {"joints", model.joint_names},
+          {"design",
+           {{"period", o.design.period},
+            {"harmonics", o.design.harmonics()},
+            {"offset", vectorJson(o.design.offset)},
+            {"a", rowsJson(o.design.a)},
+            {"b", rowsJson(o.design.b)},
+            {"form",
+             "q_j(t) = offset_j + sum_k a_jk/(w k) sin(w k t) - b_jk/(w k) cos(w k t), "
+             "w = 2 pi / period"}}},
+          {"criterion", excitationCriterionName(o.criterion)},
+          {"limits",
+           {{"q_min", vectorJson(l.q_min)},
+            {"q_max", vectorJson(l.q_max)},
+            {"dq_max", vectorJson(l.dq_max)},
+            {"ddq_max", vectorJson(l.ddq_max)},
+            {"tau_max", vectorJson(l.tau_max)},
+            {"torque_margin", l.torque_margin},
+            {"floor", l.floor ? nlohmann::json(*l.floor) : nlohmann::json(nullptr)},
+            {"base_radius", l.base_radius},
+            {"notes", l.notes}}},
+          {"base_parameters", baseNames(o.base)},
+          {"torque_noise", o.torque_noise},
+          {"designed", scoreJson(o.score)},
+          {"default_sinusoid", scoreJson(o.baseline)},
+          {"check", checkJson(o.check)},
+          {"default_sinusoid_check", checkJson(o.baseline_check)},
+          {"optimiser",
+           {{"method", "COBYLA (NLopt), multistart"},
+            {"starts", settings.starts},
+            {"evaluations_per_start", settings.evaluations},
+            {"grid_rate", o.grid_rate},
+            {"best_start", o.best_start},
+            {"start_criteria",
+             [&] {
+               nlohmann::json a = nlohmann::json::array();
+               for (const ExciteStart& s : o.starts) a.push_back(numberOrNull(s.objective));
+               return a;
+             }()},
+            {"shrink", o.shrink},
+            {"termination", o.termination},
+            {"evaluations", o.evaluations},
+            {"seconds", o.seconds},
+            {"seed", o.seed}}}};
+}
+
+std::string excitationCsv(const Model& model, const FourierDesign& design, double rate) {
+  const Trajectory t = design.sample(model, rate);
+  const int n = model.numJoints();
+  std::ostringstream out;
+  out << "t";
+  for (const char* kind : {"q", "dq", "ddq"})
+    for (int j = 0; j < n; ++j) out << ',' << kind << j + 1;
+  out << '\n';
+  for (int k = 0; k < t.numSamples(); ++k) {
+    out << formatDouble(t.time[k]);
+    for (const Eigen::MatrixXd* m : {&t.q, &t.dq, &t.ddq})
+      for (int j = 0; j < n; ++j) out << ',' << formatDouble((*m)(j, k));
+    out << '\n';
+  }
+  return out.str();
+}
+
+Document excitationDocument(const Model& model, const ExcitationSettings& settings,
+                            const ExciteOutcome& o, std::vector<std::string>* missing_figures) {
+  Document doc("dynid excite: " + model.name);
+  doc.paragraph("A periodic Fourier series of " + std::to_string(o.design.harmonics()) +
+                " harmonics per joint over " + formatDouble(o.design.period) +
+                " s, at rest at both ends, optimised for the " +
+                excitationCriterionName(o.criterion) + " criterion (" +
+                std::to_string(settings.starts) + " COBYLA starts, seed " + std::to_string(o.seed) +
+                ", " + std::to_string(o.evaluations) + " evaluations, " + formatShort(o.seconds) +
+                " s; stopped by " + o.termination +
+                "). It is compared with `dynid simulate`'s default sinusoid over the same " +
+                "duration. Both are scored at " + formatDouble(o.check_rate) + " Hz.");
+  if (!o.limits.notes.empty()) {
+    doc.paragraph("Limits the model does not give (defaults used):");
+    doc.bullets(o.limits.notes);
+  }
+  doc.heading("Criteria");
+  DocumentTable criteria;
+  criteria.header = {"criterion", "designed", "default sinusoid"};
+  criteria.rows = {
+      {"condition number, unit columns", formatShort(o.score.condition_unit),
+       formatShort(o.baseline.condition_unit)},
+      {"condition number, SI units", formatShort(o.score.condition),
+       formatShort(o.baseline.condition)},
+      {"log det(W1^T W1 / rows)", formatShort(o.score.log_det), formatShort(o.baseline.log_det)},
+      {"largest expected std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
+       formatShort(o.score.std_dev.maxCoeff()), formatShort(o.baseline.std_dev.maxCoeff())}};
+  criteria.caption = "W1 is the base regressor (" + std::to_string(o.base.numBase()) +
+                     " base parameters) over the samples; lower condition numbers and higher "
+                     "log det are better.";
+  doc.table(criteria);
+  if (!o.baseline_check.violations.empty())
+    doc.paragraph("The default sinusoid itself breaks these limits: " +
+                  o.baseline_check.violations.front() + ".");
+
+  std::vector<std::string> missing;
+  if (const auto svg = trajectoryFigure(model, o))
+    doc.figure({"trajectory",
+                "Each joint's position, velocity and acceleration as a fraction "
+                "of its limit; the design stays inside +-1 (checked at " +
+                    formatDouble(o.check_rate) + " Hz).",
+                *svg});
+  else
+    missing.push_back("trajectory");
+
+  doc.heading("Limits");
+  DocumentTable limits;
+  limits.header = {"joint",
+                   "q range",
+                   "q used",
+                   "|dq| peak / limit",
+                   "|ddq| peak / limit",
+                   "|tau| peak / limit"};
+  for (int j = 0; j < model.numJoints(); ++j) {
+    const ExcitationLimits& l = o.limits;
+    const LimitCheck& c = o.check;
+    limits.rows.push_back(
+        {model.joint_names[j], formatShort(l.q_min[j]) + " .. " + formatShort(l.q_max[j]),
+         formatShort(c.q_low[j]) + " .. " + formatShort(c.q_high[j]),
+         formatShort(c.dq_peak[j]) + " / " + formatShort(l.dq_max[j]),
+         formatShort(c.ddq_peak[j]) + " / " + formatShort(l.ddq_max[j]),
+         formatShort(c.tau_peak[j]) + " / " +
+             (std::isfinite(l.tau_max[j]) ? formatShort(l.torque_margin * l.tau_max[j])
+                                          : std::string("none"))});
+  }
+  limits.caption = "Units: rad, rad/s, rad/s^2, N m (m, m/s, m/s^2, N for prismatic joints).";
+  doc.table(limits);
+
+  doc.heading("Base parameters");
+  DocumentTable params;
+  params.header = {"base parameter", "designed: std. dev.", "%", "default sinusoid: std. dev.",
+                   "%"};
+  for (int j = 0; j < o.base.numBase(); ++j)
+    params.rows.push_back({o.base.expression(j), formatShort(o.score.std_dev[j]),
+                           percent(o.score.relative_std[j]), formatShort(o.baseline.std_dev[j]),
+                           percent(o.baseline.relative_std[j])});
+  params.caption =
+      "Expected standard deviation of each base parameter by ordinary least squares "
+      "with " +
+      formatDouble(o.torque_noise) +
+      " N m of independent torque noise on every joint, sampled at " + formatDouble(o.check_rate) +
+      " Hz over one period; % is relative to the model's own value.";
+  doc.table(params);
+  if (const auto svg = deviationFigure(o))
+    doc.figure({"deviations",
+                "Expected relative standard deviation of each base parameter "
+                "(log scale): designed against the default sinusoid.",
+                *svg});
+  else
+    missing.push_back("deviations");
+  if (missing_figures) *missing_figures = missing;
+  return doc;
+}
+
+std::string writeExcitation(const std::string& dir, const Model& model,
+                            const ExcitationSettings& settings, const ExciteOutcome& o) {
+  std::vector<std::string> missing;
+  const Document doc = excitationDocument(model, settings, o, &missing);
+  std::vector<std::pair<std::string, std::string>> files = {
+      {"excitation.json", jsonText(excitationJson(model, settings, o), 2) + "\n"},
+      {"excitation.csv", excitationCsv(model, o.design, settings.csv_rate)},
+      {"report.md", doc.markdown()},
+      {"report.html", doc.html()}};
+  for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);
+  writeReportFiles(dir, files);
+  std::ostringstream out;
+  out << "designed " << o.design.period << " s of motion (" << o.design.harmonics()
+      << " harmonics) for " << model.name << ", criterion " << excitationCriterionName(o.criterion)
+      << " (" << o.evaluations << " evaluations, " << formatShort(o.seconds) << " s)\n"
+      << "  condition number (unit columns): " << formatShort(o.score.condition_unit)
+      << ", default sinusoid " << formatShort(o.baseline.condition_unit) << "\n"
+      << "  condition number (SI units):     " << formatShort(o.score.condition)
+      << ", default sinusoid " << formatShort(o.baseline.condition) << "\n"
+      << "  log det per row:                 " << formatShort(o.score.log_det)
+      << ", default sinusoid " << formatShort(o.baseline.log_det) << "\n"
+      << "  every limit holds at " << formatDouble(o.check_rate) << " Hz"
+      << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatShort(o.shrink) + ")" : "")
+      << "\nwrote " << dir << "/excitation.json, excitation.csv (" << settings.csv_rate
+      << " Hz), report.md, report.html\n";
+  for (const std::string& note : o.limits.notes) out << "note: " << note << "\n";
+  if (!missing.empty()) out << "warning: gnuplot did not run: the report has no figures\n";
+  return out.str();
+}
+
+}  // namespace dynid
