@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "analysis/excite.hpp"
 #include "analysis/run_json.hpp"
 #include "core/errors.hpp"
 #include "data/io.hpp"
@@ -41,6 +42,7 @@ void forEachSpecField(Settings& s, F&& f) {
   f("search_seconds", s.search_seconds);
   f("search_evaluations", s.search_evaluations);
   f("refine_iterations", s.refine_iterations);
+  f("trajectory", s.trajectory);
 }
 
 /// The range of each integer spec value (the StudySettings field's own limits).
@@ -55,10 +57,10 @@ std::pair<long long, long long> integerRange(const std::string& key) {
 void checkValue(const std::string& key, const json& value, const std::string& file,
                 const std::string& where) {
   const json& d = batchSpecDefaults().at(key);
-  const bool ok = key == "method" || key == "robot" ? value.is_string()
-                  : key == "seed"                   ? value.is_number_unsigned()
-                  : d.is_number_integer()           ? value.is_number_integer()
-                                                    : value.is_number();
+  const bool ok = key == "method" || key == "robot" || key == "trajectory" ? value.is_string()
+                  : key == "seed"         ? value.is_number_unsigned()
+                  : d.is_number_integer() ? value.is_number_integer()
+                                          : value.is_number();
   if (!ok) throw ParseError(file, 0, where, "has the wrong type: " + value.dump());
   if (d.is_number_integer() && key != "seed") {
     const auto [lo, hi] = integerRange(key);
@@ -67,6 +69,16 @@ void checkValue(const std::string& key, const json& value, const std::string& fi
   try {
     if (key == "method") parseMethod(value.get<std::string>());
     if (key == "robot") loadRobot(value.get<std::string>());
+    if (key == "trajectory" && !value.get<std::string>().empty()) {  // read once, any joint count
+      const std::string path = value.get<std::string>();
+      const json document = parseJsonDocument(readFile(path), path);
+      const json& offset = document.is_object() && document.contains("design") &&
+                                   document["design"].is_object() &&
+                                   document["design"].contains("offset")
+                               ? document["design"]["offset"]
+                               : json();
+      excitationDesignFrom(document, path, offset.is_array() ? static_cast<int>(offset.size()) : 0);
+    }
   } catch (const Error& e) {
     throw ParseError(file, 0, where, e.what());
   }

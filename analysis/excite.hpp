@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "analysis/runs.hpp"
 #include "core/controllers.hpp"
@@ -143,6 +144,14 @@ struct ExciteOutcome {
 /// range (period, harmonics, starts, evaluations, rates, noise, offsets outside the limits), and
 /// Error when no start meets the limits (with the limit that could not be met).
 ExciteOutcome exciteRun(const ExciteRequest& request);
+
+/// The design of an excitation.json written by `dynid excite`, read strictly (schema_version,
+/// kind, unknown top-level keys, the design's fields and ranges) for a robot of `num_joints`
+/// joints. Throws ParseError naming `file` and the field.
+FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::string& file,
+                                   int num_joints);
+/// The same from the file at `path` (readFile's limits apply).
+FourierDesign readExcitationDesign(const std::string& path, int num_joints);
 
 /// `dynid simulate`'s default sinusoid for the model: amplitude 0.5 rad about the middle of the
 /// limits, frequencies 0.15 + 0.07 i Hz, phases 0.

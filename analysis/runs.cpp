@@ -8,6 +8,7 @@
 #include <random>
 #include <thread>
 
+#include "analysis/excite.hpp"
 #include "analysis/run_json.hpp"
 #include "core/aba.hpp"
 #include "core/controllers.hpp"
@@ -108,9 +109,13 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
     controller_model =
         perturbedModel(controller_model, request.controller_perturb, request.simulation.seed);
 
-  const Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
+  Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
   Reference reference;
-  if (!request.fourier) {
+  if (!request.trajectory.empty()) {
+    const FourierDesign design = readExcitationDesign(request.trajectory, n);
+    reference = design.reference();
+    q0 = design.offset;  // the default gains' configuration
+  } else if (!request.fourier) {
     SinusoidalReference r;
     r.q0 = q0;
     r.amplitude = request.amplitude;

@@ -60,6 +60,7 @@ struct SimulateRequest {
   std::optional<Model> controller_model;  // the controller's model (default: the robot)
   double controller_perturb = 0.0;        // its parameters perturbed by up to this fraction
   bool fourier = false;                   // seeded Fourier series instead of sinusoids
+  std::string trajectory;                 // or: the design in this excitation.json (`dynid excite`)
   std::optional<Eigen::VectorXd> q0;      // centre [rad] (default: the middle of the limits)
   Eigen::VectorXd amplitude;              // n entries [rad]
   std::optional<Eigen::VectorXd> frequency, phase;  // sinusoidal [Hz], [rad]
@@ -75,7 +76,8 @@ struct SimulateOutcome {
   double peak_torque = 0.0;   // max |tau| [N m]
 };
 /// Simulates the robot under a tracking controller. Throws InputError for a controller model of
-/// another joint count or harmonics < 1, and what simulate() throws.
+/// another joint count or harmonics < 1, ParseError for a bad `trajectory` file, and what
+/// simulate() throws.
 SimulateOutcome simulateRun(const SimulateRequest& request);
 
 /// Seeded Fourier coefficients, scaled so each joint's excursion bound sum (|a|+|b|)/(w k) equals

@@ -7,6 +7,7 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include "analysis/excite.hpp"
 #include "analysis/runs.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
@@ -45,7 +46,14 @@ Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out
   }
   Eigen::VectorXd tau_max(n);
   for (int i = 0; i < n; ++i) tau_max[i] = truth.limits[i].effort;
-  TrackingController controller(truth, r, defaultGains(truth, r.q0, 5.0), tau_max);
+  Reference reference = r;
+  Eigen::VectorXd centre = r.q0;
+  if (!held_out && !s.trajectory.empty()) {  // a designed training motion
+    const FourierDesign design = readExcitationDesign(s.trajectory, n);
+    reference = design.reference();
+    centre = design.offset;
+  }
+  TrackingController controller(truth, reference, defaultGains(truth, centre, 5.0), tau_max);
   SimulationOptions options;
   options.duration = held_out ? s.test_seconds : s.train_seconds;
   options.noise_q = s.noise_q;

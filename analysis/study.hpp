@@ -31,6 +31,8 @@ struct StudySettings {
   long search_evaluations = 0;   // per search (0: no limit); one of the two must be set
   int refine_iterations = 200;   // per refinement stage
   int threads = 1;
+  /// The training motion: an excitation.json of `dynid excite` (empty: the default sinusoid).
+  std::string trajectory;
 };
 
 /// Throws InputError naming the first invalid field (by its StudySettings and manifest name):

@@ -14,6 +14,9 @@ void addSimulateOptions(po::options_description& options) {
       "controller", po::value<std::string>()->default_value("sinusoidal"),
       "sinusoidal (q0 + A sin(2 pi f t + phase), the paper's GC sinusoidal controller) or fourier "
       "(seeded finite Fourier series)")(
+      "trajectory", po::value<std::string>(),
+      "track the design in this excitation.json (dynid excite) instead; it repeats when "
+      "--duration exceeds its period")(
       "q0", po::value<std::string>(), "centre of the motion [rad] (default: middle of the limits)")(
       "amplitude", po::value<std::string>()->default_value("0.5"),
       "amplitude per joint [rad] (one value for all); fourier: excursion bound")(
@@ -71,6 +74,14 @@ int runSimulate(const std::vector<std::string>& args) {
   sim.seed = vm["seed"].as<std::uint64_t>();
   request.harmonics = harmonics;
   request.fourier = controller == "fourier";
+  if (vm.count("trajectory")) {
+    for (const char* other : {"q0", "frequency", "phase"})
+      if (vm.count(other))
+        throw UsageError(std::string("--") + other + " does not apply to --trajectory");
+    if (!vm["controller"].defaulted() || !vm["amplitude"].defaulted())
+      throw UsageError("--trajectory replaces --controller and --amplitude: give one or the other");
+    request.trajectory = vm["trajectory"].as<std::string>();
+  }
   const int n = request.robot.numJoints();
   request.q0 = optionalJointVector(vm, "q0", n, false);
   request.amplitude = *optionalJointVector(vm, "amplitude", n, true);

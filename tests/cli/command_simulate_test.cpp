@@ -43,6 +43,41 @@ TEST(Cli, SimulateWritesADatasetAndSummary) {
           .code,
       0);
 }
+TEST(Cli, SimulateTracksADesignedExcitation) {
+  const std::string design = test::tempPath("simulate_design");
+  ASSERT_EQ(run("excite --robot puma560 --starts 1 --evaluations 100 --out " + design).code, 0);
+  const std::string csv = test::tempPath("simulate_design.csv");
+  const Result r =
+      run("simulate --robot puma560 --trajectory " + design + "/excitation.json --out " + csv);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Trajectory t = readDatasetCsv(csv);
+  ASSERT_EQ(t.numSamples(), 10001);
+  // The design starts at rest, and the simulation starts on it: no start-up transient.
+  EXPECT_LT(t.dq.col(0).cwiseAbs().maxCoeff(), 1e-12);
+  // Tracking it at 5 Hz bandwidth: within a few hundredths of a radian.
+  const auto j = nlohmann::json::parse(readFile(design + "/excitation.json"));
+  // ... at the design's q(0) = offset - sum_k b_k / (w k).
+  const double w = 2.0 * 3.14159265358979323846 / j["design"]["period"].get<double>();
+  for (int joint = 0; joint < 6; ++joint) {
+    double q0 = j["design"]["offset"][joint].get<double>();
+    for (int k = 0; k < 5; ++k) q0 -= j["design"]["b"][joint][k].get<double>() / (w * (k + 1));
+    EXPECT_NEAR(t.q(joint, 0), q0, 1e-12) << joint;  // round-off of a short sum
+  }
+  EXPECT_TRUE(contains(r.out, "tracking error RMS")) << r.out;
+  // --trajectory replaces the controller and its amplitude; a file that is not a design fails.
+  EXPECT_EQ(run("simulate --robot puma560 --trajectory " + design +
+                "/excitation.json --controller fourier --out " + csv)
+                .code,
+            2);
+  const Result bad = run("simulate --robot puma560 --trajectory " + csv + " --out " + csv + "2");
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_TRUE(contains(bad.err, csv)) << bad.err;
+  const Result panda = run("simulate --robot panda --trajectory " + design +
+                           "/excitation.json --out " + csv + "3");  // a 6-joint design
+  EXPECT_EQ(panda.code, 1);
+  EXPECT_TRUE(contains(panda.err, "design.offset")) << panda.err;
+}
+
 TEST(Cli, FailedWritesLeaveNoPartialFile) {
   const std::string dir = test::tempPath("no-such-dir");
   const Result r = run("simulate --robot puma560 --duration 0.1 --out " + dir + "/sim.csv");

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/errors.hpp"
+#include "data/json_number.hpp"
 #include "data/puma560.hpp"
 
 namespace dynid {
@@ -48,6 +50,52 @@ TEST(ExcitationReport, TheCsvHasOneRowPerSampleAndEveryColumn) {
   std::vector<std::string> missing;
   const Document doc = excitationDocument(puma, {"puma560", 5, 1, 30, 10.0, 20.0}, o, &missing);
   EXPECT_NE(doc.markdown().find("| joint6 |"), std::string::npos);
+}
+
+TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
+  const Model puma = makePuma560(false);
+  const ExciteOutcome o = smallOutcome(puma);
+  const nlohmann::json j = excitationJson(puma, {"puma560", 5, 1, 30, 10.0, 100.0}, o);
+  const nlohmann::json text = nlohmann::json::parse(jsonText(j, 2));  // through the written text
+  const FourierDesign d = excitationDesignFrom(text, "e.json", 6);
+  EXPECT_EQ(d.period, o.design.period);
+  EXPECT_EQ(d.offset, o.design.offset);
+  EXPECT_EQ(d.a, o.design.a);  // shortest round-trip decimal: exact
+  EXPECT_EQ(d.b, o.design.b);
+  auto expectRefused = [&](nlohmann::json bad, const std::string& field) {
+    try {
+      excitationDesignFrom(bad, "e.json", 6);
+      ADD_FAILURE() << "accepted, expected an error naming " << field;
+    } catch (const ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find("e.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  EXPECT_THROW(excitationDesignFrom(text, "e.json", 7), ParseError);  // another joint count
+  nlohmann::json bad = text;
+  bad["schema_version"] = 2;
+  expectRefused(bad, "schema_version");
+  bad = text;
+  bad["kind"] = "dynid.model";
+  expectRefused(bad, "kind");
+  bad = text;
+  bad["desing"] = 1;
+  expectRefused(bad, "desing");
+  bad = text;
+  bad["design"]["period"] = -1.0;
+  expectRefused(bad, "design.period");
+  bad = text;
+  bad["design"]["a"][2][1] = "x";
+  expectRefused(bad, "design.a[2]");
+  bad = text;
+  bad["design"]["b"][5].erase(0);
+  expectRefused(bad, "design.b[5]");
+  bad = text;
+  bad["design"]["a"][0][0] = 1e300;
+  expectRefused(bad, "design.a[0]");
+  bad = text;
+  bad["design"].erase("offset");
+  expectRefused(bad, "design.offset");
 }
 
 }  // namespace
