@@ -178,37 +178,56 @@ std::string formatDouble(double x) {
   return std::string(buffer.data(), result.ptr);
 }
 
+namespace {
+/// The length of the UTF-8 sequence at text[i] (1 to 4) and its code point, or 0 when it is not
+/// valid UTF-8 (a stray continuation byte, 0xf8..0xff, a truncated sequence, an overlong form, a
+/// surrogate, or a code point past U+10FFFF).
+std::size_t decodeUtf8(std::string_view text, std::size_t i, char32_t* code) {
+  const auto c = static_cast<unsigned char>(text[i]);
+  if (c < 0x80) {
+    *code = c;
+    return 1;
+  }
+  std::size_t length = 0;
+  char32_t least = 0;
+  if ((c & 0xe0) == 0xc0) {
+    length = 2, *code = c & 0x1f, least = 0x80;
+  } else if ((c & 0xf0) == 0xe0) {
+    length = 3, *code = c & 0x0f, least = 0x800;
+  } else if ((c & 0xf8) == 0xf0) {
+    length = 4, *code = c & 0x07, least = 0x10000;
+  } else {
+    return 0;
+  }
+  if (i + length > text.size()) return 0;
+  for (std::size_t k = 1; k < length; ++k) {
+    const auto next = static_cast<unsigned char>(text[i + k]);
+    if ((next & 0xc0) != 0x80) return 0;
+    *code = (*code << 6) | (next & 0x3f);
+  }
+  if (*code < least || *code > 0x10ffff || (*code >= 0xd800 && *code <= 0xdfff)) return 0;
+  return length;
+}
+}  // namespace
+
 bool isPrintableUtf8(std::string_view text) {
-  std::size_t i = 0;
-  while (i < text.size()) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 || c == 0x7f) return false;
-    if (c < 0x80) {
-      ++i;
-      continue;
-    }
-    // Lead byte: the sequence's length and the smallest code point it may encode (no overlong).
-    std::size_t length = 0;
-    char32_t code = 0, least = 0;
-    if ((c & 0xe0) == 0xc0) {
-      length = 2, code = c & 0x1f, least = 0x80;
-    } else if ((c & 0xf0) == 0xe0) {
-      length = 3, code = c & 0x0f, least = 0x800;
-    } else if ((c & 0xf8) == 0xf0) {
-      length = 4, code = c & 0x07, least = 0x10000;
-    } else {
-      return false;  // a continuation byte without a lead, or 0xf8..0xff
-    }
-    if (i + length > text.size()) return false;
-    for (std::size_t k = 1; k < length; ++k) {
-      const auto next = static_cast<unsigned char>(text[i + k]);
-      if ((next & 0xc0) != 0x80) return false;
-      code = (code << 6) | (next & 0x3f);
-    }
-    if (code < least || code > 0x10ffff || (code >= 0xd800 && code <= 0xdfff)) return false;
+  char32_t code = 0;
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t length = decodeUtf8(text, i, &code);
+    if (length == 0 || code < 0x20 || code == 0x7f) return false;
     i += length;
   }
   return true;
+}
+
+std::size_t firstInvalidUtf8(std::string_view text) {
+  char32_t code = 0;
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t length = decodeUtf8(text, i, &code);
+    if (length == 0) return i;
+    i += length;
+  }
+  return std::string_view::npos;
 }
 
 std::string escapeXml(const std::string& text) {

@@ -61,6 +61,9 @@ std::string formatDouble(double x);
 /// must be to appear in dynid's JSON, XML and HTML outputs.
 bool isPrintableUtf8(std::string_view text);
 
+/// The offset of the first byte of `text` that does not start a valid UTF-8 sequence, or npos.
+std::size_t firstInvalidUtf8(std::string_view text);
+
 /// Text with &, <, > and " escaped for XML and HTML attribute values and content.
 std::string escapeXml(const std::string& text);
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include <Eigen/LU>
 #include <nlohmann/json.hpp>
@@ -61,6 +62,19 @@ class Reader {
     const json& value = field(object, path, key);
     if (!value.is_string()) fail(join(path, key), "expected a string");
     return value.get<std::string>();
+  }
+  /// A name (robot, link, joint): a string of printable UTF-8, since names go into dynid's JSON,
+  /// URDF, MJCF and HTML outputs (a control character would make an exported URDF unreadable).
+  std::string name(const json& object, const std::string& path, const char* key) const {
+    std::string text = string(object, path, key);
+    if (!isPrintableUtf8(text)) fail(join(path, key), "contains a control character");
+    return text;
+  }
+  /// Fails when `name` was already used by another link (or joint): `seen` collects them.
+  void unique(std::set<std::string>& seen, const std::string& name, const std::string& path,
+              const char* what) const {
+    if (!seen.insert(name).second)
+      fail(path, std::string("duplicate ") + what + " name '" + name + "'");
   }
   bool boolean(const json& object, const std::string& path, const char* key) const {
     const json& value = field(object, path, key);
@@ -232,6 +246,7 @@ Model dhModelFromJson(const json& document, const Model& model, const Reader& re
                   about + "'");
   const json& joints = read.field(block, "dh", "joints");
   if (!joints.is_array() || joints.empty()) read.fail("dh.joints", "expected a non-empty array");
+  std::set<std::string> joint_names, link_names;
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const std::string path = "dh.joints[" + std::to_string(i) + "]";
     const json& j = joints[i];
@@ -239,8 +254,10 @@ Model dhModelFromJson(const json& document, const Model& model, const Reader& re
         j, path,
         {"name", "link", "type", "a", "d", "alpha", "theta_offset", "limits", "inertial", "drive"});
     DhRow row;
-    row.joint_name = read.string(j, path, "name");
-    row.link_name = read.string(j, path, "link");
+    row.joint_name = read.name(j, path, "name");
+    row.link_name = read.name(j, path, "link");
+    read.unique(joint_names, row.joint_name, path + ".name", "joint");
+    read.unique(link_names, row.link_name, path + ".link", "link");
     row.type = read.jointType(j, path);
     row.a = read.number(j, path, "a");
     row.d = read.number(j, path, "d");
@@ -322,7 +339,7 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   if (document.contains("dh") == document.contains("bodies"))
     read.fail("", "give the kinematics as either \"bodies\" or \"dh\", not both or neither");
   Model model;
-  model.name = read.string(document, "", "name");
+  model.name = read.name(document, "", "name");
   model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
   if (model.gravity.norm() > kMaxGravity) read.fail("gravity", "beyond 1e3 m/s^2");
   model.drive_terms = read.driveTerms(document);
@@ -330,11 +347,12 @@ Model modelFromJson(const std::string& text, const std::string& file) {
   const json& bodies = read.field(document, "", "bodies");
   if (!bodies.is_array() || bodies.empty()) read.fail("bodies", "expected a non-empty array");
   std::map<std::string, int> index_of;
+  std::set<std::string> joint_names;
   for (std::size_t b = 0; b < bodies.size(); ++b) {
     const std::string path = "bodies[" + std::to_string(b) + "]";
     const json& body = bodies[b];
     read.onlyKeys(body, path, {"name", "parent", "joint", "inertial", "drive"});
-    const std::string name = read.string(body, path, "name");
+    const std::string name = read.name(body, path, "name");
     if (index_of.count(name)) read.fail(path + ".name", "duplicate body name '" + name + "'");
     const json& parent_json = read.field(body, path, "parent");
     int parent = -1;
@@ -367,8 +385,10 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     DriveParameters<double> drive;
     if (const auto it = body.find("drive"); it != body.end())
       drive = read.drive(*it, path + ".drive");
+    const std::string joint_name = read.name(joint, jpath, "name");
+    read.unique(joint_names, joint_name, jpath + ".name", "joint");
     index_of[name] = model.addBody(
-        parent, name, read.string(joint, jpath, "name"), type,
+        parent, name, joint_name, type,
         read.pose(read.field(joint, jpath, "placement"), jpath + ".placement"), axis,
         read.pose(read.field(joint, jpath, "body_placement"), jpath + ".body_placement"),
         fromStandardVector(theta), limits, drive);

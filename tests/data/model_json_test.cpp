@@ -56,6 +56,31 @@ TEST(ModelJson, ErrorsNameTheJsonPath) {
   expectError("\"type\": \"revolute\"", "\"type\": \"floating\"", "bodies[0].joint.type");
   expectError("\"schema_version\": 1", "\"schema_version\": 7", "schema_version: unsupported");
   expectError("\"bodies\": [", "\"bodies\": [[", "invalid JSON");
+  // Names go into every output: each unique, none with a control character (found by fuzzing:
+  // a DH model with two links of one name loaded, and its exported JSON did not load back).
+  expectError("\"name\": \"joint3\"", "\"name\": \"joint2\"",
+              "bodies[2].joint.name: duplicate joint name 'joint2'");
+  expectError("\"name\": \"link3\"", "\"name\": \"link\\u00013\"",
+              "bodies[2].name: contains a control character");
+  const std::string dh = R"({"schema_version": 1, "kind": "dynid.model", "name": "arm",
+    "gravity": [0, 0, -9.81], "dh": {"convention": "modified", "inertia_about": "com", "joints": [
+    {"name": "j1", "link": "l1", "type": "revolute", "a": 0, "d": 0.3, "alpha": 0,
+     "inertial": {"m": 1, "com": [0, 0, 0], "inertia": {"Ixx": 0.01, "Ixy": 0, "Ixz": 0,
+                  "Iyy": 0.01, "Iyz": 0, "Izz": 0.01}}},
+    {"name": "j2", "link": "l1", "type": "revolute", "a": 0.1, "d": 0, "alpha": 0,
+     "inertial": {"m": 1, "com": [0, 0, 0], "inertia": {"Ixx": 0.01, "Ixy": 0, "Ixz": 0,
+                  "Iyy": 0.01, "Iyz": 0, "Izz": 0.01}}}]}})";
+  try {
+    modelFromJson(dh, "dh.json");
+    ADD_FAILURE() << "two links named l1 were accepted";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("dh.joints[1].link: duplicate link name 'l1'"),
+              std::string::npos)
+        << e.what();
+  }
+  std::string renamed = dh;
+  renamed.replace(renamed.find("\"link\": \"l1\"", 300), 12, "\"link\": \"l2\"");
+  EXPECT_EQ(modelFromJson(renamed, "dh.json").numJoints(), 2);  // the same with distinct names
 }
 
 }  // namespace

@@ -157,20 +157,21 @@ TEST(Urdf, RejectsBadInputWithFileAndElement) {
   expectError(edited(R"(<axis xyz="0 1 0"/>)", R"(<axis xyz="0 0 0"/>)"),
               {"robot.urdf:25", "joint 'elbow'", "zero vector"});
   expectError("<robot", {"robot.urdf", "urdfdom"});
-  // Names go into JSON, XML and HTML outputs: not UTF-8 text is refused (found by fuzzing: a
-  // Latin-1 robot name loaded, and its exported URDF did not load back).
-  // (Without an XML declaration: with one, TinyXML refuses the bytes itself.)
+  // A document that is not UTF-8 is refused with its line (found by fuzzing: a Latin-1 robot
+  // name loaded and its exported URDF did not load back; broken UTF-8 made TinyXML read past
+  // the end of the document); names with control characters go nowhere either (they go into
+  // JSON, XML and HTML outputs).
   expectError(edited("<?xml version=\"1.0\"?>\n<robot name=\"tree\">",
                      "<robot name=\"tr\xe9"
                      "e\">"),
-              {"robot.urdf", "robot name 'tr\\xe9e'", "UTF-8"});
+              {"robot.urdf:1", "byte 0xe9", "UTF-8"});
   std::string control = kTree;
   for (std::size_t k = control.find("\"fore\""); k != std::string::npos;
        k = control.find("\"fore\"", k))
     control.replace(k, 6, "\"fo\x01re\"");
   expectError(control, {"robot.urdf", "link 'fo\\x01re'", "UTF-8"});
   expectError(edited(R"(joint name="elbow")", "joint name=\"elb\xffow\""),
-              {"robot.urdf:", "joint 'elb\\xffow'", "UTF-8"});
+              {"robot.urdf:", "byte 0xff", "UTF-8"});
 }
 
 TEST(Urdf, WarnsOrFailsOnAMovingLinkWithoutInertial) {
