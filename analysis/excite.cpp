@@ -12,6 +12,7 @@
 #include <Eigen/Eigenvalues>
 #include <nlopt.hpp>
 
+#include "core/crba.hpp"
 #include "core/errors.hpp"
 #include "core/kinematics.hpp"
 #include "core/memory.hpp"
@@ -21,6 +22,8 @@
 #include "core/rnea.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
+#include "search/gc_error.hpp"
+#include "search/refinement/costs.hpp"
 
 namespace dynid {
 
@@ -217,6 +220,7 @@ class DesignProblem {
     explicit Workspace(const Model& model) : data(model) {}
     Data data;
     Eigen::MatrixXd q, dq, ddq, tau, w1, gram;
+    Eigen::LLT<Eigen::MatrixXd> llt;
   };
 
   /// The criterion at x, and the constraints into c (numConstraints() entries).
@@ -233,6 +237,11 @@ class DesignProblem {
           jointTorqueRegressor(model_, w.data, w.q.col(m), w.dq.col(m), w.ddq.col(m));
       w.tau.col(m).noalias() = Y * theta_;
       for (int j = 0; j < b; ++j) w.w1.block(m * n, j, n, 1) = Y.col(base_.independent[j]);
+      if (request_.criterion == ExcitationCriterion::kGc) {  // M^-1 W1: the first-order GC rows
+        w.llt.compute(crba(model_, w.data, w.q.col(m)));
+        auto rows = w.w1.middleRows(static_cast<Eigen::Index>(m) * n, n);
+        w.llt.solveInPlace(rows);
+      }
       if (limits_.floor || limits_.base_radius > 0.0) {
         const auto& frames = forwardKinematics(model_, w.data, w.q.col(m));
         for (const auto& f : frames) lowest = std::min(lowest, f.translation.z());
@@ -269,6 +278,7 @@ class DesignProblem {
         if (llt.info() != Eigen::Success) return kInfeasibleObjective;
         return -2.0 * llt.matrixLLT().diagonal().array().log().sum();
       }
+      case ExcitationCriterion::kGc:
       case ExcitationCriterion::kConditionUnit: {
         const Eigen::VectorXd d = gram.diagonal().cwiseSqrt();
         if (!(d.minCoeff() > 0.0)) return kInfeasibleObjective;
@@ -315,6 +325,37 @@ FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, 
   return d;
 }
 
+/// The GC residuals' exact Jacobian with respect to the base parameters at the model's own
+/// parameters: the motion's segments (its inverse-dynamics torques held between samples, RK4 at
+/// its sample period), d(residual)/d(theta) restricted to the independent columns, which is
+/// d(residual)/d(beta) since the dynamics depend on theta only through beta.
+double gcCondition(const Model& model, const BaseParameters& base, const Trajectory& motion,
+                   const ExciteRequest& request, int threads) {
+  SegmentOptions options;
+  options.horizon = request.gc_horizon;
+  options.num_segments = request.gc_segments;
+  const GcProblem problem = makeGcProblem(motion, options);
+  return scaledConditionNumber(base.baseRegressor(gcJacobian(model, problem, threads)));
+}
+
+/// The first-order GC rows M(q)^-1 W1 of every sample, and their unit-column condition number.
+double firstOrderGcCondition(const Model& model, const BaseParameters& base,
+                             const Trajectory& motion) {
+  const int n = model.numJoints(), b = base.numBase();
+  Data data(model);
+  Eigen::MatrixXd rows(static_cast<Eigen::Index>(motion.numSamples()) * n, b);
+  Eigen::LLT<Eigen::MatrixXd> llt(n);
+  for (int k = 0; k < motion.numSamples(); ++k) {
+    const Eigen::MatrixXd& Y =
+        jointTorqueRegressor(model, data, motion.q.col(k), motion.dq.col(k), motion.ddq.col(k));
+    auto block = rows.middleRows(static_cast<Eigen::Index>(k) * n, n);
+    for (int j = 0; j < b; ++j) block.col(j) = Y.col(base.independent[j]);
+    llt.compute(crba(model, data, motion.q.col(k)));
+    llt.solveInPlace(block);
+  }
+  return scaledConditionNumber(rows);
+}
+
 void checkJointVector(const Eigen::VectorXd& v, int n, const std::string& what) {
   if (v.size() != n)
     throw InputError(what + " has " + std::to_string(v.size()) + " entries, the model has " +
@@ -324,7 +365,7 @@ void checkJointVector(const Eigen::VectorXd& v, int n, const std::string& what) 
 }  // namespace
 
 const std::vector<std::string>& excitationCriterionNames() {
-  static const std::vector<std::string> names = {"cond", "cond-unscaled", "d-optimal"};
+  static const std::vector<std::string> names = {"cond", "cond-unscaled", "d-optimal", "gc"};
   return names;
 }
 
@@ -336,7 +377,8 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name) {
   const auto& names = excitationCriterionNames();
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<ExcitationCriterion>(i);
-  throw InputError("unknown criterion '" + name + "': expected cond, cond-unscaled or d-optimal");
+  throw InputError("unknown criterion '" + name +
+                   "': expected cond, cond-unscaled, d-optimal or gc");
 }
 
 FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::string& file,
@@ -346,7 +388,7 @@ FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::st
   read.onlyKeys(document, "",
                 {"schema_version", "kind", "robot", "model", "joints", "design", "criterion",
                  "limits", "base_parameters", "torque_noise", "designed", "default_sinusoid",
-                 "check", "default_sinusoid_check", "optimiser"});
+                 "gc_condition_unit", "check", "default_sinusoid_check", "optimiser"});
   const nlohmann::json& design = read.field(document, "", "design");
   read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
   FourierDesign d;
@@ -547,6 +589,13 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   require(request.torque_noise > 0.0 && std::isfinite(request.torque_noise),
           "the torque noise must be > 0");
   require(!(request.max_seconds <= 0.0), "the time budget must be > 0");
+  require(request.gc_segments >= 0 && request.gc_segments <= 1000000,
+          "the GC segments must be 0 to 1e6");
+  require(request.gc_horizon > 0.0 && request.gc_horizon <= request.period &&
+              std::abs(request.gc_horizon * request.check_rate -
+                       std::round(request.gc_horizon * request.check_rate)) <= 1e-6 &&
+              std::round(request.gc_horizon * request.check_rate) >= 1.0,
+          "the GC horizon must be a whole number of check-rate samples, within the period");
   require(limits.q_min.size() == n, "the limits are for another joint count");
   const double grid_points = std::ceil(request.period * request.grid_rate);
   require(grid_points <= 1e6, "the optimiser's grid would have more than 1e6 points");
@@ -740,6 +789,13 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   }
   out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
   out.baseline_check = checkLimits(model, baseline, limits);
+  const int threads = pool.numThreads();
+  out.gc_segments = request.gc_segments;
+  out.gc_horizon = request.gc_horizon;
+  out.gc = gcCondition(model, out.base, motion, request, threads);
+  out.baseline_gc = gcCondition(model, out.base, baseline, request, threads);
+  out.gc_first_order = firstOrderGcCondition(model, out.base, motion);
+  out.baseline_gc_first_order = firstOrderGcCondition(model, out.base, baseline);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return out;
 }

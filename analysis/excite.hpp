@@ -24,9 +24,12 @@
 namespace dynid {
 
 /// What a design minimises: the unit-column condition number of the base regressor ("cond"), its
-/// condition number in SI units ("cond-unscaled"), or -log det of its information matrix per row
-/// ("d-optimal"). Every design reports all three (MotionScore).
-enum class ExcitationCriterion { kConditionUnit, kCondition, kDOptimal };
+/// condition number in SI units ("cond-unscaled"), -log det of its information matrix per row
+/// ("d-optimal"), or the GC criterion ("gc"): the unit-column condition number of M(q)^-1 W1, the
+/// first-order sensitivity of the state a short horizon ahead to the base parameters (docs/
+/// EXCITATION.md derives it). Every design reports all of them, and the condition number of the
+/// exact GC Jacobian over the search's segments (ExciteOutcome::gc).
+enum class ExcitationCriterion { kConditionUnit, kCondition, kDOptimal, kGc };
 const std::vector<std::string>& excitationCriterionNames();
 std::string excitationCriterionName(ExcitationCriterion criterion);
 /// Throws InputError naming the accepted names.
@@ -108,6 +111,8 @@ struct ExciteRequest {
   double grid_rate = 25.0;       // samples per second of the optimiser's criterion and limits
   double check_rate = 1000.0;    // samples per second of the final check and the scores
   double torque_noise = 0.05;    // [N m] for the expected standard deviations
+  int gc_segments = 100;         // the exact GC Jacobian's segments (as `dynid search`)
+  double gc_horizon = 0.05;      // ... and horizon [s]
   StructuralOptions structural;  // the base parameters
   std::uint64_t seed = 1;
   int threads = 1;  // 0: all cores
@@ -127,6 +132,13 @@ struct ExciteOutcome {
   MotionScore baseline;  // `dynid simulate`'s default sinusoid over the same duration
   LimitCheck check;      // the design at check_rate: no violation
   LimitCheck baseline_check;
+  /// Unit-column condition numbers, at the model's own parameters, of the GC residuals' exact
+  /// Jacobian with respect to the base parameters (segments and horizon of the request, measured
+  /// starts, RK4 at the check rate; the motion's inverse-dynamics torques held between samples),
+  /// and of the first-order GC sensitivity M^-1 W1 (the "gc" criterion), design and sinusoid.
+  double gc = 0.0, baseline_gc = 0.0, gc_first_order = 0.0, baseline_gc_first_order = 0.0;
+  int gc_segments = 0;
+  double gc_horizon = 0.0;
   ExcitationLimits limits;
   double torque_noise = 0.0, check_rate = 0.0, grid_rate = 0.0;
   std::vector<ExciteStart> starts;

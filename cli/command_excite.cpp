@@ -16,7 +16,8 @@ void addExciteOptions(po::options_description& options) {
   options.add_options()(
       "criterion", po::value<std::string>()->default_value("cond"),
       "what to minimise: cond (unit-column condition number of the base regressor), "
-      "cond-unscaled (in SI units) or d-optimal (-log det of the information per row)")(
+      "cond-unscaled (in SI units), d-optimal (-log det of the information per row) or gc (the "
+      "first-order GC error sensitivity M^-1 W1)")(
       "period", po::value<double>()->default_value(10.0), "period of the motion [s]")(
       "harmonics", po::value<int>()->default_value(5), "harmonics per joint (2 to 50)")(
       "offset", po::value<std::string>(),
@@ -46,6 +47,10 @@ void addExciteOptions(po::options_description& options) {
       "samples per second of the final limit check and the scores [Hz]")(
       "csv-rate", po::value<double>()->default_value(1000.0),
       "samples per second of excitation.csv [Hz]")(
+      "segments", po::value<int>()->default_value(100),
+      "segments of the GC criterion's Jacobian (as dynid search)")(
+      "horizon", po::value<double>()->default_value(0.05),
+      "horizon of the GC criterion's segments [s]")(
       "torque-noise", po::value<double>()->default_value(0.05),
       "torque noise for the expected standard deviations [N m]")(
       "out", po::value<std::string>()->required(),
@@ -61,7 +66,8 @@ int runExcite(const std::vector<std::string>& args) {
   addExciteOptions(options);
   po::variables_map vm;
   const std::string usage =
-      "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal] [--period T] "
+      "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal|gc] [--period "
+      "T] "
       "[--harmonics H] [limits] [--seed S] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   const std::string dir = vm["out"].as<std::string>();
@@ -77,6 +83,8 @@ int runExcite(const std::vector<std::string>& args) {
   request.grid_rate = vm["grid-rate"].as<double>();
   request.check_rate = vm["check-rate"].as<double>();
   request.torque_noise = vm["torque-noise"].as<double>();
+  request.gc_segments = vm["segments"].as<int>();
+  request.gc_horizon = vm["horizon"].as<double>();
   request.seed = vm["seed"].as<std::uint64_t>();  // --seed (structural options): also the starts
   request.threads = threadsOption(vm);
   request.structural = structuralOptions(vm);

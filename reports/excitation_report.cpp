@@ -152,6 +152,13 @@ nlohmann::json excitationJson(const Model& model, const ExcitationSettings& sett
           {"torque_noise", o.torque_noise},
           {"designed", scoreJson(o.score)},
           {"default_sinusoid", scoreJson(o.baseline)},
+          {"gc_condition_unit",
+           {{"segments", o.gc_segments},
+            {"horizon", o.gc_horizon},
+            {"designed", numberOrNull(o.gc)},
+            {"default_sinusoid", numberOrNull(o.baseline_gc)},
+            {"designed_first_order", numberOrNull(o.gc_first_order)},
+            {"default_sinusoid_first_order", numberOrNull(o.baseline_gc_first_order)}}},
           {"check", checkJson(o.check)},
           {"default_sinusoid_check", checkJson(o.baseline_check)},
           {"optimiser",
@@ -215,11 +222,15 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
       {"condition number, SI units", formatShort(o.score.condition),
        formatShort(o.baseline.condition)},
       {"log det(W1^T W1 / rows)", formatShort(o.score.log_det), formatShort(o.baseline.log_det)},
+      {"GC Jacobian condition number, unit columns", formatShort(o.gc), formatShort(o.baseline_gc)},
+      {"first-order GC (M^-1 W1), unit columns", formatShort(o.gc_first_order),
+       formatShort(o.baseline_gc_first_order)},
       {"largest expected std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
        formatShort(o.score.std_dev.maxCoeff()), formatShort(o.baseline.std_dev.maxCoeff())}};
   criteria.caption = "W1 is the base regressor (" + std::to_string(o.base.numBase()) +
                      " base parameters) over the samples; lower condition numbers and higher "
-                     "log det are better.";
+                     "log det are better. The GC Jacobian is that of the paper's prediction "
+                     "error over its segments, with respect to the base parameters.";
   doc.table(criteria);
   if (!o.baseline_check.violations.empty())
     doc.paragraph("The default sinusoid itself breaks these limits: " +
@@ -305,6 +316,8 @@ std::string writeExcitation(const std::string& dir, const Model& model,
       << ", default sinusoid " << formatShort(o.baseline.condition) << "\n"
       << "  log det per row:                 " << formatShort(o.score.log_det)
       << ", default sinusoid " << formatShort(o.baseline.log_det) << "\n"
+      << "  GC Jacobian condition number:    " << formatShort(o.gc) << ", default sinusoid "
+      << formatShort(o.baseline_gc) << "\n"
       << "  every limit holds at " << formatDouble(o.check_rate) << " Hz"
       << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatShort(o.shrink) + ")" : "")
       << "\nwrote " << dir << "/excitation.json, excitation.csv (" << settings.csv_rate

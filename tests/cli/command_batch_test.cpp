@@ -97,7 +97,9 @@ TEST(Cli, BatchRunsTheGridResumesShardsAndMerges) {
 }
 TEST(Cli, BatchTrainsOnADesignedTrajectory) {
   const std::string design = test::tempPath("batch_design");
-  ASSERT_EQ(run("excite --robot puma560 --starts 1 --evaluations 300 --out " + design).code, 0);
+  ASSERT_EQ(
+      run("excite --robot puma560 --segments 10 --starts 1 --evaluations 300 --out " + design).code,
+      0);
   const std::string manifest = writeManifest("batch_trajectory.json", R"({
     "schema_version": 1,
     "grid": {"trajectory": ["", ")" + design + R"(/excitation.json"]},

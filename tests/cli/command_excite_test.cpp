@@ -19,7 +19,7 @@ using test::run;
 TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
   const std::string dir = test::tempPath("excite");
   const Result r =
-      run("excite --robot puma560 --starts 2 --evaluations 300 --threads 2 "
+      run("excite --robot puma560 --segments 10 --starts 2 --evaluations 300 --threads 2 "
           "--csv-rate 100 --seed 3 --out " +
           dir);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -62,7 +62,8 @@ TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
 
 TEST(Cli, ExciteIsTheSameForAnyThreadCount) {
   const std::string a = test::tempPath("excite_t1"), b = test::tempPath("excite_t2");
-  const std::string common = "excite --robot puma560 --starts 3 --evaluations 100 --seed 5 ";
+  const std::string common =
+      "excite --robot puma560 --segments 10 --starts 3 --evaluations 100 --seed 5 ";
   ASSERT_EQ(run(common + "--threads 1 --out " + a).code, 0);
   ASSERT_EQ(run(common + "--threads 2 --out " + b).code, 0);
   const auto ja = nlohmann::json::parse(readFile(a + "/excitation.json"));
@@ -88,8 +89,8 @@ TEST(Cli, ExciteRefusesImpossibleSettings) {
            {"--offset 9", 2, "--offset"},
            {"--floor 5", 1, "floor"},
        }) {
-    const Result r =
-        run("excite --robot puma560 --starts 1 --evaluations 20 " + c.args + " --out " + dir);
+    const Result r = run("excite --robot puma560 --segments 10 --starts 1 --evaluations 20 " +
+                         c.args + " --out " + dir);
     EXPECT_EQ(r.code, c.code) << c.args << ": " << r.err;
     EXPECT_TRUE(contains(r.err, c.names)) << c.args << ": " << r.err;
   }

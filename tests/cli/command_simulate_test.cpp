@@ -45,7 +45,9 @@ TEST(Cli, SimulateWritesADatasetAndSummary) {
 }
 TEST(Cli, SimulateTracksADesignedExcitation) {
   const std::string design = test::tempPath("simulate_design");
-  ASSERT_EQ(run("excite --robot puma560 --starts 1 --evaluations 100 --out " + design).code, 0);
+  ASSERT_EQ(
+      run("excite --robot puma560 --segments 10 --starts 1 --evaluations 100 --out " + design).code,
+      0);
   const std::string csv = test::tempPath("simulate_design.csv");
   const Result r =
       run("simulate --robot puma560 --trajectory " + design + "/excitation.json --out " + csv);

@@ -18,6 +18,7 @@ ExciteOutcome smallOutcome(const Model& puma) {
   r.starts = 1;
   r.evaluations = 30;
   r.check_rate = 100.0;
+  r.gc_segments = 10;
   return exciteRun(r);
 }
 
