@@ -311,7 +311,7 @@ class DesignProblem {
 /// A start's random design: coefficients N(0, 1/k) (lower harmonics carry more), rest at t = 0,
 /// the offset at mid-range (or fixed), scaled per joint to 80 % of the limits on the grid.
 FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, const Grid& grid,
-                          int harmonics, double period, std::uint64_t seed) {
+                          int harmonics, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<double> x(coding.size(), 0.0);
@@ -320,7 +320,6 @@ FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, 
     for (int k = 0; k < 2 * (harmonics - 1); ++k)
       x[j * per + skip + k] = normal(rng) / (1 + k % (harmonics - 1));
   FourierDesign d = coding.decode(x.data());
-  (void)period;
   fitJoints(d, grid, limits, 0.8);
   return d;
 }
@@ -419,6 +418,16 @@ FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::st
 
 FourierDesign readExcitationDesign(const std::string& path, int num_joints) {
   return excitationDesignFrom(parseJsonDocument(readFile(path), path), path, num_joints);
+}
+
+void checkOffsets(const Model& model, const ExcitationLimits& limits,
+                  const Eigen::VectorXd& offset) {
+  checkJointVector(offset, model.numJoints(), "the offset");
+  for (int j = 0; j < model.numJoints(); ++j)
+    if (!(offset[j] > limits.q_min[j] && offset[j] < limits.q_max[j]))
+      throw InputError("joint '" + model.joint_names[j] + "' at " + formatDouble(offset[j]) +
+                       " is not inside its position range (" + formatDouble(limits.q_min[j]) +
+                       ", " + formatDouble(limits.q_max[j]) + ")");
 }
 
 SinusoidalReference defaultSinusoid(const Model& model) {
@@ -601,14 +610,7 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   require(grid_points <= 1e6, "the optimiser's grid would have more than 1e6 points");
   requireMemory(request.period * request.check_rate * n * 7 * sizeof(double),
                 "the design sampled at the check rate");
-  if (request.offset) {
-    checkJointVector(*request.offset, n, "--offset");
-    for (int j = 0; j < n; ++j)
-      require(
-          request.offset->coeff(j) > limits.q_min[j] && request.offset->coeff(j) < limits.q_max[j],
-          "joint '" + model.joint_names[j] + "': the offset " +
-              formatDouble(request.offset->coeff(j)) + " is not inside the position range");
-  }
+  if (request.offset) checkOffsets(model, limits, *request.offset);
 
   const auto started = std::chrono::steady_clock::now();
   const auto deadline =
@@ -650,7 +652,7 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
     Best& mine = best[s];
     DesignProblem::Workspace& w = *workspaces[thread];
     const FourierDesign start =
-        randomStart(coding, limits, grid, request.harmonics, request.period,
+        randomStart(coding, limits, grid, request.harmonics,
                     splitmix(request.seed ^ splitmix(static_cast<std::uint64_t>(s))));
     std::vector<double> x = coding.encode(start);
     // COBYLA asks for the objective and then the constraints at the same x: one evaluation
@@ -733,11 +735,8 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   out.termination = interrupted ? "interrupted" : timed_out ? "seconds" : "evaluations";
   if (out.best_start < 0) {
     // Say which limit the starts could not meet: the constraints of start 0's initial design.
-    DesignProblem::Workspace w(model);
-    std::vector<double> c(m);
-    const FourierDesign start = randomStart(coding, limits, grid, request.harmonics, request.period,
-                                            splitmix(request.seed ^ splitmix(0)));
-    problem.evaluate(coding.encode(start).data(), c.data(), w);
+    const FourierDesign start =
+        randomStart(coding, limits, grid, request.harmonics, splitmix(request.seed ^ splitmix(0)));
     const LimitCheck check = checkLimits(model, sampleOn(start, model, grid), limits);
     std::string why = check.violations.empty() ? "" : ": " + check.violations.front();
     if (out.termination != "evaluations")

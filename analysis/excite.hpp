@@ -165,6 +165,11 @@ FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::st
 /// The same from the file at `path` (readFile's limits apply).
 FourierDesign readExcitationDesign(const std::string& path, int num_joints);
 
+/// Throws InputError naming the joint when an offset (n entries) is not strictly inside its
+/// position range: exciteRun's check, for callers that validate settings before the work.
+void checkOffsets(const Model& model, const ExcitationLimits& limits,
+                  const Eigen::VectorXd& offset);
+
 /// `dynid simulate`'s default sinusoid for the model: amplitude 0.5 rad about the middle of the
 /// limits, frequencies 0.15 + 0.07 i Hz, phases 0.
 SinusoidalReference defaultSinusoid(const Model& model);

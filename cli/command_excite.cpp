@@ -5,7 +5,6 @@
 #include "analysis/excite.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
-#include "data/io.hpp"
 #include "reports/excitation_report.hpp"
 #include "reports/output.hpp"
 
@@ -105,15 +104,11 @@ int runExcite(const std::vector<std::string>& args) {
   } catch (const InputError& e) {
     throw UsageError(std::string("the limits: ") + e.what());
   }
-  if (request.offset)
-    for (int j = 0; j < n; ++j)
-      if (!((*request.offset)[j] > request.limits.q_min[j] &&
-            (*request.offset)[j] < request.limits.q_max[j]))
-        throw UsageError("--offset: joint '" + request.robot.joint_names[j] + "' at " +
-                         formatDouble((*request.offset)[j]) +
-                         " is not inside its position range (" +
-                         formatDouble(request.limits.q_min[j]) + ", " +
-                         formatDouble(request.limits.q_max[j]) + ")");
+  if (request.offset) try {
+      checkOffsets(request.robot, request.limits, *request.offset);
+    } catch (const InputError& e) {
+      throw UsageError(std::string("--offset: ") + e.what());
+    }
 
   const InterruptGuard guard;
   request.control.stop = guard.flag();
