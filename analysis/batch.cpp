@@ -131,10 +131,10 @@ void applyQuick(std::vector<json>& runs) {
   for (json& run : runs) {
     run["train_seconds"] = 4.0;
     run["test_seconds"] = 4.0;
-    run["segments"] = 20;
+    run["segments"] = 10;
     run["search_seconds"] = 0.0;
-    run["search_evaluations"] = 100;
-    run["refine_iterations"] = 20;
+    run["search_evaluations"] = 50;
+    run["refine_iterations"] = 5;
   }
 }
 

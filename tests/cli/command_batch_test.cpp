@@ -128,18 +128,23 @@ TEST(Cli, BatchTrainsOnADesignedTrajectory) {
   EXPECT_TRUE(contains(refused.err, "kind")) << refused.err;
 }
 
-TEST(Cli, ExampleManifestsRunInQuickMode) {
-  for (const char* name : {"paper_searches", "noise_study", "horizon_study"}) {
-    const std::string dir = test::tempPath(std::string("example_") + name);
-    std::filesystem::remove_all(dir);
-    const Result r = run(std::string("batch ") + DYNID_EXAMPLES + "/" + name +
-                         ".json --quick --jobs 2 --out " + dir);
-    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
-    const auto table = resultsOf(dir);
-    EXPECT_EQ(table["runs_done"], table["runs_total"]) << name;
-    EXPECT_TRUE(table["missing"].empty()) << name;
-  }
+class ExampleManifest : public ::testing::TestWithParam<const char*> {};
+
+// Each example manifest runs whole in quick mode (one test each, so ctest runs them side by side).
+TEST_P(ExampleManifest, RunsInQuickMode) {
+  const std::string name = GetParam();
+  const std::string dir = test::tempPath("example_" + name);
+  std::filesystem::remove_all(dir);
+  const Result r = run("batch " + std::string(DYNID_EXAMPLES) + "/" + name +
+                       ".json --quick --jobs 2 --out " + dir);
+  ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+  const auto table = resultsOf(dir);
+  EXPECT_EQ(table["runs_done"], table["runs_total"]) << name;
+  EXPECT_TRUE(table["missing"].empty()) << name;
 }
+
+INSTANTIATE_TEST_SUITE_P(Cli, ExampleManifest,
+                         ::testing::Values("paper_searches", "noise_study", "horizon_study"));
 
 }  // namespace
 }  // namespace dynid
