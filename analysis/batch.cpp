@@ -167,8 +167,36 @@ const std::vector<std::string>& batchMetricColumns() {
   return metrics;
 }
 
+json readManifest(const std::string& file) {
+  json manifest = parseJson(readFile(file), file);
+  const std::filesystem::path dir = std::filesystem::path(file).parent_path();
+  if (dir.empty() || !manifest.is_object()) return manifest;
+  const auto names_file = [](const std::string& key, const std::string& value) {
+    if (value.empty() || std::filesystem::path(value).is_absolute()) return false;
+    if (key == "trajectory") return true;
+    const std::string ext = std::filesystem::path(value).extension().string();
+    return key == "robot" && (ext == ".urdf" || ext == ".json");
+  };
+  const auto resolve = [&](const std::string& key, json& value) {
+    if (value.is_string() && names_file(key, value.get<std::string>()))
+      value = (dir / value.get<std::string>()).lexically_normal().string();
+  };
+  for (const char* section : {"fixed", "grid"}) {
+    if (!manifest.contains(section) || !manifest[section].is_object()) continue;
+    for (const char* key : {"trajectory", "robot"}) {
+      if (!manifest[section].contains(key)) continue;
+      json& value = manifest[section][key];
+      if (value.is_array())
+        for (json& v : value) resolve(key, v);
+      else
+        resolve(key, value);
+    }
+  }
+  return manifest;
+}
+
 std::vector<json> expandManifest(const std::string& file) {
-  return expandManifest(parseJson(readFile(file), file), file);
+  return expandManifest(readManifest(file), file);
 }
 
 std::vector<json> expandManifest(const json& manifest, const std::string& file) {
@@ -251,7 +279,7 @@ std::string BatchPlan::path(std::size_t i) const {
 
 BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool quick, int shard,
                     int shards) {
-  const json document = parseJson(readFile(manifest), manifest);
+  const json document = readManifest(manifest);
   BatchPlan plan{manifest, dir, expandManifest(document, manifest), {}, {}, {}};
   plan.record = {{"manifest", document}, {"quick", quick}, {"shard", shard}, {"shards", shards}};
   if (quick) applyQuick(plan.runs);

@@ -27,10 +27,16 @@ const nlohmann::json& batchSpecDefaults();
 const std::vector<std::string>& batchSpecColumns();
 const std::vector<std::string>& batchMetricColumns();
 
-/// Every run of a manifest, in grid order (keys sorted, the last varying fastest). Throws
-/// ParseError naming the file and the key or grid entry at fault: an unknown key, a value of the
-/// wrong type or out of its integer range, an unknown method, a robot that does not load.
+/// Every run of a manifest, in grid order (keys sorted, the last varying fastest). Files named in
+/// the manifest (a `trajectory`, a `robot` ending in .urdf or .json) are relative to the
+/// manifest's directory (readManifest). Throws ParseError naming the file and the key or grid
+/// entry at fault: an unknown key, a value of the wrong type or out of its integer range, an
+/// unknown method, a robot that does not load.
 std::vector<nlohmann::json> expandManifest(const std::string& file);
+/// The manifest file parsed, with the relative file paths of `trajectory` and of a `robot` ending
+/// in .urdf or .json (in `fixed` and in `grid`) made relative to the current directory by
+/// prefixing the manifest's directory: a manifest runs the same from any working directory.
+nlohmann::json readManifest(const std::string& file);
 /// The same for a manifest already parsed; `file` names it in errors.
 std::vector<nlohmann::json> expandManifest(const nlohmann::json& manifest, const std::string& file);
 /// A run's StudySettings (threads 1: batch parallelism is across runs).

@@ -206,7 +206,8 @@ class DesignProblem {
         limits_(limits),
         coding_(coding),
         grid_(grid),
-        theta_(model.standardParameters()) {}
+        theta_(model.standardParameters()),
+        scale_(baseParameterScale(base.project(theta_))) {}
 
   int numConstraints() const {
     int per_joint = 4;
@@ -287,6 +288,17 @@ class DesignProblem {
       }
       case ExcitationCriterion::kCondition:
         return logCondition(gram);
+      case ExcitationCriterion::kRelativeSd: {  // log RMS_j sqrt((G^-1)_jj) / s_j, up to a constant
+        const Eigen::LLT<Eigen::MatrixXd> llt(gram / rows);
+        if (llt.info() != Eigen::Success) return kInfeasibleObjective;
+        // (G^-1)_jj = |L^-1 e_j|^2: the column norms of L^-1.
+        const Eigen::MatrixXd l_inverse =
+            llt.matrixL().solve(Eigen::MatrixXd::Identity(gram.rows(), gram.cols()));
+        const double mean_square =
+            (l_inverse.colwise().squaredNorm().transpose().array() / scale_.array().square())
+                .mean();
+        return std::isfinite(mean_square) ? 0.5 * std::log(mean_square) : kInfeasibleObjective;
+      }
     }
     return kInfeasibleObjective;
   }
@@ -306,6 +318,7 @@ class DesignProblem {
   const Coding& coding_;
   const Grid& grid_;
   Eigen::VectorXd theta_;
+  Eigen::VectorXd scale_;  // of the base parameters' relative errors (relative-sd)
 };
 
 /// A start's random design: coefficients N(0, 1/k) (lower harmonics carry more), rest at t = 0,
@@ -364,7 +377,8 @@ void checkJointVector(const Eigen::VectorXd& v, int n, const std::string& what) 
 }  // namespace
 
 const std::vector<std::string>& excitationCriterionNames() {
-  static const std::vector<std::string> names = {"cond", "cond-unscaled", "d-optimal", "gc"};
+  static const std::vector<std::string> names = {"cond", "cond-unscaled", "d-optimal", "gc",
+                                                 "relative-sd"};
   return names;
 }
 
@@ -377,7 +391,7 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name) {
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return static_cast<ExcitationCriterion>(i);
   throw InputError("unknown criterion '" + name +
-                   "': expected cond, cond-unscaled, d-optimal or gc");
+                   "': expected cond, cond-unscaled, d-optimal, gc or relative-sd");
 }
 
 FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::string& file,

@@ -27,9 +27,12 @@ namespace dynid {
 /// condition number in SI units ("cond-unscaled"), -log det of its information matrix per row
 /// ("d-optimal"), or the GC criterion ("gc"): the unit-column condition number of M(q)^-1 W1, the
 /// first-order sensitivity of the state a short horizon ahead to the base parameters (docs/
-/// EXCITATION.md derives it). Every design reports all of them, and the condition number of the
-/// exact GC Jacobian over the search's segments (ExciteOutcome::gc).
-enum class ExcitationCriterion { kConditionUnit, kCondition, kDOptimal, kGc };
+/// EXCITATION.md derives it), or "relative-sd": the RMS over the base parameters of their expected
+/// standard deviation relative to the model's own values (A-optimality in relative units: the
+/// expected relative base-parameter error of least squares, MotionScore::relative_rms). Every
+/// design reports all of them, and the condition number of the exact GC Jacobian over the
+/// search's segments (ExciteOutcome::gc).
+enum class ExcitationCriterion { kConditionUnit, kCondition, kDOptimal, kGc, kRelativeSd };
 const std::vector<std::string>& excitationCriterionNames();
 std::string excitationCriterionName(ExcitationCriterion criterion);
 /// Throws InputError naming the accepted names.

@@ -15,8 +15,9 @@ void addExciteOptions(po::options_description& options) {
   options.add_options()(
       "criterion", po::value<std::string>()->default_value("cond"),
       "what to minimise: cond (unit-column condition number of the base regressor), "
-      "cond-unscaled (in SI units), d-optimal (-log det of the information per row) or gc (the "
-      "first-order GC error sensitivity M^-1 W1)")(
+      "cond-unscaled (in SI units), d-optimal (-log det of the information per row), gc (the "
+      "first-order GC error sensitivity M^-1 W1) or relative-sd (the RMS expected standard "
+      "deviation of the base parameters relative to the model's values)")(
       "period", po::value<double>()->default_value(10.0), "period of the motion [s]")(
       "harmonics", po::value<int>()->default_value(5), "harmonics per joint (2 to 50)")(
       "offset", po::value<std::string>(),
@@ -65,7 +66,8 @@ int runExcite(const std::vector<std::string>& args) {
   addExciteOptions(options);
   po::variables_map vm;
   const std::string usage =
-      "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal|gc] [--period "
+      "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal|gc|relative-sd] "
+      "[--period "
       "T] "
       "[--harmonics H] [limits] [--seed S] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;

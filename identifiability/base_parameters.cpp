@@ -130,11 +130,8 @@ BaseParameters structuralBaseParameters(const Model& model, const StructuralOpti
                                defaultPreference(layout.num_links, layout.perLink()));
 }
 
-double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth, double* max) {
-  if (beta.size() != truth.size())
-    throw InputError("base estimate has " + std::to_string(beta.size()) + " entries, truth " +
-                     std::to_string(truth.size()));
-  if (truth.size() == 0) return 0.0;
+Eigen::VectorXd baseParameterScale(const Eigen::VectorXd& truth) {
+  if (truth.size() == 0) return truth;
   // A true value below 1e-9 of the mean magnitude is a round-off zero (a regrouping such as
   // Iyy - Ixx of a symmetric link), normalised like an exact 0.
   const double mean = truth.cwiseAbs().mean();
@@ -144,10 +141,20 @@ double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& tr
   for (int j = 0; j < truth.size(); ++j)
     if (!zero(truth[j])) fallback += std::abs(truth[j]), ++nonzero;
   fallback = nonzero > 0 ? fallback / nonzero : 1.0;
+  Eigen::VectorXd scale(truth.size());
+  for (int j = 0; j < truth.size(); ++j) scale[j] = zero(truth[j]) ? fallback : std::abs(truth[j]);
+  return scale;
+}
+
+double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth, double* max) {
+  if (beta.size() != truth.size())
+    throw InputError("base estimate has " + std::to_string(beta.size()) + " entries, truth " +
+                     std::to_string(truth.size()));
+  if (truth.size() == 0) return 0.0;
+  const Eigen::VectorXd scale = baseParameterScale(truth);
   double sum = 0.0, largest = 0.0;
   for (int j = 0; j < truth.size(); ++j) {
-    const double e =
-        std::abs(beta[j] - truth[j]) / (zero(truth[j]) ? fallback : std::abs(truth[j]));
+    const double e = std::abs(beta[j] - truth[j]) / scale[j];
     sum += e * e;
     largest = std::max(largest, e);
   }

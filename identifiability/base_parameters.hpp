@@ -97,11 +97,14 @@ struct StructuralOptions {
 /// or the model has no joints.
 BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options = {});
 
+/// The scale s_j of each base parameter's relative error: |truth_j|, or, for a true value of 0
+/// (below 1e-9 of the mean magnitude: round-off), the mean magnitude of the non-zero true values
+/// (as the paper's parameter error, eq. 1); all 1 when every true value is 0.
+Eigen::VectorXd baseParameterScale(const Eigen::VectorXd& truth);
+
 /// Relative error of a base estimate against the true base parameters: e_j = |beta_j - truth_j| /
-/// s_j with s_j = |truth_j|, or, for a true value of 0 (below 1e-9 of the mean magnitude:
-/// round-off), the mean magnitude of the non-zero true values (as the paper's parameter error, eq.
-/// 1). Returns the RMS of e over j (`max`, when given, receives the largest e_j). Throws InputError
-/// on a size mismatch.
+/// s_j with s_j = baseParameterScale(truth)_j. Returns the RMS of e over j (`max`, when given,
+/// receives the largest e_j). Throws InputError on a size mismatch.
 double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& truth,
                           double* max = nullptr);
 

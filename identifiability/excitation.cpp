@@ -66,10 +66,8 @@ MotionScore scoreMotion(const Model& model, const BaseParameters& base, const Tr
     out.std_dev = torque_noise * r_inverse.rowwise().norm();
   }
   const Eigen::VectorXd beta = base.project(model.standardParameters());
-  out.relative_std.resize(b);
-  for (int j = 0; j < b; ++j)
-    out.relative_std[j] = beta[j] != 0.0 ? 100.0 * out.std_dev[j] / std::abs(beta[j])
-                                         : std::numeric_limits<double>::infinity();
+  out.relative_std = 100.0 * out.std_dev.cwiseQuotient(baseParameterScale(beta));
+  out.relative_rms = b > 0 ? out.relative_std.norm() / (100.0 * std::sqrt(b)) : 0.0;
   return out;
 }
 

@@ -20,9 +20,12 @@ struct MotionScore {
   /// with independent torque noise of standard deviation `torque_noise` on every joint:
   /// sigma sqrt(diag((W1^T W1)^-1)). Infinity where W1 is rank deficient.
   Eigen::VectorXd std_dev;
-  /// 100 std_dev_j / |beta_j| [%] for the model's own base parameters beta (infinity for a
-  /// beta_j of 0).
+  /// 100 std_dev_j / s_j [%], s = baseParameterScale(beta) for the model's own base parameters
+  /// beta (|beta_j|; the mean magnitude for a structurally zero beta_j).
   Eigen::VectorXd relative_std;
+  /// RMS of std_dev_j / s_j: the expected RMS relative base-parameter error of ordinary least
+  /// squares at this noise (what baseParameterError measures); infinity when rank deficient.
+  double relative_rms = 0.0;
 };
 
 /// Scores the motion's q, dq, ddq (its tau is not used) for the model's base parameters `base`

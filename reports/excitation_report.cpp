@@ -27,6 +27,7 @@ nlohmann::json scoreJson(const MotionScore& s) {
           {"condition_unit", numberOrNull(s.condition_unit)},
           {"condition", numberOrNull(s.condition)},
           {"log_det", numberOrNull(s.log_det)},
+          {"relative_sd_rms", numberOrNull(s.relative_rms)},
           {"std_dev", vectorJson(s.std_dev)},
           {"relative_std_percent", vectorJson(s.relative_std)}};
 }
@@ -225,6 +226,8 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
       {"GC Jacobian condition number, unit columns", formatShort(o.gc), formatShort(o.baseline_gc)},
       {"first-order GC (M^-1 W1), unit columns", formatShort(o.gc_first_order),
        formatShort(o.baseline_gc_first_order)},
+      {"RMS expected relative std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
+       formatShort(o.score.relative_rms), formatShort(o.baseline.relative_rms)},
       {"largest expected std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
        formatShort(o.score.std_dev.maxCoeff()), formatShort(o.baseline.std_dev.maxCoeff())}};
   criteria.caption = "W1 is the base regressor (" + std::to_string(o.base.numBase()) +
@@ -318,6 +321,8 @@ std::string writeExcitation(const std::string& dir, const Model& model,
       << ", default sinusoid " << formatShort(o.baseline.log_det) << "\n"
       << "  GC Jacobian condition number:    " << formatShort(o.gc) << ", default sinusoid "
       << formatShort(o.baseline_gc) << "\n"
+      << "  RMS expected relative std. dev.: " << formatShort(o.score.relative_rms)
+      << ", default sinusoid " << formatShort(o.baseline.relative_rms) << "\n"
       << "  every limit holds at " << formatDouble(o.check_rate) << " Hz"
       << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatShort(o.shrink) + ")" : "")
       << "\nwrote " << dir << "/excitation.json, excitation.csv (" << settings.csv_rate

@@ -201,6 +201,19 @@ TEST(Excite, TorqueAndFloorLimitsAreKept) {
   EXPECT_GE(out.check.lowest_origin, 0.0);
 }
 
+TEST(Excite, TheRelativeSdCriterionLowersTheExpectedRelativeError) {
+  // Designed for the RMS of sigma_j / |beta_j| (what the paper's base-parameter error measures).
+  // The criterion has many local minima (the default run's 8 starts end a factor 3 apart):
+  // the CLI's default seed and first 3 starts reach 0.27 against the sinusoid's 0.91 (the cond
+  // design of examples/excitation: 0.60). Asserted: below half the sinusoid's.
+  ExciteRequest r = pumaRequest(3, 2000);
+  r.seed = 1;
+  r.criterion = ExcitationCriterion::kRelativeSd;
+  const ExciteOutcome relative = exciteRun(r);
+  EXPECT_LT(relative.score.relative_rms, 0.5 * relative.baseline.relative_rms)
+      << relative.score.relative_rms << " vs " << relative.baseline.relative_rms;
+}
+
 TEST(Excite, ImpossibleSettingsAreRefusedWithTheReason) {
   ExciteRequest r = pumaRequest(1, 50);
   r.harmonics = 1;
@@ -224,6 +237,7 @@ TEST(Excite, ImpossibleSettingsAreRefusedWithTheReason) {
   }
   EXPECT_THROW(parseExcitationCriterion("gc-typo"), InputError);
   EXPECT_EQ(parseExcitationCriterion("d-optimal"), ExcitationCriterion::kDOptimal);
+  EXPECT_EQ(parseExcitationCriterion("relative-sd"), ExcitationCriterion::kRelativeSd);
 }
 
 }  // namespace

@@ -128,23 +128,70 @@ TEST(Cli, BatchTrainsOnADesignedTrajectory) {
   EXPECT_TRUE(contains(refused.err, "kind")) << refused.err;
 }
 
-class ExampleManifest : public ::testing::TestWithParam<const char*> {};
-
-// Each example manifest runs whole in quick mode (one test each, so ctest runs them side by side).
-TEST_P(ExampleManifest, RunsInQuickMode) {
-  const std::string name = GetParam();
-  const std::string dir = test::tempPath("example_" + name);
+TEST(Cli, BatchFilesAreRelativeToTheManifest) {
+  // A manifest naming "design.json" and "arm.json" beside it runs from any working directory
+  // (the test's is elsewhere); results name the files as resolved.
+  const std::filesystem::path dir = test::tempPath("batch_relative");
   std::filesystem::remove_all(dir);
-  const Result r = run("batch " + std::string(DYNID_EXAMPLES) + "/" + name +
-                       ".json --quick --jobs 2 --out " + dir);
-  ASSERT_EQ(r.code, 0) << name << ": " << r.err;
-  const auto table = resultsOf(dir);
-  EXPECT_EQ(table["runs_done"], table["runs_total"]) << name;
-  EXPECT_TRUE(table["missing"].empty()) << name;
+  std::filesystem::create_directories(dir / "sub");
+  std::filesystem::copy_file(std::string(DYNID_EXAMPLES) + "/excitation/puma560_cond.json",
+                             dir / "sub" / "design.json");
+  ASSERT_EQ(
+      run("model export --robot puma560 --format json --out " + (dir / "arm.json").string()).code,
+      0);
+  const std::string manifest = (dir / "m.json").string();
+  std::ofstream(manifest) << R"({"schema_version": 1, "grid": {"trajectory": ["sub/design.json"]},
+    "fixed": {"method": "ols", "robot": "arm.json", "train_seconds": 2, "test_seconds": 1,
+              "segments": 10}})";
+  const Result r = run("batch " + manifest + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto row = resultsOf((dir / "out").string())["rows"][0];
+  EXPECT_EQ(row["trajectory"], (dir / "sub" / "design.json").string());
+  EXPECT_EQ(row["robot"], (dir / "arm.json").string());
+  // A built-in robot's name is not a file; a missing relative file is named as resolved.
+  std::ofstream(manifest) << R"({"schema_version": 1, "grid": {"trajectory": ["nowhere.json"]},
+    "fixed": {"method": "ols"}})";
+  const Result missing = run("batch " + manifest + " --out " + (dir / "out2").string());
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_TRUE(contains(missing.err, (dir / "nowhere.json").string())) << missing.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out2"));
 }
 
+struct Example {
+  const char* name;
+  int shards;  // > 1: only the first shard runs (every run is still planned and validated)
+};
+
+void PrintTo(const Example& e, std::ostream* os) { *os << e.name << ", " << e.shards << " shards"; }
+
+class ExampleManifest : public ::testing::TestWithParam<Example> {};
+
+// Each example manifest runs in quick mode (one test each, so ctest runs them side by side).
+TEST_P(ExampleManifest, RunsInQuickMode) {
+  const std::string name = GetParam().name;
+  const int shards = GetParam().shards;
+  const std::string dir = test::tempPath("example_" + name);
+  std::filesystem::remove_all(dir);
+  const Result r =
+      run("batch " + std::string(DYNID_EXAMPLES) + "/" + name +
+          ".json --quick --jobs 2 --shard 1/" + std::to_string(shards) + " --out " + dir);
+  ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+  const auto table = resultsOf(dir);
+  EXPECT_EQ(table["runs_done"], table["rows"].size()) << name;
+  EXPECT_GT(table["runs_done"].get<int>(), 0) << name;
+  if (shards == 1) {
+    EXPECT_EQ(table["runs_done"], table["runs_total"]) << name;
+    EXPECT_TRUE(table["missing"].empty()) << name;
+  }
+}
+
+// excitation_gc: 30 refined searches, 7 s each even in quick mode; its first sixth runs here.
 INSTANTIATE_TEST_SUITE_P(Cli, ExampleManifest,
-                         ::testing::Values("paper_searches", "noise_study", "horizon_study"));
+                         ::testing::Values(Example{"paper_searches", 1}, Example{"noise_study", 1},
+                                           Example{"horizon_study", 1},
+                                           Example{"excitation_ols", 1},
+                                           Example{"excitation_gc", 6}),
+                         [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace dynid

@@ -199,6 +199,20 @@ TEST(BaseParameters, ExcitationFindsAnUnmovedJoint) {
   EXPECT_EQ(base.baseName(e.unexcited[1]), "Izz1R");
 }
 
+TEST(BaseParameters, TheErrorScaleTreatsRoundOffZerosLikeZeros) {
+  // |truth_j|, except for 0 and a round-off 1e-15 (below 1e-9 of the mean magnitude): the mean
+  // magnitude of the values that are not zeros, (2 + 4) / 2.
+  const Eigen::VectorXd truth = (Eigen::VectorXd(4) << 2.0, 0.0, -4.0, 1e-15).finished();
+  const Eigen::VectorXd scale = baseParameterScale(truth);
+  EXPECT_EQ(scale, (Eigen::VectorXd(4) << 2.0, 3.0, 4.0, 3.0).finished());
+  // The error is the RMS of |beta - truth| / scale.
+  const Eigen::VectorXd beta = (Eigen::VectorXd(4) << 2.2, 0.3, -4.0, 0.0).finished();
+  double max = 0.0;
+  EXPECT_NEAR(baseParameterError(beta, truth, &max), std::sqrt((0.01 + 0.01) / 4.0), 1e-15);
+  EXPECT_NEAR(max, 0.1, 1e-15);
+  EXPECT_EQ(baseParameterScale(Eigen::VectorXd::Zero(2)), Eigen::VectorXd::Ones(2));
+}
+
 TEST(BaseParameters, RejectsBadInput) {
   EXPECT_THROW(computeBaseParameters(Eigen::MatrixXd::Ones(5, 3), {"a", "b"}), InputError);
   Eigen::MatrixXd W = Eigen::MatrixXd::Ones(5, 2);

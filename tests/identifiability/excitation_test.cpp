@@ -45,11 +45,14 @@ TEST(Excitation, ScoresEqualTheDenseComputation) {
   EXPECT_NEAR(s.log_det, std::log((information / rows).determinant()), 1e-8 * std::abs(s.log_det));
   const Eigen::VectorXd std_dev =
       0.05 * information.inverse().diagonal().cwiseSqrt();  // (W1^T W1)^-1 directly
+  const Eigen::VectorXd scale = baseParameterScale(base.project(puma.standardParameters()));
+  double mean_square = 0.0;
   for (int j = 0; j < base.numBase(); ++j) {
     EXPECT_NEAR(s.std_dev[j], std_dev[j], 1e-7 * std_dev[j]) << base.baseName(j);
-    const double beta = base.project(puma.standardParameters())[j];
-    EXPECT_NEAR(s.relative_std[j], 100.0 * std_dev[j] / std::abs(beta), 1e-6 * s.relative_std[j]);
+    EXPECT_NEAR(s.relative_std[j], 100.0 * std_dev[j] / scale[j], 1e-6 * s.relative_std[j]);
+    mean_square += std::pow(std_dev[j] / scale[j], 2) / base.numBase();
   }
+  EXPECT_NEAR(s.relative_rms, std::sqrt(mean_square), 1e-6 * s.relative_rms);
   EXPECT_EQ(s.samples, 3000);
 }
 
