@@ -8,6 +8,8 @@
 #include <random>
 #include <thread>
 
+#include <Eigen/SVD>
+
 #include "analysis/excite.hpp"
 #include "analysis/run_json.hpp"
 #include "core/aba.hpp"
@@ -23,6 +25,7 @@
 #include "data/model_json.hpp"
 #include "data/robots.hpp"
 #include "data/urdf_writeback.hpp"
+#include "identifiability/least_squares_stream.hpp"
 
 namespace dynid {
 
@@ -174,11 +177,22 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
       model, std::max(100, out.base.numStandard()), structural.seed + 1);
   out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
   if (!data_file.empty()) {
-    const Observation observation =
-        observationOfFile(model, readDatasetCsv(data_file, model.numJoints()), data_file);
-    const Eigen::MatrixXd W1 = out.base.baseRegressor(observation.W);
-    out.data = DataExcitation{data_file, observation.num_samples, measureExcitation(W1),
-                              scaledConditionNumber(W1)};
+    // Streamed: the base regressor's triangular factor, never the observation matrix.
+    const Trajectory data = readDatasetCsv(data_file, model.numJoints());
+    LeastSquaresStream stream(out.base, model.numJoints());
+    try {
+      addTrajectory(stream, model, data);
+    } catch (const InputError& e) {
+      throw InputError(data_file + ": " + e.what());
+    }
+    const LeastSquaresStream::Factor f = stream.factor();
+    Eigen::VectorXd r_diagonal = f.r_scaled.diagonal().cwiseAbs();
+    const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(f.r_scaled).singularValues();
+    const bool full = stream.numSamples() * model.numJoints() >= out.base.numBase() &&
+                      f.norms.minCoeff() > 0.0 && s.size() > 0 && s[s.size() - 1] > 0.0;
+    out.data =
+        DataExcitation{data_file, stream.numSamples(), excitationFromRDiagonal(r_diagonal),
+                       full ? s[0] / s[s.size() - 1] : std::numeric_limits<double>::infinity()};
   }
   return out;
 }
@@ -240,7 +254,6 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
   const Trajectory train_data = readDatasetCsv(request.data_file, model.numJoints());
-  const Observation train = observationOfFile(model, train_data, request.data_file);
   out.base = structuralBaseParameters(model, request.structural);
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
@@ -251,9 +264,21 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   PhysicalOptions pc_options;
   pc_options.prior_weight = request.prior_weight;
   try {
-    out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
-  } catch (const InputError& e) {  // too few samples, unexcited data: the dataset's fault
+    if (request.method == Method::kPc) {  // its solver takes the observation matrix
+      const Observation train = observationOfFile(model, train_data, request.data_file);
+      out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
+    } else {  // OLS and WLS stream the samples: memory independent of the dataset's length
+      LeastSquaresStream stream(out.base, model.numJoints());
+      addTrajectory(stream, model, train_data);
+      out.result.estimate =
+          stream.estimate(request.method == Method::kOls ? LeastSquaresMethod::kOrdinary
+                                                         : LeastSquaresMethod::kWeighted);
+      out.result.standard = out.base.standardFromBase(out.result.estimate.beta, prior);
+    }
+  } catch (const InputError& e) {  // too few samples: the dataset's fault
     throw InputError(request.data_file + ": " + e.what());
+  } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too
+    throw NumericalError(request.data_file + ": " + e.what());
   }
   if (out.result.pc)
     for (int i : out.result.pc->inconsistent_links)

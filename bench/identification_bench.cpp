@@ -1,8 +1,15 @@
 // Identification on the PUMA 560, single-threaded: the regressor for one sample, and the whole
 // least-squares identification from a 10 s, 1 kHz dataset (structural base parameters from random
-// states, building W, OLS with covariance). Run:
+// states, building W, OLS with covariance); the CLI's own path from a CSV file to the estimate at
+// 1e3 to 1e6 samples, and its parts (parsing; regressor + streamed factor update). Run:
 //   build/bench/bench_identification --benchmark_repetitions=5 --benchmark_report_aggregates_only
+#include <filesystem>
+
 #include <benchmark/benchmark.h>
+
+#include "analysis/runs.hpp"
+#include "data/dataset_csv.hpp"
+#include "identifiability/least_squares_stream.hpp"
 
 #include "core/parameters.hpp"
 #include "core/regressor.hpp"
@@ -29,15 +36,16 @@ Trajectory pumaDataset(const Model& model, double duration) {
   return simulate(model, controller, options);
 }
 
+// One state's joint torque regressor: rigid (6 x 60) and with the PUMA's drive terms (6 x 84).
 void BM_Regressor(benchmark::State& state) {
-  const Model model = makePuma560(true);
+  const Model model = makePuma560(state.range(0) != 0);
   Data data(model);
   const Eigen::VectorXd q = puma560Pose("qn"), dq = Eigen::VectorXd::Constant(6, 0.3),
                         ddq = Eigen::VectorXd::Constant(6, -0.5);
   for (auto _ : state)
     benchmark::DoNotOptimize(jointTorqueRegressor(model, data, q, dq, ddq).data());
 }
-BENCHMARK(BM_Regressor);
+BENCHMARK(BM_Regressor)->Arg(0)->Arg(1)->ArgName("drives");
 
 void BM_IdentifyPuma(benchmark::State& state) {
   const Model model = makePuma560(state.range(1) != 0);
@@ -77,13 +85,70 @@ void BM_ObservationAndQr(benchmark::State& state) {
   }
   state.SetItemsProcessed(state.iterations() * samples);
 }
-BENCHMARK(BM_ObservationAndQr)
-    ->Arg(1000)
+void sampleCounts(benchmark::internal::Benchmark* b) {
+  for (int samples : {1000, 10000, 100000, 1000000}) b->Arg(samples);
+  b->ArgName("samples")->Unit(benchmark::kMillisecond);
+}
+BENCHMARK(BM_ObservationAndQr)->Apply(sampleCounts);
+
+/// A PUMA-with-drives dataset CSV of `samples` rows (1 kHz tracking, 0.01 N m noise), written
+/// once per size into the temporary directory.
+std::string datasetFile(const Model& model, long samples) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("dynid_bench_identify_" + std::to_string(samples) + ".csv"))
+                               .string();
+  if (!std::filesystem::exists(path))
+    writeDatasetCsv(path, pumaDataset(model, static_cast<double>(samples - 1) * 1e-3));
+  return path;
+}
+
+// `dynid identify --robot puma560 --drives --method ols --data FILE` as the CLI runs it (reports
+// aside): read the file, structural base parameters, stream the samples into the factor, solve,
+// predict the training torques. (Peak memory: measure the CLI itself, `/usr/bin/time -f %M`; this
+// process also holds the simulation that wrote the file.)
+void BM_IdentifyFile(benchmark::State& state) {
+  IdentifyRequest request;
+  request.model = makePuma560(true);
+  request.method = Method::kOls;
+  request.data_file = datasetFile(request.model, state.range(0));
+  for (auto _ : state) {
+    const IdentifyOutcome out = identifyRun(request);
+    benchmark::DoNotOptimize(out.result.estimate.beta.data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+// From 1e4: a shorter stretch of this motion does not reverse joint 1 (its Coulomb asymmetry is
+// then unexcited, and identify refuses).
+BENCHMARK(BM_IdentifyFile)
     ->Arg(10000)
     ->Arg(100000)
     ->Arg(1000000)
     ->ArgName("samples")
     ->Unit(benchmark::kMillisecond);
+
+// The parts of the floor: parsing the same files alone, and the regressor and streamed factor
+// update of every sample alone (no file).
+void BM_ParseDataset(benchmark::State& state) {
+  const std::string path = datasetFile(makePuma560(true), state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(readDatasetCsv(path, 6).q.data());
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.SetBytesProcessed(state.iterations() *
+                          static_cast<std::int64_t>(std::filesystem::file_size(path)));
+}
+BENCHMARK(BM_ParseDataset)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
+
+void BM_RegressorAndUpdate(benchmark::State& state) {
+  const Model model = makePuma560(true);
+  const Trajectory dataset = pumaDataset(model, static_cast<double>(state.range(0) - 1) * 1e-3);
+  const BaseParameters base = structuralBaseParameters(model);
+  for (auto _ : state) {
+    LeastSquaresStream stream(base, 6);
+    addTrajectory(stream, model, dataset);
+    benchmark::DoNotOptimize(stream.factor().r_scaled.data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_RegressorAndUpdate)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

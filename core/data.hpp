@@ -30,6 +30,9 @@ struct DataTpl {
   VectorX<Scalar> ddq;  // aba output [rad/s^2]
   MatrixX<Scalar> M;    // crba output, the joint-space mass matrix [kg m^2]
   MatrixX<Scalar> Y;    // jointTorqueRegressor output, n x parameterLayout().size()
+  /// jointTorqueRegressor: joint j's motion axis S_j expressed in joint frame i (j an ancestor of
+  /// i, or i itself), at j n + i.
+  std::vector<Vector6<Scalar>> joint_axes;
 
   // CRBA: composite inertia of each subtree, in the subtree root's frame.
   std::vector<RigidInertia<Scalar>> composite;
@@ -61,6 +64,7 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   ddq = VectorX<Scalar>::Zero(n);
   M = MatrixX<Scalar>::Zero(n, n);
   Y = MatrixX<Scalar>::Zero(n, model.parameterLayout().size());
+  joint_axes.assign(static_cast<std::size_t>(n) * n, Vector6<Scalar>::Zero());
   composite.assign(n, RigidInertia<Scalar>());
   articulated_inertia.assign(n, Matrix6<Scalar>::Zero());
   bias_force.assign(n, Vector6<Scalar>::Zero());

@@ -60,22 +60,25 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
     }
     addJointMotion(model, i, ddq[i], data.a[i]);
   }
+  const std::vector<int>& parents = model.parents();
   for (int i = 0; i < n; ++i) {
-    // Body i's force in its link frame is A theta_i; express it in joint frame i, then hand it up
-    // the chain: Y(j, cols_i) = S_j^T jXi* F for i and every ancestor j.
+    // Body i's force in its link frame is A theta_i. Joint j (i or an ancestor) feels
+    // S_j^T jXi* B* A theta_i; by duality (power is frame-independent) that is s^T A theta_i with
+    // s = S_j carried down to link frame i as a motion. One 6-vector per (j, i) pair moves down
+    // the chain, instead of A's ten columns moving up it.
     const Pose<Scalar>& B = model.body_placements()[i];
     const Eigen::Matrix<Scalar, 6, 10> A = regressor_detail::bodyRegressor<Scalar>(
         B.actInvMotion(data.v[i]), B.actInvMotion(data.a[i]));
-    Eigen::Matrix<Scalar, 6, 10> F;
-    for (int k = 0; k < 10; ++k) F.col(k) = B.actForce(A.col(k));
+    const std::size_t row_i = static_cast<std::size_t>(i);
+    data.joint_axes[row_i * n + row_i] = jointMotionAt(model, i, Scalar(1));
+    for (int j = parents[i]; j >= 0; j = parents[j])  // parents precede their children
+      data.joint_axes[static_cast<std::size_t>(j) * n + row_i] =
+          data.liMi[i].actInvMotion(data.joint_axes[static_cast<std::size_t>(j) * n + parents[i]]);
     const int column = layout.linkIndex(i, 0);
-    for (int j = i;;) {
-      for (int k = 0; k < 10; ++k)
-        data.Y(j, column + k) = projectOnJoint(model, j, Vector6<Scalar>(F.col(k)));
-      const int p = model.parents()[j];
-      if (p < 0) break;
-      for (int k = 0; k < 10; ++k) F.col(k) = data.liMi[j].actForce(F.col(k));
-      j = p;
+    for (int j = i; j >= 0; j = parents[j]) {
+      const Vector6<Scalar> s =
+          B.actInvMotion(data.joint_axes[static_cast<std::size_t>(j) * n + row_i]);
+      data.Y.row(j).template segment<10>(column) = s.transpose() * A;
     }
     const DriveTerms terms = model.drive_terms;
     if (!terms.any()) continue;

@@ -1,5 +1,6 @@
 #include "data/dataset_csv.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -127,28 +128,46 @@ Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
       path + ": " + std::to_string(samples) + " samples of " + std::to_string(n) + " joints");
   Trajectory out;
   out.resize(n, samples);
-  std::string field_copy;
+  const std::size_t columns = names.size();
   for (int k = 0; k < samples; ++k) {
     const int line_number = k + 2;
-    const std::vector<std::string_view> fields = splitFields(lines[k + 1]);
-    if (fields.size() != names.size())
-      throw ParseError(path, line_number, "",
-                       "row has " + std::to_string(fields.size()) + " fields, the header has " +
-                           std::to_string(names.size()));
-    for (std::size_t c = 0; c < fields.size(); ++c) {
-      const std::string_view field = trim(fields[c]);
-      field_copy.assign(field);
-      char* end = nullptr;
-      const double x = field_copy.empty() ? NAN : std::strtod(field_copy.c_str(), &end);
-      if (field_copy.empty() || end != field_copy.c_str() + field_copy.size())
-        throw ParseError(path, line_number, names[c], "'" + field_copy + "' is not a number");
+    const std::string_view line = lines[k + 1];
+    // Fields parsed in place (std::from_chars: no copy, no locale, no allocation per cell).
+    std::size_t start = 0;
+    for (std::size_t c = 0; c < columns; ++c) {
+      const std::size_t comma = line.find(',', start);
+      const bool last = c + 1 == columns;
+      if ((comma == std::string_view::npos) != last) {
+        const auto fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+        throw ParseError(path, line_number, "",
+                         "row has " + std::to_string(fields) + " fields, the header has " +
+                             std::to_string(columns));
+      }
+      const std::string_view field =
+          trim(line.substr(start, last ? std::string_view::npos : comma - start));
+      start = comma + 1;
+      std::string_view digits = field;
+      bool signed_twice = false;
+      if (!digits.empty() && digits.front() == '+') {  // accepted, as strtod does
+        digits.remove_prefix(1);
+        signed_twice = !digits.empty() && digits.front() == '-';
+      }
+      double x = 0.0;
+      const auto parsed = std::from_chars(digits.data(), digits.data() + digits.size(), x);
+      if (digits.empty() || signed_twice || parsed.ptr != digits.data() + digits.size() ||
+          (parsed.ec != std::errc() && parsed.ec != std::errc::result_out_of_range))
+        throw ParseError(path, line_number, names[c],
+                         "'" + std::string(field) + "' is not a number");
+      if (parsed.ec ==
+          std::errc::result_out_of_range)  // overflow (inf) or underflow (0, subnormal)
+        x = std::strtod(std::string(digits).c_str(), nullptr);
       if (!std::isfinite(x))
-        throw ParseError(path, line_number, names[c], "'" + field_copy + "' is not finite");
+        throw ParseError(path, line_number, names[c], "'" + std::string(field) + "' is not finite");
       if (c == 0) {
         out.time[k] = x;
         if (k > 0 && !(x > out.time[k - 1]))
           throw ParseError(path, line_number, "t",
-                           "time must increase strictly (" + field_copy + " after " +
+                           "time must increase strictly (" + std::string(field) + " after " +
                                formatDouble(out.time[k - 1]) + ")");
         continue;
       }

@@ -21,6 +21,20 @@ void appendSample(const Model& model, Data& data, int k, const Eigen::VectorXd& 
 }
 }  // namespace
 
+void checkFiniteSample(const Trajectory& trajectory, int k) {
+  const char* names[] = {"q", "dq", "ddq", "tau"};
+  const Eigen::MatrixXd* blocks[] = {&trajectory.q, &trajectory.dq, &trajectory.ddq,
+                                     &trajectory.tau};
+  for (int b = 0; b < 4; ++b)
+    for (Eigen::Index j = 0; j < blocks[b]->rows(); ++j)
+      if (!std::isfinite((*blocks[b])(j, k))) {
+        std::ostringstream msg;
+        msg << "sample " << k + 1 << " (t = " << trajectory.time[k] << " s): " << names[b] << j + 1
+            << " is not finite";
+        throw InputError(msg.str());
+      }
+}
+
 Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory) {
   const int n = model.numJoints(), samples = trajectory.numSamples();
   if (trajectory.numJoints() != n)
@@ -41,18 +55,7 @@ Observation observationFromTrajectory(const Model& model, const Trajectory& traj
   Data data(model);
   Eigen::VectorXd q(n), dq(n), ddq(n);
   for (int k = 0; k < samples; ++k) {
-    // Reject non-finite samples by name before they reach the regressor.
-    const char* names[] = {"q", "dq", "ddq", "tau"};
-    const Eigen::MatrixXd* blocks[] = {&trajectory.q, &trajectory.dq, &trajectory.ddq,
-                                       &trajectory.tau};
-    for (int b = 0; b < 4; ++b)
-      for (int j = 0; j < n; ++j)
-        if (!std::isfinite((*blocks[b])(j, k))) {
-          std::ostringstream msg;
-          msg << "sample " << k + 1 << " (t = " << trajectory.time[k] << " s): " << names[b]
-              << j + 1 << " is not finite";
-          throw InputError(msg.str());
-        }
+    checkFiniteSample(trajectory, k);  // before the value reaches the regressor
     q = trajectory.q.col(k);
     dq = trajectory.dq.col(k);
     ddq = trajectory.ddq.col(k);

@@ -25,6 +25,10 @@ struct Observation {
 /// allocating W when it and its factorisation would not fit in memory (core/memory.hpp).
 Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory);
 
+/// Throws InputError when a value of sample k (0-based) is not finite, naming the sample (1-based),
+/// its time and the column: "sample 17 (t = 0.016 s): dq3 is not finite".
+void checkFiniteSample(const Trajectory& trajectory, int k);
+
 /// W from seeded random states for structural analysis: q uniform within the joint limits
 /// (revolute joints without limits in [-pi, pi], prismatic in [-1, 1] m), dq uniform in
 /// [-2, 2] rad/s, ddq uniform in [-5, 5] rad/s^2; tau = W theta of the model. Throws InputError

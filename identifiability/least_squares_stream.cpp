@@ -1,0 +1,201 @@
+#include "identifiability/least_squares_stream.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/SVD>
+
+#include "core/data.hpp"
+#include "core/errors.hpp"
+#include "core/regressor.hpp"
+#include "identifiability/observation.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// TallQr's buffered rows per joint: large enough to amortise each reduction.
+constexpr Eigen::Index kBlockRows = 512;
+
+double conditionOf(const Eigen::MatrixXd& r) {
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
+  return s.size() == 0 || s[s.size() - 1] == 0.0 ? std::numeric_limits<double>::infinity()
+                                                 : s[0] / s[s.size() - 1];
+}
+
+/// Everything a BaseEstimate takes from the (weighted) system's augmented factor [R | Q^T y].
+struct Solved {
+  Eigen::VectorXd beta;
+  Eigen::MatrixXd covariance_unit;  // (A^T A)^-1 in physical units
+  Eigen::VectorXd r_diagonal;       // |R_jj| of the column-scaled A; 0 for a zero column
+  Eigen::VectorXd independence;
+  double condition_number = 0.0, condition_number_unscaled = 0.0;
+};
+
+/// From R_aug ((b+1) x (b+1)): the column norms of A are those of R, so R D^-1 is the factor of
+/// the column-scaled A, solved in scaled coordinates as the dense path does.
+Solved solveFactor(const Eigen::MatrixXd& r_augmented, Eigen::Index b, bool need_inverse) {
+  const Eigen::MatrixXd r = r_augmented.topLeftCorner(b, b);
+  const Eigen::VectorXd squared = r.colwise().squaredNorm().transpose();
+  Eigen::VectorXd norms = squared.cwiseSqrt();
+  for (Eigen::Index j = 0; j < b; ++j)
+    if (norms[j] == 0.0) norms[j] = 1.0;  // an unexcited column: R_jj = 0 says so
+  const Eigen::MatrixXd scaled = r * norms.cwiseInverse().asDiagonal();
+  Solved out;
+  out.r_diagonal = scaled.diagonal().cwiseAbs();
+  for (Eigen::Index j = 0; j < b; ++j)
+    if (squared[j] == 0.0) out.r_diagonal[j] = 0.0;
+  if (!need_inverse) return out;
+  out.beta =
+      scaled.triangularView<Eigen::Upper>().solve(r_augmented.col(b).head(b)).cwiseQuotient(norms);
+  const Eigen::MatrixXd inverse =
+      scaled.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
+  // With unit columns, (As^T As)^-1 = R^-1 R^-T: its diagonal is the variance inflation factor.
+  out.independence = inverse.rowwise().norm().cwiseInverse();
+  const Eigen::VectorXd inv_norms = norms.cwiseInverse();
+  out.covariance_unit =
+      inv_norms.asDiagonal() * (inverse * inverse.transpose()) * inv_norms.asDiagonal();
+  out.condition_number = conditionOf(scaled);
+  out.condition_number_unscaled = conditionOf(r);
+  return out;
+}
+
+}  // namespace
+
+LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, int num_joints)
+    : base_(base), n_(num_joints), b_(base.numBase()) {
+  if (num_joints < 1) throw InputError("least squares needs at least one joint");
+  joints_.reserve(static_cast<std::size_t>(n_));
+  for (int j = 0; j < n_; ++j) joints_.emplace_back(b_ + 1, kBlockRows);
+  tau_squared_ = Eigen::VectorXd::Zero(n_);
+  row_.resize(b_ + 1);
+}
+
+void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
+                             const Eigen::Ref<const Eigen::VectorXd>& tau) {
+  if (Y.rows() != n_ || Y.cols() != base_.numStandard() || tau.size() != n_)
+    throw InputError("a sample of " + std::to_string(Y.rows()) + " x " + std::to_string(Y.cols()) +
+                     " regressor and " + std::to_string(tau.size()) + " torques, expected " +
+                     std::to_string(n_) + " x " + std::to_string(base_.numStandard()) + " and " +
+                     std::to_string(n_));
+  if (!Y.allFinite() || !tau.allFinite())
+    throw InputError("sample " + std::to_string(samples_) + " has a value that is not finite");
+  for (int j = 0; j < n_; ++j) {
+    for (int c = 0; c < b_; ++c) row_[c] = Y(j, base_.independent[c]);
+    row_[b_] = tau[j];
+    joints_[j].addRow(row_);
+    tau_squared_[j] += tau[j] * tau[j];
+    max_abs_tau_ = std::max(max_abs_tau_, std::abs(tau[j]));
+  }
+  ++samples_;
+}
+
+Eigen::MatrixXd LeastSquaresStream::combined(const Eigen::VectorXd& weight) {
+  TallQr all(b_ + 1, static_cast<Eigen::Index>(n_) * (b_ + 1));
+  for (int j = 0; j < n_; ++j) all.add(weight[j] * joints_[j].r());
+  return all.r();
+}
+
+LeastSquaresStream::Factor LeastSquaresStream::factor() {
+  const Eigen::MatrixXd r = combined(Eigen::VectorXd::Ones(n_)).topLeftCorner(b_, b_);
+  Factor out;
+  out.norms = r.colwise().norm().transpose();
+  Eigen::VectorXd safe = out.norms;
+  for (Eigen::Index j = 0; j < b_; ++j)
+    if (safe[j] == 0.0) safe[j] = 1.0;
+  out.r_scaled = r * safe.cwiseInverse().asDiagonal();
+  return out;
+}
+
+BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
+  const double rows = static_cast<double>(samples_) * n_;
+  if (rows < b_)
+    throw InputError("the data has " + std::to_string(samples_ * n_) +
+                     " torque rows, fewer than the " + std::to_string(b_) + " base parameters");
+  // OLS first: its factor measures the excitation, its residuals give the per-joint noise (WLS).
+  const Eigen::MatrixXd ols_factor = combined(Eigen::VectorXd::Ones(n_));
+  Solved ols = solveFactor(ols_factor, b_, false);
+  const Excitation excitation = excitationFromRDiagonal(ols.r_diagonal);
+  if (!excitation.unexcited.empty()) {
+    std::string names;
+    for (int j : excitation.unexcited) names += (names.empty() ? "" : ", ") + base_.baseName(j);
+    throw NumericalError("the data do not excite " + std::to_string(excitation.unexcited.size()) +
+                         " of the " + std::to_string(b_) + " base parameters (" + names +
+                         "): rank " + std::to_string(excitation.rank) + " < " + std::to_string(b_) +
+                         "; refusing to solve a rank-deficient problem");
+  }
+  ols = solveFactor(ols_factor, b_, true);
+  // |tau_j - W1_j beta|^2 = |R_j [-beta; 1]|^2 for joint j's augmented factor R_j.
+  const auto residual_squared = [&](const Eigen::VectorXd& beta) {
+    Eigen::VectorXd x(b_ + 1);
+    x.head(b_) = -beta;
+    x[b_] = 1.0;
+    Eigen::VectorXd out(n_);
+    for (int j = 0; j < n_; ++j)
+      out[j] = (joints_[j].r().triangularView<Eigen::Upper>() * x).squaredNorm();
+    return out;
+  };
+  const double samples = static_cast<double>(samples_);
+  BaseEstimate out;
+  out.method = method;
+  out.num_samples = samples_;
+  const Eigen::VectorXd ols_squared = residual_squared(ols.beta);
+  const double dof_per_joint = samples - static_cast<double>(b_) / n_;
+  out.joint_sigma = (ols_squared / std::max(dof_per_joint, 1.0)).cwiseSqrt();
+  Solved chosen;
+  Eigen::VectorXd chosen_squared;
+  if (method == LeastSquaresMethod::kOrdinary) {
+    const double sigma2 = ols_squared.sum() / std::max(rows - b_, 1.0);
+    chosen = std::move(ols);
+    chosen_squared = ols_squared;
+    out.covariance = sigma2 * chosen.covariance_unit;
+  } else {
+    // A joint whose residual vanishes (noise-free data) gets a floor, not an infinite weight.
+    Eigen::VectorXd sigma = out.joint_sigma;
+    const double floor = 1e-15 * (1.0 + max_abs_tau_);
+    for (Eigen::Index j = 0; j < n_; ++j) sigma[j] = std::max(sigma[j], floor);
+    chosen = solveFactor(combined(sigma.cwiseInverse()), b_, true);
+    chosen_squared = residual_squared(chosen.beta);
+    out.covariance = chosen.covariance_unit;
+  }
+  out.beta = chosen.beta;
+  out.condition_number = chosen.condition_number;
+  out.condition_number_unscaled = chosen.condition_number_unscaled;
+  out.independence = chosen.independence;
+  out.std_dev = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.relative_std_dev_percent.resize(b_);
+  for (int j = 0; j < b_; ++j)
+    out.relative_std_dev_percent[j] = out.beta[j] != 0.0
+                                          ? 100.0 * out.std_dev[j] / std::abs(out.beta[j])
+                                          : std::numeric_limits<double>::infinity();
+  out.residual_rms = (chosen_squared / samples).cwiseSqrt();
+  out.measured_rms = (tau_squared_ / samples).cwiseSqrt();
+  setRelativeErrors(out);
+  return out;
+}
+
+namespace {
+void requireJoints(const Model& model, const Trajectory& data) {
+  if (data.numJoints() != model.numJoints())
+    throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, model '" +
+                     model.name + "' has " + std::to_string(model.numJoints()));
+}
+}  // namespace
+
+void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data) {
+  requireJoints(model, data);
+  if (stream.numJoints() != model.numJoints())
+    throw InputError("the least-squares stream has " + std::to_string(stream.numJoints()) +
+                     " joints, model '" + model.name + "' has " +
+                     std::to_string(model.numJoints()));
+  Data workspace(model);
+  for (int k = 0; k < data.numSamples(); ++k) {
+    checkFiniteSample(data, k);
+    stream.add(
+        jointTorqueRegressor(model, workspace, data.q.col(k), data.dq.col(k), data.ddq.col(k)),
+        data.tau.col(k));
+  }
+}
+
+}  // namespace dynid

@@ -1,0 +1,68 @@
+// Least squares of the base parameters from samples streamed one at a time, in memory independent
+// of their number: per joint j, the triangular factor R_j of [W1_j | tau_j] (W1_j the base
+// regressor's rows of joint j, tau_j its torques), accumulated by TallQr. Every quantity of a
+// BaseEstimate follows from the n factors and per-joint sums, by orthogonal invariance:
+//   OLS: R of [R_1; ...; R_n] (the QR of every row at once),
+//   WLS: R of [R_1 / sigma_1; ...; R_n / sigma_n] with sigma_j from the OLS residuals,
+//   residual of joint j at beta: |R_j [beta; -1]| (R_j's corner holds what W1_j cannot fit),
+// so one pass over the data serves both methods, the excitation and the condition numbers.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "core/trajectory.hpp"
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/least_squares.hpp"
+#include "identifiability/tall_qr.hpp"
+
+namespace dynid {
+
+class LeastSquaresStream {
+ public:
+  /// For the base parameters `base` of a model with `num_joints` joints.
+  LeastSquaresStream(const BaseParameters& base, int num_joints);
+
+  /// Adds one sample: the joint torque regressor Y (n x p, the model's standard parameters) and
+  /// the measured torques tau (n). Throws InputError on a size mismatch or a value that is not
+  /// finite.
+  void add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
+           const Eigen::Ref<const Eigen::VectorXd>& tau);
+
+  int numSamples() const { return samples_; }
+  int numJoints() const { return n_; }
+
+  /// The estimate from every sample so far, as estimateBaseParameters: throws NumericalError when
+  /// the samples do not excite every base parameter, InputError when there are fewer torque rows
+  /// than base parameters.
+  BaseEstimate estimate(LeastSquaresMethod method);
+
+  /// The triangular factor of the column-scaled base regressor (unit column norms; an unexcited
+  /// column stays 0) and the column norms: the excitation (|R_jj|) and the condition numbers.
+  struct Factor {
+    Eigen::MatrixXd r_scaled;  // b x b upper triangular
+    Eigen::VectorXd norms;     // column norms of W1 (0: never excited)
+  };
+  Factor factor();
+
+ private:
+  /// The stacked per-joint factors, joint j's rows times weight[j], reduced to one (b+1) factor.
+  Eigen::MatrixXd combined(const Eigen::VectorXd& weight);
+
+  const BaseParameters& base_;
+  int n_, b_;
+  int samples_ = 0;
+  std::vector<TallQr> joints_;   // [W1_j | tau_j]
+  Eigen::VectorXd tau_squared_;  // per joint sum of tau^2
+  double max_abs_tau_ = 0.0;
+  Eigen::RowVectorXd row_;
+};
+
+/// Adds every sample of `data` (q, dq, ddq, tau) with the joint torque regressor of `model`, one
+/// sample at a time: no observation matrix. Throws InputError when the joint counts differ or a
+/// value is not finite (checkFiniteSample's message).
+void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data);
+
+}  // namespace dynid

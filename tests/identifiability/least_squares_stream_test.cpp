@@ -1,0 +1,137 @@
+#include "identifiability/least_squares_stream.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include "tests/common/identification.hpp"
+
+#include "core/errors.hpp"
+#include "data/puma560.hpp"
+
+namespace dynid {
+namespace {
+
+using test::pumaBase;
+using test::pumaTrajectory;
+
+/// The dense reference, independent of the stream: W1 built whole and solved by Householder QR.
+struct Dense {
+  Eigen::MatrixXd W1;
+  Eigen::VectorXd tau;
+};
+
+Dense denseOf(const Model& model, const BaseParameters& base, const Trajectory& data) {
+  const Observation o = observationFromTrajectory(model, data);
+  return {base.baseRegressor(o.W), o.tau};
+}
+
+Eigen::VectorXd jointRmsOf(const Eigen::VectorXd& r, int n) {
+  const Eigen::Map<const Eigen::MatrixXd> by_joint(r.data(), n, r.size() / n);
+  return (by_joint.rowwise().squaredNorm() / static_cast<double>(by_joint.cols())).cwiseSqrt();
+}
+
+TEST(LeastSquaresStream, OlsAndWlsEqualTheDenseSolution) {
+  const Model puma = makePuma560(true);
+  const BaseParameters base = pumaBase(puma);
+  const Trajectory data = pumaTrajectory(puma, 6.0, 0.5, 3);
+  LeastSquaresStream stream(base, 6);
+  addTrajectory(stream, puma, data);
+  const Dense d = denseOf(puma, base, data);
+  // 1e-10 relative: both are backward-stable QR solutions of a system with condition ~1e2-1e3.
+  const BaseEstimate ols = stream.estimate(LeastSquaresMethod::kOrdinary);
+  const Eigen::VectorXd beta = d.W1.householderQr().solve(d.tau);
+  EXPECT_LT((ols.beta - beta).norm(), 1e-10 * beta.norm());
+  const Eigen::VectorXd residual = d.tau - d.W1 * beta;
+  const Eigen::VectorXd rms = jointRmsOf(residual, 6);
+  EXPECT_LT((ols.residual_rms - rms).norm(), 1e-10 * rms.norm());
+  EXPECT_LT((ols.measured_rms - jointRmsOf(d.tau, 6)).norm(), 1e-12 * d.tau.norm());
+  const double sigma2 = residual.squaredNorm() / static_cast<double>(d.W1.rows() - d.W1.cols());
+  const Eigen::MatrixXd covariance = sigma2 * (d.W1.transpose() * d.W1).inverse();
+  EXPECT_LT((ols.covariance - covariance).norm(), 1e-8 * covariance.norm());
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(d.W1).singularValues();
+  EXPECT_NEAR(ols.condition_number_unscaled, s[0] / s[s.size() - 1],
+              1e-9 * ols.condition_number_unscaled);
+  EXPECT_NEAR(ols.condition_number, scaledConditionNumber(d.W1), 1e-9 * ols.condition_number);
+
+  // WLS: rows of joint j weighted by 1 / sigma_j from the OLS residuals.
+  const BaseEstimate wls = stream.estimate(LeastSquaresMethod::kWeighted);
+  const double dof =
+      static_cast<double>(data.numSamples()) - static_cast<double>(base.numBase()) / 6;
+  Eigen::VectorXd weight(d.W1.rows());
+  for (Eigen::Index r = 0; r < weight.size(); ++r)
+    weight[r] = 1.0 / std::sqrt(rms[r % 6] * rms[r % 6] * data.numSamples() / dof);
+  const Eigen::VectorXd beta_w =
+      (weight.asDiagonal() * d.W1).householderQr().solve(weight.asDiagonal() * d.tau);
+  EXPECT_LT((wls.beta - beta_w).norm(), 1e-10 * beta_w.norm());
+  EXPECT_LT((wls.joint_sigma - ols.joint_sigma).norm(), 1e-14 * ols.joint_sigma.norm());
+  EXPECT_LT((wls.residual_rms - jointRmsOf(d.tau - d.W1 * beta_w, 6)).norm(),
+            1e-10 * wls.residual_rms.norm());
+}
+
+TEST(LeastSquaresStream, RankDecisionsEqualTheDenseFactorsOnIllConditionedData) {
+  // Short stretches of one motion: the shorter, the closer to collinear the columns (condition
+  // numbers from ~1e2 to ~1e7 here), then rank deficient. The stream's verdict per base parameter
+  // (|R_jj| of the unit-column factor against the tolerance) equals the dense QR's, and so does
+  // the condition number while the data have full rank.
+  const Model puma = makePuma560(false);
+  const BaseParameters base = pumaBase(puma);
+  const Trajectory data = pumaTrajectory(puma, 4.0, 0.0, 1);
+  bool saw_deficient = false, saw_ill = false;
+  for (int samples : {4000, 400, 40, 12, 6}) {
+    Trajectory t;
+    t.resize(6, samples);
+    t.time = data.time.head(samples);
+    t.q = data.q.leftCols(samples);
+    t.dq = data.dq.leftCols(samples);
+    t.ddq = data.ddq.leftCols(samples);
+    t.tau = data.tau.leftCols(samples);
+    LeastSquaresStream stream(base, 6);
+    addTrajectory(stream, puma, t);
+    const Eigen::MatrixXd W1 = base.baseRegressor(observationFromTrajectory(puma, t).W);
+    const Excitation dense = measureExcitation(W1);
+    const LeastSquaresStream::Factor f = stream.factor();
+    const Excitation streamed = excitationFromRDiagonal(f.r_scaled.diagonal().cwiseAbs());
+    EXPECT_EQ(streamed.rank, dense.rank) << samples;
+    EXPECT_EQ(streamed.unexcited, dense.unexcited) << samples;
+    if (dense.rank < base.numBase()) {
+      saw_deficient = true;
+      EXPECT_THROW(stream.estimate(LeastSquaresMethod::kOrdinary), NumericalError) << samples;
+    } else {
+      const BaseEstimate e = stream.estimate(LeastSquaresMethod::kOrdinary);
+      const double dense_condition = scaledConditionNumber(W1);
+      saw_ill = saw_ill || dense_condition > 1e5;
+      // 1e-6 relative: both factor the same columns; the last singular value of a matrix with
+      // condition 1e7 carries ~1e-9 relative round-off.
+      EXPECT_NEAR(e.condition_number, dense_condition, 1e-6 * dense_condition) << samples;
+    }
+  }
+  EXPECT_TRUE(saw_deficient && saw_ill)
+      << "the stretches should span ill-conditioned and deficient";
+}
+
+TEST(LeastSquaresStream, RefusesBadSamples) {
+  const Model puma = makePuma560(false);
+  const BaseParameters base = pumaBase(puma);
+  LeastSquaresStream stream(base, 6);
+  EXPECT_THROW(stream.add(Eigen::MatrixXd::Zero(5, base.numStandard()), Eigen::VectorXd::Zero(6)),
+               InputError);
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(6, base.numStandard());
+  Y(2, 3) = std::nan("");
+  EXPECT_THROW(stream.add(Y, Eigen::VectorXd::Zero(6)), InputError);
+  EXPECT_THROW(stream.estimate(LeastSquaresMethod::kOrdinary), InputError);  // no rows
+  Trajectory t = pumaTrajectory(puma, 0.5, 0.0, 1);
+  t.dq(2, 17) = std::numeric_limits<double>::infinity();
+  try {
+    addTrajectory(stream, puma, t);
+    FAIL() << "a non-finite sample was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sample 18"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dq3"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dynid
