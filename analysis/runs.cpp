@@ -167,7 +167,7 @@ Observation observationOfFile(const Model& model, const Trajectory& data, const 
 }  // namespace
 
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
-                                          const std::string& data_file) {
+                                          const std::string& data_file, int threads) {
   IdentifiabilityOutcome out;
   out.structural = structural;
   out.base = structuralBaseParameters(model, structural);
@@ -178,13 +178,9 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
   out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
   if (!data_file.empty()) {
     // Streamed: the base regressor's triangular factor, never the observation matrix.
-    const Trajectory data = readDatasetCsv(data_file, model.numJoints());
-    LeastSquaresStream stream(out.base, model.numJoints());
-    try {
-      addTrajectory(stream, model, data);
-    } catch (const InputError& e) {
-      throw InputError(data_file + ": " + e.what());
-    }
+    LeastSquaresStream stream(out.base, model);
+    ThreadPool pool(threads);
+    addDatasetFile(stream, model, data_file, pool);
     const LeastSquaresStream::Factor f = stream.factor();
     Eigen::VectorXd r_diagonal = f.r_scaled.diagonal().cwiseAbs();
     const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(f.r_scaled).singularValues();
@@ -253,7 +249,6 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   out.method = request.method;
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
-  const Trajectory train_data = readDatasetCsv(request.data_file, model.numJoints());
   out.base = structuralBaseParameters(model, request.structural);
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
@@ -263,13 +258,17 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
                                     : model.standardParameters();
   PhysicalOptions pc_options;
   pc_options.prior_weight = request.prior_weight;
+  ThreadPool pool(request.threads);
+  std::optional<Trajectory> train_data;  // pc's solver takes the observation matrix: in memory
+  SampleKeeper kept;                     // ols, wls: the training samples for the figures
   try {
-    if (request.method == Method::kPc) {  // its solver takes the observation matrix
-      const Observation train = observationOfFile(model, train_data, request.data_file);
+    if (request.method == Method::kPc) {
+      train_data = readDatasetCsv(request.data_file, model.numJoints());
+      const Observation train = observationOfFile(model, *train_data, request.data_file);
       out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
-    } else {  // OLS and WLS stream the samples: memory independent of the dataset's length
-      LeastSquaresStream stream(out.base, model.numJoints());
-      addTrajectory(stream, model, train_data);
+    } else {  // OLS and WLS stream the file: memory independent of the dataset's length
+      LeastSquaresStream stream(out.base, model);
+      addDatasetFile(stream, model, request.data_file, pool, &kept);
       out.result.estimate =
           stream.estimate(request.method == Method::kOls ? LeastSquaresMethod::kOrdinary
                                                          : LeastSquaresMethod::kWeighted);
@@ -287,11 +286,20 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   Model identified = model;
   identified.setStandardParameters(out.result.standard);
   out.violations = consistencyViolations(identified);
-  out.fit = predictTorques(identified, train_data);
+  if (train_data) {
+    out.fit = predictTorques(identified, *train_data);
+  } else {  // the fit's statistics are the least-squares residuals': one pass over the file
+    const BaseEstimate& e = out.result.estimate;
+    Validation v;
+    v.num_samples = e.num_samples;
+    v.torque_rms = e.residual_rms;
+    v.normalised_rms = e.joint_relative_error;
+    v.relative_error = e.relative_error;
+    out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
+  }
   out.preparation = preparationRecord(request.data_file);
   if (!request.validate_file.empty()) {
-    out.validate_fit =
-        predictTorques(identified, readDatasetCsv(request.validate_file, model.numJoints()));
+    out.validate_fit = predictFile(identified, request.validate_file, pool);
     out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
   }
@@ -325,32 +333,6 @@ Eigen::MatrixXd kinematicsSignature(const Model& model) {
     out.row(i) << r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2),
         frames[i].translation.transpose(), axis.transpose();
   }
-  return out;
-}
-
-Prediction predictTorques(const Model& model, const Trajectory& data) {
-  const int n = model.numJoints(), samples = data.numSamples();
-  if (data.numJoints() != n)
-    throw InputError("the data have " + std::to_string(data.numJoints()) + " joints, robot '" +
-                     model.name + "' has " + std::to_string(n));
-  Prediction out;
-  out.time = data.time;
-  out.measured = data.tau;
-  out.predicted.resize(n, samples);
-  Data work(model);
-  for (int k = 0; k < samples; ++k)
-    out.predicted.col(k) = rnea(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k));
-  const Eigen::MatrixXd residual = data.tau - out.predicted;
-  Validation& v = out.validation;
-  v.num_samples = samples;
-  const double count = std::max(samples, 1);
-  v.torque_rms = (residual.rowwise().squaredNorm() / count).cwiseSqrt();
-  const Eigen::VectorXd tau_rms = (data.tau.rowwise().squaredNorm() / count).cwiseSqrt();
-  const double inf = std::numeric_limits<double>::infinity();
-  v.relative_error = tau_rms.norm() > 0.0 ? v.torque_rms.norm() / tau_rms.norm() : inf;
-  v.normalised_rms.resize(n);
-  for (int j = 0; j < n; ++j)
-    v.normalised_rms[j] = tau_rms[j] > 0.0 ? v.torque_rms[j] / tau_rms[j] : inf;
   return out;
 }
 
@@ -389,8 +371,8 @@ PredictOutcome predictRun(const PredictRequest& request) {
                        "' has other link frames or axes than the robot the estimate was made for: "
                        "it was made for another robot");
   }
-  out.prediction =
-      predictTorques(out.model, readDatasetCsv(request.data_file, out.model.numJoints()));
+  ThreadPool pool(request.threads);
+  out.prediction = predictFile(out.model, request.data_file, pool, request.sink);
   return out;
 }
 

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/methods.hpp"
+#include "analysis/streaming.hpp"
 #include "core/model.hpp"
 #include "core/parameters.hpp"
 #include "core/simulate.hpp"
@@ -103,9 +104,9 @@ struct IdentifiabilityOutcome {
   std::optional<DataExcitation> data;
 };
 /// The structural base parameters of `model`, and, when `data_file` is not empty, how that
-/// dataset excites them.
+/// dataset excites them (streamed on `threads` threads, 0: all; the same result for any count).
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
-                                          const std::string& data_file = "");
+                                          const std::string& data_file = "", int threads = 0);
 
 // ---- identification ----
 
@@ -123,13 +124,6 @@ LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& ba
                                          const Eigen::VectorXd& prior,
                                          const PhysicalOptions& pc_options = {});
 
-/// A model's torques on a dataset, against the measured ones.
-struct Prediction {
-  Eigen::VectorXd time;
-  Eigen::MatrixXd measured, predicted;  // n x samples [N m]
-  Validation validation;                // residual RMS, normalised RMS, relative error
-};
-
 /// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
 /// validate.csv); nullopt otherwise, or when the record is unreadable.
 std::optional<nlohmann::json> preparationRecord(const std::string& data_file);
@@ -145,6 +139,7 @@ struct IdentifyRequest {
   /// The URDF the model was loaded from, to write the estimate back into (empty: no write-back).
   std::string write_back_from;
   std::string robot_spec;  // how the robot was named (--robot), recorded for `dynid predict`
+  int threads = 0;         // for the streamed passes over the data (0: all cores)
 };
 /// The estimate written back into the robot's own files (data/urdf_writeback.hpp).
 struct WriteBack {
@@ -178,14 +173,12 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request);
 
 // ---- applying an estimate to data ----
 
-/// RNEA of `model` (its parameters and drive terms) at every sample. `identify --validate` and
-/// `dynid predict` both use it. Throws InputError when the joint counts differ.
-Prediction predictTorques(const Model& model, const Trajectory& data);
-
 struct PredictRequest {
-  std::string estimate_file;  // an identify estimate.json
-  std::string data_file;      // a dataset CSV
-  std::string robot_spec;     // empty: the estimate's own
+  std::string estimate_file;       // an identify estimate.json
+  std::string data_file;           // a dataset CSV
+  std::string robot_spec;          // empty: the estimate's own
+  int threads = 0;                 // 0: all cores; the same result for any count
+  PredictionSink* sink = nullptr;  // receives every sample's prediction, in order (may be null)
 };
 struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
@@ -193,8 +186,9 @@ struct PredictOutcome {
   Prediction prediction;
 };
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
-/// standard parameters and predicts. Throws ParseError for a malformed estimate, InputError when
-/// the estimate does not fit the robot (another robot, another drive model: the parameter named).
+/// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed
+/// estimate, InputError when the estimate does not fit the robot (another robot, another drive
+/// model: the parameter named).
 PredictOutcome predictRun(const PredictRequest& request);
 
 // ---- the GC-error searches ----

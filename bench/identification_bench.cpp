@@ -3,7 +3,9 @@
 // states, building W, OLS with covariance); the CLI's own path from a CSV file to the estimate at
 // 1e3 to 1e6 samples, and its parts (parsing; regressor + streamed factor update). Run:
 //   build/bench/bench_identification --benchmark_repetitions=5 --benchmark_report_aggregates_only
+#include <algorithm>
 #include <filesystem>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -102,15 +104,16 @@ std::string datasetFile(const Model& model, long samples) {
   return path;
 }
 
-// `dynid identify --robot puma560 --drives --method ols --data FILE` as the CLI runs it (reports
-// aside): read the file, structural base parameters, stream the samples into the factor, solve,
-// predict the training torques. (Peak memory: measure the CLI itself, `/usr/bin/time -f %M`; this
+// `dynid identify --robot puma560 --drives --method ols --data FILE --threads T` as the CLI runs
+// it (reports aside): structural base parameters, the file streamed through the factor in chunks,
+// solve, the fit's series. (Peak memory: measure the CLI itself, `/usr/bin/time -f %M`; this
 // process also holds the simulation that wrote the file.)
 void BM_IdentifyFile(benchmark::State& state) {
   IdentifyRequest request;
   request.model = makePuma560(true);
   request.method = Method::kOls;
   request.data_file = datasetFile(request.model, state.range(0));
+  request.threads = static_cast<int>(state.range(1));
   for (auto _ : state) {
     const IdentifyOutcome out = identifyRun(request);
     benchmark::DoNotOptimize(out.result.estimate.beta.data());
@@ -120,35 +123,55 @@ void BM_IdentifyFile(benchmark::State& state) {
 // From 1e4: a shorter stretch of this motion does not reverse joint 1 (its Coulomb asymmetry is
 // then unexcited, and identify refuses).
 BENCHMARK(BM_IdentifyFile)
-    ->Arg(10000)
-    ->Arg(100000)
-    ->Arg(1000000)
-    ->ArgName("samples")
-    ->Unit(benchmark::kMillisecond);
+    ->ArgsProduct({{10000, 100000, 1000000}, {1, 2}})
+    ->ArgNames({"samples", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
-// The parts of the floor: parsing the same files alone, and the regressor and streamed factor
-// update of every sample alone (no file).
+// The parts of the floor: parsing the same file alone (DatasetReader's chunks, as the CLI reads
+// it), and the regressor and streamed factor update of every sample alone (no file).
 void BM_ParseDataset(benchmark::State& state) {
   const std::string path = datasetFile(makePuma560(true), state.range(0));
-  for (auto _ : state) benchmark::DoNotOptimize(readDatasetCsv(path, 6).q.data());
+  for (auto _ : state) {
+    DatasetReader reader(path, 6);
+    Trajectory chunk;
+    while (reader.read(chunk, kStreamChunkSamples) > 0) benchmark::DoNotOptimize(chunk.q.data());
+  }
   state.SetItemsProcessed(state.iterations() * state.range(0));
   state.SetBytesProcessed(state.iterations() *
                           static_cast<std::int64_t>(std::filesystem::file_size(path)));
 }
 BENCHMARK(BM_ParseDataset)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
 
+// Chunks of kStreamChunkSamples through LeastSquaresStream::addTrajectory on T threads.
 void BM_RegressorAndUpdate(benchmark::State& state) {
   const Model model = makePuma560(true);
   const Trajectory dataset = pumaDataset(model, static_cast<double>(state.range(0) - 1) * 1e-3);
   const BaseParameters base = structuralBaseParameters(model);
+  ThreadPool pool(static_cast<int>(state.range(1)));
+  std::vector<Trajectory> chunks;
+  for (int first = 0; first < dataset.numSamples(); first += kStreamChunkSamples) {
+    const int count = std::min(kStreamChunkSamples, dataset.numSamples() - first);
+    Trajectory c;
+    c.time = dataset.time.segment(first, count);
+    c.q = dataset.q.middleCols(first, count);
+    c.dq = dataset.dq.middleCols(first, count);
+    c.ddq = dataset.ddq.middleCols(first, count);
+    c.tau = dataset.tau.middleCols(first, count);
+    chunks.push_back(std::move(c));
+  }
   for (auto _ : state) {
-    LeastSquaresStream stream(base, 6);
-    addTrajectory(stream, model, dataset);
+    LeastSquaresStream stream(base, model);
+    for (const Trajectory& c : chunks) stream.addTrajectory(model, c, &pool);
     benchmark::DoNotOptimize(stream.factor().r_scaled.data());
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
-BENCHMARK(BM_RegressorAndUpdate)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RegressorAndUpdate)
+    ->ArgsProduct({{100000}, {1, 2}})
+    ->ArgNames({"samples", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -18,6 +18,7 @@ int runIdentifiability(const std::vector<std::string>& args) {
                         "each base parameter")(
       "out", po::value<std::string>()->required(),
       "output directory (identifiability.json, identifiability.md)");
+  addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
       "dynid identifiability --robot R [--drives] [--data F.csv] [--samples N] [--seed S] --out "
@@ -26,8 +27,8 @@ int runIdentifiability(const std::vector<std::string>& args) {
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   const StructuralOptions structural = structuralOptions(vm);
   const Model model = loadRobotFromOptions(vm);
-  const IdentifiabilityOutcome outcome =
-      identifiabilityRun(model, structural, vm.count("data") ? vm["data"].as<std::string>() : "");
+  const IdentifiabilityOutcome outcome = identifiabilityRun(
+      model, structural, vm.count("data") ? vm["data"].as<std::string>() : "", threadsOption(vm));
   const nlohmann::json report = identifiabilityJson(model, outcome);
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"identifiability.json", jsonText(report, 2) + "\n"},

@@ -28,6 +28,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
       "the full model as .dynid.json beside it");
+  addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
       "dynid identify --method ols|wls|pc --robot R [--drives] --data train.csv [--validate "
@@ -46,6 +47,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (request.method == Method::kPc && vm.count("prior"))
     request.prior = loadOtherRobot(vm, "prior");
   request.data_file = vm["data"].as<std::string>();
+  request.threads = threadsOption(vm);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   if (vm.count("write-urdf")) {
     request.write_back_from = vm["robot"].as<std::string>();

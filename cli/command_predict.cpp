@@ -15,15 +15,19 @@ int runPredict(const std::vector<std::string>& args) {
                                                     "dataset CSV")(
       "robot", po::value<std::string>(), "robot spec (default: the one the estimate names)")(
       "out", po::value<std::string>()->required(), "output directory");
+  addThreadsOption(options);
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid predict --estimate E --data D.csv --out DIR", vm))
     return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  const std::string dir = vm["out"].as<std::string>();
+  checkOutputDirectory(dir);  // before the work, not after it
   PredictRequest request{vm["estimate"].as<std::string>(), vm["data"].as<std::string>(),
                          vm.count("robot") ? vm["robot"].as<std::string>() : ""};
+  request.threads = threadsOption(vm);
+  PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through
+  request.sink = &csv;
   const PredictOutcome outcome = predictRun(request);
-  std::cout << writePrediction(vm["out"].as<std::string>(), outcome, request.estimate_file,
-                               request.data_file);
+  std::cout << writePrediction(dir, outcome, request.estimate_file, request.data_file, csv);
   return kExitOk;
 }
 

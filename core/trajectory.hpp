@@ -21,6 +21,12 @@ struct Trajectory {
     ddq.setZero(num_joints, num_samples);
     tau.setZero(num_joints, num_samples);
   }
+
+  /// Keeps the first num_samples samples (at most numSamples()).
+  void truncate(int num_samples) {
+    time.conservativeResize(num_samples);
+    for (Eigen::MatrixXd* m : {&q, &dq, &ddq, &tau}) m->conservativeResize(m->rows(), num_samples);
+  }
 };
 
 }  // namespace dynid

@@ -82,99 +82,149 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
   out.commit();
 }
 
-Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
-  const std::string text = readFile(path, std::numeric_limits<double>::infinity());
-  std::vector<std::string_view> lines;
-  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the header.
-  const std::size_t first = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
-  for (std::size_t start = first; start < text.size();) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    lines.push_back(std::string_view(text).substr(start, end - start));
-    start = end + 1;
+DatasetReader::DatasetReader(const std::string& path, int expected_joints)
+    : path_(path), lines_(std::make_unique<LineReader>(path)) {
+  std::string_view line;
+  bool empty = !lines_->next(line);
+  if (!empty && trim(line).empty()) {  // a blank first line: an empty file, or a missing header
+    std::string_view rest;
+    empty = true;
+    while (empty && lines_->next(rest)) empty = trim(rest).empty();
+    if (!empty) line = {};  // the blank line is the header: refused below
   }
-  // Blank lines at the end of the file are ignored; elsewhere they are errors.
-  while (!lines.empty() && trim(lines.back()).empty()) lines.pop_back();
-  if (lines.empty())
+  if (empty)
     throw ParseError(path, 1, "",
                      "empty file: expected the header " +
                          datasetHeader(expected_joints > 0 ? expected_joints : 1));
-
+  const int header_line = 1;
   // Header: t, then 4 blocks of n names.
-  std::vector<std::string_view> header = splitFields(lines[0]);
+  std::vector<std::string_view> header = splitFields(line);
   for (auto& h : header) h = trim(h);
   if ((header.size() - 1) % 4 != 0 || header.size() < 5)
-    throw ParseError(path, 1, "",
+    throw ParseError(path, header_line, "",
                      "header has " + std::to_string(header.size()) +
                          " columns; expected t,q1..qn,dq1..dqn,ddq1..ddqn,tau1..taun "
                          "(1 + 4n columns)");
-  const int n = static_cast<int>((header.size() - 1) / 4);
-  if (expected_joints >= 0 && n != expected_joints)
-    throw ParseError(path, 1, "",
-                     "header describes " + std::to_string(n) + " joints, the model has " +
+  n_ = static_cast<int>((header.size() - 1) / 4);
+  if (expected_joints >= 0 && n_ != expected_joints)
+    throw ParseError(path, header_line, "",
+                     "header describes " + std::to_string(n_) + " joints, the model has " +
                          std::to_string(expected_joints));
-  const std::vector<std::string> names = columnNames(n);
+  const std::vector<std::string> names = columnNames(n_);
   for (std::size_t c = 0; c < names.size(); ++c)
     if (header[c] != names[c])
-      throw ParseError(path, 1, "column " + std::to_string(c + 1),
+      throw ParseError(path, header_line, "column " + std::to_string(c + 1),
                        "expected '" + names[c] + "', found '" + std::string(header[c]) + "'");
+}
 
-  if (lines.size() - 1 > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw ParseError(path, 0, "", "more than 2^31 - 1 rows");
-  const int samples = static_cast<int>(lines.size()) - 1;
-  if (samples < 1) throw ParseError(path, 1, "", "no data rows after the header");
-  requireMemory(
-      static_cast<double>(samples) * (1 + 4 * n) * sizeof(double),
-      path + ": " + std::to_string(samples) + " samples of " + std::to_string(n) + " joints");
-  Trajectory out;
-  out.resize(n, samples);
-  const std::size_t columns = names.size();
-  for (int k = 0; k < samples; ++k) {
-    const int line_number = k + 2;
-    const std::string_view line = lines[k + 1];
-    // Fields parsed in place (std::from_chars: no copy, no locale, no allocation per cell).
-    std::size_t start = 0;
-    for (std::size_t c = 0; c < columns; ++c) {
-      const std::size_t comma = line.find(',', start);
-      const bool last = c + 1 == columns;
-      if ((comma == std::string_view::npos) != last) {
-        const auto fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
-        throw ParseError(path, line_number, "",
-                         "row has " + std::to_string(fields) + " fields, the header has " +
-                             std::to_string(columns));
-      }
-      const std::string_view field =
-          trim(line.substr(start, last ? std::string_view::npos : comma - start));
-      start = comma + 1;
-      std::string_view digits = field;
-      bool signed_twice = false;
-      if (!digits.empty() && digits.front() == '+') {  // accepted, as strtod does
-        digits.remove_prefix(1);
-        signed_twice = !digits.empty() && digits.front() == '-';
-      }
-      double x = 0.0;
-      const auto parsed = std::from_chars(digits.data(), digits.data() + digits.size(), x);
-      if (digits.empty() || signed_twice || parsed.ptr != digits.data() + digits.size() ||
-          (parsed.ec != std::errc() && parsed.ec != std::errc::result_out_of_range))
-        throw ParseError(path, line_number, names[c],
-                         "'" + std::string(field) + "' is not a number");
-      if (parsed.ec ==
-          std::errc::result_out_of_range)  // overflow (inf) or underflow (0, subnormal)
-        x = std::strtod(std::string(digits).c_str(), nullptr);
-      if (!std::isfinite(x))
-        throw ParseError(path, line_number, names[c], "'" + std::string(field) + "' is not finite");
-      if (c == 0) {
-        out.time[k] = x;
-        if (k > 0 && !(x > out.time[k - 1]))
-          throw ParseError(path, line_number, "t",
-                           "time must increase strictly (" + std::string(field) + " after " +
-                               formatDouble(out.time[k - 1]) + ")");
-        continue;
-      }
-      const int block = static_cast<int>((c - 1) / n), joint = static_cast<int>((c - 1) % n);
-      Eigen::MatrixXd* target[] = {&out.q, &out.dq, &out.ddq, &out.tau};
-      (*target[block])(joint, k) = x;
+DatasetReader::~DatasetReader() = default;
+
+void DatasetReader::parseRow(std::string_view line, int line_number, Trajectory& chunk, int k) {
+  const std::size_t columns = 1 + 4 * static_cast<std::size_t>(n_);
+  // Fields parsed in place (std::from_chars: no copy, no locale, no allocation per cell).
+  std::size_t start = 0;
+  for (std::size_t c = 0; c < columns; ++c) {
+    const std::size_t comma = line.find(',', start);
+    const bool last = c + 1 == columns;
+    if ((comma == std::string_view::npos) != last) {
+      const auto fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+      throw ParseError(path_, line_number, "",
+                       "row has " + std::to_string(fields) + " fields, the header has " +
+                           std::to_string(columns));
     }
+    const std::string_view field =
+        trim(line.substr(start, last ? std::string_view::npos : comma - start));
+    start = comma + 1;
+    std::string_view digits = field;
+    bool signed_twice = false;
+    if (!digits.empty() && digits.front() == '+') {  // accepted, as strtod does
+      digits.remove_prefix(1);
+      signed_twice = !digits.empty() && digits.front() == '-';
+    }
+    double x = 0.0;
+    const auto parsed = std::from_chars(digits.data(), digits.data() + digits.size(), x);
+    const auto column = [&] { return c == 0 ? std::string("t") : columnNames(n_)[c]; };
+    if (digits.empty() || signed_twice || parsed.ptr != digits.data() + digits.size() ||
+        (parsed.ec != std::errc() && parsed.ec != std::errc::result_out_of_range))
+      throw ParseError(path_, line_number, column(),
+                       "'" + std::string(field) + "' is not a number");
+    if (parsed.ec == std::errc::result_out_of_range)  // overflow (inf) or underflow (0, subnormal)
+      x = std::strtod(std::string(digits).c_str(), nullptr);
+    if (!std::isfinite(x))
+      throw ParseError(path_, line_number, column(), "'" + std::string(field) + "' is not finite");
+    if (c == 0) {
+      if (samples_ + k > 0 && !(x > last_time_))
+        throw ParseError(path_, line_number, "t",
+                         "time must increase strictly (" + std::string(field) + " after " +
+                             formatDouble(last_time_) + ")");
+      chunk.time[k] = last_time_ = x;
+      continue;
+    }
+    const int block = static_cast<int>((c - 1) / n_), joint = static_cast<int>((c - 1) % n_);
+    Eigen::MatrixXd* target[] = {&chunk.q, &chunk.dq, &chunk.ddq, &chunk.tau};
+    (*target[block])(joint, k) = x;
+  }
+}
+
+int DatasetReader::read(Trajectory& chunk, int max_samples) {
+  if (max_samples < 1) throw InputError("DatasetReader::read: max_samples must be >= 1");
+  if (chunk.numJoints() != n_ || chunk.numSamples() != max_samples) chunk.resize(n_, max_samples);
+  int k = 0;
+  std::string_view line;
+  while (!done_ && k < max_samples) {
+    if (!lines_->next(line)) {
+      done_ = true;
+      break;
+    }
+    // Blank lines at the end of the file are ignored; elsewhere they are errors.
+    if (trim(line).empty()) {
+      if (blank_line_ == 0) blank_line_ = lines_->lineNumber();
+      continue;
+    }
+    if (blank_line_ != 0)
+      throw ParseError(path_, blank_line_, "",
+                       "row has 1 fields, the header has " + std::to_string(1 + 4 * n_));
+    if (samples_ + k >= std::numeric_limits<int>::max())
+      throw ParseError(path_, lines_->lineNumber(), "", "more than 2^31 - 1 rows");
+    parseRow(line, lines_->lineNumber(), chunk, k);
+    ++k;
+  }
+  if (done_ && samples_ + k == 0) throw ParseError(path_, 1, "", "no data rows after the header");
+  samples_ += k;
+  if (k < max_samples) chunk.truncate(k);
+  return k;
+}
+
+Trajectory readDatasetCsv(const std::string& path, int expected_joints) {
+  DatasetReader reader(path, expected_joints);
+  const int n = reader.numJoints();
+  // Chunks of growing size, appended: the memory check before each growth names the file.
+  std::vector<Trajectory> chunks;
+  long long samples = 0;
+  int size = 1024;
+  while (true) {
+    requireMemory(2.0 * static_cast<double>(samples + size) * (1 + 4 * n) * sizeof(double),
+                  path + ": " + std::to_string(samples + size) + " samples of " +
+                      std::to_string(n) + " joints");
+    Trajectory chunk;
+    const int got = reader.read(chunk, size);
+    if (got == 0) break;
+    samples += got;
+    chunks.push_back(std::move(chunk));
+    size = static_cast<int>(std::min<long long>(2LL * size, 1 << 20));
+  }
+  Trajectory out;
+  out.resize(n, static_cast<int>(samples));
+  Eigen::Index at = 0;
+  for (Trajectory& c : chunks) {
+    const Eigen::Index m = c.numSamples();
+    out.time.segment(at, m) = c.time;
+    out.q.middleCols(at, m) = c.q;
+    out.dq.middleCols(at, m) = c.dq;
+    out.ddq.middleCols(at, m) = c.ddq;
+    out.tau.middleCols(at, m) = c.tau;
+    at += m;
+    c = Trajectory();
   }
   return out;
 }

@@ -2,7 +2,9 @@
 // SI units (s, rad, rad/s, rad/s^2, N m), comma-separated, '.' as the decimal point.
 #pragma once
 
+#include <memory>
 #include <string>
+#include <string_view>
 
 #include "core/trajectory.hpp"
 
@@ -16,11 +18,48 @@ std::string datasetHeader(int num_joints);
 /// InputError when the trajectory's matrices disagree in size.
 void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
 
+class LineReader;
+
+/// A dataset read in chunks of samples, in memory independent of its length, with the checks and
+/// messages of readDatasetCsv (the header when constructed, every row as it is read, time
+/// increasing across chunks).
+class DatasetReader {
+ public:
+  /// Opens `path` and checks its header (and n == expected_joints when that is >= 0). Throws
+  /// ParseError for an empty file or a wrong header, Error when the file cannot be read.
+  explicit DatasetReader(const std::string& path, int expected_joints = -1);
+  ~DatasetReader();
+  DatasetReader(const DatasetReader&) = delete;
+  DatasetReader& operator=(const DatasetReader&) = delete;
+
+  /// Reads the next samples, at most max_samples (>= 1), into `chunk` (resized to n x count;
+  /// its time, q, dq, ddq and tau) and returns count: 0 once the file is read. Throws ParseError
+  /// at the first row at fault (line and column named), also when the file has no data row,
+  /// Error when a regular file changed size while it was read.
+  int read(Trajectory& chunk, int max_samples);
+
+  int numJoints() const { return n_; }
+  const std::string& path() const { return path_; }
+  /// Samples returned so far.
+  long long samplesRead() const { return samples_; }
+
+ private:
+  void parseRow(std::string_view line, int line_number, Trajectory& chunk, int k);
+  std::string path_;
+  std::unique_ptr<LineReader> lines_;
+  int n_ = 0;
+  long long samples_ = 0;
+  double last_time_ = 0.0;
+  int blank_line_ = 0;  // the first blank line since the last row (an error if a row follows)
+  bool done_ = false;
+};
+
 /// Reads a dataset. Checks the header (names the column that differs), that every row has
 /// 1 + 4n fields, that every field is a finite number, and that time strictly increases; when
 /// expected_joints >= 0, also that n matches it. Throws ParseError(file, line, column, ...) naming
 /// the line and column at fault, Error when the file cannot be read, and InputError naming the file
-/// before allocating when the file or its samples would not fit in memory (core/memory.hpp).
+/// when its samples would not fit in memory (core/memory.hpp). The whole trajectory is held:
+/// what reads a long log sample by sample uses DatasetReader instead.
 Trajectory readDatasetCsv(const std::string& path, int expected_joints = -1);
 
 }  // namespace dynid

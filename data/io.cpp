@@ -172,6 +172,92 @@ std::string readFile(const std::string& path, double max_bytes) {
   return out;
 }
 
+LineReader::LineReader(const std::string& path) : path_(path) {
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0 || S_ISDIR(st.st_mode)) {
+    const std::string why = S_ISDIR(st.st_mode) ? "it is a directory" : std::strerror(errno);
+    ::close(fd_);
+    throw Error("cannot read '" + path + "': " + why);
+  }
+  regular_ = S_ISREG(st.st_mode);
+  size_at_open_ = static_cast<long long>(st.st_size);
+  // A small file gets a block of its own size (fuzz targets read thousands of few-kB inputs).
+  constexpr std::size_t kBlock = std::size_t{1} << 22;
+  const std::size_t block =
+      regular_ ? std::clamp<std::size_t>(static_cast<std::size_t>(st.st_size) + 1, 4096, kBlock)
+               : kBlock;
+  buffer_.resize(block);
+}
+
+LineReader::~LineReader() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool LineReader::fill() {
+  if (eof_) return false;
+  // Keep the unfinished line at the buffer's start; grow the buffer for a line longer than it.
+  const std::size_t kept = stop_ - start_;
+  if (start_ > 0) std::memmove(buffer_.data(), buffer_.data() + start_, kept);
+  start_ = 0;
+  stop_ = kept;
+  if (kept == buffer_.size()) {
+    if (buffer_.size() >= kMaxLineBytes)
+      throw ParseError(path_, line_ + 1, "",
+                       "a line longer than " + formatBytes(static_cast<double>(kMaxLineBytes)) +
+                           ": not a text file (or a missing line break)");
+    buffer_.resize(std::min(2 * buffer_.size(), kMaxLineBytes));
+  }
+  while (true) {
+    const ssize_t got = ::read(fd_, buffer_.data() + stop_, buffer_.size() - stop_);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw Error("cannot read '" + path_ + "': " + std::strerror(errno));
+    }
+    if (got == 0) {
+      eof_ = true;
+      if (regular_) {
+        struct stat st {};
+        const long long now =
+            ::fstat(fd_, &st) == 0 ? static_cast<long long>(st.st_size) : bytes_read_;
+        if (bytes_read_ != size_at_open_ || now != size_at_open_)
+          throw Error(
+              "'" + path_ + "' changed while it was read: " + std::to_string(size_at_open_) +
+              " bytes when opened, " + std::to_string(bytes_read_) + " read, " +
+              std::to_string(now) + " now (a log still being written, or a copy cut short?)");
+      }
+      return false;
+    }
+    stop_ += static_cast<std::size_t>(got);
+    bytes_read_ += got;
+    return true;
+  }
+}
+
+bool LineReader::next(std::string_view& line) {
+  while (true) {
+    const char* begin = buffer_.data() + start_;
+    const auto* newline = static_cast<const char*>(std::memchr(begin, '\n', stop_ - start_));
+    if (newline != nullptr) {
+      const std::size_t length = static_cast<std::size_t>(newline - begin);
+      line = std::string_view(begin, length);
+      start_ += length + 1;
+      break;
+    }
+    if (!fill()) {
+      if (start_ == stop_) return false;
+      line = std::string_view(buffer_.data() + start_, stop_ - start_);  // no final newline
+      start_ = stop_;
+      break;
+    }
+  }
+  ++line_;
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first line.
+  if (line_ == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+  return true;
+}
+
 std::string formatDouble(double x) {
   std::array<char, 32> buffer;
   const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), x);

@@ -53,6 +53,42 @@ inline constexpr double kMaxDocumentBytes = 1073741824.0;
 /// when it is larger than that or than the memory this process may use.
 std::string readFile(const std::string& path, double max_bytes = kMaxDocumentBytes);
 
+/// A text file read line by line in blocks: memory independent of the file's size. Lines are
+/// returned without their '\n' (a '\r' before it is kept), the UTF-8 byte-order mark of the first
+/// line dropped, a last line without a newline returned too. A regular file that grows or shrinks
+/// while it is read is an error at its end (a log still being written, a copy cut short), never a
+/// silently shorter input.
+class LineReader {
+ public:
+  /// Opens `path` (a regular file, a pipe or a device). Throws Error naming it when it cannot be
+  /// read or is a directory.
+  explicit LineReader(const std::string& path);
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+  ~LineReader();
+
+  /// The next line in `line` (valid until the next call) and true; false at the end of the file.
+  /// Throws ParseError for a line longer than kMaxLineBytes (a binary file, a missing line break),
+  /// Error when reading fails or when a regular file's size changed since it was opened.
+  bool next(std::string_view& line);
+  /// The 1-based number of the line last returned (0 before the first).
+  int lineNumber() const { return line_; }
+  const std::string& path() const { return path_; }
+
+  static constexpr std::size_t kMaxLineBytes = std::size_t{1} << 26;  // 64 MiB
+
+ private:
+  bool fill();  // reads more after the kept bytes; false at the end of the file
+  std::string path_;
+  int fd_ = -1;
+  bool regular_ = false;
+  long long size_at_open_ = 0, bytes_read_ = 0;
+  std::string buffer_;
+  std::size_t start_ = 0, stop_ = 0;  // unreturned bytes: buffer_[start_, stop_)
+  bool eof_ = false;
+  int line_ = 0;
+};
+
 /// Shortest decimal form that parses back to exactly x ("0.1", "1e-300", "inf", "nan").
 std::string formatDouble(double x);
 

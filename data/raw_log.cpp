@@ -70,50 +70,10 @@ bool parseNumber(const char* begin, const char* end, double* out) {
 /// blocks (memory independent of the file's size); stops when f returns false.
 template <class F>
 void forEachLine(const std::string& path, F f) {
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
-  if (!file) throw Error("cannot read '" + path + "': " + std::strerror(errno));
-  constexpr std::size_t kBlock = 1 << 22;
-  constexpr std::size_t kMaxLineBytes = 1 << 26;  // 64 MiB: far above any log's row
-  // A small file gets a block of its own size (a 4 MiB block per call made the raw_log fuzz
-  // target, whose inputs are a few kB, run at 17 inputs per second).
-  struct stat st {};
-  std::size_t block = kBlock;
-  if (::fstat(::fileno(file.get()), &st) == 0 && S_ISREG(st.st_mode))
-    block = std::clamp<std::size_t>(static_cast<std::size_t>(st.st_size) + 1, 4096, kBlock);
-  std::vector<char> buffer(block);
-  std::size_t kept = 0;  // bytes of an unfinished line at the buffer's start
-  int line = 0;
-  while (true) {
-    if (kept == buffer.size()) {  // a line longer than a block
-      if (buffer.size() >= kMaxLineBytes)
-        throw ParseError(path, line + 1, "",
-                         "a line longer than " + formatBytes(kMaxLineBytes) +
-                             ": not a text log (or a missing line break)");
-      buffer.resize(2 * buffer.size());
-    }
-    const std::size_t got = std::fread(buffer.data() + kept, 1, buffer.size() - kept, file.get());
-    if (got == 0 && std::ferror(file.get())) throw Error("cannot read '" + path + "'");
-    const char* start = buffer.data();
-    const char* const stop = buffer.data() + kept + got;
-    // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first line.
-    if (line == 0 && kept == 0 && got >= 3 && std::memcmp(start, "\xEF\xBB\xBF", 3) == 0)
-      start += 3;
-    const bool last = got == 0;
-    while (true) {
-      const char* newline = static_cast<const char*>(
-          std::memchr(start, '\n', static_cast<std::size_t>(stop - start)));
-      if (newline == nullptr) break;
-      if (!f(start, newline, ++line)) return;
-      start = newline + 1;
-    }
-    kept = static_cast<std::size_t>(stop - start);
-    if (last) {
-      if (kept > 0) f(start, stop, ++line);
-      return;
-    }
-    std::memmove(buffer.data(), start, kept);
-  }
+  LineReader reader(path);
+  std::string_view line;
+  while (reader.next(line))
+    if (!f(line.data(), line.data() + line.size(), reader.lineNumber())) return;
 }
 
 /// Whether the line holds data: not blank, not a '#' comment.

@@ -1,6 +1,7 @@
 #include "identifiability/least_squares_stream.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -16,7 +17,7 @@ namespace dynid {
 namespace {
 
 /// TallQr's buffered rows per joint: large enough to amortise each reduction.
-constexpr Eigen::Index kBlockRows = 512;
+constexpr Eigen::Index kBlockRows = 1024;
 
 double conditionOf(const Eigen::MatrixXd& r) {
   const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
@@ -66,10 +67,47 @@ Solved solveFactor(const Eigen::MatrixXd& r_augmented, Eigen::Index b, bool need
 LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, int num_joints)
     : base_(base), n_(num_joints), b_(base.numBase()) {
   if (num_joints < 1) throw InputError("least squares needs at least one joint");
+  std::vector<int> all(static_cast<std::size_t>(b_));
+  for (int c = 0; c < b_; ++c) all[static_cast<std::size_t>(c)] = c;
+  support_.assign(static_cast<std::size_t>(n_), all);
+  zeros_.assign(static_cast<std::size_t>(n_), {});
   joints_.reserve(static_cast<std::size_t>(n_));
   for (int j = 0; j < n_; ++j) joints_.emplace_back(b_ + 1, kBlockRows);
   tau_squared_ = Eigen::VectorXd::Zero(n_);
   row_.resize(b_ + 1);
+}
+
+LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& model)
+    : LeastSquaresStream(base, model.numJoints()) {
+  const ParameterLayout layout = model.parameterLayout();
+  if (layout.size() != base.numStandard())
+    throw InputError("base parameters of " + std::to_string(base.numStandard()) +
+                     " standard parameters for model '" + model.name + "' with " +
+                     std::to_string(layout.size()));
+  // Whether standard column s can act on joint j: a link's inertial parameters act on the joints
+  // that carry it (j an ancestor of the link, or the link's own), a drive term on its own joint.
+  const auto acts = [&](int s, int j) {
+    const int link = s / layout.perLink();
+    if (s % layout.perLink() >= kLinkParameterCount) return link == j;
+    for (int i = link; i >= 0; i = model.parents()[static_cast<std::size_t>(i)])
+      if (i == j) return true;
+    return false;
+  };
+  joints_.clear();
+  for (int j = 0; j < n_; ++j) {
+    std::vector<int>& support = support_[static_cast<std::size_t>(j)];
+    support.clear();
+    for (int c = 0; c < b_; ++c)
+      if (acts(base.independent[static_cast<std::size_t>(c)], j)) support.push_back(c);
+    for (int s = 0; s < layout.size(); ++s)
+      if (!acts(s, j)) zeros_[static_cast<std::size_t>(j)].push_back(s);
+    joints_.emplace_back(static_cast<Eigen::Index>(support.size()) + 1, kBlockRows);
+  }
+}
+
+void LeastSquaresStream::addTau(const Eigen::Ref<const Eigen::VectorXd>& tau) {
+  tau_squared_ += tau.cwiseAbs2();
+  max_abs_tau_ = std::max(max_abs_tau_, tau.cwiseAbs().maxCoeff());
 }
 
 void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
@@ -82,18 +120,112 @@ void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
   if (!Y.allFinite() || !tau.allFinite())
     throw InputError("sample " + std::to_string(samples_) + " has a value that is not finite");
   for (int j = 0; j < n_; ++j) {
-    for (int c = 0; c < b_; ++c) row_[c] = Y(j, base_.independent[c]);
-    row_[b_] = tau[j];
-    joints_[j].addRow(row_);
-    tau_squared_[j] += tau[j] * tau[j];
-    max_abs_tau_ = std::max(max_abs_tau_, std::abs(tau[j]));
+    for (int s : zeros_[static_cast<std::size_t>(j)])
+      if (Y(j, s) != 0.0)
+        throw Error("the regressor acts on joint " + std::to_string(j + 1) + " through " +
+                    base_.standard_names[static_cast<std::size_t>(s)] +
+                    ", which the model's chain says cannot act on it");
+    const std::vector<int>& support = support_[static_cast<std::size_t>(j)];
+    const auto p = static_cast<Eigen::Index>(support.size());
+    for (Eigen::Index c = 0; c < p; ++c)
+      row_[c] = Y(j, base_.independent[static_cast<std::size_t>(support[c])]);
+    row_[p] = tau[j];
+    joints_[static_cast<std::size_t>(j)].addRow(row_.head(p + 1));
   }
+  addTau(tau);
   ++samples_;
+}
+
+void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& data,
+                                       ThreadPool* pool) {
+  if (data.numJoints() != model.numJoints())
+    throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, model '" +
+                     model.name + "' has " + std::to_string(model.numJoints()));
+  if (n_ != model.numJoints())
+    throw InputError("the least-squares stream has " + std::to_string(n_) + " joints, model '" +
+                     model.name + "' has " + std::to_string(model.numJoints()));
+  if (model.parameterLayout().size() != base_.numStandard())
+    throw InputError(
+        "model '" + model.name + "' has " + std::to_string(model.parameterLayout().size()) +
+        " standard parameters, the base parameters are of " + std::to_string(base_.numStandard()));
+  const int m = data.numSamples();
+  for (int k = 0; k < m; ++k) checkFiniteSample(data, k);
+  if (m == 0) return;
+  if (gather_.empty()) {
+    for (int j = 0; j < n_; ++j) {
+      std::vector<Eigen::Index> gather, zeros;
+      for (int c : support_[static_cast<std::size_t>(j)])
+        gather.push_back(
+            static_cast<Eigen::Index>(base_.independent[static_cast<std::size_t>(c)]) * n_ + j);
+      for (int s : zeros_[static_cast<std::size_t>(j)])
+        zeros.push_back(static_cast<Eigen::Index>(s) * n_ + j);
+      gather_.push_back(std::move(gather));
+      zero_offsets_.push_back(std::move(zeros));
+    }
+  }
+  const int threads = pool ? pool->numThreads() : 1;
+  while (static_cast<int>(workspaces_.size()) < threads)
+    workspaces_.push_back(std::make_unique<Data>(model));
+  chunk_rows_.resize(static_cast<std::size_t>(n_));
+  for (int j = 0; j < n_; ++j) {
+    TallQr::RowMajorMatrix& rows = chunk_rows_[static_cast<std::size_t>(j)];
+    const auto p = static_cast<Eigen::Index>(support_[static_cast<std::size_t>(j)].size());
+    if (rows.rows() < m || rows.cols() != p + 1) rows.resize(m, p + 1);
+  }
+  // Regressors by blocks of samples (each block's rows: whole cache lines of one thread).
+  constexpr int kBlock = 64;
+  const int blocks = (m + kBlock - 1) / kBlock;
+  std::atomic<int> structure_error{-1};  // the joint whose zero columns were not zero
+  const auto regressors = [&](int block, int thread) {
+    Data& work = *workspaces_[static_cast<std::size_t>(thread)];
+    for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k) {
+      const double* y =
+          jointTorqueRegressor(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)).data();
+      for (int j = 0; j < n_; ++j) {
+        const auto jj = static_cast<std::size_t>(j);
+        for (Eigen::Index offset : zero_offsets_[jj])
+          if (y[offset] != 0.0) structure_error.store(j);
+        double* row = chunk_rows_[jj].row(k).data();  // row-major: one sample's row contiguous
+        const std::vector<Eigen::Index>& gather = gather_[jj];
+        const std::size_t p = gather.size();
+        for (std::size_t c = 0; c < p; ++c) row[c] = y[gather[c]];
+        row[p] = data.tau(j, k);
+      }
+    }
+  };
+  if (pool)
+    pool->parallelFor(blocks, regressors);
+  else
+    for (int block = 0; block < blocks; ++block) regressors(block, 0);
+  if (structure_error.load() >= 0)
+    throw Error("the regressor acts on joint " + std::to_string(structure_error.load() + 1) +
+                " through a parameter the model's chain says cannot act on it");
+  // Each joint's factor on one thread, the widest first.
+  const auto update = [&](int index, int) {
+    const auto j = static_cast<std::size_t>(index);
+    joints_[j].addRowMajor(chunk_rows_[j].topRows(m));
+  };
+  if (pool)
+    pool->parallelFor(n_, update);
+  else
+    for (int j = 0; j < n_; ++j) update(j, 0);
+  for (int k = 0; k < m; ++k) addTau(data.tau.col(k));
+  samples_ += m;
+}
+
+Eigen::MatrixXd LeastSquaresStream::scattered(int j) {
+  const std::vector<int>& support = support_[static_cast<std::size_t>(j)];
+  const Eigen::MatrixXd r = joints_[static_cast<std::size_t>(j)].r();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(r.rows(), b_ + 1);
+  for (std::size_t c = 0; c < support.size(); ++c)
+    out.col(support[c]) = r.col(static_cast<Eigen::Index>(c));
+  out.col(b_) = r.col(r.cols() - 1);
+  return out;
 }
 
 Eigen::MatrixXd LeastSquaresStream::combined(const Eigen::VectorXd& weight) {
   TallQr all(b_ + 1, static_cast<Eigen::Index>(n_) * (b_ + 1));
-  for (int j = 0; j < n_; ++j) all.add(weight[j] * joints_[j].r());
+  for (int j = 0; j < n_; ++j) all.add(weight[j] * scattered(j));
   return all.r();
 }
 
@@ -132,8 +264,7 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
     x.head(b_) = -beta;
     x[b_] = 1.0;
     Eigen::VectorXd out(n_);
-    for (int j = 0; j < n_; ++j)
-      out[j] = (joints_[j].r().triangularView<Eigen::Upper>() * x).squaredNorm();
+    for (int j = 0; j < n_; ++j) out[j] = (scattered(j) * x).squaredNorm();
     return out;
   };
   const double samples = static_cast<double>(samples_);
@@ -175,27 +306,9 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
   return out;
 }
 
-namespace {
-void requireJoints(const Model& model, const Trajectory& data) {
-  if (data.numJoints() != model.numJoints())
-    throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, model '" +
-                     model.name + "' has " + std::to_string(model.numJoints()));
-}
-}  // namespace
-
-void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data) {
-  requireJoints(model, data);
-  if (stream.numJoints() != model.numJoints())
-    throw InputError("the least-squares stream has " + std::to_string(stream.numJoints()) +
-                     " joints, model '" + model.name + "' has " +
-                     std::to_string(model.numJoints()));
-  Data workspace(model);
-  for (int k = 0; k < data.numSamples(); ++k) {
-    checkFiniteSample(data, k);
-    stream.add(
-        jointTorqueRegressor(model, workspace, data.q.col(k), data.dq.col(k), data.ddq.col(k)),
-        data.tau.col(k));
-  }
+void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data,
+                   ThreadPool* pool) {
+  stream.addTrajectory(model, data, pool);
 }
 
 }  // namespace dynid

@@ -6,13 +6,20 @@
 //   WLS: R of [R_1 / sigma_1; ...; R_n / sigma_n] with sigma_j from the OLS residuals,
 //   residual of joint j at beta: |R_j [beta; -1]| (R_j's corner holds what W1_j cannot fit),
 // so one pass over the data serves both methods, the excitation and the condition numbers.
+//
+// Given the model, joint j's factor holds only the base columns that can act on joint j (the
+// parameters of the links it moves, its own drive terms): the regressor is block triangular, so
+// R_j is smaller (half the work on a 6-joint chain) and the same after scattering its columns.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/data.hpp"
 #include "core/model.hpp"
+#include "core/parallel.hpp"
 #include "core/trajectory.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares.hpp"
@@ -22,14 +29,26 @@ namespace dynid {
 
 class LeastSquaresStream {
  public:
-  /// For the base parameters `base` of a model with `num_joints` joints.
+  /// For the base parameters `base` of a model with `num_joints` joints: every factor holds every
+  /// base column.
   LeastSquaresStream(const BaseParameters& base, int num_joints);
+  /// For the base parameters of `model` (kept by reference, as `base`): joint j's factor holds the
+  /// base columns of its subtree's links and its own drive terms. add() checks that the others are
+  /// zero (Error otherwise: a regressor that does not have the chain's structure).
+  LeastSquaresStream(const BaseParameters& base, const Model& model);
 
   /// Adds one sample: the joint torque regressor Y (n x p, the model's standard parameters) and
   /// the measured torques tau (n). Throws InputError on a size mismatch or a value that is not
   /// finite.
   void add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
            const Eigen::Ref<const Eigen::VectorXd>& tau);
+
+  /// Adds every sample of `data` (q, dq, ddq, tau) with the joint torque regressor of `model`: the
+  /// regressors on the pool's threads (all of them; nullptr: this thread), each joint's factor
+  /// updated on one thread, so the result is the same bit for bit for any thread count and any
+  /// division of the data into chunks. Throws InputError when the joint counts differ or a value
+  /// is not finite (checkFiniteSample's message); nothing of `data` is added then.
+  void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr);
 
   int numSamples() const { return samples_; }
   int numJoints() const { return n_; }
@@ -51,18 +70,28 @@ class LeastSquaresStream {
   /// The stacked per-joint factors, joint j's rows times weight[j], reduced to one (b+1) factor.
   Eigen::MatrixXd combined(const Eigen::VectorXd& weight);
 
+  void addTau(const Eigen::Ref<const Eigen::VectorXd>& tau);
+  /// Joint j's factor [W1_j(:, support_j) | tau_j] scattered into b + 1 columns.
+  Eigen::MatrixXd scattered(int j);
+
   const BaseParameters& base_;
   int n_, b_;
   int samples_ = 0;
-  std::vector<TallQr> joints_;   // [W1_j | tau_j]
+  std::vector<std::vector<int>> support_;  // per joint: the base columns its rows may hold
+  std::vector<std::vector<int>> zeros_;    // per joint: the standard columns that must be 0
+  // The same as offsets into the n x p regressor's column-major storage.
+  std::vector<std::vector<Eigen::Index>> gather_, zero_offsets_;
+  std::vector<TallQr> joints_;   // [W1_j(:, support_j) | tau_j]
   Eigen::VectorXd tau_squared_;  // per joint sum of tau^2
   double max_abs_tau_ = 0.0;
   Eigen::RowVectorXd row_;
+  // addTrajectory's buffers: per joint the chunk's rows, per thread a workspace.
+  std::vector<TallQr::RowMajorMatrix> chunk_rows_;
+  std::vector<std::unique_ptr<Data>> workspaces_;
 };
 
-/// Adds every sample of `data` (q, dq, ddq, tau) with the joint torque regressor of `model`, one
-/// sample at a time: no observation matrix. Throws InputError when the joint counts differ or a
-/// value is not finite (checkFiniteSample's message).
-void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data);
+/// stream.addTrajectory(model, data, pool).
+void addTrajectory(LeastSquaresStream& stream, const Model& model, const Trajectory& data,
+                   ThreadPool* pool = nullptr);
 
 }  // namespace dynid

@@ -14,8 +14,10 @@ class TallQr {
  public:
   /// `block_rows` rows are buffered before each reduction.
   explicit TallQr(Eigen::Index cols, Eigen::Index block_rows = 1024);
+  using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   /// Appends rows (any number, cols() columns).
   void add(const Eigen::Ref<const Eigen::MatrixXd>& rows);
+  void addRowMajor(const Eigen::Ref<const RowMajorMatrix>& rows);
   /// Appends one row.
   void addRow(const Eigen::Ref<const Eigen::RowVectorXd>& row);
   /// R so far: cols x cols, upper triangular; rows beyond those added are zero.
@@ -25,11 +27,15 @@ class TallQr {
 
  private:
   void reduce();
+  template <class Rows>
+  void addRows(const Rows& rows);
   Eigen::Index cols_;
   Eigen::MatrixXd stack_;    // the running R on top, then buffered rows
   Eigen::Index filled_ = 0;  // rows of stack_ in use
   Eigen::Index added_ = 0;
-  bool pending_ = false;  // rows added since the last reduction
+  bool pending_ = false;
+  Eigen::VectorXd h_coeffs_,
+      temp_;  // the reduction's workspace  // rows added since the last reduction
 };
 
 }  // namespace dynid

@@ -48,9 +48,7 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
                         {"held-out residual RMS [N m]", "held-out relative error"});
   const Eigen::Index n = t.torque_rms.size();
   for (Eigen::Index j = 0; j < n; ++j) {
-    const double measured =
-        std::sqrt(o.fit.measured.row(j).squaredNorm() /
-                  std::max<double>(1.0, static_cast<double>(o.fit.measured.cols())));
+    const double measured = o.fit.measured_rms[j];
     std::vector<std::string> row = {std::to_string(j + 1), threeDigits(measured),
                                     threeDigits(t.torque_rms[j]), percent(t.normalised_rms[j])};
     if (v) row.insert(row.end(), {threeDigits(v->torque_rms[j]), percent(v->normalised_rms[j])});
@@ -76,7 +74,8 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
       "Torque residuals against time. Structure that repeats with the motion (spikes at velocity "
       "reversals, drift with temperature) is unmodelled dynamics, not noise.");
   add("residual_histogram", residualHistogram(o.fit),
-      "Histogram of each joint's training residuals against the normal density of the same RMS. "
+      "Histogram of each joint's training residuals (every sample up to 8192, evenly spaced "
+      "samples beyond) against the normal density of the same RMS. "
       "A shifted peak is a bias (an offset the drive terms lack), two peaks unmodelled Coulomb "
       "friction.");
 }

@@ -1,7 +1,10 @@
 #include "reports/prediction_report.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include "data/io.hpp"
@@ -122,27 +125,69 @@ std::optional<std::string> residualHistogram(const Prediction& train) {
   return gnuplotSvg(s.str());
 }
 
-std::string writePrediction(const std::string& dir, const PredictOutcome& o,
-                            const std::string& estimate_file, const std::string& data_file) {
-  const Prediction& p = o.prediction;
-  const auto n = static_cast<int>(p.measured.rows());
-  std::ostringstream csv;
-  csv << "t";
-  for (int j = 1; j <= n; ++j) csv << ",tau" << j;
-  for (int j = 1; j <= n; ++j) csv << ",tau_hat" << j;
-  csv << "\n";
-  for (Eigen::Index k = 0; k < p.measured.cols(); ++k) {
-    csv << formatDouble(p.time[k]);
-    for (int j = 0; j < n; ++j) csv << "," << formatDouble(p.measured(j, k));
-    for (int j = 0; j < n; ++j) csv << "," << formatDouble(p.predicted(j, k));
-    csv << "\n";
+PredictedCsv::PredictedCsv(const std::string& dir) : dir_(dir) {}
+
+PredictedCsv::~PredictedCsv() {
+  out_.reset();  // removes the temporary unless committed
+  std::error_code ignored;
+  if (created_dir_ && !committed_) std::filesystem::remove(dir_, ignored);  // only when empty
+}
+
+void PredictedCsv::open() {
+  std::error_code ec;
+  created_dir_ = !std::filesystem::exists(dir_, ec);
+  writeReportFiles(dir_, {});  // creates the directory
+  out_ = std::make_unique<AtomicWriter>(dir_ + "/predicted.csv");
+}
+
+void PredictedCsv::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+                           const Eigen::MatrixXd& predicted) {
+  const auto n = static_cast<int>(measured.rows());
+  if (!out_) open();
+  if (!header_written_) {
+    std::string header = "t";
+    for (int j = 1; j <= n; ++j) header += ",tau" + std::to_string(j);
+    for (int j = 1; j <= n; ++j) header += ",tau_hat" + std::to_string(j);
+    out_->write(header + "\n");
+    header_written_ = true;
   }
+  std::array<char, 32> number;
+  const auto append = [&](double x) {
+    row_.append(number.data(), std::to_chars(number.data(), number.data() + number.size(), x).ptr);
+  };
+  for (Eigen::Index k = 0; k < time.size(); ++k) {
+    row_.clear();
+    append(time[k]);
+    for (int j = 0; j < n; ++j) {
+      row_ += ',';
+      append(measured(j, k));
+    }
+    for (int j = 0; j < n; ++j) {
+      row_ += ',';
+      append(predicted(j, k));
+    }
+    row_ += '\n';
+    out_->write(row_);
+  }
+}
+
+void PredictedCsv::commit() {
+  if (!out_) open();  // no samples: the header alone
+  if (!header_written_) out_->write("t\n");
+  out_->commit();
+  committed_ = true;
+}
+
+std::string writePrediction(const std::string& dir, const PredictOutcome& o,
+                            const std::string& estimate_file, const std::string& data_file,
+                            PredictedCsv& csv) {
+  const Prediction& p = o.prediction;
   std::vector<std::pair<std::string, std::string>> files = {
-      {"predicted.csv", csv.str()},
       {"prediction.json", jsonText(predictionJson(o, estimate_file, data_file), 2) + "\n"}};
   const std::optional<std::string> figure =
       torqueFigure(p, "measured and predicted joint torques: " + o.robot_spec);
   if (figure) files.emplace_back("torques.svg", *figure);
+  csv.commit();
   writeReportFiles(dir, files);
   const Validation& v = p.validation;
   std::ostringstream out;

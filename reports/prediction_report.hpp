@@ -3,6 +3,7 @@
 // against predicted torque for every joint, the figure every identification paper shows).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -27,9 +28,34 @@ std::optional<std::string> residualFigure(const Prediction& train, const Predict
 /// without gnuplot.
 std::optional<std::string> residualHistogram(const Prediction& train);
 
-/// Writes the three files into `dir` (the figure only when gnuplot works; a warning line is then
-/// part of the summary). Returns the console summary.
+class AtomicWriter;
+
+/// predicted.csv (t, tau1..taun, tau_hat1..tau_hatn), written sample by sample as the prediction
+/// streams (memory independent of the data's length) into a temporary, renamed into place by
+/// writePrediction; nothing is left when the run fails or is interrupted (a directory it created
+/// is removed again).
+class PredictedCsv : public PredictionSink {
+ public:
+  /// Creates `dir` when the first samples arrive. Throws Error when it cannot be written.
+  explicit PredictedCsv(const std::string& dir);
+  ~PredictedCsv() override;
+  void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+               const Eigen::MatrixXd& predicted) override;
+  void commit();
+
+ private:
+  void open();  // on the first samples: the directory and the temporary
+  std::string dir_;
+  std::unique_ptr<AtomicWriter> out_;
+  bool created_dir_ = false, committed_ = false;
+  bool header_written_ = false;
+  std::string row_;
+};
+
+/// Writes prediction.json and the figure into `dir` (the figure only when gnuplot works; a
+/// warning line is then part of the summary) and commits `csv`. Returns the console summary.
 std::string writePrediction(const std::string& dir, const PredictOutcome& outcome,
-                            const std::string& estimate_file, const std::string& data_file);
+                            const std::string& estimate_file, const std::string& data_file,
+                            PredictedCsv& csv);
 
 }  // namespace dynid

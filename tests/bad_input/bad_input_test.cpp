@@ -201,6 +201,12 @@ std::string generate(const std::string& kind, long n) {
     return s + "</robot>\n";
   }
   if (kind == "long_line") return std::string(static_cast<std::size_t>(n), '1') + "\n";
+  if (kind == "csv_rows_bad_last") {  // n - 1 rows of zeros, then one whose q2 is not a number
+    s = generate("csv_rows", n - 1);
+    s += std::to_string(n - 1) + ",0,x";
+    for (int k = 0; k < 22; ++k) s += ",0";
+    return s + "\n";
+  }
   if (kind == "csv_rows") {  // a PUMA dataset of n rows of zeros (a valid header)
     s = "t";
     for (const char* g : {"q", "dq", "ddq", "tau"})

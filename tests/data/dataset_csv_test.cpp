@@ -90,5 +90,87 @@ TEST(DatasetCsv, UnwritablePathLeavesNoFile) {
   EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(path).parent_path()));
 }
 
+/// A longer trajectory of 2 joints: 1000 samples.
+Trajectory longTrajectory() {
+  Trajectory t;
+  t.resize(2, 1000);
+  t.time = Eigen::VectorXd::LinSpaced(1000, 0.0, 0.999);
+  t.q = Eigen::MatrixXd::Random(2, 1000);
+  t.dq = Eigen::MatrixXd::Random(2, 1000);
+  t.ddq = Eigen::MatrixXd::Random(2, 1000);
+  t.tau = Eigen::MatrixXd::Random(2, 1000);
+  return t;
+}
+
+TEST(DatasetReader, ChunksOfAnySizeGiveTheWholeFile) {
+  const std::string path = test::tempPath("chunks.csv");
+  const Trajectory t = longTrajectory();
+  writeDatasetCsv(path, t);
+  for (int size : {1, 7, 999, 1000, 4096}) {
+    DatasetReader reader(path, 2);
+    EXPECT_EQ(reader.numJoints(), 2);
+    Trajectory chunk;
+    int at = 0;
+    while (const int got = reader.read(chunk, size)) {
+      ASSERT_LE(at + got, 1000);
+      EXPECT_EQ(chunk.numSamples(), got);
+      EXPECT_EQ(chunk.time, t.time.segment(at, got)) << size;
+      EXPECT_EQ(chunk.tau, t.tau.middleCols(at, got)) << size;
+      EXPECT_EQ(chunk.ddq, t.ddq.middleCols(at, got)) << size;
+      at += got;
+    }
+    EXPECT_EQ(at, 1000);
+    EXPECT_EQ(reader.samplesRead(), 1000);
+    EXPECT_EQ(reader.read(chunk, size), 0);  // stays at the end
+  }
+}
+
+TEST(DatasetReader, ErrorsAcrossChunksNameTheirLine) {
+  const std::string path = test::tempPath("chunk_errors.csv");
+  const Trajectory t = longTrajectory();
+  writeDatasetCsv(path, t);
+  std::string text = readFile(path);
+  // Line 502 (the 501st sample) repeats the time of line 501: found across a chunk boundary.
+  std::size_t at = 0;
+  for (int line = 1; line < 502; ++line) at = text.find('\n', at) + 1;
+  text.replace(at, text.find(',', at) - at, formatDouble(t.time[499]));
+  writeFileAtomically(path, text);
+  DatasetReader reader(path, 2);
+  Trajectory chunk;
+  EXPECT_EQ(reader.read(chunk, 500), 500);  // lines 2..501
+  try {
+    reader.read(chunk, 500);
+    FAIL() << "expected a ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 502);
+    EXPECT_EQ(e.element(), "t");
+  }
+}
+
+TEST(DatasetReader, AFileThatChangesWhileReadIsAnError) {
+  const std::string path = test::tempPath("growing.csv");
+  const Trajectory t = longTrajectory();
+  for (bool grow : {true, false}) {
+    writeDatasetCsv(path, t);
+    DatasetReader reader(path, 2);
+    Trajectory chunk;
+    reader.read(chunk, 10);
+    if (grow)
+      std::ofstream(path, std::ios::app) << "5,1,2,3,4,5,6,7,8\n";
+    else
+      std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
+    try {
+      while (reader.read(chunk, 100) > 0) {
+      }
+      FAIL() << "a file that " << (grow ? "grew" : "shrank") << " was read as if whole";
+    } catch (const ParseError& e) {  // a shrunk file may end inside a row
+      EXPECT_FALSE(grow) << e.what();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("changed while it was read"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynid

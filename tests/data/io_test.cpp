@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <limits>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -96,6 +97,28 @@ TEST(Io, FormatDoubleRoundTrips) {
   }
   EXPECT_EQ(formatDouble(0.1), "0.1");
   EXPECT_EQ(formatDouble(std::numeric_limits<double>::infinity()), "inf");
+}
+
+TEST(Io, LineReaderReturnsEveryLineOfAnyLength) {
+  const std::string path = test::tempPath("lines.txt");
+  const std::string long_line(100000, 'x');  // longer than a small file's first block
+  writeFileAtomically(path,
+                      "\xEF\xBB\xBF"
+                      "first\r\n\n" +
+                          long_line + "\nlast");
+  LineReader reader(path);
+  std::vector<std::string> lines;
+  std::string_view line;
+  while (reader.next(line)) lines.emplace_back(line);
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0], "first\r");  // the byte-order mark dropped, a '\r' kept
+  EXPECT_EQ(lines[1], "");
+  EXPECT_EQ(lines[2], long_line);
+  EXPECT_EQ(lines[3], "last");  // no final newline
+  EXPECT_EQ(reader.lineNumber(), 4);
+  EXPECT_FALSE(reader.next(line));
+  EXPECT_THROW(LineReader(test::tempPath("no-such-file")), Error);
+  EXPECT_THROW(LineReader(std::filesystem::temp_directory_path().string()), Error);
 }
 
 }  // namespace

@@ -8,7 +8,10 @@
 
 #include "tests/common/identification.hpp"
 
+#include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/parallel.hpp"
+#include "core/regressor.hpp"
 #include "data/puma560.hpp"
 
 namespace dynid {
@@ -131,6 +134,62 @@ TEST(LeastSquaresStream, RefusesBadSamples) {
     EXPECT_NE(std::string(e.what()).find("sample 18"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("dq3"), std::string::npos) << e.what();
   }
+}
+
+TEST(LeastSquaresStream, TheChainsStructureGivesTheSameEstimateWithSmallerFactors) {
+  const Model puma = makePuma560(true);
+  const BaseParameters base = pumaBase(puma);
+  const Trajectory data = pumaTrajectory(puma, 4.0, 0.5, 5);
+  LeastSquaresStream dense(base, 6), structured(base, puma);
+  addTrajectory(dense, puma, data);
+  addTrajectory(structured, puma, data);
+  for (LeastSquaresMethod method : {LeastSquaresMethod::kOrdinary, LeastSquaresMethod::kWeighted}) {
+    const BaseEstimate a = dense.estimate(method), b = structured.estimate(method);
+    // 1e-10 relative: the same least-squares problem, factored in another order (cond ~1e3).
+    EXPECT_LT((a.beta - b.beta).norm(), 1e-10 * a.beta.norm());
+    EXPECT_LT((a.residual_rms - b.residual_rms).norm(), 1e-10 * a.residual_rms.norm());
+    EXPECT_NEAR(a.condition_number, b.condition_number, 1e-9 * a.condition_number);
+  }
+  // A regressor entry the chain says cannot act (link 1's mass on joint 6) is refused, not
+  // silently dropped.
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(6, base.numStandard());
+  Y(5, 0) = 1.0;
+  EXPECT_THROW(structured.add(Y, Eigen::VectorXd::Zero(6)), Error);
+}
+
+TEST(LeastSquaresStream, SameBitsForAnyThreadCountAndChunking) {
+  const Model puma = makePuma560(true);
+  const BaseParameters base = pumaBase(puma);
+  const Trajectory data = pumaTrajectory(puma, 3.0, 0.5, 7);
+  const auto estimateWith = [&](int threads, int chunk) {
+    LeastSquaresStream stream(base, puma);
+    ThreadPool pool(threads);
+    for (int first = 0; first < data.numSamples(); first += chunk) {
+      const int count = std::min(chunk, data.numSamples() - first);
+      Trajectory part;
+      part.time = data.time.segment(first, count);
+      part.q = data.q.middleCols(first, count);
+      part.dq = data.dq.middleCols(first, count);
+      part.ddq = data.ddq.middleCols(first, count);
+      part.tau = data.tau.middleCols(first, count);
+      stream.addTrajectory(puma, part, &pool);
+    }
+    return stream.estimate(LeastSquaresMethod::kWeighted);
+  };
+  const BaseEstimate reference = estimateWith(1, data.numSamples());
+  for (auto [threads, chunk] : {std::pair{2, 1}, {2, 333}, {3, 1024}, {1, 5000}}) {
+    const BaseEstimate e = estimateWith(threads, chunk);
+    EXPECT_EQ(e.beta, reference.beta) << threads << " threads, chunks of " << chunk;
+    EXPECT_EQ(e.covariance, reference.covariance) << threads << " threads, chunks of " << chunk;
+    EXPECT_EQ(e.residual_rms, reference.residual_rms);
+  }
+  // One sample at a time through add() folds the same rows in the same order.
+  LeastSquaresStream single(base, puma);
+  Data work(puma);
+  for (int k = 0; k < data.numSamples(); ++k)
+    single.add(jointTorqueRegressor(puma, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)),
+               data.tau.col(k));
+  EXPECT_EQ(single.estimate(LeastSquaresMethod::kWeighted).beta, reference.beta);
 }
 
 }  // namespace

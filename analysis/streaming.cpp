@@ -1,0 +1,160 @@
+#include "analysis/streaming.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "core/data.hpp"
+#include "core/errors.hpp"
+#include "core/rnea.hpp"
+#include "data/dataset_csv.hpp"
+#include "identifiability/observation.hpp"
+
+namespace dynid {
+
+void SampleKeeper::add(const Trajectory& chunk) {
+  const int n = chunk.numJoints(), m = chunk.numSamples();
+  if (kept_.numSamples() == 0) kept_.resize(n, 2 * kMaxPlottedSamples);
+  if (kept_.numJoints() != n) throw InputError("SampleKeeper: samples of another joint count");
+  for (int k = 0; k < m; ++k, ++seen_) {
+    if (seen_ % stride_ != 0) continue;
+    if (count_ == kept_.numSamples()) {  // full: keep every other sample, double the stride
+      const int half = count_ / 2;
+      for (int i = 0; i < half; ++i) {
+        kept_.time[i] = kept_.time[2 * i];
+        for (Eigen::MatrixXd* b : {&kept_.q, &kept_.dq, &kept_.ddq, &kept_.tau})
+          b->col(i) = b->col(2 * i);
+      }
+      count_ = half;
+      stride_ *= 2;
+      if (seen_ % stride_ != 0) continue;
+    }
+    kept_.time[count_] = chunk.time[k];
+    kept_.q.col(count_) = chunk.q.col(k);
+    kept_.dq.col(count_) = chunk.dq.col(k);
+    kept_.ddq.col(count_) = chunk.ddq.col(k);
+    kept_.tau.col(count_) = chunk.tau.col(k);
+    ++count_;
+  }
+}
+
+Trajectory SampleKeeper::kept() const {
+  Trajectory out = kept_;
+  out.truncate(count_);
+  return out;
+}
+
+namespace {
+
+/// Per-joint sums of a prediction over every sample, and its series.
+class PredictionAccumulator {
+ public:
+  PredictionAccumulator(const Model& model, int threads) : model_(model) {
+    for (int t = 0; t < threads; ++t) work_.push_back(std::make_unique<Data>(model));
+    const int n = model.numJoints();
+    residual_squared_ = measured_squared_ = Eigen::VectorXd::Zero(n);
+  }
+
+  /// RNEA on a chunk (blocks of samples on the pool's threads), its sums, the kept samples.
+  void add(const Trajectory& chunk, ThreadPool* pool, PredictionSink* sink) {
+    const int m = chunk.numSamples();
+    for (int k = 0; k < m; ++k) checkFiniteSample(chunk, k);
+    predicted_.resize(model_.numJoints(), m);
+    constexpr int kBlock = 64;
+    const auto body = [&](int block, int thread) {
+      Data& work = *work_[static_cast<std::size_t>(thread)];
+      for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k)
+        predicted_.col(k) = rnea(model_, work, chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
+    };
+    const int blocks = (m + kBlock - 1) / kBlock;
+    if (pool)
+      pool->parallelFor(blocks, body);
+    else
+      for (int b = 0; b < blocks; ++b) body(b, 0);
+    // Sample by sample, in order: the sums do not depend on how the data are chunked.
+    for (int k = 0; k < m; ++k) {
+      residual_squared_ += (chunk.tau.col(k) - predicted_.col(k)).cwiseAbs2();
+      measured_squared_ += chunk.tau.col(k).cwiseAbs2();
+    }
+    samples_ += m;
+    keeper_.add(chunk);
+    if (sink) sink->samples(chunk.time, chunk.tau, predicted_);
+  }
+
+  Prediction finish() const {
+    Validation v;
+    v.num_samples = static_cast<int>(samples_);
+    const double count = std::max<double>(static_cast<double>(samples_), 1.0);
+    v.torque_rms = (residual_squared_ / count).cwiseSqrt();
+    const Eigen::VectorXd measured_rms = (measured_squared_ / count).cwiseSqrt();
+    const double inf = std::numeric_limits<double>::infinity();
+    v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
+    v.normalised_rms.resize(measured_rms.size());
+    for (Eigen::Index j = 0; j < measured_rms.size(); ++j)
+      v.normalised_rms[j] = measured_rms[j] > 0.0 ? v.torque_rms[j] / measured_rms[j] : inf;
+    return predictionOfKept(model_, keeper_, v, measured_rms);
+  }
+
+ private:
+  const Model& model_;
+  std::vector<std::unique_ptr<Data>> work_;
+  Eigen::MatrixXd predicted_;
+  Eigen::VectorXd residual_squared_, measured_squared_;
+  long long samples_ = 0;
+  SampleKeeper keeper_;
+};
+
+void requireJoints(const Model& model, int joints, const std::string& what) {
+  if (joints != model.numJoints())
+    throw InputError(what + " has " + std::to_string(joints) + " joints, robot '" + model.name +
+                     "' has " + std::to_string(model.numJoints()));
+}
+
+}  // namespace
+
+void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
+                    ThreadPool& pool, SampleKeeper* keeper, int chunk_samples) {
+  DatasetReader reader(file, model.numJoints());
+  Trajectory chunk;
+  while (reader.read(chunk, chunk_samples) > 0) {
+    stream.addTrajectory(model, chunk, &pool);
+    if (keeper) keeper->add(chunk);
+  }
+}
+
+Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
+                       PredictionSink* sink, int chunk_samples) {
+  DatasetReader reader(file, model.numJoints());
+  PredictionAccumulator accumulator(model, pool.numThreads());
+  Trajectory chunk;
+  while (reader.read(chunk, chunk_samples) > 0) accumulator.add(chunk, &pool, sink);
+  return accumulator.finish();
+}
+
+Prediction predictTorques(const Model& model, const Trajectory& data) {
+  requireJoints(model, data.numJoints(), "the data");
+  PredictionAccumulator accumulator(model, 1);
+  accumulator.add(data, nullptr, nullptr);
+  return accumulator.finish();
+}
+
+Prediction predictionOfKept(const Model& model, const SampleKeeper& keeper,
+                            const Validation& validation, const Eigen::VectorXd& measured_rms) {
+  Prediction out;
+  out.validation = validation;
+  out.measured_rms = measured_rms;
+  out.stride = keeper.stride();
+  const Trajectory kept = keeper.kept();
+  const int count = keeper.count();
+  out.time = kept.time.head(count);
+  out.measured = kept.tau.leftCols(count);
+  out.predicted.resize(model.numJoints(), count);
+  Data work(model);
+  for (int k = 0; k < count; ++k)
+    out.predicted.col(k) = rnea(model, work, kept.q.col(k), kept.dq.col(k), kept.ddq.col(k));
+  return out;
+}
+
+}  // namespace dynid

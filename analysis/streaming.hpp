@@ -1,0 +1,84 @@
+// Datasets streamed in chunks of samples: what reads a log of any length (identify, identifiability
+// --data, predict, identify --validate) in memory independent of its length, on all threads, with
+// results that do not depend on the thread count or the chunk size.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "core/parallel.hpp"
+#include "core/trajectory.hpp"
+#include "identifiability/least_squares.hpp"
+#include "identifiability/least_squares_stream.hpp"
+
+namespace dynid {
+
+/// Samples per chunk: large enough to keep both threads busy between reads, small enough that a
+/// chunk's regressor rows stay in the last-level cache (4096 x ~100 columns x 8 B per joint).
+inline constexpr int kStreamChunkSamples = 2048;
+
+/// Samples kept for figures: every sample up to twice this many, then every stride-th sample (the
+/// stride doubling as the data grow), between this many and twice as many.
+inline constexpr int kMaxPlottedSamples = 4096;
+
+/// A model's torques on a dataset, against the measured ones: statistics over every sample, and
+/// evenly spaced samples for figures.
+struct Prediction {
+  Validation validation;         // residual RMS, normalised RMS, relative error (every sample)
+  Eigen::VectorXd measured_rms;  // per joint, every sample [N m]
+  int stride = 1;                // the series holds samples 0, stride, 2 stride, ...
+  Eigen::VectorXd time;          // the series: kept samples' time [s],
+  Eigen::MatrixXd measured, predicted;  // and torques (n x kept) [N m]
+};
+
+/// Evenly spaced samples of a stream: every stride-th sample, the stride doubling (every other
+/// kept sample dropped) whenever 2 * kMaxPlottedSamples would be exceeded. The same samples for
+/// any division of the stream into chunks.
+class SampleKeeper {
+ public:
+  /// Offers the next samples of the stream.
+  void add(const Trajectory& chunk);
+  /// The kept samples, in order: samples 0, stride(), 2 stride(), ... of the stream.
+  Trajectory kept() const;
+  int count() const { return count_; }
+  int stride() const { return stride_; }
+
+ private:
+  Trajectory kept_;  // capacity 2 kMaxPlottedSamples
+  int count_ = 0;    // kept samples in use
+  long long seen_ = 0;
+  int stride_ = 1;
+};
+
+/// Receives a prediction's samples in order, chunk by chunk (predict's per-sample CSV).
+class PredictionSink {
+ public:
+  virtual ~PredictionSink() = default;
+  /// measured and predicted: n x time.size().
+  virtual void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+                       const Eigen::MatrixXd& predicted) = 0;
+};
+
+/// Folds every sample of the dataset `file` into `stream` with `model`'s regressor, chunk by
+/// chunk; offers each chunk to `keeper` when given. Throws what DatasetReader throws, and
+/// InputError prefixed with the file for a dataset of another joint count.
+void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
+                    ThreadPool& pool, SampleKeeper* keeper = nullptr,
+                    int chunk_samples = kStreamChunkSamples);
+
+/// RNEA of `model` (its parameters and drive terms) at every sample of the dataset `file`,
+/// streamed; each chunk also goes to `sink` when given. Throws what DatasetReader throws.
+Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
+                       PredictionSink* sink = nullptr, int chunk_samples = kStreamChunkSamples);
+
+/// The same for data in memory. Throws InputError when the joint counts differ.
+Prediction predictTorques(const Model& model, const Trajectory& data);
+
+/// The series of a prediction whose statistics are known (a least-squares fit's residuals): RNEA
+/// of `model` on the kept samples, with `validation` and `measured_rms` as given.
+Prediction predictionOfKept(const Model& model, const SampleKeeper& keeper,
+                            const Validation& validation, const Eigen::VectorXd& measured_rms);
+
+}  // namespace dynid
