@@ -118,7 +118,7 @@ void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::s
                     ThreadPool& pool, SampleKeeper* keeper, int chunk_samples) {
   DatasetReader reader(file, model.numJoints());
   Trajectory chunk;
-  while (reader.read(chunk, chunk_samples) > 0) {
+  while (reader.read(chunk, chunk_samples, &pool) > 0) {
     stream.addTrajectory(model, chunk, &pool);
     if (keeper) keeper->add(chunk);
   }
@@ -129,7 +129,7 @@ Prediction predictFile(const Model& model, const std::string& file, ThreadPool& 
   DatasetReader reader(file, model.numJoints());
   PredictionAccumulator accumulator(model, pool.numThreads());
   Trajectory chunk;
-  while (reader.read(chunk, chunk_samples) > 0) accumulator.add(chunk, &pool, sink);
+  while (reader.read(chunk, chunk_samples, &pool) > 0) accumulator.add(chunk, &pool, sink);
   return accumulator.finish();
 }
 

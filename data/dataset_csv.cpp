@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <limits>
 #include <string_view>
 #include <vector>
@@ -152,12 +153,8 @@ void DatasetReader::parseRow(std::string_view line, int line_number, Trajectory&
       x = std::strtod(std::string(digits).c_str(), nullptr);
     if (!std::isfinite(x))
       throw ParseError(path_, line_number, column(), "'" + std::string(field) + "' is not finite");
-    if (c == 0) {
-      if (samples_ + k > 0 && !(x > last_time_))
-        throw ParseError(path_, line_number, "t",
-                         "time must increase strictly (" + std::string(field) + " after " +
-                             formatDouble(last_time_) + ")");
-      chunk.time[k] = last_time_ = x;
+    if (c == 0) {  // its order is checked by read(), row after row
+      chunk.time[k] = x;
       continue;
     }
     const int block = static_cast<int>((c - 1) / n_), joint = static_cast<int>((c - 1) % n_);
@@ -166,9 +163,16 @@ void DatasetReader::parseRow(std::string_view line, int line_number, Trajectory&
   }
 }
 
-int DatasetReader::read(Trajectory& chunk, int max_samples) {
+int DatasetReader::read(Trajectory& chunk, int max_samples, ThreadPool* pool) {
   if (max_samples < 1) throw InputError("DatasetReader::read: max_samples must be >= 1");
   if (chunk.numJoints() != n_ || chunk.numSamples() != max_samples) chunk.resize(n_, max_samples);
+  // The chunk's rows copied (the line reader's buffer moves), then parsed in blocks on the pool's
+  // threads; errors are thrown in the order of the file: the first row at fault, whatever found
+  // it first.
+  text_.clear();
+  offsets_.clear();
+  line_numbers_.clear();
+  std::exception_ptr pending;  // a blank line before a row, or too many rows: after the rows
   int k = 0;
   std::string_view line;
   while (!done_ && k < max_samples) {
@@ -181,14 +185,61 @@ int DatasetReader::read(Trajectory& chunk, int max_samples) {
       if (blank_line_ == 0) blank_line_ = lines_->lineNumber();
       continue;
     }
-    if (blank_line_ != 0)
-      throw ParseError(path_, blank_line_, "",
-                       "row has 1 fields, the header has " + std::to_string(1 + 4 * n_));
-    if (samples_ + k >= std::numeric_limits<int>::max())
-      throw ParseError(path_, lines_->lineNumber(), "", "more than 2^31 - 1 rows");
-    parseRow(line, lines_->lineNumber(), chunk, k);
+    if (blank_line_ != 0) {
+      pending = std::make_exception_ptr(
+          ParseError(path_, blank_line_, "",
+                     "row has 1 fields, the header has " + std::to_string(1 + 4 * n_)));
+      break;
+    }
+    if (samples_ + k >= std::numeric_limits<int>::max()) {
+      pending = std::make_exception_ptr(
+          ParseError(path_, lines_->lineNumber(), "", "more than 2^31 - 1 rows"));
+      break;
+    }
+    offsets_.push_back(text_.size());
+    text_.append(line);
+    line_numbers_.push_back(lines_->lineNumber());
     ++k;
   }
+  offsets_.push_back(text_.size());
+  constexpr int kBlock = 256;
+  const int blocks = (k + kBlock - 1) / kBlock;
+  std::vector<std::pair<int, std::exception_ptr>> errors(static_cast<std::size_t>(blocks),
+                                                         {k, nullptr});
+  const auto parse = [&](int block, int) {
+    for (int r = block * kBlock; r < std::min(k, (block + 1) * kBlock); ++r) {
+      try {
+        const auto at = static_cast<std::size_t>(r);
+        parseRow(std::string_view(text_).substr(offsets_[at], offsets_[at + 1] - offsets_[at]),
+                 line_numbers_[at], chunk, r);
+      } catch (...) {
+        errors[static_cast<std::size_t>(block)] = {r, std::current_exception()};
+        return;
+      }
+    }
+  };
+  if (pool && blocks > 1)
+    pool->parallelFor(blocks, parse);
+  else
+    for (int b = 0; b < blocks; ++b) parse(b, 0);
+  int bad_row = k;  // the first row that failed to parse
+  std::exception_ptr parse_error;
+  for (const auto& [row, error] : errors)
+    if (error) {
+      bad_row = row;
+      parse_error = error;
+      break;
+    }
+  for (int r = 0; r < bad_row; ++r) {
+    const double t = chunk.time[r];
+    if (samples_ + r > 0 && !(t > last_time_))
+      throw ParseError(path_, line_numbers_[static_cast<std::size_t>(r)], "t",
+                       "time must increase strictly (" + formatDouble(t) + " after " +
+                           formatDouble(last_time_) + ")");
+    last_time_ = t;
+  }
+  if (parse_error) std::rethrow_exception(parse_error);
+  if (pending) std::rethrow_exception(pending);
   if (done_ && samples_ + k == 0) throw ParseError(path_, 1, "", "no data rows after the header");
   samples_ += k;
   if (k < max_samples) chunk.truncate(k);

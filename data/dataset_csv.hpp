@@ -5,7 +5,9 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "core/parallel.hpp"
 #include "core/trajectory.hpp"
 
 namespace dynid {
@@ -36,7 +38,8 @@ class DatasetReader {
   /// its time, q, dq, ddq and tau) and returns count: 0 once the file is read. Throws ParseError
   /// at the first row at fault (line and column named), also when the file has no data row,
   /// Error when a regular file changed size while it was read.
-  int read(Trajectory& chunk, int max_samples);
+  /// With a pool, the rows are parsed on its threads (the same result, the same first error).
+  int read(Trajectory& chunk, int max_samples, ThreadPool* pool = nullptr);
 
   int numJoints() const { return n_; }
   const std::string& path() const { return path_; }
@@ -52,6 +55,9 @@ class DatasetReader {
   double last_time_ = 0.0;
   int blank_line_ = 0;  // the first blank line since the last row (an error if a row follows)
   bool done_ = false;
+  std::string text_;                  // the chunk's rows, copied
+  std::vector<std::size_t> offsets_;  // row r: text_[offsets_[r], offsets_[r + 1])
+  std::vector<int> line_numbers_;
 };
 
 /// Reads a dataset. Checks the header (names the column that differs), that every row has

@@ -106,12 +106,13 @@ TEST(DatasetReader, ChunksOfAnySizeGiveTheWholeFile) {
   const std::string path = test::tempPath("chunks.csv");
   const Trajectory t = longTrajectory();
   writeDatasetCsv(path, t);
-  for (int size : {1, 7, 999, 1000, 4096}) {
+  ThreadPool pool(3);
+  for (auto [size, threads] : {std::pair{1, 1}, {7, 1}, {999, 3}, {1000, 1}, {4096, 3}}) {
     DatasetReader reader(path, 2);
     EXPECT_EQ(reader.numJoints(), 2);
     Trajectory chunk;
     int at = 0;
-    while (const int got = reader.read(chunk, size)) {
+    while (const int got = reader.read(chunk, size, threads > 1 ? &pool : nullptr)) {
       ASSERT_LE(at + got, 1000);
       EXPECT_EQ(chunk.numSamples(), got);
       EXPECT_EQ(chunk.time, t.time.segment(at, got)) << size;
@@ -134,15 +135,37 @@ TEST(DatasetReader, ErrorsAcrossChunksNameTheirLine) {
   std::size_t at = 0;
   for (int line = 1; line < 502; ++line) at = text.find('\n', at) + 1;
   text.replace(at, text.find(',', at) - at, formatDouble(t.time[499]));
+  // And line 900's first field is not a number: later in the file, reported second.
+  for (int line = 502; line < 900; ++line) at = text.find('\n', at) + 1;
+  text.replace(at, text.find(',', at) - at, "x");
+  writeFileAtomically(path, text);
+  ThreadPool pool(2);
+  for (ThreadPool* threads : {static_cast<ThreadPool*>(nullptr), &pool}) {
+    DatasetReader reader(path, 2);
+    Trajectory chunk;
+    EXPECT_EQ(reader.read(chunk, 500, threads), 500);  // lines 2..501
+    try {
+      reader.read(chunk, 500, threads);  // blocks of rows parsed on two threads
+      FAIL() << "expected a ParseError";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.line(), 502) << e.what();
+      EXPECT_EQ(e.element(), "t");
+    }
+  }
+  // Without the time error, the parse error's line.
+  text = readFile(path);
+  at = 0;
+  for (int line = 1; line < 502; ++line) at = text.find('\n', at) + 1;
+  text.replace(at, text.find(',', at) - at, formatDouble(t.time[500]));
   writeFileAtomically(path, text);
   DatasetReader reader(path, 2);
   Trajectory chunk;
-  EXPECT_EQ(reader.read(chunk, 500), 500);  // lines 2..501
   try {
-    reader.read(chunk, 500);
+    while (reader.read(chunk, 4096, &pool) > 0) {
+    }
     FAIL() << "expected a ParseError";
   } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 502);
+    EXPECT_EQ(e.line(), 900) << e.what();
     EXPECT_EQ(e.element(), "t");
   }
 }
