@@ -167,7 +167,8 @@ Observation observationOfFile(const Model& model, const Trajectory& data, const 
 }  // namespace
 
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
-                                          const std::string& data_file, int threads) {
+                                          const std::string& data_file, int threads,
+                                          const Trajectory* data) {
   IdentifiabilityOutcome out;
   out.structural = structural;
   out.base = structuralBaseParameters(model, structural);
@@ -176,11 +177,14 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
   const Observation check = observationFromRandomStates(
       model, std::max(100, out.base.numStandard()), structural.seed + 1);
   out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
-  if (!data_file.empty()) {
+  if (data || !data_file.empty()) {
     // Streamed: the base regressor's triangular factor, never the observation matrix.
     LeastSquaresStream stream(out.base, model);
     ThreadPool pool(threads);
-    addDatasetFile(stream, model, data_file, pool);
+    if (data)
+      stream.addTrajectory(model, *data, &pool);
+    else
+      addDatasetFile(stream, model, data_file, pool);
     const LeastSquaresStream::Factor f = stream.factor();
     Eigen::VectorXd r_diagonal = f.r_scaled.diagonal().cwiseAbs();
     const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(f.r_scaled).singularValues();
@@ -263,12 +267,18 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   SampleKeeper kept;                     // ols, wls: the training samples for the figures
   try {
     if (request.method == Method::kPc) {
-      train_data = readDatasetCsv(request.data_file, model.numJoints());
+      train_data =
+          request.data ? *request.data : readDatasetCsv(request.data_file, model.numJoints());
       const Observation train = observationOfFile(model, *train_data, request.data_file);
       out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
     } else {  // OLS and WLS stream the file: memory independent of the dataset's length
       LeastSquaresStream stream(out.base, model);
-      addDatasetFile(stream, model, request.data_file, pool, &kept);
+      if (request.data) {
+        stream.addTrajectory(model, *request.data, &pool);
+        kept.add(*request.data);
+      } else {
+        addDatasetFile(stream, model, request.data_file, pool, &kept);
+      }
       out.result.estimate =
           stream.estimate(request.method == Method::kOls ? LeastSquaresMethod::kOrdinary
                                                          : LeastSquaresMethod::kWeighted);
@@ -297,8 +307,12 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     v.relative_error = e.relative_error;
     out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
   }
-  out.preparation = preparationRecord(request.data_file);
-  if (!request.validate_file.empty()) {
+  if (!request.data) out.preparation = preparationRecord(request.data_file);
+  if (request.validate) {
+    out.validate_fit = predictTorques(identified, *request.validate, &pool);
+    out.validation = out.validate_fit->validation;
+    out.validate_file = request.validate_file;
+  } else if (!request.validate_file.empty()) {
     out.validate_fit = predictFile(identified, request.validate_file, pool);
     out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
@@ -457,8 +471,9 @@ SearchOutcome searchRun(const SearchRequest& request) {
   const ParameterSpace& space = *out.space;
   SegmentOptions segments = request.segments;
   segments.seed = request.seed;
-  const GcProblem problem =
-      makeGcProblem(readDatasetCsv(request.data_file, robot.numJoints()), segments);
+  const GcProblem problem = makeGcProblem(
+      request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
+      segments);
   ThreadPool pool(resolveThreads(request.threads));
   Eigen::VectorXd truth_full;
   if (request.truth) truth_full = space.fullVector(*request.truth);
@@ -521,16 +536,18 @@ RefineOutcome refineRun(const RefineRequest& request) {
   SegmentOptions segment_options;
   segment_options.horizon = request.horizon;
   segment_options.num_segments = request.segments;
-  const RefineStart start =
-      refineStartFrom(parseJson(readFile(request.from_file), request.from_file), request.from_file,
-                      robot, space_options, segment_options);
+  const RefineStart start = refineStartFrom(
+      request.from_document ? *request.from_document
+                            : parseJson(readFile(request.from_file), request.from_file),
+      request.from_file, robot, space_options, segment_options);
   out.from_kind = start.kind;
   out.segment_options = start.segments;
   out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);
   const ParameterSpace& space = *out.space;
   out.x0 = space.project(space.freeOf(space.fullVector(start.estimate)));
-  const GcProblem problem =
-      makeGcProblem(readDatasetCsv(request.data_file, robot.numJoints()), start.segments);
+  const GcProblem problem = makeGcProblem(
+      request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
+      start.segments);
   out.num_segments = problem.numSegments();
   if (request.truth && request.truth->parameterLayout().size() != robot.parameterLayout().size())
     throw InputError("the true model has another parameter layout than the robot");

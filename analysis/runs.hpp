@@ -105,8 +105,10 @@ struct IdentifiabilityOutcome {
 };
 /// The structural base parameters of `model`, and, when `data_file` is not empty, how that
 /// dataset excites them (streamed on `threads` threads, 0: all; the same result for any count).
+/// `data`, when given, holds that dataset in memory (`data_file` then only names it).
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
-                                          const std::string& data_file = "", int threads = 0);
+                                          const std::string& data_file = "", int threads = 0,
+                                          const Trajectory* data = nullptr);
 
 // ---- identification ----
 
@@ -135,6 +137,10 @@ struct IdentifyRequest {
   double prior_weight = 1.0;     // pc, > 0 (PhysicalOptions::prior_weight)
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
+  /// Data in memory instead of the files (the Python module's arrays); the file names then only
+  /// name them in messages and records. Not owned; they must outlive the call.
+  const Trajectory* data = nullptr;
+  const Trajectory* validate = nullptr;
   StructuralOptions structural;
   /// The URDF the model was loaded from, to write the estimate back into (empty: no write-back).
   std::string write_back_from;
@@ -211,6 +217,7 @@ struct SearchRequest {
   std::optional<double> perturb;  // or: the robot's parameters perturbed by up to this fraction
   std::optional<Model> truth;     // for parameter errors
   std::string data_file, validate_file;
+  const Trajectory* data = nullptr;      // data in memory instead of data_file (not owned)
   SpaceOptions space;                    // total_mass and total_mass_constraint resolved below
   std::string mass_constraint = "auto";  // on, off or auto (on for nlo and hybrid)
   std::optional<double> total_mass;      // default: the truth's, else the initial estimate's
@@ -244,7 +251,9 @@ SearchOutcome searchRun(const SearchRequest& request);
 struct RefineRequest {
   Model robot;
   std::string from_file;  // a search.json (dynid search) or an estimate.json (dynid identify)
+  std::optional<nlohmann::json> from_document;  // that document in memory (from_file names it)
   std::string data_file, validate_file;
+  const Trajectory* data = nullptr;  // data in memory instead of data_file (not owned)
   std::optional<Model> truth;
   RefineOptions options;  // num_threads 0: all cores; stop from `control`
   // For a start from estimate.json: the space and segments (a search.json carries its own).

@@ -133,10 +133,11 @@ Prediction predictFile(const Model& model, const std::string& file, ThreadPool& 
   return accumulator.finish();
 }
 
-Prediction predictTorques(const Model& model, const Trajectory& data) {
+Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool,
+                          PredictionSink* sink) {
   requireJoints(model, data.numJoints(), "the data");
-  PredictionAccumulator accumulator(model, 1);
-  accumulator.add(data, nullptr, nullptr);
+  PredictionAccumulator accumulator(model, pool ? pool->numThreads() : 1);
+  accumulator.add(data, pool, sink);
   return accumulator.finish();
 }
 

@@ -73,8 +73,10 @@ void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::s
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
                        PredictionSink* sink = nullptr, int chunk_samples = kStreamChunkSamples);
 
-/// The same for data in memory. Throws InputError when the joint counts differ.
-Prediction predictTorques(const Model& model, const Trajectory& data);
+/// The same for data in memory (on the pool's threads when given; the same result for any count).
+/// Throws InputError when the joint counts differ.
+Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr,
+                          PredictionSink* sink = nullptr);
 
 /// The series of a prediction whose statistics are known (a least-squares fit's residuals): RNEA
 /// of `model` on the kept samples, with `validation` and `measured_rms` as given.
