@@ -1,0 +1,352 @@
+// Identifiability (BaseParameters, base_parameters, identifiability) and identification
+// (identify, predict): the pipelines of analysis/runs.hpp, the documents of reports/ as to_json().
+#include <cmath>
+#include <optional>
+
+#include <pybind11/stl.h>
+
+#include "analysis/runs.hpp"
+#include "core/errors.hpp"
+#include "data/json_number.hpp"
+#include "python/common.hpp"
+#include "reports/identification_report.hpp"
+
+namespace dynid::python {
+namespace {
+
+/// What `identifiability()` returns: the outcome and the model it describes (for to_json).
+struct IdentifiabilityResult {
+  Model model;
+  IdentifiabilityOutcome outcome;
+};
+
+/// What `identify()` returns.
+struct EstimateResult {
+  Model model;  // the robot as given (its parameters are the prior)
+  IdentifyOutcome outcome;
+};
+
+/// Collects every predicted sample (predict()'s arrays).
+class CollectingSink : public PredictionSink {
+ public:
+  void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+               const Eigen::MatrixXd& predicted) override {
+    const Eigen::Index n = measured.rows();
+    for (Eigen::Index k = 0; k < time.size(); ++k) {
+      time_.push_back(time[k]);
+      for (Eigen::Index j = 0; j < n; ++j) {
+        measured_.push_back(measured(j, k));
+        predicted_.push_back(predicted(j, k));
+      }
+    }
+  }
+  py::array_t<double> time() const { return vectorOf(time_, {}); }
+  py::array_t<double> measured(py::ssize_t n) const { return vectorOf(measured_, {n}); }
+  py::array_t<double> predicted(py::ssize_t n) const { return vectorOf(predicted_, {n}); }
+
+ private:
+  py::array_t<double> vectorOf(const std::vector<double>& v, std::vector<py::ssize_t> tail) const {
+    py::ssize_t per = 1;
+    for (py::ssize_t d : tail) per *= d;
+    tail.insert(tail.begin(), static_cast<py::ssize_t>(v.size()) / per);
+    py::array_t<double> out(tail);
+    std::copy(v.begin(), v.end(), out.mutable_data());
+    return out;
+  }
+  std::vector<double> time_, measured_, predicted_;
+};
+
+/// predict()'s result: every sample's torques and the statistics.
+struct PredictionResult {
+  Prediction prediction;
+  py::array_t<double> time, measured, predicted;
+};
+
+py::dict validationDict(const Validation& v) {
+  py::dict d;
+  d["num_samples"] = v.num_samples;
+  d["torque_rms"] = toNumpy(v.torque_rms);
+  d["normalised_rms"] = toNumpy(v.normalised_rms);
+  d["relative_error"] = v.relative_error;
+  return d;
+}
+
+StructuralOptions structural(int samples, std::uint64_t seed, double tolerance) {
+  if (samples < 0) throw py::value_error("samples: expected >= 0 (0: max(100, 5 p / n))");
+  if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
+    throw py::value_error("tolerance: expected a finite number >= 0 (0: the default)");
+  return {samples, seed, tolerance};
+}
+
+std::vector<std::string> baseNames(const BaseParameters& b) {
+  std::vector<std::string> out;
+  for (int j = 0; j < b.numBase(); ++j) out.push_back(b.baseName(j));
+  return out;
+}
+
+EstimateResult identify(const Model& model, const py::handle& data, const std::string& method,
+                        const py::handle& validate, const std::optional<Model>& prior,
+                        double prior_weight, int samples, std::uint64_t seed, double tolerance,
+                        int threads, const std::string& robot_spec) {
+  checkThreads(threads);
+  if (!(prior_weight > 0.0) || !std::isfinite(prior_weight))
+    throw py::value_error("prior_weight: expected a finite number > 0");
+  IdentifyRequest request;
+  request.model = model;
+  request.method = parseMethod(method, leastSquaresMethods());
+  request.prior = prior;
+  request.prior_weight = prior_weight;
+  request.structural = structural(samples, seed, tolerance);
+  request.threads = threads;
+  request.robot_spec = robot_spec;
+  const DataArg train = dataArg(data, "data", model);
+  request.data_file = train.path;
+  request.data = train.arrays;
+  if (!validate.is_none()) {
+    const DataArg held = dataArg(validate, "validate", model);
+    request.validate_file = held.path;
+    request.validate = held.arrays;
+  }
+  EstimateResult out{model, {}};
+  py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
+  out.outcome = identifyRun(request);
+  return out;
+}
+
+PredictionResult predict(const Model& model, const py::handle& data, int threads) {
+  checkThreads(threads);
+  const DataArg d = dataArg(data, "data", model);
+  const Model local = model;
+  CollectingSink sink;
+  PredictionResult out;
+  {
+    py::gil_scoped_release release;
+    ThreadPool pool(resolveThreads(threads));
+    out.prediction = d.arrays ? predictTorques(local, *d.arrays, &pool, &sink)
+                              : predictFile(local, d.path, pool, &sink);
+  }
+  const py::ssize_t n = model.numJoints();
+  out.time = sink.time();
+  out.measured = sink.measured(n);
+  out.predicted = sink.predicted(n);
+  return out;
+}
+
+}  // namespace
+
+void bindIdentification(py::module_& m) {
+  py::class_<BaseParameters>(
+      m, "BaseParameters",
+      "Which combinations of the standard parameters the torques determine (Gautier's QR). "
+      "beta = projection @ theta; regressor @ null_space == 0.")
+      .def_property_readonly("names", &baseNames,
+                             "Base parameter names, e.g. 'Izz1R' (R: others regrouped into it).")
+      .def_readonly("standard_names", &BaseParameters::standard_names)
+      .def_property_readonly("num_base", &BaseParameters::numBase)
+      .def_property_readonly("num_standard", &BaseParameters::numStandard)
+      .def_readonly("independent", &BaseParameters::independent,
+                    "Indices into the standard vector of the base parameters' leading terms.")
+      .def_readonly("dependent", &BaseParameters::dependent)
+      .def_readonly("zero_columns", &BaseParameters::zero_columns,
+                    "Standard parameters that never affect the torques.")
+      .def_property_readonly("K", [](const BaseParameters& b) { return toNumpy(b.K); })
+      .def_property_readonly(
+          "projection", [](const BaseParameters& b) { return toNumpy(b.projectionMatrix()); },
+          "P, shape (num_base, num_standard): beta = P @ theta.")
+      .def_property_readonly(
+          "null_space", [](const BaseParameters& b) { return toNumpy(b.nullSpace()); },
+          "Basis of the unidentifiable directions, shape (num_standard, num_standard - num_base).")
+      .def_property_readonly(
+          "expressions",
+          [](const BaseParameters& b) {
+            std::vector<std::string> out;
+            for (int j = 0; j < b.numBase(); ++j) out.push_back(b.expression(j));
+            return out;
+          },
+          "Each base parameter as text, e.g. 'Izz1 + Iyy2 + 0.1865*m3'.")
+      .def("combination", &BaseParameters::combination, py::arg("j"), py::arg("relative") = 1e-9,
+           "[(standard name, coefficient), ...] of base parameter j, the leading one first.")
+      .def_property_readonly("rank_gap", &BaseParameters::rankGap)
+      .def_readonly("tolerance", &BaseParameters::tolerance)
+      .def_property_readonly("significance",
+                             [](const BaseParameters& b) { return toNumpy(b.significance); })
+      .def(
+          "project",
+          [](const BaseParameters& b, const py::handle& theta) {
+            return toNumpy(b.project(vectorArg(theta, "theta", b.numStandard())));
+          },
+          py::arg("theta"), "beta = theta1 + K theta2 of a standard vector.")
+      .def(
+          "standard_from_base",
+          [](const BaseParameters& b, const py::handle& beta, const py::handle& prior) {
+            return toNumpy(b.standardFromBase(vectorArg(beta, "beta", b.numBase()),
+                                              vectorArg(prior, "prior", b.numStandard())));
+          },
+          py::arg("beta"), py::arg("prior"),
+          "A standard vector with these base values, the unseen directions from `prior`.")
+      .def("__repr__", [](const BaseParameters& b) {
+        return "<dynid.BaseParameters: " + std::to_string(b.numBase()) + " of " +
+               std::to_string(b.numStandard()) + ">";
+      });
+
+  m.def(
+      "base_parameters",
+      [](const Model& model, int samples, std::uint64_t seed, double tolerance) {
+        const StructuralOptions options = structural(samples, seed, tolerance);
+        py::gil_scoped_release release;
+        return structuralBaseParameters(model, options);
+      },
+      py::arg("model"), py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
+      "The model's structural base parameters from `samples` seeded random states.");
+
+  py::class_<IdentifiabilityResult>(m, "Identifiability", "What `dynid identifiability` reports.")
+      .def_property_readonly("base", [](const IdentifiabilityResult& r) { return r.outcome.base; })
+      .def_property_readonly(
+          "condition_number",
+          [](const IdentifiabilityResult& r) { return r.outcome.condition_number; },
+          "Of the unit-column base regressor on fresh random states.")
+      .def_property_readonly(
+          "model_beta",
+          [](const IdentifiabilityResult& r) { return toNumpy(r.outcome.model_beta); })
+      .def_property_readonly(
+          "data",
+          [](const IdentifiabilityResult& r) -> py::object {
+            if (!r.outcome.data) return py::none();
+            const DataExcitation& e = *r.outcome.data;
+            py::dict d;
+            d["file"] = e.file;
+            d["samples"] = e.samples;
+            d["condition_number"] = e.condition_number;
+            d["rank"] = e.excitation.rank;
+            d["r_diagonal"] = toNumpy(e.excitation.r_diagonal);
+            std::vector<std::string> unexcited;
+            for (int j : e.excitation.unexcited) unexcited.push_back(r.outcome.base.baseName(j));
+            d["unexcited"] = unexcited;
+            return d;
+          },
+          "How the dataset excites the base parameters, or None without one.")
+      .def(
+          "to_json",
+          [](const IdentifiabilityResult& r) {
+            return jsonText(identifiabilityJson(r.model, r.outcome), 2) + "\n";
+          },
+          "identifiability.json, as `dynid identifiability` writes it.");
+
+  m.def(
+      "identifiability",
+      [](const Model& model, const py::handle& data, int samples, std::uint64_t seed,
+         double tolerance, int threads) {
+        checkThreads(threads);
+        const StructuralOptions options = structural(samples, seed, tolerance);
+        DataArg d;
+        if (!data.is_none()) d = dataArg(data, "data", model);
+        IdentifiabilityResult out{model, {}};
+        py::gil_scoped_release release;
+        out.outcome = identifiabilityRun(model, options, d.path, threads, d.arrays);
+        return out;
+      },
+      py::arg("model"), py::arg("data") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
+      py::arg("tolerance") = 0.0, py::arg("threads") = 0,
+      "Structural base parameters and conditioning, and with `data` (a path or a Dataset) how "
+      "that dataset excites them.");
+
+  py::class_<EstimateResult>(m, "Estimate", "What `dynid identify` writes as estimate.json.")
+      .def_property_readonly(
+          "method",
+          [](const EstimateResult& r) { return std::string(methodName(r.outcome.method)); })
+      .def_property_readonly("base", [](const EstimateResult& r) { return r.outcome.base; })
+      .def_property_readonly("base_names",
+                             [](const EstimateResult& r) { return baseNames(r.outcome.base); })
+      .def_property_readonly(
+          "beta", [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.beta); },
+          "The base parameter estimates (base_names order).")
+      .def_property_readonly(
+          "std_dev",
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.std_dev); })
+      .def_property_readonly("relative_std_dev_percent",
+                             [](const EstimateResult& r) {
+                               return toNumpy(r.outcome.result.estimate.relative_std_dev_percent);
+                             })
+      .def_property_readonly(
+          "covariance",
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.covariance); })
+      .def_property_readonly(
+          "condition_number",
+          [](const EstimateResult& r) { return r.outcome.result.estimate.condition_number; })
+      .def_property_readonly(
+          "residual_rms",
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.residual_rms); })
+      .def_property_readonly(
+          "relative_error",
+          [](const EstimateResult& r) { return r.outcome.result.estimate.relative_error; })
+      .def_property_readonly(
+          "num_samples",
+          [](const EstimateResult& r) { return r.outcome.result.estimate.num_samples; })
+      .def_property_readonly(
+          "standard", [](const EstimateResult& r) { return toNumpy(r.outcome.result.standard); },
+          "A full standard vector: pc's, or beta with the unseen directions from the prior.")
+      .def_property_readonly("standard_names",
+                             [](const EstimateResult& r) { return r.outcome.base.standard_names; })
+      .def_property_readonly(
+          "model",
+          [](const EstimateResult& r) {
+            Model identified = r.model;
+            identified.setStandardParameters(r.outcome.result.standard);
+            return identified;
+          },
+          "The robot with the estimated standard parameters (for predict, rnea, export).")
+      .def_property_readonly(
+          "validation",
+          [](const EstimateResult& r) -> py::object {
+            if (!r.outcome.validation) return py::none();
+            return validationDict(*r.outcome.validation);
+          },
+          "On the held-out `validate` data, or None.")
+      .def_property_readonly(
+          "violations",
+          [](const EstimateResult& r) {
+            std::vector<std::string> out;
+            for (const ConsistencyViolation& v : r.outcome.violations)
+              out.push_back(v.link_name + ": " + v.condition + " (" + v.detail + ")");
+            return out;
+          },
+          "Links whose estimate is not physically consistent (empty for pc).")
+      .def(
+          "to_json",
+          [](const EstimateResult& r) {
+            return jsonText(estimateJson(r.model, r.outcome), 2) + "\n";
+          },
+          "estimate.json, as `dynid identify` writes it.");
+
+  m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
+        py::arg("validate") = py::none(), py::arg("prior") = py::none(),
+        py::arg("prior_weight") = 1.0, py::arg("samples") = 0, py::arg("seed") = 1,
+        py::arg("tolerance") = 0.0, py::arg("threads") = 0, py::arg("robot_spec") = "",
+        "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
+        "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
+        "the model's own parameters). `validate`: held-out data. `robot_spec` is recorded for "
+        "`dynid predict`. Raises NumericalError when the data do not excite every base parameter.");
+
+  py::class_<PredictionResult>(m, "Prediction", "Torques predicted by RNEA against measured ones.")
+      .def_readonly("time", &PredictionResult::time, "(N,) [s]")
+      .def_readonly("measured", &PredictionResult::measured, "(N, n) [N m]")
+      .def_readonly("predicted", &PredictionResult::predicted, "(N, n) [N m]")
+      .def_property_readonly(
+          "torque_rms",
+          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.torque_rms); })
+      .def_property_readonly(
+          "normalised_rms",
+          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.normalised_rms); })
+      .def_property_readonly(
+          "relative_error",
+          [](const PredictionResult& r) { return r.prediction.validation.relative_error; })
+      .def_property_readonly("num_samples", [](const PredictionResult& r) {
+        return r.prediction.validation.num_samples;
+      });
+
+  m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = 0,
+        "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
+        "residual statistics of `dynid predict`. Use estimate.model for an estimate.");
+}
+
+}  // namespace dynid::python

@@ -1,0 +1,362 @@
+// Models (load_model, Model) and datasets (Dataset, read_dataset, write_dataset), and the array
+// helpers of common.hpp.
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include <pybind11/stl.h>
+
+#include "analysis/runs.hpp"
+#include "core/errors.hpp"
+#include "core/parallel.hpp"
+#include "core/parameters.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "data/model_json.hpp"
+#include "data/robots.hpp"
+#include "data/urdf.hpp"
+#include "python/common.hpp"
+#include "reports/model_report.hpp"
+#include "reports/output.hpp"
+
+namespace dynid::python {
+
+// ---- array helpers ----
+
+std::string shapeText(const py::array& a) {
+  std::string out = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) out += (d ? ", " : "") + std::to_string(a.shape(d));
+  return out + (a.ndim() == 1 ? ",)" : ")");
+}
+
+DoubleArray realArray(const py::handle& value, const char* name, std::vector<int> ndims) {
+  if (value.is_none()) throw py::type_error(std::string(name) + ": expected an array, got None");
+  py::array any = py::array::ensure(value);
+  if (!any) throw py::type_error(std::string(name) + ": expected an array of numbers");
+  const char kind = any.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u')
+    throw py::type_error(std::string(name) + ": expected real numbers, got dtype " +
+                         std::string(py::str(any.dtype())));
+  bool ndim_ok = false;
+  std::string expected;
+  for (int d : ndims) {
+    ndim_ok = ndim_ok || any.ndim() == d;
+    expected += (expected.empty() ? "" : " or ") + std::to_string(d);
+  }
+  if (!ndim_ok)
+    throw py::value_error(std::string(name) + ": expected " + expected + " dimensions, got shape " +
+                          shapeText(any));
+  return DoubleArray::ensure(any);  // float64, C order: a copy only when the input is not
+}
+
+Eigen::VectorXd vectorArg(const py::handle& value, const char* name, Eigen::Index n) {
+  const DoubleArray a = realArray(value, name, {1});
+  if (a.shape(0) != n)
+    throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) +
+                          ",), got " + shapeText(a));
+  return Eigen::Map<const Eigen::VectorXd>(a.data(), n);
+}
+
+py::array_t<double> toNumpy(const Eigen::VectorXd& v) {
+  py::array_t<double> out(v.size());
+  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
+  return out;
+}
+
+py::array_t<double> toNumpy(const Eigen::MatrixXd& m) {
+  py::array_t<double> out({m.rows(), m.cols()});
+  Eigen::Map<RowMatrix>(out.mutable_data(), m.rows(), m.cols()) = m;
+  return out;
+}
+
+std::string pathArg(const py::handle& value, const char* name) {
+  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__"))
+    return py::str(py::module_::import("os").attr("fspath")(value));
+  throw py::type_error(std::string(name) + ": expected a path (str or os.PathLike)");
+}
+
+void checkThreads(int threads) {
+  if (threads < 0 || threads > ThreadPool::kMaxThreads)
+    throw py::value_error("threads: expected 0 (all cores) to " +
+                          std::to_string(ThreadPool::kMaxThreads) + ", got " +
+                          std::to_string(threads));
+}
+
+DataArg dataArg(const py::handle& value, const char* name, const Model& model) {
+  DataArg out;
+  if (py::isinstance<Trajectory>(value)) {
+    out.arrays = &value.cast<const Trajectory&>();
+    out.path = "<arrays>";
+    if (out.arrays->numJoints() != model.numJoints())
+      throw py::value_error(std::string(name) + ": the dataset has " +
+                            std::to_string(out.arrays->numJoints()) + " joints, robot '" +
+                            model.name + "' has " + std::to_string(model.numJoints()));
+    return out;
+  }
+  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) {
+    out.path = pathArg(value, name);
+    return out;
+  }
+  throw py::type_error(std::string(name) +
+                       ": expected a dataset path (str or os.PathLike) or a dynid.Dataset");
+}
+
+namespace {
+
+// ---- models ----
+
+int parameterIndex(const Model& model, const std::string& name) {
+  const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<int>(i);
+  throw InputError("robot '" + model.name + "' has no parameter '" + name +
+                   "' (its names: " + names.front() + " ... " + names.back() + ")");
+}
+
+void checkParameterValue(const std::string& name, double value) {
+  if (!std::isfinite(value) || std::abs(value) > kMaxParameterMagnitude)
+    throw InputError("parameter " + name + " = " + formatDouble(value) +
+                     ": expected a finite number of magnitude at most 1e6");
+}
+
+void setParameters(Model& model, const py::handle& value) {
+  const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
+  const Eigen::VectorXd theta =
+      vectorArg(value, "parameters", static_cast<Eigen::Index>(names.size()));
+  for (Eigen::Index i = 0; i < theta.size(); ++i) checkParameterValue(names[i], theta[i]);
+  model.setStandardParameters(theta);
+}
+
+Eigen::VectorXd limitsOf(const Model& model, double JointLimits::*field) {
+  Eigen::VectorXd out(model.numJoints());
+  for (int i = 0; i < model.numJoints(); ++i) out[i] = model.limits[i].*field;
+  return out;
+}
+
+py::list violationsList(const Model& model) {
+  py::list out;
+  for (const ConsistencyViolation& v : consistencyViolations(model)) {
+    py::dict d;
+    d["link"] = v.link;
+    d["link_name"] = v.link_name;
+    d["condition"] = v.condition;
+    d["detail"] = v.detail;
+    out.append(d);
+  }
+  return out;
+}
+
+Model loadModel(const std::string& spec, bool drives, const std::optional<std::string>& terms,
+                bool strict) {
+  RobotOptions options;
+  options.drives = drives;
+  options.strict = strict;
+  if (terms) options.drive_terms = parseDriveTerms(*terms);
+  std::vector<std::string> warnings;
+  Model model;
+  {
+    py::gil_scoped_release release;  // a large URDF takes a while
+    model = loadRobot(spec, options, &warnings);
+  }
+  for (const std::string& w : warnings)
+    PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + w).c_str(), 1);
+  return model;
+}
+
+// ---- datasets ----
+
+/// Checks a dataset built from arrays as readDatasetCsv checks a file: finite values, strictly
+/// increasing time, at least one sample; names the row (0-based) and the column.
+void checkDataset(const Trajectory& t) {
+  if (t.numSamples() == 0) throw InputError("the dataset has no samples");
+  for (int k = 0; k < t.numSamples(); ++k) {
+    if (!std::isfinite(t.time[k]))
+      throw InputError("row " + std::to_string(k) + ": t is not finite");
+    if (k > 0 && !(t.time[k] > t.time[k - 1]))
+      throw InputError("row " + std::to_string(k) + ": t = " + formatDouble(t.time[k]) +
+                       " is not after the previous row's " + formatDouble(t.time[k - 1]));
+    const char* names[] = {"q", "dq", "ddq", "tau"};
+    const Eigen::MatrixXd* ms[] = {&t.q, &t.dq, &t.ddq, &t.tau};
+    for (int c = 0; c < 4; ++c)
+      for (int j = 0; j < t.numJoints(); ++j)
+        if (!std::isfinite((*ms[c])(j, k)))
+          throw InputError("row " + std::to_string(k) + ": " + names[c] + std::to_string(j + 1) +
+                           " is not finite");
+  }
+}
+
+Trajectory makeDataset(const py::handle& time, const py::handle& q, const py::handle& dq,
+                       const py::handle& ddq, const py::handle& tau) {
+  const DoubleArray t = realArray(time, "time", {1});
+  const py::ssize_t count = t.shape(0);
+  const DoubleArray qa = realArray(q, "q", {2});
+  const py::ssize_t n = qa.shape(1);
+  if (count > std::numeric_limits<int>::max() / 2)
+    throw py::value_error("time: more samples than dynid holds in memory (2^30)");
+  Trajectory out;
+  out.resize(static_cast<int>(n), static_cast<int>(count));
+  out.time = Eigen::Map<const Eigen::VectorXd>(t.data(), count);
+  const char* names[] = {"q", "dq", "ddq", "tau"};
+  const py::handle values[] = {q, dq, ddq, tau};
+  Eigen::MatrixXd* targets[] = {&out.q, &out.dq, &out.ddq, &out.tau};
+  for (int c = 0; c < 4; ++c) {
+    if (values[c].is_none()) continue;  // zeros
+    const DoubleArray a = realArray(values[c], names[c], {2});
+    if (a.shape(0) != count || a.shape(1) != n)
+      throw py::value_error(std::string(names[c]) + ": expected shape (" + std::to_string(count) +
+                            ", " + std::to_string(n) + ") like time and q, got " + shapeText(a));
+    *targets[c] = Eigen::Map<const RowMatrix>(a.data(), count, n).transpose();
+  }
+  checkDataset(out);
+  return out;
+}
+
+py::array_t<double> samplesOf(const Eigen::MatrixXd& m) {
+  return toNumpy(Eigen::MatrixXd(m.transpose()));
+}
+
+}  // namespace
+
+void bindModel(py::module_& m) {
+  py::class_<Model>(m, "Model",
+                    "A robot: kinematic tree, inertial and drive parameters. Copies are "
+                    "independent (Model.copy()); load one with dynid.load_model().")
+      .def_readwrite("name", &Model::name)
+      .def_property_readonly("num_joints", &Model::numJoints)
+      .def_property_readonly("num_parameters",
+                             [](const Model& self) { return self.parameterLayout().size(); })
+      .def_readonly("link_names", &Model::link_names)
+      .def_readonly("joint_names", &Model::joint_names)
+      .def_property_readonly(
+          "parameter_names",
+          [](const Model& self) { return standardParameterNames(self.parameterLayout()); },
+          "Names of the standard parameters (m1, mx1, ..., Izz1, then Ia1, Fv1, ... with drives).")
+      .def_property_readonly(
+          "paper_parameter_names",
+          [](const Model& self) { return paperParameterNames(self.numJoints()); },
+          "Names of the paper's 7 per link (m1, cx1, cy1, cz1, Ixx1, Iyy1, Izz1, ...).")
+      .def_property_readonly(
+          "drive_terms", [](const Model& self) { return driveTermsKeys(self.drive_terms); },
+          "The drive terms every joint carries, e.g. ['ia', 'fv', 'fc'] (set by load_model).")
+      .def_property(
+          "parameters", [](const Model& self) { return toNumpy(self.standardParameters()); },
+          [](Model& self, const py::handle& value) { setParameters(self, value); },
+          "The standard parameter vector, shape (num_parameters,) [kg, kg m, kg m^2, drive "
+          "units]. Assigning checks the size and that every value is finite (|x| <= 1e6).")
+      .def(
+          "parameter",
+          [](const Model& self, const std::string& name) {
+            return self.standardParameters()[parameterIndex(self, name)];
+          },
+          py::arg("name"), "One standard parameter by name, e.g. model.parameter('m3').")
+      .def(
+          "set_parameter",
+          [](Model& self, const std::string& name, double value) {
+            const int i = parameterIndex(self, name);
+            checkParameterValue(name, value);
+            Eigen::VectorXd theta = self.standardParameters();
+            theta[i] = value;
+            self.setStandardParameters(theta);
+          },
+          py::arg("name"), py::arg("value"))
+      .def(
+          "parameters_dict",
+          [](const Model& self) {
+            py::dict out;
+            const Eigen::VectorXd theta = self.standardParameters();
+            const std::vector<std::string> names = standardParameterNames(self.parameterLayout());
+            for (std::size_t i = 0; i < names.size(); ++i) out[py::str(names[i])] = theta[i];
+            return out;
+          },
+          "{name: value} of the standard parameters, in order.")
+      .def_property(
+          "gravity", [](const Model& self) { return toNumpy(Eigen::VectorXd(self.gravity)); },
+          [](Model& self, const py::handle& value) {
+            const Eigen::VectorXd g = vectorArg(value, "gravity", 3);
+            if (!g.allFinite() || g.norm() > kMaxGravity)
+              throw InputError("gravity: expected finite values of norm at most 1e3 m/s^2");
+            self.gravity = g;
+          },
+          "Gravity in the base frame, shape (3,) [m/s^2].")
+      .def_property_readonly(
+          "lower_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::lower)); })
+      .def_property_readonly(
+          "upper_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::upper)); })
+      .def_property_readonly(
+          "velocity_limits",
+          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::velocity)); })
+      .def_property_readonly(
+          "effort_limits",
+          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::effort)); })
+      .def("check", &violationsList,
+           "Physical-consistency violations of the links' parameters, as dicts {link, link_name, "
+           "condition, detail}; empty when every link is realisable (as `dynid model check`).")
+      .def("to_json", &modelToJson, "The model as dynid JSON (loadable by load_model).")
+      .def("to_urdf", [](const Model& self) { return modelToUrdf(self); })
+      .def("to_mjcf", [](const Model& self) { return modelDocument(self, "mjcf"); })
+      .def(
+          "export",
+          [](const Model& self, const py::handle& path, const std::string& format) {
+            writeOutput(pathArg(path, "path"), modelDocument(self, format));
+          },
+          py::arg("path"), py::arg("format"),
+          "Writes the model as 'urdf', 'json' or 'mjcf' (atomically, as `dynid model export`).")
+      .def("show", &modelShowText, "The text of `dynid model show`.")
+      .def("copy", [](const Model& self) { return Model(self); })
+      .def("__copy__", [](const Model& self) { return Model(self); })
+      .def("__deepcopy__", [](const Model& self, py::dict) { return Model(self); })
+      .def("__repr__", [](const Model& self) {
+        return "<dynid.Model '" + self.name + "': " + std::to_string(self.numJoints()) +
+               " joints, " + std::to_string(self.parameterLayout().size()) +
+               " parameters, drives " + driveTermsText(self.drive_terms) + ">";
+      });
+
+  m.def("load_model", &loadModel, py::arg("spec"), py::arg("drives") = false,
+        py::arg("drive_terms") = py::none(), py::arg("strict") = false,
+        "Loads a robot as `--robot` does: 'puma560', 'puma560-consistent', 'panda', a .urdf or a "
+        "dynid .json path. drives=True adds the robot's own drive terms; drive_terms='fv,fc,fo' "
+        "exactly those. URDF warnings become UserWarnings (errors with strict=True).");
+
+  py::class_<Trajectory>(m, "Dataset",
+                         "Samples of a joint trajectory: time (N,) [s] strictly increasing; q, "
+                         "dq, ddq, tau (N, n) [rad, rad/s, rad/s^2, N m]. A missing ddq or tau "
+                         "is zeros.")
+      .def(py::init(&makeDataset), py::arg("time"), py::arg("q"), py::arg("dq"),
+           py::arg("ddq") = py::none(), py::arg("tau") = py::none())
+      .def_property_readonly("num_samples", &Trajectory::numSamples)
+      .def_property_readonly("num_joints", &Trajectory::numJoints)
+      .def_property_readonly("time", [](const Trajectory& t) { return toNumpy(t.time); })
+      .def_property_readonly("q", [](const Trajectory& t) { return samplesOf(t.q); })
+      .def_property_readonly("dq", [](const Trajectory& t) { return samplesOf(t.dq); })
+      .def_property_readonly("ddq", [](const Trajectory& t) { return samplesOf(t.ddq); })
+      .def_property_readonly("tau", [](const Trajectory& t) { return samplesOf(t.tau); })
+      .def("__len__", &Trajectory::numSamples)
+      .def("__repr__", [](const Trajectory& t) {
+        return "<dynid.Dataset: " + std::to_string(t.numSamples()) + " samples, " +
+               std::to_string(t.numJoints()) + " joints>";
+      });
+
+  m.def(
+      "read_dataset",
+      [](const py::handle& path, int joints) {
+        const std::string file = pathArg(path, "path");
+        py::gil_scoped_release release;
+        return readDatasetCsv(file, joints);
+      },
+      py::arg("path"), py::arg("joints") = -1,
+      "Reads a dynid CSV (t, q1.., dq1.., ddq1.., tau1..) into a Dataset; joints=n insists on n. "
+      "Raises ParseError naming the line and column at fault.");
+  m.def(
+      "write_dataset",
+      [](const py::handle& path, const Trajectory& data) {
+        const std::string file = pathArg(path, "path");
+        py::gil_scoped_release release;
+        writeDatasetCsv(file, data);
+      },
+      py::arg("path"), py::arg("data"),
+      "Writes a Dataset as a dynid CSV, atomically, in shortest round-trip form (read_dataset "
+      "gives back the same doubles).");
+}
+
+}  // namespace dynid::python

@@ -1,0 +1,576 @@
+// The paper's machinery and the data pipelines: simulate, gc_error, search, refine, excite,
+// prepare. Settings, defaults and results are the CLI's (same seed, same numbers); to_json()
+// gives the document the CLI writes.
+#include <atomic>
+#include <cmath>
+#include <optional>
+
+#include <pybind11/stl.h>
+
+#include "analysis/excite.hpp"
+#include "analysis/prepare.hpp"
+#include "analysis/run_json.hpp"
+#include "analysis/runs.hpp"
+#include "core/errors.hpp"
+#include "core/integrators.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/json_number.hpp"
+#include "python/common.hpp"
+#include "reports/excitation_report.hpp"
+#include "reports/identification_report.hpp"
+#include "reports/prepare_report.hpp"
+#include "reports/run_report.hpp"
+#include "search/gc_error.hpp"
+#include "search/parameter_space.hpp"
+
+namespace dynid::python {
+namespace {
+
+/// Lets Ctrl-C stop a long run cleanly: each progress step takes the GIL and runs Python's signal
+/// handlers; a KeyboardInterrupt sets the stop flag (the run returns its best result so far,
+/// termination "interrupted") and is reported as a warning once the run has returned.
+class Interrupt {
+ public:
+  const std::atomic<bool>* flag() const { return &stop_; }
+  void poll() {
+    if (stop_) return;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) {
+      PyErr_Clear();
+      stop_ = true;
+    }
+  }
+  void warnIfStopped() const {
+    if (stop_) PyErr_WarnEx(PyExc_UserWarning, "interrupted: the result is the best one so far", 1);
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+};
+
+/// A per-joint option: None, one number for every joint, or n numbers.
+std::optional<Eigen::VectorXd> jointOption(const py::handle& value, const char* name, int n) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value))
+    return Eigen::VectorXd::Constant(n, value.cast<double>());
+  return vectorArg(value, name, n);
+}
+
+SegmentOptions segmentOptions(double horizon, int segments, bool random_segments,
+                              const std::string& integrator, double step, bool normalise,
+                              std::uint64_t seed) {
+  SegmentOptions s;
+  s.horizon = horizon;
+  s.num_segments = segments;
+  s.random_starts = random_segments;
+  s.integrator = parseIntegrator(integrator);
+  s.step = step;
+  s.normalise = normalise;
+  s.seed = seed;
+  return s;
+}
+
+/// The GC problem of a path or a Dataset.
+Trajectory trajectoryOf(const DataArg& d, const Model& model) {
+  return d.arrays ? *d.arrays : readDatasetCsv(d.path, model.numJoints());
+}
+
+// ---- simulate ----
+
+Trajectory simulatePy(const Model& model, double duration, double dt, double rate,
+                      const std::string& controller, const py::handle& amplitude,
+                      const py::handle& q0, const py::handle& frequency, const py::handle& phase,
+                      double base_frequency, int harmonics, const py::handle& kp,
+                      const py::handle& kd, const py::handle& tau_max, double bandwidth,
+                      const std::optional<Model>& controller_model, double controller_perturb,
+                      const std::string& integrator, double noise_q, double noise_dq,
+                      double noise_tau, std::uint64_t seed, const py::handle& trajectory) {
+  if (controller != "sinusoidal" && controller != "fourier")
+    throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
+                          "'");
+  if (harmonics < 1) throw py::value_error("harmonics: expected at least 1");
+  const int n = model.numJoints();
+  SimulateRequest r;
+  r.robot = model;
+  r.controller_model = controller_model;
+  r.controller_perturb = controller_perturb;
+  r.fourier = controller == "fourier";
+  if (!trajectory.is_none()) r.trajectory = pathArg(trajectory, "trajectory");
+  r.q0 = jointOption(q0, "q0", n);
+  r.amplitude = *jointOption(amplitude, "amplitude", n);
+  r.frequency = jointOption(frequency, "frequency", n);
+  r.phase = jointOption(phase, "phase", n);
+  r.base_frequency = base_frequency;
+  r.harmonics = harmonics;
+  r.kp = jointOption(kp, "kp", n);
+  r.kd = jointOption(kd, "kd", n);
+  r.tau_max = jointOption(tau_max, "tau_max", n);
+  r.bandwidth = bandwidth;
+  SimulationOptions& s = r.simulation;
+  s.duration = duration;
+  s.step = dt;
+  s.record_rate = rate;
+  s.integrator = parseIntegrator(integrator);
+  s.noise_q = noise_q;
+  s.noise_dq = noise_dq;
+  s.noise_tau = noise_tau;
+  s.seed = seed;
+  py::gil_scoped_release release;
+  return simulateRun(r).trajectory;
+}
+
+// ---- search ----
+
+struct SearchPy {
+  Model robot;
+  SearchOutcome outcome;
+};
+
+SearchPy searchPy(const Model& robot, const py::handle& data, const std::string& method,
+                  const std::optional<Model>& init, const std::optional<double>& perturb,
+                  const std::optional<Model>& truth, const py::handle& validate, long budget_evals,
+                  double budget_seconds, double gc_tolerance, const std::string& form, double range,
+                  double absolute_range, const std::vector<std::string>& fix,
+                  const std::string& mass_constraint, const std::optional<double>& total_mass,
+                  double horizon, int segments, bool random_segments, const std::string& integrator,
+                  double step, bool normalise, int population, int elites, double migration,
+                  double mutation_rate, double mutation_scale, int evals_per_seed,
+                  std::uint64_t seed, int threads, const std::string& checkpoint) {
+  checkThreads(threads);
+  if (init && perturb) throw py::value_error("give init or perturb, not both");
+  if (budget_evals < 0 || budget_seconds < 0)
+    throw py::value_error("budget_evals, budget_seconds: expected >= 0");
+  if (mass_constraint != "on" && mass_constraint != "off" && mass_constraint != "auto")
+    throw py::value_error("mass_constraint: expected 'on', 'off' or 'auto'");
+  SearchRequest r;
+  r.robot = robot;
+  r.method = parseMethod(method, searchMethods());
+  r.init = init;
+  r.perturb = perturb;
+  r.truth = truth;
+  const DataArg train = dataArg(data, "data", robot);
+  r.data_file = train.path;
+  r.data = train.arrays;
+  if (!validate.is_none()) r.validate_file = pathArg(validate, "validate");
+  r.budget.max_evaluations = budget_evals;
+  r.budget.max_seconds = budget_seconds;
+  r.budget.gc_tolerance = gc_tolerance;
+  r.space.form = parseParameterForm(form);
+  r.space.relative_range = range;
+  r.space.absolute_range = absolute_range;
+  r.space.fixed = fix;
+  r.mass_constraint = mass_constraint;
+  r.total_mass = total_mass;
+  r.segments =
+      segmentOptions(horizon, segments, random_segments, integrator, step, normalise, seed);
+  r.ga.population = population;
+  r.ga.elites = elites;
+  r.ga.migration = migration;
+  r.ga.mutation_rate = mutation_rate;
+  r.ga.mutation_scale = mutation_scale;
+  r.nlo.mutation_scale = mutation_scale;
+  r.nlo.evaluations_per_seed = evals_per_seed;
+  r.seed = seed;
+  r.threads = threads;
+  r.checkpoint = checkpoint;
+  Interrupt interrupt;
+  r.control.stop = interrupt.flag();
+  r.on_iteration = [&](const SearchState&) { interrupt.poll(); };
+  SearchPy out{robot, {}};
+  {
+    py::gil_scoped_release release;
+    out.outcome = searchRun(r);
+  }
+  interrupt.warnIfStopped();
+  return out;
+}
+
+// ---- refine ----
+
+struct RefinePy {
+  RefineOutcome outcome;
+};
+
+RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle& data,
+                  const py::handle& validate, const std::optional<Model>& truth,
+                  bool estimate_initial_states, double continuity_weight, int max_iterations,
+                  bool base_stage, bool gauge, double budget_seconds, const std::string& form,
+                  double range, double horizon, int segments, int threads) {
+  checkThreads(threads);
+  if (max_iterations < 1) throw py::value_error("max_iterations: expected >= 1");
+  if (!(budget_seconds >= 0.0)) throw py::value_error("budget_seconds: expected >= 0");
+  if (!(continuity_weight >= 0.0) || !std::isfinite(continuity_weight))
+    throw py::value_error("continuity_weight: expected a finite number >= 0");
+  RefineRequest r;
+  r.robot = robot;
+  if (py::isinstance<SearchPy>(start)) {
+    r.from_file = "<search>";
+    r.from_document = searchJson(start.cast<const SearchPy&>().outcome);
+  } else if (py::hasattr(start, "to_json") && !py::isinstance<py::str>(start)) {
+    r.from_file = "<estimate>";  // an Estimate: its estimate.json
+    r.from_document = parseJson(start.attr("to_json")().cast<std::string>(), r.from_file);
+  } else {
+    r.from_file = pathArg(start, "start");
+  }
+  const DataArg train = dataArg(data, "data", robot);
+  r.data_file = train.path;
+  r.data = train.arrays;
+  if (!validate.is_none()) r.validate_file = pathArg(validate, "validate");
+  r.truth = truth;
+  RefineOptions& o = r.options;
+  o.estimate_initial_states = estimate_initial_states;
+  o.continuity_weight = continuity_weight;
+  o.max_iterations = max_iterations;
+  o.base_stage = base_stage;
+  o.fix_gauge = gauge;
+  o.max_seconds = budget_seconds;
+  o.num_threads = threads;
+  r.form = parseParameterForm(form);
+  r.range = range;
+  r.horizon = horizon;
+  r.segments = segments;
+  RefinePy out;
+  {
+    py::gil_scoped_release release;
+    out.outcome = refineRun(r);
+  }
+  return out;
+}
+
+// ---- excite ----
+
+struct ExcitePy {
+  Model robot;
+  ExcitationSettings settings;
+  ExciteOutcome outcome;
+};
+
+ExcitePy excitePy(const Model& robot, const std::string& criterion, double period, int harmonics,
+                  int starts, int evaluations, double budget_seconds, double grid_rate,
+                  double check_rate, double torque_noise, int segments, double horizon,
+                  const py::handle& offset, const py::handle& q_min, const py::handle& q_max,
+                  const py::handle& dq_max, const py::handle& ddq_max, const py::handle& tau_max,
+                  double torque_margin, const std::optional<double>& floor, double base_radius,
+                  int samples, std::uint64_t seed, double tolerance, int threads,
+                  const std::string& robot_spec) {
+  checkThreads(threads);
+  const int n = robot.numJoints();
+  ExciteRequest r;
+  r.robot = robot;
+  r.criterion = parseExcitationCriterion(criterion);
+  r.period = period;
+  r.harmonics = harmonics;
+  r.starts = starts;
+  r.evaluations = evaluations;
+  if (budget_seconds > 0.0) r.max_seconds = budget_seconds;
+  r.grid_rate = grid_rate;
+  r.check_rate = check_rate;
+  r.torque_noise = torque_noise;
+  r.gc_segments = segments;
+  r.gc_horizon = horizon;
+  r.seed = seed;
+  r.threads = threads;
+  r.structural = {samples, seed, tolerance};
+  r.offset = jointOption(offset, "offset", n);
+  LimitOverrides overrides;
+  overrides.q_min = jointOption(q_min, "q_min", n);
+  overrides.q_max = jointOption(q_max, "q_max", n);
+  overrides.dq_max = jointOption(dq_max, "dq_max", n);
+  overrides.ddq_max = jointOption(ddq_max, "ddq_max", n);
+  overrides.tau_max = jointOption(tau_max, "tau_max", n);
+  overrides.torque_margin = torque_margin;
+  overrides.floor = floor;
+  overrides.base_radius = base_radius;
+  r.limits = excitationLimits(robot, overrides);
+  if (r.offset) checkOffsets(robot, r.limits, *r.offset);
+  Interrupt interrupt;
+  r.control.stop = interrupt.flag();
+  r.control.progress = [&](const std::string&) { interrupt.poll(); };
+  ExcitePy out{robot, {}, {}};
+  out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
+  out.settings.harmonics = harmonics;
+  out.settings.starts = starts;
+  out.settings.evaluations = evaluations;
+  out.settings.period = period;
+  out.settings.csv_rate = 1000.0;
+  {
+    py::gil_scoped_release release;
+    out.outcome = exciteRun(r);
+  }
+  interrupt.warnIfStopped();
+  return out;
+}
+
+// ---- prepare ----
+
+struct PreparePy {
+  LogSource source;
+  PrepareOptions options;
+  PrepareOutcome outcome;
+};
+
+PreparePy preparePy(const py::handle& tables, const std::string& time_column,
+                    const std::string& q_columns, const std::string& dq_columns,
+                    const std::string& tau_columns, const std::string& ddq_columns, int joints,
+                    bool current, const py::handle& torque_constants, const py::handle& gear_ratios,
+                    const std::string& time_unit, const std::string& angle_unit, double rate,
+                    const py::handle& cutoff, int order, int decimate, double max_gap, double trim,
+                    bool derive_dq, bool derive_ddq, bool savitzky_golay, int savgol_window,
+                    int savgol_degree, double validate_fraction, bool keep_stalled) {
+  PreparePy out;
+  LogSource& s = out.source;
+  if (py::isinstance<py::list>(tables) || py::isinstance<py::tuple>(tables)) {
+    for (const py::handle& t : tables) s.tables.push_back(pathArg(t, "tables"));
+  } else {
+    s.tables.push_back(pathArg(tables, "tables"));
+  }
+  if (s.tables.empty()) throw py::value_error("tables: expected at least one log file");
+  s.time_column = time_column;
+  s.q_columns = q_columns;
+  s.dq_columns = dq_columns;
+  s.tau_columns = tau_columns;
+  s.ddq_columns = ddq_columns;
+  s.num_joints = joints;
+  s.current = current;
+  PrepareOptions& o = out.options;
+  o.time_scale = timeUnitScale(time_unit);
+  o.angle_scale = angleUnitScale(angle_unit);
+  o.rate = rate;
+  if (py::isinstance<py::str>(cutoff)) {
+    if (cutoff.cast<std::string>() != "auto")
+      throw py::value_error("cutoff: expected a frequency [Hz], 0 (no filter), 'auto' or None");
+    o.auto_cutoff = true;
+  } else if (!cutoff.is_none()) {
+    o.cutoff = cutoff.cast<double>();
+  }
+  o.order = order;
+  o.decimate = decimate;
+  o.max_gap = max_gap;
+  if (trim >= 0.0) o.trim = trim;
+  o.derive_dq = derive_dq;
+  o.derive_ddq = derive_ddq;
+  o.savitzky_golay = savitzky_golay;
+  o.savgol_window = savgol_window;
+  o.savgol_degree = savgol_degree;
+  o.validate_fraction = validate_fraction;
+  o.keep_stalled = keep_stalled;
+  if (!torque_constants.is_none()) {
+    const DoubleArray k = realArray(torque_constants, "torque_constants", {1});
+    o.torque_constants = Eigen::Map<const Eigen::VectorXd>(k.data(), k.shape(0));
+  }
+  if (!gear_ratios.is_none()) {
+    const DoubleArray g = realArray(gear_ratios, "gear_ratios", {1});
+    o.gear_ratios = Eigen::Map<const Eigen::VectorXd>(g.data(), g.shape(0));
+  }
+  py::gil_scoped_release release;
+  out.outcome = prepareLog(out.source, out.options);
+  return out;
+}
+
+}  // namespace
+
+void bindSearch(py::module_& m) {
+  m.def("simulate", &simulatePy, py::arg("model"), py::arg("duration") = 10.0, py::arg("dt") = 1e-3,
+        py::arg("rate") = 1000.0, py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5,
+        py::arg("q0") = py::none(), py::arg("frequency") = py::none(),
+        py::arg("phase") = py::none(), py::arg("base_frequency") = 0.1, py::arg("harmonics") = 5,
+        py::arg("kp") = py::none(), py::arg("kd") = py::none(), py::arg("tau_max") = py::none(),
+        py::arg("bandwidth") = 5.0, py::arg("controller_model") = py::none(),
+        py::arg("controller_perturb") = 0.0, py::arg("integrator") = "rk4",
+        py::arg("noise_q") = 0.0, py::arg("noise_dq") = 0.0, py::arg("noise_tau") = 0.0,
+        py::arg("seed") = 1, py::arg("trajectory") = py::none(),
+        "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
+        "Per-joint settings take one number or n; trajectory: an excitation.json design.");
+
+  m.def(
+      "gc_error",
+      [](const Model& model, const py::handle& data, double horizon, int segments,
+         bool random_segments, const std::string& integrator, double step, bool normalise,
+         std::uint64_t seed, int threads) {
+        checkThreads(threads);
+        const DataArg d = dataArg(data, "data", model);
+        const SegmentOptions options =
+            segmentOptions(horizon, segments, random_segments, integrator, step, normalise, seed);
+        const Model local = model;
+        py::gil_scoped_release release;
+        const GcProblem problem = makeGcProblem(trajectoryOf(d, local), options);
+        ThreadPool pool(resolveThreads(threads));
+        GcWorkspace workspace(local, pool.numThreads());
+        return gcError(local, problem, workspace, pool);
+      },
+      py::arg("model"), py::arg("data"), py::arg("horizon") = 0.05, py::arg("segments") = 100,
+      py::arg("random_segments") = false, py::arg("integrator") = "rk4", py::arg("step") = 0.0,
+      py::arg("normalise") = false, py::arg("seed") = 1, py::arg("threads") = 0,
+      "The paper's GC error of the model on `data`: the summed squared error of (q, dq) "
+      "predicted `horizon` seconds ahead from each segment's measured start, as `dynid search` "
+      "evaluates it (the same number for any thread count).");
+
+  py::class_<SearchPy>(m, "Search", "What `dynid search` writes as search.json.")
+      .def_property_readonly(
+          "method", [](const SearchPy& s) { return std::string(methodName(s.outcome.method)); })
+      .def_property_readonly("termination",
+                             [](const SearchPy& s) { return s.outcome.result.termination; })
+      .def_property_readonly("initial_gc",
+                             [](const SearchPy& s) { return s.outcome.result.initial_gc; })
+      .def_property_readonly("best_gc", [](const SearchPy& s) { return s.outcome.result.best_gc; })
+      .def_property_readonly("evaluations",
+                             [](const SearchPy& s) { return s.outcome.result.evaluations; })
+      .def_property_readonly("free_names",
+                             [](const SearchPy& s) { return s.outcome.space->freeNames(); })
+      .def_property_readonly(
+          "best_x", [](const SearchPy& s) { return toNumpy(s.outcome.result.best_x); },
+          "The best free parameters (free_names order).")
+      .def_property_readonly(
+          "model",
+          [](const SearchPy& s) { return s.outcome.space->modelAt(s.outcome.result.best_x); },
+          "The robot with the best parameters.")
+      .def_property_readonly("initial_parameter_error",
+                             [](const SearchPy& s) { return s.outcome.initial_parameter_error; })
+      .def_property_readonly("final_parameter_error",
+                             [](const SearchPy& s) { return s.outcome.final_parameter_error; })
+      .def_property_readonly("history",
+                             [](const SearchPy& s) {
+                               py::list out;
+                               for (const HistoryEntry& h : s.outcome.result.history) {
+                                 py::dict d;
+                                 d["stage"] = h.stage;
+                                 d["iteration"] = h.iteration;
+                                 d["best_gc"] = h.best_gc;
+                                 d["best_parameter_error"] = h.best_parameter_error;
+                                 d["evaluations"] = h.evaluations;
+                                 out.append(d);
+                               }
+                               return out;
+                             })
+      .def(
+          "to_json", [](const SearchPy& s) { return jsonText(searchJson(s.outcome), 1) + "\n"; },
+          "search.json, as `dynid search` writes it.");
+
+  m.def("search", &searchPy, py::arg("robot"), py::arg("data"), py::arg("method"),
+        py::arg("init") = py::none(), py::arg("perturb") = py::none(),
+        py::arg("truth") = py::none(), py::arg("validate") = py::none(),
+        py::arg("budget_evals") = 0, py::arg("budget_seconds") = 0.0, py::arg("gc_tolerance") = 0.0,
+        py::arg("form") = "paper", py::arg("range") = 0.5, py::arg("absolute_range") = 0.0,
+        py::arg("fix") = std::vector<std::string>{}, py::arg("mass_constraint") = "auto",
+        py::arg("total_mass") = py::none(), py::arg("horizon") = 0.05, py::arg("segments") = 100,
+        py::arg("random_segments") = false, py::arg("integrator") = "rk4", py::arg("step") = 0.0,
+        py::arg("normalise") = false, py::arg("population") = 100, py::arg("elites") = 1,
+        py::arg("migration") = 0.05, py::arg("mutation_rate") = 0.1,
+        py::arg("mutation_scale") = 0.1, py::arg("evals_per_seed") = 400, py::arg("seed") = 1,
+        py::arg("threads") = 0, py::arg("checkpoint") = "",
+        "`dynid search`: the GC-error search 'nlo' (multistart COBYLA), 'ga' or 'hybrid' from "
+        "init (a Model) or the robot perturbed by `perturb`; the same options and defaults as "
+        "the CLI, and for the same seed the same result whatever the thread count. Ctrl-C stops "
+        "it with the best result so far (and a warning).");
+
+  py::class_<RefinePy>(m, "Refinement", "What `dynid refine` writes as refine.json.")
+      .def_property_readonly("initial_gc",
+                             [](const RefinePy& r) { return r.outcome.result.initial_gc; })
+      .def_property_readonly("final_gc",
+                             [](const RefinePy& r) { return r.outcome.result.final_gc; })
+      .def_property_readonly("termination",
+                             [](const RefinePy& r) { return r.outcome.result.termination; })
+      .def_property_readonly("x", [](const RefinePy& r) { return toNumpy(r.outcome.result.x); })
+      .def_property_readonly("free_names",
+                             [](const RefinePy& r) { return r.outcome.space->freeNames(); })
+      .def_property_readonly(
+          "model", [](const RefinePy& r) { return r.outcome.space->modelAt(r.outcome.result.x); })
+      .def_property_readonly("final_parameter_error",
+                             [](const RefinePy& r) -> py::object {
+                               if (!r.outcome.has_truth) return py::none();
+                               return py::float_(r.outcome.final_parameter_error);
+                             })
+      .def_property_readonly("final_base_error",
+                             [](const RefinePy& r) -> py::object {
+                               if (!r.outcome.has_truth) return py::none();
+                               return py::float_(r.outcome.final_base_error);
+                             })
+      .def(
+          "to_json", [](const RefinePy& r) { return jsonText(refineJson(r.outcome), 1) + "\n"; },
+          "refine.json, as `dynid refine` writes it.");
+
+  m.def("refine", &refinePy, py::arg("robot"), py::arg("start"), py::arg("data"),
+        py::arg("validate") = py::none(), py::arg("truth") = py::none(),
+        py::arg("estimate_initial_states") = false, py::arg("continuity_weight") = 10.0,
+        py::arg("max_iterations") = 200, py::arg("base_stage") = true, py::arg("gauge") = true,
+        py::arg("budget_seconds") = 0.0, py::arg("form") = "paper", py::arg("range") = 0.5,
+        py::arg("horizon") = 0.05, py::arg("segments") = 100, py::arg("threads") = 0,
+        "`dynid refine`: Ceres (Levenberg-Marquardt) on the GC residuals from `start`: a "
+        "Search, an Estimate, or the path of a search.json or estimate.json. form, range, "
+        "horizon and segments apply to an estimate start (a search carries its own).");
+
+  py::class_<ExcitePy>(m, "Excitation", "What `dynid excite` writes as excitation.json.")
+      .def_property_readonly("period", [](const ExcitePy& e) { return e.outcome.design.period; })
+      .def_property_readonly("offset",
+                             [](const ExcitePy& e) { return toNumpy(e.outcome.design.offset); })
+      .def_property_readonly("a", [](const ExcitePy& e) { return toNumpy(e.outcome.design.a); })
+      .def_property_readonly("b", [](const ExcitePy& e) { return toNumpy(e.outcome.design.b); })
+      .def_property_readonly("condition_number",
+                             [](const ExcitePy& e) { return e.outcome.score.condition_unit; })
+      .def_property_readonly("baseline_condition_number",
+                             [](const ExcitePy& e) { return e.outcome.baseline.condition_unit; })
+      .def_property_readonly("termination", [](const ExcitePy& e) { return e.outcome.termination; })
+      .def(
+          "sample",
+          [](const ExcitePy& e, double rate) {
+            py::gil_scoped_release release;
+            return e.outcome.design.sample(e.robot, rate);
+          },
+          py::arg("rate") = 1000.0,
+          "One period of the motion at `rate` as a Dataset (tau: the model's inverse dynamics).")
+      .def(
+          "to_json",
+          [](const ExcitePy& e) {
+            return jsonText(excitationJson(e.robot, e.settings, e.outcome), 2) + "\n";
+          },
+          "excitation.json, as `dynid excite` writes it (simulate(trajectory=...) reads it).");
+
+  m.def("excite", &excitePy, py::arg("robot"), py::arg("criterion") = "cond",
+        py::arg("period") = 10.0, py::arg("harmonics") = 5, py::arg("starts") = 8,
+        py::arg("evaluations") = 2000, py::arg("budget_seconds") = 0.0, py::arg("grid_rate") = 25.0,
+        py::arg("check_rate") = 1000.0, py::arg("torque_noise") = 0.05, py::arg("segments") = 100,
+        py::arg("horizon") = 0.05, py::arg("offset") = py::none(), py::arg("q_min") = py::none(),
+        py::arg("q_max") = py::none(), py::arg("dq_max") = py::none(),
+        py::arg("ddq_max") = py::none(), py::arg("tau_max") = py::none(),
+        py::arg("torque_margin") = 0.9, py::arg("floor") = py::none(), py::arg("base_radius") = 0.0,
+        py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
+        py::arg("threads") = 0, py::arg("robot_spec") = "",
+        "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
+        "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
+
+  py::class_<PreparePy>(m, "Preparation",
+                        "What `dynid prepare` writes (train, validate, "
+                        "prepare.json).")
+      .def_property_readonly("train", [](const PreparePy& p) { return p.outcome.train; })
+      .def_property_readonly("validate",
+                             [](const PreparePy& p) -> py::object {
+                               if (p.outcome.validate.numSamples() == 0) return py::none();
+                               return py::cast(p.outcome.validate);
+                             })
+      .def_property_readonly("rate", [](const PreparePy& p) { return p.outcome.rate; })
+      .def_property_readonly("cutoff", [](const PreparePy& p) { return p.outcome.cutoff; })
+      .def_property_readonly("tau_noise",
+                             [](const PreparePy& p) { return toNumpy(p.outcome.tau_noise); })
+      .def(
+          "to_json",
+          [](const PreparePy& p) {
+            return jsonText(prepareJson(p.source, p.options, p.outcome), 2) + "\n";
+          },
+          "prepare.json, as `dynid prepare` writes it.");
+
+  m.def("prepare", &preparePy, py::arg("tables"), py::arg("time_column") = "1",
+        py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
+        py::arg("ddq_columns") = "", py::arg("joints") = 0, py::arg("current") = false,
+        py::arg("torque_constants") = py::none(), py::arg("gear_ratios") = py::none(),
+        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad", py::arg("rate") = 0.0,
+        py::arg("cutoff") = py::none(), py::arg("order") = 4, py::arg("decimate") = 1,
+        py::arg("max_gap") = 0.0, py::arg("trim") = -1.0, py::arg("derive_dq") = false,
+        py::arg("derive_ddq") = false, py::arg("savitzky_golay") = false,
+        py::arg("savgol_window") = 0, py::arg("savgol_degree") = 3,
+        py::arg("validate_fraction") = 0.0, py::arg("keep_stalled") = false,
+        "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
+        "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
+        "for no filter, a frequency [Hz] or 'auto'.");
+}
+
+}  // namespace dynid::python

@@ -1,0 +1,122 @@
+"""Identifiability and identification: base_parameters, identifiability, identify, predict."""
+import json
+
+import numpy as np
+import pytest
+
+import dynid
+from conftest import read_json, run_cli
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return dynid.load_model("puma560")
+
+
+def test_base_parameters_span_what_the_regressor_sees(puma):
+    base = dynid.base_parameters(puma)
+    assert base.num_base == 36 and base.num_standard == 60
+    assert base.names[0] == "Iyy1R" and base.expressions[0].startswith("Iyy1")
+    assert len(base.zero_columns) > 0
+    rng = np.random.default_rng(3)
+    q, dq, ddq = (rng.uniform(-2, 2, (50, 6)) for _ in range(3))
+    Y = dynid.regressor(puma, q, dq, ddq).reshape(-1, 60)
+    scale = np.abs(Y).max()
+    # W N = 0 and W = W P^T P-consistent: relative round-off of 60-term sums (1e-10 leaves margin).
+    assert np.abs(Y @ base.null_space).max() < 1e-10 * scale
+    theta = puma.parameters
+    beta = base.project(theta)
+    assert np.allclose(base.projection @ theta, beta, rtol=1e-12, atol=1e-12)
+    Y1 = Y[:, base.independent]
+    assert np.allclose(Y1 @ beta, Y @ theta, rtol=1e-10, atol=1e-10 * scale)
+    back = base.standard_from_base(beta, np.zeros(60))
+    assert np.allclose(base.project(back), beta, rtol=1e-12, atol=1e-12)
+    assert base.combination(0)[0] == ("Iyy1", 1.0)
+
+
+def test_identifiability_document_equals_the_cli(tmp_path, puma, puma_csv):
+    run_cli("identifiability", "--robot", "puma560", "--data", puma_csv, "--out", tmp_path)
+    result = dynid.identifiability(puma, data=str(puma_csv))
+    assert json.loads(result.to_json()) == read_json(tmp_path / "identifiability.json")
+    assert result.data["rank"] == 36 and result.data["unexcited"] == []
+    assert result.condition_number > 1
+    in_memory = dynid.identifiability(puma, data=dynid.read_dataset(puma_csv))
+    assert in_memory.data["condition_number"] == result.data["condition_number"]
+    assert dynid.identifiability(puma).data is None
+
+
+@pytest.mark.parametrize("method", ["ols", "wls", "pc"])
+def test_identify_equals_the_cli_estimate(tmp_path, puma_csv, puma_validate_csv, method):
+    robot = "puma560-consistent" if method == "pc" else "puma560"
+    model = dynid.load_model(robot)
+    run_cli("identify", "--robot", robot, "--data", puma_csv, "--validate", puma_validate_csv,
+            "--method", method, "--out", tmp_path)
+    estimate = dynid.identify(model, str(puma_csv), method=method,
+                              validate=str(puma_validate_csv), robot_spec=robot)
+    assert json.loads(estimate.to_json()) == read_json(tmp_path / "estimate.json")
+    assert estimate.method == method and estimate.num_samples == 4001
+    assert estimate.beta.shape == (36,) and estimate.std_dev.shape == (36,)
+    assert estimate.validation["num_samples"] == 2001
+    # Noise 0.05 N m on torques of tens of N m: the fit explains all but about 1 %.
+    assert estimate.relative_error < 0.02
+    if method == "pc":
+        assert estimate.violations == []
+
+
+def test_arrays_give_the_same_estimate_as_the_file(puma, puma_csv):
+    from_file = dynid.identify(puma, puma_csv)
+    data = dynid.read_dataset(puma_csv)
+    from_arrays = dynid.identify(puma, data, threads=1)
+    assert np.array_equal(from_file.beta, from_arrays.beta)  # the same samples, the same sums
+    assert np.array_equal(from_file.covariance, from_arrays.covariance)
+    assert from_arrays.to_json().count("<arrays>") == 1
+    two = dynid.identify(puma, data, threads=2)
+    assert np.array_equal(two.beta, from_arrays.beta)
+
+
+def test_the_estimated_model_predicts_what_the_cli_predicts(tmp_path, puma, puma_csv,
+                                                           puma_validate_csv):
+    run_cli("identify", "--robot", "puma560", "--data", puma_csv, "--out", tmp_path / "est")
+    run_cli("predict", "--estimate", tmp_path / "est" / "estimate.json", "--data",
+            puma_validate_csv, "--out", tmp_path / "pred")
+    estimate = dynid.identify(puma, puma_csv)
+    prediction = dynid.predict(estimate.model, puma_validate_csv)
+    header = (tmp_path / "pred" / "predicted.csv").read_text().split("\n", 1)[0].split(",")
+    assert header[7:] == [f"tau_hat{j}" for j in range(1, 7)]
+    cli = np.loadtxt(tmp_path / "pred" / "predicted.csv", delimiter=",", skiprows=1)
+    assert np.array_equal(prediction.time, cli[:, 0])
+    assert np.array_equal(prediction.measured, cli[:, 1:7])
+    assert np.array_equal(prediction.predicted, cli[:, 7:])
+    record = read_json(tmp_path / "pred" / "prediction.json")
+    assert prediction.relative_error == pytest.approx(record["relative_error"], rel=0, abs=0)
+    in_memory = dynid.predict(estimate.model, dynid.read_dataset(puma_validate_csv), threads=1)
+    assert np.array_equal(in_memory.predicted, prediction.predicted)
+    # RNEA of the estimate, sample by sample.
+    data = dynid.read_dataset(puma_validate_csv)
+    assert np.array_equal(prediction.predicted,
+                          dynid.rnea(estimate.model, data.q, data.dq, data.ddq))
+
+
+def test_unexcited_data_raise_a_numerical_error(puma):
+    t = np.arange(200) * 0.001
+    q = np.zeros((200, 6))
+    still = dynid.Dataset(t, q, q, q, dynid.rnea(puma, q, q, q))
+    with pytest.raises(dynid.NumericalError, match="excite") as caught:
+        dynid.identify(puma, still)
+    assert isinstance(caught.value, RuntimeError)
+
+
+def test_bad_identify_arguments_raise_value_errors(puma, puma_csv):
+    with pytest.raises(ValueError, match="unknown method 'nlo'"):
+        dynid.identify(puma, puma_csv, method="nlo")
+    with pytest.raises(ValueError, match="prior_weight"):
+        dynid.identify(puma, puma_csv, method="pc", prior_weight=0)
+    with pytest.raises(ValueError, match="6 joints, robot .panda. has 7"):
+        dynid.identify(dynid.load_model("panda"), dynid.read_dataset(puma_csv))
+    with pytest.raises(TypeError, match="data"):
+        dynid.identify(puma, 3.5)
+    with pytest.raises(ValueError, match="samples"):
+        dynid.identify(puma, puma_csv, samples=-1)
+    with pytest.raises(ValueError, match="another parameter layout"):
+        dynid.identify(puma, puma_csv, method="pc",
+                       prior=dynid.load_model("puma560", drives=True))

@@ -1,0 +1,141 @@
+"""The paper's machinery and the data pipelines: gc_error, search, refine, excite, prepare, each
+against the CLI with the same settings and seed."""
+import json
+
+import numpy as np
+import pytest
+
+import dynid
+from conftest import read_json, run_cli
+
+
+def without(document, keys):
+    """The document without the given keys at any depth (wall times, the start file's name)."""
+    if isinstance(document, dict):
+        return {k: without(v, keys) for k, v in document.items() if k not in keys}
+    if isinstance(document, list):
+        return [without(v, keys) for v in document]
+    return document
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return dynid.load_model("puma560")
+
+
+def test_gc_error_is_the_same_for_any_thread_count_and_data_form(puma, puma_csv):
+    one = dynid.gc_error(puma, puma_csv, segments=40, threads=1)
+    assert dynid.gc_error(puma, puma_csv, segments=40, threads=2) == one
+    assert dynid.gc_error(puma, dynid.read_dataset(puma_csv), segments=40) == one
+    assert one > 0  # the torques carry noise: no model predicts the states exactly
+    other = puma.copy()
+    other.set_parameter("m3", puma.parameter("m3") * 1.5)
+    assert dynid.gc_error(other, puma_csv, segments=40) > one
+    with pytest.raises(ValueError, match="horizon"):
+        dynid.gc_error(puma, puma_csv, horizon=0.0123456)
+
+
+@pytest.fixture(scope="module")
+def cli_search(tmp_path_factory, puma_csv):
+    out = tmp_path_factory.mktemp("search")
+    run_cli("search", "--method", "nlo", "--robot", "puma560", "--data", puma_csv, "--perturb",
+            0.3, "--budget-evals", 150, "--segments", 20, "--seed", 3, "--threads", 2, "--out", out)
+    return out
+
+
+def test_search_equals_the_cli_for_the_same_seed(puma, puma_csv, cli_search):
+    result = dynid.search(puma, str(puma_csv), "nlo", perturb=0.3, budget_evals=150,
+                          segments=20, seed=3, threads=1)
+    cli = read_json(cli_search / "search.json")
+    assert without(json.loads(result.to_json()), {"seconds"}) == without(cli, {"seconds"})
+    assert result.evaluations == 150 and result.termination == "evaluations"
+    assert result.best_gc <= result.initial_gc
+    assert len(result.best_x) == len(result.free_names)
+    assert dynid.gc_error(result.model, puma_csv, segments=20) == pytest.approx(result.best_gc,
+                                                                               rel=1e-12)
+    arrays = dynid.search(puma, dynid.read_dataset(puma_csv), "nlo", perturb=0.3,
+                          budget_evals=150, segments=20, seed=3)
+    assert np.array_equal(arrays.best_x, result.best_x)
+
+
+def test_ga_and_bad_search_settings(puma, puma_csv):
+    ga = dynid.search(puma, puma_csv, "ga", perturb=0.2, budget_evals=60, population=20,
+                      segments=10, seed=4, truth=puma)
+    assert ga.evaluations >= 60 and ga.final_parameter_error is not None
+    with pytest.raises(ValueError, match="init or perturb"):
+        dynid.search(puma, puma_csv, "nlo", init=puma, perturb=0.1)
+    with pytest.raises(ValueError, match="unknown method 'ols'"):
+        dynid.search(puma, puma_csv, "ols")
+    with pytest.raises(ValueError, match="mass_constraint"):
+        dynid.search(puma, puma_csv, "nlo", mass_constraint="maybe")
+    with pytest.raises(ValueError, match="budget"):
+        dynid.search(puma, puma_csv, "nlo", budget_evals=-1)
+
+
+def test_refine_from_a_search_equals_the_cli_refine_from_its_file(tmp_path, puma, puma_csv,
+                                                                  cli_search):
+    run_cli("refine", "--robot", "puma560", "--from", cli_search / "search.json", "--data",
+            puma_csv, "--max-iterations", 2, "--no-base-stage", "--out", tmp_path)
+    cli = read_json(tmp_path / "refine.json")
+    search = dynid.search(puma, puma_csv, "nlo", perturb=0.3, budget_evals=150, segments=20,
+                          seed=3)
+    refined = dynid.refine(puma, search, puma_csv, max_iterations=2, base_stage=False)
+    mine = json.loads(refined.to_json())
+    assert without(mine, {"seconds", "from"}) == without(cli, {"seconds", "from"})
+    from_file = dynid.refine(puma, cli_search / "search.json", puma_csv, max_iterations=2,
+                             base_stage=False)
+    assert np.array_equal(from_file.x, refined.x)
+    assert refined.final_gc <= refined.initial_gc
+    with pytest.raises(ValueError, match="max_iterations"):
+        dynid.refine(puma, search, puma_csv, max_iterations=0)
+
+
+def test_refine_from_an_estimate(puma, puma_csv):
+    estimate = dynid.identify(dynid.load_model("puma560-consistent"), puma_csv, method="pc")
+    refined = dynid.refine(dynid.load_model("puma560-consistent"), estimate, puma_csv,
+                           max_iterations=2, segments=10, base_stage=False)
+    assert np.isfinite(refined.final_gc) and refined.final_gc <= refined.initial_gc * (1 + 1e-12)
+
+
+def test_excite_equals_the_cli_design(tmp_path, puma):
+    run_cli("excite", "--robot", "puma560", "--starts", 2, "--evaluations", 60, "--seed", 3,
+            "--out", tmp_path)
+    design = dynid.excite(puma, starts=2, evaluations=60, seed=3, robot_spec="puma560")
+    assert without(json.loads(design.to_json()), {"seconds"}) == \
+        without(read_json(tmp_path / "excitation.json"), {"seconds"})
+    motion = design.sample(100.0)
+    assert motion.time[-1] == pytest.approx(design.period, rel=1e-12)
+    # At rest at both ends of the period (the design's constraints), to round-off.
+    assert np.abs(motion.dq[0]).max() < 1e-9 and np.abs(motion.dq[-1]).max() < 1e-9
+    design_file = tmp_path / "excitation.json"
+    simulated = dynid.simulate(puma, duration=2, trajectory=design_file)
+    assert simulated.num_samples == 2001
+    with pytest.raises(ValueError):
+        dynid.excite(puma, criterion="best")
+
+
+def test_prepare_equals_the_cli(tmp_path, puma_csv):
+    data = dynid.read_dataset(puma_csv)
+    # A raw log: milliseconds, degrees, no accelerations, named columns.
+    log = tmp_path / "log.csv"
+    rows = np.column_stack([data.time * 1e3, np.degrees(data.q), data.tau])
+    header = "stamp_ms," + ",".join(f"pos{j}" for j in range(1, 7)) + "," + \
+        ",".join(f"eff{j}" for j in range(1, 7))
+    np.savetxt(log, rows, delimiter=",", header=header, comments="", fmt="%.17g")
+    run_cli("prepare", "--log", log, "--time", "stamp_ms", "--q", "pos*", "--tau", "eff*",
+            "--time-unit", "ms", "--angle-unit", "deg", "--validate-fraction", 0.25, "--out",
+            tmp_path / "cli")
+    prepared = dynid.prepare(str(log), time_column="stamp_ms", q_columns="pos*",
+                             tau_columns="eff*", time_unit="ms", angle_unit="deg",
+                             validate_fraction=0.25)
+    cli_train = dynid.read_dataset(tmp_path / "cli" / "train.csv")
+    for field in ("time", "q", "dq", "ddq", "tau"):
+        assert np.array_equal(getattr(prepared.train, field), getattr(cli_train, field))
+    assert prepared.validate.num_samples == \
+        dynid.read_dataset(tmp_path / "cli" / "validate.csv").num_samples
+    assert json.loads(prepared.to_json()) == read_json(tmp_path / "cli" / "prepare.json")
+    assert prepared.cutoff == 10.0
+    with pytest.raises(ValueError, match="cutoff"):
+        dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", cutoff="high")
+    with pytest.raises(dynid.ParseError):
+        dynid.prepare(str(log), q_columns="nothing*", tau_columns="eff*")
