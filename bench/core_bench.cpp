@@ -48,6 +48,32 @@ void BM_Rnea(benchmark::State& state) {
 }
 BENCHMARK(BM_Rnea)->Arg(0)->Arg(1)->ArgName("drives");
 
+// The C++ loop that the Python module's batched rnea is compared with (bench/python_rnea.py):
+// 1e6 states in row-major N x n arrays (NumPy's layout), torques written to another, one thread.
+void BM_RneaBatch(benchmark::State& state) {
+  const Model model = dynid::makePuma560(false);
+  const int n = model.numJoints();
+  const Eigen::Index count = state.range(0);
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  Rows q(count, n), dq(count, n), ddq(count, n), tau(count, n);
+  for (Rows* m : {&q, &dq, &ddq})
+    for (Eigen::Index k = 0; k < m->size(); ++k) m->data()[k] = u(rng);
+  Data data(model);
+  using Row = Eigen::Map<const Eigen::VectorXd>;
+  for (auto _ : state) {
+    for (Eigen::Index k = 0; k < count; ++k)
+      Eigen::Map<Eigen::VectorXd>(tau.data() + k * n, n) =
+          dynid::rnea(model, data, Row(q.data() + k * n, n), Row(dq.data() + k * n, n),
+                      Row(ddq.data() + k * n, n));
+    benchmark::DoNotOptimize(tau.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * count);
+}
+BENCHMARK(BM_RneaBatch)->Arg(1000000)->ArgName("states")->Unit(benchmark::kMillisecond);
+
 void BM_Crba(benchmark::State& state) {
   const Model model = dynid::makePuma560(false);
   Data data(model);
