@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages dynid needs to build, test and benchmark, including the sanitizer
-# and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports).
+# and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports)
+# and the Python module (pybind11, NumPy, pytest for Debian's python3).
 # Idempotent: installs only what is missing, and does nothing (not even apt-get update) when all
 # packages are present. Runs as root, or through sudo when not root.
 #   scripts/install-deps.sh            build + test + bench dependencies
@@ -14,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox clang-format
   clang libclang-rt-14-dev llvm-14
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 if [[ "${DYNID_WITH_PEERS:-0}" == "1" ]]; then
   packages+=(liborocos-kdl-dev libmujoco-dev)

@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# Quick start, step 2 (and what CI runs): install what is missing, build everything with the tests
-# and benchmarks, run the whole test suite, then the sanitizer and fuzz jobs (scripts/sanitize.sh:
-# a clang ASan+UBSan build, its unit and bad-input tests, 20 s of each fuzz target).
+# Quick start, step 2 (and what CI runs): install what is missing, build everything with the tests,
+# benchmarks and the Python module, run the whole test suite (its pytest files included), then the
+# sanitizer and fuzz jobs (scripts/sanitize.sh: a clang ASan+UBSan build, its unit and bad-input
+# tests, 20 s of each fuzz target).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=ON \
+  -DDYNID_PYTHON=ON
 cmake --build build -j"$(nproc)"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
 ./scripts/sanitize.sh
