@@ -12,20 +12,11 @@ writes noise_study/noise_study.csv and, when matplotlib is installed, noise_stud
 --quick runs a smaller study (the test suite's).
 """
 import argparse
-import csv
-import os
 
 import numpy as np
 
 import dynid
-
-
-def base_error(beta, truth):
-    scale = np.abs(truth)
-    nonzero = scale > 1e-9 * scale.mean()
-    fill = scale[nonzero].mean() if nonzero.any() else 1.0
-    scale = np.where(nonzero, scale, fill)
-    return float(np.sqrt(np.mean(((beta - truth) / scale) ** 2)))
+from study_output import base_error, pyplot, save_figure, write_table
 
 
 def main():
@@ -54,20 +45,10 @@ def main():
                              "condition_number": estimate.condition_number})
         print(f"noise {noise:g} N m: done", flush=True)
 
-    os.makedirs(args.out, exist_ok=True)
-    table = os.path.join(args.out, "noise_study.csv")
-    with open(table, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    print(f"wrote {table}")
+    write_table(args.out, "noise_study.csv", rows)
 
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib is not installed: the table is the result")
+    plt = pyplot()
+    if plt is None:
         return
     fig, ax = plt.subplots(figsize=(6, 4))
     for method in ("ols", "wls"):
@@ -80,9 +61,7 @@ def main():
     ax.set_title("PUMA 560, least squares")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-    figure = os.path.join(args.out, "noise_study.png")
-    fig.savefig(figure, dpi=120, bbox_inches="tight")
-    print(f"wrote {figure}")
+    save_figure(fig, args.out, "noise_study.png")
 
 
 if __name__ == "__main__":

@@ -12,19 +12,11 @@ dynid.base_parameters) and on the GC error of held-out data.
 writes comparison/comparison.csv and, with matplotlib, comparison/comparison.png.
 """
 import argparse
-import csv
-import os
 
 import numpy as np
 
 import dynid
-
-
-def base_error(beta, truth):
-    scale = np.abs(truth)
-    nonzero = scale > 1e-9 * scale.mean()
-    scale = np.where(nonzero, scale, scale[nonzero].mean() if nonzero.any() else 1.0)
-    return float(np.sqrt(np.mean(((beta - truth) / scale) ** 2)))
+from study_output import base_error, pyplot, save_figure, write_table
 
 
 def main():
@@ -63,19 +55,9 @@ def main():
         print(f"{name:24s} base error {rows[-1]['base_error']:.3g}, "
               f"held-out GC {rows[-1]['held_out_gc']:.4g}")
 
-    os.makedirs(args.out, exist_ok=True)
-    table = os.path.join(args.out, "comparison.csv")
-    with open(table, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-    print(f"wrote {table}")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        print("matplotlib is not installed: the table is the result")
+    write_table(args.out, "comparison.csv", rows)
+    plt = pyplot()
+    if plt is None:
         return
     fig, ax = plt.subplots(figsize=(6, 4))
     for row in rows:
@@ -86,9 +68,7 @@ def main():
     ax.set_ylabel("RMS relative base-parameter error")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
-    figure = os.path.join(args.out, "comparison.png")
-    fig.savefig(figure, dpi=120, bbox_inches="tight")
-    print(f"wrote {figure}")
+    save_figure(fig, args.out, "comparison.png")
 
 
 if __name__ == "__main__":
