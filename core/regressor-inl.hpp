@@ -7,30 +7,60 @@
 namespace dynid {
 
 namespace regressor_detail {
-/// The 6 x 10 matrix A with I a + v x* (I v) = A theta_link for a body moving with velocity v and
-/// acceleration a (both in its link frame), theta_link = [m, h, Ixx, Ixy, Ixz, Iyy, Iyz, Izz]:
-///   m:   (0, a_l + w x v_l)
-///   h:   (-[a_l]x - [w]x[v_l]x + [v_l]x[w]x,  [dw]x + [w]x[w]x)
-///   I_o: (L(dw) + [w]x L(w), 0),  with I_o w = L(w) [Ixx, Ixy, Ixz, Iyy, Iyz, Izz].
+/// The body regressor A (6 x 10) with I a + v x* (I v) = A theta_link for a body moving with
+/// velocity v and acceleration a (both in its link frame), theta_link = [m, h, Ixx, Ixy, Ixz, Iyy,
+/// Iyz, Izz]:
+///   m:   (0, g),  g = a_l + w x v_l
+///   h:   (M1, M2) = (-[a_l]x - [w]x[v_l]x + [v_l]x[w]x,  [dw]x + [w]x[w]x)
+///   I_o: (N, 0) = (L(dw) + [w]x L(w), 0),  with I_o w = L(w) [Ixx, Ixy, Ixz, Iyy, Iyz, Izz].
+/// Kept in the form its only use needs, s^T A for a motion s = (s_a, s_l), with A's zero blocks
+/// skipped:
+///   s^T A = [ s_l . g,  g x s_a + M2^T s_l,  N^T s_a ]
+/// since M1^T = [a_l]x + [w]x[v_l]x - [v_l]x[w]x = [a_l]x + v_l w^T - w v_l^T = [g]x, and
+/// M2^T = -[dw]x + w w^T - |w|^2 1 (regressor_test: Y theta = RNEA for random theta).
 template <typename Scalar>
-Eigen::Matrix<Scalar, 6, 10> bodyRegressor(const Vector6<Scalar>& v, const Vector6<Scalar>& a) {
-  const Vector3<Scalar> w = v.template head<3>(), vl = v.template tail<3>();
-  const Vector3<Scalar> dw = a.template head<3>(), al = a.template tail<3>();
-  const Matrix3<Scalar> sw = skew(w), sv = skew(vl);
-  auto L = [](const Vector3<Scalar>& x) {
-    Eigen::Matrix<Scalar, 3, 6> out = Eigen::Matrix<Scalar, 3, 6>::Zero();
-    out(0, 0) = x.x(), out(0, 1) = x.y(), out(0, 2) = x.z();
-    out(1, 1) = x.x(), out(1, 3) = x.y(), out(1, 4) = x.z();
-    out(2, 2) = x.x(), out(2, 4) = x.y(), out(2, 5) = x.z();
+struct BodyRegressor {
+  BodyRegressor(const Vector6<Scalar>& v, const Vector6<Scalar>& a) {
+    const Vector3<Scalar> w = v.template head<3>(), vl = v.template tail<3>();
+    const Vector3<Scalar> dw = a.template head<3>(), al = a.template tail<3>();
+    g = al + cross(w, vl);
+    const Scalar ww = w.squaredNorm();
+    m2t(0, 0) = w.x() * w.x() - ww, m2t(1, 1) = w.y() * w.y() - ww, m2t(2, 2) = w.z() * w.z() - ww;
+    const Scalar xy = w.x() * w.y(), xz = w.x() * w.z(), yz = w.y() * w.z();
+    m2t(0, 1) = xy + dw.z(), m2t(1, 0) = xy - dw.z();
+    m2t(0, 2) = xz - dw.y(), m2t(2, 0) = xz + dw.y();
+    m2t(1, 2) = yz + dw.x(), m2t(2, 1) = yz - dw.x();
+    // Column k of N^T is N^T e_k = sym(e_k, dw) + sym(e_k x w, w), where sym(u, x) = [u0 x0,
+    // u0 x1 + u1 x0, u0 x2 + u2 x0, u1 x1, u1 x2 + u2 x1, u2 x2] is u^T L(x) (and
+    // s^T [w]x = (s x w)^T).
+    for (int k = 0; k < 3; ++k) {
+      Vector3<Scalar> e = Vector3<Scalar>::Zero();
+      e(k) = Scalar(1);
+      nt.col(k) = sym(e, dw) + sym(cross(e, w), w);
+    }
+  }
+  /// s^T A as a column.
+  Eigen::Matrix<Scalar, 10, 1> product(const Vector6<Scalar>& s) const {
+    Eigen::Matrix<Scalar, 10, 1> out;
+    const Vector3<Scalar> sa = s.template head<3>(), sl = s.template tail<3>();
+    out(0) = sl.dot(g);
+    out.template segment<3>(1) = cross(g, sa);
+    out.template segment<3>(1).noalias() += m2t * sl;
+    out.template tail<6>().noalias() = nt * sa;
     return out;
-  };
-  Eigen::Matrix<Scalar, 6, 10> A = Eigen::Matrix<Scalar, 6, 10>::Zero();
-  A.template block<3, 1>(3, 0) = al + cross(w, vl);
-  A.template block<3, 3>(0, 1) = -skew(al) - sw * sv + sv * sw;
-  A.template block<3, 3>(3, 1) = skew(dw) + sw * sw;
-  A.template block<3, 6>(0, 4) = L(dw) + sw * L(w);
-  return A;
-}
+  }
+
+ private:
+  static Eigen::Matrix<Scalar, 6, 1> sym(const Vector3<Scalar>& u, const Vector3<Scalar>& x) {
+    Eigen::Matrix<Scalar, 6, 1> out;
+    out << u.x() * x.x(), u.x() * x.y() + u.y() * x.x(), u.x() * x.z() + u.z() * x.x(),
+        u.y() * x.y(), u.y() * x.z() + u.z() * x.y(), u.z() * x.z();
+    return out;
+  }
+  Vector3<Scalar> g;
+  Matrix3<Scalar> m2t;
+  Eigen::Matrix<Scalar, 6, 3> nt;
+};
 }  // namespace regressor_detail
 
 template <typename Scalar>
@@ -67,8 +97,8 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
     // s = S_j carried down to link frame i as a motion. One 6-vector per (j, i) pair moves down
     // the chain, instead of A's ten columns moving up it.
     const Pose<Scalar>& B = model.body_placements()[i];
-    const Eigen::Matrix<Scalar, 6, 10> A = regressor_detail::bodyRegressor<Scalar>(
-        B.actInvMotion(data.v[i]), B.actInvMotion(data.a[i]));
+    const regressor_detail::BodyRegressor<Scalar> A(B.actInvMotion(data.v[i]),
+                                                    B.actInvMotion(data.a[i]));
     const std::size_t row_i = static_cast<std::size_t>(i);
     data.joint_axes[row_i * n + row_i] = jointMotionAt(model, i, Scalar(1));
     for (int j = parents[i]; j >= 0; j = parents[j])  // parents precede their children
@@ -78,7 +108,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
     for (int j = i; j >= 0; j = parents[j]) {
       const Vector6<Scalar> s =
           B.actInvMotion(data.joint_axes[static_cast<std::size_t>(j) * n + row_i]);
-      data.Y.row(j).template segment<10>(column) = s.transpose() * A;
+      data.Y.row(j).template segment<10>(column) = A.product(s).transpose();
     }
     const DriveTerms terms = model.drive_terms;
     if (!terms.any()) continue;
