@@ -40,6 +40,19 @@ def test_identifiability_document_equals_the_cli(tmp_path, puma, puma_csv):
     assert json.loads(result.to_json()) == read_json(tmp_path / "identifiability.json")
     assert result.data["rank"] == 36 and result.data["unexcited"] == []
     assert result.condition_number > 1
+    document = read_json(tmp_path / "identifiability.json")
+    base = result.base
+    assert base.names == [b["name"] for b in document["base_parameters"]]
+    assert base.expressions == [b["expression"] for b in document["base_parameters"]]
+    assert [dict(base.combination(j)) for j in range(base.num_base)] == \
+        [b["coefficients"] for b in document["base_parameters"]]
+    assert np.array_equal(base.null_space, np.array(document["null_space"]["basis"]).T)
+    assert base.rank_gap == document["rank_gap"] and base.tolerance == document["rank_tolerance"]
+    assert [base.standard_names[i] for i in base.zero_columns] == document["unidentifiable"]
+    assert len(base.dependent) == base.num_standard - base.num_base
+    assert base.K.shape == (base.num_base, len(base.dependent))
+    assert np.all(base.significance[base.independent] > 1)
+    assert np.array_equal(result.model_beta, [b["model_value"] for b in document["base_parameters"]])
     in_memory = dynid.identifiability(puma, data=dynid.read_dataset(puma_csv))
     assert in_memory.data["condition_number"] == result.data["condition_number"]
     assert dynid.identifiability(puma).data is None
@@ -57,6 +70,18 @@ def test_identify_equals_the_cli_estimate(tmp_path, puma_csv, puma_validate_csv,
     assert estimate.method == method and estimate.num_samples == 4001
     assert estimate.beta.shape == (36,) and estimate.std_dev.shape == (36,)
     assert estimate.validation["num_samples"] == 2001
+    document = read_json(tmp_path / "estimate.json")
+    if method != "pc":
+        rows = document["base_parameters"]
+        assert np.array_equal(estimate.beta, [r["estimate"] for r in rows])
+        assert np.array_equal(estimate.std_dev, [r["std_dev"] for r in rows])
+        assert np.array_equal(estimate.relative_std_dev_percent,
+                              [r["relative_std_dev_percent"] for r in rows])
+        assert estimate.base_names == [r["name"] for r in rows]
+    values = document["standard_estimate"]["values"]
+    assert np.array_equal(estimate.standard, [values[k] for k in estimate.standard_names])
+    assert estimate.condition_number == document["condition_number"]
+    assert np.array_equal(estimate.residual_rms, document["residual_rms"])
     # Noise 0.05 N m on torques of tens of N m: the fit explains all but about 1 %.
     assert estimate.relative_error < 0.02
     if method == "pc":

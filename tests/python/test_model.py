@@ -36,6 +36,10 @@ def test_parameters_match_the_cli_and_round_trip_through_json(tmp_path):
     assert np.array_equal(again.parameters, model.parameters)
     assert again.parameter_names == model.parameter_names
     assert model.show() == run_cli("model", "show", "--robot", "puma560", "--drives").stdout
+    for fmt, text in (("urdf", model.to_urdf()), ("mjcf", model.to_mjcf())):
+        run_cli("model", "export", "--robot", "puma560", "--drives", "--format", fmt, "--out",
+                tmp_path / f"cli.{fmt}")
+        assert (tmp_path / f"cli.{fmt}").read_text() == text
 
 
 def test_parameter_access_by_name_and_vector():

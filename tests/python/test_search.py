@@ -49,6 +49,9 @@ def test_search_equals_the_cli_for_the_same_seed(puma, puma_csv, cli_search):
     cli = read_json(cli_search / "search.json")
     assert without(json.loads(result.to_json()), {"seconds"}) == without(cli, {"seconds"})
     assert result.evaluations == 150 and result.termination == "evaluations"
+    assert len(result.history) == len(cli["history"])
+    assert [h["best_gc"] for h in result.history] == [h["best_gc_error"] for h in cli["history"]]
+    assert result.initial_parameter_error is None  # no truth given
     assert result.best_gc <= result.initial_gc
     assert len(result.best_x) == len(result.free_names)
     assert dynid.gc_error(result.model, puma_csv, segments=20) == pytest.approx(result.best_gc,
@@ -62,6 +65,7 @@ def test_ga_and_bad_search_settings(puma, puma_csv):
     ga = dynid.search(puma, puma_csv, "ga", perturb=0.2, budget_evals=60, population=20,
                       segments=10, seed=4, truth=puma)
     assert ga.evaluations >= 60 and ga.final_parameter_error is not None
+    assert ga.initial_parameter_error > 0
     with pytest.raises(ValueError, match="init or perturb"):
         dynid.search(puma, puma_csv, "nlo", init=puma, perturb=0.1)
     with pytest.raises(ValueError, match="unknown method 'ols'"):
@@ -86,6 +90,9 @@ def test_refine_from_a_search_equals_the_cli_refine_from_its_file(tmp_path, puma
                              base_stage=False)
     assert np.array_equal(from_file.x, refined.x)
     assert refined.final_gc <= refined.initial_gc
+    assert refined.termination == cli["termination"]
+    assert refined.free_names == search.free_names
+    assert refined.final_parameter_error is None  # no truth given
     with pytest.raises(ValueError, match="max_iterations"):
         dynid.refine(puma, search, puma_csv, max_iterations=0)
 
@@ -93,8 +100,9 @@ def test_refine_from_a_search_equals_the_cli_refine_from_its_file(tmp_path, puma
 def test_refine_from_an_estimate(puma, puma_csv):
     estimate = dynid.identify(dynid.load_model("puma560-consistent"), puma_csv, method="pc")
     refined = dynid.refine(dynid.load_model("puma560-consistent"), estimate, puma_csv,
-                           max_iterations=2, segments=10, base_stage=False)
+                           max_iterations=2, segments=10, base_stage=False, truth=puma)
     assert np.isfinite(refined.final_gc) and refined.final_gc <= refined.initial_gc * (1 + 1e-12)
+    assert refined.final_parameter_error > 0 and refined.final_base_error > 0
 
 
 def test_excite_equals_the_cli_design(tmp_path, puma):
@@ -103,6 +111,11 @@ def test_excite_equals_the_cli_design(tmp_path, puma):
     design = dynid.excite(puma, starts=2, evaluations=60, seed=3, robot_spec="puma560")
     assert without(json.loads(design.to_json()), {"seconds"}) == \
         without(read_json(tmp_path / "excitation.json"), {"seconds"})
+    cli = read_json(tmp_path / "excitation.json")
+    assert np.array_equal(design.a, cli["design"]["a"]) and np.array_equal(design.b, cli["design"]["b"])
+    assert np.array_equal(design.offset, cli["design"]["offset"])
+    assert design.condition_number == cli["designed"]["condition_unit"]
+    assert design.baseline_condition_number > design.condition_number  # the design's purpose
     motion = design.sample(100.0)
     assert motion.time[-1] == pytest.approx(design.period, rel=1e-12)
     # At rest at both ends of the period (the design's constraints), to round-off.
@@ -134,7 +147,9 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
     assert prepared.validate.num_samples == \
         dynid.read_dataset(tmp_path / "cli" / "validate.csv").num_samples
     assert json.loads(prepared.to_json()) == read_json(tmp_path / "cli" / "prepare.json")
-    assert prepared.cutoff == 10.0
+    assert prepared.cutoff == 10.0 and prepared.rate == pytest.approx(1000.0, rel=1e-9)
+    assert np.array_equal(prepared.tau_noise,
+                          read_json(tmp_path / "cli" / "prepare.json")["tau_noise_rms"])
     with pytest.raises(ValueError, match="cutoff"):
         dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", cutoff="high")
     with pytest.raises(dynid.ParseError):
