@@ -2,6 +2,7 @@
 // the files of an identification written together.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "data/json_number.hpp"
@@ -56,6 +57,15 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
   }
   table.caption = "Relative error per joint: residual RMS over measured RMS.";
   doc.table(table);
+  // The figures drawn at once (one gnuplot each), then placed in order.
+  const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
+  std::vector<std::function<std::optional<std::string>()>> draws = {
+      [&] { return torqueFigure(o.fit, "training data: measured and predicted torques"); },
+      [&] { return residualFigure(o.fit, validate); }, [&] { return residualHistogram(o.fit); }};
+  if (validate)
+    draws.push_back(
+        [&] { return torqueFigure(*validate, "held-out data: measured and predicted torques"); });
+  const std::vector<std::optional<std::string>> svgs = drawConcurrently(draws);
   const auto add = [&](const std::string& name, const std::optional<std::string>& svg,
                        const std::string& caption) {
     if (svg)
@@ -63,17 +73,16 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
     else
       missing.push_back(name + ".svg");
   };
-  add("torques_train", torqueFigure(o.fit, "training data: measured and predicted torques"),
+  add("torques_train", svgs[0],
       "Measured (blue) against predicted (red) joint torques on the training data.");
-  if (o.validate_fit)
-    add("torques_validate",
-        torqueFigure(*o.validate_fit, "held-out data: measured and predicted torques"),
+  if (validate)
+    add("torques_validate", svgs[3],
         "Measured against predicted joint torques on the held-out data: what the estimate "
         "predicts on motion it was not fitted to.");
-  add("residuals", residualFigure(o.fit, o.validate_fit ? &*o.validate_fit : nullptr),
+  add("residuals", svgs[1],
       "Torque residuals against time. Structure that repeats with the motion (spikes at velocity "
       "reversals, drift with temperature) is unmodelled dynamics, not noise.");
-  add("residual_histogram", residualHistogram(o.fit),
+  add("residual_histogram", svgs[2],
       "Histogram of each joint's training residuals (every sample up to 8192, evenly spaced "
       "samples beyond) against the normal density of the same RMS. "
       "A shifted peak is a bias (an offset the drive terms lack), two peaks unmodelled Coulomb "

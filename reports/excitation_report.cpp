@@ -239,8 +239,11 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
     doc.paragraph("The default sinusoid itself breaks these limits: " +
                   o.baseline_check.violations.front() + ".");
 
+  // Both figures drawn at once (one gnuplot each).
+  const std::vector<std::optional<std::string>> svgs = drawConcurrently(
+      {[&] { return trajectoryFigure(model, o); }, [&] { return deviationFigure(o); }});
   std::vector<std::string> missing;
-  if (const auto svg = trajectoryFigure(model, o))
+  if (const auto& svg = svgs[0])
     doc.figure({"trajectory",
                 "Each joint's position, velocity and acceleration as a fraction "
                 "of its limit; the design stays inside +-1 (checked at " +
@@ -287,7 +290,7 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
       " N m of independent torque noise on every joint, sampled at " + formatDouble(o.check_rate) +
       " Hz over one period; % is relative to the model's own value.";
   doc.table(params);
-  if (const auto svg = deviationFigure(o))
+  if (const auto& svg = svgs[1])
     doc.figure({"deviations",
                 "Expected relative standard deviation of each base parameter "
                 "(log scale): designed against the default sinusoid.",

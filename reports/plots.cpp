@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <sstream>
 
 namespace dynid {
@@ -72,6 +73,25 @@ std::optional<std::string> gnuplotSvg(const std::string& script) {
   if (svg.find("<svg") == std::string::npos || svg.find("</svg>") == std::string::npos)
     return std::nullopt;
   return svg;
+}
+
+std::vector<std::optional<std::string>> drawConcurrently(
+    const std::vector<std::function<std::optional<std::string>()>>& draws) {
+  std::vector<std::future<std::optional<std::string>>> running;
+  running.reserve(draws.size());
+  for (const auto& draw : draws) running.push_back(std::async(std::launch::async, draw));
+  std::vector<std::optional<std::string>> out;
+  std::exception_ptr failure;
+  for (auto& r : running) {  // every one waited for before any exception leaves
+    try {
+      out.push_back(r.get());
+    } catch (...) {
+      if (!failure) failure = std::current_exception();
+      out.emplace_back();
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+  return out;
 }
 
 std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) {

@@ -2,6 +2,7 @@
 // Markdown one). A missing or failing gnuplot degrades to no figures and a warning, never an error.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,6 +23,13 @@ struct Figure {
 /// Runs gnuplot (the DYNID_GNUPLOT environment variable, else `gnuplot` on the PATH) on `script`,
 /// which must set an svg terminal and plot inline data; the SVG it prints, or nullopt.
 std::optional<std::string> gnuplotSvg(const std::string& script);
+
+/// Runs every `draws` function (each builds one figure, typically ending in gnuplotSvg) at once,
+/// on threads of its own, and returns their results in order: each gnuplot is a process, so a
+/// report's figures take about the time of the slowest, not of all in turn. The functions must
+/// only read shared data. An exception from one is rethrown after all have finished.
+std::vector<std::optional<std::string>> drawConcurrently(
+    const std::vector<std::function<std::optional<std::string>()>>& draws);
 
 /// The demo's figures: the searches' GC error and parameter errors against iteration (the paper's
 /// Figs. 2 and 5), and every method's base-parameter and GC errors. Empty, with `warning` set,

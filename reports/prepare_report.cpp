@@ -151,11 +151,13 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   std::vector<std::pair<std::string, std::string>> files = {
       {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
   std::vector<std::string> figures;
-  for (const auto& [name, svg] : {std::pair{"spectrum.svg", spectrumFigure(outcome)},
-                                  std::pair{"filtered.svg", filteredFigure(outcome)}})
-    if (svg) {
-      files.emplace_back(name, *svg);
-      figures.push_back(name);
+  const std::vector<std::optional<std::string>> svgs = drawConcurrently(
+      {[&] { return spectrumFigure(outcome); }, [&] { return filteredFigure(outcome); }});
+  const char* names[] = {"spectrum.svg", "filtered.svg"};
+  for (std::size_t k = 0; k < svgs.size(); ++k)
+    if (svgs[k]) {
+      files.emplace_back(names[k], *svgs[k]);
+      figures.push_back(names[k]);
     }
   writeReportFiles(dir, files);
   std::ostringstream out;
