@@ -15,7 +15,7 @@ Comparison::Comparison(const Model& truth, const ParameterSpace& space, const Ba
       test_(test),
       test_data_(test_data),
       pool_(pool),
-      workspace_(truth, pool.numThreads()),
+      workspace_(pool.numThreads()),
       truth_full_(space.fullVector(truth)),
       beta_true_(base.project(truth.standardParameters())) {}
 

@@ -80,7 +80,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.horizon = request.segments.horizon;
   const int threads = resolveThreads(request.threads);
   ThreadPool pool(threads);
-  GcWorkspace workspace(robot, threads);
+  GcWorkspace workspace(threads);
 
   say("base parameters and the least-squares estimates");
   const BaseParameters base = structuralBaseParameters(robot);

@@ -397,7 +397,7 @@ std::pair<double, double> heldOutGc(const Model& first, const Model& second,
                                     int threads) {
   const GcProblem test = makeGcProblem(readDatasetCsv(file, first.numJoints()), segments);
   ThreadPool pool(resolveThreads(threads));
-  GcWorkspace workspace(first, pool.numThreads());
+  GcWorkspace workspace(pool.numThreads());
   const double a = gcError(first, test, workspace, pool);
   return {a, gcError(second, test, workspace, pool)};
 }

@@ -52,7 +52,7 @@ namespace {
 class PredictionAccumulator {
  public:
   PredictionAccumulator(const Model& model, int threads) : model_(model) {
-    for (int t = 0; t < threads; ++t) work_.push_back(std::make_unique<Data>(model));
+    work_.resize(static_cast<std::size_t>(threads));  // each made on its own thread, in add()
     const int n = model.numJoints();
     residual_squared_ = measured_squared_ = Eigen::VectorXd::Zero(n);
   }
@@ -64,7 +64,9 @@ class PredictionAccumulator {
     predicted_.resize(model_.numJoints(), m);
     constexpr int kBlock = 64;
     const auto body = [&](int block, int thread) {
-      Data& work = *work_[static_cast<std::size_t>(thread)];
+      std::unique_ptr<Data>& own = work_[static_cast<std::size_t>(thread)];
+      if (!own) own = std::make_unique<Data>(model_);  // this thread's arena: no shared lines
+      Data& work = *own;
       for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k)
         predicted_.col(k) = rnea(model_, work, chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
     };

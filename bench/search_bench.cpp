@@ -20,7 +20,7 @@ void BM_GcError(benchmark::State& state) {
   const GcProblem problem = pumaProblem(segments);
   const Model candidate = perturbedModel(makePuma560(), 0.3, 1);
   ThreadPool pool(threads);
-  GcWorkspace workspace(candidate, threads);
+  GcWorkspace workspace(threads);
   for (auto _ : state) benchmark::DoNotOptimize(gcError(candidate, problem, workspace, pool));
   state.SetItemsProcessed(state.iterations() * segments * problem.samples_per_segment);
 }

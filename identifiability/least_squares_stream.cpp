@@ -164,8 +164,11 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
     }
   }
   const int threads = pool ? pool->numThreads() : 1;
-  while (static_cast<int>(workspaces_.size()) < threads)
-    workspaces_.push_back(std::make_unique<Data>(model));
+  // Each thread's workspace is made on that thread, the first time it runs (below): memory a
+  // thread writes then comes from its own allocator arena, never sharing a cache line with another
+  // thread's.
+  if (static_cast<int>(workspaces_.size()) < threads)
+    workspaces_.resize(static_cast<std::size_t>(threads));
   chunk_rows_.resize(static_cast<std::size_t>(n_));
   for (int j = 0; j < n_; ++j) {
     TallQr::RowMajorMatrix& rows = chunk_rows_[static_cast<std::size_t>(j)];
@@ -177,7 +180,9 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
   const int blocks = (m + kBlock - 1) / kBlock;
   std::atomic<int> structure_error{-1};  // the joint whose zero columns were not zero
   const auto regressors = [&](int block, int thread) {
-    Data& work = *workspaces_[static_cast<std::size_t>(thread)];
+    std::unique_ptr<Data>& own = workspaces_[static_cast<std::size_t>(thread)];
+    if (!own) own = std::make_unique<Data>(model);
+    Data& work = *own;
     for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k) {
       const double* y =
           jointTorqueRegressor(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)).data();

@@ -395,7 +395,7 @@ void bindSearch(py::module_& m) {
         py::gil_scoped_release release;
         const GcProblem problem = makeGcProblem(trajectoryOf(d, local), options);
         ThreadPool pool(resolveThreads(threads));
-        GcWorkspace workspace(local, pool.numThreads());
+        GcWorkspace workspace(pool.numThreads());
         return gcError(local, problem, workspace, pool);
       },
       py::arg("model"), py::arg("data"), py::arg("horizon") = 0.05, py::arg("segments") = 100,

@@ -133,16 +133,9 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
 }
 
 GcWorkspace::PerThread::PerThread(const Model& model)
-    : padding_before(256),
-      data(model),
-      q(model.numJoints()),
-      dq(model.numJoints()),
-      tau(0),
-      padding_after(256) {}
+    : data(model), q(model.numJoints()), dq(model.numJoints()), tau(0) {}
 
-GcWorkspace::GcWorkspace(const Model& model, int num_threads) {
-  for (int t = 0; t < num_threads; ++t) threads.push_back(std::make_unique<PerThread>(model));
-}
+GcWorkspace::GcWorkspace(int num_threads) { threads.resize(static_cast<std::size_t>(num_threads)); }
 
 bool GcStop::requested() const {
   return (flag != nullptr && flag->load(std::memory_order_relaxed)) ||
@@ -164,7 +157,11 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
       return;
     }
     // Roll out from the recorded start with the recorded (held) torques.
-    GcWorkspace::PerThread& own = *workspace.threads[thread];
+    // Made on this thread the first time it runs: what a thread writes comes from its own
+    // allocator arena, so no cache line is shared with another thread's workspace.
+    std::unique_ptr<GcWorkspace::PerThread>& slot = workspace.threads[thread];
+    if (!slot) slot = std::make_unique<GcWorkspace::PerThread>(candidate);
+    GcWorkspace::PerThread& own = *slot;
     Eigen::VectorXd& q = own.q;
     Eigen::VectorXd& dq = own.dq;
     const int start = problem.starts[s];

@@ -61,18 +61,16 @@ inline constexpr double kMaxSegmentSteps = 1e6;
 inline constexpr double kMaxSegmentError = 1e6;
 
 /// Per-thread workspace for GC-error evaluations of one model structure. Each thread's buffers are
-/// allocated apart from the others' (a never-written padding block between them): buffers that
-/// share a cache line across threads cost about 10 % of the 2-thread speed-up (false sharing).
+/// made by gcError on that thread, the first time it runs there: glibc gives each thread its own
+/// allocator arena, so what one thread writes never shares a cache line with another's.
 struct GcWorkspace {
-  explicit GcWorkspace(const Model& model, int num_threads);
+  explicit GcWorkspace(int num_threads);
   struct PerThread {
     explicit PerThread(const Model& model);
-    std::vector<char> padding_before;
     Data data;
     Eigen::VectorXd q, dq, tau;  // tau: rollOutSegment's scratch (unused for double)
-    std::vector<char> padding_after;
   };
-  std::vector<std::unique_ptr<PerThread>> threads;
+  std::vector<std::unique_ptr<PerThread>> threads;  // null until that thread's first segment
   Eigen::VectorXd segment_errors;
 };
 

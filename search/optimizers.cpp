@@ -22,7 +22,7 @@ class Evaluator {
       : context_(context),
         space_(*context.space),
         state_(state),
-        workspace_(context.space->modelAt(context.space->initial()), context.pool->numThreads()),
+        workspace_(context.pool->numThreads()),
         scratch_(context.space->modelAt(context.space->initial())),
         start_(std::chrono::steady_clock::now()),
         seconds_offset_(state.seconds) {}

@@ -258,7 +258,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     result.initial_states.col(s).tail(n) = problem.data.dq.col(problem.starts[s]);
   }
   ThreadPool pool(std::max(options.num_threads, 1));
-  GcWorkspace workspace(structure, pool.numThreads());
+  GcWorkspace workspace(pool.numThreads());
   result.initial_gc = gcError(structure, problem, workspace, pool);
 
   if (base != nullptr && options.base_stage)

@@ -26,7 +26,7 @@ TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
   EXPECT_EQ(problem.numSegments(), 100);
   EXPECT_EQ(problem.samples_per_segment, 50);
   ThreadPool pool(1);
-  GcWorkspace workspace(truth, 1);
+  GcWorkspace workspace(1);
   // Same integrator, step and held torques as the recording: the replay is bit for bit.
   EXPECT_EQ(gcError(truth, problem, workspace, pool), 0.0);
   const double perturbed = gcError(perturbedModel(truth, 0.3, 1), problem, workspace, pool);
@@ -39,7 +39,7 @@ TEST(GcError, SameResultForAnyThreadCount) {
   const Model guess = perturbedModel(makePuma560(), 0.3, 2);
   const GcProblem problem = makeGcProblem(pumaData(), {.horizon = 0.02, .num_segments = 37});
   ThreadPool one(1), two(2);
-  GcWorkspace w1(guess, 1), w2(guess, 2);
+  GcWorkspace w1(1), w2(2);
   EXPECT_EQ(gcError(guess, problem, w1, one), gcError(guess, problem, w2, two));
 }
 
@@ -47,7 +47,7 @@ TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
   const Model guess = perturbedModel(makePuma560(), 0.3, 2);
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
   ThreadPool pool(2);
-  GcWorkspace workspace(guess, 2);
+  GcWorkspace workspace(2);
   std::atomic<bool> flag{false};
   GcStop stop;
   stop.flag = &flag;
@@ -78,7 +78,7 @@ TEST(GcError, DivergingRolloutsAreLargeAndFinite) {
   bad.setLinkInertia(5, RigidInertia<double>());  // a massless last link: singular mass matrix
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
   ThreadPool pool(2);
-  GcWorkspace workspace(bad, 2);
+  GcWorkspace workspace(2);
   const double error = gcError(bad, problem, workspace, pool);
   EXPECT_TRUE(std::isfinite(error));
   EXPECT_EQ(error, 10 * kMaxSegmentError);

@@ -41,7 +41,7 @@ TEST(GcRollout, DoubleAndJetRolloutsAgreeAndSumToTheGcError) {
         (q - problem.data.q.col(end)).squaredNorm() + (dq - problem.data.dq.col(end)).squaredNorm();
   }
   ThreadPool pool(1);
-  GcWorkspace workspace(model, 1);
+  GcWorkspace workspace(1);
   EXPECT_EQ(gcError(model, problem, workspace, pool), total);
 }
 

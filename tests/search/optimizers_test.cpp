@@ -51,7 +51,7 @@ TEST(Optimizers, NloAndGaFindTheKnownMinimum) {
   const Model guess = perturbedModel(small.truth, 0.2, 3);
   const ParameterSpace space(guess, {});
   ThreadPool pool(2);
-  GcWorkspace workspace(guess, 2);
+  GcWorkspace workspace(2);
   const double start = gcError(space.modelAt(space.initial()), small.problem, workspace, pool);
   const SearchResult nlo = runNlo(context(space, small.problem, pool, 4000), {});
   // Known minimum 0: COBYLA reaches a tiny fraction of the starting error.

@@ -71,7 +71,7 @@ TEST(RefineCosts, SegmentCostEqualsTheGcError) {
   const ParameterSpace space(guess, {});
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
   ThreadPool pool(1);
-  GcWorkspace workspace(guess, 1);
+  GcWorkspace workspace(1);
   const double gc = gcError(space.modelAt(space.initial()), problem, workspace, pool);
   const Model structure = space.modelAt(space.initial());
   double sum = 0.0;
