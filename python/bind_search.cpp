@@ -229,11 +229,17 @@ RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle&
   r.range = range;
   r.horizon = horizon;
   r.segments = segments;
+  Interrupt interrupt;
+  r.control.stop = interrupt.flag();
+  o.on_iteration = [&] { interrupt.poll(); };
   RefinePy out;
   {
     py::gil_scoped_release release;
     out.outcome = refineRun(r);
   }
+  out.outcome.options.on_iteration = nullptr;  // both point into `interrupt`, gone on return
+  out.outcome.options.stop = nullptr;
+  interrupt.warnIfStopped();
   return out;
 }
 

@@ -23,16 +23,18 @@ namespace {
 
 class RefineCallback : public ceres::IterationCallback {
  public:
-  RefineCallback(std::vector<RefineIteration>& history, const std::atomic<bool>* stop,
+  RefineCallback(std::vector<RefineIteration>& history, const RefineOptions& options,
                  bool& interrupted, std::string stage, double time_offset)
       : history_(history),
-        stop_(stop),
+        on_iteration_(options.on_iteration),
+        stop_(options.stop),
         interrupted_(interrupted),
         stage_(std::move(stage)),
         time_offset_(time_offset) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
                         time_offset_ + summary.cumulative_time_in_seconds});
+    if (on_iteration_) on_iteration_();
     if (stop_ != nullptr && stop_->load()) {
       interrupted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
@@ -42,6 +44,7 @@ class RefineCallback : public ceres::IterationCallback {
 
  private:
   std::vector<RefineIteration>& history_;
+  const std::function<void()>& on_iteration_;
   const std::atomic<bool>* stop_;
   bool& interrupted_;
   std::string stage_;
@@ -115,7 +118,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   ceres::Solver::Options solver =
       solverOptions(options, problem, beta.data(), result.initial_states,
                     options.max_seconds - secondsSince(clock_start));
-  RefineCallback callback(result.history, options.stop, result.interrupted, "base",
+  RefineCallback callback(result.history, options, result.interrupted, "base",
                           secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
@@ -298,7 +301,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
       solverOptions(options, problem, result.x.data(), result.initial_states,
                     options.max_seconds - secondsSince(clock_start));
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
-  RefineCallback callback(result.history, options.stop, result.interrupted, "parameters",
+  RefineCallback callback(result.history, options, result.interrupted, "parameters",
                           secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;

@@ -82,6 +82,9 @@ struct RefineOptions {
   /// the current estimate and the centre of the bounds.
   int map_back_starts = 14;
   const std::atomic<bool>* stop = nullptr;  // stops after the current iteration when set
+  /// Called after each solver iteration, before `stop` is read, on the thread that called refine
+  /// (e.g. to turn a pending Ctrl-C into `stop`); must not throw.
+  std::function<void()> on_iteration = nullptr;
 };
 
 struct RefineIteration {

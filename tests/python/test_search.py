@@ -1,6 +1,10 @@
 """The paper's machinery and the data pipelines: gc_error, search, refine, excite, prepare, each
 against the CLI with the same settings and seed."""
 import json
+import os
+import signal
+import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -154,3 +158,44 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
         dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", cutoff="high")
     with pytest.raises(dynid.ParseError):
         dynid.prepare(str(log), q_columns="nothing*", tau_columns="eff*")
+
+
+def interrupted_after(seconds, call):
+    """call() with a SIGINT (Ctrl-C) sent to this process `seconds` after it starts; its result
+    and the warnings it gave."""
+    timer = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        timer.start()
+        try:
+            result = call()
+        finally:
+            timer.join()
+    return result, [str(w.message) for w in caught]
+
+
+# Each run below would take minutes uninterrupted (refine: about 17 s), so only Ctrl-C ends it
+# "interrupted"; and had it not been caught, KeyboardInterrupt would fail the test.
+def test_ctrl_c_stops_a_search_with_its_best_result(puma, puma_csv):
+    s, caught = interrupted_after(1.0, lambda: dynid.search(
+        puma, puma_csv, "nlo", perturb=0.3, budget_evals=10**7, segments=20, seed=3))
+    assert s.termination == "interrupted"
+    assert 0 < s.evaluations < 10**7 and np.isfinite(s.best_gc) and s.best_gc <= s.initial_gc
+    assert any("interrupted" in m for m in caught)
+
+
+def test_ctrl_c_stops_a_refinement_with_its_best_result(puma, puma_csv):
+    start = dynid.search(puma, puma_csv, "nlo", perturb=0.3, budget_evals=150, segments=20, seed=3)
+    r, caught = interrupted_after(1.0, lambda: dynid.refine(puma, start, puma_csv,
+                                                            budget_seconds=120))
+    assert "interrupted" in r.termination
+    assert np.isfinite(r.final_gc) and r.final_gc <= r.initial_gc
+    assert any("interrupted" in m for m in caught)
+
+
+def test_ctrl_c_stops_an_excitation_design(puma):
+    design, caught = interrupted_after(1.0, lambda: dynid.excite(puma, starts=4,
+                                                                 evaluations=100000, seed=3))
+    assert design.termination == "interrupted"
+    assert np.isfinite(design.condition_number)
+    assert any("interrupted" in m for m in caught)
