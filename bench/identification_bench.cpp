@@ -12,6 +12,7 @@
 #include "analysis/runs.hpp"
 #include "data/dataset_csv.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "identifiability/tall_qr.hpp"
 
 #include "core/parameters.hpp"
 #include "core/regressor.hpp"
@@ -142,6 +143,30 @@ void BM_ParseDataset(benchmark::State& state) {
                           static_cast<std::int64_t>(std::filesystem::file_size(path)));
 }
 BENCHMARK(BM_ParseDataset)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
+
+// The streamed factor's kernel alone: 1e5 random rows of `cols` columns (40: the PUMA's widest
+// joint factor with drives, 39 base columns and the torque), in row-major chunks of 2048 as
+// LeastSquaresStream hands them over; the counter is its 2 rows cols^2 flops per second.
+void BM_TallQrUpdate(benchmark::State& state) {
+  const auto cols = static_cast<Eigen::Index>(state.range(0));
+  constexpr Eigen::Index kRows = 100000, kChunk = 2048;
+  const TallQr::RowMajorMatrix rows = TallQr::RowMajorMatrix::Random(kRows, cols);
+  for (auto _ : state) {
+    TallQr factor(cols);
+    for (Eigen::Index first = 0; first < kRows; first += kChunk)
+      factor.addRowMajor(rows.middleRows(first, std::min(kChunk, kRows - first)));
+    benchmark::DoNotOptimize(factor.r().data());
+  }
+  state.counters["flops"] =
+      benchmark::Counter(2.0 * static_cast<double>(kRows) * static_cast<double>(cols * cols),
+                         benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_TallQrUpdate)
+    ->Arg(12)
+    ->Arg(40)
+    ->Arg(72)
+    ->ArgName("cols")
+    ->Unit(benchmark::kMillisecond);
 
 // Chunks of kStreamChunkSamples through LeastSquaresStream::addTrajectory on T threads.
 void BM_RegressorAndUpdate(benchmark::State& state) {

@@ -1,10 +1,19 @@
 // The triangular factor of a tall matrix, row block by row block: R (cols x cols, upper
-// triangular) with R^T R = A^T A, without holding A. Each block is stacked under the running R and
-// reduced by Householder QR, so the working set stays in cache and the cost is O(rows cols^2),
-// linear in the rows. The singular values, the unpivoted QR's |R_jj| and the least-squares
-// solution of A follow from R (orthogonal invariance); appending the right-hand side as a last
-// column gives Q^T y in R's last column and the residual norm in its corner.
+// triangular) with R^T R = A^T A, without holding A. Buffered rows are reduced into the running R
+// by Householder reflections that touch only R's row and the buffered rows (R's zeros are never
+// visited), 128 rows at a time so that the columns being updated stay in the L1 cache: 2 rows
+// cols^2 flops, linear in the rows. With AVX2 and FMA two reflectors are applied in one pass over
+// the rows (compact WY), which halves the memory traffic per flop. The singular values, the
+// unpivoted QR's |R_jj| and the least-squares solution of A follow from R (orthogonal
+// invariance); appending the right-hand side as a last column gives Q^T y in R's last column and
+// the residual norm in its corner.
+//
+// The result depends only on the rows, their order and block_rows, not on how they were handed
+// over (one at a time, in chunks of any size). A column that is zero in every row stays exactly
+// zero in R.
 #pragma once
+
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -12,15 +21,23 @@ namespace dynid {
 
 class TallQr {
  public:
-  /// `block_rows` rows are buffered before each reduction.
-  explicit TallQr(Eigen::Index cols, Eigen::Index block_rows = 1024);
+  /// The reduction's machine code: AVX2 and FMA where the CPU has them (kAuto), or the portable
+  /// SSE2 one. They round differently (FMA), so one run's R is the same bits for any thread count
+  /// and any blocking of the rows, but may differ in the last bits between CPUs.
+  enum class Kernel { kAuto, kPortable, kAvx2 };
+  /// Whether this CPU runs the AVX2 kernel.
+  static bool avx2Available();
+
+  /// `block_rows` rows are buffered before each reduction. Throws InputError for kAvx2 on a CPU
+  /// without it.
+  explicit TallQr(Eigen::Index cols, Eigen::Index block_rows = 1024, Kernel kernel = Kernel::kAuto);
   using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   /// Appends rows (any number, cols() columns).
   void add(const Eigen::Ref<const Eigen::MatrixXd>& rows);
   void addRowMajor(const Eigen::Ref<const RowMajorMatrix>& rows);
   /// Appends one row.
   void addRow(const Eigen::Ref<const Eigen::RowVectorXd>& row);
-  /// R so far: cols x cols, upper triangular; rows beyond those added are zero.
+  /// R so far: cols x cols, upper triangular; rows beyond those added are zero (to rounding).
   Eigen::MatrixXd r();
   Eigen::Index cols() const { return cols_; }
   Eigen::Index rowsAdded() const { return added_; }
@@ -30,12 +47,14 @@ class TallQr {
   template <class Rows>
   void addRows(const Rows& rows);
   Eigen::Index cols_;
-  Eigen::MatrixXd stack_;    // the running R on top, then buffered rows
-  Eigen::Index filled_ = 0;  // rows of stack_ in use
+  Eigen::Index stride_;        // row stride of r_ and block_: cols_ plus zero padding for the tiles
+  Eigen::Index block_rows_;    // rows buffered before a reduction
+  std::vector<double> r_;      // R, row-major (stride_ per row), zero below the diagonal and after
+  std::vector<double> block_;  // buffered rows, row-major (stride_ per row), zero padding
+  std::vector<double> v_;      // the reflectors' tails (two) and the next pair's columns
+  bool avx2_ = false;
+  Eigen::Index filled_ = 0;  // rows of block_ in use
   Eigen::Index added_ = 0;
-  bool pending_ = false;
-  Eigen::VectorXd h_coeffs_,
-      temp_;  // the reduction's workspace  // rows added since the last reduction
 };
 
 }  // namespace dynid

@@ -1,5 +1,9 @@
 #include "identifiability/tall_qr.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include <Eigen/QR>
@@ -62,6 +66,78 @@ TEST(TallQr, FewerRowsThanColumnsAndNone) {
   EXPECT_LT((R.transpose() * R - A.transpose() * A).norm(),
             kTolerance * (A.transpose() * A).norm());
   EXPECT_THROW(factor.add(Eigen::MatrixXd::Zero(1, 3)), InputError);
+}
+
+/// The kernels this CPU can run: the portable one, and the AVX2 one where it has AVX2 and FMA.
+std::vector<TallQr::Kernel> kernels() {
+  std::vector<TallQr::Kernel> out = {TallQr::Kernel::kPortable};
+  if (TallQr::avx2Available()) out.push_back(TallQr::Kernel::kAvx2);
+  return out;
+}
+
+TEST(TallQr, EveryKernelAndWidthFactorsTheMatrix) {
+  // Widths 1 to 41 cover an odd last column, each tile width (4 to 16 columns) and several tiles;
+  // 300 rows in blocks of 200 cover a partial group and a partial block.
+  for (TallQr::Kernel kernel : kernels()) {
+    for (Eigen::Index cols = 1; cols <= 41; ++cols) {
+      const Eigen::MatrixXd A = Eigen::MatrixXd::Random(300, cols);
+      TallQr factor(cols, 200, kernel);
+      factor.add(A);
+      const Eigen::MatrixXd R = factor.r();
+      EXPECT_TRUE(R.isUpperTriangular());
+      EXPECT_LT((R.transpose() * R - A.transpose() * A).norm(),
+                kTolerance * (A.transpose() * A).norm())
+          << "kernel " << static_cast<int>(kernel) << ", " << cols << " columns";
+    }
+  }
+}
+
+TEST(TallQr, KernelsAgree) {
+  if (!TallQr::avx2Available()) GTEST_SKIP() << "this CPU has no AVX2 and FMA";
+  // Graded columns (condition number ~1e6): the kernels differ only in rounding.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Random(5000, 30);
+  for (Eigen::Index c = 0; c < A.cols(); ++c) A.col(c) *= std::pow(10.0, -6.0 * c / 29.0);
+  TallQr portable(30, 1024, TallQr::Kernel::kPortable), avx2(30, 1024, TallQr::Kernel::kAvx2);
+  portable.add(A);
+  avx2.add(A);
+  const Eigen::MatrixXd Rp = portable.r(), Ra = avx2.r();
+  // R is unique up to the signs of its rows; both kernels choose them the same way.
+  EXPECT_LT((Rp - Ra).norm(), kTolerance * Rp.norm());
+  EXPECT_LT((Rp.diagonal() - Ra.diagonal()).cwiseQuotient(Rp.diagonal()).cwiseAbs().maxCoeff(),
+            1e-9);  // column 29 is 1e-6 of column 0: its pivot keeps ~1e-10 relative accuracy
+}
+
+TEST(TallQr, ZeroColumnsStayExactlyZero) {
+  // An unexcited column must read as exactly 0, not as rounding noise: the excitation test
+  // and the condition numbers depend on it.
+  for (TallQr::Kernel kernel : kernels()) {
+    Eigen::MatrixXd A = Eigen::MatrixXd::Random(3000, 12);
+    A.col(0).setZero();
+    A.col(5).setZero();
+    A.col(11).setZero();
+    TallQr factor(12, 1024, kernel);
+    factor.add(A);
+    const Eigen::MatrixXd R = factor.r();
+    for (Eigen::Index c : {0, 5, 11}) {
+      EXPECT_EQ(R.col(c).cwiseAbs().maxCoeff(), 0.0) << "column " << c;
+      EXPECT_EQ(R.row(c).cwiseAbs().maxCoeff(), 0.0) << "row " << c;
+    }
+  }
+}
+
+TEST(TallQr, SameBitsForAnyHandingOver) {
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(2100, 9);
+  const TallQr::RowMajorMatrix rows = A;
+  for (TallQr::Kernel kernel : kernels()) {
+    TallQr whole(9, 512, kernel), one_by_one(9, 512, kernel), chunks(9, 512, kernel);
+    whole.add(A);
+    for (Eigen::Index r = 0; r < A.rows(); ++r) one_by_one.addRow(A.row(r));
+    for (Eigen::Index first = 0; first < A.rows(); first += 333)
+      chunks.addRowMajor(rows.middleRows(first, std::min<Eigen::Index>(333, A.rows() - first)));
+    const Eigen::MatrixXd R = whole.r();
+    EXPECT_EQ(R, one_by_one.r());
+    EXPECT_EQ(R, chunks.r());
+  }
 }
 
 }  // namespace
