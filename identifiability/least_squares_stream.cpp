@@ -186,10 +186,14 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
     for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k) {
       const double* y =
           jointTorqueRegressor(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)).data();
+      // The chain's structure is the model's, not the sample's: checked on each block's first
+      // sample, it costs nothing per sample.
+      const bool check = k == block * kBlock;
       for (int j = 0; j < n_; ++j) {
         const auto jj = static_cast<std::size_t>(j);
-        for (Eigen::Index offset : zero_offsets_[jj])
-          if (y[offset] != 0.0) structure_error.store(j);
+        if (check)
+          for (Eigen::Index offset : zero_offsets_[jj])
+            if (y[offset] != 0.0) structure_error.store(j);
         double* row = chunk_rows_[jj].row(k).data();  // row-major: one sample's row contiguous
         const std::vector<Eigen::Index>& gather = gather_[jj];
         const std::size_t p = gather.size();

@@ -47,7 +47,8 @@ class LeastSquaresStream {
   /// regressors on the pool's threads (all of them; nullptr: this thread), each joint's factor
   /// updated on one thread, so the result is the same bit for bit for any thread count and any
   /// division of the data into chunks. Throws InputError when the joint counts differ or a value
-  /// is not finite (checkFiniteSample's message); nothing of `data` is added then.
+  /// is not finite (checkFiniteSample's message); nothing of `data` is added then. The chain's
+  /// structure (add()'s Error) is a property of the model, so it is checked on every 64th sample.
   void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr);
 
   int numSamples() const { return samples_; }
