@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -45,6 +47,19 @@ std::string threeDigits(double x) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.3g", x);
   return buffer;
+}
+
+void appendPlotRow(std::string& out, std::initializer_list<double> values) {
+  std::array<char, 32> buffer;
+  bool first = true;
+  for (double x : values) {
+    if (!first) out += ' ';
+    first = false;
+    const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), x,
+                                      std::chars_format::general, 9);
+    out.append(buffer.data(), result.ptr);
+  }
+  out += '\n';
 }
 
 std::optional<std::string> gnuplotSvg(const std::string& script) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,11 @@ struct Figure {
 /// Runs gnuplot (the DYNID_GNUPLOT environment variable, else `gnuplot` on the PATH) on `script`,
 /// which must set an svg terminal and plot inline data; the SVG it prints, or nullopt.
 std::optional<std::string> gnuplotSvg(const std::string& script);
+
+/// Appends one row of a gnuplot inline data block to `out`: the values with 9 significant digits
+/// (printf's %.9g, what an ostream of precision 9 writes), space-separated, then a newline. For
+/// figures of thousands of points: no stream formatting per number.
+void appendPlotRow(std::string& out, std::initializer_list<double> values);
 
 /// Runs every `draws` function (each builds one figure, typically ending in gnuplotSvg) at once,
 /// on threads of its own, and returns their results in order: each gnuplot is a process, so a

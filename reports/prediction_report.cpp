@@ -40,10 +40,11 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
     << "set multiplot layout " << n << ",1 title '" << title << "'\n"
     << "set key top right horizontal\nset grid\nset lmargin 10\n";
   for (int j = 0; j < n; ++j) {
-    s << "$j" << j << " << EOD\n";
+    std::string data;
     for (int k = 0; k < samples; k += stride)
-      s << p.time[k] << " " << p.measured(j, k) << " " << p.predicted(j, k) << "\n";
-    s << "EOD\n"
+      appendPlotRow(data, {p.time[k], p.measured(j, k), p.predicted(j, k)});
+    s << "$j" << j << " << EOD\n"
+      << data << "EOD\n"
       << "set ylabel 'tau" << j + 1 << " [N m]'\n"
       << (j + 1 == n ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot $j" << j
       << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
@@ -58,10 +59,10 @@ namespace {
 void residualBlock(std::ostringstream& s, char prefix, const Prediction& p, int j) {
   const auto samples = static_cast<int>(p.measured.cols());
   const int stride = std::max(1, samples / 1000);
-  s << "$" << prefix << j << " << EOD\n";
+  std::string data;
   for (int k = 0; k < samples; k += stride)
-    s << p.time[k] << " " << p.measured(j, k) - p.predicted(j, k) << "\n";
-  s << "EOD\n";
+    appendPlotRow(data, {p.time[k], p.measured(j, k) - p.predicted(j, k)});
+  s << "$" << prefix << j << " << EOD\n" << data << "EOD\n";
 }
 }  // namespace
 
