@@ -155,8 +155,8 @@ __attribute__((target("avx2,fma"), always_inline)) inline void applyTwo(const Tw
 /// them in one pass over the rows, which halves the loads and stores per flop. With d = v^T B,
 ///   w_c = tau_c (R_c + d_c),   w_(c+1) = tau_(c+1) (R_(c+1) + d_(c+1) - (v_(c+1)^T v_c) w_c),
 ///   B -= v_c w_c + v_(c+1) w_(c+1),
-/// 16 columns a tile, four doubles a register. The pass also sums the squares of the next
-/// column, the next reflector's tail.
+/// 16 columns a tile, four doubles a register. The pair's two columns are read from `panel`
+/// (contiguous, four doubles a row), which the previous pass's first tile filled.
 __attribute__((target("avx2,fma"))) void reduceAvx2(double* r, double* b, Eigen::Index k,
                                                     Eigen::Index cols, Eigen::Index stride,
                                                     double* v0, double* v1, double* panel) {

@@ -51,7 +51,7 @@ class TallQr {
   Eigen::Index block_rows_;    // rows buffered before a reduction
   std::vector<double> r_;      // R, row-major (stride_ per row), zero below the diagonal and after
   std::vector<double> block_;  // buffered rows, row-major (stride_ per row), zero padding
-  std::vector<double> v_;      // the reflectors' tails (two) and the next pair's columns
+  std::vector<double> v_;      // the AVX2 kernel's two reflector vectors and its panel columns
   bool avx2_ = false;
   Eigen::Index filled_ = 0;  // rows of block_ in use
   Eigen::Index added_ = 0;

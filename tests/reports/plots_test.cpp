@@ -4,7 +4,10 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -12,6 +15,35 @@ namespace dynid {
 namespace {
 
 using Draw = std::function<std::optional<std::string>()>;
+
+TEST(AppendPlotRow, WritesWhatAStreamOfPrecisionNineWrites) {
+  // The figures' data were written by an ostream of precision 9; to_chars must give the same bytes.
+  const double values[] = {0.0,
+                           -0.0,
+                           1.0,
+                           -2.5,
+                           0.1,
+                           1e-7,
+                           123456789.0,
+                           1234567890123.0,
+                           -3.14159265358979,
+                           1e300,
+                           -4.9e-324,
+                           std::nan(""),
+                           std::numeric_limits<double>::infinity()};
+  for (double x : values) {
+    std::ostringstream expected;
+    expected.precision(9);
+    expected << x << " " << -x << "\n";
+    std::string row;
+    appendPlotRow(row, {x, -x});
+    EXPECT_EQ(row, expected.str()) << x;
+  }
+  std::string rows = "$d << EOD\n";
+  appendPlotRow(rows, {1.0});
+  appendPlotRow(rows, {0.5, 2.0, 3.0});
+  EXPECT_EQ(rows, "$d << EOD\n1\n0.5 2 3\n");
+}
 
 TEST(DrawConcurrently, ReturnsEachResultInItsPlace) {
   const std::vector<std::optional<std::string>> out = drawConcurrently(
