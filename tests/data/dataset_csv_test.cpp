@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -73,6 +74,45 @@ TEST(DatasetCsv, AcceptsCrlfAndTrailingBlankLines) {
   const Trajectory t = readDatasetCsv(path);
   EXPECT_EQ(t.numSamples(), 2);
   EXPECT_DOUBLE_EQ(t.tau(0, 1), 4e-3);
+}
+
+// Rows in the common form take a one-pass parse; any other accepted spelling takes the checked
+// one. Both must read the same numbers, and a row the one-pass parse cannot take must still be
+// checked field by field.
+TEST(DatasetCsv, EverySpellingOfARowReadsTheSameNumbers) {
+  const std::string path = test::tempPath("spellings.csv");
+  std::ofstream(path) << "t,q1,dq1,ddq1,tau1\n"
+                      << "0,1.5,-2,3e-3,0.25\n"                      // plain
+                      << "1, 1.5,-2,3e-3,0.25\n"                     // a blank before a field
+                      << "2,1.5 ,-2,3e-3,0.25\n"                     // a blank after one
+                      << "3,+1.5,-2,3e-3,0.25\n"                     // a '+'
+                      << "4,1.5,-2,3e-3,0.25 \t\r\n"                 // trailing blanks
+                      << "5,1.5,-2,3e-3,\t0.25\n"                    // a tab before the last
+                      << "6,1.5,-2,3e-3,1e-400\n"                    // underflow: 0
+                      << "7,1.5,-2,3e-3,4.9406564584124654e-324\n";  // the least subnormal
+  const Trajectory t = readDatasetCsv(path, 1);
+  ASSERT_EQ(t.numSamples(), 8);
+  for (int k = 0; k < 8; ++k) {
+    EXPECT_EQ(t.time[k], k);
+    EXPECT_EQ(t.q(0, k), 1.5) << k;
+    EXPECT_EQ(t.dq(0, k), -2.0) << k;
+    EXPECT_EQ(t.ddq(0, k), 3e-3) << k;
+  }
+  for (int k = 0; k < 6; ++k) EXPECT_EQ(t.tau(0, k), 0.25) << k;
+  EXPECT_EQ(t.tau(0, 6), 0.0);
+  EXPECT_EQ(t.tau(0, 7), std::numeric_limits<double>::denorm_min());
+}
+
+TEST(DatasetCsv, RowsTheOnePassParseRefusesAreNamed) {
+  const std::string header = "t,q1,dq1,ddq1,tau1\n";
+  expectError(header + "0,1,2,3,4,5\n", -1, ":2: row has 6 fields, the header has 5");
+  expectError(header + "0,1,2,3,4 x\n", -1, ":2: tau1: '4 x' is not a number");
+  expectError(header + "0,1,2,3,4x\n", -1, ":2: tau1: '4x' is not a number");
+  expectError(header + "0,1,,3,4\n", -1, ":2: dq1: '' is not a number");
+  expectError(header + "0,1,2,3,inf\n", -1, ":2: tau1: 'inf' is not finite");
+  expectError(header + "0,1e999,2,3,4\n", -1, ":2: q1: '1e999' is not finite");
+  expectError(header + "0,+-1,2,3,4\n", -1, ":2: q1: '+-1' is not a number");
+  expectError(header + "0,1,2,3,\n", -1, ":2: tau1: '' is not a number");
 }
 
 TEST(DatasetCsv, AcceptsAByteOrderMark) {
