@@ -16,8 +16,15 @@ namespace dynid {
 
 namespace {
 
-/// TallQr's buffered rows per joint: large enough to amortise each reduction.
-constexpr Eigen::Index kBlockRows = 1024;
+/// The samples are dealt to kLanes lanes in blocks of kLaneRows: global block g (samples
+/// g kLaneRows to (g + 1) kLaneRows - 1) goes to lane g mod kLanes. Each lane has its own factor
+/// per joint, reduced once per block (TallQr's block_rows), so a thread computes a block's
+/// regressors and folds them into its lane's factors while the rows are still in its cache, and
+/// no two threads write the same memory. Fixed numbers, not the thread count: the result is the
+/// same bits for any thread count and any chunking. The lanes' factors are stacked at the end
+/// (a tall QR of kLanes small triangles per joint).
+constexpr int kLanes = 8;
+constexpr Eigen::Index kLaneRows = 128;
 
 double conditionOf(const Eigen::MatrixXd& r) {
   const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
@@ -71,8 +78,11 @@ LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, int num_joint
   for (int c = 0; c < b_; ++c) all[static_cast<std::size_t>(c)] = c;
   support_.assign(static_cast<std::size_t>(n_), all);
   zeros_.assign(static_cast<std::size_t>(n_), {});
-  joints_.reserve(static_cast<std::size_t>(n_));
-  for (int j = 0; j < n_; ++j) joints_.emplace_back(b_ + 1, kBlockRows);
+  lanes_.assign(kLanes, {});
+  for (std::vector<TallQr>& lane : lanes_) {
+    lane.reserve(static_cast<std::size_t>(n_));
+    for (int j = 0; j < n_; ++j) lane.emplace_back(b_ + 1, kLaneRows);
+  }
   tau_squared_ = Eigen::VectorXd::Zero(n_);
   row_.resize(b_ + 1);
 }
@@ -93,7 +103,7 @@ LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& 
       if (i == j) return true;
     return false;
   };
-  joints_.clear();
+  for (std::vector<TallQr>& lane : lanes_) lane.clear();
   for (int j = 0; j < n_; ++j) {
     std::vector<int>& support = support_[static_cast<std::size_t>(j)];
     support.clear();
@@ -101,7 +111,8 @@ LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& 
       if (acts(base.independent[static_cast<std::size_t>(c)], j)) support.push_back(c);
     for (int s = 0; s < layout.size(); ++s)
       if (!acts(s, j)) zeros_[static_cast<std::size_t>(j)].push_back(s);
-    joints_.emplace_back(static_cast<Eigen::Index>(support.size()) + 1, kBlockRows);
+    for (std::vector<TallQr>& lane : lanes_)
+      lane.emplace_back(static_cast<Eigen::Index>(support.size()) + 1, kLaneRows);
   }
 }
 
@@ -119,6 +130,7 @@ void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
                      std::to_string(n_));
   if (!Y.allFinite() || !tau.allFinite())
     throw InputError("sample " + std::to_string(samples_) + " has a value that is not finite");
+  std::vector<TallQr>& lane = lanes_[static_cast<std::size_t>((samples_ / kLaneRows) % kLanes)];
   for (int j = 0; j < n_; ++j) {
     for (int s : zeros_[static_cast<std::size_t>(j)])
       if (Y(j, s) != 0.0)
@@ -130,7 +142,7 @@ void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
     for (Eigen::Index c = 0; c < p; ++c)
       row_[c] = Y(j, base_.independent[static_cast<std::size_t>(support[c])]);
     row_[p] = tau[j];
-    joints_[static_cast<std::size_t>(j)].addRow(row_.head(p + 1));
+    lane[static_cast<std::size_t>(j)].addRow(row_.head(p + 1));
   }
   addTau(tau);
   ++samples_;
@@ -164,67 +176,83 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
     }
   }
   const int threads = pool ? pool->numThreads() : 1;
-  // Each thread's workspace is made on that thread, the first time it runs (below): memory a
-  // thread writes then comes from its own allocator arena, never sharing a cache line with another
-  // thread's.
+  // Each thread's workspace (a Data) is made on that thread, the first time it runs (below):
+  // memory a thread writes then comes from its own allocator arena, never sharing a cache line
+  // with another thread's.
   if (static_cast<int>(workspaces_.size()) < threads)
     workspaces_.resize(static_cast<std::size_t>(threads));
-  chunk_rows_.resize(static_cast<std::size_t>(n_));
-  for (int j = 0; j < n_; ++j) {
-    TallQr::RowMajorMatrix& rows = chunk_rows_[static_cast<std::size_t>(j)];
-    const auto p = static_cast<Eigen::Index>(support_[static_cast<std::size_t>(j)].size());
-    if (rows.rows() < m || rows.cols() != p + 1) rows.resize(m, p + 1);
-  }
-  // Regressors by blocks of samples (each block's rows: whole cache lines of one thread).
-  constexpr int kBlock = 64;
-  const int blocks = (m + kBlock - 1) / kBlock;
+  const long long first = samples_;  // the chunk's samples are first .. first + m - 1
+  const long long first_block = first / kLaneRows, last_block = (first + m - 1) / kLaneRows;
   std::atomic<int> structure_error{-1};  // the joint whose zero columns were not zero
-  const auto regressors = [&](int block, int thread) {
+  std::atomic<bool> out_of_step{false};  // a lane's buffer without room for its block (a bug)
+  // One lane: its blocks in this chunk in order, each block's regressor rows written straight
+  // into the lane's factors' buffers (a block fits: both are kLaneRows long and aligned), then
+  // reduced there.
+  const auto lane_work = [&](int lane, int thread) {
     std::unique_ptr<Data>& own = workspaces_[static_cast<std::size_t>(thread)];
     if (!own) own = std::make_unique<Data>(model);
-    Data& work = *own;
-    for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k) {
-      const double* y =
-          jointTorqueRegressor(model, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)).data();
-      // The chain's structure is the model's, not the sample's: checked on each block's first
-      // sample, it costs nothing per sample.
-      const bool check = k == block * kBlock;
-      for (int j = 0; j < n_; ++j) {
-        const auto jj = static_cast<std::size_t>(j);
-        if (check)
-          for (Eigen::Index offset : zero_offsets_[jj])
-            if (y[offset] != 0.0) structure_error.store(j);
-        double* row = chunk_rows_[jj].row(k).data();  // row-major: one sample's row contiguous
-        const std::vector<Eigen::Index>& gather = gather_[jj];
-        const std::size_t p = gather.size();
-        for (std::size_t c = 0; c < p; ++c) row[c] = y[gather[c]];
-        row[p] = data.tau(j, k);
+    std::vector<TallQr>& factors = lanes_[static_cast<std::size_t>(lane)];
+    long long block = first_block + ((lane - first_block % kLanes) + kLanes) % kLanes;
+    for (; block <= last_block; block += kLanes) {
+      const auto begin = static_cast<int>(std::max(first, block * kLaneRows) - first);
+      const auto end = static_cast<int>(std::min(first + m, (block + 1) * kLaneRows) - first);
+      for (const TallQr& factor : factors)  // the block's earlier rows are all its buffer holds
+        if (factor.room() < end - begin) {
+          out_of_step.store(true);
+          return;
+        }
+      for (int k = begin; k < end; ++k) {
+        const double* y =
+            jointTorqueRegressor(model, *own, data.q.col(k), data.dq.col(k), data.ddq.col(k))
+                .data();
+        // The chain's structure is the model's, not the sample's: checked on each block's first
+        // sample, it costs nothing per sample.
+        const bool check = k == begin;
+        for (int j = 0; j < n_; ++j) {
+          const auto jj = static_cast<std::size_t>(j);
+          if (check)
+            for (Eigen::Index offset : zero_offsets_[jj])
+              if (y[offset] != 0.0) structure_error.store(j);
+          TallQr& factor = factors[jj];
+          double* row = factor.freeRows() + (k - begin) * factor.rowStride();
+          const std::vector<Eigen::Index>& gather = gather_[jj];
+          const std::size_t p = gather.size();
+          for (std::size_t c = 0; c < p; ++c) row[c] = y[gather[c]];
+          row[p] = data.tau(j, k);
+        }
       }
+      for (TallQr& factor : factors) factor.commitRows(end - begin);
     }
   };
   if (pool)
-    pool->parallelFor(blocks, regressors);
+    pool->parallelFor(kLanes, lane_work);
   else
-    for (int block = 0; block < blocks; ++block) regressors(block, 0);
+    for (int lane = 0; lane < kLanes; ++lane) lane_work(lane, 0);
+  if (out_of_step.load()) throw Error("LeastSquaresStream: a lane's factor is out of step");
   if (structure_error.load() >= 0)
     throw Error("the regressor acts on joint " + std::to_string(structure_error.load() + 1) +
                 " through a parameter the model's chain says cannot act on it");
-  // Each joint's factor on one thread, the widest first.
-  const auto update = [&](int index, int) {
-    const auto j = static_cast<std::size_t>(index);
-    joints_[j].addRowMajor(chunk_rows_[j].topRows(m));
-  };
-  if (pool)
-    pool->parallelFor(n_, update);
-  else
-    for (int j = 0; j < n_; ++j) update(j, 0);
   for (int k = 0; k < m; ++k) addTau(data.tau.col(k));
   samples_ += m;
 }
 
+const Eigen::MatrixXd& LeastSquaresStream::jointFactor(int j) {
+  if (factored_samples_ != samples_ || joint_factors_.empty()) {
+    joint_factors_.assign(static_cast<std::size_t>(n_), {});
+    for (int i = 0; i < n_; ++i) {
+      const Eigen::Index cols = lanes_.front()[static_cast<std::size_t>(i)].cols();
+      TallQr stacked(cols, kLanes * cols);
+      for (std::vector<TallQr>& lane : lanes_) stacked.add(lane[static_cast<std::size_t>(i)].r());
+      joint_factors_[static_cast<std::size_t>(i)] = stacked.r();
+    }
+    factored_samples_ = samples_;
+  }
+  return joint_factors_[static_cast<std::size_t>(j)];
+}
+
 Eigen::MatrixXd LeastSquaresStream::scattered(int j) {
   const std::vector<int>& support = support_[static_cast<std::size_t>(j)];
-  const Eigen::MatrixXd r = joints_[static_cast<std::size_t>(j)].r();
+  const Eigen::MatrixXd& r = jointFactor(j);
   Eigen::MatrixXd out = Eigen::MatrixXd::Zero(r.rows(), b_ + 1);
   for (std::size_t c = 0; c < support.size(); ++c)
     out.col(support[c]) = r.col(static_cast<Eigen::Index>(c));

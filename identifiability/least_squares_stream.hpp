@@ -1,6 +1,7 @@
 // Least squares of the base parameters from samples streamed one at a time, in memory independent
 // of their number: per joint j, the triangular factor R_j of [W1_j | tau_j] (W1_j the base
-// regressor's rows of joint j, tau_j its torques), accumulated by TallQr. Every quantity of a
+// regressor's rows of joint j, tau_j its torques), accumulated by TallQr (per lane of samples, the
+// lanes' factors stacked at the end: a tall-skinny QR). Every quantity of a
 // BaseEstimate follows from the n factors and per-joint sums, by orthogonal invariance:
 //   OLS: R of [R_1; ...; R_n] (the QR of every row at once),
 //   WLS: R of [R_1 / sigma_1; ...; R_n / sigma_n] with sigma_j from the OLS residuals,
@@ -43,12 +44,15 @@ class LeastSquaresStream {
   void add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
            const Eigen::Ref<const Eigen::VectorXd>& tau);
 
-  /// Adds every sample of `data` (q, dq, ddq, tau) with the joint torque regressor of `model`: the
-  /// regressors on the pool's threads (all of them; nullptr: this thread), each joint's factor
-  /// updated on one thread, so the result is the same bit for bit for any thread count and any
-  /// division of the data into chunks. Throws InputError when the joint counts differ or a value
-  /// is not finite (checkFiniteSample's message); nothing of `data` is added then. The chain's
-  /// structure (add()'s Error) is a property of the model, so it is checked on every 64th sample.
+  /// Adds every sample of `data` (q, dq, ddq, tau) with the joint torque regressor of `model`, on
+  /// the pool's threads (all of them; nullptr: this thread). The samples are dealt to a fixed
+  /// number of lanes in fixed blocks by their index in the stream; a thread takes a lane, computes
+  /// a block's regressors and folds them into the lane's own factors, so the result is the same
+  /// bit for bit for any thread count and any division of the data into chunks, and the same as
+  /// add() sample by sample. Throws InputError when the joint counts differ or a value is not
+  /// finite (checkFiniteSample's message); nothing of `data` is added then. The chain's structure
+  /// (add()'s Error) is a property of the model, so it is checked on each block's first sample;
+  /// after that Error (a regressor bug, not bad data) the stream is not to be used further.
   void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr);
 
   int numSamples() const { return samples_; }
@@ -72,7 +76,9 @@ class LeastSquaresStream {
   Eigen::MatrixXd combined(const Eigen::VectorXd& weight);
 
   void addTau(const Eigen::Ref<const Eigen::VectorXd>& tau);
-  /// Joint j's factor [W1_j(:, support_j) | tau_j] scattered into b + 1 columns.
+  /// Joint j's factor [W1_j(:, support_j) | tau_j] of every sample so far: the lanes' stacked.
+  const Eigen::MatrixXd& jointFactor(int j);
+  /// The same scattered into b + 1 columns.
   Eigen::MatrixXd scattered(int j);
 
   const BaseParameters& base_;
@@ -82,13 +88,15 @@ class LeastSquaresStream {
   std::vector<std::vector<int>> zeros_;    // per joint: the standard columns that must be 0
   // The same as offsets into the n x p regressor's column-major storage.
   std::vector<std::vector<Eigen::Index>> gather_, zero_offsets_;
-  std::vector<TallQr> joints_;   // [W1_j(:, support_j) | tau_j]
+  // Per lane (a fixed dealing of the samples in blocks, least_squares_stream.cpp) and joint, the
+  // factor of [W1_j(:, support_j) | tau_j] of the lane's samples.
+  std::vector<std::vector<TallQr>> lanes_;
+  std::vector<Eigen::MatrixXd> joint_factors_;  // jointFactor's, for factored_samples_ samples
+  long long factored_samples_ = -1;
   Eigen::VectorXd tau_squared_;  // per joint sum of tau^2
   double max_abs_tau_ = 0.0;
   Eigen::RowVectorXd row_;
-  // addTrajectory's buffers: per joint the chunk's rows, per thread a workspace.
-  std::vector<TallQr::RowMajorMatrix> chunk_rows_;
-  std::vector<std::unique_ptr<Data>> workspaces_;
+  std::vector<std::unique_ptr<Data>> workspaces_;  // addTrajectory's, one per thread
 };
 
 /// stream.addTrajectory(model, data, pool).

@@ -260,6 +260,15 @@ void TallQr::addRow(const Eigen::Ref<const Eigen::RowVectorXd>& row) {
   addRows(row);
 }
 
+void TallQr::commitRows(Eigen::Index k) {
+  if (k < 0 || k > room())
+    throw InputError("TallQr: " + std::to_string(k) + " rows committed, room for " +
+                     std::to_string(room()));
+  filled_ += k;
+  added_ += k;
+  if (filled_ == block_rows_) reduce();
+}
+
 void TallQr::reduce() {
   for (Eigen::Index start = 0; start < filled_; start += kGroup) {
     double* rows = block_.data() + start * stride_;

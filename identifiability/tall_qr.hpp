@@ -37,6 +37,16 @@ class TallQr {
   void addRowMajor(const Eigen::Ref<const RowMajorMatrix>& rows);
   /// Appends one row.
   void addRow(const Eigen::Ref<const Eigen::RowVectorXd>& row);
+
+  /// Rows written in place by a caller that computes them, without a copy: freeRows() is the
+  /// buffer's next free row (row-major, cols() values a row, rowStride() apart; the entries after
+  /// the cols() values are padding and must be left as they are), room() how many rows fit before
+  /// the buffer is reduced. After writing k rows, commitRows(k) appends them as addRowMajor would.
+  double* freeRows() { return block_.data() + filled_ * stride_; }
+  Eigen::Index room() const { return block_rows_ - filled_; }
+  Eigen::Index rowStride() const { return stride_; }
+  /// Throws InputError unless 0 <= k <= room().
+  void commitRows(Eigen::Index k);
   /// R so far: cols x cols, upper triangular; rows beyond those added are zero (to rounding).
   Eigen::MatrixXd r();
   Eigen::Index cols() const { return cols_; }

@@ -136,10 +136,27 @@ TEST(TallQr, SameBitsForAnyHandingOver) {
     for (Eigen::Index r = 0; r < A.rows(); ++r) one_by_one.addRow(A.row(r));
     for (Eigen::Index first = 0; first < A.rows(); first += 333)
       chunks.addRowMajor(rows.middleRows(first, std::min<Eigen::Index>(333, A.rows() - first)));
+    // Written in place: up to room() rows at a time, 100 or fewer, committed as they come.
+    TallQr in_place(9, 512, kernel);
+    for (Eigen::Index first = 0; first < A.rows();) {
+      const Eigen::Index k = std::min({in_place.room(), Eigen::Index{100}, A.rows() - first});
+      for (Eigen::Index r = 0; r < k; ++r)
+        for (Eigen::Index c = 0; c < 9; ++c)
+          in_place.freeRows()[r * in_place.rowStride() + c] = A(first + r, c);
+      in_place.commitRows(k);
+      first += k;
+    }
     const Eigen::MatrixXd R = whole.r();
     EXPECT_EQ(R, one_by_one.r());
     EXPECT_EQ(R, chunks.r());
+    EXPECT_EQ(R, in_place.r());
+    EXPECT_EQ(in_place.rowsAdded(), A.rows());
   }
+  TallQr small(3, 4);
+  EXPECT_EQ(small.room(), 4);
+  small.commitRows(0);  // nothing: allowed
+  EXPECT_THROW(small.commitRows(5), InputError);
+  EXPECT_THROW(small.commitRows(-1), InputError);
 }
 
 }  // namespace
