@@ -85,6 +85,17 @@ inline Eigen::Vector3d rpyFromRotation(const Eigen::Matrix3d& r) {
   return {roll, pitch, yaw};
 }
 
+/// R^T x for a rotation R and a 3-vector x (any Eigen expression), written out: Eigen's fixed-size
+/// product is not always inlined into large callers (the regressor), and a call per product costs
+/// more than its nine multiplications.
+template <typename R, typename X>
+DYNID_INLINE Vector3<typename R::Scalar> transposeTimes(const Eigen::MatrixBase<R>& r,
+                                                        const Eigen::MatrixBase<X>& x) {
+  return Vector3<typename R::Scalar>(r(0, 0) * x.x() + r(1, 0) * x.y() + r(2, 0) * x.z(),
+                                     r(0, 1) * x.x() + r(1, 1) * x.y() + r(2, 1) * x.z(),
+                                     r(0, 2) * x.x() + r(1, 2) * x.y() + r(2, 2) * x.z());
+}
+
 /// Rigid placement of a child frame in a parent frame: x_parent = rotation * x_child + translation.
 template <typename Scalar>
 struct Pose {
@@ -119,9 +130,9 @@ struct Pose {
   /// Motion vector given in the parent frame, expressed in the child frame.
   DYNID_INLINE Vector6<Scalar> actInvMotion(const Vector6<Scalar>& m) const {
     Vector6<Scalar> out;
-    out.template head<3>().noalias() = rotation.transpose() * m.template head<3>();
+    out.template head<3>() = transposeTimes(rotation, m.template head<3>());
     const Vector3<Scalar> v = m.template tail<3>() - cross(translation, m.template head<3>());
-    out.template tail<3>().noalias() = rotation.transpose() * v;
+    out.template tail<3>() = transposeTimes(rotation, v);
     return out;
   }
   /// Force vector given in the child frame, expressed in the parent frame.
