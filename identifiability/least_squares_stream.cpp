@@ -146,6 +146,8 @@ void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
   }
   addTau(tau);
   ++samples_;
+  if (samples_ % kLaneRows == 0)  // the block's end, as in addTrajectory
+    for (TallQr& factor : lane) factor.flush();
 }
 
 void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& data,
@@ -221,7 +223,13 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
           row[p] = data.tau(j, k);
         }
       }
-      for (TallQr& factor : factors) factor.commitRows(end - begin);
+      // At a block's end its rows are reduced, also when an estimate in the middle of the block
+      // already reduced its first rows: each lane's buffer then starts the next block empty.
+      const bool block_ends = first + end == (block + 1) * kLaneRows;
+      for (TallQr& factor : factors) {
+        factor.commitRows(end - begin);
+        if (block_ends) factor.flush();
+      }
     }
   };
   if (pool)
@@ -237,7 +245,7 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
 }
 
 const Eigen::MatrixXd& LeastSquaresStream::jointFactor(int j) {
-  if (factored_samples_ != samples_ || joint_factors_.empty()) {
+  if (factored_samples_ != samples_) {  // -1 before the first call
     joint_factors_.assign(static_cast<std::size_t>(n_), {});
     for (int i = 0; i < n_; ++i) {
       const Eigen::Index cols = lanes_.front()[static_cast<std::size_t>(i)].cols();

@@ -58,7 +58,8 @@ class LeastSquaresStream {
   int numSamples() const { return samples_; }
   int numJoints() const { return n_; }
 
-  /// The estimate from every sample so far, as estimateBaseParameters: throws NumericalError when
+  /// The estimate from every sample so far, as estimateBaseParameters (more samples may follow;
+  /// the next estimate takes them all): throws NumericalError when
   /// the samples do not excite every base parameter, InputError when there are fewer torque rows
   /// than base parameters.
   BaseEstimate estimate(LeastSquaresMethod method);

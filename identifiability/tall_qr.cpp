@@ -285,8 +285,12 @@ void TallQr::reduce() {
   filled_ = 0;
 }
 
-Eigen::MatrixXd TallQr::r() {
+void TallQr::flush() {
   if (filled_ > 0) reduce();
+}
+
+Eigen::MatrixXd TallQr::r() {
+  flush();
   Eigen::MatrixXd out(cols_, cols_);
   for (Eigen::Index i = 0; i < cols_; ++i)
     out.row(i) = Eigen::Map<const Eigen::RowVectorXd>(r_.data() + i * stride_, cols_);

@@ -47,6 +47,8 @@ class TallQr {
   Eigen::Index rowStride() const { return stride_; }
   /// Throws InputError unless 0 <= k <= room().
   void commitRows(Eigen::Index k);
+  /// Reduces the buffered rows now (r() does too), so that the next row starts a new block.
+  void flush();
   /// R so far: cols x cols, upper triangular; rows beyond those added are zero (to rounding).
   Eigen::MatrixXd r();
   Eigen::Index cols() const { return cols_; }
