@@ -16,16 +16,7 @@
 namespace dynid {
 namespace {
 
-/// The samples [first, first + count) of a trajectory.
-Trajectory slice(const Trajectory& t, int first, int count) {
-  Trajectory out;
-  out.time = t.time.segment(first, count);
-  out.q = t.q.middleCols(first, count);
-  out.dq = t.dq.middleCols(first, count);
-  out.ddq = t.ddq.middleCols(first, count);
-  out.tau = t.tau.middleCols(first, count);
-  return out;
-}
+using test::slice;
 
 TEST(SampleKeeper, KeepsEveryStrideThSampleWhateverTheChunks) {
   const Model puma = makePuma560();

@@ -19,6 +19,7 @@ namespace {
 
 using test::pumaBase;
 using test::pumaTrajectory;
+using test::slice;
 
 /// The dense reference, independent of the stream: W1 built whole and solved by Householder QR.
 struct Dense {
@@ -165,14 +166,8 @@ TEST(LeastSquaresStream, SameBitsForAnyThreadCountAndChunking) {
     LeastSquaresStream stream(base, puma);
     ThreadPool pool(threads);
     for (int first = 0; first < data.numSamples(); first += chunk) {
-      const int count = std::min(chunk, data.numSamples() - first);
-      Trajectory part;
-      part.time = data.time.segment(first, count);
-      part.q = data.q.middleCols(first, count);
-      part.dq = data.dq.middleCols(first, count);
-      part.ddq = data.ddq.middleCols(first, count);
-      part.tau = data.tau.middleCols(first, count);
-      stream.addTrajectory(puma, part, &pool);
+      stream.addTrajectory(puma, slice(data, first, std::min(chunk, data.numSamples() - first)),
+                           &pool);
     }
     return stream.estimate(LeastSquaresMethod::kWeighted);
   };
@@ -199,19 +194,10 @@ TEST(LeastSquaresStream, AnEstimateMidStreamLeavesTheLaterOnesWhole) {
   const BaseParameters base = pumaBase(puma);
   const Trajectory data = pumaTrajectory(puma, 3.0, 0.5, 11);
   const int half = data.numSamples() / 2 + 37;  // mid-block, so lanes hold partial blocks
-  const auto part = [&](int first, int count) {
-    Trajectory t;
-    t.time = data.time.segment(first, count);
-    t.q = data.q.middleCols(first, count);
-    t.dq = data.dq.middleCols(first, count);
-    t.ddq = data.ddq.middleCols(first, count);
-    t.tau = data.tau.middleCols(first, count);
-    return t;
-  };
   LeastSquaresStream asked_twice(base, puma), asked_once(base, puma);
-  asked_twice.addTrajectory(puma, part(0, half));
+  asked_twice.addTrajectory(puma, slice(data, 0, half));
   const BaseEstimate early = asked_twice.estimate(LeastSquaresMethod::kOrdinary);
-  asked_twice.addTrajectory(puma, part(half, data.numSamples() - half));
+  asked_twice.addTrajectory(puma, slice(data, half, data.numSamples() - half));
   asked_once.addTrajectory(puma, data);
   const BaseEstimate late = asked_twice.estimate(LeastSquaresMethod::kOrdinary);
   const BaseEstimate whole = asked_once.estimate(LeastSquaresMethod::kOrdinary);
