@@ -22,7 +22,9 @@
 // the prior the directions they cannot see (the null space of W) and how close to the boundary a
 // link may come. F is strictly convex; Newton's method with a backtracking line search that keeps
 // every iterate inside the physical set converges quadratically from any consistent start, and
-// stops when the Newton decrement says F is within `tolerance` of its minimum.
+// stops when the Newton decrement says F is within `tolerance` of its minimum, or within what F's
+// own rounding can resolve (1e-14 |F|) when that is larger: exact, noise-free data give a tiny
+// sigma and an F of 1e13 or more, whose last digits are rounding.
 //
 // (The earlier solver, Levenberg-Marquardt over log-Cholesky coordinates in Ceres, did not
 // converge on real data: the optimum lies on the boundary, at infinite log-Cholesky coordinates,

@@ -203,14 +203,16 @@ TEST(Excite, TorqueAndFloorLimitsAreKept) {
 
 TEST(Excite, TheRelativeSdCriterionLowersTheExpectedRelativeError) {
   // Designed for the RMS of sigma_j / |beta_j| (what the paper's base-parameter error measures).
-  // The criterion has many local minima (the default run's 8 starts end a factor 3 apart):
-  // the CLI's default seed and first 3 starts reach 0.27 against the sinusoid's 0.91 (the cond
-  // design of examples/excitation: 0.60). Asserted: below half the sinusoid's.
+  // The criterion has many local minima (the default run's 8 starts end a factor 3 apart), and
+  // which one 3 starts reach moves with the last bits of libm's sin/cos (glibc picks its FMA
+  // versions on CPUs that have FMA): seeds 1-8, with and without them (GLIBC_TUNABLES=
+  // glibc.cpu.hwcaps=-FMA), ended at 0.30-0.74 of the sinusoid's 0.906 (the unit-column cond
+  // criterion, same seeds: 0.57-1.11). Asserted: below 0.8 of the sinusoid's.
   ExciteRequest r = pumaRequest(3, 2000);
   r.seed = 1;
   r.criterion = ExcitationCriterion::kRelativeSd;
   const ExciteOutcome relative = exciteRun(r);
-  EXPECT_LT(relative.score.relative_rms, 0.5 * relative.baseline.relative_rms)
+  EXPECT_LT(relative.score.relative_rms, 0.8 * relative.baseline.relative_rms)
       << relative.score.relative_rms << " vs " << relative.baseline.relative_rms;
 }
 
