@@ -62,16 +62,20 @@ inline constexpr double kMaxSegmentError = 1e6;
 
 /// Per-thread workspace for GC-error evaluations of one model structure. Each thread's buffers are
 /// made by gcError on that thread, the first time it runs there: glibc gives each thread its own
-/// allocator arena, so what one thread writes never shares a cache line with another's.
+/// allocator arena, so what one thread writes never shares a cache line with another's. The pool's
+/// threads other than the caller's also read the candidate from their own copy (gc_error.cpp).
 struct GcWorkspace {
   explicit GcWorkspace(int num_threads);
   struct PerThread {
     explicit PerThread(const Model& model);
+    Model model;           // a copy of the candidate (threads other than the caller's)
+    long evaluation = -1;  // the evaluation `model` was copied for
     Data data;
     Eigen::VectorXd q, dq, tau;  // tau: rollOutSegment's scratch (unused for double)
   };
   std::vector<std::unique_ptr<PerThread>> threads;  // null until that thread's first segment
   Eigen::VectorXd segment_errors;
+  long evaluations = 0;
 };
 
 /// When an evaluation must stop early: an interrupt flag (Ctrl-C) and a deadline (a time budget).
