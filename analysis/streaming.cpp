@@ -60,7 +60,7 @@ class PredictionAccumulator {
   /// RNEA on a chunk (blocks of samples on the pool's threads), its sums, the kept samples.
   void add(const Trajectory& chunk, ThreadPool* pool, PredictionSink* sink) {
     const int m = chunk.numSamples();
-    for (int k = 0; k < m; ++k) checkFiniteSample(chunk, k);
+    checkFiniteSamples(chunk);
     predicted_.resize(model_.numJoints(), m);
     constexpr int kBlock = 64;
     const auto body = [&](int block, int thread) {

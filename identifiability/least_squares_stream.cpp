@@ -163,7 +163,7 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
         "model '" + model.name + "' has " + std::to_string(model.parameterLayout().size()) +
         " standard parameters, the base parameters are of " + std::to_string(base_.numStandard()));
   const int m = data.numSamples();
-  for (int k = 0; k < m; ++k) checkFiniteSample(data, k);
+  checkFiniteSamples(data);
   if (m == 0) return;
   if (gather_.empty()) {
     for (int j = 0; j < n_; ++j) {

@@ -35,6 +35,13 @@ void checkFiniteSample(const Trajectory& trajectory, int k) {
       }
 }
 
+void checkFiniteSamples(const Trajectory& trajectory) {
+  if (trajectory.q.allFinite() && trajectory.dq.allFinite() && trajectory.ddq.allFinite() &&
+      trajectory.tau.allFinite())
+    return;
+  for (int k = 0; k < trajectory.numSamples(); ++k) checkFiniteSample(trajectory, k);
+}
+
 Observation observationFromTrajectory(const Model& model, const Trajectory& trajectory) {
   const int n = model.numJoints(), samples = trajectory.numSamples();
   if (trajectory.numJoints() != n)

@@ -29,6 +29,10 @@ Observation observationFromTrajectory(const Model& model, const Trajectory& traj
 /// its time and the column: "sample 17 (t = 0.016 s): dq3 is not finite".
 void checkFiniteSample(const Trajectory& trajectory, int k);
 
+/// checkFiniteSample for every sample: the first sample with a value that is not finite throws.
+/// One vectorised pass over the columns when all are finite (the usual case).
+void checkFiniteSamples(const Trajectory& trajectory);
+
 /// W from seeded random states for structural analysis: q uniform within the joint limits
 /// (revolute joints without limits in [-pi, pi], prismatic in [-1, 1] m), dq uniform in
 /// [-2, 2] rad/s, ddq uniform in [-5, 5] rad/s^2; tau = W theta of the model. Throws InputError

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "core/errors.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
@@ -40,6 +42,29 @@ TEST(Observation, NamesTheNonFiniteSample) {
   }
   t.q.conservativeResize(5, Eigen::NoChange);
   EXPECT_THROW(observationFromTrajectory(model, t), InputError);
+}
+
+TEST(Observation, EverySampleIsCheckedAndTheFirstBadOneNamed) {
+  const Model model = makePuma560();
+  Trajectory t = shortTrajectory(model);
+  EXPECT_NO_THROW(checkFiniteSamples(t));
+  const auto message = [&] {
+    try {
+      checkFiniteSamples(t);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Each block of columns, and an infinity as well as a NaN.
+  t.tau(0, 40) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(), "sample 41 (t = 0.04 s): tau1 is not finite");
+  t.ddq(5, 30) = std::nan("");
+  EXPECT_EQ(message(), "sample 31 (t = 0.03 s): ddq6 is not finite");
+  t.q(1, 30) = -std::numeric_limits<double>::infinity();
+  EXPECT_EQ(message(), "sample 31 (t = 0.03 s): q2 is not finite");
+  t.dq(2, 16) = std::nan("");
+  EXPECT_EQ(message(), "sample 17 (t = 0.016 s): dq3 is not finite");
 }
 
 TEST(Observation, RandomStatesAreSeededAndWithinLimits) {
