@@ -154,18 +154,6 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
 // ---- identifiability ----
 
-namespace {
-/// The observation of a dataset file; its errors (a non-finite sample, too large for memory) name
-/// the file.
-Observation observationOfFile(const Model& model, const Trajectory& data, const std::string& file) {
-  try {
-    return observationFromTrajectory(model, data);
-  } catch (const InputError& e) {
-    throw InputError(file + ": " + e.what());
-  }
-}
-}  // namespace
-
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
                                           const std::string& data_file, int threads,
                                           const Trajectory* data) {
@@ -199,6 +187,27 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 // ---- identification ----
 
+namespace {
+/// The least-squares outcome of a physically consistent estimate: its base fields.
+LeastSquaresOutcome leastSquaresOfPhysical(const BaseParameters& base, const PhysicalEstimate& pc) {
+  LeastSquaresOutcome out;
+  // The base estimate's fields from the physically consistent solution.
+  out.estimate = pc.ols;
+  out.estimate.beta = pc.beta;
+  out.estimate.covariance = pc.covariance;
+  out.estimate.std_dev = pc.std_dev;
+  out.estimate.residual_rms = pc.residual_rms;
+  setRelativeErrors(out.estimate);
+  for (int j = 0; j < base.numBase(); ++j)
+    out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
+                                                   ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])
+                                                   : std::numeric_limits<double>::infinity();
+  out.standard = pc.theta;
+  out.pc = pc;
+  return out;
+}
+}  // namespace
+
 LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& base,
                                          const Observation& observation,
                                          const Eigen::VectorXd& prior,
@@ -214,21 +223,8 @@ LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& ba
   if (method != Method::kPc)
     throw InputError(std::string("'") + methodName(method) + "' is not a least-squares method (" +
                      methodList(leastSquaresMethods()) + ")");
-  const PhysicalEstimate pc = estimatePhysicallyConsistent(base, observation, prior, pc_options);
-  // The base estimate's fields from the physically consistent solution.
-  out.estimate = pc.ols;
-  out.estimate.beta = pc.beta;
-  out.estimate.covariance = pc.covariance;
-  out.estimate.std_dev = pc.std_dev;
-  out.estimate.residual_rms = pc.residual_rms;
-  setRelativeErrors(out.estimate);
-  for (int j = 0; j < base.numBase(); ++j)
-    out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
-                                                   ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])
-                                                   : std::numeric_limits<double>::infinity();
-  out.standard = pc.theta;
-  out.pc = pc;
-  return out;
+  return leastSquaresOfPhysical(base,
+                                estimatePhysicallyConsistent(base, observation, prior, pc_options));
 }
 
 std::optional<nlohmann::json> preparationRecord(const std::string& data_file) {
@@ -263,22 +259,21 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   PhysicalOptions pc_options;
   pc_options.prior_weight = request.prior_weight;
   ThreadPool pool(request.threads);
-  std::optional<Trajectory> train_data;  // pc's solver takes the observation matrix: in memory
-  SampleKeeper kept;                     // ols, wls: the training samples for the figures
+  SampleKeeper kept;  // the training samples for the figures
   try {
+    // Every method streams the file: memory independent of the dataset's length.
+    LeastSquaresStream stream(out.base, model);
+    if (request.data) {
+      stream.addTrajectory(model, *request.data, &pool);
+      kept.add(*request.data);
+    } else {
+      addDatasetFile(stream, model, request.data_file, pool, &kept);
+    }
     if (request.method == Method::kPc) {
-      train_data =
-          request.data ? *request.data : readDatasetCsv(request.data_file, model.numJoints());
-      const Observation train = observationOfFile(model, *train_data, request.data_file);
-      out.result = estimateLeastSquares(request.method, out.base, train, prior, pc_options);
-    } else {  // OLS and WLS stream the file: memory independent of the dataset's length
-      LeastSquaresStream stream(out.base, model);
-      if (request.data) {
-        stream.addTrajectory(model, *request.data, &pool);
-        kept.add(*request.data);
-      } else {
-        addDatasetFile(stream, model, request.data_file, pool, &kept);
-      }
+      out.result = leastSquaresOfPhysical(
+          out.base, estimatePhysicallyConsistent(out.base, model.parameterLayout(), stream, prior,
+                                                 pc_options));
+    } else {
       out.result.estimate =
           stream.estimate(request.method == Method::kOls ? LeastSquaresMethod::kOrdinary
                                                          : LeastSquaresMethod::kWeighted);
@@ -296,9 +291,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   Model identified = model;
   identified.setStandardParameters(out.result.standard);
   out.violations = consistencyViolations(identified);
-  if (train_data) {
-    out.fit = predictTorques(identified, *train_data);
-  } else {  // the fit's statistics are the least-squares residuals': one pass over the file
+  {  // the fit's statistics are the estimate's residuals', from the stream's factors
     const BaseEstimate& e = out.result.estimate;
     Validation v;
     v.num_samples = e.num_samples;

@@ -274,8 +274,25 @@ Eigen::MatrixXd LeastSquaresStream::combined(const Eigen::VectorXd& weight) {
   return all.r();
 }
 
+Eigen::MatrixXd LeastSquaresStream::augmentedFactor() {
+  return combined(Eigen::VectorXd::Ones(n_));
+}
+
+Eigen::VectorXd LeastSquaresStream::residualSquares(const Eigen::VectorXd& beta) {
+  if (beta.size() != b_)
+    throw InputError("residualSquares: beta has " + std::to_string(beta.size()) + " entries, " +
+                     std::to_string(b_) + " base parameters");
+  // |tau_j - W1_j beta|^2 = |R_j [-beta; 1]|^2 for joint j's augmented factor R_j.
+  Eigen::VectorXd x(b_ + 1);
+  x.head(b_) = -beta;
+  x[b_] = 1.0;
+  Eigen::VectorXd out(n_);
+  for (int j = 0; j < n_; ++j) out[j] = (scattered(j) * x).squaredNorm();
+  return out;
+}
+
 LeastSquaresStream::Factor LeastSquaresStream::factor() {
-  const Eigen::MatrixXd r = combined(Eigen::VectorXd::Ones(n_)).topLeftCorner(b_, b_);
+  const Eigen::MatrixXd r = augmentedFactor().topLeftCorner(b_, b_);
   Factor out;
   out.norms = r.colwise().norm().transpose();
   Eigen::VectorXd safe = out.norms;
@@ -291,7 +308,7 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
     throw InputError("the data has " + std::to_string(samples_ * n_) +
                      " torque rows, fewer than the " + std::to_string(b_) + " base parameters");
   // OLS first: its factor measures the excitation, its residuals give the per-joint noise (WLS).
-  const Eigen::MatrixXd ols_factor = combined(Eigen::VectorXd::Ones(n_));
+  const Eigen::MatrixXd ols_factor = augmentedFactor();
   Solved ols = solveFactor(ols_factor, b_, false);
   const Excitation excitation = excitationFromRDiagonal(ols.r_diagonal);
   if (!excitation.unexcited.empty()) {
@@ -303,20 +320,11 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
                          "; refusing to solve a rank-deficient problem");
   }
   ols = solveFactor(ols_factor, b_, true);
-  // |tau_j - W1_j beta|^2 = |R_j [-beta; 1]|^2 for joint j's augmented factor R_j.
-  const auto residual_squared = [&](const Eigen::VectorXd& beta) {
-    Eigen::VectorXd x(b_ + 1);
-    x.head(b_) = -beta;
-    x[b_] = 1.0;
-    Eigen::VectorXd out(n_);
-    for (int j = 0; j < n_; ++j) out[j] = (scattered(j) * x).squaredNorm();
-    return out;
-  };
   const double samples = static_cast<double>(samples_);
   BaseEstimate out;
   out.method = method;
   out.num_samples = samples_;
-  const Eigen::VectorXd ols_squared = residual_squared(ols.beta);
+  const Eigen::VectorXd ols_squared = residualSquares(ols.beta);
   const double dof_per_joint = samples - static_cast<double>(b_) / n_;
   out.joint_sigma = (ols_squared / std::max(dof_per_joint, 1.0)).cwiseSqrt();
   Solved chosen;
@@ -332,7 +340,7 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
     const double floor = 1e-15 * (1.0 + max_abs_tau_);
     for (Eigen::Index j = 0; j < n_; ++j) sigma[j] = std::max(sigma[j], floor);
     chosen = solveFactor(combined(sigma.cwiseInverse()), b_, true);
-    chosen_squared = residual_squared(chosen.beta);
+    chosen_squared = residualSquares(chosen.beta);
     out.covariance = chosen.covariance_unit;
   }
   out.beta = chosen.beta;

@@ -72,6 +72,13 @@ class LeastSquaresStream {
   };
   Factor factor();
 
+  /// The triangular factor [R c; 0 rho] ((b + 1) x (b + 1)) of [W1 | tau] over every sample so
+  /// far: for any beta, |W1 beta - tau|^2 = |R beta - c|^2 + rho^2, and |tau|^2 is the squared
+  /// norm of its last column.
+  Eigen::MatrixXd augmentedFactor();
+  /// Per joint j, the sum over every sample so far of (W1_j beta - tau_j)^2 (b entries in beta).
+  Eigen::VectorXd residualSquares(const Eigen::VectorXd& beta);
+
  private:
   /// The stacked per-joint factors, joint j's rows times weight[j], reduced to one (b+1) factor.
   Eigen::MatrixXd combined(const Eigen::VectorXd& weight);

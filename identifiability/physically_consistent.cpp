@@ -63,35 +63,56 @@ std::string formatShortNumber(double x) {
   return out.str();
 }
 
+/// The observation's rows, sample by sample, in a stream over every base column.
+LeastSquaresStream streamOf(const BaseParameters& base, const Observation& observation) {
+  if (observation.layout.size() != base.numStandard() ||
+      observation.layout.num_links != observation.num_joints)
+    throw InputError("the base parameters do not match the observation's joint count");
+  if (static_cast<long long>(observation.num_samples) * observation.num_joints < base.numBase())
+    throw InputError("fewer torque rows than base parameters");
+  LeastSquaresStream stream(base, observation.num_joints);
+  const int n = observation.num_joints;
+  for (int k = 0; k < observation.num_samples; ++k)
+    stream.add(observation.W.middleRows(static_cast<Eigen::Index>(k) * n, n),
+               observation.tau.segment(static_cast<Eigen::Index>(k) * n, n));
+  return stream;
+}
 }  // namespace
 
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
                                     const Eigen::VectorXd& prior, double prior_weight,
                                     double sigma) {
+  LeastSquaresStream stream = streamOf(base, observation);
+  return makePhysicalProblem(base, observation.layout, stream.augmentedFactor(), prior,
+                             prior_weight, sigma);
+}
+
+PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterLayout& layout,
+                                    const Eigen::MatrixXd& augmented, const Eigen::VectorXd& prior,
+                                    double prior_weight, double sigma) {
   if (prior.size() != base.numStandard())
     throw InputError("the prior has " + std::to_string(prior.size()) + " parameters, expected " +
                      std::to_string(base.numStandard()));
   if (!(prior_weight > 0.0) || !std::isfinite(prior_weight))
     throw InputError("the prior weight must be finite and > 0");
   if (!(sigma > 0.0)) throw InputError("sigma must be positive");
-  const int p = base.numStandard();
+  const int p = base.numStandard(), b = base.numBase();
+  if (layout.size() != p)
+    throw InputError("the parameter layout has " + std::to_string(layout.size()) +
+                     " parameters, the base parameters are of " + std::to_string(p));
+  if (augmented.rows() != b + 1 || augmented.cols() != b + 1)
+    throw InputError("the data's factor is " + std::to_string(augmented.rows()) + " x " +
+                     std::to_string(augmented.cols()) + ", expected " + std::to_string(b + 1) +
+                     " square");
   PhysicalProblem problem;
-  problem.layout = observation.layout;
-  if (problem.layout.size() != p || problem.layout.num_links != observation.num_joints)
-    throw InputError("the base parameters do not match the observation's joint count");
-  // Q R = W1; the data term is |R P theta - c|^2 / sigma^2 up to a constant, c = Q^T tau.
-  const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
-  const int b = base.numBase();
-  if (W1.rows() < b) throw InputError("fewer torque rows than base parameters");
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W1);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
-  const Eigen::VectorXd c = (qr.householderQ().transpose() * observation.tau).head(b);
+  problem.layout = layout;
+  // [R c; 0 rho] of [W1 | tau]: the data term is |R P theta - c|^2 / sigma^2 up to a constant.
+  const Eigen::MatrixXd R = augmented.topLeftCorner(b, b).triangularView<Eigen::Upper>();
   problem.A = R * base.projectionMatrix() / sigma;
-  problem.b = c / sigma;
+  problem.b = augmented.col(b).head(b) / sigma;
   problem.sigma = sigma;
   problem.prior_weight = prior_weight;
   // The prior: each link moved well inside the physical set; its pseudo-inertia's inverse.
-  const ParameterLayout& layout = problem.layout;
   const int per = layout.perLink();
   problem.prior = prior;
   for (int i = 0; i < layout.num_links; ++i) {
@@ -177,20 +198,31 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
                                               const Observation& observation,
                                               const Eigen::VectorXd& prior,
                                               const PhysicalOptions& options) {
+  LeastSquaresStream stream = streamOf(base, observation);
+  return estimatePhysicallyConsistent(base, observation.layout, stream, prior, options);
+}
+
+PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
+                                              const ParameterLayout& layout,
+                                              LeastSquaresStream& stream,
+                                              const Eigen::VectorXd& prior,
+                                              const PhysicalOptions& options) {
+  if (layout.num_links != stream.numJoints())
+    throw InputError("the parameter layout has " + std::to_string(layout.num_links) +
+                     " links, the data " + std::to_string(stream.numJoints()) + " joints");
   PhysicalEstimate out;
-  out.ols = estimateBaseParameters(base, observation, LeastSquaresMethod::kOrdinary);
-  const Eigen::MatrixXd W1 = base.baseRegressor(observation.W);
+  out.ols = stream.estimate(LeastSquaresMethod::kOrdinary);
+  const Eigen::MatrixXd augmented = stream.augmentedFactor();
   const int b = base.numBase();
-  const auto rows = static_cast<double>(W1.rows());
-  // sigma from the OLS residuals, floored at 1e-6 of the torques' RMS: with exact (noise-free)
-  // data the prior term must keep a weight that holds the directions the data cannot see.
-  const double tau_rms = observation.tau.norm() / std::sqrt(std::max(rows, 1.0));
-  const double sigma_ols =
-      std::max((W1 * out.ols.beta - observation.tau).norm() / std::sqrt(std::max(rows - b, 1.0)),
-               1e-6 * tau_rms + 1e-300);
+  const double rows = static_cast<double>(stream.numSamples()) * stream.numJoints();
+  // sigma from the OLS residuals (|rho|, the factor's last entry), floored at 1e-6 of the torques'
+  // RMS (|tau|: the factor's last column): with exact (noise-free) data the prior term must keep a
+  // weight that holds the directions the data cannot see.
+  const double tau_rms = augmented.col(b).norm() / std::sqrt(std::max(rows, 1.0));
+  const double sigma_ols = std::max(std::abs(augmented(b, b)) / std::sqrt(std::max(rows - b, 1.0)),
+                                    1e-6 * tau_rms + 1e-300);
   const PhysicalProblem problem =
-      makePhysicalProblem(base, observation, prior, options.prior_weight, sigma_ols);
-  const ParameterLayout& layout = problem.layout;
+      makePhysicalProblem(base, layout, augmented, prior, options.prior_weight, sigma_ols);
   const int per = layout.perLink(), p = layout.size();
 
   // The start: OLS lifted with the prior's dependent parameters, each link that is not inside the
@@ -295,18 +327,10 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
       out.at_bound.push_back(names[k]);
 
   // Residuals and the base covariance sigma^2 (R^T R)^-1 at the estimate.
-  const Eigen::VectorXd residual = W1 * out.beta - observation.tau;
-  const int n = observation.num_joints;
-  out.residual_rms.resize(n);
-  for (int j = 0; j < n; ++j) {
-    double sum = 0.0;
-    for (int k = 0; k < observation.num_samples; ++k)
-      sum += residual[k * n + j] * residual[k * n + j];
-    out.residual_rms[j] = std::sqrt(sum / std::max(observation.num_samples, 1));
-  }
-  const double sigma2 = residual.squaredNorm() / std::max(rows - b, 1.0);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(W1);
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(b).triangularView<Eigen::Upper>();
+  const Eigen::VectorXd squares = stream.residualSquares(out.beta);
+  out.residual_rms = (squares / std::max<double>(stream.numSamples(), 1.0)).cwiseSqrt();
+  const double sigma2 = squares.sum() / std::max(rows - b, 1.0);
+  const Eigen::MatrixXd R = augmented.topLeftCorner(b, b).triangularView<Eigen::Upper>();
   const Eigen::MatrixXd r_inv =
       R.triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(b, b));
   out.covariance = sigma2 * r_inv * r_inv.transpose();

@@ -41,6 +41,7 @@
 #include "core/parameters.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares.hpp"
+#include "identifiability/least_squares_stream.hpp"
 #include "identifiability/observation.hpp"
 
 namespace dynid {
@@ -79,8 +80,15 @@ struct PhysicalProblem {
                    Eigen::MatrixXd* hessian) const;
 };
 
-/// Builds the problem. Throws InputError on size mismatches or prior_weight <= 0, NumericalError
-/// when the data do not excite every base parameter.
+/// Builds the problem from the data's augmented triangular factor [R c; 0 rho] of [W1 | tau]
+/// ((b + 1) square, LeastSquaresStream::augmentedFactor): all the data term needs, whatever the
+/// log's length. `layout` is the model's. Throws InputError on size mismatches, prior_weight <= 0
+/// or sigma <= 0, NumericalError when the prior has a link with no positive definite
+/// pseudo-inertia.
+PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterLayout& layout,
+                                    const Eigen::MatrixXd& augmented, const Eigen::VectorXd& prior,
+                                    double prior_weight, double sigma);
+/// The same from an observation (its rows streamed into a LeastSquaresStream).
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
                                     const Eigen::VectorXd& prior, double prior_weight,
                                     double sigma);
@@ -101,9 +109,18 @@ struct PhysicalEstimate {
   int iterations = 0;
 };
 
-/// The physically consistent estimate. `prior` is a standard vector (p entries) whose links need
+/// The physically consistent estimate from every sample in `stream` (of the model whose parameter
+/// layout is `layout`): its OLS estimate, factor and per-joint residuals are all it takes, so the
+/// memory does not grow with the log. `prior` is a standard vector (p entries) whose links need
 /// not be consistent; it supplies the dependent parameters of the start and the prior term.
-/// Throws InputError on size mismatches, NumericalError as estimateBaseParameters.
+/// Throws InputError on size mismatches, NumericalError as LeastSquaresStream::estimate.
+PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
+                                              const ParameterLayout& layout,
+                                              LeastSquaresStream& stream,
+                                              const Eigen::VectorXd& prior,
+                                              const PhysicalOptions& options = {});
+/// The same from an observation (its rows streamed, sample by sample, into a LeastSquaresStream:
+/// the same bits as the model's trajectory through LeastSquaresStream::addTrajectory).
 PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
                                               const Observation& observation,
                                               const Eigen::VectorXd& prior,

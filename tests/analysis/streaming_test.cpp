@@ -87,12 +87,13 @@ TEST(Streaming, IdentifyGivesTheSameEstimateOnAnyThreadCount) {
   IdentifyRequest request;
   request.model = puma;
   request.data_file = path;
-  for (Method method : {Method::kOls, Method::kWls}) {
+  for (Method method : {Method::kOls, Method::kWls, Method::kPc}) {
     request.method = method;
     request.threads = 1;
     const IdentifyOutcome one = identifyRun(request);
     request.threads = 2;
     const IdentifyOutcome two = identifyRun(request);
+    EXPECT_EQ(one.result.standard, two.result.standard);
     EXPECT_EQ(one.result.estimate.beta, two.result.estimate.beta);
     EXPECT_EQ(one.result.estimate.covariance, two.result.estimate.covariance);
     EXPECT_EQ(one.fit.validation.torque_rms, two.fit.validation.torque_rms);
