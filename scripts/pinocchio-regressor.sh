@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Pinocchio's joint torque regressor on the PUMA 560, beside dynid's (docs/PERFORMANCE.md, "The
+# regressor"). Usage: scripts/pinocchio-regressor.sh PINOCCHIO_SOURCE [BUILD_DIR]
+# PINOCCHIO_SOURCE is a Pinocchio source tree (3.7.0 measured: git clone --branch v3.7.0
+# https://github.com/stack-of-tasks/pinocchio); only its include/ is used, header-only, with the
+# three headers its CMake would generate replaced by minimal stand-ins. Needs Boost's headers
+# (libboost-dev) and Google Benchmark; dynid's Release build in BUILD_DIR (default build) for the
+# side-by-side run. Runs the two benchmarks interleaved, four rounds of five repetitions.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source_dir=${1:?usage: scripts/pinocchio-regressor.sh PINOCCHIO_SOURCE [BUILD_DIR]}
+build_dir=${2:-build}
+[ -f "$source_dir/include/pinocchio/fwd.hpp" ] || { echo "$source_dir: no include/pinocchio/fwd.hpp" >&2; exit 1; }
+[ -x "$build_dir/bench/bench_identification" ] || { echo "$build_dir/bench/bench_identification: build dynid's benchmarks first (-DDYNID_BUILD_BENCH=ON)" >&2; exit 1; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$work/include/pinocchio"
+cat > "$work/include/pinocchio/config.hpp" <<'H'
+#pragma once
+#define PINOCCHIO_DLLAPI
+#define PINOCCHIO_LOCAL
+#define PINOCCHIO_MAJOR_VERSION 3
+#define PINOCCHIO_MINOR_VERSION 7
+#define PINOCCHIO_PATCH_VERSION 0
+#define PINOCCHIO_VERSION "3.7.0"
+H
+cat > "$work/include/pinocchio/warning.hpp" <<'H'
+#pragma once
+#define PINOCCHIO_WARNING(x)
+H
+cat > "$work/include/pinocchio/deprecated.hpp" <<'H'
+#pragma once
+#define PINOCCHIO_DEPRECATED __attribute__((deprecated))
+#define PINOCCHIO_DEPRECATED_MESSAGE(message) __attribute__((deprecated(message)))
+H
+g++ -std=c++20 -O3 -DNDEBUG -Wno-deprecated-declarations -I"$work/include" -I"$source_dir/include" \
+  -I/usr/include/eigen3 bench/pinocchio/regressor.cpp -o "$work/pinocchio_regressor" -lbenchmark -lpthread
+for round in 1 2 3 4; do
+  "$work/pinocchio_regressor" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true |
+    grep median
+  "$build_dir/bench/bench_identification" --benchmark_filter='BM_Regressor/' \
+    --benchmark_repetitions=5 --benchmark_report_aggregates_only=true | grep median
+done
