@@ -119,8 +119,8 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
                                               LeastSquaresStream& stream,
                                               const Eigen::VectorXd& prior,
                                               const PhysicalOptions& options = {});
-/// The same from an observation (its rows streamed, sample by sample, into a LeastSquaresStream:
-/// the same bits as the model's trajectory through LeastSquaresStream::addTrajectory).
+/// The same from an observation: its rows streamed, sample by sample, into a LeastSquaresStream
+/// over every base column (equal to a stream of the model's own trajectory to round-off).
 PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
                                               const Observation& observation,
                                               const Eigen::VectorXd& prior,
