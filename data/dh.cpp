@@ -9,11 +9,13 @@ namespace dynid {
 
 namespace {
 
-/// cos and sin of `angle`, exact (0, +-1) within 1e-12 rad of a multiple of pi/2.
+/// cos and sin of `angle`, exact (0, +-1) within 1e-12 rad of a multiple of pi/2 up to 1e9 quarter
+/// turns; beyond that (a finite angle nobody means, which the fuzzer sent) std::cos and std::sin,
+/// never an int conversion out of range.
 std::pair<double, double> cosSin(double angle) {
   const double quarter = angle / (std::numbers::pi / 2.0);
   const double k = std::round(quarter);
-  if (std::abs(quarter - k) * (std::numbers::pi / 2.0) < 1e-12) {
+  if (std::abs(k) < 1e9 && std::abs(quarter - k) * (std::numbers::pi / 2.0) < 1e-12) {
     const int m = ((static_cast<int>(k) % 4) + 4) % 4;
     constexpr double kCos[4] = {1.0, 0.0, -1.0, 0.0}, kSin[4] = {0.0, 1.0, 0.0, -1.0};
     return {kCos[m], kSin[m]};

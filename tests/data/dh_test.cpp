@@ -173,6 +173,13 @@ TEST(Dh, QuarterTurnsAreExact) {
   }
   // Off a quarter turn, the ordinary cosine.
   EXPECT_EQ(dhRotationZ(0.3)(0, 0), std::cos(0.3));
+  // Any finite angle gives a rotation, also one beyond an int's range of quarter turns (the model
+  // JSON fuzzer's alpha of -1.16e17 rad once converted it to int: undefined behaviour).
+  for (double angle : {-115707963627948966.0, 1e300, 4e9 * kPi}) {
+    const Eigen::Matrix3d r = dhRotationX(angle);
+    EXPECT_LT((r.transpose() * r - Eigen::Matrix3d::Identity()).norm(), 1e-15) << angle;
+    EXPECT_EQ(r(1, 1), std::cos(angle)) << angle;
+  }
 }
 
 }  // namespace
