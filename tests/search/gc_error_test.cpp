@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
@@ -41,6 +42,15 @@ TEST(GcError, SameResultForAnyThreadCount) {
   ThreadPool one(1), two(2);
   GcWorkspace w1(1), w2(2);
   EXPECT_EQ(gcError(guess, problem, w1, one), gcError(guess, problem, w2, two));
+  // The same workspaces, and one model object changed between evaluations as an optimiser does:
+  // every thread must see each evaluation's candidate (the second thread reads a copy).
+  Model candidate = guess;
+  for (std::uint64_t seed : {3, 4, 5}) {
+    candidate.setStandardParameters(perturbedModel(makePuma560(), 0.3, seed).standardParameters());
+    const double single = gcError(candidate, problem, w1, one);
+    EXPECT_EQ(gcError(candidate, problem, w2, two), single) << seed;
+    EXPECT_NE(single, gcError(guess, problem, w1, one)) << seed;
+  }
 }
 
 TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
