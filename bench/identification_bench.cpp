@@ -177,13 +177,7 @@ void BM_RegressorAndUpdate(benchmark::State& state) {
   std::vector<Trajectory> chunks;
   for (int first = 0; first < dataset.numSamples(); first += kStreamChunkSamples) {
     const int count = std::min(kStreamChunkSamples, dataset.numSamples() - first);
-    Trajectory c;
-    c.time = dataset.time.segment(first, count);
-    c.q = dataset.q.middleCols(first, count);
-    c.dq = dataset.dq.middleCols(first, count);
-    c.ddq = dataset.ddq.middleCols(first, count);
-    c.tau = dataset.tau.middleCols(first, count);
-    chunks.push_back(std::move(c));
+    chunks.push_back(dataset.samples(first, count));
   }
   for (auto _ : state) {
     LeastSquaresStream stream(base, model);

@@ -22,6 +22,18 @@ struct Trajectory {
     tau.setZero(num_joints, num_samples);
   }
 
+  /// A copy of samples [first, first + count): a chunk, as a stream hands them over.
+  /// Requires 0 <= first, 0 <= count and first + count <= numSamples().
+  Trajectory samples(int first, int count) const {
+    Trajectory out;
+    out.time = time.segment(first, count);
+    out.q = q.middleCols(first, count);
+    out.dq = dq.middleCols(first, count);
+    out.ddq = ddq.middleCols(first, count);
+    out.tau = tau.middleCols(first, count);
+    return out;
+  }
+
   /// Keeps the first num_samples samples (at most numSamples()).
   void truncate(int num_samples) {
     time.conservativeResize(num_samples);

@@ -16,15 +16,13 @@
 namespace dynid {
 namespace {
 
-using test::slice;
-
 TEST(SampleKeeper, KeepsEveryStrideThSampleWhateverTheChunks) {
   const Model puma = makePuma560();
   const Trajectory data = test::pumaTrajectory(puma, 20.0, 0.0, 1);  // 20001 samples at 1 kHz
   for (int chunk : {1, 333, 4096, 20001}) {
     SampleKeeper keeper;
     for (int first = 0; first < data.numSamples(); first += chunk)
-      keeper.add(slice(data, first, std::min(chunk, data.numSamples() - first)));
+      keeper.add(data.samples(first, std::min(chunk, data.numSamples() - first)));
     // 20001 samples: the stride doubles while more than 2 x 4096 would be kept.
     EXPECT_EQ(keeper.stride(), 4) << chunk;
     ASSERT_EQ(keeper.count(), 5001) << chunk;  // samples 0, 4, ..., 20000
@@ -35,7 +33,7 @@ TEST(SampleKeeper, KeepsEveryStrideThSampleWhateverTheChunks) {
     }
   }
   SampleKeeper few;
-  few.add(slice(data, 0, 10));
+  few.add(data.samples(0, 10));
   EXPECT_EQ(few.stride(), 1);
   EXPECT_EQ(few.kept().q, data.q.leftCols(10));
 }

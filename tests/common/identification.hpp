@@ -12,17 +12,6 @@
 
 namespace dynid::test {
 
-/// The samples [first, first + count) of a trajectory: a chunk, as a stream hands them over.
-inline Trajectory slice(const Trajectory& t, int first, int count) {
-  Trajectory out;
-  out.time = t.time.segment(first, count);
-  out.q = t.q.middleCols(first, count);
-  out.dq = t.dq.middleCols(first, count);
-  out.ddq = t.ddq.middleCols(first, count);
-  out.tau = t.tau.middleCols(first, count);
-  return out;
-}
-
 /// Base parameters of `model` from 150 seeded random states, default preference.
 inline BaseParameters pumaBase(const Model& model) {
   const ParameterLayout layout = model.parameterLayout();

@@ -19,7 +19,6 @@ namespace {
 
 using test::pumaBase;
 using test::pumaTrajectory;
-using test::slice;
 
 /// The dense reference, independent of the stream: W1 built whole and solved by Householder QR.
 struct Dense {
@@ -85,13 +84,7 @@ TEST(LeastSquaresStream, RankDecisionsEqualTheDenseFactorsOnIllConditionedData) 
   const Trajectory data = pumaTrajectory(puma, 4.0, 0.0, 1);
   bool saw_deficient = false, saw_ill = false;
   for (int samples : {4000, 400, 40, 12, 6}) {
-    Trajectory t;
-    t.resize(6, samples);
-    t.time = data.time.head(samples);
-    t.q = data.q.leftCols(samples);
-    t.dq = data.dq.leftCols(samples);
-    t.ddq = data.ddq.leftCols(samples);
-    t.tau = data.tau.leftCols(samples);
+    const Trajectory t = data.samples(0, samples);
     LeastSquaresStream stream(base, 6);
     addTrajectory(stream, puma, t);
     const Eigen::MatrixXd W1 = base.baseRegressor(observationFromTrajectory(puma, t).W);
@@ -166,7 +159,7 @@ TEST(LeastSquaresStream, SameBitsForAnyThreadCountAndChunking) {
     LeastSquaresStream stream(base, puma);
     ThreadPool pool(threads);
     for (int first = 0; first < data.numSamples(); first += chunk) {
-      stream.addTrajectory(puma, slice(data, first, std::min(chunk, data.numSamples() - first)),
+      stream.addTrajectory(puma, data.samples(first, std::min(chunk, data.numSamples() - first)),
                            &pool);
     }
     return stream.estimate(LeastSquaresMethod::kWeighted);
@@ -195,9 +188,9 @@ TEST(LeastSquaresStream, AnEstimateMidStreamLeavesTheLaterOnesWhole) {
   const Trajectory data = pumaTrajectory(puma, 3.0, 0.5, 11);
   const int half = data.numSamples() / 2 + 37;  // mid-block, so lanes hold partial blocks
   LeastSquaresStream asked_twice(base, puma), asked_once(base, puma);
-  asked_twice.addTrajectory(puma, slice(data, 0, half));
+  asked_twice.addTrajectory(puma, data.samples(0, half));
   const BaseEstimate early = asked_twice.estimate(LeastSquaresMethod::kOrdinary);
-  asked_twice.addTrajectory(puma, slice(data, half, data.numSamples() - half));
+  asked_twice.addTrajectory(puma, data.samples(half, data.numSamples() - half));
   asked_once.addTrajectory(puma, data);
   const BaseEstimate late = asked_twice.estimate(LeastSquaresMethod::kOrdinary);
   const BaseEstimate whole = asked_once.estimate(LeastSquaresMethod::kOrdinary);

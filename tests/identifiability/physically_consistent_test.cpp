@@ -169,7 +169,7 @@ TEST(PhysicallyConsistent, TheStreamedDataGiveTheDenseEstimate) {
   ThreadPool pool(2);
   LeastSquaresStream stream(base, model);
   for (const auto& [first, count] : {std::pair{0, 700}, {700, 1}, {701, data.numSamples() - 701}})
-    stream.addTrajectory(model, test::slice(data, first, count), &pool);
+    stream.addTrajectory(model, data.samples(first, count), &pool);
   const PhysicalEstimate streamed =
       estimatePhysicallyConsistent(base, model.parameterLayout(), stream, prior);
   EXPECT_EQ(streamed.termination.rfind("CONVERGENCE", 0), 0u) << streamed.termination;
