@@ -174,7 +174,7 @@ KDL::Chain kdlChain(const Model& m) {
 struct Kdl {
   Kdl()
       : chain(kdlChain(model())),
-        gravity(model().gravity.x(), model().gravity.y(), model().gravity.z()),
+        gravity(model().gravity().x(), model().gravity().y(), model().gravity().z()),
         id(chain, gravity),
         param(chain, gravity),
         fd(chain, gravity),

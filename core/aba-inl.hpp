@@ -207,8 +207,7 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     else
       data.U[i].noalias() = IA * model.motion_subspaces()[i];
     data.D[i] = projectOnJoint(model, i, data.U[i]);
-    if (model.drive_terms.has(DriveTerm::kRotorInertia))
-      data.D[i] += model.drives()[i].rotor_inertia;
+    if (model.driveTerms().inertial()) data.D[i] += driveInertia(model, i);
     const Scalar inv_d = Scalar(1) / data.D[i];
     data.D_inv[i] = inv_d;
     data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);
@@ -245,7 +244,7 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     Scalar ddq;
     if (p < 0) {
       dw = data.c[i].template head<3>();
-      dv.noalias() = X.rotation.transpose() * (-model.gravity);
+      dv.noalias() = X.rotation.transpose() * (-model.gravity());
       dv += data.c[i].template tail<3>();
       const Scalar ua = data.U[i].template head<3>().dot(dw) + data.U[i].template tail<3>().dot(dv);
       ddq = (data.u[i] - ua) * data.D_inv[i];

@@ -16,11 +16,24 @@ void checkSize(const ModelTpl<Scalar>& model, const Vector& x, const char* name)
                      model.name + "' has " + std::to_string(model.numJoints()) + " joints");
 }
 
+/// Throws InputError unless `data` was built for this model as it is now: every workspace sized
+/// for its joints and the regressor as wide as its parameter layout (a Data built before
+/// setDriveTerms changed the layout is refused), and the model finalized.
 template <typename Scalar>
 void checkData(const ModelTpl<Scalar>& model, const DataTpl<Scalar>& data) {
-  if (static_cast<int>(data.liMi.size()) != model.numJoints() || !model.finalized())
+  const int n = model.numJoints();
+  const auto joints = static_cast<std::size_t>(n);
+  if (!model.finalized() || data.liMi.size() != joints || data.v.size() != joints ||
+      data.composite.size() != joints || data.articulated_inertia.size() != joints ||
+      data.joint_axes.size() != joints * joints || data.tau.size() != n || data.ddq.size() != n ||
+      data.M.rows() != n || data.D.size() != n || data.q_stage.size() != n || data.Y.rows() != n)
     throw InputError("Data was built for another model, or the model '" + model.name +
                      "' was not finalized");
+  if (data.Y.cols() != model.parameterLayout().size())
+    throw InputError("Data's regressor has " + std::to_string(data.Y.cols()) + " columns, model '" +
+                     model.name + "' has " + std::to_string(model.parameterLayout().size()) +
+                     " parameters (drive terms " + driveTermsText(model.driveTerms()) +
+                     "): build the Data after setDriveTerms");
 }
 
 /// The checks of every (q, dq, x) algorithm: Data for this model, and n entries in each vector.

@@ -2,6 +2,7 @@
 
 #include "core/checks.hpp"
 #include "core/crba.hpp"
+#include "core/friction.hpp"
 
 namespace dynid {
 
@@ -21,8 +22,7 @@ void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& da
   for (int i = 0; i < n; ++i) {
     Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces()[i]);
     data.M(i, i) = projectOnJoint(model, i, F);
-    if (model.drive_terms.has(DriveTerm::kRotorInertia))
-      data.M(i, i) += model.drives()[i].rotor_inertia;
+    if (model.driveTerms().inertial()) data.M(i, i) += driveInertia(model, i);
     for (int j = i; model.parents()[j] >= 0;) {
       F = data.liMi[j].actForce(F);
       j = model.parents()[j];

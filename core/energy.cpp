@@ -1,6 +1,7 @@
 #include "core/energy.hpp"
 
 #include "core/checks.hpp"
+#include "core/friction.hpp"
 #include "core/kinematics.hpp"
 
 namespace dynid {
@@ -16,8 +17,7 @@ double kineticEnergy(const Model& model, Data& data, const ConstVectorRef<double
     data.v[i] = jointMotionAt(model, i, dq[i]);
     if (p >= 0) data.v[i] += data.liMi[i].actInvMotion(data.v[p]);
     energy += 0.5 * data.v[i].dot(model.frame_inertias()[i].apply(data.v[i]));
-    if (model.drive_terms.has(DriveTerm::kRotorInertia))
-      energy += 0.5 * model.drives()[i].rotor_inertia * dq[i] * dq[i];
+    if (model.driveTerms().inertial()) energy += 0.5 * driveInertia(model, i) * dq[i] * dq[i];
   }
   return energy;
 }
@@ -30,7 +30,7 @@ double potentialEnergy(const Model& model, Data& data, const ConstVectorRef<doub
     const Pose<double>& X = data.oMi[i];
     const RigidInertia<double>& I = model.inertias()[i];
     const Eigen::Vector3d mc = I.mass * X.translation + X.rotation * I.first_moment;
-    energy -= model.gravity.dot(mc);
+    energy -= model.gravity().dot(mc);
   }
   return energy;
 }

@@ -98,7 +98,7 @@ void ModelTpl<Scalar>::finalize() {
   placement_permutation_.assign(n, -1);
   placement_shift_.assign(n, Vector3<Scalar>::Zero());
   for (int i = 0; i < 3; ++i)
-    if (!std::isfinite(value(gravity(i)))) throw InputError("model gravity is not finite");
+    if (!std::isfinite(value(gravity_(i)))) throw InputError("model gravity is not finite");
   for (int i = 0; i < n; ++i) {
     const std::string who = "body '" + link_names[i] + "' (joint '" + joint_names[i] + "')";
     if (parents_[i] >= i) throw InputError(who + ": parent must come before the child");
@@ -152,7 +152,7 @@ VectorX<Scalar> ModelTpl<Scalar>::standardParameters() const {
   for (int i = 0; i < numJoints(); ++i) {
     theta.template segment<10>(layout.linkIndex(i, 0)) = toStandardVector(inertias_[i]);
     for (int k = 0; k < kDriveTermCount; ++k)
-      if (drive_terms.has(k)) theta(layout.driveIndex(i, k)) = drives_[i].term(k);
+      if (drive_terms_.has(k)) theta(layout.driveIndex(i, k)) = drives_[i].term(k);
   }
   return theta;
 }
@@ -166,7 +166,7 @@ void ModelTpl<Scalar>::setStandardParameters(const VectorX<Scalar>& theta) {
   for (int i = 0; i < numJoints(); ++i) {
     inertias_[i] = fromStandardVector(theta.template segment<10>(layout.linkIndex(i, 0)));
     for (int k = 0; k < kDriveTermCount; ++k)
-      if (drive_terms.has(k)) drives_[i].term(k) = theta(layout.driveIndex(i, k));
+      if (drive_terms_.has(k)) drives_[i].term(k) = theta(layout.driveIndex(i, k));
   }
   updateFrameInertias();
 }
@@ -193,6 +193,21 @@ void ModelTpl<Scalar>::setLinkInertias(const std::vector<RigidInertia<Scalar>>& 
                      "' has " + std::to_string(numJoints()) + " links");
   inertias_ = inertias;
   if (finalized()) updateFrameInertias();
+}
+
+template <typename Scalar>
+void ModelTpl<Scalar>::setGravity(const Vector3<Scalar>& g) {
+  double norm2 = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double gi = model_detail::value(g(i));
+    if (!std::isfinite(gi))
+      throw InputError("gravity: entry " + std::to_string(i) + " is not finite");
+    norm2 += gi * gi;
+  }
+  if (std::sqrt(norm2) > kMaxGravity)
+    throw InputError("gravity: |g| = " + std::to_string(std::sqrt(norm2)) +
+                     " m/s^2 is beyond 1e3 m/s^2");
+  gravity_ = g;
 }
 
 template <typename Scalar>

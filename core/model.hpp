@@ -15,6 +15,7 @@
 // [N m or N], theta the standard parameter vector (parameters.hpp).
 #pragma once
 
+#include <array>
 #include <limits>
 #include <string>
 #include <vector>
@@ -37,21 +38,19 @@ struct JointLimits {
   double effort = std::numeric_limits<double>::infinity();        // [N m or N]
 };
 
-/// Joint-side drive parameters (see parameters.hpp for the drive terms and the friction law).
+/// Joint-side drive parameters: one value per row of the drive-term table (core/drive_terms.hpp),
+/// in its units, whether or not the model enables the term (a disabled term's value is kept but
+/// does not act). All zero by default.
 template <typename Scalar>
 struct DriveParameters {
-  Scalar rotor_inertia = Scalar(0);  // Ia [kg m^2]
-  Scalar viscous = Scalar(0);        // Fv [N m s/rad]
-  Scalar coulomb = Scalar(0);        // Fc [N m]
-  Scalar offset = Scalar(0);         // Fo [N m], constant
-  Scalar asymmetry = Scalar(0);      // Fa [N m], Coulomb asymmetry
+  std::array<Scalar, kDriveTermCount> values;
 
-  /// Term k (DriveTerm order: Ia, Fv, Fc, Fo, Fa).
-  Scalar& term(int k) {
-    Scalar* fields[kDriveTermCount] = {&rotor_inertia, &viscous, &coulomb, &offset, &asymmetry};
-    return *fields[k];
-  }
-  const Scalar& term(int k) const { return const_cast<DriveParameters*>(this)->term(k); }
+  DriveParameters() { values.fill(Scalar(0)); }
+  /// Term k (kDriveTermTable's row order: Ia, Fv, Fc, Fo, Fa, Fs).
+  Scalar& term(int k) { return values[static_cast<std::size_t>(k)]; }
+  const Scalar& term(int k) const { return values[static_cast<std::size_t>(k)]; }
+  Scalar& operator[](DriveTerm t) { return term(static_cast<int>(t)); }
+  const Scalar& operator[](DriveTerm t) const { return term(static_cast<int>(t)); }
 };
 
 /// How a joint's axis is stored, so the hot path can skip Rodrigues' formula for unit axes.
@@ -65,8 +64,9 @@ inline constexpr int kAxisPermutationSigns[6] = {1, -1, -1, 1, 1, -1};
 /// A robot model, sealed: the kinematic structure and the inertial and drive parameters are
 /// written only through addBody (before finalize) and the parameter setters, which refresh the
 /// derived joint-frame caches, so no public call can leave a cache stale (Pinocchio's route: the
-/// caches are private and read through const accessors). `name`, the names, `limits`, `gravity`
-/// and the drive terms feed no cache and stay plain fields.
+/// caches are private and read through const accessors). Gravity and the drive terms are set
+/// through setGravity and setDriveTerms (a Data's regressor width follows the drive terms, and
+/// checkData compares it). `name`, the names and `limits` feed no cache and stay plain fields.
 template <typename Scalar>
 class ModelTpl {
  public:
@@ -74,8 +74,10 @@ class ModelTpl {
   std::vector<std::string> link_names;
   std::vector<std::string> joint_names;
   std::vector<JointLimits> limits;
-  Vector3<Scalar> gravity = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));  // [m/s^2]
-  DriveTerms drive_terms;  // the drive terms that act (and are parameters); none by default
+  /// Gravity in the base frame [m/s^2]; (0, 0, -9.81) by default.
+  const Vector3<Scalar>& gravity() const { return gravity_; }
+  /// The drive terms that act (and are parameters); none by default.
+  DriveTerms driveTerms() const { return drive_terms_; }
 
   // The structure and parameters, read-only (addBody and the setters write them).
   const std::vector<int>& parents() const { return parents_; }
@@ -126,7 +128,14 @@ class ModelTpl {
   /// Throws InputError naming the body at fault.
   void finalize();
 
-  ParameterLayout parameterLayout() const { return {numJoints(), drive_terms}; }
+  ParameterLayout parameterLayout() const { return {numJoints(), drive_terms_}; }
+
+  /// Sets gravity. Throws InputError unless every entry is finite and |g| <= kMaxGravity.
+  void setGravity(const Vector3<Scalar>& g);
+  /// Sets which drive terms act. Every joint keeps its drive values (a disabled term's value is
+  /// kept and does not act); the parameter layout, and so a Data's regressor width, change with
+  /// it: build Data after this call (checkData refuses an older one).
+  void setDriveTerms(DriveTerms terms) { drive_terms_ = terms; }
 
   /// The standard parameter vector theta (order: parameters.hpp), size parameterLayout().size().
   VectorX<Scalar> standardParameters() const;
@@ -180,6 +189,8 @@ class ModelTpl {
     frame_inertia_matrices_[i] = frame_inertias_[i].matrix();
   }
 
+  Vector3<Scalar> gravity_ = Vector3<Scalar>(Scalar(0), Scalar(0), Scalar(-9.81));
+  DriveTerms drive_terms_;
   std::vector<int> parents_;
   std::vector<JointType> joint_types_;
   std::vector<Pose<Scalar>> joint_placements_;
@@ -333,13 +344,13 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.parents_ = parents_;
   out.joint_types_ = joint_types_;
   out.limits = limits;
-  out.drive_terms = drive_terms;
+  out.drive_terms_ = drive_terms_;
   out.axis_kinds_ = axis_kinds_;
   out.subspace_index_ = subspace_index_;
   out.has_frame_placement_ = has_frame_placement_;
   out.placement_permutation_ = placement_permutation_;
   out.permuted_placements_ = permuted_placements_;
-  out.gravity = gravity.template cast<NewScalar>();
+  out.gravity_ = gravity_.template cast<NewScalar>();
   const int n = numJoints();
   out.joint_placements_.resize(n);
   out.body_placements_.resize(n);
@@ -356,11 +367,8 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
     out.body_placements_[i] = body_placements_[i].template cast<NewScalar>();
     out.axes_[i] = axes_[i].template cast<NewScalar>();
     out.inertias_[i] = inertias_[i].template cast<NewScalar>();
-    out.drives_[i].rotor_inertia = NewScalar(drives_[i].rotor_inertia);
-    out.drives_[i].viscous = NewScalar(drives_[i].viscous);
-    out.drives_[i].coulomb = NewScalar(drives_[i].coulomb);
-    out.drives_[i].offset = NewScalar(drives_[i].offset);
-    out.drives_[i].asymmetry = NewScalar(drives_[i].asymmetry);
+    for (int k = 0; k < kDriveTermCount; ++k)
+      out.drives_[i].term(k) = NewScalar(drives_[i].term(k));
     out.motion_subspaces_[i] = motion_subspaces_[i].template cast<NewScalar>();
     out.frame_placements_[i] = frame_placements_[i].template cast<NewScalar>();
     out.frame_inertias_[i] = frame_inertias_[i].template cast<NewScalar>();

@@ -7,6 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "core/errors.hpp"
+
 namespace dynid {
 
 std::vector<std::string> standardParameterNames(const ParameterLayout& layout) {
@@ -37,11 +39,27 @@ std::string driveTermsText(DriveTerms terms) {
   return out.empty() ? "none" : out;
 }
 
+std::string driveTermKeyList() {
+  std::string out;
+  for (std::string_view key : kDriveTermKeys) out += (out.empty() ? "" : ", ") + std::string(key);
+  return out;
+}
+
+std::string driveTermHelp(std::string_view separator) {
+  std::string out;
+  for (const DriveTermInfo& row : kDriveTermTable) {
+    if (!out.empty()) out += separator;
+    out += std::string(row.key) + " " + std::string(row.description) + " (" + std::string(row.law) +
+           ")";
+  }
+  return out;
+}
+
 DriveTerms parseDriveTerms(std::string_view text) {
   DriveTerms out;
   if (text == "none") return out;
-  const std::string valid = "valid terms: ia, fv, fc, fo, fa, or none";
-  if (text.empty()) throw std::invalid_argument("empty drive-term list (" + valid + ")");
+  const std::string valid = "valid terms: " + driveTermKeyList() + ", or none";
+  if (text.empty()) throw InputError("empty drive-term list (" + valid + ")");
   std::size_t start = 0;
   while (start <= text.size()) {
     const std::size_t end = std::min(text.find(',', start), text.size());
@@ -50,9 +68,8 @@ DriveTerms parseDriveTerms(std::string_view text) {
     for (int k = 0; k < kDriveTermCount; ++k)
       if (key == kDriveTermKeys[k]) found = k;
     if (found < 0)
-      throw std::invalid_argument("unknown drive term '" + std::string(key) + "' (" + valid + ")");
-    if (out.has(found))
-      throw std::invalid_argument("drive term '" + std::string(key) + "' is listed twice");
+      throw InputError("unknown drive term '" + std::string(key) + "' (" + valid + ")");
+    if (out.has(found)) throw InputError("drive term '" + std::string(key) + "' is listed twice");
     out.mask |= 1u << found;
     start = end + 1;
   }

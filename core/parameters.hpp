@@ -6,16 +6,10 @@
 // where (mx, my, mz) = m c is the first moment (c the centre of mass in the link frame) and I is
 // the rotational inertia about the link frame origin, in link-frame axes. SI units: kg, kg m,
 // kg m^2.
-// Each joint may add drive parameters, directly after its link's 10, in this order and only the
-// terms the model enables (DriveTerms):
-//   Ia  rotor inertia reflected to the joint [kg m^2]            tau += Ia ddq
-//   Fv  viscous friction [N m s/rad or N s/m]                   tau += Fv dq
-//   Fc  Coulomb friction [N m or N]                              tau += Fc sign(dq)
-//   Fo  constant offset (sensor or current bias) [N m or N]      tau += Fo        (also at rest)
-//   Fa  Coulomb asymmetry [N m or N]                             tau += Fa |sign(dq)|
-// Fc and Fa together are an asymmetric Coulomb friction (Fc + Fa for dq > 0, -Fc + Fa for dq < 0,
-// 0 at rest; Corke's PUMA 560 has one). Joint-torque-sensor robots (Panda, KUKA LWR/iiwa) usually
-// need fv,fc,fo; motor-current robots need ia too.
+// Each joint may add drive parameters, directly after its link's 10, in the column order of the
+// drive-term table (core/drive_terms.hpp: Ia, Fv, Fc, Fo, Fa, Fs) and only the terms the model
+// enables (DriveTerms). Joint-torque-sensor robots (Panda, KUKA LWR/iiwa) usually need fv,fc,fo;
+// motor-current robots need ia too.
 // Names carry the 1-based link index: m3, mx3, Ixx3, Ia3, Fv3.
 //
 // The paper's 7 parameters per link: m, cx, cy, cz (centre of mass, m) and the principal moments
@@ -31,6 +25,7 @@
 
 #include <Eigen/Core>
 
+#include "core/drive_terms.hpp"
 #include "core/spatial.hpp"
 
 namespace dynid {
@@ -38,12 +33,6 @@ namespace dynid {
 inline constexpr int kLinkParameterCount = 10;
 inline constexpr std::array<std::string_view, 10> kLinkParameterNames = {
     "m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
-inline constexpr int kDriveTermCount = 5;
-inline constexpr std::array<std::string_view, kDriveTermCount> kDriveParameterNames = {
-    "Ia", "Fv", "Fc", "Fo", "Fa"};
-/// The drive terms' keys in flags and JSON ("--drive-terms fv,fc,fo").
-inline constexpr std::array<std::string_view, kDriveTermCount> kDriveTermKeys = {"ia", "fv", "fc",
-                                                                                 "fo", "fa"};
 /// The largest magnitude an inertial or drive parameter read from a file may have (kg, kg m,
 /// kg m^2, N m s/rad, N m). The heaviest manipulator links weigh about 1e3 kg with inertias about
 /// 1e3 kg m^2; 1e6 leaves three orders of margin, refuses unit slips such as g mm^2 (1e9 times
@@ -57,9 +46,6 @@ inline constexpr double kMaxGravity = 1e3;
 inline constexpr int kPaperParameterCount = 7;
 inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   "cx",  "cy", "cz",
                                                                          "Ixx", "Iyy", "Izz"};
-
-/// One drive term; its value is its index in kDriveParameterNames and its column order.
-enum class DriveTerm { kRotorInertia = 0, kViscous, kCoulomb, kOffset, kCoulombAsymmetry };
 
 /// Which drive terms every joint of a model carries (the same set for all joints).
 struct DriveTerms {
@@ -78,8 +64,18 @@ struct DriveTerms {
   bool has(DriveTerm t) const { return (mask >> static_cast<int>(t)) & 1u; }
   bool has(int k) const { return (mask >> k) & 1u; }
   bool any() const { return mask != 0; }
-  /// Whether any friction or offset term (anything but Ia) is enabled.
-  bool friction() const { return (mask & ~1u) != 0; }
+  /// Whether any term that is not inertial (friction, offset: anything but Ia) is enabled.
+  /// Whether any inertial term (Ia: a mass-matrix diagonal) is enabled.
+  bool inertial() const {
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (has(k) && kDriveTermTable[k].inertial) return true;
+    return false;
+  }
+  bool friction() const {
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (has(k) && !kDriveTermTable[k].inertial) return true;
+    return false;
+  }
   int count() const {
     int n = 0;
     for (int k = 0; k < kDriveTermCount; ++k) n += has(k) ? 1 : 0;
@@ -107,8 +103,12 @@ std::string driveTermsText(DriveTerms terms);
 /// The enabled keys, in column order.
 std::vector<std::string> driveTermsKeys(DriveTerms terms);
 /// Parses a comma-separated list of keys ("fv,fc,fo", any order, no repeats) or "none". Throws
-/// std::invalid_argument naming the offending entry and listing the valid keys.
+/// InputError naming the offending entry and listing the valid keys.
 DriveTerms parseDriveTerms(std::string_view text);
+/// "ia, fv, fc, fo, fa, fs": every key, for messages.
+std::string driveTermKeyList();
+/// One line per term, "ia rotor inertia (Ia ddq)": for help texts.
+std::string driveTermHelp(std::string_view separator = ", ");
 
 /// Which parameter columns a model carries per joint.
 struct ParameterLayout {

@@ -26,11 +26,13 @@ Model perturbedModel(const Model& model, double fraction, std::uint64_t seed) {
     perturbed.inertia += products;
     out.setLinkInertia(i, perturbed);
     DriveParameters<double> d = out.drives()[i];
-    // Ia, Fv, Fc, Fa draw as they always have (seeded results stay the same); Fo only when the
-    // model carries it.
-    for (double* x : {&d.rotor_inertia, &d.viscous, &d.coulomb, &d.asymmetry})
-      *x *= 1.0 + uniform(rng);
-    if (out.drive_terms.has(DriveTerm::kOffset)) d.offset *= 1.0 + uniform(rng);
+    // The drive-term table says how each term draws: the original terms always, in table order
+    // (seeded results stay the same), then the newer ones only when the model carries them.
+    for (const DriveTermInfo& row : kDriveTermTable)
+      if (row.draw == DriveTermInfo::Draw::kAlways) d[row.term] *= 1.0 + uniform(rng);
+    for (const DriveTermInfo& row : kDriveTermTable)
+      if (row.draw == DriveTermInfo::Draw::kWhenEnabled && out.driveTerms().has(row.term))
+        d[row.term] *= 1.0 + uniform(rng);
     out.setDrive(i, d);
   }
   return out;

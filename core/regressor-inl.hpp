@@ -72,7 +72,7 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
   const int n = model.numJoints();
   const ParameterLayout layout = model.parameterLayout();
   Vector6<Scalar> base_acceleration;
-  base_acceleration << Scalar(0), Scalar(0), Scalar(0), -model.gravity;
+  base_acceleration << Scalar(0), Scalar(0), Scalar(0), -model.gravity();
   data.Y.setZero();
   // Velocities and accelerations in joint frames, as in rnea (gravity as a base acceleration);
   // the joint transforms first, so their sin/cos calls overlap.
@@ -110,15 +110,11 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
           B.actInvMotion(data.joint_axes[static_cast<std::size_t>(j) * n + row_i]);
       data.Y.row(j).template segment<10>(column) = A.product(s).transpose();
     }
-    const DriveTerms terms = model.drive_terms;
+    const DriveTerms terms = model.driveTerms();
     if (!terms.any()) continue;
-    // Drive columns act on joint i only: ddq, dq, sign(dq), 1, |sign(dq)| (parameters.hpp).
-    const Scalar s = signum(dq[i]);
-    if (terms.has(DriveTerm::kRotorInertia)) data.Y(i, layout.driveIndex(i, 0)) = ddq[i];
-    if (terms.has(DriveTerm::kViscous)) data.Y(i, layout.driveIndex(i, 1)) = dq[i];
-    if (terms.has(DriveTerm::kCoulomb)) data.Y(i, layout.driveIndex(i, 2)) = s;
-    if (terms.has(DriveTerm::kOffset)) data.Y(i, layout.driveIndex(i, 3)) = Scalar(1);
-    if (terms.has(DriveTerm::kCoulombAsymmetry)) data.Y(i, layout.driveIndex(i, 4)) = s * s;
+    // Drive columns act on joint i only: phi_k(dq_i, ddq_i) of the drive-term table.
+    for (int k = 0; k < kDriveTermCount; ++k)
+      if (terms.has(k)) data.Y(i, layout.driveIndex(i, k)) = driveBasis(k, dq[i], ddq[i]);
   }
   return data.Y;
 }

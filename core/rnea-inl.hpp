@@ -27,7 +27,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
     V3 w, v, dw, dv;
     if (p < 0) {
       w.setZero(), v.setZero(), dw.setZero();
-      dv.noalias() = X.rotation.transpose() * (-model.gravity);
+      dv.noalias() = X.rotation.transpose() * (-model.gravity());
     } else {
       // iXp m = (R^T w, R^T (v - p x w))
       const V3 wp = data.v[p].template head<3>(), vp = data.v[p].template tail<3>();
@@ -63,7 +63,7 @@ const VectorX<Scalar>& rnea(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
   // Backward pass: tau_i = S^T f_i (+ drives), f_p += pXi* f_i = (R n + p x R f, R f).
   for (int i = n - 1; i >= 0; --i) {
     data.tau[i] = projectOnJoint(model, i, data.f[i]);
-    if (model.drive_terms.any()) data.tau[i] += driveTorque(model, i, dq[i], ddq[i]);
+    if (model.driveTerms().any()) data.tau[i] += driveTorque(model, i, dq[i], ddq[i]);
     const int p = model.parents()[i];
     if (p < 0) continue;
     const Pose<Scalar>& X = data.liMi[i];

@@ -72,8 +72,8 @@ RigidInertia<double> inertiaFromCom(double mass, const Eigen::Vector3d& com,
 Model modelFromDh(const DhModel& dh) {
   Model model;
   model.name = dh.name;
-  model.gravity = dh.gravity;
-  model.drive_terms = dh.drive_terms;
+  model.setGravity(dh.gravity);
+  model.setDriveTerms(dh.drive_terms);
   for (std::size_t i = 0; i < dh.rows.size(); ++i) {
     const DhRow& r = dh.rows[i];
     for (double x : {r.a, r.d, r.alpha, r.theta_offset})

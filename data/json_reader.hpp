@@ -70,13 +70,19 @@ class JsonReader {
   /// Fails on a key of `object` not in `allowed` (a misspelt key must not pass silently).
   void onlyKeys(const json& object, const std::string& path,
                 std::initializer_list<const char*> allowed) const {
+    onlyKeysIn(object, path, allowed);
+  }
+  /// The same for any range of names (const char*, std::string_view, std::string).
+  template <typename Names>
+  void onlyKeysIn(const json& object, const std::string& path, const Names& allowed) const {
     this->object(object, path);
     for (const auto& [key, value] : object.items()) {
       bool known = false;
-      for (const char* a : allowed) known = known || key == a;
+      for (const auto& a : allowed) known = known || key == a;
       if (!known) {
         std::string list;
-        for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
+        for (const auto& a : allowed)
+          list += std::string(list.empty() ? "" : ", ") + std::string(a);
         fail(join(path, key), "unknown key (expected " + list + ")");
       }
     }

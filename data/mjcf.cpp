@@ -73,7 +73,7 @@ std::vector<int> mjcfJointOrder(const Model& model) {
 std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
   const auto [children, roots] = tree(model);
   std::ostringstream out;
-  const Eigen::Vector3d& g = model.gravity;
+  const Eigen::Vector3d& g = model.gravity();
   out << "<mujoco model=\"" << escapeXml(model.name) << "\">\n"
       << "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or drives -->\n"
       << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"

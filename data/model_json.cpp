@@ -29,6 +29,13 @@ json poseToJson(const Pose<double>& pose) {
           {"translation", {pose.translation.x(), pose.translation.y(), pose.translation.z()}}};
 }
 
+/// A joint's drive object: every term of the drive-term table by name, enabled or not.
+json driveJson(const DriveParameters<double>& d) {
+  json out = json::object();
+  for (int k = 0; k < kDriveTermCount; ++k) out[std::string(kDriveParameterNames[k])] = d.term(k);
+  return out;
+}
+
 /// Reads fields of a JSON document, naming the path of whatever is wrong.
 class Reader {
  public:
@@ -126,10 +133,10 @@ class Reader {
     if (out.lower > out.upper) fail(path, "lower is above upper");
     return out;
   }
-  /// A drive object: any of Ia, Fv, Fc, Fo, Fa (a missing one is 0).
+  /// A drive object: any of the drive-term table's names, Ia, Fv, ... (a missing one is 0).
   DriveParameters<double> drive(const json& object, const std::string& path) const {
     if (!object.is_object()) fail(path, "expected an object");
-    onlyKeys(object, path, {"Ia", "Fv", "Fc", "Fo", "Fa"});
+    JsonReader(file_).onlyKeysIn(object, path, kDriveParameterNames);
     DriveParameters<double> out;
     for (int k = 0; k < kDriveTermCount; ++k) {
       const std::string key(kDriveParameterNames[k]);
@@ -159,19 +166,20 @@ class Reader {
     const auto it = document.find("drive_terms");
     if (it == document.end()) return {};
     if (!it->is_array())
-      fail("drive_terms", "expected an array of term names (ia, fv, fc, fo, fa)");
+      fail("drive_terms", "expected an array of term names (" + driveTermKeyList() + ")");
     std::string list;
     for (std::size_t k = 0; k < it->size(); ++k) {
       const json& term = (*it)[k];
       if (!term.is_string())
-        fail("drive_terms[" + std::to_string(k) + "]", "expected a term name (ia, fv, fc, fo, fa)");
+        fail("drive_terms[" + std::to_string(k) + "]",
+             "expected a term name (" + driveTermKeyList() + ")");
       if (!list.empty()) list += ',';
       list += term.get<std::string>();
     }
     if (list.empty()) return {};
     try {
       return parseDriveTerms(list);
-    } catch (const std::invalid_argument& e) {
+    } catch (const InputError& e) {
       fail("drive_terms", e.what());
     }
   }
@@ -232,8 +240,8 @@ Model dhModelFromJson(const json& document, const Model& model, const Reader& re
   read.onlyKeys(block, "dh", {"convention", "inertia_about", "joints"});
   DhModel dh;
   dh.name = model.name;
-  dh.gravity = model.gravity;
-  dh.drive_terms = model.drive_terms;
+  dh.gravity = model.gravity();
+  dh.drive_terms = model.driveTerms();
   const std::string convention = read.string(block, "dh", "convention");
   if (convention != "standard" && convention != "modified")
     read.fail("dh.convention", "unknown convention '" + convention + "' (standard or modified)");
@@ -307,19 +315,15 @@ std::string modelToJson(const Model& model) {
                       {"parent", p < 0 ? json(nullptr) : json(model.link_names[p])},
                       {"joint", joint},
                       {"inertial", inertial},
-                      {"drive",
-                       {{"Ia", d.rotor_inertia},
-                        {"Fv", d.viscous},
-                        {"Fc", d.coulomb},
-                        {"Fo", d.offset},
-                        {"Fa", d.asymmetry}}}});
+                      {"drive", driveJson(d)}});
   }
-  const json document = {{"schema_version", kModelSchemaVersion},
-                         {"kind", "dynid.model"},
-                         {"name", model.name},
-                         {"gravity", {model.gravity.x(), model.gravity.y(), model.gravity.z()}},
-                         {"drive_terms", driveTermsKeys(model.drive_terms)},
-                         {"bodies", bodies}};
+  const json document = {
+      {"schema_version", kModelSchemaVersion},
+      {"kind", "dynid.model"},
+      {"name", model.name},
+      {"gravity", {model.gravity().x(), model.gravity().y(), model.gravity().z()}},
+      {"drive_terms", driveTermsKeys(model.driveTerms())},
+      {"bodies", bodies}};
   // nlohmann prints doubles with max_digits10, which round-trips exactly.
   return jsonText(document, 2) + "\n";
 }
@@ -340,9 +344,10 @@ Model modelFromJson(const std::string& text, const std::string& file) {
     read.fail("", "give the kinematics as either \"bodies\" or \"dh\", not both or neither");
   Model model;
   model.name = read.name(document, "", "name");
-  model.gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
-  if (model.gravity.norm() > kMaxGravity) read.fail("gravity", "beyond 1e3 m/s^2");
-  model.drive_terms = read.driveTerms(document);
+  const Eigen::Vector3d gravity = read.vector3(read.field(document, "", "gravity"), "gravity");
+  if (gravity.norm() > kMaxGravity) read.fail("gravity", "beyond 1e3 m/s^2");
+  model.setGravity(gravity);
+  model.setDriveTerms(read.driveTerms(document));
   if (document.contains("dh")) return dhModelFromJson(document, model, read, file);
   const json& bodies = read.field(document, "", "bodies");
   if (!bodies.is_array() || bodies.empty()) read.fail("bodies", "expected a non-empty array");

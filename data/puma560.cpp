@@ -48,8 +48,8 @@ constexpr std::array<double, 6> kLimitsDeg = {160, 110, 135, 266, 100, 266};
 Model makePuma560(bool drives) {
   Model model;
   model.name = "puma560";
-  model.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
-  if (drives) model.drive_terms = kPuma560DriveTerms;
+  model.setGravity(Eigen::Vector3d(0.0, 0.0, -9.81));
+  if (drives) model.setDriveTerms(kPuma560DriveTerms);
   for (int i = 0; i < 6; ++i) {
     const std::string index = std::to_string(i + 1);
     // Joint i turns about z_{i-1}; link frame i sits Tz(d) Tx(a) Rx(alpha) further.
@@ -67,10 +67,10 @@ Model makePuma560(bool drives) {
     DriveParameters<double> drive;
     const DriveRow& r = kDrives[i];
     const double g = r.gear, abs_g = std::abs(r.gear);
-    drive.rotor_inertia = r.jm * g * g;
-    drive.viscous = g * g * r.viscous;
-    drive.coulomb = abs_g * (r.coulomb_plus - r.coulomb_minus) / 2.0;
-    drive.asymmetry = abs_g * (r.coulomb_plus + r.coulomb_minus) / 2.0;
+    drive[DriveTerm::kRotorInertia] = r.jm * g * g;
+    drive[DriveTerm::kViscous] = g * g * r.viscous;
+    drive[DriveTerm::kCoulomb] = abs_g * (r.coulomb_plus - r.coulomb_minus) / 2.0;
+    drive[DriveTerm::kCoulombAsymmetry] = abs_g * (r.coulomb_plus + r.coulomb_minus) / 2.0;
     model.addBody(i - 1, "link" + index, "joint" + index, JointType::kRevolute, Pose<double>(),
                   Eigen::Vector3d::UnitZ(), body_placement, inertia, limits, drive);
   }

@@ -34,14 +34,14 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
     model = loadUrdf(spec, {drives, options.strict}, warnings);
   } else if (endsWith(spec, ".json")) {
     model = modelFromJson(readFile(spec), spec);
-    if (options.drives && !model.drive_terms.any())
-      model.drive_terms = DriveTerms::rotorAndFriction();
+    if (options.drives && !model.driveTerms().any())
+      model.setDriveTerms(DriveTerms::rotorAndFriction());
   } else {
     throw InputError(
         "unknown robot '" + spec +
         "': expected puma560, puma560-consistent, panda, a .urdf file or a dynid .json model");
   }
-  if (options.drive_terms) model.drive_terms = *options.drive_terms;
+  if (options.drive_terms) model.setDriveTerms(*options.drive_terms);
   return model;
 }
 

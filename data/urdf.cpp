@@ -155,7 +155,7 @@ class UrdfBuilder {
     model_.name = urdf_.getName();
     if (!isPrintableUtf8(model_.name))
       throw ParseError(file_, 0, "robot name '" + shownName(model_.name) + "'", kNotPrintable);
-    if (options_.drives) model_.drive_terms = DriveTerms::rotorAndFriction();
+    if (options_.drives) model_.setDriveTerms(DriveTerms::rotorAndFriction());
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
     walk(*urdf_.getRoot());
@@ -366,10 +366,11 @@ class UrdfBuilder {
         if (joint.limits->effort > 0.0) limits.effort = joint.limits->effort;
       }
       DriveParameters<double> drive;
-      if (joint.dynamics) {
-        drive.viscous = joint.dynamics->damping;
-        drive.coulomb = joint.dynamics->friction;
-      }
+      if (joint.dynamics)
+        for (const DriveTermInfo& row : kDriveTermTable) {
+          if (row.urdf_dynamics == "damping") drive[row.term] = joint.dynamics->damping;
+          if (row.urdf_dynamics == "friction") drive[row.term] = joint.dynamics->friction;
+        }
       const int parent_body = m.parent_record < 0 ? -1 : body_of[m.parent_record];
       body_of[best] =
           model_.addBody(parent_body, m.child->name, joint.name, type, m.placement, axis,
@@ -489,6 +490,14 @@ std::string origin(const Pose<double>& pose) {
 }
 }  // namespace
 
+std::string urdfDynamicsElement(const DriveParameters<double>& drive) {
+  std::string out = "<dynamics";
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (!row.urdf_dynamics.empty())
+      out += " " + std::string(row.urdf_dynamics) + "=\"" + formatDouble(drive[row.term]) + "\"";
+  return out + "/>";
+}
+
 std::string modelToUrdf(const Model& model) {
   std::string base = "base_link";
   while (std::find(model.link_names.begin(), model.link_names.end(), base) !=
@@ -534,9 +543,7 @@ std::string modelToUrdf(const Model& model) {
           << formatDouble(finite_or(l.effort, 0.0)) << "\" velocity=\""
           << formatDouble(finite_or(l.velocity, 0.0)) << "\"/>\n";
     }
-    if (model.drive_terms.any())
-      out << "    <dynamics damping=\"" << formatDouble(model.drives()[i].viscous)
-          << "\" friction=\"" << formatDouble(model.drives()[i].coulomb) << "\"/>\n";
+    if (model.driveTerms().any()) out << "    " << urdfDynamicsElement(model.drives()[i]) << "\n";
     out << "  </joint>\n";
   }
   out << "</robot>\n";

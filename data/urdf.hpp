@@ -40,6 +40,10 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
 /// lost.
 std::string modelToUrdf(const Model& model);
 
+/// `<dynamics damping="Fv" friction="Fc"/>`: the drive terms the drive-term table maps to URDF
+/// attributes (DriveTermInfo::urdf_dynamics), in table order, from `drive`.
+std::string urdfDynamicsElement(const DriveParameters<double>& drive);
+
 /// The index of the '>' that closes an XML tag whose attributes start at `from`, skipping quoted
 /// attribute values (which may hold '>'); text.size() when the tag is unterminated.
 std::size_t xmlTagEnd(const std::string& text, std::size_t from);

@@ -221,7 +221,7 @@ std::string urdfWithParameters(const std::string& urdf_text, const std::string& 
   if (children.numJoints() != n) throw ParseError(file, 0, "", "the file does not match the model");
 
   std::vector<Edit> edits;
-  const DriveTerms terms = identified.drive_terms;
+  const DriveTerms terms = identified.driveTerms();
   for (int i = 0; i < n; ++i) {
     const int j =
         children.numJoints() > i && children.link_names[i] == identified.link_names[i] ? i : -1;
@@ -246,18 +246,18 @@ std::string urdfWithParameters(const std::string& urdf_text, const std::string& 
     const std::string indent = indentAt(urdf_text, elements[link].begin) + "  ";
     edits.push_back(
         placeChild(urdf_text, elements, link, "inertial", inertialXml(own, indent, "  ")));
-    if (terms.has(DriveTerm::kViscous) || terms.has(DriveTerm::kCoulomb)) {
-      // The file's own value for a term the model does not carry (the loader always reads them).
-      const DriveParameters<double>& d = identified.drives()[i];
-      const double damping =
-          terms.has(DriveTerm::kViscous) ? d.viscous : children.drives()[j].viscous;
-      const double friction =
-          terms.has(DriveTerm::kCoulomb) ? d.coulomb : children.drives()[j].coulomb;
+    // The URDF-mapped terms the model carries; the file's own value for those it does not (the
+    // loader always reads them).
+    DriveParameters<double> dynamics = children.drives()[j];
+    bool carried = false;
+    for (const DriveTermInfo& row : kDriveTermTable)
+      if (!row.urdf_dynamics.empty() && terms.has(row.term)) {
+        dynamics[row.term] = identified.drives()[i][row.term];
+        carried = true;
+      }
+    if (carried)
       edits.push_back(placeChild(urdf_text, elements, joint_at[identified.joint_names[i]],
-                                 "dynamics",
-                                 "<dynamics damping=\"" + formatDouble(damping) + "\" friction=\"" +
-                                     formatDouble(friction) + "\"/>"));
-    }
+                                 "dynamics", urdfDynamicsElement(dynamics)));
   }
   return apply(edits);
 }

@@ -109,7 +109,7 @@ double baseParameterError(const Eigen::VectorXd& beta, const Eigen::VectorXd& tr
                           double* max = nullptr);
 
 /// The default preference for a parameter layout (core/parameters.hpp): links in order; within a
-/// link Ixx, Ixy, Ixz, Iyy, Iyz, Izz, mx, my, mz, m, then Ia, Fv, Fc, Fo.
+/// link Ixx, Ixy, Ixz, Iyy, Iyz, Izz, mx, my, mz, m, then its drive terms in table order.
 std::vector<int> defaultPreference(int num_links, int per_link);
 
 /// How well a dataset excites each base parameter: the |R_jj| of the column-scaled base regressor's

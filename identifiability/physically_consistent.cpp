@@ -24,7 +24,8 @@ Eigen::VectorXd kindScales(const ParameterLayout& layout, const Eigen::VectorXd&
   const auto kind = [&](int k) {
     return k == 0 ? 0 : k <= 3 ? 1 : k <= 9 ? 2 : 3 + layout.drives.termAt(k - kLinkParameterCount);
   };
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(8), count = Eigen::VectorXd::Zero(8);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(3 + kDriveTermCount);
+  Eigen::VectorXd count = Eigen::VectorXd::Zero(3 + kDriveTermCount);
   for (int i = 0; i < layout.size(); ++i)
     if (theta[i] != 0.0) sum[kind(i % per)] += theta[i] * theta[i], count[kind(i % per)] += 1;
   Eigen::VectorXd out(layout.size());
@@ -87,14 +88,18 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observatio
                              prior_weight, sigma);
 }
 
+void checkPriorWeight(double weight) {
+  if (!(weight > 0.0) || !std::isfinite(weight))
+    throw InputError("the prior weight must be finite and > 0");
+}
+
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterLayout& layout,
                                     const Eigen::MatrixXd& augmented, const Eigen::VectorXd& prior,
                                     double prior_weight, double sigma) {
   if (prior.size() != base.numStandard())
     throw InputError("the prior has " + std::to_string(prior.size()) + " parameters, expected " +
                      std::to_string(base.numStandard()));
-  if (!(prior_weight > 0.0) || !std::isfinite(prior_weight))
-    throw InputError("the prior weight must be finite and > 0");
+  checkPriorWeight(prior_weight);
   if (!(sigma > 0.0)) throw InputError("sigma must be positive");
   const int p = base.numStandard(), b = base.numBase();
   if (layout.size() != p)
@@ -125,15 +130,14 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterL
     problem.prior_inverse.push_back(inverse);
     problem.prior_log_det.push_back(log_det);
   }
-  // Drive terms: positive ones (Ia, Fv, Fc) and their scales.
+  // Drive terms: the table's non-negative ones (Ia, Fv, Fc, Fs) and their scales.
   const Eigen::VectorXd kinds = kindScales(layout, prior);
   problem.scales = kinds;
   problem.positive.assign(p, 0);
   for (int i = 0; i < layout.num_links; ++i)
     for (int k = 0; k < per - kLinkParameterCount; ++k) {
       const int index = i * per + kLinkParameterCount + k;
-      problem.positive[index] =
-          layout.drives.termAt(k) <= static_cast<int>(DriveTerm::kCoulomb) ? 1 : 0;
+      problem.positive[index] = kDriveTermTable[layout.drives.termAt(k)].non_negative ? 1 : 0;
       if (problem.positive[index] && prior[index] > 0.0) problem.scales[index] = prior[index];
     }
   return problem;

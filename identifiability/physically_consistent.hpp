@@ -1,7 +1,7 @@
 // Physically consistent identification: the least-squares fit of the torques over the standard
 // parameters theta whose links all have a positive definite pseudo-inertia J_i(theta)
 // (core/log_cholesky.hpp: J = [Sigma h; h^T m] >= 0 is exactly physical realisability), with the
-// drive parameters Ia, Fv, Fc positive (Fo and Fa free):
+// drive parameters the drive-term table marks non-negative (Ia, Fv, Fc, Fs; Fo and Fa free):
 //
 //     min over theta of  F(theta) = 1/2 |(R P theta - c) / sigma|^2
 //                                 + lambda sum_i d(J_i(theta), J_i,prior)
@@ -46,12 +46,17 @@
 
 namespace dynid {
 
+/// The prior weight's one default and range (every front end's and request's).
+inline constexpr double kDefaultPriorWeight = 1.0;
+/// Throws InputError unless `weight` is finite and > 0 ("the prior weight must be finite and > 0").
+void checkPriorWeight(double weight);
+
 struct PhysicalOptions {
   /// lambda, > 0: the weight of the divergence from the prior, in chi-square units (see above).
   /// 1: the prior counts about like one more observation. Much smaller weights leave the unseen
   /// directions free to take implausible values that buy room from the boundary (on the Panda log
   /// 1e-3 gives link 2 a mass of 50 kg; 1 gives 2 kg) and take many more Newton steps.
-  double prior_weight = 1.0;
+  double prior_weight = kDefaultPriorWeight;
   int max_iterations = 1000;
   /// Newton decrement tolerance: stop when the quadratic model says F is within this of its
   /// minimum [chi-square units; 1/2 is one standard deviation].
@@ -71,7 +76,7 @@ struct PhysicalProblem {
   std::vector<double> prior_log_det;           // log det J_i,prior
   Eigen::VectorXd scales;      // s_j per standard parameter (used for the drive terms)
   std::vector<char> positive;  // per standard parameter: a drive term bounded below by 0
-  double prior_weight = 1.0;
+  double prior_weight = kDefaultPriorWeight;
 
   /// F(theta), or +inf when theta is outside the physical set.
   double cost(const Eigen::VectorXd& theta) const;

@@ -237,7 +237,7 @@ void bindModel(py::module_& m) {
           [](const Model& self) { return paperParameterNames(self.numJoints()); },
           "Names of the paper's 7 per link (m1, cx1, cy1, cz1, Ixx1, Iyy1, Izz1, ...).")
       .def_property_readonly(
-          "drive_terms", [](const Model& self) { return driveTermsKeys(self.drive_terms); },
+          "drive_terms", [](const Model& self) { return driveTermsKeys(self.driveTerms()); },
           "The drive terms every joint carries, e.g. ['ia', 'fv', 'fc'] (set by load_model).")
       .def_property(
           "parameters", [](const Model& self) { return toNumpy(self.standardParameters()); },
@@ -271,12 +271,9 @@ void bindModel(py::module_& m) {
           },
           "{name: value} of the standard parameters, in order.")
       .def_property(
-          "gravity", [](const Model& self) { return toNumpy(Eigen::VectorXd(self.gravity)); },
+          "gravity", [](const Model& self) { return toNumpy(Eigen::VectorXd(self.gravity())); },
           [](Model& self, const py::handle& value) {
-            const Eigen::VectorXd g = vectorArg(value, "gravity", 3);
-            if (!g.allFinite() || g.norm() > kMaxGravity)
-              throw InputError("gravity: expected finite values of norm at most 1e3 m/s^2");
-            self.gravity = g;
+            self.setGravity(vectorArg(value, "gravity", 3));
           },
           "Gravity in the base frame, shape (3,) [m/s^2].")
       .def_property_readonly(
@@ -309,7 +306,7 @@ void bindModel(py::module_& m) {
       .def("__repr__", [](const Model& self) {
         return "<dynid.Model '" + self.name + "': " + std::to_string(self.numJoints()) +
                " joints, " + std::to_string(self.parameterLayout().size()) +
-               " parameters, drives " + driveTermsText(self.drive_terms) + ">";
+               " parameters, drives " + driveTermsText(self.driveTerms()) + ">";
       });
 
   m.def("load_model", &loadModel, py::arg("spec"), py::arg("drives") = false,

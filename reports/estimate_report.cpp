@@ -141,7 +141,7 @@ void identifiabilitySection(const Model& model, Document& doc, const IdentifyOut
   doc.heading("What the data identify");
   doc.paragraph(std::to_string(base.numBase()) + " of the " + std::to_string(base.numStandard()) +
                 " standard parameters of " + model.name + " (drive terms " +
-                driveTermsText(model.drive_terms) +
+                driveTermsText(model.driveTerms()) +
                 ") are identifiable, as the base parameters below. Condition number of the "
                 "training base regressor: " +
                 threeDigits(e.condition_number_unscaled) +

@@ -38,8 +38,8 @@ void appendVector(std::string& out, const char* name, const char* unit, const Ei
 std::string modelShowText(const Model& model) {
   std::string out;
   appendf(out, "robot %s: %d joints, gravity (%g, %g, %g) m/s^2, drive terms %s\n",
-          model.name.c_str(), model.numJoints(), model.gravity.x(), model.gravity.y(),
-          model.gravity.z(), driveTermsText(model.drive_terms).c_str());
+          model.name.c_str(), model.numJoints(), model.gravity().x(), model.gravity().y(),
+          model.gravity().z(), driveTermsText(model.driveTerms()).c_str());
   appendf(out, "\n%-4s %-16s %-16s %-11s %-12s %s\n", "#", "link", "joint", "type", "parent",
           "limits [rad or m]");
   for (int i = 0; i < model.numJoints(); ++i) {
@@ -118,8 +118,8 @@ nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
   for (int r = 0; r < model.numJoints(); ++r) m.push_back(toJson(o.M.row(r).transpose()));
   return {{"schema_version", 1},
           {"robot", model.name},
-          {"drives", model.drive_terms.any()},
-          {"drive_terms", driveTermsKeys(model.drive_terms)},
+          {"drives", model.driveTerms().any()},
+          {"drive_terms", driveTermsKeys(model.driveTerms())},
           {"q", toJson(o.q)},
           {"dq", toJson(o.dq)},
           {"tau", toJson(o.tau)},
@@ -130,7 +130,7 @@ nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
 std::string dynamicsText(const Model& model, const DynamicsOutcome& o) {
   std::string out;
   appendf(out, "robot %s (drive terms %s)\n", model.name.c_str(),
-          driveTermsText(model.drive_terms).c_str());
+          driveTermsText(model.driveTerms()).c_str());
   appendVector(out, "q", "rad", o.q);
   appendVector(out, "dq", "rad/s", o.dq);
   appendVector(out, "ddq", "rad/s^2", o.ddq);

@@ -22,7 +22,7 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
           {"estimate", estimate_file},
           {"method", o.method},
           {"robot_spec", o.robot_spec},
-          {"drive_terms", driveTermsKeys(o.model.drive_terms)},
+          {"drive_terms", driveTermsKeys(o.model.driveTerms())},
           {"data", {{"file", data_file}, {"samples", v.num_samples}}},
           {"relative_error", numberOrNull(v.relative_error)},
           {"joint_relative_error", numbersOrNull(v.normalised_rms)},

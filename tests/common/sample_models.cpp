@@ -29,8 +29,8 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Model model;
   model.name = "random_tree_" + std::to_string(seed);
-  model.gravity = Eigen::Vector3d(0.3, -0.2, -9.81);
-  if (options.drives) model.drive_terms.mask = (1u << kDriveTermCount) - 1;  // every term
+  model.setGravity(Eigen::Vector3d(0.3, -0.2, -9.81));
+  if (options.drives) model.setDriveTerms(DriveTerms{(1u << kDriveTermCount) - 1});  // every term
   for (int i = 0; i < options.num_bodies; ++i) {
     const int parent =
         options.chain ? i - 1 : static_cast<int>(std::floor(unit(rng) * (i + 1))) - 1;
@@ -58,13 +58,9 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
     const Eigen::Matrix3d ic = inertiaAboutCom(inertia);
     inertia.inertia += rot * ic * rot.transpose() - ic;
     DriveParameters<double> drive;
-    if (options.drives) {
-      drive.rotor_inertia = 0.5 * unit(rng);
-      drive.viscous = unit(rng);
-      drive.coulomb = unit(rng);
-      drive.offset = 0.2 * (unit(rng) - 0.5);
-      drive.asymmetry = 0.2 * (unit(rng) - 0.5);
-    }
+    if (options.drives)  // every term of the table: non-negative ones in [0, 1), others +-0.1
+      for (int k = 0; k < kDriveTermCount; ++k)
+        drive.term(k) = kDriveTermTable[k].non_negative ? unit(rng) : 0.2 * (unit(rng) - 0.5);
     JointLimits limits;
     if (type == JointType::kRevolute) limits.lower = -2.5, limits.upper = 2.5;
     if (type == JointType::kPrismatic) limits.lower = -0.5, limits.upper = 0.5;
@@ -78,7 +74,7 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
 Model Planar2R::model() const {
   Model model;
   model.name = "planar_2r";
-  model.gravity = Eigen::Vector3d(0.0, -g, 0.0);
+  model.setGravity(Eigen::Vector3d(0.0, -g, 0.0));
   auto link = [](double m, double lc, double izz) {
     Eigen::Matrix<double, 7, 1> paper;
     paper << m, lc, 0.0, 0.0, 0.01, 0.01 + izz, izz;  // Ixx, Iyy arbitrary: out of plane

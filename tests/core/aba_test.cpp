@@ -66,8 +66,8 @@ Model permutedTree(std::uint64_t seed, bool drives) {
   std::uniform_int_distribution<int> coin(0, 1);
   // The tree's inertias, drives and limits on a new structure.
   Model model;
-  model.gravity = tree.gravity;
-  model.drive_terms = tree.drive_terms;
+  model.setGravity(tree.gravity());
+  model.setDriveTerms(tree.driveTerms());
   for (int i = 0; i < tree.numJoints(); ++i) {
     Pose<double> placement;
     placement.rotation.setZero();

@@ -63,7 +63,7 @@ TEST(Model, FinalizeFindsSignedPermutationPlacements) {
 TEST(Model, StandardParametersRoundTrip) {
   Model model = test::randomTree(5, {.drives = true});
   const Eigen::VectorXd theta = model.standardParameters();
-  EXPECT_EQ(theta.size(), model.numJoints() * 15);  // 10 inertial + all 5 drive terms
+  EXPECT_EQ(theta.size(), model.numJoints() * (10 + kDriveTermCount));  // every drive term
   Eigen::VectorXd changed = theta * 1.5;
   model.setStandardParameters(changed);
   EXPECT_EQ(model.standardParameters(), changed);
@@ -136,9 +136,9 @@ TEST(Model, EverySetterKeepsTheCachesCurrent) {
   model.setJointPlacement(3, placement);
   EXPECT_TRUE(model.cachesAreCurrent());
   DriveParameters<double> drive = model.drives()[0];
-  drive.viscous = 2.5;
+  drive[DriveTerm::kViscous] = 2.5;
   model.setDrive(0, drive);
-  EXPECT_EQ(model.drives()[0].viscous, 2.5);
+  EXPECT_EQ(model.drives()[0][DriveTerm::kViscous], 2.5);
   EXPECT_THROW(model.setLinkInertia(model.numJoints(), inertia), InputError);
   EXPECT_THROW(model.setLinkInertias({}), InputError);
 }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/errors.hpp"
+
 namespace dynid {
 namespace {
 
@@ -102,11 +104,11 @@ TEST(Parameters, DriveTermsParseAndPrint) {
   EXPECT_EQ(driveTermsText(DriveTerms::none()), "none");
   EXPECT_EQ(driveTermsText(parseDriveTerms("fa,ia")), "ia,fa");
   for (const char* bad : {"", "fv,", "fv,fx", "FV", "fv,fv", "fv fc"})
-    EXPECT_THROW(parseDriveTerms(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(parseDriveTerms(bad), InputError) << bad;
   try {
     parseDriveTerms("fv,fx");
     FAIL();
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'fx'"), std::string::npos) << e.what();
   }
 }

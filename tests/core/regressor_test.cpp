@@ -48,29 +48,30 @@ TEST_P(RegressorOnModels, TimesThetaEqualsRnea) {
 INSTANTIATE_TEST_SUITE_P(Models, RegressorOnModels, ::testing::Range(0, 6));
 
 TEST(Regressor, EveryDriveTermSubsetMatchesRnea) {
-  // Each of the 32 subsets of ia, fv, fc, fo, fa: the columns land where the layout says and
-  // Y theta equals RNEA, also at rest on one joint (sign 0: Fc and Fa vanish, Fo stays).
+  // Each subset of the drive-term table (64: ia, fv, fc, fo, fa, fs): the columns land where the
+  // layout says and Y theta equals RNEA, also at rest on one joint (sign 0: Fc, Fa and Fs vanish,
+  // Fo stays).
   const Model all = test::randomTree(31, {.num_bodies = 5, .drives = true});
   std::mt19937_64 rng(31);
-  for (unsigned mask = 0; mask < 32; ++mask) {
+  for (unsigned mask = 0; mask < (1u << kDriveTermCount); ++mask) {
     Model m = all;
-    m.drive_terms.mask = mask;
+    m.setDriveTerms(DriveTerms{mask});
     Data data(m);
     const Eigen::VectorXd q = test::randomVector(rng, 5, 2.0),
                           ddq = test::randomVector(rng, 5, 3.0);
     Eigen::VectorXd dq = test::randomVector(rng, 5, 2.0);
     dq[2] = 0.0;
     const Eigen::MatrixXd Y = jointTorqueRegressor(m, data, q, dq, ddq);
-    ASSERT_EQ(Y.cols(), 5 * (10 + m.drive_terms.count()));
+    ASSERT_EQ(Y.cols(), 5 * (10 + m.driveTerms().count()));
     const Eigen::VectorXd tau = rnea(m, data, q, dq, ddq);
     // Round-off of torques of order 10 N m.
     EXPECT_LT((Y * m.standardParameters() - tau).cwiseAbs().maxCoeff(), 1e-10) << "mask " << mask;
     // The offset column is 1 whatever the velocity, the asymmetry column |sign(dq)|.
     const ParameterLayout layout = m.parameterLayout();
-    if (m.drive_terms.has(DriveTerm::kOffset)) {
+    if (m.driveTerms().has(DriveTerm::kOffset)) {
       EXPECT_EQ(Y(2, layout.driveIndex(2, DriveTerm::kOffset)), 1.0) << "mask " << mask;
     }
-    if (m.drive_terms.has(DriveTerm::kCoulombAsymmetry)) {
+    if (m.driveTerms().has(DriveTerm::kCoulombAsymmetry)) {
       EXPECT_EQ(Y(2, layout.driveIndex(2, DriveTerm::kCoulombAsymmetry)), 0.0);
       EXPECT_EQ(Y(1, layout.driveIndex(1, DriveTerm::kCoulombAsymmetry)), 1.0);
     }

@@ -63,8 +63,9 @@ TEST(Rnea, DrivesAddRotorInertiaAndFriction) {
   for (int i = 0; i < 6; ++i) {
     const DriveParameters<double>& d = driven.drives()[i];
     const double s = dq[i] > 0 ? 1.0 : (dq[i] < 0 ? -1.0 : 0.0);
-    const double expected = d.rotor_inertia * ddq[i] + d.viscous * dq[i] + d.coulomb * s +
-                            (s != 0.0 ? d.asymmetry : 0.0);
+    const double expected = d[DriveTerm::kRotorInertia] * ddq[i] + d[DriveTerm::kViscous] * dq[i] +
+                            d[DriveTerm::kCoulomb] * s +
+                            (s != 0.0 ? d[DriveTerm::kCoulombAsymmetry] : 0.0);
     EXPECT_NEAR(difference[i], expected, 1e-12) << "joint " << i + 1;
   }
 }

@@ -130,10 +130,10 @@ TEST(Dh, AJsonDhBlockLoadsAndNamesItsErrors) {
   EXPECT_EQ(model.limits[0].acceleration, 10.0);
   EXPECT_EQ(model.joint_types()[1], JointType::kPrismatic);
   EXPECT_NEAR(model.inertias()[0].first_moment.y(), 0.2, 1e-15);  // m c
-  EXPECT_EQ(driveTermsText(model.drive_terms), "fv,fc,fo");
-  EXPECT_EQ(model.drives()[0].viscous, 0.5);
-  EXPECT_EQ(model.drives()[0].offset, -0.25);
-  EXPECT_EQ(model.drives()[0].coulomb, 0.0);  // absent: 0
+  EXPECT_EQ(driveTermsText(model.driveTerms()), "fv,fc,fo");
+  EXPECT_EQ(model.drives()[0][DriveTerm::kViscous], 0.5);
+  EXPECT_EQ(model.drives()[0][DriveTerm::kOffset], -0.25);
+  EXPECT_EQ(model.drives()[0][DriveTerm::kCoulomb], 0.0);  // absent: 0
   // Each mistake is named by its JSON path.
   const auto fails_at = [&](const std::string& from, const std::string& to,
                             const std::string& element) {

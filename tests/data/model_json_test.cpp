@@ -12,8 +12,8 @@ namespace {
 void expectSameModel(const Model& a, const Model& b) {
   ASSERT_EQ(a.numJoints(), b.numJoints());
   EXPECT_EQ(a.name, b.name);
-  EXPECT_EQ(a.gravity, b.gravity);
-  EXPECT_EQ(a.drive_terms, b.drive_terms);
+  EXPECT_EQ(a.gravity(), b.gravity());
+  EXPECT_EQ(a.driveTerms(), b.driveTerms());
   EXPECT_EQ(a.parents(), b.parents());
   EXPECT_EQ(a.joint_types(), b.joint_types());
   EXPECT_EQ(a.standardParameters(), b.standardParameters());  // bit for bit

@@ -13,8 +13,8 @@ namespace {
 TEST(Puma560, ParametersAreThePublishedOnes) {
   const Model model = makePuma560();
   ASSERT_EQ(model.numJoints(), 6);
-  EXPECT_FALSE(model.drive_terms.any());
-  EXPECT_EQ(model.gravity, Eigen::Vector3d(0, 0, -9.81));
+  EXPECT_FALSE(model.driveTerms().any());
+  EXPECT_EQ(model.gravity(), Eigen::Vector3d(0, 0, -9.81));
   // Link 2 in paper form, back from the standard parameters (shared/reference/puma560.md).
   const auto p2 = standardToPaper(toStandardVector(model.inertias()[1]));
   Eigen::Matrix<double, 7, 1> expected;
@@ -27,16 +27,16 @@ TEST(Puma560, ParametersAreThePublishedOnes) {
 
 TEST(Puma560, DrivesOnTheJointSide) {
   const Model model = makePuma560(true);
-  EXPECT_EQ(model.drive_terms, kPuma560DriveTerms);
-  EXPECT_EQ(driveTermsText(model.drive_terms), "ia,fv,fc,fa");
+  EXPECT_EQ(model.driveTerms(), kPuma560DriveTerms);
+  EXPECT_EQ(driveTermsText(model.driveTerms()), "ia,fv,fc,fa");
   EXPECT_EQ(model.parameterLayout().size(), 84);
   const DriveParameters<double>& d1 = model.drives()[0];
-  EXPECT_DOUBLE_EQ(d1.rotor_inertia, 200e-6 * 62.6111 * 62.6111);
-  EXPECT_DOUBLE_EQ(d1.viscous, 62.6111 * 62.6111 * 1.48e-3);
+  EXPECT_DOUBLE_EQ(d1[DriveTerm::kRotorInertia], 200e-6 * 62.6111 * 62.6111);
+  EXPECT_DOUBLE_EQ(d1[DriveTerm::kViscous], 62.6111 * 62.6111 * 1.48e-3);
   // |G| Tc+ for dq > 0 and |G| Tc- for dq < 0, as Fc sign(dq) + Fa |sign(dq)|.
-  EXPECT_NEAR(d1.coulomb + d1.asymmetry, 62.6111 * 0.395, 1e-12);
-  EXPECT_NEAR(-d1.coulomb + d1.asymmetry, 62.6111 * -0.435, 1e-12);
-  EXPECT_EQ(d1.offset, 0.0);
+  EXPECT_NEAR(d1[DriveTerm::kCoulomb] + d1[DriveTerm::kCoulombAsymmetry], 62.6111 * 0.395, 1e-12);
+  EXPECT_NEAR(-d1[DriveTerm::kCoulomb] + d1[DriveTerm::kCoulombAsymmetry], 62.6111 * -0.435, 1e-12);
+  EXPECT_EQ(d1[DriveTerm::kOffset], 0.0);
 }
 
 TEST(Puma560, ConsistencyCheckReportsThePublishedValuesUnchanged) {

@@ -37,29 +37,30 @@ TEST(Robots, LoadsEachKind) {
 
 TEST(Robots, DrivesGiveEachRobotItsOwnTermsAndDriveTermsOverride) {
   // --drives: the robot's published drive model, or ia,fv,fc for a file that names none.
-  EXPECT_FALSE(loadRobot("puma560").drive_terms.any());
-  EXPECT_EQ(loadRobot("puma560", withDrives()).drive_terms, kPuma560DriveTerms);
-  EXPECT_EQ(loadRobot("panda", withDrives()).drive_terms, kPandaDriveTerms);
+  EXPECT_FALSE(loadRobot("puma560").driveTerms().any());
+  EXPECT_EQ(loadRobot("puma560", withDrives()).driveTerms(), kPuma560DriveTerms);
+  EXPECT_EQ(loadRobot("panda", withDrives()).driveTerms(), kPandaDriveTerms);
   const Model tree = test::randomTree(2, {.drives = false});
   const std::string json = test::tempPath("terms.json"), urdf = test::tempPath("terms.urdf");
   writeFileAtomically(json, modelToJson(tree));
   writeFileAtomically(urdf, modelToUrdf(tree));
-  EXPECT_EQ(loadRobot(json, withDrives()).drive_terms, DriveTerms::rotorAndFriction());
-  EXPECT_EQ(loadRobot(urdf, withDrives()).drive_terms, DriveTerms::rotorAndFriction());
+  EXPECT_EQ(loadRobot(json, withDrives()).driveTerms(), DriveTerms::rotorAndFriction());
+  EXPECT_EQ(loadRobot(urdf, withDrives()).driveTerms(), DriveTerms::rotorAndFriction());
   // --drive-terms: exactly those, the values kept where the robot has them.
   const Model puma = loadRobot("puma560", withTerms("fv,fo"));
-  EXPECT_EQ(driveTermsText(puma.drive_terms), "fv,fo");
+  EXPECT_EQ(driveTermsText(puma.driveTerms()), "fv,fo");
   EXPECT_EQ(puma.parameterLayout().size(), 6 * 12);
-  EXPECT_EQ(puma.drives()[0].viscous, makePuma560(true).drives()[0].viscous);
-  EXPECT_EQ(driveTermsText(loadRobot(urdf, withTerms("fc")).drive_terms), "fc");
-  EXPECT_FALSE(loadRobot("panda", withTerms("none")).drive_terms.any());
+  EXPECT_EQ(puma.drives()[0][DriveTerm::kViscous],
+            makePuma560(true).drives()[0][DriveTerm::kViscous]);
+  EXPECT_EQ(driveTermsText(loadRobot(urdf, withTerms("fc")).driveTerms()), "fc");
+  EXPECT_FALSE(loadRobot("panda", withTerms("none")).driveTerms().any());
   // A JSON model keeps its own terms unless told otherwise.
   Model sensor = tree;
-  sensor.drive_terms = kPandaDriveTerms;
+  sensor.setDriveTerms(kPandaDriveTerms);
   writeFileAtomically(json, modelToJson(sensor));
-  EXPECT_EQ(loadRobot(json).drive_terms, kPandaDriveTerms);
-  EXPECT_EQ(loadRobot(json, withDrives()).drive_terms, kPandaDriveTerms);
-  EXPECT_EQ(driveTermsText(loadRobot(json, withTerms("ia")).drive_terms), "ia");
+  EXPECT_EQ(loadRobot(json).driveTerms(), kPandaDriveTerms);
+  EXPECT_EQ(loadRobot(json, withDrives()).driveTerms(), kPandaDriveTerms);
+  EXPECT_EQ(driveTermsText(loadRobot(json, withTerms("ia")).driveTerms()), "ia");
 }
 
 TEST(Robots, UnknownSpecIsAnInputError) {

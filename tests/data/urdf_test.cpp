@@ -63,11 +63,11 @@ TEST(Urdf, LoadsATreeAndMergesFixedJoints) {
   EXPECT_DOUBLE_EQ(model.inertias()[1].mass, 1.5);
   EXPECT_NEAR(model.inertias()[1].first_moment.x(), 0.15 + 0.5 * 0.35, 1e-12);
   EXPECT_DOUBLE_EQ(model.limits[0].effort, 50.0);
-  EXPECT_FALSE(model.drive_terms.any());
+  EXPECT_FALSE(model.driveTerms().any());
   const Model driven = parseUrdf(kTree, "tree.urdf", {.drives = true});
-  EXPECT_EQ(driven.drive_terms, DriveTerms::rotorAndFriction());
-  EXPECT_DOUBLE_EQ(driven.drives()[0].viscous, 0.5);
-  EXPECT_DOUBLE_EQ(driven.drives()[0].coulomb, 0.2);
+  EXPECT_EQ(driven.driveTerms(), DriveTerms::rotorAndFriction());
+  EXPECT_DOUBLE_EQ(driven.drives()[0][DriveTerm::kViscous], 0.5);
+  EXPECT_DOUBLE_EQ(driven.drives()[0][DriveTerm::kCoulomb], 0.2);
 }
 
 TEST(Urdf, ExportLoadRoundTrip) {
@@ -100,7 +100,7 @@ TEST(Urdf, DenavitHartenbergModelsExportWithIdenticalDynamics) {
       const Eigen::VectorXd q = test::randomVector(rng, n, 2), dq = test::randomVector(rng, n, 2),
                             ddq = test::randomVector(rng, n, 2);
       Model gravity_fixed = back;
-      gravity_fixed.gravity = model.gravity;  // URDF has no gravity element
+      gravity_fixed.setGravity(model.gravity());  // URDF has no gravity element
       gravity_fixed.finalize();
       Data c(gravity_fixed);
       const Eigen::VectorXd expected = rnea(model, a, q, dq, ddq);

@@ -76,7 +76,8 @@ Model changedArm(const Model& arm) {
     body.inertia += about_com - 0.4 * s * s;
     out.setLinkInertia(i, body);
     DriveParameters<double> d = out.drives()[i];
-    d.viscous = 0.7 + i, d.coulomb = 0.3 + i, d.offset = -0.2;
+    d[DriveTerm::kViscous] = 0.7 + i, d[DriveTerm::kCoulomb] = 0.3 + i,
+    d[DriveTerm::kOffset] = -0.2;
     out.setDrive(i, d);
   }
   return out;
@@ -105,10 +106,10 @@ TEST(UrdfWriteBack, ReloadsToTheIdentifiedBodiesAndKeepsEverythingElse) {
   // <dynamics> carries Fv and Fc; j2 had none and gets one.
   EXPECT_NE(written.find("<dynamics damping=\"0.7\" friction=\"0.3\"/>"), std::string::npos);
   EXPECT_NE(written.find("<dynamics damping=\"1.7\" friction=\"1.3\"/>"), std::string::npos);
-  EXPECT_DOUBLE_EQ(back.drives()[1].viscous, 1.7);
+  EXPECT_DOUBLE_EQ(back.drives()[1][DriveTerm::kViscous], 1.7);
   // The torques of the reloaded file equal the identified model's (Fo has no URDF place: off).
   Model rigid_friction = changed;
-  rigid_friction.drive_terms = back.drive_terms;
+  rigid_friction.setDriveTerms(back.driveTerms());
   Data a(rigid_friction), b(back);
   const Eigen::Vector2d q(0.3, -0.7), dq(0.5, -1.0), ddq(1.0, 2.0);
   const Eigen::VectorXd tau = rnea(rigid_friction, a, q, dq, ddq);
