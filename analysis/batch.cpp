@@ -43,6 +43,9 @@ void forEachSpecField(Settings& s, F&& f) {
   f("search_evaluations", s.search_evaluations);
   f("refine_iterations", s.refine_iterations);
   f("trajectory", s.trajectory);
+  f("refine_seconds", s.refine_seconds);
+  f("keep_if_better", s.keep_if_better);
+  f("prior_weight", s.prior_weight);
 }
 
 /// The range of each integer spec value (the StudySettings field's own limits).
@@ -59,6 +62,7 @@ void checkValue(const std::string& key, const json& value, const std::string& fi
   const json& d = batchSpecDefaults().at(key);
   const bool ok = key == "method" || key == "robot" || key == "trajectory" ? value.is_string()
                   : key == "seed"         ? value.is_number_unsigned()
+                  : d.is_boolean()        ? value.is_boolean()
                   : d.is_number_integer() ? value.is_number_integer()
                                           : value.is_number();
   if (!ok) throw ParseError(file, 0, where, "has the wrong type: " + value.dump());

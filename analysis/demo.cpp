@@ -21,7 +21,12 @@ DemoResult runDemo(const DemoOptions& options) {
   study_settings.search_seconds = options.search_seconds > 0       ? options.search_seconds
                                   : options.search_evaluations > 0 ? 0.0
                                                                    : (options.quick ? 2.0 : 30.0);
-  study_settings.refine_iterations = options.quick ? 30 : 200;
+  study_settings.refine_iterations = options.refine_iterations > 0 ? options.refine_iterations
+                                     : options.quick               ? 30
+                                                                   : 200;
+  study_settings.refine_seconds = options.refine_seconds;
+  study_settings.prior_weight = options.prior_weight;
+  study_settings.keep_if_better = options.keep_if_better;
   study_settings.seed = options.seed;
   study_settings.threads = resolveThreads(options.threads);
   Study study(study_settings, options.progress);

@@ -22,6 +22,10 @@ struct DemoOptions {
   int threads = 0;              // 0: all cores
   double search_seconds = 0;    // per search; 0: 30 s (2 s quick), unless evaluations are set
   long search_evaluations = 0;  // per search; 0: no limit (then search_seconds applies)
+  int refine_iterations = 0;    // per refinement stage; 0: 200 (30 quick)
+  double refine_seconds = 0.0;  // per refinement; 0: no limit
+  double prior_weight = kDefaultPriorWeight;  // pc
+  bool keep_if_better = true;  // keep a search's result that its refinement did not improve
   const std::atomic<bool>* stop = nullptr;  // set (SIGINT): finish the current stage, skip the rest
   std::function<void(const std::string&)> progress;  // one line per stage
 };

@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/pipeline.hpp"
 #include "core/controllers.hpp"
 #include "core/model.hpp"
 #include "core/trajectory.hpp"

@@ -3,12 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 
+#include "analysis/pipeline.hpp"
 #include "core/errors.hpp"
 #include "data/dataset_csv.hpp"
-#include "search/parameter_space.hpp"
-#include "search/refinement/refine.hpp"
 
 namespace dynid {
 
@@ -36,6 +34,7 @@ void validate(const LogStudyRequest& r) {
           "refine seconds must be >= 0");
   require(std::isfinite(r.refine_tolerance) && r.refine_tolerance >= 0.0,
           "the refinement tolerance must be >= 0");
+  checkPriorWeight(r.prior_weight);
   require(r.threads >= 0, "threads must be >= 0");
 }
 
@@ -79,7 +78,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.test_segments = test_gc.numSegments();
   out.horizon = request.segments.horizon;
   const int threads = resolveThreads(request.threads);
-  ThreadPool pool(threads);
+  ThreadPool pool(threads);  // the measurements'; the runner has its own
   GcWorkspace workspace(threads);
 
   say("base parameters and the least-squares estimates");
@@ -87,11 +86,6 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.num_base = base.numBase();
   out.num_standard = base.numStandard();
   const Observation observation = observationFromTrajectory(robot, train);
-  const auto modelWith = [&](const Eigen::VectorXd& theta) {
-    Model m = robot;
-    m.setStandardParameters(theta);
-    return m;
-  };
   const auto measure = [&](const std::string& key, const Model& model, long evaluations,
                            double seconds) {
     LogStudyRow row;
@@ -107,101 +101,38 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   };
   out.rows.push_back(measure("model", robot, 0, 0.0));
 
-  // The searches start from the physically consistent estimate: the best torque fit that is a
-  // realisable body with friction that dissipates (the input model often has no friction at all,
-  // and an OLS lift is rarely consistent, so rollouts from either can diverge).
-  std::map<Method, std::pair<LeastSquaresOutcome, double>> least_squares;
-  const auto leastSquares = [&](Method method) -> const std::pair<LeastSquaresOutcome, double>& {
-    const auto found = least_squares.find(method);
-    if (found != least_squares.end()) return found->second;
-    say(std::string("identify: ") + methodName(method));
-    const auto started = Clock::now();
-    LeastSquaresOutcome ls =
-        estimateLeastSquares(method, base, observation, robot.standardParameters());
-    return least_squares.emplace(method, std::make_pair(std::move(ls), since(started)))
-        .first->second;
-  };
+  // Every estimate comes from the one pipeline. The searches start from the physically consistent
+  // estimate: the best torque fit that is a realisable body with friction that dissipates (the
+  // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
+  // from either can diverge).
+  EstimationProblem problem;
+  problem.model = robot;
+  problem.base = &base;
+  problem.least_squares.observation = &observation;
+  problem.physical.prior_weight = request.prior_weight;
+  problem.train_gc = &train_gc;
+  problem.search_start = SearchStart::kPhysicallyConsistent;
+  problem.search_budget.max_seconds = request.search_seconds;
+  problem.search_budget.max_evaluations = request.search_evaluations;
+  problem.seed = request.seed;
+  problem.refine = {request.refine_iterations, request.refine_seconds, request.refine_tolerance,
+                    request.keep_if_better};
+  problem.threads = threads;
+  problem.control = request.control;
+  MethodRunner runner(std::move(problem));
   const std::vector<Method> methods = request.methods.empty() ? allMethods() : request.methods;
   const bool searching = std::any_of(methods.begin(), methods.end(),
                                      [](Method m) { return isSearch(m) || isRefined(m); });
-  const Model start = searching ? modelWith(leastSquares(Method::kPc).first.standard) : robot;
-  if (searching) out.rows.push_back(measure("start", start, 0, 0.0));
-
-  SpaceOptions nlo_options;
-  nlo_options.total_mass_constraint = true;
-  nlo_options.total_mass = totalMass(start);
-  const ParameterSpace nlo_space(start, nlo_options), ga_space(start, SpaceOptions{});
-  const BaseCoordinates coordinates = base.coordinates();
-  std::map<Method, SearchResult> searches;
-  const auto search = [&](Method method) -> const SearchResult& {
-    const auto found = searches.find(method);
-    if (found != searches.end()) return found->second;
-    say(std::string("search: ") + methodName(method) + " (" +
-        (request.search_seconds > 0.0
-             ? std::to_string(request.search_seconds) + " s"
-             : std::to_string(request.search_evaluations) + " evaluations") +
-        ")");
-    SearchContext context;
-    context.space = method == Method::kGa ? &ga_space : &nlo_space;
-    context.problem = &train_gc;
-    context.pool = &pool;
-    context.budget.max_seconds = request.search_seconds;
-    context.budget.max_evaluations = request.search_evaluations;
-    context.seed = request.seed;
-    context.stop = stop;
-    return searches.emplace(method, runSearch(method, context, GaOptions{}, NloOptions{}))
-        .first->second;
-  };
-
+  if (searching) out.rows.push_back(measure("start", runner.searchStart(), 0, 0.0));
   for (Method method : methods) {
     if (stopped()) {
       out.interrupted = true;
       break;
     }
-    const std::string name = methodName(method);
-    if (!isSearch(method) && !isRefined(method)) {
-      const auto& [ls, seconds] = leastSquares(method);
-      out.rows.push_back(
-          measure(name, modelWith(ls.standard), ls.pc ? ls.pc->iterations : 0, seconds));
-      continue;
-    }
-    const Method searched = searchOf(method);
-    const ParameterSpace& space = searched == Method::kGa ? ga_space : nlo_space;
-    const SearchResult& found = search(searched);
-    if (isSearch(method)) {
-      out.rows.push_back(
-          measure(name, space.modelAt(found.best_x), found.evaluations, found.seconds));
-      continue;
-    }
-    say(std::string("refine: ") + methodName(searched) + " (at most " +
-        std::to_string(request.refine_iterations) + " iterations" +
-        (request.refine_seconds > 0.0 ? ", " + std::to_string(request.refine_seconds) + " s"
-                                      : std::string()) +
-        ")");
-    RefineOptions refine;
-    refine.num_threads = threads;
-    refine.max_iterations = request.refine_iterations;
-    refine.max_seconds = request.refine_seconds;
-    refine.function_tolerance = request.refine_tolerance;
-    refine.stop = stop;
-    const RefineResult refined = refineGc(space, train_gc, found.best_x, refine, &coordinates);
-    LogStudyRow row = measure(name, space.modelAt(refined.x),
-                              refined.base_iterations + refined.iterations, refined.seconds);
-    // The refinement's start is the search's point projected onto the space (bounds, mass
-    // plane); a refinement that ends above the search's own training GC error is not kept.
-    const LogStudyRow searched_row = measure(methodName(searched), space.modelAt(found.best_x),
-                                             found.evaluations, found.seconds);
-    row.note = refined.termination + "; GC error from " + std::to_string(refined.initial_gc) +
-               " to " + std::to_string(refined.final_gc);
-    if (!(row.gc_train <= searched_row.gc_train)) {
-      const std::string note = row.note;
-      row = searched_row;
-      row.key = name;
-      row.evaluations = refined.base_iterations + refined.iterations;
-      row.seconds = refined.seconds;
-      row.note = "kept the search's result: the refinement did not lower its training GC error (" +
-                 note + ")";
-    }
+    const Estimate estimate = runner.run(method);
+    LogStudyRow row =
+        measure(methodName(method), estimate.model, estimate.evaluations, estimate.seconds);
+    row.note = estimate.note;
     out.rows.push_back(row);
   }
   out.interrupted = out.interrupted || stopped();

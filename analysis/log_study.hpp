@@ -29,6 +29,9 @@ struct LogStudyRequest {
   double refine_seconds = 60.0;  // per refinement (0: no limit)
   /// A refinement stops when an iteration lowers the cost by less than this fraction.
   double refine_tolerance = 1e-6;
+  bool keep_if_better = true;  // keep a search's result that its refinement did not improve
+  double prior_weight =
+      kDefaultPriorWeight;  // pc (and so the searches' start): PhysicalOptions::prior_weight
   std::uint64_t seed = 1;
   int threads = 0;  // 0: every core
   RunControl control;

@@ -187,46 +187,6 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 // ---- identification ----
 
-namespace {
-/// The least-squares outcome of a physically consistent estimate: its base fields.
-LeastSquaresOutcome leastSquaresOfPhysical(const BaseParameters& base, const PhysicalEstimate& pc) {
-  LeastSquaresOutcome out;
-  // The base estimate's fields from the physically consistent solution.
-  out.estimate = pc.ols;
-  out.estimate.beta = pc.beta;
-  out.estimate.covariance = pc.covariance;
-  out.estimate.std_dev = pc.std_dev;
-  out.estimate.residual_rms = pc.residual_rms;
-  setRelativeErrors(out.estimate);
-  for (int j = 0; j < base.numBase(); ++j)
-    out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
-                                                   ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])
-                                                   : std::numeric_limits<double>::infinity();
-  out.standard = pc.theta;
-  out.pc = pc;
-  return out;
-}
-}  // namespace
-
-LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& base,
-                                         const Observation& observation,
-                                         const Eigen::VectorXd& prior,
-                                         const PhysicalOptions& pc_options) {
-  LeastSquaresOutcome out;
-  if (method == Method::kOls || method == Method::kWls) {
-    out.estimate = estimateBaseParameters(
-        base, observation,
-        method == Method::kOls ? LeastSquaresMethod::kOrdinary : LeastSquaresMethod::kWeighted);
-    out.standard = base.standardFromBase(out.estimate.beta, prior);
-    return out;
-  }
-  if (method != Method::kPc)
-    throw InputError(std::string("'") + methodName(method) + "' is not a least-squares method (" +
-                     methodList(leastSquaresMethods()) + ")");
-  return leastSquaresOfPhysical(base,
-                                estimatePhysicallyConsistent(base, observation, prior, pc_options));
-}
-
 std::optional<nlohmann::json> preparationRecord(const std::string& data_file) {
   const std::filesystem::path path(data_file);
   const std::string name = path.filename().string();
@@ -269,16 +229,8 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     } else {
       addDatasetFile(stream, model, request.data_file, pool, &kept);
     }
-    if (request.method == Method::kPc) {
-      out.result = leastSquaresOfPhysical(
-          out.base, estimatePhysicallyConsistent(out.base, model.parameterLayout(), stream, prior,
-                                                 pc_options));
-    } else {
-      out.result.estimate =
-          stream.estimate(request.method == Method::kOls ? LeastSquaresMethod::kOrdinary
-                                                         : LeastSquaresMethod::kWeighted);
-      out.result.standard = out.base.standardFromBase(out.result.estimate.beta, prior);
-    }
+    out.result = leastSquaresEstimate(
+        request.method, out.base, {nullptr, &stream, model.parameterLayout()}, prior, pc_options);
   } catch (const InputError& e) {  // too few samples: the dataset's fault
     throw InputError(request.data_file + ": " + e.what());
   } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too
@@ -357,7 +309,7 @@ PredictOutcome predictRun(const PredictRequest& request) {
   RobotOptions options;
   try {
     options.drive_terms = parseDriveTerms(terms.empty() ? "none" : terms);
-  } catch (const std::invalid_argument& e) {
+  } catch (const InputError& e) {
     throw ParseError(file, 0, "drive_terms", e.what());
   }
   out.model = loadRobot(out.robot_spec, options);
@@ -415,21 +367,6 @@ std::optional<SearchState> resumeFrom(const std::string& path, const nlohmann::j
 }
 
 }  // namespace
-
-SearchResult runSearch(Method method, const SearchContext& context, const GaOptions& ga,
-                       const NloOptions& nlo) {
-  switch (method) {
-    case Method::kNlo:
-      return runNlo(context, nlo);
-    case Method::kGa:
-      return runGa(context, ga);
-    case Method::kHybrid:
-      return runHybrid(context, ga, nlo);
-    default:
-      throw InputError(std::string("'") + methodName(method) + "' is not a search (" +
-                       methodList(searchMethods()) + ")");
-  }
-}
 
 SearchOutcome searchRun(const SearchRequest& request) {
   const Model& robot = request.robot;
@@ -494,7 +431,7 @@ SearchOutcome searchRun(const SearchRequest& request) {
       writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n");
     if (request.on_iteration) request.on_iteration(state);
   };
-  out.result = runSearch(request.method, context, request.ga, request.nlo);
+  out.result = dispatchSearch(request.method, context, request.ga, request.nlo);
   const Eigen::VectorXd x_initial = space.project(space.initial());
   if (request.truth) {
     out.initial_parameter_error = space.parameterError(x_initial, truth_full);

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/methods.hpp"
+#include "analysis/pipeline.hpp"
 #include "analysis/streaming.hpp"
 #include "core/model.hpp"
 #include "core/parameters.hpp"
@@ -112,20 +113,6 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 // ---- identification ----
 
-/// One least-squares estimate (ols, wls or pc) of the base parameters from an observation: the
-/// step Study and identifyRun share.
-struct LeastSquaresOutcome {
-  BaseEstimate estimate;  // for pc: the base fields of the consistent solution
-  std::optional<PhysicalEstimate> pc;
-  Eigen::VectorXd standard;  // a full standard vector: pc's, or beta with the rest from `prior`
-};
-/// `method` is ols, wls or pc (InputError otherwise); `prior` (p entries) fills what the data
-/// cannot see and is pc's prior.
-LeastSquaresOutcome estimateLeastSquares(Method method, const BaseParameters& base,
-                                         const Observation& observation,
-                                         const Eigen::VectorXd& prior,
-                                         const PhysicalOptions& pc_options = {});
-
 /// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
 /// validate.csv); nullopt otherwise, or when the record is unreadable.
 std::optional<nlohmann::json> preparationRecord(const std::string& data_file);
@@ -134,7 +121,7 @@ struct IdentifyRequest {
   Model model;
   Method method = Method::kOls;  // ols, wls or pc
   std::optional<Model> prior;    // pc: the prior model (default: the model's own parameters)
-  double prior_weight = 1.0;     // pc, > 0 (PhysicalOptions::prior_weight)
+  double prior_weight = kDefaultPriorWeight;  // pc, > 0 (PhysicalOptions::prior_weight)
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
   /// Data in memory instead of the files (the Python module's arrays); the file names then only
@@ -157,7 +144,7 @@ struct IdentifyOutcome {
   Method method = Method::kOls;
   BaseParameters base;
   LeastSquaresOutcome result;
-  double prior_weight = 1.0;
+  double prior_weight = kDefaultPriorWeight;
   std::vector<std::string> pc_inconsistent_links;  // names of the links OLS lifted inconsistently
   Eigen::VectorXd model_beta;                      // the model's own base parameters
   std::string data_file;
@@ -198,17 +185,6 @@ struct PredictOutcome {
 PredictOutcome predictRun(const PredictRequest& request);
 
 // ---- the GC-error searches ----
-
-/// A stop flag (SIGINT) and a progress hook shared by the long runs.
-struct RunControl {
-  const std::atomic<bool>* stop = nullptr;
-  std::function<void(const std::string&)> progress;  // one line per stage
-};
-
-/// Runs the search `method` (nlo, ga or hybrid; InputError otherwise) on a prepared context: the
-/// one dispatch searchRun and Study share.
-SearchResult runSearch(Method method, const SearchContext& context, const GaOptions& ga,
-                       const NloOptions& nlo);
 
 struct SearchRequest {
   Model robot;

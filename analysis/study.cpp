@@ -1,7 +1,6 @@
 #include "analysis/study.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <Eigen/QR>
@@ -20,12 +19,6 @@
 namespace dynid {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 /// The default sinusoidal tracking run of `dynid simulate` (train) or the held-out control path
 /// of docs/SEARCH.md's default scenario (test), with the setting's noise.
@@ -83,6 +76,11 @@ void validateStudySettings(const StudySettings& s) {
   require(s.search_seconds > 0.0 || s.search_evaluations > 0, "search_seconds",
           "or search_evaluations must be > 0: a search needs a budget");
   require(s.refine_iterations >= 1, "refine_iterations", "must be >= 1");
+  require(finite(s.refine_seconds) && s.refine_seconds >= 0.0, "refine_seconds", "must be >= 0");
+  require(finite(s.refine_tolerance) && s.refine_tolerance >= 0.0, "refine_tolerance",
+          "must be >= 0");
+  require(finite(s.prior_weight) && s.prior_weight > 0.0, "prior_weight",
+          "must be finite and > 0 (checkPriorWeight)");
   require(s.threads >= 1, "threads", "must be >= 1");
 }
 
@@ -108,18 +106,37 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
   base_ = structuralBaseParameters(truth_);
   observation_ = observationFromTrajectory(truth_, train_data_);
 
-  // The spaces the searches move in (the paper's form; NLO holds the total mass, GA does not).
-  SpaceOptions nlo_options;
-  nlo_options.total_mass_constraint = true;
-  nlo_options.total_mass = totalMass(truth_);
-  nlo_space_ = std::make_unique<ParameterSpace>(initial_, nlo_options);
-  ga_space_ = std::make_unique<ParameterSpace>(initial_, SpaceOptions{});
-  pool_ = std::make_unique<ThreadPool>(settings_.threads);
-  comparison_ =
-      std::make_unique<Comparison>(truth_, *ga_space_, base_, train_, test_, test_data_, *pool_);
+  // Every estimate comes from the one pipeline: least squares with the initial guess as prior,
+  // the searches from the initial guess (NLO on the true total mass), refinement of their results.
+  EstimationProblem problem;
+  problem.model = truth_;
+  problem.base = &base_;
+  problem.least_squares.observation = &observation_;
+  problem.prior = initial_.standardParameters();
+  problem.physical.prior_weight = settings_.prior_weight;
+  problem.train_gc = &train_;
+  problem.start = initial_;
+  problem.total_mass = totalMass(truth_);
+  problem.search_budget.max_seconds = settings_.search_seconds;
+  problem.search_budget.max_evaluations = settings_.search_evaluations;
+  problem.seed = settings_.seed;
+  problem.refine = {settings_.refine_iterations, settings_.refine_seconds,
+                    settings_.refine_tolerance, settings_.keep_if_better};
+  problem.truth_full = &truth_full_;
+  problem.on_search_iteration = [this](Method method, const SearchState& state,
+                                       const ParameterSpace& space) {
+    search_base_errors_[method].push_back(
+        baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
+  };
+  problem.threads = settings_.threads;
+  problem.control.progress = progress_;
+  runner_ = std::make_unique<MethodRunner>(std::move(problem));
+  const ParameterSpace& ga_space = runner_->space(Method::kGa);
+  comparison_ = std::make_unique<Comparison>(truth_, ga_space, base_, train_, test_, test_data_,
+                                             runner_->pool());
   initial_gc_ = comparison_->trainGc(initial_);
   initial_test_gc_ = comparison_->testGc(initial_);
-  truth_full_ = ga_space_->fullVector(truth_);
+  truth_full_ = ga_space.fullVector(truth_);
   beta_true_ = base_.project(truth_.standardParameters());
 }
 
@@ -178,64 +195,15 @@ NearTruth Study::nearTruth(int samples, double range, const std::string& estimat
   return out;
 }
 
-const SearchResult& Study::search(Method method, const std::atomic<bool>* stop) {
-  const auto found = searches_.find(method);
-  if (found != searches_.end()) return found->second;
-  if (progress_) progress_(std::string("search: ") + methodName(method));
-  SearchContext context;
-  context.space = method == Method::kGa ? ga_space_.get() : nlo_space_.get();
-  context.problem = &train_;
-  context.pool = pool_.get();
-  context.truth_full = &truth_full_;
-  context.budget.max_seconds = settings_.search_seconds;
-  context.budget.max_evaluations = settings_.search_evaluations;
-  context.seed = settings_.seed;
-  context.stop = stop;
-  std::vector<double>& base_errors = search_base_errors_[method];
-  base_errors.clear();
-  const ParameterSpace& space = *context.space;
-  context.on_iteration = [&](const SearchState& state) {
-    base_errors.push_back(
-        baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
-  };
-  SearchResult result = runSearch(method, context, GaOptions{}, NloOptions{});
-  return searches_.emplace(method, std::move(result)).first->second;
-}
-
 MethodMetrics Study::run(Method method, const std::atomic<bool>* stop) {
-  const auto say = [&](const std::string& line) {
-    if (progress_) progress_(line);
-  };
-  const std::string name = methodName(method);
-  const auto modelWith = [&](const Eigen::VectorXd& theta) {
-    Model m = truth_;
-    m.setStandardParameters(theta);
-    return m;
-  };
-  if (!isSearch(method) && !isRefined(method)) {
-    say(method == Method::kPc ? "identify: pc (physically consistent)" : "identify: " + name);
-    const auto t0 = Clock::now();
-    const LeastSquaresOutcome ls =
-        estimateLeastSquares(method, base_, observation_, initial_.standardParameters());
-    if (method == Method::kOls) ols_relative_std_dev_ = ls.estimate.relative_std_dev_percent;
-    return comparison_->measure(name, modelWith(ls.standard), initial_gc_,
-                                ls.pc ? ls.pc->iterations : 0, since(t0));
-  }
-  const Method searched = searchOf(method);
-  const SearchResult& found = search(searched, stop);
-  const ParameterSpace& space = searched == Method::kGa ? *ga_space_ : *nlo_space_;
-  if (isSearch(method))
-    return comparison_->measure(name, space.modelAt(found.best_x), initial_gc_, found.evaluations,
-                                found.seconds);
-  say(std::string("refine: ") + methodName(searched));
-  const BaseCoordinates coordinates = base_.coordinates();
-  RefineOptions refine;
-  refine.num_threads = settings_.threads;
-  refine.max_iterations = settings_.refine_iterations;
-  refine.stop = stop;
-  const RefineResult refined = refineGc(space, train_, found.best_x, refine, &coordinates);
-  return comparison_->measure(name, space.modelAt(refined.x), refined.initial_gc,
-                              refined.base_iterations + refined.iterations, refined.seconds);
+  runner_->setStop(stop);
+  const Estimate estimate = runner_->run(method);
+  if (method == Method::kOls)
+    ols_relative_std_dev_ = estimate.least_squares->estimate.relative_std_dev_percent;
+  // A refinement's row starts from the GC error where it started, every other from the guess's.
+  return comparison_->measure(methodName(method), estimate.model,
+                              isRefined(method) ? estimate.start_gc : initial_gc_,
+                              estimate.evaluations, estimate.seconds);
 }
 
 }  // namespace dynid

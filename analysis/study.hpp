@@ -13,6 +13,7 @@
 
 #include "analysis/comparison.hpp"
 #include "analysis/methods.hpp"
+#include "analysis/pipeline.hpp"
 #include "identifiability/observation.hpp"
 #include "search/optimizers.hpp"
 
@@ -27,9 +28,13 @@ struct StudySettings {
   double horizon = 0.05;   // [s]
   double perturb = 0.3;    // the initial guess: every parameter times (1 + U(-perturb, perturb))
   std::uint64_t seed = 1;  // the initial guess, the noise (held-out: seed + 1000) and the searches
-  double search_seconds = 30.0;  // per search (0: no time limit)
-  long search_evaluations = 0;   // per search (0: no limit); one of the two must be set
-  int refine_iterations = 200;   // per refinement stage
+  double search_seconds = 30.0;     // per search (0: no time limit)
+  long search_evaluations = 0;      // per search (0: no limit); one of the two must be set
+  int refine_iterations = 200;      // per refinement stage
+  double refine_seconds = 0.0;      // per refinement (0: no limit)
+  double refine_tolerance = 1e-16;  // Ceres's relative cost change
+  bool keep_if_better = true;       // keep a search's result that its refinement did not improve
+  double prior_weight = kDefaultPriorWeight;  // pc: PhysicalOptions::prior_weight
   int threads = 1;
   /// The training motion: an excitation.json of `dynid excite` (empty: the default sinusoid).
   std::string trajectory;
@@ -37,7 +42,8 @@ struct StudySettings {
 
 /// Throws InputError naming the first invalid field (by its StudySettings and manifest name):
 /// durations and the horizon must be > 0, noise, segments and budgets >= 0 with one budget set,
-/// perturb in [0, 1), refine_iterations and threads >= 1. The robot is checked when loaded.
+/// perturb in [0, 1), refine_iterations and threads >= 1, refine_seconds and refine_tolerance >= 0,
+/// prior_weight > 0. The robot is checked when loaded.
 void validateStudySettings(const StudySettings& settings);
 
 /// The paper's Fig. 4: held-out GC errors of random configurations near the truth (every paper
@@ -79,10 +85,7 @@ class Study {
 
   /// The search `method` (nlo, ga, hybrid) when it has run, else null. Its `evaluated` holds
   /// (GC error, parameter error) of every candidate.
-  const SearchResult* searchResult(Method method) const {
-    const auto it = searches_.find(method);
-    return it == searches_.end() ? nullptr : &it->second;
-  }
+  const SearchResult* searchResult(Method method) const { return runner_->searchResult(method); }
   /// The base-parameter error of the search's best candidate after each of its history entries.
   const std::vector<double>* searchBaseErrors(Method method) const {
     const auto it = search_base_errors_.find(method);
@@ -103,7 +106,6 @@ class Study {
   const Observation& observation() const { return observation_; }
 
  private:
-  const SearchResult& search(Method method, const std::atomic<bool>* stop);
   StudySettings settings_;
   std::function<void(const std::string&)> progress_;
   Model truth_, initial_;
@@ -111,12 +113,10 @@ class Study {
   GcProblem train_, test_;
   BaseParameters base_;
   Observation observation_;
-  std::unique_ptr<ParameterSpace> nlo_space_, ga_space_;
-  std::unique_ptr<ThreadPool> pool_;
+  std::unique_ptr<MethodRunner> runner_;  // every estimate
   std::unique_ptr<Comparison> comparison_;
   double initial_gc_ = 0.0;
   Eigen::VectorXd truth_full_;
-  std::map<Method, SearchResult> searches_;
   std::map<Method, std::vector<double>> search_base_errors_;
   Eigen::VectorXd beta_true_;
   double initial_test_gc_ = 0.0;

@@ -20,7 +20,12 @@ int runDemo(const std::vector<std::string>& args) {
       "wall time of each search (0: 30 s, 2 s with --quick)")(
       "search-evaluations", po::value<long>()->default_value(0),
       "GC evaluations of each search (0: no limit); alone, it replaces the time limit, so the "
-      "table is the same on every machine for a seed");
+      "table is the same on every machine for a seed")(
+      "refine-iterations", po::value<int>()->default_value(0),
+      "per refinement stage (0: 200, 30 with --quick)")(
+      "refine-seconds", po::value<double>()->default_value(0.0), "per refinement (0: no limit)");
+  addPriorWeightOption(options);
+  addKeepRefinementOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid demo [--out DIR] [--quick] [--seed S]", vm))
@@ -32,6 +37,10 @@ int runDemo(const std::vector<std::string>& args) {
       vm, "search-seconds", [](double s) { return s >= 0.0; }, ">= 0");
   demo.search_evaluations = checkedOption<long>(
       vm, "search-evaluations", [](long e) { return e >= 0; }, ">= 0");
+  demo.refine_iterations = vm["refine-iterations"].as<int>();
+  demo.refine_seconds = vm["refine-seconds"].as<double>();
+  demo.prior_weight = priorWeightOption(vm);
+  demo.keep_if_better = keepIfBetterOption(vm);
   demo.quick = vm["quick"].as<bool>();
   demo.seed = vm["seed"].as<std::uint64_t>();
   if (stderrIsTerminal())

@@ -19,8 +19,6 @@ int runIdentify(const std::vector<std::string>& args) {
       "consistent: least squares regularised by the entropic divergence from the prior)")(
       "prior", po::value<std::string>(),
       "pc: prior model (robot spec; default: the robot's own parameters)")(
-      "prior-weight", po::value<double>()->default_value(1.0),
-      "pc: weight of the divergence from the prior, in chi-square units (> 0)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
       "out", po::value<std::string>()->required(),
@@ -28,6 +26,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
       "the full model as .dynid.json beside it");
+  addPriorWeightOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -39,8 +38,7 @@ int runIdentify(const std::vector<std::string>& args) {
   request.method = parseOption(vm, "method", [](const std::string& name) {
     return parseMethod(name, leastSquaresMethods());
   });
-  request.prior_weight = checkedOption<double>(
-      vm, "prior-weight", [](double w) { return w > 0.0 && std::isfinite(w); }, "finite and > 0");
+  request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);
   request.robot_spec = vm["robot"].as<std::string>();

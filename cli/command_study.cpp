@@ -25,6 +25,8 @@ int runStudy(const std::vector<std::string>& args) {
       "refine-seconds", po::value<double>()->default_value(60.0), "per refinement (0: no limit)")(
       "seed", po::value<std::uint64_t>()->default_value(1), "seed of the searches")(
       "out", po::value<std::string>()->required(), "output directory");
+  addPriorWeightOption(options);
+  addKeepRefinementOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   if (!parseCommandLine(args, options,
@@ -56,6 +58,8 @@ int runStudy(const std::vector<std::string>& args) {
   request.refine_seconds = checkedOption<double>(
       vm, "refine-seconds", [](double s) { return s >= 0.0; }, ">= 0");
   request.seed = vm["seed"].as<std::uint64_t>();
+  request.prior_weight = priorWeightOption(vm);
+  request.keep_if_better = keepIfBetterOption(vm);
   request.threads = threadsOption(vm);
   if (stderrIsTerminal())
     request.control.progress = [](const std::string& line) {

@@ -214,6 +214,31 @@ std::optional<Eigen::VectorXd> optionalJointVector(const po::variables_map& vm, 
   return parseJointVector(vm[name].as<std::string>(), name, n, allow_broadcast);
 }
 
+void addPriorWeightOption(po::options_description& options) {
+  options.add_options()("prior-weight", po::value<double>()->default_value(kDefaultPriorWeight),
+                        "pc: weight of the divergence from the prior, in chi-square units (> 0)");
+}
+
+double priorWeightOption(const po::variables_map& vm) {
+  const double weight = vm["prior-weight"].as<double>();
+  try {
+    checkPriorWeight(weight);
+  } catch (const InputError& e) {
+    throw UsageError(std::string("--prior-weight: ") + e.what());
+  }
+  return weight;
+}
+
+void addKeepRefinementOption(po::options_description& options) {
+  options.add_options()("keep-worse-refinements", po::bool_switch(),
+                        "report a refinement's result even when it ends above its search's "
+                        "training GC error (default: keep the search's result then)");
+}
+
+bool keepIfBetterOption(const po::variables_map& vm) {
+  return !vm["keep-worse-refinements"].as<bool>();
+}
+
 void addThreadsOption(po::options_description& options) {
   options.add_options()("threads", po::value<int>()->default_value(0), "threads (0: all cores)");
 }
@@ -230,9 +255,8 @@ void addRobotOptions(po::options_description& options) {
       "drives", po::bool_switch(),
       "the robot's own drive terms (puma560: ia,fv,fc,fa; panda: fv,fc,fo; others: ia,fv,fc)")(
       "drive-terms", po::value<std::string>(),
-      "exactly these drive terms, e.g. fv,fc,fo: ia rotor inertia, fv viscous, fc Coulomb, fo "
-      "constant offset, fa Coulomb asymmetry; none")("strict", po::bool_switch(),
-                                                     "treat URDF warnings as errors");
+      ("exactly these drive terms, e.g. fv,fc,fo: " + driveTermHelp("; ") + "; or none").c_str())(
+      "strict", po::bool_switch(), "treat URDF warnings as errors");
 }
 
 namespace {
@@ -244,7 +268,7 @@ RobotOptions robotOptions(const po::variables_map& vm) {
     if (out.drives) throw UsageError("give --drives or --drive-terms, not both");
     try {
       out.drive_terms = parseDriveTerms(vm["drive-terms"].as<std::string>());
-    } catch (const std::invalid_argument& e) {
+    } catch (const InputError& e) {
       throw UsageError(std::string("--drive-terms: ") + e.what());
     }
   }

@@ -77,6 +77,15 @@ Model loadOtherRobot(const po::variables_map& vm, const char* option);
 void addStructuralOptions(po::options_description& options);
 StructuralOptions structuralOptions(const po::variables_map& vm);
 
+/// --prior-weight (pc, and the searches that start from it; identify, study, demo) and its value
+/// (physically_consistent.hpp: kDefaultPriorWeight, checkPriorWeight).
+void addPriorWeightOption(po::options_description& options);
+double priorWeightOption(const po::variables_map& vm);
+/// --keep-worse-refinements: report a refinement that ends above its search's training GC error
+/// instead of keeping the search's result (analysis/pipeline.hpp, RefineSettings::keep_if_better).
+void addKeepRefinementOption(po::options_description& options);
+bool keepIfBetterOption(const po::variables_map& vm);
+
 /// Whether standard error is a terminal (progress lines go there only then).
 bool stderrIsTerminal();
 

@@ -89,8 +89,11 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const std::string& robot_spec) {
   checkThreads(threads);
-  if (!(prior_weight > 0.0) || !std::isfinite(prior_weight))
-    throw py::value_error("prior_weight: expected a finite number > 0");
+  try {
+    checkPriorWeight(prior_weight);
+  } catch (const InputError& e) {
+    throw InputError(std::string("prior_weight: ") + e.what());
+  }
   IdentifyRequest request;
   request.model = model;
   request.method = parseMethod(method, leastSquaresMethods());
@@ -320,7 +323,7 @@ void bindIdentification(py::module_& m) {
 
   m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
         py::arg("validate") = py::none(), py::arg("prior") = py::none(),
-        py::arg("prior_weight") = 1.0, py::arg("samples") = 0, py::arg("seed") = 1,
+        py::arg("prior_weight") = kDefaultPriorWeight, py::arg("samples") = 0, py::arg("seed") = 1,
         py::arg("tolerance") = 0.0, py::arg("threads") = 0, py::arg("robot_spec") = "",
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
         "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "

@@ -44,9 +44,9 @@ TEST(Runs, IdentifyRunIsTheLeastSquaresStepOnTheFilesData) {
             outcome.base.standardFromBase(by_hand.beta, model.standardParameters()));
   // And the observation-matrix path (the study's): the same problem, factored in another order
   // (1e-10 relative: backward-stable solutions at a condition number ~1e2).
+  const Observation observation = observationFromTrajectory(model, data);
   const LeastSquaresOutcome direct =
-      estimateLeastSquares(Method::kWls, outcome.base, observationFromTrajectory(model, data),
-                           model.standardParameters());
+      leastSquaresEstimate(Method::kWls, outcome.base, {&observation}, model.standardParameters());
   EXPECT_LT((outcome.result.estimate.beta - direct.estimate.beta).norm(),
             1e-10 * direct.estimate.beta.norm());
   EXPECT_EQ(outcome.base.numBase(), 36);
@@ -64,7 +64,8 @@ TEST(Runs, RequestsOutsideTheirRunAreInputErrors) {
   identify.prior = makePuma560(true);  // another parameter layout
   identify.data_file = pumaCsv(0.5, 0.0, 1);
   EXPECT_THROW(identifyRun(identify), InputError);
-  EXPECT_THROW(estimateLeastSquares(Method::kNlo, structuralBaseParameters(puma), {}, {}),
+  const Observation none;
+  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, structuralBaseParameters(puma), {&none}, {}),
                InputError);
   SearchRequest search;
   search.robot = puma;

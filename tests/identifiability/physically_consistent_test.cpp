@@ -40,7 +40,7 @@ Model consistentChain() {
 TEST(PhysicallyConsistent, DerivativesMatchFiniteDifferences) {
   for (bool drives : {false, true}) {
     Model model = consistentChain();
-    if (!drives) model.drive_terms = DriveTerms::none();
+    if (!drives) model.setDriveTerms(DriveTerms::none());
     const BaseParameters base = pumaBase(model);
     const Observation data = observationFromRandomStates(model, 300, 2);
     const Eigen::VectorXd prior = perturbedModel(model, 0.3, 2).standardParameters();

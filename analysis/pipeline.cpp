@@ -1,0 +1,230 @@
+#include "analysis/pipeline.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The least-squares outcome of a physically consistent estimate: its base fields.
+LeastSquaresOutcome leastSquaresOfPhysical(const BaseParameters& base, const PhysicalEstimate& pc) {
+  LeastSquaresOutcome out;
+  out.estimate = pc.ols;
+  out.estimate.beta = pc.beta;
+  out.estimate.covariance = pc.covariance;
+  out.estimate.std_dev = pc.std_dev;
+  out.estimate.residual_rms = pc.residual_rms;
+  setRelativeErrors(out.estimate);
+  for (int j = 0; j < base.numBase(); ++j)
+    out.estimate.relative_std_dev_percent[j] = pc.beta[j] != 0.0
+                                                   ? 100.0 * pc.std_dev[j] / std::abs(pc.beta[j])
+                                                   : std::numeric_limits<double>::infinity();
+  out.standard = pc.theta;
+  out.pc = pc;
+  return out;
+}
+
+std::string budgetText(const SearchBudget& budget) {
+  return budget.max_seconds > 0.0 ? std::to_string(budget.max_seconds) + " s"
+                                  : std::to_string(budget.max_evaluations) + " evaluations";
+}
+
+}  // namespace
+
+LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& base,
+                                         const LeastSquaresSource& source,
+                                         const Eigen::VectorXd& prior,
+                                         const PhysicalOptions& pc_options) {
+  if ((source.observation == nullptr) == (source.stream == nullptr))
+    throw InputError("a least-squares source is an observation or a stream, exactly one");
+  if (method == Method::kPc)
+    return leastSquaresOfPhysical(
+        base,
+        source.stream != nullptr
+            ? estimatePhysicallyConsistent(base, source.layout, *source.stream, prior, pc_options)
+            : estimatePhysicallyConsistent(base, *source.observation, prior, pc_options));
+  if (method != Method::kOls && method != Method::kWls)
+    throw InputError(std::string("'") + methodName(method) + "' is not a least-squares method (" +
+                     methodList(leastSquaresMethods()) + ")");
+  const LeastSquaresMethod kind =
+      method == Method::kOls ? LeastSquaresMethod::kOrdinary : LeastSquaresMethod::kWeighted;
+  LeastSquaresOutcome out;
+  out.estimate = source.stream != nullptr ? source.stream->estimate(kind)
+                                          : estimateBaseParameters(base, *source.observation, kind);
+  out.standard = base.standardFromBase(out.estimate.beta, prior);
+  return out;
+}
+
+SearchResult dispatchSearch(Method method, const SearchContext& context, const GaOptions& ga,
+                            const NloOptions& nlo) {
+  switch (method) {
+    case Method::kNlo:
+      return runNlo(context, nlo);
+    case Method::kGa:
+      return runGa(context, ga);
+    case Method::kHybrid:
+      return runHybrid(context, ga, nlo);
+    default:
+      throw InputError(std::string("'") + methodName(method) + "' is not a search (" +
+                       methodList(searchMethods()) + ")");
+  }
+}
+
+MethodRunner::MethodRunner(EstimationProblem problem)
+    : problem_(std::move(problem)),
+      pool_(problem_.threads >= 1 ? problem_.threads : 1),
+      workspace_(pool_.numThreads()) {
+  if (problem_.base == nullptr) throw InputError("an estimation problem needs base parameters");
+  if (problem_.threads < 1) throw InputError("threads must be >= 1");
+  if (problem_.prior.size() == 0) problem_.prior = problem_.model.standardParameters();
+  if (problem_.prior.size() != problem_.model.parameterLayout().size())
+    throw InputError("the prior has " + std::to_string(problem_.prior.size()) +
+                     " parameters, the model " +
+                     std::to_string(problem_.model.parameterLayout().size()));
+}
+
+Model MethodRunner::modelWith(const Eigen::VectorXd& theta) const {
+  Model m = problem_.model;
+  m.setStandardParameters(theta);
+  return m;
+}
+
+const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {
+  const auto found = least_squares_.find(method);
+  if (found != least_squares_.end()) return found->second.first;
+  problem_.control.say(method == Method::kPc ? "identify: pc (physically consistent)"
+                                             : std::string("identify: ") + methodName(method));
+  const auto started = Clock::now();
+  LeastSquaresOutcome ls = leastSquaresEstimate(method, *problem_.base, problem_.least_squares,
+                                                problem_.prior, problem_.physical);
+  return least_squares_.emplace(method, std::make_pair(std::move(ls), since(started)))
+      .first->second.first;
+}
+
+const Model& MethodRunner::searchStart() {
+  if (!start_) {
+    if (problem_.search_start == SearchStart::kPhysicallyConsistent)
+      start_ = modelWith(leastSquares(Method::kPc).standard);
+    else
+      start_ = problem_.start.value_or(problem_.model);
+  }
+  return *start_;
+}
+
+const ParameterSpace& MethodRunner::space(Method method) {
+  const Method searched = searchOf(method);
+  if (!isSearch(searched))
+    throw InputError(std::string("'") + methodName(method) + "' does not search");
+  if (!nlo_space_) {
+    const Model& start = searchStart();
+    SpaceOptions nlo_options;
+    nlo_options.total_mass_constraint = true;
+    nlo_options.total_mass = problem_.total_mass.value_or(totalMass(start));
+    nlo_space_ = std::make_unique<ParameterSpace>(start, nlo_options);
+    ga_space_ = std::make_unique<ParameterSpace>(start, SpaceOptions{});
+  }
+  return searched == Method::kGa ? *ga_space_ : *nlo_space_;
+}
+
+const SearchResult* MethodRunner::searchResult(Method method) const {
+  const auto it = searches_.find(method);
+  return it == searches_.end() ? nullptr : &it->second;
+}
+
+const SearchResult& MethodRunner::search(Method method) {
+  const auto found = searches_.find(method);
+  if (found != searches_.end()) return found->second;
+  if (problem_.train_gc == nullptr)
+    throw InputError(std::string("'") + methodName(method) + "' needs a GC-error problem");
+  const ParameterSpace& space_of = space(method);
+  problem_.control.say(std::string("search: ") + methodName(method) + " (" +
+                       budgetText(problem_.search_budget) + ")");
+  SearchContext context;
+  context.space = &space_of;
+  context.problem = problem_.train_gc;
+  context.pool = &pool_;
+  context.truth_full = problem_.truth_full;
+  context.budget = problem_.search_budget;
+  context.seed = problem_.seed;
+  context.stop = problem_.control.stop;
+  if (problem_.on_search_iteration)
+    context.on_iteration = [&](const SearchState& state) {
+      problem_.on_search_iteration(method, state, space_of);
+    };
+  SearchResult result = dispatchSearch(method, context, problem_.ga, problem_.nlo);
+  return searches_.emplace(method, std::move(result)).first->second;
+}
+
+Estimate MethodRunner::refine(Method method) {
+  const Method searched = searchOf(method);
+  const SearchResult& found = search(searched);
+  const ParameterSpace& space_of = space(searched);
+  const RefineSettings& settings = problem_.refine;
+  problem_.control.say(
+      std::string("refine: ") + methodName(searched) + " (at most " +
+      std::to_string(settings.iterations) + " iterations" +
+      (settings.seconds > 0.0 ? ", " + std::to_string(settings.seconds) + " s" : std::string()) +
+      ")");
+  RefineOptions options;
+  options.num_threads = pool_.numThreads();
+  options.max_iterations = settings.iterations;
+  options.max_seconds = settings.seconds;
+  options.function_tolerance = settings.tolerance;
+  options.stop = problem_.control.stop;
+  const BaseCoordinates coordinates = problem_.base->coordinates();
+  const RefineResult refined =
+      refineGc(space_of, *problem_.train_gc, found.best_x, options, &coordinates);
+  Estimate out;
+  out.method = method;
+  out.model = space_of.modelAt(refined.x);
+  out.evaluations = refined.base_iterations + refined.iterations;
+  out.seconds = refined.seconds;
+  out.start_gc = refined.initial_gc;
+  out.note = refined.termination + "; GC error from " + std::to_string(refined.initial_gc) +
+             " to " + std::to_string(refined.final_gc);
+  if (settings.keep_if_better) {
+    // The refinement's start is the search's point projected onto the space (bounds, mass
+    // plane); a refinement that ends above the search's own training GC error is not kept.
+    const Model searched_model = space_of.modelAt(found.best_x);
+    if (!(gcError(out.model, *problem_.train_gc, workspace_, pool_) <=
+          gcError(searched_model, *problem_.train_gc, workspace_, pool_))) {
+      out.model = searched_model;
+      out.note = "kept the search's result: the refinement did not lower its training GC error (" +
+                 out.note + ")";
+    }
+  }
+  return out;
+}
+
+Estimate MethodRunner::run(Method method) {
+  if (!isSearch(method) && !isRefined(method)) {
+    const LeastSquaresOutcome& ls = leastSquares(method);
+    Estimate out;
+    out.method = method;
+    out.model = modelWith(ls.standard);
+    out.evaluations = ls.pc ? ls.pc->iterations : 0;
+    out.seconds = least_squares_.at(method).second;
+    out.least_squares = &ls;
+    return out;
+  }
+  if (isRefined(method)) return refine(method);
+  const SearchResult& found = search(method);
+  Estimate out;
+  out.method = method;
+  out.model = space(method).modelAt(found.best_x);
+  out.evaluations = found.evaluations;
+  out.seconds = found.seconds;
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,163 @@
+// The one estimation pipeline. An EstimationProblem holds what every method needs (base
+// parameters, the least-squares source, the training GC problem, the search start and budgets,
+// the physically consistent and refinement settings, one run control); a MethodRunner runs any
+// Method on it (ols, wls, pc, nlo, ga, hybrid and their refinements) and holds every policy once:
+// least-squares dispatch, the search spaces and their start, memoised searches, refinement and
+// keep-if-better. identifyRun, Study (demo, batch) and logStudyRun (dynid study) all estimate
+// through it, so they cannot disagree.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "analysis/methods.hpp"
+#include "core/parallel.hpp"
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/least_squares.hpp"
+#include "identifiability/least_squares_stream.hpp"
+#include "identifiability/observation.hpp"
+#include "identifiability/physically_consistent.hpp"
+#include "search/gc_error.hpp"
+#include "search/optimizers.hpp"
+#include "search/parameter_space.hpp"
+#include "search/refinement/refine.hpp"
+
+namespace dynid {
+
+/// A stop flag (SIGINT) and a progress hook shared by the long runs.
+struct RunControl {
+  const std::atomic<bool>* stop = nullptr;
+  std::function<void(const std::string&)> progress;  // one line per stage
+  bool stopped() const { return stop != nullptr && stop->load(); }
+  void say(const std::string& line) const {
+    if (progress) progress(line);
+  }
+};
+
+/// One least-squares estimate (ols, wls or pc) of the base parameters.
+struct LeastSquaresOutcome {
+  BaseEstimate estimate;  // for pc: the base fields of the consistent solution
+  std::optional<PhysicalEstimate> pc;
+  Eigen::VectorXd standard;  // a full standard vector: pc's, or beta with the rest from `prior`
+};
+
+/// Where the least-squares rows come from: a dense observation, or a stream's factors (memory
+/// independent of the dataset's length). Exactly one is set.
+struct LeastSquaresSource {
+  const Observation* observation = nullptr;
+  LeastSquaresStream* stream = nullptr;  // estimates flush its pending rows
+  ParameterLayout layout;  // the stream's parameter layout (pc needs it)
+};
+
+/// The one least-squares dispatch: `method` is ols, wls or pc (InputError otherwise); `prior`
+/// (p entries) fills what the data cannot see and is pc's prior.
+LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& base,
+                                         const LeastSquaresSource& source,
+                                         const Eigen::VectorXd& prior,
+                                         const PhysicalOptions& pc_options = {});
+
+/// The one search dispatch: runs `method` (nlo, ga or hybrid; InputError otherwise) on a prepared
+/// context.
+SearchResult dispatchSearch(Method method, const SearchContext& context, const GaOptions& ga,
+                            const NloOptions& nlo);
+
+/// How a GC-error refinement runs and whether its result is kept.
+struct RefineSettings {
+  int iterations = 50;         // per stage, >= 1
+  double seconds = 60.0;       // per refinement (0: no limit)
+  double tolerance = 1e-6;     // stop when an iteration lowers the cost by less than this fraction
+  bool keep_if_better = true;  // keep the search's result when refinement ends with a higher
+                               // training GC error
+};
+
+/// Where the searches start.
+enum class SearchStart {
+  kPrior,                 // the problem's start model
+  kPhysicallyConsistent,  // the pc estimate (a realisable body whose friction dissipates)
+};
+
+struct EstimationProblem {
+  Model model;  // the robot: its structure, and the parameters of `prior` unless given
+  const BaseParameters* base = nullptr;
+  LeastSquaresSource least_squares;
+  Eigen::VectorXd prior;  // pc's prior and what least squares cannot see (empty: the model's)
+  PhysicalOptions physical;
+  // Searches and refinements (null when only least squares run):
+  const GcProblem* train_gc = nullptr;
+  SearchStart search_start = SearchStart::kPrior;
+  std::optional<Model> start;        // kPrior's start model (default: the model)
+  std::optional<double> total_mass;  // NLO's total-mass plane (default: the start's mass)
+  SearchBudget search_budget;
+  std::uint64_t seed = 1;
+  GaOptions ga;
+  NloOptions nlo;
+  RefineSettings refine;
+  const Eigen::VectorXd* truth_full = nullptr;  // the paper form's true vector (errors), or null
+  /// Called after each search iteration with the method, its state and its space.
+  std::function<void(Method, const SearchState&, const ParameterSpace&)> on_search_iteration;
+  int threads = 1;  // >= 1
+  RunControl control;
+};
+
+/// One method's estimate.
+struct Estimate {
+  Method method = Method::kOls;
+  Model model;
+  long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc), 0 (ols, wls)
+  double seconds = 0.0;
+  std::string note;  // refinements: how it ended, or why the search's result was kept
+  /// Refinements: the training GC error where the refinement started; NaN otherwise.
+  double start_gc = std::numeric_limits<double>::quiet_NaN();
+  const LeastSquaresOutcome* least_squares =
+      nullptr;  // least-squares methods (owned by the runner)
+};
+
+class MethodRunner {
+ public:
+  /// Throws InputError for a problem without base parameters or least-squares source, or with
+  /// threads < 1.
+  explicit MethodRunner(EstimationProblem problem);
+  MethodRunner(const MethodRunner&) = delete;
+  MethodRunner& operator=(const MethodRunner&) = delete;
+
+  /// Runs `method`, once: least squares and searches are memoised (a refinement refines its
+  /// search's result, searching first when needed). Searches and refinements need train_gc
+  /// (InputError otherwise).
+  Estimate run(Method method);
+
+  /// The least-squares outcome of `method` (ols, wls, pc), computed on first use.
+  const LeastSquaresOutcome& leastSquares(Method method);
+  /// The search `method` (nlo, ga, hybrid) when it has run, else null.
+  const SearchResult* searchResult(Method method) const;
+  /// The space the search `method` moves in (NLO and hybrid hold the total mass, GA does not),
+  /// built on first use from the search start.
+  const ParameterSpace& space(Method method);
+  /// The searches' start model (kPhysicallyConsistent: computes the pc estimate).
+  const Model& searchStart();
+  const EstimationProblem& problem() const { return problem_; }
+  /// The stop flag of the runs that follow (SIGINT), replacing the problem's.
+  void setStop(const std::atomic<bool>* stop) { problem_.control.stop = stop; }
+  ThreadPool& pool() { return pool_; }
+
+ private:
+  Model modelWith(const Eigen::VectorXd& theta) const;
+  const SearchResult& search(Method method);
+  Estimate refine(Method method);
+  EstimationProblem problem_;
+  ThreadPool pool_;
+  GcWorkspace workspace_;
+  std::map<Method, std::pair<LeastSquaresOutcome, double>> least_squares_;  // with seconds
+  std::map<Method, SearchResult> searches_;
+  std::optional<Model> start_;
+  std::unique_ptr<ParameterSpace> nlo_space_, ga_space_;
+};
+
+}  // namespace dynid
