@@ -1,8 +1,11 @@
-# dynid_add_library(NAME SOURCES... DEPS...): one library per module, exported as dynid::NAME.
-# Headers live beside the sources (core/rnea.hpp) and are included as "core/rnea.hpp"; they are
-# installed under include/dynid/<module>/ (or include/dynid/<HEADER_DIR>/ for a nested module).
+# dynid_add_library(NAME SOURCES... DEPS... [INTERNAL header.hpp...]): one library per module,
+# exported as dynid::NAME. Headers live beside the sources (core/rnea.hpp) and are included as
+# "core/rnea.hpp"; every public one is installed as include/dynid/<module>/<name>.hpp (or
+# include/dynid/<HEADER_DIR>/ for a nested module), so a consumer of find_package(dynid) writes
+# #include <dynid/core/rnea.hpp>. The INTERNAL headers (implementation rooms no public header
+# includes) are not installed.
 function(dynid_add_library name)
-  cmake_parse_arguments(ARG "" "HEADER_DIR" "SOURCES;DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "HEADER_DIR" "SOURCES;DEPS;INTERNAL" ${ARGN})
   if(NOT ARG_HEADER_DIR)
     set(ARG_HEADER_DIR ${name})
   endif()
@@ -12,12 +15,20 @@ function(dynid_add_library name)
                                                  POSITION_INDEPENDENT_CODE ON)
   target_include_directories(dynid_${name} PUBLIC
     $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/dynid>)
   target_link_libraries(dynid_${name} PUBLIC ${ARG_DEPS} PRIVATE $<BUILD_INTERFACE:dynid_warnings>)
   install(TARGETS dynid_${name} EXPORT dynidTargets
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynid/${ARG_HEADER_DIR}
-          FILES_MATCHING PATTERN "*.hpp")
+  file(GLOB headers RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} CONFIGURE_DEPENDS
+       ${CMAKE_CURRENT_SOURCE_DIR}/*.hpp)
+  foreach(header ${ARG_INTERNAL})
+    if(NOT header IN_LIST headers)
+      message(FATAL_ERROR "dynid_add_library(${name}): no internal header ${header}")
+    endif()
+  endforeach()
+  list(REMOVE_ITEM headers ${ARG_INTERNAL})
+  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/dynid/${ARG_HEADER_DIR})
 endfunction()
 
 include(GoogleTest)

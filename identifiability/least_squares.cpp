@@ -7,16 +7,6 @@
 
 namespace dynid {
 
-LeastSquaresMethod parseLeastSquaresMethod(const std::string& name) {
-  if (name == "ols") return LeastSquaresMethod::kOrdinary;
-  if (name == "wls") return LeastSquaresMethod::kWeighted;
-  throw InputError("unknown least-squares method '" + name + "' (expected ols or wls)");
-}
-
-const char* leastSquaresMethodName(LeastSquaresMethod method) {
-  return method == LeastSquaresMethod::kOrdinary ? "ols" : "wls";
-}
-
 namespace {
 
 /// Per-joint RMS of the rows k n + j of r.
@@ -45,18 +35,6 @@ BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observatio
     stream.add(W.middleRows(row, n), observation.tau.segment(row, n));
   }
   return stream.estimate(method);
-}
-
-void setRelativeErrors(BaseEstimate& e) {
-  const Eigen::Index n = e.residual_rms.size();
-  e.joint_relative_error.resize(n);
-  for (Eigen::Index j = 0; j < n; ++j)
-    e.joint_relative_error[j] = e.measured_rms[j] > 0.0 ? e.residual_rms[j] / e.measured_rms[j]
-                                                        : std::numeric_limits<double>::infinity();
-  // Every joint has the same number of samples: the norms over all rows from the per-joint RMS.
-  const double measured = e.measured_rms.norm();
-  e.relative_error =
-      measured > 0.0 ? e.residual_rms.norm() / measured : std::numeric_limits<double>::infinity();
 }
 
 Validation validateBaseEstimate(const BaseParameters& base, const Eigen::VectorXd& beta,

@@ -22,8 +22,8 @@
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 #include "core/trajectory.hpp"
+#include "identifiability/base_estimate.hpp"
 #include "identifiability/base_parameters.hpp"
-#include "identifiability/least_squares.hpp"
 #include "identifiability/tall_qr.hpp"
 
 namespace dynid {

@@ -6,7 +6,7 @@
 #include <type_traits>
 
 #include "core/integrators.hpp"
-#include "search/gc_error.hpp"
+#include "search/gc_problem.hpp"
 
 namespace dynid {
 

@@ -13,7 +13,7 @@
 #include "core/model.hpp"
 #include "search/gc_error.hpp"
 #include "search/parameter_space.hpp"
-#include "search/refinement/refine.hpp"
+#include "search/refinement/options.hpp"
 
 namespace ceres {
 class CostFunction;

@@ -9,7 +9,7 @@
 
 #include "core/parallel.hpp"
 #include "search/refinement/costs.hpp"
-#include "search/refinement/refine.hpp"
+#include "search/refinement/options.hpp"
 
 namespace dynid {
 

@@ -6,6 +6,22 @@ execute_process(COMMAND "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${
 if(rc)
   message(FATAL_ERROR "cmake --install failed")
 endif()
+# Public headers under include/dynid/<module>/, internal ones not installed at all.
+foreach(header core/rnea.hpp core/drive_terms.hpp search/gc_problem.hpp search/refinement/options.hpp
+               analysis/pipeline.hpp identifiability/base_estimate.hpp)
+  if(NOT EXISTS "${WORK_DIR}/prefix/include/dynid/${header}")
+    message(FATAL_ERROR "the public header dynid/${header} was not installed")
+  endif()
+endforeach()
+foreach(header search/gc_rollout.hpp search/refinement/uncertainty.hpp data/json_reader.hpp
+               data/json_number.hpp)
+  if(EXISTS "${WORK_DIR}/prefix/include/dynid/${header}")
+    message(FATAL_ERROR "the internal header dynid/${header} was installed")
+  endif()
+endforeach()
+if(EXISTS "${WORK_DIR}/prefix/include/core")
+  message(FATAL_ERROR "headers were installed outside include/dynid/")
+endif()
 execute_process(COMMAND "${CMAKE_COMMAND}" -S "${SOURCE_DIR}" -B "${WORK_DIR}/build"
                         -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix -DCMAKE_BUILD_TYPE=Release
                 RESULT_VARIABLE rc)

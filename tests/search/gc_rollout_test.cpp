@@ -8,6 +8,7 @@
 #include "core/model-inl.hpp"
 #include "core/perturb.hpp"
 #include "data/puma560.hpp"
+#include "search/gc_error.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {

@@ -1,9 +1,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/rnea.hpp"
-#include "data/puma560.hpp"
-#include "reports/demo_report.hpp"
+#include <dynid/core/rnea.hpp>
+#include <dynid/data/puma560.hpp>
+#include <dynid/reports/demo_report.hpp>
 
 int main() {
   const dynid::Model model = dynid::makePuma560();
