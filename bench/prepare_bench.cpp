@@ -15,7 +15,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "analysis/prepare.hpp"
+#include "analysis/logs/prepare.hpp"
 #include "data/io.hpp"
 #include "reports/prepare_report.hpp"
 

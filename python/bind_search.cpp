@@ -8,7 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "analysis/excite.hpp"
-#include "analysis/prepare.hpp"
+#include "analysis/logs/prepare.hpp"
 #include "analysis/run_json.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"

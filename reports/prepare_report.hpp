@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/prepare.hpp"
+#include "analysis/logs/prepare.hpp"
 
 namespace dynid {
 

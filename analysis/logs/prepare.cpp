@@ -1,4 +1,4 @@
-#include "analysis/prepare.hpp"
+#include "analysis/logs/prepare.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,90 +9,20 @@
 #include <sstream>
 #include <tuple>
 
+#include "analysis/logs/read_log.hpp"
 #include "core/errors.hpp"
 #include "data/io.hpp"
-#include "data/raw_log.hpp"
 
 namespace dynid {
 
 namespace {
 
-/// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) and
-/// ddq (n) when logged. Only the first `rows` rows are live (dropping samples compacts in place).
-struct RawSignals {
-  Eigen::MatrixXd values;
-  Eigen::Index rows = 0;
-  int n = 0;
-  bool has_dq = false, has_ddq = false;
-  int ddq_at = 0;                            // ddq's first column
-  std::function<int(Eigen::Index)> line_of;  // the file line of a raw row (before sorting)
-  std::string file;                          // the file holding the time stamps
-  auto time() const { return values.col(0).head(rows); }
-  auto q() const { return values.block(0, 1, rows, n); }
-  auto tau() const { return values.block(0, 1 + n, rows, n); }
-  auto dq() const { return values.block(0, 1 + 2 * n, rows, n); }
-};
-
-/// The table's columns or the per-signal files, in SI units, as RawSignals.
-RawSignals readSignals(const LogSource& source, const std::string& table_path,
-                       const PrepareOptions& options) {
-  RawSignals out;
-  int n = source.num_joints;
-  std::string tau_file = table_path;
-  if (!table_path.empty()) {
-    const RawTable header = readRawHeader(table_path);
-    const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "--q");
-    n = static_cast<int>(q.size());
-    std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
-    columns.insert(columns.end(), q.begin(), q.end());
-    const std::vector<int> tau =
-        selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
-    columns.insert(columns.end(), tau.begin(), tau.end());
-    for (const auto& [selector, what] :
-         {std::pair{&source.dq_columns, "--dq"}, std::pair{&source.ddq_columns, "--ddq"}})
-      if (!selector->empty()) {
-        const std::vector<int> more = selectColumns(header, *selector, n, what);
-        columns.insert(columns.end(), more.begin(), more.end());
-      }
-    out.values = readRawColumns(header, columns);
-    out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
-    out.has_dq = !source.dq_columns.empty();
-    out.has_ddq = !source.ddq_columns.empty();
-  } else {
-    if (n <= 0)
-      throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
-    if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
-      throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
-    const Eigen::VectorXd time = readValueFile(source.time_file, 1).col(0);
-    out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
-    const Eigen::Index samples = time.size();
-    out.has_dq = !source.dq_file.empty();
-    out.has_ddq = !source.ddq_file.empty();
-    out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * n);
-    out.values.col(0) = time;
-    int at = 1;
-    for (const auto& [name, file] :
-         {std::pair<const char*, const std::string*>{"q", &source.q_file},
-          {source.current ? "current" : "tau", &source.tau_file},
-          {"dq", &source.dq_file},
-          {"ddq", &source.ddq_file}}) {
-      if (file->empty()) continue;
-      const Eigen::MatrixXd m = readValueFile(*file, n);
-      if (m.rows() != samples)
-        throw ParseError(*file, 0, name,
-                         "has " + std::to_string(m.rows()) + " samples, the time file " +
-                             std::to_string(samples));
-      out.values.middleCols(at, n) = m;
-      at += n;
-    }
-    tau_file = source.tau_file;
-  }
-  out.n = n;
-  out.rows = out.values.rows();
-  out.file = table_path.empty() ? source.time_file : table_path;
+/// The log's signals in SI units: time and angles scaled, motor currents times torque constant
+/// and gear ratio.
+void applyUnits(RawSignals& out, const LogSource& source, const PrepareOptions& options) {
+  const int n = out.n;
   out.values.col(0) *= options.time_scale;
   out.values.middleCols(1, n) *= options.angle_scale;
-  out.ddq_at = 1 + (out.has_dq ? 3 : 2) * n;
   if (out.has_dq) out.values.middleCols(1 + 2 * n, n) *= options.angle_scale;
   if (out.has_ddq) out.values.middleCols(out.ddq_at, n) *= options.angle_scale;
   if (source.current) {
@@ -100,7 +30,7 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
       if (v.size() == 0 && !required) return;
       if (v.size() != n)
         throw InputError(std::string(what) + " has " + std::to_string(v.size()) +
-                         " values; the log (" + tau_file + ") has " + std::to_string(n) +
+                         " values; the log (" + out.tau_file + ") has " + std::to_string(n) +
                          " joints: give one per joint");
       for (Eigen::Index j = 0; j < n; ++j)
         if (!std::isfinite(v[j]) || v[j] == 0.0)
@@ -115,7 +45,6 @@ RawSignals readSignals(const LogSource& source, const std::string& table_path,
   } else if (options.torque_constants.size() > 0 || options.gear_ratios.size() > 0) {
     throw InputError("torque constants and gear ratios apply to motor currents (--current)");
   }
-  return out;
 }
 
 double median(std::vector<double> v) {
@@ -477,8 +406,9 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   if (names.empty()) names.push_back("");  // the per-signal files
   std::vector<double> all_steps;
   for (const std::string& name : names) {
-    files.push_back(readSignals(source, name, options));
+    files.push_back(readLog(source, name));
     RawSignals& s = files.back();
+    applyUnits(s, source, options);
     out.raw_samples += static_cast<int>(s.rows);
     const std::string label = name.empty() ? source.time_file : name;
     if (s.n != files.front().n)

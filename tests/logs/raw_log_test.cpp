@@ -1,4 +1,4 @@
-#include "data/raw_log.hpp"
+#include "analysis/logs/raw_log.hpp"
 
 #include <sys/stat.h>
 

@@ -1,4 +1,4 @@
-#include "analysis/prepare.hpp"
+#include "analysis/logs/prepare.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Raw robot logs as they come: delimited tables (comma, semicolon, tab or whitespace, with or
 // without a header line) and one-signal-per-file layouts (a value per line, n values per sample,
 // like Gaz et al.'s Panda log). Only reading and column selection live here; cleaning, filtering
-// and differentiation are analysis/prepare.hpp's.
+// and differentiation are analysis/logs/prepare.hpp's.
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-#include "data/raw_log.hpp"
+#include "analysis/logs/raw_log.hpp"
 
 #include <fnmatch.h>
 #include <sys/stat.h>

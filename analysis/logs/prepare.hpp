@@ -1,8 +1,8 @@
 // dynid prepare: a raw log in, a dynid dataset out (data/dataset_csv.hpp). The pipeline, per file
 // and per run (samples between gaps):
-//   read (data/raw_log.hpp) -> units (degrees, time unit, motor current x torque constant x gear
-//   ratio) -> sort by time, drop repeated stamps and stalled repeats -> split at gaps -> resample
-//   to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
+//   read (analysis/logs/raw_log.hpp) -> units (degrees, time unit, motor current x torque constant
+//   x gear ratio) -> sort by time, drop repeated stamps and stalled repeats -> split at gaps ->
+//   resample to a uniform rate (linear) -> zero-phase Butterworth low-pass of q, dq and tau alike
 //   ("parallel filtering") -> dq (when not logged, or asked) and ddq by central differences ->
 //   trim the filter's edge transients -> decimate -> concatenate -> split train / validate (the
 //   last fraction of each run, whole runs, time ranges).
@@ -14,21 +14,11 @@
 #include <utility>
 #include <vector>
 
+#include "analysis/logs/read_log.hpp"
 #include "core/signal.hpp"
 #include "core/trajectory.hpp"
 
 namespace dynid {
-
-/// Where the signals are: tables with column selectors (data/raw_log.hpp's selectColumns), or one
-/// file per signal (a value per line, n per sample).
-struct LogSource {
-  std::vector<std::string> tables;  // delimited tables, in order; empty: one file per signal
-  std::string time_column = "1", q_columns, dq_columns, tau_columns;  // table selectors
-  std::string time_file, q_file, dq_file, tau_file;                   // one file per signal
-  int num_joints = 0;                 // 0: the q selector's count (tables) or required (files)
-  bool current = false;               // the tau selector or file holds motor currents [A]
-  std::string ddq_columns, ddq_file;  // logged accelerations (rare): a table selector or a file
-};
 
 struct PrepareOptions {
   double time_scale = 1.0;   // seconds per time unit (ms: 1e-3)

@@ -1,0 +1,70 @@
+#include "analysis/logs/read_log.hpp"
+
+#include <utility>
+
+#include "analysis/logs/raw_log.hpp"
+#include "core/errors.hpp"
+
+namespace dynid {
+
+RawSignals readLog(const LogSource& source, const std::string& table_path) {
+  RawSignals out;
+  int n = source.num_joints;
+  std::string tau_file = table_path;
+  if (!table_path.empty()) {
+    const RawTable header = readRawHeader(table_path);
+    const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "--q");
+    n = static_cast<int>(q.size());
+    std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
+    columns.insert(columns.end(), q.begin(), q.end());
+    const std::vector<int> tau =
+        selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
+    columns.insert(columns.end(), tau.begin(), tau.end());
+    for (const auto& [selector, what] :
+         {std::pair{&source.dq_columns, "--dq"}, std::pair{&source.ddq_columns, "--ddq"}})
+      if (!selector->empty()) {
+        const std::vector<int> more = selectColumns(header, *selector, n, what);
+        columns.insert(columns.end(), more.begin(), more.end());
+      }
+    out.values = readRawColumns(header, columns);
+    out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
+    out.has_dq = !source.dq_columns.empty();
+    out.has_ddq = !source.ddq_columns.empty();
+  } else {
+    if (n <= 0)
+      throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
+    if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
+      throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
+    const Eigen::VectorXd time = readValueFile(source.time_file, 1).col(0);
+    out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
+    const Eigen::Index samples = time.size();
+    out.has_dq = !source.dq_file.empty();
+    out.has_ddq = !source.ddq_file.empty();
+    out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * n);
+    out.values.col(0) = time;
+    int at = 1;
+    for (const auto& [name, file] :
+         {std::pair<const char*, const std::string*>{"q", &source.q_file},
+          {source.current ? "current" : "tau", &source.tau_file},
+          {"dq", &source.dq_file},
+          {"ddq", &source.ddq_file}}) {
+      if (file->empty()) continue;
+      const Eigen::MatrixXd m = readValueFile(*file, n);
+      if (m.rows() != samples)
+        throw ParseError(*file, 0, name,
+                         "has " + std::to_string(m.rows()) + " samples, the time file " +
+                             std::to_string(samples));
+      out.values.middleCols(at, n) = m;
+      at += n;
+    }
+    tau_file = source.tau_file;
+  }
+  out.tau_file = tau_file;
+  out.n = n;
+  out.rows = out.values.rows();
+  out.file = table_path.empty() ? source.time_file : table_path;
+  out.ddq_at = 1 + (out.has_dq ? 3 : 2) * n;
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,50 @@
+// The logs wing's one seam: readLog turns one recording, whatever its format, into RawSignals
+// (time, q, tau and, when logged, dq and ddq, one row per sample, in the file's own units, with
+// the file and line of every row for messages). `dynid prepare` (prepare.hpp) starts from there.
+// A new log format is one reader file beside raw_log.hpp and one branch of readLog
+// (docs/ARCHITECTURE.md, "A new log format").
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// Where the signals are: tables with column selectors (analysis/logs/raw_log.hpp's selectColumns),
+/// or one file per signal (a value per line, n per sample).
+struct LogSource {
+  std::vector<std::string> tables;  // delimited tables, in order; empty: one file per signal
+  std::string time_column = "1", q_columns, dq_columns, tau_columns;  // table selectors
+  std::string time_file, q_file, dq_file, tau_file;                   // one file per signal
+  int num_joints = 0;                 // 0: the q selector's count (tables) or required (files)
+  bool current = false;               // the tau selector or file holds motor currents [A]
+  std::string ddq_columns, ddq_file;  // logged accelerations (rare): a table selector or a file
+};
+
+/// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) and
+/// ddq (n) when logged. Only the first `rows` rows are live (dropping samples compacts in place).
+struct RawSignals {
+  Eigen::MatrixXd values;
+  Eigen::Index rows = 0;
+  int n = 0;
+  bool has_dq = false, has_ddq = false;
+  int ddq_at = 0;                            // ddq's first column
+  std::string tau_file;                      // the file holding tau (or the currents)
+  std::function<int(Eigen::Index)> line_of;  // the file line of a raw row (before sorting)
+  std::string file;                          // the file holding the time stamps
+  auto time() const { return values.col(0).head(rows); }
+  auto q() const { return values.block(0, 1, rows, n); }
+  auto tau() const { return values.block(0, 1 + n, rows, n); }
+  auto dq() const { return values.block(0, 1 + 2 * n, rows, n); }
+};
+
+/// Recording `table` of `source` (a path in source.tables), or, with `table` empty, the
+/// one-file-per-signal log. Throws ParseError for a malformed file (file, line, column) and
+/// InputError for a source that names too little (no joint count for per-signal files, no q or
+/// tau) or selectors that do not match.
+RawSignals readLog(const LogSource& source, const std::string& table);
+
+}  // namespace dynid
