@@ -1,9 +1,5 @@
 #include "analysis/batch.hpp"
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -15,8 +11,6 @@
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
 #include "data/robots.hpp"
-
-extern char** environ;
 
 namespace dynid {
 
@@ -303,49 +297,10 @@ BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool qu
   return plan;
 }
 
-BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker,
-                      const std::atomic<bool>* stop,
-                      const std::function<void(std::size_t, std::size_t)>& on_finished) {
-  const auto stopped = [&] { return stop != nullptr && stop->load(); };
-  std::filesystem::create_directories(plan.dir + "/runs");
+BatchOutcome collectBatch(const BatchPlan& plan) {
   BatchOutcome out;
   out.total = plan.runs.size();
   out.plan = plan.record;
-  // Worker processes, `jobs` at a time.
-  std::map<pid_t, std::size_t> running;
-  std::size_t next = 0, finished = 0;
-  while ((next < plan.todo.size() && !stopped()) || !running.empty()) {
-    while (next < plan.todo.size() && static_cast<int>(running.size()) < jobs && !stopped()) {
-      const std::size_t i = plan.todo[next++];
-      const std::vector<std::string> argv_strings = {
-          worker, "batch", "run", "--spec", plan.runs[i].dump(), "--out", plan.path(i)};
-      std::vector<char*> argv;
-      for (const std::string& a : argv_strings) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      pid_t pid = 0;
-      if (posix_spawn(&pid, worker.c_str(), nullptr, nullptr, argv.data(), environ) != 0) {
-        out.failed.push_back(batchRunName(i, plan.runs[i]) + " (could not start a worker)");
-        continue;
-      }
-      running[pid] = i;
-    }
-    if (running.empty()) break;
-    int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0) {
-      if (errno == EINTR) continue;
-      break;
-    }
-    const auto it = running.find(pid);
-    if (it == running.end()) continue;
-    const std::size_t i = it->second;
-    running.erase(it);
-    ++finished;
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) && !stopped())
-      out.failed.push_back(batchRunName(i, plan.runs[i]));
-    if (on_finished) on_finished(finished, plan.todo.size());
-  }
-  out.interrupted = stopped();
   for (std::size_t i : plan.mine) {
     json r = storedResult(plan.path(i), plan.runs[i]);
     if (r.is_null())
@@ -424,13 +379,6 @@ BatchOutcome mergeBatches(const std::vector<std::string>& dirs, bool allow_missi
                      ". Finish them (run each shard's command again) or pass --allow-missing");
   }
   return out;
-}
-
-std::string selfExecutable() {
-  std::error_code ec;
-  const auto path = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) throw InputError("cannot find the dynid executable (/proc/self/exe)");
-  return path.string();
 }
 
 }  // namespace dynid

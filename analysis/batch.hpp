@@ -1,6 +1,7 @@
-// Batch studies (`dynid batch`, docs/BATCH.md): a manifest's grid of Study runs, each run in a
-// worker process, resumable from the results already stored, shardable across machines, with
-// shards merged afterwards. The tables are written by reports/batch_report.hpp.
+// Batch studies (`dynid batch`, docs/BATCH.md): a manifest's grid of Study runs, resumable from
+// the results already stored, shardable across machines, with shards merged afterwards. The
+// worker processes that run them are the CLI's (cli/batch_workers.hpp). The tables are written by
+// reports/batch_report.hpp.
 #pragma once
 
 #include <atomic>
@@ -71,12 +72,10 @@ struct BatchOutcome {
   nlohmann::json plan;               // the BatchPlan's record (merged: shard 1 of 1)
   bool interrupted = false;
 };
-/// Runs plan.todo in worker processes (`worker` is the dynid executable, started as
-/// `worker batch run --spec JSON --out FILE`), `jobs` at a time; stops starting runs when *stop
-/// is set. `on_finished(finished, todo)` after each worker exits.
-BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker,
-                      const std::atomic<bool>* stop,
-                      const std::function<void(std::size_t, std::size_t)>& on_finished = {});
+/// This shard's stored results (plan.mine): done in index order, and the missing runs named. The
+/// worker processes that run plan.todo belong to the front end (cli/batch_workers.hpp); a run
+/// is one `runBatchSpec` whose record is stored at plan.path(i).
+BatchOutcome collectBatch(const BatchPlan& plan);
 
 /// Every run stored under the shard directories, checked against the grid their results.json's
 /// plan describes (the manifest itself, --quick and the shard count, equal in every shard).
@@ -84,8 +83,5 @@ BatchOutcome runBatch(const BatchPlan& plan, int jobs, const std::string& worker
 /// whose spec is not its grid entry's), and InputError naming the missing runs and
 /// the shards not given when the merge is incomplete, unless `allow_missing`.
 BatchOutcome mergeBatches(const std::vector<std::string>& dirs, bool allow_missing = false);
-
-/// This executable's path (/proc/self/exe), to start the workers.
-std::string selfExecutable();
 
 }  // namespace dynid

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "analysis/batch.hpp"
+#include "cli/batch_workers.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/batch_report.hpp"
@@ -107,7 +108,7 @@ int runBatch(const std::vector<std::string>& args) {
   const bool terminal = stderrIsTerminal();
   const InterruptGuard guard;
   const BatchOutcome outcome =
-      runBatch(plan, jobs, selfExecutable(), guard.flag(), [&](std::size_t done, std::size_t all) {
+      runBatchWorkers(plan, jobs, guard.flag(), [&](std::size_t done, std::size_t all) {
         if (terminal)
           std::cerr << "\r[batch] " << done << "/" << all << " runs finished" << std::flush;
       });

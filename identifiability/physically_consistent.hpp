@@ -1,35 +1,8 @@
 // Physically consistent identification: the least-squares fit of the torques over the standard
-// parameters theta whose links all have a positive definite pseudo-inertia J_i(theta)
-// (core/log_cholesky.hpp: J = [Sigma h; h^T m] >= 0 is exactly physical realisability), with the
-// drive parameters the drive-term table marks non-negative (Ia, Fv, Fc, Fs; Fo and Fa free):
-//
-//     min over theta of  F(theta) = 1/2 |(R P theta - c) / sigma|^2
-//                                 + lambda sum_i d(J_i(theta), J_i,prior)
-//                                 + lambda sum_j b(x_j / s_j)
-// where
-// - Q R = W1 (the base regressor; c = Q^T tau, so the first term is the full residual's chi-square
-//   up to a constant), sigma the OLS residual standard deviation, floored at 1e-6 of the torques'
-//   RMS;
-// - d(J, J_p) = tr(J_p^-1 J) - log det(J_p^-1 J) - 4, the entropic (log-determinant) divergence of
-//   Lee, Wensing & Park ("Geometric robot dynamic identification: a convex programming approach",
-//   IEEE T-RO 2020): dimensionless, convex in theta, zero at the prior and infinite on the boundary
-//   of the physical set, so the minimiser is an interior point and unique;
-// - b(x/s) = x/s - log(x/s) - 1 for the positive drive terms (the same divergence in one
-//   dimension, s the prior's magnitude), and ((x - x_p)/s)^2 / 2 for the free ones;
-// - J_i,prior: the prior's links, each moved inside the physical set first.
-// lambda (PhysicalOptions::prior_weight) is in chi-square units: a change of one standard deviation
-// in a base parameter costs 1/2, so with lambda << 1 the data decide every direction they see, and
-// the prior the directions they cannot see (the null space of W) and how close to the boundary a
-// link may come. F is strictly convex; Newton's method with a backtracking line search that keeps
-// every iterate inside the physical set converges quadratically from any consistent start, and
-// stops when the Newton decrement says F is within `tolerance` of its minimum, or within what F's
-// own rounding can resolve (1e-14 |F|) when that is larger: exact, noise-free data give a tiny
-// sigma and an F of 1e13 or more, whose last digits are rounding.
-//
-// (The earlier solver, Levenberg-Marquardt over log-Cholesky coordinates in Ceres, did not
-// converge on real data: the optimum lies on the boundary, at infinite log-Cholesky coordinates,
-// and Ceres's LM, dogleg, non-monotonic steps and a plain Cholesky factor all crawled for 3000
-// iterations on Gaz et al.'s Panda log. docs/IDENTIFIABILITY.md has the numbers.)
+// parameters whose links all have a positive definite pseudo-inertia (core/log_cholesky.hpp),
+// regularised by the entropic divergence from a prior, with the drive parameters the drive-term
+// table marks non-negative kept positive; strictly convex, solved by Newton's method along the
+// interior. The objective and the solver: docs/REFINEMENT.md, "The physically consistent problem".
 #pragma once
 
 #include <functional>
@@ -52,10 +25,11 @@ inline constexpr double kDefaultPriorWeight = 1.0;
 void checkPriorWeight(double weight);
 
 struct PhysicalOptions {
-  /// lambda, > 0: the weight of the divergence from the prior, in chi-square units (see above).
-  /// 1: the prior counts about like one more observation. Much smaller weights leave the unseen
-  /// directions free to take implausible values that buy room from the boundary (on the Panda log
-  /// 1e-3 gives link 2 a mass of 50 kg; 1 gives 2 kg) and take many more Newton steps.
+  /// lambda, > 0: the weight of the divergence from the prior, in chi-square units
+  /// (docs/REFINEMENT.md). 1: the prior counts about like one more observation. Much smaller
+  /// weights leave the unseen directions free to take implausible values that buy room from the
+  /// boundary (on the Panda log 1e-3 gives link 2 a mass of 50 kg; 1 gives 2 kg) and take many more
+  /// Newton steps.
   double prior_weight = kDefaultPriorWeight;
   int max_iterations = 1000;
   /// Newton decrement tolerance: stop when the quadratic model says F is within this of its
@@ -65,7 +39,7 @@ struct PhysicalOptions {
   std::function<void(const Eigen::VectorXd& theta)> on_iterate = {};
 };
 
-/// The prepared problem (see the header comment for the symbols).
+/// The prepared problem (the symbols: docs/REFINEMENT.md, "The physically consistent problem").
 struct PhysicalProblem {
   ParameterLayout layout;
   Eigen::MatrixXd A;      // R P / sigma, num_base x p: the data term is |A theta - b|^2 / 2
