@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "analysis/options.hpp"
 #include "analysis/pipeline.hpp"
 #include "core/errors.hpp"
 #include "data/dataset_csv.hpp"
@@ -19,23 +20,21 @@ double since(Clock::time_point start) {
 }
 
 void validate(const LogStudyRequest& r) {
-  const auto require = [](bool ok, const std::string& what) {
-    if (!ok) throw InputError(what);
-  };
-  require(!r.data_file.empty(), "the study needs training data (--data)");
-  require(!r.validate_file.empty(), "the study needs held-out data (--validate)");
-  require(std::isfinite(r.search_seconds) && r.search_seconds >= 0.0,
-          "search seconds must be >= 0");
-  require(r.search_evaluations >= 0, "search evaluations must be >= 0");
-  require(r.search_seconds > 0.0 || r.search_evaluations > 0,
-          "a search needs a budget: search seconds or evaluations > 0");
-  require(r.refine_iterations >= 1, "refine iterations must be >= 1");
-  require(std::isfinite(r.refine_seconds) && r.refine_seconds >= 0.0,
-          "refine seconds must be >= 0");
-  require(std::isfinite(r.refine_tolerance) && r.refine_tolerance >= 0.0,
-          "the refinement tolerance must be >= 0");
-  checkPriorWeight(r.prior_weight);
-  require(r.threads >= 0, "threads must be >= 0");
+  if (r.data_file.empty()) throw InputError("the study needs training data (--data)");
+  if (r.validate_file.empty()) throw InputError("the study needs held-out data (--validate)");
+  // The ranges of dynid study's options (analysis/options.hpp), by field name.
+  checkOption("study", "horizon", r.segments.horizon, "horizon");
+  checkOption("study", "segments", r.segments.num_segments, "segments");
+  checkOption("study", "search-seconds", r.search_seconds, "search_seconds");
+  checkOption("study", "search-evaluations", static_cast<double>(r.search_evaluations),
+              "search_evaluations");
+  if (r.search_seconds == 0.0 && r.search_evaluations == 0)
+    throw InputError("a search needs a budget: search seconds or evaluations > 0");
+  checkOption("study", "refine-iterations", r.refine_iterations, "refine_iterations");
+  checkOption("study", "refine-seconds", r.refine_seconds, "refine_seconds");
+  checkOption("study", "refine-tolerance", r.refine_tolerance, "refine_tolerance");
+  checkOption("study", "prior-weight", r.prior_weight, "prior_weight");
+  checkOption("study", "threads", r.threads, "threads");
 }
 
 /// The GC problem of a dataset with at most the requested segments (all it holds when fewer).

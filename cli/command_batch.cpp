@@ -94,9 +94,7 @@ int runBatch(const std::vector<std::string>& args) {
       "dynid batch MANIFEST.json --jobs N [--shard K/N] [--quick] --out DIR\n"
       "       dynid batch merge DIR... --out DIR";
   if (!parseCommandLine(args, options, usage, vm, &positional)) return kExitOk;
-  const int jobs = checkedOption<int>(
-      vm, "jobs", [](int j) { return j >= 1 && j <= kMaxThreadsOption; },
-      "1 to " + std::to_string(kMaxThreadsOption));
+  const int jobs = vm["jobs"].as<int>();
   const auto [shard, shards] =
       vm.count("shard") ? parseShard(vm["shard"].as<std::string>()) : std::pair{1, 1};
   const std::string dir = vm["out"].as<std::string>();

@@ -33,10 +33,8 @@ int runDemo(const std::vector<std::string>& args) {
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   DemoOptions demo;
   demo.threads = threadsOption(vm);
-  demo.search_seconds = checkedOption<double>(
-      vm, "search-seconds", [](double s) { return s >= 0.0; }, ">= 0");
-  demo.search_evaluations = checkedOption<long>(
-      vm, "search-evaluations", [](long e) { return e >= 0; }, ">= 0");
+  demo.search_seconds = vm["search-seconds"].as<double>();
+  demo.search_evaluations = vm["search-evaluations"].as<long>();
   demo.refine_iterations = vm["refine-iterations"].as<int>();
   demo.refine_seconds = vm["refine-seconds"].as<double>();
   demo.prior_weight = priorWeightOption(vm);

@@ -93,8 +93,7 @@ LogSource logSource(const po::variables_map& vm) {
 void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
   o.time_scale = parseOption(vm, "time-unit", timeUnitScale);
   o.angle_scale = parseOption(vm, "angle-unit", angleUnitScale);
-  o.rate = checkedOption<double>(
-      vm, "rate", [](double r) { return r >= 0.0; }, ">= 0");
+  o.rate = vm["rate"].as<double>();
   const std::string cutoff = text(vm, "cutoff");
   o.auto_cutoff = cutoff == "auto";
   if (!o.auto_cutoff && cutoff != "default") {
@@ -110,12 +109,9 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
   o.savitzky_golay = derivative == "savgol";
   o.savgol_window = vm["savgol-window"].as<int>();
   o.savgol_degree = vm["savgol-degree"].as<int>();
-  o.order = checkedOption<int>(
-      vm, "order", [](int k) { return k >= 1 && k <= 12; }, "1 to 12");
-  o.decimate = checkedOption<int>(
-      vm, "decimate", [](int d) { return d >= 1; }, ">= 1");
-  o.max_gap = checkedOption<double>(
-      vm, "max-gap", [](double g) { return g >= 0.0; }, ">= 0");
+  o.order = vm["order"].as<int>();
+  o.decimate = vm["decimate"].as<int>();
+  o.max_gap = vm["max-gap"].as<double>();
   o.trim = vm["trim"].as<double>();
   o.derive_dq = vm["derive-dq"].as<bool>();
   o.derive_ddq = vm["derive-ddq"].as<bool>();
@@ -131,8 +127,7 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
 
 /// What is held out for validation.
 void readHoldOut(const po::variables_map& vm, PrepareOptions& o) {
-  o.validate_fraction = checkedOption<double>(
-      vm, "validate-fraction", [](double f) { return f >= 0.0 && f < 1.0; }, "in [0, 1)");
+  o.validate_fraction = vm["validate-fraction"].as<double>();
   if (vm.count("validate-runs"))
     for (double r : parseList(text(vm, "validate-runs"), "validate-runs")) {
       if (r < 1 || r != std::floor(r)) throw UsageError("--validate-runs: runs count from 1");

@@ -53,14 +53,10 @@ int runRefine(const std::vector<std::string>& args) {
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   RefineRequest request;
   RefineOptions& refine = request.options;
-  refine.max_iterations = checkedOption<int>(
-      vm, "max-iterations", [](int i) { return i >= 1; }, ">= 1");
+  refine.max_iterations = vm["max-iterations"].as<int>();
   refine.num_threads = threadsOption(vm);
-  refine.max_seconds = checkedOption<double>(
-      vm, "budget-seconds", [](double s) { return s >= 0.0; }, ">= 0");
-  refine.continuity_weight = checkedOption<double>(
-      vm, "continuity-weight", [](double w) { return w >= 0.0 && std::isfinite(w); },
-      "a finite number >= 0");
+  refine.max_seconds = vm["budget-seconds"].as<double>();
+  refine.continuity_weight = vm["continuity-weight"].as<double>();
   refine.estimate_initial_states = vm["estimate-initial-states"].as<bool>();
   refine.fix_gauge = !vm["no-gauge"].as<bool>();
   refine.base_stage = !vm["no-base-stage"].as<bool>();

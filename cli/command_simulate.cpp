@@ -59,8 +59,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");
   const IntegratorType integrator = parseOption(vm, "integrator", parseIntegrator);
-  const int harmonics = checkedOption<int>(
-      vm, "harmonics", [](int h) { return h >= 1; }, "at least 1");
+  const int harmonics = vm["harmonics"].as<int>();
   SimulateRequest request;
   request.robot = loadRobotFromOptions(vm);
   SimulationOptions& sim = request.simulation;

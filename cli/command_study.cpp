@@ -42,21 +42,15 @@ int runStudy(const std::vector<std::string>& args) {
   request.validate_file = vm["validate"].as<std::string>();
   request.methods =
       parseOption(vm, "methods", [](const std::string& list) { return parseMethods(list); });
-  request.segments.horizon = checkedOption<double>(
-      vm, "horizon", [](double h) { return h > 0.0; }, "> 0");
-  request.segments.num_segments = checkedOption<int>(
-      vm, "segments", [](int s) { return s >= 1; }, ">= 1");
+  request.segments.horizon = vm["horizon"].as<double>();
+  request.segments.num_segments = vm["segments"].as<int>();
   request.segments.seed = vm["seed"].as<std::uint64_t>();
-  request.search_seconds = checkedOption<double>(
-      vm, "search-seconds", [](double s) { return s >= 0.0; }, ">= 0");
-  request.search_evaluations = checkedOption<long>(
-      vm, "search-evaluations", [](long e) { return e >= 0; }, ">= 0");
+  request.search_seconds = vm["search-seconds"].as<double>();
+  request.search_evaluations = vm["search-evaluations"].as<long>();
   if (request.search_seconds == 0.0 && request.search_evaluations == 0)
     throw UsageError("a search needs a budget: --search-seconds or --search-evaluations > 0");
-  request.refine_iterations = checkedOption<int>(
-      vm, "refine-iterations", [](int i) { return i >= 1; }, ">= 1");
-  request.refine_seconds = checkedOption<double>(
-      vm, "refine-seconds", [](double s) { return s >= 0.0; }, ">= 0");
+  request.refine_iterations = vm["refine-iterations"].as<int>();
+  request.refine_seconds = vm["refine-seconds"].as<double>();
   request.seed = vm["seed"].as<std::uint64_t>();
   request.prior_weight = priorWeightOption(vm);
   request.keep_if_better = keepIfBetterOption(vm);

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <limits>
 
+#include "analysis/options.hpp"
 #include "data/io.hpp"
 
 namespace dynid::cli {
@@ -32,74 +33,6 @@ void rejectNegativeUnsigned(const po::parsed_options& parsed,
   }
 }
 
-/// The documented range of every numeric option, checked when the command line is parsed so that
-/// a hostile value is a usage error naming the option before any work starts (docs/RELIABILITY.md
-/// lists them). `command` empty: every command; zero_ok: 0 (a default or "none") is also taken.
-struct OptionRange {
-  const char* command;
-  const char* option;
-  double lo, hi;
-  bool lo_open, zero_ok;
-};
-constexpr double kNoLimit = std::numeric_limits<double>::max();
-constexpr OptionRange kOptionRanges[] = {
-    {"", "duration", 0.0, 1e6, true, false},
-    {"", "dt", 1e-7, 1.0, false, false},
-    {"simulate", "rate", 0.0, 1e6, true, false},
-    {"prepare", "rate", 1e-3, 1e7, false, true},
-    {"", "noise-q", 0.0, kNoLimit, false, false},
-    {"", "noise-dq", 0.0, kNoLimit, false, false},
-    {"", "noise-tau", 0.0, kNoLimit, false, false},
-    {"", "amplitude", 0.0, 100.0, false, false},
-    {"", "base-frequency", 0.0, 1e3, true, false},
-    {"", "harmonics", 1.0, 1000.0, false, false},
-    {"", "bandwidth", 0.0, 1e4, true, false},
-    {"", "controller-perturb", 0.0, 0.999, false, false},
-    {"", "perturb", 0.0, 0.999, false, false},
-    {"", "budget-evals", 0.0, 1e12, false, false},
-    {"", "budget-seconds", 0.0, 1e9, false, false},
-    {"", "gc-tolerance", 0.0, kNoLimit, false, false},
-    {"", "range", 0.0, 1e3, false, false},
-    {"", "absolute-range", 0.0, 1e6, false, false},
-    {"", "total-mass", 0.0, 1e6, true, false},
-    {"", "horizon", 0.0, 1e4, true, false},
-    {"", "segments", 0.0, 1e6, false, false},
-    {"", "step", 1e-6, 10.0, false, true},
-    {"", "population", 2.0, 1e6, false, false},
-    {"", "elites", 0.0, 1e6, false, false},
-    {"", "migration", 0.0, 1.0, false, false},
-    {"", "mutation-rate", 0.0, 1.0, false, false},
-    {"", "mutation-scale", 0.0, 1e3, false, false},
-    {"", "evals-per-seed", 1.0, 1e9, false, false},
-    {"", "samples", 0.0, 1e6, false, false},
-    {"", "tolerance", 0.0, 1.0, false, false},
-    {"", "prior-weight", 0.0, 1e12, false, false},
-    {"", "max-iterations", 0.0, 1e6, false, false},
-    {"", "continuity-weight", 0.0, 1e12, false, false},
-    {"", "search-seconds", 0.0, 1e9, false, false},
-    {"", "search-evaluations", 0.0, 1e12, false, false},
-    {"", "refine-iterations", 0.0, 1e6, false, false},
-    {"", "refine-seconds", 0.0, 1e9, false, false},
-    {"", "joints", 0.0, 1000.0, false, false},
-    {"", "order", 1.0, 12.0, false, false},
-    {"", "decimate", 1.0, 1e6, false, false},
-    {"", "max-gap", 0.0, 1e6, false, false},
-    {"", "validate-fraction", 0.0, 0.999, false, false},
-    {"", "savgol-window", 0.0, 1e5, false, false},
-    {"", "savgol-degree", 2.0, 6.0, false, false},
-    {"excite", "period", 0.0, 1e4, true, false},
-    {"excite", "harmonics", 2.0, 50.0, false, false},
-    {"excite", "starts", 1.0, 1e4, false, false},
-    {"excite", "evaluations", 1.0, 1e8, false, false},
-    {"excite", "grid-rate", 0.0, 1e5, true, false},
-    {"excite", "check-rate", 0.0, 1e6, true, false},
-    {"excite", "csv-rate", 0.0, 1e6, true, false},
-    {"excite", "torque-noise", 0.0, 1e6, true, false},
-    {"excite", "torque-margin", 0.0, 1.0, true, false},
-    {"excite", "base-radius", 0.0, 1e3, false, false},
-    {"excite", "floor", -1e3, 1e3, false, false},
-};
-
 /// The numeric value of an option as a double (false when it is not numeric).
 bool numericValue(const boost::any& value, double* x) {
   if (const auto* d = boost::any_cast<double>(&value))
@@ -115,24 +48,16 @@ bool numericValue(const boost::any& value, double* x) {
   return true;
 }
 
-std::string rangeText(const OptionRange& r) {
-  std::string text = r.lo_open ? "> " + formatDouble(r.lo) : ">= " + formatDouble(r.lo);
-  if (r.hi < kNoLimit) text += " and <= " + formatDouble(r.hi);
-  if (r.zero_ok) text = "0 or " + text;
-  return text;
-}
-
-/// Every numeric option finite and within its range (kOptionRanges), defaults included.
+/// Every numeric option finite and within its range (analysis/options.hpp), defaults included.
 void checkRanges(const po::variables_map& vm, const std::string& command) {
   for (const auto& [name, entry] : vm) {
     double x = 0.0;
     if (!numericValue(entry.value(), &x)) continue;
     if (!std::isfinite(x)) throw po::error("--" + name + " must be a finite number");
-    for (const OptionRange& r : kOptionRanges) {
-      if (name != r.option || (r.command[0] != '\0' && command != r.command)) continue;
-      const bool ok = (r.zero_ok && x == 0.0) || ((r.lo_open ? x > r.lo : x >= r.lo) && x <= r.hi);
-      if (!ok)
-        throw po::error("--" + name + " must be " + rangeText(r) + ", not " + formatDouble(x));
+    try {
+      checkOption(command, name, x, "--" + name);
+    } catch (const InputError& e) {
+      throw po::error(e.what());
     }
   }
 }
@@ -220,13 +145,7 @@ void addPriorWeightOption(po::options_description& options) {
 }
 
 double priorWeightOption(const po::variables_map& vm) {
-  const double weight = vm["prior-weight"].as<double>();
-  try {
-    checkPriorWeight(weight);
-  } catch (const InputError& e) {
-    throw UsageError(std::string("--prior-weight: ") + e.what());
-  }
-  return weight;
+  return vm["prior-weight"].as<double>();  // > 0: analysis/options.hpp
 }
 
 void addKeepRefinementOption(po::options_description& options) {
@@ -244,9 +163,7 @@ void addThreadsOption(po::options_description& options) {
 }
 
 int threadsOption(const po::variables_map& vm) {
-  return checkedOption<int>(
-      vm, "threads", [](int t) { return t >= 0 && t <= kMaxThreadsOption; },
-      "0 (all cores) to " + std::to_string(kMaxThreadsOption));
+  return vm["threads"].as<int>();  // 0 to 256: analysis/options.hpp
 }
 
 void addRobotOptions(po::options_description& options) {
@@ -296,9 +213,7 @@ void addStructuralOptions(po::options_description& options) {
 }
 
 StructuralOptions structuralOptions(const po::variables_map& vm) {
-  return {checkedOption<int>(
-              vm, "samples", [](int s) { return s >= 0; }, ">= 0"),
-          vm["seed"].as<std::uint64_t>(), vm["tolerance"].as<double>()};
+  return {vm["samples"].as<int>(), vm["seed"].as<std::uint64_t>(), vm["tolerance"].as<double>()};
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }

@@ -53,16 +53,10 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
     throw UsageError(std::string("--") + option + ": " + e.what());
   }
 }
-/// The value of a numeric option, checked: a UsageError "--name must be <rule>" unless ok(value).
-template <typename T, typename Ok>
-T checkedOption(const po::variables_map& vm, const char* option, Ok ok, const std::string& rule) {
-  const T value = vm[option].as<T>();
-  if (!ok(value)) throw UsageError(std::string("--") + option + " must be " + rule);
-  return value;
-}
-/// --threads: 0 (all cores) to kMaxThreadsOption (more threads than cores only slow a run down,
-/// and thousands exhaust the system's process table).
-constexpr int kMaxThreadsOption = 256;
+// Every numeric option's range is checked when the command line is parsed, from the one table
+// in analysis/options.hpp: read the value with vm[name].as<T>().
+/// --threads: 0 (all cores) to 256 (analysis/options.hpp: more threads than cores only slow a run
+/// down, and thousands exhaust the system's process table).
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);
 

@@ -5,6 +5,7 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/options.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "data/json_number.hpp"
@@ -72,9 +73,8 @@ py::dict validationDict(const Validation& v) {
 }
 
 StructuralOptions structural(int samples, std::uint64_t seed, double tolerance) {
-  if (samples < 0) throw py::value_error("samples: expected >= 0 (0: max(100, 5 p / n))");
-  if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
-    throw py::value_error("tolerance: expected a finite number >= 0 (0: the default)");
+  checkOption("identify", "samples", samples, "samples");
+  checkOption("identify", "tolerance", tolerance, "tolerance");
   return {samples, seed, tolerance};
 }
 
@@ -89,11 +89,7 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const std::string& robot_spec) {
   checkThreads(threads);
-  try {
-    checkPriorWeight(prior_weight);
-  } catch (const InputError& e) {
-    throw InputError(std::string("prior_weight: ") + e.what());
-  }
+  checkOption("identify", "prior-weight", prior_weight, "prior_weight");
   IdentifyRequest request;
   request.model = model;
   request.method = parseMethod(method, leastSquaresMethods());

@@ -7,6 +7,7 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/options.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
@@ -76,12 +77,7 @@ std::string pathArg(const py::handle& value, const char* name) {
   throw py::type_error(std::string(name) + ": expected a path (str or os.PathLike)");
 }
 
-void checkThreads(int threads) {
-  if (threads < 0 || threads > ThreadPool::kMaxThreads)
-    throw py::value_error("threads: expected 0 (all cores) to " +
-                          std::to_string(ThreadPool::kMaxThreads) + ", got " +
-                          std::to_string(threads));
-}
+void checkThreads(int threads) { checkOption("", "threads", threads, "threads"); }
 
 DataArg dataArg(const py::handle& value, const char* name, const Model& model) {
   DataArg out;

@@ -9,6 +9,7 @@
 
 #include "analysis/excite.hpp"
 #include "analysis/logs/prepare.hpp"
+#include "analysis/options.hpp"
 #include "analysis/run_json.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
@@ -88,7 +89,7 @@ Trajectory simulatePy(const Model& model, double duration, double dt, double rat
   if (controller != "sinusoidal" && controller != "fourier")
     throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
                           "'");
-  if (harmonics < 1) throw py::value_error("harmonics: expected at least 1");
+  checkOption("simulate", "harmonics", harmonics, "harmonics");
   const int n = model.numJoints();
   SimulateRequest r;
   r.robot = model;
@@ -138,8 +139,8 @@ SearchPy searchPy(const Model& robot, const py::handle& data, const std::string&
                   std::uint64_t seed, int threads, const std::string& checkpoint) {
   checkThreads(threads);
   if (init && perturb) throw py::value_error("give init or perturb, not both");
-  if (budget_evals < 0 || budget_seconds < 0)
-    throw py::value_error("budget_evals, budget_seconds: expected >= 0");
+  checkOption("search", "budget-evals", static_cast<double>(budget_evals), "budget_evals");
+  checkOption("search", "budget-seconds", budget_seconds, "budget_seconds");
   if (mass_constraint != "on" && mass_constraint != "off" && mass_constraint != "auto")
     throw py::value_error("mass_constraint: expected 'on', 'off' or 'auto'");
   SearchRequest r;
@@ -197,10 +198,9 @@ RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle&
                   bool base_stage, bool gauge, double budget_seconds, const std::string& form,
                   double range, double horizon, int segments, int threads) {
   checkThreads(threads);
-  if (max_iterations < 1) throw py::value_error("max_iterations: expected >= 1");
-  if (!(budget_seconds >= 0.0)) throw py::value_error("budget_seconds: expected >= 0");
-  if (!(continuity_weight >= 0.0) || !std::isfinite(continuity_weight))
-    throw py::value_error("continuity_weight: expected a finite number >= 0");
+  checkOption("refine", "max-iterations", max_iterations, "max_iterations");
+  checkOption("refine", "budget-seconds", budget_seconds, "budget_seconds");
+  checkOption("refine", "continuity-weight", continuity_weight, "continuity_weight");
   RefineRequest r;
   r.robot = robot;
   if (py::isinstance<SearchPy>(start)) {

@@ -50,7 +50,8 @@ PYBIND11_MODULE(dynid, m) {
       "dynid: inertial-parameter identification of robot manipulators.\n\n"
       "Arrays are NumPy float64 in SI units and radians. A batch of states is an (N, n) array, "
       "one row per state; one state is an (n,) array. Standard parameters per link: m, mx, my, "
-      "mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz (then the drive terms Ia, Fv, Fc, Fo, Fa, Fs that the model "
+      "mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz (then the drive terms Ia, Fv, Fc, Fo, Fa, Fs that the "
+      "model "
       "enables), named m1, mx1, ..., Ia1. Datasets are a path to a dynid CSV or a Dataset.";
   m.attr("__version__") = DYNID_VERSION;
   dynid::python::registerExceptions(m);
