@@ -46,8 +46,6 @@ std::uint64_t splitmix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-std::string jointName(const Model& model, int j) { return model.joint_names[j]; }
-
 /// Sine and cosine of every harmonic on a time grid: the design's q, dq, ddq are then products.
 struct Grid {
   Eigen::VectorXd time;
@@ -368,12 +366,6 @@ double firstOrderGcCondition(const Model& model, const BaseParameters& base,
   return scaledConditionNumber(rows);
 }
 
-void checkJointVector(const Eigen::VectorXd& v, int n, const std::string& what) {
-  if (v.size() != n)
-    throw InputError(what + " has " + std::to_string(v.size()) + " entries, the model has " +
-                     std::to_string(n) + " joints");
-}
-
 }  // namespace
 
 const std::vector<std::string>& excitationCriterionNames() {
@@ -434,16 +426,6 @@ FourierDesign readExcitationDesign(const std::string& path, int num_joints) {
   return excitationDesignFrom(parseJsonDocument(readFile(path), path), path, num_joints);
 }
 
-void checkOffsets(const Model& model, const ExcitationLimits& limits,
-                  const Eigen::VectorXd& offset) {
-  checkJointVector(offset, model.numJoints(), "the offset");
-  for (int j = 0; j < model.numJoints(); ++j)
-    if (!(offset[j] > limits.q_min[j] && offset[j] < limits.q_max[j]))
-      throw InputError("joint '" + model.joint_names[j] + "' at " + formatDouble(offset[j]) +
-                       " is not inside its position range (" + formatDouble(limits.q_min[j]) +
-                       ", " + formatDouble(limits.q_max[j]) + ")");
-}
-
 SinusoidalReference defaultSinusoid(const Model& model) {
   const int n = model.numJoints();
   SinusoidalReference r;
@@ -452,81 +434,6 @@ SinusoidalReference defaultSinusoid(const Model& model) {
   r.frequency = defaultFrequencies(n);
   r.phase = Eigen::VectorXd::Zero(n);
   return r;
-}
-
-ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
-  const int n = model.numJoints();
-  for (const auto* v : {&o.q_min, &o.q_max, &o.dq_max, &o.ddq_max, &o.tau_max})
-    if (*v) checkJointVector(**v, n, "a limit");
-  ExcitationLimits l;
-  l.q_min.resize(n);
-  l.q_max.resize(n);
-  l.dq_max.resize(n);
-  l.ddq_max.resize(n);
-  l.tau_max.resize(n);
-  std::vector<std::string> position, velocity, acceleration, torque;
-  for (int j = 0; j < n; ++j) {
-    const JointLimits& m = model.limits[j];
-    const bool prismatic = model.joint_types()[j] == JointType::kPrismatic;
-    const double range = prismatic ? kDefaultPrismaticRange : kDefaultRevoluteRange;
-    l.q_min[j] = o.q_min ? (*o.q_min)[j] : m.lower;
-    l.q_max[j] = o.q_max ? (*o.q_max)[j] : m.upper;
-    if (!std::isfinite(l.q_min[j]) || !std::isfinite(l.q_max[j])) {
-      if (!std::isfinite(l.q_min[j])) l.q_min[j] = -range;
-      if (!std::isfinite(l.q_max[j])) l.q_max[j] = range;
-      position.push_back(jointName(model, j));
-    }
-    l.dq_max[j] = o.dq_max ? (*o.dq_max)[j] : m.velocity;
-    if (!std::isfinite(l.dq_max[j])) {
-      l.dq_max[j] = kDefaultVelocityLimit;
-      velocity.push_back(jointName(model, j));
-    }
-    l.ddq_max[j] = o.ddq_max ? (*o.ddq_max)[j] : m.acceleration;
-    if (!std::isfinite(l.ddq_max[j])) {
-      l.ddq_max[j] = kDefaultAccelerationLimit;
-      acceleration.push_back(jointName(model, j));
-    }
-    l.tau_max[j] = o.tau_max ? (*o.tau_max)[j] : m.effort;
-    if (!std::isfinite(l.tau_max[j])) torque.push_back(jointName(model, j));
-    const std::string joint = "joint '" + jointName(model, j) + "': ";
-    if (!(l.q_min[j] < l.q_max[j]))
-      throw InputError(joint + "the position range [" + formatDouble(l.q_min[j]) + ", " +
-                       formatDouble(l.q_max[j]) + "] is empty");
-    if (!(l.dq_max[j] > 0.0))
-      throw InputError(joint + "the velocity limit must be > 0, not " + formatDouble(l.dq_max[j]));
-    if (!(l.ddq_max[j] > 0.0))
-      throw InputError(joint + "the acceleration limit must be > 0, not " +
-                       formatDouble(l.ddq_max[j]));
-    if (!(l.tau_max[j] > 0.0))
-      throw InputError(joint + "the torque limit must be > 0, not " + formatDouble(l.tau_max[j]));
-  }
-  // A torque limit on some joints only: the others get none (no constraint).
-  if (!torque.empty() && static_cast<int>(torque.size()) < n)
-    for (int j = 0; j < n; ++j)
-      if (!std::isfinite(l.tau_max[j])) l.tau_max[j] = std::numeric_limits<double>::infinity();
-  auto note = [&](const std::vector<std::string>& joints, const std::string& what,
-                  const std::string& used) {
-    if (joints.empty()) return;
-    std::string list;
-    for (const std::string& j : joints) list += (list.empty() ? "" : ", ") + j;
-    l.notes.push_back("the model gives no " + what + " for " + list + ": " + used);
-  };
-  note(position, "position limits",
-       "+-" + formatDouble(kDefaultRevoluteRange) + " rad (+-" +
-           formatDouble(kDefaultPrismaticRange) + " m prismatic) used");
-  note(velocity, "velocity limit", formatDouble(kDefaultVelocityLimit) + " rad/s used");
-  note(acceleration, "acceleration limit",
-       formatDouble(kDefaultAccelerationLimit) + " rad/s^2 used");
-  note(torque, "torque limit", "torques not limited");
-  if (!(o.torque_margin > 0.0 && o.torque_margin <= 1.0))
-    throw InputError("the torque margin must be in (0, 1], not " + formatDouble(o.torque_margin));
-  if (!(o.base_radius >= 0.0) || !std::isfinite(o.base_radius))
-    throw InputError("the base radius must be >= 0 and finite, not " + formatDouble(o.base_radius));
-  if (o.floor && !std::isfinite(*o.floor)) throw InputError("the floor must be finite");
-  l.torque_margin = o.torque_margin;
-  l.floor = o.floor;
-  l.base_radius = o.base_radius;
-  return l;
 }
 
 FourierReference FourierDesign::reference() const {
@@ -548,54 +455,12 @@ Trajectory FourierDesign::sample(const Model& model, double rate) const {
   return sampleOn(*this, model, Grid(period, harmonics(), static_cast<int>(points), true));
 }
 
-LimitCheck checkLimits(const Model& model, const Trajectory& motion,
-                       const ExcitationLimits& limits) {
-  const int n = model.numJoints();
-  LimitCheck c;
-  c.rate = motion.numSamples() > 1
-               ? (motion.numSamples() - 1) / (motion.time[motion.numSamples() - 1] - motion.time[0])
-               : 0.0;
-  c.q_low = motion.q.rowwise().minCoeff();
-  c.q_high = motion.q.rowwise().maxCoeff();
-  c.dq_peak = motion.dq.cwiseAbs().rowwise().maxCoeff();
-  c.ddq_peak = motion.ddq.cwiseAbs().rowwise().maxCoeff();
-  c.tau_peak = motion.tau.cwiseAbs().rowwise().maxCoeff();
-  auto violation = [&](int j, const std::string& what, double value, double limit) {
-    c.violations.push_back("joint '" + model.joint_names[j] + "': " + what + " " +
-                           formatDouble(value) + " beyond " + formatDouble(limit));
-  };
-  for (int j = 0; j < n; ++j) {
-    if (c.q_low[j] < limits.q_min[j]) violation(j, "position", c.q_low[j], limits.q_min[j]);
-    if (c.q_high[j] > limits.q_max[j]) violation(j, "position", c.q_high[j], limits.q_max[j]);
-    if (c.dq_peak[j] > limits.dq_max[j]) violation(j, "speed", c.dq_peak[j], limits.dq_max[j]);
-    if (c.ddq_peak[j] > limits.ddq_max[j])
-      violation(j, "acceleration", c.ddq_peak[j], limits.ddq_max[j]);
-    const double tau_limit = limits.torque_margin * limits.tau_max[j];
-    if (c.tau_peak[j] > tau_limit) violation(j, "torque", c.tau_peak[j], tau_limit);
-  }
-  if (limits.floor || limits.base_radius > 0.0) {
-    Data data(model);
-    c.lowest_origin = c.nearest_base = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < motion.numSamples(); ++k) {
-      const auto& frames = forwardKinematics(model, data, motion.q.col(k));
-      for (const auto& f : frames) c.lowest_origin = std::min(c.lowest_origin, f.translation.z());
-      c.nearest_base = std::min(c.nearest_base, frames.back().translation.head<2>().norm());
-    }
-    if (limits.floor && c.lowest_origin < *limits.floor)
-      c.violations.push_back("a link origin at z = " + formatDouble(c.lowest_origin) +
-                             " m, below the floor at " + formatDouble(*limits.floor) + " m");
-    if (c.nearest_base < limits.base_radius)
-      c.violations.push_back("the last link's origin " + formatDouble(c.nearest_base) +
-                             " m from the base axis, inside the radius " +
-                             formatDouble(limits.base_radius) + " m");
-  }
-  return c;
-}
+namespace {
 
-ExciteOutcome exciteRun(const ExciteRequest& request) {
+/// The request's own ranges; returns the optimiser's grid size.
+int checkExciteRequest(const ExciteRequest& request) {
   const Model& model = request.robot;
   const int n = model.numJoints();
-  const ExcitationLimits& limits = request.limits;
   auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InputError(message);
   };
@@ -619,54 +484,40 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
                        std::round(request.gc_horizon * request.check_rate)) <= 1e-6 &&
               std::round(request.gc_horizon * request.check_rate) >= 1.0,
           "the GC horizon must be a whole number of check-rate samples, within the period");
-  require(limits.q_min.size() == n, "the limits are for another joint count");
+  require(request.limits.q_min.size() == n, "the limits are for another joint count");
   const double grid_points = std::ceil(request.period * request.grid_rate);
   require(grid_points <= 1e6, "the optimiser's grid would have more than 1e6 points");
   requireMemory(request.period * request.check_rate * n * 7 * sizeof(double),
                 "the design sampled at the check rate");
-  if (request.offset) checkOffsets(model, limits, *request.offset);
+  if (request.offset) checkOffsets(model, request.limits, *request.offset);
+  return static_cast<int>(grid_points);
+}
 
-  const auto started = std::chrono::steady_clock::now();
-  const auto deadline =
-      std::isfinite(request.max_seconds)
-          ? started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                          std::chrono::duration<double>(request.max_seconds))
-          : std::chrono::steady_clock::time_point::max();
+/// The best feasible design one start found.
+struct StartBest {
+  std::vector<double> x;
+  double objective = std::numeric_limits<double>::infinity();
+  int evaluations = 0;
+};
 
-  ExciteOutcome out;
-  out.criterion = request.criterion;
-  out.limits = limits;
-  out.torque_noise = request.torque_noise;
-  out.check_rate = request.check_rate;
-  out.grid_rate = request.grid_rate;
-  out.seed = request.seed;
-  out.base = structuralBaseParameters(model, request.structural);
-
-  const Coding coding(limits, request.harmonics, request.period, request.offset);
-  const Grid grid(request.period, request.harmonics, static_cast<int>(grid_points), false);
-  const DesignProblem problem(model, out.base, request, limits, coding, grid);
-  const int m = problem.numConstraints();
-
-  struct Best {
-    std::vector<double> x;
-    double objective = std::numeric_limits<double>::infinity();
-    int evaluations = 0;
-  };
-  std::vector<Best> best(request.starts);
+/// The multistart COBYLA: each start from its seeded random design, stopped by the flag or the
+/// deadline (then `interrupted` or `timed_out` is set).
+struct MultiStart {
+  const ExciteRequest& request;
+  const Coding& coding;
+  const Grid& grid;
+  const DesignProblem& problem;
+  std::chrono::steady_clock::time_point deadline;
   std::atomic<bool> timed_out{false}, interrupted{false};
-  std::mutex progress_mutex;
-  int finished = 0;
 
-  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
-  std::vector<std::unique_ptr<DesignProblem::Workspace>> workspaces;
-  for (int t = 0; t < pool.numThreads(); ++t)
-    workspaces.push_back(std::make_unique<DesignProblem::Workspace>(model));
+  bool stopped() const { return request.control.stop && request.control.stop->load(); }
 
-  pool.parallelFor(request.starts, [&](int s, int thread) {
-    Best& mine = best[s];
-    DesignProblem::Workspace& w = *workspaces[thread];
+  /// Start s on `w`: its best feasible design.
+  StartBest run(int s, DesignProblem::Workspace& w) {
+    StartBest mine;
+    const int m = problem.numConstraints();
     const FourierDesign start =
-        randomStart(coding, limits, grid, request.harmonics,
+        randomStart(coding, request.limits, grid, request.harmonics,
                     splitmix(request.seed ^ splitmix(static_cast<std::uint64_t>(s))));
     std::vector<double> x = coding.encode(start);
     // COBYLA asks for the objective and then the constraints at the same x: one evaluation
@@ -675,9 +526,8 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
     double last_f = 0.0;
     auto evaluate = [&](const double* at) {
       if (!last_x.empty() && std::equal(last_x.begin(), last_x.end(), at)) return;
-      if ((request.control.stop && request.control.stop->load()) ||
-          std::chrono::steady_clock::now() > deadline) {
-        if (request.control.stop && request.control.stop->load())
+      if (stopped() || std::chrono::steady_clock::now() > deadline) {
+        if (stopped())
           interrupted = true;
         else
           timed_out = true;
@@ -724,14 +574,111 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
     } catch (const std::exception&) {
       // nlopt's failure (e.g. a non-finite step): the best feasible point so far stands.
     }
+    return mine;
+  }
+};
+
+/// Why no start met the limits: the constraints of start 0's initial design.
+[[noreturn]] void throwNoFeasibleStart(const ExciteRequest& request, const Coding& coding,
+                                       const Grid& grid, const std::string& termination) {
+  const Model& model = request.robot;
+  const FourierDesign start = randomStart(coding, request.limits, grid, request.harmonics,
+                                          splitmix(request.seed ^ splitmix(0)));
+  const LimitCheck check = checkLimits(model, sampleOn(start, model, grid), request.limits);
+  std::string why = check.violations.empty() ? "" : ": " + check.violations.front();
+  if (termination != "evaluations")
+    throw Error("the design was stopped (" + termination + ") before any start met the limits" +
+                why);
+  throw Error("no start met the limits" + why +
+              " (raise the limit, lower the torque margin's demand, or use --offset)");
+}
+
+/// The check at check_rate: shrinks out.design's coefficients until no limit is crossed between
+/// grid points (positions, speeds and accelerations scale with them; torques are re-checked).
+/// Returns the checked motion.
+Trajectory shrinkIntoLimits(const ExciteRequest& request, ExciteOutcome& out) {
+  const Model& model = request.robot;
+  Trajectory motion = out.design.sample(model, request.check_rate);
+  out.check = checkLimits(model, motion, request.limits);
+  for (int tries = 0; !out.check.violations.empty() && tries < 200; ++tries) {
+    const FourierDesign before = out.design;
+    fitJoints(out.design, Grid(request.period, request.harmonics, motion.numSamples(), true),
+              request.limits, 1.0);
+    if (out.design.a == before.a && out.design.b == before.b) {  // torque or workspace: shrink all
+      out.design.a *= 0.98;
+      out.design.b *= 0.98;
+    }
+    motion = out.design.sample(model, request.check_rate);
+    out.check = checkLimits(model, motion, request.limits);
+  }
+  if (!out.check.violations.empty())
+    throw Error("the best design still breaks a limit at " + formatDouble(request.check_rate) +
+                " Hz after shrinking: " + out.check.violations.front());
+  return motion;
+}
+
+/// The default sinusoid over one period, at `samples` points, with its inverse dynamics.
+Trajectory sinusoidBaseline(const Model& model, double period, int samples) {
+  const int n = model.numJoints();
+  const SinusoidalReference sinusoid = defaultSinusoid(model);
+  const Grid check_grid(period, 1, samples, true);
+  Trajectory baseline;
+  baseline.resize(n, samples);
+  baseline.time = check_grid.time;
+  Data data(model);
+  Eigen::VectorXd q(n), dq(n), ddq(n);
+  for (int k = 0; k < baseline.numSamples(); ++k) {
+    evaluateReference(sinusoid, baseline.time[k], q, dq, ddq);
+    baseline.q.col(k) = q;
+    baseline.dq.col(k) = dq;
+    baseline.ddq.col(k) = ddq;
+    baseline.tau.col(k) = rnea(model, data, q, dq, ddq);
+  }
+  return baseline;
+}
+
+}  // namespace
+
+ExciteOutcome exciteRun(const ExciteRequest& request) {
+  const Model& model = request.robot;
+  const ExcitationLimits& limits = request.limits;
+  const int grid_points = checkExciteRequest(request);
+  const auto started = std::chrono::steady_clock::now();
+  ExciteOutcome out;
+  out.criterion = request.criterion;
+  out.limits = limits;
+  out.torque_noise = request.torque_noise;
+  out.check_rate = request.check_rate;
+  out.grid_rate = request.grid_rate;
+  out.seed = request.seed;
+  out.base = structuralBaseParameters(model, request.structural);
+
+  const Coding coding(limits, request.harmonics, request.period, request.offset);
+  const Grid grid(request.period, request.harmonics, grid_points, false);
+  const DesignProblem problem(model, out.base, request, limits, coding, grid);
+  MultiStart multistart{
+      request, coding, grid, problem,
+      std::isfinite(request.max_seconds)
+          ? started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                          std::chrono::duration<double>(request.max_seconds))
+          : std::chrono::steady_clock::time_point::max()};
+  std::vector<StartBest> best(request.starts);
+  std::mutex progress_mutex;
+  int finished = 0;
+  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
+  std::vector<std::unique_ptr<DesignProblem::Workspace>> workspaces;
+  for (int t = 0; t < pool.numThreads(); ++t)
+    workspaces.push_back(std::make_unique<DesignProblem::Workspace>(model));
+  pool.parallelFor(request.starts, [&](int s, int thread) {
+    best[s] = multistart.run(s, *workspaces[thread]);
     if (request.control.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
       ++finished;
       std::ostringstream line;
       line << "start " << finished << "/" << request.starts << ": "
-           << (std::isfinite(mine.objective) ? "criterion " + formatDouble(mine.objective)
-                                             : std::string("no design within the limits"))
-           << " after " << mine.evaluations << " evaluations";
+           << (std::isfinite(best[s].objective) ? "criterion " + formatDouble(best[s].objective)
+                                                : std::string("no design within the limits"))
+           << " after " << best[s].evaluations << " evaluations";
       request.control.progress(line.str());
     }
   });
@@ -746,60 +693,17 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
         out.best_start = s;
     }
   }
-  out.termination = interrupted ? "interrupted" : timed_out ? "seconds" : "evaluations";
-  if (out.best_start < 0) {
-    // Say which limit the starts could not meet: the constraints of start 0's initial design.
-    const FourierDesign start =
-        randomStart(coding, limits, grid, request.harmonics, splitmix(request.seed ^ splitmix(0)));
-    const LimitCheck check = checkLimits(model, sampleOn(start, model, grid), limits);
-    std::string why = check.violations.empty() ? "" : ": " + check.violations.front();
-    if (out.termination != "evaluations")
-      throw Error("the design was stopped (" + out.termination +
-                  ") before any start met the limits" + why);
-    throw Error("no start met the limits" + why +
-                " (raise the limit, lower the torque margin's demand, or use --offset)");
-  }
+  out.termination = multistart.interrupted ? "interrupted"
+                    : multistart.timed_out ? "seconds"
+                                           : "evaluations";
+  if (out.best_start < 0) throwNoFeasibleStart(request, coding, grid, out.termination);
 
-  // The check at check_rate: shrink the coefficients until no limit is crossed between grid
-  // points (positions, speeds and accelerations scale with them; torques are re-checked).
   out.design = coding.decode(best[out.best_start].x.data());
-  Trajectory motion = out.design.sample(model, request.check_rate);
-  out.check = checkLimits(model, motion, limits);
-  for (int tries = 0; !out.check.violations.empty() && tries < 200; ++tries) {
-    const FourierDesign before = out.design;
-    fitJoints(out.design, Grid(request.period, request.harmonics, motion.numSamples(), true),
-              limits, 1.0);
-    if (out.design.a == before.a && out.design.b == before.b) {  // torque or workspace: shrink all
-      out.design.a *= 0.98;
-      out.design.b *= 0.98;
-    }
-    motion = out.design.sample(model, request.check_rate);
-    out.check = checkLimits(model, motion, limits);
-  }
-  if (!out.check.violations.empty())
-    throw Error("the best design still breaks a limit at " + formatDouble(request.check_rate) +
-                " Hz after shrinking: " + out.check.violations.front());
+  const Trajectory motion = shrinkIntoLimits(request, out);
   const Eigen::MatrixXd& a0 = coding.decode(best[out.best_start].x.data()).a;
   out.shrink = a0.norm() > 0.0 ? out.design.a.norm() / a0.norm() : 1.0;
   out.score = scoreMotion(model, out.base, motion, request.torque_noise);
-
-  // The default sinusoid over the same duration, at the same rate.
-  const SinusoidalReference sinusoid = defaultSinusoid(model);
-  const Grid check_grid(request.period, 1, motion.numSamples(), true);
-  Trajectory baseline;
-  baseline.resize(n, motion.numSamples());
-  baseline.time = check_grid.time;
-  {
-    Data data(model);
-    Eigen::VectorXd q(n), dq(n), ddq(n);
-    for (int k = 0; k < baseline.numSamples(); ++k) {
-      evaluateReference(sinusoid, baseline.time[k], q, dq, ddq);
-      baseline.q.col(k) = q;
-      baseline.dq.col(k) = dq;
-      baseline.ddq.col(k) = ddq;
-      baseline.tau.col(k) = rnea(model, data, q, dq, ddq);
-    }
-  }
+  const Trajectory baseline = sinusoidBaseline(model, request.period, motion.numSamples());
   out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
   out.baseline_check = checkLimits(model, baseline, limits);
   const int threads = pool.numThreads();

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "analysis/excite_limits.hpp"
 #include "analysis/pipeline.hpp"
 #include "core/controllers.hpp"
 #include "core/model.hpp"
@@ -38,41 +39,6 @@ std::string excitationCriterionName(ExcitationCriterion criterion);
 /// Throws InputError naming the accepted names.
 ExcitationCriterion parseExcitationCriterion(const std::string& name);
 
-/// The limits a design keeps (n entries each) and the safety margins it keeps from them.
-struct ExcitationLimits {
-  Eigen::VectorXd q_min, q_max;  // [rad or m]
-  Eigen::VectorXd dq_max;        // [rad/s or m/s]
-  Eigen::VectorXd ddq_max;       // [rad/s^2 or m/s^2]
-  Eigen::VectorXd tau_max;       // [N m or N]; +inf: no torque limit
-  double torque_margin = 0.9;    // |tau| <= torque_margin tau_max (the model's torques are a guess)
-  std::optional<double> floor;   // every link origin stays above this z in the base frame [m]
-  double base_radius = 0.0;      // the last link's origin stays this far from the base z axis [m]
-  std::vector<std::string> notes;  // the limits the model lacked and the defaults used instead
-};
-
-/// Limits given on the command line instead of the model's (n entries each, or absent).
-struct LimitOverrides {
-  std::optional<Eigen::VectorXd> q_min, q_max, dq_max, ddq_max, tau_max;
-  double torque_margin = 0.9;
-  std::optional<double> floor;
-  double base_radius = 0.0;
-};
-
-/// Default limits for a model that has none: the peak speed and acceleration of `dynid simulate`'s
-/// default sinusoid (0.5 rad at up to 0.5 Hz: 1.57 rad/s, 4.9 rad/s^2), rounded up, so a design is
-/// never faster than the motion it is compared with.
-inline constexpr double kDefaultVelocityLimit = 2.0;                     // [rad/s or m/s]
-inline constexpr double kDefaultAccelerationLimit = 5.0;                 // [rad/s^2 or m/s^2]
-inline constexpr double kDefaultRevoluteRange = 3.14159265358979323846;  // +- [rad]
-inline constexpr double kDefaultPrismaticRange = 1.0;                    // +- [m]
-
-/// The model's limits, replaced by the overrides where given and completed with the defaults above
-/// where neither has one (each default is noted; no torque limit when none is known). Throws
-/// InputError naming the joint and the limit for an empty position range, a non-positive
-/// velocity, acceleration or torque limit, a torque margin outside (0, 1], a negative base radius
-/// or a non-finite value.
-ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& overrides);
-
 /// q_j(t) = offset_j + sum_k a_jk / (w k) sin(w k t) - b_jk / (w k) cos(w k t), k = 1..H,
 /// w = 2 pi / period. Periodic; at rest (dq = ddq = 0) at t = 0 and every multiple of the period
 /// when sum_k a_jk = 0 and sum_k k b_jk = 0, which every design dynid makes satisfies.
@@ -88,18 +54,6 @@ struct FourierDesign {
   /// under `model` (drives included). Throws InputError for a joint-count mismatch or rate <= 0.
   Trajectory sample(const Model& model, double rate) const;
 };
-
-/// The motion's extremes against the limits.
-struct LimitCheck {
-  double rate = 0.0;  // samples per second of the checked motion [Hz]
-  Eigen::VectorXd q_low, q_high, dq_peak, ddq_peak, tau_peak;       // per joint
-  double lowest_origin = std::numeric_limits<double>::quiet_NaN();  // min link-origin z [m]
-  double nearest_base = std::numeric_limits<double>::quiet_NaN();   // last origin to base axis [m]
-  std::vector<std::string> violations;  // one line per broken limit; empty: all hold
-};
-/// Checks every sample of `motion` (its tau included) against `limits`.
-LimitCheck checkLimits(const Model& model, const Trajectory& motion,
-                       const ExcitationLimits& limits);
 
 struct ExciteRequest {
   Model robot;  // with the drive terms whose parameters the design must excite
@@ -167,11 +121,6 @@ FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::st
                                    int num_joints);
 /// The same from the file at `path` (readFile's limits apply).
 FourierDesign readExcitationDesign(const std::string& path, int num_joints);
-
-/// Throws InputError naming the joint when an offset (n entries) is not strictly inside its
-/// position range: exciteRun's check, for callers that validate settings before the work.
-void checkOffsets(const Model& model, const ExcitationLimits& limits,
-                  const Eigen::VectorXd& offset);
 
 /// `dynid simulate`'s default sinusoid for the model: amplitude 0.5 rad about the middle of the
 /// limits, frequencies 0.15 + 0.07 i Hz, phases 0.

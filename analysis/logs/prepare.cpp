@@ -393,14 +393,12 @@ double angleUnitScale(const std::string& unit) {
   throw InputError("unknown angle unit '" + unit + "' (rad or deg)");
 }
 
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
-  if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))
-    throw InputError("the time and angle units must be positive");
-  if (options.decimate < 1) throw InputError("--decimate must be >= 1");
-  if (!(options.validate_fraction >= 0.0 && options.validate_fraction < 1.0))
-    throw InputError("the validation fraction must be in [0, 1)");
-  PrepareOutcome out;
-  // Every file read, sorted and de-duplicated; the defaults from the median step over all.
+namespace {
+
+/// Every file read, in SI units, sorted and de-duplicated; out's raw counts and the defaults that
+/// come from the median step over all files (rate, gap limit).
+std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions& options,
+                                  PrepareOutcome& out) {
   std::vector<RawSignals> files;
   std::vector<std::string> names = source.tables;
   if (names.empty()) names.push_back("");  // the per-signal files
@@ -422,15 +420,15 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     all_steps.insert(all_steps.end(), st.begin(), st.end());
   }
   out.median_step = median(all_steps);
-  all_steps = std::vector<double>();
   out.rate = options.rate > 0.0 ? options.rate : 1.0 / out.median_step;
   out.max_gap = options.max_gap > 0.0 ? options.max_gap : 5.0 * out.median_step;
-  out.order = options.order;
-  out.decimate = options.decimate;
-  out.dq_derived = !files.front().has_dq || options.derive_dq;
-  out.ddq_logged = files.front().has_ddq && !options.derive_ddq;
+  return files;
+}
 
-  // Pass 1: stalls, steps, time offsets and the runs between gaps.
+/// Pass 1: stalls dropped, steps measured, later files shifted after earlier ones, and the runs
+/// between gaps.
+std::vector<RunSpan> findRuns(std::vector<RawSignals>& files, const PrepareOptions& options,
+                              PrepareOutcome& out) {
   out.min_step = std::numeric_limits<double>::infinity();
   std::vector<RunSpan> spans;
   double previous_end = -std::numeric_limits<double>::infinity();
@@ -461,20 +459,22 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
         span.begin = k + 1;
       }
   }
+  return spans;
+}
 
-  // Pass 2: the spectra, and the filter.
-  measureSpectra(files, spans, out);
-  chooseFilter(options, out);
-  std::vector<Biquad> filter;
-  if (out.cutoff > 0.0 && !(out.cutoff < out.rate / 2.0))
-    throw InputError("--cutoff " + formatDouble(out.cutoff) +
-                     " Hz must be below the Nyquist frequency of the output rate (" +
-                     formatDouble(out.rate / 2.0) + " Hz; --rate " + formatDouble(out.rate) + ")");
-  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
+/// Where the samples go.
+struct SamplePlan {
+  Eigen::Index train = 0, validate = 0;  // samples in each dataset
+  std::size_t longest = 0;               // the longest kept run (its excerpt is the figure's)
+};
 
-  // Pass 3: which runs are long enough, and where their samples go.
-  Eigen::Index train_samples = 0, validate_samples = 0;
-  std::size_t longest = spans.size();
+/// Pass 3: which runs are long enough for the filter, and where their samples go (train or
+/// held out: the run when listed, the samples within a validation time range, and the last
+/// fraction of every run).
+SamplePlan planSamples(std::vector<RunSpan>& spans, const std::vector<Biquad>& filter,
+                       const PrepareOptions& options, PrepareOutcome& out) {
+  SamplePlan plan;
+  plan.longest = spans.size();
   for (std::size_t r = 0; r < spans.size(); ++r) {
     RunSpan& span = spans[r];
     span.edge = static_cast<int>(std::ceil(out.trim * out.rate));
@@ -487,8 +487,6 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     }
     for (int k = span.edge; k < span.count - span.edge; k += options.decimate)
       span.rows.push_back(k);
-    // Held out: the run when listed, the samples within a validation time range, and the last
-    // fraction of every run.
     const auto split = static_cast<std::size_t>(
         std::floor((1.0 - options.validate_fraction) * static_cast<double>(span.rows.size())));
     const bool whole = std::find(options.validate_runs.begin(), options.validate_runs.end(),
@@ -500,25 +498,55 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
       bool held = whole || k >= split;
       for (const auto& [from, to] : options.validate_ranges) held = held || (t >= from && t <= to);
       span.held.push_back(held ? 1 : 0);
-      span.slot.push_back(held ? validate_samples++ : train_samples++);
+      span.slot.push_back(held ? plan.validate++ : plan.train++);
     }
     span.run.samples = static_cast<int>(span.rows.size());
-    if (longest == spans.size() || span.count > spans[longest].count) longest = r;
+    if (plan.longest == spans.size() || span.count > spans[plan.longest].count) plan.longest = r;
   }
   for (int r : options.validate_runs)
     if (r < 0 || r >= out.runs_planned)
       throw InputError("--validate-runs: run " + std::to_string(r + 1) +
                        " does not exist: the log has " + std::to_string(out.runs_planned) +
                        " runs long enough for the filter");
-  if (train_samples == 0 && validate_samples > 0)
+  if (plan.train == 0 && plan.validate > 0)
     throw InputError("every sample is held out for validation: nothing is left to train on");
-  if (train_samples == 0)
+  if (plan.train == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +
                      std::to_string(out.trim) + " s trimmed at each end); lower --trim or " +
                      "--max-gap's splitting, or raise --cutoff");
+  return plan;
+}
+
+}  // namespace
+
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
+  if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))
+    throw InputError("the time and angle units must be positive");
+  if (options.decimate < 1) throw InputError("--decimate must be >= 1");
+  if (!(options.validate_fraction >= 0.0 && options.validate_fraction < 1.0))
+    throw InputError("the validation fraction must be in [0, 1)");
+  PrepareOutcome out;
+  std::vector<RawSignals> files = readFiles(source, options, out);
+  out.order = options.order;
+  out.decimate = options.decimate;
+  out.dq_derived = !files.front().has_dq || options.derive_dq;
+  out.ddq_logged = files.front().has_ddq && !options.derive_ddq;
+  std::vector<RunSpan> spans = findRuns(files, options, out);
+
+  // Pass 2: the spectra, and the filter.
+  measureSpectra(files, spans, out);
+  chooseFilter(options, out);
+  std::vector<Biquad> filter;
+  if (out.cutoff > 0.0 && !(out.cutoff < out.rate / 2.0))
+    throw InputError("--cutoff " + formatDouble(out.cutoff) +
+                     " Hz must be below the Nyquist frequency of the output rate (" +
+                     formatDouble(out.rate / 2.0) + " Hz; --rate " + formatDouble(out.rate) + ")");
+  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
+
+  const SamplePlan plan = planSamples(spans, filter, options, out);
   const int n = files.front().n;
-  allocate(out.train, n, train_samples);
-  allocate(out.validate, n, validate_samples);
+  allocate(out.train, n, plan.train);
+  allocate(out.validate, n, plan.validate);
 
   // Pass 4: every kept run, joint by joint, into its place.
   Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
@@ -526,7 +554,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   for (std::size_t r = 0; r < spans.size(); ++r) {
     const RunSpan& span = spans[r];
     if (span.kept) {
-      prepareRun(files[span.file], span, filter, options, r == longest, noise_sum, out);
+      prepareRun(files[span.file], span, filter, options, r == plan.longest, noise_sum, out);
       out.runs.push_back(span.run);
       if (!filter.empty()) noise_count += span.count;
     }

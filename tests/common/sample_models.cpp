@@ -6,6 +6,7 @@
 
 #include "core/parameters.hpp"
 #include "core/simulate.hpp"
+#include "data/io.hpp"
 #include "data/puma560.hpp"
 
 namespace dynid::test {
@@ -132,6 +133,12 @@ std::string tempPath(const std::string& name) {
   static std::atomic<int> counter{0};
   return std::string(DYNID_TEST_TMP) + "/" + std::to_string(::getpid()) + "_" +
          std::to_string(counter++) + "_" + name;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = tempPath(name);
+  writeFileAtomically(path, text);
+  return path;
 }
 
 }  // namespace dynid::test

@@ -53,5 +53,7 @@ Eigen::VectorXd randomVector(std::mt19937_64& rng, int n, double scale);
 
 /// A unique file path under the build's test-tmp directory (the file is not created).
 std::string tempPath(const std::string& name);
+/// Writes `text` to a fresh tempPath(name) and returns the path.
+std::string writeTemp(const std::string& name, const std::string& text);
 
 }  // namespace dynid::test

@@ -9,11 +9,7 @@
 namespace dynid {
 namespace {
 
-std::string writeTemp(const std::string& name, const std::string& text) {
-  const std::string path = test::tempPath(name);
-  writeFileAtomically(path, text);
-  return path;
-}
+using test::writeTemp;
 
 TEST(ReadLog, ATableInItsOwnUnitsWithLinesForMessages) {
   LogSource source;
