@@ -67,7 +67,7 @@ TEST(Excite, APumaDesignBeatsTheDefaultSinusoidWithinItsLimits) {
   r.threads = 2;
   const ExciteOutcome o = exciteRun(r);
   ASSERT_GE(o.best_start, 0);
-  // Acceptance (issue 18): the unit-column condition number at most a third of the sinusoid's.
+  // The design's target: the unit-column condition number at most a third of the sinusoid's.
   EXPECT_LE(o.score.condition_unit, o.baseline.condition_unit / 3.0)
       << o.score.condition_unit << " vs " << o.baseline.condition_unit;
   EXPECT_TRUE(o.check.violations.empty());

@@ -303,7 +303,7 @@ TEST_P(BadInput, RefusedCleanly) {
   const std::string dir = std::string(DYNID_TEST_TMP) + "/bad_input/" + c.name;
   fs::remove_all(dir);
   fs::create_directories(dir);
-  if (!c.pending.empty()) GTEST_SKIP() << "pending (issue 17): " << c.pending;
+  if (!c.pending.empty()) GTEST_SKIP() << "pending: " << c.pending;
 #ifdef DYNID_SANITIZED
   if (c.memory_mb > 0) GTEST_SKIP() << "a sanitizer's shadow memory does not fit under ulimit -v";
 #endif
