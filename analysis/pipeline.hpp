@@ -54,7 +54,7 @@ struct LeastSquaresOutcome {
 struct LeastSquaresSource {
   const Observation* observation = nullptr;
   LeastSquaresStream* stream = nullptr;  // estimates flush its pending rows
-  ParameterLayout layout;  // the stream's parameter layout (pc needs it)
+  ParameterLayout layout;                // the stream's parameter layout (pc needs it)
 };
 
 /// The one least-squares dispatch: `method` is ols, wls or pc (InputError otherwise); `prior`

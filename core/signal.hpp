@@ -1,7 +1,7 @@
 // Signal processing for logged joint signals: zero-phase Butterworth low-pass filtering, uniform
 // resampling, finite-difference and Savitzky-Golay derivatives, and power spectra. Every function
-// works on one run: samples that are consecutive in time, with no gap (analysis/logs/raw_log.hpp splits logs
-// into runs).
+// works on one run: samples that are consecutive in time, with no gap (analysis/logs/raw_log.hpp
+// splits logs into runs).
 //
 // Symbols: x a signal (one value per sample, an Eigen vector), rate the sampling rate [Hz],
 // cutoff the filter's -3 dB frequency [Hz].

@@ -1,9 +1,9 @@
-// libFuzzer target: the raw log readers of `dynid prepare` (analysis/logs/raw_log.hpp): a table's header,
-// its columns, glob selectors, and one-signal-per-file logs.
+// libFuzzer target: the raw log readers of `dynid prepare` (analysis/logs/raw_log.hpp): a table's
+// header, its columns, glob selectors, and one-signal-per-file logs.
 #include <cstdint>
 
-#include "core/errors.hpp"
 #include "analysis/logs/raw_log.hpp"
+#include "core/errors.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
