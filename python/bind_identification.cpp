@@ -131,9 +131,7 @@ PredictionResult predict(const Model& model, const py::handle& data, int threads
   return out;
 }
 
-}  // namespace
-
-void bindIdentification(py::module_& m) {
+void bindBaseParameters(py::module_& m) {
   py::class_<BaseParameters>(
       m, "BaseParameters",
       "Which combinations of the standard parameters the torques determine (Gautier's QR). "
@@ -197,7 +195,9 @@ void bindIdentification(py::module_& m) {
       },
       py::arg("model"), py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
       "The model's structural base parameters from `samples` seeded random states.");
+}
 
+void bindIdentifiability(py::module_& m) {
   py::class_<IdentifiabilityResult>(m, "Identifiability", "What `dynid identifiability` reports.")
       .def_property_readonly("base", [](const IdentifiabilityResult& r) { return r.outcome.base; })
       .def_property_readonly(
@@ -248,7 +248,9 @@ void bindIdentification(py::module_& m) {
       py::arg("tolerance") = 0.0, py::arg("threads") = 0,
       "Structural base parameters and conditioning, and with `data` (a path or a Dataset) how "
       "that dataset excites them.");
+}
 
+void bindIdentify(py::module_& m) {
   py::class_<EstimateResult>(m, "Estimate", "What `dynid identify` writes as estimate.json.")
       .def_property_readonly(
           "method",
@@ -325,7 +327,9 @@ void bindIdentification(py::module_& m) {
         "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
         "the model's own parameters). `validate`: held-out data. `robot_spec` is recorded for "
         "`dynid predict`. Raises NumericalError when the data do not excite every base parameter.");
+}
 
+void bindPredict(py::module_& m) {
   py::class_<PredictionResult>(m, "Prediction", "Torques predicted by RNEA against measured ones.")
       .def_readonly("time", &PredictionResult::time, "(N,) [s]")
       .def_readonly("measured", &PredictionResult::measured, "(N, n) [N m]")
@@ -346,6 +350,15 @@ void bindIdentification(py::module_& m) {
   m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = 0,
         "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
         "residual statistics of `dynid predict`. Use estimate.model for an estimate.");
+}
+
+}  // namespace
+
+void bindIdentification(py::module_& m) {
+  bindBaseParameters(m);
+  bindIdentifiability(m);
+  bindIdentify(m);
+  bindPredict(m);
 }
 
 }  // namespace dynid::python

@@ -212,9 +212,7 @@ py::array_t<double> samplesOf(const Eigen::MatrixXd& m) {
   return toNumpy(Eigen::MatrixXd(m.transpose()));
 }
 
-}  // namespace
-
-void bindModel(py::module_& m) {
+void bindModelClass(py::module_& m) {
   py::class_<Model>(m, "Model",
                     "A robot: kinematic tree, inertial and drive parameters. Copies are "
                     "independent (Model.copy()); load one with dynid.load_model().")
@@ -304,7 +302,9 @@ void bindModel(py::module_& m) {
                " joints, " + std::to_string(self.parameterLayout().size()) +
                " parameters, drives " + driveTermsText(self.driveTerms()) + ">";
       });
+}
 
+void bindLoadingAndDatasets(py::module_& m) {
   m.def("load_model", &loadModel, py::arg("spec"), py::arg("drives") = false,
         py::arg("drive_terms") = py::none(), py::arg("strict") = false,
         "Loads a robot as `--robot` does: 'puma560', 'puma560-consistent', 'panda', a .urdf or a "
@@ -350,6 +350,13 @@ void bindModel(py::module_& m) {
       py::arg("path"), py::arg("data"),
       "Writes a Dataset as a dynid CSV, atomically, in shortest round-trip form (read_dataset "
       "gives back the same doubles).");
+}
+
+}  // namespace
+
+void bindModel(py::module_& m) {
+  bindModelClass(m);
+  bindLoadingAndDatasets(m);
 }
 
 }  // namespace dynid::python

@@ -373,9 +373,7 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
   return out;
 }
 
-}  // namespace
-
-void bindSearch(py::module_& m) {
+void bindSimulate(py::module_& m) {
   m.def("simulate", &simulatePy, py::arg("model"), py::arg("duration") = 10.0, py::arg("dt") = 1e-3,
         py::arg("rate") = 1000.0, py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5,
         py::arg("q0") = py::none(), py::arg("frequency") = py::none(),
@@ -410,7 +408,9 @@ void bindSearch(py::module_& m) {
       "The paper's GC error of the model on `data`: the summed squared error of (q, dq) "
       "predicted `horizon` seconds ahead from each segment's measured start, as `dynid search` "
       "evaluates it (the same number for any thread count).");
+}
 
+void bindSearchRuns(py::module_& m) {
   py::class_<SearchPy>(m, "Search", "What `dynid search` writes as search.json.")
       .def_property_readonly(
           "method", [](const SearchPy& s) { return std::string(methodName(s.outcome.method)); })
@@ -468,7 +468,9 @@ void bindSearch(py::module_& m) {
         "init (a Model) or the robot perturbed by `perturb`; the same options and defaults as "
         "the CLI, and for the same seed the same result whatever the thread count. Ctrl-C stops "
         "it with the best result so far (and a warning).");
+}
 
+void bindRefine(py::module_& m) {
   py::class_<RefinePy>(m, "Refinement", "What `dynid refine` writes as refine.json.")
       .def_property_readonly("initial_gc",
                              [](const RefinePy& r) { return r.outcome.result.initial_gc; })
@@ -504,7 +506,9 @@ void bindSearch(py::module_& m) {
         "`dynid refine`: Ceres (Levenberg-Marquardt) on the GC residuals from `start`: a "
         "Search, an Estimate, or the path of a search.json or estimate.json. form, range, "
         "horizon and segments apply to an estimate start (a search carries its own).");
+}
 
+void bindExcite(py::module_& m) {
   py::class_<ExcitePy>(m, "Excitation", "What `dynid excite` writes as excitation.json.")
       .def_property_readonly("period", [](const ExcitePy& e) { return e.outcome.design.period; })
       .def_property_readonly("offset",
@@ -543,7 +547,9 @@ void bindSearch(py::module_& m) {
         py::arg("threads") = 0, py::arg("robot_spec") = "",
         "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
         "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
+}
 
+void bindPrepare(py::module_& m) {
   py::class_<PreparePy>(m, "Preparation",
                         "What `dynid prepare` writes (train, validate, "
                         "prepare.json).")
@@ -577,6 +583,16 @@ void bindSearch(py::module_& m) {
         "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
         "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
         "for no filter, a frequency [Hz] or 'auto'.");
+}
+
+}  // namespace
+
+void bindSearch(py::module_& m) {
+  bindSimulate(m);
+  bindSearchRuns(m);
+  bindRefine(m);
+  bindExcite(m);
+  bindPrepare(m);
 }
 
 }  // namespace dynid::python
