@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "analysis/excite.hpp"
-#include "analysis/run_json.hpp"
+#include "analysis/excitation/excite.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
 #include "data/robots.hpp"
@@ -68,14 +70,7 @@ void checkValue(const std::string& key, const json& value, const std::string& fi
     if (key == "method") parseMethod(value.get<std::string>());
     if (key == "robot") loadRobot(value.get<std::string>());
     if (key == "trajectory" && !value.get<std::string>().empty()) {  // read once, any joint count
-      const std::string path = value.get<std::string>();
-      const json document = parseJsonDocument(readFile(path), path);
-      const json& offset = document.is_object() && document.contains("design") &&
-                                   document["design"].is_object() &&
-                                   document["design"].contains("offset")
-                               ? document["design"]["offset"]
-                               : json();
-      excitationDesignFrom(document, path, offset.is_array() ? static_cast<int>(offset.size()) : 0);
+      readExcitationDesign(value.get<std::string>(), 0);
     }
   } catch (const Error& e) {
     throw ParseError(file, 0, where, e.what());
@@ -89,39 +84,6 @@ std::string specHash(const json& spec) {
   char buffer[17];
   std::snprintf(buffer, sizeof(buffer), "%016llx", static_cast<unsigned long long>(h));
   return buffer;
-}
-
-/// The stored result of a run when it is complete and for this very spec, else null.
-json storedResult(const std::string& path, const json& spec) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return nullptr;
-  try {
-    json r = json::parse(readFile(path));
-    if (r.value("kind", "") == "dynid.batch.run" && r["spec"] == spec && r["metrics"].is_object())
-      return r;
-  } catch (const std::exception&) {
-  }
-  return nullptr;
-}
-
-/// Reads every run record under dir/runs strictly: (name, record). A file that is not a run record
-/// is a ParseError naming it (a merge must not drop a run silently).
-std::map<std::string, json> readRuns(const std::string& dir) {
-  std::map<std::string, json> out;
-  std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(dir + "/runs", ec)) {
-    if (entry.path().extension() != ".json") continue;  // a killed worker's *.tmp.<pid>
-    const std::string file = entry.path().string();
-    const json r = parseJson(readFile(file), file);
-    const JsonReader read(file);
-    read.header(r, 1, "dynid.batch.run");
-    read.onlyKeys(r, "", {"schema_version", "kind", "spec", "metrics"});
-    read.object(read.field(r, "", "spec"), "spec");
-    read.object(read.field(r, "", "metrics"), "metrics");
-    out[entry.path().stem().string()] = r;
-  }
-  if (ec) throw ParseError(dir + "/runs", 0, "", ec.message());
-  return out;
 }
 
 /// --quick: every run short (tests, trials).
@@ -221,7 +183,7 @@ std::vector<json> expandManifest(const json& manifest, const std::string& file) 
     if (values.is_array()) product *= static_cast<double>(std::max<std::size_t>(values.size(), 1));
   if (product > kMaxBatchRuns)
     throw ParseError(file, 0, "grid",
-                     "expands to " + formatDouble(product) +
+                     "expands to " + formatNumber(product) +
                          " runs (at most 1e5 in one manifest: split it into several)");
   std::vector<json> runs = {base};
   for (const auto& [key, values] : grid.items()) {
@@ -260,15 +222,12 @@ std::string batchRunName(std::size_t index, const json& spec) {
   return std::string(buffer) + "-" + specHash(spec);
 }
 
-json runBatchSpec(const json& spec) {
+BatchRunRecord runBatchSpec(const json& spec) {
   for (const auto& [key, value] : batchSpecDefaults().items())
     if (!spec.contains(key)) throw InputError("the run's spec lacks '" + key + "'");
   Study study(studySettingsOf(spec));
   const MethodMetrics m = study.run(parseMethod(spec.at("method").get<std::string>()));
-  return {{"schema_version", 1},
-          {"kind", "dynid.batch.run"},
-          {"spec", spec},
-          {"metrics", metricsJson(m)}};
+  return {spec, metricsJson(m)};
 }
 
 std::string BatchPlan::path(std::size_t i) const {
@@ -279,7 +238,7 @@ BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool qu
                     int shards) {
   const json document = readManifest(manifest);
   BatchPlan plan{manifest, dir, expandManifest(document, manifest), {}, {}, {}};
-  plan.record = {{"manifest", document}, {"quick", quick}, {"shard", shard}, {"shards", shards}};
+  plan.record = BatchPlanRecord{document, quick, shard, shards}.json();
   if (quick) applyQuick(plan.runs);
   // Every run's values checked before anything starts (a bad one would only fail in its worker).
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
@@ -293,7 +252,7 @@ BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool qu
   for (std::size_t i = 0; i < plan.runs.size(); ++i)
     if (static_cast<int>(i % static_cast<std::size_t>(shards)) == shard - 1) plan.mine.push_back(i);
   for (std::size_t i : plan.mine)
-    if (storedResult(plan.path(i), plan.runs[i]).is_null()) plan.todo.push_back(i);
+    if (!storedBatchRun(plan.path(i), plan.runs[i])) plan.todo.push_back(i);
   return plan;
 }
 
@@ -302,62 +261,55 @@ BatchOutcome collectBatch(const BatchPlan& plan) {
   out.total = plan.runs.size();
   out.plan = plan.record;
   for (std::size_t i : plan.mine) {
-    json r = storedResult(plan.path(i), plan.runs[i]);
-    if (r.is_null())
+    std::optional<BatchRunRecord> r = storedBatchRun(plan.path(i), plan.runs[i]);
+    if (!r)
       out.missing.push_back(batchRunName(i, plan.runs[i]));
     else
-      out.done.emplace_back(batchRunName(i, plan.runs[i]), std::move(r));
+      out.done.emplace_back(batchRunName(i, plan.runs[i]), std::move(*r));
   }
   return out;
 }
 
 BatchOutcome mergeBatches(const std::vector<std::string>& dirs, bool allow_missing) {
   // Every shard's plan (results.json) must be of the same manifest and settings.
-  json reference;
+  std::optional<BatchPlanRecord> reference;
   std::string reference_file;
   std::vector<bool> shard_given;
   for (const std::string& dir : dirs) {
     const std::string file = dir + "/results.json";
-    const json table = parseJson(readFile(file), file);
-    const JsonReader read(file);
-    read.header(table, 1, "dynid.batch.results");
-    const json& plan = read.field(table, "", "plan");
-    read.onlyKeys(plan, "plan", {"manifest", "quick", "shard", "shards"});
-    read.object(read.field(plan, "plan", "manifest"), "plan.manifest");
-    read.boolean(plan, "plan", "quick");
-    const long long shards = read.integer(plan, "plan", "shards", 1, 1000000);
-    const long long shard = read.integer(plan, "plan", "shard", 1, shards);
-    if (reference.is_null()) {
+    const BatchPlanRecord plan = readBatchPlan(file);
+    if (!reference) {
       reference = plan;
       reference_file = file;
-      shard_given.assign(static_cast<std::size_t>(shards), false);
-    } else if (plan["manifest"] != reference["manifest"] || plan["quick"] != reference["quick"] ||
-               plan["shards"] != reference["shards"]) {
-      read.fail("plan", "another manifest, --quick or shard count than " + reference_file +
-                            ": these are not shards of one batch");
+      shard_given.assign(static_cast<std::size_t>(plan.shards), false);
+    } else if (plan.manifest != reference->manifest || plan.quick != reference->quick ||
+               plan.shards != reference->shards) {
+      throw ParseError(file, 0, "plan",
+                       "another manifest, --quick or shard count than " + reference_file +
+                           ": these are not shards of one batch");
     }
-    shard_given[static_cast<std::size_t>(shard - 1)] = true;
+    shard_given[static_cast<std::size_t>(plan.shard - 1)] = true;
   }
-  if (reference.is_null()) throw InputError("batch merge: no shard directories given");
-  std::vector<json> runs = expandManifest(reference["manifest"], reference_file + " (plan)");
-  if (reference["quick"].get<bool>()) applyQuick(runs);
+  if (!reference) throw InputError("batch merge: no shard directories given");
+  std::vector<json> runs = expandManifest(reference->manifest, reference_file + " (plan)");
+  if (reference->quick) applyQuick(runs);
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < runs.size(); ++i) index[batchRunName(i, runs[i])] = i;
 
-  std::map<std::string, json> merged;
+  std::map<std::string, BatchRunRecord> merged;
   for (const std::string& dir : dirs)
-    for (auto& [name, result] : readRuns(dir)) {
+    for (auto& [name, result] : readBatchRuns(dir)) {
       const std::string file = dir + "/runs/" + name + ".json";
       const auto at = index.find(name);
-      if (at == index.end() || result["spec"] != runs[at->second])
+      if (at == index.end() || result.spec != runs[at->second])
         throw ParseError(file, 0, "spec", "not a run of this batch's manifest");
       merged.emplace(name, result);  // a run in two shards: the same spec, either will do
     }
   BatchOutcome out;
   out.total = runs.size();
-  out.plan = reference;
-  out.plan["shard"] = 1;
-  out.plan["shards"] = 1;
+  BatchPlanRecord whole = *reference;
+  whole.shard = whole.shards = 1;
+  out.plan = whole.json();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const std::string name = batchRunName(i, runs[i]);
     const auto it = merged.find(name);

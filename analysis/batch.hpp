@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/records/batch_record.hpp"
 #include "analysis/study.hpp"
 
 namespace dynid {
@@ -45,11 +46,11 @@ StudySettings studySettingsOf(const nlohmann::json& spec);
 /// "000012-<16 hex digits of the spec's hash>": the run's identity and file stem.
 std::string batchRunName(std::size_t index, const nlohmann::json& spec);
 
-/// A run record: {schema_version, kind "dynid.batch.run", spec, metrics}.
-using RunRecord = std::pair<std::string, nlohmann::json>;  // (name, record)
+/// A finished run by name (its record: analysis/records/batch_record.hpp).
+using RunRecord = std::pair<std::string, BatchRunRecord>;  // (name, record)
 
 /// Runs one spec in this process (a worker's job): its Study and method, measured.
-nlohmann::json runBatchSpec(const nlohmann::json& spec);
+BatchRunRecord runBatchSpec(const nlohmann::json& spec);
 
 struct BatchPlan {
   std::string manifest, dir;

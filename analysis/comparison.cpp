@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/rnea.hpp"
+#include "data/json_number.hpp"
 
 namespace dynid {
 
@@ -43,6 +44,17 @@ MethodMetrics Comparison::measure(const std::string& key, const Model& estimate,
   out.evaluations = evaluations;
   out.seconds = seconds;
   return out;
+}
+
+nlohmann::json metricsJson(const MethodMetrics& m) {
+  return {{"gc_error_initial", numberOrNull(m.gc_error_initial)},
+          {"gc_error_train", numberOrNull(m.gc_error_train)},
+          {"gc_error_test", numberOrNull(m.gc_error_test)},
+          {"torque_rms_test", numberOrNull(m.torque_rms_test)},
+          {"param_error", numberOrNull(m.param_error)},
+          {"base_param_error", numberOrNull(m.base_param_error)},
+          {"evaluations", m.evaluations},
+          {"seconds", numberOrNull(m.seconds)}};
 }
 
 }  // namespace dynid

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "core/model.hpp"
 #include "core/parallel.hpp"
@@ -29,6 +30,9 @@ struct MethodMetrics {
   long evaluations = 0;           // GC evaluations (searches), LM iterations (refinement), 0
   double seconds = 0.0;           // wall time of the method itself
 };
+/// A comparison row: {gc_error_initial, gc_error_train, gc_error_test, torque_rms_test,
+/// param_error, base_param_error, evaluations, seconds}; non-finite numbers are null.
+nlohmann::json metricsJson(const MethodMetrics& m);
 
 /// Measures estimates against a known truth. Holds references to its arguments (all but the truth,
 /// which it reads once).

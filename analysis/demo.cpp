@@ -13,7 +13,7 @@ namespace dynid {
 
 DemoResult runDemo(const DemoOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const auto stopped = [&] { return options.stop != nullptr && options.stop->load(); };
+  const auto stopped = [&] { return options.control.interrupted(); };
   StudySettings study_settings;
   study_settings.train_seconds = study_settings.test_seconds = options.quick ? 4.0 : 10.0;
   study_settings.segments = options.quick ? 20 : 100;
@@ -29,7 +29,7 @@ DemoResult runDemo(const DemoOptions& options) {
   study_settings.keep_if_better = options.keep_if_better;
   study_settings.seed = options.seed;
   study_settings.threads = resolveThreads(options.threads);
-  Study study(study_settings, options.progress);
+  Study study(study_settings, options.control);
 
   DemoResult result;
   result.settings = study_settings;
@@ -49,7 +49,7 @@ DemoResult runDemo(const DemoOptions& options) {
   // Least squares always; the rest stage by stage until interrupted.
   for (Method method : allMethods()) {
     if (method != Method::kOls && method != Method::kWls && stopped()) break;
-    result.methods.push_back(study.run(method, options.stop));
+    result.methods.push_back(study.run(method));
   }
   for (Method method : searchMethods()) {
     const SearchResult* found = study.searchResult(method);

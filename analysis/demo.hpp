@@ -26,8 +26,7 @@ struct DemoOptions {
   double refine_seconds = 0.0;  // per refinement; 0: no limit
   double prior_weight = kDefaultPriorWeight;  // pc
   bool keep_if_better = true;  // keep a search's result that its refinement did not improve
-  const std::atomic<bool>* stop = nullptr;  // set (SIGINT): finish the current stage, skip the rest
-  std::function<void(const std::string&)> progress;  // one line per stage
+  RunControl control;  // stop (SIGINT): finish the current stage, skip the rest; progress per stage
 };
 
 struct DemoIdentifiability {

@@ -56,11 +56,8 @@ GcProblem gcProblem(const Trajectory& data, SegmentOptions options, const std::s
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   validate(request);
   const auto t0 = Clock::now();
-  const auto say = [&](const std::string& line) {
-    if (request.control.progress) request.control.progress(line);
-  };
-  const std::atomic<bool>* stop = request.control.stop;
-  const auto stopped = [&] { return stop != nullptr && stop->load(); };
+  const auto say = [&](const std::string& line) { request.control.say(line); };
+  const auto stopped = [&] { return request.control.interrupted(); };
   const Model& robot = request.robot;
   const int n = robot.numJoints();
   LogStudyOutcome out;
@@ -114,8 +111,10 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   problem.search_budget.max_seconds = request.search_seconds;
   problem.search_budget.max_evaluations = request.search_evaluations;
   problem.seed = request.seed;
-  problem.refine = {request.refine_iterations, request.refine_seconds, request.refine_tolerance,
-                    request.keep_if_better};
+  problem.refine.options.max_iterations = request.refine_iterations;
+  problem.refine.options.max_seconds = request.refine_seconds;
+  problem.refine.options.function_tolerance = request.refine_tolerance;
+  problem.refine.keep_if_better = request.keep_if_better;
   problem.threads = threads;
   problem.control = request.control;
   MethodRunner runner(std::move(problem));

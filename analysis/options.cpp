@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -87,8 +88,8 @@ const OptionRule* findOptionRule(std::string_view command, std::string_view name
 }
 
 std::string optionRangeText(const OptionRule& r) {
-  std::string text = r.lo_open ? "> " + formatDouble(r.lo) : ">= " + formatDouble(r.lo);
-  if (r.hi < kNoOptionLimit) text += " and <= " + formatDouble(r.hi);
+  std::string text = r.lo_open ? "> " + formatNumber(r.lo) : ">= " + formatNumber(r.lo);
+  if (r.hi < kNoOptionLimit) text += " and <= " + formatNumber(r.hi);
   if (r.zero_ok) text = "0 or " + text;
   return text;
 }
@@ -100,7 +101,7 @@ void checkOption(std::string_view command, std::string_view name, double x,
   if (r == nullptr) return;
   const bool ok = (r->zero_ok && x == 0.0) || ((r->lo_open ? x > r->lo : x >= r->lo) && x <= r->hi);
   if (!ok)
-    throw InputError(spelling + " must be " + optionRangeText(*r) + ", not " + formatDouble(x));
+    throw InputError(spelling + " must be " + optionRangeText(*r) + ", not " + formatNumber(x));
 }
 
 }  // namespace dynid

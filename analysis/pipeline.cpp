@@ -84,7 +84,6 @@ MethodRunner::MethodRunner(EstimationProblem problem)
     : problem_(std::move(problem)),
       pool_(problem_.threads >= 1 ? problem_.threads : 1),
       workspace_(pool_.numThreads()) {
-  if (problem_.base == nullptr) throw InputError("an estimation problem needs base parameters");
   if (problem_.threads < 1) throw InputError("threads must be >= 1");
   if (problem_.prior.size() == 0) problem_.prior = problem_.model.standardParameters();
   if (problem_.prior.size() != problem_.model.parameterLayout().size())
@@ -104,6 +103,8 @@ const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {
   if (found != least_squares_.end()) return found->second.first;
   problem_.control.say(method == Method::kPc ? "identify: pc (physically consistent)"
                                              : std::string("identify: ") + methodName(method));
+  if (problem_.base == nullptr)
+    throw InputError(std::string("'") + methodName(method) + "' needs base parameters");
   const auto started = Clock::now();
   LeastSquaresOutcome ls = leastSquaresEstimate(method, *problem_.base, problem_.least_squares,
                                                 problem_.prior, problem_.physical);
@@ -121,19 +122,23 @@ const Model& MethodRunner::searchStart() {
   return *start_;
 }
 
-const ParameterSpace& MethodRunner::space(Method method) {
+const ParameterSpace& MethodRunner::space(Method method) { return *sharedSpace(method); }
+
+std::shared_ptr<const ParameterSpace> MethodRunner::sharedSpace(Method method) {
   const Method searched = searchOf(method);
   if (!isSearch(searched))
     throw InputError(std::string("'") + methodName(method) + "' does not search");
-  if (!nlo_space_) {
+  const bool plane = problem_.mass_plane == MassPlane::kOn ||
+                     (problem_.mass_plane == MassPlane::kAuto && searched != Method::kGa);
+  std::shared_ptr<const ParameterSpace>& slot = spaces_[plane ? 1 : 0];
+  if (!slot) {
     const Model& start = searchStart();
-    SpaceOptions nlo_options;
-    nlo_options.total_mass_constraint = true;
-    nlo_options.total_mass = problem_.total_mass.value_or(totalMass(start));
-    nlo_space_ = std::make_unique<ParameterSpace>(start, nlo_options);
-    ga_space_ = std::make_unique<ParameterSpace>(start, SpaceOptions{});
+    SpaceOptions options = problem_.space;
+    options.total_mass_constraint = plane;
+    options.total_mass = problem_.total_mass.value_or(totalMass(start));
+    slot = std::make_shared<const ParameterSpace>(start, options);
   }
-  return searched == Method::kGa ? *ga_space_ : *nlo_space_;
+  return slot;
 }
 
 const SearchResult* MethodRunner::searchResult(Method method) const {
@@ -156,7 +161,8 @@ const SearchResult& MethodRunner::search(Method method) {
   context.truth_full = problem_.truth_full;
   context.budget = problem_.search_budget;
   context.seed = problem_.seed;
-  context.stop = problem_.control.stop;
+  context.control = problem_.control;
+  context.resume = problem_.resume;
   if (problem_.on_search_iteration)
     context.on_iteration = [&](const SearchState& state) {
       problem_.on_search_iteration(method, state, space_of);
@@ -165,25 +171,28 @@ const SearchResult& MethodRunner::search(Method method) {
   return searches_.emplace(method, std::move(result)).first->second;
 }
 
+RefineResult MethodRunner::refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0) {
+  if (problem_.train_gc == nullptr) throw InputError("a refinement needs a GC-error problem");
+  RefineOptions options = problem_.refine.options;
+  options.num_threads = pool_.numThreads();
+  options.control = problem_.control;
+  std::optional<BaseCoordinates> coordinates;
+  if (problem_.base != nullptr) coordinates = problem_.base->coordinates();
+  return refineGc(space, *problem_.train_gc, x0, options, coordinates ? &*coordinates : nullptr);
+}
+
 Estimate MethodRunner::refine(Method method) {
   const Method searched = searchOf(method);
   const SearchResult& found = search(searched);
   const ParameterSpace& space_of = space(searched);
   const RefineSettings& settings = problem_.refine;
-  problem_.control.say(
-      std::string("refine: ") + methodName(searched) + " (at most " +
-      std::to_string(settings.iterations) + " iterations" +
-      (settings.seconds > 0.0 ? ", " + std::to_string(settings.seconds) + " s" : std::string()) +
-      ")");
-  RefineOptions options;
-  options.num_threads = pool_.numThreads();
-  options.max_iterations = settings.iterations;
-  options.max_seconds = settings.seconds;
-  options.function_tolerance = settings.tolerance;
-  options.stop = problem_.control.stop;
-  const BaseCoordinates coordinates = problem_.base->coordinates();
-  const RefineResult refined =
-      refineGc(space_of, *problem_.train_gc, found.best_x, options, &coordinates);
+  problem_.control.say(std::string("refine: ") + methodName(searched) + " (at most " +
+                       std::to_string(settings.options.max_iterations) + " iterations" +
+                       (settings.options.max_seconds > 0.0
+                            ? ", " + std::to_string(settings.options.max_seconds) + " s"
+                            : std::string()) +
+                       ")");
+  const RefineResult refined = refineFrom(space_of, found.best_x);
   Estimate out;
   out.method = method;
   out.model = space_of.modelAt(refined.x);

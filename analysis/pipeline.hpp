@@ -20,6 +20,7 @@
 
 #include "analysis/methods.hpp"
 #include "core/parallel.hpp"
+#include "core/run_control.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares.hpp"
 #include "identifiability/least_squares_stream.hpp"
@@ -31,16 +32,6 @@
 #include "search/refinement/refine.hpp"
 
 namespace dynid {
-
-/// A stop flag (SIGINT) and a progress hook shared by the long runs.
-struct RunControl {
-  const std::atomic<bool>* stop = nullptr;
-  std::function<void(const std::string&)> progress;  // one line per stage
-  bool stopped() const { return stop != nullptr && stop->load(); }
-  void say(const std::string& line) const {
-    if (progress) progress(line);
-  }
-};
 
 /// One least-squares estimate (ols, wls or pc) of the base parameters.
 struct LeastSquaresOutcome {
@@ -71,11 +62,16 @@ SearchResult dispatchSearch(Method method, const SearchContext& context, const G
 
 /// How a GC-error refinement runs and whether its result is kept.
 struct RefineSettings {
-  int iterations = 50;         // per stage, >= 1
-  double seconds = 60.0;       // per refinement (0: no limit)
-  double tolerance = 1e-6;     // stop when an iteration lowers the cost by less than this fraction
+  RefineOptions options;       // every refinement option; threads and stop come from the problem
   bool keep_if_better = true;  // keep the search's result when refinement ends with a higher
                                // training GC error
+};
+
+/// The searches' total-mass plane.
+enum class MassPlane {
+  kAuto,  // NLO and hybrid hold the total mass (the paper's NLO), GA does not
+  kOn,
+  kOff,
 };
 
 /// Where the searches start.
@@ -93,8 +89,11 @@ struct EstimationProblem {
   // Searches and refinements (null when only least squares run):
   const GcProblem* train_gc = nullptr;
   SearchStart search_start = SearchStart::kPrior;
-  std::optional<Model> start;        // kPrior's start model (default: the model)
-  std::optional<double> total_mass;  // NLO's total-mass plane (default: the start's mass)
+  std::optional<Model> start;  // kPrior's start model (default: the model)
+  SpaceOptions space;          // the searches' space; its total-mass fields come from:
+  MassPlane mass_plane = MassPlane::kAuto;
+  std::optional<double> total_mass;     // the total-mass plane (default: the start's mass)
+  const SearchState* resume = nullptr;  // a saved state the (one) search continues from
   SearchBudget search_budget;
   std::uint64_t seed = 1;
   GaOptions ga;
@@ -122,8 +121,9 @@ struct Estimate {
 
 class MethodRunner {
  public:
-  /// Throws InputError for a problem without base parameters or least-squares source, or with
-  /// threads < 1.
+  /// Throws InputError for threads < 1 or a prior of the wrong size. Base parameters are needed
+  /// by least squares and refinements, a least-squares source by least squares (InputError when
+  /// a method that needs one runs without it).
   explicit MethodRunner(EstimationProblem problem);
   MethodRunner(const MethodRunner&) = delete;
   MethodRunner& operator=(const MethodRunner&) = delete;
@@ -137,14 +137,21 @@ class MethodRunner {
   const LeastSquaresOutcome& leastSquares(Method method);
   /// The search `method` (nlo, ga, hybrid) when it has run, else null.
   const SearchResult* searchResult(Method method) const;
-  /// The space the search `method` moves in (NLO and hybrid hold the total mass, GA does not),
-  /// built on first use from the search start.
+  /// The space the search `method` moves in (the problem's space options; the total-mass plane
+  /// by mass_plane), built on first use from the search start.
   const ParameterSpace& space(Method method);
+  std::shared_ptr<const ParameterSpace> sharedSpace(Method method);
+  /// Refines the point x0 of `space` (an estimate from elsewhere, e.g. `dynid refine` of a
+  /// search.json) on the training GC problem with the problem's refine options; the base stage
+  /// uses the problem's base parameters when it has them. run() refines its own searches by it.
+  RefineResult refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0);
   /// The searches' start model (kPhysicallyConsistent: computes the pc estimate).
   const Model& searchStart();
   const EstimationProblem& problem() const { return problem_; }
-  /// The stop flag of the runs that follow (SIGINT), replacing the problem's.
-  void setStop(const std::atomic<bool>* stop) { problem_.control.stop = stop; }
+  /// The run control of the runs that follow (SIGINT, a deadline), replacing the problem's.
+  void setControl(const RunControl& control) { problem_.control = control; }
+  /// The saved state the next search continues from (its space must be this runner's).
+  void setResume(const SearchState* state) { problem_.resume = state; }
   ThreadPool& pool() { return pool_; }
 
  private:
@@ -157,7 +164,7 @@ class MethodRunner {
   std::map<Method, std::pair<LeastSquaresOutcome, double>> least_squares_;  // with seconds
   std::map<Method, SearchResult> searches_;
   std::optional<Model> start_;
-  std::unique_ptr<ParameterSpace> nlo_space_, ga_space_;
+  std::shared_ptr<const ParameterSpace> spaces_[2];  // without and with the total-mass plane
 };
 
 }  // namespace dynid

@@ -10,8 +10,11 @@
 
 #include <Eigen/SVD>
 
-#include "analysis/excite.hpp"
-#include "analysis/run_json.hpp"
+#include "analysis/excitation/excite.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/estimate_record.hpp"
+#include "analysis/records/excitation_record.hpp"
+#include "analysis/records/search_record.hpp"
 #include "core/aba.hpp"
 #include "core/controllers.hpp"
 #include "core/crba.hpp"
@@ -74,27 +77,27 @@ DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const E
 
 // ---- simulation ----
 
-FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
-                               double base_frequency, int harmonics, std::uint64_t seed) {
-  FourierReference r;
-  r.q0 = q0;
-  r.base_frequency = base_frequency;
+FourierSeries randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
+                            double base_frequency, int harmonics, std::uint64_t seed) {
+  FourierSeries r;
+  r.offset = q0;
+  r.period = 1.0 / base_frequency;
   const int n = static_cast<int>(q0.size());
-  r.sine.resize(n, harmonics);
-  r.cosine.resize(n, harmonics);
+  r.a.resize(n, harmonics);
+  r.b.resize(n, harmonics);
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   const double w = 2.0 * std::numbers::pi * base_frequency;
   for (int i = 0; i < n; ++i) {
     double bound = 0.0;
     for (int k = 0; k < harmonics; ++k) {
-      r.sine(i, k) = uniform(rng);
-      r.cosine(i, k) = uniform(rng);
-      bound += (std::abs(r.sine(i, k)) + std::abs(r.cosine(i, k))) / (w * (k + 1));
+      r.a(i, k) = uniform(rng);
+      r.b(i, k) = uniform(rng);
+      bound += (std::abs(r.a(i, k)) + std::abs(r.b(i, k))) / (w * (k + 1));
     }
     const double scale = bound > 0.0 ? amplitude[i] / bound : 0.0;
-    r.sine.row(i) *= scale;
-    r.cosine.row(i) *= scale;
+    r.a.row(i) *= scale;
+    r.b.row(i) *= scale;
   }
   return r;
 }
@@ -115,8 +118,8 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
   Reference reference;
   if (!request.trajectory.empty()) {
-    const FourierDesign design = readExcitationDesign(request.trajectory, n);
-    reference = design.reference();
+    const FourierSeries design = readExcitationDesign(request.trajectory, n);
+    reference = design;
     q0 = design.offset;  // the default gains' configuration
   } else if (!request.fourier) {
     SinusoidalReference r;
@@ -187,22 +190,6 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 // ---- identification ----
 
-std::optional<nlohmann::json> preparationRecord(const std::string& data_file) {
-  const std::filesystem::path path(data_file);
-  const std::string name = path.filename().string();
-  if (name != "train.csv" && name != "validate.csv") return std::nullopt;
-  const std::filesystem::path record = path.parent_path() / "prepare.json";
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(record, error)) return std::nullopt;
-  try {
-    nlohmann::json j = nlohmann::json::parse(readFile(record.string()));
-    if (j.is_object() && j.value("kind", "") == "dynid.prepare") return j;
-  } catch (const std::exception&) {
-    // An unreadable record is not the dataset's problem: the report leaves the section out.
-  }
-  return std::nullopt;
-}
-
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   const Model& model = request.model;
   IdentifyOutcome out;
@@ -252,7 +239,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     v.relative_error = e.relative_error;
     out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
   }
-  if (!request.data) out.preparation = preparationRecord(request.data_file);
+  if (!request.data) out.preparation = findPreparation(request.data_file);
   if (request.validate) {
     out.validate_fit = predictTorques(identified, *request.validate, &pool);
     out.validation = out.validate_fit->validation;
@@ -347,27 +334,6 @@ std::pair<double, double> heldOutGc(const Model& first, const Model& second,
   return {a, gcError(second, test, workspace, pool)};
 }
 
-namespace {
-
-/// The checkpoint at `path` when it exists: its state, after checking it was written with the
-/// same settings and method.
-std::optional<SearchState> resumeFrom(const std::string& path, const nlohmann::json& settings,
-                                      Method method) {
-  if (path.empty() || !std::filesystem::exists(path)) return std::nullopt;
-  const nlohmann::json saved = parseJson(readFile(path), path);
-  CheckpointShape shape;
-  shape.method = methodName(method);
-  shape.dimension = static_cast<long>(settings.at("free_parameters").size());
-  shape.population = settings.at("population").get<long>();
-  if (saved.is_object() && saved.contains("settings") &&
-      saved["settings"] != checkpointFingerprint(settings))
-    throw ParseError(path, 0, "settings",
-                     "the checkpoint was written with other settings; remove it to start afresh");
-  return checkpointFrom(saved, path, shape);
-}
-
-}  // namespace
-
 SearchOutcome searchRun(const SearchRequest& request) {
   const Model& robot = request.robot;
   if (!isSearch(request.method))
@@ -389,49 +355,53 @@ SearchOutcome searchRun(const SearchRequest& request) {
     if (m != nullptr && (m->numJoints() != robot.numJoints() || m->parents() != robot.parents()))
       throw InputError("the initial and true models must have the robot's kinematic structure");
 
-  SpaceOptions space_options = request.space;
-  space_options.total_mass_constraint =
-      mass == "on" || (mass == "auto" && request.method != Method::kGa);
-  space_options.total_mass =
-      request.total_mass.value_or(totalMass(request.truth ? *request.truth : initial));
-  SearchOutcome out;
-  out.robot = robot.name;
-  out.method = request.method;
-  out.space = std::make_shared<const ParameterSpace>(initial, space_options);
-  const ParameterSpace& space = *out.space;
   SegmentOptions segments = request.segments;
   segments.seed = request.seed;
   const GcProblem problem = makeGcProblem(
       request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
       segments);
-  ThreadPool pool(resolveThreads(request.threads));
+  EstimationProblem estimation;
+  estimation.model = robot;
+  estimation.train_gc = &problem;
+  estimation.start = initial;
+  estimation.space = request.space;
+  estimation.mass_plane = mass == "on"    ? MassPlane::kOn
+                          : mass == "off" ? MassPlane::kOff
+                                          : MassPlane::kAuto;
+  estimation.total_mass =
+      request.total_mass.value_or(totalMass(request.truth ? *request.truth : initial));
+  estimation.search_budget = budget;
+  estimation.seed = request.seed;
+  estimation.ga = request.ga;
+  estimation.nlo = request.nlo;
+  estimation.threads = resolveThreads(request.threads);
+  estimation.control = request.control;
+  SearchOutcome out;
   Eigen::VectorXd truth_full;
+  estimation.on_search_iteration = [&](Method, const SearchState& state, const ParameterSpace&) {
+    if (!request.checkpoint.empty())
+      writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n");
+    if (request.on_iteration) request.on_iteration(state);
+  };
+  estimation.truth_full = request.truth ? &truth_full : nullptr;
+  MethodRunner runner(std::move(estimation));
+  out.robot = robot.name;
+  out.method = request.method;
+  out.space = runner.sharedSpace(request.method);
+  const ParameterSpace& space = *out.space;
   if (request.truth) truth_full = space.fullVector(*request.truth);
 
-  SearchSettingsRecord record{space_options, space.freeNames(), segments,    request.seed,
-                              budget,        request.ga,        request.nlo, request.data_file};
+  SearchSettingsRecord record{space.options(), space.freeNames(), segments,    request.seed,
+                              budget,          request.ga,        request.nlo, request.data_file};
   record.segments.num_segments = problem.numSegments();
   record.segments.step = problem.step;
   out.settings = searchSettingsJson(record);
   // Checkpoints resume only runs with the same settings (threads may differ: results do not).
   const std::optional<SearchState> resume =
-      resumeFrom(request.checkpoint, out.settings, request.method);
-
-  SearchContext context;
-  context.space = &space;
-  context.problem = &problem;
-  context.pool = &pool;
-  context.truth_full = request.truth ? &truth_full : nullptr;
-  context.budget = budget;
-  context.seed = request.seed;
-  context.stop = request.control.stop;
-  context.resume = resume ? &*resume : nullptr;
-  context.on_iteration = [&](const SearchState& state) {
-    if (!request.checkpoint.empty())
-      writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n");
-    if (request.on_iteration) request.on_iteration(state);
-  };
-  out.result = dispatchSearch(request.method, context, request.ga, request.nlo);
+      readCheckpoint(request.checkpoint, out.settings, methodName(request.method));
+  runner.setResume(resume ? &*resume : nullptr);
+  runner.run(request.method);
+  out.result = *runner.searchResult(request.method);
   const Eigen::VectorXd x_initial = space.project(space.initial());
   if (request.truth) {
     out.initial_parameter_error = space.parameterError(x_initial, truth_full);
@@ -441,7 +411,7 @@ SearchOutcome searchRun(const SearchRequest& request) {
     out.validate_file = request.validate_file;
     std::tie(out.validate_initial_gc, out.validate_final_gc) =
         heldOutGc(space.modelAt(x_initial), space.modelAt(out.result.best_x), request.validate_file,
-                  segments, pool.numThreads());
+                  segments, runner.pool().numThreads());
   }
   return out;
 }
@@ -456,7 +426,7 @@ RefineOutcome refineRun(const RefineRequest& request) {
   out.data_file = request.data_file;
   out.options = request.options;
   out.options.num_threads = resolveThreads(request.options.num_threads);
-  out.options.stop = request.control.stop;
+  out.options.control = request.control;
   if (out.options.max_iterations < 1) throw InputError("max_iterations must be >= 1");
 
   // The search's space and segments (search.json), or the request's (estimate.json).
@@ -483,8 +453,15 @@ RefineOutcome refineRun(const RefineRequest& request) {
     throw InputError("the true model has another parameter layout than the robot");
   // Base coordinates from the structural analysis (the same defaults as dynid identifiability).
   out.base = structuralBaseParameters(robot);
-  const BaseCoordinates coordinates = out.base.coordinates();
-  out.result = refineGc(space, problem, out.x0, out.options, &coordinates);
+  EstimationProblem estimation;
+  estimation.model = robot;
+  estimation.base = &out.base;
+  estimation.train_gc = &problem;
+  estimation.refine.options = out.options;
+  estimation.threads = out.options.num_threads;
+  estimation.control = request.control;
+  MethodRunner runner(std::move(estimation));
+  out.result = runner.refineFrom(space, out.x0);
   out.beta0 = out.base.project(space.standardAt(out.x0));
 
   const RefineResult& result = out.result;

@@ -17,6 +17,7 @@
 
 #include "analysis/methods.hpp"
 #include "analysis/pipeline.hpp"
+#include "analysis/records/prepare_record.hpp"
 #include "analysis/streaming.hpp"
 #include "core/model.hpp"
 #include "core/parameters.hpp"
@@ -84,8 +85,8 @@ SimulateOutcome simulateRun(const SimulateRequest& request);
 
 /// Seeded Fourier coefficients, scaled so each joint's excursion bound sum (|a|+|b|)/(w k) equals
 /// its amplitude.
-FourierReference randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
-                               double base_frequency, int harmonics, std::uint64_t seed);
+FourierSeries randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& amplitude,
+                            double base_frequency, int harmonics, std::uint64_t seed);
 
 // ---- identifiability ----
 
@@ -112,10 +113,6 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
                                           const Trajectory* data = nullptr);
 
 // ---- identification ----
-
-/// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
-/// validate.csv); nullopt otherwise, or when the record is unreadable.
-std::optional<nlohmann::json> preparationRecord(const std::string& data_file);
 
 struct IdentifyRequest {
   Model model;
@@ -158,7 +155,7 @@ struct IdentifyOutcome {
   std::vector<ConsistencyViolation> violations;  // of the standard estimate, per link
   /// prepare.json when the training data is a `dynid prepare` output (train.csv or validate.csv
   /// beside it): how the log was cleaned, filtered and differentiated.
-  std::optional<nlohmann::json> preparation;
+  PreparationFound preparation;
 };
 /// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
 /// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.
@@ -211,7 +208,7 @@ struct SearchRequest {
 struct SearchOutcome {
   std::string robot;
   Method method = Method::kNlo;
-  nlohmann::json settings;  // search.json's "settings" (analysis/run_json.hpp)
+  nlohmann::json settings;  // search.json's "settings" (analysis/records/search_record.hpp)
   std::shared_ptr<const ParameterSpace> space;
   SearchResult result;
   std::optional<double> initial_parameter_error, final_parameter_error;  // with a truth

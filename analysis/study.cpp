@@ -6,14 +6,14 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
-#include "analysis/excite.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "analysis/runs.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/robots.hpp"
-#include "search/refinement/costs.hpp"
+#include "search/refinement/gc_jacobian.hpp"
 #include "search/refinement/refine.hpp"
 
 namespace dynid {
@@ -42,8 +42,8 @@ Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out
   Reference reference = r;
   Eigen::VectorXd centre = r.q0;
   if (!held_out && !s.trajectory.empty()) {  // a designed training motion
-    const FourierDesign design = readExcitationDesign(s.trajectory, n);
-    reference = design.reference();
+    const FourierSeries design = readExcitationDesign(s.trajectory, n);
+    reference = design;
     centre = design.offset;
   }
   TrackingController controller(truth, reference, defaultGains(truth, centre, 5.0), tau_max);
@@ -84,11 +84,9 @@ void validateStudySettings(const StudySettings& s) {
   require(s.threads >= 1, "threads", "must be >= 1");
 }
 
-Study::Study(const StudySettings& settings, std::function<void(const std::string&)> progress)
-    : settings_(settings), progress_(std::move(progress)) {
-  const auto say = [&](const std::string& line) {
-    if (progress_) progress_(line);
-  };
+Study::Study(const StudySettings& settings, RunControl control)
+    : settings_(settings), control_(std::move(control)) {
+  const auto say = [&](const std::string& line) { control_.say(line); };
   validateStudySettings(settings_);
   truth_ = loadRobot(settings_.robot);
   initial_ = perturbedModel(truth_, settings_.perturb, settings_.seed);
@@ -120,8 +118,10 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
   problem.search_budget.max_seconds = settings_.search_seconds;
   problem.search_budget.max_evaluations = settings_.search_evaluations;
   problem.seed = settings_.seed;
-  problem.refine = {settings_.refine_iterations, settings_.refine_seconds,
-                    settings_.refine_tolerance, settings_.keep_if_better};
+  problem.refine.options.max_iterations = settings_.refine_iterations;
+  problem.refine.options.max_seconds = settings_.refine_seconds;
+  problem.refine.options.function_tolerance = settings_.refine_tolerance;
+  problem.refine.keep_if_better = settings_.keep_if_better;
   problem.truth_full = &truth_full_;
   problem.on_search_iteration = [this](Method method, const SearchState& state,
                                        const ParameterSpace& space) {
@@ -129,7 +129,7 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
         baseParameterError(base_.project(space.standardAt(state.best_x)), beta_true_));
   };
   problem.threads = settings_.threads;
-  problem.control.progress = progress_;
+  problem.control = control_;
   runner_ = std::make_unique<MethodRunner>(std::move(problem));
   const ParameterSpace& ga_space = runner_->space(Method::kGa);
   comparison_ = std::make_unique<Comparison>(truth_, ga_space, base_, train_, test_, test_data_,
@@ -141,7 +141,7 @@ Study::Study(const StudySettings& settings, std::function<void(const std::string
 }
 
 NullSpaces Study::nullSpaces() {
-  if (progress_) progress_("null spaces: the GC residuals' Jacobian at the truth");
+  control_.say("null spaces: the GC residuals' Jacobian at the truth");
   NullSpaces out;
   const Eigen::MatrixXd J = gcJacobian(truth_, train_, settings_.threads);
   const int p = static_cast<int>(J.cols());
@@ -177,8 +177,7 @@ NullSpaces Study::nullSpaces() {
 
 NearTruth Study::nearTruth(int samples, double range, const std::string& estimate,
                            double estimate_gc) {
-  if (progress_)
-    progress_("GC errors of " + std::to_string(samples) + " configurations near the truth");
+  control_.say("GC errors of " + std::to_string(samples) + " configurations near the truth");
   NearTruth out;
   out.range = range;
   out.estimate = estimate;
@@ -195,8 +194,7 @@ NearTruth Study::nearTruth(int samples, double range, const std::string& estimat
   return out;
 }
 
-MethodMetrics Study::run(Method method, const std::atomic<bool>* stop) {
-  runner_->setStop(stop);
+MethodMetrics Study::run(Method method) {
   const Estimate estimate = runner_->run(method);
   if (method == Method::kOls)
     ols_relative_std_dev_ = estimate.least_squares->estimate.relative_std_dev_percent;

@@ -74,14 +74,13 @@ class Study {
  public:
   /// Simulates the data and finds the base parameters. Throws InputError for a bad setting (an
   /// unknown robot, a non-positive duration, neither search budget set).
-  explicit Study(const StudySettings& settings,
-                 std::function<void(const std::string&)> progress = {});
+  explicit Study(const StudySettings& settings, RunControl control = {});
   Study(const Study&) = delete;
   Study& operator=(const Study&) = delete;
 
   /// Runs one method and measures its estimate. The refined methods refine the search's result,
   /// searching first when that search has not run.
-  MethodMetrics run(Method method, const std::atomic<bool>* stop = nullptr);
+  MethodMetrics run(Method method);
 
   /// The search `method` (nlo, ga, hybrid) when it has run, else null. Its `evaluated` holds
   /// (GC error, parameter error) of every candidate.
@@ -107,7 +106,7 @@ class Study {
 
  private:
   StudySettings settings_;
-  std::function<void(const std::string&)> progress_;
+  RunControl control_;
   Model truth_, initial_;
   Trajectory train_data_, test_data_;
   GcProblem train_, test_;

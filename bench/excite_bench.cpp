@@ -6,7 +6,7 @@
 //   build/bench/bench_excite
 #include <benchmark/benchmark.h>
 
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 #include "data/puma560.hpp"
 
 namespace {

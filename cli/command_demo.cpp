@@ -42,9 +42,9 @@ int runDemo(const std::vector<std::string>& args) {
   demo.quick = vm["quick"].as<bool>();
   demo.seed = vm["seed"].as<std::uint64_t>();
   if (stderrIsTerminal())
-    demo.progress = [](const std::string& line) { std::cerr << "[demo] " << line << "\n"; };
+    demo.control.progress = [](const std::string& line) { std::cerr << "[demo] " << line << "\n"; };
   const InterruptGuard guard;
-  demo.stop = guard.flag();
+  demo.control.stop = guard.flag();
   const DemoResult result = runDemo(demo);
 
   std::string warning;

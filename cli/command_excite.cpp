@@ -1,8 +1,9 @@
-// dynid excite: design the motion that makes every base parameter visible (analysis/excite.hpp).
+// dynid excite: design the motion that makes every base parameter visible
+// (analysis/excitation/excite.hpp).
 #include <cstdio>
 #include <iostream>
 
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/excitation_report.hpp"

@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/output.hpp"
@@ -32,9 +33,9 @@ int runIdentifiability(const std::vector<std::string>& args) {
   const nlohmann::json report = identifiabilityJson(model, outcome);
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"identifiability.json", jsonText(report, 2) + "\n"},
-                         {"identifiability.md", identifiabilityMarkdown(report)}});
+                         {"identifiability.md", identifiabilityMarkdown(model, outcome)}});
   if (outcome.base.rankGap() < 1e4)
-    std::cerr << "warning: the rank gap is only " << formatShort(outcome.base.rankGap())
+    std::cerr << "warning: the rank gap is only " << formatNumber(outcome.base.rankGap(), 4)
               << " (below 1e4): the structural rank is a close call; try more --samples or another "
                  "--tolerance\n";
   std::cout << identifiabilitySummary(model, outcome, dir);

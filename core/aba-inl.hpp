@@ -124,6 +124,17 @@ template <typename Scalar>
 inline constexpr auto kPermutedTransforms =
     permutedTransforms<Scalar>(std::make_integer_sequence<int, 6>());
 
+/// ABA's pass 1 (velocities, bias forces, articulated inertias initialised), pass 2 (leaves to
+/// root: U, D, u, the parents' inertias and bias forces) and pass 3 (root to leaves: ddq).
+template <typename Scalar>
+DYNID_INLINE void abaVelocityPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                  const ConstVectorRef<Scalar>& dq,
+                                  const ConstVectorRef<Scalar>& tau);
+template <typename Scalar>
+DYNID_INLINE void abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data);
+template <typename Scalar>
+DYNID_INLINE void abaAccelerationPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data);
+
 /// ABA's three passes with data.liMi already holding the joint transforms at q (the sizes checked
 /// by the caller). Inlined into aba and into abaAtTransforms.
 template <typename Scalar>
@@ -154,18 +165,13 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
   return aba_detail::abaPasses(model, data, dq, tau);
 }
 
+/// Pass 1: velocities v_i, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
+/// inertias and bias forces pA_i = v_i x* I v_i.
 template <typename Scalar>
-DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>& model,
-                                                          DataTpl<Scalar>& data,
-                                                          const ConstVectorRef<Scalar>& dq,
-                                                          const ConstVectorRef<Scalar>& tau) {
+DYNID_INLINE void aba_detail::abaVelocityPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                              const ConstVectorRef<Scalar>& dq,
+                                              const ConstVectorRef<Scalar>& tau) {
   const int n = model.numJoints();
-  // Every 6-vector is built and read as its angular and linear 3-vector halves, and S x is added
-  // as arithmetic on S's halves rather than by writing one entry: a 6-vector written entry by
-  // entry and then loaded as packed pairs stalls store-to-load forwarding (see rnea).
-  //
-  // Pass 1: velocities v_i, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
-  // inertias and bias forces pA_i = v_i x* I v_i.
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
     const int p = model.parents()[i];
@@ -197,8 +203,13 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     data.articulated_inertia[i] = model.frame_inertia_matrices()[i];
     data.u[i] = tau[i] - jointFriction(model, i, dq[i]);
   }
-  // Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
-  // IA - U U^T / D and pA + Ia c + U u / D.
+}
+
+/// Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
+/// IA - U U^T / D and pA + Ia c + U u / D.
+template <typename Scalar>
+DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
+  const int n = model.numJoints();
   for (int i = n - 1; i >= 0; --i) {
     const Matrix6<Scalar>& IA = data.articulated_inertia[i];
     const int k = model.subspace_index()[i];
@@ -234,9 +245,15 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     data.bias_force[p].template head<3>() += n_f;
     data.bias_force[p].template tail<3>() += f;
   }
-  // Pass 3 (root to leaves): a' = iXp a_p + c, ddq = (u - U^T a') / D, a = a' + S ddq. With
-  // U^T iXp a_p = (pXi* U)^T a_p (pass 2's U_parent), ddq needs only a dot product with a_p, and
-  // the transform of a_p runs beside it: the chain from joint to joint is shorter.
+}
+
+/// Pass 3 (root to leaves): a' = iXp a_p + c, ddq = (u - U^T a') / D, a = a' + S ddq. With
+/// U^T iXp a_p = (pXi* U)^T a_p (pass 2's U_parent), ddq needs only a dot product with a_p, and
+/// the transform of a_p runs beside it: the chain from joint to joint is shorter.
+template <typename Scalar>
+DYNID_INLINE void aba_detail::abaAccelerationPass(const ModelTpl<Scalar>& model,
+                                                  DataTpl<Scalar>& data) {
+  const int n = model.numJoints();
   for (int i = 0; i < n; ++i) {
     const int p = model.parents()[i];
     const Pose<Scalar>& X = data.liMi[i];
@@ -263,6 +280,20 @@ DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>
     data.a[i].template head<3>() = dw + S.template head<3>() * ddq;
     data.a[i].template tail<3>() = dv + S.template tail<3>() * ddq;
   }
+}
+
+template <typename Scalar>
+DYNID_INLINE const VectorX<Scalar>& aba_detail::abaPasses(const ModelTpl<Scalar>& model,
+                                                          DataTpl<Scalar>& data,
+                                                          const ConstVectorRef<Scalar>& dq,
+                                                          const ConstVectorRef<Scalar>& tau) {
+  // Every 6-vector is built and read as its angular and linear 3-vector halves, and S x is added
+  // as arithmetic on S's halves rather than by writing one entry: a 6-vector written entry by
+  // entry and then loaded as packed pairs stalls store-to-load forwarding (see rnea).
+  //
+  abaVelocityPass(model, data, dq, tau);
+  abaInertiaPass(model, data);
+  abaAccelerationPass(model, data);
   return data.ddq;
 }
 

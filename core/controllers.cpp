@@ -43,21 +43,23 @@ void evaluate(const SinusoidalReference& r, double t, Eigen::VectorXd& q, Eigen:
   }
 }
 
-void evaluate(const FourierReference& r, double t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
+void evaluate(const FourierSeries& r, double t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
               Eigen::VectorXd& ddq) {
-  const Eigen::Index n = r.q0.size();
-  if (r.sine.rows() != n || r.cosine.rows() != n || r.sine.cols() != r.cosine.cols())
-    throw InputError("Fourier reference: sine and cosine need " + std::to_string(n) +
+  const Eigen::Index n = r.offset.size();
+  if (r.a.rows() != n || r.b.rows() != n || r.a.cols() != r.b.cols())
+    throw InputError("Fourier series: a and b need " + std::to_string(n) +
                      " rows and the same number of harmonics");
-  q = r.q0;
+  if (!(r.period > 0.0)) throw InputError("Fourier series: the period must be > 0");
+  q = r.offset;
   dq.setZero(n);
   ddq.setZero(n);
-  const double w = kTwoPi * r.base_frequency;
-  for (Eigen::Index k = 1; k <= r.sine.cols(); ++k) {
+  // 2 pi times the base frequency 1 / period, in that order: a tracking reference's rounding.
+  const double w = kTwoPi * (1.0 / r.period);
+  for (Eigen::Index k = 1; k <= r.a.cols(); ++k) {
     const double wk = w * static_cast<double>(k);
     const double s = std::sin(wk * t), c = std::cos(wk * t);
     for (Eigen::Index i = 0; i < n; ++i) {
-      const double a = r.sine(i, k - 1), b = r.cosine(i, k - 1);
+      const double a = r.a(i, k - 1), b = r.b(i, k - 1);
       q[i] += a / wk * s - b / wk * c;
       dq[i] += a * c + b * s;
       ddq[i] += -a * wk * s + b * wk * c;

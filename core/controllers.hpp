@@ -18,16 +18,21 @@ struct SinusoidalReference {
   Eigen::VectorXd q0, amplitude, frequency, phase;
 };
 
-/// Finite Fourier series (Swevers et al.): with w = 2 pi base_frequency,
-///   q_des(t) = q0 + sum_k [a_k / (w k)] sin(w k t) - [b_k / (w k)] cos(w k t),  k = 1..H.
-/// sine and cosine are n x H matrices (a_k in rad/s, b_k in rad/s).
-struct FourierReference {
-  Eigen::VectorXd q0;
-  double base_frequency = 0.1;  // [Hz]
-  Eigen::MatrixXd sine, cosine;
+/// dynid's one Fourier type: a finite Fourier series per joint (Swevers et al.), the reference of
+/// `dynid simulate --controller fourier` and the motion `dynid excite` designs. With
+/// w = 2 pi / period,
+///   q_j(t) = offset_j + sum_k a_jk / (w k) sin(w k t) - b_jk / (w k) cos(w k t),  k = 1..H.
+/// Periodic; at rest (dq = ddq = 0) at t = 0 and every multiple of the period when
+/// sum_k a_jk = 0 and sum_k k b_jk = 0, which every design dynid makes satisfies.
+struct FourierSeries {
+  double period = 10.0;    // [s]
+  Eigen::VectorXd offset;  // n [rad or m]
+  Eigen::MatrixXd a, b;    // n x H [rad/s or m/s]
+  int numJoints() const { return static_cast<int>(offset.size()); }
+  int harmonics() const { return static_cast<int>(a.cols()); }
 };
 
-using Reference = std::variant<SinusoidalReference, FourierReference>;
+using Reference = std::variant<SinusoidalReference, FourierSeries>;
 
 /// The default sinusoid frequencies of `dynid simulate`: 0.15 + 0.07 i Hz for joint i = 0..n-1.
 Eigen::VectorXd defaultFrequencies(int n);

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -68,9 +69,7 @@ std::string formatBytes(double bytes) {
     bytes /= 1000.0;
     ++u;
   }
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), u == 0 ? "%.0f %s" : "%.3g %s", bytes, units[u]);
-  return buffer;
+  return formatNumber(u == 0 ? std::round(bytes) : bytes, u == 0 ? 0 : 3) + " " + units[u];
 }
 
 void requireMemory(double bytes, const std::string& what) {

@@ -8,6 +8,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -104,15 +105,6 @@ Eigen::Matrix<double, 7, 1> standardToPaper(const Eigen::Matrix<double, 10, 1>& 
   return p;
 }
 
-namespace {
-std::string formatNumber(double x) {
-  std::ostringstream s;
-  s.precision(6);
-  s << x;
-  return s.str();
-}
-}  // namespace
-
 std::vector<ConsistencyViolation> checkPhysicalConsistency(const RigidInertia<double>& inertia,
                                                            int link, const std::string& link_name,
                                                            double tolerance) {
@@ -121,21 +113,21 @@ std::vector<ConsistencyViolation> checkPhysicalConsistency(const RigidInertia<do
     out.push_back({link, link_name, std::move(condition), std::move(detail)});
   };
   const double m = inertia.mass;
-  if (!(m >= 0.0)) add("mass >= 0", "m = " + formatNumber(m));
+  if (!(m >= 0.0)) add("mass >= 0", "m = " + formatNumber(m, 6));
   if (m == 0.0 && inertia.first_moment.norm() > 0.0)
     add("a massless link has no first moment",
-        "|m c| = " + formatNumber(inertia.first_moment.norm()));
+        "|m c| = " + formatNumber(inertia.first_moment.norm(), 6));
   const Eigen::Matrix3d ic = inertiaAboutCom(inertia);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(ic, Eigen::EigenvaluesOnly);
   const Eigen::Vector3d l = eig.eigenvalues();  // ascending
   const double tol = tolerance * std::max(std::abs(ic.trace()), 1e-300);
   if (l(0) < -tol)
     add("inertia about the centre of mass is positive semi-definite",
-        "smallest principal moment = " + formatNumber(l(0)));
+        "smallest principal moment = " + formatNumber(l(0), 6));
   // Triangle inequality: the two smaller principal moments sum to at least the largest.
   if (l(0) + l(1) < l(2) - tol)
     add("triangle inequality I1 + I2 >= I3 on the principal moments about the centre of mass",
-        formatNumber(l(0)) + " + " + formatNumber(l(1)) + " < " + formatNumber(l(2)));
+        formatNumber(l(0), 6) + " + " + formatNumber(l(1), 6) + " < " + formatNumber(l(2), 6));
   return out;
 }
 

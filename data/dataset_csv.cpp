@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/memory.hpp"
 #include "data/io.hpp"
 
@@ -268,8 +269,8 @@ int DatasetReader::read(Trajectory& chunk, int max_samples, ThreadPool* pool) {
     const double t = chunk.time[r];
     if (samples_ + r > 0 && !(t > last_time_))
       throw ParseError(path_, line_numbers_[static_cast<std::size_t>(r)], "t",
-                       "time must increase strictly (" + formatDouble(t) + " after " +
-                           formatDouble(last_time_) + ")");
+                       "time must increase strictly (" + formatNumber(t) + " after " +
+                           formatNumber(last_time_) + ")");
     last_time_ = t;
   }
   if (parse_error) std::rethrow_exception(parse_error);

@@ -258,12 +258,6 @@ bool LineReader::next(std::string_view& line) {
   return true;
 }
 
-std::string formatDouble(double x) {
-  std::array<char, 32> buffer;
-  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), x);
-  return std::string(buffer.data(), result.ptr);
-}
-
 namespace {
 /// The length of the UTF-8 sequence at text[i] (1 to 4) and its code point, or 0 when it is not
 /// valid UTF-8 (a stray continuation byte, 0xf8..0xff, a truncated sequence, an overlong form, a

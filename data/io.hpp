@@ -89,9 +89,6 @@ class LineReader {
   int line_ = 0;
 };
 
-/// Shortest decimal form that parses back to exactly x ("0.1", "1e-300", "inf", "nan").
-std::string formatDouble(double x);
-
 /// True when `text` is valid UTF-8 (no overlong forms, surrogates or code points past U+10FFFF)
 /// without control characters (below U+0020, or DEL): what a name (robot, link, joint, column)
 /// must be to appear in dynid's JSON, XML and HTML outputs.

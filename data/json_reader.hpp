@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -173,16 +174,11 @@ class JsonReader {
  private:
   static std::string outOfRange(const json& value, double lo, double hi) {
     std::string text = value.dump() + " is out of range (";
-    if (lo > -std::numeric_limits<double>::max()) text += ">= " + shortNumber(lo);
+    if (lo > -std::numeric_limits<double>::max()) text += ">= " + formatNumber(lo);
     if (hi < std::numeric_limits<double>::max())
       text += std::string(lo > -std::numeric_limits<double>::max() ? ", " : "") +
-              "<= " + shortNumber(hi);
+              "<= " + formatNumber(hi);
     return text + ")";
-  }
-  static std::string shortNumber(double x) {
-    std::string s = std::to_string(x);
-    if (x == std::floor(x) && std::fabs(x) < 1e15) s = std::to_string(static_cast<long long>(x));
-    return s;
   }
   std::string file_;
 };

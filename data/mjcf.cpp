@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/format.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -14,7 +15,7 @@ std::string numbers(std::initializer_list<double> values) {
   std::string out;
   for (double v : values) {
     if (!out.empty()) out += ' ';
-    out += formatDouble(v);
+    out += formatNumber(v);
   }
   return out;
 }
@@ -41,7 +42,7 @@ void writeBody(const Model& model, const std::vector<std::vector<int>>& children
   const Eigen::Matrix3d Ic =
       inertia.inertia - m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
   out << indent << "  <inertial pos=\"" << numbers({c.x(), c.y(), c.z()}) << "\" mass=\""
-      << formatDouble(m) << "\" fullinertia=\""
+      << formatNumber(m) << "\" fullinertia=\""
       << numbers({Ic(0, 0), Ic(1, 1), Ic(2, 2), Ic(0, 1), Ic(0, 2), Ic(1, 2)}) << "\"/>\n";
   for (int child : children[i]) writeBody(model, children, child, depth + 1, out);
   out << indent << "</body>\n";
@@ -77,7 +78,7 @@ std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
   out << "<mujoco model=\"" << escapeXml(model.name) << "\">\n"
       << "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or drives -->\n"
       << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
-      << "  <option timestep=\"" << formatDouble(options.timestep) << "\" integrator=\""
+      << "  <option timestep=\"" << formatNumber(options.timestep) << "\" integrator=\""
       << escapeXml(options.integrator) << "\" gravity=\"" << numbers({g.x(), g.y(), g.z()})
       << "\">\n"
       << "    <flag contact=\"disable\"/>\n"

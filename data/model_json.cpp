@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/parameters.hpp"
 #include "data/dh.hpp"
 #include "data/io.hpp"
@@ -112,7 +113,7 @@ class Reader {
                            const std::string& path) const {
     for (int k = 0; k < kLinkParameterCount; ++k)
       if (std::abs(theta(k)) > kMaxParameterMagnitude)
-        fail(path, std::string(kLinkParameterNames[k]) + " = " + formatDouble(theta(k)) +
+        fail(path, std::string(kLinkParameterNames[k]) + " = " + formatNumber(theta(k)) +
                        " is beyond +-1e6 (SI units: kg, kg m, kg m^2)");
   }
   /// Fails on a key of `object` that is not in `allowed` (a misspelt key must not pass silently).
@@ -143,7 +144,7 @@ class Reader {
       if (const auto it = object.find(key); it != object.end()) {
         out.term(k) = number(*it, join(path, key.c_str()));
         if (std::abs(out.term(k)) > kMaxParameterMagnitude)
-          fail(join(path, key.c_str()), formatDouble(out.term(k)) + " is beyond +-1e6 (SI units)");
+          fail(join(path, key.c_str()), formatNumber(out.term(k)) + " is beyond +-1e6 (SI units)");
       }
     }
     return out;

@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 
@@ -208,8 +209,8 @@ class UrdfBuilder {
       failJoint(joint.name, "<limit> has a non-finite number");
     if (joint.limits && joint.type != urdf::Joint::CONTINUOUS &&
         joint.limits->lower > joint.limits->upper)
-      failJoint(joint.name, "<limit> lower " + formatDouble(joint.limits->lower) +
-                                " is above upper " + formatDouble(joint.limits->upper));
+      failJoint(joint.name, "<limit> lower " + formatNumber(joint.limits->lower) +
+                                " is above upper " + formatNumber(joint.limits->upper));
     if (joint.limits && (joint.limits->effort < 0.0 || joint.limits->velocity < 0.0))
       failJoint(joint.name, "<limit> effort and velocity must be >= 0");
     if (joint.dynamics &&
@@ -234,7 +235,7 @@ class UrdfBuilder {
     if (!finitePose(in.origin))
       failLink(link.name, "<inertial><origin> has a non-finite number or one beyond +-1e6 m");
     if (in.mass < 0.0)
-      failLink(link.name, "negative mass " + formatDouble(in.mass) + " kg in <inertial><mass>");
+      failLink(link.name, "negative mass " + formatNumber(in.mass) + " kg in <inertial><mass>");
   }
 
   /// The link's inertia about its own frame origin, in its frame.
@@ -273,7 +274,7 @@ class UrdfBuilder {
     for (int k = 0; k < kLinkParameterCount; ++k)
       if (std::abs(theta(k)) > kMaxParameterMagnitude)
         failLink(link.name, "<inertial> gives " + std::string(kLinkParameterNames[k]) + " = " +
-                                formatDouble(theta(k)) +
+                                formatNumber(theta(k)) +
                                 ", beyond +-1e6 (SI units: kg, m, kg m^2)");
     return out;
   }
@@ -482,7 +483,7 @@ Model loadUrdf(const std::string& path, const UrdfOptions& options,
 
 namespace {
 std::string vec(const Eigen::Vector3d& v) {
-  return formatDouble(v.x()) + " " + formatDouble(v.y()) + " " + formatDouble(v.z());
+  return formatNumber(v.x()) + " " + formatNumber(v.y()) + " " + formatNumber(v.z());
 }
 std::string origin(const Pose<double>& pose) {
   return "<origin xyz=\"" + vec(pose.translation) + "\" rpy=\"" +
@@ -493,8 +494,11 @@ std::string origin(const Pose<double>& pose) {
 std::string urdfDynamicsElement(const DriveParameters<double>& drive) {
   std::string out = "<dynamics";
   for (const DriveTermInfo& row : kDriveTermTable)
-    if (!row.urdf_dynamics.empty())
-      out += " " + std::string(row.urdf_dynamics) + "=\"" + formatDouble(drive[row.term]) + "\"";
+    if (!row.urdf_dynamics.empty()) {
+      // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on the concatenated form.
+      out.append(" ").append(row.urdf_dynamics).append("=\"");
+      out.append(formatNumber(drive[row.term])).append("\"");
+    }
   return out + "/>";
 }
 
@@ -518,11 +522,11 @@ std::string modelToUrdf(const Model& model) {
     out << "  <link name=\"" << escapeXml(model.link_names[i]) << "\">\n"
         << "    <inertial>\n"
         << "      <origin xyz=\"" << vec(c) << "\" rpy=\"0 0 0\"/>\n"
-        << "      <mass value=\"" << formatDouble(in.mass) << "\"/>\n"
-        << "      <inertia ixx=\"" << formatDouble(ic(0, 0)) << "\" ixy=\""
-        << formatDouble(ic(0, 1)) << "\" ixz=\"" << formatDouble(ic(0, 2)) << "\" iyy=\""
-        << formatDouble(ic(1, 1)) << "\" iyz=\"" << formatDouble(ic(1, 2)) << "\" izz=\""
-        << formatDouble(ic(2, 2)) << "\"/>\n"
+        << "      <mass value=\"" << formatNumber(in.mass) << "\"/>\n"
+        << "      <inertia ixx=\"" << formatNumber(ic(0, 0)) << "\" ixy=\""
+        << formatNumber(ic(0, 1)) << "\" ixz=\"" << formatNumber(ic(0, 2)) << "\" iyy=\""
+        << formatNumber(ic(1, 1)) << "\" iyz=\"" << formatNumber(ic(1, 2)) << "\" izz=\""
+        << formatNumber(ic(2, 2)) << "\"/>\n"
         << "    </inertial>\n"
         << "  </link>\n";
     const int p = model.parents()[i];
@@ -538,10 +542,10 @@ std::string modelToUrdf(const Model& model) {
     if (model.joint_types()[i] != JointType::kContinuous || std::isfinite(l.effort) ||
         std::isfinite(l.velocity)) {
       auto finite_or = [](double x, double fallback) { return std::isfinite(x) ? x : fallback; };
-      out << "    <limit lower=\"" << formatDouble(finite_or(l.lower, -1e9)) << "\" upper=\""
-          << formatDouble(finite_or(l.upper, 1e9)) << "\" effort=\""
-          << formatDouble(finite_or(l.effort, 0.0)) << "\" velocity=\""
-          << formatDouble(finite_or(l.velocity, 0.0)) << "\"/>\n";
+      out << "    <limit lower=\"" << formatNumber(finite_or(l.lower, -1e9)) << "\" upper=\""
+          << formatNumber(finite_or(l.upper, 1e9)) << "\" effort=\""
+          << formatNumber(finite_or(l.effort, 0.0)) << "\" velocity=\""
+          << formatNumber(finite_or(l.velocity, 0.0)) << "\"/>\n";
     }
     if (model.driveTerms().any()) out << "    " << urdfDynamicsElement(model.drives()[i]) << "\n";
     out << "  </joint>\n";

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 #include "data/urdf.hpp"
@@ -132,13 +133,13 @@ std::string inertialXml(const RigidInertia<double>& link, const std::string& ind
   const Eigen::Matrix3d ic = inertiaAboutCom(link);
   std::ostringstream out;
   out << "<inertial>\n"
-      << indent << step << "<origin xyz=\"" << formatDouble(c.x()) << " " << formatDouble(c.y())
-      << " " << formatDouble(c.z()) << "\" rpy=\"0 0 0\"/>\n"
-      << indent << step << "<mass value=\"" << formatDouble(m) << "\"/>\n"
-      << indent << step << "<inertia ixx=\"" << formatDouble(ic(0, 0)) << "\" ixy=\""
-      << formatDouble(ic(0, 1)) << "\" ixz=\"" << formatDouble(ic(0, 2)) << "\" iyy=\""
-      << formatDouble(ic(1, 1)) << "\" iyz=\"" << formatDouble(ic(1, 2)) << "\" izz=\""
-      << formatDouble(ic(2, 2)) << "\"/>\n"
+      << indent << step << "<origin xyz=\"" << formatNumber(c.x()) << " " << formatNumber(c.y())
+      << " " << formatNumber(c.z()) << "\" rpy=\"0 0 0\"/>\n"
+      << indent << step << "<mass value=\"" << formatNumber(m) << "\"/>\n"
+      << indent << step << "<inertia ixx=\"" << formatNumber(ic(0, 0)) << "\" ixy=\""
+      << formatNumber(ic(0, 1)) << "\" ixz=\"" << formatNumber(ic(0, 2)) << "\" iyy=\""
+      << formatNumber(ic(1, 1)) << "\" iyz=\"" << formatNumber(ic(1, 2)) << "\" izz=\""
+      << formatNumber(ic(2, 2)) << "\"/>\n"
       << indent << "</inertial>";
   return out.str();
 }

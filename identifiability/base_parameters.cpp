@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "identifiability/observation.hpp"
 #include "identifiability/tall_qr.hpp"
 
@@ -52,12 +53,6 @@ double defaultTolerance(const Eigen::VectorXd& diagonal) {
   return 1e-8 * (diagonal.size() > 0 ? diagonal.maxCoeff() : 0.0);
 }
 
-std::string formatCoefficient(double x, int digits) {
-  std::ostringstream s;
-  s.precision(digits);
-  s << x;
-  return s.str();
-}
 }  // namespace
 
 double BaseParameters::rankGap() const {
@@ -197,7 +192,7 @@ std::string BaseParameters::expression(int j, int digits) const {
     }
     const double magnitude = std::abs(coefficient);
     out += coefficient < 0 ? " - " : " + ";
-    if (std::abs(magnitude - 1.0) > 1e-12) out += formatCoefficient(magnitude, digits) + "*";
+    if (std::abs(magnitude - 1.0) > 1e-12) out += formatNumber(magnitude, digits) + "*";
     out += name;
   }
   return out;

@@ -1,5 +1,7 @@
 #include "identifiability/least_squares_stream.hpp"
 
+#include "identifiability/tall_qr.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -70,6 +72,9 @@ Solved solveFactor(const Eigen::MatrixXd& r_augmented, Eigen::Index b, bool need
 }
 
 }  // namespace
+
+LeastSquaresStream::LeastSquaresStream(LeastSquaresStream&&) noexcept = default;
+LeastSquaresStream::~LeastSquaresStream() = default;
 
 LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, int num_joints)
     : base_(base), n_(num_joints), b_(base.numBase()) {

@@ -24,9 +24,10 @@
 #include "core/trajectory.hpp"
 #include "identifiability/base_estimate.hpp"
 #include "identifiability/base_parameters.hpp"
-#include "identifiability/tall_qr.hpp"
 
 namespace dynid {
+
+class TallQr;  // identifiability/tall_qr.hpp, internal
 
 class LeastSquaresStream {
  public:
@@ -37,6 +38,9 @@ class LeastSquaresStream {
   /// base columns of its subtree's links and its own drive terms. add() checks that the others are
   /// zero (Error otherwise: a regressor that does not have the chain's structure).
   LeastSquaresStream(const BaseParameters& base, const Model& model);
+  // Out of line: TallQr is complete only in least_squares_stream.cpp.
+  LeastSquaresStream(LeastSquaresStream&&) noexcept;
+  ~LeastSquaresStream();
 
   /// Adds one sample: the joint torque regressor Y (n x p, the model's standard parameters) and
   /// the measured torques tau (n). Throws InputError on a size mismatch or a value that is not

@@ -10,6 +10,7 @@
 #include <Eigen/QR>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/log_cholesky.hpp"
 
 namespace dynid {
@@ -55,13 +56,6 @@ double logDet(const Eigen::Matrix4d& j, Eigen::Matrix4d* inverse = nullptr) {
   if (!(diagonal.array() > 0.0).all()) return std::numeric_limits<double>::quiet_NaN();
   if (inverse != nullptr) *inverse = llt.solve(Eigen::Matrix4d::Identity());
   return 2.0 * diagonal.array().log().sum();
-}
-
-std::string formatShortNumber(double x) {
-  std::ostringstream out;
-  out.precision(3);
-  out << x;
-  return out.str();
 }
 
 /// The observation's rows, sample by sample, in a stream over every base column.
@@ -206,56 +200,52 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   return estimatePhysicallyConsistent(base, observation.layout, stream, prior, options);
 }
 
-PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
-                                              const ParameterLayout& layout,
-                                              LeastSquaresStream& stream,
-                                              const Eigen::VectorXd& prior,
-                                              const PhysicalOptions& options) {
-  if (layout.num_links != stream.numJoints())
-    throw InputError("the parameter layout has " + std::to_string(layout.num_links) +
-                     " links, the data " + std::to_string(stream.numJoints()) + " joints");
-  PhysicalEstimate out;
-  out.ols = stream.estimate(LeastSquaresMethod::kOrdinary);
-  const Eigen::MatrixXd augmented = stream.augmentedFactor();
-  const int b = base.numBase();
-  const double rows = static_cast<double>(stream.numSamples()) * stream.numJoints();
-  // sigma from the OLS residuals (|rho|, the factor's last entry), floored at 1e-6 of the torques'
-  // RMS (|tau|: the factor's last column): with exact (noise-free) data the prior term must keep a
-  // weight that holds the directions the data cannot see.
-  const double tau_rms = augmented.col(b).norm() / std::sqrt(std::max(rows, 1.0));
-  const double sigma_ols = std::max(std::abs(augmented(b, b)) / std::sqrt(std::max(rows - b, 1.0)),
-                                    1e-6 * tau_rms + 1e-300);
-  const PhysicalProblem problem =
-      makePhysicalProblem(base, layout, augmented, prior, options.prior_weight, sigma_ols);
-  const int per = layout.perLink(), p = layout.size();
+namespace {
 
-  // The start: OLS lifted with the prior's dependent parameters, each link that is not inside the
-  // physical set moved just inside (1e-8 of the normalised pseudo-inertia), and the positive drive
-  // terms raised to at least 1e-2 of their scale. F is strictly convex: any interior start reaches
-  // the one minimum.
-  Eigen::VectorXd theta = base.standardFromBase(out.ols.beta, prior);
+/// The start: OLS lifted with the prior's dependent parameters, each link that is not inside the
+/// physical set moved just inside (1e-8 of the normalised pseudo-inertia), and the positive drive
+/// terms raised to at least 1e-2 of their scale. F is strictly convex: any interior start reaches
+/// the one minimum.
+Eigen::VectorXd consistentStart(const BaseParameters& base, const ParameterLayout& layout,
+                                const PhysicalProblem& problem, const Eigen::VectorXd& ols_beta,
+                                const Eigen::VectorXd& prior,
+                                std::vector<int>& inconsistent_links) {
+  const int per = layout.perLink(), p = layout.size();
+  Eigen::VectorXd theta = base.standardFromBase(ols_beta, prior);
   for (int i = 0; i < layout.num_links; ++i) {
     const Eigen::Matrix<double, 10, 1> link = theta.segment<10>(i * per);
     const Eigen::Matrix<double, 10, 1> fixed = nearestConsistent(link, 1e-8);
-    if (fixed != link) out.inconsistent_links.push_back(i);
+    if (fixed != link) inconsistent_links.push_back(i);
     theta.segment<10>(i * per) = fixed;
   }
   for (int k = 0; k < p; ++k)
     if (problem.positive[k]) theta[k] = std::max(theta[k], 1e-2 * problem.scales[k]);
-  out.start_theta = theta;
+  return theta;
+}
 
-  // Damped Newton along the barrier path: lambda starts at the data term's size at the start (the
-  // divergence then weighs as much as the misfit, the minimiser is well inside the physical set
-  // and Newton converges in a few steps) and falls tenfold per stage to the requested value, each
-  // stage starting from the last one's minimiser (the interior-point method's central path). Each
-  // step solves the Jacobi-scaled Newton system (the Hessian mixes the data's curvature, up to
-  // 1/sigma^2, with the barrier's); backtracking (Armijo, halving) keeps every iterate inside.
+/// The outcome of the barrier path: converged, why it stopped, the Newton iterations taken.
+struct PathOutcome {
+  bool converged = false;
+  std::string why;
+  int iterations = 0;
+};
+
+/// Damped Newton along the barrier path: lambda starts at the data term's size at the start (the
+/// divergence then weighs as much as the misfit, the minimiser is well inside the physical set
+/// and Newton converges in a few steps) and falls tenfold per stage to the requested value, each
+/// stage starting from the last one's minimiser (the interior-point method's central path). Each
+/// step solves the Jacobi-scaled Newton system (the Hessian mixes the data's curvature, up to
+/// 1/sigma^2, with the barrier's); backtracking (Armijo, halving) keeps every iterate inside.
+/// theta: the interior start in, the minimiser out; F after every step appended to cost_history.
+PathOutcome barrierPath(const PhysicalProblem& problem, const PhysicalOptions& options,
+                        Eigen::VectorXd& theta, std::vector<double>& cost_history) {
+  const int p = static_cast<int>(theta.size());
   PhysicalProblem stage = problem;
   int stages = 0;
   const double misfit = 0.5 * (problem.A * theta - problem.b).squaredNorm();
   while (stage.prior_weight < misfit && stages < 30) stage.prior_weight *= 10.0, ++stages;
   double cost = stage.cost(theta);
-  out.cost_history.push_back(problem.cost(theta));
+  cost_history.push_back(problem.cost(theta));
   bool converged = false;
   std::string why;
   Eigen::VectorXd gradient;
@@ -290,8 +280,8 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
         continue;
       }
       converged = true;
-      why = "Newton decrement / 2 = " + formatShortNumber(decrement / 2.0) +
-            " <= " + formatShortNumber(std::max(options.tolerance, resolution)) +
+      why = "Newton decrement / 2 = " + formatNumber(decrement / 2.0, 3) +
+            " <= " + formatNumber(std::max(options.tolerance, resolution), 3) +
             (resolution > options.tolerance ? " (the resolution of F)" : "");
       break;
     }
@@ -309,19 +299,53 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
         next_stage();
         continue;
       }
-      why = "no decrease along the Newton step (decrement / 2 = " +
-            formatShortNumber(decrement / 2.0) + ", F = " + formatShortNumber(cost) + ")";
+      why =
+          "no decrease along the Newton step (decrement / 2 = " + formatNumber(decrement / 2.0, 3) +
+          ", F = " + formatNumber(cost, 3) + ")";
       break;
     }
     theta += t * step;
     cost = trial;
-    out.cost_history.push_back(problem.cost(theta));
+    cost_history.push_back(problem.cost(theta));
     if (options.on_iterate) options.on_iterate(theta);
   }
-  if (!converged && why.empty())
-    why = "Maximum number of iterations reached (" + std::to_string(options.max_iterations) + ")";
-  out.termination = std::string(converged ? "CONVERGENCE: " : "NO_CONVERGENCE: ") + why;
-  out.iterations = iteration;
+  return {converged, why, iteration};
+}
+
+}  // namespace
+
+PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
+                                              const ParameterLayout& layout,
+                                              LeastSquaresStream& stream,
+                                              const Eigen::VectorXd& prior,
+                                              const PhysicalOptions& options) {
+  if (layout.num_links != stream.numJoints())
+    throw InputError("the parameter layout has " + std::to_string(layout.num_links) +
+                     " links, the data " + std::to_string(stream.numJoints()) + " joints");
+  PhysicalEstimate out;
+  out.ols = stream.estimate(LeastSquaresMethod::kOrdinary);
+  const Eigen::MatrixXd augmented = stream.augmentedFactor();
+  const int b = base.numBase();
+  const double rows = static_cast<double>(stream.numSamples()) * stream.numJoints();
+  // sigma from the OLS residuals (|rho|, the factor's last entry), floored at 1e-6 of the torques'
+  // RMS (|tau|: the factor's last column): with exact (noise-free) data the prior term must keep a
+  // weight that holds the directions the data cannot see.
+  const double tau_rms = augmented.col(b).norm() / std::sqrt(std::max(rows, 1.0));
+  const double sigma_ols = std::max(std::abs(augmented(b, b)) / std::sqrt(std::max(rows - b, 1.0)),
+                                    1e-6 * tau_rms + 1e-300);
+  const PhysicalProblem problem =
+      makePhysicalProblem(base, layout, augmented, prior, options.prior_weight, sigma_ols);
+  const int p = layout.size();
+
+  out.start_theta =
+      consistentStart(base, layout, problem, out.ols.beta, prior, out.inconsistent_links);
+  Eigen::VectorXd theta = out.start_theta;
+  PathOutcome path = barrierPath(problem, options, theta, out.cost_history);
+  if (!path.converged && path.why.empty())
+    path.why =
+        "Maximum number of iterations reached (" + std::to_string(options.max_iterations) + ")";
+  out.termination = std::string(path.converged ? "CONVERGENCE: " : "NO_CONVERGENCE: ") + path.why;
+  out.iterations = path.iterations;
   out.theta = theta;
   out.beta = base.project(out.theta);
   out.usable = std::isfinite(problem.cost(theta));

@@ -10,6 +10,7 @@
 #include "analysis/options.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/parallel.hpp"
 #include "core/parameters.hpp"
 #include "data/dataset_csv.hpp"
@@ -112,7 +113,7 @@ int parameterIndex(const Model& model, const std::string& name) {
 
 void checkParameterValue(const std::string& name, double value) {
   if (!std::isfinite(value) || std::abs(value) > kMaxParameterMagnitude)
-    throw InputError("parameter " + name + " = " + formatDouble(value) +
+    throw InputError("parameter " + name + " = " + formatNumber(value) +
                      ": expected a finite number of magnitude at most 1e6");
 }
 
@@ -170,8 +171,8 @@ void checkDataset(const Trajectory& t) {
     if (!std::isfinite(t.time[k]))
       throw InputError("row " + std::to_string(k) + ": t is not finite");
     if (k > 0 && !(t.time[k] > t.time[k - 1]))
-      throw InputError("row " + std::to_string(k) + ": t = " + formatDouble(t.time[k]) +
-                       " is not after the previous row's " + formatDouble(t.time[k - 1]));
+      throw InputError("row " + std::to_string(k) + ": t = " + formatNumber(t.time[k]) +
+                       " is not after the previous row's " + formatNumber(t.time[k - 1]));
     const char* names[] = {"q", "dq", "ddq", "tau"};
     const Eigen::MatrixXd* ms[] = {&t.q, &t.dq, &t.ddq, &t.tau};
     for (int c = 0; c < 4; ++c)

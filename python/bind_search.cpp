@@ -7,10 +7,10 @@
 
 #include <pybind11/stl.h>
 
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 #include "analysis/logs/prepare.hpp"
 #include "analysis/options.hpp"
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
@@ -231,14 +231,13 @@ RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle&
   r.segments = segments;
   Interrupt interrupt;
   r.control.stop = interrupt.flag();
-  o.on_iteration = [&] { interrupt.poll(); };
+  r.control.on_check = [&] { interrupt.poll(); };
   RefinePy out;
   {
     py::gil_scoped_release release;
     out.outcome = refineRun(r);
   }
-  out.outcome.options.on_iteration = nullptr;  // both point into `interrupt`, gone on return
-  out.outcome.options.stop = nullptr;
+  out.outcome.options.control = {};  // it points into `interrupt`, gone on return
   interrupt.warnIfStopped();
   return out;
 }
@@ -524,7 +523,7 @@ void bindExcite(py::module_& m) {
           "sample",
           [](const ExcitePy& e, double rate) {
             py::gil_scoped_release release;
-            return e.outcome.design.sample(e.robot, rate);
+            return sampleFourier(e.outcome.design, e.robot, rate);
           },
           py::arg("rate") = 1000.0,
           "One period of the motion at `rate` as a Dataset (tau: the model's inverse dynamics).")

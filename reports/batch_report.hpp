@@ -15,7 +15,7 @@ std::string batchResultsJson(const BatchOutcome& outcome);
 /// results.csv: run, the spec's columns, the metrics (an empty cell for a null metric).
 std::string batchResultsCsv(const BatchOutcome& outcome);
 /// A run record as its file holds it.
-std::string batchRunDocument(const nlohmann::json& record);
+std::string batchRunDocument(const BatchRunRecord& record);
 
 /// Writes results.json and results.csv into `dir`.
 void writeBatchTables(const std::string& dir, const BatchOutcome& outcome);

@@ -6,7 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/run_json.hpp"
+#include "analysis/comparison.hpp"
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
@@ -19,7 +21,7 @@ namespace {
 using nlohmann::json;
 
 /// Three significant digits, as every table prints them.
-std::string g3(double x) { return threeDigits(x); }
+std::string g3(double x) { return formatNumber(x, 3, "n/a"); }
 
 const char* describe(const std::string& key) { return methodDescription(parseMethod(key)); }
 
@@ -141,8 +143,8 @@ std::string demoSummaryJson(const DemoResult& result) {
                         {"spearman", numberOrNull(t.spearman)},
                         {"history", history}});
   }
-  const json summary = {{"schema_version", 1},
-                        {"kind", "dynid.demo"},
+  const json summary = {{"schema_version", kDemoDocument.schema_version},
+                        {"kind", kDemoDocument.kind},
                         {"methods", methods},
                         {"order", order},
                         {"settings",

@@ -5,6 +5,7 @@
 #include <functional>
 #include <sstream>
 
+#include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
 #include "reports/identification_report.hpp"
@@ -15,7 +16,7 @@ namespace dynid {
 
 namespace {
 
-std::string percent(double fraction) { return threeDigits(100.0 * fraction) + " %"; }
+std::string percent(double fraction) { return formatNumber(100.0 * fraction, 3, "n/a") + " %"; }
 
 /// "a, b and c" (at most `limit` names, then "and N more").
 std::string nameList(const std::vector<std::string>& names, std::size_t limit = 40) {
@@ -50,9 +51,12 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
   const Eigen::Index n = t.torque_rms.size();
   for (Eigen::Index j = 0; j < n; ++j) {
     const double measured = o.fit.measured_rms[j];
-    std::vector<std::string> row = {std::to_string(j + 1), threeDigits(measured),
-                                    threeDigits(t.torque_rms[j]), percent(t.normalised_rms[j])};
-    if (v) row.insert(row.end(), {threeDigits(v->torque_rms[j]), percent(v->normalised_rms[j])});
+    std::vector<std::string> row = {std::to_string(j + 1), formatNumber(measured, 3, "n/a"),
+                                    formatNumber(t.torque_rms[j], 3, "n/a"),
+                                    percent(t.normalised_rms[j])};
+    if (v)
+      row.insert(row.end(),
+                 {formatNumber(v->torque_rms[j], 3, "n/a"), percent(v->normalised_rms[j])});
     table.rows.push_back(row);
   }
   table.caption = "Relative error per joint: residual RMS over measured RMS.";
@@ -89,49 +93,38 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
       "friction.");
 }
 
-void preparationSection(Document& doc, const nlohmann::json& p) {
+void preparationSection(Document& doc, const PreparationFound& found) {
   doc.heading("Preprocessing (dynid prepare)");
   std::vector<std::string> items;
-  const auto number = [](const nlohmann::json& x) {
-    return x.is_number() ? threeDigits(x.get<double>()) : std::string("n/a");
-  };
-  try {
-    const nlohmann::json& raw = p.at("raw");
-    const auto ms = [&](const nlohmann::json& x) {
-      return x.is_number() ? formatShort(1e3 * x.get<double>()) + " ms" : std::string("n/a");
-    };
-    items.push_back(std::to_string(raw.at("samples").get<long>()) +
-                    " raw samples; time step median " + ms(raw.at("median_step")) + ", from " +
-                    ms(raw.at("min_step")) + " to " + ms(raw.at("max_step")) + "; " +
-                    std::to_string(raw.at("repeated_stamps_dropped").get<long>()) +
-                    " repeated stamps dropped.");
-    items.push_back("Gaps longer than " + ms(p.at("max_gap")) + ": " +
-                    std::to_string(p.at("gaps").size()) +
-                    "; runs between them: " + std::to_string(p.at("runs").size()) + " kept, " +
-                    std::to_string(p.at("dropped_runs").size()) +
-                    " dropped (shorter than the filter's transient).");
-    const nlohmann::json& f = p.at("filter");
-    items.push_back("Resampled to " + formatShort(p.at("resampled_rate").get<double>()) +
-                    " Hz; filter: " + f.at("kind").get<std::string>() +
-                    (f.at("cutoff_hz").get<double>() > 0.0
-                         ? ", order " + std::to_string(f.at("order").get<int>()) + ", cutoff " +
-                               formatShort(f.at("cutoff_hz").get<double>()) + " Hz, applied to " +
-                               f.at("applied_to").get<std::string>()
-                         : std::string()) +
-                    ".");
-    if (f.contains("cutoff_choice") && f["cutoff_choice"].is_string())
-      items.push_back("Cutoff: " + f["cutoff_choice"].get<std::string>() + ".");
-    items.push_back("dq: " + p.at("dq").get<std::string>() +
-                    "; ddq: " + p.at("ddq").get<std::string>() + "; " +
-                    number(p.at("trimmed_each_end")) + " s trimmed at each run's ends; every " +
-                    std::to_string(p.at("decimate").get<int>()) + " sample kept.");
-    std::string noise;
-    for (const nlohmann::json& x : p.at("tau_noise_rms"))
-      noise += (noise.empty() ? "" : ", ") + number(x);
-    items.push_back("Torque noise removed by the filter (RMS per joint) [N m]: " + noise + ".");
-  } catch (const nlohmann::json::exception&) {
-    items.push_back("(prepare.json lacks fields this version reads; see the file itself)");
+  if (!found.record) {
+    doc.bullets({"(prepare.json lacks fields this version reads; see the file itself)"});
+    return;
   }
+  const PrepareRecord& p = *found.record;
+  const auto number = [](double x) { return formatNumber(x, 3, "n/a"); };
+  const auto ms = [](double x) {
+    return std::isfinite(x) ? formatNumber(1e3 * x, 4) + " ms" : std::string("n/a");
+  };
+  items.push_back(std::to_string(p.raw_samples) + " raw samples; time step median " +
+                  ms(p.median_step) + ", from " + ms(p.min_step) + " to " + ms(p.max_step) + "; " +
+                  std::to_string(p.repeated_stamps_dropped) + " repeated stamps dropped.");
+  items.push_back("Gaps longer than " + ms(p.max_gap) + ": " + std::to_string(p.gaps) +
+                  "; runs between them: " + std::to_string(p.runs) + " kept, " +
+                  std::to_string(p.dropped_runs) +
+                  " dropped (shorter than the filter's transient).");
+  items.push_back(
+      "Resampled to " + formatNumber(p.resampled_rate, 4) + " Hz; filter: " + p.filter_kind +
+      (p.cutoff_hz > 0.0 ? ", order " + std::to_string(p.filter_order) + ", cutoff " +
+                               formatNumber(p.cutoff_hz, 4) + " Hz, applied to " + p.applied_to
+                         : std::string()) +
+      ".");
+  if (p.cutoff_choice) items.push_back("Cutoff: " + *p.cutoff_choice + ".");
+  items.push_back("dq: " + p.dq + "; ddq: " + p.ddq + "; " + number(p.trimmed_each_end) +
+                  " s trimmed at each run's ends; every " + std::to_string(p.decimate) +
+                  " sample kept.");
+  std::string noise;
+  for (double x : p.tau_noise_rms) noise += (noise.empty() ? "" : ", ") + number(x);
+  items.push_back("Torque noise removed by the filter (RMS per joint) [N m]: " + noise + ".");
   doc.bullets(items);
 }
 
@@ -144,19 +137,21 @@ void identifiabilitySection(const Model& model, Document& doc, const IdentifyOut
                 driveTermsText(model.driveTerms()) +
                 ") are identifiable, as the base parameters below. Condition number of the "
                 "training base regressor: " +
-                threeDigits(e.condition_number_unscaled) +
+                formatNumber(e.condition_number_unscaled, 3, "n/a") +
                 " as it is (physical units, what most papers report), " +
-                threeDigits(e.condition_number) + " with unit columns (independent of units).");
+                formatNumber(e.condition_number, 3, "n/a") +
+                " with unit columns (independent of units).");
   DocumentTable table;
   table.header = {"#",  "base parameter", "combination", "estimate",
                   "%σ", "excitation",     "model value"};
   // The model's base values are projections: round-off of the largest shows as 1e-16 noise.
   const double floor = 1e-12 * o.model_beta.cwiseAbs().maxCoeff();
   for (int j = 0; j < base.numBase(); ++j)
-    table.rows.push_back({std::to_string(j + 1), base.baseName(j), base.expression(j),
-                          formatShort(e.beta[j]), threeDigits(e.relative_std_dev_percent[j]),
-                          j < e.independence.size() ? threeDigits(e.independence[j]) : "n/a",
-                          formatShort(std::abs(o.model_beta[j]) <= floor ? 0.0 : o.model_beta[j])});
+    table.rows.push_back(
+        {std::to_string(j + 1), base.baseName(j), base.expression(j), formatNumber(e.beta[j], 4),
+         formatNumber(e.relative_std_dev_percent[j], 3, "n/a"),
+         j < e.independence.size() ? formatNumber(e.independence[j], 3, "n/a") : "n/a",
+         formatNumber(std::abs(o.model_beta[j]) <= floor ? 0.0 : o.model_beta[j], 4)});
   table.caption =
       "%σ: the estimate's standard deviation relative to its value. Excitation: the share of the "
       "parameter's torque signature (its regressor column) that no other base parameter's "
@@ -168,8 +163,9 @@ void consistencySection(Document& doc, const Model& model, const IdentifyOutcome
   doc.heading("Physical consistency");
   if (o.result.pc)
     doc.paragraph("The physically consistent solver (pc) stopped after " +
-                  std::to_string(o.result.pc->iterations) + " iterations: " +
-                  o.result.pc->termination + ". Prior weight " + threeDigits(o.prior_weight) + ".");
+                  std::to_string(o.result.pc->iterations) +
+                  " iterations: " + o.result.pc->termination + ". Prior weight " +
+                  formatNumber(o.prior_weight, 3, "n/a") + ".");
   else
     doc.paragraph("The " + std::string(methodName(o.method)) +
                   " estimate fixes the base parameters only; the standard parameters checked here "
@@ -199,10 +195,11 @@ void unknownsSection(Document& doc, const IdentifyOutcome& o) {
       regrouped.push_back(base.standard_names[k]);
   for (int j = 0; j < base.numBase(); ++j) {
     if (!(e.relative_std_dev_percent[j] <= 10.0))
-      uncertain.push_back(base.baseName(j) + " (" + threeDigits(e.relative_std_dev_percent[j]) +
-                          " %)");
+      uncertain.push_back(base.baseName(j) + " (" +
+                          formatNumber(e.relative_std_dev_percent[j], 3, "n/a") + " %)");
     if (j < e.independence.size() && e.independence[j] < 0.1)
-      collinear.push_back(base.baseName(j) + " (" + threeDigits(e.independence[j]) + ")");
+      collinear.push_back(base.baseName(j) + " (" + formatNumber(e.independence[j], 3, "n/a") +
+                          ")");
   }
   std::vector<std::string> items;
   items.push_back(never.empty() ? "Every standard parameter acts on the torques."
@@ -247,7 +244,7 @@ Document identificationDocument(const Model& model, const IdentifyOutcome& o,
     doc.paragraph("Warning: " + warning);
   std::vector<std::string> missing;
   torqueFitSection(doc, o, missing);
-  if (o.preparation) preparationSection(doc, *o.preparation);
+  if (o.preparation.present) preparationSection(doc, o.preparation);
   identifiabilitySection(model, doc, o);
   consistencySection(doc, model, o);
   unknownsSection(doc, o);

@@ -4,6 +4,8 @@
 #include <optional>
 #include <sstream>
 
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "reports/identification_report.hpp"
@@ -50,17 +52,11 @@ std::vector<std::string> baseNames(const BaseParameters& base) {
   return names;
 }
 
-std::string percent(double x) {
-  if (!std::isfinite(x)) return "n/a";
-  std::ostringstream s;
-  s.precision(x < 10.0 ? 2 : 3);
-  s << x << " %";
-  return s.str();
-}
+std::string percent(double x) { return formatNumber(x, x < 10.0 ? 2 : 3, "n/a") + " %"; }
 
 /// Each joint's q, dq and ddq over the period as fractions of its limits (1: at the limit).
 std::optional<std::string> trajectoryFigure(const Model& model, const ExciteOutcome& o) {
-  const Trajectory t = o.design.sample(model, std::max(50.0, 400.0 / o.design.period));
+  const Trajectory t = sampleFourier(o.design, model, std::max(50.0, 400.0 / o.design.period));
   const ExcitationLimits& l = o.limits;
   std::ostringstream s;
   s.precision(6);
@@ -105,7 +101,7 @@ std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
   s.precision(6);
   s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\n"
     << "set title 'expected relative standard deviation of each base parameter at "
-    << formatDouble(o.torque_noise) << " N m torque noise'\n"
+    << formatNumber(o.torque_noise) << " N m torque noise'\n"
     << "set logscale y\nset grid ytics\nset key top left\nset ylabel '%'\n"
     << "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8\n"
     << "set xtics rotate by -60 font 'sans,8'\n$d << EOD\n";
@@ -124,8 +120,8 @@ std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,
                               const ExciteOutcome& o) {
   const ExcitationLimits& l = o.limits;
-  return {{"schema_version", kExcitationSchemaVersion},
-          {"kind", "dynid.excitation"},
+  return {{"schema_version", kExcitationDocument.schema_version},
+          {"kind", kExcitationDocument.kind},
           {"robot", settings.robot},
           {"model", model.name},
           {"joints", model.joint_names},
@@ -181,8 +177,8 @@ nlohmann::json excitationJson(const Model& model, const ExcitationSettings& sett
             {"seed", o.seed}}}};
 }
 
-std::string excitationCsv(const Model& model, const FourierDesign& design, double rate) {
-  const Trajectory t = design.sample(model, rate);
+std::string excitationCsv(const Model& model, const FourierSeries& design, double rate) {
+  const Trajectory t = sampleFourier(design, model, rate);
   const int n = model.numJoints();
   std::ostringstream out;
   out << "t";
@@ -190,51 +186,88 @@ std::string excitationCsv(const Model& model, const FourierDesign& design, doubl
     for (int j = 0; j < n; ++j) out << ',' << kind << j + 1;
   out << '\n';
   for (int k = 0; k < t.numSamples(); ++k) {
-    out << formatDouble(t.time[k]);
+    out << formatNumber(t.time[k]);
     for (const Eigen::MatrixXd* m : {&t.q, &t.dq, &t.ddq})
-      for (int j = 0; j < n; ++j) out << ',' << formatDouble((*m)(j, k));
+      for (int j = 0; j < n; ++j) out << ',' << formatNumber((*m)(j, k));
     out << '\n';
   }
   return out.str();
 }
 
+namespace {
+
+/// The criteria of the design and of the default sinusoid, side by side.
+DocumentTable criteriaTable(const ExciteOutcome& o) {
+  DocumentTable criteria;
+  criteria.header = {"criterion", "designed", "default sinusoid"};
+  criteria.rows = {
+      {"condition number, unit columns", formatNumber(o.score.condition_unit, 4),
+       formatNumber(o.baseline.condition_unit, 4)},
+      {"condition number, SI units", formatNumber(o.score.condition, 4),
+       formatNumber(o.baseline.condition, 4)},
+      {"log det(W1^T W1 / rows)", formatNumber(o.score.log_det, 4),
+       formatNumber(o.baseline.log_det, 4)},
+      {"GC Jacobian condition number, unit columns", formatNumber(o.gc, 4),
+       formatNumber(o.baseline_gc, 4)},
+      {"first-order GC (M^-1 W1), unit columns", formatNumber(o.gc_first_order, 4),
+       formatNumber(o.baseline_gc_first_order, 4)},
+      {"RMS expected relative std. dev. (" + formatNumber(o.torque_noise) + " N m noise)",
+       formatNumber(o.score.relative_rms, 4), formatNumber(o.baseline.relative_rms, 4)},
+      {"largest expected std. dev. (" + formatNumber(o.torque_noise) + " N m noise)",
+       formatNumber(o.score.std_dev.maxCoeff(), 4),
+       formatNumber(o.baseline.std_dev.maxCoeff(), 4)}};
+  criteria.caption = "W1 is the base regressor (" + std::to_string(o.base.numBase()) +
+                     " base parameters) over the samples; lower condition numbers and higher "
+                     "log det are better. The GC Jacobian is that of the paper's prediction "
+                     "error over its segments, with respect to the base parameters.";
+  return criteria;
+}
+
+/// Each joint's limits and what the design uses of them.
+DocumentTable limitsTable(const Model& model, const ExciteOutcome& o) {
+  DocumentTable limits;
+  limits.header = {"joint",
+                   "q range",
+                   "q used",
+                   "|dq| peak / limit",
+                   "|ddq| peak / limit",
+                   "|tau| peak / limit"};
+  for (int j = 0; j < model.numJoints(); ++j) {
+    const ExcitationLimits& l = o.limits;
+    const LimitCheck& c = o.check;
+    limits.rows.push_back(
+        {model.joint_names[j], formatNumber(l.q_min[j], 4) + " .. " + formatNumber(l.q_max[j], 4),
+         formatNumber(c.q_low[j], 4) + " .. " + formatNumber(c.q_high[j], 4),
+         formatNumber(c.dq_peak[j], 4) + " / " + formatNumber(l.dq_max[j], 4),
+         formatNumber(c.ddq_peak[j], 4) + " / " + formatNumber(l.ddq_max[j], 4),
+         formatNumber(c.tau_peak[j], 4) + " / " +
+             (std::isfinite(l.tau_max[j]) ? formatNumber(l.torque_margin * l.tau_max[j], 4)
+                                          : std::string("none"))});
+  }
+  limits.caption = "Units: rad, rad/s, rad/s^2, N m (m, m/s, m/s^2, N for prismatic joints).";
+  return limits;
+}
+
+}  // namespace
+
 Document excitationDocument(const Model& model, const ExcitationSettings& settings,
                             const ExciteOutcome& o, std::vector<std::string>* missing_figures) {
   Document doc("dynid excite: " + model.name);
   doc.paragraph("A periodic Fourier series of " + std::to_string(o.design.harmonics()) +
-                " harmonics per joint over " + formatDouble(o.design.period) +
+                " harmonics per joint over " + formatNumber(o.design.period) +
                 " s, at rest at both ends, optimised for the " +
                 excitationCriterionName(o.criterion) + " criterion (" +
                 std::to_string(settings.starts) + " COBYLA starts, seed " + std::to_string(o.seed) +
-                ", " + std::to_string(o.evaluations) + " evaluations, " + formatShort(o.seconds) +
-                " s; stopped by " + o.termination +
+                ", " + std::to_string(o.evaluations) + " evaluations, " +
+                formatNumber(o.seconds, 4) + " s; stopped by " + o.termination +
                 "). It is compared with `dynid simulate`'s default sinusoid over the same " +
-                "duration. Both are scored at " + formatDouble(o.check_rate) + " Hz.");
+                "duration. Both are scored at " + formatNumber(o.check_rate) + " Hz.");
   if (!o.limits.notes.empty()) {
     doc.paragraph("Limits the model does not give (defaults used):");
     doc.bullets(o.limits.notes);
   }
   doc.heading("Criteria");
-  DocumentTable criteria;
-  criteria.header = {"criterion", "designed", "default sinusoid"};
-  criteria.rows = {
-      {"condition number, unit columns", formatShort(o.score.condition_unit),
-       formatShort(o.baseline.condition_unit)},
-      {"condition number, SI units", formatShort(o.score.condition),
-       formatShort(o.baseline.condition)},
-      {"log det(W1^T W1 / rows)", formatShort(o.score.log_det), formatShort(o.baseline.log_det)},
-      {"GC Jacobian condition number, unit columns", formatShort(o.gc), formatShort(o.baseline_gc)},
-      {"first-order GC (M^-1 W1), unit columns", formatShort(o.gc_first_order),
-       formatShort(o.baseline_gc_first_order)},
-      {"RMS expected relative std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
-       formatShort(o.score.relative_rms), formatShort(o.baseline.relative_rms)},
-      {"largest expected std. dev. (" + formatDouble(o.torque_noise) + " N m noise)",
-       formatShort(o.score.std_dev.maxCoeff()), formatShort(o.baseline.std_dev.maxCoeff())}};
-  criteria.caption = "W1 is the base regressor (" + std::to_string(o.base.numBase()) +
-                     " base parameters) over the samples; lower condition numbers and higher "
-                     "log det are better. The GC Jacobian is that of the paper's prediction "
-                     "error over its segments, with respect to the base parameters.";
-  doc.table(criteria);
+  doc.table(criteriaTable(o));
   if (!o.baseline_check.violations.empty())
     doc.paragraph("The default sinusoid itself breaks these limits: " +
                   o.baseline_check.violations.front() + ".");
@@ -247,47 +280,27 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
     doc.figure({"trajectory",
                 "Each joint's position, velocity and acceleration as a fraction "
                 "of its limit; the design stays inside +-1 (checked at " +
-                    formatDouble(o.check_rate) + " Hz).",
+                    formatNumber(o.check_rate) + " Hz).",
                 *svg});
   else
     missing.push_back("trajectory");
 
   doc.heading("Limits");
-  DocumentTable limits;
-  limits.header = {"joint",
-                   "q range",
-                   "q used",
-                   "|dq| peak / limit",
-                   "|ddq| peak / limit",
-                   "|tau| peak / limit"};
-  for (int j = 0; j < model.numJoints(); ++j) {
-    const ExcitationLimits& l = o.limits;
-    const LimitCheck& c = o.check;
-    limits.rows.push_back(
-        {model.joint_names[j], formatShort(l.q_min[j]) + " .. " + formatShort(l.q_max[j]),
-         formatShort(c.q_low[j]) + " .. " + formatShort(c.q_high[j]),
-         formatShort(c.dq_peak[j]) + " / " + formatShort(l.dq_max[j]),
-         formatShort(c.ddq_peak[j]) + " / " + formatShort(l.ddq_max[j]),
-         formatShort(c.tau_peak[j]) + " / " +
-             (std::isfinite(l.tau_max[j]) ? formatShort(l.torque_margin * l.tau_max[j])
-                                          : std::string("none"))});
-  }
-  limits.caption = "Units: rad, rad/s, rad/s^2, N m (m, m/s, m/s^2, N for prismatic joints).";
-  doc.table(limits);
+  doc.table(limitsTable(model, o));
 
   doc.heading("Base parameters");
   DocumentTable params;
   params.header = {"base parameter", "designed: std. dev.", "%", "default sinusoid: std. dev.",
                    "%"};
   for (int j = 0; j < o.base.numBase(); ++j)
-    params.rows.push_back({o.base.expression(j), formatShort(o.score.std_dev[j]),
-                           percent(o.score.relative_std[j]), formatShort(o.baseline.std_dev[j]),
+    params.rows.push_back({o.base.expression(j), formatNumber(o.score.std_dev[j], 4),
+                           percent(o.score.relative_std[j]), formatNumber(o.baseline.std_dev[j], 4),
                            percent(o.baseline.relative_std[j])});
   params.caption =
       "Expected standard deviation of each base parameter by ordinary least squares "
       "with " +
-      formatDouble(o.torque_noise) +
-      " N m of independent torque noise on every joint, sampled at " + formatDouble(o.check_rate) +
+      formatNumber(o.torque_noise) +
+      " N m of independent torque noise on every joint, sampled at " + formatNumber(o.check_rate) +
       " Hz over one period; % is relative to the model's own value.";
   doc.table(params);
   if (const auto& svg = svgs[1])
@@ -315,19 +328,19 @@ std::string writeExcitation(const std::string& dir, const Model& model,
   std::ostringstream out;
   out << "designed " << o.design.period << " s of motion (" << o.design.harmonics()
       << " harmonics) for " << model.name << ", criterion " << excitationCriterionName(o.criterion)
-      << " (" << o.evaluations << " evaluations, " << formatShort(o.seconds) << " s)\n"
-      << "  condition number (unit columns): " << formatShort(o.score.condition_unit)
-      << ", default sinusoid " << formatShort(o.baseline.condition_unit) << "\n"
-      << "  condition number (SI units):     " << formatShort(o.score.condition)
-      << ", default sinusoid " << formatShort(o.baseline.condition) << "\n"
-      << "  log det per row:                 " << formatShort(o.score.log_det)
-      << ", default sinusoid " << formatShort(o.baseline.log_det) << "\n"
-      << "  GC Jacobian condition number:    " << formatShort(o.gc) << ", default sinusoid "
-      << formatShort(o.baseline_gc) << "\n"
-      << "  RMS expected relative std. dev.: " << formatShort(o.score.relative_rms)
-      << ", default sinusoid " << formatShort(o.baseline.relative_rms) << "\n"
-      << "  every limit holds at " << formatDouble(o.check_rate) << " Hz"
-      << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatShort(o.shrink) + ")" : "")
+      << " (" << o.evaluations << " evaluations, " << formatNumber(o.seconds, 4) << " s)\n"
+      << "  condition number (unit columns): " << formatNumber(o.score.condition_unit, 4)
+      << ", default sinusoid " << formatNumber(o.baseline.condition_unit, 4) << "\n"
+      << "  condition number (SI units):     " << formatNumber(o.score.condition, 4)
+      << ", default sinusoid " << formatNumber(o.baseline.condition, 4) << "\n"
+      << "  log det per row:                 " << formatNumber(o.score.log_det, 4)
+      << ", default sinusoid " << formatNumber(o.baseline.log_det, 4) << "\n"
+      << "  GC Jacobian condition number:    " << formatNumber(o.gc, 4) << ", default sinusoid "
+      << formatNumber(o.baseline_gc, 4) << "\n"
+      << "  RMS expected relative std. dev.: " << formatNumber(o.score.relative_rms, 4)
+      << ", default sinusoid " << formatNumber(o.baseline.relative_rms, 4) << "\n"
+      << "  every limit holds at " << formatNumber(o.check_rate) << " Hz"
+      << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatNumber(o.shrink, 4) + ")" : "")
       << "\nwrote " << dir << "/excitation.json, excitation.csv (" << settings.csv_rate
       << " Hz), report.md, report.html\n";
   for (const std::string& note : o.limits.notes) out << "note: " << note << "\n";

@@ -8,12 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 #include "reports/document.hpp"
 
 namespace dynid {
-
-inline constexpr int kExcitationSchemaVersion = 1;
 
 /// The settings the design was made with, as excitation.json records them.
 struct ExcitationSettings {
@@ -25,7 +23,7 @@ struct ExcitationSettings {
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,
                               const ExciteOutcome& outcome);
 /// t, q1..qn, dq1..dqn, ddq1..ddqn at `rate` over one period (header line first).
-std::string excitationCsv(const Model& model, const FourierDesign& design, double rate);
+std::string excitationCsv(const Model& model, const FourierSeries& design, double rate);
 /// The report; figures need gnuplot (their names go to `missing_figures` when it does not run).
 Document excitationDocument(const Model& model, const ExcitationSettings& settings,
                             const ExciteOutcome& outcome,

@@ -6,7 +6,9 @@
 #include <limits>
 #include <sstream>
 
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/search_record.hpp"
+#include "core/format.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
@@ -14,14 +16,6 @@
 namespace dynid {
 
 using nlohmann::json;
-
-std::string formatShort(double x) {
-  if (std::isinf(x)) return "inf";
-  std::ostringstream s;
-  s.precision(4);
-  s << x;
-  return s.str();
-}
 
 namespace {
 /// The smallest unit-column |R_jj| kept (kept) or the largest dropped among acting columns.
@@ -72,7 +66,8 @@ json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outco
   const Eigen::MatrixXd N = base.nullSpace();
   json basis = json::array();
   for (Eigen::Index c = 0; c < N.cols(); ++c) basis.push_back(numbersOrNull(N.col(c)));
-  json report = {{"schema_version", kIdentificationSchemaVersion},
+  json report = {{"schema_version", kIdentifiabilityDocument.schema_version},
+                 {"kind", kIdentifiabilityDocument.kind},
                  {"robot", model.name},
                  {"drives", model.driveTerms().any()},
                  {"drive_terms", driveTermsKeys(model.driveTerms())},
@@ -96,52 +91,51 @@ json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outco
   return report;
 }
 
-std::string identifiabilityMarkdown(const json& r) {
+std::string identifiabilityMarkdown(const Model& model, const IdentifiabilityOutcome& outcome) {
+  const BaseParameters& base = outcome.base;
+  const auto four = [](double x) { return std::isfinite(x) ? formatNumber(x, 4) : "inf"; };
   std::ostringstream md;
-  md << "# Identifiability of " << r["robot"].get<std::string>() << "\n\n";
+  md << "# Identifiability of " << model.name << "\n\n";
   std::string terms;
-  for (const json& t : r["drive_terms"]) {
+  for (const std::string& t : driveTermsKeys(model.driveTerms())) {
     if (!terms.empty()) terms += ',';
-    terms += t.get<std::string>();
+    terms += t;
   }
-  md << "- Standard parameters: " << r["num_standard"] << " (drive terms "
+  md << "- Standard parameters: " << base.numStandard() << " (drive terms "
      << (terms.empty() ? "none" : terms) << ")\n";
-  md << "- Base parameters (structural rank): **" << r["num_base"] << "**\n";
-  md << "- Rank gap (smallest kept / largest dropped |R_jj|): "
-     << (r["rank_gap"].is_null() ? "inf" : formatShort(r["rank_gap"].get<double>())) << "\n";
+  md << "- Base parameters (structural rank): **" << base.numBase() << "**\n";
+  md << "- Rank gap (smallest kept / largest dropped |R_jj|): " << four(base.rankGap()) << "\n";
   md << "- Condition number of the column-scaled base regressor on random states: "
-     << (r["condition_number"].is_null() ? "inf" : formatShort(r["condition_number"].get<double>()))
-     << "\n\n";
+     << four(outcome.condition_number) << "\n\n";
   md << "## Base parameters\n\nEach is identifiable; the standard parameters after the first are "
         "regrouped into it and cannot be told apart.\n\n| # | name | combination | model value |\n"
         "|---|---|---|---|\n";
-  int index = 1;
-  for (const auto& b : r["base_parameters"])
-    md << "| " << index++ << " | " << b["name"].get<std::string>() << " | `"
-       << b["expression"].get<std::string>() << "` | "
-       << formatShort(b["model_value"].get<double>()) << " |\n";
+  for (int j = 0; j < base.numBase(); ++j)
+    md << "| " << j + 1 << " | " << base.baseName(j) << " | `" << base.expression(j) << "` | "
+       << formatNumber(outcome.model_beta[j], 4) << " |\n";
   md << "\n## Never affect the torques\n\n";
-  if (r["unidentifiable"].empty()) md << "(none)\n";
-  for (const auto& name : r["unidentifiable"]) md << "`" << name.get<std::string>() << "` ";
+  if (base.zero_columns.empty()) md << "(none)\n";
+  for (int k : base.zero_columns) md << "`" << base.standard_names[k] << "` ";
   md << "\n\n## Identifiable only in combination\n\n";
-  if (r["regrouped"].empty()) md << "(none)\n";
-  for (const auto& name : r["regrouped"]) md << "`" << name.get<std::string>() << "` ";
+  std::vector<std::string> regrouped;
+  for (int k : base.dependent)
+    if (std::find(base.zero_columns.begin(), base.zero_columns.end(), k) == base.zero_columns.end())
+      regrouped.push_back(base.standard_names[k]);
+  if (regrouped.empty()) md << "(none)\n";
+  for (const std::string& name : regrouped) md << "`" << name << "` ";
   md << "\n";
-  if (r.contains("data")) {
-    const json& d = r["data"];
-    md << "\n## Excitation by " << d["file"].get<std::string>()
-       << "\n\n- Rank reached: " << d["rank"] << " of " << d["structural_rank"]
-       << "\n- Condition number: "
-       << (d["condition_number"].is_null() ? "inf"
-                                           : formatShort(d["condition_number"].get<double>()))
+  if (outcome.data) {
+    const DataExcitation& d = *outcome.data;
+    const Excitation& e = d.excitation;
+    md << "\n## Excitation by " << d.file << "\n\n- Rank reached: " << e.rank << " of "
+       << base.numBase() << "\n- Condition number: " << four(d.condition_number)
        << "\n- Not excited: ";
-    if (d["unexcited"].empty()) md << "(none)";
-    for (const auto& name : d["unexcited"]) md << "`" << name.get<std::string>() << "` ";
+    if (e.unexcited.empty()) md << "(none)";
+    for (int j : e.unexcited) md << "`" << base.baseName(j) << "` ";
     md << "\n\n| base parameter | scaled abs(R_jj) |\n|---|---|\n";
-    for (const auto& e : d["excitation"])
-      md << "| " << e["name"].get<std::string>() << " | "
-         << formatShort(e["r_diagonal"].get<double>())
-         << (e["excited"].get<bool>() ? "" : " (not excited)") << " |\n";
+    for (int j = 0; j < base.numBase(); ++j)
+      md << "| " << base.baseName(j) << " | " << formatNumber(e.r_diagonal[j], 4)
+         << (e.r_diagonal[j] > e.tolerance ? "" : " (not excited)") << " |\n";
   }
   return md.str();
 }
@@ -172,7 +166,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const Eigen::VectorXd& standard = outcome.result.standard;
   json standard_json = json::object();
   for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
-  json report = {{"schema_version", kEstimateSchemaVersion},
+  json report = {{"schema_version", kEstimateDocument.schema_version},
+                 {"kind", kEstimateDocument.kind},
                  {"robot", model.name},
                  {"robot_spec", outcome.robot_spec},
                  {"kinematics", kinematicsJson(model)},
@@ -228,7 +223,7 @@ std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutc
   const BaseParameters& base = outcome.base;
   std::ostringstream out;
   out << model.name << ": " << base.numStandard() << " standard parameters, " << base.numBase()
-      << " base parameters (rank gap " << formatShort(base.rankGap()) << "), "
+      << " base parameters (rank gap " << formatNumber(base.rankGap(), 4) << "), "
       << base.zero_columns.size() << " never affect the torques";
   if (outcome.data) out << "; the data reach rank " << outcome.data->excitation.rank;
   out << "\nwrote " << dir << "/identifiability.json and " << dir << "/identifiability.md\n";
@@ -241,17 +236,17 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
   std::ostringstream out;
   out << model.name << ": " << methodName(outcome.method) << " estimate of "
       << outcome.base.numBase() << " base parameters from " << estimate.num_samples
-      << " samples; condition number " << formatShort(estimate.condition_number_unscaled)
-      << " (unscaled), " << formatShort(estimate.condition_number) << " (unit columns)\n"
-      << "  relative torque error " << formatShort(100.0 * estimate.relative_error)
+      << " samples; condition number " << formatNumber(estimate.condition_number_unscaled, 4)
+      << " (unscaled), " << formatNumber(estimate.condition_number, 4) << " (unit columns)\n"
+      << "  relative torque error " << formatNumber(100.0 * estimate.relative_error, 4)
       << " %; per joint RMS [N m]:";
   for (Eigen::Index j = 0; j < estimate.residual_rms.size(); ++j)
-    out << " " << formatShort(estimate.residual_rms[j]);
+    out << " " << formatNumber(estimate.residual_rms[j], 4);
   if (const auto& v = outcome.validation) {
-    out << "\n  held out: relative torque error " << formatShort(100.0 * v->relative_error)
+    out << "\n  held out: relative torque error " << formatNumber(100.0 * v->relative_error, 4)
         << " %; per joint RMS [N m]:";
     for (Eigen::Index j = 0; j < v->torque_rms.size(); ++j)
-      out << " " << formatShort(v->torque_rms[j]);
+      out << " " << formatNumber(v->torque_rms[j], 4);
   }
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir
       << "/report.html\n";

@@ -12,13 +12,12 @@
 
 namespace dynid {
 
-inline constexpr int kIdentificationSchemaVersion = 1;
-
 /// identifiability.json: the base parameters (names, expressions, coefficients, the model's
 /// values), the parameters that never act, the regrouped ones, the null space, the rank gap and
 /// conditioning, and with data, how it excites each base parameter.
 nlohmann::json identifiabilityJson(const Model& model, const IdentifiabilityOutcome& outcome);
-std::string identifiabilityMarkdown(const nlohmann::json& report);
+/// identifiability.md: the same findings, for people (rendered from the outcome, as the JSON is).
+std::string identifiabilityMarkdown(const Model& model, const IdentifiabilityOutcome& outcome);
 /// "puma560: 60 standard parameters, 36 base parameters (rank gap ...), ..." and the files.
 std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutcome& outcome,
                                    const std::string& dir);
@@ -50,8 +49,5 @@ std::string writeBackJsonPath(const std::string& urdf_path);
 /// Writes the write-back's URDF to `urdf_path` and its JSON beside it, each atomically, both or
 /// neither. Returns the console line that says what was written. Throws Error naming the path.
 std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back);
-
-/// 4 significant digits ("3.2e+11", "inf").
-std::string formatShort(double x);
 
 }  // namespace dynid

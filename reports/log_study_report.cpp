@@ -5,6 +5,8 @@
 #include <limits>
 #include <sstream>
 
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
@@ -13,7 +15,7 @@ namespace dynid {
 
 namespace {
 
-std::string percent(double fraction) { return threeDigits(100.0 * fraction) + " %"; }
+std::string percent(double fraction) { return formatNumber(100.0 * fraction, 3, "n/a") + " %"; }
 
 std::string describeKey(const std::string& key) {
   if (key == "model") return "the robot's own parameters (the input model)";
@@ -73,8 +75,8 @@ nlohmann::json logStudyJson(const LogStudyOutcome& o) {
                    {"seconds", r.seconds},
                    {"note", r.note}};
   }
-  return {{"schema_version", kLogStudySchemaVersion},
-          {"kind", "dynid.study"},
+  return {{"schema_version", kStudyDocument.schema_version},
+          {"kind", kStudyDocument.kind},
           {"robot_spec", o.robot_spec},
           {"data", {{"train", o.data_file}, {"test", o.validate_file}}},
           {"samples", {{"train", o.train_samples}, {"test", o.test_samples}}},
@@ -99,8 +101,9 @@ std::string logStudyTable(const LogStudyOutcome& o) {
   for (const LogStudyRow& r : o.rows) {
     std::snprintf(line, sizeof(line), "%-16s %12s %12s %12s %12s %10s %8s\n", r.key.c_str(),
                   percent(r.torque_train).c_str(), percent(r.torque_test).c_str(),
-                  threeDigits(r.gc_train).c_str(), threeDigits(r.gc_test).c_str(),
-                  r.consistent ? "yes" : "no", threeDigits(r.seconds).c_str());
+                  formatNumber(r.gc_train, 3, "n/a").c_str(),
+                  formatNumber(r.gc_test, 3, "n/a").c_str(), r.consistent ? "yes" : "no",
+                  formatNumber(r.seconds, 3, "n/a").c_str());
     out << line;
   }
   return out.str();
@@ -113,11 +116,11 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
   const LogStudyRow* model = find(o, "model");
   if (torque != nullptr)
     out.push_back("Best held-out torque fit: " + torque->key + ", " + percent(torque->torque_test) +
-                  " (GC error " + threeDigits(torque->gc_test) + ").");
+                  " (GC error " + formatNumber(torque->gc_test, 3, "n/a") + ").");
   if (motion != nullptr)
     out.push_back("Best held-out motion prediction: " + motion->key + ", GC error " +
-                  threeDigits(motion->gc_test) + " (torque error " + percent(motion->torque_test) +
-                  ").");
+                  formatNumber(motion->gc_test, 3, "n/a") + " (torque error " +
+                  percent(motion->torque_test) + ").");
   if (torque != nullptr && motion != nullptr) {
     if (torque == motion)
       out.push_back("The same estimate is best for both: use " + torque->key +
@@ -129,10 +132,11 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
           motion->key + ", for feed-forward torques " + torque->key + ".");
   }
   if (model != nullptr && motion != nullptr && std::isfinite(model->gc_test))
-    out.push_back("The input model's held-out GC error is " + threeDigits(model->gc_test) +
+    out.push_back("The input model's held-out GC error is " +
+                  formatNumber(model->gc_test, 3, "n/a") +
                   (motion->gc_test < model->gc_test
                        ? "; the best estimate lowers it " +
-                             threeDigits(model->gc_test / motion->gc_test) + " times."
+                             formatNumber(model->gc_test / motion->gc_test, 3, "n/a") + " times."
                        : "; no estimate predicts the motion better."));
   for (const LogStudyRow& r : o.rows)
     if (r.key != "model" && r.key != "start" && !r.consistent)
@@ -149,10 +153,11 @@ Document logStudyDocument(const LogStudyOutcome& o) {
       std::to_string(o.test_samples) + " samples of " + o.validate_file + "). The torque error " +
       "is |tau - tau_hat| / |tau| over every joint and sample; the GC error, the paper's, sums " +
       "the squared state errors of " + std::to_string(o.train_segments) + " (training) and " +
-      std::to_string(o.test_segments) + " (held-out) rollouts of " + threeDigits(o.horizon) +
+      std::to_string(o.test_segments) + " (held-out) rollouts of " +
+      formatNumber(o.horizon, 3, "n/a") +
       " s from the recorded states under the recorded torques. " + std::to_string(o.num_base) +
       " of the " + std::to_string(o.num_standard) + " standard parameters are identifiable. " +
-      threeDigits(o.seconds) + " s in all.");
+      formatNumber(o.seconds, 3, "n/a") + " s in all.");
   doc.heading("Comparison");
   DocumentTable table;
   table.header = {"model",
@@ -165,9 +170,9 @@ Document logStudyDocument(const LogStudyOutcome& o) {
                   "seconds"};
   for (const LogStudyRow& r : o.rows)
     table.rows.push_back({r.key, percent(r.torque_train), percent(r.torque_test),
-                          threeDigits(r.gc_train), threeDigits(r.gc_test),
+                          formatNumber(r.gc_train, 3, "n/a"), formatNumber(r.gc_test, 3, "n/a"),
                           r.consistent ? "yes" : "no", std::to_string(r.evaluations),
-                          threeDigits(r.seconds)});
+                          formatNumber(r.seconds, 3, "n/a")});
   table.caption = "Evaluations: GC evaluations for searches, iterations for refinements and pc.";
   doc.table(table);
   DocumentTable legend;

@@ -12,8 +12,6 @@
 
 namespace dynid {
 
-inline constexpr int kLogStudySchemaVersion = 1;
-
 nlohmann::json logStudyJson(const LogStudyOutcome& outcome);
 /// The comparison as fixed-width text, one row per model.
 std::string logStudyTable(const LogStudyOutcome& outcome);

@@ -5,6 +5,7 @@
 #include <cstdarg>
 #include <cstdio>
 
+#include "analysis/records/document.hpp"
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "data/mjcf.hpp"
@@ -100,7 +101,8 @@ nlohmann::json modelCheckJson(const Model& model, const std::vector<ConsistencyV
                           {"link_name", v.link_name},
                           {"condition", v.condition},
                           {"detail", v.detail}});
-  return {{"schema_version", 1},
+  return {{"schema_version", kModelCheckDocument.schema_version},
+          {"kind", kModelCheckDocument.kind},
           {"robot", model.name},
           {"consistent", all.empty()},
           {"violations", violations}};
@@ -116,7 +118,8 @@ std::string modelDocument(const Model& model, const std::string& format) {
 nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
   nlohmann::json m = nlohmann::json::array();
   for (int r = 0; r < model.numJoints(); ++r) m.push_back(toJson(o.M.row(r).transpose()));
-  return {{"schema_version", 1},
+  return {{"schema_version", kDynamicsDocument.schema_version},
+          {"kind", kDynamicsDocument.kind},
           {"robot", model.name},
           {"drives", model.driveTerms().any()},
           {"drive_terms", driveTermsKeys(model.driveTerms())},

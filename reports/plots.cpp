@@ -1,6 +1,7 @@
 #include "reports/plots.hpp"
 
 #include <unistd.h>
+#include "core/format.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <sstream>
 
@@ -18,7 +20,7 @@ namespace dynid {
 
 namespace {
 
-std::string g3(double x) { return threeDigits(x); }
+std::string g3(double x) { return formatNumber(x, 3, "n/a"); }
 
 /// A gnuplot single-quoted string: quotes inside are doubled.
 std::string quoted(const std::string& text) {
@@ -40,14 +42,211 @@ const MethodMetrics* find(const DemoResult& result, Method method) {
   return nullptr;
 }
 
-}  // namespace
+/// Adds one figure (name, caption, gnuplot script); false when gnuplot made none.
+using AddFigure = std::function<bool(const std::string&, const std::string&, const std::string&)>;
 
-std::string threeDigits(double x) {
-  if (!std::isfinite(x)) return "n/a";
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
+/// Figs. 2 and 5: the searches' course.
+void addSearchCourse(const DemoResult& result, const AddFigure& add) {
+  if (!result.searches.empty()) {
+    std::ostringstream gc, errors;
+    // x counts a search's rounds and generations in order, so the hybrid's NLO rounds continue
+    // after its GA generations instead of starting again at 1.
+    const std::string xlabel = "round (NLO) or generation (GA); hybrid: generations, then rounds";
+    gc << header("GC error of the best candidate (paper Fig. 2)", xlabel, "training GC error");
+    errors << header("Parameter errors during the searches (paper Fig. 5)", xlabel, "error")
+           // Nine entries: below the plot in three rows, on a taller canvas, clear of the lines.
+           << "set terminal svg size 720,500 font 'sans,12' background rgb 'white'\n"
+              "set key below horizontal maxcols 3\n";
+    std::string gc_plot = "plot ", errors_plot = "plot ";
+    for (std::size_t s = 0; s < result.searches.size(); ++s) {
+      const DemoSearchTrace& t = result.searches[s];
+      gc << "$" << t.method << " << EOD\n";
+      errors << "$" << t.method << " << EOD\n";
+      for (std::size_t i = 0; i < t.history.size(); ++i) {
+        const HistoryEntry& h = t.history[i];
+        gc << i + 1 << " " << h.best_gc << "\n";
+        errors << i + 1 << " " << h.best_parameter_error << " " << h.min_parameter_error << " "
+               << (i < t.base_errors.size() ? t.base_errors[i] : NAN) << "\n";
+      }
+      gc << "EOD\n";
+      errors << "EOD\n";
+      const std::string sep = s == 0 ? "" : ", ";
+      gc_plot += sep + "$" + t.method + " using 1:2 with linespoints title '" + t.method + "'";
+      // Short titles (the caption says what each is), three to a row below the plot.
+      errors_plot += sep + "$" + t.method + " using 1:2 with lines title '" + t.method +
+                     " best-GC', $" + t.method + " using 1:3 with lines dt 2 title '" + t.method +
+                     " lowest', $" + t.method + " using 1:4 with lines dt 3 lw 2 title '" +
+                     t.method + " best-GC, base'";
+    }
+    gc << gc_plot << "\n";
+    errors << errors_plot << "\n";
+    std::string gc_caption =
+        "The training GC error of each search's best candidate at every round (NLO) or generation "
+        "(GA). Every search cuts the error by orders of magnitude:";
+    for (const DemoSearchTrace& t : result.searches)
+      if (!t.history.empty())
+        gc_caption += " " + t.method + " " + g3(t.history.front().best_gc) + " to " +
+                      g3(t.history.back().best_gc) + ";";
+    gc_caption.back() = '.';
+    add("gc_error_iterations", gc_caption, gc.str());
+    std::string error_caption =
+        "The 7-parameter error, eq. (1), of the best-GC candidate (solid) and the lowest one in "
+        "the population (dashed), and the best-GC candidate's base-parameter error (dotted), the "
+        "same candidate measured in the coordinates the data determine. Over every evaluated "
+        "candidate, the correlation of log GC error with log 7-parameter error is";
+    double strongest = -1.0;
+    for (const DemoSearchTrace& t : result.searches) {
+      error_caption += " " + t.method + " r = " + g3(t.pearson_log) + " (Spearman " +
+                       g3(t.spearman) + ", " + std::to_string(t.candidates) + " candidates);";
+      if (std::isfinite(t.pearson_log)) strongest = std::max(strongest, t.pearson_log);
+    }
+    error_caption.back() = '.';
+    error_caption += strongest < 0.5
+                         ? " So a lower prediction error does not mean lower parameter errors "
+                           "here, the paper's finding: the GC error sees the base parameters only."
+                         : " Here the two errors fall together.";
+    add("parameter_error_iterations", error_caption, errors.str());
+  }
 }
+
+/// The correlation behind Fig. 5: every evaluated candidate's two errors.
+void addCandidateScatter(const DemoResult& result, const AddFigure& add) {
+  if (!result.searches.empty()) {
+    std::ostringstream scatter;
+    scatter << header("GC error against 7-parameter error, every evaluated candidate",
+                      "7-parameter error, eq. (1)", "training GC error")
+            << "set logscale x\nset format x '10^{%L}'\n";
+    std::string plot = "plot ";
+    for (std::size_t s = 0; s < result.searches.size(); ++s) {
+      const DemoSearchTrace& t = result.searches[s];
+      scatter << "$" << t.method << " << EOD\n";
+      for (const auto& [gc, error] : t.evaluated) scatter << error << " " << gc << "\n";
+      scatter << "EOD\n";
+      plot += (s == 0 ? "" : ", ") + std::string("$") + t.method +
+              " using 1:2 with points pt 7 ps 0.3 title '" + t.method + "'";
+    }
+    scatter << plot << "\n";
+    add("gc_against_parameter_error",
+        "Each point is one candidate a search evaluated (at most 2000 per search shown): its "
+        "7-parameter error against its GC error. Were the GC error a guide to the parameters, the "
+        "points would fall along a rising line towards the origin; the correlations are in "
+        "Figure 2's caption and summary.json.",
+        scatter.str());
+  }
+}
+
+/// Every method, in base coordinates and in prediction.
+void addMethodComparison(const DemoResult& result, const AddFigure& add) {
+  if (!result.methods.empty()) {
+    std::ostringstream base, gc;
+    base << header("Base-parameter error by method", "",
+                   "RMS relative error of the base parameters")
+         << "set style data histograms\nset style fill solid 0.7\nset boxwidth 0.7\n"
+            "set xtics rotate by -30\nunset key\n$d << EOD\n";
+    gc << header("GC error on the training and a held-out path (paper Fig. 3)", "", "GC error")
+       << "set style data histograms\nset style histogram clustered\nset style fill solid 0.7\n"
+          "set xtics rotate by -30\n$d << EOD\n";
+    gc << "initial_guess " << result.initial_gc_train << " " << result.initial_gc_test << "\n";
+    for (const MethodMetrics& m : result.methods) {
+      base << m.key << " " << m.base_param_error << "\n";
+      gc << m.key << " " << m.gc_error_train << " " << m.gc_error_test << "\n";
+    }
+    base << "EOD\nplot $d using 2:xtic(1)\n";
+    gc << "EOD\nplot $d using 2:xtic(1) title 'training', '' using 3 title 'held out'\n";
+    std::string base_caption =
+        "Each method's error in the coordinates the data determine, the base parameters.";
+    const MethodMetrics* ols = find(result, Method::kOls);
+    const MethodMetrics* refined = find(result, Method::kNloRefined);
+    const MethodMetrics* nlo = find(result, Method::kNlo);
+    if (ols != nullptr && nlo != nullptr && refined != nullptr)
+      base_caption += " Least squares (" + g3(ols->base_param_error) + ") and refined searches (" +
+                      g3(refined->base_param_error) + ") reach them; the searches alone stop at " +
+                      g3(nlo->base_param_error) + " (NLO).";
+    add("base_parameter_error", base_caption, base.str());
+    add("gc_error_methods",
+        "The GC error of the initial guess and of each estimate on the training data and on a "
+        "held-out control path (other frequencies, amplitude and phase). Every estimate predicts "
+        "the new path better than the initial guess (" +
+            g3(result.initial_gc_test) +
+            "); those whose base parameters are right predict it as well as the training one.",
+        gc.str());
+  }
+}
+
+/// What explains the figures: the GC error's blind directions.
+void addNullSpace(const DemoResult& result, const AddFigure& add) {
+  const NullSpaces& ns = result.null_spaces;
+  if (!ns.gc_singular_values.empty()) {
+    std::ostringstream sv;
+    sv << header("Singular values of the GC residuals' Jacobian at the truth", "index",
+                 "singular value (unit columns)")
+       << "set yrange [1e-18:*]\n";
+    const int rank = ns.standard - ns.gc_near_null;
+    sv << "set arrow from " << rank + 0.5 << ", graph 0 to " << rank + 0.5
+       << ", graph 1 nohead lc rgb '#228833' lw 2\nset label 'base parameters: "
+       << ns.standard - ns.regressor_null << "' at " << rank + 0.5
+       << ", graph 0.5 left offset 0.5,0 tc rgb '#228833'\n$d << EOD\n";
+    for (std::size_t k = 0; k < ns.gc_singular_values.size(); ++k)
+      // Exact zeros (parameters no rollout depends on) at the plot's floor.
+      sv << k + 1 << " " << std::max(ns.gc_singular_values[k], 1e-18) << "\n";
+    sv << "EOD\nplot $d using 1:2 with impulses lw 4 lc rgb '#4477aa' title 'GC Jacobian'\n";
+    std::string caption =
+        "The singular values of the Jacobian of the GC residuals with respect to the " +
+        std::to_string(ns.standard) +
+        " standard parameters at the truth, columns scaled to unit norm. The green line is the "
+        "number of base parameters, the torques' rank. " +
+        std::to_string(ns.gc_near_null) + " singular values are at round-off";
+    if (!ns.principal_angles_deg.empty())
+      caption +=
+          ", and their span meets the regressor's null space at principal angles of at "
+          "most " +
+          g3(ns.principal_angles_deg.back()) + " degrees";
+    caption += ": the GC error sees the base parameters and nothing else.";
+    add("gc_jacobian_singular_values", caption, sv.str());
+  }
+}
+
+/// Fig. 4: near-truth configurations' held-out GC errors, the estimate's marked.
+void addNearTruth(const DemoResult& result, const AddFigure& add) {
+  const NearTruth& near = result.near_truth;
+  if (!near.gc_errors.empty()) {
+    double lo = std::log10(near.estimate_gc), hi = lo;
+    for (double g : near.gc_errors)
+      if (g > 0.0) lo = std::min(lo, std::log10(g)), hi = std::max(hi, std::log10(g));
+    const int bins = 20;
+    const double width = std::max((hi - lo) / bins, 1e-12);
+    std::vector<int> counts(bins, 0);
+    for (double g : near.gc_errors)
+      if (g > 0.0) ++counts[std::min(bins - 1, static_cast<int>((std::log10(g) - lo) / width))];
+    const double mark = std::log10(near.estimate_gc);
+    std::ostringstream h;
+    h << "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
+         "set title 'Held-out GC errors of configurations within "
+      << g3(100.0 * near.range)
+      << " % of the truth (paper Fig. 4)'\nset xlabel 'log10 held-out GC error'\n"
+         "set ylabel 'configurations'\nset grid\nset key below\nset style fill solid 0.7\n"
+         "set boxwidth "
+      << 0.9 * width << "\nset yrange [0:*]\n"
+      << "set arrow from " << mark << ", graph 0 to " << mark
+      << ", graph 1 nohead lc rgb '#228833' lw 3\n"
+      // The label on the side of the line with room: left of it in the right half of the axis.
+      << "set label '" << near.estimate << " estimate' at " << mark << ", graph 0.95 "
+      << (mark > 0.5 * (lo + hi) ? "right offset -0.5,0" : "offset 0.5,0")
+      << " tc rgb '#228833'\n$d << EOD\n";
+    for (int b = 0; b < bins; ++b) h << lo + (b + 0.5) * width << " " << counts[b] << "\n";
+    h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations'\n";
+    add("near_truth_histogram",
+        "The held-out GC errors of " + std::to_string(near.gc_errors.size()) +
+            " random configurations whose every parameter is within " + g3(100.0 * near.range) +
+            " % of its true value; the green line marks the " + near.estimate + " estimate (" +
+            g3(near.estimate_gc) + "). " + g3(near.percentile) +
+            " % of the near-truth configurations do as well or better: a search can predict as "
+            "well as configurations much closer to the truth.",
+        h.str());
+  }
+}
+
+}  // namespace
 
 void appendPlotRow(std::string& out, std::initializer_list<double> values) {
   std::array<char, 32> buffer;
@@ -120,195 +319,11 @@ std::vector<Figure> demoFigures(const DemoResult& result, std::string* warning) 
     return false;
   };
 
-  // Figs. 2 and 5: the searches' course.
-  if (!result.searches.empty()) {
-    std::ostringstream gc, errors;
-    // x counts a search's rounds and generations in order, so the hybrid's NLO rounds continue
-    // after its GA generations instead of starting again at 1.
-    const std::string xlabel = "round (NLO) or generation (GA); hybrid: generations, then rounds";
-    gc << header("GC error of the best candidate (paper Fig. 2)", xlabel, "training GC error");
-    errors << header("Parameter errors during the searches (paper Fig. 5)", xlabel, "error")
-           // Nine entries: below the plot in three rows, on a taller canvas, clear of the lines.
-           << "set terminal svg size 720,500 font 'sans,12' background rgb 'white'\n"
-              "set key below horizontal maxcols 3\n";
-    std::string gc_plot = "plot ", errors_plot = "plot ";
-    for (std::size_t s = 0; s < result.searches.size(); ++s) {
-      const DemoSearchTrace& t = result.searches[s];
-      gc << "$" << t.method << " << EOD\n";
-      errors << "$" << t.method << " << EOD\n";
-      for (std::size_t i = 0; i < t.history.size(); ++i) {
-        const HistoryEntry& h = t.history[i];
-        gc << i + 1 << " " << h.best_gc << "\n";
-        errors << i + 1 << " " << h.best_parameter_error << " " << h.min_parameter_error << " "
-               << (i < t.base_errors.size() ? t.base_errors[i] : NAN) << "\n";
-      }
-      gc << "EOD\n";
-      errors << "EOD\n";
-      const std::string sep = s == 0 ? "" : ", ";
-      gc_plot += sep + "$" + t.method + " using 1:2 with linespoints title '" + t.method + "'";
-      // Short titles (the caption says what each is), three to a row below the plot.
-      errors_plot += sep + "$" + t.method + " using 1:2 with lines title '" + t.method +
-                     " best-GC', $" + t.method + " using 1:3 with lines dt 2 title '" + t.method +
-                     " lowest', $" + t.method + " using 1:4 with lines dt 3 lw 2 title '" +
-                     t.method + " best-GC, base'";
-    }
-    gc << gc_plot << "\n";
-    errors << errors_plot << "\n";
-    std::string gc_caption =
-        "The training GC error of each search's best candidate at every round (NLO) or generation "
-        "(GA). Every search cuts the error by orders of magnitude:";
-    for (const DemoSearchTrace& t : result.searches)
-      if (!t.history.empty())
-        gc_caption += " " + t.method + " " + g3(t.history.front().best_gc) + " to " +
-                      g3(t.history.back().best_gc) + ";";
-    gc_caption.back() = '.';
-    add("gc_error_iterations", gc_caption, gc.str());
-    std::string error_caption =
-        "The 7-parameter error, eq. (1), of the best-GC candidate (solid) and the lowest one in "
-        "the population (dashed), and the best-GC candidate's base-parameter error (dotted), the "
-        "same candidate measured in the coordinates the data determine. Over every evaluated "
-        "candidate, the correlation of log GC error with log 7-parameter error is";
-    double strongest = -1.0;
-    for (const DemoSearchTrace& t : result.searches) {
-      error_caption += " " + t.method + " r = " + g3(t.pearson_log) + " (Spearman " +
-                       g3(t.spearman) + ", " + std::to_string(t.candidates) + " candidates);";
-      if (std::isfinite(t.pearson_log)) strongest = std::max(strongest, t.pearson_log);
-    }
-    error_caption.back() = '.';
-    error_caption += strongest < 0.5
-                         ? " So a lower prediction error does not mean lower parameter errors "
-                           "here, the paper's finding: the GC error sees the base parameters only."
-                         : " Here the two errors fall together.";
-    add("parameter_error_iterations", error_caption, errors.str());
-  }
-
-  // The correlation behind Fig. 5: every evaluated candidate's two errors.
-  if (!result.searches.empty()) {
-    std::ostringstream scatter;
-    scatter << header("GC error against 7-parameter error, every evaluated candidate",
-                      "7-parameter error, eq. (1)", "training GC error")
-            << "set logscale x\nset format x '10^{%L}'\n";
-    std::string plot = "plot ";
-    for (std::size_t s = 0; s < result.searches.size(); ++s) {
-      const DemoSearchTrace& t = result.searches[s];
-      scatter << "$" << t.method << " << EOD\n";
-      for (const auto& [gc, error] : t.evaluated) scatter << error << " " << gc << "\n";
-      scatter << "EOD\n";
-      plot += (s == 0 ? "" : ", ") + std::string("$") + t.method +
-              " using 1:2 with points pt 7 ps 0.3 title '" + t.method + "'";
-    }
-    scatter << plot << "\n";
-    add("gc_against_parameter_error",
-        "Each point is one candidate a search evaluated (at most 2000 per search shown): its "
-        "7-parameter error against its GC error. Were the GC error a guide to the parameters, the "
-        "points would fall along a rising line towards the origin; the correlations are in "
-        "Figure 2's caption and summary.json.",
-        scatter.str());
-  }
-
-  // Every method, in base coordinates and in prediction.
-  if (!result.methods.empty()) {
-    std::ostringstream base, gc;
-    base << header("Base-parameter error by method", "",
-                   "RMS relative error of the base parameters")
-         << "set style data histograms\nset style fill solid 0.7\nset boxwidth 0.7\n"
-            "set xtics rotate by -30\nunset key\n$d << EOD\n";
-    gc << header("GC error on the training and a held-out path (paper Fig. 3)", "", "GC error")
-       << "set style data histograms\nset style histogram clustered\nset style fill solid 0.7\n"
-          "set xtics rotate by -30\n$d << EOD\n";
-    gc << "initial_guess " << result.initial_gc_train << " " << result.initial_gc_test << "\n";
-    for (const MethodMetrics& m : result.methods) {
-      base << m.key << " " << m.base_param_error << "\n";
-      gc << m.key << " " << m.gc_error_train << " " << m.gc_error_test << "\n";
-    }
-    base << "EOD\nplot $d using 2:xtic(1)\n";
-    gc << "EOD\nplot $d using 2:xtic(1) title 'training', '' using 3 title 'held out'\n";
-    std::string base_caption =
-        "Each method's error in the coordinates the data determine, the base parameters.";
-    const MethodMetrics* ols = find(result, Method::kOls);
-    const MethodMetrics* refined = find(result, Method::kNloRefined);
-    const MethodMetrics* nlo = find(result, Method::kNlo);
-    if (ols != nullptr && nlo != nullptr && refined != nullptr)
-      base_caption += " Least squares (" + g3(ols->base_param_error) + ") and refined searches (" +
-                      g3(refined->base_param_error) + ") reach them; the searches alone stop at " +
-                      g3(nlo->base_param_error) + " (NLO).";
-    add("base_parameter_error", base_caption, base.str());
-    add("gc_error_methods",
-        "The GC error of the initial guess and of each estimate on the training data and on a "
-        "held-out control path (other frequencies, amplitude and phase). Every estimate predicts "
-        "the new path better than the initial guess (" +
-            g3(result.initial_gc_test) +
-            "); those whose base parameters are right predict it as well as the training one.",
-        gc.str());
-  }
-  // What explains the figures: the GC error's blind directions.
-  const NullSpaces& ns = result.null_spaces;
-  if (!ns.gc_singular_values.empty()) {
-    std::ostringstream sv;
-    sv << header("Singular values of the GC residuals' Jacobian at the truth", "index",
-                 "singular value (unit columns)")
-       << "set yrange [1e-18:*]\n";
-    const int rank = ns.standard - ns.gc_near_null;
-    sv << "set arrow from " << rank + 0.5 << ", graph 0 to " << rank + 0.5
-       << ", graph 1 nohead lc rgb '#228833' lw 2\nset label 'base parameters: "
-       << ns.standard - ns.regressor_null << "' at " << rank + 0.5
-       << ", graph 0.5 left offset 0.5,0 tc rgb '#228833'\n$d << EOD\n";
-    for (std::size_t k = 0; k < ns.gc_singular_values.size(); ++k)
-      // Exact zeros (parameters no rollout depends on) at the plot's floor.
-      sv << k + 1 << " " << std::max(ns.gc_singular_values[k], 1e-18) << "\n";
-    sv << "EOD\nplot $d using 1:2 with impulses lw 4 lc rgb '#4477aa' title 'GC Jacobian'\n";
-    std::string caption =
-        "The singular values of the Jacobian of the GC residuals with respect to the " +
-        std::to_string(ns.standard) +
-        " standard parameters at the truth, columns scaled to unit norm. The green line is the "
-        "number of base parameters, the torques' rank. " +
-        std::to_string(ns.gc_near_null) + " singular values are at round-off";
-    if (!ns.principal_angles_deg.empty())
-      caption +=
-          ", and their span meets the regressor's null space at principal angles of at "
-          "most " +
-          g3(ns.principal_angles_deg.back()) + " degrees";
-    caption += ": the GC error sees the base parameters and nothing else.";
-    add("gc_jacobian_singular_values", caption, sv.str());
-  }
-
-  // Fig. 4: near-truth configurations' held-out GC errors, the estimate's marked.
-  const NearTruth& near = result.near_truth;
-  if (!near.gc_errors.empty()) {
-    double lo = std::log10(near.estimate_gc), hi = lo;
-    for (double g : near.gc_errors)
-      if (g > 0.0) lo = std::min(lo, std::log10(g)), hi = std::max(hi, std::log10(g));
-    const int bins = 20;
-    const double width = std::max((hi - lo) / bins, 1e-12);
-    std::vector<int> counts(bins, 0);
-    for (double g : near.gc_errors)
-      if (g > 0.0) ++counts[std::min(bins - 1, static_cast<int>((std::log10(g) - lo) / width))];
-    const double mark = std::log10(near.estimate_gc);
-    std::ostringstream h;
-    h << "set terminal svg size 720,420 font 'sans,12' background rgb 'white'\n"
-         "set title 'Held-out GC errors of configurations within "
-      << g3(100.0 * near.range)
-      << " % of the truth (paper Fig. 4)'\nset xlabel 'log10 held-out GC error'\n"
-         "set ylabel 'configurations'\nset grid\nset key below\nset style fill solid 0.7\n"
-         "set boxwidth "
-      << 0.9 * width << "\nset yrange [0:*]\n"
-      << "set arrow from " << mark << ", graph 0 to " << mark
-      << ", graph 1 nohead lc rgb '#228833' lw 3\n"
-      // The label on the side of the line with room: left of it in the right half of the axis.
-      << "set label '" << near.estimate << " estimate' at " << mark << ", graph 0.95 "
-      << (mark > 0.5 * (lo + hi) ? "right offset -0.5,0" : "offset 0.5,0")
-      << " tc rgb '#228833'\n$d << EOD\n";
-    for (int b = 0; b < bins; ++b) h << lo + (b + 0.5) * width << " " << counts[b] << "\n";
-    h << "EOD\nplot $d using 1:2 with boxes lc rgb '#4477aa' title 'near-truth configurations'\n";
-    add("near_truth_histogram",
-        "The held-out GC errors of " + std::to_string(near.gc_errors.size()) +
-            " random configurations whose every parameter is within " + g3(100.0 * near.range) +
-            " % of its true value; the green line marks the " + near.estimate + " estimate (" +
-            g3(near.estimate_gc) + "). " + g3(near.percentile) +
-            " % of the near-truth configurations do as well or better: a search can predict as "
-            "well as configurations much closer to the truth.",
-        h.str());
-  }
+  addSearchCourse(result, add);
+  addCandidateScatter(result, add);
+  addMethodComparison(result, add);
+  addNullSpace(result, add);
+  addNearTruth(result, add);
   if (figures.empty() && warning != nullptr)
     *warning = "gnuplot not available (DYNID_GNUPLOT or gnuplot on the PATH): no figures";
   return figures;

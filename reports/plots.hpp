@@ -12,9 +12,6 @@
 
 namespace dynid {
 
-/// A number as every report prints it: three significant digits ("%.3g"), "n/a" when not finite.
-std::string threeDigits(double x);
-
 struct Figure {
   std::string name;     // file stem, e.g. "gc_error_iterations"
   std::string caption;  // what it shows and what to conclude

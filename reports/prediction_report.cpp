@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
@@ -17,8 +19,8 @@ namespace dynid {
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
-  return {{"schema_version", kPredictionSchemaVersion},
-          {"kind", "dynid.prediction"},
+  return {{"schema_version", kPredictionDocument.schema_version},
+          {"kind", kPredictionDocument.kind},
           {"estimate", estimate_file},
           {"method", o.method},
           {"robot_spec", o.robot_spec},
@@ -194,8 +196,9 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   std::ostringstream out;
   out << o.robot_spec << " (" << (o.method.empty() ? "estimate" : o.method) << ") on "
       << v.num_samples << " samples: relative torque error "
-      << threeDigits(100.0 * v.relative_error) << " %; per joint RMS [N m]:";
-  for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j) out << " " << threeDigits(v.torque_rms[j]);
+      << formatNumber(100.0 * v.relative_error, 3, "n/a") << " %; per joint RMS [N m]:";
+  for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j)
+    out << " " << formatNumber(v.torque_rms[j], 3, "n/a");
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";
   if (figure) out << " and " << dir << "/torques.svg";
   out << "\n";

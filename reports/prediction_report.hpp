@@ -12,8 +12,6 @@
 
 namespace dynid {
 
-inline constexpr int kPredictionSchemaVersion = 1;
-
 nlohmann::json predictionJson(const PredictOutcome& outcome, const std::string& estimate_file,
                               const std::string& data_file);
 

@@ -5,6 +5,7 @@
 #include <optional>
 #include <sstream>
 
+#include "analysis/records/document.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
@@ -59,8 +60,8 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
                                    {"runs", held_runs},
                                    {"time_ranges", ranges}};
   return {
-      {"schema_version", kPrepareSchemaVersion},
-      {"kind", "dynid.prepare"},
+      {"schema_version", kPrepareDocument.schema_version},
+      {"kind", kPrepareDocument.kind},
       {"source", sources},
       {"raw",
        {{"samples", o.raw_samples},

@@ -11,10 +11,6 @@
 
 namespace dynid {
 
-/// 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled repeats,
-/// current_to_torque.
-inline constexpr int kPrepareSchemaVersion = 2;
-
 nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& options,
                            const PrepareOutcome& outcome);
 

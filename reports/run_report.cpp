@@ -4,7 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/search_record.hpp"
 #include "data/json_number.hpp"
 
 namespace dynid {
@@ -21,7 +22,8 @@ json validationJson(const std::string& file, double initial, double final) {
 json searchJson(const SearchOutcome& o) {
   const ParameterSpace& space = *o.space;
   const SearchResult& result = o.result;
-  json report = {{"schema_version", 1},
+  json report = {{"schema_version", kSearchDocument.schema_version},
+                 {"kind", kSearchDocument.kind},
                  {"method", methodName(o.method)},
                  {"robot", o.robot},
                  {"settings", o.settings},
@@ -122,8 +124,8 @@ json refineJson(const RefineOutcome& o) {
     free_directions.push_back(combination);
   }
   json report = {
-      {"schema_version", 1},
-      {"kind", "dynid.refine"},
+      {"schema_version", kRefineDocument.schema_version},
+      {"kind", kRefineDocument.kind},
       {"robot", o.robot},
       {"from", {{"file", o.from_file}, {"kind", o.from_kind}}},
       {"data", o.data_file},

@@ -1,5 +1,5 @@
 // The documents of `dynid search` (search.json) and `dynid refine` (refine.json), assembled from
-// analysis/run_json.hpp's pieces, and their console lines.
+// analysis/records/search_record.hpp's pieces, and their console lines.
 #pragma once
 
 #include <string>

@@ -19,14 +19,8 @@ GcWorkspace::PerThread::PerThread(const Model& model)
 
 GcWorkspace::GcWorkspace(int num_threads) { threads.resize(static_cast<std::size_t>(num_threads)); }
 
-bool GcStop::requested() const {
-  return (flag != nullptr && flag->load(std::memory_order_relaxed)) ||
-         (deadline != std::chrono::steady_clock::time_point::max() &&
-          std::chrono::steady_clock::now() >= deadline);
-}
-
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
-               ThreadPool& pool, const GcStop& stop) {
+               ThreadPool& pool, const RunControl& control) {
   const int n = candidate.numJoints();
   if (problem.data.numJoints() != n)
     throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
@@ -35,7 +29,7 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
   const long evaluation = ++workspace.evaluations;
   std::atomic<bool> stopped{false};
   pool.parallelFor(problem.numSegments(), [&](int s, int thread) {
-    if (stopped.load(std::memory_order_relaxed) || stop.requested()) {
+    if (stopped.load(std::memory_order_relaxed) || control.stopped()) {
       stopped.store(true, std::memory_order_relaxed);
       return;
     }

@@ -17,6 +17,7 @@
 
 #include "core/integrators.hpp"
 #include "core/parallel.hpp"
+#include "core/run_control.hpp"
 #include "core/trajectory.hpp"
 #include "search/gc_problem.hpp"
 
@@ -40,18 +41,12 @@ struct GcWorkspace {
   long evaluations = 0;
 };
 
-/// When an evaluation must stop early: an interrupt flag (Ctrl-C) and a deadline (a time budget).
-struct GcStop {
-  const std::atomic<bool>* flag = nullptr;
-  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
-  bool requested() const;
-};
-
 /// Squared prediction error of each segment into workspace.segment_errors, summed in segment order
-/// (the same result for any thread count). Before each segment it polls `stop`: once requested,
-/// the remaining segments are skipped and the result is NaN (the evaluation did not finish).
+/// (the same result for any thread count). Before each segment it polls `control` (stopped():
+/// the flag and the deadline): once stopped, the remaining segments are skipped and the result is
+/// NaN (the evaluation did not finish).
 /// Throws InputError when the model's joint count differs from the data's.
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
-               ThreadPool& pool, const GcStop& stop = {});
+               ThreadPool& pool, const RunControl& control = {});
 
 }  // namespace dynid

@@ -9,15 +9,11 @@
 #include <vector>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
 namespace {
-std::string formatCount(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
-}
 /// The dataset's runs ([begin, end) sample ranges: a step longer than 1.5 median steps ends one,
 /// as in a `dynid prepare` output split at gaps) and its sample period (the mean step within the
 /// runs; every step within a run must equal it to 1e-6).
@@ -109,8 +105,8 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   const double step = options.step > 0.0 ? options.step : period;
   if (!(options.horizon / step <= kMaxSegmentSteps))
     throw InputError("a segment of " + std::to_string(options.horizon) + " s in steps of " +
-                     std::to_string(step) + " s is " + formatCount(options.horizon / step) +
-                     " integration steps, more than " + formatCount(kMaxSegmentSteps) +
+                     std::to_string(step) + " s is " + formatNumber(options.horizon / step, 3) +
+                     " integration steps, more than " + formatNumber(kMaxSegmentSteps, 3) +
                      ": shorten the horizon or lengthen the step");
   const int segment_samples = static_cast<int>(std::lround(per));
   if (segment_samples < 1 || std::abs(per - segment_samples) > 1e-6 * per)

@@ -6,9 +6,8 @@
 #include <random>
 #include <sstream>
 
-#include <nlopt.hpp>
-
 #include "core/errors.hpp"
+#include "search/cobyla.hpp"
 
 namespace dynid {
 
@@ -25,19 +24,19 @@ class Evaluator {
         workspace_(context.pool->numThreads()),
         scratch_(context.space->modelAt(context.space->initial())),
         start_(std::chrono::steady_clock::now()),
-        seconds_offset_(state.seconds) {}
+        seconds_offset_(state.seconds),
+        // The budget left after a resumed run's seconds; a spent budget stops at once.
+        gc_control_(
+            context.budget.max_seconds > 0.0
+                ? context.control.within(
+                      std::max(context.budget.max_seconds - seconds_offset_, 1e-300), start_)
+                : context.control) {}
 
   /// GC error at the feasible point x (projected by the caller). An evaluation cut short by the
   /// stop flag or the time budget counts for nothing and returns +inf; stopReason() then says why.
   double evaluate(const Eigen::VectorXd& x) {
     space_.apply(x, scratch_);
-    GcStop stop;
-    stop.flag = context_.stop;
-    if (context_.budget.max_seconds > 0.0)
-      stop.deadline = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                   std::chrono::duration<double>(std::max(
-                                       context_.budget.max_seconds - seconds_offset_, 0.0)));
-    const double gc = gcError(scratch_, *context_.problem, workspace_, *context_.pool, stop);
+    const double gc = gcError(scratch_, *context_.problem, workspace_, *context_.pool, gc_control_);
     if (std::isnan(gc)) return INFINITY;
     ++state_.evaluations;
     if (context_.on_evaluation) context_.on_evaluation(x, gc);
@@ -61,7 +60,8 @@ class Evaluator {
   /// Why the search must stop now, or "" to go on.
   std::string stopReason() const {
     const SearchBudget& b = context_.budget;
-    if (context_.stop != nullptr && context_.stop->load()) return "interrupted";
+    if (context_.control.stopped())
+      return context_.control.interrupted() ? "interrupted" : "seconds";
     if (state_.best_gc <= b.gc_tolerance) return "tolerance";
     if (b.max_evaluations > 0 && state_.evaluations >= b.max_evaluations) return "evaluations";
     if (b.max_seconds > 0.0 && seconds() >= b.max_seconds) return "seconds";
@@ -100,6 +100,7 @@ class Evaluator {
   Model scratch_;
   std::chrono::steady_clock::time_point start_;
   double seconds_offset_;
+  RunControl gc_control_;  // the caller's, with the search's time budget as a deadline
   double min_parameter_error_ = INFINITY;
   std::vector<std::pair<double, double>> evaluated_;
 };
@@ -177,61 +178,43 @@ SearchResult finishRun(SearchState& state, Evaluator& evaluator, const std::stri
 // NLO: each round optimises the current best and two mutations of it with COBYLA and keeps the
 // best of the three.
 
-struct CobylaData {
-  Evaluator* evaluator;
-  const ParameterSpace* space;
-  nlopt::opt* opt;
-  double penalty_scale;
-  Eigen::VectorXd best_x;
-  double best_gc;
-};
-
-double cobylaObjective(unsigned n, const double* x, double*, void* raw) {
-  auto* d = static_cast<CobylaData*>(raw);
-  const Eigen::Map<const Eigen::VectorXd> xv(x, n);
-  // Evaluate at the feasible point; penalise COBYLA's distance from it.
-  const Eigen::VectorXd y = d->space->project(xv);
-  const double gc = d->evaluator->evaluate(y);
-  if (gc < d->best_gc) d->best_gc = gc, d->best_x = y;
-  if (!d->evaluator->stopReason().empty()) d->opt->force_stop();
-  const Eigen::VectorXd range = d->space->upper() - d->space->lower();
-  const double distance = (xv - y).cwiseQuotient(range).squaredNorm();
-  return gc + d->penalty_scale * distance;
-}
-
-double totalMassConstraint(unsigned n, const double* x, double*, void* raw) {
-  auto* d = static_cast<CobylaData*>(raw);
-  return d->space->totalMass(Eigen::Map<const Eigen::VectorXd>(x, n)) -
-         d->space->options().total_mass;
-}
-
-/// One COBYLA run from `seed`; returns its best feasible point and GC error.
+/// One COBYLA run from `seed` on the evaluator's GC error: it evaluates the feasible point
+/// nearest COBYLA's (bounds, mass plane) and penalises the distance to it. Returns its best point
+/// and GC error.
 std::pair<Eigen::VectorXd, double> cobyla(Evaluator& evaluator, const ParameterSpace& space,
                                           const NloOptions& options, const Eigen::VectorXd& seed,
                                           double penalty_scale) {
   const int n = space.numFree();
-  nlopt::opt opt(nlopt::LN_COBYLA, n);
-  CobylaData data{&evaluator, &space, &opt, penalty_scale, seed, INFINITY};
-  opt.set_min_objective(cobylaObjective, &data);
-  opt.set_lower_bounds(std::vector<double>(space.lower().data(), space.lower().data() + n));
-  opt.set_upper_bounds(std::vector<double>(space.upper().data(), space.upper().data() + n));
-  if (space.options().total_mass_constraint)
-    opt.add_equality_constraint(totalMassConstraint, &data,
-                                1e-9 * (1 + space.options().total_mass));
-  const Eigen::VectorXd step = options.initial_step * (space.upper() - space.lower());
-  opt.set_initial_step(std::vector<double>(step.data(), step.data() + n));
-  opt.set_maxeval(options.evaluations_per_seed);
-  opt.set_xtol_rel(1e-10);
-  std::vector<double> x(seed.data(), seed.data() + n);
-  double value = 0.0;
-  try {
-    opt.optimize(x, value);
-  } catch (const nlopt::forced_stop&) {
-    // the budget ran out or the user interrupted: keep the best so far
-  } catch (const nlopt::roundoff_limited&) {
-    // converged as far as round-off allows
+  Eigen::VectorXd best_x = seed;
+  double best_gc = INFINITY;
+  const Eigen::VectorXd range = space.upper() - space.lower();
+  CobylaProblem problem;
+  problem.dimension = n;
+  problem.objective = [&](const double* x) -> std::optional<double> {
+    const Eigen::Map<const Eigen::VectorXd> xv(x, n);
+    const Eigen::VectorXd y = space.project(xv);
+    const double gc = evaluator.evaluate(y);
+    if (gc < best_gc) best_gc = gc, best_x = y;
+    // The budget ran out or the user interrupted: keep the best so far.
+    if (!evaluator.stopReason().empty()) return std::nullopt;
+    return gc + penalty_scale * (xv - y).cwiseQuotient(range).squaredNorm();
+  };
+  if (space.options().total_mass_constraint) {
+    problem.equality = [&](const double* x) {
+      return space.totalMass(Eigen::Map<const Eigen::VectorXd>(x, n)) - space.options().total_mass;
+    };
+    problem.equality_tolerance = 1e-9 * (1 + space.options().total_mass);
   }
-  return {data.best_x, data.best_gc};
+  problem.lower.assign(space.lower().data(), space.lower().data() + n);
+  problem.upper.assign(space.upper().data(), space.upper().data() + n);
+  const Eigen::VectorXd step = options.initial_step * range;
+  problem.initial_step.assign(step.data(), step.data() + n);
+  problem.max_evaluations = options.evaluations_per_seed;
+  problem.xtol_rel = 1e-10;
+  std::vector<double> x(seed.data(), seed.data() + n);
+  const CobylaOutcome outcome = runCobyla(problem, x);
+  if (outcome.end == CobylaEnd::kFailed) throw NumericalError("COBYLA failed: " + outcome.message);
+  return {best_x, best_gc};
 }
 
 void nloRounds(const SearchContext& context, const NloOptions& options, SearchState& state,

@@ -91,7 +91,7 @@ struct SearchContext {
   const Eigen::VectorXd* truth_full = nullptr;  // the form's full true vector, or null
   SearchBudget budget;
   std::uint64_t seed = 1;
-  const std::atomic<bool>* stop = nullptr;  // set (e.g. by SIGINT) to stop after this evaluation
+  RunControl control = {};  // stop flag (stops after this evaluation), deadline, progress
   std::function<void(const SearchState&)> on_iteration;               // progress and checkpoints
   std::function<void(const Eigen::VectorXd&, double)> on_evaluation;  // every candidate, its GC
   const SearchState* resume = nullptr;                                // continue a checkpointed run

@@ -11,6 +11,7 @@
 
 #include "analysis/logs/read_log.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -80,8 +81,8 @@ void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
       const double back = s.values(k - 1, 0) - s.values(k, 0);
       if (back > max_gap)
         throw ParseError(s.file, s.line_of ? s.line_of(k) : 0, "time",
-                         "the stamp goes back " + formatDouble(back) +
-                             " s, more than the gap limit " + formatDouble(max_gap) +
+                         "the stamp goes back " + formatNumber(back) +
+                             " s, more than the gap limit " + formatNumber(max_gap) +
                              " s: a clock reset or two recordings in one file? Split them into "
                              "separate files (prepare --log a.csv b.csv) or raise --max-gap to "
                              "sort them together");
@@ -257,12 +258,7 @@ void measureSpectra(const std::vector<RawSignals>& files, const std::vector<RunS
     }
 }
 
-std::string hz(double f) {
-  std::ostringstream s;
-  s.precision(3);
-  s << f << " Hz";
-  return s.str();
-}
+std::string hz(double f) { return formatNumber(f, 3) + " Hz"; }
 
 /// Chooses the cutoff (and says why), the trim and the Savitzky-Golay window.
 void chooseFilter(const PrepareOptions& options, PrepareOutcome& out) {
@@ -538,9 +534,9 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   chooseFilter(options, out);
   std::vector<Biquad> filter;
   if (out.cutoff > 0.0 && !(out.cutoff < out.rate / 2.0))
-    throw InputError("--cutoff " + formatDouble(out.cutoff) +
+    throw InputError("--cutoff " + formatNumber(out.cutoff) +
                      " Hz must be below the Nyquist frequency of the output rate (" +
-                     formatDouble(out.rate / 2.0) + " Hz; --rate " + formatDouble(out.rate) + ")");
+                     formatNumber(out.rate / 2.0) + " Hz; --rate " + formatNumber(out.rate) + ")");
   if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
 
   const SamplePlan plan = planSamples(spans, filter, options, out);

@@ -10,6 +10,7 @@
 #include "core/model-inl.hpp"
 #include "core/parallel.hpp"
 #include "search/gc_rollout.hpp"
+#include "search/refinement/gc_jacobian.hpp"
 
 namespace dynid {
 

@@ -58,12 +58,6 @@ std::unique_ptr<ceres::CostFunction> makeLinearCost(Eigen::MatrixXd a, Eigen::Ve
 std::unique_ptr<ceres::CostFunction> makeTotalMassCost(const ParameterSpace& space,
                                                        double tolerance = 1e-6);
 
-/// The Jacobian of every segment's 2n GC residuals (measured starts) with respect to the standard
-/// parameters theta at `model` (rows: segment by segment; columns: theta's order), by automatic
-/// differentiation. Throws InputError on a joint-count mismatch, NumericalError when a rollout
-/// diverges.
-Eigen::MatrixXd gcJacobian(const Model& model, const GcProblem& problem, int num_threads = 1);
-
 // How segments chain (RefineOptions::continuity_weight).
 /// The segment that starts where segment s ends, or -1.
 int nextSegment(const GcProblem& problem, int s);

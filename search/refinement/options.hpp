@@ -13,6 +13,7 @@
 
 #include "core/model.hpp"
 #include "core/parameters.hpp"
+#include "core/run_control.hpp"
 
 namespace dynid {
 
@@ -39,10 +40,9 @@ struct RefineOptions {
   /// Pseudo-random starts (fixed seed) of the map back from beta to the free parameters, besides
   /// the current estimate and the centre of the bounds.
   int map_back_starts = 14;
-  const std::atomic<bool>* stop = nullptr;  // stops after the current iteration when set
-  /// Called after each solver iteration, before `stop` is read, on the thread that called refine
-  /// (e.g. to turn a pending Ctrl-C into `stop`); must not throw.
-  std::function<void()> on_iteration = nullptr;
+  /// Stops after the current iteration when control.check() says so (its flag, its deadline;
+  /// on_check runs on the calling thread after each solver iteration).
+  RunControl control = {};
 };
 
 struct RefineIteration {

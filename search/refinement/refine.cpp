@@ -26,16 +26,14 @@ class RefineCallback : public ceres::IterationCallback {
   RefineCallback(std::vector<RefineIteration>& history, const RefineOptions& options,
                  bool& interrupted, std::string stage, double time_offset)
       : history_(history),
-        on_iteration_(options.on_iteration),
-        stop_(options.stop),
+        control_(options.control),
         interrupted_(interrupted),
         stage_(std::move(stage)),
         time_offset_(time_offset) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
                         time_offset_ + summary.cumulative_time_in_seconds});
-    if (on_iteration_) on_iteration_();
-    if (stop_ != nullptr && stop_->load()) {
+    if (control_.check()) {
       interrupted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
@@ -44,8 +42,7 @@ class RefineCallback : public ceres::IterationCallback {
 
  private:
   std::vector<RefineIteration>& history_;
-  const std::function<void()>& on_iteration_;
-  const std::atomic<bool>* stop_;
+  const RunControl& control_;
   bool& interrupted_;
   std::string stage_;
   double time_offset_;
@@ -53,6 +50,19 @@ class RefineCallback : public ceres::IterationCallback {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The seconds the refinement may still run: its own budget (options.max_seconds from
+/// clock_start) and the run control's deadline, whichever ends first; +inf without either.
+double secondsLeft(const RefineOptions& options,
+                   std::chrono::steady_clock::time_point clock_start) {
+  double left = options.max_seconds > 0.0 ? options.max_seconds - secondsSince(clock_start)
+                                          : std::numeric_limits<double>::infinity();
+  if (options.control.deadline != RunControl::Clock::time_point::max())
+    left = std::min(left, std::chrono::duration<double>(options.control.deadline -
+                                                        std::chrono::steady_clock::now())
+                              .count());
+  return left;
 }
 
 /// Solver settings shared by the stages: Levenberg-Marquardt. Independent starts (when
@@ -81,7 +91,7 @@ ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProbl
   solver.function_tolerance = options.function_tolerance;
   solver.gradient_tolerance = options.gradient_tolerance;
   solver.parameter_tolerance = options.parameter_tolerance;
-  if (options.max_seconds > 0.0) solver.max_solver_time_in_seconds = std::max(seconds_left, 1e-3);
+  if (std::isfinite(seconds_left)) solver.max_solver_time_in_seconds = std::max(seconds_left, 1e-3);
   solver.num_threads = std::max(options.num_threads, 1);
   solver.logging_type = ceres::SILENT;
   return solver;
@@ -92,59 +102,21 @@ std::string terminationOf(const ceres::Solver::Summary& summary) {
          summary.message;
 }
 
-/// The base stage: the GC residuals as a function of beta, solved by Levenberg-Marquardt from
-/// beta(x); then x is fitted to the solution's beta within the bounds (and on the total-mass
-/// plane). Updates result.x (when the map back predicts no worse than the start), the starts and
-/// the base-stage fields.
-void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
-               const BaseCoordinates& base, const RefineOptions& options,
-               std::chrono::steady_clock::time_point clock_start, GcWorkspace& workspace,
-               ThreadPool& pool, RefineResult& result) {
-  const bool with_start = options.estimate_initial_states;
-  const Eigen::MatrixXd& P = base.projection;
-  const Eigen::VectorXd theta0 = space.standardAt(result.x);
-  const int b = static_cast<int>(P.rows());
-  Eigen::VectorXd beta = P * theta0;
-  const BetaLift map{theta0, beta, P.completeOrthogonalDecomposition().pseudoInverse()};
-
-  ceres::Problem beta_problem;
-  for (int s = 0; s < problem.numSegments(); ++s) {
-    beta_problem.AddResidualBlock(
-        makeBetaSegmentCost(structure, map, problem, s, with_start,
-                            continuityOf(problem, options, s))
-            .release(),
-        nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
-  }
-  ceres::Solver::Options solver =
-      solverOptions(options, problem, beta.data(), result.initial_states,
-                    options.max_seconds - secondsSince(clock_start));
-  RefineCallback callback(result.history, options, result.interrupted, "base",
-                          secondsSince(clock_start));
-  solver.callbacks.push_back(&callback);
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &beta_problem, &summary);
-  result.base_stage = true;
-  result.base_beta = beta;
-  result.base_termination = terminationOf(summary);
-  result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
-  result.initial_cost = summary.initial_cost;
-  {
-    Model at_beta = structure;
-    at_beta.setStandardParameters(theta0 + map.lift * (beta - map.beta_ref));
-    result.base_gc = gcError(at_beta, problem, workspace, pool);
-  }
-
-  // Map back: min |R (P theta(x) - beta)|^2 over x within the bounds, with R^T R = H the GC
-  // residuals' J^T J in beta at the solution: the Gauss-Newton model of the GC error's increase,
-  // so that a beta the free parameters cannot reproduce exactly (noisy data) is approached where
-  // the data determine it best. R is normalised to a unit misfit at the estimate. Should a rollout
-  // diverge there, relative weights 1 / |beta| replace it.
-  const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
+/// The map back's weighting R, for min |R (P theta(x) - beta)|^2 over x within the bounds: R^T R =
+/// H the GC residuals' J^T J in beta at the solution: the Gauss-Newton model of the GC error's
+/// increase, so that a beta the free parameters cannot reproduce exactly (noisy data) is approached
+/// where the data determine it best. R is normalised to a unit misfit at the estimate. Should a
+/// rollout diverge there, relative weights 1 / |beta| replace it.
+Eigen::MatrixXd mapBackWeighting(const Model& structure, const BetaLift& map,
+                                 const GcProblem& problem, const Eigen::VectorXd& beta,
+                                 const Eigen::VectorXd& weights, const Eigen::MatrixXd& starts,
+                                 const RefineOptions& options, ThreadPool& pool) {
+  const int b = static_cast<int>(beta.size());
   Eigen::MatrixXd weighting = weights.asDiagonal();
   {
     double squared = 0.0;
-    const Eigen::MatrixXd H = betaInformation(structure, map, problem, beta, result.initial_states,
-                                              options, pool, squared);
+    const Eigen::MatrixXd H =
+        betaInformation(structure, map, problem, beta, starts, options, pool, squared);
     if (H.allFinite()) {
       Eigen::VectorXd d(b);
       for (int j = 0; j < b; ++j) d[j] = H(j, j) > 0.0 ? 1.0 / std::sqrt(H(j, j)) : 1.0;
@@ -153,13 +125,21 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
       const Eigen::VectorXd root = eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
       const Eigen::MatrixXd r =
           root.asDiagonal() * eigen.eigenvectors().transpose() * d.cwiseInverse().asDiagonal();
-      const double misfit = (r * (P * theta0 - beta)).norm();
+      const double misfit = (r * (map.beta_ref - beta)).norm();
       if (misfit > 0.0 && std::isfinite(misfit)) weighting = r / misfit;
     }
   }
-  const Eigen::MatrixXd weighted_projection = weighting * P;
-  const Eigen::VectorXd weighted_target = weighting * beta;
-  const int k = space.numFree();
+  return weighting;
+}
+
+/// The free parameters x within the bounds whose beta(x) is nearest the target, in the weighting
+/// given: from the start, the box's centre and options.map_back_starts random points, the lowest
+/// fit (within round-off) nearest the start.
+Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& space,
+                              const Eigen::MatrixXd& weighted_projection,
+                              const Eigen::VectorXd& weighted_target, const Eigen::VectorXd& start,
+                              const RefineOptions& options, ThreadPool& pool) {
+  const int k = space.numFree(), b = static_cast<int>(weighted_target.size());
   const int tries = 2 + std::max(options.map_back_starts, 0);
   std::vector<Eigen::VectorXd> fitted(tries);
   Eigen::VectorXd fit_cost(tries);
@@ -168,7 +148,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   const Eigen::VectorXd centre = 0.5 * (space.lower() + space.upper());
   const Eigen::VectorXd half_range = (0.5 * (space.upper() - space.lower())).cwiseMax(1e-300);
   for (int t = 0; t < tries; ++t) {
-    fitted[t] = t == 0 ? result.x : centre;
+    fitted[t] = t == 0 ? start : centre;
     if (t > 1)
       for (int j = 0; j < k; ++j)
         fitted[t][j] = space.lower()[j] + uniform(random) * (space.upper()[j] - space.lower()[j]);
@@ -211,16 +191,65 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
     if (!std::isfinite(fit_cost[t])) fit_cost[t] = std::numeric_limits<double>::infinity();
   });
   const double best = fit_cost.minCoeff();
-  const Eigen::VectorXd x_scale = magnitudes(result.x);
+  const Eigen::VectorXd x_scale = magnitudes(start);
   int chosen = 0;
   double nearest = std::numeric_limits<double>::infinity();
   for (int t = 0; t < tries; ++t) {
     // "Best": within round-off of the lowest (b residuals of relative size ~1e-12).
     if (!(fit_cost[t] <= best * (1.0 + 1e-6) + 1e-24 * b)) continue;
-    const double distance = (fitted[t] - result.x).cwiseQuotient(x_scale).norm();
+    const double distance = (fitted[t] - start).cwiseQuotient(x_scale).norm();
     if (distance < nearest) nearest = distance, chosen = t;
   }
-  const Eigen::VectorXd& x = fitted[chosen];
+  return fitted[chosen];
+}
+
+/// The base stage: the GC residuals as a function of beta, solved by Levenberg-Marquardt from
+/// beta(x); then x is fitted to the solution's beta within the bounds (and on the total-mass
+/// plane). Updates result.x (when the map back predicts no worse than the start), the starts and
+/// the base-stage fields.
+void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+               const BaseCoordinates& base, const RefineOptions& options,
+               std::chrono::steady_clock::time_point clock_start, GcWorkspace& workspace,
+               ThreadPool& pool, RefineResult& result) {
+  const bool with_start = options.estimate_initial_states;
+  const Eigen::MatrixXd& P = base.projection;
+  const Eigen::VectorXd theta0 = space.standardAt(result.x);
+  const int b = static_cast<int>(P.rows());
+  Eigen::VectorXd beta = P * theta0;
+  const BetaLift map{theta0, beta, P.completeOrthogonalDecomposition().pseudoInverse()};
+
+  ceres::Problem beta_problem;
+  for (int s = 0; s < problem.numSegments(); ++s) {
+    beta_problem.AddResidualBlock(
+        makeBetaSegmentCost(structure, map, problem, s, with_start,
+                            continuityOf(problem, options, s))
+            .release(),
+        nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
+  }
+  ceres::Solver::Options solver = solverOptions(
+      options, problem, beta.data(), result.initial_states, secondsLeft(options, clock_start));
+  RefineCallback callback(result.history, options, result.interrupted, "base",
+                          secondsSince(clock_start));
+  solver.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &beta_problem, &summary);
+  result.base_stage = true;
+  result.base_beta = beta;
+  result.base_termination = terminationOf(summary);
+  result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
+  result.initial_cost = summary.initial_cost;
+  {
+    Model at_beta = structure;
+    at_beta.setStandardParameters(theta0 + map.lift * (beta - map.beta_ref));
+    result.base_gc = gcError(at_beta, problem, workspace, pool);
+  }
+
+  const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
+  const Eigen::MatrixXd weighting = mapBackWeighting(structure, map, problem, beta, weights,
+                                                     result.initial_states, options, pool);
+  const Eigen::MatrixXd weighted_projection = weighting * P;
+  const Eigen::VectorXd x = fitFreeToBeta(structure, space, weighted_projection, weighting * beta,
+                                          result.x, options, pool);
   result.map_back_error =
       (weights.cwiseProduct(P * space.standardAt(x) - beta)).norm() / std::sqrt(std::max(b, 1));
   // Keep the mapped-back point only when it predicts no worse than the start.
@@ -297,9 +326,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
     solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
   }
-  ceres::Solver::Options solver =
-      solverOptions(options, problem, result.x.data(), result.initial_states,
-                    options.max_seconds - secondsSince(clock_start));
+  ceres::Solver::Options solver = solverOptions(
+      options, problem, result.x.data(), result.initial_states, secondsLeft(options, clock_start));
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
   RefineCallback callback(result.history, options, result.interrupted, "parameters",
                           secondsSince(clock_start));

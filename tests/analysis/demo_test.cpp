@@ -13,10 +13,12 @@ namespace {
 TEST(Demo, StopsAfterTheCurrentStageWhenInterrupted) {
   std::atomic<bool> stop{true};
   std::vector<std::string> stages;
-  const DemoResult result =
-      runDemo({.quick = true, .threads = 1, .stop = &stop, .progress = [&](const std::string& s) {
-                 stages.push_back(s);
-               }});
+  DemoOptions options;
+  options.quick = true;
+  options.threads = 1;
+  options.control.stop = &stop;
+  options.control.progress = [&](const std::string& s) { stages.push_back(s); };
+  const DemoResult result = runDemo(options);
   EXPECT_TRUE(result.interrupted);
   ASSERT_EQ(result.methods.size(), 2u);
   EXPECT_EQ(result.methods[0].key, "ols");

@@ -27,7 +27,8 @@ struct Fixture {
     p.train_gc = &gc;
     p.start = start;
     p.search_budget.max_evaluations = 60;  // deterministic for a seed, whatever the machine
-    p.refine = {3, 0.0, 1e-6, true};
+    p.refine.options.max_iterations = 3;
+    p.refine.options.function_tolerance = 1e-6;
     p.threads = 2;
     return p;
   }
@@ -39,7 +40,8 @@ TEST(Pipeline, LeastSquaresFromAStreamEqualTheDenseObservation) {
   stream.addTrajectory(s.truth, s.data);
   const Eigen::VectorXd prior = s.truth.standardParameters();
   for (Method method : leastSquaresMethods()) {
-    const LeastSquaresOutcome dense = leastSquaresEstimate(method, s.base, {&s.observation}, prior);
+    const LeastSquaresOutcome dense =
+        leastSquaresEstimate(method, s.base, {&s.observation, nullptr, {}}, prior);
     const LeastSquaresOutcome streamed =
         leastSquaresEstimate(method, s.base, {nullptr, &stream, s.truth.parameterLayout()}, prior);
     // The same rows factored in another order: round-off at a condition number ~1e2.
@@ -48,7 +50,8 @@ TEST(Pipeline, LeastSquaresFromAStreamEqualTheDenseObservation) {
         << methodName(method);
     EXPECT_EQ(dense.pc.has_value(), method == Method::kPc);
   }
-  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, s.base, {&s.observation}, prior), InputError);
+  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, s.base, {&s.observation, nullptr, {}}, prior),
+               InputError);
   EXPECT_THROW(leastSquaresEstimate(Method::kOls, s.base, {}, prior), InputError);
 }
 
@@ -107,11 +110,52 @@ TEST(Pipeline, SearchesCanStartFromThePhysicallyConsistentEstimate) {
             runner.space(Method::kGa).freeOf(runner.space(Method::kGa).fullVector(pc.model)));
 }
 
+TEST(Pipeline, TheMassPlaneAndTheSpaceOptionsShapeEverySearchSpace) {
+  Fixture s;
+  const Model start = perturbedModel(s.truth, 0.3, 8);
+  for (MassPlane plane : {MassPlane::kAuto, MassPlane::kOn, MassPlane::kOff}) {
+    EstimationProblem problem = s.problem(start);
+    problem.mass_plane = plane;
+    problem.space.relative_range = 0.25;
+    problem.total_mass = 1.1 * totalMass(start);  // inside the +-25 % bounds
+    MethodRunner runner(std::move(problem));
+    for (Method method : {Method::kNlo, Method::kGa, Method::kHybridRefined}) {
+      const SpaceOptions& o = runner.space(method).options();
+      const bool expected =
+          plane == MassPlane::kOn || (plane == MassPlane::kAuto && searchOf(method) != Method::kGa);
+      EXPECT_EQ(o.total_mass_constraint, expected) << methodName(method);
+      EXPECT_EQ(o.total_mass, 1.1 * totalMass(start));
+      EXPECT_EQ(o.relative_range, 0.25);
+    }
+    // One space per plane, shared by the methods on it.
+    EXPECT_EQ(runner.sharedSpace(Method::kNlo) == runner.sharedSpace(Method::kGa),
+              plane != MassPlane::kAuto);
+  }
+}
+
+TEST(Pipeline, RefineFromIsTheRefinementOfAnyPointWithTheProblemsOptions) {
+  Fixture s;
+  const Model start = perturbedModel(s.truth, 0.3, 9);
+  MethodRunner runner(s.problem(start));
+  const ParameterSpace& space = runner.space(Method::kNlo);
+  const Eigen::VectorXd x0 = space.project(space.initial());
+  const RefineResult through_runner = runner.refineFrom(space, x0);
+  RefineOptions options = s.problem(start).refine.options;
+  options.num_threads = 2;
+  const BaseCoordinates coordinates = s.base.coordinates();
+  const RefineResult direct = refineGc(space, s.gc, x0, options, &coordinates);
+  EXPECT_EQ(through_runner.x, direct.x);  // deterministic for any thread count
+  EXPECT_EQ(through_runner.iterations, direct.iterations);
+  EXPECT_LE(through_runner.final_gc, through_runner.initial_gc);
+}
+
 TEST(Pipeline, ProblemsWithoutTheirPartsAreRefused) {
   Fixture s;
   EstimationProblem no_base = s.problem(s.truth);
-  no_base.base = nullptr;
-  EXPECT_THROW(MethodRunner{std::move(no_base)}, InputError);
+  no_base.base = nullptr;  // searches run without base parameters, least squares do not
+  MethodRunner searcher(std::move(no_base));
+  EXPECT_THROW(searcher.run(Method::kOls), InputError);
+  EXPECT_NO_THROW(searcher.run(Method::kNlo));
   EstimationProblem no_gc = s.problem(s.truth);
   no_gc.train_gc = nullptr;
   MethodRunner runner(std::move(no_gc));

@@ -35,12 +35,12 @@ TEST(Controllers, SinusoidalReferenceIsConsistent) {
   EXPECT_THROW(evaluateReference(r, 0.0, q, dq, ddq), InputError);
 }
 
-TEST(Controllers, FourierReferenceIsConsistent) {
-  FourierReference r;
-  r.q0 = Eigen::Vector2d(0.1, 0.2);
-  r.base_frequency = 0.1;
-  r.sine = Eigen::Matrix<double, 2, 3>::Random();
-  r.cosine = Eigen::Matrix<double, 2, 3>::Random();
+TEST(Controllers, FourierSeriesIsConsistent) {
+  FourierSeries r;
+  r.offset = Eigen::Vector2d(0.1, 0.2);
+  r.period = 10.0;
+  r.a = Eigen::Matrix<double, 2, 3>::Random();
+  r.b = Eigen::Matrix<double, 2, 3>::Random();
   expectDerivativesConsistent(r);
 }
 

@@ -1,4 +1,5 @@
 #include "data/dataset_csv.hpp"
+#include "core/format.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -174,7 +175,7 @@ TEST(DatasetReader, ErrorsAcrossChunksNameTheirLine) {
   // Line 502 (the 501st sample) repeats the time of line 501: found across a chunk boundary.
   std::size_t at = 0;
   for (int line = 1; line < 502; ++line) at = text.find('\n', at) + 1;
-  text.replace(at, text.find(',', at) - at, formatDouble(t.time[499]));
+  text.replace(at, text.find(',', at) - at, formatNumber(t.time[499]));
   // And line 900's first field is not a number: later in the file, reported second.
   for (int line = 502; line < 900; ++line) at = text.find('\n', at) + 1;
   text.replace(at, text.find(',', at) - at, "x");
@@ -196,7 +197,7 @@ TEST(DatasetReader, ErrorsAcrossChunksNameTheirLine) {
   text = readFile(path);
   at = 0;
   for (int line = 1; line < 502; ++line) at = text.find('\n', at) + 1;
-  text.replace(at, text.find(',', at) - at, formatDouble(t.time[500]));
+  text.replace(at, text.find(',', at) - at, formatNumber(t.time[500]));
   writeFileAtomically(path, text);
   DatasetReader reader(path, 2);
   Trajectory chunk;

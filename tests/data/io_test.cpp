@@ -1,4 +1,5 @@
 #include "data/io.hpp"
+#include "core/format.hpp"
 
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -92,11 +93,11 @@ TEST(Io, ACommitRemovesTheTemporariesOfDeadWriters) {
 
 TEST(Io, FormatDoubleRoundTrips) {
   for (double x : {0.1, 1.0 / 3.0, -2.5e-300, 6.02214076e23, 0.0}) {
-    const std::string s = formatDouble(x);
+    const std::string s = formatNumber(x);
     EXPECT_EQ(std::strtod(s.c_str(), nullptr), x) << s;
   }
-  EXPECT_EQ(formatDouble(0.1), "0.1");
-  EXPECT_EQ(formatDouble(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(formatNumber(0.1), "0.1");
+  EXPECT_EQ(formatNumber(std::numeric_limits<double>::infinity()), "inf");
 }
 
 TEST(Io, LineReaderReturnsEveryLineOfAnyLength) {

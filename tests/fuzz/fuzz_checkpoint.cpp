@@ -1,8 +1,9 @@
-// libFuzzer target: search checkpoints (analysis/run_json.hpp, checkpointFrom), against the shape
+// libFuzzer target: search checkpoints (analysis/records/, checkpointFrom), against the shape
 // of a GA run on the PUMA's 42 paper parameters with a population of 6.
 #include <cstdint>
 
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/search_record.hpp"
 #include "core/errors.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 

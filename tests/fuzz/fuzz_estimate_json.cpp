@@ -1,8 +1,9 @@
 // libFuzzer target: an identify estimate.json as predict and refine read it
-// (analysis/run_json.hpp, estimateRecordFrom and standardVectorFrom) for the built-in PUMA 560.
+// (analysis/records/, estimateRecordFrom and standardVectorFrom) for the built-in PUMA 560.
 #include <cstdint>
 
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/estimate_record.hpp"
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "data/puma560.hpp"

@@ -1,9 +1,10 @@
 // libFuzzer target: an excitation.json of dynid excite as simulate --trajectory and batch read it
-// (analysis/excite.hpp, excitationDesignFrom). An accepted design must give a finite motion.
+// (analysis/excitation/excite.hpp, excitationDesignFrom). An accepted design must give a finite
+// motion.
 #include <algorithm>
 #include <cstdint>
 
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
 #include "data/json_reader.hpp"
@@ -18,10 +19,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (doc.is_object() && doc.contains("design") && doc["design"].is_object() &&
         doc["design"].contains("offset") && doc["design"]["offset"].is_array())
       joints = static_cast<int>(std::min<std::size_t>(doc["design"]["offset"].size(), 64));
-    const dynid::FourierDesign d = dynid::excitationDesignFrom(doc, "excitation.json", joints);
+    const dynid::FourierSeries d = dynid::excitationDesignFrom(doc, "excitation.json", joints);
     Eigen::VectorXd q, dq, ddq;
     for (double t : {0.0, d.period / 3.0, d.period}) {
-      dynid::evaluateReference(d.reference(), t, q, dq, ddq);
+      dynid::evaluateReference(d, t, q, dq, ddq);
       if (!q.allFinite() || !dq.allFinite() || !ddq.allFinite()) __builtin_trap();
     }
   } catch (const dynid::Error&) {

@@ -3,7 +3,7 @@
 #include <cstdint>
 
 #include "analysis/batch.hpp"
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
 #include "core/errors.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 

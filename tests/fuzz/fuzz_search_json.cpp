@@ -1,8 +1,9 @@
 // libFuzzer target: the search.json or estimate.json a refinement starts from
-// (analysis/run_json.hpp, refineStartFrom), on the built-in PUMA 560.
+// (analysis/records/, refineStartFrom), on the built-in PUMA 560.
 #include <cstdint>
 
-#include "analysis/run_json.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/estimate_record.hpp"
 #include "core/errors.hpp"
 #include "data/puma560.hpp"
 #include "tests/fuzz/fuzz_input.hpp"

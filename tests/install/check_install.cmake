@@ -13,8 +13,8 @@ foreach(header core/rnea.hpp core/drive_terms.hpp search/gc_problem.hpp search/r
     message(FATAL_ERROR "the public header dynid/${header} was not installed")
   endif()
 endforeach()
-foreach(header search/gc_rollout.hpp search/refinement/uncertainty.hpp data/json_reader.hpp
-               data/json_number.hpp)
+foreach(header search/gc_rollout.hpp search/refinement/uncertainty.hpp search/refinement/costs.hpp
+               identifiability/tall_qr.hpp data/json_reader.hpp data/json_number.hpp)
   if(EXISTS "${WORK_DIR}/prefix/include/dynid/${header}")
     message(FATAL_ERROR "the internal header dynid/${header} was installed")
   endif()

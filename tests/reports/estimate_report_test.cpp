@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/format.hpp"
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -62,7 +63,8 @@ TEST(EstimateReport, ShowsTheFitTheBaseParametersTheVerdictsAndTheUnknowns) {
   theta[r.model.parameterLayout().linkIndex(0, 0)] = -1.0;
   r.model.setStandardParameters(theta);
   const IdentifyOutcome o = identifyRun(r);
-  ASSERT_TRUE(o.preparation.has_value());
+  ASSERT_TRUE(o.preparation.present);
+  ASSERT_TRUE(o.preparation.record.has_value());
   std::vector<std::string> missing;
   const Document doc = identificationDocument(r.model, o, &missing);
   const std::string md = doc.markdown();
@@ -76,12 +78,12 @@ TEST(EstimateReport, ShowsTheFitTheBaseParametersTheVerdictsAndTheUnknowns) {
   EXPECT_TRUE(contains(md, "4321 raw samples")) << md;
   EXPECT_TRUE(contains(md, "cutoff 7.5 Hz"));
   // Both condition numbers, as the estimate has them.
-  EXPECT_TRUE(contains(
-      md, "training base regressor: " + threeDigits(o.result.estimate.condition_number_unscaled) +
-              " as it is"))
+  EXPECT_TRUE(contains(md, "training base regressor: " +
+                               formatNumber(o.result.estimate.condition_number_unscaled, 3, "n/a") +
+                               " as it is"))
       << md;
-  EXPECT_TRUE(
-      contains(md, ", " + threeDigits(o.result.estimate.condition_number) + " with unit columns"));
+  EXPECT_TRUE(contains(md, ", " + formatNumber(o.result.estimate.condition_number, 3, "n/a") +
+                               " with unit columns"));
   // The base-parameter table: every base parameter with its excitation.
   EXPECT_TRUE(contains(md, "| # | base parameter | combination | estimate | %σ | excitation |"));
   EXPECT_TRUE(contains(md, "\n| 1 | Iyy1R | Iyy1 + Ia1 ")) << md;
@@ -106,7 +108,7 @@ TEST(EstimateReport, WritesEveryFileAndPcIsConsistentOnEveryLink) {
   const Fixture f = writeData(false);
   const IdentifyRequest r = request(f, Method::kPc);
   const IdentifyOutcome o = identifyRun(r);
-  EXPECT_FALSE(o.preparation.has_value());  // no prepare.json beside the data
+  EXPECT_FALSE(o.preparation.present);  // no prepare.json beside the data
   EXPECT_TRUE(o.violations.empty());
   const std::string out = test::tempPath("report");
   const std::string summary = writeIdentification(out, r.model, o);

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/records/document.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "core/errors.hpp"
 #include "data/json_number.hpp"
 #include "data/puma560.hpp"
@@ -26,7 +28,7 @@ TEST(ExcitationReport, TheJsonRecordsTheDesignBothScoresAndTheLimitsUsed) {
   const Model puma = makePuma560(false);
   const ExciteOutcome o = smallOutcome(puma);
   const nlohmann::json j = excitationJson(puma, {"puma560", 5, 1, 30, 10.0, 100.0}, o);
-  EXPECT_EQ(j["schema_version"], kExcitationSchemaVersion);
+  EXPECT_EQ(j["schema_version"], kExcitationDocument.schema_version);
   EXPECT_EQ(j["design"]["offset"].size(), 6u);
   EXPECT_EQ(j["design"]["b"][5].size(), 5u);
   EXPECT_EQ(j["design"]["a"][2][4].get<double>(), o.design.a(2, 4));
@@ -58,7 +60,7 @@ TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
   const ExciteOutcome o = smallOutcome(puma);
   const nlohmann::json j = excitationJson(puma, {"puma560", 5, 1, 30, 10.0, 100.0}, o);
   const nlohmann::json text = nlohmann::json::parse(jsonText(j, 2));  // through the written text
-  const FourierDesign d = excitationDesignFrom(text, "e.json", 6);
+  const FourierSeries d = excitationDesignFrom(text, "e.json", 6);
   EXPECT_EQ(d.period, o.design.period);
   EXPECT_EQ(d.offset, o.design.offset);
   EXPECT_EQ(d.a, o.design.a);  // shortest round-trip decimal: exact

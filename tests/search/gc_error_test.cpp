@@ -59,14 +59,14 @@ TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
   ThreadPool pool(2);
   GcWorkspace workspace(2);
   std::atomic<bool> flag{false};
-  GcStop stop;
-  stop.flag = &flag;
+  RunControl stop;
+  stop.stop = &flag;
   const double full = gcError(guess, problem, workspace, pool, stop);
   EXPECT_TRUE(std::isfinite(full));  // a flag that is not set changes nothing
   EXPECT_EQ(full, gcError(guess, problem, workspace, pool));
   flag = true;
   EXPECT_TRUE(std::isnan(gcError(guess, problem, workspace, pool, stop)));
-  GcStop late;
+  RunControl late;
   late.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   EXPECT_TRUE(std::isnan(gcError(guess, problem, workspace, pool, late)));
 }

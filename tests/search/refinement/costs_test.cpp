@@ -11,6 +11,7 @@
 #include "data/puma560.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/observation.hpp"
+#include "search/refinement/gc_jacobian.hpp"
 #include "tests/common/gradient_check.hpp"
 #include "tests/common/sample_models.hpp"
 

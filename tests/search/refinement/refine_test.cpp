@@ -167,10 +167,20 @@ TEST(Refine, FlagsBoundsAndStops) {
     EXPECT_LE(result.x[j], space.upper()[j]);
   }
   std::atomic<bool> stop{true};
-  const RefineResult stopped =
-      refineGc(space, problem, space.initial(), {.max_iterations = 20, .stop = &stop});
+  RefineOptions stopping{.max_iterations = 20};
+  stopping.control.stop = &stop;
+  const RefineResult stopped = refineGc(space, problem, space.initial(), stopping);
   EXPECT_TRUE(stopped.interrupted);
   EXPECT_LE(stopped.iterations, 1);
+  // The run control's deadline ends it the same way, and its check hook runs on this thread.
+  RefineOptions late{.max_iterations = 20};
+  late.control.deadline = RunControl::Clock::now() - std::chrono::seconds(1);
+  int checks = 0;
+  late.control.on_check = [&] { ++checks; };
+  const RefineResult expired = refineGc(space, problem, space.initial(), late);
+  EXPECT_TRUE(expired.interrupted);
+  EXPECT_LE(expired.iterations, 1);
+  EXPECT_GE(checks, 1);
 }
 TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});

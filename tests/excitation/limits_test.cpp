@@ -1,4 +1,4 @@
-#include "analysis/excite_limits.hpp"
+#include "analysis/excitation/limits.hpp"
 
 #include <gtest/gtest.h>
 

@@ -14,10 +14,10 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "analysis/excite_limits.hpp"
-#include "analysis/pipeline.hpp"
+#include "analysis/excitation/limits.hpp"
 #include "core/controllers.hpp"
 #include "core/model.hpp"
+#include "core/run_control.hpp"
 #include "core/trajectory.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/excitation.hpp"
@@ -39,21 +39,10 @@ std::string excitationCriterionName(ExcitationCriterion criterion);
 /// Throws InputError naming the accepted names.
 ExcitationCriterion parseExcitationCriterion(const std::string& name);
 
-/// q_j(t) = offset_j + sum_k a_jk / (w k) sin(w k t) - b_jk / (w k) cos(w k t), k = 1..H,
-/// w = 2 pi / period. Periodic; at rest (dq = ddq = 0) at t = 0 and every multiple of the period
-/// when sum_k a_jk = 0 and sum_k k b_jk = 0, which every design dynid makes satisfies.
-struct FourierDesign {
-  double period = 10.0;    // [s]
-  Eigen::VectorXd offset;  // n [rad or m]
-  Eigen::MatrixXd a, b;    // n x H [rad/s or m/s]
-  int numJoints() const { return static_cast<int>(offset.size()); }
-  int harmonics() const { return static_cast<int>(a.cols()); }
-  /// The same motion as a tracking controller's reference (core/controllers.hpp).
-  FourierReference reference() const;
-  /// q, dq, ddq at t = 0, 1/rate, ... up to the period inclusive, with tau their inverse dynamics
-  /// under `model` (drives included). Throws InputError for a joint-count mismatch or rate <= 0.
-  Trajectory sample(const Model& model, double rate) const;
-};
+/// A design's motion (core/controllers.hpp's FourierSeries) sampled at t = 0, 1/rate, ... up to
+/// the period inclusive: q, dq, ddq, with tau their inverse dynamics under `model` (drives
+/// included). Throws InputError for a joint-count mismatch or rate <= 0.
+Trajectory sampleFourier(const FourierSeries& design, const Model& model, double rate);
 
 struct ExciteRequest {
   Model robot;  // with the drive terms whose parameters the design must excite
@@ -82,7 +71,7 @@ struct ExciteStart {
 };
 
 struct ExciteOutcome {
-  FourierDesign design;
+  FourierSeries design;
   BaseParameters base;
   ExcitationCriterion criterion = ExcitationCriterion::kConditionUnit;
   MotionScore score;     // the design, sampled at check_rate
@@ -113,14 +102,6 @@ struct ExciteOutcome {
 /// range (period, harmonics, starts, evaluations, rates, noise, offsets outside the limits), and
 /// Error when no start meets the limits (with the limit that could not be met).
 ExciteOutcome exciteRun(const ExciteRequest& request);
-
-/// The design of an excitation.json written by `dynid excite`, read strictly (schema_version,
-/// kind, unknown top-level keys, the design's fields and ranges) for a robot of `num_joints`
-/// joints. Throws ParseError naming `file` and the field.
-FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::string& file,
-                                   int num_joints);
-/// The same from the file at `path` (readFile's limits apply).
-FourierDesign readExcitationDesign(const std::string& path, int num_joints);
 
 /// `dynid simulate`'s default sinusoid for the model: amplitude 0.5 rad about the middle of the
 /// limits, frequencies 0.15 + 0.07 i Hz, phases 0.

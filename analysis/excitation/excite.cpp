@@ -1,4 +1,4 @@
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -10,10 +10,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <nlopt.hpp>
 
 #include "core/crba.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/kinematics.hpp"
 #include "core/memory.hpp"
 #include "core/parallel.hpp"
@@ -22,8 +22,9 @@
 #include "core/rnea.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
+#include "search/cobyla.hpp"
 #include "search/gc_error.hpp"
-#include "search/refinement/costs.hpp"
+#include "search/refinement/gc_jacobian.hpp"
 
 namespace dynid {
 
@@ -68,7 +69,7 @@ struct Grid {
 };
 
 /// q, dq, ddq of a design on a grid (n x M each).
-void motionOnGrid(const FourierDesign& d, const Grid& g, Eigen::MatrixXd& q, Eigen::MatrixXd& dq,
+void motionOnGrid(const FourierSeries& d, const Grid& g, Eigen::MatrixXd& q, Eigen::MatrixXd& dq,
                   Eigen::MatrixXd& ddq) {
   const int n = d.numJoints(), h = d.harmonics();
   const double w = kTwoPi / d.period;
@@ -86,7 +87,7 @@ void motionOnGrid(const FourierDesign& d, const Grid& g, Eigen::MatrixXd& q, Eig
   ddq.noalias() = aa * g.sine + ba * g.cosine;
 }
 
-Trajectory sampleOn(const FourierDesign& d, const Model& model, const Grid& g) {
+Trajectory sampleOn(const FourierSeries& d, const Model& model, const Grid& g) {
   Trajectory t;
   t.time = g.time;
   motionOnGrid(d, g, t.q, t.dq, t.ddq);
@@ -110,8 +111,8 @@ class Coding {
   int perJoint() const { return (fixed_offset_ ? 0 : 1) + 2 * (h_ - 1); }
   int size() const { return n() * perJoint(); }
 
-  FourierDesign decode(const double* x) const {
-    FourierDesign d;
+  FourierSeries decode(const double* x) const {
+    FourierSeries d;
     d.period = period_;
     d.offset.resize(n());
     d.a.resize(n(), h_);
@@ -136,7 +137,7 @@ class Coding {
     return d;
   }
 
-  std::vector<double> encode(const FourierDesign& d) const {
+  std::vector<double> encode(const FourierSeries& d) const {
     std::vector<double> x(size());
     for (int j = 0; j < n(); ++j) {
       double* u = x.data() + j * perJoint();
@@ -173,7 +174,7 @@ JointPeaks peaksOf(const Eigen::MatrixXd& q, const Eigen::MatrixXd& dq, const Ei
 /// Scales joint j's coefficients about its offset so that its excursion, speed and acceleration
 /// use at most `fraction` of the limits (positions: of the room between the offset and each
 /// limit). Returns false when the offset itself lies outside the limits.
-bool fitJoints(FourierDesign& d, const Grid& g, const ExcitationLimits& limits, double fraction) {
+bool fitJoints(FourierSeries& d, const Grid& g, const ExcitationLimits& limits, double fraction) {
   Eigen::MatrixXd q, dq, ddq;
   motionOnGrid(d, g, q, dq, ddq);
   for (int j = 0; j < d.numJoints(); ++j) {
@@ -224,7 +225,7 @@ class DesignProblem {
 
   /// The criterion at x, and the constraints into c (numConstraints() entries).
   double evaluate(const double* x, double* c, Workspace& w) const {
-    const FourierDesign d = coding_.decode(x);
+    const FourierSeries d = coding_.decode(x);
     const int n = model_.numJoints(), m_count = grid_.points(), b = base_.numBase();
     motionOnGrid(d, grid_, w.q, w.dq, w.ddq);
     w.w1.resize(static_cast<Eigen::Index>(m_count) * n, b);
@@ -321,7 +322,7 @@ class DesignProblem {
 
 /// A start's random design: coefficients N(0, 1/k) (lower harmonics carry more), rest at t = 0,
 /// the offset at mid-range (or fixed), scaled per joint to 80 % of the limits on the grid.
-FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, const Grid& grid,
+FourierSeries randomStart(const Coding& coding, const ExcitationLimits& limits, const Grid& grid,
                           int harmonics, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -330,7 +331,7 @@ FourierDesign randomStart(const Coding& coding, const ExcitationLimits& limits, 
   for (int j = 0; j < coding.n(); ++j)
     for (int k = 0; k < 2 * (harmonics - 1); ++k)
       x[j * per + skip + k] = normal(rng) / (1 + k % (harmonics - 1));
-  FourierDesign d = coding.decode(x.data());
+  FourierSeries d = coding.decode(x.data());
   fitJoints(d, grid, limits, 0.8);
   return d;
 }
@@ -386,46 +387,6 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name) {
                    "': expected cond, cond-unscaled, d-optimal, gc or relative-sd");
 }
 
-FourierDesign excitationDesignFrom(const nlohmann::json& document, const std::string& file,
-                                   int num_joints) {
-  const JsonReader read(file);
-  read.header(document, 1, "dynid.excitation");
-  read.onlyKeys(document, "",
-                {"schema_version", "kind", "robot", "model", "joints", "design", "criterion",
-                 "limits", "base_parameters", "torque_noise", "designed", "default_sinusoid",
-                 "gc_condition_unit", "check", "default_sinusoid_check", "optimiser"});
-  const nlohmann::json& design = read.field(document, "", "design");
-  read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
-  FourierDesign d;
-  d.period = read.number(design, "design", "period", 1e-6, 1e4);
-  const int h = static_cast<int>(read.integer(design, "design", "harmonics", 1, 1000));
-  d.offset = read.vector(read.field(design, "design", "offset"), "design.offset", num_joints);
-  for (double x : d.offset)
-    if (std::abs(x) > kMaxModelLength) read.fail("design.offset", "an offset beyond +-1e6");
-  d.a.resize(num_joints, h);
-  d.b.resize(num_joints, h);
-  for (const char* key : {"a", "b"}) {
-    const std::string path = std::string("design.") + key;
-    const nlohmann::json& rows = read.array(read.field(design, "design", key), path);
-    if (static_cast<int>(rows.size()) != num_joints)
-      read.fail(path, "expected " + std::to_string(num_joints) + " rows (one per joint), not " +
-                          std::to_string(rows.size()));
-    Eigen::MatrixXd& m = key[0] == 'a' ? d.a : d.b;
-    for (int j = 0; j < num_joints; ++j) {
-      const std::string row_path = path + "[" + std::to_string(j) + "]";
-      const Eigen::VectorXd row = read.vector(rows[j], row_path, h);
-      for (double x : row)
-        if (std::abs(x) > 1e6) read.fail(row_path, "a coefficient beyond +-1e6 rad/s");
-      m.row(j) = row.transpose();
-    }
-  }
-  return d;
-}
-
-FourierDesign readExcitationDesign(const std::string& path, int num_joints) {
-  return excitationDesignFrom(parseJsonDocument(readFile(path), path), path, num_joints);
-}
-
 SinusoidalReference defaultSinusoid(const Model& model) {
   const int n = model.numJoints();
   SinusoidalReference r;
@@ -436,23 +397,15 @@ SinusoidalReference defaultSinusoid(const Model& model) {
   return r;
 }
 
-FourierReference FourierDesign::reference() const {
-  FourierReference r;
-  r.q0 = offset;
-  r.base_frequency = 1.0 / period;
-  r.sine = a;
-  r.cosine = b;
-  return r;
-}
-
-Trajectory FourierDesign::sample(const Model& model, double rate) const {
-  if (numJoints() != model.numJoints())
-    throw InputError("the design has " + std::to_string(numJoints()) + " joints, model '" +
+Trajectory sampleFourier(const FourierSeries& design, const Model& model, double rate) {
+  if (design.numJoints() != model.numJoints())
+    throw InputError("the design has " + std::to_string(design.numJoints()) + " joints, model '" +
                      model.name + "' has " + std::to_string(model.numJoints()));
   if (!(rate > 0.0) || !std::isfinite(rate)) throw InputError("the sample rate must be > 0");
-  const double points = std::round(period * rate) + 1.0;
+  const double points = std::round(design.period * rate) + 1.0;
   requireMemory(points * model.numJoints() * 5 * sizeof(double), "the sampled design");
-  return sampleOn(*this, model, Grid(period, harmonics(), static_cast<int>(points), true));
+  return sampleOn(design, model,
+                  Grid(design.period, design.harmonics(), static_cast<int>(points), true));
 }
 
 namespace {
@@ -507,16 +460,14 @@ struct MultiStart {
   const Coding& coding;
   const Grid& grid;
   const DesignProblem& problem;
-  std::chrono::steady_clock::time_point deadline;
+  RunControl control;  // the request's, with the design's time budget as its deadline
   std::atomic<bool> timed_out{false}, interrupted{false};
-
-  bool stopped() const { return request.control.stop && request.control.stop->load(); }
 
   /// Start s on `w`: its best feasible design.
   StartBest run(int s, DesignProblem::Workspace& w) {
     StartBest mine;
     const int m = problem.numConstraints();
-    const FourierDesign start =
+    const FourierSeries start =
         randomStart(coding, request.limits, grid, request.harmonics,
                     splitmix(request.seed ^ splitmix(static_cast<std::uint64_t>(s))));
     std::vector<double> x = coding.encode(start);
@@ -524,14 +475,15 @@ struct MultiStart {
     // serves both.
     std::vector<double> last_x, last_c(m);
     double last_f = 0.0;
+    // Returns false when the design must stop (the flag or the time budget).
     auto evaluate = [&](const double* at) {
-      if (!last_x.empty() && std::equal(last_x.begin(), last_x.end(), at)) return;
-      if (stopped() || std::chrono::steady_clock::now() > deadline) {
-        if (stopped())
+      if (!last_x.empty() && std::equal(last_x.begin(), last_x.end(), at)) return true;
+      if (control.stopped()) {
+        if (control.interrupted())
           interrupted = true;
         else
           timed_out = true;
-        throw nlopt::forced_stop();
+        return false;
       }
       last_x.assign(at, at + x.size());
       last_f = problem.evaluate(at, last_c.data(), w);
@@ -542,38 +494,28 @@ struct MultiStart {
         mine.objective = last_f;
         mine.x = last_x;
       }
+      return true;
     };
-    struct Callbacks {
-      decltype(evaluate)* eval;
-      double* f;
-      std::vector<double>* c;
-    } callbacks{&evaluate, &last_f, &last_c};
-    nlopt::opt opt(nlopt::LN_COBYLA, static_cast<unsigned>(x.size()));
-    opt.set_min_objective(
-        [](unsigned, const double* at, double*, void* data) {
-          auto* cb = static_cast<Callbacks*>(data);
-          (*cb->eval)(at);
-          return *cb->f;
-        },
-        &callbacks);
-    opt.add_inequality_mconstraint(
-        [](unsigned count, double* result, unsigned, const double* at, double*, void* data) {
-          auto* cb = static_cast<Callbacks*>(data);
-          (*cb->eval)(at);
-          std::copy(cb->c->begin(), cb->c->begin() + count, result);
-        },
-        &callbacks, std::vector<double>(m, 0.0));
-    opt.set_maxeval(request.evaluations);
-    opt.set_initial_step(0.05);
-    opt.set_xtol_rel(1e-6);
-    double f = 0.0;
-    try {
-      opt.optimize(x, f);
-    } catch (const nlopt::forced_stop&) {
-    } catch (const nlopt::roundoff_limited&) {
-    } catch (const std::exception&) {
-      // nlopt's failure (e.g. a non-finite step): the best feasible point so far stands.
-    }
+    CobylaProblem cobyla;
+    cobyla.dimension = static_cast<int>(x.size());
+    cobyla.objective = [&](const double* at) -> std::optional<double> {
+      if (!evaluate(at)) return std::nullopt;
+      return last_f;
+    };
+    cobyla.inequalities = m;
+    cobyla.inequality = [&](const double* at, double* c) {
+      // At the x the objective was just given (COBYLA's order): the cached constraints. Should
+      // the run have to stop there, every constraint reads violated.
+      if (evaluate(at))
+        std::copy(last_c.begin(), last_c.end(), c);
+      else
+        std::fill(c, c + m, std::numeric_limits<double>::infinity());
+    };
+    cobyla.initial_step = {0.05};
+    cobyla.max_evaluations = request.evaluations;
+    cobyla.xtol_rel = 1e-6;
+    // A failure (e.g. a non-finite step) leaves the best feasible point so far standing.
+    runCobyla(cobyla, x);
     return mine;
   }
 };
@@ -582,7 +524,7 @@ struct MultiStart {
 [[noreturn]] void throwNoFeasibleStart(const ExciteRequest& request, const Coding& coding,
                                        const Grid& grid, const std::string& termination) {
   const Model& model = request.robot;
-  const FourierDesign start = randomStart(coding, request.limits, grid, request.harmonics,
+  const FourierSeries start = randomStart(coding, request.limits, grid, request.harmonics,
                                           splitmix(request.seed ^ splitmix(0)));
   const LimitCheck check = checkLimits(model, sampleOn(start, model, grid), request.limits);
   std::string why = check.violations.empty() ? "" : ": " + check.violations.front();
@@ -598,21 +540,21 @@ struct MultiStart {
 /// Returns the checked motion.
 Trajectory shrinkIntoLimits(const ExciteRequest& request, ExciteOutcome& out) {
   const Model& model = request.robot;
-  Trajectory motion = out.design.sample(model, request.check_rate);
+  Trajectory motion = sampleFourier(out.design, model, request.check_rate);
   out.check = checkLimits(model, motion, request.limits);
   for (int tries = 0; !out.check.violations.empty() && tries < 200; ++tries) {
-    const FourierDesign before = out.design;
+    const FourierSeries before = out.design;
     fitJoints(out.design, Grid(request.period, request.harmonics, motion.numSamples(), true),
               request.limits, 1.0);
     if (out.design.a == before.a && out.design.b == before.b) {  // torque or workspace: shrink all
       out.design.a *= 0.98;
       out.design.b *= 0.98;
     }
-    motion = out.design.sample(model, request.check_rate);
+    motion = sampleFourier(out.design, model, request.check_rate);
     out.check = checkLimits(model, motion, request.limits);
   }
   if (!out.check.violations.empty())
-    throw Error("the best design still breaks a limit at " + formatDouble(request.check_rate) +
+    throw Error("the best design still breaks a limit at " + formatNumber(request.check_rate) +
                 " Hz after shrinking: " + out.check.violations.front());
   return motion;
 }
@@ -656,12 +598,8 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   const Coding coding(limits, request.harmonics, request.period, request.offset);
   const Grid grid(request.period, request.harmonics, grid_points, false);
   const DesignProblem problem(model, out.base, request, limits, coding, grid);
-  MultiStart multistart{
-      request, coding, grid, problem,
-      std::isfinite(request.max_seconds)
-          ? started + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                          std::chrono::duration<double>(request.max_seconds))
-          : std::chrono::steady_clock::time_point::max()};
+  MultiStart multistart{request, coding, grid, problem,
+                        request.control.within(request.max_seconds, started)};
   std::vector<StartBest> best(request.starts);
   std::mutex progress_mutex;
   int finished = 0;
@@ -676,7 +614,7 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
       ++finished;
       std::ostringstream line;
       line << "start " << finished << "/" << request.starts << ": "
-           << (std::isfinite(best[s].objective) ? "criterion " + formatDouble(best[s].objective)
+           << (std::isfinite(best[s].objective) ? "criterion " + formatNumber(best[s].objective)
                                                 : std::string("no design within the limits"))
            << " after " << best[s].evaluations << " evaluations";
       request.control.progress(line.str());

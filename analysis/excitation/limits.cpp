@@ -1,10 +1,11 @@
-#include "analysis/excite_limits.hpp"
+#include "analysis/excitation/limits.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/kinematics.hpp"
 #include "data/io.hpp"
 
@@ -27,9 +28,9 @@ void checkOffsets(const Model& model, const ExcitationLimits& limits,
   checkJointVector(offset, model.numJoints(), "the offset");
   for (int j = 0; j < model.numJoints(); ++j)
     if (!(offset[j] > limits.q_min[j] && offset[j] < limits.q_max[j]))
-      throw InputError("joint '" + model.joint_names[j] + "' at " + formatDouble(offset[j]) +
-                       " is not inside its position range (" + formatDouble(limits.q_min[j]) +
-                       ", " + formatDouble(limits.q_max[j]) + ")");
+      throw InputError("joint '" + model.joint_names[j] + "' at " + formatNumber(offset[j]) +
+                       " is not inside its position range (" + formatNumber(limits.q_min[j]) +
+                       ", " + formatNumber(limits.q_max[j]) + ")");
 }
 
 ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
@@ -68,15 +69,15 @@ ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
     if (!std::isfinite(l.tau_max[j])) torque.push_back(jointName(model, j));
     const std::string joint = "joint '" + jointName(model, j) + "': ";
     if (!(l.q_min[j] < l.q_max[j]))
-      throw InputError(joint + "the position range [" + formatDouble(l.q_min[j]) + ", " +
-                       formatDouble(l.q_max[j]) + "] is empty");
+      throw InputError(joint + "the position range [" + formatNumber(l.q_min[j]) + ", " +
+                       formatNumber(l.q_max[j]) + "] is empty");
     if (!(l.dq_max[j] > 0.0))
-      throw InputError(joint + "the velocity limit must be > 0, not " + formatDouble(l.dq_max[j]));
+      throw InputError(joint + "the velocity limit must be > 0, not " + formatNumber(l.dq_max[j]));
     if (!(l.ddq_max[j] > 0.0))
       throw InputError(joint + "the acceleration limit must be > 0, not " +
-                       formatDouble(l.ddq_max[j]));
+                       formatNumber(l.ddq_max[j]));
     if (!(l.tau_max[j] > 0.0))
-      throw InputError(joint + "the torque limit must be > 0, not " + formatDouble(l.tau_max[j]));
+      throw InputError(joint + "the torque limit must be > 0, not " + formatNumber(l.tau_max[j]));
   }
   // A torque limit on some joints only: the others get none (no constraint).
   if (!torque.empty() && static_cast<int>(torque.size()) < n)
@@ -90,16 +91,16 @@ ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
     l.notes.push_back("the model gives no " + what + " for " + list + ": " + used);
   };
   note(position, "position limits",
-       "+-" + formatDouble(kDefaultRevoluteRange) + " rad (+-" +
-           formatDouble(kDefaultPrismaticRange) + " m prismatic) used");
-  note(velocity, "velocity limit", formatDouble(kDefaultVelocityLimit) + " rad/s used");
+       "+-" + formatNumber(kDefaultRevoluteRange) + " rad (+-" +
+           formatNumber(kDefaultPrismaticRange) + " m prismatic) used");
+  note(velocity, "velocity limit", formatNumber(kDefaultVelocityLimit) + " rad/s used");
   note(acceleration, "acceleration limit",
-       formatDouble(kDefaultAccelerationLimit) + " rad/s^2 used");
+       formatNumber(kDefaultAccelerationLimit) + " rad/s^2 used");
   note(torque, "torque limit", "torques not limited");
   if (!(o.torque_margin > 0.0 && o.torque_margin <= 1.0))
-    throw InputError("the torque margin must be in (0, 1], not " + formatDouble(o.torque_margin));
+    throw InputError("the torque margin must be in (0, 1], not " + formatNumber(o.torque_margin));
   if (!(o.base_radius >= 0.0) || !std::isfinite(o.base_radius))
-    throw InputError("the base radius must be >= 0 and finite, not " + formatDouble(o.base_radius));
+    throw InputError("the base radius must be >= 0 and finite, not " + formatNumber(o.base_radius));
   if (o.floor && !std::isfinite(*o.floor)) throw InputError("the floor must be finite");
   l.torque_margin = o.torque_margin;
   l.floor = o.floor;
@@ -121,7 +122,7 @@ LimitCheck checkLimits(const Model& model, const Trajectory& motion,
   c.tau_peak = motion.tau.cwiseAbs().rowwise().maxCoeff();
   auto violation = [&](int j, const std::string& what, double value, double limit) {
     c.violations.push_back("joint '" + model.joint_names[j] + "': " + what + " " +
-                           formatDouble(value) + " beyond " + formatDouble(limit));
+                           formatNumber(value) + " beyond " + formatNumber(limit));
   };
   for (int j = 0; j < n; ++j) {
     if (c.q_low[j] < limits.q_min[j]) violation(j, "position", c.q_low[j], limits.q_min[j]);
@@ -141,12 +142,12 @@ LimitCheck checkLimits(const Model& model, const Trajectory& motion,
       c.nearest_base = std::min(c.nearest_base, frames.back().translation.head<2>().norm());
     }
     if (limits.floor && c.lowest_origin < *limits.floor)
-      c.violations.push_back("a link origin at z = " + formatDouble(c.lowest_origin) +
-                             " m, below the floor at " + formatDouble(*limits.floor) + " m");
+      c.violations.push_back("a link origin at z = " + formatNumber(c.lowest_origin) +
+                             " m, below the floor at " + formatNumber(*limits.floor) + " m");
     if (c.nearest_base < limits.base_radius)
-      c.violations.push_back("the last link's origin " + formatDouble(c.nearest_base) +
+      c.violations.push_back("the last link's origin " + formatNumber(c.nearest_base) +
                              " m from the base axis, inside the radius " +
-                             formatDouble(limits.base_radius) + " m");
+                             formatNumber(limits.base_radius) + " m");
   }
   return c;
 }

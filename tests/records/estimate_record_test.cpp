@@ -1,4 +1,4 @@
-#include "analysis/run_json.hpp"
+#include "analysis/records/estimate_record.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,6 +6,8 @@
 #include <random>
 #include <sstream>
 
+#include "analysis/records/document.hpp"
+#include "analysis/records/search_record.hpp"
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "core/perturb.hpp"
@@ -14,61 +16,7 @@
 namespace dynid {
 namespace {
 
-SearchState sampleState() {
-  SearchState s;
-  s.method = "hybrid";
-  s.stage = "ga";
-  s.iteration = 4;
-  std::ostringstream rng;
-  rng << std::mt19937_64(12345);  // a real generator state: a corrupt one is refused on reading
-  s.rng = rng.str();
-  s.best_x = Eigen::VectorXd::LinSpaced(5, -1.0, 3.0);
-  s.best_gc = 0.125;
-  s.initial_gc = std::nan("");  // written as null, read back as NaN
-  s.population = {Eigen::VectorXd::Ones(5), Eigen::VectorXd::Zero(5)};
-  s.population_gc = {0.5, 0.25};
-  s.evaluations = 42;
-  s.seconds = 1.5;
-  s.history.push_back({"ga", 1, 0.5, 0.1, std::nan(""), 10, 0.2});
-  return s;
-}
-
-TEST(RunJson, CheckpointRoundTripsEveryField) {
-  const SearchState s = sampleState();
-  const nlohmann::json settings = {{"form", "paper"}, {"budget_seconds", 3.0}, {"seed", 1}};
-  const nlohmann::json doc = checkpointJson(s, settings);
-  // The fingerprint drops the budgets: a run can be resumed with a larger one.
-  EXPECT_FALSE(doc["settings"].contains("budget_seconds"));
-  EXPECT_EQ(doc["settings"]["form"], "paper");
-  const SearchState back = checkpointFrom(nlohmann::json::parse(doc.dump()), "ck.json");
-  EXPECT_EQ(back.method, s.method);
-  EXPECT_EQ(back.stage, s.stage);
-  EXPECT_EQ(back.iteration, s.iteration);
-  EXPECT_EQ(back.rng, s.rng);
-  EXPECT_EQ(back.best_x, s.best_x);
-  EXPECT_EQ(back.best_gc, s.best_gc);
-  EXPECT_TRUE(std::isnan(back.initial_gc));
-  ASSERT_EQ(back.population.size(), 2u);
-  EXPECT_EQ(back.population[1], s.population[1]);
-  EXPECT_EQ(back.population_gc, s.population_gc);
-  EXPECT_EQ(back.evaluations, s.evaluations);
-  ASSERT_EQ(back.history.size(), 1u);
-  EXPECT_EQ(back.history[0].best_parameter_error, 0.1);
-  EXPECT_TRUE(std::isnan(back.history[0].min_parameter_error));
-}
-
-TEST(RunJson, ACorruptCheckpointIsAParseErrorNamingTheFile) {
-  nlohmann::json doc = checkpointJson(sampleState(), nlohmann::json::object());
-  doc.erase("rng");
-  try {
-    checkpointFrom(doc, "run/ck.json");
-    FAIL() << "expected ParseError";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.file(), "run/ck.json");
-  }
-}
-
-TEST(RunJson, ARefineStartReadsBackTheSearchsSpaceAndEstimate) {
+TEST(EstimateRecord, ARefineStartReadsBackTheSearchsSpaceAndEstimate) {
   // A search.json's settings and estimates, as searchRun and reports/ write them.
   const Model robot = makePuma560(false);
   const Model guess = perturbedModel(robot, 0.2, 3);
@@ -96,7 +44,7 @@ TEST(RunJson, ARefineStartReadsBackTheSearchsSpaceAndEstimate) {
   EXPECT_LT((x - space.initial() * 1.01).cwiseAbs().maxCoeff(), 1e-12);
 }
 
-TEST(RunJson, ARefineStartNamesTheMissingField) {
+TEST(EstimateRecord, ARefineStartNamesTheMissingField) {
   const Model robot = makePuma560(false);
   nlohmann::json doc = {{"schema_version", 1}, {"standard_estimate", {{"values", {{"m1", 1.0}}}}}};
   try {
@@ -123,7 +71,7 @@ std::string estimateFault(const nlohmann::json& doc) {
   return "";
 }
 
-TEST(RunJson, AnEstimateIsReadStrictly) {
+TEST(EstimateRecord, AnEstimateIsReadStrictly) {
   const Model robot = makePuma560(false);
   const std::vector<std::string> names = standardParameterNames(robot.parameterLayout());
   nlohmann::json values = nlohmann::json::object();

@@ -1,4 +1,4 @@
-#include "analysis/excite.hpp"
+#include "analysis/excitation/excite.hpp"
 
 #include <cmath>
 
@@ -25,7 +25,7 @@ ExciteRequest pumaRequest(int starts, int evaluations) {
 
 TEST(Excite, TheSampledDesignIsItsOwnDerivativeAndAtRestAtBothEnds) {
   const Model puma = makePuma560(false);
-  FourierDesign d;
+  FourierSeries d;
   d.period = 4.0;
   d.offset = Eigen::VectorXd::LinSpaced(6, -0.3, 0.3);
   d.a = Eigen::MatrixXd::Random(6, 3);
@@ -34,7 +34,7 @@ TEST(Excite, TheSampledDesignIsItsOwnDerivativeAndAtRestAtBothEnds) {
   d.a.col(2) = -d.a.col(0) - d.a.col(1);
   d.b.col(2) = -(d.b.col(0) + 2.0 * d.b.col(1)) / 3.0;
   const double rate = 2000.0;
-  const Trajectory t = d.sample(puma, rate);
+  const Trajectory t = sampleFourier(d, puma, rate);
   ASSERT_EQ(t.numSamples(), 8001);
   EXPECT_DOUBLE_EQ(t.time[t.numSamples() - 1], 4.0);
   // Central differences of a smooth motion: error (h^2/6) max|q'''| ~ 1e-7 at h = 0.5 ms.
@@ -57,7 +57,7 @@ TEST(Excite, TheSampledDesignIsItsOwnDerivativeAndAtRestAtBothEnds) {
             1e-12);
   // The controller reference is the same motion.
   Eigen::VectorXd q(6), dq(6), ddq(6);
-  evaluateReference(d.reference(), t.time[1234], q, dq, ddq);
+  evaluateReference(d, t.time[1234], q, dq, ddq);
   EXPECT_LT((q - t.q.col(1234)).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((ddq - t.ddq.col(1234)).cwiseAbs().maxCoeff(), 1e-12);
 }
@@ -72,7 +72,7 @@ TEST(Excite, APumaDesignBeatsTheDefaultSinusoidWithinItsLimits) {
       << o.score.condition_unit << " vs " << o.baseline.condition_unit;
   EXPECT_TRUE(o.check.violations.empty());
   // Independently of checkLimits: every limit holds at 5 kHz, 5x the check's rate.
-  const Trajectory fine = o.design.sample(r.robot, 5000.0);
+  const Trajectory fine = sampleFourier(o.design, r.robot, 5000.0);
   for (int j = 0; j < 6; ++j) {
     EXPECT_GE(fine.q.row(j).minCoeff(), r.limits.q_min[j]) << j;
     EXPECT_LE(fine.q.row(j).maxCoeff(), r.limits.q_max[j]) << j;
@@ -128,7 +128,7 @@ TEST(Excite, TorqueAndFloorLimitsAreKept) {
   o.floor = 0.0;  // link origins above the shoulder's base plane
   r.limits = excitationLimits(r.robot, o);
   const ExciteOutcome out = exciteRun(r);
-  const Trajectory fine = out.design.sample(r.robot, 2000.0);
+  const Trajectory fine = sampleFourier(out.design, r.robot, 2000.0);
   EXPECT_LE(fine.tau.cwiseAbs().maxCoeff(), 0.9 * 120.0);
   EXPECT_GE(out.check.lowest_origin, 0.0);
 }

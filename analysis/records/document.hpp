@@ -1,0 +1,44 @@
+// The records wing: every document dynid writes and reads back (estimate.json, search.json and its
+// checkpoint, refine.json, prepare.json, excitation.json, and the rest) has its kind and schema
+// version here, and a typed record with its reader in this wing (search_record, estimate_record,
+// prepare_record, excitation_record). reports/ renders records into documents; analysis/ reads
+// them back only through these readers, never by string key. Errors in a file read here are
+// ParseErrors naming the file and the JSON path of the field.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace dynid {
+
+/// A document's identity: every dynid JSON document starts with these two keys.
+struct DocumentType {
+  const char* kind;  // "dynid.estimate"
+  int schema_version;
+};
+
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 1};  // identify
+inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
+inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
+inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};
+inline constexpr DocumentType kRefineDocument{"dynid.refine", 1};
+// prepare.json 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled
+// repeats, current_to_torque.
+inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
+inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 1};
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 1};
+inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
+inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
+inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
+inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
+inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
+inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
+
+/// {"schema_version": ..., "kind": ...}: a document's first keys.
+nlohmann::json documentHeader(const DocumentType& type);
+
+/// Parses `text` as JSON; throws ParseError naming `file` ("invalid JSON: ...").
+nlohmann::json parseJson(const std::string& text, const std::string& file);
+
+}  // namespace dynid

@@ -1,0 +1,55 @@
+// estimate.json (dynid identify, rendered by reports/identification_report) read back for
+// predict and refine, and the start a refinement reads from a search.json or an estimate.json.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "core/model.hpp"
+#include "search/gc_problem.hpp"
+#include "search/parameter_space.hpp"
+
+namespace dynid {
+
+/// What a refinement starts from, read from a search.json or an estimate.json.
+struct RefineStart {
+  std::string kind;  // "search" or "estimate"
+  SpaceOptions space;
+  SegmentOptions segments;
+  Model initial, estimate;  // the space's initial model and the start
+};
+/// Reads `document` (the contents of `file`). For a search.json, the space and segments are the
+/// search's and exactly its free parameters are freed; for an estimate.json, `space` and
+/// `segments` are used as given. Every standard parameter of `robot`'s layout must be present.
+/// Throws ParseError naming the file and field.
+RefineStart refineStartFrom(const nlohmann::json& document, const std::string& file,
+                            const Model& robot, const SpaceOptions& space,
+                            const SegmentOptions& segments);
+
+/// What predict and refine read from an `identify` estimate.json.
+struct EstimateRecord {
+  std::string robot_spec;                  // "" when the estimate does not say
+  std::string method;                      // "" when absent
+  std::vector<std::string> drive_terms;    // keys: "fv", "fc", ...
+  std::map<std::string, double> standard;  // standard_estimate.values
+  nlohmann::json kinematics;               // the recorded kinematics signature, or null
+};
+/// Reads an estimate.json document strictly: schema_version exactly kEstimateDocument's (its kind,
+/// when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a string,
+/// drive_terms an array of names, standard_estimate {note, values} with every value a finite number
+/// within
+/// +-kMaxParameterMagnitude, kinematics an array of 15-entry rows. Throws ParseError naming `file`
+/// and the field.
+EstimateRecord estimateRecordFrom(const nlohmann::json& document, const std::string& file);
+/// The standard vector in the order of `names` (a robot's layout). Throws ParseError naming the
+/// first missing or extra parameter ("standard_estimate.values.Ixx3") and saying the estimate was
+/// made for another robot (or edited) when the names differ.
+Eigen::VectorXd standardVectorFrom(const EstimateRecord& record,
+                                   const std::vector<std::string>& names, const std::string& file,
+                                   const std::string& robot_spec);
+
+}  // namespace dynid

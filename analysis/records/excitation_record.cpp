@@ -1,0 +1,55 @@
+#include "analysis/records/excitation_record.hpp"
+
+#include <cmath>
+
+#include "analysis/records/document.hpp"
+#include "core/errors.hpp"
+#include "core/parameters.hpp"
+#include "data/io.hpp"
+#include "data/json_reader.hpp"
+
+namespace dynid {
+
+FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::string& file,
+                                   int num_joints) {
+  const JsonReader read(file);
+  read.header(document, kExcitationDocument.schema_version, kExcitationDocument.kind);
+  read.onlyKeys(document, "",
+                {"schema_version", "kind", "robot", "model", "joints", "design", "criterion",
+                 "limits", "base_parameters", "torque_noise", "designed", "default_sinusoid",
+                 "gc_condition_unit", "check", "default_sinusoid_check", "optimiser"});
+  const nlohmann::json& design = read.field(document, "", "design");
+  read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
+  FourierSeries d;
+  d.period = read.number(design, "design", "period", 1e-6, 1e4);
+  const int h = static_cast<int>(read.integer(design, "design", "harmonics", 1, 1000));
+  d.offset = read.vector(read.field(design, "design", "offset"), "design.offset",
+                         num_joints > 0 ? num_joints : -1);
+  num_joints = static_cast<int>(d.offset.size());
+  for (double x : d.offset)
+    if (std::abs(x) > kMaxModelLength) read.fail("design.offset", "an offset beyond +-1e6");
+  d.a.resize(num_joints, h);
+  d.b.resize(num_joints, h);
+  for (const char* key : {"a", "b"}) {
+    const std::string path = std::string("design.") + key;
+    const nlohmann::json& rows = read.array(read.field(design, "design", key), path);
+    if (static_cast<int>(rows.size()) != num_joints)
+      read.fail(path, "expected " + std::to_string(num_joints) + " rows (one per joint), not " +
+                          std::to_string(rows.size()));
+    Eigen::MatrixXd& m = key[0] == 'a' ? d.a : d.b;
+    for (int j = 0; j < num_joints; ++j) {
+      const std::string row_path = path + "[" + std::to_string(j) + "]";
+      const Eigen::VectorXd row = read.vector(rows[j], row_path, h);
+      for (double x : row)
+        if (std::abs(x) > 1e6) read.fail(row_path, "a coefficient beyond +-1e6 rad/s");
+      m.row(j) = row.transpose();
+    }
+  }
+  return d;
+}
+
+FourierSeries readExcitationDesign(const std::string& path, int num_joints) {
+  return excitationDesignFrom(parseJsonDocument(readFile(path), path), path, num_joints);
+}
+
+}  // namespace dynid

@@ -1,0 +1,71 @@
+#include "analysis/records/prepare_record.hpp"
+
+#include <filesystem>
+#include <limits>
+
+#include "analysis/records/document.hpp"
+#include "data/io.hpp"
+
+namespace dynid {
+
+using nlohmann::json;
+
+namespace {
+double numberOrNan(const json& x) {
+  return x.is_number() ? x.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+}  // namespace
+
+std::optional<PrepareRecord> prepareRecordFrom(const json& p) {
+  if (!p.is_object() || p.value("kind", "") != kPrepareDocument.kind) return std::nullopt;
+  try {
+    PrepareRecord r;
+    const json& raw = p.at("raw");
+    r.raw_samples = raw.at("samples").get<long>();
+    r.median_step = numberOrNan(raw.at("median_step"));
+    r.min_step = numberOrNan(raw.at("min_step"));
+    r.max_step = numberOrNan(raw.at("max_step"));
+    r.repeated_stamps_dropped = raw.at("repeated_stamps_dropped").get<long>();
+    r.max_gap = numberOrNan(p.at("max_gap"));
+    r.gaps = static_cast<long>(p.at("gaps").size());
+    r.runs = static_cast<long>(p.at("runs").size());
+    r.dropped_runs = static_cast<long>(p.at("dropped_runs").size());
+    r.resampled_rate = p.at("resampled_rate").get<double>();
+    const json& f = p.at("filter");
+    r.filter_kind = f.at("kind").get<std::string>();
+    r.cutoff_hz = f.at("cutoff_hz").get<double>();
+    if (r.cutoff_hz > 0.0) {
+      r.filter_order = f.at("order").get<int>();
+      r.applied_to = f.at("applied_to").get<std::string>();
+    }
+    if (f.contains("cutoff_choice") && f["cutoff_choice"].is_string())
+      r.cutoff_choice = f["cutoff_choice"].get<std::string>();
+    r.dq = p.at("dq").get<std::string>();
+    r.ddq = p.at("ddq").get<std::string>();
+    r.trimmed_each_end = numberOrNan(p.at("trimmed_each_end"));
+    r.decimate = p.at("decimate").get<int>();
+    for (const json& x : p.at("tau_noise_rms")) r.tau_noise_rms.push_back(numberOrNan(x));
+    return r;
+  } catch (const json::exception&) {
+    return std::nullopt;
+  }
+}
+
+PreparationFound findPreparation(const std::string& data_file) {
+  const std::filesystem::path path(data_file);
+  const std::string name = path.filename().string();
+  if (name != "train.csv" && name != "validate.csv") return {};
+  const std::filesystem::path record = path.parent_path() / "prepare.json";
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(record, error)) return {};
+  try {
+    const json j = json::parse(readFile(record.string()));
+    if (!j.is_object() || j.value("kind", "") != kPrepareDocument.kind) return {};
+    return {true, prepareRecordFrom(j)};
+  } catch (const std::exception&) {
+    // An unreadable record is not the dataset's problem: the report leaves the section out.
+    return {};
+  }
+}
+
+}  // namespace dynid

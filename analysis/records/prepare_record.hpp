@@ -1,0 +1,45 @@
+// prepare.json (dynid prepare, rendered by reports/prepare_report) read back: what an estimate's
+// report says of the preprocessing of the dataset it was identified from.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace dynid {
+
+/// The fields of prepare.json that an identification report restates.
+struct PrepareRecord {
+  long raw_samples = 0;
+  double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // [s]; NaN when null
+  long repeated_stamps_dropped = 0;
+  double max_gap = 0.0;  // [s]
+  long gaps = 0, runs = 0, dropped_runs = 0;
+  double resampled_rate = 0.0;  // [Hz]
+  std::string filter_kind;
+  int filter_order = 0;
+  double cutoff_hz = 0.0;  // 0: no filter
+  std::string applied_to;
+  std::optional<std::string> cutoff_choice;  // why this cutoff (--cutoff auto)
+  std::string dq, ddq;                       // how each was obtained
+  double trimmed_each_end = 0.0;             // [s]; NaN when null
+  int decimate = 1;
+  std::vector<double> tau_noise_rms;  // per joint [N m]; NaN where null
+};
+
+/// The record in a prepare.json document; std::nullopt when it is not one (another kind or
+/// schema version) or lacks a field this version reads.
+std::optional<PrepareRecord> prepareRecordFrom(const nlohmann::json& document);
+
+/// What an identification finds beside its training data.
+struct PreparationFound {
+  bool present = false;                 // a prepare.json of kind dynid.prepare beside the data
+  std::optional<PrepareRecord> record;  // null when present but unreadable by this version
+};
+/// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
+/// validate.csv); an unreadable record is not the dataset's problem and is reported as such.
+PreparationFound findPreparation(const std::string& data_file);
+
+}  // namespace dynid

@@ -1,0 +1,14 @@
+// The one number formatter of dynid's text (reports, messages, CSV and JSON numbers written as
+// text): every number a user reads goes through formatNumber.
+#pragma once
+
+#include <string>
+
+namespace dynid {
+
+/// x with `digits` significant digits, as printf's %.*g ("0.0123", "1.23e+06"); with digits = 0
+/// the shortest text that reads back as exactly x (std::to_chars: "0.1", "1e+300"). A value that
+/// is not finite reads "inf", "-inf" or "nan", or `non_finite` when one is given ("n/a").
+std::string formatNumber(double x, int digits = 0, const char* non_finite = nullptr);
+
+}  // namespace dynid
