@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "analysis/options.hpp"
+#include "core/option_ranges.hpp"
 #include "analysis/pipeline.hpp"
 #include "core/errors.hpp"
 #include "data/dataset_csv.hpp"
@@ -22,7 +22,7 @@ double since(Clock::time_point start) {
 void validate(const LogStudyRequest& r) {
   if (r.data_file.empty()) throw InputError("the study needs training data (--data)");
   if (r.validate_file.empty()) throw InputError("the study needs held-out data (--validate)");
-  // The ranges of dynid study's options (analysis/options.hpp), by field name.
+  // The ranges of dynid study's options (core/option_ranges.hpp), by field name.
   checkOption("study", "horizon", r.segments.horizon, "horizon");
   checkOption("study", "segments", r.segments.num_segments, "segments");
   checkOption("study", "search-seconds", r.search_seconds, "search_seconds");

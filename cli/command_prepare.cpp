@@ -12,6 +12,7 @@ namespace dynid::cli {
 namespace {
 
 void addPrepareOptions(po::options_description& options) {
+  const PrepareOptions d;  // every default is the options' own
   options.add_options()("log", po::value<std::vector<std::string>>()->multitoken(),
                         "delimited tables (header optional); several: separate recordings")(
       "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
@@ -31,21 +32,24 @@ void addPrepareOptions(po::options_description& options) {
       "joints", po::value<int>()->default_value(0), "joints (files: required)")(
       "time-unit", po::value<std::string>()->default_value("s"), "s, ms, us or ns")(
       "angle-unit", po::value<std::string>()->default_value("rad"), "rad or deg (q and dq)")(
-      "rate", po::value<double>()->default_value(0.0), "resampling rate [Hz] (0: median)")(
+      "rate", po::value<double>()->default_value(d.rate), "resampling rate [Hz] (0: median)")(
       "cutoff", po::value<std::string>()->default_value("default"),
       "low-pass [Hz], 0 (none), auto (from q's spectrum) or default (10, rate/4 below 40 Hz)")(
-      "order", po::value<int>()->default_value(4), "Butterworth order")(
-      "decimate", po::value<int>()->default_value(1), "keep every Nth sample")(
-      "max-gap", po::value<double>()->default_value(0.0), "split at longer steps [s] (0: 5 steps)")(
-      "trim", po::value<double>()->default_value(-1.0), "dropped at run ends [s] (<0: 2/cutoff)")(
+      "order", po::value<int>()->default_value(d.order), "Butterworth order")(
+      "decimate", po::value<int>()->default_value(d.decimate), "keep every Nth sample")(
+      "max-gap", po::value<double>()->default_value(d.max_gap),
+      "split at longer steps [s] (0: 5 steps)")("trim", po::value<double>()->default_value(d.trim),
+                                                "dropped at run ends [s] (<0: 2/cutoff)")(
       "derive-dq", po::bool_switch(), "dq from q even when logged")(
       "derive-ddq", po::bool_switch(), "ddq by differentiation even when logged")(
       "derivative", po::value<std::string>()->default_value("central"),
       "central (differences) or savgol (Savitzky-Golay)")(
-      "savgol-window", po::value<int>()->default_value(0), "savgol: odd samples (0: auto)")(
-      "savgol-degree", po::value<int>()->default_value(3), "savgol: polynomial degree (2 to 6)")(
+      "savgol-window", po::value<int>()->default_value(d.savgol_window),
+      "savgol: odd samples (0: auto)")("savgol-degree",
+                                       po::value<int>()->default_value(d.savgol_degree),
+                                       "savgol: polynomial degree")(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
-      "validate-fraction", po::value<double>()->default_value(0.0),
+      "validate-fraction", po::value<double>()->default_value(d.validate_fraction),
       "hold out the last fraction of each run as validate.csv")(
       "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
       "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(

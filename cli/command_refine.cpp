@@ -12,6 +12,7 @@ namespace dynid::cli {
 
 namespace {
 void addRefineOptions(po::options_description& options) {
+  const RefineRequest d;  // every default is the request's own
   options.add_options()("from", po::value<std::string>()->required(),
                         "start: DIR/search.json (dynid search) or DIR/estimate.json (identify)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
@@ -19,23 +20,24 @@ void addRefineOptions(po::options_description& options) {
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
       "estimate-initial-states", po::bool_switch(),
       "estimate each segment's start state with the parameters (noisy measured starts)")(
-      "continuity-weight", po::value<double>()->default_value(10.0),
+      "continuity-weight", po::value<double>()->default_value(d.options.continuity_weight),
       "with --estimate-initial-states: weight of the gap between a segment's predicted end and "
       "the next segment's start where they meet (contiguous segments, multiple shooting); 0 keeps "
-      "the measured end states")("max-iterations", po::value<int>()->default_value(200),
+      "the measured end states")("max-iterations",
+                                 po::value<int>()->default_value(d.options.max_iterations),
                                  "Levenberg-Marquardt iterations per stage")(
       "no-base-stage", po::bool_switch(),
       "refine the free parameters directly, without first solving in base coordinates")(
       "no-gauge", po::bool_switch(),
       "let the directions that change no base parameter move (slower; for starts at a bound)")(
-      "budget-seconds", po::value<double>()->default_value(0.0), "stop after this time (0: none)")(
-      "form", po::value<std::string>()->default_value("paper"),
-      "from estimate.json: paper or standard parameters")(
-      "range", po::value<double>()->default_value(0.5),
+      "budget-seconds", po::value<double>()->default_value(d.options.max_seconds),
+      "stop after this time (0: none)")("form", po::value<std::string>()->default_value("paper"),
+                                        "from estimate.json: paper or standard parameters")(
+      "range", po::value<double>()->default_value(d.range),
       "from estimate.json: bounds, start +- this fraction")(
-      "horizon", po::value<double>()->default_value(0.05),
+      "horizon", po::value<double>()->default_value(d.horizon),
       "from estimate.json: prediction horizon [s]")(
-      "segments", po::value<int>()->default_value(100), "from estimate.json: segments")(
+      "segments", po::value<int>()->default_value(d.segments), "from estimate.json: segments")(
       "out", po::value<std::string>()->required(), "output directory (refine.json)");
   addThreadsOption(options);
 }

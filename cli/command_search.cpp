@@ -23,41 +23,44 @@ void addSearchOptions(po::options_description& options, SearchRequest& r) {
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
       "validate", po::value(&r.validate_file),
       "held-out dataset CSV: its GC error before and after")(
-      "seed", po::value(&r.seed)->default_value(1), "seed of every random choice")(
-      "budget-evals", po::value(&r.budget.max_evaluations)->default_value(0),
-      "stop after this many GC evaluations")("budget-seconds",
-                                             po::value(&r.budget.max_seconds)->default_value(0.0),
-                                             "stop after this wall time [s]")(
-      "gc-tolerance", po::value(&r.budget.gc_tolerance)->default_value(0.0),
+      "seed", po::value(&r.seed)->default_value(r.seed), "seed of every random choice")(
+      "budget-evals", po::value(&r.budget.max_evaluations)->default_value(r.budget.max_evaluations),
+      "stop after this many GC evaluations")(
+      "budget-seconds", po::value(&r.budget.max_seconds)->default_value(r.budget.max_seconds),
+      "stop after this wall time [s]")(
+      "gc-tolerance", po::value(&r.budget.gc_tolerance)->default_value(r.budget.gc_tolerance),
       "stop at this GC error")("form", po::value<std::string>()->default_value("paper"),
                                "paper (7 per link) or standard (10)")(
-      "range", po::value(&r.space.relative_range)->default_value(0.5),
+      "range", po::value(&r.space.relative_range)->default_value(r.space.relative_range),
       "bounds: initial estimate +- this fraction")(
-      "absolute-range", po::value(&r.space.absolute_range)->default_value(0.0),
+      "absolute-range", po::value(&r.space.absolute_range)->default_value(r.space.absolute_range),
       "range of parameters whose initial estimate is 0 (0: they stay fixed)")(
       "fix", po::value<std::string>(), "parameters held at their initial estimate, e.g. m2,cx3")(
-      "mass-constraint", po::value(&r.mass_constraint)->default_value("auto"),
+      "mass-constraint", po::value(&r.mass_constraint)->default_value(r.mass_constraint),
       "on, off or auto (on for nlo and hybrid, off for ga, as in the paper)")(
       "total-mass", po::value<double>(),
       "total mass [kg] (default: the truth's, else the initial's)")(
-      "horizon", po::value(&r.segments.horizon)->default_value(0.05), "prediction horizon [s]")(
-      "segments", po::value(&r.segments.num_segments)->default_value(100),
+      "horizon", po::value(&r.segments.horizon)->default_value(r.segments.horizon),
+      "prediction horizon [s]")(
+      "segments", po::value(&r.segments.num_segments)->default_value(r.segments.num_segments),
       "segments (0: all non-overlapping)")("random-segments",
                                            po::bool_switch(&r.segments.random_starts),
                                            "seeded random segment starts")(
       "integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler (as the data)")(
-      "step", po::value(&r.segments.step)->default_value(0.0),
+      "step", po::value(&r.segments.step)->default_value(r.segments.step),
       "integration step [s] (0: sample period)")("normalise",
                                                  po::bool_switch(&r.segments.normalise),
                                                  "weight q and dq errors by 1 / their spread")(
-      "population", po::value(&r.ga.population)->default_value(100), "GA population")(
-      "elites", po::value(&r.ga.elites)->default_value(1), "GA elites")(
-      "migration", po::value(&r.ga.migration)->default_value(0.05), "GA migration factor")(
-      "mutation-rate", po::value(&r.ga.mutation_rate)->default_value(0.1),
-      "GA per-parameter mutation rate")("mutation-scale",
-                                        po::value(&r.ga.mutation_scale)->default_value(0.1),
-                                        "mutation sigma / |value| (GA and NLO)")(
-      "evals-per-seed", po::value(&r.nlo.evaluations_per_seed)->default_value(400),
+      "population", po::value(&r.ga.population)->default_value(r.ga.population), "GA population")(
+      "elites", po::value(&r.ga.elites)->default_value(r.ga.elites), "GA elites")(
+      "migration", po::value(&r.ga.migration)->default_value(r.ga.migration),
+      "GA migration factor")("mutation-rate",
+                             po::value(&r.ga.mutation_rate)->default_value(r.ga.mutation_rate),
+                             "GA per-parameter mutation rate")(
+      "mutation-scale", po::value(&r.ga.mutation_scale)->default_value(r.ga.mutation_scale),
+      "mutation sigma / |value| (GA and NLO)")(
+      "evals-per-seed",
+      po::value(&r.nlo.evaluations_per_seed)->default_value(r.nlo.evaluations_per_seed),
       "NLO COBYLA evaluations per seed")(
       "checkpoint", po::value(&r.checkpoint),
       "save after every round or generation; resume if it exists")(

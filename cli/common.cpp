@@ -7,7 +7,9 @@
 #include <iostream>
 #include <limits>
 
-#include "analysis/options.hpp"
+#include <boost/make_shared.hpp>
+
+#include "core/option_ranges.hpp"
 #include "data/io.hpp"
 
 namespace dynid::cli {
@@ -48,7 +50,7 @@ bool numericValue(const boost::any& value, double* x) {
   return true;
 }
 
-/// Every numeric option finite and within its range (analysis/options.hpp), defaults included.
+/// Every numeric option finite and within its range (core/option_ranges.hpp), defaults included.
 void checkRanges(const po::variables_map& vm, const std::string& command) {
   for (const auto& [name, entry] : vm) {
     double x = 0.0;
@@ -60,6 +62,59 @@ void checkRanges(const po::variables_map& vm, const std::string& command) {
       throw po::error(e.what());
     }
   }
+}
+
+/// An option as --help shows it: the original's parameter text ("arg (=10)"), nothing else (it
+/// parses nothing; the help's copy of the options is never parsed with).
+class ShownValue : public po::value_semantic {
+ public:
+  explicit ShownValue(const po::value_semantic& original)
+      : name_(original.name()),
+        min_(original.min_tokens()),
+        max_(original.max_tokens()),
+        composing_(original.is_composing()),
+        required_(original.is_required()) {}
+  std::string name() const override { return name_; }
+  unsigned min_tokens() const override { return min_; }
+  unsigned max_tokens() const override { return max_; }
+  bool is_composing() const override { return composing_; }
+  bool is_required() const override { return required_; }
+  void parse(boost::any&, const std::vector<std::string>&, bool) const override {}
+  bool apply_default(boost::any&) const override { return false; }
+  void notify(const boost::any&) const override {}
+
+ private:
+  std::string name_;
+  unsigned min_, max_;
+  bool composing_, required_;
+};
+
+/// The options as --help shows them: each numeric option's range, from the one option table
+/// (core/option_ranges.hpp), appended to its description, so the help shows the range checked.
+po::options_description helpOptions(const po::options_description& all,
+                                    const std::string& command) {
+  po::options_description shown;
+  for (const auto& option : all.options()) {
+    std::string text = option->description();
+    if (const OptionRule* rule = findOptionRule(command, option->long_name())) {
+      // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on the concatenated form.
+      if (!text.empty()) text += ' ';
+      text.append("(").append(optionRangeText(*rule)).append(")");
+    }
+    std::string name = option->long_name();
+    const std::string display = option->format_name();  // "-h [ --help ]" when it has a short one
+    if (display.size() > 1 && display[0] == '-' && display[1] != '-')
+      name.append(1, ',').append(1, display[1]);
+    shown.add(boost::make_shared<po::option_description>(
+        name.c_str(), new ShownValue(*option->semantic()), text.c_str()));
+  }
+  return shown;
+}
+
+/// The command: the usage line's second word ("dynid simulate ...").
+std::string commandOf(const std::string& usage) {
+  const std::size_t start = usage.find(' ') + 1, end = usage.find(' ', start);
+  return usage.substr(start, end - start);
 }
 
 }  // namespace
@@ -80,13 +135,11 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
     rejectNegativeUnsigned(parsed, all);
     po::store(parsed, vm);
     if (vm.count("help")) {
-      std::cout << "usage: " << usage << "\n\n" << all << "\n";
+      std::cout << "usage: " << usage << "\n\n" << helpOptions(all, commandOf(usage)) << "\n";
       return false;
     }
     po::notify(vm);
-    // The command: the usage line's second word ("dynid simulate ...").
-    const std::size_t start = usage.find(' ') + 1, end = usage.find(' ', start);
-    checkRanges(vm, usage.substr(start, end - start));
+    checkRanges(vm, commandOf(usage));
     // An empty value given on the command line ("--out ''", an unset shell variable) is a usage
     // error, not a file named "".
     for (const auto& [name, value] : vm) {
@@ -145,7 +198,7 @@ void addPriorWeightOption(po::options_description& options) {
 }
 
 double priorWeightOption(const po::variables_map& vm) {
-  return vm["prior-weight"].as<double>();  // > 0: analysis/options.hpp
+  return vm["prior-weight"].as<double>();  // > 0: core/option_ranges.hpp
 }
 
 void addKeepRefinementOption(po::options_description& options) {
@@ -163,7 +216,7 @@ void addThreadsOption(po::options_description& options) {
 }
 
 int threadsOption(const po::variables_map& vm) {
-  return vm["threads"].as<int>();  // 0 to 256: analysis/options.hpp
+  return vm["threads"].as<int>();  // 0 to 256: core/option_ranges.hpp
 }
 
 void addRobotOptions(po::options_description& options) {

@@ -54,8 +54,8 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
   }
 }
 // Every numeric option's range is checked when the command line is parsed, from the one table
-// in analysis/options.hpp: read the value with vm[name].as<T>().
-/// --threads: 0 (all cores) to 256 (analysis/options.hpp: more threads than cores only slow a run
+// in core/option_ranges.hpp: read the value with vm[name].as<T>().
+/// --threads: 0 (all cores) to 256 (core/option_ranges.hpp: more threads than cores only slow a run
 /// down, and thousands exhaust the system's process table).
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);

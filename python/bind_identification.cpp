@@ -5,7 +5,7 @@
 
 #include <pybind11/stl.h>
 
-#include "analysis/options.hpp"
+#include "core/option_ranges.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "data/json_number.hpp"

@@ -9,11 +9,11 @@
 
 #include "analysis/excitation/excite.hpp"
 #include "analysis/logs/prepare.hpp"
-#include "analysis/options.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
+#include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
@@ -454,15 +454,23 @@ void bindSearchRuns(py::module_& m) {
   m.def("search", &searchPy, py::arg("robot"), py::arg("data"), py::arg("method"),
         py::arg("init") = py::none(), py::arg("perturb") = py::none(),
         py::arg("truth") = py::none(), py::arg("validate") = py::none(),
-        py::arg("budget_evals") = 0, py::arg("budget_seconds") = 0.0, py::arg("gc_tolerance") = 0.0,
-        py::arg("form") = "paper", py::arg("range") = 0.5, py::arg("absolute_range") = 0.0,
+        py::arg("budget_evals") = SearchRequest{}.budget.max_evaluations,
+        py::arg("budget_seconds") = SearchRequest{}.budget.max_seconds,
+        py::arg("gc_tolerance") = SearchRequest{}.budget.gc_tolerance, py::arg("form") = "paper",
+        py::arg("range") = SearchRequest{}.space.relative_range,
+        py::arg("absolute_range") = SearchRequest{}.space.absolute_range,
         py::arg("fix") = std::vector<std::string>{}, py::arg("mass_constraint") = "auto",
-        py::arg("total_mass") = py::none(), py::arg("horizon") = 0.05, py::arg("segments") = 100,
-        py::arg("random_segments") = false, py::arg("integrator") = "rk4", py::arg("step") = 0.0,
-        py::arg("normalise") = false, py::arg("population") = 100, py::arg("elites") = 1,
-        py::arg("migration") = 0.05, py::arg("mutation_rate") = 0.1,
-        py::arg("mutation_scale") = 0.1, py::arg("evals_per_seed") = 400, py::arg("seed") = 1,
-        py::arg("threads") = 0, py::arg("checkpoint") = "",
+        py::arg("total_mass") = py::none(), py::arg("horizon") = SearchRequest{}.segments.horizon,
+        py::arg("segments") = SearchRequest{}.segments.num_segments,
+        py::arg("random_segments") = false, py::arg("integrator") = "rk4",
+        py::arg("step") = SearchRequest{}.segments.step, py::arg("normalise") = false,
+        py::arg("population") = SearchRequest{}.ga.population,
+        py::arg("elites") = SearchRequest{}.ga.elites,
+        py::arg("migration") = SearchRequest{}.ga.migration,
+        py::arg("mutation_rate") = SearchRequest{}.ga.mutation_rate,
+        py::arg("mutation_scale") = SearchRequest{}.ga.mutation_scale,
+        py::arg("evals_per_seed") = SearchRequest{}.nlo.evaluations_per_seed,
+        py::arg("seed") = SearchRequest{}.seed, py::arg("threads") = 0, py::arg("checkpoint") = "",
         "`dynid search`: the GC-error search 'nlo' (multistart COBYLA), 'ga' or 'hybrid' from "
         "init (a Model) or the robot perturbed by `perturb`; the same options and defaults as "
         "the CLI, and for the same seed the same result whatever the thread count. Ctrl-C stops "
@@ -498,10 +506,13 @@ void bindRefine(py::module_& m) {
 
   m.def("refine", &refinePy, py::arg("robot"), py::arg("start"), py::arg("data"),
         py::arg("validate") = py::none(), py::arg("truth") = py::none(),
-        py::arg("estimate_initial_states") = false, py::arg("continuity_weight") = 10.0,
-        py::arg("max_iterations") = 200, py::arg("base_stage") = true, py::arg("gauge") = true,
-        py::arg("budget_seconds") = 0.0, py::arg("form") = "paper", py::arg("range") = 0.5,
-        py::arg("horizon") = 0.05, py::arg("segments") = 100, py::arg("threads") = 0,
+        py::arg("estimate_initial_states") = false,
+        py::arg("continuity_weight") = RefineRequest{}.options.continuity_weight,
+        py::arg("max_iterations") = RefineRequest{}.options.max_iterations,
+        py::arg("base_stage") = true, py::arg("gauge") = true,
+        py::arg("budget_seconds") = RefineRequest{}.options.max_seconds, py::arg("form") = "paper",
+        py::arg("range") = RefineRequest{}.range, py::arg("horizon") = RefineRequest{}.horizon,
+        py::arg("segments") = RefineRequest{}.segments, py::arg("threads") = 0,
         "`dynid refine`: Ceres (Levenberg-Marquardt) on the GC residuals from `start`: a "
         "Search, an Estimate, or the path of a search.json or estimate.json. form, range, "
         "horizon and segments apply to an estimate start (a search carries its own).");
@@ -535,13 +546,19 @@ void bindExcite(py::module_& m) {
           "excitation.json, as `dynid excite` writes it (simulate(trajectory=...) reads it).");
 
   m.def("excite", &excitePy, py::arg("robot"), py::arg("criterion") = "cond",
-        py::arg("period") = 10.0, py::arg("harmonics") = 5, py::arg("starts") = 8,
-        py::arg("evaluations") = 2000, py::arg("budget_seconds") = 0.0, py::arg("grid_rate") = 25.0,
-        py::arg("check_rate") = 1000.0, py::arg("torque_noise") = 0.05, py::arg("segments") = 100,
-        py::arg("horizon") = 0.05, py::arg("offset") = py::none(), py::arg("q_min") = py::none(),
-        py::arg("q_max") = py::none(), py::arg("dq_max") = py::none(),
-        py::arg("ddq_max") = py::none(), py::arg("tau_max") = py::none(),
-        py::arg("torque_margin") = 0.9, py::arg("floor") = py::none(), py::arg("base_radius") = 0.0,
+        py::arg("period") = ExciteRequest{}.period,
+        py::arg("harmonics") = ExciteRequest{}.harmonics,
+        py::arg("starts") = ExciteRequest{}.starts,
+        py::arg("evaluations") = ExciteRequest{}.evaluations, py::arg("budget_seconds") = 0.0,
+        py::arg("grid_rate") = ExciteRequest{}.grid_rate,
+        py::arg("check_rate") = ExciteRequest{}.check_rate,
+        py::arg("torque_noise") = ExciteRequest{}.torque_noise,
+        py::arg("segments") = ExciteRequest{}.gc_segments,
+        py::arg("horizon") = ExciteRequest{}.gc_horizon, py::arg("offset") = py::none(),
+        py::arg("q_min") = py::none(), py::arg("q_max") = py::none(),
+        py::arg("dq_max") = py::none(), py::arg("ddq_max") = py::none(),
+        py::arg("tau_max") = py::none(), py::arg("torque_margin") = LimitOverrides{}.torque_margin,
+        py::arg("floor") = py::none(), py::arg("base_radius") = LimitOverrides{}.base_radius,
         py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
         py::arg("threads") = 0, py::arg("robot_spec") = "",
         "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
@@ -573,12 +590,16 @@ void bindPrepare(py::module_& m) {
         py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
         py::arg("ddq_columns") = "", py::arg("joints") = 0, py::arg("current") = false,
         py::arg("torque_constants") = py::none(), py::arg("gear_ratios") = py::none(),
-        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad", py::arg("rate") = 0.0,
-        py::arg("cutoff") = py::none(), py::arg("order") = 4, py::arg("decimate") = 1,
-        py::arg("max_gap") = 0.0, py::arg("trim") = -1.0, py::arg("derive_dq") = false,
-        py::arg("derive_ddq") = false, py::arg("savitzky_golay") = false,
-        py::arg("savgol_window") = 0, py::arg("savgol_degree") = 3,
-        py::arg("validate_fraction") = 0.0, py::arg("keep_stalled") = false,
+        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad",
+        py::arg("rate") = PrepareOptions{}.rate, py::arg("cutoff") = py::none(),
+        py::arg("order") = PrepareOptions{}.order, py::arg("decimate") = PrepareOptions{}.decimate,
+        py::arg("max_gap") = PrepareOptions{}.max_gap, py::arg("trim") = PrepareOptions{}.trim,
+        py::arg("derive_dq") = false, py::arg("derive_ddq") = false,
+        py::arg("savitzky_golay") = false,
+        py::arg("savgol_window") = PrepareOptions{}.savgol_window,
+        py::arg("savgol_degree") = PrepareOptions{}.savgol_degree,
+        py::arg("validate_fraction") = PrepareOptions{}.validate_fraction,
+        py::arg("keep_stalled") = false,
         "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
         "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
         "for no filter, a frequency [Hz] or 'auto'.");

@@ -16,6 +16,7 @@
 #include "core/format.hpp"
 #include "core/kinematics.hpp"
 #include "core/memory.hpp"
+#include "core/option_ranges.hpp"
 #include "core/parallel.hpp"
 #include "core/parameters.hpp"
 #include "core/regressor.hpp"
@@ -417,21 +418,19 @@ int checkExciteRequest(const ExciteRequest& request) {
   auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InputError(message);
   };
-  require(std::isfinite(request.period) && request.period > 0.0 && request.period <= 1e4,
-          "the period must be in (0, 1e4] s");
-  require(request.harmonics >= 2 && request.harmonics <= 50,
-          "harmonics must be 2 to 50 (rest at both ends takes two per joint)");
-  require(request.starts >= 1 && request.starts <= 10000, "starts must be 1 to 10000");
-  require(request.evaluations >= 1 && request.evaluations <= 100000000,
-          "evaluations must be 1 to 1e8");
-  require(request.grid_rate > 0.0 && std::isfinite(request.grid_rate), "the grid rate must be > 0");
-  require(request.check_rate > 0.0 && std::isfinite(request.check_rate),
-          "the check rate must be > 0");
-  require(request.torque_noise > 0.0 && std::isfinite(request.torque_noise),
-          "the torque noise must be > 0");
-  require(!(request.max_seconds <= 0.0), "the time budget must be > 0");
-  require(request.gc_segments >= 0 && request.gc_segments <= 1000000,
-          "the GC segments must be 0 to 1e6");
+  // The ranges of the one option table (core/option_ranges.hpp), in the request's field names.
+  checkOption("excite", "period", request.period, "period");
+  checkOption("excite", "harmonics", request.harmonics, "harmonics");
+  checkOption("excite", "starts", request.starts, "starts");
+  checkOption("excite", "evaluations", request.evaluations, "evaluations");
+  checkOption("excite", "grid-rate", request.grid_rate, "grid_rate");
+  checkOption("excite", "check-rate", request.check_rate, "check_rate");
+  checkOption("excite", "torque-noise", request.torque_noise, "torque_noise");
+  checkOption("excite", "segments", request.gc_segments, "gc_segments");
+  // max_seconds: +inf (no budget) or a budget-seconds > 0.
+  require(!(request.max_seconds <= 0.0), "max_seconds must be > 0");
+  if (std::isfinite(request.max_seconds))
+    checkOption("excite", "budget-seconds", request.max_seconds, "max_seconds");
   require(request.gc_horizon > 0.0 && request.gc_horizon <= request.period &&
               std::abs(request.gc_horizon * request.check_rate -
                        std::round(request.gc_horizon * request.check_rate)) <= 1e-6 &&

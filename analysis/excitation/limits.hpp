@@ -30,9 +30,9 @@ struct ExcitationLimits {
 /// Limits given on the command line instead of the model's (n entries each, or absent).
 struct LimitOverrides {
   std::optional<Eigen::VectorXd> q_min, q_max, dq_max, ddq_max, tau_max;
-  double torque_margin = 0.9;
+  double torque_margin = ExcitationLimits{}.torque_margin;
   std::optional<double> floor;
-  double base_radius = 0.0;
+  double base_radius = ExcitationLimits{}.base_radius;
 };
 
 /// Default limits for a model that has none: the peak speed and acceleration of `dynid simulate`'s

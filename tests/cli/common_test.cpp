@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "tests/common/cli.hpp"
@@ -45,6 +46,31 @@ TEST(Cli, UsageErrorsNameTheOption) {
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(r.err, "--out is empty")) << r.err;
 }
+TEST(Cli, HelpShowsEachNumericOptionsRangeFromTheOneTable) {
+  // The range printed is the table's (core/option_ranges.hpp), the one the parser checks.
+  const Result excite = run("excite --help");
+  EXPECT_EQ(excite.code, 0);
+  const OptionRule* harmonics = findOptionRule("excite", "harmonics");
+  ASSERT_NE(harmonics, nullptr);
+  const std::string harmonics_help =
+      std::string("harmonics per joint (").append(optionRangeText(*harmonics)) + ")";
+  EXPECT_TRUE(contains(excite.out, harmonics_help)) << excite.out;
+  EXPECT_TRUE(contains(excite.out, "-h [ --help ]")) << excite.out;
+  // A command-specific rule wins over the general one: study's segments start at 1.
+  const Result study = run("study --help");
+  const OptionRule* segments = findOptionRule("study", "segments");
+  ASSERT_NE(segments, nullptr);
+  EXPECT_EQ(optionRangeText(*segments).rfind(">= 1", 0), 0u);
+  // Appended, not concatenated: GCC 12 warns (-Wrestrict, falsely) on "(" + std::string&&.
+  const std::string segments_help = std::string("(").append(optionRangeText(*segments)) + ")";
+  EXPECT_TRUE(contains(study.out, segments_help)) << study.out;
+  // And the parser refuses what the help rules out, in the same words.
+  const Result refused = run("excite --robot puma560 --harmonics 51 --out x");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_TRUE(contains(refused.err, "--harmonics must be " + optionRangeText(*harmonics)))
+      << refused.err;
+}
+
 TEST(Cli, DataErrorsNameTheFile) {
   const Result r = run("dynamics --robot /nonexistent/arm.urdf");
   EXPECT_EQ(r.code, 1);

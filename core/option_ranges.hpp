@@ -1,7 +1,9 @@
 // The range of every numeric option of dynid's front ends, defined once: the CLI checks each flag
-// against it when the command line is parsed (a usage error naming the flag before any work), the
-// Python module each keyword (its snake_case spelling), and requests their fields. A new numeric
-// option gets its row here; docs/RELIABILITY.md lists them.
+// against it when the command line is parsed (a usage error naming the flag before any work) and
+// prints it in --help, the Python module checks each keyword (its snake_case spelling), and
+// requests check their fields (exciteRun, logStudyRun). In core so that every floor can check
+// against it; it knows nothing but names and numbers. A new numeric option gets its row here;
+// docs/RELIABILITY.md lists them.
 #pragma once
 
 #include <limits>

@@ -1,4 +1,4 @@
-#include "analysis/options.hpp"
+#include "core/option_ranges.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,9 @@
-#include "analysis/options.hpp"
+#include "core/option_ranges.hpp"
 
 #include <cmath>
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
-#include "data/io.hpp"
 
 namespace dynid {
 
