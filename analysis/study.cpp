@@ -10,6 +10,7 @@
 #include "analysis/runs.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
+#include "core/option_ranges.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/robots.hpp"
@@ -59,29 +60,25 @@ Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out
 }  // namespace
 
 void validateStudySettings(const StudySettings& s) {
-  const auto require = [](bool ok, const char* field, const std::string& rule) {
-    if (!ok) throw InputError(std::string(field) + " " + rule);
-  };
-  const auto finite = [](double x) { return std::isfinite(x); };
-  require(finite(s.train_seconds) && s.train_seconds > 0.0, "train_seconds", "must be > 0");
-  require(finite(s.test_seconds) && s.test_seconds > 0.0, "test_seconds", "must be > 0");
-  require(finite(s.noise_q) && s.noise_q >= 0.0, "noise_q", "must be >= 0");
-  require(finite(s.noise_dq) && s.noise_dq >= 0.0, "noise_dq", "must be >= 0");
-  require(finite(s.noise_tau) && s.noise_tau >= 0.0, "noise_tau", "must be >= 0");
-  require(s.segments >= 0, "segments", "must be >= 0 (0: every segment)");
-  require(finite(s.horizon) && s.horizon > 0.0, "horizon", "must be > 0");
-  require(finite(s.perturb) && s.perturb >= 0.0 && s.perturb < 1.0, "perturb", "must be in [0, 1)");
-  require(finite(s.search_seconds) && s.search_seconds >= 0.0, "search_seconds", "must be >= 0");
-  require(s.search_evaluations >= 0, "search_evaluations", "must be >= 0");
-  require(s.search_seconds > 0.0 || s.search_evaluations > 0, "search_seconds",
-          "or search_evaluations must be > 0: a search needs a budget");
-  require(s.refine_iterations >= 1, "refine_iterations", "must be >= 1");
-  require(finite(s.refine_seconds) && s.refine_seconds >= 0.0, "refine_seconds", "must be >= 0");
-  require(finite(s.refine_tolerance) && s.refine_tolerance >= 0.0, "refine_tolerance",
-          "must be >= 0");
-  require(finite(s.prior_weight) && s.prior_weight > 0.0, "prior_weight",
-          "must be finite and > 0 (checkPriorWeight)");
-  require(s.threads >= 1, "threads", "must be >= 1");
+  // The ranges of the one option table (core/option_ranges.hpp), under the manifest's names.
+  checkOption("batch", "duration", s.train_seconds, "train_seconds");
+  checkOption("batch", "duration", s.test_seconds, "test_seconds");
+  checkOption("batch", "noise-q", s.noise_q, "noise_q");
+  checkOption("batch", "noise-dq", s.noise_dq, "noise_dq");
+  checkOption("batch", "noise-tau", s.noise_tau, "noise_tau");
+  checkOption("batch", "segments", s.segments, "segments");  // 0: every segment
+  checkOption("batch", "horizon", s.horizon, "horizon");
+  checkOption("batch", "perturb", s.perturb, "perturb");
+  checkOption("batch", "search-seconds", s.search_seconds, "search_seconds");
+  checkOption("batch", "search-evaluations", static_cast<double>(s.search_evaluations),
+              "search_evaluations");
+  checkOption("study", "refine-iterations", s.refine_iterations, "refine_iterations");
+  checkOption("batch", "refine-seconds", s.refine_seconds, "refine_seconds");
+  checkOption("batch", "refine-tolerance", s.refine_tolerance, "refine_tolerance");
+  checkOption("batch", "prior-weight", s.prior_weight, "prior_weight");
+  if (!(s.search_seconds > 0.0 || s.search_evaluations > 0))
+    throw InputError("search_seconds or search_evaluations must be > 0: a search needs a budget");
+  if (s.threads < 1) throw InputError("threads must be >= 1");
 }
 
 Study::Study(const StudySettings& settings, RunControl control)

@@ -40,10 +40,10 @@ struct StudySettings {
   std::string trajectory;
 };
 
-/// Throws InputError naming the first invalid field (by its StudySettings and manifest name):
-/// durations and the horizon must be > 0, noise, segments and budgets >= 0 with one budget set,
-/// perturb in [0, 1), refine_iterations and threads >= 1, refine_seconds and refine_tolerance >= 0,
-/// prior_weight > 0. The robot is checked when loaded.
+/// Throws InputError naming the first invalid field (by its StudySettings and manifest name) and
+/// its range from the one option table (core/option_ranges.hpp: durations as --duration, the
+/// rest as the study's options), and when neither search budget is set or threads < 1. The robot
+/// is checked when loaded.
 void validateStudySettings(const StudySettings& settings);
 
 /// The paper's Fig. 4: held-out GC errors of random configurations near the truth (every paper
