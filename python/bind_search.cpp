@@ -373,15 +373,22 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
 }
 
 void bindSimulate(py::module_& m) {
-  m.def("simulate", &simulatePy, py::arg("model"), py::arg("duration") = 10.0, py::arg("dt") = 1e-3,
-        py::arg("rate") = 1000.0, py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5,
+  m.def("simulate", &simulatePy, py::arg("model"),
+        py::arg("duration") = SimulateRequest{}.simulation.duration,
+        py::arg("dt") = SimulateRequest{}.simulation.step,
+        py::arg("rate") = SimulateRequest{}.simulation.record_rate,
+        py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5,
         py::arg("q0") = py::none(), py::arg("frequency") = py::none(),
-        py::arg("phase") = py::none(), py::arg("base_frequency") = 0.1, py::arg("harmonics") = 5,
-        py::arg("kp") = py::none(), py::arg("kd") = py::none(), py::arg("tau_max") = py::none(),
-        py::arg("bandwidth") = 5.0, py::arg("controller_model") = py::none(),
-        py::arg("controller_perturb") = 0.0, py::arg("integrator") = "rk4",
-        py::arg("noise_q") = 0.0, py::arg("noise_dq") = 0.0, py::arg("noise_tau") = 0.0,
-        py::arg("seed") = 1, py::arg("trajectory") = py::none(),
+        py::arg("phase") = py::none(), py::arg("base_frequency") = SimulateRequest{}.base_frequency,
+        py::arg("harmonics") = SimulateRequest{}.harmonics, py::arg("kp") = py::none(),
+        py::arg("kd") = py::none(), py::arg("tau_max") = py::none(),
+        py::arg("bandwidth") = SimulateRequest{}.bandwidth,
+        py::arg("controller_model") = py::none(),
+        py::arg("controller_perturb") = SimulateRequest{}.controller_perturb,
+        py::arg("integrator") = "rk4", py::arg("noise_q") = SimulateRequest{}.simulation.noise_q,
+        py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
+        py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau, py::arg("seed") = 1,
+        py::arg("trajectory") = py::none(),
         "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
         "Per-joint settings take one number or n; trajectory: an excitation.json design.");
 
