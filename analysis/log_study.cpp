@@ -4,9 +4,9 @@
 #include <chrono>
 #include <cmath>
 
-#include "core/option_ranges.hpp"
 #include "analysis/pipeline.hpp"
 #include "core/errors.hpp"
+#include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
 
 namespace dynid {

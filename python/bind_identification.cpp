@@ -5,9 +5,9 @@
 
 #include <pybind11/stl.h>
 
-#include "core/option_ranges.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
+#include "core/option_ranges.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
 #include "reports/identification_report.hpp"

@@ -7,10 +7,10 @@
 
 #include <pybind11/stl.h>
 
-#include "core/option_ranges.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/option_ranges.hpp"
 #include "core/parallel.hpp"
 #include "core/parameters.hpp"
 #include "data/dataset_csv.hpp"
