@@ -11,19 +11,21 @@ namespace dynid::cli {
 
 int runDemo(const std::vector<std::string>& args) {
   po::options_description options("dynid demo");
+  const DemoOptions d;  // every default is the options' own
   options.add_options()("out", po::value<std::string>()->default_value("dynid-demo"),
                         "output directory (summary.json, report.md, report.html)")(
       "quick", po::bool_switch(), "4 s of data, 20 segments, 2 s searches (about 20 s in all)")(
-      "seed", po::value<std::uint64_t>()->default_value(1),
+      "seed", po::value<std::uint64_t>()->default_value(d.seed),
       "seed of the initial guess and the searches")(
-      "search-seconds", po::value<double>()->default_value(0.0),
+      "search-seconds", po::value<double>()->default_value(d.search_seconds),
       "wall time of each search (0: 30 s, 2 s with --quick)")(
-      "search-evaluations", po::value<long>()->default_value(0),
+      "search-evaluations", po::value<long>()->default_value(d.search_evaluations),
       "GC evaluations of each search (0: no limit); alone, it replaces the time limit, so the "
       "table is the same on every machine for a seed")(
-      "refine-iterations", po::value<int>()->default_value(0),
+      "refine-iterations", po::value<int>()->default_value(d.refine_iterations),
       "per refinement stage (0: 200, 30 with --quick)")(
-      "refine-seconds", po::value<double>()->default_value(0.0), "per refinement (0: no limit)");
+      "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
+      "per refinement (0: no limit)");
   addPriorWeightOption(options);
   addKeepRefinementOption(options);
   addThreadsOption(options);

@@ -193,7 +193,8 @@ void bindBaseParameters(py::module_& m) {
         py::gil_scoped_release release;
         return structuralBaseParameters(model, options);
       },
-      py::arg("model"), py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
+      py::arg("model"), py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
+      py::arg("tolerance") = StructuralOptions{}.tolerance,
       "The model's structural base parameters from `samples` seeded random states.");
 }
 
@@ -244,8 +245,9 @@ void bindIdentifiability(py::module_& m) {
         out.outcome = identifiabilityRun(model, options, d.path, threads, d.arrays);
         return out;
       },
-      py::arg("model"), py::arg("data") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
-      py::arg("tolerance") = 0.0, py::arg("threads") = 0,
+      py::arg("model"), py::arg("data") = py::none(),
+      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
+      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
       "Structural base parameters and conditioning, and with `data` (a path or a Dataset) how "
       "that dataset excites them.");
 }
@@ -321,8 +323,10 @@ void bindIdentify(py::module_& m) {
 
   m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
         py::arg("validate") = py::none(), py::arg("prior") = py::none(),
-        py::arg("prior_weight") = kDefaultPriorWeight, py::arg("samples") = 0, py::arg("seed") = 1,
-        py::arg("tolerance") = 0.0, py::arg("threads") = 0, py::arg("robot_spec") = "",
+        py::arg("prior_weight") = kDefaultPriorWeight,
+        py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
+        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
+        py::arg("robot_spec") = "",
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
         "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
         "the model's own parameters). `validate`: held-out data. `robot_spec` is recorded for "

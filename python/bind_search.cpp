@@ -408,8 +408,9 @@ void bindSimulate(py::module_& m) {
         GcWorkspace workspace(pool.numThreads());
         return gcError(local, problem, workspace, pool);
       },
-      py::arg("model"), py::arg("data"), py::arg("horizon") = 0.05, py::arg("segments") = 100,
-      py::arg("random_segments") = false, py::arg("integrator") = "rk4", py::arg("step") = 0.0,
+      py::arg("model"), py::arg("data"), py::arg("horizon") = SegmentOptions{}.horizon,
+      py::arg("segments") = SegmentOptions{}.num_segments, py::arg("random_segments") = false,
+      py::arg("integrator") = "rk4", py::arg("step") = SegmentOptions{}.step,
       py::arg("normalise") = false, py::arg("seed") = 1, py::arg("threads") = 0,
       "The paper's GC error of the model on `data`: the summed squared error of (q, dq) "
       "predicted `horizon` seconds ahead from each segment's measured start, as `dynid search` "
@@ -566,8 +567,9 @@ void bindExcite(py::module_& m) {
         py::arg("dq_max") = py::none(), py::arg("ddq_max") = py::none(),
         py::arg("tau_max") = py::none(), py::arg("torque_margin") = LimitOverrides{}.torque_margin,
         py::arg("floor") = py::none(), py::arg("base_radius") = LimitOverrides{}.base_radius,
-        py::arg("samples") = 0, py::arg("seed") = 1, py::arg("tolerance") = 0.0,
-        py::arg("threads") = 0, py::arg("robot_spec") = "",
+        py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
+        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
+        py::arg("robot_spec") = "",
         "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
         "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
 }
