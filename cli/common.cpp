@@ -261,7 +261,7 @@ void addStructuralOptions(po::options_description& options) {
   const StructuralOptions d;  // every default is the options' own
   options.add_options()("samples", po::value<int>()->default_value(d.samples),
                         "random states for the structural analysis (0: max(100, 5 p / n))")(
-      "seed", po::value<std::uint64_t>()->default_value(1), "seed of the random states")(
+      "seed", po::value<std::uint64_t>()->default_value(d.seed), "seed of the random states")(
       "tolerance", po::value<double>()->default_value(d.tolerance),
       "rank tolerance on |R_jj| of the unit-column W (0: 1e-8 max|R_jj|)");
 }
