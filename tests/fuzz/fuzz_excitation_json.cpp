@@ -1,10 +1,10 @@
 // libFuzzer target: an excitation.json of dynid excite as simulate --trajectory and batch read it
-// (analysis/excitation/excite.hpp, excitationDesignFrom). An accepted design must give a finite
-// motion.
+// (analysis/records/excitation_record.hpp, excitationDesignFrom). An accepted design must give a
+// finite motion.
 #include <algorithm>
 #include <cstdint>
 
-#include "analysis/excitation/excite.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
 #include "data/json_reader.hpp"
