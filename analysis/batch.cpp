@@ -243,7 +243,7 @@ BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool qu
   // Every run's values checked before anything starts (a bad one would only fail in its worker).
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     try {
-      validateStudySettings(studySettingsOf(plan.runs[i]));
+      studySettingsOf(plan.runs[i]).check();
     } catch (const InputError& e) {
       throw ParseError(manifest, 0, "run " + std::to_string(i), e.what());
     }

@@ -8,10 +8,22 @@
 #include "analysis/correlation.hpp"
 #include "analysis/runs.hpp"
 #include "analysis/study.hpp"
+#include "core/option_ranges.hpp"
 
 namespace dynid {
 
+void DemoOptions::check() const {
+  checkOption("demo", "threads", threads, "threads");
+  checkOption("demo", "search-seconds", search_seconds, "search_seconds");
+  checkOption("demo", "search-evaluations", static_cast<double>(search_evaluations),
+              "search_evaluations");
+  checkOption("demo", "refine-iterations", refine_iterations, "refine_iterations");
+  checkOption("demo", "refine-seconds", refine_seconds, "refine_seconds");
+  checkOption("demo", "prior-weight", prior_weight, "prior_weight");
+}
+
 DemoResult runDemo(const DemoOptions& options) {
+  options.check();
   const auto start = std::chrono::steady_clock::now();
   const auto stopped = [&] { return options.control.interrupted(); };
   StudySettings study_settings;

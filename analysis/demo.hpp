@@ -12,6 +12,7 @@
 
 #include "analysis/comparison.hpp"
 #include "analysis/study.hpp"
+#include "core/parallel.hpp"
 #include "search/optimizers.hpp"
 
 namespace dynid {
@@ -19,7 +20,7 @@ namespace dynid {
 struct DemoOptions {
   bool quick = false;           // 4 s of data, 20 segments, 2 s searches (the tests' mode)
   std::uint64_t seed = 1;       // the initial guess's perturbation and the searches
-  int threads = 0;              // 0: all cores
+  int threads = kAllThreads;    // 0: all cores
   double search_seconds = 0;    // per search; 0: 30 s (2 s quick), unless evaluations are set
   long search_evaluations = 0;  // per search; 0: no limit (then search_seconds applies)
   int refine_iterations = 0;    // per refinement stage; 0: 200 (30 quick)
@@ -27,6 +28,10 @@ struct DemoOptions {
   double prior_weight = kDefaultPriorWeight;  // pc
   bool keep_if_better = true;  // keep a search's result that its refinement did not improve
   RunControl control;  // stop (SIGINT): finish the current stage, skip the rest; progress per stage
+
+  /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
+  /// as dynid demo's options, by field name). runDemo checks its options first.
+  void check() const;
 };
 
 struct DemoIdentifiability {

@@ -19,24 +19,6 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void validate(const LogStudyRequest& r) {
-  if (r.data_file.empty()) throw InputError("the study needs training data (--data)");
-  if (r.validate_file.empty()) throw InputError("the study needs held-out data (--validate)");
-  // The ranges of dynid study's options (core/option_ranges.hpp), by field name.
-  checkOption("study", "horizon", r.segments.horizon, "horizon");
-  checkOption("study", "segments", r.segments.num_segments, "segments");
-  checkOption("study", "search-seconds", r.search_seconds, "search_seconds");
-  checkOption("study", "search-evaluations", static_cast<double>(r.search_evaluations),
-              "search_evaluations");
-  if (r.search_seconds == 0.0 && r.search_evaluations == 0)
-    throw InputError("a search needs a budget: search seconds or evaluations > 0");
-  checkOption("study", "refine-iterations", r.refine_iterations, "refine_iterations");
-  checkOption("study", "refine-seconds", r.refine_seconds, "refine_seconds");
-  checkOption("study", "refine-tolerance", r.refine_tolerance, "refine_tolerance");
-  checkOption("study", "prior-weight", r.prior_weight, "prior_weight");
-  checkOption("study", "threads", r.threads, "threads");
-}
-
 /// The GC problem of a dataset with at most the requested segments (all it holds when fewer).
 GcProblem gcProblem(const Trajectory& data, SegmentOptions options, const std::string& file) {
   try {
@@ -53,8 +35,26 @@ GcProblem gcProblem(const Trajectory& data, SegmentOptions options, const std::s
 
 }  // namespace
 
+void LogStudyRequest::check() const {
+  if (data_file.empty()) throw InputError("the study needs training data (--data)");
+  if (validate_file.empty()) throw InputError("the study needs held-out data (--validate)");
+  // The ranges of dynid study's options (core/option_ranges.hpp), by field name.
+  checkOption("study", "horizon", segments.horizon, "horizon");
+  checkOption("study", "segments", segments.num_segments, "segments");
+  checkOption("study", "search-seconds", search_seconds, "search_seconds");
+  checkOption("study", "search-evaluations", static_cast<double>(search_evaluations),
+              "search_evaluations");
+  if (search_seconds == 0.0 && search_evaluations == 0)
+    throw InputError("a search needs a budget: search seconds or evaluations > 0");
+  checkOption("study", "refine-iterations", refine_iterations, "refine_iterations");
+  checkOption("study", "refine-seconds", refine_seconds, "refine_seconds");
+  checkOption("study", "refine-tolerance", refine_tolerance, "refine_tolerance");
+  checkOption("study", "prior-weight", prior_weight, "prior_weight");
+  checkOption("study", "threads", threads, "threads");
+}
+
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
-  validate(request);
+  request.check();
   const auto t0 = Clock::now();
   const auto say = [&](const std::string& line) { request.control.say(line); };
   const auto stopped = [&] { return request.control.interrupted(); };

@@ -33,8 +33,13 @@ struct LogStudyRequest {
   double prior_weight =
       kDefaultPriorWeight;  // pc (and so the searches' start): PhysicalOptions::prior_weight
   std::uint64_t seed = 1;
-  int threads = 0;  // 0: every core
+  int threads = kAllThreads;  // 0: every core
   RunControl control;
+
+  /// Throws InputError when a dataset is missing, no search budget is set or a numeric field is
+  /// out of its range (core/option_ranges.hpp, as dynid study's options, by field name).
+  /// logStudyRun checks its request first.
+  void check() const;
 };
 
 /// One model measured on both datasets.

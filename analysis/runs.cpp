@@ -103,9 +103,9 @@ FourierSeries randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& am
 }
 
 SimulateOutcome simulateRun(const SimulateRequest& request) {
+  request.check();
   const Model& truth = request.robot;
   const int n = truth.numJoints();
-  if (request.harmonics < 1) throw InputError("harmonics must be at least 1");
   // The controller's own model: another robot, or the truth, optionally perturbed.
   Model controller_model = request.controller_model.value_or(truth);
   if (controller_model.numJoints() != n)
@@ -191,6 +191,7 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 // ---- identification ----
 
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
+  request.check();
   const Model& model = request.model;
   IdentifyOutcome out;
   out.method = request.method;
@@ -335,18 +336,15 @@ std::pair<double, double> heldOutGc(const Model& first, const Model& second,
 }
 
 SearchOutcome searchRun(const SearchRequest& request) {
+  request.check();
   const Model& robot = request.robot;
   if (!isSearch(request.method))
     throw InputError(std::string("'") + methodName(request.method) + "' is not a search (" +
                      methodList(searchMethods()) + ")");
   SearchBudget budget = request.budget;
-  if (budget.max_evaluations < 0 || budget.max_seconds < 0)
-    throw InputError("budgets must be >= 0");
   if (budget.max_evaluations == 0 && budget.max_seconds == 0 && budget.gc_tolerance <= 0)
     budget.max_seconds = 60.0;  // never run unbounded
   const std::string& mass = request.mass_constraint;
-  if (mass != "on" && mass != "off" && mass != "auto")
-    throw InputError("the mass constraint must be on, off or auto, not '" + mass + "'");
 
   Model initial = request.init.value_or(robot);
   if (request.perturb) initial = perturbedModel(robot, *request.perturb, request.seed);
@@ -419,6 +417,7 @@ SearchOutcome searchRun(const SearchRequest& request) {
 // ---- refinement ----
 
 RefineOutcome refineRun(const RefineRequest& request) {
+  request.check();
   const Model& robot = request.robot;
   RefineOutcome out;
   out.robot = robot.name;
@@ -427,7 +426,6 @@ RefineOutcome refineRun(const RefineRequest& request) {
   out.options = request.options;
   out.options.num_threads = resolveThreads(request.options.num_threads);
   out.options.control = request.control;
-  if (out.options.max_iterations < 1) throw InputError("max_iterations must be >= 1");
 
   // The search's space and segments (search.json), or the request's (estimate.json).
   SpaceOptions space_options;

@@ -20,6 +20,7 @@
 #include "analysis/records/prepare_record.hpp"
 #include "analysis/streaming.hpp"
 #include "core/model.hpp"
+#include "core/parallel.hpp"
 #include "core/parameters.hpp"
 #include "core/simulate.hpp"
 #include "core/trajectory.hpp"
@@ -72,6 +73,10 @@ struct SimulateRequest {
   std::optional<Eigen::VectorXd> kp, kd, tau_max;   // default gains and effort limits otherwise
   double bandwidth = 5.0;                           // for the default gains [Hz]
   SimulationOptions simulation;
+
+  /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
+  /// as dynid simulate's options). simulateRun checks its request first.
+  void check() const;
 };
 struct SimulateOutcome {
   Trajectory trajectory;
@@ -109,7 +114,8 @@ struct IdentifiabilityOutcome {
 /// dataset excites them (streamed on `threads` threads, 0: all; the same result for any count).
 /// `data`, when given, holds that dataset in memory (`data_file` then only names it).
 IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
-                                          const std::string& data_file = "", int threads = 0,
+                                          const std::string& data_file = "",
+                                          int threads = kAllThreads,
                                           const Trajectory* data = nullptr);
 
 // ---- identification ----
@@ -128,8 +134,12 @@ struct IdentifyRequest {
   StructuralOptions structural;
   /// The URDF the model was loaded from, to write the estimate back into (empty: no write-back).
   std::string write_back_from;
-  std::string robot_spec;  // how the robot was named (--robot), recorded for `dynid predict`
-  int threads = 0;         // for the streamed passes over the data (0: all cores)
+  std::string robot_spec;     // how the robot was named (--robot), recorded for `dynid predict`
+  int threads = kAllThreads;  // for the streamed passes over the data (0: all cores)
+
+  /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
+  /// as dynid identify's options). identifyRun checks its request first.
+  void check() const;
 };
 /// The estimate written back into the robot's own files (data/urdf_writeback.hpp).
 struct WriteBack {
@@ -167,7 +177,7 @@ struct PredictRequest {
   std::string estimate_file;       // an identify estimate.json
   std::string data_file;           // a dataset CSV
   std::string robot_spec;          // empty: the estimate's own
-  int threads = 0;                 // 0: all cores; the same result for any count
+  int threads = kAllThreads;       // 0: all cores; the same result for any count
   PredictionSink* sink = nullptr;  // receives every sample's prediction, in order (may be null)
 };
 struct PredictOutcome {
@@ -199,10 +209,14 @@ struct SearchRequest {
   NloOptions nlo;
   GaOptions ga;
   std::uint64_t seed = 1;
-  int threads = 0;         // 0: all cores
-  std::string checkpoint;  // saved after every round or generation; resumed when it exists
+  int threads = kAllThreads;  // 0: all cores
+  std::string checkpoint;     // saved after every round or generation; resumed when it exists
   RunControl control;
   std::function<void(const SearchState&)> on_iteration;  // progress (after the checkpoint)
+
+  /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
+  /// as dynid search's options). searchRun checks its request first.
+  void check() const;
 };
 
 struct SearchOutcome {
@@ -235,6 +249,10 @@ struct RefineRequest {
   double horizon = 0.05;
   int segments = 100;
   RunControl control;
+
+  /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
+  /// as dynid refine's options). refineRun checks its request first.
+  void check() const;
 };
 
 struct RefineOutcome {

@@ -59,32 +59,32 @@ Trajectory simulateRun(const Model& truth, const StudySettings& s, bool held_out
 
 }  // namespace
 
-void validateStudySettings(const StudySettings& s) {
+void StudySettings::check() const {
   // The ranges of the one option table (core/option_ranges.hpp), under the manifest's names.
-  checkOption("batch", "duration", s.train_seconds, "train_seconds");
-  checkOption("batch", "duration", s.test_seconds, "test_seconds");
-  checkOption("batch", "noise-q", s.noise_q, "noise_q");
-  checkOption("batch", "noise-dq", s.noise_dq, "noise_dq");
-  checkOption("batch", "noise-tau", s.noise_tau, "noise_tau");
-  checkOption("batch", "segments", s.segments, "segments");  // 0: every segment
-  checkOption("batch", "horizon", s.horizon, "horizon");
-  checkOption("batch", "perturb", s.perturb, "perturb");
-  checkOption("batch", "search-seconds", s.search_seconds, "search_seconds");
-  checkOption("batch", "search-evaluations", static_cast<double>(s.search_evaluations),
+  checkOption("batch", "duration", train_seconds, "train_seconds");
+  checkOption("batch", "duration", test_seconds, "test_seconds");
+  checkOption("batch", "noise-q", noise_q, "noise_q");
+  checkOption("batch", "noise-dq", noise_dq, "noise_dq");
+  checkOption("batch", "noise-tau", noise_tau, "noise_tau");
+  checkOption("batch", "segments", segments, "segments");  // 0: every segment
+  checkOption("batch", "horizon", horizon, "horizon");
+  checkOption("batch", "perturb", perturb, "perturb");
+  checkOption("batch", "search-seconds", search_seconds, "search_seconds");
+  checkOption("batch", "search-evaluations", static_cast<double>(search_evaluations),
               "search_evaluations");
-  checkOption("study", "refine-iterations", s.refine_iterations, "refine_iterations");
-  checkOption("batch", "refine-seconds", s.refine_seconds, "refine_seconds");
-  checkOption("batch", "refine-tolerance", s.refine_tolerance, "refine_tolerance");
-  checkOption("batch", "prior-weight", s.prior_weight, "prior_weight");
-  if (!(s.search_seconds > 0.0 || s.search_evaluations > 0))
+  checkOption("study", "refine-iterations", refine_iterations, "refine_iterations");
+  checkOption("batch", "refine-seconds", refine_seconds, "refine_seconds");
+  checkOption("batch", "refine-tolerance", refine_tolerance, "refine_tolerance");
+  checkOption("batch", "prior-weight", prior_weight, "prior_weight");
+  if (!(search_seconds > 0.0 || search_evaluations > 0))
     throw InputError("search_seconds or search_evaluations must be > 0: a search needs a budget");
-  if (s.threads < 1) throw InputError("threads must be >= 1");
+  if (threads < 1) throw InputError("threads must be >= 1");
 }
 
 Study::Study(const StudySettings& settings, RunControl control)
     : settings_(settings), control_(std::move(control)) {
   const auto say = [&](const std::string& line) { control_.say(line); };
-  validateStudySettings(settings_);
+  settings_.check();
   truth_ = loadRobot(settings_.robot);
   initial_ = perturbedModel(truth_, settings_.perturb, settings_.seed);
   say("simulating " + std::to_string(settings_.train_seconds) + " s of training and " +

@@ -38,13 +38,13 @@ struct StudySettings {
   int threads = 1;
   /// The training motion: an excitation.json of `dynid excite` (empty: the default sinusoid).
   std::string trajectory;
-};
 
-/// Throws InputError naming the first invalid field (by its StudySettings and manifest name) and
-/// its range from the one option table (core/option_ranges.hpp: durations as --duration, the
-/// rest as the study's options), and when neither search budget is set or threads < 1. The robot
-/// is checked when loaded.
-void validateStudySettings(const StudySettings& settings);
+  /// Throws InputError naming the first invalid field (by its StudySettings and manifest name)
+  /// and its range from the one option table (core/option_ranges.hpp: durations as --duration,
+  /// the rest as the study's options), and when neither search budget is set or threads < 1. The
+  /// robot is checked when loaded.
+  void check() const;
+};
 
 /// The paper's Fig. 4: held-out GC errors of random configurations near the truth (every paper
 /// parameter within +-range of its true value), and where an estimate's falls among them.

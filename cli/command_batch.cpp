@@ -81,8 +81,8 @@ int runBatch(const std::vector<std::string>& args) {
   if (!args.empty() && args[0] == "merge") return runMerge({args.begin() + 1, args.end()});
   po::options_description options("dynid batch");
   options.add_options()("manifest", po::value<std::string>()->required(), "MANIFEST.json")(
-      "jobs", po::value<int>()->default_value(1), "runs at a time (worker processes)")(
-      "shard", po::value<std::string>(), "K/N: only the runs whose index mod N is K - 1")(
+      "jobs", po::value<int>()->default_value(1))("shard", po::value<std::string>(),
+                                                  "K/N: only the runs whose index mod N is K - 1")(
       "quick", po::bool_switch(),
       "every run with 4 s of data, 20 segments, 100-evaluation searches, 20 refinement "
       "iterations (tests, trials)")("out", po::value<std::string>()->required(),

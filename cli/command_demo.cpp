@@ -17,15 +17,10 @@ int runDemo(const std::vector<std::string>& args) {
       "quick", po::bool_switch(), "4 s of data, 20 segments, 2 s searches (about 20 s in all)")(
       "seed", po::value<std::uint64_t>()->default_value(d.seed),
       "seed of the initial guess and the searches")(
-      "search-seconds", po::value<double>()->default_value(d.search_seconds),
-      "wall time of each search (0: 30 s, 2 s with --quick)")(
-      "search-evaluations", po::value<long>()->default_value(d.search_evaluations),
-      "GC evaluations of each search (0: no limit); alone, it replaces the time limit, so the "
-      "table is the same on every machine for a seed")(
-      "refine-iterations", po::value<int>()->default_value(d.refine_iterations),
-      "per refinement stage (0: 200, 30 with --quick)")(
-      "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
-      "per refinement (0: no limit)");
+      "search-seconds", po::value<double>()->default_value(d.search_seconds))(
+      "search-evaluations", po::value<long>()->default_value(d.search_evaluations))(
+      "refine-iterations", po::value<int>()->default_value(d.refine_iterations))(
+      "refine-seconds", po::value<double>()->default_value(d.refine_seconds));
   addPriorWeightOption(options);
   addKeepRefinementOption(options);
   addThreadsOption(options);

@@ -21,8 +21,8 @@ void addExciteOptions(po::options_description& options) {
       "cond-unscaled (in SI units), d-optimal (-log det of the information per row), gc (the "
       "first-order GC error sensitivity M^-1 W1) or relative-sd (the RMS expected standard "
       "deviation of the base parameters relative to the model's values)")(
-      "period", po::value<double>()->default_value(d.period), "period of the motion [s]")(
-      "harmonics", po::value<int>()->default_value(d.harmonics), "harmonics per joint")(
+      "period", po::value<double>()->default_value(d.period))(
+      "harmonics", po::value<int>()->default_value(d.harmonics))(
       "offset", po::value<std::string>(),
       "fixed centre of each joint's motion [rad] (default: optimised from the middle of the "
       "limits)")("q-min", po::value<std::string>(),
@@ -34,30 +34,18 @@ void addExciteOptions(po::options_description& options) {
       "acceleration limits [rad/s^2] (default: the model's, else 5)")(
       "tau-max", po::value<std::string>(),
       "torque limits [N m] (default: the model's effort limits, else none)")(
-      "torque-margin", po::value<double>()->default_value(limits.torque_margin),
-      "keep |tau| within this fraction of the torque limits")(
-      "floor", po::value<double>(),
-      "keep every link origin above this height in the base frame [m] (default: no floor)")(
-      "base-radius", po::value<double>()->default_value(limits.base_radius),
-      "keep the last link's origin this far from the base z axis [m]")(
-      "starts", po::value<int>()->default_value(d.starts),
-      "optimiser starts (seeded random designs)")("evaluations",
-                                                  po::value<int>()->default_value(d.evaluations),
-                                                  "COBYLA evaluations per start")(
-      "budget-seconds", po::value<double>()->default_value(0.0),
-      "stop after this wall time and keep the best design [s] (0: no limit)")(
-      "grid-rate", po::value<double>()->default_value(d.grid_rate),
-      "samples per second of the optimiser's criterion and limits [Hz]")(
-      "check-rate", po::value<double>()->default_value(d.check_rate),
-      "samples per second of the final limit check and the scores [Hz]")(
-      "csv-rate", po::value<double>()->default_value(1000.0),
-      "samples per second of excitation.csv [Hz]")(
-      "segments", po::value<int>()->default_value(d.gc_segments),
-      "segments of the GC criterion's Jacobian (as dynid search)")(
-      "horizon", po::value<double>()->default_value(d.gc_horizon),
-      "horizon of the GC criterion's segments [s]")(
-      "torque-noise", po::value<double>()->default_value(d.torque_noise),
-      "torque noise for the expected standard deviations [N m]")(
+      "torque-margin", po::value<double>()->default_value(limits.torque_margin))(
+      "floor", po::value<double>())("base-radius",
+                                    po::value<double>()->default_value(limits.base_radius))(
+      "starts", po::value<int>()->default_value(d.starts))(
+      "evaluations", po::value<int>()->default_value(d.evaluations))(
+      "budget-seconds", po::value<double>()->default_value(0.0))(
+      "grid-rate", po::value<double>()->default_value(d.grid_rate))(
+      "check-rate", po::value<double>()->default_value(d.check_rate))(
+      "csv-rate", po::value<double>()->default_value(ExcitationSettings{}.csv_rate))(
+      "segments", po::value<int>()->default_value(d.gc_segments))(
+      "horizon", po::value<double>()->default_value(d.gc_horizon))(
+      "torque-noise", po::value<double>()->default_value(d.torque_noise))(
       "out", po::value<std::string>()->required(),
       "output directory (excitation.json, excitation.csv, report.md, report.html)");
   addThreadsOption(options);

@@ -29,28 +29,24 @@ void addPrepareOptions(po::options_description& options) {
       "current-file", po::value<std::string>(), "same layout: motor currents [A]")(
       "torque-constants", po::value<std::string>(), "with currents: N m/A per joint")(
       "gear-ratios", po::value<std::string>(), "with currents: per joint (default 1)")(
-      "joints", po::value<int>()->default_value(0), "joints (files: required)")(
+      "joints", po::value<int>()->default_value(LogSource{}.num_joints))(
       "time-unit", po::value<std::string>()->default_value("s"), "s, ms, us or ns")(
       "angle-unit", po::value<std::string>()->default_value("rad"), "rad or deg (q and dq)")(
-      "rate", po::value<double>()->default_value(d.rate), "resampling rate [Hz] (0: median)")(
+      "rate", po::value<double>()->default_value(d.rate))(
       "cutoff", po::value<std::string>()->default_value("default"),
       "low-pass [Hz], 0 (none), auto (from q's spectrum) or default (10, rate/4 below 40 Hz)")(
-      "order", po::value<int>()->default_value(d.order), "Butterworth order")(
-      "decimate", po::value<int>()->default_value(d.decimate), "keep every Nth sample")(
-      "max-gap", po::value<double>()->default_value(d.max_gap),
-      "split at longer steps [s] (0: 5 steps)")("trim", po::value<double>()->default_value(d.trim),
-                                                "dropped at run ends [s] (<0: 2/cutoff)")(
-      "derive-dq", po::bool_switch(), "dq from q even when logged")(
+      "order", po::value<int>()->default_value(d.order))(
+      "decimate", po::value<int>()->default_value(d.decimate))(
+      "max-gap", po::value<double>()->default_value(d.max_gap))(
+      "trim", po::value<double>()->default_value(d.trim))("derive-dq", po::bool_switch(),
+                                                          "dq from q even when logged")(
       "derive-ddq", po::bool_switch(), "ddq by differentiation even when logged")(
       "derivative", po::value<std::string>()->default_value("central"),
       "central (differences) or savgol (Savitzky-Golay)")(
-      "savgol-window", po::value<int>()->default_value(d.savgol_window),
-      "savgol: odd samples (0: auto)")("savgol-degree",
-                                       po::value<int>()->default_value(d.savgol_degree),
-                                       "savgol: polynomial degree")(
+      "savgol-window", po::value<int>()->default_value(d.savgol_window))(
+      "savgol-degree", po::value<int>()->default_value(d.savgol_degree))(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
-      "validate-fraction", po::value<double>()->default_value(d.validate_fraction),
-      "hold out the last fraction of each run as validate.csv")(
+      "validate-fraction", po::value<double>()->default_value(d.validate_fraction))(
       "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
       "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(
       "out", po::value<std::string>()->required(), "output directory");

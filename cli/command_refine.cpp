@@ -20,24 +20,18 @@ void addRefineOptions(po::options_description& options) {
       "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
       "estimate-initial-states", po::bool_switch(),
       "estimate each segment's start state with the parameters (noisy measured starts)")(
-      "continuity-weight", po::value<double>()->default_value(d.options.continuity_weight),
-      "with --estimate-initial-states: weight of the gap between a segment's predicted end and "
-      "the next segment's start where they meet (contiguous segments, multiple shooting); 0 keeps "
-      "the measured end states")("max-iterations",
-                                 po::value<int>()->default_value(d.options.max_iterations),
-                                 "Levenberg-Marquardt iterations per stage")(
+      "continuity-weight", po::value<double>()->default_value(d.options.continuity_weight))(
+      "max-iterations", po::value<int>()->default_value(d.options.max_iterations))(
       "no-base-stage", po::bool_switch(),
       "refine the free parameters directly, without first solving in base coordinates")(
       "no-gauge", po::bool_switch(),
       "let the directions that change no base parameter move (slower; for starts at a bound)")(
-      "budget-seconds", po::value<double>()->default_value(d.options.max_seconds),
-      "stop after this time (0: none)")("form", po::value<std::string>()->default_value("paper"),
-                                        "from estimate.json: paper or standard parameters")(
-      "range", po::value<double>()->default_value(d.range),
-      "from estimate.json: bounds, start +- this fraction")(
-      "horizon", po::value<double>()->default_value(d.horizon),
-      "from estimate.json: prediction horizon [s]")(
-      "segments", po::value<int>()->default_value(d.segments), "from estimate.json: segments")(
+      "budget-seconds", po::value<double>()->default_value(d.options.max_seconds))(
+      "form", po::value<std::string>()->default_value("paper"),
+      "from estimate.json: paper or standard parameters")(
+      "range", po::value<double>()->default_value(d.range))(
+      "horizon", po::value<double>()->default_value(d.horizon))(
+      "segments", po::value<int>()->default_value(d.segments))(
       "out", po::value<std::string>()->required(), "output directory (refine.json)");
   addThreadsOption(options);
 }

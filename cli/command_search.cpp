@@ -18,50 +18,38 @@ void addSearchOptions(po::options_description& options, SearchRequest& r) {
                         "nlo (multistart COBYLA), ga or hybrid")(
       "data", po::value(&r.data_file)->required(), "training dataset CSV")(
       "init", po::value<std::string>(), "initial estimate: a robot spec (puma560, .urdf, .json)")(
-      "perturb", po::value<double>(),
-      "initial estimate: the robot's parameters perturbed uniformly by up to this fraction")(
-      "truth", po::value<std::string>(), "true model (robot spec), for parameter errors")(
+      "perturb", po::value<double>())("truth", po::value<std::string>(),
+                                      "true model (robot spec), for parameter errors")(
       "validate", po::value(&r.validate_file),
       "held-out dataset CSV: its GC error before and after")(
       "seed", po::value(&r.seed)->default_value(r.seed), "seed of every random choice")(
-      "budget-evals", po::value(&r.budget.max_evaluations)->default_value(r.budget.max_evaluations),
-      "stop after this many GC evaluations")(
-      "budget-seconds", po::value(&r.budget.max_seconds)->default_value(r.budget.max_seconds),
-      "stop after this wall time [s]")(
-      "gc-tolerance", po::value(&r.budget.gc_tolerance)->default_value(r.budget.gc_tolerance),
-      "stop at this GC error")("form", po::value<std::string>()->default_value("paper"),
-                               "paper (7 per link) or standard (10)")(
-      "range", po::value(&r.space.relative_range)->default_value(r.space.relative_range),
-      "bounds: initial estimate +- this fraction")(
-      "absolute-range", po::value(&r.space.absolute_range)->default_value(r.space.absolute_range),
-      "range of parameters whose initial estimate is 0 (0: they stay fixed)")(
+      "budget-evals",
+      po::value(&r.budget.max_evaluations)->default_value(r.budget.max_evaluations))(
+      "budget-seconds", po::value(&r.budget.max_seconds)->default_value(r.budget.max_seconds))(
+      "gc-tolerance", po::value(&r.budget.gc_tolerance)->default_value(r.budget.gc_tolerance))(
+      "form", po::value<std::string>()->default_value("paper"),
+      "paper (7 per link) or standard (10)")(
+      "range", po::value(&r.space.relative_range)->default_value(r.space.relative_range))(
+      "absolute-range", po::value(&r.space.absolute_range)->default_value(r.space.absolute_range))(
       "fix", po::value<std::string>(), "parameters held at their initial estimate, e.g. m2,cx3")(
       "mass-constraint", po::value(&r.mass_constraint)->default_value(r.mass_constraint),
-      "on, off or auto (on for nlo and hybrid, off for ga, as in the paper)")(
-      "total-mass", po::value<double>(),
-      "total mass [kg] (default: the truth's, else the initial's)")(
-      "horizon", po::value(&r.segments.horizon)->default_value(r.segments.horizon),
-      "prediction horizon [s]")(
-      "segments", po::value(&r.segments.num_segments)->default_value(r.segments.num_segments),
-      "segments (0: all non-overlapping)")("random-segments",
-                                           po::bool_switch(&r.segments.random_starts),
-                                           "seeded random segment starts")(
-      "integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler (as the data)")(
-      "step", po::value(&r.segments.step)->default_value(r.segments.step),
-      "integration step [s] (0: sample period)")("normalise",
-                                                 po::bool_switch(&r.segments.normalise),
-                                                 "weight q and dq errors by 1 / their spread")(
-      "population", po::value(&r.ga.population)->default_value(r.ga.population), "GA population")(
-      "elites", po::value(&r.ga.elites)->default_value(r.ga.elites), "GA elites")(
-      "migration", po::value(&r.ga.migration)->default_value(r.ga.migration),
-      "GA migration factor")("mutation-rate",
-                             po::value(&r.ga.mutation_rate)->default_value(r.ga.mutation_rate),
-                             "GA per-parameter mutation rate")(
-      "mutation-scale", po::value(&r.ga.mutation_scale)->default_value(r.ga.mutation_scale),
-      "mutation sigma / |value| (GA and NLO)")(
+      "on, off or auto (on for nlo and hybrid, off for ga, as in the paper)")("total-mass",
+                                                                              po::value<double>())(
+      "horizon", po::value(&r.segments.horizon)->default_value(r.segments.horizon))(
+      "segments", po::value(&r.segments.num_segments)->default_value(r.segments.num_segments))(
+      "random-segments", po::bool_switch(&r.segments.random_starts),
+      "seeded random segment starts")("integrator", po::value<std::string>()->default_value("rk4"),
+                                      "rk4 or euler (as the data)")(
+      "step", po::value(&r.segments.step)->default_value(r.segments.step))(
+      "normalise", po::bool_switch(&r.segments.normalise),
+      "weight q and dq errors by 1 / their spread")(
+      "population", po::value(&r.ga.population)->default_value(r.ga.population))(
+      "elites", po::value(&r.ga.elites)->default_value(r.ga.elites))(
+      "migration", po::value(&r.ga.migration)->default_value(r.ga.migration))(
+      "mutation-rate", po::value(&r.ga.mutation_rate)->default_value(r.ga.mutation_rate))(
+      "mutation-scale", po::value(&r.ga.mutation_scale)->default_value(r.ga.mutation_scale))(
       "evals-per-seed",
-      po::value(&r.nlo.evaluations_per_seed)->default_value(r.nlo.evaluations_per_seed),
-      "NLO COBYLA evaluations per seed")(
+      po::value(&r.nlo.evaluations_per_seed)->default_value(r.nlo.evaluations_per_seed))(
       "checkpoint", po::value(&r.checkpoint),
       "save after every round or generation; resume if it exists")(
       "out", po::value<std::string>()->required(), "output directory (search.json)");

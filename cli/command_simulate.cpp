@@ -24,34 +24,27 @@ void addSimulateOptions(po::options_description& options) {
       "frequency", po::value<std::string>(),
       "sinusoidal: frequency per joint [Hz] (default 0.15, 0.22, 0.29, ...)")(
       "phase", po::value<std::string>(), "sinusoidal: phase per joint [rad] (default 0)")(
-      "base-frequency", po::value<double>()->default_value(d.base_frequency),
-      "fourier: base frequency [Hz]")("harmonics", po::value<int>()->default_value(d.harmonics),
-                                      "fourier: number of harmonics")(
+      "base-frequency", po::value<double>()->default_value(d.base_frequency))(
+      "harmonics", po::value<int>()->default_value(d.harmonics))(
       "kp", po::value<std::string>(),
       "position gains [N m/rad] (default: M_ii (2 pi bandwidth)^2)")(
       "kd", po::value<std::string>(),
       "velocity gains [N m s/rad] (default: 2 M_ii 2 pi bandwidth)")(
-      "bandwidth", po::value<double>()->default_value(d.bandwidth),
-      "bandwidth for default gains [Hz]")(
+      "bandwidth", po::value<double>()->default_value(d.bandwidth))(
       "tau-max", po::value<std::string>(),
       "torque limits [N m] (default: the model's effort limits)")(
       "controller-robot", po::value<std::string>(),
       "model used by the controller's gravity feed-forward (default: the simulated robot)")(
-      "controller-perturb", po::value<double>()->default_value(d.controller_perturb),
-      "perturb the controller model's parameters by up to this fraction (seeded)")(
-      "duration", po::value<double>()->default_value(d.simulation.duration), "simulated time [s]")(
-      "dt", po::value<double>()->default_value(d.simulation.step), "integration step [s]")(
-      "rate", po::value<double>()->default_value(d.simulation.record_rate),
-      "recording and control rate [Hz]")(
+      "controller-perturb", po::value<double>()->default_value(d.controller_perturb))(
+      "duration", po::value<double>()->default_value(d.simulation.duration))(
+      "dt", po::value<double>()->default_value(d.simulation.step))(
+      "rate", po::value<double>()->default_value(d.simulation.record_rate))(
       "integrator", po::value<std::string>()->default_value("rk4"), "rk4 or euler")(
       "seed", po::value<std::uint64_t>()->default_value(d.simulation.seed),
-      "seed for noise and random choices")("noise-q",
-                                           po::value<double>()->default_value(d.simulation.noise_q),
-                                           "std. dev. of noise on recorded q [rad]")(
-      "noise-dq", po::value<double>()->default_value(d.simulation.noise_dq),
-      "... on recorded dq [rad/s]")("noise-tau",
-                                    po::value<double>()->default_value(d.simulation.noise_tau),
-                                    "... on recorded tau [N m]")(
+      "seed for noise and random choices")(
+      "noise-q", po::value<double>()->default_value(d.simulation.noise_q))(
+      "noise-dq", po::value<double>()->default_value(d.simulation.noise_dq))(
+      "noise-tau", po::value<double>()->default_value(d.simulation.noise_tau))(
       "out", po::value<std::string>()->required(), "dataset CSV to write");
 }
 }  // namespace

@@ -18,18 +18,13 @@ int runStudy(const std::vector<std::string>& args) {
       "validate", po::value<std::string>()->required(), "held-out dataset CSV")(
       "methods", po::value<std::string>()->default_value("all"),
       "comma-separated methods, or all (ols,wls,pc,nlo,ga,hybrid and the *_refined)")(
-      "horizon", po::value<double>()->default_value(d.segments.horizon), "GC error horizon [s]")(
-      "segments", po::value<int>()->default_value(d.segments.num_segments),
-      "GC error segments (at most that fit)")("search-seconds",
-                                              po::value<double>()->default_value(d.search_seconds),
-                                              "wall time of each search")(
-      "search-evaluations", po::value<long>()->default_value(d.search_evaluations),
-      "GC evaluations of each search")("refine-iterations",
-                                       po::value<int>()->default_value(d.refine_iterations),
-                                       "per refinement stage")(
-      "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
-      "per refinement (0: no limit)")("seed", po::value<std::uint64_t>()->default_value(d.seed),
-                                      "seed of the searches")(
+      "horizon", po::value<double>()->default_value(d.segments.horizon))(
+      "segments", po::value<int>()->default_value(d.segments.num_segments))(
+      "search-seconds", po::value<double>()->default_value(d.search_seconds))(
+      "search-evaluations", po::value<long>()->default_value(d.search_evaluations))(
+      "refine-iterations", po::value<int>()->default_value(d.refine_iterations))(
+      "refine-seconds", po::value<double>()->default_value(d.refine_seconds))(
+      "seed", po::value<std::uint64_t>()->default_value(d.seed), "seed of the searches")(
       "out", po::value<std::string>()->required(), "output directory");
   addPriorWeightOption(options);
   addKeepRefinementOption(options);

@@ -9,6 +9,7 @@
 
 #include <boost/make_shared.hpp>
 
+#include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/io.hpp"
 
@@ -64,12 +65,23 @@ void checkRanges(const po::variables_map& vm, const std::string& command) {
   }
 }
 
+/// "arg (=0.050000000000000003)" -> "arg (=0.05)": a numeric default in its shortest exact form.
+std::string shownDefault(std::string name) {
+  const std::size_t open = name.find("(="), close = name.rfind(')');
+  if (open == std::string::npos || close == std::string::npos || close < open) return name;
+  const std::string value = name.substr(open + 2, close - open - 2);
+  char* end = nullptr;
+  const double x = std::strtod(value.c_str(), &end);
+  if (value.empty() || end != value.c_str() + value.size()) return name;  // not a number
+  return name.replace(open + 2, close - open - 2, formatNumber(x));
+}
+
 /// An option as --help shows it: the original's parameter text ("arg (=10)"), nothing else (it
 /// parses nothing; the help's copy of the options is never parsed with).
 class ShownValue : public po::value_semantic {
  public:
   explicit ShownValue(const po::value_semantic& original)
-      : name_(original.name()),
+      : name_(shownDefault(original.name())),
         min_(original.min_tokens()),
         max_(original.max_tokens()),
         composing_(original.is_composing()),
@@ -89,8 +101,9 @@ class ShownValue : public po::value_semantic {
   bool composing_, required_;
 };
 
-/// The options as --help shows them: each numeric option's range, from the one option table
-/// (core/option_ranges.hpp), appended to its description, so the help shows the range checked.
+/// The options as --help shows them: each numeric option's help and range from the one option
+/// table (core/option_ranges.hpp; the commands declare them without a description), so the help
+/// shows the range checked.
 po::options_description helpOptions(const po::options_description& all,
                                     const std::string& command) {
   po::options_description shown;
@@ -98,8 +111,7 @@ po::options_description helpOptions(const po::options_description& all,
     std::string text = option->description();
     if (const OptionRule* rule = findOptionRule(command, option->long_name())) {
       // Appended piece by piece: GCC 12 warns (-Wrestrict, falsely) on the concatenated form.
-      if (!text.empty()) text += ' ';
-      text.append("(").append(optionRangeText(*rule)).append(")");
+      text.assign(rule->help).append(" (").append(optionRangeText(*rule)).append(")");
     }
     std::string name = option->long_name();
     const std::string display = option->format_name();  // "-h [ --help ]" when it has a short one
@@ -193,8 +205,7 @@ std::optional<Eigen::VectorXd> optionalJointVector(const po::variables_map& vm, 
 }
 
 void addPriorWeightOption(po::options_description& options) {
-  options.add_options()("prior-weight", po::value<double>()->default_value(kDefaultPriorWeight),
-                        "pc: weight of the divergence from the prior, in chi-square units (> 0)");
+  options.add_options()("prior-weight", po::value<double>()->default_value(kDefaultPriorWeight));
 }
 
 double priorWeightOption(const po::variables_map& vm) {
@@ -212,7 +223,7 @@ bool keepIfBetterOption(const po::variables_map& vm) {
 }
 
 void addThreadsOption(po::options_description& options) {
-  options.add_options()("threads", po::value<int>()->default_value(0), "threads (0: all cores)");
+  options.add_options()("threads", po::value<int>()->default_value(kAllThreads));
 }
 
 int threadsOption(const po::variables_map& vm) {
@@ -259,11 +270,9 @@ Model loadOtherRobot(const po::variables_map& vm, const char* option) {
 
 void addStructuralOptions(po::options_description& options) {
   const StructuralOptions d;  // every default is the options' own
-  options.add_options()("samples", po::value<int>()->default_value(d.samples),
-                        "random states for the structural analysis (0: max(100, 5 p / n))")(
+  options.add_options()("samples", po::value<int>()->default_value(d.samples))(
       "seed", po::value<std::uint64_t>()->default_value(d.seed), "seed of the random states")(
-      "tolerance", po::value<double>()->default_value(d.tolerance),
-      "rank tolerance on |R_jj| of the unit-column W (0: 1e-8 max|R_jj|)");
+      "tolerance", po::value<double>()->default_value(d.tolerance));
 }
 
 StructuralOptions structuralOptions(const po::variables_map& vm) {

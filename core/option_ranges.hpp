@@ -1,9 +1,10 @@
-// The range of every numeric option of dynid's front ends, defined once: the CLI checks each flag
-// against it when the command line is parsed (a usage error naming the flag before any work) and
-// prints it in --help, the Python module checks each keyword (its snake_case spelling), and
-// requests check their fields (exciteRun, logStudyRun). In core so that every floor can check
-// against it; it knows nothing but names and numbers. A new numeric option gets its row here;
-// docs/RELIABILITY.md lists them.
+// Every numeric option of dynid's front ends, defined once: its range and its help. The CLI checks
+// each flag against it when the command line is parsed (a usage error naming the flag before any
+// work) and prints the help and the range in --help; the requests check their fields against it
+// (SearchRequest::check(), ... : each run function checks its request first), which is how the
+// Python module's keywords are checked (their snake_case spelling). In core so that every floor
+// can check against it; it knows nothing but names, numbers and words. A new numeric option gets
+// its row here; docs/RELIABILITY.md lists them.
 #pragma once
 
 #include <limits>
@@ -13,12 +14,18 @@
 
 namespace dynid {
 
-struct OptionRule {
-  const char* command;  // "" : every command; else only this one ("excite"), before the ""
-  const char* name;     // the CLI's spelling without "--" ("prior-weight")
+/// The values an option takes: lo (or above it) to hi, and perhaps 0.
+struct OptionRange {
   double lo, hi;
   bool lo_open;  // x > lo instead of x >= lo
   bool zero_ok;  // 0 (a default or "none") is also taken
+};
+
+struct OptionRule {
+  const char* command;  // "" : every command; else only this one ("excite"), before the ""
+  const char* name;     // the CLI's spelling without "--" ("prior-weight")
+  OptionRange range;
+  const char* help;  // what --help says before the range ("prediction horizon [s]")
 };
 
 inline constexpr double kNoOptionLimit = std::numeric_limits<double>::max();

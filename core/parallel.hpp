@@ -11,6 +11,10 @@
 
 namespace dynid {
 
+/// The thread count that means every hardware thread: the default of every request's and front
+/// end's `threads` (--threads, threads=) that does not say otherwise.
+inline constexpr int kAllThreads = 0;
+
 class ThreadPool {
  public:
   static constexpr int kMaxThreads = 1024;

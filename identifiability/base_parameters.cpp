@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/option_ranges.hpp"
 #include "identifiability/observation.hpp"
 #include "identifiability/tall_qr.hpp"
 
@@ -112,10 +113,13 @@ BaseCoordinates BaseParameters::coordinates() const {
   return out;
 }
 
+void StructuralOptions::check() const {
+  checkOption("", "samples", samples, "samples");
+  checkOption("", "tolerance", tolerance, "tolerance");
+}
+
 BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options) {
-  if (options.samples < 0)
-    throw InputError("the structural analysis needs samples >= 0 (0: the default), not " +
-                     std::to_string(options.samples));
+  options.check();
   if (model.numJoints() == 0) throw InputError("model '" + model.name + "' has no joints");
   const ParameterLayout layout = model.parameterLayout();
   const int samples =

@@ -90,6 +90,10 @@ struct StructuralOptions {
   int samples = 0;  // random states; 0: max(100, 5 p / n)
   std::uint64_t seed = 1;
   double tolerance = 0.0;  // on |R_jj| of the unit-column W; 0: the default (computeBaseParameters)
+
+  /// Throws InputError naming the first field out of its range (core/option_ranges.hpp:
+  /// --samples, --tolerance).
+  void check() const;
 };
 
 /// The model's base parameters from `options.samples` seeded random states (the structural rank,

@@ -116,7 +116,8 @@ void bindDynamics(py::module_& m) {
                               rnea(mo, d, Vector(a, n), Vector(b, n), Vector(c, n));
                         });
       },
-      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("ddq"), py::arg("threads") = 0,
+      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("ddq"),
+      py::arg("threads") = kAllThreads,
       "Inverse dynamics tau = M(q) ddq + C(q, dq) dq + g(q) (+ the drive terms the model "
       "enables). q, dq, ddq: (n,) -> tau (n,), or (N, n) -> (N, n). [rad, rad/s, rad/s^2 -> N m]");
   m.def(
@@ -131,7 +132,8 @@ void bindDynamics(py::module_& m) {
                               aba(mo, d, Vector(a, n), Vector(b, n), Vector(c, n));
                         });
       },
-      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("tau"), py::arg("threads") = 0,
+      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("tau"),
+      py::arg("threads") = kAllThreads,
       "Forward dynamics ddq = M(q)^-1 (tau - C(q, dq) dq - g(q) - friction). q, dq, tau: (n,) -> "
       "ddq (n,), or (N, n) -> (N, n). Singular dynamics (a massless moving subtree) give "
       "non-finite ddq.");
@@ -143,7 +145,7 @@ void bindDynamics(py::module_& m) {
                         [n](const Model& mo, Data& d, const double* a, const double*, const double*,
                             double* out) { copyRowMajor(crba(mo, d, Vector(a, n)), out); });
       },
-      py::arg("model"), py::arg("q"), py::arg("threads") = 0,
+      py::arg("model"), py::arg("q"), py::arg("threads") = kAllThreads,
       "Joint-space mass matrix M(q) (with the rotor inertias Ia when enabled). q: (n,) -> (n, n), "
       "or (N, n) -> (N, n, n). [kg m^2]");
   m.def(
@@ -160,7 +162,8 @@ void bindDynamics(py::module_& m) {
                               out);
                         });
       },
-      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("ddq"), py::arg("threads") = 0,
+      py::arg("model"), py::arg("q"), py::arg("dq"), py::arg("ddq"),
+      py::arg("threads") = kAllThreads,
       "Joint torque regressor Y with Y @ model.parameters == rnea(model, q, dq, ddq); columns in "
       "model.parameter_names order. q, dq, ddq: (n,) -> (n, p), or (N, n) -> (N, n, p).");
 }

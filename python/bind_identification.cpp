@@ -73,9 +73,9 @@ py::dict validationDict(const Validation& v) {
 }
 
 StructuralOptions structural(int samples, std::uint64_t seed, double tolerance) {
-  checkOption("identify", "samples", samples, "samples");
-  checkOption("identify", "tolerance", tolerance, "tolerance");
-  return {samples, seed, tolerance};
+  const StructuralOptions options{samples, seed, tolerance};
+  options.check();
+  return options;
 }
 
 std::vector<std::string> baseNames(const BaseParameters& b) {
@@ -88,9 +88,7 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
                         const py::handle& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const std::string& robot_spec) {
-  checkThreads(threads);
-  checkOption("identify", "prior-weight", prior_weight, "prior_weight");
-  IdentifyRequest request;
+  IdentifyRequest request;  // checked by identifyRun
   request.model = model;
   request.method = parseMethod(method, leastSquaresMethods());
   request.prior = prior;
@@ -193,7 +191,8 @@ void bindBaseParameters(py::module_& m) {
         py::gil_scoped_release release;
         return structuralBaseParameters(model, options);
       },
-      py::arg("model"), py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
+      py::arg("model"), py::arg("samples") = StructuralOptions{}.samples,
+      py::arg("seed") = StructuralOptions{}.seed,
       py::arg("tolerance") = StructuralOptions{}.tolerance,
       "The model's structural base parameters from `samples` seeded random states.");
 }
@@ -246,8 +245,8 @@ void bindIdentifiability(py::module_& m) {
         return out;
       },
       py::arg("model"), py::arg("data") = py::none(),
-      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
-      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
+      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
+      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
       "Structural base parameters and conditioning, and with `data` (a path or a Dataset) how "
       "that dataset excites them.");
 }
@@ -324,8 +323,9 @@ void bindIdentify(py::module_& m) {
   m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
         py::arg("validate") = py::none(), py::arg("prior") = py::none(),
         py::arg("prior_weight") = kDefaultPriorWeight,
-        py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
-        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
+        py::arg("samples") = StructuralOptions{}.samples,
+        py::arg("seed") = StructuralOptions{}.seed,
+        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
         py::arg("robot_spec") = "",
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
         "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
@@ -351,7 +351,7 @@ void bindPredict(py::module_& m) {
         return r.prediction.validation.num_samples;
       });
 
-  m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = 0,
+  m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = kAllThreads,
         "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
         "residual statistics of `dynid predict`. Use estimate.model for an estimate.");
 }

@@ -89,7 +89,6 @@ Trajectory simulatePy(const Model& model, double duration, double dt, double rat
   if (controller != "sinusoidal" && controller != "fourier")
     throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
                           "'");
-  checkOption("simulate", "harmonics", harmonics, "harmonics");
   const int n = model.numJoints();
   SimulateRequest r;
   r.robot = model;
@@ -137,13 +136,8 @@ SearchPy searchPy(const Model& robot, const py::handle& data, const std::string&
                   double step, bool normalise, int population, int elites, double migration,
                   double mutation_rate, double mutation_scale, int evals_per_seed,
                   std::uint64_t seed, int threads, const std::string& checkpoint) {
-  checkThreads(threads);
   if (init && perturb) throw py::value_error("give init or perturb, not both");
-  checkOption("search", "budget-evals", static_cast<double>(budget_evals), "budget_evals");
-  checkOption("search", "budget-seconds", budget_seconds, "budget_seconds");
-  if (mass_constraint != "on" && mass_constraint != "off" && mass_constraint != "auto")
-    throw py::value_error("mass_constraint: expected 'on', 'off' or 'auto'");
-  SearchRequest r;
+  SearchRequest r;  // checked by searchRun
   r.robot = robot;
   r.method = parseMethod(method, searchMethods());
   r.init = init;
@@ -197,11 +191,7 @@ RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle&
                   bool estimate_initial_states, double continuity_weight, int max_iterations,
                   bool base_stage, bool gauge, double budget_seconds, const std::string& form,
                   double range, double horizon, int segments, int threads) {
-  checkThreads(threads);
-  checkOption("refine", "max-iterations", max_iterations, "max_iterations");
-  checkOption("refine", "budget-seconds", budget_seconds, "budget_seconds");
-  checkOption("refine", "continuity-weight", continuity_weight, "continuity_weight");
-  RefineRequest r;
+  RefineRequest r;  // checked by refineRun
   r.robot = robot;
   if (py::isinstance<SearchPy>(start)) {
     r.from_file = "<search>";
@@ -258,9 +248,8 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
                   double torque_margin, const std::optional<double>& floor, double base_radius,
                   int samples, std::uint64_t seed, double tolerance, int threads,
                   const std::string& robot_spec) {
-  checkThreads(threads);
   const int n = robot.numJoints();
-  ExciteRequest r;
+  ExciteRequest r;  // checked by exciteRun
   r.robot = robot;
   r.criterion = parseExcitationCriterion(criterion);
   r.period = period;
@@ -297,7 +286,6 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   out.settings.starts = starts;
   out.settings.evaluations = evaluations;
   out.settings.period = period;
-  out.settings.csv_rate = 1000.0;
   {
     py::gil_scoped_release release;
     out.outcome = exciteRun(r);
@@ -387,8 +375,8 @@ void bindSimulate(py::module_& m) {
         py::arg("controller_perturb") = SimulateRequest{}.controller_perturb,
         py::arg("integrator") = "rk4", py::arg("noise_q") = SimulateRequest{}.simulation.noise_q,
         py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
-        py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau, py::arg("seed") = 1,
-        py::arg("trajectory") = py::none(),
+        py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau,
+        py::arg("seed") = SimulateRequest{}.simulation.seed, py::arg("trajectory") = py::none(),
         "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
         "Per-joint settings take one number or n; trajectory: an excitation.json design.");
 
@@ -411,7 +399,8 @@ void bindSimulate(py::module_& m) {
       py::arg("model"), py::arg("data"), py::arg("horizon") = SegmentOptions{}.horizon,
       py::arg("segments") = SegmentOptions{}.num_segments, py::arg("random_segments") = false,
       py::arg("integrator") = "rk4", py::arg("step") = SegmentOptions{}.step,
-      py::arg("normalise") = false, py::arg("seed") = 1, py::arg("threads") = 0,
+      py::arg("normalise") = false, py::arg("seed") = SegmentOptions{}.seed,
+      py::arg("threads") = kAllThreads,
       "The paper's GC error of the model on `data`: the summed squared error of (q, dq) "
       "predicted `horizon` seconds ahead from each segment's measured start, as `dynid search` "
       "evaluates it (the same number for any thread count).");
@@ -478,7 +467,8 @@ void bindSearchRuns(py::module_& m) {
         py::arg("mutation_rate") = SearchRequest{}.ga.mutation_rate,
         py::arg("mutation_scale") = SearchRequest{}.ga.mutation_scale,
         py::arg("evals_per_seed") = SearchRequest{}.nlo.evaluations_per_seed,
-        py::arg("seed") = SearchRequest{}.seed, py::arg("threads") = 0, py::arg("checkpoint") = "",
+        py::arg("seed") = SearchRequest{}.seed, py::arg("threads") = kAllThreads,
+        py::arg("checkpoint") = "",
         "`dynid search`: the GC-error search 'nlo' (multistart COBYLA), 'ga' or 'hybrid' from "
         "init (a Model) or the robot perturbed by `perturb`; the same options and defaults as "
         "the CLI, and for the same seed the same result whatever the thread count. Ctrl-C stops "
@@ -520,7 +510,7 @@ void bindRefine(py::module_& m) {
         py::arg("base_stage") = true, py::arg("gauge") = true,
         py::arg("budget_seconds") = RefineRequest{}.options.max_seconds, py::arg("form") = "paper",
         py::arg("range") = RefineRequest{}.range, py::arg("horizon") = RefineRequest{}.horizon,
-        py::arg("segments") = RefineRequest{}.segments, py::arg("threads") = 0,
+        py::arg("segments") = RefineRequest{}.segments, py::arg("threads") = kAllThreads,
         "`dynid refine`: Ceres (Levenberg-Marquardt) on the GC residuals from `start`: a "
         "Search, an Estimate, or the path of a search.json or estimate.json. form, range, "
         "horizon and segments apply to an estimate start (a search carries its own).");
@@ -544,7 +534,7 @@ void bindExcite(py::module_& m) {
             py::gil_scoped_release release;
             return sampleFourier(e.outcome.design, e.robot, rate);
           },
-          py::arg("rate") = 1000.0,
+          py::arg("rate") = ExcitationSettings{}.csv_rate,
           "One period of the motion at `rate` as a Dataset (tau: the model's inverse dynamics).")
       .def(
           "to_json",
@@ -553,25 +543,25 @@ void bindExcite(py::module_& m) {
           },
           "excitation.json, as `dynid excite` writes it (simulate(trajectory=...) reads it).");
 
-  m.def("excite", &excitePy, py::arg("robot"), py::arg("criterion") = "cond",
-        py::arg("period") = ExciteRequest{}.period,
-        py::arg("harmonics") = ExciteRequest{}.harmonics,
-        py::arg("starts") = ExciteRequest{}.starts,
-        py::arg("evaluations") = ExciteRequest{}.evaluations, py::arg("budget_seconds") = 0.0,
-        py::arg("grid_rate") = ExciteRequest{}.grid_rate,
-        py::arg("check_rate") = ExciteRequest{}.check_rate,
-        py::arg("torque_noise") = ExciteRequest{}.torque_noise,
-        py::arg("segments") = ExciteRequest{}.gc_segments,
-        py::arg("horizon") = ExciteRequest{}.gc_horizon, py::arg("offset") = py::none(),
-        py::arg("q_min") = py::none(), py::arg("q_max") = py::none(),
-        py::arg("dq_max") = py::none(), py::arg("ddq_max") = py::none(),
-        py::arg("tau_max") = py::none(), py::arg("torque_margin") = LimitOverrides{}.torque_margin,
-        py::arg("floor") = py::none(), py::arg("base_radius") = LimitOverrides{}.base_radius,
-        py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = 1,
-        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = 0,
-        py::arg("robot_spec") = "",
-        "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
-        "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
+  m.def(
+      "excite", &excitePy, py::arg("robot"), py::arg("criterion") = "cond",
+      py::arg("period") = ExciteRequest{}.period, py::arg("harmonics") = ExciteRequest{}.harmonics,
+      py::arg("starts") = ExciteRequest{}.starts,
+      py::arg("evaluations") = ExciteRequest{}.evaluations, py::arg("budget_seconds") = 0.0,
+      py::arg("grid_rate") = ExciteRequest{}.grid_rate,
+      py::arg("check_rate") = ExciteRequest{}.check_rate,
+      py::arg("torque_noise") = ExciteRequest{}.torque_noise,
+      py::arg("segments") = ExciteRequest{}.gc_segments,
+      py::arg("horizon") = ExciteRequest{}.gc_horizon, py::arg("offset") = py::none(),
+      py::arg("q_min") = py::none(), py::arg("q_max") = py::none(), py::arg("dq_max") = py::none(),
+      py::arg("ddq_max") = py::none(), py::arg("tau_max") = py::none(),
+      py::arg("torque_margin") = LimitOverrides{}.torque_margin, py::arg("floor") = py::none(),
+      py::arg("base_radius") = LimitOverrides{}.base_radius,
+      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
+      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
+      py::arg("robot_spec") = "",
+      "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
+      "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
 }
 
 void bindPrepare(py::module_& m) {
@@ -597,11 +587,12 @@ void bindPrepare(py::module_& m) {
 
   m.def("prepare", &preparePy, py::arg("tables"), py::arg("time_column") = "1",
         py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
-        py::arg("ddq_columns") = "", py::arg("joints") = 0, py::arg("current") = false,
-        py::arg("torque_constants") = py::none(), py::arg("gear_ratios") = py::none(),
-        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad",
-        py::arg("rate") = PrepareOptions{}.rate, py::arg("cutoff") = py::none(),
-        py::arg("order") = PrepareOptions{}.order, py::arg("decimate") = PrepareOptions{}.decimate,
+        py::arg("ddq_columns") = "", py::arg("joints") = LogSource{}.num_joints,
+        py::arg("current") = false, py::arg("torque_constants") = py::none(),
+        py::arg("gear_ratios") = py::none(), py::arg("time_unit") = "s",
+        py::arg("angle_unit") = "rad", py::arg("rate") = PrepareOptions{}.rate,
+        py::arg("cutoff") = py::none(), py::arg("order") = PrepareOptions{}.order,
+        py::arg("decimate") = PrepareOptions{}.decimate,
         py::arg("max_gap") = PrepareOptions{}.max_gap, py::arg("trim") = PrepareOptions{}.trim,
         py::arg("derive_dq") = false, py::arg("derive_ddq") = false,
         py::arg("savitzky_golay") = false,

@@ -17,7 +17,8 @@ namespace dynid {
 struct ExcitationSettings {
   std::string robot;  // the --robot spec
   int harmonics = 0, starts = 0, evaluations = 0;
-  double period = 0.0, csv_rate = 0.0;
+  double period = 0.0;
+  double csv_rate = 1000.0;  // samples per second of excitation.csv [Hz]
 };
 
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,

@@ -409,41 +409,39 @@ Trajectory sampleFourier(const FourierSeries& design, const Model& model, double
                   Grid(design.period, design.harmonics(), static_cast<int>(points), true));
 }
 
-namespace {
-
-/// The request's own ranges; returns the optimiser's grid size.
-int checkExciteRequest(const ExciteRequest& request) {
-  const Model& model = request.robot;
-  const int n = model.numJoints();
+void ExciteRequest::check() const {
+  const int n = robot.numJoints();
   auto require = [](bool ok, const std::string& message) {
     if (!ok) throw InputError(message);
   };
   // The ranges of the one option table (core/option_ranges.hpp), in the request's field names.
-  checkOption("excite", "period", request.period, "period");
-  checkOption("excite", "harmonics", request.harmonics, "harmonics");
-  checkOption("excite", "starts", request.starts, "starts");
-  checkOption("excite", "evaluations", request.evaluations, "evaluations");
-  checkOption("excite", "grid-rate", request.grid_rate, "grid_rate");
-  checkOption("excite", "check-rate", request.check_rate, "check_rate");
-  checkOption("excite", "torque-noise", request.torque_noise, "torque_noise");
-  checkOption("excite", "segments", request.gc_segments, "gc_segments");
+  checkOption("excite", "period", period, "period");
+  checkOption("excite", "harmonics", harmonics, "harmonics");
+  checkOption("excite", "starts", starts, "starts");
+  checkOption("excite", "evaluations", evaluations, "evaluations");
+  checkOption("excite", "grid-rate", grid_rate, "grid_rate");
+  checkOption("excite", "check-rate", check_rate, "check_rate");
+  checkOption("excite", "torque-noise", torque_noise, "torque_noise");
+  checkOption("excite", "segments", gc_segments, "gc_segments");
+  checkOption("excite", "threads", threads, "threads");
+  structural.check();
   // max_seconds: +inf (no budget) or a budget-seconds > 0.
-  require(!(request.max_seconds <= 0.0), "max_seconds must be > 0");
-  if (std::isfinite(request.max_seconds))
-    checkOption("excite", "budget-seconds", request.max_seconds, "max_seconds");
-  require(request.gc_horizon > 0.0 && request.gc_horizon <= request.period &&
-              std::abs(request.gc_horizon * request.check_rate -
-                       std::round(request.gc_horizon * request.check_rate)) <= 1e-6 &&
-              std::round(request.gc_horizon * request.check_rate) >= 1.0,
+  require(!(max_seconds <= 0.0), "max_seconds must be > 0");
+  if (std::isfinite(max_seconds))
+    checkOption("excite", "budget-seconds", max_seconds, "max_seconds");
+  require(gc_horizon > 0.0 && gc_horizon <= period &&
+              std::abs(gc_horizon * check_rate - std::round(gc_horizon * check_rate)) <= 1e-6 &&
+              std::round(gc_horizon * check_rate) >= 1.0,
           "the GC horizon must be a whole number of check-rate samples, within the period");
-  require(request.limits.q_min.size() == n, "the limits are for another joint count");
-  const double grid_points = std::ceil(request.period * request.grid_rate);
-  require(grid_points <= 1e6, "the optimiser's grid would have more than 1e6 points");
-  requireMemory(request.period * request.check_rate * n * 7 * sizeof(double),
+  require(limits.q_min.size() == n, "the limits are for another joint count");
+  require(std::ceil(period * grid_rate) <= 1e6,
+          "the optimiser's grid would have more than 1e6 points");
+  requireMemory(period * check_rate * n * 7 * sizeof(double),
                 "the design sampled at the check rate");
-  if (request.offset) checkOffsets(model, request.limits, *request.offset);
-  return static_cast<int>(grid_points);
+  if (offset) checkOffsets(robot, limits, *offset);
 }
+
+namespace {
 
 /// The best feasible design one start found.
 struct StartBest {
@@ -583,7 +581,8 @@ Trajectory sinusoidBaseline(const Model& model, double period, int samples) {
 ExciteOutcome exciteRun(const ExciteRequest& request) {
   const Model& model = request.robot;
   const ExcitationLimits& limits = request.limits;
-  const int grid_points = checkExciteRequest(request);
+  request.check();
+  const int grid_points = static_cast<int>(std::ceil(request.period * request.grid_rate));
   const auto started = std::chrono::steady_clock::now();
   ExciteOutcome out;
   out.criterion = request.criterion;

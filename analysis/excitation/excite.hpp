@@ -63,6 +63,12 @@ struct ExciteRequest {
   std::uint64_t seed = 1;
   int threads = 1;  // 0: all cores
   RunControl control;
+
+  /// Throws InputError naming the first field out of its range (core/option_ranges.hpp, as dynid
+  /// excite's options, by field name), for a GC horizon that is not a whole number of check-rate
+  /// samples within the period, limits or offsets that do not fit the robot, a grid over 1e6
+  /// points or a check-rate sampling over the memory limit. exciteRun checks its request first.
+  void check() const;
 };
 
 struct ExciteStart {

@@ -12,6 +12,7 @@
 #include "analysis/logs/read_log.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/option_ranges.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -515,12 +516,23 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const std::vector<Biquad>& f
 
 }  // namespace
 
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
-  if (!(options.time_scale > 0.0) || !(options.angle_scale > 0.0))
+void PrepareOptions::check() const {
+  if (!(time_scale > 0.0) || !(angle_scale > 0.0) || !std::isfinite(time_scale) ||
+      !std::isfinite(angle_scale))
     throw InputError("the time and angle units must be positive");
-  if (options.decimate < 1) throw InputError("--decimate must be >= 1");
-  if (!(options.validate_fraction >= 0.0 && options.validate_fraction < 1.0))
-    throw InputError("the validation fraction must be in [0, 1)");
+  checkOption("prepare", "rate", rate, "rate");
+  checkOption("prepare", "order", order, "order");
+  checkOption("prepare", "decimate", decimate, "decimate");
+  checkOption("prepare", "max-gap", max_gap, "max_gap");
+  checkOption("prepare", "trim", trim, "trim");
+  checkOption("prepare", "savgol-window", savgol_window, "savgol_window");
+  checkOption("prepare", "savgol-degree", savgol_degree, "savgol_degree");
+  checkOption("prepare", "validate-fraction", validate_fraction, "validate_fraction");
+}
+
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
+  options.check();
+  checkOption("prepare", "joints", source.num_joints, "joints");
   PrepareOutcome out;
   std::vector<RawSignals> files = readFiles(source, options, out);
   out.order = options.order;

@@ -54,6 +54,11 @@ struct PrepareOptions {
   /// are a logger that stalled: dropped (the gap is bridged) when the stall is shorter than the
   /// gap limit; a longer identical stretch is the robot at rest and kept. true: keep them all.
   bool keep_stalled = false;
+
+  /// Throws InputError for a unit scale that is not positive or a numeric field out of its range
+  /// (core/option_ranges.hpp, as dynid prepare's options, by field name). prepareLog checks its
+  /// options first.
+  void check() const;
 };
 
 /// One run of the log: consecutive samples without a gap.

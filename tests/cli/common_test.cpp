@@ -53,7 +53,8 @@ TEST(Cli, HelpShowsEachNumericOptionsRangeFromTheOneTable) {
   const OptionRule* harmonics = findOptionRule("excite", "harmonics");
   ASSERT_NE(harmonics, nullptr);
   const std::string harmonics_help =
-      std::string("harmonics per joint (").append(optionRangeText(*harmonics)) + ")";
+      std::string(harmonics->help).append(" (").append(optionRangeText(*harmonics)) + ")";
+  EXPECT_EQ(std::string(harmonics->help), "harmonics per joint");
   EXPECT_TRUE(contains(excite.out, harmonics_help)) << excite.out;
   EXPECT_TRUE(contains(excite.out, "-h [ --help ]")) << excite.out;
   // A command-specific rule wins over the general one: study's segments start at 1.
@@ -69,6 +70,41 @@ TEST(Cli, HelpShowsEachNumericOptionsRangeFromTheOneTable) {
   EXPECT_EQ(refused.code, 2);
   EXPECT_TRUE(contains(refused.err, "--harmonics must be " + optionRangeText(*harmonics)))
       << refused.err;
+}
+
+/// The help with every run of whitespace (Boost's wrapping) made one space.
+std::string collapsed(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const bool space = c == ' ' || c == '\n';
+    if (!space || (!out.empty() && out.back() != ' ')) out += space ? ' ' : c;
+  }
+  return out;
+}
+
+TEST(Cli, EveryNumericOptionsHelpIsTheTablesWithItsRange) {
+  // The commands declare numeric options without words; --help takes them from the table.
+  for (const char* command : {"simulate", "identifiability", "identify", "search", "refine",
+                              "prepare", "excite", "study", "batch", "demo"}) {
+    const Result r = run(std::string(command) + " --help");
+    ASSERT_EQ(r.code, 0) << command;
+    const std::string text = collapsed(r.out);
+    int numeric = 0;
+    std::size_t at = 0;
+    while ((at = r.out.find("\n  --", at)) != std::string::npos) {
+      at += 5;
+      const std::string name = r.out.substr(at, r.out.find_first_of(" \n", at) - at);
+      const OptionRule* rule = findOptionRule(command, name);
+      if (rule == nullptr) continue;
+      ++numeric;
+      const std::string expected =
+          std::string(rule->help).append(" (").append(optionRangeText(*rule)).append(")");
+      EXPECT_TRUE(contains(text, expected)) << command << " --" << name << "\n" << r.out;
+    }
+    EXPECT_GT(numeric, 0) << command;
+  }
+  // Defaults read as they were written: 0.05, not 0.050000000000000003.
+  EXPECT_TRUE(contains(run("search --help").out, "--horizon arg (=0.05)"));
 }
 
 TEST(Cli, DataErrorsNameTheFile) {

@@ -12,12 +12,13 @@
 namespace dynid {
 namespace {
 
-TEST(Options, EveryRuleIsARangeAndNamedOncePerCommand) {
+TEST(Options, EveryRuleIsARangeWithHelpAndNamedOncePerCommand) {
   std::set<std::pair<std::string, std::string>> seen;
   for (const OptionRule& r : optionRules()) {
     EXPECT_TRUE(seen.emplace(r.command, r.name).second) << r.command << " " << r.name;
-    EXPECT_LE(r.lo, r.hi) << r.name;
+    EXPECT_LE(r.range.lo, r.range.hi) << r.name;
     EXPECT_EQ(std::string(r.name).find('_'), std::string::npos) << r.name;  // CLI spelling
+    EXPECT_GT(std::string(r.help).size(), 3u) << r.name;  // --help takes its words from here
   }
 }
 

@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const nlohmann::json manifest = dynid::parseJson(dynid::fuzz::text(data, size), "m.json");
     for (const nlohmann::json& run : dynid::expandManifest(manifest, "m.json")) {
       try {
-        dynid::validateStudySettings(dynid::studySettingsOf(run));
+        dynid::studySettingsOf(run).check();
       } catch (const dynid::InputError&) {
       }
     }
