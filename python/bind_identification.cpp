@@ -7,7 +7,6 @@
 
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
-#include "core/option_ranges.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
 #include "reports/identification_report.hpp"

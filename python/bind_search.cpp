@@ -13,7 +13,6 @@
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
-#include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"

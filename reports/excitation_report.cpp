@@ -58,8 +58,7 @@ std::string percent(double x) { return formatNumber(x, x < 10.0 ? 2 : 3, "n/a") 
 std::optional<std::string> trajectoryFigure(const Model& model, const ExciteOutcome& o) {
   const Trajectory t = sampleFourier(o.design, model, std::max(50.0, 400.0 / o.design.period));
   const ExcitationLimits& l = o.limits;
-  std::ostringstream s;
-  s.precision(6);
+  PlotScript s;
   s << "set terminal svg size 900,720 font 'sans,11' background rgb 'white'\n"
     << "set multiplot layout 3,1 title 'the design against its limits (1 = at the limit)'\n"
     << "set grid\nset key outside right\nset yrange [-1.1:1.1]\n"
@@ -69,50 +68,54 @@ std::optional<std::string> trajectoryFigure(const Model& model, const ExciteOutc
   const char* kinds[] = {"position (q - middle) / half range", "velocity dq / dq_max",
                          "acceleration ddq / ddq_max"};
   for (int kind = 0; kind < 3; ++kind) {
-    s << "$d" << kind << " << EOD\n";
+    PlotRows rows;
+    std::vector<double> row(n + 1);
     for (int k = 0; k < t.numSamples(); ++k) {
-      s << t.time[k];
+      row[0] = t.time[k];
       for (int j = 0; j < n; ++j) {
         const double half = 0.5 * (l.q_max[j] - l.q_min[j]),
                      middle = 0.5 * (l.q_max[j] + l.q_min[j]);
-        const double v = kind == 0   ? (t.q(j, k) - middle) / half
-                         : kind == 1 ? t.dq(j, k) / l.dq_max[j]
-                                     : t.ddq(j, k) / l.ddq_max[j];
-        s << " " << v;
+        row[j + 1] = kind == 0   ? (t.q(j, k) - middle) / half
+                     : kind == 1 ? t.dq(j, k) / l.dq_max[j]
+                                 : t.ddq(j, k) / l.ddq_max[j];
       }
-      s << "\n";
+      rows.append(row);
     }
-    s << "EOD\nset ylabel '" << kinds[kind] << "'\n";
+    s << "$d" << kind << " << EOD\n"
+      << rows << "EOD\nset ylabel " << gnuplotString(kinds[kind]) << "\n";
     if (kind == 2) s << "set xlabel 't [s]'\n";
     s << "plot ";
-    for (int j = 0; j < n; ++j)
-      s << (j ? ", " : "") << "$d" << kind << " using 1:" << j + 2 << " with lines lw 1.5 title '"
-        << escapeXml(model.joint_names[j]) << "'";
+    for (int j = 0; j < n; ++j) {
+      if (j > 0) s << ", ";
+      s << "$d" << kind << " using 1:" << j + 2 << " with lines lw 1.5 title "
+        << gnuplotString(model.joint_names[j]);
+    }
     s << "\n";
   }
   s << "unset multiplot\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 /// Expected relative standard deviation of every base parameter, designed vs the sinusoid.
 std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
   const int b = o.base.numBase();
-  std::ostringstream s;
-  s.precision(6);
-  s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\n"
-    << "set title 'expected relative standard deviation of each base parameter at "
-    << formatNumber(o.torque_noise) << " N m torque noise'\n"
-    << "set logscale y\nset grid ytics\nset key top left\nset ylabel '%'\n"
+  PlotScript s;
+  s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\nset title "
+    << gnuplotString("expected relative standard deviation of each base parameter at " +
+                     formatNumber(o.torque_noise) + " N m torque noise")
+    << "\nset logscale y\nset grid ytics\nset key top left\nset ylabel '%'\n"
     << "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8\n"
     << "set xtics rotate by -60 font 'sans,8'\n$d << EOD\n";
+  PlotRows rows;
   for (int j = 0; j < b; ++j) {
     const double designed = o.score.relative_std[j], sinusoid = o.baseline.relative_std[j];
-    s << '"' << o.base.baseName(j) << "\" " << (std::isfinite(designed) ? designed : 1e6) << " "
-      << (std::isfinite(sinusoid) ? sinusoid : 1e6) << "\n";
+    rows.append(o.base.baseName(j), {std::isfinite(designed) ? designed : 1e6,
+                                     std::isfinite(sinusoid) ? sinusoid : 1e6});
   }
-  s << "EOD\nplot $d using 2:xtic(1) title 'designed' lc rgb '#4477aa', '' using 3 title "
+  s << rows
+    << "EOD\nplot $d using 2:xtic(1) title 'designed' lc rgb '#4477aa', '' using 3 title "
        "'default sinusoid' lc rgb '#ee6677'\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 }  // namespace

@@ -40,7 +40,7 @@ const LogStudyRow* find(const LogStudyOutcome& o, const std::string& key) {
 }
 
 std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
-  std::ostringstream s;
+  PlotScript s;
   s.precision(9);
   s << "set terminal svg size 800,520 font 'sans,11' background rgb 'white'\n"
     << "set title 'held-out data: torque fit against motion prediction'\n"
@@ -48,16 +48,18 @@ std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
     << "set ylabel 'GC error'\nset offsets graph 0.08, graph 0.15, graph 0.1, graph 0.1\n"
     << "$m << EOD\n";
   int points = 0;
+  PlotRows rows;  // the label first: (key, torque error [%], GC error)
   for (const LogStudyRow& row : o.rows)
     if (std::isfinite(row.torque_test) && std::isfinite(row.gc_test) && row.torque_test > 0.0 &&
         row.gc_test > 0.0) {
-      s << 100.0 * row.torque_test << " " << row.gc_test << " \"" << row.key << "\"\n";
+      rows.append(row.key, {100.0 * row.torque_test, row.gc_test});
       ++points;
     }
-  s << "EOD\nplot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa', "
-       "$m using 1:2:3 with labels offset 1,0.7 left font 'sans,10'\n";
+  s << rows
+    << "EOD\nplot $m using 2:3 with points pt 7 ps 1.2 lc rgb '#4477aa', "
+       "$m using 2:3:1 with labels offset 1,0.7 left font 'sans,10'\n";
   if (points == 0) return std::nullopt;
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 }  // namespace

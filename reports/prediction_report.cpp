@@ -36,59 +36,69 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
   const auto samples = static_cast<int>(p.measured.cols());
   if (n == 0 || samples == 0) return std::nullopt;
   const int stride = std::max(1, samples / 1000);  // at most ~1000 points per line
-  std::ostringstream s;
+  PlotScript s;
   s.precision(9);
   s << "set terminal svg size 900," << 160 * n + 60 << " font 'sans,11' background rgb 'white'\n"
-    << "set multiplot layout " << n << ",1 title '" << title << "'\n"
+    << "set multiplot layout " << n << ",1 title " << gnuplotString(title) << "\n"
     << "set key top right horizontal\nset grid\nset lmargin 10\n";
   for (int j = 0; j < n; ++j) {
-    std::string data;
+    PlotRows data;
     for (int k = 0; k < samples; k += stride)
-      appendPlotRow(data, {p.time[k], p.measured(j, k), p.predicted(j, k)});
+      data.append({p.time[k], p.measured(j, k), p.predicted(j, k)});
     s << "$j" << j << " << EOD\n"
       << data << "EOD\n"
-      << "set ylabel 'tau" << j + 1 << " [N m]'\n"
-      << (j + 1 == n ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot $j" << j
-      << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
+      << "set ylabel 'tau" << j + 1 << " [N m]'\n";
+    if (j + 1 == n)
+      s << "set xlabel 't [s]'\n";
+    else
+      s << "unset xlabel\n";
+    s << "plot $j" << j << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
       << " using 1:3 with lines lw 1.2 lc rgb '#ee6677' title 'predicted'\n";
   }
   s << "unset multiplot\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 namespace {
 /// Inline gnuplot data "$<prefix><j> << EOD": (time, residual of joint j), at most ~1000 points.
-void residualBlock(std::ostringstream& s, char prefix, const Prediction& p, int j) {
+void residualBlock(PlotScript& s, bool held_out, const Prediction& p, int j) {
   const auto samples = static_cast<int>(p.measured.cols());
   const int stride = std::max(1, samples / 1000);
-  std::string data;
+  PlotRows data;
   for (int k = 0; k < samples; k += stride)
-    appendPlotRow(data, {p.time[k], p.measured(j, k) - p.predicted(j, k)});
-  s << "$" << prefix << j << " << EOD\n" << data << "EOD\n";
+    data.append({p.time[k], p.measured(j, k) - p.predicted(j, k)});
+  if (held_out)
+    s << "$v";
+  else
+    s << "$t";
+  s << j << " << EOD\n" << data << "EOD\n";
 }
 }  // namespace
 
 std::optional<std::string> residualFigure(const Prediction& train, const Prediction* validate) {
   const auto n = static_cast<int>(train.measured.rows());
   if (n == 0 || train.measured.cols() == 0) return std::nullopt;
-  std::ostringstream s;
+  PlotScript s;
   s.precision(9);
   s << "set terminal svg size 900," << 130 * n + 60 << " font 'sans,11' background rgb 'white'\n"
     << "set multiplot layout " << n << ",1 title 'torque residuals (measured - predicted)'\n"
     << "set key top right horizontal\nset grid\nset lmargin 10\n";
   for (int j = 0; j < n; ++j) {
-    residualBlock(s, 't', train, j);
+    residualBlock(s, false, train, j);
     const bool held_out = validate != nullptr && validate->measured.cols() > 0;
-    if (held_out) residualBlock(s, 'v', *validate, j);
-    s << "set ylabel 'r" << j + 1 << " [N m]'\n"
-      << (j + 1 == n ? "set xlabel 't [s]'\n" : "unset xlabel\n") << "plot $t" << j
-      << " using 1:2 with lines lw 1 lc rgb '#4477aa' title 'training'";
+    if (held_out) residualBlock(s, true, *validate, j);
+    s << "set ylabel 'r" << j + 1 << " [N m]'\n";
+    if (j + 1 == n)
+      s << "set xlabel 't [s]'\n";
+    else
+      s << "unset xlabel\n";
+    s << "plot $t" << j << " using 1:2 with lines lw 1 lc rgb '#4477aa' title 'training'";
     if (held_out)
       s << ", $v" << j << " using 1:2 with lines lw 1 lc rgb '#ee6677' title 'held out'";
     s << "\n";
   }
   s << "unset multiplot\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 std::optional<std::string> residualHistogram(const Prediction& train) {
@@ -97,7 +107,7 @@ std::optional<std::string> residualHistogram(const Prediction& train) {
   if (n == 0 || samples == 0) return std::nullopt;
   constexpr int kBins = 41;
   const int columns = n > 1 ? 2 : 1, rows = (n + columns - 1) / columns;
-  std::ostringstream s;
+  PlotScript s;
   s.precision(9);
   s << "set terminal svg size 900," << 220 * rows + 60 << " font 'sans,11' background rgb 'white'\n"
     << "set multiplot layout " << rows << "," << columns
@@ -113,11 +123,12 @@ std::optional<std::string> residualHistogram(const Prediction& train) {
       const double bin = std::floor((r[k] + 4.0 * rms) / width);
       if (bin >= 0.0 && bin < kBins) counts[static_cast<int>(bin)] += 1.0;
     }
-    s << "$h" << j << " << EOD\n";
+    PlotRows bins;
     for (int b = 0; b < kBins; ++b)
-      s << -4.0 * rms + (b + 0.5) * width << " "
-        << counts[b] / (static_cast<double>(samples) * width) << "\n";
-    s << "EOD\n"
+      bins.append(
+          {-4.0 * rms + (b + 0.5) * width, counts[b] / (static_cast<double>(samples) * width)});
+    s << "$h" << j << " << EOD\n"
+      << bins << "EOD\n"
       << "s" << j << " = " << rms << "\n"
       << "set xlabel 'r" << j + 1 << " [N m]'\nset xrange [" << -4.0 * rms << ":" << 4.0 * rms
       << "]\nset boxwidth " << width << "\nplot $h" << j
@@ -125,7 +136,7 @@ std::optional<std::string> residualHistogram(const Prediction& train) {
       << "**2))/(s" << j << "*sqrt(2*pi)) with lines lw 1.5 lc rgb '#ee6677' title 'normal'\n";
   }
   s << "unset multiplot\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 PredictedCsv::PredictedCsv(const std::string& dir) : dir_(dir) {}

@@ -100,48 +100,47 @@ std::optional<std::string> spectrumFigure(const PrepareOutcome& o) {
   const Spectrum& q = o.q_spectrum;
   const Spectrum& tau = o.tau_spectrum;
   if (q.frequency.size() < 3) return std::nullopt;
-  std::ostringstream s;
-  s.precision(6);
+  PlotScript s;
   s << "set terminal svg size 900,420 font 'sans,11' background rgb 'white'\n"
     << "set title 'power spectra of the resampled log (each joint normalised to unit power, "
        "summed)'\n"
     << "set logscale xy\nset grid\nset key top right\nset xlabel 'frequency [Hz]'\n"
     << "set ylabel 'density [1/Hz]'\nset format y '10^{%L}'\n";
-  s << "$s << EOD\n";
+  PlotRows rows;
   for (Eigen::Index k = 1; k < q.frequency.size(); ++k)
-    s << q.frequency[k] << " " << std::max(q.density[k], 1e-30) << " "
-      << std::max(tau.density[k], 1e-30) << "\n";
-  s << "EOD\n";
-  const auto line = [&](double f, const char* colour, const std::string& label) {
+    rows.append({q.frequency[k], std::max(q.density[k], 1e-30), std::max(tau.density[k], 1e-30)});
+  s << "$s << EOD\n" << rows << "EOD\n";
+  const auto line = [&](double f, const char* colour, const char* label) {
     if (f > 0.0)
-      s << "set arrow from " << f << ", graph 0 to " << f << ", graph 1 nohead lw 1.5 lc rgb '"
-        << colour << "'\nset label '" << label << "' at " << f
-        << ", graph 0.95 offset 0.5,0 tc rgb '" << colour << "'\n";
+      s << "set arrow from " << f << ", graph 0 to " << f << ", graph 1 nohead lw 1.5 lc rgb "
+        << gnuplotString(colour) << "\nset label " << gnuplotString(label) << " at " << f
+        << ", graph 0.95 offset 0.5,0 tc rgb " << gnuplotString(colour) << "\n";
   };
   line(o.trajectory_band, "#228833", "trajectory band");
   if (o.cutoff > 0.0) line(o.cutoff, "#aa3377", "cutoff");
   s << "plot $s using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'q', "
        "$s using 1:3 with lines lw 1 lc rgb '#ee6677' title 'tau'\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
   if (o.excerpt_time.size() < 2 || o.tau_noise.size() == 0) return std::nullopt;
   Eigen::Index joint = 0;
   o.tau_noise.maxCoeff(&joint);
-  std::ostringstream s;
+  PlotScript s;
   s.precision(9);
   s << "set terminal svg size 900,380 font 'sans,11' background rgb 'white'\n"
-    << "set title 'joint " << joint + 1
+    << "set title 'joint " << static_cast<long>(joint + 1)
     << " (the noisiest): resampled torque before and after the zero-phase filter'\n"
-    << "set grid\nset key top right\nset xlabel 't [s]'\nset ylabel 'tau" << joint + 1
-    << " [N m]'\n$e << EOD\n";
+    << "set grid\nset key top right\nset xlabel 't [s]'\nset ylabel 'tau"
+    << static_cast<long>(joint + 1) << " [N m]'\n$e << EOD\n";
+  PlotRows rows;
   for (Eigen::Index k = 0; k < o.excerpt_time.size(); ++k)
-    s << o.excerpt_time[k] << " " << o.excerpt_raw(k, joint) << " " << o.excerpt_filtered(k, joint)
-      << "\n";
-  s << "EOD\nplot $e using 1:2 with lines lw 1 lc rgb '#bbbbbb' title 'raw (resampled)', "
+    rows.append({o.excerpt_time[k], o.excerpt_raw(k, joint), o.excerpt_filtered(k, joint)});
+  s << rows
+    << "EOD\nplot $e using 1:2 with lines lw 1 lc rgb '#bbbbbb' title 'raw (resampled)', "
        "$e using 1:3 with lines lw 2 lc rgb '#4477aa' title 'filtered'\n";
-  return gnuplotSvg(s.str());
+  return gnuplotSvg(s);
 }
 
 std::string writePrepared(const std::string& dir, const LogSource& source,

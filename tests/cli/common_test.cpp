@@ -1,6 +1,7 @@
 // What every command shares (cli/common.cpp): option values checked and named, robot files that
 // fail to load named with their line.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -105,6 +106,72 @@ TEST(Cli, EveryNumericOptionsHelpIsTheTablesWithItsRange) {
   }
   // Defaults read as they were written: 0.05, not 0.050000000000000003.
   EXPECT_TRUE(contains(run("search --help").out, "--horizon arg (=0.05)"));
+}
+
+/// `text` as one shell word (the CLI tests run dynid through the shell).
+std::string shellWord(const std::string& text) {
+  std::string out = "'";
+  for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+TEST(Cli, HostileNamesInARobotFileItsPathAndTmpdirRunNoCommandAndKeepEveryFigure) {
+  // A downloaded URDF's joint names, the robot file's path (a figure title of predict) and
+  // TMPDIR reach gnuplot as text only: none runs a command, and every figure is still drawn.
+  namespace fs = std::filesystem;
+  if (std::system("gnuplot --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no gnuplot";
+  const std::string marker = test::tempPath("hostile_marker");
+  std::remove(marker.c_str());
+  const std::string dir = test::tempPath("it's \"hostile\" `dir`");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string urdf = dir + "/o'brien.urdf";
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + shellWord(urdf)).code, 0);
+  std::string text = readFile(urdf);
+  // In XML attribute form (&quot; is "); control characters are refused when the file is read.
+  const std::string names[] = {"'.system('touch " + marker + "').'",
+                               "x&quot;.system(&quot;touch " + marker + "&quot;).&quot;",
+                               "!touch " + marker + " #",
+                               "`touch " + marker + "`",
+                               "@M {x}_^ $(touch " + marker + ")",
+                               "o'brien; touch " + marker};
+  for (int j = 0; j < 6; ++j) {
+    const std::string from = "\"joint" + std::to_string(j + 1) + "\"";
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
+      text.replace(at, from.size(), "\"" + names[j] + "\"");
+  }
+  { std::ofstream(urdf) << text; }
+  const std::string tmpdir = dir + "/tmp'dir";
+  fs::create_directories(tmpdir);
+  const char* previous = std::getenv("TMPDIR");
+  const std::string saved = previous != nullptr ? previous : "";
+  ::setenv("TMPDIR", tmpdir.c_str(), 1);
+
+  const std::string robot = "--robot " + shellWord(urdf);
+  const Result excite =
+      run("excite " + robot + " --segments 10 --starts 1 --evaluations 20 --out " +
+          shellWord(dir + "/excite"));
+  const Result simulate =
+      run("simulate " + robot + " --duration 1 --out " + shellWord(dir + "/data.csv"));
+  const Result identify = run("identify " + robot + " --data " + shellWord(dir + "/data.csv") +
+                              " --out " + shellWord(dir + "/identify"));
+  const Result predict =
+      run("predict --estimate " + shellWord(dir + "/identify/estimate.json") + " --data " +
+          shellWord(dir + "/data.csv") + " --out " + shellWord(dir + "/predict"));
+  if (previous != nullptr)
+    ::setenv("TMPDIR", saved.c_str(), 1);
+  else
+    ::unsetenv("TMPDIR");
+  for (const Result* r : {&excite, &simulate, &identify, &predict}) {
+    EXPECT_EQ(r->code, 0) << r->err;
+    EXPECT_FALSE(contains(r->out + r->err, "gnuplot")) << r->out << r->err;  // no figure lost
+  }
+  EXPECT_NE(::access(marker.c_str(), F_OK), 0) << "a command ran";
+  int svgs = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    if (entry.path().extension() == ".svg") ++svgs;
+  EXPECT_GE(svgs, 3);
+  EXPECT_TRUE(fs::is_empty(tmpdir));  // and nothing was left in TMPDIR
 }
 
 TEST(Cli, DataErrorsNameTheFile) {
