@@ -378,7 +378,8 @@ SearchOutcome searchRun(const SearchRequest& request) {
   Eigen::VectorXd truth_full;
   estimation.on_search_iteration = [&](Method, const SearchState& state, const ParameterSpace&) {
     if (!request.checkpoint.empty())
-      writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n");
+      writeFileAtomically(request.checkpoint, jsonText(checkpointJson(state, out.settings)) + "\n",
+                          ExistingTarget::kUpdate);  // the checkpoint it resumed from
     if (request.on_iteration) request.on_iteration(state);
   };
   estimation.truth_full = request.truth ? &truth_full : nullptr;

@@ -53,7 +53,9 @@ int runMerge(const std::vector<std::string>& args) {
   std::vector<std::pair<std::string, std::string>> runs;
   for (const auto& [name, result] : merged.done)
     runs.emplace_back(name + ".json", batchRunDocument(result));
-  writeReportFiles(out + "/runs", runs);
+  OutputSet run_files(out + "/runs", false);  // merged into: earlier runs stay
+  for (const auto& [name, content] : runs) run_files.add(name, content);
+  run_files.publish();
   writeBatchTables(out, merged);
   std::cout << "merged " << merged.done.size() << " of " << merged.total << " runs into " << out
             << "/results.csv and results.json\n";

@@ -52,6 +52,11 @@ int runIdentify(const std::vector<std::string>& args) {
     if (!isUrdfSpec(request.write_back_from))
       throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
                        request.write_back_from + "'");
+    const std::string target = vm["write-urdf"].as<std::string>();
+    for (const std::string& path : {target, writeBackJsonPath(target)})
+      if (isInputFile(path))
+        throw UsageError("--write-urdf: '" + path +
+                         "' is an input of this command; name another file (the input stays)");
   }
   const IdentifyOutcome outcome = identifyRun(request);
   if (outcome.write_back)

@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "data/io.hpp"
+#include "reports/output.hpp"
 
 namespace {
 
@@ -38,8 +39,10 @@ const char* kUsage =
     "exit codes: 0 success, 1 runtime or data error, 2 usage error\n";
 
 /// SIGTERM, SIGHUP and (outside a search's own handler) SIGINT: remove the temporaries of the
-/// files being written, then die of the signal as before (exit status 128 + signal).
+/// files being written, then die of the signal as before (exit status 128 + signal). While a set
+/// of outputs is being renamed into place the signal waits for it (raised again after).
 extern "C" void onTerminate(int signal) {
+  if (dynid::deferSignalWhilePublishing(signal)) return;
   dynid::removeLiveTemporaries();
   std::signal(signal, SIG_DFL);
   std::raise(signal);
@@ -77,6 +80,9 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   for (int signal : {SIGTERM, SIGHUP, SIGINT}) std::signal(signal, onTerminate);
+  // A command never overwrites its own inputs; its output sets are recorded under its name.
+  const dynid::InputFileGuard inputs;
+  dynid::OutputSet::setCommand(command == "model" && all.size() > 1 ? "model-" + all[1] : command);
   try {
     return it->second(std::vector<std::string>(all.begin() + 1, all.end()));
   } catch (const UsageError& e) {

@@ -86,13 +86,18 @@ std::string datasetHeader(int num_joints) {
 }
 
 void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
+  AtomicWriter out(path);
+  writeDatasetCsv(out, trajectory);
+  out.commit();
+}
+
+void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory) {
   const int n = trajectory.numJoints(), samples = trajectory.numSamples();
   for (const Eigen::MatrixXd* m : {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
     if (m->rows() != n || m->cols() != samples)
       throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
                        std::to_string(samples));
   // Streamed: one row at a time through the writer's buffer, memory independent of the length.
-  AtomicWriter out(path);
   out.write(datasetHeader(n) + "\n");
   std::string row;
   std::array<char, 32> number;
@@ -112,7 +117,6 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
     row += '\n';
     out.write(row);
   }
-  out.commit();
 }
 
 DatasetReader::DatasetReader(const std::string& path, int expected_joints)

@@ -12,6 +12,8 @@
 
 namespace dynid {
 
+class AtomicWriter;
+
 /// The header line (without newline) for n joints.
 std::string datasetHeader(int num_joints);
 
@@ -19,6 +21,8 @@ std::string datasetHeader(int num_joints);
 /// file back gives exactly the same doubles. Throws Error when the file cannot be written,
 /// InputError when the trajectory's matrices disagree in size.
 void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
+/// The same rows into `out` (a member of an output set), which the caller commits.
+void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory);
 
 class LineReader;
 

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <csignal>
 
 #include <algorithm>
 #include <array>
@@ -15,7 +16,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
+#include <random>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "core/memory.hpp"
@@ -40,8 +45,38 @@ void unregisterTemporary(int slot) {
   if (slot >= 0) live_temporaries[slot].store(nullptr);
 }
 
-/// Removes `<path>.tmp.<pid>` files of processes that no longer exist: what a writer killed by
-/// SIGKILL (or a power cut) left. Best effort: errors are ignored.
+// The inputs of the command (InputFileGuard): device and inode of every file read.
+std::mutex input_mutex;
+bool inputs_guarded = false;
+std::vector<std::pair<dev_t, ino_t>> input_files;
+
+void noteInput(const struct stat& st) {
+  if (!S_ISREG(st.st_mode)) return;
+  const std::lock_guard<std::mutex> lock(input_mutex);
+  if (inputs_guarded) input_files.emplace_back(st.st_dev, st.st_ino);
+}
+
+bool isInput(const struct stat& st) {
+  const std::lock_guard<std::mutex> lock(input_mutex);
+  return std::find(input_files.begin(), input_files.end(), std::make_pair(st.st_dev, st.st_ino)) !=
+         input_files.end();
+}
+
+// PublishWindow's state: 0 closed, -1 open, > 0 open with that signal deferred.
+std::atomic<int> publish_state{0};
+
+/// `<path>.tmp.<pid>.<8 hex digits>`, fresh for each attempt.
+std::string temporaryName(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  std::random_device device;
+  const unsigned value = device() ^ (counter.fetch_add(1) * 0x9E3779B9u);
+  char hex[9];
+  std::snprintf(hex, sizeof(hex), "%08x", value);
+  return path + ".tmp." + std::to_string(::getpid()) + "." + hex;
+}
+
+/// Removes `<path>.tmp.<pid>[.<suffix>]` files of processes that no longer exist: what a writer
+/// killed by SIGKILL (or a power cut) left. Best effort: errors are ignored.
 void removeStaleTemporaries(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path target(path);
@@ -51,8 +86,16 @@ void removeStaleTemporaries(const std::string& path) {
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
-    const std::string digits = name.substr(prefix.size());
-    if (digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 9) continue;
+    std::string digits = name.substr(prefix.size());
+    if (const std::size_t dot = digits.find('.'); dot != std::string::npos) {
+      const std::string suffix = digits.substr(dot + 1);
+      if (suffix.empty() || suffix.find_first_not_of("0123456789abcdef") != std::string::npos)
+        continue;
+      digits.resize(dot);
+    }
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
+        digits.size() > 9)
+      continue;
     const auto pid = static_cast<pid_t>(std::stol(digits));
     if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) {
       std::error_code ignored;
@@ -67,32 +110,56 @@ void removeLiveTemporaries() noexcept {
     if (const char* path = slot.load(); path != nullptr) ::unlink(path);
 }
 
-AtomicWriter::AtomicWriter(const std::string& path) : path_(path) {
+AtomicWriter::AtomicWriter(const std::string& path, ExistingTarget existing) : path_(path) {
   // The target's type decides: a regular file (or none) is replaced whole by a rename; a stream
-  // (FIFO, character device) is written through; anything else (a directory, a socket, a block
-  // device) is refused.
+  // (FIFO, character device) the user named is written through; anything else (a directory, a
+  // socket, a block device) is refused. With kReplace a symbolic link is replaced, not followed.
   struct stat target {};
-  std::string open_path = path;
-  if (::stat(path.c_str(), &target) == 0 && !S_ISREG(target.st_mode)) {
-    if (!S_ISFIFO(target.st_mode) && !S_ISCHR(target.st_mode))
+  const bool follow = existing != ExistingTarget::kReplace;
+  const int found = follow ? ::stat(path.c_str(), &target) : ::lstat(path.c_str(), &target);
+  bool stream = false;
+  if (found == 0 && !S_ISREG(target.st_mode) && !(!follow && S_ISLNK(target.st_mode))) {
+    stream = follow && (S_ISFIFO(target.st_mode) || S_ISCHR(target.st_mode));
+    if (!stream)
       throw Error("cannot write '" + path + "': it exists and is not a regular file" +
                   (S_ISDIR(target.st_mode) ? " (a directory)" : ""));
-  } else {
-    temporary_ = path + ".tmp." + std::to_string(::getpid());
-    open_path = temporary_;
   }
-  if (!temporary_.empty()) slot_ = registerTemporary(temporary_.c_str());
-  file_ = std::fopen(open_path.c_str(), "wb");
-  if (file_ == nullptr) {
-    unregisterTemporary(slot_);
-    throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  if (found == 0 && S_ISREG(target.st_mode) && existing != ExistingTarget::kUpdate &&
+      isInput(target))
+    throw Error("cannot write '" + path + "': it is an input of this command (name another file)");
+  if (stream) {
+    file_ = std::fopen(path.c_str(), "wb");
+    if (file_ == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
+  } else {
+    // Created exclusively and never through a link: a file or link planted at the temporary's
+    // name makes the attempt fail (EEXIST), and another name is drawn.
+    int fd = -1;
+    for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+      temporary_ = temporaryName(path);
+      fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+      if (fd < 0 && errno != EEXIST) break;
+    }
+    if (fd < 0) {
+      const std::string why = std::strerror(errno);
+      temporary_.clear();
+      throw Error("cannot write '" + path + "': " + why);
+    }
+    slot_ = registerTemporary(temporary_.c_str());
+    file_ = ::fdopen(fd, "wb");
+    if (file_ == nullptr) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      ::unlink(temporary_.c_str());
+      unregisterTemporary(slot_);
+      throw Error("cannot write '" + path + "': " + why);
+    }
   }
   buffer_.reserve(kBuffer);
 }
 
 AtomicWriter::~AtomicWriter() {
   if (file_ != nullptr) std::fclose(file_);
-  if (!committed_ && !temporary_.empty()) std::remove(temporary_.c_str());
+  if (!committed_ && !temporary_.empty()) ::unlink(temporary_.c_str());
   unregisterTemporary(slot_);
 }
 
@@ -113,22 +180,71 @@ void AtomicWriter::flush() {
   buffer_.clear();
 }
 
-void AtomicWriter::commit() {
-  if (committed_) return;
+void AtomicWriter::stage() {
+  if (staged_) return;
   flush();
   const bool flushed =
       std::fflush(file_) == 0 && (temporary_.empty() || ::fsync(::fileno(file_)) == 0);
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
+  staged_ = true;
   if (!flushed || !closed) throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
+}
+
+void AtomicWriter::commit() {
+  if (committed_) return;
+  stage();
   if (!temporary_.empty() && std::rename(temporary_.c_str(), path_.c_str()) != 0)
     throw Error("cannot write '" + path_ + "': " + std::strerror(errno));
   committed_ = true;
+  unregisterTemporary(slot_);
+  slot_ = -1;
   if (!temporary_.empty()) removeStaleTemporaries(path_);
 }
 
-void writeFileAtomically(const std::string& path, const std::string& content) {
-  AtomicWriter out(path);
+bool isInputFile(const std::string& path) {
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && isInput(st);
+}
+
+InputFileGuard::InputFileGuard() {
+  const std::lock_guard<std::mutex> lock(input_mutex);
+  inputs_guarded = true;
+  input_files.clear();
+}
+
+InputFileGuard::~InputFileGuard() {
+  const std::lock_guard<std::mutex> lock(input_mutex);
+  inputs_guarded = false;
+  input_files.clear();
+}
+
+namespace {
+std::atomic<int> publish_depth{0};  // windows open (nested ones share the outermost)
+}  // namespace
+
+PublishWindow::PublishWindow() {
+  if (publish_depth.fetch_add(1) == 0) publish_state.store(-1);
+}
+
+PublishWindow::~PublishWindow() {
+  if (publish_depth.fetch_sub(1) != 1) return;
+  const int deferred = publish_state.exchange(0);
+  if (deferred > 0) std::raise(deferred);
+}
+
+bool deferSignalWhilePublishing(int signal) noexcept {
+  int state = publish_state.load();
+  while (state != 0) {
+    if (state > 0) return true;  // one is deferred already
+    if (publish_state.compare_exchange_weak(state, signal)) return true;
+  }
+  return false;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& content,
+                         ExistingTarget existing) {
+  AtomicWriter out(path, existing);
   out.write(content);
   out.commit();
 }
@@ -143,6 +259,7 @@ std::string readFile(const std::string& path, double max_bytes) {
   struct stat st {};
   if (::fstat(fd, &st) != 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw Error("cannot read '" + path + "': it is a directory");
+  noteInput(st);
   std::string out;
   const bool regular = S_ISREG(st.st_mode);
   if (regular) {
@@ -181,6 +298,7 @@ LineReader::LineReader(const std::string& path) : path_(path) {
     ::close(fd_);
     throw Error("cannot read '" + path + "': " + why);
   }
+  noteInput(st);
   regular_ = S_ISREG(st.st_mode);
   size_at_open_ = static_cast<long long>(st.st_size);
   // A small file gets a block of its own size (fuzz targets read thousands of few-kB inputs).

@@ -7,20 +7,37 @@
 
 namespace dynid {
 
+/// How AtomicWriter treats what is already at its path.
+enum class ExistingTarget {
+  /// A path the user named: a symbolic link is followed; a stream (FIFO, character device such
+  /// as /dev/stdout) is written through, never replaced.
+  kFollow,
+  /// A path dynid chose inside an output directory: a symbolic link there is replaced, never
+  /// followed; anything but a regular file is refused.
+  kReplace,
+  /// A file the command reads and rewrites (a checkpoint): as kFollow, and it may be an input.
+  kUpdate,
+};
+
 /// A file written piece by piece with writeFileAtomically's guarantees: through a temporary in
-/// the same directory, renamed over `path` by commit(); a stream target (FIFO, character device)
-/// is written through; a directory or other special file is refused. Destroyed without commit
-/// (an exception on the way), the temporary is removed and the target untouched. A commit also
-/// removes the target's stale temporaries (`<path>.tmp.<pid>` of processes that no longer exist:
-/// what a SIGKILL left). Throws Error naming the path on failure.
+/// the same directory (`<path>.tmp.<pid>.<random>`, created exclusively: never through a link or
+/// file planted at that name), renamed over `path` by commit(); a directory or other special
+/// file is refused. Destroyed without commit (an exception on the way), the temporary is removed
+/// and the target untouched. A commit also removes the target's stale temporaries (of processes
+/// that no longer exist: what a SIGKILL left). While an InputFileGuard exists, a target that is
+/// one of the command's input files is refused. Throws Error naming the path on failure.
 class AtomicWriter {
  public:
-  explicit AtomicWriter(const std::string& path);
+  explicit AtomicWriter(const std::string& path, ExistingTarget existing = ExistingTarget::kFollow);
   AtomicWriter(const AtomicWriter&) = delete;
   AtomicWriter& operator=(const AtomicWriter&) = delete;
   ~AtomicWriter();
   void write(std::string_view text);  // buffered
-  void commit();                      // flush, sync, rename; at most once
+  /// Flushes, syncs and closes the temporary: the content is whole on disk, not yet in place.
+  void stage();
+  /// Renames the staged temporary over the path (stages first when needed); at most once.
+  void commit();
+  const std::string& path() const { return path_; }
 
  private:
   void flush();
@@ -28,9 +45,38 @@ class AtomicWriter {
   std::string path_, temporary_;  // temporary_ empty: written through
   std::FILE* file_ = nullptr;
   std::string buffer_;
-  bool committed_ = false;
+  bool staged_ = false, committed_ = false;
   int slot_ = -1;  // this temporary's slot in the registry removeLiveTemporaries reads
 };
+
+/// While one exists (the CLI holds one for the whole command), every file read through readFile
+/// or LineReader is remembered by device and inode, and AtomicWriter refuses to replace any of
+/// them: a command never overwrites its own input, by whatever path it is named. Not nested.
+class InputFileGuard {
+ public:
+  InputFileGuard();
+  ~InputFileGuard();
+  InputFileGuard(const InputFileGuard&) = delete;
+  InputFileGuard& operator=(const InputFileGuard&) = delete;
+};
+
+/// True when an InputFileGuard exists and `path` (not followed when a link) is one of the files
+/// it remembers.
+bool isInputFile(const std::string& path);
+
+/// While one exists, a set of outputs is being renamed into place: SIGTERM, SIGHUP or SIGINT
+/// handlers that call deferSignalWhilePublishing wait for it, so an interrupted command leaves
+/// the whole old set or the whole new one. On destruction a deferred signal is raised again.
+class PublishWindow {
+ public:
+  PublishWindow();
+  ~PublishWindow();
+  PublishWindow(const PublishWindow&) = delete;
+  PublishWindow& operator=(const PublishWindow&) = delete;
+};
+/// For a signal handler (async-signal-safe): true when a PublishWindow is open, the signal then
+/// recorded to be raised when it closes; false when the handler should act now.
+bool deferSignalWhilePublishing(int signal) noexcept;
 
 /// Removes every temporary an AtomicWriter of this process has open (the targets are left as they
 /// were). Async-signal-safe: for a SIGTERM or SIGINT handler, before the process dies.
@@ -41,7 +87,8 @@ void removeLiveTemporaries() noexcept;
 /// character device such as /dev/null or /dev/stdout) is written through instead, never replaced;
 /// a directory or other special file is refused. Throws Error naming the path on failure (the
 /// temporary is removed).
-void writeFileAtomically(const std::string& path, const std::string& content);
+void writeFileAtomically(const std::string& path, const std::string& content,
+                         ExistingTarget existing = ExistingTarget::kFollow);
 
 /// The most a stream (a pipe, a device: its size unknown in advance) or a document (JSON, URDF)
 /// is read: 1 GiB, far above any model, settings file or checkpoint dynid writes.

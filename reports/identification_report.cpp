@@ -259,12 +259,17 @@ std::string writeBackJsonPath(const std::string& urdf_path) {
 
 std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back) {
   const std::string json_path = writeBackJsonPath(urdf_path);
-  writeFileAtomically(urdf_path, back.urdf);
-  try {
-    writeFileAtomically(json_path, back.model_json);
-  } catch (...) {
-    std::filesystem::remove(urdf_path);  // both or neither
-    throw;
+  // Both written whole first, then both renamed with signals held: both or neither, and a
+  // failure deletes nothing (the input URDF is refused as a target: InputFileGuard).
+  AtomicWriter urdf(urdf_path), json(json_path);
+  urdf.write(back.urdf);
+  json.write(back.model_json);
+  urdf.stage();
+  json.stage();
+  {
+    const PublishWindow window;
+    urdf.commit();
+    json.commit();
   }
   return "wrote " + urdf_path +
          " (mass, centre of mass, inertia; <dynamics> Fv, Fc where the "

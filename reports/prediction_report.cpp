@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
@@ -142,16 +143,16 @@ std::optional<std::string> residualHistogram(const Prediction& train) {
 PredictedCsv::PredictedCsv(const std::string& dir) : dir_(dir) {}
 
 PredictedCsv::~PredictedCsv() {
-  out_.reset();  // removes the temporary unless committed
+  set_.reset();  // removes the temporaries unless published
   std::error_code ignored;
-  if (created_dir_ && !committed_) std::filesystem::remove(dir_, ignored);  // only when empty
+  if (created_dir_) std::filesystem::remove(dir_, ignored);  // only when left empty
 }
 
 void PredictedCsv::open() {
   std::error_code ec;
   created_dir_ = !std::filesystem::exists(dir_, ec);
-  writeReportFiles(dir_, {});  // creates the directory
-  out_ = std::make_unique<AtomicWriter>(dir_ + "/predicted.csv");
+  set_ = std::make_unique<OutputSet>(dir_);  // creates the directory
+  out_ = &set_->stream("predicted.csv");
 }
 
 void PredictedCsv::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
@@ -185,11 +186,11 @@ void PredictedCsv::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& m
   }
 }
 
-void PredictedCsv::commit() {
+OutputSet& PredictedCsv::finish() {
   if (!out_) open();  // no samples: the header alone
   if (!header_written_) out_->write("t\n");
-  out_->commit();
-  committed_ = true;
+  out_->stage();
+  return *set_;
 }
 
 std::string writePrediction(const std::string& dir, const PredictOutcome& o,
@@ -201,8 +202,10 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   const std::optional<std::string> figure =
       torqueFigure(p, "measured and predicted joint torques: " + o.robot_spec);
   if (figure) files.emplace_back("torques.svg", *figure);
-  csv.commit();
-  writeReportFiles(dir, files);
+  OutputSet& set = csv.finish();
+  if (set.dir() != dir) throw Error("predicted.csv and the prediction must go to one directory");
+  for (const auto& [name, content] : files) set.add(name, content);
+  set.publish();
   const Validation& v = p.validation;
   std::ostringstream out;
   out << o.robot_spec << " (" << (o.method.empty() ? "estimate" : o.method) << ") on "

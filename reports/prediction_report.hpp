@@ -27,11 +27,12 @@ std::optional<std::string> residualFigure(const Prediction& train, const Predict
 std::optional<std::string> residualHistogram(const Prediction& train);
 
 class AtomicWriter;
+class OutputSet;
 
 /// predicted.csv (t, tau1..taun, tau_hat1..tau_hatn), written sample by sample as the prediction
-/// streams (memory independent of the data's length) into a temporary, renamed into place by
-/// writePrediction; nothing is left when the run fails or is interrupted (a directory it created
-/// is removed again).
+/// streams (memory independent of the data's length) into a temporary of the output set that
+/// writePrediction publishes; nothing is left when the run fails or is interrupted (a directory
+/// it created is removed again).
 class PredictedCsv : public PredictionSink {
  public:
   /// Creates `dir` when the first samples arrive. Throws Error when it cannot be written.
@@ -39,13 +40,16 @@ class PredictedCsv : public PredictionSink {
   ~PredictedCsv() override;
   void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                const Eigen::MatrixXd& predicted) override;
-  void commit();
+  /// predicted.csv whole (the header alone without samples), and the set it belongs to, to be
+  /// published with the other files.
+  OutputSet& finish();
 
  private:
   void open();  // on the first samples: the directory and the temporary
   std::string dir_;
-  std::unique_ptr<AtomicWriter> out_;
-  bool created_dir_ = false, committed_ = false;
+  std::unique_ptr<OutputSet> set_;
+  AtomicWriter* out_ = nullptr;
+  bool created_dir_ = false;
   bool header_written_ = false;
   std::string row_;
 };

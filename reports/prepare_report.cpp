@@ -145,9 +145,10 @@ std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
 
 std::string writePrepared(const std::string& dir, const LogSource& source,
                           const PrepareOptions& options, const PrepareOutcome& outcome) {
-  std::filesystem::create_directories(dir);
-  writeDatasetCsv(dir + "/train.csv", outcome.train);
-  if (outcome.validate.numSamples() > 0) writeDatasetCsv(dir + "/validate.csv", outcome.validate);
+  OutputSet set(dir);  // train.csv, validate.csv, prepare.json and the figures: all or nothing
+  writeDatasetCsv(set.stream("train.csv"), outcome.train);
+  if (outcome.validate.numSamples() > 0)
+    writeDatasetCsv(set.stream("validate.csv"), outcome.validate);
   std::vector<std::pair<std::string, std::string>> files = {
       {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
   std::vector<std::string> figures;
@@ -159,7 +160,8 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
       files.emplace_back(names[k], *svgs[k]);
       figures.push_back(names[k]);
     }
-  writeReportFiles(dir, files);
+  for (const auto& [name, content] : files) set.add(name, content);
+  set.publish();
   std::ostringstream out;
   out << "prepared " << outcome.raw_samples << " raw samples (median step "
       << outcome.median_step * 1e3 << " ms, " << outcome.min_step * 1e3 << " to "

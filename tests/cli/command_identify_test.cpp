@@ -137,6 +137,22 @@ TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
   EXPECT_TRUE(contains(ols.err, "use --method pc")) << ols.err;
   EXPECT_FALSE(std::filesystem::exists(not_written));
   EXPECT_FALSE(std::filesystem::exists(test::tempPath("y.urdf")));
+  // The input URDF (or its .dynid.json companion) as the target: refused before any work, the
+  // input untouched; and a companion that cannot be written deletes nothing.
+  const std::string before = readFile(urdf);
+  const Result onto_input = run("identify --method pc" + robot + " --data " + train + " --out " +
+                                not_written + " --write-urdf " + urdf);
+  EXPECT_EQ(onto_input.code, 2);
+  EXPECT_TRUE(contains(onto_input.err, "is an input of this command")) << onto_input.err;
+  EXPECT_EQ(readFile(urdf), before);
+  const std::string blocked = test::tempPath("blocked.urdf");
+  std::filesystem::create_directories(blocked.substr(0, blocked.size() - 5) +
+                                      ".dynid.json");  // a directory: not writable
+  writeFileAtomically(blocked, "an earlier write-back");
+  const Result half = run("identify --method pc" + robot + " --data " + train + " --out " +
+                          not_written + " --write-urdf " + blocked);
+  EXPECT_EQ(half.code, 1);
+  EXPECT_EQ(readFile(blocked), "an earlier write-back");  // neither written nor deleted
 }
 
 TEST(Cli, IdentifiesTheRealPandaLogWithItsPublishedModel) {

@@ -61,6 +61,21 @@ TEST(Cli, PrepareWritesADatasetAndItsRecord) {
   EXPECT_EQ(ja["dq"].get<std::string>().rfind("Savitzky-Golay", 0), 0u) << ja["dq"];
 }
 
+TEST(Cli, APrepareRerunWithoutAHoldOutLeavesNoEarlierValidateCsv) {
+  // The output set is replaced whole: the earlier run's validate.csv (of the earlier split) goes,
+  // and another command's files in the same directory stay.
+  const std::string log = writeLog("rerun.txt"), dir = test::tempPath("prepared_rerun");
+  ASSERT_EQ(
+      run("prepare --log " + log + " --q 2 --tau 3 --validate-fraction 0.3 --out " + dir).code, 0);
+  ASSERT_TRUE(std::filesystem::exists(dir + "/validate.csv"));
+  writeFileAtomically(dir + "/notes.txt", "mine");
+  const Result again = run("prepare --log " + log + " --q 2 --tau 3 --out " + dir);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/validate.csv"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/train.csv"));
+  EXPECT_EQ(readFile(dir + "/notes.txt"), "mine");
+}
+
 TEST(Cli, PrepareNamesWhatIsWrongAndWritesNothing) {
   const std::string dir = test::tempPath("never_prepared");
   // A bad cell: the file, the line and the column.

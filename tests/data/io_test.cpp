@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -89,6 +90,97 @@ TEST(Io, ACommitRemovesTheTemporariesOfDeadWriters) {
   EXPECT_FALSE(std::filesystem::exists(stale));
   EXPECT_TRUE(std::filesystem::exists(alive));
   EXPECT_EQ(readFile(path), "new");
+}
+
+TEST(Io, APlantedLinkOrFileAtTheTemporarysNameIsNeverWrittenThrough) {
+  // A link planted where the temporary used to be (<path>.tmp.<pid>, predictable) or at a staged
+  // name: the temporary is created exclusively and never through a link, so the victim stays.
+  const std::string victim = test::tempPath("victim.txt");
+  writeFileAtomically(victim, "precious");
+  const std::string path = test::tempPath("planted.txt");
+  const std::string old_name = path + ".tmp." + std::to_string(::getpid());
+  ASSERT_EQ(::symlink(victim.c_str(), old_name.c_str()), 0);
+  writeFileAtomically(path, "output");
+  EXPECT_EQ(readFile(path), "output");
+  EXPECT_EQ(readFile(victim), "precious");
+  EXPECT_TRUE(std::filesystem::is_symlink(old_name));  // a live process's name: left alone
+  std::filesystem::remove(old_name);
+}
+
+TEST(Io, ALinkAtAnOutputIsReplacedNotFollowed) {
+  const std::string victim = test::tempPath("victim2.txt");
+  writeFileAtomically(victim, "precious");
+  for (const ExistingTarget existing : {ExistingTarget::kFollow, ExistingTarget::kReplace}) {
+    const std::string link = test::tempPath("link.txt");
+    std::filesystem::remove(link);
+    ASSERT_EQ(::symlink(victim.c_str(), link.c_str()), 0);
+    AtomicWriter out(link, existing);
+    out.write("new");
+    out.commit();
+    EXPECT_FALSE(std::filesystem::is_symlink(link));
+    EXPECT_EQ(readFile(link), "new");
+    EXPECT_EQ(readFile(victim), "precious");
+  }
+  // With kReplace (names dynid chose), a link to a stream is replaced too, never written through.
+  const std::string fifo = test::tempPath("victim.fifo"), link = test::tempPath("to-fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ASSERT_EQ(::symlink(fifo.c_str(), link.c_str()), 0);
+  writeFileAtomically(link, "x", ExistingTarget::kReplace);
+  EXPECT_EQ(readFile(link), "x");
+  EXPECT_TRUE(std::filesystem::is_fifo(fifo));
+}
+
+TEST(Io, WithAnInputGuardACommandsInputIsNeverReplaced) {
+  const std::string input = test::tempPath("input.txt"), alias = test::tempPath("alias.txt");
+  writeFileAtomically(input, "read me");
+  std::filesystem::remove(alias);
+  std::filesystem::create_hard_link(input, alias);
+  {
+    const InputFileGuard guard;
+    EXPECT_EQ(readFile(input), "read me");
+    EXPECT_TRUE(isInputFile(input));
+    EXPECT_TRUE(isInputFile(alias));  // the same file by another name
+    for (const std::string& target : {input, alias}) {
+      try {
+        writeFileAtomically(target, "overwritten");
+        ADD_FAILURE() << target;
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("is an input of this command"), std::string::npos);
+      }
+    }
+    writeFileAtomically(input, "a checkpoint", ExistingTarget::kUpdate);  // read to be rewritten
+    EXPECT_EQ(readFile(input), "a checkpoint");
+  }
+  EXPECT_EQ(readFile(alias), "read me");  // the rewrite replaced the name, not the file
+  writeFileAtomically(alias, "no guard, no refusal");
+  EXPECT_FALSE(isInputFile(alias));
+}
+
+int deferred_signals = 0, acted_signals = 0;
+extern "C" void onTestSignal(int signal) {
+  if (deferSignalWhilePublishing(signal))
+    ++deferred_signals;
+  else
+    ++acted_signals;
+}
+
+TEST(Io, ASignalDuringAPublishWindowWaitsForItsEnd) {
+  void (*previous)(int) = std::signal(SIGUSR1, onTestSignal);
+  deferred_signals = acted_signals = 0;
+  {
+    const PublishWindow outer;
+    {
+      const PublishWindow inner;  // nested: the outermost decides
+      std::raise(SIGUSR1);
+    }
+    std::raise(SIGUSR1);  // one is already waiting
+    EXPECT_EQ(deferred_signals, 2);
+    EXPECT_EQ(acted_signals, 0);
+  }
+  EXPECT_EQ(acted_signals, 1);  // raised again once the window closed
+  std::raise(SIGUSR1);
+  EXPECT_EQ(acted_signals, 2);  // no window: acted on at once
+  std::signal(SIGUSR1, previous);
 }
 
 TEST(Io, FormatDoubleRoundTrips) {
