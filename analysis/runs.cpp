@@ -300,7 +300,15 @@ PredictOutcome predictRun(const PredictRequest& request) {
   } catch (const InputError& e) {
     throw ParseError(file, 0, "drive_terms", e.what());
   }
-  out.model = loadRobot(out.robot_spec, options);
+  if (request.robot_spec.empty()) {
+    try {  // the robot the estimate names: a failure names the estimate and its field
+      out.model = loadRobot(out.robot_spec, options);
+    } catch (const Error& e) {
+      throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
+    }
+  } else {
+    out.model = loadRobot(out.robot_spec, options);
+  }
   out.model.setStandardParameters(standardVectorFrom(
       estimate, standardParameterNames(out.model.parameterLayout()), file, out.robot_spec));
   // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
@@ -325,10 +333,22 @@ PredictOutcome predictRun(const PredictRequest& request) {
 
 // ---- the GC-error searches ----
 
+namespace {
+/// makeGcProblem, its refusals (irregular time, too few samples for a segment) naming the file.
+GcProblem gcProblemOf(const Trajectory& data, const SegmentOptions& segments,
+                      const std::string& file) {
+  try {
+    return makeGcProblem(data, segments);
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  }
+}
+}  // namespace
+
 std::pair<double, double> heldOutGc(const Model& first, const Model& second,
                                     const std::string& file, const SegmentOptions& segments,
                                     int threads) {
-  const GcProblem test = makeGcProblem(readDatasetCsv(file, first.numJoints()), segments);
+  const GcProblem test = gcProblemOf(readDatasetCsv(file, first.numJoints()), segments, file);
   ThreadPool pool(resolveThreads(threads));
   GcWorkspace workspace(pool.numThreads());
   const double a = gcError(first, test, workspace, pool);
@@ -355,9 +375,9 @@ SearchOutcome searchRun(const SearchRequest& request) {
 
   SegmentOptions segments = request.segments;
   segments.seed = request.seed;
-  const GcProblem problem = makeGcProblem(
-      request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
-      segments);
+  const GcProblem problem = gcProblemOf(
+      request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()), segments,
+      request.data_file);
   EstimationProblem estimation;
   estimation.model = robot;
   estimation.train_gc = &problem;
@@ -444,9 +464,9 @@ RefineOutcome refineRun(const RefineRequest& request) {
   out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);
   const ParameterSpace& space = *out.space;
   out.x0 = space.project(space.freeOf(space.fullVector(start.estimate)));
-  const GcProblem problem = makeGcProblem(
+  const GcProblem problem = gcProblemOf(
       request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
-      start.segments);
+      start.segments, request.data_file);
   out.num_segments = problem.numSegments();
   if (request.truth && request.truth->parameterLayout().size() != robot.parameterLayout().size())
     throw InputError("the true model has another parameter layout than the robot");

@@ -41,8 +41,16 @@ BatchOutcome runBatchWorkers(const BatchPlan& plan, int jobs, const std::atomic<
   while ((next < plan.todo.size() && !stopped()) || !running.empty()) {
     while (next < plan.todo.size() && static_cast<int>(running.size()) < jobs && !stopped()) {
       const std::size_t i = plan.todo[next++];
-      const std::vector<std::string> argv_strings = {
-          worker, "batch", "run", "--spec", plan.runs[i].dump(), "--out", plan.path(i)};
+      // --parent: the worker ends when this process does (batch run, PR_SET_PDEATHSIG).
+      const std::vector<std::string> argv_strings = {worker,
+                                                     "batch",
+                                                     "run",
+                                                     "--spec",
+                                                     plan.runs[i].dump(),
+                                                     "--out",
+                                                     plan.path(i),
+                                                     "--parent",
+                                                     std::to_string(::getpid())};
       std::vector<char*> argv;
       for (const std::string& a : argv_strings) argv.push_back(const_cast<char*>(a.c_str()));
       argv.push_back(nullptr);

@@ -1,5 +1,9 @@
 // dynid batch: a grid of study runs (analysis/batch.hpp) in parallel worker processes, resumable,
 // sharded for cluster schedulers, with one results table. See docs/BATCH.md.
+#include <sys/prctl.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <iostream>
 #include <sstream>
 
@@ -18,11 +22,18 @@ namespace {
 int runOne(const std::vector<std::string>& args) {
   po::options_description options("dynid batch run");
   options.add_options()("spec", po::value<std::string>()->required(), "the run's spec (JSON)")(
-      "out", po::value<std::string>()->required(), "result file");
+      "out", po::value<std::string>()->required(), "result file")(
+      "parent", po::value<long>(), "end with this process (batch's pid)");
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid batch run --spec JSON --out FILE (batch's worker)",
                         vm))
     return kExitOk;
+  if (vm.count("parent")) {
+    // SIGTERM when the batch dies, however it dies (the handler removes this run's temporaries);
+    // a batch already gone before this line: end now.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != static_cast<pid_t>(vm["parent"].as<long>())) return kExitError;
+  }
   nlohmann::json spec;
   try {
     spec = nlohmann::json::parse(vm["spec"].as<std::string>());

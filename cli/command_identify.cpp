@@ -38,6 +38,8 @@ int runIdentify(const std::vector<std::string>& args) {
   request.method = parseOption(vm, "method", [](const std::string& name) {
     return parseMethod(name, leastSquaresMethods());
   });
+  refuseUnused(vm, request.method == Method::kPc, {"prior", "prior-weight"},
+               "applies to --method pc, not " + std::string(methodName(request.method)));
   request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);

@@ -76,6 +76,11 @@ LogSource logSource(const po::variables_map& vm) {
   source.ddq_file = text(vm, "ddq-file");
   if (source.tables.empty() == source.q_file.empty())
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
+  refuseUnused(vm, source.tables.empty(),
+               {"time-file", "dq-file", "ddq-file", "tau-file", "current-file"},
+               "applies to one-file-per-signal logs (--q-file), not to --log tables");
+  refuseUnused(vm, !source.tables.empty(), {"time", "q", "dq", "ddq", "tau", "current"},
+               "selects --log table columns; with --q-file give --time-file, --dq-file, ...");
   if (!source.tables.empty() && (source.q_columns.empty() || source.tau_columns.empty()))
     throw UsageError("a table needs --q and --tau (or --current) column selectors");
   if (source.tables.empty() && source.num_joints <= 0)
@@ -107,6 +112,10 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
   if (derivative != "central" && derivative != "savgol")
     throw UsageError("--derivative must be central or savgol, not '" + derivative + "'");
   o.savitzky_golay = derivative == "savgol";
+  refuseUnused(vm, o.savitzky_golay, {"savgol-window", "savgol-degree"},
+               "applies to --derivative savgol, not central");
+  refuseUnused(vm, o.auto_cutoff || o.cutoff != 0.0, {"order"},
+               "applies to a filter; --cutoff 0 has none");
   o.savgol_window = vm["savgol-window"].as<int>();
   o.savgol_degree = vm["savgol-degree"].as<int>();
   o.order = vm["order"].as<int>();

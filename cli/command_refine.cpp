@@ -47,6 +47,8 @@ int runRefine(const std::vector<std::string>& args) {
       "[--estimate-initial-states] [--truth T] [--validate test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  refuseUnused(vm, vm["estimate-initial-states"].as<bool>(), {"continuity-weight"},
+               "applies with --estimate-initial-states only");
   RefineRequest request;
   RefineOptions& refine = request.options;
   refine.max_iterations = vm["max-iterations"].as<int>();

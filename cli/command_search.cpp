@@ -99,6 +99,12 @@ int runSearch(const std::vector<std::string>& args) {
       vm, "method", [](const std::string& name) { return parseMethod(name, searchMethods()); });
   if (vm.count("init") && vm.count("perturb"))
     throw UsageError("give --init or --perturb, not both");
+  const std::string method = methodName(request.method);
+  refuseUnused(vm, request.method != Method::kNlo,
+               {"population", "elites", "migration", "mutation-rate"},
+               "applies to --method ga and hybrid, not " + method);
+  refuseUnused(vm, request.method != Method::kGa, {"evals-per-seed"},
+               "applies to --method nlo and hybrid, not " + method);
   readSearchSettings(vm, request);
   request.robot = loadRobotFromOptions(vm);
   if (vm.count("init")) request.init = loadOtherRobot(vm, "init");

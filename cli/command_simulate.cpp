@@ -74,6 +74,10 @@ int runSimulate(const std::vector<std::string>& args) {
   sim.seed = vm["seed"].as<std::uint64_t>();
   request.harmonics = harmonics;
   request.fourier = controller == "fourier";
+  refuseUnused(vm, !request.fourier, {"frequency", "phase"},
+               "applies to --controller sinusoidal, not fourier");
+  refuseUnused(vm, request.fourier, {"base-frequency", "harmonics"},
+               "applies to --controller fourier, not sinusoidal");
   if (vm.count("trajectory")) {
     for (const char* other : {"q0", "frequency", "phase"})
       if (vm.count(other))

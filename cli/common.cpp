@@ -279,6 +279,17 @@ StructuralOptions structuralOptions(const po::variables_map& vm) {
   return {vm["samples"].as<int>(), vm["seed"].as<std::uint64_t>(), vm["tolerance"].as<double>()};
 }
 
+bool given(const po::variables_map& vm, const char* option) {
+  return vm.count(option) > 0 && !vm[option].defaulted();
+}
+
+void refuseUnused(const po::variables_map& vm, bool used,
+                  std::initializer_list<const char*> options, const std::string& applies) {
+  if (used) return;
+  for (const char* option : options)
+    if (given(vm, option)) throw UsageError(std::string("--") + option + " " + applies);
+}
+
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
 
 InterruptGuard::InterruptGuard() {

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdint>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,13 @@ double priorWeightOption(const po::variables_map& vm);
 /// instead of keeping the search's result (analysis/pipeline.hpp, RefineSettings::keep_if_better).
 void addKeepRefinementOption(po::options_description& options);
 bool keepIfBetterOption(const po::variables_map& vm);
+
+/// An option given on the command line (not a default).
+bool given(const po::variables_map& vm, const char* option);
+/// Throws UsageError when any of `options` is given while `used` is false: an option the chosen
+/// method or mode would ignore ("--population applies to --method ga and hybrid, not nlo").
+void refuseUnused(const po::variables_map& vm, bool used,
+                  std::initializer_list<const char*> options, const std::string& applies);
 
 /// Whether standard error is a terminal (progress lines go there only then).
 bool stderrIsTerminal();

@@ -87,6 +87,8 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
                         const py::handle& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const std::string& robot_spec) {
+  if (method != "pc" && (prior || prior_weight != kDefaultPriorWeight))
+    throw py::value_error("prior and prior_weight apply to method 'pc', not '" + method + "'");
   IdentifyRequest request;  // checked by identifyRun
   request.model = model;
   request.method = parseMethod(method, leastSquaresMethods());

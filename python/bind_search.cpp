@@ -136,6 +136,13 @@ SearchPy searchPy(const Model& robot, const py::handle& data, const std::string&
                   double mutation_rate, double mutation_scale, int evals_per_seed,
                   std::uint64_t seed, int threads, const std::string& checkpoint) {
   if (init && perturb) throw py::value_error("give init or perturb, not both");
+  const SearchRequest d;
+  if (method == "nlo" && (population != d.ga.population || elites != d.ga.elites ||
+                          migration != d.ga.migration || mutation_rate != d.ga.mutation_rate))
+    throw py::value_error(
+        "population, elites, migration and mutation_rate apply to 'ga' and 'hybrid', not 'nlo'");
+  if (method == "ga" && evals_per_seed != d.nlo.evaluations_per_seed)
+    throw py::value_error("evals_per_seed applies to 'nlo' and 'hybrid', not 'ga'");
   SearchRequest r;  // checked by searchRun
   r.robot = robot;
   r.method = parseMethod(method, searchMethods());
@@ -334,6 +341,9 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
     o.auto_cutoff = true;
   } else if (!cutoff.is_none()) {
     o.cutoff = cutoff.cast<double>();
+    if (!(o.cutoff >= 0.0) || !std::isfinite(o.cutoff))
+      throw py::value_error(
+          "cutoff: expected a frequency >= 0 [Hz] (0: no filter), 'auto' or None");
   }
   o.order = order;
   o.decimate = decimate;
@@ -344,6 +354,9 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
   o.savitzky_golay = savitzky_golay;
   o.savgol_window = savgol_window;
   o.savgol_degree = savgol_degree;
+  if (!savitzky_golay && (savgol_window != PrepareOptions{}.savgol_window ||
+                          savgol_degree != PrepareOptions{}.savgol_degree))
+    throw py::value_error("savgol_window and savgol_degree apply to savitzky_golay=True");
   o.validate_fraction = validate_fraction;
   o.keep_stalled = keep_stalled;
   if (!torque_constants.is_none()) {

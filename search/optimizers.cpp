@@ -383,6 +383,7 @@ SearchResult runNlo(const SearchContext& context, const NloOptions& options) {
   checkNlo(options);
   Run run(context, "nlo");
   if (run.fresh()) {
+    run.state.stage = "nlo";  // the first checkpoint (round 0) must name its stage to resume
     run.state.rng = saveRng(run.rng);
     run.evaluator.record("nlo");
   }

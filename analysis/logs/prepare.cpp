@@ -155,10 +155,24 @@ struct RunSpan {
   std::vector<Eigen::Index> slot;   // per row: its column in the train or validate set
 };
 
+// The most samples a log is resampled to, over all its runs (about 14 h at 1 kHz), and the most
+// per logged sample: beyond either, --rate is a mistake and the work would run for hours.
+constexpr double kMaxResampledSamples = 5e7;
+constexpr double kMaxUpsampling = 100.0;
+
+std::string resampleBoundMessage(double samples, double raw, double rate) {
+  return "resampling at --rate " + formatNumber(rate) + " Hz makes " + formatNumber(samples, 3) +
+         " samples from " + formatNumber(raw, 3) + " logged ones; dynid prepares at most " +
+         formatNumber(kMaxResampledSamples, 3) + " samples and " + formatNumber(kMaxUpsampling) +
+         " per logged sample: lower --rate (0: the log's median rate)";
+}
+
 int resampledCount(const RawSignals& s, const RunSpan& span, double rate) {
-  return static_cast<int>(
-             std::floor((s.values(span.end - 1, 0) - s.values(span.begin, 0)) * rate + 1e-9)) +
-         1;
+  const double count =
+      std::floor((s.values(span.end - 1, 0) - s.values(span.begin, 0)) * rate + 1e-9) + 1.0;
+  if (!(count <= kMaxResampledSamples))
+    throw InputError(resampleBoundMessage(count, static_cast<double>(span.end - span.begin), rate));
+  return static_cast<int>(count);
 }
 
 /// Column `column` of the signals over the span, resampled to the uniform rate: `count` samples
@@ -459,6 +473,10 @@ std::vector<RunSpan> findRuns(std::vector<RawSignals>& files, const PrepareOptio
   return spans;
 }
 
+/// The fewest training samples a prepared dataset may have (a dataset of a few rows identifies
+/// nothing; it is a --decimate or --validate-* mistake).
+constexpr Eigen::Index kMinTrainSamples = 10;
+
 /// Where the samples go.
 struct SamplePlan {
   Eigen::Index train = 0, validate = 0;  // samples in each dataset
@@ -505,12 +523,30 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const std::vector<Biquad>& f
       throw InputError("--validate-runs: run " + std::to_string(r + 1) +
                        " does not exist: the log has " + std::to_string(out.runs_planned) +
                        " runs long enough for the filter");
+  for (const auto& [from, to] : options.validate_ranges) {
+    bool holds = false;
+    for (const RunSpan& span : spans)
+      for (std::size_t k = 0; k < span.rows.size() && !holds; ++k) {
+        const double t = span.run.start + span.run.time_offset + span.rows[k] / out.rate;
+        holds = t >= from && t <= to;
+      }
+    if (!holds)
+      throw InputError("--validate-time " + formatNumber(from) + ":" + formatNumber(to) +
+                       " holds no sample: the kept runs lie outside it (times are the log's, in "
+                       "seconds after --time-unit)");
+  }
   if (plan.train == 0 && plan.validate > 0)
     throw InputError("every sample is held out for validation: nothing is left to train on");
   if (plan.train == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +
                      std::to_string(out.trim) + " s trimmed at each end); lower --trim or " +
                      "--max-gap's splitting, or raise --cutoff");
+  if (plan.train < kMinTrainSamples)
+    throw InputError("only " + std::to_string(plan.train) +
+                     " training samples are left after --decimate " +
+                     std::to_string(options.decimate) + " and the held-out samples; " +
+                     "identification needs at least " + std::to_string(kMinTrainSamples) +
+                     ": lower --decimate or hold out less");
   return plan;
 }
 
@@ -520,6 +556,7 @@ void PrepareOptions::check() const {
   if (!(time_scale > 0.0) || !(angle_scale > 0.0) || !std::isfinite(time_scale) ||
       !std::isfinite(angle_scale))
     throw InputError("the time and angle units must be positive");
+  if (!std::isfinite(cutoff)) throw InputError("cutoff must be a finite frequency [Hz]");
   checkOption("prepare", "rate", rate, "rate");
   checkOption("prepare", "order", order, "order");
   checkOption("prepare", "decimate", decimate, "decimate");
@@ -540,6 +577,13 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   out.dq_derived = !files.front().has_dq || options.derive_dq;
   out.ddq_logged = files.front().has_ddq && !options.derive_ddq;
   std::vector<RunSpan> spans = findRuns(files, options, out);
+  double resampled = 0.0, logged = 0.0;
+  for (const RunSpan& span : spans) {
+    resampled += span.count;
+    logged += static_cast<double>(span.end - span.begin);
+  }
+  if (resampled > kMaxResampledSamples || resampled > kMaxUpsampling * logged)
+    throw InputError(resampleBoundMessage(resampled, logged, out.rate));
 
   // Pass 2: the spectra, and the filter.
   measureSpectra(files, spans, out);

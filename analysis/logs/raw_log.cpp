@@ -68,8 +68,17 @@ bool parseNumber(const char* begin, const char* end, double* out) {
 
 /// Calls f(begin, end, line_number) for each line of the file, without its newline, reading it in
 /// blocks (memory independent of the file's size); stops when f returns false.
+/// Logs are regular files, read twice (count, then parse): anything else (a FIFO nobody writes
+/// would block the open for ever, a device never ends) is refused before it is opened.
 template <class F>
 void forEachLine(const std::string& path, F f) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw ParseError(path, 0, "",
+                     S_ISDIR(st.st_mode)
+                         ? "is a directory, not a log file"
+                         : "is not a regular file: a log is read twice (count, then parse); save "
+                           "the stream to a file first");
   LineReader reader(path);
   std::string_view line;
   while (reader.next(line))
@@ -148,11 +157,6 @@ RawTable readRawHeader(const std::string& path) {
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns) {
   const std::string& path = header.file;
   const auto width = static_cast<int>(header.names.size());
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
-    throw ParseError(path, 0, "",
-                     "is not a regular file: a table is read twice (count, then parse); save the "
-                     "stream to a file first");
   // Pass 1: the rows, to allocate once.
   Eigen::Index rows = 0;
   forEachLine(path, [&](const char* begin, const char* end, int line) {

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <random>
 #include <sstream>
@@ -125,7 +126,8 @@ TEST_P(SigKill, SearchResumesFromItsCheckpointToTheUninterruptedResult) {
   const std::string checkpoint = dir + "/search.ckpt";
   fs::create_directories(dir);
   std::mt19937 rng(method == "ga" ? 17 : 23);
-  std::uniform_real_distribution<double> moment(0.05 * seconds, 0.95 * seconds);
+  // From the very start: a kill right after the first checkpoint (round 0) must resume too.
+  std::uniform_real_distribution<double> moment(0.0, 0.95 * seconds);
   int kills = 0;
   for (int attempt = 0; attempt < 5; ++attempt) {
     const double at = moment(rng);
@@ -150,7 +152,7 @@ TEST_P(SigKill, SearchResumesFromItsCheckpointToTheUninterruptedResult) {
     EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, SigKill, ::testing::Values("ga", "nlo"));
+INSTANTIATE_TEST_SUITE_P(Methods, SigKill, ::testing::Values("ga", "nlo", "hybrid"));
 
 // A refinement killed while it rewrites an existing result leaves the old result whole; the next
 // run writes the same result as an uninterrupted one.
@@ -217,6 +219,44 @@ TEST(SigKillBatch, FinishesTheMissingRunsToTheUninterruptedTable) {
     for (const char* metric :
          {"run", "gc_error_train", "gc_error_test", "base_param_error", "evaluations"})
       EXPECT_EQ(a["rows"][i][metric], b["rows"][i][metric]) << "row " << i << " " << metric;
+}
+
+/// Processes whose command line mentions `text` (the batch's workers name their output file).
+int processesMentioning(const std::string& text) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string pid = entry.path().filename();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "cmdline");
+    const std::string cmdline((std::istreambuf_iterator<char>(in)),
+                              std::istreambuf_iterator<char>());
+    if (cmdline.find(text) != std::string::npos) ++count;
+  }
+  return count;
+}
+
+// A batch killed alone (SIGKILL to its pid, not its group: a scheduler, the OOM killer) takes its
+// workers with it instead of leaving them running to the end of their runs.
+TEST(SigKillBatch, WorkersEndWithTheirParent) {
+  const std::string manifest = test::writeTemp("faults_orphans.json", R"({"schema_version": 1,
+    "grid": {"method": ["nlo", "ga"], "seed": [1, 2]},
+    "fixed": {"train_seconds": 3, "test_seconds": 2, "segments": 10, "search_seconds": 0,
+              "search_evaluations": 2000, "refine_iterations": 50}})");
+  const std::string dir = test::tempPath("faults_orphans");
+  const pid_t pid = start("batch " + manifest + " --jobs 2 --out " + dir);
+  // Wait until both workers run (each names its result file under dir/runs).
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (processesMentioning(dir + "/runs/") < 2 && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_GE(processesMentioning(dir + "/runs/"), 2) << "the workers never started";
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const auto gone = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (processesMentioning(dir + "/runs/") > 0 && std::chrono::steady_clock::now() < gone)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(processesMentioning(dir + "/runs/"), 0) << "workers outlived their batch";
+  ::kill(-pid, SIGKILL);  // whatever is left, so the suite does not wait for it
 }
 
 }  // namespace

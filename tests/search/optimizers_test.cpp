@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <vector>
+
 #include <cmath>
 #include <functional>
 
@@ -120,26 +123,46 @@ TEST(Optimizers, DivergingCandidatesDoNotDerailTheSearch) {
   EXPECT_TRUE(std::isfinite(nlo.best_gc));
 }
 
-TEST(Optimizers, CheckpointResumeEqualsAnUninterruptedRun) {
+TEST(Optimizers, EveryCheckpointResumesToTheUninterruptedRun) {
+  // Every state a search hands to its checkpoint (round 0 included, and the hybrid's GA-to-NLO
+  // boundary) names its stage and resumes to exactly the uninterrupted run's result.
   const SmallProblem small;
   const ParameterSpace space(perturbedModel(small.truth, 0.3, 7), {});
   ThreadPool pool(1);
-  for (const std::string method : {"nlo", "ga"}) {
-    SearchState saved;
-    int iterations = 0;
-    SearchContext first = context(space, small.problem, pool, 2000, 4);
-    first.on_iteration = [&](const SearchState& s) {
-      if (++iterations == 3) saved = s;
-    };
-    const SearchResult whole =
-        method == "nlo" ? runNlo(first, {}) : runGa(first, {.population = 20});
-    SearchContext resumed = context(space, small.problem, pool, 2000, 4);
-    resumed.resume = &saved;
-    const SearchResult rest =
-        method == "nlo" ? runNlo(resumed, {}) : runGa(resumed, {.population = 20});
-    EXPECT_EQ(rest.best_x, whole.best_x) << method;
-    EXPECT_EQ(rest.evaluations, whole.evaluations) << method;
-    EXPECT_EQ(rest.history.size(), whole.history.size()) << method;
+  const GaOptions ga{.population = 20};
+  const NloOptions nlo{.evaluations_per_seed = 60};  // rounds of 180 evaluations
+  const auto search = [&](const std::string& method, const SearchContext& c) {
+    if (method == "nlo") return runNlo(c, nlo);
+    if (method == "ga") return runGa(c, ga);
+    return runHybrid(c, ga, nlo);
+  };
+  for (const std::string method : {"nlo", "ga", "hybrid"}) {
+    const long budget = method == "hybrid" ? 500 : 360;
+    std::vector<SearchState> saved;
+    SearchContext first = context(space, small.problem, pool, budget, 4);
+    first.on_iteration = [&](const SearchState& s) { saved.push_back(s); };
+    const SearchResult whole = search(method, first);
+    ASSERT_GE(saved.size(), 3u) << method;
+    // Resumed from: the first two, the last, and the two either side of a stage change.
+    std::set<std::size_t> picked = {0, 1, saved.size() - 1};
+    std::set<std::string> stages;
+    for (std::size_t k = 0; k < saved.size(); ++k) {
+      ASSERT_TRUE(saved[k].stage == "nlo" || saved[k].stage == "ga") << method << " " << k;
+      if (k > 0 && saved[k].stage != saved[k - 1].stage) picked.insert({k - 1, k});
+    }
+    for (const std::size_t k : picked) {
+      SCOPED_TRACE(method + ", checkpoint " + std::to_string(k));
+      stages.insert(saved[k].stage);
+      SearchContext resumed = context(space, small.problem, pool, budget, 4);
+      resumed.resume = &saved[k];
+      const SearchResult rest = search(method, resumed);
+      EXPECT_EQ(rest.best_x, whole.best_x);
+      EXPECT_EQ(rest.evaluations, whole.evaluations);
+      EXPECT_EQ(rest.history.size(), whole.history.size());
+    }
+    if (method == "hybrid") {
+      EXPECT_EQ(stages.size(), 2u);  // both stages were resumed from
+    }
   }
 }
 
