@@ -348,7 +348,7 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
   o.order = order;
   o.decimate = decimate;
   o.max_gap = max_gap;
-  if (trim >= 0.0) o.trim = trim;
+  o.trim = trim;  // < 0: 2 / cutoff (PrepareOptions::check refuses below -1)
   o.derive_dq = derive_dq;
   o.derive_ddq = derive_ddq;
   o.savitzky_golay = savitzky_golay;

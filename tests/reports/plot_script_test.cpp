@@ -1,4 +1,4 @@
-#include "reports/plots.hpp"
+#include "reports/plot_script.hpp"
 
 #include <unistd.h>
 
@@ -232,7 +232,7 @@ TEST(NoShell, OnlyTheTwoSpawnsStartProgramsAndNothingBuildsACommandLine) {
       "popen(",  "system(", "execl(", "execlp(", "execle(",      "execv(",
       "execvp(", "execve(", "fork(",  "/bin/sh", "posix_spawn(", "posix_spawnp("};
   const std::vector<std::pair<std::string, std::string>> allowed = {
-      {"reports/plots.cpp", "posix_spawnp("}, {"cli/batch_workers.cpp", "posix_spawn("}};
+      {"reports/plot_script.cpp", "posix_spawnp("}, {"cli/batch_workers.cpp", "posix_spawn("}};
   int files = 0;
   for (const char* dir :
        {"core", "identifiability", "search", "analysis", "data", "reports", "cli", "python"}) {
