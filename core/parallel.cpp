@@ -8,6 +8,17 @@
 
 namespace dynid {
 
+TerminationSignalsBlocked::TerminationSignalsBlocked() {
+  sigset_t termination;
+  sigemptyset(&termination);
+  for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&termination, signal);
+  pthread_sigmask(SIG_BLOCK, &termination, &previous_);
+}
+
+TerminationSignalsBlocked::~TerminationSignalsBlocked() {
+  pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+}
+
 ThreadPool::ThreadPool(int num_threads) {
   if (num_threads <= 0) num_threads = std::max(1u, std::thread::hardware_concurrency());
   if (num_threads > kMaxThreads)
@@ -15,6 +26,7 @@ ThreadPool::ThreadPool(int num_threads) {
                      std::to_string(num_threads));
   workers_.reserve(static_cast<std::size_t>(num_threads - 1));
   try {
+    const TerminationSignalsBlocked inherited;
     for (int t = 1; t < num_threads; ++t) workers_.emplace_back([this, t] { workerLoop(t); });
   } catch (const std::system_error& e) {
     // The system would not create another thread (a process or memory limit): stop and join the

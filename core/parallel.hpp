@@ -2,6 +2,8 @@
 // (never accumulated across threads) so that they do not depend on the thread count.
 #pragma once
 
+#include <signal.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <functional>
@@ -15,6 +17,23 @@ namespace dynid {
 /// end's `threads` (--threads, threads=) that does not say otherwise.
 inline constexpr int kAllThreads = 0;
 
+/// While it lives, SIGINT, SIGTERM and SIGHUP are blocked on the calling thread (its mask is
+/// restored after), so the threads it starts meanwhile inherit the block and such a signal is
+/// handled on a thread that started none (the main one). A handler that removes the temporaries
+/// of files being written (data/io.hpp) then never runs beside the thread that creates them.
+/// Programs a blocked thread starts must reset their mask (posix_spawnattr_setsigmask).
+class TerminationSignalsBlocked {
+ public:
+  TerminationSignalsBlocked();
+  ~TerminationSignalsBlocked();
+  TerminationSignalsBlocked(const TerminationSignalsBlocked&) = delete;
+  TerminationSignalsBlocked& operator=(const TerminationSignalsBlocked&) = delete;
+
+ private:
+  sigset_t previous_;
+};
+
+/// Its workers start with the termination signals blocked (TerminationSignalsBlocked).
 class ThreadPool {
  public:
   static constexpr int kMaxThreads = 1024;

@@ -133,18 +133,23 @@ AtomicWriter::AtomicWriter(const std::string& path, ExistingTarget existing) : p
   } else {
     // Created exclusively and never through a link: a file or link planted at the temporary's
     // name makes the attempt fail (EEXIST), and another name is drawn.
+    // Registered before it is created: a signal's handler in between unlinks nothing, one after
+    // unlinks it (the handler runs on the main thread; ThreadPool's workers block the signals).
     int fd = -1;
     for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+      unregisterTemporary(slot_);
       temporary_ = temporaryName(path);
+      slot_ = registerTemporary(temporary_.c_str());
       fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
       if (fd < 0 && errno != EEXIST) break;
     }
     if (fd < 0) {
       const std::string why = std::strerror(errno);
+      unregisterTemporary(slot_);
+      slot_ = -1;
       temporary_.clear();
       throw Error("cannot write '" + path + "': " + why);
     }
-    slot_ = registerTemporary(temporary_.c_str());
     file_ = ::fdopen(fd, "wb");
     if (file_ == nullptr) {
       const std::string why = std::strerror(errno);

@@ -18,6 +18,8 @@
 #include <future>
 #include <string_view>
 
+#include "core/parallel.hpp"
+
 extern char** environ;
 
 namespace dynid {
@@ -204,11 +206,19 @@ std::optional<std::string> gnuplotSvg(const PlotScript& plot) {
   posix_spawn_file_actions_adddup2(&actions, in[0], STDIN_FILENO);
   posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  // gnuplot starts with no signal blocked, whatever this thread blocks (drawConcurrently).
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
   char* argv[] = {program.data(), nullptr};
   pid_t pid = -1;
   // posix_spawnp: the program's name is looked up on the PATH, its path used as it is; no shell.
-  const int spawned = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv, environ);
+  const int spawned = ::posix_spawnp(&pid, program.c_str(), &actions, &attributes, argv, environ);
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
   ::close(in[0]), ::close(out[1]);
   if (spawned != 0) {
     ::close(in[1]), ::close(out[0]);
@@ -241,7 +251,10 @@ std::vector<std::optional<std::string>> drawConcurrently(
     const std::vector<std::function<std::optional<std::string>()>>& draws) {
   std::vector<std::future<std::optional<std::string>>> running;
   running.reserve(draws.size());
-  for (const auto& draw : draws) running.push_back(std::async(std::launch::async, draw));
+  {
+    const TerminationSignalsBlocked inherited;  // the signals stay the main thread's
+    for (const auto& draw : draws) running.push_back(std::async(std::launch::async, draw));
+  }
   std::vector<std::optional<std::string>> out;
   std::exception_ptr failure;
   for (auto& r : running) {  // every one waited for before any exception leaves

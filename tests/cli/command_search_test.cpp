@@ -26,7 +26,7 @@ TEST(Cli, SearchWritesHistoryAndResumesFromACheckpoint) {
   const std::string train = test::tempPath("search_train.csv"), dir = test::tempPath("search");
   ASSERT_EQ(run("simulate --robot puma560 --duration 3 --out " + train).code, 0);
   const std::string common = "search --robot puma560 --data " + train +
-                             " --perturb 0.3 --truth puma560 --seed 1 --segments 20 --threads 2 ";
+                             " --perturb 0.3 --truth puma560 --seed 1 --segments 8 --threads 2 ";
   const Result r = run(common + "--method ga --population 10 --budget-evals 60 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(readFile(dir + "/search.json"));

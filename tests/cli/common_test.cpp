@@ -116,7 +116,7 @@ std::string shellWord(const std::string& text) {
 }
 
 TEST(Cli, HostileNamesInARobotFileItsPathAndTmpdirRunNoCommandAndKeepEveryFigure) {
-  // A downloaded URDF's joint names, the robot file's path (a figure title of predict) and
+  // A downloaded URDF's joint and link names, the robot file's path (a figure title of predict) and
   // TMPDIR reach gnuplot as text only: none runs a command, and every figure is still drawn.
   namespace fs = std::filesystem;
   if (std::system("gnuplot --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "no gnuplot";
@@ -135,11 +135,13 @@ TEST(Cli, HostileNamesInARobotFileItsPathAndTmpdirRunNoCommandAndKeepEveryFigure
                                "`touch " + marker + "`",
                                "@M {x}_^ $(touch " + marker + ")",
                                "o'brien; touch " + marker};
-  for (int j = 0; j < 6; ++j) {
-    const std::string from = "\"joint" + std::to_string(j + 1) + "\"";
-    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
-      text.replace(at, from.size(), "\"" + names[j] + "\"");
-  }
+  for (int j = 0; j < 6; ++j)
+    for (const std::string kind : {"joint", "link"}) {  // link j + 1: the same, suffixed
+      const std::string from = "\"" + kind + std::to_string(j + 1) + "\"";
+      const std::string to = kind == "joint" ? names[j] : names[j] + " " + kind;
+      for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at))
+        text.replace(at, from.size(), "\"" + to + "\"");
+    }
   { std::ofstream(urdf) << text; }
   const std::string tmpdir = dir + "/tmp'dir";
   fs::create_directories(tmpdir);

@@ -1,9 +1,12 @@
 #include "core/parallel.hpp"
 
+#include <signal.h>
+
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
+#include <thread>
 #include <vector>
 
 #include "core/errors.hpp"
@@ -55,6 +58,37 @@ TEST(ThreadPool, RefusesMoreThreadsThanItsLimit) {
   EXPECT_THROW(ThreadPool(100000), InputError);
   ThreadPool most(8);
   EXPECT_EQ(most.numThreads(), 8);
+}
+
+bool blocked(int signal) {
+  sigset_t mask;
+  pthread_sigmask(SIG_BLOCK, nullptr, &mask);
+  return sigismember(&mask, signal) == 1;
+}
+
+// A termination signal is handled on the thread that made the pool, never on a worker (where it
+// would run beside the main thread's writes): the workers block it, the caller's mask is as it was.
+TEST(ThreadPool, WorkersBlockTheTerminationSignalsTheCallerDoesNot) {
+  ASSERT_FALSE(blocked(SIGTERM));
+  ThreadPool pool(3);
+  EXPECT_FALSE(blocked(SIGTERM) || blocked(SIGINT) || blocked(SIGHUP));
+  std::vector<int> all_blocked(64, -1);
+  pool.parallelFor(64, [&](int index, int thread) {
+    if (thread > 0) all_blocked[index] = blocked(SIGTERM) && blocked(SIGINT) && blocked(SIGHUP);
+    std::this_thread::sleep_for(std::chrono::microseconds(200));  // lets the workers take some
+  });
+  int on_workers = 0;
+  for (int b : all_blocked)
+    if (b >= 0) {
+      EXPECT_EQ(b, 1);
+      ++on_workers;
+    }
+  EXPECT_GT(on_workers, 0);
+  {
+    const TerminationSignalsBlocked scope;
+    EXPECT_TRUE(blocked(SIGTERM));
+  }
+  EXPECT_FALSE(blocked(SIGTERM));
 }
 
 }  // namespace

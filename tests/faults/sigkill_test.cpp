@@ -28,6 +28,7 @@
 
 #include "data/io.hpp"
 #include "tests/common/cli.hpp"
+#include "tests/common/processes.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -225,20 +226,6 @@ TEST(SigKillBatch, FinishesTheMissingRunsToTheUninterruptedTable) {
       EXPECT_EQ(a["rows"][i][metric], b["rows"][i][metric]) << "row " << i << " " << metric;
 }
 
-/// Processes whose command line mentions `text` (the batch's workers name their output file).
-int processesMentioning(const std::string& text) {
-  int count = 0;
-  for (const auto& entry : fs::directory_iterator("/proc")) {
-    const std::string pid = entry.path().filename();
-    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    std::ifstream in(entry.path() / "cmdline");
-    const std::string cmdline((std::istreambuf_iterator<char>(in)),
-                              std::istreambuf_iterator<char>());
-    if (cmdline.find(text) != std::string::npos) ++count;
-  }
-  return count;
-}
-
 // A batch killed alone (SIGKILL to its pid, not its group: a scheduler, the OOM killer) takes its
 // workers with it instead of leaving them running to the end of their runs.
 TEST(SigKillBatch, WorkersEndWithTheirParent) {
@@ -250,16 +237,13 @@ TEST(SigKillBatch, WorkersEndWithTheirParent) {
   const pid_t pid = start("batch " + manifest + " --jobs 2 --out " + dir);
   // Wait until both workers run (each names its result file under dir/runs).
   const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (processesMentioning(dir + "/runs/") < 2 && std::chrono::steady_clock::now() < until)
+  while (test::processesMentioning(dir + "/runs/") < 2 && std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  ASSERT_GE(processesMentioning(dir + "/runs/"), 2) << "the workers never started";
+  ASSERT_GE(test::processesMentioning(dir + "/runs/"), 2) << "the workers never started";
   ::kill(pid, SIGKILL);
   int status = 0;
   ::waitpid(pid, &status, 0);
-  const auto gone = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (processesMentioning(dir + "/runs/") > 0 && std::chrono::steady_clock::now() < gone)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(processesMentioning(dir + "/runs/"), 0) << "workers outlived their batch";
+  EXPECT_EQ(test::waitUntilNoneMention(dir + "/runs/", 10.0), 0) << "workers outlived their batch";
   ::kill(-pid, SIGKILL);  // whatever is left, so the suite does not wait for it
 }
 
