@@ -16,8 +16,9 @@ struct Fixture {
   Trajectory data = test::pumaTrajectory(truth, 2.0, 0.0, 1);
   BaseParameters base = test::pumaBase(truth);
   Observation observation = observationFromTrajectory(truth, data);
-  // Four segments: enough for every claim here, and the refinements stay short under ASan.
-  GcProblem gc = makeGcProblem(data, SegmentOptions{.horizon = 0.05, .num_segments = 4});
+  // Four segments of 20 ms: enough for every claim here, and the refinements (Jets through the
+  // integrator) stay short under the sanitizers.
+  GcProblem gc = makeGcProblem(data, SegmentOptions{.horizon = 0.02, .num_segments = 4});
 
   EstimationProblem problem(const Model& start) {
     EstimationProblem p;
