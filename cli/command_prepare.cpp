@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/robots.hpp"
 #include "reports/output.hpp"
 #include "reports/prepare_report.hpp"
 
@@ -35,6 +36,8 @@ void addPrepareOptions(po::options_description& options) {
       "rate", po::value<double>()->default_value(d.rate))(
       "cutoff", po::value<std::string>()->default_value("default"),
       "low-pass [Hz], 0 (none), auto (from q's spectrum) or default (10, rate/4 below 40 Hz)")(
+      "tau-cutoff", po::value<std::string>(),
+      "torque's own low-pass [Hz], or none (the raw resampled torque); default: --cutoff's")(
       "order", po::value<int>()->default_value(d.order))(
       "decimate", po::value<int>()->default_value(d.decimate))(
       "max-gap", po::value<double>()->default_value(d.max_gap))(
@@ -46,6 +49,16 @@ void addPrepareOptions(po::options_description& options) {
       "savgol-window", po::value<int>()->default_value(d.savgol_window))(
       "savgol-degree", po::value<int>()->default_value(d.savgol_degree))(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
+      "window", po::value<std::string>(),
+      "keep only these times [s from the log's first stamp], e.g. 12.5:80,95:140")(
+      "rows", po::value<std::string>(), "keep only these data rows (1-based), e.g. 200:9000")(
+      "robot", po::value<std::string>(),
+      "the robot logged: its joint count is checked, and --dq-max and --ddq-max default to 3 "
+      "times its limits")(
+      "dq-max", po::value<std::string>(),
+      "plausible |dq| [rad/s]: one value or one per joint (default 50, or 3 x --robot's limits)")(
+      "ddq-max", po::value<std::string>(),
+      "plausible |ddq| [rad/s^2]: one or one per joint (default 2000, or 3 x --robot's limits)")(
       "validate-fraction", po::value<double>()->default_value(d.validate_fraction))(
       "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
       "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(
@@ -108,13 +121,22 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
                        "'");
     o.cutoff = value[0];
   }
+  if (vm.count("tau-cutoff")) {
+    const std::string tau_cutoff = text(vm, "tau-cutoff");
+    const std::vector<double> value =
+        tau_cutoff == "none" ? std::vector<double>{0.0} : parseList(tau_cutoff, "tau-cutoff");
+    if (value.size() != 1 || !(value[0] >= 0.0))
+      throw UsageError("--tau-cutoff must be a frequency >= 0 [Hz] or none, not '" + tau_cutoff +
+                       "'");
+    o.tau_cutoff = value[0];
+  }
   const std::string derivative = text(vm, "derivative");
   if (derivative != "central" && derivative != "savgol")
     throw UsageError("--derivative must be central or savgol, not '" + derivative + "'");
   o.savitzky_golay = derivative == "savgol";
   refuseUnused(vm, o.savitzky_golay, {"savgol-window", "savgol-degree"},
                "applies to --derivative savgol, not central");
-  refuseUnused(vm, o.auto_cutoff || o.cutoff != 0.0, {"order"},
+  refuseUnused(vm, o.auto_cutoff || o.cutoff != 0.0 || o.tau_cutoff > 0.0, {"order"},
                "applies to a filter; --cutoff 0 has none");
   o.savgol_window = vm["savgol-window"].as<int>();
   o.savgol_degree = vm["savgol-degree"].as<int>();
@@ -134,6 +156,60 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
     }
 }
 
+/// "a:b,c:d" as pairs, each a < b (`what` names the option).
+std::vector<std::pair<double, double>> parseRanges(std::string text, const char* what) {
+  for (char& c : text) c = c == ':' ? ',' : c;
+  const std::vector<double> bounds = parseList(text, what);
+  if (bounds.size() % 2 != 0)
+    throw UsageError(std::string("--") + what + ": ranges are from:to pairs");
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t k = 0; k + 1 < bounds.size(); k += 2) {
+    if (!(bounds[k] < bounds[k + 1]))
+      throw UsageError(std::string("--") + what + ": each range is from:to with from < to");
+    out.emplace_back(bounds[k], bounds[k + 1]);
+  }
+  return out;
+}
+
+/// The parts of the log kept, and the plausibility bounds (from --robot's limits by default).
+void readWindowsAndBounds(const po::variables_map& vm, LogSource& source, PrepareOptions& o) {
+  if (vm.count("window")) o.windows = parseRanges(text(vm, "window"), "window");
+  if (vm.count("rows"))
+    for (const auto& [from, to] : parseRanges(text(vm, "rows"), "rows")) {
+      if (from < 1 || from != std::floor(from) || to != std::floor(to) || to > 1e15)
+        throw UsageError("--rows: rows are whole numbers from 1, e.g. 200:9000");
+      o.row_windows.emplace_back(static_cast<long>(from), static_cast<long>(to));
+    }
+  for (const auto& [key, target] :
+       {std::pair{"dq-max", &o.dq_bound}, std::pair{"ddq-max", &o.ddq_bound}})
+    if (vm.count(key)) {
+      const std::vector<double> values = parseList(text(vm, key), key);
+      *target = Eigen::Map<const Eigen::VectorXd>(values.data(),
+                                                  static_cast<Eigen::Index>(values.size()));
+    }
+  if (!vm.count("robot")) return;
+  std::vector<std::string> warnings;
+  const Model robot = loadRobot(text(vm, "robot"), {}, &warnings);
+  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
+  const int n = robot.numJoints();
+  if (source.num_joints > 0 && source.num_joints != n)
+    throw UsageError("--joints " + std::to_string(source.num_joints) + " but --robot has " +
+                     std::to_string(n) + " joints");
+  source.num_joints = n;  // the selectors must match one column per joint
+  for (const auto& [limit, target] : {std::pair{&JointLimits::velocity, &o.dq_bound},
+                                      std::pair{&JointLimits::acceleration, &o.ddq_bound}})
+    if (target->size() == 0) {
+      const double fallback =
+          limit == &JointLimits::velocity ? kPlausibleSpeed : kPlausibleAcceleration;
+      target->resize(n);
+      for (int j = 0; j < n; ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        const double value = k < robot.limits.size() ? robot.limits[k].*limit : 0.0;
+        (*target)[j] = std::isfinite(value) && value > 0.0 ? 3.0 * value : fallback;
+      }
+    }
+}
+
 /// What is held out for validation.
 void readHoldOut(const po::variables_map& vm, PrepareOptions& o) {
   o.validate_fraction = vm["validate-fraction"].as<double>();
@@ -142,17 +218,8 @@ void readHoldOut(const po::variables_map& vm, PrepareOptions& o) {
       if (r < 1 || r != std::floor(r)) throw UsageError("--validate-runs: runs count from 1");
       o.validate_runs.push_back(static_cast<int>(r) - 1);
     }
-  if (vm.count("validate-time")) {
-    std::string ranges = text(vm, "validate-time");
-    for (char& c : ranges) c = c == ':' ? ',' : c;
-    const std::vector<double> bounds = parseList(ranges, "validate-time");
-    for (std::size_t k = 0; k + 1 < bounds.size(); k += 2) {
-      if (!(bounds[k] < bounds[k + 1]))
-        throw UsageError("--validate-time: each range is from:to with from < to");
-      o.validate_ranges.emplace_back(bounds[k], bounds[k + 1]);
-    }
-    if (bounds.size() % 2 != 0) throw UsageError("--validate-time: ranges are from:to pairs");
-  }
+  if (vm.count("validate-time"))
+    o.validate_ranges = parseRanges(text(vm, "validate-time"), "validate-time");
 }
 
 }  // namespace
@@ -166,11 +233,14 @@ int runPrepare(const std::vector<std::string>& args) {
       "--joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
-  const LogSource source = logSource(vm);
+  LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);
+  readWindowsAndBounds(vm, source, o);
   readHoldOut(vm, o);
   const PrepareOutcome outcome = prepareLog(source, o);
+  for (const std::string& warning : outcome.warnings)
+    std::cerr << "dynid prepare: warning: " << warning << "\n";
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome);
   return kExitOk;
 }

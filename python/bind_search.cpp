@@ -7,6 +7,8 @@
 
 #include <pybind11/stl.h>
 
+#include <tuple>
+
 #include "analysis/excitation/excite.hpp"
 #include "analysis/logs/prepare.hpp"
 #include "analysis/records/document.hpp"
@@ -315,7 +317,10 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
                     const std::string& time_unit, const std::string& angle_unit, double rate,
                     const py::handle& cutoff, int order, int decimate, double max_gap, double trim,
                     bool derive_dq, bool derive_ddq, bool savitzky_golay, int savgol_window,
-                    int savgol_degree, double validate_fraction, bool keep_stalled) {
+                    int savgol_degree, double validate_fraction, bool keep_stalled,
+                    const std::vector<std::pair<double, double>>& window,
+                    const std::vector<std::pair<long, long>>& rows, const py::handle& dq_max,
+                    const py::handle& ddq_max, const py::handle& tau_cutoff) {
   PreparePy out;
   LogSource& s = out.source;
   if (py::isinstance<py::list>(tables) || py::isinstance<py::tuple>(tables)) {
@@ -345,6 +350,15 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
       throw py::value_error(
           "cutoff: expected a frequency >= 0 [Hz] (0: no filter), 'auto' or None");
   }
+  if (py::isinstance<py::str>(tau_cutoff)) {
+    if (tau_cutoff.cast<std::string>() != "none")
+      throw py::value_error("tau_cutoff: expected a frequency [Hz], 'none' or None (q's)");
+    o.tau_cutoff = 0.0;
+  } else if (!tau_cutoff.is_none()) {
+    o.tau_cutoff = tau_cutoff.cast<double>();
+    if (!(o.tau_cutoff >= 0.0) || !std::isfinite(o.tau_cutoff))
+      throw py::value_error("tau_cutoff: expected a frequency >= 0 [Hz], 'none' or None (q's)");
+  }
   o.order = order;
   o.decimate = decimate;
   o.max_gap = max_gap;
@@ -359,6 +373,14 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
     throw py::value_error("savgol_window and savgol_degree apply to savitzky_golay=True");
   o.validate_fraction = validate_fraction;
   o.keep_stalled = keep_stalled;
+  o.windows = window;
+  o.row_windows = rows;
+  for (const auto& [given, target, name] :
+       {std::tuple{&dq_max, &o.dq_bound, "dq_max"}, std::tuple{&ddq_max, &o.ddq_bound, "ddq_max"}})
+    if (!given->is_none()) {
+      const DoubleArray b = realArray(*given, name, {0, 1});
+      *target = Eigen::Map<const Eigen::VectorXd>(b.data(), b.size());
+    }
   if (!torque_constants.is_none()) {
     const DoubleArray k = realArray(torque_constants, "torque_constants", {1});
     o.torque_constants = Eigen::Map<const Eigen::VectorXd>(k.data(), k.shape(0));
@@ -590,6 +612,11 @@ void bindPrepare(py::module_& m) {
       .def_property_readonly("cutoff", [](const PreparePy& p) { return p.outcome.cutoff; })
       .def_property_readonly("tau_noise",
                              [](const PreparePy& p) { return toNumpy(p.outcome.tau_noise); })
+      .def_property_readonly("warnings", [](const PreparePy& p) { return p.outcome.warnings; })
+      .def_property_readonly(
+          "time_origin",
+          [](const PreparePy& p) { return static_cast<double>(p.outcome.time_origin); },
+          "the log's first stamp [s]: every time is the stamp minus it")
       .def(
           "to_json",
           [](const PreparePy& p) {
@@ -597,24 +624,29 @@ void bindPrepare(py::module_& m) {
           },
           "prepare.json, as `dynid prepare` writes it.");
 
-  m.def("prepare", &preparePy, py::arg("tables"), py::arg("time_column") = "1",
-        py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
-        py::arg("ddq_columns") = "", py::arg("joints") = LogSource{}.num_joints,
-        py::arg("current") = false, py::arg("torque_constants") = py::none(),
-        py::arg("gear_ratios") = py::none(), py::arg("time_unit") = "s",
-        py::arg("angle_unit") = "rad", py::arg("rate") = PrepareOptions{}.rate,
-        py::arg("cutoff") = py::none(), py::arg("order") = PrepareOptions{}.order,
-        py::arg("decimate") = PrepareOptions{}.decimate,
-        py::arg("max_gap") = PrepareOptions{}.max_gap, py::arg("trim") = PrepareOptions{}.trim,
-        py::arg("derive_dq") = false, py::arg("derive_ddq") = false,
-        py::arg("savitzky_golay") = false,
-        py::arg("savgol_window") = PrepareOptions{}.savgol_window,
-        py::arg("savgol_degree") = PrepareOptions{}.savgol_degree,
-        py::arg("validate_fraction") = PrepareOptions{}.validate_fraction,
-        py::arg("keep_stalled") = false,
-        "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
-        "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
-        "for no filter, a frequency [Hz] or 'auto'.");
+  m.def(
+      "prepare", &preparePy, py::arg("tables"), py::arg("time_column") = "1",
+      py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
+      py::arg("ddq_columns") = "", py::arg("joints") = LogSource{}.num_joints,
+      py::arg("current") = false, py::arg("torque_constants") = py::none(),
+      py::arg("gear_ratios") = py::none(), py::arg("time_unit") = "s",
+      py::arg("angle_unit") = "rad", py::arg("rate") = PrepareOptions{}.rate,
+      py::arg("cutoff") = py::none(), py::arg("order") = PrepareOptions{}.order,
+      py::arg("decimate") = PrepareOptions{}.decimate,
+      py::arg("max_gap") = PrepareOptions{}.max_gap, py::arg("trim") = PrepareOptions{}.trim,
+      py::arg("derive_dq") = false, py::arg("derive_ddq") = false,
+      py::arg("savitzky_golay") = false, py::arg("savgol_window") = PrepareOptions{}.savgol_window,
+      py::arg("savgol_degree") = PrepareOptions{}.savgol_degree,
+      py::arg("validate_fraction") = PrepareOptions{}.validate_fraction,
+      py::arg("keep_stalled") = false, py::arg("window") = std::vector<std::pair<double, double>>{},
+      py::arg("rows") = std::vector<std::pair<long, long>>{}, py::arg("dq_max") = py::none(),
+      py::arg("ddq_max") = py::none(), py::arg("tau_cutoff") = py::none(),
+      "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
+      "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
+      "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
+      "log's first stamp; rows: [(first, last), ...] 1-based data rows; dq_max, ddq_max: "
+      "plausibility bounds (one, or one per joint); tau_cutoff: torque's own low-pass [Hz], "
+      "'none', or None for the cutoff's.");
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
 #include "reports/prepare_report.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "core/format.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
@@ -59,10 +61,38 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   const nlohmann::json held_out = {{"fraction_of_each_run", options.validate_fraction},
                                    {"runs", held_runs},
                                    {"time_ranges", ranges}};
+  nlohmann::json columns = nlohmann::json::array(), rest = nlohmann::json::array();
+  for (std::size_t f = 0; f < o.columns.size(); ++f) {
+    const LogColumns& c = o.columns[f];
+    nlohmann::json entry = {{"file", source.tables.at(f)}, {"time", c.time}, {"q", c.q}};
+    entry[tau_key] = c.tau;
+    if (!c.dq.empty()) entry["dq"] = c.dq;
+    if (!c.ddq.empty()) entry["ddq"] = c.ddq;
+    columns.push_back(entry);
+  }
+  for (const RestAtEnds& r : o.rest)
+    rest.push_back({{"file", r.file},
+                    {"start", r.start},
+                    {"end", r.end},
+                    {"at_rest_first", r.leading},
+                    {"at_rest_last", r.trailing}});
+  nlohmann::json windows = nlohmann::json::array(), row_windows = nlohmann::json::array();
+  for (const auto& [from, to] : options.windows) windows.push_back({from, to});
+  for (const auto& [from, to] : options.row_windows) row_windows.push_back({from, to});
+  char origin[64];
+  std::snprintf(origin, sizeof(origin), "%.21Lg", o.time_origin);
   return {
       {"schema_version", kPrepareDocument.schema_version},
       {"kind", kPrepareDocument.kind},
       {"source", sources},
+      {"columns", columns},
+      {"time_origin",
+       {{"seconds", static_cast<double>(o.time_origin)},
+        {"exact", origin},
+        {"meaning", "the log's first stamp: every time here and in the datasets is stamp - this"}}},
+      {"windows", {{"time", windows}, {"rows", row_windows}}},
+      {"rest_at_ends", rest},
+      {"warnings", o.warnings},
       {"raw",
        {{"samples", o.raw_samples},
         {"repeated_stamps_dropped", o.repeated_stamps},
@@ -76,6 +106,7 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
       {"runs", runs},
       {"dropped_runs", dropped},
       {"resampled_rate", o.rate},
+      {"rate_choice", o.rate_reason},
       {"filter",
        {{"kind", o.cutoff > 0.0 ? "Butterworth low-pass, zero phase (forward-backward)" : "none"},
         {"order", o.order},
@@ -83,7 +114,12 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
         {"cutoff_choice", o.cutoff_reason},
         {"trajectory_band_hz", o.trajectory_band},
         {"noise_edge_hz", o.noise_edge},
-        {"applied_to", "q, dq, tau (parallel filtering)"}}},
+        {"applied_to", o.tau_cutoff == o.cutoff ? std::string("q, dq, tau (parallel filtering)")
+                       : o.tau_cutoff > 0.0
+                           ? "q, dq; tau with its own cutoff (tau_cutoff_hz)"
+                           : "q, dq; tau not filtered (--tau-cutoff none: the raw resampled "
+                             "torque)"},
+        {"tau_cutoff_hz", o.tau_cutoff}}},
       {"dq", o.dq_derived ? derivatives + " of the filtered q" : std::string("logged, filtered")},
       {"ddq",
        o.ddq_logged
@@ -174,6 +210,9 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
         << " Hz (zero phase), ";
   else
     out << "no filter, ";
+  if (outcome.tau_cutoff != outcome.cutoff)
+    out << (outcome.tau_cutoff > 0.0 ? "tau at " + formatNumber(outcome.tau_cutoff) + " Hz, "
+                                     : std::string("tau unfiltered, "));
   const std::string method =
       outcome.savgol_window > 0
           ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
@@ -188,8 +227,17 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
     out << ", " << dir << "/validate.csv (" << outcome.validate.numSamples() << ")";
   out << ", " << dir << "/prepare.json";
   for (const std::string& name : figures) out << ", " << dir << "/" << name;
-  out << "\n  cutoff: " << (outcome.cutoff_reason.empty() ? "given" : outcome.cutoff_reason)
+  out << "\n  rate: " << outcome.rate_reason
+      << "\n  cutoff: " << (outcome.cutoff_reason.empty() ? "given" : outcome.cutoff_reason)
       << "\n";
+  if (!outcome.columns.empty()) {
+    const LogColumns& c = outcome.columns.front();
+    out << "  joints from columns (q, " << (source.current ? "current" : "tau") << "):";
+    for (std::size_t j = 0; j < c.q.size(); ++j)
+      out << (j == 0 ? " " : ", ") << j + 1 << ": " << c.q[j] << ", " << c.tau[j];
+    out << "\n";
+  }
+
   if (figures.empty()) out << "warning: gnuplot did not run: no spectrum.svg or filtered.svg\n";
   return out.str();
 }

@@ -295,7 +295,12 @@ void chooseFilter(const PrepareOptions& options, PrepareOutcome& out) {
                                            : "the default for logs slower than 40 Hz: a quarter "
                                              "of the rate";
   }
-  out.trim = options.trim >= 0.0 ? options.trim : (out.cutoff > 0.0 ? 2.0 / out.cutoff : 0.0);
+  out.tau_cutoff = options.tau_cutoff < 0.0 ? out.cutoff : options.tau_cutoff;
+  // The default trim: two periods of the lowest cutoff (the slowest filter's transient).
+  double lowest = 0.0;
+  for (double c : {out.cutoff, out.tau_cutoff})
+    if (c > 0.0) lowest = lowest > 0.0 ? std::min(lowest, c) : c;
+  out.trim = options.trim >= 0.0 ? options.trim : (lowest > 0.0 ? 2.0 / lowest : 0.0);
   if (!options.savitzky_golay) return;
   if (options.savgol_degree < 2 || options.savgol_degree > 6)
     throw InputError("the Savitzky-Golay degree must be 2 to 6 (ddq needs 2), not " +
@@ -314,12 +319,21 @@ void chooseFilter(const PrepareOptions& options, PrepareOutcome& out) {
           : std::max(minimum, 2 * static_cast<int>(std::lround(out.rate / (8.0 * reference))) + 1);
 }
 
+/// The low-passes: q's (and dq's, ddq's) and tau's (the same unless --tau-cutoff says otherwise).
+struct Filters {
+  std::vector<Biquad> q, tau;
+  bool tau_as_q = true;
+  /// The filter that measures the torque noise: q's, else tau's.
+  const std::vector<Biquad>& noise() const { return q.empty() ? tau : q; }
+};
+
 /// One kept run, joint by joint: resampled, filtered, differentiated, and its trimmed, decimated
 /// samples written into the preallocated train and validate sets. `excerpt`: record
 /// PrepareOutcome's excerpt from this run.
-void prepareRun(const RawSignals& s, const RunSpan& span, const std::vector<Biquad>& filter,
+void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters,
                 const PrepareOptions& options, bool excerpt, Eigen::VectorXd& noise_sum,
                 PrepareOutcome& out) {
+  const std::vector<Biquad>& filter = filters.q;
   const int n = s.n, count = span.count;
   const double h = 1.0 / out.rate, t0 = span.run.start + span.run.time_offset;
   const int window = std::min(out.savgol_window, count % 2 == 1 ? count : count - 1);
@@ -334,7 +348,7 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const std::vector<Biqu
   };
   for (std::size_t r = 0; r < span.rows.size(); ++r)
     (span.held[r] ? out.validate : out.train).time[span.slot[r]] = t0 + span.rows[r] * h;
-  if (excerpt && !filter.empty()) {
+  if (excerpt && !filters.noise().empty()) {
     const int length = std::min(count, static_cast<int>(std::lround(2.0 * out.rate)));
     const int first = (count - length) / 2;
     out.excerpt_time =
@@ -347,15 +361,22 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const std::vector<Biqu
     Eigen::VectorXd tau = resampled(s, span, 1 + n + j, out.rate, count);
     Eigen::VectorXd dq;
     if (!out.dq_derived) dq = resampled(s, span, 1 + 2 * n + j, out.rate, count);
-    if (!filter.empty()) {
-      const Eigen::VectorXd filtered = filtfilt(filter, tau);
-      noise_sum[j] += (tau - filtered).squaredNorm();
+    if (!filters.noise().empty()) {
+      // The noise estimate: the resampled torque minus its filtered self (q's filter, else tau's).
+      const Eigen::VectorXd smooth = filtfilt(filters.noise(), tau);
+      noise_sum[j] += (tau - smooth).squaredNorm();
+      const bool same = filters.tau_as_q || filters.q.empty();  // smooth is tau's filter's
+      const Eigen::VectorXd filtered = same                  ? smooth
+                                       : filters.tau.empty() ? tau
+                                                             : filtfilt(filters.tau, tau);
       if (excerpt) {
         const Eigen::Index first = (count - out.excerpt_time.size()) / 2;
         out.excerpt_raw.col(j) = tau.segment(first, out.excerpt_time.size());
         out.excerpt_filtered.col(j) = filtered.segment(first, out.excerpt_time.size());
       }
       tau = filtered;
+    }
+    if (!filter.empty()) {
       q = filtfilt(filter, q);
       if (dq.size() > 0) dq = filtfilt(filter, dq);
     }
@@ -406,14 +427,72 @@ double angleUnitScale(const std::string& unit) {
 
 namespace {
 
-/// Every file read, in SI units, sorted and de-duplicated; out's raw counts and the defaults that
-/// come from the median step over all files (rate, gap limit).
+/// Keeps the data rows in `windows` (1-based, in file order), before anything reorders them; the
+/// line numbers follow.
+void keepRows(RawSignals& s, const std::vector<std::pair<long, long>>& windows,
+              const std::string& label) {
+  if (windows.empty()) return;
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index k = 0; k < s.rows; ++k)
+    for (const auto& [from, to] : windows)
+      if (k + 1 >= from && k + 1 <= to) {
+        kept.push_back(k);
+        break;
+      }
+  for (const auto& [from, to] : windows)
+    if (from > s.rows)
+      throw InputError("--rows " + std::to_string(from) + ":" + std::to_string(to) + ": " + label +
+                       " has " + std::to_string(s.rows) + " data rows");
+  if (s.line_of) s.line_of = [lines = s.line_of, kept](Eigen::Index k) { return lines(kept[k]); };
+  compact(s, kept);
+}
+
+/// Keeps the samples within `windows` [s] (times from the log's first stamp).
+void keepWindows(RawSignals& s, const std::vector<std::pair<double, double>>& windows,
+                 std::vector<char>& held) {
+  if (windows.empty()) return;
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index k = 0; k < s.rows; ++k)
+    for (std::size_t w = 0; w < windows.size(); ++w)
+      if (s.values(k, 0) >= windows[w].first && s.values(k, 0) <= windows[w].second) {
+        kept.push_back(k);
+        held[w] = 1;
+        break;
+      }
+  compact(s, kept);
+}
+
+/// The nominal rate near `rate` (the median step's): the nearest round rate (a whole number of Hz
+/// below 100 Hz, of 10 Hz above) or round step (a whole number of 0.1 ms: 3 ms is 333.33 Hz),
+/// when within 0.1 % of it; else `rate` itself. Says which.
+double nominalRate(double rate, std::string& reason) {
+  const double whole_hz = rate < 100.0 ? std::round(rate) : 10.0 * std::round(rate / 10.0);
+  const double step = std::round(1e4 / rate) * 1e-4;  // in 0.1 ms
+  double best = rate;
+  for (double candidate : {whole_hz, step > 0.0 ? 1.0 / step : 0.0})
+    if (candidate > 0.0 && std::abs(candidate - rate) <= 1e-3 * rate &&
+        (best == rate || std::abs(candidate - rate) < std::abs(best - rate)))
+      best = candidate;
+  reason = best == rate
+               ? "the median step's rate, " + formatNumber(rate, 6) +
+                     " Hz (no nominal rate within 0.1 %)"
+               : "the median step's rate, " + formatNumber(rate, 6) +
+                     " Hz, rounded to the nominal " + formatNumber(best, 6) + " Hz (within 0.1 %)";
+  return best;
+}
+
+/// Every file read, in SI units, from the log's first stamp, windowed, sorted and de-duplicated;
+/// out's raw counts and the defaults that come from the median step over all files (rate, gap
+/// limit).
 std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions& options,
                                   PrepareOutcome& out) {
   std::vector<RawSignals> files;
   std::vector<std::string> names = source.tables;
   if (names.empty()) names.push_back("");  // the per-signal files
+  if (!options.row_windows.empty() && names.size() > 1)
+    throw InputError("--rows applies to one log file; with several, give --window (times)");
   std::vector<double> all_steps;
+  std::vector<char> window_held(options.windows.size(), 0);
   for (const std::string& name : names) {
     files.push_back(readLog(source, name));
     RawSignals& s = files.back();
@@ -425,15 +504,105 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
                        std::to_string(files.front().n));
     if (s.has_dq != files.front().has_dq || s.has_ddq != files.front().has_ddq)
       throw InputError(label + ": dq or ddq is logged in some files and not in others");
+    if (!name.empty()) out.columns.push_back(s.columns);
+    // Stamps from the log's first one: exact differences of the 64-bit stamps (epochs in ns).
+    // Units per second as a whole number when it is one (ns: 1e9), so that a 1.7e18 ns epoch is
+    // divided exactly rather than multiplied by the double nearest 1e-9 (off by 1e-7 s).
+    const long double per_second = std::round(1.0L / static_cast<long double>(options.time_scale));
+    const long double file_origin =
+        std::abs(per_second * options.time_scale - 1.0L) < 1e-12L
+            ? s.time_origin / per_second
+            : s.time_origin * static_cast<long double>(options.time_scale);
+    if (files.size() == 1) {  // the first file's earliest stamp (before any window) starts the log
+      const double earliest = s.values.col(0).head(s.rows).minCoeff();
+      out.time_origin = file_origin + earliest;
+      s.values.col(0).head(s.rows).array() -= earliest;
+    } else {
+      s.values.col(0).head(s.rows).array() += static_cast<double>(file_origin - out.time_origin);
+    }
+    keepRows(s, options.row_windows, label);
     sortAndDeduplicate(s, options.max_gap, out);
-    if (s.rows < 3) throw InputError(label + ": fewer than 3 distinct time stamps");
+    const double spans_from = s.rows > 0 ? s.values(0, 0) : 0.0;
+    const double spans_to = s.rows > 0 ? s.values(s.rows - 1, 0) : 0.0;
+    keepWindows(s, options.windows, window_held);
+    if (s.rows < 3) {
+      std::string windows;
+      for (const auto& [from, to] : options.windows)
+        windows += (windows.empty() ? "" : ",") + formatNumber(from) + ":" + formatNumber(to);
+      std::string message = label + ": fewer than 3 distinct time stamps";
+      if (!options.windows.empty() || !options.row_windows.empty())
+        message.append(" within ")
+            .append(options.windows.empty() ? std::string("the --rows given")
+                                            : std::string("--window ").append(windows))
+            .append(" (the log spans ")
+            .append(formatNumber(spans_from, 6))
+            .append(" to ")
+            .append(formatNumber(spans_to, 6))
+            .append(" s from its first stamp)");
+      throw InputError(message);
+    }
     const std::vector<double> st = steps(s);
     all_steps.insert(all_steps.end(), st.begin(), st.end());
   }
+  for (std::size_t w = 0; w < options.windows.size(); ++w)
+    if (!window_held[w])
+      throw InputError("--window " + formatNumber(options.windows[w].first) + ":" +
+                       formatNumber(options.windows[w].second) +
+                       " holds no sample (times are seconds from the log's first stamp)");
   out.median_step = median(all_steps);
-  out.rate = options.rate > 0.0 ? options.rate : 1.0 / out.median_step;
+  const std::string& first = names.front().empty() ? source.time_file : names.front();
+  if (out.median_step > kSlowestStep || out.median_step < kFastestStep)
+    throw InputError(
+        first + ": the median step between time stamps is " + formatNumber(out.median_step, 4) +
+        " s (" + formatNumber(1.0 / out.median_step, 4) + " Hz), " +
+        (out.median_step > kSlowestStep
+             ? "too slow to identify a robot's dynamics: if the stamps are not in seconds, give "
+               "--time-unit ms, us or ns"
+             : "faster than robots log: are the stamps in a larger unit than --time-unit says "
+               "(seconds read as milliseconds)?"));
+  if (options.rate > 0.0) {
+    out.rate = options.rate;
+    out.rate_reason = "given";
+  } else {
+    out.rate = nominalRate(1.0 / out.median_step, out.rate_reason);
+  }
   out.max_gap = options.max_gap > 0.0 ? options.max_gap : 5.0 * out.median_step;
   return files;
+}
+
+/// Where each recording rests (or creeps) at its ends, with a warning when that is 10 % of it or
+/// more: rest identifies gravity and offsets only and outweighs the motion in a least-squares fit.
+void findRest(const std::vector<RawSignals>& files, const std::vector<std::string>& labels,
+              PrepareOutcome& out) {
+  for (std::size_t f = 0; f < files.size(); ++f) {
+    const RawSignals& s = files[f];
+    const auto q = s.q();
+    const Eigen::ArrayXd moved =
+        (0.01 * (q.colwise().maxCoeff() - q.colwise().minCoeff()).array()).max(1e-3).transpose();
+    const auto away = [&](Eigen::Index k, Eigen::Index from) {
+      return ((q.row(k) - q.row(from)).array().abs().transpose() > moved).any();
+    };
+    Eigen::Index first = 0, last = s.rows - 1;
+    while (first < s.rows - 1 && !away(first, 0)) ++first;
+    while (last > first && !away(last, s.rows - 1)) --last;
+    RestAtEnds rest;
+    rest.file = static_cast<int>(f);
+    rest.start = s.values(0, 0);
+    rest.end = s.values(s.rows - 1, 0);
+    rest.leading = s.values(first, 0) - rest.start;
+    rest.trailing = rest.end - s.values(last, 0);
+    out.rest.push_back(rest);
+    const double duration = rest.end - rest.start;
+    if (!(duration > 0.0) || rest.leading + rest.trailing < 0.1 * duration) continue;
+    out.warnings.push_back(
+        labels[f] + ": the robot is at rest (or barely moves) for the first " +
+        formatNumber(rest.leading, 3) + " s and the last " + formatNumber(rest.trailing, 3) +
+        " s, " + formatNumber(100.0 * (rest.leading + rest.trailing) / duration, 2) + " % of its " +
+        formatNumber(duration, 4) +
+        " s; rest identifies only gravity and offsets and outweighs "
+        "the motion: crop it with --window " +
+        formatNumber(s.values(first, 0), 6) + ":" + formatNumber(s.values(last, 0), 6));
+  }
 }
 
 /// Pass 1: stalls dropped, steps measured, later files shifted after earlier ones, and the runs
@@ -486,16 +655,18 @@ struct SamplePlan {
 /// Pass 3: which runs are long enough for the filter, and where their samples go (train or
 /// held out: the run when listed, the samples within a validation time range, and the last
 /// fraction of every run).
-SamplePlan planSamples(std::vector<RunSpan>& spans, const std::vector<Biquad>& filter,
+SamplePlan planSamples(std::vector<RunSpan>& spans, const Filters& filters,
                        const PrepareOptions& options, PrepareOutcome& out) {
+  int transient = 3;
+  for (const std::vector<Biquad>* f : {&filters.q, &filters.tau})
+    if (!f->empty()) transient = std::max(transient, padTransient(*f) + 1);
   SamplePlan plan;
   plan.longest = spans.size();
   for (std::size_t r = 0; r < spans.size(); ++r) {
     RunSpan& span = spans[r];
     span.edge = static_cast<int>(std::ceil(out.trim * out.rate));
     // Enough samples for the filter's padding, the derivatives and the trimmed edges.
-    span.kept =
-        span.count >= std::max(2 * span.edge + 3, filter.empty() ? 3 : padTransient(filter) + 1);
+    span.kept = span.count >= std::max(2 * span.edge + 3, transient);
     if (!span.kept) {
       out.dropped_runs.push_back(span.run);
       continue;
@@ -550,13 +721,84 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const std::vector<Biquad>& f
   return plan;
 }
 
+/// The per-joint bounds of `given` (empty: `fallback` for all; one value: for all).
+Eigen::VectorXd boundsOf(const Eigen::VectorXd& given, double fallback, int n, const char* what) {
+  if (given.size() == 0) return Eigen::VectorXd::Constant(n, fallback);
+  if (given.size() == 1) return Eigen::VectorXd::Constant(n, given[0]);
+  if (given.size() != n)
+    throw InputError(std::string(what) + " has " + std::to_string(given.size()) +
+                     " values; the log has " + std::to_string(n) +
+                     " joints: give one or one per "
+                     "joint");
+  return given;
+}
+
+/// Row j of a signal over the train and validate sets: the 99th percentile of its magnitude (spikes
+/// aside), its peak and the time of the peak.
+struct Magnitude {
+  double p99 = 0.0, peak = 0.0, at = 0.0;
+};
+Magnitude magnitudeOf(const PrepareOutcome& out, Eigen::MatrixXd Trajectory::*member, int j) {
+  Magnitude m;
+  std::vector<double> all;
+  all.reserve(static_cast<std::size_t>(out.train.numSamples() + out.validate.numSamples()));
+  for (const Trajectory* t : {&out.train, &out.validate})
+    for (Eigen::Index k = 0; k < t->numSamples(); ++k) {
+      const double x = std::abs((t->*member)(j, k));
+      all.push_back(x);
+      if (x > m.peak) m.peak = x, m.at = t->time[k];
+    }
+  const auto at =
+      static_cast<std::ptrdiff_t>(std::floor(0.99 * static_cast<double>(all.size() - 1)));
+  std::nth_element(all.begin(), all.begin() + at, all.end());
+  m.p99 = all[static_cast<std::size_t>(at)];
+  return m;
+}
+
+/// Velocities and accelerations no robot reaches are a unit or column mistake, never data: an
+/// InputError naming the joint, the value, the likely causes and the options that fix them. A
+/// log whose joints barely move gets a warning (the stamps may be in a smaller unit than given).
+void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareOutcome& out) {
+  const int n = static_cast<int>(out.train.q.rows());
+  const Eigen::VectorXd dq_bound = boundsOf(options.dq_bound, kPlausibleSpeed, n, "--dq-max");
+  const Eigen::VectorXd ddq_bound =
+      boundsOf(options.ddq_bound, kPlausibleAcceleration, n, "--ddq-max");
+  double fastest = 0.0;
+  for (int j = 0; j < n; ++j)
+    for (int order : {1, 2}) {
+      if (order == 2 && !ddq_meaningful) continue;
+      const Magnitude m = magnitudeOf(out, order == 1 ? &Trajectory::dq : &Trajectory::ddq, j);
+      if (order == 1) fastest = std::max(fastest, m.p99);
+      const double bound = (order == 1 ? dq_bound : ddq_bound)[j];
+      if (!(m.p99 > bound)) continue;
+      const bool given = (order == 1 ? options.dq_bound : options.ddq_bound).size() > 0;
+      throw InputError(
+          "joint " + std::to_string(j + 1) + ": |" + (order == 1 ? "dq" : "ddq") + "| reaches " +
+          formatNumber(m.peak, 4) + (order == 1 ? " rad/s" : " rad/s^2") +
+          " at t = " + formatNumber(m.at, 6) + " s and exceeds " + formatNumber(bound, 4) +
+          " for over 1 % of the samples, more than " +
+          (given ? std::string("the bound (--dq-max, --ddq-max, or 3 times --robot's limits)")
+                 : std::string("any robot moves")) +
+          ": the log's units or columns are likely wrong. Check --time-unit (stamps in a larger "
+          "unit than given make motion look fast), --angle-unit (degrees read as radians: 57 "
+          "times) and the --q columns (positions, in joint order?); if the motion is real, raise " +
+          (order == 1 ? "--dq-max" : "--ddq-max"));
+    }
+  if (fastest < 1e-3)
+    out.warnings.push_back("no joint moves faster than " + formatNumber(fastest, 3) +
+                           " rad/s for 1 % of the time: the robot barely moves, or the stamps are "
+                           "in a smaller unit than --time-unit says (milliseconds read as "
+                           "seconds make motion look 1000 times slower)");
+}
+
 }  // namespace
 
 void PrepareOptions::check() const {
   if (!(time_scale > 0.0) || !(angle_scale > 0.0) || !std::isfinite(time_scale) ||
       !std::isfinite(angle_scale))
     throw InputError("the time and angle units must be positive");
-  if (!std::isfinite(cutoff)) throw InputError("cutoff must be a finite frequency [Hz]");
+  if (!std::isfinite(cutoff) || !std::isfinite(tau_cutoff))
+    throw InputError("cutoff and tau_cutoff must be finite frequencies [Hz]");
   checkOption("prepare", "rate", rate, "rate");
   checkOption("prepare", "order", order, "order");
   checkOption("prepare", "decimate", decimate, "decimate");
@@ -565,6 +807,18 @@ void PrepareOptions::check() const {
   checkOption("prepare", "savgol-window", savgol_window, "savgol_window");
   checkOption("prepare", "savgol-degree", savgol_degree, "savgol_degree");
   checkOption("prepare", "validate-fraction", validate_fraction, "validate_fraction");
+  for (const auto& [from, to] : windows)
+    if (!(from < to) || !std::isfinite(from) || !std::isfinite(to))
+      throw InputError("each window is from:to [s] with from < to, not " + formatNumber(from) +
+                       ":" + formatNumber(to));
+  for (const auto& [from, to] : row_windows)
+    if (from < 1 || to < from)
+      throw InputError("each row window is a:b with 1 <= a <= b, not " + std::to_string(from) +
+                       ":" + std::to_string(to));
+  for (const Eigen::VectorXd* bound : {&dq_bound, &ddq_bound})
+    for (Eigen::Index j = 0; j < bound->size(); ++j)
+      if (!((*bound)[j] > 0.0))
+        throw InputError("the dq and ddq plausibility bounds must be positive");
 }
 
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
@@ -572,6 +826,11 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   checkOption("prepare", "joints", source.num_joints, "joints");
   PrepareOutcome out;
   std::vector<RawSignals> files = readFiles(source, options, out);
+  {
+    std::vector<std::string> labels = source.tables;
+    if (labels.empty()) labels.push_back(source.time_file);
+    findRest(files, labels, out);
+  }
   out.order = options.order;
   out.decimate = options.decimate;
   out.dq_derived = !files.front().has_dq || options.derive_dq;
@@ -588,14 +847,23 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   // Pass 2: the spectra, and the filter.
   measureSpectra(files, spans, out);
   chooseFilter(options, out);
-  std::vector<Biquad> filter;
-  if (out.cutoff > 0.0 && !(out.cutoff < out.rate / 2.0))
-    throw InputError("--cutoff " + formatNumber(out.cutoff) +
-                     " Hz must be below the Nyquist frequency of the output rate (" +
-                     formatNumber(out.rate / 2.0) + " Hz; --rate " + formatNumber(out.rate) + ")");
-  if (out.cutoff > 0.0) filter = butterworthLowPass(options.order, out.cutoff, out.rate);
+  Filters filters;
+  for (const auto& [cutoff, option] :
+       {std::pair{out.cutoff, "--cutoff"}, std::pair{out.tau_cutoff, "--tau-cutoff"}})
+    if (cutoff > 0.0 && !(cutoff < out.rate / 2.0))
+      throw InputError(std::string(option) + " " + formatNumber(cutoff) +
+                       " Hz must be below the Nyquist frequency of the output rate (" +
+                       formatNumber(out.rate / 2.0) + " Hz; --rate " + formatNumber(out.rate) +
+                       ")");
+  if (out.cutoff > 0.0) filters.q = butterworthLowPass(options.order, out.cutoff, out.rate);
+  filters.tau_as_q = out.tau_cutoff == out.cutoff;
+  if (out.tau_cutoff > 0.0 && !filters.tau_as_q)
+    filters.tau = butterworthLowPass(options.order, out.tau_cutoff, out.rate);
+  else if (filters.tau_as_q)
+    filters.tau = filters.q;
+  const std::vector<Biquad>& filter = filters.q;
 
-  const SamplePlan plan = planSamples(spans, filter, options, out);
+  const SamplePlan plan = planSamples(spans, filters, options, out);
   const int n = files.front().n;
   allocate(out.train, n, plan.train);
   allocate(out.validate, n, plan.validate);
@@ -606,15 +874,16 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   for (std::size_t r = 0; r < spans.size(); ++r) {
     const RunSpan& span = spans[r];
     if (span.kept) {
-      prepareRun(files[span.file], span, filter, options, r == plan.longest, noise_sum, out);
+      prepareRun(files[span.file], span, filters, options, r == plan.longest, noise_sum, out);
       out.runs.push_back(span.run);
-      if (!filter.empty()) noise_count += span.count;
+      if (!filters.noise().empty()) noise_count += span.count;
     }
     if (r + 1 == spans.size() || spans[r + 1].file != span.file)
       files[span.file] = RawSignals();  // done with this file
   }
   out.tau_noise = noise_count > 0.0 ? Eigen::VectorXd((noise_sum / noise_count).cwiseSqrt())
                                     : Eigen::VectorXd::Zero(n);
+  checkPlausible(options, !filter.empty() || out.ddq_logged, out);
   return out;
 }
 

@@ -23,7 +23,9 @@ namespace dynid {
 struct PrepareOptions {
   double time_scale = 1.0;   // seconds per time unit (ms: 1e-3)
   double angle_scale = 1.0;  // radians per angle unit of q and dq (deg: pi/180)
-  double rate = 0.0;         // output rate before decimation [Hz]; 0: the log's median rate
+  /// Output rate before decimation [Hz]; 0: the log's median rate, rounded to its nominal rate
+  /// (a whole number of Hz, or of 0.1 ms steps) when within 0.1 % of it.
+  double rate = 0.0;
   /// Low-pass -3 dB frequency [Hz] (single pass); 0: no filter; < 0: 10 Hz, or a quarter of the
   /// rate for logs slower than 40 Hz.
   double cutoff = -1.0;
@@ -31,6 +33,9 @@ struct PrepareOptions {
   /// (the frequency below which 99.5 % of q's power lies, every joint weighted alike), but below
   /// where q's spectrum meets its noise floor and at most a quarter of the rate.
   bool auto_cutoff = false;
+  /// Torque's own low-pass [Hz]: < 0: q's (parallel filtering, the default); 0: none (the raw
+  /// resampled torque, as papers validate against); > 0: its own cutoff (same order).
+  double tau_cutoff = -1.0;
   int order = 4;            // Butterworth order
   int decimate = 1;         // keep every Nth sample
   double max_gap = 0.0;     // split the log at larger steps [s]; 0: 5 median steps
@@ -44,12 +49,25 @@ struct PrepareOptions {
   int savgol_window = 0, savgol_degree = 3;
   double validate_fraction = 0.0;  // the last fraction of each run held out (0: none)
   std::vector<int> validate_runs;  // whole runs held out: 0-based among the kept runs, in order
-  /// Held-out time ranges [from, to] in the output's time [s] (the log's, plus any file offset).
+  /// Held-out time ranges [from, to] in the output's time [s] (from the log's first stamp, plus
+  /// any file offset).
   std::vector<std::pair<double, double>> validate_ranges;
   /// With LogSource::current: tau_j = current_j * torque_constants_j * gear_ratios_j (motor
   /// torque constant [N m/A] and gear ratio; the joint-side torque, drive losses left to the
   /// friction terms). One entry per joint each; gear ratios empty: 1.
   Eigen::VectorXd torque_constants, gear_ratios;
+  /// The parts of the log kept, in seconds from its first stamp ([from, to], inclusive; several
+  /// files: each one's stamps from the first file's first stamp); empty: all. Windows closer than
+  /// the gap limit join into one run; each must hold samples.
+  std::vector<std::pair<double, double>> windows;
+  /// The data rows kept (1-based, inclusive, in the file's order; one log file only); empty: all.
+  std::vector<std::pair<long, long>> row_windows;
+  /// Plausibility bounds on the prepared |dq| and |ddq| [rad/s, rad/s^2; m/s, m/s^2 for prismatic
+  /// joints]: one value for every joint or one per joint; empty: kPlausibleSpeed and
+  /// kPlausibleAcceleration. The 99th percentile of a joint's magnitude above its bound is an
+  /// InputError naming the likely cause (units or columns). ddq is checked only when filtered or
+  /// logged (differences of an unfiltered q are mostly noise).
+  Eigen::VectorXd dq_bound, ddq_bound;
   /// Samples whose every signal repeats the previous sample bit for bit while the stamp advances
   /// are a logger that stalled: dropped (the gap is bridged) when the stall is shorter than the
   /// gap limit; a longer identical stretch is the robot at rest and kept. true: keep them all.
@@ -59,6 +77,22 @@ struct PrepareOptions {
   /// (core/option_ranges.hpp, as dynid prepare's options, by field name). prepareLog checks its
   /// options first.
   void check() const;
+};
+
+/// What no robot does: joint speeds and accelerations beyond these come from a unit or column
+/// mistake (degrees read as radians: 57 times; seconds read as milliseconds: 1000 times).
+inline constexpr double kPlausibleSpeed = 50.0;           // [rad/s]
+inline constexpr double kPlausibleAcceleration = 2000.0;  // [rad/s^2]
+/// Median steps outside [kFastestStep, kSlowestStep] are not a robot's log in the given time
+/// unit (above 100 kHz, or below 5 Hz where no dynamics can be identified).
+inline constexpr double kFastestStep = 1e-5, kSlowestStep = 0.2;  // [s]
+
+/// Where a recording rests (or creeps) at its ends: no joint has moved from its first (last)
+/// position by more than max(1 mrad, 1 % of its range over the recording).
+struct RestAtEnds {
+  int file = 0;
+  double start = 0.0, end = 0.0;         // the recording's first and last stamp [s]
+  double leading = 0.0, trailing = 0.0;  // at rest from the start, and before the end [s]
 };
 
 /// One run of the log: consecutive samples without a gap.
@@ -71,6 +105,13 @@ struct PreparedRun {
 
 struct PrepareOutcome {
   Trajectory train, validate;  // validate empty without a validate fraction
+  /// The log's first stamp [s] (the first file's earliest, in its unit times the time scale, with
+  /// 64-bit precision): every time in the output and in this outcome is the stamp minus it.
+  long double time_origin = 0.0L;
+  std::vector<LogColumns> columns;  // per table file: the columns read, in joint order
+  std::vector<RestAtEnds> rest;     // per file
+  std::vector<std::string> warnings;
+  std::string rate_reason;  // how the rate was chosen, one sentence
   int raw_samples = 0, repeated_stamps = 0, unsorted_stamps = 0, stalled_repeats = 0;
   double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // raw [s]
   std::vector<std::pair<double, double>> gaps;               // (at [s], length [s])
@@ -78,6 +119,7 @@ struct PrepareOutcome {
   int runs_planned = 0;  // runs long enough for the filter (validate_runs index them)
   std::vector<PreparedRun> dropped_runs;  // runs shorter than the filter's transient
   double rate = 0.0, cutoff = 0.0, trim = 0.0, max_gap = 0.0;
+  double tau_cutoff = 0.0;  // the torque's cutoff [Hz] (0: not filtered)
   int order = 0, decimate = 1;
   bool dq_derived = false;
   bool ddq_logged = false;    // the logged ddq, resampled and filtered, is used
@@ -103,10 +145,12 @@ double timeUnitScale(const std::string& unit);
 double angleUnitScale(const std::string& unit);
 
 /// Runs the pipeline. The rate, gap limit and cutoff defaults come from the median step over every
-/// file. A later file whose stamps do not start after the previous file's end is shifted to start
-/// max(1 s, 2 gap limits) after it (PreparedRun::time_offset). Throws ParseError for a malformed
-/// file (file, line, column), InputError for inconsistent options (cutoff above Nyquist, a run
-/// shorter than the filter, no sample left, currents without one torque constant per joint).
+/// file (a median step outside [kFastestStep, kSlowestStep] is an InputError naming --time-unit).
+/// Times count from the log's first stamp (PrepareOutcome::time_origin). A later file whose stamps
+/// do not start after the previous file's end is shifted to start max(1 s, 2 gap limits) after it
+/// (PreparedRun::time_offset). Throws ParseError for a malformed file (file, line, column),
+/// InputError for inconsistent options (cutoff above Nyquist, a run shorter than the filter, no
+/// sample left, currents without one torque constant per joint).
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options);
 
 }  // namespace dynid

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -65,6 +66,31 @@ bool parseNumber(const char* begin, const char* end, double* out) {
   const auto result = std::from_chars(begin, end, *out);
   return result.ec == std::errc() && result.ptr == end;
 }
+
+/// The same for a long double (a time stamp read whole: nanosecond epochs need 64 bits).
+bool parseNumber(const char* begin, const char* end, long double* out) {
+  while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
+  while (end > begin && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r')) --end;
+  if (begin < end && *begin == '+') ++begin;
+  if (begin == end) return false;
+  const auto result = std::from_chars(begin, end, *out);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+/// Reads stamps relative to the first: the first one read becomes the origin, every one is stored
+/// as its difference from it (exact for nanosecond epochs, which a double rounds to 256 ns).
+struct RelativeStamps {
+  long double* origin = nullptr;  // null: stamps are read as plain doubles
+  bool started = false;
+  bool read(const char* begin, const char* end, double* out) {
+    if (origin == nullptr) return parseNumber(begin, end, out);
+    long double x = 0.0L;
+    if (!parseNumber(begin, end, &x) || !std::isfinite(x)) return false;
+    if (!started) *origin = x, started = true;
+    *out = static_cast<double>(x - *origin);
+    return true;
+  }
+};
 
 /// Calls f(begin, end, line_number) for each line of the file, without its newline, reading it in
 /// blocks (memory independent of the file's size); stops when f returns false.
@@ -154,7 +180,8 @@ RawTable readRawHeader(const std::string& path) {
   return table;
 }
 
-Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns) {
+Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
+                               long double* time_origin) {
   const std::string& path = header.file;
   const auto width = static_cast<int>(header.names.size());
   // Pass 1: the rows, to allocate once.
@@ -172,6 +199,7 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
                     " columns");
   Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
   Eigen::Index row = 0;
+  RelativeStamps stamps{time_origin};
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     if (line < header.first_data_line || !isDataLine(begin, end)) return true;
     if (row == rows)
@@ -182,7 +210,8 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
         forEachField(begin, end, header.delimiter, [&](const char* b, const char* e, int c) {
           if (c >= width || target[static_cast<std::size_t>(c)] < 0) return;
           double x = 0.0;
-          if (!parseNumber(b, e, &x) || !std::isfinite(x))
+          const bool stamp = target[static_cast<std::size_t>(c)] == 0 && time_origin != nullptr;
+          if (!(stamp ? stamps.read(b, e, &x) : parseNumber(b, e, &x)) || !std::isfinite(x))
             throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
                              "'" + trim(std::string(b, e)) + "' is not a finite number");
           values(row, target[static_cast<std::size_t>(c)]) = x;
@@ -232,12 +261,13 @@ int valueFileLine(const std::string& path, Eigen::Index index) {
   return found;
 }
 
-Eigen::MatrixXd readValueFile(const std::string& path, int width) {
+Eigen::MatrixXd readValueFile(const std::string& path, int width, long double* time_origin) {
   std::vector<double> values;
+  RelativeStamps stamps{time_origin};
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     forEachField(begin, end, ' ', [&](const char* b, const char* e, int) {
       double x = 0.0;
-      if (!parseNumber(b, e, &x) || !std::isfinite(x))
+      if (!stamps.read(b, e, &x) || !std::isfinite(x))
         throw ParseError(path, line, "", "'" + std::string(b, e) + "' is not a finite number");
       values.push_back(x);
     });
@@ -252,6 +282,110 @@ Eigen::MatrixXd readValueFile(const std::string& path, int width) {
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       values.data(), rows, width);
 }
+
+namespace {
+
+/// The runs of digits in a column name, without leading zeros ("q_joint012" -> {"12"}).
+std::vector<std::string> numbersIn(const std::string& name) {
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < name.size();) {
+    if (!std::isdigit(static_cast<unsigned char>(name[k]))) {
+      ++k;
+      continue;
+    }
+    std::size_t end = k;
+    while (end < name.size() && std::isdigit(static_cast<unsigned char>(name[end]))) ++end;
+    std::size_t first = k;
+    while (first + 1 < end && name[first] == '0') ++first;
+    out.push_back(name.substr(first, end - first));
+    k = end;
+  }
+  return out;
+}
+
+/// Natural order: digit runs compare as numbers (any length), the rest as text ("q2" < "q10").
+bool naturalLess(const std::string& a, const std::string& b) {
+  std::size_t i = 0, j = 0;
+  const auto digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      std::size_t ei = i, ej = j;
+      while (ei < a.size() && digit(a[ei])) ++ei;
+      while (ej < b.size() && digit(b[ej])) ++ej;
+      std::string x = a.substr(i, ei - i), y = b.substr(j, ej - j);
+      x.erase(0, std::min(x.find_first_not_of('0'), x.size() - 1));
+      y.erase(0, std::min(y.find_first_not_of('0'), y.size() - 1));
+      if (x.size() != y.size()) return x.size() < y.size();
+      if (x != y) return x < y;
+      i = ei, j = ej;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
+  }
+  return a.size() - i < b.size() - j;
+}
+
+std::string joined(const RawTable& table, const std::vector<int>& columns) {
+  std::string list;
+  for (int c : columns) list += (list.empty() ? "" : ", ") + table.names[c];
+  return list;
+}
+
+/// Whether the names differ in exactly one place, a letter in each ("q_a", "q_b"; "fx", "fy"):
+/// an order by that letter.
+bool oneLetterApart(const RawTable& table, const std::vector<int>& matched) {
+  const std::string& first = table.names[static_cast<std::size_t>(matched[0])];
+  std::size_t at = std::string::npos;
+  for (int c : matched) {
+    const std::string& name = table.names[static_cast<std::size_t>(c)];
+    if (name.size() != first.size()) return false;
+    for (std::size_t k = 0; k < name.size(); ++k)
+      if (name[k] != first[k]) {
+        if (at != std::string::npos && at != k) return false;
+        at = k;
+      }
+  }
+  if (at == std::string::npos) return false;
+  for (int c : matched)
+    if (!std::isalpha(static_cast<unsigned char>(table.names[static_cast<std::size_t>(c)][at])))
+      return false;
+  return true;
+}
+
+/// A glob's matches in joint order: by the numbers in their names (natural order, "q2" before
+/// "q10", "q_joint1" before "q_joint2" whatever the file's order), or by the one letter in which
+/// they differ ("q_a" before "q_b"). Other matches ("q_shoulder", "q_elbow"), or names with the
+/// same numbers, cannot be ordered: a ParseError asking for the list.
+void naturalOrder(const RawTable& table, const std::string& entry, const std::string& what,
+                  std::vector<int>& matched) {
+  if (matched.size() < 2) return;
+  if (oneLetterApart(table, matched)) {
+    std::stable_sort(matched.begin(), matched.end(), [&](int a, int b) {
+      return table.names[static_cast<std::size_t>(a)] < table.names[static_cast<std::size_t>(b)];
+    });
+    return;
+  }
+  std::vector<std::vector<std::string>> numbers;
+  for (int c : matched) {
+    numbers.push_back(numbersIn(table.names[c]));
+    const bool repeated =
+        std::find(numbers.begin(), numbers.end() - 1, numbers.back()) != numbers.end() - 1;
+    if (numbers.back().empty() || repeated)
+      throw ParseError(table.file, 0, what,
+                       "'" + entry + "' matches " + joined(table, matched) +
+                           ", whose joint order cannot be told from the names (" +
+                           (repeated ? "two hold the same numbers"
+                                     : "'" + table.names[c] +
+                                           "' holds no joint "
+                                           "number") +
+                           "): list the columns in joint order, separated by commas");
+  }
+  std::stable_sort(matched.begin(), matched.end(),
+                   [&](int a, int b) { return naturalLess(table.names[a], table.names[b]); });
+}
+
+}  // namespace
 
 std::vector<int> selectColumns(const RawTable& table, const std::string& selector, int expected,
                                const std::string& what) {
@@ -271,6 +405,7 @@ std::vector<int> selectColumns(const RawTable& table, const std::string& selecto
       for (std::size_t c = 0; c < table.names.size(); ++c)
         if (fnmatch(entry.c_str(), table.names[c].c_str(), 0) == 0)
           matched.push_back(static_cast<int>(c));
+      naturalOrder(table, entry, what, matched);
     }
     if (matched.empty()) {
       std::string list;

@@ -34,8 +34,11 @@ RawTable readRawHeader(const std::string& path);
 /// Only the given columns of the table (indices into header.names), in that order: rows = data
 /// lines. Every row's field count is checked, and the kept fields must be finite numbers (a text
 /// column that is not asked for is never parsed). Streams the file twice (count, then parse):
-/// memory is the result plus a 4 MB block. Errors as readRawTable's.
-Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns);
+/// memory is the result plus a 4 MB block. Errors as readRawTable's. With `time_origin`, the first
+/// column is time stamps, read in 64-bit precision: the first row's is stored there and every
+/// row holds its difference from it.
+Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
+                               long double* time_origin = nullptr);
 
 /// The file line of data row `row` (0-based, in file order) of a table, or 0 past the end: for
 /// messages about a row found wrong after reading (it re-reads the file).
@@ -46,12 +49,16 @@ int valueFileLine(const std::string& path, Eigen::Index index);
 /// Reads a one-signal-per-file log: every whitespace-separated number in the file, in order,
 /// shaped into samples of `width` values (width 1 for a time file). Throws ParseError naming the
 /// line of a non-numeric or non-finite value, or when the count is not a multiple of `width`.
-Eigen::MatrixXd readValueFile(const std::string& path, int width);
+/// With `time_origin` (a time file), stamps relative to the first, as readRawColumns.
+Eigen::MatrixXd readValueFile(const std::string& path, int width,
+                              long double* time_origin = nullptr);
 
 /// The columns of `table` a selector names, in order: a comma-separated list of column names,
-/// 1-based indices, or shell globs over the names ("q*", "tau_?"; several matches are taken in
+/// 1-based indices, or shell globs over the names ("q*", "tau_?"). A glob's several matches are
+/// taken in joint order, by the numbers in their names (natural order: q1, q2, ..., q10, whatever
 /// the file's order). Throws ParseError (file, element = the selector) when an entry matches
-/// nothing, when `expected` >= 0 and the count differs, or when a column is matched twice.
+/// nothing, when a glob's matches cannot be ordered (a name without a number, or two with the
+/// same numbers), when `expected` >= 0 and the count differs, or when a column is matched twice.
 std::vector<int> selectColumns(const RawTable& table, const std::string& selector, int expected,
                                const std::string& what);
 

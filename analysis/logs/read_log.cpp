@@ -26,7 +26,22 @@ RawSignals readLog(const LogSource& source, const std::string& table_path) {
         const std::vector<int> more = selectColumns(header, *selector, n, what);
         columns.insert(columns.end(), more.begin(), more.end());
       }
-    out.values = readRawColumns(header, columns);
+    out.values = readRawColumns(header, columns, &out.time_origin);
+    const auto names = [&](const std::vector<int>& selected) {
+      std::vector<std::string> list;
+      for (int c : selected) list.push_back(header.names[static_cast<std::size_t>(c)]);
+      return list;
+    };
+    out.columns.time = header.names[static_cast<std::size_t>(columns[0])];
+    out.columns.q = names(q);
+    out.columns.tau = names(tau);
+    std::size_t at = 1 + 2 * q.size();
+    for (auto* role : {&out.columns.dq, &out.columns.ddq})
+      if (role == &out.columns.dq ? !source.dq_columns.empty() : !source.ddq_columns.empty()) {
+        *role = names({columns.begin() + static_cast<std::ptrdiff_t>(at),
+                       columns.begin() + static_cast<std::ptrdiff_t>(at + q.size())});
+        at += q.size();
+      }
     out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
     out.has_dq = !source.dq_columns.empty();
     out.has_ddq = !source.ddq_columns.empty();
@@ -35,7 +50,7 @@ RawSignals readLog(const LogSource& source, const std::string& table_path) {
       throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
     if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
       throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
-    const Eigen::VectorXd time = readValueFile(source.time_file, 1).col(0);
+    const Eigen::VectorXd time = readValueFile(source.time_file, 1, &out.time_origin).col(0);
     out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
     const Eigen::Index samples = time.size();
     out.has_dq = !source.dq_file.empty();

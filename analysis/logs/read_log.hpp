@@ -24,6 +24,13 @@ struct LogSource {
   std::string ddq_columns, ddq_file;  // logged accelerations (rare): a table selector or a file
 };
 
+/// The table columns each signal was read from, joint by joint (what a selector matched, in joint
+/// order): recorded in prepare.json so a reader can check the joint order.
+struct LogColumns {
+  std::string time;
+  std::vector<std::string> q, tau, dq, ddq;
+};
+
 /// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) and
 /// ddq (n) when logged. Only the first `rows` rows are live (dropping samples compacts in place).
 struct RawSignals {
@@ -35,6 +42,10 @@ struct RawSignals {
   std::string tau_file;                      // the file holding tau (or the currents)
   std::function<int(Eigen::Index)> line_of;  // the file line of a raw row (before sorting)
   std::string file;                          // the file holding the time stamps
+  LogColumns columns;                        // tables: the columns read (empty for files)
+  /// The first data row's stamp, in the file's unit; values' time column holds each stamp minus
+  /// it (so nanosecond epoch stamps keep their precision as doubles).
+  long double time_origin = 0.0L;
   auto time() const { return values.col(0).head(rows); }
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }

@@ -1,4 +1,6 @@
 // dynid prepare: raw logs into datasets, and the errors a user meets first.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -140,6 +142,52 @@ TEST(Cli, PrepareConvertsCurrentsAndJoinsNoFiles) {
   EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-time 2:1 --out " + held).code, 2);
   EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-runs 0 --out " + held).code, 2);
   EXPECT_EQ(run("prepare --log " + a + " --q 2 --tau 3 --validate-runs 5 --out " + held).code, 1);
+}
+
+// The joints' columns in the file's reverse order and a second of rest first: prepare takes the
+// joints by the numbers in the names and says which column went where, warns of the rest with the
+// window that crops it, and keeps that window when given.
+TEST(Cli, PrepareRecordsTheJointColumnsWarnsOfRestAndKeepsAWindow) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "t,q2,q1,tau2,tau1\n";
+  for (int k = 0; k <= 2500; ++k) {
+    const double t = k * 2e-3, s = std::max(t - 1.0, 0.0);  // at rest for the first second
+    const double q1 = 0.5 * (1.0 - std::cos(2.0 * s)), q2 = -0.3 * (1.0 - std::cos(3.0 * s));
+    out << t << "," << q2 << "," << q1 << "," << 2.0 * q2 << "," << q1 << "\n";
+  }
+  const std::string log = test::tempPath("reversed.csv"), dir = test::tempPath("reversed");
+  writeFileAtomically(log, out.str());
+  const std::string common = "prepare --log " + log + " --time t --q 'q*' --tau 'tau*' ";
+  const Result r = run(common + "--out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "1: q1, tau1, 2: q2, tau2")) << r.out;
+  EXPECT_TRUE(contains(r.err, "warning: ") && contains(r.err, "at rest") &&
+              contains(r.err, "--window 1."))
+      << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
+  EXPECT_EQ(j["columns"][0]["q"], (std::vector<std::string>{"q1", "q2"}));
+  EXPECT_EQ(j["columns"][0]["tau"], (std::vector<std::string>{"tau1", "tau2"}));
+  EXPECT_EQ(j["warnings"].size(), 1u);
+  const Trajectory d = readDatasetCsv(dir + "/train.csv", 2);
+  EXPECT_NEAR(d.tau(1, 1000), 2.0 * d.q(1, 1000), 1e-9);  // joint 2's torque is twice its q
+  // The window crops the rest: no warning, and recorded.
+  const std::string windowed = test::tempPath("windowed");
+  const Result w = run(common + "--window 1:5 --out " + windowed);
+  ASSERT_EQ(w.code, 0) << w.err;
+  EXPECT_FALSE(contains(w.err, "warning")) << w.err;
+  const auto jw = nlohmann::json::parse(readFile(windowed + "/prepare.json"));
+  EXPECT_EQ(jw["windows"]["time"], nlohmann::json::parse("[[1, 5]]"));
+  // The robot's joint count is checked; its limits bound the speed (3 x the Panda's 2.175 rad/s
+  // for joint 1 is far above this motion), and a bound below the motion is refused.
+  const Result robot = run(common + "--robot panda --out " + test::tempPath("never_robot"));
+  EXPECT_EQ(robot.code, 1);
+  EXPECT_TRUE(contains(robot.err, "expected 7")) << robot.err;
+  const Result slow = run(common + "--dq-max 0.2 --out " + test::tempPath("never_slow"));
+  EXPECT_EQ(slow.code, 1);
+  EXPECT_TRUE(contains(slow.err, "joint 1") && contains(slow.err, "--dq-max")) << slow.err;
+  for (const char* bad : {"--window 5:1", "--window 1", "--rows 0:10", "--rows 2.5:10"})
+    EXPECT_EQ(run(common + bad + " --out " + test::tempPath("never_bad")).code, 2) << bad;
 }
 
 }  // namespace

@@ -158,6 +158,22 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
         dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", cutoff="high")
     with pytest.raises(dynid.ParseError):
         dynid.prepare(str(log), q_columns="nothing*", tau_columns="eff*")
+    # Windows, torque's own cutoff and the plausibility bounds: the CLI's options, the same data.
+    run_cli("prepare", "--log", log, "--time", "stamp_ms", "--q", "pos*", "--tau", "eff*",
+            "--time-unit", "ms", "--angle-unit", "deg", "--window", "0.5:2.5",
+            "--tau-cutoff", "none", "--dq-max", 30, "--out", tmp_path / "cli_window")
+    windowed = dynid.prepare(log, time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
+                             time_unit="ms", angle_unit="deg", window=[(0.5, 2.5)],
+                             tau_cutoff="none", dq_max=30)
+    assert json.loads(windowed.to_json()) == read_json(tmp_path / "cli_window" / "prepare.json")
+    assert windowed.train.time[0] >= 0.5 and windowed.train.time[-1] <= 2.5
+    assert windowed.time_origin == 0.0 and windowed.warnings == []
+    with pytest.raises(dynid.InputError, match="dq-max"):
+        dynid.prepare(log, time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
+                      time_unit="ms", angle_unit="deg", dq_max=1e-3)
+    with pytest.raises(dynid.InputError, match="time-unit"):  # milliseconds read as seconds
+        dynid.prepare(log, time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
+                      angle_unit="deg")
 
 
 def interrupted_after(seconds, call):
