@@ -1,0 +1,33 @@
+// libFuzzer target: the MCAP reader (data/bags/mcap.hpp) and the JointState decoders
+// (data/bags/ros_messages.hpp) on every message it hands over, as both CDR and ROS 1.
+#include <cstdint>
+
+#include "core/errors.hpp"
+#include "data/bags/mcap.hpp"
+#include "data/bags/ros_messages.hpp"
+#include "tests/fuzz/fuzz_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = dynid::fuzz::inputFile(data, size, ".mcap");
+  try {
+    dynid::bags::McapReader reader(path);
+    reader.read([&](const dynid::bags::McapMessage& m) {
+      if (m.data.size() > size) __builtin_trap();  // a message larger than the file
+      dynid::bags::JointStateMessage js;
+      for (bool cdr : {true, false}) {
+        try {
+          if (cdr)
+            dynid::bags::decodeJointStateCdr(m.data, path, m.offset, js);
+          else
+            dynid::bags::decodeJointStateRos1(m.data, path, m.offset, js);
+          // Every array the decoder made came from the message's bytes: 8 per double.
+          if (8 * (js.position.size() + js.velocity.size() + js.effort.size()) > m.data.size())
+            __builtin_trap();
+        } catch (const dynid::Error&) {
+        }
+      }
+    });
+  } catch (const dynid::Error&) {
+  }
+  return 0;
+}
