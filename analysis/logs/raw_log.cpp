@@ -57,18 +57,10 @@ bool parseNumber(const std::string& field, double* out) {
   return used == field.size();
 }
 
-/// The number in [begin, end) (blanks around it allowed, a leading '+' too), or false.
-bool parseNumber(const char* begin, const char* end, double* out) {
-  while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
-  while (end > begin && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r')) --end;
-  if (begin < end && *begin == '+') ++begin;
-  if (begin == end) return false;
-  const auto result = std::from_chars(begin, end, *out);
-  return result.ec == std::errc() && result.ptr == end;
-}
-
-/// The same for a long double (a time stamp read whole: nanosecond epochs need 64 bits).
-bool parseNumber(const char* begin, const char* end, long double* out) {
+/// The number in [begin, end) (blanks around it allowed, a leading '+' too), or false. T: double,
+/// or long double for a time stamp read whole (nanosecond epochs need 64 bits).
+template <class T>
+bool parseNumber(const char* begin, const char* end, T* out) {
   while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
   while (end > begin && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r')) --end;
   if (begin < end && *begin == '+') ++begin;
