@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "data/bags/bag.hpp"
 #include "data/robots.hpp"
 #include "reports/output.hpp"
 #include "reports/prepare_report.hpp"
@@ -15,7 +16,12 @@ namespace {
 void addPrepareOptions(po::options_description& options) {
   const PrepareOptions d;  // every default is the options' own
   options.add_options()("log", po::value<std::vector<std::string>>()->multitoken(),
-                        "delimited tables (header optional); several: separate recordings")(
+                        "delimited tables (header optional), ROS 2 .mcap or ROS 1 .bag "
+                        "recordings (sensor_msgs/JointState); several: separate recordings")(
+      "topic", po::value<std::string>(),
+      "recordings: the JointState topic (default: the only one)")(
+      "stamp", po::value<std::string>()->default_value("header"),
+      "recordings: header (header.stamp) or receive (when the recorder received each message)")(
       "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
       "q", po::value<std::string>(), "table: q columns (names, 1-based indices or globs: q*)")(
       "dq", po::value<std::string>(), "table: dq columns (default: derived from q)")(
@@ -71,10 +77,28 @@ std::string text(const po::variables_map& vm, const char* key) {
 
 /// Where the signals are, and the usage errors of their options.
 LogSource logSource(const po::variables_map& vm) {
-  if (vm.count("tau") + vm.count("current") + vm.count("tau-file") + vm.count("current-file") != 1)
-    throw UsageError("give one of --tau, --current, --tau-file or --current-file");
   LogSource source;
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
+  std::size_t recordings = 0;
+  for (const std::string& table : source.tables) recordings += bags::isBag(table) ? 1 : 0;
+  refuseUnused(vm, recordings > 0, {"topic"}, "applies to recordings (.mcap, .bag)");
+  if (recordings > 0) {
+    if (recordings != source.tables.size())
+      throw UsageError("--log: give tables or recordings (.mcap, .bag), not both");
+    refuseUnused(vm, false, {"time", "q", "dq", "ddq", "tau", "current", "time-unit", "joints"},
+                 "applies to tables: a recording's stamps, positions, velocities and efforts "
+                 "come from its JointState messages, joints matched by name to --robot's");
+    if (vm.count("topic")) source.topic = text(vm, "topic");
+    const std::string stamp = text(vm, "stamp");
+    if (stamp != "header" && stamp != "receive")
+      throw UsageError("--stamp must be header or receive, not '" + stamp + "'");
+    source.receive_time = stamp == "receive";
+    return source;
+  }
+  if (!vm["stamp"].defaulted())
+    throw UsageError("--stamp applies to recordings (.mcap, .bag), not to tables");
+  if (vm.count("tau") + vm.count("current") + vm.count("tau-file") + vm.count("current-file") != 1)
+    throw UsageError("give one of --tau, --current, --tau-file or --current-file");
   source.time_column = text(vm, "time");
   source.q_columns = text(vm, "q");
   source.dq_columns = text(vm, "dq");
@@ -195,7 +219,8 @@ void readWindowsAndBounds(const po::variables_map& vm, LogSource& source, Prepar
   if (source.num_joints > 0 && source.num_joints != n)
     throw UsageError("--joints " + std::to_string(source.num_joints) + " but --robot has " +
                      std::to_string(n) + " joints");
-  source.num_joints = n;  // the selectors must match one column per joint
+  source.num_joints = n;                   // the selectors must match one column per joint
+  source.joint_names = robot.joint_names;  // a recording's joints, matched by name
   for (const auto& [limit, target] : {std::pair{&JointLimits::velocity, &o.dq_bound},
                                       std::pair{&JointLimits::acceleration, &o.ddq_bound}})
     if (target->size() == 0) {
@@ -229,8 +254,8 @@ int runPrepare(const std::vector<std::string>& args) {
   addPrepareOptions(options);
   po::variables_map vm;
   const std::string usage =
-      "dynid prepare (--log log.csv... --q SEL --tau SEL | --time-file F --q-file F --tau-file F "
-      "--joints N) --out DIR";
+      "dynid prepare (--log log.csv... --q SEL --tau SEL | --log rec.mcap|rec.bag... [--robot R] "
+      "| --time-file F --q-file F --tau-file F --joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   LogSource source = logSource(vm);

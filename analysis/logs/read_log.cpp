@@ -2,12 +2,15 @@
 
 #include <utility>
 
+#include "analysis/logs/bag_log.hpp"
 #include "analysis/logs/raw_log.hpp"
 #include "core/errors.hpp"
+#include "data/bags/bag.hpp"
 
 namespace dynid {
 
 RawSignals readLog(const LogSource& source, const std::string& table_path) {
+  if (!table_path.empty() && bags::isBag(table_path)) return readBagLog(source, table_path);
   RawSignals out;
   int n = source.num_joints;
   std::string tau_file = table_path;

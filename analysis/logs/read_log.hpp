@@ -1,4 +1,5 @@
-// The logs wing's one seam: readLog turns one recording, whatever its format, into RawSignals
+// The logs wing's one seam: readLog turns one recording, whatever its format (a table, one file
+// per signal, a ROS bag), into RawSignals
 // (time, q, tau and, when logged, dq and ddq, one row per sample, in the file's own units, with
 // the file and line of every row for messages). `dynid prepare` (prepare.hpp) starts from there.
 // A new log format is one reader file beside raw_log.hpp and one branch of readLog
@@ -22,6 +23,12 @@ struct LogSource {
   int num_joints = 0;                 // 0: the q selector's count (tables) or required (files)
   bool current = false;               // the tau selector or file holds motor currents [A]
   std::string ddq_columns, ddq_file;  // logged accelerations (rare): a table selector or a file
+  /// Recordings among `tables` (.mcap, .bag; analysis/logs/bag_log.hpp): their
+  /// sensor_msgs/JointState topic (empty: the only one), the robot's joint names in order (empty:
+  /// the first message's), and the stamp (header.stamp, or the time the recorder received it).
+  std::string topic = "";
+  std::vector<std::string> joint_names = {};
+  bool receive_time = false;
 };
 
 /// The table columns each signal was read from, joint by joint (what a selector matched, in joint

@@ -52,6 +52,13 @@ std::string decompress(const std::string& file, std::uint64_t at, std::string_vi
     throw ParseError(file, 0, "chunk",
                      "at byte " + std::to_string(at) + ": an uncompressed size of " +
                          std::to_string(size) + " bytes, above the 2 GiB a chunk may hold");
+  // Robot data never compresses 1000:1; a size beyond that is a damaged field, refused before
+  // the allocation it would cause.
+  if (static_cast<double>(size) > 1000.0 * static_cast<double>(data.size()) + 1048576.0)
+    throw ParseError(file, 0, "chunk",
+                     "at byte " + std::to_string(at) + ": " + std::to_string(data.size()) +
+                         " compressed bytes claim " + std::to_string(size) +
+                         " uncompressed (more than 1000:1: damaged)");
   requireMemory(static_cast<double>(size), file + ": a chunk of " + std::to_string(size) +
                                                " bytes at byte " + std::to_string(at));
   std::string out;

@@ -190,5 +190,36 @@ TEST(Cli, PrepareRecordsTheJointColumnsWarnsOfRestAndKeepsAWindow) {
     EXPECT_EQ(run(common + bad + " --out " + test::tempPath("never_bad")).code, 2) << bad;
 }
 
+// A ROS 1 bag (written by ROS's own writer) prepared from the command line: its joints as the
+// messages name them, or the robot's matched by name; table options refused.
+TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
+  const std::string bag =
+      std::string(DYNID_SOURCE_DIR) + "/tests/data/bags/fixtures/joint_states_lz4.bag";
+  const std::string dir = test::tempPath("from_bag");
+  const Result r = run("prepare --log " + bag + " --cutoff 0 --trim 0 --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "1: joint2, joint2, 2: joint1, joint1, 3: gripper, gripper"))
+      << r.out;
+  EXPECT_EQ(readDatasetCsv(dir + "/train.csv", 3).numSamples(), 200);
+  const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
+  EXPECT_EQ(j["columns"][0]["time"], "header.stamp");
+  EXPECT_EQ(j["time_origin"]["exact"], "1700000000");
+  const Result robot = run("prepare --log " + bag + " --robot puma560 --cutoff 0 --trim 0 --out " +
+                           test::tempPath("never_bag"));
+  EXPECT_EQ(robot.code, 1);
+  EXPECT_TRUE(contains(robot.err, "lack the robot's joints joint3") && contains(robot.err, bag))
+      << robot.err;
+  const std::string never = " --out " + test::tempPath("never_bag");
+  for (const std::string& bad :
+       {"--log " + bag + " --q 'q*'", "--log " + bag + " --time-unit ms",
+        "--log " + bag + " " + writeLog("beside_bag.txt") + " --q 2 --tau 3",
+        "--log " + bag + " --stamp sideways",
+        "--log " + writeLog("t.txt") +
+            " --q 2 --tau 3 "
+            "--stamp receive",
+        "--log " + writeLog("t2.txt") + " --q 2 --tau 3 --topic /js"})
+    EXPECT_EQ(run("prepare " + bad + never).code, 2) << bad;
+}
+
 }  // namespace
 }  // namespace dynid

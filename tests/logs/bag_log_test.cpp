@@ -1,0 +1,108 @@
+// Recordings into prepare: a ROS 1 bag written by ROS's own writer
+// (tools/make_ros1_bag_fixtures.py) gives the same dataset as the same samples in a table; joints
+// are matched by name to the robot's (any order, others ignored), and what cannot be matched is
+// named.
+#include "analysis/logs/bag_log.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "analysis/logs/prepare.hpp"
+#include "core/errors.hpp"
+#include "data/io.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+const std::string kFixtures = std::string(DYNID_SOURCE_DIR) + "/tests/data/bags/fixtures/";
+
+/// The fixture's samples (tools/make_ros1_bag_fixtures.py) as a table, joints in `order` (the
+/// numbers in the names: joint1 1, joint2 2, gripper 3).
+std::string tableOfTheFixture(const std::vector<int>& order) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "t";
+  for (const char* kind : {"q", "dq", "tau"})
+    for (int j : order) out << "," << kind << j;
+  out << "\n";
+  for (int k = 0; k < 200; ++k) {
+    out << k * 1e-3;
+    for (int j : order) out << "," << 0.1 * j * std::sin(0.01 * k);
+    for (int j : order) out << "," << 0.001 * j * std::cos(0.01 * k);
+    for (int j : order) out << "," << 2.0 * j + 0.5 * k;
+    out << "\n";
+  }
+  const std::string path = test::tempPath("fixture_table.csv");
+  writeFileAtomically(path, out.str());
+  return path;
+}
+
+PrepareOptions unfiltered() {
+  PrepareOptions o;
+  o.cutoff = 0.0;  // 0.2 s of data: no room for a filter's transient
+  o.trim = 0.0;
+  return o;
+}
+
+TEST(BagLog, ARos1BagPreparesAsTheSameSamplesInATable) {
+  LogSource table;
+  table.tables = {tableOfTheFixture({2, 1, 3})};  // the messages' order: joint2, joint1, gripper
+  table.time_column = "t";
+  table.q_columns = "q2,q1,q3";
+  table.dq_columns = "dq2,dq1,dq3";
+  table.tau_columns = "tau2,tau1,tau3";
+  const PrepareOutcome expected = prepareLog(table, unfiltered());
+  for (const char* compression : {"none", "bz2", "lz4"}) {
+    LogSource bag;
+    bag.tables = {kFixtures + "joint_states_" + compression + ".bag"};
+    const PrepareOutcome o = prepareLog(bag, unfiltered());
+    SCOPED_TRACE(compression);
+    // The table's stamps are k 1e-3 written in 17 digits, the bag's integer ns: the same times to
+    // the last bit or two, hence 1e-12 (the bound), not equality.
+    for (auto member : {&Trajectory::q, &Trajectory::dq, &Trajectory::ddq, &Trajectory::tau})
+      EXPECT_LT(((o.train.*member) - (expected.train.*member)).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_LT((o.train.time - expected.train.time).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_EQ(o.time_origin, 1700000000.0L);
+    EXPECT_EQ(o.columns[0].q, (std::vector<std::string>{"joint2", "joint1", "gripper"}));
+  }
+}
+
+TEST(BagLog, JointsAreMatchedByNameToTheRobotsAndTheRestIgnored) {
+  LogSource bag;
+  bag.tables = {kFixtures + "joint_states_bz2.bag"};
+  bag.joint_names = {"joint1", "joint2"};  // the robot's order; the gripper is not the robot's
+  const RawSignals s = readBagLog(bag, bag.tables[0]);
+  ASSERT_EQ(s.n, 2);
+  ASSERT_TRUE(s.has_dq);
+  for (Eigen::Index k = 0; k < s.rows; ++k)
+    for (int j = 0; j < 2; ++j) {
+      EXPECT_EQ(s.q()(k, j), 0.1 * (j + 1) * std::sin(0.01 * static_cast<double>(k)));
+      EXPECT_EQ(s.tau()(k, j), 2.0 * (j + 1) + 0.5 * static_cast<double>(k));
+    }
+  bag.joint_names = {"joint1", "elbow", "wrist"};
+  try {
+    readBagLog(bag, bag.tables[0]);
+    ADD_FAILURE() << "joints the messages lack were accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("elbow, wrist"), std::string::npos) << what;
+    EXPECT_NE(what.find("joint2, joint1, gripper"), std::string::npos) << what;
+  }
+  // A topic of another type, and one nobody recorded.
+  bag.joint_names = {};
+  bag.topic = "/chatter";
+  EXPECT_THROW(readBagLog(bag, bag.tables[0]), InputError);
+  bag.topic = "/nothing";
+  EXPECT_THROW(readBagLog(bag, bag.tables[0]), InputError);
+  // Receive time: the recorder stamped each message with its header stamp here.
+  bag.topic = "";
+  bag.receive_time = true;
+  EXPECT_EQ(readBagLog(bag, bag.tables[0]).values.col(0), s.values.col(0));
+}
+
+}  // namespace
+}  // namespace dynid
