@@ -1,8 +1,10 @@
 #include "data/bags/bytes.hpp"
 
+#include <lz4frame.h>
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <memory>
 
 #include "core/errors.hpp"
 
@@ -49,6 +51,26 @@ void ByteFile::seek(std::uint64_t offset) {
   if (::fseeko(file_, static_cast<off_t>(offset), SEEK_SET) != 0)
     throw Error("cannot read '" + path_ + "': " + std::strerror(errno));
   offset_ = offset;
+}
+
+std::string lz4Frame(std::string_view in, std::string& out) {
+  LZ4F_dctx* context = nullptr;
+  if (LZ4F_isError(LZ4F_createDecompressionContext(&context, LZ4F_VERSION)))
+    return "cannot start an lz4 decompression";
+  const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> owner(
+      context, &LZ4F_freeDecompressionContext);
+  std::size_t written = 0, read = 0;
+  while (read < in.size() && written < out.size()) {
+    std::size_t dst = out.size() - written, src = in.size() - read;
+    const std::size_t hint =
+        LZ4F_decompress(context, out.data() + written, &dst, in.data() + read, &src, nullptr);
+    if (LZ4F_isError(hint)) return std::string("lz4: ") + LZ4F_getErrorName(hint);
+    written += dst;
+    read += src;
+    if (hint == 0 || (dst == 0 && src == 0)) break;  // the frame's end, or no progress
+  }
+  out.resize(written);
+  return "";
 }
 
 void Cursor::fail(const char* field, const std::string& what) const {

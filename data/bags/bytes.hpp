@@ -99,4 +99,9 @@ class Cursor {
   std::size_t at_ = 0;
 };
 
+/// Decompresses one LZ4 frame (as MCAP and ROS 1's roslz4 write them) into `out`, which holds the
+/// expected size beforehand and is cut to what was written. Returns an error text, empty when the
+/// frame decoded.
+std::string lz4Frame(std::string_view in, std::string& out);
+
 }  // namespace dynid::bags

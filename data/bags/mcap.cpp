@@ -1,6 +1,5 @@
 #include "data/bags/mcap.hpp"
 
-#include <lz4frame.h>
 #include <zlib.h>
 #include <zstd.h>
 
@@ -8,7 +7,6 @@
 #include <bit>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,24 +71,8 @@ std::string decompress(const std::string& file, std::uint64_t at, std::string_vi
     out.resize(n);
   } else if (compression == "lz4") {
     out.resize(static_cast<std::size_t>(size));
-    LZ4F_dctx* context = nullptr;
-    if (LZ4F_isError(LZ4F_createDecompressionContext(&context, LZ4F_VERSION)))
-      throw Error(file + ": cannot start an lz4 decompression");
-    const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> owner(
-        context, &LZ4F_freeDecompressionContext);
-    std::size_t written = 0, read = 0;
-    while (read < data.size() && written < out.size()) {
-      std::size_t dst = out.size() - written, src = data.size() - read;
-      const std::size_t hint =
-          LZ4F_decompress(context, out.data() + written, &dst, data.data() + read, &src, nullptr);
-      if (LZ4F_isError(hint))
-        throw ParseError(file, 0, "chunk",
-                         "at byte " + std::to_string(at) + ": lz4: " + LZ4F_getErrorName(hint));
-      written += dst;
-      read += src;
-      if (hint == 0 || (dst == 0 && src == 0)) break;  // the frame's end, or no progress
-    }
-    out.resize(written);
+    if (const std::string error = lz4Frame(data, out); !error.empty())
+      throw ParseError(file, 0, "chunk", "at byte " + std::to_string(at) + ": " + error);
   } else {
     throw ParseError(file, 0, "chunk",
                      "at byte " + std::to_string(at) + ": unknown compression '" +

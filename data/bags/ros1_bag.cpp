@@ -1,11 +1,9 @@
 #include "data/bags/ros1_bag.hpp"
 
 #include <bzlib.h>
-#include <lz4frame.h>
 
 #include <algorithm>
 #include <map>
-#include <memory>
 
 #include "core/errors.hpp"
 #include "core/memory.hpp"
@@ -69,22 +67,7 @@ std::string decompress(const Cursor& at, std::string_view compression, std::stri
       at.fail("chunk", "bz2 decompression failed (code " + std::to_string(result) + ")");
     out.resize(length);
   } else if (compression == "lz4") {
-    LZ4F_dctx* context = nullptr;
-    if (LZ4F_isError(LZ4F_createDecompressionContext(&context, LZ4F_VERSION)))
-      throw Error(at.file() + ": cannot start an lz4 decompression");
-    const std::unique_ptr<LZ4F_dctx, decltype(&LZ4F_freeDecompressionContext)> owner(
-        context, &LZ4F_freeDecompressionContext);
-    std::size_t written = 0, read = 0;
-    while (read < data.size() && written < out.size()) {
-      std::size_t dst = out.size() - written, src = data.size() - read;
-      const std::size_t hint =
-          LZ4F_decompress(context, out.data() + written, &dst, data.data() + read, &src, nullptr);
-      if (LZ4F_isError(hint)) at.fail("chunk", std::string("lz4: ") + LZ4F_getErrorName(hint));
-      written += dst;
-      read += src;
-      if (hint == 0 || (dst == 0 && src == 0)) break;
-    }
-    out.resize(written);
+    if (const std::string error = lz4Frame(data, out); !error.empty()) at.fail("chunk", error);
   } else {
     at.fail("compression", "unknown compression '" + std::string(compression) +
                                "' (dynid reads none, bz2 and lz4)");
