@@ -176,6 +176,18 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
                       angle_unit="deg")
 
 
+def test_prepare_reads_a_ros1_bag_as_the_cli(tmp_path):
+    # Written by ROS's own writer (tools/make_ros1_bag_fixtures.py): joints in the messages' order.
+    bag = os.path.join(os.path.dirname(__file__), "..", "data", "bags", "fixtures",
+                       "joint_states_bz2.bag")
+    run_cli("prepare", "--log", bag, "--cutoff", 0, "--trim", 0, "--out", tmp_path / "cli")
+    prepared = dynid.prepare(bag, cutoff=0, trim=0)
+    cli_train = dynid.read_dataset(tmp_path / "cli" / "train.csv")
+    for field in ("time", "q", "dq", "ddq", "tau"):
+        assert np.array_equal(getattr(prepared.train, field), getattr(cli_train, field))
+    assert prepared.time_origin == 1700000000.0 and prepared.train.num_samples == 200
+
+
 def interrupted_after(seconds, call):
     """call() with a SIGINT (Ctrl-C) sent to this process `seconds` after it starts; its result
     and the warnings it gave."""
