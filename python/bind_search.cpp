@@ -320,7 +320,9 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
                     int savgol_degree, double validate_fraction, bool keep_stalled,
                     const std::vector<std::pair<double, double>>& window,
                     const std::vector<std::pair<long, long>>& rows, const py::handle& dq_max,
-                    const py::handle& ddq_max, const py::handle& tau_cutoff) {
+                    const py::handle& ddq_max, const py::handle& tau_cutoff,
+                    const std::string& topic, const std::string& stamp,
+                    const std::vector<std::string>& joint_names) {
   PreparePy out;
   LogSource& s = out.source;
   if (py::isinstance<py::list>(tables) || py::isinstance<py::tuple>(tables)) {
@@ -336,6 +338,11 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
   s.ddq_columns = ddq_columns;
   s.num_joints = joints;
   s.current = current;
+  s.topic = topic;
+  if (stamp != "header" && stamp != "receive")
+    throw py::value_error("stamp: expected 'header' or 'receive', not '" + stamp + "'");
+  s.receive_time = stamp == "receive";
+  s.joint_names = joint_names;
   PrepareOptions& o = out.options;
   o.time_scale = timeUnitScale(time_unit);
   o.angle_scale = angleUnitScale(angle_unit);
@@ -641,12 +648,16 @@ void bindPrepare(py::module_& m) {
       py::arg("keep_stalled") = false, py::arg("window") = std::vector<std::pair<double, double>>{},
       py::arg("rows") = std::vector<std::pair<long, long>>{}, py::arg("dq_max") = py::none(),
       py::arg("ddq_max") = py::none(), py::arg("tau_cutoff") = py::none(),
+      py::arg("topic") = LogSource{}.topic, py::arg("stamp") = "header",
+      py::arg("joint_names") = std::vector<std::string>{},
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
       "log's first stamp; rows: [(first, last), ...] 1-based data rows; dq_max, ddq_max: "
       "plausibility bounds (one, or one per joint); tau_cutoff: torque's own low-pass [Hz], "
-      "'none', or None for the cutoff's.");
+      "'none', or None for the cutoff's. Recordings (.mcap, .bag): topic (the JointState topic; "
+      "default the only one), stamp ('header' or 'receive'), joint_names (the robot's joints in "
+      "order, matched by name: Model.joint_names; default the first message's).");
 }
 
 }  // namespace

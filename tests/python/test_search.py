@@ -186,6 +186,15 @@ def test_prepare_reads_a_ros1_bag_as_the_cli(tmp_path):
     for field in ("time", "q", "dq", "ddq", "tau"):
         assert np.array_equal(getattr(prepared.train, field), getattr(cli_train, field))
     assert prepared.time_origin == 1700000000.0 and prepared.train.num_samples == 200
+    # The robot's joints matched by name, in its order; the gripper ignored.
+    matched = dynid.prepare(bag, cutoff=0, trim=0, joint_names=["joint1", "joint2"],
+                            topic="/joint_states", stamp="receive")
+    assert np.array_equal(matched.train.q[:, 0], prepared.train.q[:, 1])
+    assert np.array_equal(matched.train.tau[:, 1], prepared.train.tau[:, 0])
+    with pytest.raises(dynid.InputError, match="lack the robot's joints elbow"):
+        dynid.prepare(bag, cutoff=0, trim=0, joint_names=["joint1", "elbow"])
+    with pytest.raises(ValueError, match="stamp"):
+        dynid.prepare(bag, stamp="sideways")
 
 
 def interrupted_after(seconds, call):
