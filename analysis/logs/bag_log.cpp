@@ -16,6 +16,44 @@ std::string listed(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
+/// Per joint of `names` (the robot's), its entry among the message's names `held`; InputError
+/// naming the joints the messages lack and the names they hold.
+std::vector<int> jointIndex(const std::vector<std::string>& names,
+                            const std::vector<std::string>& held, const std::string& path,
+                            const std::string& topic) {
+  std::vector<int> index(names.size(), -1);
+  std::vector<std::string> missing;
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    const auto it = std::find(held.begin(), held.end(), names[j]);
+    if (it == held.end())
+      missing.push_back(names[j]);
+    else
+      index[j] = static_cast<int>(it - held.begin());
+  }
+  if (!missing.empty())
+    throw InputError(path + ": the JointState messages on " + topic + " lack the robot's joints " +
+                     listed(missing) + " (they hold " + listed(held) +
+                     "): give the robot these messages describe");
+  return index;
+}
+
+/// A position and an effort per name, or the error that says which is missing and where.
+void checkArrays(const bags::JointStateMessage& m, const bags::BagMessage& message,
+                 const std::string& path, const std::string& topic) {
+  const std::size_t held = m.name.size();
+  if (m.position.size() != held)
+    throw ParseError(*message.file, 0, "position",
+                     "at byte " + std::to_string(message.offset) + ": " +
+                         std::to_string(m.position.size()) + " positions for " +
+                         std::to_string(held) + " names");
+  if (m.effort.size() != held)
+    throw InputError(
+        path + ": the JointState messages on " + topic +
+        (m.effort.empty() ? " carry no effort (torque)" : " carry efforts for only some joints") +
+        ": dynid needs the measured torques (at byte " + std::to_string(message.offset) + " of " +
+        *message.file + ")");
+}
+
 }  // namespace
 
 RawSignals readBagLog(const LogSource& source, const std::string& path) {
@@ -55,33 +93,11 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
           bags::decodeJointStateRos1(message.data, *message.file, message.offset, m);
         if (m.name != last_names) {  // the mapping, again only when the names change
           if (names.empty()) names = m.name;
-          index.assign(names.size(), -1);
-          std::vector<std::string> missing;
-          for (std::size_t j = 0; j < names.size(); ++j) {
-            const auto it = std::find(m.name.begin(), m.name.end(), names[j]);
-            if (it == m.name.end())
-              missing.push_back(names[j]);
-            else
-              index[j] = static_cast<int>(it - m.name.begin());
-          }
-          if (!missing.empty())
-            throw InputError(path + ": the JointState messages on " + topic +
-                             " lack the robot's joints " + listed(missing) + " (they hold " +
-                             listed(m.name) + "): give the robot these messages describe");
+          index = jointIndex(names, m.name, path, topic);
           last_names = m.name;
         }
+        checkArrays(m, message, path, topic);
         const std::size_t held = m.name.size();
-        if (m.position.size() != held)
-          throw ParseError(*message.file, 0, "position",
-                           "at byte " + std::to_string(message.offset) + ": " +
-                               std::to_string(m.position.size()) + " positions for " +
-                               std::to_string(held) + " names");
-        if (m.effort.size() != held)
-          throw InputError(path + ": the JointState messages on " + topic +
-                           (m.effort.empty() ? " carry no effort (torque)"
-                                             : " carry efforts for only some joints") +
-                           ": dynid needs the measured torques (at byte " +
-                           std::to_string(message.offset) + " of " + *message.file + ")");
         const bool velocity = m.velocity.size() == held;
         if (first) out.has_dq = velocity;
         if (out.has_dq != velocity)

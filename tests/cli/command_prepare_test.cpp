@@ -12,6 +12,7 @@
 #include "data/io.hpp"
 #include "tests/common/cli.hpp"
 #include "tests/common/panda_log.hpp"
+#include "tests/common/processes.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -230,12 +231,13 @@ TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
 TEST(Cli, ThePandaLogAsARos1BagGivesTheExamplesNumbers) {
   const std::string log = test::pandaLogDirectory();
   if (log.empty()) GTEST_SKIP() << "the Panda log is not beside the repository";
-  if (std::system("/usr/bin/python3 -c 'import rosbag' >/dev/null 2>&1") != 0)
+  // Started without a shell: the paths go to the interpreter as arguments.
+  if (test::runProgram({"/usr/bin/python3", "-c", "import rosbag"}) != 0)
     GTEST_SKIP() << "python3-rosbag is not installed (scripts/install-deps.sh installs it)";
   const std::string bag = test::tempPath("panda.bag"), dir = test::tempPath("panda_bag");
-  ASSERT_EQ(std::system(("/usr/bin/python3 " + std::string(DYNID_SOURCE_DIR) +
-                         "/tools/panda_log_as_ros1_bag.py " + log + " " + bag)
-                            .c_str()),
+  ASSERT_EQ(test::runProgram({"/usr/bin/python3",
+                              std::string(DYNID_SOURCE_DIR) + "/tools/panda_log_as_ros1_bag.py",
+                              log, bag}),
             0);
   const Result prepared = run("prepare --log " + bag +
                               " --robot panda --rate 1000 --cutoff 5 --max-gap 0.02 "
