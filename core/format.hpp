@@ -11,4 +11,8 @@ namespace dynid {
 /// is not finite reads "inf", "-inf" or "nan", or `non_finite` when one is given ("n/a").
 std::string formatNumber(double x, int digits = 0, const char* non_finite = nullptr);
 
+/// Natural order of names: runs of digits compare as numbers (any length, leading zeros ignored),
+/// the rest as text, so "q2" < "q10" and "log_9.db3" < "log_10.db3".
+bool naturalLess(const std::string& a, const std::string& b);
+
 }  // namespace dynid

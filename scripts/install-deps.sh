@@ -16,7 +16,7 @@ packages=(
   gnuplot-nox clang-format
   clang libclang-rt-14-dev llvm-14
   pybind11-dev python3-dev python3-numpy python3-pytest
-  libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
+  libsqlite3-dev libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
 )
 if [[ "${DYNID_WITH_PEERS:-0}" == "1" ]]; then
   packages+=(liborocos-kdl-dev libmujoco-dev)

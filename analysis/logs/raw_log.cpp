@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/memory.hpp"
 #include "data/io.hpp"
 
@@ -293,29 +294,6 @@ std::vector<std::string> numbersIn(const std::string& name) {
     k = end;
   }
   return out;
-}
-
-/// Natural order: digit runs compare as numbers (any length), the rest as text ("q2" < "q10").
-bool naturalLess(const std::string& a, const std::string& b) {
-  std::size_t i = 0, j = 0;
-  const auto digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
-  while (i < a.size() && j < b.size()) {
-    if (digit(a[i]) && digit(b[j])) {
-      std::size_t ei = i, ej = j;
-      while (ei < a.size() && digit(a[ei])) ++ei;
-      while (ej < b.size() && digit(b[ej])) ++ej;
-      std::string x = a.substr(i, ei - i), y = b.substr(j, ej - j);
-      x.erase(0, std::min(x.find_first_not_of('0'), x.size() - 1));
-      y.erase(0, std::min(y.find_first_not_of('0'), y.size() - 1));
-      if (x.size() != y.size()) return x.size() < y.size();
-      if (x != y) return x < y;
-      i = ei, j = ej;
-    } else {
-      if (a[i] != b[j]) return a[i] < b[j];
-      ++i, ++j;
-    }
-  }
-  return a.size() - i < b.size() - j;
 }
 
 std::string joined(const RawTable& table, const std::vector<int>& columns) {

@@ -1,7 +1,6 @@
 // The MCAP reader against damage: chunks (none or zstd) read back, and truncated, corrupted,
-// unknown and oversized input refused with the file and the byte offset, never a crash. (Reading
-// files from the MCAP project's own writer is still to come: the conformance files in its
-// repository snapshot are Git LFS pointers.)
+// unknown and oversized input refused with the file and the byte offset, never a crash. Files
+// from the MCAP project's own writer: mcap_conformance_test.cpp and rosbag2_test.cpp.
 #include "data/bags/mcap.hpp"
 
 #include <zstd.h>
