@@ -16,8 +16,10 @@ namespace {
 void addPrepareOptions(po::options_description& options) {
   const PrepareOptions d;  // every default is the options' own
   options.add_options()("log", po::value<std::vector<std::string>>()->multitoken(),
-                        "delimited tables (header optional), ROS 2 .mcap or ROS 1 .bag "
-                        "recordings (sensor_msgs/JointState); several: separate recordings")(
+                        "delimited tables (header optional), or recordings of "
+                        "sensor_msgs/JointState: ROS 2 .mcap or .db3 files or rosbag2 bag "
+                        "directories (metadata.yaml, split files), ROS 1 .bag files; several: "
+                        "separate recordings")(
       "topic", po::value<std::string>(),
       "recordings: the JointState topic (default: the only one)")(
       "stamp", po::value<std::string>()->default_value("header"),
@@ -81,10 +83,12 @@ LogSource logSource(const po::variables_map& vm) {
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
   std::size_t recordings = 0;
   for (const std::string& table : source.tables) recordings += bags::isBag(table) ? 1 : 0;
-  refuseUnused(vm, recordings > 0, {"topic"}, "applies to recordings (.mcap, .bag)");
+  refuseUnused(vm, recordings > 0, {"topic"},
+               "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (recordings > 0) {
     if (recordings != source.tables.size())
-      throw UsageError("--log: give tables or recordings (.mcap, .bag), not both");
+      throw UsageError(
+          "--log: give tables or recordings (.mcap, .db3, .bag, bag directories), not both");
     refuseUnused(vm, false, {"time", "q", "dq", "ddq", "tau", "current", "time-unit", "joints"},
                  "applies to tables: a recording's stamps, positions, velocities and efforts "
                  "come from its JointState messages, joints matched by name to --robot's");
@@ -96,7 +100,8 @@ LogSource logSource(const po::variables_map& vm) {
     return source;
   }
   if (!vm["stamp"].defaulted())
-    throw UsageError("--stamp applies to recordings (.mcap, .bag), not to tables");
+    throw UsageError(
+        "--stamp applies to recordings (.mcap, .db3, .bag, bag directories), not to tables");
   if (vm.count("tau") + vm.count("current") + vm.count("tau-file") + vm.count("current-file") != 1)
     throw UsageError("give one of --tau, --current, --tau-file or --current-file");
   source.time_column = text(vm, "time");
@@ -254,7 +259,8 @@ int runPrepare(const std::vector<std::string>& args) {
   addPrepareOptions(options);
   po::variables_map vm;
   const std::string usage =
-      "dynid prepare (--log log.csv... --q SEL --tau SEL | --log rec.mcap|rec.bag... [--robot R] "
+      "dynid prepare (--log log.csv... --q SEL --tau SEL | --log "
+      "rec.mcap|rec.db3|bag_dir|rec.bag... [--robot R] "
       "| --time-file F --q-file F --tau-file F --joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it

@@ -655,9 +655,10 @@ void bindPrepare(py::module_& m) {
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
       "log's first stamp; rows: [(first, last), ...] 1-based data rows; dq_max, ddq_max: "
       "plausibility bounds (one, or one per joint); tau_cutoff: torque's own low-pass [Hz], "
-      "'none', or None for the cutoff's. Recordings (.mcap, .bag): topic (the JointState topic; "
-      "default the only one), stamp ('header' or 'receive'), joint_names (the robot's joints in "
-      "order, matched by name: Model.joint_names; default the first message's).");
+      "'none', or None for the cutoff's. Recordings (.mcap, .db3, .bag, rosbag2 bag "
+      "directories): topic (the JointState topic; default the only one), stamp ('header' or "
+      "'receive'), joint_names (the robot's joints in order, matched by name: "
+      "Model.joint_names; default the first message's).");
 }
 
 }  // namespace

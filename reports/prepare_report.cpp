@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -79,8 +80,18 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   nlohmann::json windows = nlohmann::json::array(), row_windows = nlohmann::json::array();
   for (const auto& [from, to] : options.windows) windows.push_back({from, to});
   for (const auto& [from, to] : options.row_windows) row_windows.push_back({from, to});
-  char origin[64];
-  std::snprintf(origin, sizeof(origin), "%.21Lg", o.time_origin);
+  // The shortest decimal that reads back as the 64-bit origin (an epoch in ns: its 19 digits;
+  // 1700000000.00025 as written, not the 21 digits of its nearest binary value), in
+  // fixed-point (an epoch reads as one), scientific only when 30 decimals do not read back.
+  char origin[128] = "";
+  for (int decimals = 0;; ++decimals) {
+    std::snprintf(origin, sizeof(origin), "%.*Lf", decimals, o.time_origin);
+    if (std::strtold(origin, nullptr) == o.time_origin) break;
+    if (decimals == 30) {
+      std::snprintf(origin, sizeof(origin), "%.21Lg", o.time_origin);
+      break;
+    }
+  }
   return {
       {"schema_version", kPrepareDocument.schema_version},
       {"kind", kPrepareDocument.kind},

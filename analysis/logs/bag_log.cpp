@@ -76,7 +76,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
       [&](const bags::BagMessage& message) {
         if (message.type != bags::kJointStateRos2 && message.type != bags::kJointStateRos1) {
           if (!source.topic.empty())
-            throw InputError(path + ": topic " + source.topic + " holds " +
+            throw InputError(*message.file + ": topic " + source.topic + " holds " +
                              std::string(message.type) + " messages, not sensor_msgs/JointState");
           return;
         }

@@ -244,6 +244,15 @@ void setUp(const Case& c, const std::string& dir) {
       const std::string target = dir + "/" + (step.size() > 2 ? step[2] : step[1]);
       fs::copy(fixtures() + "/" + step[1], target,
                fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    } else if (op == "source") {  // source PATH [AS]: a file or directory of the repository
+      const std::string target =
+          dir + "/" + (step.size() > 2 ? step[2] : fs::path(step[1]).filename().string());
+      fs::copy(std::string(DYNID_SOURCE_DIR) + "/" + step[1], target,
+               fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+      fs::permissions(target, fs::perms::owner_write, fs::perm_options::add);
+      if (fs::is_directory(target))
+        for (const auto& entry : fs::recursive_directory_iterator(target))
+          fs::permissions(entry.path(), fs::perms::owner_write, fs::perm_options::add);
     } else if (op == "patch" || op == "remove") {
       nlohmann::json j = nlohmann::json::parse(readFile(path));
       const nlohmann::json::json_pointer pointer(step.at(2));

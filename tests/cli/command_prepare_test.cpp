@@ -224,6 +224,41 @@ TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
     EXPECT_EQ(run("prepare " + bad + never).code, 2) << bad;
 }
 
+// ROS 2 recordings from the MCAP project's writer and SQLite (tools/mcap/joint_states.mjs): every
+// container (zstd, lz4 and unchunked MCAP, a .db3, a split bag directory) gives the same dataset,
+// byte for byte, and the ROS 1 bag of the same values gives it to the last bits of sin and cos
+// (JavaScript's and glibc's may differ by one ulp); --stamp receive counts from the receive time.
+TEST(Cli, EveryRos2ContainerPreparesTheSameDatasetAsTheRos1Bag) {
+  const std::string fixtures = std::string(DYNID_SOURCE_DIR) + "/tests/data/bags/fixtures/";
+  const auto prepare = [&](const std::string& log, const std::string& extra) {
+    const std::string dir = test::tempPath("ros2_prepared");
+    const Result r =
+        run("prepare --log " + log + " --cutoff 0 --trim 0 " + extra + " --out " + dir);
+    EXPECT_EQ(r.code, 0) << log << "\n" << r.err;
+    return dir;
+  };
+  const std::string ros1 = prepare(fixtures + "joint_states_lz4.bag", "");
+  const Trajectory reference = readDatasetCsv(ros1 + "/train.csv", 3);
+  const std::string first =
+      readFile(prepare(fixtures + "ros2/joint_states.db3", "") + "/train.csv");
+  for (const char* name : {"joint_states_zstd.mcap", "joint_states_lz4.mcap",
+                           "joint_states_plain.mcap", "joint_states_split"}) {
+    const std::string dir = prepare(fixtures + "ros2/" + name, "");
+    EXPECT_EQ(readFile(dir + "/train.csv"), first) << name;
+  }
+  const std::string path = test::tempPath("ros2_first.csv");
+  writeFileAtomically(path, first);
+  const Trajectory ros2 = readDatasetCsv(path, 3);
+  ASSERT_EQ(ros2.numSamples(), reference.numSamples());
+  // One ulp of sin's 0.3 amplitude, differentiated over 1 ms steps: well under 1e-12.
+  EXPECT_LT((ros2.q - reference.q).cwiseAbs().maxCoeff(), 1e-15);
+  EXPECT_LT((ros2.dq - reference.dq).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_EQ(ros2.tau, reference.tau);
+  const std::string receive = prepare(fixtures + "ros2/joint_states_split", "--stamp receive");
+  const auto j = nlohmann::json::parse(readFile(receive + "/prepare.json"));
+  EXPECT_EQ(j["time_origin"]["exact"], "1700000000.00025");
+}
+
 // Gaz et al.'s real Panda log as a ROS 1 bag written by ROS's own writer
 // (tools/panda_log_as_ros1_bag.py: joints published out of the robot's order, a finger joint
 // beside them), prepared and identified with examples/panda/run.sh's options: the example's
