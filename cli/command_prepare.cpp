@@ -24,7 +24,14 @@ void addPrepareOptions(po::options_description& options) {
       "recordings: the JointState topic (default: the only one)")(
       "stamp", po::value<std::string>()->default_value("header"),
       "recordings: header (header.stamp) or receive (when the recorder received each message)")(
-      "time", po::value<std::string>()->default_value("1"), "table: time column (name or index)")(
+      "effort-topic", po::value<std::string>(),
+      "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
+      "are the torques (joints by name), interpolated at the position stamps")(
+      "effort-log", po::value<std::string>(),
+      "recordings whose JointState messages carry no effort: a table of torques (--tau) or "
+      "currents (--current) against --time in seconds on the recording's clock, interpolated "
+      "at the position stamps")("time", po::value<std::string>()->default_value("1"),
+                                "table: time column (name or index)")(
       "q", po::value<std::string>(), "table: q columns (names, 1-based indices or globs: q*)")(
       "dq", po::value<std::string>(), "table: dq columns (default: derived from q)")(
       "ddq", po::value<std::string>(), "table: ddq columns (default: derived)")(
@@ -83,15 +90,30 @@ LogSource logSource(const po::variables_map& vm) {
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
   std::size_t recordings = 0;
   for (const std::string& table : source.tables) recordings += bags::isBag(table) ? 1 : 0;
-  refuseUnused(vm, recordings > 0, {"topic"},
+  refuseUnused(vm, recordings > 0, {"topic", "effort-topic", "effort-log"},
                "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (recordings > 0) {
     if (recordings != source.tables.size())
       throw UsageError(
           "--log: give tables or recordings (.mcap, .db3, .bag, bag directories), not both");
-    refuseUnused(vm, false, {"time", "q", "dq", "ddq", "tau", "current", "time-unit", "joints"},
+    refuseUnused(vm, false, {"q", "dq", "ddq", "time-unit", "joints"},
                  "applies to tables: a recording's stamps, positions, velocities and efforts "
                  "come from its JointState messages, joints matched by name to --robot's");
+    if (vm.count("effort-topic") && vm.count("effort-log"))
+      throw UsageError("give --effort-topic or --effort-log, not both");
+    refuseUnused(vm, vm.count("effort-log") > 0, {"tau", "current"},
+                 "applies to a recording's --effort-log (its torque or current columns)");
+    if (!vm["time"].defaulted() && !vm.count("effort-log"))
+      throw UsageError("--time applies to tables and to a recording's --effort-log");
+    if (vm.count("effort-log")) {
+      if (vm.count("tau") + vm.count("current") != 1)
+        throw UsageError("--effort-log: give its torque columns (--tau) or currents (--current)");
+      source.effort_table = text(vm, "effort-log");
+      source.time_column = text(vm, "time");
+      source.current = vm.count("current") > 0;
+      source.tau_columns = source.current ? text(vm, "current") : text(vm, "tau");
+    }
+    if (vm.count("effort-topic")) source.effort_topic = text(vm, "effort-topic");
     if (vm.count("topic")) source.topic = text(vm, "topic");
     const std::string stamp = text(vm, "stamp");
     if (stamp != "header" && stamp != "receive")

@@ -3,6 +3,7 @@
 // gives the document the CLI writes.
 #include <atomic>
 #include <cmath>
+#include <memory>
 #include <optional>
 
 #include <pybind11/stl.h>
@@ -11,6 +12,7 @@
 
 #include "analysis/excitation/excite.hpp"
 #include "analysis/logs/prepare.hpp"
+#include "analysis/logs/read_log.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
@@ -310,6 +312,47 @@ struct PreparePy {
   PrepareOutcome outcome;
 };
 
+/// prepare()'s arrays as one file's RawSignals: t (N), q and tau (N x n; tau holds currents when
+/// `current`), optional dq and ddq (N x n). ValueError for shapes that do not agree.
+RawSignals arraySignals(const py::handle& t, const py::handle& q, const py::handle& tau,
+                        const py::handle& dq, const py::handle& ddq, bool current) {
+  if (t.is_none() || q.is_none() || tau.is_none())
+    throw py::value_error("give tables (files), or arrays t, q and tau");
+  const DoubleArray time = realArray(t, "t", {1});
+  const auto samples = static_cast<Eigen::Index>(time.shape(0));
+  RawSignals out;
+  const auto matrix = [&](const py::handle& value, const char* name) {
+    const DoubleArray a = realArray(value, name, {1, 2});
+    const auto rows = static_cast<Eigen::Index>(a.shape(0));
+    const Eigen::Index cols = a.ndim() == 2 ? static_cast<Eigen::Index>(a.shape(1)) : 1;
+    if (rows != samples || (out.n > 0 && cols != out.n))
+      throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(samples) +
+                            ", " + std::to_string(out.n > 0 ? out.n : cols) + ") as t and q, not " +
+                            shapeText(a));
+    return RowMatrix(Eigen::Map<const RowMatrix>(a.data(), rows, cols));
+  };
+  const RowMatrix qm = matrix(q, "q");
+  out.n = static_cast<int>(qm.cols());
+  const RowMatrix taum = matrix(tau, current ? "tau (currents)" : "tau");
+  out.has_dq = !dq.is_none();
+  out.has_ddq = !ddq.is_none();
+  out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * out.n);
+  // Times from the first stamp, in 64-bit precision (epoch seconds keep their digits).
+  out.time_origin = samples > 0 ? static_cast<long double>(time.at(0)) : 0.0L;
+  for (Eigen::Index k = 0; k < samples; ++k)
+    out.values(k, 0) = static_cast<double>(static_cast<long double>(time.at(k)) - out.time_origin);
+  out.values.middleCols(1, out.n) = qm;
+  out.values.middleCols(1 + out.n, out.n) = taum;
+  Eigen::Index at = 1 + 2 * out.n;
+  if (out.has_dq) out.values.middleCols(at, out.n) = matrix(dq, "dq"), at += out.n;
+  if (out.has_ddq) out.values.middleCols(at, out.n) = matrix(ddq, "ddq");
+  out.rows = samples;
+  out.ddq_at = 1 + (out.has_dq ? 3 : 2) * out.n;
+  out.file = out.tau_file = "arrays";
+  out.line_of = [](Eigen::Index k) { return static_cast<int>(k + 1); };  // the array's row
+  return out;
+}
+
 PreparePy preparePy(const py::handle& tables, const std::string& time_column,
                     const std::string& q_columns, const std::string& dq_columns,
                     const std::string& tau_columns, const std::string& ddq_columns, int joints,
@@ -322,15 +365,25 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
                     const std::vector<std::pair<long, long>>& rows, const py::handle& dq_max,
                     const py::handle& ddq_max, const py::handle& tau_cutoff,
                     const std::string& topic, const std::string& stamp,
-                    const std::vector<std::string>& joint_names) {
+                    const std::vector<std::string>& joint_names, const py::handle& t,
+                    const py::handle& q, const py::handle& tau, const py::handle& dq,
+                    const py::handle& ddq, const std::string& effort_topic,
+                    const py::handle& effort_log) {
   PreparePy out;
   LogSource& s = out.source;
-  if (py::isinstance<py::list>(tables) || py::isinstance<py::tuple>(tables)) {
+  if (tables.is_none()) {
+    s.arrays = std::make_shared<const RawSignals>(arraySignals(t, q, tau, dq, ddq, current));
+  } else if (!t.is_none() || !q.is_none() || !tau.is_none() || !dq.is_none() || !ddq.is_none()) {
+    throw py::value_error("give tables (files) or arrays (t, q, tau, ...), not both");
+  } else if (py::isinstance<py::list>(tables) || py::isinstance<py::tuple>(tables)) {
     for (const py::handle& t : tables) s.tables.push_back(pathArg(t, "tables"));
   } else {
     s.tables.push_back(pathArg(tables, "tables"));
   }
-  if (s.tables.empty()) throw py::value_error("tables: expected at least one log file");
+  if (s.tables.empty() && s.arrays == nullptr)
+    throw py::value_error("tables: expected at least one log file");
+  s.effort_topic = effort_topic;
+  if (!effort_log.is_none()) s.effort_table = pathArg(effort_log, "effort_log");
   s.time_column = time_column;
   s.q_columns = q_columns;
   s.dq_columns = dq_columns;
@@ -632,7 +685,7 @@ void bindPrepare(py::module_& m) {
           "prepare.json, as `dynid prepare` writes it.");
 
   m.def(
-      "prepare", &preparePy, py::arg("tables"), py::arg("time_column") = "1",
+      "prepare", &preparePy, py::arg("tables") = py::none(), py::arg("time_column") = "1",
       py::arg("q_columns") = "", py::arg("dq_columns") = "", py::arg("tau_columns") = "",
       py::arg("ddq_columns") = "", py::arg("joints") = LogSource{}.num_joints,
       py::arg("current") = false, py::arg("torque_constants") = py::none(),
@@ -649,7 +702,10 @@ void bindPrepare(py::module_& m) {
       py::arg("rows") = std::vector<std::pair<long, long>>{}, py::arg("dq_max") = py::none(),
       py::arg("ddq_max") = py::none(), py::arg("tau_cutoff") = py::none(),
       py::arg("topic") = LogSource{}.topic, py::arg("stamp") = "header",
-      py::arg("joint_names") = std::vector<std::string>{},
+      py::arg("joint_names") = std::vector<std::string>{}, py::arg("t") = py::none(),
+      py::arg("q") = py::none(), py::arg("tau") = py::none(), py::arg("dq") = py::none(),
+      py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
+      py::arg("effort_log") = py::none(),
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -658,7 +714,11 @@ void bindPrepare(py::module_& m) {
       "'none', or None for the cutoff's. Recordings (.mcap, .db3, .bag, rosbag2 bag "
       "directories): topic (the JointState topic; default the only one), stamp ('header' or "
       "'receive'), joint_names (the robot's joints in order, matched by name: "
-      "Model.joint_names; default the first message's).");
+      "Model.joint_names; default the first message's), effort_topic or effort_log (a second "
+      "JointState topic, or a table with time_column and tau_columns, giving the torques when "
+      "the messages carry none). Arrays instead of files: tables=None and t (N,), q and tau "
+      "(N, n; currents with current=True), optionally dq and ddq (N, n), in the units "
+      "time_unit and angle_unit name.");
 }
 
 }  // namespace

@@ -36,7 +36,9 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   for (const auto& [at, length] : o.gaps) gaps.push_back({{"at", at}, {"length", length}});
   const char* tau_key = source.current ? "current" : "tau";
   nlohmann::json sources =
-      source.tables.empty()
+      source.arrays != nullptr
+          ? nlohmann::json{{"arrays", "in memory (Python prepare(t=, q=, ...))"}}
+      : source.tables.empty()
           ? nlohmann::json{{"time", source.time_file},
                            {"q", source.q_file},
                            {"dq", source.dq_file},
@@ -45,6 +47,8 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
           : nlohmann::json{{"tables", source.tables},   {"time", source.time_column},
                            {"q", source.q_columns},     {"dq", source.dq_columns},
                            {"ddq", source.ddq_columns}, {tau_key, source.tau_columns}};
+  if (!source.effort_topic.empty()) sources["effort_topic"] = source.effort_topic;
+  if (!source.effort_table.empty()) sources["effort_log"] = source.effort_table;
   if (source.current)
     sources["current_to_torque"] = {
         {"torque_constants", numbersOrNull(options.torque_constants)},

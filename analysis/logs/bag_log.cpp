@@ -1,7 +1,9 @@
 #include "analysis/logs/bag_log.hpp"
 
 #include <algorithm>
+#include <cmath>
 
+#include "analysis/logs/raw_log.hpp"
 #include "core/errors.hpp"
 #include "data/bags/bag.hpp"
 #include "data/bags/ros_messages.hpp"
@@ -39,19 +41,116 @@ std::vector<int> jointIndex(const std::vector<std::string>& names,
 
 /// A position and an effort per name, or the error that says which is missing and where.
 void checkArrays(const bags::JointStateMessage& m, const bags::BagMessage& message,
-                 const std::string& path, const std::string& topic) {
+                 const std::string& path, const std::string& topic, bool need_effort) {
   const std::size_t held = m.name.size();
   if (m.position.size() != held)
     throw ParseError(*message.file, 0, "position",
                      "at byte " + std::to_string(message.offset) + ": " +
                          std::to_string(m.position.size()) + " positions for " +
                          std::to_string(held) + " names");
-  if (m.effort.size() != held)
+  if (need_effort && m.effort.size() != held)
     throw InputError(
         path + ": the JointState messages on " + topic +
         (m.effort.empty() ? " carry no effort (torque)" : " carry efforts for only some joints") +
         ": dynid needs the measured torques (at byte " + std::to_string(message.offset) + " of " +
-        *message.file + ")");
+        *message.file +
+        "); a second topic or a table may give them (--effort-topic, "
+        "--effort-log)");
+}
+
+/// Efforts from a second source, at its own stamps (ns on the recording's clock), n per stamp.
+struct EffortSamples {
+  std::vector<std::int64_t> ns;
+  std::vector<double> values;  // row-major
+  std::vector<std::string> columns;
+};
+
+/// The JointState efforts on `topic` of the recording, matched by name to `names`.
+EffortSamples effortTopic(const LogSource& source, const std::string& path,
+                          const std::vector<std::string>& names) {
+  EffortSamples e;
+  const std::string& topic = source.effort_topic;
+  bags::JointStateMessage m;
+  std::vector<std::string> last_names;
+  std::vector<int> index;
+  bags::readBag(path, {topic}, [&](const bags::BagMessage& message) {
+    if (message.type != bags::kJointStateRos2 && message.type != bags::kJointStateRos1)
+      throw InputError(*message.file + ": topic " + topic + " holds " + std::string(message.type) +
+                       " messages, not sensor_msgs/JointState");
+    if (message.encoding == bags::Encoding::kCdr)
+      bags::decodeJointStateCdr(message.data, *message.file, message.offset, m);
+    else
+      bags::decodeJointStateRos1(message.data, *message.file, message.offset, m);
+    if (m.name != last_names) {
+      index = jointIndex(names, m.name, path, topic);
+      last_names = m.name;
+    }
+    if (m.effort.size() != m.name.size())
+      throw InputError(path + ": the JointState messages on " + topic +
+                       " carry no effort for every name (at byte " +
+                       std::to_string(message.offset) + " of " + *message.file + ")");
+    e.ns.push_back(source.receive_time ? message.receive_ns : m.stamp_ns);
+    for (int j : index) e.values.push_back(m.effort[static_cast<std::size_t>(j)]);
+  });
+  if (e.ns.empty()) throw InputError(path + ": no messages on --effort-topic " + topic);
+  for (const std::string& name : names) e.columns.push_back(topic + ": " + name);
+  return e;
+}
+
+/// The torque (or current) columns of the table source.effort_table, against its time column
+/// (seconds on the recording's clock, e.g. epoch seconds beside header stamps).
+EffortSamples effortTable(const LogSource& source, int n) {
+  const RawTable header = readRawHeader(source.effort_table);
+  std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
+  const std::vector<int> tau =
+      selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
+  columns.insert(columns.end(), tau.begin(), tau.end());
+  long double origin = 0.0L;
+  const Eigen::MatrixXd v = readRawColumns(header, columns, &origin);
+  EffortSamples e;
+  for (Eigen::Index r = 0; r < v.rows(); ++r) {
+    e.ns.push_back(std::llround((origin + static_cast<long double>(v(r, 0))) * 1e9L));
+    for (int j = 0; j < n; ++j) e.values.push_back(v(r, 1 + j));
+  }
+  for (int c : tau) e.columns.push_back(header.names[static_cast<std::size_t>(c)]);
+  return e;
+}
+
+/// Each row's torque interpolated linearly in time between the effort samples around its stamp
+/// (the measurement's own values where a stamp coincides); rows outside the samples' span are
+/// dropped. Returns how many were.
+Eigen::Index joinEfforts(EffortSamples e, const std::vector<std::int64_t>& stamps, int n, int width,
+                         std::vector<double>& rows) {
+  std::vector<std::size_t> order(e.ns.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return e.ns[a] < e.ns[b]; });
+  std::vector<std::int64_t> ns(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) ns[i] = e.ns[order[i]];
+  const auto value = [&](std::size_t i, int j) {
+    return e.values[order[i] * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)];
+  };
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < stamps.size(); ++k) {
+    const auto after = std::lower_bound(ns.begin(), ns.end(), stamps[k]);
+    if (after == ns.end()) continue;
+    const auto hi = static_cast<std::size_t>(after - ns.begin());
+    if (ns[hi] != stamps[k] && hi == 0) continue;
+    double* row = rows.data() + k * static_cast<std::size_t>(width);
+    for (int j = 0; j < n; ++j) {
+      if (ns[hi] == stamps[k]) {
+        row[1 + n + j] = value(hi, j);
+      } else {
+        const double w =
+            static_cast<double>(stamps[k] - ns[hi - 1]) / static_cast<double>(ns[hi] - ns[hi - 1]);
+        row[1 + n + j] = (1.0 - w) * value(hi - 1, j) + w * value(hi, j);
+      }
+    }
+    std::copy(row, row + width, rows.data() + kept * static_cast<std::size_t>(width));
+    ++kept;
+  }
+  rows.resize(kept * static_cast<std::size_t>(width));
+  return static_cast<Eigen::Index>(stamps.size() - kept);
 }
 
 }  // namespace
@@ -70,6 +169,11 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   bool first = true, any_header_stamp = false;
   bags::JointStateMessage m;
   Eigen::Index count = 0;
+  const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
+  if (!source.effort_topic.empty() && source.effort_topic == source.topic)
+    throw InputError(path + ": the effort topic is the position topic " + topic +
+                     ": give the topic whose JointState messages carry the efforts");
+  std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns]
   bags::readBag(
       path,
       source.topic.empty() ? std::vector<std::string>{} : std::vector<std::string>{source.topic},
@@ -80,6 +184,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
                              std::string(message.type) + " messages, not sensor_msgs/JointState");
           return;
         }
+        if (message.topic == source.effort_topic) return;  // read on its own (effortTopic)
         if (topic.empty()) topic = std::string(message.topic);
         if (message.topic != topic) {
           if (std::find(other_topics.begin(), other_topics.end(), message.topic) ==
@@ -96,7 +201,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
           index = jointIndex(names, m.name, path, topic);
           last_names = m.name;
         }
-        checkArrays(m, message, path, topic);
+        checkArrays(m, message, path, topic, !separate_effort);
         const std::size_t held = m.name.size();
         const bool velocity = m.velocity.size() == held;
         if (first) out.has_dq = velocity;
@@ -110,7 +215,9 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
         // The difference of integer nanoseconds, then seconds: exact to the double's precision.
         rows.push_back(static_cast<double>(stamp - first_ns) * 1e-9);
         for (int j : index) rows.push_back(m.position[static_cast<std::size_t>(j)]);
-        for (int j : index) rows.push_back(m.effort[static_cast<std::size_t>(j)]);
+        for (int j : index)
+          rows.push_back(separate_effort ? 0.0 : m.effort[static_cast<std::size_t>(j)]);
+        stamps.push_back(stamp);
         if (out.has_dq)
           for (int j : index) rows.push_back(m.velocity[static_cast<std::size_t>(j)]);
         ++count;
@@ -127,6 +234,22 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
                      "stamp them): give --stamp receive");
   const auto n = static_cast<int>(names.size());
   const int width = 1 + (out.has_dq ? 3 : 2) * n;
+  if (separate_effort) {
+    const EffortSamples effort =
+        source.effort_table.empty() ? effortTopic(source, path, names) : effortTable(source, n);
+    const Eigen::Index dropped = joinEfforts(effort, stamps, n, width, rows);
+    count -= dropped;
+    if (count < 2)
+      throw InputError(path + ": the efforts (" +
+                       (source.effort_table.empty() ? source.effort_topic : source.effort_table) +
+                       ") do not span the positions' stamps: are both on the same clock (" +
+                       (source.receive_time ? "receive time" : "header stamps") + ")?");
+    if (dropped > 0)
+      out.warnings.push_back(std::to_string(dropped) +
+                             " position samples outside the efforts' time span were dropped");
+    out.tau_file = source.effort_table.empty() ? path : source.effort_table;
+    out.columns.tau = effort.columns;
+  }
   out.values =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           rows.data(), count, width);
@@ -136,7 +259,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   out.time_origin = static_cast<long double>(first_ns) / 1e9L;  // seconds, the unit of bags
   out.columns.time = source.receive_time ? "receive time" : "header.stamp";
   out.columns.q = names;
-  out.columns.tau = names;
+  if (!separate_effort) out.columns.tau = names;
   if (out.has_dq) out.columns.dq = names;
   return out;
 }

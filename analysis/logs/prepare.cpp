@@ -496,9 +496,10 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
   for (const std::string& name : names) {
     files.push_back(readLog(source, name));
     RawSignals& s = files.back();
+    for (const std::string& w : s.warnings) out.warnings.push_back(s.file + ": " + w);
     applyUnits(s, source, options);
     out.raw_samples += static_cast<int>(s.rows);
-    const std::string label = name.empty() ? source.time_file : name;
+    const std::string label = !name.empty() ? name : source.arrays ? "arrays" : source.time_file;
     if (s.n != files.front().n)
       throw InputError(label + ": " + std::to_string(s.n) + " joints, the first log " +
                        std::to_string(files.front().n));
@@ -828,7 +829,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   std::vector<RawSignals> files = readFiles(source, options, out);
   {
     std::vector<std::string> labels = source.tables;
-    if (labels.empty()) labels.push_back(source.time_file);
+    if (labels.empty()) labels.push_back(source.arrays ? "arrays" : source.time_file);
     findRest(files, labels, out);
   }
   out.order = options.order;

@@ -10,6 +10,7 @@
 namespace dynid {
 
 RawSignals readLog(const LogSource& source, const std::string& table_path) {
+  if (table_path.empty() && source.arrays != nullptr) return *source.arrays;
   if (!table_path.empty() && bags::isBag(table_path)) return readBagLog(source, table_path);
   RawSignals out;
   int n = source.num_joints;

@@ -7,12 +7,15 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace dynid {
+
+struct RawSignals;
 
 /// Where the signals are: tables with column selectors (analysis/logs/raw_log.hpp's selectColumns),
 /// or one file per signal (a value per line, n per sample).
@@ -29,6 +32,13 @@ struct LogSource {
   std::string topic = "";
   std::vector<std::string> joint_names = {};
   bool receive_time = false;
+  /// A recording whose JointState messages carry no effort: the torques (or currents) from the
+  /// JointState efforts on a second topic of it, or from a table (its `time_column`, seconds on
+  /// the recording's clock, and `tau_columns`), interpolated linearly at the position stamps.
+  std::string effort_topic = "";
+  std::string effort_table = "";
+  /// Samples already in memory (Python's prepare(t=, q=, tau=)), read instead of any file.
+  std::shared_ptr<const RawSignals> arrays = nullptr;
 };
 
 /// The table columns each signal was read from, joint by joint (what a selector matched, in joint
@@ -53,6 +63,7 @@ struct RawSignals {
   /// The first data row's stamp, in the file's unit; values' time column holds each stamp minus
   /// it (so nanosecond epoch stamps keep their precision as doubles).
   long double time_origin = 0.0L;
+  std::vector<std::string> warnings = {};  // what reading changed (prepare.json's warnings)
   auto time() const { return values.col(0).head(rows); }
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }
@@ -60,9 +71,9 @@ struct RawSignals {
 };
 
 /// Recording `table` of `source` (a path in source.tables), or, with `table` empty, the
-/// one-file-per-signal log. Throws ParseError for a malformed file (file, line, column) and
-/// InputError for a source that names too little (no joint count for per-signal files, no q or
-/// tau) or selectors that do not match.
+/// one-file-per-signal log (or source.arrays when given). Throws ParseError for a malformed file
+/// (file, line, column) and InputError for a source that names too little (no joint count for
+/// per-signal files, no q or tau) or selectors that do not match.
 RawSignals readLog(const LogSource& source, const std::string& table);
 
 }  // namespace dynid

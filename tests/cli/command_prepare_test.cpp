@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -257,6 +258,67 @@ TEST(Cli, EveryRos2ContainerPreparesTheSameDatasetAsTheRos1Bag) {
   const std::string receive = prepare(fixtures + "ros2/joint_states_split", "--stamp receive");
   const auto j = nlohmann::json::parse(readFile(receive + "/prepare.json"));
   EXPECT_EQ(j["time_origin"]["exact"], "1700000000.00025");
+}
+
+// A recording whose JointState messages carry no effort: the efforts of a second topic (every
+// 2 ms, between the position stamps, joints in another order) or of a table (epoch seconds)
+// interpolated at the position stamps. The fixture's efforts are linear in time, so the
+// interpolation gives the same dataset as the recording that carries them.
+TEST(Cli, EffortsComeFromASecondTopicOrATableAtThePositionStamps) {
+  const std::string fixtures = std::string(DYNID_SOURCE_DIR) + "/tests/data/bags/fixtures/ros2/";
+  const std::string rec = fixtures + "joint_states_effort_topic.mcap";
+  const auto prepare = [&](const std::string& args) {
+    const std::string dir = test::tempPath("effort_prepared");
+    const Result r = run("prepare " + args + " --cutoff 0 --trim 0 --out " + dir);
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.err;
+    return dir;
+  };
+  const std::string reference =
+      readFile(prepare("--log " + fixtures + "joint_states_zstd.mcap") + "/train.csv");
+  const std::string topic =
+      prepare("--log " + rec + " --topic /joint_states --effort-topic /joint_efforts");
+  EXPECT_EQ(readFile(topic + "/train.csv"), reference);
+  EXPECT_EQ(nlohmann::json::parse(readFile(topic + "/prepare.json"))["source"]["effort_topic"],
+            "/joint_efforts");
+  // A table of the same efforts at 500 Hz in epoch seconds (columns in the joint order), ending
+  // at 197.5 ms:
+  // the position samples at 198 and 199 ms lie outside it, are dropped, and that is said.
+  const std::string csv = test::tempPath("efforts.csv");
+  std::ostringstream fixed;
+  fixed.precision(17);
+  fixed << "stamp,effort_joint2,effort_joint1,effort_gripper\n";
+  for (int i = 0; i < 100; ++i) {
+    const long long ns = 1700000000LL * 1000000000 - 500000 + 2000000LL * i;  // -0.5 ms, 1.5 ms
+    const double ms = static_cast<double>(ns - 1700000000LL * 1000000000) * 1e-6;
+    fixed << ns / 1000000000 << "." << std::setw(9) << std::setfill('0') << ns % 1000000000
+          << std::setfill(' ');
+    for (int n : {2, 1, 3}) fixed << "," << 2.0 * n + 0.5 * ms;
+    fixed << "\n";
+  }
+  writeFileAtomically(csv, fixed.str());
+  const std::string dir = test::tempPath("effort_table");
+  const Result from_table =
+      run("prepare --log " + rec + " --topic /joint_states --effort-log " + csv +
+          " --time stamp --tau effort_joint2,effort_joint1,effort_gripper --cutoff 0 "
+          "--trim 0 --out " +
+          dir);
+  ASSERT_EQ(from_table.code, 0) << from_table.err;
+  EXPECT_TRUE(contains(from_table.err, "position samples outside the efforts' time span"))
+      << from_table.err;
+  const Trajectory got = readDatasetCsv(dir + "/train.csv", 3);
+  const std::string path = test::tempPath("effort_reference.csv");
+  writeFileAtomically(path, reference);
+  const Trajectory want = readDatasetCsv(path, 3);
+  ASSERT_EQ(got.numSamples(), want.numSamples() - 2);
+  // Stamps read as decimal seconds: their ns are exact, the weights to the double's precision.
+  EXPECT_LT((got.tau - want.tau.leftCols(got.numSamples())).cwiseAbs().maxCoeff(), 1e-12);
+  // Usage: one effort source, for recordings only, and --tau with it.
+  const std::string never = " --out " + test::tempPath("never_effort");
+  for (const std::string& bad :
+       {"--log " + rec + " --effort-topic /a --effort-log " + csv + " --tau x",
+        "--log " + rec + " --effort-log " + csv, "--log " + rec + " --tau x",
+        "--log " + writeLog("effort_t.txt") + " --q 2 --tau 3 --effort-topic /a"})
+    EXPECT_EQ(run("prepare " + bad + never).code, 2) << bad;
 }
 
 // Gaz et al.'s real Panda log as a ROS 1 bag written by ROS's own writer

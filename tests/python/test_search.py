@@ -2,6 +2,7 @@
 against the CLI with the same settings and seed."""
 import json
 import os
+import pathlib
 import signal
 import threading
 import warnings
@@ -195,6 +196,46 @@ def test_prepare_reads_a_ros1_bag_as_the_cli(tmp_path):
         dynid.prepare(bag, cutoff=0, trim=0, joint_names=["joint1", "elbow"])
     with pytest.raises(ValueError, match="stamp"):
         dynid.prepare(bag, stamp="sideways")
+
+
+def test_prepare_takes_arrays_as_the_same_log_in_a_file(tmp_path, puma_csv):
+    data = dynid.read_dataset(puma_csv)
+    # Epoch stamps in ms, degrees: the arrays go through the same units, checks and filters.
+    t = 1.7e12 + data.time * 1e3
+    log = tmp_path / "log.csv"
+    np.savetxt(log, np.column_stack([t, np.degrees(data.q), data.tau]), delimiter=",",
+               header="t," + ",".join(f"q{j}" for j in range(1, 7)) + "," +
+               ",".join(f"tau{j}" for j in range(1, 7)), comments="", fmt="%.17g")
+    from_file = dynid.prepare(log, time_column="t", q_columns="q*", tau_columns="tau*",
+                              time_unit="ms", angle_unit="deg")
+    from_arrays = dynid.prepare(t=t, q=np.degrees(data.q), tau=data.tau, time_unit="ms",
+                                angle_unit="deg")
+    for field in ("time", "q", "dq", "ddq", "tau"):
+        assert np.array_equal(getattr(from_arrays.train, field),
+                              getattr(from_file.train, field)), field
+    assert from_arrays.time_origin == from_file.time_origin == 1.7e12 / 1e3
+    assert json.loads(from_arrays.to_json())["source"]["arrays"].startswith("in memory")
+    # Logged velocities are used, not derived; shapes that disagree are named.
+    with_dq = dynid.prepare(t=data.time, q=data.q, tau=data.tau, dq=data.dq)
+    assert with_dq.train.num_samples > 0
+    with pytest.raises(ValueError, match="tau"):
+        dynid.prepare(t=data.time, q=data.q, tau=data.tau[:, :5])
+    with pytest.raises(ValueError, match="t, q and tau"):
+        dynid.prepare(t=data.time, q=data.q)
+    with pytest.raises(ValueError, match="not both"):
+        dynid.prepare(log, t=data.time, q=data.q, tau=data.tau)
+
+
+def test_prepare_reads_rosbag2_directories_and_efforts_from_a_second_topic(tmp_path):
+    fixtures = pathlib.Path(__file__).parent.parent / "data" / "bags" / "fixtures" / "ros2"
+    split = dynid.prepare(fixtures / "joint_states_split", cutoff=0, trim=0)  # a pathlib.Path
+    one = dynid.prepare(str(fixtures / "joint_states_zstd.mcap"), cutoff=0, trim=0)
+    assert np.array_equal(split.train.q, one.train.q) and split.train.num_samples == 200
+    efforts = dynid.prepare(fixtures / "joint_states_effort_topic.mcap", cutoff=0, trim=0,
+                            topic="/joint_states", effort_topic="/joint_efforts")
+    assert np.array_equal(efforts.train.tau, one.train.tau)
+    with pytest.raises(dynid.InputError, match="effort-topic"):
+        dynid.prepare(fixtures / "joint_states_effort_topic.mcap", topic="/joint_states")
 
 
 def interrupted_after(seconds, call):

@@ -20,6 +20,9 @@
 //   joint_states.db3         rosbag2 SQLite
 //   joint_states_split/      a bag directory: metadata.yaml and two .db3 files of 100 messages,
 //                            whose topic ids differ (the second registers /chatter first)
+//   joint_states_effort_topic.mcap  positions and velocities on /joint_states, no effort; the
+//                            efforts on /joint_efforts every 2 ms, between the position stamps
+//                            (effortTopicMessages says how)
 // Panda: every logged sample as one message on /franka/joint_states, header stamps
 // 1700000000 s + the log's time rounded to the ns, joints joint1..joint7 published in another
 // order with a finger joint beside them, position and effort from the log (as
@@ -73,6 +76,39 @@ function fixtureMessages() {
     if (k % 50 === 0)
       out.push(["/chatter", "std_msgs/msg/String", receive,
                 string.writeMessage({ data: `message ${k}` })]);
+  }
+  return out;
+}
+
+/// The fixtures' motion with the efforts on their own topic: /joint_states carries position and
+/// velocity only; /joint_efforts (JointState, effort only, joints in another order) every 2 ms,
+/// 0.5 ms after the positions' stamps, with the same linear effort law (so that interpolation
+/// at the position stamps gives the fixtures' efforts).
+function effortTopicMessages() {
+  const numbers = { joint2: 2, joint1: 1, gripper: 3 };
+  const out = [];
+  for (let k = 0; k < 200; k++) {
+    const stamp = 1700000000n * SECOND + BigInt(k) * 1000000n;
+    const j = Object.values(numbers);
+    out.push(["/joint_states", "sensor_msgs/msg/JointState", stamp + 250000n,
+      jointState.writeMessage({
+        header: { stamp: stampOf(stamp), frame_id: "base_link" },
+        name: Object.keys(numbers),
+        position: j.map((n) => 0.1 * n * Math.sin(0.01 * k)),
+        velocity: j.map((n) => 0.001 * n * Math.cos(0.01 * k)),
+        effort: [],
+      })]);
+    if (k % 2 === 1 || k === 0) {
+      const at = k === 0 ? stamp - 500000n : stamp + 500000n;  // one sample before the first
+      const kk = Number(at - 1700000000n * SECOND) / 1e6;      // in position samples
+      out.push(["/joint_efforts", "sensor_msgs/msg/JointState", at + 250000n,
+        jointState.writeMessage({
+          header: { stamp: stampOf(at), frame_id: "" },
+          name: ["gripper", "joint1", "joint2"],
+          position: [], velocity: [],
+          effort: [3, 1, 2].map((n) => 2.0 * n + 0.5 * kk),
+        })]);
+    }
   }
   return out;
 }
@@ -214,6 +250,8 @@ if (mode === "fixtures" && args.length === 1) {
   await writeDb3(path.join(out, "joint_states.db3"), messages, ["/joint_states", "/chatter"]);
   await writeSplitDb3(path.join(out, "joint_states_split"), messages, 2,
                       [["/joint_states", "/chatter"], ["/chatter", "/joint_states"]]);
+  await writeMcap(path.join(out, "joint_states_effort_topic.mcap"), effortTopicMessages(),
+                  { compressChunk: zstdChunk });
 } else if (mode === "panda" && args.length === 2) {
   const [log, out] = args, messages = pandaMessages(log);
   fs.mkdirSync(out, { recursive: true });
