@@ -246,9 +246,21 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
   } else if (!request.validate_file.empty()) {
-    out.validate_fit = predictFile(identified, request.validate_file, pool);
+    std::optional<RawTorques> raw;
+    std::optional<RawTorqueComparison> comparison;
+    if (!request.validate_raw_file.empty()) {
+      raw = readRawTorques(request.validate_raw_file, identified.numJoints());
+      comparison.emplace(*raw);
+    }
+    out.validate_fit =
+        predictFile(identified, request.validate_file, pool, comparison ? &*comparison : nullptr);
     out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
+    if (comparison) {
+      out.raw_validation = comparison->result();
+      out.validate_raw_file = request.validate_raw_file;
+      out.raw_skipped = comparison->skipped();
+    }
   }
   if (!request.write_back_from.empty()) {
     if (!out.violations.empty())
@@ -327,7 +339,16 @@ PredictOutcome predictRun(const PredictRequest& request) {
                        "it was made for another robot");
   }
   ThreadPool pool(request.threads);
-  out.prediction = predictFile(out.model, request.data_file, pool, request.sink);
+  if (request.raw_file.empty()) {
+    out.prediction = predictFile(out.model, request.data_file, pool, request.sink);
+    return out;
+  }
+  const RawTorques raw = readRawTorques(request.raw_file, out.model.numJoints());
+  RawTorqueComparison comparison(raw, request.sink);
+  out.prediction = predictFile(out.model, request.data_file, pool, &comparison);
+  out.raw = comparison.result();
+  out.raw_file = request.raw_file;
+  out.raw_skipped = comparison.skipped();
   return out;
 }
 

@@ -127,6 +127,9 @@ struct IdentifyRequest {
   double prior_weight = kDefaultPriorWeight;  // pc, > 0 (PhysicalOptions::prior_weight)
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
+  /// With validate_file: prepare --keep-raw-torque's validate_raw.csv, the held-out part's raw
+  /// torques at the log's stamps, to compare the prediction against too (empty: none).
+  std::string validate_raw_file = "";
   /// Data in memory instead of the files (the Python module's arrays); the file names then only
   /// name them in messages and records. Not owned; they must outlive the call.
   const Trajectory* data = nullptr;
@@ -157,6 +160,10 @@ struct IdentifyOutcome {
   std::string data_file;
   std::optional<Validation> validation;
   std::string validate_file;
+  /// Against the raw held-out torques (validate_raw_file), and how many were not bracketed.
+  std::optional<Validation> raw_validation;
+  std::string validate_raw_file;
+  int raw_skipped = 0;
   std::optional<WriteBack> write_back;  // when requested
   std::string robot_spec;
   // For the report:
@@ -179,11 +186,17 @@ struct PredictRequest {
   std::string robot_spec;          // empty: the estimate's own
   int threads = kAllThreads;       // 0: all cores; the same result for any count
   PredictionSink* sink = nullptr;  // receives every sample's prediction, in order (may be null)
+  /// prepare --keep-raw-torque's validate_raw.csv for data_file: the raw torques at the log's
+  /// stamps, compared against too (empty: none).
+  std::string raw_file = "";
 };
 struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
   std::string robot_spec, method;
   Prediction prediction;
+  std::optional<Validation> raw;  // against the raw torques (raw_file), when given
+  std::string raw_file;
+  int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
 };
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
 /// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "analysis/logs/raw_log.hpp"
 #include "core/data.hpp"
 #include "core/errors.hpp"
 #include "core/rnea.hpp"
@@ -115,6 +116,78 @@ void requireJoints(const Model& model, int joints, const std::string& what) {
 }
 
 }  // namespace
+
+RawTorques readRawTorques(const std::string& path, int num_joints) {
+  const RawTable header = readRawHeader(path);
+  std::vector<std::string> want = {"t"};
+  for (int j = 1; j <= num_joints; ++j) want.push_back("tau" + std::to_string(j));
+  if (header.names != want)
+    throw ParseError(path, header.first_data_line > 1 ? 1 : 0, "",
+                     "not a raw torque file of " + std::to_string(num_joints) +
+                         " joints (prepare --keep-raw-torque's validate_raw.csv: header t,tau1.." +
+                         "tau" + std::to_string(num_joints) + ")");
+  std::vector<int> columns(want.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) columns[c] = static_cast<int>(c);
+  const Eigen::MatrixXd values = readRawColumns(header, columns);
+  RawTorques out;
+  out.file = path;
+  out.time = values.col(0);
+  out.tau = values.rightCols(num_joints).transpose();
+  for (Eigen::Index k = 1; k < out.time.size(); ++k)
+    if (!(out.time[k] > out.time[k - 1]))
+      throw ParseError(path, rawRowLine(header, k), "t", "times must increase");
+  return out;
+}
+
+RawTorqueComparison::RawTorqueComparison(const RawTorques& raw, PredictionSink* next)
+    : raw_(raw),
+      next_(next),
+      residual_squared_(Eigen::VectorXd::Zero(raw.tau.rows())),
+      measured_squared_(Eigen::VectorXd::Zero(raw.tau.rows())) {}
+
+void RawTorqueComparison::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+                                  const Eigen::MatrixXd& predicted) {
+  if (next_ != nullptr) next_->samples(time, measured, predicted);
+  const Eigen::Index n = raw_.tau.rows();
+  for (Eigen::Index k = 0; k < time.size(); ++k) {
+    if (have_previous_) {
+      const double t0 = previous_time_, t1 = time[k];
+      if (step_ == 0.0 && t1 > t0) step_ = t1 - t0;                 // the dataset's grid step
+      while (at_ < raw_.time.size() && raw_.time[at_] < t0) ++at_;  // before: not bracketed
+      const bool adjacent = t1 > t0 && t1 - t0 <= 1.5 * step_;
+      // Across a gap nothing is compared; a raw stamp on t1 then waits for the next pair.
+      for (; at_ < raw_.time.size() && (raw_.time[at_] < t1 || (adjacent && raw_.time[at_] == t1));
+           ++at_) {
+        if (!adjacent) continue;
+        const double w = (raw_.time[at_] - t0) / (t1 - t0);
+        for (Eigen::Index j = 0; j < n; ++j) {
+          const double p = (1.0 - w) * previous_[j] + w * predicted(j, k);
+          const double m = raw_.tau(j, at_);
+          residual_squared_[j] += (m - p) * (m - p);
+          measured_squared_[j] += m * m;
+        }
+        ++compared_;
+      }
+    }
+    previous_ = predicted.col(k);
+    previous_time_ = time[k];
+    have_previous_ = true;
+  }
+}
+
+Validation RawTorqueComparison::result() const {
+  Validation v;
+  v.num_samples = compared_;
+  const double count = std::max(static_cast<double>(compared_), 1.0);
+  v.torque_rms = (residual_squared_ / count).cwiseSqrt();
+  const Eigen::VectorXd measured_rms = (measured_squared_ / count).cwiseSqrt();
+  const double inf = std::numeric_limits<double>::infinity();
+  v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
+  v.normalised_rms.resize(measured_rms.size());
+  for (Eigen::Index j = 0; j < measured_rms.size(); ++j)
+    v.normalised_rms[j] = measured_rms[j] > 0.0 ? v.torque_rms[j] / measured_rms[j] : inf;
+  return v;
+}
 
 void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
                     ThreadPool& pool, SampleKeeper* keeper, int chunk_samples) {

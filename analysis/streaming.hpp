@@ -61,6 +61,43 @@ class PredictionSink {
                        const Eigen::MatrixXd& predicted) = 0;
 };
 
+/// The held-out part's raw torques at the log's own stamps (prepare --keep-raw-torque's
+/// validate_raw.csv: t, tau1..taun; time on the datasets' axis).
+struct RawTorques {
+  std::string file;
+  Eigen::VectorXd time;
+  Eigen::MatrixXd tau;  // n x samples [N m]
+};
+/// Reads validate_raw.csv; ParseError naming the file, line and column for a header that is not
+/// t,tau1..taun with n the robot's joints, a value that is not finite, or times that decrease.
+RawTorques readRawTorques(const std::string& path, int num_joints);
+
+/// A prediction against the raw measurement: the predicted torque interpolated linearly at each
+/// raw stamp between the two dataset samples around it (never the measurement: it stays as
+/// logged, noise included), only where those samples are consecutive and at most 1.5 dataset
+/// steps apart (no bridging of gaps or runs). Fed chunk by chunk as a PredictionSink (forwarding to
+/// `next` when given); memory: the raw torques.
+class RawTorqueComparison : public PredictionSink {
+ public:
+  RawTorqueComparison(const RawTorques& raw, PredictionSink* next = nullptr);
+  void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
+               const Eigen::MatrixXd& predicted) override;
+  /// The statistics over the raw samples compared (num_samples: how many); raw samples that no
+  /// pair of dataset samples brackets are not compared (skipped()).
+  Validation result() const;
+  int skipped() const { return static_cast<int>(raw_.time.size()) - compared_; }
+
+ private:
+  const RawTorques& raw_;
+  PredictionSink* next_;
+  Eigen::Index at_ = 0;  // the next raw sample to place
+  bool have_previous_ = false;
+  double previous_time_ = 0.0, step_ = 0.0;
+  Eigen::VectorXd previous_;
+  Eigen::VectorXd residual_squared_, measured_squared_;
+  int compared_ = 0;
+};
+
 /// Folds every sample of the dataset `file` into `stream` with `model`'s regressor, chunk by
 /// chunk; offers each chunk to `keeper` when given. Throws what DatasetReader throws, and
 /// InputError prefixed with the file for a dataset of another joint count.

@@ -21,6 +21,9 @@ int runIdentify(const std::vector<std::string>& args) {
       "pc: prior model (robot spec; default: the robot's own parameters)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
+      "validate-raw", po::value<std::string>(),
+      "prepare --keep-raw-torque's validate_raw.csv for --validate: also the error against the "
+      "raw torque at the log's own stamps")(
       "out", po::value<std::string>()->required(),
       "output directory (estimate.json, report.md, report.html)")(
       "write-urdf", po::value<std::string>(),
@@ -49,6 +52,8 @@ int runIdentify(const std::vector<std::string>& args) {
   request.data_file = vm["data"].as<std::string>();
   request.threads = threadsOption(vm);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
+  refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
+  if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();
   if (vm.count("write-urdf")) {
     request.write_back_from = vm["robot"].as<std::string>();
     if (!isUrdfSpec(request.write_back_from))

@@ -14,6 +14,9 @@ int runPredict(const std::vector<std::string>& args) {
                         "identify's estimate.json")("data", po::value<std::string>()->required(),
                                                     "dataset CSV")(
       "robot", po::value<std::string>(), "robot spec (default: the one the estimate names)")(
+      "raw", po::value<std::string>(),
+      "prepare --keep-raw-torque's validate_raw.csv for --data: also the error against the raw "
+      "torque at the log's own stamps (the prediction interpolated there)")(
       "out", po::value<std::string>()->required(), "output directory");
   addThreadsOption(options);
   po::variables_map vm;
@@ -24,6 +27,7 @@ int runPredict(const std::vector<std::string>& args) {
   PredictRequest request{vm["estimate"].as<std::string>(), vm["data"].as<std::string>(),
                          vm.count("robot") ? vm["robot"].as<std::string>() : ""};
   request.threads = threadsOption(vm);
+  if (vm.count("raw")) request.raw_file = vm["raw"].as<std::string>();
   PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through
   request.sink = &csv;
   const PredictOutcome outcome = predictRun(request);

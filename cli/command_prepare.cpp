@@ -64,6 +64,9 @@ void addPrepareOptions(po::options_description& options) {
       "savgol-window", po::value<int>()->default_value(d.savgol_window))(
       "savgol-degree", po::value<int>()->default_value(d.savgol_degree))(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
+      "keep-raw-torque", po::bool_switch(),
+      "also write validate_raw.csv: the held-out part's raw torques at the log's own stamps "
+      "(unfiltered), for predict --raw and identify --validate-raw")(
       "window", po::value<std::string>(),
       "keep only these times [s from the log's first stamp], e.g. 12.5:80,95:140")(
       "rows", po::value<std::string>(), "keep only these data rows (1-based), e.g. 200:9000")(
@@ -198,6 +201,12 @@ void readProcessing(const po::variables_map& vm, PrepareOptions& o) {
   o.derive_dq = vm["derive-dq"].as<bool>();
   o.derive_ddq = vm["derive-ddq"].as<bool>();
   o.keep_stalled = vm["keep-stalled"].as<bool>();
+  o.keep_raw_torque = vm["keep-raw-torque"].as<bool>();
+  if (o.keep_raw_torque && vm["validate-fraction"].defaulted() && !vm.count("validate-runs") &&
+      !vm.count("validate-time"))
+    throw UsageError(
+        "--keep-raw-torque keeps the held-out part's raw torques: hold a part out "
+        "(--validate-fraction, --validate-time or --validate-runs)");
   for (const auto& [key, target] : {std::pair{"torque-constants", &o.torque_constants},
                                     std::pair{"gear-ratios", &o.gear_ratios}})
     if (vm.count(key)) {

@@ -12,6 +12,7 @@
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "reports/prediction_report.hpp"
 
 namespace dynid {
 
@@ -211,6 +212,9 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                             {"torque_rms", numbersOrNull(v->torque_rms)},
                             {"normalised_rms", numbersOrNull(v->normalised_rms)},
                             {"relative_error", numberOrNull(v->relative_error)}};
+  if (const auto& raw = outcome.raw_validation)
+    report["validation"]["raw_measurement"] =
+        rawValidationJson(*raw, outcome.validate_raw_file, outcome.raw_skipped);
   return report;
 }
 
@@ -247,6 +251,8 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
         << " %; per joint RMS [N m]:";
     for (Eigen::Index j = 0; j < v->torque_rms.size(); ++j)
       out << " " << formatNumber(v->torque_rms[j], 4);
+    if (const auto& raw = outcome.raw_validation)
+      out << "\n  " << rawValidationLine(*raw, outcome.raw_skipped);
   }
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir
       << "/report.html\n";

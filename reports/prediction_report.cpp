@@ -17,19 +17,47 @@
 
 namespace dynid {
 
+nlohmann::json rawValidationJson(const Validation& raw, const std::string& file, int skipped) {
+  return {{"file", file},
+          {"samples", raw.num_samples},
+          {"not_bracketed", skipped},
+          {"torque_rms", numbersOrNull(raw.torque_rms)},
+          {"normalised_rms", numbersOrNull(raw.normalised_rms)},
+          {"relative_error", numberOrNull(raw.relative_error)},
+          {"meaning",
+           "the measured torque as logged (unfiltered, at the log's own stamps) against the "
+           "prediction interpolated linearly at those stamps"}};
+}
+
+std::string rawValidationLine(const Validation& raw, int skipped) {
+  std::string line = "against the raw torque at its " + std::to_string(raw.num_samples) +
+                     " logged stamps: relative torque error " +
+                     formatNumber(100.0 * raw.relative_error, 4, "n/a") +
+                     " %; per joint RMS [N m]:";
+  for (Eigen::Index j = 0; j < raw.torque_rms.size(); ++j)
+    line.append(" ").append(formatNumber(raw.torque_rms[j], 4, "n/a"));
+  if (skipped > 0)
+    line.append(" (")
+        .append(std::to_string(skipped))
+        .append(" raw samples outside the dataset's samples not compared)");
+  return line;
+}
+
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
-  return {{"schema_version", kPredictionDocument.schema_version},
-          {"kind", kPredictionDocument.kind},
-          {"estimate", estimate_file},
-          {"method", o.method},
-          {"robot_spec", o.robot_spec},
-          {"drive_terms", driveTermsKeys(o.model.driveTerms())},
-          {"data", {{"file", data_file}, {"samples", v.num_samples}}},
-          {"relative_error", numberOrNull(v.relative_error)},
-          {"joint_relative_error", numbersOrNull(v.normalised_rms)},
-          {"torque_rms", numbersOrNull(v.torque_rms)}};
+  nlohmann::json out = {{"schema_version", kPredictionDocument.schema_version},
+                        {"kind", kPredictionDocument.kind},
+                        {"estimate", estimate_file},
+                        {"method", o.method},
+                        {"robot_spec", o.robot_spec},
+                        {"drive_terms", driveTermsKeys(o.model.driveTerms())},
+                        {"data", {{"file", data_file}, {"samples", v.num_samples}}},
+                        {"relative_error", numberOrNull(v.relative_error)},
+                        {"joint_relative_error", numbersOrNull(v.normalised_rms)},
+                        {"torque_rms", numbersOrNull(v.torque_rms)}};
+  if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
+  return out;
 }
 
 std::optional<std::string> torqueFigure(const Prediction& p, const std::string& title) {
@@ -213,6 +241,7 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
       << formatNumber(100.0 * v.relative_error, 3, "n/a") << " %; per joint RMS [N m]:";
   for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j)
     out << " " << formatNumber(v.torque_rms[j], 3, "n/a");
+  if (o.raw) out << "\n" << rawValidationLine(*o.raw, o.raw_skipped);
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";
   if (figure) out << " and " << dir << "/torques.svg";
   out << "\n";

@@ -15,6 +15,11 @@ namespace dynid {
 nlohmann::json predictionJson(const PredictOutcome& outcome, const std::string& estimate_file,
                               const std::string& data_file);
 
+/// A prediction against the raw held-out torques (prepare --keep-raw-torque), as JSON and as
+/// one console line; `skipped`: raw samples no two adjacent dataset samples bracket.
+nlohmann::json rawValidationJson(const Validation& raw, const std::string& file, int skipped);
+std::string rawValidationLine(const Validation& raw, int skipped);
+
 /// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.
 std::optional<std::string> torqueFigure(const Prediction& prediction, const std::string& title);
 

@@ -200,6 +200,19 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   writeDatasetCsv(set.stream("train.csv"), outcome.train);
   if (outcome.validate.numSamples() > 0)
     writeDatasetCsv(set.stream("validate.csv"), outcome.validate);
+  if (options.keep_raw_torque) {
+    AtomicWriter& raw = set.stream("validate_raw.csv");
+    std::string line = "t";
+    for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
+      line.append(",tau").append(std::to_string(j + 1));
+    raw.write(line + "\n");
+    for (Eigen::Index k = 0; k < outcome.raw_validate_time.size(); ++k) {
+      line = formatNumber(outcome.raw_validate_time[k]);
+      for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
+        line.append(",").append(formatNumber(outcome.raw_validate_tau(k, j)));
+      raw.write(line + "\n");
+    }
+  }
   std::vector<std::pair<std::string, std::string>> files = {
       {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
   std::vector<std::string> figures;
@@ -240,6 +253,9 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
       << "wrote " << dir << "/train.csv (" << outcome.train.numSamples() << " samples)";
   if (outcome.validate.numSamples() > 0)
     out << ", " << dir << "/validate.csv (" << outcome.validate.numSamples() << ")";
+  if (options.keep_raw_torque)
+    out << ", " << dir << "/validate_raw.csv (" << outcome.raw_validate_time.size()
+        << " raw torque samples)";
   out << ", " << dir << "/prepare.json";
   for (const std::string& name : figures) out << ", " << dir << "/" << name;
   out << "\n  rate: " << outcome.rate_reason

@@ -401,6 +401,24 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
   }
 }
 
+/// The run's raw torques at its own stamps where two adjacent held-out samples bracket them
+/// (appended to times and rows, one joint after another per sample).
+void keepRawHeld(const RawSignals& s, const RunSpan& span, double rate, std::vector<double>& times,
+                 std::vector<double>& taus) {
+  if (span.rows.size() < 2) return;
+  const double step = span.rows.size() > 1 ? span.rows[1] - span.rows[0] : 1.0;
+  for (Eigen::Index k = span.begin; k < span.end; ++k) {
+    const double u = (s.values(k, 0) - span.run.start) * rate;  // on the run's grid
+    const double from = (u - span.rows.front()) / step;
+    if (!(from >= 0.0)) continue;
+    auto r = static_cast<std::size_t>(std::floor(from));
+    if (r + 1 == span.rows.size() && u == span.rows.back()) --r;  // the last sample itself
+    if (r + 1 >= span.rows.size() || !span.held[r] || !span.held[r + 1]) continue;
+    times.push_back(s.values(k, 0) + span.run.time_offset);
+    for (int j = 0; j < s.n; ++j) taus.push_back(s.values(k, 1 + s.n + j));
+  }
+}
+
 void allocate(Trajectory& t, int n, Eigen::Index samples) {
   t.time.resize(samples);
   t.q.resize(n, samples);
@@ -824,6 +842,11 @@ void PrepareOptions::check() const {
 
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
   options.check();
+  if (options.keep_raw_torque && options.validate_fraction == 0.0 &&
+      options.validate_ranges.empty() && options.validate_runs.empty())
+    throw InputError(
+        "--keep-raw-torque keeps the held-out part's raw torques: hold a part out "
+        "(--validate-fraction, --validate-time or --validate-runs)");
   checkOption("prepare", "joints", source.num_joints, "joints");
   PrepareOutcome out;
   std::vector<RawSignals> files = readFiles(source, options, out);
@@ -872,16 +895,24 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   // Pass 4: every kept run, joint by joint, into its place.
   Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
   double noise_count = 0.0;
+  std::vector<double> raw_times, raw_taus;
   for (std::size_t r = 0; r < spans.size(); ++r) {
     const RunSpan& span = spans[r];
     if (span.kept) {
       prepareRun(files[span.file], span, filters, options, r == plan.longest, noise_sum, out);
+      if (options.keep_raw_torque)
+        keepRawHeld(files[span.file], span, out.rate, raw_times, raw_taus);
       out.runs.push_back(span.run);
       if (!filters.noise().empty()) noise_count += span.count;
     }
     if (r + 1 == spans.size() || spans[r + 1].file != span.file)
       files[span.file] = RawSignals();  // done with this file
   }
+  out.raw_validate_time = Eigen::Map<const Eigen::VectorXd>(
+      raw_times.data(), static_cast<Eigen::Index>(raw_times.size()));
+  out.raw_validate_tau =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          raw_taus.data(), static_cast<Eigen::Index>(raw_times.size()), n);
   out.tau_noise = noise_count > 0.0 ? Eigen::VectorXd((noise_sum / noise_count).cwiseSqrt())
                                     : Eigen::VectorXd::Zero(n);
   checkPlausible(options, !filter.empty() || out.ddq_logged, out);

@@ -72,6 +72,11 @@ struct PrepareOptions {
   /// are a logger that stalled: dropped (the gap is bridged) when the stall is shorter than the
   /// gap limit; a longer identical stretch is the robot at rest and kept. true: keep them all.
   bool keep_stalled = false;
+  /// Also keep the held-out part's raw torques (after units and torque constants, never filtered
+  /// or resampled) at the log's own stamps, where the held-out samples bracket them
+  /// (PrepareOutcome::raw_validate; prepare writes validate_raw.csv): predict and identify
+  /// --validate then report the error against the measurement itself.
+  bool keep_raw_torque = false;
 
   /// Throws InputError for a unit scale that is not positive or a numeric field out of its range
   /// (core/option_ranges.hpp, as dynid prepare's options, by field name). prepareLog checks its
@@ -137,6 +142,10 @@ struct PrepareOutcome {
   /// filter (rows: samples; columns: joints) and the times.
   Eigen::VectorXd excerpt_time;
   Eigen::MatrixXd excerpt_raw, excerpt_filtered;
+  /// With keep_raw_torque: the held-out raw torques (rows: samples in time order, on the output's
+  /// time axis; columns: joints) where two adjacent held-out samples bracket their stamp.
+  Eigen::VectorXd raw_validate_time;
+  Eigen::MatrixXd raw_validate_tau;
 };
 
 /// Seconds per unit of "s", "ms", "us" or "ns"; radians per unit of "rad" or "deg". Throw

@@ -1,5 +1,7 @@
 #include "analysis/streaming.hpp"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "tests/common/identification.hpp"
@@ -76,6 +78,53 @@ TEST(Streaming, PredictFileEqualsThePredictionInMemoryForAnyThreadsAndChunks) {
                   rnea(other, work, data.q.col(k), data.dq.col(k), data.ddq.col(k)));
     }
   EXPECT_GT(memory.validation.relative_error, 0.01);  // the 10 % error in theta shows
+}
+
+// The raw comparison interpolates the prediction, never the measurement: a prediction linear in
+// time against raw samples on that line gives zero error, wherever the raw stamps fall and however
+// the samples arrive in chunks; stamps before, after or across a gap are not compared.
+TEST(RawTorqueComparison, InterpolatesThePredictionAtTheRawStampsWithinTheGrid) {
+  // Dataset grid: 0, 0.01, ..., 0.1, then a gap, then 0.5, ..., 0.6 (two runs).
+  Eigen::VectorXd time(22);
+  for (int k = 0; k < 11; ++k) time[k] = 0.01 * k, time[11 + k] = 0.5 + 0.01 * k;
+  Eigen::MatrixXd predicted(2, 22);
+  for (int k = 0; k < 22; ++k) predicted.col(k) << 3.0 * time[k] + 1.0, -2.0 * time[k];
+  RawTorques raw;
+  raw.file = "raw.csv";
+  // Before the grid, inside run 1 (on and between samples), in the gap, inside run 2, after.
+  raw.time.resize(8);
+  raw.time << -0.001, 0.0, 0.0037, 0.0991, 0.3, 0.5, 0.5555, 0.7;
+  raw.tau.resize(2, 8);
+  for (int k = 0; k < 8; ++k) raw.tau.col(k) << 3.0 * raw.time[k] + 1.0, -2.0 * raw.time[k];
+  for (int chunk : {1, 5, 22}) {
+    RawTorqueComparison comparison(raw);
+    for (int first = 0; first < 22; first += chunk) {
+      const int m = std::min(chunk, 22 - first);
+      comparison.samples(time.segment(first, m), predicted.middleCols(first, m),
+                         predicted.middleCols(first, m));
+    }
+    const Validation v = comparison.result();
+    EXPECT_EQ(v.num_samples, 5) << chunk;  // 0, 0.0037, 0.0991, 0.5, 0.5555
+    EXPECT_EQ(comparison.skipped(), 3) << chunk;
+    EXPECT_LT(v.torque_rms.maxCoeff(), 1e-14) << chunk;  // linear: interpolation is exact
+  }
+  // A raw sample off the line by 0.5 on joint 1: its residual, over the 5 compared.
+  raw.tau(0, 2) += 0.5;
+  RawTorqueComparison comparison(raw);
+  comparison.samples(time, predicted, predicted);
+  EXPECT_NEAR(comparison.result().torque_rms[0], std::sqrt(0.25 / 5.0), 1e-12);
+  EXPECT_LT(comparison.result().torque_rms[1], 1e-14);
+}
+
+TEST(RawTorqueComparison, TheRawFileIsCheckedAtTheBoundary) {
+  const std::string path = test::tempPath("validate_raw.csv");
+  writeFileAtomically(path, "t,tau1,tau2\n0,1,2\n0.001,1,2\n");
+  EXPECT_EQ(readRawTorques(path, 2).tau.cols(), 2);
+  EXPECT_THROW(readRawTorques(path, 3), ParseError);  // another robot's joint count
+  writeFileAtomically(path, "t,tau1,tau2\n0,1,2\n0,1,2\n");
+  EXPECT_THROW(readRawTorques(path, 2), ParseError);  // times that do not increase
+  writeFileAtomically(path, "t,q1,q2\n0,1,2\n");
+  EXPECT_THROW(readRawTorques(path, 2), ParseError);  // a dataset, not raw torques
 }
 
 TEST(Streaming, IdentifyGivesTheSameEstimateOnAnyThreadCount) {

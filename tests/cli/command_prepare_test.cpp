@@ -321,6 +321,52 @@ TEST(Cli, EffortsComeFromASecondTopicOrATableAtThePositionStamps) {
     EXPECT_EQ(run("prepare " + bad + never).code, 2) << bad;
 }
 
+// The held-out raw torques: prepare --keep-raw-torque writes them at the log's own stamps, and
+// identify --validate-raw and predict --raw report the error against them beside the error
+// against the filtered held-out dataset (the same numbers in both commands).
+TEST(Cli, IdentifyAndPredictReportTheErrorAgainstTheRawHeldOutTorque) {
+  const std::string dir = test::tempPath("raw_torque"), log = test::tempPath("raw_torque.csv");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 4 --noise-tau 0.05 --out " + log).code, 0);
+  const Result prepared = run("prepare --log " + log +
+                              " --q 'q*' --tau 'tau*' "
+                              "--validate-fraction 0.25 --keep-raw-torque --out " +
+                              dir + "/data");
+  ASSERT_EQ(prepared.code, 0) << prepared.err;
+  EXPECT_TRUE(contains(prepared.out, "validate_raw.csv")) << prepared.out;
+  const Result identified = run(
+      "identify --robot puma560 --data " + dir + "/data/train.csv --validate " + dir +
+      "/data/validate.csv --validate-raw " + dir + "/data/validate_raw.csv --out " + dir + "/ols");
+  ASSERT_EQ(identified.code, 0) << identified.err;
+  const auto at = identified.out.find("against the raw torque at its ");
+  ASSERT_NE(at, std::string::npos) << identified.out;
+  const std::string line = identified.out.substr(at, identified.out.find('\n', at) - at);
+  const auto estimate = nlohmann::json::parse(readFile(dir + "/ols/estimate.json"));
+  const auto& raw = estimate["validation"]["raw_measurement"];
+  EXPECT_GT(raw["samples"].get<int>(), 500);
+  // The raw torque carries the simulated noise the filtered one does not: a larger error.
+  EXPECT_GT(raw["relative_error"].get<double>(),
+            estimate["validation"]["relative_error"].get<double>());
+  const Result predicted =
+      run("predict --estimate " + dir + "/ols/estimate.json --data " + dir +
+          "/data/validate.csv --raw " + dir + "/data/validate_raw.csv --out " + dir + "/pred");
+  ASSERT_EQ(predicted.code, 0) << predicted.err;
+  EXPECT_TRUE(contains(predicted.out, line)) << predicted.out << "\n" << line;
+  EXPECT_EQ(nlohmann::json::parse(
+                readFile(dir + "/pred/prediction.json"))["raw_measurement"]["relative_error"],
+            raw["relative_error"]);
+  const std::string never = " --out " + test::tempPath("never_raw");
+  EXPECT_EQ(run("prepare --log " + log + " --q 'q*' --tau 'tau*' --keep-raw-torque" + never).code,
+            2);
+  EXPECT_EQ(run("identify --robot puma560 --data " + dir + "/data/train.csv --validate-raw " + dir +
+                "/data/validate_raw.csv" + never)
+                .code,
+            2);
+  EXPECT_EQ(run("predict --estimate " + dir + "/ols/estimate.json --data " + dir +
+                "/data/validate.csv --raw " + dir + "/data/validate.csv" + never)
+                .code,
+            1);
+}
+
 // Gaz et al.'s real Panda log as a ROS 1 bag written by ROS's own writer
 // (tools/panda_log_as_ros1_bag.py: joints published out of the robot's order, a finger joint
 // beside them), prepared and identified with examples/panda/run.sh's options: the example's

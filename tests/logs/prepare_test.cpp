@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -642,6 +643,48 @@ TEST(Prepare, TheDefaultRateIsNominalAndTimeStartsAtTheFirstStampExactly) {
   odd.step = 1.0 / 337.7;
   const PrepareOutcome p = prepareLog(jointsSource(writeJointsLog("odd.csv", odd)), {});
   EXPECT_NEAR(p.rate, 337.7, 1e-6);
+}
+
+// keep_raw_torque: the held-out part's torques as logged (noise and all, never filtered or
+// resampled) at the log's own jittered stamps, where two adjacent held-out samples bracket them;
+// the training part's raw samples are not kept. Samples come as arrays (Python's prepare(t=...)).
+TEST(Prepare, KeepsTheHeldOutRawTorquesAtTheLogsOwnStamps) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> jitter(-2e-4, 2e-4), noise(-0.05, 0.05);
+  auto raw = std::make_shared<RawSignals>();
+  const int samples = 3000;  // 3 s at about 1 kHz
+  raw->n = 1;
+  raw->rows = samples;
+  raw->values.resize(samples, 3);
+  for (int k = 0; k < samples; ++k) {
+    const double t = 1e-3 * k + (k > 0 ? jitter(random) : 0.0);
+    raw->values.row(k) << t, std::sin(2.0 * t), std::cos(2.0 * t) + noise(random);
+  }
+  raw->ddq_at = 3;
+  raw->file = raw->tau_file = "arrays";
+  raw->line_of = [](Eigen::Index k) { return static_cast<int>(k + 1); };
+  LogSource source;
+  source.arrays = raw;
+  PrepareOptions o;
+  o.rate = 1000.0;
+  o.cutoff = 5.0;
+  o.validate_fraction = 0.25;
+  o.keep_raw_torque = true;
+  const PrepareOutcome out = prepareLog(source, o);
+  const double from = out.validate.time[0], to = out.validate.time[out.validate.numSamples() - 1];
+  int expected = 0;
+  for (int k = 0; k < samples; ++k)
+    expected += raw->values(k, 0) >= from && raw->values(k, 0) <= to;
+  ASSERT_EQ(out.raw_validate_time.size(), expected);
+  ASSERT_GT(expected, 500);  // a quarter of 3 s at 1 kHz, less the end the filter trims
+  for (Eigen::Index i = 0, k = 0; i < out.raw_validate_time.size(); ++i) {
+    while (raw->values(k, 0) < out.raw_validate_time[i]) ++k;
+    EXPECT_EQ(out.raw_validate_time[i], raw->values(k, 0));
+    EXPECT_EQ(out.raw_validate_tau(i, 0), raw->values(k, 2));  // as logged: noise included
+  }
+  // Nothing to keep without a held-out part.
+  o.validate_fraction = 0.0;
+  EXPECT_THROW(prepareLog(source, o), InputError);
 }
 
 }  // namespace
