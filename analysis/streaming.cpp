@@ -49,6 +49,25 @@ Trajectory SampleKeeper::kept() const {
 
 namespace {
 
+/// The statistics of `samples` residuals from their per-joint sums of squares (residual and
+/// measured); the measured RMS per joint to `measured_rms` when given.
+Validation validationOf(const Eigen::VectorXd& residual_squared,
+                        const Eigen::VectorXd& measured_squared, long long samples,
+                        Eigen::VectorXd* measured_rms_out = nullptr) {
+  Validation v;
+  v.num_samples = static_cast<int>(samples);
+  const double count = std::max<double>(static_cast<double>(samples), 1.0);
+  v.torque_rms = (residual_squared / count).cwiseSqrt();
+  const Eigen::VectorXd measured_rms = (measured_squared / count).cwiseSqrt();
+  const double inf = std::numeric_limits<double>::infinity();
+  v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
+  v.normalised_rms.resize(measured_rms.size());
+  for (Eigen::Index j = 0; j < measured_rms.size(); ++j)
+    v.normalised_rms[j] = measured_rms[j] > 0.0 ? v.torque_rms[j] / measured_rms[j] : inf;
+  if (measured_rms_out != nullptr) *measured_rms_out = measured_rms;
+  return v;
+}
+
 /// Per-joint sums of a prediction over every sample, and its series.
 class PredictionAccumulator {
  public:
@@ -87,16 +106,9 @@ class PredictionAccumulator {
   }
 
   Prediction finish() const {
-    Validation v;
-    v.num_samples = static_cast<int>(samples_);
-    const double count = std::max<double>(static_cast<double>(samples_), 1.0);
-    v.torque_rms = (residual_squared_ / count).cwiseSqrt();
-    const Eigen::VectorXd measured_rms = (measured_squared_ / count).cwiseSqrt();
-    const double inf = std::numeric_limits<double>::infinity();
-    v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
-    v.normalised_rms.resize(measured_rms.size());
-    for (Eigen::Index j = 0; j < measured_rms.size(); ++j)
-      v.normalised_rms[j] = measured_rms[j] > 0.0 ? v.torque_rms[j] / measured_rms[j] : inf;
+    Eigen::VectorXd measured_rms;
+    const Validation v =
+        validationOf(residual_squared_, measured_squared_, samples_, &measured_rms);
     return predictionOfKept(model_, keeper_, v, measured_rms);
   }
 
@@ -176,17 +188,7 @@ void RawTorqueComparison::samples(const Eigen::VectorXd& time, const Eigen::Matr
 }
 
 Validation RawTorqueComparison::result() const {
-  Validation v;
-  v.num_samples = compared_;
-  const double count = std::max(static_cast<double>(compared_), 1.0);
-  v.torque_rms = (residual_squared_ / count).cwiseSqrt();
-  const Eigen::VectorXd measured_rms = (measured_squared_ / count).cwiseSqrt();
-  const double inf = std::numeric_limits<double>::infinity();
-  v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
-  v.normalised_rms.resize(measured_rms.size());
-  for (Eigen::Index j = 0; j < measured_rms.size(); ++j)
-    v.normalised_rms[j] = measured_rms[j] > 0.0 ? v.torque_rms[j] / measured_rms[j] : inf;
-  return v;
+  return validationOf(residual_squared_, measured_squared_, compared_);
 }
 
 void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
