@@ -241,19 +241,17 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
   }
   if (!request.data) out.preparation = findPreparation(request.data_file);
-  if (request.validate) {
-    out.validate_fit = predictTorques(identified, *request.validate, &pool);
-    out.validation = out.validate_fit->validation;
-    out.validate_file = request.validate_file;
-  } else if (!request.validate_file.empty()) {
+  if (request.validate || !request.validate_file.empty()) {
     std::optional<RawTorques> raw;
     std::optional<RawTorqueComparison> comparison;
     if (!request.validate_raw_file.empty()) {
       raw = readRawTorques(request.validate_raw_file, identified.numJoints());
       comparison.emplace(*raw);
     }
-    out.validate_fit =
-        predictFile(identified, request.validate_file, pool, comparison ? &*comparison : nullptr);
+    PredictionSink* sink = comparison ? &*comparison : nullptr;
+    out.validate_fit = request.validate
+                           ? predictTorques(identified, *request.validate, &pool, sink)
+                           : predictFile(identified, request.validate_file, pool, sink);
     out.validation = out.validate_fit->validation;
     out.validate_file = request.validate_file;
     if (comparison) {
@@ -261,6 +259,9 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
       out.validate_raw_file = request.validate_raw_file;
       out.raw_skipped = comparison->skipped();
     }
+  } else if (!request.validate_raw_file.empty()) {
+    throw InputError("the raw held-out torques (" + request.validate_raw_file +
+                     ") need the held-out dataset they belong to (validate)");
   }
   if (!request.write_back_from.empty()) {
     if (!out.violations.empty())

@@ -86,7 +86,8 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
 EstimateResult identify(const Model& model, const py::handle& data, const std::string& method,
                         const py::handle& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
-                        int threads, const std::string& robot_spec) {
+                        int threads, const std::string& robot_spec,
+                        const py::handle& validate_raw) {
   if (method != "pc" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to method 'pc', not '" + method + "'");
   IdentifyRequest request;  // checked by identifyRun
@@ -105,6 +106,7 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
     request.validate_file = held.path;
     request.validate = held.arrays;
   }
+  if (!validate_raw.is_none()) request.validate_raw_file = pathArg(validate_raw, "validate_raw");
   EstimateResult out{model, {}};
   py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
   out.outcome = identifyRun(request);
@@ -306,6 +308,15 @@ void bindIdentify(py::module_& m) {
           },
           "On the held-out `validate` data, or None.")
       .def_property_readonly(
+          "raw_validation",
+          [](const EstimateResult& r) -> py::object {
+            if (!r.outcome.raw_validation) return py::none();
+            py::dict d = validationDict(*r.outcome.raw_validation);
+            d["not_bracketed"] = r.outcome.raw_skipped;
+            return d;
+          },
+          "Against the raw held-out torques (`validate_raw`) at the log's own stamps, or None.")
+      .def_property_readonly(
           "violations",
           [](const EstimateResult& r) {
             std::vector<std::string> out;
@@ -327,10 +338,12 @@ void bindIdentify(py::module_& m) {
         py::arg("samples") = StructuralOptions{}.samples,
         py::arg("seed") = StructuralOptions{}.seed,
         py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
-        py::arg("robot_spec") = "",
+        py::arg("robot_spec") = "", py::arg("validate_raw") = py::none(),
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
         "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
-        "the model's own parameters). `validate`: held-out data. `robot_spec` is recorded for "
+        "the model's own parameters). `validate`: held-out data; `validate_raw`: prepare's "
+        "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
+        "recorded for "
         "`dynid predict`. Raises NumericalError when the data do not excite every base parameter.");
 }
 

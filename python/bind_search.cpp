@@ -368,7 +368,7 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
                     const std::vector<std::string>& joint_names, const py::handle& t,
                     const py::handle& q, const py::handle& tau, const py::handle& dq,
                     const py::handle& ddq, const std::string& effort_topic,
-                    const py::handle& effort_log) {
+                    const py::handle& effort_log, bool keep_raw_torque) {
   PreparePy out;
   LogSource& s = out.source;
   if (tables.is_none()) {
@@ -433,6 +433,7 @@ PreparePy preparePy(const py::handle& tables, const std::string& time_column,
     throw py::value_error("savgol_window and savgol_degree apply to savitzky_golay=True");
   o.validate_fraction = validate_fraction;
   o.keep_stalled = keep_stalled;
+  o.keep_raw_torque = keep_raw_torque;
   o.windows = window;
   o.row_windows = rows;
   for (const auto& [given, target, name] :
@@ -674,6 +675,14 @@ void bindPrepare(py::module_& m) {
                              [](const PreparePy& p) { return toNumpy(p.outcome.tau_noise); })
       .def_property_readonly("warnings", [](const PreparePy& p) { return p.outcome.warnings; })
       .def_property_readonly(
+          "raw_validate_time",
+          [](const PreparePy& p) { return toNumpy(p.outcome.raw_validate_time); },
+          "keep_raw_torque: the held-out raw torques' stamps (N,) [s]")
+      .def_property_readonly(
+          "raw_validate_tau",
+          [](const PreparePy& p) { return toNumpy(p.outcome.raw_validate_tau); },
+          "keep_raw_torque: the held-out raw torques (N, n) [N m], as logged")
+      .def_property_readonly(
           "time_origin",
           [](const PreparePy& p) { return static_cast<double>(p.outcome.time_origin); },
           "the log's first stamp [s]: every time is the stamp minus it")
@@ -705,7 +714,7 @@ void bindPrepare(py::module_& m) {
       py::arg("joint_names") = std::vector<std::string>{}, py::arg("t") = py::none(),
       py::arg("q") = py::none(), py::arg("tau") = py::none(), py::arg("dq") = py::none(),
       py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
-      py::arg("effort_log") = py::none(),
+      py::arg("effort_log") = py::none(), py::arg("keep_raw_torque") = false,
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -718,7 +727,8 @@ void bindPrepare(py::module_& m) {
       "JointState topic, or a table with time_column and tau_columns, giving the torques when "
       "the messages carry none). Arrays instead of files: tables=None and t (N,), q and tau "
       "(N, n; currents with current=True), optionally dq and ddq (N, n), in the units "
-      "time_unit and angle_unit name.");
+      "time_unit and angle_unit name. keep_raw_torque: also keep the held-out raw torques at "
+      "the log's stamps (raw_validate_time, raw_validate_tau: the CLI's validate_raw.csv).");
 }
 
 }  // namespace

@@ -238,6 +238,28 @@ def test_prepare_reads_rosbag2_directories_and_efforts_from_a_second_topic(tmp_p
         dynid.prepare(fixtures / "joint_states_effort_topic.mcap", topic="/joint_states")
 
 
+def test_raw_held_out_torques_as_the_cli(tmp_path, puma, puma_csv):
+    run_cli("prepare", "--log", puma_csv, "--q", "q*", "--tau", "tau*", "--validate-fraction",
+            0.25, "--keep-raw-torque", "--out", tmp_path / "data")
+    run_cli("identify", "--robot", "puma560", "--data", tmp_path / "data" / "train.csv",
+            "--validate", tmp_path / "data" / "validate.csv", "--validate-raw",
+            tmp_path / "data" / "validate_raw.csv", "--out", tmp_path / "ols")
+    cli = read_json(tmp_path / "ols" / "estimate.json")["validation"]["raw_measurement"]
+    prepared = dynid.prepare(puma_csv, q_columns="q*", tau_columns="tau*", validate_fraction=0.25,
+                             keep_raw_torque=True)
+    raw = np.loadtxt(tmp_path / "data" / "validate_raw.csv", delimiter=",", skiprows=1)
+    assert np.array_equal(prepared.raw_validate_time, raw[:, 0])
+    assert np.array_equal(prepared.raw_validate_tau, raw[:, 1:])
+    estimate = dynid.identify(puma, tmp_path / "data" / "train.csv",
+                              validate=prepared.validate,
+                              validate_raw=tmp_path / "data" / "validate_raw.csv")
+    assert estimate.raw_validation["relative_error"] == cli["relative_error"]
+    assert estimate.raw_validation["not_bracketed"] == cli["not_bracketed"]
+    with pytest.raises(dynid.InputError, match="held-out dataset"):
+        dynid.identify(puma, tmp_path / "data" / "train.csv",
+                       validate_raw=tmp_path / "data" / "validate_raw.csv")
+
+
 def interrupted_after(seconds, call):
     """call() with a SIGINT (Ctrl-C) sent to this process `seconds` after it starts; its result
     and the warnings it gave."""
