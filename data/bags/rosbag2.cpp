@@ -71,7 +71,8 @@ std::string columnText(sqlite3_stmt* statement, int column) {
 /// A path as an SQLite URI (RFC 3986 percent-encoding of all but unreserved characters and '/').
 std::string fileUri(const std::string& path) {
   static constexpr char kHex[] = "0123456789ABCDEF";
-  std::string uri = "file:";
+  // An absolute path after an empty authority ("file:///a"), so that "//a" is not read as a host.
+  std::string uri = !path.empty() && path.front() == '/' ? "file://" : "file:";
   for (const char c : path) {
     const auto u = static_cast<unsigned char>(c);
     if ((u >= 'a' && u <= 'z') || (u >= 'A' && u <= 'Z') || (u >= '0' && u <= '9') ||

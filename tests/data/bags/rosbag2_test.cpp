@@ -200,6 +200,14 @@ TEST(Rosbag2, ADirectorysFilesAreItsOwnAndInNaturalOrder) {
               std::string::npos)
         << outside;
   }
+  // Names SQLite's URIs give a meaning to ('?', '#', '%', a leading "//") are only names.
+  const std::string odd = (dir / "a b?c#d%41.db3").string();
+  fs::copy_file(db, odd);
+  for (const std::string& path : {odd, "/" + odd}) {
+    int messages = 0;
+    readBag(path, {}, [&](const BagMessage&) { ++messages; });
+    EXPECT_EQ(messages, 204) << path;
+  }
   fs::remove_all(dir);
   fs::create_directories(dir);
   EXPECT_FALSE(isBag(dir.string()));
