@@ -153,6 +153,31 @@ Eigen::Index joinEfforts(EffortSamples e, const std::vector<std::int64_t>& stamp
   return static_cast<Eigen::Index>(stamps.size() - kept);
 }
 
+/// The efforts of source.effort_topic or source.effort_table joined into `rows` (the position
+/// samples at `stamps`, `width` values each) for the robot's joints `names`; records the source in
+/// `out` and a warning for dropped samples. Returns the rows left; InputError when fewer than 2.
+Eigen::Index joinSeparateEfforts(const LogSource& source, const std::string& path,
+                                 const std::vector<std::string>& names,
+                                 const std::vector<std::int64_t>& stamps, int width,
+                                 std::vector<double>& rows, RawSignals& out) {
+  const auto n = static_cast<int>(names.size());
+  const EffortSamples effort =
+      source.effort_table.empty() ? effortTopic(source, path, names) : effortTable(source, n);
+  const Eigen::Index dropped = joinEfforts(effort, stamps, n, width, rows);
+  const auto count = static_cast<Eigen::Index>(stamps.size()) - dropped;
+  if (count < 2)
+    throw InputError(path + ": the efforts (" +
+                     (source.effort_table.empty() ? source.effort_topic : source.effort_table) +
+                     ") do not span the positions' stamps: are both on the same clock (" +
+                     (source.receive_time ? "receive time" : "header stamps") + ")?");
+  if (dropped > 0)
+    out.warnings.push_back(std::to_string(dropped) +
+                           " position samples outside the efforts' time span were dropped");
+  out.tau_file = source.effort_table.empty() ? path : source.effort_table;
+  out.columns.tau = effort.columns;
+  return count;
+}
+
 }  // namespace
 
 RawSignals readBagLog(const LogSource& source, const std::string& path) {
@@ -234,22 +259,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
                      "stamp them): give --stamp receive");
   const auto n = static_cast<int>(names.size());
   const int width = 1 + (out.has_dq ? 3 : 2) * n;
-  if (separate_effort) {
-    const EffortSamples effort =
-        source.effort_table.empty() ? effortTopic(source, path, names) : effortTable(source, n);
-    const Eigen::Index dropped = joinEfforts(effort, stamps, n, width, rows);
-    count -= dropped;
-    if (count < 2)
-      throw InputError(path + ": the efforts (" +
-                       (source.effort_table.empty() ? source.effort_topic : source.effort_table) +
-                       ") do not span the positions' stamps: are both on the same clock (" +
-                       (source.receive_time ? "receive time" : "header stamps") + ")?");
-    if (dropped > 0)
-      out.warnings.push_back(std::to_string(dropped) +
-                             " position samples outside the efforts' time span were dropped");
-    out.tau_file = source.effort_table.empty() ? path : source.effort_table;
-    out.columns.tau = effort.columns;
-  }
+  if (separate_effort) count = joinSeparateEfforts(source, path, names, stamps, width, rows, out);
   out.values =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           rows.data(), count, width);

@@ -12,21 +12,11 @@
 
 #include "core/errors.hpp"
 #include "data/io.hpp"
+#include "tests/common/error_text.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid::bags {
 namespace {
-
-/// The ParseError message `f` throws ("" when none).
-template <class F>
-std::string parseError(F f) {
-  try {
-    f();
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 std::string readAll(const std::string& path) {
   std::string out;
@@ -68,19 +58,20 @@ TEST(Mcap, ChunksDecompressAndTheirCrcIsChecked) {
     writeFileAtomically(path, chunkedFile(compression, false));
     EXPECT_EQ(readAll(path), "payload") << compression;
     writeFileAtomically(path, chunkedFile(compression, true));
-    EXPECT_NE(parseError([&] { readAll(path); }).find("CRC"), std::string::npos) << compression;
+    EXPECT_NE(test::errorText([&] { readAll(path); }).find("CRC"), std::string::npos)
+        << compression;
   }
   writeFileAtomically(path, chunkedFile("brotli", false));
-  EXPECT_NE(parseError([&] { readAll(path); }).find("unknown compression 'brotli'"),
+  EXPECT_NE(test::errorText([&] { readAll(path); }).find("unknown compression 'brotli'"),
             std::string::npos);
   // Not MCAP at all, and a length field of 2^62.
   writeFileAtomically(path, "#ROSBAG V2.0\n");
-  EXPECT_NE(parseError([&] { readAll(path); }).find("not an MCAP file"), std::string::npos);
+  EXPECT_NE(test::errorText([&] { readAll(path); }).find("not an MCAP file"), std::string::npos);
   std::string huge = chunkedFile("", false);
   const std::uint64_t big = std::uint64_t{1} << 62;
   std::memcpy(huge.data() + 8 + 1, &big, 8);  // the Header record's length
   writeFileAtomically(path, huge);
-  EXPECT_NE(parseError([&] { readAll(path); }).find("at byte 8"), std::string::npos);
+  EXPECT_NE(test::errorText([&] { readAll(path); }).find("at byte 8"), std::string::npos);
 }
 
 // A file cut anywhere is refused with the file and a byte offset, never read past its end.
@@ -90,7 +81,7 @@ TEST(Mcap, EveryTruncationIsRefusedWithTheFileAndOffset) {
   int refused = 0;
   for (std::size_t length = 0; length < whole.size(); ++length) {
     writeFileAtomically(path, whole.substr(0, length));
-    const std::string message = parseError([&] { readAll(path); });
+    const std::string message = test::errorText([&] { readAll(path); });
     // A cut after the Data End record loses only the footer: the messages are all there.
     if (message.empty()) {
       EXPECT_GE(length, whole.size() - 8 - 29) << "a cut before Data End was read";

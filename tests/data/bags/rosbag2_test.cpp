@@ -24,6 +24,7 @@
 #include "data/bags/bag.hpp"
 #include "data/bags/ros_messages.hpp"
 #include "data/io.hpp"
+#include "tests/common/error_text.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid::bags {
@@ -31,16 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 const fs::path kFixtures = fs::path(DYNID_SOURCE_DIR) / "tests/data/bags/fixtures";
-
-template <class F>
-std::string parseError(F f) {
-  try {
-    f();
-  } catch (const ParseError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 std::string readText(const fs::path& path) {
   std::ifstream in(path);
@@ -162,11 +153,11 @@ TEST(Rosbag2, MetadataListsTheFilesInOrder) {
             (std::vector<std::string>{"a.mcap"}));
   EXPECT_TRUE(metadataFiles("x:\n  relative_file_paths: []\n", "m.yaml").empty());
   EXPECT_TRUE(metadataFiles("", "m.yaml").empty());
-  EXPECT_NE(parseError([] {
+  EXPECT_NE(test::errorText([] {
               metadataFiles("  relative_file_paths: [a.db3]\n", "m.yaml");
             }).find("m.yaml:1"),
             std::string::npos);
-  EXPECT_NE(parseError([] {
+  EXPECT_NE(test::errorText([] {
               metadataFiles("  relative_file_paths:\n    - [a]\n", "m.yaml");
             }).find("m.yaml:2"),
             std::string::npos);
@@ -196,7 +187,7 @@ TEST(Rosbag2, ADirectorysFilesAreItsOwnAndInNaturalOrder) {
   for (const char* outside : {"../joint_states.db3", "/etc/passwd", "other/run_1.db3", ".."}) {
     writeFileAtomically((dir / "metadata.yaml").string(),
                         std::string("  relative_file_paths:\n    - ") + outside + "\n");
-    EXPECT_NE(parseError([&] { bagFiles(dir.string()); }).find("not a file in the bag's"),
+    EXPECT_NE(test::errorText([&] { bagFiles(dir.string()); }).find("not a file in the bag's"),
               std::string::npos)
         << outside;
   }
@@ -233,14 +224,14 @@ TEST(Rosbag2, DamagedAndForeignDatabasesAreRefusedWithTheFile) {
   }
   EXPECT_GT(refused, 32);
   writeFileAtomically(path, "#ROSBAG V2.0\nnot sqlite");
-  EXPECT_NE(parseError(readAll).find("or not SQLite (SQLite: file is not a database)"),
+  EXPECT_NE(test::errorText(readAll).find("or not SQLite (SQLite: file is not a database)"),
             std::string::npos);
   // An SQLite database that is not rosbag2's, and one whose message names a topic it lacks.
   fs::remove(path);
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(db, "CREATE TABLE t(x INTEGER);", nullptr, nullptr, nullptr), SQLITE_OK);
-  EXPECT_NE(parseError([&] {
+  EXPECT_NE(test::errorText([&] {
               readSqliteBag(db, path, {}, [](const BagMessage&) {});
             }).find("no readable topics table"),
             std::string::npos);
@@ -254,7 +245,7 @@ TEST(Rosbag2, DamagedAndForeignDatabasesAreRefusedWithTheFile) {
                          "INSERT INTO messages VALUES (7, 3, 10, x'00');",
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
-  EXPECT_NE(parseError([&] {
+  EXPECT_NE(test::errorText([&] {
               readSqliteBag(db, path, {}, [](const BagMessage&) {});
             }).find("row 7: topic id 3"),
             std::string::npos);
@@ -263,7 +254,7 @@ TEST(Rosbag2, DamagedAndForeignDatabasesAreRefusedWithTheFile) {
   int read = 0;
   readSqliteBag(db, path, {}, [&](const BagMessage&) { ++read; });
   EXPECT_EQ(read, 0);  // a topic in another format is skipped when not asked for ...
-  EXPECT_NE(parseError([&] {
+  EXPECT_NE(test::errorText([&] {
               readSqliteBag(db, path, {"/js"}, [](const BagMessage&) {});
             }).find("serialization format 'ros1'"),
             std::string::npos);  // ... and refused when it is
