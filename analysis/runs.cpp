@@ -296,15 +296,15 @@ Eigen::MatrixXd kinematicsSignature(const Model& model) {
   return out;
 }
 
-PredictOutcome predictRun(const PredictRequest& request) {
-  const std::string& file = request.estimate_file;
+Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,
+                    std::string* method) {
   const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
-  PredictOutcome out;
-  out.robot_spec = request.robot_spec.empty() ? estimate.robot_spec : request.robot_spec;
-  if (out.robot_spec.empty())
+  const std::string spec = robot_spec.empty() ? estimate.robot_spec : robot_spec;
+  if (spec.empty())
     throw ParseError(file, 0, "robot_spec",
                      "the estimate does not say which robot it is for: give --robot");
-  out.method = estimate.method;
+  if (spec_used != nullptr) *spec_used = spec;
+  if (method != nullptr) *method = estimate.method;
   std::string terms;
   for (const std::string& t : estimate.drive_terms) terms += (terms.empty() ? "" : ",") + t;
   RobotOptions options;
@@ -313,21 +313,22 @@ PredictOutcome predictRun(const PredictRequest& request) {
   } catch (const InputError& e) {
     throw ParseError(file, 0, "drive_terms", e.what());
   }
-  if (request.robot_spec.empty()) {
+  Model model;
+  if (robot_spec.empty()) {
     try {  // the robot the estimate names: a failure names the estimate and its field
-      out.model = loadRobot(out.robot_spec, options);
+      model = loadRobot(spec, options);
     } catch (const Error& e) {
       throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
     }
   } else {
-    out.model = loadRobot(out.robot_spec, options);
+    model = loadRobot(spec, options);
   }
-  out.model.setStandardParameters(standardVectorFrom(
-      estimate, standardParameterNames(out.model.parameterLayout()), file, out.robot_spec));
+  model.setStandardParameters(
+      standardVectorFrom(estimate, standardParameterNames(model.parameterLayout()), file, spec));
   // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
   // differ) would give wrong torques silently: compare the recorded kinematics.
   if (!estimate.kinematics.is_null()) {
-    const Eigen::MatrixXd mine = kinematicsSignature(out.model);
+    const Eigen::MatrixXd mine = kinematicsSignature(model);
     const nlohmann::json& recorded = estimate.kinematics;
     bool same = recorded.size() == static_cast<std::size_t>(mine.rows());
     for (Eigen::Index i = 0; same && i < mine.rows(); ++i)
@@ -335,10 +336,17 @@ PredictOutcome predictRun(const PredictRequest& request) {
         same = recorded[i][c].is_number() &&
                std::abs(recorded[i][c].get<double>() - mine(i, c)) <= 1e-9;
     if (!same)
-      throw InputError(file + ": robot '" + out.robot_spec +
+      throw InputError(file + ": robot '" + spec +
                        "' has other link frames or axes than the robot the estimate was made for: "
                        "it was made for another robot");
   }
+  return model;
+}
+
+PredictOutcome predictRun(const PredictRequest& request) {
+  PredictOutcome out;
+  out.model =
+      estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec, &out.method);
   ThreadPool pool(request.threads);
   if (request.raw_file.empty()) {
     out.prediction = predictFile(out.model, request.data_file, pool, request.sink);

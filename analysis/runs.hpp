@@ -198,6 +198,12 @@ struct PredictOutcome {
   std::string raw_file;
   int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
 };
+/// The robot an identify estimate.json names (or `robot_spec`), with the estimate's drive terms and
+/// standard parameters; `spec_used` and `method` (when given) receive the robot spec used and the
+/// estimate's method. Throws ParseError for a malformed estimate, InputError when it does not fit
+/// the robot (another robot, another drive model: the parameter named).
+Model estimateModel(const std::string& file, const std::string& robot_spec,
+                    std::string* spec_used = nullptr, std::string* method = nullptr);
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
 /// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed
 /// estimate, InputError when the estimate does not fit the robot (another robot, another drive

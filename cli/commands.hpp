@@ -20,5 +20,6 @@ int runDemo(const std::vector<std::string>& args);
 int runStudy(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
 int runExcite(const std::vector<std::string>& args);
+int runPayload(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

@@ -27,6 +27,7 @@ const char* kUsage =
     "  excite                   design the motion that best determines the base parameters\n"
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  predict                  a saved estimate's torques on a dataset, errors and a figure\n"
+    "  payload                  what was added at the flange of an identified arm; drive gains\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
       {"refine", runRefine},     {"demo", runDemo},
       {"batch", runBatch},       {"prepare", runPrepare},
       {"predict", runPredict},   {"study", runStudy},
-      {"excite", runExcite}};
+      {"excite", runExcite},     {"payload", runPayload}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

@@ -113,6 +113,15 @@ constexpr OptionRule kOptionRules[] = {
     {"", "savgol-window", {0.0, 1e5, false, false}, "savgol: odd samples (0: auto)"},
     {"", "savgol-degree", {2.0, 6.0, false, false}, "savgol: polynomial degree"},
     // excite
+    // payload
+    {"payload",
+     "payload-mass",
+     {0.0, 1e5, true, false},
+     "the payload's known mass: drive gains from a loaded and an unloaded run [kg]"},
+    {"payload",
+     "max-motion-difference",
+     {0.0, 10.0, true, false},
+     "largest RMS position difference of a joint between the loaded and the unloaded run [rad]"},
     {"excite", "period", {0.0, 1e4, true, false}, "period of the motion [s]"},
     {"excite", "harmonics", {2.0, 50.0, false, false}, "harmonics per joint"},
     {"excite", "starts", {1.0, 1e4, false, false}, "optimiser starts (seeded random designs)"},

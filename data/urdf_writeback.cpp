@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -261,6 +262,59 @@ std::string urdfWithParameters(const std::string& urdf_text, const std::string& 
                                  "dynamics", urdfDynamicsElement(dynamics)));
   }
   return apply(edits);
+}
+
+}  // namespace dynid
+
+namespace dynid {
+
+std::string urdfWithFixedBody(const std::string& urdf_text, const std::string& file,
+                              const std::string& parent_link, const std::string& name,
+                              const Pose<double>& origin, const RigidInertia<double>& body) {
+  const auto violations = checkPhysicalConsistency(body, 0, name);
+  if (!violations.empty() || !(body.mass > 0.0))
+    throw InputError("the body '" + name + "' is not physically consistent" +
+                     (violations.empty() ? std::string(" (mass <= 0)")
+                                         : " (" + violations.front().condition + ": " +
+                                               violations.front().detail + ")") +
+                     ": a URDF cannot hold it");
+  const std::vector<Element> elements = Scanner(urdf_text, file).scan();
+  std::set<std::string> links, joints;
+  int root = -1;
+  for (int k = 0; k < static_cast<int>(elements.size()); ++k) {
+    if (elements[k].depth == 0 && elements[k].tag == "robot") root = k;
+    if (elements[k].depth != 1) continue;
+    if (elements[k].tag == "link") links.insert(elements[k].name);
+    if (elements[k].tag == "joint") joints.insert(elements[k].name);
+  }
+  if (root < 0 || elements[root].self_closing)
+    throw ParseError(file, 0, "robot", "no <robot> element to add the body to");
+  if (!links.count(parent_link))
+    throw ParseError(file, 0, "link '" + parent_link + "'", "is not in the file");
+  // Names not taken yet: name, name_2, ...
+  std::string link = name, joint = name + "_joint";
+  for (int suffix = 2; links.count(link) || joints.count(joint); ++suffix) {
+    link = name + "_" + std::to_string(suffix);
+    joint = link + "_joint";
+  }
+  const Eigen::Vector3d rpy = rpyFromRotation(origin.rotation);
+  const std::string indent = indentAt(urdf_text, elements[root].inner_end) + "  ";
+  std::ostringstream xml;
+  xml << indent << "<!-- added by dynid payload: the identified payload -->\n"
+      << indent << "<link name=\"" << escapeXml(link) << "\">\n"
+      << indent << "  " << inertialXml(body, indent + "  ", "  ") << "\n"
+      << indent << "</link>\n"
+      << indent << "<joint name=\"" << escapeXml(joint) << "\" type=\"fixed\">\n"
+      << indent << "  <parent link=\"" << escapeXml(parent_link) << "\"/>\n"
+      << indent << "  <child link=\"" << escapeXml(link) << "\"/>\n"
+      << indent << "  <origin xyz=\"" << formatNumber(origin.translation.x()) << " "
+      << formatNumber(origin.translation.y()) << " " << formatNumber(origin.translation.z())
+      << "\" rpy=\"" << formatNumber(rpy.x()) << " " << formatNumber(rpy.y()) << " "
+      << formatNumber(rpy.z()) << "\"/>\n"
+      << indent << "</joint>\n";
+  std::string out = urdf_text;
+  out.insert(elements[root].inner_end, xml.str());
+  return out;
 }
 
 }  // namespace dynid

@@ -25,4 +25,13 @@ namespace dynid {
 std::string urdfWithParameters(const std::string& urdf_text, const std::string& file,
                                const Model& identified);
 
+/// `urdf_text` (the file `file`) with a rigid body added as a link fixed to `parent_link` at
+/// `origin` (the body's frame in the parent link's frame; its inertial written about its centre
+/// of mass in its own axes), named `name` (or name_2, ... when taken), everything else byte for
+/// byte. The body's frame holds its parameters. Throws InputError for a body that is not
+/// physically consistent, ParseError when the parent link is not in the file.
+std::string urdfWithFixedBody(const std::string& urdf_text, const std::string& file,
+                              const std::string& parent_link, const std::string& name,
+                              const Pose<double>& origin, const RigidInertia<double>& body);
+
 }  // namespace dynid

@@ -103,13 +103,29 @@ PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterL
     throw InputError("the data's factor is " + std::to_string(augmented.rows()) + " x " +
                      std::to_string(augmented.cols()) + ", expected " + std::to_string(b + 1) +
                      " square");
-  PhysicalProblem problem;
-  problem.layout = layout;
   // [R c; 0 rho] of [W1 | tau]: the data term is |R P theta - c|^2 / sigma^2 up to a constant.
   const Eigen::MatrixXd R = augmented.topLeftCorner(b, b).triangularView<Eigen::Upper>();
-  problem.A = R * base.projectionMatrix() / sigma;
-  problem.b = augmented.col(b).head(b) / sigma;
+  PhysicalProblem problem =
+      makePhysicalProblem(layout, R * base.projectionMatrix() / sigma,
+                          augmented.col(b).head(b) / sigma, prior, prior_weight);
   problem.sigma = sigma;
+  return problem;
+}
+
+PhysicalProblem makePhysicalProblem(const ParameterLayout& layout, Eigen::MatrixXd A,
+                                    Eigen::VectorXd b, const Eigen::VectorXd& prior,
+                                    double prior_weight) {
+  checkPriorWeight(prior_weight);
+  const int p = layout.size();
+  if (prior.size() != p || A.cols() != p || A.rows() != b.size())
+    throw InputError("the data term is " + std::to_string(A.rows()) + " x " +
+                     std::to_string(A.cols()) + " with " + std::to_string(b.size()) +
+                     " targets and the prior has " + std::to_string(prior.size()) +
+                     " parameters, for a layout of " + std::to_string(p));
+  PhysicalProblem problem;
+  problem.layout = layout;
+  problem.A = std::move(A);
+  problem.b = std::move(b);
   problem.prior_weight = prior_weight;
   // The prior: each link moved well inside the physical set; its pseudo-inertia's inverse.
   const int per = layout.perLink();
@@ -313,6 +329,25 @@ PathOutcome barrierPath(const PhysicalProblem& problem, const PhysicalOptions& o
 }
 
 }  // namespace
+
+PhysicalSolution solvePhysicalProblem(const PhysicalProblem& problem, Eigen::VectorXd start,
+                                      const PhysicalOptions& options) {
+  if (start.size() != problem.layout.size())
+    throw InputError("the start has " + std::to_string(start.size()) + " parameters, expected " +
+                     std::to_string(problem.layout.size()));
+  if (!std::isfinite(problem.cost(start)))
+    throw InputError("the start is not inside the physical set");
+  PhysicalSolution out;
+  out.theta = std::move(start);
+  const PathOutcome path = barrierPath(problem, options, out.theta, out.cost_history);
+  out.converged = path.converged;
+  out.iterations = path.iterations;
+  out.termination = std::string(path.converged ? "CONVERGENCE: " : "NO_CONVERGENCE: ") +
+                    (path.why.empty() ? "Maximum number of iterations reached (" +
+                                            std::to_string(options.max_iterations) + ")"
+                                      : path.why);
+  return out;
+}
 
 PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
                                               const ParameterLayout& layout,

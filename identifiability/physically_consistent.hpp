@@ -67,6 +67,13 @@ struct PhysicalProblem {
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const ParameterLayout& layout,
                                     const Eigen::MatrixXd& augmented, const Eigen::VectorXd& prior,
                                     double prior_weight, double sigma);
+/// The problem from a data term already in standard coordinates: |A theta - b|^2 / 2, A and b
+/// whitened (sigma 1), e.g. one body's block when the rest of the robot is known
+/// (identifiability/payload.hpp). Throws InputError on size mismatches or prior_weight <= 0,
+/// NumericalError when the prior has a link with no positive definite pseudo-inertia.
+PhysicalProblem makePhysicalProblem(const ParameterLayout& layout, Eigen::MatrixXd A,
+                                    Eigen::VectorXd b, const Eigen::VectorXd& prior,
+                                    double prior_weight);
 /// The same from an observation (its rows streamed into a LeastSquaresStream).
 PhysicalProblem makePhysicalProblem(const BaseParameters& base, const Observation& observation,
                                     const Eigen::VectorXd& prior, double prior_weight,
@@ -87,6 +94,20 @@ struct PhysicalEstimate {
   bool usable = false;      // finite and physically consistent
   int iterations = 0;
 };
+
+/// A problem's minimiser from an interior start (every link's pseudo-inertia positive definite,
+/// every positive drive term > 0): Newton's method along the barrier path, as the estimator runs
+/// it.
+struct PhysicalSolution {
+  Eigen::VectorXd theta;
+  bool converged = false;
+  std::string termination;  // "CONVERGENCE: ..." or "NO_CONVERGENCE: ..."
+  int iterations = 0;
+  std::vector<double> cost_history;
+};
+/// Throws InputError when the start has the wrong size or is not inside the physical set.
+PhysicalSolution solvePhysicalProblem(const PhysicalProblem& problem, Eigen::VectorXd start,
+                                      const PhysicalOptions& options = {});
 
 /// The physically consistent estimate from every sample in `stream` (of the model whose parameter
 /// layout is `layout`): its OLS estimate, factor and per-joint residuals are all it takes, so the

@@ -32,6 +32,9 @@ inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
+inline constexpr DocumentType kPayloadDocument{"dynid.payload", 1};         // dynid payload
+// A payload body alone (payload --format json): what --prior reads back.
+inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 

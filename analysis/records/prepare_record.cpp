@@ -45,6 +45,12 @@ std::optional<PrepareRecord> prepareRecordFrom(const json& p) {
     r.trimmed_each_end = numberOrNan(p.at("trimmed_each_end"));
     r.decimate = p.at("decimate").get<int>();
     for (const json& x : p.at("tau_noise_rms")) r.tau_noise_rms.push_back(numberOrNan(x));
+    if (p.contains("source") && p["source"].is_object() &&
+        p["source"].contains("current_to_torque")) {
+      const json& c = p["source"]["current_to_torque"];
+      for (const json& x : c.at("torque_constants")) r.torque_constants.push_back(numberOrNan(x));
+      for (const json& x : c.at("gear_ratios")) r.gear_ratios.push_back(numberOrNan(x));
+    }
     return r;
   } catch (const json::exception&) {
     return std::nullopt;

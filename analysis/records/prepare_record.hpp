@@ -27,6 +27,9 @@ struct PrepareRecord {
   double trimmed_each_end = 0.0;             // [s]; NaN when null
   int decimate = 1;
   std::vector<double> tau_noise_rms;  // per joint [N m]; NaN where null
+  /// With motor currents (prepare --torque-constants): the constants and gear ratios used, per
+  /// joint; empty when the log gave torques.
+  std::vector<double> torque_constants, gear_ratios;
 };
 
 /// The record in a prepare.json document; std::nullopt when it is not one (another kind or

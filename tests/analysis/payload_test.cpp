@@ -1,0 +1,321 @@
+#include "analysis/payload.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include <Eigen/LU>
+
+#include "core/errors.hpp"
+#include "core/rnea.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/panda.hpp"
+#include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+/// A 1.2 kg tool, centre of mass off every axis, asymmetric inertia with products (attachment
+/// frame).
+Vector10d toolBody() {
+  PrincipalBody body;
+  body.mass = 1.2;
+  body.com = Eigen::Vector3d(0.03, -0.02, 0.08);
+  body.moments = Eigen::Vector3d(4e-3, 6e-3, 3e-3);
+  body.axes = rotationFromKukaAbc(Eigen::Vector3d(0.3, -0.2, 0.4));
+  return standardFromPrincipal(body);
+}
+
+/// The arm carrying `body` (given in `tool`, a frame of link `link`).
+Model withPayload(const Model& arm, int link, const Pose<double>& tool, const Vector10d& body) {
+  Model out = arm;
+  RigidInertia<double> inertia = arm.inertias()[link];
+  inertia += fromStandardVector(body).transformedBy(tool);
+  out.setLinkInertia(link, inertia);
+  return out;
+}
+
+/// Three harmonics per joint about the middle of its range, every joint moving (the wrist most
+/// when `wrist`), sampled at `rate` for `seconds`; `still` joints do not move.
+Trajectory motion(const Model& model, double seconds, double rate, std::vector<int> still = {}) {
+  const int n = model.numJoints(), samples = static_cast<int>(seconds * rate) + 1;
+  Trajectory t;
+  t.resize(n, samples);
+  for (int k = 0; k < samples; ++k) t.time[k] = k / rate;
+  for (int j = 0; j < n; ++j) {
+    if (std::find(still.begin(), still.end(), j) != still.end()) {
+      t.q.row(j).setConstant(0.3);
+      continue;
+    }
+    const double w = 2.0 * M_PI * (0.11 + 0.037 * j);
+    for (int h = 1; h <= 3; ++h) {
+      const double a = 0.5 / h, phase = 0.7 * j + h;
+      for (int k = 0; k < samples; ++k) {
+        const double x = h * w * t.time[k] + phase;
+        t.q(j, k) += a * std::sin(x);
+        t.dq(j, k) += a * h * w * std::cos(x);
+        t.ddq(j, k) -= a * h * w * h * w * std::sin(x);
+      }
+    }
+  }
+  return t;
+}
+
+/// `motion` with the torques of `model`, each joint's divided by gain[j] (current sensing with
+/// wrong constants) plus white noise of `noise` [N m].
+std::string logOf(const Model& model, Trajectory t, const std::string& name, double noise = 0.0,
+                  std::uint64_t seed = 1, Eigen::VectorXd gain = {}) {
+  Data data(model);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, noise > 0.0 ? noise : 1.0);
+  if (gain.size() == 0) gain = Eigen::VectorXd::Ones(model.numJoints());
+  for (int k = 0; k < t.numSamples(); ++k) {
+    t.tau.col(k) = rnea(model, data, t.q.col(k), t.dq.col(k), t.ddq.col(k));
+    t.tau.col(k).array() /= gain.array();
+    if (noise > 0.0)
+      for (int j = 0; j < model.numJoints(); ++j) t.tau(j, k) += normal(rng);
+  }
+  const std::string path = test::tempPath(name);
+  writeDatasetCsv(path, t);
+  return path;
+}
+
+Pose<double> flange() {
+  Pose<double> p;
+  p.translation = Eigen::Vector3d(0.0, 0.0, 0.05);
+  p.rotation = rotationFromRpy(0.0, 0.0, M_PI / 4);
+  return p;
+}
+
+TEST(Payload, NoiseFreeTorquesGiveThePayloadInItsOwnFrame) {
+  const Model arm = makePuma560(false);
+  const Trajectory t = motion(arm, 10.0, 200.0);
+  PayloadRequest request;
+  request.arm = arm;
+  request.tool = flange();
+  request.data_file = logOf(withPayload(arm, 5, request.tool, toolBody()), t, "payload_exact.csv");
+  const PayloadOutcome out = payloadRun(request);
+  // Exact data: the least-squares body is the truth to round-off of the CSV's 17 digits and the
+  // QR (1e-9 relative), and the consistent one equals it (the truth is well inside).
+  EXPECT_LT((out.least_squares - toolBody()).norm(), 1e-8 * toolBody().norm());
+  EXPECT_LT((out.standard - toolBody()).norm(), 1e-6 * toolBody().norm());
+  EXPECT_NEAR(out.mass, 1.2, 1e-8);
+  EXPECT_LT((out.com - Eigen::Vector3d(0.03, -0.02, 0.08)).norm(), 1e-8);
+  EXPECT_TRUE(out.unseen.empty());
+  EXPECT_EQ(out.mode, "single");
+  EXPECT_EQ(out.link_name, arm.link_names[5]);
+  for (const PayloadQuantity& q : out.quantities) EXPECT_TRUE(q.determined) << q.name;
+}
+
+TEST(Payload, IntervalsCoverTheTruthAtTheirLevel) {
+  // 40 noise seeds: the 95 % intervals of the mass and the centre of mass cover the truth in at
+  // least 32 (binomial(40, 0.95) falls below 33 with probability 0.3 %).
+  const Model arm = makePuma560(false);
+  const Trajectory t = motion(arm, 6.0, 200.0);
+  const Model loaded = withPayload(arm, 5, flange(), toolBody());
+  int covered = 0, total = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    PayloadRequest request;
+    request.arm = arm;
+    request.tool = flange();
+    request.data_file = logOf(loaded, t, "payload_noise.csv", 0.2, seed);
+    const PayloadOutcome out = payloadRun(request);
+    const Eigen::Vector4d truth(1.2, 0.03, -0.02, 0.08);
+    for (int k = 0; k < 4; ++k, ++total)
+      covered += std::abs(out.quantities[k].value - truth[k]) <= out.quantities[k].half_width;
+  }
+  EXPECT_GE(covered, 32 * 4);
+  EXPECT_LE(covered, total);
+}
+
+TEST(Payload, TheUnloadedRunCancelsWhatTheArmModelGetsWrong) {
+  const Model truth = makePuma560(false);
+  Model wrong = truth;  // the arm model: link 3's mass 10 % off
+  RigidInertia<double> i3 = truth.inertias()[2];
+  i3.mass *= 1.1;
+  wrong.setLinkInertia(2, i3);
+  const Trajectory t = motion(truth, 10.0, 200.0);
+  // The unloaded run starts 0.25 s later in its log (the pair is aligned by its positions).
+  Trajectory later = motion(truth, 10.25, 200.0);
+  Trajectory shifted = later.samples(0, later.numSamples());
+  {
+    const Trajectory head = motion(truth, 10.0, 200.0);
+    shifted.q.rightCols(head.numSamples()) = head.q;
+    shifted.dq.rightCols(head.numSamples()) = head.dq;
+    shifted.ddq.rightCols(head.numSamples()) = head.ddq;
+    for (int k = 0; k < 50; ++k) {
+      shifted.q.col(k) = head.q.col(0);
+      shifted.dq.col(k).setZero();
+      shifted.ddq.col(k).setZero();
+    }
+  }
+  PayloadRequest request;
+  request.arm = wrong;
+  request.tool = flange();
+  request.data_file = logOf(withPayload(truth, 5, flange(), toolBody()), t, "payload_loaded.csv");
+  const PayloadOutcome single = payloadRun(request);
+  request.unloaded_file = logOf(truth, shifted, "payload_unloaded.csv");
+  const PayloadOutcome difference = payloadRun(request);
+  EXPECT_EQ(difference.mode, "difference");
+  EXPECT_NEAR(difference.shift, 0.25, 1e-9);
+  EXPECT_LT(difference.motion_difference.maxCoeff(), 1e-12);
+  EXPECT_NEAR(difference.mass, 1.2, 1e-6);
+  EXPECT_GT(std::abs(single.mass - 1.2), 100.0 * std::abs(difference.mass - 1.2));
+}
+
+TEST(Payload, DriveGainsFromAKnownMass) {
+  const Model arm = makePuma560(true);  // with its friction: it cancels in the difference
+  const Trajectory t = motion(arm, 10.0, 200.0);
+  Eigen::VectorXd gain(6);
+  gain << 1.05, 0.97, 1.1, 0.92, 1.0, 1.03;  // measured = true / gain
+  PayloadRequest request;
+  request.arm = arm;
+  request.tool = flange();
+  request.known_mass = 1.2;
+  request.data_file =
+      logOf(withPayload(arm, 5, flange(), toolBody()), t, "gain_loaded.csv", 0.0, 1, gain);
+  request.unloaded_file = logOf(arm, t, "gain_unloaded.csv", 0.0, 1, gain);
+  const PayloadOutcome out = payloadRun(request);
+  ASSERT_TRUE(out.gains.has_value());
+  for (int j = 0; j < 6; ++j) {
+    EXPECT_NEAR(out.gains->scale[j], gain[j], 1e-6 * gain[j]) << j;
+    EXPECT_TRUE(out.gains->determined[j]) << j;
+  }
+}
+
+TEST(Payload, AWristThatDoesNotTurnLeavesCombinationsUnseenAndSaysSo) {
+  // Only joint 1 moves (the PUMA's vertical axis): the payload turns about one axis, and most of
+  // its centre of mass and inertia is seen only in combinations.
+  const Model arm = makePuma560(false);
+  const Trajectory t = motion(arm, 10.0, 200.0, {1, 2, 3, 4, 5});
+  PayloadRequest request;
+  request.arm = arm;
+  request.tool = flange();
+  request.data_file =
+      logOf(withPayload(arm, 5, flange(), toolBody()), t, "payload_still.csv", 0.01, 3);
+  const PayloadOutcome out = payloadRun(request);
+  EXPECT_FALSE(out.unseen.empty());
+  bool some_inertia_undetermined = false;
+  for (const PayloadQuantity& q : out.quantities)
+    if (q.group == "principal moments" && !q.determined) some_inertia_undetermined = true;
+  EXPECT_TRUE(some_inertia_undetermined);
+  ASSERT_FALSE(out.advice.empty());
+  EXPECT_NE(out.advice.back().find("rotate the wrist more, joint 4"), std::string::npos)
+      << out.advice.back();
+  // The mass is still determined, and the body consistent.
+  EXPECT_TRUE(out.quantities[0].determined);
+  EXPECT_NEAR(out.mass, 1.2, 0.01);
+  EXPECT_GE(out.principal_moments.minCoeff(), 0.0);
+}
+
+TEST(Payload, FrictionReestimatedWithThePayload) {
+  Model arm = makePuma560(true);
+  Model loaded = withPayload(arm, 5, flange(), toolBody());
+  DriveParameters<double> d = loaded.drives()[1];
+  d[DriveTerm::kViscous] += 0.5;  // the load raises joint 2's viscous friction
+  loaded.setDrive(1, d);
+  const Trajectory t = motion(arm, 10.0, 200.0);
+  PayloadRequest request;
+  request.arm = arm;
+  request.tool = flange();
+  request.refit_friction = true;
+  request.data_file = logOf(loaded, t, "payload_friction.csv");
+  const PayloadOutcome out = payloadRun(request);
+  bool found = false;
+  for (const FrictionChange& c : out.friction)
+    if (c.name == "Fv2") {
+      found = true;
+      EXPECT_NEAR(c.with_payload - c.arm, 0.5, 1e-6);
+    }
+  EXPECT_TRUE(found);
+  EXPECT_LT((out.standard - toolBody()).norm(), 1e-5 * toolBody().norm());
+}
+
+TEST(Payload, RefusesWhatItCannotUse) {
+  const Model arm = makePuma560(false);
+  const Trajectory t = motion(arm, 4.0, 200.0);
+  const std::string loaded = logOf(withPayload(arm, 5, flange(), toolBody()), t, "refuse.csv");
+  PayloadRequest base;
+  base.arm = arm;
+  base.data_file = loaded;
+  {
+    PayloadRequest r = base;
+    r.link = "no_such_link";
+    EXPECT_THROW(payloadRun(r), InputError);
+  }
+  {
+    PayloadRequest r = base;
+    r.known_mass = 0.0;
+    r.unloaded_file = loaded;
+    EXPECT_THROW(payloadRun(r), InputError);
+  }
+  {
+    PayloadRequest r = base;  // a log of a 7-joint robot
+    r.data_file = logOf(makePanda(false), motion(makePanda(false), 2.0, 100.0), "refuse_panda.csv");
+    EXPECT_THROW(payloadRun(r), Error);
+  }
+  {
+    PayloadRequest r = base;  // the torques in mN m
+    Trajectory scaled = t;
+    r.data_file = logOf(withPayload(arm, 5, flange(), toolBody()), t, "refuse_units.csv", 0.01);
+    const Trajectory read = readDatasetCsv(r.data_file, 6);
+    scaled.tau = read.tau * 1000.0;
+    r.data_file = test::tempPath("refuse_units_mnm.csv");
+    writeDatasetCsv(r.data_file, scaled);
+    EXPECT_THROW(payloadRun(r), InputError);
+  }
+  {
+    PayloadRequest r = base;  // a heavier robot of the same joints: said, not silently fitted
+    Model other = makePuma560(false);
+    for (int i = 0; i < 6; ++i) {
+      RigidInertia<double> inertia = other.inertias()[i];
+      inertia.mass *= 4.0;
+      inertia.first_moment *= 4.0;
+      inertia.inertia *= 4.0;
+      other.setLinkInertia(i, inertia);
+    }
+    r.data_file = logOf(other, t, "refuse_other.csv", 0.01);
+    const PayloadOutcome out = payloadRun(r);
+    ASSERT_FALSE(out.warnings.empty());
+    EXPECT_NE(out.warnings[0].find("more than half the arm"), std::string::npos) << out.warnings[0];
+  }
+  {
+    PayloadRequest r = base;  // a pair whose motions differ
+    Trajectory other = motion(arm, 4.0, 200.0);
+    other.q *= 1.5;
+    other.dq *= 1.5;
+    other.ddq *= 1.5;
+    r.unloaded_file = logOf(arm, other, "refuse_pair.csv");
+    try {
+      payloadRun(r);
+      ADD_FAILURE() << "a pair of different motions was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("same commanded motion"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(Payload, PrincipalBodyAndTheVendorsAnglesRoundTrip) {
+  const Vector10d body = toolBody();
+  const PrincipalBody p = principalBody(body);
+  EXPECT_LT((standardFromPrincipal(p) - body).norm(), 1e-14 * body.norm());
+  EXPECT_NEAR(p.axes.determinant(), 1.0, 1e-12);
+  EXPECT_LT((rotationFromKukaAbc(kukaAbc(p.axes)) - p.axes).norm(), 1e-12);
+  EXPECT_LT((rotationFromAbbQuaternion(abbQuaternion(p.axes)) - p.axes).norm(), 1e-12);
+  // Hand-computed: a 90 degree turn about z is A = 90, B = C = 0, and q = (cos 45, 0, 0, sin 45).
+  const Eigen::Matrix3d rz = rotationFromRpy(0.0, 0.0, M_PI / 2);
+  EXPECT_LT((kukaAbc(rz) - Eigen::Vector3d(M_PI / 2, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((abbQuaternion(rz) - Eigen::Vector4d(std::sqrt(0.5), 0, 0, std::sqrt(0.5))).norm(),
+            1e-12);
+  // Axis-aligned inertia keeps the identity (the nearest of the 24 orderings).
+  Vector10d aligned = Vector10d::Zero();
+  aligned << 2.0, 0, 0, 0, 0.3, 0, 0, 0.1, 0, 0.2;
+  const PrincipalBody a = principalBody(aligned);
+  EXPECT_LT((a.axes - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  EXPECT_LT((a.moments - Eigen::Vector3d(0.3, 0.1, 0.2)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace dynid
