@@ -1,5 +1,6 @@
 // dynid excite: design the motion that makes every base parameter visible
 // (analysis/excitation/excite.hpp).
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -16,6 +17,10 @@ void addExciteOptions(po::options_description& options) {
   const ExciteRequest d;  // every default is the request's own
   const LimitOverrides limits;
   options.add_options()(
+      "payload", po::bool_switch(),
+      "a payload motion (<= 20 s, default 15 s): determine the last link's 10 parameters, the arm "
+      "known (dynid payload)")("payload-link", po::value<std::string>(),
+                               "--payload for this link instead of the last")(
       "criterion", po::value<std::string>()->default_value("cond"),
       "what to minimise: cond (unit-column condition number of the base regressor), "
       "cond-unscaled (in SI units), d-optimal (-log det of the information per row), gc (the "
@@ -84,6 +89,21 @@ int runExcite(const std::vector<std::string>& args) {
   request.structural = structuralOptions(vm);
   request.robot = loadRobotFromOptions(vm);
   const int n = request.robot.numJoints();
+  if (vm["payload"].as<bool>() || vm.count("payload-link")) {
+    request.payload_link = n - 1;
+    if (vm.count("payload-link")) {
+      const std::string link = vm["payload-link"].as<std::string>();
+      const auto at =
+          std::find(request.robot.link_names.begin(), request.robot.link_names.end(), link);
+      if (at == request.robot.link_names.end())
+        throw UsageError("--payload-link: '" + link + "' is not a moving link of the robot");
+      request.payload_link = static_cast<int>(at - request.robot.link_names.begin());
+    }
+    if (!given(vm, "period")) request.period = 15.0;
+    // The payload's information (D-optimality): the condition number alone buys a round
+    // information matrix with less of it (docs/PAYLOAD.md, "A payload motion").
+    if (!given(vm, "criterion")) request.criterion = ExcitationCriterion::kDOptimal;
+  }
   request.offset = optionalJointVector(vm, "offset", n, true);
   LimitOverrides overrides;
   overrides.q_min = optionalJointVector(vm, "q-min", n, true);

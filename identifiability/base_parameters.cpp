@@ -129,6 +129,45 @@ BaseParameters structuralBaseParameters(const Model& model, const StructuralOpti
                                defaultPreference(layout.num_links, layout.perLink()));
 }
 
+BaseParameters blockBaseParameters(const Model& model, const std::vector<int>& block,
+                                   const StructuralOptions& options) {
+  options.check();
+  if (model.numJoints() == 0) throw InputError("model '" + model.name + "' has no joints");
+  const ParameterLayout layout = model.parameterLayout();
+  const std::vector<std::string> names = standardParameterNames(layout);
+  if (block.empty()) throw InputError("the block of parameters is empty");
+  for (int c : block)
+    if (c < 0 || c >= layout.size())
+      throw InputError("parameter index " + std::to_string(c) + " is out of range");
+  const int samples =
+      options.samples > 0 ? options.samples : std::max(100, 5 * layout.size() / model.numJoints());
+  const Eigen::MatrixXd W = observationFromRandomStates(model, samples, options.seed).W;
+  Eigen::MatrixXd w(W.rows(), static_cast<Eigen::Index>(block.size()));
+  std::vector<std::string> block_names;
+  for (std::size_t k = 0; k < block.size(); ++k) {
+    w.col(static_cast<Eigen::Index>(k)) = W.col(block[k]);
+    block_names.push_back(names[block[k]]);
+  }
+  const BaseParameters inner = computeBaseParameters(w, block_names, options.tolerance);
+  BaseParameters out = inner;
+  out.standard_names = names;
+  const auto remap = [&](std::vector<int>& v) {
+    for (int& i : v) i = block[static_cast<std::size_t>(i)];
+  };
+  remap(out.independent);
+  remap(out.dependent);
+  remap(out.zero_columns);
+  const auto spread = [&](const Eigen::VectorXd& v, double rest) {
+    Eigen::VectorXd full = Eigen::VectorXd::Constant(layout.size(), rest);
+    for (std::size_t k = 0; k < block.size(); ++k) full[block[k]] = v[static_cast<Eigen::Index>(k)];
+    return full;
+  };
+  out.r_diagonal = spread(inner.r_diagonal, 0.0);
+  out.significance = spread(inner.significance, 0.0);
+  out.column_norms = spread(inner.column_norms, 1.0);
+  return out;
+}
+
 Eigen::VectorXd baseParameterScale(const Eigen::VectorXd& truth) {
   if (truth.size() == 0) return truth;
   // A true value below 1e-9 of the mean magnitude is a round-off zero (a regrouping such as

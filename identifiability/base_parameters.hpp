@@ -101,6 +101,15 @@ struct StructuralOptions {
 /// or the model has no joints.
 BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options = {});
 
+/// The base parameters of a block of standard parameters (indices into theta) when every other
+/// parameter is known (a payload: one link's 10 when the arm is identified): the structural
+/// analysis of `options` on the block's columns alone, with indices, names and the projection in
+/// the model's full standard order (parameters outside the block are neither independent nor
+/// dependent: nullSpace() and standardFromBase() do not apply). Throws InputError for an empty
+/// block or an index out of range.
+BaseParameters blockBaseParameters(const Model& model, const std::vector<int>& block,
+                                   const StructuralOptions& options = {});
+
 /// The scale s_j of each base parameter's relative error: |truth_j|, or, for a true value of 0
 /// (below 1e-9 of the mean magnitude: round-off), the mean magnitude of the non-zero true values
 /// (as the paper's parameter error, eq. 1); all 1 when every true value is 0.

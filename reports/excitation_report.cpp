@@ -138,6 +138,8 @@ nlohmann::json excitationJson(const Model& model, const ExcitationSettings& sett
              "q_j(t) = offset_j + sum_k a_jk/(w k) sin(w k t) - b_jk/(w k) cos(w k t), "
              "w = 2 pi / period"}}},
           {"criterion", excitationCriterionName(o.criterion)},
+          {"payload_link", o.payload_link ? nlohmann::json(model.link_names[*o.payload_link])
+                                          : nlohmann::json(nullptr)},
           {"limits",
            {{"q_min", vectorJson(l.q_min)},
             {"q_max", vectorJson(l.q_max)},
@@ -256,6 +258,11 @@ DocumentTable limitsTable(const Model& model, const ExciteOutcome& o) {
 Document excitationDocument(const Model& model, const ExcitationSettings& settings,
                             const ExciteOutcome& o, std::vector<std::string>* missing_figures) {
   Document doc("dynid excite: " + model.name);
+  if (o.payload_link)
+    doc.paragraph("A payload motion: the design determines the 10 parameters of a payload on " +
+                  model.link_names[*o.payload_link] +
+                  " (the arm known), for `dynid payload`; the criteria below are of those 10 "
+                  "parameters.");
   doc.paragraph("A periodic Fourier series of " + std::to_string(o.design.harmonics()) +
                 " harmonics per joint over " + formatNumber(o.design.period) +
                 " s, at rest at both ends, optimised for the " +

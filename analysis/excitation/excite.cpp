@@ -439,6 +439,11 @@ void ExciteRequest::check() const {
   requireMemory(period * check_rate * n * 7 * sizeof(double),
                 "the design sampled at the check rate");
   if (offset) checkOffsets(robot, limits, *offset);
+  if (payload_link) {
+    require(*payload_link >= 0 && *payload_link < n,
+            "payload_link " + std::to_string(*payload_link) + " is not a link of the robot");
+    require(period <= 20.0, "a payload motion lasts at most 20 s, not " + formatNumber(period));
+  }
 }
 
 namespace {
@@ -591,7 +596,16 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   out.check_rate = request.check_rate;
   out.grid_rate = request.grid_rate;
   out.seed = request.seed;
-  out.base = structuralBaseParameters(model, request.structural);
+  out.payload_link = request.payload_link;
+  if (request.payload_link) {
+    const ParameterLayout layout = model.parameterLayout();
+    std::vector<int> block;
+    for (int k = 0; k < kLinkParameterCount; ++k)
+      block.push_back(layout.linkIndex(*request.payload_link, k));
+    out.base = blockBaseParameters(model, block, request.structural);
+  } else {
+    out.base = structuralBaseParameters(model, request.structural);
+  }
 
   const Coding coding(limits, request.harmonics, request.period, request.offset);
   const Grid grid(request.period, request.harmonics, grid_points, false);

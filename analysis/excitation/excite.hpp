@@ -60,6 +60,9 @@ struct ExciteRequest {
   int gc_segments = 100;         // the exact GC Jacobian's segments (as `dynid search`)
   double gc_horizon = 0.05;      // ... and horizon [s]
   StructuralOptions structural;  // the base parameters
+  /// A payload motion: the design determines only this link's 10 parameters (a payload attached
+  /// to it, the rest of the arm known; identifiability's blockBaseParameters), within 20 s.
+  std::optional<int> payload_link;
   std::uint64_t seed = 1;
   int threads = 1;  // 0: all cores
   RunControl control;
@@ -80,9 +83,10 @@ struct ExciteOutcome {
   FourierSeries design;
   BaseParameters base;
   ExcitationCriterion criterion = ExcitationCriterion::kConditionUnit;
-  MotionScore score;     // the design, sampled at check_rate
-  MotionScore baseline;  // `dynid simulate`'s default sinusoid over the same duration
-  LimitCheck check;      // the design at check_rate: no violation
+  std::optional<int> payload_link;  // the design is a payload motion for this link
+  MotionScore score;                // the design, sampled at check_rate
+  MotionScore baseline;             // `dynid simulate`'s default sinusoid over the same duration
+  LimitCheck check;                 // the design at check_rate: no violation
   LimitCheck baseline_check;
   /// Unit-column condition numbers, at the model's own parameters, of the GC residuals' exact
   /// Jacobian with respect to the base parameters (segments and horizon of the request, measured
