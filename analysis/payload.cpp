@@ -116,15 +116,18 @@ Eigen::Matrix<double, 13, 1> derived(const Vector10d& p) {
 const std::array<const char*, 13> kDerivedNames = {
     "m", "cx", "cy", "cz", "Ixx_c", "Ixy_c", "Ixz_c", "Iyy_c", "Iyz_c", "Izz_c", "I1", "I2", "I3"};
 
-/// The 95 % half-width below which a quantity counts as determined (docs/PAYLOAD.md): half its
-/// magnitude for the mass and the principal moments; 5 mm for a centre-of-mass coordinate; half
-/// the largest principal moment for an entry of the inertia about the centre of mass.
+/// The share of a value its 95 % half-width may reach for the value to count as determined.
+constexpr double kDeterminedShare = 0.2;
+
+/// The 95 % half-width below which a quantity counts as determined (docs/PAYLOAD.md): 20 % of its
+/// magnitude for the mass and the principal moments; 5 mm for a centre-of-mass coordinate; 20 %
+/// of the largest principal moment for an entry of the inertia about the centre of mass.
 double determinedBound(int k, const Eigen::Matrix<double, 13, 1>& v) {
-  if (k == 0) return 0.5 * std::abs(v[0]);
+  if (k == 0) return kDeterminedShare * std::abs(v[0]);
   if (k <= 3) return 5e-3;
   const double largest = std::max({std::abs(v[10]), std::abs(v[11]), std::abs(v[12])});
-  if (k <= 9) return 0.5 * largest;
-  return 0.5 * std::abs(v[k]);
+  if (k <= 9) return kDeterminedShare * largest;
+  return kDeterminedShare * std::abs(v[k]);
 }
 
 std::string combinationText(const Vector10d& direction, const std::vector<std::string>& names) {
@@ -399,14 +402,15 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   }
   for (int a = 0; a < 3; ++a)
     add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
-        moment_variance[a], 0.5 * std::abs(principal.moments[a]));
-  // The standard parameters on the same rules: mass; m x 5 mm; half the largest diagonal inertia.
+        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
+  // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
+  // inertia.
   const double largest_diagonal =
       std::max({std::abs(out.standard[4]), std::abs(out.standard[7]), std::abs(out.standard[9])});
   for (int k = 0; k < 10; ++k) {
-    const double bound = k == 0   ? 0.5 * std::abs(out.standard[0])
+    const double bound = k == 0   ? kDeterminedShare * std::abs(out.standard[0])
                          : k <= 3 ? 5e-3 * std::abs(out.standard[0])
-                                  : 0.5 * largest_diagonal;
+                                  : kDeterminedShare * largest_diagonal;
     add(names[k],
         k == 0   ? "kg"
         : k <= 3 ? "kg m"
@@ -449,8 +453,8 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
       }
     }
   }
-  out.smallest_mass = 2.0 * kZ95 * std::sqrt(variance[0]);
-  out.smallest_moment = 2.0 * kZ95 * std::sqrt(moment_variance.maxCoeff());
+  out.smallest_mass = kZ95 * std::sqrt(variance[0]) / kDeterminedShare;
+  out.smallest_moment = kZ95 * std::sqrt(moment_variance.maxCoeff()) / kDeterminedShare;
 
   // Advice: the wrist joint that moved least.
   bool inertia_undetermined = false, com_undetermined = false;
@@ -462,7 +466,7 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
     out.advice.push_back("the mass is not determined: the payload (" + formatNumber(out.mass, 3) +
                          " kg) is below what this log resolves (" +
                          formatNumber(out.smallest_mass, 3) +
-                         " kg to +-50 %): record a longer or faster motion, or use a less noisy "
+                         " kg to +-20 %): record a longer or faster motion, or use a less noisy "
                          "torque signal");
   if (com_undetermined || inertia_undetermined || !out.unseen.empty()) {
     int least = std::max(0, n - 3);

@@ -92,8 +92,8 @@ struct PayloadOutcome {
   std::vector<PayloadQuantity> quantities;
   std::vector<std::string> unseen;    // combinations the motion does not excite at all
   std::vector<std::string> combined;  // combinations determined where their parts are not
-  double smallest_mass = 0.0;         // [kg] resolved to +-50 % (95 %)
-  double smallest_moment = 0.0;       // [kg m^2] a principal moment resolved to +-50 % (95 %)
+  double smallest_mass = 0.0;         // [kg] resolved to +-20 % (95 %)
+  double smallest_moment = 0.0;       // [kg m^2] a principal moment resolved to +-20 % (95 %)
   std::vector<std::string> advice;
   bool least_squares_consistent = false, converged = false;
   std::string termination;

@@ -100,6 +100,8 @@ int runExcite(const std::vector<std::string>& args) {
       request.payload_link = static_cast<int>(at - request.robot.link_names.begin());
     }
     if (!given(vm, "period")) request.period = 15.0;
+    if (request.period > 20.0)
+      throw UsageError("--period: a payload motion lasts at most 20 s (--payload)");
     // The payload's information (D-optimality): the condition number alone buys a round
     // information matrix with less of it (docs/PAYLOAD.md, "A payload motion").
     if (!given(vm, "criterion")) request.criterion = ExcitationCriterion::kDOptimal;

@@ -65,6 +65,8 @@ int runPayload(const std::vector<std::string>& args) {
   const std::string dir = vm["out"].as<std::string>();
   checkOutputDirectory(dir);
   refuseUnused(vm, vm.count("payload-mass") > 0, {"payload-com"}, "applies with --payload-mass");
+  refuseUnused(vm, vm.count("unloaded") > 0, {"payload-mass"},
+               "needs --unloaded: drive gains come from a loaded and an unloaded run");
 
   PayloadRequest request;
   std::vector<std::string> chosen;

@@ -38,7 +38,8 @@ std::string numbers(std::initializer_list<double> values, const char* separator 
 }
 
 /// A number as a controller takes it: 7 significant digits (their fields are single precision).
-std::string vendorNumber(double v) { return formatNumber(v, 7); }
+/// Below 1e-12 (in kg, m, mm, degrees or kg m^2) a value is round-off: written as 0 (never -0).
+std::string vendorNumber(double v) { return formatNumber(std::abs(v) < 1e-12 ? 0.0 : v, 7); }
 std::string vendorNumbers(std::initializer_list<double> values, const char* separator = ", ") {
   std::string out;
   for (double v : values) out += (out.empty() ? "" : separator) + vendorNumber(v);
@@ -262,8 +263,8 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
   table.caption =
       "Mass, centre of mass and inertia about the centre of mass in the attachment frame's axes "
       "(_c), and the principal moments I1..I3 (axes in payload.json). Determined: the 95 % "
-      "interval's half-width is at most half the value (mass, moments), 5 mm (centre of mass) or "
-      "half the largest principal moment (inertia entries).";
+      "interval's half-width is at most 20 % of the value (mass, moments), 5 mm (centre of mass) "
+      "or 20 % of the largest principal moment (inertia entries).";
   report.table(table);
   DocumentTable standard;
   standard.header = {"parameter", "consistent", "least squares", "± 95 %", "determined"};
@@ -277,7 +278,7 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
 
   report.heading("What this motion determines");
   std::ostringstream ident;
-  ident << "The smallest mass this log resolves to ±50 % (95 %) is "
+  ident << "The smallest mass this log resolves to ±20 % (95 %) is "
         << formatNumber(o.smallest_mass, 3) << " kg; the smallest principal moment, "
         << formatNumber(o.smallest_moment, 3) << " kg m^2.";
   if (o.unseen.empty())

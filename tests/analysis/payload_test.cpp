@@ -12,81 +12,26 @@
 #include "data/dataset_csv.hpp"
 #include "data/panda.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/payload_logs.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
 namespace {
 
-/// A 1.2 kg tool, centre of mass off every axis, asymmetric inertia with products (attachment
-/// frame).
-Vector10d toolBody() {
-  PrincipalBody body;
-  body.mass = 1.2;
-  body.com = Eigen::Vector3d(0.03, -0.02, 0.08);
-  body.moments = Eigen::Vector3d(4e-3, 6e-3, 3e-3);
-  body.axes = rotationFromKukaAbc(Eigen::Vector3d(0.3, -0.2, 0.4));
-  return standardFromPrincipal(body);
-}
+using test::payloadLog;
+using test::payloadMotion;
+using test::toolBody;
+using test::withPayload;
 
-/// The arm carrying `body` (given in `tool`, a frame of link `link`).
-Model withPayload(const Model& arm, int link, const Pose<double>& tool, const Vector10d& body) {
-  Model out = arm;
-  RigidInertia<double> inertia = arm.inertias()[link];
-  inertia += fromStandardVector(body).transformedBy(tool);
-  out.setLinkInertia(link, inertia);
-  return out;
-}
+Pose<double> flange() { return test::pumaFlange(); }
 
-/// Three harmonics per joint about the middle of its range, every joint moving (the wrist most
-/// when `wrist`), sampled at `rate` for `seconds`; `still` joints do not move.
+/// Short names for the helpers of tests/common/payload_logs.hpp.
 Trajectory motion(const Model& model, double seconds, double rate, std::vector<int> still = {}) {
-  const int n = model.numJoints(), samples = static_cast<int>(seconds * rate) + 1;
-  Trajectory t;
-  t.resize(n, samples);
-  for (int k = 0; k < samples; ++k) t.time[k] = k / rate;
-  for (int j = 0; j < n; ++j) {
-    if (std::find(still.begin(), still.end(), j) != still.end()) {
-      t.q.row(j).setConstant(0.3);
-      continue;
-    }
-    const double w = 2.0 * M_PI * (0.11 + 0.037 * j);
-    for (int h = 1; h <= 3; ++h) {
-      const double a = 0.5 / h, phase = 0.7 * j + h;
-      for (int k = 0; k < samples; ++k) {
-        const double x = h * w * t.time[k] + phase;
-        t.q(j, k) += a * std::sin(x);
-        t.dq(j, k) += a * h * w * std::cos(x);
-        t.ddq(j, k) -= a * h * w * h * w * std::sin(x);
-      }
-    }
-  }
-  return t;
+  return payloadMotion(model, seconds, rate, still);
 }
-
-/// `motion` with the torques of `model`, each joint's divided by gain[j] (current sensing with
-/// wrong constants) plus white noise of `noise` [N m].
 std::string logOf(const Model& model, Trajectory t, const std::string& name, double noise = 0.0,
                   std::uint64_t seed = 1, Eigen::VectorXd gain = {}) {
-  Data data(model);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, noise > 0.0 ? noise : 1.0);
-  if (gain.size() == 0) gain = Eigen::VectorXd::Ones(model.numJoints());
-  for (int k = 0; k < t.numSamples(); ++k) {
-    t.tau.col(k) = rnea(model, data, t.q.col(k), t.dq.col(k), t.ddq.col(k));
-    t.tau.col(k).array() /= gain.array();
-    if (noise > 0.0)
-      for (int j = 0; j < model.numJoints(); ++j) t.tau(j, k) += normal(rng);
-  }
-  const std::string path = test::tempPath(name);
-  writeDatasetCsv(path, t);
-  return path;
-}
-
-Pose<double> flange() {
-  Pose<double> p;
-  p.translation = Eigen::Vector3d(0.0, 0.0, 0.05);
-  p.rotation = rotationFromRpy(0.0, 0.0, M_PI / 4);
-  return p;
+  return payloadLog(model, std::move(t), name, noise, seed, std::move(gain));
 }
 
 TEST(Payload, NoiseFreeTorquesGiveThePayloadInItsOwnFrame) {
