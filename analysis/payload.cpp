@@ -118,6 +118,8 @@ const std::array<const char*, 13> kDerivedNames = {
 
 /// The share of a value its 95 % half-width may reach for the value to count as determined.
 constexpr double kDeterminedShare = 0.2;
+/// ... and for a drive gain: 1 % (a torque constant is worth correcting to about that).
+constexpr double kGainShare = 0.01;
 
 /// The 95 % half-width below which a quantity counts as determined (docs/PAYLOAD.md): 20 % of its
 /// magnitude for the mass and the principal moments; 5 mm for a centre-of-mass coordinate; 20 %
@@ -165,7 +167,7 @@ void PayloadRequest::check() const {
     throw InputError("known_com: a known centre of mass needs the known mass");
   if (known_com && !known_com->allFinite())
     throw InputError("known_com: the centre of mass must be finite");
-  if (known_mass && unloaded_file.empty())
+  if (known_mass && unloaded_file.empty() && unloaded == nullptr)
     throw InputError("known_mass: drive gains need the unloaded run of the same motion");
   if (!tool.translation.allFinite() || !tool.rotation.allFinite() ||
       tool.translation.norm() > kMaxModelLength ||
@@ -180,7 +182,8 @@ void PayloadRequest::check() const {
       throw InputError("prior: the prior payload is not physically consistent (" +
                        violations[0].condition + ": " + violations[0].detail + ")");
   }
-  if (data_file.empty()) throw InputError("data_file: a log with the payload attached is needed");
+  if (data_file.empty() && data == nullptr)
+    throw InputError("data_file: a log with the payload attached is needed");
 }
 
 PayloadOutcome payloadRun(const PayloadRequest& request) {
@@ -196,11 +199,14 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   out.data_file = request.data_file;
   out.unloaded_file = request.unloaded_file;
   out.tool = request.tool;
-  out.mode = request.unloaded_file.empty() ? "single" : "difference";
+  out.mode = request.unloaded_file.empty() && request.unloaded == nullptr ? "single" : "difference";
   out.prior_weight = request.prior_weight;
   out.prior_given = request.prior.has_value();
 
-  const Trajectory loaded = readDatasetCsv(request.data_file, n);
+  const Trajectory loaded = request.data ? *request.data : readDatasetCsv(request.data_file, n);
+  if (loaded.numJoints() != n)
+    throw InputError(request.data_file + ": " + std::to_string(loaded.numJoints()) +
+                     " joints, the arm has " + std::to_string(n));
   if (loaded.numSamples() < 2) throw InputError(request.data_file + ": fewer than 2 samples");
   const Eigen::VectorXd theta_arm = arm.standardParameters();
   Data data(arm);
@@ -210,8 +216,12 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   Trajectory unloaded;
   Eigen::MatrixXd unloaded_residual;
   long shift = 0;
-  if (!request.unloaded_file.empty()) {
-    unloaded = readDatasetCsv(request.unloaded_file, n);
+  const bool pair = !request.unloaded_file.empty() || request.unloaded != nullptr;
+  if (pair) {
+    unloaded = request.unloaded ? *request.unloaded : readDatasetCsv(request.unloaded_file, n);
+    if (unloaded.numJoints() != n)
+      throw InputError(request.unloaded_file + ": " + std::to_string(unloaded.numJoints()) +
+                       " joints, the arm has " + std::to_string(n));
     const double dl = medianStep(loaded.time), du = medianStep(unloaded.time);
     if (unloaded.numSamples() < 2 || !(std::abs(dl - du) <= 1e-6 * dl))
       throw InputError(request.unloaded_file + ": sampled every " + formatNumber(du) +
@@ -259,12 +269,12 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   Eigen::MatrixXd arm_torque(n, loaded.numSamples());  // of the samples used, in order
   for (int k = 0; k < loaded.numSamples(); ++k) {
     const long u = k + shift;
-    if (!request.unloaded_file.empty() && (u < 0 || u >= unloaded.numSamples())) continue;
+    if (pair && (u < 0 || u >= unloaded.numSamples())) continue;
     const Eigen::MatrixXd& Y =
         jointTorqueRegressor(arm, data, loaded.q.col(k), loaded.dq.col(k), loaded.ddq.col(k));
     const Eigen::VectorXd model_torque = Y * theta_arm;
     Eigen::VectorXd target = loaded.tau.col(k) - model_torque;
-    if (!request.unloaded_file.empty()) target -= unloaded_residual.col(u);
+    if (pair) target -= unloaded_residual.col(u);
     for (int i = 0; i < f; ++i) extra.col(i) = Y.col(extra_columns[i]);
     rows.add(Y.middleCols(layout.linkIndex(out.link, 0), 10) * to_link, extra, target);
     arm_torque.col(static_cast<Eigen::Index>(used.size())) = model_torque;
@@ -513,7 +523,8 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
     gains.scale_std = g.scale_std;
     gains.iterations = g.iterations;
     for (int j = 0; j < n; ++j)
-      gains.determined.push_back(kZ95 * g.scale_std[j] <= 0.05 * std::abs(g.scale[j]) ? 1 : 0);
+      gains.determined.push_back(kZ95 * g.scale_std[j] <= kGainShare * std::abs(g.scale[j]) ? 1
+                                                                                            : 0);
     const PreparationFound found = findPreparation(request.data_file);
     if (found.record && static_cast<int>(found.record->torque_constants.size()) == n)
       for (int j = 0; j < n; ++j)

@@ -16,6 +16,7 @@
 
 #include "core/model.hpp"
 #include "core/spatial.hpp"
+#include "core/trajectory.hpp"
 #include "identifiability/payload.hpp"
 
 namespace dynid {
@@ -25,7 +26,11 @@ struct PayloadRequest {
   std::string arm_source;  // how the arm was given (an estimate file, a URDF, a robot spec)
   std::string data_file;   // a dataset CSV with the payload attached (dynid prepare's train.csv)
   std::string unloaded_file = "";  // the same commanded motion without it (empty: none)
-  std::string link = "";           // the link it is attached to (empty: the last)
+  /// The same in memory instead of the files (Python's Dataset): not owned; the file names are
+  /// then only what the documents call them.
+  const Trajectory* data = nullptr;
+  const Trajectory* unloaded = nullptr;
+  std::string link = "";                          // the link it is attached to (empty: the last)
   Pose<double> tool = Pose<double>::Identity();   // the attachment frame in the link's frame
   std::optional<Vector10d> prior = std::nullopt;  // in the attachment frame; none: uninformative
   double prior_weight = 1.0;                      // > 0

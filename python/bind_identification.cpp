@@ -5,11 +5,16 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/payload.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/payload_record.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
+#include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
 #include "reports/identification_report.hpp"
+#include "reports/payload_report.hpp"
 
 namespace dynid::python {
 namespace {
@@ -370,6 +375,143 @@ void bindPredict(py::module_& m) {
         "residual statistics of `dynid predict`. Use estimate.model for an estimate.");
 }
 
+Eigen::Vector3d threeArg(const py::handle& value, const char* name) {
+  return vectorArg(value, name, 3);
+}
+
+PayloadOutcome payload(const Model& model, const py::handle& data, const py::handle& unloaded,
+                       const std::string& link, const py::handle& tool_xyz,
+                       const py::handle& tool_rpy, const py::handle& prior, double prior_weight,
+                       bool refit_friction, const py::handle& payload_mass,
+                       const py::handle& payload_com, double max_motion_difference) {
+  PayloadRequest request;
+  request.arm = model;
+  request.arm_source = model.name;
+  const DataArg loaded = dataArg(data, "data", model);
+  request.data_file = loaded.path;
+  request.data = loaded.arrays;
+  if (!unloaded.is_none()) {
+    const DataArg u = dataArg(unloaded, "unloaded", model);
+    request.unloaded_file = u.path;
+    request.unloaded = u.arrays;
+  }
+  request.link = link;
+  if (!tool_xyz.is_none()) request.tool.translation = threeArg(tool_xyz, "tool_xyz");
+  if (!tool_rpy.is_none()) {
+    const Eigen::Vector3d rpy = threeArg(tool_rpy, "tool_rpy");
+    request.tool.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
+  }
+  if (!prior.is_none()) {
+    if (py::isinstance<py::str>(prior) || py::hasattr(prior, "__fspath__")) {
+      const std::string file = pathArg(prior, "prior");
+      request.prior = payloadBodyFrom(parseJson(readFile(file), file), file);
+    } else {
+      request.prior = vectorArg(prior, "prior", 10);
+    }
+  }
+  request.prior_weight = prior_weight;
+  request.refit_friction = refit_friction;
+  if (!payload_mass.is_none()) request.known_mass = payload_mass.cast<double>();
+  if (!payload_com.is_none()) request.known_com = threeArg(payload_com, "payload_com");
+  request.max_motion_difference = max_motion_difference;
+  py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
+  return payloadRun(request);
+}
+
+void bindPayload(py::module_& m) {
+  py::class_<PayloadOutcome>(m, "Payload",
+                             "What dynid payload finds: the payload in the attachment frame.")
+      .def_readonly("mode", &PayloadOutcome::mode, "'single' (one log) or 'difference'")
+      .def_readonly("link", &PayloadOutcome::link_name, "the link it is attached to")
+      .def_readonly("mass", &PayloadOutcome::mass, "[kg]")
+      .def_property_readonly(
+          "com", [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.com)); },
+          "centre of mass in the attachment frame, (3,) [m]")
+      .def_property_readonly(
+          "inertia_com",
+          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.inertia_com)); },
+          "inertia about the centre of mass, attachment axes, (3, 3) [kg m^2]")
+      .def_property_readonly(
+          "principal_moments",
+          [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.principal_moments)); },
+          "(3,) [kg m^2], about principal_axes' columns")
+      .def_property_readonly(
+          "principal_axes",
+          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.principal_axes)); },
+          "(3, 3) rotation whose columns are the principal axes")
+      .def_property_readonly(
+          "standard", [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.standard)); },
+          "the 10 standard parameters m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz (consistent)")
+      .def_property_readonly(
+          "covariance",
+          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.covariance)); },
+          "(10, 10) of the least-squares standard parameters (inf: not seen)")
+      .def_property_readonly(
+          "quantities",
+          [](const PayloadOutcome& o) {
+            py::list out;
+            for (const PayloadQuantity& q : o.quantities) {
+              py::dict d;
+              d["name"] = q.name;
+              d["group"] = q.group;
+              d["unit"] = q.unit;
+              d["value"] = q.value;
+              d["std_dev"] = q.std_dev;
+              d["half_width_95"] = q.half_width;
+              d["determined"] = q.determined;
+              out.append(d);
+            }
+            return out;
+          },
+          "every quantity with its 95 % interval and whether the log determines it")
+      .def_readonly("unseen", &PayloadOutcome::unseen,
+                    "combinations the motion does not excite at all")
+      .def_readonly("combined", &PayloadOutcome::combined,
+                    "combinations determined where their parts are not")
+      .def_readonly("smallest_mass", &PayloadOutcome::smallest_mass,
+                    "the smallest mass this log resolves to +-20 % (95 %) [kg]")
+      .def_readonly("advice", &PayloadOutcome::advice)
+      .def_readonly("warnings", &PayloadOutcome::warnings)
+      .def_property_readonly(
+          "gains",
+          [](const PayloadOutcome& o) -> py::object {
+            if (!o.gains) return py::none();
+            py::dict d;
+            d["scale"] = toNumpy(o.gains->scale);
+            d["scale_std"] = toNumpy(o.gains->scale_std);
+            py::list determined;
+            for (char c : o.gains->determined) determined.append(c != 0);
+            d["determined"] = determined;
+            d["torque_constants"] = o.gains->torque_constants;
+            return d;
+          },
+          "with payload_mass: per joint true / measured torque (multiply the torque constants)")
+      .def(
+          "to_json", [](const PayloadOutcome& o) { return jsonText(payloadJson(o), 2) + "\n"; },
+          "payload.json, as `dynid payload` writes it.")
+      .def(
+          "vendor",
+          [](const PayloadOutcome& o, const std::string& format) {
+            return payloadVendorFile(o, format).second;
+          },
+          py::arg("format"),
+          "The payload in a controller's convention: 'ur', 'franka', 'kuka', 'abb' or 'json' "
+          "(docs/PAYLOAD.md).");
+
+  m.def("payload", &payload, py::arg("model"), py::arg("data"), py::arg("unloaded") = py::none(),
+        py::arg("link") = "", py::arg("tool_xyz") = py::none(), py::arg("tool_rpy") = py::none(),
+        py::arg("prior") = py::none(), py::arg("prior_weight") = PayloadRequest{}.prior_weight,
+        py::arg("refit_friction") = false, py::arg("payload_mass") = py::none(),
+        py::arg("payload_com") = py::none(),
+        py::arg("max_motion_difference") = PayloadRequest{}.max_motion_difference,
+        "What was added at `link` (default: the last) of the identified arm `model`, from `data` "
+        "(a path or Dataset with the payload attached) and optionally `unloaded` (the same "
+        "motion without it: the torque difference is used). `tool_xyz`/`tool_rpy`: the "
+        "attachment frame in the link's frame. `prior`: a payload.json / payload.body.json path "
+        "or 10 standard parameters. With `payload_mass` (and `unloaded`): the drives' torque "
+        "constant scale factors (`gains`). As `dynid payload`.");
+}
+
 }  // namespace
 
 void bindIdentification(py::module_& m) {
@@ -377,6 +519,7 @@ void bindIdentification(py::module_& m) {
   bindIdentifiability(m);
   bindIdentify(m);
   bindPredict(m);
+  bindPayload(m);
 }
 
 }  // namespace dynid::python
