@@ -70,7 +70,7 @@ struct FrictionChange {
 
 struct DriveGains {
   Eigen::VectorXd scale, scale_std;      // true torque / measured torque per joint
-  std::vector<char> determined;          // 95 % half-width <= 5 % of the scale
+  std::vector<char> determined;          // 95 % half-width <= 1 % of the scale
   std::vector<double> torque_constants;  // prepare.json's constants x scale (empty: not recorded)
   int iterations = 0;
 };

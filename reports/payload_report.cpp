@@ -31,12 +31,6 @@ std::string commentSafe(const std::string& text) {
   return out.substr(0, 80);
 }
 
-std::string numbers(std::initializer_list<double> values, const char* separator = ", ") {
-  std::string out;
-  for (double v : values) out += (out.empty() ? "" : separator) + formatNumber(v);
-  return out;
-}
-
 /// A number as a controller takes it: 7 significant digits (their fields are single precision).
 /// Below 1e-12 (in kg, m, mm, degrees or kg m^2) a value is round-off: written as 0 (never -0).
 std::string vendorNumber(double v) { return formatNumber(std::abs(v) < 1e-12 ? 0.0 : v, 7); }
@@ -55,13 +49,6 @@ json matrixJson(const Eigen::Matrix3d& m) {
   json out = json::array();
   for (int r = 0; r < 3; ++r) out.push_back(numbersOrNull(m.row(r).transpose()));
   return out;
-}
-
-const PayloadQuantity& quantity(const PayloadOutcome& o, const std::string& name,
-                                const std::string& group) {
-  for (const PayloadQuantity& q : o.quantities)
-    if (q.name == name && q.group == group) return q;
-  throw Error("no payload quantity " + name);
 }
 
 std::string interval(const PayloadQuantity& q, double scale = 1.0, int digits = 4) {

@@ -26,7 +26,8 @@ inline constexpr DocumentType kRefineDocument{"dynid.refine", 1};
 // prepare.json 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled
 // repeats, current_to_torque.
 inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
-inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 1};
+// excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
+inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
 inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 1};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};

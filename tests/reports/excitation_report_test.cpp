@@ -76,7 +76,7 @@ TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
   };
   EXPECT_THROW(excitationDesignFrom(text, "e.json", 7), ParseError);  // another joint count
   nlohmann::json bad = text;
-  bad["schema_version"] = 2;
+  bad["schema_version"] = 3;  // a later version: refused (1, before payload motions, is read)
   expectRefused(bad, "schema_version");
   bad = text;
   bad["kind"] = "dynid.model";
