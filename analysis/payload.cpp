@@ -358,12 +358,8 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   const std::vector<std::string> names = {"m",   "mx",  "my",  "mz",  "Ixx",
                                           "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
   if (!(out.standard[0] > 0.0)) throw NumericalError("the consistent payload has no mass");
-  const PrincipalBody principal = principalBody(out.standard);
-  out.mass = principal.mass;
-  out.com = principal.com;
-  out.principal_moments = principal.moments;
-  out.principal_axes = principal.axes;
-  out.inertia_com = inertiaAboutCom(fromStandardVector(out.standard));
+  out.setBody(out.standard);
+  const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
   const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
   Eigen::Matrix<double, 13, 1> variance;
   for (int i = 0; i < 13; ++i) {
@@ -554,6 +550,16 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
                                  fromStandardVector(out.standard));
   }
   return out;
+}
+
+void PayloadOutcome::setBody(const Vector10d& body) {
+  const PrincipalBody principal = principalBody(body);
+  standard = body;
+  mass = principal.mass;
+  com = principal.com;
+  principal_moments = principal.moments;
+  principal_axes = principal.axes;
+  inertia_com = inertiaAboutCom(fromStandardVector(body));
 }
 
 PrincipalBody principalBody(const Vector10d& standard) {

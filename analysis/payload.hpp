@@ -94,6 +94,9 @@ struct PayloadOutcome {
   Eigen::Matrix3d inertia_com = Eigen::Matrix3d::Zero();  // about the COM, attachment axes
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
   Eigen::Matrix3d principal_axes = Eigen::Matrix3d::Identity();  // columns, det +1
+  /// Sets `standard` and the body fields derived from it (mass, com, inertia_com, principal
+  /// moments and axes). Throws InputError for a mass <= 0.
+  void setBody(const Vector10d& body);
   std::vector<PayloadQuantity> quantities;
   std::vector<std::string> unseen;    // combinations the motion does not excite at all
   std::vector<std::string> combined;  // combinations determined where their parts are not

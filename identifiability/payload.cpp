@@ -170,7 +170,7 @@ int batchFromResiduals(const Eigen::VectorXd& residuals, int num_joints) {
       ++joints;
     }
     if (joints == 0 || mean / joints < 0.05)
-      return static_cast<int>(std::max<Eigen::Index>(1, 2 * lag - 1));
+      return static_cast<int>(std::clamp<Eigen::Index>(2 * lag - 1, 1, longest));
   }
   return static_cast<int>(longest);
 }
@@ -188,13 +188,22 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
   if (!(out.target_rms.maxCoeff() > 0.0))
     throw InputError("the payload's torques are zero on every joint: nothing to identify");
 
-  // 1. Unweighted fit: the per-joint noise.
+  // 1. The per-joint noise: from the unweighted fit, then again from the weighted one (a noisy
+  // joint's share of the unweighted fit's error would otherwise inflate a quiet joint's noise).
   out.noise = jointNoise(y - X * scaledSolve(X, y), n, d, out.target_rms);
-  // 2. Whitened rows; QR of [extra | body | target].
   Eigen::MatrixXd M(X.rows(), d + 1);
-  M.leftCols(d) = X;
-  M.col(d) = y;
-  for (Eigen::Index r = 0; r < M.rows(); ++r) M.row(r) /= out.noise[r % n];
+  const auto whiten = [&] {
+    M.leftCols(d) = X;
+    M.col(d) = y;
+    for (Eigen::Index r = 0; r < M.rows(); ++r) M.row(r) /= out.noise[r % n];
+  };
+  whiten();
+  {
+    const Eigen::VectorXd x = scaledSolve(M.leftCols(d), M.col(d));
+    out.noise = jointNoise(y - X * x, n, d, out.target_rms);
+  }
+  // 2. Whitened rows; QR of [extra | body | target].
+  whiten();
   const Eigen::MatrixXd aw = M.leftCols(d);
   const Eigen::VectorXd yw = M.col(d);
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);

@@ -17,11 +17,11 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
   const bool first = document.is_object() && document.contains("schema_version") &&
                      document["schema_version"] == 1;
   read.header(document, first ? 1 : kExcitationDocument.schema_version, kExcitationDocument.kind);
-  read.onlyKeys(document, "",
-                {"schema_version", "kind", "robot", "model", "joints", "design", "criterion",
-                 "payload_link", "limits", "base_parameters", "torque_noise", "designed",
-                 "default_sinusoid", "gc_condition_unit", "check", "default_sinusoid_check",
-                 "optimiser"});
+  read.onlyKeys(
+      document, "",
+      {"schema_version", "kind", "robot", "model", "joints", "design", "criterion", "payload_link",
+       "limits", "base_parameters", "torque_noise", "designed", "default_sinusoid",
+       "gc_condition_unit", "check", "default_sinusoid_check", "optimiser"});
   const nlohmann::json& design = read.field(document, "", "design");
   read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
   FourierSeries d;

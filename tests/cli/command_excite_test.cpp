@@ -26,9 +26,10 @@ TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
   EXPECT_TRUE(contains(r.out, "every limit holds at 1000 Hz")) << r.out;
   EXPECT_TRUE(contains(r.out, "note: the model gives no velocity limit")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/excitation.json"));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
   EXPECT_EQ(j["kind"], "dynid.excitation");
   EXPECT_EQ(j["criterion"], "cond");
+  EXPECT_TRUE(j["payload_link"].is_null());
   EXPECT_EQ(j["design"]["a"].size(), 6u);
   EXPECT_EQ(j["design"]["a"][0].size(), 5u);
   EXPECT_EQ(j["base_parameters"].size(), 36u);
@@ -58,6 +59,26 @@ TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
   }
   for (const char* file : {"report.md", "report.html"})
     EXPECT_TRUE(contains(readFile(dir + "/" + file), "default sinusoid")) << file;
+}
+
+TEST(Cli, ExcitePayloadDesignsForTheLastLinksTenParameters) {
+  const std::string dir = test::tempPath("excite_payload");
+  const Result r =
+      run("excite --robot puma560 --payload --segments 10 --starts 1 --evaluations "
+          "200 --check-rate 200 --horizon 0.05 --csv-rate 50 --out " +
+          dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/excitation.json"));
+  EXPECT_EQ(j["payload_link"], "link6");
+  EXPECT_EQ(j["criterion"], "d-optimal");  // the payload's default
+  EXPECT_EQ(j["design"]["period"], 15.0);  // the payload's default
+  // The criteria are of link 6's 10 parameters, all of them seen with the arm known.
+  ASSERT_EQ(j["base_parameters"].size(), 10u);
+  EXPECT_EQ(j["base_parameters"][0], "m6");
+  EXPECT_TRUE(contains(readFile(dir + "/report.md"), "A payload motion")) << r.out;
+  const Result refused = run("excite --robot puma560 --payload-link base --out " + dir + "x");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_TRUE(contains(refused.err, "--payload-link")) << refused.err;
 }
 
 TEST(Cli, ExciteIsTheSameForAnyThreadCount) {

@@ -33,13 +33,7 @@ PayloadOutcome outcomeOf(const PrincipalBody& body) {
   PayloadOutcome o;
   o.robot = "arm";
   o.link_name = "link6";
-  o.standard = standardFromPrincipal(body);
-  const PrincipalBody p = principalBody(o.standard);
-  o.mass = p.mass;
-  o.com = p.com;
-  o.principal_moments = p.moments;
-  o.principal_axes = p.axes;
-  o.inertia_com = inertiaAboutCom(fromStandardVector(o.standard));
+  o.setBody(standardFromPrincipal(body));
   return o;
 }
 
