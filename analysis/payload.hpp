@@ -54,7 +54,8 @@ struct PayloadQuantity {
   std::string name;   // "m", "cx", "Ixx_c", "I1", "mx", ...
   std::string unit;   // "kg", "m", "kg m^2", "kg m"
   std::string group;  // "mass", "centre of mass", "inertia about the centre of mass",
-                      // "principal moments", "standard parameters"
+                      // "principal moments", "standard parameters", "principal axes" (the
+                      // angle from the attachment axis, and the axis's 95 % angle)
   double value = 0.0;
   double std_dev = 0.0;     // inf when the data do not see it
   double half_width = 0.0;  // 1.96 std_dev
@@ -70,7 +71,7 @@ struct FrictionChange {
 
 struct DriveGains {
   Eigen::VectorXd scale, scale_std;      // true torque / measured torque per joint
-  std::vector<char> determined;          // 95 % half-width <= 1 % of the scale
+  std::vector<char> determined;          // 95 % half-width <= 0.5 % of the scale
   std::vector<double> torque_constants;  // prepare.json's constants x scale (empty: not recorded)
   int iterations = 0;
 };

@@ -250,8 +250,9 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
   table.caption =
       "Mass, centre of mass and inertia about the centre of mass in the attachment frame's axes "
       "(_c), and the principal moments I1..I3 (axes in payload.json). Determined: the 95 % "
-      "interval's half-width is at most 20 % of the value (mass, moments), 5 mm (centre of mass) "
-      "or 20 % of the largest principal moment (inertia entries).";
+      "interval's half-width is at most 20 % of the value (mass, moments), 5 mm (centre of mass), "
+      "20 % of the largest principal moment (inertia entries) or 10 degrees (axis1..axis3: each "
+      "principal axis's angle from the attachment axis of its index, and its 95 % angle).";
   report.table(table);
   DocumentTable standard;
   standard.header = {"parameter", "consistent", "least squares", "± 95 %", "determined"};
@@ -303,7 +304,7 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
                                              : formatNumber(o.gains->torque_constants[j], 6)});
     g.caption =
         "Multiply each joint's torque constant by its scale (prepare --torque-constants); a "
-        "joint that is not determined keeps its constant.";
+        "joint whose scale is not determined to ±0.5 % (95 %) keeps its constant.";
     report.table(g);
   }
 
