@@ -21,6 +21,8 @@ void addExciteOptions(po::options_description& options) {
       "a payload motion (<= 20 s, default 15 s): determine the last link's 10 parameters, the arm "
       "known (dynid payload)")("payload-link", po::value<std::string>(),
                                "--payload for this link instead of the last")(
+      "payload-proximal-share",
+      po::value<double>()->default_value(ExciteRequest{}.payload_proximal_share))(
       "criterion", po::value<std::string>()->default_value("cond"),
       "what to minimise: cond (unit-column condition number of the base regressor), "
       "cond-unscaled (in SI units), d-optimal (-log det of the information per row), gc (the "
@@ -89,6 +91,8 @@ int runExcite(const std::vector<std::string>& args) {
   request.structural = structuralOptions(vm);
   request.robot = loadRobotFromOptions(vm);
   const int n = request.robot.numJoints();
+  refuseUnused(vm, vm["payload"].as<bool>() || vm.count("payload-link") > 0,
+               {"payload-proximal-share"}, "applies to --payload");
   if (vm["payload"].as<bool>() || vm.count("payload-link")) {
     request.payload_link = n - 1;
     if (vm.count("payload-link")) {
@@ -100,6 +104,7 @@ int runExcite(const std::vector<std::string>& args) {
       request.payload_link = static_cast<int>(at - request.robot.link_names.begin());
     }
     if (!given(vm, "period")) request.period = 15.0;
+    request.payload_proximal_share = vm["payload-proximal-share"].as<double>();
     if (request.period > 20.0)
       throw UsageError("--period: a payload motion lasts at most 20 s (--payload)");
     // The payload's information (D-optimality): the condition number alone buys a round

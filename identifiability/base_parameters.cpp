@@ -322,8 +322,11 @@ BaseParameters computeBaseParameters(const Eigen::MatrixXd& W,
     W2.col(k) =
         zero ? Eigen::VectorXd::Zero(W.rows()).eval() : (W.col(j) / out.column_norms[j]).eval();
   }
-  const Eigen::MatrixXd K_scaled = Eigen::HouseholderQR<Eigen::MatrixXd>(W1).solve(W2);
   out.K.resize(out.numBase(), out.dependent.size());
+  // Nothing to express (every column independent, as a payload's block): no solve (Eigen's
+  // Householder update of a matrix without columns offsets a null pointer).
+  if (out.dependent.empty() || out.numBase() == 0) return out;
+  const Eigen::MatrixXd K_scaled = Eigen::HouseholderQR<Eigen::MatrixXd>(W1).solve(W2);
   for (int j = 0; j < out.numBase(); ++j)
     for (std::size_t k = 0; k < out.dependent.size(); ++k)
       out.K(j, k) = K_scaled(j, k) * out.column_norms[out.dependent[k]] /

@@ -76,14 +76,36 @@ Eigen::VectorXd jointNoise(const Eigen::VectorXd& residual, int n, int unknowns,
   return (rms * std::sqrt(samples / dof)).cwiseMax(floor);
 }
 
+/// The singular value decomposition of a small square matrix (no QR preconditioner: the matrix is
+/// square, and the preconditioners would triple what this file compiles).
+using SquareSvd = Eigen::JacobiSVD<Eigen::MatrixXd, Eigen::NoQRPreconditioner>;
+
+/// Minimum-norm solution of the square system r x = c: singular values at most `relative` of the
+/// largest count as zero.
+Eigen::VectorXd minimumNorm(const SquareSvd& svd, const Eigen::VectorXd& c, double relative) {
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  const double top = sigma.size() > 0 ? sigma[0] : 0.0;
+  Eigen::VectorXd projected = svd.matrixU().transpose() * c;
+  for (Eigen::Index k = 0; k < sigma.size(); ++k)
+    projected[k] = sigma[k] > relative * top && sigma[k] > 0.0 ? projected[k] / sigma[k] : 0.0;
+  return svd.matrixV() * projected;
+}
+
 /// Minimum-norm least squares in column-scaled coordinates: x = S argmin |A S z - b|, S = diag of
-/// 1 / the column norms (1 for a zero column).
+/// 1 / the column norms (1 for a zero column): the QR of [A S | b] reduces it to the square
+/// triangular system, solved by its singular values (below 1e-12 of the largest: zero).
 Eigen::VectorXd scaledSolve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  const Eigen::Index d = A.cols();
   Eigen::VectorXd s = A.colwise().norm().transpose();
-  for (Eigen::Index k = 0; k < s.size(); ++k) s[k] = s[k] > 0.0 ? 1.0 / s[k] : 1.0;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A * s.asDiagonal());
-  cod.setThreshold(1e-12);
-  return s.asDiagonal() * cod.solve(b);
+  for (Eigen::Index k = 0; k < d; ++k) s[k] = s[k] > 0.0 ? 1.0 / s[k] : 1.0;
+  Eigen::MatrixXd M(std::max(A.rows(), d + 1), d + 1);
+  M.setZero();
+  M.topLeftCorner(A.rows(), d) = A * s.asDiagonal();
+  M.col(d).head(A.rows()) = b;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(M);
+  const Eigen::MatrixXd r = qr.matrixQR().topLeftCorner(d, d).triangularView<Eigen::Upper>();
+  const SquareSvd svd(r, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return s.asDiagonal() * minimumNorm(svd, qr.matrixQR().col(d).head(d), 1e-12);
 }
 
 /// The sandwich covariance H^+ Omega H^+ of a least-squares estimate with whitened Jacobian
@@ -220,7 +242,7 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
   // units; the singular values of the same.
   const Vector10d scale = lengthScale(options.length);
   const Eigen::MatrixXd scaled = r_pp * scale.asDiagonal();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeFullV);
+  const SquareSvd svd(scaled, Eigen::ComputeFullU | Eigen::ComputeFullV);
   out.singular_values = svd.singularValues();
   const double top = std::max(out.singular_values[0], 1e-300);
   std::vector<int> null;
@@ -230,9 +252,7 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
   for (std::size_t i = 0; i < null.size(); ++i)
     out.null_directions.col(static_cast<Eigen::Index>(i)) =
         scale.asDiagonal() * svd.matrixV().col(null[i]);
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(scaled);
-  cod.setThreshold(1e-8);
-  out.least_squares = scale.asDiagonal() * cod.solve(b_p);
+  out.least_squares = scale.asDiagonal() * minimumNorm(svd, b_p, 1e-8);
   const auto extraAt = [&](const Vector10d& body) -> Eigen::VectorXd {
     if (f == 0) return Eigen::VectorXd();
     return r_ff.triangularView<Eigen::Upper>().solve(b_f - r_fp * body);

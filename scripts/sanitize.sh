@@ -14,7 +14,11 @@ cd "$(dirname "$0")/.."
 build=${DYNID_ASAN_BUILD:-build-asan}
 seconds=${DYNID_FUZZ_SECONDS:-15}
 jobs=$(nproc)
-cmake -S . -B "$build" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
+generator=()  # Ninja for a new directory (as scripts/test.sh)
+if [ ! -f "$build/CMakeCache.txt" ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$build/CMakeCache.txt"; then
+  generator=(-G Ninja)
+fi
+cmake -S . -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
   -DCMAKE_CXX_FLAGS="-O1 -g1 -DEIGEN_NO_DEBUG" -DDYNID_SANITIZE=ON -DDYNID_FUZZ=ON -DDYNID_FUZZ_SECONDS="$seconds" \
   -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=OFF
 cmake --build "$build" -j"$jobs"

@@ -63,6 +63,11 @@ struct ExciteRequest {
   /// A payload motion: the design determines only this link's 10 parameters (a payload attached
   /// to it, the rest of the arm known; identifiability's blockBaseParameters), within 20 s.
   std::optional<int> payload_link;
+  /// In a payload motion, the share of their range (about its middle, or the fixed offset) that
+  /// the joints before the wrist (all but the last three) may use: below 1 the motion is mainly
+  /// the wrist's (a cell with little room), at some cost in what it determines
+  /// (docs/PAYLOAD.md); 1: their whole range.
+  double payload_proximal_share = 1.0;
   std::uint64_t seed = 1;
   int threads = 1;  // 0: all cores
   RunControl control;

@@ -65,7 +65,7 @@ TEST(Cli, ExcitePayloadDesignsForTheLastLinksTenParameters) {
   const std::string dir = test::tempPath("excite_payload");
   const Result r =
       run("excite --robot puma560 --payload --segments 10 --starts 1 --evaluations "
-          "200 --check-rate 200 --horizon 0.05 --csv-rate 50 --out " +
+          "200 --check-rate 200 --horizon 0.05 --csv-rate 50 --payload-proximal-share 0.3 --out " +
           dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(readFile(dir + "/excitation.json"));
@@ -76,9 +76,20 @@ TEST(Cli, ExcitePayloadDesignsForTheLastLinksTenParameters) {
   ASSERT_EQ(j["base_parameters"].size(), 10u);
   EXPECT_EQ(j["base_parameters"][0], "m6");
   EXPECT_TRUE(contains(readFile(dir + "/report.md"), "A payload motion")) << r.out;
+  // Mainly the wrist (--payload-proximal-share 0.3): joints 1 to 3 within the middle 30 % of
+  // their range.
+  EXPECT_TRUE(contains(j["limits"]["notes"].dump(), "joints 1 to 3 kept within 30 %"))
+      << j["limits"]["notes"].dump();
+  EXPECT_NEAR(j["limits"]["q_max"][0].get<double>() - j["limits"]["q_min"][0].get<double>(),
+              0.3 * 2 * 2.792526803190927, 1e-12);
+  EXPECT_NEAR(j["limits"]["q_max"][5].get<double>(), 4.642575810304916, 1e-12);  // the wrist's own
   const Result refused = run("excite --robot puma560 --payload-link base --out " + dir + "x");
   EXPECT_EQ(refused.code, 2);
   EXPECT_TRUE(contains(refused.err, "--payload-link")) << refused.err;
+  const Result unused =
+      run("excite --robot puma560 --payload-proximal-share 0.5 --out " + dir + "x");
+  EXPECT_EQ(unused.code, 2);
+  EXPECT_TRUE(contains(unused.err, "--payload")) << unused.err;
 }
 
 TEST(Cli, ExciteIsTheSameForAnyThreadCount) {

@@ -1,8 +1,9 @@
 #include "reports/payload_report.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <regex>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -17,14 +18,23 @@
 namespace dynid {
 namespace {
 
-/// Every number in `text` after `from` (a decimal or exponent form), in order.
+/// Every number in `text` after `from`, in order: each maximal run that strtod reads, starting at
+/// a digit, a sign or a point.
 std::vector<double> numbersIn(const std::string& text, std::size_t from = 0) {
   std::vector<double> out;
-  const std::regex number(R"([-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?)");
-  const std::string rest = text.substr(from);
-  for (auto it = std::sregex_iterator(rest.begin(), rest.end(), number);
-       it != std::sregex_iterator(); ++it)
-    out.push_back(std::stod(it->str()));
+  const char* p = text.c_str() + from;
+  while (*p != '\0') {
+    const bool starts =
+        std::isdigit(static_cast<unsigned char>(*p)) ||
+        ((*p == '-' || *p == '+' || *p == '.') && std::isdigit(static_cast<unsigned char>(p[1])));
+    if (!starts) {
+      ++p;
+      continue;
+    }
+    char* end = nullptr;
+    out.push_back(std::strtod(p, &end));
+    p = end;
+  }
   return out;
 }
 
