@@ -89,6 +89,20 @@ Alignment alignRuns(const Trajectory& loaded, const Trajectory& unloaded) {
   return out;
 }
 
+/// The gradient of f at `at` by central differences (steps of 1e-6 of each parameter's size).
+template <class F>
+Vector10d centralGradient(const Vector10d& at, F f) {
+  Vector10d gradient;
+  for (int k = 0; k < 10; ++k) {
+    const double h = 1e-6 * std::max(std::abs(at[k]), 1e-6 * std::abs(at[0]) + 1e-12);
+    Vector10d up = at, down = at;
+    up[k] += h;
+    down[k] -= h;
+    gradient[k] = (f(up) - f(down)) / (2.0 * h);
+  }
+  return gradient;
+}
+
 /// Variance of a scalar function's linearisation: j^T C j, where an entry of infinite variance
 /// that j touches makes it infinite.
 double propagate(const Matrix10d& c, const Vector10d& j) {
@@ -365,18 +379,10 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
   const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
   Eigen::Matrix<double, 13, 1> variance;
-  for (int i = 0; i < 13; ++i) {
-    Vector10d gradient;
-    for (int k = 0; k < 10; ++k) {
-      const double h =
-          1e-6 * std::max(std::abs(out.standard[k]), 1e-6 * std::abs(out.standard[0]) + 1e-12);
-      Vector10d up = out.standard, down = out.standard;
-      up[k] += h;
-      down[k] -= h;
-      gradient[k] = (derived(up)[i] - derived(down)[i]) / (2.0 * h);
-    }
-    variance[i] = propagate(out.covariance, gradient);
-  }
+  for (int i = 0; i < 13; ++i)
+    variance[i] =
+        propagate(out.covariance,
+                  centralGradient(out.standard, [&](const Vector10d& p) { return derived(p)[i]; }));
   // The principal moments in the order of `principal.moments` (the axes' order).
   Eigen::Vector3d moment_variance;
   {
@@ -440,17 +446,10 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
         angle_variance = std::numeric_limits<double>::infinity();
         break;
       }
-      Vector10d gradient;
-      for (int k = 0; k < 10; ++k) {
-        const double h =
-            1e-6 * std::max(std::abs(out.standard[k]), 1e-6 * std::abs(out.standard[0]) + 1e-12);
-        Vector10d up = out.standard, down = out.standard;
-        up[k] += h;
-        down[k] -= h;
-        const Eigen::Matrix3d d =
-            inertiaAboutCom(fromStandardVector(up)) - inertiaAboutCom(fromStandardVector(down));
-        gradient[k] = principal.axes.col(b).dot(d * principal.axes.col(a)) / (2.0 * h * gap);
-      }
+      const Eigen::Vector3d va = principal.axes.col(a), vb = principal.axes.col(b);
+      const Vector10d gradient = centralGradient(out.standard, [&](const Vector10d& p) {
+        return vb.dot(inertiaAboutCom(fromStandardVector(p)) * va) / gap;
+      });
       angle_variance += propagate(out.covariance, gradient);
     }
     const double value = std::acos(std::clamp(std::abs(principal.axes(a, a)), 0.0, 1.0));
