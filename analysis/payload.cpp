@@ -203,6 +203,203 @@ void PayloadRequest::check() const {
     throw InputError("data_file: a log with the payload attached is needed");
 }
 
+namespace {
+/// The derived quantities with their intervals, the principal axes, what the motion does not
+/// see or sees only together, and the smallest payload resolved.
+void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
+  // Derived quantities and their intervals (delta method on the least-squares covariance).
+  const std::vector<std::string> names = {"m",   "mx",  "my",  "mz",  "Ixx",
+                                          "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+  if (!(out.standard[0] > 0.0)) throw NumericalError("the consistent payload has no mass");
+  out.setBody(out.standard);
+  const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
+  const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
+  Eigen::Matrix<double, 13, 1> variance;
+  for (int i = 0; i < 13; ++i)
+    variance[i] =
+        propagate(out.covariance,
+                  centralGradient(out.standard, [&](const Vector10d& p) { return derived(p)[i]; }));
+  // The principal moments in the order of `principal.moments` (the axes' order).
+  Eigen::Vector3d moment_variance;
+  {
+    const Eigen::Vector3d sorted = value.tail<3>();
+    for (int a = 0; a < 3; ++a) {
+      int nearest = 0;
+      for (int b = 1; b < 3; ++b)
+        if (std::abs(sorted[b] - principal.moments[a]) <
+            std::abs(sorted[nearest] - principal.moments[a]))
+          nearest = b;
+      moment_variance[a] = variance[10 + nearest];
+    }
+  }
+  const auto add = [&](const std::string& name, const std::string& unit, const std::string& group,
+                       double v, double var, double bound) {
+    PayloadQuantity q;
+    q.name = name;
+    q.unit = unit;
+    q.group = group;
+    q.value = v;
+    q.std_dev = std::sqrt(var);
+    q.half_width = kZ95 * q.std_dev;
+    q.determined = std::isfinite(q.half_width) && q.half_width <= bound;
+    out.quantities.push_back(q);
+  };
+  for (int i = 0; i < 10; ++i) {
+    const char* unit = i == 0 ? "kg" : i <= 3 ? "m" : "kg m^2";
+    const char* group = i == 0   ? "mass"
+                        : i <= 3 ? "centre of mass"
+                                 : "inertia about the centre of mass";
+    add(kDerivedNames[i], unit, group, value[i], variance[i], determinedBound(i, value));
+  }
+  for (int a = 0; a < 3; ++a)
+    add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
+        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
+  // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
+  // inertia.
+  const double largest_diagonal =
+      std::max({std::abs(out.standard[4]), std::abs(out.standard[7]), std::abs(out.standard[9])});
+  for (int k = 0; k < 10; ++k) {
+    const double bound = k == 0   ? kDeterminedShare * std::abs(out.standard[0])
+                         : k <= 3 ? 5e-3 * std::abs(out.standard[0])
+                                  : kDeterminedShare * largest_diagonal;
+    add(names[k],
+        k == 0   ? "kg"
+        : k <= 3 ? "kg m"
+                 : "kg m^2",
+        "standard parameters", out.standard[k], out.covariance(k, k), bound);
+  }
+
+  // The principal axes: axis a turns toward axis b by v_b^T dI_c v_a / (lambda_a - lambda_b) to
+  // first order; its 95 % angle is that of the two turns together. The value is the axis's angle
+  // from the attachment frame's axis of the same index.
+  bool axes_determined = true;
+  for (int a = 0; a < 3; ++a) {
+    double angle_variance = 0.0;
+    for (int b = 0; b < 3; ++b) {
+      if (b == a) continue;
+      const double gap = principal.moments[a] - principal.moments[b];
+      if (gap == 0.0) {
+        angle_variance = std::numeric_limits<double>::infinity();
+        break;
+      }
+      const Eigen::Vector3d va = principal.axes.col(a), vb = principal.axes.col(b);
+      const Vector10d gradient = centralGradient(out.standard, [&](const Vector10d& p) {
+        return vb.dot(inertiaAboutCom(fromStandardVector(p)) * va) / gap;
+      });
+      angle_variance += propagate(out.covariance, gradient);
+    }
+    const double value = std::acos(std::clamp(std::abs(principal.axes(a, a)), 0.0, 1.0));
+    add("axis" + std::to_string(a + 1), "rad", "principal axes", value, angle_variance, kAxisAngle);
+    axes_determined = axes_determined && out.quantities.back().determined;
+  }
+  if (!axes_determined)
+    out.warnings.push_back(
+        "the principal axes are not all determined to 10 degrees (two principal moments lie "
+        "within each other's intervals): KUKA's A, B, C and ABB's aom are then one choice among "
+        "those the data allow; the inertia about the centre of mass (UR, Franka) is what the "
+        "data give");
+
+  // What the motion does not see, and what it sees only in combination.
+  for (Eigen::Index c = 0; c < fit.null_directions.cols(); ++c)
+    out.unseen.push_back(combinationText(fit.null_directions.col(c), names));
+  {
+    std::vector<int> loose;
+    for (int k = 0; k < 10; ++k) {
+      const PayloadQuantity& q = out.quantities[13 + k];
+      if (!q.determined && std::isfinite(q.std_dev)) loose.push_back(k);
+    }
+    if (loose.size() >= 2) {
+      const Vector10d scale =
+          (Vector10d() << 1, 0.1, 0.1, 0.1, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01).finished();
+      Eigen::MatrixXd c(loose.size(), loose.size());
+      for (std::size_t a = 0; a < loose.size(); ++a)
+        for (std::size_t b = 0; b < loose.size(); ++b)
+          c(a, b) = out.covariance(loose[a], loose[b]) / (scale[loose[a]] * scale[loose[b]]);
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(c);
+      for (Eigen::Index e = 0; e < eigen.eigenvalues().size(); ++e) {
+        Vector10d direction = Vector10d::Zero();
+        for (std::size_t a = 0; a < loose.size(); ++a)
+          direction[loose[a]] =
+              eigen.eigenvectors()(static_cast<Eigen::Index>(a), e) / scale[loose[a]];
+        const double half = kZ95 * std::sqrt(std::max(eigen.eigenvalues()[e], 0.0));
+        // Determined in combination: the combination's interval is below a tenth of the loosest
+        // part's, and it has at least two parts.
+        const double loosest = kZ95 * std::sqrt(c.diagonal().maxCoeff());
+        int parts = 0;
+        const double top = eigen.eigenvectors().col(e).cwiseAbs().maxCoeff();
+        for (std::size_t a = 0; a < loose.size(); ++a)
+          if (std::abs(eigen.eigenvectors()(static_cast<Eigen::Index>(a), e)) >= 0.1 * top) ++parts;
+        if (parts >= 2 && half <= 0.1 * loosest)
+          out.combined.push_back(combinationText(direction, names));
+      }
+    }
+  }
+  out.smallest_mass = kZ95 * std::sqrt(variance[0]) / kDeterminedShare;
+  out.smallest_moment = kZ95 * std::sqrt(moment_variance.maxCoeff()) / kDeterminedShare;
+}
+
+/// Advice when the mass, centre of mass or inertia is not determined.
+void adviseOnMotion(PayloadOutcome& out, const Trajectory& loaded) {
+  const int n = loaded.numJoints();
+  // Advice: the wrist joint that moved least.
+  bool inertia_undetermined = false, com_undetermined = false;
+  for (const PayloadQuantity& q : out.quantities) {
+    if (q.group == "principal moments" && !q.determined) inertia_undetermined = true;
+    if (q.group == "centre of mass" && !q.determined) com_undetermined = true;
+  }
+  if (!out.quantities[0].determined)
+    out.advice.push_back("the mass is not determined: the payload (" + formatNumber(out.mass, 3) +
+                         " kg) is below what this log resolves (" +
+                         formatNumber(out.smallest_mass, 3) +
+                         " kg to +-20 %): record a longer or faster motion, or use a less noisy "
+                         "torque signal");
+  if (com_undetermined || inertia_undetermined || !out.unseen.empty()) {
+    int least = std::max(0, n - 3);
+    double least_rms = std::numeric_limits<double>::infinity();
+    for (int j = std::max(0, n - 3); j < n; ++j) {
+      const double rms = std::sqrt(loaded.dq.row(j).squaredNorm() / loaded.numSamples());
+      if (rms < least_rms) least_rms = rms, least = j;
+    }
+    out.advice.push_back(
+        std::string(inertia_undetermined ? "the inertia" : "the centre of mass") +
+        " is not determined by this motion: rotate the wrist more, joint " +
+        std::to_string(least + 1) + " above all (RMS speed " + formatNumber(least_rms, 3) +
+        " rad/s in this log), and in several orientations; dynid excite --payload designs such a "
+        "motion");
+  }
+}
+
+/// Drive gains from the known mass: the body rows (the extra columns dropped) fitted with it.
+DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, int f) {
+  const int n = rows.numJoints();
+  DriveGains gains;
+  {
+    PayloadRows body_rows(n, 0);
+    body_rows.reserve(rows.numSamples());
+    const Eigen::MatrixXd design = rows.design();
+    const Eigen::VectorXd target = rows.target();
+    const Eigen::MatrixXd none(n, 0);
+    for (int k = 0; k < rows.numSamples(); ++k)
+      body_rows.add(design.block(static_cast<Eigen::Index>(k) * n, f, n, 10), none,
+                    target.segment(static_cast<Eigen::Index>(k) * n, n));
+    const GainFit g = fitDriveGains(body_rows, *request.known_mass, request.known_com);
+    gains.scale = g.scale;
+    gains.scale_std = g.scale_std;
+    gains.iterations = g.iterations;
+    for (int j = 0; j < n; ++j)
+      gains.determined.push_back(kZ95 * g.scale_std[j] <= kGainShare * std::abs(g.scale[j]) ? 1
+                                                                                            : 0);
+    const PreparationFound found = findPreparation(request.data_file);
+    if (found.record && static_cast<int>(found.record->torque_constants.size()) == n)
+      for (int j = 0; j < n; ++j)
+        gains.torque_constants.push_back(found.record->torque_constants[j] * g.scale[j]);
+  }
+
+  return gains;
+}
+
+}  // namespace
+
 PayloadOutcome payloadRun(const PayloadRequest& request) {
   request.check();
   const Model& arm = request.arm;
@@ -371,162 +568,8 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
           "(--unloaded) cancels them");
   }
 
-  // Derived quantities and their intervals (delta method on the least-squares covariance).
-  const std::vector<std::string> names = {"m",   "mx",  "my",  "mz",  "Ixx",
-                                          "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
-  if (!(out.standard[0] > 0.0)) throw NumericalError("the consistent payload has no mass");
-  out.setBody(out.standard);
-  const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
-  const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
-  Eigen::Matrix<double, 13, 1> variance;
-  for (int i = 0; i < 13; ++i)
-    variance[i] =
-        propagate(out.covariance,
-                  centralGradient(out.standard, [&](const Vector10d& p) { return derived(p)[i]; }));
-  // The principal moments in the order of `principal.moments` (the axes' order).
-  Eigen::Vector3d moment_variance;
-  {
-    const Eigen::Vector3d sorted = value.tail<3>();
-    for (int a = 0; a < 3; ++a) {
-      int nearest = 0;
-      for (int b = 1; b < 3; ++b)
-        if (std::abs(sorted[b] - principal.moments[a]) <
-            std::abs(sorted[nearest] - principal.moments[a]))
-          nearest = b;
-      moment_variance[a] = variance[10 + nearest];
-    }
-  }
-  const auto add = [&](const std::string& name, const std::string& unit, const std::string& group,
-                       double v, double var, double bound) {
-    PayloadQuantity q;
-    q.name = name;
-    q.unit = unit;
-    q.group = group;
-    q.value = v;
-    q.std_dev = std::sqrt(var);
-    q.half_width = kZ95 * q.std_dev;
-    q.determined = std::isfinite(q.half_width) && q.half_width <= bound;
-    out.quantities.push_back(q);
-  };
-  for (int i = 0; i < 10; ++i) {
-    const char* unit = i == 0 ? "kg" : i <= 3 ? "m" : "kg m^2";
-    const char* group = i == 0   ? "mass"
-                        : i <= 3 ? "centre of mass"
-                                 : "inertia about the centre of mass";
-    add(kDerivedNames[i], unit, group, value[i], variance[i], determinedBound(i, value));
-  }
-  for (int a = 0; a < 3; ++a)
-    add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
-        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
-  // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
-  // inertia.
-  const double largest_diagonal =
-      std::max({std::abs(out.standard[4]), std::abs(out.standard[7]), std::abs(out.standard[9])});
-  for (int k = 0; k < 10; ++k) {
-    const double bound = k == 0   ? kDeterminedShare * std::abs(out.standard[0])
-                         : k <= 3 ? 5e-3 * std::abs(out.standard[0])
-                                  : kDeterminedShare * largest_diagonal;
-    add(names[k],
-        k == 0   ? "kg"
-        : k <= 3 ? "kg m"
-                 : "kg m^2",
-        "standard parameters", out.standard[k], out.covariance(k, k), bound);
-  }
-
-  // The principal axes: axis a turns toward axis b by v_b^T dI_c v_a / (lambda_a - lambda_b) to
-  // first order; its 95 % angle is that of the two turns together. The value is the axis's angle
-  // from the attachment frame's axis of the same index.
-  bool axes_determined = true;
-  for (int a = 0; a < 3; ++a) {
-    double angle_variance = 0.0;
-    for (int b = 0; b < 3; ++b) {
-      if (b == a) continue;
-      const double gap = principal.moments[a] - principal.moments[b];
-      if (gap == 0.0) {
-        angle_variance = std::numeric_limits<double>::infinity();
-        break;
-      }
-      const Eigen::Vector3d va = principal.axes.col(a), vb = principal.axes.col(b);
-      const Vector10d gradient = centralGradient(out.standard, [&](const Vector10d& p) {
-        return vb.dot(inertiaAboutCom(fromStandardVector(p)) * va) / gap;
-      });
-      angle_variance += propagate(out.covariance, gradient);
-    }
-    const double value = std::acos(std::clamp(std::abs(principal.axes(a, a)), 0.0, 1.0));
-    add("axis" + std::to_string(a + 1), "rad", "principal axes", value, angle_variance, kAxisAngle);
-    axes_determined = axes_determined && out.quantities.back().determined;
-  }
-  if (!axes_determined)
-    out.warnings.push_back(
-        "the principal axes are not all determined to 10 degrees (two principal moments lie "
-        "within each other's intervals): KUKA's A, B, C and ABB's aom are then one choice among "
-        "those the data allow; the inertia about the centre of mass (UR, Franka) is what the "
-        "data give");
-
-  // What the motion does not see, and what it sees only in combination.
-  for (Eigen::Index c = 0; c < fit.null_directions.cols(); ++c)
-    out.unseen.push_back(combinationText(fit.null_directions.col(c), names));
-  {
-    std::vector<int> loose;
-    for (int k = 0; k < 10; ++k) {
-      const PayloadQuantity& q = out.quantities[13 + k];
-      if (!q.determined && std::isfinite(q.std_dev)) loose.push_back(k);
-    }
-    if (loose.size() >= 2) {
-      const Vector10d scale =
-          (Vector10d() << 1, 0.1, 0.1, 0.1, 0.01, 0.01, 0.01, 0.01, 0.01, 0.01).finished();
-      Eigen::MatrixXd c(loose.size(), loose.size());
-      for (std::size_t a = 0; a < loose.size(); ++a)
-        for (std::size_t b = 0; b < loose.size(); ++b)
-          c(a, b) = out.covariance(loose[a], loose[b]) / (scale[loose[a]] * scale[loose[b]]);
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(c);
-      for (Eigen::Index e = 0; e < eigen.eigenvalues().size(); ++e) {
-        Vector10d direction = Vector10d::Zero();
-        for (std::size_t a = 0; a < loose.size(); ++a)
-          direction[loose[a]] =
-              eigen.eigenvectors()(static_cast<Eigen::Index>(a), e) / scale[loose[a]];
-        const double half = kZ95 * std::sqrt(std::max(eigen.eigenvalues()[e], 0.0));
-        // Determined in combination: the combination's interval is below a tenth of the loosest
-        // part's, and it has at least two parts.
-        const double loosest = kZ95 * std::sqrt(c.diagonal().maxCoeff());
-        int parts = 0;
-        const double top = eigen.eigenvectors().col(e).cwiseAbs().maxCoeff();
-        for (std::size_t a = 0; a < loose.size(); ++a)
-          if (std::abs(eigen.eigenvectors()(static_cast<Eigen::Index>(a), e)) >= 0.1 * top) ++parts;
-        if (parts >= 2 && half <= 0.1 * loosest)
-          out.combined.push_back(combinationText(direction, names));
-      }
-    }
-  }
-  out.smallest_mass = kZ95 * std::sqrt(variance[0]) / kDeterminedShare;
-  out.smallest_moment = kZ95 * std::sqrt(moment_variance.maxCoeff()) / kDeterminedShare;
-
-  // Advice: the wrist joint that moved least.
-  bool inertia_undetermined = false, com_undetermined = false;
-  for (const PayloadQuantity& q : out.quantities) {
-    if (q.group == "principal moments" && !q.determined) inertia_undetermined = true;
-    if (q.group == "centre of mass" && !q.determined) com_undetermined = true;
-  }
-  if (!out.quantities[0].determined)
-    out.advice.push_back("the mass is not determined: the payload (" + formatNumber(out.mass, 3) +
-                         " kg) is below what this log resolves (" +
-                         formatNumber(out.smallest_mass, 3) +
-                         " kg to +-20 %): record a longer or faster motion, or use a less noisy "
-                         "torque signal");
-  if (com_undetermined || inertia_undetermined || !out.unseen.empty()) {
-    int least = std::max(0, n - 3);
-    double least_rms = std::numeric_limits<double>::infinity();
-    for (int j = std::max(0, n - 3); j < n; ++j) {
-      const double rms = std::sqrt(loaded.dq.row(j).squaredNorm() / loaded.numSamples());
-      if (rms < least_rms) least_rms = rms, least = j;
-    }
-    out.advice.push_back(
-        std::string(inertia_undetermined ? "the inertia" : "the centre of mass") +
-        " is not determined by this motion: rotate the wrist more, joint " +
-        std::to_string(least + 1) + " above all (RMS speed " + formatNumber(least_rms, 3) +
-        " rad/s in this log), and in several orientations; dynid excite --payload designs such a "
-        "motion");
-  }
+  describeBody(out, fit);
+  adviseOnMotion(out, loaded);
   if (!out.least_squares_consistent)
     out.warnings.push_back(
         "the least-squares payload is not physically consistent: the consistent estimate is held "
@@ -542,30 +585,7 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
     out.friction.push_back(c);
   }
 
-  // Drive gains from the known mass.
-  if (request.known_mass) {
-    PayloadRows body_rows(n, 0);
-    body_rows.reserve(rows.numSamples());
-    const Eigen::MatrixXd design = rows.design();
-    const Eigen::VectorXd target = rows.target();
-    const Eigen::MatrixXd none(n, 0);
-    for (int k = 0; k < rows.numSamples(); ++k)
-      body_rows.add(design.block(static_cast<Eigen::Index>(k) * n, f, n, 10), none,
-                    target.segment(static_cast<Eigen::Index>(k) * n, n));
-    const GainFit g = fitDriveGains(body_rows, *request.known_mass, request.known_com);
-    DriveGains gains;
-    gains.scale = g.scale;
-    gains.scale_std = g.scale_std;
-    gains.iterations = g.iterations;
-    for (int j = 0; j < n; ++j)
-      gains.determined.push_back(kZ95 * g.scale_std[j] <= kGainShare * std::abs(g.scale[j]) ? 1
-                                                                                            : 0);
-    const PreparationFound found = findPreparation(request.data_file);
-    if (found.record && static_cast<int>(found.record->torque_constants.size()) == n)
-      for (int j = 0; j < n; ++j)
-        gains.torque_constants.push_back(found.record->torque_constants[j] * g.scale[j]);
-    out.gains = gains;
-  }
+  if (request.known_mass) out.gains = driveGains(request, rows, f);
 
   // The figure's samples: the payload's torque, measured and estimated.
   const int keep = std::min(out.samples, 2000);
