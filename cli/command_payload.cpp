@@ -70,18 +70,10 @@ int runPayload(const std::vector<std::string>& args) {
 
   PayloadRequest request;
   std::vector<std::string> chosen;
-  if (vm.count("format"))
-    for (const std::string& item : vm["format"].as<std::vector<std::string>>()) {
-      std::size_t from = 0;
-      while (from <= item.size()) {
-        const std::size_t comma = std::min(item.find(',', from), item.size());
-        const std::string f = item.substr(from, comma - from);
-        if (std::find(payloadFormats().begin(), payloadFormats().end(), f) ==
-            payloadFormats().end())
-          throw UsageError("--format: unknown format '" + f + "' (accepted: " + formats + ")");
-        if (std::find(chosen.begin(), chosen.end(), f) == chosen.end()) chosen.push_back(f);
-        from = comma + 1;
-      }
+  if (vm.count("format")) try {
+      chosen = payloadFormatList(vm["format"].as<std::vector<std::string>>());
+    } catch (const InputError& e) {
+      throw UsageError(std::string("--format: ") + e.what());
     }
   std::optional<DriveTerms> terms;
   if (vm.count("drive-terms"))

@@ -1,5 +1,6 @@
 #include "reports/payload_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -80,6 +81,25 @@ std::string verdict(const PayloadOutcome& o) {
 const std::vector<std::string>& payloadFormats() {
   static const std::vector<std::string> names = {"ur", "franka", "kuka", "abb", "json"};
   return names;
+}
+
+std::vector<std::string> payloadFormatList(const std::vector<std::string>& items) {
+  std::vector<std::string> out;
+  for (const std::string& item : items)
+    for (std::size_t from = 0; from <= item.size();) {
+      const std::size_t comma = std::min(item.find(',', from), item.size());
+      const std::string f = item.substr(from, comma - from);
+      if (std::find(payloadFormats().begin(), payloadFormats().end(), f) ==
+          payloadFormats().end()) {
+        std::string accepted;
+        for (const std::string& a : payloadFormats())
+          accepted += (accepted.empty() ? "" : ", ") + a;
+        throw InputError("unknown payload format '" + f + "' (accepted: " + accepted + ")");
+      }
+      if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+      from = comma + 1;
+    }
+  return out;
 }
 
 json payloadJson(const PayloadOutcome& o) {

@@ -22,6 +22,9 @@ nlohmann::json payloadJson(const PayloadOutcome& outcome);
 
 /// The accepted --format names: ur, franka, kuka, abb, json.
 const std::vector<std::string>& payloadFormats();
+/// The formats named in `items` (each one or several comma-separated), in order, each once.
+/// Throws InputError for an unknown one (naming the accepted ones).
+std::vector<std::string> payloadFormatList(const std::vector<std::string>& items);
 /// The payload in one controller's convention: (file name, content). Throws InputError for an
 /// unknown format (naming the accepted ones).
 std::pair<std::string, std::string> payloadVendorFile(const PayloadOutcome& outcome,
