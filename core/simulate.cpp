@@ -6,6 +6,7 @@
 
 #include "core/aba.hpp"
 #include "core/errors.hpp"
+#include "core/kinematics.hpp"
 #include "core/memory.hpp"
 
 namespace dynid {
@@ -20,16 +21,71 @@ void requireNonNegativeFinite(double x, const char* name) {
   if (!(std::isfinite(x) && x >= 0.0))
     throw InputError(std::string("simulation ") + name + " must be >= 0 and finite");
 }
+void checkDisturbances(const Model& truth, const std::vector<Disturbance>& disturbances) {
+  const int n = truth.numJoints();
+  for (std::size_t k = 0; k < disturbances.size(); ++k) {
+    const Disturbance& d = disturbances[k];
+    const std::string which = "disturbance " + std::to_string(k + 1) + ": ";
+    if (!(std::isfinite(d.start) && d.start >= 0.0 && std::isfinite(d.duration) && d.duration > 0.0))
+      throw InputError(which + "its start must be >= 0 and its duration > 0, both finite");
+    if ((d.joint >= 0) == (d.link >= 0))
+      throw InputError(which + "give either a joint or a link");
+    if (d.joint >= n || d.link >= n)
+      throw InputError(which + "the robot '" + truth.name + "' has " + std::to_string(n) +
+                       (d.joint >= 0 ? " joints" : " links"));
+    if (!std::isfinite(d.torque) || !d.force.allFinite() || !d.moment.allFinite())
+      throw InputError(which + "its torque, force and moment must be finite");
+  }
+}
+
+/// The disturbances' joint torques at time t and state q.
+void externalTorque(const Model& truth, Data& data, const std::vector<Disturbance>& disturbances,
+                    double t, const Eigen::VectorXd& q, Eigen::VectorXd& out) {
+  out.setZero();
+  for (const Disturbance& d : disturbances) {
+    if (t < d.start || t >= d.start + d.duration) continue;
+    if (d.joint >= 0)
+      out[d.joint] += d.torque;
+    else
+      out += wrenchJointTorques(truth, data, q, d.link, d.force, d.moment);
+  }
+}
 }  // namespace
 
+Eigen::VectorXd wrenchJointTorques(const Model& model, Data& data, const Eigen::VectorXd& q,
+                                   int link, const Eigen::Vector3d& force,
+                                   const Eigen::Vector3d& moment) {
+  const int n = model.numJoints();
+  if (link < 0 || link >= n)
+    throw InputError("link " + std::to_string(link) + " is out of range (the robot has " +
+                     std::to_string(n) + ")");
+  forwardKinematics(model, data, q);
+  // The wrench about joint frame `link`'s origin, in its coordinates: n = R^T (M + (p - o) x F).
+  const Pose<double>& joint = data.oMj[link];
+  const Eigen::Vector3d arm = data.oMi[link].translation - joint.translation;
+  for (int i = 0; i < n; ++i) data.f[i].setZero();
+  data.f[link].head<3>() = joint.rotation.transpose() * (moment + cross(arm, force));
+  data.f[link].tail<3>() = joint.rotation.transpose() * force;
+  // tau_k = S_k^T f_k, f_parent += pXi* f_i, up the chain.
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(n);
+  for (int i = link; i >= 0; --i) {
+    tau[i] = projectOnJoint(model, i, data.f[i]);
+    const int parent = model.parents()[i];
+    if (parent >= 0) data.f[parent] += data.liMi[i].actForce(data.f[i]);
+  }
+  return tau;
+}
+
 Trajectory simulate(const Model& truth, TrackingController& controller,
-                    const SimulationOptions& options) {
+                    const SimulationOptions& options, const std::vector<Disturbance>& disturbances,
+                    Eigen::MatrixXd* applied) {
   requirePositiveFinite(options.duration, "duration");
   requirePositiveFinite(options.step, "step");
   requirePositiveFinite(options.record_rate, "record rate");
   requireNonNegativeFinite(options.noise_q, "q noise");
   requireNonNegativeFinite(options.noise_dq, "dq noise");
   requireNonNegativeFinite(options.noise_tau, "tau noise");
+  checkDisturbances(truth, disturbances);
   const int n = truth.numJoints();
   if (controller.numJoints() != n)
     throw InputError("controller has " + std::to_string(controller.numJoints()) +
@@ -53,7 +109,8 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
   Data data(truth);
   Eigen::VectorXd q, dq, ddq_ref;
   evaluateReference(controller.reference(), 0.0, q, dq, ddq_ref);
-  Eigen::VectorXd tau(n);
+  Eigen::VectorXd tau(n), external = Eigen::VectorXd::Zero(n), pushed(n);
+  if (applied) applied->setZero(n, samples);
   for (long k = 0; k < samples; ++k) {
     // Sample k: t = k / rate; record the state, the controller torque and the true acceleration.
     const double t = static_cast<double>(k) * period;
@@ -67,11 +124,22 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
     out.q.col(k) = q;
     out.dq.col(k) = dq;
     out.tau.col(k) = tau;
-    out.ddq.col(k) = aba(truth, data, q, dq, tau);
+    if (!disturbances.empty()) externalTorque(truth, data, disturbances, t, q, external);
+    if (applied) applied->col(k) = external;
+    pushed = tau + external;
+    out.ddq.col(k) = aba(truth, data, q, dq, pushed);
     if (k + 1 == samples) break;
-    // Hold tau over the recording period.
-    for (long s = 0; s < substeps; ++s)
-      integratorStep(options.integrator, truth, data, q, dq, tau, options.step);
+    // Hold tau over the recording period; the disturbances act at every step's start.
+    for (long s = 0; s < substeps; ++s) {
+      if (disturbances.empty()) {
+        integratorStep(options.integrator, truth, data, q, dq, tau, options.step);
+        continue;
+      }
+      externalTorque(truth, data, disturbances,
+                     t + static_cast<double>(s) * options.step, q, external);
+      pushed = tau + external;
+      integratorStep(options.integrator, truth, data, q, dq, pushed, options.step);
+    }
   }
   // Measurement noise on the recorded signals only.
   std::mt19937_64 rng(options.seed);

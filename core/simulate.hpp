@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/controllers.hpp"
 #include "core/integrators.hpp"
@@ -20,6 +21,24 @@ struct SimulationOptions {
   std::uint64_t seed = 1;  // seeds the noise (std::mt19937_64)
 };
 
+/// An external disturbance over [start, start + duration): a torque on one joint, or a wrench on
+/// one link (a force at its frame origin and a moment, both in base-frame coordinates). A short
+/// duration makes an impulse, a long one a step.
+struct Disturbance {
+  double start = 0.0, duration = 0.0;  // [s]
+  int joint = -1;                      // a joint torque [N m] on this joint (0-based), or
+  double torque = 0.0;
+  int link = -1;  // a wrench on this link (0-based body index) [N], [N m]
+  Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
+};
+
+/// The joint torques J^T w of a wrench on link `link` (force at the link frame origin and moment,
+/// base-frame coordinates) at configuration q (n entries). Throws InputError for a link out of
+/// range. Overwrites data.liMi, data.oMj, data.oMi, data.f.
+Eigen::VectorXd wrenchJointTorques(const Model& model, Data& data, const Eigen::VectorXd& q,
+                                   int link, const Eigen::Vector3d& force,
+                                   const Eigen::Vector3d& moment);
+
 /// Simulates `truth` from the controller's reference state at t = 0 for options.duration. Every
 /// 1/record_rate seconds the controller computes a torque, the state, the torque and the exact
 /// acceleration ddq = ABA(q, dq, tau) are recorded, and the torque is held for
@@ -29,7 +48,14 @@ struct SimulationOptions {
 /// record over 1e8 samples, take over 1e9 steps or need more memory than the process may use
 /// (core/memory.hpp), or the controller has a different joint count;
 /// NumericalError when the state becomes non-finite (names the time).
+/// With `disturbances`, each adds its joint torque to the controller's while active (evaluated at
+/// every integration step; the recorded tau stays the controller's, the recorded ddq is the true
+/// one), and `applied`, when given, receives the external joint torque at every sample (n x
+/// samples): the ground truth of a collision detector. InputError also for a disturbance on a
+/// joint or link out of range, or a non-finite or negative time.
 Trajectory simulate(const Model& truth, TrackingController& controller,
-                    const SimulationOptions& options);
+                    const SimulationOptions& options,
+                    const std::vector<Disturbance>& disturbances = {},
+                    Eigen::MatrixXd* applied = nullptr);
 
 }  // namespace dynid

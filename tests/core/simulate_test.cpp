@@ -4,6 +4,7 @@
 
 #include "core/aba.hpp"
 #include "core/errors.hpp"
+#include "core/kinematics.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -34,6 +35,82 @@ TEST(Simulate, RecordsExactAccelerationsAndReplaysFromRecordedTorques) {
     EXPECT_EQ(q, tr.q.col(k + 1));
     EXPECT_EQ(dq, tr.dq.col(k + 1));
   }
+}
+
+// A wrench's joint torques do the same virtual work as the wrench: tau . dq = F . v + M . w, with
+// the link origin's velocity v and the link's angular velocity w by central differences.
+TEST(Simulate, AWrenchsJointTorquesDoItsVirtualWork) {
+  const Model model = test::randomTree(3);
+  Data data(model);
+  std::mt19937_64 rng(3);
+  const int n = model.numJoints();
+  const Eigen::VectorXd q = test::randomVector(rng, n, 1.0), dq = test::randomVector(rng, n, 1.0);
+  const Eigen::Vector3d force(3.0, -2.0, 5.0), moment(0.5, 1.5, -1.0);
+  for (int link = 0; link < n; ++link) {
+    const Eigen::VectorXd tau = wrenchJointTorques(model, data, q, link, force, moment);
+    const double h = 1e-6;
+    forwardKinematics(model, data, Eigen::VectorXd(q + h * dq));
+    const Pose<double> plus = data.oMi[link];
+    forwardKinematics(model, data, Eigen::VectorXd(q - h * dq));
+    const Pose<double> minus = data.oMi[link];
+    const Eigen::Vector3d v = (plus.translation - minus.translation) / (2 * h);
+    const Eigen::Matrix3d dR = (plus.rotation - minus.rotation) / (2 * h);
+    const Eigen::Matrix3d skew = dR * minus.rotation.transpose();  // ~ [w]x
+    const Eigen::Vector3d w(skew(2, 1), skew(0, 2), skew(1, 0));
+    // Central differences of smooth kinematics: O(h^2) truncation, ~1e-10 cancellation per unit.
+    EXPECT_NEAR(tau.dot(dq), force.dot(v) + moment.dot(w), 1e-6) << "link " << link;
+  }
+  EXPECT_THROW(wrenchJointTorques(model, data, q, n, force, moment), InputError);
+}
+
+TEST(Simulate, ADisturbanceMovesTheArmAndIsRecordedAsTheTruth) {
+  const Model model = makePuma560();
+  SimulationOptions options;
+  options.duration = 1.0;
+  TrackingController calm = sinusoidalController(model), pushed = sinusoidalController(model);
+  const Trajectory clean = simulate(model, calm, options);
+  Disturbance push;
+  push.start = 0.4, push.duration = 0.1, push.joint = 2, push.torque = 20.0;
+  Disturbance wrench;
+  wrench.start = 0.7, wrench.duration = 0.05, wrench.link = 5, wrench.force = {0, 0, -30};
+  Eigen::MatrixXd applied;
+  const Trajectory tr = simulate(model, pushed, options, {push, wrench}, &applied);
+  ASSERT_EQ(applied.cols(), tr.numSamples());
+  Data data(model);
+  for (int k = 0; k < tr.numSamples(); ++k) {
+    const double t = tr.time[k];
+    const bool pushing = t >= 0.4 && t < 0.5 - 1e-12, twisting = t >= 0.7 && t < 0.75 - 1e-12;
+    if (k < 400) {
+      // Before the first push the runs are the same, bit for bit.
+      EXPECT_EQ(tr.q.col(k), clean.q.col(k)) << t;
+      EXPECT_EQ(applied.col(k).norm(), 0.0) << t;
+    }
+    if (pushing) {
+      EXPECT_EQ(applied(2, k), 20.0) << t;
+    }
+    if (!pushing && !twisting) {
+      EXPECT_EQ(applied.col(k).norm(), 0.0) << t;
+    }
+    if (twisting) {
+      const Eigen::VectorXd expected =
+          wrenchJointTorques(model, data, tr.q.col(k), 5, Eigen::Vector3d(0, 0, -30), {0, 0, 0});
+      EXPECT_LT((applied.col(k) - expected).norm(), 1e-12) << t;
+    }
+    // The recorded acceleration is the true one, under the controller's torque and the push.
+    const Eigen::VectorXd total = tr.tau.col(k) + applied.col(k);
+    EXPECT_LT((aba(model, data, tr.q.col(k), tr.dq.col(k), total) - tr.ddq.col(k)).norm(), 1e-12);
+  }
+  // The push moved joint 3 off the clean run.
+  EXPECT_GT((tr.q.row(2) - clean.q.row(2)).cwiseAbs().maxCoeff(), 1e-3);
+  Disturbance bad = push;
+  bad.joint = 6;
+  EXPECT_THROW(simulate(model, pushed, options, {bad}), InputError);
+  bad = push;
+  bad.link = 1;  // both a joint and a link
+  EXPECT_THROW(simulate(model, pushed, options, {bad}), InputError);
+  bad = push;
+  bad.duration = 0.0;
+  EXPECT_THROW(simulate(model, pushed, options, {bad}), InputError);
 }
 
 TEST(Simulate, TracksTheReference) {
