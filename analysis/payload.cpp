@@ -689,30 +689,4 @@ Eigen::Matrix3d rotationFromAbbQuaternion(const Eigen::Vector4d& q) {
   return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
 }
 
-LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
-                  const std::optional<DriveTerms>& drive_terms,
-                  std::vector<std::string>* warnings) {
-  LoadedArm out;
-  std::error_code error;
-  if (std::filesystem::path(arm).extension() == ".json" &&
-      std::filesystem::is_regular_file(arm, error)) {
-    const nlohmann::json document = parseJson(readFile(arm), arm);
-    if (document.is_object() && document.contains("kind") && document["kind"].is_string() &&
-        document["kind"].get<std::string>() == kEstimateDocument.kind) {
-      if (drive_terms)
-        throw InputError(arm + ": an estimate carries its own drive terms; drop --drive-terms");
-      out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr);
-      out.from_estimate = true;
-      return out;
-    }
-  }
-  if (!robot_spec.empty())
-    throw InputError("--robot applies to an estimate.json arm; '" + arm + "' is a robot itself");
-  RobotOptions options;
-  options.drive_terms = drive_terms;
-  out.model = loadRobot(arm, options, warnings);
-  out.robot_spec = arm;
-  return out;
-}
-
 }  // namespace dynid

@@ -143,16 +143,5 @@ Eigen::Matrix3d rotationFromKukaAbc(const Eigen::Vector3d& abc);
 Eigen::Vector4d abbQuaternion(const Eigen::Matrix3d& rotation);
 Eigen::Matrix3d rotationFromAbbQuaternion(const Eigen::Vector4d& q);
 
-/// The arm given as an identify estimate.json (its robot loaded, or `robot_spec` when given, with
-/// the estimate's parameters) or as a robot spec (loadRobot with `drive_terms`). Throws as
-/// loadRobot and estimateModel; InputError for --robot or drive terms given where they do not
-/// apply.
-struct LoadedArm {
-  Model model;
-  std::string robot_spec;      // the robot's spec (the estimate's, or `arm` itself)
-  bool from_estimate = false;  // the parameters came from an estimate.json
-};
-LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
-                  const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);
 
 }  // namespace dynid

@@ -141,7 +141,8 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
   TrackingController controller(controller_model, reference, gains, tau_max);
   SimulateOutcome out;
-  out.trajectory = simulate(truth, controller, request.simulation);
+  out.trajectory = simulate(truth, controller, request.simulation, request.disturbances,
+                            request.disturbances.empty() ? nullptr : &out.external);
   // Tracking error RMS and peak torque.
   const Trajectory& t = out.trajectory;
   Eigen::VectorXd q_des, dq_des, ddq_des;
@@ -541,6 +542,32 @@ RefineOutcome refineRun(const RefineRequest& request) {
         heldOutGc(space.modelAt(out.x0), space.modelAt(result.x), request.validate_file,
                   start.segments, out.options.num_threads);
   }
+  return out;
+}
+
+LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
+                  const std::optional<DriveTerms>& drive_terms,
+                  std::vector<std::string>* warnings) {
+  LoadedArm out;
+  std::error_code error;
+  if (std::filesystem::path(arm).extension() == ".json" &&
+      std::filesystem::is_regular_file(arm, error)) {
+    const nlohmann::json document = parseJson(readFile(arm), arm);
+    if (document.is_object() && document.contains("kind") && document["kind"].is_string() &&
+        document["kind"].get<std::string>() == kEstimateDocument.kind) {
+      if (drive_terms)
+        throw InputError(arm + ": an estimate carries its own drive terms; drop --drive-terms");
+      out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr);
+      out.from_estimate = true;
+      return out;
+    }
+  }
+  if (!robot_spec.empty())
+    throw InputError("--robot applies to an estimate.json arm; '" + arm + "' is a robot itself");
+  RobotOptions options;
+  options.drive_terms = drive_terms;
+  out.model = loadRobot(arm, options, warnings);
+  out.robot_spec = arm;
   return out;
 }
 

@@ -73,6 +73,7 @@ struct SimulateRequest {
   std::optional<Eigen::VectorXd> kp, kd, tau_max;   // default gains and effort limits otherwise
   double bandwidth = 5.0;                           // for the default gains [Hz]
   SimulationOptions simulation;
+  std::vector<Disturbance> disturbances;  // external pushes, recorded in SimulateOutcome::external
 
   /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
   /// as dynid simulate's options). simulateRun checks its request first.
@@ -82,6 +83,8 @@ struct SimulateOutcome {
   Trajectory trajectory;
   double tracking_rms = 0.0;  // RMS of q - q_desired over samples and joints [rad]
   double peak_torque = 0.0;   // max |tau| [N m]
+  /// With disturbances: the external joint torque at every sample (n x samples) [N m].
+  Eigen::MatrixXd external;
 };
 /// Simulates the robot under a tracking controller. Throws InputError for a controller model of
 /// another joint count or harmonics < 1, ParseError for a bad `trajectory` file, and what
@@ -209,6 +212,18 @@ Model estimateModel(const std::string& file, const std::string& robot_spec,
 /// estimate, InputError when the estimate does not fit the robot (another robot, another drive
 /// model: the parameter named).
 PredictOutcome predictRun(const PredictRequest& request);
+
+/// The arm given as an identify estimate.json (its robot loaded, or `robot_spec` when given, with
+/// the estimate's parameters) or as a robot spec (loadRobot with `drive_terms`). Throws as
+/// loadRobot and estimateModel; InputError for --robot or drive terms given where they do not
+/// apply.
+struct LoadedArm {
+  Model model;
+  std::string robot_spec;      // the robot's spec (the estimate's, or `arm` itself)
+  bool from_estimate = false;  // the parameters came from an estimate.json
+};
+LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
+                  const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);
 
 // ---- the GC-error searches ----
 

@@ -1,4 +1,6 @@
 // dynid simulate: the robot under a tracking controller, recorded to a dataset CSV.
+#include <charconv>
+#include <cmath>
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -45,7 +47,101 @@ void addSimulateOptions(po::options_description& options) {
       "noise-q", po::value<double>()->default_value(d.simulation.noise_q))(
       "noise-dq", po::value<double>()->default_value(d.simulation.noise_dq))(
       "noise-tau", po::value<double>()->default_value(d.simulation.noise_tau))(
+      "disturbance", po::value<std::vector<std::string>>()->composing(),
+      "an external push (repeatable): joint=J,torque=T,at=S,for=D [N m, s] or "
+      "link=L,force=fx:fy:fz[,moment=mx:my:mz],at=S,for=D [N, N m, base-frame axes, at the link "
+      "frame's origin]; J and L by name or 1-based index; a short `for` makes an impulse")(
+      "truth-out", po::value<std::string>(),
+      "with --disturbance: the applied external joint torques, t,tau_ext1.. (default: OUT with "
+      ".truth.csv for .csv)")(
       "out", po::value<std::string>()->required(), "dataset CSV to write");
+}
+
+/// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
+int namedIndex(const std::string& what, const std::vector<std::string>& names, const char* kind,
+               const std::string& spec) {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == what) return static_cast<int>(i);
+  int number = 0;
+  const auto [end, error] = std::from_chars(what.data(), what.data() + what.size(), number);
+  if (error == std::errc() && end == what.data() + what.size() && number >= 1 &&
+      number <= static_cast<int>(names.size()))
+    return number - 1;
+  throw UsageError(std::string("--disturbance '") + spec + "': no " + kind + " '" + what +
+                   "' (a name or 1.." + std::to_string(names.size()) + ")");
+}
+
+Disturbance parseDisturbance(const std::string& spec, const Model& robot) {
+  Disturbance d;
+  bool at = false, duration = false;
+  const auto number = [&](const std::string& key, const std::string& text) {
+    double x = 0.0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), x);
+    if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
+        !std::isfinite(x))
+      throw UsageError("--disturbance '" + spec + "': " + key + " is not a number: '" + text + "'");
+    return x;
+  };
+  const auto vector3 = [&](const std::string& key, const std::string& text) {
+    Eigen::Vector3d v;
+    std::size_t start = 0;
+    for (int c = 0; c < 3; ++c) {
+      const std::size_t colon = text.find(':', start);
+      if ((c < 2) == (colon == std::string::npos))
+        throw UsageError("--disturbance '" + spec + "': " + key + " takes x:y:z");
+      v[c] = number(key, text.substr(start, colon == std::string::npos ? std::string::npos
+                                                                        : colon - start));
+      start = colon + 1;
+    }
+    return v;
+  };
+  std::vector<std::string> items;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = spec.find(',', start);
+    items.push_back(spec.substr(start, comma == std::string::npos ? comma : comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  for (const std::string& item : items) {
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw UsageError("--disturbance '" + spec + "': expected key=value, not '" + item + "'");
+    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+    if (key == "joint")
+      d.joint = namedIndex(value, robot.joint_names, "joint", spec);
+    else if (key == "link")
+      d.link = namedIndex(value, robot.link_names, "link", spec);
+    else if (key == "torque")
+      d.torque = number(key, value);
+    else if (key == "force")
+      d.force = vector3(key, value);
+    else if (key == "moment")
+      d.moment = vector3(key, value);
+    else if (key == "at")
+      d.start = number(key, value), at = true;
+    else if (key == "for")
+      d.duration = number(key, value), duration = true;
+    else
+      throw UsageError("--disturbance '" + spec + "': unknown key '" + key +
+                       "' (joint, torque, link, force, moment, at, for)");
+  }
+  if ((d.joint >= 0) == (d.link >= 0))
+    throw UsageError("--disturbance '" + spec + "': give joint=... or link=..., one of them");
+  if (!at || !duration)
+    throw UsageError("--disturbance '" + spec + "': give its start at=S and duration for=D [s]");
+  if (d.joint >= 0 && (!d.force.isZero() || !d.moment.isZero()))
+    throw UsageError("--disturbance '" + spec + "': force and moment go with link=, not joint=");
+  if (d.link >= 0 && d.torque != 0.0)
+    throw UsageError("--disturbance '" + spec + "': torque goes with joint=, not link=");
+  return d;
+}
+
+std::string truthPath(const po::variables_map& vm, const std::string& out) {
+  if (vm.count("truth-out")) return vm["truth-out"].as<std::string>();
+  const std::string stem =
+      out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0 ? out.substr(0, out.size() - 4)
+                                                                     : out;
+  return stem + ".truth.csv";
 }
 }  // namespace
 
@@ -99,10 +195,19 @@ int runSimulate(const std::vector<std::string>& args) {
   if (vm.count("controller-robot"))
     request.controller_model = loadOtherRobot(vm, "controller-robot");
   request.controller_perturb = vm["controller-perturb"].as<double>();
+  if (vm.count("disturbance"))
+    for (const std::string& spec : vm["disturbance"].as<std::vector<std::string>>())
+      request.disturbances.push_back(parseDisturbance(spec, request.robot));
+  refuseUnused(vm, !request.disturbances.empty(), {"truth-out"}, "applies with --disturbance");
   const SimulateOutcome outcome = simulateRun(request);
   const std::string out = vm["out"].as<std::string>();
   writeDatasetCsv(out, outcome.trajectory);
   std::cout << simulateSummary(request.robot, outcome, out);
+  if (!request.disturbances.empty()) {
+    const std::string truth = truthPath(vm, out);
+    writeExternalTorqueCsv(truth, outcome.trajectory.time, outcome.external);
+    std::cout << "wrote the applied external torques to " << truth << "\n";
+  }
   return kExitOk;
 }
 

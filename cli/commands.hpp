@@ -21,5 +21,6 @@ int runStudy(const std::vector<std::string>& args);
 int runBatch(const std::vector<std::string>& args);
 int runExcite(const std::vector<std::string>& args);
 int runPayload(const std::vector<std::string>& args);
+int runMonitor(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

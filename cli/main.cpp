@@ -28,6 +28,7 @@ const char* kUsage =
     "  identify                 least-squares (OLS/WLS/physically consistent) base parameters\n"
     "  predict                  a saved estimate's torques on a dataset, errors and a figure\n"
     "  payload                  what was added at the flange of an identified arm; drive gains\n"
+    "  monitor                  watch a log or live samples for external torques (collisions)\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
@@ -74,7 +75,8 @@ int main(int argc, char** argv) {
       {"refine", runRefine},     {"demo", runDemo},
       {"batch", runBatch},       {"prepare", runPrepare},
       {"predict", runPredict},   {"study", runStudy},
-      {"excite", runExcite},     {"payload", runPayload}};
+      {"excite", runExcite},     {"payload", runPayload},
+      {"monitor", runMonitor}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

@@ -119,6 +119,33 @@ void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory) {
   }
 }
 
+void writeExternalTorqueCsv(const std::string& path, const Eigen::VectorXd& time,
+                            const Eigen::MatrixXd& external) {
+  if (external.cols() != time.size())
+    throw InputError("the external torques have " + std::to_string(external.cols()) +
+                     " samples, the time " + std::to_string(time.size()));
+  AtomicWriter out(path);
+  std::string row = "t";
+  for (Eigen::Index j = 1; j <= external.rows(); ++j) row += ",tau_ext" + std::to_string(j);
+  out.write(row + "\n");
+  std::array<char, 32> number;
+  const auto append = [&](double x) {
+    const auto end = std::to_chars(number.data(), number.data() + number.size(), x).ptr;
+    row.append(number.data(), end);
+  };
+  for (Eigen::Index k = 0; k < time.size(); ++k) {
+    row.clear();
+    append(time[k]);
+    for (Eigen::Index j = 0; j < external.rows(); ++j) {
+      row += ',';
+      append(external(j, k));
+    }
+    row += '\n';
+    out.write(row);
+  }
+  out.commit();
+}
+
 DatasetReader::DatasetReader(const std::string& path, int expected_joints)
     : path_(path), lines_(std::make_unique<LineReader>(path)) {
   std::string_view line;

@@ -24,6 +24,12 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
 /// The same rows into `out` (a member of an output set), which the caller commits.
 void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory);
 
+/// A simulation's ground truth of external joint torques: header t,tau_ext1..tau_extn, one row per
+/// sample (time.size() columns of `external`, n x samples), written atomically. Throws Error when
+/// the file cannot be written, InputError when the sizes disagree.
+void writeExternalTorqueCsv(const std::string& path, const Eigen::VectorXd& time,
+                            const Eigen::MatrixXd& external);
+
 class LineReader;
 
 /// A dataset read in chunks of samples, in memory independent of its length, with the checks and

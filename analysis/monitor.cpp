@@ -1,0 +1,606 @@
+#include "analysis/monitor.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "analysis/records/document.hpp"
+#include "analysis/runs.hpp"
+#include "core/errors.hpp"
+#include "core/momentum.hpp"
+#include "core/option_ranges.hpp"
+#include "core/parallel.hpp"
+#include "core/rnea.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "data/json_reader.hpp"
+
+namespace dynid {
+
+// ---- the observer ----
+
+MomentumObserver::MomentumObserver(const Model& model, const Eigen::VectorXd& gain)
+    : model_(model), data_(model), gain_(gain) {
+  const int n = model.numJoints();
+  if (gain.size() != n || !gain.allFinite() || (gain.array() <= 0.0).any())
+    throw InputError("the observer gain needs " + std::to_string(n) +
+                     " entries, each > 0 and finite [1/s]");
+  p0_ = integral_ = r_ = rate_ = Eigen::VectorXd::Zero(n);
+}
+
+const Eigen::VectorXd& MomentumObserver::update(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                                const Eigen::Ref<const Eigen::VectorXd>& dq,
+                                                const Eigen::Ref<const Eigen::VectorXd>& tau) {
+  momentumTerms(model_, data_, q, dq, p_, beta_);
+  if (!started_) {
+    // r = 0 at the start: the observer assumes no external torque then.
+    p0_ = p_;
+    integral_.setZero();
+    r_.setZero();
+    rate_ = tau - beta_;
+    t_ = t;
+    started_ = true;
+    return r_;
+  }
+  const double dt = t - t_;
+  assert(dt > 0.0);
+  // Trapezoid: I_k = I_{k-1} + dt/2 (u_{k-1} + r_{k-1} + u_k + r_k), r_k = K (p_k - p0 - I_k),
+  // solved for r_k.
+  const Eigen::VectorXd u = tau - beta_;
+  const Eigen::ArrayXd half = 0.5 * dt * gain_.array();
+  const Eigen::VectorXd known = integral_ + 0.5 * dt * (rate_ + u);
+  r_ = (gain_.array() * (p_ - p0_ - known).array() / (1.0 + half)).matrix();
+  integral_ = known + 0.5 * dt * r_;
+  rate_ = u + r_;
+  t_ = t;
+  return r_;
+}
+
+// ---- statistics and thresholds ----
+
+void ResidualStatistics::reset(int n) {
+  sum_squares = rate_sum_squares = max_abs = Eigen::VectorXd::Zero(n);
+  rate_time = 0.0;
+  samples = 0;
+}
+
+void ResidualStatistics::add(const Eigen::VectorXd& r, const Eigen::VectorXd* previous, double dt) {
+  sum_squares += r.cwiseAbs2();
+  max_abs = max_abs.cwiseMax(r.cwiseAbs());
+  ++samples;
+  if (previous && dt > 0.0) {
+    rate_sum_squares += (r - *previous).cwiseAbs2() / dt;  // (dr/dt)^2 dt
+    rate_time += dt;
+  }
+}
+
+Eigen::VectorXd ResidualStatistics::rms() const {
+  return samples > 0 ? Eigen::VectorXd((sum_squares / static_cast<double>(samples)).cwiseSqrt())
+                     : Eigen::VectorXd::Zero(sum_squares.size());
+}
+
+Eigen::VectorXd ResidualStatistics::rateRms() const {
+  return rate_time > 0.0 ? Eigen::VectorXd((rate_sum_squares / rate_time).cwiseSqrt())
+                         : Eigen::VectorXd::Zero(sum_squares.size());
+}
+
+Eigen::VectorXd riceThresholds(const ResidualStatistics& statistics, double rate) {
+  const Eigen::VectorXd s = statistics.rms(), ds = statistics.rateRms();
+  Eigen::VectorXd out(s.size());
+  for (Eigen::Index j = 0; j < s.size(); ++j) {
+    double u = 0.0;
+    if (s[j] > 0.0 && ds[j] > 0.0) {
+      const double ratio = ds[j] / (std::numbers::pi * s[j] * rate);
+      u = s[j] * std::sqrt(2.0 * std::log(std::max(ratio, 1.0)));
+    }
+    out[j] = std::max(u, statistics.max_abs[j]);
+  }
+  return out;
+}
+
+// ---- the envelope ----
+
+void ResidualEnvelope::reset(int n) {
+  time_.resize(2 * kMaxBuckets);
+  low_.resize(n, 2 * kMaxBuckets);
+  high_.resize(n, 2 * kMaxBuckets);
+  count_ = 0, stride_ = 1, in_bucket_ = 0;
+}
+
+void ResidualEnvelope::add(double t, const Eigen::VectorXd& r) {
+  if (in_bucket_ == 0) {
+    if (count_ == 2 * kMaxBuckets) {
+      // Merge neighbouring buckets: the stride doubles, the envelope stays the same.
+      for (int b = 0; b < kMaxBuckets; ++b) {
+        time_[b] = time_[2 * b];
+        low_.col(b) = low_.col(2 * b).cwiseMin(low_.col(2 * b + 1));
+        high_.col(b) = high_.col(2 * b).cwiseMax(high_.col(2 * b + 1));
+      }
+      count_ = kMaxBuckets;
+      stride_ *= 2;
+    }
+    time_[count_] = t;
+    low_.col(count_) = r;
+    high_.col(count_) = r;
+    ++count_;
+  } else {
+    low_.col(count_ - 1) = low_.col(count_ - 1).cwiseMin(r);
+    high_.col(count_ - 1) = high_.col(count_ - 1).cwiseMax(r);
+  }
+  in_bucket_ = (in_bucket_ + 1) % stride_;
+}
+
+// ---- streamed samples ----
+
+namespace {
+double parseField(std::string_view field, const std::string& source, long long line,
+                  const std::string& column) {
+  while (!field.empty() && (field.front() == ' ' || field.front() == '\t')) field.remove_prefix(1);
+  while (!field.empty() && (field.back() == ' ' || field.back() == '\t' || field.back() == '\r'))
+    field.remove_suffix(1);
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+  if (field.empty() || error != std::errc() || end != field.data() + field.size())
+    throw ParseError(source, static_cast<int>(std::min<long long>(line, INT32_MAX)), column,
+                     "not a number: '" + std::string(field.substr(0, 40)) + "'");
+  if (!std::isfinite(value))
+    throw ParseError(source, static_cast<int>(std::min<long long>(line, INT32_MAX)), column,
+                     "not a finite number");
+  return value;
+}
+
+std::vector<std::string> sampleColumns(int n, bool with_ddq) {
+  std::vector<std::string> out{"t"};
+  for (const char* prefix : {"q", "dq", "ddq", "tau"}) {
+    if (!with_ddq && std::string(prefix) == "ddq") continue;
+    for (int j = 1; j <= n; ++j) out.push_back(prefix + std::to_string(j));
+  }
+  return out;
+}
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= line.size(); ++i)
+    if (i == line.size() || line[i] == ',') {
+      out.push_back(line.substr(start, i - start));
+      start = i + 1;
+    }
+  return out;
+}
+}  // namespace
+
+bool parseSampleHeader(const std::string& line, int n, const std::string& source) {
+  std::vector<std::string_view> fields = splitFields(line);
+  for (auto& f : fields)
+    while (!f.empty() && (f.back() == '\r' || f.back() == ' ')) f.remove_suffix(1);
+  const bool with_ddq = static_cast<int>(fields.size()) == 4 * n + 1;
+  const std::vector<std::string> expected = sampleColumns(n, with_ddq);
+  for (std::size_t c = 0; c < std::max(expected.size(), fields.size()); ++c) {
+    if (c < fields.size() && c < expected.size() && fields[c] == expected[c]) continue;
+    throw ParseError(source, 1, c < expected.size() ? expected[c] : std::string(fields[c]),
+                     "the header must be t,q1..q" + std::to_string(n) + ",dq1..dq" +
+                         std::to_string(n) + ",tau1..tau" + std::to_string(n) +
+                         " (or the dataset header with ddq1..ddq" + std::to_string(n) +
+                         ") for this " + std::to_string(n) + "-joint robot; column " +
+                         std::to_string(c + 1) + " differs");
+  }
+  return with_ddq;
+}
+
+void parseSampleLine(const std::string& line, int n, bool with_ddq, const std::string& source,
+                     long long line_number, double& t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
+                     Eigen::VectorXd& ddq, Eigen::VectorXd& tau) {
+  const std::vector<std::string_view> fields = splitFields(line);
+  const std::vector<std::string> columns = sampleColumns(n, with_ddq);
+  if (fields.size() != columns.size())
+    throw ParseError(source, static_cast<int>(std::min<long long>(line_number, INT32_MAX)), "",
+                     std::to_string(fields.size()) + " fields, the header has " +
+                         std::to_string(columns.size()));
+  std::size_t c = 0;
+  auto next = [&] {
+    const double v = parseField(fields[c], source, line_number, columns[c]);
+    ++c;
+    return v;
+  };
+  t = next();
+  q.resize(n), dq.resize(n), ddq.resize(n), tau.resize(n);
+  for (int j = 0; j < n; ++j) q[j] = next();
+  for (int j = 0; j < n; ++j) dq[j] = next();
+  if (with_ddq)
+    for (int j = 0; j < n; ++j) ddq[j] = next();
+  for (int j = 0; j < n; ++j) tau[j] = next();
+}
+
+// ---- the request ----
+
+void MonitorRequest::check() const {
+  if (calibration_file.empty() == thresholds_file.empty())
+    throw InputError(
+        "give the thresholds' source: --calibration CLEAN.csv (a log without contact) or "
+        "--thresholds thresholds.json (a monitor's earlier output), exactly one of them");
+  checkOption("monitor", "false-alarms-per-hour", false_alarms_per_hour, "--false-alarms-per-hour");
+  checkOption("monitor", "hold", hold, "--hold");
+  checkOption("monitor", "max-gap", max_gap, "--max-gap");
+  if (gain && (!gain->allFinite() || (gain->array() <= 0.0).any() ||
+               (gain->array() > 1e6).any()))
+    throw InputError("--gain: each value must be > 0 and at most 1e6 [1/s]");
+}
+
+namespace {
+
+/// Whether the residuals are above their thresholds, and the event they make.
+class EventDetector {
+ public:
+  EventDetector(const Eigen::VectorXd& thresholds, double hold, MonitorEventSink* sink,
+                std::vector<MonitorEvent>& events)
+      : thresholds_(thresholds), hold_(hold), sink_(sink), events_(events) {}
+
+  void add(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq) {
+    const Eigen::ArrayXd ratio = r.cwiseAbs().array() / thresholds_.array();
+    const bool above = (ratio > 1.0).any();
+    if (!active_) {
+      if (!above) return;
+      event_ = MonitorEvent{};
+      event_.start = event_.end = t;
+      active_ = true;
+      mark(t, r, ratio);
+      if (sink_) sink_->started(event_);
+      return;
+    }
+    event_.energy += r.dot(dq) * dt;
+    if (above) {
+      mark(t, r, ratio);
+      event_.end = t;
+      quiet_since_.reset();
+      return;
+    }
+    if (!quiet_since_) quiet_since_ = t;
+    if (t - *quiet_since_ >= hold_) finish(false);
+  }
+  /// The data ended (or were stopped) during an event.
+  void close() {
+    if (active_) finish(true);
+  }
+
+ private:
+  void mark(double t, const Eigen::VectorXd& r, const Eigen::ArrayXd& ratio) {
+    for (Eigen::Index j = 0; j < r.size(); ++j) {
+      if (ratio[j] > 1.0 &&
+          std::find(event_.joints.begin(), event_.joints.end(), j) == event_.joints.end())
+        event_.joints.push_back(static_cast<int>(j));
+      if (std::abs(r[j]) > event_.peak) {
+        event_.peak = std::abs(r[j]);
+        event_.peak_joint = static_cast<int>(j);
+        event_.peak_time = t;
+      }
+    }
+  }
+  void finish(bool open) {
+    event_.open = open;
+    std::sort(event_.joints.begin(), event_.joints.end());
+    events_.push_back(event_);
+    if (sink_) sink_->ended(event_);
+    active_ = false;
+    quiet_since_.reset();
+  }
+  const Eigen::VectorXd& thresholds_;
+  double hold_;
+  MonitorEventSink* sink_;
+  std::vector<MonitorEvent>& events_;
+  bool active_ = false;
+  std::optional<double> quiet_since_;
+  MonitorEvent event_;
+};
+
+/// One pass over a log: the observer (and the direct residual where ddq is given) at every
+/// sample, handed to `visit(t, dt, r_observer, r_direct or null, dq)`; dt = 0 after a restart.
+struct Pass {
+  long long samples = 0;
+  double first = 0.0, last = 0.0;
+  int restarts = 0;
+  bool has_direct = false;
+  bool interrupted = false;
+};
+
+using Visit = std::function<void(double t, double dt, const Eigen::VectorXd& observer,
+                                 const Eigen::VectorXd* direct, const Eigen::VectorXd& dq)>;
+
+Pass passOverFile(const Model& model, const std::string& file, const Eigen::VectorXd& gain,
+                  double max_gap, int threads, const RunControl& control, const Visit& visit) {
+  const int n = model.numJoints();
+  DatasetReader reader(file, -1);
+  if (reader.numJoints() != n)
+    throw InputError(file + ": a log of " + std::to_string(reader.numJoints()) +
+                     " joints, the robot '" + model.name + "' has " + std::to_string(n) +
+                     ": a log of another robot?");
+  ThreadPool pool(threads);
+  std::vector<Data> data(static_cast<std::size_t>(pool.numThreads()), Data(model));
+  MomentumObserver observer(model, gain);
+  Trajectory chunk;
+  Eigen::MatrixXd direct;
+  Pass out;
+  out.has_direct = true;
+  double previous = 0.0;
+  while (const int count = reader.read(chunk, 4096, &pool)) {
+    // The direct residuals tau - RNEA(q, dq, ddq), on every thread.
+    direct.resize(n, count);
+    pool.parallelFor(count, [&](int k, int thread) {
+      direct.col(k) = chunk.tau.col(k) - rnea(model, data[static_cast<std::size_t>(thread)],
+                                              chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
+    });
+    for (int k = 0; k < count; ++k) {
+      const double t = chunk.time[k];
+      double dt = out.samples > 0 ? t - previous : 0.0;
+      if (dt > max_gap) {
+        observer.restart();
+        ++out.restarts;
+        dt = 0.0;
+      }
+      const Eigen::VectorXd& r = observer.update(t, chunk.q.col(k), chunk.dq.col(k), chunk.tau.col(k));
+      const Eigen::VectorXd d = direct.col(k);
+      visit(t, dt, r, &d, chunk.dq.col(k));
+      if (out.samples == 0) out.first = t;
+      out.last = previous = t;
+      ++out.samples;
+    }
+    if (control.check()) {
+      out.interrupted = true;
+      break;
+    }
+  }
+  return out;
+}
+
+Pass passOverStream(const Model& model, const MonitorRequest& request, const Eigen::VectorXd& gain,
+                    const Visit& visit) {
+  const int n = model.numJoints();
+  const std::string source = "<stdin>";
+  std::string line;
+  if (!request.next_line || !request.next_line(line))
+    throw ParseError(source, 1, "", "no header: the stream ended before its first line");
+  const bool with_ddq = parseSampleHeader(line, n, source);
+  MomentumObserver observer(model, gain);
+  Data data(model);
+  Pass out;
+  out.has_direct = with_ddq;
+  double t = 0.0, previous = 0.0;
+  Eigen::VectorXd q, dq, ddq, tau, direct;
+  long long number = 1;
+  while (true) {
+    if (request.control.check()) {
+      out.interrupted = true;
+      break;
+    }
+    if (!request.next_line(line)) break;
+    ++number;
+    parseSampleLine(line, n, with_ddq, source, number, t, q, dq, ddq, tau);
+    if (out.samples > 0 && !(t > previous))
+      throw ParseError(source, static_cast<int>(std::min<long long>(number, INT32_MAX)), "t",
+                       "time must increase (previous sample at " + std::to_string(previous) + ")");
+    double dt = out.samples > 0 ? t - previous : 0.0;
+    if (dt > request.max_gap) {
+      observer.restart();
+      ++out.restarts;
+      dt = 0.0;
+    }
+    const Eigen::VectorXd& r = observer.update(t, q, dq, tau);
+    if (with_ddq) direct = tau - rnea(model, data, q, dq, ddq);
+    visit(t, dt, r, with_ddq ? &direct : nullptr, dq);
+    if (out.samples == 0) out.first = t;
+    out.last = previous = t;
+    ++out.samples;
+  }
+  return out;
+}
+
+/// The ground truth's episodes: runs of samples where any applied torque is nonzero.
+std::vector<std::pair<double, double>> truthEpisodes(const std::string& file, int n) {
+  LineReader lines(file);
+  std::string_view view;
+  if (!lines.next(view)) throw ParseError(file, 1, "", "empty: expected t,tau_ext1..");
+  std::string header(view);
+  std::vector<std::string_view> fields = splitFields(header);
+  if (static_cast<int>(fields.size()) != n + 1 || fields[0] != "t")
+    throw ParseError(file, 1, "", "expected the header t,tau_ext1..tau_ext" + std::to_string(n) +
+                                      " (dynid simulate --disturbance's ground truth)");
+  std::vector<std::pair<double, double>> out;
+  bool in = false;
+  double start = 0.0, last = 0.0;
+  while (lines.next(view)) {
+    const std::vector<std::string_view> row = splitFields(view);
+    if (row.size() == 1 && row[0].empty()) continue;
+    if (static_cast<int>(row.size()) != n + 1)
+      throw ParseError(file, lines.lineNumber(), "",
+                       std::to_string(row.size()) + " fields, expected " + std::to_string(n + 1));
+    const double t = parseField(row[0], file, lines.lineNumber(), "t");
+    bool any = false;
+    for (int j = 1; j <= n; ++j)
+      any = any || parseField(row[j], file, lines.lineNumber(), "tau_ext" + std::to_string(j)) != 0.0;
+    if (any && !in) start = t, in = true;
+    if (!any && in) out.emplace_back(start, last), in = false;
+    last = t;
+  }
+  if (in) out.emplace_back(start, last);
+  return out;
+}
+
+TruthScore scoreEvents(const std::vector<std::pair<double, double>>& episodes,
+                       const std::vector<MonitorEvent>& events) {
+  TruthScore out;
+  out.episodes = static_cast<int>(episodes.size());
+  for (const auto& [start, end] : episodes) {
+    const auto hit = std::find_if(events.begin(), events.end(), [&](const MonitorEvent& e) {
+      return e.start >= start && e.start <= end + out.window;
+    });
+    if (hit != events.end() && hit->start <= start + out.window) {
+      ++out.detected;
+      out.delays.push_back(hit->start - start);
+    } else {
+      out.missed_starts.push_back(start);
+    }
+  }
+  for (const MonitorEvent& e : events) {
+    const bool explained = std::any_of(episodes.begin(), episodes.end(), [&](const auto& ep) {
+      return e.end >= ep.first && e.start <= ep.second + out.window;
+    });
+    if (!explained) ++out.false_alarms;
+  }
+  return out;
+}
+
+MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
+                            const Eigen::VectorXd& gain) {
+  const int n = model.numJoints();
+  ResidualStatistics stats;
+  stats.reset(n);
+  Eigen::VectorXd previous;
+  const bool direct = request.residual == MonitorResidual::kDirect;
+  const Pass pass = passOverFile(
+      model, request.calibration_file, gain, request.max_gap, request.threads, request.control,
+      [&](double, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+          const Eigen::VectorXd&) {
+        const Eigen::VectorXd& x = direct ? *d : r;
+        stats.add(x, dt > 0.0 ? &previous : nullptr, dt);
+        previous = x;
+      });
+  if (pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
+  MonitorThresholds out;
+  out.robot = model.name;
+  out.joint_names = model.joint_names;
+  out.residual = request.residual;
+  out.gain = gain;
+  out.false_alarms_per_hour = request.false_alarms_per_hour;
+  out.values = riceThresholds(stats, request.false_alarms_per_hour / 3600.0 / n);
+  out.source = "calibration " + request.calibration_file;
+  out.calibration_rms = stats.rms();
+  out.calibration_max = stats.max_abs;
+  out.calibration_seconds = pass.last - pass.first;
+  if ((out.values.array() <= 0.0).any())
+    throw InputError(request.calibration_file +
+                     ": the calibration residual is zero on some joint (a log without motion or "
+                     "torque?): no threshold can be set from it");
+  return out;
+}
+
+}  // namespace
+
+MonitorThresholds readMonitorThresholds(const std::string& file) {
+  const nlohmann::json document = parseJson(readFile(file), file);
+  const JsonReader read(file);
+  read.header(document, kMonitorThresholdsDocument.schema_version, kMonitorThresholdsDocument.kind);
+  read.onlyKeys(document, "",
+                {"schema_version", "kind", "robot", "joints", "residual", "gain", "thresholds",
+                 "source", "false_alarms_per_hour", "calibration_rms", "calibration_max",
+                 "calibration_seconds"});
+  MonitorThresholds out;
+  out.robot = read.string(document, "", "robot");
+  out.joint_names = read.strings(read.field(document, "", "joints"), "joints");
+  const long n = static_cast<long>(out.joint_names.size());
+  const std::string residual = read.string(document, "", "residual");
+  if (residual != "observer" && residual != "direct")
+    read.fail("residual", "expected observer or direct");
+  out.residual = residual == "direct" ? MonitorResidual::kDirect : MonitorResidual::kObserver;
+  out.gain = read.vector(read.field(document, "", "gain"), "gain", n);
+  out.values = read.vector(read.field(document, "", "thresholds"), "thresholds", n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (!(out.values[j] > 0.0) || !std::isfinite(out.values[j]))
+      read.fail(JsonReader::index("thresholds", j), "expected a positive finite number");
+    if (!(out.gain[j] > 0.0) || !std::isfinite(out.gain[j]))
+      read.fail(JsonReader::index("gain", j), "expected a positive finite number");
+  }
+  out.source = "thresholds " + file;
+  if (document.contains("false_alarms_per_hour"))
+    out.false_alarms_per_hour = read.number(document, "", "false_alarms_per_hour", 0.0, 1e9);
+  return out;
+}
+
+MonitorOutcome monitorRun(const MonitorRequest& request) {
+  request.check();
+  MonitorOutcome out;
+  const LoadedArm arm = loadArm(request.arm, request.robot_spec, std::nullopt, &out.warnings);
+  out.model = arm.model;
+  out.robot_spec = arm.robot_spec;
+  const Model& model = out.model;
+  const int n = model.numJoints();
+  Eigen::VectorXd gain = request.gain.value_or(Eigen::VectorXd::Constant(n, kDefaultObserverGain));
+  if (gain.size() == 1) gain = Eigen::VectorXd::Constant(n, gain[0]);  // one value for all
+  if (gain.size() != n)
+    throw InputError("--gain has " + std::to_string(gain.size()) + " values, the robot '" +
+                     model.name + "' has " + std::to_string(n) + " joints");
+  // The thresholds: calibrated on a clean log, or read back (for these joints, this gain).
+  if (!request.calibration_file.empty()) {
+    out.thresholds = calibrate(model, request, gain);
+  } else {
+    out.thresholds = readMonitorThresholds(request.thresholds_file);
+    if (out.thresholds.joint_names != model.joint_names)
+      throw InputError(request.thresholds_file + ": thresholds for the joints of '" +
+                       out.thresholds.robot + "' (" + std::to_string(out.thresholds.joint_names.size()) +
+                       " joints), not those of '" + model.name +
+                       "': calibrate again on this robot's log");
+    if (request.gain && (gain - out.thresholds.gain).norm() != 0.0)
+      throw InputError(request.thresholds_file +
+                       ": calibrated with another observer gain; drop --gain or calibrate again");
+    if (out.thresholds.residual != request.residual)
+      throw InputError(request.thresholds_file + ": thresholds of the " +
+                       (out.thresholds.residual == MonitorResidual::kDirect ? "direct" : "observer") +
+                       " residual; give the same --residual");
+    gain = out.thresholds.gain;
+  }
+  // The monitored pass.
+  const bool direct_events = request.residual == MonitorResidual::kDirect;
+  ResidualStatistics observer_stats, direct_stats;
+  observer_stats.reset(n);
+  direct_stats.reset(n);
+  out.observer_envelope.reset(n);
+  out.direct_envelope.reset(n);
+  EventDetector detector(out.thresholds.values, request.hold, request.sink, out.events);
+  const Visit visit = [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+                          const Eigen::VectorXd& dq) {
+    observer_stats.add(r, nullptr, 0.0);
+    out.observer_envelope.add(t, r);
+    if (d) {
+      direct_stats.add(*d, nullptr, 0.0);
+      out.direct_envelope.add(t, *d);
+    }
+    detector.add(t, dt, direct_events ? *d : r, dq);
+  };
+  Pass pass;
+  if (request.data_file == "-") {
+    pass = passOverStream(model, request, gain, [&](double t, double dt, const Eigen::VectorXd& r,
+                                                     const Eigen::VectorXd* d,
+                                                     const Eigen::VectorXd& dq) {
+      if (direct_events && !d)
+        throw InputError("--residual direct needs ddq: the stream's header has no ddq columns");
+      visit(t, dt, r, d, dq);
+    });
+  } else {
+    pass = passOverFile(model, request.data_file, gain, request.max_gap, request.threads,
+                        request.control, visit);
+  }
+  detector.close();
+  out.samples = pass.samples;
+  out.seconds = pass.last - pass.first;
+  out.restarts = pass.restarts;
+  out.has_direct = pass.has_direct;
+  out.interrupted = pass.interrupted;
+  out.observer_rms = observer_stats.rms();
+  out.observer_max = observer_stats.max_abs;
+  if (pass.has_direct) {
+    out.direct_rms = direct_stats.rms();
+    out.direct_max = direct_stats.max_abs;
+  }
+  if (out.samples == 0) throw InputError(request.data_file + ": no samples to monitor");
+  if (pass.restarts > 0)
+    out.warnings.push_back(std::to_string(pass.restarts) + " gap(s) longer than " +
+                           std::to_string(request.max_gap) +
+                           " s: the observer restarted after each (no external torque assumed "
+                           "at a restart)");
+  if (!request.truth_file.empty())
+    out.truth = scoreEvents(truthEpisodes(request.truth_file, n), out.events);
+  return out;
+}
+
+}  // namespace dynid

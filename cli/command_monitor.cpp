@@ -1,0 +1,168 @@
+// dynid monitor: an identified model watching a log, or samples streamed on stdin, for external
+// torques (collisions, pushes), with thresholds from a clean calibration log.
+#include <poll.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <iostream>
+
+#include "analysis/monitor.hpp"
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "core/errors.hpp"
+#include "data/json_number.hpp"
+#include "reports/monitor_report.hpp"
+#include "reports/output.hpp"
+
+namespace dynid::cli {
+
+namespace {
+
+/// Standard input line by line, waiting in poll() so that Ctrl-C (the flag) ends a wait for a
+/// robot that sends nothing. A last line without its newline is an error: the stream was cut.
+class StdinLines {
+ public:
+  explicit StdinLines(const std::atomic<bool>* stop) : stop_(stop) {}
+  bool next(std::string& line) {
+    while (true) {
+      const std::size_t newline = buffer_.find('\n', start_);
+      if (newline != std::string::npos) {
+        line.assign(buffer_, start_, newline - start_);
+        start_ = newline + 1;
+        ++number_;
+        return true;
+      }
+      buffer_.erase(0, start_);
+      start_ = 0;
+      if (buffer_.size() > (std::size_t{1} << 24))
+        throw ParseError("<stdin>", static_cast<int>(number_ + 1), "",
+                         "a line longer than 16 MiB: not a sample stream");
+      if (eof_) {
+        if (!buffer_.empty())
+          throw ParseError("<stdin>", static_cast<int>(number_ + 1), "",
+                           "the stream ended in the middle of a line (" +
+                               std::to_string(buffer_.size()) + " bytes without a newline)");
+        return false;
+      }
+      if (stop_ && stop_->load()) return false;
+      pollfd fd{STDIN_FILENO, POLLIN, 0};
+      const int ready = ::poll(&fd, 1, 100);
+      if (ready < 0 && errno != EINTR) throw Error(std::string("<stdin>: ") + std::strerror(errno));
+      if (ready <= 0) continue;
+      char block[65536];
+      const ssize_t got = ::read(STDIN_FILENO, block, sizeof block);
+      if (got < 0) {
+        if (errno == EINTR || errno == EAGAIN) continue;
+        throw Error(std::string("<stdin>: ") + std::strerror(errno));
+      }
+      if (got == 0)
+        eof_ = true;
+      else
+        buffer_.append(block, static_cast<std::size_t>(got));
+    }
+  }
+
+ private:
+  const std::atomic<bool>* stop_;
+  std::string buffer_;
+  std::size_t start_ = 0;
+  long long number_ = 0;
+  bool eof_ = false;
+};
+
+/// Events as JSON lines on stdout, flushed at once (a start within the sample that crossed).
+class PrintedEvents : public MonitorEventSink {
+ public:
+  void started(const MonitorEvent& e) override {
+    nlohmann::json line = monitorEventJson(e);
+    line["event"] = "start";
+    line.erase("end");
+    line.erase("energy");
+    line.erase("open");
+    std::cout << jsonText(line) << std::endl;
+  }
+  void ended(const MonitorEvent& e) override {
+    nlohmann::json line = monitorEventJson(e);
+    line["event"] = "end";
+    std::cout << jsonText(line) << std::endl;
+  }
+};
+
+}  // namespace
+
+int runMonitor(const std::vector<std::string>& args) {
+  po::options_description options("dynid monitor");
+  options.add_options()(
+      "arm", po::value<std::string>()->required(),
+      "the model: identify's estimate.json, an identified URDF, a dynid .json model or a robot")(
+      "robot", po::value<std::string>(), "for an estimate: the robot (default: the one it names)")(
+      "data", po::value<std::string>()->required(),
+      "the log to watch (dataset CSV), or - for samples on stdin, one line each: "
+      "t,q1..qn,dq1..dqn,tau1..taun after that header (or the dataset's, with ddq)")(
+      "calibration", po::value<std::string>(),
+      "a clean log of the same robot (no contact): the thresholds are set on it")(
+      "thresholds", po::value<std::string>(),
+      "a thresholds.json from an earlier monitor (instead of --calibration)")(
+      "residual", po::value<std::string>()->default_value("observer"),
+      "observer (generalized momentum: q, dq, tau) or direct (tau - model, needs ddq)")(
+      "gain", po::value<std::string>(),
+      "observer gain per joint [1/s] (one value for all; default 100: a 10 ms time constant)")(
+      "false-alarms-per-hour",
+      po::value<double>()->default_value(kDefaultFalseAlarmsPerHour))(
+      "hold", po::value<double>()->default_value(kDefaultEventHold))(
+      "max-gap", po::value<double>()->default_value(kDefaultMaxGap))(
+      "truth", po::value<std::string>(),
+      "simulate --disturbance's ground truth (t,tau_ext1..): detections, delays, false alarms")(
+      "out", po::value<std::string>(),
+      "output directory: monitor.json, thresholds.json, report.md, report.html (required unless "
+      "--data -)");
+  addThreadsOption(options);
+  po::variables_map vm;
+  const std::string usage =
+      "dynid monitor --arm estimate.json --data log.csv --calibration clean.csv --out DIR";
+  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  MonitorRequest request;
+  request.arm = vm["arm"].as<std::string>();
+  if (vm.count("robot")) request.robot_spec = vm["robot"].as<std::string>();
+  request.data_file = vm["data"].as<std::string>();
+  const bool streamed = request.data_file == "-";
+  if (!streamed && !vm.count("out")) throw UsageError("--out is required (unless --data -)");
+  const std::string dir = vm.count("out") ? vm["out"].as<std::string>() : "";
+  if (!dir.empty()) checkOutputDirectory(dir);
+  if (vm.count("calibration") == vm.count("thresholds"))
+    throw UsageError("give --calibration CLEAN.csv or --thresholds thresholds.json (one of them)");
+  if (vm.count("calibration")) request.calibration_file = vm["calibration"].as<std::string>();
+  if (vm.count("thresholds")) request.thresholds_file = vm["thresholds"].as<std::string>();
+  refuseUnused(vm, vm.count("calibration") > 0, {"false-alarms-per-hour"},
+               "applies with --calibration");
+  if (vm.count("truth")) request.truth_file = vm["truth"].as<std::string>();
+  const std::string residual = vm["residual"].as<std::string>();
+  if (residual != "observer" && residual != "direct")
+    throw UsageError("--residual must be observer or direct, not '" + residual + "'");
+  request.residual = residual == "direct" ? MonitorResidual::kDirect : MonitorResidual::kObserver;
+  if (vm.count("gain")) {
+    const std::vector<double> gain = parseList(vm["gain"].as<std::string>(), "gain");
+    request.gain = Eigen::Map<const Eigen::VectorXd>(gain.data(), static_cast<Eigen::Index>(gain.size()));
+  }
+  request.false_alarms_per_hour = vm["false-alarms-per-hour"].as<double>();
+  request.hold = vm["hold"].as<double>();
+  request.max_gap = vm["max-gap"].as<double>();
+  request.threads = threadsOption(vm);
+
+  InterruptGuard interrupt;
+  request.control.stop = interrupt.flag();
+  StdinLines lines(interrupt.flag());
+  PrintedEvents printed;
+  if (streamed) {
+    request.next_line = [&](std::string& line) { return lines.next(line); };
+    request.sink = &printed;
+  }
+  MonitorOutcome outcome = monitorRun(request);
+  const std::string summary =
+      dir.empty() ? monitorSummary(outcome) : writeMonitor(dir, outcome, request.data_file);
+  (streamed ? std::cerr : std::cout) << summary;
+  return kExitOk;
+}
+
+}  // namespace dynid::cli

@@ -1,0 +1,206 @@
+#include "reports/monitor_report.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
+#include "data/json_number.hpp"
+#include "reports/document.hpp"
+#include "reports/output.hpp"
+#include "reports/plot_script.hpp"
+
+namespace dynid {
+
+using nlohmann::json;
+
+namespace {
+const char* residualName(MonitorResidual r) {
+  return r == MonitorResidual::kDirect ? "direct" : "observer";
+}
+
+std::string jointList(const std::vector<int>& joints) {
+  std::string out;
+  for (int j : joints) out += (out.empty() ? "" : ", ") + std::to_string(j + 1);
+  return out;
+}
+
+std::string verdict(const MonitorOutcome& o) {
+  std::ostringstream s;
+  s << o.events.size() << (o.events.size() == 1 ? " event" : " events") << " in "
+    << formatNumber(o.seconds, 4) << " s of " << o.robot_spec << " (" << o.samples
+    << " samples), the " << residualName(o.thresholds.residual) << " residual against thresholds "
+    << "from " << o.thresholds.source << ".";
+  if (o.interrupted) s << " Stopped early: the events so far.";
+  if (const auto& t = o.truth) {
+    s << " Against the ground truth: " << t->detected << " of " << t->episodes
+      << " disturbances detected within " << formatNumber(t->window * 1e3, 3) << " ms, "
+      << t->false_alarms << " false alarm(s).";
+  }
+  return s.str();
+}
+
+/// Each joint's residual envelope (min and max per bucket), its thresholds and the events.
+std::optional<std::string> residualFigure(const MonitorOutcome& o) {
+  const bool direct = o.thresholds.residual == MonitorResidual::kDirect;
+  const ResidualEnvelope& env = direct ? o.direct_envelope : o.observer_envelope;
+  const int n = static_cast<int>(o.thresholds.values.size());
+  if (env.count() == 0 || n == 0) return std::nullopt;
+  const Eigen::VectorXd t = env.time();
+  const Eigen::MatrixXd low = env.low(), high = env.high();
+  PlotScript s;
+  s.precision(9);
+  s << "set terminal svg size 900," << 150 * n + 60 << " font 'sans,11' background rgb 'white'\n"
+    << "set multiplot layout " << n << ",1\nset key top right horizontal\nset grid\n"
+    << "set lmargin 10\n";
+  for (int j = 0; j < n; ++j) {
+    PlotRows data;
+    for (Eigen::Index k = 0; k < t.size(); ++k) data.append({t[k], low(j, k), high(j, k)});
+    s << "$r" << j << " << EOD\n" << data << "EOD\n";
+    s << "unset object\n";
+    int object = 1;
+    for (const MonitorEvent& e : o.events)
+      if (object < 200)
+        s << "set object " << object++ << " rect from " << e.start << ",graph 0 to "
+          << std::max(e.end, e.start + 1e-3) << ",graph 1 fc rgb '#ffd8a8' fs solid 0.6 noborder "
+          << "behind\n";
+    s << "set ylabel 'r" << j + 1 << " [N m]'\n";
+    if (j + 1 == n)
+      s << "set xlabel 't [s]'\n";
+    else
+      s << "unset xlabel\n";
+    const double th = o.thresholds.values[j];
+    s << "plot $r" << j << " using 1:2:3 with filledcurves lc rgb '#4477aa' title 'residual', "
+      << th << " with lines lw 1.2 dt 2 lc rgb '#cc3311' title 'threshold', " << -th
+      << " with lines lw 1.2 dt 2 lc rgb '#cc3311' notitle\n";
+  }
+  s << "unset multiplot\n";
+  return gnuplotSvg(s);
+}
+}  // namespace
+
+json monitorEventJson(const MonitorEvent& e) {
+  json joints = json::array();
+  for (int j : e.joints) joints.push_back(j + 1);
+  return {{"start", e.start},           {"end", e.end},       {"joints", joints},
+          {"peak_joint", e.peak_joint + 1}, {"peak", e.peak},  {"peak_time", e.peak_time},
+          {"energy", e.energy},         {"open", e.open}};
+}
+
+json monitorThresholdsJson(const MonitorThresholds& t) {
+  json out = {{"schema_version", kMonitorThresholdsDocument.schema_version},
+              {"kind", kMonitorThresholdsDocument.kind},
+              {"robot", t.robot},
+              {"joints", t.joint_names},
+              {"residual", residualName(t.residual)},
+              {"gain", numbersOrNull(t.gain)},
+              {"thresholds", numbersOrNull(t.values)},
+              {"source", t.source},
+              {"false_alarms_per_hour", t.false_alarms_per_hour}};
+  if (t.calibration_rms.size() > 0) {
+    out["calibration_rms"] = numbersOrNull(t.calibration_rms);
+    out["calibration_max"] = numbersOrNull(t.calibration_max);
+    out["calibration_seconds"] = t.calibration_seconds;
+  }
+  return out;
+}
+
+json monitorJson(const MonitorOutcome& o) {
+  json events = json::array();
+  for (const MonitorEvent& e : o.events) events.push_back(monitorEventJson(e));
+  json out = {{"schema_version", kMonitorDocument.schema_version},
+              {"kind", kMonitorDocument.kind},
+              {"robot", o.model.name},
+              {"robot_spec", o.robot_spec},
+              {"samples", o.samples},
+              {"seconds", o.seconds},
+              {"restarts", o.restarts},
+              {"interrupted", o.interrupted},
+              {"thresholds", monitorThresholdsJson(o.thresholds)},
+              {"events", events},
+              {"observer_rms", numbersOrNull(o.observer_rms)},
+              {"observer_max", numbersOrNull(o.observer_max)},
+              {"warnings", o.warnings}};
+  if (o.has_direct) {
+    out["direct_rms"] = numbersOrNull(o.direct_rms);
+    out["direct_max"] = numbersOrNull(o.direct_max);
+  }
+  if (const auto& t = o.truth)
+    out["truth"] = {{"episodes", t->episodes},
+                    {"detected", t->detected},
+                    {"false_alarms", t->false_alarms},
+                    {"window", t->window},
+                    {"delays", t->delays},
+                    {"missed_starts", t->missed_starts}};
+  return out;
+}
+
+std::string monitorSummary(const MonitorOutcome& o) {
+  std::ostringstream s;
+  s << verdict(o) << "\n";
+  for (const std::string& w : o.warnings) s << "warning: " << w << "\n";
+  return s.str();
+}
+
+std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
+                         const std::string& data_file) {
+  Document report("Monitor: " + o.model.name);
+  report.paragraph(verdict(o));
+  report.bullets(o.warnings);
+  report.heading("Events");
+  DocumentTable events;
+  events.header = {"start [s]", "end [s]", "joints", "peak [N m]", "peak joint", "energy [J]"};
+  for (const MonitorEvent& e : o.events)
+    events.rows.push_back({formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""),
+                           jointList(e.joints), formatNumber(e.peak, 4),
+                           std::to_string(e.peak_joint + 1), formatNumber(e.energy, 3)});
+  events.caption = "An event starts at the first sample where a residual exceeds its threshold and "
+                   "ends when every residual has stayed below its threshold for the hold time. "
+                   "Energy: the work of the estimated external torque on the arm.";
+  if (o.events.empty())
+    report.paragraph("No residual crossed its threshold.");
+  else
+    report.table(events);
+  report.heading("Thresholds");
+  DocumentTable th;
+  th.header = {"joint", "threshold [N m]", "observer RMS", "observer max", "direct RMS",
+               "calibration RMS"};
+  const Eigen::Index n = o.thresholds.values.size();
+  for (Eigen::Index j = 0; j < n; ++j)
+    th.rows.push_back({std::to_string(j + 1), formatNumber(o.thresholds.values[j], 4),
+                       formatNumber(o.observer_rms[j], 3), formatNumber(o.observer_max[j], 3),
+                       o.has_direct ? formatNumber(o.direct_rms[j], 3) : "-",
+                       o.thresholds.calibration_rms.size() ? formatNumber(o.thresholds.calibration_rms[j], 3)
+                                                           : "-"});
+  th.caption = "Thresholds from " + o.thresholds.source + ", set for " +
+               formatNumber(o.thresholds.false_alarms_per_hour, 3) +
+               " false alarms per hour of the arm: Rice's formula on the calibration residual's "
+               "RMS and rate RMS, never below its largest value. Observer gain " +
+               formatNumber(o.thresholds.gain.maxCoeff(), 4) + " 1/s.";
+  report.table(th);
+  std::string warning;
+  if (const auto svg = residualFigure(o))
+    report.figure({"residuals",
+                   "Each joint's residual (its range per plotted interval), the thresholds dashed, "
+                   "the events shaded.",
+                   *svg});
+  else
+    warning = "warning: gnuplot is not available: the report has no figure\n";
+  report.heading("Method");
+  report.paragraph(
+      "The generalized-momentum observer r = K (p - p0 - integral (tau - g - tau_f + C^T dq + r) "
+      "dt) with p = M dq needs no acceleration; it follows the external joint torque through a "
+      "first-order lag of time constant 1/K. The direct residual tau - tau_hat(q, dq, ddq) uses "
+      "the log's accelerations. Data: " + data_file + ".");
+  OutputSet set(dir);
+  set.add("monitor.json", jsonText(monitorJson(o), 2) + "\n");
+  set.add("thresholds.json", jsonText(monitorThresholdsJson(o.thresholds), 2) + "\n");
+  set.add("report.md", report.markdown());
+  set.add("report.html", report.html());
+  for (const Figure& f : report.figures()) set.add(f.name + ".svg", f.svg);
+  set.publish();
+  return monitorSummary(o) + warning + "wrote " + dir +
+         "/monitor.json, thresholds.json, report.md, report.html\n";
+}
+
+}  // namespace dynid
