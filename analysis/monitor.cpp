@@ -332,6 +332,10 @@ Pass passOverFile(const Model& model, const std::string& file, const Eigen::Vect
                                               chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
     });
     for (int k = 0; k < count; ++k) {
+      if (control.stopped()) {  // Ctrl-C: after this sample, not this chunk
+        out.interrupted = true;
+        return out;
+      }
       const double t = chunk.time[k];
       double dt = out.samples > 0 ? t - previous : 0.0;
       if (dt > max_gap) {

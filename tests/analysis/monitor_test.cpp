@@ -1,0 +1,269 @@
+#include "analysis/monitor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "core/simulate.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/puma560.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+Trajectory pushedPuma(const Model& model, double duration, const std::vector<Disturbance>& pushes,
+                      Eigen::MatrixXd* applied = nullptr, double noise = 0.0) {
+  TrackingController controller = test::pumaSinusoidController(model, 0.4, 0.2, 0.6);
+  SimulationOptions options;
+  options.duration = duration;
+  options.noise_tau = noise;
+  options.noise_dq = noise * 0.02;
+  options.seed = 7;
+  return simulate(model, controller, options, pushes, applied);
+}
+
+Disturbance jointPush(int joint, double torque, double start, double duration) {
+  Disturbance d;
+  d.joint = joint, d.torque = torque, d.start = start, d.duration = duration;
+  return d;
+}
+
+// The observer's residual is the external torque through a first-order lag 1/K: a step of 10 N m
+// shows 10 (1 - exp(-K t)) after t, and nothing without contact.
+TEST(MomentumObserver, FollowsAStepOfExternalTorqueThroughItsLag) {
+  const Model model = makePuma560();
+  const Trajectory tr = pushedPuma(model, 1.5, {jointPush(1, 10.0, 1.0, 0.4)});
+  MomentumObserver observer(model, Eigen::VectorXd::Constant(6, 100.0));
+  double before = 0.0;
+  for (int k = 0; k < tr.numSamples(); ++k) {
+    const Eigen::VectorXd& r = observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
+    const double t = tr.time[k];
+    if (t < 1.0) before = std::max(before, r.cwiseAbs().maxCoeff());
+    if (t > 1.0 && t < 1.4) {
+      // The trapezoid rule leads the continuous lag by half a step (0.5 ms).
+      const double expected = 10.0 * (1.0 - std::exp(-100.0 * (t - 1.0 + 0.5e-3)));
+      // Its remaining error: ~5 % of 10 N m at the step's first sample (1 ms = 0.1 time
+      // constants); after, the simulation holds each sample's torque for 1 ms where the rule
+      // assumes a ramp, which leaves < 1 % of the push while the controller reacts (0.066 seen).
+      EXPECT_NEAR(r[1], expected, t < 1.01 ? 0.6 : 0.1) << t;
+      // The push's momentum change reaches the other joints through M; the same discretisation
+      // error leaves ~0.07 N m there while the residual rises.
+      EXPECT_LT(std::abs(r[0]) + std::abs(r[2]), 0.1) << t;
+    }
+  }
+  // Without contact: the held torque against the rule's ramp only (0.015 N m seen on 1 ms steps
+  // of a 0.2-0.6 Hz motion).
+  EXPECT_LT(before, 0.03);
+}
+
+TEST(MomentumObserver, IrregularSamplingAndARestart) {
+  const Model model = makePuma560();
+  const Trajectory tr = pushedPuma(model, 2.0, {});
+  MomentumObserver observer(model, Eigen::VectorXd::Constant(6, 50.0));
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> skip(1, 4);  // steps of 1..4 ms
+  double worst = 0.0;
+  for (int k = 0; k < tr.numSamples(); k += skip(rng)) {
+    if (k > 1000 && k < 1005) observer.restart();
+    const Eigen::VectorXd& r = observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
+    worst = std::max(worst, r.cwiseAbs().maxCoeff());
+  }
+  // The trapezoid rule over steps of up to 4 ms of smooth motion: still well below 0.1 N m.
+  EXPECT_LT(worst, 0.02);
+  EXPECT_THROW(MomentumObserver(model, Eigen::VectorXd::Constant(5, 50.0)), InputError);
+  EXPECT_THROW(MomentumObserver(model, Eigen::VectorXd::Constant(6, 0.0)), InputError);
+}
+
+// Rice's formula: for a Gaussian AR(1) process of known RMS and rate RMS, the threshold solves the
+// upcrossing rate; the calibration's largest value is a floor.
+TEST(Thresholds, RiceFormulaAndTheCalibrationsLargestValue) {
+  ResidualStatistics stats;
+  stats.reset(2);
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(2), previous;
+  const double dt = 1e-3, a = 0.95;
+  for (int k = 0; k < 200000; ++k) {
+    previous = r;
+    r[0] = a * r[0] + std::sqrt(1 - a * a) * normal(rng);
+    r[1] = 0.1 * r[0];
+    stats.add(r, k > 0 ? &previous : nullptr, dt);
+  }
+  const Eigen::VectorXd s = stats.rms(), ds = stats.rateRms();
+  // 200000 correlated samples (~10000 independent): RMS within a few percent of 1.
+  EXPECT_NEAR(s[0], 1.0, 0.05);
+  EXPECT_NEAR(s[1], 0.1, 0.005);
+  const double rate = 1e-6;
+  const Eigen::VectorXd u = riceThresholds(stats, rate);
+  const double expected = s[0] * std::sqrt(2.0 * std::log(ds[0] / (M_PI * s[0] * rate)));
+  EXPECT_NEAR(u[0], std::max(expected, stats.max_abs[0]), 1e-12);
+  EXPECT_NEAR(u[1] / u[0], 0.1, 1e-9);  // scale-invariant
+  // A frequent rate gives a threshold below the largest value seen: the floor holds.
+  const Eigen::VectorXd floor = riceThresholds(stats, 1.0);
+  EXPECT_EQ(floor[0], stats.max_abs[0]);
+}
+
+TEST(ResidualEnvelope, KeepsTheRangeOfEveryBucketInConstantMemory) {
+  ResidualEnvelope env;
+  env.reset(1);
+  const int samples = 3 * ResidualEnvelope::kMaxBuckets * 4 + 5;
+  for (int k = 0; k < samples; ++k) {
+    Eigen::VectorXd r(1);
+    r[0] = k == 10000 ? 50.0 : std::sin(0.01 * k);
+    env.add(k * 1e-3, r);
+  }
+  EXPECT_LE(env.count(), 2 * ResidualEnvelope::kMaxBuckets);
+  EXPECT_GE(env.count(), ResidualEnvelope::kMaxBuckets);
+  EXPECT_EQ(env.high().maxCoeff(), 50.0);  // a one-sample spike survives the merges
+  EXPECT_NEAR(env.low().minCoeff(), -1.0, 1e-4);
+}
+
+TEST(StreamedSamples, HeadersAndRowsAreCheckedWithTheirLineAndColumn) {
+  EXPECT_FALSE(parseSampleHeader("t,q1,q2,dq1,dq2,tau1,tau2", 2, "<stdin>"));
+  EXPECT_TRUE(parseSampleHeader("t,q1,q2,dq1,dq2,ddq1,ddq2,tau1,tau2\r", 2, "<stdin>"));
+  try {
+    parseSampleHeader("t,q1,q2,q3,dq1,dq2,dq3,tau1,tau2,tau3", 2, "<stdin>");
+    FAIL();
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("2-joint"), std::string::npos) << e.what();
+  }
+  double t = 0;
+  Eigen::VectorXd q, dq, ddq, tau;
+  parseSampleLine("0.5, 1,2, 3,4, 5,6", 2, false, "<stdin>", 3, t, q, dq, ddq, tau);
+  EXPECT_EQ(t, 0.5);
+  EXPECT_EQ(tau[1], 6.0);
+  for (const std::string bad : {"0.5,1,2,3,4,5", "0.5,1,nan,3,4,5,6", "0.5,1,2,3,4,5,x",
+                                "0.5,1,2,3,4,5,1e999"}) {
+    try {
+      parseSampleLine(bad, 2, false, "<stdin>", 7, t, q, dq, ddq, tau);
+      FAIL() << bad;
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.line(), 7) << bad;
+      EXPECT_EQ(e.file(), "<stdin>");
+    }
+  }
+}
+
+/// Records when each event was reported: the sample count at that moment.
+struct Recorder : MonitorEventSink {
+  const long long* fed = nullptr;
+  std::vector<long long> started_at;
+  std::vector<MonitorEvent> ended_events;
+  void started(const MonitorEvent&) override { started_at.push_back(*fed); }
+  void ended(const MonitorEvent& e) override { ended_events.push_back(e); }
+};
+
+class MonitorRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    model_ = makePuma560();
+    clean_ = test::tempPath("monitor_clean.csv");
+    writeDatasetCsv(clean_, pushedPuma(model_, 6.0, {}, nullptr, 0.05));
+  }
+  Model model_;
+  std::string clean_;
+};
+
+// Streamed on stdin (here a function), an event is reported at the sample that crossed.
+TEST_F(MonitorRun, AStreamedEventIsReportedAtTheCrossingSample) {
+  Eigen::MatrixXd applied;
+  const Trajectory pushed = pushedPuma(model_, 3.0, {jointPush(2, 10.0, 1.5, 0.2)}, &applied, 0.05);
+  long long fed = 0;
+  Recorder recorder;
+  recorder.fed = &fed;
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.data_file = "-";
+  request.calibration_file = clean_;
+  request.sink = &recorder;
+  request.next_line = [&](std::string& line) {
+    if (fed == 0) {
+      line = "t,q1,q2,q3,q4,q5,q6,dq1,dq2,dq3,dq4,dq5,dq6,tau1,tau2,tau3,tau4,tau5,tau6";
+    } else if (fed > pushed.numSamples()) {
+      return false;
+    } else {
+      const int k = static_cast<int>(fed - 1);
+      std::ostringstream row;
+      row.precision(17);
+      row << pushed.time[k];
+      for (const Eigen::MatrixXd* m : {&pushed.q, &pushed.dq, &pushed.tau})
+        for (int j = 0; j < 6; ++j) row << ',' << (*m)(j, k);
+      line = row.str();
+    }
+    ++fed;
+    return true;
+  };
+  const MonitorOutcome out = monitorRun(request);
+  ASSERT_EQ(out.events.size(), 1u);
+  ASSERT_EQ(recorder.started_at.size(), 1u);
+  const MonitorEvent& e = out.events[0];
+  EXPECT_EQ(e.joints, std::vector<int>{2});
+  // Within 50 ms of the push, and reported before the next line was read.
+  EXPECT_GE(e.start, 1.5);
+  EXPECT_LT(e.start, 1.55);
+  const long long crossing_line = 1 + std::lround(e.start * 1000) + 1;  // header, then sample k
+  EXPECT_EQ(recorder.started_at[0], crossing_line);
+  EXPECT_FALSE(out.has_direct);
+  EXPECT_EQ(out.samples, pushed.numSamples());
+}
+
+TEST_F(MonitorRun, StoppedMidEventItKeepsTheEventsSoFar) {
+  const std::string pushed_file = test::tempPath("monitor_pushed.csv");
+  writeDatasetCsv(pushed_file, pushedPuma(model_, 4.0,
+                                          {jointPush(1, 15.0, 1.0, 0.1), jointPush(2, 12.0, 3.0, 0.5)},
+                                          nullptr, 0.05));
+  std::atomic<bool> stop{false};
+  struct StopAtSecondEvent : MonitorEventSink {
+    std::atomic<bool>* stop;
+    void started(const MonitorEvent& e) override {
+      if (e.start > 2.0) stop->store(true);
+    }
+    void ended(const MonitorEvent&) override {}
+  } sink;
+  sink.stop = &stop;
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.data_file = pushed_file;
+  request.calibration_file = clean_;
+  request.sink = &sink;
+  request.control.stop = &stop;
+  const MonitorOutcome out = monitorRun(request);
+  EXPECT_TRUE(out.interrupted);
+  ASSERT_EQ(out.events.size(), 2u);
+  EXPECT_FALSE(out.events[0].open);
+  EXPECT_TRUE(out.events[1].open);  // closed at the stop, marked open
+  EXPECT_LT(out.samples, 4001);
+}
+
+TEST_F(MonitorRun, RefusesThresholdsOfOtherJointsAndBadRequests) {
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.data_file = clean_;
+  EXPECT_THROW(monitorRun(request), InputError);  // no threshold source
+  const std::string other = test::writeTemp("monitor_other_thresholds.json", R"({
+    "schema_version": 1, "kind": "dynid.monitor_thresholds", "robot": "two",
+    "joints": ["a", "b"], "residual": "observer", "gain": [100, 100], "thresholds": [1, 1],
+    "source": "x"})");
+  request.thresholds_file = other;
+  try {
+    monitorRun(request);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("monitor_other_thresholds.json"), std::string::npos);
+  }
+  request.thresholds_file.clear();
+  request.calibration_file = clean_;
+  request.arm = "panda";  // a log of another robot
+  EXPECT_THROW(monitorRun(request), InputError);
+  request.arm = "puma560";
+  request.hold = -1.0;
+  EXPECT_THROW(monitorRun(request), InputError);
+}
+
+}  // namespace
+}  // namespace dynid
