@@ -378,7 +378,10 @@ Pass passOverStream(const Model& model, const MonitorRequest& request, const Eig
       out.interrupted = true;
       break;
     }
-    if (!request.next_line(line)) break;
+    if (!request.next_line(line)) {
+      out.interrupted = request.control.stopped();  // a reader gives up its wait on Ctrl-C
+      break;
+    }
     ++number;
     parseSampleLine(line, n, with_ddq, source, number, t, q, dq, ddq, tau);
     if (out.samples > 0 && !(t > previous))

@@ -143,6 +143,9 @@ int runMonitor(const std::vector<std::string>& args) {
   request.residual = residual == "direct" ? MonitorResidual::kDirect : MonitorResidual::kObserver;
   if (vm.count("gain")) {
     const std::vector<double> gain = parseList(vm["gain"].as<std::string>(), "gain");
+    for (double g : gain)
+      if (!(g > 0.0 && g <= 1e6))
+        throw UsageError("--gain: each value must be > 0 and at most 1e6 [1/s]");
     request.gain = Eigen::Map<const Eigen::VectorXd>(gain.data(), static_cast<Eigen::Index>(gain.size()));
   }
   request.false_alarms_per_hour = vm["false-alarms-per-hour"].as<double>();

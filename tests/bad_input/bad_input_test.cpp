@@ -37,6 +37,7 @@ struct Case {
   std::vector<std::string> may_write;
   int memory_mb = 0;    // limit-memory MB: the run's address space (ulimit -v)
   std::string pending;  // pending REASON: a known failure not fixed yet (skipped, reported)
+  std::string stdin_file = "/dev/null";  // stdin NAME: the run's standard input (a case file)
 };
 
 std::vector<std::string> words(const std::string& line, int max_words) {
@@ -100,6 +101,8 @@ std::vector<Case> readCases() {
         c.pending = rest;
       } else if (key == "limit-memory") {
         c.memory_mb = std::stoi(rest);
+      } else if (key == "stdin") {
+        c.stdin_file = rest;
       } else if (key == "writes") {
         c.may_write.push_back(rest);
       } else {
@@ -322,7 +325,7 @@ TEST_P(BadInput, RefusedCleanly) {
       c.memory_mb > 0 ? "ulimit -v " + std::to_string(c.memory_mb * 1024) + " && " : "";
   // A hang is a failure: `timeout` ends it (exit 124) well inside CTest's own limit.
   const test::Result r = runIn(
-      dir, limit + "timeout -k 5 100 " + std::string(DYNID_BIN) + " " + c.command + " </dev/null");
+      dir, limit + "timeout -k 5 100 " + std::string(DYNID_BIN) + " " + c.command + " <'" + c.stdin_file + "'");
   SCOPED_TRACE(c.source + ": dynid " + c.command + "\nstderr: " + r.err);
   EXPECT_NE(r.code, 124) << "hung (killed after 100 s)";
   EXPECT_EQ(r.code, c.exit_code);

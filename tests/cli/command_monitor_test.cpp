@@ -1,0 +1,111 @@
+// dynid monitor through the executable: a simulated push found against the ground truth, the
+// thresholds read back, samples streamed on stdin with events as JSON lines, Ctrl-C while waiting.
+#include <sys/wait.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+class CliMonitor : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = test::tempPath("cli_monitor");
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    ASSERT_EQ(run("simulate --robot puma560 --duration 8 --noise-tau 0.05 --noise-dq 0.001 "
+                  "--seed 1 --out " + dir_ + "/clean.csv").code, 0);
+    const Result pushed = run(
+        "simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
+        "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
+        "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out " + dir_ + "/pushed.csv");
+    ASSERT_EQ(pushed.code, 0) << pushed.err;
+    ASSERT_TRUE(contains(pushed.out, "pushed.truth.csv")) << pushed.out;
+  }
+  static std::string dir_;
+};
+std::string CliMonitor::dir_;
+
+TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
+  const std::string out = dir_ + "/m";
+  const Result r = run("monitor --arm puma560 --data " + dir_ + "/pushed.csv --calibration " +
+                       dir_ + "/clean.csv --truth " + dir_ + "/pushed.truth.csv --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "2 of 2 disturbances detected within 50 ms, 0 false alarm(s)"))
+      << r.out;
+  const auto j = nlohmann::json::parse(readFile(out + "/monitor.json"));
+  EXPECT_EQ(j["kind"], "dynid.monitor");
+  ASSERT_EQ(j["events"].size(), 2u);
+  EXPECT_EQ(j["events"][0]["joints"], nlohmann::json::array({2}));
+  EXPECT_GE(j["events"][0]["start"].get<double>(), 2.0);
+  EXPECT_LT(j["events"][0]["start"].get<double>(), 2.05);
+  for (const char* file : {"thresholds.json", "report.md", "report.html"})
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
+  // The saved thresholds give the same events.
+  const Result again = run("monitor --arm puma560 --data " + dir_ + "/pushed.csv --thresholds " +
+                           out + "/thresholds.json --out " + dir_ + "/m2");
+  ASSERT_EQ(again.code, 0) << again.err;
+  const auto k = nlohmann::json::parse(readFile(dir_ + "/m2/monitor.json"));
+  EXPECT_EQ(k["events"], j["events"]);
+  EXPECT_EQ(k["thresholds"]["thresholds"], j["thresholds"]["thresholds"]);
+}
+
+TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
+  const Result r = run("monitor --arm puma560 --data - --calibration " + dir_ +
+                       "/clean.csv < " + dir_ + "/pushed.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  std::vector<nlohmann::json> events;
+  while (std::getline(lines, line)) events.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(events.size(), 4u) << r.out;  // two starts, two ends
+  EXPECT_EQ(events[0]["event"], "start");
+  EXPECT_EQ(events[1]["event"], "end");
+  EXPECT_EQ(events[0]["start"], events[1]["start"]);
+  EXPECT_TRUE(contains(r.err, "2 events")) << r.err;
+  // A stream cut in the middle of a line is an error naming it.
+  const std::string whole = readFile(dir_ + "/pushed.csv");
+  ASSERT_NE(whole[99999], '\n');
+  std::ofstream(dir_ + "/cut.csv", std::ios::binary) << whole.substr(0, 100000);
+  const Result cut = run("monitor --arm puma560 --data - --calibration " + dir_ +
+                         "/clean.csv < " + dir_ + "/cut.csv");
+  EXPECT_EQ(cut.code, 1);
+  EXPECT_TRUE(contains(cut.err, "<stdin>")) << cut.err;
+  EXPECT_TRUE(contains(cut.err, "middle of a line")) << cut.err;
+}
+
+TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
+  // 2500 of the 6001 rows, then the writer keeps the pipe open: monitor waits for more when
+  // SIGINT comes. The first push (at 2 s) has been reported; it ends cleanly (exit 0).
+  const std::string script =
+      "cd " + dir_ + " && rm -f pipe && mkfifo pipe && " +
+      "{ (head -n 2500 pushed.csv; exec sleep 30) > pipe & writer=$!; " + DYNID_BIN +
+      " monitor --arm puma560 --data - --calibration clean.csv --out live < pipe > live.jsonl "
+      "2> live.err & pid=$!; sleep 2; kill -INT $pid; wait $pid; code=$?; kill $writer; "
+      "exit $code; }";
+  std::filesystem::remove_all(dir_ + "/live");
+  const int status = std::system(("bash -c '" + script + "'").c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 0) << readFile(dir_ + "/live.err");
+  const std::string printed = readFile(dir_ + "/live.jsonl");
+  EXPECT_TRUE(contains(printed, "\"event\":\"start\"")) << printed;
+  const auto j = nlohmann::json::parse(readFile(dir_ + "/live/monitor.json"));
+  EXPECT_TRUE(j["interrupted"].get<bool>());
+  EXPECT_EQ(j["events"].size(), 1u);
+  EXPECT_EQ(j["samples"].get<int>(), 2499);
+}
+
+}  // namespace
+}  // namespace dynid
