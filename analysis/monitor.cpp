@@ -60,15 +60,28 @@ const Eigen::VectorXd& MomentumObserver::update(double t, const Eigen::Ref<const
 
 // ---- statistics and thresholds ----
 
-void ResidualStatistics::reset(int n) {
+void ResidualStatistics::reset(int n, double block_seconds) {
   sum_squares = rate_sum_squares = max_abs = Eigen::VectorXd::Zero(n);
+  block_max = block_sum = block_sum_squares = Eigen::VectorXd::Zero(n);
   rate_time = 0.0;
+  block = block_seconds;
+  blocks = 0;
   samples = 0;
 }
 
-void ResidualStatistics::add(const Eigen::VectorXd& r, const Eigen::VectorXd* previous, double dt) {
+void ResidualStatistics::add(double t, const Eigen::VectorXd& r, const Eigen::VectorXd* previous,
+                             double dt) {
   sum_squares += r.cwiseAbs2();
   max_abs = max_abs.cwiseMax(r.cwiseAbs());
+  if (samples == 0) block_start = t;
+  if (t - block_start >= block) {  // the block is complete: its maximum joins the others
+    block_sum += block_max;
+    block_sum_squares += block_max.cwiseAbs2();
+    ++blocks;
+    block_max.setZero();
+    block_start += block * std::floor((t - block_start) / block);
+  }
+  block_max = block_max.cwiseMax(r.cwiseAbs());
   ++samples;
   if (previous && dt > 0.0) {
     rate_sum_squares += (r - *previous).cwiseAbs2() / dt;  // (dr/dt)^2 dt
@@ -95,7 +108,18 @@ Eigen::VectorXd riceThresholds(const ResidualStatistics& statistics, double rate
       const double ratio = ds[j] / (std::numbers::pi * s[j] * rate);
       u = s[j] * std::sqrt(2.0 * std::log(std::max(ratio, 1.0)));
     }
-    out[j] = std::max(u, statistics.max_abs[j]);
+    double gumbel = 0.0;
+    if (statistics.blocks >= 10) {
+      const double m = statistics.blocks;
+      const double mean = statistics.block_sum[j] / m;
+      const double sd = std::sqrt(std::max(0.0, statistics.block_sum_squares[j] / m - mean * mean) *
+                                  m / (m - 1.0));
+      const double beta = sd * std::sqrt(6.0) / std::numbers::pi;
+      const double mu = mean - 0.5772156649015329 * beta;
+      const double p = std::min(rate * statistics.block, 0.5);
+      gumbel = mu - beta * std::log(-std::log1p(-p));
+    }
+    out[j] = std::max({u, gumbel, statistics.max_abs[j]});
   }
   return out;
 }
@@ -467,10 +491,10 @@ MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
   const bool direct = request.residual == MonitorResidual::kDirect;
   const Pass pass = passOverFile(
       model, request.calibration_file, gain, request.max_gap, request.threads, request.control,
-      [&](double, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+      [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
           const Eigen::VectorXd&) {
         const Eigen::VectorXd& x = direct ? *d : r;
-        stats.add(x, dt > 0.0 ? &previous : nullptr, dt);
+        stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
         previous = x;
       });
   if (pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
@@ -566,10 +590,10 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   EventDetector detector(out.thresholds.values, request.hold, request.sink, out.events);
   const Visit visit = [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
                           const Eigen::VectorXd& dq) {
-    observer_stats.add(r, nullptr, 0.0);
+    observer_stats.add(t, r, nullptr, 0.0);
     out.observer_envelope.add(t, r);
     if (d) {
-      direct_stats.add(*d, nullptr, 0.0);
+      direct_stats.add(t, *d, nullptr, 0.0);
       out.direct_envelope.add(t, *d);
     }
     detector.add(t, dt, direct_events ? *d : r, dq);

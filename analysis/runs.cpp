@@ -25,6 +25,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "data/json_reader.hpp"
 #include "data/model_json.hpp"
 #include "data/robots.hpp"
 #include "data/urdf_writeback.hpp"
@@ -298,7 +299,7 @@ Eigen::MatrixXd kinematicsSignature(const Model& model) {
 }
 
 Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,
-                    std::string* method) {
+                    std::string* method, std::optional<PredictionBand>* band) {
   const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
   const std::string spec = robot_spec.empty() ? estimate.robot_spec : robot_spec;
   if (spec.empty())
@@ -341,21 +342,42 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
                        "' has other link frames or axes than the robot the estimate was made for: "
                        "it was made for another robot");
   }
+  if (band && !estimate.band_columns.empty()) {
+    const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
+    PredictionBand b;
+    for (std::size_t c = 0; c < estimate.band_columns.size(); ++c) {
+      const auto it = std::find(names.begin(), names.end(), estimate.band_columns[c]);
+      if (it == names.end())
+        throw ParseError(file, 0, JsonReader::index("base_covariance.columns", c),
+                         "'" + estimate.band_columns[c] + "' is not a parameter of the robot");
+      b.independent.push_back(static_cast<int>(it - names.begin()));
+    }
+    b.covariance = estimate.covariance;
+    if (estimate.joint_sigma.size() != model.numJoints())
+      throw ParseError(file, 0, "joint_sigma",
+                       "expected " + std::to_string(model.numJoints()) + " numbers with the "
+                       "base covariance");
+    b.noise_sigma = estimate.joint_sigma;
+    *band = std::move(b);
+  }
   return model;
 }
 
 PredictOutcome predictRun(const PredictRequest& request) {
   PredictOutcome out;
-  out.model =
-      estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec, &out.method);
+  out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
+                            &out.method, &out.band);
+  const PredictionBand* band = out.band ? &*out.band : nullptr;
   ThreadPool pool(request.threads);
   if (request.raw_file.empty()) {
-    out.prediction = predictFile(out.model, request.data_file, pool, request.sink);
+    out.prediction =
+        predictFile(out.model, request.data_file, pool, request.sink, kStreamChunkSamples, band);
     return out;
   }
   const RawTorques raw = readRawTorques(request.raw_file, out.model.numJoints());
   RawTorqueComparison comparison(raw, request.sink);
-  out.prediction = predictFile(out.model, request.data_file, pool, &comparison);
+  out.prediction =
+      predictFile(out.model, request.data_file, pool, &comparison, kStreamChunkSamples, band);
   out.raw = comparison.result();
   out.raw_file = request.raw_file;
   out.raw_skipped = comparison.skipped();

@@ -197,6 +197,7 @@ struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
   std::string robot_spec, method;
   Prediction prediction;
+  std::optional<PredictionBand> band;  // the estimate's 95 % band (absent in older estimates)
   std::optional<Validation> raw;  // against the raw torques (raw_file), when given
   std::string raw_file;
   int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
@@ -205,8 +206,11 @@ struct PredictOutcome {
 /// standard parameters; `spec_used` and `method` (when given) receive the robot spec used and the
 /// estimate's method. Throws ParseError for a malformed estimate, InputError when it does not fit
 /// the robot (another robot, another drive model: the parameter named).
+/// `band`, when given, receives the estimate's prediction band (its base covariance and joint
+/// noise; nothing for an estimate written before dynid recorded them).
 Model estimateModel(const std::string& file, const std::string& robot_spec,
-                    std::string* spec_used = nullptr, std::string* method = nullptr);
+                    std::string* spec_used = nullptr, std::string* method = nullptr,
+                    std::optional<PredictionBand>* band = nullptr);
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
 /// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed
 /// estimate, InputError when the estimate does not fit the robot (another robot, another drive

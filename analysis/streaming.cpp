@@ -9,6 +9,7 @@
 #include "analysis/logs/raw_log.hpp"
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/regressor.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "identifiability/observation.hpp"
@@ -71,10 +72,11 @@ Validation validationOf(const Eigen::VectorXd& residual_squared,
 /// Per-joint sums of a prediction over every sample, and its series.
 class PredictionAccumulator {
  public:
-  PredictionAccumulator(const Model& model, int threads) : model_(model) {
+  PredictionAccumulator(const Model& model, int threads, const PredictionBand* band = nullptr)
+      : model_(model), band_(band) {
     work_.resize(static_cast<std::size_t>(threads));  // each made on its own thread, in add()
     const int n = model.numJoints();
-    residual_squared_ = measured_squared_ = Eigen::VectorXd::Zero(n);
+    residual_squared_ = measured_squared_ = inside_ = Eigen::VectorXd::Zero(n);
   }
 
   /// RNEA on a chunk (blocks of samples on the pool's threads), its sums, the kept samples.
@@ -87,9 +89,14 @@ class PredictionAccumulator {
       std::unique_ptr<Data>& own = work_[static_cast<std::size_t>(thread)];
       if (!own) own = std::make_unique<Data>(model_);  // this thread's arena: no shared lines
       Data& work = *own;
-      for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k)
+      for (int k = block * kBlock; k < std::min(m, (block + 1) * kBlock); ++k) {
         predicted_.col(k) = rnea(model_, work, chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
+        if (band_)
+          half_width_.col(k) =
+              band_->halfWidth(model_, work, chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
+      }
     };
+    if (band_) half_width_.resize(model_.numJoints(), m);
     const int blocks = (m + kBlock - 1) / kBlock;
     if (pool)
       pool->parallelFor(blocks, body);
@@ -99,9 +106,15 @@ class PredictionAccumulator {
     for (int k = 0; k < m; ++k) {
       residual_squared_ += (chunk.tau.col(k) - predicted_.col(k)).cwiseAbs2();
       measured_squared_ += chunk.tau.col(k).cwiseAbs2();
+      if (band_)
+        inside_ += ((chunk.tau.col(k) - predicted_.col(k)).cwiseAbs().array() <=
+                    half_width_.col(k).array())
+                       .cast<double>()
+                       .matrix();
     }
     samples_ += m;
     keeper_.add(chunk);
+    if (sink && band_) sink->bands(half_width_);
     if (sink) sink->samples(chunk.time, chunk.tau, predicted_);
   }
 
@@ -109,7 +122,17 @@ class PredictionAccumulator {
     Eigen::VectorXd measured_rms;
     const Validation v =
         validationOf(residual_squared_, measured_squared_, samples_, &measured_rms);
-    return predictionOfKept(model_, keeper_, v, measured_rms);
+    Prediction out = predictionOfKept(model_, keeper_, v, measured_rms);
+    if (band_ && samples_ > 0) {
+      out.band_coverage = inside_ / static_cast<double>(samples_);
+      const Trajectory kept = keeper_.kept();
+      Data data(model_);
+      out.band.resize(model_.numJoints(), kept.numSamples());
+      for (int k = 0; k < kept.numSamples(); ++k)
+        out.band.col(k) = band_->halfWidth(model_, data, kept.q.col(k), kept.dq.col(k),
+                                           kept.ddq.col(k));
+    }
+    return out;
   }
 
  private:
@@ -117,6 +140,9 @@ class PredictionAccumulator {
   std::vector<std::unique_ptr<Data>> work_;
   Eigen::MatrixXd predicted_;
   Eigen::VectorXd residual_squared_, measured_squared_;
+  const PredictionBand* band_;
+  Eigen::MatrixXd half_width_;
+  Eigen::VectorXd inside_;  // per joint, samples inside the band
   long long samples_ = 0;
   SampleKeeper keeper_;
 };
@@ -201,19 +227,31 @@ void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::s
   }
 }
 
+Eigen::VectorXd PredictionBand::halfWidth(const Model& model, Data& data, const Eigen::VectorXd& q,
+                                          const Eigen::VectorXd& dq,
+                                          const Eigen::VectorXd& ddq) const {
+  const Eigen::MatrixXd& Y = jointTorqueRegressor(model, data, q, dq, ddq);
+  const int n = model.numJoints(), b = static_cast<int>(independent.size());
+  Eigen::MatrixXd base(n, b);
+  for (int c = 0; c < b; ++c) base.col(c) = Y.col(independent[static_cast<std::size_t>(c)]);
+  // z sqrt(diag(W1 Sigma W1^T) + sigma^2)
+  const Eigen::VectorXd parameter = (base * covariance).cwiseProduct(base).rowwise().sum();
+  return z * (parameter + noise_sigma.cwiseAbs2()).cwiseSqrt();
+}
+
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
-                       PredictionSink* sink, int chunk_samples) {
+                       PredictionSink* sink, int chunk_samples, const PredictionBand* band) {
   DatasetReader reader(file, model.numJoints());
-  PredictionAccumulator accumulator(model, pool.numThreads());
+  PredictionAccumulator accumulator(model, pool.numThreads(), band);
   Trajectory chunk;
   while (reader.read(chunk, chunk_samples, &pool) > 0) accumulator.add(chunk, &pool, sink);
   return accumulator.finish();
 }
 
 Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool,
-                          PredictionSink* sink) {
+                          PredictionSink* sink, const PredictionBand* band) {
   requireJoints(model, data.numJoints(), "the data");
-  PredictionAccumulator accumulator(model, pool ? pool->numThreads() : 1);
+  PredictionAccumulator accumulator(model, pool ? pool->numThreads() : 1, band);
   accumulator.add(data, pool, sink);
   return accumulator.finish();
 }

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "core/data.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 #include "core/trajectory.hpp"
@@ -23,6 +25,19 @@ inline constexpr int kStreamChunkSamples = 2048;
 /// stride doubling as the data grow), between this many and twice as many.
 inline constexpr int kMaxPlottedSamples = 4096;
 
+/// A prediction's 95 % band: the base parameters' covariance carried to the torque, plus the
+/// residual noise, half_width_j = z sqrt(y_j Sigma y_j^T + sigma_j^2), with y_j joint j's row of the
+/// base regressor W1 = Y(:, independent) at the sample (W theta = W1 beta for any theta).
+struct PredictionBand {
+  std::vector<int> independent;  // standard-parameter index of each base parameter's column
+  Eigen::MatrixXd covariance;    // of the base parameters (num_base x num_base)
+  Eigen::VectorXd noise_sigma;   // per joint [N m]
+  double z = 1.959963984540054;  // the two-sided 95 % normal quantile
+  /// The half widths at one sample (n entries). Overwrites data.Y.
+  Eigen::VectorXd halfWidth(const Model& model, Data& data, const Eigen::VectorXd& q,
+                            const Eigen::VectorXd& dq, const Eigen::VectorXd& ddq) const;
+};
+
 /// A model's torques on a dataset, against the measured ones: statistics over every sample, and
 /// evenly spaced samples for figures.
 struct Prediction {
@@ -31,6 +46,10 @@ struct Prediction {
   int stride = 1;                // the series holds samples 0, stride, 2 stride, ...
   Eigen::VectorXd time;          // the series: kept samples' time [s],
   Eigen::MatrixXd measured, predicted;  // and torques (n x kept) [N m]
+  /// With a band: per joint, the share of samples whose measured torque lies inside it, and the
+  /// kept samples' half widths (n x kept) [N m]; empty otherwise.
+  Eigen::VectorXd band_coverage;
+  Eigen::MatrixXd band;
 };
 
 /// Evenly spaced samples of a stream: every stride-th sample, the stride doubling (every other
@@ -59,6 +78,8 @@ class PredictionSink {
   /// measured and predicted: n x time.size().
   virtual void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                        const Eigen::MatrixXd& predicted) = 0;
+  /// With a band: the chunk's half widths (n x time.size()), called just before samples().
+  virtual void bands(const Eigen::MatrixXd& half_width) { (void)half_width; }
 };
 
 /// The held-out part's raw torques at the log's own stamps (prepare --keep-raw-torque's
@@ -82,6 +103,9 @@ class RawTorqueComparison : public PredictionSink {
   RawTorqueComparison(const RawTorques& raw, PredictionSink* next = nullptr);
   void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                const Eigen::MatrixXd& predicted) override;
+  void bands(const Eigen::MatrixXd& half_width) override {
+    if (next_) next_->bands(half_width);
+  }
   /// The statistics over the raw samples compared (num_samples: how many); raw samples that no
   /// pair of dataset samples brackets are not compared (skipped()).
   Validation result() const;
@@ -107,13 +131,15 @@ void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::s
 
 /// RNEA of `model` (its parameters and drive terms) at every sample of the dataset `file`,
 /// streamed; each chunk also goes to `sink` when given. Throws what DatasetReader throws.
+/// With `band`, also its half widths and coverage (Prediction::band_coverage, band).
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
-                       PredictionSink* sink = nullptr, int chunk_samples = kStreamChunkSamples);
+                       PredictionSink* sink = nullptr, int chunk_samples = kStreamChunkSamples,
+                       const PredictionBand* band = nullptr);
 
 /// The same for data in memory (on the pool's threads when given; the same result for any count).
 /// Throws InputError when the joint counts differ.
 Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr,
-                          PredictionSink* sink = nullptr);
+                          PredictionSink* sink = nullptr, const PredictionBand* band = nullptr);
 
 /// The series of a prediction whose statistics are known (a least-squares fit's residuals): RNEA
 /// of `model` on the kept samples, with `validation` and `measured_rms` as given.

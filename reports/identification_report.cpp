@@ -188,6 +188,24 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                  {"standard_estimate",
                   {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
                    {"values", standard_json}}}};
+  // The base covariance with each base parameter's column: predict's torque bands.
+  if (estimate.covariance.rows() == base.numBase() && estimate.covariance.allFinite()) {
+    json independent = json::array(), matrix = json::array();
+    for (int j = 0; j < base.numBase(); ++j) {
+      independent.push_back(base.standard_names[static_cast<std::size_t>(base.independent[j])]);
+      matrix.push_back(numbersOrNull(estimate.covariance.row(j).transpose()));
+    }
+    report["base_covariance"] = {
+        {"note",
+         outcome.result.pc
+             ? "least-squares covariance at the physically consistent estimate (sigma^2 (R^T "
+               "R)^-1 of the base regressor): its torque band is that of the unconstrained "
+               "estimate at the same point, conservative where the constraints or the prior bind"
+             : "covariance of the base parameters, in base_parameters' order; each column of "
+               "the base regressor is the standard parameter named in `columns`"},
+        {"columns", independent},
+        {"matrix", matrix}};
+  }
   if (const auto& pc = outcome.result.pc) {
     report["standard_estimate"]["note"] =
         "physically consistent on every link (positive definite pseudo-inertias)";

@@ -174,8 +174,9 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
                                                            : "-"});
   th.caption = "Thresholds from " + o.thresholds.source + ", set for " +
                formatNumber(o.thresholds.false_alarms_per_hour, 3) +
-               " false alarms per hour of the arm: Rice's formula on the calibration residual's "
-               "RMS and rate RMS, never below its largest value. Observer gain " +
+               " false alarms per hour of the arm: the largest of Rice's formula (the calibration "
+               "residual's RMS and rate RMS), the Gumbel law of its 1 s maxima and its largest "
+               "value. Observer gain " +
                formatNumber(o.thresholds.gain.maxCoeff(), 4) + " 1/s.";
   report.table(th);
   std::string warning;

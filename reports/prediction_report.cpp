@@ -57,6 +57,29 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
                         {"joint_relative_error", numbersOrNull(v.normalised_rms)},
                         {"torque_rms", numbersOrNull(v.torque_rms)}};
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
+  if (o.prediction.band_coverage.size() > 0)
+    out["band"] = {
+        {"level", 0.95},
+        {"coverage", numbersOrNull(o.prediction.band_coverage)},
+        {"outside_expected", bandWarnings(o.prediction.band_coverage)},
+        {"method",
+         "per sample and joint, 1.96 sqrt(y Sigma y^T + sigma_j^2): y the joint's base-regressor "
+         "row, Sigma the estimate's base covariance, sigma_j its residual noise (estimate.json's "
+         "base_covariance and joint_sigma). For a physically consistent estimate Sigma is the "
+         "least-squares covariance at that estimate."}};
+  return out;
+}
+
+std::vector<std::string> bandWarnings(const Eigen::VectorXd& coverage) {
+  std::vector<std::string> out;
+  for (Eigen::Index j = 0; j < coverage.size(); ++j)
+    if (coverage[j] < kBandCoverageLow || coverage[j] > kBandCoverageHigh)
+      out.push_back("joint " + std::to_string(j + 1) + ": the 95 % band covers " +
+                    formatNumber(100.0 * coverage[j], 3) + " % of the samples" +
+                    (coverage[j] < kBandCoverageLow
+                         ? " (these data are noisier than the training data, or the model misses "
+                           "something here: a collision, a payload, another friction)"
+                         : " (these data are quieter than the training data's residuals)"));
   return out;
 }
 
@@ -70,10 +93,13 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
   s << "set terminal svg size 900," << 160 * n + 60 << " font 'sans,11' background rgb 'white'\n"
     << "set multiplot layout " << n << ",1 title " << gnuplotString(title) << "\n"
     << "set key top right horizontal\nset grid\nset lmargin 10\n";
+  const bool band = p.band.rows() == n && p.band.cols() == samples;
   for (int j = 0; j < n; ++j) {
     PlotRows data;
     for (int k = 0; k < samples; k += stride)
-      data.append({p.time[k], p.measured(j, k), p.predicted(j, k)});
+      data.append({p.time[k], p.measured(j, k), p.predicted(j, k),
+                   band ? p.predicted(j, k) - p.band(j, k) : 0.0,
+                   band ? p.predicted(j, k) + p.band(j, k) : 0.0});
     s << "$j" << j << " << EOD\n"
       << data << "EOD\n"
       << "set ylabel 'tau" << j + 1 << " [N m]'\n";
@@ -81,7 +107,10 @@ std::optional<std::string> torqueFigure(const Prediction& p, const std::string& 
       s << "set xlabel 't [s]'\n";
     else
       s << "unset xlabel\n";
-    s << "plot $j" << j << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
+    s << "plot ";
+    if (band)
+      s << "$j" << j << " using 1:4:5 with filledcurves lc rgb '#f4c6cb' title '95 % band', ";
+    s << "$j" << j << " using 1:2 with lines lw 1.5 lc rgb '#4477aa' title 'measured', $j" << j
       << " using 1:3 with lines lw 1.2 lc rgb '#ee6677' title 'predicted'\n";
   }
   s << "unset multiplot\n";
@@ -183,14 +212,21 @@ void PredictedCsv::open() {
   out_ = &set_->stream("predicted.csv");
 }
 
+void PredictedCsv::bands(const Eigen::MatrixXd& half_width) { band_ = &half_width; }
+
 void PredictedCsv::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                            const Eigen::MatrixXd& predicted) {
   const auto n = static_cast<int>(measured.rows());
   if (!out_) open();
+  const Eigen::MatrixXd* band = band_;
+  band_ = nullptr;  // this chunk's only
   if (!header_written_) {
+    with_band_ = band != nullptr;
     std::string header = "t";
     for (int j = 1; j <= n; ++j) header += ",tau" + std::to_string(j);
     for (int j = 1; j <= n; ++j) header += ",tau_hat" + std::to_string(j);
+    if (with_band_)
+      for (int j = 1; j <= n; ++j) header += ",band" + std::to_string(j);
     out_->write(header + "\n");
     header_written_ = true;
   }
@@ -209,6 +245,11 @@ void PredictedCsv::samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& m
       row_ += ',';
       append(predicted(j, k));
     }
+    if (with_band_)
+      for (int j = 0; j < n; ++j) {
+        row_ += ',';
+        append((*band)(j, k));
+      }
     row_ += '\n';
     out_->write(row_);
   }
@@ -242,6 +283,16 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j)
     out << " " << formatNumber(v.torque_rms[j], 3, "n/a");
   if (o.raw) out << "\n" << rawValidationLine(*o.raw, o.raw_skipped);
+  const Eigen::VectorXd& coverage = p.band_coverage;
+  if (coverage.size() > 0) {
+    out << "\n95 % band coverage per joint [%]:";
+    for (Eigen::Index j = 0; j < coverage.size(); ++j)
+      out << " " << formatNumber(100.0 * coverage[j], 3);
+    for (const std::string& w : bandWarnings(coverage)) out << "\nwarning: " << w;
+  } else {
+    out << "\nno band: the estimate has no base covariance (made before dynid recorded it: "
+           "identify again)";
+  }
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";
   if (figure) out << " and " << dir << "/torques.svg";
   out << "\n";

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,6 +15,12 @@ namespace dynid {
 
 nlohmann::json predictionJson(const PredictOutcome& outcome, const std::string& estimate_file,
                               const std::string& data_file);
+
+/// A 95 % band whose coverage of a joint's samples is outside [low, high] is reported as a
+/// warning: the band does not describe these data.
+inline constexpr double kBandCoverageLow = 0.90, kBandCoverageHigh = 0.99;
+/// The warnings for the joints whose coverage is outside those bounds (empty when none).
+std::vector<std::string> bandWarnings(const Eigen::VectorXd& coverage);
 
 /// A prediction against the raw held-out torques (prepare --keep-raw-torque), as JSON and as
 /// one console line; `skipped`: raw samples no two adjacent dataset samples bracket.
@@ -34,7 +41,8 @@ std::optional<std::string> residualHistogram(const Prediction& train);
 class AtomicWriter;
 class OutputSet;
 
-/// predicted.csv (t, tau1..taun, tau_hat1..tau_hatn), written sample by sample as the prediction
+/// predicted.csv (t, tau1..taun, tau_hat1..tau_hatn, and band1..bandn, the 95 % band's half widths,
+/// when the estimate has a band), written sample by sample as the prediction
 /// streams (memory independent of the data's length) into a temporary of the output set that
 /// writePrediction publishes; nothing is left when the run fails or is interrupted (a directory
 /// it created is removed again).
@@ -45,6 +53,7 @@ class PredictedCsv : public PredictionSink {
   ~PredictedCsv() override;
   void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                const Eigen::MatrixXd& predicted) override;
+  void bands(const Eigen::MatrixXd& half_width) override;
   /// predicted.csv whole (the header alone without samples), and the set it belongs to, to be
   /// published with the other files.
   OutputSet& finish();
@@ -56,6 +65,8 @@ class PredictedCsv : public PredictionSink {
   AtomicWriter* out_ = nullptr;
   bool created_dir_ = false;
   bool header_written_ = false;
+  bool with_band_ = false;
+  const Eigen::MatrixXd* band_ = nullptr;  // the next chunk's half widths
   std::string row_;
 };
 

@@ -155,8 +155,34 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "standard_estimate",
                  "physically_consistent",
                  "write_back",
-                 "validation"});
+                 "validation",
+                 "base_covariance"});
   EstimateRecord out;
+  if (document.contains("base_covariance")) {
+    const json& c = read.object(document["base_covariance"], "base_covariance");
+    read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
+    out.band_columns = read.strings(read.field(c, "base_covariance", "columns"),
+                                    "base_covariance.columns");
+    const long b = static_cast<long>(out.band_columns.size());
+    const json& rows = read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
+    if (static_cast<long>(rows.size()) != b)
+      read.fail("base_covariance.matrix", "expected " + std::to_string(b) + " rows");
+    out.covariance.resize(b, b);
+    for (long i = 0; i < b; ++i)
+      out.covariance.row(i) =
+          read.vector(rows[static_cast<std::size_t>(i)],
+                      JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)), b)
+              .transpose();
+    if (!out.covariance.allFinite() || (out.covariance - out.covariance.transpose()).norm() >
+                                           1e-9 * out.covariance.norm() ||
+        (out.covariance.diagonal().array() < 0.0).any())
+      read.fail("base_covariance.matrix", "expected a finite symmetric covariance");
+    if (document.contains("joint_sigma")) {
+      out.joint_sigma = read.vector(document["joint_sigma"], "joint_sigma");
+      if (!out.joint_sigma.allFinite() || (out.joint_sigma.array() < 0.0).any())
+        read.fail("joint_sigma", "expected finite numbers >= 0");
+    }
+  }
   if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");
   if (document.contains("method")) out.method = read.string(document, "", "method");
   if (document.contains("drive_terms"))

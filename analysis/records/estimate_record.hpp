@@ -37,6 +37,11 @@ struct EstimateRecord {
   std::vector<std::string> drive_terms;    // keys: "fv", "fc", ...
   std::map<std::string, double> standard;  // standard_estimate.values
   nlohmann::json kinematics;               // the recorded kinematics signature, or null
+  /// base_covariance (absent from older estimates): each base parameter's regressor column (a
+  /// standard parameter's name) and the covariance; joint_sigma, the residual noise per joint.
+  std::vector<std::string> band_columns;
+  Eigen::MatrixXd covariance;
+  Eigen::VectorXd joint_sigma;
 };
 /// Reads an estimate.json document strictly: schema_version exactly kEstimateDocument's (its kind,
 /// when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a string,

@@ -6,6 +6,8 @@
 #include "core/energy.hpp"
 #include "core/errors.hpp"
 #include "core/rnea.hpp"
+#include "data/panda.hpp"
+#include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -80,6 +82,29 @@ TEST_P(Momentum, TheBiasHoldsTheKineticEnergysGradient) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Drives, Momentum, ::testing::Bool());
+
+// The same law on the built-in arms (modified-DH Panda, standard-DH PUMA with its drives).
+TEST(Momentum, ItsRateIsTheTorqueLessTheBiasOnTheBuiltInArms) {
+  for (const Model& model : {makePanda(true), makePuma560(true)}) {
+    Data data(model);
+    std::mt19937_64 rng(9);
+    const int n = model.numJoints();
+    const Eigen::VectorXd q = test::randomVector(rng, n, 1.0), dq = test::randomVector(rng, n, 1),
+                          ddq = test::randomVector(rng, n, 2);
+    Eigen::VectorXd p, beta, p_plus, p_minus, unused;
+    momentumTerms(model, data, q, dq, p, beta);
+    const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
+    const double h = 1e-5;
+    momentumTerms(model, data, Eigen::VectorXd(q + h * dq), Eigen::VectorXd(dq + h * ddq), p_plus,
+                  unused);
+    momentumTerms(model, data, Eigen::VectorXd(q - h * dq), Eigen::VectorXd(dq - h * ddq), p_minus,
+                  unused);
+    // As above: central differences, 1e-6 of the torques' size.
+    EXPECT_LT(((p_plus - p_minus) / (2 * h) - (tau - beta)).cwiseAbs().maxCoeff(),
+              1e-6 * (1 + tau.norm()))
+        << model.name;
+  }
+}
 
 TEST(Momentum, RefusesVectorsOfAnotherSize) {
   const Model model = test::randomTree(1);
