@@ -2,8 +2,9 @@
 //   - BM_ObserverSample/<robot>: one sample of the momentum observer (p = M dq, beta, the update).
 //   - BM_MonitorFile: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
 //     counter hour_seconds is the time an hour of such a log takes.
-//   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv, Fc) and its inertial
-//     parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid (tracked at a
+//   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv and Fc each 0.5 % of
+//     the joint's effort limit: 0.43 N m on the Panda's shoulder, 0.06 N m on its wrist) and its
+//     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid (tracked at a
 //     2 Hz bandwidth) at 1 kHz with
 //     white noise of 0.1 N m on tau and 1e-3 rad/s on dq (q: 1e-5 rad). The identified model is
 //     OLS (Fv, Fc) on a 60 s training log; the prior is the nominal model without friction (what
@@ -134,9 +135,10 @@ void BM_MonitorAcceptance(benchmark::State& state, const Model& nominal_drives,
     Model truth = perturbedModel(nominal_drives, 0.2, 5);
     Eigen::VectorXd theta = truth.standardParameters();
     const ParameterLayout layout = truth.parameterLayout();
-    for (int j = 0; j < n; ++j) {  // friction of a real arm
-      theta[layout.driveIndex(j, DriveTerm::kViscous)] = 0.4;
-      theta[layout.driveIndex(j, DriveTerm::kCoulomb)] = 0.8;
+    for (int j = 0; j < n; ++j) {  // friction at the scale of each joint: 0.5 % of its effort
+      const double scale = 0.005 * truth.limits[static_cast<std::size_t>(j)].effort;
+      theta[layout.driveIndex(j, DriveTerm::kViscous)] = scale;  // per rad/s
+      theta[layout.driveIndex(j, DriveTerm::kCoulomb)] = scale;
     }
     truth.setStandardParameters(theta);
     const std::string tag = truth.name;

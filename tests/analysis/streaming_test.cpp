@@ -14,6 +14,8 @@
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/puma560.hpp"
+#include "identifiability/base_parameters.hpp"
+#include "identifiability/least_squares_stream.hpp"
 
 namespace dynid {
 namespace {
@@ -38,6 +40,42 @@ TEST(SampleKeeper, KeepsEveryStrideThSampleWhateverTheChunks) {
   few.add(data.samples(0, 10));
   EXPECT_EQ(few.stride(), 1);
   EXPECT_EQ(few.kept().q, data.q.leftCols(10));
+}
+
+// The 95 % band of an OLS estimate covers 95 % of fresh data with the training data's noise, per
+// joint; on data three times as noisy it covers about half (the check that fails loudly).
+TEST(PredictionBand, CoversNinetyFivePercentOfDataWithTheTrainingNoise) {
+  const Model puma = makePuma560(true);
+  const Trajectory train = test::pumaTrajectory(puma, 20.0, 0.1, 3);
+  const BaseParameters base = structuralBaseParameters(puma);
+  LeastSquaresStream stream(base, puma);
+  stream.addTrajectory(puma, train);
+  const BaseEstimate estimate = stream.estimate(LeastSquaresMethod::kOrdinary);
+  Model identified = puma;
+  identified.setStandardParameters(
+      base.standardFromBase(estimate.beta, puma.standardParameters()));
+  PredictionBand band;
+  band.independent = base.independent;
+  band.covariance = estimate.covariance;
+  band.noise_sigma = estimate.joint_sigma;
+  const Prediction fresh =
+      predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.1, 4, 0.9), nullptr, nullptr,
+                     &band);
+  ASSERT_EQ(fresh.band_coverage.size(), 6);
+  for (int j = 0; j < 6; ++j) {
+    // 20001 samples: the binomial spread of a 95 % coverage is 0.15 %; the estimated noise and
+    // parameters move it by a few tenths of a percent more.
+    EXPECT_GT(fresh.band_coverage[j], 0.94) << j;
+    EXPECT_LT(fresh.band_coverage[j], 0.96) << j;
+  }
+  EXPECT_EQ(fresh.band.cols(), fresh.time.size());
+  const Prediction noisy =
+      predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.3, 5, 0.9), nullptr, nullptr,
+                     &band);
+  // P(|N(0, 3 s)| < 1.96 s) = 0.49.
+  for (int j = 0; j < 6; ++j) EXPECT_LT(noisy.band_coverage[j], 0.6) << j;
+  const Prediction none = predictTorques(identified, train);
+  EXPECT_EQ(none.band_coverage.size(), 0);
 }
 
 TEST(Streaming, PredictFileEqualsThePredictionInMemoryForAnyThreadsAndChunks) {

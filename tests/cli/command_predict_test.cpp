@@ -44,7 +44,7 @@ TEST(Cli, PredictReproducesTheEstimatesResidualsAndRefusesAnotherRobot) {
   const std::string csv = readFile(out + "/predicted.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "t,tau1,tau2,tau3,tau4,tau5,tau6,tau_hat1,tau_hat2,"
-            "tau_hat3,tau_hat4,tau_hat5,tau_hat6");
+            "tau_hat3,tau_hat4,tau_hat5,tau_hat6,band1,band2,band3,band4,band5,band6");
   // Another robot (a URDF of 6 joints without drives): named, nothing written.
   const std::string urdf = test::tempPath("predict_other.urdf"), never = test::tempPath("never");
   ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
@@ -57,6 +57,62 @@ TEST(Cli, PredictReproducesTheEstimatesResidualsAndRefusesAnotherRobot) {
   EXPECT_EQ(junk.code, 1);
   EXPECT_TRUE(contains(junk.err, train)) << junk.err;
   EXPECT_FALSE(std::filesystem::exists(never));
+}
+
+}  // namespace
+}  // namespace dynid
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+TEST(Cli, PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData) {
+  const std::string dir = test::tempPath("cli_predict_band");
+  std::filesystem::create_directories(dir);
+  for (const std::string& args :
+       {"--noise-tau 0.1 --seed 3 --out " + dir + "/train.csv",
+        "--noise-tau 0.1 --seed 4 --phase 0.5 --out " + dir + "/same.csv",
+        "--noise-tau 0.4 --seed 5 --phase 0.5 --out " + dir + "/noisy.csv"})
+    ASSERT_EQ(run("simulate --robot puma560 --duration 10 " + args).code, 0) << args;
+  ASSERT_EQ(run("identify --robot puma560 --data " + dir + "/train.csv --out " + dir + "/est").code,
+            0);
+  const std::string estimate = dir + "/est/estimate.json";
+  const auto e = nlohmann::json::parse(readFile(estimate));
+  ASSERT_TRUE(e.contains("base_covariance"));
+  EXPECT_EQ(e["base_covariance"]["columns"].size(), e["num_base"].get<std::size_t>());
+
+  const Result same = run("predict --estimate " + estimate + " --data " + dir + "/same.csv --out " +
+                          dir + "/p_same");
+  ASSERT_EQ(same.code, 0) << same.err;
+  EXPECT_TRUE(contains(same.out, "95 % band coverage per joint")) << same.out;
+  EXPECT_FALSE(contains(same.out, "warning")) << same.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/p_same/prediction.json"));
+  for (const auto& c : j["band"]["coverage"]) {
+    // 10001 samples with the training noise: 95 % within the binomial spread and the estimate's.
+    EXPECT_GT(c.get<double>(), 0.93);
+    EXPECT_LT(c.get<double>(), 0.97);
+  }
+  EXPECT_TRUE(contains(readFile(dir + "/p_same/predicted.csv").substr(0, 300), ",band6\n"));
+
+  const Result noisy = run("predict --estimate " + estimate + " --data " + dir +
+                           "/noisy.csv --out " + dir + "/p_noisy");
+  ASSERT_EQ(noisy.code, 0) << noisy.err;
+  EXPECT_TRUE(contains(noisy.out, "warning: joint 1: the 95 % band covers")) << noisy.out;
+  const auto k = nlohmann::json::parse(readFile(dir + "/p_noisy/prediction.json"));
+  EXPECT_EQ(k["band"]["outside_expected"].size(), 6u);
+
+  // An estimate made before the covariance was recorded: the prediction without a band.
+  nlohmann::json old = e;
+  old.erase("base_covariance");
+  writeFileAtomically(dir + "/old.json", old.dump());
+  const Result plain =
+      run("predict --estimate " + dir + "/old.json --data " + dir + "/same.csv --out " + dir + "/p_old");
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_TRUE(contains(plain.out, "no band")) << plain.out;
+  EXPECT_FALSE(contains(readFile(dir + "/p_old/predicted.csv").substr(0, 300), "band1"));
 }
 
 }  // namespace
