@@ -2,8 +2,8 @@
 //   - BM_ObserverSample/<robot>: one sample of the momentum observer (p = M dq, beta, the update).
 //   - BM_MonitorFile: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
 //     counter hour_seconds is the time an hour of such a log takes.
-//   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv and Fc each 0.5 % of
-//     the joint's effort limit: 0.43 N m on the Panda's shoulder, 0.06 N m on its wrist) and its
+//   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv per rad/s and Fc
+//     each 1 % of the joint's peak torque in the motion) and its
 //     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid (tracked at a
 //     2 Hz bandwidth) at 1 kHz with
 //     white noise of 0.1 N m on tau and 1e-3 rad/s on dq (q: 1e-5 rad). The identified model is
@@ -14,6 +14,7 @@
 //     thresholds of the prior over those of the identified model, per joint.
 // Run: build/bench/bench_monitor  (several minutes on 2 cores; counters and a table on stdout).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <random>
@@ -135,10 +136,17 @@ void BM_MonitorAcceptance(benchmark::State& state, const Model& nominal_drives,
     Model truth = perturbedModel(nominal_drives, 0.2, 5);
     Eigen::VectorXd theta = truth.standardParameters();
     const ParameterLayout layout = truth.parameterLayout();
-    for (int j = 0; j < n; ++j) {  // friction at the scale of each joint: 0.5 % of its effort
-      const double scale = 0.005 * truth.limits[static_cast<std::size_t>(j)].effort;
+    // Friction at each joint's scale: Fv (per rad/s) and Fc each 1 % of the joint's peak torque
+    // in this motion without friction.
+    Model rigid = truth;
+    rigid.setDriveTerms(DriveTerms::none());
+    const Trajectory reference = simulateRun(motion(rigid, 10.0, 1, 0.0)).trajectory;
+    for (int j = 0; j < n; ++j) {
+      const double scale = 0.01 * reference.tau.row(j).cwiseAbs().maxCoeff();
       theta[layout.driveIndex(j, DriveTerm::kViscous)] = scale;  // per rad/s
       theta[layout.driveIndex(j, DriveTerm::kCoulomb)] = scale;
+      if (layout.drives.has(DriveTerm::kCoulombAsymmetry))  // the PUMA's: symmetric here
+        theta[layout.driveIndex(j, DriveTerm::kCoulombAsymmetry)] = 0.0;
     }
     truth.setStandardParameters(theta);
     const std::string tag = truth.name;

@@ -22,5 +22,6 @@ int runBatch(const std::vector<std::string>& args);
 int runExcite(const std::vector<std::string>& args);
 int runPayload(const std::vector<std::string>& args);
 int runMonitor(const std::vector<std::string>& args);
+int runAudit(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

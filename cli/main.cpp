@@ -29,6 +29,7 @@ const char* kUsage =
     "  predict                  a saved estimate's torques on a dataset, errors and a figure\n"
     "  payload                  what was added at the flange of an identified arm; drive gains\n"
     "  monitor                  watch a log or live samples for external torques (collisions)\n"
+    "  audit                    do estimates from separate sessions agree within their sigma?\n"
     "  search                   the paper's GC-error search: nlo, ga or hybrid\n"
     "  refine                   Ceres least squares on the GC residuals from a search or estimate\n"
     "  demo                     the paper's study on the built-in PUMA 560, with a report\n"
@@ -76,7 +77,7 @@ int main(int argc, char** argv) {
       {"batch", runBatch},       {"prepare", runPrepare},
       {"predict", runPredict},   {"study", runStudy},
       {"excite", runExcite},     {"payload", runPayload},
-      {"monitor", runMonitor}};
+      {"monitor", runMonitor},   {"audit", runAudit}};
   const auto it = commands.find(command);
   if (it == commands.end()) {
     std::cerr << "dynid: unknown command '" << command << "'\n\n" << kUsage;

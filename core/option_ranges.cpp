@@ -122,6 +122,8 @@ constexpr OptionRule kOptionRules[] = {
      "max-motion-difference",
      {0.0, 10.0, true, false},
      "largest RMS position difference of a joint between the loaded and the unloaded run [rad]"},
+    // audit
+    {"audit", "level", {0.0, 0.5, true, false}, "significance level of each parameter's test"},
     // monitor
     {"monitor",
      "false-alarms-per-hour",
