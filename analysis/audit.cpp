@@ -44,8 +44,8 @@ Session readEstimate(const std::string& file) {
   s.robot = record.robot_spec;
   s.method = record.method;
   s.drive_terms = record.drive_terms;
-  const nlohmann::json& base = read.array(read.field(document, "", "base_parameters"),
-                                          "base_parameters");
+  const nlohmann::json& base =
+      read.array(read.field(document, "", "base_parameters"), "base_parameters");
   s.estimate.resize(static_cast<Eigen::Index>(base.size()));
   s.std_dev.resize(static_cast<Eigen::Index>(base.size()));
   for (std::size_t j = 0; j < base.size(); ++j) {
@@ -53,8 +53,8 @@ Session readEstimate(const std::string& file) {
     s.names.push_back(read.string(base[j], path, "name"));
     s.expressions.push_back(read.string(base[j], path, "expression"));
     const auto e = static_cast<Eigen::Index>(j);
-    s.estimate[e] = read.number(base[j], path, "estimate", -kMaxParameterMagnitude,
-                                kMaxParameterMagnitude);
+    s.estimate[e] =
+        read.number(base[j], path, "estimate", -kMaxParameterMagnitude, kMaxParameterMagnitude);
     s.std_dev[e] = read.number(base[j], path, "std_dev", 0.0, kMaxParameterMagnitude);
   }
   return s;

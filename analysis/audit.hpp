@@ -35,14 +35,14 @@ struct AuditRequest {
 /// One base parameter across the sessions.
 struct AuditParameter {
   std::string name, expression;
-  std::string group;              // "inertial" or "friction"
+  std::string group;                  // "inertial" or "friction"
   Eigen::VectorXd estimate, std_dev;  // per session
-  double mean = 0.0;              // the inverse-variance weighted mean
-  double chi2 = 0.0;              // sum over sessions of ((estimate - mean) / std_dev)^2
-  int dof = 0;                    // sessions - 1
-  double p_value = 1.0;           // P(chi2_dof >= chi2)
-  bool flagged = false;           // p_value < level
-  int farthest = 0;               // the session whose estimate is farthest, in its own sigmas
+  double mean = 0.0;                  // the inverse-variance weighted mean
+  double chi2 = 0.0;                  // sum over sessions of ((estimate - mean) / std_dev)^2
+  int dof = 0;                        // sessions - 1
+  double p_value = 1.0;               // P(chi2_dof >= chi2)
+  bool flagged = false;               // p_value < level
+  int farthest = 0;                   // the session whose estimate is farthest, in its own sigmas
 };
 
 struct AuditOutcome {
@@ -52,7 +52,7 @@ struct AuditOutcome {
   std::vector<AuditParameter> parameters;
   double chi2 = 0.0, p_value = 1.0;  // over every parameter (their sum, dof summed)
   int dof = 0;
-  Eigen::VectorXd session_chi2;      // each session's share of the total
+  Eigen::VectorXd session_chi2;  // each session's share of the total
   int flagged = 0, flagged_inertial = 0, flagged_friction = 0;
   double level = kDefaultAuditLevel;
   std::string verdict;  // "consistent", "drift in friction (Fc3, ...)", ...

@@ -30,7 +30,8 @@ MomentumObserver::MomentumObserver(const Model& model, const Eigen::VectorXd& ga
   p0_ = integral_ = r_ = rate_ = Eigen::VectorXd::Zero(n);
 }
 
-const Eigen::VectorXd& MomentumObserver::update(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
+const Eigen::VectorXd& MomentumObserver::update(double t,
+                                                const Eigen::Ref<const Eigen::VectorXd>& q,
                                                 const Eigen::Ref<const Eigen::VectorXd>& dq,
                                                 const Eigen::Ref<const Eigen::VectorXd>& tau) {
   momentumTerms(model_, data_, q, dq, p_, beta_);
@@ -248,8 +249,7 @@ void MonitorRequest::check() const {
   checkOption("monitor", "false-alarms-per-hour", false_alarms_per_hour, "--false-alarms-per-hour");
   checkOption("monitor", "hold", hold, "--hold");
   checkOption("monitor", "max-gap", max_gap, "--max-gap");
-  if (gain && (!gain->allFinite() || (gain->array() <= 0.0).any() ||
-               (gain->array() > 1e6).any()))
+  if (gain && (!gain->allFinite() || (gain->array() <= 0.0).any() || (gain->array() > 1e6).any()))
     throw InputError("--gain: each value must be > 0 and at most 1e6 [1/s]");
 }
 
@@ -367,7 +367,8 @@ Pass passOverFile(const Model& model, const std::string& file, const Eigen::Vect
         ++out.restarts;
         dt = 0.0;
       }
-      const Eigen::VectorXd& r = observer.update(t, chunk.q.col(k), chunk.dq.col(k), chunk.tau.col(k));
+      const Eigen::VectorXd& r =
+          observer.update(t, chunk.q.col(k), chunk.dq.col(k), chunk.tau.col(k));
       const Eigen::VectorXd d = direct.col(k);
       visit(t, dt, r, &d, chunk.dq.col(k));
       if (out.samples == 0) out.first = t;
@@ -435,8 +436,9 @@ std::vector<std::pair<double, double>> truthEpisodes(const std::string& file, in
   std::string header(view);
   std::vector<std::string_view> fields = splitFields(header);
   if (static_cast<int>(fields.size()) != n + 1 || fields[0] != "t")
-    throw ParseError(file, 1, "", "expected the header t,tau_ext1..tau_ext" + std::to_string(n) +
-                                      " (dynid simulate --disturbance's ground truth)");
+    throw ParseError(file, 1, "",
+                     "expected the header t,tau_ext1..tau_ext" + std::to_string(n) +
+                         " (dynid simulate --disturbance's ground truth)");
   std::vector<std::pair<double, double>> out;
   bool in = false;
   double start = 0.0, last = 0.0;
@@ -449,7 +451,8 @@ std::vector<std::pair<double, double>> truthEpisodes(const std::string& file, in
     const double t = parseField(row[0], file, lines.lineNumber(), "t");
     bool any = false;
     for (int j = 1; j <= n; ++j)
-      any = any || parseField(row[j], file, lines.lineNumber(), "tau_ext" + std::to_string(j)) != 0.0;
+      any =
+          any || parseField(row[j], file, lines.lineNumber(), "tau_ext" + std::to_string(j)) != 0.0;
     if (any && !in) start = t, in = true;
     if (!any && in) out.emplace_back(start, last), in = false;
     last = t;
@@ -489,14 +492,14 @@ MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
   stats.reset(n);
   Eigen::VectorXd previous;
   const bool direct = request.residual == MonitorResidual::kDirect;
-  const Pass pass = passOverFile(
-      model, request.calibration_file, gain, request.max_gap, request.threads, request.control,
-      [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
-          const Eigen::VectorXd&) {
-        const Eigen::VectorXd& x = direct ? *d : r;
-        stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
-        previous = x;
-      });
+  const Pass pass = passOverFile(model, request.calibration_file, gain, request.max_gap,
+                                 request.threads, request.control,
+                                 [&](double t, double dt, const Eigen::VectorXd& r,
+                                     const Eigen::VectorXd* d, const Eigen::VectorXd&) {
+                                   const Eigen::VectorXd& x = direct ? *d : r;
+                                   stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
+                                   previous = x;
+                                 });
   if (pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
   MonitorThresholds out;
   out.robot = model.name;
@@ -522,10 +525,10 @@ MonitorThresholds readMonitorThresholds(const std::string& file) {
   const nlohmann::json document = parseJson(readFile(file), file);
   const JsonReader read(file);
   read.header(document, kMonitorThresholdsDocument.schema_version, kMonitorThresholdsDocument.kind);
-  read.onlyKeys(document, "",
-                {"schema_version", "kind", "robot", "joints", "residual", "gain", "thresholds",
-                 "source", "false_alarms_per_hour", "calibration_rms", "calibration_max",
-                 "calibration_seconds"});
+  read.onlyKeys(
+      document, "",
+      {"schema_version", "kind", "robot", "joints", "residual", "gain", "thresholds", "source",
+       "false_alarms_per_hour", "calibration_rms", "calibration_max", "calibration_seconds"});
   MonitorThresholds out;
   out.robot = read.string(document, "", "robot");
   out.joint_names = read.strings(read.field(document, "", "joints"), "joints");
@@ -567,17 +570,18 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   } else {
     out.thresholds = readMonitorThresholds(request.thresholds_file);
     if (out.thresholds.joint_names != model.joint_names)
-      throw InputError(request.thresholds_file + ": thresholds for the joints of '" +
-                       out.thresholds.robot + "' (" + std::to_string(out.thresholds.joint_names.size()) +
-                       " joints), not those of '" + model.name +
-                       "': calibrate again on this robot's log");
+      throw InputError(
+          request.thresholds_file + ": thresholds for the joints of '" + out.thresholds.robot +
+          "' (" + std::to_string(out.thresholds.joint_names.size()) + " joints), not those of '" +
+          model.name + "': calibrate again on this robot's log");
     if (request.gain && (gain - out.thresholds.gain).norm() != 0.0)
       throw InputError(request.thresholds_file +
                        ": calibrated with another observer gain; drop --gain or calibrate again");
     if (out.thresholds.residual != request.residual)
-      throw InputError(request.thresholds_file + ": thresholds of the " +
-                       (out.thresholds.residual == MonitorResidual::kDirect ? "direct" : "observer") +
-                       " residual; give the same --residual");
+      throw InputError(
+          request.thresholds_file + ": thresholds of the " +
+          (out.thresholds.residual == MonitorResidual::kDirect ? "direct" : "observer") +
+          " residual; give the same --residual");
     gain = out.thresholds.gain;
   }
   // The monitored pass.
@@ -600,13 +604,14 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   };
   Pass pass;
   if (request.data_file == "-") {
-    pass = passOverStream(model, request, gain, [&](double t, double dt, const Eigen::VectorXd& r,
-                                                     const Eigen::VectorXd* d,
-                                                     const Eigen::VectorXd& dq) {
-      if (direct_events && !d)
-        throw InputError("--residual direct needs ddq: the stream's header has no ddq columns");
-      visit(t, dt, r, d, dq);
-    });
+    pass = passOverStream(
+        model, request, gain,
+        [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+            const Eigen::VectorXd& dq) {
+          if (direct_events && !d)
+            throw InputError("--residual direct needs ddq: the stream's header has no ddq columns");
+          visit(t, dt, r, d, dq);
+        });
   } else {
     pass = passOverFile(model, request.data_file, gain, request.max_gap, request.threads,
                         request.control, visit);

@@ -56,11 +56,11 @@ class MomentumObserver {
 /// A residual's statistics over a clean run, per joint, in constant memory: moments, and the
 /// maxima of |r| over blocks of `block` seconds (for the tail).
 struct ResidualStatistics {
-  Eigen::VectorXd sum_squares, rate_sum_squares, max_abs;  // r^2, (dr/dt)^2 dt-weighted, |r|
+  Eigen::VectorXd sum_squares, rate_sum_squares, max_abs;   // r^2, (dr/dt)^2 dt-weighted, |r|
   Eigen::VectorXd block_max, block_sum, block_sum_squares;  // this block's max; over blocks
-  double rate_time = 0.0;                                    // the time the rate sums cover [s]
-  double block = 1.0, block_start = 0.0;                     // [s]
-  int blocks = 0;                                            // completed blocks
+  double rate_time = 0.0;                                   // the time the rate sums cover [s]
+  double block = 1.0, block_start = 0.0;                    // [s]
+  int blocks = 0;                                           // completed blocks
   long long samples = 0;
   void reset(int n, double block_seconds = 1.0);
   /// One sample at time t; `previous` and dt > 0 when it follows another without a gap.
@@ -87,9 +87,9 @@ struct MonitorThresholds {
   std::string robot;                     // the model's name
   std::vector<std::string> joint_names;  // they must match the monitored robot's
   MonitorResidual residual = MonitorResidual::kObserver;
-  Eigen::VectorXd gain;            // the observer gain they were calibrated with [1/s]
-  Eigen::VectorXd values;          // [N m]
-  std::string source;              // "calibration FILE" or "thresholds FILE"
+  Eigen::VectorXd gain;    // the observer gain they were calibrated with [1/s]
+  Eigen::VectorXd values;  // [N m]
+  std::string source;      // "calibration FILE" or "thresholds FILE"
   double false_alarms_per_hour = kDefaultFalseAlarmsPerHour;
   Eigen::VectorXd calibration_rms, calibration_max;  // of the residual on the calibration run
   double calibration_seconds = 0.0;
@@ -115,12 +115,12 @@ class MonitorEventSink {
 
 /// How the events compare with the ground truth (dynid simulate --disturbance's file).
 struct TruthScore {
-  int episodes = 0;       // runs of samples with a nonzero applied torque
-  int detected = 0;       // episodes an event started within `window` of
-  int false_alarms = 0;   // events that overlap no episode (nor `window` after its end)
-  std::vector<double> delays;  // per detected episode: event start - episode start [s]
+  int episodes = 0;                   // runs of samples with a nonzero applied torque
+  int detected = 0;                   // episodes an event started within `window` of
+  int false_alarms = 0;               // events that overlap no episode (nor `window` after its end)
+  std::vector<double> delays;         // per detected episode: event start - episode start [s]
   std::vector<double> missed_starts;  // the episodes not detected
-  double window = 0.05;  // [s]
+  double window = 0.05;               // [s]
 };
 
 /// A residual's envelope for figures: per joint the min and max over buckets of stride samples,
@@ -169,9 +169,9 @@ struct MonitorOutcome {
   MonitorThresholds thresholds;
   std::vector<MonitorEvent> events;
   long long samples = 0;
-  double seconds = 0.0;           // from the first sample to the last
-  int restarts = 0;               // gaps longer than max_gap
-  bool has_direct = false;        // the data carried ddq (files do; stdin may not)
+  double seconds = 0.0;     // from the first sample to the last
+  int restarts = 0;         // gaps longer than max_gap
+  bool has_direct = false;  // the data carried ddq (files do; stdin may not)
   Eigen::VectorXd observer_rms, observer_max, direct_rms, direct_max;  // over the data
   ResidualEnvelope observer_envelope, direct_envelope;
   std::optional<TruthScore> truth;

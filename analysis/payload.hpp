@@ -143,5 +143,4 @@ Eigen::Matrix3d rotationFromKukaAbc(const Eigen::Vector3d& abc);
 Eigen::Vector4d abbQuaternion(const Eigen::Matrix3d& rotation);
 Eigen::Matrix3d rotationFromAbbQuaternion(const Eigen::Vector4d& q);
 
-
 }  // namespace dynid

@@ -355,8 +355,9 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
     b.covariance = estimate.covariance;
     if (estimate.joint_sigma.size() != model.numJoints())
       throw ParseError(file, 0, "joint_sigma",
-                       "expected " + std::to_string(model.numJoints()) + " numbers with the "
-                       "base covariance");
+                       "expected " + std::to_string(model.numJoints()) +
+                           " numbers with the "
+                           "base covariance");
     b.noise_sigma = estimate.joint_sigma;
     *band = std::move(b);
   }
@@ -365,8 +366,8 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
 
 PredictOutcome predictRun(const PredictRequest& request) {
   PredictOutcome out;
-  out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
-                            &out.method, &out.band);
+  out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec, &out.method,
+                            &out.band);
   const PredictionBand* band = out.band ? &*out.band : nullptr;
   ThreadPool pool(request.threads);
   if (request.raw_file.empty()) {

@@ -198,7 +198,7 @@ struct PredictOutcome {
   std::string robot_spec, method;
   Prediction prediction;
   std::optional<PredictionBand> band;  // the estimate's 95 % band (absent in older estimates)
-  std::optional<Validation> raw;  // against the raw torques (raw_file), when given
+  std::optional<Validation> raw;       // against the raw torques (raw_file), when given
   std::string raw_file;
   int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
 };

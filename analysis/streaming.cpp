@@ -129,8 +129,8 @@ class PredictionAccumulator {
       Data data(model_);
       out.band.resize(model_.numJoints(), kept.numSamples());
       for (int k = 0; k < kept.numSamples(); ++k)
-        out.band.col(k) = band_->halfWidth(model_, data, kept.q.col(k), kept.dq.col(k),
-                                           kept.ddq.col(k));
+        out.band.col(k) =
+            band_->halfWidth(model_, data, kept.q.col(k), kept.dq.col(k), kept.ddq.col(k));
     }
     return out;
   }

@@ -26,8 +26,8 @@ inline constexpr int kStreamChunkSamples = 2048;
 inline constexpr int kMaxPlottedSamples = 4096;
 
 /// A prediction's 95 % band: the base parameters' covariance carried to the torque, plus the
-/// residual noise, half_width_j = z sqrt(y_j Sigma y_j^T + sigma_j^2), with y_j joint j's row of the
-/// base regressor W1 = Y(:, independent) at the sample (W theta = W1 beta for any theta).
+/// residual noise, half_width_j = z sqrt(y_j Sigma y_j^T + sigma_j^2), with y_j joint j's row of
+/// the base regressor W1 = Y(:, independent) at the sample (W theta = W1 beta for any theta).
 struct PredictionBand {
   std::vector<int> independent;  // standard-parameter index of each base parameter's column
   Eigen::MatrixXd covariance;    // of the base parameters (num_base x num_base)

@@ -4,14 +4,14 @@
 //     counter hour_seconds is the time an hour of such a log takes.
 //   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv per rad/s and Fc
 //     each 1 % of the joint's peak torque in the motion) and its
-//     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid (tracked at a
-//     2 Hz bandwidth) at 1 kHz with
-//     white noise of 0.1 N m on tau and 1e-3 rad/s on dq (q: 1e-5 rad). The identified model is
-//     OLS (Fv, Fc) on a 60 s training log; the prior is the nominal model without friction (what
-//     a URDF gives). Thresholds from one clean 60 s calibration log at 0.1 false alarms per hour.
-//     Reported: collisions of 10 N m on a random joint (either sign, 0.1 s; 10 per 60 s log, 100
-//     in all) detected within 50 ms; false alarms over 60 clean 60 s logs (one hour); the
-//     thresholds of the prior over those of the identified model, per joint.
+//     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid
+//     (tracked at a 2 Hz bandwidth) at 1 kHz with white noise of 0.1 N m on tau and 1e-3 rad/s on
+//     dq (q: 1e-5 rad). The identified model is OLS (Fv, Fc) on a 60 s training log; the prior is
+//     the nominal model without friction (what a URDF gives). Thresholds from one clean 60 s
+//     calibration log at 0.1 false alarms per hour. Reported: collisions of 10 N m on a random
+//     joint (either sign, 0.1 s; 10 per 60 s log, 100 in all) detected within 50 ms; false alarms
+//     over 60 clean 60 s logs (one hour); the thresholds of the prior over those of the identified
+//     model, per joint.
 // Run: build/bench/bench_monitor  (several minutes on 2 cores; counters and a table on stdout).
 #include <algorithm>
 #include <cmath>
@@ -112,8 +112,9 @@ void BM_MonitorFile(benchmark::State& state) {
   for (auto _ : state) samples += monitorRun(request).samples;
   state.SetItemsProcessed(samples);
   // Seconds per hour of log: the elapsed time over the hours processed.
-  state.counters["hour_seconds"] = benchmark::Counter(
-      static_cast<double>(samples) / 3.6e6, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["hour_seconds"] =
+      benchmark::Counter(static_cast<double>(samples) / 3.6e6,
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_MonitorFile)->Unit(benchmark::kSecond)->Iterations(3);
 
@@ -151,9 +152,9 @@ void BM_MonitorAcceptance(benchmark::State& state, const Model& nominal_drives,
     truth.setStandardParameters(theta);
     const std::string tag = truth.name;
     const std::string arm = benchDir() + "/" + tag + "_identified.json";
-    writeFileAtomically(arm, modelToJson(identified(nominal_drives,
-                                                    logFile(motion(truth, 60.0, 11, 0.3),
-                                                            tag + "_train"))));
+    writeFileAtomically(
+        arm, modelToJson(identified(nominal_drives,
+                                    logFile(motion(truth, 60.0, 11, 0.3), tag + "_train"))));
     const std::string calibration = logFile(motion(truth, 60.0, 12, 0.0), tag + "_calibration");
     // Collisions: 10 per 60 s log, 3 s apart from 5 s, random joint and sign, 10 N m for 0.1 s.
     std::mt19937_64 rng(2026);
@@ -209,9 +210,10 @@ void BM_MonitorAcceptance(benchmark::State& state, const Model& nominal_drives,
     state.counters["false_alarms_hour"] = false_alarms;
     state.counters["false_alarms_pushed_logs"] = false_pushed;
     state.counters["prior_over_identified_min"] = ratio.minCoeff();
-    std::printf("\n%s: %d of %d collisions (10 N m, 0.1 s) detected within 50 ms, worst delay "
-                "%.1f ms; %d false alarms in the pushed logs, %d in one hour of clean motion\n",
-                tag.c_str(), detected, collisions, 1e3 * worst_delay, false_pushed, false_alarms);
+    std::printf(
+        "\n%s: %d of %d collisions (10 N m, 0.1 s) detected within 50 ms, worst delay "
+        "%.1f ms; %d false alarms in the pushed logs, %d in one hour of clean motion\n",
+        tag.c_str(), detected, collisions, 1e3 * worst_delay, false_pushed, false_alarms);
     std::printf("  thresholds [N m], identified:");
     for (Eigen::Index j = 0; j < n; ++j) std::printf(" %.3g", identified_thresholds[j]);
     std::printf("\n  prior (nominal, no friction):");

@@ -12,9 +12,8 @@ namespace dynid::cli {
 
 int runAudit(const std::vector<std::string>& args) {
   po::options_description options("dynid audit");
-  options.add_options()(
-      "estimates", po::value<std::vector<std::string>>()->multitoken(),
-      "identify's estimate.json of each session (two or more)")(
+  options.add_options()("estimates", po::value<std::vector<std::string>>()->multitoken(),
+                        "identify's estimate.json of each session (two or more)")(
       "data", po::value<std::vector<std::string>>()->multitoken(),
       "or a dataset CSV of each session (two or more), identified here one by one")(
       "robot", po::value<std::string>(), "with --data: the robot")(
@@ -25,7 +24,8 @@ int runAudit(const std::vector<std::string>& args) {
   addThreadsOption(options);
   po::variables_map vm;
   if (!parseCommandLine(args, options,
-                        "dynid audit --estimates a/estimate.json b/estimate.json ... --out DIR", vm))
+                        "dynid audit --estimates a/estimate.json b/estimate.json ... --out DIR",
+                        vm))
     return kExitOk;
   const std::string dir = vm["out"].as<std::string>();
   checkOutputDirectory(dir);

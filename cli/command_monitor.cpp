@@ -108,8 +108,7 @@ int runMonitor(const std::vector<std::string>& args) {
       "observer (generalized momentum: q, dq, tau) or direct (tau - model, needs ddq)")(
       "gain", po::value<std::string>(),
       "observer gain per joint [1/s] (one value for all; default 100: a 10 ms time constant)")(
-      "false-alarms-per-hour",
-      po::value<double>()->default_value(kDefaultFalseAlarmsPerHour))(
+      "false-alarms-per-hour", po::value<double>()->default_value(kDefaultFalseAlarmsPerHour))(
       "hold", po::value<double>()->default_value(kDefaultEventHold))(
       "max-gap", po::value<double>()->default_value(kDefaultMaxGap))(
       "truth", po::value<std::string>(),
@@ -146,7 +145,8 @@ int runMonitor(const std::vector<std::string>& args) {
     for (double g : gain)
       if (!(g > 0.0 && g <= 1e6))
         throw UsageError("--gain: each value must be > 0 and at most 1e6 [1/s]");
-    request.gain = Eigen::Map<const Eigen::VectorXd>(gain.data(), static_cast<Eigen::Index>(gain.size()));
+    request.gain =
+        Eigen::Map<const Eigen::VectorXd>(gain.data(), static_cast<Eigen::Index>(gain.size()));
   }
   request.false_alarms_per_hour = vm["false-alarms-per-hour"].as<double>();
   request.hold = vm["hold"].as<double>();

@@ -53,8 +53,7 @@ void addSimulateOptions(po::options_description& options) {
       "frame's origin]; J and L by name or 1-based index; a short `for` makes an impulse")(
       "truth-out", po::value<std::string>(),
       "with --disturbance: the applied external joint torques, t,tau_ext1.. (default: OUT with "
-      ".truth.csv for .csv)")(
-      "out", po::value<std::string>()->required(), "dataset CSV to write");
+      ".truth.csv for .csv)")("out", po::value<std::string>()->required(), "dataset CSV to write");
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -89,8 +88,8 @@ Disturbance parseDisturbance(const std::string& spec, const Model& robot) {
       const std::size_t colon = text.find(':', start);
       if ((c < 2) == (colon == std::string::npos))
         throw UsageError("--disturbance '" + spec + "': " + key + " takes x:y:z");
-      v[c] = number(key, text.substr(start, colon == std::string::npos ? std::string::npos
-                                                                        : colon - start));
+      v[c] = number(
+          key, text.substr(start, colon == std::string::npos ? std::string::npos : colon - start));
       start = colon + 1;
     }
     return v;
@@ -138,9 +137,9 @@ Disturbance parseDisturbance(const std::string& spec, const Model& robot) {
 
 std::string truthPath(const po::variables_map& vm, const std::string& out) {
   if (vm.count("truth-out")) return vm["truth-out"].as<std::string>();
-  const std::string stem =
-      out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0 ? out.substr(0, out.size() - 4)
-                                                                     : out;
+  const std::string stem = out.size() > 4 && out.compare(out.size() - 4, 4, ".csv") == 0
+                               ? out.substr(0, out.size() - 4)
+                               : out;
   return stem + ".truth.csv";
 }
 }  // namespace

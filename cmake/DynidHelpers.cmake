@@ -48,6 +48,10 @@ function(dynid_add_test source)
   add_executable(${target} ${source})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)
+  # The test's own code at -O1 in a release build (the library it tests keeps -O3): half the
+  # build's compile time is the ~140 test sources, mostly spent optimising GoogleTest and Eigen
+  # instantiations that run once; -O1 (after -O3, so it wins) saves about a fifth of it.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   set(environment "")
   if(DYNID_SANITIZE)

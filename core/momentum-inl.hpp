@@ -37,12 +37,12 @@ void momentumTerms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
     data.a[i] = gravity_acc;
   }
   // The gravity forces, once every child has read its parent's acceleration.
-  for (int i = n - 1; i >= 0; --i)
-    data.a[i] = model.frame_inertias()[i].apply(data.a[i]);
+  for (int i = n - 1; i >= 0; --i) data.a[i] = model.frame_inertias()[i].apply(data.a[i]);
   // Backward: p_k = S^T H_k, beta_k = S^T (G_k + v_k x* H_k) + friction; H, G into the parent.
   for (int i = n - 1; i >= 0; --i) {
     p[i] = projectOnJoint(model, i, data.f[i]);
-    beta[i] = projectOnJoint(model, i, Vector6<Scalar>(data.a[i] + crossForce(data.v[i], data.f[i])));
+    beta[i] =
+        projectOnJoint(model, i, Vector6<Scalar>(data.a[i] + crossForce(data.v[i], data.f[i])));
     if (model.driveTerms().any()) {
       p[i] += driveInertia(model, i) * dq[i];
       beta[i] += jointFriction(model, i, dq[i]);

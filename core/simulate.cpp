@@ -26,10 +26,10 @@ void checkDisturbances(const Model& truth, const std::vector<Disturbance>& distu
   for (std::size_t k = 0; k < disturbances.size(); ++k) {
     const Disturbance& d = disturbances[k];
     const std::string which = "disturbance " + std::to_string(k + 1) + ": ";
-    if (!(std::isfinite(d.start) && d.start >= 0.0 && std::isfinite(d.duration) && d.duration > 0.0))
+    if (!(std::isfinite(d.start) && d.start >= 0.0 && std::isfinite(d.duration) &&
+          d.duration > 0.0))
       throw InputError(which + "its start must be >= 0 and its duration > 0, both finite");
-    if ((d.joint >= 0) == (d.link >= 0))
-      throw InputError(which + "give either a joint or a link");
+    if ((d.joint >= 0) == (d.link >= 0)) throw InputError(which + "give either a joint or a link");
     if (d.joint >= n || d.link >= n)
       throw InputError(which + "the robot '" + truth.name + "' has " + std::to_string(n) +
                        (d.joint >= 0 ? " joints" : " links"));
@@ -135,8 +135,8 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
         integratorStep(options.integrator, truth, data, q, dq, tau, options.step);
         continue;
       }
-      externalTorque(truth, data, disturbances,
-                     t + static_cast<double>(s) * options.step, q, external);
+      externalTorque(truth, data, disturbances, t + static_cast<double>(s) * options.step, q,
+                     external);
       pushed = tau + external;
       integratorStep(options.integrator, truth, data, q, dq, pushed, options.step);
     }

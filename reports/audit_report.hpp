@@ -1,6 +1,6 @@
-// What `dynid audit` writes: audit.json (every base parameter's estimates per session, its chi-square
-// test and flag, the totals, each session's share and the verdict) and report.md / report.html
-// (the verdict, the flagged parameters by group, the sessions, the full table).
+// What `dynid audit` writes: audit.json (every base parameter's estimates per session, its
+// chi-square test and flag, the totals, each session's share and the verdict) and report.md /
+// report.html (the verdict, the flagged parameters by group, the sessions, the full table).
 #pragma once
 
 #include <string>

@@ -82,9 +82,10 @@ std::optional<std::string> residualFigure(const MonitorOutcome& o) {
 json monitorEventJson(const MonitorEvent& e) {
   json joints = json::array();
   for (int j : e.joints) joints.push_back(j + 1);
-  return {{"start", e.start},           {"end", e.end},       {"joints", joints},
-          {"peak_joint", e.peak_joint + 1}, {"peak", e.peak},  {"peak_time", e.peak_time},
-          {"energy", e.energy},         {"open", e.open}};
+  return {{"start", e.start},   {"end", e.end},
+          {"joints", joints},   {"peak_joint", e.peak_joint + 1},
+          {"peak", e.peak},     {"peak_time", e.peak_time},
+          {"energy", e.energy}, {"open", e.open}};
 }
 
 json monitorThresholdsJson(const MonitorThresholds& t) {
@@ -126,12 +127,9 @@ json monitorJson(const MonitorOutcome& o) {
     out["direct_max"] = numbersOrNull(o.direct_max);
   }
   if (const auto& t = o.truth)
-    out["truth"] = {{"episodes", t->episodes},
-                    {"detected", t->detected},
-                    {"false_alarms", t->false_alarms},
-                    {"window", t->window},
-                    {"delays", t->delays},
-                    {"missed_starts", t->missed_starts}};
+    out["truth"] = {
+        {"episodes", t->episodes}, {"detected", t->detected}, {"false_alarms", t->false_alarms},
+        {"window", t->window},     {"delays", t->delays},     {"missed_starts", t->missed_starts}};
   return out;
 }
 
@@ -151,27 +149,30 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
   DocumentTable events;
   events.header = {"start [s]", "end [s]", "joints", "peak [N m]", "peak joint", "energy [J]"};
   for (const MonitorEvent& e : o.events)
-    events.rows.push_back({formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""),
-                           jointList(e.joints), formatNumber(e.peak, 4),
-                           std::to_string(e.peak_joint + 1), formatNumber(e.energy, 3)});
-  events.caption = "An event starts at the first sample where a residual exceeds its threshold and "
-                   "ends when every residual has stayed below its threshold for the hold time. "
-                   "Energy: the work of the estimated external torque on the arm.";
+    events.rows.push_back({formatNumber(e.start, 6),
+                           formatNumber(e.end, 6) + (e.open ? " (open)" : ""), jointList(e.joints),
+                           formatNumber(e.peak, 4), std::to_string(e.peak_joint + 1),
+                           formatNumber(e.energy, 3)});
+  events.caption =
+      "An event starts at the first sample where a residual exceeds its threshold and "
+      "ends when every residual has stayed below its threshold for the hold time. "
+      "Energy: the work of the estimated external torque on the arm.";
   if (o.events.empty())
     report.paragraph("No residual crossed its threshold.");
   else
     report.table(events);
   report.heading("Thresholds");
   DocumentTable th;
-  th.header = {"joint", "threshold [N m]", "observer RMS", "observer max", "direct RMS",
-               "calibration RMS"};
+  th.header = {"joint",        "threshold [N m]", "observer RMS",
+               "observer max", "direct RMS",      "calibration RMS"};
   const Eigen::Index n = o.thresholds.values.size();
   for (Eigen::Index j = 0; j < n; ++j)
     th.rows.push_back({std::to_string(j + 1), formatNumber(o.thresholds.values[j], 4),
                        formatNumber(o.observer_rms[j], 3), formatNumber(o.observer_max[j], 3),
                        o.has_direct ? formatNumber(o.direct_rms[j], 3) : "-",
-                       o.thresholds.calibration_rms.size() ? formatNumber(o.thresholds.calibration_rms[j], 3)
-                                                           : "-"});
+                       o.thresholds.calibration_rms.size()
+                           ? formatNumber(o.thresholds.calibration_rms[j], 3)
+                           : "-"});
   th.caption = "Thresholds from " + o.thresholds.source + ", set for " +
                formatNumber(o.thresholds.false_alarms_per_hour, 3) +
                " false alarms per hour of the arm: the largest of Rice's formula (the calibration "
@@ -192,7 +193,8 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
       "The generalized-momentum observer r = K (p - p0 - integral (tau - g - tau_f + C^T dq + r) "
       "dt) with p = M dq needs no acceleration; it follows the external joint torque through a "
       "first-order lag of time constant 1/K. The direct residual tau - tau_hat(q, dq, ddq) uses "
-      "the log's accelerations. Data: " + data_file + ".");
+      "the log's accelerations. Data: " +
+      data_file + ".");
   OutputSet set(dir);
   set.add("monitor.json", jsonText(monitorJson(o), 2) + "\n");
   set.add("thresholds.json", jsonText(monitorThresholdsJson(o.thresholds), 2) + "\n");

@@ -2,7 +2,7 @@
 # Quick start, step 2 (and what CI runs): install what is missing, build everything with the tests,
 # benchmarks and the Python module, run the whole test suite (its pytest files included), then the
 # sanitizer and fuzz jobs (scripts/sanitize.sh: a clang ASan+UBSan build, its unit and bad-input
-# tests, 15 s of each fuzz target).
+# tests, 10 s of each fuzz target).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh

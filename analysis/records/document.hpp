@@ -36,7 +36,7 @@ inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // d
 inline constexpr DocumentType kPayloadDocument{"dynid.payload", 1};         // dynid payload
 // A payload body alone (payload --format json): what --prior reads back.
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
-inline constexpr DocumentType kAuditDocument{"dynid.audit", 1};  // dynid audit
+inline constexpr DocumentType kAuditDocument{"dynid.audit", 1};      // dynid audit
 inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 1};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds.
 inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 1};

@@ -161,10 +161,11 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
   if (document.contains("base_covariance")) {
     const json& c = read.object(document["base_covariance"], "base_covariance");
     read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
-    out.band_columns = read.strings(read.field(c, "base_covariance", "columns"),
-                                    "base_covariance.columns");
+    out.band_columns =
+        read.strings(read.field(c, "base_covariance", "columns"), "base_covariance.columns");
     const long b = static_cast<long>(out.band_columns.size());
-    const json& rows = read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
+    const json& rows =
+        read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
     if (static_cast<long>(rows.size()) != b)
       read.fail("base_covariance.matrix", "expected " + std::to_string(b) + " rows");
     out.covariance.resize(b, b);
@@ -173,8 +174,8 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
           read.vector(rows[static_cast<std::size_t>(i)],
                       JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)), b)
               .transpose();
-    if (!out.covariance.allFinite() || (out.covariance - out.covariance.transpose()).norm() >
-                                           1e-9 * out.covariance.norm() ||
+    if (!out.covariance.allFinite() ||
+        (out.covariance - out.covariance.transpose()).norm() > 1e-9 * out.covariance.norm() ||
         (out.covariance.diagonal().array() < 0.0).any())
       read.fail("base_covariance.matrix", "expected a finite symmetric covariance");
     if (document.contains("joint_sigma")) {

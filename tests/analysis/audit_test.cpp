@@ -36,16 +36,16 @@ AuditOutcome table(const std::vector<std::vector<double>>& estimates,
 
 TEST(AuditTest, TheRulesOnConstructedTables) {
   // Agreement: every estimate within a sigma of the others.
-  AuditOutcome agree = table({{1.0, 1.1, 0.9}, {5.0, 5.05, 4.95}}, {{0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}},
-                             {"m1", "Fv2"});
+  AuditOutcome agree = table({{1.0, 1.1, 0.9}, {5.0, 5.05, 4.95}},
+                             {{0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}}, {"m1", "Fv2"});
   EXPECT_EQ(agree.verdict, "consistent");
   EXPECT_EQ(agree.flagged, 0);
   // chi2 of {1, 1.1, 0.9} about 1 with sigma 0.1: 0 + 1 + 1 = 2 on 2 dof: p = exp(-1).
   EXPECT_NEAR(agree.parameters[0].chi2, 2.0, 1e-12);
   EXPECT_NEAR(agree.parameters[0].p_value, std::exp(-1.0), 1e-12);
   // A friction term moved by 10 sigma in session 3: flagged, farthest there, drift in friction.
-  AuditOutcome friction = table({{1.0, 1.1, 0.9}, {5.0, 5.0, 6.0}},
-                                {{0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}}, {"m1", "Fc2"});
+  AuditOutcome friction =
+      table({{1.0, 1.1, 0.9}, {5.0, 5.0, 6.0}}, {{0.1, 0.1, 0.1}, {0.1, 0.1, 0.1}}, {"m1", "Fc2"});
   EXPECT_EQ(friction.flagged, 1);
   EXPECT_EQ(friction.flagged_friction, 1);
   EXPECT_EQ(friction.parameters[1].farthest, 2);

@@ -41,7 +41,8 @@ TEST(MomentumObserver, FollowsAStepOfExternalTorqueThroughItsLag) {
   MomentumObserver observer(model, Eigen::VectorXd::Constant(6, 100.0));
   double before = 0.0;
   for (int k = 0; k < tr.numSamples(); ++k) {
-    const Eigen::VectorXd& r = observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
+    const Eigen::VectorXd& r =
+        observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
     const double t = tr.time[k];
     if (t < 1.0) before = std::max(before, r.cwiseAbs().maxCoeff());
     if (t > 1.0 && t < 1.4) {
@@ -70,7 +71,8 @@ TEST(MomentumObserver, IrregularSamplingAndARestart) {
   double worst = 0.0;
   for (int k = 0; k < tr.numSamples(); k += skip(rng)) {
     if (k > 1000 && k < 1005) observer.restart();
-    const Eigen::VectorXd& r = observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
+    const Eigen::VectorXd& r =
+        observer.update(tr.time[k], tr.q.col(k), tr.dq.col(k), tr.tau.col(k));
     worst = std::max(worst, r.cwiseAbs().maxCoeff());
   }
   // The trapezoid rule over steps of up to 4 ms of smooth motion: still well below 0.1 N m.
@@ -148,8 +150,8 @@ TEST(StreamedSamples, HeadersAndRowsAreCheckedWithTheirLineAndColumn) {
   parseSampleLine("0.5, 1,2, 3,4, 5,6", 2, false, "<stdin>", 3, t, q, dq, ddq, tau);
   EXPECT_EQ(t, 0.5);
   EXPECT_EQ(tau[1], 6.0);
-  for (const std::string bad : {"0.5,1,2,3,4,5", "0.5,1,nan,3,4,5,6", "0.5,1,2,3,4,5,x",
-                                "0.5,1,2,3,4,5,1e999"}) {
+  for (const std::string bad :
+       {"0.5,1,2,3,4,5", "0.5,1,nan,3,4,5,6", "0.5,1,2,3,4,5,x", "0.5,1,2,3,4,5,1e999"}) {
     try {
       parseSampleLine(bad, 2, false, "<stdin>", 7, t, q, dq, ddq, tau);
       FAIL() << bad;
@@ -225,9 +227,10 @@ TEST_F(MonitorRun, AStreamedEventIsReportedAtTheCrossingSample) {
 
 TEST_F(MonitorRun, StoppedMidEventItKeepsTheEventsSoFar) {
   const std::string pushed_file = test::tempPath("monitor_pushed.csv");
-  writeDatasetCsv(pushed_file, pushedPuma(model_, 4.0,
-                                          {jointPush(1, 15.0, 1.0, 0.1), jointPush(2, 12.0, 3.0, 0.5)},
-                                          nullptr, 0.05));
+  writeDatasetCsv(
+      pushed_file,
+      pushedPuma(model_, 4.0, {jointPush(1, 15.0, 1.0, 0.1), jointPush(2, 12.0, 3.0, 0.5)}, nullptr,
+                 0.05));
   std::atomic<bool> stop{false};
   struct StopAtSecondEvent : MonitorEventSink {
     std::atomic<bool>* stop;

@@ -52,15 +52,13 @@ TEST(PredictionBand, CoversNinetyFivePercentOfDataWithTheTrainingNoise) {
   stream.addTrajectory(puma, train);
   const BaseEstimate estimate = stream.estimate(LeastSquaresMethod::kOrdinary);
   Model identified = puma;
-  identified.setStandardParameters(
-      base.standardFromBase(estimate.beta, puma.standardParameters()));
+  identified.setStandardParameters(base.standardFromBase(estimate.beta, puma.standardParameters()));
   PredictionBand band;
   band.independent = base.independent;
   band.covariance = estimate.covariance;
   band.noise_sigma = estimate.joint_sigma;
-  const Prediction fresh =
-      predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.1, 4, 0.9), nullptr, nullptr,
-                     &band);
+  const Prediction fresh = predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.1, 4, 0.9),
+                                          nullptr, nullptr, &band);
   ASSERT_EQ(fresh.band_coverage.size(), 6);
   for (int j = 0; j < 6; ++j) {
     // 20001 samples: the binomial spread of a 95 % coverage is 0.15 %; the estimated noise and
@@ -69,9 +67,8 @@ TEST(PredictionBand, CoversNinetyFivePercentOfDataWithTheTrainingNoise) {
     EXPECT_LT(fresh.band_coverage[j], 0.96) << j;
   }
   EXPECT_EQ(fresh.band.cols(), fresh.time.size());
-  const Prediction noisy =
-      predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.3, 5, 0.9), nullptr, nullptr,
-                     &band);
+  const Prediction noisy = predictTorques(identified, test::pumaTrajectory(puma, 20.0, 0.3, 5, 0.9),
+                                          nullptr, nullptr, &band);
   // P(|N(0, 3 s)| < 1.96 s) = 0.49.
   for (int j = 0; j < 6; ++j) EXPECT_LT(noisy.band_coverage[j], 0.6) << j;
   const Prediction none = predictTorques(identified, train);

@@ -324,8 +324,8 @@ TEST_P(BadInput, RefusedCleanly) {
   const std::string limit =
       c.memory_mb > 0 ? "ulimit -v " + std::to_string(c.memory_mb * 1024) + " && " : "";
   // A hang is a failure: `timeout` ends it (exit 124) well inside CTest's own limit.
-  const test::Result r = runIn(
-      dir, limit + "timeout -k 5 100 " + std::string(DYNID_BIN) + " " + c.command + " <'" + c.stdin_file + "'");
+  const test::Result r = runIn(dir, limit + "timeout -k 5 100 " + std::string(DYNID_BIN) + " " +
+                                        c.command + " <'" + c.stdin_file + "'");
   SCOPED_TRACE(c.source + ": dynid " + c.command + "\nstderr: " + r.err);
   EXPECT_NE(r.code, 124) << "hung (killed after 100 s)";
   EXPECT_EQ(r.code, c.exit_code);

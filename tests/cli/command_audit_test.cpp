@@ -21,9 +21,13 @@ TEST(Cli, AuditFromLogsAndFromTheirEstimatesAgrees) {
   for (int s = 1; s <= 3; ++s) {
     const std::string log = dir + "/s" + std::to_string(s) + ".csv";
     ASSERT_EQ(run("simulate --robot puma560 --duration 5 --noise-tau 0.1 --seed " +
-                  std::to_string(s) + " --out " + log).code, 0);
-    ASSERT_EQ(run("identify --robot puma560 --data " + log + " --out " + dir + "/e" +
-                  std::to_string(s)).code, 0);
+                  std::to_string(s) + " --out " + log)
+                  .code,
+              0);
+    ASSERT_EQ(
+        run("identify --robot puma560 --data " + log + " --out " + dir + "/e" + std::to_string(s))
+            .code,
+        0);
     logs += " " + log;
     estimates += " " + dir + "/e" + std::to_string(s) + "/estimate.json";
   }

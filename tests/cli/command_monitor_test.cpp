@@ -27,11 +27,15 @@ class CliMonitor : public ::testing::Test {
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_);
     ASSERT_EQ(run("simulate --robot puma560 --duration 8 --noise-tau 0.05 --noise-dq 0.001 "
-                  "--seed 1 --out " + dir_ + "/clean.csv").code, 0);
-    const Result pushed = run(
-        "simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
-        "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
-        "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out " + dir_ + "/pushed.csv");
+                  "--seed 1 --out " +
+                  dir_ + "/clean.csv")
+                  .code,
+              0);
+    const Result pushed =
+        run("simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
+            "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
+            "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out " +
+            dir_ + "/pushed.csv");
     ASSERT_EQ(pushed.code, 0) << pushed.err;
     ASSERT_TRUE(contains(pushed.out, "pushed.truth.csv")) << pushed.out;
   }
@@ -64,8 +68,8 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
 }
 
 TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
-  const Result r = run("monitor --arm puma560 --data - --calibration " + dir_ +
-                       "/clean.csv < " + dir_ + "/pushed.csv");
+  const Result r = run("monitor --arm puma560 --data - --calibration " + dir_ + "/clean.csv < " +
+                       dir_ + "/pushed.csv");
   ASSERT_EQ(r.code, 0) << r.err;
   std::istringstream lines(r.out);
   std::string line;
@@ -80,8 +84,8 @@ TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
   const std::string whole = readFile(dir_ + "/pushed.csv");
   ASSERT_NE(whole[99999], '\n');
   std::ofstream(dir_ + "/cut.csv", std::ios::binary) << whole.substr(0, 100000);
-  const Result cut = run("monitor --arm puma560 --data - --calibration " + dir_ +
-                         "/clean.csv < " + dir_ + "/cut.csv");
+  const Result cut = run("monitor --arm puma560 --data - --calibration " + dir_ + "/clean.csv < " +
+                         dir_ + "/cut.csv");
   EXPECT_EQ(cut.code, 1);
   EXPECT_TRUE(contains(cut.err, "<stdin>")) << cut.err;
   EXPECT_TRUE(contains(cut.err, "middle of a line")) << cut.err;

@@ -108,8 +108,8 @@ TEST(Cli, PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData) {
   nlohmann::json old = e;
   old.erase("base_covariance");
   writeFileAtomically(dir + "/old.json", old.dump());
-  const Result plain =
-      run("predict --estimate " + dir + "/old.json --data " + dir + "/same.csv --out " + dir + "/p_old");
+  const Result plain = run("predict --estimate " + dir + "/old.json --data " + dir +
+                           "/same.csv --out " + dir + "/p_old");
   ASSERT_EQ(plain.code, 0) << plain.err;
   EXPECT_TRUE(contains(plain.out, "no band")) << plain.out;
   EXPECT_FALSE(contains(readFile(dir + "/p_old/predicted.csv").substr(0, 300), "band1"));

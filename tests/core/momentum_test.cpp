@@ -69,7 +69,8 @@ TEST_P(Momentum, TheBiasHoldsTheKineticEnergysGradient) {
   no_drives.setDriveTerms(DriveTerms::none());
   Data plain(no_drives);
   const Eigen::VectorXd gravity = rnea(no_drives, plain, q, zero, zero);
-  const Eigen::VectorXd friction = rnea(model, data, q, dq, zero) - rnea(no_drives, plain, q, dq, zero);
+  const Eigen::VectorXd friction =
+      rnea(model, data, q, dq, zero) - rnea(no_drives, plain, q, dq, zero);
   const double h = 1e-6;
   for (int k = 0; k < n; ++k) {
     Eigen::VectorXd qp = q, qm = q;
