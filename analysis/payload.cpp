@@ -206,69 +206,25 @@ void PayloadRequest::check() const {
 namespace {
 /// The derived quantities with their intervals, the principal axes, what the motion does not
 /// see or sees only together, and the smallest payload resolved.
-void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
-  // Derived quantities and their intervals (delta method on the least-squares covariance).
-  const std::vector<std::string> names = {"m",   "mx",  "my",  "mz",  "Ixx",
-                                          "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
-  if (!(out.standard[0] > 0.0)) throw NumericalError("the consistent payload has no mass");
-  out.setBody(out.standard);
-  const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
-  const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
-  Eigen::Matrix<double, 13, 1> variance;
-  for (int i = 0; i < 13; ++i)
-    variance[i] =
-        propagate(out.covariance,
-                  centralGradient(out.standard, [&](const Vector10d& p) { return derived(p)[i]; }));
-  // The principal moments in the order of `principal.moments` (the axes' order).
-  Eigen::Vector3d moment_variance;
-  {
-    const Eigen::Vector3d sorted = value.tail<3>();
-    for (int a = 0; a < 3; ++a) {
-      int nearest = 0;
-      for (int b = 1; b < 3; ++b)
-        if (std::abs(sorted[b] - principal.moments[a]) <
-            std::abs(sorted[nearest] - principal.moments[a]))
-          nearest = b;
-      moment_variance[a] = variance[10 + nearest];
-    }
-  }
-  const auto add = [&](const std::string& name, const std::string& unit, const std::string& group,
-                       double v, double var, double bound) {
-    PayloadQuantity q;
-    q.name = name;
-    q.unit = unit;
-    q.group = group;
-    q.value = v;
-    q.std_dev = std::sqrt(var);
-    q.half_width = kZ95 * q.std_dev;
-    q.determined = std::isfinite(q.half_width) && q.half_width <= bound;
-    out.quantities.push_back(q);
-  };
-  for (int i = 0; i < 10; ++i) {
-    const char* unit = i == 0 ? "kg" : i <= 3 ? "m" : "kg m^2";
-    const char* group = i == 0   ? "mass"
-                        : i <= 3 ? "centre of mass"
-                                 : "inertia about the centre of mass";
-    add(kDerivedNames[i], unit, group, value[i], variance[i], determinedBound(i, value));
-  }
-  for (int a = 0; a < 3; ++a)
-    add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
-        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
-  // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
-  // inertia.
-  const double largest_diagonal =
-      std::max({std::abs(out.standard[4]), std::abs(out.standard[7]), std::abs(out.standard[9])});
-  for (int k = 0; k < 10; ++k) {
-    const double bound = k == 0   ? kDeterminedShare * std::abs(out.standard[0])
-                         : k <= 3 ? 5e-3 * std::abs(out.standard[0])
-                                  : kDeterminedShare * largest_diagonal;
-    add(names[k],
-        k == 0   ? "kg"
-        : k <= 3 ? "kg m"
-                 : "kg m^2",
-        "standard parameters", out.standard[k], out.covariance(k, k), bound);
-  }
+/// One quantity with its 95 % interval; determined when the half width is within `bound`.
+void addQuantity(PayloadOutcome& out, const std::string& name, const std::string& unit,
+                 const std::string& group, double value, double variance, double bound) {
+  PayloadQuantity q;
+  q.name = name;
+  q.unit = unit;
+  q.group = group;
+  q.value = value;
+  q.std_dev = std::sqrt(variance);
+  q.half_width = kZ95 * q.std_dev;
+  q.determined = std::isfinite(q.half_width) && q.half_width <= bound;
+  out.quantities.push_back(q);
+}
 
+/// The principal axes' angles with their 95 % intervals, and a warning when one is loose.
+void describeAxes(PayloadOutcome& out, const PrincipalBody& principal) {
+  const auto add = [&](const std::string& name, const std::string& unit, const std::string& group,
+                       double v, double var,
+                       double bound) { addQuantity(out, name, unit, group, v, var, bound); };
   // The principal axes: axis a turns toward axis b by v_b^T dI_c v_a / (lambda_a - lambda_b) to
   // first order; its 95 % angle is that of the two turns together. The value is the axis's angle
   // from the attachment frame's axis of the same index.
@@ -298,8 +254,11 @@ void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
         "within each other's intervals): KUKA's A, B, C and ABB's aom are then one choice among "
         "those the data allow; the inertia about the centre of mass (UR, Franka) is what the "
         "data give");
+}
 
-  // What the motion does not see, and what it sees only in combination.
+/// What the motion does not see, and what it sees only in combination.
+void describeCombinations(PayloadOutcome& out, const PayloadFit& fit,
+                          const std::vector<std::string>& names) {
   for (Eigen::Index c = 0; c < fit.null_directions.cols(); ++c)
     out.unseen.push_back(combinationText(fit.null_directions.col(c), names));
   {
@@ -334,6 +293,65 @@ void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
       }
     }
   }
+}
+
+void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
+  // Derived quantities and their intervals (delta method on the least-squares covariance).
+  const std::vector<std::string> names = {"m",   "mx",  "my",  "mz",  "Ixx",
+                                          "Ixy", "Ixz", "Iyy", "Iyz", "Izz"};
+  if (!(out.standard[0] > 0.0)) throw NumericalError("the consistent payload has no mass");
+  out.setBody(out.standard);
+  const PrincipalBody principal{out.mass, out.com, out.principal_moments, out.principal_axes};
+  const Eigen::Matrix<double, 13, 1> value = derived(out.standard);
+  Eigen::Matrix<double, 13, 1> variance;
+  for (int i = 0; i < 13; ++i)
+    variance[i] =
+        propagate(out.covariance,
+                  centralGradient(out.standard, [&](const Vector10d& p) { return derived(p)[i]; }));
+  // The principal moments in the order of `principal.moments` (the axes' order).
+  Eigen::Vector3d moment_variance;
+  {
+    const Eigen::Vector3d sorted = value.tail<3>();
+    for (int a = 0; a < 3; ++a) {
+      int nearest = 0;
+      for (int b = 1; b < 3; ++b)
+        if (std::abs(sorted[b] - principal.moments[a]) <
+            std::abs(sorted[nearest] - principal.moments[a]))
+          nearest = b;
+      moment_variance[a] = variance[10 + nearest];
+    }
+  }
+  const auto add = [&](const std::string& name, const std::string& unit, const std::string& group,
+                       double v, double var,
+                       double bound) { addQuantity(out, name, unit, group, v, var, bound); };
+  for (int i = 0; i < 10; ++i) {
+    const char* unit = i == 0 ? "kg" : i <= 3 ? "m" : "kg m^2";
+    const char* group = i == 0   ? "mass"
+                        : i <= 3 ? "centre of mass"
+                                 : "inertia about the centre of mass";
+    add(kDerivedNames[i], unit, group, value[i], variance[i], determinedBound(i, value));
+  }
+  for (int a = 0; a < 3; ++a)
+    add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
+        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
+  // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
+  // inertia.
+  const double largest_diagonal =
+      std::max({std::abs(out.standard[4]), std::abs(out.standard[7]), std::abs(out.standard[9])});
+  for (int k = 0; k < 10; ++k) {
+    const double bound = k == 0   ? kDeterminedShare * std::abs(out.standard[0])
+                         : k <= 3 ? 5e-3 * std::abs(out.standard[0])
+                                  : kDeterminedShare * largest_diagonal;
+    add(names[k],
+        k == 0   ? "kg"
+        : k <= 3 ? "kg m"
+                 : "kg m^2",
+        "standard parameters", out.standard[k], out.covariance(k, k), bound);
+  }
+
+  describeAxes(out, principal);
+
+  describeCombinations(out, fit, names);
   out.smallest_mass = kZ95 * std::sqrt(variance[0]) / kDeterminedShare;
   out.smallest_moment = kZ95 * std::sqrt(moment_variance.maxCoeff()) / kDeterminedShare;
 }
@@ -398,40 +416,24 @@ DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, in
   return gains;
 }
 
-}  // namespace
-
-PayloadOutcome payloadRun(const PayloadRequest& request) {
-  request.check();
+/// The unloaded run of a pair, aligned on the loaded run by position (refused when the motions
+/// differ), and its residual against the arm model; `pair` false without one.
+struct UnloadedRun {
+  bool pair = false;
+  Trajectory trajectory;
+  Eigen::MatrixXd residual;  // n x its samples
+  long shift = 0;            // loaded sample k pairs with unloaded sample k + shift
+};
+UnloadedRun unloadedRun(const PayloadRequest& request, const Trajectory& loaded, Data& data,
+                        PayloadOutcome& out) {
   const Model& arm = request.arm;
   const int n = arm.numJoints();
-  const ParameterLayout layout = arm.parameterLayout();
-  PayloadOutcome out;
-  out.link = linkIndex(arm, request.link);
-  out.link_name = arm.link_names[out.link];
-  out.robot = arm.name;
-  out.arm_source = request.arm_source;
-  out.data_file = request.data_file;
-  out.unloaded_file = request.unloaded_file;
-  out.tool = request.tool;
-  out.mode = request.unloaded_file.empty() && request.unloaded == nullptr ? "single" : "difference";
-  out.prior_weight = request.prior_weight;
-  out.prior_given = request.prior.has_value();
-
-  const Trajectory loaded = request.data ? *request.data : readDatasetCsv(request.data_file, n);
-  if (loaded.numJoints() != n)
-    throw InputError(request.data_file + ": " + std::to_string(loaded.numJoints()) +
-                     " joints, the arm has " + std::to_string(n));
-  if (loaded.numSamples() < 2) throw InputError(request.data_file + ": fewer than 2 samples");
   const Eigen::VectorXd theta_arm = arm.standardParameters();
-  Data data(arm);
-  const Matrix10d to_link = standardTransform(request.tool);
-
-  // The unloaded run: aligned on the loaded run's samples, its residual against the arm model.
-  Trajectory unloaded;
-  Eigen::MatrixXd unloaded_residual;
-  long shift = 0;
-  const bool pair = !request.unloaded_file.empty() || request.unloaded != nullptr;
-  if (pair) {
+  UnloadedRun run;
+  run.pair = !request.unloaded_file.empty() || request.unloaded != nullptr;
+  if (!run.pair) return run;
+  Trajectory& unloaded = run.trajectory;
+  {
     unloaded = request.unloaded ? *request.unloaded : readDatasetCsv(request.unloaded_file, n);
     if (unloaded.numJoints() != n)
       throw InputError(request.unloaded_file + ": " + std::to_string(unloaded.numJoints()) +
@@ -442,7 +444,7 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
                        " s, the loaded run every " + formatNumber(dl) +
                        " s: prepare both at one rate (dynid prepare --rate)");
     const Alignment a = alignRuns(loaded, unloaded);
-    shift = a.shift;
+    run.shift = a.shift;
     out.shift = static_cast<double>(a.shift) * dl;
     out.motion_difference = a.rms;
     for (int j = 0; j < n; ++j)
@@ -452,15 +454,20 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
                          " rad RMS apart after the best time shift (" + formatNumber(out.shift, 4) +
                          " s; at most " + formatNumber(request.max_motion_difference) +
                          " rad): record the same commanded motion with and without the payload");
-    unloaded_residual.resize(n, unloaded.numSamples());
+    run.residual.resize(n, unloaded.numSamples());
     for (int k = 0; k < unloaded.numSamples(); ++k)
-      unloaded_residual.col(k) =
+      run.residual.col(k) =
           unloaded.tau.col(k) - jointTorqueRegressor(arm, data, unloaded.q.col(k),
                                                      unloaded.dq.col(k), unloaded.ddq.col(k)) *
                                     theta_arm;
   }
+  return run;
+}
 
-  // The extra columns: the arm's non-inertial drive terms of the joints that move.
+/// With refit_friction: the arm's non-inertial drive-term columns of the joints that move.
+std::vector<int> frictionColumns(const PayloadRequest& request, const Trajectory& loaded) {
+  const ParameterLayout layout = request.arm.parameterLayout();
+  const int n = request.arm.numJoints();
   std::vector<int> extra_columns;
   if (request.refit_friction) {
     for (int j = 0; j < n; ++j) {
@@ -475,43 +482,17 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
           "refit_friction: the arm model has no friction terms (give its drive "
           "terms, e.g. --drive-terms fv,fc) or no joint moves");
   }
-  const int f = static_cast<int>(extra_columns.size());
-  PayloadRows rows(n, f);
-  rows.reserve(loaded.numSamples());
-  Eigen::MatrixXd extra(n, f);
-  std::vector<int> used;                               // loaded samples in the problem
-  Eigen::MatrixXd arm_torque(n, loaded.numSamples());  // of the samples used, in order
-  for (int k = 0; k < loaded.numSamples(); ++k) {
-    const long u = k + shift;
-    if (pair && (u < 0 || u >= unloaded.numSamples())) continue;
-    const Eigen::MatrixXd& Y =
-        jointTorqueRegressor(arm, data, loaded.q.col(k), loaded.dq.col(k), loaded.ddq.col(k));
-    const Eigen::VectorXd model_torque = Y * theta_arm;
-    Eigen::VectorXd target = loaded.tau.col(k) - model_torque;
-    if (pair) target -= unloaded_residual.col(u);
-    for (int i = 0; i < f; ++i) extra.col(i) = Y.col(extra_columns[i]);
-    rows.add(Y.middleCols(layout.linkIndex(out.link, 0), 10) * to_link, extra, target);
-    arm_torque.col(static_cast<Eigen::Index>(used.size())) = model_torque;
-    used.push_back(k);
-  }
-  out.samples = rows.numSamples();
+  return extra_columns;
+}
 
-  PayloadFitOptions options;
-  options.prior = request.prior;
-  options.prior_weight = request.prior_weight;
-  const PayloadFit fit = fitPayload(rows, options);
-  out.least_squares = fit.least_squares;
-  out.standard = fit.theta;
-  out.prior = fit.prior;
-  out.covariance = fit.covariance.bottomRightCorner(10, 10);
-  out.noise = fit.noise;
-  out.residual_rms = fit.residual_rms;
-  out.target_rms = fit.target_rms;
-  out.batch = fit.batch;
-  out.least_squares_consistent = fit.least_squares_consistent;
-  out.converged = fit.converged;
-  out.termination = fit.termination;
-
+/// A log of another robot (or in other units): a payload heavier than the arm, a residual that
+/// follows the arm's own torque (refused); a heavy payload, residuals far above prepare's noise
+/// (warned).
+void checkPlausible(const PayloadRequest& request, const PayloadRows& rows, const PayloadFit& fit,
+                    const Eigen::MatrixXd& arm_torque, PayloadOutcome& out) {
+  const Model& arm = request.arm;
+  const int n = arm.numJoints();
+  const int f = static_cast<int>(fit.extra.size());
   // A log of another robot: a payload heavier than the whole arm.
   const double arm_mass = totalMass(arm);
   if (std::abs(out.least_squares[0]) > arm_mass)
@@ -567,7 +548,104 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
           ": the payload carries the arm model's errors; an unloaded run of the same motion "
           "(--unloaded) cancels them");
   }
+}
 
+/// The figure's samples: the payload's torque, measured and estimated, at most 2000.
+void plotSamples(const PayloadRows& rows, const PayloadFit& fit, const Trajectory& loaded,
+                 const std::vector<int>& used, PayloadOutcome& out) {
+  const int n = loaded.numJoints();
+  const int f = static_cast<int>(fit.extra.size());
+  const int keep = std::min(out.samples, 2000);
+  out.plot_time.resize(keep);
+  out.plot_measured.resize(n, keep);
+  out.plot_predicted.resize(n, keep);
+  const Eigen::MatrixXd design = rows.design();
+  const Eigen::VectorXd target = rows.target();
+  Eigen::VectorXd at(f + 10);
+  at << fit.extra, fit.theta;
+  for (int i = 0; i < keep; ++i) {
+    const long k = static_cast<long>(static_cast<double>(i) * out.samples / keep);
+    out.plot_time[i] = loaded.time[used[k]];
+    out.plot_measured.col(i) = target.segment(k * n, n);
+    out.plot_predicted.col(i) = design.middleRows(k * n, n) * at;
+  }
+}
+
+}  // namespace
+
+PayloadOutcome payloadRun(const PayloadRequest& request) {
+  request.check();
+  const Model& arm = request.arm;
+  const int n = arm.numJoints();
+  const ParameterLayout layout = arm.parameterLayout();
+  PayloadOutcome out;
+  out.link = linkIndex(arm, request.link);
+  out.link_name = arm.link_names[out.link];
+  out.robot = arm.name;
+  out.arm_source = request.arm_source;
+  out.data_file = request.data_file;
+  out.unloaded_file = request.unloaded_file;
+  out.tool = request.tool;
+  out.mode = request.unloaded_file.empty() && request.unloaded == nullptr ? "single" : "difference";
+  out.prior_weight = request.prior_weight;
+  out.prior_given = request.prior.has_value();
+
+  const Trajectory loaded = request.data ? *request.data : readDatasetCsv(request.data_file, n);
+  if (loaded.numJoints() != n)
+    throw InputError(request.data_file + ": " + std::to_string(loaded.numJoints()) +
+                     " joints, the arm has " + std::to_string(n));
+  if (loaded.numSamples() < 2) throw InputError(request.data_file + ": fewer than 2 samples");
+  const Eigen::VectorXd theta_arm = arm.standardParameters();
+  Data data(arm);
+  const Matrix10d to_link = standardTransform(request.tool);
+
+  // The unloaded run: aligned on the loaded run's samples, its residual against the arm model.
+  const UnloadedRun unloaded_run = unloadedRun(request, loaded, data, out);
+  const bool pair = unloaded_run.pair;
+  const Trajectory& unloaded = unloaded_run.trajectory;
+  const Eigen::MatrixXd& unloaded_residual = unloaded_run.residual;
+  const long shift = unloaded_run.shift;
+
+  // The extra columns: the arm's non-inertial drive terms of the joints that move.
+  const std::vector<int> extra_columns = frictionColumns(request, loaded);
+  const int f = static_cast<int>(extra_columns.size());
+  PayloadRows rows(n, f);
+  rows.reserve(loaded.numSamples());
+  Eigen::MatrixXd extra(n, f);
+  std::vector<int> used;                               // loaded samples in the problem
+  Eigen::MatrixXd arm_torque(n, loaded.numSamples());  // of the samples used, in order
+  for (int k = 0; k < loaded.numSamples(); ++k) {
+    const long u = k + shift;
+    if (pair && (u < 0 || u >= unloaded.numSamples())) continue;
+    const Eigen::MatrixXd& Y =
+        jointTorqueRegressor(arm, data, loaded.q.col(k), loaded.dq.col(k), loaded.ddq.col(k));
+    const Eigen::VectorXd model_torque = Y * theta_arm;
+    Eigen::VectorXd target = loaded.tau.col(k) - model_torque;
+    if (pair) target -= unloaded_residual.col(u);
+    for (int i = 0; i < f; ++i) extra.col(i) = Y.col(extra_columns[i]);
+    rows.add(Y.middleCols(layout.linkIndex(out.link, 0), 10) * to_link, extra, target);
+    arm_torque.col(static_cast<Eigen::Index>(used.size())) = model_torque;
+    used.push_back(k);
+  }
+  out.samples = rows.numSamples();
+
+  PayloadFitOptions options;
+  options.prior = request.prior;
+  options.prior_weight = request.prior_weight;
+  const PayloadFit fit = fitPayload(rows, options);
+  out.least_squares = fit.least_squares;
+  out.standard = fit.theta;
+  out.prior = fit.prior;
+  out.covariance = fit.covariance.bottomRightCorner(10, 10);
+  out.noise = fit.noise;
+  out.residual_rms = fit.residual_rms;
+  out.target_rms = fit.target_rms;
+  out.batch = fit.batch;
+  out.least_squares_consistent = fit.least_squares_consistent;
+  out.converged = fit.converged;
+  out.termination = fit.termination;
+
+  checkPlausible(request, rows, fit, arm_torque, out);
   describeBody(out, fit);
   adviseOnMotion(out, loaded);
   if (!out.least_squares_consistent)
@@ -587,21 +665,7 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
 
   if (request.known_mass) out.gains = driveGains(request, rows, f);
 
-  // The figure's samples: the payload's torque, measured and estimated.
-  const int keep = std::min(out.samples, 2000);
-  out.plot_time.resize(keep);
-  out.plot_measured.resize(n, keep);
-  out.plot_predicted.resize(n, keep);
-  const Eigen::MatrixXd design = rows.design();
-  const Eigen::VectorXd target = rows.target();
-  Eigen::VectorXd at(f + 10);
-  at << fit.extra, fit.theta;
-  for (int i = 0; i < keep; ++i) {
-    const long k = static_cast<long>(static_cast<double>(i) * out.samples / keep);
-    out.plot_time[i] = loaded.time[used[k]];
-    out.plot_measured.col(i) = target.segment(k * n, n);
-    out.plot_predicted.col(i) = design.middleRows(k * n, n) * at;
-  }
+  plotSamples(rows, fit, loaded, used, out);
   if (!request.urdf_file.empty()) {
     std::string text = readFile(request.urdf_file);
     if (request.urdf_carries_arm) text = urdfWithParameters(text, request.urdf_file, arm);

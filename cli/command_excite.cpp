@@ -57,6 +57,55 @@ void addExciteOptions(po::options_description& options) {
       "output directory (excitation.json, excitation.csv, report.md, report.html)");
   addThreadsOption(options);
 }
+
+/// --payload and --payload-link: a payload motion for that link (15 s, d-optimal by default).
+void applyPayloadOptions(const po::variables_map& vm, ExciteRequest& request) {
+  const int n = request.robot.numJoints();
+  refuseUnused(vm, vm["payload"].as<bool>() || vm.count("payload-link") > 0,
+               {"payload-proximal-share"}, "applies to --payload");
+  if (vm["payload"].as<bool>() || vm.count("payload-link")) {
+    request.payload_link = n - 1;
+    if (vm.count("payload-link")) {
+      const std::string link = vm["payload-link"].as<std::string>();
+      const auto at =
+          std::find(request.robot.link_names.begin(), request.robot.link_names.end(), link);
+      if (at == request.robot.link_names.end())
+        throw UsageError("--payload-link: '" + link + "' is not a moving link of the robot");
+      request.payload_link = static_cast<int>(at - request.robot.link_names.begin());
+    }
+    if (!given(vm, "period")) request.period = 15.0;
+    request.payload_proximal_share = vm["payload-proximal-share"].as<double>();
+    if (request.period > 20.0)
+      throw UsageError("--period: a payload motion lasts at most 20 s (--payload)");
+    // The payload's information (D-optimality): the condition number alone buys a round
+    // information matrix with less of it (docs/PAYLOAD.md, "A payload motion").
+    if (!given(vm, "criterion")) request.criterion = ExcitationCriterion::kDOptimal;
+  }
+}
+
+/// The limits (the robot's, overridden by the options) and the offsets checked against them.
+void applyLimitOptions(const po::variables_map& vm, ExciteRequest& request) {
+  const int n = request.robot.numJoints();
+  LimitOverrides overrides;
+  overrides.q_min = optionalJointVector(vm, "q-min", n, true);
+  overrides.q_max = optionalJointVector(vm, "q-max", n, true);
+  overrides.dq_max = optionalJointVector(vm, "dq-max", n, true);
+  overrides.ddq_max = optionalJointVector(vm, "ddq-max", n, true);
+  overrides.tau_max = optionalJointVector(vm, "tau-max", n, true);
+  overrides.torque_margin = vm["torque-margin"].as<double>();
+  if (vm.count("floor")) overrides.floor = vm["floor"].as<double>();
+  overrides.base_radius = vm["base-radius"].as<double>();
+  try {
+    request.limits = excitationLimits(request.robot, overrides);
+  } catch (const InputError& e) {
+    throw UsageError(std::string("the limits: ") + e.what());
+  }
+  if (request.offset) try {
+      checkOffsets(request.robot, request.limits, *request.offset);
+    } catch (const InputError& e) {
+      throw UsageError(std::string("--offset: ") + e.what());
+    }
+}
 }  // namespace
 
 int runExcite(const std::vector<std::string>& args) {
@@ -91,47 +140,9 @@ int runExcite(const std::vector<std::string>& args) {
   request.structural = structuralOptions(vm);
   request.robot = loadRobotFromOptions(vm);
   const int n = request.robot.numJoints();
-  refuseUnused(vm, vm["payload"].as<bool>() || vm.count("payload-link") > 0,
-               {"payload-proximal-share"}, "applies to --payload");
-  if (vm["payload"].as<bool>() || vm.count("payload-link")) {
-    request.payload_link = n - 1;
-    if (vm.count("payload-link")) {
-      const std::string link = vm["payload-link"].as<std::string>();
-      const auto at =
-          std::find(request.robot.link_names.begin(), request.robot.link_names.end(), link);
-      if (at == request.robot.link_names.end())
-        throw UsageError("--payload-link: '" + link + "' is not a moving link of the robot");
-      request.payload_link = static_cast<int>(at - request.robot.link_names.begin());
-    }
-    if (!given(vm, "period")) request.period = 15.0;
-    request.payload_proximal_share = vm["payload-proximal-share"].as<double>();
-    if (request.period > 20.0)
-      throw UsageError("--period: a payload motion lasts at most 20 s (--payload)");
-    // The payload's information (D-optimality): the condition number alone buys a round
-    // information matrix with less of it (docs/PAYLOAD.md, "A payload motion").
-    if (!given(vm, "criterion")) request.criterion = ExcitationCriterion::kDOptimal;
-  }
+  applyPayloadOptions(vm, request);
   request.offset = optionalJointVector(vm, "offset", n, true);
-  LimitOverrides overrides;
-  overrides.q_min = optionalJointVector(vm, "q-min", n, true);
-  overrides.q_max = optionalJointVector(vm, "q-max", n, true);
-  overrides.dq_max = optionalJointVector(vm, "dq-max", n, true);
-  overrides.ddq_max = optionalJointVector(vm, "ddq-max", n, true);
-  overrides.tau_max = optionalJointVector(vm, "tau-max", n, true);
-  overrides.torque_margin = vm["torque-margin"].as<double>();
-  if (vm.count("floor")) overrides.floor = vm["floor"].as<double>();
-  overrides.base_radius = vm["base-radius"].as<double>();
-  try {
-    request.limits = excitationLimits(request.robot, overrides);
-  } catch (const InputError& e) {
-    throw UsageError(std::string("the limits: ") + e.what());
-  }
-  if (request.offset) try {
-      checkOffsets(request.robot, request.limits, *request.offset);
-    } catch (const InputError& e) {
-      throw UsageError(std::string("--offset: ") + e.what());
-    }
-
+  applyLimitOptions(vm, request);
   const InterruptGuard guard;
   request.control.stop = guard.flag();
   if (stderrIsTerminal())

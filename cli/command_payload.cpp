@@ -19,10 +19,8 @@ Eigen::Vector3d threeNumbers(const po::variables_map& vm, const char* option) {
   if (v.size() != 3) throw UsageError(std::string("--") + option + " takes three numbers: x,y,z");
   return {v[0], v[1], v[2]};
 }
-}  // namespace
 
-int runPayload(const std::vector<std::string>& args) {
-  po::options_description options("dynid payload");
+void addPayloadOptions(po::options_description& options) {
   std::string formats;
   for (const std::string& f : payloadFormats()) formats += (formats.empty() ? "" : ", ") + f;
   options.add_options()(
@@ -57,6 +55,28 @@ int runPayload(const std::vector<std::string>& args) {
       "a copy of the arm's URDF with the payload as a fixed link (the arm from a URDF, or an "
       "estimate of a URDF robot)")("out", po::value<std::string>()->required(),
                                    "output directory (payload.json, report.md, report.html)");
+}
+
+/// --write-urdf: the file to write (empty: none), and the URDF it comes from in the request.
+std::string writeUrdfOption(const po::variables_map& vm, const LoadedArm& arm,
+                            PayloadRequest& request) {
+  if (!vm.count("write-urdf")) return "";
+  if (!isUrdfSpec(arm.robot_spec))
+    throw UsageError("--write-urdf needs an arm that is a URDF robot, not '" + arm.robot_spec +
+                     "'");
+  const std::string urdf_path = vm["write-urdf"].as<std::string>();
+  if (isInputFile(urdf_path))
+    throw UsageError("--write-urdf: '" + urdf_path +
+                     "' is an input of this command; name another file (the input stays)");
+  request.urdf_file = arm.robot_spec;
+  request.urdf_carries_arm = arm.from_estimate;
+  return urdf_path;
+}
+}  // namespace
+
+int runPayload(const std::vector<std::string>& args) {
+  po::options_description options("dynid payload");
+  addPayloadOptions(options);
   addPriorWeightOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -102,18 +122,7 @@ int runPayload(const std::vector<std::string>& args) {
   if (vm.count("payload-mass")) request.known_mass = vm["payload-mass"].as<double>();
   if (vm.count("payload-com")) request.known_com = threeNumbers(vm, "payload-com");
   request.max_motion_difference = vm["max-motion-difference"].as<double>();
-  std::string urdf_path;
-  if (vm.count("write-urdf")) {
-    if (!isUrdfSpec(arm.robot_spec))
-      throw UsageError("--write-urdf needs an arm that is a URDF robot, not '" + arm.robot_spec +
-                       "'");
-    urdf_path = vm["write-urdf"].as<std::string>();
-    if (isInputFile(urdf_path))
-      throw UsageError("--write-urdf: '" + urdf_path +
-                       "' is an input of this command; name another file (the input stays)");
-    request.urdf_file = arm.robot_spec;
-    request.urdf_carries_arm = arm.from_estimate;
-  }
+  const std::string urdf_path = writeUrdfOption(vm, arm, request);
   const PayloadOutcome outcome = payloadRun(request);
   std::cout << writePayload(dir, outcome, chosen, urdf_path);
   return kExitOk;

@@ -5,6 +5,8 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/audit.hpp"
+#include "analysis/monitor.hpp"
 #include "analysis/payload.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/records/payload_record.hpp"
@@ -13,7 +15,9 @@
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
+#include "reports/audit_report.hpp"
 #include "reports/identification_report.hpp"
+#include "reports/monitor_report.hpp"
 #include "reports/payload_report.hpp"
 
 namespace dynid::python {
@@ -34,6 +38,10 @@ struct EstimateResult {
 /// Collects every predicted sample (predict()'s arrays).
 class CollectingSink : public PredictionSink {
  public:
+  void bands(const Eigen::MatrixXd& half_width) override {
+    for (Eigen::Index k = 0; k < half_width.cols(); ++k)
+      for (Eigen::Index j = 0; j < half_width.rows(); ++j) band_.push_back(half_width(j, k));
+  }
   void samples(const Eigen::VectorXd& time, const Eigen::MatrixXd& measured,
                const Eigen::MatrixXd& predicted) override {
     const Eigen::Index n = measured.rows();
@@ -48,6 +56,7 @@ class CollectingSink : public PredictionSink {
   py::array_t<double> time() const { return vectorOf(time_, {}); }
   py::array_t<double> measured(py::ssize_t n) const { return vectorOf(measured_, {n}); }
   py::array_t<double> predicted(py::ssize_t n) const { return vectorOf(predicted_, {n}); }
+  py::array_t<double> band(py::ssize_t n) const { return vectorOf(band_, {n}); }
 
  private:
   py::array_t<double> vectorOf(const std::vector<double>& v, std::vector<py::ssize_t> tail) const {
@@ -58,13 +67,14 @@ class CollectingSink : public PredictionSink {
     std::copy(v.begin(), v.end(), out.mutable_data());
     return out;
   }
-  std::vector<double> time_, measured_, predicted_;
+  std::vector<double> time_, measured_, predicted_, band_;
 };
 
 /// predict()'s result: every sample's torques and the statistics.
 struct PredictionResult {
   Prediction prediction;
   py::array_t<double> time, measured, predicted;
+  py::object band = py::none();  // (N, n) half widths, with an estimate's band
 };
 
 py::dict validationDict(const Validation& v) {
@@ -118,22 +128,32 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
   return out;
 }
 
-PredictionResult predict(const Model& model, const py::handle& data, int threads) {
+PredictionResult predict(const Model& model, const py::handle& data, int threads,
+                         const EstimateResult* band_of) {
   checkThreads(threads);
   const DataArg d = dataArg(data, "data", model);
   const Model local = model;
+  std::optional<PredictionBand> band;
+  if (band_of) {
+    const BaseEstimate& e = band_of->outcome.result.estimate;
+    if (band_of->outcome.base.numStandard() != model.parameterLayout().size())
+      throw py::value_error("band: the estimate is of another parameter layout than the model");
+    band = PredictionBand{band_of->outcome.base.independent, e.covariance, e.joint_sigma};
+  }
   CollectingSink sink;
   PredictionResult out;
   {
     py::gil_scoped_release release;
     ThreadPool pool(resolveThreads(threads));
-    out.prediction = d.arrays ? predictTorques(local, *d.arrays, &pool, &sink)
-                              : predictFile(local, d.path, pool, &sink);
+    const PredictionBand* b = band ? &*band : nullptr;
+    out.prediction = d.arrays ? predictTorques(local, *d.arrays, &pool, &sink, b)
+                              : predictFile(local, d.path, pool, &sink, kStreamChunkSamples, b);
   }
   const py::ssize_t n = model.numJoints();
   out.time = sink.time();
   out.measured = sink.measured(n);
   out.predicted = sink.predicted(n);
+  if (band) out.band = sink.band(n);
   return out;
 }
 
@@ -366,13 +386,25 @@ void bindPredict(py::module_& m) {
       .def_property_readonly(
           "relative_error",
           [](const PredictionResult& r) { return r.prediction.validation.relative_error; })
-      .def_property_readonly("num_samples", [](const PredictionResult& r) {
-        return r.prediction.validation.num_samples;
-      });
+      .def_property_readonly("num_samples",
+                             [](const PredictionResult& r) {
+                               return r.prediction.validation.num_samples;
+                             })
+      .def_readonly("band", &PredictionResult::band,
+                    "(N, n) half widths of the 95 % band [N m], or None without band=")
+      .def_property_readonly(
+          "band_coverage",
+          [](const PredictionResult& r) -> py::object {
+            if (r.prediction.band_coverage.size() == 0) return py::none();
+            return toNumpy(r.prediction.band_coverage);
+          },
+          "(n,) the share of samples inside the band per joint, or None");
 
   m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = kAllThreads,
+        py::arg("band") = py::none(),
         "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
-        "residual statistics of `dynid predict`. Use estimate.model for an estimate.");
+        "residual statistics of `dynid predict`. Use estimate.model for an estimate; band=estimate "
+        "adds its 95 % band (base covariance and joint noise) and the coverage per joint.");
 }
 
 Eigen::Vector3d threeArg(const py::handle& value, const char* name) {
@@ -512,6 +544,85 @@ void bindPayload(py::module_& m) {
         "constant scale factors (`gains`). As `dynid payload`.");
 }
 
+py::object parsedJson(const nlohmann::json& document) {
+  return py::module_::import("json").attr("loads")(document.dump());
+}
+
+py::object monitor(const std::string& arm, const py::handle& data, const py::handle& calibration,
+                   const py::handle& thresholds, const std::string& residual,
+                   const py::handle& gain, double false_alarms_per_hour, double hold,
+                   double max_gap, const py::handle& truth, const std::string& robot_spec,
+                   int threads) {
+  checkThreads(threads);
+  MonitorRequest request;
+  request.arm = arm;
+  request.robot_spec = robot_spec;
+  request.data_file = pathArg(data, "data");
+  if (request.data_file == "-") throw py::value_error("data: a file (stdin is the CLI's)");
+  if (!calibration.is_none()) request.calibration_file = pathArg(calibration, "calibration");
+  if (!thresholds.is_none()) request.thresholds_file = pathArg(thresholds, "thresholds");
+  if (!truth.is_none()) request.truth_file = pathArg(truth, "truth");
+  if (residual != "observer" && residual != "direct")
+    throw py::value_error("residual must be 'observer' or 'direct', not '" + residual + "'");
+  request.residual = residual == "direct" ? MonitorResidual::kDirect : MonitorResidual::kObserver;
+  if (!gain.is_none()) {
+    if (py::isinstance<py::float_>(gain) || py::isinstance<py::int_>(gain))
+      request.gain = Eigen::VectorXd::Constant(1, gain.cast<double>());
+    else
+      request.gain = gain.cast<Eigen::VectorXd>();
+  }
+  request.false_alarms_per_hour = false_alarms_per_hour;
+  request.hold = hold;
+  request.max_gap = max_gap;
+  request.threads = threads;
+  MonitorOutcome out;
+  {
+    py::gil_scoped_release release;
+    out = monitorRun(request);
+  }
+  return parsedJson(monitorJson(out));
+}
+
+py::object audit(const py::handle& estimates, const py::handle& data, const std::string& robot,
+                 const std::string& drive_terms, const std::string& method, double level,
+                 int threads) {
+  checkThreads(threads);
+  AuditRequest request;
+  if (!estimates.is_none())
+    for (const py::handle& e : estimates) request.estimate_files.push_back(pathArg(e, "estimates"));
+  if (!data.is_none())
+    for (const py::handle& d : data) request.data_files.push_back(pathArg(d, "data"));
+  request.robot = robot;
+  if (!drive_terms.empty()) request.drive_terms = parseDriveTerms(drive_terms);
+  request.method = parseMethod(method, {Method::kOls, Method::kWls, Method::kPc});
+  request.level = level;
+  request.threads = threads;
+  AuditOutcome out;
+  {
+    py::gil_scoped_release release;
+    out = auditRun(request);
+  }
+  return parsedJson(auditJson(out));
+}
+
+void bindTrust(py::module_& m) {
+  m.def("monitor", &monitor, py::arg("arm"), py::arg("data"), py::arg("calibration") = py::none(),
+        py::arg("thresholds") = py::none(), py::arg("residual") = "observer",
+        py::arg("gain") = py::none(),
+        py::arg("false_alarms_per_hour") = kDefaultFalseAlarmsPerHour,
+        py::arg("hold") = kDefaultEventHold, py::arg("max_gap") = kDefaultMaxGap,
+        py::arg("truth") = py::none(), py::arg("robot_spec") = "",
+        py::arg("threads") = kAllThreads,
+        "`dynid monitor` on a log file: `arm` an estimate.json, URDF, dynid model or robot spec; "
+        "thresholds from a clean `calibration` log or a saved `thresholds` file (one of them). "
+        "Returns monitor.json as a dict (events, thresholds, statistics, truth scores).");
+  m.def("audit", &audit, py::arg("estimates") = py::none(), py::arg("data") = py::none(),
+        py::arg("robot") = "", py::arg("drive_terms") = "", py::arg("method") = "ols",
+        py::arg("level") = kDefaultAuditLevel, py::arg("threads") = kAllThreads,
+        "`dynid audit`: estimate.json paths, or log paths identified with `robot`, "
+        "`drive_terms` and `method`. Returns audit.json as a dict (per-parameter tests, verdict).");
+}
+
 }  // namespace
 
 void bindIdentification(py::module_& m) {
@@ -520,6 +631,7 @@ void bindIdentification(py::module_& m) {
   bindIdentify(m);
   bindPredict(m);
   bindPayload(m);
+  bindTrust(m);
 }
 
 }  // namespace dynid::python

@@ -1,0 +1,51 @@
+"""Trusting the model in use: predict's band, monitor and audit, equal to the CLI's."""
+import numpy as np
+import pytest
+
+import dynid
+from conftest import read_json, run_cli
+
+
+@pytest.fixture(scope="module")
+def logs(tmp_path_factory):
+    """Two noisy PUMA logs, a clean one and a pushed one with its ground truth."""
+    d = tmp_path_factory.mktemp("trust")
+    for name, args in [("train", ["--seed", 3]), ("test", ["--seed", 4, "--phase", 0.5]),
+                       ("clean", ["--seed", 5, "--duration", 8]),
+                       ("pushed", ["--seed", 6, "--disturbance",
+                                   "joint=2,torque=10,at=2,for=0.2"])]:
+        run_cli("simulate", "--robot", "puma560", "--duration", 5, "--noise-tau", 0.1,
+                "--noise-dq", 0.001, *args, "--out", d / f"{name}.csv")
+    return d
+
+
+def test_predict_band_covers_fresh_data(logs):
+    model = dynid.load_model("puma560")
+    est = dynid.identify(model, str(logs / "train.csv"))
+    plain = dynid.predict(est.model, str(logs / "test.csv"))
+    assert plain.band is None and plain.band_coverage is None
+    banded = dynid.predict(est.model, str(logs / "test.csv"), band=est)
+    assert banded.band.shape == banded.predicted.shape
+    # 5001 samples with the training noise: 95 % within the binomial spread and the estimate's.
+    assert np.all(banded.band_coverage > 0.92) and np.all(banded.band_coverage < 0.98)
+    inside = np.abs(banded.measured - banded.predicted) <= banded.band
+    assert np.allclose(inside.mean(axis=0), banded.band_coverage, atol=1e-12)
+
+
+def test_monitor_and_audit_equal_the_cli(logs, tmp_path):
+    result = dynid.monitor("puma560", str(logs / "pushed.csv"),
+                           calibration=str(logs / "clean.csv"),
+                           truth=str(logs / "pushed.truth.csv"))
+    assert result["kind"] == "dynid.monitor"
+    assert result["truth"]["detected"] == 1 and result["truth"]["false_alarms"] == 0
+    run_cli("monitor", "--arm", "puma560", "--data", logs / "pushed.csv", "--calibration",
+            logs / "clean.csv", "--out", tmp_path / "m")
+    cli = read_json(tmp_path / "m" / "monitor.json")
+    assert cli["events"] == result["events"]
+    with pytest.raises(dynid.InputError):
+        dynid.monitor("puma560", str(logs / "pushed.csv"))  # no threshold source
+    audit = dynid.audit(data=[str(logs / "train.csv"), str(logs / "test.csv")], robot="puma560")
+    assert audit["kind"] == "dynid.audit" and len(audit["sessions"]) == 2
+    run_cli("audit", "--robot", "puma560", "--data", logs / "train.csv", logs / "test.csv",
+            "--out", tmp_path / "a")
+    assert read_json(tmp_path / "a" / "audit.json")["chi2"] == audit["chi2"]
