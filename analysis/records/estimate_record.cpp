@@ -168,6 +168,13 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
         read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
     if (static_cast<long>(rows.size()) != b)
       read.fail("base_covariance.matrix", "expected " + std::to_string(b) + " rows");
+    // Every row's length first: the matrix is allocated only for numbers the file holds.
+    for (long i = 0; i < b; ++i) {
+      const nlohmann::json& row = rows[static_cast<std::size_t>(i)];
+      if (!row.is_array() || static_cast<long>(row.size()) != b)
+        read.fail(JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)),
+                  "expected " + std::to_string(b) + " numbers");
+    }
     out.covariance.resize(b, b);
     for (long i = 0; i < b; ++i)
       out.covariance.row(i) =
