@@ -245,7 +245,8 @@ void describeAxes(PayloadOutcome& out, const PrincipalBody& principal) {
       angle_variance += propagate(out.covariance, gradient);
     }
     const double value = std::acos(std::clamp(std::abs(principal.axes(a, a)), 0.0, 1.0));
-    add("axis" + std::to_string(a + 1), "rad", "principal axes", value, angle_variance, kAxisAngle);
+    add(std::string("axis").append(std::to_string(a + 1)), "rad", "principal axes", value,
+        angle_variance, kAxisAngle);
     axes_determined = axes_determined && out.quantities.back().determined;
   }
   if (!axes_determined)
@@ -332,8 +333,9 @@ void describeBody(PayloadOutcome& out, const PayloadFit& fit) {
     add(kDerivedNames[i], unit, group, value[i], variance[i], determinedBound(i, value));
   }
   for (int a = 0; a < 3; ++a)
-    add("I" + std::to_string(a + 1), "kg m^2", "principal moments", principal.moments[a],
-        moment_variance[a], kDeterminedShare * std::abs(principal.moments[a]));
+    add(std::string("I").append(std::to_string(a + 1)), "kg m^2", "principal moments",
+        principal.moments[a], moment_variance[a],
+        kDeterminedShare * std::abs(principal.moments[a]));
   // The standard parameters on the same rules: mass; m x 5 mm; 20 % of the largest diagonal
   // inertia.
   const double largest_diagonal =
