@@ -105,13 +105,16 @@ def test_the_estimated_model_predicts_what_the_cli_predicts(tmp_path, puma, puma
     run_cli("predict", "--estimate", tmp_path / "est" / "estimate.json", "--data",
             puma_validate_csv, "--out", tmp_path / "pred")
     estimate = dynid.identify(puma, puma_csv)
-    prediction = dynid.predict(estimate.model, puma_validate_csv)
+    prediction = dynid.predict(estimate.model, puma_validate_csv, band=estimate)
     header = (tmp_path / "pred" / "predicted.csv").read_text().split("\n", 1)[0].split(",")
-    assert header[7:] == [f"tau_hat{j}" for j in range(1, 7)]
+    assert header[7:13] == [f"tau_hat{j}" for j in range(1, 7)]
+    assert header[13:] == [f"band{j}" for j in range(1, 7)]
     cli = np.loadtxt(tmp_path / "pred" / "predicted.csv", delimiter=",", skiprows=1)
     assert np.array_equal(prediction.time, cli[:, 0])
     assert np.array_equal(prediction.measured, cli[:, 1:7])
-    assert np.array_equal(prediction.predicted, cli[:, 7:])
+    assert np.array_equal(prediction.predicted, cli[:, 7:13])
+    # The band from the estimate in memory and from estimate.json: the same numbers.
+    assert np.allclose(prediction.band, cli[:, 13:], rtol=1e-12, atol=0)
     record = read_json(tmp_path / "pred" / "prediction.json")
     assert prediction.relative_error == pytest.approx(record["relative_error"], rel=0, abs=0)
     in_memory = dynid.predict(estimate.model, dynid.read_dataset(puma_validate_csv), threads=1)
