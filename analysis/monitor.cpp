@@ -465,7 +465,9 @@ TruthScore scoreEvents(const std::vector<std::pair<double, double>>& episodes,
                        const std::vector<MonitorEvent>& events) {
   TruthScore out;
   out.episodes = static_cast<int>(episodes.size());
-  for (const auto& [start, end] : episodes) {
+  for (const auto& episode : episodes) {
+    // (Not a structured binding: clang 14 cannot capture one in a lambda.)
+    const double start = episode.first, end = episode.second;
     const auto hit = std::find_if(events.begin(), events.end(), [&](const MonitorEvent& e) {
       return e.start >= start && e.start <= end + out.window;
     });
