@@ -10,12 +10,13 @@ from conftest import read_json, run_cli
 def logs(tmp_path_factory):
     """Two noisy PUMA logs, a clean one and a pushed one with its ground truth."""
     d = tmp_path_factory.mktemp("trust")
-    for name, args in [("train", ["--seed", 3]), ("test", ["--seed", 4, "--phase", 0.5]),
+    for name, args in [("train", ["--seed", 3, "--duration", 5]),
+                       ("test", ["--seed", 4, "--phase", 0.5, "--duration", 5]),
                        ("clean", ["--seed", 5, "--duration", 8]),
-                       ("pushed", ["--seed", 6, "--disturbance",
+                       ("pushed", ["--seed", 6, "--duration", 5, "--disturbance",
                                    "joint=2,torque=10,at=2,for=0.2"])]:
-        run_cli("simulate", "--robot", "puma560", "--duration", 5, "--noise-tau", 0.1,
-                "--noise-dq", 0.001, *args, "--out", d / f"{name}.csv")
+        run_cli("simulate", "--robot", "puma560", "--noise-tau", 0.1, "--noise-dq", 0.001, *args,
+                "--out", d / f"{name}.csv")
     return d
 
 
