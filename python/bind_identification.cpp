@@ -386,10 +386,9 @@ void bindPredict(py::module_& m) {
       .def_property_readonly(
           "relative_error",
           [](const PredictionResult& r) { return r.prediction.validation.relative_error; })
-      .def_property_readonly("num_samples",
-                             [](const PredictionResult& r) {
-                               return r.prediction.validation.num_samples;
-                             })
+      .def_property_readonly(
+          "num_samples",
+          [](const PredictionResult& r) { return r.prediction.validation.num_samples; })
       .def_readonly("band", &PredictionResult::band,
                     "(N, n) half widths of the 95 % band [N m], or None without band=")
       .def_property_readonly(
@@ -608,11 +607,9 @@ py::object audit(const py::handle& estimates, const py::handle& data, const std:
 void bindTrust(py::module_& m) {
   m.def("monitor", &monitor, py::arg("arm"), py::arg("data"), py::arg("calibration") = py::none(),
         py::arg("thresholds") = py::none(), py::arg("residual") = "observer",
-        py::arg("gain") = py::none(),
-        py::arg("false_alarms_per_hour") = kDefaultFalseAlarmsPerHour,
+        py::arg("gain") = py::none(), py::arg("false_alarms_per_hour") = kDefaultFalseAlarmsPerHour,
         py::arg("hold") = kDefaultEventHold, py::arg("max_gap") = kDefaultMaxGap,
-        py::arg("truth") = py::none(), py::arg("robot_spec") = "",
-        py::arg("threads") = kAllThreads,
+        py::arg("truth") = py::none(), py::arg("robot_spec") = "", py::arg("threads") = kAllThreads,
         "`dynid monitor` on a log file: `arm` an estimate.json, URDF, dynid model or robot spec; "
         "thresholds from a clean `calibration` log or a saved `thresholds` file (one of them). "
         "Returns monitor.json as a dict (events, thresholds, statistics, truth scores).");

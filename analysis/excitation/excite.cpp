@@ -582,30 +582,34 @@ Trajectory sinusoidBaseline(const Model& model, double period, int samples) {
   return baseline;
 }
 
+/// A payload motion: the joints before the wrist kept near the middle of their range (or their
+/// fixed offset); the design is then made within those limits.
+ExciteRequest proximalNarrowed(const ExciteRequest& request) {
+  const int n = request.robot.numJoints();
+  ExciteRequest narrowed = request;
+  narrowed.payload_proximal_share = 1.0;
+  ExcitationLimits& l = narrowed.limits;
+  for (int j = 0; j < n - 3; ++j) {
+    const double half = 0.5 * (l.q_max[j] - l.q_min[j]) * request.payload_proximal_share;
+    const double centre =
+        request.offset ? std::clamp((*request.offset)[j], l.q_min[j] + half, l.q_max[j] - half)
+                       : 0.5 * (l.q_max[j] + l.q_min[j]);
+    l.q_min[j] = centre - half;
+    l.q_max[j] = centre + half;
+  }
+  l.notes.push_back("payload motion: joints 1 to " + std::to_string(n - 3) + " kept within " +
+                    formatNumber(100.0 * request.payload_proximal_share, 3) +
+                    " % of their range, so that the motion is mainly the wrist's");
+  return narrowed;
+}
+
 }  // namespace
 
 ExciteOutcome exciteRun(const ExciteRequest& request) {
   request.check();
   const int n = request.robot.numJoints();
-  if (request.payload_link && request.payload_proximal_share < 1.0 && n > 3) {
-    // A payload motion: the joints before the wrist kept near the middle of their range (or
-    // their fixed offset), the design then made within those limits.
-    ExciteRequest narrowed = request;
-    narrowed.payload_proximal_share = 1.0;
-    ExcitationLimits& l = narrowed.limits;
-    for (int j = 0; j < n - 3; ++j) {
-      const double half = 0.5 * (l.q_max[j] - l.q_min[j]) * request.payload_proximal_share;
-      const double centre =
-          request.offset ? std::clamp((*request.offset)[j], l.q_min[j] + half, l.q_max[j] - half)
-                         : 0.5 * (l.q_max[j] + l.q_min[j]);
-      l.q_min[j] = centre - half;
-      l.q_max[j] = centre + half;
-    }
-    l.notes.push_back("payload motion: joints 1 to " + std::to_string(n - 3) + " kept within " +
-                      formatNumber(100.0 * request.payload_proximal_share, 3) +
-                      " % of their range, so that the motion is mainly the wrist's");
-    return exciteRun(narrowed);
-  }
+  if (request.payload_link && request.payload_proximal_share < 1.0 && n > 3)
+    return exciteRun(proximalNarrowed(request));
   const Model& model = request.robot;
   const ExcitationLimits& limits = request.limits;
   const int grid_points = static_cast<int>(std::ceil(request.period * request.grid_rate));

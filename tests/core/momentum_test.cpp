@@ -15,6 +15,27 @@ namespace {
 
 class Momentum : public ::testing::TestWithParam<bool> {};  // with drive terms or without
 
+/// max |d/dt (M dq) - (tau - beta)| at a random state of `model` (scales 1.5, 2, 3 for q, dq,
+/// ddq times `scale`), the rate by central differences along (dq, ddq); and |tau| there.
+std::pair<double, double> rateError(const Model& model, std::uint64_t seed, double scale) {
+  Data data(model);
+  std::mt19937_64 rng(seed);
+  const int n = model.numJoints();
+  const Eigen::VectorXd q = test::randomVector(rng, n, 1.5 * scale),
+                        dq = test::randomVector(rng, n, 2 * scale),
+                        ddq = test::randomVector(rng, n, 3 * scale);
+  Eigen::VectorXd p, beta, p_plus, p_minus, unused;
+  momentumTerms(model, data, q, dq, p, beta);
+  const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
+  const double h = 1e-5;
+  momentumTerms(model, data, Eigen::VectorXd(q + h * dq), Eigen::VectorXd(dq + h * ddq), p_plus,
+                unused);
+  momentumTerms(model, data, Eigen::VectorXd(q - h * dq), Eigen::VectorXd(dq - h * ddq), p_minus,
+                unused);
+  const Eigen::VectorXd rate = (p_plus - p_minus) / (2 * h);
+  return {(rate - (tau - beta)).cwiseAbs().maxCoeff(), tau.norm()};
+}
+
 TEST_P(Momentum, IsTheMassMatrixTimesTheVelocity) {
   for (std::uint64_t seed : {1u, 2u, 3u}) {
     const Model model = test::randomTree(seed, {.drives = GetParam()});
@@ -33,24 +54,11 @@ TEST_P(Momentum, IsTheMassMatrixTimesTheVelocity) {
 // The observer's law: d/dt (M dq) = tau - beta along any motion, tau = rnea(q, dq, ddq).
 TEST_P(Momentum, ItsRateIsTheTorqueLessTheBias) {
   for (std::uint64_t seed : {4u, 5u, 6u}) {
-    const Model model = test::randomTree(seed, {.drives = GetParam()});
-    Data data(model);
-    std::mt19937_64 rng(seed);
-    const int n = model.numJoints();
-    const Eigen::VectorXd q = test::randomVector(rng, n, 1.5), dq = test::randomVector(rng, n, 2),
-                          ddq = test::randomVector(rng, n, 3);
-    Eigen::VectorXd p, beta, p_plus, p_minus, unused;
-    momentumTerms(model, data, q, dq, p, beta);
-    const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
-    const double h = 1e-5;
-    momentumTerms(model, data, Eigen::VectorXd(q + h * dq), Eigen::VectorXd(dq + h * ddq), p_plus,
-                  unused);
-    momentumTerms(model, data, Eigen::VectorXd(q - h * dq), Eigen::VectorXd(dq - h * ddq), p_minus,
-                  unused);
-    const Eigen::VectorXd rate = (p_plus - p_minus) / (2 * h);
+    const auto [error, torque] =
+        rateError(test::randomTree(seed, {.drives = GetParam()}), seed, 1.0);
     // Central difference of a smooth path: truncation O(h^2 |d3p/dt3|) ~ 1e-10 * 1e2, cancellation
     // ~ 1e-16 * 10 / 1e-5 ~ 1e-10; torques are O(10..100) N m.
-    EXPECT_LT((rate - (tau - beta)).cwiseAbs().maxCoeff(), 1e-6 * (1 + tau.norm())) << seed;
+    EXPECT_LT(error, 1e-6 * (1 + torque)) << seed;
   }
 }
 
@@ -87,23 +95,9 @@ INSTANTIATE_TEST_SUITE_P(Drives, Momentum, ::testing::Bool());
 // The same law on the built-in arms (modified-DH Panda, standard-DH PUMA with its drives).
 TEST(Momentum, ItsRateIsTheTorqueLessTheBiasOnTheBuiltInArms) {
   for (const Model& model : {makePanda(true), makePuma560(true)}) {
-    Data data(model);
-    std::mt19937_64 rng(9);
-    const int n = model.numJoints();
-    const Eigen::VectorXd q = test::randomVector(rng, n, 1.0), dq = test::randomVector(rng, n, 1),
-                          ddq = test::randomVector(rng, n, 2);
-    Eigen::VectorXd p, beta, p_plus, p_minus, unused;
-    momentumTerms(model, data, q, dq, p, beta);
-    const Eigen::VectorXd tau = rnea(model, data, q, dq, ddq);
-    const double h = 1e-5;
-    momentumTerms(model, data, Eigen::VectorXd(q + h * dq), Eigen::VectorXd(dq + h * ddq), p_plus,
-                  unused);
-    momentumTerms(model, data, Eigen::VectorXd(q - h * dq), Eigen::VectorXd(dq - h * ddq), p_minus,
-                  unused);
+    const auto [error, torque] = rateError(model, 9, 0.5);
     // As above: central differences, 1e-6 of the torques' size.
-    EXPECT_LT(((p_plus - p_minus) / (2 * h) - (tau - beta)).cwiseAbs().maxCoeff(),
-              1e-6 * (1 + tau.norm()))
-        << model.name;
+    EXPECT_LT(error, 1e-6 * (1 + torque)) << model.name;
   }
 }
 
