@@ -6,12 +6,12 @@
 //     each 1 % of the joint's peak torque in the motion) and its
 //     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid
 //     (tracked at a 2 Hz bandwidth) at 1 kHz with white noise of 0.1 N m on tau and 1e-3 rad/s on
-//     dq (q: 1e-5 rad). The identified model is OLS (Fv, Fc) on a 60 s training log; the prior is
-//     the nominal model without friction (what a URDF gives). Thresholds from one clean 60 s
-//     calibration log at 0.1 false alarms per hour. Reported: collisions of 10 N m on a random
-//     joint (either sign, 0.1 s; 10 per 60 s log, 100 in all) detected within 50 ms; false alarms
-//     over 60 clean 60 s logs (one hour); the thresholds of the prior over those of the identified
-//     model, per joint.
+//     dq (q: 1e-5 rad). The identified model is OLS (with the robot's drive terms) on a 60 s
+//     training log; the prior is the nominal model without friction (what a URDF gives). Thresholds
+//     from one clean 60 s calibration log at 0.1 false alarms per hour. Reported: collisions of 10
+//     N m on a random joint (either sign, 0.1 s; 10 per 60 s log, 100 in all) detected within 50
+//     ms; false alarms over 60 clean 60 s logs (one hour); the thresholds of the prior over those
+//     of the identified model, per joint.
 // Run: build/bench/bench_monitor  (several minutes on 2 cores; counters and a table on stdout).
 #include <algorithm>
 #include <cmath>
@@ -118,7 +118,7 @@ void BM_MonitorFile(benchmark::State& state) {
 }
 BENCHMARK(BM_MonitorFile)->Unit(benchmark::kSecond)->Iterations(3);
 
-/// OLS with Fv, Fc on a training log; the rest from the nominal model.
+/// OLS (the nominal model's drive terms) on a training log; the rest from the nominal model.
 Model identified(const Model& nominal, const std::string& training) {
   const Trajectory log = readDatasetCsv(training, nominal.numJoints());
   const BaseParameters base = structuralBaseParameters(nominal);
