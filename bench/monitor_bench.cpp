@@ -1,4 +1,4 @@
-// dynid monitor: its speed, and its acceptance in simulation (docs/MONITOR.md, "Accuracy").
+// dynid monitor: its speed, and its acceptance in simulation (docs/MONITOR.md, "Measured").
 //   - BM_ObserverSample/<robot>: one sample of the momentum observer (p = M dq, beta, the update).
 //   - BM_MonitorFile: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
 //     counter hour_seconds is the time an hour of such a log takes.
