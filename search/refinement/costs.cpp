@@ -70,10 +70,12 @@ struct SegmentFunctor {
   int segment;
   bool with_start;
   double continuity;
+  const RunControl* budget;  // null: none; once stopped, every evaluation fails at once
 
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
     using std::isfinite;
+    if (budget != nullptr && budget->stopped()) return false;
     const int n = structure.numJoints();
     ModelTpl<T> model = structure.template cast<T>();
     map.apply(blocks[0], model);
@@ -119,11 +121,12 @@ template <typename Map>
 std::unique_ptr<ceres::CostFunction> segmentCost(const Model& structure, const Map& map,
                                                  int map_size, const GcProblem& problem,
                                                  int segment, bool with_start,
-                                                 double continuity = 0.0) {
+                                                 double continuity = 0.0,
+                                                 const RunControl* budget = nullptr) {
   const int n = structure.numJoints();
   if (!with_start) continuity = 0.0;
   auto cost = std::make_unique<ceres::DynamicAutoDiffCostFunction<SegmentFunctor<Map>, kStride>>(
-      new SegmentFunctor<Map>{structure, map, &problem, segment, with_start, continuity});
+      new SegmentFunctor<Map>{structure, map, &problem, segment, with_start, continuity, budget});
   cost->AddParameterBlock(map_size);
   if (with_start) cost->AddParameterBlock(2 * n);
   if (continuity > 0.0) cost->AddParameterBlock(2 * n);
@@ -192,17 +195,19 @@ class LinearResidual : public ceres::CostFunction {
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,
-                                                     bool with_start, double continuity) {
+                                                     bool with_start, double continuity,
+                                                     const RunControl* budget) {
   return segmentCost(structure, FreeMap{&space}, space.numFree(), problem, segment, with_start,
-                     continuity);
+                     continuity, budget);
 }
 
 std::unique_ptr<ceres::CostFunction> makeBetaSegmentCost(const Model& structure,
                                                          const BetaLift& lift,
                                                          const GcProblem& problem, int segment,
-                                                         bool with_start, double continuity) {
+                                                         bool with_start, double continuity,
+                                                         const RunControl* budget) {
   return segmentCost(structure, BetaMap{lift}, static_cast<int>(lift.beta_ref.size()), problem,
-                     segment, with_start, continuity);
+                     segment, with_start, continuity, budget);
 }
 
 std::unique_ptr<ceres::CostFunction> makeStandardOfFreeCost(const Model& structure,

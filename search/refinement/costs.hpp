@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "core/model.hpp"
+#include "core/run_control.hpp"
 #include "search/gc_error.hpp"
 #include "search/parameter_space.hpp"
 #include "search/refinement/options.hpp"
@@ -32,17 +33,21 @@ struct BetaLift {
 
 /// Segment `segment`'s residuals as a function of the free parameters x (parameter blocks: x,
 /// then the start when `with_start`, then the next segment's start when `continuity` > 0, which
-/// also needs `with_start`). The caller owns it; it refers to `space` and `problem`.
+/// also needs `with_start`). The caller owns it; it refers to `space`, `problem` and `budget`.
+/// Once `budget` (when given) is stopped, every evaluation fails at once, so a solver iteration
+/// that runs past a time budget ends within one segment's rollout.
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,
-                                                     bool with_start, double continuity = 0.0);
+                                                     bool with_start, double continuity = 0.0,
+                                                     const RunControl* budget = nullptr);
 /// The same residuals as a function of beta (parameter block sizes as makeSegmentCost's, the
 /// first of num_base entries).
 std::unique_ptr<ceres::CostFunction> makeBetaSegmentCost(const Model& structure,
                                                          const BetaLift& lift,
                                                          const GcProblem& problem, int segment,
-                                                         bool with_start, double continuity);
+                                                         bool with_start, double continuity,
+                                                         const RunControl* budget = nullptr);
 /// theta(x) (p residuals, parameter block x): differentiated for the free directions.
 std::unique_ptr<ceres::CostFunction> makeStandardOfFreeCost(const Model& structure,
                                                             const ParameterSpace& space);

@@ -40,6 +40,9 @@ struct RefineOptions {
   /// Pseudo-random starts (fixed seed) of the map back from beta to the free parameters, besides
   /// the current estimate and the centre of the bounds.
   int map_back_starts = 14;
+  /// With base coordinates: the uncertainty of the result in beta (a Jacobian of every segment
+  /// after the solve, outside the time budget). Off: RefineResult's base fields stay empty.
+  bool uncertainty = true;
   /// Stops after the current iteration when control.check() says so (its flag, its deadline;
   /// on_check runs on the calling thread after each solver iteration).
   RunControl control = {};

@@ -92,6 +92,9 @@ ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProbl
   solver.gradient_tolerance = options.gradient_tolerance;
   solver.parameter_tolerance = options.parameter_tolerance;
   if (std::isfinite(seconds_left)) solver.max_solver_time_in_seconds = std::max(seconds_left, 1e-3);
+  // The parameters are the last accepted iterate even when an evaluation fails (a time budget
+  // that ends inside an iteration makes every later evaluation fail, costs.hpp).
+  solver.update_state_every_iteration = true;
   solver.num_threads = std::max(options.num_threads, 1);
   solver.logging_type = ceres::SILENT;
   return solver;
@@ -100,6 +103,17 @@ ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProbl
 std::string terminationOf(const ceres::Solver::Summary& summary) {
   return std::string(ceres::TerminationTypeToString(summary.termination_type)) + ": " +
          summary.message;
+}
+
+/// The termination, saying so when the time budget ended the stage (an evaluation that failed
+/// because the budget had run out is not a numerical failure).
+std::string terminationAt(const ceres::Solver::Summary& summary, const RunControl& budget) {
+  if (budget.expired() && (summary.termination_type == ceres::FAILURE ||
+                           summary.termination_type == ceres::NO_CONVERGENCE))
+    return "USER_SUCCESS: stopped at its time budget after " +
+           std::to_string(std::max(static_cast<int>(summary.iterations.size()) - 1, 0)) +
+           " iterations (" + summary.message + ")";
+  return terminationOf(summary);
 }
 
 /// The map back's weighting R, for min |R (P theta(x) - beta)|^2 over x within the bounds: R^T R =
@@ -209,8 +223,8 @@ Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& spac
 /// the base-stage fields.
 void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
                const BaseCoordinates& base, const RefineOptions& options,
-               std::chrono::steady_clock::time_point clock_start, GcWorkspace& workspace,
-               ThreadPool& pool, RefineResult& result) {
+               std::chrono::steady_clock::time_point clock_start, const RunControl& budget,
+               GcWorkspace& workspace, ThreadPool& pool, RefineResult& result) {
   const bool with_start = options.estimate_initial_states;
   const Eigen::MatrixXd& P = base.projection;
   const Eigen::VectorXd theta0 = space.standardAt(result.x);
@@ -222,12 +236,14 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   for (int s = 0; s < problem.numSegments(); ++s) {
     beta_problem.AddResidualBlock(
         makeBetaSegmentCost(structure, map, problem, s, with_start,
-                            continuityOf(problem, options, s))
+                            continuityOf(problem, options, s), &budget)
             .release(),
         nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
   }
-  ceres::Solver::Options solver = solverOptions(
-      options, problem, beta.data(), result.initial_states, secondsLeft(options, clock_start));
+  // Half of what is left, so that the map back and the parameter stage have their share.
+  ceres::Solver::Options solver =
+      solverOptions(options, problem, beta.data(), result.initial_states,
+                    0.5 * secondsLeft(options, clock_start));
   RefineCallback callback(result.history, options, result.interrupted, "base",
                           secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
@@ -235,7 +251,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   ceres::Solve(solver, &beta_problem, &summary);
   result.base_stage = true;
   result.base_beta = beta;
-  result.base_termination = terminationOf(summary);
+  result.base_termination = terminationAt(summary, budget);
   result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
   result.initial_cost = summary.initial_cost;
   {
@@ -292,15 +308,19 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   ThreadPool pool(std::max(options.num_threads, 1));
   GcWorkspace workspace(pool.numThreads());
   result.initial_gc = gcError(structure, problem, workspace, pool);
+  // The time budget and the run control's deadline and flag, as the cost functions see them.
+  const RunControl budget = options.control.within(options.max_seconds, clock_start);
 
   if (base != nullptr && options.base_stage)
-    baseStage(structure, space, problem, *base, options, clock_start, workspace, pool, result);
+    baseStage(structure, space, problem, *base, options, clock_start, budget, workspace, pool,
+              result);
 
   // The parameter stage. Residual blocks: one per segment, and the total mass.
   ceres::Problem solver_problem;
   for (int s = 0; s < segments; ++s) {
     solver_problem.AddResidualBlock(
-        makeSegmentCost(structure, space, problem, s, with_start, continuityOf(problem, options, s))
+        makeSegmentCost(structure, space, problem, s, with_start, continuityOf(problem, options, s),
+                        &budget)
             .release(),
         nullptr, segmentBlocks(problem, options, s, result.x.data(), result.initial_states));
   }
@@ -333,13 +353,18 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                           secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
-  if (!result.interrupted) ceres::Solve(solver, &solver_problem, &summary);
+  const bool out_of_time = budget.expired();  // the base stage and the map back took it all
+  if (!result.interrupted && !out_of_time) ceres::Solve(solver, &solver_problem, &summary);
 
-  result.termination = result.interrupted && summary.iterations.empty()
-                           ? "USER_SUCCESS: interrupted in the base stage"
-                           : terminationOf(summary);
-  result.usable =
-      result.interrupted && summary.iterations.empty() ? true : summary.IsSolutionUsable();
+  if (summary.iterations.empty() && (result.interrupted || out_of_time)) {
+    result.termination = result.interrupted
+                             ? "USER_SUCCESS: interrupted in the base stage"
+                             : "USER_SUCCESS: the time budget ended before the parameter stage";
+    result.usable = true;
+  } else {
+    result.termination = terminationAt(summary, budget);
+    result.usable = summary.IsSolutionUsable() || budget.expired();
+  }
   result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
   if (!result.base_stage) result.initial_cost = summary.initial_cost;
   result.final_cost = summary.iterations.empty() ? result.initial_cost : summary.final_cost;
@@ -350,7 +375,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
       result.at_bound.push_back(names[j]);
   }
-  if (base != nullptr) baseUncertainty(structure, space, problem, *base, options, result, pool);
+  if (base != nullptr && options.uncertainty)
+    baseUncertainty(structure, space, problem, *base, options, result, pool);
   result.seconds = secondsSince(clock_start);
   return result;
 }
