@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include <Eigen/Cholesky>
@@ -368,8 +369,11 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   const double tau_rms = augmented.col(b).norm() / std::sqrt(std::max(rows, 1.0));
   const double sigma_ols = std::max(std::abs(augmented(b, b)) / std::sqrt(std::max(rows - b, 1.0)),
                                     1e-6 * tau_rms + 1e-300);
-  const PhysicalProblem problem =
-      makePhysicalProblem(base, layout, augmented, prior, options.prior_weight, sigma_ols);
+  auto shared = std::make_shared<const PhysicalProblem>(
+      makePhysicalProblem(base, layout, augmented, prior, options.prior_weight, sigma_ols));
+  const PhysicalProblem& problem = *shared;
+  out.problem = shared;
+  out.unexplained = 0.5 * augmented(b, b) * augmented(b, b) / (sigma_ols * sigma_ols);
   const int p = layout.size();
 
   out.start_theta =

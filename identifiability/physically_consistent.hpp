@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,11 @@ struct PhysicalEstimate {
   std::string termination;  // "CONVERGENCE: ..." or "NO_CONVERGENCE: ..." with the numbers
   bool usable = false;      // finite and physically consistent
   int iterations = 0;
+  /// The problem it solved (the combined estimator adds the GC residuals to it), and its data
+  /// term's constant: what no parameter explains, rho^2 / (2 sigma^2) [chi-square units], so that
+  /// problem->cost + unexplained - (the prior term) is the whole data's chi-square / 2.
+  std::shared_ptr<const PhysicalProblem> problem;
+  double unexplained = 0.0;
 };
 
 /// A problem's minimiser from an interior start (every link's pseudo-inertia positive definite,

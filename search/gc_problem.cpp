@@ -140,4 +140,13 @@ GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options) {
   return problem;
 }
 
+GcProblem makeGcProblemUpTo(const Trajectory& data, SegmentOptions options) {
+  if (!options.random_starts && options.num_segments > 0) {
+    SegmentOptions all = options;
+    all.num_segments = 0;
+    options.num_segments = std::min(options.num_segments, makeGcProblem(data, all).numSegments());
+  }
+  return makeGcProblem(data, options);
+}
+
 }  // namespace dynid

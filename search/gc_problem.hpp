@@ -41,6 +41,17 @@ struct GcProblem {
 /// segment; asks for no more segments than fit without overlap when evenly spaced.
 GcProblem makeGcProblem(const Trajectory& data, const SegmentOptions& options);
 
+/// Segment options with normalise on (dynid study's and the combined estimator's default).
+inline SegmentOptions normalisedSegments() {
+  SegmentOptions out;
+  out.normalise = true;
+  return out;
+}
+
+/// makeGcProblem with at most options.num_segments evenly spaced segments: all the dataset holds
+/// when fewer fit (random starts and num_segments 0 as makeGcProblem). Throws as makeGcProblem.
+GcProblem makeGcProblemUpTo(const Trajectory& data, SegmentOptions options);
+
 /// The most integration steps one segment may take (horizon / step): about 1.5 s of RK4 on a
 /// 6-joint arm, so a GC evaluation polls its stop condition (GcStop) at least that often.
 inline constexpr double kMaxSegmentSteps = 1e6;

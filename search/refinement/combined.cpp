@@ -1,0 +1,239 @@
+#include "search/refinement/combined.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <ceres/ceres.h>
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "core/parallel.hpp"
+#include "search/gc_error.hpp"
+#include "search/refinement/costs.hpp"
+
+namespace dynid {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The GC residuals at theta and their Jacobian in theta (J_beta P), segment by segment; false
+/// when a rollout diverges or `control` stops (checked before every segment).
+bool linearise(const Model& structure, const GcProblem& problem, const Eigen::MatrixXd& P,
+               const Eigen::MatrixXd& lift, const Eigen::VectorXd& theta, ThreadPool& pool,
+               const RunControl& control, Eigen::VectorXd* r, Eigen::MatrixXd* J) {
+  const int n = structure.numJoints(), b = static_cast<int>(P.rows());
+  const int segments = problem.numSegments();
+  const BetaLift map{theta, P * theta, lift};
+  r->resize(2 * n * segments);
+  Eigen::MatrixXd j_beta(2 * n * segments, b);
+  std::vector<char> ok(segments, 1);
+  pool.parallelFor(segments, [&](int s, int) {
+    if (control.stopped()) {
+      ok[s] = 0;
+      return;
+    }
+    const auto cost = makeBetaSegmentCost(structure, map, problem, s, false, 0.0);
+    RowMajorMatrix js(2 * n, b);
+    Eigen::VectorXd rs(2 * n);
+    const double* parameters[1] = {map.beta_ref.data()};
+    double* jacobians[1] = {js.data()};
+    ok[s] = cost->Evaluate(parameters, rs.data(), jacobians) && rs.allFinite() && js.allFinite();
+    r->segment(2 * n * s, 2 * n) = rs;
+    j_beta.middleRows(2 * n * s, 2 * n) = js;
+  });
+  if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return false;
+  *J = j_beta * P;
+  return true;
+}
+
+Model modelAt(const Model& structure, const Eigen::VectorXd& theta) {
+  Model m = structure;
+  m.setStandardParameters(theta);
+  return m;
+}
+
+/// Phi's parts at theta; the GC part is NaN when `control` stopped the evaluation.
+CombinedValue valueAt(const Model& structure, const GcProblem& problem, const TorqueTerm& torque,
+                      const Eigen::VectorXd& theta, double w, double g0, GcWorkspace& workspace,
+                      ThreadPool& pool, const RunControl& control) {
+  CombinedValue v;
+  v.torque = torque.cost(theta) / torque.scale;
+  if (!std::isfinite(v.torque)) {
+    v.cost = v.gc = std::numeric_limits<double>::infinity();
+    return v;
+  }
+  v.gc = gcError(modelAt(structure, theta), problem, workspace, pool, control);
+  v.cost = v.torque + w * 0.5 * v.gc / g0;
+  return v;
+}
+
+void checkInputs(const Model& structure, const GcProblem& problem, const BaseCoordinates& base,
+                 const TorqueTerm& torque, const Eigen::VectorXd& theta, double gc_weight) {
+  const int p = structure.parameterLayout().size();
+  if (theta.size() != p)
+    throw InputError("the start has " + std::to_string(theta.size()) + " parameters, expected " +
+                     std::to_string(p));
+  if (base.projection.cols() != p)
+    throw InputError("the base coordinates have " + std::to_string(base.projection.cols()) +
+                     " standard parameters, the model " + std::to_string(p));
+  if (problem.data.numJoints() != structure.numJoints())
+    throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
+                     " joints, the model " + std::to_string(structure.numJoints()));
+  if (!(gc_weight >= 0.0) || !std::isfinite(gc_weight))
+    throw InputError("the GC weight must be finite and >= 0");
+  if (!(torque.scale > 0.0) || !std::isfinite(torque.scale))
+    throw InputError("the torque term's scale must be finite and > 0");
+  if (!torque.cost || !torque.derivatives) throw InputError("the torque term is not set");
+}
+
+}  // namespace
+
+CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
+                            const TorqueTerm& torque, const Eigen::VectorXd& theta,
+                            double gc_weight, double gc_scale, int num_threads) {
+  ThreadPool pool(std::max(num_threads, 1));
+  GcWorkspace workspace(pool.numThreads());
+  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, workspace, pool, {});
+}
+
+Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
+                                 const BaseCoordinates& base, const TorqueTerm& torque,
+                                 const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
+                                 int num_threads) {
+  checkInputs(structure, problem, base, torque, theta, gc_weight);
+  ThreadPool pool(std::max(num_threads, 1));
+  const Eigen::MatrixXd lift = base.projection.completeOrthogonalDecomposition().pseudoInverse();
+  Eigen::VectorXd r, g;
+  Eigen::MatrixXd J, H;
+  if (!linearise(structure, problem, base.projection, lift, theta, pool, {}, &r, &J))
+    throw NumericalError("a GC rollout diverged");
+  torque.derivatives(theta, &g, &H);
+  return g / torque.scale + (gc_weight / gc_scale) * (J.transpose() * r);
+}
+
+CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
+                              const BaseCoordinates& base, const TorqueTerm& torque,
+                              const Eigen::VectorXd& theta0, const CombinedOptions& options) {
+  const auto t0 = Clock::now();
+  checkInputs(structure, problem, base, torque, theta0, options.gc_weight);
+  if (!std::isfinite(torque.cost(theta0)))
+    throw InputError("the combined estimator's start is outside the physical set");
+  const RunControl control = options.control.within(options.max_seconds, t0);
+  ThreadPool pool(std::max(options.num_threads, 1));
+  GcWorkspace workspace(pool.numThreads());
+  const Eigen::MatrixXd& P = base.projection;
+  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
+  const double w = options.gc_weight;
+
+  CombinedResult out;
+  out.theta = theta0;
+  out.initial_gc = gcError(modelAt(structure, theta0), problem, workspace, pool);
+  if (!std::isfinite(out.initial_gc) || out.initial_gc >= kMaxSegmentError ||
+      !(out.initial_gc > 0.0))
+    throw NumericalError("the combined estimator's start predicts no usable motion (GC error " +
+                         formatNumber(out.initial_gc, 3, "n/a") + ")");
+  out.gc_scale = 0.5 * out.initial_gc;
+  out.gc_weight = w;
+  CombinedValue current{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
+  current.cost = current.torque + w * 0.5 * current.gc / out.gc_scale;
+  out.initial_cost = current.cost;
+  out.initial_torque = current.torque;
+  out.history.push_back({0, current.cost, current.torque, current.gc, 0.0, since(t0)});
+
+  const auto stop = [&](const std::string& why) {
+    out.interrupted = true;
+    out.termination = "USER_SUCCESS: " + why;
+  };
+  double mu = 1e-3;  // Marquardt's damping, relative to the diagonal
+  Eigen::VectorXd r, g;
+  Eigen::MatrixXd J, H;
+  bool fresh = false;  // r, J, g, H are at out.theta
+  while (out.termination.empty()) {
+    if (control.check()) {
+      stop(options.control.stopped() ? "stopped (interrupt or the run's deadline)"
+                                     : "stopped at its time budget");
+      break;
+    }
+    if (!fresh) {
+      if (out.iterations >= options.max_iterations) {
+        out.termination = "NO_CONVERGENCE: Maximum number of iterations reached (" +
+                          std::to_string(options.max_iterations) + ")";
+        break;
+      }
+      // With w = 0 the GC term has no say: F's derivatives alone.
+      if (w > 0.0 && !linearise(structure, problem, P, lift, out.theta, pool, control, &r, &J)) {
+        if (control.stopped()) continue;  // the stop is reported at the loop's top
+        out.termination = "NO_CONVERGENCE: a GC rollout diverged at the current estimate";
+        break;
+      }
+      ++out.iterations;
+      torque.derivatives(out.theta, &g, &H);
+      g /= torque.scale;
+      H /= torque.scale;
+      if (w > 0.0) {
+        const double c = w / out.gc_scale;
+        g += c * (J.transpose() * r);
+        H += c * (J.transpose() * J);
+      }
+      fresh = true;
+    }
+    // The damped step (H + mu diag(H)) delta = -g.
+    Eigen::VectorXd diagonal = H.diagonal().cwiseMax(1e-12 * H.diagonal().cwiseAbs().maxCoeff());
+    Eigen::MatrixXd damped = H;
+    damped.diagonal() += mu * diagonal;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(damped);
+    const Eigen::VectorXd delta = ldlt.solve(-g);
+    const double predicted = -(g.dot(delta) + 0.5 * delta.dot(H * delta));
+    if (ldlt.info() != Eigen::Success || !delta.allFinite() || !(predicted > 0.0)) {
+      if (mu > 1e12) {
+        out.termination = "CONVERGENCE: no descent direction left (gradient " +
+                          formatNumber(g.norm(), 3, "n/a") + ")";
+        break;
+      }
+      mu *= 10.0;
+      continue;
+    }
+    const Eigen::VectorXd trial = out.theta + delta;
+    const CombinedValue next =
+        valueAt(structure, problem, torque, trial, w, out.gc_scale, workspace, pool, control);
+    if (std::isnan(next.gc) && control.stopped()) continue;
+    const double actual = current.cost - next.cost;
+    const double ratio = std::isfinite(next.cost) && next.gc < kMaxSegmentError
+                             ? actual / predicted
+                             : -std::numeric_limits<double>::infinity();
+    if (ratio > 1e-3) {
+      out.theta = trial;
+      current = next;
+      fresh = false;
+      out.moved = true;
+      out.history.push_back(
+          {out.iterations, current.cost, current.torque, current.gc, mu, since(t0)});
+      mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e-12);
+      if (actual < options.function_tolerance * std::abs(current.cost))
+        out.termination = "CONVERGENCE: the cost fell by less than " +
+                          formatNumber(options.function_tolerance, 3, "n/a") + " relative";
+    } else {
+      mu *= 4.0;
+      if (mu > 1e12)
+        out.termination =
+            "CONVERGENCE: no step lowers the cost (damping " + formatNumber(mu, 3, "n/a") + ")";
+    }
+  }
+  out.final_cost = current.cost;
+  out.final_torque = current.torque;
+  out.final_gc = current.gc;
+  out.seconds = since(t0);
+  return out;
+}
+
+}  // namespace dynid

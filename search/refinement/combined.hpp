@@ -1,0 +1,99 @@
+// The combined estimator: one estimate that fits the torques and predicts the motion. It minimises
+// the physically consistent problem's objective (the torque residuals in chi-square units plus
+// the divergence from the prior, +inf outside the physical set) plus the GC residuals, over the
+// full standard parameter vector, from the physically consistent estimate:
+//     Phi(theta) = F(theta) / T0 + w G(P theta) / G0,
+// T0 the torque data term at the start (the whole data's chi-square / 2, unexplained part
+// included), G(beta) = GC / 2 and G0 its value at the start, w the relative weight (1: a 1 %
+// lower GC error is worth a 1 % higher torque chi-square). Both criteria see only the base
+// parameters beta = P theta; the prior decides the rest, as in pc, and every iterate is
+// physically consistent (F is +inf outside the set). Levenberg-Marquardt on F's exact Hessian
+// plus the Gauss-Newton model of G, whose Jacobian in beta is exact (Ceres's automatic
+// differentiation through the rollout). docs/REFINEMENT.md, "The combined estimator".
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/model.hpp"
+#include "core/parameters.hpp"
+#include "core/run_control.hpp"
+#include "search/gc_problem.hpp"
+
+namespace dynid {
+
+/// The torque term F(theta): convex, +inf outside its domain (the physical set), with its exact
+/// gradient and Hessian there (identifiability's PhysicalProblem).
+struct TorqueTerm {
+  std::function<double(const Eigen::VectorXd&)> cost;
+  std::function<void(const Eigen::VectorXd&, Eigen::VectorXd*, Eigen::MatrixXd*)> derivatives;
+  /// T0 > 0: the torque data term at the start, the normaliser of F.
+  double scale = 1.0;
+};
+
+struct CombinedOptions {
+  /// w >= 0: the GC term's weight relative to the torque term's, each normalised by its value at
+  /// the start (0: the start's problem alone).
+  double gc_weight = 1.0;
+  int max_iterations = 50;
+  double max_seconds = 60.0;  // wall-time budget (0: none); held to within one segment's rollout
+  /// Stop when an accepted step lowers Phi by less than this fraction.
+  double function_tolerance = 1e-6;
+  int num_threads = 1;
+  RunControl control = {};  // its flag and deadline stop the estimator between rollouts
+};
+
+struct CombinedIteration {
+  int iteration = 0;
+  double cost = 0.0;     // Phi
+  double torque = 0.0;   // F / T0
+  double gc = 0.0;       // GC error (the problem's, weighted)
+  double damping = 0.0;  // Levenberg-Marquardt's mu
+  double seconds = 0.0;
+};
+
+struct CombinedResult {
+  Eigen::VectorXd theta;  // standard parameters: physically consistent when the start was
+  double initial_gc = 0.0, final_gc = 0.0;          // GC errors (sums of squares)
+  double initial_torque = 0.0, final_torque = 0.0;  // F / T0
+  double initial_cost = 0.0, final_cost = 0.0;      // Phi
+  double gc_scale = 0.0;                            // G0 = initial_gc / 2
+  double gc_weight = 0.0;                           // w (CombinedOptions::gc_weight)
+  std::vector<CombinedIteration> history;           // the start, then every accepted step
+  std::string termination;   // "CONVERGENCE: ...", "NO_CONVERGENCE: ..." or "USER_SUCCESS: ..."
+  int iterations = 0;        // Jacobian evaluations
+  bool interrupted = false;  // stopped by the budget or the run control
+  bool moved = false;        // at least one step was accepted
+  double seconds = 0.0;
+};
+
+/// Phi's value at theta, with its parts (+inf when theta is outside F's domain).
+struct CombinedValue {
+  double cost = 0.0, torque = 0.0, gc = 0.0;
+};
+
+/// The combined estimate from `theta0` (p entries, inside F's domain, whose GC rollouts do not
+/// diverge). Throws InputError on size mismatches, a joint-count mismatch, gc_weight < 0,
+/// torque.scale <= 0 or a start outside F's domain; NumericalError when the start's rollouts
+/// diverge (GC error not finite or zero).
+CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
+                              const BaseCoordinates& base, const TorqueTerm& torque,
+                              const Eigen::VectorXd& theta0, const CombinedOptions& options);
+
+/// Phi at theta with the start's normalisers (for tests and reports): gc_scale is G0.
+CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
+                            const TorqueTerm& torque, const Eigen::VectorXd& theta,
+                            double gc_weight, double gc_scale, int num_threads = 1);
+
+/// Phi's gradient at theta by the estimator's own formula (F's exact gradient plus w / G0 times
+/// (J P)^T r with J the GC residuals' Jacobian in beta): what the gradient check tests. Throws
+/// NumericalError when a rollout diverges.
+Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
+                                 const BaseCoordinates& base, const TorqueTerm& torque,
+                                 const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
+                                 int num_threads = 1);
+
+}  // namespace dynid
