@@ -105,7 +105,7 @@ std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
                      formatNumber(o.torque_noise) + " N m torque noise")
     << "\nset logscale y\nset grid ytics\nset key top left\nset ylabel '%'\n"
     << "set style data histogram\nset style histogram clustered gap 1\nset style fill solid 0.8\n"
-    << "set xtics rotate by -60 font 'sans,8'\n$d << EOD\n";
+    << "set xtics rotate by -60 font 'sans,8' noenhanced\n$d << EOD\n";
   PlotRows rows;
   for (int j = 0; j < b; ++j) {
     const double designed = o.score.relative_std[j], sinusoid = o.baseline.relative_std[j];

@@ -144,10 +144,10 @@ void addMethodComparison(const DemoResult& result, const AddFigure& add) {
     PlotScript base, gc;
     header(base, "Base-parameter error by method", "", "RMS relative error of the base parameters");
     base << "set style data histograms\nset style fill solid 0.7\nset boxwidth 0.7\n"
-            "set xtics rotate by -30\nunset key\n$d << EOD\n";
+            "set xtics rotate by -30 noenhanced\nunset key\n$d << EOD\n";
     header(gc, "GC error on the training and a held-out path (paper Fig. 3)", "", "GC error");
     gc << "set style data histograms\nset style histogram clustered\nset style fill solid 0.7\n"
-          "set xtics rotate by -30\n$d << EOD\n";
+          "set xtics rotate by -30 noenhanced\n$d << EOD\n";
     PlotRows base_rows, gc_rows;
     gc_rows.append("initial_guess", {result.initial_gc_train, result.initial_gc_test});
     for (const MethodMetrics& m : result.methods) {
