@@ -60,6 +60,7 @@ DemoResult runDemo(const DemoOptions& options) {
 
   // Least squares always; the rest stage by stage until interrupted.
   for (Method method : allMethods()) {
+    if (method == Method::kCombined) continue;  // the paper's methods (combined: dynid study)
     if (method != Method::kOls && method != Method::kWls && stopped()) break;
     result.methods.push_back(study.run(method));
   }

@@ -20,14 +20,10 @@ double since(Clock::time_point start) {
 }
 
 /// The GC problem of a dataset with at most the requested segments (all it holds when fewer).
-GcProblem gcProblem(const Trajectory& data, SegmentOptions options, const std::string& file) {
+GcProblem gcProblem(const Trajectory& data, const SegmentOptions& options,
+                    const std::string& file) {
   try {
-    if (!options.random_starts && options.num_segments > 0) {
-      SegmentOptions all = options;
-      all.num_segments = 0;
-      options.num_segments = std::min(options.num_segments, makeGcProblem(data, all).numSegments());
-    }
-    return makeGcProblem(data, options);
+    return makeGcProblemUpTo(data, options);
   } catch (const InputError& e) {
     throw InputError(file + ": " + e.what());
   }
@@ -50,7 +46,29 @@ void LogStudyRequest::check() const {
   checkOption("study", "refine-seconds", refine_seconds, "refine_seconds");
   checkOption("study", "refine-tolerance", refine_tolerance, "refine_tolerance");
   checkOption("study", "prior-weight", prior_weight, "prior_weight");
+  checkOption("study", "combined-weight", combined_weight, "combined_weight");
   checkOption("study", "threads", threads, "threads");
+}
+
+StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows) {
+  StudyVerdict out;
+  double sim = 0.0, ctl = 0.0, tor = 0.0, gc = 0.0;
+  const auto better = [](std::string& key, double& best, const LogStudyRow& row, double value) {
+    if (!std::isfinite(value)) return;
+    if (key.empty() || value < best) key = row.key, best = value;
+  };
+  const bool pc_row =
+      std::any_of(rows.begin(), rows.end(), [](const LogStudyRow& row) { return row.key == "pc"; });
+  for (const LogStudyRow& row : rows) {
+    if (row.key == "start" && pc_row) continue;  // pc's estimate, under its own row
+    if (!(std::isfinite(row.torque_test) && std::isfinite(row.gc_test))) continue;
+    better(out.best_torque, tor, row, row.torque_test);
+    better(out.best_gc, gc, row, row.gc_test);
+    if (!row.consistent) continue;
+    better(out.control, ctl, row, row.torque_test);
+    better(out.simulation, sim, row, row.gc_test);
+  }
+  return out;
 }
 
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
@@ -115,6 +133,10 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   problem.refine.options.max_seconds = request.refine_seconds;
   problem.refine.options.function_tolerance = request.refine_tolerance;
   problem.refine.keep_if_better = request.keep_if_better;
+  problem.combined.gc_weight = request.combined_weight;
+  problem.combined.max_iterations = request.refine_iterations;
+  problem.combined.max_seconds = request.refine_seconds;
+  problem.combined.function_tolerance = request.refine_tolerance;
   problem.threads = threads;
   problem.control = request.control;
   MethodRunner runner(std::move(problem));
@@ -131,6 +153,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
     LogStudyRow row =
         measure(methodName(method), estimate.model, estimate.evaluations, estimate.seconds);
     row.note = estimate.note;
+    row.moved = estimate.moved;
     out.rows.push_back(row);
   }
   out.interrupted = out.interrupted || stopped();

@@ -22,7 +22,10 @@ struct LogStudyRequest {
   std::string robot_spec;  // how it was named
   std::string data_file, validate_file;  // dataset CSVs (dynid prepare's train.csv, validate.csv)
   std::vector<Method> methods;           // empty: every method, in allMethods() order
-  SegmentOptions segments;       // the GC error's; num_segments capped at what each dataset holds
+  /// The GC error's; num_segments capped at what each dataset holds. Normalised by default: raw
+  /// errors in q [rad] and dq [rad/s] rank a model by how much it damps the fast joints'
+  /// velocities rather than by how well it predicts the whole state.
+  SegmentOptions segments = normalisedSegments();
   double search_seconds = 30.0;  // per search (0: no time limit)
   long search_evaluations = 0;   // per search (0: no limit); one of the two must be set
   int refine_iterations = 50;    // per refinement stage
@@ -32,6 +35,9 @@ struct LogStudyRequest {
   bool keep_if_better = true;  // keep a search's result that its refinement did not improve
   double prior_weight =
       kDefaultPriorWeight;  // pc (and so the searches' start): PhysicalOptions::prior_weight
+  /// combined: the GC term's weight relative to the torque term's (CombinedOptions::gc_weight);
+  /// its iterations, seconds and tolerance are the refinements'.
+  double combined_weight = 1.0;
   std::uint64_t seed = 1;
   int threads = kAllThreads;  // 0: every core
   RunControl control;
@@ -51,7 +57,8 @@ struct LogStudyRow {
   bool consistent = false;                       // every link physically consistent
   long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc)
   double seconds = 0.0;
-  std::string note;  // e.g. "stopped at its time budget"
+  std::string note;   // e.g. "stopped at its time budget"
+  bool moved = true;  // refinements and combined: false when the result is where it started
 };
 
 struct LogStudyOutcome {
@@ -64,6 +71,18 @@ struct LogStudyOutcome {
   bool interrupted = false;
   double seconds = 0.0;
 };
+
+/// What the study recommends, by rules that cannot contradict each other: a recommendation is
+/// only ever a physically consistent row (the input model included, the searches' "start" not:
+/// it is pc), and only one with finite held-out errors. Keys; empty when no row qualifies.
+struct StudyVerdict {
+  std::string simulation;            // the lowest held-out GC error among the consistent rows
+  std::string control;               // the lowest held-out torque error among the consistent rows
+  std::string best_torque, best_gc;  // the same over every row, consistent or not
+  /// One consistent row wins both (simulation == control).
+  bool oneForBoth() const { return !simulation.empty() && simulation == control; }
+};
+StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows);
 
 /// Throws InputError for an invalid setting (named), a dataset of another joint count, a held-out
 /// file that is missing (validate_file is required), data too short for one GC segment; ParseError

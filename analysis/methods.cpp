@@ -22,7 +22,9 @@ constexpr Entry kTable[] = {
     {Method::kHybrid, "hybrid", "GC-error search: GA, then COBYLA"},
     {Method::kNloRefined, "nlo_refined", "NLO result refined by Ceres"},
     {Method::kGaRefined, "ga_refined", "GA result refined by Ceres"},
-    {Method::kHybridRefined, "hybrid_refined", "hybrid result refined by Ceres"}};
+    {Method::kHybridRefined, "hybrid_refined", "hybrid result refined by Ceres"},
+    {Method::kCombined, "combined",
+     "torques and motion (GC residuals) fitted together, physically consistent"}};
 }  // namespace
 
 const std::vector<Method>& allMethods() {
@@ -36,6 +38,12 @@ const std::vector<Method>& allMethods() {
 
 const std::vector<Method>& leastSquaresMethods() {
   static const std::vector<Method> methods = {Method::kOls, Method::kWls, Method::kPc};
+  return methods;
+}
+
+const std::vector<Method>& identifyMethods() {
+  static const std::vector<Method> methods = {Method::kOls, Method::kWls, Method::kPc,
+                                              Method::kCombined};
   return methods;
 }
 
@@ -93,6 +101,10 @@ bool isSearch(Method method) {
 bool isRefined(Method method) {
   return method == Method::kNloRefined || method == Method::kGaRefined ||
          method == Method::kHybridRefined;
+}
+
+bool needsGc(Method method) {
+  return isSearch(method) || isRefined(method) || method == Method::kCombined;
 }
 
 Method searchOf(Method method) {

@@ -17,13 +17,16 @@ enum class Method {
   kNloRefined,     // NLO, then Ceres refinement on the GC residuals
   kGaRefined,      // GA, then refinement
   kHybridRefined,  // hybrid, then refinement
+  kCombined,       // pc's torque fit and the GC residuals together, physically consistent
 };
 
 /// Every method in table order (ols, wls, pc, nlo, ga, hybrid, nlo_refined, ga_refined,
-/// hybrid_refined).
+/// hybrid_refined, combined).
 const std::vector<Method>& allMethods();
 /// The methods of one command: least squares (ols, wls, pc) or searches (nlo, ga, hybrid).
 const std::vector<Method>& leastSquaresMethods();
+/// `dynid identify`'s: least squares and combined.
+const std::vector<Method>& identifyMethods();
 const std::vector<Method>& searchMethods();
 
 /// "ols", "nlo_refined", ...
@@ -42,6 +45,8 @@ std::string methodList(const std::vector<Method>& methods);
 
 bool isSearch(Method method);   // nlo, ga, hybrid
 bool isRefined(Method method);  // *_refined
+/// Whether `method` needs a GC-error problem (the searches, their refinements, combined).
+bool needsGc(Method method);
 /// The search a refined method starts from (kNloRefined -> kNlo); the method itself otherwise.
 Method searchOf(Method method);
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -34,6 +35,19 @@ LeastSquaresOutcome leastSquaresOfPhysical(const BaseParameters& base, const Phy
   return out;
 }
 
+}  // namespace
+
+std::string combinedNote(const CombinedResult& r) {
+  std::string out =
+      r.termination + "; torque term from " + formatNumber(r.initial_torque, 4, "n/a") + " to " +
+      formatNumber(r.final_torque, 4, "n/a") + ", GC error from " +
+      formatNumber(r.initial_gc, 4, "n/a") + " to " + formatNumber(r.final_gc, 4, "n/a");
+  if (!r.moved) out = "no step was taken: the estimate is pc's (" + out + ")";
+  return out;
+}
+
+namespace {
+
 std::string budgetText(const SearchBudget& budget) {
   return budget.max_seconds > 0.0 ? std::to_string(budget.max_seconds) + " s"
                                   : std::to_string(budget.max_evaluations) + " evaluations";
@@ -62,6 +76,44 @@ LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& ba
   out.estimate = source.stream != nullptr ? source.stream->estimate(kind)
                                           : estimateBaseParameters(base, *source.observation, kind);
   out.standard = base.standardFromBase(out.estimate.beta, prior);
+  return out;
+}
+
+LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& base,
+                                     const LeastSquaresSource& source,
+                                     const LeastSquaresOutcome& pc, const GcProblem& gc,
+                                     const CombinedOptions& options, CombinedResult* detail) {
+  if (!pc.pc || !pc.pc->problem || !pc.pc->usable)
+    throw InputError("the combined estimator starts from a usable physically consistent estimate");
+  const PhysicalEstimate& start = *pc.pc;
+  const std::shared_ptr<const PhysicalProblem> problem = start.problem;
+  TorqueTerm torque;
+  torque.cost = [problem](const Eigen::VectorXd& theta) { return problem->cost(theta); };
+  torque.derivatives = [problem](const Eigen::VectorXd& theta, Eigen::VectorXd* g,
+                                 Eigen::MatrixXd* h) { problem->derivatives(theta, g, h); };
+  torque.scale = 0.5 * (problem->A * start.theta - problem->b).squaredNorm() + start.unexplained;
+  const CombinedResult result =
+      refineCombined(model, gc, base.coordinates(), torque, start.theta, options);
+  LeastSquaresOutcome out = pc;
+  out.standard = result.theta;
+  out.estimate.beta = base.project(result.theta);
+  Eigen::VectorXd squares;
+  if (source.stream != nullptr) {
+    squares = source.stream->residualSquares(out.estimate.beta);
+  } else {
+    const Observation& o = *source.observation;
+    const Eigen::VectorXd residual = o.W * result.theta - o.tau;
+    squares = Eigen::VectorXd::Zero(o.num_joints);
+    for (Eigen::Index k = 0; k < residual.size(); ++k)
+      squares[k % o.num_joints] += residual[k] * residual[k];
+  }
+  out.estimate.residual_rms =
+      (squares / std::max<double>(out.estimate.num_samples, 1.0)).cwiseSqrt();
+  setRelativeErrors(out.estimate);
+  out.pc->theta = result.theta;
+  out.pc->beta = out.estimate.beta;
+  out.pc->residual_rms = out.estimate.residual_rms;
+  if (detail != nullptr) *detail = result;
   return out;
 }
 
@@ -171,9 +223,11 @@ const SearchResult& MethodRunner::search(Method method) {
   return searches_.emplace(method, std::move(result)).first->second;
 }
 
-RefineResult MethodRunner::refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0) {
+RefineResult MethodRunner::refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0,
+                                      bool uncertainty) {
   if (problem_.train_gc == nullptr) throw InputError("a refinement needs a GC-error problem");
   RefineOptions options = problem_.refine.options;
+  options.uncertainty = uncertainty;
   options.num_threads = pool_.numThreads();
   options.control = problem_.control;
   std::optional<BaseCoordinates> coordinates;
@@ -192,7 +246,7 @@ Estimate MethodRunner::refine(Method method) {
                             ? ", " + std::to_string(settings.options.max_seconds) + " s"
                             : std::string()) +
                        ")");
-  const RefineResult refined = refineFrom(space_of, found.best_x);
+  const RefineResult refined = refineFrom(space_of, found.best_x, false);
   Estimate out;
   out.method = method;
   out.model = space_of.modelAt(refined.x);
@@ -201,10 +255,10 @@ Estimate MethodRunner::refine(Method method) {
   out.start_gc = refined.initial_gc;
   out.note = refined.termination + "; GC error from " + std::to_string(refined.initial_gc) +
              " to " + std::to_string(refined.final_gc);
+  const Model searched_model = space_of.modelAt(found.best_x);
   if (settings.keep_if_better) {
     // The refinement's start is the search's point projected onto the space (bounds, mass
     // plane); a refinement that ends above the search's own training GC error is not kept.
-    const Model searched_model = space_of.modelAt(found.best_x);
     if (!(gcError(out.model, *problem_.train_gc, workspace_, pool_) <=
           gcError(searched_model, *problem_.train_gc, workspace_, pool_))) {
       out.model = searched_model;
@@ -212,10 +266,42 @@ Estimate MethodRunner::refine(Method method) {
                  out.note + ")";
     }
   }
+  out.moved = out.model.standardParameters() != searched_model.standardParameters();
+  if (!out.moved && out.note.rfind("kept the search's result", 0) != 0)
+    out.note = "no change: the refinement ended at the search's result (" + out.note + ")";
+  return out;
+}
+
+Estimate MethodRunner::combined() {
+  if (!combined_) {
+    if (problem_.train_gc == nullptr) throw InputError("'combined' needs a GC-error problem");
+    const LeastSquaresOutcome& pc = leastSquares(Method::kPc);
+    problem_.control.say("identify: combined (torques and motion, physically consistent)");
+    CombinedOptions options = problem_.combined;
+    options.num_threads = pool_.numThreads();
+    options.control = problem_.control;
+    CombinedResult detail;
+    LeastSquaresOutcome ls =
+        combinedEstimate(problem_.model, *problem_.base, problem_.least_squares, pc,
+                         *problem_.train_gc, options, &detail);
+    combined_.emplace(std::move(ls), detail.seconds);
+    combined_note_ = combinedNote(detail);
+    combined_iterations_ = detail.iterations;
+    combined_moved_ = detail.moved;
+  }
+  Estimate out;
+  out.method = Method::kCombined;
+  out.model = modelWith(combined_->first.standard);
+  out.evaluations = combined_iterations_;
+  out.seconds = combined_->second;
+  out.note = combined_note_;
+  out.moved = combined_moved_;
+  out.least_squares = &combined_->first;
   return out;
 }
 
 Estimate MethodRunner::run(Method method) {
+  if (method == Method::kCombined) return combined();
   if (!isSearch(method) && !isRefined(method)) {
     const LeastSquaresOutcome& ls = leastSquares(method);
     Estimate out;

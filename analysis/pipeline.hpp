@@ -29,6 +29,7 @@
 #include "search/gc_error.hpp"
 #include "search/optimizers.hpp"
 #include "search/parameter_space.hpp"
+#include "search/refinement/combined.hpp"
 #include "search/refinement/refine.hpp"
 
 namespace dynid {
@@ -54,6 +55,20 @@ LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& ba
                                          const LeastSquaresSource& source,
                                          const Eigen::VectorXd& prior,
                                          const PhysicalOptions& pc_options = {});
+
+/// The combined estimate (search/refinement/combined.hpp) from a pc outcome (`pc`, with its
+/// PhysicalEstimate): pc's problem is the torque term and its estimate the start. The outcome's
+/// standard vector and base fields are the combined estimate's (residuals from `source`; the
+/// covariance stays pc's, the torques' alone). Throws InputError when `pc` has no physically
+/// consistent estimate, NumericalError when its rollouts diverge.
+LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& base,
+                                     const LeastSquaresSource& source,
+                                     const LeastSquaresOutcome& pc, const GcProblem& gc,
+                                     const CombinedOptions& options, CombinedResult* detail);
+
+/// One line on how a combined estimate ended: its termination, both criteria from start to end,
+/// and "no step was taken" when it stayed at pc's estimate.
+std::string combinedNote(const CombinedResult& result);
 
 /// The one search dispatch: runs `method` (nlo, ga or hybrid; InputError otherwise) on a prepared
 /// context.
@@ -99,6 +114,7 @@ struct EstimationProblem {
   GaOptions ga;
   NloOptions nlo;
   RefineSettings refine;
+  CombinedOptions combined;                     // threads and run control come from the problem
   const Eigen::VectorXd* truth_full = nullptr;  // the paper form's true vector (errors), or null
   /// Called after each search iteration with the method, its state and its space.
   std::function<void(Method, const SearchState&, const ParameterSpace&)> on_search_iteration;
@@ -113,6 +129,8 @@ struct Estimate {
   long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc), 0 (ols, wls)
   double seconds = 0.0;
   std::string note;  // refinements: how it ended, or why the search's result was kept
+  /// Refinements and combined: false when the result is where it started (no step kept).
+  bool moved = true;
   /// Refinements: the training GC error where the refinement started; NaN otherwise.
   double start_gc = std::numeric_limits<double>::quiet_NaN();
   const LeastSquaresOutcome* least_squares =
@@ -144,7 +162,9 @@ class MethodRunner {
   /// Refines the point x0 of `space` (an estimate from elsewhere, e.g. `dynid refine` of a
   /// search.json) on the training GC problem with the problem's refine options; the base stage
   /// uses the problem's base parameters when it has them. run() refines its own searches by it.
-  RefineResult refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0);
+  /// `uncertainty`: RefineOptions::uncertainty (run() leaves it out: its tables do not use it).
+  RefineResult refineFrom(const ParameterSpace& space, const Eigen::VectorXd& x0,
+                          bool uncertainty = true);
   /// The searches' start model (kPhysicallyConsistent: computes the pc estimate).
   const Model& searchStart();
   const EstimationProblem& problem() const { return problem_; }
@@ -158,11 +178,16 @@ class MethodRunner {
   Model modelWith(const Eigen::VectorXd& theta) const;
   const SearchResult& search(Method method);
   Estimate refine(Method method);
+  Estimate combined();
   EstimationProblem problem_;
   ThreadPool pool_;
   GcWorkspace workspace_;
   std::map<Method, std::pair<LeastSquaresOutcome, double>> least_squares_;  // with seconds
   std::map<Method, SearchResult> searches_;
+  std::optional<std::pair<LeastSquaresOutcome, double>> combined_;  // with seconds
+  std::string combined_note_;
+  int combined_iterations_ = 0;
+  bool combined_moved_ = false;
   std::optional<Model> start_;
   std::shared_ptr<const ParameterSpace> spaces_[2];  // without and with the total-mass plane
 };

@@ -31,6 +31,13 @@ void IdentifyRequest::check() const {
   checkOption(kCommand, "prior-weight", prior_weight, "prior_weight");
   structural.check();
   checkOption(kCommand, "threads", threads, "threads");
+  if (method == Method::kCombined) {
+    checkOption(kCommand, "horizon", segments.horizon, "horizon");
+    checkOption(kCommand, "segments", segments.num_segments, "segments");
+    checkOption(kCommand, "combined-weight", combined.gc_weight, "combined_weight");
+    checkOption(kCommand, "combined-seconds", combined.max_seconds, "combined_seconds");
+    checkOption(kCommand, "combined-iterations", combined.max_iterations, "combined_iterations");
+  }
 }
 
 void SearchRequest::check() const {

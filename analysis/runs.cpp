@@ -192,6 +192,53 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 // ---- identification ----
 
+namespace {
+
+/// identify's combined step: pc's outcome (`result`, replaced by the combined estimate's) refined
+/// on the training data's GC residuals, and both criteria measured for pc and the estimate.
+CombinedSummary combinedStep(const IdentifyRequest& request, const BaseParameters& base,
+                             const LeastSquaresSource& source, LeastSquaresOutcome& result,
+                             ThreadPool& pool) {
+  const Model& model = request.model;
+  const int n = model.numJoints();
+  const auto problemOf = [&](const Trajectory* given, const std::string& file) {
+    try {
+      return makeGcProblemUpTo(given != nullptr ? *given : readDatasetCsv(file, n),
+                               request.segments);
+    } catch (const InputError& e) {
+      throw InputError(file + ": " + e.what());
+    }
+  };
+  const GcProblem train = problemOf(request.data, request.data_file);
+  CombinedSummary out;
+  out.train_segments = train.numSegments();
+  Model pc_model = model;
+  pc_model.setStandardParameters(result.standard);
+  out.torque_train_pc = result.estimate.relative_error;
+  CombinedOptions options = request.combined;
+  options.num_threads = pool.numThreads();
+  result = combinedEstimate(model, base, source, result, train, options, &out.detail);
+  out.gc_train_pc = out.detail.initial_gc;
+  out.gc_train = out.detail.final_gc;
+  out.gc_test_pc = out.gc_test = std::numeric_limits<double>::quiet_NaN();
+  out.torque_test_pc = std::numeric_limits<double>::quiet_NaN();
+  if (request.validate != nullptr || !request.validate_file.empty()) {
+    const Trajectory held =
+        request.validate != nullptr ? *request.validate : readDatasetCsv(request.validate_file, n);
+    const GcProblem test = problemOf(&held, request.validate_file);
+    out.test_segments = test.numSegments();
+    GcWorkspace workspace(pool.numThreads());
+    Model identified = model;
+    identified.setStandardParameters(result.standard);
+    out.gc_test_pc = gcError(pc_model, test, workspace, pool);
+    out.gc_test = gcError(identified, test, workspace, pool);
+    out.torque_test_pc = predictTorques(pc_model, held, &pool).validation.relative_error;
+  }
+  return out;
+}
+
+}  // namespace
+
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   request.check();
   const Model& model = request.model;
@@ -203,9 +250,9 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
     throw InputError("the prior model has another parameter layout than the robot");
-  const Eigen::VectorXd prior = request.method == Method::kPc && request.prior
-                                    ? request.prior->standardParameters()
-                                    : model.standardParameters();
+  const bool physical = request.method == Method::kPc || request.method == Method::kCombined;
+  const Eigen::VectorXd prior =
+      physical && request.prior ? request.prior->standardParameters() : model.standardParameters();
   PhysicalOptions pc_options;
   pc_options.prior_weight = request.prior_weight;
   ThreadPool pool(request.threads);
@@ -219,8 +266,12 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     } else {
       addDatasetFile(stream, model, request.data_file, pool, &kept);
     }
-    out.result = leastSquaresEstimate(
-        request.method, out.base, {nullptr, &stream, model.parameterLayout()}, prior, pc_options);
+    const LeastSquaresSource source{nullptr, &stream, model.parameterLayout()};
+    out.result =
+        leastSquaresEstimate(request.method == Method::kCombined ? Method::kPc : request.method,
+                             out.base, source, prior, pc_options);
+    if (request.method == Method::kCombined)
+      out.combined = combinedStep(request, out.base, source, out.result, pool);
   } catch (const InputError& e) {  // too few samples: the dataset's fault
     throw InputError(request.data_file + ": " + e.what());
   } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too

@@ -125,9 +125,12 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
 
 struct IdentifyRequest {
   Model model;
-  Method method = Method::kOls;  // ols, wls or pc
-  std::optional<Model> prior;    // pc: the prior model (default: the model's own parameters)
-  double prior_weight = kDefaultPriorWeight;  // pc, > 0 (PhysicalOptions::prior_weight)
+  Method method = Method::kOls;  // ols, wls, pc or combined
+  std::optional<Model> prior;    // pc, combined: the prior (default: the model's own parameters)
+  double prior_weight = kDefaultPriorWeight;  // pc, combined: > 0 (PhysicalOptions::prior_weight)
+  /// combined: its GC segments (normalised by default) and its weight and budgets.
+  SegmentOptions segments = normalisedSegments();
+  CombinedOptions combined;
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
   /// With validate_file: prepare --keep-raw-torque's validate_raw.csv, the held-out part's raw
@@ -153,6 +156,14 @@ struct WriteBack {
   std::string model_json;     // the identified model as dynid JSON, every drive term included
   int unseen_directions = 0;  // standard-parameter directions the data cannot see (from the prior)
 };
+/// The combined estimate's two criteria, train and held out, against pc's.
+struct CombinedSummary {
+  CombinedResult detail;
+  int train_segments = 0, test_segments = 0;           // test: 0 without held-out data
+  double gc_train_pc = 0.0, gc_train = 0.0;            // GC errors (normalised by default)
+  double gc_test_pc = 0.0, gc_test = 0.0;              // NaN without held-out data
+  double torque_train_pc = 0.0, torque_test_pc = 0.0;  // pc's relative torque errors
+};
 struct IdentifyOutcome {
   Method method = Method::kOls;
   BaseParameters base;
@@ -167,7 +178,8 @@ struct IdentifyOutcome {
   std::optional<Validation> raw_validation;
   std::string validate_raw_file;
   int raw_skipped = 0;
-  std::optional<WriteBack> write_back;  // when requested
+  std::optional<WriteBack> write_back;      // when requested
+  std::optional<CombinedSummary> combined;  // method combined
   std::string robot_spec;
   // For the report:
   Prediction fit;                                // the estimate's torques on the training data

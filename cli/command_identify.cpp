@@ -15,10 +15,11 @@ int runIdentify(const std::vector<std::string>& args) {
   addStructuralOptions(options);
   options.add_options()(
       "method", po::value<std::string>()->default_value("ols"),
-      "ols (ordinary), wls (weighted per joint, Gautier) or pc (physically "
-      "consistent: least squares regularised by the entropic divergence from the prior)")(
+      "ols (ordinary), wls (weighted per joint, Gautier), pc (physically consistent: least "
+      "squares regularised by the entropic divergence from the prior) or combined (pc's fit of "
+      "the torques and the motion's GC residuals together, physically consistent)")(
       "prior", po::value<std::string>(),
-      "pc: prior model (robot spec; default: the robot's own parameters)")(
+      "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
       "data", po::value<std::string>()->required(), "training dataset CSV")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
       "validate-raw", po::value<std::string>(),
@@ -29,26 +30,48 @@ int runIdentify(const std::vector<std::string>& args) {
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
       "the full model as .dynid.json beside it");
+  const IdentifyRequest d;  // the combined estimator's defaults are the request's own
+  options.add_options()("horizon", po::value<double>()->default_value(d.segments.horizon),
+                        "combined: GC error horizon [s]")(
+      "segments", po::value<int>()->default_value(d.segments.num_segments),
+      "combined: GC error segments (at most that fit)")(
+      "raw-gc", po::bool_switch(),
+      "combined: GC residuals in rad and rad/s (default: each joint's q and dq errors divided by "
+      "their spread over the data)")("combined-weight",
+                                     po::value<double>()->default_value(d.combined.gc_weight))(
+      "combined-seconds", po::value<double>()->default_value(d.combined.max_seconds))(
+      "combined-iterations", po::value<int>()->default_value(d.combined.max_iterations));
   addPriorWeightOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
-      "dynid identify --method ols|wls|pc --robot R [--drives] --data train.csv [--validate "
+      "dynid identify --method ols|wls|pc|combined --robot R [--drives] --data train.csv "
+      "[--validate "
       "test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
   IdentifyRequest request;
-  request.method = parseOption(vm, "method", [](const std::string& name) {
-    return parseMethod(name, leastSquaresMethods());
-  });
-  refuseUnused(vm, request.method == Method::kPc, {"prior", "prior-weight"},
-               "applies to --method pc, not " + std::string(methodName(request.method)));
+  request.method = parseOption(
+      vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });
+  const bool physical = request.method == Method::kPc || request.method == Method::kCombined;
+  refuseUnused(
+      vm, physical, {"prior", "prior-weight"},
+      "applies to --method pc or combined, not " + std::string(methodName(request.method)));
+  refuseUnused(vm, request.method == Method::kCombined,
+               {"horizon", "segments", "raw-gc", "combined-weight", "combined-seconds",
+                "combined-iterations"},
+               "applies to --method combined");
+  request.segments.horizon = vm["horizon"].as<double>();
+  request.segments.num_segments = vm["segments"].as<int>();
+  request.segments.normalise = !vm["raw-gc"].as<bool>();
+  request.combined.gc_weight = vm["combined-weight"].as<double>();
+  request.combined.max_seconds = vm["combined-seconds"].as<double>();
+  request.combined.max_iterations = vm["combined-iterations"].as<int>();
   request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);
   request.robot_spec = vm["robot"].as<std::string>();
-  if (request.method == Method::kPc && vm.count("prior"))
-    request.prior = loadOtherRobot(vm, "prior");
+  if (physical && vm.count("prior")) request.prior = loadOtherRobot(vm, "prior");
   request.data_file = vm["data"].as<std::string>();
   request.threads = threadsOption(vm);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
@@ -65,6 +88,12 @@ int runIdentify(const std::vector<std::string>& args) {
         throw UsageError("--write-urdf: '" + path +
                          "' is an input of this command; name another file (the input stays)");
   }
+  if (stderrIsTerminal())
+    request.combined.control.progress = [](const std::string& line) {
+      std::cerr << "[identify] " << line << "\n";
+    };
+  const InterruptGuard guard;  // combined stops at its next rollout, keeping its best so far
+  request.combined.control.stop = guard.flag();
   const IdentifyOutcome outcome = identifyRun(request);
   if (outcome.write_back)
     std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);

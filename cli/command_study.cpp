@@ -23,7 +23,12 @@ int runStudy(const std::vector<std::string>& args) {
       "search-seconds", po::value<double>()->default_value(d.search_seconds))(
       "search-evaluations", po::value<long>()->default_value(d.search_evaluations))(
       "refine-iterations", po::value<int>()->default_value(d.refine_iterations))(
-      "refine-seconds", po::value<double>()->default_value(d.refine_seconds))(
+      "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
+      "per refinement, and the combined estimator's")(
+      "combined-weight", po::value<double>()->default_value(d.combined_weight))(
+      "raw-gc", po::bool_switch(),
+      "GC errors in rad and rad/s (default: each joint's q and dq errors divided by their "
+      "spread over the data, so no joint's velocity dominates the ranking)")(
       "seed", po::value<std::uint64_t>()->default_value(d.seed), "seed of the searches")(
       "out", po::value<std::string>()->required(), "output directory");
   addPriorWeightOption(options);
@@ -46,6 +51,8 @@ int runStudy(const std::vector<std::string>& args) {
   request.segments.horizon = vm["horizon"].as<double>();
   request.segments.num_segments = vm["segments"].as<int>();
   request.segments.seed = vm["seed"].as<std::uint64_t>();
+  request.segments.normalise = !vm["raw-gc"].as<bool>();
+  request.combined_weight = vm["combined-weight"].as<double>();
   request.search_seconds = vm["search-seconds"].as<double>();
   request.search_evaluations = vm["search-evaluations"].as<long>();
   if (request.search_seconds == 0.0 && request.search_evaluations == 0)

@@ -102,6 +102,13 @@ constexpr OptionRule kOptionRules[] = {
      "refine-tolerance",
      {0.0, 1.0, false, false},
      "relative cost change that ends a refinement"},
+    {"",
+     "combined-weight",
+     {0.0, 1e6, false, false},
+     "combined: the GC term's weight relative to the torque term's, each normalised by its "
+     "value at the pc estimate"},
+    {"", "combined-seconds", kSeconds, "combined: wall time (0: no limit)"},
+    {"", "combined-iterations", kAtLeastOneIteration, "combined: Levenberg-Marquardt iterations"},
     // prepare
     {"prepare", "rate", {1e-3, 1e7, false, true}, "resampling rate [Hz] (0: median)"},
     {"", "joints", {0.0, 1000.0, false, false}, "joints (files: required)"},

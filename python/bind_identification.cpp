@@ -103,11 +103,12 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const std::string& robot_spec,
                         const py::handle& validate_raw) {
-  if (method != "pc" && (prior || prior_weight != kDefaultPriorWeight))
-    throw py::value_error("prior and prior_weight apply to method 'pc', not '" + method + "'");
+  if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
+    throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
+                          method + "'");
   IdentifyRequest request;  // checked by identifyRun
   request.model = model;
-  request.method = parseMethod(method, leastSquaresMethods());
+  request.method = parseMethod(method, identifyMethods());
   request.prior = prior;
   request.prior_weight = prior_weight;
   request.structural = structural(samples, seed, tolerance);
@@ -365,8 +366,10 @@ void bindIdentify(py::module_& m) {
         py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
         py::arg("robot_spec") = "", py::arg("validate_raw") = py::none(),
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
-        "Dataset): method 'ols', 'wls' or 'pc' (physically consistent, toward `prior`, default "
-        "the model's own parameters). `validate`: held-out data; `validate_raw`: prepare's "
+        "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
+        "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
+        "residuals of 100 normalised 50 ms rollouts together, at most 60 s). `validate`: held-out "
+        "data; `validate_raw`: prepare's "
         "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
         "recorded for "
         "`dynid predict`. Raises NumericalError when the data do not excite every base parameter.");

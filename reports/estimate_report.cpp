@@ -159,6 +159,37 @@ void identifiabilitySection(const Model& model, Document& doc, const IdentifyOut
   doc.table(table);
 }
 
+/// The combined estimator's two criteria against pc's, train and held out.
+void combinedSection(Document& doc, const IdentifyOutcome& o) {
+  if (!o.combined) return;
+  const CombinedSummary& c = *o.combined;
+  const CombinedResult& d = c.detail;
+  doc.heading("Torques and motion together (combined)");
+  doc.paragraph(
+      "The combined estimator minimises pc's objective (the torque residuals and the divergence "
+      "from the prior) plus the GC residuals of " +
+      std::to_string(c.train_segments) +
+      " training rollouts, each criterion normalised by its value at the pc estimate, from "
+      "there; every iterate is physically consistent. " +
+      std::to_string(d.iterations) + " Jacobians, " + formatNumber(d.seconds, 3, "n/a") +
+      " s: " + d.termination + (d.moved ? "." : "; no step was taken (the estimate is pc's)."));
+  const Validation* v = o.validate_fit ? &o.validate_fit->validation : nullptr;
+  DocumentTable table;
+  table.header = {"estimate", "torque error, train", "held out", "GC error, train", "held out"};
+  table.rows.push_back({"pc (the start)", percent(c.torque_train_pc), percent(c.torque_test_pc),
+                        formatNumber(c.gc_train_pc, 4, "n/a"),
+                        formatNumber(c.gc_test_pc, 4, "n/a")});
+  table.rows.push_back({"combined", percent(o.fit.validation.relative_error),
+                        v ? percent(v->relative_error) : "n/a", formatNumber(c.gc_train, 4, "n/a"),
+                        formatNumber(c.gc_test, 4, "n/a")});
+  table.caption = "GC error: the sum over the rollouts of the squared state errors at their end" +
+                  std::string(c.test_segments > 0
+                                  ? " (" + std::to_string(c.test_segments) + " held-out rollouts)"
+                                  : "") +
+                  ".";
+  doc.table(table);
+}
+
 void consistencySection(Document& doc, const Model& model, const IdentifyOutcome& o) {
   doc.heading("Physical consistency");
   if (o.result.pc)
@@ -244,6 +275,7 @@ Document identificationDocument(const Model& model, const IdentifyOutcome& o,
     doc.paragraph("Warning: " + warning);
   std::vector<std::string> missing;
   torqueFitSection(doc, o, missing);
+  combinedSection(doc, o);
   if (o.preparation.present) preparationSection(doc, o.preparation);
   identifiabilitySection(model, doc, o);
   consistencySection(doc, model, o);

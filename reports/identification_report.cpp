@@ -151,6 +151,17 @@ json kinematicsJson(const Model& model) {
 }
 }  // namespace
 
+json combinedHistoryJson(const CombinedResult& r) {
+  json out = json::array();
+  for (const CombinedIteration& it : r.history)
+    out.push_back({{"iteration", it.iteration},
+                   {"cost", numberOrNull(it.cost)},
+                   {"torque_term", numberOrNull(it.torque)},
+                   {"gc_error", numberOrNull(it.gc)},
+                   {"seconds", it.seconds}});
+  return out;
+}
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -218,6 +229,22 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"drive_parameters_at_bound", pc->at_bound},
         {"cost_history", pc->cost_history}};
   }
+  if (const auto& c = outcome.combined)
+    report["combined"] = {
+        {"termination", c->detail.termination},
+        {"moved", c->detail.moved},
+        {"iterations", c->detail.iterations},
+        {"seconds", c->detail.seconds},
+        {"gc_weight", c->detail.gc_weight},
+        {"segments_train", c->train_segments},
+        {"segments_test", c->test_segments},
+        {"gc_error_train",
+         {{"pc", numberOrNull(c->gc_train_pc)}, {"combined", numberOrNull(c->gc_train)}}},
+        {"gc_error_test",
+         {{"pc", numberOrNull(c->gc_test_pc)}, {"combined", numberOrNull(c->gc_test)}}},
+        {"torque_relative_error_pc",
+         {{"train", numberOrNull(c->torque_train_pc)}, {"test", numberOrNull(c->torque_test_pc)}}},
+        {"cost_history", combinedHistoryJson(c->detail)}};
   if (const auto& back = outcome.write_back)
     report["write_back"] = {
         {"unseen_directions", back->unseen_directions},

@@ -23,42 +23,57 @@ std::string describeKey(const std::string& key) {
   return methodDescription(parseMethod(key));
 }
 
-/// The row with the smallest value of `field` among the methods (not model or start).
-const LogStudyRow* best(const LogStudyOutcome& o, double LogStudyRow::*field) {
-  const LogStudyRow* out = nullptr;
-  for (const LogStudyRow& row : o.rows) {
-    if (row.key == "model" || row.key == "start" || !std::isfinite(row.*field)) continue;
-    if (out == nullptr || row.*field < out->*field) out = &row;
-  }
-  return out;
-}
-
 const LogStudyRow* find(const LogStudyOutcome& o, const std::string& key) {
   for (const LogStudyRow& row : o.rows)
     if (row.key == key) return &row;
   return nullptr;
 }
 
+/// Rows whose held-out errors coincide (within 0.5 % in both: one point on the log-log figure)
+/// share one point, labelled "nlo = nlo_refined".
+struct FigurePoint {
+  std::string label;
+  double torque_percent = 0.0, gc = 0.0;
+};
+std::vector<FigurePoint> figurePoints(const LogStudyOutcome& o) {
+  std::vector<FigurePoint> out;
+  const auto close = [](double a, double b) { return std::abs(a - b) <= 0.005 * std::max(a, b); };
+  for (const LogStudyRow& row : o.rows) {
+    if (!(std::isfinite(row.torque_test) && std::isfinite(row.gc_test) && row.torque_test > 0.0 &&
+          row.gc_test > 0.0))
+      continue;
+    const double t = 100.0 * row.torque_test;
+    bool merged = false;
+    for (FigurePoint& p : out)
+      if (close(p.torque_percent, t) && close(p.gc, row.gc_test)) {
+        p.label += " = " + row.key;
+        merged = true;
+        break;
+      }
+    if (!merged) out.push_back({row.key, t, row.gc_test});
+  }
+  return out;
+}
+
 std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
+  const std::vector<FigurePoint> points = figurePoints(o);
+  if (points.empty()) return std::nullopt;
   PlotScript s;
   s.precision(9);
   s << "set terminal svg size 800,520 font 'sans,11' background rgb 'white'\n"
     << "set title 'held-out data: torque fit against motion prediction'\n"
     << "set logscale xy\nset grid\nset key off\nset xlabel 'relative torque error [%]'\n"
-    << "set ylabel 'GC error'\nset offsets graph 0.08, graph 0.15, graph 0.1, graph 0.1\n"
-    << "$m << EOD\n";
-  int points = 0;
-  PlotRows rows;  // the label first: (key, torque error [%], GC error)
-  for (const LogStudyRow& row : o.rows)
-    if (std::isfinite(row.torque_test) && std::isfinite(row.gc_test) && row.torque_test > 0.0 &&
-        row.gc_test > 0.0) {
-      rows.append(row.key, {100.0 * row.torque_test, row.gc_test});
-      ++points;
-    }
-  s << rows
-    << "EOD\nplot $m using 2:3 with points pt 7 ps 1.2 lc rgb '#4477aa', "
-       "$m using 2:3:1 with labels offset 1,0.7 left font 'sans,10'\n";
-  if (points == 0) return std::nullopt;
+    << "set ylabel 'GC error'\nset offsets graph 0.08, graph 0.15, graph 0.1, graph 0.1\n";
+  // Names as written: each label a set label of escaped text (data-column labels would be
+  // enhanced text, nlo_refined drawn as nlo with a subscript r).
+  int index = 1;
+  PlotRows rows;
+  for (const FigurePoint& p : points) {
+    s << "set label " << index++ << " " << gnuplotString(p.label) << " at " << p.torque_percent
+      << ", " << p.gc << " left offset 1,0.7 font 'sans,10'\n";
+    rows.append({p.torque_percent, p.gc});
+  }
+  s << "$m << EOD\n" << rows << "EOD\nplot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa'\n";
   return gnuplotSvg(s);
 }
 
@@ -113,36 +128,54 @@ std::string logStudyTable(const LogStudyOutcome& o) {
 
 std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
   std::vector<std::string> out;
-  const LogStudyRow* torque = best(o, &LogStudyRow::torque_test);
-  const LogStudyRow* motion = best(o, &LogStudyRow::gc_test);
-  const LogStudyRow* model = find(o, "model");
-  if (torque != nullptr)
-    out.push_back("Best held-out torque fit: " + torque->key + ", " + percent(torque->torque_test) +
-                  " (GC error " + formatNumber(torque->gc_test, 3, "n/a") + ").");
-  if (motion != nullptr)
-    out.push_back("Best held-out motion prediction: " + motion->key + ", GC error " +
-                  formatNumber(motion->gc_test, 3, "n/a") + " (torque error " +
-                  percent(motion->torque_test) + ").");
-  if (torque != nullptr && motion != nullptr) {
-    if (torque == motion)
-      out.push_back("The same estimate is best for both: use " + torque->key +
-                    " for control and for simulation.");
-    else
-      out.push_back(
-          "The best torque fit is not the best motion predictor, as in the paper: for "
-          "simulation (forward dynamics) use " +
-          motion->key + ", for feed-forward torques " + torque->key + ".");
+  const StudyVerdict v = studyVerdict(o.rows);
+  const auto errors = [](const LogStudyRow& r) {
+    return "held-out torque error " + percent(r.torque_test) + ", GC error " +
+           formatNumber(r.gc_test, 3, "n/a");
+  };
+  const LogStudyRow* sim = find(o, v.simulation);
+  const LogStudyRow* ctl = find(o, v.control);
+  if (sim == nullptr) {
+    out.push_back(
+        "No physically consistent estimate has finite held-out errors: none is recommended.");
+  } else if (v.oneForBoth()) {
+    out.push_back("Use " + sim->key +
+                  " for simulation and for control: among the physically consistent estimates it "
+                  "predicts the held-out motion best and fits the held-out torques best (" +
+                  errors(*sim) + ").");
+  } else {
+    out.push_back("For simulation (forward dynamics), use " + sim->key +
+                  ": the best held-out motion prediction among the physically consistent "
+                  "estimates (" +
+                  errors(*sim) + ").");
+    out.push_back("For control and monitoring (feed-forward torques), use " + ctl->key +
+                  ": the best held-out torque fit among the physically consistent estimates (" +
+                  errors(*ctl) + ").");
   }
-  if (model != nullptr && motion != nullptr && std::isfinite(model->gc_test))
+  // The overall bests, when no recommendation can be: information, not advice.
+  std::vector<std::pair<std::string, const char*>> bests;
+  if (v.best_torque == v.best_gc)
+    bests = {{v.best_torque, "fits the held-out torques and predicts the held-out motion best"}};
+  else
+    bests = {{v.best_torque, "fits the held-out torques best"},
+             {v.best_gc, "predicts the held-out motion best"}};
+  for (const auto& [key, what] : bests) {
+    const LogStudyRow* r = find(o, key);
+    if (r != nullptr && !r->consistent)
+      out.push_back(r->key + " " + what + " (" + errors(*r) +
+                    ") but is not physically consistent, so it is not recommended: a simulator "
+                    "may refuse it or diverge.");
+  }
+  const LogStudyRow* model = find(o, "model");
+  if (model != nullptr && sim != nullptr && std::isfinite(model->gc_test) && sim != model)
     out.push_back("The input model's held-out GC error is " +
                   formatNumber(model->gc_test, 3, "n/a") +
-                  (motion->gc_test < model->gc_test
-                       ? "; the best estimate lowers it " +
-                             formatNumber(model->gc_test / motion->gc_test, 3, "n/a") + " times."
-                       : "; no estimate predicts the motion better."));
+                  (sim->gc_test < model->gc_test
+                       ? "; " + sim->key + " lowers it " +
+                             formatNumber(model->gc_test / sim->gc_test, 3, "n/a") + " times."
+                       : "; no consistent estimate predicts the motion better."));
   for (const LogStudyRow& r : o.rows)
-    if (r.key != "model" && r.key != "start" && !r.consistent)
-      out.push_back(r.key + " is not physically consistent: a simulator may refuse it or diverge.");
+    if (!r.moved) out.push_back(r.key + " did not move from its start: " + r.note + ".");
   if (o.interrupted) out.push_back("Interrupted: the table has the methods that finished.");
   return out;
 }

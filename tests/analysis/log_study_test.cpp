@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
+#include <limits>
 
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
 
 #include "core/errors.hpp"
+#include "core/perturb.hpp"
 #include "data/dataset_csv.hpp"
 
 namespace dynid {
@@ -101,6 +104,72 @@ TEST(LogStudy, StopsCleanlyAndRefusesBadSettings) {
   LogStudyRequest long_horizon = request(f, 1);
   long_horizon.segments.horizon = 5.0;  // longer than either run
   EXPECT_THROW(logStudyRun(long_horizon), InputError);
+}
+
+LogStudyRow row(const std::string& key, double torque, double gc, bool consistent) {
+  LogStudyRow r;
+  r.key = key;
+  r.torque_train = r.torque_test = torque;
+  r.gc_train = r.gc_test = gc;
+  r.consistent = consistent;
+  return r;
+}
+
+TEST(LogStudyVerdict, RecommendsOnlyConsistentEstimatesWithFiniteErrors) {
+  // Every branch: the overall bests inconsistent (ols, nlo), the recommendations consistent.
+  std::vector<LogStudyRow> rows = {
+      row("model", 0.04, 50.0, true), row("start", 0.011, 80.0, true),
+      row("ols", 0.010, 6e6, false),  row("pc", 0.011, 80.0, true),
+      row("nlo", 0.02, 30.0, false),  row("combined", 0.0115, 40.0, true)};
+  StudyVerdict v = studyVerdict(rows);
+  EXPECT_EQ(v.best_torque, "ols");
+  EXPECT_EQ(v.best_gc, "nlo");
+  EXPECT_EQ(v.control, "pc");
+  EXPECT_EQ(v.simulation, "combined");
+  EXPECT_FALSE(v.oneForBoth());
+  // The input model is a candidate like any consistent row.
+  rows[0].gc_test = 35.0;
+  EXPECT_EQ(studyVerdict(rows).simulation, "model");
+  // One consistent row best at both.
+  rows[0].gc_test = 50.0;
+  rows[5].torque_test = 0.0105;
+  v = studyVerdict(rows);
+  EXPECT_TRUE(v.oneForBoth());
+  EXPECT_EQ(v.simulation, "combined");
+  // A non-finite held-out error never wins; "start" stands in for pc only when pc has no row.
+  rows[5].gc_test = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(studyVerdict(rows).simulation, "model");
+  const std::vector<LogStudyRow> searches_only = {row("start", 0.011, 80.0, true),
+                                                  row("nlo", 0.02, 30.0, false)};
+  v = studyVerdict(searches_only);
+  EXPECT_EQ(v.simulation, "start");
+  EXPECT_EQ(v.best_gc, "nlo");
+  // No consistent row: no recommendation at all.
+  v = studyVerdict({row("ols", 0.01, 1.0, false)});
+  EXPECT_TRUE(v.simulation.empty() && v.control.empty());
+  EXPECT_EQ(v.best_torque, "ols");
+}
+
+TEST(LogStudy, CombinedTradesLittleTorqueFitForTheMotion) {
+  Files f{test::tempPath("study_noisy_train.csv"), test::tempPath("study_noisy_test.csv")};
+  const Model model = makePuma560(false);
+  writeDatasetCsv(f.train, test::pumaTrajectory(model, 3.0, 0.5, 1));
+  writeDatasetCsv(f.test, test::pumaTrajectory(model, 2.0, 0.5, 2, 1.3));
+  LogStudyRequest r = request(f, 1);
+  r.robot = perturbedModel(model, 0.2, 4);  // a prior off the truth, as a CAD model is
+  r.methods = {Method::kPc, Method::kCombined};
+  r.refine_iterations = 20;
+  const LogStudyOutcome o = logStudyRun(r);
+  ASSERT_EQ(o.rows.size(), 3u);  // model, pc, combined: no search, no "start"
+  const LogStudyRow& pc = o.rows[1];
+  const LogStudyRow& combined = o.rows[2];
+  EXPECT_EQ(combined.key, "combined");
+  EXPECT_TRUE(combined.moved) << combined.note;
+  EXPECT_TRUE(combined.consistent);
+  EXPECT_LT(combined.gc_train, pc.gc_train);
+  EXPECT_GE(combined.torque_train, pc.torque_train * (1.0 - 1e-12));  // pc's is the best fit
+  // 0.5 N m noise on a PUMA: the torque fit moves by well under 2 % of itself.
+  EXPECT_LT(combined.torque_train, 1.02 * pc.torque_train);
 }
 
 }  // namespace

@@ -16,10 +16,11 @@ TEST(Methods, EveryNameParsesBackToItsMethod) {
     EXPECT_EQ(parseMethod(methodName(m)), m) << methodName(m);
     names.insert(methodName(m));
   }
-  // Nine methods with nine distinct names, in the demo's table order.
-  EXPECT_EQ(names.size(), 9u);
+  // Ten methods with ten distinct names, in table order: the paper's nine, then combined.
+  EXPECT_EQ(names.size(), 10u);
   EXPECT_STREQ(methodName(allMethods().front()), "ols");
-  EXPECT_STREQ(methodName(allMethods().back()), "hybrid_refined");
+  EXPECT_STREQ(methodName(allMethods().back()), "combined");
+  EXPECT_TRUE(needsGc(Method::kCombined) && needsGc(Method::kGaRefined) && !needsGc(Method::kPc));
 }
 
 TEST(Methods, ParsingIsLimitedToTheAllowedSetAndListsIt) {

@@ -30,7 +30,13 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
                              " --segments 10 --search-evaluations 60 --refine-iterations 2 ";
   const Result r = run(common + "--methods ols,pc,ga,ga_refined --threads 1 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "Best held-out torque fit:")) << r.out;
+  // Noise-free held-out data from the input model itself: it is the best at both, but the PUMA's
+  // massless first link is not physically consistent, so pc is recommended.
+  EXPECT_TRUE(contains(r.out, "Use pc for simulation and for control")) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "model fits the held-out torques and predicts the held-out motion "
+                       "best"))
+      << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
   EXPECT_EQ(j["schema_version"], 1);
   EXPECT_EQ(j["order"],

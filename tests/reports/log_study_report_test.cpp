@@ -1,0 +1,93 @@
+// dynid study's conclusions (every branch of the rules, no sentence recommending an inconsistent
+// estimate) and its figure (names as written, coinciding points merged).
+#include "reports/log_study_report.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace dynid {
+namespace {
+
+LogStudyRow row(const std::string& key, double torque, double gc, bool consistent) {
+  LogStudyRow r;
+  r.key = key;
+  r.torque_train = r.torque_test = torque;
+  r.gc_train = r.gc_test = gc;
+  r.consistent = consistent;
+  return r;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& line : lines) out += line + "\n";
+  return out;
+}
+
+LogStudyOutcome outcome(std::vector<LogStudyRow> rows) {
+  LogStudyOutcome o;
+  o.robot_spec = "puma560";
+  o.data_file = "train.csv";
+  o.validate_file = "test.csv";
+  o.rows = std::move(rows);
+  return o;
+}
+
+TEST(LogStudyConclusions, RecommendOnlyConsistentEstimatesAndNeverContradict) {
+  LogStudyOutcome o = outcome({row("model", 0.04, 1090.0, true), row("ols", 0.0102, 6e6, false),
+                               row("pc", 0.0108, 85.9, true), row("nlo", 0.0187, 33.5, false),
+                               row("combined", 0.0112, 40.0, true)});
+  std::string text = joined(logStudyConclusions(o));
+  EXPECT_NE(text.find("For simulation (forward dynamics), use combined"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("For control and monitoring (feed-forward torques), use pc"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("ols fits the held-out torques best"), std::string::npos) << text;
+  EXPECT_NE(text.find("nlo predicts the held-out motion best"), std::string::npos) << text;
+  EXPECT_NE(text.find("not physically consistent, so it is not recommended"), std::string::npos);
+  EXPECT_NE(text.find("combined lowers it"), std::string::npos) << text;
+  for (const char* inconsistent : {"use ols", "use nlo"})
+    EXPECT_EQ(text.find(inconsistent), std::string::npos) << text;
+
+  // One consistent estimate best at both.
+  o.rows[4].torque_test = 0.0105;
+  text = joined(logStudyConclusions(o));
+  EXPECT_NE(text.find("Use combined for simulation and for control"), std::string::npos) << text;
+  EXPECT_EQ(text.find("For simulation"), std::string::npos) << text;
+
+  // No consistent estimate: nothing recommended.
+  o = outcome({row("ols", 0.01, 6e6, false), row("nlo", 0.02, 30.0, false)});
+  text = joined(logStudyConclusions(o));
+  EXPECT_NE(text.find("none is recommended"), std::string::npos) << text;
+  for (const char* advice : {"Use ", "use ols", "use nlo", "For simulation"})
+    EXPECT_EQ(text.find(advice), std::string::npos) << text;
+}
+
+TEST(LogStudyConclusions, SayWhichRowsDidNotMove) {
+  LogStudyOutcome o = outcome({row("pc", 0.01, 80.0, true), row("nlo", 0.02, 30.0, false),
+                               row("nlo_refined", 0.02, 30.0, false)});
+  o.rows[2].moved = false;
+  o.rows[2].note = "no change: the refinement ended at the search's result (...)";
+  const std::string text = joined(logStudyConclusions(o));
+  EXPECT_NE(text.find("nlo_refined did not move from its start: no change"), std::string::npos)
+      << text;
+}
+
+TEST(LogStudyReport, FigureWritesNamesAsWrittenAndMergesCoincidingPoints) {
+  // gnuplot is installed by scripts/install-deps.sh.
+  const LogStudyOutcome o =
+      outcome({row("pc", 0.011, 85.9, true), row("nlo", 0.0187, 33.5, false),
+               row("nlo_refined", 0.0187, 33.5, false), row("ga_refined", 0.0266, 42.7, false)});
+  const Document doc = logStudyDocument(o);
+  ASSERT_EQ(doc.figures().size(), 1u);
+  const std::string& svg = doc.figures().front().svg;
+  // Enhanced text would split "ga_refined" into "ga" and a subscript "r" in separate tspans.
+  EXPECT_NE(svg.find("ga_refined"), std::string::npos);
+  EXPECT_NE(svg.find("nlo = nlo_refined"), std::string::npos);
+  EXPECT_EQ(svg.find(">r</tspan>"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace dynid
