@@ -1,6 +1,7 @@
 // dynid identify: least-squares estimate of the base parameters from a torque dataset.
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -92,8 +93,10 @@ int runIdentify(const std::vector<std::string>& args) {
     request.combined.control.progress = [](const std::string& line) {
       std::cerr << "[identify] " << line << "\n";
     };
-  const InterruptGuard guard;  // combined stops at its next rollout, keeping its best so far
-  request.combined.control.stop = guard.flag();
+  // combined stops at its next rollout on Ctrl-C, keeping its best so far; the other methods
+  // keep the default (the process ends, leaving no partial output).
+  std::optional<InterruptGuard> guard;
+  if (request.method == Method::kCombined) request.combined.control.stop = guard.emplace().flag();
   const IdentifyOutcome outcome = identifyRun(request);
   if (outcome.write_back)
     std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);

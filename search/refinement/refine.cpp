@@ -354,12 +354,18 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   const bool out_of_time = budget.expired();  // the base stage and the map back took it all
+  // The run control (its flag, its deadline, its hook on this thread) may have ended a stage by
+  // failing its evaluations (costs.hpp) rather than through the callback.
+  if (options.control.check()) result.interrupted = true;
   if (!result.interrupted && !out_of_time) ceres::Solve(solver, &solver_problem, &summary);
+  if (options.control.stopped()) result.interrupted = true;
 
   if (summary.iterations.empty() && (result.interrupted || out_of_time)) {
-    result.termination = result.interrupted
-                             ? "USER_SUCCESS: interrupted in the base stage"
-                             : "USER_SUCCESS: the time budget ended before the parameter stage";
+    result.termination =
+        result.interrupted
+            ? std::string("USER_SUCCESS: interrupted ") +
+                  (result.base_stage ? "in the base stage" : "before the parameter stage")
+            : "USER_SUCCESS: the time budget ended before the parameter stage";
     result.usable = true;
   } else {
     result.termination = terminationAt(summary, budget);
