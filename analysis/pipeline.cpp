@@ -268,7 +268,7 @@ Estimate MethodRunner::refine(Method method) {
   }
   out.moved = out.model.standardParameters() != searched_model.standardParameters();
   if (!out.moved && out.note.rfind("kept the search's result", 0) != 0)
-    out.note = "no change: the refinement ended at the search's result (" + out.note + ")";
+    out.note = "the refinement ended at the search's result (" + out.note + ")";
   return out;
 }
 

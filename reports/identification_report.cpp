@@ -236,6 +236,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"iterations", c->detail.iterations},
         {"seconds", c->detail.seconds},
         {"gc_weight", c->detail.gc_weight},
+        {"gc_noise_floor", c->detail.gc_floor},
         {"segments_train", c->train_segments},
         {"segments_test", c->test_segments},
         {"gc_error_train",

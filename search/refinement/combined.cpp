@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 
 #include <ceres/ceres.h>
 #include <Eigen/Cholesky>
@@ -12,7 +13,9 @@
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/integrators-inl.hpp"
 #include "core/parallel.hpp"
+#include "core/rnea.hpp"
 #include "search/gc_error.hpp"
 #include "search/refinement/costs.hpp"
 
@@ -62,10 +65,19 @@ Model modelAt(const Model& structure, const Eigen::VectorXd& theta) {
   return m;
 }
 
+/// The GC term's shape: g(G) = G - G_f log G above the noise floor G_f, flat below it (G itself
+/// without a floor): continuously differentiable, its slope falling to 0 at the floor, so lowering
+/// the GC error below what the torque noise alone causes gains nothing and the torque term holds
+/// the estimate there.
+double gcShape(double g, double floor) {
+  if (!(floor > 0.0)) return g;
+  return g > floor ? g - floor * std::log(g) : floor - floor * std::log(floor);
+}
+
 /// Phi's parts at theta; the GC part is NaN when `control` stopped the evaluation.
 CombinedValue valueAt(const Model& structure, const GcProblem& problem, const TorqueTerm& torque,
-                      const Eigen::VectorXd& theta, double w, double g0, GcWorkspace& workspace,
-                      ThreadPool& pool, const RunControl& control) {
+                      const Eigen::VectorXd& theta, double w, double g0, double floor,
+                      GcWorkspace& workspace, ThreadPool& pool, const RunControl& control) {
   CombinedValue v;
   v.torque = torque.cost(theta) / torque.scale;
   if (!std::isfinite(v.torque)) {
@@ -73,7 +85,7 @@ CombinedValue valueAt(const Model& structure, const GcProblem& problem, const To
     return v;
   }
   v.gc = gcError(modelAt(structure, theta), problem, workspace, pool, control);
-  v.cost = v.torque + w * 0.5 * v.gc / g0;
+  v.cost = v.torque + w * gcShape(0.5 * v.gc, floor) / g0;
   return v;
 }
 
@@ -98,12 +110,68 @@ void checkInputs(const Model& structure, const GcProblem& problem, const BaseCoo
 
 }  // namespace
 
+double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int num_threads) {
+  const Trajectory& data = problem.data;
+  const int n = model.numJoints(), samples = data.numSamples();
+  const int length = problem.samples_per_segment, segments = problem.numSegments();
+  if (data.numJoints() != n)
+    throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, the model " +
+                     std::to_string(n));
+  if (draws < 1 || segments == 0 || samples < length) return 0.0;
+  // The model's torque residual at every sample.
+  Eigen::MatrixXd residual(n, samples);
+  {
+    Data d(model);
+    for (int k = 0; k < samples; ++k)
+      residual.col(k) =
+          data.tau.col(k) - rnea(model, d, data.q.col(k), data.dq.col(k), data.ddq.col(k));
+  }
+  // The noise in the residuals: half the mean squared first difference per joint (white noise of
+  // variance s^2 has differences of variance 2 s^2; a smooth model error has almost none).
+  Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
+  for (int k = 1; k < samples; ++k) sigma += (residual.col(k) - residual.col(k - 1)).cwiseAbs2();
+  sigma = (sigma / (2.0 * std::max(samples - 1, 1))).cwiseSqrt();
+  // The draws: fixed seed, drawn in order, so the floor is the same for any thread count.
+  std::mt19937_64 random(20261126);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd noise(n, static_cast<Eigen::Index>(segments) * draws * length);
+  for (Eigen::Index k = 0; k < noise.cols(); ++k)
+    for (int j = 0; j < n; ++j) noise(j, k) = sigma[j] * normal(random);
+  Eigen::VectorXd per_segment = Eigen::VectorXd::Zero(segments);
+  ThreadPool pool(std::max(num_threads, 1));
+  pool.parallelFor(segments, [&](int s, int) {
+    Data d(model);
+    const int start = problem.starts[s];
+    const auto roll = [&](Eigen::Index first) {  // the end state under tau (+ noise from first)
+      Eigen::VectorXd q = data.q.col(start), dq = data.dq.col(start), tau(n);
+      for (int k = 0; k < length; ++k) {
+        tau = data.tau.col(start + k);
+        if (first >= 0) tau += noise.col(first + k);
+        for (int sub = 0; sub < problem.substeps; ++sub)
+          integratorStep(problem.integrator, model, d, q, dq, tau, problem.step);
+      }
+      Eigen::VectorXd out(2 * n);
+      out << q.cwiseProduct(problem.weight_q), dq.cwiseProduct(problem.weight_dq);
+      return out;
+    };
+    const Eigen::VectorXd clean = roll(-1);
+    double sum = 0.0;
+    for (int k = 0; k < draws; ++k) {
+      const double e =
+          (roll((static_cast<Eigen::Index>(s) * draws + k) * length) - clean).squaredNorm();
+      sum += std::isfinite(e) ? std::min(e, kMaxSegmentError) : kMaxSegmentError;
+    }
+    per_segment[s] = sum / draws;
+  });
+  return per_segment.sum();
+}
+
 CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
                             const TorqueTerm& torque, const Eigen::VectorXd& theta,
                             double gc_weight, double gc_scale, int num_threads) {
   ThreadPool pool(std::max(num_threads, 1));
   GcWorkspace workspace(pool.numThreads());
-  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, workspace, pool, {});
+  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, 0.0, workspace, pool, {});
 }
 
 Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
@@ -144,8 +212,12 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
                          formatNumber(out.initial_gc, 3, "n/a") + ")");
   out.gc_scale = 0.5 * out.initial_gc;
   out.gc_weight = w;
+  if (options.noise_floor && w > 0.0)
+    out.gc_floor =
+        gcNoiseFloor(modelAt(structure, theta0), problem, options.floor_draws, options.num_threads);
+  const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
   CombinedValue current{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
-  current.cost = current.torque + w * 0.5 * current.gc / out.gc_scale;
+  current.cost = current.torque + w * gcShape(0.5 * current.gc, floor) / out.gc_scale;
   out.initial_cost = current.cost;
   out.initial_torque = current.torque;
   out.history.push_back({0, current.cost, current.torque, current.gc, 0.0, since(t0)});
@@ -181,9 +253,15 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       g /= torque.scale;
       H /= torque.scale;
       if (w > 0.0) {
-        const double c = w / out.gc_scale;
-        g += c * (J.transpose() * r);
-        H += c * (J.transpose() * J);
+        // Above the floor d g(G) = (1 - G_f / G) dG, and its Gauss-Newton Hessian
+        // (1 - G_f / G) J^T J + (G_f / G^2) (J^T r)(J^T r)^T; below it, nothing.
+        const double G = 0.5 * r.squaredNorm(), c = w / out.gc_scale;
+        const Eigen::VectorXd jr = J.transpose() * r;
+        if (G > floor) {
+          g += c * (1.0 - floor / G) * jr;
+          H += c * (1.0 - floor / G) * (J.transpose() * J);
+          if (floor > 0.0) H += c * floor / (G * G) * (jr * jr.transpose());
+        }
       }
       fresh = true;
     }
@@ -204,8 +282,8 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       continue;
     }
     const Eigen::VectorXd trial = out.theta + delta;
-    const CombinedValue next =
-        valueAt(structure, problem, torque, trial, w, out.gc_scale, workspace, pool, control);
+    const CombinedValue next = valueAt(structure, problem, torque, trial, w, out.gc_scale, floor,
+                                       workspace, pool, control);
     if (std::isnan(next.gc) && control.stopped()) continue;
     const double actual = current.cost - next.cost;
     const double ratio = std::isfinite(next.cost) && next.gc < kMaxSegmentError

@@ -42,6 +42,11 @@ struct CombinedOptions {
   double max_seconds = 60.0;  // wall-time budget (0: none); held to within one segment's rollout
   /// Stop when an accepted step lowers Phi by less than this fraction.
   double function_tolerance = 1e-6;
+  /// Hold the GC term at its noise floor (gcNoiseFloor at the start): the GC error below what
+  /// the start's own torque residuals cause is noise, and fitting it biases the parameters (the
+  /// rollouts' input torques are noisy, and a more damped model predicts noisy data better).
+  bool noise_floor = true;
+  int floor_draws = 8;  // residual sequences per segment for the floor
   int num_threads = 1;
   RunControl control = {};  // its flag and deadline stop the estimator between rollouts
 };
@@ -62,7 +67,8 @@ struct CombinedResult {
   double initial_cost = 0.0, final_cost = 0.0;      // Phi
   double gc_scale = 0.0;                            // G0 = initial_gc / 2
   double gc_weight = 0.0;                           // w (CombinedOptions::gc_weight)
-  std::vector<CombinedIteration> history;           // the start, then every accepted step
+  double gc_floor = 0.0;  // the GC error's noise floor (0 without CombinedOptions::noise_floor)
+  std::vector<CombinedIteration> history;  // the start, then every accepted step
   std::string termination;   // "CONVERGENCE: ...", "NO_CONVERGENCE: ..." or "USER_SUCCESS: ..."
   int iterations = 0;        // Jacobian evaluations
   bool interrupted = false;  // stopped by the budget or the run control
@@ -82,6 +88,16 @@ struct CombinedValue {
 CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
                               const BaseCoordinates& base, const TorqueTerm& torque,
                               const Eigen::VectorXd& theta0, const CombinedOptions& options);
+
+/// The GC error that the torque noise causes: the noise level of each joint's torque residual
+/// (tau - the model's inverse dynamics) from its first differences (sqrt(mean (e_k+1 - e_k)^2 /
+/// 2): white noise of variance s^2 has differences of variance 2 s^2, a smooth model error almost
+/// none), then each segment rolled out under the recorded torques and under the recorded torques
+/// plus white noise of that level (`draws` draws, fixed seed), the weighted squared end-state
+/// differences averaged over the draws and summed over the segments. The same for any thread
+/// count. Throws InputError on a joint-count mismatch.
+double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws = 8,
+                    int num_threads = 1);
 
 /// Phi at theta with the start's normalisers (for tests and reports): gc_scale is G0.
 CombinedValue combinedValue(const Model& structure, const GcProblem& problem,

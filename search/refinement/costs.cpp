@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <type_traits>
 
 #include <ceres/ceres.h>
 
@@ -75,7 +76,11 @@ struct SegmentFunctor {
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
     using std::isfinite;
-    if (budget != nullptr && budget->stopped()) return false;
+    // Past the budget, a residual evaluation (a trial step) fails at once and Ceres rejects the
+    // step; a Jacobian evaluation (T a Jet) completes, as its failure would end the solve with a
+    // logged error. Either way the iteration callback then ends the stage.
+    if constexpr (std::is_same_v<T, double>)
+      if (budget != nullptr && budget->stopped()) return false;
     const int n = structure.numJoints();
     ModelTpl<T> model = structure.template cast<T>();
     map.apply(blocks[0], model);

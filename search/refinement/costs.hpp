@@ -34,8 +34,8 @@ struct BetaLift {
 /// Segment `segment`'s residuals as a function of the free parameters x (parameter blocks: x,
 /// then the start when `with_start`, then the next segment's start when `continuity` > 0, which
 /// also needs `with_start`). The caller owns it; it refers to `space`, `problem` and `budget`.
-/// Once `budget` (when given) is stopped, every evaluation fails at once, so a solver iteration
-/// that runs past a time budget ends within one segment's rollout.
+/// Once `budget` (when given) is stopped, every residual evaluation (no Jacobian) fails at once,
+/// so a solver iteration that runs past a time budget ends within one Jacobian evaluation.
 std::unique_ptr<ceres::CostFunction> makeSegmentCost(const Model& structure,
                                                      const ParameterSpace& space,
                                                      const GcProblem& problem, int segment,

@@ -12,6 +12,7 @@
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
 #include "identifiability/physically_consistent.hpp"
+#include "search/gc_error.hpp"
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -87,6 +88,7 @@ TEST(Combined, TradesTorqueFitForMotionAndStaysConsistent) {
   const LogCase s;
   CombinedOptions options;
   options.max_seconds = 0.0;
+  options.noise_floor = false;  // the trade itself (this log's GC error is mostly noise)
   const CombinedResult r =
       refineCombined(s.truth, s.gc, s.base.coordinates(), s.torque, s.pc.theta, options);
   EXPECT_TRUE(r.moved) << r.termination;
@@ -100,12 +102,45 @@ TEST(Combined, TradesTorqueFitForMotionAndStaysConsistent) {
   EXPECT_TRUE(std::isfinite(s.torque.cost(r.theta)));
 }
 
+TEST(Combined, TheNoiseFloorIsTheGcErrorTheTorqueNoiseCauses) {
+  // The truth on a log with white torque noise: its GC error is all noise, and the floor
+  // estimated from its residuals alone matches it. 40 segments of 8 draws each: the two agree
+  // to about 1 / sqrt(40) relative; a factor of 1.5 either way leaves room for that.
+  const LogCase s(40);
+  const double floor = gcNoiseFloor(s.truth, s.gc, 8, 1);
+  ThreadPool pool(1);
+  GcWorkspace workspace(1);
+  const double truth_gc = gcError(s.truth, s.gc, workspace, pool);
+  EXPECT_GT(floor, truth_gc / 1.5);
+  EXPECT_LT(floor, truth_gc * 1.5);
+  // The same for any thread count; none without noise.
+  EXPECT_EQ(gcNoiseFloor(s.truth, s.gc, 8, 2), floor);
+  SegmentOptions options = normalisedSegments();
+  options.num_segments = 40;
+  const GcProblem clean = makeGcProblem(test::pumaTrajectory(s.truth, 2.0, 0.0, 3), options);
+  EXPECT_LT(gcNoiseFloor(s.truth, clean, 8, 1), 1e-9 * floor);
+}
+
+TEST(Combined, DoesNotFitTheGcErrorBelowItsNoiseFloor) {
+  // The same noisy log: pc's GC error is at the floor, so the combined estimate stays at pc's.
+  const LogCase s;
+  CombinedOptions options;
+  options.max_seconds = 0.0;
+  const CombinedResult r =
+      refineCombined(s.truth, s.gc, s.base.coordinates(), s.torque, s.pc.theta, options);
+  EXPECT_GT(r.gc_floor, 0.0);
+  EXPECT_GE(r.final_gc, 0.9 * std::min(r.gc_floor, r.initial_gc));
+  // Its torque term within 1 % of pc's (pc minimises it; the GC term barely pulls).
+  EXPECT_LT(r.final_torque, 1.01 * r.initial_torque);
+}
+
 TEST(Combined, StopsAtItsTimeBudget) {
   const LogCase s(40);
   CombinedOptions options;
   options.max_seconds = 0.3;
   options.function_tolerance = 0.0;
   options.max_iterations = 1000000;
+  options.noise_floor = false;
   const auto t0 = std::chrono::steady_clock::now();
   const CombinedResult r =
       refineCombined(s.truth, s.gc, s.base.coordinates(), s.torque, s.pc.theta, options);
