@@ -21,13 +21,20 @@ namespace dynid {
 
 namespace {
 
+/// Records each iteration, stops on the run control, and ends the stage before an iteration that
+/// would overrun the time budget: when what is left of `budget` (RunControl::deadline) is less
+/// than the longest iteration so far, the next one (a Jacobian of every segment, then trial steps)
+/// would most likely end past it.
 class RefineCallback : public ceres::IterationCallback {
  public:
   RefineCallback(std::vector<RefineIteration>& history, const RefineOptions& options,
-                 bool& interrupted, std::string stage, double time_offset)
+                 const RunControl& budget, bool& interrupted, bool& out_of_time, std::string stage,
+                 double time_offset)
       : history_(history),
         control_(options.control),
+        budget_(budget),
         interrupted_(interrupted),
+        out_of_time_(out_of_time),
         stage_(std::move(stage)),
         time_offset_(time_offset) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
@@ -37,15 +44,25 @@ class RefineCallback : public ceres::IterationCallback {
       interrupted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
+    longest_ = std::max(longest_, summary.iteration_time_in_seconds);
+    if (budget_.deadline != RunControl::Clock::time_point::max() &&
+        std::chrono::duration<double>(budget_.deadline - RunControl::Clock::now()).count() <
+            longest_) {
+      out_of_time_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
     return ceres::SOLVER_CONTINUE;
   }
 
  private:
   std::vector<RefineIteration>& history_;
   const RunControl& control_;
+  const RunControl& budget_;
   bool& interrupted_;
+  bool& out_of_time_;
   std::string stage_;
   double time_offset_;
+  double longest_ = 0.0;
 };
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
@@ -107,7 +124,12 @@ std::string terminationOf(const ceres::Solver::Summary& summary) {
 
 /// The termination, saying so when the time budget ended the stage (an evaluation that failed
 /// because the budget had run out is not a numerical failure).
-std::string terminationAt(const ceres::Solver::Summary& summary, const RunControl& budget) {
+std::string terminationAt(const ceres::Solver::Summary& summary, const RunControl& budget,
+                          bool out_of_time) {
+  const int iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
+  if (out_of_time)
+    return "USER_SUCCESS: stopped after " + std::to_string(iterations) +
+           " iterations: the next would end past its time budget";
   if (budget.expired() && (summary.termination_type == ceres::FAILURE ||
                            summary.termination_type == ceres::NO_CONVERGENCE))
     return "USER_SUCCESS: stopped at its time budget after " +
@@ -244,14 +266,15 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   ceres::Solver::Options solver =
       solverOptions(options, problem, beta.data(), result.initial_states,
                     0.5 * secondsLeft(options, clock_start));
-  RefineCallback callback(result.history, options, result.interrupted, "base",
-                          secondsSince(clock_start));
+  bool base_out_of_time = false;
+  RefineCallback callback(result.history, options, budget, result.interrupted, base_out_of_time,
+                          "base", secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &beta_problem, &summary);
   result.base_stage = true;
   result.base_beta = beta;
-  result.base_termination = terminationAt(summary, budget);
+  result.base_termination = terminationAt(summary, budget, base_out_of_time);
   result.base_iterations = static_cast<int>(summary.iterations.size()) - 1;
   result.initial_cost = summary.initial_cost;
   {
@@ -349,8 +372,9 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   ceres::Solver::Options solver = solverOptions(
       options, problem, result.x.data(), result.initial_states, secondsLeft(options, clock_start));
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
-  RefineCallback callback(result.history, options, result.interrupted, "parameters",
-                          secondsSince(clock_start));
+  bool out_of_budget = false;
+  RefineCallback callback(result.history, options, budget, result.interrupted, out_of_budget,
+                          "parameters", secondsSince(clock_start));
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   const bool out_of_time = budget.expired();  // the base stage and the map back took it all
@@ -368,7 +392,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
             : "USER_SUCCESS: the time budget ended before the parameter stage";
     result.usable = true;
   } else {
-    result.termination = terminationAt(summary, budget);
+    result.termination = terminationAt(summary, budget, out_of_budget);
     result.usable = summary.IsSolutionUsable() || budget.expired();
   }
   result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
