@@ -174,7 +174,8 @@ Eigen::MatrixXd mapBackWeighting(const Model& structure, const BetaLift& map,
 Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& space,
                               const Eigen::MatrixXd& weighted_projection,
                               const Eigen::VectorXd& weighted_target, const Eigen::VectorXd& start,
-                              const RefineOptions& options, ThreadPool& pool) {
+                              const RefineOptions& options, const RunControl& budget,
+                              ThreadPool& pool) {
   const int k = space.numFree(), b = static_cast<int>(weighted_target.size());
   const int tries = 2 + std::max(options.map_back_starts, 0);
   std::vector<Eigen::VectorXd> fitted(tries);
@@ -196,6 +197,7 @@ Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& spac
     // fit is a continuation, with a pull eps |(x - centre) / half range|^2 towards the box's
     // centre taken down from 1e-1 to 0.
     for (const double eps : {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 0.0}) {
+      if (budget.stopped()) break;  // each fit so far is still a candidate
       auto fit = makeBetaOfFreeCost(structure, space, weighted_projection, weighted_target);
       ceres::Problem map_problem;
       map_problem.AddResidualBlock(fit.release(), nullptr, x.data());
@@ -283,12 +285,16 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
     result.base_gc = gcError(at_beta, problem, workspace, pool);
   }
 
+  // The map back takes a Jacobian and many small fits: not once the budget has run out, nor when
+  // the base stage stopped because one more iteration (a Jacobian) would pass it; the free
+  // parameters then stay where they were.
+  if (budget.stopped() || base_out_of_time) return;
   const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
   const Eigen::MatrixXd weighting = mapBackWeighting(structure, map, problem, beta, weights,
                                                      result.initial_states, options, pool);
   const Eigen::MatrixXd weighted_projection = weighting * P;
   const Eigen::VectorXd x = fitFreeToBeta(structure, space, weighted_projection, weighting * beta,
-                                          result.x, options, pool);
+                                          result.x, options, budget, pool);
   result.map_back_error =
       (weights.cwiseProduct(P * space.standardAt(x) - beta)).norm() / std::sqrt(std::max(b, 1));
   // Keep the mapped-back point only when it predicts no worse than the start.

@@ -8,6 +8,7 @@
 
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
+#include "tests/common/study_rows.hpp"
 
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
@@ -106,14 +107,7 @@ TEST(LogStudy, StopsCleanlyAndRefusesBadSettings) {
   EXPECT_THROW(logStudyRun(long_horizon), InputError);
 }
 
-LogStudyRow row(const std::string& key, double torque, double gc, bool consistent) {
-  LogStudyRow r;
-  r.key = key;
-  r.torque_train = r.torque_test = torque;
-  r.gc_train = r.gc_test = gc;
-  r.consistent = consistent;
-  return r;
-}
+constexpr auto row = test::studyRow;
 
 TEST(LogStudyVerdict, RecommendsOnlyConsistentEstimatesWithFiniteErrors) {
   // Every branch: the overall bests inconsistent (ols, nlo), the recommendations consistent.

@@ -7,17 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/study_rows.hpp"
+
 namespace dynid {
 namespace {
 
-LogStudyRow row(const std::string& key, double torque, double gc, bool consistent) {
-  LogStudyRow r;
-  r.key = key;
-  r.torque_train = r.torque_test = torque;
-  r.gc_train = r.gc_test = gc;
-  r.consistent = consistent;
-  return r;
-}
+constexpr auto row = test::studyRow;
 
 std::string joined(const std::vector<std::string>& lines) {
   std::string out;

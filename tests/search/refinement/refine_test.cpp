@@ -182,6 +182,36 @@ TEST(Refine, FlagsBoundsAndStops) {
   EXPECT_LE(expired.iterations, 1);
   EXPECT_GE(checks, 1);
 }
+TEST(Refine, HoldsItsTimeBudget) {
+  // Far from the truth on noisy data, with no tolerance and unlimited iterations: only the 2 s
+  // budget ends it, across both stages and the map back.
+  const Model truth = makePuma560();
+  const ParameterSpace space(perturbedModel(truth, 0.3, 5), {});
+  Trajectory data = pumaData(8.0);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (Eigen::Index k = 0; k < data.q.size(); ++k) data.q.data()[k] += noise(rng);
+  const GcProblem problem = makeGcProblem(data, {.num_segments = 60});
+  const BaseCoordinates base = pumaBase(truth);
+  RefineOptions options{.max_iterations = 1000000,
+                        .function_tolerance = 0.0,
+                        .gradient_tolerance = 0.0,
+                        .parameter_tolerance = 0.0,
+                        .max_seconds = 2.0};
+  options.uncertainty = false;
+  const RefineResult r = refineGc(space, problem, space.initial(), options, &base);
+  // The budget, and at most one iteration (a 60-segment PUMA Jacobian, about 0.7 s here) and the
+  // closing GC evaluation past it; 1 s leaves room for that and a loaded machine.
+  std::string log = r.base_termination + " | " + r.termination + " |";
+  for (const RefineIteration& it : r.history)
+    log += " " + it.stage + ":" + std::to_string(it.seconds);
+  EXPECT_LT(r.seconds, 2.0 + 1.0) << log;
+  EXPECT_GT(r.seconds, 1.0) << r.termination;  // it used the budget rather than stopping at once
+  EXPECT_TRUE(r.usable) << r.termination;
+  EXPECT_FALSE(r.interrupted);  // the budget is not the run control
+  EXPECT_LE(r.final_gc, r.initial_gc);
+}
+
 TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});
   const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});
