@@ -10,6 +10,39 @@
 
 namespace dynid::cli {
 
+namespace {
+
+/// The combined estimator's options (their defaults are the request's own).
+void addCombinedOptions(po::options_description& options) {
+  const IdentifyRequest d;
+  options.add_options()("horizon", po::value<double>()->default_value(d.segments.horizon),
+                        "combined: GC error horizon [s]")(
+      "segments", po::value<int>()->default_value(d.segments.num_segments),
+      "combined: GC error segments (at most that fit)")(
+      "raw-gc", po::bool_switch(),
+      "combined: GC residuals in rad and rad/s (default: each joint's q and dq errors divided by "
+      "their spread over the data)")("combined-weight",
+                                     po::value<double>()->default_value(d.combined.gc_weight))(
+      "combined-seconds", po::value<double>()->default_value(d.combined.max_seconds))(
+      "combined-iterations", po::value<int>()->default_value(d.combined.max_iterations));
+}
+
+/// Refuses them with another method (usage error), else reads them into the request.
+void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) {
+  refuseUnused(vm, request.method == Method::kCombined,
+               {"horizon", "segments", "raw-gc", "combined-weight", "combined-seconds",
+                "combined-iterations"},
+               "applies to --method combined");
+  request.segments.horizon = vm["horizon"].as<double>();
+  request.segments.num_segments = vm["segments"].as<int>();
+  request.segments.normalise = !vm["raw-gc"].as<bool>();
+  request.combined.gc_weight = vm["combined-weight"].as<double>();
+  request.combined.max_seconds = vm["combined-seconds"].as<double>();
+  request.combined.max_iterations = vm["combined-iterations"].as<int>();
+}
+
+}  // namespace
+
 int runIdentify(const std::vector<std::string>& args) {
   po::options_description options("dynid identify");
   addRobotOptions(options);
@@ -31,17 +64,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
       "the full model as .dynid.json beside it");
-  const IdentifyRequest d;  // the combined estimator's defaults are the request's own
-  options.add_options()("horizon", po::value<double>()->default_value(d.segments.horizon),
-                        "combined: GC error horizon [s]")(
-      "segments", po::value<int>()->default_value(d.segments.num_segments),
-      "combined: GC error segments (at most that fit)")(
-      "raw-gc", po::bool_switch(),
-      "combined: GC residuals in rad and rad/s (default: each joint's q and dq errors divided by "
-      "their spread over the data)")("combined-weight",
-                                     po::value<double>()->default_value(d.combined.gc_weight))(
-      "combined-seconds", po::value<double>()->default_value(d.combined.max_seconds))(
-      "combined-iterations", po::value<int>()->default_value(d.combined.max_iterations));
+  addCombinedOptions(options);
   addPriorWeightOption(options);
   addThreadsOption(options);
   po::variables_map vm;
@@ -58,16 +81,7 @@ int runIdentify(const std::vector<std::string>& args) {
   refuseUnused(
       vm, physical, {"prior", "prior-weight"},
       "applies to --method pc or combined, not " + std::string(methodName(request.method)));
-  refuseUnused(vm, request.method == Method::kCombined,
-               {"horizon", "segments", "raw-gc", "combined-weight", "combined-seconds",
-                "combined-iterations"},
-               "applies to --method combined");
-  request.segments.horizon = vm["horizon"].as<double>();
-  request.segments.num_segments = vm["segments"].as<int>();
-  request.segments.normalise = !vm["raw-gc"].as<bool>();
-  request.combined.gc_weight = vm["combined-weight"].as<double>();
-  request.combined.max_seconds = vm["combined-seconds"].as<double>();
-  request.combined.max_iterations = vm["combined-iterations"].as<int>();
+  readCombinedOptions(vm, request);
   request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
   request.model = loadRobotFromOptions(vm);
