@@ -108,6 +108,25 @@ void checkInputs(const Model& structure, const GcProblem& problem, const BaseCoo
   if (!torque.cost || !torque.derivatives) throw InputError("the torque term is not set");
 }
 
+/// Phi's gradient and Gauss-Newton Hessian at theta from the GC residuals r and their Jacobian J
+/// in theta there (unused when w = 0): F's exact derivatives / T0, plus, above the floor,
+/// d g(G) = (1 - G_f / G) dG with Hessian (1 - G_f / G) J^T J + (G_f / G^2) (J^T r)(J^T r)^T;
+/// below it, nothing. `floor` and `g0` in G's units (GC / 2).
+void quadraticModel(const TorqueTerm& torque, const Eigen::VectorXd& theta,
+                    const Eigen::VectorXd& r, const Eigen::MatrixXd& J, double w, double g0,
+                    double floor, Eigen::VectorXd* g, Eigen::MatrixXd* H) {
+  torque.derivatives(theta, g, H);
+  *g /= torque.scale;
+  *H /= torque.scale;
+  if (!(w > 0.0)) return;
+  const double G = 0.5 * r.squaredNorm(), c = w / g0;
+  if (!(G > floor)) return;
+  const Eigen::VectorXd jr = J.transpose() * r;
+  *g += c * (1.0 - floor / G) * jr;
+  *H += c * (1.0 - floor / G) * (J.transpose() * J);
+  if (floor > 0.0) *H += c * floor / (G * G) * (jr * jr.transpose());
+}
+
 }  // namespace
 
 double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int num_threads) {
@@ -168,16 +187,17 @@ double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int
 
 CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
                             const TorqueTerm& torque, const Eigen::VectorXd& theta,
-                            double gc_weight, double gc_scale, int num_threads) {
+                            double gc_weight, double gc_scale, double gc_floor, int num_threads) {
   ThreadPool pool(std::max(num_threads, 1));
   GcWorkspace workspace(pool.numThreads());
-  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, 0.0, workspace, pool, {});
+  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, 0.5 * gc_floor, workspace,
+                 pool, {});
 }
 
 Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
                                  const BaseCoordinates& base, const TorqueTerm& torque,
                                  const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
-                                 int num_threads) {
+                                 double gc_floor, int num_threads) {
   checkInputs(structure, problem, base, torque, theta, gc_weight);
   ThreadPool pool(std::max(num_threads, 1));
   const Eigen::MatrixXd lift = base.projection.completeOrthogonalDecomposition().pseudoInverse();
@@ -185,8 +205,8 @@ Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& proble
   Eigen::MatrixXd J, H;
   if (!linearise(structure, problem, base.projection, lift, theta, pool, {}, &r, &J))
     throw NumericalError("a GC rollout diverged");
-  torque.derivatives(theta, &g, &H);
-  return g / torque.scale + (gc_weight / gc_scale) * (J.transpose() * r);
+  quadraticModel(torque, theta, r, J, gc_weight, gc_scale, 0.5 * gc_floor, &g, &H);
+  return g;
 }
 
 CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
@@ -249,20 +269,7 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
         break;
       }
       ++out.iterations;
-      torque.derivatives(out.theta, &g, &H);
-      g /= torque.scale;
-      H /= torque.scale;
-      if (w > 0.0) {
-        // Above the floor d g(G) = (1 - G_f / G) dG, and its Gauss-Newton Hessian
-        // (1 - G_f / G) J^T J + (G_f / G^2) (J^T r)(J^T r)^T; below it, nothing.
-        const double G = 0.5 * r.squaredNorm(), c = w / out.gc_scale;
-        const Eigen::VectorXd jr = J.transpose() * r;
-        if (G > floor) {
-          g += c * (1.0 - floor / G) * jr;
-          H += c * (1.0 - floor / G) * (J.transpose() * J);
-          if (floor > 0.0) H += c * floor / (G * G) * (jr * jr.transpose());
-        }
-      }
+      quadraticModel(torque, out.theta, r, J, w, out.gc_scale, floor, &g, &H);
       fresh = true;
     }
     // The damped step (H + mu diag(H)) delta = -g.

@@ -99,17 +99,20 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
 double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws = 8,
                     int num_threads = 1);
 
-/// Phi at theta with the start's normalisers (for tests and reports): gc_scale is G0.
+/// Phi at theta with the start's normalisers (for tests and reports): gc_scale is G0 and
+/// gc_floor the GC error's noise floor (a GC error, as CombinedResult::gc_floor; 0: none).
 CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
                             const TorqueTerm& torque, const Eigen::VectorXd& theta,
-                            double gc_weight, double gc_scale, int num_threads = 1);
+                            double gc_weight, double gc_scale, double gc_floor = 0.0,
+                            int num_threads = 1);
 
-/// Phi's gradient at theta by the estimator's own formula (F's exact gradient plus w / G0 times
-/// (J P)^T r with J the GC residuals' Jacobian in beta): what the gradient check tests. Throws
-/// NumericalError when a rollout diverges.
+/// Phi's gradient at theta by the estimator's own formula (the one its steps use: F's exact
+/// gradient plus, above the floor, w / G0 (1 - G_f / G) (J P)^T r with J the GC residuals'
+/// Jacobian in beta): what the gradient check tests. Throws NumericalError when a rollout
+/// diverges.
 Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
                                  const BaseCoordinates& base, const TorqueTerm& torque,
                                  const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
-                                 int num_threads = 1);
+                                 double gc_floor = 0.0, int num_threads = 1);
 
 }  // namespace dynid

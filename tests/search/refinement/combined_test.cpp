@@ -46,24 +46,31 @@ TEST(Combined, GradientMatchesCentralDifferencesOfTheCost) {
   const LogCase s;
   ASSERT_TRUE(s.pc.usable);
   const Eigen::VectorXd& theta = s.pc.theta;
-  const double g0 = 0.5 * combinedValue(s.truth, s.gc, s.torque, theta, 1.0, 1.0).gc;
-  const Eigen::VectorXd gradient =
-      combinedGradient(s.truth, s.gc, s.base.coordinates(), s.torque, theta, 1.0, g0);
-  std::mt19937_64 rng(7);
-  for (int k = 0; k < 5; ++k) {
-    // A direction scaled like the parameters, small enough to stay in the physical set.
-    const Eigen::VectorXd d = test::randomVector(rng, static_cast<int>(theta.size()), 1.0)
-                                  .cwiseProduct(theta.cwiseAbs().cwiseMax(1e-3));
-    const double h = 1e-5;
-    const double up = combinedValue(s.truth, s.gc, s.torque, theta + h * d, 1.0, g0).cost;
-    const double down = combinedValue(s.truth, s.gc, s.torque, theta - h * d, 1.0, g0).cost;
-    const double numeric = (up - down) / (2.0 * h);
-    const double exact = gradient.dot(d);
-    // Central differences of a cost of order 1 with step 1e-5: truncation ~1e-10 times the third
-    // derivative, round-off ~1e-16 / 1e-5; 1e-5 relative to the direction's scale catches any
-    // wrong term (a missing P, a factor 2) by orders of magnitude.
-    EXPECT_NEAR(exact, numeric, 1e-5 * (std::abs(numeric) + gradient.cwiseAbs().dot(d.cwiseAbs())))
-        << "direction " << k;
+  const double gc = combinedValue(s.truth, s.gc, s.torque, theta, 1.0, 1.0).gc;
+  const double g0 = 0.5 * gc;
+  // Without a floor, and with one at half the GC error (the log term's gradient included).
+  for (const double floor : {0.0, 0.5 * gc}) {
+    const Eigen::VectorXd gradient =
+        combinedGradient(s.truth, s.gc, s.base.coordinates(), s.torque, theta, 1.0, g0, floor);
+    std::mt19937_64 rng(7);
+    for (int k = 0; k < 5; ++k) {
+      // A direction scaled like the parameters, small enough to stay in the physical set.
+      const Eigen::VectorXd d = test::randomVector(rng, static_cast<int>(theta.size()), 1.0)
+                                    .cwiseProduct(theta.cwiseAbs().cwiseMax(1e-3));
+      const double h = 1e-5;
+      const double up = combinedValue(s.truth, s.gc, s.torque, theta + h * d, 1.0, g0, floor).cost;
+      const double down =
+          combinedValue(s.truth, s.gc, s.torque, theta - h * d, 1.0, g0, floor).cost;
+      const double numeric = (up - down) / (2.0 * h);
+      const double exact = gradient.dot(d);
+      // Central differences of a cost of order 1 with step 1e-5: truncation ~1e-10 times the
+      // third derivative, round-off ~1e-16 / 1e-5; 1e-5 relative to the direction's scale
+      // catches any wrong term (a missing P, a factor 2, the floor's factor) by orders of
+      // magnitude.
+      EXPECT_NEAR(exact, numeric,
+                  1e-5 * (std::abs(numeric) + gradient.cwiseAbs().dot(d.cwiseAbs())))
+          << "direction " << k << ", floor " << floor;
+    }
   }
 }
 
