@@ -27,7 +27,7 @@ int runAudit(const std::vector<std::string>& args) {
                         "dynid audit --estimates a/estimate.json b/estimate.json ... --out DIR",
                         vm))
     return kExitOk;
-  const std::string dir = vm["out"].as<std::string>();
+  const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);
   AuditRequest request;
   if (vm.count("estimates"))

@@ -22,7 +22,7 @@ namespace {
 int runOne(const std::vector<std::string>& args) {
   po::options_description options("dynid batch run");
   options.add_options()("spec", po::value<std::string>()->required(), "the run's spec (JSON)")(
-      "out", po::value<std::string>()->required(), "result file")(
+      "out", po::value<std::string>()->required(), "result file, or - for standard output")(
       "parent", po::value<long>(), "end with this process (batch's pid)");
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid batch run --spec JSON --out FILE (batch's worker)",
@@ -58,7 +58,7 @@ int runMerge(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, "dynid batch merge DIR... [--allow-missing] --out DIR", vm,
                         &positional))
     return kExitOk;
-  const std::string out = vm["out"].as<std::string>();
+  const std::string out = outputDirectoryOption(vm);
   const BatchOutcome merged =
       mergeBatches(vm["dirs"].as<std::vector<std::string>>(), vm["allow-missing"].as<bool>());
   std::vector<std::pair<std::string, std::string>> runs;
@@ -110,7 +110,7 @@ int runBatch(const std::vector<std::string>& args) {
   const int jobs = vm["jobs"].as<int>();
   const auto [shard, shards] =
       vm.count("shard") ? parseShard(vm["shard"].as<std::string>()) : std::pair{1, 1};
-  const std::string dir = vm["out"].as<std::string>();
+  const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the runs, not after them
   const BatchPlan plan =
       planBatch(vm["manifest"].as<std::string>(), dir, vm["quick"].as<bool>(), shard, shards);

@@ -27,7 +27,7 @@ int runDemo(const std::vector<std::string>& args) {
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid demo [--out DIR] [--quick] [--seed S]", vm))
     return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   DemoOptions demo;
   demo.threads = threadsOption(vm);
   demo.search_seconds = vm["search-seconds"].as<double>();

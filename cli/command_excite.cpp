@@ -120,7 +120,7 @@ int runExcite(const std::vector<std::string>& args) {
       "T] "
       "[--harmonics H] [limits] [--seed S] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  const std::string dir = vm["out"].as<std::string>();
+  const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it
 
   ExciteRequest request;

@@ -25,7 +25,7 @@ int runIdentifiability(const std::vector<std::string>& args) {
       "dynid identifiability --robot R [--drives] [--data F.csv] [--samples N] [--seed S] --out "
       "DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   const StructuralOptions structural = structuralOptions(vm);
   const Model model = loadRobotFromOptions(vm);
   const IdentifiabilityOutcome outcome = identifiabilityRun(

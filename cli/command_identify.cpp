@@ -73,7 +73,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "[--validate "
       "test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   IdentifyRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });
@@ -98,6 +98,10 @@ int runIdentify(const std::vector<std::string>& args) {
       throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
                        request.write_back_from + "'");
     const std::string target = vm["write-urdf"].as<std::string>();
+    if (target == "-")
+      throw UsageError(
+          "--write-urdf writes two files (FILE and its .dynid.json); name a file, "
+          "not - (standard output)");
     for (const std::string& path : {target, writeBackJsonPath(target)})
       if (isInputFile(path))
         throw UsageError("--write-urdf: '" + path +

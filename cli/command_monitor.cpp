@@ -127,8 +127,7 @@ int runMonitor(const std::vector<std::string>& args) {
   request.data_file = vm["data"].as<std::string>();
   const bool streamed = request.data_file == "-";
   if (!streamed && !vm.count("out")) throw UsageError("--out is required (unless --data -)");
-  const std::string dir = vm.count("out") ? vm["out"].as<std::string>() : "";
-  if (!dir.empty()) checkOutputDirectory(dir);
+  const std::string dir = vm.count("out") ? outputDirectoryOption(vm) : "";
   if (vm.count("calibration") == vm.count("thresholds"))
     throw UsageError("give --calibration CLEAN.csv or --thresholds thresholds.json (one of them)");
   if (vm.count("calibration")) request.calibration_file = vm["calibration"].as<std::string>();

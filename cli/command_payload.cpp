@@ -53,8 +53,9 @@ void addPayloadOptions(po::options_description& options) {
           .c_str())(
       "write-urdf", po::value<std::string>(),
       "a copy of the arm's URDF with the payload as a fixed link (the arm from a URDF, or an "
-      "estimate of a URDF robot)")("out", po::value<std::string>()->required(),
-                                   "output directory (payload.json, report.md, report.html)");
+      "estimate of a URDF robot); - for standard output")(
+      "out", po::value<std::string>()->required(),
+      "output directory (payload.json, report.md, report.html)");
 }
 
 /// --write-urdf: the file to write (empty: none), and the URDF it comes from in the request.
@@ -82,7 +83,7 @@ int runPayload(const std::vector<std::string>& args) {
   const std::string usage =
       "dynid payload --arm estimate.json --data loaded.csv [--unloaded unloaded.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  const std::string dir = vm["out"].as<std::string>();
+  const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);
   refuseUnused(vm, vm.count("payload-mass") > 0, {"payload-com"}, "applies with --payload-mass");
   refuseUnused(vm, vm.count("unloaded") > 0, {"payload-mass"},
@@ -124,7 +125,8 @@ int runPayload(const std::vector<std::string>& args) {
   request.max_motion_difference = vm["max-motion-difference"].as<double>();
   const std::string urdf_path = writeUrdfOption(vm, arm, request);
   const PayloadOutcome outcome = payloadRun(request);
-  std::cout << writePayload(dir, outcome, chosen, urdf_path);
+  // The summary goes to standard error when standard output carries the URDF.
+  (urdf_path == "-" ? std::cerr : std::cout) << writePayload(dir, outcome, chosen, urdf_path);
   return kExitOk;
 }
 

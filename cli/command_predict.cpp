@@ -1,4 +1,4 @@
-// dynid predict: a saved estimate applied to a dataset.
+// dynid predict: a saved estimate, or any robot model, applied to a dataset.
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -10,22 +10,34 @@ namespace dynid::cli {
 
 int runPredict(const std::vector<std::string>& args) {
   po::options_description options("dynid predict");
-  options.add_options()("estimate", po::value<std::string>()->required(),
-                        "identify's estimate.json")("data", po::value<std::string>()->required(),
-                                                    "dataset CSV")(
-      "robot", po::value<std::string>(), "robot spec (default: the one the estimate names)")(
+  options.add_options()("estimate", po::value<std::string>(),
+                        "identify's estimate.json (its robot, drive terms and parameters)")(
+      "data", po::value<std::string>()->required(), "dataset CSV")(
       "raw", po::value<std::string>(),
       "prepare --keep-raw-torque's validate_raw.csv for --data: also the error against the raw "
       "torque at the log's own stamps (the prediction interpolated there)")(
       "out", po::value<std::string>()->required(), "output directory");
+  // --robot alone: that model's own parameters (a URDF, identify --write-urdf's copy, a .json
+  // model, a built-in); with --estimate: the robot the estimate is applied to.
+  addRobotOptions(options, false);
   addThreadsOption(options);
   po::variables_map vm;
-  if (!parseCommandLine(args, options, "dynid predict --estimate E --data D.csv --out DIR", vm))
-    return kExitOk;
-  const std::string dir = vm["out"].as<std::string>();
-  checkOutputDirectory(dir);  // before the work, not after it
-  PredictRequest request{vm["estimate"].as<std::string>(), vm["data"].as<std::string>(),
+  const std::string usage =
+      "dynid predict (--estimate estimate.json [--robot R] | --robot R [--drives]) --data D.csv "
+      "--out DIR";
+  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  const bool estimate = vm.count("estimate") > 0;
+  if (!estimate && !vm.count("robot"))
+    throw UsageError(
+        "give --estimate estimate.json, or --robot R to predict with a model's own "
+        "parameters");
+  refuseUnused(vm, !estimate, {"drives", "drive-terms", "strict"},
+               "applies to --robot alone (an estimate carries its own drive terms)");
+  const std::string dir = outputDirectoryOption(vm);
+  PredictRequest request{estimate ? vm["estimate"].as<std::string>() : "",
+                         vm["data"].as<std::string>(),
                          vm.count("robot") ? vm["robot"].as<std::string>() : ""};
+  if (!estimate) request.model = loadRobotFromOptions(vm);
   request.threads = threadsOption(vm);
   if (vm.count("raw")) request.raw_file = vm["raw"].as<std::string>();
   PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through

@@ -294,7 +294,7 @@ int runPrepare(const std::vector<std::string>& args) {
       "rec.mcap|rec.db3|bag_dir|rec.bag... [--robot R] "
       "| --time-file F --q-file F --tau-file F --joints N) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);

@@ -46,7 +46,7 @@ int runRefine(const std::vector<std::string>& args) {
       "dynid refine --robot R --from DIR/search.json|DIR/estimate.json --data train.csv "
       "[--estimate-initial-states] [--truth T] [--validate test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   refuseUnused(vm, vm["estimate-initial-states"].as<bool>(), {"continuity-weight"},
                "applies with --estimate-initial-states only");
   RefineRequest request;

@@ -94,7 +94,7 @@ int runSearch(const std::vector<std::string>& args) {
       "--perturb 0.3] [--truth truth.json] --seed S [--budget-evals N] [--budget-seconds T] --out "
       "DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, searchMethods()); });
   if (vm.count("init") && vm.count("perturb"))

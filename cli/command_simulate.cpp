@@ -53,7 +53,9 @@ void addSimulateOptions(po::options_description& options) {
       "frame's origin]; J and L by name or 1-based index; a short `for` makes an impulse")(
       "truth-out", po::value<std::string>(),
       "with --disturbance: the applied external joint torques, t,tau_ext1.. (default: OUT with "
-      ".truth.csv for .csv)")("out", po::value<std::string>()->required(), "dataset CSV to write");
+      ".truth.csv for .csv; - for standard output)")(
+      "out", po::value<std::string>()->required(),
+      "dataset CSV to write, or - for standard output");
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -198,14 +200,22 @@ int runSimulate(const std::vector<std::string>& args) {
     for (const std::string& spec : vm["disturbance"].as<std::vector<std::string>>())
       request.disturbances.push_back(parseDisturbance(spec, request.robot));
   refuseUnused(vm, !request.disturbances.empty(), {"truth-out"}, "applies with --disturbance");
-  const SimulateOutcome outcome = simulateRun(request);
   const std::string out = vm["out"].as<std::string>();
+  if (out == "-" && !request.disturbances.empty() && !vm.count("truth-out"))
+    throw UsageError("--out - (standard output) with --disturbance needs --truth-out FILE");
+  if (out == "-" && vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-")
+    throw UsageError("--out and --truth-out cannot both be - (standard output)");
+  const SimulateOutcome outcome = simulateRun(request);
   writeDatasetCsv(out, outcome.trajectory);
-  std::cout << simulateSummary(request.robot, outcome, out);
+  // The summary goes to standard error when standard output carries a file.
+  const bool piped =
+      out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");
+  std::ostream& summary = piped ? std::cerr : std::cout;
+  summary << simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out);
   if (!request.disturbances.empty()) {
     const std::string truth = truthPath(vm, out);
     writeExternalTorqueCsv(truth, outcome.trajectory.time, outcome.external);
-    std::cout << "wrote the applied external torques to " << truth << "\n";
+    summary << "wrote the applied external torques to " << truth << "\n";
   }
   return kExitOk;
 }

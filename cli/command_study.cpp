@@ -40,7 +40,7 @@ int runStudy(const std::vector<std::string>& args) {
                         "held.csv --out DIR",
                         vm))
     return kExitOk;
-  checkOutputDirectory(vm["out"].as<std::string>());  // before the work, not after it
+  outputDirectoryOption(vm);  // before the work, not after it
   LogStudyRequest request;
   request.robot = loadRobotFromOptions(vm);
   request.robot_spec = vm["robot"].as<std::string>();

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -9,14 +10,17 @@
 
 #include <boost/make_shared.hpp>
 
+#include "cli/build_info.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/io.hpp"
+#include "reports/output.hpp"
 
 namespace dynid::cli {
 
 namespace {
 std::atomic<bool> interrupted{false};
+std::vector<CommandOptions>* catalogue = nullptr;
 extern "C" void onInterrupt(int) { interrupted.store(true); }
 
 /// Boost converts "-1" to an unsigned option as 2^64 - 1; an unsigned option (--seed) given a
@@ -123,6 +127,72 @@ po::options_description helpOptions(const po::options_description& all,
   return shown;
 }
 
+/// "-h" where an option may stand becomes "--help" (the only short option; short options are
+/// otherwise off so that negative numbers are values). A "-h" that is the value of an option
+/// ("--out -h") stays.
+std::vector<std::string> withLongHelp(const std::vector<std::string>& args,
+                                      const po::options_description& all) {
+  std::vector<std::string> out;
+  bool value_next = false;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "--") {
+      out.insert(out.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+      break;
+    }
+    if (!value_next && a == "-h") {
+      out.emplace_back("--help");
+      continue;
+    }
+    out.push_back(a);
+    if (value_next) {
+      value_next = false;
+      continue;
+    }
+    if (a.size() > 2 && a.compare(0, 2, "--") == 0 && a.find('=') == std::string::npos) {
+      const po::option_description* d = all.find_nothrow(a.substr(2), false);
+      value_next = d != nullptr && d->semantic()->min_tokens() > 0;
+    }
+  }
+  return out;
+}
+
+/// Edit distance of two short strings (the option names a typo may mean).
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// " (did you mean --method?)" for an unknown option that starts one (an abbreviation) or is
+/// within two edits of one; empty when none is close.
+std::string suggestion(const std::string& given, const po::options_description& all) {
+  std::string name = given;
+  while (!name.empty() && name[0] == '-') name.erase(0, 1);
+  if (const std::size_t eq = name.find('='); eq != std::string::npos) name.resize(eq);
+  if (name.empty()) return "";
+  std::vector<std::string> close;
+  for (const auto& option : all.options()) {
+    const std::string& candidate = option->long_name();
+    if (candidate.compare(0, name.size(), name) == 0 || editDistance(name, candidate) <= 2)
+      close.push_back("--" + candidate);
+  }
+  if (close.empty() || close.size() > 6) return "";
+  std::string text = " (options are written in full; did you mean ";
+  for (std::size_t i = 0; i < close.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == close.size() ? " or " : ", ") + close[i];
+  return text + "?)";
+}
+
 /// The command: the usage line's second word ("dynid simulate ...").
 std::string commandOf(const std::string& usage) {
   const std::size_t start = usage.find(' ') + 1, end = usage.find(' ', start);
@@ -135,23 +205,48 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
                       const std::string& usage, po::variables_map& vm,
                       const po::positional_options_description* positional) {
   po::options_description all;
-  all.add_options()("help,h", "show this help");
+  all.add_options()("help,h", "show this help")("version", "print dynid's version and commit");
   all.add(options);
+  const std::string command = commandOf(usage);
+  if (catalogue != nullptr) {
+    CommandOptions entry{usage, {}};
+    const po::options_description shown = helpOptions(all, command);
+    for (const auto& option : shown.options())
+      entry.options.push_back(
+          {option->long_name(),
+           option->semantic()->max_tokens() > 0 ? option->semantic()->name() : std::string(),
+           option->description()});
+    catalogue->push_back(std::move(entry));
+    return false;
+  }
   try {
-    // Long options only, so negative numbers ("--q -0.5,1") are values, not short options.
-    const auto style = po::command_line_style::unix_style ^ po::command_line_style::allow_short;
-    po::command_line_parser parser(args);
+    // Long options only, written in full: no short options (so negative numbers such as
+    // "--q -0.5,1" are values, and -h is translated before parsing), no abbreviations (a typo must
+    // not select another option).
+    const auto style = (po::command_line_style::unix_style ^ po::command_line_style::allow_short) &
+                       ~po::command_line_style::allow_guessing;
+    po::command_line_parser parser(withLongHelp(args, all));
     parser.options(all).style(style);
     if (positional != nullptr) parser.positional(*positional);
-    const po::parsed_options parsed = parser.run();
+    po::parsed_options parsed = [&] {
+      try {
+        return parser.run();
+      } catch (const po::unknown_option& e) {
+        throw po::error(e.what() + suggestion(e.get_option_name(), all));
+      }
+    }();
     rejectNegativeUnsigned(parsed, all);
     po::store(parsed, vm);
     if (vm.count("help")) {
-      std::cout << "usage: " << usage << "\n\n" << helpOptions(all, commandOf(usage)) << "\n";
+      std::cout << "usage: " << usage << "\n\n" << helpOptions(all, command) << "\n";
+      return false;
+    }
+    if (vm.count("version")) {
+      std::cout << "dynid " << versionText() << "\n";
       return false;
     }
     po::notify(vm);
-    checkRanges(vm, commandOf(usage));
+    checkRanges(vm, command);
     // An empty value given on the command line ("--out ''", an unset shell variable) is a usage
     // error, not a file named "".
     for (const auto& [name, value] : vm) {
@@ -167,6 +262,20 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
     throw UsageError(std::string(e.what()) + "\nusage: " + usage + " (--help for the options)");
   }
   return true;
+}
+
+void setOptionCatalogue(std::vector<CommandOptions>* c) { catalogue = c; }
+
+std::string versionText() { return std::string(DYNID_VERSION) + " (commit " + kBuildCommit + ")"; }
+
+std::string outputDirectoryOption(const po::variables_map& vm) {
+  const std::string dir = vm["out"].as<std::string>();
+  if (dir == "-")
+    throw UsageError(
+        "--out names a directory (this command writes several files); '-' (standard output) is "
+        "for commands that write one file");
+  checkOutputDirectory(dir);  // before the work, not after it
+  return dir;
 }
 
 std::vector<double> parseList(const std::string& text, const std::string& option) {
@@ -230,8 +339,10 @@ int threadsOption(const po::variables_map& vm) {
   return vm["threads"].as<int>();  // 0 to 256: core/option_ranges.hpp
 }
 
-void addRobotOptions(po::options_description& options) {
-  options.add_options()("robot", po::value<std::string>()->required(),
+void addRobotOptions(po::options_description& options, bool required) {
+  po::typed_value<std::string>* robot = po::value<std::string>();
+  if (required) robot->required();
+  options.add_options()("robot", robot,
                         "puma560, puma560-consistent, panda, a .urdf file or a dynid .json model")(
       "drives", po::bool_switch(),
       "the robot's own drive terms (puma560: ia,fv,fc,fa; panda: fv,fc,fo; others: ia,fv,fc)")(

@@ -30,12 +30,36 @@ class UsageError : public Error {
   using Error::Error;
 };
 
-/// Parses the options of one command; prints help and returns false on --help. Throws UsageError
-/// (with the usage line) on unknown or malformed options. `positional` names options that may be
-/// given without their flag, in order (-1 entries: the rest).
+/// Parses the options of one command; prints help (-h, --help) or the version (--version) and
+/// returns false then. Long options must be written in full (no abbreviations: "--meth" is an
+/// unknown option, with the options it may mean suggested); -h is the only short option. Throws
+/// UsageError (with the usage line) on unknown or malformed options. `positional` names options
+/// that may be given without their flag, in order (-1 entries: the rest).
 bool parseCommandLine(const std::vector<std::string>& args, const po::options_description& options,
                       const std::string& usage, po::variables_map& vm,
                       const po::positional_options_description* positional = nullptr);
+
+/// One option of a command, as the help, the shell completion and the man pages show it.
+struct OptionEntry {
+  std::string name;       // long name, without "--"
+  std::string parameter;  // "arg (=10)"; empty for a switch
+  std::string help;       // with its range, as --help prints it
+};
+/// One command's options ("model export"), recorded by parseCommandLine in catalogue mode.
+struct CommandOptions {
+  std::string usage;
+  std::vector<OptionEntry> options;
+};
+/// While `catalogue` is set, parseCommandLine appends the options it is given to it and returns
+/// false without parsing (the command then returns without doing anything); nullptr ends it.
+void setOptionCatalogue(std::vector<CommandOptions>* catalogue);
+
+/// The build's version and commit: "0.1.0 (commit 1a2b3c4d5e6f)".
+std::string versionText();
+
+/// The value of --out for a command that writes a directory; "-" (standard output, one file) is
+/// a usage error. Checks that the directory can be written before the work starts.
+std::string outputDirectoryOption(const po::variables_map& vm);
 
 /// "0,0.785,3.14" -> {0, 0.785, 3.14}; names the option and the entry at fault.
 std::vector<double> parseList(const std::string& text, const std::string& option);
@@ -61,8 +85,9 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);
 
-/// The options every robot-using command takes: --robot, --drives, --strict.
-void addRobotOptions(po::options_description& options);
+/// The options every robot-using command takes: --robot, --drives, --drive-terms, --strict
+/// (--robot required unless `required` is false).
+void addRobotOptions(po::options_description& options, bool required = true);
 /// Loads the robot named by --robot (warnings to stderr).
 Model loadRobotFromOptions(const po::variables_map& vm);
 /// Loads another robot spec (--init, --truth, --prior) with the same --drives and --strict.

@@ -114,6 +114,14 @@ AtomicWriter::AtomicWriter(const std::string& path, ExistingTarget existing) : p
   // The target's type decides: a regular file (or none) is replaced whole by a rename; a stream
   // (FIFO, character device) the user named is written through; anything else (a directory, a
   // socket, a block device) is refused. With kReplace a symbolic link is replaced, not followed.
+  if (path == "-") {  // standard output, written through (a dup: closing it keeps stdout open)
+    std::fflush(stdout);
+    const int fd = ::dup(STDOUT_FILENO);
+    file_ = fd < 0 ? nullptr : ::fdopen(fd, "wb");
+    if (file_ == nullptr)
+      throw Error(std::string("cannot write to standard output: ") + std::strerror(errno));
+    return;
+  }
   struct stat target {};
   const bool follow = existing != ExistingTarget::kReplace;
   const int found = follow ? ::stat(path.c_str(), &target) : ::lstat(path.c_str(), &target);

@@ -25,7 +25,9 @@ enum class ExistingTarget {
 /// file is refused. Destroyed without commit (an exception on the way), the temporary is removed
 /// and the target untouched. A commit also removes the target's stale temporaries (of processes
 /// that no longer exist: what a SIGKILL left). While an InputFileGuard exists, a target that is
-/// one of the command's input files is refused. Throws Error naming the path on failure.
+/// one of the command's input files is refused. The path "-" is standard output, written through
+/// (a user who pipes a command's one output file takes the stream as it comes). Throws Error
+/// naming the path on failure.
 class AtomicWriter {
  public:
   explicit AtomicWriter(const std::string& path, ExistingTarget existing = ExistingTarget::kFollow);

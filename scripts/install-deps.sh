@@ -2,6 +2,7 @@
 # Installs the Debian 12 packages dynid needs to build, test and benchmark, including the sanitizer
 # and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports)
 # and the Python module (pybind11, NumPy, pytest for Debian's python3).
+# zsh and groff check the generated shell completion and man pages.
 # Idempotent: installs only what is missing, and does nothing (not even apt-get update) when all
 # packages are present. Runs as root, or through sudo when not root.
 #   scripts/install-deps.sh            build + test + bench dependencies
@@ -14,6 +15,7 @@ packages=(
   libboost-program-options-dev liburdfdom-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   gnuplot-nox clang-format
+  zsh groff-base
   clang libclang-rt-14-dev llvm-14
   pybind11-dev python3-dev python3-numpy python3-pytest
   libsqlite3-dev libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
