@@ -417,8 +417,16 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
 
 PredictOutcome predictRun(const PredictRequest& request) {
   PredictOutcome out;
-  out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec, &out.method,
-                            &out.band);
+  if (request.estimate_file.empty() == !request.model)
+    throw InputError("predict needs an estimate.json or a robot model (one of them)");
+  if (request.model) {
+    out.model = *request.model;
+    out.robot_spec = request.robot_spec;
+    out.method = "model";
+  } else {
+    out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
+                              &out.method, &out.band);
+  }
   const PredictionBand* band = out.band ? &*out.band : nullptr;
   ThreadPool pool(request.threads);
   if (request.raw_file.empty()) {

@@ -196,9 +196,12 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request);
 // ---- applying an estimate to data ----
 
 struct PredictRequest {
-  std::string estimate_file;       // an identify estimate.json
-  std::string data_file;           // a dataset CSV
-  std::string robot_spec;          // empty: the estimate's own
+  std::string estimate_file;  // an identify estimate.json (empty: `model`)
+  std::string data_file;      // a dataset CSV
+  std::string robot_spec;     // empty: the estimate's own; with `model`, its spec
+  /// Without an estimate: this robot with its own parameters (a URDF, a written-back model, a
+  /// built-in), which has no covariance and so no band.
+  std::optional<Model> model;
   int threads = kAllThreads;       // 0: all cores; the same result for any count
   PredictionSink* sink = nullptr;  // receives every sample's prediction, in order (may be null)
   /// prepare --keep-raw-torque's validate_raw.csv for data_file: the raw torques at the log's

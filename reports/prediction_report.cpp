@@ -46,16 +46,17 @@ std::string rawValidationLine(const Validation& raw, int skipped) {
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
-  nlohmann::json out = {{"schema_version", kPredictionDocument.schema_version},
-                        {"kind", kPredictionDocument.kind},
-                        {"estimate", estimate_file},
-                        {"method", o.method},
-                        {"robot_spec", o.robot_spec},
-                        {"drive_terms", driveTermsKeys(o.model.driveTerms())},
-                        {"data", {{"file", data_file}, {"samples", v.num_samples}}},
-                        {"relative_error", numberOrNull(v.relative_error)},
-                        {"joint_relative_error", numbersOrNull(v.normalised_rms)},
-                        {"torque_rms", numbersOrNull(v.torque_rms)}};
+  nlohmann::json out = {
+      {"schema_version", kPredictionDocument.schema_version},
+      {"kind", kPredictionDocument.kind},
+      {"estimate", estimate_file.empty() ? nlohmann::json() : nlohmann::json(estimate_file)},
+      {"method", o.method},
+      {"robot_spec", o.robot_spec},
+      {"drive_terms", driveTermsKeys(o.model.driveTerms())},
+      {"data", {{"file", data_file}, {"samples", v.num_samples}}},
+      {"relative_error", numberOrNull(v.relative_error)},
+      {"joint_relative_error", numbersOrNull(v.normalised_rms)},
+      {"torque_rms", numbersOrNull(v.torque_rms)}};
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
   if (o.prediction.band_coverage.size() > 0)
     out["band"] = {
@@ -289,6 +290,9 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
     for (Eigen::Index j = 0; j < coverage.size(); ++j)
       out << " " << formatNumber(100.0 * coverage[j], 3);
     for (const std::string& w : bandWarnings(coverage)) out << "\nwarning: " << w;
+  } else if (o.method == "model") {
+    out << "\nno band: a model has no covariance (predict from identify's estimate.json for a "
+           "95 % band)";
   } else {
     out << "\nno band: the estimate has no base covariance (made before dynid recorded it: "
            "identify again)";

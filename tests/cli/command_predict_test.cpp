@@ -117,3 +117,56 @@ TEST(Cli, PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData) {
 
 }  // namespace
 }  // namespace dynid
+
+namespace dynid {
+namespace {
+
+TEST(Cli, PredictWithARobotModelItselfAndWithTheUrdfIdentifyWrote) {
+  // --robot alone predicts with the model's own parameters: on its own noise-free simulation the
+  // torques come back to round-off (the dataset holds the simulated ddq and tau).
+  const std::string dir = test::tempPath("predict_model");
+  std::filesystem::remove_all(dir);
+  const std::string train = dir + "/train.csv";
+  std::filesystem::create_directories(dir);
+  const std::string urdf = std::string(DYNID_SOURCE_DIR) + "/tests/fuzz/corpus/urdf/puma560.urdf";
+  ASSERT_EQ(run("simulate --robot " + urdf + " --duration 2 --seed 3 --out " + train).code, 0);
+  const test::Result own =
+      run("predict --robot " + urdf + " --data " + train + " --out " + dir + "/own");
+  ASSERT_EQ(own.code, 0) << own.err;
+  EXPECT_TRUE(test::contains(own.out, "no band: a model has no covariance")) << own.out;
+  const auto p = nlohmann::json::parse(readFile(dir + "/own/prediction.json"));
+  EXPECT_EQ(p["method"], "model");
+  EXPECT_TRUE(p["estimate"].is_null());
+  // 1e-9 relative: RNEA on the model against the simulator's ABA-consistent torques, both in
+  // double precision on torques of order 10 N m.
+  EXPECT_LT(p["relative_error"].get<double>(), 1e-9);
+  // The loop a user closes: identify (pc) -> --write-urdf -> predict --robot on the written URDF
+  // gives identify's own fit on its training data (the URDF carries every identified parameter
+  // the data can see).
+  ASSERT_EQ(run("identify --method pc --robot " + urdf + " --data " + train + " --out " + dir +
+                "/est --write-urdf " + dir + "/identified.urdf")
+                .code,
+            0);
+  const test::Result written = run("predict --robot " + dir + "/identified.urdf --data " + train +
+                                   " --out " + dir + "/written");
+  ASSERT_EQ(written.code, 0) << written.err;
+  const test::Result from_estimate =
+      run("predict --estimate " + dir + "/est/estimate.json --data " + train + " --out " + dir +
+          "/estimate");
+  ASSERT_EQ(from_estimate.code, 0) << from_estimate.err;
+  const auto w = nlohmann::json::parse(readFile(dir + "/written/prediction.json"));
+  const auto e = nlohmann::json::parse(readFile(dir + "/estimate/prediction.json"));
+  // 1e-6 relative: the URDF's numbers are written with 17 significant digits, the estimate's
+  // prediction uses the same parameters in memory.
+  EXPECT_NEAR(w["relative_error"].get<double>(), e["relative_error"].get<double>(),
+              1e-6 * e["relative_error"].get<double>() + 1e-12);
+  // Usage: neither, and drive options beside an estimate.
+  EXPECT_EQ(run("predict --data " + train + " --out " + dir + "/x").code, 2);
+  EXPECT_EQ(run("predict --estimate " + dir + "/est/estimate.json --drives --data " + train +
+                " --out " + dir + "/x")
+                .code,
+            2);
+}
+
+}  // namespace
+}  // namespace dynid
