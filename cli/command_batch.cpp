@@ -128,9 +128,9 @@ int runBatch(const std::vector<std::string>& args) {
   std::cout << "dynid batch: " << outcome.done.size() << " of " << plan.mine.size()
             << " runs done; wrote " << dir << "/results.csv and results.json\n";
   if (outcome.interrupted) {
-    std::cerr << "dynid batch: interrupted; run the same command again to finish the "
+    std::cerr << "dynid batch: interrupted (Ctrl-C); run the same command again to finish the "
               << outcome.missing.size() << " missing runs\n";
-    return kExitError;
+    return kExitInterrupted;
   }
   if (!outcome.failed.empty()) {
     std::cerr << "dynid batch: " << outcome.failed.size() << " runs failed:";

@@ -52,7 +52,7 @@ int runDemo(const std::vector<std::string>& args) {
   std::cout << demoTable(result);
   if (result.interrupted) std::cout << "interrupted: the table has the stages that finished\n";
   std::cout << "report: " << dir << "/report.html (and report.md, summary.json)\n";
-  return kExitOk;
+  return exitAfter(guard, "demo", "the report has the stages that finished");
 }
 
 }  // namespace dynid::cli

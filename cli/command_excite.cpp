@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "analysis/excitation/excite.hpp"
 #include "cli/commands.hpp"
@@ -149,7 +150,16 @@ int runExcite(const std::vector<std::string>& args) {
     request.control.progress = [](const std::string& line) {
       std::fprintf(stderr, "%s\n", line.c_str());
     };
-  const ExciteOutcome outcome = exciteRun(request);
+  std::optional<ExciteOutcome> run;
+  try {
+    run.emplace(exciteRun(request));
+  } catch (const Error&) {
+    if (!guard.interrupted()) throw;
+    std::cerr << "dynid excite: interrupted (Ctrl-C) before any design met the limits: nothing "
+                 "written\n";
+    return kExitInterrupted;
+  }
+  const ExciteOutcome& outcome = *run;
   ExcitationSettings settings;
   settings.robot = vm["robot"].as<std::string>();
   settings.harmonics = request.harmonics;
@@ -158,7 +168,7 @@ int runExcite(const std::vector<std::string>& args) {
   settings.period = request.period;
   settings.csv_rate = vm["csv-rate"].as<double>();
   std::cout << writeExcitation(dir, request.robot, settings, outcome);
-  return kExitOk;
+  return exitAfter(guard, "excite", "wrote the best design so far to " + dir);
 }
 
 }  // namespace dynid::cli

@@ -121,6 +121,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (const std::string warning = solverWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << writeIdentification(vm["out"].as<std::string>(), request.model, outcome);
+  if (guard) return exitAfter(*guard, "identify", "the combined estimate is its best so far");
   return kExitOk;
 }
 

@@ -164,7 +164,9 @@ int runMonitor(const std::vector<std::string>& args) {
   const std::string summary =
       dir.empty() ? monitorSummary(outcome) : writeMonitor(dir, outcome, request.data_file);
   (streamed ? std::cerr : std::cout) << summary;
-  return kExitOk;
+  return exitAfter(
+      interrupt, "monitor",
+      dir.empty() ? "the events so far are above" : "wrote the events so far to " + dir);
 }
 
 }  // namespace dynid::cli

@@ -76,7 +76,7 @@ int runRefine(const std::vector<std::string>& args) {
   if (const std::string warning = refineWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << refineSummary(outcome, dir);
-  return kExitOk;
+  return exitAfter(guard, "refine", "wrote the best parameters so far to " + dir + "/refine.json");
 }
 
 }  // namespace dynid::cli

@@ -123,7 +123,7 @@ int runSearch(const std::vector<std::string>& args) {
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"search.json", jsonText(searchJson(outcome), 1) + "\n"}});
   std::cout << searchSummary(outcome, dir);
-  return kExitOk;
+  return exitAfter(guard, "search", "wrote the best parameters so far to " + dir + "/search.json");
 }
 
 }  // namespace dynid::cli

@@ -71,7 +71,8 @@ int runStudy(const std::vector<std::string>& args) {
   request.control.stop = guard.flag();
   const LogStudyOutcome outcome = logStudyRun(request);
   std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome);
-  return kExitOk;
+  return exitAfter(guard, "study",
+                   "the report has the methods that finished and each stopped one's best so far");
 }
 
 }  // namespace dynid::cli

@@ -19,9 +19,9 @@
 namespace dynid::cli {
 
 namespace {
-std::atomic<bool> interrupted{false};
+std::atomic<bool> sigint_seen{false};
 std::vector<CommandOptions>* catalogue = nullptr;
-extern "C" void onInterrupt(int) { interrupted.store(true); }
+extern "C" void onInterrupt(int) { sigint_seen.store(true); }
 
 /// Boost converts "-1" to an unsigned option as 2^64 - 1; an unsigned option (--seed) given a
 /// negative value is a usage error instead.
@@ -404,12 +404,20 @@ void refuseUnused(const po::variables_map& vm, bool used,
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
 
 InterruptGuard::InterruptGuard() {
-  interrupted.store(false);
+  sigint_seen.store(false);
   previous_ = std::signal(SIGINT, onInterrupt);
 }
 
 InterruptGuard::~InterruptGuard() { std::signal(SIGINT, previous_); }
 
-const std::atomic<bool>* InterruptGuard::flag() const { return &interrupted; }
+const std::atomic<bool>* InterruptGuard::flag() const { return &sigint_seen; }
+
+bool InterruptGuard::interrupted() const { return sigint_seen.load(); }
+
+int exitAfter(const InterruptGuard& guard, const std::string& command, const std::string& written) {
+  if (!guard.interrupted()) return kExitOk;
+  std::cerr << "dynid " << command << ": interrupted (Ctrl-C): " << written << "\n";
+  return kExitInterrupted;
+}
 
 }  // namespace dynid::cli

@@ -23,6 +23,9 @@ namespace po = boost::program_options;
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitError = 1;
 inline constexpr int kExitUsage = 2;
+/// Ctrl-C stopped a long command (128 + SIGINT, what a shell reports for a process the signal
+/// ended); its best result so far was written.
+inline constexpr int kExitInterrupted = 130;
 
 /// A mistake in the command line (exit code 2).
 class UsageError : public Error {
@@ -125,9 +128,17 @@ class InterruptGuard {
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
   const std::atomic<bool>* flag() const;
+  /// Whether SIGINT came while it was held.
+  bool interrupted() const;
 
  private:
   void (*previous_)(int);
 };
+
+/// The exit code of a command that held `guard` and has written its outputs: kExitInterrupted,
+/// with "dynid <command>: interrupted (Ctrl-C): <written>" on standard error, when SIGINT stopped
+/// it; kExitOk otherwise.
+int exitAfter(const InterruptGuard& guard, const std::string& command,
+              const std::string& written);
 
 }  // namespace dynid::cli

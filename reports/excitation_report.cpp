@@ -212,8 +212,9 @@ DocumentTable criteriaTable(const ExciteOutcome& o) {
        formatNumber(o.baseline.condition, 4)},
       {"log det(W1^T W1 / rows)", formatNumber(o.score.log_det, 4),
        formatNumber(o.baseline.log_det, 4)},
-      {"GC Jacobian condition number, unit columns", formatNumber(o.gc, 4),
-       formatNumber(o.baseline_gc, 4)},
+      {"GC Jacobian condition number, unit columns",
+       formatNumber(o.gc, 4, "not computed (interrupted)"),
+       formatNumber(o.baseline_gc, 4, "not computed (interrupted)")},
       {"first-order GC (M^-1 W1), unit columns", formatNumber(o.gc_first_order, 4),
        formatNumber(o.baseline_gc_first_order, 4)},
       {"RMS expected relative std. dev. (" + formatNumber(o.torque_noise) + " N m noise)",
@@ -345,8 +346,9 @@ std::string writeExcitation(const std::string& dir, const Model& model,
       << ", default sinusoid " << formatNumber(o.baseline.condition, 4) << "\n"
       << "  log det per row:                 " << formatNumber(o.score.log_det, 4)
       << ", default sinusoid " << formatNumber(o.baseline.log_det, 4) << "\n"
-      << "  GC Jacobian condition number:    " << formatNumber(o.gc, 4) << ", default sinusoid "
-      << formatNumber(o.baseline_gc, 4) << "\n"
+      << "  GC Jacobian condition number:    "
+      << formatNumber(o.gc, 4, "not computed (interrupted)") << ", default sinusoid "
+      << formatNumber(o.baseline_gc, 4, "not computed (interrupted)") << "\n"
       << "  RMS expected relative std. dev.: " << formatNumber(o.score.relative_rms, 4)
       << ", default sinusoid " << formatNumber(o.baseline.relative_rms, 4) << "\n"
       << "  every limit holds at " << formatNumber(o.check_rate) << " Hz"

@@ -76,22 +76,25 @@ namespace {
 json refineBaseJson(const RefineOutcome& o) {
   const RefineResult& result = o.result;
   const BaseParameters& base = o.base;
+  // No uncertainty (turned off, or skipped after Ctrl-C): the estimates with null deviations.
+  const bool has_uncertainty = result.beta_std_dev.size() == base.numBase();
   json values = json::array();
   for (int j = 0; j < base.numBase(); ++j) {
-    const double sd = result.beta_std_dev[j];
+    const double sd = has_uncertainty ? result.beta_std_dev[j] : NAN;
     values.push_back(
         {{"name", base.baseName(j)},
          {"expression", base.expression(j)},
          {"initial", o.beta0[j]},
          {"estimate", result.beta[j]},
          {"base_stage_estimate", numberOrNull(result.base_stage ? result.base_beta[j] : NAN)},
-         {"std_dev", sd},
-         {"confidence_95", {result.beta[j] - 1.96 * sd, result.beta[j] + 1.96 * sd}},
+         {"std_dev", numberOrNull(sd)},
+         {"confidence_95",
+          has_uncertainty ? json{result.beta[j] - 1.96 * sd, result.beta[j] + 1.96 * sd} : json()},
          {"relative_std_dev_percent",
           numberOrNull(result.beta[j] != 0.0 ? 100.0 * sd / std::abs(result.beta[j]) : INFINITY)}});
   }
-  json covariance = json::array();
-  for (int j = 0; j < base.numBase(); ++j)
+  json covariance = has_uncertainty ? json::array() : json();
+  for (int j = 0; has_uncertainty && j < base.numBase(); ++j)
     covariance.push_back(std::vector<double>(result.beta_covariance.row(j).begin(),
                                              result.beta_covariance.row(j).end()));
   return {{"values", values},
@@ -99,9 +102,11 @@ json refineBaseJson(const RefineOutcome& o) {
           {"residual_variance", result.sigma2},
           {"degrees_of_freedom", result.degrees_of_freedom},
           {"information_rank", result.information_rank},
-          {"note",
-           "covariance in base coordinates: sigma^2 (J_beta^T J_beta)^-1, the segment starts "
-           "eliminated when estimated"}};
+          {"note", has_uncertainty
+                       ? "covariance in base coordinates: sigma^2 (J_beta^T J_beta)^-1, the "
+                         "segment starts eliminated when estimated"
+                       : "no covariance: the uncertainty pass did not run (interrupted, or "
+                         "turned off)"}};
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <random>
@@ -632,15 +633,37 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
     out.base = structuralBaseParameters(model, request.structural);
   }
 
+  // The default sinusoid's scores first: they do not depend on the design, and the time its exact
+  // GC Jacobian takes is what the design's will take after the search, so that a time budget
+  // (max_seconds) holds with the design's evaluation included.
+  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
+  const int threads_used = pool.numThreads();
+  const Trajectory baseline = sinusoidBaseline(
+      model, request.period, static_cast<int>(std::round(request.period * request.check_rate)) + 1);
+  out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
+  out.baseline_check = checkLimits(model, baseline, limits);
+  const auto gc_started = std::chrono::steady_clock::now();
+  out.baseline_gc = gcCondition(model, out.base, baseline, request, threads_used);
+  const double gc_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - gc_started).count();
+  out.baseline_gc_first_order = firstOrderGcCondition(model, out.base, baseline);
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  // What is left for the search: the budget less what has run and the design's evaluation (its
+  // GC Jacobian and the limits' shrinking: twice the baseline's Jacobian), at least a tenth of it.
+  const double search_seconds =
+      std::isfinite(request.max_seconds)
+          ? std::max(request.max_seconds - elapsed - 2.0 * gc_seconds, 0.1 * request.max_seconds)
+          : request.max_seconds;
+
   const Coding coding(limits, request.harmonics, request.period, request.offset);
   const Grid grid(request.period, request.harmonics, grid_points, false);
   const DesignProblem problem(model, out.base, request, limits, coding, grid);
   MultiStart multistart{request, coding, grid, problem,
-                        request.control.within(request.max_seconds, started)};
+                        request.control.within(search_seconds, std::chrono::steady_clock::now())};
   std::vector<StartBest> best(request.starts);
   std::mutex progress_mutex;
   int finished = 0;
-  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
   std::vector<std::unique_ptr<DesignProblem::Workspace>> workspaces;
   for (int t = 0; t < pool.numThreads(); ++t)
     workspaces.push_back(std::make_unique<DesignProblem::Workspace>(model));
@@ -678,16 +701,13 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   const Eigen::MatrixXd& a0 = coding.decode(best[out.best_start].x.data()).a;
   out.shrink = a0.norm() > 0.0 ? out.design.a.norm() / a0.norm() : 1.0;
   out.score = scoreMotion(model, out.base, motion, request.torque_noise);
-  const Trajectory baseline = sinusoidBaseline(model, request.period, motion.numSamples());
-  out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
-  out.baseline_check = checkLimits(model, baseline, limits);
-  const int threads = pool.numThreads();
   out.gc_segments = request.gc_segments;
   out.gc_horizon = request.gc_horizon;
-  out.gc = gcCondition(model, out.base, motion, request, threads);
-  out.baseline_gc = gcCondition(model, out.base, baseline, request, threads);
+  // The exact GC Jacobian takes seconds: after Ctrl-C it is left out (NaN), so that the design is
+  // written within a second of it.
+  out.gc = multistart.interrupted ? std::numeric_limits<double>::quiet_NaN()
+                                  : gcCondition(model, out.base, motion, request, threads_used);
   out.gc_first_order = firstOrderGcCondition(model, out.base, motion);
-  out.baseline_gc_first_order = firstOrderGcCondition(model, out.base, baseline);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return out;
 }

@@ -97,6 +97,7 @@ struct ExciteOutcome {
   /// Jacobian with respect to the base parameters (segments and horizon of the request, measured
   /// starts, RK4 at the check rate; the motion's inverse-dynamics torques held between samples),
   /// and of the first-order GC sensitivity M^-1 W1 (the "gc" criterion), design and sinusoid.
+  /// gc and baseline_gc are NaN (not computed) when the run was interrupted.
   double gc = 0.0, baseline_gc = 0.0, gc_first_order = 0.0, baseline_gc_first_order = 0.0;
   int gc_segments = 0;
   double gc_horizon = 0.0;

@@ -76,11 +76,12 @@ struct SegmentFunctor {
   template <typename T>
   bool operator()(T const* const* blocks, T* residuals) const {
     using std::isfinite;
-    // Past the budget, a residual evaluation (a trial step) fails at once and Ceres rejects the
-    // step; a Jacobian evaluation (T a Jet) completes, as its failure would end the solve with a
-    // logged error. Either way the iteration callback then ends the stage.
-    if constexpr (std::is_same_v<T, double>)
-      if (budget != nullptr && budget->stopped()) return false;
+    // Once stopped (Ctrl-C, the budget), every evaluation fails at once: a trial step is rejected,
+    // a Jacobian ends the solve (FAILURE, silent: the solver logs nothing) and Ceres leaves the
+    // parameters at the last accepted iterate (update_state_every_iteration; refine.cpp reports
+    // such an end as a stop, not a failure). A stop so waits for one segment's rollout, not for
+    // a whole Jacobian.
+    if (budget != nullptr && budget->stopped()) return false;
     const int n = structure.numJoints();
     ModelTpl<T> model = structure.template cast<T>();
     map.apply(blocks[0], model);

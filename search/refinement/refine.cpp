@@ -130,11 +130,13 @@ std::string terminationAt(const ceres::Solver::Summary& summary, const RunContro
   if (out_of_time)
     return "USER_SUCCESS: stopped after " + std::to_string(iterations) +
            " iterations: the next would end past its time budget";
-  if (budget.expired() && (summary.termination_type == ceres::FAILURE ||
-                           summary.termination_type == ceres::NO_CONVERGENCE))
-    return "USER_SUCCESS: stopped at its time budget after " +
-           std::to_string(std::max(static_cast<int>(summary.iterations.size()) - 1, 0)) +
+  const bool failed = summary.termination_type == ceres::FAILURE ||
+                      summary.termination_type == ceres::NO_CONVERGENCE;
+  if (budget.expired() && failed)
+    return "USER_SUCCESS: stopped at its time budget after " + std::to_string(iterations) +
            " iterations (" + summary.message + ")";
+  if (budget.stopped() && failed)
+    return "USER_SUCCESS: interrupted after " + std::to_string(iterations) + " iterations";
   return terminationOf(summary);
 }
 
@@ -399,7 +401,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     result.usable = true;
   } else {
     result.termination = terminationAt(summary, budget, out_of_budget);
-    result.usable = summary.IsSolutionUsable() || budget.expired();
+    result.usable = summary.IsSolutionUsable() || budget.stopped();
   }
   result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
   if (!result.base_stage) result.initial_cost = summary.initial_cost;
@@ -411,7 +413,10 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
       result.at_bound.push_back(names[j]);
   }
-  if (base != nullptr && options.uncertainty)
+  // The uncertainty needs one more Jacobian (seconds): not after Ctrl-C, which must end the run
+  // within a second with its best parameters.
+  if (base != nullptr) result.beta = base->projection * space.standardAt(result.x);
+  if (base != nullptr && options.uncertainty && !result.interrupted)
     baseUncertainty(structure, space, problem, *base, options, result, pool);
   result.seconds = secondsSince(clock_start);
   return result;

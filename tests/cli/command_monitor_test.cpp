@@ -93,7 +93,7 @@ TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
 
 TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
   // 2500 of the 6001 rows, then the writer keeps the pipe open: monitor waits for more when
-  // SIGINT comes. The first push (at 2 s) has been reported; it ends cleanly (exit 0).
+  // SIGINT comes. The first push (at 2 s) has been reported; it ends cleanly (exit 130).
   const std::string script =
       "cd " + dir_ + " && rm -f pipe && mkfifo pipe && " +
       "{ (head -n 2500 pushed.csv; exec sleep 30) > pipe & writer=$!; " + DYNID_BIN +
@@ -102,7 +102,8 @@ TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
       "exit $code; }";
   std::filesystem::remove_all(dir_ + "/live");
   const int status = std::system(("bash -c '" + script + "'").c_str());
-  EXPECT_EQ(WEXITSTATUS(status), 0) << readFile(dir_ + "/live.err");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << readFile(dir_ + "/live.err");
+  EXPECT_TRUE(contains(readFile(dir_ + "/live.err"), "interrupted (Ctrl-C)"));
   const std::string printed = readFile(dir_ + "/live.jsonl");
   EXPECT_TRUE(contains(printed, "\"event\":\"start\"")) << printed;
   const auto j = nlohmann::json::parse(readFile(dir_ + "/live/monitor.json"));

@@ -63,13 +63,13 @@ TEST(Cli, SearchWritesHistoryAndResumesFromACheckpoint) {
 TEST(Cli, SearchStopsCleanlyOnInterrupt) {
   const std::string train = test::tempPath("int_train.csv"), dir = test::tempPath("interrupted");
   ASSERT_EQ(run("simulate --robot puma560 --duration 3 --out " + train).code, 0);
-  // SIGINT after 1.5 s of a 60 s budget: the best so far is written and the exit code is 0.
+  // SIGINT after 1.5 s of a 60 s budget: the best so far is written and the exit code is 130.
   const std::string command =
       std::string(DYNID_BIN) + " search --method nlo --robot puma560 --data " + train +
       " --perturb 0.3 --seed 1 --segments 20 --budget-seconds 60 " + "--out " + dir +
       " >/dev/null 2>&1 & pid=$!; sleep 1.5; kill -INT $pid; wait $pid";
   const int status = std::system(("bash -c '" + command + "'").c_str());
-  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_EQ(WEXITSTATUS(status), 130);
   const auto j = nlohmann::json::parse(readFile(dir + "/search.json"));
   EXPECT_EQ(j["termination"], "interrupted");
   EXPECT_LT(j["seconds"].get<double>(), 30.0);
