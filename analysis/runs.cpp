@@ -458,10 +458,12 @@ GcProblem gcProblemOf(const Trajectory& data, const SegmentOptions& segments,
 }
 }  // namespace
 
-std::pair<double, double> heldOutGc(const Model& first, const Model& second,
-                                    const std::string& file, const SegmentOptions& segments,
+GcProblem heldOutProblem(const std::string& file, int num_joints, const SegmentOptions& segments) {
+  return gcProblemOf(readDatasetCsv(file, num_joints), segments, file);
+}
+
+std::pair<double, double> heldOutGc(const Model& first, const Model& second, const GcProblem& test,
                                     int threads) {
-  const GcProblem test = gcProblemOf(readDatasetCsv(file, first.numJoints()), segments, file);
   ThreadPool pool(resolveThreads(threads));
   GcWorkspace workspace(pool.numThreads());
   const double a = gcError(first, test, workspace, pool);
@@ -491,6 +493,9 @@ SearchOutcome searchRun(const SearchRequest& request) {
   const GcProblem problem = gcProblemOf(
       request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()), segments,
       request.data_file);
+  std::optional<GcProblem> test;
+  if (!request.validate_file.empty())
+    test = heldOutProblem(request.validate_file, robot.numJoints(), segments);
   EstimationProblem estimation;
   estimation.model = robot;
   estimation.train_gc = &problem;
@@ -542,8 +547,8 @@ SearchOutcome searchRun(const SearchRequest& request) {
   if (!request.validate_file.empty()) {
     out.validate_file = request.validate_file;
     std::tie(out.validate_initial_gc, out.validate_final_gc) =
-        heldOutGc(space.modelAt(x_initial), space.modelAt(out.result.best_x), request.validate_file,
-                  segments, runner.pool().numThreads());
+        heldOutGc(space.modelAt(x_initial), space.modelAt(out.result.best_x), *test,
+                  runner.pool().numThreads());
   }
   return out;
 }
@@ -581,6 +586,9 @@ RefineOutcome refineRun(const RefineRequest& request) {
       request.data ? *request.data : readDatasetCsv(request.data_file, robot.numJoints()),
       start.segments, request.data_file);
   out.num_segments = problem.numSegments();
+  std::optional<GcProblem> test;
+  if (!request.validate_file.empty())
+    test = heldOutProblem(request.validate_file, robot.numJoints(), start.segments);
   if (request.truth && request.truth->parameterLayout().size() != robot.parameterLayout().size())
     throw InputError("the true model has another parameter layout than the robot");
   // Base coordinates from the structural analysis (the same defaults as dynid identifiability).
@@ -621,8 +629,7 @@ RefineOutcome refineRun(const RefineRequest& request) {
   if (!request.validate_file.empty()) {
     out.validate_file = request.validate_file;
     std::tie(out.validate_initial_gc, out.validate_final_gc) =
-        heldOutGc(space.modelAt(out.x0), space.modelAt(result.x), request.validate_file,
-                  start.segments, out.options.num_threads);
+        heldOutGc(space.modelAt(out.x0), space.modelAt(result.x), *test, out.options.num_threads);
   }
   return out;
 }

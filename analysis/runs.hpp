@@ -333,9 +333,11 @@ struct RefineOutcome {
 /// a truth of another layout or invalid options.
 RefineOutcome refineRun(const RefineRequest& request);
 
-/// The GC errors of two models on a held-out dataset, with the given segments: (first, second).
-std::pair<double, double> heldOutGc(const Model& first, const Model& second,
-                                    const std::string& file, const SegmentOptions& segments,
+/// A held-out dataset's GC problem, read and checked before a long run (its refusals, such as too
+/// few samples for the segments, name the file then, not after the run's budget is spent).
+GcProblem heldOutProblem(const std::string& file, int num_joints, const SegmentOptions& segments);
+/// The GC errors of two models on a held-out problem: (first, second).
+std::pair<double, double> heldOutGc(const Model& first, const Model& second, const GcProblem& test,
                                     int threads);
 
 /// `threads`, or every core for 0.
