@@ -82,6 +82,60 @@ std::vector<std::string> conclusions(const DemoResult& result) {
   return out;
 }
 
+/// The verdict box: what was estimated, how well, what is not determined, what next.
+std::vector<std::pair<std::string, std::string>> demoVerdict(const DemoResult& result) {
+  const DemoIdentifiability& id = result.identifiability;
+  std::vector<std::pair<std::string, std::string>> lines;
+  lines.emplace_back("Estimated", "the " + std::to_string(id.num_base) + " base parameters of " +
+                                      result.settings.robot + " (of " +
+                                      std::to_string(id.num_standard) + " standard ones), " +
+                                      std::to_string(result.methods.size()) +
+                                      " ways, on noise-free simulated data from a " +
+                                      g3(100.0 * result.settings.perturb) + " %-perturbed guess.");
+  // The best base-parameter error of each family: least squares, the searches, the refinements.
+  const auto best = [&](std::initializer_list<Method> methods) -> const MethodMetrics* {
+    const MethodMetrics* out = nullptr;
+    for (Method method : methods)
+      if (const MethodMetrics* m = find(result, method))
+        if (out == nullptr || m->base_param_error < out->base_param_error) out = m;
+    return out;
+  };
+  std::string how;
+  const auto add = [&](const char* what, const MethodMetrics* m) {
+    if (m == nullptr) return;
+    how += (how.empty() ? "" : "; ") + std::string(what) + " " + m->key +
+           ": base-parameter error " + g3(m->base_param_error) + ", 7-parameter error " +
+           g3(m->param_error);
+  };
+  add("least squares", best({Method::kOls, Method::kWls, Method::kPc}));
+  add("best search", best({Method::kNlo, Method::kGa, Method::kHybrid}));
+  add("best refinement", best({Method::kNloRefined, Method::kGaRefined, Method::kHybridRefined}));
+  lines.emplace_back("How well", how.empty() ? "no method finished (interrupted)" : how + ".");
+  const NullSpaces& ns = result.null_spaces;
+  lines.emplace_back("Not determined",
+                     std::to_string(ns.regressor_null) + " of the " + std::to_string(ns.standard) +
+                         " standard parameter directions are invisible to the torques, and the "
+                         "GC error is blind to the same ones: no method can find the paper's 7 "
+                         "parameters of every link, only the base parameters.");
+  lines.emplace_back("Next",
+                     "the same comparison on your own log: dynid study --robot R --data "
+                     "train.csv --validate test.csv (docs/SEARCH.md); the details follow.");
+  return lines;
+}
+
+std::string verdictMarkdown(const std::vector<std::pair<std::string, std::string>>& lines) {
+  std::string out = "> **Verdict**\n>\n";
+  for (const auto& [label, text] : lines) out += "> - **" + label + ":** " + text + "\n";
+  return out + "\n";
+}
+
+std::string verdictHtml(const std::vector<std::pair<std::string, std::string>>& lines) {
+  std::string out = "<section class=\"verdict\" id=\"verdict\">\n<h2>Verdict</h2>\n<dl>\n";
+  for (const auto& [label, text] : lines)
+    out += "<dt>" + escapeXml(label) + "</dt><dd>" + escapeXml(text) + "</dd>\n";
+  return out + "</dl>\n</section>\n";
+}
+
 /// What the null spaces say, in sentences computed from them.
 std::vector<std::string> nullSpaceSentences(const DemoResult& result) {
   const NullSpaces& ns = result.null_spaces;
@@ -217,6 +271,7 @@ std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& fi
   std::ostringstream out;
   out << "# dynid demo: " << s.robot << "\n\n";
   if (result.interrupted) out << "**Interrupted**: the table has the stages that finished.\n\n";
+  out << verdictMarkdown(demoVerdict(result));
   out << "Noise-free simulated data: " << s.train_seconds << " s of training data (the default "
       << "sinusoidal controller) and " << s.test_seconds
       << " s held out on another control path, sampled at 1 kHz. The initial guess perturbs "
@@ -235,11 +290,13 @@ std::string demoMarkdown(const DemoResult& result, const std::vector<Figure>& fi
     for (const std::string& name : id.unidentifiable) out << " " << name;
     out << ".\n\n";
   }
+  out << "<details><summary>The " << id.base_names.size()
+      << " base parameters (click to show)</summary>\n\n";
   out << "| base parameter | combination of standard parameters | %σ (OLS) |\n|---|---|---|\n";
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
     out << "| " << id.base_names[j] << " | " << id.base_expressions[j] << " | "
         << (j < id.ols_relative_std_dev.size() ? g3(id.ols_relative_std_dev[j]) : "n/a") << " |\n";
-  out << "\n%σ: the OLS estimate's standard deviation relative to its value, in %.\n";
+  out << "\n%σ: the OLS estimate's standard deviation relative to its value, in %.\n\n</details>\n";
   for (const std::string& line : nullSpaceSentences(result)) out << "\n" << line << "\n";
   out << "\n## Comparison\n\n| method |";
   for (const Column& c : kColumns) out << " " << c.header << " |";
@@ -276,6 +333,7 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
   out << htmlHead("dynid demo: " + s.robot);
   if (result.interrupted)
     out << "<p><strong>Interrupted</strong>: the table has the stages that finished.</p>\n";
+  out << verdictHtml(demoVerdict(result));
   out << "<p>Noise-free simulated data: " << s.train_seconds << " s training, " << s.test_seconds
       << " s held out; initial guess perturbed by up to " << 100.0 * s.perturb << " % (seed "
       << s.seed << "); " << s.segments << " GC segments of " << s.horizon << " s; searches "
@@ -283,6 +341,8 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
   out << "<h2>Identifiability</h2>\n<p>" << id.num_base << " of " << id.num_standard
       << " standard parameters are identifiable as base parameters; condition number "
       << g3(id.condition_number) << ".</p>\n";
+  out << "<details><summary>The " << id.base_names.size()
+      << " base parameters (click to show)</summary>\n";
   out << "<table id=\"base\"><tr><th>base parameter</th><th>combination</th><th>%&sigma; "
          "(OLS)</th></tr>\n";
   for (std::size_t j = 0; j < id.base_names.size(); ++j)
@@ -291,7 +351,7 @@ std::string demoHtml(const DemoResult& result, const std::vector<Figure>& figure
         << (j < id.ols_relative_std_dev.size() ? g3(id.ols_relative_std_dev[j]) : "n/a")
         << "</td></tr>\n";
   out << "<caption>%&sigma;: the OLS estimate's standard deviation relative to its value.</caption>"
-         "</table>\n";
+         "</table>\n</details>\n";
   for (const std::string& line : nullSpaceSentences(result))
     out << "<p>" << escapeXml(line) << "</p>\n";
   out << "\n<h2>Comparison</h2>\n<table id=\"comparison\">\n<tr><th>method</th>";

@@ -6,6 +6,14 @@
 
 namespace dynid {
 
+void Document::verdict(const std::vector<std::pair<std::string, std::string>>& lines) {
+  std::vector<std::string> text;
+  for (const auto& [label, line] : lines) {
+    text.push_back(label);
+    text.push_back(line);
+  }
+  blocks_.insert(blocks_.begin(), {Kind::kVerdict, text, {}, -1});
+}
 void Document::heading(const std::string& text) {
   blocks_.push_back({Kind::kHeading, {text}, {}, -1});
 }
@@ -35,6 +43,12 @@ std::string markdownCell(const std::string& text) {
   }
   return out;
 }
+/// What a folded table shows before it is opened: its caption's first sentence and its size.
+std::string tableSummary(const DocumentTable& table) {
+  std::string caption = table.caption.substr(0, table.caption.find(". "));
+  if (caption.empty()) caption = "Table";
+  return caption + " (" + std::to_string(table.rows.size()) + " rows; click to show)";
+}
 }  // namespace
 
 std::string Document::markdown() const {
@@ -43,6 +57,11 @@ std::string Document::markdown() const {
   for (const Block& b : blocks_) {
     out << "\n";
     switch (b.kind) {
+      case Kind::kVerdict:
+        out << "> **Verdict**\n>\n";
+        for (std::size_t k = 0; k + 1 < b.text.size(); k += 2)
+          out << "> - **" << b.text[k] << ":** " << b.text[k + 1] << "\n";
+        break;
       case Kind::kHeading:
         out << "## " << b.text[0] << "\n";
         break;
@@ -53,6 +72,9 @@ std::string Document::markdown() const {
         for (const std::string& item : b.text) out << "- " << item << "\n";
         break;
       case Kind::kTable: {
+        const bool folded = b.table.rows.size() > kFoldRows;
+        if (folded)
+          out << "<details><summary>" << escapeXml(tableSummary(b.table)) << "</summary>\n\n";
         out << "|";
         for (const std::string& h : b.table.header) out << " " << markdownCell(h) << " |";
         out << "\n|";
@@ -64,6 +86,7 @@ std::string Document::markdown() const {
           out << "\n";
         }
         if (!b.table.caption.empty()) out << "\n" << b.table.caption << "\n";
+        if (folded) out << "\n</details>\n";
         break;
       }
       case Kind::kFigure:
@@ -86,7 +109,11 @@ std::string htmlHead(const std::string& title) {
          "1em}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:"
          "0.2em 0.6em;text-align:right}td:first-child,th:first-child{text-align:left}"
          "caption{caption-side:bottom;text-align:left;font-size:0.9em;padding-top:0.4em}"
-         "figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}</style>\n</head>\n"
+         "figure{margin:1.5em 0}figure svg{max-width:100%;height:auto}"
+         ".verdict{border:2px solid #2a6;border-radius:6px;background:#f3fbf6;padding:0.2em 1em;"
+         "margin:1em 0}.verdict h2{margin:0.4em 0}.verdict dt{font-weight:bold;float:left;"
+         "clear:left;width:9em}.verdict dd{margin:0 0 0.4em 9.5em}"
+         "summary{cursor:pointer;margin:0.6em 0}</style>\n</head>\n"
          "<body>\n<h1>" +
          escapeXml(title) + "</h1>\n";
 }
@@ -105,6 +132,13 @@ std::string Document::html() const {
   out << htmlHead(title_);
   for (const Block& b : blocks_) {
     switch (b.kind) {
+      case Kind::kVerdict:
+        out << "<section class=\"verdict\" id=\"verdict\">\n<h2>Verdict</h2>\n<dl>\n";
+        for (std::size_t k = 0; k + 1 < b.text.size(); k += 2)
+          out << "<dt>" << escapeXml(b.text[k]) << "</dt><dd>" << escapeXml(b.text[k + 1])
+              << "</dd>\n";
+        out << "</dl>\n</section>\n";
+        break;
       case Kind::kHeading:
         out << "<h2>" << escapeXml(b.text[0]) << "</h2>\n";
         break;
@@ -117,6 +151,8 @@ std::string Document::html() const {
         out << "</ul>\n";
         break;
       case Kind::kTable:
+        if (b.table.rows.size() > kFoldRows)
+          out << "<details><summary>" << escapeXml(tableSummary(b.table)) << "</summary>\n";
         out << "<table>\n<tr>";
         for (const std::string& h : b.table.header) out << "<th>" << escapeXml(h) << "</th>";
         out << "</tr>\n";
@@ -128,6 +164,7 @@ std::string Document::html() const {
         if (!b.table.caption.empty())
           out << "<caption>" << escapeXml(b.table.caption) << "</caption>\n";
         out << "</table>\n";
+        if (b.table.rows.size() > kFoldRows) out << "</details>\n";
         break;
       case Kind::kFigure:
         out << htmlFigure(figures_[static_cast<std::size_t>(b.figure)], b.figure + 1);

@@ -19,10 +19,16 @@ struct DocumentTable {
 class Document {
  public:
   explicit Document(std::string title) : title_(std::move(title)) {}
+  /// The verdict box, always first whatever the order of calls: (label, text) lines such as
+  /// ("Estimated", ...), ("How well", ...), ("Not determined", ...), ("Next", ...).
+  void verdict(const std::vector<std::pair<std::string, std::string>>& lines);
   void heading(const std::string& text);  // a section (level 2)
   void paragraph(const std::string& text);
   void bullets(const std::vector<std::string>& items);  // nothing for an empty list
+  /// A table; one of more than kFoldRows rows is folded (<details>: its caption and row count
+  /// shown, the rows on a click), so that it does not push what follows off the screen.
   void table(const DocumentTable& table);
+  static constexpr std::size_t kFoldRows = 12;
   void figure(const Figure& figure);  // numbered in order
   const std::vector<Figure>& figures() const { return figures_; }
 
@@ -30,10 +36,11 @@ class Document {
   std::string html() const;
 
  private:
-  enum class Kind { kHeading, kParagraph, kBullets, kTable, kFigure };
+  enum class Kind { kVerdict, kHeading, kParagraph, kBullets, kTable, kFigure };
   struct Block {
     Kind kind;
-    std::vector<std::string> text;  // heading/paragraph: one entry; bullets: the items
+    std::vector<std::string> text;  // heading/paragraph: one entry; bullets: the items;
+                                    // verdict: label, text, label, text, ...
     DocumentTable table;
     int figure = -1;  // index into figures_
   };

@@ -262,11 +262,91 @@ void unknownsSection(Document& doc, const IdentifyOutcome& o) {
   doc.bullets(items);
 }
 
+/// Where the torques came from, and what that means for the estimate: every inertial parameter
+/// scales with the torque, so with currents it is only as right as the constants.
+std::string torqueSource(const IdentifyOutcome& o) {
+  if (o.preparation.present && o.preparation.record &&
+      !o.preparation.record->torque_constants.empty()) {
+    const PrepareRecord& p = *o.preparation.record;
+    std::string constants;
+    for (std::size_t j = 0; j < p.torque_constants.size(); ++j)
+      constants += (j == 0 ? "" : ", ") + formatNumber(p.torque_constants[j], 4) + " x " +
+                   formatNumber(j < p.gear_ratios.size() ? p.gear_ratios[j] : 1.0, 4);
+    return "motor current x torque constant [N m/A] x gear ratio, per joint: " + constants +
+           " (dynid prepare). Every inertial and friction parameter scales with these constants: "
+           "a constant 5 % off makes that joint's share 5 % off.";
+  }
+  if (o.preparation.present)
+    return "the log's torque columns as recorded (dynid prepare converted no currents): a joint "
+           "torque sensor or the controller's own torque estimate.";
+  return "the dataset's tau columns as given. If they were computed from motor currents, every "
+         "parameter is only as right as the torque constants used.";
+}
+
+/// The verdict box: what was estimated, how well, what is not determined, what to do next.
+std::vector<std::pair<std::string, std::string>> identificationVerdict(const Model& model,
+                                                                       const IdentifyOutcome& o) {
+  const BaseParameters& base = o.base;
+  const BaseEstimate& e = o.result.estimate;
+  const auto percent = [](double x) { return formatNumber(100.0 * x, 3, "n/a") + " %"; };
+  std::vector<std::string> uncertain;
+  for (int j = 0; j < base.numBase(); ++j)
+    if (!(e.relative_std_dev_percent[j] <= 10.0)) uncertain.push_back(base.baseName(j));
+  std::vector<std::pair<std::string, std::string>> lines;
+  lines.emplace_back("Estimated", std::to_string(base.numBase()) + " base parameters of " +
+                                      model.name + " by " + methodDescription(o.method) + " from " +
+                                      std::to_string(e.num_samples) + " samples of " + o.data_file +
+                                      ".");
+  std::string how = "relative torque error " + percent(e.relative_error) + " on the training data";
+  how += o.validation
+             ? ", " + percent(o.validation->relative_error) + " held out (" + o.validate_file + ")"
+             : "; not checked on held-out data";
+  how += "; " + std::to_string(base.numBase() - static_cast<int>(uncertain.size())) + " of " +
+         std::to_string(base.numBase()) + " base parameters within 10 % (%σ).";
+  if (o.result.pc || !o.violations.empty())
+    how += o.violations.empty() ? " Every link is physically consistent."
+                                : " " + std::to_string(o.violations.size()) +
+                                      " physical-consistency violations in the standard estimate.";
+  lines.emplace_back("How well", how);
+  std::string unknown = std::to_string(base.numStandard() - base.numBase()) +
+                        " directions of the " + std::to_string(base.numStandard()) +
+                        " standard parameters are invisible to torque data (taken from the " +
+                        (o.result.pc ? "prior" : "model") + ")";
+  if (!uncertain.empty()) {
+    std::vector<std::string> shown(uncertain.begin(),
+                                   uncertain.begin() + std::min<std::size_t>(uncertain.size(), 6));
+    unknown += "; " + std::to_string(uncertain.size()) +
+               " base parameters are poorly determined (%σ above 10 %): " + nameList(shown) +
+               (uncertain.size() > shown.size()
+                    ? " and " + std::to_string(uncertain.size() - shown.size()) + " more"
+                    : "");
+  }
+  lines.emplace_back("Not determined", unknown + ".");
+  lines.emplace_back("Torque source", torqueSource(o));
+  std::vector<std::string> next;
+  if (const std::string warning = solverWarning(o); !warning.empty()) next.push_back(warning);
+  if (!o.validation)
+    next.push_back(
+        "check it on other data: dynid predict --estimate estimate.json --data "
+        "test.csv");
+  if (!o.result.pc && !o.violations.empty())
+    next.push_back("--method pc for an estimate every link of which is a physical body");
+  if (!uncertain.empty())
+    next.push_back("a motion designed by dynid excite would determine the poorly determined ones");
+  if (next.empty())
+    next.push_back("use it: --write-urdf (for a URDF robot), dynid predict, dynid monitor");
+  std::string joined;
+  for (const std::string& n : next) joined += (joined.empty() ? "" : "; ") + n;
+  lines.emplace_back("Next", joined + ".");
+  return lines;
+}
+
 }  // namespace
 
 Document identificationDocument(const Model& model, const IdentifyOutcome& o,
                                 std::vector<std::string>* missing_figures) {
   Document doc("dynid identify: " + model.name + " (" + methodName(o.method) + ")");
+  doc.verdict(identificationVerdict(model, o));
   doc.paragraph(std::string(methodDescription(o.method)) + ": " + std::to_string(o.base.numBase()) +
                 " base parameters from " + std::to_string(o.result.estimate.num_samples) +
                 " samples of " + o.data_file +

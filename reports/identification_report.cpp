@@ -255,8 +255,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   if (const auto& v = outcome.validation)
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
-                            {"torque_rms", numbersOrNull(v->torque_rms)},
-                            {"normalised_rms", numbersOrNull(v->normalised_rms)},
+                            {"residual_rms", numbersOrNull(v->torque_rms)},
+                            {"joint_relative_error", numbersOrNull(v->normalised_rms)},
                             {"relative_error", numberOrNull(v->relative_error)}};
   if (const auto& raw = outcome.raw_validation)
     report["validation"]["raw_measurement"] =

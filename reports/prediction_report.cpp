@@ -21,8 +21,8 @@ nlohmann::json rawValidationJson(const Validation& raw, const std::string& file,
   return {{"file", file},
           {"samples", raw.num_samples},
           {"not_bracketed", skipped},
-          {"torque_rms", numbersOrNull(raw.torque_rms)},
-          {"normalised_rms", numbersOrNull(raw.normalised_rms)},
+          {"residual_rms", numbersOrNull(raw.torque_rms)},
+          {"joint_relative_error", numbersOrNull(raw.normalised_rms)},
           {"relative_error", numberOrNull(raw.relative_error)},
           {"meaning",
            "the measured torque as logged (unfiltered, at the log's own stamps) against the "
@@ -56,7 +56,7 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
       {"data", {{"file", data_file}, {"samples", v.num_samples}}},
       {"relative_error", numberOrNull(v.relative_error)},
       {"joint_relative_error", numbersOrNull(v.normalised_rms)},
-      {"torque_rms", numbersOrNull(v.torque_rms)}};
+      {"residual_rms", numbersOrNull(v.torque_rms)}};
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
   if (o.prediction.band_coverage.size() > 0)
     out["band"] = {

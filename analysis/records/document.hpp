@@ -28,7 +28,8 @@ inline constexpr DocumentType kRefineDocument{"dynid.refine", 1};
 inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
 inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
-inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 1};
+// 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 2};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json

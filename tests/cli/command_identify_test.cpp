@@ -50,9 +50,9 @@ TEST(Cli, IdentifyFromSimulatedData) {
   const auto& p = j["base_parameters"][0];
   for (const char* key : {"name", "expression", "estimate", "std_dev", "relative_std_dev_percent"})
     EXPECT_TRUE(p.contains(key)) << key;
-  ASSERT_EQ(j["validation"]["torque_rms"].size(), 6u);
+  ASSERT_EQ(j["validation"]["residual_rms"].size(), 6u);
   // 0.01 N m torque noise: the held-out prediction error stays of that order.
-  for (const auto& rms : j["validation"]["torque_rms"]) EXPECT_LT(rms.get<double>(), 0.05);
+  for (const auto& rms : j["validation"]["residual_rms"]) EXPECT_LT(rms.get<double>(), 0.05);
   EXPECT_TRUE(
       contains(readFile(dir + "/report.md"), "| joint | measured RMS [N m] | residual RMS"));
   EXPECT_TRUE(contains(readFile(dir + "/report.html"), "<figure id=\"torques_validate\">"));

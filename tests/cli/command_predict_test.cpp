@@ -35,9 +35,9 @@ TEST(Cli, PredictReproducesTheEstimatesResidualsAndRefusesAnotherRobot) {
   EXPECT_EQ(p["robot_spec"], "puma560");
   // The estimate on its own training data: its residuals again, to round-off (RNEA against the
   // regressor times the base parameters, on torques of order 10 N m).
-  ASSERT_EQ(p["torque_rms"].size(), 6u);
+  ASSERT_EQ(p["residual_rms"].size(), 6u);
   for (int j = 0; j < 6; ++j)
-    EXPECT_NEAR(p["torque_rms"][j].get<double>(), e["residual_rms"][j].get<double>(),
+    EXPECT_NEAR(p["residual_rms"][j].get<double>(), e["residual_rms"][j].get<double>(),
                 1e-9 * e["residual_rms"][j].get<double>())
         << "joint " << j + 1;
   EXPECT_NEAR(p["relative_error"].get<double>(), e["relative_error"].get<double>(), 1e-9);
@@ -160,6 +160,18 @@ TEST(Cli, PredictWithARobotModelItselfAndWithTheUrdfIdentifyWrote) {
   // prediction uses the same parameters in memory.
   EXPECT_NEAR(w["relative_error"].get<double>(), e["relative_error"].get<double>(),
               1e-6 * e["relative_error"].get<double>() + 1e-12);
+  // One naming of the per-joint errors in every document: estimate.json's fit and held-out
+  // validation, prediction.json.
+  ASSERT_EQ(run("identify --method pc --robot " + urdf + " --data " + train + " --validate " +
+                train + " --out " + dir + "/validated")
+                .code,
+            0);
+  const auto v = nlohmann::json::parse(readFile(dir + "/validated/estimate.json"));
+  for (const char* key : {"residual_rms", "joint_relative_error", "relative_error"}) {
+    EXPECT_TRUE(v.contains(key)) << key;
+    EXPECT_TRUE(v["validation"].contains(key)) << key;
+    EXPECT_TRUE(w.contains(key)) << key;
+  }
   // Usage: neither, and drive options beside an estimate.
   EXPECT_EQ(run("predict --data " + train + " --out " + dir + "/x").code, 2);
   EXPECT_EQ(run("predict --estimate " + dir + "/est/estimate.json --drives --data " + train +

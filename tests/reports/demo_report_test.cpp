@@ -50,6 +50,11 @@ TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
   EXPECT_NE(md.find("nlo cuts the training GC error 50x"), std::string::npos) << md;
   const std::string html = demoHtml(r);
   EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
+  // The verdict box opens both, before the (folded) base-parameter table and the comparison.
+  EXPECT_LT(md.find("> **Verdict**"), md.find("## Identifiability"));
+  EXPECT_NE(md.find("> - **Not determined:** "), std::string::npos) << md;
+  EXPECT_LT(html.find("<section class=\"verdict\""), html.find("<h2>Identifiability</h2>"));
+  EXPECT_LT(html.find("<details><summary>"), html.find("<table id=\"base\">"));
   EXPECT_NE(html.find("<tr><td>ols</td><td>5</td><td>1e-23</td>"), std::string::npos);
   EXPECT_EQ(html.find("http"), std::string::npos);
   const std::string table = demoTable(r);

@@ -50,5 +50,23 @@ TEST(Document, HtmlIsSelfContainedAndEscaped) {
   EXPECT_EQ(doc.figures().size(), 2u);
 }
 
+TEST(Document, TheVerdictComesFirstAndLongTablesFold) {
+  Document doc = sample();
+  DocumentTable big{{"k", "v"}, {}, "Forty rows. More words"};
+  for (int k = 0; k < 40; ++k) big.rows.push_back({std::to_string(k), "x"});
+  doc.table(big);
+  doc.verdict({{"Estimated", "36 <base> parameters"}, {"Next", "predict"}});  // called last
+  const std::string md = doc.markdown(), html = doc.html();
+  // Right after the title, before the first section, whatever the order of calls.
+  EXPECT_LT(md.find("> **Verdict**"), md.find("## Torque & fit")) << md;
+  EXPECT_TRUE(contains(md, "> - **Estimated:** 36 <base> parameters\n> - **Next:** predict\n"));
+  EXPECT_LT(html.find("<section class=\"verdict\""), html.find("<h2>Torque &amp; fit</h2>"));
+  EXPECT_TRUE(contains(html, "<dt>Estimated</dt><dd>36 &lt;base&gt; parameters</dd>"));
+  // The 40-row table folds, with its caption's first sentence and size; the 2-row one does not.
+  EXPECT_TRUE(contains(html, "<details><summary>Forty rows (40 rows; click to show)</summary>"));
+  EXPECT_TRUE(contains(md, "<details><summary>Forty rows (40 rows; click to show)</summary>\n\n|"));
+  EXPECT_EQ(html.find("<details>"), html.rfind("<details>"));
+}
+
 }  // namespace
 }  // namespace dynid

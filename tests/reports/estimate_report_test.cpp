@@ -68,6 +68,15 @@ TEST(EstimateReport, ShowsTheFitTheBaseParametersTheVerdictsAndTheUnknowns) {
   std::vector<std::string> missing;
   const Document doc = identificationDocument(r.model, o, &missing);
   const std::string md = doc.markdown();
+  // The verdict first: what, how well (training and held out), what not, the torque source (a
+  // prepared log without currents: as recorded), what next (--method pc for the inconsistent
+  // link).
+  EXPECT_EQ(md.find("> **Verdict**"), md.find("\n") + 2) << md;
+  EXPECT_TRUE(contains(md, "> - **How well:** relative torque error ")) << md;
+  EXPECT_TRUE(contains(md, " held out (")) << md;
+  EXPECT_TRUE(contains(md, "> - **Torque source:** the log's torque columns as recorded")) << md;
+  EXPECT_TRUE(contains(md, "--method pc for an estimate every link of which is a physical body"))
+      << md;
   // The torque table: every joint, training and held-out columns.
   EXPECT_TRUE(contains(md,
                        "| joint | measured RMS [N m] | residual RMS [N m] | relative error | "
