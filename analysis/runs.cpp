@@ -133,15 +133,25 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
     reference = randomFourier(q0, request.amplitude, request.base_frequency, request.harmonics,
                               request.simulation.seed);
   }
+  SimulateOutcome out;
   TrackingGains gains = defaultGains(controller_model, q0, request.bandwidth);
+  out.gains_rule = "mass-matrix diagonal";
+  // The paper's diagonal gains, unless the joints' coupling puts a closed-loop mode above 3 times
+  // the bandwidth (the Panda's aligned axes at rest: its 1 kHz loop then chatters between the
+  // torque limits); the effective inertias' gains keep every mode within sqrt(n) times it.
+  if (!request.kp && !request.kd &&
+      closedLoopFrequency(controller_model, q0, gains.kp) > 3.0 * request.bandwidth) {
+    gains = effectiveInertiaGains(controller_model, q0, request.bandwidth);
+    out.gains_rule = "effective inertia";
+  }
   if (request.kp) gains.kp = *request.kp;
   if (request.kd) gains.kd = *request.kd;
+  if (request.kp || request.kd) out.gains_rule = "given";
   Eigen::VectorXd tau_max(n);
   for (int i = 0; i < n; ++i) tau_max[i] = truth.limits[i].effort;
   if (request.tau_max) tau_max = *request.tau_max;
 
   TrackingController controller(controller_model, reference, gains, tau_max);
-  SimulateOutcome out;
   out.trajectory = simulate(truth, controller, request.simulation, request.disturbances,
                             request.disturbances.empty() ? nullptr : &out.external);
   // Tracking error RMS and peak torque.
@@ -154,6 +164,19 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   }
   out.tracking_rms = std::sqrt(squared_error / (static_cast<double>(t.numSamples()) * n));
   out.peak_torque = t.tau.cwiseAbs().maxCoeff();
+  int saturated = 0;
+  for (int k = 0; k < t.numSamples(); ++k) {
+    if (k > 0)
+      out.max_torque_step =
+          std::max(out.max_torque_step, (t.tau.col(k) - t.tau.col(k - 1)).cwiseAbs().maxCoeff());
+    // At the limit to within 1e-9 relative: the controller's saturation writes the limit itself.
+    bool at_limit = false;
+    for (int i = 0; i < n; ++i)
+      at_limit = at_limit ||
+                 (std::isfinite(tau_max[i]) && std::abs(t.tau(i, k)) >= tau_max[i] * (1.0 - 1e-9));
+    saturated += at_limit;
+  }
+  out.saturated_share = t.numSamples() > 0 ? static_cast<double>(saturated) / t.numSamples() : 0.0;
   return out;
 }
 

@@ -83,6 +83,13 @@ struct SimulateOutcome {
   Trajectory trajectory;
   double tracking_rms = 0.0;  // RMS of q - q_desired over samples and joints [rad]
   double peak_torque = 0.0;   // max |tau| [N m]
+  /// The largest torque change between two recorded samples, over joints [N m], and the share of
+  /// samples at which some joint's torque is at its limit.
+  double max_torque_step = 0.0, saturated_share = 0.0;
+  /// The default gains' rule: "mass-matrix diagonal" (the paper's, kp_i = M_ii w^2) or
+  /// "effective inertia" (1 / (M^-1)_ii, when the diagonal's would put a closed-loop mode above
+  /// 3 times the bandwidth); "given" with --kp or --kd.
+  std::string gains_rule;
   /// With disturbances: the external joint torque at every sample (n x samples) [N m].
   Eigen::MatrixXd external;
 };

@@ -1,7 +1,11 @@
 #include "core/controllers.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "core/checks.hpp"
 #include "core/crba.hpp"
@@ -79,6 +83,28 @@ TrackingGains defaultGains(const Model& model, const Eigen::VectorXd& q, double 
   const Eigen::VectorXd diag = crba(model, data, q).diagonal();
   const double w = kTwoPi * bandwidth_hz;
   return {diag * (w * w), diag * (2.0 * damping * w)};
+}
+
+double closedLoopFrequency(const Model& model, const Eigen::VectorXd& q,
+                           const Eigen::VectorXd& kp) {
+  Data data(model);
+  const Eigen::MatrixXd M = crba(model, data, q);
+  // M^-1 Kp is similar to Kp^1/2 M^-1 Kp^1/2 (symmetric): its eigenvalues are real and >= 0.
+  const Eigen::VectorXd root = kp.cwiseMax(0.0).cwiseSqrt();
+  const Eigen::MatrixXd S = root.asDiagonal() * M.llt().solve(Eigen::MatrixXd(root.asDiagonal()));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (S + S.transpose()),
+                                                             Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(eigen.eigenvalues().maxCoeff(), 0.0)) / kTwoPi;
+}
+
+TrackingGains effectiveInertiaGains(const Model& model, const Eigen::VectorXd& q,
+                                    double bandwidth_hz, double damping) {
+  Data data(model);
+  const Eigen::MatrixXd M = crba(model, data, q);
+  const Eigen::VectorXd effective =
+      M.llt().solve(Eigen::MatrixXd::Identity(M.rows(), M.cols())).diagonal().cwiseInverse();
+  const double w = kTwoPi * bandwidth_hz;
+  return {effective * (w * w), effective * (2.0 * damping * w)};
 }
 
 TrackingController::TrackingController(const Model& model, Reference reference, TrackingGains gains,

@@ -154,6 +154,19 @@ std::string simulateSummary(const Model& model, const SimulateOutcome& o, const 
           "peak |tau| %.4g N m\n",
           file.c_str(), model.name.c_str(), t.numSamples(), model.numJoints(),
           t.time[t.numSamples() - 1], o.tracking_rms, o.peak_torque);
+  if (o.gains_rule == "effective inertia")
+    out +=
+        "note: default gains from the joints' effective inertias 1/(M^-1)_ii: the mass-matrix "
+        "diagonal's would put a closed-loop mode above 3x --bandwidth (strongly coupled "
+        "joints), and the controller would chatter\n";
+  // A tracking controller's torque changes little in one sample; a jump of a tenth of the peak
+  // torque, or torque at the limit on more than 1 % of the samples, is chatter or saturation.
+  if (o.max_torque_step > 0.1 * o.peak_torque || o.saturated_share > 0.01)
+    appendf(out,
+            "warning: the torque jumps by up to %.4g N m between samples and is at its limit on "
+            "%.3g %% of them: the data will not look like a robot's; lower --bandwidth or give "
+            "--kp/--kd\n",
+            o.max_torque_step, 100.0 * o.saturated_share);
   return out;
 }
 

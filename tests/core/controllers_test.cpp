@@ -4,6 +4,7 @@
 
 #include "core/errors.hpp"
 #include "core/rnea.hpp"
+#include "data/panda.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -80,6 +81,25 @@ TEST(Controllers, SaturatesAndTracksWithPdGains) {
   const TrackingGains g = defaultGains(model, r.q0, 5.0, 1.0);
   EXPECT_GT(g.kp.minCoeff(), 0.0);
   EXPECT_NEAR(g.kd[0] / g.kp[0], 2.0 / (2 * M_PI * 5.0), 1e-12);
+}
+
+TEST(Controllers, EffectiveInertiaGainsBoundEveryClosedLoopModeWhereTheDiagonalsDoNot) {
+  // The Panda at simulate's default centre: strongly coupled axes, so the mass-matrix diagonal's
+  // gains put a closed-loop mode above 3 times the bandwidth (the chatter of a 1 kHz loop); the
+  // effective inertias' gains keep every mode within sqrt(n) times it (max eig <= trace).
+  const Model panda = makePanda(true);
+  const Eigen::VectorXd rest = defaultCentre(panda);
+  const double bandwidth = 5.0;
+  EXPECT_GT(closedLoopFrequency(panda, rest, defaultGains(panda, rest, bandwidth).kp),
+            3.0 * bandwidth);
+  const TrackingGains effective = effectiveInertiaGains(panda, rest, bandwidth);
+  const double highest = closedLoopFrequency(panda, rest, effective.kp);
+  EXPECT_LE(highest, std::sqrt(7.0) * bandwidth * (1.0 + 1e-12));  // the trace bound, round-off
+  EXPECT_GE(highest, bandwidth * (1.0 - 1e-12));  // the largest eigenvalue is at least the mean
+  // The PUMA keeps the paper's diagonal gains: their modes stay within 3 times the bandwidth.
+  const Model puma = makePuma560(true);
+  const Eigen::VectorXd q0 = defaultCentre(puma);
+  EXPECT_LE(closedLoopFrequency(puma, q0, defaultGains(puma, q0, bandwidth).kp), 3.0 * bandwidth);
 }
 
 }  // namespace
