@@ -101,8 +101,7 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
 EstimateResult identify(const Model& model, const py::handle& data, const std::string& method,
                         const py::handle& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
-                        int threads, const std::string& robot_spec,
-                        const py::handle& validate_raw) {
+                        int threads, const py::handle& robot_spec, const py::handle& validate_raw) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -113,7 +112,7 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
   request.prior_weight = prior_weight;
   request.structural = structural(samples, seed, tolerance);
   request.threads = threads;
-  request.robot_spec = robot_spec;
+  request.robot_spec = pathArg(robot_spec, "robot_spec");
   const DataArg train = dataArg(data, "data", model);
   request.data_file = train.path;
   request.data = train.arrays;
@@ -550,15 +549,15 @@ py::object parsedJson(const nlohmann::json& document) {
   return py::module_::import("json").attr("loads")(document.dump());
 }
 
-py::object monitor(const std::string& arm, const py::handle& data, const py::handle& calibration,
+py::object monitor(const py::handle& arm_arg, const py::handle& data, const py::handle& calibration,
                    const py::handle& thresholds, const std::string& residual,
                    const py::handle& gain, double false_alarms_per_hour, double hold,
-                   double max_gap, const py::handle& truth, const std::string& robot_spec,
+                   double max_gap, const py::handle& truth, const py::handle& robot_spec,
                    int threads) {
   checkThreads(threads);
   MonitorRequest request;
-  request.arm = arm;
-  request.robot_spec = robot_spec;
+  request.arm = pathArg(arm_arg, "arm");
+  request.robot_spec = pathArg(robot_spec, "robot_spec");
   request.data_file = pathArg(data, "data");
   if (request.data_file == "-") throw py::value_error("data: a file (stdin is the CLI's)");
   if (!calibration.is_none()) request.calibration_file = pathArg(calibration, "calibration");
@@ -585,8 +584,8 @@ py::object monitor(const std::string& arm, const py::handle& data, const py::han
   return parsedJson(monitorJson(out));
 }
 
-py::object audit(const py::handle& estimates, const py::handle& data, const std::string& robot,
-                 const std::string& drive_terms, const std::string& method, double level,
+py::object audit(const py::handle& estimates, const py::handle& data, const py::handle& robot,
+                 const py::handle& drive_terms, const std::string& method, double level,
                  int threads) {
   checkThreads(threads);
   AuditRequest request;
@@ -594,8 +593,10 @@ py::object audit(const py::handle& estimates, const py::handle& data, const std:
     for (const py::handle& e : estimates) request.estimate_files.push_back(pathArg(e, "estimates"));
   if (!data.is_none())
     for (const py::handle& d : data) request.data_files.push_back(pathArg(d, "data"));
-  request.robot = robot;
-  if (!drive_terms.empty()) request.drive_terms = parseDriveTerms(drive_terms);
+  request.robot = pathArg(robot, "robot");
+  if (!drive_terms.is_none() &&
+      !(py::isinstance<py::str>(drive_terms) && drive_terms.cast<std::string>().empty()))
+    request.drive_terms = driveTermsArg(drive_terms, "drive_terms");
   request.method = parseMethod(method, {Method::kOls, Method::kWls, Method::kPc});
   request.level = level;
   request.threads = threads;

@@ -78,6 +78,22 @@ std::string pathArg(const py::handle& value, const char* name) {
   throw py::type_error(std::string(name) + ": expected a path (str or os.PathLike)");
 }
 
+DriveTerms driveTermsArg(const py::handle& value, const char* name) {
+  if (py::isinstance<py::str>(value)) return parseDriveTerms(value.cast<std::string>());
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    std::string joined;
+    for (const py::handle& item : value) {
+      if (!py::isinstance<py::str>(item))
+        throw py::type_error(std::string(name) + ": expected names such as 'fv', not " +
+                             std::string(py::repr(item)));
+      joined += (joined.empty() ? "" : ",") + item.cast<std::string>();
+    }
+    return parseDriveTerms(joined.empty() ? "none" : joined);
+  }
+  throw py::type_error(std::string(name) +
+                       ": expected 'fv,fc,fo' or a list of names such as ['fv', 'fc', 'fo']");
+}
+
 void checkThreads(int threads) { checkOption("", "threads", threads, "threads"); }
 
 DataArg dataArg(const py::handle& value, const char* name, const Model& model) {
@@ -144,12 +160,12 @@ py::list violationsList(const Model& model) {
   return out;
 }
 
-Model loadModel(const std::string& spec, bool drives, const std::optional<std::string>& terms,
-                bool strict) {
+Model loadModel(const py::handle& spec_arg, bool drives, const py::handle& terms, bool strict) {
+  const std::string spec = pathArg(spec_arg, "spec");  // a built-in name, or a path
   RobotOptions options;
   options.drives = drives;
   options.strict = strict;
-  if (terms) options.drive_terms = parseDriveTerms(*terms);
+  if (!terms.is_none()) options.drive_terms = driveTermsArg(terms, "drive_terms");
   std::vector<std::string> warnings;
   Model model;
   {
@@ -309,8 +325,9 @@ void bindLoadingAndDatasets(py::module_& m) {
   m.def("load_model", &loadModel, py::arg("spec"), py::arg("drives") = false,
         py::arg("drive_terms") = py::none(), py::arg("strict") = false,
         "Loads a robot as `--robot` does: 'puma560', 'puma560-consistent', 'panda', a .urdf or a "
-        "dynid .json path. drives=True adds the robot's own drive terms; drive_terms='fv,fc,fo' "
-        "exactly those. URDF warnings become UserWarnings (errors with strict=True).");
+        "dynid .json path (str or os.PathLike). drives=True adds the robot's own drive terms; "
+        "drive_terms='fv,fc,fo' (or ['fv', 'fc', 'fo']) exactly those. URDF warnings become "
+        "UserWarnings (errors with strict=True).");
 
   py::class_<Trajectory>(m, "Dataset",
                          "Samples of a joint trajectory: time (N,) [s] strictly increasing; q, "

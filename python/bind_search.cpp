@@ -257,7 +257,8 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
                   const py::handle& dq_max, const py::handle& ddq_max, const py::handle& tau_max,
                   double torque_margin, const std::optional<double>& floor, double base_radius,
                   int samples, std::uint64_t seed, double tolerance, int threads,
-                  const std::string& robot_spec) {
+                  const py::handle& robot_spec_arg) {
+  const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
   const int n = robot.numJoints();
   ExciteRequest r;  // checked by exciteRun
   r.robot = robot;

@@ -47,6 +47,9 @@ DataArg dataArg(const py::handle& value, const char* name, const Model& model);
 void checkThreads(int threads);
 /// os.fspath(value) for str and os.PathLike, TypeError otherwise.
 std::string pathArg(const py::handle& value, const char* name);
+/// Drive terms as "fv,fc,fo" or a list or tuple of names (["fv", "fc"]); TypeError otherwise,
+/// ValueError (InputError) for an unknown name.
+DriveTerms driveTermsArg(const py::handle& value, const char* name);
 
 // Registration, one function per file.
 void bindModel(py::module_& m);

@@ -110,6 +110,22 @@ def test_unknown_robot_and_bad_drive_terms_raise_value_errors():
         dynid.load_model("puma560", drive_terms="fv,xx")
 
 
+def test_paths_and_drive_term_lists_are_taken_as_the_cli_takes_strings(tmp_path):
+    """load_model takes a pathlib.Path and drive_terms as a list or tuple, as well as strings."""
+    path = tmp_path / "puma.json"
+    run_cli("model", "export", "--robot", "puma560", "--format", "json", "--out", str(path))
+    from_path = dynid.load_model(path, drive_terms=["fv", "fc"])
+    from_text = dynid.load_model(str(path), drive_terms="fv,fc")
+    assert from_path.parameter_names == from_text.parameter_names
+    assert "Fv3" in from_path.parameter_names and "Ia3" not in from_path.parameter_names
+    assert dynid.load_model("puma560", drive_terms=("ia",)).parameter_names[-1] == "Ia6"
+    assert dynid.load_model("puma560", drive_terms=[]).drive_terms == []
+    with pytest.raises(TypeError):
+        dynid.load_model("puma560", drive_terms=["fv", 3])
+    with pytest.raises(TypeError):
+        dynid.load_model(3)
+
+
 def test_a_malformed_model_file_raises_a_parse_error_with_its_position(tmp_path):
     path = tmp_path / "broken.urdf"
     path.write_text("<robot name='r'><link name='a'>\n<inertial><mass value='-x'/></inertial>"
