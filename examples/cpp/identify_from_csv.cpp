@@ -3,13 +3,16 @@
 // matrix of the dataset, the estimate with its relative standard deviations, and its error
 // against the truth. `dynid identify` runs the same steps (analysis/runs.hpp, identifyRun).
 //
-//   example_identify_from_csv [DATASET.csv]
-// Without an argument it first simulates 4 s of the PUMA 560 with 0.05 N m of torque noise and
-// writes them to a temporary CSV, which it then reads like any other dataset.
+//   example_identify_from_csv [DATASET.csv [ROBOT]]
+// ROBOT is what `--robot` takes (puma560, panda, a .urdf or .json file; default puma560). Without
+// a dataset it first simulates 4 s of the PUMA 560 with 0.05 N m of torque noise and writes them
+// to a temporary CSV, which it then reads like any other dataset. A file it cannot use is reported
+// (the library's errors name the file, the row and the field) with exit code 1, never an abort.
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <string>
 
@@ -17,9 +20,11 @@
 #include "data/dataset_csv.hpp"
 #include "data/robots.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace dynid;
-  const Model robot = loadRobot("puma560");
+  const Model robot = loadRobot(argc > 2 ? argv[2] : "puma560");
   std::string csv;
   if (argc > 1) {
     csv = argv[1];
@@ -63,4 +68,15 @@ int main(int argc, char** argv) {
   for (int j = 0; j < robot.numJoints(); ++j)
     at_noise = at_noise && std::abs(estimate.residual_rms[j] - 0.05) < 0.005;
   return argc > 1 || at_noise ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "example_identify_from_csv: error: %s\n", e.what());
+    return 1;
+  }
 }
