@@ -138,7 +138,6 @@ class InterruptGuard {
 /// The exit code of a command that held `guard` and has written its outputs: kExitInterrupted,
 /// with "dynid <command>: interrupted (Ctrl-C): <written>" on standard error, when SIGINT stopped
 /// it; kExitOk otherwise.
-int exitAfter(const InterruptGuard& guard, const std::string& command,
-              const std::string& written);
+int exitAfter(const InterruptGuard& guard, const std::string& command, const std::string& written);
 
 }  // namespace dynid::cli
