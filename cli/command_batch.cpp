@@ -3,6 +3,7 @@
 #include <sys/prctl.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <iostream>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "cli/batch_workers.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "core/format.hpp"
 #include "reports/batch_report.hpp"
 #include "reports/output.hpp"
 
@@ -118,10 +120,17 @@ int runBatch(const std::vector<std::string>& args) {
             << " in this shard, " << plan.mine.size() - plan.todo.size() << " already done\n";
   const bool terminal = stderrIsTerminal();
   const InterruptGuard guard;
+  const auto started = std::chrono::steady_clock::now();
+  const auto secondsSince = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
   const BatchOutcome outcome =
       runBatchWorkers(plan, jobs, guard.flag(), [&](std::size_t done, std::size_t all) {
         if (terminal)
-          std::cerr << "\r[batch] " << done << "/" << all << " runs finished" << std::flush;
+          std::cerr << "\r[batch] " << done << "/" << all << " runs finished; "
+                    << progressText(static_cast<double>(done) / static_cast<double>(all),
+                                    secondsSince(started))
+                    << "   " << std::flush;
       });
   if (terminal) std::cerr << "\n";
   writeBatchTables(dir, outcome);

@@ -114,9 +114,13 @@ int runSearch(const std::vector<std::string>& args) {
   const InterruptGuard guard;
   request.control.stop = guard.flag();
   const bool terminal = stderrIsTerminal();
+  // The budget the search will hold (searchRun's default of 60 s when none is given).
+  SearchBudget budget = request.budget;
+  if (budget.max_evaluations == 0 && budget.max_seconds == 0 && budget.gc_tolerance <= 0)
+    budget.max_seconds = 60.0;
   if (terminal)
     request.on_iteration = [&](const SearchState& state) {
-      std::fprintf(stderr, "\r%s", searchProgressLine(request.method, state).c_str());
+      std::fprintf(stderr, "\r%s", searchProgressLine(request.method, state, budget).c_str());
     };
   const SearchOutcome outcome = searchRun(request);
   if (terminal) std::fprintf(stderr, "\n");

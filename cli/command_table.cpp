@@ -119,6 +119,13 @@ std::string optionWords(const CatalogueEntry& entry, bool valued_only) {
   return words;
 }
 
+/// "show check export": a command's subcommands, for a shell's word list.
+std::string subcommandWords(const CommandEntry& entry) {
+  std::string words;
+  for (const char* sub : entry.subcommands) words.append(words.empty() ? "" : " ").append(sub);
+  return words;
+}
+
 /// The options whose value is a robot: built-in names complete as well as files.
 const std::set<std::string>& robotOptions() {
   static const std::set<std::string> names = {"robot", "init", "truth", "prior", "controller-robot",
@@ -189,8 +196,7 @@ std::string bashCompletion(const std::vector<CatalogueEntry>& catalogue) {
       "  case $path in\n";
   for (const CommandEntry& entry : commandTable()) {
     if (entry.subcommands.empty()) continue;
-    std::string subs;
-    for (const char* sub : entry.subcommands) subs.append(subs.empty() ? "" : " ").append(sub);
+    const std::string subs = subcommandWords(entry);
     // A command that also runs without a subcommand (batch MANIFEST) completes files there too.
     const bool plain = std::string(entry.name) == "batch";
     text += "    " + std::string(entry.name) + ") subs='" + subs + "' plain=" + (plain ? "1" : "") +
@@ -253,8 +259,7 @@ std::string zshCompletion(const std::vector<CatalogueEntry>& catalogue) {
       "  case $path in\n";
   for (const CommandEntry& entry : commandTable()) {
     if (entry.subcommands.empty()) continue;
-    std::string subs;
-    for (const char* sub : entry.subcommands) subs.append(subs.empty() ? "" : " ").append(sub);
+    const std::string subs = subcommandWords(entry);
     text += "    " + std::string(entry.name) +
             ")\n"
             "      if (( CURRENT == 3 )); then _values 'subcommand' " +

@@ -42,4 +42,14 @@ bool naturalLess(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
+std::string progressText(double done_fraction, double elapsed_seconds) {
+  const double f = std::isfinite(done_fraction) ? std::clamp(done_fraction, 0.0, 1.0) : 0.0;
+  std::string text = std::to_string(static_cast<int>(std::floor(100.0 * f))) + " %";
+  if (f <= 0.0 || f >= 1.0 || !(elapsed_seconds > 0.0)) return text;
+  const long left = std::lround(elapsed_seconds * (1.0 - f) / f);
+  text += ", about ";
+  if (left >= 60) text += std::to_string(left / 60) + " min ";
+  return text + std::to_string(left % 60) + " s left";
+}
+
 }  // namespace dynid

@@ -3,6 +3,7 @@
 // gives the document the CLI writes.
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -47,9 +48,45 @@ class Interrupt {
   void warnIfStopped() const {
     if (stop_) PyErr_WarnEx(PyExc_UserWarning, "interrupted: the result is the best one so far", 1);
   }
+  /// A user's progress callback (None: none), called with a dict at every progress step; its
+  /// returning False stops the run as Ctrl-C does (the best result so far is returned).
+  void setCallback(const py::object& callback) {
+    if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
+      throw py::type_error("progress: expected a callable taking a dict, or None");
+    callback_ = callback;
+  }
+  /// Polls Ctrl-C, then calls the callback with `info` (built under the GIL). An exception in
+  /// the callback stops the run and is raised once it has returned.
+  void report(const std::function<py::dict()>& info) {
+    poll();
+    if (stop_ || callback_.is_none()) return;
+    py::gil_scoped_acquire gil;
+    try {
+      const py::object answer = callback_(info());
+      if (!answer.is_none() && !answer.cast<bool>()) {
+        stop_ = true;
+        cancelled_ = true;
+      }
+    } catch (py::error_already_set& e) {
+      stop_ = true;
+      error_ = std::make_unique<py::error_already_set>(std::move(e));
+    }
+  }
+  /// After the run, with the GIL held: raises the callback's exception, if any.
+  void raiseIfFailed() {
+    if (error_) {
+      py::error_already_set e = std::move(*error_);
+      error_.reset();
+      throw e;
+    }
+  }
+  bool cancelled() const { return cancelled_; }
 
  private:
   std::atomic<bool> stop_{false};
+  py::object callback_ = py::none();
+  bool cancelled_ = false;
+  std::unique_ptr<py::error_already_set> error_;
 };
 
 /// A per-joint option: None, one number for every joint, or n numbers.
@@ -138,7 +175,8 @@ SearchPy searchPy(const Model& robot, const py::handle& data, const std::string&
                   double horizon, int segments, bool random_segments, const std::string& integrator,
                   double step, bool normalise, int population, int elites, double migration,
                   double mutation_rate, double mutation_scale, int evals_per_seed,
-                  std::uint64_t seed, int threads, const std::string& checkpoint) {
+                  std::uint64_t seed, int threads, const std::string& checkpoint,
+                  const py::object& progress) {
   if (init && perturb) throw py::value_error("give init or perturb, not both");
   const SearchRequest d;
   if (method == "nlo" && (population != d.ga.population || elites != d.ga.elites ||
@@ -179,14 +217,38 @@ SearchPy searchPy(const Model& robot, const py::handle& data, const std::string&
   r.threads = threads;
   r.checkpoint = checkpoint;
   Interrupt interrupt;
+  interrupt.setCallback(progress);
   r.control.stop = interrupt.flag();
-  r.on_iteration = [&](const SearchState&) { interrupt.poll(); };
+  // The budget the search holds (searchRun's 60 s when none is given), for the share done.
+  SearchBudget budget = r.budget;
+  if (budget.max_evaluations == 0 && budget.max_seconds == 0 && budget.gc_tolerance <= 0)
+    budget.max_seconds = 60.0;
+  r.on_iteration = [&](const SearchState& state) {
+    interrupt.report([&] {
+      py::dict d;
+      if (state.history.empty()) return d;
+      const HistoryEntry& h = state.history.back();
+      double done = 0.0;
+      if (budget.max_seconds > 0.0) done = std::max(done, h.seconds / budget.max_seconds);
+      if (budget.max_evaluations > 0)
+        done = std::max(done, static_cast<double>(h.evaluations) / budget.max_evaluations);
+      d["stage"] = h.stage;
+      d["iteration"] = h.iteration;
+      d["best_gc"] = h.best_gc;
+      d["evaluations"] = h.evaluations;
+      d["seconds"] = h.seconds;
+      d["done"] = std::min(done, 1.0);
+      d["line"] = searchProgressLine(r.method, state, budget);
+      return d;
+    });
+  };
   SearchPy out{robot, {}};
   {
     py::gil_scoped_release release;
     out.outcome = searchRun(r);
   }
-  interrupt.warnIfStopped();
+  interrupt.raiseIfFailed();
+  if (!interrupt.cancelled()) interrupt.warnIfStopped();
   return out;
 }
 
@@ -564,11 +626,14 @@ void bindSearchRuns(py::module_& m) {
         py::arg("mutation_scale") = SearchRequest{}.ga.mutation_scale,
         py::arg("evals_per_seed") = SearchRequest{}.nlo.evaluations_per_seed,
         py::arg("seed") = SearchRequest{}.seed, py::arg("threads") = kAllThreads,
-        py::arg("checkpoint") = "",
+        py::arg("checkpoint") = "", py::arg("progress") = py::none(),
         "`dynid search`: the GC-error search 'nlo' (multistart COBYLA), 'ga' or 'hybrid' from "
         "init (a Model) or the robot perturbed by `perturb`; the same options and defaults as "
         "the CLI, and for the same seed the same result whatever the thread count. Ctrl-C stops "
-        "it with the best result so far (and a warning).");
+        "it with the best result so far (and a warning). progress: a callable given a dict "
+        "(stage, iteration, best_gc, evaluations, seconds, done: the share of the budget, line: "
+        "the CLI's progress line) after every round or generation; returning False stops the "
+        "search with its best result so far, an exception stops it and is raised.");
 }
 
 void bindRefine(py::module_& m) {

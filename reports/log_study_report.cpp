@@ -29,6 +29,12 @@ const LogStudyRow* find(const LogStudyOutcome& o, const std::string& key) {
   return nullptr;
 }
 
+/// "held-out torque error 1.1 %, GC error 72.2".
+std::string heldOutErrors(const LogStudyRow& r) {
+  return "held-out torque error " + percent(r.torque_test) + ", GC error " +
+         formatNumber(r.gc_test, 3, "n/a");
+}
+
 /// Rows whose held-out errors coincide (within 0.5 % in both: one point on the log-log figure)
 /// share one point, labelled "nlo = nlo_refined".
 struct FigurePoint {
@@ -129,10 +135,7 @@ std::string logStudyTable(const LogStudyOutcome& o) {
 std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
   std::vector<std::string> out;
   const StudyVerdict v = studyVerdict(o.rows);
-  const auto errors = [](const LogStudyRow& r) {
-    return "held-out torque error " + percent(r.torque_test) + ", GC error " +
-           formatNumber(r.gc_test, 3, "n/a");
-  };
+  const auto errors = heldOutErrors;
   const LogStudyRow* sim = find(o, v.simulation);
   const LogStudyRow* ctl = find(o, v.control);
   if (sim == nullptr) {
@@ -180,8 +183,47 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
   return out;
 }
 
+namespace {
+/// The verdict box: what was compared, which estimate to use for what, what is not determined.
+std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyOutcome& o) {
+  const StudyVerdict v = studyVerdict(o.rows);
+  std::vector<std::pair<std::string, std::string>> lines;
+  lines.emplace_back("Estimated", std::to_string(o.rows.size()) + " models of " + o.robot_spec +
+                                      " (every method, and the input model) on " +
+                                      std::to_string(o.train_samples) + " samples of " +
+                                      o.data_file + ", judged on " +
+                                      std::to_string(o.test_samples) + " held-out samples.");
+  const auto row = [&](const std::string& key) { return find(o, key); };
+  std::string how;
+  if (v.oneForBoth()) {
+    how = "use " + v.simulation +
+          " for simulation and for control: " + heldOutErrors(*row(v.simulation));
+  } else {
+    if (const LogStudyRow* s = row(v.simulation))
+      how = "for simulation " + s->key + " (" + heldOutErrors(*s) + ")";
+    if (const LogStudyRow* c = row(v.control))
+      how += (how.empty() ? "" : "; ") + std::string("for control and monitoring ") + c->key +
+             " (" + heldOutErrors(*c) + ")";
+  }
+  lines.emplace_back("How well", how.empty()
+                                     ? "no physically consistent estimate finished: none is "
+                                       "recommended (see the comparison)"
+                                     : how + ".");
+  lines.emplace_back("Not determined", std::to_string(o.num_standard - o.num_base) + " of the " +
+                                           std::to_string(o.num_standard) +
+                                           " standard parameter directions are invisible to "
+                                           "torques and to the GC error alike.");
+  lines.emplace_back("Next",
+                     "write the recommended estimate into the robot's URDF (dynid "
+                     "identify --write-urdf) or check it on another log (dynid "
+                     "predict); the details follow.");
+  return lines;
+}
+}  // namespace
+
 Document logStudyDocument(const LogStudyOutcome& o) {
   Document doc("dynid study: " + o.robot_spec + " on " + o.data_file);
+  doc.verdict(logStudyVerdict(o));
   doc.paragraph(
       "Every estimation method on the user's own data, measured on the training data (" +
       std::to_string(o.train_samples) + " samples of " + o.data_file + ") and on held-out data (" +

@@ -1,11 +1,13 @@
 #include "reports/run_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/search_record.hpp"
+#include "core/format.hpp"
 #include "data/json_number.hpp"
 
 namespace dynid {
@@ -60,15 +62,23 @@ std::string searchSummary(const SearchOutcome& o, const std::string& dir) {
   return out.str();
 }
 
-std::string searchProgressLine(Method method, const SearchState& state) {
+std::string searchProgressLine(Method method, const SearchState& state,
+                               const SearchBudget& budget) {
   if (state.history.empty()) return "";
   const HistoryEntry& h = state.history.back();
   char line[256];
-  std::snprintf(line, sizeof(line),
-                "[%s] %s %d: GC error %.4g (initial %.4g), %ld evaluations, %.1f s   ",
+  std::snprintf(line, sizeof(line), "[%s] %s %d: GC error %.4g (initial %.4g), %ld evaluations",
                 methodName(method), h.stage == "ga" ? "generation" : "round", h.iteration,
-                h.best_gc, state.initial_gc, h.evaluations, h.seconds);
-  return line;
+                h.best_gc, state.initial_gc, h.evaluations);
+  // The budget that ends first decides the share done.
+  double done = -1.0;
+  if (budget.max_seconds > 0.0) done = std::max(done, h.seconds / budget.max_seconds);
+  if (budget.max_evaluations > 0)
+    done = std::max(done, static_cast<double>(h.evaluations) / budget.max_evaluations);
+  std::string text = line;
+  text += done >= 0.0 ? "; " + progressText(done, h.seconds) + "   "
+                      : ", " + formatNumber(h.seconds, 3) + " s   ";
+  return text;
 }
 
 namespace {

@@ -17,8 +17,10 @@ namespace dynid {
 nlohmann::json searchJson(const SearchOutcome& outcome);
 /// "puma560 nlo: GC error a -> b (...x lower) in N evaluations, T s (termination)" and the file.
 std::string searchSummary(const SearchOutcome& outcome, const std::string& dir);
-/// The progress line of a search state (for a terminal, ending in "\r" use).
-std::string searchProgressLine(Method method, const SearchState& state);
+/// The progress line of a search state (for a terminal, ending in "\r" use), with the share of
+/// the budget used and the time left when the budget has seconds or evaluations.
+std::string searchProgressLine(Method method, const SearchState& state,
+                               const SearchBudget& budget = {});
 
 /// refine.json (schema_version 1, kind dynid.refine): settings, both stages, the estimate, the
 /// base parameters with their covariance, the free directions, and with a truth or held-out data

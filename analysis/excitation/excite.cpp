@@ -672,11 +672,16 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
     if (request.control.progress) {
       std::lock_guard<std::mutex> lock(progress_mutex);
       ++finished;
+      const double since_start =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
       std::ostringstream line;
       line << "start " << finished << "/" << request.starts << ": "
            << (std::isfinite(best[s].objective) ? "criterion " + formatNumber(best[s].objective)
                                                 : std::string("no design within the limits"))
-           << " after " << best[s].evaluations << " evaluations";
+           << " after " << best[s].evaluations << " evaluations; "
+           << progressText(std::max(static_cast<double>(finished) / request.starts,
+                                    since_start / request.max_seconds),  // starts or budget
+                           since_start);
       request.control.progress(line.str());
     }
   });

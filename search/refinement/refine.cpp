@@ -53,6 +53,8 @@ class RefineCallback : public ceres::IterationCallback {
     }
     return ceres::SOLVER_CONTINUE;
   }
+  /// The longest iteration so far [s] (a Jacobian of every segment, then trial steps).
+  double longest() const { return longest_; }
 
  private:
   std::vector<RefineIteration>& history_;
@@ -222,6 +224,10 @@ Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& spac
       map_solver.gradient_tolerance = 1e-24;
       map_solver.parameter_tolerance = 1e-16;
       map_solver.logging_type = ceres::SILENT;
+      if (budget.deadline != RunControl::Clock::time_point::max())  // a fit ends at the budget
+        map_solver.max_solver_time_in_seconds = std::max(
+            std::chrono::duration<double>(budget.deadline - RunControl::Clock::now()).count(),
+            1e-3);
       ceres::Solver::Summary map_summary;
       ceres::Solve(map_solver, &map_problem, &map_summary);
     }
@@ -291,6 +297,12 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   // the base stage stopped because one more iteration (a Jacobian) would pass it; the free
   // parameters then stay where they were.
   if (budget.stopped() || base_out_of_time) return;
+  // Nor when what is left of the budget is less than one of the base stage's iterations: the
+  // map back's Jacobian alone takes about that long.
+  if (budget.deadline != RunControl::Clock::time_point::max() &&
+      std::chrono::duration<double>(budget.deadline - RunControl::Clock::now()).count() <
+          callback.longest())
+    return;
   const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
   const Eigen::MatrixXd weighting = mapBackWeighting(structure, map, problem, beta, weights,
                                                      result.initial_states, options, pool);

@@ -41,4 +41,14 @@ TEST(FormatNumber, NonFiniteValuesReadAsTheCallerAsks) {
 }
 
 }  // namespace
+TEST(ProgressText, ShareDoneAndTheTimeLeftExtrapolated) {
+  EXPECT_EQ(progressText(0.0, 3.0), "0 %");  // nothing done: no estimate yet
+  EXPECT_EQ(progressText(0.25, 10.0), "25 %, about 30 s left");
+  EXPECT_EQ(progressText(0.5, 65.0), "50 %, about 1 min 5 s left");
+  EXPECT_EQ(progressText(0.999, 1.0), "99 %, about 0 s left");  // floored, never "100 %" early
+  EXPECT_EQ(progressText(1.0, 10.0), "100 %");
+  EXPECT_EQ(progressText(1.7, 10.0), "100 %");  // a budget overrun is clamped
+  EXPECT_EQ(progressText(std::nan(""), 10.0), "0 %");
+}
+
 }  // namespace dynid

@@ -299,3 +299,35 @@ def test_ctrl_c_stops_an_excitation_design(puma):
     assert design.termination == "interrupted"
     assert np.isfinite(design.condition_number)
     assert any("interrupted" in m for m in caught)
+
+
+def test_a_progress_callback_sees_every_round_and_can_stop_the_search(puma_csv):
+    """progress= gets the share of the budget done and the CLI's line; False stops the search
+    with its best result so far, with no warning (the caller asked for it)."""
+    robot = dynid.load_model("puma560")
+    seen = []
+
+    def progress(info):
+        seen.append(info)
+        return len(seen) < 3  # stop after the third round
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no "interrupted" warning for a requested stop
+        result = dynid.search(robot, puma_csv, "nlo", perturb=0.3, seed=1, segments=20,
+                              budget_evals=100000, threads=1, progress=progress)
+    assert len(seen) == 3
+    assert [s["iteration"] for s in seen] == sorted(s["iteration"] for s in seen)
+    assert all(0.0 <= s["done"] <= 1.0 for s in seen)
+    assert seen[-1]["evaluations"] < 100000
+    assert "[nlo] round" in seen[0]["line"] and "%" in seen[0]["line"]
+    assert result.termination == "interrupted"
+    assert result.best_gc <= seen[-1]["best_gc"]
+
+    def broken(info):
+        raise RuntimeError("from the callback")
+
+    with pytest.raises(RuntimeError, match="from the callback"):
+        dynid.search(robot, puma_csv, "nlo", perturb=0.3, seed=1, segments=20, budget_evals=1000,
+                     threads=1, progress=broken)
+    with pytest.raises(TypeError):
+        dynid.search(robot, puma_csv, "nlo", perturb=0.3, budget_evals=10, progress=3)

@@ -85,5 +85,21 @@ TEST(LogStudyReport, FigureWritesNamesAsWrittenAndMergesCoincidingPoints) {
   EXPECT_EQ(svg.find(">r</tspan>"), std::string::npos);
 }
 
+TEST(LogStudyReport, OpensWithAVerdictThatRecommendsOnlyAConsistentEstimate) {
+  // nlo fits the held-out torques best but is not consistent: the verdict names pc for both.
+  const LogStudyOutcome o =
+      outcome({row("pc", 0.011, 85.9, true), row("nlo", 0.0100, 33.5, false)});
+  const std::string md = logStudyDocument(o).markdown();
+  EXPECT_LT(md.find("> **Verdict**"), md.find("## Comparison")) << md;
+  EXPECT_NE(md.find("> - **How well:** use pc for simulation and for control: held-out torque "
+                    "error 1.1 %"),
+            std::string::npos)
+      << md;
+  EXPECT_EQ(md.substr(0, md.find("## Comparison")).find("nlo"), std::string::npos) << md;
+  // None consistent: none recommended.
+  const std::string none = logStudyDocument(outcome({row("nlo", 0.0100, 33.5, false)})).markdown();
+  EXPECT_NE(none.find("no physically consistent estimate finished"), std::string::npos) << none;
+}
+
 }  // namespace
 }  // namespace dynid
