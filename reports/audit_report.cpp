@@ -54,10 +54,35 @@ std::string headline(const AuditOutcome& o) {
     << " on " << o.dof << " degrees of freedom, p = " << formatNumber(o.p_value, 3) << ".";
   return s.str();
 }
+/// The report's verdict box: what was compared, whether it holds, what moved, what next.
+std::vector<std::pair<std::string, std::string>> verdictBox(const AuditOutcome& o) {
+  std::string moved;
+  int listed = 0;
+  for (const AuditParameter& p : o.parameters)
+    if (p.flagged && listed++ < 5) moved += (moved.empty() ? "" : ", ") + p.name;
+  if (o.flagged > 5) moved += " and " + std::to_string(o.flagged - 5) + " more";
+  int farthest = 0;
+  for (Eigen::Index i = 0; i < o.session_chi2.size(); ++i)
+    if (o.session_chi2[i] > o.session_chi2[farthest]) farthest = static_cast<int>(i);
+  return {
+      {"Compared", std::to_string(o.sessions.size()) + " sessions of " + o.robot + " (" + o.method +
+                       "), " + std::to_string(o.parameters.size()) + " base parameters"},
+      {"Verdict", o.verdict},
+      {"How sure", "chi2 " + formatNumber(o.chi2, 4) + " on " + std::to_string(o.dof) +
+                       " degrees of freedom, p = " + formatNumber(o.p_value, 3) + " (level " +
+                       formatNumber(100.0 * o.level, 3) + " %)"},
+      {"Moved", moved.empty() ? "nothing flagged" : moved},
+      {"Next", o.flagged == 0 || o.sessions.empty()
+                   ? "the model holds across these sessions"
+                   : "session " + std::to_string(farthest + 1) + " (" + o.sessions[farthest] +
+                         ") differs most: re-identify from it, or look for a changed payload, "
+                         "warm-up or drive"}};
+}
 }  // namespace
 
 std::string writeAudit(const std::string& dir, const AuditOutcome& o) {
   Document report("Audit: " + o.robot);
+  report.verdict(verdictBox(o));
   report.paragraph(headline(o));
   report.bullets(o.warnings);
   report.heading("Sessions");

@@ -254,11 +254,45 @@ DocumentTable limitsTable(const Model& model, const ExciteOutcome& o) {
   return limits;
 }
 
+/// The report's verdict box: the design, how it compares with the default sinusoid, the base
+/// parameters it still leaves poorly determined, its limits, what to do next.
+std::vector<std::pair<std::string, std::string>> verdictBox(const ExciteOutcome& o) {
+  std::vector<std::string> poor;  // expected relative std. dev. above 10 %
+  for (int j = 0; j < o.base.numBase(); ++j)
+    if (!(o.score.relative_std[j] <= 0.1)) poor.push_back(o.base.baseName(j));
+  std::string poor_text;
+  for (std::size_t i = 0; i < poor.size() && i < 5; ++i) poor_text += (i ? ", " : "") + poor[i];
+  if (poor.size() > 5) poor_text += " and " + std::to_string(poor.size() - 5) + " more";
+  return {
+      {"Designed", std::to_string(o.design.harmonics()) + " harmonics per joint over " +
+                       formatNumber(o.design.period) + " s for the " +
+                       excitationCriterionName(o.criterion) + " criterion" +
+                       (o.termination == "interrupted" ? " (interrupted: the best so far)" : "")},
+      {"How well",
+       "condition number (unit columns) " + formatNumber(o.score.condition_unit, 4) +
+           " against the default sinusoid's " + formatNumber(o.baseline.condition_unit, 4) +
+           "; RMS expected relative std. dev. " + formatNumber(o.score.relative_rms, 3) +
+           " against " + formatNumber(o.baseline.relative_rms, 3) + " (" +
+           formatNumber(o.torque_noise) + " N m torque noise)"},
+      {"Not determined",
+       poor.empty() ? "none: every base parameter's expected std. dev. is within 10 %"
+                    : std::to_string(poor.size()) + " of " + std::to_string(o.base.numBase()) +
+                          " base parameters above 10 % expected std. dev. (table below): " + poor_text},
+      {"Limits", o.check.violations.empty() ? "every position, velocity, acceleration and "
+                                              "torque limit holds at " +
+                                                  formatNumber(o.check_rate) + " Hz"
+                                            : "broken: " + o.check.violations.front()},
+      {"Next", o.payload_link ? "run it with the payload, then dynid payload"
+                              : "run excitation.json on the robot (or dynid simulate "
+                                "--trajectory), then dynid prepare and dynid identify"}};
+}
+
 }  // namespace
 
 Document excitationDocument(const Model& model, const ExcitationSettings& settings,
                             const ExciteOutcome& o, std::vector<std::string>* missing_figures) {
   Document doc("dynid excite: " + model.name);
+  doc.verdict(verdictBox(o));
   if (o.payload_link)
     doc.paragraph("A payload motion: the design determines the 10 parameters of a payload on " +
                   model.link_names[*o.payload_link] +

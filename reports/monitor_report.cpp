@@ -40,6 +40,37 @@ std::string verdict(const MonitorOutcome& o) {
   return s.str();
 }
 
+/// The report's verdict box: what was watched, what was found, how it scores, what next.
+std::vector<std::pair<std::string, std::string>> verdictBox(const MonitorOutcome& o) {
+  std::vector<int> joints;
+  for (const MonitorEvent& e : o.events)
+    for (int j : e.joints)
+      if (std::find(joints.begin(), joints.end(), j) == joints.end()) joints.push_back(j);
+  std::sort(joints.begin(), joints.end());
+  std::vector<std::pair<std::string, std::string>> box = {
+      {"Watched", formatNumber(o.seconds, 4) + " s of " + o.robot_spec + " (" +
+                      std::to_string(o.samples) + " samples), the " +
+                      residualName(o.thresholds.residual) + " residual" +
+                      (o.interrupted ? " (stopped early)" : "")},
+      {"Found", o.events.empty() ? "no event: every residual stayed within its threshold"
+                                 : std::to_string(o.events.size()) +
+                                       (o.events.size() == 1 ? " event" : " events") +
+                                       " on joints " + jointList(joints)},
+      {"Thresholds", "from " + o.thresholds.source}};
+  if (const auto& t = o.truth)
+    box.push_back({"Against the truth", std::to_string(t->detected) + " of " +
+                                            std::to_string(t->episodes) +
+                                            " disturbances detected, " +
+                                            std::to_string(t->false_alarms) + " false alarm(s)"});
+  box.push_back(
+      {"Next",
+       o.events.empty()
+           ? "none needed; if pushes went unseen, lower the thresholds"
+           : "look at the events below; false alarms on free motion mean the "
+             "model or the thresholds need a refit (dynid monitor --calibration on a clean log)"});
+  return box;
+}
+
 /// Each joint's residual envelope (min and max per bucket), its thresholds and the events.
 std::optional<std::string> residualFigure(const MonitorOutcome& o) {
   const bool direct = o.thresholds.residual == MonitorResidual::kDirect;
@@ -143,6 +174,7 @@ std::string monitorSummary(const MonitorOutcome& o) {
 std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
                          const std::string& data_file) {
   Document report("Monitor: " + o.model.name);
+  report.verdict(verdictBox(o));
   report.paragraph(verdict(o));
   report.bullets(o.warnings);
   report.heading("Events");

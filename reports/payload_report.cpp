@@ -76,6 +76,38 @@ std::string verdict(const PayloadOutcome& o) {
   return text.str();
 }
 
+/// The report's verdict box: what was estimated, how well, what the log leaves undetermined,
+/// where the torques came from, and what to do next.
+std::vector<std::pair<std::string, std::string>> verdictBox(const PayloadOutcome& o) {
+  const PayloadQuantity& m = o.quantities[0];
+  std::vector<std::string> undetermined;
+  for (const PayloadQuantity& q : o.quantities)
+    if (!q.determined && q.group != "standard parameters" && q.group != "principal axes")
+      undetermined.push_back(q.name);
+  bool com = true;
+  for (const PayloadQuantity& q : o.quantities)
+    if (q.group == "centre of mass" && !q.determined) com = false;
+  std::string missing;
+  for (std::size_t i = 0; i < undetermined.size(); ++i)
+    missing += (i ? ", " : "") + undetermined[i];
+  return {{"Estimated",
+           "mass " + interval(m) + " kg, centre of mass (" + formatNumber(1e3 * o.com.x(), 4) +
+               ", " + formatNumber(1e3 * o.com.y(), 4) + ", " + formatNumber(1e3 * o.com.z(), 4) +
+               ") mm in the attachment frame of " + o.link_name},
+          {"How well", std::string("95 % intervals; mass ") +
+                           (m.determined ? "determined" : "not determined by this log") +
+                           ", centre of mass " + (com ? "within" : "not within") + " ±5 mm"},
+          {"Not determined", missing.empty() ? "nothing: every quantity is determined" : missing},
+          {"Torque source", o.mode == "difference"
+                                ? "the torque difference of the loaded and the unloaded run"
+                                : "one log, the arm model's torques subtracted"},
+          {"Next", !o.advice.empty() ? o.advice.front()
+                   : missing.empty()
+                       ? "write the payload into the model (--write-urdf) and check it with dynid "
+                         "predict on another log"
+                       : "record a motion that excites what is missing (dynid excite --payload)"}};
+}
+
 }  // namespace
 
 const std::vector<std::string>& payloadFormats() {
@@ -253,6 +285,7 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
   for (const std::string& f : formats) vendor.push_back(payloadVendorFile(o, f));
 
   Document report("Payload: " + o.robot + ", link " + o.link_name);
+  report.verdict(verdictBox(o));
   report.paragraph(verdict(o));
   if (!o.advice.empty() || !o.warnings.empty()) {
     std::vector<std::string> items = o.advice;

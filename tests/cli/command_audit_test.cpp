@@ -44,6 +44,9 @@ TEST(Cli, AuditFromLogsAndFromTheirEstimatesAgrees) {
   EXPECT_EQ(a["verdict"], b["verdict"]);
   EXPECT_EQ(a["parameters"].size(), a["parameters"].size());
   EXPECT_TRUE(contains(from_logs.out, "3 sessions of puma560 (ols)")) << from_logs.out;
+  const std::string html = readFile(dir + "/a1/report.html");
+  EXPECT_TRUE(test::opensWithVerdict(html, {"Compared", "Verdict", "How sure", "Moved", "Next"}));
+  EXPECT_TRUE(contains(html, "<dd>" + a["verdict"].get<std::string>() + "</dd>"));
 }
 
 }  // namespace

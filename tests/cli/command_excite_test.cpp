@@ -59,6 +59,8 @@ TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
   }
   for (const char* file : {"report.md", "report.html"})
     EXPECT_TRUE(contains(readFile(dir + "/" + file), "default sinusoid")) << file;
+  EXPECT_TRUE(test::opensWithVerdict(readFile(dir + "/report.html"),
+                                     {"Designed", "How well", "Not determined", "Limits", "Next"}));
 }
 
 TEST(Cli, ExcitePayloadDesignsForTheLastLinksTenParameters) {

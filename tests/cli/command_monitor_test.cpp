@@ -58,6 +58,10 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
   EXPECT_LT(j["events"][0]["start"].get<double>(), 2.05);
   for (const char* file : {"thresholds.json", "report.md", "report.html"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
+  const std::string html = readFile(out + "/report.html");
+  EXPECT_TRUE(test::opensWithVerdict(
+      html, {"Watched", "Found", "Thresholds", "Against the truth", "Next"}));
+  EXPECT_TRUE(contains(html, "2 events on joints 2, 3")) << html.substr(0, 2000);
   // The saved thresholds give the same events.
   const Result again = run("monitor --arm puma560 --data " + dir_ + "/pushed.csv --thresholds " +
                            out + "/thresholds.json --out " + dir_ + "/m2");

@@ -42,6 +42,9 @@ TEST(Cli, PayloadFromOneLogAndFromALoadedUnloadedPair) {
   for (const char* file : {"payload.urscript", "payload.kuka.dat", "payload.abb.mod",
                            "payload.franka.json", "payload.body.json", "report.md", "report.html"})
     EXPECT_TRUE(std::filesystem::exists(out + "/" + file)) << file;
+  EXPECT_TRUE(
+      test::opensWithVerdict(readFile(out + "/report.html"),
+                             {"Estimated", "How well", "Not determined", "Torque source", "Next"}));
   // The pair: the difference, and the body read back as a prior.
   const std::string pair = test::tempPath("cli_payload_pair");
   const Result d = run("payload --arm puma560 --data " + loaded + " --unloaded " + unloaded +

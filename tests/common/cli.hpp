@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "data/io.hpp"
 #include "tests/common/sample_models.hpp"
@@ -30,6 +31,19 @@ inline Result run(const std::string& args) {
 
 inline bool contains(const std::string& s, const std::string& fragment) {
   return s.find(fragment) != std::string::npos;
+}
+
+/// Whether an HTML report opens with its verdict box (its heading is the document's first
+/// section heading) and the box names each of `labels`.
+inline bool opensWithVerdict(const std::string& html, const std::vector<std::string>& labels) {
+  const std::size_t box = html.find("<section class=\"verdict\"");
+  const std::size_t end = html.find("</section>", box);
+  if (box == std::string::npos || end == std::string::npos) return false;
+  if (html.find("<h2>") != html.find("<h2>Verdict</h2>")) return false;
+  for (const std::string& label : labels)
+    if (html.substr(box, end - box).find("<dt>" + label + "</dt>") == std::string::npos)
+      return false;
+  return true;
 }
 
 }  // namespace dynid::test
