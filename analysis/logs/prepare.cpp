@@ -301,6 +301,17 @@ void chooseFilter(const PrepareOptions& options, PrepareOutcome& out) {
   for (double c : {out.cutoff, out.tau_cutoff})
     if (c > 0.0) lowest = lowest > 0.0 ? std::min(lowest, c) : c;
   out.trim = options.trim >= 0.0 ? options.trim : (lowest > 0.0 ? 2.0 / lowest : 0.0);
+  // A low-pass within five times the motion's band takes part of the motion with the noise;
+  // friction suffers first (docs/MODEL.md, "Friction and filtering").
+  if (out.trajectory_band > 0.0 && lowest > 0.0 && lowest < 5.0 * out.trajectory_band)
+    out.warnings.push_back(
+        "the low-pass at " + hz(lowest) + " is within five times q's trajectory band (" +
+        hz(out.trajectory_band) +
+        "): it smooths the motion itself, and Coulomb friction comes out low and viscous "
+        "friction high (a simulated Panda filtered at 2.7 times its band: Fc 0.46-0.81x, Fv "
+        "1.8-2.7x the truth; docs/MODEL.md, \"Friction and filtering\"); raise --cutoff (and "
+        "--tau-cutoff) towards " +
+        hz(5.0 * out.trajectory_band) + " if q's noise allows");
   if (!options.savitzky_golay) return;
   if (options.savgol_degree < 2 || options.savgol_degree > 6)
     throw InputError("the Savitzky-Golay degree must be 2 to 6 (ddq needs 2), not " +

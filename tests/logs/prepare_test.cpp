@@ -307,6 +307,17 @@ TEST(Prepare, AutoCutoffIsFiveTimesTheTrajectoryBandBelowTheNoise) {
   const PrepareOutcome b = prepareLog(noisy, o);
   EXPECT_LT(b.noise_edge, 5.0 * b.trajectory_band);
   EXPECT_NEAR(b.cutoff, std::max(b.noise_edge, 1.5 * b.trajectory_band), 1e-12);
+  // A cutoff that close to the band is said (friction's bias), five times the band is not.
+  const auto warned = [](const PrepareOutcome& p) {
+    for (const std::string& w : p.warnings)
+      if (w.find("within five times q's trajectory band") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(warned(b));
+  EXPECT_FALSE(warned(a));
+  PrepareOptions low;
+  low.cutoff = 1.0;  // twice the 0.5 Hz sine
+  EXPECT_TRUE(warned(prepareLog(quiet, low)));
   // The spectra are normalised: one joint's q integrates to 1 (without DC).
   const Spectrum& q = a.q_spectrum;
   EXPECT_NEAR(q.density.tail(q.density.size() - 1).sum(), 1.0, 1e-9);
