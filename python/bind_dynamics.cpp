@@ -106,7 +106,7 @@ void copyRowMajor(const Eigen::MatrixXd& m, double* out) {
 void bindDynamics(py::module_& m) {
   m.def(
       "rnea",
-      [](const Model& model, const py::handle& q, const py::handle& dq, const py::handle& ddq,
+      [](const Model& model, const ArrayLike& q, const ArrayLike& dq, const ArrayLike& ddq,
          int threads) {
         const int n = model.numJoints();
         return evaluate(model, {{"q", q}, {"dq", dq}, {"ddq", ddq}}, {n}, threads,
@@ -122,7 +122,7 @@ void bindDynamics(py::module_& m) {
       "enables). q, dq, ddq: (n,) -> tau (n,), or (N, n) -> (N, n). [rad, rad/s, rad/s^2 -> N m]");
   m.def(
       "aba",
-      [](const Model& model, const py::handle& q, const py::handle& dq, const py::handle& tau,
+      [](const Model& model, const ArrayLike& q, const ArrayLike& dq, const ArrayLike& tau,
          int threads) {
         const int n = model.numJoints();
         return evaluate(model, {{"q", q}, {"dq", dq}, {"tau", tau}}, {n}, threads,
@@ -139,7 +139,7 @@ void bindDynamics(py::module_& m) {
       "non-finite ddq.");
   m.def(
       "crba",
-      [](const Model& model, const py::handle& q, int threads) {
+      [](const Model& model, const ArrayLike& q, int threads) {
         const int n = model.numJoints();
         return evaluate(model, {{"q", q}}, {n, n}, threads,
                         [n](const Model& mo, Data& d, const double* a, const double*, const double*,
@@ -150,7 +150,7 @@ void bindDynamics(py::module_& m) {
       "or (N, n) -> (N, n, n). [kg m^2]");
   m.def(
       "regressor",
-      [](const Model& model, const py::handle& q, const py::handle& dq, const py::handle& ddq,
+      [](const Model& model, const ArrayLike& q, const ArrayLike& dq, const ArrayLike& ddq,
          int threads) {
         const int n = model.numJoints();
         const int p = model.parameterLayout().size();

@@ -98,10 +98,11 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
   return out;
 }
 
-EstimateResult identify(const Model& model, const py::handle& data, const std::string& method,
-                        const py::handle& validate, const std::optional<Model>& prior,
+EstimateResult identify(const Model& model, const DataLike& data, const std::string& method,
+                        const OptionalDataLike& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
-                        int threads, const py::handle& robot_spec, const py::handle& validate_raw) {
+                        int threads, const PathLike& robot_spec,
+                        const OptionalPathLike& validate_raw) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -128,7 +129,7 @@ EstimateResult identify(const Model& model, const py::handle& data, const std::s
   return out;
 }
 
-PredictionResult predict(const Model& model, const py::handle& data, int threads,
+PredictionResult predict(const Model& model, const DataLike& data, int threads,
                          const EstimateResult* band_of) {
   checkThreads(threads);
   const DataArg d = dataArg(data, "data", model);
@@ -164,15 +165,24 @@ void bindBaseParameters(py::module_& m) {
       "beta = projection @ theta; regressor @ null_space == 0.")
       .def_property_readonly("names", &baseNames,
                              "Base parameter names, e.g. 'Izz1R' (R: others regrouped into it).")
-      .def_readonly("standard_names", &BaseParameters::standard_names)
-      .def_property_readonly("num_base", &BaseParameters::numBase)
-      .def_property_readonly("num_standard", &BaseParameters::numStandard)
+      .def_readonly("standard_names", &BaseParameters::standard_names,
+                    "The standard parameters' names in order (m1, mx1, ..., Izz1, then the drive "
+                    "terms such as Fv1).")
+      .def_property_readonly("num_base", &BaseParameters::numBase,
+                             "The number of base parameters (the regressor's numerical rank).")
+      .def_property_readonly("num_standard", &BaseParameters::numStandard,
+                             "The number of standard parameters.")
       .def_readonly("independent", &BaseParameters::independent,
                     "Indices into the standard vector of the base parameters' leading terms.")
-      .def_readonly("dependent", &BaseParameters::dependent)
+      .def_readonly("dependent", &BaseParameters::dependent,
+                    "Indices into the standard vector of the parameters regrouped into others "
+                    "(theta2), zero columns included.")
       .def_readonly("zero_columns", &BaseParameters::zero_columns,
                     "Standard parameters that never affect the torques.")
-      .def_property_readonly("K", [](const BaseParameters& b) { return toNumpy(b.K); })
+      .def_property_readonly(
+          "K", [](const BaseParameters& b) { return toNumpy(b.K); },
+          "The regrouping matrix, shape (num_base, len(dependent)): beta = theta1 + K @ theta2 "
+          "[physical units].")
       .def_property_readonly(
           "projection", [](const BaseParameters& b) { return toNumpy(b.projectionMatrix()); },
           "P, shape (num_base, num_standard): beta = P @ theta.")
@@ -189,19 +199,25 @@ void bindBaseParameters(py::module_& m) {
           "Each base parameter as text, e.g. 'Izz1 + Iyy2 + 0.1865*m3'.")
       .def("combination", &BaseParameters::combination, py::arg("j"), py::arg("relative") = 1e-9,
            "[(standard name, coefficient), ...] of base parameter j, the leading one first.")
-      .def_property_readonly("rank_gap", &BaseParameters::rankGap)
-      .def_readonly("tolerance", &BaseParameters::tolerance)
-      .def_property_readonly("significance",
-                             [](const BaseParameters& b) { return toNumpy(b.significance); })
+      .def_property_readonly(
+          "rank_gap", &BaseParameters::rankGap,
+          "The smallest kept |R_jj| over the largest dropped: how clearly the rank is determined "
+          "(inf when nothing was dropped; below 1e4 the decision is close).")
+      .def_readonly("tolerance", &BaseParameters::tolerance,
+                    "The relative rank threshold used on the QR's |R_jj|.")
+      .def_property_readonly(
+          "significance", [](const BaseParameters& b) { return toNumpy(b.significance); },
+          "Per standard parameter, the margin of the rank test (independent when > 1, 0 for a "
+          "column that never acts), shape (num_standard,).")
       .def(
           "project",
-          [](const BaseParameters& b, const py::handle& theta) {
+          [](const BaseParameters& b, const ArrayLike& theta) {
             return toNumpy(b.project(vectorArg(theta, "theta", b.numStandard())));
           },
           py::arg("theta"), "beta = theta1 + K theta2 of a standard vector.")
       .def(
           "standard_from_base",
-          [](const BaseParameters& b, const py::handle& beta, const py::handle& prior) {
+          [](const BaseParameters& b, const ArrayLike& beta, const ArrayLike& prior) {
             return toNumpy(b.standardFromBase(vectorArg(beta, "beta", b.numBase()),
                                               vectorArg(prior, "prior", b.numStandard())));
           },
@@ -227,18 +243,21 @@ void bindBaseParameters(py::module_& m) {
 
 void bindIdentifiability(py::module_& m) {
   py::class_<IdentifiabilityResult>(m, "Identifiability", "What `dynid identifiability` reports.")
-      .def_property_readonly("base", [](const IdentifiabilityResult& r) { return r.outcome.base; })
+      .def_property_readonly(
+          "base", [](const IdentifiabilityResult& r) { return r.outcome.base; },
+          "The base parameters (BaseParameters) of the model and joint ranges.")
       .def_property_readonly(
           "condition_number",
           [](const IdentifiabilityResult& r) { return r.outcome.condition_number; },
           "Of the unit-column base regressor on fresh random states.")
       .def_property_readonly(
           "model_beta",
-          [](const IdentifiabilityResult& r) { return toNumpy(r.outcome.model_beta); })
+          [](const IdentifiabilityResult& r) { return toNumpy(r.outcome.model_beta); },
+          "The model's own base parameter values, shape (num_base,).")
       .def_property_readonly(
           "data",
-          [](const IdentifiabilityResult& r) -> py::object {
-            if (!r.outcome.data) return py::none();
+          [](const IdentifiabilityResult& r) -> std::optional<py::dict> {
+            if (!r.outcome.data) return std::nullopt;
             const DataExcitation& e = *r.outcome.data;
             py::dict d;
             d["file"] = e.file;
@@ -261,7 +280,7 @@ void bindIdentifiability(py::module_& m) {
 
   m.def(
       "identifiability",
-      [](const Model& model, const py::handle& data, int samples, std::uint64_t seed,
+      [](const Model& model, const OptionalDataLike& data, int samples, std::uint64_t seed,
          double tolerance, int threads) {
         checkThreads(threads);
         const StructuralOptions options = structural(samples, seed, tolerance);
@@ -283,40 +302,56 @@ void bindIdentify(py::module_& m) {
   py::class_<EstimateResult>(m, "Estimate", "What `dynid identify` writes as estimate.json.")
       .def_property_readonly(
           "method",
-          [](const EstimateResult& r) { return std::string(methodName(r.outcome.method)); })
-      .def_property_readonly("base", [](const EstimateResult& r) { return r.outcome.base; })
-      .def_property_readonly("base_names",
-                             [](const EstimateResult& r) { return baseNames(r.outcome.base); })
+          [](const EstimateResult& r) { return std::string(methodName(r.outcome.method)); },
+          "The estimator, 'ols', 'wls', 'pc', 'combined', ... as `dynid identify --method`.")
+      .def_property_readonly(
+          "base", [](const EstimateResult& r) { return r.outcome.base; },
+          "The base parameters (BaseParameters) the estimate is expressed in.")
+      .def_property_readonly(
+          "base_names", [](const EstimateResult& r) { return baseNames(r.outcome.base); },
+          "The base parameters' names, e.g. 'Izz1R'.")
       .def_property_readonly(
           "beta", [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.beta); },
           "The base parameter estimates (base_names order).")
       .def_property_readonly(
           "std_dev",
-          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.std_dev); })
-      .def_property_readonly("relative_std_dev_percent",
-                             [](const EstimateResult& r) {
-                               return toNumpy(r.outcome.result.estimate.relative_std_dev_percent);
-                             })
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.std_dev); },
+          "Each base parameter's standard deviation, shape (num_base,).")
+      .def_property_readonly(
+          "relative_std_dev_percent",
+          [](const EstimateResult& r) {
+            return toNumpy(r.outcome.result.estimate.relative_std_dev_percent);
+          },
+          "Each base parameter's standard deviation relative to its estimate [%], shape "
+          "(num_base,).")
       .def_property_readonly(
           "covariance",
-          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.covariance); })
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.covariance); },
+          "The base parameters' covariance, shape (num_base, num_base).")
       .def_property_readonly(
           "condition_number",
-          [](const EstimateResult& r) { return r.outcome.result.estimate.condition_number; })
+          [](const EstimateResult& r) { return r.outcome.result.estimate.condition_number; },
+          "The condition number of the (unit-column) base regressor on the data.")
       .def_property_readonly(
           "residual_rms",
-          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.residual_rms); })
+          [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.residual_rms); },
+          "Each joint's RMS torque residual on the training data, shape (n,) [N m].")
       .def_property_readonly(
           "relative_error",
-          [](const EstimateResult& r) { return r.outcome.result.estimate.relative_error; })
+          [](const EstimateResult& r) { return r.outcome.result.estimate.relative_error; },
+          "The relative torque error on the training data, ||tau - tau_hat|| / ||tau||.")
       .def_property_readonly(
           "num_samples",
-          [](const EstimateResult& r) { return r.outcome.result.estimate.num_samples; })
+          [](const EstimateResult& r) { return r.outcome.result.estimate.num_samples; },
+          "The number of samples the estimate used.")
       .def_property_readonly(
           "standard", [](const EstimateResult& r) { return toNumpy(r.outcome.result.standard); },
-          "A full standard vector: pc's, or beta with the unseen directions from the prior.")
-      .def_property_readonly("standard_names",
-                             [](const EstimateResult& r) { return r.outcome.base.standard_names; })
+          "A full standard vector (pc's own, or beta with the unseen directions from the prior).",
+          "A full standard vector (pc's own, or beta with the unseen directions from the prior), "
+          "shape (num_standard,).")
+      .def_property_readonly(
+          "standard_names", [](const EstimateResult& r) { return r.outcome.base.standard_names; },
+          "The standard parameters' names, in the order of `standard`.")
       .def_property_readonly(
           "model",
           [](const EstimateResult& r) {
@@ -327,15 +362,15 @@ void bindIdentify(py::module_& m) {
           "The robot with the estimated standard parameters (for predict, rnea, export).")
       .def_property_readonly(
           "validation",
-          [](const EstimateResult& r) -> py::object {
-            if (!r.outcome.validation) return py::none();
+          [](const EstimateResult& r) -> std::optional<py::dict> {
+            if (!r.outcome.validation) return std::nullopt;
             return validationDict(*r.outcome.validation);
           },
           "On the held-out `validate` data, or None.")
       .def_property_readonly(
           "raw_validation",
-          [](const EstimateResult& r) -> py::object {
-            if (!r.outcome.raw_validation) return py::none();
+          [](const EstimateResult& r) -> std::optional<py::dict> {
+            if (!r.outcome.raw_validation) return std::nullopt;
             py::dict d = validationDict(*r.outcome.raw_validation);
             d["not_bracketed"] = r.outcome.raw_skipped;
             return d;
@@ -381,22 +416,26 @@ void bindPredict(py::module_& m) {
       .def_readonly("predicted", &PredictionResult::predicted, "(N, n) [N m]")
       .def_property_readonly(
           "torque_rms",
-          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.torque_rms); })
+          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.torque_rms); },
+          "Each joint's RMS of measured minus predicted torque, shape (n,) [N m].")
       .def_property_readonly(
           "normalised_rms",
-          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.normalised_rms); })
+          [](const PredictionResult& r) { return toNumpy(r.prediction.validation.normalised_rms); },
+          "Each joint's torque RMS error relative to its measured torque's RMS, shape (n,).")
       .def_property_readonly(
           "relative_error",
-          [](const PredictionResult& r) { return r.prediction.validation.relative_error; })
+          [](const PredictionResult& r) { return r.prediction.validation.relative_error; },
+          "The relative torque error ||tau - tau_hat|| / ||tau|| over every joint and sample.")
       .def_property_readonly(
           "num_samples",
-          [](const PredictionResult& r) { return r.prediction.validation.num_samples; })
+          [](const PredictionResult& r) { return r.prediction.validation.num_samples; },
+          "The number of samples compared.")
       .def_readonly("band", &PredictionResult::band,
                     "(N, n) half widths of the 95 % band [N m], or None without band=")
       .def_property_readonly(
           "band_coverage",
-          [](const PredictionResult& r) -> py::object {
-            if (r.prediction.band_coverage.size() == 0) return py::none();
+          [](const PredictionResult& r) -> std::optional<py::array_t<double>> {
+            if (r.prediction.band_coverage.size() == 0) return std::nullopt;
             return toNumpy(r.prediction.band_coverage);
           },
           "(n,) the share of samples inside the band per joint, or None");
@@ -412,11 +451,11 @@ Eigen::Vector3d threeArg(const py::handle& value, const char* name) {
   return vectorArg(value, name, 3);
 }
 
-PayloadOutcome payload(const Model& model, const py::handle& data, const py::handle& unloaded,
-                       const std::string& link, const py::handle& tool_xyz,
-                       const py::handle& tool_rpy, const py::handle& prior, double prior_weight,
-                       bool refit_friction, const py::handle& payload_mass,
-                       const py::handle& payload_com, double max_motion_difference) {
+PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalDataLike& unloaded,
+                       const std::string& link, const OptionalArrayLike& tool_xyz,
+                       const OptionalArrayLike& tool_rpy, const PriorLike& prior,
+                       double prior_weight, bool refit_friction, const OptionalFloat& payload_mass,
+                       const OptionalArrayLike& payload_com, double max_motion_difference) {
   PayloadRequest request;
   request.arm = model;
   request.arm_source = model.name;
@@ -503,12 +542,14 @@ void bindPayload(py::module_& m) {
                     "combinations determined where their parts are not")
       .def_readonly("smallest_mass", &PayloadOutcome::smallest_mass,
                     "the smallest mass this log resolves to +-20 % (95 %) [kg]")
-      .def_readonly("advice", &PayloadOutcome::advice)
-      .def_readonly("warnings", &PayloadOutcome::warnings)
+      .def_readonly("advice", &PayloadOutcome::advice,
+                    "What to do about quantities the log does not determine (may be empty).")
+      .def_readonly("warnings", &PayloadOutcome::warnings,
+                    "Warnings about the log or the fit (may be empty).")
       .def_property_readonly(
           "gains",
-          [](const PayloadOutcome& o) -> py::object {
-            if (!o.gains) return py::none();
+          [](const PayloadOutcome& o) -> std::optional<py::dict> {
+            if (!o.gains) return std::nullopt;
             py::dict d;
             d["scale"] = toNumpy(o.gains->scale);
             d["scale_std"] = toNumpy(o.gains->scale_std);
@@ -518,7 +559,8 @@ void bindPayload(py::module_& m) {
             d["torque_constants"] = o.gains->torque_constants;
             return d;
           },
-          "with payload_mass: per joint true / measured torque (multiply the torque constants)")
+          "With payload_mass, per joint true / measured torque as a dict (scale, scale_std, "
+          "determined, torque_constants; multiply the torque constants by scale), else None.")
       .def(
           "to_json", [](const PayloadOutcome& o) { return jsonText(payloadJson(o), 2) + "\n"; },
           "payload.json, as `dynid payload` writes it.")
@@ -549,11 +591,11 @@ py::object parsedJson(const nlohmann::json& document) {
   return py::module_::import("json").attr("loads")(document.dump());
 }
 
-py::object monitor(const py::handle& arm_arg, const py::handle& data, const py::handle& calibration,
-                   const py::handle& thresholds, const std::string& residual,
-                   const py::handle& gain, double false_alarms_per_hour, double hold,
-                   double max_gap, const py::handle& truth, const py::handle& robot_spec,
-                   int threads) {
+py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPathLike& calibration,
+                 const OptionalPathLike& thresholds, const std::string& residual,
+                 const OptionalArrayLike& gain, double false_alarms_per_hour, double hold,
+                 double max_gap, const OptionalPathLike& truth, const PathLike& robot_spec,
+                 int threads) {
   checkThreads(threads);
   MonitorRequest request;
   request.arm = pathArg(arm_arg, "arm");
@@ -584,9 +626,8 @@ py::object monitor(const py::handle& arm_arg, const py::handle& data, const py::
   return parsedJson(monitorJson(out));
 }
 
-py::object audit(const py::handle& estimates, const py::handle& data, const py::handle& robot,
-                 const py::handle& drive_terms, const std::string& method, double level,
-                 int threads) {
+py::dict audit(const PathsLike& estimates, const PathsLike& data, const PathLike& robot,
+               const TermsLike& drive_terms, const std::string& method, double level, int threads) {
   checkThreads(threads);
   AuditRequest request;
   if (!estimates.is_none())

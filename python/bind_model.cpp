@@ -160,7 +160,7 @@ py::list violationsList(const Model& model) {
   return out;
 }
 
-Model loadModel(const py::handle& spec_arg, bool drives, const py::handle& terms, bool strict) {
+Model loadModel(const PathLike& spec_arg, bool drives, const TermsLike& terms, bool strict) {
   const std::string spec = pathArg(spec_arg, "spec");  // a built-in name, or a path
   RobotOptions options;
   options.drives = drives;
@@ -199,8 +199,8 @@ void checkDataset(const Trajectory& t) {
   }
 }
 
-Trajectory makeDataset(const py::handle& time, const py::handle& q, const py::handle& dq,
-                       const py::handle& ddq, const py::handle& tau) {
+Trajectory makeDataset(const ArrayLike& time, const ArrayLike& q, const ArrayLike& dq,
+                       const OptionalArrayLike& ddq, const OptionalArrayLike& tau) {
   const DoubleArray t = realArray(time, "time", {1});
   const py::ssize_t count = t.shape(0);
   const DoubleArray qa = realArray(q, "q", {2});
@@ -233,12 +233,15 @@ void bindModelClass(py::module_& m) {
   py::class_<Model>(m, "Model",
                     "A robot: kinematic tree, inertial and drive parameters. Copies are "
                     "independent (Model.copy()); load one with dynid.load_model().")
-      .def_readwrite("name", &Model::name)
-      .def_property_readonly("num_joints", &Model::numJoints)
-      .def_property_readonly("num_parameters",
-                             [](const Model& self) { return self.parameterLayout().size(); })
-      .def_readonly("link_names", &Model::link_names)
-      .def_readonly("joint_names", &Model::joint_names)
+      .def_readwrite("name", &Model::name,
+                     "The robot's name (the URDF's robot name, or the built-in's).")
+      .def_property_readonly("num_joints", &Model::numJoints, "The number of moving joints n.")
+      .def_property_readonly(
+          "num_parameters", [](const Model& self) { return self.parameterLayout().size(); },
+          "The length of the standard parameter vector (10 per link, then the enabled drive terms "
+          "per joint).")
+      .def_readonly("link_names", &Model::link_names, "The moving links' names, in joint order.")
+      .def_readonly("joint_names", &Model::joint_names, "The moving joints' names, in order.")
       .def_property_readonly(
           "parameter_names",
           [](const Model& self) { return standardParameterNames(self.parameterLayout()); },
@@ -252,7 +255,7 @@ void bindModelClass(py::module_& m) {
           "The drive terms every joint carries, e.g. ['ia', 'fv', 'fc'] (set by load_model).")
       .def_property(
           "parameters", [](const Model& self) { return toNumpy(self.standardParameters()); },
-          [](Model& self, const py::handle& value) { setParameters(self, value); },
+          [](Model& self, const ArrayLike& value) { setParameters(self, value); },
           "The standard parameter vector, shape (num_parameters,) [kg, kg m, kg m^2, drive "
           "units]. Assigning checks the size and that every value is finite (|x| <= 1e6).")
       .def(
@@ -283,20 +286,24 @@ void bindModelClass(py::module_& m) {
           "{name: value} of the standard parameters, in order.")
       .def_property(
           "gravity", [](const Model& self) { return toNumpy(Eigen::VectorXd(self.gravity())); },
-          [](Model& self, const py::handle& value) {
+          [](Model& self, const ArrayLike& value) {
             self.setGravity(vectorArg(value, "gravity", 3));
           },
           "Gravity in the base frame, shape (3,) [m/s^2].")
       .def_property_readonly(
-          "lower_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::lower)); })
+          "lower_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::lower)); },
+          "Each joint's lower position limit, shape (n,) [rad].")
       .def_property_readonly(
-          "upper_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::upper)); })
+          "upper_limits", [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::upper)); },
+          "Each joint's upper position limit, shape (n,) [rad].")
       .def_property_readonly(
           "velocity_limits",
-          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::velocity)); })
+          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::velocity)); },
+          "Each joint's velocity limit, shape (n,) [rad/s].")
       .def_property_readonly(
           "effort_limits",
-          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::effort)); })
+          [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::effort)); },
+          "Each joint's torque limit, shape (n,) [N m].")
       .def("check", &violationsList,
            "Physical-consistency violations of the links' parameters, as dicts {link, link_name, "
            "condition, detail}; empty when every link is realisable (as `dynid model check`).")
@@ -305,7 +312,7 @@ void bindModelClass(py::module_& m) {
       .def("to_mjcf", [](const Model& self) { return modelDocument(self, "mjcf"); })
       .def(
           "export",
-          [](const Model& self, const py::handle& path, const std::string& format) {
+          [](const Model& self, const PathLike& path, const std::string& format) {
             writeOutput(pathArg(path, "path"), modelDocument(self, format));
           },
           py::arg("path"), py::arg("format"),
@@ -335,13 +342,23 @@ void bindLoadingAndDatasets(py::module_& m) {
                          "is zeros.")
       .def(py::init(&makeDataset), py::arg("time"), py::arg("q"), py::arg("dq"),
            py::arg("ddq") = py::none(), py::arg("tau") = py::none())
-      .def_property_readonly("num_samples", &Trajectory::numSamples)
-      .def_property_readonly("num_joints", &Trajectory::numJoints)
-      .def_property_readonly("time", [](const Trajectory& t) { return toNumpy(t.time); })
-      .def_property_readonly("q", [](const Trajectory& t) { return samplesOf(t.q); })
-      .def_property_readonly("dq", [](const Trajectory& t) { return samplesOf(t.dq); })
-      .def_property_readonly("ddq", [](const Trajectory& t) { return samplesOf(t.ddq); })
-      .def_property_readonly("tau", [](const Trajectory& t) { return samplesOf(t.tau); })
+      .def_property_readonly("num_samples", &Trajectory::numSamples, "The number of samples N.")
+      .def_property_readonly("num_joints", &Trajectory::numJoints, "The number of joints n.")
+      .def_property_readonly(
+          "time", [](const Trajectory& t) { return toNumpy(t.time); },
+          "Sample times, shape (N,) [s].")
+      .def_property_readonly(
+          "q", [](const Trajectory& t) { return samplesOf(t.q); },
+          "Joint positions, shape (N, n) [rad].")
+      .def_property_readonly(
+          "dq", [](const Trajectory& t) { return samplesOf(t.dq); },
+          "Joint velocities, shape (N, n) [rad/s].")
+      .def_property_readonly(
+          "ddq", [](const Trajectory& t) { return samplesOf(t.ddq); },
+          "Joint accelerations, shape (N, n) [rad/s^2].")
+      .def_property_readonly(
+          "tau", [](const Trajectory& t) { return samplesOf(t.tau); },
+          "Joint torques, shape (N, n) [N m].")
       .def("__len__", &Trajectory::numSamples)
       .def("__repr__", [](const Trajectory& t) {
         return "<dynid.Dataset: " + std::to_string(t.numSamples()) + " samples, " +
@@ -350,7 +367,7 @@ void bindLoadingAndDatasets(py::module_& m) {
 
   m.def(
       "read_dataset",
-      [](const py::handle& path, int joints) {
+      [](const PathLike& path, int joints) {
         const std::string file = pathArg(path, "path");
         py::gil_scoped_release release;
         return readDatasetCsv(file, joints);
@@ -360,7 +377,7 @@ void bindLoadingAndDatasets(py::module_& m) {
       "Raises ParseError naming the line and column at fault.");
   m.def(
       "write_dataset",
-      [](const py::handle& path, const Trajectory& data) {
+      [](const PathLike& path, const Trajectory& data) {
         const std::string file = pathArg(path, "path");
         py::gil_scoped_release release;
         writeDatasetCsv(file, data);

@@ -119,13 +119,14 @@ Trajectory trajectoryOf(const DataArg& d, const Model& model) {
 // ---- simulate ----
 
 Trajectory simulatePy(const Model& model, double duration, double dt, double rate,
-                      const std::string& controller, const py::handle& amplitude,
-                      const py::handle& q0, const py::handle& frequency, const py::handle& phase,
-                      double base_frequency, int harmonics, const py::handle& kp,
-                      const py::handle& kd, const py::handle& tau_max, double bandwidth,
+                      const std::string& controller, const OptionalArrayLike& amplitude,
+                      const OptionalArrayLike& q0, const OptionalArrayLike& frequency,
+                      const OptionalArrayLike& phase, double base_frequency, int harmonics,
+                      const OptionalArrayLike& kp, const OptionalArrayLike& kd,
+                      const OptionalArrayLike& tau_max, double bandwidth,
                       const std::optional<Model>& controller_model, double controller_perturb,
                       const std::string& integrator, double noise_q, double noise_dq,
-                      double noise_tau, std::uint64_t seed, const py::handle& trajectory) {
+                      double noise_tau, std::uint64_t seed, const OptionalPathLike& trajectory) {
   if (controller != "sinusoidal" && controller != "fourier")
     throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
                           "'");
@@ -166,17 +167,17 @@ struct SearchPy {
   SearchOutcome outcome;
 };
 
-SearchPy searchPy(const Model& robot, const py::handle& data, const std::string& method,
+SearchPy searchPy(const Model& robot, const DataLike& data, const std::string& method,
                   const std::optional<Model>& init, const std::optional<double>& perturb,
-                  const std::optional<Model>& truth, const py::handle& validate, long budget_evals,
-                  double budget_seconds, double gc_tolerance, const std::string& form, double range,
-                  double absolute_range, const std::vector<std::string>& fix,
-                  const std::string& mass_constraint, const std::optional<double>& total_mass,
-                  double horizon, int segments, bool random_segments, const std::string& integrator,
-                  double step, bool normalise, int population, int elites, double migration,
-                  double mutation_rate, double mutation_scale, int evals_per_seed,
-                  std::uint64_t seed, int threads, const std::string& checkpoint,
-                  const py::object& progress) {
+                  const std::optional<Model>& truth, const OptionalDataLike& validate,
+                  long budget_evals, double budget_seconds, double gc_tolerance,
+                  const std::string& form, double range, double absolute_range,
+                  const std::vector<std::string>& fix, const std::string& mass_constraint,
+                  const std::optional<double>& total_mass, double horizon, int segments,
+                  bool random_segments, const std::string& integrator, double step, bool normalise,
+                  int population, int elites, double migration, double mutation_rate,
+                  double mutation_scale, int evals_per_seed, std::uint64_t seed, int threads,
+                  const std::string& checkpoint, const ProgressLike& progress) {
   if (init && perturb) throw py::value_error("give init or perturb, not both");
   const SearchRequest d;
   if (method == "nlo" && (population != d.ga.population || elites != d.ga.elites ||
@@ -258,8 +259,8 @@ struct RefinePy {
   RefineOutcome outcome;
 };
 
-RefinePy refinePy(const Model& robot, const py::handle& start, const py::handle& data,
-                  const py::handle& validate, const std::optional<Model>& truth,
+RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& data,
+                  const OptionalDataLike& validate, const std::optional<Model>& truth,
                   bool estimate_initial_states, double continuity_weight, int max_iterations,
                   bool base_stage, bool gauge, double budget_seconds, const std::string& form,
                   double range, double horizon, int segments, int threads) {
@@ -315,11 +316,12 @@ struct ExcitePy {
 ExcitePy excitePy(const Model& robot, const std::string& criterion, double period, int harmonics,
                   int starts, int evaluations, double budget_seconds, double grid_rate,
                   double check_rate, double torque_noise, int segments, double horizon,
-                  const py::handle& offset, const py::handle& q_min, const py::handle& q_max,
-                  const py::handle& dq_max, const py::handle& ddq_max, const py::handle& tau_max,
+                  const OptionalArrayLike& offset, const OptionalArrayLike& q_min,
+                  const OptionalArrayLike& q_max, const OptionalArrayLike& dq_max,
+                  const OptionalArrayLike& ddq_max, const OptionalArrayLike& tau_max,
                   double torque_margin, const std::optional<double>& floor, double base_radius,
                   int samples, std::uint64_t seed, double tolerance, int threads,
-                  const py::handle& robot_spec_arg) {
+                  const PathLike& robot_spec_arg) {
   const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
   const int n = robot.numJoints();
   ExciteRequest r;  // checked by exciteRun
@@ -416,22 +418,21 @@ RawSignals arraySignals(const py::handle& t, const py::handle& q, const py::hand
   return out;
 }
 
-PreparePy preparePy(const py::handle& tables, const std::string& time_column,
-                    const std::string& q_columns, const std::string& dq_columns,
-                    const std::string& tau_columns, const std::string& ddq_columns, int joints,
-                    bool current, const py::handle& torque_constants, const py::handle& gear_ratios,
-                    const std::string& time_unit, const std::string& angle_unit, double rate,
-                    const py::handle& cutoff, int order, int decimate, double max_gap, double trim,
-                    bool derive_dq, bool derive_ddq, bool savitzky_golay, int savgol_window,
-                    int savgol_degree, double validate_fraction, bool keep_stalled,
-                    const std::vector<std::pair<double, double>>& window,
-                    const std::vector<std::pair<long, long>>& rows, const py::handle& dq_max,
-                    const py::handle& ddq_max, const py::handle& tau_cutoff,
-                    const std::string& topic, const std::string& stamp,
-                    const std::vector<std::string>& joint_names, const py::handle& t,
-                    const py::handle& q, const py::handle& tau, const py::handle& dq,
-                    const py::handle& ddq, const std::string& effort_topic,
-                    const py::handle& effort_log, bool keep_raw_torque) {
+PreparePy preparePy(
+    const TablesLike& tables, const std::string& time_column, const std::string& q_columns,
+    const std::string& dq_columns, const std::string& tau_columns, const std::string& ddq_columns,
+    int joints, bool current, const OptionalArrayLike& torque_constants,
+    const OptionalArrayLike& gear_ratios, const std::string& time_unit,
+    const std::string& angle_unit, double rate, const FrequencyLike& cutoff, int order,
+    int decimate, double max_gap, double trim, bool derive_dq, bool derive_ddq, bool savitzky_golay,
+    int savgol_window, int savgol_degree, double validate_fraction, bool keep_stalled,
+    const std::vector<std::pair<double, double>>& window,
+    const std::vector<std::pair<long, long>>& rows, const OptionalArrayLike& dq_max,
+    const OptionalArrayLike& ddq_max, const FrequencyLike& tau_cutoff, const std::string& topic,
+    const std::string& stamp, const std::vector<std::string>& joint_names,
+    const OptionalArrayLike& t, const OptionalArrayLike& q, const OptionalArrayLike& tau,
+    const OptionalArrayLike& dq, const OptionalArrayLike& ddq, const std::string& effort_topic,
+    const OptionalPathLike& effort_log, bool keep_raw_torque) {
   PreparePy out;
   LogSource& s = out.source;
   if (tables.is_none()) {
@@ -540,7 +541,7 @@ void bindSimulate(py::module_& m) {
 
   m.def(
       "gc_error",
-      [](const Model& model, const py::handle& data, double horizon, int segments,
+      [](const Model& model, const DataLike& data, double horizon, int segments,
          bool random_segments, const std::string& integrator, double step, bool normalise,
          std::uint64_t seed, int threads) {
         checkThreads(threads);
@@ -567,16 +568,23 @@ void bindSimulate(py::module_& m) {
 void bindSearchRuns(py::module_& m) {
   py::class_<SearchPy>(m, "Search", "What `dynid search` writes as search.json.")
       .def_property_readonly(
-          "method", [](const SearchPy& s) { return std::string(methodName(s.outcome.method)); })
-      .def_property_readonly("termination",
-                             [](const SearchPy& s) { return s.outcome.result.termination; })
-      .def_property_readonly("initial_gc",
-                             [](const SearchPy& s) { return s.outcome.result.initial_gc; })
-      .def_property_readonly("best_gc", [](const SearchPy& s) { return s.outcome.result.best_gc; })
-      .def_property_readonly("evaluations",
-                             [](const SearchPy& s) { return s.outcome.result.evaluations; })
-      .def_property_readonly("free_names",
-                             [](const SearchPy& s) { return s.outcome.space->freeNames(); })
+          "method", [](const SearchPy& s) { return std::string(methodName(s.outcome.method)); },
+          "The optimiser, 'nlo' (multistart COBYLA) or 'ga' (genetic algorithm).")
+      .def_property_readonly(
+          "termination", [](const SearchPy& s) { return s.outcome.result.termination; },
+          "Why the search stopped (budget, tolerance, interrupted).")
+      .def_property_readonly(
+          "initial_gc", [](const SearchPy& s) { return s.outcome.result.initial_gc; },
+          "The GC error of the starting parameters.")
+      .def_property_readonly(
+          "best_gc", [](const SearchPy& s) { return s.outcome.result.best_gc; },
+          "The lowest GC error found.")
+      .def_property_readonly(
+          "evaluations", [](const SearchPy& s) { return s.outcome.result.evaluations; },
+          "The number of GC error evaluations.")
+      .def_property_readonly(
+          "free_names", [](const SearchPy& s) { return s.outcome.space->freeNames(); },
+          "The searched (free) parameters' names, in the order of best_x.")
       .def_property_readonly(
           "best_x", [](const SearchPy& s) { return toNumpy(s.outcome.result.best_x); },
           "The best free parameters (free_names order).")
@@ -584,24 +592,30 @@ void bindSearchRuns(py::module_& m) {
           "model",
           [](const SearchPy& s) { return s.outcome.space->modelAt(s.outcome.result.best_x); },
           "The robot with the best parameters.")
-      .def_property_readonly("initial_parameter_error",
-                             [](const SearchPy& s) { return s.outcome.initial_parameter_error; })
-      .def_property_readonly("final_parameter_error",
-                             [](const SearchPy& s) { return s.outcome.final_parameter_error; })
-      .def_property_readonly("history",
-                             [](const SearchPy& s) {
-                               py::list out;
-                               for (const HistoryEntry& h : s.outcome.result.history) {
-                                 py::dict d;
-                                 d["stage"] = h.stage;
-                                 d["iteration"] = h.iteration;
-                                 d["best_gc"] = h.best_gc;
-                                 d["best_parameter_error"] = h.best_parameter_error;
-                                 d["evaluations"] = h.evaluations;
-                                 out.append(d);
-                               }
-                               return out;
-                             })
+      .def_property_readonly(
+          "initial_parameter_error",
+          [](const SearchPy& s) { return s.outcome.initial_parameter_error; },
+          "The starting parameters' relative error against truth= (None without it).")
+      .def_property_readonly(
+          "final_parameter_error",
+          [](const SearchPy& s) { return s.outcome.final_parameter_error; },
+          "The best parameters' relative error against truth= (None without it).")
+      .def_property_readonly(
+          "history",
+          [](const SearchPy& s) {
+            py::list out;
+            for (const HistoryEntry& h : s.outcome.result.history) {
+              py::dict d;
+              d["stage"] = h.stage;
+              d["iteration"] = h.iteration;
+              d["best_gc"] = h.best_gc;
+              d["best_parameter_error"] = h.best_parameter_error;
+              d["evaluations"] = h.evaluations;
+              out.append(d);
+            }
+            return out;
+          },
+          "One dict per round (stage, iteration, best_gc, best_parameter_error, ...).")
       .def(
           "to_json", [](const SearchPy& s) { return jsonText(searchJson(s.outcome), 1) + "\n"; },
           "search.json, as `dynid search` writes it.");
@@ -638,27 +652,38 @@ void bindSearchRuns(py::module_& m) {
 
 void bindRefine(py::module_& m) {
   py::class_<RefinePy>(m, "Refinement", "What `dynid refine` writes as refine.json.")
-      .def_property_readonly("initial_gc",
-                             [](const RefinePy& r) { return r.outcome.result.initial_gc; })
-      .def_property_readonly("final_gc",
-                             [](const RefinePy& r) { return r.outcome.result.final_gc; })
-      .def_property_readonly("termination",
-                             [](const RefinePy& r) { return r.outcome.result.termination; })
-      .def_property_readonly("x", [](const RefinePy& r) { return toNumpy(r.outcome.result.x); })
-      .def_property_readonly("free_names",
-                             [](const RefinePy& r) { return r.outcome.space->freeNames(); })
       .def_property_readonly(
-          "model", [](const RefinePy& r) { return r.outcome.space->modelAt(r.outcome.result.x); })
-      .def_property_readonly("final_parameter_error",
-                             [](const RefinePy& r) -> py::object {
-                               if (!r.outcome.has_truth) return py::none();
-                               return py::float_(r.outcome.final_parameter_error);
-                             })
-      .def_property_readonly("final_base_error",
-                             [](const RefinePy& r) -> py::object {
-                               if (!r.outcome.has_truth) return py::none();
-                               return py::float_(r.outcome.final_base_error);
-                             })
+          "initial_gc", [](const RefinePy& r) { return r.outcome.result.initial_gc; },
+          "The GC error at the start.")
+      .def_property_readonly(
+          "final_gc", [](const RefinePy& r) { return r.outcome.result.final_gc; },
+          "The GC error at the end.")
+      .def_property_readonly(
+          "termination", [](const RefinePy& r) { return r.outcome.result.termination; },
+          "Why the refinement stopped (Ceres' reason, the budget or an interrupt).")
+      .def_property_readonly(
+          "x", [](const RefinePy& r) { return toNumpy(r.outcome.result.x); },
+          "The refined free parameters, in the order of free_names.")
+      .def_property_readonly(
+          "free_names", [](const RefinePy& r) { return r.outcome.space->freeNames(); },
+          "The refined (free) parameters' names.")
+      .def_property_readonly(
+          "model", [](const RefinePy& r) { return r.outcome.space->modelAt(r.outcome.result.x); },
+          "The robot with the refined parameters.")
+      .def_property_readonly(
+          "final_parameter_error",
+          [](const RefinePy& r) -> std::optional<double> {
+            if (!r.outcome.has_truth) return std::nullopt;
+            return r.outcome.final_parameter_error;
+          },
+          "The refined parameters' relative error against truth= (None without it).")
+      .def_property_readonly(
+          "final_base_error",
+          [](const RefinePy& r) -> std::optional<double> {
+            if (!r.outcome.has_truth) return std::nullopt;
+            return r.outcome.final_base_error;
+          },
+          "The refined base parameters' relative error against truth= (None without it).")
       .def(
           "to_json", [](const RefinePy& r) { return jsonText(refineJson(r.outcome), 1) + "\n"; },
           "refine.json, as `dynid refine` writes it.");
@@ -679,16 +704,29 @@ void bindRefine(py::module_& m) {
 
 void bindExcite(py::module_& m) {
   py::class_<ExcitePy>(m, "Excitation", "What `dynid excite` writes as excitation.json.")
-      .def_property_readonly("period", [](const ExcitePy& e) { return e.outcome.design.period; })
-      .def_property_readonly("offset",
-                             [](const ExcitePy& e) { return toNumpy(e.outcome.design.offset); })
-      .def_property_readonly("a", [](const ExcitePy& e) { return toNumpy(e.outcome.design.a); })
-      .def_property_readonly("b", [](const ExcitePy& e) { return toNumpy(e.outcome.design.b); })
-      .def_property_readonly("condition_number",
-                             [](const ExcitePy& e) { return e.outcome.score.condition_unit; })
-      .def_property_readonly("baseline_condition_number",
-                             [](const ExcitePy& e) { return e.outcome.baseline.condition_unit; })
-      .def_property_readonly("termination", [](const ExcitePy& e) { return e.outcome.termination; })
+      .def_property_readonly(
+          "period", [](const ExcitePy& e) { return e.outcome.design.period; },
+          "The motion's period [s].")
+      .def_property_readonly(
+          "offset", [](const ExcitePy& e) { return toNumpy(e.outcome.design.offset); },
+          "Each joint's centre of motion, shape (n,) [rad].")
+      .def_property_readonly(
+          "a", [](const ExcitePy& e) { return toNumpy(e.outcome.design.a); },
+          "The Fourier coefficients a_jk of the sine terms (q_j = offset_j + sum_k a_jk/(w k) "
+          "sin(w k t) - b_jk/(w k) cos(w k t)), shape (n, harmonics) [rad/s].")
+      .def_property_readonly(
+          "b", [](const ExcitePy& e) { return toNumpy(e.outcome.design.b); },
+          "The Fourier coefficients b_jk of the cosine terms, shape (n, harmonics) [rad/s].")
+      .def_property_readonly(
+          "condition_number", [](const ExcitePy& e) { return e.outcome.score.condition_unit; },
+          "The designed motion's base regressor condition number (unit columns).")
+      .def_property_readonly(
+          "baseline_condition_number",
+          [](const ExcitePy& e) { return e.outcome.baseline.condition_unit; },
+          "The default sinusoid's, for comparison.")
+      .def_property_readonly(
+          "termination", [](const ExcitePy& e) { return e.outcome.termination; },
+          "Why the design stopped (evaluations, seconds, tolerance or interrupted).")
       .def(
           "sample",
           [](const ExcitePy& e, double rate) {
@@ -729,25 +767,37 @@ void bindPrepare(py::module_& m) {
   py::class_<PreparePy>(m, "Preparation",
                         "What `dynid prepare` writes (train, validate, "
                         "prepare.json).")
-      .def_property_readonly("train", [](const PreparePy& p) { return p.outcome.train; })
-      .def_property_readonly("validate",
-                             [](const PreparePy& p) -> py::object {
-                               if (p.outcome.validate.numSamples() == 0) return py::none();
-                               return py::cast(p.outcome.validate);
-                             })
-      .def_property_readonly("rate", [](const PreparePy& p) { return p.outcome.rate; })
-      .def_property_readonly("cutoff", [](const PreparePy& p) { return p.outcome.cutoff; })
-      .def_property_readonly("tau_noise",
-                             [](const PreparePy& p) { return toNumpy(p.outcome.tau_noise); })
-      .def_property_readonly("warnings", [](const PreparePy& p) { return p.outcome.warnings; })
+      .def_property_readonly(
+          "train", [](const PreparePy& p) { return p.outcome.train; },
+          "The training Dataset (train.csv).")
+      .def_property_readonly(
+          "validate",
+          [](const PreparePy& p) -> std::optional<Trajectory> {
+            if (p.outcome.validate.numSamples() == 0) return std::nullopt;
+            return p.outcome.validate;
+          },
+          "The held-out Dataset (validate.csv), or None when nothing was held out.")
+      .def_property_readonly(
+          "rate", [](const PreparePy& p) { return p.outcome.rate; }, "The output rate [Hz].")
+      .def_property_readonly(
+          "cutoff", [](const PreparePy& p) { return p.outcome.cutoff; },
+          "The low-pass cutoff applied to q, dq (and tau unless tau_cutoff differs) [Hz]; 0 for "
+          "none.")
+      .def_property_readonly(
+          "tau_noise", [](const PreparePy& p) { return toNumpy(p.outcome.tau_noise); },
+          "Each joint's torque noise estimate, the RMS of the resampled minus the filtered torque, "
+          "shape (n,) [N m].")
+      .def_property_readonly(
+          "warnings", [](const PreparePy& p) { return p.outcome.warnings; },
+          "What prepare warns about (rest at the ends, a cutoff near the trajectory band, ...).")
       .def_property_readonly(
           "raw_validate_time",
           [](const PreparePy& p) { return toNumpy(p.outcome.raw_validate_time); },
-          "keep_raw_torque: the held-out raw torques' stamps (N,) [s]")
+          "With keep_raw_torque, the held-out raw torques' stamps (N,) [s].")
       .def_property_readonly(
           "raw_validate_tau",
           [](const PreparePy& p) { return toNumpy(p.outcome.raw_validate_tau); },
-          "keep_raw_torque: the held-out raw torques (N, n) [N m], as logged")
+          "With keep_raw_torque, the held-out raw torques as logged, shape (N, n) [N m].")
       .def_property_readonly(
           "time_origin",
           [](const PreparePy& p) { return static_cast<double>(p.outcome.time_origin); },

@@ -51,6 +51,83 @@ std::string pathArg(const py::handle& value, const char* name);
 /// ValueError (InputError) for an unknown name.
 DriveTerms driveTermsArg(const py::handle& value, const char* name);
 
+/// An argument the binding reads itself (realArray, pathArg, dataArg, ...): any Python object,
+/// held as it came, shown in signatures, docstrings and the .pyi stubs as the types it accepts
+/// (Tag::name) rather than as pybind11's "handle".
+template <typename Tag>
+struct Typed : py::object {
+  Typed() = default;
+  Typed(py::handle h, borrowed_t b) : py::object(h, b) {}
+  Typed(py::handle h, stolen_t s) : py::object(h, s) {}
+  static bool check_(py::handle) { return true; }  // pybind11's caster: every object loads
+};
+struct ArrayTag {
+  static constexpr auto name = py::detail::const_name("numpy.typing.ArrayLike");
+};
+struct OptionalArrayTag {
+  static constexpr auto name = py::detail::const_name("typing.Optional[numpy.typing.ArrayLike]");
+};
+struct PathTag {
+  static constexpr auto name = py::detail::const_name("typing.Union[str, os.PathLike[str]]");
+};
+struct OptionalPathTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Optional[typing.Union[str, os.PathLike[str]]]");
+};
+struct PathsTag {
+  static constexpr auto name = py::detail::const_name(
+      "typing.Optional[typing.Sequence[typing.Union[str, os.PathLike[str]]]]");
+};
+struct DataTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Union[Dataset, str, os.PathLike[str]]");
+};
+struct OptionalDataTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Optional[typing.Union[Dataset, str, os.PathLike[str]]]");
+};
+struct TermsTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Union[str, typing.Sequence[str], None]");
+};
+struct OptionalFloatTag {
+  static constexpr auto name = py::detail::const_name("typing.Optional[float]");
+};
+struct PriorTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Union[str, os.PathLike[str], numpy.typing.ArrayLike, None]");
+};
+struct FrequencyTag {
+  static constexpr auto name = py::detail::const_name("typing.Union[float, str, None]");
+};
+struct TablesTag {
+  static constexpr auto name = py::detail::const_name(
+      "typing.Union[str, os.PathLike[str], typing.Sequence[typing.Union[str, os.PathLike[str]]], "
+      "None]");
+};
+struct ProgressTag {
+  static constexpr auto name = py::detail::const_name(
+      "typing.Optional[typing.Callable[[typing.Dict[str, typing.Any]], typing.Optional[bool]]]");
+};
+struct StartTag {
+  static constexpr auto name =
+      py::detail::const_name("typing.Union[Search, Estimate, str, os.PathLike[str]]");
+};
+using ArrayLike = Typed<ArrayTag>;                  // a NumPy array or anything np.asarray takes
+using OptionalArrayLike = Typed<OptionalArrayTag>;  // ... or None
+using PathLike = Typed<PathTag>;                    // str or os.PathLike
+using OptionalPathLike = Typed<OptionalPathTag>;    // ... or None
+using PathsLike = Typed<PathsTag>;                  // a list of paths, or None
+using DataLike = Typed<DataTag>;                    // a Dataset or a dataset CSV's path
+using OptionalDataLike = Typed<OptionalDataTag>;    // ... or None
+using TermsLike = Typed<TermsTag>;                  // driveTermsArg's "fv,fc" or ["fv", "fc"]
+using OptionalFloat = Typed<OptionalFloatTag>;      // a number or None
+using PriorLike = Typed<PriorTag>;                  // payload's prior: a file or 10 values
+using FrequencyLike = Typed<FrequencyTag>;          // prepare's cutoffs: Hz, "auto"/"none", None
+using TablesLike = Typed<TablesTag>;                // prepare's log files
+using StartLike = Typed<StartTag>;                  // refine's start: a result or its file
+using ProgressLike = Typed<ProgressTag>;            // search's callback: dict -> False to stop
+
 // Registration, one function per file.
 void bindModel(py::module_& m);
 void bindDynamics(py::module_& m);
@@ -58,3 +135,12 @@ void bindIdentification(py::module_& m);
 void bindSearch(py::module_& m);
 
 }  // namespace dynid::python
+
+namespace pybind11::detail {
+/// Typed<Tag> takes any object (the binding checks it and raises TypeError or ValueError naming
+/// the argument) and is named Tag::name in signatures.
+template <typename Tag>
+struct handle_type_name<dynid::python::Typed<Tag>> {
+  static constexpr auto name = Tag::name;
+};
+}  // namespace pybind11::detail

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages dynid needs to build, test and benchmark, including the sanitizer
 # and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports)
-# and the Python module (pybind11, NumPy, pytest for Debian's python3).
+# and the Python module (pybind11, NumPy, pytest, and mypy for its type stubs, for Debian's
+# python3).
 # zsh and groff check the generated shell completion and man pages.
 # Idempotent: installs only what is missing, and does nothing (not even apt-get update) when all
 # packages are present. Runs as root, or through sudo when not root.
@@ -17,7 +18,7 @@ packages=(
   gnuplot-nox clang-format
   zsh groff-base
   clang libclang-rt-14-dev llvm-14
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-mypy
   libsqlite3-dev libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
 )
 if [[ "${DYNID_WITH_PEERS:-0}" == "1" ]]; then
