@@ -604,20 +604,18 @@ ExciteRequest proximalNarrowed(const ExciteRequest& request) {
   return narrowed;
 }
 
-}  // namespace
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
-ExciteOutcome exciteRun(const ExciteRequest& request) {
-  request.check();
-  const int n = request.robot.numJoints();
-  if (request.payload_link && request.payload_proximal_share < 1.0 && n > 3)
-    return exciteRun(proximalNarrowed(request));
+/// The outcome's settings and the base parameters the design is scored on (the payload's 10, or
+/// the whole robot's).
+ExciteOutcome outcomeSettings(const ExciteRequest& request) {
   const Model& model = request.robot;
-  const ExcitationLimits& limits = request.limits;
-  const int grid_points = static_cast<int>(std::ceil(request.period * request.grid_rate));
-  const auto started = std::chrono::steady_clock::now();
   ExciteOutcome out;
   out.criterion = request.criterion;
-  out.limits = limits;
+  out.limits = request.limits;
   out.torque_noise = request.torque_noise;
   out.check_rate = request.check_rate;
   out.grid_rate = request.grid_rate;
@@ -632,60 +630,64 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   } else {
     out.base = structuralBaseParameters(model, request.structural);
   }
+  out.gc_segments = request.gc_segments;
+  out.gc_horizon = request.gc_horizon;
+  return out;
+}
 
-  // The default sinusoid's scores first: they do not depend on the design, and the time its exact
-  // GC Jacobian takes is what the design's will take after the search, so that a time budget
-  // (max_seconds) holds with the design's evaluation included.
-  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
-  const int threads_used = pool.numThreads();
+/// Scores the default sinusoid (they do not depend on the design) and returns the seconds left
+/// for the search. Its exact GC Jacobian takes as long as the design's will after the search,
+/// so a time budget (max_seconds) holds with the design's evaluation included.
+double scoreBaseline(const ExciteRequest& request, int threads, Clock::time_point started,
+                     ExciteOutcome& out) {
+  const Model& model = request.robot;
   const Trajectory baseline = sinusoidBaseline(
       model, request.period, static_cast<int>(std::round(request.period * request.check_rate)) + 1);
   out.baseline = scoreMotion(model, out.base, baseline, request.torque_noise);
-  out.baseline_check = checkLimits(model, baseline, limits);
-  const auto gc_started = std::chrono::steady_clock::now();
-  out.baseline_gc = gcCondition(model, out.base, baseline, request, threads_used);
-  const double gc_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - gc_started).count();
+  out.baseline_check = checkLimits(model, baseline, request.limits);
+  const auto gc_started = Clock::now();
+  out.baseline_gc = gcCondition(model, out.base, baseline, request, threads);
+  const double gc_seconds = secondsSince(gc_started);
   out.baseline_gc_first_order = firstOrderGcCondition(model, out.base, baseline);
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   // What is left for the search: the budget less what has run and the design's evaluation (its
   // GC Jacobian and the limits' shrinking: twice the baseline's Jacobian), at least a tenth of it.
-  const double search_seconds =
-      std::isfinite(request.max_seconds)
-          ? std::max(request.max_seconds - elapsed - 2.0 * gc_seconds, 0.1 * request.max_seconds)
-          : request.max_seconds;
+  if (!std::isfinite(request.max_seconds)) return request.max_seconds;
+  return std::max(request.max_seconds - secondsSince(started) - 2.0 * gc_seconds,
+                  0.1 * request.max_seconds);
+}
 
-  const Coding coding(limits, request.harmonics, request.period, request.offset);
-  const Grid grid(request.period, request.harmonics, grid_points, false);
-  const DesignProblem problem(model, out.base, request, limits, coding, grid);
-  MultiStart multistart{request, coding, grid, problem,
-                        request.control.within(search_seconds, std::chrono::steady_clock::now())};
+/// Runs every start on the pool, reporting each as it finishes (the share done: of the starts or
+/// of the budget, whichever is further).
+std::vector<StartBest> runStarts(const ExciteRequest& request, MultiStart& multistart,
+                                 ThreadPool& pool, Clock::time_point started) {
   std::vector<StartBest> best(request.starts);
   std::mutex progress_mutex;
   int finished = 0;
   std::vector<std::unique_ptr<DesignProblem::Workspace>> workspaces;
   for (int t = 0; t < pool.numThreads(); ++t)
-    workspaces.push_back(std::make_unique<DesignProblem::Workspace>(model));
+    workspaces.push_back(std::make_unique<DesignProblem::Workspace>(request.robot));
   pool.parallelFor(request.starts, [&](int s, int thread) {
     best[s] = multistart.run(s, *workspaces[thread]);
-    if (request.control.progress) {
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      ++finished;
-      const double since_start =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      std::ostringstream line;
-      line << "start " << finished << "/" << request.starts << ": "
-           << (std::isfinite(best[s].objective) ? "criterion " + formatNumber(best[s].objective)
-                                                : std::string("no design within the limits"))
-           << " after " << best[s].evaluations << " evaluations; "
-           << progressText(std::max(static_cast<double>(finished) / request.starts,
-                                    since_start / request.max_seconds),  // starts or budget
-                           since_start);
-      request.control.progress(line.str());
-    }
+    if (!request.control.progress) return;
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    ++finished;
+    const double elapsed = secondsSince(started);
+    std::ostringstream line;
+    line << "start " << finished << "/" << request.starts << ": "
+         << (std::isfinite(best[s].objective) ? "criterion " + formatNumber(best[s].objective)
+                                              : std::string("no design within the limits"))
+         << " after " << best[s].evaluations << " evaluations; "
+         << progressText(std::max(static_cast<double>(finished) / request.starts,
+                                  elapsed / request.max_seconds),
+                         elapsed);
+    request.control.progress(line.str());
   });
+  return best;
+}
 
+/// Tallies the starts and picks the best (none feasible: an error saying why).
+void tallyStarts(const ExciteRequest& request, const std::vector<StartBest>& best,
+                 const MultiStart& multistart, ExciteOutcome& out) {
   out.starts.resize(request.starts);
   for (int s = 0; s < request.starts; ++s) {
     out.starts[s].evaluations = best[s].evaluations;
@@ -699,21 +701,44 @@ ExciteOutcome exciteRun(const ExciteRequest& request) {
   out.termination = multistart.interrupted ? "interrupted"
                     : multistart.timed_out ? "seconds"
                                            : "evaluations";
-  if (out.best_start < 0) throwNoFeasibleStart(request, coding, grid, out.termination);
+  if (out.best_start < 0)
+    throwNoFeasibleStart(request, multistart.coding, multistart.grid, out.termination);
+}
+
+}  // namespace
+
+ExciteOutcome exciteRun(const ExciteRequest& request) {
+  request.check();
+  const int n = request.robot.numJoints();
+  if (request.payload_link && request.payload_proximal_share < 1.0 && n > 3)
+    return exciteRun(proximalNarrowed(request));
+  const Model& model = request.robot;
+  const auto started = Clock::now();
+  ExciteOutcome out = outcomeSettings(request);
+  ThreadPool pool(request.threads == 0 ? 0 : std::min(request.threads, request.starts));
+  const double search_seconds = scoreBaseline(request, pool.numThreads(), started, out);
+
+  const int grid_points = static_cast<int>(std::ceil(request.period * request.grid_rate));
+  const Coding coding(request.limits, request.harmonics, request.period, request.offset);
+  const Grid grid(request.period, request.harmonics, grid_points, false);
+  const DesignProblem problem(model, out.base, request, request.limits, coding, grid);
+  MultiStart multistart{request, coding, grid, problem,
+                        request.control.within(search_seconds, Clock::now())};
+  const std::vector<StartBest> best = runStarts(request, multistart, pool, started);
+  tallyStarts(request, best, multistart, out);
 
   out.design = coding.decode(best[out.best_start].x.data());
   const Trajectory motion = shrinkIntoLimits(request, out);
   const Eigen::MatrixXd& a0 = coding.decode(best[out.best_start].x.data()).a;
   out.shrink = a0.norm() > 0.0 ? out.design.a.norm() / a0.norm() : 1.0;
   out.score = scoreMotion(model, out.base, motion, request.torque_noise);
-  out.gc_segments = request.gc_segments;
-  out.gc_horizon = request.gc_horizon;
   // The exact GC Jacobian takes seconds: after Ctrl-C it is left out (NaN), so that the design is
   // written within a second of it.
-  out.gc = multistart.interrupted ? std::numeric_limits<double>::quiet_NaN()
-                                  : gcCondition(model, out.base, motion, request, threads_used);
+  out.gc = multistart.interrupted
+               ? std::numeric_limits<double>::quiet_NaN()
+               : gcCondition(model, out.base, motion, request, pool.numThreads());
   out.gc_first_order = firstOrderGcCondition(model, out.base, motion);
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  out.seconds = secondsSince(started);
   return out;
 }
 
