@@ -61,58 +61,34 @@ struct Typed : py::object {
   Typed(py::handle h, stolen_t s) : py::object(h, s) {}
   static bool check_(py::handle) { return true; }  // pybind11's caster: every object loads
 };
-struct ArrayTag {
-  static constexpr auto name = py::detail::const_name("numpy.typing.ArrayLike");
-};
-struct OptionalArrayTag {
-  static constexpr auto name = py::detail::const_name("typing.Optional[numpy.typing.ArrayLike]");
-};
-struct PathTag {
-  static constexpr auto name = py::detail::const_name("typing.Union[str, os.PathLike[str]]");
-};
-struct OptionalPathTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Optional[typing.Union[str, os.PathLike[str]]]");
-};
-struct PathsTag {
-  static constexpr auto name = py::detail::const_name(
-      "typing.Optional[typing.Sequence[typing.Union[str, os.PathLike[str]]]]");
-};
-struct DataTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Union[Dataset, str, os.PathLike[str]]");
-};
-struct OptionalDataTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Optional[typing.Union[Dataset, str, os.PathLike[str]]]");
-};
-struct TermsTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Union[str, typing.Sequence[str], None]");
-};
-struct OptionalFloatTag {
-  static constexpr auto name = py::detail::const_name("typing.Optional[float]");
-};
-struct PriorTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Union[str, os.PathLike[str], numpy.typing.ArrayLike, None]");
-};
-struct FrequencyTag {
-  static constexpr auto name = py::detail::const_name("typing.Union[float, str, None]");
-};
-struct TablesTag {
-  static constexpr auto name = py::detail::const_name(
-      "typing.Union[str, os.PathLike[str], typing.Sequence[typing.Union[str, os.PathLike[str]]], "
-      "None]");
-};
-struct ProgressTag {
-  static constexpr auto name = py::detail::const_name(
-      "typing.Optional[typing.Callable[[typing.Dict[str, typing.Any]], typing.Optional[bool]]]");
-};
-struct StartTag {
-  static constexpr auto name =
-      py::detail::const_name("typing.Union[Search, Estimate, str, os.PathLike[str]]");
-};
+/// A tag naming a Typed argument's accepted types (typing syntax that stubgen and mypy read).
+#define DYNID_PYTHON_TYPE_NAME(Tag, text)                      \
+  struct Tag {                                                 \
+    static constexpr auto name = py::detail::const_name(text); \
+  }
+DYNID_PYTHON_TYPE_NAME(ArrayTag, "numpy.typing.ArrayLike");
+DYNID_PYTHON_TYPE_NAME(OptionalArrayTag, "typing.Optional[numpy.typing.ArrayLike]");
+DYNID_PYTHON_TYPE_NAME(PathTag, "typing.Union[str, os.PathLike[str]]");
+DYNID_PYTHON_TYPE_NAME(OptionalPathTag, "typing.Optional[typing.Union[str, os.PathLike[str]]]");
+DYNID_PYTHON_TYPE_NAME(PathsTag,
+                       "typing.Optional[typing.Sequence[typing.Union[str, os.PathLike[str]]]]");
+DYNID_PYTHON_TYPE_NAME(DataTag, "typing.Union[Dataset, str, os.PathLike[str]]");
+DYNID_PYTHON_TYPE_NAME(OptionalDataTag,
+                       "typing.Optional[typing.Union[Dataset, str, os.PathLike[str]]]");
+DYNID_PYTHON_TYPE_NAME(TermsTag, "typing.Union[str, typing.Sequence[str], None]");
+DYNID_PYTHON_TYPE_NAME(OptionalFloatTag, "typing.Optional[float]");
+DYNID_PYTHON_TYPE_NAME(PriorTag,
+                       "typing.Union[str, os.PathLike[str], numpy.typing.ArrayLike, None]");
+DYNID_PYTHON_TYPE_NAME(FrequencyTag, "typing.Union[float, str, None]");
+DYNID_PYTHON_TYPE_NAME(
+    TablesTag,
+    "typing.Union[str, os.PathLike[str], typing.Sequence[typing.Union[str, os.PathLike[str]]], "
+    "None]");
+DYNID_PYTHON_TYPE_NAME(
+    ProgressTag,
+    "typing.Optional[typing.Callable[[typing.Dict[str, typing.Any]], typing.Optional[bool]]]");
+DYNID_PYTHON_TYPE_NAME(StartTag, "typing.Union[Search, Estimate, str, os.PathLike[str]]");
+#undef DYNID_PYTHON_TYPE_NAME
 using ArrayLike = Typed<ArrayTag>;                  // a NumPy array or anything np.asarray takes
 using OptionalArrayLike = Typed<OptionalArrayTag>;  // ... or None
 using PathLike = Typed<PathTag>;                    // str or os.PathLike
