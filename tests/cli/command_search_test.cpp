@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -74,6 +75,33 @@ TEST(Cli, SearchStopsCleanlyOnInterrupt) {
   EXPECT_EQ(j["termination"], "interrupted");
   EXPECT_LT(j["seconds"].get<double>(), 30.0);
   EXPECT_GT(j["evaluations"].get<int>(), 0);
+}
+TEST(Cli, SearchAndExciteHoldTheirTimeBudgets) {
+  // Wall time of the whole command, process start to exit: the budget covers the search (and,
+  // for excite, the design's final evaluation, timed on the default sinusoid first).
+  const std::string train = test::tempPath("budget_train.csv"),
+                    held = test::tempPath("budget_held.csv");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 6 --out " + train).code, 0);
+  ASSERT_EQ(run("simulate --robot puma560 --duration 6 --seed 2 --out " + held).code, 0);
+  const auto timed = [](const std::string& command) {
+    const auto start = std::chrono::steady_clock::now();
+    const Result r = run(command);
+    EXPECT_EQ(r.code, 0) << command << "\n" << r.err;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  // Past the 3 s: one evaluation (a 100-segment PUMA GC error, ~0.02 s), the held-out GC error,
+  // reading and writing (~0.1 s); 1 s of margin for a loaded 2-core machine. It ran 52 s for 30.
+  const double search =
+      timed("search --robot puma560 --method ga --perturb 0.3 --data " + train + " --validate " +
+            held + " --budget-seconds 3 --out " + test::tempPath("budget_search"));
+  EXPECT_LT(search, 3.0 + 1.0);
+  EXPECT_GT(search, 2.5);  // it used its budget (the GA has no tolerance that ends it sooner)
+  // excite's design is a PUMA Fourier motion; it ran 80 s for 60 before the final evaluation
+  // counted. The same margin.
+  const double excite =
+      timed("excite --robot puma560 --budget-seconds 4 --out " + test::tempPath("budget_excite"));
+  EXPECT_LT(excite, 4.0 + 1.0);
+  EXPECT_GT(excite, 2.0);  // it used most of its budget (twice the final evaluation is reserved)
 }
 TEST(Cli, SearchUsageErrors) {
   EXPECT_EQ(run("search --method sgd --robot puma560 --data x.csv --out d").code, 2);
