@@ -47,3 +47,17 @@ def test_regressor_vs_search_scores_three_estimates(tmp_path):
         assert (tmp_path / "comparison.png").exists()
     except ImportError:
         assert "matplotlib is not installed" in output
+
+
+def test_the_readmes_python_lines_run(tmp_path):
+    """The README's "Six lines of Python", as printed there, in a fresh interpreter."""
+    source = os.environ.get("DYNID_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+    with open(os.path.join(source, "README.md")) as f:
+        readme = f.read()
+    block = readme.split("## Six lines of Python", 1)[1].split("```python\n", 1)[1]
+    code = block.split("```", 1)[0]
+    assert len([line for line in code.splitlines() if line.strip()]) == 6
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, env=os.environ.copy())
+    assert done.returncode == 0, done.stderr
+    assert '"kind": "dynid.estimate"' in done.stdout
