@@ -1,9 +1,12 @@
 // dynid refine: Ceres least squares on the GC residuals, from a search or identify result.
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
 #include "reports/run_report.hpp"
@@ -70,7 +73,17 @@ int runRefine(const std::vector<std::string>& args) {
 
   const InterruptGuard guard;
   request.control.stop = guard.flag();
+  const bool terminal = stderrIsTerminal();
+  if (terminal)
+    request.options.on_iteration = [best = HUGE_VAL](const RefineIteration& it,
+                                                     double done) mutable {
+      best = std::min(best, it.cost);  // a rejected step reports an infinite cost
+      std::fprintf(stderr, "\r[refine] %s iteration %d: best cost %s; %s   ", it.stage.c_str(),
+                   it.iteration, formatNumber(best, 4).c_str(),
+                   progressText(done, it.seconds).c_str());
+    };
   const RefineOutcome outcome = refineRun(request);
+  if (terminal) std::fprintf(stderr, "\n");
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"refine.json", jsonText(refineJson(outcome), 1) + "\n"}});
   if (const std::string warning = refineWarning(outcome); !warning.empty())

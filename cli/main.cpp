@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <glog/logging.h>
+
 #include "cli/command_table.hpp"
 #include "data/io.hpp"
 #include "reports/output.hpp"
@@ -52,6 +54,9 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   for (int signal : {SIGTERM, SIGHUP, SIGINT}) std::signal(signal, onTerminate);
+  // Ceres logs through glog ("Terminating: Residual and Jacobian evaluation failed" when a time
+  // budget or Ctrl-C ends a refinement); dynid reports every termination itself.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   // A command never overwrites its own inputs; its output sets are recorded under its name.
   const dynid::InputFileGuard inputs;
   dynid::OutputSet::setCommand(command == "model" && !args.empty() ? "model-" + args[0] : command);

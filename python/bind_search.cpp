@@ -17,6 +17,7 @@
 #include "analysis/records/document.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/integrators.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
@@ -169,7 +170,7 @@ struct SearchPy {
 
 SearchPy searchPy(const Model& robot, const DataLike& data, const std::string& method,
                   const std::optional<Model>& init, const std::optional<double>& perturb,
-                  const std::optional<Model>& truth, const OptionalDataLike& validate,
+                  const std::optional<Model>& truth, const OptionalPathLike& validate,
                   long budget_evals, double budget_seconds, double gc_tolerance,
                   const std::string& form, double range, double absolute_range,
                   const std::vector<std::string>& fix, const std::string& mass_constraint,
@@ -260,10 +261,11 @@ struct RefinePy {
 };
 
 RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& data,
-                  const OptionalDataLike& validate, const std::optional<Model>& truth,
+                  const OptionalPathLike& validate, const std::optional<Model>& truth,
                   bool estimate_initial_states, double continuity_weight, int max_iterations,
                   bool base_stage, bool gauge, double budget_seconds, const std::string& form,
-                  double range, double horizon, int segments, int threads) {
+                  double range, double horizon, int segments, int threads,
+                  const ProgressLike& progress) {
   RefineRequest r;  // checked by refineRun
   r.robot = robot;
   if (py::isinstance<SearchPy>(start)) {
@@ -293,15 +295,31 @@ RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& da
   r.horizon = horizon;
   r.segments = segments;
   Interrupt interrupt;
+  interrupt.setCallback(progress);
   r.control.stop = interrupt.flag();
   r.control.on_check = [&] { interrupt.poll(); };
+  o.on_iteration = [&](const RefineIteration& it, double done) {
+    interrupt.report([&] {
+      py::dict d;
+      d["stage"] = it.stage;
+      d["iteration"] = it.iteration;
+      d["cost"] = it.cost;
+      d["seconds"] = it.seconds;
+      d["done"] = std::clamp(done, 0.0, 1.0);
+      d["line"] = "[refine] " + it.stage + " iteration " + std::to_string(it.iteration) +
+                  ": cost " + formatNumber(it.cost, 4) + "; " + progressText(done, it.seconds);
+      return d;
+    });
+  };
   RefinePy out;
   {
     py::gil_scoped_release release;
     out.outcome = refineRun(r);
   }
   out.outcome.options.control = {};  // it points into `interrupt`, gone on return
-  interrupt.warnIfStopped();
+  out.outcome.options.on_iteration = nullptr;
+  interrupt.raiseIfFailed();
+  if (!interrupt.cancelled()) interrupt.warnIfStopped();
   return out;
 }
 
@@ -697,9 +715,13 @@ void bindRefine(py::module_& m) {
         py::arg("budget_seconds") = RefineRequest{}.options.max_seconds, py::arg("form") = "paper",
         py::arg("range") = RefineRequest{}.range, py::arg("horizon") = RefineRequest{}.horizon,
         py::arg("segments") = RefineRequest{}.segments, py::arg("threads") = kAllThreads,
+        py::arg("progress") = py::none(),
         "`dynid refine`: Ceres (Levenberg-Marquardt) on the GC residuals from `start`: a "
         "Search, an Estimate, or the path of a search.json or estimate.json. form, range, "
-        "horizon and segments apply to an estimate start (a search carries its own).");
+        "horizon and segments apply to an estimate start (a search carries its own). "
+        "progress(info) is called after every iteration with a dict (stage, iteration, cost, "
+        "seconds, done: the share of the budget or of max_iterations, line: the CLI's); "
+        "returning False stops the refinement with its best parameters so far.");
 }
 
 void bindExcite(py::module_& m) {

@@ -46,6 +46,9 @@ struct RefineOptions {
   /// Stops after the current iteration when control.check() says so (its flag, its deadline;
   /// on_check runs on the calling thread after each solver iteration).
   RunControl control = {};
+  /// Called after every solver iteration of either stage with it and the share of the run done:
+  /// of the time budget when there is one, else of max_iterations (for progress on a terminal).
+  std::function<void(const struct RefineIteration&, double done)> on_iteration;
 };
 
 struct RefineIteration {

@@ -32,6 +32,8 @@ class RefineCallback : public ceres::IterationCallback {
                  double time_offset)
       : history_(history),
         control_(options.control),
+        on_iteration_(options.on_iteration),
+        max_iterations_(options.max_iterations),
         budget_(budget),
         interrupted_(interrupted),
         out_of_time_(out_of_time),
@@ -40,6 +42,16 @@ class RefineCallback : public ceres::IterationCallback {
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
                         time_offset_ + summary.cumulative_time_in_seconds});
+    if (on_iteration_) {
+      const double elapsed = history_.back().seconds;
+      const double left =
+          budget_.deadline == RunControl::Clock::time_point::max()
+              ? -1.0
+              : std::chrono::duration<double>(budget_.deadline - RunControl::Clock::now()).count();
+      on_iteration_(history_.back(), left >= 0.0 ? elapsed / (elapsed + left)
+                                                 : static_cast<double>(summary.iteration) /
+                                                       std::max(max_iterations_, 1));
+    }
     if (control_.check()) {
       interrupted_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
@@ -59,6 +71,8 @@ class RefineCallback : public ceres::IterationCallback {
  private:
   std::vector<RefineIteration>& history_;
   const RunControl& control_;
+  const std::function<void(const RefineIteration&, double)>& on_iteration_;
+  int max_iterations_;
   const RunControl& budget_;
   bool& interrupted_;
   bool& out_of_time_;

@@ -110,6 +110,32 @@ def test_refine_from_an_estimate(puma, puma_csv):
     assert refined.final_parameter_error > 0 and refined.final_base_error > 0
 
 
+def test_a_refine_progress_callback_sees_every_iteration_and_can_stop_it(puma, puma_csv):
+    """Refinement's progress= gets a dict per solver iteration; False stops it with the
+    parameters so far (no warning: the caller asked), an exception in it is raised."""
+    estimate = dynid.identify(dynid.load_model("puma560-consistent"), puma_csv, method="pc")
+    seen = []
+
+    def progress(info):
+        seen.append(info)
+        return len(seen) < 2
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        refined = dynid.refine(dynid.load_model("puma560-consistent"), estimate, puma_csv,
+                               max_iterations=50, segments=10, base_stage=False,
+                               progress=progress)
+    assert len(seen) == 2
+    assert [s["iteration"] for s in seen] == [0, 1]
+    assert all(0.0 <= s["done"] <= 1.0 and s["stage"] == "parameters" for s in seen)
+    assert "[refine] parameters iteration 1" in seen[1]["line"] and "%" in seen[1]["line"]
+    assert refined.termination.startswith("USER_SUCCESS")
+    with pytest.raises(RuntimeError, match="from the callback"):
+        dynid.refine(dynid.load_model("puma560-consistent"), estimate, puma_csv,
+                     max_iterations=5, segments=10, base_stage=False,
+                     progress=lambda info: (_ for _ in ()).throw(RuntimeError("from the callback")))
+
+
 def test_excite_equals_the_cli_design(tmp_path, puma):
     run_cli("excite", "--robot", "puma560", "--starts", 2, "--evaluations", 60, "--seed", 3,
             "--out", tmp_path)
