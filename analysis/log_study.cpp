@@ -6,6 +6,7 @@
 
 #include "analysis/pipeline.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
 
@@ -144,11 +145,16 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   const bool searching = std::any_of(methods.begin(), methods.end(),
                                      [](Method m) { return isSearch(m) || isRefined(m); });
   if (searching) out.rows.push_back(measure("start", runner.searchStart(), 0, 0.0));
-  for (Method method : methods) {
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    const Method method = methods[k];
     if (stopped()) {
       out.interrupted = true;
       break;
     }
+    say(std::string(methodName(method)) + ", method " + std::to_string(k + 1) + " of " +
+        std::to_string(methods.size()) + "; " +
+        progressText(static_cast<double>(k) / static_cast<double>(methods.size()), since(t0)) +
+        " (of the methods)");
     const Estimate estimate = runner.run(method);
     LogStudyRow row =
         measure(methodName(method), estimate.model, estimate.evaluations, estimate.seconds);
