@@ -6,11 +6,10 @@
 #include <string>
 #include <vector>
 
-#include <glog/logging.h>
-
 #include "cli/command_table.hpp"
 #include "data/io.hpp"
 #include "reports/output.hpp"
+#include "search/refinement/refine.hpp"
 
 namespace {
 
@@ -54,9 +53,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
   for (int signal : {SIGTERM, SIGHUP, SIGINT}) std::signal(signal, onTerminate);
-  // Ceres logs through glog ("Terminating: Residual and Jacobian evaluation failed" when a time
-  // budget or Ctrl-C ends a refinement); dynid reports every termination itself.
-  FLAGS_minloglevel = google::GLOG_FATAL;
+  dynid::silenceSolverLog();  // Ceres' log lines: dynid reports every termination itself
   // A command never overwrites its own inputs; its output sets are recorded under its name.
   const dynid::InputFileGuard inputs;
   dynid::OutputSet::setCommand(command == "model" && !args.empty() ? "model-" + args[0] : command);

@@ -7,6 +7,7 @@
 #include <random>
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <Eigen/SVD>
@@ -447,5 +448,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   result.seconds = secondsSince(clock_start);
   return result;
 }
+
+void silenceSolverLog() { FLAGS_minloglevel = google::GLOG_FATAL; }
 
 }  // namespace dynid

@@ -23,4 +23,9 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
                       const Eigen::VectorXd& x0, const RefineOptions& options,
                       const BaseCoordinates* base = nullptr);
 
+/// Silences Ceres' own log lines (glog below FATAL, e.g. "Terminating: Residual and Jacobian
+/// evaluation failed" when a budget or Ctrl-C ends a stage) for the whole process: for programs
+/// such as the CLI that report every termination themselves. Libraries leave glog to their host.
+void silenceSolverLog();
+
 }  // namespace dynid
