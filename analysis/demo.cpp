@@ -8,6 +8,7 @@
 #include "analysis/correlation.hpp"
 #include "analysis/runs.hpp"
 #include "analysis/study.hpp"
+#include "core/format.hpp"
 #include "core/option_ranges.hpp"
 
 namespace dynid {
@@ -59,9 +60,19 @@ DemoResult runDemo(const DemoOptions& options) {
   ident.condition_number = scaledConditionNumber(base.baseRegressor(study.observation().W));
 
   // Least squares always; the rest stage by stage until interrupted.
-  for (Method method : allMethods()) {
-    if (method == Method::kCombined) continue;  // the paper's methods (combined: dynid study)
+  std::vector<Method> methods;
+  for (Method method : allMethods())
+    if (method != Method::kCombined) methods.push_back(method);  // combined: dynid study
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    const Method method = methods[k];
     if (method != Method::kOls && method != Method::kWls && stopped()) break;
+    options.control.say(
+        std::string(methodName(method)) + ", method " + std::to_string(k + 1) + " of " +
+        std::to_string(methods.size()) + "; " +
+        progressText(
+            static_cast<double>(k) / static_cast<double>(methods.size()),
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) +
+        " (of the methods)");
     result.methods.push_back(study.run(method));
   }
   for (Method method : searchMethods()) {

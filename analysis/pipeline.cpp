@@ -49,7 +49,7 @@ std::string combinedNote(const CombinedResult& r) {
 namespace {
 
 std::string budgetText(const SearchBudget& budget) {
-  return budget.max_seconds > 0.0 ? std::to_string(budget.max_seconds) + " s"
+  return budget.max_seconds > 0.0 ? formatNumber(budget.max_seconds) + " s"
                                   : std::to_string(budget.max_evaluations) + " evaluations";
 }
 

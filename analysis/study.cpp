@@ -10,6 +10,7 @@
 #include "analysis/runs.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
@@ -87,8 +88,8 @@ Study::Study(const StudySettings& settings, RunControl control)
   settings_.check();
   truth_ = loadRobot(settings_.robot);
   initial_ = perturbedModel(truth_, settings_.perturb, settings_.seed);
-  say("simulating " + std::to_string(settings_.train_seconds) + " s of training and " +
-      std::to_string(settings_.test_seconds) + " s of held-out data");
+  say("simulating " + formatNumber(settings_.train_seconds) + " s of training and " +
+      formatNumber(settings_.test_seconds) + " s of held-out data");
   train_data_ = simulateRun(truth_, settings_, false);
   test_data_ = simulateRun(truth_, settings_, true);
   SegmentOptions segments;
