@@ -339,7 +339,7 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
                   const OptionalArrayLike& ddq_max, const OptionalArrayLike& tau_max,
                   double torque_margin, const std::optional<double>& floor, double base_radius,
                   int samples, std::uint64_t seed, double tolerance, int threads,
-                  const PathLike& robot_spec_arg) {
+                  const PathLike& robot_spec_arg, const ProgressLike& progress) {
   const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
   const int n = robot.numJoints();
   ExciteRequest r;  // checked by exciteRun
@@ -371,8 +371,15 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   r.limits = excitationLimits(robot, overrides);
   if (r.offset) checkOffsets(robot, r.limits, *r.offset);
   Interrupt interrupt;
+  interrupt.setCallback(progress);
   r.control.stop = interrupt.flag();
-  r.control.progress = [&](const std::string&) { interrupt.poll(); };
+  r.control.progress = [&](const std::string& line) {  // after each start (any thread)
+    interrupt.report([&] {
+      py::dict d;
+      d["line"] = line;
+      return d;
+    });
+  };
   ExcitePy out{robot, {}, {}};
   out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
   out.settings.harmonics = harmonics;
@@ -383,7 +390,8 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
     py::gil_scoped_release release;
     out.outcome = exciteRun(r);
   }
-  interrupt.warnIfStopped();
+  interrupt.raiseIfFailed();
+  if (!interrupt.cancelled()) interrupt.warnIfStopped();
   return out;
 }
 
@@ -780,9 +788,12 @@ void bindExcite(py::module_& m) {
       py::arg("base_radius") = LimitOverrides{}.base_radius,
       py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
       py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
-      py::arg("robot_spec") = "",
+      py::arg("robot_spec") = "", py::arg("progress") = py::none(),
       "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
-      "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd').");
+      "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd'). "
+      "progress(info) is called as each start ends with a dict whose 'line' is the CLI's (the "
+      "start, its criterion, the share done and the time left); returning False stops the "
+      "design with the best start so far.");
 }
 
 void bindPrepare(py::module_& m) {

@@ -327,6 +327,21 @@ def test_ctrl_c_stops_an_excitation_design(puma):
     assert any("interrupted" in m for m in caught)
 
 
+def test_an_excite_progress_callback_sees_every_start_and_can_stop_the_design(puma):
+    lines = []
+    design = dynid.excite(puma, starts=3, evaluations=60, seed=3, threads=1, segments=10,
+                          progress=lambda info: lines.append(info["line"]))
+    assert [line.split(":")[0] for line in lines] == ["start 1/3", "start 2/3", "start 3/3"]
+    assert all("%" in line for line in lines)
+    assert design.termination == "evaluations"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a requested stop is no warning
+        stopped = dynid.excite(puma, starts=3, evaluations=1000, seed=3, threads=1, segments=10,
+                               progress=lambda info: False)
+    assert stopped.termination == "interrupted"
+    assert np.isfinite(stopped.condition_number)
+
+
 def test_a_progress_callback_sees_every_round_and_can_stop_the_search(puma_csv):
     """progress= gets the share of the budget done and the CLI's line; False stops the search
     with its best result so far, with no warning (the caller asked for it)."""
