@@ -303,6 +303,15 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       out.moved = true;
       out.history.push_back(
           {out.iterations, current.cost, current.torque, current.gc, mu, since(t0)});
+      if (options.control.progress) {
+        const double elapsed = out.history.back().seconds;
+        double done = static_cast<double>(out.iterations) / std::max(options.max_iterations, 1);
+        if (options.max_seconds > 0.0) done = std::max(done, elapsed / options.max_seconds);
+        options.control.say("combined iteration " + std::to_string(out.iterations) + ": cost " +
+                            formatNumber(current.cost, 4) + " (torque " +
+                            formatNumber(current.torque, 4) + ", GC error " +
+                            formatNumber(current.gc, 4) + "); " + progressText(done, elapsed));
+      }
       mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e-12);
       if (actual < options.function_tolerance * std::abs(current.cost))
         out.termination = "CONVERGENCE: the cost fell by less than " +
