@@ -275,9 +275,10 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const ExciteOutcome&
            " against " + formatNumber(o.baseline.relative_rms, 3) + " (" +
            formatNumber(o.torque_noise) + " N m torque noise)"},
       {"Not determined",
-       poor.empty() ? "none: every base parameter's expected std. dev. is within 10 %"
-                    : std::to_string(poor.size()) + " of " + std::to_string(o.base.numBase()) +
-                          " base parameters above 10 % expected std. dev. (table below): " + poor_text},
+       poor.empty()
+           ? "none: every base parameter's expected std. dev. is within 10 %"
+           : std::to_string(poor.size()) + " of " + std::to_string(o.base.numBase()) +
+                 " base parameters above 10 % expected std. dev. (table below): " + poor_text},
       {"Limits", o.check.violations.empty() ? "every position, velocity, acceleration and "
                                               "torque limit holds at " +
                                                   formatNumber(o.check_rate) + " Hz"
