@@ -298,7 +298,8 @@ void bindIdentifiability(py::module_& m) {
       "that dataset excites them.");
 }
 
-void bindIdentify(py::module_& m) {
+/// The Estimate class: estimate.json's fields, the identified model, its validation.
+void bindEstimate(py::module_& m) {
   py::class_<EstimateResult>(m, "Estimate", "What `dynid identify` writes as estimate.json.")
       .def_property_readonly(
           "method",
@@ -391,7 +392,9 @@ void bindIdentify(py::module_& m) {
             return jsonText(estimateJson(r.model, r.outcome), 2) + "\n";
           },
           "estimate.json, as `dynid identify` writes it.");
+}
 
+void bindIdentify(py::module_& m) {
   m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
         py::arg("validate") = py::none(), py::arg("prior") = py::none(),
         py::arg("prior_weight") = kDefaultPriorWeight,
@@ -670,6 +673,7 @@ void bindTrust(py::module_& m) {
 void bindIdentification(py::module_& m) {
   bindBaseParameters(m);
   bindIdentifiability(m);
+  bindEstimate(m);
   bindIdentify(m);
   bindPredict(m);
   bindPayload(m);
