@@ -9,6 +9,7 @@
 #include "core/crba.hpp"
 #include "core/integrators.hpp"
 #include "core/rnea.hpp"
+#include "data/panda.hpp"
 #include "data/puma560.hpp"
 
 namespace {
@@ -86,6 +87,19 @@ void BM_Crba(benchmark::State& state) {
 }
 BENCHMARK(BM_Crba);
 
+// The Panda (7 joints, modified DH) beside the PUMA, for scripts/pinocchio-bench.sh.
+void BM_CrbaPanda(benchmark::State& state) {
+  const Model model = dynid::makePanda(false);
+  Data data(model);
+  const States s(model);
+  int k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(dynid::crba(model, data, s.q[k]).data());
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_CrbaPanda);
+
 /// The PUMA with ABA's permuted transform path switched off (placement_permutation = -1), as for
 /// a robot whose joint placements are not exact signed permutations (e.g. a URDF's rpy of
 /// 1.5707963 rad, whose cosine is 6e-17).
@@ -106,6 +120,8 @@ void abaLoop(benchmark::State& state, const Model& model) {
 }
 void BM_Aba(benchmark::State& state) { abaLoop(state, dynid::makePuma560(state.range(0) != 0)); }
 BENCHMARK(BM_Aba)->Arg(0)->Arg(1)->ArgName("drives");
+void BM_AbaPanda(benchmark::State& state) { abaLoop(state, dynid::makePanda(false)); }
+BENCHMARK(BM_AbaPanda);
 void BM_AbaGeneralPlacements(benchmark::State& state) { abaLoop(state, generalPuma(false)); }
 BENCHMARK(BM_AbaGeneralPlacements);
 
@@ -125,6 +141,8 @@ void rk4Loop(benchmark::State& state, const Model& model) {
 }
 void BM_Rk4Step(benchmark::State& state) { rk4Loop(state, dynid::makePuma560(false)); }
 BENCHMARK(BM_Rk4Step);
+void BM_Rk4StepPanda(benchmark::State& state) { rk4Loop(state, dynid::makePanda(false)); }
+BENCHMARK(BM_Rk4StepPanda);
 void BM_Rk4StepGeneralPlacements(benchmark::State& state) { rk4Loop(state, generalPuma(false)); }
 BENCHMARK(BM_Rk4StepGeneralPlacements);
 

@@ -1,5 +1,6 @@
 // dynid against Orocos KDL (ChainIdSolver_RNE, ChainDynParam, ChainFdSolver_RNE) and MuJoCo
-// (mj_inverse, mj_forward, mj_step with RK4) on the same PUMA 560, in one run, single-threaded.
+// (mj_inverse, mj_forward, mj_step with RK4) on the same PUMA 560, in one run, single-threaded;
+// dynid's RK4 step also in lanes (core/lanes.hpp: kLanes states per step, as the GC error).
 //
 // The model: the built-in PUMA 560 made physically consistent (makePuma560Consistent), because
 // MuJoCo's compiler refuses the original (link 1 is massless with a rank-1 inertia, link 3 violates
@@ -31,7 +32,8 @@
 
 #include "core/aba.hpp"
 #include "core/crba.hpp"
-#include "core/integrators.hpp"
+#include "core/integrators-inl.hpp"
+#include "core/lanes.hpp"
 #include "core/rnea.hpp"
 #include "data/mjcf.hpp"
 #include "data/puma560.hpp"
@@ -132,6 +134,26 @@ void dynidRk4(benchmark::State& state) {
     q = s.q[k];
     dq = s.dq[k];
     dynid::rk4Step(model(), data, q, dq, s.tau[k], kStep);
+    benchmark::DoNotOptimize(q.data());
+  });
+}
+
+/// kLanes states at once through rk4Step<Lanes> (core/lanes.hpp), as the GC error rolls segments:
+/// the table divides the time by kLanes (per state, beside a one-state step).
+void dynidRk4Lanes(benchmark::State& state) {
+  using L = dynid::Lanes<dynid::kLanes>;
+  const dynid::ModelTpl<L> lanes = model().cast<L>();
+  dynid::DataTpl<L> data(lanes);
+  const int n = model().numJoints();
+  dynid::VectorX<L> q(n), dq(n), tau(n);
+  cycle(state, [&](int k) {
+    const States& s = states();
+    for (int l = 0; l < dynid::kLanes; ++l) {
+      const int m = (k + l) % States::kCount;
+      for (int j = 0; j < n; ++j)
+        q[j].set(l, s.q[m][j]), dq[j].set(l, s.dq[m][j]), tau[j].set(l, s.tau[m][j]);
+    }
+    dynid::rk4Step(lanes, data, q, dq, tau, L(kStep));
     benchmark::DoNotOptimize(q.data());
   });
 }
@@ -342,6 +364,17 @@ std::string checkMujoco() {
     dynid::rk4Step(model(), data, q, dq, s.tau[k], kStep);
     agree(q, Eigen::Map<const Eigen::VectorXd>(mj.d->qpos, n), "RK4 step q", why);
     agree(dq, mj.vec(mj.d->qvel), "RK4 step dq", why);
+    // The lanes' step, every lane from state k.
+    using L = dynid::Lanes<dynid::kLanes>;
+    const dynid::ModelTpl<L> lanes = model().cast<L>();
+    dynid::DataTpl<L> lane_data(lanes);
+    dynid::VectorX<L> ql = s.q[k].cast<L>(), dql = s.dq[k].cast<L>();
+    dynid::rk4Step(lanes, lane_data, ql, dql, s.tau[k].cast<L>().eval(), L(kStep));
+    for (int l = 0; l < dynid::kLanes; ++l) {
+      for (int j = 0; j < n; ++j) q[j] = ql[j][l], dq[j] = dql[j][l];
+      agree(q, Eigen::Map<const Eigen::VectorXd>(mj.d->qpos, n), "RK4 lanes q", why);
+      agree(dq, mj.vec(mj.d->qvel), "RK4 lanes dq", why);
+    }
     if (!why.empty()) return "state " + std::to_string(k) + ": " + why;
   }
   return "";
@@ -376,11 +409,13 @@ int main(int argc, char** argv) {
       {"inverse dynamics (RNEA)", {{"dynid", "RNEA/dynid"}}},
       {"mass matrix", {{"dynid", "MassMatrix/dynid"}}},
       {"forward dynamics", {{"dynid", "ForwardDynamics/dynid"}}},
-      {"RK4 step (1 ms)", {{"dynid", "Rk4Step/dynid"}}}};
+      {"RK4 step (1 ms)", {{"dynid", "Rk4Step/dynid"}}},
+      {"RK4 step, per lane", {{"dynid", "Rk4Step/dynid-lanes"}}}};
   benchmark::RegisterBenchmark("RNEA/dynid", dynidRnea);
   benchmark::RegisterBenchmark("MassMatrix/dynid", dynidMass);
   benchmark::RegisterBenchmark("ForwardDynamics/dynid", dynidForward);
   benchmark::RegisterBenchmark("Rk4Step/dynid", dynidRk4);
+  benchmark::RegisterBenchmark("Rk4Step/dynid-lanes", dynidRk4Lanes);
 
 #ifdef DYNID_HAVE_KDL
   if (const std::string why = checkKdl(); why.empty()) {
@@ -403,13 +438,14 @@ int main(int argc, char** argv) {
     if (const std::string why = checkMujoco(); why.empty()) {
       std::cout << "MuJoCo " << mj_versionString()
                 << ": agrees with dynid at 16 states (torques, mass matrix, accelerations, "
-                   "RK4 step)\n";
+                   "RK4 step, alone and in lanes)\n";
       benchmark::RegisterBenchmark("RNEA/MuJoCo-mj_inverse", mujocoInverse);
       benchmark::RegisterBenchmark("ForwardDynamics/MuJoCo-mj_forward", mujocoForward);
       benchmark::RegisterBenchmark("Rk4Step/MuJoCo-mj_step", mujocoStep);
       table[0].second.push_back({"MuJoCo", "RNEA/MuJoCo-mj_inverse"});
       table[2].second.push_back({"MuJoCo", "ForwardDynamics/MuJoCo-mj_forward"});
       table[3].second.push_back({"MuJoCo", "Rk4Step/MuJoCo-mj_step"});
+      table[4].second.push_back({"MuJoCo", "Rk4Step/MuJoCo-mj_step"});
     } else {
       std::cout << "MuJoCo: DISAGREES with dynid, not timed: " << why << "\n";
     }
@@ -428,12 +464,15 @@ int main(int argc, char** argv) {
   for (const auto& [quantity, engines] : table) {
     const auto own = reporter.times.find(engines.front().second);
     if (own == reporter.times.end()) continue;
-    std::printf("  %-26s dynid %9.1f ns", quantity.c_str(), own->second);
+    // The lanes' time is for kLanes states.
+    const double own_ns =
+        own->first == "Rk4Step/dynid-lanes" ? own->second / dynid::kLanes : own->second;
+    std::printf("  %-26s dynid %9.1f ns", quantity.c_str(), own_ns);
     for (std::size_t e = 1; e < engines.size(); ++e) {
       const auto peer = reporter.times.find(engines[e].second);
       if (peer == reporter.times.end()) continue;
       std::printf(" | %s %9.1f ns = %5.2fx", engines[e].first.c_str(), peer->second,
-                  peer->second / own->second);
+                  peer->second / own_ns);
     }
     std::printf("\n");
   }

@@ -31,6 +31,25 @@ BENCHMARK(BM_GcError)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// The same evaluation, 100 segments on one thread, with 1 (the scalar path), 2, 4 and 8 lanes
+// (core/lanes.hpp): interleave with --benchmark_enable_random_interleaving.
+void BM_GcErrorLanes(benchmark::State& state) {
+  const int lanes = static_cast<int>(state.range(0));
+  const GcProblem problem = pumaProblem(100);
+  const Model candidate = perturbedModel(makePuma560(), 0.3, 1);
+  ThreadPool pool(1);
+  GcWorkspace workspace(1, lanes);
+  for (auto _ : state) benchmark::DoNotOptimize(gcError(candidate, problem, workspace, pool));
+  state.SetItemsProcessed(state.iterations() * 100 * problem.samples_per_segment);
+}
+BENCHMARK(BM_GcErrorLanes)
+    ->ArgName("lanes")
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
+    ->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

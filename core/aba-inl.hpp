@@ -15,9 +15,9 @@ namespace aba_detail {
 /// U' U'^T / D with U' = pXi* U. The congruence of IA does not wait for the division by D.
 /// Writes U' to U_parent (pass 3 uses it).
 template <typename Scalar>
-void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
-                           const Vector6<Scalar>& U, const Scalar& inv_d, Matrix6<Scalar>& parent,
-                           Vector6<Scalar>& U_parent) {
+DYNID_FLATTEN void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
+                                         const Vector6<Scalar>& U, const Scalar& inv_d,
+                                         Matrix6<Scalar>& parent, Vector6<Scalar>& U_parent) {
   const Matrix3<Scalar>& R = X.rotation;
   // A = R IA_tl R^T, B = R IA_tr R^T, C = R IA_br R^T.
   Matrix3<Scalar> half;
@@ -75,10 +75,11 @@ DYNID_INLINE Matrix3<Scalar> rotateAboutZ(const Scalar& g00, const Scalar& g01, 
 /// rotation. The permutation is a template parameter, so the parent's entries are addressed at
 /// compile time.
 template <int K, typename Scalar>
-void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
-                                   const Matrix6<Scalar>& IA, const Vector6<Scalar>& U,
-                                   const Scalar& inv_d, Matrix6<Scalar>& parent,
-                                   Vector6<Scalar>& U_parent) {
+DYNID_FLATTEN void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
+                                                 const Matrix6<Scalar>& IA,
+                                                 const Vector6<Scalar>& U, const Scalar& inv_d,
+                                                 Matrix6<Scalar>& parent,
+                                                 Vector6<Scalar>& U_parent) {
   constexpr int p0 = kAxisPermutations[K][0], p1 = kAxisPermutations[K][1],
                 p2 = kAxisPermutations[K][2];
   // G(j, :) = R(pi^-1(j), :).
@@ -146,10 +147,9 @@ DYNID_INLINE const VectorX<Scalar>& abaPasses(const ModelTpl<Scalar>& model, Dat
 /// angle addition). Kept out of line: RK4 calls it four times, and four inlined copies of the
 /// passes made the step 30 % slower (instruction cache).
 template <typename Scalar>
-DYNID_NOINLINE const VectorX<Scalar>& abaAtTransforms(const ModelTpl<Scalar>& model,
-                                                      DataTpl<Scalar>& data,
-                                                      const ConstVectorRef<Scalar>& dq,
-                                                      const ConstVectorRef<Scalar>& tau) {
+DYNID_NOINLINE DYNID_FLATTEN const VectorX<Scalar>& abaAtTransforms(
+    const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, const ConstVectorRef<Scalar>& dq,
+    const ConstVectorRef<Scalar>& tau) {
   return abaPasses(model, data, dq, tau);
 }
 

@@ -2,6 +2,7 @@
 
 #include "core/aba-inl.hpp"
 #include "core/integrators.hpp"
+#include "core/lanes.hpp"
 
 namespace dynid {
 
@@ -23,7 +24,8 @@ void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
       continue;
     }
     const Scalar d = q_stage[i] - q[i];
-    if (!(abs(d) <= Scalar(1e-2))) {
+    // Lanes (core/lanes.hpp) take the series only when every lane may.
+    if (!allLanes(abs(d) <= Scalar(1e-2))) {
       setJointTransform(model, i, q_stage[i], data.liMi[i]);
       continue;
     }
@@ -43,8 +45,6 @@ void stageTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
 template <typename Scalar>
 void rk4Step(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, VectorRef<Scalar> q,
              VectorRef<Scalar> dq, const ConstVectorRef<Scalar>& tau, const Scalar& h) {
-  using std::cos;
-  using std::sin;
   checkState(model, data, q, dq, tau, "tau");
   const Scalar half = h / Scalar(2);
   // k1 = (dq, ddq(q, dq)); the step's sines and cosines kept for the other stages.
@@ -56,8 +56,7 @@ void rk4Step(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, VectorRef<Sca
     // q[i] read once: a store to sin_q could alias q, and a reload would keep the compiler from
     // merging sin and cos into one sincos call.
     const Scalar qi = q[i];
-    data.sin_q[i] = sin(qi);
-    data.cos_q[i] = cos(qi);
+    sinCos(qi, data.sin_q[i], data.cos_q[i]);
     setRevoluteTransform(model, i, data.sin_q[i], data.cos_q[i], data.liMi[i]);
   }
   aba_detail::abaAtTransforms(model, data, dq, tau);

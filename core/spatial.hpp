@@ -15,9 +15,13 @@
 #if defined(__GNUC__)
 #define DYNID_INLINE inline __attribute__((always_inline))
 #define DYNID_NOINLINE __attribute__((noinline))
+// Inline every call in the function's body (Eigen's loops over a user scalar type such as Lanes
+// are otherwise left as calls).
+#define DYNID_FLATTEN __attribute__((flatten))
 #else
 #define DYNID_INLINE inline
 #define DYNID_NOINLINE
+#define DYNID_FLATTEN
 #endif
 
 namespace dynid {
@@ -34,6 +38,15 @@ template <typename Scalar>
 using VectorX = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
 template <typename Scalar>
 using MatrixX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+
+/// s = sin x, c = cos x (a Scalar type may compute both at once: core/lanes.hpp).
+template <typename Scalar>
+DYNID_INLINE void sinCos(const Scalar& x, Scalar& s, Scalar& c) {
+  using std::cos;
+  using std::sin;
+  s = sin(x);
+  c = cos(x);
+}
 
 /// Cross product a x b of two 3-vectors (any Eigen expressions; avoids including Eigen/Geometry).
 template <typename A, typename B>

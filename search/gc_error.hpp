@@ -27,25 +27,41 @@ namespace dynid {
 /// made by gcError on that thread, the first time it runs there: glibc gives each thread its own
 /// allocator arena, so what one thread writes never shares a cache line with another's. The pool's
 /// threads other than the caller's also read the candidate from their own copy (gc_error.cpp).
+///
+/// `lanes` is how many segments one thread rolls out at once (core/lanes.hpp): 1 is the scalar
+/// path, one segment at a time (the reference); 2, 4 or 8 roll that many in SIMD lanes; 0 (the
+/// default) takes kLanes, the widest the build targets. A segment's error does not depend on the
+/// lane count beyond round-off in Eigen's sums (see gcError), and not at all on the thread count.
 struct GcWorkspace {
-  explicit GcWorkspace(int num_threads);
+  explicit GcWorkspace(int num_threads, int lanes = 0);
+  /// One thread's lane buffers (gc_lanes.cpp: a model, a Data and the state in Lanes<W>).
+  struct LaneBuffers {
+    virtual ~LaneBuffers() = default;
+  };
   struct PerThread {
     explicit PerThread(const Model& model);
     Model model;           // a copy of the candidate (threads other than the caller's)
     long evaluation = -1;  // the evaluation `model` was copied for
     Data data;
-    Eigen::VectorXd q, dq, tau;  // tau: rollOutSegment's scratch (unused for double)
+    Eigen::VectorXd q, dq, tau;                 // tau: rollOutSegment's scratch (unused for double)
+    std::unique_ptr<LaneBuffers> lane_buffers;  // made on the first lane group
   };
   std::vector<std::unique_ptr<PerThread>> threads;  // null until that thread's first segment
   Eigen::VectorXd segment_errors;
   long evaluations = 0;
+  int lanes = 1;  // 1, 2, 4 or 8
 };
 
 /// Squared prediction error of each segment into workspace.segment_errors, summed in segment order
-/// (the same result for any thread count). Before each segment it polls `control` (stopped():
-/// the flag and the deadline): once stopped, the remaining segments are skipped and the result is
-/// NaN (the evaluation did not finish).
-/// Throws InputError when the model's joint count differs from the data's.
+/// (the same result for any thread count). With lanes (workspace.lanes > 1), each segment's error
+/// equals the scalar path's to within 1e-12 relative (tests/search/gc_error_test.cpp): a lane does
+/// every operation a double does, but Eigen sums a double dot product in SIMD packets and a
+/// lane's in order, so the two differ by an ulp or so per sum, grown over the horizon's steps;
+/// the lane count itself changes nothing (every lane's operations are the same for any width).
+/// Before each segment it polls `control` (stopped(): the flag and the deadline): once stopped, the
+/// remaining segments are skipped and the result is NaN (the evaluation did not finish). Throws
+/// InputError when the model's joint count differs from the data's, or workspace.lanes is not 1, 2,
+/// 4 or 8.
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
                ThreadPool& pool, const RunControl& control = {});
 

@@ -3,9 +3,11 @@
 // For a Scalar other than double, include core/integrators-inl.hpp too (the integrators' bodies).
 #pragma once
 
+#include <array>
 #include <type_traits>
 
 #include "core/integrators.hpp"
+#include "core/lanes.hpp"
 #include "search/gc_problem.hpp"
 
 namespace dynid {
@@ -32,6 +34,28 @@ void rollOutSegment(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, const 
       for (int sub = 0; sub < problem.substeps; ++sub)
         integratorStep(problem.integrator, model, data, q, dq, tau, h);
     }
+  }
+}
+
+/// rollOutSegment for W segments at once, lane l rolling segment segments[l] (core/lanes.hpp): on
+/// entry lane l of q, dq holds that segment's start state, on return its predicted end. `tau` (n
+/// entries) is scratch. Each lane applies its own segment's recorded torques; the lanes share the
+/// model, so they may repeat a segment (a last group with fewer than W left). Sizes are the
+/// caller's to check. Needs core/integrators-inl.hpp (no Lanes instantiation is compiled in core).
+template <int W>
+void rollOutSegments(const ModelTpl<Lanes<W>>& model, DataTpl<Lanes<W>>& data,
+                     const GcProblem& problem, const std::array<int, W>& segments,
+                     VectorX<Lanes<W>>& q, VectorX<Lanes<W>>& dq, VectorX<Lanes<W>>& tau) {
+  const Eigen::MatrixXd& recorded = problem.data.tau;
+  std::array<int, W> starts;
+  for (int l = 0; l < W; ++l) starts[l] = problem.starts[segments[l]];
+  const Lanes<W> h(problem.step);
+  for (int k = 0; k < problem.samples_per_segment; ++k) {
+    // Lane l's tau: its segment's sample k, held over the sample period.
+    for (int j = 0; j < model.numJoints(); ++j)
+      for (int l = 0; l < W; ++l) tau[j].set(l, recorded(j, starts[l] + k));
+    for (int sub = 0; sub < problem.substeps; ++sub)
+      integratorStep(problem.integrator, model, data, q, dq, tau, h);
   }
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "core/errors.hpp"
+#include "core/lanes.hpp"
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
@@ -28,8 +29,12 @@ TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
   EXPECT_EQ(problem.samples_per_segment, 50);
   ThreadPool pool(1);
   GcWorkspace workspace(1);
-  // Same integrator, step and held torques as the recording: the replay is bit for bit.
-  EXPECT_EQ(gcError(truth, problem, workspace, pool), 0.0);
+  // Same integrator, step and held torques as the recording: the scalar path's replay is bit for
+  // bit; the lanes' differs by round-off only (gc_error.hpp: state differences below 1e-13, so a
+  // squared sum below 1e-24).
+  GcWorkspace scalar(1, 1);
+  EXPECT_EQ(gcError(truth, problem, scalar, pool), 0.0);
+  EXPECT_LT(gcError(truth, problem, workspace, pool), 1e-24);
   const double perturbed = gcError(perturbedModel(truth, 0.3, 1), problem, workspace, pool);
   EXPECT_GT(perturbed, 1e-6);
   // The paper's eq. (2): the sum of the per-segment squared state errors.
@@ -51,6 +56,36 @@ TEST(GcError, SameResultForAnyThreadCount) {
     EXPECT_EQ(gcError(candidate, problem, w2, two), single) << seed;
     EXPECT_NE(single, gcError(guess, problem, w1, one)) << seed;
   }
+}
+
+// Lanes (core/lanes.hpp) roll several segments at once; each segment's error is the scalar path's
+// to 1e-12 relative (gc_error.hpp gives the reason), the same for every lane width and thread
+// count.
+TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
+  const GcProblem problem = makeGcProblem(pumaData(), {.num_segments = 37});  // 37: a part group
+  ThreadPool one(1), two(2);
+  for (const Model& candidate :
+       {perturbedModel(makePuma560(), 0.3, 2), perturbedModel(makePuma560(), 0.05, 7)}) {
+    GcWorkspace scalar(1, 1);
+    const double reference = gcError(candidate, problem, scalar, one);
+    Eigen::VectorXd width_two;
+    for (int lanes : {2, 4, 8}) {
+      GcWorkspace w1(1, lanes), w2(2, lanes);
+      const double total = gcError(candidate, problem, w1, one);
+      EXPECT_EQ(gcError(candidate, problem, w2, two), total) << lanes;
+      EXPECT_EQ(w2.segment_errors, w1.segment_errors) << lanes;
+      for (int s = 0; s < problem.numSegments(); ++s)
+        EXPECT_NEAR(w1.segment_errors[s], scalar.segment_errors[s],
+                    1e-12 * scalar.segment_errors[s])
+            << "segment " << s << ", " << lanes << " lanes";
+      EXPECT_NEAR(total, reference, 1e-12 * reference) << lanes;
+      // Every lane does the same operations whatever the width: bit for bit the same.
+      if (lanes == 2) width_two = w1.segment_errors;
+      EXPECT_EQ(w1.segment_errors, width_two) << lanes;
+    }
+  }
+  EXPECT_THROW(GcWorkspace(1, 3), InputError);
+  EXPECT_EQ(GcWorkspace(1).lanes, kLanes);
 }
 
 TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {

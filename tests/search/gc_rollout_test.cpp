@@ -42,7 +42,7 @@ TEST(GcRollout, DoubleAndJetRolloutsAgreeAndSumToTheGcError) {
         (q - problem.data.q.col(end)).squaredNorm() + (dq - problem.data.dq.col(end)).squaredNorm();
   }
   ThreadPool pool(1);
-  GcWorkspace workspace(1);
+  GcWorkspace workspace(1, 1);  // the scalar path: the same code as the loop above, bit for bit
   EXPECT_EQ(gcError(model, problem, workspace, pool), total);
 }
 

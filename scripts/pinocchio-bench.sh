@@ -1,17 +1,27 @@
 #!/usr/bin/env bash
-# Pinocchio's joint torque regressor on the PUMA 560, beside dynid's (docs/PERFORMANCE.md, "The
-# regressor"). Usage: scripts/pinocchio-regressor.sh PINOCCHIO_SOURCE [BUILD_DIR]
+# Pinocchio beside dynid, in one run (docs/PERFORMANCE.md): WHAT is `regressor` (the joint torque
+# regressor on the PUMA 560, "The regressor") or `dynamics` (CRBA, ABA and an RK4 step on the PUMA
+# 560 and the Panda, "dynid against Pinocchio").
+# Usage: scripts/pinocchio-bench.sh PINOCCHIO_SOURCE [BUILD_DIR] [WHAT]
 # PINOCCHIO_SOURCE is a Pinocchio source tree (3.7.0 measured: git clone --branch v3.7.0
 # https://github.com/stack-of-tasks/pinocchio); only its include/ is used, header-only, with the
 # three headers its CMake would generate replaced by minimal stand-ins. Needs Boost's headers
 # (libboost-dev) and Google Benchmark; dynid's Release build in BUILD_DIR (default build) for the
-# side-by-side run. Runs the two benchmarks interleaved, four rounds of five repetitions.
+# side-by-side run. Runs the two benchmarks interleaved, four rounds of five repetitions (WHAT
+# defaults to regressor).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-source_dir=${1:?usage: scripts/pinocchio-regressor.sh PINOCCHIO_SOURCE [BUILD_DIR]}
+usage="usage: scripts/pinocchio-bench.sh PINOCCHIO_SOURCE [BUILD_DIR] [regressor|dynamics]"
+source_dir=${1:?$usage}
 build_dir=${2:-build}
+what=${3:-regressor}
+case "$what" in
+  regressor) dynid_bench=bench_identification filter='BM_Regressor/' ;;
+  dynamics) dynid_bench=bench_core filter='BM_(Crba|CrbaPanda|Aba/drives:0|AbaPanda|Rk4Step|Rk4StepPanda)$' ;;
+  *) echo "$usage" >&2; exit 2 ;;
+esac
 [ -f "$source_dir/include/pinocchio/fwd.hpp" ] || { echo "$source_dir: no include/pinocchio/fwd.hpp" >&2; exit 1; }
-[ -x "$build_dir/bench/bench_identification" ] || { echo "$build_dir/bench/bench_identification: build dynid's benchmarks first (-DDYNID_BUILD_BENCH=ON)" >&2; exit 1; }
+[ -x "$build_dir/bench/$dynid_bench" ] || { echo "$build_dir/bench/$dynid_bench: build dynid's benchmarks first (-DDYNID_BUILD_BENCH=ON)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/include/pinocchio"
@@ -33,11 +43,11 @@ cat > "$work/include/pinocchio/deprecated.hpp" <<'H'
 #define PINOCCHIO_DEPRECATED __attribute__((deprecated))
 #define PINOCCHIO_DEPRECATED_MESSAGE(message) __attribute__((deprecated(message)))
 H
-g++ -std=c++20 -O3 -DNDEBUG -Wno-deprecated-declarations -I"$work/include" -I"$source_dir/include" \
-  -I/usr/include/eigen3 bench/pinocchio/regressor.cpp -o "$work/pinocchio_regressor" -lbenchmark -lpthread
+g++ -std=c++20 -O3 -DNDEBUG -Wno-deprecated-declarations -I. -I"$work/include" -I"$source_dir/include" \
+  -I/usr/include/eigen3 "bench/pinocchio/$what.cpp" -o "$work/pinocchio_$what" -lbenchmark -lpthread
 for round in 1 2 3 4; do
-  "$work/pinocchio_regressor" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true |
+  "$work/pinocchio_$what" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true |
     grep median
-  "$build_dir/bench/bench_identification" --benchmark_filter='BM_Regressor/' \
+  "$build_dir/bench/$dynid_bench" --benchmark_filter="$filter" \
     --benchmark_repetitions=5 --benchmark_report_aggregates_only=true | grep median
 done

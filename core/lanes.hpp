@@ -1,0 +1,214 @@
+// Lanes<W>: W doubles that move through the Scalar-templated algorithms together, one SIMD lane
+// each, the way ceres::Jet moves a value and its derivatives. The GC error rolls W segments at once
+// in them (search/gc_error.hpp). Each lane does the operations a double does (IEEE +, -, *, /;
+// sin, cos, exp, sqrt from the C library lane by lane), so a lane's result is the scalar path's
+// up to the order in which Eigen sums short dot products (it splits double sums into SIMD packets,
+// which it cannot do for a user type): round-off, bounded in search/gc_error.hpp.
+//
+// Built on GCC's vector extensions, so the compiler emits the widest instructions the build
+// targets: with the default flags (any x86-64: SSE2) a Lanes<2> is one 2-wide register; with
+// -DDYNID_NATIVE=ON on an AVX machine a Lanes<4> is one 4-wide one (kLanes picks).
+// A branch on a value becomes a select (comparisons return a per-lane Mask) or a test that every
+// lane agrees (allLanes); signum (Coulomb friction) is such a select.
+#pragma once
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+#include "core/spatial.hpp"
+
+namespace dynid {
+
+/// The lane count the GC rollouts use: one SSE2 register (the default build) or one AVX register
+/// (-DDYNID_NATIVE=ON on an AVX machine), the fastest in bench_search's BM_GcErrorLanes on both
+/// (docs/PERFORMANCE.md; 8 lanes on AVX-512 were slower than 4: more register spills).
+#if defined(__AVX__)
+inline constexpr int kLanes = 4;
+#else
+inline constexpr int kLanes = 2;
+#endif
+
+namespace lanes_detail {
+// GCC's vector types, spelt per width: a vector_size that depends on a template parameter is not
+// taken as a vector inside the template.
+template <int W>
+struct VectorOf;
+template <>
+struct VectorOf<2> {
+  typedef double Vector __attribute__((vector_size(16)));
+  typedef long Mask __attribute__((vector_size(16)));
+};
+template <>
+struct VectorOf<4> {
+  typedef double Vector __attribute__((vector_size(32)));
+  typedef long Mask __attribute__((vector_size(32)));
+};
+template <>
+struct VectorOf<8> {
+  typedef double Vector __attribute__((vector_size(64)));
+  typedef long Mask __attribute__((vector_size(64)));
+};
+}  // namespace lanes_detail
+
+template <int W>
+struct Lanes {
+  using Vector = typename lanes_detail::VectorOf<W>::Vector;
+  using Mask = typename lanes_detail::VectorOf<W>::Mask;  // all bits set where true
+
+  Vector v;  // uninitialised, as a double is
+
+  Lanes() = default;
+  /// Every lane x.
+  explicit DYNID_INLINE Lanes(double x) : v(Vector{} + x) {}
+  DYNID_INLINE static Lanes fromVector(Vector x) {
+    Lanes out;
+    out.v = x;
+    return out;
+  }
+
+  DYNID_INLINE double operator[](int lane) const { return v[lane]; }
+  DYNID_INLINE void set(int lane, double x) { v[lane] = x; }
+
+  DYNID_INLINE Lanes& operator+=(const Lanes& b) { return v += b.v, *this; }
+  DYNID_INLINE Lanes& operator-=(const Lanes& b) { return v -= b.v, *this; }
+  DYNID_INLINE Lanes& operator*=(const Lanes& b) { return v *= b.v, *this; }
+  DYNID_INLINE Lanes& operator/=(const Lanes& b) { return v /= b.v, *this; }
+};
+
+template <int W>
+DYNID_INLINE Lanes<W> operator+(const Lanes<W>& a, const Lanes<W>& b) {
+  return Lanes<W>::fromVector(a.v + b.v);
+}
+template <int W>
+DYNID_INLINE Lanes<W> operator-(const Lanes<W>& a, const Lanes<W>& b) {
+  return Lanes<W>::fromVector(a.v - b.v);
+}
+template <int W>
+DYNID_INLINE Lanes<W> operator*(const Lanes<W>& a, const Lanes<W>& b) {
+  return Lanes<W>::fromVector(a.v * b.v);
+}
+template <int W>
+DYNID_INLINE Lanes<W> operator/(const Lanes<W>& a, const Lanes<W>& b) {
+  return Lanes<W>::fromVector(a.v / b.v);
+}
+template <int W>
+DYNID_INLINE Lanes<W> operator-(const Lanes<W>& a) {
+  return Lanes<W>::fromVector(-a.v);
+}
+template <int W>
+DYNID_INLINE Lanes<W> operator+(const Lanes<W>& a) {
+  return a;
+}
+
+// Comparisons give a mask per lane; a NaN lane compares false, as a double does.
+template <int W>
+DYNID_INLINE typename Lanes<W>::Mask operator<(const Lanes<W>& a, const Lanes<W>& b) {
+  return a.v < b.v;
+}
+template <int W>
+DYNID_INLINE typename Lanes<W>::Mask operator>(const Lanes<W>& a, const Lanes<W>& b) {
+  return a.v > b.v;
+}
+template <int W>
+DYNID_INLINE typename Lanes<W>::Mask operator<=(const Lanes<W>& a, const Lanes<W>& b) {
+  return a.v <= b.v;
+}
+template <int W>
+DYNID_INLINE typename Lanes<W>::Mask operator>=(const Lanes<W>& a, const Lanes<W>& b) {
+  return a.v >= b.v;
+}
+
+/// Per lane: mask ? a : b.
+template <int W>
+DYNID_INLINE Lanes<W> select(typename Lanes<W>::Mask mask, const Lanes<W>& a, const Lanes<W>& b) {
+  return Lanes<W>::fromVector(mask ? a.v : b.v);
+}
+
+/// True when the condition holds in every lane (for a plain bool, the bool): a branch that the
+/// lanes take together or not at all.
+DYNID_INLINE bool allLanes(bool condition) { return condition; }
+template <typename Mask>
+DYNID_INLINE auto allLanes(const Mask& mask) -> decltype(mask[0] != 0) {
+  constexpr int w = sizeof(Mask) / sizeof(mask[0]);
+  bool all = true;
+  for (int l = 0; l < w; ++l) all = all && mask[l] != 0;
+  return all;
+}
+
+template <int W>
+DYNID_INLINE Lanes<W> abs(const Lanes<W>& a) {
+  return Lanes<W>::fromVector(a.v < 0 ? -a.v : a.v);
+}
+
+/// sign(x) in {-1, 0, 1} per lane; a NaN lane gives 0, as drive_terms.hpp's signum does.
+template <int W>
+DYNID_INLINE Lanes<W> signum(const Lanes<W>& x) {
+  using Vector = typename Lanes<W>::Vector;
+  const Vector one = Vector{} + 1.0;
+  const Vector zero{};
+  return Lanes<W>::fromVector(x.v > 0 ? one : (x.v < 0 ? -one : zero));
+}
+
+// The transcendental functions lane by lane with the C library's, so each lane rounds as a double.
+template <int W>
+inline Lanes<W> sin(const Lanes<W>& a) {
+  Lanes<W> out;
+  for (int l = 0; l < W; ++l) out.v[l] = std::sin(a.v[l]);
+  return out;
+}
+template <int W>
+inline Lanes<W> cos(const Lanes<W>& a) {
+  Lanes<W> out;
+  for (int l = 0; l < W; ++l) out.v[l] = std::cos(a.v[l]);
+  return out;
+}
+/// sin and cos of every lane in one pass (glibc's sincos: one range reduction for both).
+template <int W>
+inline void sinCos(const Lanes<W>& x, Lanes<W>& s, Lanes<W>& c) {
+  for (int l = 0; l < W; ++l) {
+    double sl, cl;
+    ::sincos(x.v[l], &sl, &cl);
+    s.v[l] = sl, c.v[l] = cl;
+  }
+}
+template <int W>
+inline Lanes<W> exp(const Lanes<W>& a) {
+  Lanes<W> out;
+  for (int l = 0; l < W; ++l) out.v[l] = std::exp(a.v[l]);
+  return out;
+}
+template <int W>
+inline Lanes<W> sqrt(const Lanes<W>& a) {
+  Lanes<W> out;
+  for (int l = 0; l < W; ++l) out.v[l] = std::sqrt(a.v[l]);
+  return out;
+}
+
+}  // namespace dynid
+
+namespace Eigen {
+
+/// What Eigen needs of a scalar type; Lanes is never compared, printed or decomposed by Eigen.
+template <int W>
+struct NumTraits<dynid::Lanes<W>> : GenericNumTraits<double> {
+  using Real = dynid::Lanes<W>;
+  using NonInteger = dynid::Lanes<W>;
+  using Nested = dynid::Lanes<W>;
+  using Literal = dynid::Lanes<W>;
+  enum {
+    IsComplex = 0,
+    IsInteger = 0,
+    IsSigned = 1,
+    RequireInitialization = 1,
+    ReadCost = 1,
+    AddCost = 1,
+    MulCost = 1,
+  };
+  static dynid::Lanes<W> epsilon() {
+    return dynid::Lanes<W>(std::numeric_limits<double>::epsilon());
+  }
+  static dynid::Lanes<W> dummy_precision() { return dynid::Lanes<W>(1e-12); }
+};
+
+}  // namespace Eigen
