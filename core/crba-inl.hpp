@@ -1,5 +1,8 @@
 #pragma once
 
+#include <type_traits>
+
+#include "core/aba-inl.hpp"
 #include "core/checks.hpp"
 #include "core/crba.hpp"
 #include "core/friction.hpp"
@@ -7,24 +10,154 @@
 namespace dynid {
 
 namespace crba_detail {
+
+/// X.rotation = Pi G for a revolute z joint whose placement rotates by kAxisPermutations[K] = pi
+/// (Model::placement_permutation): G = Pi^T R, a rotation about z with signed rows, and
+/// (Pi x)_a = x_pi(a). See aba_detail::addTransformedInertiaPermuted.
+template <int K, typename Scalar>
+struct PermutedRotation {
+  static constexpr int p0 = kAxisPermutations[K][0], p1 = kAxisPermutations[K][1],
+                       p2 = kAxisPermutations[K][2];
+  // G(j, :) = R(pi^-1(j), :).
+  static constexpr int r0 = p0 == 0 ? 0 : (p1 == 0 ? 1 : 2), r1 = p0 == 1 ? 0 : (p1 == 1 ? 1 : 2),
+                       r2 = p0 == 2 ? 0 : (p1 == 2 ? 1 : 2);
+  DYNID_INLINE explicit PermutedRotation(const Matrix3<Scalar>& R)
+      : g00(R(r0, 0)), g01(R(r0, 1)), g10(R(r1, 0)), g11(R(r1, 1)), g22(R(r2, 2)) {}
+  /// G x.
+  DYNID_INLINE Vector3<Scalar> rotate(const Vector3<Scalar>& x) const {
+    return Vector3<Scalar>(g00 * x[0] + g01 * x[1], g10 * x[0] + g11 * x[1], g22 * x[2]);
+  }
+  Scalar g00, g01, g10, g11, g22;
+};
+
+/// parent += the child's composite inertia c expressed in the parent's frame (X places the child),
+/// for a revolute z joint with a permuted placement: rotate by G about z (half the products of a
+/// general rotation), apply the parallel-axis terms with t = Pi^T p in G's frame, then permute the
+/// entries into the parent's (free: pi is known at compile time). `s` is Model::placement_shift,
+/// det(Pi) Pi^T p.
+template <int K, typename Scalar>
+DYNID_INLINE void addCompositePermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
+                                       const RigidInertia<Scalar>& c, RigidInertia<Scalar>& parent) {
+  using Rotation = PermutedRotation<K, Scalar>;
+  constexpr int pi[3] = {Rotation::p0, Rotation::p1, Rotation::p2};
+  const Rotation G(X.rotation);
+  const Scalar& m = c.mass;
+  // J = G I G^T, g = G h, t = Pi^T p.
+  Matrix3<Scalar> J = aba_detail::rotateAboutZ(G.g00, G.g01, G.g10, G.g11, G.g22, c.inertia);
+  const Vector3<Scalar> g = G.rotate(c.first_moment);
+  const Vector3<Scalar> t = kAxisPermutationSigns[K] > 0 ? s : Vector3<Scalar>(-s);
+  // h' = g + m t; J += (m |t|^2 + 2 t.g) 1 - (m t + g) t^T - t g^T (the parallel-axis theorem).
+  const Vector3<Scalar> h = g + m * t;
+  const Scalar shift = m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) +
+                       Scalar(2) * (t[0] * g[0] + t[1] * g[1] + t[2] * g[2]);
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a) J(a, b) -= h[a] * t[b] + t[a] * g[b];
+  for (int a = 0; a < 3; ++a) J(a, a) += shift;
+  // Into the parent's frame: entry a of a vector takes entry pi(a), (a, b) of a matrix (pi(a), pi(b)).
+  // Permuted into locals first and added whole: the parent's entries are then stored as packed
+  // pairs, as the next iteration loads them (entry-by-entry stores stall store-to-load forwarding).
+  Matrix3<Scalar> Jp;
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a) Jp(a, b) = J(pi[a], pi[b]);
+  parent.mass += m;
+  parent.first_moment += Vector3<Scalar>(h[pi[0]], h[pi[1]], h[pi[2]]);
+  parent.inertia += Jp;
+}
+
+/// F in the parent's frame (X.actForce(F)) for a permuted placement: f' = Pi G f and
+/// n' = Pi (G n + s x G f), since p x Pi y = det(Pi) Pi (Pi^T p x y).
+template <int K, typename Scalar>
+DYNID_INLINE void actForcePermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
+                                   Vector6<Scalar>& F) {
+  using Rotation = PermutedRotation<K, Scalar>;
+  constexpr int pi[3] = {Rotation::p0, Rotation::p1, Rotation::p2};
+  const Rotation G(X.rotation);
+  const Vector3<Scalar> f = G.rotate(F.template tail<3>());
+  const Vector3<Scalar> n = G.rotate(F.template head<3>()) + cross(s, f);
+  F << n[pi[0]], n[pi[1]], n[pi[2]], f[pi[0]], f[pi[1]], f[pi[2]];
+}
+
+/// actForcePermuted's moment about z alone, (G n + s x G f) at pi(2): the projection on a revolute
+/// z parent's axis.
+template <int K, typename Scalar>
+DYNID_INLINE Scalar projectedForcePermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
+                                           const Vector6<Scalar>& F) {
+  using Rotation = PermutedRotation<K, Scalar>;
+  const Rotation G(X.rotation);
+  const Vector3<Scalar> f = G.rotate(F.template tail<3>());
+  const Vector3<Scalar> n = G.rotate(F.template head<3>());
+  constexpr int c = Rotation::p2;
+  constexpr int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+  return n[c] + (s[c1] * f[c2] - s[c2] * f[c1]);
+}
+
+/// body(std::integral_constant<int, K>) for the permutation index k in 0..5.
+template <typename Body>
+DYNID_INLINE void withPermutation(int k, Body&& body) {
+  switch (k) {
+    case 0:
+      return body(std::integral_constant<int, 0>());
+    case 1:
+      return body(std::integral_constant<int, 1>());
+    case 2:
+      return body(std::integral_constant<int, 2>());
+    case 3:
+      return body(std::integral_constant<int, 3>());
+    case 4:
+      return body(std::integral_constant<int, 4>());
+    default:
+      return body(std::integral_constant<int, 5>());
+  }
+}
+
 /// CRBA from the joint transforms already in data.liMi (set by crba or rnea).
 template <typename Scalar>
-void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
+DYNID_FLATTEN void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
   const int n = model.numJoints();
   for (int i = 0; i < n; ++i) data.composite[i] = model.frame_inertias()[i];
   // Composite inertias: Ic_p += pXi* Ic_i iXp.
   for (int i = n - 1; i >= 0; --i) {
     const int p = model.parents()[i];
-    if (p >= 0) data.composite[p] += data.composite[i].transformedBy(data.liMi[i]);
+    if (p < 0) continue;
+    const int k = model.placement_permutation()[i];
+    if (k >= 0)
+      withPermutation(k, [&](auto K) {
+        addCompositePermuted<K()>(data.liMi[i], model.placement_shift()[i], data.composite[i],
+                                  data.composite[p]);
+      });
+    else
+      data.composite[p] += data.composite[i].transformedBy(data.liMi[i]);
   }
   // M_ij = S_j^T (jXi* Ic_i S_i) for every ancestor j of i; other entries are zero.
   data.M.setZero();
   for (int i = 0; i < n; ++i) {
-    Vector6<Scalar> F = data.composite[i].apply(model.motion_subspaces()[i]);
+    // F = Ic_i S_i; for S_i = (e_z, 0) that is (I e_z, -h x e_z), a column and a swap.
+    Vector6<Scalar> F;
+    const RigidInertia<Scalar>& Ic = data.composite[i];
+    if (model.subspace_index()[i] == 2)
+      F << Ic.inertia(0, 2), Ic.inertia(1, 2), Ic.inertia(2, 2), -Ic.first_moment[1],
+          Ic.first_moment[0], Scalar(0);
+    else
+      F = Ic.apply(model.motion_subspaces()[i]);
     data.M(i, i) = projectOnJoint(model, i, F);
     if (model.driveTerms().inertial()) data.M(i, i) += driveInertia(model, i);
     for (int j = i; model.parents()[j] >= 0;) {
-      F = data.liMi[j].actForce(F);
+      const int k = model.placement_permutation()[j];
+      const int p = model.parents()[j];
+      if (k >= 0 && model.parents()[p] < 0 && model.subspace_index()[p] == 2) {
+        // The root's entry needs only the moment's z component in its frame: (G n + s x G f)
+        // at pi(2), a third of the transform.
+        withPermutation(k, [&](auto K) {
+          data.M(p, i) = data.M(i, p) =
+              projectedForcePermuted<K()>(data.liMi[j], model.placement_shift()[j], F);
+        });
+        break;
+      }
+      if (k >= 0)
+        withPermutation(
+            k, [&](auto K) { actForcePermuted<K()>(data.liMi[j], model.placement_shift()[j], F); });
+      else
+        F = data.liMi[j].actForce(F);
       j = model.parents()[j];
       data.M(j, i) = data.M(i, j) = projectOnJoint(model, j, F);
     }
