@@ -37,7 +37,8 @@ struct PermutedRotation {
 /// det(Pi) Pi^T p.
 template <int K, typename Scalar>
 DYNID_INLINE void addCompositePermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
-                                       const RigidInertia<Scalar>& c, RigidInertia<Scalar>& parent) {
+                                       const RigidInertia<Scalar>& c,
+                                       RigidInertia<Scalar>& parent) {
   using Rotation = PermutedRotation<K, Scalar>;
   constexpr int pi[3] = {Rotation::p0, Rotation::p1, Rotation::p2};
   const Rotation G(X.rotation);
@@ -53,9 +54,10 @@ DYNID_INLINE void addCompositePermuted(const Pose<Scalar>& X, const Vector3<Scal
   for (int b = 0; b < 3; ++b)
     for (int a = 0; a < 3; ++a) J(a, b) -= h[a] * t[b] + t[a] * g[b];
   for (int a = 0; a < 3; ++a) J(a, a) += shift;
-  // Into the parent's frame: entry a of a vector takes entry pi(a), (a, b) of a matrix (pi(a), pi(b)).
-  // Permuted into locals first and added whole: the parent's entries are then stored as packed
-  // pairs, as the next iteration loads them (entry-by-entry stores stall store-to-load forwarding).
+  // Into the parent's frame: entry a of a vector takes entry pi(a), (a, b) of a matrix (pi(a),
+  // pi(b)). Permuted into locals first and added whole: the parent's entries are then stored as
+  // packed pairs, as the next iteration loads them (entry-by-entry stores stall store-to-load
+  // forwarding).
   Matrix3<Scalar> Jp;
   for (int b = 0; b < 3; ++b)
     for (int a = 0; a < 3; ++a) Jp(a, b) = J(pi[a], pi[b]);

@@ -1,9 +1,10 @@
 // Lanes<W>: W doubles that move through the Scalar-templated algorithms together, one SIMD lane
 // each, the way ceres::Jet moves a value and its derivatives. The GC error rolls W segments at once
 // in them (search/gc_error.hpp). Each lane does the operations a double does (IEEE +, -, *, /;
-// sin, cos, exp, sqrt from the C library lane by lane), so a lane's result is the scalar path's
-// up to the order in which Eigen sums short dot products (it splits double sums into SIMD packets,
-// which it cannot do for a user type): round-off, bounded in search/gc_error.hpp.
+// sin, cos, exp, sqrt from the C library lane by lane; in an AVX2 build, sin and cos of 4 lanes
+// from glibc's vector library, within 4 ulps), so a lane's result is the scalar path's up to the
+// order in which Eigen sums short dot products (it splits double sums into SIMD packets, which it
+// cannot do for a user type): round-off, bounded in search/gc_error.hpp.
 //
 // Built on GCC's vector extensions, so the compiler emits the widest instructions the build
 // targets: with the default flags (any x86-64: SSE2) a Lanes<2> is one 2-wide register; with
@@ -17,6 +18,16 @@
 #include <Eigen/Core>
 
 #include "core/spatial.hpp"
+
+// glibc's vector sin and cos (libmvec, linked by core/CMakeLists.txt) where the build targets AVX2.
+#if defined(__AVX2__) && defined(__x86_64__) && defined(__GLIBC__) && defined(DYNID_HAVE_LIBMVEC)
+#include <immintrin.h>
+extern "C" __m256d _ZGVdN4v_sin(__m256d);
+extern "C" __m256d _ZGVdN4v_cos(__m256d);
+#define DYNID_LANES_LIBMVEC 1
+#else
+#define DYNID_LANES_LIBMVEC 0
+#endif
 
 namespace dynid {
 
@@ -163,9 +174,18 @@ inline Lanes<W> cos(const Lanes<W>& a) {
   for (int l = 0; l < W; ++l) out.v[l] = std::cos(a.v[l]);
   return out;
 }
-/// sin and cos of every lane in one pass (glibc's sincos: one range reduction for both).
+/// sin and cos of every lane: glibc's vector functions (libmvec) for 4 lanes where the build
+/// targets AVX2 (at most 4 ulps from the correctly rounded value, glibc's bound; the scalar sincos
+/// is within 1), else sincos lane by lane (one range reduction for both).
 template <int W>
 inline void sinCos(const Lanes<W>& x, Lanes<W>& s, Lanes<W>& c) {
+#if DYNID_LANES_LIBMVEC
+  if constexpr (W == 4) {
+    s.v = reinterpret_cast<typename Lanes<W>::Vector>(_ZGVdN4v_sin(reinterpret_cast<__m256d>(x.v)));
+    c.v = reinterpret_cast<typename Lanes<W>::Vector>(_ZGVdN4v_cos(reinterpret_cast<__m256d>(x.v)));
+    return;
+  }
+#endif
   for (int l = 0; l < W; ++l) {
     double sl, cl;
     ::sincos(x.v[l], &sl, &cl);

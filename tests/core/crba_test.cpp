@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 #include <Eigen/Cholesky>
+#include <random>
 
 #include "core/energy.hpp"
 #include "data/panda.hpp"

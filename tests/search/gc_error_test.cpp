@@ -79,9 +79,12 @@ TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
                     1e-12 * scalar.segment_errors[s])
             << "segment " << s << ", " << lanes << " lanes";
       EXPECT_NEAR(total, reference, 1e-12 * reference) << lanes;
-      // Every lane does the same operations whatever the width: bit for bit the same.
+      // Every lane does the same operations whatever the width: bit for bit the same, unless
+      // 4 lanes take glibc's vector sin and cos (an AVX2 build: core/lanes.hpp).
       if (lanes == 2) width_two = w1.segment_errors;
-      EXPECT_EQ(w1.segment_errors, width_two) << lanes;
+      if (!DYNID_LANES_LIBMVEC) {
+        EXPECT_EQ(w1.segment_errors, width_two) << lanes;
+      }
     }
   }
   EXPECT_THROW(GcWorkspace(1, 3), InputError);
