@@ -75,8 +75,7 @@ void BM_RneaBatch(benchmark::State& state) {
 }
 BENCHMARK(BM_RneaBatch)->Arg(1000000)->ArgName("states")->Unit(benchmark::kMillisecond);
 
-void BM_Crba(benchmark::State& state) {
-  const Model model = dynid::makePuma560(false);
+void crbaLoop(benchmark::State& state, const Model& model) {
   Data data(model);
   const States s(model);
   int k = 0;
@@ -85,19 +84,10 @@ void BM_Crba(benchmark::State& state) {
     k = (k + 1) % States::kCount;
   }
 }
+void BM_Crba(benchmark::State& state) { crbaLoop(state, dynid::makePuma560(false)); }
 BENCHMARK(BM_Crba);
-
 // The Panda (7 joints, modified DH) beside the PUMA, for scripts/pinocchio-bench.sh.
-void BM_CrbaPanda(benchmark::State& state) {
-  const Model model = dynid::makePanda(false);
-  Data data(model);
-  const States s(model);
-  int k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(dynid::crba(model, data, s.q[k]).data());
-    k = (k + 1) % States::kCount;
-  }
-}
+void BM_CrbaPanda(benchmark::State& state) { crbaLoop(state, dynid::makePanda(false)); }
 BENCHMARK(BM_CrbaPanda);
 
 /// The PUMA with ABA's permuted transform path switched off (placement_permutation = -1), as for

@@ -161,19 +161,23 @@ DYNID_INLINE Lanes<W> signum(const Lanes<W>& x) {
   return Lanes<W>::fromVector(x.v > 0 ? one : (x.v < 0 ? -one : zero));
 }
 
-// The transcendental functions lane by lane with the C library's, so each lane rounds as a double.
+/// f applied to every lane: the transcendental functions lane by lane with the C library's, so each
+/// lane rounds as a double does.
+template <int W, typename F>
+DYNID_INLINE Lanes<W> eachLane(const Lanes<W>& a, F f) {
+  Lanes<W> out;
+  for (int l = 0; l < W; ++l) out.v[l] = f(a.v[l]);
+  return out;
+}
 template <int W>
 inline Lanes<W> sin(const Lanes<W>& a) {
-  Lanes<W> out;
-  for (int l = 0; l < W; ++l) out.v[l] = std::sin(a.v[l]);
-  return out;
+  return eachLane(a, [](double x) { return std::sin(x); });
 }
 template <int W>
 inline Lanes<W> cos(const Lanes<W>& a) {
-  Lanes<W> out;
-  for (int l = 0; l < W; ++l) out.v[l] = std::cos(a.v[l]);
-  return out;
+  return eachLane(a, [](double x) { return std::cos(x); });
 }
+
 /// sin and cos of every lane: glibc's vector functions (libmvec) for 4 lanes where the build
 /// targets AVX2 (at most 4 ulps from the correctly rounded value, glibc's bound; the scalar sincos
 /// is within 1), else sincos lane by lane (one range reduction for both).
@@ -194,15 +198,11 @@ inline void sinCos(const Lanes<W>& x, Lanes<W>& s, Lanes<W>& c) {
 }
 template <int W>
 inline Lanes<W> exp(const Lanes<W>& a) {
-  Lanes<W> out;
-  for (int l = 0; l < W; ++l) out.v[l] = std::exp(a.v[l]);
-  return out;
+  return eachLane(a, [](double x) { return std::exp(x); });
 }
 template <int W>
 inline Lanes<W> sqrt(const Lanes<W>& a) {
-  Lanes<W> out;
-  for (int l = 0; l < W; ++l) out.v[l] = std::sqrt(a.v[l]);
-  return out;
+  return eachLane(a, [](double x) { return std::sqrt(x); });
 }
 
 }  // namespace dynid
