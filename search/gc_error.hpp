@@ -60,10 +60,10 @@ struct GcWorkspace {
 /// packets and a lane's in order, so the two differ by an ulp or so per sum, grown over the
 /// horizon's steps. The lane count itself changes nothing (every lane's operations are the same
 /// for any width), except that an AVX2 build takes sin and cos of 4 lanes from libmvec.
-/// Before each segment it polls `control` (stopped(): the flag and the deadline): once stopped, the
-/// remaining segments are skipped and the result is NaN (the evaluation did not finish). Throws
-/// InputError when the model's joint count differs from the data's, or workspace.lanes is not 1, 2,
-/// 4 or 8.
+/// Before each segment (each group of `lanes` segments) it polls `control` (stopped(): the flag and
+/// the deadline): once stopped, the remaining segments are skipped and the result is NaN (the
+/// evaluation did not finish). Throws InputError when the model's joint count differs from the
+/// data's, or workspace.lanes is not 1, 2, 4 or 8.
 double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& workspace,
                ThreadPool& pool, const RunControl& control = {});
 
