@@ -42,24 +42,32 @@ inline constexpr int kLanes = 2;
 
 namespace lanes_detail {
 // GCC's vector types, spelt per width: a vector_size that depends on a template parameter is not
-// taken as a vector inside the template.
+// taken as a vector inside the template. Aligned to at most Eigen's static alignment: Eigen aligns
+// a fixed-size array to at most that, and a type that asks for more is refused (clang: "requested
+// alignment is less than minimum alignment"; GCC ignores it silently). Only the widths wider than
+// the build's registers lose alignment (unaligned loads), never kLanes.
+#define DYNID_LANES_ALIGN(bytes)          \
+  ((bytes) < EIGEN_MAX_STATIC_ALIGN_BYTES \
+       ? (bytes)                          \
+       : (EIGEN_MAX_STATIC_ALIGN_BYTES > 8 ? EIGEN_MAX_STATIC_ALIGN_BYTES : 8))
 template <int W>
 struct VectorOf;
 template <>
 struct VectorOf<2> {
-  typedef double Vector __attribute__((vector_size(16)));
-  typedef long Mask __attribute__((vector_size(16)));
+  typedef double Vector __attribute__((vector_size(16), aligned(DYNID_LANES_ALIGN(16))));
+  typedef long Mask __attribute__((vector_size(16), aligned(DYNID_LANES_ALIGN(16))));
 };
 template <>
 struct VectorOf<4> {
-  typedef double Vector __attribute__((vector_size(32)));
-  typedef long Mask __attribute__((vector_size(32)));
+  typedef double Vector __attribute__((vector_size(32), aligned(DYNID_LANES_ALIGN(32))));
+  typedef long Mask __attribute__((vector_size(32), aligned(DYNID_LANES_ALIGN(32))));
 };
 template <>
 struct VectorOf<8> {
-  typedef double Vector __attribute__((vector_size(64)));
-  typedef long Mask __attribute__((vector_size(64)));
+  typedef double Vector __attribute__((vector_size(64), aligned(DYNID_LANES_ALIGN(64))));
+  typedef long Mask __attribute__((vector_size(64), aligned(DYNID_LANES_ALIGN(64))));
 };
+#undef DYNID_LANES_ALIGN
 }  // namespace lanes_detail
 
 template <int W>
@@ -140,7 +148,7 @@ DYNID_INLINE Lanes<W> select(typename Lanes<W>::Mask mask, const Lanes<W>& a, co
 /// lanes take together or not at all.
 DYNID_INLINE bool allLanes(bool condition) { return condition; }
 template <typename Mask>
-DYNID_INLINE auto allLanes(const Mask& mask) -> decltype(mask[0] != 0) {
+DYNID_INLINE auto allLanes(Mask mask) -> decltype(mask[0] != 0) {
   constexpr int w = sizeof(Mask) / sizeof(mask[0]);
   bool all = true;
   for (int l = 0; l < w; ++l) all = all && mask[l] != 0;
