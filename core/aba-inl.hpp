@@ -13,11 +13,15 @@ namespace aba_detail {
 /// parent += pXi* Ia iXp, with Ia = IA - U U^T / D the articulated inertia the child hands on and
 /// pXi* = [[R, [p]x R], [0, R]]: rotate IA's three 3x3 blocks, shift them by p, then subtract
 /// U' U'^T / D with U' = pXi* U. The congruence of IA does not wait for the division by D.
-/// Writes U' to U_parent (pass 3 uses it).
+/// parent = base + that (base is the parent's inertia so far: parent itself, or its rigid-body
+/// inertia for the first child, which saves pass 1 a copy); writes U' to U_parent (pass 3 uses it)
+/// and adds pXi* pa, the child's bias force handed on, to bias_parent.
 template <typename Scalar>
 DYNID_FLATTEN void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Scalar>& IA,
                                          const Vector6<Scalar>& U, const Scalar& inv_d,
-                                         Matrix6<Scalar>& parent, Vector6<Scalar>& U_parent) {
+                                         const Matrix6<Scalar>& base, Matrix6<Scalar>& parent,
+                                         Vector6<Scalar>& U_parent, const Vector6<Scalar>& pa,
+                                         Vector6<Scalar>& bias_parent) {
   const Matrix3<Scalar>& R = X.rotation;
   // A = R IA_tl R^T, B = R IA_tr R^T, C = R IA_br R^T.
   Matrix3<Scalar> half;
@@ -43,12 +47,18 @@ DYNID_FLATTEN void addTransformedInertia(const Pose<Scalar>& X, const Matrix6<Sc
   A.noalias() -= Un * Vn.transpose();
   B2.noalias() -= Un * Vf.transpose();
   C.noalias() -= Uf * Vf.transpose();
-  parent.template topLeftCorner<3, 3>() += A;
-  parent.template topRightCorner<3, 3>() += B2;
-  parent.template bottomLeftCorner<3, 3>() += B2.transpose();
-  parent.template bottomRightCorner<3, 3>() += C;
+  parent.template topLeftCorner<3, 3>() = base.template topLeftCorner<3, 3>() + A;
+  parent.template topRightCorner<3, 3>() = base.template topRightCorner<3, 3>() + B2;
+  parent.template bottomLeftCorner<3, 3>() =
+      base.template bottomLeftCorner<3, 3>() + B2.transpose();
+  parent.template bottomRightCorner<3, 3>() = base.template bottomRightCorner<3, 3>() + C;
   U_parent.template head<3>() = Un;
   U_parent.template tail<3>() = Uf;
+  // The parent's bias force += pXi* pa.
+  const Vector3<Scalar> f = R * pa.template tail<3>();
+  const Vector3<Scalar> n_f = R * pa.template head<3>() + cross(p, f);
+  bias_parent.template head<3>() += n_f;
+  bias_parent.template tail<3>() += f;
 }
 
 /// G M G^T for G = [[g00, g01, 0], [g10, g11, 0], [0, 0, g22]] (a rotation about z with signed
@@ -67,6 +77,39 @@ DYNID_INLINE Matrix3<Scalar> rotateAboutZ(const Scalar& g00, const Scalar& g01, 
   return out;
 }
 
+/// The upper triangle of a symmetric 3x3 matrix, (0,0), (0,1), (0,2), (1,1), (1,2), (2,2).
+template <typename Scalar>
+struct Symmetric3 {
+  static constexpr int index(int a, int b) {
+    const int i = a < b ? a : b, j = a < b ? b : a;
+    return i == 0 ? j : (i == 1 ? 2 + j : 5);
+  }
+  DYNID_INLINE Scalar& operator()(int a, int b) { return e[index(a, b)]; }
+  DYNID_INLINE const Scalar& operator()(int a, int b) const { return e[index(a, b)]; }
+  Scalar e[6];
+};
+
+/// rotateAboutZ for a symmetric M, read from and written to its upper triangle: 7 of T = G M's
+/// entries and 6 of the result's.
+template <typename Scalar, typename Block>
+DYNID_INLINE Symmetric3<Scalar> rotateSymmetricAboutZ(const Scalar& g00, const Scalar& g01,
+                                                      const Scalar& g10, const Scalar& g11,
+                                                      const Scalar& g22,
+                                                      const Eigen::MatrixBase<Block>& M) {
+  const Scalar t00 = g00 * M(0, 0) + g01 * M(0, 1), t01 = g00 * M(0, 1) + g01 * M(1, 1),
+               t02 = g00 * M(0, 2) + g01 * M(1, 2);
+  const Scalar t10 = g10 * M(0, 0) + g11 * M(0, 1), t11 = g10 * M(0, 1) + g11 * M(1, 1),
+               t12 = g10 * M(0, 2) + g11 * M(1, 2);
+  Symmetric3<Scalar> out;
+  out(0, 0) = g00 * t00 + g01 * t01;
+  out(0, 1) = g10 * t00 + g11 * t01;
+  out(1, 1) = g10 * t10 + g11 * t11;
+  out(0, 2) = g22 * t02;
+  out(1, 2) = g22 * t12;
+  out(2, 2) = g22 * (g22 * M(2, 2));
+  return out;
+}
+
 /// addTransformedInertia for a revolute z joint whose frame placement rotates by a signed
 /// permutation, kAxisPermutations[K] = pi (Model::placement_permutation). Then R = Pi G with G =
 /// Pi^T R a rotation about z with signed rows, and pXi* = Rot(Pi) T(s) Rot(G), s = det(Pi) Pi^T p
@@ -78,8 +121,10 @@ template <int K, typename Scalar>
 DYNID_FLATTEN void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Vector3<Scalar>& s,
                                                  const Matrix6<Scalar>& IA,
                                                  const Vector6<Scalar>& U, const Scalar& inv_d,
-                                                 Matrix6<Scalar>& parent,
-                                                 Vector6<Scalar>& U_parent) {
+                                                 const Matrix6<Scalar>& base,
+                                                 Matrix6<Scalar>& parent, Vector6<Scalar>& U_parent,
+                                                 const Vector6<Scalar>& pa,
+                                                 Vector6<Scalar>& bias_parent) {
   constexpr int p0 = kAxisPermutations[K][0], p1 = kAxisPermutations[K][1],
                 p2 = kAxisPermutations[K][2];
   // G(j, :) = R(pi^-1(j), :).
@@ -87,33 +132,60 @@ DYNID_FLATTEN void addTransformedInertiaPermuted(const Pose<Scalar>& X, const Ve
                 r2 = p0 == 2 ? 0 : (p1 == 2 ? 1 : 2);
   const Matrix3<Scalar>& R = X.rotation;
   const Scalar g00 = R(r0, 0), g01 = R(r0, 1), g10 = R(r1, 0), g11 = R(r1, 1), g22 = R(r2, 2);
-  Matrix3<Scalar> A = rotateAboutZ(g00, g01, g10, g11, g22, IA.template topLeftCorner<3, 3>());
+  // IA's diagonal blocks, and so A and C, are symmetric: their upper triangles alone (IA is read
+  // there too), a third fewer products than whole blocks.
+  Symmetric3<Scalar> A =
+      rotateSymmetricAboutZ(g00, g01, g10, g11, g22, IA.template topLeftCorner<3, 3>());
   const Matrix3<Scalar> B =
       rotateAboutZ(g00, g01, g10, g11, g22, IA.template topRightCorner<3, 3>());
-  Matrix3<Scalar> C = rotateAboutZ(g00, g01, g10, g11, g22, IA.template bottomRightCorner<3, 3>());
+  Symmetric3<Scalar> C =
+      rotateSymmetricAboutZ(g00, g01, g10, g11, g22, IA.template bottomRightCorner<3, 3>());
+  // B2 = B + [s]x C; A' = A + [s]x B^T - B2 [s]x: A'(a, b) = A(a, b) + (s x B(b, :))_a +
+  // (s x B2(a, :))_b.
+  const auto crossEntry = [&](int a, const Scalar& x1, const Scalar& x2) {
+    // (s x x)_a from x's entries a + 1 and a + 2 (mod 3).
+    return s[(a + 1) % 3] * x2 - s[(a + 2) % 3] * x1;
+  };
   Matrix3<Scalar> B2;
-  for (int j = 0; j < 3; ++j) B2.col(j) = B.col(j) + cross(s, C.col(j));
-  for (int j = 0; j < 3; ++j) A.col(j) += cross(s, B.row(j).transpose());
-  for (int r = 0; r < 3; ++r) A.row(r) += cross(s, B2.row(r).transpose()).transpose();
+  for (int j = 0; j < 3; ++j)
+    for (int a = 0; a < 3; ++a)
+      B2(a, j) = B(a, j) + crossEntry(a, C((a + 1) % 3, j), C((a + 2) % 3, j));
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b)
+      A(a, b) += crossEntry(a, B(b, (a + 1) % 3), B(b, (a + 2) % 3)) +
+                 crossEntry(b, B2(a, (b + 1) % 3), B2(a, (b + 2) % 3));
   // - (T(s) Rot(G) U)(T(s) Rot(G) U)^T / D, applied after the congruence of IA so that the
   // division by D overlaps with it.
   const Vector3<Scalar> Uf(g00 * U[3] + g01 * U[4], g10 * U[3] + g11 * U[4], g22 * U[5]);
   const Vector3<Scalar> Un =
       Vector3<Scalar>(g00 * U[0] + g01 * U[1], g10 * U[0] + g11 * U[1], g22 * U[2]) + cross(s, Uf);
   const Vector3<Scalar> Vn = Un * inv_d, Vf = Uf * inv_d;
-  A.noalias() -= Un * Vn.transpose();
-  B2.noalias() -= Un * Vf.transpose();
-  C.noalias() -= Uf * Vf.transpose();
-  // parent += Rot(Pi) M Rot(Pi)^T: entry (a, b) of each block takes M's (pi(a), pi(b)).
-  constexpr int pi[3] = {p0, p1, p2};
-  for (int b = 0; b < 3; ++b)
-    for (int a = 0; a < 3; ++a) {
-      parent(a, b) += A(pi[a], pi[b]);
-      parent(a, b + 3) += B2(pi[a], pi[b]);
-      parent(a + 3, b) += B2(pi[b], pi[a]);
-      parent(a + 3, b + 3) += C(pi[a], pi[b]);
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) {
+      A(a, b) -= Un[a] * Vn[b];
+      C(a, b) -= Uf[a] * Vf[b];
     }
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a) B2(a, b) -= Un[a] * Vf[b];
+  // parent = base + Rot(Pi) M Rot(Pi)^T: entry (a, b) of each block takes M's (pi(a), pi(b)). The
+  // upper triangle is computed and mirrored, so the parent is exactly symmetric.
+  constexpr int pi[3] = {p0, p1, p2};
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) {
+      parent(a, b) = parent(b, a) = base(a, b) + A(pi[a], pi[b]);
+      parent(a + 3, b + 3) = parent(b + 3, a + 3) = base(a + 3, b + 3) + C(pi[a], pi[b]);
+    }
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a)
+      parent(a, b + 3) = parent(b + 3, a) = base(a, b + 3) + B2(pi[a], pi[b]);
   U_parent << Un(p0), Un(p1), Un(p2), Uf(p0), Uf(p1), Uf(p2);
+  // The parent's bias force += pXi* pa = (Pi (G n + s x G f), Pi G f), n and f pa's halves.
+  const Vector3<Scalar> f(g00 * pa[3] + g01 * pa[4], g10 * pa[3] + g11 * pa[4], g22 * pa[5]);
+  const Vector3<Scalar> n =
+      Vector3<Scalar>(g00 * pa[0] + g01 * pa[1], g10 * pa[0] + g11 * pa[1], g22 * pa[2]) +
+      cross(s, f);
+  bias_parent.template head<3>() += Vector3<Scalar>(n(p0), n(p1), n(p2));
+  bias_parent.template tail<3>() += Vector3<Scalar>(f(p0), f(p1), f(p2));
 }
 
 /// addTransformedInertiaPermuted<K> for K = 0..5, indexed by Model::placement_permutation.
@@ -200,7 +272,7 @@ DYNID_INLINE void aba_detail::abaVelocityPass(const ModelTpl<Scalar>& model, Dat
     const Vector3<Scalar> hv = I.mass * vl - cross(I.first_moment, w);
     data.bias_force[i].template head<3>() = cross(w, hw) + cross(vl, hv);
     data.bias_force[i].template tail<3>() = cross(w, hv);
-    data.articulated_inertia[i] = model.frame_inertia_matrices()[i];
+    data.articulated_written[i] = 0;  // IA_i is the rigid-body inertia until a child adds to it
     data.u[i] = tau[i] - jointFriction(model, i, dq[i]);
   }
 }
@@ -211,7 +283,9 @@ template <typename Scalar>
 DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
   const int n = model.numJoints();
   for (int i = n - 1; i >= 0; --i) {
-    const Matrix6<Scalar>& IA = data.articulated_inertia[i];
+    // A joint no child has added to (a leaf) reads its rigid-body inertia in place.
+    const Matrix6<Scalar>& IA = data.articulated_written[i] ? data.articulated_inertia[i]
+                                                            : model.frame_inertia_matrices()[i];
     const int k = model.subspace_index()[i];
     if (k >= 0)
       data.U[i] = IA.col(k);
@@ -231,19 +305,19 @@ DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, Data
     pa += data.U[i] * (data.u_minus_Uc[i] * inv_d);
     const Pose<Scalar>& X = data.liMi[i];
     Matrix6<Scalar>& parent = data.articulated_inertia[p];
+    // The first child (the highest index) starts from the parent's rigid-body inertia.
+    const Matrix6<Scalar>& base =
+        data.articulated_written[p] ? parent : model.frame_inertia_matrices()[p];
+    data.articulated_written[p] = 1;
     const Vector3<Scalar>& s = model.placement_shift()[i];
     const Vector6<Scalar>& U = data.U[i];
     Vector6<Scalar>& Up = data.U_parent[i];
     const int permutation = model.placement_permutation()[i];
     if (permutation >= 0)
-      kPermutedTransforms<Scalar>[permutation](X, s, IA, U, inv_d, parent, Up);
+      kPermutedTransforms<Scalar>[permutation](X, s, IA, U, inv_d, base, parent, Up, pa,
+                                               data.bias_force[p]);
     else
-      addTransformedInertia(X, IA, U, inv_d, parent, Up);
-    // The parent's bias force += pXi* pa.
-    const Vector3<Scalar> f = X.rotation * pa.template tail<3>();
-    const Vector3<Scalar> n_f = X.rotation * pa.template head<3>() + cross(X.translation, f);
-    data.bias_force[p].template head<3>() += n_f;
-    data.bias_force[p].template tail<3>() += f;
+      addTransformedInertia(X, IA, U, inv_d, base, parent, Up, pa, data.bias_force[p]);
   }
 }
 

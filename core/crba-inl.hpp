@@ -43,16 +43,18 @@ DYNID_INLINE void addCompositePermuted(const Pose<Scalar>& X, const Vector3<Scal
   constexpr int pi[3] = {Rotation::p0, Rotation::p1, Rotation::p2};
   const Rotation G(X.rotation);
   const Scalar& m = c.mass;
-  // J = G I G^T, g = G h, t = Pi^T p.
-  Matrix3<Scalar> J = aba_detail::rotateAboutZ(G.g00, G.g01, G.g10, G.g11, G.g22, c.inertia);
+  // J = G I G^T (symmetric: its upper triangle), g = G h, t = Pi^T p.
+  aba_detail::Symmetric3<Scalar> J =
+      aba_detail::rotateSymmetricAboutZ(G.g00, G.g01, G.g10, G.g11, G.g22, c.inertia);
   const Vector3<Scalar> g = G.rotate(c.first_moment);
   const Vector3<Scalar> t = kAxisPermutationSigns[K] > 0 ? s : Vector3<Scalar>(-s);
-  // h' = g + m t; J += (m |t|^2 + 2 t.g) 1 - (m t + g) t^T - t g^T (the parallel-axis theorem).
+  // h' = g + m t; J += (m |t|^2 + 2 t.g) 1 - (m t + g) t^T - t g^T (the parallel-axis theorem),
+  // symmetric: (m t + g) t^T + t g^T = m t t^T + g t^T + t g^T.
   const Vector3<Scalar> h = g + m * t;
   const Scalar shift = m * (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) +
                        Scalar(2) * (t[0] * g[0] + t[1] * g[1] + t[2] * g[2]);
-  for (int b = 0; b < 3; ++b)
-    for (int a = 0; a < 3; ++a) J(a, b) -= h[a] * t[b] + t[a] * g[b];
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) J(a, b) -= h[a] * t[b] + t[a] * g[b];
   for (int a = 0; a < 3; ++a) J(a, a) += shift;
   // Into the parent's frame: entry a of a vector takes entry pi(a), (a, b) of a matrix (pi(a),
   // pi(b)). Permuted into locals first and added whole: the parent's entries are then stored as

@@ -46,6 +46,9 @@ struct DataTpl {
 
   // ABA: articulated inertias and bias forces, U = IA S, D = S^T IA S (+ Ia), u, bias accel c.
   std::vector<Matrix6<Scalar>> articulated_inertia;
+  /// Whether a child has written articulated_inertia[i] in this call (else it is the joint frame
+  /// rigid-body inertia, read from the model).
+  std::vector<char> articulated_written;
   std::vector<Vector6<Scalar>> bias_force, U, c;
   std::vector<Vector6<Scalar>> U_parent;  // pXi* U, U in the parent's frame
   VectorX<Scalar> D, D_inv, u, u_minus_Uc;
@@ -76,6 +79,7 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   joint_axes.assign(static_cast<std::size_t>(n) * n, Vector6<Scalar>::Zero());
   composite.assign(n, RigidInertia<Scalar>());
   articulated_inertia.assign(n, Matrix6<Scalar>::Zero());
+  articulated_written.assign(n, 0);
   bias_force.assign(n, Vector6<Scalar>::Zero());
   U.assign(n, Vector6<Scalar>::Zero());
   c.assign(n, Vector6<Scalar>::Zero());
