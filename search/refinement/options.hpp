@@ -28,7 +28,7 @@ struct RefineOptions {
   double gradient_tolerance = 1e-20;   // Ceres: max-norm of the projected gradient
   double parameter_tolerance = 1e-14;  // Ceres: relative step size
   double max_seconds = 0.0;            // wall-time budget (0: none)
-  int num_threads = 1;                 // Ceres's threads and the GC-error evaluations'
+  int num_threads = 1;                 // threads of the segment and GC-error evaluations
   /// With base coordinates: hold the free parameters' components along the directions that leave
   /// beta unchanged at the start (a gauge), so the solver does not wander along them into the
   /// bounds. The GC residuals depend on beta only, so this changes no beta the solver can reach.

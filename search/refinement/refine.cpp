@@ -16,6 +16,7 @@
 
 #include "core/errors.hpp"
 #include "search/refinement/costs.hpp"
+#include "search/refinement/evaluation.hpp"
 #include "search/refinement/uncertainty.hpp"
 
 namespace dynid {
@@ -129,7 +130,9 @@ ceres::Solver::Options solverOptions(const RefineOptions& options, const GcProbl
   // The parameters are the last accepted iterate even when an evaluation fails (a time budget
   // that ends inside an iteration makes every later evaluation fail, costs.hpp).
   solver.update_state_every_iteration = true;
-  solver.num_threads = std::max(options.num_threads, 1);
+  // The segments are evaluated on dynid's pool (ParallelSegmentEvaluation); Ceres on one thread
+  // sums in the residual blocks' order, so the result is the same for any thread count.
+  solver.num_threads = 1;
   solver.logging_type = ceres::SILENT;
   return solver;
 }
@@ -279,13 +282,20 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   Eigen::VectorXd beta = P * theta0;
   const BetaLift map{theta0, beta, P.completeOrthogonalDecomposition().pseudoInverse()};
 
-  ceres::Problem beta_problem;
+  ParallelSegmentEvaluation segments(pool);
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = &segments;
+  ceres::Problem beta_problem(problem_options);
   for (int s = 0; s < problem.numSegments(); ++s) {
+    std::vector<double*> blocks =
+        segmentBlocks(problem, options, s, beta.data(), result.initial_states);
     beta_problem.AddResidualBlock(
-        makeBetaSegmentCost(structure, map, problem, s, with_start,
-                            continuityOf(problem, options, s), &budget)
+        segments
+            .add(makeBetaSegmentCost(structure, map, problem, s, with_start,
+                                     continuityOf(problem, options, s), &budget),
+                 blocks)
             .release(),
-        nullptr, segmentBlocks(problem, options, s, beta.data(), result.initial_states));
+        nullptr, blocks);
   }
   // Half of what is left, so that the map back and the parameter stage have their share.
   ceres::Solver::Options solver =
@@ -374,13 +384,20 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
               result);
 
   // The parameter stage. Residual blocks: one per segment, and the total mass.
-  ceres::Problem solver_problem;
+  ParallelSegmentEvaluation evaluation(pool);
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = &evaluation;
+  ceres::Problem solver_problem(problem_options);
   for (int s = 0; s < segments; ++s) {
+    std::vector<double*> blocks =
+        segmentBlocks(problem, options, s, result.x.data(), result.initial_states);
     solver_problem.AddResidualBlock(
-        makeSegmentCost(structure, space, problem, s, with_start, continuityOf(problem, options, s),
-                        &budget)
+        evaluation
+            .add(makeSegmentCost(structure, space, problem, s, with_start,
+                                 continuityOf(problem, options, s), &budget),
+                 blocks)
             .release(),
-        nullptr, segmentBlocks(problem, options, s, result.x.data(), result.initial_states));
+        nullptr, blocks);
   }
   if (space.options().total_mass_constraint)
     solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
