@@ -25,7 +25,8 @@ void checkData(const ModelTpl<Scalar>& model, const DataTpl<Scalar>& data) {
   const auto joints = static_cast<std::size_t>(n);
   if (!model.finalized() || data.liMi.size() != joints || data.v.size() != joints ||
       data.composite.size() != joints || data.articulated_inertia.size() != joints ||
-      data.articulated_written.size() != joints || data.joint_axes.size() != joints * joints ||
+      data.articulated_written.size() != joints || data.column_force.size() != joints ||
+      data.column_frame.size() != joints || data.joint_axes.size() != joints * joints ||
       data.tau.size() != n || data.ddq.size() != n || data.M.rows() != n || data.D.size() != n ||
       data.q_stage.size() != n || data.Y.rows() != n)
     throw InputError("Data was built for another model, or the model '" + model.name +

@@ -114,56 +114,62 @@ DYNID_INLINE void withPermutation(int k, Body&& body) {
   }
 }
 
-/// CRBA from the joint transforms already in data.liMi (set by crba or rnea).
+/// CRBA from the joint transforms already in data.liMi (set by crba or rnea). One sweep from the
+/// leaves: at joint j the composite inertia Ic_j is complete, F_j = Ic_j S_j joins the forces of
+/// j's subtree, all now in frame j, M(j, i) = S_j . F_i for each of them, and then they all move to
+/// j's parent's frame with the same transform: transforms independent of each other, where a
+/// column walked to the root one transform after another waited on each.
 template <typename Scalar>
 DYNID_FLATTEN void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
   const int n = model.numJoints();
   for (int i = 0; i < n; ++i) data.composite[i] = model.frame_inertias()[i];
-  // Composite inertias: Ic_p += pXi* Ic_i iXp.
-  for (int i = n - 1; i >= 0; --i) {
-    const int p = model.parents()[i];
-    if (p < 0) continue;
-    const int k = model.placement_permutation()[i];
-    if (k >= 0)
-      withPermutation(k, [&](auto K) {
-        addCompositePermuted<K()>(data.liMi[i], model.placement_shift()[i], data.composite[i],
-                                  data.composite[p]);
-      });
-    else
-      data.composite[p] += data.composite[i].transformedBy(data.liMi[i]);
-  }
-  // M_ij = S_j^T (jXi* Ic_i S_i) for every ancestor j of i; other entries are zero.
   data.M.setZero();
-  for (int i = 0; i < n; ++i) {
-    // F = Ic_i S_i; for S_i = (e_z, 0) that is (I e_z, -h x e_z), a column and a swap.
-    Vector6<Scalar> F;
-    const RigidInertia<Scalar>& Ic = data.composite[i];
-    if (model.subspace_index()[i] == 2)
-      F << Ic.inertia(0, 2), Ic.inertia(1, 2), Ic.inertia(2, 2), -Ic.first_moment[1],
+  std::vector<Vector6<Scalar>>& F = data.column_force;  // joint i's, in frame frame_of[i]
+  std::vector<int>& frame_of = data.column_frame;
+  for (int j = n - 1; j >= 0; --j) {
+    // F = Ic_j S_j; for S_j = (e_z, 0) that is (I e_z, -h x e_z), a column and a swap.
+    const RigidInertia<Scalar>& Ic = data.composite[j];
+    if (model.subspace_index()[j] == 2)
+      F[j] << Ic.inertia(0, 2), Ic.inertia(1, 2), Ic.inertia(2, 2), -Ic.first_moment[1],
           Ic.first_moment[0], Scalar(0);
     else
-      F = Ic.apply(model.motion_subspaces()[i]);
-    data.M(i, i) = projectOnJoint(model, i, F);
-    if (model.driveTerms().inertial()) data.M(i, i) += driveInertia(model, i);
-    for (int j = i; model.parents()[j] >= 0;) {
-      const int k = model.placement_permutation()[j];
-      const int p = model.parents()[j];
-      if (k >= 0 && model.parents()[p] < 0 && model.subspace_index()[p] == 2) {
-        // The root's entry needs only the moment's z component in its frame: (G n + s x G f)
-        // at pi(2), a third of the transform.
-        withPermutation(k, [&](auto K) {
-          data.M(p, i) = data.M(i, p) =
-              projectedForcePermuted<K()>(data.liMi[j], model.placement_shift()[j], F);
-        });
-        break;
-      }
-      if (k >= 0)
-        withPermutation(
-            k, [&](auto K) { actForcePermuted<K()>(data.liMi[j], model.placement_shift()[j], F); });
-      else
-        F = data.liMi[j].actForce(F);
-      j = model.parents()[j];
-      data.M(j, i) = data.M(i, j) = projectOnJoint(model, j, F);
+      F[j] = Ic.apply(model.motion_subspaces()[j]);
+    frame_of[j] = j;
+    data.M(j, j) = projectOnJoint(model, j, F[j]);
+    if (model.driveTerms().inertial()) data.M(j, j) += driveInertia(model, j);
+    for (int i = j + 1; i < n; ++i)
+      if (frame_of[i] == j) data.M(j, i) = data.M(i, j) = projectOnJoint(model, j, F[i]);
+    const int p = model.parents()[j];
+    if (p < 0) continue;
+    const int k = model.placement_permutation()[j];
+    const Vector3<Scalar>& s = model.placement_shift()[j];
+    const Pose<Scalar>& X = data.liMi[j];
+    if (k >= 0) {
+      withPermutation(k, [&](auto K) {
+        addCompositePermuted<K()>(X, s, data.composite[j], data.composite[p]);
+        if (model.parents()[p] < 0 && model.subspace_index()[p] == 2) {
+          // The root's entries need only the moment's z component in its frame: (G n + s x G f)
+          // at pi(2), a third of the transform.
+          for (int i = j; i < n; ++i)
+            if (frame_of[i] == j) {
+              data.M(p, i) = data.M(i, p) = projectedForcePermuted<K()>(X, s, F[i]);
+              frame_of[i] = -1;  // done
+            }
+          return;
+        }
+        for (int i = j; i < n; ++i)
+          if (frame_of[i] == j) {
+            actForcePermuted<K()>(X, s, F[i]);
+            frame_of[i] = p;
+          }
+      });
+    } else {
+      data.composite[p] += data.composite[j].transformedBy(X);
+      for (int i = j; i < n; ++i)
+        if (frame_of[i] == j) {
+          F[i] = X.actForce(F[i]);
+          frame_of[i] = p;
+        }
     }
   }
 }

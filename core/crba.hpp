@@ -7,7 +7,8 @@ namespace dynid {
 
 /// Mass matrix M(q) (n x n, symmetric, both triangles filled), including the rotor inertias Ia on
 /// the diagonal when the model's drives are enabled. q has n entries. Throws InputError on a size
-/// mismatch. Overwrites data.liMi, data.composite, data.M. Returns data.M. Allocates nothing.
+/// mismatch. Overwrites data.liMi, data.composite, data.column_force, data.column_frame, data.M.
+/// Returns data.M. Allocates nothing.
 template <typename Scalar>
 const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                             const ConstVectorRef<Scalar>& q);

@@ -41,8 +41,11 @@ struct DataTpl {
   /// i, or i itself), at j n + i.
   std::vector<Vector6<Scalar>> joint_axes;
 
-  // CRBA: composite inertia of each subtree, in the subtree root's frame.
+  // CRBA: composite inertia of each subtree, in the subtree root's frame; joint i's column force
+  // Ic_i S_i on its way to the root, and the joint frame it is in (-1 once used up).
   std::vector<RigidInertia<Scalar>> composite;
+  std::vector<Vector6<Scalar>> column_force;
+  std::vector<int> column_frame;
 
   // ABA: articulated inertias and bias forces, U = IA S, D = S^T IA S (+ Ia), u, bias accel c.
   std::vector<Matrix6<Scalar>> articulated_inertia;
@@ -78,6 +81,8 @@ DataTpl<Scalar>::DataTpl(const ModelTpl<Scalar>& model) {
   Y = MatrixX<Scalar>::Zero(n, model.parameterLayout().size());
   joint_axes.assign(static_cast<std::size_t>(n) * n, Vector6<Scalar>::Zero());
   composite.assign(n, RigidInertia<Scalar>());
+  column_force.assign(n, Vector6<Scalar>::Zero());
+  column_frame.assign(n, -1);
   articulated_inertia.assign(n, Matrix6<Scalar>::Zero());
   articulated_written.assign(n, 0);
   bias_force.assign(n, Vector6<Scalar>::Zero());
