@@ -9,25 +9,23 @@ namespace dynid {
 
 struct ParallelSegmentEvaluation::Entry {
   std::unique_ptr<ceres::CostFunction> cost;
-  std::vector<double*> blocks;
+  std::vector<const double*> parameters;  // the blocks given to add()
   std::vector<int> sizes;
   // The cache: the parameter values it was computed at, its residuals and (row-major, per block)
   // Jacobians, whether the evaluation succeeded and whether it holds Jacobians.
   std::vector<std::vector<double>> at;
   Eigen::VectorXd residuals;
   std::vector<std::vector<double>> jacobians;
+  std::vector<double*> jacobian_pointers;  // into jacobians
   bool valid = false, ok = false, with_jacobians = false;
   mutable std::atomic<long> fallbacks{0};
 
   void evaluate(bool want_jacobians) {
-    for (std::size_t b = 0; b < blocks.size(); ++b)
-      std::memcpy(at[b].data(), blocks[b], sizeof(double) * at[b].size());
-    std::vector<double*> jac(blocks.size(), nullptr);
-    if (want_jacobians)
-      for (std::size_t b = 0; b < blocks.size(); ++b) jac[b] = jacobians[b].data();
-    std::vector<const double*> params(blocks.begin(), blocks.end());
+    for (std::size_t b = 0; b < parameters.size(); ++b)
+      std::memcpy(at[b].data(), parameters[b], sizeof(double) * at[b].size());
     try {  // the pool's tasks must not throw: a throwing evaluation is a failed one
-      ok = cost->Evaluate(params.data(), residuals.data(), want_jacobians ? jac.data() : nullptr);
+      ok = cost->Evaluate(parameters.data(), residuals.data(),
+                          want_jacobians ? jacobian_pointers.data() : nullptr);
     } catch (...) {
       ok = false;
     }
@@ -35,10 +33,10 @@ struct ParallelSegmentEvaluation::Entry {
     valid = true;
   }
 
-  bool holds(double const* const* parameters, bool want_jacobians) const {
+  bool holds(double const* const* point, bool want_jacobians) const {
     if (!valid || (want_jacobians && !with_jacobians)) return false;
     for (std::size_t b = 0; b < at.size(); ++b)
-      if (std::memcmp(at[b].data(), parameters[b], sizeof(double) * at[b].size()) != 0)
+      if (std::memcmp(at[b].data(), point[b], sizeof(double) * at[b].size()) != 0)
         return false;
     return true;
   }
@@ -83,13 +81,15 @@ std::unique_ptr<ceres::CostFunction> ParallelSegmentEvaluation::add(
     std::unique_ptr<ceres::CostFunction> cost, std::vector<double*> blocks) {
   auto entry = std::make_unique<Entry>();
   entry->sizes = cost->parameter_block_sizes();
-  entry->blocks = std::move(blocks);
   const int residuals = cost->num_residuals();
   entry->residuals.resize(residuals);
   for (const int size : entry->sizes) {
     entry->at.emplace_back(static_cast<std::size_t>(size));
     entry->jacobians.emplace_back(static_cast<std::size_t>(size) * residuals);
   }
+  entry->parameters.assign(blocks.begin(), blocks.end());
+  for (std::vector<double>& jacobian : entry->jacobians)
+    entry->jacobian_pointers.push_back(jacobian.data());
   entry->cost = std::move(cost);
   auto proxy = std::make_unique<CachedCost>(*entry);
   entries_.push_back(std::move(entry));

@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 
+#include <Eigen/LU>
+
 #include "core/parameters.hpp"
 #include "core/simulate.hpp"
 #include "data/io.hpp"
@@ -67,6 +69,33 @@ Model randomTree(std::uint64_t seed, const RandomTreeOptions& options) {
     if (type == JointType::kPrismatic) limits.lower = -0.5, limits.upper = 0.5;
     model.addBody(parent, "body" + std::to_string(i + 1), "joint" + std::to_string(i + 1), type,
                   joint_placement, axis, body_placement, inertia, limits, drive);
+  }
+  model.finalize();
+  return model;
+}
+
+Model permutedTree(std::uint64_t seed, bool drives) {
+  const Model tree = randomTree(seed, {.num_bodies = 12,
+                                       .prismatic = false,
+                                       .general_axes = false,
+                                       .body_placements = false,
+                                       .drives = drives});
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<int> coin(0, 1);
+  // The tree's inertias, drives and limits on a new structure.
+  Model model;
+  model.setGravity(tree.gravity());
+  model.setDriveTerms(tree.driveTerms());
+  for (int i = 0; i < tree.numJoints(); ++i) {
+    Pose<double> placement;
+    placement.rotation.setZero();
+    for (int a = 0; a < 3; ++a)
+      placement.rotation(a, kAxisPermutations[i % 6][a]) = coin(rng) ? 1.0 : -1.0;
+    if (placement.rotation.determinant() < 0) placement.rotation.row(0) *= -1.0;  // a rotation
+    placement.translation = randomVector(rng, 3, 0.5);
+    model.addBody(i / 2 - 1, tree.link_names[i], tree.joint_names[i], JointType::kRevolute,
+                  placement, Eigen::Vector3d::UnitZ(), tree.body_placements()[i],
+                  tree.inertias()[i], tree.limits[i], tree.drives()[i]);
   }
   model.finalize();
   return model;

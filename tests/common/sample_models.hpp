@@ -27,6 +27,12 @@ struct RandomTreeOptions {
 /// satisfying the triangle inequality), reproducible from the seed.
 Model randomTree(std::uint64_t seed, const RandomTreeOptions& options = {});
 
+/// A random tree (randomTree's inertias, drives when asked) whose 12 joints turn about z and whose
+/// joint placements rotate by signed permutations, two joints for each of the six permutations
+/// (the permuted paths of ABA and CRBA), with random signs and translations; joints 0 and 1 are
+/// roots and every body below has two children.
+Model permutedTree(std::uint64_t seed, bool drives);
+
 /// Planar 2R arm in the x-y plane, joints about z, gravity -9.81 along y (in the plane):
 /// link i of length l_i has mass m_i at distance lc_i along its x axis and inertia Izz_i about its
 /// centre of mass.

@@ -53,40 +53,10 @@ TEST(Aba, EqualsInverseMassMatrixTimesForce) {
   EXPECT_LT((aba(model, data, q, dq, tau) - expected).norm(), 1e-10 * (1.0 + expected.norm()));
 }
 
-/// A random tree whose joints turn about z and whose joint placements rotate by signed
-/// permutations, two joints for each of the six permutations (ABA's permuted path), with random
-/// signs and translations; every second body has two children.
-Model permutedTree(std::uint64_t seed, bool drives) {
-  const Model tree = test::randomTree(seed, {.num_bodies = 12,
-                                             .prismatic = false,
-                                             .general_axes = false,
-                                             .body_placements = false,
-                                             .drives = drives});
-  std::mt19937_64 rng(seed);
-  std::uniform_int_distribution<int> coin(0, 1);
-  // The tree's inertias, drives and limits on a new structure.
-  Model model;
-  model.setGravity(tree.gravity());
-  model.setDriveTerms(tree.driveTerms());
-  for (int i = 0; i < tree.numJoints(); ++i) {
-    Pose<double> placement;
-    placement.rotation.setZero();
-    for (int a = 0; a < 3; ++a)
-      placement.rotation(a, kAxisPermutations[i % 6][a]) = coin(rng) ? 1.0 : -1.0;
-    if (placement.rotation.determinant() < 0) placement.rotation.row(0) *= -1.0;  // a rotation
-    placement.translation = test::randomVector(rng, 3, 0.5);
-    model.addBody(i / 2 - 1, tree.link_names[i], tree.joint_names[i], JointType::kRevolute,
-                  placement, Eigen::Vector3d::UnitZ(), tree.body_placements()[i],
-                  tree.inertias()[i], tree.limits[i], tree.drives()[i]);
-  }
-  model.finalize();
-  return model;
-}
-
 TEST(Aba, PermutedPlacementsAgreeWithTheGeneralPath) {
   std::mt19937_64 rng(5);
   for (int seed = 0; seed < 4; ++seed) {
-    const Model model = permutedTree(100 + seed, seed % 2 == 1);
+    const Model model = test::permutedTree(100 + seed, seed % 2 == 1);
     // Every permutation is taken, so each of the six compiled transforms is exercised.
     for (int i = 0; i < model.numJoints(); ++i)
       ASSERT_EQ(model.placement_permutation()[i], i % 6) << seed << "/" << i;
