@@ -36,8 +36,7 @@ struct ParallelSegmentEvaluation::Entry {
   bool holds(double const* const* point, bool want_jacobians) const {
     if (!valid || (want_jacobians && !with_jacobians)) return false;
     for (std::size_t b = 0; b < at.size(); ++b)
-      if (std::memcmp(at[b].data(), point[b], sizeof(double) * at[b].size()) != 0)
-        return false;
+      if (std::memcmp(at[b].data(), point[b], sizeof(double) * at[b].size()) != 0) return false;
     return true;
   }
 };

@@ -40,23 +40,30 @@ TEST(Crba, SymmetricPositiveDefiniteAndMatchesKineticEnergy) {
   }
 }
 
+/// CRBA on `fast` and on the same model with permuted placements off, at `trials` random states:
+/// the same matrix to round-off (the two paths multiply in another order: a few ulps of M's
+/// entries), exactly symmetric. Returns the last matrix.
+Eigen::MatrixXd expectTheGeneralMatrix(const Model& fast, std::mt19937_64& rng, int trials) {
+  Model general = fast;
+  general.setPermutedPlacements(false);
+  Data a(fast), b(general);
+  Eigen::MatrixXd M;
+  for (int k = 0; k < trials; ++k) {
+    const Eigen::VectorXd q = test::randomVector(rng, fast.numJoints(), 2.0);
+    M = crba(fast, a, q);
+    EXPECT_LT((M - crba(general, b, q)).cwiseAbs().maxCoeff(), 1e-14 * M.norm()) << fast.name;
+    EXPECT_EQ(M, M.transpose());
+  }
+  return M;
+}
+
 // The permuted-placement path (composite inertias and forces rotated about z, then permuted) and
 // the general transforms give the same matrix: the PUMA (standard DH) and the Panda (modified DH),
 // with drives, at random states.
 TEST(Crba, PermutedPlacementsGiveTheGeneralMatrix) {
   std::mt19937_64 rng(5);
-  for (const Model& fast : {makePuma560(true), makePanda(true)}) {
-    Model general = fast;
-    general.setPermutedPlacements(false);
-    Data a(fast), b(general);
-    for (int k = 0; k < 20; ++k) {
-      const Eigen::VectorXd q = test::randomVector(rng, fast.numJoints(), 2.0);
-      const Eigen::MatrixXd M = crba(fast, a, q);
-      // Round-off: the two paths multiply in another order (entries of order 1 kg m^2).
-      EXPECT_LT((M - crba(general, b, q)).cwiseAbs().maxCoeff(), 1e-14 * M.norm()) << fast.name;
-      EXPECT_EQ(M, M.transpose());
-    }
-  }
+  for (const Model& fast : {makePuma560(true), makePanda(true)})
+    expectTheGeneralMatrix(fast, rng, 20);
 }
 
 // The same on trees (two roots, two children per body) with every permutation: the sweep moves a
@@ -64,21 +71,12 @@ TEST(Crba, PermutedPlacementsGiveTheGeneralMatrix) {
 TEST(Crba, PermutedTreesGiveTheGeneralMatrix) {
   std::mt19937_64 rng(7);
   for (int seed = 0; seed < 4; ++seed) {
-    const Model fast = test::permutedTree(200 + seed, seed % 2 == 1);
-    Model general = fast;
-    general.setPermutedPlacements(false);
-    Data a(fast), b(general);
-    for (int k = 0; k < 5; ++k) {
-      const Eigen::VectorXd q = test::randomVector(rng, fast.numJoints(), 2.0);
-      const Eigen::MatrixXd M = crba(fast, a, q);
-      // Round-off: the two paths multiply in another order, a few ulps of the matrix's entries.
-      EXPECT_LT((M - crba(general, b, q)).cwiseAbs().maxCoeff(), 1e-14 * M.norm()) << seed;
-      EXPECT_EQ(M, M.transpose());
-      // Bodies on different branches do not couple: exact zeros (joints 2 and 3 share only a
-      // parent, joint 1 is the other root).
-      EXPECT_EQ(M(2, 3), 0.0);
-      EXPECT_EQ(M(0, 1), 0.0);
-    }
+    const Eigen::MatrixXd M =
+        expectTheGeneralMatrix(test::permutedTree(200 + seed, seed % 2 == 1), rng, 5);
+    // Bodies on different branches do not couple: exact zeros (joints 2 and 3 share only a
+    // parent, joint 1 is the other root).
+    EXPECT_EQ(M(2, 3), 0.0) << seed;
+    EXPECT_EQ(M(0, 1), 0.0) << seed;
   }
 }
 
