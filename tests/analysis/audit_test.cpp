@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "core/errors.hpp"
@@ -102,11 +105,14 @@ AuditOutcome sessions(int count, std::uint64_t seed, int changed, double scale) 
   return o;
 }
 
-// Sessions without change: about 5 % of the parameters flagged at the 5 % level (over 20 seeds);
-// a 10 % change of one Coulomb coefficient in one session: flagged in (nearly) every seed.
+// Sessions without change: about 5 % of the parameters flagged at the 5 % level; a 10 % change of
+// one Coulomb coefficient in one session: flagged in (nearly) every seed. The suite runs 20 seeds;
+// DYNID_AUDIT_SEEDS=N runs N to measure the rates (docs/MONITOR.md: 300 seeds).
 TEST(AuditTest, FlagsAChangedFrictionTermAndLittleElse) {
+  const char* env = std::getenv("DYNID_AUDIT_SEEDS");
+  const int seeds = env ? std::max(1, std::atoi(env)) : 20;
   int flagged = 0, tested = 0, found = 0;
-  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+  for (std::uint64_t seed = 1; seed <= static_cast<std::uint64_t>(seeds); ++seed) {
     const AuditOutcome same = sessions(3, seed, -1, 1.0);
     flagged += same.flagged;
     tested += static_cast<int>(same.parameters.size());
@@ -114,12 +120,17 @@ TEST(AuditTest, FlagsAChangedFrictionTermAndLittleElse) {
     for (const AuditParameter& p : changed.parameters)
       if (p.name == "Fc3" && p.flagged && p.farthest == 1) ++found;
   }
+  std::printf(
+      "%d seeds: %d of %d parameters flagged without change (%.2f %%); the changed Fc3 "
+      "found in %d\n",
+      seeds, flagged, tested, 100.0 * flagged / tested, found);
   RecordProperty("flagged_without_change", flagged);
   RecordProperty("tested", tested);
   RecordProperty("changed_friction_found", found);
-  // 20 x ~40 tests at 5 %: 40 expected, binomial sd ~6; correlated parameters widen it.
+  // 20 seeds x 58 tests at 5 %: 58 expected, binomial sd 7.4; 6.5 % is 2 sd above (300 seeds
+  // measure 4.7 %).
   EXPECT_LE(flagged, 0.065 * tested) << flagged << " of " << tested;
-  EXPECT_GE(found, 19);
+  EXPECT_GE(found, seeds - seeds / 20);
 }
 
 TEST(AuditRun, RefusesBadRequests) {
