@@ -3,16 +3,20 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 
+#include "analysis/logs/bag_log.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/runs.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/momentum.hpp"
 #include "core/option_ranges.hpp"
 #include "core/parallel.hpp"
 #include "core/rnea.hpp"
+#include "data/bags/bag.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
@@ -428,6 +432,167 @@ Pass passOverStream(const Model& model, const MonitorRequest& request, const Eig
   return out;
 }
 
+constexpr const char* kDirectNeedsDdq =
+    "a recording has no ddq, and --residual direct needs it: use the observer, or prepare the "
+    "recording (dynid prepare) and monitor the dataset";
+
+/// How long after a later-stamped message a recording's message may come and still be put in
+/// order [s]: a recorder stores messages as it receives them, and header stamps can lag that.
+constexpr double kReorderWindow = 1.0;
+
+/// Feeds a recording's samples, in time order, to the observer and `visit`.
+class RecordingFeed {
+ public:
+  RecordingFeed(const Model& model, const std::string& path, const MonitorRequest& request,
+                const Eigen::VectorXd& gain, const Visit& visit, Pass& out)
+      : model_(model),
+        path_(path),
+        request_(request),
+        visit_(visit),
+        out_(out),
+        observer_(model, gain) {}
+  /// One sample at t [s from the first]: q, tau, dq (n each) from `row`.
+  void add(double t, const double* row, long long message) {
+    const int n = model_.numJoints();
+    q_ = Eigen::Map<const Eigen::VectorXd>(row, n);
+    tau_ = Eigen::Map<const Eigen::VectorXd>(row + n, n);
+    dq_ = Eigen::Map<const Eigen::VectorXd>(row + 2 * n, n);
+    for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"position", &q_},
+                                  {"velocity", &dq_},
+                                  {"effort", &tau_}})
+      for (int j = 0; j < n; ++j)
+        if (!std::isfinite((*v)[j]))
+          throw InputError(path_ + ": the JointState message at " + formatNumber(t, 9) +
+                           " s (message " + std::to_string(message) + " as recorded) has a " +
+                           name + " of joint " + model_.joint_names[static_cast<std::size_t>(j)] +
+                           " that is not finite");
+    double dt = out_.samples > 0 ? t - out_.last : 0.0;
+    if (dt > request_.max_gap) {
+      observer_.restart();
+      ++out_.restarts;
+      dt = 0.0;
+    }
+    const Eigen::VectorXd& r = observer_.update(t, q_, dq_, tau_);
+    visit_(t, dt, r, nullptr, dq_);
+    if (out_.samples == 0) out_.first = t;
+    out_.last = t;
+    ++out_.samples;
+  }
+
+ private:
+  const Model& model_;
+  const std::string& path_;
+  const MonitorRequest& request_;
+  const Visit& visit_;
+  Pass& out_;
+  MomentumObserver observer_;
+  Eigen::VectorXd q_, tau_, dq_;
+};
+
+std::string noVelocities(const std::string& path) {
+  return path +
+         ": its JointState messages carry no velocities, and the observer needs dq: prepare the "
+         "recording first (dynid prepare --log " +
+         path + " --robot ROBOT --out DIR) and monitor DIR/train.csv";
+}
+
+/// A recording's JointState samples at their own stamps, in time order: raw, as a monitor beside
+/// the robot sees them (no resampling or filtering; the observer needs no derivative of them).
+/// Streamed in constant memory through a reorder window of kReorderWindow; with efforts on another
+/// topic, read whole (the efforts are interpolated at the positions' stamps).
+Pass passOverRecording(const Model& model, const std::string& path, const MonitorRequest& request,
+                       const Eigen::VectorXd& gain, const Visit& visit,
+                       std::vector<std::string>& warnings) {
+  const int n = model.numJoints();
+  LogSource source;
+  source.tables = {path};
+  source.topic = request.topic;
+  source.effort_topic = request.effort_topic;
+  source.receive_time = request.receive_time;
+  source.joint_names = model.joint_names;
+  Pass out;
+  RecordingFeed feed(model, path, request, gain, visit, out);
+  long long skipped = 0;
+  if (!request.effort_topic.empty()) {
+    const RawSignals raw = readBagLog(source, path);
+    if (!raw.has_dq) throw InputError(noVelocities(path));
+    std::vector<Eigen::Index> order(static_cast<std::size_t>(raw.rows));
+    for (Eigen::Index k = 0; k < raw.rows; ++k) order[static_cast<std::size_t>(k)] = k;
+    std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
+      return raw.values(a, 0) < raw.values(b, 0);
+    });
+    const double origin = raw.values(order.front(), 0);
+    Eigen::VectorXd row(3 * n);
+    for (std::size_t i = 0; i < order.size() && !out.interrupted; ++i) {
+      if ((i % 4096 == 0 && request.control.check()) || request.control.stopped()) {
+        out.interrupted = true;
+        break;
+      }
+      const Eigen::Index k = order[i];
+      const double t = raw.values(k, 0) - origin;
+      if (out.samples > 0 && !(t > out.last)) {
+        ++skipped;
+        continue;
+      }
+      row = raw.values.block(k, 1, 1, 3 * n).transpose();
+      feed.add(t, row.data(), k + 1);
+    }
+  } else {
+    struct Pending {
+      std::int64_t ns;
+      long long message;
+      std::vector<double> row;
+    };
+    struct Stopped {};
+    std::deque<Pending> pending;  // by stamp
+    std::int64_t newest = 0, origin = 0, last = 0;
+    const auto window = static_cast<std::int64_t>(kReorderWindow * 1e9);
+    long long message = 0;
+    const auto emit = [&] {
+      if (request.control.stopped()) throw Stopped{};  // after the sample that set it
+      const Pending& p = pending.front();
+      if (out.samples == 0) origin = p.ns;
+      last = p.ns;
+      feed.add(static_cast<double>(p.ns - origin) * 1e-9, p.row.data(), p.message);
+      pending.pop_front();
+    };
+    try {
+      scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
+        ++message;
+        if (row.size() != static_cast<std::size_t>(3 * n)) throw InputError(noVelocities(path));
+        if ((message % 4096 == 0 && request.control.check()) || request.control.stopped())
+          throw Stopped{};
+        const auto at = std::upper_bound(pending.begin(), pending.end(), ns,
+                                         [](std::int64_t v, const Pending& p) { return v < p.ns; });
+        if ((out.samples > 0 && ns <= last) || (at != pending.begin() && (at - 1)->ns == ns)) {
+          ++skipped;  // a stamp already seen, or later than the window allows
+          return;
+        }
+        pending.insert(at, Pending{ns, message, row});
+        newest = message == 1 ? ns : std::max(newest, ns);
+        while (!pending.empty() && pending.front().ns < newest - window) emit();
+      });
+      while (!pending.empty()) emit();
+    } catch (const Stopped&) {
+      out.interrupted = true;
+    }
+  }
+  if (skipped > 0)
+    warnings.push_back(path + ": " + std::to_string(skipped) +
+                       " message(s) repeated an earlier stamp (or came more than " +
+                       formatNumber(kReorderWindow) +
+                       " s after later-stamped ones) and were skipped");
+  return out;
+}
+
+/// One pass over a dataset CSV or a recording (by its name: data/bags/bag.hpp's isBag).
+Pass passOverLog(const Model& model, const std::string& file, const MonitorRequest& request,
+                 const Eigen::VectorXd& gain, const Visit& visit,
+                 std::vector<std::string>& warnings) {
+  if (bags::isBag(file)) return passOverRecording(model, file, request, gain, visit, warnings);
+  return passOverFile(model, file, gain, request.max_gap, request.threads, request.control, visit);
+}
+
 /// The ground truth's episodes: runs of samples where any applied torque is nonzero.
 std::vector<std::pair<double, double>> truthEpisodes(const std::string& file, int n) {
   LineReader lines(file);
@@ -488,20 +653,22 @@ TruthScore scoreEvents(const std::vector<std::pair<double, double>>& episodes,
 }
 
 MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
-                            const Eigen::VectorXd& gain) {
+                            const Eigen::VectorXd& gain, std::vector<std::string>& warnings) {
   const int n = model.numJoints();
   ResidualStatistics stats;
   stats.reset(n);
   Eigen::VectorXd previous;
   const bool direct = request.residual == MonitorResidual::kDirect;
-  const Pass pass = passOverFile(model, request.calibration_file, gain, request.max_gap,
-                                 request.threads, request.control,
-                                 [&](double t, double dt, const Eigen::VectorXd& r,
-                                     const Eigen::VectorXd* d, const Eigen::VectorXd&) {
-                                   const Eigen::VectorXd& x = direct ? *d : r;
-                                   stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
-                                   previous = x;
-                                 });
+  const Pass pass = passOverLog(
+      model, request.calibration_file, request, gain,
+      [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+          const Eigen::VectorXd&) {
+        if (direct && !d) throw InputError(request.calibration_file + ": " + kDirectNeedsDdq);
+        const Eigen::VectorXd& x = direct ? *d : r;
+        stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
+        previous = x;
+      },
+      warnings);
   if (pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
   MonitorThresholds out;
   out.robot = model.name;
@@ -568,7 +735,7 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
                      model.name + "' has " + std::to_string(n) + " joints");
   // The thresholds: calibrated on a clean log, or read back (for these joints, this gain).
   if (!request.calibration_file.empty()) {
-    out.thresholds = calibrate(model, request, gain);
+    out.thresholds = calibrate(model, request, gain, out.warnings);
   } else {
     out.thresholds = readMonitorThresholds(request.thresholds_file);
     if (out.thresholds.joint_names != model.joint_names)
@@ -615,8 +782,14 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
           visit(t, dt, r, d, dq);
         });
   } else {
-    pass = passOverFile(model, request.data_file, gain, request.max_gap, request.threads,
-                        request.control, visit);
+    pass = passOverLog(
+        model, request.data_file, request, gain,
+        [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+            const Eigen::VectorXd& dq) {
+          if (direct_events && !d) throw InputError(request.data_file + ": " + kDirectNeedsDdq);
+          visit(t, dt, r, d, dq);
+        },
+        out.warnings);
   }
   detector.close();
   out.samples = pass.samples;

@@ -144,8 +144,8 @@ class ResidualEnvelope {
 struct MonitorRequest {
   std::string arm;         // an estimate.json, an identified URDF, a dynid JSON model or robot
   std::string robot_spec;  // with an estimate.json: the robot (default: the estimate's)
-  std::string data_file;   // a dataset CSV, or "-" for samples streamed on stdin
-  std::string calibration_file;  // a clean dataset CSV to set the thresholds from, or
+  std::string data_file;   // a dataset CSV, a recording, or "-" for samples streamed on stdin
+  std::string calibration_file;  // a clean dataset CSV or recording to set the thresholds from, or
   std::string thresholds_file;   // a saved thresholds.json (exactly one of the two)
   std::string truth_file;        // simulate --disturbance's ground truth (optional)
   MonitorResidual residual = MonitorResidual::kObserver;
@@ -154,6 +154,12 @@ struct MonitorRequest {
   double hold = kDefaultEventHold;
   double max_gap = kDefaultMaxGap;
   int threads = 0;
+  /// Recordings (ROS bags: .mcap, .db3, .bag or a bag directory; analysis/logs/bag_log.hpp) as
+  /// data or calibration: sensor_msgs/JointState with position, velocity and effort, joints matched
+  /// by name to the model's. Their JointState topic (empty: the only one), the stamp (header, or
+  /// receive time) and the topic whose efforts are the torques when the positions' carry none.
+  std::string topic, effort_topic;
+  bool receive_time = false;
   MonitorEventSink* sink = nullptr;  // events as they happen (may be null)
   /// Lines streamed from stdin when data_file is "-" (the CLI's reader; tests pass their own).
   std::function<bool(std::string& line)> next_line;
@@ -181,9 +187,13 @@ struct MonitorOutcome {
 
 /// Loads the arm, sets the thresholds (a calibration pass or the file), then runs the observer (and
 /// the direct residual where ddq is given) over the data, reporting events to request.sink as they
-/// start and end. Throws InputError for a bad request, data of another joint count, thresholds of
-/// other joints; ParseError naming the file (or "<stdin>"), line and column for a malformed
-/// sample, a non-finite value, time that does not increase or a stream that ends mid-line.
+/// start and end. A recording is read whole, its samples taken at their own stamps in time order
+/// (repeated stamps dropped, counted in a warning), unfiltered; it has no ddq (observer only).
+/// Throws InputError for a bad request, data of another joint count, thresholds of other joints, a
+/// recording without the robot's joints or without velocities (prepare it first), or with a
+/// non-finite value (naming the file, the sample and the field); ParseError naming the file (or
+/// "<stdin>"), line and column for a malformed sample, a non-finite value, time that does not
+/// increase or a stream that ends mid-line.
 MonitorOutcome monitorRun(const MonitorRequest& request);
 
 /// Reads a thresholds document (kind dynid.monitor_thresholds). Throws ParseError naming the field.

@@ -1,7 +1,8 @@
 // dynid monitor: its speed, and its acceptance in simulation (docs/MONITOR.md, "Measured").
 //   - BM_ObserverSample/<robot>: one sample of the momentum observer (p = M dq, beta, the update).
-//   - BM_MonitorFile: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
-//     counter hour_seconds is the time an hour of such a log takes.
+//   - BM_MonitorFile/csv: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
+//     counter hour_seconds is the time an hour of such a log takes. /db3: the same samples as a
+//     rosbag2 SQLite recording (JointState decoding included).
 //   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv per rad/s and Fc
 //     each 1 % of the joint's peak torque in the motion) and its
 //     inertial parameters perturbed by up to 20 % (seeded); the logs are its default sinusoid
@@ -35,6 +36,7 @@
 #include "data/puma560.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "tests/common/joint_state_db3.hpp"
 
 namespace dynid {
 namespace {
@@ -84,13 +86,28 @@ void BM_ObserverSample(benchmark::State& state, const Model& model) {
 BENCHMARK_CAPTURE(BM_ObserverSample, puma560, makePuma560(true));
 BENCHMARK_CAPTURE(BM_ObserverSample, panda, makePanda(true));
 
-void BM_MonitorFile(benchmark::State& state) {
+/// The log as a rosbag2 recording (JointState with velocities, epoch header stamps).
+std::string recordingOf(const std::string& csv, const Model& model) {
+  const Trajectory tr = readDatasetCsv(csv);
+  const std::string path = csv.substr(0, csv.size() - 4) + ".db3";
+  test::JointStateDb3 db3(path);
+  for (int k = 0; k < tr.numSamples(); ++k) {
+    const Eigen::VectorXd q = tr.q.col(k), dq = tr.dq.col(k), tau = tr.tau.col(k);
+    const std::int64_t ns = 1700000000000000000LL + std::llround(tr.time[k] * 1e9);
+    db3.add(ns, ns + 200000, model.joint_names, q.data(), dq.data(), tau.data());
+  }
+  db3.close();
+  return path;
+}
+
+void BM_MonitorFile(benchmark::State& state, bool recording) {
   const Model panda = makePanda(true);
-  const std::string data = logFile(motion(panda, 60.0, 1, 0.0), "speed");
+  const std::string csv = logFile(motion(panda, 60.0, 1, 0.0), "speed");
+  const std::string data = recording ? recordingOf(csv, panda) : csv;
   MonitorRequest request;
   request.arm = "panda";
   request.data_file = data;
-  request.calibration_file = data;
+  request.calibration_file = csv;
   MonitorOutcome first = monitorRun(request);  // the thresholds, once
   const std::string thresholds = benchDir() + "/speed_thresholds.json";
   {
@@ -116,7 +133,8 @@ void BM_MonitorFile(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(samples) / 3.6e6,
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_MonitorFile)->Unit(benchmark::kSecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_MonitorFile, csv, false)->Unit(benchmark::kSecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_MonitorFile, db3, true)->Unit(benchmark::kSecond)->Iterations(3);
 
 /// OLS (the nominal model's drive terms) on a training log; the rest from the nominal model.
 Model identified(const Model& nominal, const std::string& training) {

@@ -9,7 +9,6 @@
 // same samples handed over as arrays (LogSource::arrays: the path a table takes after parsing).
 // Run:
 //   build/bench/bench_prepare_bag --benchmark_filter='/3600000'
-#include <sqlite3.h>
 #include <sys/resource.h>
 
 #include <cmath>
@@ -28,6 +27,7 @@
 #include "core/errors.hpp"
 #include "data/io.hpp"
 #include "reports/prepare_report.hpp"
+#include "tests/common/joint_state_db3.hpp"
 
 namespace {
 
@@ -64,36 +64,11 @@ class Samples {
   std::int64_t k_ = 0;
 };
 
-/// The sample as a ROS 2 CDR sensor_msgs/JointState (little endian, XCDR1 alignment).
-class CdrJointState {
- public:
-  const std::string& encode(const Sample& s) {
-    b_.assign("\x00\x01\x00\x00", 4);
-    put<std::int32_t>(static_cast<std::int32_t>(s.ns / 1000000000));
-    put<std::uint32_t>(static_cast<std::uint32_t>(s.ns % 1000000000));
-    string("");
-    put<std::uint32_t>(kJoints);
-    for (int j = 1; j <= kJoints; ++j) string("joint" + std::to_string(j));
-    for (const double* v : {s.q, s.dq, s.tau}) {
-      put<std::uint32_t>(kJoints);
-      for (int j = 0; j < kJoints; ++j) put<double>(v[j]);
-    }
-    return b_;
-  }
-
- private:
-  template <class T>
-  void put(T v) {
-    while ((b_.size() - 4) % sizeof(T) != 0) b_.push_back('\0');
-    b_.append(reinterpret_cast<const char*>(&v), sizeof(T));
-  }
-  void string(const std::string& s) {
-    put<std::uint32_t>(static_cast<std::uint32_t>(s.size() + 1));
-    b_.append(s);
-    b_.push_back('\0');
-  }
-  std::string b_;
-};
+std::vector<std::string> jointNames() {
+  std::vector<std::string> names;
+  for (int j = 1; j <= kJoints; ++j) names.push_back("joint" + std::to_string(j));
+  return names;
+}
 
 std::string recordingPath(long samples, const char* extension) {
   return (std::filesystem::temp_directory_path() /
@@ -101,49 +76,21 @@ std::string recordingPath(long samples, const char* extension) {
       .string();
 }
 
-void check(int rc, sqlite3* db) {
-  if (rc != SQLITE_OK && rc != SQLITE_DONE && rc != SQLITE_ROW)
-    throw Error(std::string("sqlite: ") + sqlite3_errmsg(db));
-}
-
 /// rosbag2's SQLite storage, written by SQLite.
 std::string writeDb3(long samples) {
   const std::string path = recordingPath(samples, ".db3");
   if (std::filesystem::exists(path)) return path;
   const std::string work = path + ".partial";
-  std::filesystem::remove(work);
-  sqlite3* db = nullptr;
-  check(sqlite3_open(work.c_str(), &db), db);
-  check(sqlite3_exec(db,
-                     "PRAGMA journal_mode=OFF; PRAGMA synchronous=OFF;"
-                     "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT "
-                     "NOT NULL, serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT "
-                     "NULL);"
-                     "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, "
-                     "timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
-                     "CREATE INDEX timestamp_idx ON messages (timestamp ASC);"
-                     "INSERT INTO topics VALUES (1, '/joint_states', "
-                     "'sensor_msgs/msg/JointState', 'cdr', '');"
-                     "BEGIN;",
-                     nullptr, nullptr, nullptr),
-        db);
-  sqlite3_stmt* insert = nullptr;
-  check(sqlite3_prepare_v2(db, "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?, ?)",
-                           -1, &insert, nullptr),
-        db);
-  Samples source;
-  CdrJointState cdr;
-  for (long k = 0; k < samples; ++k) {
-    const Sample s = source.next();
-    const std::string& bytes = cdr.encode(s);
-    sqlite3_bind_int64(insert, 1, s.ns + 250000);  // received 0.25 ms after the stamp
-    sqlite3_bind_blob(insert, 2, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
-    check(sqlite3_step(insert), db);
-    sqlite3_reset(insert);
+  {
+    test::JointStateDb3 db3(work);
+    Samples source;
+    const std::vector<std::string> names = jointNames();
+    for (long k = 0; k < samples; ++k) {
+      const Sample s = source.next();
+      db3.add(s.ns, s.ns + 250000, names, s.q, s.dq, s.tau);  // received 0.25 ms after the stamp
+    }
+    db3.close();
   }
-  sqlite3_finalize(insert);
-  check(sqlite3_exec(db, "COMMIT;", nullptr, nullptr, nullptr), db);
-  sqlite3_close(db);
   std::filesystem::rename(work, path);
   return path;
 }
@@ -169,12 +116,13 @@ std::string writeMcap(long samples) {
   record(0x03, u16(1) + str("sensor_msgs/msg/JointState") + str("ros2msg") + str(""));
   record(0x04, u16(1) + u16(1) + str("/joint_states") + str("cdr") + u32(0));
   Samples source;
-  CdrJointState cdr;
+  test::CdrJointState cdr;
+  const std::vector<std::string> names = jointNames();
   for (long k = 0; k < samples; ++k) {
     const Sample s = source.next();
     const auto receive = static_cast<std::uint64_t>(s.ns + 250000);
     record(0x05, u16(1) + u32(static_cast<std::uint32_t>(k)) + u64(receive) + u64(receive) +
-                     cdr.encode(s));
+                     cdr.encode(s.ns, names, s.q, s.dq, s.tau));
   }
   record(0x0F, u32(0));
   record(0x02, u64(0) + u64(0) + u32(0));

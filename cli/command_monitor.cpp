@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "core/errors.hpp"
+#include "data/bags/bag.hpp"
 #include "data/json_number.hpp"
 #include "reports/monitor_report.hpp"
 #include "reports/output.hpp"
@@ -98,10 +99,19 @@ int runMonitor(const std::vector<std::string>& args) {
       "the model: identify's estimate.json, an identified URDF, a dynid .json model or a robot")(
       "robot", po::value<std::string>(), "for an estimate: the robot (default: the one it names)")(
       "data", po::value<std::string>()->required(),
-      "the log to watch (dataset CSV), or - for samples on stdin, one line each: "
-      "t,q1..qn,dq1..dqn,tau1..taun after that header (or the dataset's, with ddq)")(
+      "the log to watch: a dataset CSV, a recording (.mcap, .db3, .bag or a bag directory: "
+      "sensor_msgs/JointState with position, velocity and effort, joints matched by name, taken "
+      "raw at their stamps), or - for samples on stdin, one line each: t,q1..qn,dq1..dqn,"
+      "tau1..taun after that header (or the dataset's, with ddq)")(
       "calibration", po::value<std::string>(),
-      "a clean log of the same robot (no contact): the thresholds are set on it")(
+      "a clean log (dataset CSV or recording) of the same robot (no contact): the thresholds are "
+      "set on it")("topic", po::value<std::string>(),
+                   "recordings: the JointState topic (default: the only one)")(
+      "stamp", po::value<std::string>()->default_value("header"),
+      "recordings: header (header.stamp) or receive (when the recorder received each message)")(
+      "effort-topic", po::value<std::string>(),
+      "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
+      "are the torques (joints by name), interpolated at the position stamps")(
       "thresholds", po::value<std::string>(),
       "a thresholds.json from an earlier monitor (instead of --calibration)")(
       "residual", po::value<std::string>()->default_value("observer"),
@@ -134,6 +144,16 @@ int runMonitor(const std::vector<std::string>& args) {
   if (vm.count("thresholds")) request.thresholds_file = vm["thresholds"].as<std::string>();
   refuseUnused(vm, vm.count("calibration") > 0, {"false-alarms-per-hour"},
                "applies with --calibration");
+  const bool recording = bags::isBag(request.data_file) || (!request.calibration_file.empty() &&
+                                                            bags::isBag(request.calibration_file));
+  refuseUnused(vm, recording, {"topic", "stamp", "effort-topic"},
+               "applies to recordings (.mcap, .db3, .bag, bag directories)");
+  if (vm.count("topic")) request.topic = vm["topic"].as<std::string>();
+  if (vm.count("effort-topic")) request.effort_topic = vm["effort-topic"].as<std::string>();
+  const std::string stamp = vm["stamp"].as<std::string>();
+  if (stamp != "header" && stamp != "receive")
+    throw UsageError("--stamp must be header or receive, not '" + stamp + "'");
+  request.receive_time = stamp == "receive";
   if (vm.count("truth")) request.truth_file = vm["truth"].as<std::string>();
   const std::string residual = vm["residual"].as<std::string>();
   if (residual != "observer" && residual != "direct")

@@ -598,7 +598,8 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
                  const OptionalPathLike& thresholds, const std::string& residual,
                  const OptionalArrayLike& gain, double false_alarms_per_hour, double hold,
                  double max_gap, const OptionalPathLike& truth, const PathLike& robot_spec,
-                 int threads) {
+                 int threads, const std::string& topic, const std::string& stamp,
+                 const std::string& effort_topic) {
   checkThreads(threads);
   MonitorRequest request;
   request.arm = pathArg(arm_arg, "arm");
@@ -617,6 +618,11 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
     else
       request.gain = gain.cast<Eigen::VectorXd>();
   }
+  if (stamp != "header" && stamp != "receive")
+    throw py::value_error("stamp: expected 'header' or 'receive', not '" + stamp + "'");
+  request.topic = topic;
+  request.effort_topic = effort_topic;
+  request.receive_time = stamp == "receive";
   request.false_alarms_per_hour = false_alarms_per_hour;
   request.hold = hold;
   request.max_gap = max_gap;
@@ -658,7 +664,10 @@ void bindTrust(py::module_& m) {
         py::arg("gain") = py::none(), py::arg("false_alarms_per_hour") = kDefaultFalseAlarmsPerHour,
         py::arg("hold") = kDefaultEventHold, py::arg("max_gap") = kDefaultMaxGap,
         py::arg("truth") = py::none(), py::arg("robot_spec") = "", py::arg("threads") = kAllThreads,
-        "`dynid monitor` on a log file: `arm` an estimate.json, URDF, dynid model or robot spec; "
+        py::arg("topic") = "", py::arg("stamp") = "header", py::arg("effort_topic") = "",
+        "`dynid monitor` on a log file (a dataset CSV, or a recording: .mcap, .db3, .bag or a "
+        "bag directory, with its JointState `topic`, `stamp` 'header' or 'receive', and "
+        "`effort_topic`): `arm` an estimate.json, URDF, dynid model or robot spec; "
         "thresholds from a clean `calibration` log or a saved `thresholds` file (one of them). "
         "Returns monitor.json as a dict (events, thresholds, statistics, truth scores).");
   m.def("audit", &audit, py::arg("estimates") = py::none(), py::arg("data") = py::none(),

@@ -180,25 +180,23 @@ Eigen::Index joinSeparateEfforts(const LogSource& source, const std::string& pat
 
 }  // namespace
 
-RawSignals readBagLog(const LogSource& source, const std::string& path) {
-  RawSignals out;
-  out.file = path;
-  out.tau_file = path;
-  std::string topic = source.topic;
-  std::vector<std::string> names = source.joint_names;  // the robot's; empty: the first message's
+JointStateScan scanJointStates(const LogSource& source, const std::string& path,
+                               const JointStateVisit& visit) {
+  JointStateScan scan;
+  scan.topic = source.topic;
+  scan.names = source.joint_names;  // the robot's; empty: the first message's
+  std::string& topic = scan.topic;
+  std::vector<std::string>& names = scan.names;
   std::vector<std::string> other_topics;
   std::vector<std::string> last_names;
   std::vector<int> index;  // per joint: its entry in the message
-  std::vector<double> rows;
-  std::int64_t first_ns = 0;
+  std::vector<double> row;
   bool first = true, any_header_stamp = false;
   bags::JointStateMessage m;
-  Eigen::Index count = 0;
   const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
   if (!source.effort_topic.empty() && source.effort_topic == source.topic)
     throw InputError(path + ": the effort topic is the position topic " + topic +
                      ": give the topic whose JointState messages carry the efforts");
-  std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns]
   bags::readBag(
       path,
       source.topic.empty() ? std::vector<std::string>{} : std::vector<std::string>{source.topic},
@@ -229,25 +227,22 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
         checkArrays(m, message, path, topic, !separate_effort);
         const std::size_t held = m.name.size();
         const bool velocity = m.velocity.size() == held;
-        if (first) out.has_dq = velocity;
-        if (out.has_dq != velocity)
+        if (first) scan.has_dq = velocity;
+        if (scan.has_dq != velocity)
           throw InputError(path + ": some JointState messages on " + topic +
                            " carry velocities and some do not");
-        const std::int64_t stamp = source.receive_time ? message.receive_ns : m.stamp_ns;
-        any_header_stamp = any_header_stamp || m.stamp_ns != 0;
-        if (first) first_ns = stamp;
         first = false;
-        // The difference of integer nanoseconds, then seconds: exact to the double's precision.
-        rows.push_back(static_cast<double>(stamp - first_ns) * 1e-9);
-        for (int j : index) rows.push_back(m.position[static_cast<std::size_t>(j)]);
+        any_header_stamp = any_header_stamp || m.stamp_ns != 0;
+        row.clear();
+        for (int j : index) row.push_back(m.position[static_cast<std::size_t>(j)]);
         for (int j : index)
-          rows.push_back(separate_effort ? 0.0 : m.effort[static_cast<std::size_t>(j)]);
-        stamps.push_back(stamp);
-        if (out.has_dq)
-          for (int j : index) rows.push_back(m.velocity[static_cast<std::size_t>(j)]);
-        ++count;
+          row.push_back(separate_effort ? 0.0 : m.effort[static_cast<std::size_t>(j)]);
+        if (scan.has_dq)
+          for (int j : index) row.push_back(m.velocity[static_cast<std::size_t>(j)]);
+        ++scan.messages;
+        visit(source.receive_time ? message.receive_ns : m.stamp_ns, row);
       });
-  if (count == 0)
+  if (scan.messages == 0)
     throw InputError(path + ": no sensor_msgs/JointState messages" +
                      (source.topic.empty() ? std::string() : " on " + source.topic));
   if (!other_topics.empty())
@@ -257,9 +252,31 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
     throw InputError(path +
                      ": every JointState header stamp is zero (the publisher does not "
                      "stamp them): give --stamp receive");
-  const auto n = static_cast<int>(names.size());
-  const int width = 1 + (out.has_dq ? 3 : 2) * n;
-  if (separate_effort) count = joinSeparateEfforts(source, path, names, stamps, width, rows, out);
+  return scan;
+}
+
+RawSignals readBagLog(const LogSource& source, const std::string& path) {
+  RawSignals out;
+  out.file = path;
+  out.tau_file = path;
+  std::vector<double> rows;
+  std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns]
+  std::int64_t first_ns = 0;
+  const JointStateScan scan =
+      scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
+        if (stamps.empty()) first_ns = ns;
+        // The difference of integer nanoseconds, then seconds: exact to the double's precision.
+        rows.push_back(static_cast<double>(ns - first_ns) * 1e-9);
+        rows.insert(rows.end(), row.begin(), row.end());
+        stamps.push_back(ns);
+      });
+  const auto n = static_cast<int>(scan.names.size());
+  const int width = 1 + (scan.has_dq ? 3 : 2) * n;
+  out.has_dq = scan.has_dq;
+  auto count = static_cast<Eigen::Index>(stamps.size());
+  const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
+  if (separate_effort)
+    count = joinSeparateEfforts(source, path, scan.names, stamps, width, rows, out);
   out.values =
       Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
           rows.data(), count, width);
@@ -268,9 +285,9 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   out.ddq_at = width;
   out.time_origin = static_cast<long double>(first_ns) / 1e9L;  // seconds, the unit of bags
   out.columns.time = source.receive_time ? "receive time" : "header.stamp";
-  out.columns.q = names;
-  if (!separate_effort) out.columns.tau = names;
-  if (out.has_dq) out.columns.dq = names;
+  out.columns.q = scan.names;
+  if (!separate_effort) out.columns.tau = scan.names;
+  if (out.has_dq) out.columns.dq = scan.names;
   return out;
 }
 

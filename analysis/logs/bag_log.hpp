@@ -3,12 +3,35 @@
 // order (others ignored), stamped by their header or by their receive time.
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "analysis/logs/read_log.hpp"
 
 namespace dynid {
+
+/// What scanJointStates found: the topic read, the joint names (the robot's, or the first
+/// message's), whether the messages carry velocities, and how many there were.
+struct JointStateScan {
+  std::string topic;
+  std::vector<std::string> names;
+  bool has_dq = false;
+  long long messages = 0;
+};
+
+/// Receives each message: its stamp [ns on the recording's clock] and the joints' values in
+/// `names` order: q (n), tau (n; zeros when the efforts come from another topic or table), then
+/// dq (n) when the messages carry velocities.
+using JointStateVisit = std::function<void(std::int64_t stamp_ns, const std::vector<double>& row)>;
+
+/// Visits the JointState messages of `source`'s topic in `path` in the recording's order, one at a
+/// time (constant memory); the efforts of source.effort_topic or effort_table are not joined here
+/// (readBagLog does). Throws as readBagLog, the checks that need every message (no message,
+/// several topics, no header stamp) after the last one.
+JointStateScan scanJointStates(const LogSource& source, const std::string& path,
+                               const JointStateVisit& visit);
 
 /// Reads the recording `path` for `source` (its topic, joint names and stamp). Throws InputError
 /// naming the recording and what is wrong: no JointState topic, several without --topic, joints

@@ -11,6 +11,8 @@
 #include "core/simulate.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/error_text.hpp"
+#include "tests/common/joint_state_db3.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -225,33 +227,40 @@ TEST_F(MonitorRun, AStreamedEventIsReportedAtTheCrossingSample) {
   EXPECT_EQ(out.samples, pushed.numSamples());
 }
 
+std::string recording(const std::string& name, const Model& model, const Trajectory& tr,
+                      bool velocity, int late, int repeat, int nan_at, int late_by);
+
+// Ctrl-C (the flag) during a dataset or a recording: stopped after the current sample, the events
+// so far kept, the open one marked.
 TEST_F(MonitorRun, StoppedMidEventItKeepsTheEventsSoFar) {
+  const Trajectory pushed = pushedPuma(
+      model_, 4.0, {jointPush(1, 15.0, 1.0, 0.1), jointPush(2, 12.0, 3.0, 0.5)}, nullptr, 0.05);
   const std::string pushed_file = test::tempPath("monitor_pushed.csv");
-  writeDatasetCsv(
-      pushed_file,
-      pushedPuma(model_, 4.0, {jointPush(1, 15.0, 1.0, 0.1), jointPush(2, 12.0, 3.0, 0.5)}, nullptr,
-                 0.05));
-  std::atomic<bool> stop{false};
-  struct StopAtSecondEvent : MonitorEventSink {
-    std::atomic<bool>* stop;
-    void started(const MonitorEvent& e) override {
-      if (e.start > 2.0) stop->store(true);
-    }
-    void ended(const MonitorEvent&) override {}
-  } sink;
-  sink.stop = &stop;
-  MonitorRequest request;
-  request.arm = "puma560";
-  request.data_file = pushed_file;
-  request.calibration_file = clean_;
-  request.sink = &sink;
-  request.control.stop = &stop;
-  const MonitorOutcome out = monitorRun(request);
-  EXPECT_TRUE(out.interrupted);
-  ASSERT_EQ(out.events.size(), 2u);
-  EXPECT_FALSE(out.events[0].open);
-  EXPECT_TRUE(out.events[1].open);  // closed at the stop, marked open
-  EXPECT_LT(out.samples, 4001);
+  writeDatasetCsv(pushed_file, pushed);
+  for (const std::string& data :
+       {pushed_file, recording("monitor_stopped.db3", model_, pushed, true, -1, -1, -1, 1)}) {
+    std::atomic<bool> stop{false};
+    struct StopAtSecondEvent : MonitorEventSink {
+      std::atomic<bool>* stop;
+      void started(const MonitorEvent& e) override {
+        if (e.start > 2.0) stop->store(true);
+      }
+      void ended(const MonitorEvent&) override {}
+    } sink;
+    sink.stop = &stop;
+    MonitorRequest request;
+    request.arm = "puma560";
+    request.data_file = data;
+    request.calibration_file = clean_;
+    request.sink = &sink;
+    request.control.stop = &stop;
+    const MonitorOutcome out = monitorRun(request);
+    EXPECT_TRUE(out.interrupted) << data;
+    ASSERT_EQ(out.events.size(), 2u) << data;
+    EXPECT_FALSE(out.events[0].open);
+    EXPECT_TRUE(out.events[1].open);  // closed at the stop, marked open
+    EXPECT_LT(out.samples, 3100) << data;
+  }
 }
 
 TEST_F(MonitorRun, RefusesThresholdsOfOtherJointsAndBadRequests) {
@@ -277,6 +286,143 @@ TEST_F(MonitorRun, RefusesThresholdsOfOtherJointsAndBadRequests) {
   request.arm = "puma560";
   request.hold = -1.0;
   EXPECT_THROW(monitorRun(request), InputError);
+}
+
+/// The trajectory as a rosbag2 recording as a robot's driver publishes it: the joints by name in
+/// another order beside a gripper joint, header stamps on the epoch clock (nanoseconds); sample
+/// `late` is received after sample late + late_by (its header stamp out of order) and sample
+/// `repeat` twice. No velocity when `velocity`
+/// is false; the velocity of joint 2 at sample `nan_at` not a number (when >= 0).
+std::string recording(const std::string& name, const Model& model, const Trajectory& tr,
+                      bool velocity = true, int late = -1, int repeat = -1, int nan_at = -1,
+                      int late_by = 1) {
+  const std::string path = test::tempPath(name);
+  const int n = model.numJoints();
+  std::vector<int> order(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) order[static_cast<std::size_t>(j)] = (j + 2) % n;
+  std::vector<std::string> names;
+  for (int j : order) names.push_back(model.joint_names[static_cast<std::size_t>(j)]);
+  names.push_back("gripper");
+  test::JointStateDb3 db3(path);
+  const auto put = [&](int k) {
+    const std::int64_t ns = 1700000000000000000LL + std::llround(tr.time[k] * 1e9);
+    std::vector<double> q, dq, tau;
+    for (int j : order) {
+      q.push_back(tr.q(j, k));
+      dq.push_back(k == nan_at && j == 2 ? std::nan("") : tr.dq(j, k));
+      tau.push_back(tr.tau(j, k));
+    }
+    q.push_back(0.01), dq.push_back(0.0), tau.push_back(0.0);
+    // Received 0.3 ms after its stamp; the late one after sample late + late_by (the recorder's
+    // order).
+    const int received = k == late ? k + late_by : k;
+    const std::int64_t receive_ns =
+        1700000000000000000LL + std::llround(tr.time[received] * 1e9) + 300000 + (k == late);
+    db3.add(ns, receive_ns, names, q.data(), velocity ? dq.data() : nullptr, tau.data());
+  };
+  for (int k = 0; k < tr.numSamples(); ++k) {
+    if (k == late) continue;
+    put(k);
+    if (k == late + late_by) put(late);
+    if (k == repeat) put(k);
+  }
+  db3.close();
+  return path;
+}
+
+// A recording (JointState with velocities) is monitored at its own stamps, joints by name: the
+// same thresholds, residuals and events as the same samples in a dataset, messages out of order
+// and repeated included.
+TEST_F(MonitorRun, ARecordingGivesTheSameEventsAsItsSamplesInADataset) {
+  const Trajectory clean = pushedPuma(model_, 6.0, {}, nullptr, 0.05);
+  const Trajectory pushed = pushedPuma(model_, 3.0, {jointPush(2, 10.0, 1.5, 0.2)}, nullptr, 0.05);
+  const std::string pushed_csv = test::tempPath("monitor_pushed_for_bag.csv");
+  writeDatasetCsv(pushed_csv, pushed);
+  MonitorRequest from_csv;
+  from_csv.arm = "puma560";
+  from_csv.data_file = pushed_csv;
+  from_csv.calibration_file = clean_;
+  const MonitorOutcome a = monitorRun(from_csv);
+  MonitorRequest from_bag = from_csv;
+  from_bag.data_file = recording("monitor_pushed.db3", model_, pushed, true, 700, 1200);
+  from_bag.calibration_file = recording("monitor_clean.db3", model_, clean);
+  const MonitorOutcome b = monitorRun(from_bag);
+  // The stamps are whole nanoseconds: times agree to 1e-9 s, residuals to round-off of that.
+  ASSERT_EQ(a.thresholds.values.size(), 6);
+  EXPECT_LT((a.thresholds.values - b.thresholds.values).norm(), 1e-8 * a.thresholds.values.norm());
+  ASSERT_EQ(a.events.size(), 1u);
+  ASSERT_EQ(b.events.size(), 1u);
+  EXPECT_EQ(a.events[0].joints, b.events[0].joints);
+  EXPECT_NEAR(a.events[0].start, b.events[0].start, 1e-8);
+  EXPECT_NEAR(a.events[0].end, b.events[0].end, 1e-8);
+  EXPECT_NEAR(a.events[0].peak, b.events[0].peak, 1e-8 * a.events[0].peak);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_LT((a.observer_rms - b.observer_rms).norm(), 1e-8 * a.observer_rms.norm());
+  EXPECT_TRUE(a.has_direct);
+  EXPECT_FALSE(b.has_direct);  // a recording has no ddq
+  bool repeated = false;
+  for (const std::string& w : b.warnings)
+    repeated = repeated || w.find("1 message(s) repeated an earlier stamp") != std::string::npos;
+  EXPECT_TRUE(repeated);
+}
+
+// Messages are put in stamp order within a 1 s window: one received 0.5 s late is used, one 1.5 s
+// late is skipped and counted.
+TEST_F(MonitorRun, ARecordingsLateMessagesAreOrderedWithinItsWindow) {
+  const Trajectory log = pushedPuma(model_, 2.5, {}, nullptr, 0.05);
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.calibration_file = clean_;
+  request.data_file = recording("monitor_late_0.5.db3", model_, log, true, 100, -1, -1, 500);
+  const MonitorOutcome in_window = monitorRun(request);
+  EXPECT_EQ(in_window.samples, log.numSamples());
+  for (const std::string& w : in_window.warnings)
+    EXPECT_EQ(w.find("skipped"), std::string::npos) << w;
+  request.data_file = recording("monitor_late_1.5.db3", model_, log, true, 100, -1, -1, 1500);
+  const MonitorOutcome late = monitorRun(request);
+  EXPECT_EQ(late.samples, log.numSamples() - 1);
+  bool counted = false;
+  for (const std::string& w : late.warnings)
+    counted = counted || w.find(
+                             "1 message(s) repeated an earlier stamp (or came more than 1 s "
+                             "after later-stamped ones) and were skipped") != std::string::npos;
+  EXPECT_TRUE(counted);
+}
+
+TEST_F(MonitorRun, RefusesRecordingsItCannotMonitor) {
+  const Trajectory pushed = pushedPuma(model_, 1.0, {}, nullptr, 0.05);
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.calibration_file = clean_;
+  // No velocities: prepare first.
+  request.data_file = recording("monitor_no_velocity.db3", model_, pushed, false);
+  std::string text = test::errorText<InputError>([&] { monitorRun(request); });
+  EXPECT_NE(text.find("carry no velocities"), std::string::npos) << text;
+  EXPECT_NE(text.find("dynid prepare"), std::string::npos) << text;
+  // A velocity that is not a number: the file, the time and the joint.
+  request.data_file = recording("monitor_nan.db3", model_, pushed, true, -1, -1, 400);
+  text = test::errorText<InputError>([&] { monitorRun(request); });
+  EXPECT_NE(text.find("monitor_nan.db3"), std::string::npos) << text;
+  EXPECT_NE(text.find("velocity of joint " + model_.joint_names[2] + " that is not finite"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("at 0.4 s"), std::string::npos) << text;
+  // The direct residual needs ddq.
+  request.data_file = recording("monitor_direct.db3", model_, pushed);
+  request.residual = MonitorResidual::kDirect;
+  text = test::errorText<InputError>([&] { monitorRun(request); });
+  EXPECT_NE(text.find("a recording has no ddq"), std::string::npos) << text;
+  // Another robot's recording: the joints it lacks, by name.
+  request.residual = MonitorResidual::kObserver;
+  request.arm = "panda";
+  request.calibration_file.clear();
+  request.thresholds_file = test::writeTemp("monitor_panda_thresholds.json", R"({
+    "schema_version": 1, "kind": "dynid.monitor_thresholds", "robot": "panda",
+    "joints": ["joint1", "joint2", "joint3", "joint4", "joint5", "joint6", "joint7"],
+    "residual": "observer", "gain": [100, 100, 100, 100, 100, 100, 100],
+    "thresholds": [1, 1, 1, 1, 1, 1, 1], "source": "x"})");
+  text = test::errorText<InputError>([&] { monitorRun(request); });
+  EXPECT_NE(text.find("lack the robot's joints"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // thresholds read back, samples streamed on stdin with events as JSON lines, Ctrl-C while waiting.
 #include <sys/wait.h>
 
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -10,8 +11,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "tests/common/cli.hpp"
+#include "tests/common/joint_state_db3.hpp"
 
 namespace dynid {
 namespace {
@@ -69,6 +72,34 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
   const auto k = nlohmann::json::parse(readFile(dir_ + "/m2/monitor.json"));
   EXPECT_EQ(k["events"], j["events"]);
   EXPECT_EQ(k["thresholds"]["thresholds"], j["thresholds"]["thresholds"]);
+}
+
+// The pushed log as a ROS 2 recording (JointState with velocities, as a driver publishes them):
+// the same pushes found, at the recording's own stamps; its options refused on a dataset.
+TEST_F(CliMonitor, WatchesARecording) {
+  const Trajectory pushed = readDatasetCsv(dir_ + "/pushed.csv");
+  const std::string bag = dir_ + "/pushed.db3";
+  {
+    test::JointStateDb3 db3(bag, "/robot/joint_states");
+    const std::vector<std::string> names{"joint1", "joint2", "joint3",
+                                         "joint4", "joint5", "joint6"};
+    for (int k = 0; k < pushed.numSamples(); ++k) {
+      const Eigen::VectorXd q = pushed.q.col(k), dq = pushed.dq.col(k), tau = pushed.tau.col(k);
+      const std::int64_t ns = 1700000000000000000LL + std::llround(pushed.time[k] * 1e9);
+      db3.add(ns, ns + 200000, names, q.data(), dq.data(), tau.data());
+    }
+    db3.close();
+  }
+  const Result r = run("monitor --arm puma560 --data " + bag + " --calibration " + dir_ +
+                       "/clean.csv --truth " + dir_ + "/pushed.truth.csv --out " + dir_ + "/mb");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "2 of 2 disturbances detected within 50 ms, 0 false alarm(s)"))
+      << r.out;
+  const Result csv = run("monitor --arm puma560 --data " + dir_ + "/pushed.csv --calibration " +
+                         dir_ + "/clean.csv --topic /robot/joint_states --out " + dir_ + "/mt");
+  EXPECT_EQ(csv.code, 2);
+  EXPECT_TRUE(contains(csv.err, "--topic applies to recordings")) << csv.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/mt"));
 }
 
 TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {

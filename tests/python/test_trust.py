@@ -1,4 +1,6 @@
 """Trusting the model in use: predict's band, monitor and audit, equal to the CLI's."""
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -50,3 +52,13 @@ def test_monitor_and_audit_equal_the_cli(logs, tmp_path):
     run_cli("audit", "--robot", "puma560", "--data", logs / "train.csv", logs / "test.csv",
             "--out", tmp_path / "a")
     assert read_json(tmp_path / "a" / "audit.json")["chi2"] == audit["chi2"]
+
+
+def test_monitor_reads_recordings_by_joint_name(logs):
+    # The MCAP project's writer's fixture holds joints joint2, joint1 and a gripper: the PUMA's
+    # joint3..joint6 are missing, and the error names them (the recording was read).
+    bag = Path(__file__).resolve().parents[1] / "data/bags/fixtures/ros2/joint_states_zstd.mcap"
+    with pytest.raises(dynid.InputError, match="lack the robot's joints joint3"):
+        dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), topic="/joint_states")
+    with pytest.raises(ValueError, match="stamp"):
+        dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), stamp="sent")

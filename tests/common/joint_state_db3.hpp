@@ -1,0 +1,50 @@
+// sensor_msgs/JointState recordings for tests and benchmarks: messages encoded as ROS 2 CDR (little
+// endian, XCDR1 alignment) and a rosbag2 SQLite file (.db3) written by SQLite itself. No gtest: the
+// benchmarks compile this file too.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace dynid::test {
+
+/// One JointState message as ROS 2 CDR: header stamp [ns], names, positions, velocities (none
+/// when `dq` is null) and efforts, n of each. The returned bytes live until the next call.
+class CdrJointState {
+ public:
+  const std::string& encode(std::int64_t stamp_ns, const std::vector<std::string>& names,
+                            const double* q, const double* dq, const double* tau);
+
+ private:
+  template <class T>
+  void put(T v);
+  void string(const std::string& s);
+  std::string b_;
+};
+
+/// A rosbag2 SQLite recording with one sensor_msgs/msg/JointState topic, written message by
+/// message in one transaction; the file is complete after close() (or the destructor).
+class JointStateDb3 {
+ public:
+  /// Creates `path` (replacing a file there). Throws dynid::Error when SQLite fails.
+  JointStateDb3(const std::string& path, const std::string& topic = "/joint_states");
+  JointStateDb3(const JointStateDb3&) = delete;
+  JointStateDb3& operator=(const JointStateDb3&) = delete;
+  ~JointStateDb3();
+  /// One message: stamped stamp_ns, received receive_ns (the recorder's clock).
+  void add(std::int64_t stamp_ns, std::int64_t receive_ns, const std::vector<std::string>& names,
+           const double* q, const double* dq, const double* tau);
+  void close();
+
+ private:
+  void check(int rc);
+  sqlite3* db_ = nullptr;
+  sqlite3_stmt* insert_ = nullptr;
+  CdrJointState cdr_;
+};
+
+}  // namespace dynid::test
