@@ -115,8 +115,10 @@ json refineBaseJson(const RefineOutcome& o) {
           {"note", has_uncertainty
                        ? "covariance in base coordinates: sigma^2 (J_beta^T J_beta)^-1, the "
                          "segment starts eliminated when estimated"
-                       : "no covariance: the uncertainty pass did not run (interrupted, or "
-                         "turned off)"}};
+                   : !result.uncertainty_skipped.empty()
+                       ? "no covariance: " + result.uncertainty_skipped
+                       : std::string("no covariance: the uncertainty pass did not run "
+                                     "(interrupted, or turned off)")}};
 }
 
 }  // namespace
@@ -218,6 +220,7 @@ std::string refineSummary(const RefineOutcome& o, const std::string& dir) {
   out << r.seconds << " s (" << r.termination.substr(0, r.termination.find(':')) << ")";
   if (o.has_truth)
     out << "; base-parameter error " << o.initial_base_error << " -> " << o.final_base_error;
+  if (!r.uncertainty_skipped.empty()) out << "\nno uncertainty: " << r.uncertainty_skipped;
   out << "\nwrote " << dir << "/refine.json\n";
   return out.str();
 }

@@ -1,5 +1,8 @@
 #include "search/refinement/evaluation.hpp"
 
+#include <algorithm>
+#include <chrono>
+
 #include <atomic>
 #include <cstring>
 
@@ -102,9 +105,14 @@ void ParallelSegmentEvaluation::PrepareForEvaluation(bool evaluate_jacobians,
       (!evaluate_jacobians || entries_.empty() || entries_.front()->with_jacobians))
     return;
   ++batches_;
+  const auto start = std::chrono::steady_clock::now();
   pool_.parallelFor(static_cast<int>(entries_.size()), [&](int i, int) {
     entries_[static_cast<std::size_t>(i)]->evaluate(evaluate_jacobians);
   });
+  if (evaluate_jacobians)
+    longest_jacobians_ =
+        std::max(longest_jacobians_,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
 }
 
 long ParallelSegmentEvaluation::fallbacks() const {

@@ -43,6 +43,9 @@ class ParallelSegmentEvaluation : public ceres::EvaluationCallback {
   /// a serial evaluation (tests).
   long batches() const { return batches_; }
   long fallbacks() const;
+  /// The longest evaluation with Jacobians so far [s] (what one more Jacobian of every segment
+  /// costs, for a time budget).
+  double longestJacobians() const { return longest_jacobians_; }
 
   struct Entry;
 
@@ -50,6 +53,7 @@ class ParallelSegmentEvaluation : public ceres::EvaluationCallback {
   ThreadPool& pool_;
   std::vector<std::unique_ptr<Entry>> entries_;
   long batches_ = 0;
+  double longest_jacobians_ = 0.0;
 };
 
 }  // namespace dynid

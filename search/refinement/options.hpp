@@ -41,7 +41,9 @@ struct RefineOptions {
   /// the current estimate and the centre of the bounds.
   int map_back_starts = 14;
   /// With base coordinates: the uncertainty of the result in beta (a Jacobian of every segment
-  /// after the solve, outside the time budget). Off: RefineResult's base fields stay empty.
+  /// after the solve, inside the time budget: the last stage stops an iteration earlier to leave
+  /// it room, and it is skipped, said in RefineResult::uncertainty_skipped, when there is none).
+  /// Off: RefineResult's base fields stay empty.
   bool uncertainty = true;
   /// Stops after the current iteration when control.check() says so (its flag, its deadline;
   /// on_check runs on the calling thread after each solver iteration).
@@ -97,11 +99,12 @@ struct RefineResult {
   Eigen::VectorXd beta;
   Eigen::MatrixXd beta_covariance;
   Eigen::VectorXd beta_std_dev;
-  double sigma2 = 0.0;            // residual variance
-  int degrees_of_freedom = 0;     // residuals - unknowns
-  int information_rank = 0;       // numerical rank of H (num_base when all are determined)
-  Eigen::VectorXd beta_singular;  // singular values of d beta / d x (scaled)
-  int free_parameter_rank = 0;    // how many beta directions the free parameters can move
+  std::string uncertainty_skipped;  // why the uncertainty was not computed (budget), or empty
+  double sigma2 = 0.0;              // residual variance
+  int degrees_of_freedom = 0;       // residuals - unknowns
+  int information_rank = 0;         // numerical rank of H (num_base when all are determined)
+  Eigen::VectorXd beta_singular;    // singular values of d beta / d x (scaled)
+  int free_parameter_rank = 0;      // how many beta directions the free parameters can move
   std::vector<FreeDirection> free_directions;
 };
 

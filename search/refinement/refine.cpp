@@ -15,6 +15,7 @@
 #include <Eigen/SparseCore>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "search/refinement/costs.hpp"
 #include "search/refinement/evaluation.hpp"
 #include "search/refinement/uncertainty.hpp"
@@ -31,7 +32,7 @@ class RefineCallback : public ceres::IterationCallback {
  public:
   RefineCallback(std::vector<RefineIteration>& history, const RefineOptions& options,
                  const RunControl& budget, bool& interrupted, bool& out_of_time, std::string stage,
-                 double time_offset)
+                 double time_offset, int reserved_iterations = 0)
       : history_(history),
         control_(options.control),
         on_iteration_(options.on_iteration),
@@ -40,7 +41,8 @@ class RefineCallback : public ceres::IterationCallback {
         interrupted_(interrupted),
         out_of_time_(out_of_time),
         stage_(std::move(stage)),
-        time_offset_(time_offset) {}
+        time_offset_(time_offset),
+        reserved_(reserved_iterations) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     history_.push_back({stage_, summary.iteration, summary.cost, summary.gradient_max_norm,
                         time_offset_ + summary.cumulative_time_in_seconds});
@@ -59,9 +61,11 @@ class RefineCallback : public ceres::IterationCallback {
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
     longest_ = std::max(longest_, summary.iteration_time_in_seconds);
+    // Stop before an iteration that would end past the budget, leaving `reserved_` iterations'
+    // time for what follows the stage (the uncertainty's Jacobian).
     if (budget_.deadline != RunControl::Clock::time_point::max() &&
         std::chrono::duration<double>(budget_.deadline - RunControl::Clock::now()).count() <
-            longest_) {
+            longest_ * (1 + reserved_)) {
       out_of_time_ = true;
       return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
     }
@@ -80,6 +84,7 @@ class RefineCallback : public ceres::IterationCallback {
   bool& out_of_time_;
   std::string stage_;
   double time_offset_;
+  int reserved_;
   double longest_ = 0.0;
 };
 
@@ -270,11 +275,11 @@ Eigen::VectorXd fitFreeToBeta(const Model& structure, const ParameterSpace& spac
 /// The base stage: the GC residuals as a function of beta, solved by Levenberg-Marquardt from
 /// beta(x); then x is fitted to the solution's beta within the bounds (and on the total-mass
 /// plane). Updates result.x (when the map back predicts no worse than the start), the starts and
-/// the base-stage fields.
-void baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
-               const BaseCoordinates& base, const RefineOptions& options,
-               std::chrono::steady_clock::time_point clock_start, const RunControl& budget,
-               GcWorkspace& workspace, ThreadPool& pool, RefineResult& result) {
+/// the base-stage fields. Returns the longest Jacobian of every segment it took [s].
+double baseStage(const Model& structure, const ParameterSpace& space, const GcProblem& problem,
+                 const BaseCoordinates& base, const RefineOptions& options,
+                 std::chrono::steady_clock::time_point clock_start, const RunControl& budget,
+                 GcWorkspace& workspace, ThreadPool& pool, RefineResult& result) {
   const bool with_start = options.estimate_initial_states;
   const Eigen::MatrixXd& P = base.projection;
   const Eigen::VectorXd theta0 = space.standardAt(result.x);
@@ -321,13 +326,13 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   // The map back takes a Jacobian and many small fits: not once the budget has run out, nor when
   // the base stage stopped because one more iteration (a Jacobian) would pass it; the free
   // parameters then stay where they were.
-  if (budget.stopped() || base_out_of_time) return;
+  if (budget.stopped() || base_out_of_time) return segments.longestJacobians();
   // Nor when what is left of the budget is less than one of the base stage's iterations: the
   // map back's Jacobian alone takes about that long.
   if (budget.deadline != RunControl::Clock::time_point::max() &&
       std::chrono::duration<double>(budget.deadline - RunControl::Clock::now()).count() <
           callback.longest())
-    return;
+    return segments.longestJacobians();
   const Eigen::VectorXd weights = magnitudes(beta).cwiseInverse();
   const Eigen::MatrixXd weighting = mapBackWeighting(structure, map, problem, beta, weights,
                                                      result.initial_states, options, pool);
@@ -340,6 +345,7 @@ void baseStage(const Model& structure, const ParameterSpace& space, const GcProb
   const double gc_mapped = gcError(space.modelAt(x), problem, workspace, pool);
   result.map_back_used = std::isfinite(gc_mapped) && gc_mapped <= result.initial_gc;
   if (result.map_back_used) result.x = x;
+  return segments.longestJacobians();
 }
 
 }  // namespace
@@ -379,9 +385,21 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   // The time budget and the run control's deadline and flag, as the cost functions see them.
   const RunControl budget = options.control.within(options.max_seconds, clock_start);
 
+  double jacobian_seconds = 0.0;  // the longest Jacobian of every segment so far [s]
   if (base != nullptr && options.base_stage)
-    baseStage(structure, space, problem, *base, options, clock_start, budget, workspace, pool,
-              result);
+    jacobian_seconds = baseStage(structure, space, problem, *base, options, clock_start, budget,
+                                 workspace, pool, result);
+
+  // The uncertainty pass after the parameter stage is one Jacobian of every segment: the stage
+  // leaves it room inside the budget, the base stage's longest such Jacobian when it ran, else
+  // one iteration of its own (its callback's reserve).
+  const bool uncertainty = base != nullptr && options.uncertainty;
+  // A quarter more than it took: Jacobians vary, and the stage's closing GC error comes first.
+  const double reserve = uncertainty && options.max_seconds > 0.0 ? 1.25 * jacobian_seconds : 0.0;
+  const RunControl stage =
+      reserve > 0.0
+          ? options.control.within(std::max(options.max_seconds - reserve, 1e-9), clock_start)
+          : budget;
 
   // The parameter stage. Residual blocks: one per segment, and the total mass.
   ParallelSegmentEvaluation evaluation(pool);
@@ -394,7 +412,7 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     solver_problem.AddResidualBlock(
         evaluation
             .add(makeSegmentCost(structure, space, problem, s, with_start,
-                                 continuityOf(problem, options, s), &budget),
+                                 continuityOf(problem, options, s), &stage),
                  blocks)
             .release(),
         nullptr, blocks);
@@ -421,15 +439,17 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
     solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
   }
-  ceres::Solver::Options solver = solverOptions(
-      options, problem, result.x.data(), result.initial_states, secondsLeft(options, clock_start));
+  ceres::Solver::Options solver =
+      solverOptions(options, problem, result.x.data(), result.initial_states,
+                    secondsLeft(options, clock_start) - reserve);
   result.linear_solver = ceres::LinearSolverTypeToString(solver.linear_solver_type);
   bool out_of_budget = false;
-  RefineCallback callback(result.history, options, budget, result.interrupted, out_of_budget,
-                          "parameters", secondsSince(clock_start));
+  RefineCallback callback(result.history, options, stage, result.interrupted, out_of_budget,
+                          "parameters", secondsSince(clock_start),
+                          uncertainty && reserve == 0.0 ? 1 : 0);
   solver.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
-  const bool out_of_time = budget.expired();  // the base stage and the map back took it all
+  const bool out_of_time = stage.expired();  // the base stage and the map back took it all
   // The run control (its flag, its deadline, its hook on this thread) may have ended a stage by
   // failing its evaluations (costs.hpp) rather than through the callback.
   if (options.control.check()) result.interrupted = true;
@@ -444,8 +464,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
             : "USER_SUCCESS: the time budget ended before the parameter stage";
     result.usable = true;
   } else {
-    result.termination = terminationAt(summary, budget, out_of_budget);
-    result.usable = summary.IsSolutionUsable() || budget.stopped();
+    result.termination = terminationAt(summary, stage, out_of_budget);
+    result.usable = summary.IsSolutionUsable() || stage.stopped();
   }
   result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
   if (!result.base_stage) result.initial_cost = summary.initial_cost;
@@ -458,10 +478,20 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
       result.at_bound.push_back(names[j]);
   }
   // The uncertainty needs one more Jacobian (seconds): not after Ctrl-C, which must end the run
-  // within a second with its best parameters.
+  // within a second with its best parameters, nor when the budget has no room left for it (a
+  // stage that converged, or the base stage, close to the budget's end).
   if (base != nullptr) result.beta = base->projection * space.standardAt(result.x);
-  if (base != nullptr && options.uncertainty && !result.interrupted)
-    baseUncertainty(structure, space, problem, *base, options, result, pool);
+  if (uncertainty && !result.interrupted) {
+    const double left = secondsLeft(options, clock_start),
+                 needed = std::max(evaluation.longestJacobians(), jacobian_seconds);
+    if (left >= needed && !budget.expired())
+      baseUncertainty(structure, space, problem, *base, options, result, pool);
+    else
+      result.uncertainty_skipped =
+          "the time budget left " + formatNumber(std::max(left, 0.0), 2) +
+          " s, and the uncertainty needs a Jacobian of every segment (about " +
+          formatNumber(needed, 2) + " s): raise the time budget for it";
+  }
   result.seconds = secondsSince(clock_start);
   return result;
 }

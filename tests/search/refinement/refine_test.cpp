@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "core/errors.hpp"
@@ -210,6 +211,28 @@ TEST(Refine, HoldsItsTimeBudget) {
   EXPECT_TRUE(r.usable) << r.termination;
   EXPECT_FALSE(r.interrupted);  // the budget is not the run control
   EXPECT_LE(r.final_gc, r.initial_gc);
+}
+
+TEST(Refine, KeepsItsUncertaintyInsideTheBudget) {
+  // A budget shorter than one Jacobian of the 60 segments (about 0.4 s here): the uncertainty
+  // pass (another such Jacobian) would end past it, so it is skipped and the result says why;
+  // before, it ran after the budget.
+  const Model truth = makePuma560();
+  const ParameterSpace space(perturbedModel(truth, 0.3, 5), {});
+  const GcProblem problem = makeGcProblem(pumaData(8.0), {.num_segments = 60});
+  const BaseCoordinates base = pumaBase(truth);
+  RefineOptions options{.max_iterations = 1000000, .max_seconds = 0.2};
+  const RefineResult r = refineGc(space, problem, space.initial(), options, &base);
+  EXPECT_EQ(r.beta_std_dev.size(), 0) << r.termination;
+  EXPECT_NE(r.uncertainty_skipped.find("raise the time budget"), std::string::npos)
+      << r.uncertainty_skipped;
+  EXPECT_LT(r.seconds, 0.2 + 1.0);  // the slack of HoldsItsTimeBudget
+  // Without a budget it is computed, and nothing is said.
+  options.max_seconds = 0.0;
+  options.max_iterations = 1;
+  const RefineResult unbounded = refineGc(space, problem, space.initial(), options, &base);
+  EXPECT_EQ(unbounded.beta_std_dev.size(), base.projection.rows());
+  EXPECT_TRUE(unbounded.uncertainty_skipped.empty()) << unbounded.uncertainty_skipped;
 }
 
 TEST(Refine, RefusesMismatchedInput) {
