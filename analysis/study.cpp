@@ -120,6 +120,10 @@ Study::Study(const StudySettings& settings, RunControl control)
   problem.refine.options.max_seconds = settings_.refine_seconds;
   problem.refine.options.function_tolerance = settings_.refine_tolerance;
   problem.refine.keep_if_better = settings_.keep_if_better;
+  // combined (a batch's method) with the refinements' iterations and seconds, as dynid study
+  // gives it on logs; its own convergence tolerance.
+  problem.combined.max_iterations = settings_.refine_iterations;
+  problem.combined.max_seconds = settings_.refine_seconds;
   problem.truth_full = &truth_full_;
   problem.on_search_iteration = [this](Method method, const SearchState& state,
                                        const ParameterSpace& space) {

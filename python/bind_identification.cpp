@@ -102,11 +102,28 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
                         const OptionalDataLike& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const PathLike& robot_spec,
-                        const OptionalPathLike& validate_raw) {
+                        const OptionalPathLike& validate_raw, std::optional<double> horizon,
+                        std::optional<int> segments, std::optional<bool> raw_gc,
+                        std::optional<double> combined_weight,
+                        std::optional<double> combined_seconds,
+                        std::optional<int> combined_iterations) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
   IdentifyRequest request;  // checked by identifyRun
+  // The combined estimator's options, as identify's --horizon, --segments, --raw-gc,
+  // --combined-weight, --combined-seconds and --combined-iterations (checked by identifyRun).
+  if (method != "combined" &&
+      (horizon || segments || raw_gc || combined_weight || combined_seconds || combined_iterations))
+    throw py::value_error(
+        "horizon, segments, raw_gc and combined_* apply to method 'combined', not '" + method +
+        "'");
+  if (horizon) request.segments.horizon = *horizon;
+  if (segments) request.segments.num_segments = *segments;
+  if (raw_gc) request.segments.normalise = !*raw_gc;
+  if (combined_weight) request.combined.gc_weight = *combined_weight;
+  if (combined_seconds) request.combined.max_seconds = *combined_seconds;
+  if (combined_iterations) request.combined.max_iterations = *combined_iterations;
   request.model = model;
   request.method = parseMethod(method, identifyMethods());
   request.prior = prior;
@@ -402,10 +419,15 @@ void bindIdentify(py::module_& m) {
         py::arg("seed") = StructuralOptions{}.seed,
         py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
         py::arg("robot_spec") = "", py::arg("validate_raw") = py::none(),
+        py::arg("horizon") = py::none(), py::arg("segments") = py::none(),
+        py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
+        py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
         "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
         "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
         "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
-        "residuals of 100 normalised 50 ms rollouts together, at most 60 s). `validate`: held-out "
+        "residuals of 100 normalised 50 ms rollouts together, at most 60 s; `horizon`, "
+        "`segments`, `raw_gc`, `combined_weight`, `combined_seconds`, `combined_iterations` as "
+        "identify's options). `validate`: held-out "
         "data; `validate_raw`: prepare's "
         "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
         "recorded for "

@@ -88,6 +88,31 @@ def test_identify_equals_the_cli_estimate(tmp_path, puma_csv, puma_validate_csv,
         assert estimate.violations == []
 
 
+def test_combined_with_its_options_equals_the_cli(tmp_path, puma_csv):
+    # Two iterations and no time budget: the same bits whatever the machine's speed.
+    model = dynid.load_model("puma560-consistent")
+    run_cli("identify", "--robot", "puma560-consistent", "--data", puma_csv, "--method",
+            "combined", "--combined-iterations", "2", "--combined-seconds", "0", "--segments",
+            "40", "--out", tmp_path)
+    estimate = dynid.identify(model, puma_csv, method="combined", combined_iterations=2,
+                              combined_seconds=0.0, segments=40,
+                              robot_spec="puma560-consistent")
+    # Equal but for the wall times (combined's cost history and its total).
+    def timeless(node):
+        if isinstance(node, dict):
+            return {k: timeless(v) for k, v in node.items() if k != "seconds"}
+        if isinstance(node, list):
+            return [timeless(v) for v in node]
+        return node
+    assert (timeless(json.loads(estimate.to_json()))
+            == timeless(read_json(tmp_path / "estimate.json")))
+    assert estimate.method == "combined" and estimate.violations == []
+    with pytest.raises(ValueError, match="apply to method 'combined'"):
+        dynid.identify(model, puma_csv, method="pc", combined_iterations=2)
+    with pytest.raises(dynid.InputError):
+        dynid.identify(model, puma_csv, method="combined", combined_iterations=-1)
+
+
 def test_arrays_give_the_same_estimate_as_the_file(puma, puma_csv):
     from_file = dynid.identify(puma, puma_csv)
     data = dynid.read_dataset(puma_csv)
