@@ -389,6 +389,45 @@ TEST_F(MonitorRun, ARecordingsLateMessagesAreOrderedWithinItsWindow) {
   EXPECT_TRUE(counted);
 }
 
+// Efforts on a topic of their own (position and velocity on one, effort on another, as some
+// drivers publish them): read whole and joined at the positions' stamps, the same events.
+TEST_F(MonitorRun, ARecordingWithItsEffortsOnAnotherTopic) {
+  const Trajectory pushed = pushedPuma(model_, 3.0, {jointPush(2, 10.0, 1.5, 0.2)}, nullptr, 0.05);
+  const std::string csv = test::tempPath("monitor_split_efforts.csv");
+  writeDatasetCsv(csv, pushed);
+  const std::string bag = test::tempPath("monitor_split_efforts.db3");
+  {
+    test::JointStateDb3 db3(bag, {"/joint_states", "/joint_efforts"});
+    for (int k = 0; k < pushed.numSamples(); ++k) {
+      const Eigen::VectorXd q = pushed.q.col(k), dq = pushed.dq.col(k), tau = pushed.tau.col(k);
+      const std::int64_t ns = 1700000000000000000LL + std::llround(pushed.time[k] * 1e9);
+      db3.add(ns, ns + 100000, model_.joint_names, q.data(), dq.data(), nullptr, 0);
+      db3.add(ns, ns + 200000, model_.joint_names, nullptr, nullptr, tau.data(), 1);
+    }
+    db3.close();
+  }
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.calibration_file = clean_;
+  request.data_file = csv;
+  const MonitorOutcome a = monitorRun(request);
+  request.data_file = bag;
+  request.topic = "/joint_states";
+  request.effort_topic = "/joint_efforts";
+  const MonitorOutcome b = monitorRun(request);
+  ASSERT_EQ(a.events.size(), 1u);
+  ASSERT_EQ(b.events.size(), 1u);
+  EXPECT_EQ(a.events[0].joints, b.events[0].joints);
+  EXPECT_NEAR(a.events[0].start, b.events[0].start, 1e-8);
+  EXPECT_EQ(a.samples, b.samples);
+  // Nanosecond stamps, as above.
+  EXPECT_LT((a.observer_rms - b.observer_rms).norm(), 1e-8 * a.observer_rms.norm());
+  // Without the effort topic, the positions' messages carry none: refused, naming the options.
+  request.effort_topic.clear();
+  const std::string text = test::errorText<InputError>([&] { monitorRun(request); });
+  EXPECT_NE(text.find("carry no effort"), std::string::npos) << text;
+}
+
 TEST_F(MonitorRun, RefusesRecordingsItCannotMonitor) {
   const Trajectory pushed = pushedPuma(model_, 1.0, {}, nullptr, 0.05);
   MonitorRequest request;

@@ -80,7 +80,7 @@ TEST_F(CliMonitor, WatchesARecording) {
   const Trajectory pushed = readDatasetCsv(dir_ + "/pushed.csv");
   const std::string bag = dir_ + "/pushed.db3";
   {
-    test::JointStateDb3 db3(bag, "/robot/joint_states");
+    test::JointStateDb3 db3(bag, {"/robot/joint_states"});
     const std::vector<std::string> names{"joint1", "joint2", "joint3",
                                          "joint4", "joint5", "joint6"};
     for (int k = 0; k < pushed.numSamples(); ++k) {

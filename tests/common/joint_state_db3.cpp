@@ -44,7 +44,7 @@ void JointStateDb3::check(int rc) {
     throw Error(std::string("sqlite: ") + sqlite3_errmsg(db_));
 }
 
-JointStateDb3::JointStateDb3(const std::string& path, const std::string& topic) {
+JointStateDb3::JointStateDb3(const std::string& path, const std::vector<std::string>& topics) {
   std::filesystem::remove(path);
   check(sqlite3_open(path.c_str(), &db_));
   check(sqlite3_exec(db_,
@@ -56,25 +56,30 @@ JointStateDb3::JointStateDb3(const std::string& path, const std::string& topic) 
                      "timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
                      "CREATE INDEX timestamp_idx ON messages (timestamp ASC);",
                      nullptr, nullptr, nullptr));
-  sqlite3_stmt* topics = nullptr;
+  sqlite3_stmt* insert_topic = nullptr;
   check(sqlite3_prepare_v2(db_,
-                           "INSERT INTO topics VALUES (1, ?, 'sensor_msgs/msg/JointState', 'cdr', "
+                           "INSERT INTO topics VALUES (?, ?, 'sensor_msgs/msg/JointState', 'cdr', "
                            "'')",
-                           -1, &topics, nullptr));
-  sqlite3_bind_text(topics, 1, topic.c_str(), -1, SQLITE_TRANSIENT);
-  check(sqlite3_step(topics));
-  sqlite3_finalize(topics);
+                           -1, &insert_topic, nullptr));
+  for (std::size_t i = 0; i < topics.size(); ++i) {
+    sqlite3_bind_int(insert_topic, 1, static_cast<int>(i + 1));
+    sqlite3_bind_text(insert_topic, 2, topics[i].c_str(), -1, SQLITE_TRANSIENT);
+    check(sqlite3_step(insert_topic));
+    sqlite3_reset(insert_topic);
+  }
+  sqlite3_finalize(insert_topic);
   check(sqlite3_exec(db_, "BEGIN;", nullptr, nullptr, nullptr));
-  check(sqlite3_prepare_v2(db_, "INSERT INTO messages (topic_id, timestamp, data) VALUES (1, ?, ?)",
+  check(sqlite3_prepare_v2(db_, "INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)",
                            -1, &insert_, nullptr));
 }
 
 void JointStateDb3::add(std::int64_t stamp_ns, std::int64_t receive_ns,
                         const std::vector<std::string>& names, const double* q, const double* dq,
-                        const double* tau) {
+                        const double* tau, int topic) {
   const std::string& bytes = cdr_.encode(stamp_ns, names, q, dq, tau);
-  sqlite3_bind_int64(insert_, 1, receive_ns);
-  sqlite3_bind_blob(insert_, 2, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
+  sqlite3_bind_int(insert_, 1, topic + 1);
+  sqlite3_bind_int64(insert_, 2, receive_ns);
+  sqlite3_bind_blob(insert_, 3, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
   check(sqlite3_step(insert_));
   sqlite3_reset(insert_);
 }

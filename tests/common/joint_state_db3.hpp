@@ -12,8 +12,9 @@ struct sqlite3_stmt;
 
 namespace dynid::test {
 
-/// One JointState message as ROS 2 CDR: header stamp [ns], names, positions, velocities (none
-/// when `dq` is null) and efforts, n of each. The returned bytes live until the next call.
+/// One JointState message as ROS 2 CDR: header stamp [ns], names, positions, velocities and
+/// efforts, n of each (none of an array whose pointer is null). The returned bytes live until the
+/// next call.
 class CdrJointState {
  public:
   const std::string& encode(std::int64_t stamp_ns, const std::vector<std::string>& names,
@@ -26,18 +27,20 @@ class CdrJointState {
   std::string b_;
 };
 
-/// A rosbag2 SQLite recording with one sensor_msgs/msg/JointState topic, written message by
-/// message in one transaction; the file is complete after close() (or the destructor).
+/// A rosbag2 SQLite recording of sensor_msgs/msg/JointState topics, written message by message in
+/// one transaction; the file is complete after close() (or the destructor).
 class JointStateDb3 {
  public:
-  /// Creates `path` (replacing a file there). Throws dynid::Error when SQLite fails.
-  JointStateDb3(const std::string& path, const std::string& topic = "/joint_states");
+  /// Creates `path` (replacing a file there) with these topics. Throws dynid::Error when SQLite
+  /// fails.
+  explicit JointStateDb3(const std::string& path,
+                         const std::vector<std::string>& topics = {"/joint_states"});
   JointStateDb3(const JointStateDb3&) = delete;
   JointStateDb3& operator=(const JointStateDb3&) = delete;
   ~JointStateDb3();
-  /// One message: stamped stamp_ns, received receive_ns (the recorder's clock).
+  /// One message on topics[topic]: stamped stamp_ns, received receive_ns (the recorder's clock).
   void add(std::int64_t stamp_ns, std::int64_t receive_ns, const std::vector<std::string>& names,
-           const double* q, const double* dq, const double* tau);
+           const double* q, const double* dq, const double* tau, int topic = 0);
   void close();
 
  private:
