@@ -105,15 +105,8 @@ int runMonitor(const std::vector<std::string>& args) {
       "tau1..taun after that header (or the dataset's, with ddq)")(
       "calibration", po::value<std::string>(),
       "a clean log (dataset CSV or recording) of the same robot (no contact): the thresholds are "
-      "set on it")("topic", po::value<std::string>(),
-                   "recordings: the JointState topic (default: the only one)")(
-      "stamp", po::value<std::string>()->default_value("header"),
-      "recordings: header (header.stamp) or receive (when the recorder received each message)")(
-      "effort-topic", po::value<std::string>(),
-      "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
-      "are the torques (joints by name), interpolated at the position stamps")(
-      "thresholds", po::value<std::string>(),
-      "a thresholds.json from an earlier monitor (instead of --calibration)")(
+      "set on it")("thresholds", po::value<std::string>(),
+                   "a thresholds.json from an earlier monitor (instead of --calibration)")(
       "residual", po::value<std::string>()->default_value("observer"),
       "observer (generalized momentum: q, dq, tau) or direct (tau - model, needs ddq)")(
       "gain", po::value<std::string>(),
@@ -126,6 +119,7 @@ int runMonitor(const std::vector<std::string>& args) {
       "out", po::value<std::string>(),
       "output directory: monitor.json, thresholds.json, report.md, report.html (required unless "
       "--data -)");
+  addRecordingOptions(options);
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -150,10 +144,7 @@ int runMonitor(const std::vector<std::string>& args) {
                "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (vm.count("topic")) request.topic = vm["topic"].as<std::string>();
   if (vm.count("effort-topic")) request.effort_topic = vm["effort-topic"].as<std::string>();
-  const std::string stamp = vm["stamp"].as<std::string>();
-  if (stamp != "header" && stamp != "receive")
-    throw UsageError("--stamp must be header or receive, not '" + stamp + "'");
-  request.receive_time = stamp == "receive";
+  request.receive_time = receiveTimeOption(vm);
   if (vm.count("truth")) request.truth_file = vm["truth"].as<std::string>();
   const std::string residual = vm["residual"].as<std::string>();
   if (residual != "observer" && residual != "direct")

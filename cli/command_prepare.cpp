@@ -20,13 +20,6 @@ void addPrepareOptions(po::options_description& options) {
                         "sensor_msgs/JointState: ROS 2 .mcap or .db3 files or rosbag2 bag "
                         "directories (metadata.yaml, split files), ROS 1 .bag files; several: "
                         "separate recordings")(
-      "topic", po::value<std::string>(),
-      "recordings: the JointState topic (default: the only one)")(
-      "stamp", po::value<std::string>()->default_value("header"),
-      "recordings: header (header.stamp) or receive (when the recorder received each message)")(
-      "effort-topic", po::value<std::string>(),
-      "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
-      "are the torques (joints by name), interpolated at the position stamps")(
       "effort-log", po::value<std::string>(),
       "recordings whose JointState messages carry no effort: a table of torques (--tau) or "
       "currents (--current) against --time in seconds on the recording's clock, interpolated "
@@ -118,10 +111,7 @@ LogSource logSource(const po::variables_map& vm) {
     }
     if (vm.count("effort-topic")) source.effort_topic = text(vm, "effort-topic");
     if (vm.count("topic")) source.topic = text(vm, "topic");
-    const std::string stamp = text(vm, "stamp");
-    if (stamp != "header" && stamp != "receive")
-      throw UsageError("--stamp must be header or receive, not '" + stamp + "'");
-    source.receive_time = stamp == "receive";
+    source.receive_time = receiveTimeOption(vm);
     return source;
   }
   if (!vm["stamp"].defaulted())
@@ -288,6 +278,7 @@ void readHoldOut(const po::variables_map& vm, PrepareOptions& o) {
 int runPrepare(const std::vector<std::string>& args) {
   po::options_description options("dynid prepare");
   addPrepareOptions(options);
+  addRecordingOptions(options);
   po::variables_map vm;
   const std::string usage =
       "dynid prepare (--log log.csv... --q SEL --tau SEL | --log "

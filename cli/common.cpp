@@ -339,6 +339,23 @@ int threadsOption(const po::variables_map& vm) {
   return vm["threads"].as<int>();  // 0 to 256: core/option_ranges.hpp
 }
 
+void addRecordingOptions(po::options_description& options) {
+  options.add_options()("topic", po::value<std::string>(),
+                        "recordings: the JointState topic (default: the only one)")(
+      "stamp", po::value<std::string>()->default_value("header"),
+      "recordings: header (header.stamp) or receive (when the recorder received each message)")(
+      "effort-topic", po::value<std::string>(),
+      "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
+      "are the torques (joints by name), interpolated at the position stamps");
+}
+
+bool receiveTimeOption(const po::variables_map& vm) {
+  const std::string stamp = vm["stamp"].as<std::string>();
+  if (stamp != "header" && stamp != "receive")
+    throw UsageError("--stamp must be header or receive, not '" + stamp + "'");
+  return stamp == "receive";
+}
+
 void addRobotOptions(po::options_description& options, bool required) {
   po::typed_value<std::string>* robot = po::value<std::string>();
   if (required) robot->required();

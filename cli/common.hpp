@@ -88,6 +88,12 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);
 
+/// How a ROS recording's sensor_msgs/JointState messages are read (prepare, monitor): --topic,
+/// --stamp header|receive, --effort-topic.
+void addRecordingOptions(po::options_description& options);
+/// --stamp: true for receive (the recorder's time), false for header; UsageError otherwise.
+bool receiveTimeOption(const po::variables_map& vm);
+
 /// The options every robot-using command takes: --robot, --drives, --drive-terms, --strict
 /// (--robot required unless `required` is false).
 void addRobotOptions(po::options_description& options, bool required = true);
