@@ -323,7 +323,7 @@ std::string recording(const std::string& name, const Model& model, const Traject
   for (int k = 0; k < tr.numSamples(); ++k) {
     if (k == late) continue;
     put(k);
-    if (k == late + late_by) put(late);
+    if (late >= 0 && k == late + late_by) put(late);
     if (k == repeat) put(k);
   }
   db3.close();
