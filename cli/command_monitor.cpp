@@ -90,10 +90,7 @@ class PrintedEvents : public MonitorEventSink {
   }
 };
 
-}  // namespace
-
-int runMonitor(const std::vector<std::string>& args) {
-  po::options_description options("dynid monitor");
+void addMonitorOptions(po::options_description& options) {
   options.add_options()(
       "arm", po::value<std::string>()->required(),
       "the model: identify's estimate.json, an identified URDF, a dynid .json model or a robot")(
@@ -121,17 +118,14 @@ int runMonitor(const std::vector<std::string>& args) {
       "--data -)");
   addRecordingOptions(options);
   addThreadsOption(options);
-  po::variables_map vm;
-  const std::string usage =
-      "dynid monitor --arm estimate.json --data log.csv --calibration clean.csv --out DIR";
-  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+}
+
+/// The request the options describe (usage errors for options that do not go together).
+MonitorRequest monitorRequestOf(const po::variables_map& vm) {
   MonitorRequest request;
   request.arm = vm["arm"].as<std::string>();
   if (vm.count("robot")) request.robot_spec = vm["robot"].as<std::string>();
   request.data_file = vm["data"].as<std::string>();
-  const bool streamed = request.data_file == "-";
-  if (!streamed && !vm.count("out")) throw UsageError("--out is required (unless --data -)");
-  const std::string dir = vm.count("out") ? outputDirectoryOption(vm) : "";
   if (vm.count("calibration") == vm.count("thresholds"))
     throw UsageError("give --calibration CLEAN.csv or --thresholds thresholds.json (one of them)");
   if (vm.count("calibration")) request.calibration_file = vm["calibration"].as<std::string>();
@@ -162,6 +156,22 @@ int runMonitor(const std::vector<std::string>& args) {
   request.hold = vm["hold"].as<double>();
   request.max_gap = vm["max-gap"].as<double>();
   request.threads = threadsOption(vm);
+  return request;
+}
+
+}  // namespace
+
+int runMonitor(const std::vector<std::string>& args) {
+  po::options_description options("dynid monitor");
+  addMonitorOptions(options);
+  po::variables_map vm;
+  const std::string usage =
+      "dynid monitor --arm estimate.json --data log.csv --calibration clean.csv --out DIR";
+  if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  MonitorRequest request = monitorRequestOf(vm);
+  const bool streamed = request.data_file == "-";
+  if (!streamed && !vm.count("out")) throw UsageError("--out is required (unless --data -)");
+  const std::string dir = vm.count("out") ? outputDirectoryOption(vm) : "";
 
   InterruptGuard interrupt;
   request.control.stop = interrupt.flag();
