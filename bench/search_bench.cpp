@@ -50,6 +50,25 @@ BENCHMARK(BM_GcErrorLanes)
     ->Arg(8)
     ->Unit(benchmark::kMillisecond);
 
+// 4 lanes in each instruction set (core/lanes.hpp: 0 the build's, 1 AVX2, 2 AVX-512; the lanes
+// rows above take the widest this build and CPU offer, gcLaneIsa()); a set the CPU or the build
+// lacks is reported as skipped.
+void BM_GcErrorLanesIsa(benchmark::State& state) {
+  const int isa = static_cast<int>(state.range(0));
+  if (isa > gcLaneIsa()) {
+    state.SkipWithError("this build or CPU has no rollout for that instruction set");
+    return;
+  }
+  const GcProblem problem = pumaProblem(100);
+  const Model candidate = perturbedModel(makePuma560(), 0.3, 1);
+  ThreadPool pool(1);
+  GcWorkspace workspace(1, 4);
+  workspace.lane_isa = isa;
+  for (auto _ : state) benchmark::DoNotOptimize(gcError(candidate, problem, workspace, pool));
+  state.SetItemsProcessed(state.iterations() * 100 * problem.samples_per_segment);
+}
+BENCHMARK(BM_GcErrorLanesIsa)->ArgName("isa")->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -10,12 +10,12 @@
 
 namespace dynid {
 
-template <int W>
+template <int W, int Isa>
 struct Lanes;
 template <typename Scalar>
 inline constexpr bool kIsLanes = false;
-template <int W>
-inline constexpr bool kIsLanes<Lanes<W>> = true;
+template <int W, int Isa>
+inline constexpr bool kIsLanes<Lanes<W, Isa>> = true;
 
 template <typename Scalar>
 struct DataTpl {

@@ -6,9 +6,11 @@
 // order in which Eigen sums short dot products (it splits double sums into SIMD packets, which it
 // cannot do for a user type): round-off, bounded in search/gc_error.hpp.
 //
-// Built on GCC's vector extensions, so the compiler emits the widest instructions the build
-// targets: with the default flags (any x86-64: SSE2) a Lanes<2> is one 2-wide register; with
-// -DDYNID_NATIVE=ON on an AVX machine a Lanes<4> is one 4-wide one (kLanes picks).
+// Built on GCC's vector extensions, so the compiler emits the widest instructions the code is
+// compiled for: with the default flags (any x86-64: SSE2) a Lanes<2> is one 2-wide register; with
+// -DDYNID_NATIVE=ON on an AVX machine a Lanes<4> is one 4-wide one (kLanes picks). The default
+// build also has the GC rollout compiled for AVX2 and AVX-512 on types of their own (the Isa
+// parameter), chosen at run time (search/gc_lanes_simd.hpp).
 // A branch on a value becomes a select (comparisons return a per-lane Mask) or a test that every
 // lane agrees (allLanes); signum (Coulomb friction) is such a select.
 #pragma once
@@ -70,7 +72,15 @@ struct VectorOf<8> {
 #undef DYNID_LANES_ALIGN
 }  // namespace lanes_detail
 
-template <int W>
+/// The instruction set a Lanes type's code is compiled for: the build's (kBuildIsa), AVX2
+/// (kAvx2Isa) or AVX-512 (kAvx512Isa: F and VL, 4 lanes in 32 AVX registers). Lanes<4, kAvx2Isa>
+/// and Lanes<4, kAvx512Isa> exist only in the GC rollouts search/gc_lanes_avx2.cpp and
+/// gc_lanes_avx512.cpp compile for those instruction sets, run where the CPU has them (runtime
+/// dispatch, search/gc_lanes_simd.hpp). Separate types, so that every function instantiated for
+/// them is a symbol of its own: their code can never stand in for the build's.
+inline constexpr int kBuildIsa = 0, kAvx2Isa = 1, kAvx512Isa = 2;
+
+template <int W, int Isa = kBuildIsa>
 struct Lanes {
   using Vector = typename lanes_detail::VectorOf<W>::Vector;
   using Mask = typename lanes_detail::VectorOf<W>::Mask;  // all bits set where true
@@ -95,53 +105,54 @@ struct Lanes {
   DYNID_INLINE Lanes& operator/=(const Lanes& b) { return v /= b.v, *this; }
 };
 
-template <int W>
-DYNID_INLINE Lanes<W> operator+(const Lanes<W>& a, const Lanes<W>& b) {
-  return Lanes<W>::fromVector(a.v + b.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator+(const Lanes<W, I>& a, const Lanes<W, I>& b) {
+  return Lanes<W, I>::fromVector(a.v + b.v);
 }
-template <int W>
-DYNID_INLINE Lanes<W> operator-(const Lanes<W>& a, const Lanes<W>& b) {
-  return Lanes<W>::fromVector(a.v - b.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator-(const Lanes<W, I>& a, const Lanes<W, I>& b) {
+  return Lanes<W, I>::fromVector(a.v - b.v);
 }
-template <int W>
-DYNID_INLINE Lanes<W> operator*(const Lanes<W>& a, const Lanes<W>& b) {
-  return Lanes<W>::fromVector(a.v * b.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator*(const Lanes<W, I>& a, const Lanes<W, I>& b) {
+  return Lanes<W, I>::fromVector(a.v * b.v);
 }
-template <int W>
-DYNID_INLINE Lanes<W> operator/(const Lanes<W>& a, const Lanes<W>& b) {
-  return Lanes<W>::fromVector(a.v / b.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator/(const Lanes<W, I>& a, const Lanes<W, I>& b) {
+  return Lanes<W, I>::fromVector(a.v / b.v);
 }
-template <int W>
-DYNID_INLINE Lanes<W> operator-(const Lanes<W>& a) {
-  return Lanes<W>::fromVector(-a.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator-(const Lanes<W, I>& a) {
+  return Lanes<W, I>::fromVector(-a.v);
 }
-template <int W>
-DYNID_INLINE Lanes<W> operator+(const Lanes<W>& a) {
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> operator+(const Lanes<W, I>& a) {
   return a;
 }
 
 // Comparisons give a mask per lane; a NaN lane compares false, as a double does.
-template <int W>
-DYNID_INLINE typename Lanes<W>::Mask operator<(const Lanes<W>& a, const Lanes<W>& b) {
+template <int W, int I>
+DYNID_INLINE typename Lanes<W, I>::Mask operator<(const Lanes<W, I>& a, const Lanes<W, I>& b) {
   return a.v < b.v;
 }
-template <int W>
-DYNID_INLINE typename Lanes<W>::Mask operator>(const Lanes<W>& a, const Lanes<W>& b) {
+template <int W, int I>
+DYNID_INLINE typename Lanes<W, I>::Mask operator>(const Lanes<W, I>& a, const Lanes<W, I>& b) {
   return a.v > b.v;
 }
-template <int W>
-DYNID_INLINE typename Lanes<W>::Mask operator<=(const Lanes<W>& a, const Lanes<W>& b) {
+template <int W, int I>
+DYNID_INLINE typename Lanes<W, I>::Mask operator<=(const Lanes<W, I>& a, const Lanes<W, I>& b) {
   return a.v <= b.v;
 }
-template <int W>
-DYNID_INLINE typename Lanes<W>::Mask operator>=(const Lanes<W>& a, const Lanes<W>& b) {
+template <int W, int I>
+DYNID_INLINE typename Lanes<W, I>::Mask operator>=(const Lanes<W, I>& a, const Lanes<W, I>& b) {
   return a.v >= b.v;
 }
 
 /// Per lane: mask ? a : b.
-template <int W>
-DYNID_INLINE Lanes<W> select(typename Lanes<W>::Mask mask, const Lanes<W>& a, const Lanes<W>& b) {
-  return Lanes<W>::fromVector(mask ? a.v : b.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> select(typename Lanes<W, I>::Mask mask, const Lanes<W, I>& a,
+                                const Lanes<W, I>& b) {
+  return Lanes<W, I>::fromVector(mask ? a.v : b.v);
 }
 
 /// True when the condition holds in every lane (for a plain bool, the bool): a branch that the
@@ -155,46 +166,48 @@ DYNID_INLINE auto allLanes(Mask mask) -> decltype(mask[0] != 0) {
   return all;
 }
 
-template <int W>
-DYNID_INLINE Lanes<W> abs(const Lanes<W>& a) {
-  return Lanes<W>::fromVector(a.v < 0 ? -a.v : a.v);
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> abs(const Lanes<W, I>& a) {
+  return Lanes<W, I>::fromVector(a.v < 0 ? -a.v : a.v);
 }
 
 /// sign(x) in {-1, 0, 1} per lane; a NaN lane gives 0, as drive_terms.hpp's signum does.
-template <int W>
-DYNID_INLINE Lanes<W> signum(const Lanes<W>& x) {
-  using Vector = typename Lanes<W>::Vector;
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> signum(const Lanes<W, I>& x) {
+  using Vector = typename Lanes<W, I>::Vector;
   const Vector one = Vector{} + 1.0;
   const Vector zero{};
-  return Lanes<W>::fromVector(x.v > 0 ? one : (x.v < 0 ? -one : zero));
+  return Lanes<W, I>::fromVector(x.v > 0 ? one : (x.v < 0 ? -one : zero));
 }
 
 /// f applied to every lane: the transcendental functions lane by lane with the C library's, so each
 /// lane rounds as a double does.
-template <int W, typename F>
-DYNID_INLINE Lanes<W> eachLane(const Lanes<W>& a, F f) {
-  Lanes<W> out;
+template <int W, int I, typename F>
+DYNID_INLINE Lanes<W, I> eachLane(const Lanes<W, I>& a, F f) {
+  Lanes<W, I> out;
   for (int l = 0; l < W; ++l) out.v[l] = f(a.v[l]);
   return out;
 }
-template <int W>
-inline Lanes<W> sin(const Lanes<W>& a) {
+template <int W, int I>
+inline Lanes<W, I> sin(const Lanes<W, I>& a) {
   return eachLane(a, [](double x) { return std::sin(x); });
 }
-template <int W>
-inline Lanes<W> cos(const Lanes<W>& a) {
+template <int W, int I>
+inline Lanes<W, I> cos(const Lanes<W, I>& a) {
   return eachLane(a, [](double x) { return std::cos(x); });
 }
 
 /// sin and cos of every lane: glibc's vector functions (libmvec) for 4 lanes where the build
 /// targets AVX2 (at most 4 ulps from the correctly rounded value, glibc's bound; the scalar sincos
 /// is within 1), else sincos lane by lane (one range reduction for both).
-template <int W>
-inline void sinCos(const Lanes<W>& x, Lanes<W>& s, Lanes<W>& c) {
+template <int W, int I>
+inline void sinCos(const Lanes<W, I>& x, Lanes<W, I>& s, Lanes<W, I>& c) {
 #if DYNID_LANES_LIBMVEC
   if constexpr (W == 4) {
-    s.v = reinterpret_cast<typename Lanes<W>::Vector>(_ZGVdN4v_sin(reinterpret_cast<__m256d>(x.v)));
-    c.v = reinterpret_cast<typename Lanes<W>::Vector>(_ZGVdN4v_cos(reinterpret_cast<__m256d>(x.v)));
+    s.v = reinterpret_cast<typename Lanes<W, I>::Vector>(
+        _ZGVdN4v_sin(reinterpret_cast<__m256d>(x.v)));
+    c.v = reinterpret_cast<typename Lanes<W, I>::Vector>(
+        _ZGVdN4v_cos(reinterpret_cast<__m256d>(x.v)));
     return;
   }
 #endif
@@ -204,12 +217,12 @@ inline void sinCos(const Lanes<W>& x, Lanes<W>& s, Lanes<W>& c) {
     s.v[l] = sl, c.v[l] = cl;
   }
 }
-template <int W>
-inline Lanes<W> exp(const Lanes<W>& a) {
+template <int W, int I>
+inline Lanes<W, I> exp(const Lanes<W, I>& a) {
   return eachLane(a, [](double x) { return std::exp(x); });
 }
-template <int W>
-inline Lanes<W> sqrt(const Lanes<W>& a) {
+template <int W, int I>
+inline Lanes<W, I> sqrt(const Lanes<W, I>& a) {
   return eachLane(a, [](double x) { return std::sqrt(x); });
 }
 
@@ -218,12 +231,12 @@ inline Lanes<W> sqrt(const Lanes<W>& a) {
 namespace Eigen {
 
 /// What Eigen needs of a scalar type; Lanes is never compared, printed or decomposed by Eigen.
-template <int W>
-struct NumTraits<dynid::Lanes<W>> : GenericNumTraits<double> {
-  using Real = dynid::Lanes<W>;
-  using NonInteger = dynid::Lanes<W>;
-  using Nested = dynid::Lanes<W>;
-  using Literal = dynid::Lanes<W>;
+template <int W, int I>
+struct NumTraits<dynid::Lanes<W, I>> : GenericNumTraits<double> {
+  using Real = dynid::Lanes<W, I>;
+  using NonInteger = dynid::Lanes<W, I>;
+  using Nested = dynid::Lanes<W, I>;
+  using Literal = dynid::Lanes<W, I>;
   enum {
     IsComplex = 0,
     IsInteger = 0,
@@ -233,10 +246,10 @@ struct NumTraits<dynid::Lanes<W>> : GenericNumTraits<double> {
     AddCost = 1,
     MulCost = 1,
   };
-  static dynid::Lanes<W> epsilon() {
-    return dynid::Lanes<W>(std::numeric_limits<double>::epsilon());
+  static dynid::Lanes<W, I> epsilon() {
+    return dynid::Lanes<W, I>(std::numeric_limits<double>::epsilon());
   }
-  static dynid::Lanes<W> dummy_precision() { return dynid::Lanes<W>(1e-12); }
+  static dynid::Lanes<W, I> dummy_precision() { return dynid::Lanes<W, I>(1e-12); }
 };
 
 }  // namespace Eigen

@@ -18,10 +18,11 @@ namespace dynid {
 GcWorkspace::PerThread::PerThread(const Model& model)
     : model(model), data(model), q(model.numJoints()), dq(model.numJoints()), tau(0) {}
 
-GcWorkspace::GcWorkspace(int num_threads, int lanes) : lanes(lanes == 0 ? kLanes : lanes) {
+GcWorkspace::GcWorkspace(int num_threads, int lanes)
+    : lanes(lanes == 0 ? defaultGcLanes() : lanes), lane_isa(gcLaneIsa()) {
   if (this->lanes != 1 && this->lanes != 2 && this->lanes != 4 && this->lanes != 8)
-    throw InputError("GC lanes must be 1, 2, 4 or 8 (0: " + std::to_string(kLanes) + "), not " +
-                     std::to_string(lanes));
+    throw InputError("GC lanes must be 1, 2, 4 or 8 (0: " + std::to_string(defaultGcLanes()) +
+                     "), not " + std::to_string(lanes));
   threads.resize(static_cast<std::size_t>(num_threads));
 }
 
@@ -39,6 +40,10 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
   if (problem.data.numJoints() != n)
     throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
                      " joints, the model " + std::to_string(n));
+  if (workspace.lane_isa < kBuildIsa || workspace.lane_isa > gcLaneIsa())
+    throw InputError("GC lane instruction set " + std::to_string(workspace.lane_isa) +
+                     " is not one this build and CPU offer (at most " +
+                     std::to_string(gcLaneIsa()) + ")");
   workspace.segment_errors.resize(problem.numSegments());
   const long evaluation = ++workspace.evaluations;
   std::atomic<bool> stopped{false};
@@ -56,8 +61,8 @@ double gcError(const Model& candidate, const GcProblem& problem, GcWorkspace& wo
     GcWorkspace::PerThread& own = *slot;
     if (width > 1) {
       // Segments g W .. g W + W - 1 in lanes (gc_lanes.cpp), each lane from its own copy.
-      gc_detail::rollOutGroup(width, candidate, evaluation, problem, g * width, own.lane_buffers,
-                              workspace.segment_errors);
+      gc_detail::rollOutGroup(width, workspace.lane_isa, candidate, evaluation, problem, g * width,
+                              own.lane_buffers, workspace.segment_errors);
       return;
     }
     // The pool's other threads read the candidate from a copy in their own memory, refreshed once

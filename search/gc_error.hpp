@@ -23,6 +23,16 @@
 
 namespace dynid {
 
+/// The lanes a GcWorkspace takes by default: kLanes (core/lanes.hpp: one register of the CPU the
+/// build targets), except that a build for any x86-64 running on a CPU with AVX2 or AVX-512 takes
+/// 4, rolled in AVX registers by a rollout compiled for that set and chosen at run time
+/// (search/gc_lanes_simd.hpp).
+int defaultGcLanes();
+
+/// The widest instruction set this build and the CPU it runs on offer the GC's 4 lanes
+/// (core/lanes.hpp's kAvx512Isa, kAvx2Isa, or kBuildIsa), checked once.
+int gcLaneIsa();
+
 /// Per-thread workspace for GC-error evaluations of one model structure. Each thread's buffers are
 /// made by gcError on that thread, the first time it runs there: glibc gives each thread its own
 /// allocator arena, so what one thread writes never shares a cache line with another's. The pool's
@@ -30,8 +40,11 @@ namespace dynid {
 ///
 /// `lanes` is how many segments one thread rolls out at once (core/lanes.hpp): 1 is the scalar
 /// path, one segment at a time (the reference); 2, 4 or 8 roll that many in SIMD lanes; 0 (the
-/// default) takes kLanes, the widest the build targets. A segment's error does not depend on the
-/// lane count beyond round-off in Eigen's sums (see gcError), and not at all on the thread count.
+/// default) takes defaultGcLanes(). A segment's error does not depend on the lane count beyond
+/// round-off in Eigen's sums (see gcError), and not at all on the thread count.
+/// `lane_isa` is the instruction set 4 lanes roll in (core/lanes.hpp's kBuildIsa, kAvx2Isa or
+/// kAvx512Isa): by default the widest this build and CPU offer (gcLaneIsa()); a narrower one may
+/// be set (benchmarks and tests compare them), a wider one is an InputError from gcError.
 struct GcWorkspace {
   explicit GcWorkspace(int num_threads, int lanes = 0);
   /// One thread's lane buffers (gc_lanes.cpp: a model, a Data and the state in Lanes<W>).
@@ -50,6 +63,7 @@ struct GcWorkspace {
   Eigen::VectorXd segment_errors;
   long evaluations = 0;
   int lanes = 1;  // 1, 2, 4 or 8
+  int lane_isa = 0;
 };
 
 /// Squared prediction error of each segment into workspace.segment_errors, summed in segment order

@@ -11,31 +11,33 @@ namespace dynid::gc_detail {
 
 namespace {
 
-template <int W>
+template <int W, int Isa>
 struct Buffers final : GcWorkspace::LaneBuffers {
+  using L = Lanes<W, Isa>;
   explicit Buffers(const Model& candidate)
-      : model(candidate.cast<Lanes<W>>()),
+      : model(candidate.cast<L>()),
         data(model),
         q(candidate.numJoints()),
         dq(candidate.numJoints()),
         tau(candidate.numJoints()) {}
-  ModelTpl<Lanes<W>> model;  // the candidate in every lane
-  long evaluation = -1;      // the evaluation `model` was cast for
-  DataTpl<Lanes<W>> data;
-  VectorX<Lanes<W>> q, dq, tau;
+  ModelTpl<L> model;     // the candidate in every lane
+  long evaluation = -1;  // the evaluation `model` was cast for
+  DataTpl<L> data;
+  VectorX<L> q, dq, tau;
   Eigen::VectorXd q_lane, dq_lane;  // one lane's end state, for segmentError
 };
 
-template <int W>
+template <int W, int Isa>
 void rollOut(const Model& candidate, long evaluation, const GcProblem& problem, int first,
              std::unique_ptr<GcWorkspace::LaneBuffers>& slot, Eigen::VectorXd& errors) {
-  auto* own = dynamic_cast<Buffers<W>*>(slot.get());
+  using Own = Buffers<W, Isa>;
+  auto* own = dynamic_cast<Own*>(slot.get());
   if (!own) {
-    slot = std::make_unique<Buffers<W>>(candidate);
-    own = static_cast<Buffers<W>*>(slot.get());
+    slot = std::make_unique<Own>(candidate);
+    own = static_cast<Own*>(slot.get());
     own->evaluation = evaluation;
   } else if (own->evaluation != evaluation) {
-    own->model = candidate.cast<Lanes<W>>();
+    own->model = candidate.cast<typename Own::L>();
     own->evaluation = evaluation;
   }
   // Lane l rolls segment first + l; past the last segment the lanes repeat it (results dropped).
@@ -48,7 +50,12 @@ void rollOut(const Model& candidate, long evaluation, const GcProblem& problem, 
       own->q[j].set(l, problem.data.q(j, problem.starts[segments[l]]));
       own->dq[j].set(l, problem.data.dq(j, problem.starts[segments[l]]));
     }
-  rollOutSegments<W>(own->model, own->data, problem, segments, own->q, own->dq, own->tau);
+#if DYNID_GC_SIMD
+  if constexpr (Isa != kBuildIsa)
+    rollOutSegmentsSimd<Isa>(own->model, own->data, problem, segments, own->q, own->dq, own->tau);
+  else
+#endif
+    rollOutSegments<W>(own->model, own->data, problem, segments, own->q, own->dq, own->tau);
   own->q_lane.resize(n);
   own->dq_lane.resize(n);
   for (int l = 0; l < count; ++l) {
@@ -60,17 +67,51 @@ void rollOut(const Model& candidate, long evaluation, const GcProblem& problem, 
 
 }  // namespace
 
-void rollOutGroup(int width, const Model& candidate, long evaluation, const GcProblem& problem,
-                  int first, std::unique_ptr<GcWorkspace::LaneBuffers>& buffers,
-                  Eigen::VectorXd& errors) {
+}  // namespace dynid::gc_detail
+
+namespace dynid {
+
+int gcLaneIsa() {
+#if DYNID_GC_SIMD
+  static const int isa = [] {
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")) return kAvx512Isa;
+    if (__builtin_cpu_supports("avx2")) return kAvx2Isa;
+    return kBuildIsa;
+  }();
+  return isa;
+#else
+  return kBuildIsa;
+#endif
+}
+
+}  // namespace dynid
+
+namespace dynid::gc_detail {
+
+void rollOutGroup(int width, int isa, const Model& candidate, long evaluation,
+                  const GcProblem& problem, int first,
+                  std::unique_ptr<GcWorkspace::LaneBuffers>& buffers, Eigen::VectorXd& errors) {
   switch (width) {
     case 2:
-      return rollOut<2>(candidate, evaluation, problem, first, buffers, errors);
+      return rollOut<2, kBuildIsa>(candidate, evaluation, problem, first, buffers, errors);
     case 4:
-      return rollOut<4>(candidate, evaluation, problem, first, buffers, errors);
+#if DYNID_GC_SIMD
+      if (isa == kAvx512Isa)
+        return rollOut<4, kAvx512Isa>(candidate, evaluation, problem, first, buffers, errors);
+      if (isa == kAvx2Isa)
+        return rollOut<4, kAvx2Isa>(candidate, evaluation, problem, first, buffers, errors);
+#endif
+      return rollOut<4, kBuildIsa>(candidate, evaluation, problem, first, buffers, errors);
     default:
-      return rollOut<8>(candidate, evaluation, problem, first, buffers, errors);
+      return rollOut<8, kBuildIsa>(candidate, evaluation, problem, first, buffers, errors);
   }
 }
 
 }  // namespace dynid::gc_detail
+
+namespace dynid {
+
+int defaultGcLanes() { return gcLaneIsa() == kBuildIsa ? kLanes : 4; }
+
+}  // namespace dynid

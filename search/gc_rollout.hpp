@@ -42,14 +42,15 @@ void rollOutSegment(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data, const 
 /// entries) is scratch. Each lane applies its own segment's recorded torques; the lanes share the
 /// model, so they may repeat a segment (a last group with fewer than W left). Sizes are the
 /// caller's to check. Needs core/integrators-inl.hpp (no Lanes instantiation is compiled in core).
-template <int W>
-void rollOutSegments(const ModelTpl<Lanes<W>>& model, DataTpl<Lanes<W>>& data,
+template <int W, int Isa>
+void rollOutSegments(const ModelTpl<Lanes<W, Isa>>& model, DataTpl<Lanes<W, Isa>>& data,
                      const GcProblem& problem, const std::array<int, W>& segments,
-                     VectorX<Lanes<W>>& q, VectorX<Lanes<W>>& dq, VectorX<Lanes<W>>& tau) {
+                     VectorX<Lanes<W, Isa>>& q, VectorX<Lanes<W, Isa>>& dq,
+                     VectorX<Lanes<W, Isa>>& tau) {
   const Eigen::MatrixXd& recorded = problem.data.tau;
   std::array<int, W> starts;
   for (int l = 0; l < W; ++l) starts[l] = problem.starts[segments[l]];
-  const Lanes<W> h(problem.step);
+  const Lanes<W, Isa> h(problem.step);
   for (int k = 0; k < problem.samples_per_segment; ++k) {
     // Lane l's tau: its segment's sample k, held over the sample period.
     for (int j = 0; j < model.numJoints(); ++j)

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "core/lanes.hpp"
@@ -59,8 +61,9 @@ TEST(GcError, SameResultForAnyThreadCount) {
 }
 
 // Lanes (core/lanes.hpp) roll several segments at once; each segment's error is the scalar path's
-// to 1e-12 relative (gc_error.hpp gives the reason), the same for every lane width and thread
-// count.
+// to 1e-12 relative (gc_error.hpp gives the reason), the same for every lane width, thread count
+// and instruction set 4 lanes roll in (the build's, and AVX2 and AVX-512 where this build
+// dispatches to them and the CPU has them: search/gc_lanes_simd.hpp).
 TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
   const GcProblem problem = makeGcProblem(pumaData(), {.num_segments = 37});  // 37: a part group
   ThreadPool one(1), two(2);
@@ -69,26 +72,33 @@ TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
     GcWorkspace scalar(1, 1);
     const double reference = gcError(candidate, problem, scalar, one);
     Eigen::VectorXd width_two;
-    for (int lanes : {2, 4, 8}) {
+    std::vector<std::pair<int, int>> runs = {{2, kBuildIsa}, {4, kBuildIsa}, {8, kBuildIsa}};
+    for (int isa = kBuildIsa + 1; isa <= gcLaneIsa(); ++isa) runs.emplace_back(4, isa);
+    for (const auto& [lanes, isa] : runs) {
       GcWorkspace w1(1, lanes), w2(2, lanes);
+      w1.lane_isa = w2.lane_isa = isa;
       const double total = gcError(candidate, problem, w1, one);
-      EXPECT_EQ(gcError(candidate, problem, w2, two), total) << lanes;
-      EXPECT_EQ(w2.segment_errors, w1.segment_errors) << lanes;
+      EXPECT_EQ(gcError(candidate, problem, w2, two), total) << lanes << " lanes, isa " << isa;
+      EXPECT_EQ(w2.segment_errors, w1.segment_errors) << lanes << " lanes, isa " << isa;
       for (int s = 0; s < problem.numSegments(); ++s)
         EXPECT_NEAR(w1.segment_errors[s], scalar.segment_errors[s],
                     1e-12 * scalar.segment_errors[s])
             << "segment " << s << ", " << lanes << " lanes";
       EXPECT_NEAR(total, reference, 1e-12 * reference) << lanes;
-      // Every lane does the same operations whatever the width: bit for bit the same, unless
-      // 4 lanes take glibc's vector sin and cos (an AVX2 build: core/lanes.hpp).
+      // Every lane does the same operations whatever the width or instruction set: bit for bit
+      // the same, unless 4 lanes take glibc's vector sin and cos (an AVX2 build: core/lanes.hpp).
       if (lanes == 2) width_two = w1.segment_errors;
       if (!DYNID_LANES_LIBMVEC) {
-        EXPECT_EQ(w1.segment_errors, width_two) << lanes;
+        EXPECT_EQ(w1.segment_errors, width_two) << lanes << " lanes, isa " << isa;
       }
     }
   }
   EXPECT_THROW(GcWorkspace(1, 3), InputError);
-  EXPECT_EQ(GcWorkspace(1).lanes, kLanes);
+  GcWorkspace too_wide(1, 4);
+  too_wide.lane_isa = gcLaneIsa() + 1;
+  EXPECT_THROW(gcError(makePuma560(), problem, too_wide, one), InputError);
+  EXPECT_EQ(GcWorkspace(1).lanes, defaultGcLanes());
+  EXPECT_TRUE(defaultGcLanes() == kLanes || defaultGcLanes() == 4);
 }
 
 TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
