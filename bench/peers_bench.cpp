@@ -1,6 +1,7 @@
 // dynid against Orocos KDL (ChainIdSolver_RNE, ChainDynParam, ChainFdSolver_RNE) and MuJoCo
 // (mj_inverse, mj_forward, mj_step with RK4) on the same PUMA 560, in one run, single-threaded;
-// dynid's RK4 step also in lanes (core/lanes.hpp: kLanes states per step, as the GC error).
+// dynid's RK4 step also in lanes (core/lanes.hpp: kLanes states per step), and per step of the GC
+// error's rollouts as the searches run them (the lanes and instruction set chosen at run time).
 //
 // The model: the built-in PUMA 560 made physically consistent (makePuma560Consistent), because
 // MuJoCo's compiler refuses the original (link 1 is massless with a rank-1 inertia, link 3 violates
@@ -30,13 +31,16 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench/puma_problem.hpp"
 #include "core/aba.hpp"
 #include "core/crba.hpp"
 #include "core/integrators-inl.hpp"
 #include "core/lanes.hpp"
+#include "core/perturb.hpp"
 #include "core/rnea.hpp"
 #include "data/mjcf.hpp"
 #include "data/puma560.hpp"
+#include "search/gc_error.hpp"
 
 #ifdef DYNID_HAVE_KDL
 #include <kdl/chain.hpp>
@@ -156,6 +160,22 @@ void dynidRk4Lanes(benchmark::State& state) {
     dynid::rk4Step(lanes, data, q, dq, tau, L(kStep));
     benchmark::DoNotOptimize(q.data());
   });
+}
+
+/// The GC error's rollouts as the searches run them (search/gc_error.hpp: 100 PUMA segments of 50
+/// RK4 steps, one thread, defaultGcLanes() lanes in the widest instruction set this build and CPU
+/// offer, gcLaneIsa()): the time of one evaluation divided by its 5000 steps, for a per-core RK4
+/// step rate beside MuJoCo's. Includes what a rollout adds to its steps (each sample's torques
+/// into the lanes, each segment's start state and error).
+void dynidGcRolloutStep(benchmark::State& state) {
+  static const dynid::GcProblem problem = dynid::bench::pumaProblem(100);
+  const Model candidate = dynid::perturbedModel(dynid::makePuma560(), 0.3, 1);  // as bench_search
+  dynid::ThreadPool pool(1);
+  dynid::GcWorkspace workspace(1);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(dynid::gcError(candidate, problem, workspace, pool));
+  state.counters["lanes"] = workspace.lanes;
+  state.counters["isa"] = workspace.lane_isa;
 }
 
 // ----- Orocos KDL -----
@@ -410,12 +430,14 @@ int main(int argc, char** argv) {
       {"mass matrix", {{"dynid", "MassMatrix/dynid"}}},
       {"forward dynamics", {{"dynid", "ForwardDynamics/dynid"}}},
       {"RK4 step (1 ms)", {{"dynid", "Rk4Step/dynid"}}},
-      {"RK4 step, per lane", {{"dynid", "Rk4Step/dynid-lanes"}}}};
+      {"RK4 step, per lane", {{"dynid", "Rk4Step/dynid-lanes"}}},
+      {"RK4 step in the GC rollout", {{"dynid", "Rk4Step/dynid-gc-rollout"}}}};
   benchmark::RegisterBenchmark("RNEA/dynid", dynidRnea);
   benchmark::RegisterBenchmark("MassMatrix/dynid", dynidMass);
   benchmark::RegisterBenchmark("ForwardDynamics/dynid", dynidForward);
   benchmark::RegisterBenchmark("Rk4Step/dynid", dynidRk4);
   benchmark::RegisterBenchmark("Rk4Step/dynid-lanes", dynidRk4Lanes);
+  benchmark::RegisterBenchmark("Rk4Step/dynid-gc-rollout", dynidGcRolloutStep);
 
 #ifdef DYNID_HAVE_KDL
   if (const std::string why = checkKdl(); why.empty()) {
@@ -446,6 +468,7 @@ int main(int argc, char** argv) {
       table[2].second.push_back({"MuJoCo", "ForwardDynamics/MuJoCo-mj_forward"});
       table[3].second.push_back({"MuJoCo", "Rk4Step/MuJoCo-mj_step"});
       table[4].second.push_back({"MuJoCo", "Rk4Step/MuJoCo-mj_step"});
+      table[5].second.push_back({"MuJoCo", "Rk4Step/MuJoCo-mj_step"});
     } else {
       std::cout << "MuJoCo: DISAGREES with dynid, not timed: " << why << "\n";
     }
@@ -464,9 +487,10 @@ int main(int argc, char** argv) {
   for (const auto& [quantity, engines] : table) {
     const auto own = reporter.times.find(engines.front().second);
     if (own == reporter.times.end()) continue;
-    // The lanes' time is for kLanes states.
-    const double own_ns =
-        own->first == "Rk4Step/dynid-lanes" ? own->second / dynid::kLanes : own->second;
+    // The lanes' time is for kLanes states, the GC rollout's for its 100 x 50 steps.
+    const double own_ns = own->first == "Rk4Step/dynid-lanes"        ? own->second / dynid::kLanes
+                          : own->first == "Rk4Step/dynid-gc-rollout" ? own->second / 5000.0
+                                                                     : own->second;
     std::printf("  %-26s dynid %9.1f ns", quantity.c_str(), own_ns);
     for (std::size_t e = 1; e < engines.size(); ++e) {
       const auto peer = reporter.times.find(engines[e].second);

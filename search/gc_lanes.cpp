@@ -89,7 +89,7 @@ int gcLaneIsa() {
 
 namespace dynid::gc_detail {
 
-void rollOutGroup(int width, int isa, const Model& candidate, long evaluation,
+void rollOutGroup(int width, [[maybe_unused]] int isa, const Model& candidate, long evaluation,
                   const GcProblem& problem, int first,
                   std::unique_ptr<GcWorkspace::LaneBuffers>& buffers, Eigen::VectorXd& errors) {
   switch (width) {
