@@ -15,6 +15,7 @@
 #include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/puma560.hpp"
+#include "search/gc_lanes_simd.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -98,7 +99,19 @@ TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
   too_wide.lane_isa = gcLaneIsa() + 1;
   EXPECT_THROW(gcError(makePuma560(), problem, too_wide, one), InputError);
   EXPECT_EQ(GcWorkspace(1).lanes, defaultGcLanes());
+  EXPECT_EQ(GcWorkspace(1).lane_isa, gcLaneIsa());
   EXPECT_TRUE(defaultGcLanes() == kLanes || defaultGcLanes() == 4);
+#if DYNID_GC_SIMD
+  // A build with the dispatch takes the wider rollouts wherever the CPU has them (else they
+  // would be silently unused and every test above would still pass).
+  if (__builtin_cpu_supports("avx2")) {
+    EXPECT_GE(gcLaneIsa(), kAvx2Isa);
+    EXPECT_EQ(defaultGcLanes(), 4);
+  }
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")) {
+    EXPECT_EQ(gcLaneIsa(), kAvx512Isa);
+  }
+#endif
 }
 
 TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
