@@ -1,10 +1,12 @@
 // Lanes<W>: W doubles that move through the Scalar-templated algorithms together, one SIMD lane
 // each, the way ceres::Jet moves a value and its derivatives. The GC error rolls W segments at once
 // in them (search/gc_error.hpp). Each lane does the operations a double does (IEEE +, -, *, /;
-// sin, cos, exp, sqrt from the C library lane by lane; in an AVX2 build, sin and cos of 4 lanes
-// from glibc's vector library, within 4 ulps), so a lane's result is the scalar path's up to the
-// order in which Eigen sums short dot products (it splits double sums into SIMD packets, which it
-// cannot do for a user type): round-off, bounded in search/gc_error.hpp.
+// exp and sqrt from the C library lane by lane; sin and cos of all lanes at once, within 1 ulp:
+// sinCos below), so a lane's result is the scalar path's up to round-off: the order in which Eigen
+// sums short dot products (it splits double sums into SIMD packets, which it cannot do for a user
+// type) and sin and cos rounded differently from the C library's in the last bit, bounded in
+// search/gc_error.hpp. A lane's result depends on nothing but its own inputs: the same bits in any
+// lane of any width, whatever instruction set the lanes are compiled for (no fused multiply-add).
 //
 // Built on GCC's vector extensions, so the compiler emits the widest instructions the code is
 // compiled for: with the default flags (any x86-64: SSE2) a Lanes<2> is one 2-wide register; with
@@ -20,16 +22,6 @@
 #include <Eigen/Core>
 
 #include "core/spatial.hpp"
-
-// glibc's vector sin and cos (libmvec, linked by core/CMakeLists.txt) where the build targets AVX2.
-#if defined(__AVX2__) && defined(__x86_64__) && defined(__GLIBC__) && defined(DYNID_HAVE_LIBMVEC)
-#include <immintrin.h>
-extern "C" __m256d _ZGVdN4v_sin(__m256d);
-extern "C" __m256d _ZGVdN4v_cos(__m256d);
-#define DYNID_LANES_LIBMVEC 1
-#else
-#define DYNID_LANES_LIBMVEC 0
-#endif
 
 namespace dynid {
 
@@ -188,34 +180,114 @@ DYNID_INLINE Lanes<W, I> eachLane(const Lanes<W, I>& a, F f) {
   for (int l = 0; l < W; ++l) out.v[l] = f(a.v[l]);
   return out;
 }
+namespace lanes_detail {
+
+/// The range sinCosKernel reduces exactly enough: |x| <= 1e5 rad (k < 2^16 quarter turns, so that
+/// k times each of the first two 33-bit parts of pi/2 below is exact).
+inline constexpr double kSinCosRange = 1e5;
+
+/// sin and cos of every lane of x, |x| <= kSinCosRange (else any value), within 1 ulp of the
+/// exact values (faithfully rounded; tests/core/lanes_test.cpp measures it against long double
+/// sinl/cosl: 0.77 ulp at most, the C library's 0.56), from IEEE +, -, * alone, so the same bits
+/// in every lane, width and instruction set. How:
+/// - x = k pi/2 + r, |r| <= pi/4: k the nearest integer to x 2/pi; r = x - k P1 - k P2 - k P3
+///   with pi/2 = P1 + P2 + P3 (+ 1e-37): P1 and P2 of 33 significant bits, so k P1 and k P2 are
+///   exact and x - k P1 too (Sterbenz); r as a double-double (r, r_lo), the rounding of the
+///   subtractions caught by an exact two-sum, so that r keeps its relative accuracy near a
+///   multiple of pi/2 (cos(pi/2) = 6.1e-17 to the last bit).
+/// - sin r and cos r from their Taylor series to r^17 and r^16 (truncation below 1e-18 relative
+///   for |r| <= pi/4, far under an ulp: the error is the arithmetic's), r_lo added to first order;
+///   cos r as w + ((1 - w) - r^2/2 + ...) with w = 1 - r^2/2, which recovers w's rounding.
+/// - the quadrant k mod 4 (the low bits of x 2/pi + 1.5 2^52) swaps sin and cos and sets signs.
+/// sin(+-0) = +-0. The constants are pi/2 split and 1/n! rounded to the nearest double
+/// (mpmath, 400 bits).
+/// (Templated on the width, not on the vector type: a vector typedef passed as a template argument
+/// loses its reduced alignment, and a 32-byte vector aligned to 16 is then loaded as if aligned
+/// to 32.)
+template <int W>
+DYNID_INLINE typename VectorOf<W>::Vector all(double a) {
+  return typename VectorOf<W>::Vector{} + a;
+}
+template <int W>
+DYNID_INLINE void sinCosKernel(const typename VectorOf<W>::Vector& x,
+                               typename VectorOf<W>::Vector& s, typename VectorOf<W>::Vector& c) {
+  using V = typename VectorOf<W>::Vector;
+  using M = typename VectorOf<W>::Mask;
+  const V magic = all<W>(0x1.8p52);  // x 2/pi + magic rounds to an integer, k in the low bits
+  const V km = x * all<W>(0x1.45f306dc9c883p-1) + magic;
+  const V k = km - magic;
+  const V r1 = x - k * all<W>(0x1.921fb54400000p+0);  // exact
+  const V t2 = k * all<W>(0x1.0b4611a600000p-34);     // exact
+  const V hi = r1 - t2;
+  const V bb = hi - r1;
+  const V err = (r1 - (hi - bb)) - (t2 + bb);  // r1 - t2 = hi + err exactly
+  const V lo = err - k * all<W>(0x1.3198a2e037073p-69);
+  const V r = hi + lo;
+  const V r_lo = lo - (r - hi);
+  const V z = r * r;
+  // sin r = r + r z (-1/3! + z/5! - ...), cos r = 1 - z/2 + z^2 (1/4! - z/6! + ...).
+  V ps = z * all<W>(0x1.952c77030ad4ap-49) + all<W>(-0x1.ae7f3e733b81fp-41);
+  V pc = z * all<W>(0x1.ae7f3e733b81fp-45) + all<W>(-0x1.93974a8c07c9dp-37);
+  ps = ps * z + all<W>(0x1.6124613a86d09p-33);
+  pc = pc * z + all<W>(0x1.1eed8eff8d898p-29);
+  ps = ps * z + all<W>(-0x1.ae64567f544e4p-26);
+  pc = pc * z + all<W>(-0x1.27e4fb7789f5cp-22);
+  ps = ps * z + all<W>(0x1.71de3a556c734p-19);
+  pc = pc * z + all<W>(0x1.a01a01a01a01ap-16);
+  ps = ps * z + all<W>(-0x1.a01a01a01a01ap-13);
+  pc = pc * z + all<W>(-0x1.6c16c16c16c17p-10);
+  ps = ps * z + all<W>(0x1.1111111111111p-7);
+  pc = pc * z + all<W>(0x1.5555555555555p-5);
+  ps = ps * z + all<W>(-0x1.5555555555555p-3);
+  ps = ps * z;
+  pc = pc * (z * z);
+  const V one = all<W>(1.0), half = all<W>(0.5);
+  const V sin_r = r + (r * ps + r_lo * (one - half * z));
+  const V hz = half * z;  // exact
+  const V w = one - hz;
+  const V cos_r = w + (((one - w) - hz) + (pc - r * r_lo));
+  // Quadrant: odd k swaps sin and cos; sin is negated for k mod 4 in {2, 3}, cos for {1, 2}.
+  const M kb = reinterpret_cast<M>(km);
+  const M swap = -(kb & 1);
+  const M sb = reinterpret_cast<M>(sin_r), cb = reinterpret_cast<M>(cos_r);
+  const M so = ((cb & swap) | (sb & ~swap)) ^ ((kb & 2) << 62);
+  const M co = ((sb & swap) | (cb & ~swap)) ^ (((kb + 1) & 2) << 62);
+  const M zero = x == V{};  // keeps sin(-0) = -0
+  s = zero ? x : reinterpret_cast<V>(so);
+  c = reinterpret_cast<V>(co);
+}
+
+}  // namespace lanes_detail
+
+/// sin and cos of every lane (lanes_detail::sinCosKernel: within 1 ulp); a lane beyond
+/// kSinCosRange, infinite or NaN takes the C library's sincos instead. Each lane's result depends
+/// on its own x alone.
+template <int W, int I>
+DYNID_INLINE void sinCos(const Lanes<W, I>& x, Lanes<W, I>& s, Lanes<W, I>& c) {
+  using Vector = typename Lanes<W, I>::Vector;
+  using Mask = typename Lanes<W, I>::Mask;
+  const Vector xv = x.v;  // s or c may be x
+  const Mask in_range = (xv < 0 ? -xv : xv) <= Vector{} + lanes_detail::kSinCosRange;
+  lanes_detail::sinCosKernel<W>(xv, s.v, c.v);
+  if (!allLanes(in_range))
+    for (int l = 0; l < W; ++l)
+      if (!in_range[l]) {
+        double sl, cl;
+        ::sincos(xv[l], &sl, &cl);
+        s.v[l] = sl, c.v[l] = cl;
+      }
+}
 template <int W, int I>
 inline Lanes<W, I> sin(const Lanes<W, I>& a) {
-  return eachLane(a, [](double x) { return std::sin(x); });
+  Lanes<W, I> s, c;
+  sinCos(a, s, c);
+  return s;
 }
 template <int W, int I>
 inline Lanes<W, I> cos(const Lanes<W, I>& a) {
-  return eachLane(a, [](double x) { return std::cos(x); });
-}
-
-/// sin and cos of every lane: glibc's vector functions (libmvec) for 4 lanes where the build
-/// targets AVX2 (at most 4 ulps from the correctly rounded value, glibc's bound; the scalar sincos
-/// is within 1), else sincos lane by lane (one range reduction for both).
-template <int W, int I>
-inline void sinCos(const Lanes<W, I>& x, Lanes<W, I>& s, Lanes<W, I>& c) {
-#if DYNID_LANES_LIBMVEC
-  if constexpr (W == 4) {
-    s.v = reinterpret_cast<typename Lanes<W, I>::Vector>(
-        _ZGVdN4v_sin(reinterpret_cast<__m256d>(x.v)));
-    c.v = reinterpret_cast<typename Lanes<W, I>::Vector>(
-        _ZGVdN4v_cos(reinterpret_cast<__m256d>(x.v)));
-    return;
-  }
-#endif
-  for (int l = 0; l < W; ++l) {
-    double sl, cl;
-    ::sincos(x.v[l], &sl, &cl);
-    s.v[l] = sl, c.v[l] = cl;
-  }
+  Lanes<W, I> s, c;
+  sinCos(a, s, c);
+  return c;
 }
 template <int W, int I>
 inline Lanes<W, I> exp(const Lanes<W, I>& a) {

@@ -71,9 +71,10 @@ struct GcWorkspace {
 /// equals the scalar path's to within 1e-12 relative (tests/search/gc_error_test.cpp) where the
 /// error is well above round-off (at the truth of noise-free data both are round-off, below
 /// 1e-24): a lane does every operation a double does, but Eigen sums a double dot product in SIMD
-/// packets and a lane's in order, so the two differ by an ulp or so per sum, grown over the
-/// horizon's steps. The lane count itself changes nothing (every lane's operations are the same
-/// for any width), except that an AVX2 build takes sin and cos of 4 lanes from libmvec.
+/// packets and a lane's in order, and a lane's sin and cos (core/lanes.hpp's kernel) may round the
+/// other way from the C library's (both within 1 ulp), so the two differ by an ulp or so per sum
+/// or rotation, grown over the horizon's steps. The lane count and instruction set change nothing
+/// (every lane's operations are the same for any width).
 /// Before each segment (each group of `lanes` segments) it polls `control` (stopped(): the flag and
 /// the deadline): once stopped, the remaining segments are skipped and the result is NaN (the
 /// evaluation did not finish). Throws InputError when the model's joint count differs from the

@@ -87,11 +87,9 @@ TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
             << "segment " << s << ", " << lanes << " lanes";
       EXPECT_NEAR(total, reference, 1e-12 * reference) << lanes;
       // Every lane does the same operations whatever the width or instruction set: bit for bit
-      // the same, unless 4 lanes take glibc's vector sin and cos (an AVX2 build: core/lanes.hpp).
+      // the same (sin and cos included: core/lanes.hpp's kernel).
       if (lanes == 2) width_two = w1.segment_errors;
-      if (!DYNID_LANES_LIBMVEC) {
-        EXPECT_EQ(w1.segment_errors, width_two) << lanes << " lanes, isa " << isa;
-      }
+      EXPECT_EQ(w1.segment_errors, width_two) << lanes << " lanes, isa " << isa;
     }
   }
   EXPECT_THROW(GcWorkspace(1, 3), InputError);
