@@ -33,11 +33,11 @@ endfunction()
 
 include(GoogleTest)
 
-# dynid_add_test(path/to/name_test.cpp DEPS...): one GoogleTest executable per source file; the
-# test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test). In sanitizer
-# builds the programs listed in DYNID_SANITIZER_SKIPPED_TESTS are not made.
+# dynid_add_test(path/to/name_test.cpp [SERIAL] DEPS...): one GoogleTest executable per source
+# file; the test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test). In
+# sanitizer builds the programs listed in DYNID_SANITIZER_SKIPPED_TESTS are not made.
 function(dynid_add_test source)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "" "DEPS" ${ARGN})
   get_filename_component(stem ${source} NAME_WE)
   get_filename_component(dir ${source} DIRECTORY)
   get_filename_component(module ${dir} NAME)
@@ -62,6 +62,12 @@ function(dynid_add_test source)
   if(DYNID_SANITIZE)
     set(environment "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
   endif()
+  # SERIAL: tests that time a command against its own wall-clock budget run alone (ctest -j2 would
+  # otherwise share the two cores with another test after the command has timed its reserve).
+  set(serial FALSE)
+  if(ARG_SERIAL)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
-                       PROPERTIES ENVIRONMENT "${environment}")
+                       PROPERTIES ENVIRONMENT "${environment}" RUN_SERIAL ${serial})
 endfunction()
