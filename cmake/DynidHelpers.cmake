@@ -69,5 +69,5 @@ function(dynid_add_test source)
     set(serial TRUE)
   endif()
   gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
-                       PROPERTIES ENVIRONMENT "${environment}" RUN_SERIAL ${serial})
+                       PROPERTIES RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
 endfunction()
