@@ -57,6 +57,9 @@ function(dynid_add_test source)
   if(DYNID_SANITIZE)
     target_compile_options(${target} PRIVATE -O0)
   endif()
+  # GoogleTest and Eigen parsed once for every test program (tests/CMakeLists.txt,
+  # dynid_test_pch): a fifth to a third of each test source's compile time.
+  target_precompile_headers(${target} REUSE_FROM dynid_test_pch)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   set(environment "")
   if(DYNID_SANITIZE)

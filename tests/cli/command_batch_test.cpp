@@ -158,7 +158,7 @@ TEST(Cli, BatchFilesAreRelativeToTheManifest) {
   const std::filesystem::path dir = test::tempPath("batch_relative");
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "sub");
-  std::filesystem::copy_file(std::string(DYNID_EXAMPLES) + "/excitation/puma560_cond.json",
+  std::filesystem::copy_file(DYNID_SOURCE_DIR "/examples/excitation/puma560_cond.json",
                              dir / "sub" / "design.json");
   ASSERT_EQ(
       run("model export --robot puma560 --format json --out " + (dir / "arm.json").string()).code,
@@ -197,7 +197,7 @@ TEST_P(ExampleManifest, RunsInQuickMode) {
   const std::string dir = test::tempPath("example_" + name);
   std::filesystem::remove_all(dir);
   const Result r =
-      run("batch " + std::string(DYNID_EXAMPLES) + "/" + name +
+      run("batch " + std::string(DYNID_SOURCE_DIR "/examples") + "/" + name +
           ".json --quick --jobs 2 --shard 1/" + std::to_string(shards) + " --out " + dir);
   ASSERT_EQ(r.code, 0) << name << ": " << r.err;
   const auto table = resultsOf(dir);
