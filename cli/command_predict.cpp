@@ -34,9 +34,10 @@ int runPredict(const std::vector<std::string>& args) {
   refuseUnused(vm, !estimate, {"drives", "drive-terms", "strict"},
                "applies to --robot alone (an estimate carries its own drive terms)");
   const std::string dir = outputDirectoryOption(vm);
-  PredictRequest request{estimate ? vm["estimate"].as<std::string>() : "",
-                         vm["data"].as<std::string>(),
-                         vm.count("robot") ? vm["robot"].as<std::string>() : ""};
+  PredictRequest request;
+  request.estimate_file = estimate ? vm["estimate"].as<std::string>() : "";
+  request.data_file = vm["data"].as<std::string>();
+  request.robot_spec = vm.count("robot") ? vm["robot"].as<std::string>() : "";
   if (!estimate) request.model = loadRobotFromOptions(vm);
   request.threads = threadsOption(vm);
   if (vm.count("raw")) request.raw_file = vm["raw"].as<std::string>();

@@ -86,7 +86,8 @@ DriveTerms driveTermsArg(const py::handle& value, const char* name) {
       if (!py::isinstance<py::str>(item))
         throw py::type_error(std::string(name) + ": expected names such as 'fv', not " +
                              std::string(py::repr(item)));
-      joined += (joined.empty() ? "" : ",") + item.cast<std::string>();
+      if (!joined.empty()) joined += ',';
+      joined += item.cast<std::string>();
     }
     return parseDriveTerms(joined.empty() ? "none" : joined);
   }

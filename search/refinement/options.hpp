@@ -50,7 +50,7 @@ struct RefineOptions {
   RunControl control = {};
   /// Called after every solver iteration of either stage with it and the share of the run done:
   /// of the time budget when there is one, else of max_iterations (for progress on a terminal).
-  std::function<void(const struct RefineIteration&, double done)> on_iteration;
+  std::function<void(const struct RefineIteration&, double done)> on_iteration{};
 };
 
 struct RefineIteration {

@@ -91,9 +91,8 @@ TEST(CommandTable, DashIsStandardOutputForOneFileAndRefusedForADirectory) {
   const Result model = run("model export --robot puma560 --format urdf --out -");
   EXPECT_EQ(model.code, 0);
   EXPECT_TRUE(contains(model.out, "<robot")) << model.out.substr(0, 80);
-  for (const std::string& command :
-       {"identify --robot puma560 --data x.csv --out -", "demo --out -",
-        "predict --robot puma560 --data x.csv --out -"}) {
+  for (const char* command : {"identify --robot puma560 --data x.csv --out -", "demo --out -",
+                              "predict --robot puma560 --data x.csv --out -"}) {
     const Result r = run(command);
     EXPECT_EQ(r.code, 2) << command;
     EXPECT_TRUE(contains(r.err, "names a directory")) << command << ": " << r.err;
