@@ -13,7 +13,7 @@
 // the build's copy (tests/search/gc_lanes_simd_symbols.sh checks both objects). No FMA
 // (fp-contract off): each lane does the scalar path's IEEE operations, as in the build's lanes,
 // so the results are the same bit for bit whatever the width or the CPU, and sin and cos come
-// from the same C library. Internal to the search module.
+// from the same kernel (core/lanes.hpp). Internal to the search module.
 #pragma once
 
 #include <array>
