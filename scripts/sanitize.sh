@@ -22,7 +22,9 @@ fi
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
   -DCMAKE_CXX_FLAGS="-O1 -g1 -DEIGEN_NO_DEBUG" -DDYNID_SANITIZE=ON -DDYNID_FUZZ=ON -DDYNID_FUZZ_SECONDS="$seconds" \
   -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=OFF
+start=$SECONDS
 cmake --build "$build" -j"$jobs"
+echo "sanitize.sh: the sanitizer build took $((SECONDS - start)) s" >&2
 export ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 # End-to-end runs in programs that are otherwise kept, and the heaviest numerical checks (a
@@ -35,5 +37,7 @@ export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 # a 2-core Zen 3), a Ctrl-C during a long read, three 100000-row streams under a memory cap, the
 # combined estimator's trade and noise floor): 15 s to minutes each under the sanitizers.
 SKIP='GradientCheckerOnEverySegmentCost|PandaLogAsARos1Bag|RefineFromIsTheRefinementOfAnyPoint|ReportedSigmaCoversTheErrors|row_malformed_deep_in_a_long_file|PandaExampleRunsAndBeatsThePublishedFit|RefineFromASearchAndFromAnEstimate|APumaDesignBeatsTheDefaultSinusoid|TheRelativeSdCriterionLowers|TorqueAndFloorLimitsAreKept|TheFirstOrderGcCriterionTracks|ExciteIsTheSameForAnyThreadCount|ExciteWritesTheDesignItsTrajectory|SimulateTracksADesignedExcitation|BatchTrainsOnADesignedTrajectory|RunnerMemoisesSearchesAndRefinesTheirResult|HostileNamesInARobotFileItsPathAndTmpdir|SearchWritesHistoryAndResumesFromACheckpoint|IntervalsCoverTheTruthAtTheirLevel|FlagsAChangedFrictionTermAndLittleElse|CoversNinetyFivePercentOfDataWithTheTrainingNoise|NoiseFreeDataGiveTheTrueProjection|TheSameSeedGivesTheSameDesignWithAnyThreadCount|IdentifyGivesTheSameEstimateOnAnyThreadCount|KeepsEveryStrideThSampleWhateverTheChunks|PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData|OlsAndWlsEqualTheDenseSolution|IndependenceIsTheUnexplainedShareOfEachColumn|CtrlCDuringALongReadLeavesNothing|rows_huge_streamed_under_memory_cap|TradesTorqueFitForMotionAndStaysConsistent|DoesNotFitTheGcErrorBelowItsNoiseFloor|TheNoiseFloorIsTheGcErrorTheTorqueNoiseCauses|EveryLongCommandStopsSoonAfterCtrlC|SearchAndExciteHoldTheirTimeBudgets|RefinementsGiveTheSameBitsForAnyThreadCount'
+start=$SECONDS
 ctest --test-dir "$build" --output-on-failure -j"$jobs" -LE fuzz -E "$SKIP"
+echo "sanitize.sh: the sanitizer suite took $((SECONDS - start)) s" >&2
 ctest --test-dir "$build" --output-on-failure -j"$jobs" -L fuzz

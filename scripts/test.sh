@@ -5,7 +5,11 @@
 # tests, 10 s of each fuzz target).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# Each step's wall time on stderr at its end (docs/TOUR.md keeps what they were on a clean clone).
+last=$SECONDS
+took() { echo "test.sh: $1 took $((SECONDS - last)) s" >&2; last=$SECONDS; }
 ./scripts/install-deps.sh
+took "installing packages"
 # Ninja (installed above) for a new build directory: it schedules the two builds' ~400 objects
 # and links better than make; a directory configured before keeps its generator.
 generator=()
@@ -15,5 +19,8 @@ fi
 cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DDYNID_BUILD_TESTS=ON \
   -DDYNID_BUILD_BENCH=ON -DDYNID_PYTHON=ON
 cmake --build build -j"$(nproc)"
+took "the release build"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
+took "the release suite"
 ./scripts/sanitize.sh
+took "the sanitizer build, suite and fuzz targets"
