@@ -33,6 +33,21 @@ endfunction()
 
 include(GoogleTest)
 
+# dynid_test_code_options(target): the optimisation level of the tests' own code, for every test
+# program and for the precompiled header they share (tests/CMakeLists.txt), which must be built
+# with the same flags as the sources that use it.
+function(dynid_test_code_options target)
+  # The test's own code at -O1 in a release build (the library it tests keeps -O3): half the
+  # build's compile time is the ~140 test sources, mostly spent optimising GoogleTest and Eigen
+  # instantiations that run once; -O1 (after -O3, so it wins) saves about a fifth of it.
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  # Under the sanitizers (scripts/sanitize.sh: -O1 for everything) the test's own code at -O0:
+  # it halves those sources' compile time; what they test is the library, still at -O1.
+  if(DYNID_SANITIZE)
+    target_compile_options(${target} PRIVATE -O0)
+  endif()
+endfunction()
+
 # dynid_add_test(path/to/name_test.cpp [SERIAL] DEPS...): one GoogleTest executable per source
 # file; the test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test). In
 # sanitizer builds the programs listed in DYNID_SANITIZER_SKIPPED_TESTS are not made.
@@ -48,17 +63,9 @@ function(dynid_add_test source)
   add_executable(${target} ${source})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)
-  # The test's own code at -O1 in a release build (the library it tests keeps -O3): half the
-  # build's compile time is the ~140 test sources, mostly spent optimising GoogleTest and Eigen
-  # instantiations that run once; -O1 (after -O3, so it wins) saves about a fifth of it.
-  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
-  # Under the sanitizers (scripts/sanitize.sh: -O1 for everything) the test's own code at -O0:
-  # it halves those sources' compile time; what they test is the library, still at -O1.
-  if(DYNID_SANITIZE)
-    target_compile_options(${target} PRIVATE -O0)
-  endif()
+  dynid_test_code_options(${target})
   # GoogleTest and Eigen parsed once for every test program (tests/CMakeLists.txt,
-  # dynid_test_pch): a fifth to a third of each test source's compile time.
+  # dynid_test_pch).
   target_precompile_headers(${target} REUSE_FROM dynid_test_pch)
   set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   set(environment "")
