@@ -6,12 +6,16 @@
 namespace dynid {
 
 namespace {
-constexpr double kPi = std::numbers::pi;
 // Modified DH (Franka's documentation; Gaz et al. 2019): a_{i-1} [m], d_i [m], alpha_{i-1} [rad].
 constexpr std::array<double, 7> kA = {0.0, 0.0, 0.0, 0.0825, -0.0825, 0.0, 0.088};
 constexpr std::array<double, 7> kD = {0.333, 0.0, 0.316, 0.0, 0.384, 0.0, 0.0};
-constexpr std::array<double, 7> kAlpha = {0.0,      -kPi / 2, kPi / 2, kPi / 2,
-                                          -kPi / 2, kPi / 2,  kPi / 2};
+constexpr std::array<double, 7> kAlpha = {0.0,
+                                          -std::numbers::pi / 2,
+                                          std::numbers::pi / 2,
+                                          std::numbers::pi / 2,
+                                          -std::numbers::pi / 2,
+                                          std::numbers::pi / 2,
+                                          std::numbers::pi / 2};
 // Franka's joint limits: position [rad], velocity [rad/s], acceleration [rad/s^2], torque [N m].
 constexpr std::array<double, 7> kLower = {-2.8973, -1.7628, -2.8973, -3.0718,
                                           -2.8973, -0.0175, -2.8973};

@@ -1,5 +1,6 @@
 #include "identifiability/least_squares.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "core/errors.hpp"
@@ -7,16 +8,12 @@
 
 namespace dynid {
 
-namespace {
-
-/// Per-joint RMS of the rows k n + j of r.
 Eigen::VectorXd jointRms(const Eigen::VectorXd& r, int n) {
   const Eigen::Index samples = r.size() / n;
   const Eigen::Map<const Eigen::MatrixXd> by_joint(r.data(), n, samples);
-  return (by_joint.rowwise().squaredNorm() / static_cast<double>(samples)).cwiseSqrt();
+  return (by_joint.rowwise().squaredNorm() / std::max<double>(static_cast<double>(samples), 1.0))
+      .cwiseSqrt();
 }
-
-}  // namespace
 
 BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observation& observation,
                                     LeastSquaresMethod method) {

@@ -17,6 +17,9 @@ namespace dynid {
 /// Solved by Householder QR of the column-scaled regressor. Throws NumericalError when the data do
 /// not excite every base parameter (naming the unexcited ones; rank-deficient data is never
 /// solved), InputError when the observation has fewer rows than base parameters.
+/// Per-joint RMS of a stacked vector (rows k n + j: n joints, r.size() / n samples; zero for none).
+Eigen::VectorXd jointRms(const Eigen::VectorXd& r, int n);
+
 BaseEstimate estimateBaseParameters(const BaseParameters& base, const Observation& observation,
                                     LeastSquaresMethod method);
 

@@ -12,6 +12,7 @@
 #include "core/log_cholesky.hpp"
 #include "core/memory.hpp"
 #include "core/parameters.hpp"
+#include "identifiability/least_squares.hpp"
 #include "identifiability/physically_consistent.hpp"
 
 namespace dynid {
@@ -56,14 +57,6 @@ void PayloadRows::add(const Eigen::Ref<const Eigen::MatrixXd>& body,
 }
 
 namespace {
-
-/// Per joint RMS of a stacked vector (rows k n + j).
-Eigen::VectorXd jointRms(const Eigen::VectorXd& v, int n) {
-  const Eigen::Index samples = v.size() / n;
-  const Eigen::Map<const Eigen::MatrixXd> m(v.data(), n, samples);
-  return (m.rowwise().squaredNorm() / std::max<double>(static_cast<double>(samples), 1.0))
-      .cwiseSqrt();
-}
 
 /// Per joint standard deviation of residuals with `unknowns` parameters fitted, floored at 1e-9 of
 /// the largest joint's target RMS (noise-free data still needs finite weights).

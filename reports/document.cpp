@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "core/format.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -30,6 +31,8 @@ void Document::figure(const Figure& figure) {
   figures_.push_back(figure);
   blocks_.push_back({Kind::kFigure, {}, {}, static_cast<int>(figures_.size()) - 1});
 }
+
+std::string percentText(double fraction) { return formatNumber(100.0 * fraction, 3, "n/a") + " %"; }
 
 namespace {
 /// A Markdown table cell: pipes escaped, line breaks flattened.

@@ -10,6 +10,9 @@
 
 namespace dynid {
 
+/// A fraction as a percentage for a report: 3 significant digits and " %" ("n/a" when not finite).
+std::string percentText(double fraction);
+
 struct DocumentTable {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;  // each as long as the header

@@ -16,8 +16,6 @@ namespace dynid {
 
 namespace {
 
-std::string percent(double fraction) { return formatNumber(100.0 * fraction, 3, "n/a") + " %"; }
-
 /// "a, b and c" (at most `limit` names, then "and N more").
 std::string nameList(const std::vector<std::string>& names, std::size_t limit = 40) {
   std::string out;
@@ -37,9 +35,9 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
   doc.paragraph(
       "Relative torque error |tau - tau_hat| / |tau| over every joint and sample (the "
       "literature's measure): " +
-      percent(t.relative_error) + " on the " + std::to_string(t.num_samples) +
+      percentText(t.relative_error) + " on the " + std::to_string(t.num_samples) +
       " training samples of " + o.data_file +
-      (v ? ", " + percent(v->relative_error) + " on the " + std::to_string(v->num_samples) +
+      (v ? ", " + percentText(v->relative_error) + " on the " + std::to_string(v->num_samples) +
                " held-out samples of " + o.validate_file
          : std::string(", no held-out data (give --validate to measure it)")) +
       ".");
@@ -53,10 +51,10 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
     const double measured = o.fit.measured_rms[j];
     std::vector<std::string> row = {std::to_string(j + 1), formatNumber(measured, 3, "n/a"),
                                     formatNumber(t.torque_rms[j], 3, "n/a"),
-                                    percent(t.normalised_rms[j])};
+                                    percentText(t.normalised_rms[j])};
     if (v)
       row.insert(row.end(),
-                 {formatNumber(v->torque_rms[j], 3, "n/a"), percent(v->normalised_rms[j])});
+                 {formatNumber(v->torque_rms[j], 3, "n/a"), percentText(v->normalised_rms[j])});
     table.rows.push_back(row);
   }
   table.caption = "Relative error per joint: residual RMS over measured RMS.";
@@ -176,12 +174,12 @@ void combinedSection(Document& doc, const IdentifyOutcome& o) {
   const Validation* v = o.validate_fit ? &o.validate_fit->validation : nullptr;
   DocumentTable table;
   table.header = {"estimate", "torque error, train", "held out", "GC error, train", "held out"};
-  table.rows.push_back({"pc (the start)", percent(c.torque_train_pc), percent(c.torque_test_pc),
-                        formatNumber(c.gc_train_pc, 4, "n/a"),
+  table.rows.push_back({"pc (the start)", percentText(c.torque_train_pc),
+                        percentText(c.torque_test_pc), formatNumber(c.gc_train_pc, 4, "n/a"),
                         formatNumber(c.gc_test_pc, 4, "n/a")});
-  table.rows.push_back({"combined", percent(o.fit.validation.relative_error),
-                        v ? percent(v->relative_error) : "n/a", formatNumber(c.gc_train, 4, "n/a"),
-                        formatNumber(c.gc_test, 4, "n/a")});
+  table.rows.push_back({"combined", percentText(o.fit.validation.relative_error),
+                        v ? percentText(v->relative_error) : "n/a",
+                        formatNumber(c.gc_train, 4, "n/a"), formatNumber(c.gc_test, 4, "n/a")});
   table.caption = "GC error: the sum over the rollouts of the squared state errors at their end" +
                   std::string(c.test_segments > 0
                                   ? " (" + std::to_string(c.test_segments) + " held-out rollouts)"
@@ -288,7 +286,6 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
                                                                        const IdentifyOutcome& o) {
   const BaseParameters& base = o.base;
   const BaseEstimate& e = o.result.estimate;
-  const auto percent = [](double x) { return formatNumber(100.0 * x, 3, "n/a") + " %"; };
   std::vector<std::string> uncertain;
   for (int j = 0; j < base.numBase(); ++j)
     if (!(e.relative_std_dev_percent[j] <= 10.0)) uncertain.push_back(base.baseName(j));
@@ -297,10 +294,11 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
                                       model.name + " by " + methodDescription(o.method) + " from " +
                                       std::to_string(e.num_samples) + " samples of " + o.data_file +
                                       ".");
-  std::string how = "relative torque error " + percent(e.relative_error) + " on the training data";
-  how += o.validation
-             ? ", " + percent(o.validation->relative_error) + " held out (" + o.validate_file + ")"
-             : "; not checked on held-out data";
+  std::string how =
+      "relative torque error " + percentText(e.relative_error) + " on the training data";
+  how += o.validation ? ", " + percentText(o.validation->relative_error) + " held out (" +
+                            o.validate_file + ")"
+                      : "; not checked on held-out data";
   how += "; " + std::to_string(base.numBase() - static_cast<int>(uncertain.size())) + " of " +
          std::to_string(base.numBase()) + " base parameters within 10 % (%σ).";
   if (o.result.pc || !o.violations.empty())

@@ -15,8 +15,6 @@ namespace dynid {
 
 namespace {
 
-std::string percent(double fraction) { return formatNumber(100.0 * fraction, 3, "n/a") + " %"; }
-
 std::string describeKey(const std::string& key) {
   if (key == "model") return "the robot's own parameters (the input model)";
   if (key == "start") return "the searches' start: the physically consistent (pc) estimate";
@@ -31,7 +29,7 @@ const LogStudyRow* find(const LogStudyOutcome& o, const std::string& key) {
 
 /// "held-out torque error 1.1 %, GC error 72.2".
 std::string heldOutErrors(const LogStudyRow& r) {
-  return "held-out torque error " + percent(r.torque_test) + ", GC error " +
+  return "held-out torque error " + percentText(r.torque_test) + ", GC error " +
          formatNumber(r.gc_test, 3, "n/a");
 }
 
@@ -123,7 +121,7 @@ std::string logStudyTable(const LogStudyOutcome& o) {
   out << line;
   for (const LogStudyRow& r : o.rows) {
     std::snprintf(line, sizeof(line), "%-16s %12s %12s %12s %12s %10s %8s\n", r.key.c_str(),
-                  percent(r.torque_train).c_str(), percent(r.torque_test).c_str(),
+                  percentText(r.torque_train).c_str(), percentText(r.torque_test).c_str(),
                   formatNumber(r.gc_train, 3, "n/a").c_str(),
                   formatNumber(r.gc_test, 3, "n/a").c_str(), r.consistent ? "yes" : "no",
                   formatNumber(r.seconds, 3, "n/a").c_str());
@@ -246,7 +244,7 @@ Document logStudyDocument(const LogStudyOutcome& o) {
                   "evaluations",
                   "seconds"};
   for (const LogStudyRow& r : o.rows)
-    table.rows.push_back({r.key, percent(r.torque_train), percent(r.torque_test),
+    table.rows.push_back({r.key, percentText(r.torque_train), percentText(r.torque_test),
                           formatNumber(r.gc_train, 3, "n/a"), formatNumber(r.gc_test, 3, "n/a"),
                           r.consistent ? "yes" : "no", std::to_string(r.evaluations),
                           formatNumber(r.seconds, 3, "n/a")});

@@ -11,7 +11,9 @@ namespace dynid {
 using nlohmann::json;
 
 namespace {
-double numberOrNan(const json& x) {
+/// A number, or NaN for anything else (data/json_number.hpp's numberOrNan throws on a non-null
+/// non-number: a prepare.json written by an older dynid may hold one).
+double numberElseNan(const json& x) {
   return x.is_number() ? x.get<double>() : std::numeric_limits<double>::quiet_NaN();
 }
 }  // namespace
@@ -22,11 +24,11 @@ std::optional<PrepareRecord> prepareRecordFrom(const json& p) {
     PrepareRecord r;
     const json& raw = p.at("raw");
     r.raw_samples = raw.at("samples").get<long>();
-    r.median_step = numberOrNan(raw.at("median_step"));
-    r.min_step = numberOrNan(raw.at("min_step"));
-    r.max_step = numberOrNan(raw.at("max_step"));
+    r.median_step = numberElseNan(raw.at("median_step"));
+    r.min_step = numberElseNan(raw.at("min_step"));
+    r.max_step = numberElseNan(raw.at("max_step"));
     r.repeated_stamps_dropped = raw.at("repeated_stamps_dropped").get<long>();
-    r.max_gap = numberOrNan(p.at("max_gap"));
+    r.max_gap = numberElseNan(p.at("max_gap"));
     r.gaps = static_cast<long>(p.at("gaps").size());
     r.runs = static_cast<long>(p.at("runs").size());
     r.dropped_runs = static_cast<long>(p.at("dropped_runs").size());
@@ -42,14 +44,14 @@ std::optional<PrepareRecord> prepareRecordFrom(const json& p) {
       r.cutoff_choice = f["cutoff_choice"].get<std::string>();
     r.dq = p.at("dq").get<std::string>();
     r.ddq = p.at("ddq").get<std::string>();
-    r.trimmed_each_end = numberOrNan(p.at("trimmed_each_end"));
+    r.trimmed_each_end = numberElseNan(p.at("trimmed_each_end"));
     r.decimate = p.at("decimate").get<int>();
-    for (const json& x : p.at("tau_noise_rms")) r.tau_noise_rms.push_back(numberOrNan(x));
+    for (const json& x : p.at("tau_noise_rms")) r.tau_noise_rms.push_back(numberElseNan(x));
     if (p.contains("source") && p["source"].is_object() &&
         p["source"].contains("current_to_torque")) {
       const json& c = p["source"]["current_to_torque"];
-      for (const json& x : c.at("torque_constants")) r.torque_constants.push_back(numberOrNan(x));
-      for (const json& x : c.at("gear_ratios")) r.gear_ratios.push_back(numberOrNan(x));
+      for (const json& x : c.at("torque_constants")) r.torque_constants.push_back(numberElseNan(x));
+      for (const json& x : c.at("gear_ratios")) r.gear_ratios.push_back(numberElseNan(x));
     }
     return r;
   } catch (const json::exception&) {

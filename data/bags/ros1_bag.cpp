@@ -19,7 +19,7 @@ constexpr std::uint32_t kMaxRecord = 1u << 31;  // 2 GiB: beyond it a length is 
 enum Op : std::uint8_t {
   kMessageData = 0x02,
   kBagHeader = 0x03,
-  kChunk = 0x05,
+  kBagChunk = 0x05,
   kConnection = 0x07,
 };
 
@@ -127,7 +127,7 @@ void readRos1Bag(const std::string& file, const std::vector<std::string>& topics
         m.file = &file;
         m.offset = data.offset();
         on_message(m);
-      } else if (op == kChunk) {
+      } else if (op == kBagChunk) {
         const auto compression = fields.find("compression");
         if (compression == fields.end()) header.fail("compression", "missing");
         const auto size = fieldAs<std::uint32_t>(fields, "size", header);

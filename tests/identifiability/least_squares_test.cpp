@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
@@ -18,6 +20,16 @@ namespace {
 using test::pumaBase;
 using test::pumaTrajectory;
 
+TEST(LeastSquares, JointRmsIsPerJointOverTheStackedRows) {
+  // Rows k n + j, n = 2 joints, 2 samples: joint 0 holds 3 and -4, joint 1 holds 1 and 1.
+  const Eigen::VectorXd r = (Eigen::VectorXd(4) << 3.0, 1.0, -4.0, 1.0).finished();
+  const Eigen::VectorXd rms = jointRms(r, 2);
+  ASSERT_EQ(rms.size(), 2);
+  EXPECT_DOUBLE_EQ(rms[0], std::sqrt(12.5));  // sqrt((9 + 16) / 2)
+  EXPECT_DOUBLE_EQ(rms[1], 1.0);
+  // No samples: zero for every joint, not 0/0.
+  EXPECT_EQ(jointRms(Eigen::VectorXd(0), 3), Eigen::VectorXd::Zero(3));
+}
 TEST(LeastSquares, NoiseFreeDataGiveTheTrueProjection) {
   for (bool drives : {false, true}) {
     const Model model = makePuma560(drives);
