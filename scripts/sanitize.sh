@@ -21,7 +21,7 @@ if [ ! -f "$build/CMakeCache.txt" ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$
 fi
 cmake -S . -B "$build" "${generator[@]}" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=None \
   -DCMAKE_CXX_FLAGS="-O1 -g1 -DEIGEN_NO_DEBUG" -DDYNID_SANITIZE=ON -DDYNID_FUZZ=ON -DDYNID_FUZZ_SECONDS="$seconds" \
-  -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=OFF
+  -DDYNID_BUILD_TESTS=ON -DDYNID_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON  # as scripts/test.sh
 start=$SECONDS
 cmake --build "$build" -j"$jobs"
 echo "sanitize.sh: the sanitizer build took $((SECONDS - start)) s" >&2

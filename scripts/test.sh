@@ -16,8 +16,14 @@ generator=()
 if [ ! -f build/CMakeCache.txt ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' build/CMakeCache.txt; then
   generator=(-G Ninja)
 fi
+# A unity build: each target's sources compiled in batches of up to 8 (CMake's default), so the
+# headers they share (Eigen, Ceres, nlohmann-json, the dynamics templates) are parsed and
+# instantiated once per batch (docs/TOUR.md, "The test suite and its time", has what it saves).
+# Incremental work is faster without it (-DCMAKE_UNITY_BUILD=OFF: one source recompiled, not its
+# batch). The rollouts compiled for AVX2 and AVX-512 stay translation units of their own
+# (search/CMakeLists.txt).
 cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DDYNID_BUILD_TESTS=ON \
-  -DDYNID_BUILD_BENCH=ON -DDYNID_PYTHON=ON
+  -DDYNID_BUILD_BENCH=ON -DDYNID_PYTHON=ON -DCMAKE_UNITY_BUILD=ON
 cmake --build build -j"$(nproc)"
 took "the release build"
 ctest --test-dir build --output-on-failure -j"$(nproc)"
