@@ -9,6 +9,7 @@
 
 #include "data/io.hpp"
 #include "tests/common/sample_models.hpp"
+#include "tests/common/text.hpp"
 
 namespace dynid::test {
 
@@ -27,10 +28,6 @@ inline Result run(const std::string& args) {
   r.out = readFile(out);
   r.err = readFile(err);
   return r;
-}
-
-inline bool contains(const std::string& s, const std::string& fragment) {
-  return s.find(fragment) != std::string::npos;
 }
 
 /// Whether an HTML report opens with its verdict box (its heading is the document's first

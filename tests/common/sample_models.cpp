@@ -158,6 +158,10 @@ Trajectory pumaSinusoidTrajectory(const Model& model, double duration, double am
   return simulate(model, controller, options);
 }
 
+Trajectory pumaSearchTrajectory(double duration) {
+  return pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
+}
+
 std::string tempPath(const std::string& name) {
   static std::atomic<int> counter{0};
   return std::string(DYNID_TEST_TMP) + "/" + std::to_string(::getpid()) + "_" +

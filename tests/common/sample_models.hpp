@@ -53,6 +53,8 @@ TrackingController pumaSinusoidController(const Model& model, double amplitude, 
 /// That controller simulated for `duration` s (RK4, 1 ms, recorded at 1 kHz, no noise).
 Trajectory pumaSinusoidTrajectory(const Model& model, double duration, double amplitude,
                                   double f_low, double f_high);
+/// The search tests' recording: the PUMA 560 tracking sinusoids of 0.5 rad at 0.2-0.6 Hz.
+Trajectory pumaSearchTrajectory(double duration = 6.0);
 
 /// Uniform random vector in [-scale, scale]^n.
 Eigen::VectorXd randomVector(std::mt19937_64& rng, int n, double scale);

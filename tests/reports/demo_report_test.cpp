@@ -10,7 +10,7 @@
 namespace dynid {
 namespace {
 
-DemoResult sample() {
+DemoResult sampleDemo() {
   DemoResult r;
   r.settings.robot = "puma560";
   r.settings.train_seconds = r.settings.test_seconds = 4.0;
@@ -29,7 +29,7 @@ DemoResult sample() {
 }
 
 TEST(DemoReport, SummaryJsonHasEveryFieldAndNullForNonFinite) {
-  const auto j = nlohmann::json::parse(demoSummaryJson(sample()));
+  const auto j = nlohmann::json::parse(demoSummaryJson(sampleDemo()));
   EXPECT_EQ(j["schema_version"], 1);
   EXPECT_EQ(j["order"], (std::vector<std::string>{"ols", "nlo"}));
   EXPECT_EQ(j["methods"]["ols"]["base_param_error"].get<double>(), 2e-12);
@@ -40,7 +40,7 @@ TEST(DemoReport, SummaryJsonHasEveryFieldAndNullForNonFinite) {
 }
 
 TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
-  const DemoResult r = sample();
+  const DemoResult r = sampleDemo();
   const std::string md = demoMarkdown(r);
   EXPECT_NE(md.find("| ols | 5 | 1e-23 | 2e-22 | 3e-14 | 49.2 | 2e-12 | 0 | 0.02 |"),
             std::string::npos)
@@ -63,7 +63,7 @@ TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
 }
 
 TEST(DemoReport, FiguresFromGnuplotOrAWarningWithoutIt) {
-  DemoResult r = sample();
+  DemoResult r = sampleDemo();
   DemoSearchTrace trace;
   trace.method = "nlo";
   for (int i = 0; i < 5; ++i)

@@ -2,14 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/text.hpp"
+
 namespace dynid {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using test::contains;
 
-Document sample() {
+Document sampleDocument() {
   Document doc("fit <of> a | b");
   doc.heading("Torque & fit");
   doc.paragraph("relative error 1.01 %");
@@ -22,7 +22,7 @@ Document sample() {
 }
 
 TEST(Document, MarkdownEscapesTableCellsAndNumbersFigures) {
-  const std::string md = sample().markdown();
+  const std::string md = sampleDocument().markdown();
   EXPECT_EQ(md.rfind("# fit <of> a | b\n", 0), 0u) << md;
   EXPECT_TRUE(contains(md, "\n## Torque & fit\n"));
   EXPECT_TRUE(contains(md, "\n- first\n- x < y\n"));
@@ -35,7 +35,7 @@ TEST(Document, MarkdownEscapesTableCellsAndNumbersFigures) {
 }
 
 TEST(Document, HtmlIsSelfContainedAndEscaped) {
-  const Document doc = sample();
+  const Document doc = sampleDocument();
   const std::string html = doc.html();
   EXPECT_TRUE(contains(html, "<h1>fit &lt;of&gt; a | b</h1>"));
   EXPECT_TRUE(contains(html, "<h2>Torque &amp; fit</h2>"));
@@ -51,7 +51,7 @@ TEST(Document, HtmlIsSelfContainedAndEscaped) {
 }
 
 TEST(Document, TheVerdictComesFirstAndLongTablesFold) {
-  Document doc = sample();
+  Document doc = sampleDocument();
   DocumentTable big{{"k", "v"}, {}, "Forty rows. More words"};
   for (int k = 0; k < 40; ++k) big.rows.push_back({std::to_string(k), "x"});
   doc.table(big);

@@ -7,6 +7,7 @@
 #include "core/format.hpp"
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
+#include "tests/common/text.hpp"
 
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
@@ -16,9 +17,7 @@
 namespace dynid {
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using test::contains;
 
 struct Fixture {
   std::string dir, train, validate;

@@ -21,13 +21,9 @@
 namespace dynid {
 namespace {
 
-Trajectory pumaData(double duration = 6.0) {
-  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
-}
-
 TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
   const Model truth = makePuma560();
-  const GcProblem problem = makeGcProblem(pumaData(), {});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(), {});
   EXPECT_EQ(problem.numSegments(), 100);
   EXPECT_EQ(problem.samples_per_segment, 50);
   ThreadPool pool(1);
@@ -46,7 +42,8 @@ TEST(GcError, ZeroAtTheTruthPositiveElsewhere) {
 
 TEST(GcError, SameResultForAnyThreadCount) {
   const Model guess = perturbedModel(makePuma560(), 0.3, 2);
-  const GcProblem problem = makeGcProblem(pumaData(), {.horizon = 0.02, .num_segments = 37});
+  const GcProblem problem =
+      makeGcProblem(test::pumaSearchTrajectory(), {.horizon = 0.02, .num_segments = 37});
   ThreadPool one(1), two(2);
   GcWorkspace w1(1), w2(2);
   EXPECT_EQ(gcError(guess, problem, w1, one), gcError(guess, problem, w2, two));
@@ -66,7 +63,8 @@ TEST(GcError, SameResultForAnyThreadCount) {
 // and instruction set 4 lanes roll in (the build's, and AVX2 and AVX-512 where this build
 // dispatches to them and the CPU has them: search/gc_lanes_simd.hpp).
 TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
-  const GcProblem problem = makeGcProblem(pumaData(), {.num_segments = 37});  // 37: a part group
+  const GcProblem problem =
+      makeGcProblem(test::pumaSearchTrajectory(), {.num_segments = 37});  // 37: a part group
   ThreadPool one(1), two(2);
   for (const Model& candidate :
        {perturbedModel(makePuma560(), 0.3, 2), perturbedModel(makePuma560(), 0.05, 7)}) {
@@ -114,7 +112,7 @@ TEST(GcError, LanesGiveTheScalarPathsSegmentErrors) {
 
 TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
   const Model guess = perturbedModel(makePuma560(), 0.3, 2);
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 10});
   ThreadPool pool(2);
   GcWorkspace workspace(2);
   std::atomic<bool> flag{false};
@@ -133,7 +131,7 @@ TEST(GcError, StopsBetweenSegmentsWhenInterruptedOrPastItsDeadline) {
 TEST(GcError, DivergingRolloutsAreLargeAndFinite) {
   Model bad = makePuma560();
   bad.setLinkInertia(5, RigidInertia<double>());  // a massless last link: singular mass matrix
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 10});
   ThreadPool pool(2);
   GcWorkspace workspace(2);
   const double error = gcError(bad, problem, workspace, pool);

@@ -12,13 +12,9 @@
 namespace dynid {
 namespace {
 
-Trajectory pumaData(double duration = 6.0) {
-  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
-}
-
 TEST(GcProblem, RefusesSegmentsOfMoreThanAMillionSteps) {
   // 0.05 s in steps of 1e-6 s is 5e4 steps: accepted; 2 s in steps of 1e-6 s is 2e6: refused.
-  const Trajectory data = pumaData(6.0);
+  const Trajectory data = test::pumaSearchTrajectory(6.0);
   EXPECT_NO_THROW(makeGcProblem(data, {.num_segments = 1, .step = 1e-6}));
   try {
     makeGcProblem(data, {.horizon = 2.0, .num_segments = 1, .step = 1e-6});
@@ -29,7 +25,7 @@ TEST(GcProblem, RefusesSegmentsOfMoreThanAMillionSteps) {
 }
 
 TEST(GcProblem, NormalisationAndSegmentChoices) {
-  const Trajectory data = pumaData();
+  const Trajectory data = test::pumaSearchTrajectory();
   const GcProblem plain = makeGcProblem(data, {});
   const GcProblem normalised = makeGcProblem(data, {.normalise = true});
   EXPECT_EQ(plain.weight_q, Eigen::VectorXd::Ones(6));
@@ -45,7 +41,7 @@ TEST(GcProblem, NormalisationAndSegmentChoices) {
 TEST(GcProblem, SegmentsNeverCrossARunBoundary) {
   // Two runs, as `dynid prepare` writes a log split at a gap: the second starts 2 s after the
   // first ends. 0.05 s horizons at 1 kHz: 50 samples per segment.
-  const Trajectory data = pumaData(0.5);
+  const Trajectory data = test::pumaSearchTrajectory(0.5);
   Trajectory runs = data;
   const int n = data.numSamples(), half = n / 2;
   for (int k = half; k < n; ++k) runs.time[k] += 2.0;
@@ -71,7 +67,7 @@ TEST(GcProblem, SegmentsNeverCrossARunBoundary) {
 }
 
 TEST(GcProblem, RejectsBadSettings) {
-  const Trajectory data = pumaData(0.5);
+  const Trajectory data = test::pumaSearchTrajectory(0.5);
   EXPECT_THROW(makeGcProblem(data, {.horizon = 0.0125}), InputError);    // not whole samples
   EXPECT_THROW(makeGcProblem(data, {.num_segments = 100}), InputError);  // room for 10
   EXPECT_THROW(makeGcProblem(data, {.step = 3e-4}), InputError);

@@ -19,8 +19,7 @@ namespace {
 TEST(GcRollout, DoubleAndJetRolloutsAgreeAndSumToTheGcError) {
   using Jet = ceres::Jet<double, 3>;
   const Model model = perturbedModel(makePuma560(false), 0.2, 4);
-  const GcProblem problem = makeGcProblem(
-      test::pumaSinusoidTrajectory(makePuma560(), 1.0, 0.5, 0.2, 0.6), {.num_segments = 8});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 8});
   const ModelTpl<Jet> model_j = model.cast<Jet>();
   Data data(model);
   DataTpl<Jet> data_j(model_j);

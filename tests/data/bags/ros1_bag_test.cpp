@@ -12,20 +12,20 @@
 #include "core/errors.hpp"
 #include "data/bags/ros_messages.hpp"
 #include "data/io.hpp"
+#include "tests/common/fixtures.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid::bags {
 namespace {
 
-const std::filesystem::path kFixtures =
-    std::filesystem::path(DYNID_SOURCE_DIR) / "tests/data/bags/fixtures";
+using test::kBagFixtures;
 
 TEST(Ros1Bag, JointStatesFromRosbagReadBackExactlyWhateverTheCompression) {
   const std::vector<std::string> names = {"joint2", "joint1", "gripper"};
   const double number[] = {2.0, 1.0, 3.0};
   for (const char* compression : {"none", "bz2", "lz4"}) {
     const std::string path =
-        (kFixtures / ("joint_states_" + std::string(compression) + ".bag")).string();
+        (kBagFixtures / ("joint_states_" + std::string(compression) + ".bag")).string();
     SCOPED_TRACE(path);
     int k = 0, chatter = 0;
     readRos1Bag(path, {}, [&](const BagMessage& m) {
@@ -60,7 +60,7 @@ TEST(Ros1Bag, JointStatesFromRosbagReadBackExactlyWhateverTheCompression) {
 }
 
 TEST(Ros1Bag, EveryTruncationAndAForeignFileAreRefusedWithTheOffset) {
-  const std::string whole = readFile((kFixtures / "joint_states_bz2.bag").string());
+  const std::string whole = readFile((kBagFixtures / "joint_states_bz2.bag").string());
   const std::string path = test::tempPath("cut.bag");
   int refused = 0, read = 0;
   // 80 cuts spread over the file (each one decompresses what it can: seconds under ASan).

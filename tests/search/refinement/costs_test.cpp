@@ -18,10 +18,6 @@
 namespace dynid {
 namespace {
 
-Trajectory pumaData(double duration) {
-  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
-}
-
 // Ridders' differences of a 50-step RK4 rollout agree with exact derivatives to about 1e-8
 // relative (round-off of the rollout); 1e-5 leaves room without hiding a wrong derivative.
 constexpr double kGradientPrecision = 1e-5;
@@ -39,7 +35,7 @@ TEST(RefineCosts, GradientCheckerOnEverySegmentCost) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.2, 3),
                              {.total_mass_constraint = true, .total_mass = 20.0});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 4});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 4});
   const Model structure = space.modelAt(space.initial());
   const Eigen::VectorXd x = space.initial();
   for (bool with_start : {false, true}) {
@@ -56,7 +52,7 @@ TEST(RefineCosts, GradientCheckerOnEverySegmentCost) {
     }
   }
   // Contiguous segments chained (multiple shooting): a third block, the next segment's start.
-  const GcProblem chained = makeGcProblem(pumaData(0.3), {.num_segments = 0});
+  const GcProblem chained = makeGcProblem(test::pumaSearchTrajectory(0.3), {.num_segments = 0});
   ASSERT_EQ(chained.starts[1], chained.starts[0] + chained.samples_per_segment);
   for (int s = 0; s + 1 < chained.numSegments(); ++s) {
     const auto cost = makeSegmentCost(structure, space, chained, s, true, 10.0);
@@ -79,7 +75,7 @@ TEST(RefineCosts, GradientCheckerOnEverySegmentCost) {
 TEST(RefineCosts, SegmentCostEqualsTheGcError) {
   const Model guess = perturbedModel(makePuma560(), 0.2, 5);
   const ParameterSpace space(guess, {});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 5});
   ThreadPool pool(1);
   GcWorkspace workspace(1);
   const double gc = gcError(space.modelAt(space.initial()), problem, workspace, pool);
@@ -97,7 +93,7 @@ TEST(RefineCosts, SegmentCostEqualsTheGcError) {
 }
 TEST(RefineCosts, GcJacobianVanishesOnTheRegressorNullSpace) {
   const Model truth = makePuma560();
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 5});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 5});
   const Eigen::MatrixXd J = gcJacobian(truth, problem, 2);
   ASSERT_EQ(J.rows(), 5 * 12);
   ASSERT_EQ(J.cols(), 60);

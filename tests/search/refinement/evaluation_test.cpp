@@ -18,7 +18,7 @@ namespace dynid {
 namespace {
 
 Trajectory noisyPumaData(double duration) {
-  Trajectory data = test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
+  Trajectory data = test::pumaSearchTrajectory(duration);
   std::mt19937_64 random(5);
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (Eigen::Index k = 0; k < data.q.size(); ++k) {

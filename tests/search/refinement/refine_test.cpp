@@ -19,10 +19,6 @@
 namespace dynid {
 namespace {
 
-Trajectory pumaData(double duration) {
-  return test::pumaSinusoidTrajectory(makePuma560(), duration, 0.5, 0.2, 0.6);
-}
-
 BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = nullptr) {
   const BaseCoordinates out = structuralBaseParameters(model, {.samples = 200}).coordinates();
   if (names != nullptr) *names = out.names;
@@ -32,7 +28,7 @@ BaseCoordinates pumaBase(const Model& model, std::vector<std::string>* names = n
 TEST(Refine, RecoversTheTruthFromAPerturbedStartOnNoiseFreeData) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.1, 7), {});
-  const GcProblem problem = makeGcProblem(pumaData(4.0), {.num_segments = 20});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(4.0), {.num_segments = 20});
   std::vector<std::string> names;
   const BaseCoordinates base = pumaBase(truth, &names);
   const RefineResult result = refineGc(space, problem, space.initial(), {.num_threads = 2}, &base);
@@ -59,7 +55,7 @@ TEST(Refine, BaseStageReachesTheTruthFromAStartAtTheBounds) {
   const ParameterSpace space(
       guess, {.total_mass_constraint = true,
               .total_mass = truth.standardParameters()(Eigen::seqN(0, 6, 10)).sum()});
-  const GcProblem problem = makeGcProblem(pumaData(2.0), {.num_segments = 10});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(2.0), {.num_segments = 10});
   const BaseCoordinates base = pumaBase(truth);
   // Every third free parameter at its lower bound, every third at its upper one.
   Eigen::VectorXd x0 = space.initial();
@@ -82,7 +78,7 @@ TEST(Refine, BaseStageReachesTheTruthFromAStartAtTheBounds) {
 TEST(Refine, EstimatedStartsStayAtExactMeasurements) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
-  const GcProblem problem = makeGcProblem(pumaData(2.0), {.num_segments = 10});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(2.0), {.num_segments = 10});
   // In base coordinates, as the pipeline refines whenever it has them: the start states meet their
   // measurements to 1e-15 within 3 s. In the rank-deficient free parameters alone the solver
   // crawls along the unidentifiable directions and needs all 200 iterations (38 s) to get the
@@ -103,7 +99,7 @@ TEST(Refine, ChainedStartsStayAtExactMeasurements) {
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.05, 9), {});
   // 1 s in every non-overlapping 50 ms segment: 20 contiguous segments, 19 joins.
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 0});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 0});
   const BaseCoordinates base = pumaBase(truth);
   const RefineResult result = refineGc(space, problem, space.initial(),
                                        {.estimate_initial_states = true, .num_threads = 2}, &base);
@@ -124,7 +120,7 @@ TEST(Refine, ChainedStartsStayAtExactMeasurements) {
 }
 TEST(Refine, ChainedStartsRemoveStateNoise) {
   const Model truth = makePuma560();
-  const Trajectory clean = pumaData(1.0);
+  const Trajectory clean = test::pumaSearchTrajectory(1.0);
   Trajectory noisy = clean;
   std::mt19937_64 random(3);
   std::normal_distribution<double> gauss(0.0, 1.0);
@@ -169,7 +165,7 @@ TEST(Refine, FlagsBoundsAndStops) {
   const Model truth = makePuma560();
   // A 1 % range around a 10 % perturbation: the truth is out of reach and bounds become active.
   const ParameterSpace space(perturbedModel(truth, 0.1, 11), {.relative_range = 0.01});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 10});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 10});
   const RefineResult result = refineGc(space, problem, space.initial(), {.max_iterations = 20});
   EXPECT_FALSE(result.at_bound.empty());
   for (int j = 0; j < space.numFree(); ++j) {
@@ -197,7 +193,7 @@ TEST(Refine, HoldsItsTimeBudget) {
   // budget ends it, across both stages and the map back.
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.3, 5), {});
-  Trajectory data = pumaData(8.0);
+  Trajectory data = test::pumaSearchTrajectory(8.0);
   std::mt19937_64 rng(3);
   std::normal_distribution<double> noise(0.0, 1e-3);
   for (Eigen::Index k = 0; k < data.q.size(); ++k) data.q.data()[k] += noise(rng);
@@ -228,7 +224,7 @@ TEST(Refine, KeepsItsUncertaintyInsideTheBudget) {
   // before, it ran after the budget.
   const Model truth = makePuma560();
   const ParameterSpace space(perturbedModel(truth, 0.3, 5), {});
-  const GcProblem problem = makeGcProblem(pumaData(8.0), {.num_segments = 60});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(8.0), {.num_segments = 60});
   const BaseCoordinates base = pumaBase(truth);
   RefineOptions options{.max_iterations = 1000000, .max_seconds = 0.2};
   const RefineResult r = refineGc(space, problem, space.initial(), options, &base);
@@ -246,7 +242,7 @@ TEST(Refine, KeepsItsUncertaintyInsideTheBudget) {
 
 TEST(Refine, RefusesMismatchedInput) {
   const ParameterSpace space(makePuma560(), {});
-  const GcProblem problem = makeGcProblem(pumaData(1.0), {.num_segments = 2});
+  const GcProblem problem = makeGcProblem(test::pumaSearchTrajectory(1.0), {.num_segments = 2});
   EXPECT_THROW(refineGc(space, problem, Eigen::VectorXd::Zero(3), {}), InputError);
   for (const double weight : {-1.0, std::nan("")})
     EXPECT_THROW(refineGc(space, problem, space.initial(),
