@@ -48,26 +48,40 @@ function(dynid_test_code_options target)
   endif()
 endfunction()
 
-# dynid_add_test(path/to/name_test.cpp [SERIAL] DEPS...): one GoogleTest executable per source
-# file; the test name mirrors the source path (tests/core/rnea_test.cpp -> core.rnea_test). In
-# sanitizer builds the programs listed in DYNID_SANITIZER_SKIPPED_TESTS are not made.
-function(dynid_add_test source)
-  cmake_parse_arguments(ARG "SERIAL" "" "DEPS" ${ARGN})
-  get_filename_component(stem ${source} NAME_WE)
-  get_filename_component(dir ${source} DIRECTORY)
-  get_filename_component(module ${dir} NAME)
-  set(target ${module}_${stem})
-  if(DYNID_SANITIZE AND target IN_LIST DYNID_SANITIZER_SKIPPED_TESTS)
-    return()  # see tests/CMakeLists.txt
+# dynid_add_tests(name [SERIAL] [PREFIX prefix] SOURCES tests... DEPS libraries...): one
+# GoogleTest program, tests/<name>_tests, of a module's test sources (each mirrors the source it
+# tests: tests/core/rnea_test.cpp tests core/rnea.cpp); its tests are named PREFIX.Suite.Test,
+# PREFIX being name unless given. In a unity build (the scripts') a program's sources are one
+# translation unit, so GoogleTest's, Eigen's and dynid's templates are instantiated once per module,
+# not once per source (docs/TOUR.md, "The test suite and its time", has what it saves). So a test
+# source must not define a helper another source of its module defines: those live in
+# tests/common. In sanitizer builds the sources in DYNID_SANITIZER_SKIPPED_TESTS are left out.
+function(dynid_add_tests name)
+  cmake_parse_arguments(ARG "SERIAL" "PREFIX" "SOURCES;DEPS" ${ARGN})
+  set(prefix ${name})
+  if(ARG_PREFIX)
+    set(prefix ${ARG_PREFIX})
   endif()
-  add_executable(${target} ${source})
+  set(sources "")
+  foreach(source IN LISTS ARG_SOURCES)
+    if(NOT (DYNID_SANITIZE AND source IN_LIST DYNID_SANITIZER_SKIPPED_TESTS))
+      list(APPEND sources ${source})  # see tests/CMakeLists.txt
+    endif()
+  endforeach()
+  if(NOT sources)
+    return()
+  endif()
+  set(target ${name}_tests)
+  add_executable(${target} ${sources})
   target_link_libraries(${target} PRIVATE ${ARG_DEPS} dynid_test_common GTest::gtest_main
                                           dynid_warnings)
   dynid_test_code_options(${target})
   # GoogleTest and Eigen parsed once for every test program (tests/CMakeLists.txt,
   # dynid_test_pch).
   target_precompile_headers(${target} REUSE_FROM dynid_test_pch)
-  set_target_properties(${target} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
+  # The whole module in one batch (0: no limit; CMake's default is 8).
+  set_target_properties(${target} PROPERTIES UNITY_BUILD_BATCH_SIZE 0
+                                             RUNTIME_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/tests)
   set(environment "")
   if(DYNID_SANITIZE)
     set(environment "LSAN_OPTIONS=suppressions=${PROJECT_SOURCE_DIR}/tests/lsan.supp")
@@ -78,6 +92,6 @@ function(dynid_add_test source)
   if(ARG_SERIAL)
     set(serial TRUE)
   endif()
-  gtest_discover_tests(${target} TEST_PREFIX "${module}." DISCOVERY_TIMEOUT 60
+  gtest_discover_tests(${target} TEST_PREFIX "${prefix}." DISCOVERY_TIMEOUT 60
                        PROPERTIES RUN_SERIAL ${serial} ENVIRONMENT "${environment}")
 endfunction()
