@@ -119,7 +119,7 @@ function(dynid_add_tests name)
   # LeastSquares.ValidationOnHeldOutData took 23.5 s with the test code's Eigen, 5.8 s with the
   # library's.
   dynid_static_closure(libraries ${ARG_DEPS} dynid_test_common)
-  if(libraries AND NOT BUILD_SHARED_LIBS)
+  if(libraries)  # none in a shared build (static libraries only)
     set(archives "")
     foreach(library IN LISTS libraries)
       list(APPEND archives $<TARGET_FILE:${library}>)

@@ -13,13 +13,13 @@
 
 #include "core/errors.hpp"
 #include "data/bags/mcap.hpp"
+#include "tests/common/fixtures.hpp"
 
 namespace dynid::bags {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kConformance =
-    fs::path(DYNID_SOURCE_DIR) / "tests/data/bags/fixtures/mcap_conformance";
+const fs::path kConformance = test::kBagFixtures / "mcap_conformance";
 
 std::string hex(std::string_view bytes) {
   static constexpr char kDigits[] = "0123456789abcdef";
