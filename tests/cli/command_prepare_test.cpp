@@ -198,7 +198,7 @@ TEST(Cli, PrepareRecordsTheJointColumnsWarnsOfRestAndKeepsAWindow) {
 // A ROS 1 bag (written by ROS's own writer) prepared from the command line: its joints as the
 // messages name them, or the robot's matched by name; table options refused.
 TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
-  const std::string bag = (test::kBagFixtures / "joint_states_lz4.bag").string();
+  const std::string bag = (test::bagFixtures() / "joint_states_lz4.bag").string();
   const std::string dir = test::tempPath("from_bag");
   const Result r = run("prepare --log " + bag + " --cutoff 0 --trim 0 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
@@ -230,7 +230,7 @@ TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
 // byte for byte, and the ROS 1 bag of the same values gives it to the last bits of sin and cos
 // (JavaScript's and glibc's may differ by one ulp); --stamp receive counts from the receive time.
 TEST(Cli, EveryRos2ContainerPreparesTheSameDatasetAsTheRos1Bag) {
-  const std::string fixtures = test::kBagFixtures.string() + "/";
+  const std::string fixtures = test::bagFixtures().string() + "/";
   const auto prepare = [&](const std::string& log, const std::string& extra) {
     const std::string dir = test::tempPath("ros2_prepared");
     const Result r =
@@ -265,7 +265,7 @@ TEST(Cli, EveryRos2ContainerPreparesTheSameDatasetAsTheRos1Bag) {
 // interpolated at the position stamps. The fixture's efforts are linear in time, so the
 // interpolation gives the same dataset as the recording that carries them.
 TEST(Cli, EffortsComeFromASecondTopicOrATableAtThePositionStamps) {
-  const std::string fixtures = (test::kBagFixtures / "ros2").string() + "/";
+  const std::string fixtures = (test::bagFixtures() / "ros2").string() + "/";
   const std::string rec = fixtures + "joint_states_effort_topic.mcap";
   const auto prepare = [&](const std::string& args) {
     const std::string dir = test::tempPath("effort_prepared");

@@ -19,7 +19,7 @@
 namespace dynid {
 namespace {
 
-using test::kBagFixtures;
+using test::bagFixtures;
 
 /// The fixture's samples (tools/make_ros1_bag_fixtures.py) as a table, joints in `order` (the
 /// numbers in the names: joint1 1, joint2 2, gripper 3).
@@ -59,7 +59,7 @@ TEST(BagLog, ARos1BagPreparesAsTheSameSamplesInATable) {
   const PrepareOutcome expected = prepareLog(table, unfiltered());
   for (const char* compression : {"none", "bz2", "lz4"}) {
     LogSource bag;
-    bag.tables = {(kBagFixtures / ("joint_states_" + std::string(compression) + ".bag")).string()};
+    bag.tables = {(bagFixtures() / ("joint_states_" + std::string(compression) + ".bag")).string()};
     const PrepareOutcome o = prepareLog(bag, unfiltered());
     SCOPED_TRACE(compression);
     // The table's stamps are k 1e-3 written in 17 digits, the bag's integer ns: the same times to
@@ -74,7 +74,7 @@ TEST(BagLog, ARos1BagPreparesAsTheSameSamplesInATable) {
 
 TEST(BagLog, JointsAreMatchedByNameToTheRobotsAndTheRestIgnored) {
   LogSource bag;
-  bag.tables = {(kBagFixtures / "joint_states_bz2.bag").string()};
+  bag.tables = {(bagFixtures() / "joint_states_bz2.bag").string()};
   bag.joint_names = {"joint1", "joint2"};  // the robot's order; the gripper is not the robot's
   const RawSignals s = readBagLog(bag, bag.tables[0]);
   ASSERT_EQ(s.n, 2);

@@ -19,7 +19,7 @@ namespace dynid::bags {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kConformance = test::kBagFixtures / "mcap_conformance";
+const fs::path kConformance = test::bagFixtures() / "mcap_conformance";
 
 std::string hex(std::string_view bytes) {
   static constexpr char kDigits[] = "0123456789abcdef";

@@ -18,14 +18,14 @@
 namespace dynid::bags {
 namespace {
 
-using test::kBagFixtures;
+using test::bagFixtures;
 
 TEST(Ros1Bag, JointStatesFromRosbagReadBackExactlyWhateverTheCompression) {
   const std::vector<std::string> names = {"joint2", "joint1", "gripper"};
   const double number[] = {2.0, 1.0, 3.0};
   for (const char* compression : {"none", "bz2", "lz4"}) {
     const std::string path =
-        (kBagFixtures / ("joint_states_" + std::string(compression) + ".bag")).string();
+        (bagFixtures() / ("joint_states_" + std::string(compression) + ".bag")).string();
     SCOPED_TRACE(path);
     int k = 0, chatter = 0;
     readRos1Bag(path, {}, [&](const BagMessage& m) {
@@ -60,7 +60,7 @@ TEST(Ros1Bag, JointStatesFromRosbagReadBackExactlyWhateverTheCompression) {
 }
 
 TEST(Ros1Bag, EveryTruncationAndAForeignFileAreRefusedWithTheOffset) {
-  const std::string whole = readFile((kBagFixtures / "joint_states_bz2.bag").string());
+  const std::string whole = readFile((bagFixtures() / "joint_states_bz2.bag").string());
   const std::string path = test::tempPath("cut.bag");
   int refused = 0, read = 0;
   // 80 cuts spread over the file (each one decompresses what it can: seconds under ASan).

@@ -32,7 +32,7 @@ namespace dynid::bags {
 namespace {
 
 namespace fs = std::filesystem;
-using test::kBagFixtures;
+using test::bagFixtures;
 
 std::string readText(const fs::path& path) {
   std::ifstream in(path);
@@ -72,7 +72,7 @@ std::map<std::string, int> recordedCounts(const fs::path& yaml) {
 TEST(Rosbag2, SplitBagsFromRosbag2GiveTheCountsTheirMetadataRecords) {
   for (const char* storage : {"sqlite3", "mcap"})
     for (const char* bag : {"wbag", "talker", "cdr_test"}) {
-      const fs::path dir = kBagFixtures / "rosbag2" / storage / bag;
+      const fs::path dir = bagFixtures() / "rosbag2" / storage / bag;
       SCOPED_TRACE(dir.string());
       const std::map<std::string, int> want = recordedCounts(dir / "metadata.yaml");
       ASSERT_FALSE(want.empty());
@@ -92,12 +92,13 @@ TEST(Rosbag2, SplitBagsFromRosbag2GiveTheCountsTheirMetadataRecords) {
     }
   // The split bag's files in metadata order; the per-file topic ids differ (the first file
   // numbers AAA 1, the others HHH 1) and every file's own table is used.
-  const std::vector<std::string> files = bagFiles((kBagFixtures / "rosbag2/sqlite3/wbag").string());
+  const std::vector<std::string> files =
+      bagFiles((bagFixtures() / "rosbag2/sqlite3/wbag").string());
   ASSERT_EQ(files.size(), 5u);
   for (std::size_t i = 0; i < files.size(); ++i)
     EXPECT_EQ(fs::path(files[i]).filename(), "wbag_" + std::to_string(i) + ".db3");
   int empty = 0;
-  readBag((kBagFixtures / "rosbag2/sqlite3/empty_bag").string(), {},
+  readBag((bagFixtures() / "rosbag2/sqlite3/empty_bag").string(), {},
           [&](const BagMessage&) { ++empty; });
   EXPECT_EQ(empty, 0);
 }
@@ -107,7 +108,7 @@ TEST(Rosbag2, JointStatesFromTheMcapWriterAndSqliteReadBackExactly) {
   const double number[] = {2.0, 1.0, 3.0};
   for (const char* name : {"joint_states_zstd.mcap", "joint_states_lz4.mcap",
                            "joint_states_plain.mcap", "joint_states.db3", "joint_states_split"}) {
-    const std::string path = (kBagFixtures / "ros2" / name).string();
+    const std::string path = (bagFixtures() / "ros2" / name).string();
     SCOPED_TRACE(path);
     EXPECT_TRUE(isBag(path));
     int k = 0, chatter = 0;
@@ -168,7 +169,7 @@ TEST(Rosbag2, ADirectorysFilesAreItsOwnAndInNaturalOrder) {
   const fs::path dir = test::tempPath("bag_dir");
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const fs::path db = kBagFixtures / "ros2/joint_states.db3";
+  const fs::path db = bagFixtures() / "ros2/joint_states.db3";
   // No metadata.yaml: the .db3 and .mcap files in natural order.
   for (const char* name : {"run_10.db3", "run_2.db3", "run_1.db3"}) fs::copy_file(db, dir / name);
   writeFileAtomically((dir / "notes.txt").string(), "not a bag");
@@ -207,7 +208,7 @@ TEST(Rosbag2, ADirectorysFilesAreItsOwnAndInNaturalOrder) {
 }
 
 TEST(Rosbag2, DamagedAndForeignDatabasesAreRefusedWithTheFile) {
-  const std::string good = readText(kBagFixtures / "ros2/joint_states.db3");
+  const std::string good = readText(bagFixtures() / "ros2/joint_states.db3");
   const std::string path = test::tempPath("damaged.db3");
   const auto readAll = [&] { readBag(path, {}, [](const BagMessage&) {}); };
   // Truncations at 64 points: refused (the pages a query needs are missing) or, where only
