@@ -51,26 +51,28 @@ inline constexpr std::array<std::string_view, 7> kPaperParameterNames = {"m",   
 struct DriveTerms {
   unsigned mask = 0;  // bit k set: term k (DriveTerm) is enabled
 
-  static DriveTerms none() { return {}; }
+  static constexpr DriveTerms none() { return {}; }
   /// ia,fv,fc: the `--drives` set of a robot that names none of its own.
-  static DriveTerms rotorAndFriction() {
+  static constexpr DriveTerms rotorAndFriction() {
     return of({DriveTerm::kRotorInertia, DriveTerm::kViscous, DriveTerm::kCoulomb});
   }
-  static DriveTerms of(std::initializer_list<DriveTerm> terms) {
+  /// constexpr, so that a named set (kPuma560DriveTerms) is constant-initialised, never ordered
+  /// against another translation unit's static initialisers.
+  static constexpr DriveTerms of(std::initializer_list<DriveTerm> terms) {
     DriveTerms out;
     for (DriveTerm t : terms) out.mask |= 1u << static_cast<int>(t);
     return out;
   }
-  bool has(DriveTerm t) const { return (mask >> static_cast<int>(t)) & 1u; }
-  bool has(int k) const { return (mask >> k) & 1u; }
-  bool any() const { return mask != 0; }
-  /// Whether any term that is not inertial (friction, offset: anything but Ia) is enabled.
+  constexpr bool has(DriveTerm t) const { return (mask >> static_cast<int>(t)) & 1u; }
+  constexpr bool has(int k) const { return (mask >> k) & 1u; }
+  constexpr bool any() const { return mask != 0; }
   /// Whether any inertial term (Ia: a mass-matrix diagonal) is enabled.
   bool inertial() const {
     for (int k = 0; k < kDriveTermCount; ++k)
       if (has(k) && kDriveTermTable[k].inertial) return true;
     return false;
   }
+  /// Whether any term that is not inertial (friction, offset: anything but Ia) is enabled.
   bool friction() const {
     for (int k = 0; k < kDriveTermCount; ++k)
       if (has(k) && !kDriveTermTable[k].inertial) return true;

@@ -13,7 +13,7 @@
 namespace dynid {
 
 /// The Panda's drive terms: viscous, Coulomb and a constant (sensor) offset, as Gaz et al.
-inline const DriveTerms kPandaDriveTerms =
+inline constexpr DriveTerms kPandaDriveTerms =
     DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb, DriveTerm::kOffset});
 
 /// The Panda's DH description (7 revolute joints, link parameters in the modified-DH link frames).

@@ -16,7 +16,7 @@ namespace dynid {
 Model makePuma560(bool drives = false);
 
 /// ia, fv, fc, fa: the PUMA 560's published drive model (Corke and Armstrong-Helouvry).
-inline const DriveTerms kPuma560DriveTerms =
+inline constexpr DriveTerms kPuma560DriveTerms =
     DriveTerms::of({DriveTerm::kRotorInertia, DriveTerm::kViscous, DriveTerm::kCoulomb,
                     DriveTerm::kCoulombAsymmetry});
 
