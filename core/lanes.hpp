@@ -80,8 +80,9 @@ struct Lanes {
   Vector v;  // uninitialised, as a double is
 
   Lanes() = default;
-  /// Every lane x.
-  explicit DYNID_INLINE Lanes(double x) : v(Vector{} + x) {}
+  /// Every lane x, its sign bit included: x - 0 is x for every x (-0 - +0 = -0), where 0 + x would
+  /// turn -0 into +0.
+  explicit DYNID_INLINE Lanes(double x) : v(x - Vector{}) {}
   DYNID_INLINE static Lanes fromVector(Vector x) {
     Lanes out;
     out.v = x;
@@ -206,7 +207,7 @@ inline constexpr double kSinCosRange = 1e5;
 /// to 32.)
 template <int W>
 DYNID_INLINE typename VectorOf<W>::Vector all(double a) {
-  return typename VectorOf<W>::Vector{} + a;
+  return a - typename VectorOf<W>::Vector{};  // a's sign bit kept, as Lanes(a) keeps it
 }
 template <int W>
 DYNID_INLINE void sinCosKernel(const typename VectorOf<W>::Vector& x,

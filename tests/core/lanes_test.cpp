@@ -77,11 +77,12 @@ TEST(Lanes, SinCosIsWithinAnUlpOfTheExactValues) {
 }
 
 TEST(Lanes, SinCosKeepsSignedZerosAndHandsTheRestToTheCLibrary) {
-  Lanes<2> s, c, negative_zero;
-  negative_zero.set(0, -0.0);  // (Lanes<2>(-0.0) is +0: the broadcast adds it to +0)
-  negative_zero.set(1, -0.0);
+  Lanes<2> s, c;
+  const Lanes<2> negative_zero(-0.0);
+  EXPECT_TRUE(std::signbit(negative_zero[0]) && std::signbit(negative_zero[1]));
+  EXPECT_TRUE(std::signbit(Lanes<4>(-0.0)[3]) && std::signbit(Lanes<8>(-0.0)[7]));
   sinCos(negative_zero, s, c);
-  EXPECT_TRUE(std::signbit(s[0]));
+  EXPECT_TRUE(std::signbit(s[0]) && std::signbit(s[1]));
   EXPECT_EQ(c[0], 1.0);
   sinCos(Lanes<2>(0.0), s, c);
   EXPECT_FALSE(std::signbit(s[0]));
