@@ -91,31 +91,84 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
   out.commit();
 }
 
-void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory) {
+namespace {
+/// The most characters std::to_chars' shortest form of a double takes ("-2.2250738585072014e-308":
+/// 24), with room to spare.
+constexpr std::size_t kNumberChars = 32;
+/// A block's text buffer [bytes]: the rows a thread formats at a time.
+constexpr std::size_t kBlockBytes = std::size_t{1} << 19;
+/// Blocks formatted per round at most: with the round being written, 2 x 16 x 512 kB in memory.
+constexpr int kMaxBlocksPerRound = 16;
+
+/// Rows [first, last) of the dataset as CSV text into `text`, whose size is at least
+/// (last - first) * (1 + 4 n) * kNumberChars (never reallocated: no allocation, nothing thrown).
+/// Returns the length written.
+std::size_t formatRows(const Trajectory& t, int first, int last, std::vector<char>& text) {
+  const int n = t.numJoints();
+  char* at = text.data();
+  const auto append = [&](double x, char separator) {
+    at = std::to_chars(at, at + kNumberChars - 1, x).ptr;
+    *at++ = separator;
+  };
+  for (int k = first; k < last; ++k) {
+    append(t.time[k], ',');
+    for (const Eigen::MatrixXd* m : {&t.q, &t.dq, &t.ddq, &t.tau})
+      for (int i = 0; i < n; ++i) append((*m)(i, k), ',');
+    at[-1] = '\n';  // the row's last separator
+  }
+  return static_cast<std::size_t>(at - text.data());
+}
+}  // namespace
+
+void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool) {
   const int n = trajectory.numJoints(), samples = trajectory.numSamples();
   for (const Eigen::MatrixXd* m : {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
     if (m->rows() != n || m->cols() != samples)
       throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
                        std::to_string(samples));
-  // Streamed: one row at a time through the writer's buffer, memory independent of the length.
   out.write(datasetHeader(n) + "\n");
-  std::string row;
-  std::array<char, 32> number;
-  const auto append = [&](double x) {
-    const auto end = std::to_chars(number.data(), number.data() + number.size(), x).ptr;
-    row.append(number.data(), end);
-  };
-  for (int k = 0; k < samples; ++k) {
-    row.clear();
-    append(trajectory.time[k]);
-    for (const Eigen::MatrixXd* m :
-         {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
-      for (int i = 0; i < n; ++i) {
-        row += ',';
-        append((*m)(i, k));
+  // Streamed a few blocks of rows at a time: memory independent of the length. Formatting
+  // (std::to_chars) and writing take most of the time; in each round, one task writes the last
+  // round's blocks in order while the others format this round's, each into its own buffer (two
+  // sets of buffers, used in turn). Without a pool, the same tasks one after another: the same
+  // bytes.
+  const std::size_t row_bytes = static_cast<std::size_t>(1 + 4 * n) * kNumberChars;
+  const int rows_per_block = std::min(
+      std::max(samples, 1), static_cast<int>(std::max<std::size_t>(16, kBlockBytes / row_bytes)));
+  const int blocks = (samples + rows_per_block - 1) / rows_per_block;
+  const int threads = pool ? pool->numThreads() : 1;
+  const int per_round = std::min({blocks, 2 * threads, kMaxBlocksPerRound});
+  std::vector<char> texts[2][kMaxBlocksPerRound];
+  std::size_t lengths[2][kMaxBlocksPerRound] = {};
+  for (auto& set : texts)
+    for (int slot = 0; slot < per_round; ++slot)
+      set[slot].resize(static_cast<std::size_t>(rows_per_block) * row_bytes);
+  std::exception_ptr failure;
+  int pending = 0;  // blocks formatted in the last round, not yet written (in set `1 - set`)
+  for (int first = 0, set = 0; first < blocks || pending > 0; set = 1 - set) {
+    const int round = std::min(per_round, blocks - first);
+    const auto task = [&](int index) {
+      if (index == 0) {
+        try {
+          for (int slot = 0; slot < pending; ++slot)
+            out.write({texts[1 - set][slot].data(), lengths[1 - set][slot]});
+        } catch (...) {
+          failure = std::current_exception();  // rethrown on this thread, after the round
+        }
+        return;
       }
-    row += '\n';
-    out.write(row);
+      const int block = first + index - 1;
+      lengths[set][index - 1] =
+          formatRows(trajectory, block * rows_per_block,
+                     std::min(samples, (block + 1) * rows_per_block), texts[set][index - 1]);
+    };
+    if (pool && round > 0)
+      pool->parallelFor(round + 1, [&](int index, int) { task(index); });
+    else
+      for (int index = 0; index <= round; ++index) task(index);
+    if (failure) std::rethrow_exception(failure);
+    pending = round;
+    first += round;
   }
 }
 

@@ -21,8 +21,9 @@ std::string datasetHeader(int num_joints);
 /// file back gives exactly the same doubles. Throws Error when the file cannot be written,
 /// InputError when the trajectory's matrices disagree in size.
 void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
-/// The same rows into `out` (a member of an output set), which the caller commits.
-void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory);
+/// The same rows into `out` (a member of an output set), which the caller commits. With a pool,
+/// blocks of rows are formatted on its threads and written in order: the same bytes.
+void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool = nullptr);
 
 /// A simulation's ground truth of external joint torques: header t,tau_ext1..tau_extn, one row per
 /// sample (time.size() columns of `external`, n x samples), written atomically. Throws Error when

@@ -197,9 +197,12 @@ std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
 std::string writePrepared(const std::string& dir, const LogSource& source,
                           const PrepareOptions& options, const PrepareOutcome& outcome) {
   OutputSet set(dir);  // train.csv, validate.csv, prepare.json and the figures: all or nothing
-  writeDatasetCsv(set.stream("train.csv"), outcome.train);
+  // The datasets' numbers formatted on every hardware thread (the same bytes): on an hour-long
+  // log, most of the time the outputs take (docs/PERFORMANCE.md).
+  ThreadPool pool(kAllThreads);
+  writeDatasetCsv(set.stream("train.csv"), outcome.train, &pool);
   if (outcome.validate.numSamples() > 0)
-    writeDatasetCsv(set.stream("validate.csv"), outcome.validate);
+    writeDatasetCsv(set.stream("validate.csv"), outcome.validate, &pool);
   if (options.keep_raw_torque) {
     AtomicWriter& raw = set.stream("validate_raw.csv");
     std::string line = "t";
