@@ -1,8 +1,11 @@
 #include "data/dataset_csv.hpp"
 #include "core/format.hpp"
 
+#include <sys/resource.h>
+
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -95,6 +98,43 @@ TEST(DatasetCsv, RowsFormattedOnThreadsAreTheRowsInOrder) {
     ASSERT_EQ(written.size(), expected.size());
     EXPECT_TRUE(written == expected);
   }
+}
+
+// A write that fails while the pool formats (here: the file-size limit, EFBIG) is the caller's
+// Error naming the file, after the round, not a std::terminate on a worker; the temporary goes
+// with the writer and nothing is left in the folder.
+TEST(DatasetCsv, AWriteThatFailsOnThePoolPathIsAnErrorAndLeavesNothing) {
+  Trajectory t;
+  t.resize(7, 20000);  // about 8 MB of text, 36 blocks
+  for (int i = 0; i < 20000; ++i) t.time[i] = i * 1e-3;
+  t.q.setConstant(1.0 / 3.0);
+  t.dq = t.q;
+  t.ddq = t.q;
+  t.tau = t.q;
+  const std::filesystem::path dir = test::tempPath("fsize");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "train.csv").string();
+  rlimit previous{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &previous), 0);
+  void (*const previous_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limit = previous;
+  limit.rlim_cur = 3 << 20;  // 3 MB: a few rounds in
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message;
+  {
+    ThreadPool pool(2);
+    AtomicWriter out(path);
+    try {
+      writeDatasetCsv(out, t, &pool);  // itself, not the commit after it
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  setrlimit(RLIMIT_FSIZE, &previous);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
 void expectError(const std::string& content, int expected_joints, const std::string& fragment) {
