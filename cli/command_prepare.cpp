@@ -279,6 +279,7 @@ int runPrepare(const std::vector<std::string>& args) {
   po::options_description options("dynid prepare");
   addPrepareOptions(options);
   addRecordingOptions(options);
+  addThreadsOption(options);  // the datasets' rows are formatted on them
   po::variables_map vm;
   const std::string usage =
       "dynid prepare (--log log.csv... --q SEL --tau SEL | --log "
@@ -294,7 +295,7 @@ int runPrepare(const std::vector<std::string>& args) {
   const PrepareOutcome outcome = prepareLog(source, o);
   for (const std::string& warning : outcome.warnings)
     std::cerr << "dynid prepare: warning: " << warning << "\n";
-  std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome);
+  std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome, threadsOption(vm));
   return kExitOk;
 }
 

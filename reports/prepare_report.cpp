@@ -195,11 +195,12 @@ std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
 }
 
 std::string writePrepared(const std::string& dir, const LogSource& source,
-                          const PrepareOptions& options, const PrepareOutcome& outcome) {
+                          const PrepareOptions& options, const PrepareOutcome& outcome,
+                          int threads) {
   OutputSet set(dir);  // train.csv, validate.csv, prepare.json and the figures: all or nothing
-  // The datasets' numbers formatted on every hardware thread (the same bytes): on an hour-long
-  // log, most of the time the outputs take (docs/PERFORMANCE.md).
-  ThreadPool pool(kAllThreads);
+  // The datasets' numbers formatted on the threads (the same bytes): on an hour-long log, most
+  // of the time the outputs take (docs/PERFORMANCE.md).
+  ThreadPool pool(threads);
   writeDatasetCsv(set.stream("train.csv"), outcome.train, &pool);
   if (outcome.validate.numSamples() > 0)
     writeDatasetCsv(set.stream("validate.csv"), outcome.validate, &pool);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/logs/prepare.hpp"
+#include "core/parallel.hpp"
 
 namespace dynid {
 
@@ -23,7 +24,10 @@ std::optional<std::string> filteredFigure(const PrepareOutcome& outcome);
 
 /// Writes train.csv, validate.csv (when there is a validation part), prepare.json, spectrum.svg
 /// and filtered.svg (when gnuplot runs) into `dir`, each atomically. Returns the console summary.
+/// The datasets' rows are formatted on `threads` threads (kAllThreads: every hardware thread; the
+/// same bytes for any count).
 std::string writePrepared(const std::string& dir, const LogSource& source,
-                          const PrepareOptions& options, const PrepareOutcome& outcome);
+                          const PrepareOptions& options, const PrepareOutcome& outcome,
+                          int threads = kAllThreads);
 
 }  // namespace dynid

@@ -56,6 +56,17 @@ TEST(Cli, PrepareWritesADatasetAndItsRecord) {
   // The figures: the spectra with the cutoff, the torque before and after the filter.
   for (const char* figure : {"spectrum.svg", "filtered.svg"})
     EXPECT_TRUE(std::filesystem::is_regular_file(dir + "/" + figure)) << figure;
+  // --threads formats the rows (the same bytes for any count), in the range of every command's.
+  const std::string one_dir = test::tempPath("prepared_one_thread");
+  const Result one =
+      run("prepare --log " + log + " --q 2 --tau 3 --angle-unit deg --threads 1 --out " + one_dir);
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_EQ(readFile(one_dir + "/train.csv"), readFile(dir + "/train.csv"));
+  const Result too_many =
+      run("prepare --log " + log + " --q 2 --tau 3 --threads 300 --out " + one_dir + "_x");
+  EXPECT_EQ(too_many.code, 2) << too_many.err;
+  EXPECT_TRUE(contains(too_many.err, "--threads")) << too_many.err;
+  EXPECT_FALSE(std::filesystem::exists(one_dir + "_x"));
   // The cutoff from the spectrum, and Savitzky-Golay derivatives: said on the console and in
   // prepare.json.
   const std::string auto_dir = test::tempPath("prepared_auto");
