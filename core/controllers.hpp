@@ -78,6 +78,7 @@ class TrackingController {
                const Eigen::Ref<const Eigen::VectorXd>& dq, Eigen::Ref<Eigen::VectorXd> tau);
 
   const Reference& reference() const { return reference_; }
+  const TrackingGains& gains() const { return gains_; }
   int numJoints() const { return model_.numJoints(); }
 
  private:

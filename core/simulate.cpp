@@ -1,10 +1,16 @@
 #include "core/simulate.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <random>
 #include <sstream>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
 #include "core/aba.hpp"
+#include "core/crba.hpp"
 #include "core/errors.hpp"
 #include "core/kinematics.hpp"
 #include "core/memory.hpp"
@@ -21,6 +27,90 @@ void requireNonNegativeFinite(double x, const char* name) {
   if (!(std::isfinite(x) && x >= 0.0))
     throw InputError(std::string("simulation ") + name + " must be >= 0 and finite");
 }
+/// The fastest rate [1/s] of a damping (D = diag(d)) or stiffness (K = diag(k); then its
+/// square) on the mass matrix M: the largest lambda of D x = lambda M x, which is real and >= 0
+/// (similar to D^1/2 M^-1 D^1/2). `joint` receives the joint whose diagonal entry carries most of
+/// that mode (the largest d_j x_j^2).
+double fastestRate(const Eigen::MatrixXd& M, const Eigen::VectorXd& d, int& joint) {
+  const Eigen::VectorXd root = d.cwiseMax(0.0).cwiseSqrt();
+  const Eigen::MatrixXd S = root.asDiagonal() * M.llt().solve(Eigen::MatrixXd(root.asDiagonal()));
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(0.5 * (S + S.transpose()));
+  Eigen::Index top = 0;
+  const double rate = std::max(eigen.eigenvalues().maxCoeff(&top), 0.0);
+  // S's eigenvector y = D^1/2 x: joint j's share of the mode's dissipation is y_j^2.
+  eigen.eigenvectors().col(top).cwiseAbs2().maxCoeff(&top);
+  joint = static_cast<int>(top);
+  return rate;
+}
+
+/// Why a simulation diverged, from the dynamics at the last finite configuration q ("" when no
+/// cause is found): the model's viscous friction, integrated at `step`, decays faster than the
+/// integrator is stable for (RK4: |lambda step| <= 2.785 on the negative real axis; semi-implicit
+/// Euler: 2), or the controller's damping or stiffness, applied with its torque held over the
+/// control period T, is beyond what such a loop is stable for (lambda T < 2, omega T < 2).
+std::string divergenceCause(const Model& truth, const TrackingController& controller,
+                            const SimulationOptions& options, const Eigen::VectorXd& q) {
+  const int n = truth.numJoints();
+  Data data(truth);
+  const Eigen::MatrixXd M = crba(truth, data, q);
+  if (!M.allFinite() || M.llt().info() != Eigen::Success) return "";
+  std::ostringstream out;
+  out.precision(3);
+  const bool rk4 = options.integrator == IntegratorType::kRk4;
+  const double limit = rk4 ? 2.785 : 2.0;
+  int joint = 0;
+  if (truth.driveTerms().has(DriveTerm::kViscous)) {
+    Eigen::VectorXd fv(n);
+    for (int i = 0; i < n; ++i) fv[i] = truth.drives()[i][DriveTerm::kViscous];
+    const double rate = fastestRate(M, fv, joint);
+    if (rate * options.step > limit) {
+      const double period = 1.0 / options.record_rate;
+      // The longest step that divides the recording period into 2^a 5^b steps (a short decimal
+      // when the period is one) and keeps 10 % from the limit.
+      const double needed = std::ceil(period * rate / (0.9 * limit));
+      double substeps = 1e18;
+      for (double twos = 1.0; twos < 2.0 * needed; twos *= 2.0)
+        for (double m = twos; m < 5.0 * needed; m *= 5.0)
+          if (m >= needed) substeps = std::min(substeps, m);
+      const double step = period / substeps;
+      const std::string j = std::to_string(joint + 1);
+      out << ": the integration step " << options.step
+          << " s is too long for the viscous friction: its fastest mode, mostly joint " << j
+          << " (Fv" << j << " = " << fv[joint] << " N m s), decays in " << 1.0 / rate << " s, and "
+          << (rk4 ? "RK4" : "semi-implicit Euler") << " is stable only for steps up to " << limit
+          << " times that; a step of " << std::setprecision(12) << step << std::setprecision(3)
+          << " s keeps it stable";
+      if (!truth.driveTerms().inertial() && truth.drives()[joint][DriveTerm::kRotorInertia] > 0.0)
+        out << ". The robot's rotor inertias (Ia" << j << " = "
+            << truth.drives()[joint][DriveTerm::kRotorInertia]
+            << " kg m^2) are not among its drive terms, so the friction of the drives acts on the "
+               "links' inertia alone";
+      return out.str();
+    }
+  }
+  const double period = 1.0 / options.record_rate;
+  const TrackingGains& gains = controller.gains();
+  const double damping = fastestRate(M, gains.kd, joint);
+  if (damping * period > 2.0) {
+    out << ": the controller's damping is too high for its period " << period
+        << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1
+        << " (kd = " << gains.kd[joint] << " N m s/rad), has a rate of " << damping
+        << "/s, and such a loop is stable only below 2/period; lower gains or a higher control "
+           "(recording) rate keep it stable";
+    return out.str();
+  }
+  const double stiffness = std::sqrt(fastestRate(M, gains.kp, joint));
+  if (stiffness * period > 2.0) {
+    out << ": the controller's stiffness is too high for its period " << period
+        << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1
+        << " (kp = " << gains.kp[joint] << " N m/rad), oscillates at " << stiffness
+        << " rad/s, and such a loop is stable only below 2/period; lower gains or a higher "
+           "control (recording) rate keep it stable";
+    return out.str();
+  }
+  return "";
+}
+
 void checkDisturbances(const Model& truth, const std::vector<Disturbance>& disturbances) {
   const int n = truth.numJoints();
   for (std::size_t k = 0; k < disturbances.size(); ++k) {
@@ -117,6 +207,7 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
     if (!q.allFinite() || !dq.allFinite()) {
       std::ostringstream msg;
       msg << "simulation of '" << truth.name << "' diverged at t = " << t << " s";
+      if (k > 0) msg << divergenceCause(truth, controller, options, out.q.col(k - 1));
       throw NumericalError(msg.str());
     }
     controller.compute(t, q, dq, tau);
