@@ -90,22 +90,19 @@ std::string divergenceCause(const Model& truth, const TrackingController& contro
   }
   const double period = 1.0 / options.record_rate;
   const TrackingGains& gains = controller.gains();
-  const double damping = fastestRate(M, gains.kd, joint);
-  if (damping * period > 2.0) {
-    out << ": the controller's damping is too high for its period " << period
-        << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1
-        << " (kd = " << gains.kd[joint] << " N m s/rad), has a rate of " << damping
-        << "/s, and such a loop is stable only below 2/period; lower gains or a higher control "
+  // Damping (rate lambda of kd) and stiffness (frequency omega of kp) against 2 / period.
+  for (const bool stiffness : {false, true}) {
+    const Eigen::VectorXd& g = stiffness ? gains.kp : gains.kd;
+    const double rate = stiffness ? std::sqrt(fastestRate(M, g, joint)) : fastestRate(M, g, joint);
+    if (rate * period <= 2.0) continue;
+    out << ": the controller's " << (stiffness ? "stiffness" : "damping")
+        << " is too high for its period " << period
+        << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1 << " ("
+        << (stiffness ? "kp = " : "kd = ") << g[joint] << (stiffness ? " N m/rad" : " N m s/rad")
+        << (stiffness ? "), oscillates at " : "), has a rate of ") << rate
+        << (stiffness ? " rad/s" : "/s")
+        << ", and such a loop is stable only below 2/period; lower gains or a higher control "
            "(recording) rate keep it stable";
-    return out.str();
-  }
-  const double stiffness = std::sqrt(fastestRate(M, gains.kp, joint));
-  if (stiffness * period > 2.0) {
-    out << ": the controller's stiffness is too high for its period " << period
-        << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1
-        << " (kp = " << gains.kp[joint] << " N m/rad), oscillates at " << stiffness
-        << " rad/s, and such a loop is stable only below 2/period; lower gains or a higher "
-           "control (recording) rate keep it stable";
     return out.str();
   }
   return "";
