@@ -315,6 +315,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     v.normalised_rms = e.joint_relative_error;
     v.relative_error = e.relative_error;
     out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
+    out.reversals = reversalResidual(out.fit);
   }
   if (!request.data) out.preparation = findPreparation(request.data_file);
   if (request.validate || !request.validate_file.empty()) {

@@ -18,6 +18,7 @@
 #include "analysis/methods.hpp"
 #include "analysis/pipeline.hpp"
 #include "analysis/records/prepare_record.hpp"
+#include "analysis/reversals.hpp"
 #include "analysis/streaming.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
@@ -189,7 +190,10 @@ struct IdentifyOutcome {
   std::optional<CombinedSummary> combined;  // method combined
   std::string robot_spec;
   // For the report:
-  Prediction fit;                                // the estimate's torques on the training data
+  Prediction fit;  // the estimate's torques on the training data
+  /// Where the training residual lies in velocity: the joints whose residual gathers near zero
+  /// velocity, where friction sticks and breaks away (analysis/reversals.hpp).
+  ReversalResidual reversals;
   std::optional<Prediction> validate_fit;        // and on the held-out data
   std::vector<ConsistencyViolation> violations;  // of the standard estimate, per link
   /// prepare.json when the training data is a `dynid prepare` output (train.csv or validate.csv

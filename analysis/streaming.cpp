@@ -266,6 +266,7 @@ Prediction predictionOfKept(const Model& model, const SampleKeeper& keeper,
   const int count = keeper.count();
   out.time = kept.time.head(count);
   out.measured = kept.tau.leftCols(count);
+  out.velocity = kept.dq.leftCols(count);
   out.predicted.resize(model.numJoints(), count);
   Data work(model);
   for (int k = 0; k < count; ++k)

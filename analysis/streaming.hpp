@@ -46,6 +46,7 @@ struct Prediction {
   int stride = 1;                // the series holds samples 0, stride, 2 stride, ...
   Eigen::VectorXd time;          // the series: kept samples' time [s],
   Eigen::MatrixXd measured, predicted;  // and torques (n x kept) [N m]
+  Eigen::MatrixXd velocity;             // and velocities dq (n x kept) [rad/s or m/s]
   /// With a band: per joint, the share of samples whose measured torque lies inside it, and the
   /// kept samples' half widths (n x kept) [N m]; empty otherwise.
   Eigen::VectorXd band_coverage;

@@ -28,7 +28,8 @@ std::string nameList(const std::vector<std::string>& names, std::size_t limit = 
   return out;
 }
 
-void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::string>& missing) {
+void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& o,
+                      std::vector<std::string>& missing) {
   doc.heading("Torque fit");
   const Validation& t = o.fit.validation;
   const Validation* v = o.validate_fit ? &o.validate_fit->validation : nullptr;
@@ -59,6 +60,24 @@ void torqueFitSection(Document& doc, const IdentifyOutcome& o, std::vector<std::
   }
   table.caption = "Relative error per joint: residual RMS over measured RMS.";
   doc.table(table);
+  if (const ReversalResidual& r = o.reversals; r.samples > 0) {
+    DocumentTable reversals;
+    reversals.header = {"joint", "band: |dq| under [rad/s]", "share of the samples",
+                        "share of the squared residual"};
+    for (Eigen::Index j = 0; j < r.speed.size(); ++j) {
+      const bool flagged = std::find(r.flagged.begin(), r.flagged.end(), j) != r.flagged.end();
+      reversals.rows.push_back({std::to_string(j + 1) + (flagged ? " (flagged)" : ""),
+                                formatNumber(r.speed[j], 3), percentText(r.sample_share[j]),
+                                percentText(r.residual_share[j])});
+    }
+    reversals.caption =
+        "Where the training residual lies in velocity: the samples within a tenth of each "
+        "joint's RMS speed of zero velocity (reversals, rest), measured on " +
+        std::to_string(r.samples) + " evenly spaced samples.";
+    doc.table(reversals);
+    if (const std::string note = reversalNote(model, o); !note.empty())
+      doc.paragraph("Note: " + note + ".");
+  }
   // The figures drawn at once (one gnuplot each), then placed in order.
   const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
   std::vector<std::function<std::optional<std::string>()>> draws = {
@@ -331,6 +350,7 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
     next.push_back("--method pc for an estimate every link of which is a physical body");
   if (!uncertain.empty())
     next.push_back("a motion designed by dynid excite would determine the poorly determined ones");
+  if (const std::string note = reversalNote(model, o); !note.empty()) next.push_back(note);
   if (next.empty())
     next.push_back("use it: --write-urdf (for a URDF robot), dynid predict, dynid monitor");
   std::string joined;
@@ -352,7 +372,7 @@ Document identificationDocument(const Model& model, const IdentifyOutcome& o,
   if (const std::string warning = solverWarning(o); !warning.empty())
     doc.paragraph("Warning: " + warning);
   std::vector<std::string> missing;
-  torqueFitSection(doc, o, missing);
+  torqueFitSection(doc, model, o, missing);
   combinedSection(doc, o);
   if (o.preparation.present) preparationSection(doc, o.preparation);
   identifiabilitySection(model, doc, o);

@@ -156,6 +156,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "physically_consistent",
                  "write_back",
                  "validation",
+                 "reversals",
                  "base_covariance"});
   EstimateRecord out;
   if (document.contains("base_covariance")) {
