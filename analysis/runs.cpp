@@ -456,12 +456,14 @@ PredictOutcome predictRun(const PredictRequest& request) {
   if (request.raw_file.empty()) {
     out.prediction =
         predictFile(out.model, request.data_file, pool, request.sink, kStreamChunkSamples, band);
+    out.reversals = reversalResidual(out.prediction);
     return out;
   }
   const RawTorques raw = readRawTorques(request.raw_file, out.model.numJoints());
   RawTorqueComparison comparison(raw, request.sink);
   out.prediction =
       predictFile(out.model, request.data_file, pool, &comparison, kStreamChunkSamples, band);
+  out.reversals = reversalResidual(out.prediction);
   out.raw = comparison.result();
   out.raw_file = request.raw_file;
   out.raw_skipped = comparison.skipped();

@@ -225,6 +225,7 @@ struct PredictOutcome {
   Prediction prediction;
   std::optional<PredictionBand> band;  // the estimate's 95 % band (absent in older estimates)
   std::optional<Validation> raw;       // against the raw torques (raw_file), when given
+  ReversalResidual reversals;          // where the residual lies in velocity (reversals.hpp)
   std::string raw_file;
   int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
 };

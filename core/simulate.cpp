@@ -94,7 +94,7 @@ std::string divergenceCause(const Model& truth, const TrackingController& contro
   for (const bool stiffness : {false, true}) {
     const Eigen::VectorXd& g = stiffness ? gains.kp : gains.kd;
     const double rate = stiffness ? std::sqrt(fastestRate(M, g, joint)) : fastestRate(M, g, joint);
-    if (rate * period <= 2.0) continue;
+    if (!(rate * period > 2.0)) continue;  // NaN (infinite gains) included: no cause named
     out << ": the controller's " << (stiffness ? "stiffness" : "damping")
         << " is too high for its period " << period
         << " s (the torque is held over it): its fastest mode, mostly joint " << joint + 1 << " ("

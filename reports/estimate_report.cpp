@@ -75,7 +75,7 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
         "joint's RMS speed of zero velocity (reversals, rest), measured on " +
         std::to_string(r.samples) + " evenly spaced samples.";
     doc.table(reversals);
-    if (const std::string note = reversalNote(model, o); !note.empty())
+    if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
       doc.paragraph("Note: " + note + ".");
   }
   // The figures drawn at once (one gnuplot each), then placed in order.
@@ -350,7 +350,8 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
     next.push_back("--method pc for an estimate every link of which is a physical body");
   if (!uncertain.empty())
     next.push_back("a motion designed by dynid excite would determine the poorly determined ones");
-  if (const std::string note = reversalNote(model, o); !note.empty()) next.push_back(note);
+  if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
+    next.push_back(note);
   if (next.empty())
     next.push_back("use it: --write-urdf (for a URDF robot), dynid predict, dynid monitor");
   std::string joined;

@@ -252,24 +252,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"note",
          "the written URDF and JSON carry the standard estimate; the directions the data cannot "
          "see come from the input model (the prior)"}};
-  if (const ReversalResidual& r = outcome.reversals; r.samples > 0) {
-    json flagged = json::array();
-    for (int j : r.flagged) flagged.push_back(j + 1);
-    report["reversals"] = {
-        {"note",
-         "per joint, the samples within speed (speed_fraction of the joint's RMS speed) of zero "
-         "velocity: their share of the samples and of the joint's squared training residual; "
-         "flagged joints (1-based) hold at least residual_share_mark of it and "
-         "concentration_mark times their sample share"},
-        {"samples", r.samples},
-        {"speed_fraction", kReversalSpeedFraction},
-        {"residual_share_mark", kReversalResidualShare},
-        {"concentration_mark", kReversalConcentration},
-        {"speed", numbersOrNull(r.speed)},
-        {"sample_share", numbersOrNull(r.sample_share)},
-        {"residual_share", numbersOrNull(r.residual_share)},
-        {"flagged", flagged}};
-  }
+  if (outcome.reversals.samples > 0) report["reversals"] = reversalsJson(outcome.reversals);
   if (const auto& v = outcome.validation)
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
@@ -318,7 +301,7 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
     if (const auto& raw = outcome.raw_validation)
       out << "\n  " << rawValidationLine(*raw, outcome.raw_skipped);
   }
-  if (const std::string note = reversalNote(model, outcome); !note.empty())
+  if (const std::string note = reversalNote(model.driveTerms(), outcome.reversals); !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir
       << "/report.html\n";
@@ -348,39 +331,6 @@ std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back) 
          "model has them) and " +
          json_path + " (every parameter); the " + std::to_string(back.unseen_directions) +
          " directions the data cannot see come from the input model\n";
-}
-
-std::string reversalNote(const Model& model, const IdentifyOutcome& outcome) {
-  const ReversalResidual& r = outcome.reversals;
-  if (r.flagged.empty()) return "";
-  std::vector<int> order = r.flagged;  // the largest share first
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return r.residual_share[a] > r.residual_share[b]; });
-  const auto percent = [](double x) { return formatNumber(100.0 * x, 2) + " %"; };
-  std::string out =
-      "friction at reversals: on the samples near zero velocity (|dq| under a tenth of the "
-      "joint's RMS speed), joint " +
-      std::to_string(order[0] + 1) + " has " + percent(r.residual_share[order[0]]) +
-      " of its squared torque residual on " + percent(r.sample_share[order[0]]) + " of the samples";
-  for (std::size_t k = 1; k < order.size(); ++k)
-    out += (k == 1 ? " (joint " : ", joint ") + std::to_string(order[k] + 1) + ": " +
-           percent(r.residual_share[order[k]]) + " on " + percent(r.sample_share[order[k]]);
-  out += order.size() > 1 ? ")" : "";
-  const DriveTerms terms = model.driveTerms();
-  std::string keys;
-  for (const std::string& key : driveTermsKeys(terms)) keys += (keys.empty() ? "" : ",") + key;
-  if (!terms.has(DriveTerm::kCoulomb))
-    out += ": the drive terms have no Coulomb friction; --drive-terms " +
-           (keys.empty() ? std::string("fv,fc") : keys + ",fc") + " adds it";
-  else if (!terms.has(DriveTerm::kStribeck))
-    out += ": Fc sign(dq) models the friction there worst; --drive-terms " + keys +
-           ",fs adds Stribeck (breakaway) friction, which can model part of it (compare the "
-           "held-out errors)";
-  else
-    out +=
-        ": the friction there (stick, presliding) is beyond the drive terms; that residual "
-        "is the model's, not noise";
-  return out;
 }
 
 std::string solverWarning(const IdentifyOutcome& outcome) {

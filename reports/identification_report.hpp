@@ -29,12 +29,6 @@ nlohmann::json estimateJson(const Model& model, const IdentifyOutcome& outcome);
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir);
 
-/// When the training residual of some joints gathers near zero velocity (IdentifyOutcome::
-/// reversals): "friction at reversals: ..." naming them with their shares, and what the drive
-/// terms can do about it (add fc; add fs, Stribeck; or nothing more: stick is beyond them).
-/// "" when no joint is flagged.
-std::string reversalNote(const Model& model, const IdentifyOutcome& outcome);
-
 /// The identification report: the torque fit on training and held-out data (table and figures:
 /// measured against predicted torques, residuals against time, their histograms), the
 /// preprocessing when the data came from `dynid prepare`, the base parameters with estimates,

@@ -43,6 +43,55 @@ std::string rawValidationLine(const Validation& raw, int skipped) {
   return line;
 }
 
+nlohmann::json reversalsJson(const ReversalResidual& r) {
+  nlohmann::json flagged = nlohmann::json::array();
+  for (int j : r.flagged) flagged.push_back(j + 1);
+  return {{"note",
+           "per joint, the samples within speed (speed_fraction of the joint's RMS speed) of zero "
+           "velocity: their share of the samples and of the joint's squared residual; flagged "
+           "joints (1-based) hold at least residual_share_mark of it and concentration_mark "
+           "times their sample share"},
+          {"samples", r.samples},
+          {"speed_fraction", kReversalSpeedFraction},
+          {"residual_share_mark", kReversalResidualShare},
+          {"concentration_mark", kReversalConcentration},
+          {"speed", numbersOrNull(r.speed)},
+          {"sample_share", numbersOrNull(r.sample_share)},
+          {"residual_share", numbersOrNull(r.residual_share)},
+          {"flagged", flagged}};
+}
+
+std::string reversalNote(DriveTerms terms, const ReversalResidual& r) {
+  if (r.flagged.empty()) return "";
+  std::vector<int> order = r.flagged;  // the largest share first
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return r.residual_share[a] > r.residual_share[b]; });
+  const auto percent = [](double x) { return formatNumber(100.0 * x, 2) + " %"; };
+  std::string out =
+      "friction at reversals: on the samples near zero velocity (|dq| under a tenth of the "
+      "joint's RMS speed), joint " +
+      std::to_string(order[0] + 1) + " has " + percent(r.residual_share[order[0]]) +
+      " of its squared torque residual on " + percent(r.sample_share[order[0]]) + " of the samples";
+  for (std::size_t k = 1; k < order.size(); ++k)
+    out += (k == 1 ? " (joint " : ", joint ") + std::to_string(order[k] + 1) + ": " +
+           percent(r.residual_share[order[k]]) + " on " + percent(r.sample_share[order[k]]);
+  out += order.size() > 1 ? ")" : "";
+  std::string keys;
+  for (const std::string& key : driveTermsKeys(terms)) keys += (keys.empty() ? "" : ",") + key;
+  if (!terms.has(DriveTerm::kCoulomb))
+    out += ": the drive terms have no Coulomb friction; --drive-terms " +
+           (keys.empty() ? std::string("fv,fc") : keys + ",fc") + " adds it";
+  else if (!terms.has(DriveTerm::kStribeck))
+    out += ": Fc sign(dq) models the friction there worst; --drive-terms " + keys +
+           ",fs adds Stribeck (breakaway) friction, which can model part of it (compare the "
+           "held-out errors)";
+  else
+    out +=
+        ": the friction there (stick, presliding) is beyond the drive terms; that residual "
+        "is the model's, not noise";
+  return out;
+}
+
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
@@ -58,6 +107,7 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
       {"joint_relative_error", numbersOrNull(v.normalised_rms)},
       {"residual_rms", numbersOrNull(v.torque_rms)}};
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
+  if (o.reversals.samples > 0) out["reversals"] = reversalsJson(o.reversals);
   if (o.prediction.band_coverage.size() > 0)
     out["band"] = {
         {"level", 0.95},
@@ -297,6 +347,8 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
     out << "\nno band: the estimate has no base covariance (made before dynid recorded it: "
            "identify again)";
   }
+  if (const std::string note = reversalNote(o.model.driveTerms(), o.reversals); !note.empty())
+    out << "\nnote: " << note;
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";
   if (figure) out << " and " << dir << "/torques.svg";
   out << "\n";

@@ -25,6 +25,13 @@ std::vector<std::string> bandWarnings(const Eigen::VectorXd& coverage);
 /// A prediction against the raw held-out torques (prepare --keep-raw-torque), as JSON and as
 /// one console line; `skipped`: raw samples no two adjacent dataset samples bracket.
 nlohmann::json rawValidationJson(const Validation& raw, const std::string& file, int skipped);
+/// estimate.json's and prediction.json's `reversals`: the band, the shares and the flagged joints
+/// (1-based) of analysis/reversals.hpp.
+nlohmann::json reversalsJson(const ReversalResidual& r);
+/// When some joints' residual gathers near zero velocity (ReversalResidual::flagged): "friction
+/// at reversals: ..." naming them with their shares, and what the drive terms can do about it
+/// (add fc; add fs, Stribeck; or nothing more: stick is beyond them). "" when none is flagged.
+std::string reversalNote(DriveTerms terms, const ReversalResidual& r);
 std::string rawValidationLine(const Validation& raw, int skipped);
 
 /// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.

@@ -242,6 +242,10 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
               contains(log, "--drive-terms fv,fc,fo,fs adds Stribeck"))
       << log;
   EXPECT_TRUE(contains(html, "friction at reversals")) << "the report's note";
+  // predict measures the same on the data it is given (the example's held-out part).
+  const auto prediction = nlohmann::json::parse(readFile(out + "/predict/prediction.json"));
+  EXPECT_GT(prediction["reversals"]["samples"].get<int>(), 3000) << prediction["reversals"];
+  EXPECT_EQ(prediction["reversals"]["residual_share"].size(), 7u);
   // Which it does: a lower held-out error (measured: 0.962 % against 1.022 %).
   const std::string fs_dir = test::tempPath("panda_fs");
   const Result fs = run("identify --robot panda --drive-terms fv,fc,fo,fs --data " + out +
