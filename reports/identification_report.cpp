@@ -162,6 +162,28 @@ json combinedHistoryJson(const CombinedResult& r) {
   return out;
 }
 
+namespace {
+/// estimate.json's base_covariance: each base parameter's regressor column and the matrix.
+json baseCovarianceJson(const IdentifyOutcome& outcome) {
+  const BaseParameters& base = outcome.base;
+  const BaseEstimate& estimate = outcome.result.estimate;
+  json independent = json::array(), matrix = json::array();
+  for (int j = 0; j < base.numBase(); ++j) {
+    independent.push_back(base.standard_names[static_cast<std::size_t>(base.independent[j])]);
+    matrix.push_back(numbersOrNull(estimate.covariance.row(j).transpose()));
+  }
+  return {{"note",
+           outcome.result.pc
+               ? "least-squares covariance at the physically consistent estimate (sigma^2 (R^T "
+                 "R)^-1 of the base regressor): its torque band is that of the unconstrained "
+                 "estimate at the same point, conservative where the constraints or the prior bind"
+               : "covariance of the base parameters, in base_parameters' order; each column of "
+                 "the base regressor is the standard parameter named in `columns`"},
+          {"columns", independent},
+          {"matrix", matrix}};
+}
+}  // namespace
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -200,23 +222,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                   {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
                    {"values", standard_json}}}};
   // The base covariance with each base parameter's column: predict's torque bands.
-  if (estimate.covariance.rows() == base.numBase() && estimate.covariance.allFinite()) {
-    json independent = json::array(), matrix = json::array();
-    for (int j = 0; j < base.numBase(); ++j) {
-      independent.push_back(base.standard_names[static_cast<std::size_t>(base.independent[j])]);
-      matrix.push_back(numbersOrNull(estimate.covariance.row(j).transpose()));
-    }
-    report["base_covariance"] = {
-        {"note",
-         outcome.result.pc
-             ? "least-squares covariance at the physically consistent estimate (sigma^2 (R^T "
-               "R)^-1 of the base regressor): its torque band is that of the unconstrained "
-               "estimate at the same point, conservative where the constraints or the prior bind"
-             : "covariance of the base parameters, in base_parameters' order; each column of "
-               "the base regressor is the standard parameter named in `columns`"},
-        {"columns", independent},
-        {"matrix", matrix}};
-  }
+  if (estimate.covariance.rows() == base.numBase() && estimate.covariance.allFinite())
+    report["base_covariance"] = baseCovarianceJson(outcome);
   if (const auto& pc = outcome.result.pc) {
     report["standard_estimate"]["note"] =
         "physically consistent on every link (positive definite pseudo-inertias)";
