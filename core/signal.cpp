@@ -93,12 +93,13 @@ void filterInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
   }
 }
 
-}  // namespace
-
-Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x) {
+/// x padded at both ends (filtfilt's contract), run forward and backward: the result's samples
+/// [pad, pad + x.size()) are the filtered signal.
+Eigen::VectorXd filteredPadded(const std::vector<Biquad>& sections, const Eigen::VectorXd& x,
+                               Eigen::Index& pad) {
   const Eigen::Index n = x.size();
   if (n < 2) throw InputError("a signal to filter needs at least 2 samples");
-  const Eigen::Index pad = std::min<Eigen::Index>(padTransient(sections), n - 1);
+  pad = std::min<Eigen::Index>(padTransient(sections), n - 1);
   Eigen::VectorXd y(n + 2 * pad);
   for (Eigen::Index k = 0; k < pad; ++k) {
     y[k] = 2.0 * x[0] - x[pad - k];
@@ -109,7 +110,19 @@ Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::Vecto
   y.reverseInPlace();
   filterInPlace(sections, y);
   y.reverseInPlace();
-  return y.segment(pad, n);
+  return y;
+}
+
+}  // namespace
+
+Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x) {
+  Eigen::Index pad = 0;
+  return filteredPadded(sections, x, pad).segment(pad, x.size());
+}
+
+void filtfiltInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
+  Eigen::Index pad = 0;
+  x = filteredPadded(sections, x, pad).segment(pad, x.size());
 }
 
 Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,

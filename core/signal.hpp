@@ -34,6 +34,8 @@ double magnitudeResponse(const std::vector<Biquad>& sections, double f, double r
 /// does to 1e-9 of its edge transient when the signal is longer than the padding.
 /// Throws InputError when the signal has fewer than 2 samples.
 Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x);
+/// The same values written over x (one padded copy while it runs, not two).
+void filtfiltInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x);
 
 /// The number of samples by which the ends are padded: until the slowest pole's transient has
 /// fallen to 1e-9 (scipy's 3 x (2 x sections + 1) is too short for low cutoffs: a ramp's edge

@@ -75,6 +75,14 @@ TEST(Signal, FiltfiltPassesLinesUnchangedToTheEnds) {
   EXPECT_THROW(filtfilt(f, Eigen::VectorXd::Ones(1)), InputError);
   // Shorter than the padding: still defined, the padding shrinks.
   EXPECT_EQ(filtfilt(f, line.head(5)).size(), 5);
+  // In place: the same values, for a long signal and one shorter than the padding.
+  for (const Eigen::VectorXd& x : {Eigen::VectorXd(line), Eigen::VectorXd(line.head(5))}) {
+    Eigen::VectorXd y = x;
+    filtfiltInPlace(f, y);
+    EXPECT_EQ(y, filtfilt(f, x));
+  }
+  Eigen::VectorXd one = Eigen::VectorXd::Ones(1);
+  EXPECT_THROW(filtfiltInPlace(f, one), InputError);
 }
 
 TEST(Signal, DerivativesAreExactForQuadraticsAndSecondOrderForSines) {
