@@ -279,7 +279,7 @@ int runPrepare(const std::vector<std::string>& args) {
   po::options_description options("dynid prepare");
   addPrepareOptions(options);
   addRecordingOptions(options);
-  addThreadsOption(options);  // the datasets' rows are formatted on them
+  addThreadsOption(options);  // the joints are prepared and the datasets' rows formatted on them
   po::variables_map vm;
   const std::string usage =
       "dynid prepare (--log log.csv... --q SEL --tau SEL | --log "
@@ -292,7 +292,7 @@ int runPrepare(const std::vector<std::string>& args) {
   readProcessing(vm, o);
   readWindowsAndBounds(vm, source, o);
   readHoldOut(vm, o);
-  const PrepareOutcome outcome = prepareLog(source, o);
+  const PrepareOutcome outcome = prepareLog(source, o, threadsOption(vm));
   for (const std::string& warning : outcome.warnings)
     std::cerr << "dynid prepare: warning: " << warning << "\n";
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome, threadsOption(vm));

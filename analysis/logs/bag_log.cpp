@@ -259,30 +259,64 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   RawSignals out;
   out.file = path;
   out.tau_file = path;
-  std::vector<double> rows;
-  std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns]
+  // The rows (time, then the visit's values) in blocks of kBlockRows: nothing read is moved again
+  // while the recording is read, and each block goes into the column-major matrix while it is
+  // still in cache, freed once copied (a row-major copy of the whole log, then its transpose,
+  // took a third of the time of preparing an hour-long bag and twice its memory).
+  constexpr std::size_t kBlockRows = 4096;
+  std::vector<std::vector<double>> blocks;
+  std::size_t total = 0, width = 0;
+  std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns] (joins only)
   std::int64_t first_ns = 0;
+  const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
   const JointStateScan scan =
       scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
-        if (stamps.empty()) first_ns = ns;
+        if (total == 0) {
+          first_ns = ns;
+          width = 1 + row.size();
+        }
+        if (blocks.empty() || blocks.back().size() == kBlockRows * width) {
+          blocks.emplace_back();
+          blocks.back().reserve(kBlockRows * width);
+        }
+        std::vector<double>& block = blocks.back();
         // The difference of integer nanoseconds, then seconds: exact to the double's precision.
-        rows.push_back(static_cast<double>(ns - first_ns) * 1e-9);
-        rows.insert(rows.end(), row.begin(), row.end());
-        stamps.push_back(ns);
+        block.push_back(static_cast<double>(ns - first_ns) * 1e-9);
+        block.insert(block.end(), row.begin(), row.end());
+        if (separate_effort) stamps.push_back(ns);
+        ++total;
       });
   const auto n = static_cast<int>(scan.names.size());
-  const int width = 1 + (scan.has_dq ? 3 : 2) * n;
   out.has_dq = scan.has_dq;
-  auto count = static_cast<Eigen::Index>(stamps.size());
-  const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
-  if (separate_effort)
-    count = joinSeparateEfforts(source, path, scan.names, stamps, width, rows, out);
-  out.values =
-      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-          rows.data(), count, width);
+  auto count = static_cast<Eigen::Index>(total);
+  const auto columns = static_cast<Eigen::Index>(width);
+  if (separate_effort) {
+    std::vector<double> rows;
+    rows.reserve(total * width);
+    for (std::vector<double>& block : blocks) {
+      rows.insert(rows.end(), block.begin(), block.end());
+      std::vector<double>().swap(block);
+    }
+    count =
+        joinSeparateEfforts(source, path, scan.names, stamps, static_cast<int>(width), rows, out);
+    out.values =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            rows.data(), count, columns);
+  } else {
+    out.values.resize(count, columns);
+    Eigen::Index first = 0;
+    for (std::vector<double>& block : blocks) {
+      const auto held = static_cast<Eigen::Index>(block.size() / width);
+      out.values.middleRows(first, held) =
+          Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+              block.data(), held, columns);
+      first += held;
+      std::vector<double>().swap(block);
+    }
+  }
+  out.ddq_at = static_cast<int>(width);
   out.n = n;
   out.rows = count;
-  out.ddq_at = width;
   out.time_origin = static_cast<long double>(first_ns) / 1e9L;  // seconds, the unit of bags
   out.columns.time = source.receive_time ? "receive time" : "header.stamp";
   out.columns.q = scan.names;

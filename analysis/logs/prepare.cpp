@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <functional>
 #include <limits>
 #include <numbers>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <tuple>
 
@@ -13,6 +15,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
+#include "core/parallel.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
@@ -343,7 +346,7 @@ struct Filters {
 /// PrepareOutcome's excerpt from this run.
 void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters,
                 const PrepareOptions& options, bool excerpt, Eigen::VectorXd& noise_sum,
-                PrepareOutcome& out) {
+                ThreadPool* pool, PrepareOutcome& out) {
   const std::vector<Biquad>& filter = filters.q;
   const int n = s.n, count = span.count;
   const double h = 1.0 / out.rate, t0 = span.run.start + span.run.time_offset;
@@ -367,34 +370,39 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     out.excerpt_raw.resize(length, n);
     out.excerpt_filtered.resize(length, n);
   }
-  for (int j = 0; j < n; ++j) {
-    Eigen::VectorXd q = resampled(s, span, 1 + j, out.rate, count);
-    Eigen::VectorXd tau = resampled(s, span, 1 + n + j, out.rate, count);
-    Eigen::VectorXd dq;
-    if (!out.dq_derived) dq = resampled(s, span, 1 + 2 * n + j, out.rate, count);
-    if (!filters.noise().empty()) {
-      // The noise estimate: the resampled torque minus its filtered self (q's filter, else tau's).
-      const Eigen::VectorXd smooth = filtfilt(filters.noise(), tau);
-      noise_sum[j] += (tau - smooth).squaredNorm();
-      const bool same = filters.tau_as_q || filters.q.empty();  // smooth is tau's filter's
-      const Eigen::VectorXd filtered = same                  ? smooth
-                                       : filters.tau.empty() ? tau
-                                                             : filtfilt(filters.tau, tau);
-      if (excerpt) {
-        const Eigen::Index first = (count - out.excerpt_time.size()) / 2;
-        out.excerpt_raw.col(j) = tau.segment(first, out.excerpt_time.size());
-        out.excerpt_filtered.col(j) = filtered.segment(first, out.excerpt_time.size());
+  // Each joint on its own (its own rows of the outputs, its own noise sum and excerpt column):
+  // the same bits on any number of threads. Each signal is stored and freed as soon as it is
+  // final, so that a thread holds a few signal-long vectors at a time.
+  const auto joint = [&](int j) {
+    {
+      Eigen::VectorXd tau = resampled(s, span, 1 + n + j, out.rate, count);
+      if (!filters.noise().empty()) {
+        // The noise estimate: the resampled torque minus its filtered self (q's filter, else
+        // tau's).
+        Eigen::VectorXd smooth = filtfilt(filters.noise(), tau);
+        noise_sum[j] += (tau - smooth).squaredNorm();
+        const bool same = filters.tau_as_q || filters.q.empty();  // smooth is tau's filter's
+        if (!same) smooth = filters.tau.empty() ? tau : filtfilt(filters.tau, tau);
+        if (excerpt) {
+          const Eigen::Index first = (count - out.excerpt_time.size()) / 2;
+          out.excerpt_raw.col(j) = tau.segment(first, out.excerpt_time.size());
+          out.excerpt_filtered.col(j) = smooth.segment(first, out.excerpt_time.size());
+        }
+        tau.swap(smooth);
       }
-      tau = filtered;
+      store(&Trajectory::tau, j, tau);
     }
-    if (!filter.empty()) {
-      q = filtfilt(filter, q);
-      if (dq.size() > 0) dq = filtfilt(filter, dq);
+    Eigen::VectorXd q = resampled(s, span, 1 + j, out.rate, count);
+    if (!filter.empty()) filtfiltInPlace(filter, q);
+    Eigen::VectorXd dq;
+    if (!out.dq_derived) {
+      dq = resampled(s, span, 1 + 2 * n + j, out.rate, count);
+      if (!filter.empty()) filtfiltInPlace(filter, dq);
     }
     Eigen::VectorXd ddq;
     if (out.ddq_logged) {
       ddq = resampled(s, span, s.ddq_at + j, out.rate, count);
-      if (!filter.empty()) ddq = filtfilt(filter, ddq);
+      if (!filter.empty()) filtfiltInPlace(filter, ddq);
     }
     if (dq.size() == 0 && ddq.size() > 0) {
       dq = differentiate(q, 1);
@@ -406,10 +414,25 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
       ddq = differentiate(dq, 1);
     }
     store(&Trajectory::q, j, q);
+    q = Eigen::VectorXd();
     store(&Trajectory::dq, j, dq);
+    dq = Eigen::VectorXd();
     store(&Trajectory::ddq, j, ddq);
-    store(&Trajectory::tau, j, tau);
+  };
+  if (pool == nullptr) {
+    for (int j = 0; j < n; ++j) joint(j);
+    return;
   }
+  std::vector<std::exception_ptr> errors(static_cast<std::size_t>(n));
+  pool->parallelFor(n, [&](int j, int) {
+    try {
+      joint(j);
+    } catch (...) {
+      errors[static_cast<std::size_t>(j)] = std::current_exception();  // rethrown below
+    }
+  });
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);  // the first joint's, whichever thread ran it
 }
 
 /// The run's raw torques at its own stamps where two adjacent held-out samples bracket them
@@ -851,7 +874,7 @@ void PrepareOptions::check() const {
         throw InputError("the dq and ddq plausibility bounds must be positive");
 }
 
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options) {
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads) {
   options.check();
   if (options.keep_raw_torque && options.validate_fraction == 0.0 &&
       options.validate_ranges.empty() && options.validate_runs.empty())
@@ -903,14 +926,18 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   allocate(out.train, n, plan.train);
   allocate(out.validate, n, plan.validate);
 
-  // Pass 4: every kept run, joint by joint, into its place.
+  // Pass 4: every kept run, joint by joint (the joints on the threads), into its place.
+  std::optional<ThreadPool> pool;
+  if (n > 1 && threads != 1) pool.emplace(threads);
+  ThreadPool* joint_pool = pool && pool->numThreads() > 1 ? &*pool : nullptr;
   Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
   double noise_count = 0.0;
   std::vector<double> raw_times, raw_taus;
   for (std::size_t r = 0; r < spans.size(); ++r) {
     const RunSpan& span = spans[r];
     if (span.kept) {
-      prepareRun(files[span.file], span, filters, options, r == plan.longest, noise_sum, out);
+      prepareRun(files[span.file], span, filters, options, r == plan.longest, noise_sum, joint_pool,
+                 out);
       if (options.keep_raw_torque)
         keepRawHeld(files[span.file], span, out.rate, raw_times, raw_taus);
       out.runs.push_back(span.run);

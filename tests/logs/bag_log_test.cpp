@@ -4,6 +4,7 @@
 // named.
 #include "analysis/logs/bag_log.hpp"
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "core/errors.hpp"
 #include "data/io.hpp"
 #include "tests/common/fixtures.hpp"
+#include "tests/common/joint_state_db3.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -103,6 +105,49 @@ TEST(BagLog, JointsAreMatchedByNameToTheRobotsAndTheRestIgnored) {
   bag.topic = "";
   bag.receive_time = true;
   EXPECT_EQ(readBagLog(bag, bag.tables[0]).values.col(0), s.values.col(0));
+}
+
+// More messages than one of readBagLog's blocks of rows (4096): every value in its place, with the
+// efforts in the position messages and joined from a second topic.
+TEST(BagLog, ALongRecordingReadsBackRowForRowAcrossBlocks) {
+  constexpr int kMessages = 10000;
+  const std::int64_t origin = 1700000000LL * 1000000000;
+  const std::vector<std::string> names = {"a", "b"};
+  const auto values = [](int k) {
+    return std::array<double, 6>{1e-4 * k, -2e-4 * k, 0.1 + k, 0.2 - k, 3.0 * k, -0.5 * k};
+  };
+  const std::string path = test::tempPath("long.db3");
+  {
+    test::JointStateDb3 db3(path, {"/joint_states", "/efforts"});
+    for (int k = 0; k < kMessages; ++k) {
+      const std::int64_t ns = origin + k * 1000000LL;
+      const std::array<double, 6> v = values(k);
+      db3.add(ns, ns, names, v.data(), v.data() + 2, v.data() + 4, 0);
+      db3.add(ns, ns, names, v.data(), nullptr, v.data() + 4, 1);
+    }
+    db3.close();
+  }
+  LogSource in_messages, separate;
+  in_messages.tables = separate.tables = {path};
+  in_messages.topic = separate.topic = "/joint_states";
+  separate.effort_topic = "/efforts";
+  for (const LogSource& source : {in_messages, separate}) {
+    SCOPED_TRACE(source.effort_topic);
+    const RawSignals s = readBagLog(source, path);
+    ASSERT_EQ(s.rows, kMessages);
+    ASSERT_TRUE(s.has_dq);
+    EXPECT_EQ(s.time_origin, 1700000000.0L);
+    for (Eigen::Index k = 0; k < s.rows; ++k) {
+      const auto i = static_cast<int>(k);
+      const std::array<double, 6> v = values(i);
+      ASSERT_EQ(s.time()(k), static_cast<double>(k * 1000000LL) * 1e-9) << k;
+      for (int j = 0; j < 2; ++j) {
+        ASSERT_EQ(s.q()(k, j), v[j]) << k;
+        ASSERT_EQ(s.dq()(k, j), v[2 + j]) << k;
+        ASSERT_EQ(s.tau()(k, j), v[4 + j]) << k;
+      }
+    }
+  }
 }
 
 }  // namespace

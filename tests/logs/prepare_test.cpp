@@ -698,5 +698,33 @@ TEST(Prepare, KeepsTheHeldOutRawTorquesAtTheLogsOwnStamps) {
   EXPECT_THROW(prepareLog(source, o), InputError);
 }
 
+// The joints are prepared on threads: the same outcome, bit for bit, on one thread and on three
+// (filtered, torque filtered on its own, central differences and Savitzky-Golay, held out).
+TEST(Prepare, JointsOnThreadsGiveTheSameBitsAsOnOne) {
+  JointsLog log;
+  log.joints = 5;
+  const LogSource source = jointsSource(writeJointsLog("threads.csv", log));
+  PrepareOptions plain;
+  plain.validate_fraction = 0.25;
+  PrepareOptions own_tau = plain;
+  own_tau.tau_cutoff = 4.0;
+  PrepareOptions savgol = plain;
+  savgol.savitzky_golay = true;
+  for (const PrepareOptions& o : {plain, own_tau, savgol}) {
+    const PrepareOutcome one = prepareLog(source, o, 1), three = prepareLog(source, o, 3);
+    for (const auto& [a, b] :
+         {std::pair{&one.train, &three.train}, {&one.validate, &three.validate}}) {
+      ASSERT_GT(a->numSamples(), 0);
+      EXPECT_EQ(a->time, b->time);
+      for (auto member : {&Trajectory::q, &Trajectory::dq, &Trajectory::ddq, &Trajectory::tau})
+        EXPECT_EQ(a->*member, b->*member);
+    }
+    EXPECT_EQ(one.tau_noise, three.tau_noise);
+    ASSERT_GT(one.excerpt_raw.size(), 0);
+    EXPECT_EQ(one.excerpt_raw, three.excerpt_raw);
+    EXPECT_EQ(one.excerpt_filtered, three.excerpt_filtered);
+  }
+}
+
 }  // namespace
 }  // namespace dynid
