@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -74,22 +75,60 @@ int padTransient(const std::vector<Biquad>& sections) {
 
 namespace {
 
-/// The cascade over x in place (transposed direct form II), each section starting in its steady
-/// state for a constant input x[0].
-void filterInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
-  for (const Biquad& s : sections) {
+/// The cascade of `M` sections over x in place (transposed direct form II), each section
+/// starting in its steady state for a constant input: its input's first value. The sections run
+/// sample by sample in one loop, so that their recursions overlap in the processor (one section's
+/// loop is bound by the latency of its own recursion); each section's arithmetic is the same as
+/// filtering the whole signal section after section.
+template <int M>
+void cascade(const Biquad* sections, Eigen::VectorXd& x) {
+  double s1[M], s2[M];
+  double u0 = x[0];
+  for (int i = 0; i < M; ++i) {
     // Steady state for a constant input u: y = g u (g the DC gain), s1 = y - b0 u,
     // s2 = b2 u - a2 y.
-    const double u0 = x[0];
+    const Biquad& s = sections[i];
     const double g = (s.b0 + s.b1 + s.b2) / (1.0 + s.a1 + s.a2);
-    double s1 = g * u0 - s.b0 * u0, s2 = s.b2 * u0 - s.a2 * g * u0;
-    for (Eigen::Index n = 0; n < x.size(); ++n) {
-      const double u = x[n];
-      const double y = s.b0 * u + s1;
-      s1 = s.b1 * u - s.a1 * y + s2;
-      s2 = s.b2 * u - s.a2 * y;
-      x[n] = y;
+    s1[i] = g * u0 - s.b0 * u0;
+    s2[i] = s.b2 * u0 - s.a2 * g * u0;
+    u0 = s.b0 * u0 + s1[i];  // the section's first output: the next one's first input
+  }
+  for (Eigen::Index n = 0; n < x.size(); ++n) {
+    double u = x[n];
+    for (int i = 0; i < M; ++i) {
+      const Biquad& s = sections[i];
+      const double y = s.b0 * u + s1[i];
+      s1[i] = s.b1 * u - s.a1 * y + s2[i];
+      s2[i] = s.b2 * u - s.a2 * y;
+      u = y;
     }
+    x[n] = u;
+  }
+}
+
+/// The cascade over x in place (sections: 1 to 6, Butterworth orders 1 to 12).
+void filterInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
+  switch (sections.size()) {
+    case 0:
+      return;
+    case 1:
+      return cascade<1>(sections.data(), x);
+    case 2:
+      return cascade<2>(sections.data(), x);
+    case 3:
+      return cascade<3>(sections.data(), x);
+    case 4:
+      return cascade<4>(sections.data(), x);
+    case 5:
+      return cascade<5>(sections.data(), x);
+    case 6:
+      return cascade<6>(sections.data(), x);
+    default:
+      for (std::size_t i = 0; i < sections.size(); i += 6)
+        filterInPlace(
+            {sections.begin() + static_cast<std::ptrdiff_t>(i),
+             sections.begin() + static_cast<std::ptrdiff_t>(std::min(i + 6, sections.size()))},
+            x);
   }
 }
 
@@ -128,16 +167,38 @@ void filtfiltInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
 Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
                                const Eigen::Ref<const Eigen::MatrixXd>& x, double t0, double rate,
                                int count) {
+  const LinearGrid grid = linearGrid(time, t0, rate, count);
   Eigen::MatrixXd out(count, x.cols());
-  const Eigen::Index last = time.size() - 2;
-  for (Eigen::Index c = 0; c < x.cols(); ++c) {
-    Eigen::Index j = 0;
-    for (int k = 0; k < count; ++k) {
-      const double t = t0 + k / rate;
-      while (j < last && time[j + 1] < t) ++j;
-      const double w = std::clamp((t - time[j]) / (time[j + 1] - time[j]), 0.0, 1.0);
-      out(k, c) = (1.0 - w) * x(j, c) + w * x(j + 1, c);
-    }
+  for (Eigen::Index c = 0; c < x.cols(); ++c) out.col(c) = resampleLinear(grid, x.col(c));
+  return out;
+}
+
+LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate,
+                      int count) {
+  if (time.size() < 2 || time.size() > std::numeric_limits<int>::max())
+    throw InputError("resampling needs 2 to " + std::to_string(std::numeric_limits<int>::max()) +
+                     " stamps, not " + std::to_string(time.size()));
+  LinearGrid grid;
+  grid.below.resize(static_cast<std::size_t>(std::max(count, 0)));
+  grid.weight.resize(std::max(count, 0));
+  const auto last = static_cast<int>(time.size() - 2);
+  int j = 0;
+  for (int k = 0; k < count; ++k) {
+    const double t = t0 + k / rate;
+    while (j < last && time[j + 1] < t) ++j;
+    grid.below[static_cast<std::size_t>(k)] = j;
+    grid.weight[k] = std::clamp((t - time[j]) / (time[j + 1] - time[j]), 0.0, 1.0);
+  }
+  return grid;
+}
+
+Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x) {
+  const Eigen::Index count = grid.weight.size();
+  Eigen::VectorXd out(count);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const int j = grid.below[static_cast<std::size_t>(k)];
+    const double w = grid.weight[k];
+    out[k] = (1.0 - w) * x[j] + w * x[j + 1];
   }
   return out;
 }

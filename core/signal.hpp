@@ -48,6 +48,20 @@ Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
                                const Eigen::Ref<const Eigen::MatrixXd>& x, double t0, double rate,
                                int count);
 
+/// Where the uniform times t0 + k / rate (k < count) fall among strictly increasing stamps (at
+/// least 2): per time, the stamp below it (at most the last but one) and the weight of the next,
+/// clamped to [0, 1]. Computed once, it resamples every signal on those stamps as resampleLinear
+/// does, bit for bit.
+struct LinearGrid {
+  std::vector<int> below;
+  Eigen::VectorXd weight;
+};
+/// Throws InputError for fewer than 2 stamps or more than INT_MAX.
+LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate,
+                      int count);
+/// x (one value per stamp of the grid) at the grid's times.
+Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x);
+
 /// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
 /// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.
 Eigen::VectorXd derivative(const Eigen::VectorXd& x, double h);

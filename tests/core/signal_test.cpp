@@ -119,6 +119,59 @@ TEST(Signal, ResamplingIsExactForLinesOnIrregularStamps) {
     EXPECT_NEAR(y(k, 0), 3.0 * k * 1e-3 + 1.0, 1e-14) << k;
     EXPECT_NEAR(y(k, 1), -k * 1e-3, 1e-14) << k;
   }
+  // The grid, found once, resamples each signal alike: the first stamp below each time (held at
+  // the ends: the last time, 13 ms, lies on the last stamp).
+  const LinearGrid grid = linearGrid(t, 0.0, 1000.0, 14);
+  EXPECT_EQ(grid.below, (std::vector<int>{0, 1, 1, 2, 3, 3, 3, 3, 3, 3, 3, 3, 4, 4}));
+  for (int c = 0; c < 2; ++c) EXPECT_EQ(resampleLinear(grid, x.col(c)), y.col(c));
+  EXPECT_THROW(linearGrid(t.head(1), 0.0, 1000.0, 1), InputError);
+}
+
+/// The cascade as filtfilt's contract states it, one section after another over the whole signal
+/// (each starting in its steady state for its input's first value): the reference the filter's
+/// one-loop implementation must match bit for bit.
+Eigen::VectorXd sectionAfterSection(const std::vector<Biquad>& sections, Eigen::VectorXd x) {
+  for (const Biquad& s : sections) {
+    const double u0 = x[0], g = (s.b0 + s.b1 + s.b2) / (1.0 + s.a1 + s.a2);
+    double s1 = g * u0 - s.b0 * u0, s2 = s.b2 * u0 - s.a2 * g * u0;
+    for (Eigen::Index n = 0; n < x.size(); ++n) {
+      const double u = x[n], y = s.b0 * u + s1;
+      s1 = s.b1 * u - s.a1 * y + s2;
+      s2 = s.b2 * u - s.a2 * y;
+      x[n] = y;
+    }
+  }
+  return x;
+}
+
+/// filtfilt by its contract: odd reflection, the cascade forward, then backward, section after
+/// section.
+Eigen::VectorXd referenceFiltfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x) {
+  const Eigen::Index n = x.size(), pad = std::min<Eigen::Index>(padTransient(sections), n - 1);
+  Eigen::VectorXd y(n + 2 * pad);
+  for (Eigen::Index k = 0; k < pad; ++k) {
+    y[k] = 2.0 * x[0] - x[pad - k];
+    y[n + pad + k] = 2.0 * x[n - 1] - x[n - 2 - k];
+  }
+  y.segment(pad, n) = x;
+  y = sectionAfterSection(sections, y).reverse().eval();
+  y = sectionAfterSection(sections, y).reverse().eval();
+  return y.segment(pad, n);
+}
+
+TEST(Signal, TheSectionsRunInOneLoopWithTheSameBitsAsOneAfterAnother) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  Eigen::VectorXd x = sine(3000, 1000.0, 3.0, 0.4);
+  for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(rng);
+  std::vector<Biquad> many;  // more sections than one loop takes (6)
+  for (int order : {1, 2, 3, 4, 5, 8, 11, 12}) {
+    const std::vector<Biquad> f = butterworthLowPass(order, 20.0, 1000.0);
+    if (order >= 5) many.insert(many.end(), f.begin(), f.end());
+    EXPECT_EQ(filtfilt(f, x), referenceFiltfilt(f, x)) << order;
+  }
+  ASSERT_EQ(many.size(), 19u);
+  EXPECT_EQ(filtfilt(many, x), referenceFiltfilt(many, x));
 }
 
 }  // namespace
