@@ -370,12 +370,20 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     out.excerpt_raw.resize(length, n);
     out.excerpt_filtered.resize(length, n);
   }
+  // Every signal of the run shares its stamps: where the output's samples fall among them is
+  // found once (the same values as resampled()).
+  const Eigen::Index raw = span.end - span.begin;
+  const LinearGrid grid = linearGrid(s.values.col(0).segment(span.begin, raw),
+                                     s.values(span.begin, 0), out.rate, count);
+  const auto signal = [&](Eigen::Index column) {
+    return resampleLinear(grid, s.values.col(column).segment(span.begin, raw));
+  };
   // Each joint on its own (its own rows of the outputs, its own noise sum and excerpt column):
   // the same bits on any number of threads. Each signal is stored and freed as soon as it is
   // final, so that a thread holds a few signal-long vectors at a time.
   const auto joint = [&](int j) {
     {
-      Eigen::VectorXd tau = resampled(s, span, 1 + n + j, out.rate, count);
+      Eigen::VectorXd tau = signal(1 + n + j);
       if (!filters.noise().empty()) {
         // The noise estimate: the resampled torque minus its filtered self (q's filter, else
         // tau's).
@@ -392,16 +400,16 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
       }
       store(&Trajectory::tau, j, tau);
     }
-    Eigen::VectorXd q = resampled(s, span, 1 + j, out.rate, count);
+    Eigen::VectorXd q = signal(1 + j);
     if (!filter.empty()) filtfiltInPlace(filter, q);
     Eigen::VectorXd dq;
     if (!out.dq_derived) {
-      dq = resampled(s, span, 1 + 2 * n + j, out.rate, count);
+      dq = signal(1 + 2 * n + j);
       if (!filter.empty()) filtfiltInPlace(filter, dq);
     }
     Eigen::VectorXd ddq;
     if (out.ddq_logged) {
-      ddq = resampled(s, span, s.ddq_at + j, out.rate, count);
+      ddq = signal(s.ddq_at + j);
       if (!filter.empty()) filtfiltInPlace(filter, ddq);
     }
     if (dq.size() == 0 && ddq.size() > 0) {
