@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "core/parallel.hpp"
 #include "data/dataset_csv.hpp"
 #include "reports/model_report.hpp"
 
@@ -150,6 +151,7 @@ int runSimulate(const std::vector<std::string>& args) {
   po::options_description options("dynid simulate");
   addRobotOptions(options);
   addSimulateOptions(options);
+  addThreadsOption(options);  // the dataset's rows are formatted on them
   po::variables_map vm;
   if (!parseCommandLine(args, options, "dynid simulate --robot R [options] --out FILE.csv", vm))
     return kExitOk;
@@ -206,7 +208,10 @@ int runSimulate(const std::vector<std::string>& args) {
   if (out == "-" && vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-")
     throw UsageError("--out and --truth-out cannot both be - (standard output)");
   const SimulateOutcome outcome = simulateRun(request);
-  writeDatasetCsv(out, outcome.trajectory);
+  {
+    ThreadPool pool(threadsOption(vm));
+    writeDatasetCsv(out, outcome.trajectory, &pool);
+  }
   // The summary goes to standard error when standard output carries a file.
   const bool piped =
       out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");

@@ -85,9 +85,9 @@ std::string datasetHeader(int num_joints) {
   return header;
 }
 
-void writeDatasetCsv(const std::string& path, const Trajectory& trajectory) {
+void writeDatasetCsv(const std::string& path, const Trajectory& trajectory, ThreadPool* pool) {
   AtomicWriter out(path);
-  writeDatasetCsv(out, trajectory);
+  writeDatasetCsv(out, trajectory, pool);
   out.commit();
 }
 

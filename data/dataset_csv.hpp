@@ -20,7 +20,8 @@ std::string datasetHeader(int num_joints);
 /// Writes the trajectory atomically (io.hpp), numbers in shortest round-trip form, so reading the
 /// file back gives exactly the same doubles. Throws Error when the file cannot be written,
 /// InputError when the trajectory's matrices disagree in size.
-void writeDatasetCsv(const std::string& path, const Trajectory& trajectory);
+void writeDatasetCsv(const std::string& path, const Trajectory& trajectory,
+                     ThreadPool* pool = nullptr);
 /// The same rows into `out` (a member of an output set), which the caller commits. With a pool,
 /// blocks of rows are formatted on its threads and written in order: the same bytes.
 void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool = nullptr);

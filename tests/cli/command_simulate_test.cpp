@@ -42,6 +42,13 @@ TEST(Cli, SimulateWritesADatasetAndSummary) {
       run("simulate --robot puma560 --drives --controller fourier --duration 0.2 --out " + again)
           .code,
       0);
+  // The rows are formatted on --threads threads, in blocks of at most 512 kB of text (3 s: more
+  // than 1 MB, so several blocks): the same bytes on one and on two.
+  const std::string one = test::tempPath("sim_one.csv"), two = test::tempPath("sim_two.csv");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 3 --threads 1 --out " + one).code, 0);
+  ASSERT_EQ(run("simulate --robot puma560 --duration 3 --threads 2 --out " + two).code, 0);
+  EXPECT_GT(std::filesystem::file_size(one), std::size_t{1} << 20);
+  EXPECT_EQ(readFile(one), readFile(two));
 }
 TEST(Cli, SimulateTracksADesignedExcitation) {
   const std::string design = test::tempPath("simulate_design");
