@@ -458,7 +458,7 @@ PreparePy preparePy(
     const std::string& stamp, const std::vector<std::string>& joint_names,
     const OptionalArrayLike& t, const OptionalArrayLike& q, const OptionalArrayLike& tau,
     const OptionalArrayLike& dq, const OptionalArrayLike& ddq, const std::string& effort_topic,
-    const OptionalPathLike& effort_log, bool keep_raw_torque) {
+    const OptionalPathLike& effort_log, bool keep_raw_torque, int threads) {
   PreparePy out;
   LogSource& s = out.source;
   if (tables.is_none()) {
@@ -541,7 +541,7 @@ PreparePy preparePy(
     o.gear_ratios = Eigen::Map<const Eigen::VectorXd>(g.data(), g.shape(0));
   }
   py::gil_scoped_release release;
-  out.outcome = prepareLog(out.source, out.options);
+  out.outcome = prepareLog(out.source, out.options, threads);
   return out;
 }
 
@@ -864,6 +864,7 @@ void bindPrepare(py::module_& m) {
       py::arg("q") = py::none(), py::arg("tau") = py::none(), py::arg("dq") = py::none(),
       py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
       py::arg("effort_log") = py::none(), py::arg("keep_raw_torque") = false,
+      py::arg("threads") = kAllThreads,
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -877,7 +878,9 @@ void bindPrepare(py::module_& m) {
       "the messages carry none). Arrays instead of files: tables=None and t (N,), q and tau "
       "(N, n; currents with current=True), optionally dq and ddq (N, n), in the units "
       "time_unit and angle_unit name. keep_raw_torque: also keep the held-out raw torques at "
-      "the log's stamps (raw_validate_time, raw_validate_tau: the CLI's validate_raw.csv).");
+      "the log's stamps (raw_validate_time, raw_validate_tau: the CLI's validate_raw.csv). "
+      "threads: the joints are prepared on them (0: every core; the same numbers for any "
+      "count).");
 }
 
 }  // namespace

@@ -890,6 +890,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
         "--keep-raw-torque keeps the held-out part's raw torques: hold a part out "
         "(--validate-fraction, --validate-time or --validate-runs)");
   checkOption("prepare", "joints", source.num_joints, "joints");
+  checkOption("prepare", "threads", threads, "threads");
   PrepareOutcome out;
   std::vector<RawSignals> files = readFiles(source, options, out);
   {

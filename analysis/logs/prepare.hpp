@@ -160,8 +160,8 @@ double angleUnitScale(const std::string& unit);
 /// (PreparedRun::time_offset). Throws ParseError for a malformed file (file, line, column),
 /// InputError for inconsistent options (cutoff above Nyquist, a run shorter than the filter, no
 /// sample left, currents without one torque constant per joint). The joints are resampled,
-/// filtered and differentiated on `threads` threads (0: every hardware thread; the same bits for
-/// any count).
+/// filtered and differentiated on `threads` threads (0: every hardware thread, at most 256; the
+/// same bits for any count).
 PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads = 0);
 
 }  // namespace dynid

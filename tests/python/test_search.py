@@ -181,6 +181,13 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
     assert prepared.cutoff == 10.0 and prepared.rate == pytest.approx(1000.0, rel=1e-9)
     assert np.array_equal(prepared.tau_noise,
                           read_json(tmp_path / "cli" / "prepare.json")["tau_noise_rms"])
+    # The joints on one thread: the same numbers as on every core.
+    one = dynid.prepare(str(log), time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
+                        time_unit="ms", angle_unit="deg", validate_fraction=0.25, threads=1)
+    for field in ("time", "q", "dq", "ddq", "tau"):
+        assert np.array_equal(getattr(one.train, field), getattr(prepared.train, field))
+    with pytest.raises(dynid.InputError, match="threads"):
+        dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", threads=-1)
     with pytest.raises(ValueError, match="cutoff"):
         dynid.prepare(str(log), q_columns="pos*", tau_columns="eff*", cutoff="high")
     with pytest.raises(dynid.ParseError):
