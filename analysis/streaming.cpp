@@ -232,11 +232,24 @@ Eigen::VectorXd PredictionBand::halfWidth(const Model& model, Data& data, const 
                                           const Eigen::VectorXd& ddq) const {
   const Eigen::MatrixXd& Y = jointTorqueRegressor(model, data, q, dq, ddq);
   const int n = model.numJoints(), b = static_cast<int>(independent.size());
-  Eigen::MatrixXd base(n, b);
-  for (int c = 0; c < b; ++c) base.col(c) = Y.col(independent[static_cast<std::size_t>(c)]);
-  // z sqrt(diag(W1 Sigma W1^T) + sigma^2)
-  const Eigen::VectorXd parameter = (base * covariance).cwiseProduct(base).rowwise().sum();
-  return z * (parameter + noise_sigma.cwiseAbs2()).cwiseSqrt();
+  Eigen::VectorXd y(b), out(n);
+  for (int j = 0; j < n; ++j) {
+    for (int c = 0; c < b; ++c) y[c] = Y(j, independent[static_cast<std::size_t>(c)]);
+    // y Sigma y^T from Sigma's lower triangle, sum_k y_k (Sigma_kk y_k + 2 sum_{i>k} Sigma_ik
+    // y_i), over the entries that are not zero: joint j's row is zero for the links before j
+    // (and the other joints' drives), so this is about a sixth of a product with the whole
+    // matrix on a 7-joint arm.
+    double parameter = 0.0;
+    for (int k = 0; k < b; ++k) {
+      if (y[k] == 0.0) continue;
+      const int below = b - k - 1;
+      parameter +=
+          y[k] * (covariance(k, k) * y[k] + 2.0 * covariance.col(k).tail(below).dot(y.tail(below)));
+    }
+    // z sqrt(y Sigma y^T + sigma^2)
+    out[j] = z * std::sqrt(parameter + noise_sigma[j] * noise_sigma[j]);
+  }
+  return out;
 }
 
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,

@@ -30,7 +30,7 @@ inline constexpr int kMaxPlottedSamples = 4096;
 /// the base regressor W1 = Y(:, independent) at the sample (W theta = W1 beta for any theta).
 struct PredictionBand {
   std::vector<int> independent;  // standard-parameter index of each base parameter's column
-  Eigen::MatrixXd covariance;    // of the base parameters (num_base x num_base)
+  Eigen::MatrixXd covariance;    // of the base parameters (num_base x num_base; symmetric)
   Eigen::VectorXd noise_sigma;   // per joint [N m]
   double z = 1.959963984540054;  // the two-sided 95 % normal quantile
   /// The half widths at one sample (n entries). Overwrites data.Y.

@@ -1,6 +1,8 @@
 #include "analysis/streaming.hpp"
 
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -10,9 +12,11 @@
 #include "analysis/runs.hpp"
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/regressor.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
+#include "data/panda.hpp"
 #include "data/puma560.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_stream.hpp"
@@ -73,6 +77,47 @@ TEST(PredictionBand, CoversNinetyFivePercentOfDataWithTheTrainingNoise) {
   for (int j = 0; j < 6; ++j) EXPECT_LT(noisy.band_coverage[j], 0.6) << j;
   const Prediction none = predictTorques(identified, train);
   EXPECT_EQ(none.band_coverage.size(), 0);
+}
+
+// The half width from the covariance's lower triangle over the regressor row's entries that are
+// not zero equals the whole product z sqrt(diag(W1 Sigma W1^T) + sigma^2), on both robots.
+TEST(PredictionBand, HalfWidthIsTheWholeQuadraticForm) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (const Model& model : {makePuma560(true), makePanda(true)}) {
+    const BaseParameters base = structuralBaseParameters(model);
+    const auto b = static_cast<Eigen::Index>(base.independent.size());
+    const int n = model.numJoints();
+    Eigen::MatrixXd a(b, b);
+    for (Eigen::Index k = 0; k < a.size(); ++k) a(k) = normal(rng);
+    PredictionBand band;
+    band.independent = base.independent;
+    band.covariance = 1e-3 * a * a.transpose();
+    band.noise_sigma = Eigen::VectorXd::Constant(n, 0.05);
+    Data data(model);
+    for (int sample = 0; sample < 20; ++sample) {
+      Eigen::VectorXd q(n), dq(n), ddq(n);
+      for (int j = 0; j < n; ++j) q[j] = normal(rng), dq[j] = normal(rng), ddq[j] = normal(rng);
+      const Eigen::VectorXd half = band.halfWidth(model, data, q, dq, ddq);
+      const Eigen::MatrixXd Y = jointTorqueRegressor(model, data, q, dq, ddq);
+      Eigen::MatrixXd w1(n, b);
+      for (Eigen::Index c = 0; c < b; ++c)
+        w1.col(c) = Y.col(base.independent[static_cast<std::size_t>(c)]);
+      const Eigen::VectorXd whole = band.z * ((w1 * band.covariance * w1.transpose()).diagonal() +
+                                              band.noise_sigma.cwiseAbs2())
+                                                 .cwiseSqrt();
+      // The two sums of b^2 products differ by at most twice the rounding bound of one, 2 b eps
+      // |y|^T |Sigma| |y|, which the square root halves relative to its argument.
+      const Eigen::VectorXd magnitude =
+          (w1.cwiseAbs() * band.covariance.cwiseAbs() * w1.cwiseAbs().transpose()).diagonal();
+      for (int j = 0; j < n; ++j) {
+        const double bound =
+            4.0 * static_cast<double>(b) * std::numeric_limits<double>::epsilon() * magnitude(j);
+        EXPECT_NEAR(half[j], whole[j], band.z * band.z * bound / (2.0 * whole[j])) << j;
+        EXPECT_GT(half[j], band.z * 0.05);  // the parameters add to the noise
+      }
+    }
+  }
 }
 
 TEST(Streaming, PredictFileEqualsThePredictionInMemoryForAnyThreadsAndChunks) {
