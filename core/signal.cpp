@@ -106,30 +106,11 @@ void cascade(const Biquad* sections, Eigen::VectorXd& x) {
   }
 }
 
-/// The cascade over x in place (sections: 1 to 6, Butterworth orders 1 to 12).
+/// The cascade over x in place, two sections per pass (the default order 4 in one pass).
 void filterInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
-  switch (sections.size()) {
-    case 0:
-      return;
-    case 1:
-      return cascade<1>(sections.data(), x);
-    case 2:
-      return cascade<2>(sections.data(), x);
-    case 3:
-      return cascade<3>(sections.data(), x);
-    case 4:
-      return cascade<4>(sections.data(), x);
-    case 5:
-      return cascade<5>(sections.data(), x);
-    case 6:
-      return cascade<6>(sections.data(), x);
-    default:
-      for (std::size_t i = 0; i < sections.size(); i += 6)
-        filterInPlace(
-            {sections.begin() + static_cast<std::ptrdiff_t>(i),
-             sections.begin() + static_cast<std::ptrdiff_t>(std::min(i + 6, sections.size()))},
-            x);
-  }
+  std::size_t i = 0;
+  for (; i + 1 < sections.size(); i += 2) cascade<2>(sections.data() + i, x);
+  if (i < sections.size()) cascade<1>(sections.data() + i, x);
 }
 
 /// x padded at both ends (filtfilt's contract), run forward and backward: the result's samples

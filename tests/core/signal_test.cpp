@@ -164,7 +164,7 @@ TEST(Signal, TheSectionsRunInOneLoopWithTheSameBitsAsOneAfterAnother) {
   std::normal_distribution<double> noise(0.0, 0.1);
   Eigen::VectorXd x = sine(3000, 1000.0, 3.0, 0.4);
   for (Eigen::Index k = 0; k < x.size(); ++k) x[k] += noise(rng);
-  std::vector<Biquad> many;  // more sections than one loop takes (6)
+  std::vector<Biquad> many;  // more sections than one pass takes (2), an odd number of them
   for (int order : {1, 2, 3, 4, 5, 8, 11, 12}) {
     const std::vector<Biquad> f = butterworthLowPass(order, 20.0, 1000.0);
     if (order >= 5) many.insert(many.end(), f.begin(), f.end());
