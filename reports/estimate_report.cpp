@@ -300,6 +300,49 @@ std::string torqueSource(const IdentifyOutcome& o) {
          "parameter is only as right as the torque constants used.";
 }
 
+/// What would determine the poorly determined base parameters (%σ above 10 %), by cause: with the
+/// same motion and noise σ falls as 1/sqrt(samples), so %σ up to 20 % comes within 10 % with 4
+/// times the samples; a value within 2σ of zero is not significantly different from zero (its
+/// torque is below the noise: its %σ says little, and no motion makes it larger); one nearly a
+/// combination of the others (independence below 0.1) needs a motion that separates them.
+std::string uncertainAdvice(const IdentifyOutcome& o) {
+  const BaseEstimate& e = o.result.estimate;
+  int longer = 0, zero = 0, entangled = 0, other = 0;
+  for (Eigen::Index j = 0; j < e.relative_std_dev_percent.size(); ++j) {
+    const double percent = e.relative_std_dev_percent[j];
+    if (percent <= 10.0) continue;
+    if (percent <= 20.0)
+      ++longer;
+    else if (j < e.beta.size() && j < e.std_dev.size() && std::abs(e.beta[j]) < 2.0 * e.std_dev[j])
+      ++zero;
+    else if (j < e.independence.size() && e.independence[j] < 0.1)
+      ++entangled;
+    else
+      ++other;
+  }
+  std::vector<std::string> parts;
+  if (longer > 0)
+    parts.push_back(std::to_string(longer) +
+                    " would come within 10 % with 4 times the samples of this motion (σ falls as "
+                    "1/√samples)");
+  if (zero > 0)
+    parts.push_back(std::to_string(zero) +
+                    " are not significantly different from zero (|estimate| < 2σ: their torque is "
+                    "below the noise, which is what the data say about them)");
+  if (entangled + other > 0)
+    parts.push_back(std::to_string(entangled + other) +
+                    (entangled > 0
+                         ? " (" + std::to_string(entangled) + " nearly combinations of others)"
+                         : std::string()) +
+                    " need more excitation: a motion designed by dynid excite, or a longer log");
+  if (parts.empty()) return "";
+  std::string out = "of the " + std::to_string(longer + zero + entangled + other) +
+                    " poorly determined base parameters, ";
+  for (std::size_t k = 0; k < parts.size(); ++k)
+    out += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+  return out;
+}
+
 /// The verdict box: what was estimated, how well, what is not determined, what to do next.
 std::vector<std::pair<std::string, std::string>> identificationVerdict(const Model& model,
                                                                        const IdentifyOutcome& o) {
@@ -348,8 +391,7 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
         "test.csv");
   if (!o.result.pc && !o.violations.empty())
     next.push_back("--method pc for an estimate every link of which is a physical body");
-  if (!uncertain.empty())
-    next.push_back("a motion designed by dynid excite would determine the poorly determined ones");
+  if (const std::string advice = uncertainAdvice(o); !advice.empty()) next.push_back(advice);
   if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
     next.push_back(note);
   if (next.empty())

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "analysis/records/document.hpp"
 #include "core/errors.hpp"
@@ -16,14 +18,27 @@ namespace dynid {
 
 namespace {
 
-/// printf into a string.
+/// printf into a string, whatever the length (names come from the user's files).
 void appendf(std::string& out, const char* format, ...) {
-  char buffer[512];
-  va_list args;
+  va_list args, again;
   va_start(args, format);
-  std::vsnprintf(buffer, sizeof(buffer), format, args);
+  va_copy(again, args);
+  const int length = std::vsnprintf(nullptr, 0, format, args);
   va_end(args);
-  out += buffer;
+  if (length > 0) {
+    const std::size_t at = out.size();
+    out.resize(at + static_cast<std::size_t>(length) + 1);
+    std::vsnprintf(out.data() + at, static_cast<std::size_t>(length) + 1, format, again);
+    out.resize(at + static_cast<std::size_t>(length));
+  }
+  va_end(again);
+}
+
+/// The width of a column: its heading's, or the longest entry's.
+int columnWidth(const char* heading, const std::vector<std::string>& entries) {
+  std::size_t width = std::char_traits<char>::length(heading);
+  for (const std::string& e : entries) width = std::max(width, e.size());
+  return static_cast<int>(width);
 }
 
 nlohmann::json toJson(const Eigen::VectorXd& v) { return std::vector<double>(v.begin(), v.end()); }
@@ -41,15 +56,20 @@ std::string modelShowText(const Model& model) {
   appendf(out, "robot %s: %d joints, gravity (%g, %g, %g) m/s^2, drive terms %s\n",
           model.name.c_str(), model.numJoints(), model.gravity().x(), model.gravity().y(),
           model.gravity().z(), driveTermsText(model.driveTerms()).c_str());
-  appendf(out, "\n%-4s %-16s %-16s %-11s %-12s %s\n", "#", "link", "joint", "type", "parent",
-          "limits [rad or m]");
-  for (int i = 0; i < model.numJoints(); ++i) {
-    const int p = model.parents()[i];
-    appendf(out, "%-4d %-16s %-16s %-11s %-12s [%g, %g]\n", i + 1, model.link_names[i].c_str(),
-            model.joint_names[i].c_str(), jointTypeName(model.joint_types()[i]),
-            p < 0 ? "(base)" : model.link_names[p].c_str(), model.limits[i].lower,
-            model.limits[i].upper);
-  }
+  // Columns as wide as their longest name (a URDF's "shoulder_pan_joint" included).
+  std::vector<std::string> parents;
+  for (int i = 0; i < model.numJoints(); ++i)
+    parents.push_back(model.parents()[i] < 0 ? "(base)" : model.link_names[model.parents()[i]]);
+  const int link_width = columnWidth("link", model.link_names),
+            joint_width = columnWidth("joint", model.joint_names),
+            parent_width = columnWidth("parent", parents);
+  appendf(out, "\n%-4s %-*s %-*s %-11s %-*s %s\n", "#", link_width, "link", joint_width, "joint",
+          "type", parent_width, "parent", "limits [rad or m]");
+  for (int i = 0; i < model.numJoints(); ++i)
+    appendf(out, "%-4d %-*s %-*s %-11s %-*s [%g, %g]\n", i + 1, link_width,
+            model.link_names[i].c_str(), joint_width, model.joint_names[i].c_str(),
+            jointTypeName(model.joint_types()[i]), parent_width, parents[i].c_str(),
+            model.limits[i].lower, model.limits[i].upper);
   // The link frames at q = 0, to compare with the datasheet (roll-pitch-yaw: R = Rz Ry Rx).
   out += "\nlink frames at q = 0, in the base frame: origin [m], roll pitch yaw [rad]\n";
   const std::vector<Pose<double>> frames = linkFramesAtZero(model);
@@ -58,7 +78,7 @@ std::string modelShowText(const Model& model) {
     const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
     const double roll = std::atan2(r(2, 1), r(2, 2)), yaw = std::atan2(r(1, 0), r(0, 0));
     const Eigen::Vector3d& p = frames[i].translation;
-    appendf(out, "  %-16s (% .6f, % .6f, % .6f)  rpy (% .6f, % .6f, % .6f)\n",
+    appendf(out, "  %-*s (% .6f, % .6f, % .6f)  rpy (% .6f, % .6f, % .6f)\n", link_width,
             model.link_names[i].c_str(), p.x(), p.y(), p.z(), roll, pitch, yaw);
   }
   const ParameterLayout layout = model.parameterLayout();

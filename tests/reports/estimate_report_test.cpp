@@ -138,5 +138,40 @@ TEST(EstimateReport, WritesEveryFileAndPcIsConsistentOnEveryLink) {
   EXPECT_FALSE(std::filesystem::exists(bare + "/residuals.svg"));
 }
 
+TEST(EstimateReport, NextSaysWhatWouldDetermineEachPoorlyDeterminedParameter) {
+  const Fixture f = writeData(false);
+  IdentifyOutcome o = identifyRun(request(f, Method::kOls));
+  // Six constructed cases over the first base parameters, the rest well determined: 5 % (fine),
+  // 15 % (4 times the samples bring it to 7.5 %), 80 % (|estimate| < 2 sigma), 30 % and nearly a
+  // combination of the others, 30 % and 40 % on their own (more excitation).
+  BaseEstimate& e = o.result.estimate;
+  const int b = static_cast<int>(e.beta.size());
+  ASSERT_GE(b, 6);
+  e.beta.setOnes();
+  e.independence = Eigen::VectorXd::Ones(b);
+  const double percent[] = {5.0, 15.0, 80.0, 30.0, 30.0, 40.0};
+  e.relative_std_dev_percent = Eigen::VectorXd::Constant(b, 1.0);
+  for (int j = 0; j < 6; ++j) e.relative_std_dev_percent[j] = percent[j];
+  e.std_dev = e.relative_std_dev_percent / 100.0;  // beta = 1
+  e.independence[3] = 0.05;
+  const std::string md =
+      identificationDocument(request(f, Method::kOls).model, o, nullptr).markdown();
+  EXPECT_TRUE(contains(md,
+                       "of the 5 poorly determined base parameters, 1 would come within 10 % "
+                       "with 4 times the samples of this motion"))
+      << md;
+  EXPECT_TRUE(contains(md, ", 1 are not significantly different from zero (|estimate| < 2σ")) << md;
+  EXPECT_TRUE(contains(md,
+                       " and 3 (1 nearly combinations of others) need more excitation: a "
+                       "motion designed by dynid excite, or a longer log"))
+      << md;
+  // All well determined: no such advice.
+  e.relative_std_dev_percent.setConstant(1.0);
+  e.std_dev.setConstant(0.01);
+  const std::string fine =
+      identificationDocument(request(f, Method::kOls).model, o, nullptr).markdown();
+  EXPECT_FALSE(contains(fine, "poorly determined base parameters,")) << fine;
+}
+
 }  // namespace
 }  // namespace dynid
