@@ -259,6 +259,35 @@ void MonitorRequest::check() const {
 
 namespace {
 
+/// Per joint, what a raw effort is multiplied by to give the joint torque: torque constant x gear
+/// ratio with currents, else empty (the efforts are torques). Throws InputError for a count other
+/// than the robot's joints, or a value that is zero or not finite.
+Eigen::VectorXd effortScale(const MonitorRequest& request, int n) {
+  if (request.torque_constants.size() == 0) {
+    if (request.gear_ratios.size() > 0)
+      throw InputError("--gear-ratios applies to motor currents: give --torque-constants too");
+    return {};
+  }
+  for (const auto& [v, what] : {std::pair{&request.torque_constants, "--torque-constants"},
+                                std::pair{&request.gear_ratios, "--gear-ratios"}}) {
+    if (v->size() == 0) continue;
+    if (v->size() != n)
+      throw InputError(std::string(what) + " has " + std::to_string(v->size()) +
+                       " values; the robot has " + std::to_string(n) +
+                       " joints: give one per joint");
+    for (Eigen::Index j = 0; j < n; ++j)
+      if (!std::isfinite((*v)[j]) || (*v)[j] == 0.0)
+        throw InputError(std::string(what) + ": the value of joint " + std::to_string(j + 1) +
+                         " must be finite and non-zero");
+  }
+  Eigen::VectorXd scale = request.torque_constants;
+  if (request.gear_ratios.size() > 0) scale.array() *= request.gear_ratios.array();
+  return scale;
+}
+
+/// Whether `file` holds raw efforts (a recording, or stdin), which --torque-constants scales.
+bool rawEfforts(const std::string& file) { return file == "-" || bags::isBag(file); }
+
 /// Whether the residuals are above their thresholds, and the event they make.
 class EventDetector {
  public:
@@ -395,6 +424,7 @@ Pass passOverStream(const Model& model, const MonitorRequest& request, const Eig
   if (!request.next_line || !request.next_line(line))
     throw ParseError(source, 1, "", "no header: the stream ended before its first line");
   const bool with_ddq = parseSampleHeader(line, n, source);
+  const Eigen::VectorXd scale = effortScale(request, n);
   MomentumObserver observer(model, gain);
   Data data(model);
   Pass out;
@@ -413,6 +443,7 @@ Pass passOverStream(const Model& model, const MonitorRequest& request, const Eig
     }
     ++number;
     parseSampleLine(line, n, with_ddq, source, number, t, q, dq, ddq, tau);
+    if (scale.size() > 0) tau.array() *= scale.array();  // currents to torques
     if (out.samples > 0 && !(t > previous))
       throw ParseError(source, static_cast<int>(std::min<long long>(number, INT32_MAX)), "t",
                        "time must increase (previous sample at " + std::to_string(previous) + ")");
@@ -450,7 +481,8 @@ class RecordingFeed {
         request_(request),
         visit_(visit),
         out_(out),
-        observer_(model, gain) {}
+        observer_(model, gain),
+        scale_(effortScale(request, model.numJoints())) {}
   /// One sample at t [s from the first]: q, tau, dq (n each) from `row`.
   void add(double t, const double* row, long long message) {
     const int n = model_.numJoints();
@@ -466,6 +498,7 @@ class RecordingFeed {
                            " s (message " + std::to_string(message) + " as recorded) has a " +
                            name + " of joint " + model_.joint_names[static_cast<std::size_t>(j)] +
                            " that is not finite");
+    if (scale_.size() > 0) tau_.array() *= scale_.array();  // currents to torques
     double dt = out_.samples > 0 ? t - out_.last : 0.0;
     if (dt > request_.max_gap) {
       observer_.restart();
@@ -486,6 +519,7 @@ class RecordingFeed {
   const Visit& visit_;
   Pass& out_;
   MomentumObserver observer_;
+  Eigen::VectorXd scale_;  // effortScale's
   Eigen::VectorXd q_, tau_, dq_;
 };
 
@@ -733,6 +767,12 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   if (gain.size() != n)
     throw InputError("--gain has " + std::to_string(gain.size()) + " values, the robot '" +
                      model.name + "' has " + std::to_string(n) + " joints");
+  if (effortScale(request, n).size() > 0 && !rawEfforts(request.data_file) &&
+      !(request.calibration_file.size() > 0 && rawEfforts(request.calibration_file)))
+    throw InputError(
+        "--torque-constants converts the raw efforts of a recording or of samples on stdin; the "
+        "dataset CSVs given hold torques already (dynid prepare --current converted them): drop "
+        "--torque-constants");
   // The thresholds: calibrated on a clean log, or read back (for these joints, this gain).
   if (!request.calibration_file.empty()) {
     out.thresholds = calibrate(model, request, gain, out.warnings);

@@ -160,6 +160,11 @@ struct MonitorRequest {
   /// receive time) and the topic whose efforts are the torques when the positions' carry none.
   std::string topic, effort_topic;
   bool receive_time = false;
+  /// Raw efforts that are motor currents (a current-sensing arm's recording or stdin samples):
+  /// tau_j = current_j * torque_constants_j * gear_ratios_j [N m/A; gear ratios empty: 1], as
+  /// dynid prepare --current. A dataset CSV's tau is taken as it is (prepare converted it); at
+  /// least one of the logs must be a recording or stdin. One entry per joint each.
+  Eigen::VectorXd torque_constants, gear_ratios;
   MonitorEventSink* sink = nullptr;  // events as they happen (may be null)
   /// Lines streamed from stdin when data_file is "-" (the CLI's reader; tests pass their own).
   std::function<bool(std::string& line)> next_line;

@@ -111,6 +111,10 @@ void addMonitorOptions(po::options_description& options) {
       "false-alarms-per-hour", po::value<double>()->default_value(kDefaultFalseAlarmsPerHour))(
       "hold", po::value<double>()->default_value(kDefaultEventHold))(
       "max-gap", po::value<double>()->default_value(kDefaultMaxGap))(
+      "torque-constants", po::value<std::string>(),
+      "the efforts of a recording or of stdin samples are motor currents: N m/A per joint "
+      "(torque = current x constant x gear ratio, as prepare --current)")(
+      "gear-ratios", po::value<std::string>(), "with --torque-constants: per joint (default 1)")(
       "truth", po::value<std::string>(),
       "simulate --disturbance's ground truth (t,tau_ext1..): detections, delays, false alarms")(
       "out", po::value<std::string>(),
@@ -152,6 +156,15 @@ MonitorRequest monitorRequestOf(const po::variables_map& vm) {
     request.gain =
         Eigen::Map<const Eigen::VectorXd>(gain.data(), static_cast<Eigen::Index>(gain.size()));
   }
+  if (vm.count("gear-ratios") && !vm.count("torque-constants"))
+    throw UsageError("--gear-ratios applies to motor currents: give --torque-constants too");
+  for (const auto& [key, target] : {std::pair{"torque-constants", &request.torque_constants},
+                                    std::pair{"gear-ratios", &request.gear_ratios}})
+    if (vm.count(key)) {
+      const std::vector<double> values = parseList(vm[key].as<std::string>(), key);
+      *target = Eigen::Map<const Eigen::VectorXd>(values.data(),
+                                                  static_cast<Eigen::Index>(values.size()));
+    }
   request.false_alarms_per_hour = vm["false-alarms-per-hour"].as<double>();
   request.hold = vm["hold"].as<double>();
   request.max_gap = vm["max-gap"].as<double>();

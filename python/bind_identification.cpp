@@ -2,6 +2,7 @@
 // (identify, predict): the pipelines of analysis/runs.hpp, the documents of reports/ as to_json().
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include <pybind11/stl.h>
 
@@ -621,7 +622,8 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
                  const OptionalArrayLike& gain, double false_alarms_per_hour, double hold,
                  double max_gap, const OptionalPathLike& truth, const PathLike& robot_spec,
                  int threads, const std::string& topic, const std::string& stamp,
-                 const std::string& effort_topic) {
+                 const std::string& effort_topic, const OptionalArrayLike& torque_constants,
+                 const OptionalArrayLike& gear_ratios) {
   checkThreads(threads);
   MonitorRequest request;
   request.arm = pathArg(arm_arg, "arm");
@@ -645,6 +647,13 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
   request.topic = topic;
   request.effort_topic = effort_topic;
   request.receive_time = stamp == "receive";
+  for (const auto& [given, target, name] :
+       {std::tuple{&torque_constants, &request.torque_constants, "torque_constants"},
+        std::tuple{&gear_ratios, &request.gear_ratios, "gear_ratios"}})
+    if (!given->is_none()) {
+      const DoubleArray values = realArray(*given, name, {1});
+      *target = Eigen::Map<const Eigen::VectorXd>(values.data(), values.shape(0));
+    }
   request.false_alarms_per_hour = false_alarms_per_hour;
   request.hold = hold;
   request.max_gap = max_gap;
@@ -687,9 +696,12 @@ void bindTrust(py::module_& m) {
         py::arg("hold") = kDefaultEventHold, py::arg("max_gap") = kDefaultMaxGap,
         py::arg("truth") = py::none(), py::arg("robot_spec") = "", py::arg("threads") = kAllThreads,
         py::arg("topic") = "", py::arg("stamp") = "header", py::arg("effort_topic") = "",
+        py::arg("torque_constants") = py::none(), py::arg("gear_ratios") = py::none(),
         "`dynid monitor` on a log file (a dataset CSV, or a recording: .mcap, .db3, .bag or a "
         "bag directory, with its JointState `topic`, `stamp` 'header' or 'receive', and "
-        "`effort_topic`): `arm` an estimate.json, URDF, dynid model or robot spec; "
+        "`effort_topic`; a recording's efforts that are motor currents become torques through "
+        "`torque_constants` [N m/A] and `gear_ratios`, per joint): `arm` an estimate.json, "
+        "URDF, dynid model or robot spec; "
         "thresholds from a clean `calibration` log or a saved `thresholds` file (one of them). "
         "Returns monitor.json as a dict (events, thresholds, statistics, truth scores).");
   m.def("audit", &audit, py::arg("estimates") = py::none(), py::arg("data") = py::none(),

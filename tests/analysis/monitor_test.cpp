@@ -428,6 +428,88 @@ TEST_F(MonitorRun, ARecordingWithItsEffortsOnAnotherTopic) {
   EXPECT_NE(text.find("carry no effort"), std::string::npos) << text;
 }
 
+// A current-sensing arm's recording and stdin samples: efforts in A, turned into torques by
+// --torque-constants and --gear-ratios (as prepare --current): the same thresholds and events as
+// the torques themselves. Dataset CSVs hold torques already: the constants are refused there.
+TEST_F(MonitorRun, CurrentsBecomeTorquesThroughTheTorqueConstants) {
+  const Trajectory clean = pushedPuma(model_, 6.0, {}, nullptr, 0.05);
+  const Trajectory pushed = pushedPuma(model_, 3.0, {jointPush(2, 10.0, 1.5, 0.2)}, nullptr, 0.05);
+  Eigen::VectorXd constants(6), ratios(6);
+  constants << 0.2, 0.25, 0.125, 0.5, 0.4, 0.0625;  // N m/A
+  ratios << 100, 80, 160, 50, 64, 64;
+  const auto currents = [&](Trajectory t) {
+    for (int j = 0; j < 6; ++j) t.tau.row(j) /= constants[j] * ratios[j];
+    return t;
+  };
+  MonitorRequest torques;
+  torques.arm = "puma560";
+  torques.data_file = recording("monitor_torques.db3", model_, pushed);
+  torques.calibration_file = recording("monitor_torques_clean.db3", model_, clean);
+  const MonitorOutcome a = monitorRun(torques);
+  MonitorRequest amps = torques;
+  amps.data_file = recording("monitor_currents.db3", model_, currents(pushed));
+  amps.calibration_file = recording("monitor_currents_clean.db3", model_, currents(clean));
+  amps.torque_constants = constants;
+  amps.gear_ratios = ratios;
+  const MonitorOutcome b = monitorRun(amps);
+  // Dividing and multiplying back rounds each torque by an ulp or two.
+  EXPECT_LT((a.thresholds.values - b.thresholds.values).norm(), 1e-12 * a.thresholds.values.norm());
+  ASSERT_EQ(a.events.size(), 1u);
+  ASSERT_EQ(b.events.size(), 1u);
+  EXPECT_EQ(b.events[0].joints, std::vector<int>{2});
+  EXPECT_NEAR(a.events[0].start, b.events[0].start, 1e-12);
+  // Without the constants the currents are taken as torques: another, wrong, set of thresholds.
+  MonitorRequest raw = amps;
+  raw.torque_constants = Eigen::VectorXd();
+  raw.gear_ratios = Eigen::VectorXd();
+  EXPECT_GT((monitorRun(raw).thresholds.values - a.thresholds.values).norm(),
+            0.1 * a.thresholds.values.norm());
+  // Stdin samples in A (calibrated on the recording in A: the constants apply to both).
+  MonitorRequest stream = amps;
+  stream.data_file = "-";
+  const Trajectory sent = currents(pushed);
+  long long fed = 0;
+  stream.next_line = [&](std::string& line) {
+    if (fed > sent.numSamples()) return false;
+    if (fed == 0) {
+      line = "t,q1,q2,q3,q4,q5,q6,dq1,dq2,dq3,dq4,dq5,dq6,tau1,tau2,tau3,tau4,tau5,tau6";
+    } else {
+      const int k = static_cast<int>(fed - 1);
+      std::ostringstream row;
+      row.precision(17);
+      row << sent.time[k];
+      for (const Eigen::MatrixXd* m : {&sent.q, &sent.dq, &sent.tau})
+        for (int j = 0; j < 6; ++j) row << ',' << (*m)(j, k);
+      line = row.str();
+    }
+    ++fed;
+    return true;
+  };
+  const MonitorOutcome c = monitorRun(stream);
+  ASSERT_EQ(c.events.size(), 1u);
+  EXPECT_EQ(c.events[0].joints, std::vector<int>{2});
+  EXPECT_NEAR(c.events[0].start, a.events[0].start, 1e-9);  // the stamps as printed (17 digits)
+  // Bad constants, and constants for datasets only.
+  MonitorRequest bad = amps;
+  bad.torque_constants = Eigen::VectorXd::Ones(5);
+  const std::string count = test::errorText<InputError>([&] { monitorRun(bad); });
+  EXPECT_NE(count.find("--torque-constants has 5 values; the robot has 6"), std::string::npos)
+      << count;
+  bad.torque_constants = constants;
+  bad.gear_ratios[3] = 0.0;
+  const std::string zero = test::errorText<InputError>([&] { monitorRun(bad); });
+  EXPECT_NE(zero.find("--gear-ratios: the value of joint 4 must be finite and non-zero"),
+            std::string::npos)
+      << zero;
+  MonitorRequest datasets;
+  datasets.arm = "puma560";
+  datasets.data_file = clean_;
+  datasets.calibration_file = clean_;
+  datasets.torque_constants = constants;
+  const std::string csv = test::errorText<InputError>([&] { monitorRun(datasets); });
+  EXPECT_NE(csv.find("the dataset CSVs given hold torques already"), std::string::npos) << csv;
+}
+
 TEST_F(MonitorRun, RefusesRecordingsItCannotMonitor) {
   const Trajectory pushed = pushedPuma(model_, 1.0, {}, nullptr, 0.05);
   MonitorRequest request;

@@ -62,3 +62,10 @@ def test_monitor_reads_recordings_by_joint_name(logs):
         dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), topic="/joint_states")
     with pytest.raises(ValueError, match="stamp"):
         dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), stamp="sent")
+
+
+def test_monitor_torque_constants_apply_to_recordings_not_datasets(logs):
+    # Currents are a recording's (or stdin's) raw efforts; a dataset CSV's tau is torque already.
+    with pytest.raises(dynid.InputError, match="hold torques already"):
+        dynid.monitor("puma560", str(logs / "pushed.csv"), calibration=str(logs / "clean.csv"),
+                      torque_constants=[1.0] * 6)
