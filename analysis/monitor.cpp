@@ -288,6 +288,41 @@ Eigen::VectorXd effortScale(const MonitorRequest& request, int n) {
 /// Whether `file` holds raw efforts (a recording, or stdin), which --torque-constants scales.
 bool rawEfforts(const std::string& file) { return file == "-" || bags::isBag(file); }
 
+/// An estimate identified from motor currents monitoring raw efforts: a warning when no torque
+/// constants are given (the efforts are taken as torques, and if they are currents every residual
+/// is in another unit), or when they differ from the estimate's.
+void currentsWarning(const LoadedArm& arm, const MonitorRequest& request,
+                     const Eigen::VectorXd& mine, std::vector<std::string>& warnings) {
+  if (arm.torque_constants.empty()) return;
+  const auto list = [](const std::vector<double>& v) {
+    std::string out;
+    for (double x : v) out += (out.empty() ? "" : ",") + formatNumber(x, 6);
+    return out;
+  };
+  const std::string given =
+      "--torque-constants " + list(arm.torque_constants) +
+      (arm.gear_ratios.empty() ? "" : " --gear-ratios " + list(arm.gear_ratios));
+  if (request.torque_constants.size() == 0) {
+    warnings.push_back(request.arm +
+                       " was identified from motor currents converted to torques (dynid prepare " +
+                       given +
+                       "); the recording's efforts are taken as joint torques [N m]. If they are "
+                       "currents, give the same: " +
+                       given);
+    return;
+  }
+  // What matters is the product, current x constant x ratio.
+  Eigen::VectorXd theirs = Eigen::Map<const Eigen::VectorXd>(
+      arm.torque_constants.data(), static_cast<Eigen::Index>(arm.torque_constants.size()));
+  for (std::size_t j = 0; j < arm.gear_ratios.size() && j < arm.torque_constants.size(); ++j)
+    theirs[static_cast<Eigen::Index>(j)] *= arm.gear_ratios[j];
+  if (mine.size() != theirs.size() ||
+      ((mine - theirs).array().abs() > 1e-9 * theirs.array().abs()).any())
+    warnings.push_back("the torque constants and gear ratios given differ from those " +
+                       request.arm + " was identified with (" + given +
+                       "): the residuals then carry the difference");
+}
+
 /// Whether the residuals are above their thresholds, and the event they make.
 class EventDetector {
  public:
@@ -767,12 +802,15 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   if (gain.size() != n)
     throw InputError("--gain has " + std::to_string(gain.size()) + " values, the robot '" +
                      model.name + "' has " + std::to_string(n) + " joints");
-  if (effortScale(request, n).size() > 0 && !rawEfforts(request.data_file) &&
-      !(request.calibration_file.size() > 0 && rawEfforts(request.calibration_file)))
+  const bool raw_efforts = rawEfforts(request.data_file) || (!request.calibration_file.empty() &&
+                                                             rawEfforts(request.calibration_file));
+  const Eigen::VectorXd scale = effortScale(request, n);
+  if (scale.size() > 0 && !raw_efforts)
     throw InputError(
         "--torque-constants converts the raw efforts of a recording or of samples on stdin; the "
         "dataset CSVs given hold torques already (dynid prepare --current converted them): drop "
         "--torque-constants");
+  if (raw_efforts) currentsWarning(arm, request, scale, out.warnings);
   // The thresholds: calibrated on a clean log, or read back (for these joints, this gain).
   if (!request.calibration_file.empty()) {
     out.thresholds = calibrate(model, request, gain, out.warnings);

@@ -674,6 +674,9 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
         throw InputError(arm + ": an estimate carries its own drive terms; drop --drive-terms");
       out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr);
       out.from_estimate = true;
+      const EstimateRecord record = estimateRecordFrom(document, arm);
+      out.torque_constants = record.torque_constants;
+      out.gear_ratios = record.gear_ratios;
       return out;
     }
   }

@@ -252,6 +252,9 @@ struct LoadedArm {
   Model model;
   std::string robot_spec;      // the robot's spec (the estimate's, or `arm` itself)
   bool from_estimate = false;  // the parameters came from an estimate.json
+  /// The estimate's torque source: the torque constants and gear ratios its motor currents were
+  /// converted with (empty: its torques were not currents, or the arm is no estimate).
+  std::vector<double> torque_constants, gear_ratios;
 };
 LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
                   const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);

@@ -269,6 +269,17 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   if (const auto& raw = outcome.raw_validation)
     report["validation"]["raw_measurement"] =
         rawValidationJson(*raw, outcome.validate_raw_file, outcome.raw_skipped);
+  // Torques from motor currents (dynid prepare --current): the constants every parameter scales
+  // with, which monitor compares with the ones it is given for a recording.
+  if (const auto& record = outcome.preparation.record;
+      outcome.preparation.present && record && !record->torque_constants.empty() &&
+      std::all_of(record->torque_constants.begin(), record->torque_constants.end(),
+                  [](double k) { return std::isfinite(k) && k != 0.0; }) &&
+      std::all_of(record->gear_ratios.begin(), record->gear_ratios.end(),
+                  [](double g) { return std::isfinite(g) && g != 0.0; }))
+    report["torque_source"] = {{"kind", "current"},
+                               {"torque_constants", record->torque_constants},
+                               {"gear_ratios", record->gear_ratios}};
   return report;
 }
 

@@ -42,6 +42,9 @@ struct EstimateRecord {
   std::vector<std::string> band_columns;
   Eigen::MatrixXd covariance;
   Eigen::VectorXd joint_sigma;
+  /// torque_source (absent when the torques were not converted from motor currents): the torque
+  /// constants and gear ratios (empty: 1) dynid prepare --current used.
+  std::vector<double> torque_constants, gear_ratios;
 };
 /// Reads an estimate.json document strictly: schema_version exactly kEstimateDocument's (its kind,
 /// when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a string,

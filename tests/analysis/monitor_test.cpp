@@ -1,6 +1,7 @@
 #include "analysis/monitor.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
+#include "core/parameters.hpp"
 #include "core/simulate.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/puma560.hpp"
@@ -426,6 +428,54 @@ TEST_F(MonitorRun, ARecordingWithItsEffortsOnAnotherTopic) {
   request.effort_topic.clear();
   const std::string text = test::errorText<InputError>([&] { monitorRun(request); });
   EXPECT_NE(text.find("carry no effort"), std::string::npos) << text;
+}
+
+// An estimate identified from converted currents (its torque_source) monitoring a recording: a
+// warning without torque constants (the efforts are taken as torques) or with other ones, none
+// with the same.
+TEST_F(MonitorRun, AnEstimateFromCurrentsWarnsWhenARecordingsConstantsDiffer) {
+  const std::vector<std::string> names = standardParameterNames(model_.parameterLayout());
+  const Eigen::VectorXd theta = model_.standardParameters();
+  nlohmann::json values = nlohmann::json::object();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    values[names[k]] = theta[static_cast<Eigen::Index>(k)];
+  const std::vector<double> constants = {0.2, 0.25, 0.125, 0.5, 0.4, 0.0625};
+  const nlohmann::json estimate = {{"schema_version", 1},
+                                   {"kind", "dynid.estimate"},
+                                   {"robot_spec", "puma560"},
+                                   {"drive_terms", nlohmann::json::array()},
+                                   {"standard_estimate", {{"note", "n"}, {"values", values}}},
+                                   {"torque_source",
+                                    {{"kind", "current"},
+                                     {"torque_constants", constants},
+                                     {"gear_ratios", nlohmann::json::array()}}}};
+  const std::string file = test::tempPath("monitor_from_currents_estimate.json");
+  std::ofstream(file) << estimate.dump();
+  const Trajectory log = pushedPuma(model_, 2.0, {}, nullptr, 0.05);
+  MonitorRequest request;
+  request.arm = file;
+  request.calibration_file = clean_;
+  request.data_file = recording("monitor_from_currents.db3", model_, log);
+  const auto warned = [&](const MonitorRequest& r, const std::string& text) {
+    for (const std::string& w : monitorRun(r).warnings)
+      if (w.find(text) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(warned(request,
+                     "was identified from motor currents converted to torques (dynid prepare "
+                     "--torque-constants 0.2,0.25,0.125,0.5,0.4,0.0625); the recording's efforts "
+                     "are taken as joint torques"));
+  request.torque_constants = Eigen::Map<const Eigen::VectorXd>(constants.data(), 6);
+  EXPECT_FALSE(warned(request, "motor currents"));
+  EXPECT_FALSE(warned(request, "differ"));
+  request.gear_ratios = Eigen::VectorXd::Constant(6, 2.0);
+  EXPECT_TRUE(warned(request, "the torque constants and gear ratios given differ from those"));
+  // A dataset CSV: its torques are converted already, no warning.
+  MonitorRequest dataset;
+  dataset.arm = file;
+  dataset.calibration_file = clean_;
+  dataset.data_file = clean_;
+  EXPECT_FALSE(warned(dataset, "motor currents"));
 }
 
 // A current-sensing arm's recording and stdin samples: efforts in A, turned into torques by

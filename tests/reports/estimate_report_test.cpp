@@ -9,6 +9,7 @@
 #include "tests/common/sample_models.hpp"
 #include "tests/common/text.hpp"
 
+#include "analysis/records/estimate_record.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "reports/identification_report.hpp"
@@ -171,6 +172,38 @@ TEST(EstimateReport, NextSaysWhatWouldDetermineEachPoorlyDeterminedParameter) {
   const std::string fine =
       identificationDocument(request(f, Method::kOls).model, o, nullptr).markdown();
   EXPECT_FALSE(contains(fine, "poorly determined base parameters,")) << fine;
+}
+
+// Every estimate.json identify writes reads back as predict, monitor and payload read it: the
+// combined method's record (its "combined" block was refused as an unknown key) and a prepared
+// log's torque constants (torque_source).
+TEST(EstimateReport, EveryMethodsEstimateReadsBack) {
+  const Fixture f = writeData(true);
+  writeFileAtomically(f.dir + "/prepare.json", R"({"kind": "dynid.prepare",
+      "raw": {"samples": 4321, "median_step": 0.001, "min_step": 0.0007, "max_step": 0.0088,
+              "repeated_stamps_dropped": 3},
+      "gaps": [], "max_gap": 0.02, "runs": [{}], "dropped_runs": [], "resampled_rate": 1000,
+      "filter": {"kind": "Butterworth", "order": 4, "cutoff_hz": 7.5, "applied_to": "q, dq, tau"},
+      "dq": "logged", "ddq": "central differences", "trimmed_each_end": 0.4, "decimate": 1,
+      "tau_noise_rms": [0.1, 0.2],
+      "source": {"current_to_torque": {"torque_constants": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
+                                       "gear_ratios": [100, 100, 100, 50, 50, 50]}}})");
+  for (Method method : {Method::kOls, Method::kWls, Method::kPc, Method::kCombined}) {
+    IdentifyRequest r = request(f, method);
+    r.combined.max_iterations = 2;  // the record's shape, not the estimate, is under test
+    const IdentifyOutcome o = identifyRun(r);
+    const nlohmann::json document = estimateJson(r.model, o);
+    EXPECT_EQ(document.contains("combined"), method == Method::kCombined);
+    EstimateRecord back;
+    ASSERT_NO_THROW(back = estimateRecordFrom(document, "estimate.json")) << methodName(method);
+    EXPECT_EQ(back.method, methodName(method));
+    EXPECT_EQ(back.torque_constants, (std::vector<double>{0.1, 0.2, 0.3, 0.4, 0.5, 0.6}));
+    EXPECT_EQ(back.gear_ratios, (std::vector<double>{100, 100, 100, 50, 50, 50}));
+  }
+  // Without currents, no torque source.
+  const Fixture plain = writeData(false);
+  const IdentifyOutcome o = identifyRun(request(plain, Method::kOls));
+  EXPECT_FALSE(estimateJson(makePuma560(true), o).contains("torque_source"));
 }
 
 }  // namespace
