@@ -18,7 +18,9 @@
 #include "core/aba.hpp"
 #include "core/controllers.hpp"
 #include "core/crba.hpp"
+#include "core/drive_terms.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/kinematics.hpp"
 #include "core/perturb.hpp"
 #include "core/rnea.hpp"
@@ -351,6 +353,12 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
         urdfWithParameters(readFile(request.write_back_from), request.write_back_from, identified);
     back.model_json = modelToJson(identified);
     back.unseen_directions = out.base.numStandard() - out.base.numBase();
+    for (const DriveTermInfo& row : kDriveTermTable)
+      if (row.urdf_dynamics.empty() && identified.driveTerms().has(row.term))
+        for (int j = 0; j < identified.numJoints(); ++j)
+          if (const double value = identified.drives()[j][row.term]; value != 0.0)
+            back.not_in_urdf.push_back(std::string(row.name) + std::to_string(j + 1) + " " +
+                                       formatNumber(value, 4) + " " + std::string(row.unit));
     out.write_back = std::move(back);
   }
   return out;

@@ -163,6 +163,9 @@ struct WriteBack {
   std::string urdf;           // the input URDF carrying the estimate
   std::string model_json;     // the identified model as dynid JSON, every drive term included
   int unseen_directions = 0;  // standard-parameter directions the data cannot see (from the prior)
+  /// The estimate's non-zero drive parameters URDF has no place for (Ia, Fo, Fa, Fs), as "Ia3"
+  /// with its value and unit: the written URDF goes without them, the JSON carries them.
+  std::vector<std::string> not_in_urdf;
 };
 /// The combined estimate's two criteria, train and held out, against pc's.
 struct CombinedSummary {

@@ -1,5 +1,6 @@
 // dynid identify: least-squares estimate of the base parameters from a torque dataset.
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 
@@ -106,6 +107,16 @@ int runIdentify(const std::vector<std::string>& args) {
       if (isInputFile(path))
         throw UsageError("--write-urdf: '" + path +
                          "' is an input of this command; name another file (the input stays)");
+    // Its directory must exist, or be --out's (written first): refused before the work, not
+    // after it.
+    const std::filesystem::path parent = std::filesystem::path(target).parent_path();
+    std::error_code error;
+    const bool in_out = !parent.empty() &&
+                        parent.lexically_normal() ==
+                            std::filesystem::path(vm["out"].as<std::string>()).lexically_normal();
+    if (!parent.empty() && !in_out && !std::filesystem::is_directory(parent, error))
+      throw UsageError("--write-urdf: the directory '" + parent.string() +
+                       "' does not exist; create it, or name a file in --out's directory");
   }
   if (stderrIsTerminal())
     request.combined.control.progress = [](const std::string& line) {
@@ -116,8 +127,21 @@ int runIdentify(const std::vector<std::string>& args) {
   std::optional<InterruptGuard> guard;
   if (request.method == Method::kCombined) request.combined.control.stop = guard.emplace().flag();
   const IdentifyOutcome outcome = identifyRun(request);
-  if (outcome.write_back)
-    std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
+  if (outcome.write_back) {
+    // Into --out's directory, made here when it is new (and removed again, empty, when the
+    // write fails: nothing is left behind).
+    const std::filesystem::path parent =
+        std::filesystem::path(vm["write-urdf"].as<std::string>()).parent_path();
+    std::error_code error;
+    const bool make = !parent.empty() && !std::filesystem::exists(parent, error);
+    if (make) std::filesystem::create_directories(parent);
+    try {
+      std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
+    } catch (...) {
+      if (make) std::filesystem::remove(parent, error);  // only when still empty
+      throw;
+    }
+  }
   if (const std::string warning = solverWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << writeIdentification(vm["out"].as<std::string>(), request.model, outcome);

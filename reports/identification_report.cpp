@@ -344,11 +344,24 @@ std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back) 
     urdf.commit();
     json.commit();
   }
-  return "wrote " + urdf_path +
-         " (mass, centre of mass, inertia; <dynamics> Fv, Fc where the "
-         "model has them) and " +
-         json_path + " (every parameter); the " + std::to_string(back.unseen_directions) +
-         " directions the data cannot see come from the input model\n";
+  std::string out = "wrote " + urdf_path +
+                    " (mass, centre of mass, inertia; <dynamics> Fv, Fc where the "
+                    "model has them) and " +
+                    json_path + " (every parameter); the " +
+                    std::to_string(back.unseen_directions) +
+                    " directions the data cannot see come from the input model\n";
+  if (!back.not_in_urdf.empty()) {
+    const std::size_t shown = std::min<std::size_t>(back.not_in_urdf.size(), 8);
+    std::string list;
+    for (std::size_t k = 0; k < shown; ++k) list += (k == 0 ? "" : ", ") + back.not_in_urdf[k];
+    if (shown < back.not_in_urdf.size())
+      list += " and " + std::to_string(back.not_in_urdf.size() - shown) + " more";
+    out +=
+        "note: URDF has no place for rotor inertias, offsets or other drive terms: " + urdf_path +
+        " goes without " + list + ", which its torques then lack; " + json_path +
+        " carries them (dynid --robot, or add them in the controller)\n";
+  }
+  return out;
 }
 
 std::string solverWarning(const IdentifyOutcome& outcome) {

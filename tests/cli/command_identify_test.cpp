@@ -92,6 +92,19 @@ TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
                        " --write-urdf " + written);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "directions the data cannot see come from the input model")) << r.out;
+  EXPECT_FALSE(contains(r.out, "URDF has no place")) << r.out;  // Fv and Fc go in <dynamics>
+  // Rotor inertias have no place in a URDF: said, with their values, and the JSON named.
+  const std::string with_rotors = test::tempPath("arm_rotors.urdf");
+  const Result rotors =
+      run("identify --method pc --robot " + urdf + " --drive-terms ia,fv,fc" + " --data " + train +
+          " --out " + test::tempPath("arm_rotors") + " --write-urdf " + with_rotors);
+  ASSERT_EQ(rotors.code, 0) << rotors.err;
+  EXPECT_TRUE(contains(rotors.out,
+                       "note: URDF has no place for rotor inertias, offsets or other "
+                       "drive terms: " +
+                           with_rotors + " goes without Ia1 "))
+      << rotors.out;
+  EXPECT_TRUE(contains(rotors.out, "arm_rotors.dynid.json carries them")) << rotors.out;
   const std::string json_beside = written.substr(0, written.size() - 5) + ".dynid.json";
   ASSERT_TRUE(std::filesystem::exists(json_beside));
   // The estimate's predicted torques: its standard parameters in the input robot.
@@ -127,8 +140,19 @@ TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
             2);
   const Result unwritable = run("identify --method pc" + robot + " --data " + train + " --out " +
                                 not_written + " --write-urdf /nonexistent-dir/x.urdf");
-  EXPECT_EQ(unwritable.code, 1);
-  EXPECT_TRUE(contains(unwritable.err, "/nonexistent-dir/x.urdf")) << unwritable.err;
+  EXPECT_EQ(unwritable.code, 2);  // refused before the work
+  EXPECT_TRUE(contains(unwritable.err,
+                       "--write-urdf: the directory '/nonexistent-dir' does not "
+                       "exist"))
+      << unwritable.err;
+  // Into --out's own directory, new: written there beside the estimate.
+  const std::string fresh = test::tempPath("fresh_out");
+  const Result inside = run("identify --method pc" + robot + " --data " + train + " --out " +
+                            fresh + " --write-urdf " + fresh + "/arm.urdf");
+  EXPECT_EQ(inside.code, 0) << inside.err;
+  EXPECT_TRUE(std::filesystem::exists(fresh + "/arm.urdf"));
+  EXPECT_TRUE(std::filesystem::exists(fresh + "/arm.dynid.json"));
+  EXPECT_TRUE(std::filesystem::exists(fresh + "/estimate.json"));
   const std::string published = test::tempPath("published.urdf");
   ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + published).code, 0);
   const Result ols = run("identify --method ols --robot " + published + " --data " + train +
