@@ -296,7 +296,10 @@ void currentsWarning(const LoadedArm& arm, const MonitorRequest& request,
   if (arm.torque_constants.empty()) return;
   const auto list = [](const std::vector<double>& v) {
     std::string out;
-    for (double x : v) out += (out.empty() ? "" : ",") + formatNumber(x, 6);
+    for (double x : v) {
+      if (!out.empty()) out += ',';
+      out += formatNumber(x, 6);
+    }
     return out;
   };
   const std::string given =

@@ -4,6 +4,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "data/json_number.hpp"
+#include "data/robots.hpp"
 #include "reports/model_report.hpp"
 #include "reports/output.hpp"
 
@@ -11,7 +12,7 @@ namespace dynid::cli {
 
 int runModel(const std::vector<std::string>& args) {
   const std::string usage =
-      "dynid model show|check|export --robot R [--drives] [--json] "
+      "dynid model show|check|export --robot R [--drives] [--fix-joints J1,J2] [--json] "
       "[--format urdf|json|mjcf --out FILE]";
   if (args.empty() || (args[0] != "show" && args[0] != "check" && args[0] != "export")) {
     if (!args.empty() && (args[0] == "--help" || args[0] == "-h")) {
@@ -26,6 +27,10 @@ int runModel(const std::vector<std::string>& args) {
   const std::string sub = args[0];
   po::options_description options("dynid model " + sub);
   addRobotOptions(options);
+  options.add_options()(
+      "fix-joints", po::value<std::string>(),
+      "a URDF's moving joints to treat as fixed at zero, comma-separated (a gripper's fingers): "
+      "their links merge into the parent body; export the result as the arm to identify");
   if (sub == "check") options.add_options()("json", po::bool_switch(), "print JSON");
   if (sub == "export")
     options.add_options()("format", po::value<std::string>()->required(),
@@ -37,7 +42,20 @@ int runModel(const std::vector<std::string>& args) {
   const std::string format = sub == "export" ? vm["format"].as<std::string>() : "";
   if (sub == "export" && format != "urdf" && format != "json" && format != "mjcf")
     throw UsageError("--format must be urdf, json or mjcf, not '" + format + "'");
-  const Model model = loadRobotFromOptions(vm);
+  std::vector<std::string> fixed;
+  if (vm.count("fix-joints")) {
+    if (!isUrdfSpec(vm["robot"].as<std::string>()))
+      throw UsageError("--fix-joints applies to a URDF robot, not '" +
+                       vm["robot"].as<std::string>() + "'");
+    const std::string list = vm["fix-joints"].as<std::string>();
+    for (std::size_t start = 0; start <= list.size();) {
+      const std::size_t comma = std::min(list.find(',', start), list.size());
+      if (comma == start) throw UsageError("--fix-joints: an empty joint name in '" + list + "'");
+      fixed.push_back(list.substr(start, comma - start));
+      start = comma + 1;
+    }
+  }
+  const Model model = loadRobotFromOptions(vm, fixed);
   if (sub == "show") {
     std::cout << modelShowText(model);
     return kExitOk;

@@ -385,9 +385,12 @@ RobotOptions robotOptions(const po::variables_map& vm) {
 }
 }  // namespace
 
-Model loadRobotFromOptions(const po::variables_map& vm) {
+Model loadRobotFromOptions(const po::variables_map& vm,
+                           const std::vector<std::string>& fixed_joints) {
   std::vector<std::string> warnings;
-  Model model = loadRobot(vm["robot"].as<std::string>(), robotOptions(vm), &warnings);
+  RobotOptions options = robotOptions(vm);
+  options.fixed_joints = fixed_joints;
+  Model model = loadRobot(vm["robot"].as<std::string>(), options, &warnings);
   for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
   return model;
 }

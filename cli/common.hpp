@@ -97,8 +97,9 @@ bool receiveTimeOption(const po::variables_map& vm);
 /// The options every robot-using command takes: --robot, --drives, --drive-terms, --strict
 /// (--robot required unless `required` is false).
 void addRobotOptions(po::options_description& options, bool required = true);
-/// Loads the robot named by --robot (warnings to stderr).
-Model loadRobotFromOptions(const po::variables_map& vm);
+/// Loads the robot named by --robot (warnings to stderr), a URDF's `fixed_joints` fixed at zero.
+Model loadRobotFromOptions(const po::variables_map& vm,
+                           const std::vector<std::string>& fixed_joints = {});
 /// Loads another robot spec (--init, --truth, --prior) with the same --drives and --strict.
 Model loadOtherRobot(const po::variables_map& vm, const char* option);
 

@@ -23,6 +23,8 @@ bool isUrdfSpec(const std::string& spec) {
 Model loadRobot(const std::string& spec, const RobotOptions& options,
                 std::vector<std::string>* warnings) {
   const bool drives = options.drives || options.drive_terms.has_value();
+  if (!options.fixed_joints.empty() && !isUrdfSpec(spec))
+    throw InputError("fixing joints applies to a URDF robot, not '" + spec + "'");
   Model model;
   if (spec == "puma560") {
     model = makePuma560(drives);
@@ -31,7 +33,7 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
   } else if (spec == "panda") {
     model = makePanda(drives);
   } else if (isUrdfSpec(spec)) {
-    model = loadUrdf(spec, {drives, options.strict}, warnings);
+    model = loadUrdf(spec, {drives, options.strict, options.fixed_joints}, warnings);
   } else if (endsWith(spec, ".json")) {
     model = modelFromJson(readFile(spec), spec);
     if (options.drives && !model.driveTerms().any())

@@ -18,6 +18,9 @@ struct RobotOptions {
   /// Overrides `drives`.
   std::optional<DriveTerms> drive_terms;
   bool strict = false;  // URDF warnings become errors
+  /// A URDF's moving joints treated as fixed at zero (UrdfOptions::fixed_joints); InputError for
+  /// another kind of robot.
+  std::vector<std::string> fixed_joints = {};
 };
 
 /// "puma560" or "puma560-consistent" (built in, data/puma560.hpp), "panda" (data/panda.hpp), a path

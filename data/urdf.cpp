@@ -157,6 +157,14 @@ class UrdfBuilder {
     if (!isPrintableUtf8(model_.name))
       throw ParseError(file_, 0, "robot name '" + shownName(model_.name) + "'", kNotPrintable);
     if (options_.drives) model_.setDriveTerms(DriveTerms::rotorAndFriction());
+    for (const std::string& name : options_.fixed_joints) {
+      const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
+      if (!joint)
+        throw ParseError(file_, 0, "joint '" + shownName(name) + "'",
+                         "is not in the file: --fix-joints names moving joints of the URDF");
+      if (joint->type == urdf::Joint::FIXED)
+        failJoint(name, "is fixed already: --fix-joints names moving joints");
+    }
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
     walk(*urdf_.getRoot());
@@ -216,14 +224,23 @@ class UrdfBuilder {
     if (joint.dynamics &&
         (!std::isfinite(joint.dynamics->damping) || !std::isfinite(joint.dynamics->friction)))
       failJoint(joint.name, "<dynamics> has a non-finite number");
-    if (joint.mimic && joint.type != urdf::Joint::FIXED) {
+    if (joint.mimic && joint.type != urdf::Joint::FIXED && !fixedByOption(joint.name)) {
       // A gripper finger that mimics another: dynid has no coupled joints.
-      const std::string message = "has <mimic joint=\"" + joint.mimic->joint_name +
-                                  "\">: treated as an independent joint (its coordinate must be "
-                                  "in the data); make it fixed to merge the finger into its parent";
+      const std::string message =
+          "has <mimic joint=\"" + joint.mimic->joint_name +
+          "\">: treated as an independent joint (its coordinate must be "
+          "in the data); make it fixed to merge the finger into its parent (dynid model "
+          "export --fix-joints " +
+          joint.name + " writes such a URDF)";
       if (options_.strict) failJoint(joint.name, message);
       if (warnings_) warnings_->push_back(file_ + ": joint '" + joint.name + "' " + message);
     }
+  }
+
+  /// Whether UrdfOptions::fixed_joints names the joint.
+  bool fixedByOption(const std::string& name) const {
+    return std::find(options_.fixed_joints.begin(), options_.fixed_joints.end(), name) !=
+           options_.fixed_joints.end();
   }
 
   void checkLink(const urdf::Link& link) const {
@@ -317,7 +334,7 @@ class UrdfBuilder {
                                     joint->name + "'): a link has one parent joint");
         const Pose<double> placement =
             p.link_in_body * toPose(joint->parent_to_joint_origin_transform);
-        if (joint->type == urdf::Joint::FIXED) {
+        if (joint->type == urdf::Joint::FIXED || fixedByOption(joint->name)) {
           merges_.push_back({child.get(), p.record, placement});
           children.push_back({child.get(), p.record, placement});
         } else {

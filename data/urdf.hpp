@@ -15,6 +15,10 @@ struct UrdfOptions {
   bool drives = false;
   /// Turn warnings (a moving link without <inertial>) into errors.
   bool strict = false;
+  /// Moving joints treated as fixed at their zero position (a gripper's fingers on an arm being
+  /// identified): their child links merge into the parent body like a fixed joint's. Each must
+  /// name a revolute, continuous or prismatic joint of the file (ParseError otherwise).
+  std::vector<std::string> fixed_joints = {};
 };
 
 /// Loads a URDF file. The root link is the fixed base; revolute, continuous and prismatic joints

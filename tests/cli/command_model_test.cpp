@@ -58,5 +58,44 @@ TEST(Cli, DriveTermsPickTheColumnsAndBadTermsAreUsageErrors) {
   EXPECT_EQ(run("model show --robot panda --drives --drive-terms fv").code, 2);
 }
 
+TEST(Cli, ModelExportFixesAGrippersFingers) {
+  // A URDF arm with two prismatic fingers, one mimicking the other: exported with the fingers
+  // fixed, it reloads as the arm alone (their mass merged), without the mimic warning.
+  const std::string gripper = test::tempPath("gripper.urdf"), arm = test::tempPath("arm.urdf");
+  writeFileAtomically(gripper, R"(<?xml version="1.0"?>
+<robot name="g">
+  <link name="base"/>
+  <link name="l1"><inertial><mass value="2"/><origin xyz="0 0 0.1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="f1"><inertial><mass value="0.1"/>
+    <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial></link>
+  <link name="f2"><inertial><mass value="0.1"/>
+    <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" effort="10" velocity="1"/></joint>
+  <joint name="finger1" type="prismatic"><parent link="l1"/><child link="f1"/>
+    <origin xyz="0 0.02 0.2"/><axis xyz="0 1 0"/>
+    <limit lower="0" upper="0.04" effort="10" velocity="0.1"/></joint>
+  <joint name="finger2" type="prismatic"><parent link="l1"/><child link="f2"/>
+    <origin xyz="0 -0.02 0.2"/><axis xyz="0 -1 0"/>
+    <limit lower="0" upper="0.04" effort="10" velocity="0.1"/><mimic joint="finger1"/></joint>
+</robot>
+)");
+  const Result whole = run("model show --robot " + gripper);
+  EXPECT_TRUE(contains(whole.out, "3 joints")) << whole.out;
+  EXPECT_TRUE(contains(whole.err, "dynid model export --fix-joints finger2")) << whole.err;
+  const Result out = run("model export --robot " + gripper +
+                         " --fix-joints finger1,finger2 --format urdf --out " + arm);
+  ASSERT_EQ(out.code, 0) << out.err;
+  EXPECT_FALSE(contains(out.err, "mimic")) << out.err;
+  const Result shown = run("model show --robot " + arm);
+  EXPECT_TRUE(contains(shown.out, "1 joints")) << shown.out;
+  EXPECT_TRUE(contains(shown.out, "m1       2.2")) << shown.out;
+  EXPECT_EQ(run("model show --robot puma560 --fix-joints j1").code, 2);
+  const Result unknown = run("model show --robot " + gripper + " --fix-joints thumb");
+  EXPECT_EQ(unknown.code, 1);
+  EXPECT_TRUE(contains(unknown.err, "joint 'thumb': is not in the file")) << unknown.err;
+}
+
 }  // namespace
 }  // namespace dynid

@@ -70,6 +70,53 @@ TEST(Urdf, LoadsATreeAndMergesFixedJoints) {
   EXPECT_DOUBLE_EQ(driven.drives()[0][DriveTerm::kCoulomb], 0.2);
 }
 
+TEST(Urdf, FixedJointsByNameMergeLikeFixedOnes) {
+  // The slider fixed by option gives the model of the file with it written fixed (at its zero
+  // position: the joint origin): the same bodies, one joint fewer, 'side' merged into 'upper'.
+  std::vector<std::string> warnings;
+  const Model fixed = parseUrdf(kTree, "tree.urdf", {.fixed_joints = {"slider"}}, &warnings);
+  std::string text = kTree;
+  const std::size_t at = text.find(R"(<joint name="slider" type="prismatic">)");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 38, R"(<joint name="slider" type="fixed">)");
+  const Model written = parseUrdf(text, "tree_fixed.urdf");
+  ASSERT_EQ(fixed.numJoints(), 2);
+  ASSERT_EQ(written.numJoints(), 2);
+  EXPECT_EQ(fixed.joint_names, written.joint_names);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(fixed.inertias()[i].mass, written.inertias()[i].mass) << i;
+    EXPECT_EQ(fixed.inertias()[i].first_moment, written.inertias()[i].first_moment) << i;
+    EXPECT_EQ(fixed.inertias()[i].inertia, written.inertias()[i].inertia) << i;
+  }
+  EXPECT_DOUBLE_EQ(fixed.inertias()[0].mass, 2.0 + 0.7);  // 'upper' with 'side'
+  // A name that is no joint of the file, or a fixed joint: refused, naming it.
+  try {
+    parseUrdf(kTree, "tree.urdf", {.fixed_joints = {"finger"}});
+    ADD_FAILURE() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'finger'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is not in the file"), std::string::npos) << e.what();
+  }
+  try {
+    parseUrdf(kTree, "tree.urdf", {.fixed_joints = {"tool_mount"}});
+    ADD_FAILURE() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("is fixed already"), std::string::npos) << e.what();
+  }
+  // A mimicking finger fixed by option: no mimic warning.
+  std::string mimic = kTree;
+  mimic.replace(mimic.find(R"(<axis xyz="1 1 0"/>)"), 19,
+                R"(<axis xyz="1 1 0"/><mimic joint="elbow"/>)");
+  warnings.clear();
+  parseUrdf(mimic, "mimic.urdf", {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("dynid model export --fix-joints slider"), std::string::npos)
+      << warnings[0];
+  warnings.clear();
+  parseUrdf(mimic, "mimic.urdf", {.fixed_joints = {"slider"}}, &warnings);
+  EXPECT_TRUE(warnings.empty());
+}
+
 TEST(Urdf, ExportLoadRoundTrip) {
   // A URDF model exports and reloads to the same parameters, placements and axes.
   const Model model = parseUrdf(kTree, "tree.urdf", {.drives = true});
