@@ -390,7 +390,8 @@ void adviseOnMotion(PayloadOutcome& out, const Trajectory& loaded) {
 }
 
 /// Drive gains from the known mass: the body rows (the extra columns dropped) fitted with it.
-DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, int f) {
+DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, int f,
+                      const Eigen::VectorXd& arm_difference) {
   const int n = rows.numJoints();
   DriveGains gains;
   {
@@ -402,7 +403,8 @@ DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, in
     for (int k = 0; k < rows.numSamples(); ++k)
       body_rows.add(design.block(static_cast<Eigen::Index>(k) * n, f, n, 10), none,
                     target.segment(static_cast<Eigen::Index>(k) * n, n));
-    const GainFit g = fitDriveGains(body_rows, *request.known_mass, request.known_com);
+    const GainFit g =
+        fitDriveGains(body_rows, *request.known_mass, request.known_com, 0, arm_difference);
     gains.scale = g.scale;
     gains.scale_std = g.scale_std;
     gains.iterations = g.iterations;
@@ -616,6 +618,9 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
   Eigen::MatrixXd extra(n, f);
   std::vector<int> used;                               // loaded samples in the problem
   Eigen::MatrixXd arm_torque(n, loaded.numSamples());  // of the samples used, in order
+  // With a pair: the arm model's torque at the loaded sample minus at the unloaded one, for the
+  // drive gains (the targets have it subtracted; measured currents scale it too).
+  Eigen::VectorXd arm_difference(pair ? static_cast<Eigen::Index>(n) * loaded.numSamples() : 0);
   for (int k = 0; k < loaded.numSamples(); ++k) {
     const long u = k + shift;
     if (pair && (u < 0 || u >= unloaded.numSamples())) continue;
@@ -623,7 +628,11 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
         jointTorqueRegressor(arm, data, loaded.q.col(k), loaded.dq.col(k), loaded.ddq.col(k));
     const Eigen::VectorXd model_torque = Y * theta_arm;
     Eigen::VectorXd target = loaded.tau.col(k) - model_torque;
-    if (pair) target -= unloaded_residual.col(u);
+    if (pair) {
+      target -= unloaded_residual.col(u);
+      arm_difference.segment(static_cast<Eigen::Index>(used.size()) * n, n) =
+          model_torque - (unloaded.tau.col(u) - unloaded_residual.col(u));
+    }
     for (int i = 0; i < f; ++i) extra.col(i) = Y.col(extra_columns[i]);
     rows.add(Y.middleCols(layout.linkIndex(out.link, 0), 10) * to_link, extra, target);
     arm_torque.col(static_cast<Eigen::Index>(used.size())) = model_torque;
@@ -665,7 +674,9 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
     out.friction.push_back(c);
   }
 
-  if (request.known_mass) out.gains = driveGains(request, rows, f);
+  if (request.known_mass)
+    out.gains = driveGains(request, rows, f,
+                           arm_difference.head(static_cast<Eigen::Index>(used.size()) * n));
 
   plotSamples(rows, fit, loaded, used, out);
   if (!request.urdf_file.empty()) {

@@ -283,7 +283,8 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
 }
 
 GainFit fitDriveGains(const PayloadRows& rows, double mass,
-                      const std::optional<Eigen::Vector3d>& com, int batch) {
+                      const std::optional<Eigen::Vector3d>& com, int batch,
+                      const Eigen::VectorXd& arm_difference) {
   const int n = rows.numJoints(), f = rows.numExtra();
   if (!(mass > 0.0) || !std::isfinite(mass))
     throw InputError("the known payload mass must be finite and > 0");
@@ -297,6 +298,11 @@ GainFit fitDriveGains(const PayloadRows& rows, double mass,
   const Eigen::MatrixXd P = rows.design().rightCols(10);
   const Eigen::VectorXd y = rows.target();
   const Eigen::Index count = y.size();
+  if (arm_difference.size() != 0 && arm_difference.size() != count)
+    throw InputError("the arm's torque difference has " + std::to_string(arm_difference.size()) +
+                     " rows, the gain problem " + std::to_string(count));
+  const Eigen::VectorXd delta =
+      arm_difference.size() == 0 ? Eigen::VectorXd::Zero(count) : arm_difference;
   GainFit out;
   out.target_rms = jointRms(y, n);
   if (!(out.target_rms.maxCoeff() > 0.0))
@@ -317,9 +323,11 @@ GainFit fitDriveGains(const PayloadRows& rows, double mass,
     const Eigen::VectorXd x = scaledSolve(A, rhs);
     for (int i = 0; i < nf; ++i) theta[free[i]] = x[i];
   }
+  // The measured difference y + delta against g (delta + P theta); at g = 1 that is y - P theta.
   const auto residualOf = [&](const Eigen::VectorXd& gains, const Vector10d& body) {
-    Eigen::VectorXd r = P * body;
-    for (Eigen::Index row = 0; row < count; ++row) r[row] = y[row] - gains[row % n] * r[row];
+    Eigen::VectorXd r = P * body + delta;
+    for (Eigen::Index row = 0; row < count; ++row)
+      r[row] = y[row] + delta[row] - gains[row % n] * r[row];
     return r;
   };
   Eigen::VectorXd residual = residualOf(g, theta);
@@ -327,7 +335,7 @@ GainFit fitDriveGains(const PayloadRows& rows, double mass,
   Eigen::MatrixXd J(count, u);
   const auto jacobian = [&] {
     J.setZero();
-    const Eigen::VectorXd body = P * theta;
+    const Eigen::VectorXd body = P * theta + delta;
     for (Eigen::Index row = 0; row < count; ++row) {
       const int j = static_cast<int>(row % n);
       const double w = 1.0 / out.noise[j];

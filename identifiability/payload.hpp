@@ -94,7 +94,10 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
 /// Drive gains from a body of known mass: measured_j = g_j x (true torque_j), the body's torques
 /// being the targets (a loaded minus an unloaded run). Fits g (one per joint) and the body's
 /// parameters other than the mass (and the centre of mass when known) by Gauss-Newton from the
-/// linear form s_j target = body torque (s = 1 / g).
+/// linear form s_j target = body torque (s = 1 / g). `arm_difference` (rows() entries, or empty):
+/// the arm model's torque at the loaded sample minus at the unloaded one, true units, which the
+/// targets had subtracted: the measured difference of the runs is then g x (arm_difference +
+/// body torque), so that motions that differ (the load changes the tracking) scale right too.
 struct GainFit {
   Eigen::VectorXd scale;      // s_j = 1 / g_j: true torque over measured torque
   Eigen::VectorXd scale_std;  // its standard deviation (inf when not seen)
@@ -104,7 +107,8 @@ struct GainFit {
   int batch = 1, iterations = 0;
 };
 GainFit fitDriveGains(const PayloadRows& rows, double mass,
-                      const std::optional<Eigen::Vector3d>& com, int batch = 0);
+                      const std::optional<Eigen::Vector3d>& com, int batch = 0,
+                      const Eigen::VectorXd& arm_difference = Eigen::VectorXd());
 
 /// Samples per batch for batch-means covariances from residuals (rows k n + j): twice the first
 /// lag at which the joints' mean autocorrelation falls below 0.05, at most a thirtieth of the
