@@ -161,11 +161,13 @@ py::list violationsList(const Model& model) {
   return out;
 }
 
-Model loadModel(const PathLike& spec_arg, bool drives, const TermsLike& terms, bool strict) {
+Model loadModel(const PathLike& spec_arg, bool drives, const TermsLike& terms, bool strict,
+                const std::vector<std::string>& fix_joints) {
   const std::string spec = pathArg(spec_arg, "spec");  // a built-in name, or a path
   RobotOptions options;
   options.drives = drives;
   options.strict = strict;
+  options.fixed_joints = fix_joints;
   if (!terms.is_none()) options.drive_terms = driveTermsArg(terms, "drive_terms");
   std::vector<std::string> warnings;
   Model model;
@@ -332,10 +334,12 @@ void bindModelClass(py::module_& m) {
 void bindLoadingAndDatasets(py::module_& m) {
   m.def("load_model", &loadModel, py::arg("spec"), py::arg("drives") = false,
         py::arg("drive_terms") = py::none(), py::arg("strict") = false,
+        py::arg("fix_joints") = std::vector<std::string>{},
         "Loads a robot as `--robot` does: 'puma560', 'puma560-consistent', 'panda', a .urdf or a "
         "dynid .json path (str or os.PathLike). drives=True adds the robot's own drive terms; "
         "drive_terms='fv,fc,fo' (or ['fv', 'fc', 'fo']) exactly those. URDF warnings become "
-        "UserWarnings (errors with strict=True).");
+        "UserWarnings (errors with strict=True). fix_joints: a URDF's moving joints (a "
+        "gripper's fingers) treated as fixed at zero, as `dynid model --fix-joints`.");
 
   py::class_<Trajectory>(m, "Dataset",
                          "Samples of a joint trajectory: time (N,) [s] strictly increasing; q, "

@@ -91,7 +91,7 @@ ExcitationLimits excitationLimits(const Model& model, const LimitOverrides& o) {
     l.notes.push_back("the model gives no " + what + " for " + list + ": " + used);
   };
   note(position, "position limits",
-       "+-" + formatNumber(kDefaultRevoluteRange) + " rad (+-" +
+       "+-" + formatNumber(kDefaultRevoluteRange, 6) + " rad (+-" +
            formatNumber(kDefaultPrismaticRange) + " m prismatic) used");
   note(velocity, "velocity limit", formatNumber(kDefaultVelocityLimit) + " rad/s used");
   note(acceleration, "acceleration limit",

@@ -190,3 +190,17 @@ def test_a_malformed_csv_raises_a_parse_error_naming_line_and_column(tmp_path, p
         dynid.read_dataset(42)
     with pytest.raises(RuntimeError, match="cannot read"):
         dynid.read_dataset(tmp_path / "missing.csv")
+
+
+def test_fix_joints_merges_a_urdfs_moving_joints_as_the_cli_does(tmp_path):
+    urdf = tmp_path / "panda.urdf"
+    dynid.load_model("panda").export(urdf, "urdf")
+    fixed = dynid.load_model(urdf, fix_joints=["joint7"])
+    assert fixed.num_joints == 6
+    run_cli("model", "export", "--robot", urdf, "--fix-joints", "joint7", "--format", "urdf",
+            "--out", tmp_path / "cli.urdf")
+    assert (tmp_path / "cli.urdf").read_text() == fixed.to_urdf()
+    with pytest.raises(dynid.ParseError, match="joint 'joint9'"):
+        dynid.load_model(urdf, fix_joints=["joint9"])
+    with pytest.raises(dynid.InputError, match="applies to a URDF robot"):
+        dynid.load_model("panda", fix_joints=["joint7"])
