@@ -83,6 +83,12 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.robot_spec = request.robot_spec;
   out.data_file = request.data_file;
   out.validate_file = request.validate_file;
+  out.drive_terms = driveTermsText(robot.driveTerms());
+  out.segments = request.segments;
+  out.prior_weight = request.prior_weight;
+  out.combined_weight = request.combined_weight;
+  out.refine_seconds = request.refine_seconds;
+  out.refine_iterations = request.refine_iterations;
   const Trajectory train = readDatasetCsv(request.data_file, n);
   const Trajectory test = readDatasetCsv(request.validate_file, n);
   out.train_samples = train.numSamples();

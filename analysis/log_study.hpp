@@ -63,6 +63,13 @@ struct LogStudyRow {
 
 struct LogStudyOutcome {
   std::string robot_spec, data_file, validate_file;
+  /// The settings an identify of the recommended method repeats: the drive terms ("ia,fv,fc",
+  /// "none"), the segments, the pc prior's weight and the combined estimator's (the refinements'
+  /// budgets).
+  std::string drive_terms;
+  SegmentOptions segments;
+  double prior_weight = 0.0, combined_weight = 0.0, refine_seconds = 0.0;
+  int refine_iterations = 0;
   int train_samples = 0, test_samples = 0;
   int num_base = 0, num_standard = 0;
   int train_segments = 0, test_segments = 0;

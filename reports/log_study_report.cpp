@@ -182,6 +182,57 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
 }
 
 namespace {
+/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes.
+std::string shellWord(const std::string& word) {
+  const bool safe = !word.empty() && word.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                         "0123456789_./:=,+-@%") == std::string::npos;
+  if (safe) return word;
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+/// How to get the recommended estimate: the identify command that repeats the study's method
+/// with its settings (the non-default ones), or what to do for the input model or a search.
+std::string nextStep(const LogStudyOutcome& o, const StudyVerdict& v) {
+  const std::string key = !v.simulation.empty() ? v.simulation : v.control;
+  if (key.empty()) return "see the comparison below: no physically consistent estimate finished.";
+  if (key == "model")
+    return "the input model itself is the recommended one: use " + o.robot_spec +
+           " as it is; the details follow.";
+  const bool identify = key == "ols" || key == "wls" || key == "pc" || key == "combined";
+  if (!identify)
+    return "the recommended " + key +
+           " estimate comes from a GC-error search: repeat it with dynid search and dynid "
+           "refine (docs/SEARCH.md), then dynid predict; the details follow.";
+  const SegmentOptions defaults = normalisedSegments();
+  std::string command = "dynid identify --method " + key + " --robot " + shellWord(o.robot_spec) +
+                        " --drive-terms " + shellWord(o.drive_terms) + " --data " +
+                        shellWord(o.data_file) + " --validate " + shellWord(o.validate_file) +
+                        " --out " + key;
+  if ((key == "pc" || key == "combined") && o.prior_weight != kDefaultPriorWeight)
+    command += " --prior-weight " + formatNumber(o.prior_weight, 17);
+  if (key == "combined") {
+    if (o.combined_weight != 1.0)
+      command += " --combined-weight " + formatNumber(o.combined_weight, 17);
+    if (o.refine_seconds != 60.0)
+      command += " --combined-seconds " + formatNumber(o.refine_seconds, 17);
+    if (o.refine_iterations != 50)
+      command += " --combined-iterations " + std::to_string(o.refine_iterations);
+    if (o.segments.horizon != defaults.horizon)
+      command += " --horizon " + formatNumber(o.segments.horizon, 17);
+    if (o.segments.num_segments != defaults.num_segments)
+      command += " --segments " + std::to_string(o.segments.num_segments);
+    if (!o.segments.normalise) command += " --raw-gc";
+  }
+  const bool urdf = o.robot_spec.size() > 5 && (o.robot_spec.ends_with(".urdf"));
+  return "the recommended estimate is " + key + "'s: `" + command +
+         (urdf ? " --write-urdf " + key + "/" + "identified.urdf" : std::string()) + "` writes it" +
+         (urdf ? " into a copy of the URDF" : "") +
+         "; check it on another log with dynid predict; the details follow.";
+}
+
 /// The verdict box: what was compared, which estimate to use for what, what is not determined.
 std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyOutcome& o) {
   const StudyVerdict v = studyVerdict(o.rows);
@@ -211,10 +262,7 @@ std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyO
                                            std::to_string(o.num_standard) +
                                            " standard parameter directions are invisible to "
                                            "torques and to the GC error alike.");
-  lines.emplace_back("Next",
-                     "write the recommended estimate into the robot's URDF (dynid "
-                     "identify --write-urdf) or check it on another log (dynid "
-                     "predict); the details follow.");
+  lines.emplace_back("Next", nextStep(o, v));
   return lines;
 }
 }  // namespace

@@ -26,6 +26,13 @@ LogStudyOutcome outcome(std::vector<LogStudyRow> rows) {
   o.data_file = "train.csv";
   o.validate_file = "test.csv";
   o.rows = std::move(rows);
+  const LogStudyRequest defaults;  // the settings logStudyRun records
+  o.drive_terms = "none";
+  o.segments = defaults.segments;
+  o.prior_weight = defaults.prior_weight;
+  o.combined_weight = defaults.combined_weight;
+  o.refine_seconds = defaults.refine_seconds;
+  o.refine_iterations = defaults.refine_iterations;
   return o;
 }
 
@@ -99,6 +106,35 @@ TEST(LogStudyReport, OpensWithAVerdictThatRecommendsOnlyAConsistentEstimate) {
   // None consistent: none recommended.
   const std::string none = logStudyDocument(outcome({row("nlo", 0.0100, 33.5, false)})).markdown();
   EXPECT_NE(none.find("no physically consistent estimate finished"), std::string::npos) << none;
+}
+
+TEST(LogStudyReport, NextGivesTheIdentifyCommandOfTheRecommendedEstimate) {
+  // combined recommended: its command with the study's inputs and non-default settings, the
+  // URDF's path (a space in it) quoted as one shell word, a write-back into its --out.
+  LogStudyOutcome o = outcome({row("pc", 0.011, 85.9, true), row("combined", 0.0112, 40.0, true)});
+  o.robot_spec = "my arm.urdf";
+  o.drive_terms = "fv,fc,fo";
+  o.refine_seconds = 20.0;
+  const std::string md = logStudyDocument(o).markdown();
+  EXPECT_NE(md.find("`dynid identify --method combined --robot 'my arm.urdf' --drive-terms "
+                    "fv,fc,fo --data train.csv --validate test.csv --out combined "
+                    "--combined-seconds 20 --write-urdf combined/identified.urdf` writes it into "
+                    "a copy of the URDF"),
+            std::string::npos)
+      << md;
+  // The input model recommended: nothing to identify.
+  const std::string model =
+      logStudyDocument(outcome({row("model", 0.01, 30.0, true), row("pc", 0.02, 80.0, true)}))
+          .markdown();
+  EXPECT_NE(model.find("the input model itself is the recommended one: use puma560 as it is"),
+            std::string::npos)
+      << model;
+  // pc on a built-in robot: no write-back, the default settings left out.
+  const std::string pc = logStudyDocument(outcome({row("pc", 0.011, 85.9, true)})).markdown();
+  EXPECT_NE(pc.find("`dynid identify --method pc --robot puma560 --drive-terms none --data "
+                    "train.csv --validate test.csv --out pc` writes it;"),
+            std::string::npos)
+      << pc;
 }
 
 }  // namespace
