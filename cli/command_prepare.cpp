@@ -57,6 +57,9 @@ void addPrepareOptions(po::options_description& options) {
       "savgol-window", po::value<int>()->default_value(d.savgol_window))(
       "savgol-degree", po::value<int>()->default_value(d.savgol_degree))(
       "keep-stalled", po::bool_switch(), "keep samples repeating the previous one exactly")(
+      "skip-missing", po::bool_switch(),
+      "tables: leave out rows whose selected field is empty, nan or inf (a logger's dropouts), "
+      "counted and warned about, instead of refusing the log")(
       "keep-raw-torque", po::bool_switch(),
       "also write validate_raw.csv: the held-out part's raw torques at the log's own stamps "
       "(unfiltered), for predict --raw and identify --validate-raw")(
@@ -131,6 +134,7 @@ LogSource logSource(const po::variables_map& vm) {
   source.current = vm.count("current") + vm.count("current-file") > 0;
   source.ddq_columns = text(vm, "ddq");
   source.ddq_file = text(vm, "ddq-file");
+  source.skip_missing = vm["skip-missing"].as<bool>();
   if (source.tables.empty() == source.q_file.empty())
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
   refuseUnused(vm, source.tables.empty(),

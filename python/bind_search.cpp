@@ -458,9 +458,10 @@ PreparePy preparePy(
     const std::string& stamp, const std::vector<std::string>& joint_names,
     const OptionalArrayLike& t, const OptionalArrayLike& q, const OptionalArrayLike& tau,
     const OptionalArrayLike& dq, const OptionalArrayLike& ddq, const std::string& effort_topic,
-    const OptionalPathLike& effort_log, bool keep_raw_torque, int threads) {
+    const OptionalPathLike& effort_log, bool keep_raw_torque, int threads, bool skip_missing) {
   PreparePy out;
   LogSource& s = out.source;
+  s.skip_missing = skip_missing;
   if (tables.is_none()) {
     s.arrays = std::make_shared<const RawSignals>(arraySignals(t, q, tau, dq, ddq, current));
   } else if (!t.is_none() || !q.is_none() || !tau.is_none() || !dq.is_none() || !ddq.is_none()) {
@@ -864,7 +865,7 @@ void bindPrepare(py::module_& m) {
       py::arg("q") = py::none(), py::arg("tau") = py::none(), py::arg("dq") = py::none(),
       py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
       py::arg("effort_log") = py::none(), py::arg("keep_raw_torque") = false,
-      py::arg("threads") = kAllThreads,
+      py::arg("threads") = kAllThreads, py::arg("skip_missing") = false,
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -880,7 +881,8 @@ void bindPrepare(py::module_& m) {
       "time_unit and angle_unit name. keep_raw_torque: also keep the held-out raw torques at "
       "the log's stamps (raw_validate_time, raw_validate_tau: the CLI's validate_raw.csv). "
       "threads: the joints are prepared on them (0: every core; the same numbers for any "
-      "count).");
+      "count). skip_missing: leave out table rows whose selected field is empty, nan or inf, "
+      "as prepare --skip-missing.");
 }
 
 }  // namespace

@@ -111,6 +111,7 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
       {"raw",
        {{"samples", o.raw_samples},
         {"repeated_stamps_dropped", o.repeated_stamps},
+        {"missing_rows_skipped", o.skipped_missing},
         {"stalled_repeats_dropped", o.stalled_repeats},
         {"out_of_order_stamps", o.unsorted_stamps},
         {"median_step", o.median_step},

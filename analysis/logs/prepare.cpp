@@ -559,6 +559,7 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
     for (const std::string& w : s.warnings) out.warnings.push_back(s.file + ": " + w);
     applyUnits(s, source, options);
     out.raw_samples += static_cast<int>(s.rows);
+    out.skipped_missing += s.skipped_missing;
     const std::string label = !name.empty() ? name : source.arrays ? "arrays" : source.time_file;
     if (s.n != files.front().n)
       throw InputError(label + ": " + std::to_string(s.n) + " joints, the first log " +

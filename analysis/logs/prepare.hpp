@@ -118,6 +118,7 @@ struct PrepareOutcome {
   std::vector<std::string> warnings;
   std::string rate_reason;  // how the rate was chosen, one sentence
   int raw_samples = 0, repeated_stamps = 0, unsorted_stamps = 0, stalled_repeats = 0;
+  long skipped_missing = 0;  // rows left out for a missing value (LogSource::skip_missing)
   double median_step = 0.0, min_step = 0.0, max_step = 0.0;  // raw [s]
   std::vector<std::pair<double, double>> gaps;               // (at [s], length [s])
   std::vector<PreparedRun> runs;

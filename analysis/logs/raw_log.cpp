@@ -104,6 +104,16 @@ void forEachLine(const std::string& path, F f) {
     if (!f(line.data(), line.data() + line.size(), reader.lineNumber())) return;
 }
 
+/// Whether a field is a missing value: empty (blanks only), or nan or inf in any case and sign.
+bool isMissing(const char* begin, const char* end) {
+  while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
+  while (end > begin && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\r')) --end;
+  if (begin < end && (*begin == '+' || *begin == '-')) ++begin;
+  std::string word(begin, end);
+  for (char& c : word) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return word.empty() || word == "nan" || word == "inf" || word == "infinity";
+}
+
 /// Whether the line holds data: not blank, not a '#' comment.
 bool isDataLine(const char* begin, const char* end) {
   while (begin < end && (*begin == ' ' || *begin == '\t' || *begin == '\r')) ++begin;
@@ -174,7 +184,8 @@ RawTable readRawHeader(const std::string& path) {
 }
 
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
-                               long double* time_origin) {
+                               long double* time_origin, std::vector<Eigen::Index>* skipped,
+                               std::vector<int>* skipped_lines) {
   const std::string& path = header.file;
   const auto width = static_cast<int>(header.names.size());
   // Pass 1: the rows, to allocate once.
@@ -191,35 +202,51 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
                 path + ": " + std::to_string(rows) + " rows of " + std::to_string(columns.size()) +
                     " columns");
   Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
-  Eigen::Index row = 0;
+  Eigen::Index row = 0, data_row = 0;
   RelativeStamps stamps{time_origin};
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     if (line < header.first_data_line || !isDataLine(begin, end)) return true;
-    if (row == rows)
+    if (data_row == rows)
       throw ParseError(path, line, "",
                        "the file grew while being read (" + std::to_string(rows) +
                            " rows when counted): read a finished log");
+    bool missing = false;
     const int fields =
         forEachField(begin, end, header.delimiter, [&](const char* b, const char* e, int c) {
-          if (c >= width || target[static_cast<std::size_t>(c)] < 0) return;
+          if (c >= width || target[static_cast<std::size_t>(c)] < 0 || missing) return;
           double x = 0.0;
           const bool stamp = target[static_cast<std::size_t>(c)] == 0 && time_origin != nullptr;
-          if (!(stamp ? stamps.read(b, e, &x) : parseNumber(b, e, &x)) || !std::isfinite(x))
+          if (!(stamp ? stamps.read(b, e, &x) : parseNumber(b, e, &x)) || !std::isfinite(x)) {
+            if (skipped != nullptr && isMissing(b, e)) {
+              missing = true;
+              return;
+            }
             throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
-                             "'" + trim(std::string(b, e)) + "' is not a finite number");
+                             "'" + trim(std::string(b, e)) + "' is not a finite number" +
+                                 (skipped == nullptr && isMissing(b, e)
+                                      ? " (a logger's dropout? --skip-missing leaves such rows out)"
+                                      : ""));
+          }
           values(row, target[static_cast<std::size_t>(c)]) = x;
         });
     if (fields != width)
       throw ParseError(path, line, "",
                        "has " + std::to_string(fields) + " fields, the table has " +
                            std::to_string(width) + " columns");
-    ++row;
+    if (missing) {
+      skipped->push_back(data_row);
+      if (skipped_lines != nullptr) skipped_lines->push_back(line);
+    } else {
+      ++row;
+    }
+    ++data_row;
     return true;
   });
-  if (row != rows)
+  if (data_row != rows)
     throw ParseError(path, 0, "",
                      "the file shrank while being read (" + std::to_string(rows) +
-                         " rows when counted, " + std::to_string(row) + " when parsed)");
+                         " rows when counted, " + std::to_string(data_row) + " when parsed)");
+  if (row != rows) values.conservativeResize(row, Eigen::NoChange);
   return values;
 }
 

@@ -37,8 +37,13 @@ RawTable readRawHeader(const std::string& path);
 /// memory is the result plus a 4 MB block. Errors as readRawTable's. With `time_origin`, the first
 /// column is time stamps, read in 64-bit precision: the first row's is stored there and every
 /// row holds its difference from it.
+/// With `skipped`, a data row whose kept field is missing (empty, nan or inf: a logger's dropout)
+/// is left out and its 0-based data-row index appended, in order, and its file line to
+/// `skipped_lines` when given; any other field that is not a number is still an error.
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
-                               long double* time_origin = nullptr);
+                               long double* time_origin = nullptr,
+                               std::vector<Eigen::Index>* skipped = nullptr,
+                               std::vector<int>* skipped_lines = nullptr);
 
 /// The file line of data row `row` (0-based, in file order) of a table, or 0 past the end: for
 /// messages about a row found wrong after reading (it re-reads the file).

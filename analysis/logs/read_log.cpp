@@ -1,5 +1,6 @@
 #include "analysis/logs/read_log.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "analysis/logs/bag_log.hpp"
@@ -30,7 +31,10 @@ RawSignals readLog(const LogSource& source, const std::string& table_path) {
         const std::vector<int> more = selectColumns(header, *selector, n, what);
         columns.insert(columns.end(), more.begin(), more.end());
       }
-    out.values = readRawColumns(header, columns, &out.time_origin);
+    std::vector<Eigen::Index> skipped;
+    std::vector<int> skipped_lines;
+    out.values = readRawColumns(header, columns, &out.time_origin,
+                                source.skip_missing ? &skipped : nullptr, &skipped_lines);
     const auto names = [&](const std::vector<int>& selected) {
       std::vector<std::string> list;
       for (int c : selected) list.push_back(header.names[static_cast<std::size_t>(c)]);
@@ -46,7 +50,25 @@ RawSignals readLog(const LogSource& source, const std::string& table_path) {
                        columns.begin() + static_cast<std::ptrdiff_t>(at + q.size())});
         at += q.size();
       }
-    out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
+    if (skipped.empty()) {
+      out.line_of = [header](Eigen::Index row) { return rawRowLine(header, row); };
+    } else {
+      // A kept row's data row in the file: past every skipped one at or before it.
+      out.line_of = [header, skipped](Eigen::Index row) {
+        for (const Eigen::Index s : skipped)
+          if (s <= row) ++row;
+        return rawRowLine(header, row);
+      };
+      out.skipped_missing = static_cast<long>(skipped.size());
+      std::string lines;
+      for (std::size_t k = 0; k < std::min<std::size_t>(skipped.size(), 5); ++k)
+        lines += (k == 0 ? "" : ", ") + std::to_string(skipped_lines[k]);
+      out.warnings.push_back(
+          std::to_string(skipped.size()) + " row(s) with a missing value (empty, nan or inf) " +
+          "left out (--skip-missing), at line(s) " + lines + (skipped.size() > 5 ? ", ..." : "") +
+          ": the resampling bridges them, and a run splits where they leave a gap longer than the "
+          "gap limit");
+    }
     out.has_dq = !source.dq_columns.empty();
     out.has_ddq = !source.ddq_columns.empty();
   } else {

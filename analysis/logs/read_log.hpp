@@ -39,6 +39,9 @@ struct LogSource {
   std::string effort_table = "";
   /// Samples already in memory (Python's prepare(t=, q=, tau=)), read instead of any file.
   std::shared_ptr<const RawSignals> arrays = nullptr;
+  /// Tables: leave out a row whose selected field is missing (empty, nan, inf: a logger's
+  /// dropout), counted and warned about, instead of refusing the file.
+  bool skip_missing = false;
 };
 
 /// The table columns each signal was read from, joint by joint (what a selector matched, in joint
@@ -64,6 +67,7 @@ struct RawSignals {
   /// it (so nanosecond epoch stamps keep their precision as doubles).
   long double time_origin = 0.0L;
   std::vector<std::string> warnings = {};  // what reading changed (prepare.json's warnings)
+  long skipped_missing = 0;  // rows left out for a missing value (LogSource::skip_missing)
   auto time() const { return values.col(0).head(rows); }
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }

@@ -201,6 +201,50 @@ TEST(Prepare, CurrentsBecomeTorquesThroughTorqueConstantsAndGearRatios) {
                InputError);
 }
 
+TEST(Prepare, SkippedDropoutsGiveTheLogWithoutThoseRowsAndLinesStayTheFiles) {
+  // 2 s at 1 kHz; data row 100 (line 102) has a nan: skipped, the outcome is the file without
+  // that line; with a stamp set back 1 s at line 1502 too, the error names line 1502.
+  const auto text = [](bool dropout, bool back) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "t,q1,q2,tau1,tau2\n";
+    for (int k = 0; k < 2000; ++k) {
+      if (k == 100 && !dropout) continue;
+      const double t = k == 1500 && back ? k * 1e-3 - 1.0 : k * 1e-3;
+      out << t << ',' << (k == 100 ? std::string("nan") : std::to_string(std::sin(t))) << ','
+          << std::cos(2.0 * t) << ',' << 3.0 * std::sin(t + 0.2) << ',' << std::cos(t) << '\n';
+    }
+    return out.str();
+  };
+  LogSource source;
+  source.time_column = "t";
+  source.q_columns = "q*";
+  source.tau_columns = "tau*";
+  source.tables = {test::writeTemp("without_dropout.csv", text(false, false))};
+  const PrepareOutcome without = prepareLog(source, {});
+  source.tables = {test::writeTemp("dropout.csv", text(true, false))};
+  EXPECT_THROW(prepareLog(source, {}), ParseError);  // refused unless asked
+  source.skip_missing = true;
+  const PrepareOutcome skipped = prepareLog(source, {});
+  EXPECT_EQ(skipped.skipped_missing, 1);
+  EXPECT_EQ(skipped.raw_samples, without.raw_samples);
+  EXPECT_EQ(skipped.train.q, without.train.q);
+  EXPECT_EQ(skipped.train.tau, without.train.tau);
+  bool warned = false;
+  for (const std::string& w : skipped.warnings)
+    warned = warned || w.find(
+                           "1 row(s) with a missing value (empty, nan or inf) left out "
+                           "(--skip-missing), at line(s) 102") != std::string::npos;
+  EXPECT_TRUE(warned);
+  source.tables = {test::writeTemp("dropout_and_reset.csv", text(true, true))};
+  try {
+    prepareLog(source, {});
+    ADD_FAILURE() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 1502) << e.what();  // the file's line, past the skipped one
+  }
+}
+
 TEST(Prepare, StalledRepeatsAreDroppedAndRestIsKept) {
   const Eigen::Vector2d one = Eigen::Vector2d::Ones();
   // A 3-sample stall at 2.5 s: dropped and bridged; the result matches the clean log's.

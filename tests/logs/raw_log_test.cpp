@@ -48,6 +48,39 @@ TEST(RawLog, ErrorsNameTheFileLineAndColumn) {
   fails("t,q1\n", 0, "");
 }
 
+TEST(RawLog, MissingValuesAreSkippedWhenAskedAndNamedWhenNot) {
+  // Lines 3 (nan), 5 (empty) and 6 (-inf in a kept column) are dropouts; line 7's text in a
+  // column not asked for is never parsed; any other text is still an error.
+  const std::string path =
+      writeTemp("dropouts.csv", "t,q1,note\n0,1,a\n1,nan,b\n2,3,c\n3,,d\n4,-INF,e\n5,6,text\n");
+  const RawTable header = readRawHeader(path);
+  std::vector<Eigen::Index> skipped;
+  std::vector<int> lines;
+  const Eigen::MatrixXd kept = readRawColumns(header, {0, 1}, nullptr, &skipped, &lines);
+  ASSERT_EQ(kept.rows(), 3);
+  EXPECT_EQ(kept(0, 0), 0.0);
+  EXPECT_EQ(kept(1, 0), 2.0);
+  EXPECT_EQ(kept(1, 1), 3.0);
+  EXPECT_EQ(kept(2, 1), 6.0);
+  EXPECT_EQ(skipped, (std::vector<Eigen::Index>{1, 3, 4}));
+  EXPECT_EQ(lines, (std::vector<int>{3, 5, 6}));
+  try {  // without skipping: refused at the first, with the way out
+    readRawColumns(header, {0, 1});
+    ADD_FAILURE();
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("--skip-missing"), std::string::npos) << e.what();
+  }
+  try {  // text is not a dropout
+    skipped.clear();
+    readRawColumns(header, {0, 2}, nullptr, &skipped);
+    ADD_FAILURE();
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(std::string(e.what()).find("--skip-missing"), std::string::npos) << e.what();
+  }
+}
+
 TEST(RawLog, AByteOrderMarkIsNotPartOfTheHeader) {
   const RawTable t = readRawTable(writeTemp("bom.csv", "\xEF\xBB\xBFtime,q1\n0,1\n1,2\n"));
   ASSERT_EQ(t.names.size(), 2u);

@@ -379,3 +379,19 @@ def test_a_progress_callback_sees_every_round_and_can_stop_the_search(puma_csv):
                      threads=1, progress=broken)
     with pytest.raises(TypeError):
         dynid.search(robot, puma_csv, "nlo", perturb=0.3, budget_evals=10, progress=3)
+
+
+def test_prepare_skips_dropouts_when_asked(tmp_path, puma_csv):
+    data = dynid.read_dataset(puma_csv)
+    rows = np.column_stack([data.time, data.q, data.tau])
+    rows[40, 3] = np.nan  # a dropout in q3
+    log = tmp_path / "dropout.csv"
+    header = "t," + ",".join(f"q{j}" for j in range(1, 7)) + "," + \
+        ",".join(f"tau{j}" for j in range(1, 7))
+    np.savetxt(log, rows, delimiter=",", header=header, comments="", fmt="%.17g")
+    with pytest.raises(dynid.ParseError, match="skip-missing"):
+        dynid.prepare(log, time_column="t", q_columns="q*", tau_columns="tau*")
+    prepared = dynid.prepare(log, time_column="t", q_columns="q*", tau_columns="tau*",
+                             skip_missing=True)
+    assert json.loads(prepared.to_json())["raw"]["missing_rows_skipped"] == 1
+    assert any("left out (--skip-missing)" in w for w in prepared.warnings)
