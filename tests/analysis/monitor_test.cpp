@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <sstream>
 
@@ -186,6 +187,26 @@ class MonitorRun : public ::testing::Test {
   std::string clean_;
 };
 
+/// A PUMA trajectory as stdin lines (t,q..,dq..,tau.. after its header), counting the lines fed.
+std::function<bool(std::string&)> sampleLines(const Trajectory& t, long long& fed) {
+  return [&t, &fed](std::string& line) {
+    if (fed > t.numSamples()) return false;
+    if (fed == 0) {
+      line = "t,q1,q2,q3,q4,q5,q6,dq1,dq2,dq3,dq4,dq5,dq6,tau1,tau2,tau3,tau4,tau5,tau6";
+    } else {
+      const int k = static_cast<int>(fed - 1);
+      std::ostringstream row;
+      row.precision(17);
+      row << t.time[k];
+      for (const Eigen::MatrixXd* m : {&t.q, &t.dq, &t.tau})
+        for (int j = 0; j < 6; ++j) row << ',' << (*m)(j, k);
+      line = row.str();
+    }
+    ++fed;
+    return true;
+  };
+}
+
 // Streamed on stdin (here a function), an event is reported at the sample that crossed.
 TEST_F(MonitorRun, AStreamedEventIsReportedAtTheCrossingSample) {
   Eigen::MatrixXd applied;
@@ -198,23 +219,7 @@ TEST_F(MonitorRun, AStreamedEventIsReportedAtTheCrossingSample) {
   request.data_file = "-";
   request.calibration_file = clean_;
   request.sink = &recorder;
-  request.next_line = [&](std::string& line) {
-    if (fed == 0) {
-      line = "t,q1,q2,q3,q4,q5,q6,dq1,dq2,dq3,dq4,dq5,dq6,tau1,tau2,tau3,tau4,tau5,tau6";
-    } else if (fed > pushed.numSamples()) {
-      return false;
-    } else {
-      const int k = static_cast<int>(fed - 1);
-      std::ostringstream row;
-      row.precision(17);
-      row << pushed.time[k];
-      for (const Eigen::MatrixXd* m : {&pushed.q, &pushed.dq, &pushed.tau})
-        for (int j = 0; j < 6; ++j) row << ',' << (*m)(j, k);
-      line = row.str();
-    }
-    ++fed;
-    return true;
-  };
+  request.next_line = sampleLines(pushed, fed);
   const MonitorOutcome out = monitorRun(request);
   ASSERT_EQ(out.events.size(), 1u);
   ASSERT_EQ(recorder.started_at.size(), 1u);
@@ -519,22 +524,7 @@ TEST_F(MonitorRun, CurrentsBecomeTorquesThroughTheTorqueConstants) {
   stream.data_file = "-";
   const Trajectory sent = currents(pushed);
   long long fed = 0;
-  stream.next_line = [&](std::string& line) {
-    if (fed > sent.numSamples()) return false;
-    if (fed == 0) {
-      line = "t,q1,q2,q3,q4,q5,q6,dq1,dq2,dq3,dq4,dq5,dq6,tau1,tau2,tau3,tau4,tau5,tau6";
-    } else {
-      const int k = static_cast<int>(fed - 1);
-      std::ostringstream row;
-      row.precision(17);
-      row << sent.time[k];
-      for (const Eigen::MatrixXd* m : {&sent.q, &sent.dq, &sent.tau})
-        for (int j = 0; j < 6; ++j) row << ',' << (*m)(j, k);
-      line = row.str();
-    }
-    ++fed;
-    return true;
-  };
+  stream.next_line = sampleLines(sent, fed);
   const MonitorOutcome c = monitorRun(stream);
   ASSERT_EQ(c.events.size(), 1u);
   EXPECT_EQ(c.events[0].joints, std::vector<int>{2});

@@ -111,22 +111,29 @@ TEST(Payload, TheUnloadedRunCancelsWhatTheArmModelGetsWrong) {
   EXPECT_GT(std::abs(single.mass - 1.2), 100.0 * std::abs(difference.mass - 1.2));
 }
 
-TEST(Payload, DriveGainsFromAKnownMass) {
-  const Model arm = makePuma560(true);  // with its friction: it cancels in the difference
-  const Trajectory t = motion(arm, 10.0, 200.0);
-  Eigen::VectorXd gain(6);
-  gain << 1.05, 0.97, 1.1, 0.92, 1.0, 1.03;  // measured = true / gain
+/// The PUMA with its friction (it cancels in the difference) carrying the tool in the loaded run
+/// (motion `loaded`) and not in the unloaded one (`unloaded`), torques measured through
+/// constants off by these gains (measured = true / gain); drive gains from the known 1.2 kg.
+const Eigen::VectorXd kGains = (Eigen::VectorXd(6) << 1.05, 0.97, 1.1, 0.92, 1.0, 1.03).finished();
+PayloadOutcome gainsRun(const Trajectory& loaded, const Trajectory& unloaded,
+                        const std::string& name) {
+  const Model arm = makePuma560(true);
   PayloadRequest request;
   request.arm = arm;
   request.tool = flange();
   request.known_mass = 1.2;
-  request.data_file =
-      logOf(withPayload(arm, 5, flange(), toolBody()), t, "gain_loaded.csv", 0.0, 1, gain);
-  request.unloaded_file = logOf(arm, t, "gain_unloaded.csv", 0.0, 1, gain);
-  const PayloadOutcome out = payloadRun(request);
+  request.data_file = logOf(withPayload(arm, 5, flange(), toolBody()), loaded, name + "_loaded.csv",
+                            0.0, 1, kGains);
+  request.unloaded_file = logOf(arm, unloaded, name + "_unloaded.csv", 0.0, 1, kGains);
+  return payloadRun(request);
+}
+
+TEST(Payload, DriveGainsFromAKnownMass) {
+  const Trajectory t = motion(makePuma560(true), 10.0, 200.0);
+  const PayloadOutcome out = gainsRun(t, t, "gain");
   ASSERT_TRUE(out.gains.has_value());
   for (int j = 0; j < 6; ++j) {
-    EXPECT_NEAR(out.gains->scale[j], gain[j], 1e-6 * gain[j]) << j;
+    EXPECT_NEAR(out.gains->scale[j], kGains[j], 1e-6 * kGains[j]) << j;
     EXPECT_TRUE(out.gains->determined[j]) << j;
   }
 }
@@ -135,8 +142,7 @@ TEST(Payload, DriveGainsFromAKnownMass) {
 // smooth 10 mrad. The measured difference scales the arm's own torque difference too, so the
 // gains are still exact (they came out 1 % to 9 % off when that difference was left unscaled).
 TEST(Payload, DriveGainsHoldWhenTheLoadChangesTheTracking) {
-  const Model arm = makePuma560(true);
-  const Trajectory t = motion(arm, 10.0, 200.0);
+  const Trajectory t = motion(makePuma560(true), 10.0, 200.0);
   Trajectory other = t;
   for (int k = 0; k < t.numSamples(); ++k)
     for (int j = 0; j < 6; ++j) {
@@ -145,20 +151,11 @@ TEST(Payload, DriveGainsHoldWhenTheLoadChangesTheTracking) {
       other.dq(j, k) += 0.01 * w * std::cos(phase);
       other.ddq(j, k) -= 0.01 * w * w * std::sin(phase);
     }
-  Eigen::VectorXd gain(6);
-  gain << 1.05, 0.97, 1.1, 0.92, 1.0, 1.03;  // measured = true / gain
-  PayloadRequest request;
-  request.arm = arm;
-  request.tool = flange();
-  request.known_mass = 1.2;
-  request.data_file =
-      logOf(withPayload(arm, 5, flange(), toolBody()), t, "gain_track_loaded.csv", 0.0, 1, gain);
-  request.unloaded_file = logOf(arm, other, "gain_track_unloaded.csv", 0.0, 1, gain);
-  const PayloadOutcome out = payloadRun(request);
+  const PayloadOutcome out = gainsRun(t, other, "gain_track");
   ASSERT_TRUE(out.gains.has_value());
   EXPECT_GT(out.motion_difference.maxCoeff(), 0.005);  // the motions do differ
   for (int j = 0; j < 6; ++j)
-    EXPECT_NEAR(out.gains->scale[j], gain[j], 1e-6 * gain[j]) << j;  // exact data
+    EXPECT_NEAR(out.gains->scale[j], kGains[j], 1e-6 * kGains[j]) << j;  // exact data
 }
 
 TEST(Payload, AWristThatDoesNotTurnLeavesCombinationsUnseenAndSaysSo) {

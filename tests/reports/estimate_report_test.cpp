@@ -24,8 +24,9 @@ struct Fixture {
   std::string dir, train, validate;
 };
 
-/// train.csv and validate.csv of the PUMA with drives, beside a prepare.json when `prepared`.
-Fixture writeData(bool prepared) {
+/// train.csv and validate.csv of the PUMA with drives, beside a prepare.json when `prepared`
+/// (with `source`, its "source" member: how the torques were made).
+Fixture writeData(bool prepared, const std::string& source = "") {
   Fixture f;
   f.dir = test::tempPath(prepared ? "prepared" : "plain");
   std::filesystem::create_directories(f.dir);
@@ -41,7 +42,8 @@ Fixture writeData(bool prepared) {
       "gaps": [], "max_gap": 0.02, "runs": [{}], "dropped_runs": [], "resampled_rate": 1000,
       "filter": {"kind": "Butterworth", "order": 4, "cutoff_hz": 7.5, "applied_to": "q, dq, tau"},
       "dq": "logged", "ddq": "central differences", "trimmed_each_end": 0.4, "decimate": 1,
-      "tau_noise_rms": [0.1, 0.2]})");
+      "tau_noise_rms": [0.1, 0.2])" + (source.empty() ? "" : ", \"source\": " + source) +
+                                                     "}");
   return f;
 }
 
@@ -178,16 +180,9 @@ TEST(EstimateReport, NextSaysWhatWouldDetermineEachPoorlyDeterminedParameter) {
 // combined method's record (its "combined" block was refused as an unknown key) and a prepared
 // log's torque constants (torque_source).
 TEST(EstimateReport, EveryMethodsEstimateReadsBack) {
-  const Fixture f = writeData(true);
-  writeFileAtomically(f.dir + "/prepare.json", R"({"kind": "dynid.prepare",
-      "raw": {"samples": 4321, "median_step": 0.001, "min_step": 0.0007, "max_step": 0.0088,
-              "repeated_stamps_dropped": 3},
-      "gaps": [], "max_gap": 0.02, "runs": [{}], "dropped_runs": [], "resampled_rate": 1000,
-      "filter": {"kind": "Butterworth", "order": 4, "cutoff_hz": 7.5, "applied_to": "q, dq, tau"},
-      "dq": "logged", "ddq": "central differences", "trimmed_each_end": 0.4, "decimate": 1,
-      "tau_noise_rms": [0.1, 0.2],
-      "source": {"current_to_torque": {"torque_constants": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
-                                       "gear_ratios": [100, 100, 100, 50, 50, 50]}}})");
+  const Fixture f = writeData(true, R"({"current_to_torque": {
+      "torque_constants": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
+      "gear_ratios": [100, 100, 100, 50, 50, 50]}})");
   for (Method method : {Method::kOls, Method::kWls, Method::kPc, Method::kCombined}) {
     IdentifyRequest r = request(f, method);
     r.combined.max_iterations = 2;  // the record's shape, not the estimate, is under test
