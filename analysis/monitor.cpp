@@ -588,6 +588,7 @@ Pass passOverRecording(const Model& model, const std::string& path, const Monito
   if (!request.effort_topic.empty()) {
     const RawSignals raw = readBagLog(source, path);
     if (!raw.has_dq) throw InputError(noVelocities(path));
+    for (const std::string& w : raw.warnings) warnings.push_back(path + ": " + w);
     std::vector<Eigen::Index> order(static_cast<std::size_t>(raw.rows));
     for (Eigen::Index k = 0; k < raw.rows; ++k) order[static_cast<std::size_t>(k)] = k;
     std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
@@ -629,22 +630,25 @@ Pass passOverRecording(const Model& model, const std::string& path, const Monito
       pending.pop_front();
     };
     try {
-      scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
-        ++message;
-        if (row.size() != static_cast<std::size_t>(3 * n)) throw InputError(noVelocities(path));
-        if ((message % 4096 == 0 && request.control.check()) || request.control.stopped())
-          throw Stopped{};
-        const auto at = std::upper_bound(pending.begin(), pending.end(), ns,
-                                         [](std::int64_t v, const Pending& p) { return v < p.ns; });
-        if ((out.samples > 0 && ns <= last) || (at != pending.begin() && (at - 1)->ns == ns)) {
-          ++skipped;  // a stamp already seen, or later than the window allows
-          return;
-        }
-        pending.insert(at, Pending{ns, message, row});
-        newest = message == 1 ? ns : std::max(newest, ns);
-        while (!pending.empty() && pending.front().ns < newest - window) emit();
-      });
+      const JointStateScan scan =
+          scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
+            ++message;
+            if (row.size() != static_cast<std::size_t>(3 * n)) throw InputError(noVelocities(path));
+            if ((message % 4096 == 0 && request.control.check()) || request.control.stopped())
+              throw Stopped{};
+            const auto at =
+                std::upper_bound(pending.begin(), pending.end(), ns,
+                                 [](std::int64_t v, const Pending& p) { return v < p.ns; });
+            if ((out.samples > 0 && ns <= last) || (at != pending.begin() && (at - 1)->ns == ns)) {
+              ++skipped;  // a stamp already seen, or later than the window allows
+              return;
+            }
+            pending.insert(at, Pending{ns, message, row});
+            newest = message == 1 ? ns : std::max(newest, ns);
+            while (!pending.empty() && pending.front().ns < newest - window) emit();
+          });
       while (!pending.empty()) emit();
+      if (!scan.prefix.empty()) warnings.push_back(path + ": " + prefixWarning(scan));
     } catch (const Stopped&) {
       out.interrupted = true;
     }

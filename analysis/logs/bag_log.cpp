@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
 
 #include "analysis/logs/raw_log.hpp"
 #include "core/errors.hpp"
@@ -18,24 +19,46 @@ std::string listed(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
-/// Per joint of `names` (the robot's), its entry among the message's names `held`; InputError
-/// naming the joints the messages lack and the names they hold.
+/// Per joint of `names` (the robot's), its entry among the message's names `held`: the same name,
+/// else, when no name is missing that way, one prefix that every joint's name carries after a
+/// separator ("panda_joint1" for "joint1": a driver's prefix), recorded in `prefix` (a gripper's
+/// "panda_finger_joint1" is no match: "panda_finger_joint2..7" are missing). InputError naming the
+/// joints the messages lack (and the names they hold), or the prefixes that fit alike.
 std::vector<int> jointIndex(const std::vector<std::string>& names,
                             const std::vector<std::string>& held, const std::string& path,
-                            const std::string& topic) {
+                            const std::string& topic, std::string* prefix = nullptr) {
+  const auto find = [&](const std::string& name) {
+    return static_cast<int>(std::find(held.begin(), held.end(), name) - held.begin());
+  };
   std::vector<int> index(names.size(), -1);
   std::vector<std::string> missing;
   for (std::size_t j = 0; j < names.size(); ++j) {
-    const auto it = std::find(held.begin(), held.end(), names[j]);
-    if (it == held.end())
-      missing.push_back(names[j]);
-    else
-      index[j] = static_cast<int>(it - held.begin());
+    index[j] = find(names[j]);
+    if (index[j] == static_cast<int>(held.size())) missing.push_back(names[j]);
   }
-  if (!missing.empty())
+  if (missing.empty() || names.empty()) return index;
+  std::vector<std::string> fits;  // prefixes P with P + name held for every joint
+  for (const std::string& h : held) {
+    const std::string& first = names.front();
+    if (h.size() <= first.size() || h.compare(h.size() - first.size(), first.size(), first) != 0 ||
+        std::string_view("_/:-.").find(h[h.size() - first.size() - 1]) == std::string_view::npos)
+      continue;
+    const std::string p = h.substr(0, h.size() - first.size());
+    if (std::all_of(names.begin(), names.end(), [&](const std::string& name) {
+          return find(p + name) < static_cast<int>(held.size());
+        }))
+      fits.push_back(p);
+  }
+  if (fits.size() > 1)
+    throw InputError(path + ": the JointState messages on " + topic +
+                     " name the robot's joints under several prefixes (" + listed(fits) +
+                     "): give a robot whose joints carry the names of the arm logged");
+  if (fits.empty())
     throw InputError(path + ": the JointState messages on " + topic + " lack the robot's joints " +
                      listed(missing) + " (they hold " + listed(held) +
                      "): give the robot these messages describe");
+  for (std::size_t j = 0; j < names.size(); ++j) index[j] = find(fits.front() + names[j]);
+  if (prefix != nullptr) *prefix = fits.front();
   return index;
 }
 
@@ -180,6 +203,12 @@ Eigen::Index joinSeparateEfforts(const LogSource& source, const std::string& pat
 
 }  // namespace
 
+std::string prefixWarning(const JointStateScan& scan) {
+  return "the messages name the robot's joints with the prefix '" + scan.prefix + "' (" +
+         scan.prefix + scan.names.front() + " as " + scan.names.front() +
+         (scan.names.size() > 1 ? ", ..." : "") + "): matched so";
+}
+
 JointStateScan scanJointStates(const LogSource& source, const std::string& path,
                                const JointStateVisit& visit) {
   JointStateScan scan;
@@ -221,7 +250,7 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
           bags::decodeJointStateRos1(message.data, *message.file, message.offset, m);
         if (m.name != last_names) {  // the mapping, again only when the names change
           if (names.empty()) names = m.name;
-          index = jointIndex(names, m.name, path, topic);
+          index = jointIndex(names, m.name, path, topic, &scan.prefix);
           last_names = m.name;
         }
         checkArrays(m, message, path, topic, !separate_effort);
@@ -288,6 +317,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
       });
   const auto n = static_cast<int>(scan.names.size());
   out.has_dq = scan.has_dq;
+  if (!scan.prefix.empty()) out.warnings.push_back(prefixWarning(scan));
   auto count = static_cast<Eigen::Index>(total);
   const auto columns = static_cast<Eigen::Index>(width);
   if (separate_effort) {

@@ -19,6 +19,9 @@ struct JointStateScan {
   std::vector<std::string> names;
   bool has_dq = false;
   long long messages = 0;
+  /// The prefix every one of the robot's joint names carries in the messages ("panda_" for
+  /// "panda_joint1" as "joint1"; empty: the names themselves): a warning for the reader to give.
+  std::string prefix;
 };
 
 /// Receives each message: its stamp [ns on the recording's clock] and the joints' values in
@@ -32,6 +35,9 @@ using JointStateVisit = std::function<void(std::int64_t stamp_ns, const std::vec
 /// several topics, no header stamp) after the last one.
 JointStateScan scanJointStates(const LogSource& source, const std::string& path,
                                const JointStateVisit& visit);
+
+/// The warning for scan.prefix: the robot's joints were found under that prefix.
+std::string prefixWarning(const JointStateScan& scan);
 
 /// Reads the recording `path` for `source` (its topic, joint names and stamp). Throws InputError
 /// naming the recording and what is wrong: no JointState topic, several without --topic, joints

@@ -150,5 +150,52 @@ TEST(BagLog, ALongRecordingReadsBackRowForRowAcrossBlocks) {
   }
 }
 
+// A driver's prefix on every name (Franka's "panda_joint1" for "joint1", beside its gripper's
+// "panda_finger_joint1"): matched under the one prefix every joint carries, said in a warning;
+// two prefixes that fit alike (two arms) are refused, and the names themselves win.
+TEST(BagLog, PrefixedJointNamesMatchUnderOnePrefixAndSaySo) {
+  const auto write = [](const std::string& name, const std::vector<std::string>& names) {
+    const std::string path = test::tempPath(name);
+    test::JointStateDb3 db3(path);
+    for (int k = 0; k < 50; ++k) {
+      const std::int64_t ns = 1700000000LL * 1000000000 + k * 1000000LL;
+      std::vector<double> v(names.size());
+      for (std::size_t j = 0; j < v.size(); ++j) v[j] = 0.1 * static_cast<double>(j + 1) + 1e-3 * k;
+      db3.add(ns, ns, names, v.data(), v.data(), v.data(), 0);
+    }
+    db3.close();
+    return path;
+  };
+  LogSource source;
+  source.joint_names = {"joint1", "joint2"};
+  source.tables = {write("prefixed.db3", {"panda_finger_joint1", "panda_joint2",
+                                          "panda_finger_joint2x", "panda_joint1"})};
+  const RawSignals s = readBagLog(source, source.tables[0]);
+  EXPECT_EQ(s.q()(0, 0), 0.1 * 4);  // joint1: panda_joint1, the fourth name
+  EXPECT_EQ(s.q()(0, 1), 0.1 * 2);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("with the prefix 'panda_' (panda_joint1 as joint1, ...)"),
+            std::string::npos)
+      << s.warnings[0];
+  source.tables = {
+      write("two_arms.db3", {"left_joint1", "left_joint2", "right_joint1", "right_joint2"})};
+  try {
+    readBagLog(source, source.tables[0]);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("under several prefixes (left_, right_)"),
+              std::string::npos)
+        << e.what();
+  }
+  source.tables = {write("exact.db3", {"arm_joint1", "arm_joint2", "joint2", "joint1"})};
+  const RawSignals exact = readBagLog(source, source.tables[0]);
+  EXPECT_EQ(exact.q()(0, 0), 0.1 * 4);  // "joint1" itself
+  EXPECT_TRUE(exact.warnings.empty());
+  // A prefix without a separator, or one that only some joints carry: missing.
+  source.tables = {write("no_separator.db3", {"xjoint1", "xjoint2"})};
+  EXPECT_THROW(readBagLog(source, source.tables[0]), InputError);
+  source.tables = {write("partly.db3", {"arm_joint1", "joint3"})};
+  EXPECT_THROW(readBagLog(source, source.tables[0]), InputError);
+}
 }  // namespace
 }  // namespace dynid
