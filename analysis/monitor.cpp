@@ -582,6 +582,7 @@ Pass passOverRecording(const Model& model, const std::string& path, const Monito
   source.effort_topic = request.effort_topic;
   source.receive_time = request.receive_time;
   source.joint_names = model.joint_names;
+  source.joint_prefix = request.joint_prefix;
   Pass out;
   RecordingFeed feed(model, path, request, gain, visit, out);
   long long skipped = 0;

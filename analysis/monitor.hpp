@@ -159,6 +159,7 @@ struct MonitorRequest {
   /// by name to the model's. Their JointState topic (empty: the only one), the stamp (header, or
   /// receive time) and the topic whose efforts are the torques when the positions' carry none.
   std::string topic, effort_topic;
+  std::string joint_prefix;  // LogSource::joint_prefix
   bool receive_time = false;
   /// Raw efforts that are motor currents (a current-sensing arm's recording or stdin samples):
   /// tau_j = current_j * torque_constants_j * gear_ratios_j [N m/A; gear ratios empty: 1], as

@@ -89,7 +89,7 @@ LogSource logSource(const po::variables_map& vm) {
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
   std::size_t recordings = 0;
   for (const std::string& table : source.tables) recordings += bags::isBag(table) ? 1 : 0;
-  refuseUnused(vm, recordings > 0, {"topic", "effort-topic", "effort-log"},
+  refuseUnused(vm, recordings > 0, {"topic", "effort-topic", "effort-log", "joint-prefix"},
                "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (recordings > 0) {
     if (recordings != source.tables.size())
@@ -114,6 +114,7 @@ LogSource logSource(const po::variables_map& vm) {
     }
     if (vm.count("effort-topic")) source.effort_topic = text(vm, "effort-topic");
     if (vm.count("topic")) source.topic = text(vm, "topic");
+    if (vm.count("joint-prefix")) source.joint_prefix = text(vm, "joint-prefix");
     source.receive_time = receiveTimeOption(vm);
     return source;
   }

@@ -346,7 +346,10 @@ void addRecordingOptions(po::options_description& options) {
       "recordings: header (header.stamp) or receive (when the recorder received each message)")(
       "effort-topic", po::value<std::string>(),
       "recordings whose JointState messages carry no effort: the JointState topic whose efforts "
-      "are the torques (joints by name), interpolated at the position stamps");
+      "are the torques (joints by name), interpolated at the position stamps")(
+      "joint-prefix", po::value<std::string>(),
+      "recordings: the messages name the robot's joints with this prefix (one arm of several, "
+      "e.g. left_); one prefix that fits every joint alone is found without it");
 }
 
 bool receiveTimeOption(const po::variables_map& vm) {

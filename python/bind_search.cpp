@@ -458,7 +458,8 @@ PreparePy preparePy(
     const std::string& stamp, const std::vector<std::string>& joint_names,
     const OptionalArrayLike& t, const OptionalArrayLike& q, const OptionalArrayLike& tau,
     const OptionalArrayLike& dq, const OptionalArrayLike& ddq, const std::string& effort_topic,
-    const OptionalPathLike& effort_log, bool keep_raw_torque, int threads, bool skip_missing) {
+    const OptionalPathLike& effort_log, bool keep_raw_torque, int threads, bool skip_missing,
+    const std::string& joint_prefix) {
   PreparePy out;
   LogSource& s = out.source;
   s.skip_missing = skip_missing;
@@ -487,6 +488,7 @@ PreparePy preparePy(
     throw py::value_error("stamp: expected 'header' or 'receive', not '" + stamp + "'");
   s.receive_time = stamp == "receive";
   s.joint_names = joint_names;
+  s.joint_prefix = joint_prefix;
   PrepareOptions& o = out.options;
   o.time_scale = timeUnitScale(time_unit);
   o.angle_scale = angleUnitScale(angle_unit);
@@ -866,6 +868,7 @@ void bindPrepare(py::module_& m) {
       py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
       py::arg("effort_log") = py::none(), py::arg("keep_raw_torque") = false,
       py::arg("threads") = kAllThreads, py::arg("skip_missing") = false,
+      py::arg("joint_prefix") = "",
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -882,7 +885,8 @@ void bindPrepare(py::module_& m) {
       "the log's stamps (raw_validate_time, raw_validate_tau: the CLI's validate_raw.csv). "
       "threads: the joints are prepared on them (0: every core; the same numbers for any "
       "count). skip_missing: leave out table rows whose selected field is empty, nan or inf, "
-      "as prepare --skip-missing.");
+      "as prepare --skip-missing. joint_prefix: recordings name joint_names with this prefix "
+      "(--joint-prefix).");
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ std::vector<int> jointIndex(const std::vector<std::string>& names,
   if (fits.size() > 1)
     throw InputError(path + ": the JointState messages on " + topic +
                      " name the robot's joints under several prefixes (" + listed(fits) +
-                     "): give a robot whose joints carry the names of the arm logged");
+                     "): say which arm with --joint-prefix " + fits.front() + " (or another)");
   if (fits.empty())
     throw InputError(path + ": the JointState messages on " + topic + " lack the robot's joints " +
                      listed(missing) + " (they hold " + listed(held) +
@@ -214,6 +214,13 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
   JointStateScan scan;
   scan.topic = source.topic;
   scan.names = source.joint_names;  // the robot's; empty: the first message's
+  if (!source.joint_prefix.empty()) {
+    if (scan.names.empty())
+      throw InputError(path +
+                       ": --joint-prefix names the robot's joints in the messages: give "
+                       "the robot (--robot)");
+    for (std::string& name : scan.names) name = source.joint_prefix + name;
+  }
   std::string& topic = scan.topic;
   std::vector<std::string>& names = scan.names;
   std::vector<std::string> other_topics;

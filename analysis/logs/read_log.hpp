@@ -31,6 +31,9 @@ struct LogSource {
   /// the first message's), and the stamp (header.stamp, or the time the recorder received it).
   std::string topic = "";
   std::vector<std::string> joint_names = {};
+  /// The prefix the messages put before every one of joint_names (one arm of several: "left_");
+  /// empty: the names themselves, or one prefix that fits every joint alone.
+  std::string joint_prefix = "";
   bool receive_time = false;
   /// A recording whose JointState messages carry no effort: the torques (or currents) from the
   /// JointState efforts on a second topic of it, or from a table (its `time_column`, seconds on

@@ -183,10 +183,16 @@ TEST(BagLog, PrefixedJointNamesMatchUnderOnePrefixAndSaySo) {
     readBagLog(source, source.tables[0]);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("under several prefixes (left_, right_)"),
+    EXPECT_NE(std::string(e.what()).find("under several prefixes (left_, right_): say which arm "
+                                         "with --joint-prefix left_"),
               std::string::npos)
         << e.what();
   }
+  source.joint_prefix = "right_";  // the arm named
+  const RawSignals right = readBagLog(source, source.tables[0]);
+  EXPECT_EQ(right.q()(0, 0), 0.1 * 3);
+  EXPECT_EQ(right.columns.q, (std::vector<std::string>{"right_joint1", "right_joint2"}));
+  source.joint_prefix.clear();
   source.tables = {write("exact.db3", {"arm_joint1", "arm_joint2", "joint2", "joint1"})};
   const RawSignals exact = readBagLog(source, source.tables[0]);
   EXPECT_EQ(exact.q()(0, 0), 0.1 * 4);  // "joint1" itself
