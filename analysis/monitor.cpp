@@ -797,6 +797,36 @@ MonitorThresholds readMonitorThresholds(const std::string& file) {
   return out;
 }
 
+namespace {
+
+/// The observer gain per joint (one value for all, or the default); InputError for another count.
+Eigen::VectorXd checkedGain(const MonitorRequest& request, const Model& model) {
+  const int n = model.numJoints();
+  Eigen::VectorXd gain = request.gain.value_or(Eigen::VectorXd::Constant(n, kDefaultObserverGain));
+  if (gain.size() == 1) gain = Eigen::VectorXd::Constant(n, gain[0]);  // one value for all
+  if (gain.size() != n)
+    throw InputError("--gain has " + std::to_string(gain.size()) + " values, the robot '" +
+                     model.name + "' has " + std::to_string(n) + " joints");
+  return gain;
+}
+
+/// The torque constants against the logs (they convert raw efforts: a recording's or stdin's)
+/// and against the estimate's own (a warning when they are missing or differ).
+void checkEffortScale(const MonitorRequest& request, const LoadedArm& arm,
+                      std::vector<std::string>& warnings) {
+  const Eigen::VectorXd scale = effortScale(request, arm.model.numJoints());
+  const bool raw_efforts = rawEfforts(request.data_file) || (!request.calibration_file.empty() &&
+                                                             rawEfforts(request.calibration_file));
+  if (scale.size() > 0 && !raw_efforts)
+    throw InputError(
+        "--torque-constants converts the raw efforts of a recording or of samples on stdin; the "
+        "dataset CSVs given hold torques already (dynid prepare --current converted them): drop "
+        "--torque-constants");
+  if (raw_efforts) currentsWarning(arm, request, scale, warnings);
+}
+
+}  // namespace
+
 MonitorOutcome monitorRun(const MonitorRequest& request) {
   request.check();
   MonitorOutcome out;
@@ -805,20 +835,8 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   out.robot_spec = arm.robot_spec;
   const Model& model = out.model;
   const int n = model.numJoints();
-  Eigen::VectorXd gain = request.gain.value_or(Eigen::VectorXd::Constant(n, kDefaultObserverGain));
-  if (gain.size() == 1) gain = Eigen::VectorXd::Constant(n, gain[0]);  // one value for all
-  if (gain.size() != n)
-    throw InputError("--gain has " + std::to_string(gain.size()) + " values, the robot '" +
-                     model.name + "' has " + std::to_string(n) + " joints");
-  const bool raw_efforts = rawEfforts(request.data_file) || (!request.calibration_file.empty() &&
-                                                             rawEfforts(request.calibration_file));
-  const Eigen::VectorXd scale = effortScale(request, n);
-  if (scale.size() > 0 && !raw_efforts)
-    throw InputError(
-        "--torque-constants converts the raw efforts of a recording or of samples on stdin; the "
-        "dataset CSVs given hold torques already (dynid prepare --current converted them): drop "
-        "--torque-constants");
-  if (raw_efforts) currentsWarning(arm, request, scale, out.warnings);
+  Eigen::VectorXd gain = checkedGain(request, model);
+  checkEffortScale(request, arm, out.warnings);
   // The thresholds: calibrated on a clean log, or read back (for these joints, this gain).
   if (!request.calibration_file.empty()) {
     out.thresholds = calibrate(model, request, gain, out.warnings);

@@ -389,6 +389,36 @@ void adviseOnMotion(PayloadOutcome& out, const Trajectory& loaded) {
   }
 }
 
+/// The arm's friction terms re-estimated with the payload: each extra column's arm value, value
+/// with the payload and standard deviation.
+std::vector<FrictionChange> frictionChanges(const ParameterLayout& layout,
+                                            const std::vector<int>& extra_columns,
+                                            const Eigen::VectorXd& theta_arm,
+                                            const PayloadFit& fit) {
+  std::vector<FrictionChange> out;
+  const std::vector<std::string> names = standardParameterNames(layout);
+  for (std::size_t i = 0; i < extra_columns.size(); ++i) {
+    FrictionChange c;
+    c.name = names[static_cast<std::size_t>(extra_columns[i])];
+    c.arm = theta_arm[extra_columns[i]];
+    c.with_payload = c.arm + fit.extra[static_cast<Eigen::Index>(i)];
+    c.std_dev =
+        std::sqrt(fit.covariance(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)));
+    out.push_back(c);
+  }
+  return out;
+}
+
+/// The arm's URDF (carrying the arm's parameters when it was given as a model) with the payload
+/// as a fixed link on its attachment link.
+std::string urdfWithPayload(const PayloadRequest& request, const Model& arm,
+                            const PayloadOutcome& out) {
+  std::string text = readFile(request.urdf_file);
+  if (request.urdf_carries_arm) text = urdfWithParameters(text, request.urdf_file, arm);
+  return urdfWithFixedBody(text, request.urdf_file, out.link_name, "payload", request.tool,
+                           fromStandardVector(out.standard));
+}
+
 /// Drive gains from the known mass: the body rows (the extra columns dropped) fitted with it.
 DriveGains driveGains(const PayloadRequest& request, const PayloadRows& rows, int f,
                       const Eigen::VectorXd& arm_difference) {
@@ -664,27 +694,14 @@ PayloadOutcome payloadRun(const PayloadRequest& request) {
         "the least-squares payload is not physically consistent: the consistent estimate is held "
         "inside the physical set by the prior, and its intervals are those of least squares");
 
-  // Friction re-estimated with the payload.
-  for (int i = 0; i < f; ++i) {
-    FrictionChange c;
-    c.name = standardParameterNames(layout)[extra_columns[i]];
-    c.arm = theta_arm[extra_columns[i]];
-    c.with_payload = c.arm + fit.extra[i];
-    c.std_dev = std::sqrt(fit.covariance(i, i));
-    out.friction.push_back(c);
-  }
+  out.friction = frictionChanges(layout, extra_columns, theta_arm, fit);
 
   if (request.known_mass)
     out.gains = driveGains(request, rows, f,
                            arm_difference.head(static_cast<Eigen::Index>(used.size()) * n));
 
   plotSamples(rows, fit, loaded, used, out);
-  if (!request.urdf_file.empty()) {
-    std::string text = readFile(request.urdf_file);
-    if (request.urdf_carries_arm) text = urdfWithParameters(text, request.urdf_file, arm);
-    out.urdf = urdfWithFixedBody(text, request.urdf_file, out.link_name, "payload", request.tool,
-                                 fromStandardVector(out.standard));
-  }
+  if (!request.urdf_file.empty()) out.urdf = urdfWithPayload(request, arm, out);
   return out;
 }
 

@@ -42,6 +42,32 @@ void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) 
   request.combined.max_iterations = vm["combined-iterations"].as<int>();
 }
 
+/// --write-urdf's checks, before the work: a URDF robot, a file (not -) that is no input, in a
+/// directory that exists or is --out's (writeWriteBack makes that one).
+void checkWriteBack(const po::variables_map& vm, IdentifyRequest& request) {
+  request.write_back_from = vm["robot"].as<std::string>();
+  if (!isUrdfSpec(request.write_back_from))
+    throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
+                     request.write_back_from + "'");
+  const std::string target = vm["write-urdf"].as<std::string>();
+  if (target == "-")
+    throw UsageError(
+        "--write-urdf writes two files (FILE and its .dynid.json); name a file, "
+        "not - (standard output)");
+  for (const std::string& path : {target, writeBackJsonPath(target)})
+    if (isInputFile(path))
+      throw UsageError("--write-urdf: '" + path +
+                       "' is an input of this command; name another file (the input stays)");
+  const std::filesystem::path parent = std::filesystem::path(target).parent_path();
+  std::error_code error;
+  const bool in_out =
+      !parent.empty() && parent.lexically_normal() ==
+                             std::filesystem::path(vm["out"].as<std::string>()).lexically_normal();
+  if (!parent.empty() && !in_out && !std::filesystem::is_directory(parent, error))
+    throw UsageError("--write-urdf: the directory '" + parent.string() +
+                     "' does not exist; create it, or name a file in --out's directory");
+}
+
 }  // namespace
 
 int runIdentify(const std::vector<std::string>& args) {
@@ -93,31 +119,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();
-  if (vm.count("write-urdf")) {
-    request.write_back_from = vm["robot"].as<std::string>();
-    if (!isUrdfSpec(request.write_back_from))
-      throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
-                       request.write_back_from + "'");
-    const std::string target = vm["write-urdf"].as<std::string>();
-    if (target == "-")
-      throw UsageError(
-          "--write-urdf writes two files (FILE and its .dynid.json); name a file, "
-          "not - (standard output)");
-    for (const std::string& path : {target, writeBackJsonPath(target)})
-      if (isInputFile(path))
-        throw UsageError("--write-urdf: '" + path +
-                         "' is an input of this command; name another file (the input stays)");
-    // Its directory must exist, or be --out's (written first): refused before the work, not
-    // after it.
-    const std::filesystem::path parent = std::filesystem::path(target).parent_path();
-    std::error_code error;
-    const bool in_out = !parent.empty() &&
-                        parent.lexically_normal() ==
-                            std::filesystem::path(vm["out"].as<std::string>()).lexically_normal();
-    if (!parent.empty() && !in_out && !std::filesystem::is_directory(parent, error))
-      throw UsageError("--write-urdf: the directory '" + parent.string() +
-                       "' does not exist; create it, or name a file in --out's directory");
-  }
+  if (vm.count("write-urdf")) checkWriteBack(vm, request);
   if (stderrIsTerminal())
     request.combined.control.progress = [](const std::string& line) {
       std::cerr << "[identify] " << line << "\n";
@@ -127,21 +129,8 @@ int runIdentify(const std::vector<std::string>& args) {
   std::optional<InterruptGuard> guard;
   if (request.method == Method::kCombined) request.combined.control.stop = guard.emplace().flag();
   const IdentifyOutcome outcome = identifyRun(request);
-  if (outcome.write_back) {
-    // Into --out's directory, made here when it is new (and removed again, empty, when the
-    // write fails: nothing is left behind).
-    const std::filesystem::path parent =
-        std::filesystem::path(vm["write-urdf"].as<std::string>()).parent_path();
-    std::error_code error;
-    const bool make = !parent.empty() && !std::filesystem::exists(parent, error);
-    if (make) std::filesystem::create_directories(parent);
-    try {
-      std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
-    } catch (...) {
-      if (make) std::filesystem::remove(parent, error);  // only when still empty
-      throw;
-    }
-  }
+  if (outcome.write_back)
+    std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
   if (const std::string warning = solverWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << writeIdentification(vm["out"].as<std::string>(), request.model, outcome);

@@ -332,17 +332,26 @@ std::string writeBackJsonPath(const std::string& urdf_path) {
 
 std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back) {
   const std::string json_path = writeBackJsonPath(urdf_path);
-  // Both written whole first, then both renamed with signals held: both or neither, and a
-  // failure deletes nothing (the input URDF is refused as a target: InputFileGuard).
-  AtomicWriter urdf(urdf_path), json(json_path);
-  urdf.write(back.urdf);
-  json.write(back.model_json);
-  urdf.stage();
-  json.stage();
-  {
+  // A new directory (--out's, not made yet) is made, and removed again, empty, when the write
+  // fails: nothing is left behind.
+  const std::filesystem::path parent = std::filesystem::path(urdf_path).parent_path();
+  std::error_code error;
+  const bool make = !parent.empty() && !std::filesystem::exists(parent, error);
+  if (make) std::filesystem::create_directories(parent);
+  try {
+    // Both written whole first, then both renamed with signals held: both or neither, and a
+    // failure deletes nothing (the input URDF is refused as a target: InputFileGuard).
+    AtomicWriter urdf(urdf_path), json(json_path);
+    urdf.write(back.urdf);
+    json.write(back.model_json);
+    urdf.stage();
+    json.stage();
     const PublishWindow window;
     urdf.commit();
     json.commit();
+  } catch (...) {
+    if (make) std::filesystem::remove(parent, error);  // only when still empty
+    throw;
   }
   std::string out = "wrote " + urdf_path +
                     " (mass, centre of mass, inertia; <dynamics> Fv, Fc where the "

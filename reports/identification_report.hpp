@@ -48,6 +48,7 @@ std::string solverWarning(const IdentifyOutcome& outcome);
 std::string writeBackJsonPath(const std::string& urdf_path);
 /// Writes the write-back's URDF to `urdf_path` and its JSON beside it, each atomically, both or
 /// neither. Returns the console line that says what was written. Throws Error naming the path.
+/// A parent directory that does not exist yet is made (and removed again if the write fails).
 std::string writeWriteBack(const std::string& urdf_path, const WriteBack& back);
 
 }  // namespace dynid

@@ -128,6 +128,27 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
   return out;
 }
 
+namespace {
+
+/// torque_source: {kind "current", torque_constants, gear_ratios}, finite and non-zero.
+void readTorqueSource(const JsonReader& read, const json& value, EstimateRecord& out) {
+  const json& source = read.object(value, "torque_source");
+  read.onlyKeys(source, "torque_source", {"kind", "torque_constants", "gear_ratios"});
+  if (read.string(source, "torque_source", "kind") != "current")
+    read.fail("torque_source.kind", "expected 'current'");
+  for (const auto& [key, target] : {std::pair{"torque_constants", &out.torque_constants},
+                                    std::pair{"gear_ratios", &out.gear_ratios}}) {
+    const std::string path = std::string("torque_source.") + key;
+    const Eigen::VectorXd v = read.vector(read.field(source, "torque_source", key), path);
+    if (!v.allFinite() || (v.array() == 0.0).any())
+      read.fail(path, "expected finite, non-zero numbers");
+    target->assign(v.data(), v.data() + v.size());
+  }
+  if (out.torque_constants.empty()) read.fail("torque_source.torque_constants", "empty");
+}
+
+}  // namespace
+
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
   read.header(document, kEstimateDocument.schema_version, nullptr);
@@ -161,21 +182,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "combined",
                  "torque_source"});
   EstimateRecord out;
-  if (document.contains("torque_source")) {
-    const json& source = read.object(document["torque_source"], "torque_source");
-    read.onlyKeys(source, "torque_source", {"kind", "torque_constants", "gear_ratios"});
-    if (read.string(source, "torque_source", "kind") != "current")
-      read.fail("torque_source.kind", "expected 'current'");
-    for (const auto& [key, target] : {std::pair{"torque_constants", &out.torque_constants},
-                                      std::pair{"gear_ratios", &out.gear_ratios}}) {
-      const std::string path = std::string("torque_source.") + key;
-      const Eigen::VectorXd v = read.vector(read.field(source, "torque_source", key), path);
-      if (!v.allFinite() || (v.array() == 0.0).any())
-        read.fail(path, "expected finite, non-zero numbers");
-      target->assign(v.data(), v.data() + v.size());
-    }
-    if (out.torque_constants.empty()) read.fail("torque_source.torque_constants", "empty");
-  }
+  if (document.contains("torque_source")) readTorqueSource(read, document["torque_source"], out);
   if (document.contains("base_covariance")) {
     const json& c = read.object(document["base_covariance"], "base_covariance");
     read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
