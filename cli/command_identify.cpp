@@ -24,6 +24,9 @@ void addCombinedOptions(po::options_description& options) {
       "combined: GC residuals in rad and rad/s (default: each joint's q and dq errors divided by "
       "their spread over the data)")("combined-weight",
                                      po::value<double>()->default_value(d.combined.gc_weight))(
+      "no-gc-floor", po::bool_switch(),
+      "combined: fit the GC error below its noise floor too (what the torque noise alone causes; "
+      "the default holds the GC term there, since fitting noise biases the parameters)")(
       "combined-seconds", po::value<double>()->default_value(d.combined.max_seconds))(
       "combined-iterations", po::value<int>()->default_value(d.combined.max_iterations));
 }
@@ -31,13 +34,14 @@ void addCombinedOptions(po::options_description& options) {
 /// Refuses them with another method (usage error), else reads them into the request.
 void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) {
   refuseUnused(vm, request.method == Method::kCombined,
-               {"horizon", "segments", "raw-gc", "combined-weight", "combined-seconds",
-                "combined-iterations"},
+               {"horizon", "segments", "raw-gc", "combined-weight", "no-gc-floor",
+                "combined-seconds", "combined-iterations"},
                "applies to --method combined");
   request.segments.horizon = vm["horizon"].as<double>();
   request.segments.num_segments = vm["segments"].as<int>();
   request.segments.normalise = !vm["raw-gc"].as<bool>();
   request.combined.gc_weight = vm["combined-weight"].as<double>();
+  request.combined.noise_floor = !vm["no-gc-floor"].as<bool>();
   request.combined.max_seconds = vm["combined-seconds"].as<double>();
   request.combined.max_iterations = vm["combined-iterations"].as<int>();
 }

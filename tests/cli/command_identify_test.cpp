@@ -75,6 +75,43 @@ TEST(Cli, IdentifyFromSimulatedData) {
   EXPECT_EQ(wrong_robot.code, 1);
 }
 
+// identify --method combined --no-gc-floor: the GC term is fitted below its noise floor (the
+// noise fitted, docs/REFINEMENT.md); by default it is held at the floor, where pc already is on
+// this noisy log.
+TEST(Cli, CombinedWithoutTheGcFloorFitsBelowIt) {
+  const std::string train = test::tempPath("floor_train.csv");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 6 --amplitude 1 --q0 0,0.8,1.5,0,0.8,0 "
+                "--frequency 0.23,0.31,0.41,0.53,0.61,0.71 --bandwidth 8 --noise-tau 0.2 --seed 2 "
+                "--out " +
+                train)
+                .code,
+            0);
+  auto combined = [&](const std::string& extra) {
+    const std::string dir = test::tempPath("floor_combined");
+    const Result r =
+        run("identify --method combined --combined-iterations 5 --robot puma560 "
+            "--data " +
+            train + " --out " + dir + extra);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return nlohmann::json::parse(readFile(dir + "/estimate.json"))["combined"];
+  };
+  const auto held = combined("");
+  const double floor = held["gc_noise_floor"].get<double>();
+  const double pc = held["gc_error_train"]["pc"].get<double>();
+  ASSERT_GT(floor, pc);  // this log's GC error is noise already at pc
+  // Held at the floor: pc's GC error stays, to the estimator's tolerance (1e-6 relative per
+  // step, a few steps).
+  EXPECT_NEAR(held["gc_error_train"]["combined"].get<double>(), pc, 1e-4 * pc);
+  const auto fitted = combined(" --no-gc-floor");
+  EXPECT_EQ(fitted["gc_noise_floor"].get<double>(), 0.0);
+  // Below the floor by far (41.9 against 5385 when written): the noise fitted.
+  EXPECT_LT(fitted["gc_error_train"]["combined"].get<double>(), 0.1 * floor);
+  const Result other = run("identify --method pc --no-gc-floor --robot puma560 --data " + train +
+                           " --out " + test::tempPath("floor_pc"));
+  EXPECT_EQ(other.code, 2);
+  EXPECT_TRUE(contains(other.err, "--no-gc-floor applies to --method combined")) << other.err;
+}
+
 TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
   const std::string urdf = test::tempPath("arm.urdf"), train = test::tempPath("arm_train.csv"),
                     out = test::tempPath("arm_estimate"), written = test::tempPath("arm_pc.urdf");
