@@ -163,7 +163,7 @@ int runExcite(const std::vector<std::string>& args) {
   ExcitationSettings settings;
   settings.robot = vm["robot"].as<std::string>();
   settings.harmonics = request.harmonics;
-  settings.starts = request.starts;
+  settings.starts = static_cast<int>(outcome.starts.size());  // 0 resolved
   settings.evaluations = request.evaluations;
   settings.period = request.period;
   settings.csv_rate = vm["csv-rate"].as<double>();

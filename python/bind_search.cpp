@@ -383,13 +383,13 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   ExcitePy out{robot, {}, {}};
   out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
   out.settings.harmonics = harmonics;
-  out.settings.starts = starts;
   out.settings.evaluations = evaluations;
   out.settings.period = period;
   {
     py::gil_scoped_release release;
     out.outcome = exciteRun(r);
   }
+  out.settings.starts = static_cast<int>(out.outcome.starts.size());  // 0 resolved
   interrupt.raiseIfFailed();
   if (!interrupt.cancelled()) interrupt.warnIfStopped();
   return out;

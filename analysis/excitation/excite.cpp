@@ -710,6 +710,11 @@ void tallyStarts(const ExciteRequest& request, const std::vector<StartBest>& bes
 ExciteOutcome exciteRun(const ExciteRequest& request) {
   request.check();
   const int n = request.robot.numJoints();
+  if (request.starts == 0) {
+    ExciteRequest resolved = request;
+    resolved.starts = request.payload_link ? kPayloadStarts : kDefaultStarts;
+    return exciteRun(resolved);
+  }
   if (request.payload_link && request.payload_proximal_share < 1.0 && n > 3)
     return exciteRun(proximalNarrowed(request));
   const Model& model = request.robot;

@@ -44,6 +44,9 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name);
 /// included). Throws InputError for a joint-count mismatch or rate <= 0.
 Trajectory sampleFourier(const FourierSeries& design, const Model& model, double rate);
 
+/// exciteRun's starts when the request leaves them at 0.
+inline constexpr int kDefaultStarts = 8, kPayloadStarts = 16;
+
 struct ExciteRequest {
   Model robot;  // with the drive terms whose parameters the design must excite
   ExcitationCriterion criterion = ExcitationCriterion::kConditionUnit;
@@ -51,8 +54,10 @@ struct ExciteRequest {
   int harmonics = 5;                      // >= 2 (rest at both ends takes two per joint)
   std::optional<Eigen::VectorXd> offset;  // fixed offsets; default: optimised from mid-range
   ExcitationLimits limits;
-  int starts = 8;          // multistart: seeded random coefficients
-  int evaluations = 2000;  // COBYLA evaluations per start
+  /// Multistart: seeded random coefficients; 0: kDefaultStarts, or kPayloadStarts for a payload
+  /// motion (its d-optimal design has many local optima: docs/PAYLOAD.md).
+  int starts = 0;
+  int evaluations = 2000;                                        // COBYLA evaluations per start
   double max_seconds = std::numeric_limits<double>::infinity();  // the whole design
   double grid_rate = 25.0;       // samples per second of the optimiser's criterion and limits
   double check_rate = 1000.0;    // samples per second of the final check and the scores
