@@ -60,6 +60,9 @@ void addPrepareOptions(po::options_description& options) {
       "skip-missing", po::bool_switch(),
       "tables: leave out rows whose selected field is empty, nan or inf (a logger's dropouts), "
       "counted and warned about, instead of refusing the log")(
+      "decimal-comma", po::bool_switch(),
+      "tables: numbers written with ',' for the decimal point (fields separated by ';', tab or "
+      "blanks), as European spreadsheets export them")(
       "keep-raw-torque", po::bool_switch(),
       "also write validate_raw.csv: the held-out part's raw torques at the log's own stamps "
       "(unfiltered), for predict --raw and identify --validate-raw")(
@@ -136,6 +139,7 @@ LogSource logSource(const po::variables_map& vm) {
   source.ddq_columns = text(vm, "ddq");
   source.ddq_file = text(vm, "ddq-file");
   source.skip_missing = vm["skip-missing"].as<bool>();
+  source.decimal_comma = vm["decimal-comma"].as<bool>();
   if (source.tables.empty() == source.q_file.empty())
     throw UsageError("give either --log (tables) or --q-file (one file per signal)");
   refuseUnused(vm, source.tables.empty(),

@@ -459,10 +459,11 @@ PreparePy preparePy(
     const OptionalArrayLike& t, const OptionalArrayLike& q, const OptionalArrayLike& tau,
     const OptionalArrayLike& dq, const OptionalArrayLike& ddq, const std::string& effort_topic,
     const OptionalPathLike& effort_log, bool keep_raw_torque, int threads, bool skip_missing,
-    const std::string& joint_prefix) {
+    const std::string& joint_prefix, bool decimal_comma) {
   PreparePy out;
   LogSource& s = out.source;
   s.skip_missing = skip_missing;
+  s.decimal_comma = decimal_comma;
   if (tables.is_none()) {
     s.arrays = std::make_shared<const RawSignals>(arraySignals(t, q, tau, dq, ddq, current));
   } else if (!t.is_none() || !q.is_none() || !tau.is_none() || !dq.is_none() || !ddq.is_none()) {
@@ -868,7 +869,7 @@ void bindPrepare(py::module_& m) {
       py::arg("ddq") = py::none(), py::arg("effort_topic") = LogSource{}.effort_topic,
       py::arg("effort_log") = py::none(), py::arg("keep_raw_torque") = false,
       py::arg("threads") = kAllThreads, py::arg("skip_missing") = false,
-      py::arg("joint_prefix") = "",
+      py::arg("joint_prefix") = "", py::arg("decimal_comma") = false,
       "`dynid prepare`: a raw log (one table or a list; column selectors as the CLI's) "
       "resampled, filtered and differentiated into Datasets. cutoff: None for the default, 0 "
       "for no filter, a frequency [Hz] or 'auto'. window: [(from, to), ...] seconds from the "
@@ -886,7 +887,8 @@ void bindPrepare(py::module_& m) {
       "threads: the joints are prepared on them (0: every core; the same numbers for any "
       "count). skip_missing: leave out table rows whose selected field is empty, nan or inf, "
       "as prepare --skip-missing. joint_prefix: recordings name joint_names with this prefix "
-      "(--joint-prefix).");
+      "(--joint-prefix). decimal_comma: tables write ',' for the decimal point "
+      "(--decimal-comma).");
 }
 
 }  // namespace

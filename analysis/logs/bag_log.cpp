@@ -123,7 +123,7 @@ EffortSamples effortTopic(const LogSource& source, const std::string& path,
 /// The torque (or current) columns of the table source.effort_table, against its time column
 /// (seconds on the recording's clock, e.g. epoch seconds beside header stamps).
 EffortSamples effortTable(const LogSource& source, int n) {
-  const RawTable header = readRawHeader(source.effort_table);
+  const RawTable header = readRawHeader(source.effort_table, source.decimal_comma);
   std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
   const std::vector<int> tau =
       selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");

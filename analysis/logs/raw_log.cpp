@@ -70,15 +70,34 @@ bool parseNumber(const char* begin, const char* end, T* out) {
   return result.ec == std::errc() && result.ptr == end;
 }
 
+/// parseNumber, with a ',' in [begin, end) read as the decimal point when `comma` (fields longer
+/// than any number, 64 characters, are not numbers).
+template <class T>
+bool parseNumber(const char* begin, const char* end, bool comma, T* out) {
+  if (!comma) return parseNumber(begin, end, out);
+  char copy[64];
+  const auto length = static_cast<std::size_t>(end - begin);
+  if (length > sizeof copy) return false;
+  std::replace_copy(begin, end, copy, ',', '.');
+  return parseNumber(copy, copy + length, out);
+}
+
+/// Whether a field that is not a number would be one with its one ',' read as a decimal point.
+bool isDecimalCommaNumber(const char* begin, const char* end) {
+  double x = 0.0;
+  return std::count(begin, end, ',') == 1 && parseNumber(begin, end, true, &x);
+}
+
 /// Reads stamps relative to the first: the first one read becomes the origin, every one is stored
 /// as its difference from it (exact for nanosecond epochs, which a double rounds to 256 ns).
 struct RelativeStamps {
   long double* origin = nullptr;  // null: stamps are read as plain doubles
+  bool comma = false;             // ',' is the decimal point
   bool started = false;
   bool read(const char* begin, const char* end, double* out) {
-    if (origin == nullptr) return parseNumber(begin, end, out);
+    if (origin == nullptr) return parseNumber(begin, end, comma, out);
     long double x = 0.0L;
-    if (!parseNumber(begin, end, &x) || !std::isfinite(x)) return false;
+    if (!parseNumber(begin, end, comma, &x) || !std::isfinite(x)) return false;
     if (!started) *origin = x, started = true;
     *out = static_cast<double>(x - *origin);
     return true;
@@ -148,24 +167,32 @@ int forEachField(const char* begin, const char* end, char delimiter, F f) {
 
 }  // namespace
 
-RawTable readRawHeader(const std::string& path) {
+RawTable readRawHeader(const std::string& path, bool decimal_comma) {
   RawTable table;
   table.file = path;
+  table.decimal_comma = decimal_comma;
   bool header_seen = false;
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     if (!isDataLine(begin, end)) return true;
     if (table.delimiter == 0) {
       table.delimiter = ' ';
       for (char d : {',', ';', '\t'})
-        if (std::memchr(begin, d, static_cast<std::size_t>(end - begin)) != nullptr) {
+        if ((!decimal_comma || d != ',') &&
+            std::memchr(begin, d, static_cast<std::size_t>(end - begin)) != nullptr) {
           table.delimiter = d;
           break;
         }
+      if (decimal_comma && table.delimiter == ' ' &&
+          std::memchr(begin, ',', static_cast<std::size_t>(end - begin)) != nullptr &&
+          std::memchr(begin, ' ', static_cast<std::size_t>(end - begin)) == nullptr)
+        throw ParseError(path, line, "",
+                         "--decimal-comma: the fields are separated by ',' (a decimal comma "
+                         "needs ';', tab or blanks between fields)");
       std::vector<std::string> fields;
       bool numeric = true;
       forEachField(begin, end, table.delimiter, [&](const char* b, const char* e, int) {
         double x = 0.0;
-        numeric = numeric && parseNumber(b, e, &x);
+        numeric = numeric && parseNumber(b, e, decimal_comma, &x);
         fields.push_back(trim(std::string(b, e)));
       });
       if (!numeric) {
@@ -203,7 +230,7 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
                     " columns");
   Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
   Eigen::Index row = 0, data_row = 0;
-  RelativeStamps stamps{time_origin};
+  RelativeStamps stamps{time_origin, header.decimal_comma};
   forEachLine(path, [&](const char* begin, const char* end, int line) {
     if (line < header.first_data_line || !isDataLine(begin, end)) return true;
     if (data_row == rows)
@@ -216,16 +243,19 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
           if (c >= width || target[static_cast<std::size_t>(c)] < 0 || missing) return;
           double x = 0.0;
           const bool stamp = target[static_cast<std::size_t>(c)] == 0 && time_origin != nullptr;
-          if (!(stamp ? stamps.read(b, e, &x) : parseNumber(b, e, &x)) || !std::isfinite(x)) {
+          if (!(stamp ? stamps.read(b, e, &x) : parseNumber(b, e, header.decimal_comma, &x)) ||
+              !std::isfinite(x)) {
             if (skipped != nullptr && isMissing(b, e)) {
               missing = true;
               return;
             }
+            std::string hint;
+            if (skipped == nullptr && isMissing(b, e))
+              hint = " (a logger's dropout? --skip-missing leaves such rows out)";
+            else if (!header.decimal_comma && header.delimiter != ',' && isDecimalCommaNumber(b, e))
+              hint = " (',' for the decimal point? --decimal-comma reads it)";
             throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
-                             "'" + trim(std::string(b, e)) + "' is not a finite number" +
-                                 (skipped == nullptr && isMissing(b, e)
-                                      ? " (a logger's dropout? --skip-missing leaves such rows out)"
-                                      : ""));
+                             "'" + trim(std::string(b, e)) + "' is not a finite number" + hint);
           }
           values(row, target[static_cast<std::size_t>(c)]) = x;
         });

@@ -16,9 +16,10 @@ namespace dynid {
 struct RawTable {
   std::string file;
   std::vector<std::string> names;
-  Eigen::MatrixXd values;   // rows x names.size() (readRawTable), empty from readRawHeader
-  int first_data_line = 0;  // the file line of the first data row
-  char delimiter = 0;       // ',', ';', '\t', or ' ' for runs of blanks
+  Eigen::MatrixXd values;      // rows x names.size() (readRawTable), empty from readRawHeader
+  int first_data_line = 0;     // the file line of the first data row
+  char delimiter = 0;          // ',', ';', '\t', or ' ' for runs of blanks
+  bool decimal_comma = false;  // numbers written with ',' for the decimal point (readRawHeader's)
 };
 
 /// Reads a table. The delimiter is the first of ',', ';', '\t' found on the first data line, else
@@ -29,17 +30,21 @@ struct RawTable {
 RawTable readRawTable(const std::string& path);
 
 /// The table's names, delimiter and first data line, without its values (reads up to the first
-/// data line).
-RawTable readRawHeader(const std::string& path);
+/// data line). With `decimal_comma`, numbers are written with ',' for the decimal point (as
+/// European spreadsheets export them): the delimiter is then ';' or '\t' (else blanks), and a
+/// table delimited by ',' is a ParseError.
+RawTable readRawHeader(const std::string& path, bool decimal_comma = false);
 /// Only the given columns of the table (indices into header.names), in that order: rows = data
 /// lines. Every row's field count is checked, and the kept fields must be finite numbers (a text
 /// column that is not asked for is never parsed). Streams the file twice (count, then parse):
 /// memory is the result plus a 4 MB block. Errors as readRawTable's. With `time_origin`, the first
 /// column is time stamps, read in 64-bit precision: the first row's is stored there and every
 /// row holds its difference from it.
-/// With `skipped`, a data row whose kept field is missing (empty, nan or inf: a logger's dropout)
-/// is left out and its 0-based data-row index appended, in order, and its file line to
-/// `skipped_lines` when given; any other field that is not a number is still an error.
+/// A field that is not a number but would be one with its ',' read as a decimal point is an
+/// error that names --decimal-comma. With `skipped`, a data row whose kept field is missing (empty,
+/// nan or inf: a logger's dropout) is left out and its 0-based data-row index appended, in order,
+/// and its file line to `skipped_lines` when given; any other field that is not a number is still
+/// an error.
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
                                long double* time_origin = nullptr,
                                std::vector<Eigen::Index>* skipped = nullptr,

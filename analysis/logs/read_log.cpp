@@ -17,7 +17,7 @@ RawSignals readLog(const LogSource& source, const std::string& table_path) {
   int n = source.num_joints;
   std::string tau_file = table_path;
   if (!table_path.empty()) {
-    const RawTable header = readRawHeader(table_path);
+    const RawTable header = readRawHeader(table_path, source.decimal_comma);
     const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "--q");
     n = static_cast<int>(q.size());
     std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");

@@ -45,6 +45,9 @@ struct LogSource {
   /// Tables: leave out a row whose selected field is missing (empty, nan, inf: a logger's
   /// dropout), counted and warned about, instead of refusing the file.
   bool skip_missing = false;
+  /// Tables: numbers written with ',' for the decimal point (fields separated by ';', tab or
+  /// blanks), as European spreadsheets export them.
+  bool decimal_comma = false;
 };
 
 /// The table columns each signal was read from, joint by joint (what a selector matched, in joint

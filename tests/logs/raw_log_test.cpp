@@ -81,6 +81,44 @@ TEST(RawLog, MissingValuesAreSkippedWhenAskedAndNamedWhenNot) {
   }
 }
 
+// --decimal-comma: ',' as the decimal point, fields separated by ';', tab or blanks; the same
+// numbers as the table written with '.' (time stamps in 64-bit precision too). Without the option
+// the field is an error naming it; a ',' separated table cannot have decimal commas.
+TEST(RawLog, DecimalCommaTablesReadAsTheirPointTwins) {
+  const auto columns = [](const std::string& path, bool comma) {
+    const RawTable header = readRawHeader(path, comma);
+    long double origin = 0.0L;
+    Eigen::MatrixXd v = readRawColumns(header, {0, 1, 2}, &origin);
+    v.col(0).array() += static_cast<double>(origin);
+    return v;
+  };
+  const std::string point = writeTemp(
+      "point.csv", "t[ms];q1[deg];tau1\n123456789.017;-0.25;1e-3\n123456794.041;12.5;2\n");
+  const Eigen::MatrixXd expected = columns(point, false);
+  for (const auto& [name, text] :
+       {std::pair{"comma_semicolon.csv",
+                  "t[ms];q1[deg];tau1\n123456789,017;-0,25;1e-3\n123456794,041;12,5;2\n"},
+        std::pair{"comma_headerless.csv", "123456789,017;-0,25;1e-3\n123456794,041;12,5;2\n"},
+        std::pair{"comma_tab.tsv", "123456789,017\t-0,25\t1e-3\n123456794,041\t12,5\t2\n"},
+        std::pair{"comma_blanks.txt", "123456789,017 -0,25 1e-3\n123456794,041  12,5 2\n"}})
+    EXPECT_EQ(columns(writeTemp(name, text), true), expected) << name;
+  try {
+    columns(writeTemp("comma_unasked.csv", "t;q1;tau1\n0,5;1;2\n"), false);
+    ADD_FAILURE() << "a decimal comma read without the option";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("--decimal-comma"), std::string::npos) << e.what();
+  }
+  // A ',' separated table: no hint (its commas separate), and the option is refused.
+  try {
+    columns(writeTemp("comma_csv.csv", "t,q1,tau1\n0,x,2\n"), false);
+    ADD_FAILURE() << "text read as a number";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(std::string(e.what()).find("--decimal-comma"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(readRawHeader(writeTemp("comma_csv2.csv", "0,1,2\n1,3,4\n"), true), ParseError);
+}
+
 TEST(RawLog, AByteOrderMarkIsNotPartOfTheHeader) {
   const RawTable t = readRawTable(writeTemp("bom.csv", "\xEF\xBB\xBFtime,q1\n0,1\n1,2\n"));
   ASSERT_EQ(t.names.size(), 2u);

@@ -395,3 +395,20 @@ def test_prepare_skips_dropouts_when_asked(tmp_path, puma_csv):
                              skip_missing=True)
     assert json.loads(prepared.to_json())["raw"]["missing_rows_skipped"] == 1
     assert any("left out (--skip-missing)" in w for w in prepared.warnings)
+
+
+def test_prepare_reads_decimal_commas_when_asked(tmp_path, puma_csv):
+    data = dynid.read_dataset(puma_csv)
+    rows = np.column_stack([data.time, data.q, data.tau])
+    header = "t;" + ";".join(f"q{j}" for j in range(1, 7)) + ";" + \
+        ";".join(f"tau{j}" for j in range(1, 7))
+    point, comma = tmp_path / "point.csv", tmp_path / "comma.csv"
+    np.savetxt(point, rows, delimiter=";", header=header, comments="", fmt="%.17g")
+    comma.write_text(point.read_text().replace(".", ","))
+    columns = dict(time_column="t", q_columns="q*", tau_columns="tau*")
+    with pytest.raises(dynid.ParseError, match="decimal-comma"):
+        dynid.prepare(comma, **columns)
+    expected = dynid.prepare(point, **columns)
+    prepared = dynid.prepare(comma, decimal_comma=True, **columns)
+    assert np.array_equal(prepared.train.tau, expected.train.tau)
+    assert np.array_equal(prepared.train.q, expected.train.q)
