@@ -120,10 +120,12 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
   Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
   Reference reference;
+  SimulationOptions options = request.simulation;
   if (!request.trajectory.empty()) {
     const FourierSeries design = readExcitationDesign(request.trajectory, n);
     reference = design;
     q0 = design.offset;  // the default gains' configuration
+    if (request.one_period) options.duration = design.period;
   } else if (!request.fourier) {
     SinusoidalReference r;
     r.q0 = q0;
@@ -154,7 +156,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   if (request.tau_max) tau_max = *request.tau_max;
 
   TrackingController controller(controller_model, reference, gains, tau_max);
-  out.trajectory = simulate(truth, controller, request.simulation, request.disturbances,
+  out.trajectory = simulate(truth, controller, options, request.disturbances,
                             request.disturbances.empty() ? nullptr : &out.external);
   // Tracking error RMS and peak torque.
   const Trajectory& t = out.trajectory;

@@ -66,8 +66,11 @@ struct SimulateRequest {
   double controller_perturb = 0.0;        // its parameters perturbed by up to this fraction
   bool fourier = false;                   // seeded Fourier series instead of sinusoids
   std::string trajectory;                 // or: the design in this excitation.json (`dynid excite`)
-  std::optional<Eigen::VectorXd> q0;      // centre [rad] (default: the middle of the limits)
-  Eigen::VectorXd amplitude;              // n entries [rad]
+  /// With a trajectory: simulation.duration is replaced by the design's period (one period, the
+  /// motion the design was made for; the CLI sets this when --duration is not given).
+  bool one_period = false;
+  std::optional<Eigen::VectorXd> q0;  // centre [rad] (default: the middle of the limits)
+  Eigen::VectorXd amplitude;          // n entries [rad]
   std::optional<Eigen::VectorXd> frequency, phase;  // sinusoidal [Hz], [rad]
   double base_frequency = 0.1;                      // fourier [Hz]
   int harmonics = 5;                                // fourier, >= 1

@@ -19,8 +19,8 @@ void addSimulateOptions(po::options_description& options) {
       "sinusoidal (q0 + A sin(2 pi f t + phase), the paper's GC sinusoidal controller) or fourier "
       "(seeded finite Fourier series)")(
       "trajectory", po::value<std::string>(),
-      "track the design in this excitation.json (dynid excite) instead; it repeats when "
-      "--duration exceeds its period")(
+      "track the design in this excitation.json (dynid excite) instead: one period unless "
+      "--duration is given (it repeats when --duration exceeds its period)")(
       "q0", po::value<std::string>(), "centre of the motion [rad] (default: middle of the limits)")(
       "amplitude", po::value<std::string>()->default_value("0.5"),
       "amplitude per joint [rad] (one value for all); fourier: excursion bound")(
@@ -184,6 +184,7 @@ int runSimulate(const std::vector<std::string>& args) {
     if (!vm["controller"].defaulted() || !vm["amplitude"].defaulted())
       throw UsageError("--trajectory replaces --controller and --amplitude: give one or the other");
     request.trajectory = vm["trajectory"].as<std::string>();
+    request.one_period = vm["duration"].defaulted();
   }
   const int n = request.robot.numJoints();
   request.q0 = optionalJointVector(vm, "q0", n, false);

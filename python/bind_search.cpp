@@ -119,7 +119,7 @@ Trajectory trajectoryOf(const DataArg& d, const Model& model) {
 
 // ---- simulate ----
 
-Trajectory simulatePy(const Model& model, double duration, double dt, double rate,
+Trajectory simulatePy(const Model& model, std::optional<double> duration, double dt, double rate,
                       const std::string& controller, const OptionalArrayLike& amplitude,
                       const OptionalArrayLike& q0, const OptionalArrayLike& frequency,
                       const OptionalArrayLike& phase, double base_frequency, int harmonics,
@@ -138,6 +138,7 @@ Trajectory simulatePy(const Model& model, double duration, double dt, double rat
   r.controller_perturb = controller_perturb;
   r.fourier = controller == "fourier";
   if (!trajectory.is_none()) r.trajectory = pathArg(trajectory, "trajectory");
+  r.one_period = !trajectory.is_none() && !duration;
   r.q0 = jointOption(q0, "q0", n);
   r.amplitude = *jointOption(amplitude, "amplitude", n);
   r.frequency = jointOption(frequency, "frequency", n);
@@ -149,7 +150,7 @@ Trajectory simulatePy(const Model& model, double duration, double dt, double rat
   r.tau_max = jointOption(tau_max, "tau_max", n);
   r.bandwidth = bandwidth;
   SimulationOptions& s = r.simulation;
-  s.duration = duration;
+  s.duration = duration.value_or(SimulateRequest{}.simulation.duration);
   s.step = dt;
   s.record_rate = rate;
   s.integrator = parseIntegrator(integrator);
@@ -550,24 +551,24 @@ PreparePy preparePy(
 }
 
 void bindSimulate(py::module_& m) {
-  m.def("simulate", &simulatePy, py::arg("model"),
-        py::arg("duration") = SimulateRequest{}.simulation.duration,
-        py::arg("dt") = SimulateRequest{}.simulation.step,
-        py::arg("rate") = SimulateRequest{}.simulation.record_rate,
-        py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5,
-        py::arg("q0") = py::none(), py::arg("frequency") = py::none(),
-        py::arg("phase") = py::none(), py::arg("base_frequency") = SimulateRequest{}.base_frequency,
-        py::arg("harmonics") = SimulateRequest{}.harmonics, py::arg("kp") = py::none(),
-        py::arg("kd") = py::none(), py::arg("tau_max") = py::none(),
-        py::arg("bandwidth") = SimulateRequest{}.bandwidth,
-        py::arg("controller_model") = py::none(),
-        py::arg("controller_perturb") = SimulateRequest{}.controller_perturb,
-        py::arg("integrator") = "rk4", py::arg("noise_q") = SimulateRequest{}.simulation.noise_q,
-        py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
-        py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau,
-        py::arg("seed") = SimulateRequest{}.simulation.seed, py::arg("trajectory") = py::none(),
-        "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
-        "Per-joint settings take one number or n; trajectory: an excitation.json design.");
+  m.def(
+      "simulate", &simulatePy, py::arg("model"), py::arg("duration") = py::none(),
+      py::arg("dt") = SimulateRequest{}.simulation.step,
+      py::arg("rate") = SimulateRequest{}.simulation.record_rate,
+      py::arg("controller") = "sinusoidal", py::arg("amplitude") = 0.5, py::arg("q0") = py::none(),
+      py::arg("frequency") = py::none(), py::arg("phase") = py::none(),
+      py::arg("base_frequency") = SimulateRequest{}.base_frequency,
+      py::arg("harmonics") = SimulateRequest{}.harmonics, py::arg("kp") = py::none(),
+      py::arg("kd") = py::none(), py::arg("tau_max") = py::none(),
+      py::arg("bandwidth") = SimulateRequest{}.bandwidth, py::arg("controller_model") = py::none(),
+      py::arg("controller_perturb") = SimulateRequest{}.controller_perturb,
+      py::arg("integrator") = "rk4", py::arg("noise_q") = SimulateRequest{}.simulation.noise_q,
+      py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
+      py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau,
+      py::arg("seed") = SimulateRequest{}.simulation.seed, py::arg("trajectory") = py::none(),
+      "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
+      "Per-joint settings take one number or n; trajectory: an excitation.json design, one period "
+      "unless duration is given (default duration: 10 s).");
 
   m.def(
       "gc_error",

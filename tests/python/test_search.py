@@ -154,6 +154,12 @@ def test_excite_equals_the_cli_design(tmp_path, puma):
     design_file = tmp_path / "excitation.json"
     simulated = dynid.simulate(puma, duration=2, trajectory=design_file)
     assert simulated.num_samples == 2001
+    # Without a duration: one period of the design (a 3 s one: not the default duration).
+    short = read_json(design_file)
+    short["design"]["period"] = 3.0
+    short_file = tmp_path / "short.json"
+    short_file.write_text(json.dumps(short))
+    assert dynid.simulate(puma, trajectory=short_file).num_samples == 3001
     with pytest.raises(ValueError):
         dynid.excite(puma, criterion="best")
 
