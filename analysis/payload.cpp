@@ -487,7 +487,10 @@ UnloadedRun unloadedRun(const PayloadRequest& request, const Trajectory& loaded,
                          "'s: joint " + std::to_string(j + 1) + " is " + formatNumber(a.rms[j], 3) +
                          " rad RMS apart after the best time shift (" + formatNumber(out.shift, 4) +
                          " s; at most " + formatNumber(request.max_motion_difference) +
-                         " rad): record the same commanded motion with and without the payload");
+                         " rad): record the same commanded motion with and without the payload, "
+                         "or, when the payload's weight alone pulls the arm off its path, allow "
+                         "more with --max-motion-difference (each run's own motion is used, so "
+                         "the arm model's errors then cancel less)");
     run.residual.resize(n, unloaded.numSamples());
     for (int k = 0; k < unloaded.numSamples(); ++k)
       run.residual.col(k) =

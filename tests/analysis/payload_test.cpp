@@ -266,6 +266,8 @@ TEST(Payload, RefusesWhatItCannotUse) {
       ADD_FAILURE() << "a pair of different motions was accepted";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("same commanded motion"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--max-motion-difference"), std::string::npos)
+          << e.what();
     }
   }
 }
