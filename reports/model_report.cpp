@@ -85,11 +85,20 @@ std::string modelShowText(const Model& model) {
   const std::vector<std::string> names = standardParameterNames(layout);
   const Eigen::VectorXd theta = model.standardParameters();
   out += "\nstandard parameters (link frame origin; SI units):\n";
+  // Five to a line, in columns as wide as the longest name and value.
+  std::vector<std::string> values(names.size());
+  int name_width = 0, value_width = 0;
+  for (std::size_t index = 0; index < names.size(); ++index) {
+    appendf(values[index], "% .6g", theta(static_cast<Eigen::Index>(index)));
+    name_width = std::max(name_width, static_cast<int>(names[index].size()));
+    value_width = std::max(value_width, static_cast<int>(values[index].size()));
+  }
   for (int i = 0; i < model.numJoints(); ++i) {
     for (int k = 0; k < layout.perLink(); ++k) {
-      const int index = i * layout.perLink() + k;
-      appendf(out, "  %-7s % .6g%s", names[index].c_str(), theta(index),
-              (k + 1) % 5 == 0 || k + 1 == layout.perLink() ? "\n" : "");
+      const auto index = static_cast<std::size_t>(i * layout.perLink() + k);
+      const bool last = (k + 1) % 5 == 0 || k + 1 == layout.perLink();
+      appendf(out, "  %-*s %*s%s", name_width, names[index].c_str(), last ? 0 : value_width,
+              values[index].c_str(), last ? "\n" : "");
     }
   }
   out += "\npaper parameters (m, centre of mass, principal inertia about it):\n";

@@ -48,6 +48,18 @@ TEST(ModelShow, LongNamesKeepTheColumnsAlignedAndWhole) {
   ASSERT_EQ(frames.size(), 7u) << text;
   const std::size_t origin_at = frames[1].find('(');
   for (std::size_t r = 2; r < frames.size(); ++r) EXPECT_EQ(frames[r].find('('), origin_at);
+  // The standard parameters, five to a line: each line's second entry starts at one offset (the
+  // values padded to the widest, "-7.08e-05" among "4" and "0").
+  const std::vector<std::string> parameters = tableLines(text, "standard parameters");
+  ASSERT_EQ(parameters.size(), 1u + 6u * 2u) << text;
+  const std::size_t second_at = parameters[1].find("mx1");
+  ASSERT_NE(second_at, std::string::npos);
+  for (std::size_t r = 2; r < parameters.size(); ++r) {
+    const std::size_t name = parameters[r].find_first_not_of(' ', 2);
+    const std::size_t next = parameters[r].find_first_not_of(' ', parameters[r].find(' ', name));
+    const std::size_t second = parameters[r].find_first_not_of(' ', parameters[r].find(' ', next));
+    EXPECT_EQ(second, second_at) << parameters[r];
+  }
 }
 
 }  // namespace
