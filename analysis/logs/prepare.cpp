@@ -1,6 +1,7 @@
 #include "analysis/logs/prepare.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <exception>
 #include <functional>
@@ -544,6 +545,42 @@ double nominalRate(double rate, std::string& reason) {
 /// Every file read, in SI units, from the log's first stamp, windowed, sorted and de-duplicated;
 /// out's raw counts and the defaults that come from the median step over all files (rate, gap
 /// limit).
+/// Whether a column name states an angle unit: "deg" (deg, degree, degrees) or "rad" (rad,
+/// radian, radians) as a word of its own ("q1[deg]", "pos_deg", "A1 (rad)"), else "".
+std::string angleUnitNamed(const std::string& name) {
+  std::string lower = name;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const auto& [word, unit] :
+       {std::pair{"degrees", "deg"}, std::pair{"degree", "deg"}, std::pair{"deg", "deg"},
+        std::pair{"radians", "rad"}, std::pair{"radian", "rad"}, std::pair{"rad", "rad"}}) {
+    const std::string w = word;
+    for (std::size_t at = lower.find(w); at != std::string::npos; at = lower.find(w, at + 1)) {
+      const std::size_t after = at + w.size();
+      const bool starts = at == 0 || !std::isalpha(static_cast<unsigned char>(lower[at - 1]));
+      const bool ends =
+          after == lower.size() || !std::isalpha(static_cast<unsigned char>(lower[after]));
+      if (starts && ends) return unit;
+    }
+  }
+  return "";
+}
+
+/// A q or dq column whose name states another angle unit than the one given (e.g.
+/// "AxisPos_A1[deg]" read as radians), as "'NAME' says UNIT", or "".
+std::string angleUnitMismatch(const std::vector<LogColumns>& files, double angle_scale) {
+  const std::string given = angle_scale == 1.0 ? "rad" : "deg";
+  for (const LogColumns& c : files)
+    for (const auto* names : {&c.q, &c.dq})
+      for (const std::string& name : *names) {
+        const std::string named = angleUnitNamed(name);
+        if (!named.empty() && named != given)
+          return "the column '" + name + "' says " + (named == "deg" ? "degrees" : "radians") +
+                 ", read as " + (given == "deg" ? "degrees" : "radians") + " (--angle-unit " +
+                 given + ")";
+      }
+  return "";
+}
+
 std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions& options,
                                   PrepareOutcome& out) {
   std::vector<RawSignals> files;
@@ -566,7 +603,13 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
                        std::to_string(files.front().n));
     if (s.has_dq != files.front().has_dq || s.has_ddq != files.front().has_ddq)
       throw InputError(label + ": dq or ddq is logged in some files and not in others");
-    if (!name.empty()) out.columns.push_back(s.columns);
+    if (!name.empty()) {
+      out.columns.push_back(s.columns);
+      const std::string mismatch = angleUnitMismatch({s.columns}, options.angle_scale);
+      if (!mismatch.empty())
+        out.warnings.push_back(label + ": " + mismatch +
+                               ": give the --angle-unit the columns are in");
+    }
     // Stamps from the log's first one: exact differences of the 64-bit stamps (epochs in ns).
     // Units per second as a whole number when it is one (ns: 1e9), so that a 1.7e18 ns epoch is
     // divided exactly rather than multiplied by the double nearest 1e-9 (off by 1e-7 s).
@@ -820,6 +863,12 @@ Magnitude magnitudeOf(const PrepareOutcome& out, Eigen::MatrixXd Trajectory::*me
 /// Velocities and accelerations no robot reaches are a unit or column mistake, never data: an
 /// InputError naming the joint, the value, the likely causes and the options that fix them. A
 /// log whose joints barely move gets a warning (the stamps may be in a smaller unit than given).
+/// The angle-unit mismatch as the first sentence of an error ("" when there is none).
+std::string unitHint(const PrepareOutcome& out, const PrepareOptions& options) {
+  const std::string mismatch = angleUnitMismatch(out.columns, options.angle_scale);
+  return mismatch.empty() ? "" : "First: " + mismatch + ". ";
+}
+
 void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareOutcome& out) {
   const int n = static_cast<int>(out.train.q.rows());
   const Eigen::VectorXd dq_bound = boundsOf(options.dq_bound, kPlausibleSpeed, n, "--dq-max");
@@ -841,7 +890,8 @@ void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareO
           " for over 1 % of the samples, more than " +
           (given ? std::string("the bound (--dq-max, --ddq-max, or 3 times --robot's limits)")
                  : std::string("any robot moves")) +
-          ": the log's units or columns are likely wrong. Check --time-unit (stamps in a larger "
+          ": the log's units or columns are likely wrong. " + unitHint(out, options) +
+          "Check --time-unit (stamps in a larger "
           "unit than given make motion look fast), --angle-unit (degrees read as radians: 57 "
           "times) and the --q columns (positions, in joint order?); if the motion is real, raise " +
           (order == 1 ? "--dq-max" : "--ddq-max"));

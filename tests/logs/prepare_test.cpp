@@ -642,6 +642,30 @@ TEST(Prepare, UnitMistakesAreRefusedNamingTheOptionThatFixesThem) {
   EXPECT_NO_THROW(prepareLog(jointsSource(writeJointsLog("ok.csv", {})), slow_robot));
 }
 
+// Column names that state an angle unit other than the one given are warned about (and named
+// first when the speeds are refused); the unit they state, given, is silent.
+TEST(Prepare, ColumnNamesThatSayDegreesAreNamedWhenReadAsRadians) {
+  std::string text = readFile(writeLog(0.0));
+  text.replace(0, text.find('\n'), "time_ms,q_a[deg],q_b[deg],tau_a,tau_b");
+  const std::string path = test::tempPath("named_deg.csv");
+  writeFileAtomically(path, text);
+  const auto warned = [](const PrepareOutcome& out) {
+    for (const std::string& w : out.warnings)
+      if (w.find("'q_a[deg]' says degrees") != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_FALSE(warned(prepareLog(tableSource(path), msAndDegrees())));
+  PrepareOptions as_radians = msAndDegrees();
+  as_radians.angle_scale = 1.0;
+  as_radians.dq_bound = Eigen::VectorXd::Constant(1, 1e3);  // past the plausibility check
+  as_radians.ddq_bound = Eigen::VectorXd::Constant(1, 1e5);
+  EXPECT_TRUE(warned(prepareLog(tableSource(path), as_radians)));
+  as_radians.dq_bound = Eigen::VectorXd::Constant(1, 1.0);  // the speeds refused: named first
+  const std::string message = inputError([&] { prepareLog(tableSource(path), as_radians); });
+  EXPECT_NE(message.find("First: the column 'q_a[deg]' says degrees"), std::string::npos)
+      << message;
+}
+
 // Rest at the ends is measured and warned about, with the window that crops it; the window keeps
 // only its samples and is recorded.
 TEST(Prepare, RestAtTheEndsIsWarnedAboutAndAWindowCropsIt) {
