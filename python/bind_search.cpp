@@ -445,6 +445,30 @@ RawSignals arraySignals(const py::handle& t, const py::handle& q, const py::hand
   return out;
 }
 
+/// prepare()'s cutoff (a frequency, 0, 'auto' or None) and tau_cutoff (a frequency, 'none' or
+/// None) into the options.
+void readCutoffs(const FrequencyLike& cutoff, const FrequencyLike& tau_cutoff, PrepareOptions& o) {
+  if (py::isinstance<py::str>(cutoff)) {
+    if (cutoff.cast<std::string>() != "auto")
+      throw py::value_error("cutoff: expected a frequency [Hz], 0 (no filter), 'auto' or None");
+    o.auto_cutoff = true;
+  } else if (!cutoff.is_none()) {
+    o.cutoff = cutoff.cast<double>();
+    if (!(o.cutoff >= 0.0) || !std::isfinite(o.cutoff))
+      throw py::value_error(
+          "cutoff: expected a frequency >= 0 [Hz] (0: no filter), 'auto' or None");
+  }
+  if (py::isinstance<py::str>(tau_cutoff)) {
+    if (tau_cutoff.cast<std::string>() != "none")
+      throw py::value_error("tau_cutoff: expected a frequency [Hz], 'none' or None (q's)");
+    o.tau_cutoff = 0.0;
+  } else if (!tau_cutoff.is_none()) {
+    o.tau_cutoff = tau_cutoff.cast<double>();
+    if (!(o.tau_cutoff >= 0.0) || !std::isfinite(o.tau_cutoff))
+      throw py::value_error("tau_cutoff: expected a frequency >= 0 [Hz], 'none' or None (q's)");
+  }
+}
+
 PreparePy preparePy(
     const TablesLike& tables, const std::string& time_column, const std::string& q_columns,
     const std::string& dq_columns, const std::string& tau_columns, const std::string& ddq_columns,
@@ -495,25 +519,7 @@ PreparePy preparePy(
   o.time_scale = timeUnitScale(time_unit);
   o.angle_scale = angleUnitScale(angle_unit);
   o.rate = rate;
-  if (py::isinstance<py::str>(cutoff)) {
-    if (cutoff.cast<std::string>() != "auto")
-      throw py::value_error("cutoff: expected a frequency [Hz], 0 (no filter), 'auto' or None");
-    o.auto_cutoff = true;
-  } else if (!cutoff.is_none()) {
-    o.cutoff = cutoff.cast<double>();
-    if (!(o.cutoff >= 0.0) || !std::isfinite(o.cutoff))
-      throw py::value_error(
-          "cutoff: expected a frequency >= 0 [Hz] (0: no filter), 'auto' or None");
-  }
-  if (py::isinstance<py::str>(tau_cutoff)) {
-    if (tau_cutoff.cast<std::string>() != "none")
-      throw py::value_error("tau_cutoff: expected a frequency [Hz], 'none' or None (q's)");
-    o.tau_cutoff = 0.0;
-  } else if (!tau_cutoff.is_none()) {
-    o.tau_cutoff = tau_cutoff.cast<double>();
-    if (!(o.tau_cutoff >= 0.0) || !std::isfinite(o.tau_cutoff))
-      throw py::value_error("tau_cutoff: expected a frequency >= 0 [Hz], 'none' or None (q's)");
-  }
+  readCutoffs(cutoff, tau_cutoff, o);
   o.order = order;
   o.decimate = decimate;
   o.max_gap = max_gap;
