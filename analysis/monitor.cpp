@@ -649,7 +649,8 @@ Pass passOverRecording(const Model& model, const std::string& path, const Monito
             while (!pending.empty() && pending.front().ns < newest - window) emit();
           });
       while (!pending.empty()) emit();
-      if (!scan.prefix.empty()) warnings.push_back(path + ": " + prefixWarning(scan));
+      if (const std::string w = prefixWarning(scan); !w.empty())
+        warnings.push_back(path + ": " + w);
     } catch (const Stopped&) {
       out.interrupted = true;
     }

@@ -19,14 +19,33 @@ std::string listed(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
+/// The prefixes P = h - `name` of the names h among `longer` that end in `name` after a
+/// separator ("panda_" for "panda_joint1" and "joint1"), kept where `fits_every_joint(P)`.
+template <class Fits>
+std::vector<std::string> prefixesThatFit(const std::vector<std::string>& longer,
+                                         const std::string& name, Fits fits_every_joint) {
+  std::vector<std::string> fits;
+  for (const std::string& h : longer) {
+    if (h.size() <= name.size() || h.compare(h.size() - name.size(), name.size(), name) != 0 ||
+        std::string_view("_/:-.").find(h[h.size() - name.size() - 1]) == std::string_view::npos)
+      continue;
+    const std::string p = h.substr(0, h.size() - name.size());
+    if (fits_every_joint(p)) fits.push_back(p);
+  }
+  return fits;
+}
+
 /// Per joint of `names` (the robot's), its entry among the message's names `held`: the same name,
 /// else, when no name is missing that way, one prefix that every joint's name carries after a
 /// separator ("panda_joint1" for "joint1": a driver's prefix), recorded in `prefix` (a gripper's
-/// "panda_finger_joint1" is no match: "panda_finger_joint2..7" are missing). InputError naming the
-/// joints the messages lack (and the names they hold), or the prefixes that fit alike.
+/// "panda_finger_joint1" is no match: "panda_finger_joint2..7" are missing); else one prefix every
+/// one of the robot's names carries and the messages' lack ("lbr_iiwa_joint_1" as
+/// "iiwa_joint_1": a description generated with a prefix), recorded in `robot_prefix`. InputError
+/// naming the joints the messages lack (and the names they hold), or the prefixes that fit alike.
 std::vector<int> jointIndex(const std::vector<std::string>& names,
                             const std::vector<std::string>& held, const std::string& path,
-                            const std::string& topic, std::string* prefix = nullptr) {
+                            const std::string& topic, std::string* prefix = nullptr,
+                            std::string* robot_prefix = nullptr) {
   const auto find = [&](const std::string& name) {
     return static_cast<int>(std::find(held.begin(), held.end(), name) - held.begin());
   };
@@ -37,17 +56,33 @@ std::vector<int> jointIndex(const std::vector<std::string>& names,
     if (index[j] == static_cast<int>(held.size())) missing.push_back(names[j]);
   }
   if (missing.empty() || names.empty()) return index;
-  std::vector<std::string> fits;  // prefixes P with P + name held for every joint
-  for (const std::string& h : held) {
-    const std::string& first = names.front();
-    if (h.size() <= first.size() || h.compare(h.size() - first.size(), first.size(), first) != 0 ||
-        std::string_view("_/:-.").find(h[h.size() - first.size() - 1]) == std::string_view::npos)
-      continue;
-    const std::string p = h.substr(0, h.size() - first.size());
-    if (std::all_of(names.begin(), names.end(), [&](const std::string& name) {
-          return find(p + name) < static_cast<int>(held.size());
-        }))
-      fits.push_back(p);
+  const auto all_held = [&](const std::string& p) {
+    return std::all_of(names.begin(), names.end(), [&](const std::string& name) {
+      return find(p + name) < static_cast<int>(held.size());
+    });
+  };
+  // Prefixes P with P + name held for every joint.
+  std::vector<std::string> fits = prefixesThatFit(held, names.front(), all_held);
+  if (fits.empty()) {
+    // Prefixes P that every robot name starts with, the rest of each held.
+    std::vector<std::string> robot_fits;
+    for (const std::string& h : held) {
+      const auto rest_held = [&](const std::string& p) {
+        return std::all_of(names.begin(), names.end(), [&](const std::string& name) {
+          return name.size() > p.size() && name.compare(0, p.size(), p) == 0 &&
+                 find(name.substr(p.size())) < static_cast<int>(held.size());
+        });
+      };
+      for (const std::string& p : prefixesThatFit({names.front()}, h, rest_held))
+        if (std::find(robot_fits.begin(), robot_fits.end(), p) == robot_fits.end())
+          robot_fits.push_back(p);
+    }
+    if (robot_fits.size() == 1) {
+      const std::string& p = robot_fits.front();
+      for (std::size_t j = 0; j < names.size(); ++j) index[j] = find(names[j].substr(p.size()));
+      if (robot_prefix != nullptr) *robot_prefix = p;
+      return index;
+    }
   }
   if (fits.size() > 1)
     throw InputError(path + ": the JointState messages on " + topic +
@@ -204,9 +239,14 @@ Eigen::Index joinSeparateEfforts(const LogSource& source, const std::string& pat
 }  // namespace
 
 std::string prefixWarning(const JointStateScan& scan) {
+  const std::string more = scan.names.size() > 1 ? ", ..." : "";
+  if (!scan.robot_prefix.empty())
+    return "the robot's joint names carry the prefix '" + scan.robot_prefix +
+           "' the messages lack (" + scan.names.front() + " as " +
+           scan.names.front().substr(scan.robot_prefix.size()) + more + "): matched so";
+  if (scan.prefix.empty()) return "";
   return "the messages name the robot's joints with the prefix '" + scan.prefix + "' (" +
-         scan.prefix + scan.names.front() + " as " + scan.names.front() +
-         (scan.names.size() > 1 ? ", ..." : "") + "): matched so";
+         scan.prefix + scan.names.front() + " as " + scan.names.front() + more + "): matched so";
 }
 
 JointStateScan scanJointStates(const LogSource& source, const std::string& path,
@@ -257,7 +297,7 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
           bags::decodeJointStateRos1(message.data, *message.file, message.offset, m);
         if (m.name != last_names) {  // the mapping, again only when the names change
           if (names.empty()) names = m.name;
-          index = jointIndex(names, m.name, path, topic, &scan.prefix);
+          index = jointIndex(names, m.name, path, topic, &scan.prefix, &scan.robot_prefix);
           last_names = m.name;
         }
         checkArrays(m, message, path, topic, !separate_effort);
@@ -324,7 +364,7 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
       });
   const auto n = static_cast<int>(scan.names.size());
   out.has_dq = scan.has_dq;
-  if (!scan.prefix.empty()) out.warnings.push_back(prefixWarning(scan));
+  if (const std::string w = prefixWarning(scan); !w.empty()) out.warnings.push_back(w);
   auto count = static_cast<Eigen::Index>(total);
   const auto columns = static_cast<Eigen::Index>(width);
   if (separate_effort) {

@@ -22,6 +22,9 @@ struct JointStateScan {
   /// The prefix every one of the robot's joint names carries in the messages ("panda_" for
   /// "panda_joint1" as "joint1"; empty: the names themselves): a warning for the reader to give.
   std::string prefix;
+  /// The prefix every one of the robot's joint names carries and the messages' lack
+  /// ("lbr_" for "lbr_iiwa_joint_1" as "iiwa_joint_1"), likewise.
+  std::string robot_prefix;
 };
 
 /// Receives each message: its stamp [ns on the recording's clock] and the joints' values in
@@ -36,7 +39,8 @@ using JointStateVisit = std::function<void(std::int64_t stamp_ns, const std::vec
 JointStateScan scanJointStates(const LogSource& source, const std::string& path,
                                const JointStateVisit& visit);
 
-/// The warning for scan.prefix: the robot's joints were found under that prefix.
+/// The warning for scan.prefix or scan.robot_prefix: the robot's joints were found under that
+/// prefix, or without it ("" when the names matched as they are).
 std::string prefixWarning(const JointStateScan& scan);
 
 /// Reads the recording `path` for `source` (its topic, joint names and stamp). Throws InputError

@@ -202,6 +202,22 @@ TEST(BagLog, PrefixedJointNamesMatchUnderOnePrefixAndSaySo) {
   EXPECT_THROW(readBagLog(source, source.tables[0]), InputError);
   source.tables = {write("partly.db3", {"arm_joint1", "joint3"})};
   EXPECT_THROW(readBagLog(source, source.tables[0]), InputError);
+  // The robot's names carry a prefix the messages lack (a description generated with a prefix,
+  // a driver publishing without it): matched, said in a warning; without a separator, missing.
+  source.joint_names = {"lbr_iiwa_joint_1", "lbr_iiwa_joint_2"};
+  source.tables = {write("robot_prefixed.db3", {"iiwa_joint_2", "iiwa_joint_1", "tool_joint"})};
+  const RawSignals unprefixed = readBagLog(source, source.tables[0]);
+  EXPECT_EQ(unprefixed.q()(0, 0), 0.1 * 2);  // lbr_iiwa_joint_1: iiwa_joint_1, the second name
+  EXPECT_EQ(unprefixed.q()(0, 1), 0.1 * 1);
+  ASSERT_EQ(unprefixed.warnings.size(), 1u);
+  EXPECT_NE(
+      unprefixed.warnings[0].find(
+          "carry the prefix 'lbr_' the messages lack (lbr_iiwa_joint_1 as iiwa_joint_1, ...)"),
+      std::string::npos)
+      << unprefixed.warnings[0];
+  source.joint_names = {"xjoint1", "xjoint2"};
+  source.tables = {write("robot_no_separator.db3", {"joint1", "joint2"})};
+  EXPECT_THROW(readBagLog(source, source.tables[0]), InputError);
 }
 }  // namespace
 }  // namespace dynid
