@@ -581,7 +581,11 @@ Pass passOverRecording(const Model& model, const std::string& path, const Monito
   source.topic = request.topic;
   source.effort_topic = request.effort_topic;
   source.receive_time = request.receive_time;
-  source.joint_names = model.joint_names;
+  source.joint_names = request.joint_names.empty() ? model.joint_names : request.joint_names;
+  if (static_cast<int>(source.joint_names.size()) != n)
+    throw InputError("the joint names given (--joint-names) are " +
+                     std::to_string(source.joint_names.size()) + ", the arm has " +
+                     std::to_string(n) + " joints");
   source.joint_prefix = request.joint_prefix;
   Pass out;
   RecordingFeed feed(model, path, request, gain, visit, out);

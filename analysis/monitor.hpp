@@ -160,6 +160,9 @@ struct MonitorRequest {
   /// receive time) and the topic whose efforts are the torques when the positions' carry none.
   std::string topic, effort_topic;
   std::string joint_prefix;  // LogSource::joint_prefix
+  /// Recordings: the messages' names of the arm's joints, in its joint order (empty: the arm's
+  /// own names; else one per joint).
+  std::vector<std::string> joint_names = {};
   bool receive_time = false;
   /// Raw efforts that are motor currents (a current-sensing arm's recording or stdin samples):
   /// tau_j = current_j * torque_constants_j * gear_ratios_j [N m/A; gear ratios empty: 1], as

@@ -138,10 +138,11 @@ MonitorRequest monitorRequestOf(const po::variables_map& vm) {
                "applies with --calibration");
   const bool recording = bags::isBag(request.data_file) || (!request.calibration_file.empty() &&
                                                             bags::isBag(request.calibration_file));
-  refuseUnused(vm, recording, {"topic", "stamp", "effort-topic", "joint-prefix"},
+  refuseUnused(vm, recording, {"topic", "stamp", "effort-topic", "joint-prefix", "joint-names"},
                "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (vm.count("topic")) request.topic = vm["topic"].as<std::string>();
   if (vm.count("joint-prefix")) request.joint_prefix = vm["joint-prefix"].as<std::string>();
+  request.joint_names = jointNamesOption(vm, 0);  // counted against the arm by monitorRun
   if (vm.count("effort-topic")) request.effort_topic = vm["effort-topic"].as<std::string>();
   request.receive_time = receiveTimeOption(vm);
   if (vm.count("truth")) request.truth_file = vm["truth"].as<std::string>();

@@ -92,7 +92,8 @@ LogSource logSource(const po::variables_map& vm) {
   if (vm.count("log")) source.tables = vm["log"].as<std::vector<std::string>>();
   std::size_t recordings = 0;
   for (const std::string& table : source.tables) recordings += bags::isBag(table) ? 1 : 0;
-  refuseUnused(vm, recordings > 0, {"topic", "effort-topic", "effort-log", "joint-prefix"},
+  refuseUnused(vm, recordings > 0,
+               {"topic", "effort-topic", "effort-log", "joint-prefix", "joint-names"},
                "applies to recordings (.mcap, .db3, .bag, bag directories)");
   if (recordings > 0) {
     if (recordings != source.tables.size())
@@ -246,7 +247,10 @@ void readWindowsAndBounds(const po::variables_map& vm, LogSource& source, Prepar
       *target = Eigen::Map<const Eigen::VectorXd>(values.data(),
                                                   static_cast<Eigen::Index>(values.size()));
     }
-  if (!vm.count("robot")) return;
+  if (!vm.count("robot")) {
+    source.joint_names = jointNamesOption(vm, source.num_joints);
+    return;
+  }
   std::vector<std::string> warnings;
   const Model robot = loadRobot(text(vm, "robot"), {}, &warnings);
   for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
@@ -254,8 +258,10 @@ void readWindowsAndBounds(const po::variables_map& vm, LogSource& source, Prepar
   if (source.num_joints > 0 && source.num_joints != n)
     throw UsageError("--joints " + std::to_string(source.num_joints) + " but --robot has " +
                      std::to_string(n) + " joints");
-  source.num_joints = n;                   // the selectors must match one column per joint
-  source.joint_names = robot.joint_names;  // a recording's joints, matched by name
+  source.num_joints = n;  // the selectors must match one column per joint
+  // A recording's joints, matched by name: the robot's own, or the messages' names for them.
+  source.joint_names = jointNamesOption(vm, n);
+  if (source.joint_names.empty()) source.joint_names = robot.joint_names;
   for (const auto& [limit, target] : {std::pair{&JointLimits::velocity, &o.dq_bound},
                                       std::pair{&JointLimits::acceleration, &o.ddq_bound}})
     if (target->size() == 0) {

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <limits>
+#include <sstream>
 
 #include <boost/make_shared.hpp>
 
@@ -349,7 +350,26 @@ void addRecordingOptions(po::options_description& options) {
       "are the torques (joints by name), interpolated at the position stamps")(
       "joint-prefix", po::value<std::string>(),
       "recordings: the messages name the robot's joints with this prefix (one arm of several, "
-      "e.g. left_); one prefix that fits every joint alone is found without it");
+      "e.g. left_); one prefix that fits every joint alone is found without it")(
+      "joint-names", po::value<std::string>(),
+      "recordings: the messages' names of the robot's joints, in its joint order, comma-separated "
+      "(default: --robot's own names), for a driver that names them otherwise (A1,A2,...)");
+}
+
+std::vector<std::string> jointNamesOption(const po::variables_map& vm, int joints) {
+  if (!vm.count("joint-names")) return {};
+  std::vector<std::string> names;
+  std::stringstream list(vm["joint-names"].as<std::string>());
+  for (std::string name; std::getline(list, name, ',');) {
+    if (name.empty()) throw UsageError("--joint-names: an empty name in the list");
+    if (std::find(names.begin(), names.end(), name) != names.end())
+      throw UsageError("--joint-names: '" + name + "' is named twice");
+    names.push_back(name);
+  }
+  if (joints > 0 && static_cast<int>(names.size()) != joints)
+    throw UsageError("--joint-names gives " + std::to_string(names.size()) +
+                     " names, the robot has " + std::to_string(joints) + " joints");
+  return names;
 }
 
 bool receiveTimeOption(const po::variables_map& vm) {

@@ -93,6 +93,9 @@ int threadsOption(const po::variables_map& vm);
 void addRecordingOptions(po::options_description& options);
 /// --stamp: true for receive (the recorder's time), false for header; UsageError otherwise.
 bool receiveTimeOption(const po::variables_map& vm);
+/// --joint-names as a list (empty when not given); UsageError for an empty or repeated name, or
+/// a count other than `joints` (when > 0).
+std::vector<std::string> jointNamesOption(const po::variables_map& vm, int joints);
 
 /// The options every robot-using command takes: --robot, --drives, --drive-terms, --strict
 /// (--robot required unless `required` is false).

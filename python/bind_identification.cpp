@@ -623,7 +623,8 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
                  double max_gap, const OptionalPathLike& truth, const PathLike& robot_spec,
                  int threads, const std::string& topic, const std::string& stamp,
                  const std::string& effort_topic, const OptionalArrayLike& torque_constants,
-                 const OptionalArrayLike& gear_ratios, const std::string& joint_prefix) {
+                 const OptionalArrayLike& gear_ratios, const std::string& joint_prefix,
+                 const std::vector<std::string>& joint_names) {
   checkThreads(threads);
   MonitorRequest request;
   request.arm = pathArg(arm_arg, "arm");
@@ -647,6 +648,7 @@ py::dict monitor(const PathLike& arm_arg, const PathLike& data, const OptionalPa
   request.topic = topic;
   request.effort_topic = effort_topic;
   request.joint_prefix = joint_prefix;
+  request.joint_names = joint_names;
   request.receive_time = stamp == "receive";
   for (const auto& [given, target, name] :
        {std::tuple{&torque_constants, &request.torque_constants, "torque_constants"},
@@ -698,12 +700,12 @@ void bindTrust(py::module_& m) {
         py::arg("truth") = py::none(), py::arg("robot_spec") = "", py::arg("threads") = kAllThreads,
         py::arg("topic") = "", py::arg("stamp") = "header", py::arg("effort_topic") = "",
         py::arg("torque_constants") = py::none(), py::arg("gear_ratios") = py::none(),
-        py::arg("joint_prefix") = "",
+        py::arg("joint_prefix") = "", py::arg("joint_names") = std::vector<std::string>{},
         "`dynid monitor` on a log file (a dataset CSV, or a recording: .mcap, .db3, .bag or a "
         "bag directory, with its JointState `topic`, `stamp` 'header' or 'receive', and "
         "`effort_topic`; a recording's efforts that are motor currents become torques through "
-        "`torque_constants` [N m/A] and `gear_ratios`, per joint; `joint_prefix` as "
-        "--joint-prefix): `arm` an estimate.json, "
+        "`torque_constants` [N m/A] and `gear_ratios`, per joint; `joint_prefix` and "
+        "`joint_names` as --joint-prefix and --joint-names): `arm` an estimate.json, "
         "URDF, dynid model or robot spec; "
         "thresholds from a clean `calibration` log or a saved `thresholds` file (one of them). "
         "Returns monitor.json as a dict (events, thresholds, statistics, truth scores).");

@@ -371,6 +371,15 @@ TEST_F(MonitorRun, ARecordingGivesTheSameEventsAsItsSamplesInADataset) {
   for (const std::string& w : b.warnings)
     repeated = repeated || w.find("1 message(s) repeated an earlier stamp") != std::string::npos;
   EXPECT_TRUE(repeated);
+  // The messages' names given for the arm's joints (--joint-names): here its own, the same
+  // events; one name short is refused.
+  MonitorRequest named = from_bag;
+  named.joint_names = model_.joint_names;
+  const MonitorOutcome c = monitorRun(named);
+  ASSERT_EQ(c.events.size(), 1u);
+  EXPECT_EQ(c.events[0].peak, b.events[0].peak);
+  named.joint_names.pop_back();
+  EXPECT_THROW(monitorRun(named), InputError);
 }
 
 // Messages are put in stamp order within a 1 s window: one received 0.5 s late is used, one 1.5 s

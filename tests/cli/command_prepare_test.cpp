@@ -224,6 +224,20 @@ TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
   EXPECT_EQ(robot.code, 1);
   EXPECT_TRUE(contains(robot.err, "lack the robot's joints joint3") && contains(robot.err, bag))
       << robot.err;
+  // --joint-names: the messages' names for the joints, in the robot's order (a driver that names
+  // them otherwise); one per joint of --robot.
+  const std::string named = test::tempPath("bag_named");
+  const Result names = run("prepare --log " + bag +
+                           " --joint-names joint1,gripper --cutoff 0 --trim 0 --out " + named);
+  ASSERT_EQ(names.code, 0) << names.err;
+  EXPECT_TRUE(contains(names.out, "1: joint1, joint1, 2: gripper, gripper")) << names.out;
+  const Trajectory by_name = readDatasetCsv(named + "/train.csv", 2);
+  const Trajectory all = readDatasetCsv(dir + "/train.csv", 3);
+  EXPECT_EQ(by_name.q.row(0), all.q.row(1));  // joint1, the messages' second
+  const Result count = run("prepare --log " + bag + " --robot puma560 --joint-names joint1,joint2" +
+                           " --out " + test::tempPath("never_named"));
+  EXPECT_EQ(count.code, 2);
+  EXPECT_TRUE(contains(count.err, "--joint-names gives 2 names, the robot has 6")) << count.err;
   const std::string never = " --out " + test::tempPath("never_bag");
   for (const std::string& bad :
        {"--log " + bag + " --q 'q*'", "--log " + bag + " --time-unit ms",
@@ -232,7 +246,9 @@ TEST(Cli, PrepareReadsARos1BagAndRefusesTableOptionsForIt) {
         "--log " + writeLog("t.txt") +
             " --q 2 --tau 3 "
             "--stamp receive",
-        "--log " + writeLog("t2.txt") + " --q 2 --tau 3 --topic /js"})
+        "--log " + writeLog("t2.txt") + " --q 2 --tau 3 --topic /js",
+        "--log " + writeLog("t3.txt") + " --q 2 --tau 3 --joint-names a,b",
+        "--log " + bag + " --joint-names joint1,joint1"})
     EXPECT_EQ(run("prepare " + bad + never).code, 2) << bad;
 }
 
