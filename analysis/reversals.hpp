@@ -21,12 +21,21 @@ inline constexpr double kReversalResidualShare = 0.25;
 /// velocities gives 1).
 inline constexpr double kReversalConcentration = 4.0;
 
+/// A joint's residual "has the shape of friction" when Fc sign(dq) + Fv dq + Fo, fitted to it by
+/// least squares, explains at least this share of its squared residual (a white residual: about
+/// 3 / samples; a missing friction term: most of it).
+inline constexpr double kFrictionResidualShare = 0.3;
+
 struct ReversalResidual {
   int samples = 0;                 // the samples measured (a Prediction's kept samples)
   Eigen::VectorXd speed;           // per joint: the band's half width [rad/s or m/s]
   Eigen::VectorXd sample_share;    // the share of the samples in the band (0..1)
   Eigen::VectorXd residual_share;  // the share of the joint's squared residual in it (0..1)
   std::vector<int> flagged;        // 0-based joints past both marks, in joint order
+  /// Per joint: the share of its squared residual that a * sign(dq) + b dq + c, fitted to it,
+  /// explains (0..1); joints at kFrictionResidualShare or more, in joint order.
+  Eigen::VectorXd friction_share;
+  std::vector<int> friction_flagged;
 };
 
 /// The shares over the prediction's kept samples (Prediction::velocity, measured, predicted):

@@ -43,14 +43,23 @@ std::string rawValidationLine(const Validation& raw, int skipped) {
   return line;
 }
 
+namespace {
+nlohmann::json oneBased(const std::vector<int>& joints) {
+  nlohmann::json out = nlohmann::json::array();
+  for (int j : joints) out.push_back(j + 1);
+  return out;
+}
+}  // namespace
+
 nlohmann::json reversalsJson(const ReversalResidual& r) {
-  nlohmann::json flagged = nlohmann::json::array();
-  for (int j : r.flagged) flagged.push_back(j + 1);
+  const nlohmann::json flagged = oneBased(r.flagged);
   return {{"note",
            "per joint, the samples within speed (speed_fraction of the joint's RMS speed) of zero "
            "velocity: their share of the samples and of the joint's squared residual; flagged "
            "joints (1-based) hold at least residual_share_mark of it and concentration_mark "
-           "times their sample share"},
+           "times their sample share; friction_share: the share of the joint's squared residual "
+           "that Fc sign(dq) + Fv dq + Fo fitted to it explains (friction_flagged: at least "
+           "friction_share_mark)"},
           {"samples", r.samples},
           {"speed_fraction", kReversalSpeedFraction},
           {"residual_share_mark", kReversalResidualShare},
@@ -58,10 +67,49 @@ nlohmann::json reversalsJson(const ReversalResidual& r) {
           {"speed", numbersOrNull(r.speed)},
           {"sample_share", numbersOrNull(r.sample_share)},
           {"residual_share", numbersOrNull(r.residual_share)},
+          {"friction_share", numbersOrNull(r.friction_share)},
+          {"friction_share_mark", kFrictionResidualShare},
+          {"friction_flagged", oneBased(r.friction_flagged)},
           {"flagged", flagged}};
 }
 
+namespace {
+
+/// The note for joints whose residual has friction's shape while the model lacks friction or
+/// offset terms ("" when none or when the model has them all).
+std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r) {
+  std::vector<std::string> missing;
+  for (const auto& [term, key] :
+       {std::pair{DriveTerm::kViscous, "fv"}, std::pair{DriveTerm::kCoulomb, "fc"},
+        std::pair{DriveTerm::kOffset, "fo"}})
+    if (!terms.has(term)) missing.push_back(key);
+  if (r.friction_flagged.empty() || missing.empty()) return "";
+  std::vector<int> order = r.friction_flagged;  // the largest share first
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return r.friction_share[a] > r.friction_share[b]; });
+  const auto percent = [](double x) { return formatNumber(100.0 * x, 2) + " %"; };
+  std::string out = "friction: Fc sign(dq) + Fv dq + Fo, fitted to the torque residual, explains " +
+                    percent(r.friction_share[order[0]]) + " of it on joint " +
+                    std::to_string(order[0] + 1);
+  for (std::size_t k = 1; k < order.size(); ++k)
+    out += (k == 1 ? " (joint " : ", joint ") + std::to_string(order[k] + 1) + ": " +
+           percent(r.friction_share[order[k]]);
+  out += order.size() > 1 ? ")" : "";
+  std::string keys, lacks;
+  for (const std::string& key : driveTermsKeys(terms)) keys += (keys.empty() ? "" : ",") + key;
+  for (const std::string& key : missing) {
+    keys += (keys.empty() ? "" : ",") + key;
+    lacks += (lacks.empty() ? "" : ", ") + key;
+  }
+  return out + ", and the drive terms lack " + lacks + ": --drive-terms " + keys +
+         " adds them (compare the held-out errors)";
+}
+
+}  // namespace
+
 std::string reversalNote(DriveTerms terms, const ReversalResidual& r) {
+  if (const std::string friction = missingFrictionNote(terms, r); !friction.empty())
+    return friction;
   if (r.flagged.empty()) return "";
   std::vector<int> order = r.flagged;  // the largest share first
   std::stable_sort(order.begin(), order.end(),

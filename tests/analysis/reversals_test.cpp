@@ -87,5 +87,28 @@ TEST(Reversals, NeedsBothMarks) {
   EXPECT_EQ(reversalResidual(rest).samples, 0);
 }
 
+// A residual shaped like the friction the model lacks (0.3 sign(dq) + 0.2 dq - 0.1, plus a
+// small even part) is explained almost wholly by that fit; an even residual that alternates in
+// sign from sample to sample, hardly at all (3 columns fitted to 1000 samples).
+TEST(Reversals, MeasuresHowMuchOfTheResidualHasFrictionsShape) {
+  Prediction p = constructed();
+  for (int k = 0; k < 1000; ++k) {
+    const double dq = p.velocity(0, k);
+    p.measured(0, k) = 0.3 * (dq > 0.0   ? 1.0
+                              : dq < 0.0 ? -1.0
+                                         : 0.0) +
+                       0.2 * dq - 0.1 + (k % 2 == 0 ? 0.01 : -0.01);
+    p.measured(1, k) = k % 2 == 0 ? 0.05 : -0.05;
+  }
+  const ReversalResidual r = reversalResidual(p);
+  ASSERT_EQ(r.friction_share.size(), 3);
+  // What the fit leaves is the even part, 0.01^2 against a mean square near 0.3^2 + 0.1^2 + ...
+  EXPECT_GT(r.friction_share[0], 0.99);
+  EXPECT_LT(r.friction_share[1], 0.01);
+  // Joint 3 (at rest, a constant 0.05 N m residual) is an offset: Fo's shape.
+  EXPECT_GT(r.friction_share[2], 0.99);
+  EXPECT_EQ(r.friction_flagged, (std::vector<int>{0, 2}));
+}
+
 }  // namespace
 }  // namespace dynid

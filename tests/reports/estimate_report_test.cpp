@@ -14,6 +14,7 @@
 #include "data/io.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/plots.hpp"
+#include "reports/prediction_report.hpp"
 
 namespace dynid {
 namespace {
@@ -179,6 +180,24 @@ TEST(EstimateReport, NextSaysWhatWouldDetermineEachPoorlyDeterminedParameter) {
 // Every estimate.json identify writes reads back as predict, monitor and payload read it: the
 // combined method's record (its "combined" block was refused as an unknown key) and a prepared
 // log's torque constants (torque_source).
+// The friction note: joints whose residual has friction's shape, largest first, and the terms
+// the model lacks with the --drive-terms that adds them; none when it has them all.
+TEST(EstimateReport, TheFrictionNoteNamesTheJointsAndTheMissingTerms) {
+  ReversalResidual r;
+  r.samples = 100;
+  r.speed.setZero(3);
+  r.sample_share.setZero(3);
+  r.residual_share.setZero(3);
+  r.friction_share = Eigen::Vector3d(0.5, 0.1, 0.9);
+  r.friction_flagged = {0, 2};
+  const std::string note = reversalNote(parseDriveTerms("fv"), r);
+  EXPECT_NE(note.find("explains 90 % of it on joint 3 (joint 1: 50 %)"), std::string::npos) << note;
+  EXPECT_NE(note.find("the drive terms lack fc, fo: --drive-terms fv,fc,fo adds them"),
+            std::string::npos)
+      << note;
+  EXPECT_EQ(reversalNote(parseDriveTerms("fv,fc,fo"), r), "");  // nothing flagged at reversals
+}
+
 TEST(EstimateReport, EveryMethodsEstimateReadsBack) {
   const Fixture f = writeData(true, R"({"current_to_torque": {
       "torque_constants": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
