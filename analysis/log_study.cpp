@@ -111,7 +111,10 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
                            double seconds) {
     LogStudyRow row;
     row.key = key;
-    row.torque_train = predictTorques(model, train).validation.relative_error;
+    const Prediction fit = predictTorques(model, train);
+    row.torque_train = fit.validation.relative_error;
+    if (out.fit_reversals.samples == 0 && (key == "ols" || key == "wls" || key == "pc"))
+      out.fit_reversals = reversalResidual(fit);
     row.torque_test = predictTorques(model, test).validation.relative_error;
     row.gc_train = gcError(model, train_gc, workspace, pool);
     row.gc_test = gcError(model, test_gc, workspace, pool);

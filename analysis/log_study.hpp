@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/methods.hpp"
+#include "analysis/reversals.hpp"
 #include "analysis/runs.hpp"
 #include "search/gc_error.hpp"
 
@@ -75,6 +76,9 @@ struct LogStudyOutcome {
   int train_segments = 0, test_segments = 0;
   double horizon = 0.0;
   std::vector<LogStudyRow> rows;  // "model", "start", then each method in the request's order
+  /// Where the first least-squares estimate's (ols, wls or pc, as run) training residual lies
+  /// and whether it has the shape of friction (analysis/reversals.hpp); samples 0 when none ran.
+  ReversalResidual fit_reversals;
   bool interrupted = false;
   double seconds = 0.0;
 };

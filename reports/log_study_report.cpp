@@ -10,6 +10,7 @@
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
+#include "reports/prediction_report.hpp"
 
 namespace dynid {
 
@@ -175,6 +176,12 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
                        ? "; " + sim->key + " lowers it " +
                              formatNumber(model->gc_test / sim->gc_test, 3, "n/a") + " times."
                        : "; no consistent estimate predicts the motion better."));
+  if (o.fit_reversals.samples > 0)
+    if (const std::string friction =
+            missingFrictionNote(parseDriveTerms(o.drive_terms), o.fit_reversals,
+                                "the least-squares estimate's training residual");
+        !friction.empty())
+      out.push_back("Missing " + friction + ".");
   for (const LogStudyRow& r : o.rows)
     if (!r.moved) out.push_back(r.key + " did not move from its start: " + r.note + ".");
   if (o.interrupted) out.push_back("Interrupted: the table has the methods that finished.");

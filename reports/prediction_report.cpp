@@ -73,11 +73,8 @@ nlohmann::json reversalsJson(const ReversalResidual& r) {
           {"flagged", flagged}};
 }
 
-namespace {
-
-/// The note for joints whose residual has friction's shape while the model lacks friction or
-/// offset terms ("" when none or when the model has them all).
-std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r) {
+std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r,
+                                const std::string& residual) {
   std::vector<std::string> missing;
   for (const auto& [term, key] :
        {std::pair{DriveTerm::kViscous, "fv"}, std::pair{DriveTerm::kCoulomb, "fc"},
@@ -88,7 +85,7 @@ std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r) {
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return r.friction_share[a] > r.friction_share[b]; });
   const auto percent = [](double x) { return formatNumber(100.0 * x, 2) + " %"; };
-  std::string out = "friction: Fc sign(dq) + Fv dq + Fo, fitted to the torque residual, explains " +
+  std::string out = "friction: Fc sign(dq) + Fv dq + Fo, fitted to " + residual + ", explains " +
                     percent(r.friction_share[order[0]]) + " of it on joint " +
                     std::to_string(order[0] + 1);
   for (std::size_t k = 1; k < order.size(); ++k)
@@ -104,8 +101,6 @@ std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r) {
   return out + ", and the drive terms lack " + lacks + ": --drive-terms " + keys +
          " adds them (compare the held-out errors)";
 }
-
-}  // namespace
 
 std::string reversalNote(DriveTerms terms, const ReversalResidual& r) {
   if (const std::string friction = missingFrictionNote(terms, r); !friction.empty())

@@ -32,6 +32,12 @@ nlohmann::json reversalsJson(const ReversalResidual& r);
 /// at reversals: ..." naming them with their shares, and what the drive terms can do about it
 /// (add fc; add fs, Stribeck; or nothing more: stick is beyond them). "" when none is flagged.
 std::string reversalNote(DriveTerms terms, const ReversalResidual& r);
+/// The note for joints whose residual has friction's shape (ReversalResidual::friction_flagged)
+/// while the drive terms lack fv, fc or fo: the joints and the --drive-terms that adds the
+/// missing ones ("" when none is flagged or none is missing). reversalNote gives it first.
+/// `residual` names the residual measured.
+std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r,
+                                const std::string& residual = "the torque residual");
 std::string rawValidationLine(const Validation& raw, int skipped);
 
 /// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.

@@ -78,6 +78,24 @@ TEST(LogStudyConclusions, SayWhichRowsDidNotMove) {
       << text;
 }
 
+// A least-squares residual with friction's shape, and a model without those drive terms: a
+// conclusion says which terms are missing and the option; with them, nothing.
+TEST(LogStudyConclusions, SayWhenTheResidualHasTheShapeOfMissingFriction) {
+  LogStudyOutcome o = outcome({row("ols", 0.09, 5e7, false), row("pc", 0.09, 1e5, true)});
+  o.fit_reversals.samples = 100;
+  o.fit_reversals.friction_share = Eigen::Vector2d(0.95, 0.1);
+  o.fit_reversals.friction_flagged = {0};
+  std::string text = joined(logStudyConclusions(o));
+  EXPECT_NE(text.find("Missing friction: Fc sign(dq) + Fv dq + Fo, fitted to the least-squares "
+                      "estimate's training residual, explains 95 % of it on joint 1"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("--drive-terms fv,fc,fo adds them"), std::string::npos) << text;
+  o.drive_terms = "fv,fc,fo";
+  text = joined(logStudyConclusions(o));
+  EXPECT_EQ(text.find("Missing friction"), std::string::npos) << text;
+}
+
 TEST(LogStudyReport, FigureWritesNamesAsWrittenAndMergesCoincidingPoints) {
   // gnuplot is installed by scripts/install-deps.sh.
   const LogStudyOutcome o =
