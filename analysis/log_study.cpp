@@ -72,6 +72,38 @@ StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows) {
   return out;
 }
 
+namespace {
+
+/// The one pipeline's problem for the study's methods: the searches start from the physically
+/// consistent estimate, the refinements and the combined estimator share the refine budget.
+EstimationProblem studyProblem(const LogStudyRequest& request, const BaseParameters& base,
+                               const Observation& observation, const GcProblem& train_gc,
+                               int threads) {
+  EstimationProblem problem;
+  problem.model = request.robot;
+  problem.base = &base;
+  problem.least_squares.observation = &observation;
+  problem.physical.prior_weight = request.prior_weight;
+  problem.train_gc = &train_gc;
+  problem.search_start = SearchStart::kPhysicallyConsistent;
+  problem.search_budget.max_seconds = request.search_seconds;
+  problem.search_budget.max_evaluations = request.search_evaluations;
+  problem.seed = request.seed;
+  problem.refine.options.max_iterations = request.refine_iterations;
+  problem.refine.options.max_seconds = request.refine_seconds;
+  problem.refine.options.function_tolerance = request.refine_tolerance;
+  problem.refine.keep_if_better = request.keep_if_better;
+  problem.combined.gc_weight = request.combined_weight;
+  problem.combined.max_iterations = request.refine_iterations;
+  problem.combined.max_seconds = request.refine_seconds;
+  problem.combined.function_tolerance = request.refine_tolerance;
+  problem.threads = threads;
+  problem.control = request.control;
+  return problem;
+}
+
+}  // namespace
+
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   request.check();
   const auto t0 = Clock::now();
@@ -129,26 +161,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // estimate: the best torque fit that is a realisable body with friction that dissipates (the
   // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
   // from either can diverge).
-  EstimationProblem problem;
-  problem.model = robot;
-  problem.base = &base;
-  problem.least_squares.observation = &observation;
-  problem.physical.prior_weight = request.prior_weight;
-  problem.train_gc = &train_gc;
-  problem.search_start = SearchStart::kPhysicallyConsistent;
-  problem.search_budget.max_seconds = request.search_seconds;
-  problem.search_budget.max_evaluations = request.search_evaluations;
-  problem.seed = request.seed;
-  problem.refine.options.max_iterations = request.refine_iterations;
-  problem.refine.options.max_seconds = request.refine_seconds;
-  problem.refine.options.function_tolerance = request.refine_tolerance;
-  problem.refine.keep_if_better = request.keep_if_better;
-  problem.combined.gc_weight = request.combined_weight;
-  problem.combined.max_iterations = request.refine_iterations;
-  problem.combined.max_seconds = request.refine_seconds;
-  problem.combined.function_tolerance = request.refine_tolerance;
-  problem.threads = threads;
-  problem.control = request.control;
+  EstimationProblem problem = studyProblem(request, base, observation, train_gc, threads);
   MethodRunner runner(std::move(problem));
   const std::vector<Method> methods = request.methods.empty() ? allMethods() : request.methods;
   const bool searching = std::any_of(methods.begin(), methods.end(),
