@@ -19,6 +19,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/integrators.hpp"
+#include "data/bags/bag.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "python/common.hpp"
@@ -500,6 +501,13 @@ PreparePy preparePy(
   }
   if (s.tables.empty() && s.arrays == nullptr)
     throw py::value_error("tables: expected at least one log file");
+  const bool recordings = std::any_of(s.tables.begin(), s.tables.end(),
+                                      [](const std::string& t) { return bags::isBag(t); });
+  if (!recordings && (!topic.empty() || stamp != "header" || !effort_topic.empty() ||
+                      !joint_prefix.empty() || !joint_names.empty()))
+    throw py::value_error(
+        "topic, stamp, effort_topic, joint_prefix and joint_names apply to recordings (.mcap, "
+        ".db3, .bag, bag directories), not to tables or arrays");
   s.effort_topic = effort_topic;
   if (!effort_log.is_none()) s.effort_table = pathArg(effort_log, "effort_log");
   s.time_column = time_column;

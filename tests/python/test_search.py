@@ -418,3 +418,11 @@ def test_prepare_reads_decimal_commas_when_asked(tmp_path, puma_csv):
     prepared = dynid.prepare(comma, decimal_comma=True, **columns)
     assert np.array_equal(prepared.train.tau, expected.train.tau)
     assert np.array_equal(prepared.train.q, expected.train.q)
+
+
+def test_prepare_refuses_recording_options_for_tables(puma_csv):
+    columns = dict(time_column="t", q_columns="q*", tau_columns="tau*")
+    for option in (dict(topic="/joint_states"), dict(stamp="receive"), dict(joint_prefix="left_"),
+                   dict(effort_topic="/efforts"), dict(joint_names=["joint1"])):
+        with pytest.raises(ValueError, match="apply to recordings"):
+            dynid.prepare(puma_csv, **columns, **option)
