@@ -86,16 +86,10 @@ EstimationProblem studyProblem(const LogStudyRequest& request, const BaseParamet
   problem.physical.prior_weight = request.prior_weight;
   problem.train_gc = &train_gc;
   problem.search_start = SearchStart::kPhysicallyConsistent;
-  problem.search_budget.max_seconds = request.search_seconds;
-  problem.search_budget.max_evaluations = request.search_evaluations;
   problem.seed = request.seed;
-  problem.refine.options.max_iterations = request.refine_iterations;
-  problem.refine.options.max_seconds = request.refine_seconds;
-  problem.refine.options.function_tolerance = request.refine_tolerance;
-  problem.refine.keep_if_better = request.keep_if_better;
+  problem.setBudgets(request.search_seconds, request.search_evaluations, request.refine_iterations,
+                     request.refine_seconds, request.refine_tolerance, request.keep_if_better);
   problem.combined.gc_weight = request.combined_weight;
-  problem.combined.max_iterations = request.refine_iterations;
-  problem.combined.max_seconds = request.refine_seconds;
   problem.combined.function_tolerance = request.refine_tolerance;
   problem.threads = threads;
   problem.control = request.control;

@@ -120,6 +120,19 @@ struct EstimationProblem {
   std::function<void(Method, const SearchState&, const ParameterSpace&)> on_search_iteration;
   int threads = 1;  // >= 1
   RunControl control;
+
+  /// The budgets study and batch give: each search's seconds and evaluations, and each
+  /// refinement's iterations, seconds and tolerance, which the combined estimator shares (its
+  /// iterations and seconds; its tolerance stays its own).
+  void setBudgets(double search_seconds, long search_evaluations, int refine_iterations,
+                  double refine_seconds, double refine_tolerance, bool keep_if_better) {
+    search_budget.max_seconds = search_seconds;
+    search_budget.max_evaluations = search_evaluations;
+    refine.options.max_iterations = combined.max_iterations = refine_iterations;
+    refine.options.max_seconds = combined.max_seconds = refine_seconds;
+    refine.options.function_tolerance = refine_tolerance;
+    refine.keep_if_better = keep_if_better;
+  }
 };
 
 /// One method's estimate.

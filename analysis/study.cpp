@@ -113,17 +113,12 @@ Study::Study(const StudySettings& settings, RunControl control)
   problem.train_gc = &train_;
   problem.start = initial_;
   problem.total_mass = totalMass(truth_);
-  problem.search_budget.max_seconds = settings_.search_seconds;
-  problem.search_budget.max_evaluations = settings_.search_evaluations;
   problem.seed = settings_.seed;
-  problem.refine.options.max_iterations = settings_.refine_iterations;
-  problem.refine.options.max_seconds = settings_.refine_seconds;
-  problem.refine.options.function_tolerance = settings_.refine_tolerance;
-  problem.refine.keep_if_better = settings_.keep_if_better;
   // combined (a batch's method) with the refinements' iterations and seconds, as dynid study
   // gives it on logs; its own convergence tolerance.
-  problem.combined.max_iterations = settings_.refine_iterations;
-  problem.combined.max_seconds = settings_.refine_seconds;
+  problem.setBudgets(settings_.search_seconds, settings_.search_evaluations,
+                     settings_.refine_iterations, settings_.refine_seconds,
+                     settings_.refine_tolerance, settings_.keep_if_better);
   problem.truth_full = &truth_full_;
   problem.on_search_iteration = [this](Method method, const SearchState& state,
                                        const ParameterSpace& space) {

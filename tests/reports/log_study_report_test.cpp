@@ -143,8 +143,7 @@ TEST(LogStudyReport, NextGivesTheIdentifyCommandOfTheRecommendedEstimate) {
   // A quote in the path: closed, escaped and reopened ('bob'\''s arm.urdf), one word to sh.
   o.robot_spec = "bob's arm.urdf";
   const std::string quoted = logStudyDocument(o).markdown();
-  EXPECT_NE(quoted.find("--robot 'bob'\\''s arm.urdf' --drive-terms"), std::string::npos)
-      << quoted;
+  EXPECT_NE(quoted.find("--robot 'bob'\\''s arm.urdf' --drive-terms"), std::string::npos) << quoted;
   // The input model recommended: nothing to identify.
   const std::string model =
       logStudyDocument(outcome({row("model", 0.01, 30.0, true), row("pc", 0.02, 80.0, true)}))
