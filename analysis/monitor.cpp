@@ -255,6 +255,15 @@ void MonitorRequest::check() const {
   checkOption("monitor", "max-gap", max_gap, "--max-gap");
   if (gain && (!gain->allFinite() || (gain->array() <= 0.0).any() || (gain->array() > 1e6).any()))
     throw InputError("--gain: each value must be > 0 and at most 1e6 [1/s]");
+  // How a recording is read means nothing for a dataset CSV or stdin: refused, not ignored.
+  const bool recording =
+      bags::isBag(data_file) || (!calibration_file.empty() && bags::isBag(calibration_file));
+  if (!recording && (!topic.empty() || !effort_topic.empty() || !joint_prefix.empty() ||
+                     !joint_names.empty() || receive_time))
+    throw InputError(
+        "--topic, --stamp receive, --effort-topic, --joint-prefix and --joint-names apply to "
+        "recordings (.mcap, .db3, .bag, bag directories), and neither " +
+        data_file + " nor the calibration is one");
 }
 
 namespace {

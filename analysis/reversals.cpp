@@ -9,22 +9,27 @@ namespace dynid {
 
 namespace {
 
-/// The share of sum r^2 that the least-squares fit of a sign(dq) + b dq + c explains (0 when r or
-/// the fit is degenerate).
-double frictionShare(const Eigen::RowVectorXd& dq, const Eigen::RowVectorXd& r) {
-  const Eigen::Index count = dq.size();
-  Eigen::MatrixXd a(count, 3);
-  for (Eigen::Index k = 0; k < count; ++k)
-    a.row(k) << (dq[k] > 0.0 ? 1.0 : dq[k] < 0.0 ? -1.0 : 0.0), dq[k], 1.0;
-  const double total = r.squaredNorm();
+/// The share of sum r^2 that the least-squares fit of a sign(dq) + b dq + c explains: from the
+/// 3 x 3 normal equations accumulated over the samples (nothing stored per sample), as x^T A^T r
+/// / r^T r. 0 when r is zero or the fit is degenerate (a joint at rest has sign(dq) = 0 and a
+/// singular system: the pseudo-solution of the LDLT still gives the constant's share).
+double frictionShare(const Eigen::MatrixXd& dq, const Eigen::MatrixXd& measured,
+                     const Eigen::MatrixXd& predicted, int j) {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (Eigen::Index k = 0; k < dq.cols(); ++k) {
+    const double v = dq(j, k), r = measured(j, k) - predicted(j, k);
+    const Eigen::Vector3d a(v > 0.0 ? 1.0 : v < 0.0 ? -1.0 : 0.0, v, 1.0);
+    normal.noalias() += a * a.transpose();
+    rhs += r * a;
+    total += r * r;
+  }
   if (!(total > 0.0)) return 0.0;
-  const Eigen::Matrix3d normal = a.transpose() * a;
-  const Eigen::Vector3d rhs = a.transpose() * r.transpose();
   const Eigen::LDLT<Eigen::Matrix3d> ldlt(normal);
   if (ldlt.info() != Eigen::Success) return 0.0;
-  const Eigen::Vector3d x = ldlt.solve(rhs);
-  const double left = (r.transpose() - a * x).squaredNorm();
-  return std::isfinite(left) ? std::clamp(1.0 - left / total, 0.0, 1.0) : 0.0;
+  const double explained = ldlt.solve(rhs).dot(rhs);
+  return std::isfinite(explained) ? std::clamp(explained / total, 0.0, 1.0) : 0.0;
 }
 
 }  // namespace
@@ -51,7 +56,7 @@ ReversalResidual reversalResidual(const Prediction& p) {
         ++in_band;
       }
     }
-    out.friction_share[j] = frictionShare(dq.row(j), p.measured.row(j) - p.predicted.row(j));
+    out.friction_share[j] = frictionShare(dq, p.measured, p.predicted, j);
     if (out.friction_share[j] >= kFrictionResidualShare) out.friction_flagged.push_back(j);
     out.sample_share[j] = static_cast<double>(in_band) / count;
     out.residual_share[j] = total > 0.0 ? inside / total : 0.0;

@@ -106,6 +106,14 @@ FourierSeries randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& am
 }
 
 SimulateOutcome simulateRun(const SimulateRequest& request) {
+  if (request.one_period && !request.trajectory.empty()) {
+    // The duration is the design's period, checked (memory included) as a given one would be.
+    SimulateRequest resolved = request;
+    resolved.simulation.duration =
+        readExcitationDesign(request.trajectory, request.robot.numJoints()).period;
+    resolved.one_period = false;
+    return simulateRun(resolved);
+  }
   request.check();
   const Model& truth = request.robot;
   const int n = truth.numJoints();
@@ -120,12 +128,10 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
   Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
   Reference reference;
-  SimulationOptions options = request.simulation;
   if (!request.trajectory.empty()) {
     const FourierSeries design = readExcitationDesign(request.trajectory, n);
     reference = design;
     q0 = design.offset;  // the default gains' configuration
-    if (request.one_period) options.duration = design.period;
   } else if (!request.fourier) {
     SinusoidalReference r;
     r.q0 = q0;
@@ -156,7 +162,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   if (request.tau_max) tau_max = *request.tau_max;
 
   TrackingController controller(controller_model, reference, gains, tau_max);
-  out.trajectory = simulate(truth, controller, options, request.disturbances,
+  out.trajectory = simulate(truth, controller, request.simulation, request.disturbances,
                             request.disturbances.empty() ? nullptr : &out.external);
   // Tracking error RMS and peak torque.
   const Trajectory& t = out.trajectory;

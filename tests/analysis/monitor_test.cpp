@@ -371,15 +371,26 @@ TEST_F(MonitorRun, ARecordingGivesTheSameEventsAsItsSamplesInADataset) {
   for (const std::string& w : b.warnings)
     repeated = repeated || w.find("1 message(s) repeated an earlier stamp") != std::string::npos;
   EXPECT_TRUE(repeated);
-  // The messages' names given for the arm's joints (--joint-names): here its own, the same
-  // events; one name short is refused.
+  // A driver that names the joints A1..A6: refused as lacking the arm's joints, then read with
+  // the messages' names given for them (--joint-names): the same events. One name short, or the
+  // names with a dataset CSV (nothing to name), is refused.
+  Model renamed = model_;
+  for (int j = 0; j < 6; ++j)
+    renamed.joint_names[static_cast<std::size_t>(j)] = "A" + std::to_string(j + 1);
   MonitorRequest named = from_bag;
-  named.joint_names = model_.joint_names;
+  named.data_file = recording("monitor_pushed_a.db3", renamed, pushed, true, 700, 1200);
+  named.calibration_file = recording("monitor_clean_a.db3", renamed, clean);
+  EXPECT_THROW(monitorRun(named), InputError);
+  named.joint_names = renamed.joint_names;
   const MonitorOutcome c = monitorRun(named);
   ASSERT_EQ(c.events.size(), 1u);
+  EXPECT_EQ(c.events[0].joints, b.events[0].joints);
   EXPECT_EQ(c.events[0].peak, b.events[0].peak);
   named.joint_names.pop_back();
   EXPECT_THROW(monitorRun(named), InputError);
+  MonitorRequest csv_named = from_csv;
+  csv_named.joint_names = renamed.joint_names;
+  EXPECT_THROW(monitorRun(csv_named), InputError);
 }
 
 // Messages are put in stamp order within a 1 s window: one received 0.5 s late is used, one 1.5 s

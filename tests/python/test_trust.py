@@ -62,6 +62,12 @@ def test_monitor_reads_recordings_by_joint_name(logs):
         dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), topic="/joint_states")
     with pytest.raises(ValueError, match="stamp"):
         dynid.monitor("puma560", bag, calibration=str(logs / "clean.csv"), stamp="sent")
+    # How a recording is read, given for dataset CSVs: refused, not ignored.
+    for option in (dict(topic="/joint_states"), dict(joint_prefix="left_"),
+                   dict(joint_names=[f"A{j}" for j in range(1, 7)]), dict(stamp="receive")):
+        with pytest.raises(dynid.InputError, match="apply to recordings"):
+            dynid.monitor("puma560", str(logs / "pushed.csv"),
+                          calibration=str(logs / "clean.csv"), **option)
 
 
 def test_monitor_torque_constants_apply_to_recordings_not_datasets(logs):
