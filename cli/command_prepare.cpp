@@ -6,6 +6,7 @@
 #include "cli/common.hpp"
 #include "data/bags/bag.hpp"
 #include "data/robots.hpp"
+#include "data/scratch.hpp"
 #include "reports/output.hpp"
 #include "reports/prepare_report.hpp"
 
@@ -307,7 +308,9 @@ int runPrepare(const std::vector<std::string>& args) {
   readProcessing(vm, o);
   readWindowsAndBounds(vm, source, o);
   readHoldOut(vm, o);
-  const PrepareOutcome outcome = prepareLog(source, o, threadsOption(vm));
+  // The datasets in a scratch file beside the output (memory independent of the log's length).
+  const PrepareOutcome outcome = prepareLog(source, o, threadsOption(vm),
+                                            nearestExistingDirectory(vm["out"].as<std::string>()));
   for (const std::string& warning : outcome.warnings)
     std::cerr << "dynid prepare: warning: " << warning << "\n";
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome, threadsOption(vm));

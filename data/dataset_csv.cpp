@@ -120,12 +120,15 @@ std::size_t formatRows(const Trajectory& t, int first, int last, std::vector<cha
 }
 }  // namespace
 
-void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool) {
-  const int n = trajectory.numJoints(), samples = trajectory.numSamples();
-  for (const Eigen::MatrixXd* m : {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
-    if (m->rows() != n || m->cols() != samples)
-      throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
-                       std::to_string(samples));
+namespace {
+/// Formats rows [first, last) into `text` (sized for them) in buffer `slot` (0 to
+/// 2 kMaxBlocksPerRound - 1: the same slot is never in use on two threads at once) and returns the
+/// length written.
+using FormatBlock =
+    std::function<std::size_t(int first, int last, int slot, std::vector<char>& text)>;
+
+void writeBlocks(AtomicWriter& out, int n, int samples, const FormatBlock& format,
+                 ThreadPool* pool) {
   out.write(datasetHeader(n) + "\n");
   // Streamed a few blocks of rows at a time: memory independent of the length. Formatting
   // (std::to_chars) and writing take most of the time; in each round, one task writes the last
@@ -144,6 +147,7 @@ void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool
     for (int slot = 0; slot < per_round; ++slot)
       set[slot].resize(static_cast<std::size_t>(rows_per_block) * row_bytes);
   std::exception_ptr failure;
+  std::vector<std::exception_ptr> failures(static_cast<std::size_t>(per_round));
   int pending = 0;  // blocks formatted in the last round, not yet written (in set `1 - set`)
   for (int first = 0, set = 0; first < blocks || pending > 0; set = 1 - set) {
     const int round = std::min(per_round, blocks - first);
@@ -158,18 +162,54 @@ void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool
         return;
       }
       const int block = first + index - 1;
-      lengths[set][index - 1] =
-          formatRows(trajectory, block * rows_per_block,
-                     std::min(samples, (block + 1) * rows_per_block), texts[set][index - 1]);
+      try {
+        lengths[set][index - 1] =
+            format(block * rows_per_block, std::min(samples, (block + 1) * rows_per_block),
+                   set * kMaxBlocksPerRound + index - 1, texts[set][index - 1]);
+      } catch (...) {
+        failures[static_cast<std::size_t>(index - 1)] = std::current_exception();  // likewise
+      }
     };
     if (pool && round > 0)
       pool->parallelFor(round + 1, [&](int index, int) { task(index); });
     else
       for (int index = 0; index <= round; ++index) task(index);
     if (failure) std::rethrow_exception(failure);
+    for (const std::exception_ptr& f : failures)
+      if (f) std::rethrow_exception(f);
     pending = round;
     first += round;
   }
+}
+}  // namespace
+
+void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool) {
+  const int n = trajectory.numJoints(), samples = trajectory.numSamples();
+  for (const Eigen::MatrixXd* m : {&trajectory.q, &trajectory.dq, &trajectory.ddq, &trajectory.tau})
+    if (m->rows() != n || m->cols() != samples)
+      throw InputError("trajectory matrices must all be " + std::to_string(n) + " x " +
+                       std::to_string(samples));
+  writeBlocks(
+      out, n, samples,
+      [&](int first, int last, int, std::vector<char>& text) {
+        return formatRows(trajectory, first, last, text);
+      },
+      pool);
+}
+
+void writeDatasetCsv(AtomicWriter& out, int num_joints, int samples, const DatasetRows& rows,
+                     ThreadPool* pool) {
+  std::vector<Trajectory> chunks(2 * kMaxBlocksPerRound);
+  writeBlocks(
+      out, num_joints, samples,
+      [&](int first, int last, int slot, std::vector<char>& text) {
+        Trajectory& chunk = chunks[static_cast<std::size_t>(slot)];
+        rows(first, last, chunk);
+        if (chunk.numJoints() != num_joints || chunk.numSamples() != last - first)
+          throw InputError("a dataset's rows came back in the wrong shape");
+        return formatRows(chunk, 0, last - first, text);
+      },
+      pool);
 }
 
 void writeExternalTorqueCsv(const std::string& path, const Eigen::VectorXd& time,

@@ -2,6 +2,7 @@
 // SI units (s, rad, rad/s, rad/s^2, N m), comma-separated, '.' as the decimal point.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -25,6 +26,14 @@ void writeDatasetCsv(const std::string& path, const Trajectory& trajectory,
 /// The same rows into `out` (a member of an output set), which the caller commits. With a pool,
 /// blocks of rows are formatted on its threads and written in order: the same bytes.
 void writeDatasetCsv(AtomicWriter& out, const Trajectory& trajectory, ThreadPool* pool = nullptr);
+/// Rows [first, last) of a dataset into `chunk` (sized n x (last - first) by the callee); called
+/// from several threads at once for different rows and chunks.
+using DatasetRows = std::function<void(int first, int last, Trajectory& chunk)>;
+/// The same for a dataset of `num_joints` joints and `samples` rows held elsewhere (a scratch
+/// file): read back and formatted a few blocks at a time, on the pool's threads. The same bytes as
+/// the trajectory's. Throws what `rows` throws.
+void writeDatasetCsv(AtomicWriter& out, int num_joints, int samples, const DatasetRows& rows,
+                     ThreadPool* pool = nullptr);
 
 /// A simulation's ground truth of external joint torques: header t,tau_ext1..tau_extn, one row per
 /// sample (time.size() columns of `external`, n x samples), written atomically. Throws Error when

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "analysis/records/document.hpp"
 #include "core/format.hpp"
@@ -143,7 +144,7 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
            : derivatives + (o.dq_derived && o.savgol_window > 0 ? " of the filtered q" : " of dq")},
       {"trimmed_each_end", o.trim},
       {"decimate", o.decimate},
-      {"samples", {{"train", o.train.numSamples()}, {"validate", o.validate.numSamples()}}},
+      {"samples", {{"train", o.trainSamples()}, {"validate", o.validateSamples()}}},
       {"held_out", held_out},
       {"tau_noise_rms", numbersOrNull(o.tau_noise)}};
 }
@@ -202,9 +203,20 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   // The datasets' numbers formatted on the threads (the same bytes): on an hour-long log, most
   // of the time the outputs take (docs/PERFORMANCE.md).
   ThreadPool pool(threads);
-  writeDatasetCsv(set.stream("train.csv"), outcome.train, &pool);
-  if (outcome.validate.numSamples() > 0)
-    writeDatasetCsv(set.stream("validate.csv"), outcome.validate, &pool);
+  for (const auto& [name, memory, scratch] :
+       {std::tuple{"train.csv", &outcome.train, outcome.scratch_train.get()},
+        std::tuple{"validate.csv", &outcome.validate, outcome.scratch_validate.get()}}) {
+    if (name == std::string("validate.csv") && outcome.validateSamples() == 0) continue;
+    if (scratch == nullptr) {
+      writeDatasetCsv(set.stream(name), *memory, &pool);
+      continue;
+    }
+    // Read back from the scratch file a few blocks of rows at a time (prepareLog's scratch_dir).
+    writeDatasetCsv(
+        set.stream(name), scratch->numJoints(), static_cast<int>(scratch->numSamples()),
+        [scratch](int first, int last, Trajectory& chunk) { scratch->rows(first, last, chunk); },
+        &pool);
+  }
   if (options.keep_raw_torque) {
     AtomicWriter& raw = set.stream("validate_raw.csv");
     std::string line = "t";
@@ -255,9 +267,9 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   else
     out << (outcome.ddq_logged ? std::string("dq and ddq logged") : "ddq by " + method);
   out << ", " << outcome.trim << " s trimmed at each end, every " << outcome.decimate << " kept\n"
-      << "wrote " << dir << "/train.csv (" << outcome.train.numSamples() << " samples)";
-  if (outcome.validate.numSamples() > 0)
-    out << ", " << dir << "/validate.csv (" << outcome.validate.numSamples() << ")";
+      << "wrote " << dir << "/train.csv (" << outcome.trainSamples() << " samples)";
+  if (outcome.validateSamples() > 0)
+    out << ", " << dir << "/validate.csv (" << outcome.validateSamples() << ")";
   if (options.keep_raw_torque)
     out << ", " << dir << "/validate_raw.csv (" << outcome.raw_validate_time.size()
         << " raw torque samples)";

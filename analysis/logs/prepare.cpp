@@ -342,12 +342,89 @@ struct Filters {
   const std::vector<Biquad>& noise() const { return q.empty() ? tau : q; }
 };
 
+/// Where the runs' samples go: the outcome's trajectories, or scratch files (prepareLog's
+/// scratch_dir).
+class Destination {
+ public:
+  Destination(PrepareOutcome& out, int n, Eigen::Index train, Eigen::Index validate,
+              const std::string& scratch_dir)
+      : out_(out) {
+    if (scratch_dir.empty()) {
+      for (auto [t, samples] : {std::pair{&out.train, train}, std::pair{&out.validate, validate}}) {
+        t->time.resize(samples);
+        for (Eigen::MatrixXd* m : {&t->q, &t->dq, &t->ddq, &t->tau}) m->resize(n, samples);
+      }
+      return;
+    }
+    train_ = std::make_shared<ScratchDataset>(scratch_dir, n, train);
+    validate_ = std::make_shared<ScratchDataset>(scratch_dir, n, validate);
+  }
+  /// The run's output rows r (span.rows) as value(r), into their slots: `signal` of joint j (the
+  /// time: j ignored). Each joint's signals may be stored from its own thread.
+  template <typename Value>
+  void store(const RunSpan& span, ScratchDataset::Signal signal, int j, Value value) const {
+    if (!train_) {
+      for (std::size_t r = 0; r < span.rows.size(); ++r) {
+        Trajectory& t = span.held[r] ? out_.validate : out_.train;
+        const Eigen::Index slot = span.slot[r];
+        switch (signal) {
+          case ScratchDataset::kTime:
+            t.time[slot] = value(r);
+            break;
+          case ScratchDataset::kQ:
+            t.q(j, slot) = value(r);
+            break;
+          case ScratchDataset::kDq:
+            t.dq(j, slot) = value(r);
+            break;
+          case ScratchDataset::kDdq:
+            t.ddq(j, slot) = value(r);
+            break;
+          case ScratchDataset::kTau:
+            t.tau(j, slot) = value(r);
+            break;
+        }
+      }
+      return;
+    }
+    // A run's slots are consecutive in each set: written in blocks, each from its first slot.
+    constexpr std::size_t kBlock = 1 << 14;
+    std::vector<double> blocks[2];
+    Eigen::Index first[2] = {-1, -1};
+    const auto flush = [&](int set) {
+      if (blocks[set].empty()) return;
+      (set == 1 ? validate_ : train_)
+          ->write(signal, j, first[set], blocks[set].data(),
+                  static_cast<Eigen::Index>(blocks[set].size()));
+      first[set] += static_cast<Eigen::Index>(blocks[set].size());
+      blocks[set].clear();
+    };
+    for (std::size_t r = 0; r < span.rows.size(); ++r) {
+      const int set = span.held[r] ? 1 : 0;
+      if (first[set] < 0) first[set] = span.slot[r];
+      blocks[set].push_back(value(r));
+      if (blocks[set].size() == kBlock) flush(set);
+    }
+    flush(0);
+    flush(1);
+  }
+  /// Into the outcome (scratch files).
+  void finish() {
+    out_.scratch_train = train_;
+    out_.scratch_validate = validate_;
+  }
+
+ private:
+  PrepareOutcome& out_;
+  std::shared_ptr<ScratchDataset> train_, validate_;
+};
+
 /// One kept run, joint by joint: resampled, filtered, differentiated, and its trimmed, decimated
 /// samples written into the preallocated train and validate sets. `excerpt`: record
 /// PrepareOutcome's excerpt from this run.
 void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters,
                 const PrepareOptions& options, bool excerpt, Eigen::VectorXd& noise_sum,
-                ThreadPool* pool, PrepareOutcome& out) {
+                ThreadPool* pool, const Destination& destination, PrepareOutcome& out) {
   const std::vector<Biquad>& filter = filters.q;
   const int n = s.n, count = span.count;
   const double h = 1.0 / out.rate, t0 = span.run.start + span.run.time_offset;
@@ -357,12 +434,11 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
       return order == 1 ? derivative(x, h) : derivative(derivative(x, h), h);
     return savitzkyGolay(x, h, window, options.savgol_degree, order);
   };
-  const auto store = [&](Eigen::MatrixXd Trajectory::*member, int j, const Eigen::VectorXd& x) {
-    for (std::size_t r = 0; r < span.rows.size(); ++r)
-      ((span.held[r] ? out.validate : out.train).*member)(j, span.slot[r]) = x[span.rows[r]];
+  const auto store = [&](ScratchDataset::Signal signal, int j, const Eigen::VectorXd& x) {
+    destination.store(span, signal, j, [&](std::size_t r) { return x[span.rows[r]]; });
   };
-  for (std::size_t r = 0; r < span.rows.size(); ++r)
-    (span.held[r] ? out.validate : out.train).time[span.slot[r]] = t0 + span.rows[r] * h;
+  destination.store(span, ScratchDataset::kTime, 0,
+                    [&](std::size_t r) { return t0 + span.rows[r] * h; });
   if (excerpt && !filters.noise().empty()) {
     const int length = std::min(count, static_cast<int>(std::lround(2.0 * out.rate)));
     const int first = (count - length) / 2;
@@ -399,7 +475,7 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
         }
         tau.swap(smooth);
       }
-      store(&Trajectory::tau, j, tau);
+      store(ScratchDataset::kTau, j, tau);
     }
     Eigen::VectorXd q = signal(1 + j);
     if (!filter.empty()) filtfiltInPlace(filter, q);
@@ -422,11 +498,11 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     } else if (ddq.size() == 0) {
       ddq = differentiate(dq, 1);
     }
-    store(&Trajectory::q, j, q);
+    store(ScratchDataset::kQ, j, q);
     q = Eigen::VectorXd();
-    store(&Trajectory::dq, j, dq);
+    store(ScratchDataset::kDq, j, dq);
     dq = Eigen::VectorXd();
-    store(&Trajectory::ddq, j, ddq);
+    store(ScratchDataset::kDdq, j, ddq);
   };
   if (pool == nullptr) {
     for (int j = 0; j < n; ++j) joint(j);
@@ -460,14 +536,6 @@ void keepRawHeld(const RawSignals& s, const RunSpan& span, double rate, std::vec
     times.push_back(s.values(k, 0) + span.run.time_offset);
     for (int j = 0; j < s.n; ++j) taus.push_back(s.values(k, 1 + s.n + j));
   }
-}
-
-void allocate(Trajectory& t, int n, Eigen::Index samples) {
-  t.time.resize(samples);
-  t.q.resize(n, samples);
-  t.dq.resize(n, samples);
-  t.ddq.resize(n, samples);
-  t.tau.resize(n, samples);
 }
 
 }  // namespace
@@ -838,25 +906,47 @@ Eigen::VectorXd boundsOf(const Eigen::VectorXd& given, double fallback, int n, c
   return given;
 }
 
-/// Row j of a signal over the train and validate sets: the 99th percentile of its magnitude (spikes
-/// aside), its peak and the time of the peak.
-struct Magnitude {
-  double p99 = 0.0, peak = 0.0, at = 0.0;
-};
-Magnitude magnitudeOf(const PrepareOutcome& out, Eigen::MatrixXd Trajectory::*member, int j) {
-  Magnitude m;
-  std::vector<double> all;
-  all.reserve(static_cast<std::size_t>(out.train.numSamples() + out.validate.numSamples()));
-  for (const Trajectory* t : {&out.train, &out.validate})
-    for (Eigen::Index k = 0; k < t->numSamples(); ++k) {
-      const double x = std::abs((t->*member)(j, k));
-      all.push_back(x);
-      if (x > m.peak) m.peak = x, m.at = t->time[k];
+/// Every sample of one signal of joint j (the time: j ignored), the train set's then the validate
+/// set's.
+Eigen::VectorXd allSamples(const PrepareOutcome& out, ScratchDataset::Signal signal, int j) {
+  Eigen::VectorXd all(out.trainSamples() + out.validateSamples());
+  if (out.scratch_train) {
+    all << out.scratch_train->column(signal, j), out.scratch_validate->column(signal, j);
+    return all;
+  }
+  const auto row = [&](const Trajectory& t) -> Eigen::VectorXd {
+    switch (signal) {
+      case ScratchDataset::kTime:
+        return t.time;
+      case ScratchDataset::kQ:
+        return t.q.row(j).transpose();
+      case ScratchDataset::kDq:
+        return t.dq.row(j).transpose();
+      case ScratchDataset::kDdq:
+        return t.ddq.row(j).transpose();
+      default:
+        return t.tau.row(j).transpose();
     }
+  };
+  all << row(out.train), row(out.validate);
+  return all;
+}
+
+/// Row j of a signal over the train and validate sets: the 99th percentile of its magnitude (spikes
+/// aside), its peak and the sample of the peak (train then validate).
+struct Magnitude {
+  double p99 = 0.0, peak = 0.0;
+  Eigen::Index at = 0;
+};
+Magnitude magnitudeOf(const PrepareOutcome& out, ScratchDataset::Signal signal, int j) {
+  Magnitude m;
+  Eigen::VectorXd all = allSamples(out, signal, j).cwiseAbs();
+  for (Eigen::Index k = 0; k < all.size(); ++k)
+    if (all[k] > m.peak) m.peak = all[k], m.at = k;
   const auto at =
       static_cast<std::ptrdiff_t>(std::floor(0.99 * static_cast<double>(all.size() - 1)));
   std::nth_element(all.begin(), all.begin() + at, all.end());
-  m.p99 = all[static_cast<std::size_t>(at)];
+  m.p99 = all[at];
   return m;
 }
 
@@ -869,8 +959,8 @@ std::string unitHint(const PrepareOutcome& out, const PrepareOptions& options) {
   return mismatch.empty() ? "" : "First: " + mismatch + ". ";
 }
 
-void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareOutcome& out) {
-  const int n = static_cast<int>(out.train.q.rows());
+void checkPlausible(const PrepareOptions& options, int n, bool ddq_meaningful,
+                    PrepareOutcome& out) {
   const Eigen::VectorXd dq_bound = boundsOf(options.dq_bound, kPlausibleSpeed, n, "--dq-max");
   const Eigen::VectorXd ddq_bound =
       boundsOf(options.ddq_bound, kPlausibleAcceleration, n, "--ddq-max");
@@ -878,7 +968,8 @@ void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareO
   for (int j = 0; j < n; ++j)
     for (int order : {1, 2}) {
       if (order == 2 && !ddq_meaningful) continue;
-      const Magnitude m = magnitudeOf(out, order == 1 ? &Trajectory::dq : &Trajectory::ddq, j);
+      const Magnitude m =
+          magnitudeOf(out, order == 1 ? ScratchDataset::kDq : ScratchDataset::kDdq, j);
       if (order == 1) fastest = std::max(fastest, m.p99);
       const double bound = (order == 1 ? dq_bound : ddq_bound)[j];
       if (!(m.p99 > bound)) continue;
@@ -886,8 +977,8 @@ void checkPlausible(const PrepareOptions& options, bool ddq_meaningful, PrepareO
       throw InputError(
           "joint " + std::to_string(j + 1) + ": |" + (order == 1 ? "dq" : "ddq") + "| reaches " +
           formatNumber(m.peak, 4) + (order == 1 ? " rad/s" : " rad/s^2") +
-          " at t = " + formatNumber(m.at, 6) + " s and exceeds " + formatNumber(bound, 4) +
-          " for over 1 % of the samples, more than " +
+          " at t = " + formatNumber(allSamples(out, ScratchDataset::kTime, 0)[m.at], 6) +
+          " s and exceeds " + formatNumber(bound, 4) + " for over 1 % of the samples, more than " +
           (given ? std::string("the bound (--dq-max, --ddq-max, or 3 times --robot's limits)")
                  : std::string("any robot moves")) +
           ": the log's units or columns are likely wrong. " + unitHint(out, options) +
@@ -933,7 +1024,8 @@ void PrepareOptions::check() const {
         throw InputError("the dq and ddq plausibility bounds must be positive");
 }
 
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads) {
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads,
+                          const std::string& scratch_dir) {
   options.check();
   if (options.keep_raw_torque && options.validate_fraction == 0.0 &&
       options.validate_ranges.empty() && options.validate_runs.empty())
@@ -983,8 +1075,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
 
   const SamplePlan plan = planSamples(spans, filters, options, out);
   const int n = files.front().n;
-  allocate(out.train, n, plan.train);
-  allocate(out.validate, n, plan.validate);
+  Destination destination(out, n, plan.train, plan.validate, scratch_dir);
 
   // Pass 4: every kept run, joint by joint (the joints on the threads), into its place.
   std::optional<ThreadPool> pool;
@@ -997,7 +1088,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
     const RunSpan& span = spans[r];
     if (span.kept) {
       prepareRun(files[span.file], span, filters, options, r == plan.longest, noise_sum, joint_pool,
-                 out);
+                 destination, out);
       if (options.keep_raw_torque)
         keepRawHeld(files[span.file], span, out.rate, raw_times, raw_taus);
       out.runs.push_back(span.run);
@@ -1013,8 +1104,38 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
           raw_taus.data(), static_cast<Eigen::Index>(raw_times.size()), n);
   out.tau_noise = noise_count > 0.0 ? Eigen::VectorXd((noise_sum / noise_count).cwiseSqrt())
                                     : Eigen::VectorXd::Zero(n);
-  checkPlausible(options, !filter.empty() || out.ddq_logged, out);
+  destination.finish();
+  checkPlausible(options, n, !filter.empty() || out.ddq_logged, out);
   return out;
+}
+
+ScratchDataset::ScratchDataset(const std::string& dir, int num_joints, Eigen::Index samples)
+    : n_(num_joints), columns_(dir, 1 + 4 * num_joints, samples) {}
+
+void ScratchDataset::write(Signal signal, int joint, Eigen::Index first, const double* values,
+                           Eigen::Index count) {
+  columns_.write(index(signal, joint), first, values, count);
+}
+
+Eigen::VectorXd ScratchDataset::column(Signal signal, int joint) const {
+  Eigen::VectorXd out(numSamples());
+  columns_.read(index(signal, joint), 0, out.data(), out.size());
+  return out;
+}
+
+void ScratchDataset::rows(int first, int last, Trajectory& chunk) const {
+  const int count = last - first;
+  chunk.time.resize(count);
+  columns_.read(0, first, chunk.time.data(), count);
+  Eigen::VectorXd row(count);
+  for (auto [signal, m] : {std::pair{kQ, &chunk.q}, std::pair{kDq, &chunk.dq},
+                           std::pair{kDdq, &chunk.ddq}, std::pair{kTau, &chunk.tau}}) {
+    m->resize(n_, count);
+    for (int j = 0; j < n_; ++j) {
+      columns_.read(index(signal, j), first, row.data(), count);
+      m->row(j) = row.transpose();
+    }
+  }
 }
 
 }  // namespace dynid

@@ -10,6 +10,7 @@
 // differentiated across a file boundary.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "analysis/logs/read_log.hpp"
 #include "core/signal.hpp"
 #include "core/trajectory.hpp"
+#include "data/scratch.hpp"
 
 namespace dynid {
 
@@ -108,8 +110,44 @@ struct PreparedRun {
   int raw_samples = 0, samples = 0;  // in and out (after trimming and decimation)
 };
 
+/// A prepared dataset kept in a scratch file (data/scratch.hpp) rather than in memory: the time,
+/// then each joint's q, dq, ddq and tau, a column each. Written by prepareLog (each joint's
+/// signals from its own thread), read back in blocks of rows.
+class ScratchDataset {
+ public:
+  enum Signal { kTime = 0, kQ, kDq, kDdq, kTau };
+  /// Throws Error when the scratch file cannot be made in `dir`.
+  ScratchDataset(const std::string& dir, int num_joints, Eigen::Index samples);
+  int numJoints() const { return n_; }
+  Eigen::Index numSamples() const { return columns_.rows(); }
+  /// values[0, count) as samples [first, first + count) of `signal` of joint `joint` (ignored for
+  /// the time).
+  void write(Signal signal, int joint, Eigen::Index first, const double* values,
+             Eigen::Index count);
+  /// Every sample of one signal.
+  Eigen::VectorXd column(Signal signal, int joint) const;
+  /// Samples [first, last) into `chunk` (resized), as DatasetRows (data/dataset_csv.hpp) asks.
+  void rows(int first, int last, Trajectory& chunk) const;
+
+ private:
+  int index(Signal signal, int joint) const {
+    return signal == kTime ? 0 : 1 + (signal - 1) * n_ + joint;
+  }
+  int n_ = 0;
+  ScratchColumns columns_;
+};
+
 struct PrepareOutcome {
-  Trajectory train, validate;  // validate empty without a validate fraction
+  /// The datasets (validate empty without a held-out part); both empty when prepareLog was given
+  /// a scratch directory, which holds them in scratch_train and scratch_validate instead.
+  Trajectory train, validate;
+  std::shared_ptr<const ScratchDataset> scratch_train, scratch_validate;
+  Eigen::Index trainSamples() const {
+    return scratch_train ? scratch_train->numSamples() : train.numSamples();
+  }
+  Eigen::Index validateSamples() const {
+    return scratch_validate ? scratch_validate->numSamples() : validate.numSamples();
+  }
   /// The log's first stamp [s] (the first file's earliest, in its unit times the time scale, with
   /// 64-bit precision): every time in the output and in this outcome is the stamp minus it.
   long double time_origin = 0.0L;
@@ -162,7 +200,11 @@ double angleUnitScale(const std::string& unit);
 /// InputError for inconsistent options (cutoff above Nyquist, a run shorter than the filter, no
 /// sample left, currents without one torque constant per joint). The joints are resampled,
 /// filtered and differentiated on `threads` threads (0: every hardware thread, at most 256; the
-/// same bits for any count).
-PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads = 0);
+/// same bits for any count). `scratch_dir` empty: the datasets in PrepareOutcome::train and
+/// validate; else in scratch files in that directory (PrepareOutcome::scratch_train and
+/// scratch_validate, the same numbers): memory independent of their length (an hour at 1 kHz of a
+/// 7-joint arm is 835 MB of doubles). Throws Error when the scratch files cannot be written.
+PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options, int threads = 0,
+                          const std::string& scratch_dir = "");
 
 }  // namespace dynid

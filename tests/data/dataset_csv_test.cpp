@@ -86,18 +86,46 @@ TEST(DatasetCsv, RowsFormattedOnThreadsAreTheRowsInOrder) {
       }
     expected += '\n';
   }
-  for (int threads : {0, 1, 2, 3}) {  // 0: no pool
-    SCOPED_TRACE(threads);
-    const std::string path = test::tempPath("threads.csv");
-    ThreadPool pool(std::max(threads, 1));
+  for (int threads : {0, 1, 2, 3})          // 0: no pool
+    for (bool from_rows : {false, true}) {  // the trajectory, or its rows handed over in blocks
+      SCOPED_TRACE(std::to_string(threads) + (from_rows ? " from rows" : ""));
+      const std::string path = test::tempPath("threads.csv");
+      ThreadPool pool(std::max(threads, 1));
+      AtomicWriter out(path);
+      if (from_rows)
+        writeDatasetCsv(
+            out, 3, samples,
+            [&](int first, int last, Trajectory& chunk) { chunk = t.samples(first, last - first); },
+            threads > 0 ? &pool : nullptr);
+      else
+        writeDatasetCsv(out, t, threads > 0 ? &pool : nullptr);
+      out.commit();
+      std::ifstream in(path, std::ios::binary);
+      const std::string written((std::istreambuf_iterator<char>(in)), {});
+      ASSERT_EQ(written.size(), expected.size());
+      EXPECT_TRUE(written == expected);
+    }
+}
+
+// Rows that fail to come (a scratch file that cannot be read) are the caller's error, after the
+// round, and rows of the wrong shape are refused rather than formatted.
+TEST(DatasetCsv, RowsThatFailToComeAreTheCallersError) {
+  const std::string path = test::tempPath("rows.csv");
+  ThreadPool pool(3);
+  {
     AtomicWriter out(path);
-    writeDatasetCsv(out, t, threads > 0 ? &pool : nullptr);
-    out.commit();
-    std::ifstream in(path, std::ios::binary);
-    const std::string written((std::istreambuf_iterator<char>(in)), {});
-    ASSERT_EQ(written.size(), expected.size());
-    EXPECT_TRUE(written == expected);
+    EXPECT_THROW(writeDatasetCsv(
+                     out, 2, 100000,
+                     [](int first, int, Trajectory&) {
+                       if (first > 0) throw Error("the scratch file cannot be read");
+                     },
+                     &pool),
+                 Error);
   }
+  AtomicWriter out(path);
+  EXPECT_THROW(writeDatasetCsv(
+                   out, 2, 10, [](int, int, Trajectory& chunk) { chunk.resize(2, 3); }, &pool),
+               InputError);
 }
 
 // A write that fails while the pool formats (here: the file-size limit, EFBIG) is the caller's

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <numbers>
@@ -792,6 +793,43 @@ TEST(Prepare, JointsOnThreadsGiveTheSameBitsAsOnOne) {
     EXPECT_EQ(one.excerpt_raw, three.excerpt_raw);
     EXPECT_EQ(one.excerpt_filtered, three.excerpt_filtered);
   }
+}
+
+// The datasets kept in scratch files (as dynid prepare keeps them, whatever the log's length) hold
+// the numbers kept in memory, bit for bit: two runs, held-out samples inside each run (a time
+// range) and at its end, both derivative methods, joints on threads.
+TEST(Prepare, ScratchDatasetsHoldTheSameBitsAsMemory) {
+  const LogSource source = tableSource(writeLog(0.05));
+  PrepareOptions central = msAndDegrees();
+  central.validate_fraction = 0.2;
+  central.validate_ranges = {{1.0, 1.5}};
+  PrepareOptions savgol = central;
+  savgol.savitzky_golay = true;
+  const std::string dir = test::tempPath("scratch");
+  std::filesystem::create_directories(dir);
+  for (const PrepareOptions& o : {central, savgol}) {
+    const PrepareOutcome memory = prepareLog(source, o, 3);
+    const PrepareOutcome scratch = prepareLog(source, o, 3, dir);
+    ASSERT_EQ(memory.runs.size(), 2u);
+    EXPECT_EQ(scratch.train.numSamples(), 0);
+    ASSERT_TRUE(scratch.scratch_train && scratch.scratch_validate);
+    EXPECT_EQ(scratch.warnings, memory.warnings);
+    EXPECT_EQ(scratch.tau_noise, memory.tau_noise);
+    for (const auto& [a, b] : {std::pair{&memory.train, scratch.scratch_train.get()},
+                               {&memory.validate, scratch.scratch_validate.get()}}) {
+      ASSERT_GT(a->numSamples(), 100);
+      ASSERT_EQ(b->numSamples(), a->numSamples());
+      Trajectory chunk;
+      b->rows(0, a->numSamples(), chunk);
+      EXPECT_EQ(chunk.time, a->time);
+      for (auto member : {&Trajectory::q, &Trajectory::dq, &Trajectory::ddq, &Trajectory::tau})
+        EXPECT_EQ(chunk.*member, a->*member);
+      b->rows(37, 90, chunk);  // a block from the middle
+      EXPECT_EQ(chunk.tau, a->tau.middleCols(37, 53));
+      EXPECT_EQ(b->column(ScratchDataset::kDdq, 1), a->ddq.row(1).transpose());
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir));  // the scratch files went with the outcomes
 }
 
 }  // namespace

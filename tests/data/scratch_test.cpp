@@ -1,0 +1,62 @@
+#include "data/scratch.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numeric>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+// Columns written in pieces, out of order and from several places, read back exactly; the file
+// has no name in the directory (nothing to leave behind, nothing for a link to redirect).
+TEST(ScratchColumns, WritesReadBackAndLeaveNoFileBehind) {
+  const std::string dir = test::tempPath("scratch");
+  std::filesystem::create_directories(dir);
+  {
+    ScratchColumns s(dir, 3, 1000);
+    std::vector<double> v(1000);
+    std::iota(v.begin(), v.end(), 0.5);
+    s.write(2, 600, v.data() + 600, 400);
+    s.write(0, 0, v.data(), 1000);
+    s.write(2, 0, v.data(), 600);
+    std::vector<double> back(1000, -1.0);
+    s.read(2, 0, back.data(), 1000);
+    EXPECT_EQ(back, v);
+    s.read(0, 250, back.data(), 10);
+    EXPECT_EQ(back[0], 250.5);
+    EXPECT_EQ(back[9], 259.5);
+    s.read(1, 0, back.data(), 5);  // never written: zeros
+    EXPECT_EQ(back[0], 0.0);
+    EXPECT_EQ(back[4], 0.0);
+    EXPECT_THROW(s.read(2, 990, back.data(), 11), Error);  // past the rows
+    EXPECT_THROW(s.write(3, 0, v.data(), 1), Error);       // no such column
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(ScratchColumns, ADirectoryThatIsNotThereIsNamed) {
+  const std::string dir = test::tempPath("no-such-dir");
+  try {
+    ScratchColumns s(dir, 1, 10);
+    FAIL() << "made a scratch file in a directory that does not exist";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(dir), std::string::npos) << e.what();
+  }
+}
+
+TEST(ScratchColumns, TheNearestExistingDirectoryIsWhereTheOutputWillBe) {
+  const std::string dir = test::tempPath("nearest");
+  std::filesystem::create_directories(dir);
+  EXPECT_EQ(nearestExistingDirectory(dir), dir);
+  EXPECT_EQ(nearestExistingDirectory(dir + "/a/b/out"), dir);
+  EXPECT_EQ(nearestExistingDirectory("no-such-dir-7/out"), ".");
+}
+
+}  // namespace
+}  // namespace dynid
