@@ -173,13 +173,41 @@ LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, 
   return grid;
 }
 
-Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x) {
-  const Eigen::Index count = grid.weight.size();
-  Eigen::VectorXd out(count);
-  for (Eigen::Index k = 0; k < count; ++k) {
-    const int j = grid.below[static_cast<std::size_t>(k)];
+namespace {
+/// out[k] for the grid's times [k0, k1) from x, which holds the stamps' values from stamp `first`
+/// on: the one formula of both resampleLinear overloads.
+void interpolate(const LinearGrid& grid, Eigen::Index k0, Eigen::Index k1, const double* x,
+                 Eigen::Index first, Eigen::VectorXd& out) {
+  for (Eigen::Index k = k0; k < k1; ++k) {
+    const Eigen::Index j = grid.below[static_cast<std::size_t>(k)] - first;
     const double w = grid.weight[k];
     out[k] = (1.0 - w) * x[j] + w * x[j + 1];
+  }
+}
+}  // namespace
+
+Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x) {
+  Eigen::VectorXd out(grid.weight.size());
+  interpolate(grid, 0, out.size(), x.data(), 0, out);
+  return out;
+}
+
+Eigen::VectorXd resampleLinear(
+    const LinearGrid& grid,
+    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index count)>& stamps,
+    Eigen::Index num_stamps, Eigen::Index part) {
+  const Eigen::Index count = grid.weight.size();
+  Eigen::VectorXd out(count);
+  part = std::max<Eigen::Index>(part, 2);
+  for (Eigen::Index k0 = 0; k0 < count;) {
+    // The part from the stamp below time k0 on; the times whose two stamps lie in it.
+    const Eigen::Index first = grid.below[static_cast<std::size_t>(k0)];
+    const Eigen::Index length = std::min(part, num_stamps - first);
+    const Eigen::VectorXd x = stamps(first, length);
+    Eigen::Index k1 = k0;
+    while (k1 < count && grid.below[static_cast<std::size_t>(k1)] + 1 < first + length) ++k1;
+    interpolate(grid, k0, k1, x.data(), first, out);
+    k0 = k1;
   }
   return out;
 }

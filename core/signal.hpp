@@ -7,6 +7,7 @@
 // cutoff the filter's -3 dB frequency [Hz].
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,6 +62,13 @@ LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, 
                       int count);
 /// x (one value per stamp of the grid) at the grid's times.
 Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x);
+/// The same for a signal read a part at a time: stamps(first, count) returns the signal's values
+/// at stamps [first, first + count) (count >= 2); the same bits as resampleLinear, holding at
+/// most `part` raw values at once.
+Eigen::VectorXd resampleLinear(
+    const LinearGrid& grid,
+    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index count)>& stamps,
+    Eigen::Index num_stamps, Eigen::Index part);
 
 /// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
 /// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.

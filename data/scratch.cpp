@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -51,47 +52,61 @@ ScratchColumns::~ScratchColumns() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+template <typename Io>
+void ScratchColumns::eachBlock(int column, std::int64_t first, std::int64_t count, Io io) const {
+  constexpr auto kDouble = static_cast<std::int64_t>(sizeof(double));
+  for (std::int64_t done = 0; done < count;) {
+    const std::int64_t row = first + done, block = row / kBlockRows, within = row % kBlockRows;
+    const std::int64_t part = std::min(count - done, kBlockRows - within);
+    io(static_cast<off_t>(((block * columns_ + column) * kBlockRows + within) * kDouble), done,
+       part);
+    done += part;
+  }
+}
+
 void ScratchColumns::write(int column, std::int64_t first, const double* values,
                            std::int64_t count) {
-  if (column < 0 || column >= columns_ || first < 0 || count < 0 || first + count > rows_)
+  if (column < 0 || column >= columns_ || first < 0 || count < 0)
     throw Error("scratch columns: rows out of range");
-  const char* from = reinterpret_cast<const char*>(values);
-  auto left = static_cast<std::size_t>(count) * sizeof(double);
-  auto at =
-      static_cast<off_t>((column * rows_ + first) * static_cast<std::int64_t>(sizeof(double)));
-  while (left > 0) {
-    const ssize_t done = ::pwrite(fd_, from, left, at);
-    if (done < 0 && errno == EINTR) continue;
-    if (done <= 0)
-      throw Error("cannot write the scratch file in '" + dir_ +
-                  "': " + (done < 0 ? std::strerror(errno) : "no space left"));
-    from += done;
-    at += done;
-    left -= static_cast<std::size_t>(done);
-  }
+  eachBlock(column, first, count, [&](off_t at, std::int64_t index, std::int64_t part) {
+    const char* from = reinterpret_cast<const char*>(values + index);
+    auto left = static_cast<std::size_t>(part) * sizeof(double);
+    while (left > 0) {
+      const ssize_t done = ::pwrite(fd_, from, left, at);
+      if (done < 0 && errno == EINTR) continue;
+      if (done <= 0)
+        throw Error("cannot write the scratch file in '" + dir_ +
+                    "': " + (done < 0 ? std::strerror(errno) : "no space left"));
+      from += done;
+      at += done;
+      left -= static_cast<std::size_t>(done);
+    }
+  });
+  if (first + count > rows_)
+    rows_ = first + count;  // only then: concurrent writes within the rows share nothing
 }
 
 void ScratchColumns::read(int column, std::int64_t first, double* values,
                           std::int64_t count) const {
   if (column < 0 || column >= columns_ || first < 0 || count < 0 || first + count > rows_)
     throw Error("scratch columns: rows out of range");
-  char* to = reinterpret_cast<char*>(values);
-  auto left = static_cast<std::size_t>(count) * sizeof(double);
-  auto at =
-      static_cast<off_t>((column * rows_ + first) * static_cast<std::int64_t>(sizeof(double)));
-  while (left > 0) {
-    const ssize_t done = ::pread(fd_, to, left, at);
-    if (done < 0 && errno == EINTR) continue;
-    if (done < 0)
-      throw Error("cannot read the scratch file in '" + dir_ + "': " + std::strerror(errno));
-    if (done == 0) {  // never written: a hole reads as zeros, past the end as nothing
-      std::memset(to, 0, left);
-      return;
+  eachBlock(column, first, count, [&](off_t at, std::int64_t index, std::int64_t part) {
+    char* to = reinterpret_cast<char*>(values + index);
+    auto left = static_cast<std::size_t>(part) * sizeof(double);
+    while (left > 0) {
+      const ssize_t done = ::pread(fd_, to, left, at);
+      if (done < 0 && errno == EINTR) continue;
+      if (done < 0)
+        throw Error("cannot read the scratch file in '" + dir_ + "': " + std::strerror(errno));
+      if (done == 0) {  // never written, past the file's end: zeros
+        std::memset(to, 0, left);
+        return;
+      }
+      to += done;
+      at += done;
+      left -= static_cast<std::size_t>(done);
     }
-    to += done;
-    at += done;
-    left -= static_cast<std::size_t>(done);
-  }
+  });
 }
 
 std::string nearestExistingDirectory(const std::string& path) {

@@ -331,7 +331,8 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
   return scan;
 }
 
-RawSignals readBagLog(const LogSource& source, const std::string& path) {
+RawSignals readBagLog(const LogSource& source, const std::string& path,
+                      const std::string& scratch_dir) {
   RawSignals out;
   out.file = path;
   out.tau_file = path;
@@ -345,13 +346,35 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   std::vector<std::int64_t> stamps;  // every row's, on the recording's clock [ns] (joins only)
   std::int64_t first_ns = 0;
   const bool separate_effort = !source.effort_topic.empty() || !source.effort_table.empty();
+  // With a scratch directory: the time in memory, every other column written to the scratch file
+  // a block at a time (the block's rows, column by column).
+  const bool spill = !scratch_dir.empty() && !separate_effort;
+  std::vector<double> times, column;
+  const auto spillBlock = [&] {
+    std::vector<double>& block = blocks.back();
+    const std::size_t held = block.size() / width, first = times.size();
+    column.resize(held);
+    for (std::size_t c = 0; c < width; ++c) {
+      for (std::size_t k = 0; k < held; ++k) column[k] = block[k * width + c];
+      if (c == 0)
+        times.insert(times.end(), column.begin(), column.end());
+      else
+        out.spilled->write(static_cast<int>(c) - 1, static_cast<std::int64_t>(first), column.data(),
+                           static_cast<std::int64_t>(held));
+    }
+    block.clear();
+  };
   const JointStateScan scan =
       scanJointStates(source, path, [&](std::int64_t ns, const std::vector<double>& row) {
         if (total == 0) {
           first_ns = ns;
           width = 1 + row.size();
+          if (spill)
+            out.spilled =
+                std::make_shared<ScratchColumns>(scratch_dir, static_cast<int>(row.size()));
         }
-        if (blocks.empty() || blocks.back().size() == kBlockRows * width) {
+        if (spill && !blocks.empty() && blocks.back().size() == kBlockRows * width) spillBlock();
+        if (blocks.empty() || (!spill && blocks.back().size() == kBlockRows * width)) {
           blocks.emplace_back();
           blocks.back().reserve(kBlockRows * width);
         }
@@ -367,7 +390,10 @@ RawSignals readBagLog(const LogSource& source, const std::string& path) {
   if (const std::string w = prefixWarning(scan); !w.empty()) out.warnings.push_back(w);
   auto count = static_cast<Eigen::Index>(total);
   const auto columns = static_cast<Eigen::Index>(width);
-  if (separate_effort) {
+  if (spill) {
+    if (!blocks.empty()) spillBlock();
+    out.values = Eigen::Map<const Eigen::VectorXd>(times.data(), count);
+  } else if (separate_effort) {
     std::vector<double> rows;
     rows.reserve(total * width);
     for (std::vector<double>& block : blocks) {

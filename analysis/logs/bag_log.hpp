@@ -47,6 +47,9 @@ std::string prefixWarning(const JointStateScan& scan);
 /// naming the recording and what is wrong: no JointState topic, several without --topic, joints
 /// of the robot the messages lack (and the names they hold), no effort, header stamps that are
 /// all zero (use the receive time); ParseError for a damaged file (file and byte offset).
-RawSignals readBagLog(const LogSource& source, const std::string& path);
+/// With `scratch_dir` and the efforts in the messages, the samples go to a scratch file there as
+/// they are read (RawSignals::spilled: memory independent of the recording's length).
+RawSignals readBagLog(const LogSource& source, const std::string& path,
+                      const std::string& scratch_dir = "");
 
 }  // namespace dynid

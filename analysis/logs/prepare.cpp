@@ -20,17 +20,21 @@
 #include "data/io.hpp"
 
 namespace dynid {
-
 namespace {
 
 /// The log's signals in SI units: time and angles scaled, motor currents times torque constant
 /// and gear ratio.
 void applyUnits(RawSignals& out, const LogSource& source, const PrepareOptions& options) {
   const int n = out.n;
+  // Column by column (the signals may be in a scratch file); a scale of 1 changes nothing.
+  const auto scale = [&](int first, double factor) {
+    if (factor != 1.0)
+      for (int c = first; c < first + n; ++c) out.setColumn(c, out.column(c) * factor);
+  };
   out.values.col(0) *= options.time_scale;
-  out.values.middleCols(1, n) *= options.angle_scale;
-  if (out.has_dq) out.values.middleCols(1 + 2 * n, n) *= options.angle_scale;
-  if (out.has_ddq) out.values.middleCols(out.ddq_at, n) *= options.angle_scale;
+  scale(1, options.angle_scale);
+  if (out.has_dq) scale(1 + 2 * n, options.angle_scale);
+  if (out.has_ddq) scale(out.ddq_at, options.angle_scale);
   if (source.current) {
     const auto check = [&](const Eigen::VectorXd& v, const char* what, bool required) {
       if (v.size() == 0 && !required) return;
@@ -46,8 +50,10 @@ void applyUnits(RawSignals& out, const LogSource& source, const PrepareOptions& 
     check(options.torque_constants, "--torque-constants", true);
     check(options.gear_ratios, "--gear-ratios", false);
     for (int j = 0; j < n; ++j)
-      out.values.col(1 + n + j) *= options.torque_constants[j] *
-                                   (options.gear_ratios.size() > 0 ? options.gear_ratios[j] : 1.0);
+      out.setColumn(1 + n + j,
+                    out.column(1 + n + j) *
+                        (options.torque_constants[j] *
+                         (options.gear_ratios.size() > 0 ? options.gear_ratios[j] : 1.0)));
   } else if (options.torque_constants.size() > 0 || options.gear_ratios.size() > 0) {
     throw InputError("torque constants and gear ratios apply to motor currents (--current)");
   }
@@ -59,14 +65,7 @@ double median(std::vector<double> v) {
 }
 
 /// Keeps the rows `kept` (increasing) in place.
-void compact(RawSignals& s, const std::vector<Eigen::Index>& kept) {
-  Eigen::Index to = 0;
-  for (Eigen::Index from : kept) {
-    if (from != to) s.values.row(to) = s.values.row(from);
-    ++to;
-  }
-  s.rows = to;
-}
+void compact(RawSignals& s, const std::vector<Eigen::Index>& kept) { s.keep(kept); }
 
 /// Sorts by time (stable) and keeps the first sample of each repeated stamp; counts both. A stamp
 /// that goes back further than the gap limit (`max_gap`, or 5 median forward steps) is not jitter
@@ -78,7 +77,7 @@ void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
     for (Eigen::Index k = 1; k < s.rows; ++k)
       if (s.values(k, 0) > s.values(k - 1, 0))
         forward.push_back(s.values(k, 0) - s.values(k - 1, 0));
-    max_gap = forward.empty() ? 0.0 : 5.0 * median(forward);
+    max_gap = forward.empty() ? 0.0 : 5.0 * median(std::move(forward));
   }
   bool sorted = true;
   for (Eigen::Index k = 1; k < s.rows; ++k)
@@ -100,7 +99,7 @@ void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
     std::stable_sort(order.begin(), order.end(), [&](Eigen::Index a, Eigen::Index b) {
       return s.values(a, 0) < s.values(b, 0);
     });
-    s.values = Eigen::MatrixXd(s.values(order, Eigen::all));
+    s.keep(order);
   }
   std::vector<Eigen::Index> kept;
   kept.reserve(static_cast<std::size_t>(s.rows));
@@ -114,10 +113,16 @@ void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
   compact(s, kept);
 }
 
-bool sameSample(const RawSignals& s, Eigen::Index a, Eigen::Index b) {
-  for (Eigen::Index c = 1; c < s.values.cols(); ++c)
-    if (s.values(a, c) != s.values(b, c)) return false;
-  return true;
+/// Per sample: 1 when every signal equals the previous sample's (k > 0), found column by column.
+std::vector<char> sameAsPrevious(const RawSignals& s) {
+  std::vector<char> same(static_cast<std::size_t>(s.rows), 1);
+  if (s.rows > 0) same[0] = 0;
+  for (int c = 1; c < s.numColumns(); ++c) {
+    const Eigen::VectorXd x = s.column(c);
+    for (Eigen::Index k = 1; k < s.rows; ++k)
+      if (x[k] != x[k - 1]) same[static_cast<std::size_t>(k)] = 0;
+  }
+  return same;
 }
 
 /// Drops stalled repeats (PrepareOptions::keep_stalled): within each stretch of samples identical
@@ -125,10 +130,12 @@ bool sameSample(const RawSignals& s, Eigen::Index a, Eigen::Index b) {
 void dropStalled(RawSignals& s, double max_gap, PrepareOutcome& out) {
   std::vector<Eigen::Index> kept;
   kept.reserve(static_cast<std::size_t>(s.rows));
+  // Equal to the stretch's first sample = equal to the previous one (finite numbers: transitive).
+  const std::vector<char> same = sameAsPrevious(s);
   Eigen::Index k = 0;
   while (k < s.rows) {
     Eigen::Index last = k;
-    while (last + 1 < s.rows && sameSample(s, k, last + 1)) ++last;
+    while (last + 1 < s.rows && same[static_cast<std::size_t>(last + 1)]) ++last;
     kept.push_back(k);
     const double bridged = s.values(last + 1 < s.rows ? last + 1 : last, 0) - s.values(k, 0);
     if (last > k && bridged <= max_gap) {
@@ -147,6 +154,17 @@ std::vector<double> steps(const RawSignals& s) {
   return out;
 }
 
+/// The resampled samples a run writes: first, first + step, ... (size() of them), without a
+/// vector an hour long.
+struct RowList {
+  int first = 0, step = 1;
+  std::size_t count = 0;
+  int operator[](std::size_t r) const { return first + static_cast<int>(r) * step; }
+  std::size_t size() const { return count; }
+  int front() const { return first; }
+  int back() const { return (*this)[count - 1]; }
+};
+
 /// Consecutive samples of one file without a gap, and where its output goes.
 struct RunSpan {
   std::size_t file = 0;
@@ -154,9 +172,11 @@ struct RunSpan {
   PreparedRun run;                  // file and time offset set
   int count = 0, edge = 0;          // resampled samples; trimmed at each end
   bool kept = false;                // long enough for the filter
-  std::vector<int> rows;            // the resampled samples written (trimmed, decimated)
+  RowList rows;                     // the resampled samples written (trimmed, decimated)
   std::vector<char> held;           // per row: 1 when it goes to the validate set
-  std::vector<Eigen::Index> slot;   // per row: its column in the train or validate set
+  /// The train and validate sets' samples of the run's first row in each: its rows of either set
+  /// follow one another from there.
+  Eigen::Index first_slot[2] = {0, 0};
 };
 
 // The most samples a log is resampled to, over all its runs (about 14 h at 1 kHz), and the most
@@ -193,8 +213,8 @@ Eigen::VectorXd resampled(const RawSignals& s, const RunSpan& span, Eigen::Index
     b = std::upper_bound(time.begin() + a, time.end(), t0 + (count - 1) / rate) - time.begin();
     b = std::min<Eigen::Index>(b + 1, time.size());
   }
-  return resampleLinear(time.segment(a, b - a), s.values.col(column).segment(span.begin + a, b - a),
-                        t0, rate, count)
+  return resampleLinear(time.segment(a, b - a), s.column(column, span.begin + a, b - a), t0, rate,
+                        count)
       .col(0);
 }
 
@@ -342,6 +362,11 @@ struct Filters {
   const std::vector<Biquad>& noise() const { return q.empty() ? tau : q; }
 };
 
+/// With the log in a scratch file (a long recording), the joints prepared at a time are as many
+/// as fit in this many bytes of signal-long vectors (a joint holds about three at once): an hour
+/// at 1 kHz, one at a time.
+constexpr double kSpilledJointBytes = 128e6;
+
 /// Where the runs' samples go: the outcome's trajectories, or scratch files (prepareLog's
 /// scratch_dir).
 class Destination {
@@ -364,9 +389,10 @@ class Destination {
   template <typename Value>
   void store(const RunSpan& span, ScratchDataset::Signal signal, int j, Value value) const {
     if (!train_) {
+      Eigen::Index next[2] = {span.first_slot[0], span.first_slot[1]};
       for (std::size_t r = 0; r < span.rows.size(); ++r) {
         Trajectory& t = span.held[r] ? out_.validate : out_.train;
-        const Eigen::Index slot = span.slot[r];
+        const Eigen::Index slot = next[span.held[r] ? 1 : 0]++;
         switch (signal) {
           case ScratchDataset::kTime:
             t.time[slot] = value(r);
@@ -390,7 +416,7 @@ class Destination {
     // A run's slots are consecutive in each set: written in blocks, each from its first slot.
     constexpr std::size_t kBlock = 1 << 14;
     std::vector<double> blocks[2];
-    Eigen::Index first[2] = {-1, -1};
+    Eigen::Index first[2] = {span.first_slot[0], span.first_slot[1]};
     const auto flush = [&](int set) {
       if (blocks[set].empty()) return;
       (set == 1 ? validate_ : train_)
@@ -401,7 +427,6 @@ class Destination {
     };
     for (std::size_t r = 0; r < span.rows.size(); ++r) {
       const int set = span.held[r] ? 1 : 0;
-      if (first[set] < 0) first[set] = span.slot[r];
       blocks[set].push_back(value(r));
       if (blocks[set].size() == kBlock) flush(set);
     }
@@ -453,7 +478,14 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
   const LinearGrid grid = linearGrid(s.values.col(0).segment(span.begin, raw),
                                      s.values(span.begin, 0), out.rate, count);
   const auto signal = [&](Eigen::Index column) {
-    return resampleLinear(grid, s.values.col(column).segment(span.begin, raw));
+    if (!s.spilled) return resampleLinear(grid, s.values.col(column).segment(span.begin, raw));
+    // From the scratch file a part at a time: the raw column is never whole in memory.
+    return resampleLinear(
+        grid,
+        [&](Eigen::Index first, Eigen::Index length) {
+          return s.column(static_cast<int>(column), span.begin + first, length);
+        },
+        raw, ScratchColumns::kBlockRows);
   };
   // Each joint on its own (its own rows of the outputs, its own noise sum and excerpt column):
   // the same bits on any number of threads. Each signal is stored and freed as soon as it is
@@ -479,25 +511,27 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     }
     Eigen::VectorXd q = signal(1 + j);
     if (!filter.empty()) filtfiltInPlace(filter, q);
-    Eigen::VectorXd dq;
+    const auto logged = [&](int column) {
+      Eigen::VectorXd x = signal(column);
+      if (!filter.empty()) filtfiltInPlace(filter, x);
+      return x;
+    };
     if (!out.dq_derived) {
-      dq = signal(1 + 2 * n + j);
-      if (!filter.empty()) filtfiltInPlace(filter, dq);
+      // q is final: stored and freed before dq is made (fewer signal-long vectors at a time).
+      store(ScratchDataset::kQ, j, q);
+      q = Eigen::VectorXd();
+      Eigen::VectorXd dq = logged(1 + 2 * n + j);
+      const Eigen::VectorXd ddq = out.ddq_logged ? logged(s.ddq_at + j) : differentiate(dq, 1);
+      store(ScratchDataset::kDq, j, dq);
+      dq = Eigen::VectorXd();
+      store(ScratchDataset::kDdq, j, ddq);
+      return;
     }
     Eigen::VectorXd ddq;
-    if (out.ddq_logged) {
-      ddq = signal(s.ddq_at + j);
-      if (!filter.empty()) filtfiltInPlace(filter, ddq);
-    }
-    if (dq.size() == 0 && ddq.size() > 0) {
-      dq = differentiate(q, 1);
-    } else if (dq.size() == 0) {
-      dq = differentiate(q, 1);
-      // Savitzky-Golay: ddq from the same polynomials as dq; central differences: of dq.
-      ddq = options.savitzky_golay ? differentiate(q, 2) : derivative(dq, h);
-    } else if (ddq.size() == 0) {
-      ddq = differentiate(dq, 1);
-    }
+    if (out.ddq_logged) ddq = logged(s.ddq_at + j);
+    Eigen::VectorXd dq = differentiate(q, 1);
+    // Savitzky-Golay: ddq from the same polynomials as dq; central differences: of dq.
+    if (ddq.size() == 0) ddq = options.savitzky_golay ? differentiate(q, 2) : derivative(dq, h);
     store(ScratchDataset::kQ, j, q);
     q = Eigen::VectorXd();
     store(ScratchDataset::kDq, j, dq);
@@ -526,6 +560,7 @@ void keepRawHeld(const RawSignals& s, const RunSpan& span, double rate, std::vec
                  std::vector<double>& taus) {
   if (span.rows.size() < 2) return;
   const double step = span.rows.size() > 1 ? span.rows[1] - span.rows[0] : 1.0;
+  std::vector<Eigen::Index> kept;  // the raw samples held out, then their torques joint by joint
   for (Eigen::Index k = span.begin; k < span.end; ++k) {
     const double u = (s.values(k, 0) - span.run.start) * rate;  // on the run's grid
     const double from = (u - span.rows.front()) / step;
@@ -534,7 +569,16 @@ void keepRawHeld(const RawSignals& s, const RunSpan& span, double rate, std::vec
     if (r + 1 == span.rows.size() && u == span.rows.back()) --r;  // the last sample itself
     if (r + 1 >= span.rows.size() || !span.held[r] || !span.held[r + 1]) continue;
     times.push_back(s.values(k, 0) + span.run.time_offset);
-    for (int j = 0; j < s.n; ++j) taus.push_back(s.values(k, 1 + s.n + j));
+    kept.push_back(k);
+  }
+  if (kept.empty()) return;
+  const std::size_t at = taus.size();
+  taus.resize(at + kept.size() * static_cast<std::size_t>(s.n));
+  for (int j = 0; j < s.n; ++j) {
+    const Eigen::VectorXd tau = s.column(1 + s.n + j, kept.front(), kept.back() - kept.front() + 1);
+    for (std::size_t i = 0; i < kept.size(); ++i)
+      taus[at + i * static_cast<std::size_t>(s.n) + static_cast<std::size_t>(j)] =
+          tau[kept[i] - kept.front()];
   }
 }
 
@@ -650,7 +694,7 @@ std::string angleUnitMismatch(const std::vector<LogColumns>& files, double angle
 }
 
 std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions& options,
-                                  PrepareOutcome& out) {
+                                  const std::string& scratch_dir, PrepareOutcome& out) {
   std::vector<RawSignals> files;
   std::vector<std::string> names = source.tables;
   if (names.empty()) names.push_back("");  // the per-signal files
@@ -659,7 +703,7 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
   std::vector<double> all_steps;
   std::vector<char> window_held(options.windows.size(), 0);
   for (const std::string& name : names) {
-    files.push_back(readLog(source, name));
+    files.push_back(readLog(source, name, scratch_dir));
     RawSignals& s = files.back();
     for (const std::string& w : s.warnings) out.warnings.push_back(s.file + ": " + w);
     applyUnits(s, source, options);
@@ -714,15 +758,18 @@ std::vector<RawSignals> readFiles(const LogSource& source, const PrepareOptions&
             .append(" s from its first stamp)");
       throw InputError(message);
     }
-    const std::vector<double> st = steps(s);
-    all_steps.insert(all_steps.end(), st.begin(), st.end());
+    std::vector<double> st = steps(s);
+    if (all_steps.empty())
+      all_steps = std::move(st);  // one file: no copy of an hour's steps
+    else
+      all_steps.insert(all_steps.end(), st.begin(), st.end());
   }
   for (std::size_t w = 0; w < options.windows.size(); ++w)
     if (!window_held[w])
       throw InputError("--window " + formatNumber(options.windows[w].first) + ":" +
                        formatNumber(options.windows[w].second) +
                        " holds no sample (times are seconds from the log's first stamp)");
-  out.median_step = median(all_steps);
+  out.median_step = median(std::move(all_steps));
   const std::string& first = names.front().empty() ? source.time_file : names.front();
   if (out.median_step > kSlowestStep || out.median_step < kFastestStep)
     throw InputError(
@@ -749,15 +796,25 @@ void findRest(const std::vector<RawSignals>& files, const std::vector<std::strin
               PrepareOutcome& out) {
   for (std::size_t f = 0; f < files.size(); ++f) {
     const RawSignals& s = files[f];
-    const auto q = s.q();
-    const Eigen::ArrayXd moved =
-        (0.01 * (q.colwise().maxCoeff() - q.colwise().minCoeff()).array()).max(1e-3).transpose();
-    const auto away = [&](Eigen::Index k, Eigen::Index from) {
-      return ((q.row(k) - q.row(from)).array().abs().transpose() > moved).any();
-    };
-    Eigen::Index first = 0, last = s.rows - 1;
-    while (first < s.rows - 1 && !away(first, 0)) ++first;
-    while (last > first && !away(last, s.rows - 1)) --last;
+    // The first sample where any joint has moved from its first position by more than
+    // max(1 mrad, 1 % of its range), and the last where any is that far from its last one: joint
+    // by joint (the signals may be in a scratch file).
+    Eigen::Index first = s.rows - 1, last = -1;
+    for (int j = 0; j < s.n; ++j) {
+      const Eigen::VectorXd q = s.column(1 + j);
+      const double moved = std::max(0.01 * (q.maxCoeff() - q.minCoeff()), 1e-3);
+      for (Eigen::Index k = 0; k < first; ++k)
+        if (std::abs(q[k] - q[0]) > moved) {
+          first = k;
+          break;
+        }
+      for (Eigen::Index k = s.rows - 1; k > last; --k)
+        if (std::abs(q[k] - q[s.rows - 1]) > moved) {
+          last = k;
+          break;
+        }
+    }
+    last = std::max(last, first);
     RestAtEnds rest;
     rest.file = static_cast<int>(f);
     rest.start = s.values(0, 0);
@@ -844,8 +901,11 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const Filters& filters,
       out.dropped_runs.push_back(span.run);
       continue;
     }
-    for (int k = span.edge; k < span.count - span.edge; k += options.decimate)
-      span.rows.push_back(k);
+    span.rows = {span.edge, options.decimate,
+                 static_cast<std::size_t>((span.count - 2 * span.edge + options.decimate - 1) /
+                                          options.decimate)};
+    span.first_slot[0] = plan.train;
+    span.first_slot[1] = plan.validate;
     const auto split = static_cast<std::size_t>(
         std::floor((1.0 - options.validate_fraction) * static_cast<double>(span.rows.size())));
     const bool whole = std::find(options.validate_runs.begin(), options.validate_runs.end(),
@@ -857,7 +917,7 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const Filters& filters,
       bool held = whole || k >= split;
       for (const auto& [from, to] : options.validate_ranges) held = held || (t >= from && t <= to);
       span.held.push_back(held ? 1 : 0);
-      span.slot.push_back(held ? plan.validate++ : plan.train++);
+      ++(held ? plan.validate : plan.train);
     }
     span.run.samples = static_cast<int>(span.rows.size());
     if (plan.longest == spans.size() || span.count > spans[plan.longest].count) plan.longest = r;
@@ -1035,7 +1095,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   checkOption("prepare", "joints", source.num_joints, "joints");
   checkOption("prepare", "threads", threads, "threads");
   PrepareOutcome out;
-  std::vector<RawSignals> files = readFiles(source, options, out);
+  std::vector<RawSignals> files = readFiles(source, options, scratch_dir, out);
   {
     std::vector<std::string> labels = source.tables;
     if (labels.empty()) labels.push_back(source.arrays ? "arrays" : source.time_file);
@@ -1072,14 +1132,24 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   else if (filters.tau_as_q)
     filters.tau = filters.q;
   const std::vector<Biquad>& filter = filters.q;
-
   const SamplePlan plan = planSamples(spans, filters, options, out);
   const int n = files.front().n;
   Destination destination(out, n, plan.train, plan.validate, scratch_dir);
 
-  // Pass 4: every kept run, joint by joint (the joints on the threads), into its place.
+  // Pass 4: every kept run, joint by joint (the joints on the threads), into its place. With the
+  // log in a scratch file, only as many joints at a time as fit in kSpilledJointBytes.
   std::optional<ThreadPool> pool;
   if (n > 1 && threads != 1) pool.emplace(threads);
+  int longest = 0;
+  for (const RunSpan& span : spans) longest = std::max(longest, span.kept ? span.count : 0);
+  const bool spilled = std::any_of(files.begin(), files.end(),
+                                   [](const RawSignals& f) { return f.spilled != nullptr; });
+  const int fit = std::max(
+      1, static_cast<int>(kSpilledJointBytes / (3.0 * sizeof(double) * std::max(longest, 1))));
+  if (pool && spilled && fit < pool->numThreads()) {
+    pool.reset();
+    if (fit > 1) pool.emplace(fit);
+  }
   ThreadPool* joint_pool = pool && pool->numThreads() > 1 ? &*pool : nullptr;
   Eigen::VectorXd noise_sum = Eigen::VectorXd::Zero(n);
   double noise_count = 0.0;

@@ -10,9 +10,43 @@
 
 namespace dynid {
 
-RawSignals readLog(const LogSource& source, const std::string& table_path) {
+Eigen::VectorXd RawSignals::column(int c, Eigen::Index first, Eigen::Index count) const {
+  if (count < 0) count = rows - first;
+  if (!spilled || c == 0) return values.col(c).segment(first, count);
+  Eigen::VectorXd out(count);
+  spilled->read(c - 1, first, out.data(), count);
+  return out;
+}
+
+void RawSignals::setColumn(int c, const Eigen::VectorXd& x) {
+  if (!spilled || c == 0)
+    values.col(c).head(rows) = x;
+  else
+    spilled->write(c - 1, 0, x.data(), rows);
+}
+
+void RawSignals::keep(const std::vector<Eigen::Index>& kept) {
+  const auto count = static_cast<Eigen::Index>(kept.size());
+  bool same = count == rows;
+  for (Eigen::Index k = 0; k < count && same; ++k) same = kept[static_cast<std::size_t>(k)] == k;
+  if (same) return;
+  for (int c = 0; c < numColumns(); ++c) {
+    const Eigen::VectorXd x = column(c);
+    Eigen::VectorXd y(count);
+    for (Eigen::Index k = 0; k < count; ++k) y[k] = x[kept[static_cast<std::size_t>(k)]];
+    if (!spilled || c == 0)
+      values.col(c).head(count) = y;
+    else
+      spilled->write(c - 1, 0, y.data(), count);
+  }
+  rows = count;
+}
+
+RawSignals readLog(const LogSource& source, const std::string& table_path,
+                   const std::string& scratch_dir) {
   if (table_path.empty() && source.arrays != nullptr) return *source.arrays;
-  if (!table_path.empty() && bags::isBag(table_path)) return readBagLog(source, table_path);
+  if (!table_path.empty() && bags::isBag(table_path))
+    return readBagLog(source, table_path, scratch_dir);
   RawSignals out;
   int n = source.num_joints;
   std::string tau_file = table_path;

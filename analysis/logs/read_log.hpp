@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 
+#include "data/scratch.hpp"
+
 namespace dynid {
 
 struct RawSignals;
@@ -57,10 +59,14 @@ struct LogColumns {
   std::vector<std::string> q, tau, dq, ddq;
 };
 
-/// One file's signals in one matrix, one row per sample: time, q (n), tau (n), then dq (n) and
-/// ddq (n) when logged. Only the first `rows` rows are live (dropping samples compacts in place).
+/// One file's signals, one row per sample: time, q (n), tau (n), then dq (n) and ddq (n) when
+/// logged. In one matrix (`values`), or, for a long recording read with a scratch directory, the
+/// time alone in memory and the other columns in a scratch file (`spilled`, column c at c - 1).
+/// Only the first `rows` rows are live (dropping samples compacts in place). Column c's live rows
+/// are column(c), whichever holds them.
 struct RawSignals {
-  Eigen::MatrixXd values;
+  Eigen::MatrixXd values;  // every column; with `spilled`, the time column alone
+  std::shared_ptr<ScratchColumns> spilled;
   Eigen::Index rows = 0;
   int n = 0;
   bool has_dq = false, has_ddq = false;
@@ -75,15 +81,31 @@ struct RawSignals {
   std::vector<std::string> warnings = {};  // what reading changed (prepare.json's warnings)
   long skipped_missing = 0;  // rows left out for a missing value (LogSource::skip_missing)
   auto time() const { return values.col(0).head(rows); }
+  /// In memory only (not `spilled`): the signals as blocks.
   auto q() const { return values.block(0, 1, rows, n); }
   auto tau() const { return values.block(0, 1 + n, rows, n); }
   auto dq() const { return values.block(0, 1 + 2 * n, rows, n); }
+
+  int numColumns() const {
+    return spilled ? 1 + spilled->columns() : static_cast<int>(values.cols());
+  }
+  /// Live rows [first, first + count) of column c (all of them by default).
+  Eigen::VectorXd column(int c, Eigen::Index first = 0, Eigen::Index count = -1) const;
+  /// Column c's live rows become x (rows entries).
+  void setColumn(int c, const Eigen::VectorXd& x);
+  /// Keeps rows `kept` (indices of live rows, in the order given: increasing to drop rows, a
+  /// permutation to sort them), column by column; rows becomes kept.size().
+  void keep(const std::vector<Eigen::Index>& kept);
 };
 
 /// Recording `table` of `source` (a path in source.tables), or, with `table` empty, the
 /// one-file-per-signal log (or source.arrays when given). Throws ParseError for a malformed file
 /// (file, line, column) and InputError for a source that names too little (no joint count for
 /// per-signal files, no q or tau) or selectors that do not match.
-RawSignals readLog(const LogSource& source, const std::string& table);
+/// With `scratch_dir`, a recording's samples go to a scratch file there as they are read
+/// (RawSignals::spilled; memory independent of its length), except when its efforts come from a
+/// second topic or table (joined in memory).
+RawSignals readLog(const LogSource& source, const std::string& table,
+                   const std::string& scratch_dir = "");
 
 }  // namespace dynid

@@ -37,6 +37,26 @@ TEST(ScratchColumns, WritesReadBackAndLeaveNoFileBehind) {
     EXPECT_THROW(s.write(3, 0, v.data(), 1), Error);       // no such column
     EXPECT_TRUE(std::filesystem::is_empty(dir));
   }
+  {
+    // Appended across blocks without knowing the count: a column's rows in any block read back.
+    const std::int64_t rows = 2 * ScratchColumns::kBlockRows + 123;
+    ScratchColumns s(dir, 2);
+    std::vector<double> v(static_cast<std::size_t>(rows));
+    std::iota(v.begin(), v.end(), -7.25);
+    for (std::int64_t first = 0; first < rows; first += 1000) {
+      const std::int64_t count = std::min<std::int64_t>(1000, rows - first);
+      s.write(1, first, v.data() + first, count);
+      s.write(0, first, v.data() + first, count);
+    }
+    EXPECT_EQ(s.rows(), rows);
+    std::vector<double> back(v.size());
+    s.read(1, 0, back.data(), rows);
+    EXPECT_EQ(back, v);
+    s.read(0, ScratchColumns::kBlockRows - 3, back.data(), 10);  // across a block's edge
+    EXPECT_EQ(back[0], v[ScratchColumns::kBlockRows - 3]);
+    EXPECT_EQ(back[9], v[ScratchColumns::kBlockRows + 6]);
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+  }
   EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 

@@ -131,23 +131,112 @@ TEST(BagLog, ALongRecordingReadsBackRowForRowAcrossBlocks) {
   in_messages.tables = separate.tables = {path};
   in_messages.topic = separate.topic = "/joint_states";
   separate.effort_topic = "/efforts";
-  for (const LogSource& source : {in_messages, separate}) {
-    SCOPED_TRACE(source.effort_topic);
-    const RawSignals s = readBagLog(source, path);
-    ASSERT_EQ(s.rows, kMessages);
-    ASSERT_TRUE(s.has_dq);
-    EXPECT_EQ(s.time_origin, 1700000000.0L);
-    for (Eigen::Index k = 0; k < s.rows; ++k) {
-      const auto i = static_cast<int>(k);
-      const std::array<double, 6> v = values(i);
-      ASSERT_EQ(s.time()(k), static_cast<double>(k * 1000000LL) * 1e-9) << k;
-      for (int j = 0; j < 2; ++j) {
-        ASSERT_EQ(s.q()(k, j), v[j]) << k;
-        ASSERT_EQ(s.dq()(k, j), v[2 + j]) << k;
-        ASSERT_EQ(s.tau()(k, j), v[4 + j]) << k;
+  // With a scratch directory, the samples go to a scratch file as they are read (not when the
+  // efforts are joined from a second topic): the same values, column by column.
+  const std::string scratch = test::tempPath("scratch");
+  std::filesystem::create_directories(scratch);
+  for (const LogSource& source : {in_messages, separate})
+    for (const std::string& dir : {std::string(), scratch}) {
+      SCOPED_TRACE(source.effort_topic + " " + dir);
+      const RawSignals s = readBagLog(source, path, dir);
+      EXPECT_EQ(s.spilled != nullptr, !dir.empty() && source.effort_topic.empty());
+      ASSERT_EQ(s.rows, kMessages);
+      ASSERT_TRUE(s.has_dq);
+      ASSERT_EQ(s.numColumns(), 7);
+      EXPECT_EQ(s.time_origin, 1700000000.0L);
+      std::vector<Eigen::VectorXd> columns;
+      for (int c = 0; c < s.numColumns(); ++c) columns.push_back(s.column(c));
+      for (Eigen::Index k = 0; k < s.rows; ++k) {
+        const auto i = static_cast<int>(k);
+        const std::array<double, 6> v = values(i);
+        ASSERT_EQ(columns[0][k], static_cast<double>(k * 1000000LL) * 1e-9) << k;
+        for (int j = 0; j < 2; ++j) {
+          ASSERT_EQ(columns[1 + j][k], v[j]) << k;      // q
+          ASSERT_EQ(columns[3 + j][k], v[4 + j]) << k;  // tau
+          ASSERT_EQ(columns[5 + j][k], v[2 + j]) << k;  // dq
+        }
       }
     }
+  EXPECT_TRUE(std::filesystem::is_empty(scratch));  // the scratch files went with the signals
+}
+
+// A recording prepared through scratch files (its samples spilled as they are read, the joints
+// prepared from there, the datasets kept in scratch files: dynid prepare's path, whatever the
+// length) gives the numbers prepared in memory, bit for bit, through what prepare cleans: rest at
+// the start, a repeated stamp, stamps out of order, stalled repeats and a gap; logged and derived
+// velocities, both derivative methods.
+TEST(BagLog, PreparedThroughScratchFilesItGivesTheBitsPreparedInMemory) {
+  const std::vector<std::string> names = {"a", "b", "c"};
+  const std::string path = test::tempPath("scratch.db3");
+  {
+    test::JointStateDb3 db3(path);
+    std::int64_t ns = 1700000000LL * 1000000000;
+    for (int k = 0; k < 9000; ++k) {
+      const double t = std::max(0.0, 1e-3 * k - 1.0);  // at rest for the first second
+      std::array<double, 3> q{}, dq{}, tau{};
+      for (int j = 0; j < 3; ++j) {
+        const double w = 1.0 + j;
+        q[j] = 0.5 * std::sin(w * t) + 1e-4 * std::sin(97.0 * k);  // with a little "noise"
+        dq[j] = 0.5 * w * std::cos(w * t);
+        tau[j] = 2.0 * q[j] - 0.3 * dq[j] + 0.01 * std::cos(41.0 * k);
+      }
+      if (k >= 3000 && k < 3004) {  // the logger stalls: the same sample, new stamps
+        static std::array<double, 3> held_q, held_dq, held_tau;
+        if (k == 3000) held_q = q, held_dq = dq, held_tau = tau;
+        q = held_q, dq = held_dq, tau = held_tau;
+      }
+      ns += k == 6000 ? 100000000LL : 1000000LL + (k % 7) * 20000LL;  // a gap, and jitter
+      std::int64_t stamp = ns;
+      if (k == 2001) stamp -= 1500000LL;  // before the previous message's
+      db3.add(stamp, ns, names, q.data(), dq.data(), tau.data());
+      if (k == 1500) db3.add(stamp, ns, names, q.data(), dq.data(), tau.data());  // repeated
+    }
+    db3.close();
   }
+  LogSource source;
+  source.tables = {path};
+  PrepareOptions plain;
+  plain.validate_fraction = 0.2;
+  PrepareOptions derived = plain;
+  derived.derive_dq = true;
+  PrepareOptions savgol = derived;
+  savgol.savitzky_golay = true;
+  const std::string scratch = test::tempPath("scratch");
+  std::filesystem::create_directories(scratch);
+  for (const PrepareOptions& o : {plain, derived, savgol}) {
+    const PrepareOutcome memory = prepareLog(source, o, 3);
+    const PrepareOutcome spilled = prepareLog(source, o, 3, scratch);
+    EXPECT_EQ(memory.repeated_stamps, 1);
+    EXPECT_EQ(memory.unsorted_stamps, 1);
+    EXPECT_EQ(memory.stalled_repeats, 3);
+    ASSERT_EQ(memory.runs.size(), 2u);
+    ASSERT_EQ(memory.rest.size(), 1u);
+    // 1000 samples at rest, 1.06 ms apart on average, then the motion's first 1 % of its range.
+    EXPECT_GT(memory.rest[0].leading, 1.06);
+    EXPECT_LT(memory.rest[0].leading, 1.1);
+    for (int PrepareOutcome::*counts :
+         {&PrepareOutcome::repeated_stamps, &PrepareOutcome::unsorted_stamps,
+          &PrepareOutcome::stalled_repeats, &PrepareOutcome::raw_samples})
+      EXPECT_EQ(spilled.*counts, memory.*counts);
+    EXPECT_EQ(spilled.warnings, memory.warnings);
+    EXPECT_EQ(spilled.rest[0].leading, memory.rest[0].leading);
+    EXPECT_EQ(spilled.rest[0].trailing, memory.rest[0].trailing);
+    EXPECT_EQ(spilled.gaps, memory.gaps);
+    EXPECT_EQ(spilled.tau_noise, memory.tau_noise);
+    EXPECT_EQ(spilled.q_spectrum.density, memory.q_spectrum.density);
+    for (const auto& [a, b] : {std::pair{&memory.train, spilled.scratch_train.get()},
+                               {&memory.validate, spilled.scratch_validate.get()}}) {
+      ASSERT_NE(b, nullptr);
+      ASSERT_GT(a->numSamples(), 1000);
+      ASSERT_EQ(b->numSamples(), a->numSamples());
+      Trajectory chunk;
+      b->rows(0, a->numSamples(), chunk);
+      EXPECT_EQ(chunk.time, a->time);
+      for (auto member : {&Trajectory::q, &Trajectory::dq, &Trajectory::ddq, &Trajectory::tau})
+        EXPECT_EQ(chunk.*member, a->*member);
+    }
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(scratch));
 }
 
 // A driver's prefix on every name (Franka's "panda_joint1" for "joint1", beside its gripper's
