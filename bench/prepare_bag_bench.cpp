@@ -26,6 +26,7 @@
 #include "analysis/logs/read_log.hpp"
 #include "core/errors.hpp"
 #include "data/io.hpp"
+#include "data/scratch.hpp"
 #include "reports/prepare_report.hpp"
 #include "tests/common/joint_state_db3.hpp"
 
@@ -167,7 +168,8 @@ void BM_PrepareBag(benchmark::State& state, bool mcap) {
       (std::filesystem::temp_directory_path() / "dynid_bench_prepared_bag").string();
   PrepareOutcome outcome;
   for (auto _ : state) {
-    outcome = prepareLog(source, options);
+    // As the CLI: the samples and the datasets in scratch files beside the output.
+    outcome = prepareLog(source, options, 0, nearestExistingDirectory(dir));
     benchmark::DoNotOptimize(writePrepared(dir, source, options, outcome).size());
   }
   rusage usage{};
@@ -182,10 +184,12 @@ void BM_PrepareBag(benchmark::State& state, bool mcap) {
   arrays.arrays = arraysOf(samples);
   const PrepareOutcome reference = prepareLog(arrays, options);
   double diff = 0.0;
-  for (const auto& [a, b] : {std::pair{&outcome.train.q, &reference.train.q},
-                             {&outcome.train.dq, &reference.train.dq},
-                             {&outcome.train.ddq, &reference.train.ddq},
-                             {&outcome.train.tau, &reference.train.tau}})
+  Trajectory prepared;
+  outcome.scratch_train->rows(0, static_cast<int>(outcome.trainSamples()), prepared);
+  for (const auto& [a, b] : {std::pair{&prepared.q, &reference.train.q},
+                             {&prepared.dq, &reference.train.dq},
+                             {&prepared.ddq, &reference.train.ddq},
+                             {&prepared.tau, &reference.train.tau}})
     diff = a->cols() == b->cols() ? std::max(diff, (*a - *b).cwiseAbs().maxCoeff())
                                   : std::numeric_limits<double>::infinity();
   state.counters["max_diff"] = diff;

@@ -17,6 +17,7 @@
 
 #include "analysis/logs/prepare.hpp"
 #include "data/io.hpp"
+#include "data/scratch.hpp"
 #include "reports/prepare_report.hpp"
 
 namespace {
@@ -66,7 +67,8 @@ void BM_Prepare(benchmark::State& state) {
   const std::string dir =
       (std::filesystem::temp_directory_path() / "dynid_bench_prepared").string();
   for (auto _ : state) {
-    const PrepareOutcome outcome = prepareLog(source, options);
+    // As the CLI: the samples and the datasets in scratch files beside the output.
+    const PrepareOutcome outcome = prepareLog(source, options, 0, nearestExistingDirectory(dir));
     benchmark::DoNotOptimize(writePrepared(dir, source, options, outcome).size());
   }
   rusage usage{};

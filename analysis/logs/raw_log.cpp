@@ -212,7 +212,7 @@ RawTable readRawHeader(const std::string& path, bool decimal_comma) {
 
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
                                long double* time_origin, std::vector<Eigen::Index>* skipped,
-                               std::vector<int>* skipped_lines) {
+                               std::vector<int>* skipped_lines, ScratchColumns* spill) {
   const std::string& path = header.file;
   const auto width = static_cast<int>(header.names.size());
   // Pass 1: the rows, to allocate once.
@@ -225,10 +225,26 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
   std::vector<int> target(static_cast<std::size_t>(width), -1);
   for (std::size_t k = 0; k < columns.size(); ++k)
     target.at(static_cast<std::size_t>(columns[k])) = static_cast<int>(k);
-  requireMemory(static_cast<double>(rows) * static_cast<double>(columns.size()) * sizeof(double),
-                path + ": " + std::to_string(rows) + " rows of " + std::to_string(columns.size()) +
-                    " columns");
-  Eigen::MatrixXd values(rows, static_cast<Eigen::Index>(columns.size()));
+  const auto kept = static_cast<Eigen::Index>(columns.size());
+  if (spill == nullptr)
+    requireMemory(
+        static_cast<double>(rows) * static_cast<double>(kept) * sizeof(double),
+        path + ": " + std::to_string(rows) + " rows of " + std::to_string(kept) + " columns");
+  // With a spill, the rows are parsed into a block, and each full block's first column goes into
+  // `values`, the others into the spill.
+  Eigen::MatrixXd values(rows, spill != nullptr ? 1 : kept);
+  Eigen::MatrixXd block;
+  Eigen::Index block_first = 0;  // the block's first row
+  if (spill != nullptr)
+    block.resize(std::min<Eigen::Index>(rows, ScratchColumns::kBlockRows), kept);
+  const auto flush = [&](Eigen::Index end) {
+    if (spill == nullptr || end == block_first) return;
+    const Eigen::Index count = end - block_first;
+    values.col(0).segment(block_first, count) = block.col(0).head(count);
+    for (Eigen::Index c = 1; c < kept; ++c)
+      spill->write(static_cast<int>(c) - 1, block_first, block.col(c).data(), count);
+    block_first = end;
+  };
   Eigen::Index row = 0, data_row = 0;
   RelativeStamps stamps{time_origin, header.decimal_comma};
   forEachLine(path, [&](const char* begin, const char* end, int line) {
@@ -257,7 +273,10 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
             throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
                              "'" + trim(std::string(b, e)) + "' is not a finite number" + hint);
           }
-          values(row, target[static_cast<std::size_t>(c)]) = x;
+          if (spill != nullptr)
+            block(row - block_first, target[static_cast<std::size_t>(c)]) = x;
+          else
+            values(row, target[static_cast<std::size_t>(c)]) = x;
         });
     if (fields != width)
       throw ParseError(path, line, "",
@@ -268,10 +287,12 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
       if (skipped_lines != nullptr) skipped_lines->push_back(line);
     } else {
       ++row;
+      if (spill != nullptr && row - block_first == block.rows()) flush(row);
     }
     ++data_row;
     return true;
   });
+  flush(row);
   if (data_row != rows)
     throw ParseError(path, 0, "",
                      "the file shrank while being read (" + std::to_string(rows) +

@@ -9,6 +9,8 @@
 
 #include <Eigen/Core>
 
+#include "data/scratch.hpp"
+
 namespace dynid {
 
 /// A table: column names (from the header, or "1", "2", ... when there is none) and the values,
@@ -45,10 +47,14 @@ RawTable readRawHeader(const std::string& path, bool decimal_comma = false);
 /// nan or inf: a logger's dropout) is left out and its 0-based data-row index appended, in order,
 /// and its file line to `skipped_lines` when given; any other field that is not a number is still
 /// an error.
+/// With `spill` (columns.size() - 1 columns), every column but the first goes there as the rows
+/// are parsed, a block at a time, and the result holds the first column alone: memory independent
+/// of the table's length (without, the result is checked against the memory available).
 Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& columns,
                                long double* time_origin = nullptr,
                                std::vector<Eigen::Index>* skipped = nullptr,
-                               std::vector<int>* skipped_lines = nullptr);
+                               std::vector<int>* skipped_lines = nullptr,
+                               ScratchColumns* spill = nullptr);
 
 /// The file line of data row `row` (0-based, in file order) of a table, or 0 past the end: for
 /// messages about a row found wrong after reading (it re-reads the file).

@@ -67,8 +67,12 @@ RawSignals readLog(const LogSource& source, const std::string& table_path,
       }
     std::vector<Eigen::Index> skipped;
     std::vector<int> skipped_lines;
-    out.values = readRawColumns(header, columns, &out.time_origin,
-                                source.skip_missing ? &skipped : nullptr, &skipped_lines);
+    if (!scratch_dir.empty())
+      out.spilled =
+          std::make_shared<ScratchColumns>(scratch_dir, static_cast<int>(columns.size()) - 1);
+    out.values =
+        readRawColumns(header, columns, &out.time_origin, source.skip_missing ? &skipped : nullptr,
+                       &skipped_lines, out.spilled.get());
     const auto names = [&](const std::vector<int>& selected) {
       std::vector<std::string> list;
       for (int c : selected) list.push_back(header.names[static_cast<std::size_t>(c)]);

@@ -102,9 +102,10 @@ struct RawSignals {
 /// one-file-per-signal log (or source.arrays when given). Throws ParseError for a malformed file
 /// (file, line, column) and InputError for a source that names too little (no joint count for
 /// per-signal files, no q or tau) or selectors that do not match.
-/// With `scratch_dir`, a recording's samples go to a scratch file there as they are read
-/// (RawSignals::spilled; memory independent of its length), except when its efforts come from a
-/// second topic or table (joined in memory).
+/// With `scratch_dir`, a table's or a recording's samples go to a scratch file there as they are
+/// read (RawSignals::spilled; memory independent of its length), except a recording's whose
+/// efforts come from a second topic or table (joined in memory). One-file-per-signal logs and
+/// arrays stay in memory.
 RawSignals readLog(const LogSource& source, const std::string& table,
                    const std::string& scratch_dir = "");
 

@@ -237,13 +237,24 @@ TEST(Prepare, SkippedDropoutsGiveTheLogWithoutThoseRowsAndLinesStayTheFiles) {
                            "1 row(s) with a missing value (empty, nan or inf) left out "
                            "(--skip-missing), at line(s) 102") != std::string::npos;
   EXPECT_TRUE(warned);
+  // Through scratch files (dynid prepare's path: the table's columns spilled as they are parsed):
+  // the same row left out, the same numbers.
+  const std::string dir = test::tempPath("dropout_scratch");
+  std::filesystem::create_directories(dir);
+  const PrepareOutcome spilled = prepareLog(source, {}, 0, dir);
+  EXPECT_EQ(spilled.skipped_missing, 1);
+  ASSERT_EQ(spilled.trainSamples(), skipped.train.numSamples());
+  Trajectory rows;
+  spilled.scratch_train->rows(0, skipped.train.numSamples(), rows);
+  EXPECT_EQ(rows.q, skipped.train.q);
+  EXPECT_EQ(rows.tau, skipped.train.tau);
   source.tables = {test::writeTemp("dropout_and_reset.csv", text(true, true))};
-  try {
-    prepareLog(source, {});
-    ADD_FAILURE() << "no error";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 1502) << e.what();  // the file's line, past the skipped one
-  }
+  for (const std::string& scratch : {std::string(), dir}) try {
+      prepareLog(source, {}, 0, scratch);
+      ADD_FAILURE() << "no error";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.line(), 1502) << e.what();  // the file's line, past the skipped one
+    }
 }
 
 TEST(Prepare, StalledRepeatsAreDroppedAndRestIsKept) {
