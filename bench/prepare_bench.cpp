@@ -5,6 +5,7 @@
 // increasing order, so it is the largest size's); signals_MB the log's values as doubles. Run:
 //   build/bench/bench_prepare --benchmark_filter=BM_Prepare/3600000
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <array>
 #include <charconv>
@@ -62,6 +63,9 @@ void BM_Prepare(benchmark::State& state) {
   // The table, its time, q, dq (none) and tau columns; no per-signal files; joints from q.
   const LogSource source{
       {writeLog(samples)}, "t", "q*", "", "tau*", "", "", "", "", 0, false, "", ""};
+  // The log just written goes to disk before the timing: its write-back (a gigabyte for the hour)
+  // would otherwise compete with the prepare being measured.
+  ::sync();
   PrepareOptions options;
   options.validate_fraction = 0.2;
   const std::string dir =

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -135,14 +136,27 @@ Eigen::VectorXd filteredPadded(const std::vector<Biquad>& sections, const Eigen:
 
 }  // namespace
 
+namespace {
+/// y's samples [pad, pad + n) moved to its front and the rest cut off, in y's own storage: no
+/// second signal-long vector.
+void unpad(Eigen::VectorXd& y, Eigen::Index pad, Eigen::Index n) {
+  std::memmove(y.data(), y.data() + pad, static_cast<std::size_t>(n) * sizeof(double));
+  y.conservativeResize(n);
+}
+}  // namespace
+
 Eigen::VectorXd filtfilt(const std::vector<Biquad>& sections, const Eigen::VectorXd& x) {
   Eigen::Index pad = 0;
-  return filteredPadded(sections, x, pad).segment(pad, x.size());
+  Eigen::VectorXd y = filteredPadded(sections, x, pad);
+  unpad(y, pad, x.size());
+  return y;
 }
 
 void filtfiltInPlace(const std::vector<Biquad>& sections, Eigen::VectorXd& x) {
   Eigen::Index pad = 0;
-  x = filteredPadded(sections, x, pad).segment(pad, x.size());
+  Eigen::VectorXd y = filteredPadded(sections, x, pad);
+  unpad(y, pad, x.size());
+  x.swap(y);
 }
 
 Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
@@ -154,60 +168,86 @@ Eigen::MatrixXd resampleLinear(const Eigen::Ref<const Eigen::VectorXd>& time,
   return out;
 }
 
+namespace {
+/// The grid of the times t0 + k / rate for k in [first, first + count) into `grid` (resized;
+/// `below` holds stamp indices into all of `time`): the one formula of every resampling, so a
+/// grid found a part at a time has the same bits as one found at once.
+void gridPart(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate, int first,
+              int count, LinearGrid& grid) {
+  grid.below.resize(static_cast<std::size_t>(std::max(count, 0)));
+  grid.weight.resize(std::max(count, 0));
+  const auto last = static_cast<int>(time.size() - 2);
+  // The stamp below the first time: as the walk from stamp 0 would reach it (stamps before t,
+  // at most the last but one).
+  int j = 0;
+  if (first > 0) {
+    const double t = t0 + first / rate;
+    const auto before =
+        static_cast<int>(std::lower_bound(time.begin(), time.end(), t) - time.begin());
+    j = std::clamp(before - 1, 0, last);
+  }
+  for (int i = 0; i < count; ++i) {
+    const int k = first + i;
+    const double t = t0 + k / rate;
+    while (j < last && time[j + 1] < t) ++j;
+    grid.below[static_cast<std::size_t>(i)] = j;
+    grid.weight[i] = std::clamp((t - time[j]) / (time[j + 1] - time[j]), 0.0, 1.0);
+  }
+}
+}  // namespace
+
 LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate,
                       int count) {
   if (time.size() < 2 || time.size() > std::numeric_limits<int>::max())
     throw InputError("resampling needs 2 to " + std::to_string(std::numeric_limits<int>::max()) +
                      " stamps, not " + std::to_string(time.size()));
   LinearGrid grid;
-  grid.below.resize(static_cast<std::size_t>(std::max(count, 0)));
-  grid.weight.resize(std::max(count, 0));
-  const auto last = static_cast<int>(time.size() - 2);
-  int j = 0;
-  for (int k = 0; k < count; ++k) {
-    const double t = t0 + k / rate;
-    while (j < last && time[j + 1] < t) ++j;
-    grid.below[static_cast<std::size_t>(k)] = j;
-    grid.weight[k] = std::clamp((t - time[j]) / (time[j + 1] - time[j]), 0.0, 1.0);
-  }
+  gridPart(time, t0, rate, 0, count, grid);
   return grid;
 }
 
 namespace {
-/// out[k] for the grid's times [k0, k1) from x, which holds the stamps' values from stamp `first`
-/// on: the one formula of both resampleLinear overloads.
-void interpolate(const LinearGrid& grid, Eigen::Index k0, Eigen::Index k1, const double* x,
-                 Eigen::Index first, Eigen::VectorXd& out) {
-  for (Eigen::Index k = k0; k < k1; ++k) {
-    const Eigen::Index j = grid.below[static_cast<std::size_t>(k)] - first;
-    const double w = grid.weight[k];
-    out[k] = (1.0 - w) * x[j] + w * x[j + 1];
-  }
-}
+/// The one interpolation of both resampleLinear overloads (the same bits from either).
+inline double lerp(double w, double a, double b) { return (1.0 - w) * a + w * b; }
 }  // namespace
 
 Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x) {
-  Eigen::VectorXd out(grid.weight.size());
-  interpolate(grid, 0, out.size(), x.data(), 0, out);
+  const Eigen::Index count = grid.weight.size();
+  Eigen::VectorXd out(count);
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const int j = grid.below[static_cast<std::size_t>(k)];
+    const double w = grid.weight[k];
+    out[k] = lerp(w, x[j], x[j + 1]);
+  }
   return out;
 }
 
 Eigen::VectorXd resampleLinear(
-    const LinearGrid& grid,
-    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index count)>& stamps,
-    Eigen::Index num_stamps, Eigen::Index part) {
-  const Eigen::Index count = grid.weight.size();
-  Eigen::VectorXd out(count);
+    const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate, int count,
+    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index length)>& x,
+    Eigen::Index part) {
+  if (time.size() < 2 || time.size() > std::numeric_limits<int>::max())
+    throw InputError("resampling needs 2 to " + std::to_string(std::numeric_limits<int>::max()) +
+                     " stamps, not " + std::to_string(time.size()));
+  Eigen::VectorXd out(std::max(count, 0));
   part = std::max<Eigen::Index>(part, 2);
-  for (Eigen::Index k0 = 0; k0 < count;) {
-    // The part from the stamp below time k0 on; the times whose two stamps lie in it.
-    const Eigen::Index first = grid.below[static_cast<std::size_t>(k0)];
-    const Eigen::Index length = std::min(part, num_stamps - first);
-    const Eigen::VectorXd x = stamps(first, length);
-    Eigen::Index k1 = k0;
-    while (k1 < count && grid.below[static_cast<std::size_t>(k1)] + 1 < first + length) ++k1;
-    interpolate(grid, k0, k1, x.data(), first, out);
-    k0 = k1;
+  LinearGrid grid;
+  for (int k0 = 0; k0 < count;) {
+    // The next times' grid, then the part of x from the stamp below the first of them on; the
+    // times whose two stamps lie in it.
+    gridPart(time, t0, rate, k0, static_cast<int>(std::min<Eigen::Index>(part, count - k0)), grid);
+    const Eigen::Index first = grid.below.front();
+    const Eigen::Index length = std::min(part, time.size() - first);
+    const Eigen::VectorXd values = x(first, length);
+    int done = 0;
+    while (done < grid.weight.size() &&
+           grid.below[static_cast<std::size_t>(done)] + 1 < first + length) {
+      const Eigen::Index j = grid.below[static_cast<std::size_t>(done)] - first;
+      const double w = grid.weight[done];
+      out[k0 + done] = lerp(w, values[j], values[j + 1]);
+      ++done;
+    }
+    k0 += done;
   }
   return out;
 }

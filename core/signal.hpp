@@ -62,13 +62,15 @@ LinearGrid linearGrid(const Eigen::Ref<const Eigen::VectorXd>& time, double t0, 
                       int count);
 /// x (one value per stamp of the grid) at the grid's times.
 Eigen::VectorXd resampleLinear(const LinearGrid& grid, const Eigen::Ref<const Eigen::VectorXd>& x);
-/// The same for a signal read a part at a time: stamps(first, count) returns the signal's values
-/// at stamps [first, first + count) (count >= 2); the same bits as resampleLinear, holding at
-/// most `part` raw values at once.
+/// x at the times t0 + k / rate (k < count) among strictly increasing `time` (at least 2
+/// stamps), for a signal read a part at a time: x(first, length) returns its values at stamps
+/// [first, first + length) (length >= 2). The grid is found a part at a time too: the same bits as
+/// resampleLinear(linearGrid(time, t0, rate, count), x), holding at most `part` of x's values and
+/// no whole-length grid.
 Eigen::VectorXd resampleLinear(
-    const LinearGrid& grid,
-    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index count)>& stamps,
-    Eigen::Index num_stamps, Eigen::Index part);
+    const Eigen::Ref<const Eigen::VectorXd>& time, double t0, double rate, int count,
+    const std::function<Eigen::VectorXd(Eigen::Index first, Eigen::Index length)>& x,
+    Eigen::Index part);
 
 /// First derivative of a uniformly sampled signal (step h [s]): central differences inside,
 /// second-order one-sided differences at the ends. Exact for polynomials of degree <= 2.

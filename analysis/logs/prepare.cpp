@@ -363,8 +363,8 @@ struct Filters {
 };
 
 /// With the log in a scratch file (a long recording), the joints prepared at a time are as many
-/// as fit in this many bytes of signal-long vectors (a joint holds about three at once): an hour
-/// at 1 kHz, one at a time.
+/// as fit in this many bytes of signal-long vectors (a joint holds two at once): an hour at 1 kHz,
+/// two at a time.
 constexpr double kSpilledJointBytes = 128e6;
 
 /// Where the runs' samples go: the outcome's trajectories, or scratch files (prepareLog's
@@ -473,19 +473,20 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     out.excerpt_filtered.resize(length, n);
   }
   // Every signal of the run shares its stamps: where the output's samples fall among them is
-  // found once (the same values as resampled()).
+  // found once (the same values as resampled()). In a scratch file, the signal and the grid a
+  // part at a time instead (no run-long grid: the same bits).
   const Eigen::Index raw = span.end - span.begin;
-  const LinearGrid grid = linearGrid(s.values.col(0).segment(span.begin, raw),
-                                     s.values(span.begin, 0), out.rate, count);
+  const auto time = s.values.col(0).segment(span.begin, raw);
+  LinearGrid grid;
+  if (!s.spilled) grid = linearGrid(time, s.values(span.begin, 0), out.rate, count);
   const auto signal = [&](Eigen::Index column) {
     if (!s.spilled) return resampleLinear(grid, s.values.col(column).segment(span.begin, raw));
-    // From the scratch file a part at a time: the raw column is never whole in memory.
     return resampleLinear(
-        grid,
+        time, s.values(span.begin, 0), out.rate, count,
         [&](Eigen::Index first, Eigen::Index length) {
           return s.column(static_cast<int>(column), span.begin + first, length);
         },
-        raw, ScratchColumns::kBlockRows);
+        ScratchColumns::kBlockRows);
   };
   // Each joint on its own (its own rows of the outputs, its own noise sum and excerpt column):
   // the same bits on any number of threads. Each signal is stored and freed as soon as it is
@@ -527,13 +528,21 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
       store(ScratchDataset::kDdq, j, ddq);
       return;
     }
-    Eigen::VectorXd ddq;
-    if (out.ddq_logged) ddq = logged(s.ddq_at + j);
+    // dq from q; ddq logged, from q's polynomials (Savitzky-Golay) or of dq (central
+    // differences). Each stored and freed as soon as nothing else needs it: two at a time.
     Eigen::VectorXd dq = differentiate(q, 1);
-    // Savitzky-Golay: ddq from the same polynomials as dq; central differences: of dq.
-    if (ddq.size() == 0) ddq = options.savitzky_golay ? differentiate(q, 2) : derivative(dq, h);
+    if (options.savitzky_golay && !out.ddq_logged) {
+      store(ScratchDataset::kDq, j, dq);
+      dq = Eigen::VectorXd();
+      const Eigen::VectorXd ddq = differentiate(q, 2);
+      store(ScratchDataset::kQ, j, q);
+      q = Eigen::VectorXd();
+      store(ScratchDataset::kDdq, j, ddq);
+      return;
+    }
     store(ScratchDataset::kQ, j, q);
     q = Eigen::VectorXd();
+    const Eigen::VectorXd ddq = out.ddq_logged ? logged(s.ddq_at + j) : derivative(dq, h);
     store(ScratchDataset::kDq, j, dq);
     dq = Eigen::VectorXd();
     store(ScratchDataset::kDdq, j, ddq);
@@ -1145,7 +1154,7 @@ PrepareOutcome prepareLog(const LogSource& source, const PrepareOptions& options
   const bool spilled = std::any_of(files.begin(), files.end(),
                                    [](const RawSignals& f) { return f.spilled != nullptr; });
   const int fit = std::max(
-      1, static_cast<int>(kSpilledJointBytes / (3.0 * sizeof(double) * std::max(longest, 1))));
+      1, static_cast<int>(kSpilledJointBytes / (2.0 * sizeof(double) * std::max(longest, 1))));
   if (pool && spilled && fit < pool->numThreads()) {
     pool.reset();
     if (fit > 1) pool.emplace(fit);

@@ -127,6 +127,38 @@ TEST(Signal, ResamplingIsExactForLinesOnIrregularStamps) {
   EXPECT_THROW(linearGrid(t.head(1), 0.0, 1000.0, 1), InputError);
 }
 
+// A signal read a part at a time, its grid found a part at a time: the same bits as the run-long
+// grid, for parts from the smallest (2 stamps) to more than the signal, on jittered stamps with a
+// gap, resampled faster and slower than logged; each part asked for lies within the stamps and
+// holds at most `part` values.
+TEST(Signal, ResamplingAPartAtATimeGivesTheBitsOfTheWholeGrid) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.3e-3, 0.3e-3);
+  Eigen::VectorXd t(400), x(400);
+  for (int k = 0; k < 400; ++k) {
+    t[k] = 1e-3 * k + (k > 0 ? jitter(rng) : 0.0) + (k >= 250 ? 0.02 : 0.0);  // a 20 ms gap
+    x[k] = std::sin(40.0 * t[k]) + 1e-3 * k;
+  }
+  for (double rate : {1000.0, 3100.0, 350.0}) {
+    const int count = static_cast<int>(std::floor((t[399] - t[0]) * rate + 1e-9)) + 1;
+    const Eigen::VectorXd whole = resampleLinear(linearGrid(t, t[0], rate, count), x);
+    for (Eigen::Index part : {2, 3, 17, 100, 399, 1000}) {
+      SCOPED_TRACE(std::to_string(rate) + " Hz, parts of " + std::to_string(part));
+      const Eigen::VectorXd parts = resampleLinear(
+          t, t[0], rate, count,
+          [&](Eigen::Index first, Eigen::Index length) -> Eigen::VectorXd {
+            EXPECT_GE(first, 0);
+            EXPECT_LE(first + length, t.size());
+            EXPECT_LE(length, part);
+            return x.segment(first, length);
+          },
+          part);
+      ASSERT_EQ(parts.size(), whole.size());
+      EXPECT_TRUE(parts == whole);
+    }
+  }
+}
+
 /// The cascade as filtfilt's contract states it, one section after another over the whole signal
 /// (each starting in its steady state for its input's first value): the reference the filter's
 /// one-loop implementation must match bit for bit.
