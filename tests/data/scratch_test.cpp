@@ -1,7 +1,9 @@
 #include "data/scratch.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
+#include <csignal>
 #include <filesystem>
 #include <numeric>
 #include <vector>
@@ -57,6 +59,35 @@ TEST(ScratchColumns, WritesReadBackAndLeaveNoFileBehind) {
     EXPECT_EQ(back[9], v[ScratchColumns::kBlockRows + 6]);
     EXPECT_TRUE(std::filesystem::is_empty(dir));
   }
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+// A write the file system refuses (here the file-size limit, EFBIG; a full disk alike) is an
+// Error naming the directory and the reason, never a short write taken as done.
+TEST(ScratchColumns, AWriteThatFailsNamesTheDirectoryAndWhy) {
+  const std::string dir = test::tempPath("scratch_fsize");
+  std::filesystem::create_directories(dir);
+  rlimit previous{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &previous), 0);
+  void (*const previous_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limit = previous;
+  limit.rlim_cur = 1 << 20;  // 1 MB: the second column's first block lies past it
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &limit), 0);
+  std::string message;
+  {
+    ScratchColumns s(dir, 4);
+    const std::vector<double> v(1000, 2.5);
+    try {
+      s.write(0, 0, v.data(), 1000);  // within the limit
+      s.write(3, 0, v.data(), 1000);  // at 1.5 MB
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  setrlimit(RLIMIT_FSIZE, &previous);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_NE(message.find(dir), std::string::npos) << message;
+  EXPECT_NE(message.find("too large"), std::string::npos) << message;
   EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
