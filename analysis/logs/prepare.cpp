@@ -444,6 +444,37 @@ class Destination {
   std::shared_ptr<ScratchDataset> train_, validate_;
 };
 
+/// A run's signals at the output's rate. Every signal of the run shares its stamps: where the
+/// output's samples fall among them is found once (the same values as resampled()). In a scratch
+/// file, the signal and the grid a part at a time instead (no run-long grid: the same bits).
+class RunResampler {
+ public:
+  RunResampler(const RawSignals& s, const RunSpan& span, double rate)
+      : s_(s), span_(span), rate_(rate) {
+    if (!s.spilled) grid_ = linearGrid(time(), s.values(span.begin, 0), rate, span.count);
+  }
+  /// Column `column` of the signals (1: q_1, ...), resampled.
+  Eigen::VectorXd operator()(int column) const {
+    const Eigen::Index raw = span_.end - span_.begin;
+    if (!s_.spilled) return resampleLinear(grid_, s_.values.col(column).segment(span_.begin, raw));
+    return resampleLinear(
+        time(), s_.values(span_.begin, 0), rate_, span_.count,
+        [&](Eigen::Index first, Eigen::Index length) {
+          return s_.column(column, span_.begin + first, length);
+        },
+        ScratchColumns::kBlockRows);
+  }
+
+ private:
+  Eigen::Ref<const Eigen::VectorXd> time() const {
+    return s_.values.col(0).segment(span_.begin, span_.end - span_.begin);
+  }
+  const RawSignals& s_;
+  const RunSpan& span_;
+  double rate_;
+  LinearGrid grid_;
+};
+
 /// One kept run, joint by joint: resampled, filtered, differentiated, and its trimmed, decimated
 /// samples written into the preallocated train and validate sets. `excerpt`: record
 /// PrepareOutcome's excerpt from this run.
@@ -472,22 +503,7 @@ void prepareRun(const RawSignals& s, const RunSpan& span, const Filters& filters
     out.excerpt_raw.resize(length, n);
     out.excerpt_filtered.resize(length, n);
   }
-  // Every signal of the run shares its stamps: where the output's samples fall among them is
-  // found once (the same values as resampled()). In a scratch file, the signal and the grid a
-  // part at a time instead (no run-long grid: the same bits).
-  const Eigen::Index raw = span.end - span.begin;
-  const auto time = s.values.col(0).segment(span.begin, raw);
-  LinearGrid grid;
-  if (!s.spilled) grid = linearGrid(time, s.values(span.begin, 0), out.rate, count);
-  const auto signal = [&](Eigen::Index column) {
-    if (!s.spilled) return resampleLinear(grid, s.values.col(column).segment(span.begin, raw));
-    return resampleLinear(
-        time, s.values(span.begin, 0), out.rate, count,
-        [&](Eigen::Index first, Eigen::Index length) {
-          return s.column(static_cast<int>(column), span.begin + first, length);
-        },
-        ScratchColumns::kBlockRows);
-  };
+  const RunResampler signal(s, span, out.rate);
   // Each joint on its own (its own rows of the outputs, its own noise sum and excerpt column):
   // the same bits on any number of threads. Each signal is stored and freed as soon as it is
   // final, so that a thread holds a few signal-long vectors at a time.

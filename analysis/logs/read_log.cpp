@@ -42,6 +42,38 @@ void RawSignals::keep(const std::vector<Eigen::Index>& kept) {
   rows = count;
 }
 
+namespace {
+
+/// A one-file-per-signal log (time, q, tau or currents, and dq, ddq when given) into `out`.
+void readSignalFiles(const LogSource& source, int n, RawSignals& out) {
+  if (n <= 0) throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
+  if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
+    throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
+  const Eigen::VectorXd time = readValueFile(source.time_file, 1, &out.time_origin).col(0);
+  out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
+  const Eigen::Index samples = time.size();
+  out.has_dq = !source.dq_file.empty();
+  out.has_ddq = !source.ddq_file.empty();
+  out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * n);
+  out.values.col(0) = time;
+  int at = 1;
+  for (const auto& [name, file] : {std::pair<const char*, const std::string*>{"q", &source.q_file},
+                                   {source.current ? "current" : "tau", &source.tau_file},
+                                   {"dq", &source.dq_file},
+                                   {"ddq", &source.ddq_file}}) {
+    if (file->empty()) continue;
+    const Eigen::MatrixXd m = readValueFile(*file, n);
+    if (m.rows() != samples)
+      throw ParseError(
+          *file, 0, name,
+          "has " + std::to_string(m.rows()) + " samples, the time file " + std::to_string(samples));
+    out.values.middleCols(at, n) = m;
+    at += n;
+  }
+}
+
+}  // namespace
+
 RawSignals readLog(const LogSource& source, const std::string& table_path,
                    const std::string& scratch_dir) {
   if (table_path.empty() && source.arrays != nullptr) return *source.arrays;
@@ -110,32 +142,7 @@ RawSignals readLog(const LogSource& source, const std::string& table_path,
     out.has_dq = !source.dq_columns.empty();
     out.has_ddq = !source.ddq_columns.empty();
   } else {
-    if (n <= 0)
-      throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
-    if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
-      throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
-    const Eigen::VectorXd time = readValueFile(source.time_file, 1, &out.time_origin).col(0);
-    out.line_of = [file = source.time_file](Eigen::Index k) { return valueFileLine(file, k); };
-    const Eigen::Index samples = time.size();
-    out.has_dq = !source.dq_file.empty();
-    out.has_ddq = !source.ddq_file.empty();
-    out.values.resize(samples, 1 + (2 + (out.has_dq ? 1 : 0) + (out.has_ddq ? 1 : 0)) * n);
-    out.values.col(0) = time;
-    int at = 1;
-    for (const auto& [name, file] :
-         {std::pair<const char*, const std::string*>{"q", &source.q_file},
-          {source.current ? "current" : "tau", &source.tau_file},
-          {"dq", &source.dq_file},
-          {"ddq", &source.ddq_file}}) {
-      if (file->empty()) continue;
-      const Eigen::MatrixXd m = readValueFile(*file, n);
-      if (m.rows() != samples)
-        throw ParseError(*file, 0, name,
-                         "has " + std::to_string(m.rows()) + " samples, the time file " +
-                             std::to_string(samples));
-      out.values.middleCols(at, n) = m;
-      at += n;
-    }
+    readSignalFiles(source, n, out);
     tau_file = source.tau_file;
   }
   out.tau_file = tau_file;
