@@ -362,6 +362,20 @@ struct Filters {
   const std::vector<Biquad>& noise() const { return q.empty() ? tau : q; }
 };
 
+/// The trajectory's matrix holding `signal` (the time: none; tau's, unused).
+Eigen::MatrixXd Trajectory::*matrixOf(ScratchDataset::Signal signal) {
+  switch (signal) {
+    case ScratchDataset::kQ:
+      return &Trajectory::q;
+    case ScratchDataset::kDq:
+      return &Trajectory::dq;
+    case ScratchDataset::kDdq:
+      return &Trajectory::ddq;
+    default:
+      return &Trajectory::tau;
+  }
+}
+
 /// With the log in a scratch file (a long recording), the joints prepared at a time are as many
 /// as fit in this many bytes of signal-long vectors (a joint holds two at once): an hour at 1 kHz,
 /// two at a time.
@@ -390,26 +404,11 @@ class Destination {
   void store(const RunSpan& span, ScratchDataset::Signal signal, int j, Value value) const {
     if (!train_) {
       Eigen::Index next[2] = {span.first_slot[0], span.first_slot[1]};
+      const auto matrix = matrixOf(signal);
       for (std::size_t r = 0; r < span.rows.size(); ++r) {
         Trajectory& t = span.held[r] ? out_.validate : out_.train;
         const Eigen::Index slot = next[span.held[r] ? 1 : 0]++;
-        switch (signal) {
-          case ScratchDataset::kTime:
-            t.time[slot] = value(r);
-            break;
-          case ScratchDataset::kQ:
-            t.q(j, slot) = value(r);
-            break;
-          case ScratchDataset::kDq:
-            t.dq(j, slot) = value(r);
-            break;
-          case ScratchDataset::kDdq:
-            t.ddq(j, slot) = value(r);
-            break;
-          case ScratchDataset::kTau:
-            t.tau(j, slot) = value(r);
-            break;
-        }
+        (signal == ScratchDataset::kTime ? t.time[slot] : (t.*matrix)(j, slot)) = value(r);
       }
       return;
     }
@@ -1000,18 +999,8 @@ Eigen::VectorXd allSamples(const PrepareOutcome& out, ScratchDataset::Signal sig
     return all;
   }
   const auto row = [&](const Trajectory& t) -> Eigen::VectorXd {
-    switch (signal) {
-      case ScratchDataset::kTime:
-        return t.time;
-      case ScratchDataset::kQ:
-        return t.q.row(j).transpose();
-      case ScratchDataset::kDq:
-        return t.dq.row(j).transpose();
-      case ScratchDataset::kDdq:
-        return t.ddq.row(j).transpose();
-      default:
-        return t.tau.row(j).transpose();
-    }
+    if (signal == ScratchDataset::kTime) return t.time;
+    return (t.*matrixOf(signal)).row(j).transpose();
   };
   all << row(out.train), row(out.validate);
   return all;

@@ -17,6 +17,7 @@
 #include "tests/common/fixtures.hpp"
 #include "tests/common/joint_state_db3.hpp"
 #include "tests/common/sample_models.hpp"
+#include "tests/common/scratch_dataset.hpp"
 
 namespace dynid {
 namespace {
@@ -224,17 +225,8 @@ TEST(BagLog, PreparedThroughScratchFilesItGivesTheBitsPreparedInMemory) {
     EXPECT_EQ(spilled.gaps, memory.gaps);
     EXPECT_EQ(spilled.tau_noise, memory.tau_noise);
     EXPECT_EQ(spilled.q_spectrum.density, memory.q_spectrum.density);
-    for (const auto& [a, b] : {std::pair{&memory.train, spilled.scratch_train.get()},
-                               {&memory.validate, spilled.scratch_validate.get()}}) {
-      ASSERT_NE(b, nullptr);
-      ASSERT_GT(a->numSamples(), 1000);
-      ASSERT_EQ(b->numSamples(), a->numSamples());
-      Trajectory chunk;
-      b->rows(0, a->numSamples(), chunk);
-      EXPECT_EQ(chunk.time, a->time);
-      for (auto member : {&Trajectory::q, &Trajectory::dq, &Trajectory::ddq, &Trajectory::tau})
-        EXPECT_EQ(chunk.*member, a->*member);
-    }
+    test::expectSameSamples(memory.train, spilled.scratch_train.get(), 1000);
+    test::expectSameSamples(memory.validate, spilled.scratch_validate.get(), 1000);
   }
   EXPECT_TRUE(std::filesystem::is_empty(scratch));
 }
