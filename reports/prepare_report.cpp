@@ -214,7 +214,9 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
     // Read back from the scratch file a few blocks of rows at a time (prepareLog's scratch_dir).
     writeDatasetCsv(
         set.stream(name), scratch->numJoints(), static_cast<int>(scratch->numSamples()),
-        [scratch](int first, int last, Trajectory& chunk) { scratch->rows(first, last, chunk); },
+        [from = scratch](int first, int last, Trajectory& chunk) {
+          from->rows(first, last, chunk);
+        },
         &pool);
   }
   if (options.keep_raw_torque) {
