@@ -993,16 +993,20 @@ Eigen::VectorXd boundsOf(const Eigen::VectorXd& given, double fallback, int n, c
 /// Every sample of one signal of joint j (the time: j ignored), the train set's then the validate
 /// set's.
 Eigen::VectorXd allSamples(const PrepareOutcome& out, ScratchDataset::Signal signal, int j) {
-  Eigen::VectorXd all(out.trainSamples() + out.validateSamples());
+  const Eigen::Index train = out.trainSamples(), validate = out.validateSamples();
+  Eigen::VectorXd all(train + validate);
   if (out.scratch_train) {
-    all << out.scratch_train->column(signal, j), out.scratch_validate->column(signal, j);
+    if (train > 0) all.head(train) = out.scratch_train->column(signal, j);
+    if (validate > 0) all.tail(validate) = out.scratch_validate->column(signal, j);
     return all;
   }
-  const auto row = [&](const Trajectory& t) -> Eigen::VectorXd {
-    if (signal == ScratchDataset::kTime) return t.time;
-    return (t.*matrixOf(signal)).row(j).transpose();
-  };
-  all << row(out.train), row(out.validate);
+  // Each set's samples when it has any (an empty set's matrices hold no storage to take a row of).
+  for (const auto& [t, at, count] :
+       {std::tuple{&out.train, Eigen::Index{0}, train}, std::tuple{&out.validate, train, validate}})
+    if (count > 0)
+      all.segment(at, count) = signal == ScratchDataset::kTime
+                                   ? t->time
+                                   : Eigen::VectorXd((t->*matrixOf(signal)).row(j).transpose());
   return all;
 }
 
