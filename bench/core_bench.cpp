@@ -1,6 +1,7 @@
 // Core dynamics on the built-in PUMA 560, single-threaded, at seeded random states within the
 // joint limits. Run: build/bench/bench_core --benchmark_repetitions=5
 // --benchmark_report_aggregates_only
+#include <cmath>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -9,6 +10,7 @@
 #include "core/crba.hpp"
 #include "core/integrators.hpp"
 #include "core/rnea.hpp"
+#include "core/sin_cos.hpp"
 #include "data/panda.hpp"
 #include "data/puma560.hpp"
 
@@ -85,6 +87,32 @@ void crbaLoop(benchmark::State& state, const Model& model) {
   }
 }
 void BM_Crba(benchmark::State& state) { crbaLoop(state, dynid::makePuma560(false)); }
+
+/// The PUMA's six joint angles' sines and cosines as CRBA waits on them: each call's arguments
+/// depend on the previous call's results (q + 1e-300 sin q, which is q), so this is latency, not
+/// throughput. isa: sinCosBlock (core/sin_cos.hpp) on SSE2 (0), AVX2 (1), AVX-512 (2); -1: six
+/// calls of the C library's sincos, as CRBA made before.
+void BM_SinCosPuma(benchmark::State& state) {
+  const int isa = static_cast<int>(state.range(0));
+  if (isa > dynid::cpuLaneIsa()) {
+    state.SkipWithError("this CPU or build lacks the instruction set");
+    return;
+  }
+  const States s(dynid::makePuma560(false));
+  dynid::SinCosBlock block{};
+  int k = 0;
+  for (auto _ : state) {
+    double x[6];
+    for (int i = 0; i < 6; ++i) x[i] = s.q[k][i] + 1e-300 * block.s[i];
+    if (isa < 0)
+      for (int i = 0; i < 6; ++i) ::sincos(x[i], &block.s[i], &block.c[i]);
+    else
+      dynid::sinCosBlock(x, 6, block, isa);
+    benchmark::DoNotOptimize(block);
+    k = (k + 1) % States::kCount;
+  }
+}
+BENCHMARK(BM_SinCosPuma)->DenseRange(-1, 2)->ArgName("isa");
 BENCHMARK(BM_Crba);
 // The Panda (7 joints, modified DH) beside the PUMA, for scripts/pinocchio-bench.sh.
 void BM_CrbaPanda(benchmark::State& state) { crbaLoop(state, dynid::makePanda(false)); }

@@ -1,11 +1,13 @@
 #pragma once
 
+#include <algorithm>
 #include <type_traits>
 
 #include "core/aba-inl.hpp"
 #include "core/checks.hpp"
 #include "core/crba.hpp"
 #include "core/friction.hpp"
+#include "core/sin_cos.hpp"
 
 namespace dynid {
 
@@ -180,7 +182,22 @@ const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data
                             const ConstVectorRef<Scalar>& q) {
   checkData(model, data);
   checkSize(model, q, "q");
-  for (int i = 0; i < model.numJoints(); ++i) setJointTransform(model, i, q[i], data.liMi[i]);
+  const int n = model.numJoints();
+  if constexpr (std::is_same_v<Scalar, double>) {
+    // Every joint's sine and cosine at once, in SIMD registers (core/sin_cos.hpp), eight at a time.
+    SinCosBlock block;
+    for (int first = 0; first < n; first += SinCosBlock::kSize) {
+      const int count = std::min(SinCosBlock::kSize, n - first);
+      sinCosBlock(q.data() + first, count, block);
+      for (int k = 0, i = first; k < count; ++k, ++i)
+        if (model.joint_types()[i] == JointType::kPrismatic)
+          setJointTransform(model, i, q[i], data.liMi[i]);
+        else
+          setRevoluteTransform(model, i, block.s[k], block.c[k], data.liMi[i]);
+    }
+  } else {
+    for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
+  }
   crba_detail::massMatrixFromTransforms(model, data);
   return data.M;
 }

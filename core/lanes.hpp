@@ -72,6 +72,16 @@ struct VectorOf<8> {
 /// them is a symbol of its own: their code can never stand in for the build's.
 inline constexpr int kBuildIsa = 0, kAvx2Isa = 1, kAvx512Isa = 2;
 
+/// 1 where the build compiles code for wider instruction sets than its own and picks it at run time
+/// (core/sin_cos.hpp, search/gc_lanes_simd.hpp): a GCC build for any x86-64, the default. A build
+/// that targets AVX itself rolls 4 lanes in its own registers (kLanes), and clang (the sanitizer
+/// and fuzzing builds) has no `#pragma GCC target`.
+#if defined(__x86_64__) && !defined(__AVX__) && defined(__GNUC__) && !defined(__clang__)
+#define DYNID_LANES_SIMD 1
+#else
+#define DYNID_LANES_SIMD 0
+#endif
+
 template <int W, int Isa = kBuildIsa>
 struct Lanes {
   using Vector = typename lanes_detail::VectorOf<W>::Vector;
@@ -202,6 +212,13 @@ inline constexpr double kSinCosRange = 1e5;
 /// - the quadrant k mod 4 (the low bits of x 2/pi + 1.5 2^52) swaps sin and cos and sets signs.
 /// sin(+-0) = +-0. The constants are pi/2 split and 1/n! rounded to the nearest double
 /// (mpmath, 400 bits).
+/// kShortChain shortens the chain of dependent operations, for a caller that waits on the result
+/// (CRBA: core/sin_cos.hpp), where false (the rollouts, in which many calls overlap) takes the
+/// fewest operations: r is rounded from hi - k P3 at once and the roundings go to r_lo beside the
+/// series (two subtractions before z = r^2 instead of seven), and the series are summed by Estrin's
+/// scheme (pairs, then pairs of pairs in z^2 and z^4: three multiply-adds deep instead of seven)
+/// instead of Horner's rule. The two round differently in the last bit; each is within 1 ulp
+/// (tests/core/lanes_test.cpp, sin_cos_test.cpp).
 /// (Templated on the width, not on the vector type: a vector typedef passed as a template argument
 /// loses its reduced alignment, and a 32-byte vector aligned to 16 is then loaded as if aligned
 /// to 32.)
@@ -209,7 +226,7 @@ template <int W>
 DYNID_INLINE typename VectorOf<W>::Vector all(double a) {
   return a - typename VectorOf<W>::Vector{};  // a's sign bit kept, as Lanes(a) keeps it
 }
-template <int W>
+template <int W, bool kShortChain = false>
 DYNID_INLINE void sinCosKernel(const typename VectorOf<W>::Vector& x,
                                typename VectorOf<W>::Vector& s, typename VectorOf<W>::Vector& c) {
   using V = typename VectorOf<W>::Vector;
@@ -219,29 +236,56 @@ DYNID_INLINE void sinCosKernel(const typename VectorOf<W>::Vector& x,
   const V k = km - magic;
   const V r1 = x - k * all<W>(0x1.921fb54400000p+0);  // exact
   const V t2 = k * all<W>(0x1.0b4611a600000p-34);     // exact
+  const V p3 = k * all<W>(0x1.3198a2e037073p-69);
   const V hi = r1 - t2;
   const V bb = hi - r1;
   const V err = (r1 - (hi - bb)) - (t2 + bb);  // r1 - t2 = hi + err exactly
-  const V lo = err - k * all<W>(0x1.3198a2e037073p-69);
-  const V r = hi + lo;
-  const V r_lo = lo - (r - hi);
+  V r, r_lo;
+  if constexpr (kShortChain) {
+    // r rounded from hi - p3 at once, so that z waits on two subtractions after r1, not seven;
+    // the roundings of r1 - t2 (err) and of hi - p3 (an exact two-sum) go to r_lo meanwhile.
+    r = hi - p3;
+    const V rb = r - hi;
+    r_lo = ((hi - (r - rb)) - (p3 + rb)) + err;
+  } else {
+    const V lo = err - p3;
+    r = hi + lo;
+    r_lo = lo - (r - hi);
+  }
   const V z = r * r;
   // sin r = r + r z (-1/3! + z/5! - ...), cos r = 1 - z/2 + z^2 (1/4! - z/6! + ...).
-  V ps = z * all<W>(0x1.952c77030ad4ap-49) + all<W>(-0x1.ae7f3e733b81fp-41);
-  V pc = z * all<W>(0x1.ae7f3e733b81fp-45) + all<W>(-0x1.93974a8c07c9dp-37);
-  ps = ps * z + all<W>(0x1.6124613a86d09p-33);
-  pc = pc * z + all<W>(0x1.1eed8eff8d898p-29);
-  ps = ps * z + all<W>(-0x1.ae64567f544e4p-26);
-  pc = pc * z + all<W>(-0x1.27e4fb7789f5cp-22);
-  ps = ps * z + all<W>(0x1.71de3a556c734p-19);
-  pc = pc * z + all<W>(0x1.a01a01a01a01ap-16);
-  ps = ps * z + all<W>(-0x1.a01a01a01a01ap-13);
-  pc = pc * z + all<W>(-0x1.6c16c16c16c17p-10);
-  ps = ps * z + all<W>(0x1.1111111111111p-7);
-  pc = pc * z + all<W>(0x1.5555555555555p-5);
-  ps = ps * z + all<W>(-0x1.5555555555555p-3);
-  ps = ps * z;
-  pc = pc * (z * z);
+  const V s3 = all<W>(-0x1.5555555555555p-3), s5 = all<W>(0x1.1111111111111p-7),
+          s7 = all<W>(-0x1.a01a01a01a01ap-13), s9 = all<W>(0x1.71de3a556c734p-19),
+          s11 = all<W>(-0x1.ae64567f544e4p-26), s13 = all<W>(0x1.6124613a86d09p-33),
+          s15 = all<W>(-0x1.ae7f3e733b81fp-41), s17 = all<W>(0x1.952c77030ad4ap-49);
+  const V c4 = all<W>(0x1.5555555555555p-5), c6 = all<W>(-0x1.6c16c16c16c17p-10),
+          c8 = all<W>(0x1.a01a01a01a01ap-16), c10 = all<W>(-0x1.27e4fb7789f5cp-22),
+          c12 = all<W>(0x1.1eed8eff8d898p-29), c14 = all<W>(-0x1.93974a8c07c9dp-37),
+          c16 = all<W>(0x1.ae7f3e733b81fp-45);
+  V ps, pc;
+  if constexpr (kShortChain) {
+    const V z2 = z * z, z4 = z2 * z2;
+    ps = ((s3 + s5 * z) + (s7 + s9 * z) * z2) + ((s11 + s13 * z) + (s15 + s17 * z) * z2) * z4;
+    pc = ((c4 + c6 * z) + (c8 + c10 * z) * z2) + ((c12 + c14 * z) + c16 * z2) * z4;
+    ps = ps * z;
+    pc = pc * z2;
+  } else {
+    ps = z * s17 + s15;
+    pc = z * c16 + c14;
+    ps = ps * z + s13;
+    pc = pc * z + c12;
+    ps = ps * z + s11;
+    pc = pc * z + c10;
+    ps = ps * z + s9;
+    pc = pc * z + c8;
+    ps = ps * z + s7;
+    pc = pc * z + c6;
+    ps = ps * z + s5;
+    pc = pc * z + c4;
+    ps = ps * z + s3;
+    ps = ps * z;
+    pc = pc * (z * z);
+  }
   const V one = all<W>(1.0), half = all<W>(0.5);
   const V sin_r = r + (r * ps + r_lo * (one - half * z));
   const V hz = half * z;  // exact

@@ -30,7 +30,8 @@ namespace dynid {
 int defaultGcLanes();
 
 /// The widest instruction set this build and the CPU it runs on offer the GC's 4 lanes
-/// (core/lanes.hpp's kAvx512Isa, kAvx2Isa, or kBuildIsa), checked once.
+/// (core/lanes.hpp's kAvx512Isa, kAvx2Isa, or kBuildIsa), checked once: core/sin_cos.hpp's
+/// cpuLaneIsa().
 int gcLaneIsa();
 
 /// Per-thread workspace for GC-error evaluations of one model structure. Each thread's buffers are

@@ -5,6 +5,7 @@
 
 #include "core/integrators-inl.hpp"
 #include "core/lanes.hpp"
+#include "core/sin_cos.hpp"
 #include "search/gc_rollout.hpp"
 
 namespace dynid::gc_detail {
@@ -71,19 +72,7 @@ void rollOut(const Model& candidate, long evaluation, const GcProblem& problem, 
 
 namespace dynid {
 
-int gcLaneIsa() {
-#if DYNID_GC_SIMD
-  static const int isa = [] {
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl")) return kAvx512Isa;
-    if (__builtin_cpu_supports("avx2")) return kAvx2Isa;
-    return kBuildIsa;
-  }();
-  return isa;
-#else
-  return kBuildIsa;
-#endif
-}
+int gcLaneIsa() { return cpuLaneIsa(); }
 
 }  // namespace dynid
 

@@ -29,13 +29,8 @@
 #include "core/spatial.hpp"
 #include "core/trajectory.hpp"
 
-// In a GCC build for any x86-64; a build that targets AVX itself rolls 4 lanes in AVX registers
-// (kLanes), and clang (the sanitizer and fuzzing builds) has no `#pragma GCC target`.
-#if defined(__x86_64__) && !defined(__AVX__) && defined(__GNUC__) && !defined(__clang__)
-#define DYNID_GC_SIMD 1
-#else
-#define DYNID_GC_SIMD 0
-#endif
+// Where the build compiles for wider instruction sets than its own (core/lanes.hpp).
+#define DYNID_GC_SIMD DYNID_LANES_SIMD
 
 namespace dynid {
 struct GcProblem;

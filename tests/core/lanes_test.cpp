@@ -1,54 +1,22 @@
 #include "core/lanes.hpp"
 
-#include <cfloat>
 #include <cmath>
 #include <iostream>
 #include <limits>
 #include <numbers>
-#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "tests/common/ulp.hpp"
+
 namespace dynid {
 namespace {
-
-/// |value - exact| in ulps of the double nearest `exact` (long double: 11 more bits than a
-/// double, so the measure itself is off by at most 1/2048 ulp).
-double ulpError(double value, long double exact) {
-  int exponent = 0;
-  const double nearest = static_cast<double>(exact);
-  std::frexp(nearest == 0.0 ? DBL_MIN : nearest, &exponent);
-  return static_cast<double>(std::fabs(static_cast<long double>(value) - exact) /
-                             std::ldexp(1.0L, exponent - 53));
-}
-
-/// Arguments the kernel must get right: uniform ones near the joint angles robots have and over
-/// its whole range, and the doubles nearest the multiples of pi/2 (where r cancels).
-std::vector<double> testArguments() {
-  std::vector<double> x;
-  std::mt19937_64 random(11);
-  std::uniform_real_distribution<double> near(-10.0, 10.0), far(-1e5, 1e5);
-  for (int i = 0; i < 400000; ++i) x.push_back(near(random));
-  for (int i = 0; i < 200000; ++i) x.push_back(far(random));
-  for (long k = -63661; k <= 63661; k += (std::abs(k) < 1000 ? 1 : 97)) {
-    const double at = static_cast<double>(k * (std::numbers::pi_v<long double> / 2));
-    x.push_back(at);
-    x.push_back(std::nextafter(at, 1e300));
-    x.push_back(std::nextafter(at, -1e300));
-  }
-  for (double tiny : {1e-300, 1e-20, 3e-9, 5e-324, 1e-8}) {
-    x.push_back(tiny);
-    x.push_back(-tiny);
-  }
-  while (x.size() % 8 != 0) x.push_back(0.5);
-  return x;
-}
 
 // Faithful rounding (< 1 ulp) is the kernel's contract. The largest error seen here is 0.77 ulp
 // (the C library's 0.56); a kernel that lost a term or r's low part fails (1.03 and 1.4 ulp).
 TEST(Lanes, SinCosIsWithinAnUlpOfTheExactValues) {
-  const std::vector<double> x = testArguments();
+  const std::vector<double> x = sinCosTestArguments();
   double worst_sin = 0.0, worst_cos = 0.0, c_library_sin = 0.0, c_library_cos = 0.0;
   for (std::size_t i = 0; i < x.size(); i += 4) {
     Lanes<4> in, s, c;
@@ -113,7 +81,7 @@ TEST(Lanes, SinCosKeepsSignedZerosAndHandsTheRestToTheCLibrary) {
 // The GC rollouts rely on this: a lane's result is the same bits in any lane of any width
 // (search/gc_error.hpp), whatever its neighbours hold.
 TEST(Lanes, SinCosOfALaneDependsOnItsArgumentAlone) {
-  const std::vector<double> x = testArguments();
+  const std::vector<double> x = sinCosTestArguments();
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < x.size(); i += 8) {
     Lanes<8> in8, s8, c8;
