@@ -270,19 +270,10 @@ DYNID_INLINE void sinCosKernel(const typename VectorOf<W>::Vector& x,
     ps = ps * z;
     pc = pc * z2;
   } else {
-    ps = z * s17 + s15;
-    pc = z * c16 + c14;
-    ps = ps * z + s13;
-    pc = pc * z + c12;
-    ps = ps * z + s11;
-    pc = pc * z + c10;
-    ps = ps * z + s9;
-    pc = pc * z + c8;
-    ps = ps * z + s7;
-    pc = pc * z + c6;
-    ps = ps * z + s5;
-    pc = pc * z + c4;
-    ps = ps * z + s3;
+    ps = s17;
+    for (const V& term : {s15, s13, s11, s9, s7, s5, s3}) ps = ps * z + term;
+    pc = c16;
+    for (const V& term : {c14, c12, c10, c8, c6, c4}) pc = pc * z + term;
     ps = ps * z;
     pc = pc * (z * z);
   }
