@@ -27,6 +27,12 @@ void outOfRangeFromTheCLibrary(const double* x, int n, SinCosBlock& out) {
     if (!(std::fabs(x[i]) <= lanes_detail::kSinCosRange)) ::sincos(x[i], &out.s[i], &out.c[i]);
 }
 
+void checkCount(int n) {
+  if (n < 0 || n > SinCosBlock::kSize)
+    throw InputError("a block of sines and cosines takes 0 to " +
+                     std::to_string(SinCosBlock::kSize) + " arguments, not " + std::to_string(n));
+}
+
 /// In the build's own registers, kLanes at a time (a last block's other lanes 0).
 void sinCosBuild(const double* x, int n, SinCosBlock& out) {
   using Vector = lanes_detail::VectorOf<kLanes>::Vector;
@@ -99,9 +105,7 @@ void sinCosBlock(const double* x, int n, SinCosBlock& out, int isa) {
     throw InputError("instruction set " + std::to_string(isa) +
                      " is not one this build and CPU offer (at most " +
                      std::to_string(cpuLaneIsa()) + ")");
-  if (n < 0 || n > SinCosBlock::kSize)
-    throw InputError("a block of sines and cosines takes 0 to " +
-                     std::to_string(SinCosBlock::kSize) + " arguments, not " + std::to_string(n));
+  checkCount(n);
 #if DYNID_LANES_SIMD
   if (isa == kAvx512Isa) return sinCosAvx512(x, n, out);
   if (isa == kAvx2Isa) return sinCosAvx2(x, n, out);
@@ -117,9 +121,7 @@ void sinCosBlock(const double* x, int n, SinCosBlock& out) {
 #endif
     return &sinCosBuild;
   }();
-  if (n < 0 || n > SinCosBlock::kSize)
-    throw InputError("a block of sines and cosines takes 0 to " +
-                     std::to_string(SinCosBlock::kSize) + " arguments, not " + std::to_string(n));
+  checkCount(n);
   kernel(x, n, out);
 }
 
