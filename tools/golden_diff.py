@@ -56,10 +56,16 @@ def mask_columns(cells, columns):
 
 def text_lines(path):
     """Lines with times masked: numbers with a time unit, and table columns headed by a time."""
-    out, md_columns, html_columns = [], set(), set()
+    out, md_columns, html_columns, csv_columns = [], set(), set(), set()
     with open(path, encoding="utf-8", errors="replace") as f:
-        for line in f:
+        for number, line in enumerate(f):
             line = line.rstrip("\n")
+            if path.endswith(".csv"):  # a CSV table: its columns headed by a time (batch's seconds)
+                cells = line.split(",")
+                if number == 0:
+                    csv_columns = {i for i, c in enumerate(cells) if TIME_HEADER.match(c)}
+                else:
+                    line = ",".join(mask_columns(cells, csv_columns))
             if line.startswith("|"):
                 cells = [c.strip() for c in line.strip("|").split("|")]
                 if any(TIME_HEADER.match(c) for c in cells):
