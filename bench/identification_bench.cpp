@@ -9,7 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/identify.hpp"
 #include "data/dataset_csv.hpp"
 #include "identifiability/least_squares_stream.hpp"
 #include "identifiability/tall_qr.hpp"

@@ -25,8 +25,8 @@
 #include <benchmark/benchmark.h>
 #include <nlohmann/json.hpp>
 
-#include "analysis/monitor.hpp"
-#include "analysis/runs.hpp"
+#include "analysis/monitor/monitor.hpp"
+#include "analysis/runs/simulate.hpp"
 #include "core/momentum.hpp"
 #include "core/perturb.hpp"
 #include "data/dataset_csv.hpp"

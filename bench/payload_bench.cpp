@@ -23,7 +23,8 @@
 
 #include "analysis/excitation/excite.hpp"
 #include "analysis/excitation/limits.hpp"
-#include "analysis/payload.hpp"
+#include "analysis/payload/body.hpp"
+#include "analysis/payload/payload.hpp"
 #include "core/parameters.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"

@@ -1,14 +1,14 @@
 // The worker processes of `dynid batch`: each run of a plan is this executable started as
 // `dynid batch run --spec JSON --out FILE` (command_batch.cpp), so a run that crashes or is
-// killed costs only itself. The library plans and collects (analysis/batch.hpp); this is the
-// front end's process pool.
+// killed costs only itself. The library plans and collects (analysis/studies/batch.hpp); this is
+// the front end's process pool.
 #pragma once
 
 #include <atomic>
 #include <cstddef>
 #include <functional>
 
-#include "analysis/batch.hpp"
+#include "analysis/studies/batch.hpp"
 
 namespace dynid::cli {
 

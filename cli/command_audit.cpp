@@ -1,7 +1,7 @@
 // dynid audit: do estimates of one robot from separate sessions agree within their sigma?
 #include <iostream>
 
-#include "analysis/audit.hpp"
+#include "analysis/studies/audit.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "data/robots.hpp"

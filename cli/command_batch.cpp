@@ -1,5 +1,5 @@
-// dynid batch: a grid of study runs (analysis/batch.hpp) in parallel worker processes, resumable,
-// sharded for cluster schedulers, with one results table. See docs/BATCH.md.
+// dynid batch: a grid of study runs (analysis/studies/batch.hpp) in parallel worker processes,
+// resumable, sharded for cluster schedulers, with one results table. See docs/BATCH.md.
 #include <sys/prctl.h>
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "analysis/batch.hpp"
+#include "analysis/studies/batch.hpp"
 #include "cli/batch_workers.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"

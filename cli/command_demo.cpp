@@ -1,7 +1,7 @@
-// dynid demo: the main job on the built-in PUMA 560 (analysis/demo.hpp), with its reports.
+// dynid demo: the main job on the built-in PUMA 560 (analysis/studies/demo.hpp), with its reports.
 #include <iostream>
 
-#include "analysis/demo.hpp"
+#include "analysis/studies/demo.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/demo_report.hpp"

@@ -108,7 +108,7 @@ int runIdentify(const std::vector<std::string>& args) {
   IdentifyRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });
-  const bool physical = request.method == Method::kPc || request.method == Method::kCombined;
+  const bool physical = takesPrior(request.method);
   refuseUnused(
       vm, physical, {"prior", "prior-weight"},
       "applies to --method pc or combined, not " + std::string(methodName(request.method)));

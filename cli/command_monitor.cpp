@@ -7,9 +7,10 @@
 #include <cstring>
 #include <iostream>
 
-#include "analysis/monitor.hpp"
+#include "analysis/monitor/monitor.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "core/errors.hpp"
 #include "data/bags/bag.hpp"
 #include "data/json_number.hpp"
@@ -197,6 +198,7 @@ int runMonitor(const std::vector<std::string>& args) {
     request.sink = &printed;
   }
   MonitorOutcome outcome = monitorRun(request);
+  cliTexts(outcome.warnings);  // the fields they name, as this command's flags
   const std::string summary =
       dir.empty() ? monitorSummary(outcome) : writeMonitor(dir, outcome, request.data_file);
   (streamed ? std::cerr : std::cout) << summary;

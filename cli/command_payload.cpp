@@ -1,11 +1,13 @@
 // dynid payload: what was added at a link of an identified arm, with the arm held fixed.
 #include <iostream>
 
-#include "analysis/payload.hpp"
+#include "analysis/payload/payload.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/records/payload_record.hpp"
+#include "analysis/runs/arm.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "data/io.hpp"
 #include "data/robots.hpp"
 #include "reports/output.hpp"
@@ -124,7 +126,9 @@ int runPayload(const std::vector<std::string>& args) {
   if (vm.count("payload-com")) request.known_com = threeNumbers(vm, "payload-com");
   request.max_motion_difference = vm["max-motion-difference"].as<double>();
   const std::string urdf_path = writeUrdfOption(vm, arm, request);
-  const PayloadOutcome outcome = payloadRun(request);
+  PayloadOutcome outcome = payloadRun(request);
+  cliTexts(outcome.warnings);  // the fields they name, as this command's flags
+  cliTexts(outcome.advice);
   // The summary goes to standard error when standard output carries the URDF.
   (urdf_path == "-" ? std::cerr : std::cout) << writePayload(dir, outcome, chosen, urdf_path);
   return kExitOk;

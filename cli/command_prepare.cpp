@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "data/bags/bag.hpp"
 #include "data/robots.hpp"
 #include "data/scratch.hpp"
@@ -309,8 +310,10 @@ int runPrepare(const std::vector<std::string>& args) {
   readWindowsAndBounds(vm, source, o);
   readHoldOut(vm, o);
   // The datasets in a scratch file beside the output (memory independent of the log's length).
-  const PrepareOutcome outcome = prepareLog(source, o, threadsOption(vm),
-                                            nearestExistingDirectory(vm["out"].as<std::string>()));
+  PrepareOutcome outcome = prepareLog(source, o, threadsOption(vm),
+                                      nearestExistingDirectory(vm["out"].as<std::string>()));
+  cliTexts(outcome.warnings);  // the fields they name, as this command's flags
+  outcome.cutoff_reason = cliText(outcome.cutoff_reason);
   for (const std::string& warning : outcome.warnings)
     std::cerr << "dynid prepare: warning: " << warning << "\n";
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome, threadsOption(vm));

@@ -1,8 +1,8 @@
 // dynid study: every method on the user's own log, torque fit and motion prediction side by side
-// (analysis/log_study.hpp), with its report.
+// (analysis/studies/log_study.hpp), with its report.
 #include <iostream>
 
-#include "analysis/log_study.hpp"
+#include "analysis/studies/log_study.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/log_study_report.hpp"

@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <boost/program_options.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/identify.hpp"
 #include "core/errors.hpp"
 #include "data/robots.hpp"
 
@@ -115,7 +115,8 @@ StructuralOptions structuralOptions(const po::variables_map& vm);
 void addPriorWeightOption(po::options_description& options);
 double priorWeightOption(const po::variables_map& vm);
 /// --keep-worse-refinements: report a refinement that ends above its search's training GC error
-/// instead of keeping the search's result (analysis/pipeline.hpp, RefineSettings::keep_if_better).
+/// instead of keeping the search's result (analysis/estimation/pipeline.hpp,
+/// RefineSettings::keep_if_better).
 void addKeepRefinementOption(po::options_description& options);
 bool keepIfBetterOption(const po::variables_map& vm);
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cli/command_table.hpp"
+#include "cli/spelling.hpp"
 #include "data/io.hpp"
 #include "reports/output.hpp"
 #include "search/refinement/refine.hpp"
@@ -60,7 +61,7 @@ int main(int argc, char** argv) {
   try {
     return entry->run(args);
   } catch (const UsageError& e) {
-    std::cerr << "dynid " << command << ": " << e.what() << "\n";
+    std::cerr << "dynid " << command << ": " << cliText(e.what()) << "\n";
     return kExitUsage;
   } catch (const std::bad_alloc&) {
     std::cerr << "dynid " << command
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
                  "the process's limit; nothing was written)\n";
     return kExitError;
   } catch (const std::exception& e) {
-    std::cerr << "dynid " << command << ": error: " << e.what() << "\n";
+    std::cerr << "dynid " << command << ": error: " << cliText(e.what()) << "\n";
     return kExitError;
   }
 }

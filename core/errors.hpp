@@ -4,11 +4,16 @@
 //   ParseError      a file is malformed; carries the file, the line or row (0 when unknown) and the
 //                   element, field or column at fault.
 //   NumericalError  a computation failed on valid input (singular matrix, diverging rollout).
+// A message names a request's field in backquotes, as its snake_case name ("`cutoff` must be > 0",
+// "give `torque_constants`"), never as one front end spells it: the CLI and the Python module
+// respell those names for their users (respellFields) when they report the message.
 #pragma once
 
+#include <cctype>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace dynid {
 
@@ -56,5 +61,35 @@ class ParseError : public Error {
   int line_;
   std::string element_;
 };
+
+/// `text` with every field name in backquotes (`name`: lowercase letters, digits and '_', starting
+/// with a letter) replaced by spell(name); other backquoted text is left as it is.
+template <typename Spell>
+std::string respellFields(std::string_view text, const Spell& spell) {
+  std::string out;
+  out.reserve(text.size());
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t open = text.find('`', at);
+    if (open == std::string_view::npos) break;
+    const std::size_t close = text.find('`', open + 1);
+    if (close == std::string_view::npos) break;
+    const std::string_view name = text.substr(open + 1, close - open - 1);
+    bool field = !name.empty() && std::islower(static_cast<unsigned char>(name[0]));
+    for (const char c : name)
+      field = field && (std::islower(static_cast<unsigned char>(c)) ||
+                        std::isdigit(static_cast<unsigned char>(c)) || c == '_');
+    out.append(text.substr(at, open - at));
+    if (field) {
+      out += spell(name);
+      at = close + 1;
+    } else {
+      out += '`';
+      at = open + 1;
+    }
+  }
+  out.append(text.substr(at));
+  return out;
+}
 
 }  // namespace dynid

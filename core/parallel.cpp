@@ -35,7 +35,7 @@ ThreadPool::ThreadPool(int num_threads) {
     stopAndJoin();
     throw Error("could not start " + std::to_string(num_threads) + " threads (the system " +
                 "refused after " + std::to_string(started + 1) + "): " + e.what() +
-                "; use fewer --threads");
+                "; use fewer `threads`");
   }
 }
 

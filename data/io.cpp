@@ -464,4 +464,16 @@ std::string escapeXml(const std::string& text) {
   return out;
 }
 
+std::vector<std::string_view> splitFields(std::string_view line, char delimiter) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t at = line.find(delimiter, start);
+    fields.push_back(line.substr(start, at == std::string_view::npos ? at : at - start));
+    if (at == std::string_view::npos) break;
+    start = at + 1;
+  }
+  return fields;
+}
+
 }  // namespace dynid

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace dynid {
 
@@ -101,6 +102,11 @@ inline constexpr double kMaxDocumentBytes = 1073741824.0;
 /// Throws Error naming the path when it cannot be read or is a directory, InputError naming it
 /// when it is larger than that or than the memory this process may use.
 std::string readFile(const std::string& path, double max_bytes = kMaxDocumentBytes);
+
+/// The fields of one delimited line (a CSV row, a column list), as views into it: split at every
+/// `delimiter`, nothing trimmed; n delimiters give n + 1 fields (an empty line: one empty field).
+/// The one field splitter of dynid's readers (datasets, raw tables, monitor streams).
+std::vector<std::string_view> splitFields(std::string_view line, char delimiter = ',');
 
 /// A text file read line by line in blocks: memory independent of the file's size. Lines are
 /// returned without their '\n' (a '\r' before it is kept), the UTF-8 byte-order mark of the first

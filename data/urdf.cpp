@@ -161,9 +161,9 @@ class UrdfBuilder {
       const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
       if (!joint)
         throw ParseError(file_, 0, "joint '" + shownName(name) + "'",
-                         "is not in the file: --fix-joints names moving joints of the URDF");
+                         "is not in the file: `fix_joints` names moving joints of the URDF");
       if (joint->type == urdf::Joint::FIXED)
-        failJoint(name, "is fixed already: --fix-joints names moving joints");
+        failJoint(name, "is fixed already: `fix_joints` names moving joints");
     }
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);

@@ -114,8 +114,8 @@ BaseCoordinates BaseParameters::coordinates() const {
 }
 
 void StructuralOptions::check() const {
-  checkOption("", "samples", samples, "samples");
-  checkOption("", "tolerance", tolerance, "tolerance");
+  checkOption("", "samples", samples, "`samples`");
+  checkOption("", "tolerance", tolerance, "`tolerance`");
 }
 
 BaseParameters structuralBaseParameters(const Model& model, const StructuralOptions& options) {

@@ -8,7 +8,7 @@
 #include <memory>
 #include <new>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/arm.hpp"
 #include "core/aba.hpp"
 #include "core/crba.hpp"
 #include "core/data.hpp"

@@ -7,7 +7,7 @@
 
 #include <pybind11/stl.h>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/arm.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
@@ -232,35 +232,9 @@ py::array_t<double> samplesOf(const Eigen::MatrixXd& m) {
   return toNumpy(Eigen::MatrixXd(m.transpose()));
 }
 
-void bindModelClass(py::module_& m) {
-  py::class_<Model>(m, "Model",
-                    "A robot: kinematic tree, inertial and drive parameters. Copies are "
-                    "independent (Model.copy()); load one with dynid.load_model().")
-      .def_readwrite("name", &Model::name,
-                     "The robot's name (the URDF's robot name, or the built-in's).")
-      .def_property_readonly("num_joints", &Model::numJoints, "The number of moving joints n.")
-      .def_property_readonly(
-          "num_parameters", [](const Model& self) { return self.parameterLayout().size(); },
-          "The length of the standard parameter vector (10 per link, then the enabled drive terms "
-          "per joint).")
-      .def_readonly("link_names", &Model::link_names, "The moving links' names, in joint order.")
-      .def_readonly("joint_names", &Model::joint_names, "The moving joints' names, in order.")
-      .def_property_readonly(
-          "parameter_names",
-          [](const Model& self) { return standardParameterNames(self.parameterLayout()); },
-          "Names of the standard parameters (m1, mx1, ..., Izz1, then Ia1, Fv1, ... with drives).")
-      .def_property_readonly(
-          "paper_parameter_names",
-          [](const Model& self) { return paperParameterNames(self.numJoints()); },
-          "Names of the paper's 7 per link (m1, cx1, cy1, cz1, Ixx1, Iyy1, Izz1, ...).")
-      .def_property_readonly(
-          "drive_terms", [](const Model& self) { return driveTermsKeys(self.driveTerms()); },
-          "The drive terms every joint carries, e.g. ['ia', 'fv', 'fc'] (set by load_model).")
-      .def_property(
-          "parameters", [](const Model& self) { return toNumpy(self.standardParameters()); },
-          [](Model& self, const ArrayLike& value) { setParameters(self, value); },
-          "The standard parameter vector, shape (num_parameters,) [kg, kg m, kg m^2, drive "
-          "units]. Assigning checks the size and that every value is finite (|x| <= 1e6).")
+/// Model's parameters by name: one, set one, all as a dict.
+void bindModelParameters(py::class_<Model>& model) {
+  model
       .def(
           "parameter",
           [](const Model& self, const std::string& name) {
@@ -286,7 +260,12 @@ void bindModelClass(py::module_& m) {
             for (std::size_t i = 0; i < names.size(); ++i) out[py::str(names[i])] = theta[i];
             return out;
           },
-          "{name: value} of the standard parameters, in order.")
+          "{name: value} of the standard parameters, in order.");
+}
+
+/// Model's gravity and joint limits.
+void bindModelLimits(py::class_<Model>& model) {
+  model
       .def_property(
           "gravity", [](const Model& self) { return toNumpy(Eigen::VectorXd(self.gravity())); },
           [](Model& self, const ArrayLike& value) {
@@ -306,7 +285,12 @@ void bindModelClass(py::module_& m) {
       .def_property_readonly(
           "effort_limits",
           [](const Model& s) { return toNumpy(limitsOf(s, &JointLimits::effort)); },
-          "Each joint's torque limit, shape (n,) [N m].")
+          "Each joint's torque limit, shape (n,) [N m].");
+}
+
+/// Model's consistency check, its documents (JSON, URDF, MJCF, show) and copies.
+void bindModelOutput(py::class_<Model>& model) {
+  model
       .def("check", &violationsList,
            "Physical-consistency violations of the links' parameters, as dicts {link, link_name, "
            "condition, detail}; empty when every link is realisable (as `dynid model check`).")
@@ -329,6 +313,41 @@ void bindModelClass(py::module_& m) {
                " joints, " + std::to_string(self.parameterLayout().size()) +
                " parameters, drives " + driveTermsText(self.driveTerms()) + ">";
       });
+}
+
+void bindModelClass(py::module_& m) {
+  py::class_<Model> model(m, "Model",
+                          "A robot: kinematic tree, inertial and drive parameters. Copies are "
+                          "independent (Model.copy()); load one with dynid.load_model().");
+  model
+      .def_readwrite("name", &Model::name,
+                     "The robot's name (the URDF's robot name, or the built-in's).")
+      .def_property_readonly("num_joints", &Model::numJoints, "The number of moving joints n.")
+      .def_property_readonly(
+          "num_parameters", [](const Model& self) { return self.parameterLayout().size(); },
+          "The length of the standard parameter vector (10 per link, then the enabled drive terms "
+          "per joint).")
+      .def_readonly("link_names", &Model::link_names, "The moving links' names, in joint order.")
+      .def_readonly("joint_names", &Model::joint_names, "The moving joints' names, in order.")
+      .def_property_readonly(
+          "parameter_names",
+          [](const Model& self) { return standardParameterNames(self.parameterLayout()); },
+          "Names of the standard parameters (m1, mx1, ..., Izz1, then Ia1, Fv1, ... with drives).")
+      .def_property_readonly(
+          "paper_parameter_names",
+          [](const Model& self) { return paperParameterNames(self.numJoints()); },
+          "Names of the paper's 7 per link (m1, cx1, cy1, cz1, Ixx1, Iyy1, Izz1, ...).")
+      .def_property_readonly(
+          "drive_terms", [](const Model& self) { return driveTermsKeys(self.driveTerms()); },
+          "The drive terms every joint carries, e.g. ['ia', 'fv', 'fc'] (set by load_model).")
+      .def_property(
+          "parameters", [](const Model& self) { return toNumpy(self.standardParameters()); },
+          [](Model& self, const ArrayLike& value) { setParameters(self, value); },
+          "The standard parameter vector, shape (num_parameters,) [kg, kg m, kg m^2, drive "
+          "units]. Assigning checks the size and that every value is finite (|x| <= 1e6).");
+  bindModelParameters(model);
+  bindModelLimits(model);
+  bindModelOutput(model);
 }
 
 void bindLoadingAndDatasets(py::module_& m) {

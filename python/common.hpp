@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <pybind11/numpy.h>
@@ -104,11 +105,23 @@ using TablesLike = Typed<TablesTag>;                // prepare's log files
 using StartLike = Typed<StartTag>;                  // refine's start: a result or its file
 using ProgressLike = Typed<ProgressTag>;            // search's callback: dict -> False to stop
 
+/// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every
+/// message a binding reports (exceptions, warnings): the keyword argument's own name.
+std::string pythonText(std::string_view text);
+/// Each of `texts` through pythonText.
+void pythonTexts(std::vector<std::string>& texts);
+
 // Registration, one function per file.
 void bindModel(py::module_& m);
 void bindDynamics(py::module_& m);
-void bindIdentification(py::module_& m);
-void bindSearch(py::module_& m);
+// One per wing (or, for the runs wing, per family of rooms), in the order module.cpp calls them.
+void bindRunsIdentify(py::module_& m);  // bind_runs_identify.cpp
+void bindRunsSearch(py::module_& m);    // bind_runs_search.cpp
+void bindLogs(py::module_& m);          // bind_logs.cpp
+void bindExcitation(py::module_& m);    // bind_excitation.cpp
+void bindPayload(py::module_& m);       // bind_payload.cpp
+void bindMonitor(py::module_& m);       // bind_monitor.cpp
+void bindStudies(py::module_& m);       // bind_studies.cpp
 
 }  // namespace dynid::python
 

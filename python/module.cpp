@@ -27,22 +27,31 @@ void registerExceptions(py::module_& m) {
       if (p) std::rethrow_exception(p);
     } catch (const ParseError& e) {
       PyObject* type = parse.ptr();
-      py::object instance = py::reinterpret_borrow<py::object>(type)(e.what());
+      py::object instance = py::reinterpret_borrow<py::object>(type)(pythonText(e.what()));
       instance.attr("file") = e.file();
       instance.attr("line") = e.line();
-      instance.attr("field") = e.element();
+      instance.attr("field") = pythonText(e.element());
       PyErr_SetObject(type, instance.ptr());
     } catch (const InputError& e) {
-      input(e.what());
+      input(pythonText(e.what()).c_str());
     } catch (const NumericalError& e) {
-      numerical(e.what());
+      numerical(pythonText(e.what()).c_str());
     } catch (const Error& e) {
-      error(e.what());
+      error(pythonText(e.what()).c_str());
     }
   });
 }
 
 }  // namespace
+
+std::string pythonText(std::string_view text) {
+  return respellFields(text, [](std::string_view field) { return std::string(field); });
+}
+
+void pythonTexts(std::vector<std::string>& texts) {
+  for (std::string& text : texts) text = pythonText(text);
+}
+
 }  // namespace dynid::python
 
 PYBIND11_MODULE(dynid, m) {
@@ -57,6 +66,11 @@ PYBIND11_MODULE(dynid, m) {
   dynid::python::registerExceptions(m);
   dynid::python::bindModel(m);
   dynid::python::bindDynamics(m);
-  dynid::python::bindIdentification(m);
-  dynid::python::bindSearch(m);
+  dynid::python::bindRunsIdentify(m);
+  dynid::python::bindPayload(m);
+  dynid::python::bindMonitor(m);
+  dynid::python::bindStudies(m);
+  dynid::python::bindRunsSearch(m);
+  dynid::python::bindExcitation(m);
+  dynid::python::bindLogs(m);
 }

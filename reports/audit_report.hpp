@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/audit.hpp"
+#include "analysis/studies/audit.hpp"
 
 namespace dynid {
 

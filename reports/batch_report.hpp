@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/batch.hpp"
+#include "analysis/studies/batch.hpp"
 
 namespace dynid {
 

@@ -6,8 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/comparison.hpp"
 #include "analysis/records/document.hpp"
+#include "analysis/studies/comparison.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"

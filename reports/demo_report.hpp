@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "analysis/demo.hpp"
+#include "analysis/studies/demo.hpp"
 #include "reports/plots.hpp"
 
 namespace dynid {

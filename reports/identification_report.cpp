@@ -8,6 +8,7 @@
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/search_record.hpp"
+#include "analysis/runs/arm.hpp"
 #include "core/format.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
@@ -184,6 +185,47 @@ json baseCovarianceJson(const IdentifyOutcome& outcome) {
 }
 }  // namespace
 
+namespace {
+
+/// estimate.json's "combined": the combined estimate's two criteria against pc's.
+json combinedJson(const CombinedSummary& summary) {
+  const CombinedSummary* c = &summary;
+  return {
+      {"termination", c->detail.termination},
+      {"moved", c->detail.moved},
+      {"iterations", c->detail.iterations},
+      {"seconds", c->detail.seconds},
+      {"gc_weight", c->detail.gc_weight},
+      {"gc_noise_floor", c->detail.gc_floor},
+      {"segments_train", c->train_segments},
+      {"segments_test", c->test_segments},
+      {"gc_error_train",
+       {{"pc", numberOrNull(c->gc_train_pc)}, {"combined", numberOrNull(c->gc_train)}}},
+      {"gc_error_test",
+       {{"pc", numberOrNull(c->gc_test_pc)}, {"combined", numberOrNull(c->gc_test)}}},
+      {"torque_relative_error_pc",
+       {{"train", numberOrNull(c->torque_train_pc)}, {"test", numberOrNull(c->torque_test_pc)}}},
+      {"cost_history", combinedHistoryJson(c->detail)}};
+}
+
+/// estimate.json's "torque_source" when the torques were motor currents (dynid prepare
+/// --current): the constants every parameter scales with, which monitor compares with the ones it
+/// is given for a recording; null otherwise.
+json torqueSourceJson(const PreparationFound& preparation) {
+  const auto& record = preparation.record;
+  if (preparation.present && record && !record->torque_constants.empty() &&
+      std::all_of(record->torque_constants.begin(), record->torque_constants.end(),
+                  [](double k) { return std::isfinite(k) && k != 0.0; }) &&
+      std::all_of(record->gear_ratios.begin(), record->gear_ratios.end(),
+                  [](double g) { return std::isfinite(g) && g != 0.0; }))
+    return {{"kind", "current"},
+            {"torque_constants", record->torque_constants},
+            {"gear_ratios", record->gear_ratios}};
+  return nullptr;
+}
+
+}  // namespace
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -236,23 +278,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"drive_parameters_at_bound", pc->at_bound},
         {"cost_history", pc->cost_history}};
   }
-  if (const auto& c = outcome.combined)
-    report["combined"] = {
-        {"termination", c->detail.termination},
-        {"moved", c->detail.moved},
-        {"iterations", c->detail.iterations},
-        {"seconds", c->detail.seconds},
-        {"gc_weight", c->detail.gc_weight},
-        {"gc_noise_floor", c->detail.gc_floor},
-        {"segments_train", c->train_segments},
-        {"segments_test", c->test_segments},
-        {"gc_error_train",
-         {{"pc", numberOrNull(c->gc_train_pc)}, {"combined", numberOrNull(c->gc_train)}}},
-        {"gc_error_test",
-         {{"pc", numberOrNull(c->gc_test_pc)}, {"combined", numberOrNull(c->gc_test)}}},
-        {"torque_relative_error_pc",
-         {{"train", numberOrNull(c->torque_train_pc)}, {"test", numberOrNull(c->torque_test_pc)}}},
-        {"cost_history", combinedHistoryJson(c->detail)}};
+  if (const auto& c = outcome.combined) report["combined"] = combinedJson(*c);
   if (const auto& back = outcome.write_back)
     report["write_back"] = {
         {"unseen_directions", back->unseen_directions},
@@ -269,17 +295,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   if (const auto& raw = outcome.raw_validation)
     report["validation"]["raw_measurement"] =
         rawValidationJson(*raw, outcome.validate_raw_file, outcome.raw_skipped);
-  // Torques from motor currents (dynid prepare --current): the constants every parameter scales
-  // with, which monitor compares with the ones it is given for a recording.
-  if (const auto& record = outcome.preparation.record;
-      outcome.preparation.present && record && !record->torque_constants.empty() &&
-      std::all_of(record->torque_constants.begin(), record->torque_constants.end(),
-                  [](double k) { return std::isfinite(k) && k != 0.0; }) &&
-      std::all_of(record->gear_ratios.begin(), record->gear_ratios.end(),
-                  [](double g) { return std::isfinite(g) && g != 0.0; }))
-    report["torque_source"] = {{"kind", "current"},
-                               {"torque_constants", record->torque_constants},
-                               {"gear_ratios", record->gear_ratios}};
+  if (json source = torqueSourceJson(outcome.preparation); !source.is_null())
+    report["torque_source"] = std::move(source);
   return report;
 }
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/identify.hpp"
 #include "reports/document.hpp"
 
 namespace dynid {

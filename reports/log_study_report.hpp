@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/log_study.hpp"
+#include "analysis/studies/log_study.hpp"
 #include "reports/document.hpp"
 
 namespace dynid {

@@ -7,7 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/arm.hpp"
+#include "analysis/runs/simulate.hpp"
 
 namespace dynid {
 

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/monitor.hpp"
+#include "analysis/monitor/monitor.hpp"
 
 namespace dynid {
 

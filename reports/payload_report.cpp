@@ -4,8 +4,9 @@
 #include <cmath>
 #include <sstream>
 
+#include "analysis/estimation/streaming.hpp"
+#include "analysis/payload/body.hpp"
 #include "analysis/records/document.hpp"
-#include "analysis/streaming.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
@@ -279,19 +280,10 @@ std::pair<std::string, std::string> payloadVendorFile(const PayloadOutcome& o,
   throw InputError("unknown payload format '" + format + "' (accepted: " + accepted + ")");
 }
 
-std::string writePayload(const std::string& dir, const PayloadOutcome& o,
-                         const std::vector<std::string>& formats, const std::string& urdf_path) {
-  std::vector<std::pair<std::string, std::string>> vendor;
-  for (const std::string& f : formats) vendor.push_back(payloadVendorFile(o, f));
+namespace {
 
-  Document report("Payload: " + o.robot + ", link " + o.link_name);
-  report.verdict(verdictBox(o));
-  report.paragraph(verdict(o));
-  if (!o.advice.empty() || !o.warnings.empty()) {
-    std::vector<std::string> items = o.advice;
-    for (const std::string& w : o.warnings) items.push_back("warning: " + w);
-    report.bullets(items);
-  }
+/// The report's payload section: the derived quantities and the standard parameters.
+void payloadTables(Document& report, const PayloadOutcome& o) {
   report.heading("The payload");
   DocumentTable table;
   table.header = {"quantity", "value", "± 95 %", "unit", "determined"};
@@ -316,7 +308,11 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
   }
   standard.caption = "The 10 standard parameters in the attachment frame (docs/PAYLOAD.md).";
   report.table(standard);
+}
 
+/// What the motion determines: the smallest payload resolved, what it does not see, and what it
+/// sees only in combination.
+void determinedSection(Document& report, const PayloadOutcome& o) {
   report.heading("What this motion determines");
   std::ostringstream ident;
   ident << "The smallest mass this log resolves to ±20 % (95 %) is "
@@ -333,7 +329,10 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
     report.paragraph("Determined only in combination (each part alone is not):");
     report.bullets(o.combined);
   }
+}
 
+/// Friction with the payload, and the drive gains from a known mass (when estimated).
+void frictionAndGains(Document& report, const PayloadOutcome& o) {
   if (!o.friction.empty()) {
     report.heading("Friction with the payload");
     DocumentTable f;
@@ -360,6 +359,26 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
         "joint whose scale is not determined to ±0.5 % (95 %) keeps its constant.";
     report.table(g);
   }
+}
+
+}  // namespace
+
+std::string writePayload(const std::string& dir, const PayloadOutcome& o,
+                         const std::vector<std::string>& formats, const std::string& urdf_path) {
+  std::vector<std::pair<std::string, std::string>> vendor;
+  for (const std::string& f : formats) vendor.push_back(payloadVendorFile(o, f));
+
+  Document report("Payload: " + o.robot + ", link " + o.link_name);
+  report.verdict(verdictBox(o));
+  report.paragraph(verdict(o));
+  if (!o.advice.empty() || !o.warnings.empty()) {
+    std::vector<std::string> items = o.advice;
+    for (const std::string& w : o.warnings) items.push_back("warning: " + w);
+    report.bullets(items);
+  }
+  payloadTables(report, o);
+  determinedSection(report, o);
+  frictionAndGains(report, o);
 
   report.heading("Torques");
   DocumentTable fit;

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/payload.hpp"
+#include "analysis/payload/payload.hpp"
 
 namespace dynid {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "analysis/demo.hpp"
+#include "analysis/studies/demo.hpp"
 #include "reports/plot_script.hpp"
 
 namespace dynid {

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/predict.hpp"
 
 namespace dynid {
 
@@ -26,7 +26,7 @@ std::vector<std::string> bandWarnings(const Eigen::VectorXd& coverage);
 /// one console line; `skipped`: raw samples no two adjacent dataset samples bracket.
 nlohmann::json rawValidationJson(const Validation& raw, const std::string& file, int skipped);
 /// estimate.json's and prediction.json's `reversals`: the band, the shares and the flagged joints
-/// (1-based) of analysis/reversals.hpp.
+/// (1-based) of analysis/estimation/reversals.hpp.
 nlohmann::json reversalsJson(const ReversalResidual& r);
 /// When some joints' residual gathers near zero velocity (ReversalResidual::flagged): "friction
 /// at reversals: ..." naming them with their shares, and what the drive terms can do about it

@@ -28,13 +28,11 @@ nlohmann::json runJson(const PreparedRun& r) {
 }
 }  // namespace
 
-nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& options,
-                           const PrepareOutcome& o) {
-  nlohmann::json runs = nlohmann::json::array(), dropped = nlohmann::json::array(),
-                 gaps = nlohmann::json::array();
-  for (const PreparedRun& r : o.runs) runs.push_back(runJson(r));
-  for (const PreparedRun& r : o.dropped_runs) dropped.push_back(runJson(r));
-  for (const auto& [at, length] : o.gaps) gaps.push_back({{"at", at}, {"length", length}});
+namespace {
+
+/// Where the log came from: its files or tables and their selectors, recordings' effort source,
+/// and the current-to-torque conversion.
+nlohmann::json sourceJson(const LogSource& source, const PrepareOptions& options) {
   const char* tau_key = source.current ? "current" : "tau";
   nlohmann::json sources =
       source.arrays != nullptr
@@ -57,6 +55,50 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
                                                        : numbersOrNull(Eigen::VectorXd::Ones(
                                                              options.torque_constants.size()))},
         {"torque", "current x torque constant x gear ratio (joint side)"}};
+  return sources;
+}
+
+/// Per table, the columns each signal was read from.
+nlohmann::json columnsJson(const LogSource& source, const PrepareOutcome& o) {
+  const char* tau_key = source.current ? "current" : "tau";
+  nlohmann::json columns = nlohmann::json::array();
+  for (std::size_t f = 0; f < o.columns.size(); ++f) {
+    const LogColumns& c = o.columns[f];
+    nlohmann::json entry = {{"file", source.tables.at(f)}, {"time", c.time}, {"q", c.q}};
+    entry[tau_key] = c.tau;
+    if (!c.dq.empty()) entry["dq"] = c.dq;
+    if (!c.ddq.empty()) entry["ddq"] = c.ddq;
+    columns.push_back(entry);
+  }
+  return columns;
+}
+
+/// The shortest decimal that reads back as the 64-bit origin (an epoch in ns: its 19 digits;
+/// 1700000000.00025 as written, not the 21 digits of its nearest binary value), in fixed-point
+/// (an epoch reads as one), scientific only when 30 decimals do not read back.
+std::string exactOrigin(long double time_origin) {
+  char origin[128] = "";
+  for (int decimals = 0;; ++decimals) {
+    std::snprintf(origin, sizeof(origin), "%.*Lf", decimals, time_origin);
+    if (std::strtold(origin, nullptr) == time_origin) break;
+    if (decimals == 30) {
+      std::snprintf(origin, sizeof(origin), "%.21Lg", time_origin);
+      break;
+    }
+  }
+  return origin;
+}
+
+}  // namespace
+
+nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& options,
+                           const PrepareOutcome& o) {
+  nlohmann::json runs = nlohmann::json::array(), dropped = nlohmann::json::array(),
+                 gaps = nlohmann::json::array();
+  for (const PreparedRun& r : o.runs) runs.push_back(runJson(r));
+  for (const PreparedRun& r : o.dropped_runs) dropped.push_back(runJson(r));
+  for (const auto& [at, length] : o.gaps) gaps.push_back({{"at", at}, {"length", length}});
+  const nlohmann::json sources = sourceJson(source, options);
   const std::string derivatives =
       o.savgol_window > 0 ? "Savitzky-Golay (degree " + std::to_string(options.savgol_degree) +
                                 ", " + std::to_string(o.savgol_window) + " samples)"
@@ -67,15 +109,8 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   const nlohmann::json held_out = {{"fraction_of_each_run", options.validate_fraction},
                                    {"runs", held_runs},
                                    {"time_ranges", ranges}};
-  nlohmann::json columns = nlohmann::json::array(), rest = nlohmann::json::array();
-  for (std::size_t f = 0; f < o.columns.size(); ++f) {
-    const LogColumns& c = o.columns[f];
-    nlohmann::json entry = {{"file", source.tables.at(f)}, {"time", c.time}, {"q", c.q}};
-    entry[tau_key] = c.tau;
-    if (!c.dq.empty()) entry["dq"] = c.dq;
-    if (!c.ddq.empty()) entry["ddq"] = c.ddq;
-    columns.push_back(entry);
-  }
+  const nlohmann::json columns = columnsJson(source, o);
+  nlohmann::json rest = nlohmann::json::array();
   for (const RestAtEnds& r : o.rest)
     rest.push_back({{"file", r.file},
                     {"start", r.start},
@@ -85,18 +120,7 @@ nlohmann::json prepareJson(const LogSource& source, const PrepareOptions& option
   nlohmann::json windows = nlohmann::json::array(), row_windows = nlohmann::json::array();
   for (const auto& [from, to] : options.windows) windows.push_back({from, to});
   for (const auto& [from, to] : options.row_windows) row_windows.push_back({from, to});
-  // The shortest decimal that reads back as the 64-bit origin (an epoch in ns: its 19 digits;
-  // 1700000000.00025 as written, not the 21 digits of its nearest binary value), in
-  // fixed-point (an epoch reads as one), scientific only when 30 decimals do not read back.
-  char origin[128] = "";
-  for (int decimals = 0;; ++decimals) {
-    std::snprintf(origin, sizeof(origin), "%.*Lf", decimals, o.time_origin);
-    if (std::strtold(origin, nullptr) == o.time_origin) break;
-    if (decimals == 30) {
-      std::snprintf(origin, sizeof(origin), "%.21Lg", o.time_origin);
-      break;
-    }
-  }
+  const std::string origin = exactOrigin(o.time_origin);
   return {
       {"schema_version", kPrepareDocument.schema_version},
       {"kind", kPrepareDocument.kind},
@@ -196,6 +220,44 @@ std::optional<std::string> filteredFigure(const PrepareOutcome& o) {
   return gnuplotSvg(s);
 }
 
+namespace {
+
+/// validate_raw.csv: the held-out part's raw torques at the log's stamps (t, tau1..taun).
+void writeRawHeldOut(AtomicWriter& raw, const PrepareOutcome& outcome) {
+  std::string line = "t";
+  for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
+    line.append(",tau").append(std::to_string(j + 1));
+  raw.write(line + "\n");
+  for (Eigen::Index k = 0; k < outcome.raw_validate_time.size(); ++k) {
+    line = formatNumber(outcome.raw_validate_time[k]);
+    for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
+      line.append(",").append(formatNumber(outcome.raw_validate_tau(k, j)));
+    raw.write(line + "\n");
+  }
+}
+
+/// The summary's words on the filter and the derivatives.
+void describeProcessing(std::ostream& out, const PrepareOutcome& outcome) {
+  if (outcome.cutoff > 0.0)
+    out << "order-" << outcome.order << " Butterworth at " << outcome.cutoff
+        << " Hz (zero phase), ";
+  else
+    out << "no filter, ";
+  if (outcome.tau_cutoff != outcome.cutoff)
+    out << (outcome.tau_cutoff > 0.0 ? "tau at " + formatNumber(outcome.tau_cutoff) + " Hz, "
+                                     : std::string("tau unfiltered, "));
+  const std::string method =
+      outcome.savgol_window > 0
+          ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
+          : std::string("central differences");
+  if (outcome.dq_derived)
+    out << (outcome.ddq_logged ? "dq by " + method + ", ddq logged" : "dq and ddq by " + method);
+  else
+    out << (outcome.ddq_logged ? std::string("dq and ddq logged") : "ddq by " + method);
+}
+
+}  // namespace
+
 std::string writePrepared(const std::string& dir, const LogSource& source,
                           const PrepareOptions& options, const PrepareOutcome& outcome,
                           int threads) {
@@ -219,19 +281,7 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
         },
         &pool);
   }
-  if (options.keep_raw_torque) {
-    AtomicWriter& raw = set.stream("validate_raw.csv");
-    std::string line = "t";
-    for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
-      line.append(",tau").append(std::to_string(j + 1));
-    raw.write(line + "\n");
-    for (Eigen::Index k = 0; k < outcome.raw_validate_time.size(); ++k) {
-      line = formatNumber(outcome.raw_validate_time[k]);
-      for (Eigen::Index j = 0; j < outcome.raw_validate_tau.cols(); ++j)
-        line.append(",").append(formatNumber(outcome.raw_validate_tau(k, j)));
-      raw.write(line + "\n");
-    }
-  }
+  if (options.keep_raw_torque) writeRawHeldOut(set.stream("validate_raw.csv"), outcome);
   std::vector<std::pair<std::string, std::string>> files = {
       {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
   std::vector<std::string> figures;
@@ -252,22 +302,7 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
       << outcome.max_gap * 1e3 << " ms; " << outcome.repeated_stamps << " repeated stamps and "
       << outcome.stalled_repeats << " stalled repeats dropped)\n"
       << "  " << outcome.runs.size() << " runs at " << outcome.rate << " Hz, ";
-  if (outcome.cutoff > 0.0)
-    out << "order-" << outcome.order << " Butterworth at " << outcome.cutoff
-        << " Hz (zero phase), ";
-  else
-    out << "no filter, ";
-  if (outcome.tau_cutoff != outcome.cutoff)
-    out << (outcome.tau_cutoff > 0.0 ? "tau at " + formatNumber(outcome.tau_cutoff) + " Hz, "
-                                     : std::string("tau unfiltered, "));
-  const std::string method =
-      outcome.savgol_window > 0
-          ? "Savitzky-Golay (" + std::to_string(outcome.savgol_window) + " samples)"
-          : std::string("central differences");
-  if (outcome.dq_derived)
-    out << (outcome.ddq_logged ? "dq by " + method + ", ddq logged" : "dq and ddq by " + method);
-  else
-    out << (outcome.ddq_logged ? std::string("dq and ddq logged") : "ddq by " + method);
+  describeProcessing(out, outcome);
   out << ", " << outcome.trim << " s trimmed at each end, every " << outcome.decimate << " kept\n"
       << "wrote " << dir << "/train.csv (" << outcome.trainSamples() << " samples)";
   if (outcome.validateSamples() > 0)

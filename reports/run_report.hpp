@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/search.hpp"
 
 namespace dynid {
 

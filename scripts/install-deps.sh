@@ -15,7 +15,7 @@ packages=(
   libeigen3-dev libceres-dev libsuitesparse-dev libnlopt-cxx-dev
   libboost-program-options-dev liburdfdom-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  gnuplot-nox clang-format
+  gnuplot-nox clang-format universal-ctags
   zsh groff-base
   clang libclang-rt-14-dev llvm-14
   pybind11-dev python3-dev python3-numpy python3-pytest python3-mypy

@@ -416,20 +416,20 @@ void ExciteRequest::check() const {
     if (!ok) throw InputError(message);
   };
   // The ranges of the one option table (core/option_ranges.hpp), in the request's field names.
-  checkOption("excite", "period", period, "period");
-  checkOption("excite", "harmonics", harmonics, "harmonics");
-  checkOption("excite", "starts", starts, "starts");
-  checkOption("excite", "evaluations", evaluations, "evaluations");
-  checkOption("excite", "grid-rate", grid_rate, "grid_rate");
-  checkOption("excite", "check-rate", check_rate, "check_rate");
-  checkOption("excite", "torque-noise", torque_noise, "torque_noise");
-  checkOption("excite", "segments", gc_segments, "gc_segments");
-  checkOption("excite", "threads", threads, "threads");
+  checkOption("excite", "period", period, "`period`");
+  checkOption("excite", "harmonics", harmonics, "`harmonics`");
+  checkOption("excite", "starts", starts, "`starts`");
+  checkOption("excite", "evaluations", evaluations, "`evaluations`");
+  checkOption("excite", "grid-rate", grid_rate, "`grid_rate`");
+  checkOption("excite", "check-rate", check_rate, "`check_rate`");
+  checkOption("excite", "torque-noise", torque_noise, "`torque_noise`");
+  checkOption("excite", "segments", gc_segments, "`gc_segments`");
+  checkOption("excite", "threads", threads, "`threads`");
   structural.check();
   // max_seconds: +inf (no budget) or a budget-seconds > 0.
   require(!(max_seconds <= 0.0), "max_seconds must be > 0");
   if (std::isfinite(max_seconds))
-    checkOption("excite", "budget-seconds", max_seconds, "max_seconds");
+    checkOption("excite", "budget-seconds", max_seconds, "`max_seconds`");
   require(gc_horizon > 0.0 && gc_horizon <= period &&
               std::abs(gc_horizon * check_rate - std::round(gc_horizon * check_rate)) <= 1e-6 &&
               std::round(gc_horizon * check_rate) >= 1.0,
@@ -440,7 +440,8 @@ void ExciteRequest::check() const {
   requireMemory(period * check_rate * n * 7 * sizeof(double),
                 "the design sampled at the check rate");
   if (offset) checkOffsets(robot, limits, *offset);
-  checkOption("excite", "payload-proximal-share", payload_proximal_share, "payload_proximal_share");
+  checkOption("excite", "payload-proximal-share", payload_proximal_share,
+              "`payload_proximal_share`");
   if (payload_link) {
     require(*payload_link >= 0 && *payload_link < n,
             "payload_link " + std::to_string(*payload_link) + " is not a link of the robot");
@@ -536,7 +537,7 @@ struct MultiStart {
     throw Error("the design was stopped (" + termination + ") before any start met the limits" +
                 why);
   throw Error("no start met the limits" + why +
-              " (raise the limit, lower the torque margin's demand, or use --offset)");
+              " (raise the limit, lower the torque margin's demand, or use `offset`)");
 }
 
 /// The check at check_rate: shrinks out.design's coefficients until no limit is crossed between

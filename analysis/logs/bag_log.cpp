@@ -87,7 +87,7 @@ std::vector<int> jointIndex(const std::vector<std::string>& names,
   if (fits.size() > 1)
     throw InputError(path + ": the JointState messages on " + topic +
                      " name the robot's joints under several prefixes (" + listed(fits) +
-                     "): say which arm with --joint-prefix " + fits.front() + " (or another)");
+                     "): say which arm with `joint_prefix` " + fits.front() + " (or another)");
   if (fits.empty())
     throw InputError(path + ": the JointState messages on " + topic + " lack the robot's joints " +
                      listed(missing) + " (they hold " + listed(held) +
@@ -112,8 +112,8 @@ void checkArrays(const bags::JointStateMessage& m, const bags::BagMessage& messa
         (m.effort.empty() ? " carry no effort (torque)" : " carry efforts for only some joints") +
         ": dynid needs the measured torques (at byte " + std::to_string(message.offset) + " of " +
         *message.file +
-        "); a second topic or a table may give them (--effort-topic, "
-        "--effort-log)");
+        "); a second topic or a table may give them (`effort_topic`, "
+        "`effort_log`)");
 }
 
 /// Efforts from a second source, at its own stamps (ns on the recording's clock), n per stamp.
@@ -150,7 +150,7 @@ EffortSamples effortTopic(const LogSource& source, const std::string& path,
     e.ns.push_back(source.receive_time ? message.receive_ns : m.stamp_ns);
     for (int j : index) e.values.push_back(m.effort[static_cast<std::size_t>(j)]);
   });
-  if (e.ns.empty()) throw InputError(path + ": no messages on --effort-topic " + topic);
+  if (e.ns.empty()) throw InputError(path + ": no messages on `effort_topic` " + topic);
   for (const std::string& name : names) e.columns.push_back(topic + ": " + name);
   return e;
 }
@@ -159,9 +159,9 @@ EffortSamples effortTopic(const LogSource& source, const std::string& path,
 /// (seconds on the recording's clock, e.g. epoch seconds beside header stamps).
 EffortSamples effortTable(const LogSource& source, int n) {
   const RawTable header = readRawHeader(source.effort_table, source.decimal_comma);
-  std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
+  std::vector<int> columns = selectColumns(header, source.time_column, 1, "`time_column`");
   const std::vector<int> tau =
-      selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
+      selectColumns(header, source.tau_columns, n, source.current ? "`current`" : "`tau_columns`");
   columns.insert(columns.end(), tau.begin(), tau.end());
   long double origin = 0.0L;
   const Eigen::MatrixXd v = readRawColumns(header, columns, &origin);
@@ -257,8 +257,8 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
   if (!source.joint_prefix.empty()) {
     if (scan.names.empty())
       throw InputError(path +
-                       ": --joint-prefix names the robot's joints in the messages: give "
-                       "the robot (--robot)");
+                       ": `joint_prefix` names the robot's joints in the messages: give "
+                       "the robot (`robot`)");
     for (std::string& name : scan.names) name = source.joint_prefix + name;
   }
   std::string& topic = scan.topic;
@@ -323,11 +323,11 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
                      (source.topic.empty() ? std::string() : " on " + source.topic));
   if (!other_topics.empty())
     throw InputError(path + ": JointState messages on several topics (" + topic + ", " +
-                     listed(other_topics) + "): give --topic");
+                     listed(other_topics) + "): give `topic`");
   if (!source.receive_time && !any_header_stamp)
     throw InputError(path +
                      ": every JointState header stamp is zero (the publisher does not "
-                     "stamp them): give --stamp receive");
+                     "stamp them): give `stamp` receive");
   return scan;
 }
 

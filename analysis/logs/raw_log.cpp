@@ -28,24 +28,6 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
-std::vector<std::string> splitFields(const std::string& line, char delimiter) {
-  std::vector<std::string> out;
-  if (delimiter == ' ') {
-    std::istringstream in(line);
-    for (std::string f; in >> f;) out.push_back(f);
-    return out;
-  }
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t end = line.find(delimiter, start);
-    out.push_back(
-        trim(line.substr(start, end == std::string::npos ? std::string::npos : end - start)));
-    if (end == std::string::npos) break;
-    start = end + 1;
-  }
-  return out;
-}
-
 /// The number in `field`, or false when it is not one (the whole field must parse).
 bool parseNumber(const std::string& field, double* out) {
   if (field.empty()) return false;
@@ -186,7 +168,7 @@ RawTable readRawHeader(const std::string& path, bool decimal_comma) {
           std::memchr(begin, ',', static_cast<std::size_t>(end - begin)) != nullptr &&
           std::memchr(begin, ' ', static_cast<std::size_t>(end - begin)) == nullptr)
         throw ParseError(path, line, "",
-                         "--decimal-comma: the fields are separated by ',' (a decimal comma "
+                         "`decimal_comma`: the fields are separated by ',' (a decimal comma "
                          "needs ';', tab or blanks between fields)");
       std::vector<std::string> fields;
       bool numeric = true;
@@ -267,9 +249,9 @@ Eigen::MatrixXd readRawColumns(const RawTable& header, const std::vector<int>& c
             }
             std::string hint;
             if (skipped == nullptr && isMissing(b, e))
-              hint = " (a logger's dropout? --skip-missing leaves such rows out)";
+              hint = " (a logger's dropout? `skip_missing` leaves such rows out)";
             else if (!header.decimal_comma && header.delimiter != ',' && isDecimalCommaNumber(b, e))
-              hint = " (',' for the decimal point? --decimal-comma reads it)";
+              hint = " (',' for the decimal point? `decimal_comma` reads it)";
             throw ParseError(path, line, header.names[static_cast<std::size_t>(c)],
                              "'" + trim(std::string(b, e)) + "' is not a finite number" + hint);
           }
@@ -438,7 +420,8 @@ void naturalOrder(const RawTable& table, const std::string& entry, const std::st
 std::vector<int> selectColumns(const RawTable& table, const std::string& selector, int expected,
                                const std::string& what) {
   std::vector<int> out;
-  for (const std::string& entry : splitFields(selector, ',')) {
+  for (const std::string_view field : splitFields(selector, ',')) {
+    const std::string entry = trim(std::string(field));
     if (entry.empty())
       throw ParseError(table.file, 0, what, "an empty column entry in '" + selector + "'");
     std::vector<int> matched;

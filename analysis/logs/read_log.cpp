@@ -46,7 +46,7 @@ namespace {
 
 /// A one-file-per-signal log (time, q, tau or currents, and dq, ddq when given) into `out`.
 void readSignalFiles(const LogSource& source, int n, RawSignals& out) {
-  if (n <= 0) throw InputError("give the number of joints (--joints) for one-file-per-signal logs");
+  if (n <= 0) throw InputError("give the number of joints (`joints`) for one-file-per-signal logs");
   if (source.time_file.empty() || source.q_file.empty() || source.tau_file.empty())
     throw InputError("one-file-per-signal logs need the time, q and tau (or current) files");
   const Eigen::VectorXd time = readValueFile(source.time_file, 1, &out.time_origin).col(0);
@@ -84,15 +84,16 @@ RawSignals readLog(const LogSource& source, const std::string& table_path,
   std::string tau_file = table_path;
   if (!table_path.empty()) {
     const RawTable header = readRawHeader(table_path, source.decimal_comma);
-    const std::vector<int> q = selectColumns(header, source.q_columns, n > 0 ? n : -1, "--q");
+    const std::vector<int> q =
+        selectColumns(header, source.q_columns, n > 0 ? n : -1, "`q_columns`");
     n = static_cast<int>(q.size());
-    std::vector<int> columns = selectColumns(header, source.time_column, 1, "--time");
+    std::vector<int> columns = selectColumns(header, source.time_column, 1, "`time_column`");
     columns.insert(columns.end(), q.begin(), q.end());
-    const std::vector<int> tau =
-        selectColumns(header, source.tau_columns, n, source.current ? "--current" : "--tau");
+    const std::vector<int> tau = selectColumns(header, source.tau_columns, n,
+                                               source.current ? "`current`" : "`tau_columns`");
     columns.insert(columns.end(), tau.begin(), tau.end());
-    for (const auto& [selector, what] :
-         {std::pair{&source.dq_columns, "--dq"}, std::pair{&source.ddq_columns, "--ddq"}})
+    for (const auto& [selector, what] : {std::pair{&source.dq_columns, "`dq_columns`"},
+                                         std::pair{&source.ddq_columns, "`ddq_columns`"}})
       if (!selector->empty()) {
         const std::vector<int> more = selectColumns(header, *selector, n, what);
         columns.insert(columns.end(), more.begin(), more.end());
@@ -135,7 +136,7 @@ RawSignals readLog(const LogSource& source, const std::string& table_path,
         lines += (k == 0 ? "" : ", ") + std::to_string(skipped_lines[k]);
       out.warnings.push_back(
           std::to_string(skipped.size()) + " row(s) with a missing value (empty, nan or inf) " +
-          "left out (--skip-missing), at line(s) " + lines + (skipped.size() > 5 ? ", ..." : "") +
+          "left out (`skip_missing`), at line(s) " + lines + (skipped.size() > 5 ? ", ..." : "") +
           ": the resampling bridges them, and a run splits where they leave a gap longer than the "
           "gap limit");
     }

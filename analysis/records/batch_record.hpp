@@ -12,7 +12,7 @@
 namespace dynid {
 
 /// One finished run: its spec (a manifest row, every key) and its metrics (a comparison row,
-/// analysis/comparison.hpp's metricsJson).
+/// analysis/studies/comparison.hpp's metricsJson).
 struct BatchRunRecord {
   nlohmann::json spec, metrics;
 };

@@ -12,4 +12,9 @@ nlohmann::json parseJson(const std::string& text, const std::string& file) {
   return parseJsonDocument(text, file);
 }
 
+bool isDocumentOfKind(const nlohmann::json& document, const DocumentType& type) {
+  return document.is_object() && document.contains("kind") && document["kind"].is_string() &&
+         document["kind"].get<std::string>() == type.kind;
+}
+
 }  // namespace dynid

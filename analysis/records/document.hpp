@@ -47,6 +47,9 @@ inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 /// {"schema_version": ..., "kind": ...}: a document's first keys.
 nlohmann::json documentHeader(const DocumentType& type);
 
+/// Whether `document` is an object whose "kind" is `type`'s (a string; anything else: false).
+bool isDocumentOfKind(const nlohmann::json& document, const DocumentType& type);
+
 /// Parses `text` as JSON; throws ParseError naming `file` ("invalid JSON: ...").
 nlohmann::json parseJson(const std::string& text, const std::string& file);
 

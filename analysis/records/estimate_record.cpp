@@ -25,7 +25,7 @@ Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>&
   for (std::size_t k = 0; k < names.size(); ++k) {
     const std::string path = where + "." + names[k];
     if (!values.contains(names[k]))
-      read.fail(path, "missing (does --robot/--drives match the run?)");
+      read.fail(path, "missing (does `robot`/`drives` match the run?)");
     theta[static_cast<Eigen::Index>(k)] =
         read.number(values[names[k]], path, -kMaxParameterMagnitude, kMaxParameterMagnitude);
   }
@@ -149,6 +149,46 @@ void readTorqueSource(const JsonReader& read, const json& value, EstimateRecord&
 
 }  // namespace
 
+namespace {
+
+/// estimate.json's base_covariance (each base parameter's regressor column and the covariance) and
+/// joint_sigma, predict's torque bands.
+void readBaseCovariance(const JsonReader& read, const json& document, EstimateRecord& out) {
+  const json& c = read.object(document["base_covariance"], "base_covariance");
+  read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
+  out.band_columns =
+      read.strings(read.field(c, "base_covariance", "columns"), "base_covariance.columns");
+  const long b = static_cast<long>(out.band_columns.size());
+  const json& rows =
+      read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
+  if (static_cast<long>(rows.size()) != b)
+    read.fail("base_covariance.matrix", "expected " + std::to_string(b) + " rows");
+  // Every row's length first: the matrix is allocated only for numbers the file holds.
+  for (long i = 0; i < b; ++i) {
+    const nlohmann::json& row = rows[static_cast<std::size_t>(i)];
+    if (!row.is_array() || static_cast<long>(row.size()) != b)
+      read.fail(JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)),
+                "expected " + std::to_string(b) + " numbers");
+  }
+  out.covariance.resize(b, b);
+  for (long i = 0; i < b; ++i)
+    out.covariance.row(i) =
+        read.vector(rows[static_cast<std::size_t>(i)],
+                    JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)), b)
+            .transpose();
+  if (!out.covariance.allFinite() ||
+      (out.covariance - out.covariance.transpose()).norm() > 1e-9 * out.covariance.norm() ||
+      (out.covariance.diagonal().array() < 0.0).any())
+    read.fail("base_covariance.matrix", "expected a finite symmetric covariance");
+  if (document.contains("joint_sigma")) {
+    out.joint_sigma = read.vector(document["joint_sigma"], "joint_sigma");
+    if (!out.joint_sigma.allFinite() || (out.joint_sigma.array() < 0.0).any())
+      read.fail("joint_sigma", "expected finite numbers >= 0");
+  }
+}
+
+}  // namespace
+
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
   read.header(document, kEstimateDocument.schema_version, nullptr);
@@ -183,39 +223,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "torque_source"});
   EstimateRecord out;
   if (document.contains("torque_source")) readTorqueSource(read, document["torque_source"], out);
-  if (document.contains("base_covariance")) {
-    const json& c = read.object(document["base_covariance"], "base_covariance");
-    read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
-    out.band_columns =
-        read.strings(read.field(c, "base_covariance", "columns"), "base_covariance.columns");
-    const long b = static_cast<long>(out.band_columns.size());
-    const json& rows =
-        read.array(read.field(c, "base_covariance", "matrix"), "base_covariance.matrix");
-    if (static_cast<long>(rows.size()) != b)
-      read.fail("base_covariance.matrix", "expected " + std::to_string(b) + " rows");
-    // Every row's length first: the matrix is allocated only for numbers the file holds.
-    for (long i = 0; i < b; ++i) {
-      const nlohmann::json& row = rows[static_cast<std::size_t>(i)];
-      if (!row.is_array() || static_cast<long>(row.size()) != b)
-        read.fail(JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)),
-                  "expected " + std::to_string(b) + " numbers");
-    }
-    out.covariance.resize(b, b);
-    for (long i = 0; i < b; ++i)
-      out.covariance.row(i) =
-          read.vector(rows[static_cast<std::size_t>(i)],
-                      JsonReader::index("base_covariance.matrix", static_cast<std::size_t>(i)), b)
-              .transpose();
-    if (!out.covariance.allFinite() ||
-        (out.covariance - out.covariance.transpose()).norm() > 1e-9 * out.covariance.norm() ||
-        (out.covariance.diagonal().array() < 0.0).any())
-      read.fail("base_covariance.matrix", "expected a finite symmetric covariance");
-    if (document.contains("joint_sigma")) {
-      out.joint_sigma = read.vector(document["joint_sigma"], "joint_sigma");
-      if (!out.joint_sigma.allFinite() || (out.joint_sigma.array() < 0.0).any())
-        read.fail("joint_sigma", "expected finite numbers >= 0");
-    }
-  }
+  if (document.contains("base_covariance")) readBaseCovariance(read, document, out);
   if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");
   if (document.contains("method")) out.method = read.string(document, "", "method");
   if (document.contains("drive_terms"))
@@ -237,6 +245,24 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
           read.fail(JsonReader::index(path, c), "expected a number");
     }
     out.kinematics = rows;
+  }
+  return out;
+}
+
+BaseParametersRecord baseParametersFrom(const nlohmann::json& document, const std::string& file) {
+  const JsonReader read(file);
+  const json& base = read.array(read.field(document, "", "base_parameters"), "base_parameters");
+  BaseParametersRecord out;
+  out.estimate.resize(static_cast<Eigen::Index>(base.size()));
+  out.std_dev.resize(static_cast<Eigen::Index>(base.size()));
+  for (std::size_t j = 0; j < base.size(); ++j) {
+    const std::string path = JsonReader::index("base_parameters", j);
+    out.names.push_back(read.string(base[j], path, "name"));
+    out.expressions.push_back(read.string(base[j], path, "expression"));
+    const auto e = static_cast<Eigen::Index>(j);
+    out.estimate[e] =
+        read.number(base[j], path, "estimate", -kMaxParameterMagnitude, kMaxParameterMagnitude);
+    out.std_dev[e] = read.number(base[j], path, "std_dev", 0.0, kMaxParameterMagnitude);
   }
   return out;
 }

@@ -53,6 +53,16 @@ struct EstimateRecord {
 /// +-kMaxParameterMagnitude, kinematics an array of 15-entry rows. Throws ParseError naming `file`
 /// and the field.
 EstimateRecord estimateRecordFrom(const nlohmann::json& document, const std::string& file);
+/// estimate.json's base parameters: each one's name, expression, estimate and standard deviation.
+struct BaseParametersRecord {
+  std::vector<std::string> names, expressions;
+  Eigen::VectorXd estimate, std_dev;
+};
+/// Reads `document`'s base_parameters (required; each estimate within +-kMaxParameterMagnitude,
+/// each standard deviation in [0, kMaxParameterMagnitude]). Throws ParseError naming `file` and the
+/// field.
+BaseParametersRecord baseParametersFrom(const nlohmann::json& document, const std::string& file);
+
 /// The standard vector in the order of `names` (a robot's layout). Throws ParseError naming the
 /// first missing or extra parameter ("standard_estimate.values.Ixx3") and saying the estimate was
 /// made for another robot (or edited) when the names differ.

@@ -1,7 +1,7 @@
 // Identify a robot's base parameters from a dataset CSV by least squares, step by step with the
 // library: the structural base parameters (what the torques can determine), the observation
 // matrix of the dataset, the estimate with its relative standard deviations, and its error
-// against the truth. `dynid identify` runs the same steps (analysis/runs.hpp, identifyRun).
+// against the truth. `dynid identify` runs the same steps (analysis/runs/runs.hpp, identifyRun).
 //
 //   example_identify_from_csv [DATASET.csv [ROBOT]]
 // ROBOT is what `--robot` takes (puma560, panda, a .urdf or .json file; default puma560). Without
@@ -16,7 +16,8 @@
 #include <filesystem>
 #include <string>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/identify.hpp"
+#include "analysis/runs/simulate.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/robots.hpp"
 

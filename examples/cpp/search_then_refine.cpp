@@ -2,12 +2,13 @@
 // GC error (how well a model predicts the recorded motion 50 ms ahead) by multistart COBYLA from a
 // 30 % perturbed guess, then refine the search's result by Ceres least squares on the same
 // residuals, in base-parameter coordinates. `dynid search` and `dynid refine` run the same steps
-// (analysis/runs.hpp, searchRun and refineRun).
+// (analysis/runs/runs.hpp, searchRun and refineRun).
 //
 //   example_search_then_refine
 #include <cstdio>
 
-#include "analysis/runs.hpp"
+#include "analysis/runs/search.hpp"
+#include "analysis/runs/simulate.hpp"
 #include "core/perturb.hpp"
 #include "data/robots.hpp"
 

@@ -209,20 +209,15 @@ Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& proble
   return g;
 }
 
-CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
-                              const BaseCoordinates& base, const TorqueTerm& torque,
-                              const Eigen::VectorXd& theta0, const CombinedOptions& options) {
-  const auto t0 = Clock::now();
-  checkInputs(structure, problem, base, torque, theta0, options.gc_weight);
-  if (!std::isfinite(torque.cost(theta0)))
-    throw InputError("the combined estimator's start is outside the physical set");
-  const RunControl control = options.control.within(options.max_seconds, t0);
-  ThreadPool pool(std::max(options.num_threads, 1));
-  GcWorkspace workspace(pool.numThreads());
-  const Eigen::MatrixXd& P = base.projection;
-  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
-  const double w = options.gc_weight;
+namespace {
 
+/// The combined estimate at its start theta0: the GC error (refused when it predicts no usable
+/// motion), its scale and noise floor, the cost (`current`) and the history's first row.
+CombinedResult startOfCombined(const Model& structure, const GcProblem& problem,
+                               const TorqueTerm& torque, const Eigen::VectorXd& theta0,
+                               const CombinedOptions& options, Clock::time_point t0,
+                               GcWorkspace& workspace, ThreadPool& pool, CombinedValue& current) {
+  const double w = options.gc_weight;
   CombinedResult out;
   out.theta = theta0;
   out.initial_gc = gcError(modelAt(structure, theta0), problem, workspace, pool);
@@ -236,11 +231,59 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
     out.gc_floor =
         gcNoiseFloor(modelAt(structure, theta0), problem, options.floor_draws, options.num_threads);
   const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
-  CombinedValue current{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
+  current = CombinedValue{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
   current.cost = current.torque + w * gcShape(0.5 * current.gc, floor) / out.gc_scale;
   out.initial_cost = current.cost;
   out.initial_torque = current.torque;
   out.history.push_back({0, current.cost, current.torque, current.gc, 0.0, since(t0)});
+  return out;
+}
+
+/// The damped step (H + mu diag(H)) delta = -g and the decrease the quadratic model predicts for
+/// it; false when the step is no descent (a failed factorisation included).
+bool dampedStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double mu,
+                Eigen::VectorXd& delta, double& predicted) {
+  Eigen::VectorXd diagonal = H.diagonal().cwiseMax(1e-12 * H.diagonal().cwiseAbs().maxCoeff());
+  Eigen::MatrixXd damped = H;
+  damped.diagonal() += mu * diagonal;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(damped);
+  delta = ldlt.solve(-g);
+  predicted = -(g.dot(delta) + 0.5 * delta.dot(H * delta));
+  return ldlt.info() == Eigen::Success && delta.allFinite() && predicted > 0.0;
+}
+
+/// One progress line after an accepted step.
+void sayProgress(const CombinedOptions& options, const CombinedResult& out,
+                 const CombinedValue& current) {
+  if (!options.control.progress) return;
+  const double elapsed = out.history.back().seconds;
+  double done = static_cast<double>(out.iterations) / std::max(options.max_iterations, 1);
+  if (options.max_seconds > 0.0) done = std::max(done, elapsed / options.max_seconds);
+  options.control.say("combined iteration " + std::to_string(out.iterations) + ": cost " +
+                      formatNumber(current.cost, 4) + " (torque " +
+                      formatNumber(current.torque, 4) + ", GC error " +
+                      formatNumber(current.gc, 4) + "); " + progressText(done, elapsed));
+}
+
+}  // namespace
+
+CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
+                              const BaseCoordinates& base, const TorqueTerm& torque,
+                              const Eigen::VectorXd& theta0, const CombinedOptions& options) {
+  const auto t0 = Clock::now();
+  checkInputs(structure, problem, base, torque, theta0, options.gc_weight);
+  if (!std::isfinite(torque.cost(theta0)))
+    throw InputError("the combined estimator's start is outside the physical set");
+  const RunControl control = options.control.within(options.max_seconds, t0);
+  ThreadPool pool(std::max(options.num_threads, 1));
+  GcWorkspace workspace(pool.numThreads());
+  const Eigen::MatrixXd& P = base.projection;
+  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
+  const double w = options.gc_weight;
+  CombinedValue current;
+  CombinedResult out =
+      startOfCombined(structure, problem, torque, theta0, options, t0, workspace, pool, current);
+  const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
 
   const auto stop = [&](const std::string& why) {
     out.interrupted = true;
@@ -272,14 +315,9 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       quadraticModel(torque, out.theta, r, J, w, out.gc_scale, floor, &g, &H);
       fresh = true;
     }
-    // The damped step (H + mu diag(H)) delta = -g.
-    Eigen::VectorXd diagonal = H.diagonal().cwiseMax(1e-12 * H.diagonal().cwiseAbs().maxCoeff());
-    Eigen::MatrixXd damped = H;
-    damped.diagonal() += mu * diagonal;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(damped);
-    const Eigen::VectorXd delta = ldlt.solve(-g);
-    const double predicted = -(g.dot(delta) + 0.5 * delta.dot(H * delta));
-    if (ldlt.info() != Eigen::Success || !delta.allFinite() || !(predicted > 0.0)) {
+    Eigen::VectorXd delta;
+    double predicted = 0.0;
+    if (!dampedStep(H, g, mu, delta, predicted)) {
       if (mu > 1e12) {
         out.termination = "CONVERGENCE: no descent direction left (gradient " +
                           formatNumber(g.norm(), 3, "n/a") + ")";
@@ -303,15 +341,7 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       out.moved = true;
       out.history.push_back(
           {out.iterations, current.cost, current.torque, current.gc, mu, since(t0)});
-      if (options.control.progress) {
-        const double elapsed = out.history.back().seconds;
-        double done = static_cast<double>(out.iterations) / std::max(options.max_iterations, 1);
-        if (options.max_seconds > 0.0) done = std::max(done, elapsed / options.max_seconds);
-        options.control.say("combined iteration " + std::to_string(out.iterations) + ": cost " +
-                            formatNumber(current.cost, 4) + " (torque " +
-                            formatNumber(current.torque, 4) + ", GC error " +
-                            formatNumber(current.gc, 4) + "); " + progressText(done, elapsed));
-      }
+      sayProgress(options, out, current);
       mu = std::max(mu * std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)), 1e-12);
       if (actual < options.function_tolerance * std::abs(current.cost))
         out.termination = "CONVERGENCE: the cost fell by less than " +

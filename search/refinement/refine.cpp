@@ -350,10 +350,13 @@ double baseStage(const Model& structure, const ParameterSpace& space, const GcPr
 
 }  // namespace
 
-RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
-                      const Eigen::VectorXd& x0, const RefineOptions& options,
-                      const BaseCoordinates* base) {
-  const auto clock_start = std::chrono::steady_clock::now();
+namespace {
+
+/// refineGc's checks of its arguments, and the result it starts from: the start projected onto the
+/// space, the segments' measured initial states, the chained segments counted.
+RefineResult startOfRefinement(const ParameterSpace& space, const GcProblem& problem,
+                               const Eigen::VectorXd& x0, const RefineOptions& options,
+                               const BaseCoordinates* base) {
   if (x0.size() != space.numFree())
     throw InputError("the start has " + std::to_string(x0.size()) + " free parameters, expected " +
                      std::to_string(space.numFree()));
@@ -371,7 +374,6 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     throw InputError("the base coordinates have " + std::to_string(base->projection.cols()) +
                      " standard parameters, the model " +
                      std::to_string(structure.parameterLayout().size()));
-  const bool with_start = options.estimate_initial_states;
   for (int s = 0; s < segments; ++s)
     if (continuityOf(problem, options, s) > 0.0) ++result.chained_segments;
   result.initial_states.resize(2 * n, segments);
@@ -379,6 +381,64 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
     result.initial_states.col(s).head(n) = problem.data.q.col(problem.starts[s]);
     result.initial_states.col(s).tail(n) = problem.data.dq.col(problem.starts[s]);
   }
+  return result;
+}
+
+/// The parameter stage's gauge: hold the current free directions (G (x - x_start) = 0, G their
+/// scaled basis), so the solver does not drift along directions the data cannot see; a
+/// zero-residual point with the gauge satisfied exists, so it biases nothing.
+void addGauge(const Model& structure, const ParameterSpace& space, const BaseCoordinates& base,
+              ceres::Problem& solver_problem, RefineResult& result) {
+  const FreeAnalysis analysis = analyseFreeDirections(structure, space, base.projection, result.x);
+  const int free = space.numFree() - analysis.rank;
+  if (free <= 0) return;
+  const double w = std::sqrt(std::max(result.initial_gc, 1e-300));
+  const Eigen::MatrixXd g =
+      w * analysis.v.rightCols(free).transpose() * analysis.x_scale.cwiseInverse().asDiagonal();
+  solver_problem.AddResidualBlock(makeLinearCost(g, g * result.x).release(), nullptr,
+                                  result.x.data());
+  result.gauge_dimension = free;
+}
+
+/// How the parameter stage ended (`summary`, empty when it did not run), its costs, the final GC
+/// error and the free parameters at a bound.
+void endOfParameterStage(const ParameterSpace& space, const GcProblem& problem,
+                         const ceres::Solver::Summary& summary, const RunControl& stage,
+                         bool out_of_time, bool out_of_budget, GcWorkspace& workspace,
+                         ThreadPool& pool, RefineResult& result) {
+  if (summary.iterations.empty() && (result.interrupted || out_of_time)) {
+    result.termination =
+        result.interrupted
+            ? std::string("USER_SUCCESS: interrupted ") +
+                  (result.base_stage ? "in the base stage" : "before the parameter stage")
+            : "USER_SUCCESS: the time budget ended before the parameter stage";
+    result.usable = true;
+  } else {
+    result.termination = terminationAt(summary, stage, out_of_budget);
+    result.usable = summary.IsSolutionUsable() || stage.stopped();
+  }
+  result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
+  if (!result.base_stage) result.initial_cost = summary.initial_cost;
+  result.final_cost = summary.iterations.empty() ? result.initial_cost : summary.final_cost;
+  result.final_gc = gcError(space.modelAt(result.x), problem, workspace, pool);
+  const std::vector<std::string> names = space.freeNames();
+  for (int j = 0; j < space.numFree(); ++j) {
+    const double tolerance = 1e-9 * (space.upper()[j] - space.lower()[j]);
+    if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
+      result.at_bound.push_back(names[j]);
+  }
+}
+
+}  // namespace
+
+RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
+                      const Eigen::VectorXd& x0, const RefineOptions& options,
+                      const BaseCoordinates* base) {
+  const auto clock_start = std::chrono::steady_clock::now();
+  RefineResult result = startOfRefinement(space, problem, x0, options, base);
+  const Model structure = space.modelAt(result.x);
+  const int segments = problem.numSegments();
+  const bool with_start = options.estimate_initial_states;
   ThreadPool pool(std::max(options.num_threads, 1));
   GcWorkspace workspace(pool.numThreads());
   result.initial_gc = gcError(structure, problem, workspace, pool);
@@ -419,22 +479,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   }
   if (space.options().total_mass_constraint)
     solver_problem.AddResidualBlock(makeTotalMassCost(space).release(), nullptr, result.x.data());
-  // Gauge: hold the current free directions (G (x - x_start) = 0, G their scaled basis), so the
-  // solver does not drift along directions the data cannot see; a zero-residual point with the
-  // gauge satisfied exists, so it biases nothing.
-  if (base != nullptr && options.fix_gauge) {
-    const FreeAnalysis analysis =
-        analyseFreeDirections(structure, space, base->projection, result.x);
-    const int free = space.numFree() - analysis.rank;
-    if (free > 0) {
-      const double w = std::sqrt(std::max(result.initial_gc, 1e-300));
-      const Eigen::MatrixXd g =
-          w * analysis.v.rightCols(free).transpose() * analysis.x_scale.cwiseInverse().asDiagonal();
-      solver_problem.AddResidualBlock(makeLinearCost(g, g * result.x).release(), nullptr,
-                                      result.x.data());
-      result.gauge_dimension = free;
-    }
-  }
+  if (base != nullptr && options.fix_gauge)
+    addGauge(structure, space, *base, solver_problem, result);
   for (int j = 0; j < space.numFree(); ++j) {
     solver_problem.SetParameterLowerBound(result.x.data(), j, space.lower()[j]);
     solver_problem.SetParameterUpperBound(result.x.data(), j, space.upper()[j]);
@@ -455,28 +501,8 @@ RefineResult refineGc(const ParameterSpace& space, const GcProblem& problem,
   if (options.control.check()) result.interrupted = true;
   if (!result.interrupted && !out_of_time) ceres::Solve(solver, &solver_problem, &summary);
   if (options.control.stopped()) result.interrupted = true;
-
-  if (summary.iterations.empty() && (result.interrupted || out_of_time)) {
-    result.termination =
-        result.interrupted
-            ? std::string("USER_SUCCESS: interrupted ") +
-                  (result.base_stage ? "in the base stage" : "before the parameter stage")
-            : "USER_SUCCESS: the time budget ended before the parameter stage";
-    result.usable = true;
-  } else {
-    result.termination = terminationAt(summary, stage, out_of_budget);
-    result.usable = summary.IsSolutionUsable() || stage.stopped();
-  }
-  result.iterations = std::max(static_cast<int>(summary.iterations.size()) - 1, 0);
-  if (!result.base_stage) result.initial_cost = summary.initial_cost;
-  result.final_cost = summary.iterations.empty() ? result.initial_cost : summary.final_cost;
-  result.final_gc = gcError(space.modelAt(result.x), problem, workspace, pool);
-  const std::vector<std::string> names = space.freeNames();
-  for (int j = 0; j < space.numFree(); ++j) {
-    const double tolerance = 1e-9 * (space.upper()[j] - space.lower()[j]);
-    if (result.x[j] - space.lower()[j] <= tolerance || space.upper()[j] - result.x[j] <= tolerance)
-      result.at_bound.push_back(names[j]);
-  }
+  endOfParameterStage(space, problem, summary, stage, out_of_time, out_of_budget, workspace, pool,
+                      result);
   // The uncertainty needs one more Jacobian (seconds): not after Ctrl-C, which must end the run
   // within a second with its best parameters, nor when the budget has no room left for it (a
   // stage that converged, or the base stage, close to the budget's end).

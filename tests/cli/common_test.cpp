@@ -269,5 +269,22 @@ TEST(Cli, EveryLongCommandStopsSoonAfterCtrlCWithExit130AndItsBestResultWritten)
   }
 }
 
+// The library names request fields (`time_column`, `torque_constants`); the CLI's messages name
+// its flags (--time, --torque-constants), and a file name in backquotes stays as it is.
+TEST(Cli, LibraryMessagesNameTheFlags) {
+  const std::string log = test::tempPath("`hostile` log.csv");
+  writeFileAtomically(log, "stamp,pos1,eff1\n0,0,0\n0.001,0,0\n0.002,0,0\n");
+  Result r = run("prepare --log '" + log + "' --time nothing --q 'pos*' --tau 'eff*' --out " +
+                 test::tempPath("flags_out"));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "--time")) << r.err;
+  EXPECT_FALSE(contains(r.err, "`time_column`")) << r.err;
+  EXPECT_TRUE(contains(r.err, "`hostile` log.csv")) << r.err;  // the user's name, untouched
+  r = run("prepare --log '" + log + "' --q 'pos*' --current 'eff*' --torque-constants 1,2 --out " +
+          test::tempPath("flags_out"));
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_TRUE(contains(r.err, "--torque-constants has 2 values")) << r.err;
+}
+
 }  // namespace
 }  // namespace dynid

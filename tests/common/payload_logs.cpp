@@ -4,7 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "analysis/payload.hpp"
+#include "analysis/payload/body.hpp"
+#include "analysis/payload/payload.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "tests/common/sample_models.hpp"

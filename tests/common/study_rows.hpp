@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "analysis/log_study.hpp"
+#include "analysis/studies/log_study.hpp"
 
 namespace dynid::test {
 

@@ -1,9 +1,9 @@
-// libFuzzer target: batch manifests (analysis/batch.hpp): parsing, the grid's expansion and every
-// run's settings.
+// libFuzzer target: batch manifests (analysis/studies/batch.hpp): parsing, the grid's expansion and
+// every run's settings.
 #include <cstdint>
 
-#include "analysis/batch.hpp"
 #include "analysis/records/document.hpp"
+#include "analysis/studies/batch.hpp"
 #include "core/errors.hpp"
 #include "tests/fuzz/fuzz_input.hpp"
 

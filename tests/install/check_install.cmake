@@ -9,7 +9,7 @@ if(rc)
 endif()
 # Public headers under include/dynid/<module>/, internal ones not installed at all.
 foreach(header core/rnea.hpp core/drive_terms.hpp search/gc_problem.hpp search/refinement/options.hpp
-               analysis/pipeline.hpp identifiability/base_estimate.hpp)
+               analysis/estimation/pipeline.hpp identifiability/base_estimate.hpp)
   if(NOT EXISTS "${WORK_DIR}/prefix/include/dynid/${header}")
     message(FATAL_ERROR "the public header dynid/${header} was not installed")
   endif()

@@ -265,7 +265,7 @@ TEST(BagLog, PrefixedJointNamesMatchUnderOnePrefixAndSaySo) {
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("under several prefixes (left_, right_): say which arm "
-                                         "with --joint-prefix left_"),
+                                         "with `joint_prefix` left_"),
               std::string::npos)
         << e.what();
   }

@@ -236,7 +236,7 @@ TEST(Prepare, SkippedDropoutsGiveTheLogWithoutThoseRowsAndLinesStayTheFiles) {
   for (const std::string& w : skipped.warnings)
     warned = warned || w.find(
                            "1 row(s) with a missing value (empty, nan or inf) left out "
-                           "(--skip-missing), at line(s) 102") != std::string::npos;
+                           "(`skip_missing`), at line(s) 102") != std::string::npos;
   EXPECT_TRUE(warned);
   // Through scratch files (dynid prepare's path: the table's columns spilled as they are parsed):
   // the same row left out, the same numbers.
@@ -627,7 +627,7 @@ TEST(Prepare, UnitMistakesAreRefusedNamingTheOptionThatFixesThem) {
   ms.stamp = [](double t) { return formatNumber(t * 1e3, 17); };
   const std::string in_ms = writeJointsLog("unit_ms.csv", ms);
   // Milliseconds read as seconds: a 1 Hz log, too slow for dynamics.
-  EXPECT_NE(inputError([&] { prepareLog(jointsSource(in_ms), {}); }).find("--time-unit ms"),
+  EXPECT_NE(inputError([&] { prepareLog(jointsSource(in_ms), {}); }).find("`time_unit` ms"),
             std::string::npos);
   PrepareOptions as_ms;
   as_ms.time_scale = 1e-3;
@@ -635,21 +635,21 @@ TEST(Prepare, UnitMistakesAreRefusedNamingTheOptionThatFixesThem) {
   // Seconds read as milliseconds: a 1 MHz log.
   EXPECT_NE(inputError([&] {
               prepareLog(jointsSource(writeJointsLog("unit_s.csv", {})), as_ms);
-            }).find("--time-unit"),
+            }).find("`time_unit`"),
             std::string::npos);
   // Degrees read as radians: 57 times the speed, past any robot's.
   JointsLog degrees;
   degrees.angle = 20.0 * 180.0 / kPi;  // 20 times the motion, in degrees: 1000 times read as rad
   const std::string message =
       inputError([&] { prepareLog(jointsSource(writeJointsLog("deg.csv", degrees)), {}); });
-  EXPECT_NE(message.find("--angle-unit"), std::string::npos) << message;
+  EXPECT_NE(message.find("`angle_unit`"), std::string::npos) << message;
   EXPECT_NE(message.find("joint 1"), std::string::npos) << message;  // the first past the bound
   // A bound of the robot's: the motion itself (up to 1.3 rad/s) beyond 0.5 rad/s.
   PrepareOptions slow_robot;
   slow_robot.dq_bound = Eigen::VectorXd::Constant(1, 0.5);
   EXPECT_NE(inputError([&] {
               prepareLog(jointsSource(writeJointsLog("ok.csv", {})), slow_robot);
-            }).find("--dq-max"),
+            }).find("`dq_max`"),
             std::string::npos);
   slow_robot.dq_bound = Eigen::VectorXd::Constant(1, 2.0);
   EXPECT_NO_THROW(prepareLog(jointsSource(writeJointsLog("ok.csv", {})), slow_robot));
@@ -691,7 +691,7 @@ TEST(Prepare, RestAtTheEndsIsWarnedAboutAndAWindowCropsIt) {
   EXPECT_NEAR(o.rest[0].leading, 3.1, 0.1);
   EXPECT_NEAR(o.rest[0].trailing, 3.1, 0.1);
   ASSERT_EQ(o.warnings.size(), 1u);
-  EXPECT_NE(o.warnings[0].find("--window 3."), std::string::npos) << o.warnings[0];
+  EXPECT_NE(o.warnings[0].find("`window` 3."), std::string::npos) << o.warnings[0];
   PrepareOptions cropped;
   cropped.windows = {{2.9995, 7.0005}};  // rows 3001 to 7001, whatever the stamps' rounding
   const PrepareOutcome c = prepareLog(jointsSource(path), cropped);

@@ -69,7 +69,7 @@ TEST(RawLog, MissingValuesAreSkippedWhenAskedAndNamedWhenNot) {
     ADD_FAILURE();
   } catch (const ParseError& e) {
     EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(std::string(e.what()).find("--skip-missing"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("`skip_missing`"), std::string::npos) << e.what();
   }
   try {  // text is not a dropout
     skipped.clear();
@@ -77,7 +77,7 @@ TEST(RawLog, MissingValuesAreSkippedWhenAskedAndNamedWhenNot) {
     ADD_FAILURE();
   } catch (const ParseError& e) {
     EXPECT_EQ(e.line(), 2);
-    EXPECT_EQ(std::string(e.what()).find("--skip-missing"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("`skip_missing`"), std::string::npos) << e.what();
   }
 }
 
@@ -107,14 +107,14 @@ TEST(RawLog, DecimalCommaTablesReadAsTheirPointTwins) {
     ADD_FAILURE() << "a decimal comma read without the option";
   } catch (const ParseError& e) {
     EXPECT_EQ(e.line(), 2);
-    EXPECT_NE(std::string(e.what()).find("--decimal-comma"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("`decimal_comma`"), std::string::npos) << e.what();
   }
   // A ',' separated table: no hint (its commas separate), and the option is refused.
   try {
     columns(writeTemp("comma_csv.csv", "t,q1,tau1\n0,x,2\n"), false);
     ADD_FAILURE() << "text read as a number";
   } catch (const ParseError& e) {
-    EXPECT_EQ(std::string(e.what()).find("--decimal-comma"), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("`decimal_comma`"), std::string::npos) << e.what();
   }
   EXPECT_THROW(readRawHeader(writeTemp("comma_csv2.csv", "0,1,2\n1,3,4\n"), true), ParseError);
 }

@@ -72,3 +72,19 @@ def test_a_missing_dataset_raises_a_runtime_error_naming_it(tmp_path):
                  lambda p: dynid.gc_error(model, p), lambda p: dynid.identifiability(model, p)):
         with pytest.raises(dynid.Error, match="missing.csv"):
             call(str(tmp_path / "missing.csv"))
+
+
+def test_a_library_message_names_the_python_argument_not_the_cli_flag(tmp_path):
+    # The library names request fields (`time_column`, `calibration`); the CLI says --time and
+    # --calibration, Python its keyword arguments.
+    log = tmp_path / "log.csv"
+    log.write_text("stamp,pos1,eff1\n0,0,0\n0.001,0,0\n")
+    with pytest.raises(dynid.ParseError) as caught:
+        dynid.prepare(str(log), time_column="nothing", q_columns="pos*", tau_columns="eff*")
+    assert caught.value.field == "time_column"
+    assert "--" not in str(caught.value) and "`" not in str(caught.value)
+    with pytest.raises(dynid.InputError) as caught:
+        dynid.monitor("puma560", str(log))
+    message = str(caught.value)
+    assert "calibration" in message and "thresholds" in message, message
+    assert "--" not in message and "`" not in message, message

@@ -208,10 +208,10 @@ def test_prepare_equals_the_cli(tmp_path, puma_csv):
     assert json.loads(windowed.to_json()) == read_json(tmp_path / "cli_window" / "prepare.json")
     assert windowed.train.time[0] >= 0.5 and windowed.train.time[-1] <= 2.5
     assert windowed.time_origin == 0.0 and windowed.warnings == []
-    with pytest.raises(dynid.InputError, match="dq-max"):
+    with pytest.raises(dynid.InputError, match="dq_max"):  # the keyword argument, not --dq-max
         dynid.prepare(log, time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
                       time_unit="ms", angle_unit="deg", dq_max=1e-3)
-    with pytest.raises(dynid.InputError, match="time-unit"):  # milliseconds read as seconds
+    with pytest.raises(dynid.InputError, match="time_unit"):  # milliseconds read as seconds
         dynid.prepare(log, time_column="stamp_ms", q_columns="pos*", tau_columns="eff*",
                       angle_unit="deg")
 
@@ -273,7 +273,7 @@ def test_prepare_reads_rosbag2_directories_and_efforts_from_a_second_topic(tmp_p
     efforts = dynid.prepare(fixtures / "joint_states_effort_topic.mcap", cutoff=0, trim=0,
                             topic="/joint_states", effort_topic="/joint_efforts")
     assert np.array_equal(efforts.train.tau, one.train.tau)
-    with pytest.raises(dynid.InputError, match="effort-topic"):
+    with pytest.raises(dynid.InputError, match="effort_topic"):
         dynid.prepare(fixtures / "joint_states_effort_topic.mcap", topic="/joint_states")
 
 
@@ -395,12 +395,12 @@ def test_prepare_skips_dropouts_when_asked(tmp_path, puma_csv):
     header = "t," + ",".join(f"q{j}" for j in range(1, 7)) + "," + \
         ",".join(f"tau{j}" for j in range(1, 7))
     np.savetxt(log, rows, delimiter=",", header=header, comments="", fmt="%.17g")
-    with pytest.raises(dynid.ParseError, match="skip-missing"):
+    with pytest.raises(dynid.ParseError, match="skip_missing"):
         dynid.prepare(log, time_column="t", q_columns="q*", tau_columns="tau*")
     prepared = dynid.prepare(log, time_column="t", q_columns="q*", tau_columns="tau*",
                              skip_missing=True)
     assert json.loads(prepared.to_json())["raw"]["missing_rows_skipped"] == 1
-    assert any("left out (--skip-missing)" in w for w in prepared.warnings)
+    assert any("left out (skip_missing)" in w for w in prepared.warnings)
 
 
 def test_prepare_reads_decimal_commas_when_asked(tmp_path, puma_csv):
@@ -412,7 +412,7 @@ def test_prepare_reads_decimal_commas_when_asked(tmp_path, puma_csv):
     np.savetxt(point, rows, delimiter=";", header=header, comments="", fmt="%.17g")
     comma.write_text(point.read_text().replace(".", ","))
     columns = dict(time_column="t", q_columns="q*", tau_columns="tau*")
-    with pytest.raises(dynid.ParseError, match="decimal-comma"):
+    with pytest.raises(dynid.ParseError, match="decimal_comma"):
         dynid.prepare(comma, **columns)
     expected = dynid.prepare(point, **columns)
     prepared = dynid.prepare(comma, decimal_comma=True, **columns)

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/payload/body.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/records/payload_record.hpp"
 #include "core/errors.hpp"

@@ -1,0 +1,117 @@
+// The monitor's events: episodes of residuals above their thresholds (EventDetector), and how
+// they compare with a simulation's ground truth (scoreEvents).
+#pragma once
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// An event ends once every residual has stayed below its threshold this long [s].
+inline constexpr double kDefaultEventHold = 0.05;
+
+/// One episode of residuals above their thresholds.
+struct MonitorEvent {
+  double start = 0.0, end = 0.0;  // [s]: the first sample above, the last before the hold
+  std::vector<int> joints;        // the joints (0-based) that crossed their thresholds
+  int peak_joint = 0;
+  double peak = 0.0, peak_time = 0.0;  // the largest |r| / threshold's |r| [N m], when [s]
+  double energy = 0.0;  // the work of the estimated external torque, integral r . dq dt [J]
+  bool open = false;    // the data ended (or were stopped) during the event
+};
+
+/// Receives events as they happen (the stdin mode prints them at once).
+class MonitorEventSink {
+ public:
+  virtual ~MonitorEventSink() = default;
+  virtual void started(const MonitorEvent& event) = 0;  // start, joints and peak so far
+  virtual void ended(const MonitorEvent& event) = 0;
+};
+
+/// How the events compare with the ground truth (dynid simulate --disturbance's file).
+struct TruthScore {
+  int episodes = 0;                   // runs of samples with a nonzero applied torque
+  int detected = 0;                   // episodes an event started within `window` of
+  int false_alarms = 0;               // events that overlap no episode (nor `window` after its end)
+  std::vector<double> delays;         // per detected episode: event start - episode start [s]
+  std::vector<double> missed_starts;  // the episodes not detected
+  double window = 0.05;               // [s]
+};
+
+/// Whether the residuals are above their thresholds, and the event they make: an event starts at
+/// the first sample above and ends once every residual has stayed below for `hold` seconds.
+/// Keeps references to `thresholds` and `events`.
+class EventDetector {
+ public:
+  EventDetector(const Eigen::VectorXd& thresholds, double hold, MonitorEventSink* sink,
+                std::vector<MonitorEvent>& events)
+      : thresholds_(thresholds), hold_(hold), sink_(sink), events_(events) {}
+
+  void add(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq) {
+    const Eigen::ArrayXd ratio = r.cwiseAbs().array() / thresholds_.array();
+    const bool above = (ratio > 1.0).any();
+    if (!active_) {
+      if (!above) return;
+      event_ = MonitorEvent{};
+      event_.start = event_.end = t;
+      active_ = true;
+      mark(t, r, ratio);
+      if (sink_) sink_->started(event_);
+      return;
+    }
+    event_.energy += r.dot(dq) * dt;
+    if (above) {
+      mark(t, r, ratio);
+      event_.end = t;
+      quiet_since_.reset();
+      return;
+    }
+    if (!quiet_since_) quiet_since_ = t;
+    if (t - *quiet_since_ >= hold_) finish(false);
+  }
+  /// The data ended (or were stopped) during an event.
+  void close() {
+    if (active_) finish(true);
+  }
+
+ private:
+  void mark(double t, const Eigen::VectorXd& r, const Eigen::ArrayXd& ratio) {
+    for (Eigen::Index j = 0; j < r.size(); ++j) {
+      if (ratio[j] > 1.0 &&
+          std::find(event_.joints.begin(), event_.joints.end(), j) == event_.joints.end())
+        event_.joints.push_back(static_cast<int>(j));
+      if (std::abs(r[j]) > event_.peak) {
+        event_.peak = std::abs(r[j]);
+        event_.peak_joint = static_cast<int>(j);
+        event_.peak_time = t;
+      }
+    }
+  }
+  void finish(bool open) {
+    event_.open = open;
+    std::sort(event_.joints.begin(), event_.joints.end());
+    events_.push_back(event_);
+    if (sink_) sink_->ended(event_);
+    active_ = false;
+    quiet_since_.reset();
+  }
+  const Eigen::VectorXd& thresholds_;
+  double hold_;
+  MonitorEventSink* sink_;
+  std::vector<MonitorEvent>& events_;
+  bool active_ = false;
+  std::optional<double> quiet_since_;
+  MonitorEvent event_;
+};
+
+/// One pass over a log: the observer (and the direct residual where ddq is given) at every
+/// sample, handed to `visit(t, dt, r_observer, r_direct or null, dq)`; dt = 0 after a restart.
+
+/// Scores `events` against the ground truth's episodes (start, end) [s].
+TruthScore scoreEvents(const std::vector<std::pair<double, double>>& episodes,
+                       const std::vector<MonitorEvent>& events);
+
+}  // namespace dynid

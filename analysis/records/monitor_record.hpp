@@ -1,0 +1,34 @@
+// The monitor's thresholds document (kind dynid.monitor_thresholds): the thresholds a calibration
+// set, and their reader. Its writer is reports/monitor_report (thresholdsJson).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace dynid {
+
+/// Default false alarms per hour (the whole arm) the calibrated thresholds are set for.
+inline constexpr double kDefaultFalseAlarmsPerHour = 0.1;
+
+/// Which residual raises events.
+enum class MonitorResidual { kObserver, kDirect };
+
+/// Thresholds per joint, and where they came from.
+struct MonitorThresholds {
+  std::string robot;                     // the model's name
+  std::vector<std::string> joint_names;  // they must match the monitored robot's
+  MonitorResidual residual = MonitorResidual::kObserver;
+  Eigen::VectorXd gain;    // the observer gain they were calibrated with [1/s]
+  Eigen::VectorXd values;  // [N m]
+  std::string source;      // "calibration FILE" or "thresholds FILE"
+  double false_alarms_per_hour = kDefaultFalseAlarmsPerHour;
+  Eigen::VectorXd calibration_rms, calibration_max;  // of the residual on the calibration run
+  double calibration_seconds = 0.0;
+};
+
+/// Reads a thresholds document (kind dynid.monitor_thresholds). Throws ParseError naming the field.
+MonitorThresholds readMonitorThresholds(const std::string& file);
+
+}  // namespace dynid

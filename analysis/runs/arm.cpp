@@ -1,0 +1,174 @@
+#include "analysis/runs/arm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include "analysis/records/document.hpp"
+#include "analysis/records/estimate_record.hpp"
+#include "core/aba.hpp"
+#include "core/crba.hpp"
+#include "core/data.hpp"
+#include "core/errors.hpp"
+#include "core/kinematics.hpp"
+#include "core/rnea.hpp"
+#include "data/io.hpp"
+#include "data/json_reader.hpp"
+#include "data/robots.hpp"
+
+namespace dynid {
+
+int resolveThreads(int threads) {
+  return threads > 0 ? threads
+                     : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// ---- models and dynamics ----
+
+std::vector<Pose<double>> linkFramesAtZero(const Model& model) {
+  Data data(model);
+  return forwardKinematics(model, data, Eigen::VectorXd::Zero(model.numJoints()));
+}
+
+std::vector<ConsistencyViolation> consistencyViolations(const Model& model) {
+  std::vector<ConsistencyViolation> all;
+  for (int i = 0; i < model.numJoints(); ++i) {
+    auto v = checkPhysicalConsistency(model.inertias()[i], i, model.link_names[i]);
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  return all;
+}
+
+DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                           const std::optional<Eigen::VectorXd>& ddq,
+                           const std::optional<Eigen::VectorXd>& tau) {
+  const int n = model.numJoints();
+  Data data(model);
+  DynamicsOutcome out{q, dq, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), {}};
+  // With tau: ddq = ABA(q, dq, tau), and tau is echoed; otherwise tau = RNEA(q, dq, ddq).
+  if (tau) {
+    out.tau = *tau;
+    out.ddq = aba(model, data, q, dq, *tau);
+  } else {
+    if (ddq) out.ddq = *ddq;
+    out.tau = rnea(model, data, q, dq, out.ddq);
+  }
+  out.M = crba(model, data, q);
+  if (!out.ddq.allFinite() || !out.tau.allFinite() || !out.M.allFinite())
+    throw NumericalError("the dynamics of '" + model.name +
+                         "' are singular at this state: the mass matrix is not positive definite "
+                         "(is a moving subtree massless?)");
+  return out;
+}
+
+Eigen::MatrixXd kinematicsSignature(const Model& model) {
+  const std::vector<Pose<double>> frames = linkFramesAtZero(model);
+  Eigen::MatrixXd out(model.numJoints(), 15);
+  for (int i = 0; i < model.numJoints(); ++i) {
+    const Eigen::Matrix3d& r = frames[i].rotation;
+    // The axis is given in the joint frame; the link frame is the joint frame times the body
+    // placement, so the axis in the base frame is R_link R_body^T axis.
+    const Eigen::Vector3d axis =
+        r * model.body_placements()[i].rotation.transpose() * model.axes()[i];
+    out.row(i) << r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2),
+        frames[i].translation.transpose(), axis.transpose();
+  }
+  return out;
+}
+
+Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,
+                    std::string* method, std::optional<PredictionBand>* band) {
+  const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
+  const std::string spec = robot_spec.empty() ? estimate.robot_spec : robot_spec;
+  if (spec.empty())
+    throw ParseError(file, 0, "robot_spec",
+                     "the estimate does not say which robot it is for: give `robot`");
+  if (spec_used != nullptr) *spec_used = spec;
+  if (method != nullptr) *method = estimate.method;
+  std::string terms;
+  for (const std::string& t : estimate.drive_terms) terms += (terms.empty() ? "" : ",") + t;
+  RobotOptions options;
+  try {
+    options.drive_terms = parseDriveTerms(terms.empty() ? "none" : terms);
+  } catch (const InputError& e) {
+    throw ParseError(file, 0, "drive_terms", e.what());
+  }
+  Model model;
+  if (robot_spec.empty()) {
+    try {  // the robot the estimate names: a failure names the estimate and its field
+      model = loadRobot(spec, options);
+    } catch (const Error& e) {
+      throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
+    }
+  } else {
+    model = loadRobot(spec, options);
+  }
+  model.setStandardParameters(
+      standardVectorFrom(estimate, standardParameterNames(model.parameterLayout()), file, spec));
+  // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
+  // differ) would give wrong torques silently: compare the recorded kinematics.
+  if (!estimate.kinematics.is_null()) {
+    const Eigen::MatrixXd mine = kinematicsSignature(model);
+    const nlohmann::json& recorded = estimate.kinematics;
+    bool same = recorded.size() == static_cast<std::size_t>(mine.rows());
+    for (Eigen::Index i = 0; same && i < mine.rows(); ++i)
+      for (Eigen::Index c = 0; same && c < 15; ++c)
+        same = recorded[i][c].is_number() &&
+               std::abs(recorded[i][c].get<double>() - mine(i, c)) <= 1e-9;
+    if (!same)
+      throw InputError(file + ": robot '" + spec +
+                       "' has other link frames or axes than the robot the estimate was made for: "
+                       "it was made for another robot");
+  }
+  if (band && !estimate.band_columns.empty()) {
+    const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
+    PredictionBand b;
+    for (std::size_t c = 0; c < estimate.band_columns.size(); ++c) {
+      const auto it = std::find(names.begin(), names.end(), estimate.band_columns[c]);
+      if (it == names.end())
+        throw ParseError(file, 0, JsonReader::index("base_covariance.columns", c),
+                         "'" + estimate.band_columns[c] + "' is not a parameter of the robot");
+      b.independent.push_back(static_cast<int>(it - names.begin()));
+    }
+    b.covariance = estimate.covariance;
+    if (estimate.joint_sigma.size() != model.numJoints())
+      throw ParseError(file, 0, "joint_sigma",
+                       "expected " + std::to_string(model.numJoints()) +
+                           " numbers with the "
+                           "base covariance");
+    b.noise_sigma = estimate.joint_sigma;
+    *band = std::move(b);
+  }
+  return model;
+}
+
+LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
+                  const std::optional<DriveTerms>& drive_terms,
+                  std::vector<std::string>* warnings) {
+  LoadedArm out;
+  std::error_code error;
+  if (std::filesystem::path(arm).extension() == ".json" &&
+      std::filesystem::is_regular_file(arm, error)) {
+    const nlohmann::json document = parseJson(readFile(arm), arm);
+    if (isDocumentOfKind(document, kEstimateDocument)) {
+      if (drive_terms)
+        throw InputError(arm + ": an estimate carries its own drive terms; drop `drive_terms`");
+      out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr);
+      out.from_estimate = true;
+      const EstimateRecord record = estimateRecordFrom(document, arm);
+      out.torque_constants = record.torque_constants;
+      out.gear_ratios = record.gear_ratios;
+      return out;
+    }
+  }
+  if (!robot_spec.empty())
+    throw InputError("`robot` applies to an estimate.json arm; '" + arm + "' is a robot itself");
+  RobotOptions options;
+  options.drive_terms = drive_terms;
+  out.model = loadRobot(arm, options, warnings);
+  out.robot_spec = arm;
+  return out;
+}
+
+}  // namespace dynid

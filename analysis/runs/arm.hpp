@@ -1,0 +1,75 @@
+// The runs wing's room for the arm itself: the robot a command works on (a robot spec, or an
+// identify estimate.json with its parameters), its kinematics signature and consistency, and its
+// dynamics at one state (dynid model, dynid dynamics). Nothing here prints or writes a report.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "analysis/estimation/streaming.hpp"
+#include "core/model.hpp"
+#include "core/parameters.hpp"
+#include "core/spatial.hpp"
+
+namespace dynid {
+
+// ---- models and dynamics ----
+
+/// Each link frame in the base frame at q = 0, to compare with a datasheet's drawing.
+std::vector<Pose<double>> linkFramesAtZero(const Model& model);
+/// The kinematics an estimate's parameters refer to: per link its frame at q = 0 (rotation
+/// row-major, then origin) and its joint axis in the base frame at q = 0, 15 numbers per link.
+/// Estimates record it, and `predict` refuses a robot whose kinematics differ.
+Eigen::MatrixXd kinematicsSignature(const Model& model);
+
+/// Every physical-consistency violation of the model's links (empty: all consistent).
+std::vector<ConsistencyViolation> consistencyViolations(const Model& model);
+
+/// The dynamics at one state: tau = RNEA(q, dq, ddq), or ddq = ABA(q, dq, tau) when `tau` is
+/// given; M = CRBA(q) either way.
+struct DynamicsOutcome {
+  Eigen::VectorXd q, dq, ddq, tau;
+  Eigen::MatrixXd M;
+};
+/// q, dq and the given one of ddq, tau have n entries (InputError otherwise). Throws
+/// NumericalError when the dynamics are singular at the state (a massless moving subtree).
+DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                           const std::optional<Eigen::VectorXd>& ddq,
+                           const std::optional<Eigen::VectorXd>& tau);
+
+// ---- simulation ----
+
+/// The robot an identify estimate.json names (or `robot_spec`), with the estimate's drive terms and
+/// standard parameters; `spec_used` and `method` (when given) receive the robot spec used and the
+/// estimate's method. Throws ParseError for a malformed estimate, InputError when it does not fit
+/// the robot (another robot, another drive model: the parameter named).
+/// `band`, when given, receives the estimate's prediction band (its base covariance and joint
+/// noise; nothing for an estimate written before dynid recorded them).
+Model estimateModel(const std::string& file, const std::string& robot_spec,
+                    std::string* spec_used = nullptr, std::string* method = nullptr,
+                    std::optional<PredictionBand>* band = nullptr);
+
+/// The arm given as an identify estimate.json (its robot loaded, or `robot_spec` when given, with
+/// the estimate's parameters) or as a robot spec (loadRobot with `drive_terms`). Throws as
+/// loadRobot and estimateModel; InputError for --robot or drive terms given where they do not
+/// apply.
+struct LoadedArm {
+  Model model;
+  std::string robot_spec;      // the robot's spec (the estimate's, or `arm` itself)
+  bool from_estimate = false;  // the parameters came from an estimate.json
+  /// The estimate's torque source: the torque constants and gear ratios its motor currents were
+  /// converted with (empty: its torques were not currents, or the arm is no estimate).
+  std::vector<double> torque_constants, gear_ratios;
+};
+LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
+                  const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);
+
+// ---- the GC-error searches ----
+
+/// `threads`, or every core for 0.
+int resolveThreads(int threads);
+
+}  // namespace dynid

@@ -1,0 +1,224 @@
+#include "analysis/runs/identify.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <Eigen/SVD>
+
+#include "analysis/runs/arm.hpp"
+#include "core/drive_terms.hpp"
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "data/dataset_csv.hpp"
+#include "data/io.hpp"
+#include "data/model_json.hpp"
+#include "data/urdf_writeback.hpp"
+#include "identifiability/least_squares_stream.hpp"
+#include "search/gc_error.hpp"
+
+namespace dynid {
+
+IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOptions& structural,
+                                          const std::string& data_file, int threads,
+                                          const Trajectory* data) {
+  IdentifiabilityOutcome out;
+  out.structural = structural;
+  out.base = structuralBaseParameters(model, structural);
+  out.model_beta = out.base.project(model.standardParameters());
+  // The conditioning on fresh random states (the next seed).
+  const Observation check = observationFromRandomStates(
+      model, std::max(100, out.base.numStandard()), structural.seed + 1);
+  out.condition_number = scaledConditionNumber(out.base.baseRegressor(check.W));
+  if (data || !data_file.empty()) {
+    // Streamed: the base regressor's triangular factor, never the observation matrix.
+    LeastSquaresStream stream(out.base, model);
+    ThreadPool pool(threads);
+    if (data)
+      stream.addTrajectory(model, *data, &pool);
+    else
+      addDatasetFile(stream, model, data_file, pool);
+    const LeastSquaresStream::Factor f = stream.factor();
+    Eigen::VectorXd r_diagonal = f.r_scaled.diagonal().cwiseAbs();
+    const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(f.r_scaled).singularValues();
+    const bool full = stream.numSamples() * model.numJoints() >= out.base.numBase() &&
+                      f.norms.minCoeff() > 0.0 && s.size() > 0 && s[s.size() - 1] > 0.0;
+    out.data =
+        DataExcitation{data_file, stream.numSamples(), excitationFromRDiagonal(r_diagonal),
+                       full ? s[0] / s[s.size() - 1] : std::numeric_limits<double>::infinity()};
+  }
+  return out;
+}
+
+// ---- identification ----
+
+namespace {
+
+/// A dataset's GC problem for the combined estimator, its refusals naming the file.
+GcProblem combinedProblem(const IdentifyRequest& request, const Trajectory* given,
+                          const std::string& file) {
+  try {
+    return makeGcProblemUpTo(
+        given != nullptr ? *given : readDatasetCsv(file, request.model.numJoints()),
+        request.segments);
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  }
+}
+
+/// The estimate of request.method through the estimation wing's runner, streaming the training
+/// data (memory independent of its length) and keeping samples for the figures; with combined,
+/// its two criteria against pc's on the training and held-out data.
+void estimate(const IdentifyRequest& request, IdentifyOutcome& out, SampleKeeper& kept) {
+  const Model& model = request.model;
+  const bool physical = takesPrior(request.method);
+  LeastSquaresStream stream(out.base, model);
+  EstimationProblem problem;
+  problem.model = model;
+  problem.base = &out.base;
+  problem.least_squares = LeastSquaresSource{nullptr, &stream, model.parameterLayout()};
+  problem.prior =
+      physical && request.prior ? request.prior->standardParameters() : model.standardParameters();
+  problem.physical.prior_weight = request.prior_weight;
+  problem.combined = request.combined;
+  problem.control = request.combined.control;
+  problem.threads = resolveThreads(request.threads);
+  std::optional<GcProblem> train;
+  if (request.method == Method::kCombined) {
+    train.emplace(combinedProblem(request, request.data, request.data_file));
+    problem.train_gc = &*train;
+  }
+  MethodRunner runner(std::move(problem));
+  if (request.data) {
+    stream.addTrajectory(model, *request.data, &runner.pool());
+    kept.add(*request.data);
+  } else {
+    addDatasetFile(stream, model, request.data_file, runner.pool(), &kept);
+  }
+  out.result = *runner.run(request.method).least_squares;
+  if (request.method != Method::kCombined) return;
+  const LeastSquaresOutcome& pc = runner.leastSquares(Method::kPc);
+  CombinedSummary summary;
+  summary.detail = *runner.combinedDetail();
+  summary.train_segments = train->numSegments();
+  summary.torque_train_pc = pc.estimate.relative_error;
+  summary.gc_train_pc = summary.detail.initial_gc;
+  summary.gc_train = summary.detail.final_gc;
+  summary.gc_test_pc = summary.gc_test = std::numeric_limits<double>::quiet_NaN();
+  summary.torque_test_pc = std::numeric_limits<double>::quiet_NaN();
+  if (request.validate != nullptr || !request.validate_file.empty()) {
+    const Trajectory held = request.validate != nullptr
+                                ? *request.validate
+                                : readDatasetCsv(request.validate_file, model.numJoints());
+    const GcProblem test = combinedProblem(request, &held, request.validate_file);
+    summary.test_segments = test.numSegments();
+    ThreadPool& pool = runner.pool();
+    GcWorkspace workspace(pool.numThreads());
+    Model pc_model = model, identified = model;
+    pc_model.setStandardParameters(pc.standard);
+    identified.setStandardParameters(out.result.standard);
+    summary.gc_test_pc = gcError(pc_model, test, workspace, pool);
+    summary.gc_test = gcError(identified, test, workspace, pool);
+    summary.torque_test_pc = predictTorques(pc_model, held, &pool).validation.relative_error;
+  }
+  out.combined = std::move(summary);
+}
+
+/// The fit's statistics (the estimate's residuals, from the stream's factors) on the kept training
+/// samples, and where the residual lies in velocity.
+void describeFit(const Model& identified, const SampleKeeper& kept, IdentifyOutcome& out) {
+  const BaseEstimate& e = out.result.estimate;
+  Validation v;
+  v.num_samples = e.num_samples;
+  v.torque_rms = e.residual_rms;
+  v.normalised_rms = e.joint_relative_error;
+  v.relative_error = e.relative_error;
+  out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
+  out.reversals = reversalResidual(out.fit);
+}
+
+/// The held-out prediction, and against the raw held-out torques when given.
+void validate(const IdentifyRequest& request, const Model& identified, IdentifyOutcome& out) {
+  if (!request.validate && request.validate_file.empty()) {
+    if (!request.validate_raw_file.empty())
+      throw InputError("the raw held-out torques (" + request.validate_raw_file +
+                       ") need the held-out dataset they belong to (validate)");
+    return;
+  }
+  std::optional<RawTorques> raw;
+  std::optional<RawTorqueComparison> comparison;
+  if (!request.validate_raw_file.empty()) {
+    raw = readRawTorques(request.validate_raw_file, identified.numJoints());
+    comparison.emplace(*raw);
+  }
+  PredictionSink* sink = comparison ? &*comparison : nullptr;
+  ThreadPool pool(request.threads);
+  out.validate_fit = request.validate ? predictTorques(identified, *request.validate, &pool, sink)
+                                      : predictFile(identified, request.validate_file, pool, sink);
+  out.validation = out.validate_fit->validation;
+  out.validate_file = request.validate_file;
+  if (comparison) {
+    out.raw_validation = comparison->result();
+    out.validate_raw_file = request.validate_raw_file;
+    out.raw_skipped = comparison->skipped();
+  }
+}
+
+/// The estimate written back into the robot's URDF and as dynid JSON; refused for an estimate that
+/// is not physically consistent.
+WriteBack writeBack(const IdentifyRequest& request, const Model& identified,
+                    const IdentifyOutcome& out) {
+  if (!out.violations.empty())
+    throw InputError("cannot write the " + std::string(methodName(request.method)) +
+                     " estimate back: link '" + out.violations.front().link_name +
+                     "' is not physically consistent (" + out.violations.front().condition +
+                     "); use `method` pc");
+  WriteBack back;
+  back.urdf =
+      urdfWithParameters(readFile(request.write_back_from), request.write_back_from, identified);
+  back.model_json = modelToJson(identified);
+  back.unseen_directions = out.base.numStandard() - out.base.numBase();
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (row.urdf_dynamics.empty() && identified.driveTerms().has(row.term))
+      for (int j = 0; j < identified.numJoints(); ++j)
+        if (const double value = identified.drives()[j][row.term]; value != 0.0)
+          back.not_in_urdf.push_back(std::string(row.name) + std::to_string(j + 1) + " " +
+                                     formatNumber(value, 4) + " " + std::string(row.unit));
+  return back;
+}
+
+}  // namespace
+
+IdentifyOutcome identifyRun(const IdentifyRequest& request) {
+  request.check();
+  const Model& model = request.model;
+  IdentifyOutcome out;
+  out.method = request.method;
+  out.prior_weight = request.prior_weight;
+  out.data_file = request.data_file;
+  out.robot_spec = request.robot_spec;
+  out.base = structuralBaseParameters(model, request.structural);
+  out.model_beta = out.base.project(model.standardParameters());
+  if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())
+    throw InputError("the prior model has another parameter layout than the robot");
+  SampleKeeper kept;  // the training samples for the figures
+  try {
+    estimate(request, out, kept);
+  } catch (const InputError& e) {  // too few samples: the dataset's fault
+    throw InputError(request.data_file + ": " + e.what());
+  } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too
+    throw NumericalError(request.data_file + ": " + e.what());
+  }
+  if (out.result.pc)
+    for (int i : out.result.pc->inconsistent_links)
+      out.pc_inconsistent_links.push_back(model.link_names[i]);
+  Model identified = model;
+  identified.setStandardParameters(out.result.standard);
+  out.violations = consistencyViolations(identified);
+  describeFit(identified, kept, out);
+  if (!request.data) out.preparation = findPreparation(request.data_file);
+  validate(request, identified, out);
+  if (!request.write_back_from.empty()) out.write_back = writeBack(request, identified, out);
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,46 @@
+// The runs wing's room for dynid predict: an estimate (or a robot's own parameters) applied to a
+// dataset, streamed, with its band and the raw torques. Nothing here prints or writes a report.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "analysis/estimation/reversals.hpp"
+#include "analysis/estimation/streaming.hpp"
+#include "core/model.hpp"
+#include "core/parallel.hpp"
+
+namespace dynid {
+
+// ---- applying an estimate to data ----
+
+struct PredictRequest {
+  std::string estimate_file;  // an identify estimate.json (empty: `model`)
+  std::string data_file;      // a dataset CSV
+  std::string robot_spec;     // empty: the estimate's own; with `model`, its spec
+  /// Without an estimate: this robot with its own parameters (a URDF, a written-back model, a
+  /// built-in), which has no covariance and so no band.
+  std::optional<Model> model;
+  int threads = kAllThreads;       // 0: all cores; the same result for any count
+  PredictionSink* sink = nullptr;  // receives every sample's prediction, in order (may be null)
+  /// prepare --keep-raw-torque's validate_raw.csv for data_file: the raw torques at the log's
+  /// stamps, compared against too (empty: none).
+  std::string raw_file = "";
+};
+struct PredictOutcome {
+  Model model;  // the robot with the estimate's standard parameters
+  std::string robot_spec, method;
+  Prediction prediction;
+  std::optional<PredictionBand> band;  // the estimate's 95 % band (absent in older estimates)
+  std::optional<Validation> raw;       // against the raw torques (raw_file), when given
+  ReversalResidual reversals;          // where the residual lies in velocity (reversals.hpp)
+  std::string raw_file;
+  int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
+};
+/// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
+/// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed
+/// estimate, InputError when the estimate does not fit the robot (another robot, another drive
+/// model: the parameter named).
+PredictOutcome predictRun(const PredictRequest& request);
+
+}  // namespace dynid

@@ -1,0 +1,186 @@
+#include "analysis/studies/log_study.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "analysis/estimation/pipeline.hpp"
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "core/option_ranges.hpp"
+#include "data/dataset_csv.hpp"
+
+namespace dynid {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The GC problem of a dataset with at most the requested segments (all it holds when fewer).
+GcProblem gcProblem(const Trajectory& data, const SegmentOptions& options,
+                    const std::string& file) {
+  try {
+    return makeGcProblemUpTo(data, options);
+  } catch (const InputError& e) {
+    throw InputError(file + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+void LogStudyRequest::check() const {
+  if (data_file.empty()) throw InputError("the study needs training data (`data`)");
+  if (validate_file.empty()) throw InputError("the study needs held-out data (`validate`)");
+  // The ranges of dynid study's options (core/option_ranges.hpp), by field name.
+  checkOption("study", "horizon", segments.horizon, "`horizon`");
+  checkOption("study", "segments", segments.num_segments, "`segments`");
+  checkOption("study", "search-seconds", search_seconds, "`search_seconds`");
+  checkOption("study", "search-evaluations", static_cast<double>(search_evaluations),
+              "`search_evaluations`");
+  if (search_seconds == 0.0 && search_evaluations == 0)
+    throw InputError("a search needs a budget: search seconds or evaluations > 0");
+  checkOption("study", "refine-iterations", refine_iterations, "`refine_iterations`");
+  checkOption("study", "refine-seconds", refine_seconds, "`refine_seconds`");
+  checkOption("study", "refine-tolerance", refine_tolerance, "`refine_tolerance`");
+  checkOption("study", "prior-weight", prior_weight, "`prior_weight`");
+  checkOption("study", "combined-weight", combined_weight, "`combined_weight`");
+  checkOption("study", "threads", threads, "`threads`");
+}
+
+StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows) {
+  StudyVerdict out;
+  double sim = 0.0, ctl = 0.0, tor = 0.0, gc = 0.0;
+  const auto better = [](std::string& key, double& best, const LogStudyRow& row, double value) {
+    if (!std::isfinite(value)) return;
+    if (key.empty() || value < best) key = row.key, best = value;
+  };
+  const bool pc_row =
+      std::any_of(rows.begin(), rows.end(), [](const LogStudyRow& row) { return row.key == "pc"; });
+  for (const LogStudyRow& row : rows) {
+    if (row.key == "start" && pc_row) continue;  // pc's estimate, under its own row
+    if (!(std::isfinite(row.torque_test) && std::isfinite(row.gc_test))) continue;
+    better(out.best_torque, tor, row, row.torque_test);
+    better(out.best_gc, gc, row, row.gc_test);
+    if (!row.consistent) continue;
+    better(out.control, ctl, row, row.torque_test);
+    better(out.simulation, sim, row, row.gc_test);
+  }
+  return out;
+}
+
+namespace {
+
+/// The one pipeline's problem for the study's methods: the searches start from the physically
+/// consistent estimate, the refinements and the combined estimator share the refine budget.
+EstimationProblem studyProblem(const LogStudyRequest& request, const BaseParameters& base,
+                               const Observation& observation, const GcProblem& train_gc,
+                               int threads) {
+  EstimationProblem problem;
+  problem.model = request.robot;
+  problem.base = &base;
+  problem.least_squares.observation = &observation;
+  problem.physical.prior_weight = request.prior_weight;
+  problem.train_gc = &train_gc;
+  problem.search_start = SearchStart::kPhysicallyConsistent;
+  problem.seed = request.seed;
+  problem.setBudgets(request.search_seconds, request.search_evaluations, request.refine_iterations,
+                     request.refine_seconds, request.refine_tolerance, request.keep_if_better);
+  problem.combined.gc_weight = request.combined_weight;
+  problem.combined.function_tolerance = request.refine_tolerance;
+  problem.threads = threads;
+  problem.control = request.control;
+  return problem;
+}
+
+}  // namespace
+
+LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
+  request.check();
+  const auto t0 = Clock::now();
+  const auto say = [&](const std::string& line) { request.control.say(line); };
+  const auto stopped = [&] { return request.control.interrupted(); };
+  const Model& robot = request.robot;
+  const int n = robot.numJoints();
+  LogStudyOutcome out;
+  out.robot_spec = request.robot_spec;
+  out.data_file = request.data_file;
+  out.validate_file = request.validate_file;
+  out.drive_terms = driveTermsText(robot.driveTerms());
+  out.segments = request.segments;
+  out.prior_weight = request.prior_weight;
+  out.combined_weight = request.combined_weight;
+  out.refine_seconds = request.refine_seconds;
+  out.refine_iterations = request.refine_iterations;
+  const Trajectory train = readDatasetCsv(request.data_file, n);
+  const Trajectory test = readDatasetCsv(request.validate_file, n);
+  out.train_samples = train.numSamples();
+  out.test_samples = test.numSamples();
+  const GcProblem train_gc = gcProblem(train, request.segments, request.data_file);
+  const GcProblem test_gc = gcProblem(test, request.segments, request.validate_file);
+  out.train_segments = train_gc.numSegments();
+  out.test_segments = test_gc.numSegments();
+  out.horizon = request.segments.horizon;
+  const int threads = resolveThreads(request.threads);
+  ThreadPool pool(threads);  // the measurements'; the runner has its own
+  GcWorkspace workspace(threads);
+
+  say("base parameters and the least-squares estimates");
+  const BaseParameters base = structuralBaseParameters(robot);
+  out.num_base = base.numBase();
+  out.num_standard = base.numStandard();
+  const Observation observation = observationFromTrajectory(robot, train);
+  const auto measure = [&](const std::string& key, const Model& model, long evaluations,
+                           double seconds) {
+    LogStudyRow row;
+    row.key = key;
+    const Prediction fit = predictTorques(model, train);
+    row.torque_train = fit.validation.relative_error;
+    if (out.fit_reversals.samples == 0 && (key == "ols" || key == "wls" || key == "pc"))
+      out.fit_reversals = reversalResidual(fit);
+    row.torque_test = predictTorques(model, test).validation.relative_error;
+    row.gc_train = gcError(model, train_gc, workspace, pool);
+    row.gc_test = gcError(model, test_gc, workspace, pool);
+    row.consistent = consistencyViolations(model).empty();
+    row.evaluations = evaluations;
+    row.seconds = seconds;
+    return row;
+  };
+  out.rows.push_back(measure("model", robot, 0, 0.0));
+
+  // Every estimate comes from the one pipeline. The searches start from the physically consistent
+  // estimate: the best torque fit that is a realisable body with friction that dissipates (the
+  // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
+  // from either can diverge).
+  EstimationProblem problem = studyProblem(request, base, observation, train_gc, threads);
+  MethodRunner runner(std::move(problem));
+  const std::vector<Method> methods = request.methods.empty() ? allMethods() : request.methods;
+  const bool searching = std::any_of(methods.begin(), methods.end(),
+                                     [](Method m) { return isSearch(m) || isRefined(m); });
+  if (searching) out.rows.push_back(measure("start", runner.searchStart(), 0, 0.0));
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    const Method method = methods[k];
+    if (stopped()) {
+      out.interrupted = true;
+      break;
+    }
+    say(std::string(methodName(method)) + ", method " + std::to_string(k + 1) + " of " +
+        std::to_string(methods.size()) + "; " +
+        progressText(static_cast<double>(k) / static_cast<double>(methods.size()), since(t0)) +
+        " (of the methods)");
+    const Estimate estimate = runner.run(method);
+    LogStudyRow row =
+        measure(methodName(method), estimate.model, estimate.evaluations, estimate.seconds);
+    row.note = estimate.note;
+    row.moved = estimate.moved;
+    out.rows.push_back(row);
+  }
+  out.interrupted = out.interrupted || stopped();
+  out.seconds = since(t0);
+  return out;
+}
+
+}  // namespace dynid

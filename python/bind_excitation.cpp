@@ -1,0 +1,161 @@
+// The excitation wing: dynid excite (analysis/excitation/excite.hpp), its design as to_json().
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <tuple>
+
+#include <pybind11/stl.h>
+
+#include "analysis/excitation/excite.hpp"
+#include "analysis/records/document.hpp"
+#include "core/errors.hpp"
+#include "core/format.hpp"
+#include "python/run_support.hpp"
+#include "reports/excitation_report.hpp"
+
+namespace dynid::python {
+namespace {
+
+// ---- excite ----
+
+struct ExcitePy {
+  Model robot;
+  ExcitationSettings settings;
+  ExciteOutcome outcome;
+};
+
+ExcitePy excitePy(const Model& robot, const std::string& criterion, double period, int harmonics,
+                  int starts, int evaluations, double budget_seconds, double grid_rate,
+                  double check_rate, double torque_noise, int segments, double horizon,
+                  const OptionalArrayLike& offset, const OptionalArrayLike& q_min,
+                  const OptionalArrayLike& q_max, const OptionalArrayLike& dq_max,
+                  const OptionalArrayLike& ddq_max, const OptionalArrayLike& tau_max,
+                  double torque_margin, const std::optional<double>& floor, double base_radius,
+                  int samples, std::uint64_t seed, double tolerance, int threads,
+                  const PathLike& robot_spec_arg, const ProgressLike& progress) {
+  const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
+  const int n = robot.numJoints();
+  ExciteRequest r;  // checked by exciteRun
+  r.robot = robot;
+  r.criterion = parseExcitationCriterion(criterion);
+  r.period = period;
+  r.harmonics = harmonics;
+  r.starts = starts;
+  r.evaluations = evaluations;
+  if (budget_seconds > 0.0) r.max_seconds = budget_seconds;
+  r.grid_rate = grid_rate;
+  r.check_rate = check_rate;
+  r.torque_noise = torque_noise;
+  r.gc_segments = segments;
+  r.gc_horizon = horizon;
+  r.seed = seed;
+  r.threads = threads;
+  r.structural = {samples, seed, tolerance};
+  r.offset = jointOption(offset, "offset", n);
+  LimitOverrides overrides;
+  overrides.q_min = jointOption(q_min, "q_min", n);
+  overrides.q_max = jointOption(q_max, "q_max", n);
+  overrides.dq_max = jointOption(dq_max, "dq_max", n);
+  overrides.ddq_max = jointOption(ddq_max, "ddq_max", n);
+  overrides.tau_max = jointOption(tau_max, "tau_max", n);
+  overrides.torque_margin = torque_margin;
+  overrides.floor = floor;
+  overrides.base_radius = base_radius;
+  r.limits = excitationLimits(robot, overrides);
+  if (r.offset) checkOffsets(robot, r.limits, *r.offset);
+  Interrupt interrupt;
+  interrupt.setCallback(progress);
+  r.control.stop = interrupt.flag();
+  r.control.progress = [&](const std::string& line) {  // after each start (any thread)
+    interrupt.report([&] {
+      py::dict d;
+      d["line"] = line;
+      return d;
+    });
+  };
+  ExcitePy out{robot, {}, {}};
+  out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
+  out.settings.harmonics = harmonics;
+  out.settings.evaluations = evaluations;
+  out.settings.period = period;
+  {
+    py::gil_scoped_release release;
+    out.outcome = exciteRun(r);
+  }
+  out.settings.starts = static_cast<int>(out.outcome.starts.size());  // 0 resolved
+  interrupt.raiseIfFailed();
+  if (!interrupt.cancelled()) interrupt.warnIfStopped();
+  return out;
+}
+
+void bindExcite(py::module_& m) {
+  py::class_<ExcitePy>(m, "Excitation", "What `dynid excite` writes as excitation.json.")
+      .def_property_readonly(
+          "period", [](const ExcitePy& e) { return e.outcome.design.period; },
+          "The motion's period [s].")
+      .def_property_readonly(
+          "offset", [](const ExcitePy& e) { return toNumpy(e.outcome.design.offset); },
+          "Each joint's centre of motion, shape (n,) [rad].")
+      .def_property_readonly(
+          "a", [](const ExcitePy& e) { return toNumpy(e.outcome.design.a); },
+          "The Fourier coefficients a_jk of the sine terms (q_j = offset_j + sum_k a_jk/(w k) "
+          "sin(w k t) - b_jk/(w k) cos(w k t)), shape (n, harmonics) [rad/s].")
+      .def_property_readonly(
+          "b", [](const ExcitePy& e) { return toNumpy(e.outcome.design.b); },
+          "The Fourier coefficients b_jk of the cosine terms, shape (n, harmonics) [rad/s].")
+      .def_property_readonly(
+          "condition_number", [](const ExcitePy& e) { return e.outcome.score.condition_unit; },
+          "The designed motion's base regressor condition number (unit columns).")
+      .def_property_readonly(
+          "baseline_condition_number",
+          [](const ExcitePy& e) { return e.outcome.baseline.condition_unit; },
+          "The default sinusoid's, for comparison.")
+      .def_property_readonly(
+          "termination", [](const ExcitePy& e) { return e.outcome.termination; },
+          "Why the design stopped (evaluations, seconds, tolerance or interrupted).")
+      .def(
+          "sample",
+          [](const ExcitePy& e, double rate) {
+            py::gil_scoped_release release;
+            return sampleFourier(e.outcome.design, e.robot, rate);
+          },
+          py::arg("rate") = ExcitationSettings{}.csv_rate,
+          "One period of the motion at `rate` as a Dataset (tau: the model's inverse dynamics).")
+      .def(
+          "to_json",
+          [](const ExcitePy& e) {
+            return jsonText(excitationJson(e.robot, e.settings, e.outcome), 2) + "\n";
+          },
+          "excitation.json, as `dynid excite` writes it (simulate(trajectory=...) reads it).");
+
+  m.def(
+      "excite", &excitePy, py::arg("robot"), py::arg("criterion") = "cond",
+      py::arg("period") = ExciteRequest{}.period, py::arg("harmonics") = ExciteRequest{}.harmonics,
+      py::arg("starts") = ExciteRequest{}.starts,
+      py::arg("evaluations") = ExciteRequest{}.evaluations, py::arg("budget_seconds") = 0.0,
+      py::arg("grid_rate") = ExciteRequest{}.grid_rate,
+      py::arg("check_rate") = ExciteRequest{}.check_rate,
+      py::arg("torque_noise") = ExciteRequest{}.torque_noise,
+      py::arg("segments") = ExciteRequest{}.gc_segments,
+      py::arg("horizon") = ExciteRequest{}.gc_horizon, py::arg("offset") = py::none(),
+      py::arg("q_min") = py::none(), py::arg("q_max") = py::none(), py::arg("dq_max") = py::none(),
+      py::arg("ddq_max") = py::none(), py::arg("tau_max") = py::none(),
+      py::arg("torque_margin") = LimitOverrides{}.torque_margin, py::arg("floor") = py::none(),
+      py::arg("base_radius") = LimitOverrides{}.base_radius,
+      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
+      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
+      py::arg("robot_spec") = "", py::arg("progress") = py::none(),
+      "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
+      "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd'). "
+      "progress(info) is called as each start ends with a dict whose 'line' is the CLI's (the "
+      "start, its criterion, the share done and the time left); returning False stops the "
+      "design with the best start so far.");
+}
+
+}  // namespace
+
+void bindExcitation(py::module_& m) { bindExcite(m); }
+
+}  // namespace dynid::python
