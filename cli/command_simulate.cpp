@@ -204,8 +204,6 @@ int runSimulate(const std::vector<std::string>& args) {
       request.disturbances.push_back(parseDisturbance(spec, request.robot));
   refuseUnused(vm, !request.disturbances.empty(), {"truth-out"}, "applies with --disturbance");
   const std::string out = vm["out"].as<std::string>();
-  if (out == "-" && !request.disturbances.empty() && !vm.count("truth-out"))
-    throw UsageError("--out - (standard output) with --disturbance needs --truth-out FILE");
   if (out == "-" && vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-")
     throw UsageError("--out and --truth-out cannot both be - (standard output)");
   const SimulateOutcome outcome = simulateRun(request);
@@ -218,7 +216,11 @@ int runSimulate(const std::vector<std::string>& args) {
       out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");
   std::ostream& summary = piped ? std::cerr : std::cout;
   summary << simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out);
-  if (!request.disturbances.empty()) {
+  // Piped (--out -) without --truth-out: the samples go on (to `dynid monitor --data -`), the
+  // ground truth is not written, and the summary says how to have it.
+  if (!request.disturbances.empty() && out == "-" && !vm.count("truth-out")) {
+    summary << "the applied external torques were not written (--truth-out FILE writes them)\n";
+  } else if (!request.disturbances.empty()) {
     const std::string truth = truthPath(vm, out);
     writeExternalTorqueCsv(truth, outcome.trajectory.time, outcome.external);
     summary << "wrote the applied external torques to " << truth << "\n";

@@ -17,8 +17,8 @@ inline constexpr double kDefaultEventHold = 0.05;
 struct MonitorEvent {
   double start = 0.0, end = 0.0;  // [s]: the first sample above, the last before the hold
   std::vector<int> joints;        // the joints (0-based) that crossed their thresholds
-  int peak_joint = 0;
-  double peak = 0.0, peak_time = 0.0;  // the largest |r| / threshold's |r| [N m], when [s]
+  int peak_joint = 0;  // the joint (0-based) of the peak: one that crossed its threshold
+  double peak = 0.0, peak_time = 0.0;  // its largest |r| while above [N m], and when [s]
   double energy = 0.0;  // the work of the estimated external torque, integral r . dq dt [J]
   bool open = false;    // the data ended (or were stopped) during the event
 };
@@ -78,10 +78,12 @@ class EventDetector {
   }
 
  private:
+  /// The joints above their thresholds join the event; the peak is the largest |r| among them (a
+  /// joint below its threshold, however large its residual, is not where the event is).
   void mark(double t, const Eigen::VectorXd& r, const Eigen::ArrayXd& ratio) {
     for (Eigen::Index j = 0; j < r.size(); ++j) {
-      if (ratio[j] > 1.0 &&
-          std::find(event_.joints.begin(), event_.joints.end(), j) == event_.joints.end())
+      if (!(ratio[j] > 1.0)) continue;
+      if (std::find(event_.joints.begin(), event_.joints.end(), j) == event_.joints.end())
         event_.joints.push_back(static_cast<int>(j));
       if (std::abs(r[j]) > event_.peak) {
         event_.peak = std::abs(r[j]);

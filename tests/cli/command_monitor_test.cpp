@@ -115,6 +115,15 @@ TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
   EXPECT_EQ(events[1]["event"], "end");
   EXPECT_EQ(events[0]["start"], events[1]["start"]);
   EXPECT_TRUE(contains(r.err, "2 events")) << r.err;
+  // A simulation piped straight into it, without a ground-truth file: the same two pushes.
+  const Result piped = run(
+      "simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
+      "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
+      "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out - 2>/dev/null | " +
+      std::string(DYNID_BIN) + " monitor --arm puma560 --data - --calibration " + dir_ +
+      "/clean.csv");
+  ASSERT_EQ(piped.code, 0) << piped.err;
+  EXPECT_EQ(piped.out, r.out);  // the same samples, so the same event lines
   // A stream cut in the middle of a line is an error naming it.
   const std::string whole = readFile(dir_ + "/pushed.csv");
   ASSERT_NE(whole[99999], '\n');
