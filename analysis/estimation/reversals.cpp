@@ -46,21 +46,24 @@ ReversalResidual reversalResidual(const Prediction& p) {
   out.friction_share.setZero(n);
   for (int j = 0; j < n; ++j) {
     out.speed[j] = kReversalSpeedFraction * std::sqrt(dq.row(j).squaredNorm() / count);
-    double total = 0.0, inside = 0.0;
+    double total = 0.0, inside = 0.0, measured = 0.0;
     int in_band = 0;
     for (int k = 0; k < count; ++k) {
       const double r = p.measured(j, k) - p.predicted(j, k);
       total += r * r;
+      measured += p.measured(j, k) * p.measured(j, k);
       if (std::abs(dq(j, k)) < out.speed[j]) {
         inside += r * r;
         ++in_band;
       }
     }
     out.friction_share[j] = frictionShare(dq, p.measured, p.predicted, j);
-    if (out.friction_share[j] >= kFrictionResidualShare) out.friction_flagged.push_back(j);
+    const bool above_round_off = total > kResidualAboveRoundOff * kResidualAboveRoundOff * measured;
+    if (above_round_off && out.friction_share[j] >= kFrictionResidualShare)
+      out.friction_flagged.push_back(j);
     out.sample_share[j] = static_cast<double>(in_band) / count;
     out.residual_share[j] = total > 0.0 ? inside / total : 0.0;
-    if (out.residual_share[j] >= kReversalResidualShare &&
+    if (above_round_off && out.residual_share[j] >= kReversalResidualShare &&
         out.residual_share[j] >= kReversalConcentration * out.sample_share[j])
       out.flagged.push_back(j);
   }

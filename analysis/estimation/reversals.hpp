@@ -26,6 +26,11 @@ inline constexpr double kReversalConcentration = 4.0;
 /// 3 / samples; a missing friction term: most of it).
 inline constexpr double kFrictionResidualShare = 0.3;
 
+/// No joint is flagged, for either shape, whose residual RMS is below this share of its measured
+/// torque's RMS: a fit to noise-free data leaves round-off (1e-16 to 1e-13 relative), whose shape
+/// means nothing; a real arm's or a noisy simulation's residual is 1e-3 relative or more.
+inline constexpr double kResidualAboveRoundOff = 1e-9;
+
 struct ReversalResidual {
   int samples = 0;                 // the samples measured (a Prediction's kept samples)
   Eigen::VectorXd speed;           // per joint: the band's half width [rad/s or m/s]
@@ -40,7 +45,8 @@ struct ReversalResidual {
 
 /// The shares over the prediction's kept samples (Prediction::velocity, measured, predicted):
 /// every sample of a log up to 2 kMaxPlottedSamples long, evenly spaced ones beyond. A joint that
-/// never moves (rms(dq) = 0) or has no residual gets shares of 0 and is not flagged. Empty (samples
+/// never moves (rms(dq) = 0) or has no residual gets shares of 0 and is not flagged, nor is one
+/// whose residual is round-off (kResidualAboveRoundOff). Empty (samples
 /// 0, no vectors) for a prediction without velocities.
 ReversalResidual reversalResidual(const Prediction& prediction);
 

@@ -110,5 +110,20 @@ TEST(Reversals, MeasuresHowMuchOfTheResidualHasFrictionsShape) {
   EXPECT_EQ(r.friction_flagged, (std::vector<int>{0, 2}));
 }
 
+// Noise-free data leave round-off (a held-out error of 5e-14 %): however friction-shaped, it is
+// not flagged; the same shape at 1e-3 of the torque is.
+TEST(Reversals, RoundOffIsNotFriction) {
+  Prediction p = constructed();
+  const Eigen::MatrixXd shape = p.measured;  // joint 1's friction-shaped residual, as above
+  p.predicted = Eigen::MatrixXd::Constant(3, shape.cols(), 20.0);  // a 20 N m torque
+  p.measured = p.predicted + 1e-12 * shape;  // 1e-14 of the torque (5e-14 N m: 14 ulps of 20)
+  const ReversalResidual quiet = reversalResidual(p);
+  EXPECT_GT(quiet.residual_share[0], 0.9);  // the shape is there
+  EXPECT_TRUE(quiet.flagged.empty());
+  EXPECT_TRUE(quiet.friction_flagged.empty());
+  p.measured = p.predicted + 1e-3 * shape;
+  EXPECT_EQ(reversalResidual(p).flagged, std::vector<int>{0});
+}
+
 }  // namespace
 }  // namespace dynid
