@@ -379,15 +379,20 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const Filters& filters,
                        " runs long enough for the filter");
   for (const auto& [from, to] : options.validate_ranges) {
     bool holds = false;
+    double first = std::numeric_limits<double>::infinity(), last = -first;
     for (const RunSpan& span : spans)
       for (std::size_t k = 0; k < span.rows.size() && !holds; ++k) {
         const double t = span.run.start + span.run.time_offset + span.rows[k] / out.rate;
         holds = t >= from && t <= to;
+        first = std::min(first, t);
+        last = std::max(last, t);
       }
     if (!holds)
       throw InputError("`validate_time` " + formatNumber(from) + ":" + formatNumber(to) +
-                       " holds no sample: the kept runs lie outside it (times are the log's, in "
-                       "seconds after `time_unit`)");
+                       " holds no sample: the kept runs span " + formatNumber(first, 6) + " to " +
+                       formatNumber(last, 6) +
+                       " s from the log's first stamp (times are seconds from it, after "
+                       "`time_unit`)");
   }
   if (plan.train == 0 && plan.validate > 0)
     throw InputError("every sample is held out for validation: nothing is left to train on");

@@ -710,6 +710,14 @@ TEST(Prepare, RestAtTheEndsIsWarnedAboutAndAWindowCropsIt) {
   outside.windows = {{3.0, 7.0}, {20.0, 30.0}};
   EXPECT_NE(inputError([&] { prepareLog(jointsSource(path), outside); }).find("holds no sample"),
             std::string::npos);
+  // So does a held-out time range; the message gives the kept runs' span on the same axis.
+  PrepareOptions held;
+  held.validate_ranges = {{20.0, 30.0}};
+  const std::string message = inputError([&] { prepareLog(jointsSource(path), held); });
+  EXPECT_NE(message.find("`validate_time` 20:30 holds no sample: the kept runs span "),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find(" s from the log's first stamp"), std::string::npos) << message;
 }
 
 // The default rate is the log's nominal one (200 Hz, not its median step's 200.04 Hz, which the
