@@ -185,9 +185,9 @@ std::string simulateSummary(const Model& model, const SimulateOutcome& o, const 
           t.time[t.numSamples() - 1], o.tracking_rms, o.peak_torque);
   if (o.gains_rule == "effective inertia")
     out +=
-        "note: default gains from the joints' effective inertias 1/(M^-1)_ii: the mass-matrix "
-        "diagonal's would put a closed-loop mode above 3x --bandwidth (strongly coupled "
-        "joints), and the controller would chatter\n";
+        "note: default gains from the joints' effective inertias 1/(M^-1)_ii, the rule for "
+        "strongly coupled joints (the mass-matrix diagonal's would put a closed-loop mode above "
+        "3x --bandwidth); not a fault\n";
   // A tracking controller's torque changes little in one sample; a jump of a tenth of the peak
   // torque, or torque at the limit on more than 1 % of the samples, is chatter or saturation.
   if (o.max_torque_step > 0.1 * o.peak_torque || o.saturated_share > 0.01)
