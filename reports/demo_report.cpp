@@ -1,8 +1,11 @@
 #include "reports/demo_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -244,22 +247,28 @@ std::string demoSummaryJson(const DemoResult& result) {
 }
 
 std::string demoTable(const DemoResult& result) {
-  std::ostringstream out;
-  char line[256];
-  std::snprintf(line, sizeof(line), "%-12s", "method");
-  out << line;
+  // Each column as wide as its header or its widest value (at least 12): headers are not cut.
+  std::size_t key_width = 12;
+  for (const MethodMetrics& m : result.methods) key_width = std::max(key_width, m.key.size());
+  std::vector<std::size_t> widths;
   for (const Column& c : kColumns) {
-    std::snprintf(line, sizeof(line), " %12.12s", c.header);
-    out << line;
+    std::size_t width = std::max<std::size_t>(12, std::strlen(c.header));
+    for (const MethodMetrics& m : result.methods) width = std::max(width, c.format(m).size());
+    widths.push_back(width);
   }
+  const auto padded = [](const std::string& text, std::size_t width, bool left) {
+    const std::string pad(width > text.size() ? width - text.size() : 0, ' ');
+    return left ? text + pad : pad + text;
+  };
+  std::ostringstream out;
+  out << padded("method", key_width, true);
+  for (std::size_t c = 0; c < widths.size(); ++c)
+    out << ' ' << padded(kColumns[c].header, widths[c], false);
   out << "\n";
   for (const MethodMetrics& m : result.methods) {
-    std::snprintf(line, sizeof(line), "%-12s", m.key.c_str());
-    out << line;
-    for (const Column& c : kColumns) {
-      std::snprintf(line, sizeof(line), " %12s", c.format(m).c_str());
-      out << line;
-    }
+    out << padded(m.key, key_width, true);
+    for (std::size_t c = 0; c < widths.size(); ++c)
+      out << ' ' << padded(kColumns[c].format(m), widths[c], false);
     out << "\n";
   }
   return out.str();

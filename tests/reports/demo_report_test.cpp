@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 #include <cmath>
 #include <limits>
 
@@ -60,6 +62,14 @@ TEST(DemoReport, MarkdownAndHtmlCarryTheTableAndTheConclusions) {
   const std::string table = demoTable(r);
   EXPECT_NE(table.find("ols"), std::string::npos);
   EXPECT_NE(table.find("n/a"), std::string::npos);
+  // Every header whole (they were cut to 12 characters: "torque RMS t"), and every row as long
+  // as the header line (the columns line up).
+  EXPECT_NE(table.find(" torque RMS test [N m] "), std::string::npos) << table;
+  EXPECT_NE(table.find(" base param error "), std::string::npos) << table;
+  std::istringstream rows(table);
+  std::string header, row;
+  std::getline(rows, header);
+  while (std::getline(rows, row)) EXPECT_EQ(row.size(), header.size()) << row;
 }
 
 TEST(DemoReport, FiguresFromGnuplotOrAWarningWithoutIt) {
