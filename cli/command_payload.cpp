@@ -105,7 +105,7 @@ int runPayload(const std::vector<std::string>& args) {
   const LoadedArm arm =
       loadArm(vm["arm"].as<std::string>(), vm.count("robot") ? vm["robot"].as<std::string>() : "",
               terms, &warnings);
-  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
+  printWarnings(warnings);
   request.arm = arm.model;
   request.arm_source = vm["arm"].as<std::string>();
   request.data_file = vm["data"].as<std::string>();

@@ -255,7 +255,7 @@ void readWindowsAndBounds(const po::variables_map& vm, LogSource& source, Prepar
   }
   std::vector<std::string> warnings;
   const Model robot = loadRobot(text(vm, "robot"), {}, &warnings);
-  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
+  printWarnings(warnings);
   const int n = robot.numJoints();
   if (source.num_joints > 0 && source.num_joints != n)
     throw UsageError("--joints " + std::to_string(source.num_joints) + " but --robot has " +
@@ -314,8 +314,7 @@ int runPrepare(const std::vector<std::string>& args) {
                                       nearestExistingDirectory(vm["out"].as<std::string>()));
   cliTexts(outcome.warnings);  // the fields they name, as this command's flags
   outcome.cutoff_reason = cliText(outcome.cutoff_reason);
-  for (const std::string& warning : outcome.warnings)
-    std::cerr << "dynid prepare: warning: " << warning << "\n";
+  printWarnings(outcome.warnings, "dynid prepare: warning: ");
   std::cout << writePrepared(vm["out"].as<std::string>(), source, o, outcome, threadsOption(vm));
   return kExitOk;
 }

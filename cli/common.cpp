@@ -12,6 +12,7 @@
 #include <boost/make_shared.hpp>
 
 #include "cli/build_info.hpp"
+#include "cli/spelling.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/io.hpp"
@@ -172,7 +173,7 @@ Model loadRobotFromOptions(const po::variables_map& vm,
   RobotOptions options = robotOptions(vm);
   options.fixed_joints = fixed_joints;
   Model model = loadRobot(vm["robot"].as<std::string>(), options, &warnings);
-  for (const std::string& w : warnings) std::cerr << "warning: " << w << "\n";
+  printWarnings(warnings);
   return model;
 }
 

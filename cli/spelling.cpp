@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <iostream>
 #include <set>
 #include <string>
 #include <utility>
@@ -54,6 +55,10 @@ std::string cliText(std::string_view text) {
 
 void cliTexts(std::vector<std::string>& texts) {
   for (std::string& text : texts) text = cliText(text);
+}
+
+void printWarnings(const std::vector<std::string>& warnings, const std::string& prefix) {
+  for (const std::string& w : warnings) std::cerr << prefix << cliText(w) << "\n";
 }
 
 }  // namespace dynid::cli

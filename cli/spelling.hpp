@@ -17,5 +17,9 @@ std::string cliFlag(std::string_view field);
 std::string cliText(std::string_view text);
 /// Each of `texts` through cliText.
 void cliTexts(std::vector<std::string>& texts);
+/// Prints each warning on standard error as "<prefix><warning>", through cliText: every warning
+/// the CLI prints goes through here.
+void printWarnings(const std::vector<std::string>& warnings,
+                   const std::string& prefix = "warning: ");
 
 }  // namespace dynid::cli

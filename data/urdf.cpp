@@ -230,7 +230,7 @@ class UrdfBuilder {
           "has <mimic joint=\"" + joint.mimic->joint_name +
           "\">: treated as an independent joint (its coordinate must be "
           "in the data); make it fixed to merge the finger into its parent (dynid model "
-          "export --fix-joints " +
+          "export `fix_joints` " +
           joint.name + " writes such a URDF)";
       if (options_.strict) failJoint(joint.name, message);
       if (warnings_) warnings_->push_back(file_ + ": joint '" + joint.name + "' " + message);

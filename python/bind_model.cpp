@@ -176,7 +176,7 @@ Model loadModel(const PathLike& spec_arg, bool drives, const TermsLike& terms, b
     model = loadRobot(spec, options, &warnings);
   }
   for (const std::string& w : warnings)
-    PyErr_WarnEx(PyExc_UserWarning, (spec + ": " + w).c_str(), 1);
+    PyErr_WarnEx(PyExc_UserWarning, pythonText(spec + ": " + w).c_str(), 1);
   return model;
 }
 

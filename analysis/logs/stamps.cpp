@@ -66,7 +66,7 @@ void sortAndDeduplicate(RawSignals& s, double max_gap, PrepareOutcome& out) {
                          "the stamp goes back " + formatNumber(back) +
                              " s, more than the gap limit " + formatNumber(max_gap) +
                              " s: a clock reset or two recordings in one file? Split them into "
-                             "separate files (prepare --log a.csv b.csv) or raise `max_gap` to "
+                             "separate files (prepare `log` a.csv b.csv) or raise `max_gap` to "
                              "sort them together");
       ++out.unsorted_stamps;
       sorted = false;

@@ -17,7 +17,7 @@ inline constexpr double kDefaultEventHold = 0.05;
 struct MonitorEvent {
   double start = 0.0, end = 0.0;  // [s]: the first sample above, the last before the hold
   std::vector<int> joints;        // the joints (0-based) that crossed their thresholds
-  int peak_joint = 0;  // the joint (0-based) of the peak: one that crossed its threshold
+  int peak_joint = 0;             // the joint (0-based) of the peak: one that crossed its threshold
   double peak = 0.0, peak_time = 0.0;  // its largest |r| while above [N m], and when [s]
   double energy = 0.0;  // the work of the estimated external torque, integral r . dq dt [J]
   bool open = false;    // the data ended (or were stopped) during the event

@@ -260,8 +260,8 @@ class RecordingFeed {
 std::string noVelocities(const std::string& path) {
   return path +
          ": its JointState messages carry no velocities, and the observer needs dq: prepare the "
-         "recording first (dynid prepare --log " +
-         path + " --robot ROBOT --out DIR) and monitor DIR/train.csv";
+         "recording first (dynid prepare `log` " +
+         path + " `robot` ROBOT `out` DIR) and monitor DIR/train.csv";
 }
 
 /// A recording whose efforts are on another topic: read whole (the efforts interpolated at the
@@ -399,7 +399,7 @@ std::vector<std::pair<double, double>> truthEpisodes(const std::string& file, in
   if (static_cast<int>(fields.size()) != n + 1 || fields[0] != "t")
     throw ParseError(file, 1, "",
                      "expected the header t,tau_ext1..tau_ext" + std::to_string(n) +
-                         " (dynid simulate --disturbance's ground truth)");
+                         " (dynid simulate `disturbance`'s ground truth)");
   std::vector<std::pair<double, double>> out;
   bool in = false;
   double start = 0.0, last = 0.0;

@@ -143,7 +143,7 @@ void checkEffortScale(const MonitorRequest& request, const LoadedArm& arm,
   if (scale.size() > 0 && !raw_efforts)
     throw InputError(
         "`torque_constants` converts the raw efforts of a recording or of samples on stdin; the "
-        "dataset CSVs given hold torques already (dynid prepare --current converted them): drop "
+        "dataset CSVs given hold torques already (dynid prepare `current` converted them): drop "
         "`torque_constants`");
   if (raw_efforts) currentsWarning(arm, request, scale, warnings);
 }

@@ -161,7 +161,7 @@ void adviseOnMotion(PayloadOutcome& out, const Trajectory& loaded) {
         std::string(inertia_undetermined ? "the inertia" : "the centre of mass") +
         " is not determined by this motion: rotate the wrist more, joint " +
         std::to_string(least + 1) + " above all (RMS speed " + formatNumber(least_rms, 3) +
-        " rad/s in this log), and in several orientations; dynid excite --payload designs such a "
+        " rad/s in this log), and in several orientations; dynid excite `payload` designs such a "
         "motion");
   }
 }
@@ -253,7 +253,7 @@ UnloadedRun unloadedRun(const PayloadRequest& request, const Trajectory& loaded,
     if (unloaded.numSamples() < 2 || !(std::abs(dl - du) <= 1e-6 * dl))
       throw InputError(request.unloaded_file + ": sampled every " + formatNumber(du) +
                        " s, the loaded run every " + formatNumber(dl) +
-                       " s: prepare both at one rate (dynid prepare --rate)");
+                       " s: prepare both at one rate (dynid prepare `rate`)");
     const Alignment a = alignRuns(loaded, unloaded);
     run.shift = a.shift;
     out.shift = static_cast<double>(a.shift) * dl;

@@ -14,7 +14,7 @@ RawTorques readRawTorques(const std::string& path, int num_joints) {
   if (header.names != want)
     throw ParseError(path, header.first_data_line > 1 ? 1 : 0, "",
                      "not a raw torque file of " + std::to_string(num_joints) +
-                         " joints (prepare --keep-raw-torque's validate_raw.csv: header t,tau1.." +
+                         " joints (prepare's `keep_raw_torque` validate_raw.csv: header t,tau1.." +
                          "tau" + std::to_string(num_joints) + ")");
   std::vector<int> columns(want.size());
   for (std::size_t c = 0; c < columns.size(); ++c) columns[c] = static_cast<int>(c);

@@ -100,6 +100,26 @@ TEST_F(CliMonitor, WatchesARecording) {
   EXPECT_EQ(csv.code, 2);
   EXPECT_TRUE(contains(csv.err, "--topic applies to recordings")) << csv.err;
   EXPECT_FALSE(std::filesystem::exists(dir_ + "/mt"));
+  // A recording without velocities: the command line it suggests is the CLI's (the library
+  // names prepare's fields; Python's message names them as keyword arguments).
+  const std::string still = dir_ + "/no_velocity.db3";
+  {
+    test::JointStateDb3 db3(still, {"/joint_states"});
+    const std::vector<std::string> names{"joint1", "joint2", "joint3",
+                                         "joint4", "joint5", "joint6"};
+    for (int k = 0; k < 100; ++k) {
+      const Eigen::VectorXd q = pushed.q.col(k), tau = pushed.tau.col(k);
+      const std::int64_t ns = 1700000000000000000LL + std::llround(pushed.time[k] * 1e9);
+      db3.add(ns, ns, names, q.data(), nullptr, tau.data());
+    }
+    db3.close();
+  }
+  const Result none = run("monitor --arm puma560 --data " + still + " --calibration " + dir_ +
+                          "/clean.csv --out " + dir_ + "/mv");
+  EXPECT_EQ(none.code, 1);
+  EXPECT_TRUE(contains(none.err, "(dynid prepare --log " + still + " --robot ROBOT --out DIR)"))
+      << none.err;
+  EXPECT_FALSE(contains(none.err, "`")) << none.err;
 }
 
 TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
@@ -116,12 +136,12 @@ TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
   EXPECT_EQ(events[0]["start"], events[1]["start"]);
   EXPECT_TRUE(contains(r.err, "2 events")) << r.err;
   // A simulation piped straight into it, without a ground-truth file: the same two pushes.
-  const Result piped = run(
-      "simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
-      "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
-      "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out - 2>/dev/null | " +
-      std::string(DYNID_BIN) + " monitor --arm puma560 --data - --calibration " + dir_ +
-      "/clean.csv");
+  const Result piped =
+      run("simulate --robot puma560 --duration 6 --noise-tau 0.05 --noise-dq 0.001 --seed 2 "
+          "--disturbance joint=joint2,torque=10,at=2,for=0.2 "
+          "--disturbance link=6,force=0:0:-40,at=4,for=0.15 --out - 2>/dev/null | " +
+          std::string(DYNID_BIN) + " monitor --arm puma560 --data - --calibration " + dir_ +
+          "/clean.csv");
   ASSERT_EQ(piped.code, 0) << piped.err;
   EXPECT_EQ(piped.out, r.out);  // the same samples, so the same event lines
   // A stream cut in the middle of a line is an error naming it.

@@ -110,7 +110,7 @@ TEST(Urdf, FixedJointsByNameMergeLikeFixedOnes) {
   warnings.clear();
   parseUrdf(mimic, "mimic.urdf", {}, &warnings);
   ASSERT_EQ(warnings.size(), 1u);
-  EXPECT_NE(warnings[0].find("dynid model export --fix-joints slider"), std::string::npos)
+  EXPECT_NE(warnings[0].find("dynid model export `fix_joints` slider"), std::string::npos)
       << warnings[0];
   warnings.clear();
   parseUrdf(mimic, "mimic.urdf", {.fixed_joints = {"slider"}}, &warnings);
