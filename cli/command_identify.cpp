@@ -97,6 +97,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "the full model as .dynid.json beside it");
   addCombinedOptions(options);
   addPriorWeightOption(options);
+  addRestVelocityOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -120,6 +121,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (physical && vm.count("prior")) request.prior = loadOtherRobot(vm, "prior");
   request.data_file = vm["data"].as<std::string>();
   request.threads = threadsOption(vm);
+  request.rest_velocity = restVelocityOption(vm, request.model.numJoints());
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();

@@ -20,6 +20,7 @@ int runPredict(const std::vector<std::string>& args) {
   // --robot alone: that model's own parameters (a URDF, identify --write-urdf's copy, a .json
   // model, a built-in); with --estimate: the robot the estimate is applied to.
   addRobotOptions(options, false);
+  addRestVelocityOption(options);
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -41,6 +42,7 @@ int runPredict(const std::vector<std::string>& args) {
   if (!estimate) request.model = loadRobotFromOptions(vm);
   request.threads = threadsOption(vm);
   if (vm.count("raw")) request.raw_file = vm["raw"].as<std::string>();
+  request.rest_velocity = restVelocityOption(vm, request.model ? request.model->numJoints() : 0);
   PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through
   request.sink = &csv;
   const PredictOutcome outcome = predictRun(request);

@@ -99,6 +99,28 @@ int threadsOption(const po::variables_map& vm) {
   return vm["threads"].as<int>();  // 0 to 256: core/option_ranges.hpp
 }
 
+void addRestVelocityOption(po::options_description& options) {
+  options.add_options()(
+      "rest-velocity", po::value<std::string>(),
+      "a joint is at rest where |dq| is at most this [rad/s or m/s; one, or one per joint]: there "
+      "Coulomb, asymmetry and Stribeck friction are static (predicted as zero, not fitted). "
+      "Default: measured per joint from the data's velocity noise and its chatter at zero");
+}
+
+std::vector<double> restVelocityOption(const po::variables_map& vm, int joints) {
+  if (!vm.count("rest-velocity")) return {};
+  const std::string text = vm["rest-velocity"].as<std::string>();
+  const std::vector<double> v =
+      joints > 0 ? [&] {
+        const Eigen::VectorXd x = parseJointVector(text, "rest-velocity", joints, true);
+        return std::vector<double>(x.data(), x.data() + x.size());
+      }()
+                 : parseList(text, "rest-velocity");
+  for (double x : v)
+    if (x < 0.0) throw UsageError("--rest-velocity: a rest velocity is a speed, >= 0");
+  return v;
+}
+
 void addRecordingOptions(po::options_description& options) {
   options.add_options()("topic", po::value<std::string>(),
                         "recordings: the JointState topic (default: the only one)")(

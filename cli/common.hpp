@@ -114,6 +114,11 @@ StructuralOptions structuralOptions(const po::variables_map& vm);
 /// (physically_consistent.hpp: kDefaultPriorWeight, checkPriorWeight).
 void addPriorWeightOption(po::options_description& options);
 double priorWeightOption(const po::variables_map& vm);
+/// --rest-velocity V[,V...] (identify, predict): each joint's rest velocity, one for all or one
+/// per joint of `joints` (analysis/logs/rest.hpp; joints 0: the count is the library's to check);
+/// empty when not given (measured on the data). UsageError for another count or a negative value.
+void addRestVelocityOption(po::options_description& options);
+std::vector<double> restVelocityOption(const po::variables_map& vm, int joints);
 /// --keep-worse-refinements: report a refinement that ends above its search's training GC error
 /// instead of keeping the search's result (analysis/estimation/pipeline.hpp,
 /// RefineSettings::keep_if_better).

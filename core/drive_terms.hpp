@@ -43,21 +43,25 @@ struct DriveTermInfo {
   Draw draw;
   bool inertial;                   // phi = ddq: adds to the mass matrix's diagonal (CRBA, ABA)
   std::string_view urdf_dynamics;  // the <dynamics> attribute carrying it, or empty
+  /// phi depends on sign(dq): at rest (|dq| within the rest velocity, core/model.hpp) the term
+  /// is static friction, any value between its two one-sided limits at dq = 0 that the other
+  /// torques demand, so its point value there is zero and its column is not fitted there.
+  bool signed_by_velocity;
 };
 
 inline constexpr std::array<DriveTermInfo, 6> kDriveTermTable = {{
     {DriveTerm::kRotorInertia, "ia", "Ia", "kg m^2", "Ia ddq", "rotor inertia", true,
-     DriveTermInfo::Draw::kAlways, true, ""},
+     DriveTermInfo::Draw::kAlways, true, "", false},
     {DriveTerm::kViscous, "fv", "Fv", "N m s/rad", "Fv dq", "viscous friction", true,
-     DriveTermInfo::Draw::kAlways, false, "damping"},
+     DriveTermInfo::Draw::kAlways, false, "damping", false},
     {DriveTerm::kCoulomb, "fc", "Fc", "N m", "Fc sign(dq)", "Coulomb friction", true,
-     DriveTermInfo::Draw::kAlways, false, "friction"},
+     DriveTermInfo::Draw::kAlways, false, "friction", true},
     {DriveTerm::kOffset, "fo", "Fo", "N m", "Fo", "constant offset (sensor or current bias)", false,
-     DriveTermInfo::Draw::kWhenEnabled, false, ""},
+     DriveTermInfo::Draw::kWhenEnabled, false, "", false},
     {DriveTerm::kCoulombAsymmetry, "fa", "Fa", "N m", "Fa |sign(dq)|", "Coulomb asymmetry", false,
-     DriveTermInfo::Draw::kAlways, false, ""},
+     DriveTermInfo::Draw::kAlways, false, "", true},
     {DriveTerm::kStribeck, "fs", "Fs", "N m", "Fs sign(dq) exp(-(dq/vs)^2), vs = 0.05 rad/s",
-     "Stribeck (breakaway) friction", true, DriveTermInfo::Draw::kWhenEnabled, false, ""},
+     "Stribeck (breakaway) friction", true, DriveTermInfo::Draw::kWhenEnabled, false, "", true},
 }};
 
 inline constexpr int kDriveTermCount = static_cast<int>(kDriveTermTable.size());
@@ -70,10 +74,21 @@ inline Scalar signum(const Scalar& x) {
   return Scalar(0);
 }
 
-/// phi_k(dq, ddq): term k's regressor entry at joint velocity dq and acceleration ddq; its torque
-/// is theta_k phi_k. One case per table row.
+/// sign(x) outside the rest band [-rest, rest] and 0 inside it (rest >= 0; rest = 0 is signum):
+/// the sign a velocity measured within its noise of zero cannot be given.
 template <typename Scalar>
-inline Scalar driveBasis(int k, const Scalar& dq, const Scalar& ddq) {
+inline Scalar signOutside(const Scalar& x, double rest) {
+  if (x > Scalar(rest)) return Scalar(1);
+  if (x < Scalar(-rest)) return Scalar(-1);
+  return Scalar(0);
+}
+
+/// phi_k(dq, ddq): term k's regressor entry at joint velocity dq and acceleration ddq; its torque
+/// is theta_k phi_k. One case per table row. `rest` >= 0 is the joint's rest velocity: the
+/// signed_by_velocity terms are 0 for |dq| <= rest (static friction's point value; 0 keeps
+/// sign(0) = 0 exactly as before).
+template <typename Scalar>
+inline Scalar driveBasis(int k, const Scalar& dq, const Scalar& ddq, double rest = 0.0) {
   using std::exp;
   switch (static_cast<DriveTerm>(k)) {
     case DriveTerm::kRotorInertia:
@@ -81,16 +96,16 @@ inline Scalar driveBasis(int k, const Scalar& dq, const Scalar& ddq) {
     case DriveTerm::kViscous:
       return dq;
     case DriveTerm::kCoulomb:
-      return signum(dq);
+      return signOutside(dq, rest);
     case DriveTerm::kOffset:
       return Scalar(1);
     case DriveTerm::kCoulombAsymmetry: {
-      const Scalar s = signum(dq);
+      const Scalar s = signOutside(dq, rest);
       return s * s;
     }
     case DriveTerm::kStribeck: {
       const Scalar r = dq / Scalar(kStribeckVelocity);
-      return signum(dq) * exp(-(r * r));
+      return signOutside(dq, rest) * exp(-(r * r));
     }
   }
   return Scalar(0);

@@ -183,6 +183,15 @@ DYNID_INLINE Lanes<W, I> signum(const Lanes<W, I>& x) {
   return Lanes<W, I>::fromVector(x.v > 0 ? one : (x.v < 0 ? -one : zero));
 }
 
+/// sign(x) outside [-rest, rest] and 0 inside it, per lane (drive_terms.hpp's signOutside).
+template <int W, int I>
+DYNID_INLINE Lanes<W, I> signOutside(const Lanes<W, I>& x, double rest) {
+  using Vector = typename Lanes<W, I>::Vector;
+  const Vector one = Vector{} + 1.0;
+  const Vector zero{};
+  return Lanes<W, I>::fromVector(x.v > rest ? one : (x.v < -rest ? -one : zero));
+}
+
 /// f applied to every lane: the transcendental functions lane by lane with the C library's, so each
 /// lane rounds as a double does.
 template <int W, int I, typename F>

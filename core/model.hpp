@@ -74,6 +74,15 @@ class ModelTpl {
   std::vector<std::string> link_names;
   std::vector<std::string> joint_names;
   std::vector<JointLimits> limits;
+  /// Each joint's rest velocity [rad/s or m/s], >= 0: |dq| at or below it is "at rest", where the
+  /// drive terms that need sign(dq) are static friction of point value zero (drive_terms.hpp).
+  /// Measured from a log's velocity noise (analysis/logs/rest.hpp); empty (every joint 0: only an
+  /// exact zero is at rest) by default. It feeds no cache.
+  std::vector<double> rest_velocities;
+  /// Joint i's rest velocity (0 when rest_velocities is empty).
+  double restVelocity(int i) const {
+    return rest_velocities.empty() ? 0.0 : rest_velocities[static_cast<std::size_t>(i)];
+  }
   /// Gravity in the base frame [m/s^2]; (0, 0, -9.81) by default.
   const Vector3<Scalar>& gravity() const { return gravity_; }
   /// The drive terms that act (and are parameters); none by default.
@@ -344,6 +353,7 @@ ModelTpl<NewScalar> ModelTpl<Scalar>::cast() const {
   out.parents_ = parents_;
   out.joint_types_ = joint_types_;
   out.limits = limits;
+  out.rest_velocities = rest_velocities;
   out.drive_terms_ = drive_terms_;
   out.axis_kinds_ = axis_kinds_;
   out.subspace_index_ = subspace_index_;

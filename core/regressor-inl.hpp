@@ -114,7 +114,8 @@ const MatrixX<Scalar>& jointTorqueRegressor(const ModelTpl<Scalar>& model, DataT
     if (!terms.any()) continue;
     // Drive columns act on joint i only: phi_k(dq_i, ddq_i) of the drive-term table.
     for (int k = 0; k < kDriveTermCount; ++k)
-      if (terms.has(k)) data.Y(i, layout.driveIndex(i, k)) = driveBasis(k, dq[i], ddq[i]);
+      if (terms.has(k))
+        data.Y(i, layout.driveIndex(i, k)) = driveBasis(k, dq[i], ddq[i], model.restVelocity(i));
   }
   return data.Y;
 }

@@ -11,6 +11,7 @@
 #include "analysis/runs/identify.hpp"
 #include "analysis/runs/predict.hpp"
 #include "core/errors.hpp"
+#include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "python/run_support.hpp"
@@ -70,6 +71,7 @@ class CollectingSink : public PredictionSink {
 /// predict()'s result: every sample's torques and the statistics.
 struct PredictionResult {
   Prediction prediction;
+  std::vector<RestVelocity> rest;
   py::array_t<double> time, measured, predicted;
   py::object band = py::none();  // (N, n) half widths, with an estimate's band
 };
@@ -94,7 +96,8 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
                         std::optional<int> segments, std::optional<bool> raw_gc,
                         std::optional<double> combined_weight,
                         std::optional<double> combined_seconds,
-                        std::optional<int> combined_iterations) {
+                        std::optional<int> combined_iterations,
+                        const std::optional<std::vector<double>>& rest_velocity) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -118,6 +121,7 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
   request.prior_weight = prior_weight;
   request.structural = structural(samples, seed, tolerance);
   request.threads = threads;
+  if (rest_velocity) request.rest_velocity = *rest_velocity;
   request.robot_spec = pathArg(robot_spec, "robot_spec");
   const DataArg train = dataArg(data, "data", model);
   request.data_file = train.path;
@@ -135,10 +139,19 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
 }
 
 PredictionResult predict(const Model& model, const DataLike& data, int threads,
-                         const EstimateResult* band_of) {
+                         const EstimateResult* band_of,
+                         const std::optional<std::vector<double>>& rest_velocity) {
   checkThreads(threads);
   const DataArg d = dataArg(data, "data", model);
-  const Model local = model;
+  Model local = model;
+  PredictionResult out;
+  {  // the rest velocities: given, or measured on the data (as dynid predict does)
+    const Trajectory read = d.arrays ? Trajectory{} : readDatasetCsv(d.path, model.numJoints());
+    const Trajectory& t = d.arrays ? *d.arrays : read;
+    out.rest = rest_velocity ? givenRestVelocities(*rest_velocity, t.dq)
+                             : measureRestVelocities(t.dq, t.time);
+    local.rest_velocities = restThresholds(out.rest);
+  }
   std::optional<PredictionBand> band;
   if (band_of) {
     const BaseEstimate& e = band_of->outcome.result.estimate;
@@ -147,7 +160,6 @@ PredictionResult predict(const Model& model, const DataLike& data, int threads,
     band = PredictionBand{band_of->outcome.base.independent, e.covariance, e.joint_sigma};
   }
   CollectingSink sink;
-  PredictionResult out;
   {
     py::gil_scoped_release release;
     ThreadPool pool(resolveThreads(threads));
@@ -320,9 +332,21 @@ void bindEstimateDetails(py::class_<EstimateResult>& estimate) {
           [](const EstimateResult& r) {
             Model identified = r.model;
             identified.setStandardParameters(r.outcome.result.standard);
+            identified.rest_velocities = restThresholds(r.outcome.rest);
             return identified;
           },
-          "The robot with the estimated standard parameters (for predict, rnea, export).")
+          "The robot with the estimated standard parameters and the rest velocities measured on "
+          "the training data (for predict, rnea, export).")
+      .def_property_readonly(
+          "rest_velocity",
+          [](const EstimateResult& r) {
+            const std::vector<double> v = restThresholds(r.outcome.rest);
+            return toNumpy(Eigen::VectorXd(
+                Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()))));
+          },
+          "(n,) each joint's rest velocity [rad/s or m/s], measured on the training data (or "
+          "given): within it Coulomb, asymmetry and Stribeck friction are static, predicted as "
+          "zero and not fitted.")
       .def_property_readonly(
           "validation",
           [](const EstimateResult& r) -> std::optional<py::dict> {
@@ -408,26 +432,29 @@ void bindEstimate(py::module_& m) {
 }
 
 void bindIdentify(py::module_& m) {
-  m.def("identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
-        py::arg("validate") = py::none(), py::arg("prior") = py::none(),
-        py::arg("prior_weight") = kDefaultPriorWeight,
-        py::arg("samples") = StructuralOptions{}.samples,
-        py::arg("seed") = StructuralOptions{}.seed,
-        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
-        py::arg("robot_spec") = "", py::arg("validate_raw") = py::none(),
-        py::arg("horizon") = py::none(), py::arg("segments") = py::none(),
-        py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
-        py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
-        "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
-        "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
-        "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
-        "residuals of 100 normalised 50 ms rollouts together, at most 60 s; `horizon`, "
-        "`segments`, `raw_gc`, `combined_weight`, `combined_seconds`, `combined_iterations` as "
-        "identify's options). `validate`: held-out "
-        "data; `validate_raw`: prepare's "
-        "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
-        "recorded for "
-        "`dynid predict`. Raises NumericalError when the data do not excite every base parameter.");
+  m.def(
+      "identify", &identify, py::arg("model"), py::arg("data"), py::arg("method") = "ols",
+      py::arg("validate") = py::none(), py::arg("prior") = py::none(),
+      py::arg("prior_weight") = kDefaultPriorWeight,
+      py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
+      py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
+      py::arg("robot_spec") = "", py::arg("validate_raw") = py::none(),
+      py::arg("horizon") = py::none(), py::arg("segments") = py::none(),
+      py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
+      py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
+      py::arg("rest_velocity") = py::none(),
+      "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
+      "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
+      "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
+      "residuals of 100 normalised 50 ms rollouts together, at most 60 s; `horizon`, "
+      "`segments`, `raw_gc`, `combined_weight`, `combined_seconds`, `combined_iterations` as "
+      "identify's options). `validate`: held-out "
+      "data; `validate_raw`: prepare's "
+      "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
+      "recorded for "
+      "`dynid predict`. `rest_velocity`: one, or one per joint [rad/s or m/s]; default measured on "
+      "`data` (identify's --rest-velocity). Raises NumericalError when the data do not excite "
+      "every base parameter.");
 }
 
 void bindPredict(py::module_& m) {
@@ -459,13 +486,36 @@ void bindPredict(py::module_& m) {
             if (r.prediction.band_coverage.size() == 0) return std::nullopt;
             return toNumpy(r.prediction.band_coverage);
           },
-          "(n,) the share of samples inside the band per joint, or None");
+          "(n,) the share of samples inside the band per joint, or None")
+      .def_property_readonly(
+          "at_rest",
+          [](const PredictionResult& r) {
+            const RestPrediction& p = r.prediction.rest;
+            const std::vector<double> v = restThresholds(r.rest);
+            py::dict out;
+            out["rest_velocity"] = toNumpy(Eigen::VectorXd(
+                Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()))));
+            out["samples"] = toNumpy(p.samples);
+            out["band_low"] = toNumpy(p.band_lo);
+            out["band_high"] = toNumpy(p.band_hi);
+            out["residual_mean"] = toNumpy(p.residual_mean);
+            out["residual_std"] = toNumpy(p.residual_std);
+            out["measured_std"] = toNumpy(p.measured_std);
+            out["within_band"] = toNumpy(p.within_band);
+            out["moving_rms"] = toNumpy(p.moving_rms);
+            return out;
+          },
+          "Per joint, the samples at rest (|dq| within rest_velocity, measured on the data or "
+          "given): their count, the static friction band [band_low, band_high] [N m], the "
+          "residual's mean and standard deviation there, the measured torque's standard deviation, "
+          "the share of residuals inside the band, and the residual RMS in motion.");
 
   m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = kAllThreads,
-        py::arg("band") = py::none(),
+        py::arg("band") = py::none(), py::arg("rest_velocity") = py::none(),
         "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
         "residual statistics of `dynid predict`. Use estimate.model for an estimate; band=estimate "
-        "adds its 95 % band (base covariance and joint noise) and the coverage per joint.");
+        "adds its 95 % band (base covariance and joint noise) and the coverage per joint. "
+        "`rest_velocity`: one, or one per joint; default measured on `data` (see at_rest).");
 }
 
 }  // namespace

@@ -78,6 +78,11 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
     if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
       doc.paragraph("Note: " + note + ".");
   }
+  if (const std::string line = restVelocityLine(o.rest); !line.empty())
+    doc.paragraph("Friction at rest: " + line +
+                  ". Within a joint's rest velocity sign(dq) is noise: Coulomb, asymmetry and "
+                  "Stribeck friction are static there, fitted on no sample and predicted as zero "
+                  "(estimate.json's rest_velocity says how each velocity was measured).");
   // The figures drawn at once (one gnuplot each), then placed in order.
   const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
   std::vector<std::function<std::optional<std::string>()>> draws = {

@@ -286,12 +286,15 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
          "the written URDF and JSON carry the standard estimate; the directions the data cannot "
          "see come from the input model (the prior)"}};
   if (outcome.reversals.samples > 0) report["reversals"] = reversalsJson(outcome.reversals);
+  if (!outcome.rest.empty()) report["rest_velocity"] = restVelocityJson(outcome.rest);
   if (const auto& v = outcome.validation)
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
                             {"residual_rms", numbersOrNull(v->torque_rms)},
                             {"joint_relative_error", numbersOrNull(v->normalised_rms)},
                             {"relative_error", numberOrNull(v->relative_error)}};
+  if (outcome.validate_fit && outcome.validate_fit->rest.samples.size() > 0)
+    report["validation"]["at_rest"] = atRestJson(outcome.validate_fit->rest);
   if (const auto& raw = outcome.raw_validation)
     report["validation"]["raw_measurement"] =
         rawValidationJson(*raw, outcome.validate_raw_file, outcome.raw_skipped);
@@ -335,7 +338,11 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
       out << " " << formatNumber(v->torque_rms[j], 4);
     if (const auto& raw = outcome.raw_validation)
       out << "\n  " << rawValidationLine(*raw, outcome.raw_skipped);
+    if (outcome.validate_fit)
+      if (const std::string line = atRestLine(outcome.validate_fit->rest); !line.empty())
+        out << "\n  held out " << line;
   }
+  if (const std::string line = restVelocityLine(outcome.rest); !line.empty()) out << "\n  " << line;
   if (const std::string note = reversalNote(model.driveTerms(), outcome.reversals); !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir

@@ -43,6 +43,85 @@ std::string rawValidationLine(const Validation& raw, int skipped) {
   return line;
 }
 
+nlohmann::json restVelocityJson(const std::vector<RestVelocity>& rest) {
+  nlohmann::json velocity = nlohmann::json::array(), noise = nlohmann::json::array(),
+                 chatter = nlohmann::json::array(), source = nlohmann::json::array(),
+                 at_rest = nlohmann::json::array();
+  for (const RestVelocity& r : rest) {
+    velocity.push_back(numberOrNull(r.velocity));
+    noise.push_back(numberOrNull(r.noise_level));
+    chatter.push_back(numberOrNull(r.chatter_level));
+    source.push_back(r.source());
+    at_rest.push_back(r.samples_at_rest);
+  }
+  return {
+      {"velocity", velocity},
+      {"noise_level", noise},
+      {"chatter_level", chatter},
+      {"source", source},
+      {"samples_at_rest", at_rest},
+      {"samples", rest.empty() ? 0L : rest.front().samples},
+      {"rule",
+       "a joint is at rest where |dq| <= velocity, the largest of noise_level (3 sigma of the "
+       "velocity's white noise: 1.4826 MAD of dq less its local quadratic fit over " +
+           std::to_string(kRestNoiseWindow) +
+           " samples) and chatter_level (the 99th percentile of |dq| over the sign runs "
+           "shorter than " +
+           formatNumber(kRestChatterSeconds, 3) + " s, when there are at least " +
+           std::to_string(kRestMinChatterRuns) + ") and " + formatNumber(kRestVelocityFloor, 3) +
+           " (no robot measures a slower joint velocity); there sign(dq) is noise, so Coulomb, "
+           "asymmetry and Stribeck friction are "
+           "static friction: predicted as zero, fitted on no sample"}};
+}
+
+nlohmann::json atRestJson(const RestPrediction& rest) {
+  return {{"samples", numbersOrNull(rest.samples)},
+          {"rest_velocity", numbersOrNull(rest.rest_velocity)},
+          {"static_friction_band",
+           {{"low", numbersOrNull(rest.band_lo)}, {"high", numbersOrNull(rest.band_hi)}}},
+          {"residual_mean", numbersOrNull(rest.residual_mean)},
+          {"residual_std", numbersOrNull(rest.residual_std)},
+          {"measured_std", numbersOrNull(rest.measured_std)},
+          {"predicted_std", numbersOrNull(rest.predicted_std)},
+          {"within_band", numbersOrNull(rest.within_band)},
+          {"moving_residual_rms", numbersOrNull(rest.moving_rms)},
+          {"meaning",
+           "per joint, the samples at rest: the static friction there is any value in "
+           "static_friction_band that the other torques demand, predicted as zero (a prediction "
+           "reads no measured torque); so the residual at rest is the friction held plus the "
+           "sensor's noise, and within_band is the share of residuals inside the band"}};
+}
+
+std::string atRestLine(const RestPrediction& rest) {
+  std::string line;
+  for (Eigen::Index j = 0; j < rest.samples.size(); ++j) {
+    if (rest.samples[j] < 2.0) continue;
+    line += (line.empty() ? "" : "; ") + std::string("joint ") + std::to_string(j + 1) + ": " +
+            formatNumber(rest.samples[j], 6) + " samples, residual sd " +
+            formatNumber(rest.residual_std[j], 3) + " N m (measured torque's " +
+            formatNumber(rest.measured_std[j], 3) + "), static friction in [" +
+            formatNumber(rest.band_lo[j], 3) + ", " + formatNumber(rest.band_hi[j], 3) + "] N m";
+  }
+  return line.empty() ? "" : "at rest (|dq| within its rest velocity; friction static): " + line;
+}
+
+std::string restVelocityLine(const std::vector<RestVelocity>& rest) {
+  if (rest.empty()) return "";
+  std::string velocity, at_rest, how;
+  for (std::size_t j = 0; j < rest.size(); ++j) {
+    velocity += " " + formatNumber(rest[j].velocity, 3);
+    at_rest += " " + std::to_string(rest[j].samples_at_rest);
+    how += (j == 0 ? "" : ", ") + rest[j].source();
+  }
+  if (!rest.front().given)
+    how = "from " + how +
+          " (chatter: its 99th percentile at zero; noise: 3 sigma; floor: none measurable)";
+  else
+    how = "given";
+  return "rest velocity per joint [rad/s or m/s]:" + velocity + " (" + how +
+         "); samples at rest:" + at_rest + " of " + std::to_string(rest.front().samples);
+}
+
 namespace {
 nlohmann::json oneBased(const std::vector<int>& joints) {
   nlohmann::json out = nlohmann::json::array();
@@ -151,6 +230,8 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
       {"residual_rms", numbersOrNull(v.torque_rms)}};
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
   if (o.reversals.samples > 0) out["reversals"] = reversalsJson(o.reversals);
+  if (!o.rest.empty()) out["rest_velocity"] = restVelocityJson(o.rest);
+  if (o.prediction.rest.samples.size() > 0) out["at_rest"] = atRestJson(o.prediction.rest);
   if (o.prediction.band_coverage.size() > 0)
     out["band"] = {
         {"level", 0.95},
@@ -390,6 +471,8 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
     out << "\nno band: the estimate has no base covariance (made before dynid recorded it: "
            "identify again)";
   }
+  if (const std::string line = restVelocityLine(o.rest); !line.empty()) out << "\n" << line;
+  if (const std::string line = atRestLine(p.rest); !line.empty()) out << "\n" << line;
   if (const std::string note = reversalNote(o.model.driveTerms(), o.reversals); !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";

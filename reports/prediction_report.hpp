@@ -40,6 +40,18 @@ std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r,
                                 const std::string& residual = "the torque residual");
 std::string rawValidationLine(const Validation& raw, int skipped);
 
+/// estimate.json's and prediction.json's `rest_velocity`: per joint the velocity within which it
+/// is at rest, the two levels it is the larger of, how it was found, and its samples at rest.
+nlohmann::json restVelocityJson(const std::vector<RestVelocity>& rest);
+/// prediction.json's and estimate.json validation's `at_rest` (RestPrediction, per joint).
+nlohmann::json atRestJson(const RestPrediction& rest);
+/// "at rest (|dq| within the rest velocity): ..." for the joints with samples at rest: their
+/// residual's spread against the measured torque's and the static friction band; "" when none.
+std::string atRestLine(const RestPrediction& rest);
+/// "rest velocity per joint [rad/s]: ... (from the chatter at zero on joints 1, 2); samples at
+/// rest: ...": the identify and predict console and report line.
+std::string restVelocityLine(const std::vector<RestVelocity>& rest);
+
 /// Measured against predicted torque, one panel per joint, as an SVG; nullopt without gnuplot.
 std::optional<std::string> torqueFigure(const Prediction& prediction, const std::string& title);
 

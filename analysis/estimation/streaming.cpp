@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <tuple>
 #include <vector>
 
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/friction.hpp"
 #include "core/regressor.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
@@ -76,6 +78,7 @@ class PredictionAccumulator {
     work_.resize(static_cast<std::size_t>(threads));  // each made on its own thread, in add()
     const int n = model.numJoints();
     residual_squared_ = measured_squared_ = inside_ = Eigen::VectorXd::Zero(n);
+    rest_.setZero(n, kRestSums);
   }
 
   /// RNEA on a chunk (blocks of samples on the pool's threads), its sums, the kept samples.
@@ -110,6 +113,7 @@ class PredictionAccumulator {
                     half_width_.col(k).array())
                        .cast<double>()
                        .matrix();
+      addRest(chunk.dq.col(k), chunk.tau.col(k), predicted_.col(k));
     }
     samples_ += m;
     keeper_.add(chunk);
@@ -122,6 +126,7 @@ class PredictionAccumulator {
     const Validation v =
         validationOf(residual_squared_, measured_squared_, samples_, &measured_rms);
     Prediction out = predictionOfKept(model_, keeper_, v, measured_rms);
+    out.rest = restPrediction();
     if (band_ && samples_ > 0) {
       out.band_coverage = inside_ / static_cast<double>(samples_);
       const Trajectory kept = keeper_.kept();
@@ -135,7 +140,73 @@ class PredictionAccumulator {
   }
 
  private:
+  // rest_'s columns: at rest, count, residual sum and sum of squares, measured and predicted sums
+  // and sums of squares, residuals inside the static band; in motion, count and residual sum of
+  // squares.
+  enum RestSum {
+    kCount,
+    kResidual,
+    kResidual2,
+    kMeasured,
+    kMeasured2,
+    kPredicted,
+    kPredicted2,
+    kInside,
+    kMovingCount,
+    kMoving2,
+    kRestSums
+  };
+
+  void addRest(const Eigen::VectorXd& dq, const Eigen::VectorXd& measured,
+               const Eigen::VectorXd& predicted) {
+    for (Eigen::Index j = 0; j < dq.size(); ++j) {
+      const double r = measured[j] - predicted[j];
+      if (std::abs(dq[j]) > model_.restVelocity(static_cast<int>(j))) {
+        rest_(j, kMovingCount) += 1.0;
+        rest_(j, kMoving2) += r * r;
+        continue;
+      }
+      const auto [lo, hi] = staticFrictionBand(model_, static_cast<int>(j));
+      const double sums[] = {1.0,
+                             r,
+                             r * r,
+                             measured[j],
+                             measured[j] * measured[j],
+                             predicted[j],
+                             predicted[j] * predicted[j],
+                             (r >= lo && r <= hi) ? 1.0 : 0.0};
+      for (int c = 0; c <= kInside; ++c) rest_(j, c) += sums[c];
+    }
+  }
+
+  RestPrediction restPrediction() const {
+    const Eigen::Index n = rest_.rows();
+    RestPrediction out;
+    out.rest_velocity.resize(n);
+    out.band_lo.resize(n);
+    out.band_hi.resize(n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      out.rest_velocity[j] = model_.restVelocity(static_cast<int>(j));
+      std::tie(out.band_lo[j], out.band_hi[j]) = staticFrictionBand(model_, static_cast<int>(j));
+    }
+    const Eigen::ArrayXd count = rest_.col(kCount).array().max(1.0);
+    const auto spread = [&](int sum, int sum2) {
+      const Eigen::ArrayXd mean = rest_.col(sum).array() / count;
+      return Eigen::VectorXd((rest_.col(sum2).array() / count - mean * mean).max(0.0).sqrt());
+    };
+    out.samples = rest_.col(kCount);
+    out.residual_mean = rest_.col(kResidual).array() / count;
+    out.residual_std = spread(kResidual, kResidual2);
+    out.measured_std = spread(kMeasured, kMeasured2);
+    out.predicted_std = spread(kPredicted, kPredicted2);
+    out.within_band = rest_.col(kInside).array() / count;
+    out.moving_rms =
+        (rest_.col(kMoving2).array() / rest_.col(kMovingCount).array().max(1.0)).sqrt();
+    return out;
+  }
+
   const Model& model_;
+  Eigen::MatrixXd rest_;  // n x kRestSums
   std::vector<std::unique_ptr<Data>> work_;
   Eigen::MatrixXd predicted_;
   Eigen::VectorXd residual_squared_, measured_squared_;

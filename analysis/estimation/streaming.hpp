@@ -39,9 +39,23 @@ struct PredictionBand {
                             const Eigen::VectorXd& dq, const Eigen::VectorXd& ddq) const;
 };
 
+/// A prediction at rest, per joint: the samples whose |dq| is within the model's rest velocity,
+/// where the drive terms that need sign(dq) are static friction (predicted as zero, known only to
+/// lie in the static band [band_lo, band_hi], core/friction.hpp).
+struct RestPrediction {
+  Eigen::VectorXd rest_velocity;     // the model's [rad/s or m/s]
+  Eigen::VectorXd samples;           // at rest
+  Eigen::VectorXd band_lo, band_hi;  // the static friction band [N m]
+  /// At rest: the residual's mean and standard deviation, the measured torque's standard
+  /// deviation and the predicted torque's, and the share of residuals inside the band [N m; 0-1].
+  Eigen::VectorXd residual_mean, residual_std, measured_std, predicted_std, within_band;
+  Eigen::VectorXd moving_rms;  // the residual RMS of the samples in motion [N m]
+};
+
 /// A model's torques on a dataset, against the measured ones: statistics over every sample, and
 /// evenly spaced samples for figures.
 struct Prediction {
+  RestPrediction rest;
   Validation validation;         // residual RMS, normalised RMS, relative error (every sample)
   Eigen::VectorXd measured_rms;  // per joint, every sample [N m]
   int stride = 1;                // the series holds samples 0, stride, 2 stride, ...

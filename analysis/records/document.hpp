@@ -18,7 +18,9 @@ struct DocumentType {
   int schema_version;
 };
 
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 1};  // identify
+// estimate.json 2: rest_velocity (each joint's rest velocity, how it was measured) and the held-out
+// validation's at_rest; version 1 documents are still read (every joint's rest velocity 0).
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 2};  // identify
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
 inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};
@@ -29,7 +31,8 @@ inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
 inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
-inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 2};
+// 3: rest_velocity and at_rest (the prediction at rest: static friction's band).
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 3};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json

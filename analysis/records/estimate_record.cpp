@@ -191,7 +191,9 @@ void readBaseCovariance(const JsonReader& read, const json& document, EstimateRe
 
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
-  read.header(document, kEstimateDocument.schema_version, nullptr);
+  const bool first = document.is_object() && document.contains("schema_version") &&
+                     document["schema_version"] == 1;
+  read.header(document, first ? 1 : kEstimateDocument.schema_version, nullptr);
   if (document.contains("kind") && read.string(document, "", "kind") != kEstimateDocument.kind)
     read.fail("kind", std::string("expected '") + kEstimateDocument.kind + "'");
   read.onlyKeys(document, "",
@@ -220,8 +222,18 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "reversals",
                  "base_covariance",
                  "combined",
-                 "torque_source"});
+                 "torque_source",
+                 "rest_velocity"});
   EstimateRecord out;
+  if (document.contains("rest_velocity")) {
+    const json& rest = read.object(document["rest_velocity"], "rest_velocity");
+    const json& velocity =
+        read.array(read.field(rest, "rest_velocity", "velocity"), "rest_velocity.velocity");
+    for (std::size_t j = 0; j < velocity.size(); ++j)
+      out.rest_velocities.push_back(read.number(velocity[j],
+                                                JsonReader::index("rest_velocity.velocity", j), 0.0,
+                                                kMaxParameterMagnitude));
+  }
   if (document.contains("torque_source")) readTorqueSource(read, document["torque_source"], out);
   if (document.contains("base_covariance")) readBaseCovariance(read, document, out);
   if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");

@@ -45,8 +45,11 @@ struct EstimateRecord {
   /// torque_source (absent when the torques were not converted from motor currents): the torque
   /// constants and gear ratios (empty: 1) dynid prepare --current used.
   std::vector<double> torque_constants, gear_ratios;
+  /// rest_velocity.velocity (absent from version 1): each joint's rest velocity, as measured on
+  /// the training data; empty when absent.
+  std::vector<double> rest_velocities;
 };
-/// Reads an estimate.json document strictly: schema_version exactly kEstimateDocument's (its kind,
+/// Reads an estimate.json document strictly: schema_version kEstimateDocument's or 1 (its kind,
 /// when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a string,
 /// drive_terms an array of names, standard_estimate {note, values} with every value a finite number
 /// within

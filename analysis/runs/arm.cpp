@@ -106,6 +106,13 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
   }
   model.setStandardParameters(
       standardVectorFrom(estimate, standardParameterNames(model.parameterLayout()), file, spec));
+  if (!estimate.rest_velocities.empty()) {
+    if (static_cast<int>(estimate.rest_velocities.size()) != model.numJoints())
+      throw ParseError(file, 0, "rest_velocity.velocity",
+                       "has " + std::to_string(estimate.rest_velocities.size()) +
+                           " entries, the robot " + std::to_string(model.numJoints()) + " joints");
+    model.rest_velocities = estimate.rest_velocities;
+  }
   // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
   // differ) would give wrong torques silently: compare the recorded kinematics.
   if (!estimate.kinematics.is_null()) {

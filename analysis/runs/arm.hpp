@@ -42,12 +42,12 @@ DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const E
 
 // ---- simulation ----
 
-/// The robot an identify estimate.json names (or `robot_spec`), with the estimate's drive terms and
-/// standard parameters; `spec_used` and `method` (when given) receive the robot spec used and the
-/// estimate's method. Throws ParseError for a malformed estimate, InputError when it does not fit
-/// the robot (another robot, another drive model: the parameter named).
-/// `band`, when given, receives the estimate's prediction band (its base covariance and joint
-/// noise; nothing for an estimate written before dynid recorded them).
+/// The robot an identify estimate.json names (or `robot_spec`), with the estimate's drive terms,
+/// standard parameters and rest velocities (none in a version 1 estimate); `spec_used` and `method`
+/// (when given) receive the robot spec used and the estimate's method. Throws ParseError for a
+/// malformed estimate, InputError when it does not fit the robot (another robot, another drive
+/// model: the parameter named). `band`, when given, receives the estimate's prediction band (its
+/// base covariance and joint noise; nothing for an estimate written before dynid recorded them).
 Model estimateModel(const std::string& file, const std::string& robot_spec,
                     std::string* spec_used = nullptr, std::string* method = nullptr,
                     std::optional<PredictionBand>* band = nullptr);

@@ -68,8 +68,8 @@ GcProblem combinedProblem(const IdentifyRequest& request, const Trajectory* give
 /// The estimate of request.method through the estimation wing's runner, streaming the training
 /// data (memory independent of its length) and keeping samples for the figures; with combined,
 /// its two criteria against pc's on the training and held-out data.
-void estimate(const IdentifyRequest& request, IdentifyOutcome& out, SampleKeeper& kept) {
-  const Model& model = request.model;
+void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcome& out,
+              SampleKeeper& kept) {
   const bool physical = takesPrior(request.method);
   LeastSquaresStream stream(out.base, model);
   EstimationProblem problem;
@@ -136,6 +136,16 @@ void describeFit(const Model& identified, const SampleKeeper& kept, IdentifyOutc
   out.reversals = reversalResidual(out.fit);
 }
 
+/// Each joint's rest velocity: given, or measured on the training data's velocities.
+std::vector<RestVelocity> restOf(const IdentifyRequest& request) {
+  const Trajectory read = request.data != nullptr
+                              ? Trajectory{}
+                              : readDatasetCsv(request.data_file, request.model.numJoints());
+  const Trajectory& data = request.data != nullptr ? *request.data : read;
+  if (!request.rest_velocity.empty()) return givenRestVelocities(request.rest_velocity, data.dq);
+  return measureRestVelocities(data.dq, data.time);
+}
+
 /// The held-out prediction, and against the raw held-out torques when given.
 void validate(const IdentifyRequest& request, const Model& identified, IdentifyOutcome& out) {
   if (!request.validate && request.validate_file.empty()) {
@@ -190,8 +200,10 @@ WriteBack writeBack(const IdentifyRequest& request, const Model& identified,
 
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   request.check();
-  const Model& model = request.model;
   IdentifyOutcome out;
+  out.rest = restOf(request);
+  Model model = request.model;
+  model.rest_velocities = restThresholds(out.rest);
   out.method = request.method;
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
@@ -202,7 +214,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     throw InputError("the prior model has another parameter layout than the robot");
   SampleKeeper kept;  // the training samples for the figures
   try {
-    estimate(request, out, kept);
+    estimate(request, model, out, kept);
   } catch (const InputError& e) {  // too few samples: the dataset's fault
     throw InputError(request.data_file + ": " + e.what());
   } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too

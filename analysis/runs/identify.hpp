@@ -14,6 +14,7 @@
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/estimation/reversals.hpp"
 #include "analysis/estimation/streaming.hpp"
+#include "analysis/logs/rest.hpp"
 #include "analysis/records/prepare_record.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
@@ -72,6 +73,10 @@ struct IdentifyRequest {
   std::string write_back_from;
   std::string robot_spec;     // how the robot was named (--robot), recorded for `dynid predict`
   int threads = kAllThreads;  // for the streamed passes over the data (0: all cores)
+  /// The joints' rest velocities (analysis/logs/rest.hpp): one for all, or one per joint; empty:
+  /// measured on the training data. The estimate, its fit and held-out prediction, and the
+  /// combined estimator's rollouts all use them.
+  std::vector<double> rest_velocity;
 
   /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
   /// as dynid identify's options). identifyRun checks its request first.
@@ -111,6 +116,8 @@ struct IdentifyOutcome {
   std::optional<WriteBack> write_back;      // when requested
   std::optional<CombinedSummary> combined;  // method combined
   std::string robot_spec;
+  /// Each joint's rest velocity, measured on the training data (or given), and its samples at rest.
+  std::vector<RestVelocity> rest;
   // For the report:
   Prediction fit;  // the estimate's torques on the training data
   /// Where the training residual lies in velocity: the joints whose residual gathers near zero

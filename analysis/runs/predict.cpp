@@ -18,6 +18,12 @@ PredictOutcome predictRun(const PredictRequest& request) {
     out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
                               &out.method, &out.band);
   }
+  {  // the rest velocities: a pass over the velocities before the streamed prediction
+    const Trajectory data = readDatasetCsv(request.data_file, out.model.numJoints());
+    out.rest = request.rest_velocity.empty() ? measureRestVelocities(data.dq, data.time)
+                                             : givenRestVelocities(request.rest_velocity, data.dq);
+  }
+  out.model.rest_velocities = restThresholds(out.rest);
   const PredictionBand* band = out.band ? &*out.band : nullptr;
   ThreadPool pool(request.threads);
   if (request.raw_file.empty()) {

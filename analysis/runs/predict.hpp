@@ -4,9 +4,11 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "analysis/estimation/reversals.hpp"
 #include "analysis/estimation/streaming.hpp"
+#include "analysis/logs/rest.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 
@@ -26,6 +28,9 @@ struct PredictRequest {
   /// prepare --keep-raw-torque's validate_raw.csv for data_file: the raw torques at the log's
   /// stamps, compared against too (empty: none).
   std::string raw_file = "";
+  /// The joints' rest velocities (analysis/logs/rest.hpp): one for all or one per joint; empty:
+  /// measured on data_file, as identify measures its training data.
+  std::vector<double> rest_velocity = {};
 };
 struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
@@ -35,7 +40,8 @@ struct PredictOutcome {
   std::optional<Validation> raw;       // against the raw torques (raw_file), when given
   ReversalResidual reversals;          // where the residual lies in velocity (reversals.hpp)
   std::string raw_file;
-  int raw_skipped = 0;  // raw samples no two adjacent dataset samples bracket
+  int raw_skipped = 0;             // raw samples no two adjacent dataset samples bracket
+  std::vector<RestVelocity> rest;  // each joint's rest velocity on data_file (or given)
 };
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
 /// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "analysis/estimation/pipeline.hpp"
+#include "analysis/logs/rest.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
@@ -76,11 +77,11 @@ namespace {
 
 /// The one pipeline's problem for the study's methods: the searches start from the physically
 /// consistent estimate, the refinements and the combined estimator share the refine budget.
-EstimationProblem studyProblem(const LogStudyRequest& request, const BaseParameters& base,
-                               const Observation& observation, const GcProblem& train_gc,
-                               int threads) {
+EstimationProblem studyProblem(const LogStudyRequest& request, const Model& robot,
+                               const BaseParameters& base, const Observation& observation,
+                               const GcProblem& train_gc, int threads) {
   EstimationProblem problem;
-  problem.model = request.robot;
+  problem.model = robot;
   problem.base = &base;
   problem.least_squares.observation = &observation;
   problem.physical.prior_weight = request.prior_weight;
@@ -103,8 +104,13 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   const auto t0 = Clock::now();
   const auto say = [&](const std::string& line) { request.control.say(line); };
   const auto stopped = [&] { return request.control.interrupted(); };
-  const Model& robot = request.robot;
-  const int n = robot.numJoints();
+  const int n = request.robot.numJoints();
+  const Trajectory train = readDatasetCsv(request.data_file, n);
+  const Trajectory test = readDatasetCsv(request.validate_file, n);
+  // Every model of the study, the input's included, is at rest within the training data's rest
+  // velocities (as identify's estimates are).
+  Model robot = request.robot;
+  robot.rest_velocities = restThresholds(measureRestVelocities(train.dq, train.time));
   LogStudyOutcome out;
   out.robot_spec = request.robot_spec;
   out.data_file = request.data_file;
@@ -115,8 +121,6 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.combined_weight = request.combined_weight;
   out.refine_seconds = request.refine_seconds;
   out.refine_iterations = request.refine_iterations;
-  const Trajectory train = readDatasetCsv(request.data_file, n);
-  const Trajectory test = readDatasetCsv(request.validate_file, n);
   out.train_samples = train.numSamples();
   out.test_samples = test.numSamples();
   const GcProblem train_gc = gcProblem(train, request.segments, request.data_file);
@@ -155,7 +159,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // estimate: the best torque fit that is a realisable body with friction that dissipates (the
   // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
   // from either can diverge).
-  EstimationProblem problem = studyProblem(request, base, observation, train_gc, threads);
+  EstimationProblem problem = studyProblem(request, robot, base, observation, train_gc, threads);
   MethodRunner runner(std::move(problem));
   const std::vector<Method> methods = request.methods.empty() ? allMethods() : request.methods;
   const bool searching = std::any_of(methods.begin(), methods.end(),

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <string>
@@ -99,6 +100,59 @@ TEST(DriveTerms, DataBuiltBeforeTheTermsChangedIsRefused) {
   EXPECT_THROW(rnea(model, data, z, z, z), InputError);
   Data fresh(model);
   EXPECT_NO_THROW(rnea(model, fresh, z, z, z));
+}
+
+TEST(DriveTerms, SignedTermsAreTheOnesWhoseBasisJumpsAtZeroVelocity) {
+  // The table's signed_by_velocity column is what driveBasis does: a term needs sign(dq) exactly
+  // when its basis differs on the two sides of dq = 0.
+  const double tiny = std::numeric_limits<double>::min();
+  for (int k = 0; k < kDriveTermCount; ++k) {
+    const bool jumps = driveBasis(k, -tiny, 0.0) != driveBasis(k, tiny, 0.0) ||
+                       driveBasis(k, tiny, 0.0) != driveBasis(k, 0.0, 0.0);
+    EXPECT_EQ(kDriveTermTable[k].signed_by_velocity, jumps) << kDriveTermTable[k].key;
+  }
+}
+
+TEST(DriveTerms, WithinTheRestVelocityTheSignedTermsAreZeroAndOutsideUnchanged) {
+  const double rest = 1e-3;
+  for (int k = 0; k < kDriveTermCount; ++k) {
+    for (double dq : {-5e-4, 0.0, 1e-3, -1e-3, 9.99e-4}) {
+      const double inside = driveBasis(k, dq, 2.0, rest);
+      if (kDriveTermTable[k].signed_by_velocity)
+        EXPECT_EQ(inside, 0.0) << kDriveTermTable[k].key << " " << dq;
+      else
+        EXPECT_EQ(inside, driveBasis(k, dq, 2.0)) << kDriveTermTable[k].key << " " << dq;
+    }
+    for (double dq : {-2e-3, 1.0001e-3, 0.3})
+      EXPECT_EQ(driveBasis(k, dq, 2.0, rest), driveBasis(k, dq, 2.0)) << kDriveTermTable[k].key;
+  }
+  // rest = 0 is sign(0) = 0 exactly as before.
+  EXPECT_EQ(signOutside(0.0, 0.0), 0.0);
+  EXPECT_EQ(signOutside(-1e-300, 0.0), -1.0);
+}
+
+TEST(DriveTerms, StaticFrictionBandSpansTheOneSidedLimitsAndZero) {
+  Model model = test::Planar2R{}.model();
+  model.setDriveTerms(
+      DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb, DriveTerm::kCoulombAsymmetry,
+                      DriveTerm::kStribeck, DriveTerm::kOffset}));
+  DriveParameters<double> d;
+  d[DriveTerm::kViscous] = 0.7;  // no static part: Fv dq -> 0
+  d[DriveTerm::kCoulomb] = 2.0;
+  d[DriveTerm::kCoulombAsymmetry] = 0.5;
+  d[DriveTerm::kStribeck] = 1.0;
+  d[DriveTerm::kOffset] = 4.0;  // not friction: it acts at rest as everywhere
+  model.setDrive(0, d);
+  const auto [lo, hi] = staticFrictionBand(model, 0);
+  EXPECT_DOUBLE_EQ(lo, -2.0 + 0.5 - 1.0);                // dq -> 0-: -Fc + Fa - Fs
+  EXPECT_DOUBLE_EQ(hi, 2.0 + 0.5 + 1.0);                 // dq -> 0+: Fc + Fa + Fs
+  const auto [lo2, hi2] = staticFrictionBand(model, 1);  // no friction: the band is {0}
+  EXPECT_EQ(lo2, 0.0);
+  EXPECT_EQ(hi2, 0.0);
+  // At rest the model's friction is the offset alone; just outside, Coulomb's full level.
+  model.rest_velocities = {1e-3, 1e-3};
+  EXPECT_DOUBLE_EQ(jointFriction(model, 0, 5e-4), 4.0 + 0.7 * 5e-4);
+  EXPECT_GT(jointFriction(model, 0, 2e-3), 4.0 + 2.0);
 }
 
 }  // namespace

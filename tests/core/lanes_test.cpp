@@ -1,5 +1,7 @@
 #include "core/lanes.hpp"
 
+#include "core/drive_terms.hpp"
+
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -104,6 +106,17 @@ TEST(Lanes, SinCosOfALaneDependsOnItsArgumentAlone) {
       ASSERT_EQ(cos(in4)[0], c8[l]);
     }
   }
+}
+
+TEST(Lanes, SignOutsideIsTheScalarRuleInEveryLane) {
+  const double rest = 1e-3;
+  const double x[4] = {5e-4, -2e-3, 1e-3, std::numeric_limits<double>::quiet_NaN()};
+  Lanes<4> in;
+  for (int l = 0; l < 4; ++l) in.set(l, x[l]);
+  const Lanes<4> out = signOutside(in, rest);
+  for (int l = 0; l < 3; ++l) EXPECT_EQ(out[l], signOutside(x[l], rest)) << l;
+  EXPECT_EQ(out[3], 0.0);  // NaN: 0, as the scalar rule gives
+  EXPECT_EQ(signOutside(x[3], rest), 0.0);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
 
+#include "analysis/logs/rest.hpp"
 #include "analysis/runs/identify.hpp"
 #include "core/data.hpp"
 #include "core/errors.hpp"
@@ -249,6 +250,61 @@ TEST(Streaming, ErrorsNameTheFileAndLineInTheMiddleOfALongFile) {
   } catch (const ParseError& e) {
     EXPECT_EQ(e.line(), 7002);
     EXPECT_NE(std::string(e.what()).find("q3: 'x' is not a number"), std::string::npos) << e.what();
+  }
+}
+
+/// An arm holding a pose for `seconds` at 1 kHz: its velocity white noise of `dq_sigma`, its
+/// torque the model's at rest (gravity and offsets, no friction held) plus noise of `tau_sigma`.
+Trajectory holdingPose(const Model& model, double seconds, double dq_sigma, double tau_sigma) {
+  const int n = model.numJoints(), samples = static_cast<int>(seconds * 1000.0);
+  Trajectory out;
+  out.resize(n, samples);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  Data data(model);
+  const Eigen::VectorXd q = Eigen::VectorXd::Constant(n, 0.3), zero = Eigen::VectorXd::Zero(n);
+  const Eigen::VectorXd held = rnea(model, data, q, zero, zero);  // sign(0) = 0: no friction
+  for (int k = 0; k < samples; ++k) {
+    out.time[k] = k / 1000.0;
+    out.q.col(k) = q;
+    for (int j = 0; j < n; ++j) {
+      out.dq(j, k) = dq_sigma * gauss(rng);
+      out.tau(j, k) = held[j] + tau_sigma * gauss(rng);
+    }
+  }
+  return out;
+}
+
+TEST(PredictTorques, AtRestTheResidualIsTheSensorNoiseNotCoulombsSign) {
+  // The Panda with friction (Fc 0.3..0.9 N m, Fv, Fo) holding a pose; the torque sensor's noise
+  // 0.05 N m, the velocity's 1e-4 rad/s. Without a rest velocity the prediction jumps by +-Fc with
+  // the sign of the noise; with the one measured from the velocities it does not.
+  Model model = makePanda(true);
+  for (int j = 0; j < model.numJoints(); ++j) {
+    DriveParameters<double> d;
+    d[DriveTerm::kCoulomb] = 0.3 + 0.1 * j;
+    d[DriveTerm::kViscous] = 0.5;
+    d[DriveTerm::kOffset] = 0.2;
+    model.setDrive(j, d);
+  }
+  const Trajectory data = holdingPose(model, 2.0, 1e-4, 0.05);
+  const Prediction before = predictTorques(model, data);
+  const std::vector<RestVelocity> rest = measureRestVelocities(data.dq, data.time);
+  model.rest_velocities = restThresholds(rest);
+  const Prediction after = predictTorques(model, data);
+  for (int j = 0; j < model.numJoints(); ++j) {
+    const double fc = model.drives()[j][DriveTerm::kCoulomb];
+    ASSERT_GT(fc, 0.05) << j;
+    // 99.7 % of the samples within 3 sigma of zero velocity are at rest; the rest keep a sign.
+    EXPECT_GT(after.rest.samples[j], 0.99 * data.numSamples()) << j;
+    // The residual's spread at rest: the sensor's 0.05 N m (the few samples outside the rest
+    // band still carry +-Fc: 0.3 % of (2 Fc)^2 adds < 10 % for Fc <= 1 N m); before: ~Fc.
+    EXPECT_NEAR(after.rest.residual_std[j], 0.05, 0.005) << j;
+    EXPECT_GT(before.validation.torque_rms[j], 0.8 * fc) << j;
+    // The measured torque lies in the static band (it holds no friction here) but for noise.
+    EXPECT_EQ(after.rest.band_lo[j], -fc);
+    EXPECT_EQ(after.rest.band_hi[j], fc);
+    EXPECT_GT(after.rest.within_band[j], 0.99) << j;
   }
 }
 

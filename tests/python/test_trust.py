@@ -75,3 +75,19 @@ def test_monitor_torque_constants_apply_to_recordings_not_datasets(logs):
     with pytest.raises(dynid.InputError, match="hold torques already"):
         dynid.monitor("puma560", str(logs / "pushed.csv"), calibration=str(logs / "clean.csv"),
                       torque_constants=[1.0] * 6)
+
+
+def test_friction_at_rest_is_static_and_predict_measures_its_rest_velocity(logs):
+    model = dynid.load_model("puma560")
+    est = dynid.identify(model, str(logs / "train.csv"))
+    # The training log's velocity noise (0.001 rad/s, white) sets each joint's rest velocity.
+    assert est.rest_velocity.shape == (6,)
+    assert np.all(est.rest_velocity > 0.002) and np.all(est.rest_velocity < 0.005)
+    got = dynid.predict(est.model, str(logs / "test.csv"))
+    rest = got.at_rest
+    assert set(rest) >= {"rest_velocity", "samples", "band_low", "band_high", "within_band"}
+    assert np.all(rest["band_low"] <= 0) and np.all(rest["band_high"] >= 0)
+    given = dynid.predict(est.model, str(logs / "test.csv"), rest_velocity=[0.0])
+    assert np.all(given.at_rest["rest_velocity"] == 0.0)
+    with pytest.raises(dynid.InputError, match="rest_velocity"):
+        dynid.predict(est.model, str(logs / "test.csv"), rest_velocity=[1.0, 2.0])

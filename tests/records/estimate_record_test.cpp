@@ -104,5 +104,22 @@ TEST(EstimateRecord, AnEstimateIsReadStrictly) {
   EXPECT_EQ(estimateFault(bad), "drive_terms[1]");
 }
 
+TEST(EstimateRecord, VersionTwoCarriesRestVelocitiesAndVersionOneIsStillRead) {
+  const std::vector<std::string> names =
+      standardParameterNames(makePuma560(false).parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (const std::string& name : names) values[name] = 1.0;
+  nlohmann::json doc = {{"schema_version", 1},
+                        {"standard_estimate", {{"note", "n"}, {"values", values}}}};
+  EXPECT_TRUE(estimateRecordFrom(doc, "est.json").rest_velocities.empty());  // version 1: none
+  doc["rest_velocity"] = {{"velocity", {1e-3, 2e-3, 0, 0, 0, 0}}, {"source", {"noise"}}};
+  doc["schema_version"] = kEstimateDocument.schema_version;
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").rest_velocities[1], 2e-3);
+  doc["rest_velocity"]["velocity"][2] = -1.0;
+  EXPECT_EQ(estimateFault(doc), "rest_velocity.velocity[2]");
+  doc["rest_velocity"] = 3;
+  EXPECT_EQ(estimateFault(doc), "rest_velocity");
+}
+
 }  // namespace
 }  // namespace dynid
