@@ -107,17 +107,21 @@ std::string atRestLine(const RestPrediction& rest) {
 
 std::string restVelocityLine(const std::vector<RestVelocity>& rest) {
   if (rest.empty()) return "";
-  std::string velocity, at_rest, how;
+  std::string velocity, at_rest, sources;
+  bool same = true;
   for (std::size_t j = 0; j < rest.size(); ++j) {
     velocity += " " + formatNumber(rest[j].velocity, 3);
     at_rest += " " + std::to_string(rest[j].samples_at_rest);
-    how += (j == 0 ? "" : ", ") + rest[j].source();
+    sources += (j == 0 ? "" : ",") + rest[j].source();
+    same = same && rest[j].source() == rest.front().source();
   }
-  if (!rest.front().given)
-    how = "from " + how +
-          " (chatter: its 99th percentile at zero; noise: 3 sigma; floor: none measurable)";
-  else
-    how = "given";
+  const std::string how =
+      rest.front().given ? "given"
+                         : "from " +
+                               (same ? "the " + rest.front().source() + " on every joint"
+                                     : std::string("the ") + sources) +
+                               "; chatter: the 99th percentile of |dq| at zero, noise: 3 sigma, "
+                               "floor: none measurable";
   return "rest velocity per joint [rad/s or m/s]:" + velocity + " (" + how +
          "); samples at rest:" + at_rest + " of " + std::to_string(rest.front().samples);
 }

@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/kinematics.hpp"
 #include "core/rnea.hpp"
+#include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
 #include "data/robots.hpp"
@@ -176,6 +177,21 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
   out.model = loadRobot(arm, options, warnings);
   out.robot_spec = arm;
   return out;
+}
+
+Trajectory restSamplesOf(const std::string& file, int joints) {
+  DatasetReader reader(file, joints);
+  Trajectory out, chunk;
+  out.resize(joints, kRestSamples);
+  int count = 0;
+  while (count < kRestSamples) {
+    const int got = reader.read(chunk, std::min(kStreamChunkSamples, kRestSamples - count));
+    if (got == 0) break;
+    out.time.segment(count, got) = chunk.time;
+    out.dq.middleCols(count, got) = chunk.dq;
+    count += got;
+  }
+  return out.samples(0, count);
 }
 
 }  // namespace dynid

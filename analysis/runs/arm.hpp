@@ -67,6 +67,11 @@ struct LoadedArm {
 LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
                   const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);
 
+/// The velocities and stamps of a dataset file's first kRestSamples samples (memory bounded
+/// whatever the file's length): what the rest velocities are measured on.
+inline constexpr int kRestSamples = 200000;
+Trajectory restSamplesOf(const std::string& file, int joints);
+
 // ---- the GC-error searches ----
 
 /// `threads`, or every core for 0.

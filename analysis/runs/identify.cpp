@@ -140,7 +140,7 @@ void describeFit(const Model& identified, const SampleKeeper& kept, IdentifyOutc
 std::vector<RestVelocity> restOf(const IdentifyRequest& request) {
   const Trajectory read = request.data != nullptr
                               ? Trajectory{}
-                              : readDatasetCsv(request.data_file, request.model.numJoints());
+                              : restSamplesOf(request.data_file, request.model.numJoints());
   const Trajectory& data = request.data != nullptr ? *request.data : read;
   if (!request.rest_velocity.empty()) return givenRestVelocities(request.rest_velocity, data.dq);
   return measureRestVelocities(data.dq, data.time);

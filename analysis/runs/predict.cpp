@@ -19,7 +19,7 @@ PredictOutcome predictRun(const PredictRequest& request) {
                               &out.method, &out.band);
   }
   {  // the rest velocities: a pass over the velocities before the streamed prediction
-    const Trajectory data = readDatasetCsv(request.data_file, out.model.numJoints());
+    const Trajectory data = restSamplesOf(request.data_file, out.model.numJoints());
     out.rest = request.rest_velocity.empty() ? measureRestVelocities(data.dq, data.time)
                                              : givenRestVelocities(request.rest_velocity, data.dq);
   }

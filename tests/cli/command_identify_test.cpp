@@ -41,8 +41,11 @@ TEST(Cli, IdentifyFromSimulatedData) {
           test_csv)
           .code,
       0);
+  // --rest-velocity 0: simulate's friction is Fc sign(dq) at every speed (no stiction), so its
+  // noiseless joints dither at reversals with the friction flipping; that truth is the model of
+  // dynid 0.1, which a rest velocity measured from the dither would not predict.
   const Result r = run("identify --method wls --robot puma560 --drives --data " + train +
-                       " --validate " + test_csv + " --out " + dir);
+                       " --validate " + test_csv + " --rest-velocity 0 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(readFile(dir + "/estimate.json"));
   EXPECT_EQ(j["method"], "wls");

@@ -218,6 +218,7 @@ TEST(Streaming, IdentifyGivesTheSameEstimateOnAnyThreadCount) {
     // same data agrees to round-off (1e-9: torques of ~10 N m, residuals of ~0.5 N m).
     Model identified = puma;
     identified.setStandardParameters(one.result.standard);
+    identified.rest_velocities = restThresholds(one.rest);  // the training data's, as identify's
     const Prediction rnea_fit = predictTorques(identified, readDatasetCsv(path, 6));
     EXPECT_LT((rnea_fit.validation.torque_rms - one.fit.validation.torque_rms).norm(),
               1e-9 * one.fit.validation.torque_rms.norm());
