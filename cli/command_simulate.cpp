@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "core/parallel.hpp"
 #include "data/dataset_csv.hpp"
 #include "reports/model_report.hpp"
@@ -215,7 +216,7 @@ int runSimulate(const std::vector<std::string>& args) {
   const bool piped =
       out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");
   std::ostream& summary = piped ? std::cerr : std::cout;
-  summary << simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out);
+  summary << cliText(simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out));
   // Piped (--out -) without --truth-out: the samples go on (to `dynid monitor --data -`), the
   // ground truth is not written, and the summary says how to have it.
   if (!request.disturbances.empty() && out == "-" && !vm.count("truth-out")) {

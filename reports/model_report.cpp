@@ -187,7 +187,7 @@ std::string simulateSummary(const Model& model, const SimulateOutcome& o, const 
     out +=
         "note: default gains from the joints' effective inertias 1/(M^-1)_ii, the rule for "
         "strongly coupled joints (the mass-matrix diagonal's would put a closed-loop mode above "
-        "3x --bandwidth); not a fault\n";
+        "3x `bandwidth`); not a fault\n";
   // A tracking controller's torque changes little in one sample; a jump of a tenth of the peak
   // torque, or torque at the limit on more than 1 % of the samples, is chatter or saturation.
   if (o.max_torque_step > 0.1 * o.peak_torque || o.saturated_share > 0.01)

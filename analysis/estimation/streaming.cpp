@@ -79,6 +79,9 @@ class PredictionAccumulator {
     const int n = model.numJoints();
     residual_squared_ = measured_squared_ = inside_ = Eigen::VectorXd::Zero(n);
     rest_.setZero(n, kRestSums);
+    band_lo_.resize(n);
+    band_hi_.resize(n);
+    for (int j = 0; j < n; ++j) std::tie(band_lo_[j], band_hi_[j]) = staticFrictionBand(model, j);
   }
 
   /// RNEA on a chunk (blocks of samples on the pool's threads), its sums, the kept samples.
@@ -166,7 +169,7 @@ class PredictionAccumulator {
         rest_(j, kMoving2) += r * r;
         continue;
       }
-      const auto [lo, hi] = staticFrictionBand(model_, static_cast<int>(j));
+      const double lo = band_lo_[j], hi = band_hi_[j];
       const double sums[] = {1.0,
                              r,
                              r * r,
@@ -183,12 +186,10 @@ class PredictionAccumulator {
     const Eigen::Index n = rest_.rows();
     RestPrediction out;
     out.rest_velocity.resize(n);
-    out.band_lo.resize(n);
-    out.band_hi.resize(n);
-    for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index j = 0; j < n; ++j)
       out.rest_velocity[j] = model_.restVelocity(static_cast<int>(j));
-      std::tie(out.band_lo[j], out.band_hi[j]) = staticFrictionBand(model_, static_cast<int>(j));
-    }
+    out.band_lo = band_lo_;
+    out.band_hi = band_hi_;
     const Eigen::ArrayXd count = rest_.col(kCount).array().max(1.0);
     const auto spread = [&](int sum, int sum2) {
       const Eigen::ArrayXd mean = rest_.col(sum).array() / count;
@@ -206,7 +207,8 @@ class PredictionAccumulator {
   }
 
   const Model& model_;
-  Eigen::MatrixXd rest_;  // n x kRestSums
+  Eigen::MatrixXd rest_;               // n x kRestSums
+  Eigen::VectorXd band_lo_, band_hi_;  // each joint's static friction band
   std::vector<std::unique_ptr<Data>> work_;
   Eigen::MatrixXd predicted_;
   Eigen::VectorXd residual_squared_, measured_squared_;

@@ -48,7 +48,7 @@ struct SimulateOutcome {
   double max_torque_step = 0.0, saturated_share = 0.0;
   /// The default gains' rule: "mass-matrix diagonal" (the paper's, kp_i = M_ii w^2) or
   /// "effective inertia" (1 / (M^-1)_ii, when the diagonal's would put a closed-loop mode above
-  /// 3 times the bandwidth); "given" with --kp or --kd.
+  /// 3 times the bandwidth); "given" with `kp` or `kd`.
   std::string gains_rule;
   /// With disturbances: the external joint torque at every sample (n x samples) [N m].
   Eigen::MatrixXd external;

@@ -129,6 +129,8 @@ TEST(Cli, SimulatedPandaTracksWithoutChatterAndIdentifiesToItsNoiseFloor) {
     // default switches to the effective inertias' and says so; no chatter warning.
     EXPECT_TRUE(contains(r.out, "note: default gains from the joints' effective inertias"))
         << r.out;
+    // The library names the field; the CLI says the flag.
+    EXPECT_TRUE(contains(r.out, "3x --bandwidth); not a fault")) << r.out;
     EXPECT_FALSE(contains(r.out, "warning:")) << r.out;
     ASSERT_EQ(run(common + "--duration 6 --seed 2 --out " + test).code, 0);
     // No torque step above 1 N m between 1 ms samples (0.13 N m measured; the chattering gains
