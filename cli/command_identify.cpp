@@ -94,7 +94,13 @@ int runIdentify(const std::vector<std::string>& args) {
       "output directory (estimate.json, report.md, report.html)")(
       "write-urdf", po::value<std::string>(),
       "for a URDF robot: a copy of it carrying the estimate (pc, or a consistent ols/wls), and "
-      "the full model as .dynid.json beside it");
+      "the full model as .dynid.json beside it")(
+      "covariance", po::value<std::string>()->default_value("hac"),
+      "the estimate's covariance: hac (robust to heteroscedastic and correlated residuals, over "
+      "batches of consecutive samples whose length "
+      "follows the residuals' correlation, so that filtered logs and model error widen it; a "
+      "second pass over the data) or white (sigma^2 (W^T W)^-1, residuals taken as white; one "
+      "pass)");
   addCombinedOptions(options);
   addPriorWeightOption(options);
   addRestVelocityOption(options);
@@ -122,6 +128,7 @@ int runIdentify(const std::vector<std::string>& args) {
   request.data_file = vm["data"].as<std::string>();
   request.threads = threadsOption(vm);
   request.rest_velocity = restVelocityOption(vm, request.model.numJoints());
+  request.covariance = parseOption(vm, "covariance", covariancePolicyFrom);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();

@@ -14,6 +14,7 @@
 #include "core/parameters.hpp"
 #include "identifiability/least_squares.hpp"
 #include "identifiability/physically_consistent.hpp"
+#include "identifiability/uncertainty/score_covariance.hpp"
 
 namespace dynid {
 
@@ -102,11 +103,13 @@ Eigen::VectorXd scaledSolve(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) 
 }
 
 /// The sandwich covariance H^+ Omega H^+ of a least-squares estimate with whitened Jacobian
-/// `jacobian` and residuals `residual` (rows k n + j), Omega from batch means of the per-sample
-/// scores J_k^T e_k. H is pseudo-inverted in unit-diagonal scaling; a parameter with a component
-/// in a direction H does not see (eigenvalue below 1e-16 of the largest) gets infinite variance.
+/// `jacobian` and residuals `residual` (rows k n + j): the one policy
+/// (identifiability/uncertainty/score_covariance.hpp: robust over batches of samples; `batch` 0:
+/// from the residuals, and set to the length used). When H does not see every direction (eigenvalue
+/// below 1e-16 of the largest in unit-diagonal scaling), batch means of the scores about H's
+/// pseudo-inverse, and a parameter with a component in an unseen direction gets infinite variance.
 Eigen::MatrixXd sandwichCovariance(const Eigen::MatrixXd& jacobian, const Eigen::VectorXd& residual,
-                                   int n, int batch) {
+                                   int n, int& batch) {
   const Eigen::Index d = jacobian.cols(), samples = residual.size() / n;
   const Eigen::MatrixXd h = jacobian.transpose() * jacobian;
   Eigen::VectorXd s = h.diagonal().cwiseSqrt();
@@ -124,17 +127,18 @@ Eigen::MatrixXd sandwichCovariance(const Eigen::MatrixXd& jacobian, const Eigen:
   }
   const Eigen::MatrixXd pinv = s.asDiagonal() * eigen.eigenvectors() * inverse.asDiagonal() *
                                eigen.eigenvectors().transpose() * s.asDiagonal();
-  Eigen::MatrixXd omega = Eigen::MatrixXd::Zero(d, d);
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(d);
-  for (Eigen::Index k = 0; k < samples; ++k) {
-    sum.noalias() += jacobian.middleRows(k * n, n).transpose() * residual.segment(k * n, n);
-    if ((k + 1) % batch == 0 || k + 1 == samples) {
-      omega.selfadjointView<Eigen::Lower>().rankUpdate(sum);
-      sum.setZero();
-    }
+  ScoreCovariance scores(d, n, samples, batch);
+  for (Eigen::Index k = 0; k < samples; ++k)
+    scores.add(jacobian.middleRows(k * n, n), residual.segment(k * n, n));
+  batch = scores.batch();
+  // Every direction seen: the policy's covariance; otherwise batch means about the
+  // pseudo-inverse (the unseen directions' variance is infinite below).
+  Eigen::MatrixXd out;
+  try {
+    out = unseen.empty() ? scores.covariance() : pinv * scores.meat() * pinv;
+  } catch (const NumericalError&) {  // seen, but too ill-conditioned to factor
+    out = pinv * scores.meat() * pinv;
   }
-  omega = omega.selfadjointView<Eigen::Lower>();
-  Eigen::MatrixXd out = pinv * omega * pinv;
   for (int k : unseen)
     for (Eigen::Index i = 0; i < d; ++i)
       if (std::abs(eigen.eigenvectors()(i, k)) > 1e-6) {
@@ -169,26 +173,6 @@ Vector10d uninformativePrior(const Vector10d& estimate, double radius) {
 }
 
 }  // namespace
-
-int batchFromResiduals(const Eigen::VectorXd& residuals, int num_joints) {
-  const int n = num_joints;
-  const Eigen::Index samples = residuals.size() / n;
-  const Eigen::Map<const Eigen::MatrixXd> e(residuals.data(), n, samples);
-  const Eigen::VectorXd energy = e.rowwise().squaredNorm();
-  const Eigen::Index longest = std::max<Eigen::Index>(samples / 30, 1);
-  for (Eigen::Index lag = 1; lag <= longest; ++lag) {
-    double mean = 0.0;
-    int joints = 0;
-    for (int j = 0; j < n; ++j) {
-      if (!(energy[j] > 0.0)) continue;
-      mean += e.row(j).head(samples - lag).dot(e.row(j).tail(samples - lag)) / energy[j];
-      ++joints;
-    }
-    if (joints == 0 || mean / joints < 0.05)
-      return static_cast<int>(std::clamp<Eigen::Index>(2 * lag - 1, 1, longest));
-  }
-  return static_cast<int>(longest);
-}
 
 PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options) {
   const int n = rows.numJoints(), f = rows.numExtra(), d = f + 10;
@@ -277,7 +261,7 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
   at_ls << out.extra_least_squares, out.least_squares;
   out.residual_rms = jointRms(y - X * at, n);
   const Eigen::VectorXd ew = yw - aw * at_ls;
-  out.batch = options.batch > 0 ? options.batch : batchFromResiduals(ew, n);
+  out.batch = options.batch;
   out.covariance = sandwichCovariance(aw, ew, n, out.batch);
   return out;
 }
@@ -373,7 +357,7 @@ GainFit fitDriveGains(const PayloadRows& rows, double mass,
   }
   jacobian();
   const Eigen::VectorXd ew = whitened(residual);
-  out.batch = batch > 0 ? batch : batchFromResiduals(ew, n);
+  out.batch = batch;
   out.covariance = sandwichCovariance(J, ew, n, out.batch);
   out.theta = theta;
   out.scale = g.cwiseInverse();

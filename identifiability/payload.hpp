@@ -61,7 +61,8 @@ struct PayloadFitOptions {
   /// [m] the length that puts a mass, a first moment and an inertia on one scale for the rank
   /// analysis (m, h / L, I / L^2).
   double length = 0.1;
-  /// Samples per batch of the covariance's batch means; 0: from the residuals' autocorrelation.
+  /// Samples per batch of the covariance's batch means; 0: from the residuals' autocorrelation
+  /// (identifiability/uncertainty/score_covariance.hpp, the one covariance policy).
   int batch = 0;
 };
 
@@ -109,10 +110,5 @@ struct GainFit {
 GainFit fitDriveGains(const PayloadRows& rows, double mass,
                       const std::optional<Eigen::Vector3d>& com, int batch = 0,
                       const Eigen::VectorXd& arm_difference = Eigen::VectorXd());
-
-/// Samples per batch for batch-means covariances from residuals (rows k n + j): twice the first
-/// lag at which the joints' mean autocorrelation falls below 0.05, at most a thirtieth of the
-/// samples, at least 1.
-int batchFromResiduals(const Eigen::VectorXd& residuals, int num_joints);
 
 }  // namespace dynid

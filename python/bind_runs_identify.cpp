@@ -88,16 +88,14 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
   return out;
 }
 
-EstimateResult identify(const Model& model, const DataLike& data, const std::string& method,
-                        const OptionalDataLike& validate, const std::optional<Model>& prior,
-                        double prior_weight, int samples, std::uint64_t seed, double tolerance,
-                        int threads, const PathLike& robot_spec,
-                        const OptionalPathLike& validate_raw, std::optional<double> horizon,
-                        std::optional<int> segments, std::optional<bool> raw_gc,
-                        std::optional<double> combined_weight,
-                        std::optional<double> combined_seconds,
-                        std::optional<int> combined_iterations,
-                        const std::optional<std::vector<double>>& rest_velocity) {
+EstimateResult identify(
+    const Model& model, const DataLike& data, const std::string& method,
+    const OptionalDataLike& validate, const std::optional<Model>& prior, double prior_weight,
+    int samples, std::uint64_t seed, double tolerance, int threads, const PathLike& robot_spec,
+    const OptionalPathLike& validate_raw, std::optional<double> horizon,
+    std::optional<int> segments, std::optional<bool> raw_gc, std::optional<double> combined_weight,
+    std::optional<double> combined_seconds, std::optional<int> combined_iterations,
+    const std::optional<std::vector<double>>& rest_velocity, const std::string& covariance) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -122,6 +120,11 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
   request.structural = structural(samples, seed, tolerance);
   request.threads = threads;
   if (rest_velocity) request.rest_velocity = *rest_velocity;
+  try {
+    request.covariance = covariancePolicyFrom(covariance);
+  } catch (const InputError& e) {
+    throw py::value_error(std::string("covariance: ") + e.what());
+  }
   request.robot_spec = pathArg(robot_spec, "robot_spec");
   const DataArg train = dataArg(data, "data", model);
   request.data_file = train.path;
@@ -413,6 +416,20 @@ void bindEstimate(py::module_& m) {
           [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.covariance); },
           "The base parameters' covariance, shape (num_base, num_base).")
       .def_property_readonly(
+          "covariance_policy",
+          [](const EstimateResult& r) {
+            const CovarianceSummary& c = r.outcome.result.covariance;
+            py::dict out;
+            out["name"] = c.policy;
+            out["batch"] = c.batch;
+            out["inflation"] = c.inflation;
+            out["autocorrelation"] = c.autocorrelation;
+            return out;
+          },
+          "How `covariance` was computed: name ('hac' or 'white'), batch (samples per "
+          "batch), inflation (median standard deviation over the white covariance's) and the "
+          "residuals' autocorrelation at lags 1, 2, 4, ...")
+      .def_property_readonly(
           "condition_number",
           [](const EstimateResult& r) { return r.outcome.result.estimate.condition_number; },
           "The condition number of the (unit-column) base regressor on the data.")
@@ -442,7 +459,7 @@ void bindIdentify(py::module_& m) {
       py::arg("horizon") = py::none(), py::arg("segments") = py::none(),
       py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
       py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
-      py::arg("rest_velocity") = py::none(),
+      py::arg("rest_velocity") = py::none(), py::arg("covariance") = "hac",
       "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
       "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
       "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
@@ -453,7 +470,9 @@ void bindIdentify(py::module_& m) {
       "validate_raw.csv for it (keep_raw_torque=True), compared against too. `robot_spec` is "
       "recorded for "
       "`dynid predict`. `rest_velocity`: one, or one per joint [rad/s or m/s]; default measured on "
-      "`data` (identify's --rest-velocity). Raises NumericalError when the data do not excite "
+      "`data` (identify's --rest-velocity). `covariance`: 'hac' (default: robust to correlated "
+      "residuals, over batches of samples) or 'white' (identify's --covariance). Raises "
+      "NumericalError when the data do not excite "
       "every base parameter.");
 }
 

@@ -24,6 +24,7 @@ json auditJson(const AuditOutcome& o) {
                           {"chi2", numberOrNull(p.chi2)},
                           {"dof", p.dof},
                           {"p_value", numberOrNull(p.p_value)},
+                          {"p_scaled", numberOrNull(p.p_scaled)},
                           {"flagged", p.flagged},
                           {"farthest_session", p.farthest + 1}});
   return {{"schema_version", kAuditDocument.schema_version},
@@ -40,6 +41,18 @@ json auditJson(const AuditOutcome& o) {
           {"flagged_inertial", o.flagged_inertial},
           {"flagged_friction", o.flagged_friction},
           {"session_chi2", numbersOrNull(o.session_chi2)},
+          {"covariance_policies", o.covariance_policies},
+          {"dispersion",
+           {{"median_chi2_ratio", numberOrNull(o.dispersion)},
+            {"above_median", numberOrNull(o.above_median)},
+            {"sign_p_value", numberOrNull(o.sign_p_value)},
+            {"sigma_too_small", o.sigma_too_small},
+            {"sigma_scale", numberOrNull(o.sigma_scale)},
+            {"note",
+             "the sigma are too small alike when more than half of the parameters' chi-squares lie "
+             "above their median (sign test, p < 0.01) and the median chi-square is at least 1.5 "
+             "times its expectation (10 parameters or more); parameters are then flagged by the "
+             "test with every sigma times sigma_scale (p_scaled)"}}},
           {"parameters", parameters},
           {"warnings", o.warnings}};
 }
@@ -51,7 +64,14 @@ std::string headline(const AuditOutcome& o) {
     << o.parameters.size() << " base parameters: " << o.verdict << ". " << o.flagged
     << " flagged at the " << formatNumber(100.0 * o.level, 3) << " % level (" << o.flagged_inertial
     << " inertial, " << o.flagged_friction << " friction); overall chi2 " << formatNumber(o.chi2, 4)
-    << " on " << o.dof << " degrees of freedom, p = " << formatNumber(o.p_value, 3) << ".";
+    << " on " << o.dof << " degrees of freedom, p = " << formatNumber(o.p_value, 3)
+    << (o.sigma_too_small ? " (sigma scaled)" : "") << ".";
+  if (o.sigma_too_small)
+    s << " The sigma are too small alike: " << formatNumber(100.0 * o.above_median, 3)
+      << " % of the parameters' chi-squares lie above their median (sign test p = "
+      << formatNumber(o.sign_p_value, 2) << "), the median is " << formatNumber(o.dispersion, 3)
+      << " times its expectation; flags and p are with every sigma times "
+      << formatNumber(o.sigma_scale, 3) << ".";
   return s.str();
 }
 /// The report's verdict box: what was compared, whether it holds, what moved, what next.
@@ -68,11 +88,19 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const AuditOutcome& 
       {"Compared", std::to_string(o.sessions.size()) + " sessions of " + o.robot + " (" + o.method +
                        "), " + std::to_string(o.parameters.size()) + " base parameters"},
       {"Verdict", o.verdict},
-      {"How sure", "chi2 " + formatNumber(o.chi2, 4) + " on " + std::to_string(o.dof) +
-                       " degrees of freedom, p = " + formatNumber(o.p_value, 3) + " (level " +
-                       formatNumber(100.0 * o.level, 3) + " %)"},
+      {"How sure",
+       "chi2 " + formatNumber(o.chi2, 4) + " on " + std::to_string(o.dof) +
+           " degrees of freedom, p = " + formatNumber(o.p_value, 3) +
+           (o.sigma_too_small ? " with every sigma times " + formatNumber(o.sigma_scale, 3)
+                              : std::string()) +
+           " (level " + formatNumber(100.0 * o.level, 3) + " %)"},
       {"Moved", moved.empty() ? "nothing flagged" : moved},
-      {"Next", o.flagged == 0 || o.sessions.empty()
+      {"Next", o.sigma_too_small && o.flagged == 0
+                   ? "the model holds no better than its sigma say: multiply them by " +
+                         formatNumber(o.sigma_scale, 3) +
+                         " (model error the sessions share or correlated residuals), or improve "
+                         "the model (friction, drive terms)"
+               : o.flagged == 0 || o.sessions.empty()
                    ? "the model holds across these sessions"
                    : "session " + std::to_string(farthest + 1) + " (" + o.sessions[farthest] +
                          ") differs most: re-identify from it, or look for a changed payload, "
@@ -98,15 +126,18 @@ std::string writeAudit(const std::string& dir, const AuditOutcome& o) {
   report.table(sessions);
   report.heading("Parameters");
   DocumentTable table;
-  table.header = {"parameter", "group", "weighted mean", "chi2", "p", "flagged", "farthest"};
+  table.header = {"parameter",        "group",   "weighted mean", "chi2", "p",
+                  "p (sigma scaled)", "flagged", "farthest"};
   for (const AuditParameter& p : o.parameters)
     table.rows.push_back({p.name, p.group, formatNumber(p.mean, 5), formatNumber(p.chi2, 3),
-                          formatNumber(p.p_value, 2), p.flagged ? "yes" : "",
-                          std::to_string(p.farthest + 1)});
+                          formatNumber(p.p_value, 2), formatNumber(p.p_scaled, 2),
+                          p.flagged ? "yes" : "", std::to_string(p.farthest + 1)});
   table.caption =
       "Per base parameter, chi2 = sum over sessions of ((estimate - mean) / sigma)^2 with the "
       "inverse-variance weighted mean, on sessions - 1 degrees of freedom; flagged when its "
-      "p-value is below the level. Farthest: the session farthest from the mean in its own sigmas.";
+      "p-value (with every sigma times the sigma scale when the sigma are too small alike) is "
+      "below "
+      "the level. Farthest: the session farthest from the mean in its own sigmas.";
   report.table(table);
   OutputSet set(dir);
   set.add("audit.json", jsonText(auditJson(o), 2) + "\n");

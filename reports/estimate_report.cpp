@@ -78,6 +78,9 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
     if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
       doc.paragraph("Note: " + note + ".");
   }
+  doc.paragraph("Uncertainty: " + covarianceLine(o.result.covariance) +
+                ". The standard deviations, the held-out torque bands of dynid predict and dynid "
+                "audit's tests all use this covariance.");
   if (const std::string line = restVelocityLine(o.rest); !line.empty())
     doc.paragraph("Friction at rest: " + line +
                   ". Within a joint's rest velocity sign(dq) is noise: Coulomb, asymmetry and "

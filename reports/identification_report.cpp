@@ -173,15 +173,32 @@ json baseCovarianceJson(const IdentifyOutcome& outcome) {
     independent.push_back(base.standard_names[static_cast<std::size_t>(base.independent[j])]);
     matrix.push_back(numbersOrNull(estimate.covariance.row(j).transpose()));
   }
-  return {{"note",
-           outcome.result.pc
-               ? "least-squares covariance at the physically consistent estimate (sigma^2 (R^T "
-                 "R)^-1 of the base regressor): its torque band is that of the unconstrained "
-                 "estimate at the same point, conservative where the constraints or the prior bind"
-               : "covariance of the base parameters, in base_parameters' order; each column of "
-                 "the base regressor is the standard parameter named in `columns`"},
-          {"columns", independent},
-          {"matrix", matrix}};
+  const CovarianceSummary& policy = outcome.result.covariance;
+  json policy_json = {{"name", policy.policy}};
+  if (policy.policy == "hac") {
+    policy_json["batch"] = policy.batch;
+    policy_json["inflation"] = numberOrNull(policy.inflation);
+    policy_json["autocorrelation"] = policy.autocorrelation;
+    policy_json["note"] =
+        "heteroscedasticity and autocorrelation consistent over batches of `batch` consecutive "
+        "samples: sum_b H^-1 (I - H_b H^-1)^-1/2 s_b s_b^T (...)^T with s_b a batch's scores and "
+        "H_b its share of the normal matrix H (the bias-reduced cluster-robust estimator, CR2); "
+        "`batch`: four times the first lag 1, 2, 4, ... at which the residuals' mean "
+        "autocorrelation falls below 0.05, at least the samples over 256; `inflation`: the median "
+        "standard deviation over the white covariance's";
+  } else {
+    policy_json["note"] = "sigma^2 (W1^T W1)^-1: the residuals taken as white";
+  }
+  return {
+      {"note", outcome.result.pc
+                   ? "covariance at the physically consistent estimate, constraints inactive: its "
+                     "torque band is that of the unconstrained estimate at the same point, "
+                     "conservative where the constraints or the prior bind"
+                   : "covariance of the base parameters, in base_parameters' order; each column of "
+                     "the base regressor is the standard parameter named in `columns`"},
+      {"policy", policy_json},
+      {"columns", independent},
+      {"matrix", matrix}};
 }
 }  // namespace
 
@@ -319,6 +336,25 @@ std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutc
   return out.str();
 }
 
+std::string covarianceLine(const CovarianceSummary& c) {
+  if (c.policy != "hac")
+    return "intervals: the white covariance sigma^2 (W1^T W1)^-1, which takes the residuals as "
+           "uncorrelated";
+  std::string out = "intervals: robust to correlated residuals, over " + std::to_string(c.batch) +
+                    "-sample batches";
+  if (!c.autocorrelation.empty()) {
+    out += " (the residuals' autocorrelation " + formatNumber(c.autocorrelation.front(), 2) +
+           " at lag 1";
+    const std::size_t last = c.autocorrelation.size() - 1;
+    if (last > 0)
+      out +=
+          ", " + formatNumber(c.autocorrelation[last], 2) + " at lag " + std::to_string(1 << last);
+    out += ")";
+  }
+  return out + "; standard deviations " + formatNumber(c.inflation, 3) +
+         " times the white covariance's (median)";
+}
+
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir) {
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -343,6 +379,7 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
         out << "\n  held out " << line;
   }
   if (const std::string line = restVelocityLine(outcome.rest); !line.empty()) out << "\n  " << line;
+  out << "\n  " << covarianceLine(outcome.result.covariance);
   if (const std::string note = reversalNote(model.driveTerms(), outcome.reversals); !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir

@@ -26,6 +26,10 @@ std::string identifiabilitySummary(const Model& model, const IdentifiabilityOutc
 /// physically consistent solver's record (pc) and the held-out validation when present.
 nlohmann::json estimateJson(const Model& model, const IdentifyOutcome& outcome);
 /// "puma560: ols estimate of 36 base parameters from N samples, ..." and the files.
+/// One line on how the estimate's intervals were computed: the covariance policy, its batch
+/// length, the residuals' correlation that chose it and the widening over the white covariance.
+std::string covarianceLine(const CovarianceSummary& covariance);
+
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir);
 

@@ -150,6 +150,22 @@ Model MethodRunner::modelWith(const Eigen::VectorXd& theta) const {
   return m;
 }
 
+void MethodRunner::applyCovariancePolicy(Method method, LeastSquaresOutcome& ls) {
+  const LeastSquaresSource& source = problem_.least_squares;
+  if (problem_.covariance == CovariancePolicy::kWhite ||
+      (source.observation == nullptr && !source.replay))
+    return;  // the white covariance: ls.covariance says so
+  problem_.control.say("identify: " + std::string(methodName(method)) +
+                       " covariance (robust over batches of samples)");
+  const ScoreWeights weights = scoreWeights(ls.estimate, method == Method::kWls);
+  PhysicalEstimate* pc = ls.pc ? &*ls.pc : nullptr;
+  ls.covariance =
+      source.observation != nullptr
+          ? applyHacCovariance(*problem_.base, *source.observation, weights, ls.estimate, pc)
+          : applyHacCovariance(problem_.model, *problem_.base, source.replay, &pool(), weights,
+                               ls.estimate, pc);
+}
+
 const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {
   const auto found = least_squares_.find(method);
   if (found != least_squares_.end()) return found->second.first;
@@ -160,6 +176,7 @@ const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {
   const auto started = Clock::now();
   LeastSquaresOutcome ls = leastSquaresEstimate(method, *problem_.base, problem_.least_squares,
                                                 problem_.prior, problem_.physical);
+  applyCovariancePolicy(method, ls);
   return least_squares_.emplace(method, std::make_pair(std::move(ls), since(started)))
       .first->second.first;
 }

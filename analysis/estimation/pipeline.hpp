@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "analysis/estimation/covariance.hpp"
 #include "analysis/estimation/methods.hpp"
 #include "core/parallel.hpp"
 #include "core/run_control.hpp"
@@ -38,7 +39,8 @@ namespace dynid {
 struct LeastSquaresOutcome {
   BaseEstimate estimate;  // for pc: the base fields of the consistent solution
   std::optional<PhysicalEstimate> pc;
-  Eigen::VectorXd standard;  // a full standard vector: pc's, or beta with the rest from `prior`
+  Eigen::VectorXd standard;      // a full standard vector: pc's, or beta with the rest from `prior`
+  CovarianceSummary covariance;  // how estimate.covariance was computed (the problem's policy)
 };
 
 /// Where the least-squares rows come from: a dense observation, or a stream's factors (memory
@@ -47,6 +49,9 @@ struct LeastSquaresSource {
   const Observation* observation = nullptr;
   LeastSquaresStream* stream = nullptr;  // estimates flush its pending rows
   ParameterLayout layout;                // the stream's parameter layout (pc needs it)
+  /// The stream's samples again, in order, for the hac covariance's pass (none: the white
+  /// covariance, and the summary says so).
+  TrainingReplay replay;
 };
 
 /// The one least-squares dispatch: `method` is ols, wls or pc (InputError otherwise); `prior`
@@ -101,6 +106,8 @@ struct EstimationProblem {
   LeastSquaresSource least_squares;
   Eigen::VectorXd prior;  // pc's prior and what least squares cannot see (empty: the model's)
   PhysicalOptions physical;
+  /// The least-squares estimates' covariance (ols, wls, pc; combined keeps pc's).
+  CovariancePolicy covariance = CovariancePolicy::kHac;
   // Searches and refinements (null when only least squares run):
   const GcProblem* train_gc = nullptr;
   SearchStart search_start = SearchStart::kPrior;
@@ -193,6 +200,9 @@ class MethodRunner {
 
  private:
   Model modelWith(const Eigen::VectorXd& theta) const;
+  /// The problem's covariance policy on a least-squares outcome (hac: a pass over the
+  /// source's rows at the estimate).
+  void applyCovariancePolicy(Method method, LeastSquaresOutcome& ls);
   const SearchResult& search(Method method);
   Estimate refine(Method method);
   Estimate combined();

@@ -20,7 +20,10 @@ struct DocumentType {
 
 // estimate.json 2: rest_velocity (each joint's rest velocity, how it was measured) and the held-out
 // validation's at_rest; version 1 documents are still read (every joint's rest velocity 0).
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 2};  // identify
+// estimate.json 3: base_covariance.policy (the covariance's policy: batch means of the scores, its
+// batch length, inflation over the white covariance and the residuals' autocorrelation); versions 1
+// and 2 are still read (their covariance is the white one).
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 3};  // identify
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
 inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};
@@ -40,7 +43,9 @@ inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // d
 inline constexpr DocumentType kPayloadDocument{"dynid.payload", 1};         // dynid payload
 // A payload body alone (payload --format json): what --prior reads back.
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
-inline constexpr DocumentType kAuditDocument{"dynid.audit", 1};      // dynid audit
+// audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
+// parameter's p_scaled.
+inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};      // dynid audit
 inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 1};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds.
 inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 1};

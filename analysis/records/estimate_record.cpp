@@ -155,7 +155,15 @@ namespace {
 /// joint_sigma, predict's torque bands.
 void readBaseCovariance(const JsonReader& read, const json& document, EstimateRecord& out) {
   const json& c = read.object(document["base_covariance"], "base_covariance");
-  read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix"});
+  read.onlyKeys(c, "base_covariance", {"note", "columns", "matrix", "policy"});
+  if (c.contains("policy")) {
+    const json& policy = read.object(c["policy"], "base_covariance.policy");
+    read.onlyKeys(policy, "base_covariance.policy",
+                  {"name", "batch", "inflation", "autocorrelation", "note"});
+    out.covariance_policy = read.string(policy, "base_covariance.policy", "name");
+    if (out.covariance_policy != "hac" && out.covariance_policy != "white")
+      read.fail("base_covariance.policy.name", "expected \"hac\" or \"white\"");
+  }
   out.band_columns =
       read.strings(read.field(c, "base_covariance", "columns"), "base_covariance.columns");
   const long b = static_cast<long>(out.band_columns.size());
@@ -191,9 +199,13 @@ void readBaseCovariance(const JsonReader& read, const json& document, EstimateRe
 
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
-  const bool first = document.is_object() && document.contains("schema_version") &&
-                     document["schema_version"] == 1;
-  read.header(document, first ? 1 : kEstimateDocument.schema_version, nullptr);
+  // Every earlier version is read: 1 (no rest velocities), 2 (no covariance policy).
+  int version = kEstimateDocument.schema_version;
+  if (document.is_object() && document.contains("schema_version") &&
+      document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
+      document["schema_version"] < version)
+    version = document["schema_version"].get<int>();
+  read.header(document, version, nullptr);
   if (document.contains("kind") && read.string(document, "", "kind") != kEstimateDocument.kind)
     read.fail("kind", std::string("expected '") + kEstimateDocument.kind + "'");
   read.onlyKeys(document, "",

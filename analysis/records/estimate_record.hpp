@@ -41,6 +41,8 @@ struct EstimateRecord {
   /// standard parameter's name) and the covariance; joint_sigma, the residual noise per joint.
   std::vector<std::string> band_columns;
   Eigen::MatrixXd covariance;
+  /// base_covariance.policy.name (absent before version 3: "white", the only policy then).
+  std::string covariance_policy = "white";
   Eigen::VectorXd joint_sigma;
   /// torque_source (absent when the torques were not converted from motor currents): the torque
   /// constants and gear ratios (empty: 1) dynid prepare --current used.
@@ -49,10 +51,10 @@ struct EstimateRecord {
   /// the training data; empty when absent.
   std::vector<double> rest_velocities;
 };
-/// Reads an estimate.json document strictly: schema_version kEstimateDocument's or 1 (its kind,
-/// when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a string,
-/// drive_terms an array of names, standard_estimate {note, values} with every value a finite number
-/// within
+/// Reads an estimate.json document strictly: schema_version kEstimateDocument's or any earlier one
+/// (its kind, when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a
+/// string, drive_terms an array of names, standard_estimate {note, values} with every value a
+/// finite number within
 /// +-kMaxParameterMagnitude, kinematics an array of 15-entry rows. Throws ParseError naming `file`
 /// and the field.
 EstimateRecord estimateRecordFrom(const nlohmann::json& document, const std::string& file);

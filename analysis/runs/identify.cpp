@@ -75,19 +75,37 @@ void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcom
   EstimationProblem problem;
   problem.model = model;
   problem.base = &out.base;
-  problem.least_squares = LeastSquaresSource{nullptr, &stream, model.parameterLayout()};
+  problem.least_squares.stream = &stream;
+  problem.least_squares.layout = model.parameterLayout();
   problem.prior =
       physical && request.prior ? request.prior->standardParameters() : model.standardParameters();
   problem.physical.prior_weight = request.prior_weight;
   problem.combined = request.combined;
   problem.control = request.combined.control;
   problem.threads = resolveThreads(request.threads);
+  problem.covariance = request.covariance;
+  // The covariance's pass: the training data again, in the same chunks.
+  ThreadPool* reader_pool = nullptr;  // the runner's, once it exists
+  if (request.data) {
+    const Trajectory* data = request.data;
+    problem.least_squares.replay = [data](const std::function<void(const Trajectory&)>& each) {
+      each(*data);
+    };
+  } else {
+    problem.least_squares.replay = [&request, &reader_pool, n = model.numJoints()](
+                                       const std::function<void(const Trajectory&)>& each) {
+      DatasetReader reader(request.data_file, n);
+      Trajectory chunk;
+      while (reader.read(chunk, kStreamChunkSamples, reader_pool) > 0) each(chunk);
+    };
+  }
   std::optional<GcProblem> train;
   if (request.method == Method::kCombined) {
     train.emplace(combinedProblem(request, request.data, request.data_file));
     problem.train_gc = &*train;
   }
   MethodRunner runner(std::move(problem));
+  reader_pool = &runner.pool();
   if (request.data) {
     stream.addTrajectory(model, *request.data, &runner.pool());
     kept.add(*request.data);

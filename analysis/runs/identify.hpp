@@ -77,6 +77,9 @@ struct IdentifyRequest {
   /// measured on the training data. The estimate, its fit and held-out prediction, and the
   /// combined estimator's rollouts all use them.
   std::vector<double> rest_velocity;
+  /// The estimate's covariance (analysis/estimation/covariance.hpp): hac, robust over batches of
+  /// samples (a second pass over the training data) or white (one pass).
+  CovariancePolicy covariance = CovariancePolicy::kHac;
 
   /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
   /// as dynid identify's options). identifyRun checks its request first.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <boost/math/special_functions/beta.hpp>
 #include <boost/math/special_functions/gamma.hpp>
 
 #include "analysis/records/document.hpp"
@@ -29,7 +30,7 @@ namespace {
 
 /// A session's base parameters: names, expressions, estimates and standard deviations.
 struct Session {
-  std::string file, robot, method;
+  std::string file, robot, method, covariance_policy;
   std::vector<std::string> drive_terms, names, expressions;
   Eigen::VectorXd estimate, std_dev;
 };
@@ -42,6 +43,7 @@ Session readEstimate(const std::string& file) {
   s.file = file;
   s.robot = record.robot_spec;
   s.method = record.method;
+  s.covariance_policy = record.covariance_policy;
   s.drive_terms = record.drive_terms;
   s.names = base.names;
   s.expressions = base.expressions;
@@ -64,6 +66,7 @@ Session identifyLog(const AuditRequest& request, const std::string& file) {
   s.file = file;
   s.robot = request.robot;
   s.method = methodName(request.method);
+  s.covariance_policy = o.result.covariance.policy;
   s.drive_terms = driveTermsKeys(identify.model.driveTerms());
   for (int j = 0; j < o.base.numBase(); ++j) {
     s.names.push_back(o.base.baseName(j));
@@ -82,13 +85,10 @@ bool isFriction(const std::string& name) {
 
 }  // namespace
 
-void auditTest(AuditOutcome& o) {
-  o.chi2 = 0.0;
-  o.dof = 0;
-  o.flagged = o.flagged_inertial = o.flagged_friction = 0;
-  const Eigen::Index m = static_cast<Eigen::Index>(o.sessions.size());
-  o.session_chi2 = Eigen::VectorXd::Zero(m);
-  std::vector<std::string> inertial, friction;
+namespace {
+
+/// Each parameter's chi-square against the inverse-variance weighted mean, unscaled.
+void chiSquares(AuditOutcome& o) {
   for (AuditParameter& p : o.parameters) {
     // A parameter with a zero deviation in some session carries no test (an unexcited column).
     if ((p.std_dev.array() <= 0.0).any()) {
@@ -97,11 +97,66 @@ void auditTest(AuditOutcome& o) {
     }
     const Eigen::ArrayXd w = p.std_dev.array().square().inverse();
     p.mean = (w * p.estimate.array()).sum() / w.sum();
-    const Eigen::ArrayXd z2 = (p.estimate.array() - p.mean).square() * w;
-    p.chi2 = z2.sum();
-    p.dof = static_cast<int>(m - 1);
+    p.chi2 = ((p.estimate.array() - p.mean).square() * w).sum();
+    p.dof = static_cast<int>(o.sessions.size()) - 1;
     p.p_value = boost::math::gamma_q(0.5 * p.dof, 0.5 * p.chi2);
-    p.flagged = p.p_value < o.level;
+  }
+}
+
+/// Whether the sigma are too small alike: the sign test on the parameters' chi-squares against
+/// their median, and the median chi-square over its expectation.
+void dispersion(AuditOutcome& o) {
+  std::vector<double> ratios;
+  int above = 0;
+  for (const AuditParameter& p : o.parameters) {
+    if (p.dof <= 0) continue;
+    const double median = 2.0 * boost::math::gamma_q_inv(0.5 * p.dof, 0.5);
+    ratios.push_back(p.chi2 / median);
+    if (p.chi2 > median) ++above;
+  }
+  const int m = static_cast<int>(ratios.size());
+  o.dispersion = 1.0;
+  o.above_median = m > 0 ? static_cast<double>(above) / m : 0.5;
+  o.sign_p_value = 1.0;
+  o.sigma_too_small = false;
+  o.sigma_scale = 1.0;
+  if (m < kAuditDispersionParameters) return;
+  std::nth_element(ratios.begin(), ratios.begin() + m / 2, ratios.end());
+  o.dispersion = ratios[static_cast<std::size_t>(m / 2)];
+  // P(Binomial(m, 1/2) >= above).
+  o.sign_p_value = above > 0 ? boost::math::ibeta(above, m - above + 1, 0.5) : 1.0;
+  o.sigma_too_small = o.sign_p_value < kAuditSignLevel && o.dispersion >= kAuditDispersionLimit;
+  if (o.sigma_too_small) o.sigma_scale = std::sqrt(o.dispersion);
+}
+
+std::string nameList(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < 8; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > 8) out += ", ...";
+  return out;
+}
+
+}  // namespace
+
+void auditTest(AuditOutcome& o) {
+  o.chi2 = 0.0;
+  o.dof = 0;
+  o.flagged = o.flagged_inertial = o.flagged_friction = 0;
+  const Eigen::Index m = static_cast<Eigen::Index>(o.sessions.size());
+  o.session_chi2 = Eigen::VectorXd::Zero(m);
+  chiSquares(o);
+  dispersion(o);
+  std::vector<std::string> inertial, friction;
+  const double scale2 = o.sigma_scale * o.sigma_scale;
+  for (AuditParameter& p : o.parameters) {
+    p.flagged = false;
+    p.p_scaled = 1.0;
+    if (p.dof <= 0) continue;
+    const Eigen::ArrayXd z2 =
+        (p.estimate.array() - p.mean).square() * p.std_dev.array().square().inverse();
+    p.p_scaled =
+        o.sigma_too_small ? boost::math::gamma_q(0.5 * p.dof, 0.5 * p.chi2 / scale2) : p.p_value;
+    p.flagged = p.p_scaled < o.level;
     z2.maxCoeff(&p.farthest);
     o.session_chi2 += z2.matrix();
     o.chi2 += p.chi2;
@@ -112,26 +167,26 @@ void auditTest(AuditOutcome& o) {
       (p.group == "friction" ? o.flagged_friction : o.flagged_inertial) += 1;
     }
   }
-  o.p_value = o.dof > 0 ? boost::math::gamma_q(0.5 * o.dof, 0.5 * o.chi2) : 1.0;
+  o.p_value = o.dof > 0 ? boost::math::gamma_q(0.5 * o.dof, 0.5 * o.chi2 / scale2) : 1.0;
   // Consistent: the overall test passes and no more parameters are flagged than chance flags
   // (level x parameters, rounded up).
   const int expected =
       static_cast<int>(std::ceil(o.level * static_cast<double>(o.parameters.size())));
-  const auto list = [](const std::vector<std::string>& names) {
-    std::string out;
-    for (std::size_t i = 0; i < names.size() && i < 8; ++i) out += (i ? ", " : "") + names[i];
-    if (names.size() > 8) out += ", ...";
-    return out;
-  };
-  if (o.p_value >= o.level && o.flagged <= expected) {
+  std::string drift;
+  if (!inertial.empty()) drift = "drift in inertial parameters (" + nameList(inertial) + ")";
+  if (!friction.empty())
+    drift += (drift.empty() ? "" : " and ") + std::string("drift in friction (") +
+             nameList(friction) + ")";
+  const bool agree = o.p_value >= o.level && o.flagged <= expected;
+  if (o.sigma_too_small) {
+    o.verdict = "the sigma are too small (x" + formatNumber(o.sigma_scale, 3) +
+                ": every parameter disagrees alike, model error or correlated residuals rather "
+                "than drift)";
+    if (!agree && !drift.empty()) o.verdict += "; beyond that, " + drift;
+  } else if (agree) {
     o.verdict = "consistent";
   } else {
-    std::string v;
-    if (!inertial.empty()) v = "drift in inertial parameters (" + list(inertial) + ")";
-    if (!friction.empty())
-      v += (v.empty() ? "" : " and ") + std::string("drift in friction (") + list(friction) + ")";
-    if (v.empty()) v = "inconsistent overall (no single parameter stands out)";
-    o.verdict = v;
+    o.verdict = drift.empty() ? "inconsistent overall (no single parameter stands out)" : drift;
   }
 }
 
@@ -174,10 +229,14 @@ AuditOutcome auditRun(const AuditRequest& request) {
     o.parameters.push_back(std::move(p));
   }
   auditTest(o);
-  o.warnings.push_back(
-      "the test trusts each estimate's reported standard deviations: least squares assumes white "
-      "residuals, and filtered logs' residuals are correlated, which makes them too small and "
-      "flags agreement as drift");
+  for (const Session& s : sessions) {
+    o.covariance_policies.push_back(s.covariance_policy);
+    if (s.covariance_policy != "hac")
+      o.warnings.push_back(s.file +
+                           ": its standard deviations are the white covariance's, which takes the "
+                           "residuals as uncorrelated; a filtered log's are not, which makes them "
+                           "too small (identify it again with the default `covariance`)");
+  }
   return o;
 }
 

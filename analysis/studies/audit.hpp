@@ -17,6 +17,13 @@ namespace dynid {
 
 /// A base parameter is flagged when its chi-square test rejects agreement at this level.
 inline constexpr double kDefaultAuditLevel = 0.05;
+/// "The sigma are too small" (every parameter disagrees alike, rather than a few drifting): more
+/// than half of the parameters' chi-squares above their median, by a sign test at this level, and
+/// a median chi-square at least kAuditDispersionLimit times its expectation, with at least
+/// kAuditDispersionParameters parameters tested (fewer cannot tell the two apart).
+inline constexpr double kAuditSignLevel = 0.01;
+inline constexpr double kAuditDispersionLimit = 1.5;
+inline constexpr int kAuditDispersionParameters = 10;
 
 /// The sessions: identify's estimate.json files, or logs identified one by one here (all with the
 /// same robot, drive terms and method).
@@ -41,8 +48,11 @@ struct AuditParameter {
   double chi2 = 0.0;                  // sum over sessions of ((estimate - mean) / std_dev)^2
   int dof = 0;                        // sessions - 1
   double p_value = 1.0;               // P(chi2_dof >= chi2)
-  bool flagged = false;               // p_value < level
-  int farthest = 0;                   // the session whose estimate is farthest, in its own sigmas
+  /// With the sigma too small: the test again with every sigma times the audit's sigma_scale (the
+  /// disagreement beyond the common one); otherwise p_value.
+  double p_scaled = 1.0;
+  bool flagged = false;  // p_scaled < level
+  int farthest = 0;      // the session whose estimate is farthest, in its own sigmas
 };
 
 struct AuditOutcome {
@@ -55,6 +65,13 @@ struct AuditOutcome {
   Eigen::VectorXd session_chi2;  // each session's share of the total
   int flagged = 0, flagged_inertial = 0, flagged_friction = 0;
   double level = kDefaultAuditLevel;
+  /// The median chi-square over its expectation (1 when the sessions agree within their sigma),
+  /// the share of parameters above their median and its sign test's p-value; sigma_too_small when
+  /// the sessions disagree alike on (nearly) every parameter, and then sigma_scale =
+  /// sqrt(dispersion), by which the reported sigma are too small (1 otherwise).
+  double dispersion = 1.0, above_median = 0.5, sign_p_value = 1.0, sigma_scale = 1.0;
+  bool sigma_too_small = false;
+  std::vector<std::string> covariance_policies;  // per session ("hac", "white")
   std::string verdict;  // "consistent", "drift in friction (Fc3, ...)", ...
   std::vector<std::string> warnings;
 };
@@ -65,7 +82,9 @@ struct AuditOutcome {
 AuditOutcome auditRun(const AuditRequest& request);
 
 /// The test alone, on estimates and standard deviations (parameters x sessions): fills each
-/// parameter's mean, chi2, p_value, flagged and farthest, and the totals and verdict.
+/// parameter's mean, chi2, p_value, p_scaled, flagged and farthest, the dispersion, the totals and
+/// the verdict, which separates "the sigma are too small" (every parameter alike) from "these
+/// parameters drifted" (beyond the common dispersion), and names either.
 void auditTest(AuditOutcome& outcome);
 
 }  // namespace dynid

@@ -59,6 +59,32 @@ TEST(Cli, IdentifyFromSimulatedData) {
   EXPECT_TRUE(
       contains(readFile(dir + "/report.md"), "| joint | measured RMS [N m] | residual RMS"));
   EXPECT_TRUE(contains(readFile(dir + "/report.html"), "<figure id=\"torques_validate\">"));
+  // The covariance: hac by default, named in estimate.json, the console and the report; the
+  // white one on request, with the same estimate. White noise: the two agree in the median over
+  // the parameters; each parameter's hac variance has the random error of the batches that see it
+  // (250 batches of 16 samples, but a parameter this 4 s motion excites in a few of them has a
+  // variance of few degrees of freedom: its standard deviation within a factor 2).
+  EXPECT_EQ(j["base_covariance"]["policy"]["name"], "hac");
+  EXPECT_TRUE(contains(r.out, "intervals: robust to correlated residuals, over")) << r.out;
+  EXPECT_TRUE(
+      contains(readFile(dir + "/report.md"), "Uncertainty: intervals: robust to correlated"));
+  const std::string white_dir = test::tempPath("estimate-white");
+  const Result white = run("identify --method wls --robot puma560 --drives --data " + train +
+                           " --rest-velocity 0 --covariance white --out " + white_dir);
+  ASSERT_EQ(white.code, 0) << white.err;
+  const auto w = nlohmann::json::parse(readFile(white_dir + "/estimate.json"));
+  EXPECT_EQ(w["base_covariance"]["policy"]["name"], "white");
+  EXPECT_TRUE(contains(white.out, "intervals: the white covariance")) << white.out;
+  const double inflation = j["base_covariance"]["policy"]["inflation"].get<double>();
+  EXPECT_GT(inflation, 0.85);
+  EXPECT_LT(inflation, 1.2);
+  for (std::size_t k = 0; k < w["base_parameters"].size(); ++k) {
+    EXPECT_EQ(w["base_parameters"][k]["estimate"], j["base_parameters"][k]["estimate"]) << k;
+    const double ratio = j["base_parameters"][k]["std_dev"].get<double>() /
+                         w["base_parameters"][k]["std_dev"].get<double>();
+    EXPECT_GT(ratio, 0.5) << k;
+    EXPECT_LT(ratio, 2.0) << k;
+  }
   // The same data with joint 1 exactly still: rank deficient, refused with the parameters named.
   Trajectory still_joint = readDatasetCsv(train);
   still_joint.q.row(0).setZero();

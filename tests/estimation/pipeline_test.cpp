@@ -43,16 +43,16 @@ TEST(Pipeline, LeastSquaresFromAStreamEqualTheDenseObservation) {
   const Eigen::VectorXd prior = s.truth.standardParameters();
   for (Method method : leastSquaresMethods()) {
     const LeastSquaresOutcome dense =
-        leastSquaresEstimate(method, s.base, {&s.observation, nullptr, {}}, prior);
-    const LeastSquaresOutcome streamed =
-        leastSquaresEstimate(method, s.base, {nullptr, &stream, s.truth.parameterLayout()}, prior);
+        leastSquaresEstimate(method, s.base, {&s.observation, nullptr, {}, {}}, prior);
+    const LeastSquaresOutcome streamed = leastSquaresEstimate(
+        method, s.base, {nullptr, &stream, s.truth.parameterLayout(), {}}, prior);
     // The same rows factored in another order: round-off at a condition number ~1e2.
     EXPECT_LT((dense.estimate.beta - streamed.estimate.beta).norm(),
               1e-9 * dense.estimate.beta.norm())
         << methodName(method);
     EXPECT_EQ(dense.pc.has_value(), method == Method::kPc);
   }
-  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, s.base, {&s.observation, nullptr, {}}, prior),
+  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, s.base, {&s.observation, nullptr, {}, {}}, prior),
                InputError);
   EXPECT_THROW(leastSquaresEstimate(Method::kOls, s.base, {}, prior), InputError);
 }

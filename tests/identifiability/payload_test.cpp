@@ -69,7 +69,9 @@ TEST(Payload, LeastSquaresOnWhiteNoiseWithPerJointWeights) {
   const PayloadRows rows = rowsFor(body(), 3000, noise, 3);
   PayloadFitOptions options;
   const PayloadFit fit = fitPayload(rows, options);
-  EXPECT_EQ(fit.batch, 1);  // white residuals: one sample per batch
+  // White residuals: the storage length, the least power of two that keeps 3000 samples in 256
+  // batches (identifiability/uncertainty/score_covariance.hpp).
+  EXPECT_EQ(fit.batch, 16);
   // The noise per joint estimated to 5 % (3000 samples: its standard error is 1.3 %).
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(fit.noise[j], noise[j], 0.05 * noise[j]) << j;
   // Every parameter within 4.5 of its standard deviations (10 parameters: a miss has
@@ -128,27 +130,9 @@ TEST(Payload, CorrelatedResidualsWidenTheIntervals) {
     smooth.add(block, none, block * body() + smoothed(ecol, k).col(0));
   }
   const PayloadFit a = fitPayload(white, {}), b = fitPayload(smooth, {});
-  EXPECT_EQ(a.batch, 1);
-  EXPECT_GT(b.batch, 15);
+  EXPECT_EQ(a.batch, 16);  // the storage length (4000 samples in 256 batches)
+  EXPECT_GT(b.batch, 31);  // the residuals correlated over 21 samples: four times lag 32
   EXPECT_GT(b.covariance(0, 0), 4.0 * a.covariance(0, 0));
-}
-
-TEST(Payload, BatchFromResidualsFollowsTheirCorrelation) {
-  std::mt19937_64 rng(1);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::VectorXd white(6000), ar(6000);
-  double x = 0.0, y = 0.0;
-  for (int k = 0; k < 3000; ++k)
-    for (int j = 0; j < 2; ++j) {
-      white[2 * k + j] = normal(rng);
-      double& s = j == 0 ? x : y;
-      s = 0.95 * s + normal(rng);
-      ar[2 * k + j] = s;
-    }
-  EXPECT_EQ(batchFromResiduals(white, 2), 1);
-  // rho^l < 0.05 at l = 59 for rho = 0.95: twice that, within sampling error.
-  EXPECT_GT(batchFromResiduals(ar, 2), 60);
-  EXPECT_LE(batchFromResiduals(ar, 2), 100);  // at most a thirtieth of the samples
 }
 
 TEST(Payload, DriveGainsFromAKnownMassOnExactData) {

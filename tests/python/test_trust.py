@@ -91,3 +91,20 @@ def test_friction_at_rest_is_static_and_predict_measures_its_rest_velocity(logs)
     assert np.all(given.at_rest["rest_velocity"] == 0.0)
     with pytest.raises(dynid.InputError, match="rest_velocity"):
         dynid.predict(est.model, str(logs / "test.csv"), rest_velocity=[1.0, 2.0])
+
+
+def test_covariance_policy_is_hac_and_white_on_request(logs):
+    model = dynid.load_model("puma560")
+    data = dynid.read_dataset(str(logs / "train.csv"))
+    est = dynid.identify(model, str(logs / "train.csv"))
+    policy = est.covariance_policy
+    assert policy["name"] == "hac" and policy["batch"] >= 1
+    assert len(policy["autocorrelation"]) >= 1
+    # The file and the arrays give the same covariance (one pass over each).
+    arrays = dynid.identify(model, data)
+    assert np.allclose(arrays.covariance, est.covariance, rtol=1e-9, atol=0)
+    white = dynid.identify(model, str(logs / "train.csv"), covariance="white")
+    assert white.covariance_policy["name"] == "white"
+    assert np.array_equal(white.beta, est.beta)
+    with pytest.raises(ValueError, match="covariance"):
+        dynid.identify(model, str(logs / "train.csv"), covariance="newey-west")

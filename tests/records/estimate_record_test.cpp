@@ -121,5 +121,27 @@ TEST(EstimateRecord, VersionTwoCarriesRestVelocitiesAndVersionOneIsStillRead) {
   EXPECT_EQ(estimateFault(doc), "rest_velocity");
 }
 
+TEST(EstimateRecord, VersionThreeNamesItsCovariancePolicyAndEveryEarlierVersionIsRead) {
+  const std::vector<std::string> names =
+      standardParameterNames(makePuma560(false).parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (const std::string& name : names) values[name] = 1.0;
+  const nlohmann::json covariance = {{"note", "n"}, {"columns", {"m1"}}, {"matrix", {{0.25}}}};
+  nlohmann::json doc = {{"schema_version", 2},
+                        {"standard_estimate", {{"note", "n"}, {"values", values}}},
+                        {"base_covariance", covariance}};
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").covariance_policy, "white");  // before version 3
+  doc["schema_version"] = 3;
+  EXPECT_EQ(kEstimateDocument.schema_version, 3);
+  doc["base_covariance"]["policy"] = {{"name", "hac"}, {"batch", 64}, {"inflation", 3.0}};
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").covariance_policy, "hac");
+  doc["base_covariance"]["policy"]["name"] = "newey-west";
+  EXPECT_EQ(estimateFault(doc), "base_covariance.policy.name");
+  doc["base_covariance"]["policy"] = {{"name", "white"}, {"colour", "blue"}};
+  EXPECT_EQ(estimateFault(doc), "base_covariance.policy.colour");
+  doc["schema_version"] = 0;  // no version 0 was ever written
+  EXPECT_EQ(estimateFault(doc), "schema_version");
+}
+
 }  // namespace
 }  // namespace dynid

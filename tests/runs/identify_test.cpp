@@ -49,7 +49,7 @@ TEST(IdentifyRun, IdentifyRunIsTheLeastSquaresStepOnTheFilesData) {
   // (1e-10 relative: backward-stable solutions at a condition number ~1e2).
   const Observation observation = observationFromTrajectory(model, data);
   const LeastSquaresOutcome direct = leastSquaresEstimate(
-      Method::kWls, outcome.base, {&observation, nullptr, {}}, model.standardParameters());
+      Method::kWls, outcome.base, {&observation, nullptr, {}, {}}, model.standardParameters());
   EXPECT_LT((outcome.result.estimate.beta - direct.estimate.beta).norm(),
             1e-10 * direct.estimate.beta.norm());
   EXPECT_EQ(outcome.base.numBase(), 36);
@@ -68,9 +68,9 @@ TEST(IdentifyRun, RequestsOutsideTheirRunAreInputErrors) {
   identify.data_file = pumaCsv(0.5, 0.0, 1);
   EXPECT_THROW(identifyRun(identify), InputError);
   const Observation none;
-  EXPECT_THROW(
-      leastSquaresEstimate(Method::kNlo, structuralBaseParameters(puma), {&none, nullptr, {}}, {}),
-      InputError);
+  EXPECT_THROW(leastSquaresEstimate(Method::kNlo, structuralBaseParameters(puma),
+                                    {&none, nullptr, {}, {}}, {}),
+               InputError);
   SearchRequest search;
   search.robot = puma;
   search.method = Method::kOls;
