@@ -12,9 +12,9 @@ namespace dynid::cli {
 const std::vector<CommandEntry>& commandTable() {
   static const std::vector<CommandEntry> table = {
       {"model",
-       "inspect a robot, check physical consistency, export URDF/JSON/MJCF",
+       "inspect a robot, check physical consistency, export URDF/JSON/MJCF, attach a known body",
        runModel,
-       {"show", "check", "export"}},
+       {"show", "check", "export", "attach"}},
       {"dynamics",
        "inverse dynamics, mass matrix and forward dynamics at a state",
        runDynamics,

@@ -156,10 +156,11 @@ Vector10d lengthScale(double length) {
   return s;
 }
 
-/// A homogeneous sphere of radius `radius` with the estimate's mass (at least 1 g) at its centre of
-/// mass (moved to within 1 m of the origin).
-Vector10d uninformativePrior(const Vector10d& estimate, double radius) {
+/// A homogeneous sphere of density `density` with the estimate's mass (at least 1 g) at its centre
+/// of mass (moved to within 1 m of the origin).
+Vector10d uninformativePrior(const Vector10d& estimate, double density) {
   const double m = std::max(estimate[0], 1e-3);
+  const double radius = std::cbrt(3.0 * m / (4.0 * M_PI * density));
   Eigen::Vector3d c = estimate[0] > 0.0 ? Eigen::Vector3d(estimate.segment<3>(1) / estimate[0])
                                         : Eigen::Vector3d::Zero();
   if (!c.allFinite()) c.setZero();
@@ -180,6 +181,8 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
     throw InputError("the payload problem has " + std::to_string(rows.rows()) +
                      " torque rows for " + std::to_string(d) + " unknowns");
   if (!(options.length > 0.0)) throw InputError("the payload length scale must be > 0");
+  if (!(options.prior_density > 0.0) || !std::isfinite(options.prior_density))
+    throw InputError("the payload prior's density must be finite and > 0");
   const Eigen::MatrixXd X = rows.design();
   const Eigen::VectorXd y = rows.target();
   PayloadFit out;
@@ -242,7 +245,7 @@ PayloadFit fitPayload(const PayloadRows& rows, const PayloadFitOptions& options)
   // 4. Physically consistent: the entropic estimator on the one body.
   const ParameterLayout layout{1, DriveTerms::none()};
   out.prior =
-      options.prior ? *options.prior : uninformativePrior(out.least_squares, options.length);
+      options.prior ? *options.prior : uninformativePrior(out.least_squares, options.prior_density);
   const PhysicalProblem problem =
       makePhysicalProblem(layout, r_pp, b_p, out.prior, options.prior_weight);
   Vector10d start = nearestConsistent(out.least_squares, 1e-8);

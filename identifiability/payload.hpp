@@ -54,10 +54,13 @@ class PayloadRows {
 struct PayloadFitOptions {
   /// The prior body of the entropic divergence (standard parameters in the body's frame): moved
   /// just inside the physical set when it is on or outside it. None: an uninformative prior, a
-  /// homogeneous sphere of radius `length` with the least-squares mass (at least 1 g) centred at
-  /// the least-squares centre of mass (within 1 m of the frame's origin).
+  /// homogeneous sphere of density `prior_density` with the least-squares mass (at least 1 g)
+  /// centred at the least-squares centre of mass (within 1 m of the frame's origin): its moments
+  /// scale with the payload (0.4 m r^2, r = (3 m / (4 pi rho))^1/3: 3.7e-7 kg m^2 for 10 g, 7.9e-4
+  /// for 1 kg), so that a light tool's moments are not drawn up toward a large sphere's.
   std::optional<Vector10d> prior;
-  double prior_weight = 1.0;  // > 0, chi-square units (PhysicalOptions::prior_weight)
+  double prior_weight = 1.0;      // > 0, chi-square units (PhysicalOptions::prior_weight)
+  double prior_density = 2700.0;  // [kg/m^3] the uninformative prior's (aluminium)
   /// [m] the length that puts a mass, a first moment and an inertia on one scale for the rank
   /// analysis (m, h / L, I / L^2).
   double length = 0.1;

@@ -5,6 +5,7 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/payload/attach.hpp"
 #include "analysis/payload/body.hpp"
 #include "analysis/payload/payload.hpp"
 #include "analysis/records/document.hpp"
@@ -102,7 +103,8 @@ void bindPayloadClass(py::module_& m) {
               d["name"] = q.name;
               d["group"] = q.group;
               d["unit"] = q.unit;
-              d["value"] = q.value;
+              d["value"] = q.determined ? py::object(py::float_(q.value)) : py::object(py::none());
+              d["estimate"] = q.value;
               d["std_dev"] = q.std_dev;
               d["half_width_95"] = q.half_width;
               d["determined"] = q.determined;
@@ -110,7 +112,8 @@ void bindPayloadClass(py::module_& m) {
             }
             return out;
           },
-          "every quantity with its 95 % interval and whether the log determines it")
+          "every quantity with its 95 % interval and whether the log determines it: `value` is "
+          "None when it does not (its resolution is half_width_95; `estimate` keeps the number)")
       .def_readonly("unseen", &PayloadOutcome::unseen,
                     "combinations the motion does not excite at all")
       .def_readonly("combined", &PayloadOutcome::combined,
@@ -164,11 +167,51 @@ void bindPayloadRun(py::module_& m) {
         "constant scale factors (`gains`). As `dynid payload`.");
 }
 
+Model attach(const Model& model, const OptionalFloat& mass, const OptionalArrayLike& com,
+             const OptionalArrayLike& inertia, const PriorLike& body, const std::string& link,
+             const OptionalArrayLike& tool_xyz, const OptionalArrayLike& tool_rpy) {
+  Pose<double> frame = Pose<double>::Identity();
+  if (!tool_xyz.is_none()) frame.translation = threeArg(tool_xyz, "tool_xyz");
+  if (!tool_rpy.is_none()) {
+    const Eigen::Vector3d rpy = threeArg(tool_rpy, "tool_rpy");
+    frame.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
+  }
+  const bool given = !mass.is_none() || !com.is_none() || !inertia.is_none();
+  if (given == !body.is_none())
+    throw py::value_error("give the body as mass (with com, inertia) or as body, one of them");
+  Vector10d standard;
+  if (!body.is_none()) {
+    if (py::isinstance<py::str>(body) || py::hasattr(body, "__fspath__")) {
+      const std::string file = pathArg(body, "body");
+      standard = payloadBodyFrom(parseJson(readFile(file), file), file);
+    } else {
+      standard = vectorArg(body, "body", 10);
+    }
+  } else {
+    if (mass.is_none()) throw py::value_error("com and inertia need mass");
+    const Eigen::Vector3d c = com.is_none() ? Eigen::Vector3d::Zero() : threeArg(com, "com");
+    Eigen::Matrix3d i = Eigen::Matrix3d::Zero();
+    if (!inertia.is_none()) {
+      const Eigen::VectorXd v = vectorArg(inertia, "inertia", 6);
+      i << v[0], v[1], v[2], v[1], v[3], v[4], v[2], v[4], v[5];
+    }
+    standard = bodyFromCentre(mass.cast<double>(), c, i);
+  }
+  return attachBody(model, linkIndex(model, link), frame, standard);
+}
+
 }  // namespace
 
 void bindPayload(py::module_& m) {
   bindPayloadClass(m);
   bindPayloadRun(m);
+  m.def("attach", &attach, py::arg("model"), py::arg("mass") = py::none(),
+        py::arg("com") = py::none(), py::arg("inertia") = py::none(), py::arg("body") = py::none(),
+        py::arg("link") = "", py::arg("tool_xyz") = py::none(), py::arg("tool_rpy") = py::none(),
+        "`model` with a known body fixed to `link` (default: the last): `mass` [kg], `com` (3) "
+        "and `inertia` (Ixx, Ixy, Ixz, Iyy, Iyz, Izz about the centre of mass) in the frame "
+        "`tool_xyz`/`tool_rpy` of the link, or `body`: a payload.json / payload.body.json path "
+        "or 10 standard parameters. As `dynid model attach`.");
 }
 
 }  // namespace dynid::python

@@ -188,14 +188,29 @@ std::string simulateSummary(const Model& model, const SimulateOutcome& o, const 
         "note: default gains from the joints' effective inertias 1/(M^-1)_ii, the rule for "
         "strongly coupled joints (the mass-matrix diagonal's would put a closed-loop mode above "
         "3x `bandwidth`); not a fault\n";
+  // A run farther from its reference than dynid payload allows between a loaded and an unloaded run
+  // (0.05 rad RMS) cannot be expected to match another run of it.
+  if (o.tracking_rms > 0.05)
+    appendf(
+        out,
+        "warning: the motion tracks its reference %.3g rad RMS off: another run of it (a "
+        "loaded/unloaded pair: dynid payload aligns them within 0.05 rad) will not match; raise "
+        "`bandwidth` (stiffer default gains; 20 Hz for a payload pair) or give `kp`/`kd`\n",
+        o.tracking_rms);
   // A tracking controller's torque changes little in one sample; a jump of a tenth of the peak
-  // torque, or torque at the limit on more than 1 % of the samples, is chatter or saturation.
-  if (o.max_torque_step > 0.1 * o.peak_torque || o.saturated_share > 0.01)
+  // torque is chatter (gains too stiff for the rate), torque at the limit on more than 1 % of the
+  // samples a reference that asks more than the drives give.
+  if (o.saturated_share > 0.01)
     appendf(out,
-            "warning: the torque jumps by up to %.4g N m between samples and is at its limit on "
-            "%.3g %% of them: the data will not look like a robot's; lower --bandwidth or give "
-            "--kp/--kd\n",
-            o.max_torque_step, 100.0 * o.saturated_share);
+            "warning: the torque is at its limit on %.3g %% of the samples: the reference asks "
+            "more than the drives give; slow the motion (smaller `amplitude`, lower `frequency`) "
+            "or give `tau_max`\n",
+            100.0 * o.saturated_share);
+  else if (o.max_torque_step > 0.1 * o.peak_torque)
+    appendf(out,
+            "warning: the torque jumps by up to %.4g N m between samples: the gains are too stiff "
+            "for the rate; lower `bandwidth` or give `kp`/`kd`\n",
+            o.max_torque_step);
   return out;
 }
 

@@ -53,15 +53,19 @@ json matrixJson(const Eigen::Matrix3d& m) {
   return out;
 }
 
+/// A determined quantity as "value ± half width"; one that is not as its resolution alone,
+/// "not determined (± half width)": the log knows it no better than that, and its estimate is not
+/// a number to use.
 std::string interval(const PayloadQuantity& q, double scale = 1.0, int digits = 4) {
-  return formatNumber(q.value * scale, digits) + " ± " +
-         formatNumber(q.half_width * scale, 2, "not determined");
+  if (!q.determined)
+    return "not determined (± " + formatNumber(q.half_width * scale, 2, "unbounded") + ")";
+  return formatNumber(q.value * scale, digits) + " ± " + formatNumber(q.half_width * scale, 2);
 }
 
 std::string verdict(const PayloadOutcome& o) {
   std::ostringstream text;
   const PayloadQuantity& m = o.quantities[0];
-  text << "Mass " << interval(m) << " kg" << (m.determined ? "" : " (not determined by this log)")
+  text << "Mass " << interval(m) << " kg"
        << "; centre of mass (" << formatNumber(1e3 * o.com.x(), 4) << ", "
        << formatNumber(1e3 * o.com.y(), 4) << ", " << formatNumber(1e3 * o.com.z(), 4)
        << ") mm in the attachment frame";
@@ -149,7 +153,8 @@ json payloadJson(const PayloadOutcome& o) {
     quantities.push_back({{"name", q.name},
                           {"group", q.group},
                           {"unit", q.unit},
-                          {"value", numberOrNull(q.value)},
+                          {"value", q.determined ? numberOrNull(q.value) : json(nullptr)},
+                          {"estimate", numberOrNull(q.value)},
                           {"std_dev", numberOrNull(q.std_dev)},
                           {"half_width_95", numberOrNull(q.half_width)},
                           {"determined", q.determined}});
@@ -289,15 +294,18 @@ void payloadTables(Document& report, const PayloadOutcome& o) {
   table.header = {"quantity", "value", "± 95 %", "unit", "determined"};
   for (const PayloadQuantity& q : o.quantities) {
     if (q.group == "standard parameters") continue;
-    table.rows.push_back({q.name, formatNumber(q.value, 5), formatNumber(q.half_width, 2, "∞"),
-                          q.unit, q.determined ? "yes" : "no"});
+    table.rows.push_back({q.name, q.determined ? formatNumber(q.value, 5) : "—",
+                          formatNumber(q.half_width, 2, "∞"), q.unit,
+                          q.determined ? "yes" : "no (estimate " + formatNumber(q.value, 3) + ")"});
   }
   table.caption =
       "Mass, centre of mass and inertia about the centre of mass in the attachment frame's axes "
       "(_c), and the principal moments I1..I3 (axes in payload.json). Determined: the 95 % "
       "interval's half-width is at most 20 % of the value (mass, moments), 5 mm (centre of mass), "
       "20 % of the largest principal moment (inertia entries) or 10 degrees (axis1..axis3: each "
-      "principal axis's angle from the attachment axis of its index, and its 95 % angle).";
+      "principal axis's angle from the attachment axis of its index, and its 95 % angle). A "
+      "quantity that is not determined has no value: the log resolves it to its ± 95 % and no "
+      "finer, and its estimate (in brackets) is the prior's as much as the data's.";
   report.table(table);
   DocumentTable standard;
   standard.header = {"parameter", "consistent", "least squares", "± 95 %", "determined"};

@@ -10,6 +10,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include "analysis/payload/attach.hpp"
 #include "analysis/payload/body.hpp"
 #include "analysis/payload/quantities.hpp"
 #include "analysis/records/document.hpp"
@@ -93,16 +94,6 @@ Alignment alignRuns(const Trajectory& loaded, const Trajectory& unloaded) {
 }
 
 /// The gradient of f at `at` by central differences (steps of 1e-6 of each parameter's size).
-
-int linkIndex(const Model& arm, const std::string& link) {
-  if (link.empty()) return arm.numJoints() - 1;
-  for (int i = 0; i < arm.numJoints(); ++i)
-    if (arm.link_names[i] == link) return i;
-  std::string names;
-  for (const std::string& l : arm.link_names) names += (names.empty() ? "" : ", ") + l;
-  throw InputError("link '" + link + "' is not a moving link of robot '" + arm.name +
-                   "' (its links: " + names + ")");
-}
 
 }  // namespace
 

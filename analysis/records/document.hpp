@@ -40,7 +40,9 @@ inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
-inline constexpr DocumentType kPayloadDocument{"dynid.payload", 1};         // dynid payload
+// payload.json 2: a quantity the log does not determine has `value` null and its number in
+// `estimate` (the resolution is its half_width_95).
+inline constexpr DocumentType kPayloadDocument{"dynid.payload", 2};         // dynid payload
 // A payload body alone (payload --format json): what --prior reads back.
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each

@@ -89,3 +89,21 @@ def test_payload_refusals(loaded):
         dynid.payload(arm, with_load, unloaded=with_load, payload_mass=-1.0)
     with pytest.raises(ValueError):
         dynid.payload(arm, with_load, tool_xyz=[0, 0])
+
+
+def test_attach_is_the_hand_made_loaded_arm(loaded):
+    arm, _, _, body = loaded
+    # The fixture's body (a 5 cm sphere of 1.5 kg) from its mass, centre and inertia about it.
+    m, c = 1.5, np.array([0.02, -0.01, 0.06])
+    inertia_c = 0.4 * m * 0.05**2
+    heavy = dynid.attach(arm, mass=m, com=c, inertia=[inertia_c, 0, 0, inertia_c, 0, inertia_c])
+    names = ["m", "mx", "my", "mz", "Ixx", "Ixy", "Ixz", "Iyy", "Iyz", "Izz"]
+    for name, value in zip(names, body):
+        assert heavy.parameter(name + "6") == pytest.approx(arm.parameter(name + "6") + value,
+                                                            rel=1e-12, abs=1e-15)
+    same = dynid.attach(arm, body=body)
+    assert np.allclose(same.parameters, heavy.parameters, rtol=1e-12, atol=1e-15)
+    with pytest.raises(ValueError, match="inertia"):
+        dynid.attach(arm, mass=1.0, inertia=[0.01, 0, 0, 0.001, 0, 0.001])
+    with pytest.raises(ValueError, match="one of them"):
+        dynid.attach(arm, mass=1.0, body=body)
