@@ -113,10 +113,15 @@ std::optional<std::string> residualFigure(const MonitorOutcome& o) {
 json monitorEventJson(const MonitorEvent& e) {
   json joints = json::array();
   for (int j : e.joints) joints.push_back(j + 1);
-  return {{"start", e.start},   {"end", e.end},
-          {"joints", joints},   {"peak_joint", e.peak_joint + 1},
-          {"peak", e.peak},     {"peak_time", e.peak_time},
-          {"energy", e.energy}, {"open", e.open}};
+  return {{"start", e.start},
+          {"end", e.end},
+          {"joints", joints},
+          {"peak_joint", e.peak_joint + 1},
+          {"contact_link", e.contact_link + 1},
+          {"peak", e.peak},
+          {"peak_time", e.peak_time},
+          {"energy", e.energy},
+          {"open", e.open}};
 }
 
 json monitorThresholdsJson(const MonitorThresholds& t) {
@@ -179,16 +184,19 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
   report.bullets(o.warnings);
   report.heading("Events");
   DocumentTable events;
-  events.header = {"start [s]", "end [s]", "joints", "peak [N m]", "peak joint", "energy [J]"};
+  events.header = {"start [s]",  "end [s]",    "joints",    "peak [N m]",
+                   "peak joint", "contact on", "energy [J]"};
   for (const MonitorEvent& e : o.events)
-    events.rows.push_back({formatNumber(e.start, 6),
-                           formatNumber(e.end, 6) + (e.open ? " (open)" : ""), jointList(e.joints),
-                           formatNumber(e.peak, 4), std::to_string(e.peak_joint + 1),
-                           formatNumber(e.energy, 3)});
+    events.rows.push_back(
+        {formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""),
+         jointList(e.joints), formatNumber(e.peak, 4), std::to_string(e.peak_joint + 1),
+         "link " + std::to_string(e.contact_link + 1) + " or beyond", formatNumber(e.energy, 3)});
   events.caption =
       "An event starts at the first sample where a residual exceeds its threshold and "
       "ends when every residual has stayed below its threshold for the hold time. "
-      "Energy: the work of the estimated external torque on the arm.";
+      "Energy: the work of the estimated external torque on the arm. Contact: a push on link k "
+      "acts on joints 1..k only, so it is on the link of the most distal joint that crossed its "
+      "threshold or beyond it (a push along a distal joint's axis leaves that joint quiet).";
   if (o.events.empty())
     report.paragraph("No residual crossed its threshold.");
   else

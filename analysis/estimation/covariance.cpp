@@ -36,6 +36,8 @@ ScoreWeights scoreWeights(const BaseEstimate& estimate, bool weighted) {
 
 namespace {
 
+constexpr int kReplayBlock = 64;  // samples per parallel task of the replay
+
 /// Folds each sample's weighted rows and residuals into the batches and sets the estimate's
 /// covariance from them.
 class Sandwich {
@@ -47,16 +49,26 @@ class Sandwich {
         beta_(estimate.beta),
         scores_(b_, n_, estimate.num_samples) {}
 
-  /// One sample's weighted rows (in place: W1_k becomes Lambda^1/2 W1_k) and weighted residuals.
-  void at(Eigen::Ref<Eigen::MatrixXd> w1, const Eigen::Ref<const Eigen::VectorXd>& tau,
-          Eigen::Ref<Eigen::VectorXd> residual) const {
-    residual = root_.cwiseProduct(tau - w1 * beta_);
-    w1 = root_.asDiagonal() * w1;
+  /// Samples [first, first + count) of the pass (their base regressor rows stacked, n per sample,
+  /// and torques n x count) as a block: the rows weighted in place (Lambda^1/2 W1), the weighted
+  /// residuals. Thread safe.
+  ScoreCovariance::Block block(Eigen::Ref<Eigen::MatrixXd> w1,
+                               const Eigen::Ref<const Eigen::MatrixXd>& tau) const {
+    const Eigen::Index count = tau.cols();
+    Eigen::MatrixXd residuals(n_, count);
+    for (Eigen::Index k = 0; k < count; ++k) {
+      auto rows = w1.middleRows(k * n_, n_);
+      residuals.col(k) = root_.cwiseProduct(tau.col(k) - rows * beta_);
+      rows = root_.asDiagonal() * rows;
+    }
+    return ScoreCovariance::prepare(w1, residuals);
   }
-  void add(const Eigen::Ref<const Eigen::MatrixXd>& rows,
-           const Eigen::Ref<const Eigen::VectorXd>& residual) {
-    scores_.add(rows, residual);
-  }
+  void add(const ScoreCovariance::Block& block) { scores_.add(block); }
+  /// The blocks a run of `count` samples from sample `first` is cut into: at every multiple of
+  /// kReplayBlock and of the stored batches' length (absolute sample indices, so that the cut, and
+  /// so the sums' round-off, is the same for any chunking into multiples of kReplayBlock and any
+  /// thread count). Pairs (offset, length) into the run.
+  std::vector<std::pair<int, int>> cuts(long long first, int count) const;
   int b() const { return b_; }
   int n() const { return n_; }
 
@@ -99,7 +111,18 @@ class Sandwich {
   ScoreCovariance scores_;
 };
 
-constexpr int kReplayBlock = 64;  // samples per parallel task of the replay
+std::vector<std::pair<int, int>> Sandwich::cuts(long long first, int count) const {
+  const long long storage = scores_.storageLength();
+  std::vector<std::pair<int, int>> out;
+  for (long long at = first; at < first + count;) {
+    const long long next_block = (at / kReplayBlock + 1) * kReplayBlock;
+    const long long next_batch = (at / storage + 1) * storage;
+    const long long end = std::min({next_block, next_batch, first + count});
+    out.emplace_back(static_cast<int>(at - first), static_cast<int>(end - at));
+    at = end;
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -110,30 +133,34 @@ CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& b
   Sandwich sandwich(base, weights, estimate);
   const int n = sandwich.n(), b = sandwich.b(), threads = pool ? pool->numThreads() : 1;
   std::vector<std::unique_ptr<Data>> workspaces(static_cast<std::size_t>(threads));
-  Eigen::MatrixXd rows, residuals;  // a chunk's: n x (b m), n x m
+  long long first = 0;  // the chunk's first sample in the pass
+  std::vector<ScoreCovariance::Block> blocks;
   replay([&](const Trajectory& chunk) {
-    const int m = chunk.numSamples();
-    rows.resize(n, static_cast<Eigen::Index>(b) * m);
-    residuals.resize(n, m);
-    const auto block = [&](int index, int thread) {
+    const std::vector<std::pair<int, int>> cuts = sandwich.cuts(first, chunk.numSamples());
+    blocks.assign(cuts.size(), {});
+    const auto task = [&](int index, int thread) {
       std::unique_ptr<Data>& data = workspaces[static_cast<std::size_t>(thread)];
       if (!data) data = std::make_unique<Data>(model);
-      for (int k = index * kReplayBlock; k < std::min(m, (index + 1) * kReplayBlock); ++k) {
-        const Eigen::MatrixXd& y =
-            jointTorqueRegressor(model, *data, chunk.q.col(k), chunk.dq.col(k), chunk.ddq.col(k));
-        auto w1 = rows.middleCols(static_cast<Eigen::Index>(k) * b, b);
+      const auto [offset, count] = cuts[static_cast<std::size_t>(index)];
+      Eigen::MatrixXd w1(static_cast<Eigen::Index>(n) * count, b);
+      for (int k = 0; k < count; ++k) {
+        const int sample = offset + k;
+        const Eigen::MatrixXd& y = jointTorqueRegressor(
+            model, *data, chunk.q.col(sample), chunk.dq.col(sample), chunk.ddq.col(sample));
         for (int c = 0; c < b; ++c)
-          w1.col(c) = y.col(base.independent[static_cast<std::size_t>(c)]);
-        sandwich.at(w1, chunk.tau.col(k), residuals.col(k));
+          w1.col(c).segment(static_cast<Eigen::Index>(k) * n, n) =
+              y.col(base.independent[static_cast<std::size_t>(c)]);
       }
+      blocks[static_cast<std::size_t>(index)] =
+          sandwich.block(w1, chunk.tau.middleCols(offset, count));
     };
-    const int blocks = (m + kReplayBlock - 1) / kReplayBlock;
+    const int tasks = static_cast<int>(cuts.size());
     if (pool)
-      pool->parallelFor(blocks, block);
+      pool->parallelFor(tasks, task);
     else
-      for (int i = 0; i < blocks; ++i) block(i, 0);
-    for (int k = 0; k < m; ++k)  // in order
-      sandwich.add(rows.middleCols(static_cast<Eigen::Index>(k) * b, b), residuals.col(k));
+      for (int i = 0; i < tasks; ++i) task(i, 0);
+    for (const ScoreCovariance::Block& block : blocks) sandwich.add(block);  // in order
+    first += chunk.numSamples();
   });
   return sandwich.finish(estimate, pc);
 }
@@ -144,12 +171,11 @@ CovarianceSummary applyHacCovariance(const BaseParameters& base, const Observati
   Sandwich sandwich(base, weights, estimate);
   const int n = observation.num_joints;
   Eigen::MatrixXd w1 = base.baseRegressor(observation.W);
-  Eigen::VectorXd residual(n);
-  for (int k = 0; k < observation.num_samples; ++k) {
-    auto rows = w1.middleRows(static_cast<Eigen::Index>(k) * n, n);
-    sandwich.at(rows, observation.tau.segment(static_cast<Eigen::Index>(k) * n, n), residual);
-    sandwich.add(rows, residual);
-  }
+  const Eigen::Map<const Eigen::MatrixXd> tau(observation.tau.data(), n, observation.num_samples);
+  for (const auto& [offset, count] : sandwich.cuts(0, observation.num_samples))
+    sandwich.add(sandwich.block(
+        w1.middleRows(static_cast<Eigen::Index>(offset) * n, static_cast<Eigen::Index>(count) * n),
+        tau.middleCols(offset, count)));
   return sandwich.finish(estimate, pc);
 }
 

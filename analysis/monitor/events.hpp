@@ -18,6 +18,9 @@ struct MonitorEvent {
   double start = 0.0, end = 0.0;  // [s]: the first sample above, the last before the hold
   std::vector<int> joints;        // the joints (0-based) that crossed their thresholds
   int peak_joint = 0;             // the joint (0-based) of the peak: one that crossed its threshold
+  /// Contact isolation: an external wrench on link k acts on joints 1..k only, so the contact is on
+  /// the link of the most distal joint that crossed its threshold, or beyond it (0-based).
+  int contact_link = 0;
   double peak = 0.0, peak_time = 0.0;  // its largest |r| while above [N m], and when [s]
   double energy = 0.0;  // the work of the estimated external torque, integral r . dq dt [J]
   bool open = false;    // the data ended (or were stopped) during the event
@@ -85,6 +88,7 @@ class EventDetector {
       if (!(ratio[j] > 1.0)) continue;
       if (std::find(event_.joints.begin(), event_.joints.end(), j) == event_.joints.end())
         event_.joints.push_back(static_cast<int>(j));
+      event_.contact_link = std::max(event_.contact_link, static_cast<int>(j));
       if (std::abs(r[j]) > event_.peak) {
         event_.peak = std::abs(r[j]);
         event_.peak_joint = static_cast<int>(j);
@@ -95,6 +99,7 @@ class EventDetector {
   void finish(bool open) {
     event_.open = open;
     std::sort(event_.joints.begin(), event_.joints.end());
+    event_.contact_link = event_.joints.empty() ? 0 : event_.joints.back();
     events_.push_back(event_);
     if (sink_) sink_->ended(event_);
     active_ = false;

@@ -42,13 +42,14 @@ inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // m
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
 // payload.json 2: a quantity the log does not determine has `value` null and its number in
 // `estimate` (the resolution is its half_width_95).
-inline constexpr DocumentType kPayloadDocument{"dynid.payload", 2};         // dynid payload
+inline constexpr DocumentType kPayloadDocument{"dynid.payload", 2};  // dynid payload
 // A payload body alone (payload --format json): what --prior reads back.
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
 // parameter's p_scaled.
-inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};      // dynid audit
-inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 1};  // dynid monitor
+inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};  // dynid audit
+// monitor.json 2: each event's contact_link (contact isolation).
+inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 2};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds.
 inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 1};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};

@@ -27,6 +27,18 @@ ScoreCovariance::ScoreCovariance(Eigen::Index num_unknowns, int num_joints,
   for (Eigen::VectorXd& l : lagged_) l = Eigen::VectorXd::Zero(n_);
 }
 
+void ScoreCovariance::lag(const Eigen::Ref<const Eigen::VectorXd>& residual) {
+  for (int i = 0; i < kLags; ++i) {
+    const long long lag = 1LL << i;
+    if (samples_ < lag) break;
+    lagged_[static_cast<std::size_t>(i)] += residual.cwiseProduct(
+        ring_.col(static_cast<Eigen::Index>((samples_ - lag) % kMaxScoreLag)));
+  }
+  energy_ += residual.cwiseAbs2();
+  ring_.col(static_cast<Eigen::Index>(samples_ % kMaxScoreLag)) = residual;
+  ++samples_;
+}
+
 void ScoreCovariance::add(const Eigen::Ref<const Eigen::MatrixXd>& rows,
                           const Eigen::Ref<const Eigen::VectorXd>& residual) {
   if (rows.rows() != n_ || rows.cols() != d_ || residual.size() != n_)
@@ -39,15 +51,36 @@ void ScoreCovariance::add(const Eigen::Ref<const Eigen::MatrixXd>& rows,
   Batch& batch = stored_.back();
   batch.score.noalias() += rows.transpose() * residual;
   batch.normal.selfadjointView<Eigen::Lower>().rankUpdate(rows.transpose());
-  for (int i = 0; i < kLags; ++i) {
-    const long long lag = 1LL << i;
-    if (samples_ < lag) break;
-    lagged_[static_cast<std::size_t>(i)] += residual.cwiseProduct(
-        ring_.col(static_cast<Eigen::Index>((samples_ - lag) % kMaxScoreLag)));
-  }
-  energy_ += residual.cwiseAbs2();
-  ring_.col(static_cast<Eigen::Index>(samples_ % kMaxScoreLag)) = residual;
-  ++samples_;
+  lag(residual);
+}
+
+ScoreCovariance::Block ScoreCovariance::prepare(
+    const Eigen::Ref<const Eigen::MatrixXd>& rows,
+    const Eigen::Ref<const Eigen::MatrixXd>& residuals) {
+  Block out;
+  const Eigen::Index n = residuals.rows();
+  out.score = Eigen::VectorXd::Zero(rows.cols());
+  for (Eigen::Index k = 0; k < residuals.cols(); ++k)
+    out.score.noalias() += rows.middleRows(k * n, n).transpose() * residuals.col(k);
+  out.normal = Eigen::MatrixXd::Zero(rows.cols(), rows.cols());
+  out.normal.selfadjointView<Eigen::Lower>().rankUpdate(rows.transpose());
+  out.residuals = residuals;
+  return out;
+}
+
+void ScoreCovariance::add(const Block& block) {
+  const auto m = static_cast<long long>(block.residuals.cols());
+  if (block.score.size() != d_ || block.normal.rows() != d_ || block.residuals.rows() != n_)
+    throw InputError("a block of the wrong size for this covariance");
+  if (m == 0) return;
+  if (samples_ / storage_ != (samples_ + m - 1) / storage_)
+    throw InputError("a block of samples " + std::to_string(samples_) + " to " +
+                     std::to_string(samples_ + m - 1) + " crosses a stored batch's end");
+  if (samples_ % storage_ == 0)
+    stored_.push_back({Eigen::VectorXd::Zero(d_), Eigen::MatrixXd::Zero(d_, d_)});
+  stored_.back().score += block.score;
+  stored_.back().normal += block.normal;
+  for (long long k = 0; k < m; ++k) lag(block.residuals.col(static_cast<Eigen::Index>(k)));
 }
 
 std::vector<double> ScoreCovariance::autocorrelation() const {

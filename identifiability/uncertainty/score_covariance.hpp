@@ -55,6 +55,23 @@ class ScoreCovariance {
   void add(const Eigen::Ref<const Eigen::MatrixXd>& rows,
            const Eigen::Ref<const Eigen::VectorXd>& residual);
 
+  /// Consecutive samples prepared apart (on any thread): their rows' scores summed, their normal
+  /// matrix (lower triangle) and their residuals (num_joints x samples).
+  struct Block {
+    Eigen::VectorXd score;
+    Eigen::MatrixXd normal;
+    Eigen::MatrixXd residuals;
+  };
+  /// A block from its samples' rows stacked (rows k n .. k n + n - 1: sample k's) and residuals.
+  static Block prepare(const Eigen::Ref<const Eigen::MatrixXd>& rows,
+                       const Eigen::Ref<const Eigen::MatrixXd>& residuals);
+  /// Adds the next samples as a block; it must not cross a stored batch's end (storageLength()).
+  /// The same sums as add() sample by sample, to round-off. Throws InputError on a size mismatch or
+  /// a block that crosses.
+  void add(const Block& block);
+  /// Samples per stored batch: blocks start and end within one.
+  long long storageLength() const { return storage_; }
+
   long long samples() const { return samples_; }
   /// The batch length used (1 before any sample).
   int batch() const;
@@ -78,6 +95,8 @@ class ScoreCovariance {
   };
   /// The stored batches joined into batches of `length` samples.
   std::vector<Batch> joined(long long length) const;
+  /// The autocorrelation sums of the next sample's residuals.
+  void lag(const Eigen::Ref<const Eigen::VectorXd>& residual);
 
   Eigen::Index d_;
   int n_;

@@ -57,6 +57,11 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
   EXPECT_EQ(j["kind"], "dynid.monitor");
   ASSERT_EQ(j["events"].size(), 2u);
   EXPECT_EQ(j["events"][0]["joints"], nlohmann::json::array({2}));
+  // Contact isolation: a push at joint 2 is on link 2 or beyond; the force on link 6 shows on
+  // joints up to its own, never beyond.
+  EXPECT_EQ(j["events"][0]["contact_link"], 2);
+  EXPECT_LE(j["events"][1]["contact_link"].get<int>(), 6);
+  EXPECT_EQ(j["events"][1]["contact_link"], j["events"][1]["joints"].back());
   EXPECT_GE(j["events"][0]["start"].get<double>(), 2.0);
   EXPECT_LT(j["events"][0]["start"].get<double>(), 2.05);
   for (const char* file : {"thresholds.json", "report.md", "report.html"})

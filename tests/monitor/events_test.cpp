@@ -34,6 +34,7 @@ TEST(EventDetector, AnEpisodeWithItsJointsPeakAndHold) {
   EXPECT_DOUBLE_EQ(e.end, 0.16);
   EXPECT_EQ(e.joints, (std::vector<int>{0, 1}));
   EXPECT_EQ(e.peak_joint, 1);
+  EXPECT_EQ(e.contact_link, 1);  // the most distal joint that crossed
   EXPECT_EQ(e.peak, 3.0);
   EXPECT_DOUBLE_EQ(e.peak_time, 0.11);
   EXPECT_FALSE(e.open);
@@ -52,6 +53,7 @@ TEST(EventDetector, AnEpisodeWithItsJointsPeakAndHold) {
   ASSERT_EQ(events.size(), 1u);
   EXPECT_TRUE(events.back().open);
   EXPECT_EQ(events.back().joints, std::vector<int>{2});
+  EXPECT_EQ(events.back().contact_link, 2);
 }
 
 TEST(ScoreEvents, DetectedMissedAndFalseAlarms) {

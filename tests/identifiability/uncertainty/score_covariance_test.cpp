@@ -119,6 +119,29 @@ TEST(ScoreCovariance, IsTheBiasReducedSandwichOverBatches) {
   EXPECT_LT((f.robust - cr2).norm(), 1e-9 * cr2.norm());
 }
 
+TEST(ScoreCovariance, BlocksGiveWhatSamplesGive) {
+  // The same samples added one by one and as blocks cut at the stored batches' ends (3000 samples
+  // stored in batches of 16): the same covariance to round-off; a block across an end refused.
+  const Eigen::MatrixXd a = design(3000);
+  const Eigen::VectorXd e = arNoise(3000, 0.7, 8);
+  ScoreCovariance one(3, 2, 3000), blocks(3, 2, 3000);
+  ASSERT_EQ(blocks.storageLength(), 16);
+  for (int k = 0; k < 3000; ++k) one.add(a.middleRows(2 * k, 2), e.segment(2 * k, 2));
+  for (int first = 0; first < 3000;) {
+    const int count = std::min({first % 16 == 0 ? 5 : 16 - first % 16, 3000 - first});
+    const Eigen::Map<const Eigen::MatrixXd> residuals(e.data() + 2 * first, 2, count);
+    blocks.add(ScoreCovariance::prepare(a.middleRows(2 * first, 2 * count), residuals));
+    first += count;
+  }
+  EXPECT_EQ(blocks.samples(), 3000);
+  EXPECT_EQ(blocks.batch(), one.batch());
+  EXPECT_EQ(blocks.autocorrelation(), one.autocorrelation());
+  EXPECT_LT((blocks.covariance() - one.covariance()).norm(), 1e-12 * one.covariance().norm());
+  ScoreCovariance crossing(3, 2, 3000);
+  const Eigen::Map<const Eigen::MatrixXd> residuals(e.data(), 2, 17);
+  EXPECT_THROW(crossing.add(ScoreCovariance::prepare(a.topRows(34), residuals)), InputError);
+}
+
 // The point of the policy: with correlated residuals the white intervals cover the truth far less
 // often than they claim, the policy's as often (200 fits of AR(0.9) residuals).
 TEST(ScoreCovariance, IntervalsCoverTheTruthWithCorrelatedResiduals) {
