@@ -25,12 +25,30 @@ std::string jointList(const std::vector<int>& joints) {
   return out;
 }
 
+/// Why the thresholds are where they are: the rate asked for, and what the calibration confirms.
+std::string confidenceText(const MonitorThresholds& t) {
+  const std::optional<CalibrationConfidence> c = calibrationConfidence(t);
+  if (!c) return "";
+  std::string out = "The thresholds are set for " + formatNumber(t.false_alarms_per_hour, 3) +
+                    " false alarms per hour; " + formatNumber(c->seconds, 4) +
+                    " s of calibration confirm a rate no lower than " +
+                    formatNumber(c->confirmed_per_hour, 3) +
+                    " per hour (no alarm in T seconds: below 3 / T at 95 %)";
+  if (c->extrapolated)
+    out += ", and " + formatNumber(t.false_alarms_per_hour, 3) + " per hour would need " +
+           formatNumber(c->needed_seconds / 3600.0, 3) +
+           " h of clean calibration: below that the thresholds rest on the residual's Gaussian "
+           "tail, not on the data";
+  return out + ".";
+}
+
 std::string verdict(const MonitorOutcome& o) {
   std::ostringstream s;
   s << o.events.size() << (o.events.size() == 1 ? " event" : " events") << " in "
     << formatNumber(o.seconds, 4) << " s of " << o.robot_spec << " (" << o.samples
     << " samples), the " << residualName(o.thresholds.residual) << " residual against thresholds "
     << "from " << o.thresholds.source << ".";
+  if (const std::string c = confidenceText(o.thresholds); !c.empty()) s << " " << c;
   if (o.interrupted) s << " Stopped early: the events so far.";
   if (const auto& t = o.truth) {
     s << " Against the ground truth: " << t->detected << " of " << t->episodes
@@ -158,6 +176,11 @@ json monitorJson(const MonitorOutcome& o) {
               {"observer_rms", numbersOrNull(o.observer_rms)},
               {"observer_max", numbersOrNull(o.observer_max)},
               {"warnings", o.warnings}};
+  if (const std::optional<CalibrationConfidence> c = calibrationConfidence(o.thresholds))
+    out["calibration_confidence"] = {{"seconds", c->seconds},
+                                     {"confirmed_false_alarms_per_hour", c->confirmed_per_hour},
+                                     {"needed_seconds", c->needed_seconds},
+                                     {"extrapolated", c->extrapolated}};
   if (o.has_direct) {
     out["direct_rms"] = numbersOrNull(o.direct_rms);
     out["direct_max"] = numbersOrNull(o.direct_max);

@@ -241,4 +241,15 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   return out;
 }
 
+std::optional<CalibrationConfidence> calibrationConfidence(const MonitorThresholds& thresholds) {
+  if (!(thresholds.calibration_seconds > 0.0) || !(thresholds.false_alarms_per_hour > 0.0))
+    return std::nullopt;
+  CalibrationConfidence out;
+  out.seconds = thresholds.calibration_seconds;
+  out.confirmed_per_hour = 3.0 / out.seconds * 3600.0;
+  out.needed_seconds = 3.0 / (thresholds.false_alarms_per_hour / 3600.0);
+  out.extrapolated = thresholds.false_alarms_per_hour < out.confirmed_per_hour;
+  return out;
+}
+
 }  // namespace dynid

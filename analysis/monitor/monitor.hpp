@@ -87,4 +87,16 @@ struct MonitorOutcome {
 /// increase or a stream that ends mid-line.
 MonitorOutcome monitorRun(const MonitorRequest& request);
 
+/// What a calibration run can confirm about its false-alarm rate. With no alarm in T seconds of
+/// clean calibration, the rate is below 3 / T at 95 % (the rule of three: P(no event) = exp(-3) =
+/// 5 %); a lower rate rests on the residual's Gaussian tail (Rice's formula), not on the data.
+struct CalibrationConfidence {
+  double seconds = 0.0;             // T, the calibration's length
+  double confirmed_per_hour = 0.0;  // 3 / T, per hour: the lowest rate T seconds can confirm
+  double needed_seconds = 0.0;      // 3 / rate: the calibration the chosen rate would need
+  bool extrapolated = false;        // the chosen rate is below what T confirms
+};
+/// From thresholds calibrated on a run (calibration_seconds > 0); nothing for read-back ones.
+std::optional<CalibrationConfidence> calibrationConfidence(const MonitorThresholds& thresholds);
+
 }  // namespace dynid

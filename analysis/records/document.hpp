@@ -48,7 +48,7 @@ inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
 // parameter's p_scaled.
 inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};  // dynid audit
-// monitor.json 2: each event's contact_link (contact isolation).
+// monitor.json 2: each event's contact_link (contact isolation), calibration_confidence.
 inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 2};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds.
 inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 1};

@@ -60,6 +60,11 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
   // Contact isolation: a push at joint 2 is on link 2 or beyond; the force on link 6 shows on
   // joints up to its own, never beyond.
   EXPECT_EQ(j["events"][0]["contact_link"], 2);
+  // Why the thresholds are where they are: 8 s of calibration confirm no rate below 1350 per
+  // hour; the default 0.1 per hour would need 30 h.
+  EXPECT_EQ(j["calibration_confidence"]["confirmed_false_alarms_per_hour"], 1350.0);
+  EXPECT_TRUE(j["calibration_confidence"]["extrapolated"].get<bool>());
+  EXPECT_TRUE(contains(r.out, "0.1 per hour would need 30 h of clean calibration")) << r.out;
   EXPECT_LE(j["events"][1]["contact_link"].get<int>(), 6);
   EXPECT_EQ(j["events"][1]["contact_link"], j["events"][1]["joints"].back());
   EXPECT_GE(j["events"][0]["start"].get<double>(), 2.0);

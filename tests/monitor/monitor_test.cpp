@@ -464,5 +464,22 @@ TEST_F(MonitorRun, RefusesRecordingsItCannotMonitor) {
   EXPECT_NE(text.find("lack the robot's joints"), std::string::npos) << text;
 }
 
+TEST(MonitorThresholds, WhatACalibrationConfirms) {
+  // 57 s of calibration (the real arm's): no alarm bounds the rate below 3 / 57 s at 95 %, 189
+  // per hour; 0.1 per hour would need 30 hours; 200 per hour is confirmed.
+  MonitorThresholds t;
+  t.calibration_seconds = 57.0;
+  t.false_alarms_per_hour = 0.1;
+  const std::optional<CalibrationConfidence> c = calibrationConfidence(t);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_NEAR(c->confirmed_per_hour, 3.0 / 57.0 * 3600.0, 1e-9);
+  EXPECT_NEAR(c->needed_seconds, 30.0 * 3600.0, 1e-6);
+  EXPECT_TRUE(c->extrapolated);
+  t.false_alarms_per_hour = 200.0;
+  EXPECT_FALSE(calibrationConfidence(t)->extrapolated);
+  t.calibration_seconds = 0.0;  // read back from a file: nothing to say
+  EXPECT_FALSE(calibrationConfidence(t).has_value());
+}
+
 }  // namespace
 }  // namespace dynid
