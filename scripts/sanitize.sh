@@ -31,7 +31,8 @@ export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 # gradient check of every segment cost, a 12-fit coverage statistic, a 100000-row file, two
 # refinements compared bit for bit, a memoised search and refinement, every command under hostile
 # names, a search resumed from its checkpoint, 40 payload fits for their coverage, 120 audited
-# identifications and the hac audit's 110, a simulated loaded/unloaded pair end to end, band coverage over 20000 samples and through the CLI, dense reference
+# identifications and the hac audit's 110, a simulated loaded/unloaded pair end to end, band
+# coverage over 20000 samples and through the CLI, dense reference
 # solutions built in the test's own code (-O0 here), estimates and designs repeated for every
 # thread count, refinements repeated for every thread count (9 min alone under the sanitizers on
 # a 2-core Zen 3), a Ctrl-C during a long read, three 100000-row streams under a memory cap, the
