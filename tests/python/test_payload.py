@@ -47,8 +47,12 @@ def test_payload_from_arrays_is_the_body(loaded):
     assert result.mass == pytest.approx(1.5, rel=1e-10)
     assert np.allclose(result.com, [0.02, -0.01, 0.06], atol=1e-10)
     assert all(q["determined"] for q in result.quantities if q["group"] != "principal axes")
-    # A sphere: equal principal moments leave its axes free, and the result says so.
-    assert not any(q["determined"] for q in result.quantities if q["group"] == "principal axes")
+    # A sphere: equal principal moments leave its axes free, and the result says so: an axis that
+    # is not determined has no value, only its estimate and resolution.
+    axes = [q for q in result.quantities if q["group"] == "principal axes"]
+    assert not any(q["determined"] for q in axes)
+    assert all(q["value"] is None and q["estimate"] is not None for q in axes)
+    assert all(q["value"] == q["estimate"] for q in result.quantities if q["determined"])
     assert any("principal axes" in w for w in result.warnings)
     pair = dynid.payload(arm, with_load, unloaded=without)
     assert pair.mode == "difference"
