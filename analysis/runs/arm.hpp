@@ -68,7 +68,8 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
                   const std::optional<DriveTerms>& drive_terms, std::vector<std::string>* warnings);
 
 /// The velocities and stamps of a dataset file's first kRestSamples samples (memory bounded
-/// whatever the file's length): what the rest velocities are measured on.
+/// whatever the file's length): what the rest velocities are measured on. Only `time` and `dq` are
+/// filled; q, ddq and tau have no samples.
 inline constexpr int kRestSamples = 200000;
 Trajectory restSamplesOf(const std::string& file, int joints);
 
