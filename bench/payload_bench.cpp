@@ -114,18 +114,23 @@ struct Errors {
   }
 };
 
+/// The 15 s d-optimal payload motion `dynid excite --payload` designs for the last link, at 1 kHz.
+Trajectory payloadMotion(const Model& arm) {
+  ExciteRequest excite;
+  excite.robot = arm;
+  excite.limits = excitationLimits(arm, {});
+  excite.payload_link = arm.numJoints() - 1;
+  excite.period = 15.0;
+  excite.criterion = ExcitationCriterion::kDOptimal;
+  excite.threads = 0;
+  return sampleFourier(exciteRun(excite).design, arm, 1000.0);
+}
+
 void runRobot(benchmark::State& state, const Model& arm, const Model& arm_with_drives,
               const Pose<double>& tool) {
   const int n = arm.numJoints();
   for (auto _ : state) {
-    ExciteRequest excite;
-    excite.robot = arm;
-    excite.limits = excitationLimits(arm, {});
-    excite.payload_link = n - 1;
-    excite.period = 15.0;
-    excite.criterion = ExcitationCriterion::kDOptimal;
-    excite.threads = 0;
-    const Trajectory motion = sampleFourier(exciteRun(excite).design, arm, 1000.0);
+    const Trajectory motion = payloadMotion(arm);
     const std::vector<PrincipalBody> set = payloadSet();
 
     // 1. The truth arm, one log, 5 seeds per payload.
@@ -275,16 +280,8 @@ std::array<double, 13> derivedTruth(const PrincipalBody& b) {
 /// entry; 6.25 mm, 1.25 times the 5 mm rule, for a centre-of-mass coordinate); how many are
 /// reported as not determined (their resolution instead of a number).
 void runLightTools(benchmark::State& state, const Model& arm, const Pose<double>& tool) {
-  const int n = arm.numJoints();
   for (auto _ : state) {
-    ExciteRequest excite;
-    excite.robot = arm;
-    excite.limits = excitationLimits(arm, {});
-    excite.payload_link = n - 1;
-    excite.period = 15.0;
-    excite.criterion = ExcitationCriterion::kDOptimal;
-    excite.threads = 0;
-    const Trajectory motion = sampleFourier(exciteRun(excite).design, arm, 1000.0);
+    const Trajectory motion = payloadMotion(arm);
     const std::vector<PrincipalBody> set = payloadSet(0.01, 1.0);
     int determined = 0, covered = 0, within = 0, undetermined = 0, cases = 0;
     double worst = 0.0;  // the largest error of a determined quantity, in its 25 % bound

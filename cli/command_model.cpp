@@ -17,13 +17,6 @@ namespace dynid::cli {
 
 namespace {
 
-std::vector<double> numbers(const po::variables_map& vm, const char* option, std::size_t count,
-                            const char* what) {
-  const std::vector<double> v = parseList(vm[option].as<std::string>(), option);
-  if (v.size() != count) throw UsageError(std::string("--") + option + " takes " + what);
-  return v;
-}
-
 /// dynid model attach: the robot with a known body added to a link, written as a model file.
 int runAttach(const std::vector<std::string>& args) {
   po::options_description options("dynid model attach");
@@ -57,15 +50,7 @@ int runAttach(const std::vector<std::string>& args) {
   if (given == (vm.count("body") > 0))
     throw UsageError("give the body as --mass (with --com, --inertia) or as --body, one of them");
   const Model arm = loadRobotFromOptions(vm);
-  Pose<double> frame = Pose<double>::Identity();
-  if (vm.count("tool-xyz")) {
-    const std::vector<double> v = numbers(vm, "tool-xyz", 3, "three numbers: x,y,z");
-    frame.translation = Eigen::Vector3d(v[0], v[1], v[2]);
-  }
-  if (vm.count("tool-rpy")) {
-    const std::vector<double> v = numbers(vm, "tool-rpy", 3, "three numbers: roll,pitch,yaw");
-    frame.rotation = rotationFromRpy(v[0], v[1], v[2]);
-  }
+  const Pose<double> frame = attachmentFrameOption(vm);
   Vector10d body;
   if (vm.count("body")) {
     const std::string file = vm["body"].as<std::string>();
@@ -74,13 +59,13 @@ int runAttach(const std::vector<std::string>& args) {
     if (!vm.count("mass")) throw UsageError("--com and --inertia need --mass");
     Eigen::Vector3d com = Eigen::Vector3d::Zero();
     if (vm.count("com")) {
-      const std::vector<double> v = numbers(vm, "com", 3, "three numbers: x,y,z");
+      const std::vector<double> v = fixedList(vm, "com", 3, "three numbers: x,y,z");
       com = Eigen::Vector3d(v[0], v[1], v[2]);
     }
     Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
     if (vm.count("inertia")) {
       const std::vector<double> v =
-          numbers(vm, "inertia", 6, "six numbers: Ixx,Ixy,Ixz,Iyy,Iyz,Izz");
+          fixedList(vm, "inertia", 6, "six numbers: Ixx,Ixy,Ixz,Iyy,Iyz,Izz");
       inertia << v[0], v[1], v[2], v[1], v[3], v[4], v[2], v[4], v[5];
     }
     body = bodyFromCentre(vm["mass"].as<double>(), com, inertia);

@@ -17,8 +17,7 @@ namespace dynid::cli {
 
 namespace {
 Eigen::Vector3d threeNumbers(const po::variables_map& vm, const char* option) {
-  const std::vector<double> v = parseList(vm[option].as<std::string>(), option);
-  if (v.size() != 3) throw UsageError(std::string("--") + option + " takes three numbers: x,y,z");
+  const std::vector<double> v = fixedList(vm, option, 3, "three numbers: x,y,z");
   return {v[0], v[1], v[2]};
 }
 
@@ -35,11 +34,6 @@ void addPayloadOptions(po::options_description& options) {
       "prepared dataset CSV with the payload attached")(
       "unloaded", po::value<std::string>(),
       "the same commanded motion without the payload: the torque difference is used")(
-      "link", po::value<std::string>(), "the link the payload is attached to (default: the last)")(
-      "tool-xyz", po::value<std::string>(),
-      "the attachment frame's origin in the link's frame, x,y,z [m] (default: 0,0,0)")(
-      "tool-rpy", po::value<std::string>(),
-      "the attachment frame's roll,pitch,yaw in the link's frame [rad] (default: 0,0,0)")(
       "prior", po::value<std::string>(),
       "a prior payload: a payload.json or payload.body.json (default: uninformative)")(
       "refit-friction", po::bool_switch(),
@@ -80,6 +74,7 @@ std::string writeUrdfOption(const po::variables_map& vm, const LoadedArm& arm,
 int runPayload(const std::vector<std::string>& args) {
   po::options_description options("dynid payload");
   addPayloadOptions(options);
+  addAttachmentOptions(options, "the payload");
   addPriorWeightOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -111,11 +106,7 @@ int runPayload(const std::vector<std::string>& args) {
   request.data_file = vm["data"].as<std::string>();
   if (vm.count("unloaded")) request.unloaded_file = vm["unloaded"].as<std::string>();
   if (vm.count("link")) request.link = vm["link"].as<std::string>();
-  if (vm.count("tool-xyz")) request.tool.translation = threeNumbers(vm, "tool-xyz");
-  if (vm.count("tool-rpy")) {
-    const Eigen::Vector3d rpy = threeNumbers(vm, "tool-rpy");
-    request.tool.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
-  }
+  request.tool = attachmentFrameOption(vm);
   if (vm.count("prior")) {
     const std::string file = vm["prior"].as<std::string>();
     request.prior = payloadBodyFrom(parseJson(readFile(file), file), file);

@@ -38,6 +38,35 @@ std::string outputDirectoryOption(const po::variables_map& vm) {
   return dir;
 }
 
+std::vector<double> fixedList(const po::variables_map& vm, const char* name, std::size_t count,
+                              const char* what) {
+  std::vector<double> v = parseList(vm[name].as<std::string>(), name);
+  if (v.size() != count) throw UsageError(std::string("--") + name + " takes " + what);
+  return v;
+}
+
+void addAttachmentOptions(po::options_description& options, const std::string& what) {
+  options.add_options()("link", po::value<std::string>(),
+                        ("the link " + what + " is attached to (default: the last)").c_str())(
+      "tool-xyz", po::value<std::string>(),
+      "the attachment frame's origin in the link's frame, x,y,z [m] (default: 0,0,0)")(
+      "tool-rpy", po::value<std::string>(),
+      "the attachment frame's roll,pitch,yaw in the link's frame [rad] (default: 0,0,0)");
+}
+
+Pose<double> attachmentFrameOption(const po::variables_map& vm) {
+  Pose<double> frame = Pose<double>::Identity();
+  if (vm.count("tool-xyz")) {
+    const std::vector<double> v = fixedList(vm, "tool-xyz", 3, "three numbers: x,y,z");
+    frame.translation = Eigen::Vector3d(v[0], v[1], v[2]);
+  }
+  if (vm.count("tool-rpy")) {
+    const std::vector<double> v = fixedList(vm, "tool-rpy", 3, "three numbers: roll,pitch,yaw");
+    frame.rotation = rotationFromRpy(v[0], v[1], v[2]);
+  }
+  return frame;
+}
+
 std::vector<double> parseList(const std::string& text, const std::string& option) {
   std::vector<double> out;
   std::size_t start = 0;

@@ -14,6 +14,7 @@
 
 #include "analysis/runs/identify.hpp"
 #include "core/errors.hpp"
+#include "core/spatial.hpp"
 #include "data/robots.hpp"
 
 namespace dynid::cli {
@@ -72,6 +73,15 @@ Eigen::VectorXd parseJointVector(const std::string& text, const std::string& opt
 /// The joint vector of option `name` when given.
 std::optional<Eigen::VectorXd> optionalJointVector(const po::variables_map& vm, const char* name,
                                                    int n, bool allow_broadcast);
+/// The list of option `name` with exactly `count` entries; UsageError "--name takes `what`"
+/// otherwise.
+std::vector<double> fixedList(const po::variables_map& vm, const char* name, std::size_t count,
+                              const char* what);
+/// --link, --tool-xyz and --tool-rpy: where a body is attached (payload, model attach); `what`
+/// names the body ("the payload", "the body").
+void addAttachmentOptions(po::options_description& options, const std::string& what);
+/// --tool-xyz and --tool-rpy as a pose in the link's frame (identity when neither is given).
+Pose<double> attachmentFrameOption(const po::variables_map& vm);
 /// Calls parse(text) and turns its InputError into a UsageError naming --option.
 template <typename F>
 auto parseOption(const po::variables_map& vm, const char* option, F parse) {

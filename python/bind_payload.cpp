@@ -23,6 +23,26 @@ Eigen::Vector3d threeArg(const py::handle& value, const char* name) {
   return vectorArg(value, name, 3);
 }
 
+/// `tool_xyz` and `tool_rpy` as a pose in the link's frame (identity for None).
+Pose<double> attachmentFrame(const OptionalArrayLike& tool_xyz, const OptionalArrayLike& tool_rpy) {
+  Pose<double> frame = Pose<double>::Identity();
+  if (!tool_xyz.is_none()) frame.translation = threeArg(tool_xyz, "tool_xyz");
+  if (!tool_rpy.is_none()) {
+    const Eigen::Vector3d rpy = threeArg(tool_rpy, "tool_rpy");
+    frame.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
+  }
+  return frame;
+}
+
+/// A body's 10 standard parameters: a payload.json / payload.body.json path, or the values.
+Vector10d bodyArg(const PriorLike& value, const char* name) {
+  if (py::isinstance<py::str>(value) || py::hasattr(value, "__fspath__")) {
+    const std::string file = pathArg(value, name);
+    return payloadBodyFrom(parseJson(readFile(file), file), file);
+  }
+  return vectorArg(value, name, 10);
+}
+
 PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalDataLike& unloaded,
                        const std::string& link, const OptionalArrayLike& tool_xyz,
                        const OptionalArrayLike& tool_rpy, const PriorLike& prior,
@@ -40,19 +60,8 @@ PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalD
     request.unloaded = u.arrays;
   }
   request.link = link;
-  if (!tool_xyz.is_none()) request.tool.translation = threeArg(tool_xyz, "tool_xyz");
-  if (!tool_rpy.is_none()) {
-    const Eigen::Vector3d rpy = threeArg(tool_rpy, "tool_rpy");
-    request.tool.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
-  }
-  if (!prior.is_none()) {
-    if (py::isinstance<py::str>(prior) || py::hasattr(prior, "__fspath__")) {
-      const std::string file = pathArg(prior, "prior");
-      request.prior = payloadBodyFrom(parseJson(readFile(file), file), file);
-    } else {
-      request.prior = vectorArg(prior, "prior", 10);
-    }
-  }
+  request.tool = attachmentFrame(tool_xyz, tool_rpy);
+  if (!prior.is_none()) request.prior = bodyArg(prior, "prior");
   request.prior_weight = prior_weight;
   request.refit_friction = refit_friction;
   if (!payload_mass.is_none()) request.known_mass = payload_mass.cast<double>();
@@ -170,23 +179,12 @@ void bindPayloadRun(py::module_& m) {
 Model attach(const Model& model, const OptionalFloat& mass, const OptionalArrayLike& com,
              const OptionalArrayLike& inertia, const PriorLike& body, const std::string& link,
              const OptionalArrayLike& tool_xyz, const OptionalArrayLike& tool_rpy) {
-  Pose<double> frame = Pose<double>::Identity();
-  if (!tool_xyz.is_none()) frame.translation = threeArg(tool_xyz, "tool_xyz");
-  if (!tool_rpy.is_none()) {
-    const Eigen::Vector3d rpy = threeArg(tool_rpy, "tool_rpy");
-    frame.rotation = rotationFromRpy(rpy.x(), rpy.y(), rpy.z());
-  }
   const bool given = !mass.is_none() || !com.is_none() || !inertia.is_none();
   if (given == !body.is_none())
     throw py::value_error("give the body as mass (with com, inertia) or as body, one of them");
   Vector10d standard;
   if (!body.is_none()) {
-    if (py::isinstance<py::str>(body) || py::hasattr(body, "__fspath__")) {
-      const std::string file = pathArg(body, "body");
-      standard = payloadBodyFrom(parseJson(readFile(file), file), file);
-    } else {
-      standard = vectorArg(body, "body", 10);
-    }
+    standard = bodyArg(body, "body");
   } else {
     if (mass.is_none()) throw py::value_error("com and inertia need mass");
     const Eigen::Vector3d c = com.is_none() ? Eigen::Vector3d::Zero() : threeArg(com, "com");
@@ -197,7 +195,7 @@ Model attach(const Model& model, const OptionalFloat& mass, const OptionalArrayL
     }
     standard = bodyFromCentre(mass.cast<double>(), c, i);
   }
-  return attachBody(model, linkIndex(model, link), frame, standard);
+  return attachBody(model, linkIndex(model, link), attachmentFrame(tool_xyz, tool_rpy), standard);
 }
 
 }  // namespace

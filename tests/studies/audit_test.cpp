@@ -68,28 +68,11 @@ TEST(AuditTest, TheRulesOnConstructedTables) {
   EXPECT_EQ(unexcited.verdict, "consistent");
 }
 
-/// Base-parameter estimates of `sessions` simulated logs of the PUMA with its drives (rotor
-/// inertia, published friction; the same motion, independent torque noise), session `changed`
-/// with Fc3 scaled by `scale`.
-AuditOutcome sessions(int count, std::uint64_t seed, int changed, double scale) {
-  const Model puma = makePuma560(true);
-  const Eigen::VectorXd theta = puma.standardParameters();
-  const ParameterLayout layout = puma.parameterLayout();
-  const BaseParameters base = structuralBaseParameters(puma);
+/// The audit of base-parameter estimates, one per session, named s0, s1, ...
+AuditOutcome auditOf(const BaseParameters& base, const std::vector<BaseEstimate>& estimates) {
   AuditOutcome o;
-  std::vector<BaseEstimate> estimates;
-  for (int s = 0; s < count; ++s) {
-    Model truth = puma;
-    if (s == changed) {
-      Eigen::VectorXd t = theta;
-      t[layout.driveIndex(2, DriveTerm::kCoulomb)] *= scale;
-      truth.setStandardParameters(t);
-    }
-    LeastSquaresStream stream(base, truth);
-    stream.addTrajectory(truth, test::pumaTrajectory(truth, 10.0, 0.5, seed * 100 + s));
-    estimates.push_back(stream.estimate(LeastSquaresMethod::kOrdinary));
-    o.sessions.push_back("s" + std::to_string(s));
-  }
+  const int count = static_cast<int>(estimates.size());
+  for (int s = 0; s < count; ++s) o.sessions.push_back("s" + std::to_string(s));
   for (int j = 0; j < base.numBase(); ++j) {
     AuditParameter p;
     p.name = base.baseName(j);
@@ -104,6 +87,29 @@ AuditOutcome sessions(int count, std::uint64_t seed, int changed, double scale) 
   }
   auditTest(o);
   return o;
+}
+
+/// Base-parameter estimates of `sessions` simulated logs of the PUMA with its drives (rotor
+/// inertia, published friction; the same motion, independent torque noise), session `changed`
+/// with Fc3 scaled by `scale`.
+AuditOutcome sessions(int count, std::uint64_t seed, int changed, double scale) {
+  const Model puma = makePuma560(true);
+  const Eigen::VectorXd theta = puma.standardParameters();
+  const ParameterLayout layout = puma.parameterLayout();
+  const BaseParameters base = structuralBaseParameters(puma);
+  std::vector<BaseEstimate> estimates;
+  for (int s = 0; s < count; ++s) {
+    Model truth = puma;
+    if (s == changed) {
+      Eigen::VectorXd t = theta;
+      t[layout.driveIndex(2, DriveTerm::kCoulomb)] *= scale;
+      truth.setStandardParameters(t);
+    }
+    LeastSquaresStream stream(base, truth);
+    stream.addTrajectory(truth, test::pumaTrajectory(truth, 10.0, 0.5, seed * 100 + s));
+    estimates.push_back(stream.estimate(LeastSquaresMethod::kOrdinary));
+  }
+  return auditOf(base, estimates);
 }
 
 // Sessions without change: about 5 % of the parameters flagged at the 5 % level; a 10 % change of
@@ -150,7 +156,6 @@ RealisticSessions realisticSessions(int count, std::uint64_t seed, int changed, 
   const ParameterLayout layout = puma.parameterLayout();
   const BaseParameters base = structuralBaseParameters(puma);
   RealisticSessions out;
-  AuditOutcome& o = out.outcome;
   std::vector<BaseEstimate> estimates;
   for (int s = 0; s < count; ++s) {
     Model truth = puma;
@@ -178,21 +183,8 @@ RealisticSessions realisticSessions(int count, std::uint64_t seed, int changed, 
         out.covered += std::abs(e.beta[j] - beta[j]) <= 1.959964 * e.std_dev[j];
     }
     estimates.push_back(std::move(e));
-    o.sessions.push_back("s" + std::to_string(s));
   }
-  for (int j = 0; j < base.numBase(); ++j) {
-    AuditParameter p;
-    p.name = base.baseName(j);
-    p.group = p.name.rfind("F", 0) == 0 ? "friction" : "inertial";
-    p.estimate.resize(count);
-    p.std_dev.resize(count);
-    for (int s = 0; s < count; ++s) {
-      p.estimate[s] = estimates[static_cast<std::size_t>(s)].beta[j];
-      p.std_dev[s] = estimates[static_cast<std::size_t>(s)].std_dev[j];
-    }
-    o.parameters.push_back(p);
-  }
-  auditTest(o);
+  out.outcome = auditOf(base, estimates);
   return out;
 }
 
