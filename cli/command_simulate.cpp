@@ -53,6 +53,10 @@ void addSimulateOptions(po::options_description& options) {
       "an external push (repeatable): joint=J,torque=T,at=S,for=D [N m, s] or "
       "link=L,force=fx:fy:fz[,moment=mx:my:mz],at=S,for=D [N, N m, base-frame axes, at the link "
       "frame's origin]; J and L by name or 1-based index; a short `for` makes an impulse")(
+      "pauses", po::value<std::string>(),
+      "stops in the motion: move=M,hold=H[,ramp=R] [s]: M seconds of motion (slowing to a stop "
+      "over its last R, starting over its first R; default 0.5), then H seconds holding the pose, "
+      "over and over")(
       "truth-out", po::value<std::string>(),
       "with --disturbance: the applied external joint torques, t,tau_ext1.. (default: OUT with "
       ".truth.csv for .csv; - for standard output)")(
@@ -74,16 +78,55 @@ int namedIndex(const std::string& what, const std::vector<std::string>& names, c
                    "' (a name or 1.." + std::to_string(names.size()) + ")");
 }
 
+/// `option`'s value `spec` as key=value items, in order. UsageError for an item without '='.
+std::vector<std::pair<std::string, std::string>> keyValues(const std::string& option,
+                                                           const std::string& spec) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = spec.find(',', start);
+    const std::string item = spec.substr(start, comma == std::string::npos ? comma : comma - start);
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos)
+      throw UsageError("--" + option + " '" + spec + "': expected key=value, not '" + item + "'");
+    out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
+/// A finite number in `option`'s item `key`. UsageError otherwise.
+double keyNumber(const std::string& option, const std::string& spec, const std::string& key,
+                 const std::string& text) {
+  double x = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), x);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || !std::isfinite(x))
+    throw UsageError("--" + option + " '" + spec + "': " + key + " is not a number: '" + text +
+                     "'");
+  return x;
+}
+
+Pauses parsePauses(const std::string& spec) {
+  Pauses p;
+  for (const auto& [key, value] : keyValues("pauses", spec)) {
+    if (key == "move")
+      p.move = keyNumber("pauses", spec, key, value);
+    else if (key == "hold")
+      p.hold = keyNumber("pauses", spec, key, value);
+    else if (key == "ramp")
+      p.ramp = keyNumber("pauses", spec, key, value);
+    else
+      throw UsageError("--pauses '" + spec + "': unknown key '" + key + "' (move, hold, ramp)");
+  }
+  if (const std::string why = p.problem(); !why.empty())
+    throw UsageError("--pauses '" + spec + "': " + why);
+  return p;
+}
+
 Disturbance parseDisturbance(const std::string& spec, const Model& robot) {
   Disturbance d;
   bool at = false, duration = false;
   const auto number = [&](const std::string& key, const std::string& text) {
-    double x = 0.0;
-    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), x);
-    if (text.empty() || error != std::errc() || end != text.data() + text.size() ||
-        !std::isfinite(x))
-      throw UsageError("--disturbance '" + spec + "': " + key + " is not a number: '" + text + "'");
-    return x;
+    return keyNumber("disturbance", spec, key, text);
   };
   const auto vector3 = [&](const std::string& key, const std::string& text) {
     Eigen::Vector3d v;
@@ -98,18 +141,7 @@ Disturbance parseDisturbance(const std::string& spec, const Model& robot) {
     }
     return v;
   };
-  std::vector<std::string> items;
-  for (std::size_t start = 0;;) {
-    const std::size_t comma = spec.find(',', start);
-    items.push_back(spec.substr(start, comma == std::string::npos ? comma : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  for (const std::string& item : items) {
-    const std::size_t eq = item.find('=');
-    if (eq == std::string::npos)
-      throw UsageError("--disturbance '" + spec + "': expected key=value, not '" + item + "'");
-    const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+  for (const auto& [key, value] : keyValues("disturbance", spec)) {
     if (key == "joint")
       d.joint = namedIndex(value, robot.joint_names, "joint", spec);
     else if (key == "link")
@@ -200,6 +232,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (vm.count("controller-robot"))
     request.controller_model = loadOtherRobot(vm, "controller-robot");
   request.controller_perturb = vm["controller-perturb"].as<double>();
+  if (vm.count("pauses")) request.pauses = parsePauses(vm["pauses"].as<std::string>());
   if (vm.count("disturbance"))
     for (const std::string& spec : vm["disturbance"].as<std::vector<std::string>>())
       request.disturbances.push_back(parseDisturbance(spec, request.robot));

@@ -77,6 +77,42 @@ void evaluateReference(const Reference& reference, double t, Eigen::VectorXd& q,
   std::visit([&](const auto& r) { evaluate(r, t, q, dq, ddq); }, reference);
 }
 
+std::string Pauses::problem() const {
+  if (!std::isfinite(ramp) || ramp <= 0.0) return "ramp must be > 0 [s]";
+  if (!std::isfinite(move) || move <= 2.0 * ramp) return "move must exceed twice the ramp [s]";
+  if (!std::isfinite(hold) || hold < 0.0) return "hold must be >= 0 [s]";
+  return {};
+}
+
+void Pauses::check() const {
+  if (const std::string why = problem(); !why.empty()) throw InputError("`pauses`: " + why);
+}
+
+void Pauses::warp(double t, double& tau, double& speed, double& rate) const {
+  // One cycle: a ramp up, full speed, a ramp down, the hold. A ramp's s = sin^2(a u), a = pi/(2
+  // ramp), integrates to u/2 - sin(2 a u)/(4 a); the cycle advances the reference by move - ramp.
+  const double cycle = move + hold, a = std::numbers::pi / (2.0 * ramp);
+  const double cycles = std::floor(t / cycle), u = t - cycles * cycle;
+  const auto rise = [&](double x) { return 0.5 * x - std::sin(2.0 * a * x) / (4.0 * a); };
+  tau = cycles * (move - ramp);
+  if (u < ramp) {
+    tau += rise(u);
+    speed = std::pow(std::sin(a * u), 2);
+    rate = a * std::sin(2.0 * a * u);
+  } else if (u < move - ramp) {
+    tau += 0.5 * ramp + (u - ramp);
+    speed = 1.0, rate = 0.0;
+  } else if (u < move) {
+    const double x = move - u;  // the ramp down mirrors the ramp up
+    tau += (move - ramp) - rise(x);
+    speed = std::pow(std::sin(a * x), 2);
+    rate = -a * std::sin(2.0 * a * x);
+  } else {
+    tau += move - ramp;
+    speed = rate = 0.0;
+  }
+}
+
 TrackingGains defaultGains(const Model& model, const Eigen::VectorXd& q, double bandwidth_hz,
                            double damping) {
   Data data(model);
@@ -124,10 +160,29 @@ TrackingController::TrackingController(const Model& model, Reference reference, 
   zero_ = Eigen::VectorXd::Zero(model_.numJoints());
 }
 
+void TrackingController::setPauses(const Pauses& pauses) {
+  pauses.check();
+  pauses_ = pauses;
+}
+
+void TrackingController::desired(double t, Eigen::VectorXd& q, Eigen::VectorXd& dq,
+                                 Eigen::VectorXd& ddq) const {
+  if (!pauses_) {
+    evaluateReference(reference_, t, q, dq, ddq);
+    return;
+  }
+  // q(tau(t)): dq = q' s, ddq = q'' s^2 + q' s'.
+  double tau = 0.0, speed = 0.0, rate = 0.0;
+  pauses_->warp(t, tau, speed, rate);
+  evaluateReference(reference_, tau, q, dq, ddq);
+  ddq = ddq * (speed * speed) + dq * rate;
+  dq *= speed;
+}
+
 void TrackingController::compute(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                                  const Eigen::Ref<const Eigen::VectorXd>& dq,
                                  Eigen::Ref<Eigen::VectorXd> tau) {
-  evaluateReference(reference_, t, q_des_, dq_des_, ddq_des_);
+  desired(t, q_des_, dq_des_, ddq_des_);
   // tau = Kp e + Kd de + g_ctrl(q), saturated.
   const Eigen::VectorXd& gravity = rnea(model_, data_, q, zero_, zero_);
   tau = gains_.kp.cwiseProduct(q_des_ - q) + gains_.kd.cwiseProduct(dq_des_ - dq) + gravity;

@@ -7,6 +7,8 @@
 // the true robot), then saturated to +-torque_limit.
 #pragma once
 
+#include <optional>
+#include <string>
 #include <variant>
 
 #include "core/data.hpp"
@@ -44,6 +46,22 @@ Eigen::VectorXd defaultCentre(const Model& model);
 void evaluateReference(const Reference& reference, double t, Eigen::VectorXd& q,
                        Eigen::VectorXd& dq, Eigen::VectorXd& ddq);
 
+/// Stops in a reference: the reference's own time runs at a speed s(t) in [0, 1] that cycles
+/// through `move` seconds of motion, then `hold` seconds at rest. Within the motion, s rises from 0
+/// to 1 over the first `ramp` seconds and falls back over the last `ramp` (s = sin^2, so the
+/// desired velocity and acceleration are continuous), so the arm slows to a stop, holds its pose
+/// and starts again: q_des(t) = ref(tau(t)), tau' = s. The reference's time advances by
+/// move - ramp per cycle. Each field finite; move > 2 ramp, hold >= 0, ramp > 0.
+struct Pauses {
+  double move = 4.0, hold = 2.0, ramp = 0.5;  // [s]
+  /// The reference's time at t, and its first two derivatives. Throws InputError for bad fields.
+  void warp(double t, double& tau, double& speed, double& rate) const;
+  /// What is out of range ("ramp must be > 0 [s]"), or empty.
+  std::string problem() const;
+  /// Throws InputError naming `pauses` and problem().
+  void check() const;
+};
+
 struct TrackingGains {
   Eigen::VectorXd kp;  // [N m / rad]
   Eigen::VectorXd kd;  // [N m s / rad]
@@ -77,6 +95,10 @@ class TrackingController {
   void compute(double t, const Eigen::Ref<const Eigen::VectorXd>& q,
                const Eigen::Ref<const Eigen::VectorXd>& dq, Eigen::Ref<Eigen::VectorXd> tau);
 
+  /// Stops the reference at its pauses (none by default). Throws what Pauses::check throws.
+  void setPauses(const Pauses& pauses);
+  /// The desired state at t, pauses included (n entries each).
+  void desired(double t, Eigen::VectorXd& q, Eigen::VectorXd& dq, Eigen::VectorXd& ddq) const;
   const Reference& reference() const { return reference_; }
   const TrackingGains& gains() const { return gains_; }
   int numJoints() const { return model_.numJoints(); }
@@ -87,6 +109,7 @@ class TrackingController {
   Reference reference_;
   TrackingGains gains_;
   Eigen::VectorXd torque_limit_;
+  std::optional<Pauses> pauses_;
   Eigen::VectorXd q_des_, dq_des_, ddq_des_, zero_;
 };
 

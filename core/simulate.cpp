@@ -195,7 +195,7 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
   out.resize(n, static_cast<int>(samples));
   Data data(truth);
   Eigen::VectorXd q, dq, ddq_ref;
-  evaluateReference(controller.reference(), 0.0, q, dq, ddq_ref);
+  controller.desired(0.0, q, dq, ddq_ref);
   Eigen::VectorXd tau(n), external = Eigen::VectorXd::Zero(n), pushed(n);
   if (applied) applied->setZero(n, samples);
   for (long k = 0; k < samples; ++k) {

@@ -37,7 +37,8 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
                       const OptionalArrayLike& tau_max, double bandwidth,
                       const std::optional<Model>& controller_model, double controller_perturb,
                       const std::string& integrator, double noise_q, double noise_dq,
-                      double noise_tau, std::uint64_t seed, const OptionalPathLike& trajectory) {
+                      double noise_tau, std::uint64_t seed, const OptionalPathLike& trajectory,
+                      const std::optional<std::vector<double>>& pauses) {
   if (controller != "sinusoidal" && controller != "fourier")
     throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
                           "'");
@@ -68,6 +69,15 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
   s.noise_dq = noise_dq;
   s.noise_tau = noise_tau;
   s.seed = seed;
+  if (pauses) {
+    if (pauses->size() < 2 || pauses->size() > 3)
+      throw py::value_error("pauses: expected (move, hold) or (move, hold, ramp) [s]");
+    Pauses p;
+    p.move = (*pauses)[0], p.hold = (*pauses)[1];
+    if (pauses->size() == 3) p.ramp = (*pauses)[2];
+    if (const std::string why = p.problem(); !why.empty()) throw py::value_error("pauses: " + why);
+    r.pauses = p;
+  }
   py::gil_scoped_release release;
   return simulateRun(r).trajectory;
 }
@@ -250,9 +260,11 @@ void bindSimulate(py::module_& m) {
       py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
       py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau,
       py::arg("seed") = SimulateRequest{}.simulation.seed, py::arg("trajectory") = py::none(),
+      py::arg("pauses") = py::none(),
       "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
       "Per-joint settings take one number or n; trajectory: an excitation.json design, one period "
-      "unless duration is given (default duration: 10 s).");
+      "unless duration is given (default duration: 10 s); pauses: (move, hold[, ramp]) [s], stops "
+      "in the motion as simulate --pauses.");
 
   m.def(
       "gc_error",

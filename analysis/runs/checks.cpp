@@ -27,6 +27,7 @@ void SimulateRequest::check() const {
   checkOption(kCommand, "noise-q", simulation.noise_q, "`noise_q`");
   checkOption(kCommand, "noise-dq", simulation.noise_dq, "`noise_dq`");
   checkOption(kCommand, "noise-tau", simulation.noise_tau, "`noise_tau`");
+  if (pauses) pauses->check();
 }
 
 void IdentifyRequest::check() const {

@@ -93,6 +93,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   if (request.tau_max) tau_max = *request.tau_max;
 
   TrackingController controller(controller_model, reference, gains, tau_max);
+  if (request.pauses) controller.setPauses(*request.pauses);
   out.trajectory = simulate(truth, controller, request.simulation, request.disturbances,
                             request.disturbances.empty() ? nullptr : &out.external);
   // Tracking error RMS and peak torque.
@@ -100,7 +101,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   Eigen::VectorXd q_des, dq_des, ddq_des;
   double squared_error = 0.0;
   for (int k = 0; k < t.numSamples(); ++k) {
-    evaluateReference(reference, t.time[k], q_des, dq_des, ddq_des);
+    controller.desired(t.time[k], q_des, dq_des, ddq_des);
     squared_error += (t.q.col(k) - q_des).squaredNorm();
   }
   out.tracking_rms = std::sqrt(squared_error / (static_cast<double>(t.numSamples()) * n));

@@ -31,6 +31,7 @@ struct SimulateRequest {
   double base_frequency = 0.1;                      // fourier [Hz]
   int harmonics = 5;                                // fourier, >= 1
   std::optional<Eigen::VectorXd> kp, kd, tau_max;   // default gains and effort limits otherwise
+  std::optional<Pauses> pauses;                     // stops in the motion (none by default)
   double bandwidth = 5.0;                           // for the default gains [Hz]
   SimulationOptions simulation;
   std::vector<Disturbance> disturbances;  // external pushes, recorded in SimulateOutcome::external

@@ -104,3 +104,49 @@ TEST(Controllers, EffectiveInertiaGainsBoundEveryClosedLoopModeWhereTheDiagonals
 
 }  // namespace
 }  // namespace dynid
+
+namespace dynid {
+namespace {
+
+TEST(Controllers, PausesStopTheReferenceSmoothlyAndHoldIt) {
+  const Model model = makePuma560();
+  const int n = model.numJoints();
+  SinusoidalReference r;
+  r.q0 = Eigen::VectorXd::Zero(n);
+  r.amplitude = Eigen::VectorXd::Constant(n, 0.5);
+  r.frequency = defaultFrequencies(n);
+  r.phase = Eigen::VectorXd::Constant(n, 0.3);
+  TrackingController controller(model, r, defaultGains(model, r.q0),
+                                Eigen::VectorXd::Constant(n, 1e3));
+  Pauses p;
+  p.move = 3.0, p.hold = 1.5, p.ramp = 0.4;
+  controller.setPauses(p);
+  Eigen::VectorXd q, dq, ddq, qp, dqp, ddqp, qm, dqm, ddqm;
+  // Central differences of the warped reference at every phase of a cycle: the ramps, full
+  // speed, the hold and the second cycle (truncation O(h^2) ~ 1e-10 at rad-scale motions).
+  const double h = 1e-5;
+  for (double t : {0.1, 0.35, 1.7, 2.75, 2.95, 3.8, 4.6, 6.0, 7.3}) {
+    controller.desired(t, q, dq, ddq);
+    controller.desired(t + h, qp, dqp, ddqp);
+    controller.desired(t - h, qm, dqm, ddqm);
+    EXPECT_LT(((qp - qm) / (2 * h) - dq).norm(), 1e-8) << t;
+    EXPECT_LT(((dqp - dqm) / (2 * h) - ddq).norm(), 1e-7) << t;
+  }
+  // At rest from t = 0 and through the hold, at the pose where the motion stopped.
+  controller.desired(0.0, q, dq, ddq);
+  EXPECT_EQ(dq.norm(), 0.0);
+  controller.desired(3.2, q, dq, ddq);
+  EXPECT_EQ(dq.norm() + ddq.norm(), 0.0);
+  controller.desired(4.4, qp, dqp, ddqp);
+  EXPECT_EQ((q - qp).norm(), 0.0);
+  // The reference's own time advanced by move - ramp per cycle: the second hold's pose is the
+  // unpaused reference's at 2 (move - ramp).
+  controller.desired(8.0, q, dq, ddq);
+  evaluateReference(r, 2 * (p.move - p.ramp), qp, dqp, ddqp);
+  EXPECT_LT((q - qp).norm(), 1e-12);
+  p.ramp = 2.0;  // move must exceed two ramps
+  EXPECT_THROW(controller.setPauses(p), InputError);
+}
+
+}  // namespace
+}  // namespace dynid
