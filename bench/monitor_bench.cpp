@@ -13,6 +13,13 @@
 //     N m on a random joint (either sign, 0.1 s; 10 per 60 s log, 100 in all) detected within 50
 //     ms; false alarms over 60 clean 60 s logs (one hour); the thresholds of the prior over those
 //     of the identified model, per joint.
+//   - BM_MonitorStates/<robot>: the arm states (docs/MONITOR.md, "The arm states"). The truth as
+//     above plus a Stribeck term half Fc that no identified model carries, tracked at 20 Hz with
+//     stops (simulate --pauses). Calibrated on a 120 s log of another motion (4 s moves, 3 s
+//     holds); watched: ten 56 s logs (3 s moves, 4 s holds), each with 8 pushes at rest (5 sigma of
+//     the torque noise, 0.5 N m, for 0.2 s, in the holds) and 8 in motion (10 N m for 0.1 s),
+//     random joint and sign; and an hour of clean motion with stops. The same with the previous
+//     release's thresholds (one per joint, none at rest: a version 1 file) beside it.
 // Run: build/bench/bench_monitor  (several minutes on 2 cores; counters and a table on stdout).
 #include <algorithm>
 #include <cmath>
@@ -27,6 +34,7 @@
 
 #include "analysis/monitor/monitor.hpp"
 #include "analysis/runs/simulate.hpp"
+#include "core/format.hpp"
 #include "core/momentum.hpp"
 #include "core/perturb.hpp"
 #include "data/dataset_csv.hpp"
@@ -37,6 +45,7 @@
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_stream.hpp"
 #include "tests/common/joint_state_db3.hpp"
+#include "tests/common/monitor_logs.hpp"
 
 namespace dynid {
 namespace {
@@ -245,6 +254,188 @@ BENCHMARK_CAPTURE(BM_MonitorAcceptance, puma560, makePuma560(true), "puma560")
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_MonitorAcceptance, panda, makePanda(true), "panda")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+
+// ---- the arm states: pushes at rest and in motion, at the default rate ----
+
+/// The truth of BM_MonitorStates: `nominal` perturbed by up to 20 % (seeded), with friction the
+/// identification does not know exactly: Fv (per rad/s) and Fc each 1 % of the joint's peak torque
+/// in the motion, and a Stribeck (breakaway) term half Fc that no identified model carries.
+Model statesTruth(const Model& nominal, double bandwidth) {
+  Model truth = perturbedModel(nominal, 0.2, 5);
+  Model rigid = truth;
+  rigid.setDriveTerms(DriveTerms::none());
+  SimulateRequest r = motion(rigid, 10.0, 1, 0.0);
+  r.bandwidth = bandwidth;
+  const Trajectory reference = simulateRun(r).trajectory;
+  DriveTerms terms = nominal.driveTerms();
+  terms.mask |= DriveTerms::of({DriveTerm::kStribeck}).mask;
+  truth.setDriveTerms(terms);
+  for (int j = 0; j < truth.numJoints(); ++j) {
+    const double scale = 0.01 * reference.tau.row(j).cwiseAbs().maxCoeff();
+    DriveParameters<double> d = truth.drives()[j];
+    d[DriveTerm::kViscous] = scale;
+    d[DriveTerm::kCoulomb] = scale;
+    d[DriveTerm::kStribeck] = 0.5 * scale;
+    d[DriveTerm::kCoulombAsymmetry] = 0.0;
+    truth.setDrive(j, d);
+  }
+  return truth;
+}
+
+/// A log of `seconds` with stops: `move` s of motion, then `hold` s at rest, over and over.
+SimulateRequest pausedMotion(const Model& truth, double seconds, std::uint64_t seed, double phase,
+                             double move, double hold, double bandwidth) {
+  SimulateRequest r = motion(truth, seconds, seed, phase);
+  r.bandwidth = bandwidth;
+  Pauses p;
+  p.move = move, p.hold = hold, p.ramp = 0.5;
+  r.pauses = p;
+  return r;
+}
+
+struct StatesScore {
+  int rest_pushes = 0, rest_found = 0, moving_pushes = 0, moving_found = 0, false_alarms = 0;
+  int rest_found_during = 0;  // an event started while the push at rest lasted
+  double seconds = 0.0;
+};
+
+/// Pushes at rest (5 sigma_tau = 0.5 N m for 0.2 s, in the holds) and in motion (10 N m for 0.1 s),
+/// random joint and sign, monitored with `thresholds` (a calibration, or a file); found: an event
+/// starts within 50 ms.
+void scorePushes(const Model& truth, const std::string& arm, const std::string& tag,
+                 const MonitorRequest& base, int files, double bandwidth, StatesScore& score) {
+  const int n = truth.numJoints();
+  std::mt19937_64 rng(2027);
+  std::uniform_int_distribution<int> joint(0, n - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int file = 0; file < files; ++file) {
+    // Cycles of 7 s: 3 s of motion (full speed from 0.5 to 2.5 s), 4 s at rest.
+    SimulateRequest r = pausedMotion(truth, 56.0, 200 + file, 0.13 * file, 3.0, 4.0, bandwidth);
+    std::vector<bool> at_rest;
+    for (int c = 0; c < 8; ++c) {
+      Disturbance rest, moving;
+      rest.joint = joint(rng), moving.joint = joint(rng);
+      rest.torque = (unit(rng) < 0.5 ? -5.0 : 5.0) * r.simulation.noise_tau;
+      moving.torque = unit(rng) < 0.5 ? -10.0 : 10.0;
+      rest.start = 7.0 * c + 3.8 + 2.5 * unit(rng), rest.duration = 0.2;
+      moving.start = 7.0 * c + 0.7 + 1.5 * unit(rng), moving.duration = 0.1;
+      r.disturbances.push_back(moving);
+      r.disturbances.push_back(rest);
+    }
+    const SimulateOutcome pushed = simulateRun(r);
+    const std::string data = benchDir() + "/" + tag + "_states_pushed.csv";
+    const std::string truth_file = benchDir() + "/" + tag + "_states_pushed.truth.csv";
+    writeDatasetCsv(data, pushed.trajectory);
+    writeExternalTorqueCsv(truth_file, pushed.trajectory.time, pushed.external);
+    MonitorRequest m = base;
+    m.arm = arm;
+    m.data_file = data;
+    m.truth_file = truth_file;
+    const MonitorOutcome o = monitorRun(m);
+    score.false_alarms += o.truth->false_alarms;
+    for (const MonitorEvent& e : o.events) {
+      const bool explained =
+          std::any_of(r.disturbances.begin(), r.disturbances.end(), [&](const Disturbance& d) {
+            return e.end >= d.start && e.start <= d.start + d.duration + 0.05;
+          });
+      if (!explained)
+        std::printf(
+            "  false alarm in a pushed log: log %d, t = %.3f..%.3f s, %s, joint %d, peak "
+            "%.3g N m\n",
+            file, e.start, e.end, e.at_rest ? "at rest" : "moving", e.peak_joint + 1, e.peak);
+    }
+    score.seconds += o.seconds;
+    for (const Disturbance& d : r.disturbances) {
+      const bool missed = std::any_of(o.truth->missed_starts.begin(), o.truth->missed_starts.end(),
+                                      [&](double s) { return std::abs(s - d.start) < 2e-3; });
+      const bool rest = d.duration > 0.15;
+      const bool during = std::any_of(o.events.begin(), o.events.end(), [&](const MonitorEvent& e) {
+        return e.start >= d.start - 1e-9 && e.start <= d.start + d.duration;
+      });
+      if (rest) score.rest_found_during += during ? 1 : 0;
+      if (!during && rest)
+        std::printf("  not found at rest: log %d, joint %d, %.3g N m at %.3f s\n", file,
+                    d.joint + 1, d.torque, d.start);
+      (rest ? score.rest_pushes : score.moving_pushes) += 1;
+      (rest ? score.rest_found : score.moving_found) += missed ? 0 : 1;
+    }
+  }
+}
+
+void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
+  for (auto _ : state) {
+    // A stiff controller (20 Hz): at 2-5 Hz the simulated Panda hunts around its holds.
+    const double bandwidth = 20.0;
+    const Model truth = statesTruth(nominal_drives, bandwidth);
+    const std::string tag = truth.name;
+    writeFileAtomically(benchDir() + "/" + tag + "_states_truth.json", modelToJson(truth));
+    const std::string arm = benchDir() + "/" + tag + "_states_identified.json";
+    SimulateRequest training = motion(truth, 60.0, 11, 0.3);
+    training.bandwidth = bandwidth;
+    writeFileAtomically(
+        arm, modelToJson(identified(nominal_drives, logFile(training, tag + "_states_train"))));
+    // Calibrated on another motion than the one watched: 4 s moves, 3 s holds, another phase.
+    MonitorRequest calibrated;
+    calibrated.calibration_file = logFile(pausedMotion(truth, 120.0, 12, 0.7, 4.0, 3.0, bandwidth),
+                                          tag + "_states_calibration");
+    StatesScore now, before;
+    scorePushes(truth, arm, tag, calibrated, 10, bandwidth, now);
+    // The previous release: the same thresholds for the moving arm, none at rest.
+    MonitorRequest clean = calibrated;
+    clean.arm = arm;
+    clean.data_file = calibrated.calibration_file;
+    const MonitorThresholds thresholds = monitorRun(clean).thresholds;
+    MonitorRequest previous;
+    previous.thresholds_file =
+        test::writeThresholdsWithoutStates(thresholds, benchDir() + "/" + tag + "_v1.json");
+    scorePushes(truth, arm, tag, previous, 10, bandwidth, before);
+    // An hour of clean motion with stops: 60 logs of 60 s, other seeds and phases.
+    int clean_alarms = 0, clean_alarms_before = 0;
+    for (int file = 0; file < 60; ++file) {
+      clean.data_file = logFile(
+          pausedMotion(truth, 60.0, 3000 + file, 0.05 * file, 3.0 + 0.05 * file, 2.0, bandwidth),
+          tag + "_states_clean");
+      const MonitorOutcome o = monitorRun(clean);
+      clean_alarms += static_cast<int>(o.events.size());
+      for (const MonitorEvent& e : o.events)  // what raised it: where, in which state
+        std::printf("  false alarm: log %d, t = %.3f s, %s, joint %d, peak %.3g N m\n", file,
+                    e.start, e.at_rest ? "at rest" : "moving", e.peak_joint + 1, e.peak);
+      MonitorRequest old = previous;
+      old.arm = arm;
+      old.data_file = clean.data_file;
+      clean_alarms_before += static_cast<int>(monitorRun(old).events.size());
+    }
+    state.counters["rest_found_pct"] = 100.0 * now.rest_found / now.rest_pushes;
+    state.counters["rest_found_during_pct"] = 100.0 * now.rest_found_during / now.rest_pushes;
+    state.counters["moving_found_pct"] = 100.0 * now.moving_found / now.moving_pushes;
+    state.counters["false_alarms_hour"] = clean_alarms;
+    std::printf("\n%s, %s false alarms per hour (the default):\n", tag.c_str(),
+                formatNumber(kDefaultFalseAlarmsPerHour, 3).c_str());
+    const auto line = [](const char* who, const StatesScore& s, int clean_hour) {
+      std::printf(
+          "  %s: pushes at rest (0.5 N m, 0.2 s) %d of %d found within 50 ms, %d while they "
+          "lasted; in motion (10 N m, 0.1 s) %d of %d within 50 ms; false alarms %d in the pushed "
+          "logs, %d in one hour of clean motion with stops\n",
+          who, s.rest_found, s.rest_pushes, s.rest_found_during, s.moving_found, s.moving_pushes,
+          s.false_alarms, clean_hour);
+    };
+    line("arm states", now, clean_alarms);
+    line("previous release (no thresholds at rest)", before, clean_alarms_before);
+    std::printf("  thresholds [N m], moving:");
+    for (Eigen::Index j = 0; j < thresholds.values.size(); ++j)
+      std::printf(" %.3g", thresholds.values[j]);
+    std::printf("\n  at rest:");
+    for (Eigen::Index j = 0; j < thresholds.values_at_rest.size(); ++j)
+      std::printf(" %.3g", thresholds.values_at_rest[j]);
+    std::printf("\n  calibration at rest: %.1f s of 120\n", thresholds.rest_seconds);
+  }
+}
+BENCHMARK_CAPTURE(BM_MonitorStates, puma560, makePuma560(true))
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_MonitorStates, panda, makePanda(true))
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 

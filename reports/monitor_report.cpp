@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "analysis/monitor/states.hpp"
 #include "analysis/records/document.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
@@ -42,6 +43,27 @@ std::string confidenceText(const MonitorThresholds& t) {
   return out + ".";
 }
 
+/// Why a resting arm is judged as it is: thresholds at rest, or none (and what gives them).
+std::string statesText(const MonitorOutcome& o) {
+  const MonitorThresholds& t = o.thresholds;
+  if (t.rest_velocity.size() == 0) return "";
+  if (t.values_at_rest.size() == 0)
+    return "The calibration held its pose " + formatNumber(t.rest_seconds, 3) + " s (" +
+           formatNumber(kMinRestSeconds, 3) +
+           " s are needed): the moving thresholds apply at rest too, so a push at rest must "
+           "exceed them; calibrate on a log with stops to judge a resting arm by its noise at "
+           "rest.";
+  const Eigen::ArrayXd ratio = t.values.array() / t.values_at_rest.array();
+  return "At rest (every joint within its rest velocity, measured on the calibration, for " +
+         formatNumber(kRestSettleSeconds, 3) +
+         " s) a push is the residual's change from its level " +
+         "at rest, judged by thresholds at rest learnt from the calibration's " +
+         formatNumber(t.rest_seconds, 3) + " s at rest, " + formatNumber(ratio.minCoeff(), 3) +
+         " to " + formatNumber(ratio.maxCoeff(), 3) + " times below the moving ones; the arm " +
+         "was at rest " + formatNumber(o.rest_seconds, 4) + " s of the " +
+         formatNumber(o.seconds, 4) + " s watched.";
+}
+
 std::string verdict(const MonitorOutcome& o) {
   std::ostringstream s;
   s << o.events.size() << (o.events.size() == 1 ? " event" : " events") << " in "
@@ -49,6 +71,7 @@ std::string verdict(const MonitorOutcome& o) {
     << " samples), the " << residualName(o.thresholds.residual) << " residual against thresholds "
     << "from " << o.thresholds.source << ".";
   if (const std::string c = confidenceText(o.thresholds); !c.empty()) s << " " << c;
+  if (const std::string c = statesText(o); !c.empty()) s << " " << c;
   if (o.interrupted) s << " Stopped early: the events so far.";
   if (const auto& t = o.truth) {
     s << " Against the ground truth: " << t->detected << " of " << t->episodes
@@ -139,7 +162,8 @@ json monitorEventJson(const MonitorEvent& e) {
           {"peak", e.peak},
           {"peak_time", e.peak_time},
           {"energy", e.energy},
-          {"open", e.open}};
+          {"open", e.open},
+          {"state", e.at_rest ? "rest" : "moving"}};
 }
 
 json monitorThresholdsJson(const MonitorThresholds& t) {
@@ -156,6 +180,15 @@ json monitorThresholdsJson(const MonitorThresholds& t) {
     out["calibration_rms"] = numbersOrNull(t.calibration_rms);
     out["calibration_max"] = numbersOrNull(t.calibration_max);
     out["calibration_seconds"] = t.calibration_seconds;
+  }
+  out["rest_velocity"] =
+      t.rest_velocity.size() > 0 ? numbersOrNull(t.rest_velocity) : json(nullptr);
+  out["thresholds_at_rest"] =
+      t.values_at_rest.size() > 0 ? numbersOrNull(t.values_at_rest) : json(nullptr);
+  if (t.values_at_rest.size() > 0) {
+    out["rest_seconds"] = t.rest_seconds;
+    if (t.calibration_rest_rms.size() > 0)
+      out["calibration_rest_rms"] = numbersOrNull(t.calibration_rest_rms);
   }
   return out;
 }
@@ -207,16 +240,18 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
   report.bullets(o.warnings);
   report.heading("Events");
   DocumentTable events;
-  events.header = {"start [s]",  "end [s]",    "joints",    "peak [N m]",
-                   "peak joint", "contact on", "energy [J]"};
+  events.header = {"start [s]",  "end [s]",    "arm",        "joints",
+                   "peak [N m]", "peak joint", "contact on", "energy [J]"};
   for (const MonitorEvent& e : o.events)
     events.rows.push_back(
         {formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""),
-         jointList(e.joints), formatNumber(e.peak, 4), std::to_string(e.peak_joint + 1),
+         e.at_rest ? "at rest" : "moving", jointList(e.joints), formatNumber(e.peak, 4),
+         std::to_string(e.peak_joint + 1),
          "link " + std::to_string(e.contact_link + 1) + " or beyond", formatNumber(e.energy, 3)});
   events.caption =
       "An event starts at the first sample where a residual exceeds its threshold and "
-      "ends when every residual has stayed below its threshold for the hold time. "
+      "ends when every residual has stayed below its threshold for the hold time. At rest, the "
+      "residual is its change from its level at rest, and the peak that change. "
       "Energy: the work of the estimated external torque on the arm. Contact: a push on link k "
       "acts on joints 1..k only, so it is on the link of the most distal joint that crossed its "
       "threshold or beyond it (a push along a distal joint's axis leaves that joint quiet).";
@@ -226,21 +261,23 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
     report.table(events);
   report.heading("Thresholds");
   DocumentTable th;
-  th.header = {"joint",        "threshold [N m]", "observer RMS",
+  th.header = {"joint",        "threshold [N m]", "at rest [N m]",  "observer RMS",
                "observer max", "direct RMS",      "calibration RMS"};
   const Eigen::Index n = o.thresholds.values.size();
+  const Eigen::VectorXd& at_rest = o.thresholds.values_at_rest;
   for (Eigen::Index j = 0; j < n; ++j)
-    th.rows.push_back({std::to_string(j + 1), formatNumber(o.thresholds.values[j], 4),
-                       formatNumber(o.observer_rms[j], 3), formatNumber(o.observer_max[j], 3),
-                       o.has_direct ? formatNumber(o.direct_rms[j], 3) : "-",
-                       o.thresholds.calibration_rms.size()
-                           ? formatNumber(o.thresholds.calibration_rms[j], 3)
-                           : "-"});
+    th.rows.push_back(
+        {std::to_string(j + 1), formatNumber(o.thresholds.values[j], 4),
+         at_rest.size() ? formatNumber(at_rest[j], 4) : "-", formatNumber(o.observer_rms[j], 3),
+         formatNumber(o.observer_max[j], 3), o.has_direct ? formatNumber(o.direct_rms[j], 3) : "-",
+         o.thresholds.calibration_rms.size() ? formatNumber(o.thresholds.calibration_rms[j], 3)
+                                             : "-"});
   th.caption = "Thresholds from " + o.thresholds.source + ", set for " +
                formatNumber(o.thresholds.false_alarms_per_hour, 3) +
                " false alarms per hour of the arm: the largest of Rice's formula (the calibration "
                "residual's RMS and rate RMS), the Gumbel law of its 1 s maxima and its largest "
-               "value. Observer gain " +
+               "value, for the moving arm on its residual and at rest on the residual's change "
+               "from its level at rest. Observer gain " +
                formatNumber(o.thresholds.gain.maxCoeff(), 4) + " 1/s.";
   report.table(th);
   std::string warning;

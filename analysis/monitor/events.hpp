@@ -24,6 +24,9 @@ struct MonitorEvent {
   double peak = 0.0, peak_time = 0.0;  // its largest |r| while above [N m], and when [s]
   double energy = 0.0;  // the work of the estimated external torque, integral r . dq dt [J]
   bool open = false;    // the data ended (or were stopped) during the event
+  /// It started with the arm at rest: judged by the residual's change from its level at rest
+  /// (analysis/monitor/states.hpp), whose values `peak` then holds.
+  bool at_rest = false;
 };
 
 /// Receives events as they happen (the stdin mode prints them at once).
@@ -54,12 +57,21 @@ class EventDetector {
       : thresholds_(thresholds), hold_(hold), sink_(sink), events_(events) {}
 
   void add(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq) {
-    const Eigen::ArrayXd ratio = r.cwiseAbs().array() / thresholds_.array();
+    add(t, dt, r, dq, thresholds_, false);
+  }
+  /// One sample judged by `thresholds` (the arm state's); `at_rest`: the state is rest. `since`:
+  /// the statistic has been beyond its value since that long [s] (a persistence window), so an
+  /// event that starts here started that much earlier.
+  void add(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq,
+           const Eigen::VectorXd& thresholds, bool at_rest, double since = 0.0) {
+    const Eigen::ArrayXd ratio = r.cwiseAbs().array() / thresholds.array();
     const bool above = (ratio > 1.0).any();
     if (!active_) {
       if (!above) return;
       event_ = MonitorEvent{};
-      event_.start = event_.end = t;
+      event_.start = t - since;
+      event_.end = t;
+      event_.at_rest = at_rest;
       active_ = true;
       mark(t, r, ratio);
       if (sink_) sink_->started(event_);
@@ -79,6 +91,8 @@ class EventDetector {
   void close() {
     if (active_) finish(true);
   }
+  /// An event is open.
+  bool active() const { return active_; }
 
  private:
   /// The joints above their thresholds join the event; the peak is the largest |r| among them (a

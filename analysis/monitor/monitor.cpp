@@ -4,7 +4,9 @@
 #include <limits>
 
 #include "analysis/logs/effort_scale.hpp"
+#include "analysis/monitor/calibration.hpp"
 #include "analysis/monitor/feeds.hpp"
+#include "analysis/monitor/watch.hpp"
 #include "analysis/runs/arm.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -79,48 +81,6 @@ void currentsWarning(const LoadedArm& arm, const MonitorRequest& request,
                        "): the residuals then carry the difference");
 }
 
-/// Whether the residuals are above their thresholds, and the event they make.
-
-MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
-                            const Eigen::VectorXd& gain, std::vector<std::string>& warnings) {
-  const int n = model.numJoints();
-  ResidualStatistics stats;
-  stats.reset(n);
-  Eigen::VectorXd previous;
-  const bool direct = request.residual == MonitorResidual::kDirect;
-  const Pass pass = passOverLog(
-      model, request.calibration_file, request, gain,
-      [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
-          const Eigen::VectorXd&) {
-        if (direct && !d) throw InputError(request.calibration_file + ": " + kDirectNeedsDdq);
-        const Eigen::VectorXd& x = direct ? *d : r;
-        stats.add(t, x, dt > 0.0 ? &previous : nullptr, dt);
-        previous = x;
-      },
-      warnings);
-  if (pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
-  MonitorThresholds out;
-  out.robot = model.name;
-  out.joint_names = model.joint_names;
-  out.residual = request.residual;
-  out.gain = gain;
-  out.false_alarms_per_hour = request.false_alarms_per_hour;
-  out.values = riceThresholds(stats, request.false_alarms_per_hour / 3600.0 / n);
-  out.source = "calibration " + request.calibration_file;
-  out.calibration_rms = stats.rms();
-  out.calibration_max = stats.max_abs;
-  out.calibration_seconds = pass.last - pass.first;
-  if ((out.values.array() <= 0.0).any())
-    throw InputError(request.calibration_file +
-                     ": the calibration residual is zero on some joint (a log without motion or "
-                     "torque?): no threshold can be set from it");
-  return out;
-}
-
-}  // namespace
-
-namespace {
-
 /// The observer gain per joint (one value for all, or the default); InputError for another count.
 Eigen::VectorXd checkedGain(const MonitorRequest& request, const Model& model) {
   const int n = model.numJoints();
@@ -150,6 +110,29 @@ void checkEffortScale(const MonitorRequest& request, const LoadedArm& arm,
 
 }  // namespace
 
+namespace {
+
+/// A saved thresholds file, for these joints, this observer gain (when one is given) and this
+/// residual; InputError naming what differs.
+MonitorThresholds readBackThresholds(const MonitorRequest& request, const Model& model,
+                                     const Eigen::VectorXd& gain) {
+  MonitorThresholds out = readMonitorThresholds(request.thresholds_file);
+  if (out.joint_names != model.joint_names)
+    throw InputError(request.thresholds_file + ": thresholds for the joints of '" + out.robot +
+                     "' (" + std::to_string(out.joint_names.size()) + " joints), not those of '" +
+                     model.name + "': calibrate again on this robot's log");
+  if (request.gain && (gain - out.gain).norm() != 0.0)
+    throw InputError(request.thresholds_file +
+                     ": calibrated with another observer gain; drop `gain` or calibrate again");
+  if (out.residual != request.residual)
+    throw InputError(request.thresholds_file + ": thresholds of the " +
+                     (out.residual == MonitorResidual::kDirect ? "direct" : "observer") +
+                     " residual; give the same `residual`");
+  return out;
+}
+
+}  // namespace
+
 MonitorOutcome monitorRun(const MonitorRequest& request) {
   request.check();
   MonitorOutcome out;
@@ -164,20 +147,7 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   if (!request.calibration_file.empty()) {
     out.thresholds = calibrate(model, request, gain, out.warnings);
   } else {
-    out.thresholds = readMonitorThresholds(request.thresholds_file);
-    if (out.thresholds.joint_names != model.joint_names)
-      throw InputError(
-          request.thresholds_file + ": thresholds for the joints of '" + out.thresholds.robot +
-          "' (" + std::to_string(out.thresholds.joint_names.size()) + " joints), not those of '" +
-          model.name + "': calibrate again on this robot's log");
-    if (request.gain && (gain - out.thresholds.gain).norm() != 0.0)
-      throw InputError(request.thresholds_file +
-                       ": calibrated with another observer gain; drop `gain` or calibrate again");
-    if (out.thresholds.residual != request.residual)
-      throw InputError(
-          request.thresholds_file + ": thresholds of the " +
-          (out.thresholds.residual == MonitorResidual::kDirect ? "direct" : "observer") +
-          " residual; give the same `residual`");
+    out.thresholds = readBackThresholds(request, model, gain);
     gain = out.thresholds.gain;
   }
   // The monitored pass.
@@ -187,7 +157,7 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   direct_stats.reset(n);
   out.observer_envelope.reset(n);
   out.direct_envelope.reset(n);
-  EventDetector detector(out.thresholds.values, request.hold, request.sink, out.events);
+  Watch watch(out.thresholds, request.hold, request.sink, out.events);
   const Visit visit = [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
                           const Eigen::VectorXd& dq) {
     observer_stats.add(t, r, nullptr, 0.0);
@@ -196,7 +166,7 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
       direct_stats.add(t, *d, nullptr, 0.0);
       out.direct_envelope.add(t, *d);
     }
-    detector.add(t, dt, direct_events ? *d : r, dq);
+    watch.sample(t, dt, direct_events ? *d : r, dq);
   };
   Pass pass;
   if (request.data_file == "-") {
@@ -218,7 +188,8 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
         },
         out.warnings);
   }
-  detector.close();
+  watch.close();
+  out.rest_seconds = watch.restSeconds();
   out.samples = pass.samples;
   out.seconds = pass.last - pass.first;
   out.restarts = pass.restarts;

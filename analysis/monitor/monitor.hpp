@@ -1,8 +1,9 @@
 // dynid monitor: an identified model watching a robot's log (or its live samples) for external
 // torques. A generalized-momentum observer (needs q, dq and tau only), the direct residual
-// tau - tau_hat where the log has ddq, per-joint thresholds from a clean calibration log at a
-// chosen false-alarm rate (or from a saved thresholds file), and the events where a residual
-// crosses them. Constant memory: a log of any length, or a stream that never ends.
+// tau - tau_hat where the log has ddq, per-joint thresholds per arm state (moving, at rest) from a
+// clean calibration log at a chosen false-alarm rate (calibration.hpp) or from a saved thresholds
+// file, and the events where a residual (at rest: its change from the level at rest) crosses them
+// (watch.hpp). Constant memory: a log of any length, or a stream that never ends.
 #pragma once
 
 #include <functional>
@@ -66,7 +67,9 @@ struct MonitorOutcome {
   MonitorThresholds thresholds;
   std::vector<MonitorEvent> events;
   long long samples = 0;
-  double seconds = 0.0;     // from the first sample to the last
+  double seconds = 0.0;  // from the first sample to the last
+  double rest_seconds =
+      0.0;                  // of which the arm was at rest (where the thresholds have a rest state)
   int restarts = 0;         // gaps longer than max_gap
   bool has_direct = false;  // the data carried ddq (files do; stdin may not)
   Eigen::VectorXd observer_rms, observer_max, direct_rms, direct_max;  // over the data

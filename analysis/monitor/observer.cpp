@@ -58,21 +58,27 @@ void ResidualStatistics::reset(int n, double block_seconds) {
   block_max = block_sum = block_sum_squares = Eigen::VectorXd::Zero(n);
   rate_time = 0.0;
   block = block_seconds;
+  block_time = 0.0;
   blocks = 0;
   samples = 0;
 }
 
 void ResidualStatistics::add(double t, const Eigen::VectorXd& r, const Eigen::VectorXd* previous,
                              double dt) {
+  (void)t;
   sum_squares += r.cwiseAbs2();
   max_abs = max_abs.cwiseMax(r.cwiseAbs());
-  if (samples == 0) block_start = t;
-  if (t - block_start >= block) {  // the block is complete: its maximum joins the others
+  // A block is `block` seconds of these samples' own time: a state's samples come in runs, and a
+  // block cut short by the end of a run would have a smaller maximum.
+  const double step = previous && dt > 0.0 ? dt : 0.0;
+  if (block_time + step >= block) {  // the block is complete: its maximum joins the others
     block_sum += block_max;
     block_sum_squares += block_max.cwiseAbs2();
     ++blocks;
     block_max.setZero();
-    block_start += block * std::floor((t - block_start) / block);
+    block_time = 0.0;
+  } else {
+    block_time += step;
   }
   block_max = block_max.cwiseMax(r.cwiseAbs());
   ++samples;

@@ -40,12 +40,13 @@ class MomentumObserver {
 };
 
 /// A residual's statistics over a clean run, per joint, in constant memory: moments, and the
-/// maxima of |r| over blocks of `block` seconds (for the tail).
+/// maxima of |r| over blocks of `block` seconds of the samples' own time (the steps between
+/// consecutive samples: runs of samples, a state's, join into whole blocks), for the tail.
 struct ResidualStatistics {
   Eigen::VectorXd sum_squares, rate_sum_squares, max_abs;   // r^2, (dr/dt)^2 dt-weighted, |r|
   Eigen::VectorXd block_max, block_sum, block_sum_squares;  // this block's max; over blocks
   double rate_time = 0.0;                                   // the time the rate sums cover [s]
-  double block = 1.0, block_start = 0.0;                    // [s]
+  double block = 1.0, block_time = 0.0;                     // [s]: its length, this one's so far
   int blocks = 0;                                           // completed blocks
   long long samples = 0;
   void reset(int n, double block_seconds = 1.0);

@@ -26,6 +26,13 @@ struct MonitorThresholds {
   double false_alarms_per_hour = kDefaultFalseAlarmsPerHour;
   Eigen::VectorXd calibration_rms, calibration_max;  // of the residual on the calibration run
   double calibration_seconds = 0.0;
+  /// The arm states (analysis/monitor/states.hpp). A joint is at rest within its rest velocity
+  /// [rad/s or m/s], measured on the calibration log (empty: no rest state, version 1 files).
+  Eigen::VectorXd rest_velocity;
+  /// At rest, the thresholds of the residual's change from its level at rest [N m] (empty: the
+  /// calibration held no pose long enough, and the moving thresholds apply at rest too).
+  Eigen::VectorXd values_at_rest, calibration_rest_rms;
+  double rest_seconds = 0.0;  // the calibration's time at rest [s]
 };
 
 /// Reads a thresholds document (kind dynid.monitor_thresholds). Throws ParseError naming the field.

@@ -1,13 +1,17 @@
 // Simulated PUMA logs with pushes for the monitor's tests (tests/monitor/): a tracking run with
-// external joint torques applied, and one push.
+// external joint torques applied, and one push; thresholds without arm states (version 1).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
+#include "analysis/records/monitor_record.hpp"
 #include "core/simulate.hpp"
 #include "core/trajectory.hpp"
+#include "data/io.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid::test {
@@ -28,6 +32,24 @@ inline Disturbance jointPush(int joint, double torque, double start, double dura
   Disturbance d;
   d.joint = joint, d.torque = torque, d.start = start, d.duration = duration;
   return d;
+}
+
+/// `t` as a version 1 thresholds file (one threshold per joint, no arm states: the thresholds of
+/// the release before them), written to `path`; returns it.
+inline std::string writeThresholdsWithoutStates(const MonitorThresholds& t,
+                                                const std::string& path) {
+  const nlohmann::json document = {
+      {"schema_version", 1},
+      {"kind", "dynid.monitor_thresholds"},
+      {"robot", t.robot},
+      {"joints", t.joint_names},
+      {"residual", t.residual == MonitorResidual::kDirect ? "direct" : "observer"},
+      {"gain", std::vector<double>(t.gain.begin(), t.gain.end())},
+      {"source", "previous"},
+      {"thresholds", std::vector<double>(t.values.begin(), t.values.end())},
+      {"false_alarms_per_hour", t.false_alarms_per_hour}};
+  writeFileAtomically(path, document.dump());
+  return path;
 }
 
 }  // namespace dynid::test

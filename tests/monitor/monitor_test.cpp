@@ -1,4 +1,5 @@
 #include "analysis/monitor/monitor.hpp"
+#include "analysis/monitor/states.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -11,8 +12,10 @@
 
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
+#include "core/perturb.hpp"
 #include "core/simulate.hpp"
 #include "data/dataset_csv.hpp"
+#include "data/io.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/error_text.hpp"
 #include "tests/common/joint_state_db3.hpp"
@@ -462,6 +465,74 @@ TEST_F(MonitorRun, RefusesRecordingsItCannotMonitor) {
     "thresholds": [1, 1, 1, 1, 1, 1, 1], "source": "x"})");
   text = test::errorText<InputError>([&] { monitorRun(request); });
   EXPECT_NE(text.find("lack the robot's joints"), std::string::npos) << text;
+}
+
+/// The PUMA (perturbed by up to 20 %: the monitored nominal model is off) tracking its sinusoids
+/// with stops (2 s of motion, 2.5 s holds), sensor noise of 0.05 N m and 1e-3 rad/s.
+Trajectory pausedPuma(const Model& truth, double duration, double amplitude, std::uint64_t seed,
+                      const std::vector<Disturbance>& pushes = {}) {
+  TrackingController controller = test::pumaSinusoidController(truth, amplitude, 0.2, 0.6);
+  Pauses p;
+  p.move = 2.0, p.hold = 2.5, p.ramp = 0.4;
+  controller.setPauses(p);
+  SimulationOptions options;
+  options.duration = duration;
+  options.noise_tau = 0.05;
+  options.noise_dq = 1e-3;
+  options.seed = seed;
+  return simulate(truth, controller, options, pushes);
+}
+
+TEST_F(MonitorRun, AtRestAPushIsJudgedByTheNoiseAtRestNotByTheMovingResidual) {
+  const Model truth = perturbedModel(model_, 0.2, 5);
+  const std::string calibration = test::tempPath("monitor_paused_clean.csv");
+  writeDatasetCsv(calibration, pausedPuma(truth, 20.0, 0.5, 3));
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.calibration_file = calibration;
+  request.data_file = calibration;
+  const MonitorOutcome clean = monitorRun(request);
+  const MonitorThresholds th = clean.thresholds;
+  EXPECT_TRUE(clean.events.empty());  // a clean run raises no alarm
+  ASSERT_EQ(th.values_at_rest.size(), 6);
+  ASSERT_EQ(th.rest_velocity.size(), 6);
+  // Four holds of 2.5 s, each at rest from kRestSettleSeconds after the stop (and the settling).
+  EXPECT_GT(th.rest_seconds, 4 * (2.5 - kRestSettleSeconds) - 1.5);
+  EXPECT_LT(th.rest_seconds, 4 * (2.5 - kRestSettleSeconds));
+  EXPECT_NEAR(clean.rest_seconds, th.rest_seconds, 1e-9);
+  // The residual at rest is the sensor's noise; moving, the model's error: thresholds at rest are
+  // lower on every joint.
+  EXPECT_TRUE((th.values_at_rest.array() < th.values.array()).all());
+  // A push at rest on joint 3 three times its threshold at rest, below its moving threshold.
+  const int j = 2;
+  const double push = 3.0 * th.values_at_rest[j];
+  ASSERT_LT(push, 0.8 * th.values[j]);
+  const std::string pushed = test::tempPath("monitor_paused_pushed.csv");
+  writeDatasetCsv(pushed,
+                  pausedPuma(truth, 10.0, 0.35, 4, {jointPush(j, push, 7.5, 0.4)}));  // in a hold
+  request.data_file = pushed;
+  const auto during = [](const MonitorOutcome& o) {
+    std::vector<MonitorEvent> out;
+    for (const MonitorEvent& e : o.events)
+      if (e.end >= 7.5 && e.start <= 7.95) out.push_back(e);
+    return out;
+  };
+  const MonitorOutcome watched = monitorRun(request);
+  const std::vector<MonitorEvent> found = during(watched);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_TRUE(found[0].at_rest);
+  EXPECT_EQ(found[0].peak_joint, j);
+  EXPECT_NEAR(found[0].start, 7.5, 0.1);         // the smoothing's 80 ms and the observer's 10 ms
+  EXPECT_NEAR(found[0].peak, push, 0.2 * push);  // the change at rest has the push's size
+  EXPECT_EQ(watched.events.size(), 1u);          // and nothing else
+  // The same thresholds without the arm states (a version 1 file): the push is not seen.
+  const std::string v1_file =
+      test::writeThresholdsWithoutStates(th, test::tempPath("monitor_thresholds_v1.json"));
+  request.calibration_file.clear();
+  request.thresholds_file = v1_file;
+  const MonitorOutcome without = monitorRun(request);
+  EXPECT_EQ(without.thresholds.values_at_rest.size(), 0);
+  EXPECT_TRUE(during(without).empty());
 }
 
 TEST(MonitorThresholds, WhatACalibrationConfirms) {

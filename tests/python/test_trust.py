@@ -108,3 +108,24 @@ def test_covariance_policy_is_hac_and_white_on_request(logs):
     assert np.array_equal(white.beta, est.beta)
     with pytest.raises(ValueError, match="covariance"):
         dynid.identify(model, str(logs / "train.csv"), covariance="newey-west")
+
+
+def test_pauses_make_stops_and_the_monitor_learns_thresholds_at_rest(tmp_path):
+    model = dynid.load_model("puma560")
+    stops = dynid.simulate(model, duration=12, noise_tau=0.1, noise_dq=1e-3, seed=3,
+                           pauses=(2.0, 2.5, 0.4))
+    run_cli("simulate", "--robot", "puma560", "--duration", 12, "--noise-tau", 0.1, "--noise-dq",
+            0.001, "--seed", 3, "--pauses", "move=2,hold=2.5,ramp=0.4", "--out",
+            tmp_path / "stops.csv")
+    assert np.array_equal(dynid.read_dataset(str(tmp_path / "stops.csv")).dq, stops.dq)
+    # The holds (from 2 s to 4.5 s) are still but for the velocity noise.
+    hold = (stops.time > 2.6) & (stops.time < 4.4)
+    assert np.abs(stops.dq[hold]).max() < 0.01
+    with pytest.raises(ValueError):
+        dynid.simulate(model, pauses=(1.0, 1.0, 0.6))  # move must exceed two ramps
+    result = dynid.monitor("puma560", str(tmp_path / "stops.csv"),
+                           calibration=str(tmp_path / "stops.csv"))
+    thresholds = result["thresholds"]
+    assert thresholds["schema_version"] == 2
+    assert len(thresholds["thresholds_at_rest"]) == 6 and thresholds["rest_seconds"] > 2
+    assert result["events"] == []  # a clean run raises no alarm

@@ -27,7 +27,11 @@ nlohmann::json thresholdsDocument() {
           {"false_alarms_per_hour", 0.5},
           {"calibration_rms", {0.5, 0.125}},
           {"calibration_max", {2.0, 0.5}},
-          {"calibration_seconds", 60.0}};
+          {"calibration_seconds", 60.0},
+          {"rest_velocity", {0.003, 0.004}},
+          {"thresholds_at_rest", {0.25, 0.125}},
+          {"calibration_rest_rms", {0.05, 0.025}},
+          {"rest_seconds", 21.5}};
 }
 
 std::string written(const std::string& name, const nlohmann::json& document) {
@@ -46,6 +50,32 @@ TEST(MonitorRecord, ReadsTheThresholdsTheirGainAndResidual) {
   EXPECT_EQ(t.values, Eigen::Vector2d(2.5, 0.75));
   EXPECT_EQ(t.false_alarms_per_hour, 0.5);
   EXPECT_EQ(t.source, "thresholds " + path);  // where this monitor's thresholds came from
+  EXPECT_EQ(t.rest_velocity, Eigen::Vector2d(0.003, 0.004));
+  EXPECT_EQ(t.values_at_rest, Eigen::Vector2d(0.25, 0.125));
+  EXPECT_EQ(t.rest_seconds, 21.5);
+}
+
+TEST(MonitorRecord, ReadsVersion1AndThresholdsWithoutRestAsMovingOnly) {
+  // Version 1 (before the arm states): its keys only, no rest state.
+  nlohmann::json v1 = thresholdsDocument();
+  v1["schema_version"] = 1;
+  for (const char* key :
+       {"rest_velocity", "thresholds_at_rest", "calibration_rest_rms", "rest_seconds"})
+    v1.erase(key);
+  MonitorThresholds t = readMonitorThresholds(written("thresholds_v1.json", v1));
+  EXPECT_EQ(t.values, Eigen::Vector2d(2.5, 0.75));
+  EXPECT_EQ(t.rest_velocity.size(), 0);
+  EXPECT_EQ(t.values_at_rest.size(), 0);
+  v1["rest_velocity"] = {0.003, 0.004};  // a version 2 key in a version 1 file
+  EXPECT_THROW(readMonitorThresholds(written("thresholds_v1_rest.json", v1)), ParseError);
+  // Version 2 from a calibration that never held its pose: rest velocities, no thresholds at rest.
+  nlohmann::json d = thresholdsDocument();
+  d["thresholds_at_rest"] = nullptr;
+  d.erase("rest_seconds");
+  d.erase("calibration_rest_rms");
+  t = readMonitorThresholds(written("thresholds_no_rest.json", d));
+  EXPECT_EQ(t.rest_velocity.size(), 2);
+  EXPECT_EQ(t.values_at_rest.size(), 0);
 }
 
 TEST(MonitorRecord, RefusesWhatNoMonitorWrote) {
@@ -69,6 +99,12 @@ TEST(MonitorRecord, RefusesWhatNoMonitorWrote) {
   d = thresholdsDocument();
   d["extra"] = 1;
   EXPECT_NE(field("thresholds_extra.json", d), "accepted");
+  d = thresholdsDocument();
+  d["thresholds_at_rest"] = {0.25, 0.0};
+  EXPECT_EQ(field("thresholds_at_rest_zero.json", d), "thresholds_at_rest[1]");
+  d = thresholdsDocument();
+  d["rest_velocity"] = {0.003, -1.0};
+  EXPECT_EQ(field("thresholds_rest_velocity.json", d), "rest_velocity[1]");
   d = thresholdsDocument();
   d["kind"] = "dynid.estimate";
   EXPECT_NE(field("thresholds_kind.json", d), "accepted");

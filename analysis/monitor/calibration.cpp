@@ -1,0 +1,147 @@
+#include "analysis/monitor/calibration.hpp"
+
+#include "analysis/logs/rest.hpp"
+#include "analysis/monitor/feeds.hpp"
+#include "analysis/monitor/states.hpp"
+#include "analysis/monitor/watch.hpp"
+#include "analysis/runs/arm.hpp"
+#include "core/errors.hpp"
+
+namespace dynid {
+
+namespace {
+
+/// The calibration log's rest velocities: measured on its first kRestSamples samples' stamps and
+/// velocities (analysis/logs/rest.hpp), as identify measures its data's.
+Eigen::VectorXd calibrationRestVelocities(const Model& model, const MonitorRequest& request,
+                                          const Eigen::VectorXd& gain) {
+  const int n = model.numJoints();
+  std::vector<double> time;
+  std::vector<Eigen::VectorXd> dq;
+  std::vector<std::string> ignored;  // the second pass reports the same warnings
+  passOverLog(
+      model, request.calibration_file, request, gain,
+      [&](double t, double, const Eigen::VectorXd&, const Eigen::VectorXd*,
+          const Eigen::VectorXd& v) {
+        if (time.size() >= static_cast<std::size_t>(kRestSamples)) return;
+        time.push_back(t);
+        dq.push_back(v);
+      },
+      ignored);
+  Eigen::MatrixXd velocities(n, static_cast<Eigen::Index>(dq.size()));
+  for (std::size_t k = 0; k < dq.size(); ++k) velocities.col(static_cast<Eigen::Index>(k)) = dq[k];
+  const std::vector<double> rest = restThresholds(measureRestVelocities(
+      velocities,
+      Eigen::Map<const Eigen::VectorXd>(time.data(), static_cast<Eigen::Index>(time.size()))));
+  return Eigen::Map<const Eigen::VectorXd>(rest.data(), n);
+}
+
+/// A clean run's statistics per arm state: the residual while moving, its change at rest.
+struct StateStatistics {
+  ResidualStatistics moving, rest;
+  double rest_seconds = 0.0;
+  Pass pass;
+};
+
+StateStatistics calibrationStatistics(const Model& model, const MonitorRequest& request,
+                                      const Eigen::VectorXd& gain,
+                                      const Eigen::VectorXd& rest_velocity,
+                                      std::vector<std::string>& warnings) {
+  const int n = model.numJoints();
+  StateStatistics out;
+  out.moving.reset(n);
+  out.rest.reset(n);
+  StateResidual states;
+  states.reset(rest_velocity);
+  Eigen::VectorXd previous;
+  ArmState previous_state = ArmState::kMoving;
+  const bool direct = request.residual == MonitorResidual::kDirect;
+  out.pass = passOverLog(
+      model, request.calibration_file, request, gain,
+      [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+          const Eigen::VectorXd& dq) {
+        if (direct && !d) throw InputError(request.calibration_file + ": " + kDirectNeedsDdq);
+        const ArmState state = states.update(t, dt, direct ? *d : r, dq, false);
+        const Eigen::VectorXd& x = states.statistic();
+        const bool follows = dt > 0.0 && state == previous_state;
+        if (state == ArmState::kRest) {
+          out.rest.add(t, x, follows ? &previous : nullptr, dt);
+          out.rest_seconds += dt;  // as Watch counts it
+        } else {
+          out.moving.add(t, x, follows ? &previous : nullptr, dt);
+        }
+        previous = x;
+        previous_state = state;
+      },
+      warnings);
+  return out;
+}
+
+/// The clean run raises no alarm: the calibration log judged as a monitored log is. At rest the
+/// level stands still while a change builds, which the statistics above do not see; a joint whose
+/// statistic then crosses its threshold has it raised to the largest value of that event, and the
+/// log is judged again (a higher threshold holds the level less; at most kMaxRaises passes).
+void raiseToTheCleanRun(const Model& model, const MonitorRequest& request,
+                        const Eigen::VectorXd& gain, MonitorThresholds& thresholds) {
+  constexpr int kMaxRaises = 5;
+  const bool direct = request.residual == MonitorResidual::kDirect;
+  for (int pass = 0; pass < kMaxRaises; ++pass) {
+    std::vector<MonitorEvent> events;
+    std::vector<std::string> ignored;  // the statistics' pass reported them
+    Watch watch(thresholds, request.hold, nullptr, events);
+    passOverLog(
+        model, request.calibration_file, request, gain,
+        [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
+            const Eigen::VectorXd& dq) { watch.sample(t, dt, direct ? *d : r, dq); },
+        ignored);
+    watch.close();
+    if (events.empty()) return;
+    // 1e-9 above the largest value: that sample no longer crosses.
+    thresholds.values = thresholds.values.cwiseMax(watch.eventPeakMoving() * (1.0 + 1e-9));
+    if (thresholds.values_at_rest.size() > 0)
+      thresholds.values_at_rest =
+          thresholds.values_at_rest.cwiseMax(watch.eventPeakAtRest() * (1.0 + 1e-9));
+  }
+}
+
+}  // namespace
+
+MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
+                            const Eigen::VectorXd& gain, std::vector<std::string>& warnings) {
+  const int n = model.numJoints();
+  const Eigen::VectorXd rest_velocity = calibrationRestVelocities(model, request, gain);
+  const StateStatistics stats =
+      calibrationStatistics(model, request, gain, rest_velocity, warnings);
+  if (stats.pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
+  if (stats.moving.samples == 0)
+    throw InputError(request.calibration_file +
+                     ": the arm holds its pose throughout the calibration: thresholds for motion "
+                     "cannot be set from it (calibrate on a log that moves, with stops)");
+  MonitorThresholds out;
+  out.robot = model.name;
+  out.joint_names = model.joint_names;
+  out.residual = request.residual;
+  out.gain = gain;
+  out.false_alarms_per_hour = request.false_alarms_per_hour;
+  const double rate = request.false_alarms_per_hour / 3600.0 / n;
+  out.values = riceThresholds(stats.moving, rate);
+  out.source = "calibration " + request.calibration_file;
+  out.calibration_rms = stats.moving.rms();
+  out.calibration_max = stats.moving.max_abs;
+  out.calibration_seconds = stats.pass.last - stats.pass.first;
+  out.rest_velocity = rest_velocity;
+  out.rest_seconds = stats.rest_seconds;
+  if (stats.rest_seconds >= kMinRestSeconds) {
+    out.values_at_rest = riceThresholds(stats.rest, rate);
+    out.calibration_rest_rms = stats.rest.rms();
+  }
+  if ((out.values.array() <= 0.0).any() ||
+      (out.values_at_rest.size() > 0 && (out.values_at_rest.array() <= 0.0).any()))
+    throw InputError(request.calibration_file +
+                     ": the calibration residual is zero on some joint (a log without motion or "
+                     "torque?): no threshold can be set from it");
+  raiseToTheCleanRun(model, request, gain, out);
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,90 @@
+#include "analysis/monitor/states.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace dynid {
+
+void StateResidual::reset(const Eigen::VectorXd& rest_velocity) {
+  rest_velocity_ = rest_velocity;
+  restart();
+}
+
+void StateResidual::restart() {
+  state_ = ArmState::kMoving;
+  still_ = false;
+  fresh_ = true;
+}
+
+void StateResidual::settleAgain(double t) {
+  if (state_ != ArmState::kRest) return;
+  state_ = ArmState::kMoving;
+  still_ = true;
+  still_since_ = t;
+}
+
+ArmState StateResidual::update(double t, double dt, const Eigen::VectorXd& r,
+                               const Eigen::VectorXd& dq, bool hold_level) {
+  if (!enabled()) {
+    statistic_ = r;
+    return state_;
+  }
+  // First-order smoothing, a / (tau + dt) per step: stable for any step.
+  const auto smooth = [dt](Eigen::VectorXd& x, const Eigen::VectorXd& to, double tau) {
+    x += (dt / (tau + dt)) * (to - x);
+  };
+  if (fresh_ || dt <= 0.0) {  // the first sample, or after a gap: moving until it settles
+    velocity_ = dq;
+    smooth_ = r;
+    fresh_ = still_ = false;
+    state_ = ArmState::kMoving;
+  } else {
+    smooth(velocity_, dq, kVelocitySmoothingSeconds);
+    smooth(smooth_, r, kRestSmoothingSeconds);
+  }
+  // In units of each joint's rest velocity (a zero one: only an exact zero is at rest).
+  double speed = 0.0;
+  for (Eigen::Index j = 0; j < dq.size(); ++j) {
+    const double v = std::abs(velocity_[j]);
+    speed =
+        std::max(speed, rest_velocity_[j] > 0.0 ? v / rest_velocity_[j] : (v > 0.0 ? 1e300 : 0));
+  }
+  if (speed > 1.0) {
+    still_ = false;
+  } else if (!still_) {
+    still_ = true;
+    still_since_ = t;
+  }
+  if (state_ == ArmState::kMoving && still_ && t - still_since_ >= kRestSettleSeconds) {
+    state_ = ArmState::kRest;
+    level_ = smooth_;
+    frozen_ = false;
+    window_.assign(static_cast<std::size_t>(r.size()), {});
+  } else if (state_ == ArmState::kRest && speed > kRestExitFactor) {
+    state_ = ArmState::kMoving;
+  }
+  if (state_ == ArmState::kMoving) {
+    statistic_ = r;
+    return state_;
+  }
+  change_ = smooth_ - level_;
+  // The level stands still while an event builds, for at most kRestFreezeSeconds: a push can leave
+  // the arm held by another static friction, and the level must then follow.
+  if (hold_level && !frozen_) frozen_since_ = t, frozen_ = true;
+  if (!hold_level) frozen_ = false;
+  if (!frozen_ || t - frozen_since_ > kRestFreezeSeconds)
+    smooth(level_, smooth_, kRestBaselineSeconds);
+  // The smallest |change| over the window, per joint: a monotonic queue of (time, |change|).
+  statistic_.resize(change_.size());
+  for (Eigen::Index j = 0; j < change_.size(); ++j) {
+    auto& queue = window_[static_cast<std::size_t>(j)];
+    const double size = std::abs(change_[j]);
+    while (!queue.empty() && queue.back().second >= size) queue.pop_back();
+    queue.emplace_back(t, size);
+    while (queue.front().first < t - kRestPersistSeconds) queue.pop_front();
+    statistic_[j] = std::copysign(queue.front().second, change_[j]);
+  }
+  return state_;
+}
+
+}  // namespace dynid
