@@ -139,35 +139,69 @@ AtomicWriter::AtomicWriter(const std::string& path, ExistingTarget existing) : p
     file_ = std::fopen(path.c_str(), "wb");
     if (file_ == nullptr) throw Error("cannot write '" + path + "': " + std::strerror(errno));
   } else {
-    // Created exclusively and never through a link: a file or link planted at the temporary's
-    // name makes the attempt fail (EEXIST), and another name is drawn.
-    // Registered before it is created: a signal's handler in between unlinks nothing, one after
-    // unlinks it (the handler runs on the main thread; ThreadPool's workers block the signals).
-    int fd = -1;
-    for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
-      unregisterTemporary(slot_);
-      temporary_ = temporaryName(path);
-      slot_ = registerTemporary(temporary_.c_str());
-      fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-      if (fd < 0 && errno != EEXIST) break;
-    }
-    if (fd < 0) {
-      const std::string why = std::strerror(errno);
-      unregisterTemporary(slot_);
-      slot_ = -1;
-      temporary_.clear();
-      throw Error("cannot write '" + path + "': " + why);
-    }
+    // Where the file system has them, an unnamed file (O_TMPFILE) in the target's directory: no
+    // name exists until stage() links one, so a SIGKILL while writing leaves nothing behind.
+    const std::filesystem::path target_path(path);
+    const std::string dir =
+        target_path.has_parent_path() ? target_path.parent_path().string() : std::string(".");
+    // Naming it later takes /proc/self/fd (linkat's AT_EMPTY_PATH needs a privilege).
+    int fd = ::access("/proc/self/fd", X_OK) == 0
+                 ? ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666)
+                 : -1;
+    anonymous_ = fd >= 0;
+    if (fd < 0) fd = openNamedTemporary();
     file_ = ::fdopen(fd, "wb");
     if (file_ == nullptr) {
       const std::string why = std::strerror(errno);
       ::close(fd);
-      ::unlink(temporary_.c_str());
+      if (!anonymous_) ::unlink(temporary_.c_str());
       unregisterTemporary(slot_);
       throw Error("cannot write '" + path + "': " + why);
     }
   }
   buffer_.reserve(kBuffer);
+}
+
+int AtomicWriter::openNamedTemporary() {
+  // Created exclusively and never through a link: a file or link planted at the temporary's
+  // name makes the attempt fail (EEXIST), and another name is drawn.
+  // Registered before it is created: a signal's handler in between unlinks nothing, one after
+  // unlinks it (the handler runs on the main thread; ThreadPool's workers block the signals).
+  int fd = -1;
+  for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+    unregisterTemporary(slot_);
+    temporary_ = temporaryName(path_);
+    slot_ = registerTemporary(temporary_.c_str());
+    fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0) {
+    const std::string why = std::strerror(errno);
+    unregisterTemporary(slot_);
+    slot_ = -1;
+    temporary_.clear();
+    throw Error("cannot write '" + path_ + "': " + why);
+  }
+  return fd;
+}
+
+void AtomicWriter::linkAnonymous(int fd) {
+  // linkat through /proc/self/fd (AT_EMPTY_PATH would need CAP_DAC_READ_SEARCH); a name that
+  // exists (planted, or another writer's) makes the attempt fail with EEXIST: another is drawn.
+  const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    unregisterTemporary(slot_);
+    temporary_ = temporaryName(path_);
+    slot_ = registerTemporary(temporary_.c_str());
+    if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, temporary_.c_str(), AT_SYMLINK_FOLLOW) == 0)
+      return;
+    if (errno != EEXIST) break;
+  }
+  const std::string why = std::strerror(errno);
+  unregisterTemporary(slot_);
+  slot_ = -1;
+  temporary_.clear();
+  throw Error("cannot write '" + path_ + "': " + why);
 }
 
 AtomicWriter::~AtomicWriter() {
@@ -196,8 +230,17 @@ void AtomicWriter::flush() {
 void AtomicWriter::stage() {
   if (staged_) return;
   flush();
-  const bool flushed =
-      std::fflush(file_) == 0 && (temporary_.empty() || ::fsync(::fileno(file_)) == 0);
+  const bool through = temporary_.empty() && !anonymous_;  // a stream, or standard output
+  const bool flushed = std::fflush(file_) == 0 && (through || ::fsync(::fileno(file_)) == 0);
+  if (flushed && anonymous_) {
+    try {
+      linkAnonymous(::fileno(file_));  // the content is whole: now it gets a name
+    } catch (const Error&) {
+      std::fclose(file_);
+      file_ = nullptr;
+      throw;
+    }
+  }
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
   staged_ = true;

@@ -21,14 +21,16 @@ enum class ExistingTarget {
 };
 
 /// A file written piece by piece with writeFileAtomically's guarantees: through a temporary in
-/// the same directory (`<path>.tmp.<pid>.<random>`, created exclusively: never through a link or
-/// file planted at that name), renamed over `path` by commit(); a directory or other special
-/// file is refused. Destroyed without commit (an exception on the way), the temporary is removed
-/// and the target untouched. A commit also removes the target's stale temporaries (of processes
-/// that no longer exist: what a SIGKILL left). While an InputFileGuard exists, a target that is
-/// one of the command's input files is refused. The path "-" is standard output, written through
-/// (a user who pipes a command's one output file takes the stream as it comes). Throws Error
-/// naming the path on failure.
+/// the same directory, renamed over `path` by commit(); a directory or other special file is
+/// refused. The temporary is an unnamed file (O_TMPFILE) where the file system has them, linked
+/// to `<path>.tmp.<pid>.<random>` only by stage() once its content is whole and synced, so a
+/// SIGKILL while writing leaves no file; elsewhere it is created under that name at once. Either
+/// way the name is made exclusively: never through a link or file planted there. Destroyed without
+/// commit (an exception on the way), the temporary is removed and the target untouched. A commit
+/// also removes the target's stale temporaries (of processes that no longer exist: what a SIGKILL
+/// left). While an InputFileGuard exists, a target that is one of the command's input files is
+/// refused. The path "-" is standard output, written through (a user who pipes a command's one
+/// output file takes the stream as it comes). Throws Error naming the path on failure.
 class AtomicWriter {
  public:
   explicit AtomicWriter(const std::string& path, ExistingTarget existing = ExistingTarget::kFollow);
@@ -44,8 +46,11 @@ class AtomicWriter {
 
  private:
   void flush();
+  int openNamedTemporary();    // creates temporary_ exclusively; returns its descriptor
+  void linkAnonymous(int fd);  // gives the unnamed temporary its name, exclusively
   static constexpr std::size_t kBuffer = 1 << 20;
-  std::string path_, temporary_;  // temporary_ empty: written through
+  std::string path_, temporary_;  // temporary_ empty and not anonymous_: written through
+  bool anonymous_ = false;        // an unnamed temporary (O_TMPFILE) until stage()
   std::FILE* file_ = nullptr;
   std::string buffer_;
   bool staged_ = false, committed_ = false;

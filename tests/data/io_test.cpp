@@ -1,6 +1,7 @@
 #include "data/io.hpp"
 #include "core/format.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -231,3 +232,49 @@ TEST(Io, PrintableUtf8AcceptsTextAndRefusesBadBytesAndControls) {
                                  "a\tb"s, "a\nb"s, "a\x7f"s, "a\0b"s})
     EXPECT_FALSE(dynid::isPrintableUtf8(bad)) << bad;
 }
+
+namespace dynid {
+namespace {
+
+/// The names in `dir` that start with `prefix`.
+std::vector<std::string> namesStartingWith(const std::string& dir, const std::string& prefix) {
+  std::vector<std::string> out;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) == 0) out.push_back(name);
+  }
+  return out;
+}
+
+TEST(Io, NoNameExistsWhileAFileIsWrittenOnlyFromItsStage) {
+  // A SIGKILL while writing (a search's checkpoint, every round) must leave nothing behind: the
+  // temporary is unnamed (O_TMPFILE) until its content is whole and synced.
+  const std::string dir = test::tempPath("unnamed_dir");
+  std::filesystem::create_directories(dir);
+  const int probe = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0600);
+  if (probe < 0 || ::access("/proc/self/fd", X_OK) != 0)
+    GTEST_SKIP() << "this file system has no O_TMPFILE (or no /proc): named temporaries there";
+  ::close(probe);
+  const std::string path = dir + "/checkpoint.json";
+  {
+    AtomicWriter out(path);
+    out.write(std::string(3 << 20, 'x'));  // past the buffer: written to the file
+    EXPECT_EQ(namesStartingWith(dir, "checkpoint.json"), std::vector<std::string>{});
+    out.stage();
+    const std::vector<std::string> staged = namesStartingWith(dir, "checkpoint.json.tmp.");
+    ASSERT_EQ(staged.size(), 1u);  // named once whole, exclusively, then renamed
+    out.commit();
+  }
+  EXPECT_EQ(namesStartingWith(dir, "checkpoint.json"), std::vector<std::string>{"checkpoint.json"});
+  EXPECT_EQ(readFile(path).size(), std::size_t{3} << 20);
+  // Abandoned before its stage (an exception on the way): nothing was ever named.
+  {
+    AtomicWriter out(path);
+    out.write("partial");
+  }
+  EXPECT_EQ(namesStartingWith(dir, "checkpoint.json"), std::vector<std::string>{"checkpoint.json"});
+  EXPECT_EQ(readFile(path).size(), std::size_t{3} << 20);
+}
+
+}  // namespace
+}  // namespace dynid
