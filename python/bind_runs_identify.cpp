@@ -21,6 +21,16 @@
 namespace dynid::python {
 namespace {
 
+/// relative_error is a fraction where the CLI prints percent: it warns, naming the property that
+/// carries its unit. (A DeprecationWarning: shown in tests and __main__, silent elsewhere.)
+void warnFraction() {
+  if (PyErr_WarnEx(PyExc_DeprecationWarning,
+                   "relative_error is the fraction ||tau - tau_hat|| / ||tau||; "
+                   "relative_error_percent is the same in percent, as the CLI prints it",
+                   1) != 0)
+    throw py::error_already_set();
+}
+
 /// What `identifiability()` returns: the outcome and the model it describes (for to_json).
 struct IdentifiabilityResult {
   Model model;
@@ -438,9 +448,18 @@ void bindEstimate(py::module_& m) {
           [](const EstimateResult& r) { return toNumpy(r.outcome.result.estimate.residual_rms); },
           "Each joint's RMS torque residual on the training data, shape (n,) [N m].")
       .def_property_readonly(
+          "relative_error_percent",
+          [](const EstimateResult& r) { return 100.0 * r.outcome.result.estimate.relative_error; },
+          "The relative torque error on the training data, 100 ||tau - tau_hat|| / ||tau|| [%], "
+          "as the CLI prints it (estimate.json's relative_error is the fraction).")
+      .def_property_readonly(
           "relative_error",
-          [](const EstimateResult& r) { return r.outcome.result.estimate.relative_error; },
-          "The relative torque error on the training data, ||tau - tau_hat|| / ||tau||.")
+          [](const EstimateResult& r) {
+            warnFraction();
+            return r.outcome.result.estimate.relative_error;
+          },
+          "The fraction ||tau - tau_hat|| / ||tau||, deprecated (a DeprecationWarning says so): "
+          "relative_error_percent names its unit.")
       .def_property_readonly(
           "num_samples",
           [](const EstimateResult& r) { return r.outcome.result.estimate.num_samples; },
@@ -490,9 +509,18 @@ void bindPredict(py::module_& m) {
           [](const PredictionResult& r) { return toNumpy(r.prediction.validation.normalised_rms); },
           "Each joint's torque RMS error relative to its measured torque's RMS, shape (n,).")
       .def_property_readonly(
+          "relative_error_percent",
+          [](const PredictionResult& r) { return 100.0 * r.prediction.validation.relative_error; },
+          "The relative torque error 100 ||tau - tau_hat|| / ||tau|| over every joint and sample "
+          "[%], as the CLI prints it (prediction.json's relative_error is the fraction).")
+      .def_property_readonly(
           "relative_error",
-          [](const PredictionResult& r) { return r.prediction.validation.relative_error; },
-          "The relative torque error ||tau - tau_hat|| / ||tau|| over every joint and sample.")
+          [](const PredictionResult& r) {
+            warnFraction();
+            return r.prediction.validation.relative_error;
+          },
+          "The fraction ||tau - tau_hat|| / ||tau||, deprecated (a DeprecationWarning says so): "
+          "relative_error_percent names its unit.")
       .def_property_readonly(
           "num_samples",
           [](const PredictionResult& r) { return r.prediction.validation.num_samples; },

@@ -41,7 +41,7 @@ def main():
                 estimate = dynid.identify(robot, data, method=method, threads=args.threads)
                 rows.append({"noise_tau": noise, "seed": seed, "method": method,
                              "base_error": base_error(estimate.beta, truth),
-                             "relative_error": estimate.relative_error,
+                             "relative_error_percent": estimate.relative_error_percent,
                              "condition_number": estimate.condition_number})
         print(f"noise {noise:g} N m: done", flush=True)
 

@@ -81,7 +81,7 @@ def test_the_stubs_type_check_right_use_and_catch_wrong_use(tmp_path):
             tau: npt.NDArray[np.float64] = dynid.rnea(robot, np.zeros(6), [0.0] * 6, np.zeros(6))
             print(tau.shape, estimate.base_names[0])
             prediction = dynid.predict(estimate.model, path)
-            return prediction.relative_error + float(estimate.beta[0])
+            return prediction.relative_error_percent + float(estimate.beta[0])
 
         def stop_early(info: dict[str, object]) -> bool:
             return info["iteration"] != 3
@@ -94,7 +94,7 @@ def test_the_stubs_type_check_right_use_and_catch_wrong_use(tmp_path):
         import dynid
         robot = dynid.load_model(3)
         estimate = dynid.identify(robot, 4.5)
-        estimate.relative_error.upper()
+        estimate.relative_error_percent.upper()
         """))
     done = mypy(str(wrong), cwd=tmp_path)
     assert done.returncode == 1
