@@ -58,10 +58,12 @@ std::string statesText(const MonitorOutcome& o) {
          formatNumber(kRestSettleSeconds, 3) +
          " s) a push is the residual's change from its level " +
          "at rest, judged by thresholds at rest learnt from the calibration's " +
-         formatNumber(t.rest_seconds, 3) + " s at rest, " + formatNumber(ratio.minCoeff(), 3) +
-         " to " + formatNumber(ratio.maxCoeff(), 3) + " times below the moving ones; the arm " +
-         "was at rest " + formatNumber(o.rest_seconds, 4) + " s of the " +
-         formatNumber(o.seconds, 4) + " s watched.";
+         formatNumber(t.rest_seconds, 3) + " s at rest (which confirm a rate no lower than " +
+         formatNumber(3.0 / t.rest_seconds * 3600.0, 3) + " per hour at rest), " +
+         formatNumber(ratio.minCoeff(), 3) + " to " + formatNumber(ratio.maxCoeff(), 3) +
+         " times below the moving ones; the arm " + "was at rest " +
+         formatNumber(o.rest_seconds, 4) + " s of the " + formatNumber(o.seconds, 4) +
+         " s watched.";
 }
 
 std::string verdict(const MonitorOutcome& o) {

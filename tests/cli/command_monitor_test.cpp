@@ -84,6 +84,37 @@ TEST_F(CliMonitor, FindsThePushesAndReadsItsThresholdsBack) {
   EXPECT_EQ(k["thresholds"]["thresholds"], j["thresholds"]["thresholds"]);
 }
 
+TEST_F(CliMonitor, SaysHowARestingArmIsJudgedAndKeepsItsThresholdsAtRest) {
+  // Without stops the calibration has no thresholds at rest, and says what would give them.
+  const Result plain = run("monitor --arm puma560 --data " + dir_ + "/pushed.csv --calibration " +
+                           dir_ + "/clean.csv --out " + dir_ + "/plain");
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_TRUE(contains(plain.out, "The calibration held its pose 0 s (2 s are needed)"))
+      << plain.out;
+  // With stops (simulate --pauses): thresholds at rest, why, and the same after a read-back.
+  ASSERT_EQ(run("simulate --robot puma560 --duration 12 --noise-tau 0.05 --noise-dq 0.001 "
+                "--seed 3 --pauses move=2,hold=2.5 --out " +
+                dir_ + "/stops.csv")
+                .code,
+            0);
+  const std::string out = dir_ + "/rest";
+  const Result r = run("monitor --arm puma560 --data " + dir_ + "/stops.csv --calibration " + dir_ +
+                       "/stops.csv --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "0 events")) << r.out;  // a clean run raises no alarm
+  EXPECT_TRUE(contains(r.out, "judged by thresholds at rest learnt from the calibration's"))
+      << r.out;
+  const auto j = nlohmann::json::parse(readFile(out + "/thresholds.json"));
+  EXPECT_EQ(j["schema_version"], 2);
+  ASSERT_EQ(j["thresholds_at_rest"].size(), 6u);
+  const Result again = run("monitor --arm puma560 --data " + dir_ + "/stops.csv --thresholds " +
+                           out + "/thresholds.json --out " + dir_ + "/rest2");
+  ASSERT_EQ(again.code, 0) << again.err;
+  const auto k = nlohmann::json::parse(readFile(dir_ + "/rest2/monitor.json"));
+  EXPECT_EQ(k["thresholds"]["thresholds_at_rest"], j["thresholds_at_rest"]);
+  EXPECT_EQ(k["events"].size(), 0u);
+}
+
 // The pushed log as a ROS 2 recording (JointState with velocities, as a driver publishes them):
 // the same pushes found, at the recording's own stamps; its options refused on a dataset.
 TEST_F(CliMonitor, WatchesARecording) {
