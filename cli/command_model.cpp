@@ -21,13 +21,8 @@ namespace {
 int runAttach(const std::vector<std::string>& args) {
   po::options_description options("dynid model attach");
   addRobotOptions(options);
-  options.add_options()("link", po::value<std::string>(),
-                        "the link the body is fixed to (default: the last)")(
-      "tool-xyz", po::value<std::string>(),
-      "the body's frame: its origin in the link's frame, x,y,z [m] (default: 0,0,0)")(
-      "tool-rpy", po::value<std::string>(),
-      "the body's frame: roll,pitch,yaw in the link's frame [rad] (default: 0,0,0)")(
-      "mass", po::value<double>(), "the body's mass [kg]")(
+  addAttachmentOptions(options, "the body");
+  options.add_options()("mass", po::value<double>(), "the body's mass [kg]")(
       "com", po::value<std::string>(), "its centre of mass in its frame, x,y,z [m] (default 0)")(
       "inertia", po::value<std::string>(),
       "its inertia about the centre of mass in its frame's axes, Ixx,Ixy,Ixz,Iyy,Iyz,Izz "
