@@ -54,12 +54,17 @@ std::string statesText(const MonitorOutcome& o) {
            "exceed them; calibrate on a log with stops to judge a resting arm by its noise at "
            "rest.";
   const Eigen::ArrayXd ratio = t.values.array() / t.values_at_rest.array();
+  // No alarm in T s at rest bounds the rate at rest below 3 / T (a file may say T = 0).
+  const std::string confirmed = t.rest_seconds > 0.0
+                                    ? " (which confirm a rate no lower than " +
+                                          formatNumber(3.0 / t.rest_seconds * 3600.0, 3) +
+                                          " per hour at rest)"
+                                    : "";
   return "At rest (every joint within its rest velocity, measured on the calibration, for " +
          formatNumber(kRestSettleSeconds, 3) +
          " s) a push is the residual's change from its level " +
          "at rest, judged by thresholds at rest learnt from the calibration's " +
-         formatNumber(t.rest_seconds, 3) + " s at rest (which confirm a rate no lower than " +
-         formatNumber(3.0 / t.rest_seconds * 3600.0, 3) + " per hour at rest), " +
+         formatNumber(t.rest_seconds, 3) + " s at rest" + confirmed + ", " +
          formatNumber(ratio.minCoeff(), 3) + " to " + formatNumber(ratio.maxCoeff(), 3) +
          " times below the moving ones; the arm " + "was at rest " +
          formatNumber(o.rest_seconds, 4) + " s of the " + formatNumber(o.seconds, 4) +

@@ -1,5 +1,7 @@
 #include "analysis/monitor/calibration.hpp"
 
+#include <atomic>
+
 #include "analysis/logs/rest.hpp"
 #include "analysis/monitor/feeds.hpp"
 #include "analysis/monitor/states.hpp"
@@ -12,27 +14,31 @@ namespace dynid {
 namespace {
 
 /// The calibration log's rest velocities: measured on its first kRestSamples samples' stamps and
-/// velocities (analysis/logs/rest.hpp), as identify measures its data's.
+/// velocities (analysis/logs/rest.hpp), as identify measures its data's. The pass stops there.
 Eigen::VectorXd calibrationRestVelocities(const Model& model, const MonitorRequest& request,
                                           const Eigen::VectorXd& gain) {
   const int n = model.numJoints();
-  std::vector<double> time;
-  std::vector<Eigen::VectorXd> dq;
-  std::vector<std::string> ignored;  // the second pass reports the same warnings
+  std::vector<double> time, dq;  // dq: joint-major per sample
+  std::atomic<bool> enough{false};
+  MonitorRequest first = request;
+  first.control.stop = &enough;      // the user's Ctrl-C is forwarded below
+  std::vector<std::string> ignored;  // the statistics' pass reports the same warnings
   passOverLog(
-      model, request.calibration_file, request, gain,
+      model, request.calibration_file, first, gain,
       [&](double t, double, const Eigen::VectorXd&, const Eigen::VectorXd*,
           const Eigen::VectorXd& v) {
-        if (time.size() >= static_cast<std::size_t>(kRestSamples)) return;
         time.push_back(t);
-        dq.push_back(v);
+        dq.insert(dq.end(), v.data(), v.data() + v.size());
+        if (time.size() >= static_cast<std::size_t>(kRestSamples) || request.control.interrupted())
+          enough = true;
       },
       ignored);
-  Eigen::MatrixXd velocities(n, static_cast<Eigen::Index>(dq.size()));
-  for (std::size_t k = 0; k < dq.size(); ++k) velocities.col(static_cast<Eigen::Index>(k)) = dq[k];
-  const std::vector<double> rest = restThresholds(measureRestVelocities(
-      velocities,
-      Eigen::Map<const Eigen::VectorXd>(time.data(), static_cast<Eigen::Index>(time.size()))));
+  if (request.control.interrupted())
+    throw InputError("stopped during the calibration: no thresholds");
+  const Eigen::Index count = static_cast<Eigen::Index>(time.size());
+  const std::vector<double> rest =
+      restThresholds(measureRestVelocities(Eigen::Map<const Eigen::MatrixXd>(dq.data(), n, count),
+                                           Eigen::Map<const Eigen::VectorXd>(time.data(), count)));
   return Eigen::Map<const Eigen::VectorXd>(rest.data(), n);
 }
 
@@ -65,10 +71,10 @@ StateStatistics calibrationStatistics(const Model& model, const MonitorRequest& 
         const Eigen::VectorXd& x = states.statistic();
         const bool follows = dt > 0.0 && state == previous_state;
         if (state == ArmState::kRest) {
-          out.rest.add(t, x, follows ? &previous : nullptr, dt);
+          out.rest.add(x, follows ? &previous : nullptr, dt);
           out.rest_seconds += dt;  // as Watch counts it
         } else {
-          out.moving.add(t, x, follows ? &previous : nullptr, dt);
+          out.moving.add(x, follows ? &previous : nullptr, dt);
         }
         previous = x;
         previous_state = state;

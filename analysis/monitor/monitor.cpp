@@ -160,10 +160,10 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   Watch watch(out.thresholds, request.hold, request.sink, out.events);
   const Visit visit = [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
                           const Eigen::VectorXd& dq) {
-    observer_stats.add(t, r, nullptr, 0.0);
+    observer_stats.add(r, nullptr, 0.0);
     out.observer_envelope.add(t, r);
     if (d) {
-      direct_stats.add(t, *d, nullptr, 0.0);
+      direct_stats.add(*d, nullptr, 0.0);
       out.direct_envelope.add(t, *d);
     }
     watch.sample(t, dt, direct_events ? *d : r, dq);

@@ -63,9 +63,7 @@ void ResidualStatistics::reset(int n, double block_seconds) {
   samples = 0;
 }
 
-void ResidualStatistics::add(double t, const Eigen::VectorXd& r, const Eigen::VectorXd* previous,
-                             double dt) {
-  (void)t;
+void ResidualStatistics::add(const Eigen::VectorXd& r, const Eigen::VectorXd* previous, double dt) {
   sum_squares += r.cwiseAbs2();
   max_abs = max_abs.cwiseMax(r.cwiseAbs());
   // A block is `block` seconds of these samples' own time: a state's samples come in runs, and a

@@ -50,8 +50,8 @@ struct ResidualStatistics {
   int blocks = 0;                                           // completed blocks
   long long samples = 0;
   void reset(int n, double block_seconds = 1.0);
-  /// One sample at time t; `previous` and dt > 0 when it follows another without a gap.
-  void add(double t, const Eigen::VectorXd& r, const Eigen::VectorXd* previous, double dt);
+  /// One sample; `previous` and its step dt > 0 when it follows another without a gap.
+  void add(const Eigen::VectorXd& r, const Eigen::VectorXd* previous, double dt);
   Eigen::VectorXd rms() const;
   Eigen::VectorXd rateRms() const;  // RMS of dr/dt [N m/s]
 };

@@ -522,9 +522,11 @@ TEST_F(MonitorRun, AtRestAPushIsJudgedByTheNoiseAtRestNotByTheMovingResidual) {
   ASSERT_EQ(found.size(), 1u);
   EXPECT_TRUE(found[0].at_rest);
   EXPECT_EQ(found[0].peak_joint, j);
-  EXPECT_NEAR(found[0].start, 7.5, 0.1);         // the smoothing's 80 ms and the observer's 10 ms
-  EXPECT_NEAR(found[0].peak, push, 0.2 * push);  // the change at rest has the push's size
-  EXPECT_EQ(watched.events.size(), 1u);          // and nothing else
+  EXPECT_NEAR(found[0].start, 7.5, 0.1);  // the smoothing's 80 ms and the observer's 10 ms
+  // The change at rest has the push's size, within what 0.4 s of 80 ms smoothing leaves and the
+  // noise at rest (the threshold is a third of the push).
+  EXPECT_NEAR(found[0].peak, push, 0.2 * push);
+  EXPECT_EQ(watched.events.size(), 1u);  // and nothing else
   // The same thresholds without the arm states (a version 1 file): the push is not seen.
   const std::string v1_file =
       test::writeThresholdsWithoutStates(th, test::tempPath("monitor_thresholds_v1.json"));

@@ -80,8 +80,8 @@ TEST(Thresholds, RiceOnAGaussianProcessGumbelOnHeavyTails) {
     r[0] = a * r[0] + std::sqrt(1 - a * a) * normal(rng);
     r[1] = 0.1 * r[0];
     s[0] = r[0] + ((k % 2000) < 5 ? 8.0 : 0.0);  // every 2 s, 5 ms at 8 sigma
-    gaussian.add(k * dt, r, k > 0 ? &previous : nullptr, dt);
-    spiky.add(k * dt, s, k > 0 ? &s_previous : nullptr, dt);
+    gaussian.add(r, k > 0 ? &previous : nullptr, dt);
+    spiky.add(s, k > 0 ? &s_previous : nullptr, dt);
   }
   const Eigen::VectorXd sd = gaussian.rms(), rate_sd = gaussian.rateRms();
   // 200000 correlated samples (~10000 independent): RMS within a few percent of 1.

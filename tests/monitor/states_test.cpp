@@ -41,7 +41,8 @@ TEST(StateResidual, AtRestAPushIsTheChangeFromTheLevelTheArmHeld) {
   EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 3.7), ArmState::kMoving);
   EXPECT_EQ(f.run(0.15, 0.0, 3.7), ArmState::kRest);
   EXPECT_EQ(f.run(1.0, 0.0, 3.7), ArmState::kRest);
-  // The smoothed noise (0.01 over 80 ms at 1 kHz: 0.0025), its smallest value over 20 ms.
+  // The level the arm holds is taken away: what is left is the smoothed noise (0.01 sqrt(1 ms /
+  // 160 ms) = 0.0008; the bound is 15 of those, and 1/56 of the 0.7 N m a wrong level leaves).
   EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.0125);
   // A push of 0.5 N m: the change reaches it (the level stands still while it builds).
   f.run(0.6, 0.0, 4.2, true);
@@ -67,7 +68,7 @@ TEST(StateResidual, ALevelStandsStillOnlySoLongAndAnEventAtRestSettlesAgain) {
   f.states.settleAgain(f.t);
   EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 2.0), ArmState::kMoving);
   EXPECT_EQ(f.run(0.2, 0.0, 2.0), ArmState::kRest);
-  EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.0125);
+  EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.0125);  // as above: the noise
   // A gap (dt = 0): moving until it settles.
   f.first = true;
   EXPECT_EQ(f.run(0.1, 0.0, 2.0), ArmState::kMoving);
