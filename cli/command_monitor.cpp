@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstring>
 #include <iostream>
+#include <optional>
 
 #include "analysis/monitor/monitor.hpp"
 #include "cli/commands.hpp"
@@ -197,7 +198,16 @@ int runMonitor(const std::vector<std::string>& args) {
     request.next_line = [&](std::string& line) { return lines.next(line); };
     request.sink = &printed;
   }
-  MonitorOutcome outcome = monitorRun(request);
+  std::optional<MonitorOutcome> run;
+  try {
+    run.emplace(monitorRun(request));
+  } catch (const Error&) {
+    if (!interrupt.interrupted()) throw;
+    std::cerr << "dynid monitor: interrupted (Ctrl-C) before the thresholds were set: nothing "
+                 "written\n";
+    return kExitInterrupted;
+  }
+  MonitorOutcome& outcome = *run;
   cliTexts(outcome.warnings);  // the fields they name, as this command's flags
   const std::string summary =
       dir.empty() ? monitorSummary(outcome) : writeMonitor(dir, outcome, request.data_file);

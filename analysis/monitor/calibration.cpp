@@ -13,6 +13,8 @@ namespace dynid {
 
 namespace {
 
+const char* const kStoppedCalibrating = "stopped during the calibration: no thresholds";
+
 /// The calibration log's rest velocities: measured on its first kRestSamples samples' stamps and
 /// velocities (analysis/logs/rest.hpp), as identify measures its data's. The pass stops there.
 Eigen::VectorXd calibrationRestVelocities(const Model& model, const MonitorRequest& request,
@@ -33,8 +35,7 @@ Eigen::VectorXd calibrationRestVelocities(const Model& model, const MonitorReque
           enough = true;
       },
       ignored);
-  if (request.control.interrupted())
-    throw InputError("stopped during the calibration: no thresholds");
+  if (request.control.interrupted()) throw InputError(kStoppedCalibrating);
   const Eigen::Index count = static_cast<Eigen::Index>(time.size());
   const std::vector<double> rest =
       restThresholds(measureRestVelocities(Eigen::Map<const Eigen::MatrixXd>(dq.data(), n, count),
@@ -95,11 +96,12 @@ void raiseToTheCleanRun(const Model& model, const MonitorRequest& request,
     std::vector<MonitorEvent> events;
     std::vector<std::string> ignored;  // the statistics' pass reported them
     Watch watch(thresholds, request.hold, nullptr, events);
-    passOverLog(
+    const Pass judged = passOverLog(
         model, request.calibration_file, request, gain,
         [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
             const Eigen::VectorXd& dq) { watch.sample(t, dt, direct ? *d : r, dq); },
         ignored);
+    if (judged.interrupted) throw InputError(kStoppedCalibrating);  // a part judged is no check
     watch.close();
     if (events.empty()) return;
     // 1e-9 above the largest value: that sample no longer crosses.
@@ -118,7 +120,7 @@ MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
   const Eigen::VectorXd rest_velocity = calibrationRestVelocities(model, request, gain);
   const StateStatistics stats =
       calibrationStatistics(model, request, gain, rest_velocity, warnings);
-  if (stats.pass.interrupted) throw InputError("stopped during the calibration: no thresholds");
+  if (stats.pass.interrupted) throw InputError(kStoppedCalibrating);
   if (stats.moving.samples == 0)
     throw InputError(request.calibration_file +
                      ": the arm holds its pose throughout the calibration: thresholds for motion "

@@ -151,8 +151,12 @@ Pass passOverStream(const Model& model, const MonitorRequest& request, const Eig
   const int n = model.numJoints();
   const std::string source = "<stdin>";
   std::string line;
-  if (!request.next_line || !request.next_line(line))
+  if (!request.next_line || !request.next_line(line)) {
+    Pass none;  // Ctrl-C while waiting for the header: no sample, not a malformed stream
+    none.interrupted = request.control.stopped();
+    if (none.interrupted) return none;
     throw ParseError(source, 1, "", "no header: the stream ended before its first line");
+  }
   const bool with_ddq = parseSampleHeader(line, n, source);
   const Eigen::VectorXd scale =
       effortScale(request.torque_constants, request.gear_ratios, n, "the robot");

@@ -45,7 +45,8 @@ extern const char* const kDirectNeedsDdq;
 Pass passOverLog(const Model& model, const std::string& file, const MonitorRequest& request,
                  const Eigen::VectorXd& gain, const Visit& visit,
                  std::vector<std::string>& warnings);
-/// One pass over the samples request.next_line streams (a header, then samples).
+/// One pass over the samples request.next_line streams (a header, then samples). A stream that
+/// ends while request.control is stopped is an interrupted pass, even before its header.
 Pass passOverStream(const Model& model, const MonitorRequest& request, const Eigen::VectorXd& gain,
                     const Visit& visit);
 /// The ground truth's episodes (dynid simulate --disturbance's file): runs of samples where any

@@ -201,7 +201,8 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
     out.direct_rms = direct_stats.rms();
     out.direct_max = direct_stats.max_abs;
   }
-  if (out.samples == 0) throw InputError(request.data_file + ": no samples to monitor");
+  if (out.samples == 0 && !out.interrupted)  // stopped before the first: the thresholds stand
+    throw InputError(request.data_file + ": no samples to monitor");
   if (pass.restarts > 0)
     out.warnings.push_back(std::to_string(pass.restarts) + " gap(s) longer than " +
                            std::to_string(request.max_gap) +

@@ -75,7 +75,7 @@ struct MonitorOutcome {
   Eigen::VectorXd observer_rms, observer_max, direct_rms, direct_max;  // over the data
   ResidualEnvelope observer_envelope, direct_envelope;
   std::optional<TruthScore> truth;
-  bool interrupted = false;
+  bool interrupted = false;  // stopped (Ctrl-C) after the thresholds; samples may be 0
   std::vector<std::string> warnings;
 };
 
@@ -87,7 +87,8 @@ struct MonitorOutcome {
 /// recording without the robot's joints or without velocities (prepare it first), or with a
 /// non-finite value (naming the file, the sample and the field); ParseError naming the file (or
 /// "<stdin>"), line and column for a malformed sample, a non-finite value, time that does not
-/// increase or a stream that ends mid-line.
+/// increase or a stream that ends mid-line. Stopped (request.control) during the calibration it
+/// throws InputError (no thresholds); after it, it returns the events so far, interrupted.
 MonitorOutcome monitorRun(const MonitorRequest& request);
 
 /// What a calibration run can confirm about its false-alarm rate. With no alarm in T seconds of

@@ -198,13 +198,15 @@ TEST_F(CliMonitor, StreamedOnStdinItPrintsEachEventAsItHappens) {
 
 TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
   // 2500 of the 6001 rows, then the writer keeps the pipe open: monitor waits for more when
-  // SIGINT comes. The first push (at 2 s) has been reported; it ends cleanly (exit 130).
+  // SIGINT comes, sent once the first push (at 2 s) has been printed (however long the
+  // calibration took). It ends cleanly (exit 130) with that event.
   const std::string script =
       "cd " + dir_ + " && rm -f pipe && mkfifo pipe && " +
-      "{ (head -n 2500 pushed.csv; exec sleep 30) > pipe & writer=$!; " + DYNID_BIN +
+      "{ (head -n 2500 pushed.csv; exec sleep 60) > pipe & writer=$!; " + DYNID_BIN +
       " monitor --arm puma560 --data - --calibration clean.csv --out live < pipe > live.jsonl "
-      "2> live.err & pid=$!; sleep 2; kill -INT $pid; wait $pid; code=$?; kill $writer; "
-      "exit $code; }";
+      "2> live.err & pid=$!; "
+      "for i in $(seq 1200); do grep -q start live.jsonl && break; sleep 0.1; done; "
+      "kill -INT $pid; wait $pid; code=$?; kill $writer; exit $code; }";
   std::filesystem::remove_all(dir_ + "/live");
   const int status = std::system(("bash -c '" + script + "'").c_str());
   EXPECT_EQ(WEXITSTATUS(status), 130) << readFile(dir_ + "/live.err");
@@ -215,6 +217,27 @@ TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
   EXPECT_TRUE(j["interrupted"].get<bool>());
   EXPECT_EQ(j["events"].size(), 1u);
   EXPECT_EQ(j["samples"].get<int>(), 2499);
+}
+
+TEST_F(CliMonitor, CtrlCDuringTheCalibrationWritesNothingAndSaysSo) {
+  // The calibration log comes through a FIFO whose writer stops after 300 rows and tells the test
+  // so: monitor is then inside the calibration, waiting, when SIGINT comes; the writer then
+  // closes its end.
+  const std::string script =
+      "cd " + dir_ + " && rm -f cal written go && mkfifo cal && " +
+      "{ (exec 3>cal; head -n 300 clean.csv >&3; : > written; "
+      "while [ ! -e go ]; do sleep 0.05; done) & writer=$!; " +
+      DYNID_BIN +
+      " monitor --arm puma560 --data pushed.csv --calibration cal --out stopped 2> stopped.err & "
+      "pid=$!; for i in $(seq 1200); do [ -e written ] && break; sleep 0.1; done; "
+      "kill -INT $pid; : > go; wait $pid; code=$?; wait $writer; exit $code; }";
+  std::filesystem::remove_all(dir_ + "/stopped");
+  const int status = std::system(("bash -c '" + script + "'").c_str());
+  const std::string err = readFile(dir_ + "/stopped.err");
+  EXPECT_EQ(WEXITSTATUS(status), 130) << err;
+  EXPECT_TRUE(contains(err, "interrupted (Ctrl-C) before the thresholds were set: nothing written"))
+      << err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/stopped"));
 }
 
 }  // namespace

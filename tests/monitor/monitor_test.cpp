@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -129,6 +130,39 @@ TEST_F(MonitorRun, StoppedMidEventItKeepsTheEventsSoFar) {
     EXPECT_TRUE(out.events[1].open);  // closed at the stop, marked open
     EXPECT_LT(out.samples, 3100) << data;
   }
+}
+
+// Ctrl-C during the calibration gives no thresholds (an error, not thresholds from a part of the
+// log); after it, while a stream waits for its header, the thresholds stand and no sample is
+// judged.
+TEST_F(MonitorRun, StoppedBeforeItsFirstSampleItKeepsOnlyFinishedThresholds) {
+  std::atomic<bool> stop{true};
+  MonitorRequest request;
+  request.arm = "puma560";
+  request.data_file = "-";
+  request.calibration_file = clean_;
+  request.control.stop = &stop;
+  request.next_line = [](std::string&) { return false; };
+  EXPECT_NE(test::errorText<InputError>([&] {
+              monitorRun(request);
+            }).find("stopped during the calibration"),
+            std::string::npos);
+  stop = false;
+  request.next_line = [&stop](std::string&) {  // a reader that gives up its wait on Ctrl-C
+    stop = true;
+    return false;
+  };
+  const MonitorOutcome out = monitorRun(request);
+  EXPECT_TRUE(out.interrupted);
+  EXPECT_EQ(out.samples, 0);
+  EXPECT_TRUE(out.events.empty());
+  ASSERT_EQ(out.thresholds.values.size(), 6);
+  EXPECT_TRUE((out.thresholds.values.array() > 0.0).all()) << out.thresholds.values.transpose();
+  // Without Ctrl-C, a stream that ends before its header is a malformed stream.
+  stop = false;
+  request.next_line = [](std::string&) { return false; };
+  EXPECT_NE(test::errorText<ParseError>([&] { monitorRun(request); }).find("no header"),
+            std::string::npos);
 }
 
 TEST_F(MonitorRun, RefusesThresholdsOfOtherJointsAndBadRequests) {
