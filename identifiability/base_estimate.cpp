@@ -1,5 +1,6 @@
 #include "identifiability/base_estimate.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace dynid {
@@ -14,10 +15,11 @@ void setRelativeErrors(BaseEstimate& e) {
   for (Eigen::Index j = 0; j < n; ++j)
     e.joint_relative_error[j] = e.measured_rms[j] > 0.0 ? e.residual_rms[j] / e.measured_rms[j]
                                                         : std::numeric_limits<double>::infinity();
-  // Every joint has the same number of samples: the norms over all rows from the per-joint RMS.
-  const double measured = e.measured_rms.norm();
-  e.relative_error =
-      measured > 0.0 ? e.residual_rms.norm() / measured : std::numeric_limits<double>::infinity();
+  // The norms over all rows from the per-joint RMS, each joint weighted by its rows.
+  const Eigen::VectorXd rows = e.fitted_rows.size() == n ? e.fitted_rows : Eigen::VectorXd::Ones(n);
+  const double measured = std::sqrt(rows.dot(e.measured_rms.cwiseAbs2()));
+  e.relative_error = measured > 0.0 ? std::sqrt(rows.dot(e.residual_rms.cwiseAbs2())) / measured
+                                    : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace dynid

@@ -37,6 +37,10 @@ struct BaseEstimate {
   double relative_error = 0.0;
   Eigen::VectorXd joint_relative_error;
   int num_samples = 0;
+  /// Per joint, the rows the fit took (identifiability/rows/fit_rows.hpp: fewer than num_samples
+  /// where a joint at rest had its row left out); empty: num_samples each. The per-joint
+  /// statistics above are over these rows.
+  Eigen::VectorXd fitted_rows;
 };
 
 /// A torque prediction against measured torques.

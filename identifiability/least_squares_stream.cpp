@@ -89,7 +89,15 @@ LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, int num_joint
     for (int j = 0; j < n_; ++j) lane.emplace_back(b_ + 1, kLaneRows);
   }
   tau_squared_ = Eigen::VectorXd::Zero(n_);
+  left_out_.assign(kLanes, std::vector<long long>(static_cast<std::size_t>(n_), 0));
   row_.resize(b_ + 1);
+}
+
+Eigen::VectorXd LeastSquaresStream::fittedRows() const {
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(n_, static_cast<double>(samples_));
+  for (const std::vector<long long>& lane : left_out_)
+    for (int j = 0; j < n_; ++j) out[j] -= static_cast<double>(lane[static_cast<std::size_t>(j)]);
+  return out;
 }
 
 LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& model)
@@ -155,8 +163,7 @@ void LeastSquaresStream::add(const Eigen::Ref<const Eigen::MatrixXd>& Y,
     for (TallQr& factor : lane) factor.flush();
 }
 
-void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& data,
-                                       ThreadPool* pool) {
+void LeastSquaresStream::checkSizes(const Model& model, const Trajectory& data) const {
   if (data.numJoints() != model.numJoints())
     throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, model '" +
                      model.name + "' has " + std::to_string(model.numJoints()));
@@ -167,21 +174,41 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
     throw InputError(
         "model '" + model.name + "' has " + std::to_string(model.parameterLayout().size()) +
         " standard parameters, the base parameters are of " + std::to_string(base_.numStandard()));
+}
+
+void LeastSquaresStream::makeGather() {
+  for (int j = 0; j < n_; ++j) {
+    std::vector<Eigen::Index> gather, zeros;
+    for (int c : support_[static_cast<std::size_t>(j)])
+      gather.push_back(
+          static_cast<Eigen::Index>(base_.independent[static_cast<std::size_t>(c)]) * n_ + j);
+    for (int s : zeros_[static_cast<std::size_t>(j)])
+      zeros.push_back(static_cast<Eigen::Index>(s) * n_ + j);
+    gather_.push_back(std::move(gather));
+    zero_offsets_.push_back(std::move(zeros));
+  }
+}
+
+void LeastSquaresStream::addTaus(const Trajectory& data, long long first, const FitRows* rows) {
+  if (!rows) {
+    for (int k = 0; k < data.numSamples(); ++k) addTau(data.tau.col(k));
+    return;
+  }
+  Eigen::VectorXd tau(n_);
+  for (int k = 0; k < data.numSamples(); ++k) {
+    for (int j = 0; j < n_; ++j)
+      tau[j] = rows->fitted(first + k, j, data.dq(j, k)) ? data.tau(j, k) : 0.0;
+    addTau(tau);
+  }
+}
+
+void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool,
+                                       const FitRows* rows) {
+  checkSizes(model, data);
   const int m = data.numSamples();
   checkFiniteSamples(data);
   if (m == 0) return;
-  if (gather_.empty()) {
-    for (int j = 0; j < n_; ++j) {
-      std::vector<Eigen::Index> gather, zeros;
-      for (int c : support_[static_cast<std::size_t>(j)])
-        gather.push_back(
-            static_cast<Eigen::Index>(base_.independent[static_cast<std::size_t>(c)]) * n_ + j);
-      for (int s : zeros_[static_cast<std::size_t>(j)])
-        zeros.push_back(static_cast<Eigen::Index>(s) * n_ + j);
-      gather_.push_back(std::move(gather));
-      zero_offsets_.push_back(std::move(zeros));
-    }
-  }
+  if (gather_.empty()) makeGather();
   const int threads = pool ? pool->numThreads() : 1;
   // Each thread's workspace (a Data) is made on that thread, the first time it runs (below):
   // memory a thread writes then comes from its own allocator arena, never sharing a cache line
@@ -199,6 +226,9 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
     std::unique_ptr<Data>& own = workspaces_[static_cast<std::size_t>(thread)];
     if (!own) own = std::make_unique<Data>(model);
     std::vector<TallQr>& factors = lanes_[static_cast<std::size_t>(lane)];
+    std::vector<long long>& left_out = left_out_[static_cast<std::size_t>(lane)];
+    Eigen::MatrixXd adjusted;  // with `rows`: the sample's regressor as the fit takes it
+    Eigen::VectorXd tau;
     long long block = first_block + ((lane - first_block % kLanes) + kLanes) % kLanes;
     for (; block <= last_block; block += kLanes) {
       const auto begin = static_cast<int>(std::max(first, block * kLaneRows) - first);
@@ -209,9 +239,19 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
           return;
         }
       for (int k = begin; k < end; ++k) {
-        const double* y =
-            jointTorqueRegressor(model, *own, data.q.col(k), data.dq.col(k), data.ddq.col(k))
-                .data();
+        const Eigen::MatrixXd& regressor =
+            jointTorqueRegressor(model, *own, data.q.col(k), data.dq.col(k), data.ddq.col(k));
+        const double* y = regressor.data();
+        const double* measured = &data.tau(0, k);
+        if (rows) {
+          adjusted = regressor;
+          tau = data.tau.col(k);
+          rows->apply(first + k, data.dq.col(k), adjusted, tau);
+          for (int j = 0; j < n_; ++j)
+            if (!rows->fitted(first + k, j, data.dq(j, k))) ++left_out[static_cast<std::size_t>(j)];
+          y = adjusted.data();
+          measured = tau.data();
+        }
         // The chain's structure is the model's, not the sample's: checked on each block's first
         // sample, it costs nothing per sample.
         const bool check = k == begin;
@@ -225,7 +265,7 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
           const std::vector<Eigen::Index>& gather = gather_[jj];
           const std::size_t p = gather.size();
           for (std::size_t c = 0; c < p; ++c) row[c] = y[gather[c]];
-          row[p] = data.tau(j, k);
+          row[p] = measured[j];
         }
       }
       // At a block's end its rows are reduced, also when an estimate in the middle of the block
@@ -245,7 +285,7 @@ void LeastSquaresStream::addTrajectory(const Model& model, const Trajectory& dat
   if (structure_error.load() >= 0)
     throw Error("the regressor acts on joint " + std::to_string(structure_error.load() + 1) +
                 " through a parameter the model's chain says cannot act on it");
-  for (int k = 0; k < m; ++k) addTau(data.tau.col(k));
+  addTaus(data, first, rows);
   samples_ += m;
 }
 
@@ -308,10 +348,13 @@ LeastSquaresStream::Factor LeastSquaresStream::factor() {
 }
 
 BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
-  const double rows = static_cast<double>(samples_) * n_;
+  const Eigen::VectorXd fitted = fittedRows();
+  const double rows = fitted.sum();
   if (rows < b_)
-    throw InputError("the data has " + std::to_string(samples_ * n_) +
-                     " torque rows, fewer than the " + std::to_string(b_) + " base parameters");
+    throw InputError(
+        "the data has " + std::to_string(static_cast<long long>(rows)) + " torque rows" +
+        (rows < static_cast<double>(samples_) * n_ ? " fitted (a joint at rest is not)" : "") +
+        ", fewer than the " + std::to_string(b_) + " base parameters");
   // OLS first: its factor measures the excitation, its residuals give the per-joint noise (WLS).
   const Eigen::MatrixXd ols_factor = augmentedFactor();
   Solved ols = solveFactor(ols_factor, b_, false);
@@ -325,13 +368,14 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
                          "; refusing to solve a rank-deficient problem");
   }
   ols = solveFactor(ols_factor, b_, true);
-  const double samples = static_cast<double>(samples_);
   BaseEstimate out;
   out.method = method;
   out.num_samples = samples_;
+  out.fitted_rows = fitted;
   const Eigen::VectorXd ols_squared = residualSquares(ols.beta);
-  const double dof_per_joint = samples - static_cast<double>(b_) / n_;
-  out.joint_sigma = (ols_squared / std::max(dof_per_joint, 1.0)).cwiseSqrt();
+  const Eigen::VectorXd dof_per_joint =
+      (fitted.array() - static_cast<double>(b_) / n_).cwiseMax(1.0).matrix();
+  out.joint_sigma = ols_squared.cwiseQuotient(dof_per_joint).cwiseSqrt();
   Solved chosen;
   Eigen::VectorXd chosen_squared;
   if (method == LeastSquaresMethod::kOrdinary) {
@@ -358,8 +402,9 @@ BaseEstimate LeastSquaresStream::estimate(LeastSquaresMethod method) {
     out.relative_std_dev_percent[j] = out.beta[j] != 0.0
                                           ? 100.0 * out.std_dev[j] / std::abs(out.beta[j])
                                           : std::numeric_limits<double>::infinity();
-  out.residual_rms = (chosen_squared / samples).cwiseSqrt();
-  out.measured_rms = (tau_squared_ / samples).cwiseSqrt();
+  const Eigen::VectorXd per_joint = fitted.cwiseMax(1.0);  // a joint never fitted: 0, not NaN
+  out.residual_rms = chosen_squared.cwiseQuotient(per_joint).cwiseSqrt();
+  out.measured_rms = tau_squared_.cwiseQuotient(per_joint).cwiseSqrt();
   setRelativeErrors(out);
   return out;
 }

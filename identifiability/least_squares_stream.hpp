@@ -24,6 +24,7 @@
 #include "core/trajectory.hpp"
 #include "identifiability/base_estimate.hpp"
 #include "identifiability/base_parameters.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 
@@ -57,9 +58,16 @@ class LeastSquaresStream {
   /// finite (checkFiniteSample's message); nothing of `data` is added then. The chain's structure
   /// (add()'s Error) is a property of the model, so it is checked on each block's first sample;
   /// after that Error (a regressor bug, not bad data) the stream is not to be used further.
-  void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr);
+  ///
+  /// With `rows`, the samples are those of rows' training set from numSamples() on, and each
+  /// sample's regressor and torques are as rows->apply makes them: a row left out adds nothing
+  /// and is not counted in its joint's rows (fittedRows()).
+  void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr,
+                     const FitRows* rows = nullptr);
 
   int numSamples() const { return samples_; }
+  /// Per joint, the rows added (numSamples() each, less those FitRows left out).
+  Eigen::VectorXd fittedRows() const;
   int numJoints() const { return n_; }
 
   /// The estimate from every sample so far, as estimateBaseParameters (more samples may follow;
@@ -88,6 +96,13 @@ class LeastSquaresStream {
   Eigen::MatrixXd combined(const Eigen::VectorXd& weight);
 
   void addTau(const Eigen::Ref<const Eigen::VectorXd>& tau);
+  /// addTau for each sample of `data` (the stream's samples from `first`), a row `rows` leaves
+  /// out as 0.
+  void addTaus(const Trajectory& data, long long first, const FitRows* rows);
+  /// gather_ and zero_offsets_ from support_ and zeros_.
+  void makeGather();
+  /// addTrajectory's InputErrors: joint counts and the parameter layout.
+  void checkSizes(const Model& model, const Trajectory& data) const;
   /// Joint j's factor [W1_j(:, support_j) | tau_j] of every sample so far: the lanes' stacked.
   const Eigen::MatrixXd& jointFactor(int j);
   /// The same scattered into b + 1 columns.
@@ -106,6 +121,8 @@ class LeastSquaresStream {
   std::vector<Eigen::MatrixXd> joint_factors_;  // jointFactor's, for factored_samples_ samples
   long long factored_samples_ = -1;
   Eigen::VectorXd tau_squared_;  // per joint sum of tau^2
+  // Per lane and joint, the rows FitRows left out (each lane's own: no two threads share one).
+  std::vector<std::vector<long long>> left_out_;
   double max_abs_tau_ = 0.0;
   Eigen::RowVectorXd row_;
   std::vector<std::unique_ptr<Data>> workspaces_;  // addTrajectory's, one per thread

@@ -362,7 +362,8 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
   out.ols = stream.estimate(LeastSquaresMethod::kOrdinary);
   const Eigen::MatrixXd augmented = stream.augmentedFactor();
   const int b = base.numBase();
-  const double rows = static_cast<double>(stream.numSamples()) * stream.numJoints();
+  const Eigen::VectorXd fitted = stream.fittedRows();  // rows at rest left out (FitRows)
+  const double rows = fitted.sum();
   // sigma from the OLS residuals (|rho|, the factor's last entry), floored at 1e-6 of the torques'
   // RMS (|tau|: the factor's last column): with exact (noise-free) data the prior term must keep a
   // weight that holds the directions the data cannot see.
@@ -395,7 +396,7 @@ PhysicalEstimate estimatePhysicallyConsistent(const BaseParameters& base,
 
   // Residuals and the base covariance sigma^2 (R^T R)^-1 at the estimate.
   const Eigen::VectorXd squares = stream.residualSquares(out.beta);
-  out.residual_rms = (squares / std::max<double>(stream.numSamples(), 1.0)).cwiseSqrt();
+  out.residual_rms = squares.cwiseQuotient(fitted.cwiseMax(1.0)).cwiseSqrt();
   const double sigma2 = squares.sum() / std::max(rows - b, 1.0);
   const Eigen::MatrixXd R = augmented.topLeftCorner(b, b).triangularView<Eigen::Upper>();
   const Eigen::MatrixXd r_inv =

@@ -97,6 +97,32 @@ DriveTerms driveTermsArg(const py::handle& value, const char* name) {
 
 void checkThreads(int threads) { checkOption("", "threads", threads, "threads"); }
 
+TorqueFilterChoice torqueFilterArg(const py::handle& given) {
+  if (py::isinstance<py::str>(given)) {
+    const std::string text = given.cast<std::string>();
+    if (text == "auto") return std::nullopt;
+    if (text == "none") return TorqueFilter{};
+  } else if (!py::isinstance<py::bool_>(given)) {
+    double cutoff = -1.0, order = 4.0;
+    if (py::isinstance<py::tuple>(given) && py::len(given) == 2) {
+      const py::tuple pair = py::reinterpret_borrow<py::tuple>(given);
+      if (!py::isinstance<py::bool_>(pair[0]) && !py::isinstance<py::bool_>(pair[1]) &&
+          (py::isinstance<py::float_>(pair[0]) || py::isinstance<py::int_>(pair[0])) &&
+          py::isinstance<py::int_>(pair[1])) {
+        cutoff = pair[0].cast<double>();
+        order = pair[1].cast<double>();
+      }
+    } else if (py::isinstance<py::float_>(given) || py::isinstance<py::int_>(given)) {
+      cutoff = given.cast<double>();
+    }
+    if (cutoff > 0.0 && std::isfinite(cutoff) && order >= 1.0 && order <= 12.0)
+      return TorqueFilter{static_cast<int>(order), cutoff, 0.0};
+  }
+  throw py::value_error(
+      "torque_filter: 'auto', 'none', a cutoff > 0 [Hz] or (cutoff, order) with an order of 1 to "
+      "12");
+}
+
 DataArg dataArg(const py::handle& value, const char* name, const Model& model) {
   DataArg out;
   if (py::isinstance<Trajectory>(value)) {

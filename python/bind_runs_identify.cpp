@@ -98,14 +98,17 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
   return out;
 }
 
-EstimateResult identify(
-    const Model& model, const DataLike& data, const std::string& method,
-    const OptionalDataLike& validate, const std::optional<Model>& prior, double prior_weight,
-    int samples, std::uint64_t seed, double tolerance, int threads, const PathLike& robot_spec,
-    const OptionalPathLike& validate_raw, std::optional<double> horizon,
-    std::optional<int> segments, std::optional<bool> raw_gc, std::optional<double> combined_weight,
-    std::optional<double> combined_seconds, std::optional<int> combined_iterations,
-    const std::optional<std::vector<double>>& rest_velocity, const std::string& covariance) {
+EstimateResult identify(const Model& model, const DataLike& data, const std::string& method,
+                        const OptionalDataLike& validate, const std::optional<Model>& prior,
+                        double prior_weight, int samples, std::uint64_t seed, double tolerance,
+                        int threads, const PathLike& robot_spec,
+                        const OptionalPathLike& validate_raw, std::optional<double> horizon,
+                        std::optional<int> segments, std::optional<bool> raw_gc,
+                        std::optional<double> combined_weight,
+                        std::optional<double> combined_seconds,
+                        std::optional<int> combined_iterations,
+                        const std::optional<std::vector<double>>& rest_velocity,
+                        const std::string& covariance, const TorqueFilterLike& torque_filter) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -135,6 +138,7 @@ EstimateResult identify(
   } catch (const InputError& e) {
     throw py::value_error(std::string("covariance: ") + e.what());
   }
+  request.torque_filter = torqueFilterArg(torque_filter);
   request.robot_spec = pathArg(robot_spec, "robot_spec");
   const DataArg train = dataArg(data, "data", model);
   request.data_file = train.path;
@@ -479,6 +483,7 @@ void bindIdentify(py::module_& m) {
       py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
       py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
       py::arg("rest_velocity") = py::none(), py::arg("covariance") = "hac",
+      py::arg("torque_filter") = "auto",
       "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
       "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
       "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
@@ -490,7 +495,11 @@ void bindIdentify(py::module_& m) {
       "recorded for "
       "`dynid predict`. `rest_velocity`: one, or one per joint [rad/s or m/s]; default measured on "
       "`data` (identify's --rest-velocity). `covariance`: 'hac' (default: robust to correlated "
-      "residuals, over batches of samples) or 'white' (identify's --covariance). Raises "
+      "residuals, over batches of samples) or 'white' (identify's --covariance). "
+      "`torque_filter`: the low-pass the training torque went through, whose effect on the "
+      "friction columns that need sign(dq) the fit reproduces: 'auto' (the prepare.json beside "
+      "a data file; none for a Dataset), 'none', a cutoff [Hz] (order 4) or (cutoff, order) "
+      "(identify's --torque-filter). Raises "
       "NumericalError when the data do not excite "
       "every base parameter.");
 }

@@ -11,6 +11,7 @@
 #include <pybind11/pybind11.h>
 #include <Eigen/Core>
 
+#include "analysis/estimation/training_rows.hpp"
 #include "core/model.hpp"
 #include "core/trajectory.hpp"
 
@@ -51,6 +52,9 @@ std::string pathArg(const py::handle& value, const char* name);
 /// Drive terms as "fv,fc,fo" or a list or tuple of names (["fv", "fc"]); TypeError otherwise,
 /// ValueError (InputError) for an unknown name.
 DriveTerms driveTermsArg(const py::handle& value, const char* name);
+/// identify's `torque_filter`: "auto" (std::nullopt: the prepare.json beside a data file), "none"
+/// (order 0), a cutoff [Hz] (order 4) or (cutoff, order); ValueError otherwise.
+TorqueFilterChoice torqueFilterArg(const py::handle& value);
 
 /// An argument the binding reads itself (realArray, pathArg, dataArg, ...): any Python object,
 /// held as it came, shown in signatures, docstrings and the .pyi stubs as the types it accepts
@@ -88,6 +92,7 @@ DYNID_PYTHON_TYPE_NAME(
 DYNID_PYTHON_TYPE_NAME(
     ProgressTag,
     "typing.Optional[typing.Callable[[typing.Dict[str, typing.Any]], typing.Optional[bool]]]");
+DYNID_PYTHON_TYPE_NAME(TorqueFilterTag, "typing.Union[str, float, typing.Tuple[float, int]]");
 DYNID_PYTHON_TYPE_NAME(StartTag, "typing.Union[Search, Estimate, str, os.PathLike[str]]");
 #undef DYNID_PYTHON_TYPE_NAME
 using ArrayLike = Typed<ArrayTag>;                  // a NumPy array or anything np.asarray takes
@@ -103,6 +108,7 @@ using PriorLike = Typed<PriorTag>;                  // payload's prior: a file o
 using FrequencyLike = Typed<FrequencyTag>;          // prepare's cutoffs: Hz, "auto"/"none", None
 using TablesLike = Typed<TablesTag>;                // prepare's log files
 using StartLike = Typed<StartTag>;                  // refine's start: a result or its file
+using TorqueFilterLike = Typed<TorqueFilterTag>;    // "auto", "none", a cutoff or (cutoff, order)
 using ProgressLike = Typed<ProgressTag>;            // search's callback: dict -> False to stop
 
 /// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every

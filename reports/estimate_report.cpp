@@ -75,7 +75,8 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
         "joint's RMS speed of zero velocity (reversals, rest), measured on " +
         std::to_string(r.samples) + " evenly spaced samples.";
     doc.table(reversals);
-    if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
+    if (const std::string note = reversalNote(model.driveTerms(), o.reversals, filteringClause(o));
+        !note.empty())
       doc.paragraph("Note: " + note + ".");
   }
   doc.paragraph("Uncertainty: " + covarianceLine(o.result.covariance) +
@@ -84,8 +85,13 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
   if (const std::string line = restVelocityLine(o.rest); !line.empty())
     doc.paragraph("Friction at rest: " + line +
                   ". Within a joint's rest velocity sign(dq) is noise: Coulomb, asymmetry and "
-                  "Stribeck friction are static there, fitted on no sample and predicted as zero "
-                  "(estimate.json's rest_velocity says how each velocity was measured).");
+                  "Stribeck friction are static there, any torque within their limits, predicted "
+                  "as zero (estimate.json's rest_velocity says how each velocity was measured).");
+  if (const std::string line = fitRowsLine(o); !line.empty())
+    doc.paragraph("Rows of the fit: " + line +
+                  ". A filtered torque is matched by filtering the friction columns the same way, "
+                  "so that a reversal's step, which the filter spreads, is not read as a "
+                  "missing friction term (estimate.json's fit_rows).");
   // The figures drawn at once (one gnuplot each), then placed in order.
   const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
   std::vector<std::function<std::optional<std::string>()>> draws = {
@@ -400,7 +406,8 @@ std::vector<std::pair<std::string, std::string>> identificationVerdict(const Mod
   if (!o.result.pc && !o.violations.empty())
     next.push_back("--method pc for an estimate every link of which is a physical body");
   if (const std::string advice = uncertainAdvice(o); !advice.empty()) next.push_back(advice);
-  if (const std::string note = reversalNote(model.driveTerms(), o.reversals); !note.empty())
+  if (const std::string note = reversalNote(model.driveTerms(), o.reversals, filteringClause(o));
+      !note.empty())
     next.push_back(note);
   if (next.empty())
     next.push_back("use it: --write-urdf (for a URDF robot), dynid predict, dynid monitor");

@@ -241,7 +241,63 @@ json torqueSourceJson(const PreparationFound& preparation) {
   return nullptr;
 }
 
+/// estimate.json's fit_rows: the rows per joint, why some were left out, the filter reproduced.
+json fitRowsJson(const IdentifyOutcome& o) {
+  const BaseEstimate& e = o.result.estimate;
+  json filter = nullptr;
+  if (o.torque_filter.active() && o.filter_reach > 0)
+    filter = {{"kind", "Butterworth low-pass, zero phase (forward-backward)"},
+              {"order", o.torque_filter.order},
+              {"cutoff_hz", o.torque_filter.cutoff},
+              {"rate_hz", o.torque_filter.rate},
+              {"reach_samples", o.filter_reach},
+              {"reach_share", kFilterReachShare}};
+  return {{"rows", numbersOrNull(e.fitted_rows)},
+          {"samples", e.num_samples},
+          {"torque_filter", filter},
+          {"torque_filter_source", o.torque_filter_source},
+          {"rule",
+           "a joint's row is left out where the joint is at rest (|dq| <= its rest velocity) and "
+           "the model has friction that needs sign(dq): its static friction there is unknown. "
+           "With torque_filter, the friction columns that need sign(dq) are that filter applied "
+           "to their values (parallel filtering), and a row is also left out within "
+           "reach_samples of a resting sample, beyond which the filter's impulse response holds "
+           "reach_share of its absolute sum"}};
+}
+
 }  // namespace
+
+std::string fitRowsLine(const IdentifyOutcome& o) {
+  const BaseEstimate& e = o.result.estimate;
+  const bool filtered = o.torque_filter.active() && o.filter_reach > 0;
+  const Eigen::Index n = e.fitted_rows.size();
+  const bool left_out = n > 0 && e.fitted_rows.minCoeff() < e.num_samples;
+  if (!filtered && !left_out) return "";
+  std::string out = "rows fitted per joint:";
+  for (Eigen::Index j = 0; j < n; ++j)
+    out += " " + std::to_string(static_cast<long long>(e.fitted_rows[j]));
+  out += " of " + std::to_string(e.num_samples) +
+         " (a joint at rest has unknown static friction: its row is left out";
+  if (filtered)
+    out += ", and within " + std::to_string(o.filter_reach) +
+           " samples of rest, the reach of the torque's filter); the friction columns that need "
+           "sign(dq) through that filter, " +
+           o.torque_filter.describe() + " (" + o.torque_filter_source + ")";
+  else
+    out += ")";
+  return out;
+}
+
+std::string filteringClause(const IdentifyOutcome& o) {
+  if (o.torque_filter.active() && o.filter_reach > 0)
+    return "not the torque filter's artefact: the fit reproduces its low-pass (" +
+           o.torque_filter.describe() + ") on the friction columns";
+  if (!o.preparation.present && !o.torque_filter.active())
+    return "if the torque was low-pass filtered before dynid, the filter spreads each reversal's "
+           "step, which reads as missing friction: --torque-filter CUTOFF[,ORDER] makes the fit "
+           "reproduce it (compare the notes)";
+  return "";
+}
 
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
@@ -304,6 +360,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
          "see come from the input model (the prior)"}};
   if (outcome.reversals.samples > 0) report["reversals"] = reversalsJson(outcome.reversals);
   if (!outcome.rest.empty()) report["rest_velocity"] = restVelocityJson(outcome.rest);
+  if (estimate.fitted_rows.size() > 0) report["fit_rows"] = fitRowsJson(outcome);
   if (const auto& v = outcome.validation)
     report["validation"] = {{"file", outcome.validate_file},
                             {"samples", v->num_samples},
@@ -379,8 +436,11 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
         out << "\n  held out " << line;
   }
   if (const std::string line = restVelocityLine(outcome.rest); !line.empty()) out << "\n  " << line;
+  if (const std::string line = fitRowsLine(outcome); !line.empty()) out << "\n  " << line;
   out << "\n  " << covarianceLine(outcome.result.covariance);
-  if (const std::string note = reversalNote(model.driveTerms(), outcome.reversals); !note.empty())
+  if (const std::string note =
+          reversalNote(model.driveTerms(), outcome.reversals, filteringClause(outcome));
+      !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/estimate.json, " << dir << "/report.md and " << dir
       << "/report.html\n";

@@ -29,6 +29,13 @@ nlohmann::json estimateJson(const Model& model, const IdentifyOutcome& outcome);
 /// One line on how the estimate's intervals were computed: the covariance policy, its batch
 /// length, the residuals' correlation that chose it and the widening over the white covariance.
 std::string covarianceLine(const CovarianceSummary& covariance);
+/// One line on the rows the fit took: those left out at rest per joint, and the torque filter
+/// whose effect on the friction columns it reproduced; empty when every row was taken unchanged.
+std::string fitRowsLine(const IdentifyOutcome& outcome);
+/// What a note on the residual at reversals says of the torque's filter: that the fit reproduced
+/// it (so the residual is not its artefact), or, for data without a prepare.json, how to make
+/// the fit reproduce a filter it went through; empty otherwise.
+std::string filteringClause(const IdentifyOutcome& outcome);
 
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
                             const std::string& dir);

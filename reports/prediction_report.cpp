@@ -185,9 +185,10 @@ std::string missingFrictionNote(DriveTerms terms, const ReversalResidual& r,
          " adds them (compare the held-out errors)";
 }
 
-std::string reversalNote(DriveTerms terms, const ReversalResidual& r) {
+std::string reversalNote(DriveTerms terms, const ReversalResidual& r,
+                         const std::string& filtering) {
   if (const std::string friction = missingFrictionNote(terms, r); !friction.empty())
-    return friction;
+    return friction + (filtering.empty() ? "" : "; " + filtering);
   if (r.flagged.empty()) return "";
   std::vector<int> order = r.flagged;  // the largest share first
   std::stable_sort(order.begin(), order.end(),
@@ -215,7 +216,7 @@ std::string reversalNote(DriveTerms terms, const ReversalResidual& r) {
     out +=
         ": the friction there (stick, presliding) is beyond the drive terms; that residual "
         "is the model's, not noise";
-  return out;
+  return filtering.empty() ? out : out + "; " + filtering;
 }
 
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,

@@ -31,7 +31,9 @@ nlohmann::json reversalsJson(const ReversalResidual& r);
 /// When some joints' residual gathers near zero velocity (ReversalResidual::flagged): "friction
 /// at reversals: ..." naming them with their shares, and what the drive terms can do about it
 /// (add fc; add fs, Stribeck; or nothing more: stick is beyond them). "" when none is flagged.
-std::string reversalNote(DriveTerms terms, const ReversalResidual& r);
+/// `filtering`, when given, is said after it: whether the torque's low-pass can have made it.
+std::string reversalNote(DriveTerms terms, const ReversalResidual& r,
+                         const std::string& filtering = "");
 /// The note for joints whose residual has friction's shape (ReversalResidual::friction_flagged)
 /// while the drive terms lack fv, fc or fo: the joints and the --drive-terms that adds the
 /// missing ones ("" when none is flagged or none is missing). reversalNote gives it first.

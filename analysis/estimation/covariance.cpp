@@ -129,7 +129,7 @@ std::vector<std::pair<int, int>> Sandwich::cuts(long long first, int count) cons
 CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& base,
                                      const TrainingReplay& replay, ThreadPool* pool,
                                      const ScoreWeights& weights, BaseEstimate& estimate,
-                                     PhysicalEstimate* pc) {
+                                     PhysicalEstimate* pc, const FitRows* rows) {
   Sandwich sandwich(base, weights, estimate);
   const int n = sandwich.n(), b = sandwich.b(), threads = pool ? pool->numThreads() : 1;
   std::vector<std::unique_ptr<Data>> workspaces(static_cast<std::size_t>(threads));
@@ -143,16 +143,21 @@ CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& b
       if (!data) data = std::make_unique<Data>(model);
       const auto [offset, count] = cuts[static_cast<std::size_t>(index)];
       Eigen::MatrixXd w1(static_cast<Eigen::Index>(n) * count, b);
+      Eigen::MatrixXd tau = chunk.tau.middleCols(offset, count), adjusted;
       for (int k = 0; k < count; ++k) {
         const int sample = offset + k;
-        const Eigen::MatrixXd& y = jointTorqueRegressor(
+        const Eigen::MatrixXd* y = &jointTorqueRegressor(
             model, *data, chunk.q.col(sample), chunk.dq.col(sample), chunk.ddq.col(sample));
+        if (rows) {  // the rows as the fit took them
+          adjusted = *y;
+          rows->apply(first + sample, chunk.dq.col(sample), adjusted, tau.col(k));
+          y = &adjusted;
+        }
         for (int c = 0; c < b; ++c)
           w1.col(c).segment(static_cast<Eigen::Index>(k) * n, n) =
-              y.col(base.independent[static_cast<std::size_t>(c)]);
+              y->col(base.independent[static_cast<std::size_t>(c)]);
       }
-      blocks[static_cast<std::size_t>(index)] =
-          sandwich.block(w1, chunk.tau.middleCols(offset, count));
+      blocks[static_cast<std::size_t>(index)] = sandwich.block(w1, tau);
     };
     const int tasks = static_cast<int>(cuts.size());
     if (pool)

@@ -18,6 +18,7 @@
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/observation.hpp"
 #include "identifiability/physically_consistent.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 
@@ -53,11 +54,12 @@ ScoreWeights scoreWeights(const BaseEstimate& estimate, bool weighted);
 /// base regressor row W1_k = Y(:, independent) of `model`, on the pool's threads; the result is
 /// the same for any thread count). Replaces estimate.covariance, std_dev and
 /// relative_std_dev_percent (and pc's covariance and std_dev when given) and returns the summary.
-/// Throws InputError when the replay's samples differ in number from the estimate's.
+/// With `rows`, each sample's rows as the fit took them (rows->apply: a row left out adds
+/// nothing). Throws InputError when the replay's samples differ in number from the estimate's.
 CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& base,
                                      const TrainingReplay& replay, ThreadPool* pool,
                                      const ScoreWeights& weights, BaseEstimate& estimate,
-                                     PhysicalEstimate* pc = nullptr);
+                                     PhysicalEstimate* pc = nullptr, const FitRows* rows = nullptr);
 /// The same from an observation's rows.
 CovarianceSummary applyHacCovariance(const BaseParameters& base, const Observation& observation,
                                      const ScoreWeights& weights, BaseEstimate& estimate,

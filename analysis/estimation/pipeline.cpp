@@ -107,8 +107,12 @@ LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& b
     for (Eigen::Index k = 0; k < residual.size(); ++k)
       squares[k % o.num_joints] += residual[k] * residual[k];
   }
-  out.estimate.residual_rms =
-      (squares / std::max<double>(out.estimate.num_samples, 1.0)).cwiseSqrt();
+  const Eigen::VectorXd rows =
+      out.estimate.fitted_rows.size() == squares.size()
+          ? Eigen::VectorXd(out.estimate.fitted_rows)
+          : Eigen::VectorXd::Constant(squares.size(),
+                                      static_cast<double>(out.estimate.num_samples));
+  out.estimate.residual_rms = squares.cwiseQuotient(rows.cwiseMax(1.0)).cwiseSqrt();
   setRelativeErrors(out.estimate);
   out.pc->theta = result.theta;
   out.pc->beta = out.estimate.beta;
@@ -163,7 +167,7 @@ void MethodRunner::applyCovariancePolicy(Method method, LeastSquaresOutcome& ls)
       source.observation != nullptr
           ? applyHacCovariance(*problem_.base, *source.observation, weights, ls.estimate, pc)
           : applyHacCovariance(problem_.model, *problem_.base, source.replay, &pool(), weights,
-                               ls.estimate, pc);
+                               ls.estimate, pc, source.rows);
 }
 
 const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {

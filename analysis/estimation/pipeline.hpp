@@ -52,6 +52,9 @@ struct LeastSquaresSource {
   /// The stream's samples again, in order, for the hac covariance's pass (none: the white
   /// covariance, and the summary says so).
   TrainingReplay replay;
+  /// The rows the stream's fit took (identifiability/rows/fit_rows.hpp), for the replay; null:
+  /// every row of the model's regressor.
+  const FitRows* rows = nullptr;
 };
 
 /// The one least-squares dispatch: `method` is ols, wls or pc (InputError otherwise); `prior`

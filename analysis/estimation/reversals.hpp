@@ -48,6 +48,10 @@ struct ReversalResidual {
 /// never moves (rms(dq) = 0) or has no residual gets shares of 0 and is not flagged, nor is one
 /// whose residual is round-off (kResidualAboveRoundOff). Empty (samples
 /// 0, no vectors) for a prediction without velocities.
-ReversalResidual reversalResidual(const Prediction& prediction);
+/// With `fitted` (joints x kept samples), only the samples whose entry is true count for the joint
+/// (the rows its fit took: a joint at rest has unknown static friction, not a residual).
+using ReversalMask = Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>;
+ReversalResidual reversalResidual(const Prediction& prediction,
+                                  const ReversalMask* fitted = nullptr);
 
 }  // namespace dynid

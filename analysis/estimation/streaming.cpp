@@ -73,8 +73,9 @@ Validation validationOf(const Eigen::VectorXd& residual_squared,
 /// Per-joint sums of a prediction over every sample, and its series.
 class PredictionAccumulator {
  public:
-  PredictionAccumulator(const Model& model, int threads, const PredictionBand* band = nullptr)
-      : model_(model), band_(band) {
+  PredictionAccumulator(const Model& model, int threads, const PredictionBand* band = nullptr,
+                        const FitRows* filtered = nullptr)
+      : model_(model), band_(band), filtered_(filtered) {
     work_.resize(static_cast<std::size_t>(threads));  // each made on its own thread, in add()
     const int n = model.numJoints();
     residual_squared_ = measured_squared_ = inside_ = Eigen::VectorXd::Zero(n);
@@ -107,21 +108,28 @@ class PredictionAccumulator {
       pool->parallelFor(blocks, body);
     else
       for (int b = 0; b < blocks; ++b) body(b, 0);
+    // Against a filtered torque: the friction that needs sign(dq) through the same filter.
+    matched_ = predicted_;
+    if (filtered_ && filtered_->filtered())
+      for (int k = 0; k < m; ++k)
+        for (int j = 0; j < model_.numJoints(); ++j)
+          matched_(j, k) +=
+              filtered_->filteredDriveCorrection(model_, samples_ + k, j, chunk.dq(j, k));
     // Sample by sample, in order: the sums do not depend on how the data are chunked.
     for (int k = 0; k < m; ++k) {
-      residual_squared_ += (chunk.tau.col(k) - predicted_.col(k)).cwiseAbs2();
+      residual_squared_ += (chunk.tau.col(k) - matched_.col(k)).cwiseAbs2();
       measured_squared_ += chunk.tau.col(k).cwiseAbs2();
       if (band_)
-        inside_ += ((chunk.tau.col(k) - predicted_.col(k)).cwiseAbs().array() <=
-                    half_width_.col(k).array())
-                       .cast<double>()
-                       .matrix();
-      addRest(chunk.dq.col(k), chunk.tau.col(k), predicted_.col(k));
+        inside_ +=
+            ((chunk.tau.col(k) - matched_.col(k)).cwiseAbs().array() <= half_width_.col(k).array())
+                .cast<double>()
+                .matrix();
+      addRest(chunk.dq.col(k), chunk.tau.col(k), matched_.col(k));
     }
     samples_ += m;
     keeper_.add(chunk);
     if (sink && band_) sink->bands(half_width_);
-    if (sink) sink->samples(chunk.time, chunk.tau, predicted_);
+    if (sink) sink->samples(chunk.time, chunk.tau, predicted_);  // the model's own torque
   }
 
   Prediction finish() const {
@@ -129,6 +137,7 @@ class PredictionAccumulator {
     const Validation v =
         validationOf(residual_squared_, measured_squared_, samples_, &measured_rms);
     Prediction out = predictionOfKept(model_, keeper_, v, measured_rms);
+    if (filtered_) addFilteredFriction(model_, *filtered_, out);
     out.rest = restPrediction();
     if (band_ && samples_ > 0) {
       out.band_coverage = inside_ / static_cast<double>(samples_);
@@ -216,6 +225,8 @@ class PredictionAccumulator {
   Eigen::MatrixXd half_width_;
   Eigen::VectorXd inside_;  // per joint, samples inside the band
   long long samples_ = 0;
+  const FitRows* filtered_ = nullptr;
+  Eigen::MatrixXd matched_;  // predicted_ as the filtered measurement sees it
   SampleKeeper keeper_;
 };
 
@@ -268,11 +279,12 @@ Validation RawTorqueComparison::result() const {
 }
 
 void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
-                    ThreadPool& pool, SampleKeeper* keeper, int chunk_samples) {
+                    ThreadPool& pool, SampleKeeper* keeper, int chunk_samples,
+                    const FitRows* rows) {
   DatasetReader reader(file, model.numJoints());
   Trajectory chunk;
   while (reader.read(chunk, chunk_samples, &pool) > 0) {
-    stream.addTrajectory(model, chunk, &pool);
+    stream.addTrajectory(model, chunk, &pool, rows);
     if (keeper) keeper->add(chunk);
   }
 }
@@ -303,18 +315,20 @@ Eigen::VectorXd PredictionBand::halfWidth(const Model& model, Data& data, const 
 }
 
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
-                       PredictionSink* sink, int chunk_samples, const PredictionBand* band) {
+                       PredictionSink* sink, int chunk_samples, const PredictionBand* band,
+                       const FitRows* filtered) {
   DatasetReader reader(file, model.numJoints());
-  PredictionAccumulator accumulator(model, pool.numThreads(), band);
+  PredictionAccumulator accumulator(model, pool.numThreads(), band, filtered);
   Trajectory chunk;
   while (reader.read(chunk, chunk_samples, &pool) > 0) accumulator.add(chunk, &pool, sink);
   return accumulator.finish();
 }
 
 Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool,
-                          PredictionSink* sink, const PredictionBand* band) {
+                          PredictionSink* sink, const PredictionBand* band,
+                          const FitRows* filtered) {
   requireJoints(model, data.numJoints(), "the data");
-  PredictionAccumulator accumulator(model, pool ? pool->numThreads() : 1, band);
+  PredictionAccumulator accumulator(model, pool ? pool->numThreads() : 1, band, filtered);
   accumulator.add(data, pool, sink);
   return accumulator.finish();
 }
@@ -335,6 +349,16 @@ Prediction predictionOfKept(const Model& model, const SampleKeeper& keeper,
   for (int k = 0; k < count; ++k)
     out.predicted.col(k) = rnea(model, work, kept.q.col(k), kept.dq.col(k), kept.ddq.col(k));
   return out;
+}
+
+void addFilteredFriction(const Model& model, const FitRows& filtered, Prediction& prediction) {
+  if (!filtered.filtered()) return;
+  for (Eigen::Index k = 0; k < prediction.predicted.cols(); ++k) {
+    const long long sample = k * static_cast<long long>(prediction.stride);
+    for (int j = 0; j < model.numJoints(); ++j)
+      prediction.predicted(j, k) +=
+          filtered.filteredDriveCorrection(model, sample, j, prediction.velocity(j, k));
+  }
 }
 
 }  // namespace dynid

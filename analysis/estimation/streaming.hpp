@@ -15,6 +15,7 @@
 #include "core/trajectory.hpp"
 #include "identifiability/least_squares.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 
@@ -132,19 +133,27 @@ class RawTorqueComparison : public PredictionSink {
 /// InputError prefixed with the file for a dataset of another joint count.
 void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,
                     ThreadPool& pool, SampleKeeper* keeper = nullptr,
-                    int chunk_samples = kStreamChunkSamples);
+                    int chunk_samples = kStreamChunkSamples, const FitRows* rows = nullptr);
 
 /// RNEA of `model` (its parameters and drive terms) at every sample of the dataset `file`,
 /// streamed; each chunk also goes to `sink` when given. Throws what DatasetReader throws.
-/// With `band`, also its half widths and coverage (Prediction::band_coverage, band).
+/// With `band`, also its half widths and coverage (Prediction::band_coverage, band). With
+/// `filtered` (the file's samples through its torque's filter, FitRows), the prediction compared
+/// with the file's filtered torque (statistics, band coverage, the kept series) has its friction
+/// that needs sign(dq) through the same filter; `sink` still gets the model's own torque.
 Prediction predictFile(const Model& model, const std::string& file, ThreadPool& pool,
                        PredictionSink* sink = nullptr, int chunk_samples = kStreamChunkSamples,
-                       const PredictionBand* band = nullptr);
+                       const PredictionBand* band = nullptr, const FitRows* filtered = nullptr);
 
 /// The same for data in memory (on the pool's threads when given; the same result for any count).
 /// Throws InputError when the joint counts differ.
 Prediction predictTorques(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr,
-                          PredictionSink* sink = nullptr, const PredictionBand* band = nullptr);
+                          PredictionSink* sink = nullptr, const PredictionBand* band = nullptr,
+                          const FitRows* filtered = nullptr);
+
+/// The kept series' predictions (samples 0, stride, 2 stride, ... of `filtered`'s set) with
+/// `model`'s friction that needs sign(dq) through `filtered`'s filter; nothing unfiltered.
+void addFilteredFriction(const Model& model, const FitRows& filtered, Prediction& prediction);
 
 /// The series of a prediction whose statistics are known (a least-squares fit's residuals): RNEA
 /// of `model` on the kept samples, with `validation` and `measured_rms` as given.

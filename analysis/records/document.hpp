@@ -23,7 +23,7 @@ struct DocumentType {
 // estimate.json 3: base_covariance.policy (the covariance's policy: batch means of the scores, its
 // batch length, inflation over the white covariance and the residuals' autocorrelation); versions 1
 // and 2 are still read (their covariance is the white one).
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 3};  // identify
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 4};  // identify
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
 inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};

@@ -199,7 +199,8 @@ void readBaseCovariance(const JsonReader& read, const json& document, EstimateRe
 
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
-  // Every earlier version is read: 1 (no rest velocities), 2 (no covariance policy).
+  // Every earlier version is read: 1 (no rest velocities), 2 (no covariance policy), 3 (no
+  // fit_rows).
   int version = kEstimateDocument.schema_version;
   if (document.is_object() && document.contains("schema_version") &&
       document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
@@ -235,7 +236,8 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "base_covariance",
                  "combined",
                  "torque_source",
-                 "rest_velocity"});
+                 "rest_velocity",
+                 "fit_rows"});
   EstimateRecord out;
   if (document.contains("rest_velocity")) {
     const json& rest = read.object(document["rest_velocity"], "rest_velocity");

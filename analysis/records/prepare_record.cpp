@@ -40,6 +40,10 @@ std::optional<PrepareRecord> prepareRecordFrom(const json& p) {
       r.filter_order = f.at("order").get<int>();
       r.applied_to = f.at("applied_to").get<std::string>();
     }
+    if (f.contains("tau_cutoff_hz") && f["tau_cutoff_hz"].is_number()) {
+      r.tau_cutoff_hz = f["tau_cutoff_hz"].get<double>();
+      if (*r.tau_cutoff_hz > 0.0) r.filter_order = f.at("order").get<int>();
+    }
     if (f.contains("cutoff_choice") && f["cutoff_choice"].is_string())
       r.cutoff_choice = f["cutoff_choice"].get<std::string>();
     r.dq = p.at("dq").get<std::string>();

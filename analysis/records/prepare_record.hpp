@@ -21,6 +21,9 @@ struct PrepareRecord {
   std::string filter_kind;
   int filter_order = 0;
   double cutoff_hz = 0.0;  // 0: no filter
+  /// The torque's own cutoff (prepare --tau-cutoff; 0: the torque was not filtered); absent in a
+  /// record written before it existed (then cutoff_hz's).
+  std::optional<double> tau_cutoff_hz;
   std::string applied_to;
   std::optional<std::string> cutoff_choice;  // why this cutoff (--cutoff auto)
   std::string dq, ddq;                       // how each was obtained

@@ -68,8 +68,8 @@ GcProblem combinedProblem(const IdentifyRequest& request, const Trajectory* give
 /// The estimate of request.method through the estimation wing's runner, streaming the training
 /// data (memory independent of its length) and keeping samples for the figures; with combined,
 /// its two criteria against pc's on the training and held-out data.
-void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcome& out,
-              SampleKeeper& kept) {
+void estimate(const IdentifyRequest& request, const Model& model, const FitRows& rows,
+              IdentifyOutcome& out, SampleKeeper& kept) {
   const bool physical = takesPrior(request.method);
   LeastSquaresStream stream(out.base, model);
   EstimationProblem problem;
@@ -77,6 +77,7 @@ void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcom
   problem.base = &out.base;
   problem.least_squares.stream = &stream;
   problem.least_squares.layout = model.parameterLayout();
+  problem.least_squares.rows = &rows;
   problem.prior =
       physical && request.prior ? request.prior->standardParameters() : model.standardParameters();
   problem.physical.prior_weight = request.prior_weight;
@@ -107,10 +108,11 @@ void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcom
   MethodRunner runner(std::move(problem));
   reader_pool = &runner.pool();
   if (request.data) {
-    stream.addTrajectory(model, *request.data, &runner.pool());
+    stream.addTrajectory(model, *request.data, &runner.pool(), &rows);
     kept.add(*request.data);
   } else {
-    addDatasetFile(stream, model, request.data_file, runner.pool(), &kept);
+    addDatasetFile(stream, model, request.data_file, runner.pool(), &kept, kStreamChunkSamples,
+                   &rows);
   }
   out.result = *runner.run(request.method).least_squares;
   if (request.method != Method::kCombined) return;
@@ -136,14 +138,26 @@ void estimate(const IdentifyRequest& request, const Model& model, IdentifyOutcom
     identified.setStandardParameters(out.result.standard);
     summary.gc_test_pc = gcError(pc_model, test, workspace, pool);
     summary.gc_test = gcError(identified, test, workspace, pool);
-    summary.torque_test_pc = predictTorques(pc_model, held, &pool).validation.relative_error;
+    // As the estimate's own held-out error: through the training torque's filter, if any.
+    std::optional<FitRows> held_rows;
+    if (out.torque_filter.active() && out.filter_reach > 0) {
+      Trajectory velocities;
+      velocities.time = held.time;
+      velocities.dq = held.dq;
+      held_rows = trainingRows(pc_model, velocities, out.torque_filter);
+    }
+    summary.torque_test_pc =
+        predictTorques(pc_model, held, &pool, nullptr, nullptr, held_rows ? &*held_rows : nullptr)
+            .validation.relative_error;
   }
   out.combined = std::move(summary);
 }
 
 /// The fit's statistics (the estimate's residuals, from the stream's factors) on the kept training
-/// samples, and where the residual lies in velocity.
-void describeFit(const Model& identified, const SampleKeeper& kept, IdentifyOutcome& out) {
+/// samples as the fit took them (the friction columns through the torque's filter), and where the
+/// residual of the rows it fitted lies in velocity.
+void describeFit(const Model& identified, const SampleKeeper& kept, const FitRows& rows,
+                 IdentifyOutcome& out) {
   const BaseEstimate& e = out.result.estimate;
   Validation v;
   v.num_samples = e.num_samples;
@@ -151,17 +165,78 @@ void describeFit(const Model& identified, const SampleKeeper& kept, IdentifyOutc
   v.normalised_rms = e.joint_relative_error;
   v.relative_error = e.relative_error;
   out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
-  out.reversals = reversalResidual(out.fit);
+  const Eigen::Index n = out.fit.velocity.rows(), count = out.fit.velocity.cols();
+  addFilteredFriction(identified, rows, out.fit);
+  ReversalMask fitted(n, count);
+  for (Eigen::Index k = 0; k < count; ++k)
+    for (Eigen::Index j = 0; j < n; ++j)
+      fitted(j, k) = rows.fitted(k * static_cast<long long>(out.fit.stride), static_cast<int>(j),
+                                 out.fit.velocity(j, k));
+  out.reversals = reversalResidual(out.fit, &fitted);
 }
 
-/// Each joint's rest velocity: given, or measured on the training data's velocities.
-std::vector<RestVelocity> restOf(const IdentifyRequest& request) {
-  const Trajectory read = request.data != nullptr
-                              ? Trajectory{}
-                              : restSamplesOf(request.data_file, request.model.numJoints());
-  const Trajectory& data = request.data != nullptr ? *request.data : read;
-  if (!request.rest_velocity.empty()) return givenRestVelocities(request.rest_velocity, data.dq);
-  return measureRestVelocities(data.dq, data.time);
+/// The training data's stamps and velocities: every sample's when the fit needs them all (a
+/// filtered torque and a model with friction that needs sign(dq)), otherwise the first
+/// kRestSamples (the rest velocities' measure).
+Trajectory velocitiesFor(const IdentifyRequest& request, bool all) {
+  const int n = request.model.numJoints();
+  if (request.data == nullptr)
+    return all ? velocitiesOf(request.data_file, n) : restSamplesOf(request.data_file, n);
+  Trajectory out;
+  out.time = request.data->time;
+  out.dq = request.data->dq;
+  out.q.resize(n, 0);
+  out.ddq.resize(n, 0);
+  out.tau.resize(n, 0);
+  return out;
+}
+
+/// Each joint's rest velocity: given, or measured on the first kRestSamples of the training data.
+std::vector<RestVelocity> restOf(const IdentifyRequest& request, const Trajectory& velocities) {
+  const Eigen::Index count = std::min<Eigen::Index>(velocities.time.size(), kRestSamples);
+  const Eigen::MatrixXd dq = velocities.dq.leftCols(count);
+  if (!request.rest_velocity.empty()) return givenRestVelocities(request.rest_velocity, dq);
+  return measureRestVelocities(dq, velocities.time.head(count));
+}
+
+/// The torque's filter: the request's, else the prepare.json beside the data file's.
+TorqueFilter torqueFilterFor(const IdentifyRequest& request, const PreparationFound& found,
+                             std::string& why) {
+  if (request.torque_filter) {
+    why = request.torque_filter->active() ? "given" : "none: given";
+    return *request.torque_filter;
+  }
+  if (request.data != nullptr) {
+    why = "data in memory: its torque is taken as unfiltered (give `torque_filter`)";
+    return {};
+  }
+  return torqueFilterOfPreparation(found, why);
+}
+
+bool needsSign(const Model& model) {
+  for (int k = 0; k < kDriveTermCount; ++k)
+    if (model.driveTerms().has(k) && kDriveTermTable[k].signed_by_velocity) return true;
+  return false;
+}
+
+/// The held-out data's samples through the training torque's filter (when the fit reproduced
+/// one): the held-out torque went through it too.
+std::optional<FitRows> heldOutRows(const IdentifyRequest& request, const Model& identified,
+                                   const IdentifyOutcome& out) {
+  if (!out.torque_filter.active() || out.filter_reach == 0) return std::nullopt;
+  const int n = identified.numJoints();
+  Trajectory velocities;
+  if (request.validate != nullptr) {
+    velocities.time = request.validate->time;
+    velocities.dq = request.validate->dq;
+  } else {
+    velocities = velocitiesOf(request.validate_file, n);
+  }
+  try {
+    return trainingRows(identified, velocities, out.torque_filter);
+  } catch (const InputError& e) {
+    throw InputError(request.validate_file + ": " + e.what());
+  }
 }
 
 /// The held-out prediction, and against the raw held-out torques when given.
@@ -180,8 +255,12 @@ void validate(const IdentifyRequest& request, const Model& identified, IdentifyO
   }
   PredictionSink* sink = comparison ? &*comparison : nullptr;
   ThreadPool pool(request.threads);
-  out.validate_fit = request.validate ? predictTorques(identified, *request.validate, &pool, sink)
-                                      : predictFile(identified, request.validate_file, pool, sink);
+  const std::optional<FitRows> rows = heldOutRows(request, identified, out);
+  const FitRows* filtered = rows ? &*rows : nullptr;
+  out.validate_fit = request.validate ? predictTorques(identified, *request.validate, &pool, sink,
+                                                       nullptr, filtered)
+                                      : predictFile(identified, request.validate_file, pool, sink,
+                                                    kStreamChunkSamples, nullptr, filtered);
   out.validation = out.validate_fit->validation;
   out.validate_file = request.validate_file;
   if (comparison) {
@@ -219,9 +298,27 @@ WriteBack writeBack(const IdentifyRequest& request, const Model& identified,
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   request.check();
   IdentifyOutcome out;
-  out.rest = restOf(request);
+  if (!request.data) out.preparation = findPreparation(request.data_file);
+  out.torque_filter = torqueFilterFor(request, out.preparation, out.torque_filter_source);
+  const bool filtered = out.torque_filter.active() && needsSign(request.model);
+  FitRows rows(request.model);
   Model model = request.model;
-  model.rest_velocities = restThresholds(out.rest);
+  {
+    const Trajectory velocities = velocitiesFor(request, filtered);
+    out.rest = restOf(request, velocities);
+    model.rest_velocities = restThresholds(out.rest);
+    try {
+      rows = trainingRows(model, velocities, filtered ? out.torque_filter : TorqueFilter{});
+    } catch (const InputError& e) {
+      throw InputError(request.data_file + ": " + e.what());
+    }
+  }
+  if (filtered) {
+    out.torque_filter = rows.filter();
+    out.filter_reach = rows.reach();
+  } else if (out.torque_filter.active()) {
+    out.torque_filter_source += "; no friction term needs sign(dq): nothing to reproduce";
+  }
   out.method = request.method;
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
@@ -232,7 +329,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
     throw InputError("the prior model has another parameter layout than the robot");
   SampleKeeper kept;  // the training samples for the figures
   try {
-    estimate(request, model, out, kept);
+    estimate(request, model, rows, out, kept);
   } catch (const InputError& e) {  // too few samples: the dataset's fault
     throw InputError(request.data_file + ": " + e.what());
   } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too
@@ -244,8 +341,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   Model identified = model;
   identified.setStandardParameters(out.result.standard);
   out.violations = consistencyViolations(identified);
-  describeFit(identified, kept, out);
-  if (!request.data) out.preparation = findPreparation(request.data_file);
+  describeFit(identified, kept, rows, out);
   validate(request, identified, out);
   if (!request.write_back_from.empty()) out.write_back = writeBack(request, identified, out);
   return out;

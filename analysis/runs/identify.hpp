@@ -14,6 +14,7 @@
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/estimation/reversals.hpp"
 #include "analysis/estimation/streaming.hpp"
+#include "analysis/estimation/training_rows.hpp"
 #include "analysis/logs/rest.hpp"
 #include "analysis/records/prepare_record.hpp"
 #include "core/model.hpp"
@@ -80,6 +81,11 @@ struct IdentifyRequest {
   /// The estimate's covariance (analysis/estimation/covariance.hpp): hac, robust over batches of
   /// samples (a second pass over the training data) or white (one pass).
   CovariancePolicy covariance = CovariancePolicy::kHac;
+  /// The low-pass the training torque went through, whose effect on the friction columns the fit
+  /// reproduces (identifiability/rows/fit_rows.hpp): std::nullopt, the prepare.json beside
+  /// data_file says (none without one); an order of 0, none; otherwise its order and cutoff (its
+  /// rate is the data's).
+  TorqueFilterChoice torque_filter;
 
   /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
   /// as dynid identify's options). identifyRun checks its request first.
@@ -131,6 +137,11 @@ struct IdentifyOutcome {
   /// prepare.json when the training data is a `dynid prepare` output (train.csv or validate.csv
   /// beside it): how the log was cleaned, filtered and differentiated.
   PreparationFound preparation;
+  /// The rows the fit took (identifiability/rows/fit_rows.hpp): the torque's filter it reproduced
+  /// (inactive: none), where that came from, and its reach [samples].
+  TorqueFilter torque_filter;
+  std::string torque_filter_source;
+  int filter_reach = 0;
 };
 /// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
 /// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.

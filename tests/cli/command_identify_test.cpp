@@ -107,6 +107,52 @@ TEST(Cli, IdentifyFromSimulatedData) {
 // identify --method combined --no-gc-floor: the GC term is fitted below its noise floor (the
 // noise fitted, docs/REFINEMENT.md); by default it is held at the floor, where pc already is on
 // this noisy log.
+// identify on a prepare output reproduces its torque's low-pass on the friction columns (from
+// the prepare.json beside the data), says so, records it in estimate.json, which predict reads
+// back; --torque-filter none takes the torque as unfiltered.
+TEST(Cli, IdentifyReproducesPreparesTorqueFilter) {
+  const std::string dir = test::tempPath("cli_torque_filter");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(run("simulate --robot puma560 --drives --controller fourier --duration 20 --seed 5 "
+                "--noise-q 1e-5 --noise-tau 0.5 --out " +
+                dir + "/sim.csv")
+                .code,
+            0);
+  ASSERT_EQ(
+      run("prepare --log " + dir + "/sim.csv --q 'q*' --tau 'tau*' --out " + dir + "/prep").code,
+      0);
+  const Result r = run("identify --robot puma560 --drives --data " + dir +
+                       "/prep/train.csv --out " + dir + "/id");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "rows fitted per joint:")) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "order-4 Butterworth at 10 Hz (zero phase), sampled at 1000 Hz "
+                       "(prepare.json: the torque's low-pass)"))
+      << r.out;
+  const auto estimate = nlohmann::json::parse(readFile(dir + "/id/estimate.json"));
+  EXPECT_EQ(estimate["schema_version"], 4);
+  const auto& rows = estimate["fit_rows"];
+  EXPECT_EQ(rows["torque_filter"]["cutoff_hz"], 10.0);
+  EXPECT_EQ(rows["torque_filter"]["order"], 4);
+  EXPECT_GT(rows["torque_filter"]["reach_samples"].get<int>(), 100);
+  for (const auto& fitted : rows["rows"]) {
+    EXPECT_LT(fitted.get<double>(), estimate["data"]["samples"].get<double>());
+    EXPECT_GT(fitted.get<double>(), 0.3 * estimate["data"]["samples"].get<double>());
+  }
+  EXPECT_EQ(run("predict --estimate " + dir + "/id/estimate.json --data " + dir +
+                "/prep/train.csv --out " + dir + "/predict")
+                .code,
+            0);
+  const Result none = run("identify --robot puma560 --drives --torque-filter none --data " + dir +
+                          "/prep/train.csv --out " + dir + "/id_none");
+  ASSERT_EQ(none.code, 0) << none.err;
+  const auto plain = nlohmann::json::parse(readFile(dir + "/id_none/estimate.json"));
+  EXPECT_TRUE(plain["fit_rows"]["torque_filter"].is_null());
+  EXPECT_EQ(plain["fit_rows"]["torque_filter_source"], "none: given");
+  EXPECT_NE(plain["base_parameters"][2]["estimate"], estimate["base_parameters"][2]["estimate"]);
+}
+
 TEST(Cli, CombinedWithoutTheGcFloorFitsBelowIt) {
   const std::string train = test::tempPath("floor_train.csv");
   ASSERT_EQ(run("simulate --robot puma560 --duration 6 --amplitude 1 --q0 0,0.8,1.5,0,0.8,0 "
@@ -306,7 +352,8 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
   const auto ols = nlohmann::json::parse(readFile(out + "/ols/estimate.json"));
   const auto pc = nlohmann::json::parse(readFile(out + "/pc/estimate.json"));
   EXPECT_EQ(ols["num_base"], 64);
-  // The published OLS fit is 1.41 %; the example's is 1.013 % (train) and 1.024 % (held out).
+  // The published OLS fit is 1.41 %; the example's is 0.914 % (train) and 0.938 % (held out),
+  // the filter reproduced on the friction columns (1.018 % and 1.022 % before, docs/MODEL.md).
   EXPECT_LE(ols["relative_error"].get<double>(), 0.0141);
   EXPECT_LE(ols["validation"]["relative_error"].get<double>(), 0.0141);
   // pc within 0.2 percentage points of OLS, converged.
@@ -323,29 +370,33 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
   for (int j = 1; j <= 7; ++j)
     EXPECT_NE(html.find("tau" + std::to_string(j) + " [N m]"), std::string::npos) << j;
   EXPECT_NE(html.find("Preprocessing (dynid prepare)"), std::string::npos);
-  // Friction at reversals: joint 7 has about two thirds of its squared training residual on about
-  // 6 % of the samples (measured: 64 % on 6.1 %), and the note proposes the Stribeck term.
+  // Friction at reversals: joint 7 has more than half of its squared training residual on about
+  // 6 % of the samples (measured: 60 % on 6.1 %), and the note proposes the Stribeck term and
+  // says the residual is not the filter's artefact (the fit reproduced it).
   const auto& reversals = ols["reversals"];
   const std::vector<int> flagged = reversals["flagged"];
   EXPECT_NE(std::find(flagged.begin(), flagged.end(), 7), flagged.end()) << reversals.dump();
   EXPECT_GT(reversals["residual_share"][6].get<double>(), 0.5) << reversals.dump();
   const std::string log = readFile(out + ".log");
   EXPECT_TRUE(contains(log, "note: friction at reversals:") &&
-              contains(log, "--drive-terms fv,fc,fo,fs adds Stribeck"))
+              contains(log, "--drive-terms fv,fc,fo,fs adds Stribeck") &&
+              contains(log, "not the torque filter's artefact"))
       << log;
   EXPECT_TRUE(contains(html, "friction at reversals")) << "the report's note";
   // predict measures the same on the data it is given (the example's held-out part).
   const auto prediction = nlohmann::json::parse(readFile(out + "/predict/prediction.json"));
   EXPECT_GT(prediction["reversals"]["samples"].get<int>(), 3000) << prediction["reversals"];
   EXPECT_EQ(prediction["reversals"]["residual_share"].size(), 7u);
-  // Which it does: a lower held-out error (measured: 0.962 % against 1.022 %).
+  // Which it does not, once the filter is reproduced: the held-out error stays where it is
+  // (measured: 0.9387 % against 0.9381 %; with the filter's artefact in the fit, Stribeck had
+  // seemed to help, 0.962 % against 1.022 %).
   const std::string fs_dir = test::tempPath("panda_fs");
   const Result fs = run("identify --robot panda --drive-terms fv,fc,fo,fs --data " + out +
                         "/data/train.csv --validate " + out + "/data/validate.csv --out " + fs_dir);
   ASSERT_EQ(fs.code, 0) << fs.err;
   const auto with_fs = nlohmann::json::parse(readFile(fs_dir + "/estimate.json"));
-  EXPECT_LT(with_fs["validation"]["relative_error"].get<double>(),
-            ols["validation"]["relative_error"].get<double>() - 0.0003);
+  EXPECT_NEAR(with_fs["validation"]["relative_error"].get<double>(),
+              ols["validation"]["relative_error"].get<double>(), 0.0003);
   // With fs among the terms, what is still flagged is said to be beyond them.
   if (!with_fs["reversals"]["flagged"].empty()) {
     EXPECT_TRUE(contains(fs.out, "is beyond the drive terms")) << fs.out;

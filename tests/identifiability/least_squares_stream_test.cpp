@@ -74,6 +74,57 @@ TEST(LeastSquaresStream, OlsAndWlsEqualTheDenseSolution) {
             1e-10 * wls.residual_rms.norm());
 }
 
+// Rows left out at rest (FitRows) are the dense fit without those rows: the estimate, the
+// per-joint statistics over the rows taken and the noise's degrees of freedom.
+TEST(LeastSquaresStream, RowsLeftOutAtRestAreTheDenseFitWithoutThem) {
+  Model puma = makePuma560(true);  // Coulomb and asymmetry friction: sign(dq)
+  const BaseParameters base = pumaBase(puma);
+  const Trajectory data = pumaTrajectory(puma, 6.0, 0.5, 3);
+  // A rest velocity of a fifth of each joint's RMS speed: a tenth of the samples or so at rest.
+  puma.rest_velocities.resize(6);
+  for (int j = 0; j < 6; ++j)
+    puma.rest_velocities[static_cast<std::size_t>(j)] =
+        0.2 * std::sqrt(data.dq.row(j).squaredNorm() / data.numSamples());
+  const FitRows rows(puma);
+  ThreadPool pool(3);
+  LeastSquaresStream stream(base, puma);
+  stream.addTrajectory(puma, data.samples(0, 2500), &pool, &rows);
+  const Trajectory rest_of = data.samples(2500, data.numSamples() - 2500);
+  // The second chunk's samples are the set's from 2500 on: FitRows sees them by that index.
+  stream.addTrajectory(puma, rest_of, &pool, &rows);
+  const Dense all = denseOf(puma, base, data);
+  std::vector<Eigen::Index> kept;
+  Eigen::VectorXd fitted = Eigen::VectorXd::Zero(6);
+  for (Eigen::Index r = 0; r < all.W1.rows(); ++r) {
+    const int j = static_cast<int>(r % 6);
+    if (std::abs(data.dq(j, r / 6)) > puma.restVelocity(j)) {
+      kept.push_back(r);
+      ++fitted[j];
+    }
+  }
+  ASSERT_LT(fitted.maxCoeff(), data.numSamples());  // some rows of every joint were left out
+  ASSERT_GT(fitted.minCoeff(), 0.5 * data.numSamples());
+  const Eigen::MatrixXd W1 = all.W1(kept, Eigen::all);
+  const Eigen::VectorXd tau = all.tau(kept);
+  const BaseEstimate ols = stream.estimate(LeastSquaresMethod::kOrdinary);
+  EXPECT_EQ(ols.fitted_rows, fitted);
+  const Eigen::VectorXd beta = W1.householderQr().solve(tau);
+  // 1e-10 relative: both are backward-stable QR solutions of a system with condition ~1e2-1e3.
+  EXPECT_LT((ols.beta - beta).norm(), 1e-10 * beta.norm());
+  const Eigen::VectorXd residual = tau - W1 * beta;
+  Eigen::VectorXd squares = Eigen::VectorXd::Zero(6);
+  for (std::size_t i = 0; i < kept.size(); ++i) squares[kept[i] % 6] += residual[i] * residual[i];
+  EXPECT_LT((ols.residual_rms - squares.cwiseQuotient(fitted).cwiseSqrt()).norm(),
+            1e-10 * ols.residual_rms.norm());
+  const double sigma2 = residual.squaredNorm() / static_cast<double>(W1.rows() - W1.cols());
+  const Eigen::MatrixXd covariance = sigma2 * (W1.transpose() * W1).inverse();
+  EXPECT_LT((ols.covariance - covariance).norm(), 1e-8 * covariance.norm());
+  // Without friction that needs sign(dq), nothing is left out.
+  const Model rigid = makePuma560(false);
+  EXPECT_TRUE(FitRows(rigid).fitted(0, 2, 0.0));
+  EXPECT_FALSE(rows.fitted(0, 2, 0.0));
+}
+
 TEST(LeastSquaresStream, RankDecisionsEqualTheDenseFactorsOnIllConditionedData) {
   // Short stretches of one motion: the shorter, the closer to collinear the columns (condition
   // numbers from ~1e2 to ~1e7 here), then rank deficient. The stream's verdict per base parameter

@@ -132,7 +132,6 @@ TEST(EstimateRecord, VersionThreeNamesItsCovariancePolicyAndEveryEarlierVersionI
                         {"base_covariance", covariance}};
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").covariance_policy, "white");  // before version 3
   doc["schema_version"] = 3;
-  EXPECT_EQ(kEstimateDocument.schema_version, 3);
   doc["base_covariance"]["policy"] = {{"name", "hac"}, {"batch", 64}, {"inflation", 3.0}};
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").covariance_policy, "hac");
   doc["base_covariance"]["policy"]["name"] = "newey-west";
@@ -140,6 +139,22 @@ TEST(EstimateRecord, VersionThreeNamesItsCovariancePolicyAndEveryEarlierVersionI
   doc["base_covariance"]["policy"] = {{"name", "white"}, {"colour", "blue"}};
   EXPECT_EQ(estimateFault(doc), "base_covariance.policy.colour");
   doc["schema_version"] = 0;  // no version 0 was ever written
+  EXPECT_EQ(estimateFault(doc), "schema_version");
+}
+
+TEST(EstimateRecord, VersionFourCarriesItsFitRows) {
+  const std::vector<std::string> names =
+      standardParameterNames(makePuma560(false).parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (const std::string& name : names) values[name] = 1.0;
+  nlohmann::json doc = {{"schema_version", 4},
+                        {"standard_estimate", {{"note", "n"}, {"values", values}}},
+                        {"fit_rows", {{"rows", {10, 9, 10, 10, 8, 10}}, {"samples", 10}}}};
+  EXPECT_EQ(kEstimateDocument.schema_version, 4);
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
+  doc["schema_version"] = 3;  // an earlier version with a key it did not have: still read
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
+  doc["schema_version"] = 5;  // a later version: refused
   EXPECT_EQ(estimateFault(doc), "schema_version");
 }
 
