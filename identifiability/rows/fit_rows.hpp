@@ -33,7 +33,8 @@
 namespace dynid {
 
 /// The zero-phase Butterworth low-pass a dataset's torque went through (prepare.json's
-/// filter.order and filter.tau_cutoff_hz at its resampled_rate); order 0: none.
+/// filter.order and filter.tau_cutoff_hz; its rate is the dataset's, from its median step);
+/// order 0: none.
 struct TorqueFilter {
   int order = 0;
   double cutoff = 0.0;  // [Hz]

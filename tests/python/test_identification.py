@@ -176,3 +176,21 @@ def test_bad_identify_arguments_raise_value_errors(puma, puma_csv):
     with pytest.raises(ValueError, match="another parameter layout"):
         dynid.identify(puma, puma_csv, method="pc",
                        prior=dynid.load_model("puma560", drives=True))
+
+
+def test_torque_filter_is_reproduced_when_given_and_refused_when_malformed(puma_csv):
+    """torque_filter as identify's --torque-filter: auto (the prepare.json beside a file, none
+    without one), none, a cutoff or (cutoff, order); the estimate records it in fit_rows."""
+    arm = dynid.load_model("puma560", drives=True)
+    data = dynid.simulate(arm, duration=6.0, noise_tau=0.05, seed=3)
+    filtered = json.loads(dynid.identify(arm, data, torque_filter=(10.0, 4)).to_json())
+    rows = filtered["fit_rows"]
+    assert rows["torque_filter"]["cutoff_hz"] == 10.0 and rows["torque_filter"]["order"] == 4
+    assert rows["torque_filter"]["reach_samples"] > 100  # 175 at 1 kHz
+    plain = json.loads(dynid.identify(arm, data, torque_filter="none").to_json())
+    assert plain["fit_rows"]["torque_filter"] is None
+    auto = json.loads(dynid.identify(dynid.load_model("puma560"), puma_csv).to_json())
+    assert "no prepare.json" in auto["fit_rows"]["torque_filter_source"]
+    for bad in ("butterworth", -3.0, (10.0, 4.5), (10.0, 13), True):
+        with pytest.raises(ValueError, match="torque_filter"):
+            dynid.identify(arm, data, torque_filter=bad)
