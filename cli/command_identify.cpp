@@ -6,6 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/output.hpp"
 
@@ -91,10 +92,8 @@ TorqueFilterChoice torqueFilterOption(const std::string& text) {
   return out;
 }
 
-}  // namespace
-
-int runIdentify(const std::vector<std::string>& args) {
-  po::options_description options("dynid identify");
+/// identify's options, in the order --help lists them.
+void addIdentifyOptions(po::options_description& options) {
   addRobotOptions(options);
   addStructuralOptions(options);
   options.add_options()(
@@ -129,6 +128,13 @@ int runIdentify(const std::vector<std::string>& args) {
   addPriorWeightOption(options);
   addRestVelocityOption(options);
   addThreadsOption(options);
+}
+
+}  // namespace
+
+int runIdentify(const std::vector<std::string>& args) {
+  po::options_description options("dynid identify");
+  addIdentifyOptions(options);
   po::variables_map vm;
   const std::string usage =
       "dynid identify --method ols|wls|pc|combined --robot R [--drives] --data train.csv "
@@ -171,7 +177,8 @@ int runIdentify(const std::vector<std::string>& args) {
     std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
   if (const std::string warning = solverWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
-  std::cout << writeIdentification(vm["out"].as<std::string>(), request.model, outcome);
+  // The summary names request fields (`torque_filter`) as this command's flags.
+  std::cout << cliText(writeIdentification(vm["out"].as<std::string>(), request.model, outcome));
   if (guard) return exitAfter(*guard, "identify", "the combined estimate is its best so far");
   return kExitOk;
 }

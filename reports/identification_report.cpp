@@ -294,8 +294,8 @@ std::string filteringClause(const IdentifyOutcome& o) {
            o.torque_filter.describe() + ") on the friction columns";
   if (!o.preparation.present && !o.torque_filter.active())
     return "if the torque was low-pass filtered before dynid, the filter spreads each reversal's "
-           "step, which reads as missing friction: --torque-filter CUTOFF[,ORDER] makes the fit "
-           "reproduce it (compare the notes)";
+           "step, which reads as missing friction: `torque_filter` (its cutoff and order) makes "
+           "the fit reproduce it (compare the notes)";
   return "";
 }
 

@@ -33,8 +33,9 @@ std::string covarianceLine(const CovarianceSummary& covariance);
 /// whose effect on the friction columns it reproduced; empty when every row was taken unchanged.
 std::string fitRowsLine(const IdentifyOutcome& outcome);
 /// What a note on the residual at reversals says of the torque's filter: that the fit reproduced
-/// it (so the residual is not its artefact), or, for data without a prepare.json, how to make
-/// the fit reproduce a filter it went through; empty otherwise.
+/// it (so the residual is not its artefact), or, for data without a prepare.json, that the
+/// request's `torque_filter` makes the fit reproduce a filter it went through (the front ends
+/// respell the field); empty otherwise.
 std::string filteringClause(const IdentifyOutcome& outcome);
 
 std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,

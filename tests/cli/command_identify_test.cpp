@@ -151,6 +151,17 @@ TEST(Cli, IdentifyReproducesPreparesTorqueFilter) {
   EXPECT_TRUE(plain["fit_rows"]["torque_filter"].is_null());
   EXPECT_EQ(plain["fit_rows"]["torque_filter_source"], "none: given");
   EXPECT_NE(plain["base_parameters"][2]["estimate"], estimate["base_parameters"][2]["estimate"]);
+  // The same filtered data without its prepare.json: the note on reversals says how to give the
+  // filter, in this command's flag.
+  std::filesystem::copy_file(dir + "/prep/train.csv", dir + "/alone.csv");
+  const Result alone =
+      run("identify --robot puma560 --drives --data " + dir + "/alone.csv --out " + dir + "/id2");
+  ASSERT_EQ(alone.code, 0) << alone.err;
+  EXPECT_TRUE(contains(alone.out,
+                       "reads as missing friction: --torque-filter (its cutoff and "
+                       "order) makes the fit reproduce it"))
+      << alone.out;
+  EXPECT_FALSE(contains(alone.out, "`torque_filter`")) << alone.out;
 }
 
 TEST(Cli, CombinedWithoutTheGcFloorFitsBelowIt) {
