@@ -1,6 +1,7 @@
 // dynid monitor: its speed, and its acceptance in simulation (docs/MONITOR.md, "Measured").
 //   - BM_ObserverSample/<robot>: one sample of the momentum observer (p = M dq, beta, the update).
-//   - BM_MonitorFile/csv: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included); its
+//   - BM_MonitorFile/csv: monitorRun on a 60 s, 1 kHz Panda log file (CSV parsing included) with
+//     the thresholds its calibration wrote (arm states, moving regimes), read back; its
 //     counter hour_seconds is the time an hour of such a log takes. /db3: the same samples as a
 //     rosbag2 SQLite recording (JointState decoding included).
 //   - BM_MonitorAcceptance/<robot>: the truth is the robot with friction (Fv per rad/s and Fc
@@ -13,6 +14,13 @@
 //     N m on a random joint (either sign, 0.1 s; 10 per 60 s log, 100 in all) detected within 50
 //     ms; false alarms over 60 clean 60 s logs (one hour); the thresholds of the prior over those
 //     of the identified model, per joint.
+//   - BM_MonitorRegimes/<robot>: the moving regimes (docs/MONITOR.md, "The moving regimes"): the
+//     truth, logs and calibration of BM_MonitorStates; pushes in motion of 0.5, 0.75 and 1 times
+//     each joint's single moving threshold (0.1 s, 8 per 56 s log, ten logs) and an hour of clean
+//     motion with stops, judged by the thresholds with their regimes and by the same without
+//     (version 2). /puma560_published: the truth with the PUMA's published drive model (Coulomb
+//     friction up to 25 N m through the gears) and a Stribeck term half of it, which the model does
+//     not carry.
 //   - BM_MonitorStates/<robot>: the arm states (docs/MONITOR.md, "The arm states"). The truth as
 //     above plus a Stribeck term half Fc that no identified model carries, tracked at 20 Hz with
 //     stops (simulate --pauses). Calibrated on a 120 s log of another motion (4 s moves, 3 s
@@ -44,6 +52,7 @@
 #include "data/puma560.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "reports/monitor_report.hpp"
 #include "tests/common/joint_state_db3.hpp"
 #include "tests/common/monitor_logs.hpp"
 
@@ -118,20 +127,10 @@ void BM_MonitorFile(benchmark::State& state, bool recording) {
   request.data_file = data;
   request.calibration_file = csv;
   MonitorOutcome first = monitorRun(request);  // the thresholds, once
+  // The thresholds document monitor writes (reports/), with its arm states and moving regimes,
+  // read back through --thresholds.
   const std::string thresholds = benchDir() + "/speed_thresholds.json";
-  {
-    // The thresholds document monitor writes (reports/), read back through --thresholds.
-    nlohmann::json t = {{"schema_version", 1},
-                        {"kind", "dynid.monitor_thresholds"},
-                        {"robot", panda.name},
-                        {"joints", panda.joint_names},
-                        {"residual", "observer"},
-                        {"gain", std::vector<double>(7, 100.0)},
-                        {"thresholds", std::vector<double>(first.thresholds.values.data(),
-                                                           first.thresholds.values.data() + 7)},
-                        {"source", "bench"}};
-    writeFileAtomically(thresholds, t.dump());
-  }
+  writeFileAtomically(thresholds, monitorThresholdsJson(first.thresholds).dump());
   request.calibration_file.clear();
   request.thresholds_file = thresholds;
   long long samples = 0;
@@ -436,6 +435,154 @@ BENCHMARK_CAPTURE(BM_MonitorStates, puma560, makePuma560(true))
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 BENCHMARK_CAPTURE(BM_MonitorStates, panda, makePanda(true))
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+
+// ---- the moving regimes: pushes in motion near the moving thresholds ----
+
+struct MovingScore {
+  int pushes = 0, found = 0, false_alarms = 0;
+  std::vector<int> found_by_regime = std::vector<int>(kMovingRegimes, 0);
+};
+
+/// Pushes in motion of `size` times each joint's single moving threshold for 0.1 s (8 per log,
+/// in the moves, random joint and sign; the same pushes for every `thresholds` file), found when an
+/// event starts within 50 ms; per file of `thresholds`, a score.
+void scoreMovingPushes(const Model& truth, const std::string& arm, const std::string& tag,
+                       const Eigen::VectorXd& single, double size,
+                       const std::vector<std::string>& thresholds, int files, double bandwidth,
+                       std::vector<MovingScore>& scores) {
+  const int n = truth.numJoints();
+  std::mt19937_64 rng(2028);
+  std::uniform_int_distribution<int> joint(0, n - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int file = 0; file < files; ++file) {
+    SimulateRequest r = pausedMotion(truth, 56.0, 400 + file, 0.17 * file, 3.0, 4.0, bandwidth);
+    for (int c = 0; c < 8; ++c) {
+      Disturbance d;
+      d.joint = joint(rng);
+      d.torque = (unit(rng) < 0.5 ? -size : size) * single[d.joint];
+      d.start = 7.0 * c + 0.2 + 2.6 * unit(rng), d.duration = 0.1;
+      r.disturbances.push_back(d);
+    }
+    const SimulateOutcome pushed = simulateRun(r);
+    const std::string data = benchDir() + "/" + tag + "_regimes_pushed.csv";
+    const std::string truth_file = benchDir() + "/" + tag + "_regimes_pushed.truth.csv";
+    writeDatasetCsv(data, pushed.trajectory);
+    writeExternalTorqueCsv(truth_file, pushed.trajectory.time, pushed.external);
+    for (std::size_t i = 0; i < thresholds.size(); ++i) {
+      MonitorRequest m;
+      m.arm = arm;
+      m.data_file = data;
+      m.truth_file = truth_file;
+      m.thresholds_file = thresholds[i];
+      const MonitorOutcome o = monitorRun(m);
+      scores[i].pushes += o.truth->episodes;
+      scores[i].found += o.truth->detected;
+      scores[i].false_alarms += o.truth->false_alarms;
+      for (const MonitorEvent& e : o.events)
+        if (e.peak_regime >= 0) scores[i].found_by_regime[e.peak_regime] += 1;
+    }
+  }
+}
+
+/// `nominal` perturbed by up to 20 % (seeded) with its own (published) drive model and a Stribeck
+/// term half its Coulomb friction that no identified model carries: friction whose sign errors at
+/// reversals dominate the moving residual, as on a geared arm.
+Model publishedTruth(const Model& nominal) {
+  Model truth = perturbedModel(nominal, 0.2, 5);
+  DriveTerms terms = nominal.driveTerms();
+  terms.mask |= DriveTerms::of({DriveTerm::kStribeck}).mask;
+  truth.setDriveTerms(terms);
+  for (int j = 0; j < truth.numJoints(); ++j) {
+    DriveParameters<double> d = nominal.drives()[j];
+    d[DriveTerm::kStribeck] = 0.5 * d[DriveTerm::kCoulomb];
+    truth.setDrive(j, d);
+  }
+  return truth;
+}
+
+void BM_MonitorRegimes(benchmark::State& state, const Model& nominal_drives, bool published) {
+  for (auto _ : state) {
+    const double bandwidth = 20.0;  // as BM_MonitorStates
+    const Model truth =
+        published ? publishedTruth(nominal_drives) : statesTruth(nominal_drives, bandwidth);
+    const std::string tag = truth.name + (published ? "_published" : "");
+    const std::string arm = benchDir() + "/" + tag + "_regimes_identified.json";
+    SimulateRequest training = motion(truth, 60.0, 11, 0.3);
+    training.bandwidth = bandwidth;
+    writeFileAtomically(
+        arm, modelToJson(identified(nominal_drives, logFile(training, tag + "_regimes_train"))));
+    // Calibrated on another motion than the one watched, as BM_MonitorStates.
+    MonitorRequest clean;
+    clean.arm = arm;
+    clean.calibration_file = logFile(pausedMotion(truth, 120.0, 12, 0.7, 4.0, 3.0, bandwidth),
+                                     tag + "_regimes_calibration");
+    clean.data_file = clean.calibration_file;
+    const MonitorThresholds t = monitorRun(clean).thresholds;
+    const std::string with = benchDir() + "/" + tag + "_regimes_v3.json";
+    writeFileAtomically(with, monitorThresholdsJson(t).dump());
+    const std::vector<std::string> files = {
+        with, test::writeThresholdsWithoutRegimes(t, benchDir() + "/" + tag + "_regimes_v2.json")};
+    const std::vector<double> sizes = {0.5, 0.75, 1.0};
+    std::vector<std::vector<MovingScore>> scores(sizes.size(),
+                                                 std::vector<MovingScore>(files.size()));
+    for (std::size_t k = 0; k < sizes.size(); ++k)
+      scoreMovingPushes(truth, arm, tag, t.values, sizes[k], files, 10, bandwidth, scores[k]);
+    // An hour of clean motion with stops (BM_MonitorStates's logs).
+    std::vector<int> clean_alarms(files.size(), 0);
+    for (int file = 0; file < 60; ++file) {
+      const std::string data = logFile(
+          pausedMotion(truth, 60.0, 3000 + file, 0.05 * file, 3.0 + 0.05 * file, 2.0, bandwidth),
+          tag + "_regimes_clean");
+      for (std::size_t i = 0; i < files.size(); ++i) {
+        MonitorRequest m;
+        m.arm = arm;
+        m.data_file = data;
+        m.thresholds_file = files[i];
+        const MonitorOutcome o = monitorRun(m);
+        clean_alarms[i] += static_cast<int>(o.events.size());
+        for (const MonitorEvent& e : o.events)
+          std::printf("  false alarm (%s): log %d, t = %.3f s, %s, joint %d, peak %.3g N m\n",
+                      i == 0 ? "regimes" : "one moving threshold", file, e.start,
+                      e.at_rest ? "at rest" : kMovingRegimeNames[std::max(e.peak_regime, 0)],
+                      e.peak_joint + 1, e.peak);
+      }
+    }
+    state.counters["found_075x_pct"] = 100.0 * scores[1][0].found / scores[1][0].pushes;
+    state.counters["found_075x_before_pct"] = 100.0 * scores[1][1].found / scores[1][1].pushes;
+    state.counters["false_alarms_hour"] = clean_alarms[0];
+    std::printf("\n%s, %s false alarms per hour (the default):\n", tag.c_str(),
+                formatNumber(kDefaultFalseAlarmsPerHour, 3).c_str());
+    for (std::size_t k = 0; k < sizes.size(); ++k)
+      for (std::size_t i = 0; i < files.size(); ++i)
+        std::printf(
+            "  %s: pushes in motion of %.2g x the joint's single moving threshold (0.1 s) %d of %d "
+            "found within 50 ms; false alarms %d in the pushed logs\n",
+            i == 0 ? "moving regimes" : "one moving threshold", sizes[k], scores[k][i].found,
+            scores[k][i].pushes, scores[k][i].false_alarms);
+    std::printf("  false alarms in one hour of clean motion with stops: %d (regimes), %d (one)\n",
+                clean_alarms[0], clean_alarms[1]);
+    std::printf("  single moving thresholds [N m]:");
+    for (Eigen::Index j = 0; j < t.values.size(); ++j) std::printf(" %.3g", t.values[j]);
+    std::printf("\n  per regime (threshold / single; seconds of calibration):\n");
+    for (int c = 0; c < kMovingRegimes; ++c) {
+      std::printf("    %-22s", kMovingRegimeNames[c]);
+      for (Eigen::Index j = 0; j < t.values.size(); ++j)
+        std::printf(" %5.2f (%4.1f s)",
+                    t.values_by_regime(j, c) > 0.0 ? t.values_by_regime(j, c) / t.values[j] : 0.0,
+                    t.regime_seconds(j, c));
+      std::printf("\n");
+    }
+  }
+}
+BENCHMARK_CAPTURE(BM_MonitorRegimes, puma560, makePuma560(true), false)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_MonitorRegimes, panda, makePanda(true), false)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_MonitorRegimes, puma560_published, makePuma560(true), true)
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 

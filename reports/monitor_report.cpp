@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "analysis/monitor/regimes.hpp"
 #include "analysis/monitor/states.hpp"
 #include "analysis/records/document.hpp"
 #include "core/format.hpp"
@@ -18,6 +19,15 @@ using nlohmann::json;
 namespace {
 const char* residualName(MonitorResidual r) {
   return r == MonitorResidual::kDirect ? "direct" : "observer";
+}
+
+/// "at rest", "moving" or "moving, <the peak joint's regime>".
+std::string armState(const MonitorEvent& e) {
+  if (e.at_rest) return "at rest";
+  if (e.peak_regime < 0) return "moving";
+  std::string regime = kMovingRegimeNames[static_cast<std::size_t>(e.peak_regime)];
+  std::replace(regime.begin(), regime.end(), '_', ' ');
+  return "moving, " + regime;
 }
 
 std::string jointList(const std::vector<int>& joints) {
@@ -71,6 +81,37 @@ std::string statesText(const MonitorOutcome& o) {
          " s watched.";
 }
 
+/// Why a moving joint is judged as it is: its regime's threshold where the calibration had enough
+/// of the regime, else its single moving threshold.
+std::string regimesText(const MonitorThresholds& t) {
+  if (t.values_by_regime.size() == 0) return "";
+  const Eigen::Index n = t.values.size();
+  int own = 0;
+  double low = 1e300, high = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (int c = 0; c < kMovingRegimes; ++c)
+      if (t.values_by_regime(j, c) > 0.0) {
+        ++own;
+        low = std::min(low, t.values_by_regime(j, c) / t.values[j]);
+        high = std::max(high, t.values_by_regime(j, c) / t.values[j]);
+      }
+  std::string out =
+      "Moving, each joint is judged by its regime: slow (below " +
+      formatNumber(100.0 * kSlowSpeedShare, 3) +
+      " % of its speed on the calibration, near a reversal), cruising or fast (above " +
+      formatNumber(100.0 * kFastSpeedShare, 3) + " %), accelerating or not (above " +
+      formatNumber(100.0 * kAcceleratingShare, 3) + " % of its acceleration); a regime has " +
+      "a threshold of its own where the calibration spent " + formatNumber(kMinRegimeSeconds, 3) +
+      " s in it, ";
+  if (own == 0)
+    return out + "which none of its " + std::to_string(n * kMovingRegimes) +
+           " did: the single moving threshold applies throughout (calibrate on a longer log "
+           "for thresholds that follow the speed and the acceleration).";
+  return out + "which " + std::to_string(own) + " of " + std::to_string(n * kMovingRegimes) +
+         " did, at " + formatNumber(low, 3) + " to " + formatNumber(high, 3) +
+         " times the joint's single moving threshold (the others use it).";
+}
+
 std::string verdict(const MonitorOutcome& o) {
   std::ostringstream s;
   s << o.events.size() << (o.events.size() == 1 ? " event" : " events") << " in "
@@ -79,6 +120,7 @@ std::string verdict(const MonitorOutcome& o) {
     << "from " << o.thresholds.source << ".";
   if (const std::string c = confidenceText(o.thresholds); !c.empty()) s << " " << c;
   if (const std::string c = statesText(o); !c.empty()) s << " " << c;
+  if (const std::string c = regimesText(o.thresholds); !c.empty()) s << " " << c;
   if (o.interrupted) s << " Stopped early: the events so far.";
   if (const auto& t = o.truth) {
     s << " Against the ground truth: " << t->detected << " of " << t->episodes
@@ -158,6 +200,35 @@ std::optional<std::string> residualFigure(const MonitorOutcome& o) {
 }
 }  // namespace
 
+/// Moving, each joint's threshold per regime and the calibration's time in it.
+DocumentTable regimesTable(const MonitorThresholds& t) {
+  DocumentTable table;
+  table.header = {"joint"};
+  for (const char* name : kMovingRegimeNames) table.header.push_back(name);
+  for (Eigen::Index j = 0; j < t.values.size(); ++j) {
+    std::vector<std::string> row = {std::to_string(j + 1)};
+    for (int c = 0; c < kMovingRegimes; ++c) {
+      const double seconds = t.regime_seconds.size() > 0 ? t.regime_seconds(j, c) : 0.0;
+      row.push_back((t.values_by_regime(j, c) > 0.0 ? formatNumber(t.values_by_regime(j, c), 4)
+                                                    : std::string("-")) +
+                    " (" + formatNumber(seconds, 3) + " s)");
+    }
+    table.rows.push_back(row);
+  }
+  table.caption =
+      "Moving thresholds per regime [N m] and the calibration's time in each; '-': less than " +
+      formatNumber(kMinRegimeSeconds, 3) +
+      " s, the joint's single moving threshold applies there. Slow: below " +
+      formatNumber(100.0 * kSlowSpeedShare, 3) + " % of the joint's speed scale (" +
+      "the 95th percentile of its speed on the calibration); fast: above " +
+      formatNumber(100.0 * kFastSpeedShare, 3) + " %; accelerating: above " +
+      formatNumber(100.0 * kAcceleratingShare, 3) +
+      " % of its acceleration scale. A regime is kept " +
+      formatNumber(kRegimeMemorySeconds * 1e3, 3) +
+      " ms after the joint left it (the observer's lag).";
+  return table;
+}
+
 json monitorEventJson(const MonitorEvent& e) {
   json joints = json::array();
   for (int j : e.joints) joints.push_back(j + 1);
@@ -170,7 +241,31 @@ json monitorEventJson(const MonitorEvent& e) {
           {"peak_time", e.peak_time},
           {"energy", e.energy},
           {"open", e.open},
-          {"state", e.at_rest ? "rest" : "moving"}};
+          {"state", e.at_rest ? "rest" : "moving"},
+          {"regime", e.peak_regime >= 0
+                         ? json(kMovingRegimeNames[static_cast<std::size_t>(e.peak_regime)])
+                         : json(nullptr)}};
+}
+
+/// Version 3's moving regimes: the scales, and per joint one threshold per regime (null where the
+/// calibration spent too little time in it) and that time; null without regimes.
+json movingRegimesJson(const MonitorThresholds& t) {
+  if (t.values_by_regime.size() == 0) return nullptr;
+  json thresholds = json::array(), seconds = json::array();
+  for (Eigen::Index j = 0; j < t.values_by_regime.rows(); ++j) {
+    json u = json::array(), s = json::array();
+    for (int c = 0; c < kMovingRegimes; ++c) {
+      u.push_back(t.values_by_regime(j, c) > 0.0 ? json(t.values_by_regime(j, c)) : json(nullptr));
+      s.push_back(t.regime_seconds.size() > 0 ? t.regime_seconds(j, c) : 0.0);
+    }
+    thresholds.push_back(u);
+    seconds.push_back(s);
+  }
+  return {{"regimes", kMovingRegimeNames},
+          {"speed_scale", numbersOrNull(t.speed_scale)},
+          {"acceleration_scale", numbersOrNull(t.acceleration_scale)},
+          {"thresholds", thresholds},
+          {"seconds", seconds}};
 }
 
 json monitorThresholdsJson(const MonitorThresholds& t) {
@@ -197,6 +292,7 @@ json monitorThresholdsJson(const MonitorThresholds& t) {
     if (t.calibration_rest_rms.size() > 0)
       out["calibration_rest_rms"] = numbersOrNull(t.calibration_rest_rms);
   }
+  out["moving_regimes"] = movingRegimesJson(t);
   return out;
 }
 
@@ -251,9 +347,8 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
                    "peak [N m]", "peak joint", "contact on", "energy [J]"};
   for (const MonitorEvent& e : o.events)
     events.rows.push_back(
-        {formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""),
-         e.at_rest ? "at rest" : "moving", jointList(e.joints), formatNumber(e.peak, 4),
-         std::to_string(e.peak_joint + 1),
+        {formatNumber(e.start, 6), formatNumber(e.end, 6) + (e.open ? " (open)" : ""), armState(e),
+         jointList(e.joints), formatNumber(e.peak, 4), std::to_string(e.peak_joint + 1),
          "link " + std::to_string(e.contact_link + 1) + " or beyond", formatNumber(e.energy, 3)});
   events.caption =
       "An event starts at the first sample where a residual exceeds its threshold and "
@@ -287,10 +382,12 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
                "from its level at rest. Observer gain " +
                formatNumber(o.thresholds.gain.maxCoeff(), 4) + " 1/s.";
   report.table(th);
+  if (o.thresholds.values_by_regime.size() > 0) report.table(regimesTable(o.thresholds));
   std::string warning;
   if (const auto svg = residualFigure(o))
     report.figure({"residuals",
-                   "Each joint's residual (its range per plotted interval), the thresholds dashed, "
+                   "Each joint's residual (its range per plotted interval), its single moving "
+                   "threshold dashed (a moving regime's own threshold is in the table above), "
                    "the events shaded.",
                    *svg});
   else

@@ -27,6 +27,9 @@ struct MonitorEvent {
   /// It started with the arm at rest: judged by the residual's change from its level at rest
   /// (analysis/monitor/states.hpp), whose values `peak` then holds.
   bool at_rest = false;
+  /// Moving: the peak joint's regime at the peak (analysis/monitor/regimes.hpp; an index of
+  /// kMovingRegimeNames), whose threshold it crossed; -1 at rest or without regimes.
+  int peak_regime = -1;
 };
 
 /// Receives events as they happen (the stdin mode prints them at once).
@@ -62,8 +65,11 @@ class EventDetector {
   /// One sample judged by `thresholds` (the arm state's); `at_rest`: the state is rest. `since`:
   /// the statistic has been beyond its value since that long [s] (a persistence window), so an
   /// event that starts here started that much earlier.
+  /// `regimes`: moving, each joint's regime (or null).
   void add(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq,
-           const Eigen::VectorXd& thresholds, bool at_rest, double since = 0.0) {
+           const Eigen::VectorXd& thresholds, bool at_rest, double since = 0.0,
+           const Eigen::VectorXi* regimes = nullptr) {
+    regimes_ = regimes;
     const Eigen::ArrayXd ratio = r.cwiseAbs().array() / thresholds.array();
     const bool above = (ratio > 1.0).any();
     if (!active_) {
@@ -107,6 +113,7 @@ class EventDetector {
         event_.peak = std::abs(r[j]);
         event_.peak_joint = static_cast<int>(j);
         event_.peak_time = t;
+        event_.peak_regime = regimes_ ? (*regimes_)[j] : -1;
       }
     }
   }
@@ -124,6 +131,7 @@ class EventDetector {
   MonitorEventSink* sink_;
   std::vector<MonitorEvent>& events_;
   bool active_ = false;
+  const Eigen::VectorXi* regimes_ = nullptr;  // this sample's
   std::optional<double> quiet_since_;
   MonitorEvent event_;
 };

@@ -49,11 +49,13 @@ inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // parameter's p_scaled.
 inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};  // dynid audit
 // monitor.json 2: each event's contact_link (contact isolation), calibration_confidence. 3: each
-// event's state (rest or moving), the thresholds' version 2.
-inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 3};  // dynid monitor
+// event's state (rest or moving), the thresholds' version 2. 4: the thresholds' version 3, each
+// event's regime (moving: the peak joint's regime; null at rest).
+inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 4};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds. 2: the arm
-/// states: rest_velocity, thresholds_at_rest (null without), rest_seconds, calibration_rest_rms.
-inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 2};
+/// states: rest_velocity, thresholds_at_rest (null without), rest_seconds, calibration_rest_rms. 3:
+/// moving_regimes (null without): regimes, speed_scale, acceleration_scale, thresholds, seconds.
+inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 3};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 

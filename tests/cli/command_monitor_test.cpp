@@ -104,14 +104,20 @@ TEST_F(CliMonitor, SaysHowARestingArmIsJudgedAndKeepsItsThresholdsAtRest) {
   EXPECT_TRUE(contains(r.out, "0 events")) << r.out;  // a clean run raises no alarm
   EXPECT_TRUE(contains(r.out, "judged by thresholds at rest learnt from the calibration's"))
       << r.out;
+  // 12 s of calibration are too few for thresholds per moving regime (10 s each), and it says so.
+  EXPECT_TRUE(contains(r.out, "which none of its 36 did: the single moving threshold applies"))
+      << r.out;
   const auto j = nlohmann::json::parse(readFile(out + "/thresholds.json"));
-  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["schema_version"], 3);
   ASSERT_EQ(j["thresholds_at_rest"].size(), 6u);
+  ASSERT_EQ(j["moving_regimes"]["thresholds"].size(), 6u);
+  EXPECT_EQ(j["moving_regimes"]["thresholds"][0][0], nullptr);
   const Result again = run("monitor --arm puma560 --data " + dir_ + "/stops.csv --thresholds " +
                            out + "/thresholds.json --out " + dir_ + "/rest2");
   ASSERT_EQ(again.code, 0) << again.err;
   const auto k = nlohmann::json::parse(readFile(dir_ + "/rest2/monitor.json"));
   EXPECT_EQ(k["thresholds"]["thresholds_at_rest"], j["thresholds_at_rest"]);
+  EXPECT_EQ(k["thresholds"]["moving_regimes"], j["moving_regimes"]);
   EXPECT_EQ(k["events"].size(), 0u);
 }
 

@@ -1,5 +1,6 @@
 // Simulated PUMA logs with pushes for the monitor's tests (tests/monitor/): a tracking run with
-// external joint torques applied, and one push; thresholds without arm states (version 1).
+// external joint torques applied, and one push; thresholds without arm states (version 1) or
+// without moving regimes (version 2).
 #pragma once
 
 #include <string>
@@ -48,6 +49,33 @@ inline std::string writeThresholdsWithoutStates(const MonitorThresholds& t,
       {"source", "previous"},
       {"thresholds", std::vector<double>(t.values.begin(), t.values.end())},
       {"false_alarms_per_hour", t.false_alarms_per_hour}};
+  writeFileAtomically(path, document.dump());
+  return path;
+}
+
+/// `t` as a version 2 thresholds file (one moving threshold per joint and the arm states, no
+/// moving regimes: the thresholds of the release before them), written to `path`; returns it.
+inline std::string writeThresholdsWithoutRegimes(const MonitorThresholds& t,
+                                                 const std::string& path) {
+  const auto list = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.begin(), v.end());
+  };
+  nlohmann::json document = {
+      {"schema_version", 2},
+      {"kind", "dynid.monitor_thresholds"},
+      {"robot", t.robot},
+      {"joints", t.joint_names},
+      {"residual", t.residual == MonitorResidual::kDirect ? "direct" : "observer"},
+      {"gain", list(t.gain)},
+      {"source", "previous"},
+      {"thresholds", list(t.values)},
+      {"false_alarms_per_hour", t.false_alarms_per_hour},
+      {"rest_velocity", list(t.rest_velocity)},
+      {"thresholds_at_rest", nullptr}};
+  if (t.values_at_rest.size() > 0) {
+    document["thresholds_at_rest"] = list(t.values_at_rest);
+    document["rest_seconds"] = t.rest_seconds;
+  }
   writeFileAtomically(path, document.dump());
   return path;
 }

@@ -31,7 +31,15 @@ nlohmann::json thresholdsDocument() {
           {"rest_velocity", {0.003, 0.004}},
           {"thresholds_at_rest", {0.25, 0.125}},
           {"calibration_rest_rms", {0.05, 0.025}},
-          {"rest_seconds", 21.5}};
+          {"rest_seconds", 21.5},
+          {"moving_regimes",
+           {{"regimes", kMovingRegimeNames},
+            {"speed_scale", {1.5, 0.0}},
+            {"acceleration_scale", {4.0, 0.0}},
+            {"thresholds",
+             {{5.0, 6.0, 1.25, 2.0, 2.5, nullptr},
+              {nullptr, nullptr, nullptr, nullptr, nullptr, nullptr}}},
+            {"seconds", {{3.0, 2.5, 20.0, 10.0, 8.0, 1.5}, {0.0, 0.0, 50.0, 0.0, 0.0, 0.0}}}}}};
 }
 
 std::string written(const std::string& name, const nlohmann::json& document) {
@@ -53,14 +61,43 @@ TEST(MonitorRecord, ReadsTheThresholdsTheirGainAndResidual) {
   EXPECT_EQ(t.rest_velocity, Eigen::Vector2d(0.003, 0.004));
   EXPECT_EQ(t.values_at_rest, Eigen::Vector2d(0.25, 0.125));
   EXPECT_EQ(t.rest_seconds, 21.5);
+  // The moving regimes: a threshold per regime where the calibration had enough of it (0: none).
+  EXPECT_EQ(t.speed_scale, Eigen::Vector2d(1.5, 0.0));
+  EXPECT_EQ(t.acceleration_scale, Eigen::Vector2d(4.0, 0.0));
+  ASSERT_EQ(t.values_by_regime.rows(), 2);
+  ASSERT_EQ(t.values_by_regime.cols(), kMovingRegimes);
+  EXPECT_EQ(t.values_by_regime(0, 0), 5.0);
+  EXPECT_EQ(t.values_by_regime(0, 2), 1.25);
+  EXPECT_EQ(t.values_by_regime(0, 5), 0.0);
+  EXPECT_EQ(t.values_by_regime.row(1).norm(), 0.0);
+  EXPECT_EQ(t.regime_seconds(0, 2), 20.0);
+  EXPECT_EQ(t.regime_seconds(1, 2), 50.0);
+}
+
+TEST(MonitorRecord, ReadsVersion2AsOneMovingThresholdPerJoint) {
+  nlohmann::json v2 = thresholdsDocument();
+  v2["schema_version"] = 2;
+  v2.erase("moving_regimes");
+  MonitorThresholds t = readMonitorThresholds(written("thresholds_v2.json", v2));
+  EXPECT_EQ(t.values, Eigen::Vector2d(2.5, 0.75));
+  EXPECT_EQ(t.values_at_rest, Eigen::Vector2d(0.25, 0.125));  // the arm states are kept
+  EXPECT_EQ(t.values_by_regime.size(), 0);
+  EXPECT_EQ(t.speed_scale.size(), 0);
+  v2["moving_regimes"] = nullptr;  // a version 3 key in a version 2 file
+  EXPECT_THROW(readMonitorThresholds(written("thresholds_v2_regimes.json", v2)), ParseError);
+  // Version 3 from thresholds without regimes: null.
+  nlohmann::json d = thresholdsDocument();
+  d["moving_regimes"] = nullptr;
+  t = readMonitorThresholds(written("thresholds_no_regimes.json", d));
+  EXPECT_EQ(t.values_by_regime.size(), 0);
 }
 
 TEST(MonitorRecord, ReadsVersion1AndThresholdsWithoutRestAsMovingOnly) {
   // Version 1 (before the arm states): its keys only, no rest state.
   nlohmann::json v1 = thresholdsDocument();
   v1["schema_version"] = 1;
-  for (const char* key :
-       {"rest_velocity", "thresholds_at_rest", "calibration_rest_rms", "rest_seconds"})
+  for (const char* key : {"rest_velocity", "thresholds_at_rest", "calibration_rest_rms",
+                          "rest_seconds", "moving_regimes"})
     v1.erase(key);
   MonitorThresholds t = readMonitorThresholds(written("thresholds_v1.json", v1));
   EXPECT_EQ(t.values, Eigen::Vector2d(2.5, 0.75));
@@ -105,6 +142,24 @@ TEST(MonitorRecord, RefusesWhatNoMonitorWrote) {
   d = thresholdsDocument();
   d["rest_velocity"] = {0.003, -1.0};
   EXPECT_EQ(field("thresholds_rest_velocity.json", d), "rest_velocity[1]");
+  d = thresholdsDocument();
+  d["moving_regimes"]["thresholds"][0] = {5.0, 6.0, 1.25};
+  EXPECT_EQ(field("thresholds_regimes_row.json", d), "moving_regimes.thresholds[0]");
+  d = thresholdsDocument();
+  d["moving_regimes"]["thresholds"][0][2] = 0.0;
+  EXPECT_EQ(field("thresholds_regimes_zero.json", d), "moving_regimes.thresholds[0][2]");
+  d = thresholdsDocument();
+  d["moving_regimes"]["seconds"][1][2] = nullptr;
+  EXPECT_EQ(field("thresholds_regimes_seconds.json", d), "moving_regimes.seconds[1][2]");
+  d = thresholdsDocument();
+  d["moving_regimes"]["regimes"][0] = "reversal";
+  EXPECT_EQ(field("thresholds_regimes_names.json", d), "moving_regimes.regimes");
+  d = thresholdsDocument();
+  d["moving_regimes"]["speed_scale"] = {1.5, -1.0};
+  EXPECT_EQ(field("thresholds_regimes_scale.json", d), "moving_regimes.speed_scale[1]");
+  d = thresholdsDocument();
+  d.erase("moving_regimes");
+  EXPECT_EQ(field("thresholds_regimes_missing.json", d), "moving_regimes");
   d = thresholdsDocument();
   d["kind"] = "dynid.estimate";
   EXPECT_NE(field("thresholds_kind.json", d), "accepted");
