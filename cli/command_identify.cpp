@@ -73,25 +73,6 @@ void checkWriteBack(const po::variables_map& vm, IdentifyRequest& request) {
                      "' does not exist; create it, or name a file in --out's directory");
 }
 
-/// --torque-filter: auto (std::nullopt), none (order 0) or CUTOFF[,ORDER].
-TorqueFilterChoice torqueFilterOption(const std::string& text) {
-  if (text == "auto") return std::nullopt;
-  if (text == "none") return TorqueFilter{};
-  const std::vector<double> values = parseList(text, "torque-filter");
-  const bool order_ok = values.size() < 2 || (values[1] >= 1.0 && values[1] <= 12.0 &&
-                                              values[1] == std::floor(values[1]));
-  if (values.empty() || values.size() > 2 || !(values[0] > 0.0) || !std::isfinite(values[0]) ||
-      !order_ok)
-    throw UsageError(
-        "--torque-filter: auto, none, or CUTOFF[,ORDER] with a cutoff > 0 Hz and an "
-        "order of 1 to 12, not '" +
-        text + "'");
-  TorqueFilter out;
-  out.cutoff = values[0];
-  out.order = values.size() > 1 ? static_cast<int>(values[1]) : 4;
-  return out;
-}
-
 /// identify's options, in the order --help lists them.
 void addIdentifyOptions(po::options_description& options) {
   addRobotOptions(options);
@@ -118,12 +99,11 @@ void addIdentifyOptions(po::options_description& options) {
       "batches of consecutive samples whose length "
       "follows the residuals' correlation, so that filtered logs and model error widen it; a "
       "second pass over the data) or white (sigma^2 (W^T W)^-1, residuals taken as white; one "
-      "pass)")(
-      "torque-filter", po::value<std::string>()->default_value("auto"),
-      "the low-pass the training torque went through, whose effect on the friction columns "
-      "that need sign(dq) the fit reproduces (parallel filtering): auto (the prepare.json "
-      "beside --data; none without one), none, or CUTOFF[,ORDER] (a zero-phase Butterworth as "
-      "prepare's: Hz, order 4 unless given)");
+      "pass)");
+  addTorqueFilterOption(options,
+                        "the low-pass the training torque went through, whose effect on the "
+                        "friction columns that need sign(dq) the fit reproduces (parallel "
+                        "filtering)");
   addCombinedOptions(options);
   addPriorWeightOption(options);
   addRestVelocityOption(options);
@@ -159,7 +139,7 @@ int runIdentify(const std::vector<std::string>& args) {
   request.threads = threadsOption(vm);
   request.rest_velocity = restVelocityOption(vm, request.model.numJoints());
   request.covariance = parseOption(vm, "covariance", covariancePolicyFrom);
-  request.torque_filter = torqueFilterOption(vm["torque-filter"].as<std::string>());
+  request.torque_filter = torqueFilterOption(vm);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();

@@ -21,6 +21,10 @@ int runPredict(const std::vector<std::string>& args) {
   // model, a built-in); with --estimate: the robot the estimate is applied to.
   addRobotOptions(options, false);
   addRestVelocityOption(options);
+  addTorqueFilterOption(options,
+                        "the low-pass --data's torque went through, which the comparison "
+                        "reproduces on the model's friction that needs sign(dq), as identify's "
+                        "held-out error does");
   addThreadsOption(options);
   po::variables_map vm;
   const std::string usage =
@@ -43,6 +47,7 @@ int runPredict(const std::vector<std::string>& args) {
   request.threads = threadsOption(vm);
   if (vm.count("raw")) request.raw_file = vm["raw"].as<std::string>();
   request.rest_velocity = restVelocityOption(vm, request.model ? request.model->numJoints() : 0);
+  request.torque_filter = torqueFilterOption(vm);
   PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through
   request.sink = &csv;
   const PredictOutcome outcome = predictRun(request);

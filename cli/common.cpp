@@ -150,6 +150,34 @@ std::vector<double> restVelocityOption(const po::variables_map& vm, int joints) 
   return v;
 }
 
+void addTorqueFilterOption(po::options_description& options, const std::string& what) {
+  options.add_options()(
+      "torque-filter", po::value<std::string>()->default_value("auto"),
+      (what + ": auto (the prepare.json beside --data; none without one), none, or "
+              "CUTOFF[,ORDER] (a zero-phase Butterworth as prepare's: Hz, order 4 "
+              "unless given)")
+          .c_str());
+}
+
+TorqueFilterChoice torqueFilterOption(const po::variables_map& vm) {
+  const std::string text = vm["torque-filter"].as<std::string>();
+  if (text == "auto") return std::nullopt;
+  if (text == "none") return TorqueFilter{};
+  const std::vector<double> values = parseList(text, "torque-filter");
+  const bool order_ok = values.size() < 2 || (values[1] >= 1.0 && values[1] <= 12.0 &&
+                                              values[1] == std::floor(values[1]));
+  if (values.empty() || values.size() > 2 || !(values[0] > 0.0) || !std::isfinite(values[0]) ||
+      !order_ok)
+    throw UsageError(
+        "--torque-filter: auto, none, or CUTOFF[,ORDER] with a cutoff > 0 Hz and an "
+        "order of 1 to 12, not '" +
+        text + "'");
+  TorqueFilter out;
+  out.cutoff = values[0];
+  out.order = values.size() > 1 ? static_cast<int>(values[1]) : 4;
+  return out;
+}
+
 void addRecordingOptions(po::options_description& options) {
   options.add_options()("topic", po::value<std::string>(),
                         "recordings: the JointState topic (default: the only one)")(

@@ -129,6 +129,11 @@ double priorWeightOption(const po::variables_map& vm);
 /// empty when not given (measured on the data). UsageError for another count or a negative value.
 void addRestVelocityOption(po::options_description& options);
 std::vector<double> restVelocityOption(const po::variables_map& vm, int joints);
+/// --torque-filter (identify, predict): `what` the filter is to the command, then its values.
+void addTorqueFilterOption(po::options_description& options, const std::string& what);
+/// --torque-filter's value: auto (std::nullopt), none (order 0) or CUTOFF[,ORDER]; UsageError
+/// naming it otherwise.
+TorqueFilterChoice torqueFilterOption(const po::variables_map& vm);
 /// --keep-worse-refinements: report a refinement that ends above its search's training GC error
 /// instead of keeping the search's result (analysis/estimation/pipeline.hpp,
 /// RefineSettings::keep_if_better).

@@ -82,6 +82,8 @@ class CollectingSink : public PredictionSink {
 struct PredictionResult {
   Prediction prediction;
   std::vector<RestVelocity> rest;
+  TorqueFilter torque_filter;  // reproduced (inactive: none)
+  std::string torque_filter_source;
   py::array_t<double> time, measured, predicted;
   py::object band = py::none();  // (N, n) half widths, with an estimate's band
 };
@@ -157,7 +159,8 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
 
 PredictionResult predict(const Model& model, const DataLike& data, int threads,
                          const EstimateResult* band_of,
-                         const std::optional<std::vector<double>>& rest_velocity) {
+                         const std::optional<std::vector<double>>& rest_velocity,
+                         const TorqueFilterLike& torque_filter) {
   checkThreads(threads);
   const DataArg d = dataArg(data, "data", model);
   Model local = model;
@@ -169,6 +172,17 @@ PredictionResult predict(const Model& model, const DataLike& data, int threads,
                              : measureRestVelocities(t.dq, t.time);
     local.rest_velocities = restThresholds(out.rest);
   }
+  PredictionFilter filter = [&] {
+    try {
+      return predictionFilter(local, d.path, d.arrays ? &*d.arrays : nullptr,
+                              torqueFilterArg(torque_filter));
+    } catch (const InputError& e) {
+      throw py::value_error(pythonText(e.what()));
+    }
+  }();
+  out.torque_filter = filter.rows ? filter.filter : TorqueFilter{};
+  out.torque_filter_source = pythonText(filter.source);
+  const FitRows* rows = filter.rows ? &*filter.rows : nullptr;
   std::optional<PredictionBand> band;
   if (band_of) {
     const BaseEstimate& e = band_of->outcome.result.estimate;
@@ -181,8 +195,9 @@ PredictionResult predict(const Model& model, const DataLike& data, int threads,
     py::gil_scoped_release release;
     ThreadPool pool(resolveThreads(threads));
     const PredictionBand* b = band ? &*band : nullptr;
-    out.prediction = d.arrays ? predictTorques(local, *d.arrays, &pool, &sink, b)
-                              : predictFile(local, d.path, pool, &sink, kStreamChunkSamples, b);
+    out.prediction = d.arrays
+                         ? predictTorques(local, *d.arrays, &pool, &sink, b, rows)
+                         : predictFile(local, d.path, pool, &sink, kStreamChunkSamples, b, rows);
   }
   const py::ssize_t n = model.numJoints();
   out.time = sink.time();
@@ -534,6 +549,15 @@ void bindPredict(py::module_& m) {
           "num_samples",
           [](const PredictionResult& r) { return r.prediction.validation.num_samples; },
           "The number of samples compared.")
+      .def_property_readonly(
+          "torque_filter",
+          [](const PredictionResult& r) -> py::object {
+            if (!r.torque_filter.active()) return py::none();
+            return py::make_tuple(r.torque_filter.cutoff, r.torque_filter.order);
+          },
+          "(cutoff [Hz], order) of the filter the statistics reproduced, or None")
+      .def_readonly("torque_filter_source", &PredictionResult::torque_filter_source,
+                    "Where the filter came from, or why none was reproduced.")
       .def_readonly("band", &PredictionResult::band,
                     "(N, n) half widths of the 95 % band [N m], or None without band=")
       .def_property_readonly(
@@ -568,10 +592,15 @@ void bindPredict(py::module_& m) {
 
   m.def("predict", &predict, py::arg("model"), py::arg("data"), py::arg("threads") = kAllThreads,
         py::arg("band") = py::none(), py::arg("rest_velocity") = py::none(),
+        py::arg("torque_filter") = "auto",
         "The model's torques on every sample of `data` (a path, streamed, or a Dataset) and the "
         "residual statistics of `dynid predict`. Use estimate.model for an estimate; band=estimate "
         "adds its 95 % band (base covariance and joint noise) and the coverage per joint. "
-        "`rest_velocity`: one, or one per joint; default measured on `data` (see at_rest).");
+        "`rest_velocity`: one, or one per joint; default measured on `data` (see at_rest). "
+        "`torque_filter`: the low-pass the data's torque went through, which the statistics "
+        "reproduce on the model's friction that needs sign(dq), as identify's held-out error "
+        "does: 'auto' (the prepare.json beside a data file; none for a Dataset), 'none', a "
+        "cutoff [Hz] or (cutoff, order); `predicted` stays the model's own torque.");
 }
 
 }  // namespace

@@ -219,6 +219,30 @@ std::string reversalNote(DriveTerms terms, const ReversalResidual& r,
   return filtering.empty() ? out : out + "; " + filtering;
 }
 
+/// The torque filter the comparison reproduced (null: none), and where it came from.
+nlohmann::json predictionFilterJson(const PredictOutcome& o) {
+  nlohmann::json filter = nullptr;
+  if (o.torque_filter.active() && o.filter_reach > 0)
+    filter = {{"kind", "Butterworth low-pass, zero phase (forward-backward)"},
+              {"order", o.torque_filter.order},
+              {"cutoff_hz", o.torque_filter.cutoff},
+              {"rate_hz", o.torque_filter.rate},
+              {"reach_samples", o.filter_reach}};
+  return filter;
+}
+
+/// The console's line on the filter reproduced, or why none was; empty when there is nothing to
+/// say (no filter, and no prepare.json that had one).
+std::string predictionFilterLine(const PredictOutcome& o) {
+  if (o.torque_filter.active() && o.filter_reach > 0)
+    return "compared with the filtered torque: the model's friction that needs sign(dq) through "
+           "the same filter, " +
+           o.torque_filter.describe() + " (" + o.torque_filter_source +
+           "), as identify's held-out error; predicted.csv has the model's own torque";
+  if (o.torque_filter.active()) return "torque filter: " + o.torque_filter_source;
+  return "";
+}
+
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
@@ -237,6 +261,8 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
   if (o.reversals.samples > 0) out["reversals"] = reversalsJson(o.reversals);
   if (!o.rest.empty()) out["rest_velocity"] = restVelocityJson(o.rest);
   if (o.prediction.rest.samples.size() > 0) out["at_rest"] = atRestJson(o.prediction.rest);
+  out["torque_filter"] = predictionFilterJson(o);
+  out["torque_filter_source"] = o.torque_filter_source;
   if (o.prediction.band_coverage.size() > 0)
     out["band"] = {
         {"level", 0.95},
@@ -478,7 +504,14 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   }
   if (const std::string line = restVelocityLine(o.rest); !line.empty()) out << "\n" << line;
   if (const std::string line = atRestLine(p.rest); !line.empty()) out << "\n" << line;
-  if (const std::string note = reversalNote(o.model.driveTerms(), o.reversals); !note.empty())
+  if (const std::string line = predictionFilterLine(o); !line.empty()) out << "\n" << line;
+  const std::string filtering =
+      o.torque_filter.active() && o.filter_reach > 0
+          ? "not the torque filter's artefact: the comparison reproduces its low-pass (" +
+                o.torque_filter.describe() + ") on the friction"
+          : "";
+  if (const std::string note = reversalNote(o.model.driveTerms(), o.reversals, filtering);
+      !note.empty())
     out << "\nnote: " << note;
   out << "\nwrote " << dir << "/predicted.csv, " << dir << "/prediction.json";
   if (figure) out << " and " << dir << "/torques.svg";

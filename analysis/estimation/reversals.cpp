@@ -74,4 +74,14 @@ ReversalResidual reversalResidual(const Prediction& p, const ReversalMask* fitte
   return out;
 }
 
+ReversalMask fittedMask(const Prediction& prediction, const FitRows& rows) {
+  const Eigen::Index n = prediction.velocity.rows(), count = prediction.velocity.cols();
+  ReversalMask out(n, count);
+  for (Eigen::Index k = 0; k < count; ++k)
+    for (Eigen::Index j = 0; j < n; ++j)
+      out(j, k) = rows.fitted(k * static_cast<long long>(prediction.stride), static_cast<int>(j),
+                              prediction.velocity(j, k));
+  return out;
+}
+
 }  // namespace dynid

@@ -54,4 +54,8 @@ using ReversalMask = Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>;
 ReversalResidual reversalResidual(const Prediction& prediction,
                                   const ReversalMask* fitted = nullptr);
 
+/// The mask of `rows` on a prediction's kept samples (samples 0, stride, 2 stride, ... of the set
+/// `rows` describes): whether each joint's row there is fitted.
+ReversalMask fittedMask(const Prediction& prediction, const FitRows& rows);
+
 }  // namespace dynid

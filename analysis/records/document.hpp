@@ -34,8 +34,9 @@ inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
 inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
-// 3: rest_velocity and at_rest (the prediction at rest: static friction's band).
-inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 3};
+// 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
+// (the filter the comparison reproduced, or null) and torque_filter_source.
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 4};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json

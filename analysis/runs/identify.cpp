@@ -165,13 +165,8 @@ void describeFit(const Model& identified, const SampleKeeper& kept, const FitRow
   v.normalised_rms = e.joint_relative_error;
   v.relative_error = e.relative_error;
   out.fit = predictionOfKept(identified, kept, v, e.measured_rms);
-  const Eigen::Index n = out.fit.velocity.rows(), count = out.fit.velocity.cols();
   addFilteredFriction(identified, rows, out.fit);
-  ReversalMask fitted(n, count);
-  for (Eigen::Index k = 0; k < count; ++k)
-    for (Eigen::Index j = 0; j < n; ++j)
-      fitted(j, k) = rows.fitted(k * static_cast<long long>(out.fit.stride), static_cast<int>(j),
-                                 out.fit.velocity(j, k));
+  const ReversalMask fitted = fittedMask(out.fit, rows);
   out.reversals = reversalResidual(out.fit, &fitted);
 }
 

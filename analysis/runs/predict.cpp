@@ -6,6 +6,38 @@
 
 namespace dynid {
 
+PredictionFilter predictionFilter(const Model& model, const std::string& data_file,
+                                  const Trajectory* data, const TorqueFilterChoice& choice) {
+  PredictionFilter out;
+  if (choice) {
+    out.filter = *choice;
+    out.source = out.filter.active() ? "given" : "none: given";
+  } else if (data) {
+    out.source = "data in memory: its torque is taken as unfiltered (give `torque_filter`)";
+  } else {
+    out.filter = torqueFilterOfPreparation(findPreparation(data_file), out.source);
+  }
+  if (!out.filter.active()) return out;
+  if (!FitRows(model).leavesRowsOut()) {
+    out.source += "; no friction term needs sign(dq): nothing to reproduce";
+    return out;
+  }
+  try {
+    Trajectory velocities;
+    if (data) {
+      velocities.time = data->time;
+      velocities.dq = data->dq;
+    }
+    out.rows = trainingRows(model, data ? velocities : velocitiesOf(data_file, model.numJoints()),
+                            out.filter);
+  } catch (const InputError& e) {
+    throw InputError((data ? std::string("data") : data_file) + ": " + e.what());
+  }
+  out.filter = out.rows->filter();
+  out.reach = out.rows->reach();
+  return out;
+}
+
 PredictOutcome predictRun(const PredictRequest& request) {
   PredictOutcome out;
   if (request.estimate_file.empty() == !request.model)
@@ -24,19 +56,31 @@ PredictOutcome predictRun(const PredictRequest& request) {
                                              : givenRestVelocities(request.rest_velocity, data.dq);
   }
   out.model.rest_velocities = restThresholds(out.rest);
+  const PredictionFilter filter =
+      predictionFilter(out.model, request.data_file, nullptr, request.torque_filter);
+  out.torque_filter = filter.filter;
+  out.torque_filter_source = filter.source;
+  out.filter_reach = filter.reach;
+  const std::optional<FitRows>& rows = filter.rows;
+  const FitRows* filtered = rows ? &*rows : nullptr;
   const PredictionBand* band = out.band ? &*out.band : nullptr;
   ThreadPool pool(request.threads);
+  const auto reversals = [&] {
+    if (!rows) return reversalResidual(out.prediction);
+    const ReversalMask compared = fittedMask(out.prediction, *rows);
+    return reversalResidual(out.prediction, &compared);
+  };
   if (request.raw_file.empty()) {
-    out.prediction =
-        predictFile(out.model, request.data_file, pool, request.sink, kStreamChunkSamples, band);
-    out.reversals = reversalResidual(out.prediction);
+    out.prediction = predictFile(out.model, request.data_file, pool, request.sink,
+                                 kStreamChunkSamples, band, filtered);
+    out.reversals = reversals();
     return out;
   }
   const RawTorques raw = readRawTorques(request.raw_file, out.model.numJoints());
   RawTorqueComparison comparison(raw, request.sink);
-  out.prediction =
-      predictFile(out.model, request.data_file, pool, &comparison, kStreamChunkSamples, band);
-  out.reversals = reversalResidual(out.prediction);
+  out.prediction = predictFile(out.model, request.data_file, pool, &comparison, kStreamChunkSamples,
+                               band, filtered);
+  out.reversals = reversals();
   out.raw = comparison.result();
   out.raw_file = request.raw_file;
   out.raw_skipped = comparison.skipped();

@@ -8,6 +8,7 @@
 
 #include "analysis/estimation/reversals.hpp"
 #include "analysis/estimation/streaming.hpp"
+#include "analysis/estimation/training_rows.hpp"
 #include "analysis/logs/rest.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
@@ -31,6 +32,12 @@ struct PredictRequest {
   /// The joints' rest velocities (analysis/logs/rest.hpp): one for all or one per joint; empty:
   /// measured on data_file, as identify measures its training data.
   std::vector<double> rest_velocity = {};
+  /// The low-pass data_file's torque went through (analysis/estimation/training_rows.hpp):
+  /// std::nullopt, the prepare.json beside data_file's; order 0, none. With one, the prediction
+  /// compared with the filtered torque (statistics, band coverage) has its friction that needs
+  /// sign(dq) through the same filter, as identify's held-out error does, and the note on
+  /// reversals counts the rows a fit would take; the sink still gets the model's own torque.
+  TorqueFilterChoice torque_filter = std::nullopt;
 };
 struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
@@ -42,11 +49,32 @@ struct PredictOutcome {
   std::string raw_file;
   int raw_skipped = 0;             // raw samples no two adjacent dataset samples bracket
   std::vector<RestVelocity> rest;  // each joint's rest velocity on data_file (or given)
+  /// The filter reproduced (inactive: none), where it came from or why there is none, and its
+  /// reach [samples] (0: nothing reproduced).
+  TorqueFilter torque_filter;
+  std::string torque_filter_source;
+  int filter_reach = 0;
 };
+/// The torque filter a prediction reproduces, where it came from (or why there is none), its reach
+/// [samples] and the rows it gives (set only when it is active and the model has friction that
+/// needs sign(dq)).
+struct PredictionFilter {
+  TorqueFilter filter;
+  std::string source;
+  int reach = 0;
+  std::optional<FitRows> rows;
+};
+/// `choice`, else the prepare.json beside data_file (data in memory, `data`: none unless given),
+/// with `model`'s rest velocities set. Throws InputError naming the data when the filter's cutoff
+/// is not below half its rate.
+PredictionFilter predictionFilter(const Model& model, const std::string& data_file,
+                                  const Trajectory* data, const TorqueFilterChoice& choice);
+
 /// Loads the robot the estimate names (or `robot_spec`) with the estimate's drive terms, sets its
 /// standard parameters and predicts, streaming the dataset. Throws ParseError for a malformed
 /// estimate, InputError when the estimate does not fit the robot (another robot, another drive
-/// model: the parameter named).
+/// model: the parameter named), and InputError naming data_file when a given filter's cutoff is
+/// not below half its rate.
 PredictOutcome predictRun(const PredictRequest& request);
 
 }  // namespace dynid

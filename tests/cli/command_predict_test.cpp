@@ -69,6 +69,48 @@ using test::contains;
 using test::Result;
 using test::run;
 
+// Through prepare (its 10 Hz low-pass, recorded in prepare.json), predict reproduces the filter
+// on the friction as identify's held-out error does, and gives that error again.
+TEST(Cli, PredictOnAPreparedLogGivesIdentifysHeldOutError) {
+  const std::string dir = test::tempPath("predict_prepared");
+  std::filesystem::create_directories(dir);
+  ASSERT_EQ(run("simulate --robot puma560 --drives --controller fourier --duration 12 "
+                "--noise-q 1e-5 --noise-tau 0.5 --seed 7 --out " +
+                dir + "/sim.csv")
+                .code,
+            0);
+  ASSERT_EQ(run("prepare --log " + dir +
+                "/sim.csv --q 'q*' --tau 'tau*' --validate-fraction "
+                "0.25 --out " +
+                dir + "/prep")
+                .code,
+            0);
+  ASSERT_EQ(run("identify --method ols --robot puma560 --drives --data " + dir +
+                "/prep/train.csv --validate " + dir + "/prep/validate.csv --out " + dir + "/est")
+                .code,
+            0);
+  // The estimate's rest velocities are its training data's; predict is given them.
+  const auto e = nlohmann::json::parse(readFile(dir + "/est/estimate.json"));
+  std::string rest;
+  for (const auto& v : e["rest_velocity"]["velocity"]) rest += (rest.empty() ? "" : ",") + v.dump();
+  const Result r = run("predict --estimate " + dir + "/est/estimate.json --data " + dir +
+                       "/prep/validate.csv --rest-velocity " + rest + " --out " + dir + "/pred");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "compared with the filtered torque")) << r.out;
+  EXPECT_TRUE(contains(r.out, "(prepare.json: the torque's low-pass)")) << r.out;
+  const auto p = nlohmann::json::parse(readFile(dir + "/pred/prediction.json"));
+  EXPECT_EQ(p["schema_version"], 4);
+  EXPECT_EQ(p["torque_filter"]["cutoff_hz"], 10.0);
+  // The same sums in another order (1e-12), the shortest decimal of each kept in the files.
+  EXPECT_NEAR(p["relative_error"].get<double>(), e["validation"]["relative_error"].get<double>(),
+              1e-12 * e["validation"]["relative_error"].get<double>());
+  const Result none = run("predict --estimate " + dir + "/est/estimate.json --data " + dir +
+                          "/prep/validate.csv --torque-filter none --out " + dir + "/plain");
+  ASSERT_EQ(none.code, 0) << none.err;
+  EXPECT_EQ(nlohmann::json::parse(readFile(dir + "/plain/prediction.json"))["torque_filter"],
+            nullptr);
+}
+
 TEST(Cli, PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData) {
   const std::string dir = test::tempPath("cli_predict_band");
   std::filesystem::create_directories(dir);

@@ -194,3 +194,14 @@ def test_torque_filter_is_reproduced_when_given_and_refused_when_malformed(puma_
     for bad in ("butterworth", -3.0, (10.0, 4.5), (10.0, 13), True):
         with pytest.raises(ValueError, match="torque_filter"):
             dynid.identify(arm, data, torque_filter=bad)
+    # predict reproduces it as identify's held-out error does; predicted stays the model's torque.
+    model = dynid.identify(arm, data, torque_filter=(10.0, 4)).model
+    matched = dynid.predict(model, data, torque_filter=(10.0, 4))
+    assert matched.torque_filter == (10.0, 4) and matched.torque_filter_source == "given"
+    plain = dynid.predict(model, data, torque_filter="none")
+    assert plain.torque_filter is None
+    assert np.array_equal(matched.predicted, plain.predicted)
+    assert matched.relative_error_percent != plain.relative_error_percent
+    assert "data in memory" in dynid.predict(model, data).torque_filter_source
+    with pytest.raises(ValueError, match="torque_filter"):
+        dynid.predict(model, data, torque_filter="butterworth")
