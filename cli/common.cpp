@@ -223,7 +223,8 @@ void addRobotOptions(po::options_description& options, bool required) {
   options.add_options()("robot", robot,
                         "puma560, puma560-consistent, panda, a .urdf file or a dynid .json model")(
       "drives", po::bool_switch(),
-      "the robot's own drive terms (puma560: ia,fv,fc,fa; panda: fv,fc,fo; others: ia,fv,fc)")(
+      "the robot's own drive terms (puma560: ia,fv,fc,fa; panda: fv,fc,fo; others: ia,fv,fc). "
+      "Without it, a URDF with nonzero <dynamics damping friction> has fv,fc from them")(
       "drive-terms", po::value<std::string>(),
       ("exactly these drive terms, e.g. fv,fc,fo: " + driveTermHelp("; ") + "; or none").c_str())(
       "strict", po::bool_switch(), "treat URDF warnings as errors");

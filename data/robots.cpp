@@ -14,6 +14,27 @@ bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
+
+/// A URDF loaded without drive options whose <dynamics> carry damping or friction (as dynid's own
+/// write-back fills them): those are its joints' viscous and Coulomb friction, read back as Fv and
+/// Fc, and said so. A rigid model would ignore what the file states.
+void readBackUrdfFriction(const std::string& spec, Model& model,
+                          std::vector<std::string>* warnings) {
+  std::string joints;
+  for (int j = 0; j < model.numJoints(); ++j) {
+    const DriveParameters<double>& d = model.drives()[j];
+    if (d[DriveTerm::kViscous] != 0.0 || d[DriveTerm::kCoulomb] != 0.0)
+      joints += (joints.empty() ? "" : ", ") + model.joint_names[j];
+  }
+  if (joints.empty()) return;
+  model.setDriveTerms(DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb}));
+  if (warnings)
+    warnings->push_back(spec +
+                        ": its <dynamics> damping and friction are read as viscous and Coulomb "
+                        "friction (drive terms fv,fc; nonzero on " +
+                        joints + "); `drive_terms` none gives the rigid model");
+}
+
 }  // namespace
 
 bool isUrdfSpec(const std::string& spec) {
@@ -34,6 +55,7 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
     model = makePanda(drives);
   } else if (isUrdfSpec(spec)) {
     model = loadUrdf(spec, {drives, options.strict, options.fixed_joints}, warnings);
+    if (!drives) readBackUrdfFriction(spec, model, warnings);
   } else if (endsWith(spec, ".json")) {
     model = modelFromJson(readFile(spec), spec);
     if (options.drives && !model.driveTerms().any())

@@ -27,7 +27,8 @@ struct RobotOptions {
 /// ending in .urdf, or a
 /// path ending in .json (modelToJson format). Throws InputError for anything else, ParseError for a
 /// malformed file. Drive terms: RobotOptions; without either option a built-in robot is rigid, a
-/// URDF rigid and a JSON model keeps its file's terms.
+/// JSON model keeps its file's terms, and a URDF is rigid unless its <dynamics> carry damping or
+/// friction: those are read as fv,fc (Fv = damping, Fc = friction), with a warning that says so.
 /// Whether a robot spec names a URDF file (ends in .urdf or .xml).
 bool isUrdfSpec(const std::string& spec);
 

@@ -122,6 +122,7 @@ void bindModel(py::module_& m);
 void bindDynamics(py::module_& m);
 // One per wing (or, for the runs wing, per family of rooms), in the order module.cpp calls them.
 void bindRunsIdentify(py::module_& m);  // bind_runs_identify.cpp
+void bindRunsPredict(py::module_& m);   // bind_runs_predict.cpp
 void bindRunsSearch(py::module_& m);    // bind_runs_search.cpp
 void bindLogs(py::module_& m);          // bind_logs.cpp
 void bindExcitation(py::module_& m);    // bind_excitation.cpp

@@ -67,6 +67,7 @@ PYBIND11_MODULE(dynid, m) {
   dynid::python::bindModel(m);
   dynid::python::bindDynamics(m);
   dynid::python::bindRunsIdentify(m);
+  dynid::python::bindRunsPredict(m);
   dynid::python::bindPayload(m);
   dynid::python::bindMonitor(m);
   dynid::python::bindStudies(m);

@@ -13,6 +13,7 @@
 #include "core/parameters.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "data/model_json.hpp"
 #include "reports/prediction_report.hpp"
 
 namespace dynid {
@@ -299,6 +300,17 @@ std::string filteringClause(const IdentifyOutcome& o) {
   return "";
 }
 
+/// Where the embedded model came from: the spec as given, the file's name and its SHA-256 (null
+/// for a built-in robot), so that a reader can tell the file it has from the one the estimate used.
+json modelSourceJson(const IdentifyOutcome& o) {
+  json out = {{"spec", o.robot_spec}, {"file", nullptr}, {"sha256", nullptr}};
+  if (!o.robot_sha256.empty()) {
+    out["file"] = std::filesystem::path(o.robot_spec).filename().string();
+    out["sha256"] = o.robot_sha256;
+  }
+  return out;
+}
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -320,6 +332,8 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
                  {"robot", model.name},
                  {"robot_spec", outcome.robot_spec},
                  {"kinematics", kinematicsJson(model)},
+                 {"model", json::parse(modelToJson(model))},
+                 {"model_source", modelSourceJson(outcome)},
                  {"drives", model.driveTerms().any()},
                  {"drive_terms", driveTermsKeys(model.driveTerms())},
                  {"method", methodName(outcome.method)},

@@ -23,7 +23,9 @@ struct DocumentType {
 // estimate.json 3: base_covariance.policy (the covariance's policy: batch means of the scores, its
 // batch length, inflation over the white covariance and the residuals' autocorrelation); versions 1
 // and 2 are still read (their covariance is the white one).
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 4};  // identify
+// estimate.json 5: model (the robot it was made for, as a dynid JSON model) and model_source (the
+// spec, the file's name and SHA-256): it is read without the robot's file, from any folder.
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 5};  // identify
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
 inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};

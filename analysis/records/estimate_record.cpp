@@ -195,12 +195,29 @@ void readBaseCovariance(const JsonReader& read, const json& document, EstimateRe
   }
 }
 
+/// model (an object, parsed as a model by its reader) and model_source: {spec, file, sha256}, the
+/// last two null for a built-in robot.
+void readModelSource(const JsonReader& read, const json& document, EstimateRecord& out) {
+  out.model = read.object(document["model"], "model");
+  const json& source = read.object(read.field(document, "", "model_source"), "model_source");
+  read.onlyKeys(source, "model_source", {"spec", "file", "sha256"});
+  const json& file = read.field(source, "model_source", "file");
+  const json& sha = read.field(source, "model_source", "sha256");
+  if (!file.is_null()) out.model_file = read.string(source, "model_source", "file");
+  if (!sha.is_null()) {
+    out.model_sha256 = read.string(source, "model_source", "sha256");
+    if (out.model_sha256.size() != 64 ||
+        out.model_sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
+      read.fail("model_source.sha256", "expected 64 lowercase hexadecimal digits");
+  }
+}
+
 }  // namespace
 
 EstimateRecord estimateRecordFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
   // Every earlier version is read: 1 (no rest velocities), 2 (no covariance policy), 3 (no
-  // fit_rows).
+  // fit_rows), 4 (no model embedded: the robot is loaded from robot_spec).
   int version = kEstimateDocument.schema_version;
   if (document.is_object() && document.contains("schema_version") &&
       document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
@@ -237,7 +254,9 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "combined",
                  "torque_source",
                  "rest_velocity",
-                 "fit_rows"});
+                 "fit_rows",
+                 "model",
+                 "model_source"});
   EstimateRecord out;
   if (document.contains("rest_velocity")) {
     const json& rest = read.object(document["rest_velocity"], "rest_velocity");
@@ -249,6 +268,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                                                 kMaxParameterMagnitude));
   }
   if (document.contains("torque_source")) readTorqueSource(read, document["torque_source"], out);
+  if (document.contains("model")) readModelSource(read, document, out);
   if (document.contains("base_covariance")) readBaseCovariance(read, document, out);
   if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");
   if (document.contains("method")) out.method = read.string(document, "", "method");

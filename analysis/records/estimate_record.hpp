@@ -50,6 +50,10 @@ struct EstimateRecord {
   /// rest_velocity.velocity (absent from version 1): each joint's rest velocity, as measured on
   /// the training data; empty when absent.
   std::vector<double> rest_velocities;
+  /// model (version 5 on): the robot the estimate was made for, as a dynid JSON model (null
+  /// before); model_source's file name and SHA-256 (empty for a built-in robot or before).
+  nlohmann::json model;
+  std::string model_file, model_sha256;
 };
 /// Reads an estimate.json document strictly: schema_version kEstimateDocument's or any earlier one
 /// (its kind, when given, kEstimateDocument's), unknown top-level keys refused, robot_spec a

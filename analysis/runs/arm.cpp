@@ -11,11 +11,14 @@
 #include "core/crba.hpp"
 #include "core/data.hpp"
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "core/kinematics.hpp"
+#include "core/parameters.hpp"
 #include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
+#include "data/model_json.hpp"
 #include "data/robots.hpp"
 
 namespace dynid {
@@ -78,6 +81,59 @@ Eigen::MatrixXd kinematicsSignature(const Model& model) {
   return out;
 }
 
+namespace {
+
+/// The robot an estimate embeds (estimate.json 5), with the drive terms it names. Throws ParseError
+/// naming the file's `model` field.
+Model embeddedModel(const EstimateRecord& estimate, const std::string& file) {
+  Model model = modelFromJson(estimate.model.dump(), file + " (its model)");
+  if (driveTermsKeys(model.driveTerms()) != estimate.drive_terms)
+    throw ParseError(file, 0, "model.drive_terms", "differ from the estimate's drive_terms");
+  return model;
+}
+
+/// An older estimate's robot_spec, written as typed where identify ran: as it is when it names a
+/// built-in robot or a file found from here, else relative to the estimate's folder when a file is
+/// found there.
+std::string ownSpec(const std::string& spec, const std::string& file) {
+  std::error_code error;
+  const std::filesystem::path path(spec);
+  if (path.is_absolute() || std::filesystem::exists(path, error)) return spec;
+  const std::filesystem::path beside = std::filesystem::path(file).parent_path() / path;
+  return std::filesystem::is_regular_file(beside, error) ? beside.string() : spec;
+}
+
+}  // namespace
+
+std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model) {
+  const Eigen::MatrixXd mine = kinematicsSignature(model);
+  if (!recorded.is_array() || recorded.size() != static_cast<std::size_t>(mine.rows()))
+    return "it has " + std::to_string(mine.rows()) + " joints, the estimate's robot " +
+           std::to_string(recorded.is_array() ? recorded.size() : 0);
+  constexpr double kSame = 1e-9;  // round-off of the frames' products, far below any real change
+  for (Eigen::Index i = 0; i < mine.rows(); ++i) {
+    double rotation = 0.0, origin = 0.0, axis = 0.0;
+    for (Eigen::Index c = 0; c < 15; ++c) {
+      const nlohmann::json& v = recorded[static_cast<std::size_t>(i)][static_cast<std::size_t>(c)];
+      const double d = v.is_number() ? std::abs(v.get<double>() - mine(i, c)) : 1e300;
+      double& worst = c < 9 ? rotation : c < 12 ? origin : axis;
+      worst = std::max(worst, d);
+    }
+    const std::string link = "link " + std::to_string(i + 1) + " (" + model.link_names[i] + ")";
+    if (origin > kSame)
+      return link + "'s frame at q = 0 lies " + formatNumber(origin, 3) +
+             " m (largest coordinate) from the estimate's robot's";
+    if (rotation > kSame)
+      return link + "'s frame at q = 0 is turned from the estimate's robot's (rotation entries " +
+             "differ by up to " + formatNumber(rotation, 3) + ")";
+    if (axis > kSame)
+      return "joint " + std::to_string(i + 1) + " (" + model.joint_names[i] +
+             ") turns about another axis (components differ by up to " + formatNumber(axis, 3) +
+             ")";
+  }
+  return "";
+}
+
 Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,
                     std::string* method, std::optional<PredictionBand>* band) {
   const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
@@ -96,9 +152,11 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
     throw ParseError(file, 0, "drive_terms", e.what());
   }
   Model model;
-  if (robot_spec.empty()) {
-    try {  // the robot the estimate names: a failure names the estimate and its field
-      model = loadRobot(spec, options);
+  if (robot_spec.empty() && !estimate.model.is_null()) {
+    model = embeddedModel(estimate, file);  // the robot the estimate embeds: no file needed
+  } else if (robot_spec.empty()) {
+    try {  // the robot an older estimate names: a failure names the estimate and its field
+      model = loadRobot(ownSpec(spec, file), options);
     } catch (const Error& e) {
       throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
     }
@@ -117,17 +175,10 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
   // Same parameter names on other kinematics (a standard-DH robot and its URDF, whose link frames
   // differ) would give wrong torques silently: compare the recorded kinematics.
   if (!estimate.kinematics.is_null()) {
-    const Eigen::MatrixXd mine = kinematicsSignature(model);
-    const nlohmann::json& recorded = estimate.kinematics;
-    bool same = recorded.size() == static_cast<std::size_t>(mine.rows());
-    for (Eigen::Index i = 0; same && i < mine.rows(); ++i)
-      for (Eigen::Index c = 0; same && c < 15; ++c)
-        same = recorded[i][c].is_number() &&
-               std::abs(recorded[i][c].get<double>() - mine(i, c)) <= 1e-9;
-    if (!same)
+    const std::string difference = kinematicsDifference(estimate.kinematics, model);
+    if (!difference.empty())
       throw InputError(file + ": robot '" + spec +
-                       "' has other link frames or axes than the robot the estimate was made for: "
-                       "it was made for another robot");
+                       "' is not the robot the estimate was made for: " + difference);
   }
   if (band && !estimate.band_columns.empty()) {
     const std::vector<std::string> names = standardParameterNames(model.parameterLayout());

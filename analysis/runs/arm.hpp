@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <nlohmann/json.hpp>
 
 #include "analysis/estimation/streaming.hpp"
 #include "core/model.hpp"
@@ -24,6 +25,10 @@ std::vector<Pose<double>> linkFramesAtZero(const Model& model);
 /// row-major, then origin) and its joint axis in the base frame at q = 0, 15 numbers per link.
 /// Estimates record it, and `predict` refuses a robot whose kinematics differ.
 Eigen::MatrixXd kinematicsSignature(const Model& model);
+/// What differs between recorded kinematics (an estimate's rows) and `model`'s: the joint count,
+/// else the first link whose frame origin, frame rotation or joint axis differs beyond 1e-9, with
+/// how much; "" when they are the same.
+std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model);
 
 /// Every physical-consistency violation of the model's links (empty: all consistent).
 std::vector<ConsistencyViolation> consistencyViolations(const Model& model);

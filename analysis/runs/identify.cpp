@@ -1,6 +1,7 @@
 #include "analysis/runs/identify.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include <Eigen/SVD>
@@ -10,6 +11,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/dataset_csv.hpp"
+#include "data/digest/sha256.hpp"
 #include "data/io.hpp"
 #include "data/model_json.hpp"
 #include "data/urdf_writeback.hpp"
@@ -318,6 +320,9 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
   out.robot_spec = request.robot_spec;
+  std::error_code error;
+  if (!request.robot_spec.empty() && std::filesystem::is_regular_file(request.robot_spec, error))
+    out.robot_sha256 = sha256OfFile(request.robot_spec);
   out.base = structuralBaseParameters(model, request.structural);
   out.model_beta = out.base.project(model.standardParameters());
   if (request.prior && request.prior->parameterLayout().size() != model.parameterLayout().size())

@@ -124,6 +124,9 @@ struct IdentifyOutcome {
   int raw_skipped = 0;
   std::optional<WriteBack> write_back;      // when requested
   std::optional<CombinedSummary> combined;  // method combined
+  /// The robot file's SHA-256 when robot_spec names a file (empty for a built-in robot or data
+  /// in memory's model): estimate.json records it beside the model it embeds.
+  std::string robot_sha256;
   std::string robot_spec;
   /// Each joint's rest velocity, measured on the training data (or given), and its samples at rest.
   std::vector<RestVelocity> rest;

@@ -131,7 +131,7 @@ TEST(Cli, IdentifyReproducesPreparesTorqueFilter) {
                        "(prepare.json: the torque's low-pass)"))
       << r.out;
   const auto estimate = nlohmann::json::parse(readFile(dir + "/id/estimate.json"));
-  EXPECT_EQ(estimate["schema_version"], 4);
+  EXPECT_EQ(estimate["schema_version"], 5);
   const auto& rows = estimate["fit_rows"];
   EXPECT_EQ(rows["torque_filter"]["cutoff_hz"], 10.0);
   EXPECT_EQ(rows["torque_filter"]["order"], 4);
@@ -256,6 +256,23 @@ TEST(Cli, WriteUrdfReloadsToTheEstimatesTorques) {
   }
   EXPECT_LT(worst, 1e-9);       // the bound: decimal round trips of the parameters
   EXPECT_LT(worst_json, 1e-9);  // the JSON beside carries the same model
+  // The written URDF as docs/TOUR.md uses it, without drive options: its <dynamics> read back as
+  // Fv and Fc, said, and the estimate's own prediction again (the URDF's decimals: 1e-6).
+  const std::string by_urdf = test::tempPath("arm_pc_predict"),
+                    by_estimate = test::tempPath("arm_pc_predict_estimate");
+  const Result back = run("predict --robot " + written + " --data " + train + " --out " + by_urdf);
+  ASSERT_EQ(back.code, 0) << back.err;
+  EXPECT_TRUE(contains(back.err, "read as viscous and Coulomb friction")) << back.err;
+  EXPECT_TRUE(contains(back.err, "--drive-terms none gives the rigid model")) << back.err;
+  ASSERT_EQ(
+      run("predict --estimate " + out + "/estimate.json --data " + train + " --out " + by_estimate)
+          .code,
+      0);
+  const double urdf_error =
+      nlohmann::json::parse(readFile(by_urdf + "/prediction.json"))["relative_error"];
+  const double estimate_error =
+      nlohmann::json::parse(readFile(by_estimate + "/prediction.json"))["relative_error"];
+  EXPECT_NEAR(urdf_error, estimate_error, 1e-6 * estimate_error);
   // Refused, nothing written: a robot that is not a URDF (usage), an unwritable path, an
   // inconsistent OLS estimate (the published PUMA's links 1 and 3 as the prior).
   const std::string not_written = test::tempPath("never");

@@ -51,7 +51,7 @@ TEST(Cli, PredictReproducesTheEstimatesResidualsAndRefusesAnotherRobot) {
   const Result other = run("predict --estimate " + est + "/estimate.json --robot " + urdf +
                            " --data " + train + " --out " + never);
   EXPECT_EQ(other.code, 1);
-  EXPECT_TRUE(contains(other.err, "another robot")) << other.err;
+  EXPECT_TRUE(contains(other.err, "is not the robot the estimate was made for")) << other.err;
   // Not an estimate.
   const Result junk = run("predict --estimate " + train + " --data " + train + " --out " + never);
   EXPECT_EQ(junk.code, 1);

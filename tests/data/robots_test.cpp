@@ -63,6 +63,34 @@ TEST(Robots, DrivesGiveEachRobotItsOwnTermsAndDriveTermsOverride) {
   EXPECT_EQ(driveTermsText(loadRobot(json, withTerms("ia")).driveTerms()), "ia");
 }
 
+TEST(Robots, AUrdfsDynamicsAreReadBackAsViscousAndCoulombFriction) {
+  // The PUMA exported with its drives: <dynamics damping= friction=> per joint, as dynid's own
+  // write-back fills them.
+  const Model puma = makePuma560(true);
+  const std::string urdf = test::writeTemp("dynamics.urdf", modelToUrdf(puma));
+  std::vector<std::string> warnings;
+  const Model read = loadRobot(urdf, {}, &warnings);
+  EXPECT_EQ(read.driveTerms().mask,
+            DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb}).mask);
+  for (int j = 0; j < 6; ++j) {
+    EXPECT_EQ(read.drives()[j][DriveTerm::kViscous], puma.drives()[j][DriveTerm::kViscous]);
+    EXPECT_EQ(read.drives()[j][DriveTerm::kCoulomb], puma.drives()[j][DriveTerm::kCoulomb]);
+  }
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("read as viscous and Coulomb friction (drive terms fv,fc"),
+            std::string::npos)
+      << warnings[0];
+  EXPECT_NE(warnings[0].find("`drive_terms` none gives the rigid model"), std::string::npos);
+  // Asked for none: rigid, and nothing said.
+  warnings.clear();
+  EXPECT_FALSE(loadRobot(urdf, withTerms("none"), &warnings).driveTerms().any());
+  EXPECT_TRUE(warnings.empty());
+  // Without <dynamics> (a rigid export): rigid, and nothing said.
+  const std::string rigid = test::writeTemp("rigid.urdf", modelToUrdf(makePuma560(false)));
+  EXPECT_FALSE(loadRobot(rigid, {}, &warnings).driveTerms().any());
+  EXPECT_TRUE(warnings.empty());
+}
+
 TEST(Robots, UnknownSpecIsAnInputError) {
   try {
     loadRobot("puma600");

@@ -11,6 +11,7 @@
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "core/perturb.hpp"
+#include "data/model_json.hpp"
 #include "data/puma560.hpp"
 
 namespace dynid {
@@ -150,12 +151,37 @@ TEST(EstimateRecord, VersionFourCarriesItsFitRows) {
   nlohmann::json doc = {{"schema_version", 4},
                         {"standard_estimate", {{"note", "n"}, {"values", values}}},
                         {"fit_rows", {{"rows", {10, 9, 10, 10, 8, 10}}, {"samples", 10}}}};
-  EXPECT_EQ(kEstimateDocument.schema_version, 4);
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
   doc["schema_version"] = 3;  // an earlier version with a key it did not have: still read
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
-  doc["schema_version"] = 5;  // a later version: refused
+  doc["schema_version"] = 6;  // a later version: refused
   EXPECT_EQ(estimateFault(doc), "schema_version");
+}
+
+TEST(EstimateRecord, VersionFiveEmbedsItsRobotAndWhereItCameFrom) {
+  const Model puma = makePuma560(false);
+  const std::vector<std::string> names = standardParameterNames(puma.parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (const std::string& name : names) values[name] = 1.0;
+  const std::string sha(64, 'a');
+  nlohmann::json doc = {
+      {"schema_version", 5},
+      {"standard_estimate", {{"note", "n"}, {"values", values}}},
+      {"model", nlohmann::json::parse(modelToJson(puma))},
+      {"model_source", {{"spec", "/lab/arm.urdf"}, {"file", "arm.urdf"}, {"sha256", sha}}}};
+  EXPECT_EQ(kEstimateDocument.schema_version, 5);
+  const EstimateRecord record = estimateRecordFrom(doc, "est.json");
+  EXPECT_EQ(record.model["name"], puma.name);
+  EXPECT_EQ(record.model_file, "arm.urdf");
+  EXPECT_EQ(record.model_sha256, sha);
+  doc["model_source"] = {{"spec", "puma560"}, {"file", nullptr}, {"sha256", nullptr}};  // built in
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").model_sha256, "");
+  doc["model_source"]["sha256"] = "ABC";
+  EXPECT_EQ(estimateFault(doc), "model_source.sha256");
+  doc.erase("model_source");  // the model without where it came from
+  EXPECT_EQ(estimateFault(doc), "model_source");
+  doc["model"] = 3;
+  EXPECT_EQ(estimateFault(doc), "model");
 }
 
 }  // namespace

@@ -1,0 +1,34 @@
+// Content digests: SHA-256 (FIPS 180-4) of bytes and of files, as the documents record their
+// inputs' (a robot file's, a log's) so that a reader can tell the same input from a changed one.
+// Written from the standard; checked against its test vectors (tests/digest/sha256_test.cpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace dynid {
+
+/// SHA-256 fed in pieces: update() any number of times, then hex() once.
+class Sha256 {
+ public:
+  Sha256();
+  void update(std::string_view bytes);
+  /// The digest as 64 lowercase hexadecimal digits; the object is spent afterwards.
+  std::string hex();
+
+ private:
+  void block(const unsigned char* p);
+  std::array<std::uint32_t, 8> h_;
+  std::array<unsigned char, 64> buffer_{};
+  std::size_t buffered_ = 0;
+  std::uint64_t length_ = 0;  // bytes fed
+};
+
+/// SHA-256 of `bytes`, as 64 lowercase hexadecimal digits.
+std::string sha256Hex(std::string_view bytes);
+/// SHA-256 of the file's contents, read in pieces. Throws InputError naming a file it cannot read.
+std::string sha256OfFile(const std::string& file);
+
+}  // namespace dynid
