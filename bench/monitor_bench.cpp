@@ -490,15 +490,10 @@ void scoreMovingPushes(const Model& truth, const std::string& arm, const std::st
 /// term half its Coulomb friction that no identified model carries: friction whose sign errors at
 /// reversals dominate the moving residual, as on a geared arm.
 Model publishedTruth(const Model& nominal) {
-  Model truth = perturbedModel(nominal, 0.2, 5);
-  DriveTerms terms = nominal.driveTerms();
-  terms.mask |= DriveTerms::of({DriveTerm::kStribeck}).mask;
-  truth.setDriveTerms(terms);
-  for (int j = 0; j < truth.numJoints(); ++j) {
-    DriveParameters<double> d = nominal.drives()[j];
-    d[DriveTerm::kStribeck] = 0.5 * d[DriveTerm::kCoulomb];
-    truth.setDrive(j, d);
-  }
+  Model truth = perturbedModel(nominal, 0.2, 5);  // its inertia; the drives are the nominal's
+  const Model drives = test::withStribeck(nominal);
+  truth.setDriveTerms(drives.driveTerms());
+  for (int j = 0; j < truth.numJoints(); ++j) truth.setDrive(j, drives.drives()[j]);
   return truth;
 }
 

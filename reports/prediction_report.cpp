@@ -243,6 +243,18 @@ std::string predictionFilterLine(const PredictOutcome& o) {
   return "";
 }
 
+/// Which rows the error compares, when a joint's rows at rest were left out ("" when none was).
+std::string comparedRowsLine(const Prediction& p) {
+  const Eigen::VectorXd& rows = p.compared_rows;
+  if (rows.size() == 0 || rows.minCoeff() >= p.validation.num_samples) return "";
+  std::string out = "rows compared per joint:";
+  for (Eigen::Index j = 0; j < rows.size(); ++j)
+    out += " " + std::to_string(static_cast<long long>(rows[j]));
+  return out + " of " + std::to_string(p.validation.num_samples) +
+         " (a joint at rest, or within a filter's reach of rest, holds a static friction that no "
+         "model predicts: those rows are described below, not counted as error)";
+}
+
 nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estimate_file,
                               const std::string& data_file) {
   const Validation& v = o.prediction.validation;
@@ -254,6 +266,7 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
       {"robot_spec", o.robot_spec},
       {"drive_terms", driveTermsKeys(o.model.driveTerms())},
       {"data", {{"file", data_file}, {"samples", v.num_samples}}},
+      {"compared_rows", numbersOrNull(o.prediction.compared_rows)},
       {"relative_error", numberOrNull(v.relative_error)},
       {"joint_relative_error", numbersOrNull(v.normalised_rms)},
       {"residual_rms", numbersOrNull(v.torque_rms)}};
@@ -488,6 +501,7 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
       << formatNumber(100.0 * v.relative_error, 3, "n/a") << " %; per joint RMS [N m]:";
   for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j)
     out << " " << formatNumber(v.torque_rms[j], 3, "n/a");
+  if (const std::string line = comparedRowsLine(p); !line.empty()) out << "\n" << line;
   if (o.raw) out << "\n" << rawValidationLine(*o.raw, o.raw_skipped);
   const Eigen::VectorXd& coverage = p.band_coverage;
   if (coverage.size() > 0) {

@@ -51,16 +51,17 @@ Trajectory SampleKeeper::kept() const {
 
 namespace {
 
-/// The statistics of `samples` residuals from their per-joint sums of squares (residual and
-/// measured); the measured RMS per joint to `measured_rms` when given.
+/// The statistics of `samples` samples from their per-joint sums of squares (residual and
+/// measured) over `rows` rows per joint (each joint's compared rows); the measured RMS per joint to
+/// `measured_rms` when given.
 Validation validationOf(const Eigen::VectorXd& residual_squared,
                         const Eigen::VectorXd& measured_squared, long long samples,
-                        Eigen::VectorXd* measured_rms_out = nullptr) {
+                        const Eigen::VectorXd& rows, Eigen::VectorXd* measured_rms_out = nullptr) {
   Validation v;
   v.num_samples = static_cast<int>(samples);
-  const double count = std::max<double>(static_cast<double>(samples), 1.0);
-  v.torque_rms = (residual_squared / count).cwiseSqrt();
-  const Eigen::VectorXd measured_rms = (measured_squared / count).cwiseSqrt();
+  const Eigen::ArrayXd count = rows.array().max(1.0);
+  v.torque_rms = (residual_squared.array() / count).sqrt().matrix();
+  const Eigen::VectorXd measured_rms = (measured_squared.array() / count).sqrt().matrix();
   const double inf = std::numeric_limits<double>::infinity();
   v.relative_error = measured_rms.norm() > 0.0 ? v.torque_rms.norm() / measured_rms.norm() : inf;
   v.normalised_rms.resize(measured_rms.size());
@@ -75,10 +76,10 @@ class PredictionAccumulator {
  public:
   PredictionAccumulator(const Model& model, int threads, const PredictionBand* band = nullptr,
                         const FitRows* filtered = nullptr)
-      : model_(model), band_(band), filtered_(filtered) {
+      : model_(model), band_(band), filtered_(filtered), own_rows_(model) {
     work_.resize(static_cast<std::size_t>(threads));  // each made on its own thread, in add()
     const int n = model.numJoints();
-    residual_squared_ = measured_squared_ = inside_ = Eigen::VectorXd::Zero(n);
+    residual_squared_ = measured_squared_ = inside_ = compared_ = Eigen::VectorXd::Zero(n);
     rest_.setZero(n, kRestSums);
     band_lo_.resize(n);
     band_hi_.resize(n);
@@ -115,15 +116,19 @@ class PredictionAccumulator {
         for (int j = 0; j < model_.numJoints(); ++j)
           matched_(j, k) +=
               filtered_->filteredDriveCorrection(model_, samples_ + k, j, chunk.dq(j, k));
-    // Sample by sample, in order: the sums do not depend on how the data are chunked.
+    // Sample by sample, in order: the sums do not depend on how the data are chunked. The error
+    // is over the rows a fit takes: a joint at rest whose friction needs sign(dq) holds a static
+    // friction no model predicts (its rows are described apart, addRest).
+    const FitRows& rows = filtered_ ? *filtered_ : own_rows_;
     for (int k = 0; k < m; ++k) {
-      residual_squared_ += (chunk.tau.col(k) - matched_.col(k)).cwiseAbs2();
-      measured_squared_ += chunk.tau.col(k).cwiseAbs2();
-      if (band_)
-        inside_ +=
-            ((chunk.tau.col(k) - matched_.col(k)).cwiseAbs().array() <= half_width_.col(k).array())
-                .cast<double>()
-                .matrix();
+      for (int j = 0; j < model_.numJoints(); ++j) {
+        if (!rows.fitted(samples_ + k, j, chunk.dq(j, k))) continue;
+        const double r = chunk.tau(j, k) - matched_(j, k);
+        residual_squared_[j] += r * r;
+        measured_squared_[j] += chunk.tau(j, k) * chunk.tau(j, k);
+        compared_[j] += 1.0;
+        if (band_ && std::abs(r) <= half_width_(j, k)) inside_[j] += 1.0;
+      }
       addRest(chunk.dq.col(k), chunk.tau.col(k), matched_.col(k));
     }
     samples_ += m;
@@ -135,12 +140,13 @@ class PredictionAccumulator {
   Prediction finish() const {
     Eigen::VectorXd measured_rms;
     const Validation v =
-        validationOf(residual_squared_, measured_squared_, samples_, &measured_rms);
+        validationOf(residual_squared_, measured_squared_, samples_, compared_, &measured_rms);
     Prediction out = predictionOfKept(model_, keeper_, v, measured_rms);
+    out.compared_rows = compared_;
     if (filtered_) addFilteredFriction(model_, *filtered_, out);
     out.rest = restPrediction();
     if (band_ && samples_ > 0) {
-      out.band_coverage = inside_ / static_cast<double>(samples_);
+      out.band_coverage = (inside_.array() / compared_.array().max(1.0)).matrix();
       const Trajectory kept = keeper_.kept();
       Data data(model_);
       out.band.resize(model_.numJoints(), kept.numSamples());
@@ -223,10 +229,12 @@ class PredictionAccumulator {
   Eigen::VectorXd residual_squared_, measured_squared_;
   const PredictionBand* band_;
   Eigen::MatrixXd half_width_;
-  Eigen::VectorXd inside_;  // per joint, samples inside the band
+  Eigen::VectorXd inside_;  // per joint, compared rows inside the band
   long long samples_ = 0;
   const FitRows* filtered_ = nullptr;
-  Eigen::MatrixXd matched_;  // predicted_ as the filtered measurement sees it
+  FitRows own_rows_;          // unfiltered: each row by its own sample's velocity
+  Eigen::VectorXd compared_;  // per joint, the rows the statistics compare
+  Eigen::MatrixXd matched_;   // predicted_ as the filtered measurement sees it
   SampleKeeper keeper_;
 };
 
@@ -275,7 +283,8 @@ void RawTorqueComparison::samples(const Eigen::VectorXd& time, const Eigen::Matr
 }
 
 Validation RawTorqueComparison::result() const {
-  return validationOf(residual_squared_, measured_squared_, compared_);
+  return validationOf(residual_squared_, measured_squared_, compared_,
+                      Eigen::VectorXd::Constant(residual_squared_.size(), compared_));
 }
 
 void addDatasetFile(LeastSquaresStream& stream, const Model& model, const std::string& file,

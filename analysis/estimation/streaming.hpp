@@ -57,14 +57,18 @@ struct RestPrediction {
 /// evenly spaced samples for figures.
 struct Prediction {
   RestPrediction rest;
-  Validation validation;         // residual RMS, normalised RMS, relative error (every sample)
-  Eigen::VectorXd measured_rms;  // per joint, every sample [N m]
-  int stride = 1;                // the series holds samples 0, stride, 2 stride, ...
-  Eigen::VectorXd time;          // the series: kept samples' time [s],
+  /// Residual RMS, normalised RMS, relative error: per joint over the rows a fit takes (FitRows: a
+  /// joint at rest whose friction needs sign(dq) holds a static friction no model predicts, and
+  /// `rest` describes those rows), every row where the model has no such friction.
+  Validation validation;
+  Eigen::VectorXd measured_rms;         // per joint, over the same rows [N m]
+  Eigen::VectorXd compared_rows;        // per joint, the rows those statistics compare
+  int stride = 1;                       // the series holds samples 0, stride, 2 stride, ...
+  Eigen::VectorXd time;                 // the series: kept samples' time [s],
   Eigen::MatrixXd measured, predicted;  // and torques (n x kept) [N m]
   Eigen::MatrixXd velocity;             // and velocities dq (n x kept) [rad/s or m/s]
-  /// With a band: per joint, the share of samples whose measured torque lies inside it, and the
-  /// kept samples' half widths (n x kept) [N m]; empty otherwise.
+  /// With a band: per joint, the share of compared rows whose measured torque lies inside it, and
+  /// the kept samples' half widths (n x kept) [N m]; empty otherwise.
   Eigen::VectorXd band_coverage;
   Eigen::MatrixXd band;
 };

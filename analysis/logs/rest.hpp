@@ -18,9 +18,10 @@ struct RestVelocity {
   /// 3 sigma of the velocity's white noise, sigma from the robust spread (1.4826 MAD) of dq less
   /// its local quadratic fit over kRestNoiseWindow samples (corrected for the fit's own share).
   double noise_level = 0.0;
-  /// The 99th percentile of |dq| over the chatter: sign runs shorter than kRestChatterSeconds,
-  /// when there are at least kRestMinChatterRuns of them (a resting or reversing joint's noise,
-  /// filtered or not); 0 otherwise.
+  /// The 99th percentile of |dq| over the chatter: sign runs shorter than kRestChatterSeconds
+  /// (but the first and the last, which the log's ends cut), when there are at least
+  /// kRestMinChatterRuns of them (a resting or reversing joint's noise, filtered or not); 0
+  /// otherwise.
   double chatter_level = 0.0;
   long chatter_runs = 0;     // sign runs counted as chatter
   long samples_at_rest = 0;  // samples of the measured log with |dq| <= velocity

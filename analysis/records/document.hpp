@@ -37,7 +37,8 @@ inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
 inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
 // 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
-// (the filter the comparison reproduced, or null) and torque_filter_source.
+// (the filter the comparison reproduced, or null) and torque_filter_source; compared_rows (the
+// errors are over the rows a fit takes: a joint at rest with friction that needs sign(dq) is not).
 inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 4};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};

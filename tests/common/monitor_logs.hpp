@@ -29,6 +29,21 @@ inline Trajectory pushedPuma(const Model& model, double duration,
   return simulate(model, controller, options, pushes, applied);
 }
 
+/// `nominal` with a Stribeck (breakaway) term half its Coulomb friction on every joint, which a
+/// model of its own drive terms does not carry (the monitor's friction the identification lacks).
+inline Model withStribeck(const Model& nominal) {
+  Model out = nominal;
+  DriveTerms terms = nominal.driveTerms();
+  terms.mask |= DriveTerms::of({DriveTerm::kStribeck}).mask;
+  out.setDriveTerms(terms);
+  for (int j = 0; j < out.numJoints(); ++j) {
+    DriveParameters<double> d = nominal.drives()[j];
+    d[DriveTerm::kStribeck] = 0.5 * d[DriveTerm::kCoulomb];
+    out.setDrive(j, d);
+  }
+  return out;
+}
+
 inline Disturbance jointPush(int joint, double torque, double start, double duration) {
   Disturbance d;
   d.joint = joint, d.torque = torque, d.start = start, d.duration = duration;

@@ -100,6 +100,25 @@ TEST(RestVelocity, StopsBetweenMovesAreAtRestAndTheMovesAreNot) {
   EXPECT_LT(r.samples_at_rest, (n - moving) + 50);
 }
 
+TEST(RestVelocity, ALogCutAfterAReversalIsNotChatter) {
+  // A 0.5 Hz sinusoid of 1 rad/s whose reversals stick and slip (the sign flips in bursts of
+  // 1-5 ms runs at 3e-3 rad/s), the log cut 0.13 s after a reversal, in motion: that last run is
+  // short only because the log ends, and its 0.4 rad/s are motion, not chatter.
+  const int n = 5130;  // reversals at 1, 2, 3, 4 and 5 s
+  Eigen::MatrixXd dq(1, n);
+  for (int k = 0; k < n; ++k) {
+    dq(0, k) = std::sin(std::numbers::pi * k / kRate);
+    const int phase = k % 1000;
+    if (phase < 20 || phase > 980) dq(0, k) = (k / 3 % 2 == 0 ? 3e-3 : -3e-3);  // the bursts
+  }
+  const RestVelocity r = measureRestVelocities(dq, stamps(n))[0];
+  EXPECT_EQ(r.source(), "chatter");
+  EXPECT_NEAR(r.chatter_level, 3e-3, 1e-9);  // the bursts' level (0.38 rad/s counting the end)
+  // The first run (from the log's start) is cut too: a log that starts 0.13 s before a reversal.
+  Eigen::MatrixXd reversed = dq.rowwise().reverse();
+  EXPECT_NEAR(measureRestVelocities(reversed, stamps(n))[0].chatter_level, 3e-3, 1e-9);
+}
+
 TEST(RestVelocity, GivenVelocitiesAreCheckedAndCounted) {
   Eigen::MatrixXd dq(2, 3);
   dq << 0.0, 1e-4, 0.1, -2e-3, 0.5, 1e-3;

@@ -36,22 +36,9 @@ Trajectory gearedPuma(const Model& truth, double duration, std::uint64_t seed,
   return simulate(truth, controller, options, pushes);
 }
 
-Model stribeckTruth(const Model& nominal) {
-  Model truth = nominal;
-  DriveTerms terms = nominal.driveTerms();
-  terms.mask |= DriveTerms::of({DriveTerm::kStribeck}).mask;
-  truth.setDriveTerms(terms);
-  for (int j = 0; j < truth.numJoints(); ++j) {
-    DriveParameters<double> d = nominal.drives()[j];
-    d[DriveTerm::kStribeck] = 0.5 * d[DriveTerm::kCoulomb];
-    truth.setDrive(j, d);
-  }
-  return truth;
-}
-
 TEST(MonitorCalibration, APushWhereTheModelIsGoodIsFoundBelowTheReversalsError) {
   const Model nominal = makePuma560(true);
-  const Model truth = stribeckTruth(nominal);
+  const Model truth = test::withStribeck(nominal);
   const std::string arm = test::tempPath("regimes_arm.json");
   writeFileAtomically(arm, modelToJson(nominal));
   const std::string calibration = test::tempPath("regimes_clean.csv");

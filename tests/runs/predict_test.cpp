@@ -93,5 +93,30 @@ TEST(PredictRun, OnAFilteredLogItsErrorIsIdentifysHeldOutError) {
   EXPECT_NE(text.find(log.validate), std::string::npos) << text;
 }
 
+// The PUMA with its drives sticks and slips at its reversals (26 N m of Coulomb friction through
+// the gears on joint 1). There no model predicts the static friction: the true model's error is
+// its sensor noise over the rows a fit takes, and the rows at rest are described apart.
+TEST(PredictRun, TheTrueModelsErrorIsItsNoiseOverTheRowsAFitTakes) {
+  SimulateRequest simulate;
+  simulate.robot = makePuma560(true);
+  simulate.fourier = true;
+  simulate.amplitude = Eigen::VectorXd::Constant(6, 0.5);
+  simulate.simulation.duration = 10.0;
+  simulate.simulation.noise_tau = 0.05;
+  simulate.simulation.seed = 2;
+  const std::string data = test::tempPath("predict_true_model.csv");
+  writeDatasetCsv(data, simulateRun(simulate).trajectory);
+  PredictRequest request;
+  request.model = makePuma560(true);
+  request.data_file = data;
+  const PredictOutcome o = predictRun(request);
+  const Prediction& p = o.prediction;
+  ASSERT_EQ(p.compared_rows.size(), 6);
+  EXPECT_LT(p.compared_rows[0], 0.95 * p.validation.num_samples);  // joint 1 sticks, and is left
+  EXPECT_GT(p.rest.samples[0], 0.05 * p.validation.num_samples);   // out there, described apart
+  // 0.05 N m of noise on every joint (10 % covers the RMS's spread over ~9000 rows).
+  for (int j = 0; j < 6; ++j) EXPECT_NEAR(p.validation.torque_rms[j], 0.05, 0.005) << j;
+}
+
 }  // namespace
 }  // namespace dynid
