@@ -9,6 +9,7 @@
 #include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "data/mjcf.hpp"
 #include "data/robots.hpp"
 #include "reports/model_report.hpp"
 #include "reports/output.hpp"
@@ -139,6 +140,7 @@ int runModel(const std::vector<std::string>& args) {
     return violations.empty() ? kExitOk : kExitError;
   }
   const std::string out = vm["out"].as<std::string>();
+  if (format == "mjcf") printWarnings(mjcfCannotCarry(model), "note: ");  // what MJCF drops
   if (writeOutput(out, modelDocument(model, format))) std::cerr << "wrote " << out << "\n";
   return kExitOk;
 }

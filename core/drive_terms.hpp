@@ -47,21 +47,22 @@ struct DriveTermInfo {
   /// is static friction, any value between its two one-sided limits at dq = 0 that the other
   /// torques demand, so its point value there is zero and its column is not fitted there.
   bool signed_by_velocity;
+  std::string_view mjcf_joint;  // the MJCF <joint> attribute carrying it (MuJoCo), or empty
 };
 
 inline constexpr std::array<DriveTermInfo, 6> kDriveTermTable = {{
     {DriveTerm::kRotorInertia, "ia", "Ia", "kg m^2", "Ia ddq", "rotor inertia", true,
-     DriveTermInfo::Draw::kAlways, true, "", false},
+     DriveTermInfo::Draw::kAlways, true, "", false, "armature"},
     {DriveTerm::kViscous, "fv", "Fv", "N m s/rad", "Fv dq", "viscous friction", true,
-     DriveTermInfo::Draw::kAlways, false, "damping", false},
+     DriveTermInfo::Draw::kAlways, false, "damping", false, "damping"},
     {DriveTerm::kCoulomb, "fc", "Fc", "N m", "Fc sign(dq)", "Coulomb friction", true,
-     DriveTermInfo::Draw::kAlways, false, "friction", true},
+     DriveTermInfo::Draw::kAlways, false, "friction", true, "frictionloss"},
     {DriveTerm::kOffset, "fo", "Fo", "N m", "Fo", "constant offset (sensor or current bias)", false,
-     DriveTermInfo::Draw::kWhenEnabled, false, "", false},
+     DriveTermInfo::Draw::kWhenEnabled, false, "", false, ""},
     {DriveTerm::kCoulombAsymmetry, "fa", "Fa", "N m", "Fa |sign(dq)|", "Coulomb asymmetry", false,
-     DriveTermInfo::Draw::kAlways, false, "", true},
+     DriveTermInfo::Draw::kAlways, false, "", true, ""},
     {DriveTerm::kStribeck, "fs", "Fs", "N m", "Fs sign(dq) exp(-(dq/vs)^2), vs = 0.05 rad/s",
-     "Stribeck (breakaway) friction", true, DriveTermInfo::Draw::kWhenEnabled, false, "", true},
+     "Stribeck (breakaway) friction", true, DriveTermInfo::Draw::kWhenEnabled, false, "", true, ""},
 }};
 
 inline constexpr int kDriveTermCount = static_cast<int>(kDriveTermTable.size());

@@ -1,5 +1,6 @@
 #include "data/mjcf.hpp"
 
+#include <cmath>
 #include <sstream>
 
 #include <Eigen/Geometry>
@@ -20,8 +21,23 @@ std::string numbers(std::initializer_list<double> values) {
   return out;
 }
 
+/// Joint i's limits and drive terms as MJCF <joint> attributes (with drives_and_limits), or a
+/// joint without either.
+std::string jointAttributes(const Model& model, int i, bool drives_and_limits) {
+  if (!drives_and_limits) return "limited=\"false\" damping=\"0\" armature=\"0\"";
+  const JointLimits& l = model.limits[i];
+  std::string out = std::isfinite(l.lower) && std::isfinite(l.upper)
+                        ? "limited=\"true\" range=\"" + numbers({l.lower, l.upper}) + "\""
+                        : std::string("limited=\"false\"");
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (!row.mjcf_joint.empty() && model.driveTerms().has(row.term))
+      out += " " + std::string(row.mjcf_joint) + "=\"" +
+             formatNumber(std::abs(model.drives()[i][row.term])) + "\"";
+  return out;
+}
+
 void writeBody(const Model& model, const std::vector<std::vector<int>>& children, int i, int depth,
-               std::ostringstream& out) {
+               bool drives_and_limits, std::ostringstream& out) {
   const std::string indent(2 * depth, ' ');
   const Pose<double>& placement = model.frame_placements()[i];
   const Eigen::Quaterniond quat(placement.rotation);
@@ -32,8 +48,8 @@ void writeBody(const Model& model, const std::vector<std::vector<int>>& children
   const Eigen::Vector3d& a = model.axes()[i];
   out << indent << "  <joint name=\"" << escapeXml(model.joint_names[i]) << "\" type=\""
       << (model.joint_types()[i] == JointType::kPrismatic ? "slide" : "hinge")
-      << "\" pos=\"0 0 0\" axis=\"" << numbers({a.x(), a.y(), a.z()})
-      << "\" limited=\"false\" damping=\"0\" armature=\"0\"/>\n";
+      << "\" pos=\"0 0 0\" axis=\"" << numbers({a.x(), a.y(), a.z()}) << "\" "
+      << jointAttributes(model, i, drives_and_limits) << "/>\n";
   // Inertia in the joint frame, about the centre of mass.
   const RigidInertia<double>& inertia = model.frame_inertias()[i];
   const double m = inertia.mass;
@@ -44,7 +60,8 @@ void writeBody(const Model& model, const std::vector<std::vector<int>>& children
   out << indent << "  <inertial pos=\"" << numbers({c.x(), c.y(), c.z()}) << "\" mass=\""
       << formatNumber(m) << "\" fullinertia=\""
       << numbers({Ic(0, 0), Ic(1, 1), Ic(2, 2), Ic(0, 1), Ic(0, 2), Ic(1, 2)}) << "\"/>\n";
-  for (int child : children[i]) writeBody(model, children, child, depth + 1, out);
+  for (int child : children[i])
+    writeBody(model, children, child, depth + 1, drives_and_limits, out);
   out << indent << "</body>\n";
 }
 
@@ -76,7 +93,11 @@ std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
   std::ostringstream out;
   const Eigen::Vector3d& g = model.gravity();
   out << "<mujoco model=\"" << escapeXml(model.name) << "\">\n"
-      << "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or drives -->\n"
+      << (options.drives_and_limits
+              ? "  <!-- written by dynid: bodies are dynid joint frames; no geoms; joints carry "
+                "armature = Ia, damping = Fv, frictionloss = Fc and their ranges -->\n"
+              : "  <!-- written by dynid: bodies are dynid joint frames; no geoms, limits or "
+                "drives -->\n")
       << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
       << "  <option timestep=\"" << formatNumber(options.timestep) << "\" integrator=\""
       << escapeXml(options.integrator) << "\" gravity=\"" << numbers({g.x(), g.y(), g.z()})
@@ -84,9 +105,25 @@ std::string modelToMjcf(const Model& model, const MjcfOptions& options) {
       << "    <flag contact=\"disable\"/>\n"
       << "  </option>\n"
       << "  <worldbody>\n";
-  for (int root : roots) writeBody(model, children, root, 2, out);
+  for (int root : roots) writeBody(model, children, root, 2, options.drives_and_limits, out);
   out << "  </worldbody>\n</mujoco>\n";
   return out.str();
+}
+
+std::vector<std::string> mjcfCannotCarry(const Model& model) {
+  std::vector<std::string> out;
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (row.mjcf_joint.empty() && model.driveTerms().has(row.term))
+      out.push_back("MJCF has no joint attribute for " + std::string(row.description) + " (" +
+                    std::string(row.name) + "): the export goes without it; a dynid JSON model " +
+                    "keeps it");
+  for (int i = 0; i < model.numJoints(); ++i)
+    if (!(model.frame_inertias()[i].mass > 0.0))
+      out.push_back("link " + model.link_names[i] + " has mass " +
+                    formatNumber(model.frame_inertias()[i].mass) +
+                    ": MuJoCo's compiler rejects a body without a positive mass (`dynid model "
+                    "check` lists what else is not physical)");
+  return out;
 }
 
 }  // namespace dynid

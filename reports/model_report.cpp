@@ -139,7 +139,7 @@ nlohmann::json modelCheckJson(const Model& model, const std::vector<ConsistencyV
 
 std::string modelDocument(const Model& model, const std::string& format) {
   if (format == "urdf") return modelToUrdf(model);
-  if (format == "mjcf") return modelToMjcf(model);
+  if (format == "mjcf") return modelToMjcf(model, {.drives_and_limits = true});
   if (format == "json") return modelToJson(model);
   throw InputError("the format must be urdf, json or mjcf, not '" + format + "'");
 }

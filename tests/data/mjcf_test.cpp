@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/aba.hpp"
+#include "core/format.hpp"
 #include "core/integrators.hpp"
 #include "core/rnea.hpp"
 #include "data/puma560.hpp"
@@ -41,6 +42,36 @@ TEST(Mjcf, OneBodyAndJointPerDynidJoint) {
   EXPECT_NE(text.find("gravity=\""), std::string::npos);
   // Nesting follows the tree: as many closing tags as bodies.
   EXPECT_EQ(count(text, "</body>"), model.numJoints());
+}
+
+TEST(Mjcf, WithItsDrivesJointsCarryArmatureDampingFrictionlossAndRanges) {
+  const Model puma = makePuma560(true);  // ia, fv, fc, fa
+  // By default rigid-body dynamics only (the peer benchmarks'): no drive, no range.
+  EXPECT_EQ(count(modelToMjcf(puma), "limited=\"false\" damping=\"0\" armature=\"0\""), 6);
+  const std::string text = modelToMjcf(puma, {.drives_and_limits = true});
+  const std::string first = text.substr(
+      text.find("<joint "), text.find("/>", text.find("<joint ")) - text.find("<joint "));
+  const DriveParameters<double>& d = puma.drives()[0];
+  EXPECT_NE(first.find("armature=\"" + formatNumber(d[DriveTerm::kRotorInertia]) + "\""),
+            std::string::npos)
+      << first;
+  EXPECT_NE(first.find("damping=\"" + formatNumber(d[DriveTerm::kViscous]) + "\""),
+            std::string::npos)
+      << first;
+  EXPECT_NE(first.find("frictionloss=\"" + formatNumber(d[DriveTerm::kCoulomb]) + "\""),
+            std::string::npos)
+      << first;
+  EXPECT_NE(first.find("limited=\"true\" range=\"" + formatNumber(puma.limits[0].lower) + " " +
+                       formatNumber(puma.limits[0].upper) + "\""),
+            std::string::npos)
+      << first;
+  // What it cannot carry: the Coulomb asymmetry, and link 1's zero mass (MuJoCo refuses it).
+  const std::vector<std::string> notes = mjcfCannotCarry(puma);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_NE(notes[0].find("Coulomb asymmetry (Fa)"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[1].find("link " + puma.link_names[0] + " has mass 0"), std::string::npos)
+      << notes[1];
+  EXPECT_TRUE(mjcfCannotCarry(makePuma560Consistent(false)).empty());
 }
 
 #ifdef DYNID_HAVE_MUJOCO
