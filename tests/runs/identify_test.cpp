@@ -12,6 +12,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/puma560.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "tests/common/puma_runs.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -82,22 +83,8 @@ double worstCoulomb(const IdentifyOutcome& o) {
 // prepare's defaults (10 Hz): with the filter reproduced and the static rows left out, the
 // Coulomb friction within 5 % and the intervals holding the truth; without it, neither.
 TEST(IdentifyRun, ThroughPreparesLowPassTheFrictionAndTheIntervalsHold) {
-  SimulateRequest simulate;
-  simulate.robot = makePuma560(true);
-  simulate.fourier = true;
-  simulate.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  simulate.simulation.duration = 40.0;
-  simulate.simulation.noise_q = 1e-5;
-  simulate.simulation.noise_tau = 0.5;
-  simulate.simulation.seed = 7;  // joint 1 sticks at its stops (docs/IDENTIFIABILITY.md)
-  const std::string raw = test::tempPath("filtered_friction.csv");
-  writeDatasetCsv(raw, simulateRun(simulate).trajectory);
-  LogSource source;
-  source.tables = {raw};
-  source.time_column = "t";
-  source.q_columns = "q*";
-  source.tau_columns = "tau*";
-  const PrepareOutcome prepared = prepareLog(source, PrepareOptions{});
+  // Seed 7: joint 1 sticks at its stops (docs/IDENTIFIABILITY.md).
+  const PrepareOutcome prepared = test::preparedPuma(40.0, 7, 0.0, "filtered_friction.csv");
   IdentifyRequest request;
   request.model = makePuma560(true);
   request.data = &prepared.train;

@@ -12,6 +12,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/error_text.hpp"
+#include "tests/common/puma_runs.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -24,24 +25,7 @@ struct FilteredLog {
 };
 
 FilteredLog filteredPuma() {
-  SimulateRequest simulate;
-  simulate.robot = makePuma560(true);
-  simulate.fourier = true;
-  simulate.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  simulate.simulation.duration = 30.0;
-  simulate.simulation.noise_q = 1e-5;
-  simulate.simulation.noise_tau = 0.5;
-  simulate.simulation.seed = 7;
-  const std::string raw = test::tempPath("predict_filtered_raw.csv");
-  writeDatasetCsv(raw, simulateRun(simulate).trajectory);
-  LogSource source;
-  source.tables = {raw};
-  source.time_column = "t";
-  source.q_columns = "q*";
-  source.tau_columns = "tau*";
-  PrepareOptions options;
-  options.validate_fraction = 0.25;
-  const PrepareOutcome prepared = prepareLog(source, options);
+  const PrepareOutcome prepared = test::preparedPuma(30.0, 7, 0.25, "predict_filtered_raw.csv");
   FilteredLog out{test::tempPath("predict_filtered_train.csv"),
                   test::tempPath("predict_filtered_validate.csv")};
   writeDatasetCsv(out.train, prepared.train);
@@ -97,15 +81,8 @@ TEST(PredictRun, OnAFilteredLogItsErrorIsIdentifysHeldOutError) {
 // the gears on joint 1). There no model predicts the static friction: the true model's error is
 // its sensor noise over the rows a fit takes, and the rows at rest are described apart.
 TEST(PredictRun, TheTrueModelsErrorIsItsNoiseOverTheRowsAFitTakes) {
-  SimulateRequest simulate;
-  simulate.robot = makePuma560(true);
-  simulate.fourier = true;
-  simulate.amplitude = Eigen::VectorXd::Constant(6, 0.5);
-  simulate.simulation.duration = 10.0;
-  simulate.simulation.noise_tau = 0.05;
-  simulate.simulation.seed = 2;
   const std::string data = test::tempPath("predict_true_model.csv");
-  writeDatasetCsv(data, simulateRun(simulate).trajectory);
+  writeDatasetCsv(data, simulateRun(test::pumaFourier(10.0, 0.05, 2, 0.0)).trajectory);
   PredictRequest request;
   request.model = makePuma560(true);
   request.data_file = data;
