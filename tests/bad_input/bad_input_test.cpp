@@ -134,10 +134,14 @@ test::Result runIn(const std::string& dir, const std::string& command) {
 }
 
 /// The fixtures cases copy: a dataset, models, a search with its checkpoints, an estimate and a
-/// batch, made once per build by the dynid under test, in a directory renamed into place whole.
+/// batch, made once per dynid binary (its directory is named by the binary's size and time, so a
+/// rebuilt dynid never meets the documents of an older one), renamed into place whole.
 std::string fixtures() {
   static const std::string dir = [] {
-    const std::string final_dir = std::string(DYNID_TEST_TMP) + "/bad_input_fixtures";
+    const fs::path bin = DYNID_BIN;
+    const auto stamp = fs::last_write_time(bin).time_since_epoch().count();
+    const std::string final_dir = std::string(DYNID_TEST_TMP) + "/bad_input_fixtures." +
+                                  std::to_string(fs::file_size(bin)) + "." + std::to_string(stamp);
     if (fs::exists(final_dir + "/complete")) return final_dir;
     const std::string work = final_dir + ".tmp." + std::to_string(::getpid());
     fs::remove_all(work);
