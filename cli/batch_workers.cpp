@@ -31,7 +31,7 @@ std::string selfExecutable() {
 }  // namespace
 
 BatchOutcome runBatchWorkers(const BatchPlan& plan, int jobs, const std::atomic<bool>* stop,
-                             const std::function<void(std::size_t, std::size_t)>& on_finished) {
+                             const std::function<void(const FinishedRun&)>& on_finished) {
   const auto stopped = [&] { return stop != nullptr && stop->load(); };
   std::filesystem::create_directories(plan.dir + "/runs");
   const std::string worker = selfExecutable();
@@ -86,9 +86,9 @@ BatchOutcome runBatchWorkers(const BatchPlan& plan, int jobs, const std::atomic<
     const std::size_t i = it->second;
     running.erase(it);
     ++finished;
-    if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) && !stopped())
-      failed.push_back(batchRunName(i, plan.runs[i]));
-    if (on_finished) on_finished(finished, plan.todo.size());
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (!ok && !stopped()) failed.push_back(batchRunName(i, plan.runs[i]));
+    if (on_finished) on_finished({finished, plan.todo.size(), i, ok});
   }
   BatchOutcome out = collectBatch(plan);
   out.failed = std::move(failed);

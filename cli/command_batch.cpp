@@ -99,9 +99,8 @@ int runBatch(const std::vector<std::string>& args) {
       "jobs", po::value<int>()->default_value(1))("shard", po::value<std::string>(),
                                                   "K/N: only the runs whose index mod N is K - 1")(
       "quick", po::bool_switch(),
-      "every run with 4 s of data, 20 segments, 100-evaluation searches, 20 refinement "
-      "iterations (tests, trials)")("out", po::value<std::string>()->required(),
-                                    "output directory");
+      ("every run with " + batchQuickDescription() + " (tests, trials)").c_str())(
+      "out", po::value<std::string>()->required(), "output directory");
   po::positional_options_description positional;
   positional.add("manifest", 1);
   po::variables_map vm;
@@ -124,14 +123,18 @@ int runBatch(const std::vector<std::string>& args) {
   const auto secondsSince = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
-  const BatchOutcome outcome =
-      runBatchWorkers(plan, jobs, guard.flag(), [&](std::size_t done, std::size_t all) {
-        if (terminal)
-          std::cerr << "\r[batch] " << done << "/" << all << " runs finished; "
-                    << progressText(static_cast<double>(done) / static_cast<double>(all),
-                                    secondsSince(started))
-                    << "   " << std::flush;
-      });
+  const BatchOutcome outcome = runBatchWorkers(plan, jobs, guard.flag(), [&](const FinishedRun& f) {
+    const std::string progress = progressText(
+        static_cast<double>(f.finished) / static_cast<double>(f.todo), secondsSince(started));
+    if (terminal) {
+      std::cerr << "\r[batch] " << f.finished << "/" << f.todo << " runs finished; " << progress
+                << "   " << std::flush;
+    } else {  // a log (CI, nohup, a pipe): a line per run, so a long batch is not silent
+      std::cerr << "[batch] " << f.finished << "/" << f.todo << " "
+                << batchRunName(f.run, plan.runs[f.run]) << (f.ok ? " done" : " failed") << "; "
+                << progress << "\n";
+    }
+  });
   if (terminal) std::cerr << "\n";
   writeBatchTables(dir, outcome);
   std::cout << "dynid batch: " << outcome.done.size() << " of " << plan.mine.size()

@@ -87,18 +87,27 @@ std::string specHash(const json& spec) {
 }
 
 /// --quick: every run short (tests, trials).
+constexpr double kQuickSeconds = 4.0;
+constexpr int kQuickSegments = 10, kQuickEvaluations = 50, kQuickRefineIterations = 5;
+
 void applyQuick(std::vector<json>& runs) {
   for (json& run : runs) {
-    run["train_seconds"] = 4.0;
-    run["test_seconds"] = 4.0;
-    run["segments"] = 10;
+    run["train_seconds"] = kQuickSeconds;
+    run["test_seconds"] = kQuickSeconds;
+    run["segments"] = kQuickSegments;
     run["search_seconds"] = 0.0;
-    run["search_evaluations"] = 50;
-    run["refine_iterations"] = 5;
+    run["search_evaluations"] = kQuickEvaluations;
+    run["refine_iterations"] = kQuickRefineIterations;
   }
 }
 
 }  // namespace
+
+std::string batchQuickDescription() {
+  return formatNumber(kQuickSeconds, 6) + " s of data, " + std::to_string(kQuickSegments) +
+         " segments, " + std::to_string(kQuickEvaluations) + "-evaluation searches, " +
+         std::to_string(kQuickRefineIterations) + " refinement iterations";
+}
 
 const json& batchSpecDefaults() {
   static const json defaults = [] {

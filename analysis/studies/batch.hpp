@@ -60,6 +60,8 @@ struct BatchPlan {
   nlohmann::json record;  // {manifest, quick, shard, shards}: results.json's "plan", for merging
   std::string path(std::size_t i) const;  // dir/runs/<name>.json
 };
+/// What `quick` gives every run ("4 s of data, 10 segments, ..."): the help text says it from here.
+std::string batchQuickDescription();
 /// Expands the manifest, applies --quick, validates every run before anything starts (naming the
 /// run and field), and finds what is already done. `shard` is 1-based, 1 <= shard <= shards.
 BatchPlan planBatch(const std::string& manifest, const std::string& dir, bool quick, int shard,

@@ -31,7 +31,7 @@ struct StudySettings {
   double search_seconds = 30.0;     // per search (0: no time limit)
   long search_evaluations = 0;      // per search (0: no limit); one of the two must be set
   int refine_iterations = 200;      // per refinement stage
-  double refine_seconds = 0.0;      // per refinement (0: no limit)
+  double refine_seconds = 60.0;     // per refinement (0: no limit); as `dynid study`'s default
   double refine_tolerance = 1e-16;  // Ceres's relative cost change
   bool keep_if_better = true;       // keep a search's result that its refinement did not improve
   double prior_weight = kDefaultPriorWeight;  // pc: PhysicalOptions::prior_weight

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -97,6 +98,34 @@ TEST(Cli, BatchRunsTheGridResumesShardsAndMerges) {
 }
 // The combined estimator as a batch method, with the refinements' budget (refine_iterations,
 // refine_seconds): pc's torque fit, a lower GC error.
+// --quick's help states what a quick run gets (it said 20 segments and 100 evaluations after the
+// runs had become 10 and 50): the numbers in `batch -h` are those of a quick run's row. Without a
+// terminal, each finished run is a line on stderr.
+TEST(Cli, BatchQuickHelpSaysWhatAQuickRunGets) {
+  const Result help = run("batch -h");
+  ASSERT_EQ(help.code, 0) << help.err;
+  std::smatch m;
+  // (the help wraps its lines: any white space between the words)
+  const std::regex said(R"((\d+) s of data,\s+(\d+)\s+segments,\s+(\d+)-evaluation\s+searches,)"
+                        R"(\s+(\d+)\s+refinement\s+iterations)");
+  ASSERT_TRUE(std::regex_search(help.out, m, said)) << help.out;
+  const std::string manifest = writeManifest("quick.json", R"({
+    "schema_version": 1, "grid": {"method": ["nlo"]}, "fixed": {}})");
+  const std::string dir = test::tempPath("batch_quick_said");
+  std::filesystem::remove_all(dir);
+  const Result quick = run("batch " + manifest + " --quick --out " + dir);
+  ASSERT_EQ(quick.code, 0) << quick.err;
+  // stderr is no terminal here: a line per finished run, with its name (a long batch in a log is
+  // not silent).
+  const auto row = resultsOf(dir)["rows"].at(0);
+  EXPECT_TRUE(contains(quick.err, "[batch] 1/1 " + row["run"].get<std::string>() + " done"))
+      << quick.err;
+  EXPECT_EQ(row["train_seconds"].get<double>(), std::stod(m[1]));
+  EXPECT_EQ(row["segments"].get<int>(), std::stoi(m[2]));
+  EXPECT_EQ(row["evaluations"].get<int>(), std::stoi(m[3]));
+  EXPECT_EQ(row["refine_iterations"].get<int>(), std::stoi(m[4]));
+}
+
 TEST(Cli, BatchRunsTheCombinedEstimator) {
   const std::string manifest = writeManifest("batch_combined.json", R"({
     "schema_version": 1,
