@@ -69,6 +69,7 @@ int runAttach(const std::vector<std::string>& args) {
   const int link = linkIndex(arm, vm.count("link") ? vm["link"].as<std::string>() : "");
   const Model loaded = attachBody(arm, link, frame, body);
   const std::string out = vm["out"].as<std::string>();
+  printWarnings(modelExportNotes(loaded, format), "note: ");
   if (writeOutput(out, modelDocument(loaded, format)))
     std::cerr << "wrote " << out << ": " << arm.name << " with a " << formatNumber(body[0], 4)
               << " kg body on link " << arm.link_names[static_cast<std::size_t>(link)] << "\n";
@@ -140,7 +141,7 @@ int runModel(const std::vector<std::string>& args) {
     return violations.empty() ? kExitOk : kExitError;
   }
   const std::string out = vm["out"].as<std::string>();
-  if (format == "mjcf") printWarnings(mjcfCannotCarry(model), "note: ");  // what MJCF drops
+  printWarnings(modelExportNotes(model, format), "note: ");  // what URDF or MJCF drops
   if (writeOutput(out, modelDocument(model, format))) std::cerr << "wrote " << out << "\n";
   return kExitOk;
 }

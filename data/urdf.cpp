@@ -438,6 +438,28 @@ int lineOfMessage(const std::string& message, const ElementIndex& index, std::st
   return 0;
 }
 
+/// The document's first element (past the XML declaration, comments and a DOCTYPE): its name and
+/// its line; ("", 0) when there is none.
+std::pair<std::string, int> rootElement(const std::string& text) {
+  std::size_t i = 0;
+  while ((i = text.find('<', i)) != std::string::npos) {
+    const bool comment = text.compare(i, 4, "<!--") == 0;
+    if (comment || text.compare(i, 2, "<?") == 0 || text.compare(i, 2, "<!") == 0) {
+      i = comment ? text.find("-->", i) : text.find('>', i);
+      if (i == std::string::npos) break;
+      ++i;
+      continue;
+    }
+    std::size_t end = i + 1;
+    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
+                                 std::strchr("_-:.", text[end]) != nullptr))
+      ++end;
+    return {text.substr(i + 1, end - i - 1),
+            1 + static_cast<int>(std::count(text.begin(), text.begin() + i, '\n'))};
+  }
+  return {"", 0};
+}
+
 }  // namespace
 
 std::size_t xmlTagEnd(const std::string& text, std::size_t from) {
@@ -469,6 +491,17 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
                          "as UTF-8)");
   }
   checkXmlDepth(text, file);
+  // Another robot format given where a URDF is read: say which, before urdfdom's "no robot".
+  if (const auto [root, line] = rootElement(text); root == "mujoco")
+    throw ParseError(
+        file, line, root,
+        "an MJCF (MuJoCo) model, not a URDF: dynid reads robots from URDF files and "
+        "dynid JSON models (docs/MODEL.md); use the robot's URDF, or write its links "
+        "as a dynid JSON model (MJCF goes the other way: `model export --format mjcf`)");
+  else if (root == "sdf")
+    throw ParseError(file, line, root,
+                     "an SDFormat (Gazebo) model, not a URDF: dynid reads robots from URDF files "
+                     "and dynid JSON models (docs/MODEL.md)");
   const ElementIndex index = indexElements(text);
   urdf::ModelInterfaceSharedPtr urdf;
   std::string error;
@@ -517,6 +550,22 @@ std::string urdfDynamicsElement(const DriveParameters<double>& drive) {
       out.append(formatNumber(drive[row.term])).append("\"");
     }
   return out + "/>";
+}
+
+std::vector<std::string> urdfCannotCarry(const Model& model) {
+  std::vector<std::string> out;
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (row.urdf_dynamics.empty() && model.driveTerms().has(row.term))
+      out.push_back("URDF has no element for " + std::string(row.description) + " (" +
+                    std::string(row.name) + "): the export goes without it; a dynid JSON model " +
+                    "keeps it");
+  if (model.gravity() != Eigen::Vector3d(0.0, 0.0, -9.81))  // Model's default, URDF's assumption
+    out.push_back("URDF has no gravity: the model's (" + formatNumber(model.gravity()[0], 6) +
+                  ", " + formatNumber(model.gravity()[1], 6) + ", " +
+                  formatNumber(model.gravity()[2], 6) +
+                  ") m/s^2 is not in the export, whose readers assume -9.81 along z; a dynid JSON "
+                  "model keeps it");
+  return out;
 }
 
 std::string modelToUrdf(const Model& model) {

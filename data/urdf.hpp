@@ -44,6 +44,11 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
 /// lost.
 std::string modelToUrdf(const Model& model);
 
+/// What a URDF export of `model` cannot carry, one sentence each: the enabled drive terms with no
+/// URDF attribute (the drive-term table's urdf_dynamics: Ia, Fo, Fa, Fs), and gravity other than
+/// -9.81 m/s^2 along z (URDF has none; a reader assumes it).
+std::vector<std::string> urdfCannotCarry(const Model& model);
+
 /// `<dynamics damping="Fv" friction="Fc"/>`: the drive terms the drive-term table maps to URDF
 /// attributes (DriveTermInfo::urdf_dynamics), in table order, from `drive`.
 std::string urdfDynamicsElement(const DriveParameters<double>& drive);

@@ -206,6 +206,15 @@ Model loadModel(const PathLike& spec_arg, bool drives, const TermsLike& terms, b
   return model;
 }
 
+/// modelDocument(model, format), with what the format cannot carry (Ia in a URDF, say) as
+/// UserWarnings, as `dynid model export` prints them as notes.
+std::string exportedModel(const Model& model, const std::string& format) {
+  for (const std::string& note : modelExportNotes(model, format))
+    if (PyErr_WarnEx(PyExc_UserWarning, pythonText(note).c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings as errors
+  return modelDocument(model, format);
+}
+
 // ---- datasets ----
 
 /// Checks a dataset built from arrays as readDatasetCsv checks a file: finite values, strictly
@@ -321,12 +330,12 @@ void bindModelOutput(py::class_<Model>& model) {
            "Physical-consistency violations of the links' parameters, as dicts {link, link_name, "
            "condition, detail}; empty when every link is realisable (as `dynid model check`).")
       .def("to_json", &modelToJson, "The model as dynid JSON (loadable by load_model).")
-      .def("to_urdf", [](const Model& self) { return modelToUrdf(self); })
-      .def("to_mjcf", [](const Model& self) { return modelDocument(self, "mjcf"); })
+      .def("to_urdf", [](const Model& self) { return exportedModel(self, "urdf"); })
+      .def("to_mjcf", [](const Model& self) { return exportedModel(self, "mjcf"); })
       .def(
           "export",
           [](const Model& self, const PathLike& path, const std::string& format) {
-            writeOutput(pathArg(path, "path"), modelDocument(self, format));
+            writeOutput(pathArg(path, "path"), exportedModel(self, format));
           },
           py::arg("path"), py::arg("format"),
           "Writes the model as 'urdf', 'json' or 'mjcf' (atomically, as `dynid model export`).")

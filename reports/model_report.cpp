@@ -144,6 +144,12 @@ std::string modelDocument(const Model& model, const std::string& format) {
   throw InputError("the format must be urdf, json or mjcf, not '" + format + "'");
 }
 
+std::vector<std::string> modelExportNotes(const Model& model, const std::string& format) {
+  if (format == "urdf") return urdfCannotCarry(model);
+  if (format == "mjcf") return mjcfCannotCarry(model);
+  return {};
+}
+
 nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& o) {
   nlohmann::json m = nlohmann::json::array();
   for (int r = 0; r < model.numJoints(); ++r) m.push_back(toJson(o.M.row(r).transpose()));

@@ -22,6 +22,8 @@ nlohmann::json modelCheckJson(const Model& model,
 /// The model as a file of `format`: "urdf", "json" (dynid's) or "mjcf" (MuJoCo). Throws
 /// InputError for another format.
 std::string modelDocument(const Model& model, const std::string& format);
+/// What `modelDocument(model, format)` leaves out, one sentence each (none for "json").
+std::vector<std::string> modelExportNotes(const Model& model, const std::string& format);
 
 /// {schema_version 1, robot, drives, q, dq, tau, M, ddq}.
 nlohmann::json dynamicsJson(const Model& model, const DynamicsOutcome& outcome);

@@ -25,7 +25,15 @@ using test::run;
 TEST(Cli, ModelExportAndReload) {
   const std::string json = test::tempPath("puma.json"), urdf = test::tempPath("puma.urdf");
   ASSERT_EQ(run("model export --robot puma560 --drives --format json --out " + json).code, 0);
-  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
+  const Result rigid = run("model export --robot puma560 --format urdf --out " + urdf);
+  ASSERT_EQ(rigid.code, 0) << rigid.err;
+  EXPECT_FALSE(contains(rigid.err, "note:")) << rigid.err;  // a rigid PUMA: URDF carries it all
+  // With its drives: rotor inertia and the Coulomb asymmetry have no URDF element, said.
+  const Result driven = run("model export --robot puma560 --drives --format urdf --out " +
+                            test::tempPath("puma_drives.urdf"));
+  ASSERT_EQ(driven.code, 0) << driven.err;
+  EXPECT_TRUE(contains(driven.err, "note: URDF has no element for rotor inertia (Ia)"))
+      << driven.err;
   const std::string args = " --q 0.1,0.2,0.3,0.4,0.5,0.6 --dq 1,1,1,1,1,1 --json";
   const auto builtin = nlohmann::json::parse(run("dynamics --robot puma560 --drives" + args).out);
   const auto reloaded = nlohmann::json::parse(run("dynamics --robot " + json + args).out);

@@ -242,5 +242,20 @@ TEST(Urdf, MissingFileNamesThePath) {
   }
 }
 
+// What a URDF export leaves out (`model export --format urdf` prints it as notes): the drive terms
+// with no <dynamics> attribute, and a gravity other than URDF readers assume.
+TEST(UrdfExport, SaysWhatItCannotCarry) {
+  Model puma = makePuma560(true);  // ia, fv, fc, fa
+  std::vector<std::string> notes = urdfCannotCarry(puma);
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_NE(notes[0].find("rotor inertia (Ia)"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[1].find("Coulomb asymmetry (Fa)"), std::string::npos) << notes[1];
+  EXPECT_TRUE(urdfCannotCarry(makePuma560(false)).empty());
+  puma.setGravity(Eigen::Vector3d(0.0, 0.0, -1.62));  // the Moon
+  notes = urdfCannotCarry(puma);
+  ASSERT_EQ(notes.size(), 3u);
+  EXPECT_NE(notes[2].find("(0, 0, -1.62) m/s^2"), std::string::npos) << notes[2];
+}
+
 }  // namespace
 }  // namespace dynid

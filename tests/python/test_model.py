@@ -36,6 +36,9 @@ def test_parameters_match_the_cli_and_round_trip_through_json(tmp_path):
     assert np.array_equal(again.parameters, model.parameters)
     assert again.parameter_names == model.parameter_names
     assert model.show() == run_cli("model", "show", "--robot", "puma560", "--drives").stdout
+    # What the format cannot carry is a UserWarning, as the CLI's note (Ia has no URDF element).
+    with pytest.warns(UserWarning, match=r"URDF has no element for rotor inertia \(Ia\)"):
+        model.to_urdf()
     for fmt, text in (("urdf", model.to_urdf()), ("mjcf", model.to_mjcf())):
         run_cli("model", "export", "--robot", "puma560", "--drives", "--format", fmt, "--out",
                 tmp_path / f"cli.{fmt}")
