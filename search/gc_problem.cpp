@@ -71,7 +71,7 @@ std::vector<int> segmentStarts(const std::vector<std::pair<int, int>>& runs, int
   if (!options.random_starts) {
     if (count > available)
       throw InputError("asked for " + std::to_string(count) + " segments of " +
-                       std::to_string(options.horizon) + " s; the dataset has room for " +
+                       formatNumber(options.horizon, 6) + " s; the dataset has room for " +
                        std::to_string(available) + " without overlap");
     for (int s = 0; s < count; ++s) {
       long slot = static_cast<long>(s) * available / count;

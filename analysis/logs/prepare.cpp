@@ -398,7 +398,7 @@ SamplePlan planSamples(std::vector<RunSpan>& spans, const Filters& filters,
     throw InputError("every sample is held out for validation: nothing is left to train on");
   if (plan.train == 0)
     throw InputError("no sample left: every run is shorter than the filter's transient (" +
-                     std::to_string(out.trim) + " s trimmed at each end); lower `trim` or " +
+                     formatNumber(out.trim, 6) + " s trimmed at each end); lower `trim` or " +
                      "`max_gap`'s splitting, or raise `cutoff`");
   if (plan.train < kMinTrainSamples)
     throw InputError("only " + std::to_string(plan.train) +
