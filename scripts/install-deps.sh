@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages dynid needs to build, test and benchmark, including the sanitizer
 # and fuzz jobs (clang, its sanitizer and libFuzzer runtimes, llvm-symbolizer for their reports)
 # and the Python module (pybind11, NumPy, pytest, and mypy for its type stubs, for Debian's
-# python3).
+# python3; venv, setuptools and wheel for `pip install --no-build-isolation .`).
 # zsh and groff check the generated shell completion and man pages.
 # Idempotent: installs only what is missing, and does nothing (not even apt-get update) when all
 # packages are present. Runs as root, or through sudo when not root.
@@ -19,6 +19,7 @@ packages=(
   zsh groff-base
   clang libclang-rt-14-dev llvm-14
   pybind11-dev python3-dev python3-numpy python3-pytest python3-mypy
+  python3-venv python3-setuptools python3-wheel
   libsqlite3-dev libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
 )
 if [[ "${DYNID_WITH_PEERS:-0}" == "1" ]]; then
