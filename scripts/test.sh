@@ -18,7 +18,7 @@ if [ ! -f build/CMakeCache.txt ] || grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' b
 fi
 # A unity build: each target's sources compiled in batches of up to 8 (CMake's default), so the
 # headers they share (Eigen, Ceres, nlohmann-json, the dynamics templates) are parsed and
-# instantiated once per batch (docs/TOUR.md, "The test suite and its time", has what it saves).
+# instantiated once per batch (docs/CI.md has what it saves).
 # Incremental work is faster without it (-DCMAKE_UNITY_BUILD=OFF: one source recompiled, not its
 # batch). The rollouts compiled for AVX2 and AVX-512 stay translation units of their own
 # (search/CMakeLists.txt).
