@@ -58,7 +58,7 @@ struct CommandOptions {
 /// false without parsing (the command then returns without doing anything); nullptr ends it.
 void setOptionCatalogue(std::vector<CommandOptions>* catalogue);
 
-/// The build's version and commit: "0.1.0 (commit 1a2b3c4d5e6f)".
+/// The build's version and commit: "0.2.0 (commit 1a2b3c4d5e6f)".
 std::string versionText();
 
 /// The value of --out for a command that writes a directory; "-" (standard output, one file) is
