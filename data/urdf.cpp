@@ -452,7 +452,7 @@ std::pair<std::string, int> rootElement(const std::string& text) {
     }
     std::size_t end = i + 1;
     while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
-                                 std::strchr("_-:.", text[end]) != nullptr))
+                                 (text[end] != '\0' && std::strchr("_-:.", text[end]) != nullptr)))
       ++end;
     return {text.substr(i + 1, end - i - 1),
             1 + static_cast<int>(std::count(text.begin(), text.begin() + i, '\n'))};
