@@ -162,6 +162,7 @@ int runExcite(const std::vector<std::string>& args) {
   const ExciteOutcome& outcome = *run;
   ExcitationSettings settings;
   settings.robot = vm["robot"].as<std::string>();
+  settings.source = modelSourceOf(settings.robot);
   settings.harmonics = request.harmonics;
   settings.starts = static_cast<int>(outcome.starts.size());  // 0 resolved
   settings.evaluations = request.evaluations;

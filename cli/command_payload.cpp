@@ -103,6 +103,7 @@ int runPayload(const std::vector<std::string>& args) {
   printWarnings(warnings);
   request.arm = arm.model;
   request.arm_source = vm["arm"].as<std::string>();
+  request.arm_model = arm.source;
   request.data_file = vm["data"].as<std::string>();
   if (vm.count("unloaded")) request.unloaded_file = vm["unloaded"].as<std::string>();
   if (vm.count("link")) request.link = vm["link"].as<std::string>();

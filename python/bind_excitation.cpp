@@ -77,6 +77,7 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   };
   ExcitePy out{robot, {}, {}};
   out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
+  if (!robot_spec.empty()) out.settings.source = modelSourceOf(robot_spec);
   out.settings.harmonics = harmonics;
   out.settings.evaluations = evaluations;
   out.settings.period = period;

@@ -51,6 +51,7 @@ PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalD
   PayloadRequest request;
   request.arm = model;
   request.arm_source = model.name;
+  request.arm_model = {model.name, "", ""};  // a model in memory: its name, no file
   const DataArg loaded = dataArg(data, "data", model);
   request.data_file = loaded.path;
   request.data = loaded.arrays;

@@ -9,6 +9,7 @@
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "reports/identification_report.hpp"
+#include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
 
@@ -123,10 +124,10 @@ std::optional<std::string> deviationFigure(const ExciteOutcome& o) {
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,
                               const ExciteOutcome& o) {
   const ExcitationLimits& l = o.limits;
-  return {{"schema_version", kExcitationDocument.schema_version},
+  nlohmann::json out = {
+          {"schema_version", kExcitationDocument.schema_version},
           {"kind", kExcitationDocument.kind},
           {"robot", settings.robot},
-          {"model", model.name},
           {"joints", model.joint_names},
           {"design",
            {{"period", o.design.period},
@@ -180,6 +181,10 @@ nlohmann::json excitationJson(const Model& model, const ExcitationSettings& sett
             {"evaluations", o.evaluations},
             {"seconds", o.seconds},
             {"seed", o.seed}}}};
+  // The robot designed for (with its drive terms): the design is usable without its file.
+  embedModel(out, model,
+             settings.source.spec.empty() ? ModelSource{settings.robot, "", ""} : settings.source);
+  return out;
 }
 
 std::string excitationCsv(const Model& model, const FourierSeries& design, double rate) {

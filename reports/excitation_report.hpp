@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/excitation/excite.hpp"
+#include "analysis/records/model_source.hpp"
 #include "reports/document.hpp"
 
 namespace dynid {
@@ -19,6 +20,7 @@ struct ExcitationSettings {
   int harmonics = 0, starts = 0, evaluations = 0;
   double period = 0.0;
   double csv_rate = 1000.0;  // samples per second of excitation.csv [Hz]
+  ModelSource source;  // where the robot came from (excitation.json embeds it, with the model)
 };
 
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,

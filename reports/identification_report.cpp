@@ -14,6 +14,7 @@
 #include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "data/model_json.hpp"
+#include "reports/model_report.hpp"
 #include "reports/prediction_report.hpp"
 
 namespace dynid {
@@ -300,17 +301,6 @@ std::string filteringClause(const IdentifyOutcome& o) {
   return "";
 }
 
-/// Where the embedded model came from: the spec as given, the file's name and its SHA-256 (null
-/// for a built-in robot), so that a reader can tell the file it has from the one the estimate used.
-json modelSourceJson(const IdentifyOutcome& o) {
-  json out = {{"spec", o.robot_spec}, {"file", nullptr}, {"sha256", nullptr}};
-  if (!o.robot_sha256.empty()) {
-    out["file"] = std::filesystem::path(o.robot_spec).filename().string();
-    out["sha256"] = o.robot_sha256;
-  }
-  return out;
-}
-
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -327,29 +317,35 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const Eigen::VectorXd& standard = outcome.result.standard;
   json standard_json = json::object();
   for (int k = 0; k < base.numStandard(); ++k) standard_json[base.standard_names[k]] = standard[k];
-  json report = {{"schema_version", kEstimateDocument.schema_version},
-                 {"kind", kEstimateDocument.kind},
-                 {"robot", model.name},
-                 {"robot_spec", outcome.robot_spec},
-                 {"kinematics", kinematicsJson(model)},
-                 {"model", json::parse(modelToJson(model))},
-                 {"model_source", modelSourceJson(outcome)},
-                 {"drives", model.driveTerms().any()},
-                 {"drive_terms", driveTermsKeys(model.driveTerms())},
-                 {"method", methodName(outcome.method)},
-                 {"data", {{"file", outcome.data_file}, {"samples", estimate.num_samples}}},
-                 {"num_base", base.numBase()},
-                 {"base_parameters", params},
-                 {"condition_number", numberOrNull(estimate.condition_number)},
-                 {"condition_number_unscaled", numberOrNull(estimate.condition_number_unscaled)},
-                 {"joint_sigma", numbersOrNull(estimate.joint_sigma)},
-                 {"residual_rms", numbersOrNull(estimate.residual_rms)},
-                 {"measured_rms", numbersOrNull(estimate.measured_rms)},
-                 {"relative_error", numberOrNull(estimate.relative_error)},
-                 {"joint_relative_error", numbersOrNull(estimate.joint_relative_error)},
-                 {"standard_estimate",
-                  {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
-                   {"values", standard_json}}}};
+  json report = {
+      {"schema_version", kEstimateDocument.schema_version},
+      {"kind", kEstimateDocument.kind},
+      {"robot", model.name},
+      {"robot_spec", outcome.robot_spec},
+      {"kinematics", kinematicsJson(model)},
+      {"model", json::parse(modelToJson(model))},
+      {"model_source", modelSourceJson(ModelSource{
+                           outcome.robot_spec,
+                           outcome.robot_sha256.empty()
+                               ? ""
+                               : std::filesystem::path(outcome.robot_spec).filename().string(),
+                           outcome.robot_sha256})},
+      {"drives", model.driveTerms().any()},
+      {"drive_terms", driveTermsKeys(model.driveTerms())},
+      {"method", methodName(outcome.method)},
+      {"data", {{"file", outcome.data_file}, {"samples", estimate.num_samples}}},
+      {"num_base", base.numBase()},
+      {"base_parameters", params},
+      {"condition_number", numberOrNull(estimate.condition_number)},
+      {"condition_number_unscaled", numberOrNull(estimate.condition_number_unscaled)},
+      {"joint_sigma", numbersOrNull(estimate.joint_sigma)},
+      {"residual_rms", numbersOrNull(estimate.residual_rms)},
+      {"measured_rms", numbersOrNull(estimate.measured_rms)},
+      {"relative_error", numberOrNull(estimate.relative_error)},
+      {"joint_relative_error", numbersOrNull(estimate.joint_relative_error)},
+      {"standard_estimate",
+       {{"note", "base parameters fixed to the estimate, the rest from the robot model"},
+        {"values", standard_json}}}};
   // The base covariance with each base parameter's column: predict's torque bands.
   if (estimate.covariance.rows() == base.numBase() && estimate.covariance.allFinite())
     report["base_covariance"] = baseCovarianceJson(outcome);

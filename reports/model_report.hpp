@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/records/model_source.hpp"
 #include "analysis/runs/arm.hpp"
 #include "analysis/runs/simulate.hpp"
 
@@ -22,6 +23,11 @@ nlohmann::json modelCheckJson(const Model& model,
 /// The model as a file of `format`: "urdf", "json" (dynid's) or "mjcf" (MuJoCo). Throws
 /// InputError for another format.
 std::string modelDocument(const Model& model, const std::string& format);
+/// model_source: {spec, file, sha256}, the last two null for a built-in robot.
+nlohmann::json modelSourceJson(const ModelSource& source);
+/// Embeds the robot a document used: "model" (dynid JSON, with its parameters: loadable from the
+/// document alone) and "model_source" (where it came from).
+void embedModel(nlohmann::json& document, const Model& model, const ModelSource& source);
 /// What `modelDocument(model, format)` leaves out, one sentence each (none for "json").
 std::vector<std::string> modelExportNotes(const Model& model, const std::string& format);
 

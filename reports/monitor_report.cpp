@@ -9,6 +9,7 @@
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
+#include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plot_script.hpp"
 
@@ -312,6 +313,7 @@ json monitorJson(const MonitorOutcome& o) {
               {"observer_rms", numbersOrNull(o.observer_rms)},
               {"observer_max", numbersOrNull(o.observer_max)},
               {"warnings", o.warnings}};
+  embedModel(out, o.model, o.source);
   if (const std::optional<CalibrationConfidence> c = calibrationConfidence(o.thresholds))
     out["calibration_confidence"] = {{"seconds", c->seconds},
                                      {"confirmed_false_alarms_per_hour", c->confirmed_per_hour},
@@ -401,7 +403,9 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
       data_file + ".");
   OutputSet set(dir);
   set.add("monitor.json", jsonText(monitorJson(o), 2) + "\n");
-  set.add("thresholds.json", jsonText(monitorThresholdsJson(o.thresholds), 2) + "\n");
+  json thresholds = monitorThresholdsJson(o.thresholds);
+  embedModel(thresholds, o.model, o.source);  // the arm they were set for
+  set.add("thresholds.json", jsonText(thresholds, 2) + "\n");
   set.add("report.md", report.markdown());
   set.add("report.html", report.html());
   for (const Figure& f : report.figures()) set.add(f.name + ".svg", f.svg);

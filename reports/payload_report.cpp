@@ -11,6 +11,7 @@
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
+#include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
 #include "reports/prediction_report.hpp"
@@ -194,6 +195,7 @@ json payloadJson(const PayloadOutcome& o) {
               {"payload_torque_rms", numbersOrNull(o.target_rms)},
               {"covariance_batch", o.batch},
               {"friction", friction}});
+  embedModel(out, o.arm, o.arm_model);  // the arm the payload was estimated on
   if (o.mode == "difference")
     out["alignment"] = {{"shift", numberOrNull(o.shift)},
                         {"position_rms_difference", numbersOrNull(o.motion_difference)}};

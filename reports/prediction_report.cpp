@@ -12,6 +12,7 @@
 #include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
+#include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
 
@@ -270,6 +271,7 @@ nlohmann::json predictionJson(const PredictOutcome& o, const std::string& estima
       {"relative_error", numberOrNull(v.relative_error)},
       {"joint_relative_error", numbersOrNull(v.normalised_rms)},
       {"residual_rms", numbersOrNull(v.torque_rms)}};
+  embedModel(out, o.model, o.source);  // the robot and parameters predicted with
   if (o.raw) out["raw_measurement"] = rawValidationJson(*o.raw, o.raw_file, o.raw_skipped);
   if (o.reversals.samples > 0) out["reversals"] = reversalsJson(o.reversals);
   if (!o.rest.empty()) out["rest_velocity"] = restVelocityJson(o.rest);

@@ -139,6 +139,7 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
   const LoadedArm arm = loadArm(request.arm, request.robot_spec, std::nullopt, &out.warnings);
   out.model = arm.model;
   out.robot_spec = arm.robot_spec;
+  out.source = arm.source;
   const Model& model = out.model;
   const int n = model.numJoints();
   Eigen::VectorXd gain = checkedGain(request, model);

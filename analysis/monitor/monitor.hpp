@@ -15,6 +15,7 @@
 
 #include "analysis/monitor/events.hpp"
 #include "analysis/monitor/observer.hpp"
+#include "analysis/records/model_source.hpp"
 #include "analysis/records/monitor_record.hpp"
 #include "core/model.hpp"
 #include "core/run_control.hpp"
@@ -64,6 +65,7 @@ struct MonitorRequest {
 struct MonitorOutcome {
   Model model;
   std::string robot_spec;
+  ModelSource source;  // where the arm's robot came from (monitor.json, thresholds.json embed it)
   MonitorThresholds thresholds;
   std::vector<MonitorEvent> events;
   long long samples = 0;

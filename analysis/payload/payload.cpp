@@ -388,6 +388,8 @@ PayloadOutcome outcomeOf(const PayloadRequest& request) {
   out.link_name = arm.link_names[out.link];
   out.robot = arm.name;
   out.arm_source = request.arm_source;
+  out.arm = request.arm;
+  out.arm_model = request.arm_model;
   out.data_file = request.data_file;
   out.unloaded_file = request.unloaded_file;
   out.tool = request.tool;

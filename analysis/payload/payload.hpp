@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "analysis/records/model_source.hpp"
 #include "core/model.hpp"
 #include "core/spatial.hpp"
 #include "core/trajectory.hpp"
@@ -24,6 +25,7 @@ namespace dynid {
 struct PayloadRequest {
   Model arm;               // the identified arm, drive terms included
   std::string arm_source;  // how the arm was given (an estimate file, a URDF, a robot spec)
+  ModelSource arm_model;   // where the arm's robot came from (payload.json embeds it with `arm`)
   std::string data_file;   // a dataset CSV with the payload attached (dynid prepare's train.csv)
   std::string unloaded_file = "";  // the same commanded motion without it (empty: none)
   /// The same in memory instead of the files (Python's Dataset): not owned; the file names are
@@ -79,7 +81,9 @@ struct DriveGains {
 struct PayloadOutcome {
   std::string mode;  // "single" (one log, the arm model subtracted) or "difference"
   std::string arm_source, data_file, unloaded_file, robot, link_name;
-  int link = 0;  // 0-based
+  Model arm;              // the request's arm, as payload.json embeds it
+  ModelSource arm_model;  // and where its robot came from
+  int link = 0;           // 0-based
   Pose<double> tool;
   int samples = 0;
   double shift = 0.0;                      // [s] unloaded time = loaded time + shift

@@ -34,19 +34,22 @@ inline constexpr DocumentType kRefineDocument{"dynid.refine", 1};
 // repeats, current_to_torque.
 inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
-inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 2};
+// 3: model is the robot designed for (a dynid JSON model; it was its name) and model_source.
+inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 3};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
 // 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
 // (the filter the comparison reproduced, or null) and torque_filter_source; compared_rows (the
 // errors are over the rows a fit takes: a joint at rest with friction that needs sign(dq) is not).
-inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 4};
+// 5: model (the robot and parameters predicted with, as a dynid JSON model) and model_source.
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 5};
 inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
 // payload.json 2: a quantity the log does not determine has `value` null and its number in
-// `estimate` (the resolution is its half_width_95).
-inline constexpr DocumentType kPayloadDocument{"dynid.payload", 2};  // dynid payload
+// `estimate` (the resolution is its half_width_95). 3: model (the arm the payload was estimated on,
+// as a dynid JSON model with its parameters) and model_source.
+inline constexpr DocumentType kPayloadDocument{"dynid.payload", 3};  // dynid payload
 // A payload body alone (payload --format json): what --prior reads back.
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
@@ -54,12 +57,15 @@ inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};  // dynid audit
 // monitor.json 2: each event's contact_link (contact isolation), calibration_confidence. 3: each
 // event's state (rest or moving), the thresholds' version 2. 4: the thresholds' version 3, each
-// event's regime (moving: the peak joint's regime; null at rest).
-inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 4};  // dynid monitor
+// event's regime (moving: the peak joint's regime; null at rest). 5: model and model_source (the
+// arm, as a dynid JSON model with its parameters, and where its robot came from).
+inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 5};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds. 2: the arm
 /// states: rest_velocity, thresholds_at_rest (null without), rest_seconds, calibration_rest_rms. 3:
 /// moving_regimes (null without): regimes, speed_scale, acceleration_scale, thresholds, seconds.
-inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 3};
+/// 4: model and model_source (the arm they were set for; thresholds.json only, not the copy in
+/// monitor.json, which embeds it once at its top).
+inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 4};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
 #include "core/parameters.hpp"
@@ -197,19 +198,13 @@ void readBaseCovariance(const JsonReader& read, const json& document, EstimateRe
 
 /// model (an object, parsed as a model by its reader) and model_source: {spec, file, sha256}, the
 /// last two null for a built-in robot.
-void readModelSource(const JsonReader& read, const json& document, EstimateRecord& out) {
+void readModelSource(const JsonReader& read, const json& document, const std::string& file,
+                     EstimateRecord& out) {
   out.model = read.object(document["model"], "model");
-  const json& source = read.object(read.field(document, "", "model_source"), "model_source");
-  read.onlyKeys(source, "model_source", {"spec", "file", "sha256"});
-  const json& file = read.field(source, "model_source", "file");
-  const json& sha = read.field(source, "model_source", "sha256");
-  if (!file.is_null()) out.model_file = read.string(source, "model_source", "file");
-  if (!sha.is_null()) {
-    out.model_sha256 = read.string(source, "model_source", "sha256");
-    if (out.model_sha256.size() != 64 ||
-        out.model_sha256.find_first_not_of("0123456789abcdef") != std::string::npos)
-      read.fail("model_source.sha256", "expected 64 lowercase hexadecimal digits");
-  }
+  const ModelSource source =
+      modelSourceFrom(read.field(document, "", "model_source"), file, "model_source");
+  out.model_file = source.file;
+  out.model_sha256 = source.sha256;
 }
 
 }  // namespace
@@ -268,7 +263,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                                                 kMaxParameterMagnitude));
   }
   if (document.contains("torque_source")) readTorqueSource(read, document["torque_source"], out);
-  if (document.contains("model")) readModelSource(read, document, out);
+  if (document.contains("model")) readModelSource(read, document, file, out);
   if (document.contains("base_covariance")) readBaseCovariance(read, document, out);
   if (document.contains("robot_spec")) out.robot_spec = read.string(document, "", "robot_spec");
   if (document.contains("method")) out.method = read.string(document, "", "method");

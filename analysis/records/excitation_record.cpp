@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
 #include "data/io.hpp"
@@ -13,15 +14,39 @@ namespace dynid {
 FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::string& file,
                                    int num_joints) {
   const JsonReader read(file);
-  // Version 1 (before payload motions) has no payload_link; its designs read the same.
-  const bool first = document.is_object() && document.contains("schema_version") &&
-                     document["schema_version"] == 1;
-  read.header(document, first ? 1 : kExcitationDocument.schema_version, kExcitationDocument.kind);
-  read.onlyKeys(
-      document, "",
-      {"schema_version", "kind", "robot", "model", "joints", "design", "criterion", "payload_link",
-       "limits", "base_parameters", "torque_noise", "designed", "default_sinusoid",
-       "gc_condition_unit", "check", "default_sinusoid_check", "optimiser"});
+  // Version 1 (before payload motions) has no payload_link, and versions 1 and 2 name the model
+  // in `model` (a string) where version 3 embeds it (an object, with model_source): their
+  // designs read the same.
+  int version = kExcitationDocument.schema_version;
+  if (document.is_object() && document.contains("schema_version") &&
+      document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
+      document["schema_version"] < version)
+    version = document["schema_version"].get<int>();
+  read.header(document, version, kExcitationDocument.kind);
+  std::vector<std::string> keys = {"schema_version",
+                                   "kind",
+                                   "robot",
+                                   "model",
+                                   "joints",
+                                   "design",
+                                   "criterion",
+                                   "limits",
+                                   "base_parameters",
+                                   "torque_noise",
+                                   "designed",
+                                   "default_sinusoid",
+                                   "gc_condition_unit",
+                                   "check",
+                                   "default_sinusoid_check",
+                                   "optimiser"};
+  if (version >= 2) keys.push_back("payload_link");
+  if (version >= 3) keys.push_back("model_source");
+  read.onlyKeysIn(document, "", keys);
+  // The robot designed for, embedded for the record: checked for form, not used (a design is
+  // for the --robot it is run on, whose joint count it must have).
+  if (version >= 3 && document.contains("model")) read.object(document["model"], "model");
+  if (document.contains("model_source"))
+    modelSourceFrom(document["model_source"], file, "model_source");
   const nlohmann::json& design = read.field(document, "", "design");
   read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
   FourierSeries d;

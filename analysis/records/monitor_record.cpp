@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/model_source.hpp"
 #include "data/io.hpp"
 #include "data/json_reader.hpp"
 
@@ -115,7 +116,13 @@ MonitorThresholds readMonitorThresholds(const std::string& file) {
     keys.insert(keys.end(),
                 {"rest_velocity", "thresholds_at_rest", "calibration_rest_rms", "rest_seconds"});
   if (version >= 3) keys.push_back("moving_regimes");
+  if (version >= 4) keys.insert(keys.end(), {"model", "model_source"});
   read.onlyKeysIn(document, "", keys);
+  // The arm they were set for, embedded for the record: checked for form, not used (the
+  // monitor's own --arm is compared by its joints, residual and gain).
+  if (document.contains("model")) read.object(document["model"], "model");
+  if (document.contains("model_source"))
+    modelSourceFrom(document["model_source"], file, "model_source");
   MonitorThresholds out;
   out.robot = read.string(document, "", "robot");
   out.joint_names = read.strings(read.field(document, "", "joints"), "joints");

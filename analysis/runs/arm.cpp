@@ -135,7 +135,7 @@ std::string kinematicsDifference(const nlohmann::json& recorded, const Model& mo
 }
 
 Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,
-                    std::string* method, std::optional<PredictionBand>* band) {
+                    std::string* method, std::optional<PredictionBand>* band, ModelSource* source) {
   const EstimateRecord estimate = estimateRecordFrom(parseJson(readFile(file), file), file);
   const std::string spec = robot_spec.empty() ? estimate.robot_spec : robot_spec;
   if (spec.empty())
@@ -152,17 +152,22 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
     throw ParseError(file, 0, "drive_terms", e.what());
   }
   Model model;
+  ModelSource from{spec, estimate.model_file, estimate.model_sha256};
   if (robot_spec.empty() && !estimate.model.is_null()) {
     model = embeddedModel(estimate, file);  // the robot the estimate embeds: no file needed
   } else if (robot_spec.empty()) {
     try {  // the robot an older estimate names: a failure names the estimate and its field
       model = loadRobot(ownSpec(spec, file), options);
+      from = modelSourceOf(ownSpec(spec, file));
+      from.spec = spec;
     } catch (const Error& e) {
       throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
     }
   } else {
     model = loadRobot(spec, options);
+    from = modelSourceOf(spec);
   }
+  if (source != nullptr) *source = from;
   model.setStandardParameters(
       standardVectorFrom(estimate, standardParameterNames(model.parameterLayout()), file, spec));
   if (!estimate.rest_velocities.empty()) {
@@ -213,7 +218,7 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
     if (isDocumentOfKind(document, kEstimateDocument)) {
       if (drive_terms)
         throw InputError(arm + ": an estimate carries its own drive terms; drop `drive_terms`");
-      out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr);
+      out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr, nullptr, &out.source);
       out.from_estimate = true;
       const EstimateRecord record = estimateRecordFrom(document, arm);
       out.torque_constants = record.torque_constants;
@@ -227,6 +232,7 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
   options.drive_terms = drive_terms;
   out.model = loadRobot(arm, options, warnings);
   out.robot_spec = arm;
+  out.source = modelSourceOf(arm);
   return out;
 }
 

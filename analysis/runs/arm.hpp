@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/estimation/streaming.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/model.hpp"
 #include "core/parameters.hpp"
 #include "core/spatial.hpp"
@@ -53,9 +54,11 @@ DynamicsOutcome dynamicsAt(const Model& model, const Eigen::VectorXd& q, const E
 /// malformed estimate, InputError when it does not fit the robot (another robot, another drive
 /// model: the parameter named). `band`, when given, receives the estimate's prediction band (its
 /// base covariance and joint noise; nothing for an estimate written before dynid recorded them).
+/// `source`, when given, receives where the robot came from: the estimate's model_source for the
+/// model it embeds, else the file loaded (`robot_spec`, or an older estimate's robot_spec).
 Model estimateModel(const std::string& file, const std::string& robot_spec,
                     std::string* spec_used = nullptr, std::string* method = nullptr,
-                    std::optional<PredictionBand>* band = nullptr);
+                    std::optional<PredictionBand>* band = nullptr, ModelSource* source = nullptr);
 
 /// The arm given as an identify estimate.json (its robot loaded, or `robot_spec` when given, with
 /// the estimate's parameters) or as a robot spec (loadRobot with `drive_terms`). Throws as
@@ -64,6 +67,7 @@ Model estimateModel(const std::string& file, const std::string& robot_spec,
 struct LoadedArm {
   Model model;
   std::string robot_spec;      // the robot's spec (the estimate's, or `arm` itself)
+  ModelSource source;          // where the robot came from (documents embed it with the model)
   bool from_estimate = false;  // the parameters came from an estimate.json
   /// The estimate's torque source: the torque constants and gear ratios its motor currents were
   /// converted with (empty: its torques were not currents, or the arm is no estimate).

@@ -46,9 +46,10 @@ PredictOutcome predictRun(const PredictRequest& request) {
     out.model = *request.model;
     out.robot_spec = request.robot_spec;
     out.method = "model";
+    if (!request.robot_spec.empty()) out.source = modelSourceOf(request.robot_spec);
   } else {
     out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
-                              &out.method, &out.band);
+                              &out.method, &out.band, &out.source);
   }
   {  // the rest velocities: a pass over the velocities before the streamed prediction
     const Trajectory data = restSamplesOf(request.data_file, out.model.numJoints());

@@ -10,6 +10,7 @@
 #include "analysis/estimation/streaming.hpp"
 #include "analysis/estimation/training_rows.hpp"
 #include "analysis/logs/rest.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 
@@ -42,6 +43,7 @@ struct PredictRequest {
 struct PredictOutcome {
   Model model;  // the robot with the estimate's standard parameters
   std::string robot_spec, method;
+  ModelSource source;  // where the robot came from (prediction.json embeds it with the model)
   Prediction prediction;
   std::optional<PredictionBand> band;  // the estimate's 95 % band (absent in older estimates)
   std::optional<Validation> raw;       // against the raw torques (raw_file), when given

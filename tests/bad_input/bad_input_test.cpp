@@ -174,6 +174,14 @@ std::string fixtures() {
     std::error_code ignored;
     fs::rename(work, final_dir, ignored);  // another process may have won the race: either will do
     fs::remove_all(work, ignored);
+    // Older binaries' fixtures (and their logs) are no use to this one.
+    const std::string prefix = "bad_input_fixtures.";
+    for (const auto& old : fs::directory_iterator(DYNID_TEST_TMP, ignored)) {
+      const std::string name = old.path().filename().string();
+      if (name.rfind(prefix, 0) == 0 && old.path() != fs::path(final_dir) &&
+          name.find(".tmp.") == std::string::npos)
+        fs::remove_all(old.path(), ignored);
+    }
     return final_dir;
   }();
   return dir;

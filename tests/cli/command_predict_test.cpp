@@ -99,7 +99,10 @@ TEST(Cli, PredictOnAPreparedLogGivesIdentifysHeldOutError) {
   EXPECT_TRUE(contains(r.out, "compared with the filtered torque")) << r.out;
   EXPECT_TRUE(contains(r.out, "(prepare.json: the torque's low-pass)")) << r.out;
   const auto p = nlohmann::json::parse(readFile(dir + "/pred/prediction.json"));
-  EXPECT_EQ(p["schema_version"], 4);
+  EXPECT_EQ(p["schema_version"], 5);
+  // The robot predicted with, embedded (with the estimate's parameters), and where it came from.
+  EXPECT_EQ(p["model"]["name"], e["model"]["name"]);
+  EXPECT_EQ(p["model_source"], e["model_source"]);
   EXPECT_EQ(p["torque_filter"]["cutoff_hz"], 10.0);
   // The same sums in another order (1e-12), the shortest decimal of each kept in the files.
   EXPECT_NEAR(p["relative_error"].get<double>(), e["validation"]["relative_error"].get<double>(),

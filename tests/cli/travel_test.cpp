@@ -87,6 +87,12 @@ TEST(CliTravel, AnEstimateMovedAwayFromItsUrdfGivesTheSameNumbersFromAnotherFold
   auto e = nlohmann::json::parse(readFile((moved / "est/estimate.json").string()));
   EXPECT_EQ(e["model_source"]["file"], "arm.urdf");
   EXPECT_EQ(e["model_source"]["sha256"].get<std::string>().size(), 64u);
+  // What predict, monitor and payload made from it embeds the same robot and source, so that
+  // each of their documents travels too (issue 69, item 1).
+  for (const nlohmann::json* doc : {&after.prediction, &after.thresholds, &after.payload}) {
+    EXPECT_EQ((*doc)["model_source"], e["model_source"]) << (*doc)["kind"];
+    EXPECT_EQ((*doc)["model"]["bodies"].size(), e["model"]["bodies"].size()) << (*doc)["kind"];
+  }
   // An older estimate (version 4, no model embedded) whose robot_spec was typed relative to the
   // folder identify ran in: found beside the estimate, from any folder.
   const fs::path old = root / "old";
