@@ -66,6 +66,7 @@ int runRefine(const std::vector<std::string>& args) {
   request.horizon = vm["horizon"].as<double>();
   request.segments = vm["segments"].as<int>();
   request.robot = loadRobotFromOptions(vm);
+  request.robot_source = modelSourceOf(vm["robot"].as<std::string>());
   request.from_file = vm["from"].as<std::string>();
   request.data_file = vm["data"].as<std::string>();
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();

@@ -107,6 +107,7 @@ int runSearch(const std::vector<std::string>& args) {
                "applies to --method nlo and hybrid, not " + method);
   readSearchSettings(vm, request);
   request.robot = loadRobotFromOptions(vm);
+  request.robot_source = modelSourceOf(vm["robot"].as<std::string>());
   if (vm.count("init")) request.init = loadOtherRobot(vm, "init");
   if (vm.count("perturb")) request.perturb = vm["perturb"].as<double>();
   if (vm.count("truth")) request.truth = loadOtherRobot(vm, "truth");

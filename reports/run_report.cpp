@@ -9,6 +9,7 @@
 #include "analysis/records/search_record.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
+#include "reports/model_report.hpp"
 
 namespace dynid {
 
@@ -47,6 +48,7 @@ json searchJson(const SearchOutcome& o) {
   if (!o.validate_file.empty())
     report["validation"] =
         validationJson(o.validate_file, o.validate_initial_gc, o.validate_final_gc);
+  embedModel(report, o.model, o.source);  // the robot searched on (nominal parameters)
   return report;
 }
 
@@ -205,6 +207,7 @@ json refineJson(const RefineOutcome& o) {
   if (!o.validate_file.empty())
     report["validation"] =
         validationJson(o.validate_file, o.validate_initial_gc, o.validate_final_gc);
+  embedModel(report, o.model, o.source);  // the robot refined on (nominal parameters)
   return report;
 }
 

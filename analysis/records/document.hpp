@@ -27,9 +27,11 @@ struct DocumentType {
 // spec, the file's name and SHA-256): it is read without the robot's file, from any folder.
 inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 5};  // identify
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
-inline constexpr DocumentType kSearchDocument{"dynid.search", 1};
+// search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and
+// model_source; search.json 1 is still read by refine --from.
+inline constexpr DocumentType kSearchDocument{"dynid.search", 2};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};
-inline constexpr DocumentType kRefineDocument{"dynid.refine", 1};
+inline constexpr DocumentType kRefineDocument{"dynid.refine", 2};
 // prepare.json 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled
 // repeats, current_to_torque.
 inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};

@@ -43,12 +43,18 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
     if (start.contains("settings") && start.contains("estimate")) {
       out.kind = "search";
       const JsonReader read(from);
-      read.header(start, 1, nullptr);
+      // Version 1 (before the robot was embedded) reads the same: model and model_source
+      // are for the record (refine runs on its own --robot).
+      const bool first = start.contains("schema_version") && start["schema_version"] == 1;
+      read.header(start, first ? 1 : kSearchDocument.schema_version, nullptr);
       read.onlyKeys(start, "",
                     {"schema_version", "kind", "method", "robot", "settings", "termination",
                      "initial_gc_error", "final_gc_error", "estimate", "initial_estimate",
                      "history", "evaluations", "seconds", "initial_parameter_error",
-                     "final_parameter_error", "evaluated", "validation"});
+                     "final_parameter_error", "evaluated", "validation", "model", "model_source"});
+      if (start.contains("model")) read.object(start["model"], "model");
+      if (start.contains("model_source"))
+        modelSourceFrom(start["model_source"], from, "model_source");
       const json& s = read.field(start, "", "settings");
       read.onlyKeys(s, "settings",
                     {"form",

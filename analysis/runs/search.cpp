@@ -99,6 +99,9 @@ SearchOutcome searchRun(const SearchRequest& request) {
   estimation.truth_full = request.truth ? &truth_full : nullptr;
   MethodRunner runner(std::move(estimation));
   out.robot = robot.name;
+  out.model = robot;
+  out.source = request.robot_source.spec.empty() ? ModelSource{robot.name, "", ""}  // in memory
+                                                 : request.robot_source;
   out.method = request.method;
   out.space = runner.sharedSpace(request.method);
   const ParameterSpace& space = *out.space;
@@ -136,6 +139,9 @@ RefineOutcome refineRun(const RefineRequest& request) {
   const Model& robot = request.robot;
   RefineOutcome out;
   out.robot = robot.name;
+  out.model = robot;
+  out.source = request.robot_source.spec.empty() ? ModelSource{robot.name, "", ""}  // in memory
+                                                 : request.robot_source;
   out.from_file = request.from_file;
   out.data_file = request.data_file;
   out.options = request.options;

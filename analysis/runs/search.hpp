@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/estimation/methods.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 #include "core/run_control.hpp"
@@ -28,6 +29,7 @@ namespace dynid {
 
 struct SearchRequest {
   Model robot;
+  ModelSource robot_source;       // where `robot` came from (search.json embeds both)
   Method method = Method::kNlo;   // nlo, ga or hybrid
   std::optional<Model> init;      // initial estimate (default: the robot's parameters)
   std::optional<double> perturb;  // or: the robot's parameters perturbed by up to this fraction
@@ -54,6 +56,8 @@ struct SearchRequest {
 
 struct SearchOutcome {
   std::string robot;
+  Model model;         // the request's robot (nominal parameters), as search.json embeds it
+  ModelSource source;  // and where it came from
   Method method = Method::kNlo;
   nlohmann::json settings;  // search.json's "settings" (analysis/records/search_record.hpp)
   std::shared_ptr<const ParameterSpace> space;
@@ -70,7 +74,8 @@ SearchOutcome searchRun(const SearchRequest& request);
 
 struct RefineRequest {
   Model robot;
-  std::string from_file;  // a search.json (dynid search) or an estimate.json (dynid identify)
+  ModelSource robot_source;  // where `robot` came from (refine.json embeds both)
+  std::string from_file;     // a search.json (dynid search) or an estimate.json (dynid identify)
   std::optional<nlohmann::json> from_document;  // that document in memory (from_file names it)
   std::string data_file, validate_file;
   const Trajectory* data = nullptr;  // data in memory instead of data_file (not owned)
@@ -90,6 +95,8 @@ struct RefineRequest {
 
 struct RefineOutcome {
   std::string robot;
+  Model model;         // the request's robot (nominal parameters), as refine.json embeds it
+  ModelSource source;  // and where it came from
   std::string from_file, from_kind;  // "search" or "estimate"
   std::string data_file;
   std::shared_ptr<const ParameterSpace> space;

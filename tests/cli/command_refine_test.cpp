@@ -22,6 +22,39 @@ using test::contains;
 using test::Result;
 using test::run;
 
+// search.json and refine.json 2 embed the robot (model, model_source); refine --from still reads
+// a search.json 1, which has neither.
+TEST(Cli, RefineReadsEitherSearchVersionAndBothEmbedTheRobot) {
+  const std::string train = test::tempPath("embed_train.csv"), dir = test::tempPath("embed_s");
+  ASSERT_EQ(run("simulate --robot puma560 --duration 2 --out " + train).code, 0);
+  ASSERT_EQ(run("search --method ga --robot puma560 --data " + train +
+                " --perturb 0.1 --seed 1 --segments 10 --threads 1 --population 6 "
+                "--budget-evals 12 --out " +
+                dir)
+                .code,
+            0);
+  auto s = nlohmann::json::parse(readFile(dir + "/search.json"));
+  EXPECT_EQ(s["schema_version"], 2);
+  EXPECT_EQ(s["model"]["name"], "puma560");
+  EXPECT_EQ(s["model_source"]["spec"], "puma560");
+  s["schema_version"] = 1;
+  s.erase("model");
+  s.erase("model_source");
+  const std::string old = test::tempPath("embed_search_v1.json");
+  std::ofstream(old) << s.dump();
+  for (const std::string& from : {dir + "/search.json", old}) {
+    const std::string out = test::tempPath("embed_refined");
+    std::filesystem::remove_all(out);
+    const Result r = run("refine --robot puma560 --from " + from + " --data " + train +
+                         " --max-iterations 2 --threads 1 --out " + out);
+    ASSERT_EQ(r.code, 0) << from << ": " << r.err;
+    const auto j = nlohmann::json::parse(readFile(out + "/refine.json"));
+    EXPECT_EQ(j["schema_version"], 2);
+    EXPECT_EQ(j["model_source"]["spec"], "puma560");
+    EXPECT_EQ(j["model"]["bodies"].size(), 6u);  // the PUMA's six links
+  }
+}
+
 TEST(Cli, RefineFromASearchAndFromAnEstimate) {
   const std::string train = test::tempPath("refine_train.csv"), dir = test::tempPath("refine_s"),
                     refined = test::tempPath("refined");
