@@ -51,6 +51,7 @@ const std::vector<CommandEntry>& commandTable() {
        "a grid of study runs in parallel, resumable and shardable; merge",
        runBatch,
        {"merge"}},
+      {"upgrade", "rewrite a document of an earlier version in the current one", runUpgrade, {}},
       {"completion", "a bash or zsh completion script for dynid", runCompletion, {}},
       {"man", "write dynid's man pages", runManPages, {}},
   };

@@ -23,5 +23,6 @@ int runExcite(const std::vector<std::string>& args);
 int runPayload(const std::vector<std::string>& args);
 int runMonitor(const std::vector<std::string>& args);
 int runAudit(const std::vector<std::string>& args);
+int runUpgrade(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

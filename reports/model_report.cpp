@@ -144,13 +144,6 @@ std::string modelDocument(const Model& model, const std::string& format) {
   throw InputError("the format must be urdf, json or mjcf, not '" + format + "'");
 }
 
-nlohmann::json modelSourceJson(const ModelSource& source) {
-  const auto orNull = [](const std::string& s) {
-    return s.empty() ? nlohmann::json() : nlohmann::json(s);
-  };
-  return {{"spec", source.spec}, {"file", orNull(source.file)}, {"sha256", orNull(source.sha256)}};
-}
-
 void embedModel(nlohmann::json& document, const Model& model, const ModelSource& source) {
   document["model"] = nlohmann::json::parse(modelToJson(model));
   document["model_source"] = modelSourceJson(source);

@@ -23,8 +23,6 @@ nlohmann::json modelCheckJson(const Model& model,
 /// The model as a file of `format`: "urdf", "json" (dynid's) or "mjcf" (MuJoCo). Throws
 /// InputError for another format.
 std::string modelDocument(const Model& model, const std::string& format);
-/// model_source: {spec, file, sha256}, the last two null for a built-in robot.
-nlohmann::json modelSourceJson(const ModelSource& source);
 /// Embeds the robot a document used: "model" (dynid JSON, with its parameters: loadable from the
 /// document alone) and "model_source" (where it came from).
 void embedModel(nlohmann::json& document, const Model& model, const ModelSource& source);

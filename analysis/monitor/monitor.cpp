@@ -7,6 +7,8 @@
 #include "analysis/monitor/calibration.hpp"
 #include "analysis/monitor/feeds.hpp"
 #include "analysis/monitor/watch.hpp"
+#include "analysis/records/document.hpp"
+#include "analysis/records/upgrade.hpp"
 #include "analysis/runs/arm.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -149,6 +151,10 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
     out.thresholds = calibrate(model, request, gain, out.warnings);
   } else {
     out.thresholds = readBackThresholds(request, model, gain);
+    if (out.thresholds.schema_version < kMonitorThresholdsDocument.schema_version)
+      out.warnings.push_back(olderVersionNote(
+          request.thresholds_file, kMonitorThresholdsDocument.kind, out.thresholds.schema_version,
+          kMonitorThresholdsDocument.schema_version));
     gain = out.thresholds.gain;
   }
   // The monitored pass.

@@ -259,6 +259,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "model",
                  "model_source"});
   EstimateRecord out;
+  out.schema_version = version;
   if (document.contains("rest_velocity")) {
     const json& rest = read.object(document["rest_velocity"], "rest_velocity");
     const json& velocity =

@@ -32,6 +32,7 @@ RefineStart refineStartFrom(const nlohmann::json& document, const std::string& f
 
 /// What predict and refine read from an `identify` estimate.json.
 struct EstimateRecord {
+  int schema_version = 0;                  // the version it was written in (read as it is)
   std::string robot_spec;                  // "" when the estimate does not say
   std::string method;                      // "" when absent
   std::vector<std::string> drive_terms;    // keys: "fv", "fc", ...

@@ -17,6 +17,21 @@ ModelSource modelSourceOf(const std::string& spec) {
   return out;
 }
 
+nlohmann::json modelSourceJson(const ModelSource& source) {
+  const auto orNull = [](const std::string& s) {
+    return s.empty() ? nlohmann::json() : nlohmann::json(s);
+  };
+  return {{"spec", source.spec}, {"file", orNull(source.file)}, {"sha256", orNull(source.sha256)}};
+}
+
+std::string specBesideDocument(const std::string& spec, const std::string& document_file) {
+  std::error_code error;
+  const std::filesystem::path path(spec);
+  if (path.is_absolute() || std::filesystem::exists(path, error)) return spec;
+  const std::filesystem::path beside = std::filesystem::path(document_file).parent_path() / path;
+  return std::filesystem::is_regular_file(beside, error) ? beside.string() : spec;
+}
+
 ModelSource modelSourceFrom(const nlohmann::json& value, const std::string& file,
                             const std::string& path) {
   const JsonReader read(file);

@@ -20,6 +20,15 @@ struct ModelSource {
 /// built-in robot, the spec alone. Throws InputError when the file cannot be read.
 ModelSource modelSourceOf(const std::string& spec);
 
+/// model_source as documents write it: {spec, file, sha256}, the last two null for a built-in
+/// robot.
+nlohmann::json modelSourceJson(const ModelSource& source);
+
+/// A robot spec a document recorded as typed where it was made: as it is when it names a built-in
+/// robot or a file found from here, else relative to the document's folder when a file is found
+/// there (a document's own relative paths are its folder's).
+std::string specBesideDocument(const std::string& spec, const std::string& document_file);
+
 /// model_source of a document (`path` names it in messages, "model_source"): an object with
 /// exactly spec, file and sha256, the last two null or strings, sha256 64 lowercase hex digits.
 /// Throws ParseError naming `file` and the field.

@@ -124,6 +124,7 @@ MonitorThresholds readMonitorThresholds(const std::string& file) {
   if (document.contains("model_source"))
     modelSourceFrom(document["model_source"], file, "model_source");
   MonitorThresholds out;
+  out.schema_version = version;
   out.robot = read.string(document, "", "robot");
   out.joint_names = read.strings(read.field(document, "", "joints"), "joints");
   const long n = static_cast<long>(out.joint_names.size());

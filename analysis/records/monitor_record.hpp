@@ -24,6 +24,7 @@ enum class MonitorResidual { kObserver, kDirect };
 
 /// Thresholds per joint, and where they came from.
 struct MonitorThresholds {
+  int schema_version = 0;                // read back: the version it was written in
   std::string robot;                     // the model's name
   std::vector<std::string> joint_names;  // they must match the monitored robot's
   MonitorResidual residual = MonitorResidual::kObserver;

@@ -7,6 +7,7 @@
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/estimate_record.hpp"
+#include "analysis/records/upgrade.hpp"
 #include "core/aba.hpp"
 #include "core/crba.hpp"
 #include "core/data.hpp"
@@ -92,17 +93,6 @@ Model embeddedModel(const EstimateRecord& estimate, const std::string& file) {
   return model;
 }
 
-/// An older estimate's robot_spec, written as typed where identify ran: as it is when it names a
-/// built-in robot or a file found from here, else relative to the estimate's folder when a file is
-/// found there.
-std::string ownSpec(const std::string& spec, const std::string& file) {
-  std::error_code error;
-  const std::filesystem::path path(spec);
-  if (path.is_absolute() || std::filesystem::exists(path, error)) return spec;
-  const std::filesystem::path beside = std::filesystem::path(file).parent_path() / path;
-  return std::filesystem::is_regular_file(beside, error) ? beside.string() : spec;
-}
-
 }  // namespace
 
 std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model) {
@@ -157,8 +147,8 @@ Model estimateModel(const std::string& file, const std::string& robot_spec, std:
     model = embeddedModel(estimate, file);  // the robot the estimate embeds: no file needed
   } else if (robot_spec.empty()) {
     try {  // the robot an older estimate names: a failure names the estimate and its field
-      model = loadRobot(ownSpec(spec, file), options);
-      from = modelSourceOf(ownSpec(spec, file));
+      model = loadRobot(specBesideDocument(spec, file), options);
+      from = modelSourceOf(specBesideDocument(spec, file));
       from.spec = spec;
     } catch (const Error& e) {
       throw ParseError(file, 0, "robot_spec", std::string("cannot load its robot: ") + e.what());
@@ -215,12 +205,19 @@ LoadedArm loadArm(const std::string& arm, const std::string& robot_spec,
   if (std::filesystem::path(arm).extension() == ".json" &&
       std::filesystem::is_regular_file(arm, error)) {
     const nlohmann::json document = parseJson(readFile(arm), arm);
-    if (isDocumentOfKind(document, kEstimateDocument)) {
+    // estimate.json 1 wrote no kind: its keys tell it (it was read as a robot model before).
+    const bool untitled_estimate = document.is_object() && !document.contains("kind") &&
+                                   document.contains("standard_estimate") &&
+                                   document.contains("base_parameters");
+    if (isDocumentOfKind(document, kEstimateDocument) || untitled_estimate) {
       if (drive_terms)
         throw InputError(arm + ": an estimate carries its own drive terms; drop `drive_terms`");
       out.model = estimateModel(arm, robot_spec, &out.robot_spec, nullptr, nullptr, &out.source);
       out.from_estimate = true;
       const EstimateRecord record = estimateRecordFrom(document, arm);
+      if (warnings != nullptr && record.schema_version < kEstimateDocument.schema_version)
+        warnings->push_back(olderVersionNote(arm, kEstimateDocument.kind, record.schema_version,
+                                             kEstimateDocument.schema_version));
       out.torque_constants = record.torque_constants;
       out.gear_ratios = record.gear_ratios;
       return out;

@@ -113,5 +113,40 @@ TEST(CliTravel, AnEstimateMovedAwayFromItsUrdfGivesTheSameNumbersFromAnotherFold
             before.prediction["residual_rms"]);
 }
 
+// An estimate dynid wrote in version 1 (a fuzz seed since 2026-11-24): `dynid upgrade` rewrites
+// it in the current version with its robot embedded, and it predicts exactly as the original;
+// monitor says when it reads the original as it is.
+TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
+  const std::string v1 =
+      std::string(DYNID_SOURCE_DIR) + "/tests/fuzz/corpus/estimate_json/puma560_ols.json";
+  const std::string dir = test::tempPath("upgrade_v1");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const Result up = run("upgrade " + v1 + " --out " + dir + "/estimate.json");
+  ASSERT_EQ(up.code, 0) << up.err;
+  EXPECT_TRUE(test::contains(up.err, "dynid.estimate version 1 -> 5")) << up.err;
+  EXPECT_TRUE(test::contains(up.err, "note: embedded the robot it was made for")) << up.err;
+  ASSERT_EQ(run("simulate --robot puma560 --duration 3 --out " + dir + "/d.csv").code, 0);
+  nlohmann::json residuals[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string out = dir + "/pred" + std::to_string(k);
+    const Result p = run("predict --estimate " + (k == 0 ? v1 : dir + "/estimate.json") +
+                         " --data " + dir + "/d.csv --out " + out);
+    ASSERT_EQ(p.code, 0) << p.err;
+    residuals[k] = nlohmann::json::parse(readFile(out + "/prediction.json"))["residual_rms"];
+  }
+  EXPECT_EQ(residuals[1], residuals[0]);
+  const Result m = run("monitor --arm " + v1 + " --data " + dir + "/d.csv --calibration " + dir +
+                       "/d.csv --out " + dir + "/mon");
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_TRUE(test::contains(m.out + m.err,  // among its warnings, on its summary
+                             "is dynid.estimate version 1 (current 5): read as it is; "
+                             "`dynid upgrade "))
+      << m.out << m.err;
+  // The output is a new file, never the document itself; a CSV is no document.
+  EXPECT_EQ(run("upgrade " + dir + "/estimate.json --out " + dir + "/estimate.json").code, 2);
+  EXPECT_EQ(run("upgrade " + dir + "/d.csv --out " + dir + "/x.json").code, 1);
+}
+
 }  // namespace
 }  // namespace dynid

@@ -1,0 +1,148 @@
+// Documents of earlier versions brought to the current one (analysis/records/upgrade.hpp). The
+// version 1 estimate, search and excitation are files dynid wrote then (kept as fuzz seeds since
+// 2026-11-24); later versions of the estimate and the thresholds are made from current documents
+// by the changes document.hpp lists, as no binary of those versions is kept.
+#include "analysis/records/upgrade.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "analysis/records/document.hpp"
+#include "analysis/records/estimate_record.hpp"
+#include "analysis/records/excitation_record.hpp"
+#include "analysis/records/monitor_record.hpp"
+#include "core/errors.hpp"
+#include "data/io.hpp"
+#include "data/model_json.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+std::string seed(const std::string& name) {
+  return std::string(DYNID_SOURCE_DIR) + "/tests/fuzz/corpus/" + name;
+}
+
+std::string asFile(const std::string& name, const nlohmann::json& document) {
+  const std::string path = test::tempPath(name);
+  writeFileAtomically(path, document.dump(2));
+  return path;
+}
+
+// estimate.json 1 (no kind, no rest velocities, no covariance policy, no model) -> 5: the robot
+// it names is embedded, and the current reader takes the result with the same parameters.
+TEST(Upgrade, AVersion1EstimateGetsItsRobotAndReadsAsCurrent) {
+  const std::string file = seed("estimate_json/puma560_ols.json");
+  const UpgradeOutcome up = upgradeDocument({file, ""});
+  EXPECT_EQ(up.kind, kEstimateDocument.kind);
+  EXPECT_EQ(up.from, 1);
+  EXPECT_EQ(up.to, kEstimateDocument.schema_version);
+  EXPECT_EQ(up.document["schema_version"], kEstimateDocument.schema_version);
+  EXPECT_EQ(up.document["kind"], kEstimateDocument.kind);
+  EXPECT_EQ(modelFromJson(up.document["model"].dump(), "m").name, "puma560");
+  EXPECT_EQ(up.document["model_source"]["spec"], "puma560");
+  ASSERT_EQ(up.notes.size(), 4u);  // the robot embedded; rest, covariance, fit rows not recorded
+  const EstimateRecord before = estimateRecordFrom(parseJson(readFile(file), file), file);
+  const EstimateRecord after = estimateRecordFrom(up.document, "upgraded");
+  EXPECT_EQ(before.schema_version, 1);
+  EXPECT_EQ(after.schema_version, kEstimateDocument.schema_version);
+  EXPECT_EQ(after.standard, before.standard);
+  EXPECT_EQ(after.drive_terms, before.drive_terms);
+  // Upgrading the current document changes nothing; versions 2 to 4 of it (the same keys, no
+  // model) get the same robot back.
+  const UpgradeOutcome again = upgradeDocument({asFile("upgraded.json", up.document), ""});
+  EXPECT_EQ(again.from, again.to);
+  EXPECT_EQ(again.document, up.document);
+  for (int version = 2; version < kEstimateDocument.schema_version; ++version) {
+    nlohmann::json older = up.document;
+    older["schema_version"] = version;
+    older.erase("model");
+    older.erase("model_source");
+    const UpgradeOutcome o = upgradeDocument({asFile("older.json", older), ""});
+    EXPECT_EQ(o.from, version);
+    EXPECT_EQ(o.document, up.document) << version;
+  }
+}
+
+// search.json 1 -> 2 and excitation.json 1 -> 3: what they did not record stays absent, said.
+TEST(Upgrade, Version1SearchesAndDesignsReadAsCurrent) {
+  const UpgradeOutcome search = upgradeDocument({seed("search_json/ga_search.json"), ""});
+  EXPECT_EQ(search.from, 1);
+  EXPECT_EQ(search.document["schema_version"], kSearchDocument.schema_version);
+  EXPECT_EQ(search.document["kind"], kSearchDocument.kind);
+  EXPECT_FALSE(search.document.contains("model"));
+  EXPECT_EQ(search.notes.size(), 1u);
+  const std::string file = seed("excitation_json/puma560_h2.json");
+  const UpgradeOutcome design = upgradeDocument({file, ""});
+  EXPECT_EQ(design.from, 1);
+  EXPECT_EQ(design.document["schema_version"], kExcitationDocument.schema_version);
+  EXPECT_TRUE(design.document["payload_link"].is_null());
+  EXPECT_FALSE(design.document.contains("model"));  // it was the robot's name
+  const FourierSeries before = excitationDesignFrom(parseJson(readFile(file), file), file, 6);
+  const FourierSeries after = excitationDesignFrom(design.document, "upgraded", 6);
+  EXPECT_EQ(after.a, before.a);
+  EXPECT_EQ(after.offset, before.offset);
+}
+
+// thresholds.json 1 to 3 -> 4: the states and regimes they lacked are null, and they read back.
+TEST(Upgrade, OlderThresholdsGetNullStatesAndRegimes) {
+  const nlohmann::json base = {{"schema_version", kMonitorThresholdsDocument.schema_version},
+                               {"kind", kMonitorThresholdsDocument.kind},
+                               {"robot", "puma560"},
+                               {"joints", {"j1", "j2"}},
+                               {"residual", "observer"},
+                               {"gain", {100.0, 50.0}},
+                               {"thresholds", {2.5, 0.75}},
+                               {"source", "calibration clean.csv"},
+                               {"false_alarms_per_hour", 0.5}};
+  for (int version = 1; version < kMonitorThresholdsDocument.schema_version; ++version) {
+    nlohmann::json older = base;  // version 1's keys; then what each version added, as written
+    older["schema_version"] = version;
+    if (version >= 2) older["rest_velocity"] = older["thresholds_at_rest"] = nullptr;
+    if (version >= 3) older["moving_regimes"] = nullptr;
+    const UpgradeOutcome up = upgradeDocument({asFile("thresholds_old.json", older), ""});
+    EXPECT_EQ(up.from, version);
+    EXPECT_TRUE(up.document["moving_regimes"].is_null());
+    EXPECT_TRUE(up.document["thresholds_at_rest"].is_null()) << version;
+    const MonitorThresholds t = readMonitorThresholds(asFile("thresholds_new.json", up.document));
+    EXPECT_EQ(t.schema_version, kMonitorThresholdsDocument.schema_version);
+    EXPECT_EQ(t.values, Eigen::Vector2d(2.5, 0.75));
+    EXPECT_EQ(t.values_at_rest.size(), 0);
+  }
+}
+
+TEST(Upgrade, RefusesLaterVersionsOtherKindsAndLostRobots) {
+  nlohmann::json later = parseJson(readFile(seed("search_json/ga_search.json")), "s");
+  later["schema_version"] = kSearchDocument.schema_version + 1;
+  try {
+    upgradeDocument({asFile("later.json", later), ""});
+    ADD_FAILURE() << "a later version was upgraded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("written by a newer dynid"), std::string::npos);
+  }
+  const nlohmann::json study = {{"schema_version", 1}, {"kind", "dynid.study"}};
+  try {
+    upgradeDocument({asFile("study.json", study), ""});
+    ADD_FAILURE() << "a study was upgraded";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("no earlier version"), std::string::npos) << e.what();
+  }
+  nlohmann::json lost = parseJson(readFile(seed("estimate_json/puma560_ols.json")), "e");
+  lost["robot_spec"] = "gone.urdf";
+  try {
+    upgradeDocument({asFile("lost.json", lost), ""});
+    ADD_FAILURE() << "an estimate without its robot was upgraded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("'gone.urdf'; give it with `robot`"), std::string::npos)
+        << e.what();
+  }
+  // Given, the robot is embedded from there.
+  EXPECT_EQ(
+      upgradeDocument({asFile("lost.json", lost), "puma560"}).document["model_source"]["spec"],
+      "puma560");
+}
+
+}  // namespace
+}  // namespace dynid
