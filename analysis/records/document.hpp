@@ -74,6 +74,10 @@ inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 /// {"schema_version": ..., "kind": ...}: a document's first keys.
 nlohmann::json documentHeader(const DocumentType& type);
 
+/// The document's schema_version when it is an integer from 1 to `current` - 1 (an earlier
+/// version, which its reader takes as it is), else `current` (the header check then names it).
+int documentVersion(const nlohmann::json& document, int current);
+
 /// Whether `document` is an object whose "kind" is `type`'s (a string; anything else: false).
 bool isDocumentOfKind(const nlohmann::json& document, const DocumentType& type);
 

@@ -219,11 +219,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
   const JsonReader read(file);
   // Every earlier version is read: 1 (no rest velocities), 2 (no covariance policy), 3 (no
   // fit_rows), 4 (no model embedded: the robot is loaded from robot_spec).
-  int version = kEstimateDocument.schema_version;
-  if (document.is_object() && document.contains("schema_version") &&
-      document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
-      document["schema_version"] < version)
-    version = document["schema_version"].get<int>();
+  const int version = documentVersion(document, kEstimateDocument.schema_version);
   read.header(document, version, nullptr);
   if (document.contains("kind") && read.string(document, "", "kind") != kEstimateDocument.kind)
     read.fail("kind", std::string("expected '") + kEstimateDocument.kind + "'");

@@ -17,11 +17,7 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
   // Version 1 (before payload motions) has no payload_link, and versions 1 and 2 name the model
   // in `model` (a string) where version 3 embeds it (an object, with model_source): their
   // designs read the same.
-  int version = kExcitationDocument.schema_version;
-  if (document.is_object() && document.contains("schema_version") &&
-      document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
-      document["schema_version"] < version)
-    version = document["schema_version"].get<int>();
+  const int version = documentVersion(document, kExcitationDocument.schema_version);
   read.header(document, version, kExcitationDocument.kind);
   std::vector<std::string> keys = {"schema_version",
                                    "kind",

@@ -13,16 +13,6 @@ namespace dynid {
 
 namespace {
 
-/// The document's schema_version when it is an integer from 1 to `current`, else `current` (the
-/// header check then names it).
-int documentVersion(const nlohmann::json& document, int current) {
-  if (document.is_object() && document.contains("schema_version") &&
-      document["schema_version"].is_number_integer() && document["schema_version"] >= 1 &&
-      document["schema_version"] < current)
-    return document["schema_version"].get<int>();
-  return current;
-}
-
 /// Version 2's arm states: the rest velocities and, when the calibration held a pose, the
 /// thresholds at rest (null otherwise).
 void readRestThresholds(const JsonReader& read, const nlohmann::json& document, long n,
