@@ -224,7 +224,11 @@ TEST_F(CliMonitor, CtrlCWhileWaitingForSamplesEndsWithTheEventsSoFar) {
   const auto j = nlohmann::json::parse(readFile(dir_ + "/live/monitor.json"));
   EXPECT_TRUE(j["interrupted"].get<bool>());
   EXPECT_EQ(j["events"].size(), 1u);
-  EXPECT_EQ(j["samples"].get<int>(), 2499);
+  // Every sample up to the push's at least, at most the 2499 sent: SIGINT follows the printed
+  // event by up to 0.1 s, and on a loaded machine (the sanitizer suite on 2 busy cores) the
+  // monitor may not yet have read the rest of what was sent by then.
+  EXPECT_GE(j["samples"].get<int>(), 2000);
+  EXPECT_LE(j["samples"].get<int>(), 2499);
 }
 
 TEST_F(CliMonitor, CtrlCDuringTheCalibrationWritesNothingAndSaysSo) {
