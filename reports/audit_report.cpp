@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
@@ -27,34 +28,39 @@ json auditJson(const AuditOutcome& o) {
                           {"p_scaled", numberOrNull(p.p_scaled)},
                           {"flagged", p.flagged},
                           {"farthest_session", p.farthest + 1}});
-  return {{"schema_version", kAuditDocument.schema_version},
-          {"kind", kAuditDocument.kind},
-          {"robot", o.robot},
-          {"method", o.method},
-          {"sessions", o.sessions},
-          {"level", o.level},
-          {"verdict", o.verdict},
-          {"chi2", numberOrNull(o.chi2)},
-          {"dof", o.dof},
-          {"p_value", numberOrNull(o.p_value)},
-          {"flagged", o.flagged},
-          {"flagged_inertial", o.flagged_inertial},
-          {"flagged_friction", o.flagged_friction},
-          {"session_chi2", numbersOrNull(o.session_chi2)},
-          {"covariance_policies", o.covariance_policies},
-          {"dispersion",
-           {{"median_chi2_ratio", numberOrNull(o.dispersion)},
-            {"above_median", numberOrNull(o.above_median)},
-            {"sign_p_value", numberOrNull(o.sign_p_value)},
-            {"sigma_too_small", o.sigma_too_small},
-            {"sigma_scale", numberOrNull(o.sigma_scale)},
-            {"note",
-             "the sigma are too small alike when more than half of the parameters' chi-squares lie "
-             "above their median (sign test, p < 0.01) and the median chi-square is at least 1.5 "
-             "times its expectation (10 parameters or more); parameters are then flagged by the "
-             "test with every sigma times sigma_scale (p_scaled)"}}},
-          {"parameters", parameters},
-          {"warnings", o.warnings}};
+  nlohmann::json out = {
+      {"schema_version", kAuditDocument.schema_version},
+      {"kind", kAuditDocument.kind},
+      {"robot", o.robot},
+      {"method", o.method},
+      {"sessions", o.sessions},
+      {"level", o.level},
+      {"verdict", o.verdict},
+      {"chi2", numberOrNull(o.chi2)},
+      {"dof", o.dof},
+      {"p_value", numberOrNull(o.p_value)},
+      {"flagged", o.flagged},
+      {"flagged_inertial", o.flagged_inertial},
+      {"flagged_friction", o.flagged_friction},
+      {"session_chi2", numbersOrNull(o.session_chi2)},
+      {"covariance_policies", o.covariance_policies},
+      {"dispersion",
+       {{"median_chi2_ratio", numberOrNull(o.dispersion)},
+        {"above_median", numberOrNull(o.above_median)},
+        {"sign_p_value", numberOrNull(o.sign_p_value)},
+        {"sigma_too_small", o.sigma_too_small},
+        {"sigma_scale", numberOrNull(o.sigma_scale)},
+        {"note",
+         "the sigma are too small alike when more than half of the parameters' chi-squares lie "
+         "above their median (sign test, p < 0.01) and the median chi-square is at least 1.5 "
+         "times its expectation (10 parameters or more); parameters are then flagged by the "
+         "test with every sigma times sigma_scale (p_scaled)"}}},
+      {"parameters", parameters},
+      {"warnings", o.warnings}};
+  // The robot audited (the first session's; sessions share it), as estimates embed it.
+  if (!o.model.is_null()) out["model"] = o.model;
+  out["model_source"] = modelSourceJson(o.source);
+  return out;
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include "analysis/records/document.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
+#include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
 #include "reports/prediction_report.hpp"
@@ -97,21 +98,23 @@ nlohmann::json logStudyJson(const LogStudyOutcome& o) {
                    {"seconds", r.seconds},
                    {"note", r.note}};
   }
-  return {{"schema_version", kStudyDocument.schema_version},
-          {"kind", kStudyDocument.kind},
-          {"robot_spec", o.robot_spec},
-          {"data", {{"train", o.data_file}, {"test", o.validate_file}}},
-          {"samples", {{"train", o.train_samples}, {"test", o.test_samples}}},
-          {"gc",
-           {{"horizon", o.horizon},
-            {"segments_train", o.train_segments},
-            {"segments_test", o.test_segments}}},
-          {"num_base", o.num_base},
-          {"num_standard", o.num_standard},
-          {"order", order},
-          {"methods", rows},
-          {"interrupted", o.interrupted},
-          {"seconds", o.seconds}};
+  nlohmann::json out = {{"schema_version", kStudyDocument.schema_version},
+                        {"kind", kStudyDocument.kind},
+                        {"robot_spec", o.robot_spec},
+                        {"data", {{"train", o.data_file}, {"test", o.validate_file}}},
+                        {"samples", {{"train", o.train_samples}, {"test", o.test_samples}}},
+                        {"gc",
+                         {{"horizon", o.horizon},
+                          {"segments_train", o.train_segments},
+                          {"segments_test", o.test_segments}}},
+                        {"num_base", o.num_base},
+                        {"num_standard", o.num_standard},
+                        {"order", order},
+                        {"methods", rows},
+                        {"interrupted", o.interrupted},
+                        {"seconds", o.seconds}};
+  embedModel(out, o.model, o.source);  // the robot studied
+  return out;
 }
 
 std::string logStudyTable(const LogStudyOutcome& o) {

@@ -44,7 +44,8 @@ inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 3};
 // errors are over the rows a fit takes: a joint at rest with friction that needs sign(dq) is not).
 // 5: model (the robot and parameters predicted with, as a dynid JSON model) and model_source.
 inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 5};
-inline constexpr DocumentType kStudyDocument{"dynid.study", 1};
+// study.json 2: model (the robot studied, nominal parameters) and model_source.
+inline constexpr DocumentType kStudyDocument{"dynid.study", 2};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
@@ -56,7 +57,9 @@ inline constexpr DocumentType kPayloadDocument{"dynid.payload", 3};  // dynid pa
 inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
 // parameter's p_scaled.
-inline constexpr DocumentType kAuditDocument{"dynid.audit", 2};  // dynid audit
+// audit.json 3: model (the sessions' robot, as the first estimate embeds it; absent for an
+// estimate.json before 5) and model_source.
+inline constexpr DocumentType kAuditDocument{"dynid.audit", 3};  // dynid audit
 // monitor.json 2: each event's contact_link (contact isolation), calibration_confidence. 3: each
 // event's state (rest or moving), the thresholds' version 2. 4: the thresholds' version 3, each
 // event's regime (moving: the peak joint's regime; null at rest). 5: model and model_source (the

@@ -12,6 +12,7 @@
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
+#include "data/model_json.hpp"
 #include "data/robots.hpp"
 
 namespace dynid {
@@ -31,6 +32,8 @@ namespace {
 /// A session's base parameters: names, expressions, estimates and standard deviations.
 struct Session {
   std::string file, robot, method, covariance_policy;
+  nlohmann::json model;  // its robot, as the estimate embeds it (null before estimate.json 5)
+  ModelSource source;
   std::vector<std::string> drive_terms, names, expressions;
   Eigen::VectorXd estimate, std_dev;
 };
@@ -42,6 +45,8 @@ Session readEstimate(const std::string& file) {
   Session s;
   s.file = file;
   s.robot = record.robot_spec;
+  s.model = record.model;
+  s.source = {record.robot_spec, record.model_file, record.model_sha256};
   s.method = record.method;
   s.covariance_policy = record.covariance_policy;
   s.drive_terms = record.drive_terms;
@@ -65,6 +70,8 @@ Session identifyLog(const AuditRequest& request, const std::string& file) {
   Session s;
   s.file = file;
   s.robot = request.robot;
+  s.model = nlohmann::json::parse(modelToJson(identify.model));
+  s.source = modelSourceOf(request.robot);
   s.method = methodName(request.method);
   s.covariance_policy = o.result.covariance.policy;
   s.drive_terms = driveTermsKeys(identify.model.driveTerms());
@@ -206,6 +213,8 @@ AuditOutcome auditRun(const AuditRequest& request) {
   }
   AuditOutcome o;
   o.robot = first.robot;
+  o.model = first.model;
+  o.source = first.source;
   o.method = first.method;
   o.level = request.level;
   for (const Session& s : sessions) {

@@ -10,7 +10,10 @@
 
 #include <Eigen/Core>
 
+#include <nlohmann/json.hpp>
+
 #include "analysis/estimation/methods.hpp"
+#include "analysis/records/model_source.hpp"
 #include "core/parameters.hpp"
 
 namespace dynid {
@@ -57,6 +60,9 @@ struct AuditParameter {
 
 struct AuditOutcome {
   std::string robot;
+  nlohmann::json
+      model;           // the first session's robot as a dynid JSON model (null: an older estimate)
+  ModelSource source;  // and where it came from
   std::vector<std::string> sessions;  // the files, in order
   std::string method;
   std::vector<AuditParameter> parameters;

@@ -113,6 +113,9 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   robot.rest_velocities = restThresholds(measureRestVelocities(train.dq, train.time));
   LogStudyOutcome out;
   out.robot_spec = request.robot_spec;
+  out.model = request.robot;
+  out.source = request.robot_spec.empty() ? ModelSource{request.robot.name, "", ""}
+                                          : modelSourceOf(request.robot_spec);
   out.data_file = request.data_file;
   out.validate_file = request.validate_file;
   out.drive_terms = driveTermsText(robot.driveTerms());

@@ -65,6 +65,8 @@ struct LogStudyRow {
 
 struct LogStudyOutcome {
   std::string robot_spec, data_file, validate_file;
+  Model model;         // the robot studied (nominal parameters), as study.json embeds it
+  ModelSource source;  // and where it came from
   /// The settings an identify of the recommended method repeats: the drive terms ("ia,fv,fc",
   /// "none"), the segments, the pc prior's weight and the combined estimator's (the refinements'
   /// budgets).

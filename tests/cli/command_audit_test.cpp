@@ -43,6 +43,10 @@ TEST(Cli, AuditFromLogsAndFromTheirEstimatesAgrees) {
   EXPECT_EQ(a["chi2"], b["chi2"]);
   EXPECT_EQ(a["verdict"], b["verdict"]);
   EXPECT_EQ(a["parameters"].size(), a["parameters"].size());
+  // The robot audited, embedded either way: identified here, or as the estimates embed it.
+  EXPECT_EQ(a["model"], b["model"]);
+  EXPECT_EQ(a["model_source"], b["model_source"]);
+  EXPECT_EQ(b["model_source"]["spec"], "puma560");
   EXPECT_TRUE(contains(from_logs.out, "3 sessions of puma560 (ols)")) << from_logs.out;
   const std::string html = readFile(dir + "/a1/report.html");
   EXPECT_TRUE(test::opensWithVerdict(html, {"Compared", "Verdict", "How sure", "Moved", "Next"}));

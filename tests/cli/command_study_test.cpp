@@ -38,7 +38,8 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
                        "best"))
       << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["model"]["name"], "puma560");  // the robot studied, embedded
   EXPECT_EQ(j["order"],
             (std::vector<std::string>{"model", "start", "ols", "pc", "ga", "ga_refined"}));
   for (const char* key : {"torque_relative_error_train", "torque_relative_error_test",
