@@ -493,11 +493,10 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
   checkXmlDepth(text, file);
   // Another robot format given where a URDF is read: say which, before urdfdom's "no robot".
   if (const auto [root, line] = rootElement(text); root == "mujoco")
-    throw ParseError(
-        file, line, root,
-        "an MJCF (MuJoCo) model, not a URDF: dynid reads robots from URDF files and "
-        "dynid JSON models (docs/MODEL.md); use the robot's URDF, or write its links "
-        "as a dynid JSON model (MJCF goes the other way: `model export --format mjcf`)");
+    throw ParseError(file, line, root,
+                     "an MJCF (MuJoCo) model, not a URDF: dynid reads robots from URDF files and "
+                     "dynid JSON models (docs/MODEL.md); use the robot's URDF, or write its links "
+                     "as a dynid JSON model (dynid writes MJCF from a model, it does not read it)");
   else if (root == "sdf")
     throw ParseError(file, line, root,
                      "an SDFormat (Gazebo) model, not a URDF: dynid reads robots from URDF files "

@@ -25,8 +25,8 @@ const DocumentType* kindOf(const json& d, const std::string& file) {
     throw ParseError(file, 0, "kind",
                      (d["kind"].is_string() ? "'" + d["kind"].get<std::string>() + "'"
                                             : std::string("this kind")) +
-                         " has no earlier version to upgrade: dynid upgrade takes estimate, "
-                         "excitation, monitor thresholds and search documents");
+                         " has no earlier version to upgrade: only estimate, excitation, monitor "
+                         "thresholds and search documents do");
   }
   if (d.contains("standard_estimate") && d.contains("base_parameters")) return &kEstimateDocument;
   if (d.contains("settings") && d.contains("history") && d.contains("estimate"))
@@ -145,8 +145,8 @@ UpgradeOutcome upgradeDocument(const UpgradeRequest& request) {
 std::string olderVersionNote(const std::string& file, const std::string& kind, int version,
                              int current) {
   return file + " is " + kind + " version " + std::to_string(version) + " (current " +
-         std::to_string(current) + "): read as it is; `dynid upgrade " + file +
-         " --out NEW` rewrites it in version " + std::to_string(current);
+         std::to_string(current) + "): read as it is; upgrading the document rewrites it in " +
+         "version " + std::to_string(current);
 }
 
 }  // namespace dynid

@@ -34,7 +34,7 @@ struct UpgradeOutcome {
 UpgradeOutcome upgradeDocument(const UpgradeRequest& request);
 
 /// One line for a reader of an older document: "FILE is KIND version N (current M): read as it
-/// is; `dynid upgrade FILE --out NEW` rewrites it in version M".
+/// is; upgrading the document rewrites it in version M" (the front ends name their upgrade).
 std::string olderVersionNote(const std::string& file, const std::string& kind, int version,
                              int current);
 

@@ -141,7 +141,7 @@ TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
   ASSERT_EQ(m.code, 0) << m.err;
   EXPECT_TRUE(test::contains(m.out + m.err,  // among its warnings, on its summary
                              "is dynid.estimate version 1 (current 5): read as it is; "
-                             "`dynid upgrade "))
+                             "upgrading the document rewrites it in version 5"))
       << m.out << m.err;
   // The output is a new file, never the document itself; a CSV is no document.
   EXPECT_EQ(run("upgrade " + dir + "/estimate.json --out " + dir + "/estimate.json").code, 2);
