@@ -12,23 +12,12 @@
 #include <utility>
 #include <vector>
 
+#include "cli/common.hpp"
 #include "core/errors.hpp"
 
 extern char** environ;
 
 namespace dynid::cli {
-
-namespace {
-
-/// This executable's path, to start the workers.
-std::string selfExecutable() {
-  std::error_code ec;
-  const auto path = std::filesystem::read_symlink("/proc/self/exe", ec);
-  if (ec) throw InputError("cannot find the dynid executable (/proc/self/exe)");
-  return path.string();
-}
-
-}  // namespace
 
 BatchOutcome runBatchWorkers(const BatchPlan& plan, int jobs, const std::atomic<bool>* stop,
                              const std::function<void(const FinishedRun&)>& on_finished) {

@@ -1,6 +1,7 @@
 // dynid identifiability: which standard parameters (and combinations) the torques determine.
 #include <iostream>
 
+#include "analysis/records/provenance.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "core/format.hpp"
@@ -32,7 +33,7 @@ int runIdentifiability(const std::vector<std::string>& args) {
       model, structural, vm.count("data") ? vm["data"].as<std::string>() : "", threadsOption(vm));
   const nlohmann::json report = identifiabilityJson(model, outcome);
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"identifiability.json", jsonText(report, 2) + "\n"},
+  writeReportFiles(dir, {{"identifiability.json", jsonText(withProvenance(report), 2) + "\n"},
                          {"identifiability.md", identifiabilityMarkdown(model, outcome)}});
   if (outcome.base.rankGap() < 1e4)
     std::cerr << "warning: the rank gap is only " << formatNumber(outcome.base.rankGap(), 4)

@@ -9,6 +9,7 @@
 
 #include <boost/make_shared.hpp>
 
+#include "analysis/records/provenance.hpp"
 #include "cli/common.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
@@ -253,6 +254,13 @@ bool parseCommandLine(const std::vector<std::string>& args, const po::options_de
         for (const std::string& t : *texts)
           if (t.empty()) throw UsageError("--" + name + " has an empty value");
     }
+    // The seed and threads the command runs with, defaults included: its documents' provenance.
+    if (vm.count("seed"))
+      if (const auto* seed = boost::any_cast<std::uint64_t>(&vm["seed"].value()))
+        noteRunSeed(*seed);
+    if (vm.count("threads"))
+      if (const auto* threads = boost::any_cast<int>(&vm["threads"].value()))
+        noteRunThreads(*threads);
   } catch (const po::error& e) {
     throw UsageError(std::string(e.what()) + "\nusage: " + usage + " (--help for the options)");
   }

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/records/provenance.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "core/format.hpp"
@@ -86,7 +87,7 @@ int runRefine(const std::vector<std::string>& args) {
   const RefineOutcome outcome = refineRun(request);
   if (terminal) std::fprintf(stderr, "\n");
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"refine.json", jsonText(refineJson(outcome), 1) + "\n"}});
+  writeReportFiles(dir, {{"refine.json", jsonText(withProvenance(refineJson(outcome)), 1) + "\n"}});
   if (const std::string warning = refineWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << refineSummary(outcome, dir);

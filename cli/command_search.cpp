@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "analysis/records/provenance.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "data/json_number.hpp"
@@ -126,7 +127,7 @@ int runSearch(const std::vector<std::string>& args) {
   const SearchOutcome outcome = searchRun(request);
   if (terminal) std::fprintf(stderr, "\n");
   const std::string dir = vm["out"].as<std::string>();
-  writeReportFiles(dir, {{"search.json", jsonText(searchJson(outcome), 1) + "\n"}});
+  writeReportFiles(dir, {{"search.json", jsonText(withProvenance(searchJson(outcome)), 1) + "\n"}});
   std::cout << searchSummary(outcome, dir);
   return exitAfter(guard, "search", "wrote the best parameters so far to " + dir + "/search.json");
 }

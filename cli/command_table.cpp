@@ -52,6 +52,7 @@ const std::vector<CommandEntry>& commandTable() {
        runBatch,
        {"merge"}},
       {"upgrade", "rewrite a document of an earlier version in the current one", runUpgrade, {}},
+      {"rerun", "run a document's recorded command again and compare", runRerun, {}},
       {"completion", "a bash or zsh completion script for dynid", runCompletion, {}},
       {"man", "write dynid's man pages", runManPages, {}},
   };

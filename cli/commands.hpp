@@ -24,5 +24,6 @@ int runPayload(const std::vector<std::string>& args);
 int runMonitor(const std::vector<std::string>& args);
 int runAudit(const std::vector<std::string>& args);
 int runUpgrade(const std::vector<std::string>& args);
+int runRerun(const std::vector<std::string>& args);
 
 }  // namespace dynid::cli

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <limits>
 #include <sstream>
 
 #include <boost/make_shared.hpp>
 
+#include "analysis/records/provenance.hpp"
 #include "cli/build_info.hpp"
 #include "cli/spelling.hpp"
 #include "core/format.hpp"
@@ -27,6 +29,25 @@ extern "C" void onInterrupt(int) { sigint_seen.store(true); }
 }  // namespace
 
 std::string versionText() { return std::string(DYNID_VERSION) + " (commit " + kBuildCommit + ")"; }
+
+std::string selfExecutable() {
+  std::error_code ec;
+  const auto path = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) throw InputError("cannot find the dynid executable (/proc/self/exe)");
+  return path.string();
+}
+
+void beginCommandRun(const std::vector<std::string>& arguments) {
+  RunProvenance run;
+  run.interface = "cli";
+  run.version = DYNID_VERSION;
+  run.commit = kBuildCommit;
+  run.command = {"dynid"};
+  run.command.insert(run.command.end(), arguments.begin(), arguments.end());
+  std::error_code error;
+  run.working_directory = std::filesystem::current_path(error).string();
+  beginRun(std::move(run));
+}
 
 std::string outputDirectoryOption(const po::variables_map& vm) {
   const std::string dir = vm["out"].as<std::string>();

@@ -61,6 +61,10 @@ void setOptionCatalogue(std::vector<CommandOptions>* catalogue);
 /// The build's version and commit: "0.2.0 (commit 1a2b3c4d5e6f)".
 std::string versionText();
 
+/// Begins the run its documents' provenance records (records/provenance.hpp): `arguments` (the
+/// command line after "dynid"), this dynid's version and commit, the working directory.
+void beginCommandRun(const std::vector<std::string>& arguments);
+
 /// The value of --out for a command that writes a directory; "-" (standard output, one file) is
 /// a usage error. Checks that the directory can be written before the work starts.
 std::string outputDirectoryOption(const po::variables_map& vm);
@@ -146,6 +150,10 @@ bool given(const po::variables_map& vm, const char* option);
 /// method or mode would ignore ("--population applies to --method ga and hybrid, not nlo").
 void refuseUnused(const po::variables_map& vm, bool used,
                   std::initializer_list<const char*> options, const std::string& applies);
+
+/// This executable's path (/proc/self/exe), to start it again: batch's workers, a rerun. Throws
+/// InputError when it cannot be found.
+std::string selfExecutable();
 
 /// Whether standard error is a terminal (progress lines go there only then).
 bool stderrIsTerminal();

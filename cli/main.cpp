@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   // A command never overwrites its own inputs; its output sets are recorded under its name.
   const dynid::InputFileGuard inputs;
   dynid::OutputSet::setCommand(command == "model" && !args.empty() ? "model-" + args[0] : command);
+  beginCommandRun(all);  // what its documents' provenance records
   try {
     return entry->run(args);
   } catch (const UsageError& e) {

@@ -45,15 +45,22 @@ void unregisterTemporary(int slot) {
   if (slot >= 0) live_temporaries[slot].store(nullptr);
 }
 
-// The inputs of the command (InputFileGuard): device and inode of every file read.
+// The inputs of the command (InputFileGuard): device and inode of every regular file read, and
+// every input's path as first named, in the order first read (streams too).
 std::mutex input_mutex;
 bool inputs_guarded = false;
 std::vector<std::pair<dev_t, ino_t>> input_files;
+std::vector<CommandInput> input_paths;
 
-void noteInput(const struct stat& st) {
-  if (!S_ISREG(st.st_mode)) return;
+void noteInput(const struct stat& st, const std::string& path) {
+  const bool regular = S_ISREG(st.st_mode);
   const std::lock_guard<std::mutex> lock(input_mutex);
-  if (inputs_guarded) input_files.emplace_back(st.st_dev, st.st_ino);
+  if (!inputs_guarded) return;
+  const auto id = std::make_pair(st.st_dev, st.st_ino);
+  if (regular && std::find(input_files.begin(), input_files.end(), id) != input_files.end())
+    return;  // read again (a second pass), or under another name: recorded once
+  if (regular) input_files.push_back(id);
+  input_paths.push_back({path, regular});
 }
 
 bool isInput(const struct stat& st) {
@@ -267,12 +274,24 @@ InputFileGuard::InputFileGuard() {
   const std::lock_guard<std::mutex> lock(input_mutex);
   inputs_guarded = true;
   input_files.clear();
+  input_paths.clear();
 }
 
 InputFileGuard::~InputFileGuard() {
   const std::lock_guard<std::mutex> lock(input_mutex);
   inputs_guarded = false;
   input_files.clear();
+  input_paths.clear();
+}
+
+void noteInputFile(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISDIR(st.st_mode)) noteInput(st, path);
+}
+
+std::vector<CommandInput> commandInputs() {
+  const std::lock_guard<std::mutex> lock(input_mutex);
+  return input_paths;
 }
 
 namespace {
@@ -315,7 +334,7 @@ std::string readFile(const std::string& path, double max_bytes) {
   struct stat st {};
   if (::fstat(fd, &st) != 0) throw Error("cannot read '" + path + "': " + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw Error("cannot read '" + path + "': it is a directory");
-  noteInput(st);
+  noteInput(st, path);
   std::string out;
   const bool regular = S_ISREG(st.st_mode);
   if (regular) {
@@ -354,7 +373,7 @@ LineReader::LineReader(const std::string& path) : path_(path) {
     ::close(fd_);
     throw Error("cannot read '" + path + "': " + why);
   }
-  noteInput(st);
+  noteInput(st, path);
   regular_ = S_ISREG(st.st_mode);
   size_at_open_ = static_cast<long long>(st.st_size);
   // A small file gets a block of its own size (fuzz targets read thousands of few-kB inputs).

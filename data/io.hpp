@@ -72,6 +72,22 @@ class InputFileGuard {
 /// it remembers.
 bool isInputFile(const std::string& path);
 
+/// An input of the command, as its documents' provenance records it: the path as first named
+/// (relative paths are the working directory's), and whether it is a regular file (else a stream:
+/// a pipe, a device, standard input).
+struct CommandInput {
+  std::string path;
+  bool regular = false;
+};
+
+/// A file read by other means than readFile or LineReader (a recording's own reader, an SQLite
+/// database), remembered as those are while an InputFileGuard exists.
+void noteInputFile(const std::string& path);
+
+/// Every input read while the InputFileGuard exists, in the order first read, each file once
+/// (empty without a guard).
+std::vector<CommandInput> commandInputs();
+
 /// While one exists, a set of outputs is being renamed into place: SIGTERM, SIGHUP or SIGINT
 /// handlers that call deferSignalWhilePublishing wait for it, so an interrupted command leaves
 /// the whole old set or the whole new one. On destruction a deferred signal is raised again.

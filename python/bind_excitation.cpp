@@ -24,6 +24,7 @@ struct ExcitePy {
   Model robot;
   ExcitationSettings settings;
   ExciteOutcome outcome;
+  RunProvenance provenance;  // the call that made it
 };
 
 ExcitePy excitePy(const Model& robot, const std::string& criterion, double period, int harmonics,
@@ -75,16 +76,18 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
       return d;
     });
   };
-  ExcitePy out{robot, {}, {}};
+  ExcitePy out{robot, {}, {}, {}};
   out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
   if (!robot_spec.empty()) out.settings.source = modelSourceOf(robot_spec);
   out.settings.harmonics = harmonics;
   out.settings.evaluations = evaluations;
   out.settings.period = period;
+  const PythonRun call("excite", {robot_spec}, seed, threads);
   {
     py::gil_scoped_release release;
     out.outcome = exciteRun(r);
   }
+  out.provenance = call.finish();
   out.settings.starts = static_cast<int>(out.outcome.starts.size());  // 0 resolved
   interrupt.raiseIfFailed();
   if (!interrupt.cancelled()) interrupt.warnIfStopped();
@@ -127,7 +130,9 @@ void bindExcite(py::module_& m) {
       .def(
           "to_json",
           [](const ExcitePy& e) {
-            return jsonText(excitationJson(e.robot, e.settings, e.outcome), 2) + "\n";
+            return jsonText(withCall(excitationJson(e.robot, e.settings, e.outcome), e.provenance),
+                            2) +
+                   "\n";
           },
           "excitation.json, as `dynid excite` writes it (simulate(trajectory=...) reads it).");
 

@@ -27,6 +27,7 @@ struct PreparePy {
   LogSource source;
   PrepareOptions options;
   PrepareOutcome outcome;
+  RunProvenance provenance;  // the call that made it
 };
 
 /// prepare()'s arrays as one file's RawSignals: t (N), q and tau (N x n; tau holds currents when
@@ -198,8 +199,12 @@ PreparePy preparePy(
   o.windows = window;
   o.row_windows = rows;
   readBoundsAndScales(dq_max, ddq_max, torque_constants, gear_ratios, o);
+  std::vector<std::string> files = s.tables;
+  files.push_back(s.effort_table);
+  const PythonRun call("prepare", files, std::nullopt, threads);
   py::gil_scoped_release release;
   out.outcome = prepareLog(out.source, out.options, threads);
+  out.provenance = call.finish();
   pythonTexts(out.outcome.warnings);  // the fields they name, as keyword arguments
   out.outcome.cutoff_reason = pythonText(out.outcome.cutoff_reason);
   return out;
@@ -247,7 +252,9 @@ void bindPrepare(py::module_& m) {
       .def(
           "to_json",
           [](const PreparePy& p) {
-            return jsonText(prepareJson(p.source, p.options, p.outcome), 2) + "\n";
+            return jsonText(withCall(prepareJson(p.source, p.options, p.outcome), p.provenance),
+                            2) +
+                   "\n";
           },
           "prepare.json, as `dynid prepare` writes it.");
 

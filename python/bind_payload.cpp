@@ -43,11 +43,16 @@ Vector10d bodyArg(const PriorLike& value, const char* name) {
   return vectorArg(value, name, 10);
 }
 
-PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalDataLike& unloaded,
-                       const std::string& link, const OptionalArrayLike& tool_xyz,
-                       const OptionalArrayLike& tool_rpy, const PriorLike& prior,
-                       double prior_weight, bool refit_friction, const OptionalFloat& payload_mass,
-                       const OptionalArrayLike& payload_com, double max_motion_difference) {
+/// What payload() returns: the outcome and the call that made it.
+struct PayloadResult : PayloadOutcome {
+  RunProvenance provenance;
+};
+
+PayloadResult payload(const Model& model, const DataLike& data, const OptionalDataLike& unloaded,
+                      const std::string& link, const OptionalArrayLike& tool_xyz,
+                      const OptionalArrayLike& tool_rpy, const PriorLike& prior,
+                      double prior_weight, bool refit_friction, const OptionalFloat& payload_mass,
+                      const OptionalArrayLike& payload_com, double max_motion_difference) {
   PayloadRequest request;
   request.arm = model;
   request.arm_source = model.name;
@@ -68,8 +73,14 @@ PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalD
   if (!payload_mass.is_none()) request.known_mass = payload_mass.cast<double>();
   if (!payload_com.is_none()) request.known_com = threeArg(payload_com, "payload_com");
   request.max_motion_difference = max_motion_difference;
+  const PythonRun call(
+      "payload",
+      {request.data_file, request.unloaded_file,
+       py::isinstance<py::str>(prior) || py::hasattr(prior, "__fspath__") ? pathArg(prior, "prior")
+                                                                          : ""});
   py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
-  PayloadOutcome out = payloadRun(request);
+  PayloadResult out{payloadRun(request), {}};
+  out.provenance = call.finish();
   pythonTexts(out.warnings);  // the fields they name, as keyword arguments
   pythonTexts(out.advice);
   return out;
@@ -77,36 +88,36 @@ PayloadOutcome payload(const Model& model, const DataLike& data, const OptionalD
 
 /// dynid.Payload: what payload() returns.
 void bindPayloadClass(py::module_& m) {
-  py::class_<PayloadOutcome>(m, "Payload",
-                             "What dynid payload finds: the payload in the attachment frame.")
+  py::class_<PayloadResult>(m, "Payload",
+                            "What dynid payload finds: the payload in the attachment frame.")
       .def_readonly("mode", &PayloadOutcome::mode, "'single' (one log) or 'difference'")
       .def_readonly("link", &PayloadOutcome::link_name, "the link it is attached to")
       .def_readonly("mass", &PayloadOutcome::mass, "[kg]")
       .def_property_readonly(
-          "com", [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.com)); },
+          "com", [](const PayloadResult& o) { return toNumpy(Eigen::VectorXd(o.com)); },
           "centre of mass in the attachment frame, (3,) [m]")
       .def_property_readonly(
           "inertia_com",
-          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.inertia_com)); },
+          [](const PayloadResult& o) { return toNumpy(Eigen::MatrixXd(o.inertia_com)); },
           "inertia about the centre of mass, attachment axes, (3, 3) [kg m^2]")
       .def_property_readonly(
           "principal_moments",
-          [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.principal_moments)); },
+          [](const PayloadResult& o) { return toNumpy(Eigen::VectorXd(o.principal_moments)); },
           "(3,) [kg m^2], about principal_axes' columns")
       .def_property_readonly(
           "principal_axes",
-          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.principal_axes)); },
+          [](const PayloadResult& o) { return toNumpy(Eigen::MatrixXd(o.principal_axes)); },
           "(3, 3) rotation whose columns are the principal axes")
       .def_property_readonly(
-          "standard", [](const PayloadOutcome& o) { return toNumpy(Eigen::VectorXd(o.standard)); },
+          "standard", [](const PayloadResult& o) { return toNumpy(Eigen::VectorXd(o.standard)); },
           "the 10 standard parameters m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, Izz (consistent)")
       .def_property_readonly(
           "covariance",
-          [](const PayloadOutcome& o) { return toNumpy(Eigen::MatrixXd(o.covariance)); },
+          [](const PayloadResult& o) { return toNumpy(Eigen::MatrixXd(o.covariance)); },
           "(10, 10) of the least-squares standard parameters (inf: not seen)")
       .def_property_readonly(
           "quantities",
-          [](const PayloadOutcome& o) {
+          [](const PayloadResult& o) {
             py::list out;
             for (const PayloadQuantity& q : o.quantities) {
               py::dict d;
@@ -136,7 +147,7 @@ void bindPayloadClass(py::module_& m) {
                     "Warnings about the log or the fit (may be empty).")
       .def_property_readonly(
           "gains",
-          [](const PayloadOutcome& o) -> std::optional<py::dict> {
+          [](const PayloadResult& o) -> std::optional<py::dict> {
             if (!o.gains) return std::nullopt;
             py::dict d;
             d["scale"] = toNumpy(o.gains->scale);
@@ -150,11 +161,14 @@ void bindPayloadClass(py::module_& m) {
           "With payload_mass, per joint true / measured torque as a dict (scale, scale_std, "
           "determined, torque_constants; multiply the torque constants by scale), else None.")
       .def(
-          "to_json", [](const PayloadOutcome& o) { return jsonText(payloadJson(o), 2) + "\n"; },
+          "to_json",
+          [](const PayloadResult& o) {
+            return jsonText(withCall(payloadJson(o), o.provenance), 2) + "\n";
+          },
           "payload.json, as `dynid payload` writes it.")
       .def(
           "vendor",
-          [](const PayloadOutcome& o, const std::string& format) {
+          [](const PayloadResult& o, const std::string& format) {
             return payloadVendorFile(o, format).second;
           },
           py::arg("format"),

@@ -27,6 +27,7 @@ namespace {
 struct IdentifiabilityResult {
   Model model;
   IdentifiabilityOutcome outcome;
+  RunProvenance provenance;  // the call that made it
 };
 
 StructuralOptions structural(int samples, std::uint64_t seed, double tolerance) {
@@ -92,9 +93,13 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
     request.validate = held.arrays;
   }
   if (!validate_raw.is_none()) request.validate_raw_file = pathArg(validate_raw, "validate_raw");
-  EstimateResult out{model, {}};
+  EstimateResult out{model, {}, {}};
+  const PythonRun call("identify",
+                       {request.data_file, request.validate_file, request.validate_raw_file}, seed,
+                       threads);
   py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
   out.outcome = identifyRun(request);
+  out.provenance = call.finish();
   return out;
 }
 
@@ -214,7 +219,8 @@ void bindIdentifiability(py::module_& m) {
       .def(
           "to_json",
           [](const IdentifiabilityResult& r) {
-            return jsonText(identifiabilityJson(r.model, r.outcome), 2) + "\n";
+            return jsonText(withCall(identifiabilityJson(r.model, r.outcome), r.provenance), 2) +
+                   "\n";
           },
           "identifiability.json, as `dynid identifiability` writes it.");
 
@@ -226,9 +232,11 @@ void bindIdentifiability(py::module_& m) {
         const StructuralOptions options = structural(samples, seed, tolerance);
         DataArg d;
         if (!data.is_none()) d = dataArg(data, "data", model);
-        IdentifiabilityResult out{model, {}};
+        IdentifiabilityResult out{model, {}, {}};
+        const PythonRun call("identifiability", {d.path}, seed, threads);
         py::gil_scoped_release release;
         out.outcome = identifiabilityRun(model, options, d.path, threads, d.arrays);
+        out.provenance = call.finish();
         return out;
       },
       py::arg("model"), py::arg("data") = py::none(),
@@ -298,7 +306,7 @@ void bindEstimateDetails(py::class_<EstimateResult>& estimate) {
       .def(
           "to_json",
           [](const EstimateResult& r) {
-            return jsonText(estimateJson(r.model, r.outcome), 2) + "\n";
+            return jsonText(withCall(estimateJson(r.model, r.outcome), r.provenance), 2) + "\n";
           },
           "estimate.json, as `dynid identify` writes it.");
 }

@@ -87,6 +87,7 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
 struct SearchPy {
   Model robot;
   SearchOutcome outcome;
+  RunProvenance provenance;  // the call that made it
 };
 
 SearchPy searchPy(const Model& robot, const DataLike& data, const std::string& method,
@@ -165,11 +166,13 @@ SearchPy searchPy(const Model& robot, const DataLike& data, const std::string& m
       return d;
     });
   };
-  SearchPy out{robot, {}};
+  SearchPy out{robot, {}, {}};
+  const PythonRun call("search", {r.data_file, r.validate_file}, seed, threads);
   {
     py::gil_scoped_release release;
     out.outcome = searchRun(r);
   }
+  out.provenance = call.finish();
   interrupt.raiseIfFailed();
   if (!interrupt.cancelled()) interrupt.warnIfStopped();
   return out;
@@ -179,6 +182,7 @@ SearchPy searchPy(const Model& robot, const DataLike& data, const std::string& m
 
 struct RefinePy {
   RefineOutcome outcome;
+  RunProvenance provenance;  // the call that made it
 };
 
 RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& data,
@@ -233,10 +237,13 @@ RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& da
     });
   };
   RefinePy out;
+  const PythonRun call("refine", {r.from_file, r.data_file, r.validate_file}, std::nullopt,
+                       threads);
   {
     py::gil_scoped_release release;
     out.outcome = refineRun(r);
   }
+  out.provenance = call.finish();
   out.outcome.options.control = {};  // it points into `interrupt`, gone on return
   out.outcome.options.on_iteration = nullptr;
   interrupt.raiseIfFailed();
@@ -344,7 +351,10 @@ void bindSearchRuns(py::module_& m) {
           },
           "One dict per round (stage, iteration, best_gc, best_parameter_error, ...).")
       .def(
-          "to_json", [](const SearchPy& s) { return jsonText(searchJson(s.outcome), 1) + "\n"; },
+          "to_json",
+          [](const SearchPy& s) {
+            return jsonText(withCall(searchJson(s.outcome), s.provenance), 1) + "\n";
+          },
           "search.json, as `dynid search` writes it.");
 
   m.def("search", &searchPy, py::arg("robot"), py::arg("data"), py::arg("method"),
@@ -412,7 +422,10 @@ void bindRefine(py::module_& m) {
           },
           "The refined base parameters' relative error against truth= (None without it).")
       .def(
-          "to_json", [](const RefinePy& r) { return jsonText(refineJson(r.outcome), 1) + "\n"; },
+          "to_json",
+          [](const RefinePy& r) {
+            return jsonText(withCall(refineJson(r.outcome), r.provenance), 1) + "\n";
+          },
           "refine.json, as `dynid refine` writes it.");
 
   m.def("refine", &refinePy, py::arg("robot"), py::arg("start"), py::arg("data"),

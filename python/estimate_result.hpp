@@ -2,6 +2,7 @@
 // predict() takes for its band, and the deprecation warning of the fraction-valued relative_error.
 #pragma once
 
+#include "analysis/records/provenance.hpp"
 #include "analysis/runs/identify.hpp"
 #include "core/model.hpp"
 #include "python/common.hpp"
@@ -12,6 +13,7 @@ namespace dynid::python {
 struct EstimateResult {
   Model model;  // the robot as given (its parameters are the prior)
   IdentifyOutcome outcome;
+  RunProvenance provenance;  // the call that made it (to_json's provenance)
 };
 
 /// relative_error is a fraction where the CLI prints percent: it warns, naming the property that

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/records/provenance.hpp"
 #include "core/integrators.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
@@ -111,6 +112,29 @@ inline Trajectory trajectoryOf(const DataArg& d, const Model& model) {
 inline py::object parsedJson(const nlohmann::json& document) {
   return py::module_::import("json").attr("loads")(document.dump());
 }
+
+/// A call's provenance (its documents' "provenance", records/provenance.hpp), begun where the call
+/// starts (with the GIL held): interface "python", command [the function, "FILE:LINE" of the
+/// calling Python code, that line of source (empty where there is none: an interactive line)],
+/// the working directory, the files it was given (empty or "<arrays>"-like names: an argument in
+/// memory, left out), its seed and threads. finish() when the run has returned: the files hashed,
+/// the seconds it took.
+class PythonRun {
+ public:
+  PythonRun(const std::string& function, std::vector<std::string> files,
+            std::optional<std::uint64_t> seed = std::nullopt,
+            std::optional<int> threads = std::nullopt);
+  RunProvenance finish() const;
+
+ private:
+  RunProvenance run_;
+  std::vector<std::string> files_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// `document` with the call's provenance (the kind its "kind" names); unchanged for a result that
+/// no call made (`call` empty: read from a file).
+nlohmann::json withCall(nlohmann::json document, const RunProvenance& call);
 
 /// A Validation as a dict.
 inline py::dict validationDict(const Validation& v) {

@@ -4,6 +4,7 @@
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/model_source.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
@@ -146,7 +147,7 @@ std::string writeAudit(const std::string& dir, const AuditOutcome& o) {
       "the level. Farthest: the session farthest from the mean in its own sigmas.";
   report.table(table);
   OutputSet set(dir);
-  set.add("audit.json", jsonText(auditJson(o), 2) + "\n");
+  set.add("audit.json", jsonText(withProvenance(auditJson(o)), 2) + "\n");
   set.add("report.md", report.markdown());
   set.add("report.html", report.html());
   set.publish();

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "analysis/studies/comparison.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
@@ -243,7 +244,7 @@ std::string demoSummaryJson(const DemoResult& result) {
                           {"percentile", numberOrNull(result.near_truth.percentile)}}},
                         {"interrupted", result.interrupted},
                         {"seconds", result.seconds}};
-  return jsonText(summary, 1) + "\n";
+  return jsonText(withProvenance(summary), 1) + "\n";
 }
 
 std::string demoTable(const DemoResult& result) {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <sstream>
 
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
@@ -445,7 +446,7 @@ std::string writeIdentification(const std::string& dir, const Model& model,
   std::vector<std::string> missing;
   const Document doc = identificationDocument(model, outcome, &missing);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"estimate.json", jsonText(estimateJson(model, outcome), 2) + "\n"},
+      {"estimate.json", jsonText(withProvenance(estimateJson(model, outcome)), 2) + "\n"},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);

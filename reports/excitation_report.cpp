@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
 #include "data/json_number.hpp"
@@ -370,7 +371,7 @@ std::string writeExcitation(const std::string& dir, const Model& model,
   std::vector<std::string> missing;
   const Document doc = excitationDocument(model, settings, o, &missing);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"excitation.json", jsonText(excitationJson(model, settings, o), 2) + "\n"},
+      {"excitation.json", jsonText(withProvenance(excitationJson(model, settings, o)), 2) + "\n"},
       {"excitation.csv", excitationCsv(model, o.design, settings.csv_rate)},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};

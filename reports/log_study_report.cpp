@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/model_report.hpp"
@@ -326,7 +327,7 @@ Document logStudyDocument(const LogStudyOutcome& o) {
 std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o) {
   const Document doc = logStudyDocument(o);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"study.json", jsonText(logStudyJson(o), 2) + "\n"},
+      {"study.json", jsonText(withProvenance(logStudyJson(o)), 2) + "\n"},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);

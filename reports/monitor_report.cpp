@@ -6,6 +6,7 @@
 #include "analysis/monitor/regimes.hpp"
 #include "analysis/monitor/states.hpp"
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/document.hpp"
@@ -402,10 +403,10 @@ std::string writeMonitor(const std::string& dir, const MonitorOutcome& o,
       "the log's accelerations. Data: " +
       data_file + ".");
   OutputSet set(dir);
-  set.add("monitor.json", jsonText(monitorJson(o), 2) + "\n");
+  set.add("monitor.json", jsonText(withProvenance(monitorJson(o)), 2) + "\n");
   json thresholds = monitorThresholdsJson(o.thresholds);
   embedModel(thresholds, o.model, o.source);  // the arm they were set for
-  set.add("thresholds.json", jsonText(thresholds, 2) + "\n");
+  set.add("thresholds.json", jsonText(withProvenance(thresholds), 2) + "\n");
   set.add("report.md", report.markdown());
   set.add("report.html", report.html());
   for (const Figure& f : report.figures()) set.add(f.name + ".svg", f.svg);

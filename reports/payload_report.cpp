@@ -7,6 +7,7 @@
 #include "analysis/estimation/streaming.hpp"
 #include "analysis/payload/body.hpp"
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
@@ -280,7 +281,7 @@ std::pair<std::string, std::string> payloadVendorFile(const PayloadOutcome& o,
                 {"com", {o.com.x(), o.com.y(), o.com.z()}},
                 {"inertia_about_com", matrixJson(ic)},
                 {"standard", standard}});
-    return {"payload.body.json", jsonText(doc, 2) + "\n"};
+    return {"payload.body.json", jsonText(withProvenance(doc), 2) + "\n"};
   }
   std::string accepted;
   for (const std::string& f : payloadFormats()) accepted += (accepted.empty() ? "" : ", ") + f;
@@ -425,7 +426,7 @@ std::string writePayload(const std::string& dir, const PayloadOutcome& o,
       o.termination + ".");
 
   OutputSet set(dir);
-  set.add("payload.json", jsonText(payloadJson(o), 2) + "\n");
+  set.add("payload.json", jsonText(withProvenance(payloadJson(o)), 2) + "\n");
   set.add("report.md", report.markdown());
   set.add("report.html", report.html());
   for (const Figure& f : report.figures()) set.add(f.name + ".svg", f.svg);

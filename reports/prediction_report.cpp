@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "data/io.hpp"
@@ -488,7 +489,8 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
                             PredictedCsv& csv) {
   const Prediction& p = o.prediction;
   std::vector<std::pair<std::string, std::string>> files = {
-      {"prediction.json", jsonText(predictionJson(o, estimate_file, data_file), 2) + "\n"}};
+      {"prediction.json",
+       jsonText(withProvenance(predictionJson(o, estimate_file, data_file)), 2) + "\n"}};
   const std::optional<std::string> figure =
       torqueFigure(p, "measured and predicted joint torques: " + o.robot_spec);
   if (figure) files.emplace_back("torques.svg", *figure);

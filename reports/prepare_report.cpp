@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/format.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
@@ -283,7 +284,7 @@ std::string writePrepared(const std::string& dir, const LogSource& source,
   }
   if (options.keep_raw_torque) writeRawHeldOut(set.stream("validate_raw.csv"), outcome);
   std::vector<std::pair<std::string, std::string>> files = {
-      {"prepare.json", jsonText(prepareJson(source, options, outcome), 2) + "\n"}};
+      {"prepare.json", jsonText(withProvenance(prepareJson(source, options, outcome)), 2) + "\n"}};
   std::vector<std::string> figures;
   const std::vector<std::optional<std::string>> svgs = drawConcurrently(
       {[&] { return spectrumFigure(outcome); }, [&] { return filteredFigure(outcome); }});

@@ -8,10 +8,18 @@
 #include "core/errors.hpp"
 #include "data/bags/bag.hpp"
 #include "data/bags/ros_messages.hpp"
+#include "data/io.hpp"
 
 namespace dynid {
 
 namespace {
+
+/// bags::readBag, its files remembered as the command's inputs (the documents' provenance).
+void readRecording(const std::string& path, const std::vector<std::string>& topics,
+                   const std::function<void(const bags::BagMessage&)>& on_message) {
+  for (const std::string& file : bags::bagFiles(path)) noteInputFile(file);
+  bags::readBag(path, topics, on_message);
+}
 
 std::string listed(const std::vector<std::string>& names) {
   std::string out;
@@ -131,7 +139,7 @@ EffortSamples effortTopic(const LogSource& source, const std::string& path,
   bags::JointStateMessage m;
   std::vector<std::string> last_names;
   std::vector<int> index;
-  bags::readBag(path, {topic}, [&](const bags::BagMessage& message) {
+  readRecording(path, {topic}, [&](const bags::BagMessage& message) {
     if (message.type != bags::kJointStateRos2 && message.type != bags::kJointStateRos1)
       throw InputError(*message.file + ": topic " + topic + " holds " + std::string(message.type) +
                        " messages, not sensor_msgs/JointState");
@@ -273,7 +281,7 @@ JointStateScan scanJointStates(const LogSource& source, const std::string& path,
   if (!source.effort_topic.empty() && source.effort_topic == source.topic)
     throw InputError(path + ": the effort topic is the position topic " + topic +
                      ": give the topic whose JointState messages carry the efforts");
-  bags::readBag(
+  readRecording(
       path,
       source.topic.empty() ? std::vector<std::string>{} : std::vector<std::string>{source.topic},
       [&](const bags::BagMessage& message) {

@@ -25,52 +25,60 @@ struct DocumentType {
 // and 2 are still read (their covariance is the white one).
 // estimate.json 5: model (the robot it was made for, as a dynid JSON model) and model_source (the
 // spec, the file's name and SHA-256): it is read without the robot's file, from any folder.
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 5};  // identify
-inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 1};
+// estimate.json 6, and every document a command writes (the versions below that say "provenance"):
+// provenance (what made it: dynid's version and commit, the command, the working directory, the
+// inputs' SHA-256, seed, threads, when and how long, the document's own time fields;
+// records/provenance.hpp). The earlier versions are still read (they say nothing of it).
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 6};  // identify
+// identifiability.json 2: provenance.
+inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};
 // search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and
-// model_source; search.json 1 is still read by refine --from.
-inline constexpr DocumentType kSearchDocument{"dynid.search", 2};
+// model_source; search.json 1 is still read by refine --from. 3: provenance (search.json 2 is
+// read).
+inline constexpr DocumentType kSearchDocument{"dynid.search", 3};
 inline constexpr DocumentType kCheckpointDocument{"dynid.search_checkpoint", 1};
-inline constexpr DocumentType kRefineDocument{"dynid.refine", 2};
+inline constexpr DocumentType kRefineDocument{"dynid.refine", 3};  // 3: provenance
 // prepare.json 2: sources.tables (a list; was sources.table), runs' file and time_offset, stalled
-// repeats, current_to_torque.
-inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 2};
+// repeats, current_to_torque. 3: provenance.
+inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 3};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
 // 3: model is the robot designed for (a dynid JSON model; it was its name) and model_source.
-inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 3};
+// 4: provenance.
+inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 4};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
 // 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
 // (the filter the comparison reproduced, or null) and torque_filter_source; compared_rows (the
 // errors are over the rows a fit takes: a joint at rest with friction that needs sign(dq) is not).
 // 5: model (the robot and parameters predicted with, as a dynid JSON model) and model_source.
-inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 5};
-// study.json 2: model (the robot studied, nominal parameters) and model_source.
-inline constexpr DocumentType kStudyDocument{"dynid.study", 2};
-inline constexpr DocumentType kDemoDocument{"dynid.demo", 1};
+// 6: provenance.
+inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 6};
+// study.json 2: model (the robot studied, nominal parameters) and model_source. 3: provenance.
+inline constexpr DocumentType kStudyDocument{"dynid.study", 3};
+inline constexpr DocumentType kDemoDocument{"dynid.demo", 2};               // 2: provenance
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json
 // payload.json 2: a quantity the log does not determine has `value` null and its number in
 // `estimate` (the resolution is its half_width_95). 3: model (the arm the payload was estimated on,
-// as a dynid JSON model with its parameters) and model_source.
-inline constexpr DocumentType kPayloadDocument{"dynid.payload", 3};  // dynid payload
-// A payload body alone (payload --format json): what --prior reads back.
-inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 1};
+// as a dynid JSON model with its parameters) and model_source. 4: provenance.
+inline constexpr DocumentType kPayloadDocument{"dynid.payload", 4};  // dynid payload
+// A payload body alone (payload --format json): what --prior reads back. 2: provenance.
+inline constexpr DocumentType kPayloadBodyDocument{"dynid.payload_body", 2};
 // audit.json 2: dispersion (whether the sigma are too small alike), covariance_policies, each
 // parameter's p_scaled.
 // audit.json 3: model (the sessions' robot, as the first estimate embeds it; absent for an
-// estimate.json before 5) and model_source.
-inline constexpr DocumentType kAuditDocument{"dynid.audit", 3};  // dynid audit
+// estimate.json before 5) and model_source. 4: provenance.
+inline constexpr DocumentType kAuditDocument{"dynid.audit", 4};  // dynid audit
 // monitor.json 2: each event's contact_link (contact isolation), calibration_confidence. 3: each
 // event's state (rest or moving), the thresholds' version 2. 4: the thresholds' version 3, each
 // event's regime (moving: the peak joint's regime; null at rest). 5: model and model_source (the
-// arm, as a dynid JSON model with its parameters, and where its robot came from).
-inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 5};  // dynid monitor
+// arm, as a dynid JSON model with its parameters, and where its robot came from). 6: provenance.
+inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 6};  // dynid monitor
 /// A monitor's thresholds (thresholds.json), read back by a later monitor --thresholds. 2: the arm
 /// states: rest_velocity, thresholds_at_rest (null without), rest_seconds, calibration_rest_rms. 3:
 /// moving_regimes (null without): regimes, speed_scale, acceleration_scale, thresholds, seconds.
 /// 4: model and model_source (the arm they were set for; thresholds.json only, not the copy in
-/// monitor.json, which embeds it once at its top).
-inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 4};
+/// monitor.json, which embeds it once at its top). 5: provenance (thresholds.json only).
+inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 5};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 

@@ -4,6 +4,7 @@
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/model_source.hpp"
+#include "analysis/records/provenance.hpp"
 #include "core/errors.hpp"
 #include "core/integrators.hpp"
 #include "core/parameters.hpp"
@@ -33,6 +34,38 @@ Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>&
   return theta;
 }
 
+/// A search.json's header and top-level keys. Versions 1 (before the robot was embedded) and 2
+/// (before the provenance) read the same: model, model_source and provenance are for the record
+/// (refine runs on its own robot).
+void checkSearchDocument(const JsonReader& read, const json& start) {
+  read.header(start, documentVersion(start, kSearchDocument.schema_version), nullptr);
+  read.onlyKeys(start, "",
+                {"schema_version",
+                 "kind",
+                 "method",
+                 "robot",
+                 "settings",
+                 "termination",
+                 "initial_gc_error",
+                 "final_gc_error",
+                 "estimate",
+                 "initial_estimate",
+                 "history",
+                 "evaluations",
+                 "seconds",
+                 "initial_parameter_error",
+                 "final_parameter_error",
+                 "evaluated",
+                 "validation",
+                 "model",
+                 "model_source",
+                 "provenance"});
+  if (start.contains("model")) read.object(start["model"], "model");
+  if (start.contains("model_source"))
+    modelSourceFrom(start["model_source"], read.file(), "model_source");
+  if (start.contains("provenance")) provenanceFrom(start, read.file());
+}
+
 }  // namespace
 
 RefineStart refineStartFrom(const json& start, const std::string& from, const Model& robot,
@@ -43,18 +76,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
     if (start.contains("settings") && start.contains("estimate")) {
       out.kind = "search";
       const JsonReader read(from);
-      // Version 1 (before the robot was embedded) reads the same: model and model_source
-      // are for the record (refine runs on its own --robot).
-      const bool first = start.contains("schema_version") && start["schema_version"] == 1;
-      read.header(start, first ? 1 : kSearchDocument.schema_version, nullptr);
-      read.onlyKeys(start, "",
-                    {"schema_version", "kind", "method", "robot", "settings", "termination",
-                     "initial_gc_error", "final_gc_error", "estimate", "initial_estimate",
-                     "history", "evaluations", "seconds", "initial_parameter_error",
-                     "final_parameter_error", "evaluated", "validation", "model", "model_source"});
-      if (start.contains("model")) read.object(start["model"], "model");
-      if (start.contains("model_source"))
-        modelSourceFrom(start["model_source"], from, "model_source");
+      checkSearchDocument(read, start);
       const json& s = read.field(start, "", "settings");
       read.onlyKeys(s, "settings",
                     {"form",
@@ -253,7 +275,9 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "rest_velocity",
                  "fit_rows",
                  "model",
-                 "model_source"});
+                 "model_source",
+                 "provenance"});
+  if (document.contains("provenance")) provenanceFrom(document, file);
   EstimateRecord out;
   out.schema_version = version;
   if (document.contains("rest_velocity")) {

@@ -37,6 +37,7 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
                                    "optimiser"};
   if (version >= 2) keys.push_back("payload_link");
   if (version >= 3) keys.push_back("model_source");
+  if (version >= 4) keys.push_back("provenance");
   read.onlyKeysIn(document, "", keys);
   // The robot designed for, embedded for the record: checked for form, not used (a design is
   // for the --robot it is run on, whose joint count it must have).

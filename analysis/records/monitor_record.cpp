@@ -107,6 +107,7 @@ MonitorThresholds readMonitorThresholds(const std::string& file) {
                 {"rest_velocity", "thresholds_at_rest", "calibration_rest_rms", "rest_seconds"});
   if (version >= 3) keys.push_back("moving_regimes");
   if (version >= 4) keys.insert(keys.end(), {"model", "model_source"});
+  if (version >= 5) keys.push_back("provenance");
   read.onlyKeysIn(document, "", keys);
   // The arm they were set for, embedded for the record: checked for form, not used (the
   // monitor's own --arm is compared by its joints, residual and gain).

@@ -36,7 +36,13 @@ const DocumentType* kindOf(const json& d, const std::string& file) {
                    "document that has earlier versions");
 }
 
-/// estimate.json 1-4 -> 5: the robot embedded (loaded from robot_spec beside the document, or
+/// The note for a document from before `version` recorded its provenance.
+std::string noProvenanceNote(int version) {
+  return "versions before " + std::to_string(version) +
+         " recorded no provenance (which dynid, command and inputs made it): none is added";
+}
+
+/// estimate.json 1-5 -> 6: the robot embedded (loaded from robot_spec beside the document, or
 /// `robot_spec`); rest velocities, the covariance policy and the fit's rows stay as recorded.
 void upgradeEstimate(json& d, int from, const UpgradeRequest& request,
                      std::vector<std::string>& notes) {
@@ -78,9 +84,10 @@ void upgradeEstimate(json& d, int from, const UpgradeRequest& request,
         "versions 1 and 2 recorded no covariance policy: the covariance stays the "
         "white one it was");
   if (from < 4) notes.push_back("versions 1 to 3 recorded no fit_rows: none are added");
+  if (from < 6) notes.push_back(noProvenanceNote(6));
 }
 
-/// excitation.json 1-2 -> 3: `model` was the robot's name; version 3's is the robot itself, which
+/// excitation.json 1-3 -> 4: `model` was the robot's name; version 3's is the robot itself, which
 /// an older design does not say enough to load (its drive terms): left out.
 void upgradeExcitation(json& d, int from, std::vector<std::string>& notes) {
   if (d.contains("model") && d["model"].is_string()) {
@@ -93,9 +100,10 @@ void upgradeExcitation(json& d, int from, std::vector<std::string>& notes) {
     d["payload_link"] = nullptr;
     notes.push_back("payload_link null: version 1 designs were for the whole arm");
   }
+  if (from < 4) notes.push_back(noProvenanceNote(4));
 }
 
-/// thresholds.json 1-3 -> 4: the arm states and regimes absent before stay null; the arm is not
+/// thresholds.json 1-4 -> 5: the arm states and regimes absent before stay null; the arm is not
 /// embedded (the thresholds name the robot, not its file).
 void upgradeThresholds(json& d, int from, std::vector<std::string>& notes) {
   if (from < 2) {
@@ -109,7 +117,9 @@ void upgradeThresholds(json& d, int from, std::vector<std::string>& notes) {
     d["moving_regimes"] = nullptr;
     notes.push_back("no moving regimes before version 3: null (the single moving threshold)");
   }
-  notes.push_back("the arm is not embedded: the thresholds name the robot, not its file");
+  if (from < 4)
+    notes.push_back("the arm is not embedded: the thresholds name the robot, not its file");
+  if (from < 5) notes.push_back(noProvenanceNote(5));
 }
 
 }  // namespace
@@ -136,7 +146,10 @@ UpgradeOutcome upgradeDocument(const UpgradeRequest& request) {
   if (&type == &kMonitorThresholdsDocument) upgradeThresholds(d, out.from, out.notes);
   if (&type == &kSearchDocument) {
     d["kind"] = kSearchDocument.kind;
-    out.notes.push_back("the robot searched on is not embedded: version 1 names it, not its file");
+    if (out.from < 2)
+      out.notes.push_back(
+          "the robot searched on is not embedded: version 1 names it, not its file");
+    out.notes.push_back(noProvenanceNote(3));
   }
   d["schema_version"] = out.to;
   return out;

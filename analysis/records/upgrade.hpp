@@ -1,11 +1,11 @@
 // Documents of an earlier schema version rewritten in the current one (`dynid upgrade`): the
 // records wing knows every document's versions (document.hpp), so it is where they migrate. Each
 // version's change is applied in turn; what an older version did not record stays absent (its
-// readers take it as they always did: no rest velocities, a white covariance, ...), and the
-// outcome's notes say so. Upgraded: estimate.json 1-4 (the robot embedded, loaded from its
-// robot_spec beside the document, or `robot_spec`), excitation.json 1-2, thresholds.json 1-3 and
-// search.json 1 (their robot is not embedded: they record its name, not its file and drive
-// terms; the notes say so).
+// readers take it as they always did: no rest velocities, a white covariance, no provenance, ...),
+// and the outcome's notes say so. Upgraded: estimate.json 1-5 (the robot embedded, loaded from its
+// robot_spec beside the document, or `robot_spec`), excitation.json 1-3, thresholds.json 1-4 and
+// search.json 1-2 (the robot of an excitation before 3, thresholds before 4 and a search before 2
+// is not embedded: they record its name, not its file and drive terms; the notes say so).
 #pragma once
 
 #include <string>

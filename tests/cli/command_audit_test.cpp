@@ -47,6 +47,7 @@ TEST(Cli, AuditFromLogsAndFromTheirEstimatesAgrees) {
   EXPECT_EQ(a["model"], b["model"]);
   EXPECT_EQ(a["model_source"], b["model_source"]);
   EXPECT_EQ(b["model_source"]["spec"], "puma560");
+  EXPECT_EQ(b["provenance"]["inputs"].size(), 3u);  // the three estimates, by content
   EXPECT_TRUE(contains(from_logs.out, "3 sessions of puma560 (ols)")) << from_logs.out;
   const std::string html = readFile(dir + "/a1/report.html");
   EXPECT_TRUE(test::opensWithVerdict(html, {"Compared", "Verdict", "How sure", "Moved", "Next"}));

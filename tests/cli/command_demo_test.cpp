@@ -36,7 +36,8 @@ TEST(Cli, DemoQuickMeetsTheStudysClaimsAndItsReportsAgreeWithTheJson) {
   EXPECT_TRUE(contains(r.out, "nlo_refined")) << r.out;
   EXPECT_TRUE(contains(r.out, dir + "/report.html")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/summary.json"));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["provenance"]["command"][1], "demo");  // what made it
   EXPECT_EQ(j["kind"], "dynid.demo");
   const std::vector<std::string> keys = {
       "ols", "wls", "pc", "nlo", "ga", "hybrid", "nlo_refined", "ga_refined", "hybrid_refined"};

@@ -28,7 +28,8 @@ TEST(Cli, IdentifiabilityReport) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "60 standard parameters, 36 base parameters")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/identifiability.json"));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["provenance"]["command"][1], "identifiability");
   EXPECT_EQ(j["robot"], "puma560");
   EXPECT_EQ(j["num_standard"], 60);
   EXPECT_EQ(j["num_base"], 36);

@@ -108,7 +108,8 @@ TEST_F(CliMonitor, SaysHowARestingArmIsJudgedAndKeepsItsThresholdsAtRest) {
   EXPECT_TRUE(contains(r.out, "which none of its 36 did: the single moving threshold applies"))
       << r.out;
   const auto j = nlohmann::json::parse(readFile(out + "/thresholds.json"));
-  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["schema_version"], 5);
+  EXPECT_EQ(j["provenance"]["command"][1], "monitor");
   EXPECT_EQ(j["model_source"]["spec"], "puma560");  // the arm they were set for, embedded
   EXPECT_EQ(j["model"]["name"], "puma560");
   ASSERT_EQ(j["thresholds_at_rest"].size(), 6u);

@@ -99,7 +99,8 @@ TEST(Cli, PredictOnAPreparedLogGivesIdentifysHeldOutError) {
   EXPECT_TRUE(contains(r.out, "compared with the filtered torque")) << r.out;
   EXPECT_TRUE(contains(r.out, "(prepare.json: the torque's low-pass)")) << r.out;
   const auto p = nlohmann::json::parse(readFile(dir + "/pred/prediction.json"));
-  EXPECT_EQ(p["schema_version"], 5);
+  EXPECT_EQ(p["schema_version"], 6);
+  EXPECT_EQ(p["provenance"]["command"][1], "predict");
   // The robot predicted with, embedded (with the estimate's parameters), and where it came from.
   EXPECT_EQ(p["model"]["name"], e["model"]["name"]);
   EXPECT_EQ(p["model_source"], e["model_source"]);

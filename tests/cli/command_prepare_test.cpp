@@ -50,7 +50,8 @@ TEST(Cli, PrepareWritesADatasetAndItsRecord) {
   EXPECT_NEAR(d.q(0, 500), 20.0 * deg * std::sin(d.time[500]), 1e-6);
   EXPECT_NEAR(d.ddq(0, 500), -d.q(0, 500), 1e-4);
   const auto j = nlohmann::json::parse(readFile(dir + "/prepare.json"));
-  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["schema_version"], 3);
+  EXPECT_EQ(j["provenance"]["command"][1], "prepare");
   EXPECT_EQ(j["samples"]["train"], d.numSamples());
   EXPECT_EQ(j["filter"]["cutoff_hz"], 10.0);
   // The figures: the spectra with the cutoff, the torque before and after the filter.

@@ -34,10 +34,11 @@ TEST(Cli, RefineReadsEitherSearchVersionAndBothEmbedTheRobot) {
                 .code,
             0);
   auto s = nlohmann::json::parse(readFile(dir + "/search.json"));
-  EXPECT_EQ(s["schema_version"], 2);
+  EXPECT_EQ(s["schema_version"], 3);
   EXPECT_EQ(s["model"]["name"], "puma560");
   EXPECT_EQ(s["model_source"]["spec"], "puma560");
   s["schema_version"] = 1;
+  s.erase("provenance");
   s.erase("model");
   s.erase("model_source");
   const std::string old = test::tempPath("embed_search_v1.json");
@@ -49,7 +50,8 @@ TEST(Cli, RefineReadsEitherSearchVersionAndBothEmbedTheRobot) {
                          " --max-iterations 2 --threads 1 --out " + out);
     ASSERT_EQ(r.code, 0) << from << ": " << r.err;
     const auto j = nlohmann::json::parse(readFile(out + "/refine.json"));
-    EXPECT_EQ(j["schema_version"], 2);
+    EXPECT_EQ(j["schema_version"], 3);
+    EXPECT_EQ(j["provenance"]["command"][1], "refine");
     EXPECT_EQ(j["model_source"]["spec"], "puma560");
     EXPECT_EQ(j["model"]["bodies"].size(), 6u);  // the PUMA's six links
   }

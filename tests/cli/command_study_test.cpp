@@ -38,7 +38,8 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
                        "best"))
       << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
-  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["schema_version"], 3);
+  EXPECT_EQ(j["provenance"]["command"][1], "study");
   EXPECT_EQ(j["model"]["name"], "puma560");  // the robot studied, embedded
   EXPECT_EQ(j["order"],
             (std::vector<std::string>{"model", "start", "ols", "pc", "ga", "ga_refined"}));

@@ -30,6 +30,12 @@ def read_json(path):
         return json.load(f)
 
 
+def less_provenance(document):
+    """A document without its `provenance`: what made it (a command or a Python call, when, from
+    which working directory) differs between the two front ends; the rest is the same."""
+    return {k: v for k, v in document.items() if k != "provenance"}
+
+
 @pytest.fixture(scope="session")
 def puma_csv(tmp_path_factory):
     """4 s of the rigid PUMA 560 under the default sinusoids, torque noise 0.05 N m."""

@@ -126,7 +126,7 @@ def test_pauses_make_stops_and_the_monitor_learns_thresholds_at_rest(tmp_path):
     result = dynid.monitor("puma560", str(tmp_path / "stops.csv"),
                            calibration=str(tmp_path / "stops.csv"))
     thresholds = result["thresholds"]
-    assert thresholds["schema_version"] == 4
+    assert thresholds["schema_version"] == 5
     assert len(thresholds["moving_regimes"]["speed_scale"]) == 6
     assert len(thresholds["thresholds_at_rest"]) == 6 and thresholds["rest_seconds"] > 2
     assert result["events"] == []  # a clean run raises no alarm

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "analysis/records/document.hpp"
+#include "analysis/records/provenance.hpp"
 #include "analysis/records/search_record.hpp"
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
@@ -154,7 +155,7 @@ TEST(EstimateRecord, VersionFourCarriesItsFitRows) {
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
   doc["schema_version"] = 3;  // an earlier version with a key it did not have: still read
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
-  doc["schema_version"] = 6;  // a later version: refused
+  doc["schema_version"] = 7;  // a later version: refused
   EXPECT_EQ(estimateFault(doc), "schema_version");
 }
 
@@ -169,7 +170,6 @@ TEST(EstimateRecord, VersionFiveEmbedsItsRobotAndWhereItCameFrom) {
       {"standard_estimate", {{"note", "n"}, {"values", values}}},
       {"model", nlohmann::json::parse(modelToJson(puma))},
       {"model_source", {{"spec", "/lab/arm.urdf"}, {"file", "arm.urdf"}, {"sha256", sha}}}};
-  EXPECT_EQ(kEstimateDocument.schema_version, 5);
   const EstimateRecord record = estimateRecordFrom(doc, "est.json");
   EXPECT_EQ(record.model["name"], puma.name);
   EXPECT_EQ(record.model_file, "arm.urdf");
@@ -182,6 +182,24 @@ TEST(EstimateRecord, VersionFiveEmbedsItsRobotAndWhereItCameFrom) {
   EXPECT_EQ(estimateFault(doc), "model_source");
   doc["model"] = 3;
   EXPECT_EQ(estimateFault(doc), "model");
+}
+
+// Version 6 adds what made it (records/provenance.hpp): read when present, and checked.
+TEST(EstimateRecord, VersionSixRecordsWhatMadeIt) {
+  EXPECT_EQ(kEstimateDocument.schema_version, 6);
+  const std::vector<std::string> names =
+      standardParameterNames(makePuma560(false).parameterLayout());
+  nlohmann::json values = nlohmann::json::object();
+  for (const std::string& name : names) values[name] = 1.0;
+  RunProvenance run;
+  run.interface = "cli";
+  run.command = {"dynid", "identify"};
+  nlohmann::json doc = {{"schema_version", 6},
+                        {"standard_estimate", {{"note", "n"}, {"values", values}}},
+                        {"provenance", provenanceJson(run, "dynid.estimate")}};
+  EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
+  doc["provenance"]["inputs"] = "train.csv";
+  EXPECT_EQ(estimateFault(doc), "provenance.inputs");
 }
 
 }  // namespace

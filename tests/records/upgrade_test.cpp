@@ -43,7 +43,8 @@ TEST(Upgrade, AVersion1EstimateGetsItsRobotAndReadsAsCurrent) {
   EXPECT_EQ(up.document["kind"], kEstimateDocument.kind);
   EXPECT_EQ(modelFromJson(up.document["model"].dump(), "m").name, "puma560");
   EXPECT_EQ(up.document["model_source"]["spec"], "puma560");
-  ASSERT_EQ(up.notes.size(), 4u);  // the robot embedded; rest, covariance, fit rows not recorded
+  // The robot embedded; rest, covariance, fit rows and provenance not recorded.
+  ASSERT_EQ(up.notes.size(), 5u);
   const EstimateRecord before = estimateRecordFrom(parseJson(readFile(file), file), file);
   const EstimateRecord after = estimateRecordFrom(up.document, "upgraded");
   EXPECT_EQ(before.schema_version, 1);
@@ -66,14 +67,14 @@ TEST(Upgrade, AVersion1EstimateGetsItsRobotAndReadsAsCurrent) {
   }
 }
 
-// search.json 1 -> 2 and excitation.json 1 -> 3: what they did not record stays absent, said.
+// search.json 1 -> 3 and excitation.json 1 -> 4: what they did not record stays absent, said.
 TEST(Upgrade, Version1SearchesAndDesignsReadAsCurrent) {
   const UpgradeOutcome search = upgradeDocument({seed("search_json/ga_search.json"), ""});
   EXPECT_EQ(search.from, 1);
   EXPECT_EQ(search.document["schema_version"], kSearchDocument.schema_version);
   EXPECT_EQ(search.document["kind"], kSearchDocument.kind);
   EXPECT_FALSE(search.document.contains("model"));
-  EXPECT_EQ(search.notes.size(), 1u);
+  EXPECT_EQ(search.notes.size(), 2u);  // the robot and the provenance, not recorded
   const std::string file = seed("excitation_json/puma560_h2.json");
   const UpgradeOutcome design = upgradeDocument({file, ""});
   EXPECT_EQ(design.from, 1);
@@ -86,7 +87,7 @@ TEST(Upgrade, Version1SearchesAndDesignsReadAsCurrent) {
   EXPECT_EQ(after.offset, before.offset);
 }
 
-// thresholds.json 1 to 3 -> 4: the states and regimes they lacked are null, and they read back.
+// thresholds.json 1 to 4 -> 5: the states and regimes they lacked are null, and they read back.
 TEST(Upgrade, OlderThresholdsGetNullStatesAndRegimes) {
   const nlohmann::json base = {{"schema_version", kMonitorThresholdsDocument.schema_version},
                                {"kind", kMonitorThresholdsDocument.kind},

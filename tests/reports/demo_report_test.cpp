@@ -32,7 +32,7 @@ DemoResult sampleDemo() {
 
 TEST(DemoReport, SummaryJsonHasEveryFieldAndNullForNonFinite) {
   const auto j = nlohmann::json::parse(demoSummaryJson(sampleDemo()));
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
   EXPECT_EQ(j["order"], (std::vector<std::string>{"ols", "nlo"}));
   EXPECT_EQ(j["methods"]["ols"]["base_param_error"].get<double>(), 2e-12);
   EXPECT_EQ(j["methods"]["nlo"]["evaluations"], 750);

@@ -76,7 +76,7 @@ TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
   };
   EXPECT_THROW(excitationDesignFrom(text, "e.json", 7), ParseError);  // another joint count
   nlohmann::json bad = text;
-  bad["schema_version"] = 4;  // a later version: refused (1 and 2, before the model, are read)
+  bad["schema_version"] = 5;  // a later version: refused (1 to 3 are read)
   expectRefused(bad, "schema_version");
   bad = text;
   bad["kind"] = "dynid.model";
