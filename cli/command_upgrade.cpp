@@ -34,8 +34,9 @@ void checkUpgradedEstimate(const UpgradeOutcome& upgraded, const std::string& fi
 
 int runUpgrade(const std::vector<std::string>& args) {
   po::options_description options("dynid upgrade");
-  options.add_options()("file", po::value<std::string>()->required(),
-                        "a dynid document (estimate, excitation, thresholds, search)")(
+  options.add_options()(
+      "file", po::value<std::string>()->required(),
+      "a dynid document of an earlier version (any kind that has had more than one)")(
       "robot", po::value<std::string>(),
       "an estimate's robot, where its robot_spec is not found (same kinematics, checked)")(
       "out", po::value<std::string>()->required(),

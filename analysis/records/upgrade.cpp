@@ -17,16 +17,19 @@ using json = nlohmann::json;
 /// The kinds with earlier versions, and how a document of each is told when it has no "kind"
 /// (estimate.json and search.json 1 did not write one).
 const DocumentType* kindOf(const json& d, const std::string& file) {
-  static const DocumentType* const kUpgradable[] = {&kEstimateDocument, &kExcitationDocument,
-                                                    &kMonitorThresholdsDocument, &kSearchDocument};
+  static const DocumentType* const kUpgradable[] = {
+      &kEstimateDocument,        &kExcitationDocument,  &kMonitorThresholdsDocument,
+      &kSearchDocument,          &kRefineDocument,      &kPredictionDocument,
+      &kPayloadDocument,         &kPayloadBodyDocument, &kMonitorDocument,
+      &kAuditDocument,           &kStudyDocument,       &kPrepareDocument,
+      &kIdentifiabilityDocument, &kDemoDocument};
   if (d.contains("kind")) {
     for (const DocumentType* t : kUpgradable)
       if (d["kind"] == t->kind) return t;
     throw ParseError(file, 0, "kind",
                      (d["kind"].is_string() ? "'" + d["kind"].get<std::string>() + "'"
                                             : std::string("this kind")) +
-                         " has no earlier version to upgrade: only estimate, excitation, monitor "
-                         "thresholds and search documents do");
+                         " has no earlier version to upgrade: it has had one version only");
   }
   if (d.contains("standard_estimate") && d.contains("base_parameters")) return &kEstimateDocument;
   if (d.contains("settings") && d.contains("history") && d.contains("estimate"))
@@ -36,10 +39,86 @@ const DocumentType* kindOf(const json& d, const std::string& file) {
                    "document that has earlier versions");
 }
 
-/// The note for a document from before `version` recorded its provenance.
-std::string noProvenanceNote(int version) {
-  return "versions before " + std::to_string(version) +
-         " recorded no provenance (which dynid, command and inputs made it): none is added";
+/// Renames keys of the object at `at` (a top-level key; "" the document itself) where present,
+/// with a note each: the names a version changed.
+void renameKeys(json& d, const std::string& at,
+                const std::vector<std::pair<std::string, std::string>>& names,
+                std::vector<std::string>& notes) {
+  json* object = at.empty() ? &d : (d.contains(at) ? &d[at] : nullptr);
+  if (object == nullptr || !object->is_object()) return;
+  for (const auto& [old_name, new_name] : names) {
+    if (!object->contains(old_name) || object->contains(new_name)) continue;
+    (*object)[new_name] = (*object)[old_name];
+    object->erase(old_name);
+    notes.push_back((at.empty() ? "" : at + ".") + old_name + " is named " + new_name + " now");
+  }
+}
+
+/// What a version of a kind added that an older document did not record: absent after the upgrade
+/// (its readers, where it has any, take it as they always did), and said.
+struct Added {
+  const DocumentType* type;
+  int version;
+  const char* what;
+};
+constexpr const char* kProvenance = "provenance (which dynid, command and inputs made it)";
+constexpr const char* kModel = "model and model_source (the robot, embedded)";
+const Added kAdded[] = {
+    {&kEstimateDocument, 6, kProvenance},
+    {&kExcitationDocument, 4, kProvenance},
+    {&kMonitorThresholdsDocument, 5, kProvenance},
+    {&kSearchDocument, 3, kProvenance},
+    {&kRefineDocument, 2, kModel},
+    {&kRefineDocument, 3, kProvenance},
+    {&kPredictionDocument, 3, "rest_velocity and at_rest (the prediction at rest)"},
+    {&kPredictionDocument, 4,
+     "torque_filter, torque_filter_source and compared_rows (its errors counted every row)"},
+    {&kPredictionDocument, 5, kModel},
+    {&kPredictionDocument, 6, kProvenance},
+    {&kPayloadDocument, 2,
+     "null values for the quantities the log does not determine (here each keeps its number in "
+     "value; its half_width_95 says how well it is known)"},
+    {&kPayloadDocument, 3, kModel},
+    {&kPayloadDocument, 4, kProvenance},
+    {&kPayloadBodyDocument, 2, kProvenance},
+    {&kMonitorDocument, 2, "each event's contact_link, and calibration_confidence"},
+    {&kMonitorDocument, 3, "each event's state (at rest or moving)"},
+    {&kMonitorDocument, 4, "each event's regime"},
+    {&kMonitorDocument, 5, kModel},
+    {&kMonitorDocument, 6, kProvenance},
+    {&kAuditDocument, 2, "dispersion, covariance_policies and each parameter's p_scaled"},
+    {&kAuditDocument, 3, kModel},
+    {&kAuditDocument, 4, kProvenance},
+    {&kStudyDocument, 2, kModel},
+    {&kStudyDocument, 3, kProvenance},
+    {&kPrepareDocument, 2, "runs' file and time_offset, stalled repeats and current_to_torque"},
+    {&kPrepareDocument, 3, kProvenance},
+    {&kIdentifiabilityDocument, 2, kProvenance},
+    {&kDemoDocument, 2, kProvenance},
+};
+
+/// One note per version after `from` whose additions the document lacks.
+void noteAdded(const DocumentType& type, int from, std::vector<std::string>& notes) {
+  for (const Added& a : kAdded)
+    if (a.type == &type && from < a.version)
+      notes.push_back("version " + std::to_string(a.version) + " added " + a.what +
+                      ": not recorded here, left absent");
+}
+
+/// The key changes of the documents that are not read back: prediction.json 2 named its per-joint
+/// errors as estimate.json does, prepare.json 2 listed its tables.
+void renameWritten(json& d, const DocumentType& type, int from, std::vector<std::string>& notes) {
+  if (&type == &kPredictionDocument && from < 2)
+    for (const char* at : {"", "raw_measurement"})
+      renameKeys(d, at,
+                 {{"torque_rms", "residual_rms"}, {"normalised_rms", "joint_relative_error"}},
+                 notes);
+  if (&type == &kPrepareDocument && from < 2 && d.contains("sources") && d["sources"].is_object() &&
+      d["sources"].contains("table")) {
+    d["sources"]["tables"] = json::array({d["sources"]["table"]});
+    d["sources"].erase("table");
+    notes.push_back("sources.table is sources.tables now (a list)");
+  }
 }
 
 /// estimate.json 1-5 -> 6: the robot embedded (loaded from robot_spec beside the document, or
@@ -75,16 +154,17 @@ void upgradeEstimate(json& d, int from, const UpgradeRequest& request,
     notes.push_back("embedded the robot it was made for, loaded from " + where +
                     (source.sha256.empty() ? "" : " (SHA-256 " + source.sha256 + ")"));
   }
-  if (from < 2)
+  if (from < 2) {
+    renameKeys(d, "validation", {{"torque_rms", "residual_rms"}}, notes);
     notes.push_back(
         "version 1 recorded no rest velocities: none are added (read as 0 rad/s, as "
         "before)");
+  }
   if (from < 3)
     notes.push_back(
         "versions 1 and 2 recorded no covariance policy: the covariance stays the "
         "white one it was");
   if (from < 4) notes.push_back("versions 1 to 3 recorded no fit_rows: none are added");
-  if (from < 6) notes.push_back(noProvenanceNote(6));
 }
 
 /// excitation.json 1-3 -> 4: `model` was the robot's name; version 3's is the robot itself, which
@@ -100,7 +180,6 @@ void upgradeExcitation(json& d, int from, std::vector<std::string>& notes) {
     d["payload_link"] = nullptr;
     notes.push_back("payload_link null: version 1 designs were for the whole arm");
   }
-  if (from < 4) notes.push_back(noProvenanceNote(4));
 }
 
 /// thresholds.json 1-4 -> 5: the arm states and regimes absent before stay null; the arm is not
@@ -119,7 +198,6 @@ void upgradeThresholds(json& d, int from, std::vector<std::string>& notes) {
   }
   if (from < 4)
     notes.push_back("the arm is not embedded: the thresholds name the robot, not its file");
-  if (from < 5) notes.push_back(noProvenanceNote(5));
 }
 
 }  // namespace
@@ -149,8 +227,9 @@ UpgradeOutcome upgradeDocument(const UpgradeRequest& request) {
     if (out.from < 2)
       out.notes.push_back(
           "the robot searched on is not embedded: version 1 names it, not its file");
-    out.notes.push_back(noProvenanceNote(3));
   }
+  renameWritten(d, type, out.from, out.notes);
+  noteAdded(type, out.from, out.notes);
   d["schema_version"] = out.to;
   return out;
 }

@@ -5,7 +5,11 @@
 // and the outcome's notes say so. Upgraded: estimate.json 1-5 (the robot embedded, loaded from its
 // robot_spec beside the document, or `robot_spec`), excitation.json 1-3, thresholds.json 1-4 and
 // search.json 1-2 (the robot of an excitation before 3, thresholds before 4 and a search before 2
-// is not embedded: they record its name, not its file and drive terms; the notes say so).
+// is not embedded: they record its name, not its file and drive terms; the notes say so); and the
+// documents no command reads back, for their readers (scripts, people): prediction.json 1-5
+// (version 1's per-joint errors renamed as version 2 names them), payload.json 1-3, its body 1,
+// monitor.json 1-5, audit.json 1-3, study.json 1-2, refine.json 1-2, prepare.json 1-2 (version 1's
+// sources.table a list), identifiability.json 1 and the demo's summary 1.
 #pragma once
 
 #include <string>

@@ -1,7 +1,7 @@
 // Documents of earlier versions brought to the current one (analysis/records/upgrade.hpp). The
 // version 1 estimate, search and excitation are files dynid wrote then (kept as fuzz seeds since
-// 2026-11-24); later versions of the estimate and the thresholds are made from current documents
-// by the changes document.hpp lists, as no binary of those versions is kept.
+// 2026-11-24); later versions of the estimate and the thresholds, and the documents no command
+// reads back, are made by the changes document.hpp lists, as no binary of those versions is kept.
 #include "analysis/records/upgrade.hpp"
 
 #include <gtest/gtest.h>
@@ -114,6 +114,54 @@ TEST(Upgrade, OlderThresholdsGetNullStatesAndRegimes) {
   }
 }
 
+// The documents no command reads back are upgraded for their other readers: a version's renamed
+// keys renamed, one note per later version whose additions they lack, the result current and
+// upgraded again unchanged.
+TEST(Upgrade, DocumentsNoCommandReadsBackUpgradeToo) {
+  // prediction.json 1: the per-joint errors under their old names, at the top and in the raw
+  // comparison.
+  const nlohmann::json prediction = {
+      {"schema_version", 1},
+      {"kind", kPredictionDocument.kind},
+      {"relative_error", 0.01},
+      {"torque_rms", {0.1, 0.2}},
+      {"raw_measurement", {{"torque_rms", {0.3, 0.4}}, {"normalised_rms", {0.5, 0.6}}}}};
+  const UpgradeOutcome p = upgradeDocument({asFile("prediction_v1.json", prediction), ""});
+  EXPECT_EQ(p.to, kPredictionDocument.schema_version);
+  EXPECT_EQ(p.document["residual_rms"], nlohmann::json({0.1, 0.2}));
+  EXPECT_FALSE(p.document.contains("torque_rms"));
+  EXPECT_EQ(p.document["raw_measurement"]["joint_relative_error"], nlohmann::json({0.5, 0.6}));
+  EXPECT_EQ(p.document["relative_error"], 0.01);
+  // Three renames, then versions 3, 4, 5 and 6's additions not recorded.
+  EXPECT_EQ(p.notes.size(), 7u);
+  EXPECT_EQ(p.notes[3],
+            "version 3 added rest_velocity and at_rest (the prediction at rest): not recorded "
+            "here, left absent");
+  // prepare.json 1 named its one table; version 2 lists them.
+  const nlohmann::json prepare = {
+      {"schema_version", 1}, {"kind", kPrepareDocument.kind}, {"sources", {{"table", "log.csv"}}}};
+  const UpgradeOutcome q = upgradeDocument({asFile("prepare_v1.json", prepare), ""});
+  EXPECT_EQ(q.document["sources"]["tables"], nlohmann::json({"log.csv"}));
+  EXPECT_FALSE(q.document["sources"].contains("table"));
+  // Every kind, from its first version: current, and again unchanged.
+  for (const DocumentType* type :
+       {&kPredictionDocument, &kPayloadDocument, &kPayloadBodyDocument, &kMonitorDocument,
+        &kAuditDocument, &kStudyDocument, &kRefineDocument, &kPrepareDocument,
+        &kIdentifiabilityDocument, &kDemoDocument}) {
+    const nlohmann::json first = {{"schema_version", 1}, {"kind", type->kind}};
+    const UpgradeOutcome up = upgradeDocument({asFile("first.json", first), ""});
+    EXPECT_EQ(up.from, 1) << type->kind;
+    EXPECT_EQ(up.document["schema_version"], type->schema_version) << type->kind;
+    // A note per later version; prediction.json 2 only renamed keys, which this one lacks.
+    const int renames_only = type == &kPredictionDocument ? 1 : 0;
+    EXPECT_EQ(up.notes.size(), static_cast<std::size_t>(type->schema_version - 1 - renames_only))
+        << type->kind;
+    const UpgradeOutcome again = upgradeDocument({asFile("again.json", up.document), ""});
+    EXPECT_EQ(again.from, again.to) << type->kind;
+    EXPECT_EQ(again.document, up.document) << type->kind;
+  }
+}
+
 TEST(Upgrade, RefusesLaterVersionsOtherKindsAndLostRobots) {
   nlohmann::json later = parseJson(readFile(seed("search_json/ga_search.json")), "s");
   later["schema_version"] = kSearchDocument.schema_version + 1;
@@ -123,10 +171,10 @@ TEST(Upgrade, RefusesLaterVersionsOtherKindsAndLostRobots) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("written by a newer dynid"), std::string::npos);
   }
-  const nlohmann::json study = {{"schema_version", 1}, {"kind", "dynid.study"}};
+  const nlohmann::json checkpoint = {{"schema_version", 1}, {"kind", "dynid.search_checkpoint"}};
   try {
-    upgradeDocument({asFile("study.json", study), ""});
-    ADD_FAILURE() << "a study was upgraded";
+    upgradeDocument({asFile("checkpoint.json", checkpoint), ""});
+    ADD_FAILURE() << "a checkpoint (one version only) was upgraded";
   } catch (const ParseError& e) {
     EXPECT_NE(std::string(e.what()).find("no earlier version"), std::string::npos) << e.what();
   }
