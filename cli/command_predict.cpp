@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "reports/output.hpp"
 #include "reports/prediction_report.hpp"
 
@@ -51,6 +52,7 @@ int runPredict(const std::vector<std::string>& args) {
   PredictedCsv csv(dir);  // every sample's prediction, written as the data stream through
   request.sink = &csv;
   const PredictOutcome outcome = predictRun(request);
+  printWarnings(outcome.warnings);
   std::cout << writePrediction(dir, outcome, request.estimate_file, request.data_file, csv);
   return kExitOk;
 }

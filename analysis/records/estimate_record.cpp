@@ -10,6 +10,7 @@
 #include "core/parameters.hpp"
 #include "data/json_number.hpp"
 #include "data/json_reader.hpp"
+#include "data/model_json.hpp"
 
 namespace dynid {
 
@@ -77,6 +78,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
       out.kind = "search";
       const JsonReader read(from);
       checkSearchDocument(read, start);
+      if (start.contains("model")) out.made_on = modelFromJson(start["model"].dump(), from);
       const json& s = read.field(start, "", "settings");
       read.onlyKeys(s, "settings",
                     {"form",
@@ -145,8 +147,9 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
           read.fail("settings.free_parameters", "'" + name + "' is not a parameter of the robot");
     } else if (start.contains("standard_estimate")) {
       out.kind = "estimate";
-      out.initial.setStandardParameters(
-          standardVectorFrom(estimateRecordFrom(start, from), names, from, ""));
+      const EstimateRecord record = estimateRecordFrom(start, from);
+      if (!record.model.is_null()) out.made_on = modelFromJson(record.model.dump(), from);
+      out.initial.setStandardParameters(standardVectorFrom(record, names, from, ""));
       out.estimate = out.initial;
     } else {
       throw ParseError(from, 0, "", "neither a dynid search.json nor an identify estimate.json");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,9 @@ struct RefineStart {
   SpaceOptions space;
   SegmentOptions segments;
   Model initial, estimate;  // the space's initial model and the start
+  /// The robot the document embeds (a search.json from version 2, an estimate.json from 5): the
+  /// refinement's robot must have its kinematics.
+  std::optional<Model> made_on;
 };
 /// Reads `document` (the contents of `file`). For a search.json, the space and segments are the
 /// search's and exactly its free parameters are freed; for an estimate.json, `space` and

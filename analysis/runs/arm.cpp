@@ -95,10 +95,11 @@ Model embeddedModel(const EstimateRecord& estimate, const std::string& file) {
 
 }  // namespace
 
-std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model) {
+std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model,
+                                 const std::string& whose) {
   const Eigen::MatrixXd mine = kinematicsSignature(model);
   if (!recorded.is_array() || recorded.size() != static_cast<std::size_t>(mine.rows()))
-    return "it has " + std::to_string(mine.rows()) + " joints, the estimate's robot " +
+    return "it has " + std::to_string(mine.rows()) + " joints, " + whose + " " +
            std::to_string(recorded.is_array() ? recorded.size() : 0);
   constexpr double kSame = 1e-9;  // round-off of the frames' products, far below any real change
   for (Eigen::Index i = 0; i < mine.rows(); ++i) {
@@ -112,9 +113,9 @@ std::string kinematicsDifference(const nlohmann::json& recorded, const Model& mo
     const std::string link = "link " + std::to_string(i + 1) + " (" + model.link_names[i] + ")";
     if (origin > kSame)
       return link + "'s frame at q = 0 lies " + formatNumber(origin, 3) +
-             " m (largest coordinate) from the estimate's robot's";
+             " m (largest coordinate) from " + whose + "'s";
     if (rotation > kSame)
-      return link + "'s frame at q = 0 is turned from the estimate's robot's (rotation entries " +
+      return link + "'s frame at q = 0 is turned from " + whose + "'s (rotation entries " +
              "differ by up to " + formatNumber(rotation, 3) + ")";
     if (axis > kSame)
       return "joint " + std::to_string(i + 1) + " (" + model.joint_names[i] +
@@ -122,6 +123,18 @@ std::string kinematicsDifference(const nlohmann::json& recorded, const Model& mo
              ")";
   }
   return "";
+}
+
+std::string kinematicsDifference(const Model& recorded, const Model& model,
+                                 const std::string& whose) {
+  const Eigen::MatrixXd rows = kinematicsSignature(recorded);
+  nlohmann::json json = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index c = 0; c < rows.cols(); ++c) row.push_back(rows(i, c));
+    json.push_back(row);
+  }
+  return kinematicsDifference(json, model, whose);
 }
 
 Model estimateModel(const std::string& file, const std::string& robot_spec, std::string* spec_used,

@@ -28,8 +28,12 @@ std::vector<Pose<double>> linkFramesAtZero(const Model& model);
 Eigen::MatrixXd kinematicsSignature(const Model& model);
 /// What differs between recorded kinematics (an estimate's rows) and `model`'s: the joint count,
 /// else the first link whose frame origin, frame rotation or joint axis differs beyond 1e-9, with
-/// how much; "" when they are the same.
-std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model);
+/// how much; "" when they are the same. `whose` names the recorded robot in the message.
+std::string kinematicsDifference(const nlohmann::json& recorded, const Model& model,
+                                 const std::string& whose = "the estimate's robot");
+/// The same against a recorded robot (a search's embedded one).
+std::string kinematicsDifference(const Model& recorded, const Model& model,
+                                 const std::string& whose);
 
 /// Every physical-consistency violation of the model's links (empty: all consistent).
 std::vector<ConsistencyViolation> consistencyViolations(const Model& model);

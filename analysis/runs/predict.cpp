@@ -1,8 +1,11 @@
 #include "analysis/runs/predict.hpp"
 
+#include "analysis/records/document.hpp"
+#include "analysis/records/upgrade.hpp"
 #include "analysis/runs/arm.hpp"
 #include "core/errors.hpp"
 #include "data/dataset_csv.hpp"
+#include "data/io.hpp"
 
 namespace dynid {
 
@@ -50,6 +53,12 @@ PredictOutcome predictRun(const PredictRequest& request) {
   } else {
     out.model = estimateModel(request.estimate_file, request.robot_spec, &out.robot_spec,
                               &out.method, &out.band, &out.source);
+    const int version =
+        documentVersion(parseJson(readFile(request.estimate_file), request.estimate_file),
+                        kEstimateDocument.schema_version);
+    if (version < kEstimateDocument.schema_version)
+      out.warnings.push_back(olderVersionNote(request.estimate_file, kEstimateDocument.kind,
+                                              version, kEstimateDocument.schema_version));
   }
   {  // the rest velocities: a pass over the velocities before the streamed prediction
     const Trajectory data = restSamplesOf(request.data_file, out.model.numJoints());

@@ -56,6 +56,7 @@ struct PredictOutcome {
   TorqueFilter torque_filter;
   std::string torque_filter_source;
   int filter_reach = 0;
+  std::vector<std::string> warnings;  // an estimate of an earlier version read as it is
 };
 /// The torque filter a prediction reproduces, where it came from (or why there is none), its reach
 /// [samples] and the rows it gives (set only when it is active and the model has friction that

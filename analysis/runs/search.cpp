@@ -159,6 +159,12 @@ RefineOutcome refineRun(const RefineRequest& request) {
       request.from_document ? *request.from_document
                             : parseJson(readFile(request.from_file), request.from_file),
       request.from_file, robot, space_options, segment_options);
+  if (start.made_on) {  // the robot the search or estimate embeds: refined on the same one
+    const std::string difference = kinematicsDifference(*start.made_on, robot, "its robot");
+    if (!difference.empty())
+      throw InputError(request.from_file + " was made on another robot than '" + robot.name +
+                       "' (`robot`): " + difference);
+  }
   out.from_kind = start.kind;
   out.segment_options = start.segments;
   out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);

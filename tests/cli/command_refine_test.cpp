@@ -22,6 +22,41 @@ using test::contains;
 using test::Result;
 using test::run;
 
+// A search or an estimate embeds the robot it was made on: refining it on a robot with other
+// kinematics (here joint 2's frame moved by 0.1 m) is refused with what differs.
+TEST(Cli, RefineRefusesAnotherRobotThanTheStartWasMadeOn) {
+  const std::string dir = test::tempPath("refine_other_robot");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string train = dir + "/train.csv", urdf = dir + "/arm.urdf";
+  ASSERT_EQ(run("simulate --robot puma560 --duration 2 --out " + train).code, 0);
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + urdf).code, 0);
+  std::string text = readFile(urdf);
+  const std::string joint2 = "<origin xyz=\"0 0 0\" rpy=\"1.5707963267948966 -0 0\"/>";
+  ASSERT_NE(text.find(joint2), std::string::npos) << text;
+  text.replace(text.find(joint2), joint2.size(),
+               "<origin xyz=\"0 0 0.1\" rpy=\"1.5707963267948966 -0 0\"/>");
+  const std::string moved = dir + "/moved.urdf";
+  writeFileAtomically(moved, text);
+  ASSERT_EQ(run("search --method nlo --robot " + urdf + " --data " + train +
+                " --perturb 0.1 --seed 1 --segments 10 --budget-evals 20 --out " + dir + "/s")
+                .code,
+            0);
+  ASSERT_EQ(run("identify --robot " + urdf + " --data " + train + " --out " + dir + "/e").code, 0);
+  for (const std::string from : {dir + "/s/search.json", dir + "/e/estimate.json"}) {
+    const Result r = run("refine --robot " + moved + " --from " + from + " --data " + train +
+                         " --max-iterations 1 --out " + dir + "/r");
+    EXPECT_EQ(r.code, 1) << from << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, "was made on another robot than")) << r.err;
+    EXPECT_TRUE(contains(r.err, "link 2 (link2)'s frame at q = 0 lies 0.1 m")) << r.err;
+    EXPECT_TRUE(contains(r.err, "(--robot)")) << r.err;  // the request field, as this CLI spells it
+  }
+  // The robot it was made on is accepted.
+  const Result same = run("refine --robot " + urdf + " --from " + dir + "/s/search.json --data " +
+                          train + " --max-iterations 1 --out " + dir + "/r");
+  EXPECT_EQ(same.code, 0) << same.err;
+}
+
 // search.json and refine.json 2 embed the robot (model, model_source); refine --from still reads
 // a search.json 1, which has neither.
 TEST(Cli, RefineReadsEitherSearchVersionAndBothEmbedTheRobot) {

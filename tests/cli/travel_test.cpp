@@ -133,6 +133,10 @@ TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
     const Result p = run("predict --estimate " + (k == 0 ? v1 : dir + "/estimate.json") +
                          " --data " + dir + "/d.csv --out " + out);
     ASSERT_EQ(p.code, 0) << p.err;
+    // predict says when it reads an older estimate as it is, as monitor and payload do.
+    EXPECT_EQ(test::contains(p.err, "is dynid.estimate version 1 (current 6): read as it is"),
+              k == 0)
+        << p.err;
     residuals[k] = nlohmann::json::parse(readFile(out + "/prediction.json"))["residual_rms"];
   }
   EXPECT_EQ(residuals[1], residuals[0]);
