@@ -7,6 +7,7 @@
 #include "analysis/records/provenance.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/output.hpp"
@@ -88,6 +89,7 @@ int runRefine(const std::vector<std::string>& args) {
   if (terminal) std::fprintf(stderr, "\n");
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(dir, {{"refine.json", jsonText(withProvenance(refineJson(outcome)), 1) + "\n"}});
+  printWarnings(outcome.warnings);
   if (const std::string warning = refineWarning(outcome); !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   std::cout << refineSummary(outcome, dir);

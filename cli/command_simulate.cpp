@@ -241,6 +241,7 @@ int runSimulate(const std::vector<std::string>& args) {
   if (out == "-" && vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-")
     throw UsageError("--out and --truth-out cannot both be - (standard output)");
   const SimulateOutcome outcome = simulateRun(request);
+  printWarnings(outcome.warnings);
   {
     ThreadPool pool(threadsOption(vm));
     writeDatasetCsv(out, outcome.trajectory, &pool);

@@ -78,8 +78,13 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
     if (const std::string why = p.problem(); !why.empty()) throw py::value_error("pauses: " + why);
     r.pauses = p;
   }
-  py::gil_scoped_release release;
-  return simulateRun(r).trajectory;
+  SimulateOutcome out;
+  {
+    py::gil_scoped_release release;
+    out = simulateRun(r);
+  }
+  warnAll(out.warnings);  // a trajectory of an earlier version, read as it is
+  return out.trajectory;
 }
 
 // ---- search ----
@@ -244,6 +249,7 @@ RefinePy refinePy(const Model& robot, const StartLike& start, const DataLike& da
     out.outcome = refineRun(r);
   }
   out.provenance = call.finish();
+  warnAll(out.outcome.warnings);     // a start of an earlier version, read as it is
   out.outcome.options.control = {};  // it points into `interrupt`, gone on return
   out.outcome.options.on_iteration = nullptr;
   interrupt.raiseIfFailed();

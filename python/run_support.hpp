@@ -136,6 +136,13 @@ class PythonRun {
 /// no call made (`call` empty: read from a file).
 nlohmann::json withCall(nlohmann::json document, const RunProvenance& call);
 
+/// Each of a run's warnings as a Python UserWarning (with the GIL held), as the CLI prints them.
+inline void warnAll(const std::vector<std::string>& warnings) {
+  for (const std::string& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, pythonText(w).c_str(), 1) < 0)
+      throw py::error_already_set();  // warnings as errors
+}
+
 /// A Validation as a dict.
 inline py::dict validationDict(const Validation& v) {
   py::dict d;

@@ -78,6 +78,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
       out.kind = "search";
       const JsonReader read(from);
       checkSearchDocument(read, start);
+      out.version = documentVersion(start, kSearchDocument.schema_version);
       if (start.contains("model")) out.made_on = modelFromJson(start["model"].dump(), from);
       const json& s = read.field(start, "", "settings");
       read.onlyKeys(s, "settings",
@@ -148,6 +149,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
     } else if (start.contains("standard_estimate")) {
       out.kind = "estimate";
       const EstimateRecord record = estimateRecordFrom(start, from);
+      out.version = record.schema_version;
       if (!record.model.is_null()) out.made_on = modelFromJson(record.model.dump(), from);
       out.initial.setStandardParameters(standardVectorFrom(record, names, from, ""));
       out.estimate = out.initial;

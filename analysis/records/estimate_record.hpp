@@ -25,6 +25,7 @@ struct RefineStart {
   /// The robot the document embeds (a search.json from version 2, an estimate.json from 5): the
   /// refinement's robot must have its kinematics.
   std::optional<Model> made_on;
+  int version = 0;  // the document's schema_version (an earlier one is read as it is)
 };
 /// Reads `document` (the contents of `file`). For a search.json, the space and segments are the
 /// search's and exactly its free parameters are freed; for an estimate.json, `space` and

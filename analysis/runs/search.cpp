@@ -8,6 +8,7 @@
 #include "analysis/records/document.hpp"
 #include "analysis/records/estimate_record.hpp"
 #include "analysis/records/search_record.hpp"
+#include "analysis/records/upgrade.hpp"
 #include "analysis/runs/arm.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -166,6 +167,10 @@ RefineOutcome refineRun(const RefineRequest& request) {
                        "' (`robot`): " + difference);
   }
   out.from_kind = start.kind;
+  const DocumentType& type = start.kind == "search" ? kSearchDocument : kEstimateDocument;
+  if (start.version < type.schema_version)
+    out.warnings.push_back(
+        olderVersionNote(request.from_file, type.kind, start.version, type.schema_version));
   out.segment_options = start.segments;
   out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);
   const ParameterSpace& space = *out.space;

@@ -115,6 +115,7 @@ struct RefineOutcome {
   // With a validate file:
   std::string validate_file;
   double validate_initial_gc = 0.0, validate_final_gc = 0.0;
+  std::vector<std::string> warnings;  // a start of an earlier version read as it is
 };
 /// Throws ParseError for a start file that is neither document (or lacks a field), InputError for
 /// a truth of another layout or invalid options.

@@ -4,9 +4,12 @@
 #include <numbers>
 #include <random>
 
+#include "analysis/records/document.hpp"
 #include "analysis/records/excitation_record.hpp"
+#include "analysis/records/upgrade.hpp"
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
+#include "data/io.hpp"
 #include "data/robots.hpp"
 
 namespace dynid {
@@ -59,8 +62,14 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
 
   Eigen::VectorXd q0 = request.q0.value_or(defaultCentre(truth));
   Reference reference;
+  std::vector<std::string> warnings;  // the outcome's
   if (!request.trajectory.empty()) {
     const FourierSeries design = readExcitationDesign(request.trajectory, n);
+    const int version = documentVersion(parseJson(readFile(request.trajectory), request.trajectory),
+                                        kExcitationDocument.schema_version);
+    if (version < kExcitationDocument.schema_version)
+      warnings.push_back(olderVersionNote(request.trajectory, kExcitationDocument.kind, version,
+                                          kExcitationDocument.schema_version));
     reference = design;
     q0 = design.offset;  // the default gains' configuration
   } else if (!request.fourier) {
@@ -75,6 +84,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
                               request.simulation.seed);
   }
   SimulateOutcome out;
+  out.warnings = std::move(warnings);
   TrackingGains gains = defaultGains(controller_model, q0, request.bandwidth);
   out.gains_rule = "mass-matrix diagonal";
   // The paper's diagonal gains, unless the joints' coupling puts a closed-loop mode above 3 times

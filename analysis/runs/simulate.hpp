@@ -53,6 +53,7 @@ struct SimulateOutcome {
   std::string gains_rule;
   /// With disturbances: the external joint torque at every sample (n x samples) [N m].
   Eigen::MatrixXd external;
+  std::vector<std::string> warnings;  // a trajectory of an earlier version read as it is
 };
 /// Simulates the robot under a tracking controller. Throws InputError for a controller model of
 /// another joint count or harmonics < 1, ParseError for a bad `trajectory` file, and what

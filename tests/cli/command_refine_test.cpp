@@ -84,6 +84,9 @@ TEST(Cli, RefineReadsEitherSearchVersionAndBothEmbedTheRobot) {
     const Result r = run("refine --robot puma560 --from " + from + " --data " + train +
                          " --max-iterations 2 --threads 1 --out " + out);
     ASSERT_EQ(r.code, 0) << from << ": " << r.err;
+    // The version 1 search is read as it is, and refine says so.
+    EXPECT_EQ(contains(r.err, "is dynid.search version 1 (current 3): read as it is"), from == old)
+        << r.err;
     const auto j = nlohmann::json::parse(readFile(out + "/refine.json"));
     EXPECT_EQ(j["schema_version"], 3);
     EXPECT_EQ(j["provenance"]["command"][1], "refine");

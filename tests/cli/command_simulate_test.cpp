@@ -82,6 +82,7 @@ TEST(Cli, SimulateTracksADesignedExcitation) {
     EXPECT_NEAR(t.q(joint, 0), q0, 1e-12) << joint;  // round-off of a short sum
   }
   EXPECT_TRUE(contains(r.out, "tracking error RMS")) << r.out;
+  EXPECT_FALSE(contains(r.err, "read as it is")) << r.err;  // a current design
   // --trajectory replaces the controller and its amplitude; a file that is not a design fails.
   EXPECT_EQ(run("simulate --robot puma560 --trajectory " + design +
                 "/excitation.json --controller fourier --out " + csv)
@@ -161,6 +162,17 @@ TEST(Cli, SimulatedPandaTracksWithoutChatterAndIdentifiesToItsNoiseFloor) {
     EXPECT_LT(estimate["relative_error"].get<double>(), 2.0 * floor["relative_error"].get<double>())
         << controller;
   }
+}
+
+// A design dynid excite wrote in version 1 (a fuzz seed since 2026-11-24) is tracked as it is,
+// and simulate says so, as every reader of an older document does.
+TEST(Cli, SimulateSaysWhenItReadsAnOlderDesign) {
+  const std::string v1 =
+      std::string(DYNID_SOURCE_DIR) + "/tests/fuzz/corpus/excitation_json/puma560_h2.json";
+  const Result r = run("simulate --robot puma560 --trajectory " + v1 + " --duration 1 --out " +
+                       test::tempPath("simulate_v1_design.csv"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.err, "is dynid.excitation version 1 (current 4): read as it is")) << r.err;
 }
 
 }  // namespace
