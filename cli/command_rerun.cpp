@@ -46,6 +46,15 @@ int runCommand(const std::vector<std::string>& arguments, const std::string& dir
   return WEXITSTATUS(status);
 }
 
+/// The document's folder with "-rerun" appended ("rerun" for a document in the current folder).
+std::string defaultRerunFolder(const std::string& document) {
+  const std::filesystem::path folder =
+      std::filesystem::path(document).parent_path().lexically_normal();
+  const std::string name = folder.filename().string();
+  if (folder.empty() || name.empty() || name == "." || name == "..") return "rerun";
+  return (folder.parent_path() / (name + "-rerun")).string();
+}
+
 /// The command as one line a user can read (words with spaces or quotes quoted).
 std::string commandLine(const std::vector<std::string>& arguments) {
   std::string out = "dynid";
@@ -64,16 +73,18 @@ int runRerun(const std::vector<std::string>& args) {
   po::options_description options("dynid rerun");
   options.add_options()("document", po::value<std::string>()->required(),
                         "a document dynid wrote (estimate.json, search.json, ...)")(
-      "out", po::value<std::string>()->required(),
-      "the new output folder (not the document's): the command's outputs, compared with it");
+      "out", po::value<std::string>(),
+      "the new output folder (not the document's): the command's outputs, compared with it "
+      "(default: the document's folder with -rerun appended: est/estimate.json reruns into "
+      "est-rerun)");
   po::positional_options_description positional;
   positional.add("document", 1);
   po::variables_map vm;
-  if (!parseCommandLine(args, options, "dynid rerun DOCUMENT --out DIR", vm, &positional))
+  if (!parseCommandLine(args, options, "dynid rerun DOCUMENT [--out DIR]", vm, &positional))
     return kExitOk;
   RerunRequest request;
   request.document = vm["document"].as<std::string>();
-  request.out = outputDirectoryOption(vm);
+  request.out = vm.count("out") ? outputDirectoryOption(vm) : defaultRerunFolder(request.document);
   request.version = DYNID_VERSION;
   request.commit = kBuildCommit;
   std::error_code error;

@@ -104,6 +104,10 @@ TEST(CliRerun, SaysWhatDiffersAndRefusesWhatCannotBeTheSameRun) {
   EXPECT_EQ(differs.code, 1) << differs.err;
   EXPECT_TRUE(contains(differs.out, "differs from")) << differs.out;
   EXPECT_TRUE(contains(differs.out, "/relative_error: 0.5 -> ")) << differs.out;
+  // Without --out: the document's folder with -rerun appended.
+  const Result beside = run("rerun " + dir + "/id/estimate.json");
+  EXPECT_EQ(beside.code, 0) << beside.err;
+  EXPECT_TRUE(contains(beside.out, dir + "/id-rerun/estimate.json is the same as")) << beside.out;
   // The document's own folder is no place for the rerun (it is compared with what is there).
   const Result own = run("rerun " + dir + "/id/estimate.json --out " + dir + "/id");
   EXPECT_EQ(own.code, 2) << own.err;
