@@ -35,11 +35,12 @@ Eigen::VectorXd standardFrom(const json& values, const std::vector<std::string>&
   return theta;
 }
 
-/// A search.json's header and top-level keys. Versions 1 (before the robot was embedded) and 2
-/// (before the provenance) read the same: model, model_source and provenance are for the record
-/// (refine runs on its own robot).
-void checkSearchDocument(const JsonReader& read, const json& start) {
-  read.header(start, documentVersion(start, kSearchDocument.schema_version), nullptr);
+/// A search.json's header and top-level keys; its version. Versions 1 (before the robot was
+/// embedded) and 2 (before the provenance) read the same: model, model_source and provenance are
+/// for the record (refine checks its robot against the model).
+int checkSearchDocument(const JsonReader& read, const json& start) {
+  const int version = documentVersion(start, kSearchDocument.schema_version);
+  read.header(start, version, nullptr);
   read.onlyKeys(start, "",
                 {"schema_version",
                  "kind",
@@ -65,6 +66,7 @@ void checkSearchDocument(const JsonReader& read, const json& start) {
   if (start.contains("model_source"))
     modelSourceFrom(start["model_source"], read.file(), "model_source");
   if (start.contains("provenance")) provenanceFrom(start, read.file());
+  return version;
 }
 
 }  // namespace
@@ -77,9 +79,7 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
     if (start.contains("settings") && start.contains("estimate")) {
       out.kind = "search";
       const JsonReader read(from);
-      checkSearchDocument(read, start);
-      out.version = documentVersion(start, kSearchDocument.schema_version);
-      if (start.contains("model")) out.made_on = modelFromJson(start["model"].dump(), from);
+      out.version = checkSearchDocument(read, start);
       const json& s = read.field(start, "", "settings");
       read.onlyKeys(s, "settings",
                     {"form",
@@ -150,12 +150,12 @@ RefineStart refineStartFrom(const json& start, const std::string& from, const Mo
       out.kind = "estimate";
       const EstimateRecord record = estimateRecordFrom(start, from);
       out.version = record.schema_version;
-      if (!record.model.is_null()) out.made_on = modelFromJson(record.model.dump(), from);
       out.initial.setStandardParameters(standardVectorFrom(record, names, from, ""));
       out.estimate = out.initial;
     } else {
       throw ParseError(from, 0, "", "neither a dynid search.json nor an identify estimate.json");
     }
+    if (start.contains("model")) out.made_on = modelFromJson(start["model"].dump(), from);
   } catch (const json::exception& e) {
     throw ParseError(from, 0, "", std::string("missing or malformed field: ") + e.what());
   }

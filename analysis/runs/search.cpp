@@ -135,6 +135,25 @@ SearchOutcome searchRun(const SearchRequest& request) {
 
 // ---- refinement ----
 
+namespace {
+
+/// What the start document says of itself: the robot it embeds must be `robot` (same kinematics),
+/// and an earlier version is read as it is, with a warning.
+void checkStart(const RefineStart& start, const std::string& file, const Model& robot,
+                std::vector<std::string>& warnings) {
+  if (start.made_on) {
+    const std::string difference = kinematicsDifference(*start.made_on, robot, "its robot");
+    if (!difference.empty())
+      throw InputError(file + " was made on another robot than '" + robot.name +
+                       "' (`robot`): " + difference);
+  }
+  const DocumentType& type = start.kind == "search" ? kSearchDocument : kEstimateDocument;
+  if (start.version < type.schema_version)
+    warnings.push_back(olderVersionNote(file, type.kind, start.version, type.schema_version));
+}
+
+}  // namespace
+
 RefineOutcome refineRun(const RefineRequest& request) {
   request.check();
   const Model& robot = request.robot;
@@ -160,17 +179,8 @@ RefineOutcome refineRun(const RefineRequest& request) {
       request.from_document ? *request.from_document
                             : parseJson(readFile(request.from_file), request.from_file),
       request.from_file, robot, space_options, segment_options);
-  if (start.made_on) {  // the robot the search or estimate embeds: refined on the same one
-    const std::string difference = kinematicsDifference(*start.made_on, robot, "its robot");
-    if (!difference.empty())
-      throw InputError(request.from_file + " was made on another robot than '" + robot.name +
-                       "' (`robot`): " + difference);
-  }
+  checkStart(start, request.from_file, robot, out.warnings);
   out.from_kind = start.kind;
-  const DocumentType& type = start.kind == "search" ? kSearchDocument : kEstimateDocument;
-  if (start.version < type.schema_version)
-    out.warnings.push_back(
-        olderVersionNote(request.from_file, type.kind, start.version, type.schema_version));
   out.segment_options = start.segments;
   out.space = std::make_shared<const ParameterSpace>(start.initial, start.space);
   const ParameterSpace& space = *out.space;

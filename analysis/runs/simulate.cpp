@@ -39,6 +39,22 @@ FourierSeries randomFourier(const Eigen::VectorXd& q0, const Eigen::VectorXd& am
   return r;
 }
 
+namespace {
+
+/// The excitation design at `file`; one of an earlier version is read as it is, with a warning.
+FourierSeries trackedDesign(const std::string& file, int num_joints,
+                            std::vector<std::string>& warnings) {
+  const FourierSeries design = readExcitationDesign(file, num_joints);
+  const int version =
+      documentVersion(parseJson(readFile(file), file), kExcitationDocument.schema_version);
+  if (version < kExcitationDocument.schema_version)
+    warnings.push_back(olderVersionNote(file, kExcitationDocument.kind, version,
+                                        kExcitationDocument.schema_version));
+  return design;
+}
+
+}  // namespace
+
 SimulateOutcome simulateRun(const SimulateRequest& request) {
   if (request.one_period && !request.trajectory.empty()) {
     // The duration is the design's period, checked (memory included) as a given one would be.
@@ -64,12 +80,7 @@ SimulateOutcome simulateRun(const SimulateRequest& request) {
   Reference reference;
   std::vector<std::string> warnings;  // the outcome's
   if (!request.trajectory.empty()) {
-    const FourierSeries design = readExcitationDesign(request.trajectory, n);
-    const int version = documentVersion(parseJson(readFile(request.trajectory), request.trajectory),
-                                        kExcitationDocument.schema_version);
-    if (version < kExcitationDocument.schema_version)
-      warnings.push_back(olderVersionNote(request.trajectory, kExcitationDocument.kind, version,
-                                          kExcitationDocument.schema_version));
+    const FourierSeries design = trackedDesign(request.trajectory, n, warnings);
     reference = design;
     q0 = design.offset;  // the default gains' configuration
   } else if (!request.fourier) {
