@@ -92,6 +92,13 @@ RerunPlan planRerun(const RerunRequest& request) {
         }))
       plan.notes.push_back("the file the command writes by `" + outputs[k].substr(2) +
                            "` goes into the new folder too");
+  // Standard input ("-" for an input, as `monitor --data -` reads a live stream) is not the
+  // recorded stream: the rerun would wait on this terminal's.
+  for (const std::string& word : plan.arguments)
+    if (word == "-" || (word.size() > 2 && word.compare(word.size() - 2, 2, "=-") == 0))
+      throw InputError(request.document +
+                       ": its command read standard input ('-'), which cannot be read again: "
+                       "run the command yourself with that input saved to a file");
   if (run.version != request.version || run.commit != request.commit)
     plan.notes.push_back("made by dynid " + run.version + " (commit " + run.commit +
                          "); this is dynid " + request.version + " (commit " + request.commit +

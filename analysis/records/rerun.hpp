@@ -37,8 +37,9 @@ const std::vector<std::string>& rerunOutputOptions();
 /// Reads the document's provenance and prepares its command: every recorded input found (relative
 /// to the recorded working directory, or the current one when that is gone) with the recorded
 /// SHA-256. Throws ParseError for a document without a readable provenance, InputError for one
-/// made by a Python call, an input that is a stream, missing or changed (naming it and both
-/// digests), `out` the document's own folder, or a command with no output folder.
+/// made by a Python call, an input that is a stream (standard input, "-", among them), missing or
+/// changed (naming it and both digests), `out` the document's own folder, or a command with no
+/// output folder.
 RerunPlan planRerun(const RerunRequest& request);
 
 }  // namespace dynid
