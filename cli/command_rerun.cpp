@@ -87,6 +87,9 @@ int runRerun(const std::vector<std::string>& args) {
   request.out = vm.count("out") ? outputDirectoryOption(vm) : defaultRerunFolder(request.document);
   request.version = DYNID_VERSION;
   request.commit = kBuildCommit;
+  // The options whose value is a path a command writes: the output folder, then a search's
+  // checkpoint and identify's URDF write-back (moved into the new folder by name).
+  request.output_options = {"--out", "--checkpoint", "--write-urdf"};
   std::error_code error;
   if (std::filesystem::weakly_canonical(std::filesystem::absolute(request.out), error) ==
       std::filesystem::weakly_canonical(std::filesystem::absolute(request.document).parent_path(),
@@ -112,7 +115,7 @@ int runRerun(const std::vector<std::string>& args) {
                      "; its messages above): nothing compared");
   const std::string again = (std::filesystem::path(request.out) / plan.document_name).string();
   const std::vector<std::string> differences =
-      rerunDifferences(plan.original, parseJson(readFile(again), again), rerunOutputOptions());
+      rerunDifferences(plan.original, parseJson(readFile(again), again), request.output_options);
   const std::string fields = plan.original["provenance"]["time_fields"].empty()
                                  ? "its times (the provenance's started and seconds)"
                                  : "its times (the provenance's started and seconds, and the "

@@ -178,6 +178,25 @@ std::string truthPath(const po::variables_map& vm, const std::string& out) {
                                : out;
   return stem + ".truth.csv";
 }
+/// The summary (to standard error when standard output carries a file) and, with disturbances,
+/// the applied external torques beside the dataset.
+void summarizeAndWriteTruth(const po::variables_map& vm, const SimulateRequest& request,
+                            const SimulateOutcome& outcome, const std::string& out) {
+  const bool piped =
+      out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");
+  std::ostream& summary = piped ? std::cerr : std::cout;
+  summary << cliText(simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out));
+  // Piped (--out -) without --truth-out: the samples go on (to `dynid monitor --data -`), the
+  // ground truth is not written, and the summary says how to have it.
+  if (!request.disturbances.empty() && out == "-" && !vm.count("truth-out")) {
+    summary << "the applied external torques were not written (--truth-out FILE writes them)\n";
+  } else if (!request.disturbances.empty()) {
+    const std::string truth = truthPath(vm, out);
+    writeExternalTorqueCsv(truth, outcome.trajectory.time, outcome.external);
+    summary << "wrote the applied external torques to " << truth << "\n";
+  }
+}
+
 }  // namespace
 
 int runSimulate(const std::vector<std::string>& args) {
@@ -246,20 +265,7 @@ int runSimulate(const std::vector<std::string>& args) {
     ThreadPool pool(threadsOption(vm));
     writeDatasetCsv(out, outcome.trajectory, &pool);
   }
-  // The summary goes to standard error when standard output carries a file.
-  const bool piped =
-      out == "-" || (vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-");
-  std::ostream& summary = piped ? std::cerr : std::cout;
-  summary << cliText(simulateSummary(request.robot, outcome, out == "-" ? "standard output" : out));
-  // Piped (--out -) without --truth-out: the samples go on (to `dynid monitor --data -`), the
-  // ground truth is not written, and the summary says how to have it.
-  if (!request.disturbances.empty() && out == "-" && !vm.count("truth-out")) {
-    summary << "the applied external torques were not written (--truth-out FILE writes them)\n";
-  } else if (!request.disturbances.empty()) {
-    const std::string truth = truthPath(vm, out);
-    writeExternalTorqueCsv(truth, outcome.trajectory.time, outcome.external);
-    summary << "wrote the applied external torques to " << truth << "\n";
-  }
+  summarizeAndWriteTruth(vm, request, outcome, out);
   return kExitOk;
 }
 

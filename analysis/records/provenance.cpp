@@ -79,7 +79,7 @@ json withoutTimes(json document) {
 }
 
 /// Where `option`'s value sits in a command line: the index of the value, or npos. An
-/// "--out=DIR" word counts as its own value.
+/// "OPTION=VALUE" word counts as its own value.
 std::size_t valueIndex(const std::vector<std::string>& command, const std::string& option) {
   for (std::size_t i = 0; i < command.size(); ++i) {
     if (command[i] == option && i + 1 < command.size()) return i + 1;

@@ -76,8 +76,8 @@ nlohmann::json withProvenance(nlohmann::json document);
 /// What differs between a document and its rerun, after removing from both the provenance's
 /// started and seconds and every field its time_fields name: each difference as "POINTER: A ->
 /// B" (at most `limit`, then a count of the rest); empty when the two are byte-identical apart
-/// from those. The values of `output_options` in the command ("--out DIR" or "--out=DIR": where
-/// each run wrote) are left out of the comparison; every other word of the command is compared.
+/// from those. The values of `output_options` in the command (the word after each, or after its
+/// "=": where each run wrote) are left out of the comparison; every other word is compared.
 std::vector<std::string> rerunDifferences(const nlohmann::json& original,
                                           const nlohmann::json& rerun,
                                           const std::vector<std::string>& output_options,

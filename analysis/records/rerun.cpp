@@ -13,7 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Puts the value of `option` ("--opt V" or "--opt=V") through `change`; whether it was there.
+/// Puts the value of `option` (the word after it, or after its "=" in one word) through `change`;
+/// whether it was there.
 template <class Change>
 bool changeValue(std::vector<std::string>& arguments, const std::string& option, Change change) {
   for (std::size_t i = 0; i < arguments.size(); ++i) {
@@ -52,11 +53,6 @@ void checkInputs(const RunProvenance& run, const fs::path& dir, const std::strin
 
 }  // namespace
 
-const std::vector<std::string>& rerunOutputOptions() {
-  static const std::vector<std::string> options = {"--out", "--checkpoint", "--write-urdf"};
-  return options;
-}
-
 RerunPlan planRerun(const RerunRequest& request) {
   RerunPlan plan;
   plan.original = parseJson(readFile(request.document), request.document);
@@ -82,7 +78,8 @@ RerunPlan planRerun(const RerunRequest& request) {
   }
   checkInputs(run, plan.working_directory, request.document);
   plan.arguments.assign(run.command.begin() + 1, run.command.end());
-  const std::vector<std::string>& outputs = rerunOutputOptions();
+  const std::vector<std::string>& outputs = request.output_options;
+  if (outputs.empty()) throw InputError("`output_options`: none given");
   if (!changeValue(plan.arguments, outputs[0], [&](const std::string&) { return out.string(); }))
     throw InputError(request.document + ": its command (provenance.command) writes no " +
                      "output folder: nothing to compare");
@@ -90,8 +87,7 @@ RerunPlan planRerun(const RerunRequest& request) {
     if (changeValue(plan.arguments, outputs[k], [&](const std::string& value) {
           return (out / fs::path(value).filename()).string();
         }))
-      plan.notes.push_back("the file the command writes by `" + outputs[k].substr(2) +
-                           "` goes into the new folder too");
+      plan.notes.push_back("the file its " + outputs[k] + " names goes into the new folder too");
   // Standard input ("-" for an input, as `monitor --data -` reads a live stream) is not the
   // recorded stream: the rerun would wait on this terminal's.
   for (const std::string& word : plan.arguments)

@@ -18,6 +18,10 @@ struct RerunRequest {
   std::string out;       // the new output folder (absolute, or the current directory's)
   std::string version;   // this dynid's version and commit: a recorded other one is noted
   std::string commit;
+  /// The front end's options whose value is a path a command writes, as its command lines spell
+  /// them: the output folder's first (replaced by `out`), then files (moved into `out` by name).
+  /// rerunDifferences leaves their values out.
+  std::vector<std::string> output_options;
 };
 
 struct RerunPlan {
@@ -28,11 +32,6 @@ struct RerunPlan {
   std::string working_directory;       // where it runs (the recorded one, else the current)
   std::vector<std::string> notes;      // what differs from the recorded run, and why
 };
-
-/// The options whose value is a file or folder a command writes: "--out" first (the folder
-/// itself), then a search's checkpoint and identify's URDF write-back, whose rerun's go into the
-/// new folder by name. rerunDifferences leaves their values out.
-const std::vector<std::string>& rerunOutputOptions();
 
 /// Reads the document's provenance and prepares its command: every recorded input found (relative
 /// to the recorded working directory, or the current one when that is gone) with the recorded

@@ -16,6 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The output options of the front end's command lines (the CLI's spelling, as it passes them).
+const std::vector<std::string> kOutputs = {"--out", "--checkpoint", "--write-urdf"};
+
 /// A document in a folder of its own, made by `command` in `dir` from `inputs`.
 std::string documentOf(const std::string& dir, const std::vector<std::string>& command,
                        const std::vector<InputDigest>& inputs, const std::string& interface) {
@@ -44,7 +47,7 @@ TEST(Rerun, MovesEveryOutputIntoTheNewFolderAndChecksTheInputs) {
   const std::string doc = documentOf(
       dir, {"dynid", "identify", "--data", "train.csv", "--out", "made", "--write-urdf=x/arm.urdf"},
       inputs, "cli");
-  const RerunPlan plan = planRerun({doc, dir + "/again", "0.2.0", "abc"});
+  const RerunPlan plan = planRerun({doc, dir + "/again", "0.2.0", "abc", kOutputs});
   EXPECT_EQ(plan.arguments,
             (std::vector<std::string>{"identify", "--data", "train.csv", "--out", dir + "/again",
                                       "--write-urdf=" + dir + "/again/arm.urdf"}));
@@ -52,10 +55,10 @@ TEST(Rerun, MovesEveryOutputIntoTheNewFolderAndChecksTheInputs) {
   EXPECT_EQ(plan.document_name, "estimate.json");
   ASSERT_EQ(plan.notes.size(), 1u);  // the write-back moved; the same dynid
   // Another dynid is noted; the refusals.
-  EXPECT_EQ(planRerun({doc, dir + "/again", "0.3.0", "def"}).notes.size(), 2u);
+  EXPECT_EQ(planRerun({doc, dir + "/again", "0.3.0", "def", kOutputs}).notes.size(), 2u);
   const auto refused = [&](const std::string& file, const std::string& why) {
     try {
-      planRerun({file, dir + "/again", "0.2.0", "abc"});
+      planRerun({file, dir + "/again", "0.2.0", "abc", kOutputs});
       ADD_FAILURE() << why << ": planned";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
@@ -67,6 +70,12 @@ TEST(Rerun, MovesEveryOutputIntoTheNewFolderAndChecksTheInputs) {
           "was read from a stream");
   refused(documentOf(dir, {"dynid.identify", "x.py:3", ""}, {}, "python"), "made by a python call");
   refused(documentOf(dir, {"dynid", "model", "check"}, {}, "cli"), "writes no output folder");
+  try {  // a front end that names no output option
+    planRerun({doc, dir + "/again", "0.2.0", "abc", {}});
+    ADD_FAILURE() << "planned without output options";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("`output_options`"), std::string::npos) << e.what();
+  }
   writeFileAtomically(dir + "/train.csv", "t\n1\n");
   refused(doc, "changed since the document was made");
   fs::remove(dir + "/train.csv");
