@@ -4,6 +4,7 @@
 #include <iostream>
 #include <optional>
 
+#include "analysis/runs/summarize.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -50,7 +51,7 @@ void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) 
 /// --write-urdf's checks, before the work: a URDF robot, a file (not -) that is no input, in a
 /// directory that exists or is --out's (writeWriteBack makes that one).
 void checkWriteBack(const po::variables_map& vm, IdentifyRequest& request) {
-  request.write_back_from = vm["robot"].as<std::string>();
+  request.write_back_from = request.robot_spec;
   if (!isUrdfSpec(request.write_back_from))
     throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
                      request.write_back_from + "'");
@@ -75,7 +76,7 @@ void checkWriteBack(const po::variables_map& vm, IdentifyRequest& request) {
 
 /// identify's options, in the order --help lists them.
 void addIdentifyOptions(po::options_description& options) {
-  addRobotOptions(options);
+  addRobotOptions(options, false);
   addStructuralOptions(options);
   options.add_options()(
       "method", po::value<std::string>()->default_value("ols"),
@@ -84,7 +85,10 @@ void addIdentifyOptions(po::options_description& options) {
       "the torques and the motion's GC residuals together, physically consistent)")(
       "prior", po::value<std::string>(),
       "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
-      "data", po::value<std::string>()->required(), "training dataset CSV")(
+      "data", po::value<std::string>(), "training dataset CSV")(
+      "summaries", po::value<std::vector<std::string>>()->multitoken(),
+      "or least-squares summaries of the training logs (dynid summarize), merged: the same ols, "
+      "wls or pc estimate as the logs give (the robot: theirs, or --robot's if it matches)")(
       "validate", po::value<std::string>(), "held-out dataset CSV: torque RMS per joint")(
       "validate-raw", po::value<std::string>(),
       "prepare --keep-raw-torque's validate_raw.csv for --validate: also the error against the "
@@ -110,6 +114,47 @@ void addIdentifyOptions(po::options_description& options) {
   addThreadsOption(options);
 }
 
+/// The training data: --data (with --robot), or --summaries read and merged into `merged` (the
+/// robot theirs unless --robot names one; identifyRun checks that it matches).
+void readTrainingSource(const po::variables_map& vm, IdentifyRequest& request,
+                        std::optional<Summary>& merged) {
+  const bool summaries = vm.count("summaries") > 0;
+  if (summaries == (vm.count("data") > 0))
+    throw UsageError("give the training data as --data or as --summaries, one of them");
+  refuseUnused(vm, !summaries, {"torque-filter", "rest-velocity"},
+               "applies with --data (a summary holds each log's own)");
+  if (!summaries) {
+    if (!vm.count("robot")) throw UsageError("--data needs --robot");
+    request.model = loadRobotFromOptions(vm);
+    request.robot_spec = vm["robot"].as<std::string>();
+    request.data_file = vm["data"].as<std::string>();
+    request.rest_velocity = restVelocityOption(vm, request.model.numJoints());
+    request.torque_filter = torqueFilterOption(vm);
+    return;
+  }
+  if (request.method == Method::kCombined)
+    throw UsageError(
+        "--method combined rolls the model out over the samples, which a summary "
+        "does not hold: give --data");
+  const std::vector<std::string> files = vm["summaries"].as<std::vector<std::string>>();
+  std::vector<Summary> read;
+  for (const std::string& file : files) read.push_back(readSummary(file));
+  std::vector<const Summary*> all;
+  for (const Summary& s : read) all.push_back(&s);
+  merged = mergeSummaries(all, files);
+  request.summary = &*merged;
+  request.summary_name =
+      files.size() == 1 ? files.front()
+                        : std::to_string(files.size()) + " summaries (" + files.front() + ", ...)";
+  if (vm.count("robot")) {
+    request.model = loadRobotFromOptions(vm);
+    request.robot_spec = vm["robot"].as<std::string>();
+  } else {
+    request.model = merged->model;
+    request.robot_spec = merged->model_source.spec;
+  }
+}
+
 }  // namespace
 
 int runIdentify(const std::vector<std::string>& args) {
@@ -118,8 +163,8 @@ int runIdentify(const std::vector<std::string>& args) {
   po::variables_map vm;
   const std::string usage =
       "dynid identify --method ols|wls|pc|combined --robot R [--drives] --data train.csv "
-      "[--validate "
-      "test.csv] --out DIR";
+      "[--validate test.csv] --out DIR\n       dynid identify --method ols|wls|pc --summaries "
+      "S.summary.json... [--validate test.csv] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   IdentifyRequest request;
@@ -132,14 +177,11 @@ int runIdentify(const std::vector<std::string>& args) {
   readCombinedOptions(vm, request);
   request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
-  request.model = loadRobotFromOptions(vm);
-  request.robot_spec = vm["robot"].as<std::string>();
+  std::optional<Summary> merged;
+  readTrainingSource(vm, request, merged);
   if (physical && vm.count("prior")) request.prior = loadOtherRobot(vm, "prior");
-  request.data_file = vm["data"].as<std::string>();
   request.threads = threadsOption(vm);
-  request.rest_velocity = restVelocityOption(vm, request.model.numJoints());
   request.covariance = parseOption(vm, "covariance", covariancePolicyFrom);
-  request.torque_filter = torqueFilterOption(vm);
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();

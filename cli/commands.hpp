@@ -14,6 +14,7 @@ int runPrepare(const std::vector<std::string>& args);
 int runPredict(const std::vector<std::string>& args);
 int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
+int runSummarize(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);
 int runRefine(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);

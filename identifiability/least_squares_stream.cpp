@@ -97,11 +97,11 @@ Eigen::VectorXd LeastSquaresStream::fittedRows() const {
   Eigen::VectorXd out = Eigen::VectorXd::Constant(n_, static_cast<double>(samples_));
   for (const std::vector<long long>& lane : left_out_)
     for (int j = 0; j < n_; ++j) out[j] -= static_cast<double>(lane[static_cast<std::size_t>(j)]);
+  if (given_left_out_.size() == n_) out -= given_left_out_;
   return out;
 }
 
-LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& model)
-    : LeastSquaresStream(base, model.numJoints()) {
+JointSupport jointSupport(const BaseParameters& base, const Model& model) {
   const ParameterLayout layout = model.parameterLayout();
   if (layout.size() != base.numStandard())
     throw InputError("base parameters of " + std::to_string(base.numStandard()) +
@@ -116,17 +116,67 @@ LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& 
       if (i == j) return true;
     return false;
   };
-  for (std::vector<TallQr>& lane : lanes_) lane.clear();
-  for (int j = 0; j < n_; ++j) {
-    std::vector<int>& support = support_[static_cast<std::size_t>(j)];
-    support.clear();
-    for (int c = 0; c < b_; ++c)
-      if (acts(base.independent[static_cast<std::size_t>(c)], j)) support.push_back(c);
+  JointSupport out;
+  const int n = model.numJoints();
+  out.support.resize(static_cast<std::size_t>(n));
+  out.zeros.resize(static_cast<std::size_t>(n));
+  for (int j = 0; j < n; ++j) {
+    for (int c = 0; c < base.numBase(); ++c)
+      if (acts(base.independent[static_cast<std::size_t>(c)], j))
+        out.support[static_cast<std::size_t>(j)].push_back(c);
     for (int s = 0; s < layout.size(); ++s)
-      if (!acts(s, j)) zeros_[static_cast<std::size_t>(j)].push_back(s);
-    for (std::vector<TallQr>& lane : lanes_)
-      lane.emplace_back(static_cast<Eigen::Index>(support.size()) + 1, kLaneRows);
+      if (!acts(s, j)) out.zeros[static_cast<std::size_t>(j)].push_back(s);
   }
+  return out;
+}
+
+LeastSquaresStream::LeastSquaresStream(const BaseParameters& base, const Model& model)
+    : LeastSquaresStream(base, model.numJoints()) {
+  JointSupport supports = jointSupport(base, model);
+  support_ = std::move(supports.support);
+  zeros_ = std::move(supports.zeros);
+  for (std::vector<TallQr>& lane : lanes_) {
+    lane.clear();
+    for (int j = 0; j < n_; ++j)
+      lane.emplace_back(static_cast<Eigen::Index>(support_[static_cast<std::size_t>(j)].size()) + 1,
+                        kLaneRows);
+  }
+}
+
+void LeastSquaresStream::addFactors(const std::vector<Eigen::MatrixXd>& joint_factors,
+                                    long long samples, const Eigen::VectorXd& fitted_rows,
+                                    const Eigen::VectorXd& tau_squared, double max_abs_tau) {
+  if (static_cast<int>(joint_factors.size()) != n_ || fitted_rows.size() != n_ ||
+      tau_squared.size() != n_)
+    throw InputError("factors of " + std::to_string(joint_factors.size()) + " joints for a " +
+                     std::to_string(n_) + "-joint least-squares stream");
+  for (int j = 0; j < n_; ++j) {
+    const auto cols = static_cast<Eigen::Index>(support_[static_cast<std::size_t>(j)].size()) + 1;
+    const Eigen::MatrixXd& r = joint_factors[static_cast<std::size_t>(j)];
+    if (r.cols() != cols || !r.allFinite())
+      throw InputError("joint " + std::to_string(j + 1) + "'s factor has " +
+                       std::to_string(r.cols()) + " columns, its support " + std::to_string(cols));
+  }
+  if (samples < 0 || !fitted_rows.allFinite() || !tau_squared.allFinite() ||
+      !std::isfinite(max_abs_tau) || samples + samples_ > std::numeric_limits<int>::max())
+    throw InputError("factors of " + std::to_string(samples) + " samples with totals that are not");
+  if (given_.empty()) {
+    given_.assign(static_cast<std::size_t>(n_), {});
+    given_left_out_ = Eigen::VectorXd::Zero(n_);
+  }
+  for (int j = 0; j < n_; ++j) {
+    Eigen::MatrixXd& mine = given_[static_cast<std::size_t>(j)];
+    const Eigen::MatrixXd& r = joint_factors[static_cast<std::size_t>(j)];
+    TallQr stacked(r.cols(), mine.rows() + r.rows());
+    if (mine.size() > 0) stacked.add(mine);
+    stacked.add(r);
+    mine = stacked.r();
+  }
+  given_left_out_ += Eigen::VectorXd::Constant(n_, static_cast<double>(samples)) - fitted_rows;
+  tau_squared_ += tau_squared;
+  max_abs_tau_ = std::max(max_abs_tau_, max_abs_tau);
+  samples_ += static_cast<int>(samples);
+  factored_samples_ = -1;  // jointFactor's cache is stale
 }
 
 void LeastSquaresStream::addTau(const Eigen::Ref<const Eigen::VectorXd>& tau) {
@@ -294,8 +344,9 @@ const Eigen::MatrixXd& LeastSquaresStream::jointFactor(int j) {
     joint_factors_.assign(static_cast<std::size_t>(n_), {});
     for (int i = 0; i < n_; ++i) {
       const Eigen::Index cols = lanes_.front()[static_cast<std::size_t>(i)].cols();
-      TallQr stacked(cols, kLanes * cols);
+      TallQr stacked(cols, (kLanes + 1) * cols);
       for (std::vector<TallQr>& lane : lanes_) stacked.add(lane[static_cast<std::size_t>(i)].r());
+      if (!given_.empty()) stacked.add(given_[static_cast<std::size_t>(i)]);
       joint_factors_[static_cast<std::size_t>(i)] = stacked.r();
     }
     factored_samples_ = samples_;

@@ -30,6 +30,15 @@ namespace dynid {
 
 class TallQr;  // identifiability/tall_qr.hpp, internal
 
+/// Which base columns can act on each joint of `model` (base: its base parameters): per joint,
+/// the base columns of the links it moves and its own drive terms (`support`, increasing), and
+/// the standard columns that must be zero in its regressor row (`zeros`). InputError when `base`
+/// is of another parameter count.
+struct JointSupport {
+  std::vector<std::vector<int>> support, zeros;
+};
+JointSupport jointSupport(const BaseParameters& base, const Model& model);
+
 class LeastSquaresStream {
  public:
   /// For the base parameters `base` of a model with `num_joints` joints: every factor holds every
@@ -64,6 +73,16 @@ class LeastSquaresStream {
   /// and is not counted in its joint's rows (fittedRows()).
   void addTrajectory(const Model& model, const Trajectory& data, ThreadPool* pool = nullptr,
                      const FitRows* rows = nullptr);
+
+  /// Adds rows given by their factors (a LeastSquaresSummary's): per joint j, an upper
+  /// triangular factor of the rows' [W1_j(:, support()[j]) | tau_j], `samples` samples whose
+  /// fitted rows (per joint), sum of squared fitted torques (per joint) and largest |tau| are
+  /// given. Throws InputError on a size mismatch or a value that is not finite.
+  void addFactors(const std::vector<Eigen::MatrixXd>& joint_factors, long long samples,
+                  const Eigen::VectorXd& fitted_rows, const Eigen::VectorXd& tau_squared,
+                  double max_abs_tau);
+  /// Per joint, the base columns its factor holds.
+  const std::vector<std::vector<int>>& support() const { return support_; }
 
   int numSamples() const { return samples_; }
   /// Per joint, the rows added (numSamples() each, less those FitRows left out).
@@ -119,6 +138,10 @@ class LeastSquaresStream {
   // factor of [W1_j(:, support_j) | tau_j] of the lane's samples.
   std::vector<std::vector<TallQr>> lanes_;
   std::vector<Eigen::MatrixXd> joint_factors_;  // jointFactor's, for factored_samples_ samples
+  // Rows added as factors (addFactors): per joint, their factor (empty before any), and the rows
+  // among their samples that were not fitted.
+  std::vector<Eigen::MatrixXd> given_;
+  Eigen::VectorXd given_left_out_;
   long long factored_samples_ = -1;
   Eigen::VectorXd tau_squared_;  // per joint sum of tau^2
   // Per lane and joint, the rows FitRows left out (each lane's own: no two threads share one).

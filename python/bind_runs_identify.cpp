@@ -17,6 +17,7 @@
 #include "data/json_number.hpp"
 #include "python/estimate_result.hpp"
 #include "python/run_support.hpp"
+#include "python/summary_result.hpp"
 #include "reports/identification_report.hpp"
 #include "reports/prediction_report.hpp"
 
@@ -42,7 +43,7 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
   return out;
 }
 
-EstimateResult identify(const Model& model, const DataLike& data, const std::string& method,
+EstimateResult identify(const Model& model, const TrainingLike& data, const std::string& method,
                         const OptionalDataLike& validate, const std::optional<Model>& prior,
                         double prior_weight, int samples, std::uint64_t seed, double tolerance,
                         int threads, const PathLike& robot_spec,
@@ -84,9 +85,18 @@ EstimateResult identify(const Model& model, const DataLike& data, const std::str
   }
   request.torque_filter = torqueFilterArg(torque_filter);
   request.robot_spec = pathArg(robot_spec, "robot_spec");
-  const DataArg train = dataArg(data, "data", model);
-  request.data_file = train.path;
-  request.data = train.arrays;
+  if (py::isinstance<SummaryResult>(data)) {  // kept alive by the caller's reference
+    if (rest_velocity || !py::isinstance<py::str>(torque_filter) ||
+        torque_filter.cast<std::string>() != "auto")
+      throw py::value_error(
+          "rest_velocity and torque_filter apply to a dataset: a Summary holds each log's own");
+    request.summary = &data.cast<const SummaryResult&>().summary;
+    request.summary_name = "<summary>";
+  } else {
+    const DataArg train = dataArg(data, "data", model);
+    request.data_file = train.path;
+    request.data = train.arrays;
+  }
   if (!validate.is_none()) {
     const DataArg held = dataArg(validate, "validate", model);
     request.validate_file = held.path;
@@ -398,8 +408,9 @@ void bindIdentify(py::module_& m) {
       py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
       py::arg("rest_velocity") = py::none(), py::arg("covariance") = "hac",
       py::arg("torque_filter") = "auto",
-      "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, or a "
-      "Dataset): method 'ols', 'wls', 'pc' (physically consistent, toward `prior`, default "
+      "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, a "
+      "Dataset, or a Summary of logs, which gives their estimate: ols, wls or pc): method 'ols', "
+      "'wls', 'pc' (physically consistent, toward `prior`, default "
       "the model's own parameters) or 'combined' (pc's fit of the torques and the GC "
       "residuals of 100 normalised 50 ms rollouts together, at most 60 s; `horizon`, "
       "`segments`, `raw_gc`, `combined_weight`, `combined_seconds`, `combined_iterations` as "

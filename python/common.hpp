@@ -78,6 +78,7 @@ DYNID_PYTHON_TYPE_NAME(OptionalPathTag, "typing.Optional[typing.Union[str, os.Pa
 DYNID_PYTHON_TYPE_NAME(PathsTag,
                        "typing.Optional[typing.Sequence[typing.Union[str, os.PathLike[str]]]]");
 DYNID_PYTHON_TYPE_NAME(DataTag, "typing.Union[Dataset, str, os.PathLike[str]]");
+DYNID_PYTHON_TYPE_NAME(TrainingTag, "typing.Union[Dataset, Summary, str, os.PathLike[str]]");
 DYNID_PYTHON_TYPE_NAME(OptionalDataTag,
                        "typing.Optional[typing.Union[Dataset, str, os.PathLike[str]]]");
 DYNID_PYTHON_TYPE_NAME(TermsTag, "typing.Union[str, typing.Sequence[str], None]");
@@ -102,6 +103,7 @@ using OptionalPathLike = Typed<OptionalPathTag>;    // ... or None
 using PathsLike = Typed<PathsTag>;                  // a list of paths, or None
 using DataLike = Typed<DataTag>;                    // a Dataset or a dataset CSV's path
 using OptionalDataLike = Typed<OptionalDataTag>;    // ... or None
+using TrainingLike = Typed<TrainingTag>;            // ... or a Summary (identify's data)
 using TermsLike = Typed<TermsTag>;                  // driveTermsArg's "fv,fc" or ["fv", "fc"]
 using OptionalFloat = Typed<OptionalFloatTag>;      // a number or None
 using PriorLike = Typed<PriorTag>;                  // payload's prior: a file or 10 values
@@ -121,14 +123,15 @@ void pythonTexts(std::vector<std::string>& texts);
 void bindModel(py::module_& m);
 void bindDynamics(py::module_& m);
 // One per wing (or, for the runs wing, per family of rooms), in the order module.cpp calls them.
-void bindRunsIdentify(py::module_& m);  // bind_runs_identify.cpp
-void bindRunsPredict(py::module_& m);   // bind_runs_predict.cpp
-void bindRunsSearch(py::module_& m);    // bind_runs_search.cpp
-void bindLogs(py::module_& m);          // bind_logs.cpp
-void bindExcitation(py::module_& m);    // bind_excitation.cpp
-void bindPayload(py::module_& m);       // bind_payload.cpp
-void bindMonitor(py::module_& m);       // bind_monitor.cpp
-void bindStudies(py::module_& m);       // bind_studies.cpp
+void bindRunsIdentify(py::module_& m);   // bind_runs_identify.cpp
+void bindRunsSummarize(py::module_& m);  // bind_runs_summarize.cpp
+void bindRunsPredict(py::module_& m);    // bind_runs_predict.cpp
+void bindRunsSearch(py::module_& m);     // bind_runs_search.cpp
+void bindLogs(py::module_& m);           // bind_logs.cpp
+void bindExcitation(py::module_& m);     // bind_excitation.cpp
+void bindPayload(py::module_& m);        // bind_payload.cpp
+void bindMonitor(py::module_& m);        // bind_monitor.cpp
+void bindStudies(py::module_& m);        // bind_studies.cpp
 
 }  // namespace dynid::python
 

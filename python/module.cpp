@@ -66,6 +66,7 @@ PYBIND11_MODULE(dynid, m) {
   dynid::python::registerExceptions(m);
   dynid::python::bindModel(m);
   dynid::python::bindDynamics(m);
+  dynid::python::bindRunsSummarize(m);
   dynid::python::bindRunsIdentify(m);
   dynid::python::bindRunsPredict(m);
   dynid::python::bindPayload(m);

@@ -29,6 +29,51 @@ std::string nameList(const std::vector<std::string>& names, std::size_t limit = 
   return out;
 }
 
+/// The training fit's figures and the held-out one's, drawn at once (one gnuplot each), then
+/// placed in order; from summaries, no training sample is left to draw.
+void fitFigures(Document& doc, const IdentifyOutcome& o, std::vector<std::string>& missing) {
+  const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
+  const bool samples = o.fit.time.size() > 0;
+  if (!samples)
+    doc.paragraph("Identified from least-squares summaries of " +
+                  std::to_string(o.summary_sources.size()) +
+                  " logs (dynid summarize): they hold the fit's rows, not its samples, so the "
+                  "training fit has no figures; estimate.json's data.sources lists the logs.");
+  std::vector<std::function<std::optional<std::string>()>> draws;
+  if (samples)
+    draws = {[&] { return torqueFigure(o.fit, "training data: measured and predicted torques"); },
+             [&] { return residualFigure(o.fit, validate); },
+             [&] { return residualHistogram(o.fit); }};
+  if (validate)
+    draws.push_back(
+        [&] { return torqueFigure(*validate, "held-out data: measured and predicted torques"); });
+  const std::vector<std::optional<std::string>> svgs = drawConcurrently(draws);
+  const auto add = [&](const std::string& name, const std::optional<std::string>& svg,
+                       const std::string& caption) {
+    if (svg)
+      doc.figure({name, caption, *svg});
+    else
+      missing.push_back(name + ".svg");
+  };
+  const std::size_t held = samples ? 3 : 0;  // the held-out figure's place among the draws
+  if (samples)
+    add("torques_train", svgs[0],
+        "Measured (blue) against predicted (red) joint torques on the training data.");
+  if (validate)
+    add("torques_validate", svgs[held],
+        "Measured against predicted joint torques on the held-out data: what the estimate "
+        "predicts on motion it was not fitted to.");
+  if (!samples) return;
+  add("residuals", svgs[1],
+      "Torque residuals against time. Structure that repeats with the motion (spikes at velocity "
+      "reversals, drift with temperature) is unmodelled dynamics, not noise.");
+  add("residual_histogram", svgs[2],
+      "Histogram of each joint's training residuals (every sample up to 8192, evenly spaced "
+      "samples beyond) against the normal density of the same RMS. "
+      "A shifted peak is a bias (an offset the drive terms lack), two peaks unmodelled Coulomb "
+      "friction.");
+}
+
 void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& o,
                       std::vector<std::string>& missing) {
   doc.heading("Torque fit");
@@ -93,36 +138,7 @@ void torqueFitSection(Document& doc, const Model& model, const IdentifyOutcome& 
                   ". A filtered torque is matched by filtering the friction columns the same way, "
                   "so that a reversal's step, which the filter spreads, is not read as a "
                   "missing friction term (estimate.json's fit_rows).");
-  // The figures drawn at once (one gnuplot each), then placed in order.
-  const Prediction* validate = o.validate_fit ? &*o.validate_fit : nullptr;
-  std::vector<std::function<std::optional<std::string>()>> draws = {
-      [&] { return torqueFigure(o.fit, "training data: measured and predicted torques"); },
-      [&] { return residualFigure(o.fit, validate); }, [&] { return residualHistogram(o.fit); }};
-  if (validate)
-    draws.push_back(
-        [&] { return torqueFigure(*validate, "held-out data: measured and predicted torques"); });
-  const std::vector<std::optional<std::string>> svgs = drawConcurrently(draws);
-  const auto add = [&](const std::string& name, const std::optional<std::string>& svg,
-                       const std::string& caption) {
-    if (svg)
-      doc.figure({name, caption, *svg});
-    else
-      missing.push_back(name + ".svg");
-  };
-  add("torques_train", svgs[0],
-      "Measured (blue) against predicted (red) joint torques on the training data.");
-  if (validate)
-    add("torques_validate", svgs[3],
-        "Measured against predicted joint torques on the held-out data: what the estimate "
-        "predicts on motion it was not fitted to.");
-  add("residuals", svgs[1],
-      "Torque residuals against time. Structure that repeats with the motion (spikes at velocity "
-      "reversals, drift with temperature) is unmodelled dynamics, not noise.");
-  add("residual_histogram", svgs[2],
-      "Histogram of each joint's training residuals (every sample up to 8192, evenly spaced "
-      "samples beyond) against the normal density of the same RMS. "
-      "A shifted peak is a bias (an offset the drive terms lack), two peaks unmodelled Coulomb "
-      "friction.");
+  fitFigures(doc, o, missing);
 }
 
 void preparationSection(Document& doc, const PreparationFound& found) {

@@ -301,6 +301,21 @@ std::string filteringClause(const IdentifyOutcome& o) {
   return "";
 }
 
+/// data: the training file (or the summaries) and its samples; from summaries, their logs.
+json dataJson(const IdentifyOutcome& o, long long samples) {
+  json out = {{"file", o.data_file}, {"samples", samples}};
+  if (o.summary_sources.empty()) return out;
+  json sources = json::array();
+  for (const SummarySource& s : o.summary_sources)
+    sources.push_back(
+        {{"file", s.file},
+         {"sha256", s.sha256},
+         {"samples", s.samples},
+         {"torque_filter", s.torque_filter.empty() ? json(nullptr) : json(s.torque_filter)}});
+  out["sources"] = std::move(sources);
+  return out;
+}
+
 json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
   const BaseParameters& base = outcome.base;
   const BaseEstimate& estimate = outcome.result.estimate;
@@ -333,7 +348,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
       {"drives", model.driveTerms().any()},
       {"drive_terms", driveTermsKeys(model.driveTerms())},
       {"method", methodName(outcome.method)},
-      {"data", {{"file", outcome.data_file}, {"samples", estimate.num_samples}}},
+      {"data", dataJson(outcome, estimate.num_samples)},
       {"num_base", base.numBase()},
       {"base_parameters", params},
       {"condition_number", numberOrNull(estimate.condition_number)},

@@ -38,6 +38,39 @@ namespace {
 
 constexpr int kReplayBlock = 64;  // samples per parallel task of the replay
 
+/// Replaces the estimate's (white) covariance by `robust` and says how much wider it is.
+CovarianceSummary installRobust(const Eigen::MatrixXd& robust, int batch,
+                                std::vector<double> autocorrelation, BaseEstimate& estimate,
+                                PhysicalEstimate* pc) {
+  const Eigen::Index b = estimate.beta.size();
+  const Eigen::MatrixXd white = estimate.covariance;
+  CovarianceSummary out;
+  out.policy = covariancePolicyName(CovariancePolicy::kHac);
+  out.batch = batch;
+  out.autocorrelation = std::move(autocorrelation);
+  std::vector<double> ratios;
+  for (Eigen::Index k = 0; k < b; ++k)
+    if (white(k, k) > 0.0 && robust(k, k) >= 0.0)
+      ratios.push_back(std::sqrt(robust(k, k) / white(k, k)));
+  if (!ratios.empty()) {
+    std::nth_element(ratios.begin(), ratios.begin() + static_cast<long>(ratios.size() / 2),
+                     ratios.end());
+    out.inflation = ratios[ratios.size() / 2];
+  }
+  estimate.covariance = robust;
+  estimate.std_dev = robust.diagonal().cwiseMax(0.0).cwiseSqrt();
+  estimate.relative_std_dev_percent.resize(b);
+  for (Eigen::Index j = 0; j < b; ++j)
+    estimate.relative_std_dev_percent[j] =
+        estimate.beta[j] != 0.0 ? 100.0 * estimate.std_dev[j] / std::abs(estimate.beta[j])
+                                : std::numeric_limits<double>::infinity();
+  if (pc != nullptr) {
+    pc->covariance = estimate.covariance;
+    pc->std_dev = estimate.std_dev;
+  }
+  return out;
+}
+
 /// Folds each sample's weighted rows and residuals into the batches and sets the estimate's
 /// covariance from them.
 class Sandwich {
@@ -76,33 +109,8 @@ class Sandwich {
     if (scores_.samples() != estimate.num_samples)
       throw InputError("the covariance's pass saw " + std::to_string(scores_.samples()) +
                        " samples, the estimate " + std::to_string(estimate.num_samples));
-    const Eigen::MatrixXd white = estimate.covariance;
-    const Eigen::MatrixXd robust = scores_.covariance();
-    CovarianceSummary out;
-    out.policy = covariancePolicyName(CovariancePolicy::kHac);
-    out.batch = scores_.batch();
-    out.autocorrelation = scores_.autocorrelation();
-    std::vector<double> ratios;
-    for (int k = 0; k < b_; ++k)
-      if (white(k, k) > 0.0 && robust(k, k) >= 0.0)
-        ratios.push_back(std::sqrt(robust(k, k) / white(k, k)));
-    if (!ratios.empty()) {
-      std::nth_element(ratios.begin(), ratios.begin() + static_cast<long>(ratios.size() / 2),
-                       ratios.end());
-      out.inflation = ratios[ratios.size() / 2];
-    }
-    estimate.covariance = robust;
-    estimate.std_dev = robust.diagonal().cwiseMax(0.0).cwiseSqrt();
-    estimate.relative_std_dev_percent.resize(b_);
-    for (int j = 0; j < b_; ++j)
-      estimate.relative_std_dev_percent[j] =
-          estimate.beta[j] != 0.0 ? 100.0 * estimate.std_dev[j] / std::abs(estimate.beta[j])
-                                  : std::numeric_limits<double>::infinity();
-    if (pc != nullptr) {
-      pc->covariance = estimate.covariance;
-      pc->std_dev = estimate.std_dev;
-    }
-    return out;
+    return installRobust(scores_.covariance(), scores_.batch(), scores_.autocorrelation(), estimate,
+                         pc);
   }
 
  private:
@@ -168,6 +176,22 @@ CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& b
     first += chunk.numSamples();
   });
   return sandwich.finish(estimate, pc);
+}
+
+CovarianceSummary applyHacCovariance(const LeastSquaresSummary& summary,
+                                     const ScoreWeights& weights, BaseEstimate& estimate,
+                                     PhysicalEstimate* pc) {
+  if (summary.numSamples() != estimate.num_samples)
+    throw InputError("the summary holds " + std::to_string(summary.numSamples()) +
+                     " samples, the estimate " + std::to_string(estimate.num_samples));
+  const std::vector<ScoreBatch> batches = summary.scoreBatches(weights.per_joint, estimate.beta);
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(estimate.beta.size(), estimate.beta.size());
+  long long longest = 0;
+  for (std::size_t i = 0; i < batches.size(); ++i) {
+    h += batches[i].normal;
+    longest = std::max(longest, summary.batches()[i].samples);
+  }
+  return installRobust(robustCovariance(h, batches), static_cast<int>(longest), {}, estimate, pc);
 }
 
 CovarianceSummary applyHacCovariance(const BaseParameters& base, const Observation& observation,

@@ -16,6 +16,7 @@
 #include "core/trajectory.hpp"
 #include "identifiability/base_estimate.hpp"
 #include "identifiability/base_parameters.hpp"
+#include "identifiability/least_squares_summary.hpp"
 #include "identifiability/observation.hpp"
 #include "identifiability/physically_consistent.hpp"
 #include "identifiability/rows/fit_rows.hpp"
@@ -60,6 +61,12 @@ CovarianceSummary applyHacCovariance(const Model& model, const BaseParameters& b
                                      const TrainingReplay& replay, ThreadPool* pool,
                                      const ScoreWeights& weights, BaseEstimate& estimate,
                                      PhysicalEstimate* pc = nullptr, const FitRows* rows = nullptr);
+/// The same from a summary's batches (identifiability/least_squares_summary.hpp): its batches are
+/// the covariance's (their length the summary's, not chosen from the residuals, which a summary
+/// does not hold: `autocorrelation` stays empty).
+CovarianceSummary applyHacCovariance(const LeastSquaresSummary& summary,
+                                     const ScoreWeights& weights, BaseEstimate& estimate,
+                                     PhysicalEstimate* pc = nullptr);
 /// The same from an observation's rows.
 CovarianceSummary applyHacCovariance(const BaseParameters& base, const Observation& observation,
                                      const ScoreWeights& weights, BaseEstimate& estimate,

@@ -157,17 +157,20 @@ Model MethodRunner::modelWith(const Eigen::VectorXd& theta) const {
 void MethodRunner::applyCovariancePolicy(Method method, LeastSquaresOutcome& ls) {
   const LeastSquaresSource& source = problem_.least_squares;
   if (problem_.covariance == CovariancePolicy::kWhite ||
-      (source.observation == nullptr && !source.replay))
+      (source.observation == nullptr && !source.replay && source.summary == nullptr))
     return;  // the white covariance: ls.covariance says so
   problem_.control.say("identify: " + std::string(methodName(method)) +
                        " covariance (robust over batches of samples)");
   const ScoreWeights weights = scoreWeights(ls.estimate, method == Method::kWls);
   PhysicalEstimate* pc = ls.pc ? &*ls.pc : nullptr;
-  ls.covariance =
-      source.observation != nullptr
-          ? applyHacCovariance(*problem_.base, *source.observation, weights, ls.estimate, pc)
-          : applyHacCovariance(problem_.model, *problem_.base, source.replay, &pool(), weights,
-                               ls.estimate, pc, source.rows);
+  if (source.summary != nullptr)
+    ls.covariance = applyHacCovariance(*source.summary, weights, ls.estimate, pc);
+  else if (source.observation != nullptr)
+    ls.covariance =
+        applyHacCovariance(*problem_.base, *source.observation, weights, ls.estimate, pc);
+  else
+    ls.covariance = applyHacCovariance(problem_.model, *problem_.base, source.replay, &pool(),
+                                       weights, ls.estimate, pc, source.rows);
 }
 
 const LeastSquaresOutcome& MethodRunner::leastSquares(Method method) {

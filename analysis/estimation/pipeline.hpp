@@ -25,6 +25,7 @@
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "identifiability/least_squares_summary.hpp"
 #include "identifiability/observation.hpp"
 #include "identifiability/physically_consistent.hpp"
 #include "search/gc_error.hpp"
@@ -55,6 +56,9 @@ struct LeastSquaresSource {
   /// The rows the stream's fit took (identifiability/rows/fit_rows.hpp), for the replay; null:
   /// every row of the model's regressor.
   const FitRows* rows = nullptr;
+  /// When the stream holds a summary's rows (LeastSquaresSummary::addTo): the hac covariance from
+  /// its batches instead of a replay.
+  const LeastSquaresSummary* summary = nullptr;
 };
 
 /// The one least-squares dispatch: `method` is ols, wls or pc (InputError otherwise); `prior`

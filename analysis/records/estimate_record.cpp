@@ -74,7 +74,7 @@ int checkSearchDocument(const JsonReader& read, const json& start) {
 RefineStart refineStartFrom(const json& start, const std::string& from, const Model& robot,
                             const SpaceOptions& space, const SegmentOptions& segments) {
   const std::vector<std::string> names = standardParameterNames(robot.parameterLayout());
-  RefineStart out{"", space, segments, robot, robot};
+  RefineStart out{"", space, segments, robot, robot, std::nullopt};
   try {
     if (start.contains("settings") && start.contains("estimate")) {
       out.kind = "search";

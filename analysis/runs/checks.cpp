@@ -8,6 +8,7 @@
 #include "analysis/runs/identify.hpp"
 #include "analysis/runs/search.hpp"
 #include "analysis/runs/simulate.hpp"
+#include "analysis/runs/summarize.hpp"
 #include "core/errors.hpp"
 #include "core/option_ranges.hpp"
 
@@ -42,6 +43,12 @@ void IdentifyRequest::check() const {
     checkOption(kCommand, "combined-seconds", combined.max_seconds, "`combined_seconds`");
     checkOption(kCommand, "combined-iterations", combined.max_iterations, "`combined_iterations`");
   }
+}
+
+void SummarizeRequest::check() const {
+  if (data == nullptr && data_files.empty()) throw InputError("`data`: no log to summarize");
+  structural.check();
+  checkOption("summarize", "threads", threads, "`threads`");
 }
 
 void SearchRequest::check() const {

@@ -7,6 +7,8 @@
 #include <Eigen/SVD>
 
 #include "analysis/runs/arm.hpp"
+#include "analysis/runs/summarize.hpp"
+#include "analysis/runs/training.hpp"
 #include "core/drive_terms.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -172,50 +174,6 @@ void describeFit(const Model& identified, const SampleKeeper& kept, const FitRow
   out.reversals = reversalResidual(out.fit, &fitted);
 }
 
-/// The training data's stamps and velocities: every sample's when the fit needs them all (a
-/// filtered torque and a model with friction that needs sign(dq)), otherwise the first
-/// kRestSamples (the rest velocities' measure).
-Trajectory velocitiesFor(const IdentifyRequest& request, bool all) {
-  const int n = request.model.numJoints();
-  if (request.data == nullptr)
-    return all ? velocitiesOf(request.data_file, n) : restSamplesOf(request.data_file, n);
-  Trajectory out;
-  out.time = request.data->time;
-  out.dq = request.data->dq;
-  out.q.resize(n, 0);
-  out.ddq.resize(n, 0);
-  out.tau.resize(n, 0);
-  return out;
-}
-
-/// Each joint's rest velocity: given, or measured on the first kRestSamples of the training data.
-std::vector<RestVelocity> restOf(const IdentifyRequest& request, const Trajectory& velocities) {
-  const Eigen::Index count = std::min<Eigen::Index>(velocities.time.size(), kRestSamples);
-  const Eigen::MatrixXd dq = velocities.dq.leftCols(count);
-  if (!request.rest_velocity.empty()) return givenRestVelocities(request.rest_velocity, dq);
-  return measureRestVelocities(dq, velocities.time.head(count));
-}
-
-/// The torque's filter: the request's, else the prepare.json beside the data file's.
-TorqueFilter torqueFilterFor(const IdentifyRequest& request, const PreparationFound& found,
-                             std::string& why) {
-  if (request.torque_filter) {
-    why = request.torque_filter->active() ? "given" : "none: given";
-    return *request.torque_filter;
-  }
-  if (request.data != nullptr) {
-    why = "data in memory: its torque is taken as unfiltered (give `torque_filter`)";
-    return {};
-  }
-  return torqueFilterOfPreparation(found, why);
-}
-
-bool needsSign(const Model& model) {
-  for (int k = 0; k < kDriveTermCount; ++k)
-    if (model.driveTerms().has(k) && kDriveTermTable[k].signed_by_velocity) return true;
-  return false;
-}
-
 /// The held-out data's samples through the training torque's filter (when the fit reproduced
 /// one): the held-out torque went through it too.
 std::optional<FitRows> heldOutRows(const IdentifyRequest& request, const Model& identified,
@@ -290,32 +248,91 @@ WriteBack writeBack(const IdentifyRequest& request, const Model& identified,
   return back;
 }
 
+/// What follows an estimate: the consistency check, the fit's statistics, the held-out
+/// validation and the write-back.
+void finishIdentify(const IdentifyRequest& request, const Model& model, const FitRows& rows,
+                    const SampleKeeper& kept, IdentifyOutcome& out) {
+  if (out.result.pc)
+    for (int i : out.result.pc->inconsistent_links)
+      out.pc_inconsistent_links.push_back(model.link_names[i]);
+  Model identified = model;
+  identified.setStandardParameters(out.result.standard);
+  out.violations = consistencyViolations(identified);
+  describeFit(identified, kept, rows, out);
+  validate(request, identified, out);
+  if (!request.write_back_from.empty()) out.write_back = writeBack(request, identified, out);
+}
+
+/// The estimate from a summary (request.summary): its rows through the runner, its batches for the
+/// covariance.
+IdentifyOutcome identifyFromSummary(const IdentifyRequest& request) {
+  const Summary& summary = *request.summary;
+  const std::string& name = request.summary_name;
+  if (request.method == Method::kCombined)
+    throw InputError(name +
+                     ": `method` combined rolls the model out over the samples, which a "
+                     "summary does not hold: give the logs (`data`)");
+  if (const std::string why = kinematicsDifference(summary.model, request.model, name + "'s robot");
+      !why.empty() || summary.model.driveTerms().mask != request.model.driveTerms().mask)
+    throw InputError(name + " was made for another robot than `model`" +
+                     (why.empty() ? ": its drive terms differ" : ": " + why));
+  IdentifyOutcome out;
+  out.method = request.method;
+  out.prior_weight = request.prior_weight;
+  out.data_file = name;
+  out.robot_spec = request.robot_spec;
+  out.summary_sources = summary.sources;
+  out.torque_filter_source = "each log's own, as its summary records";
+  // The rest velocities: per joint the largest of the logs' (a joint at rest in any log is at
+  // rest below it), for the held-out prediction.
+  Model model = request.model;
+  model.rest_velocities.assign(static_cast<std::size_t>(model.numJoints()), 0.0);
+  for (const SummarySource& source : summary.sources)
+    for (std::size_t j = 0; j < source.rest_velocity.size(); ++j)
+      model.rest_velocities[j] = std::max(model.rest_velocities[j], source.rest_velocity[j]);
+  out.base = summaryBase(summary, name);
+  out.model_beta = out.base.project(model.standardParameters());
+  LeastSquaresStream stream(out.base, model);
+  summary.factors.addTo(stream);
+  EstimationProblem problem;
+  problem.model = model;
+  problem.base = &out.base;
+  problem.least_squares.stream = &stream;
+  problem.least_squares.layout = model.parameterLayout();
+  problem.least_squares.summary = &summary.factors;
+  problem.prior = takesPrior(request.method) && request.prior ? request.prior->standardParameters()
+                                                              : model.standardParameters();
+  problem.physical.prior_weight = request.prior_weight;
+  problem.control = request.combined.control;
+  problem.threads = resolveThreads(request.threads);
+  problem.covariance = request.covariance;
+  MethodRunner runner(std::move(problem));
+  try {
+    out.result = *runner.run(request.method).least_squares;
+  } catch (const InputError& e) {
+    throw InputError(name + ": " + e.what());
+  } catch (const NumericalError& e) {
+    throw NumericalError(name + ": " + e.what());
+  }
+  finishIdentify(request, model, FitRows(model), SampleKeeper(), out);
+  return out;
+}
+
 }  // namespace
 
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   request.check();
+  if (request.summary != nullptr) return identifyFromSummary(request);
   IdentifyOutcome out;
-  if (!request.data) out.preparation = findPreparation(request.data_file);
-  out.torque_filter = torqueFilterFor(request, out.preparation, out.torque_filter_source);
-  const bool filtered = out.torque_filter.active() && needsSign(request.model);
-  FitRows rows(request.model);
-  Model model = request.model;
-  {
-    const Trajectory velocities = velocitiesFor(request, filtered);
-    out.rest = restOf(request, velocities);
-    model.rest_velocities = restThresholds(out.rest);
-    try {
-      rows = trainingRows(model, velocities, filtered ? out.torque_filter : TorqueFilter{});
-    } catch (const InputError& e) {
-      throw InputError(request.data_file + ": " + e.what());
-    }
-  }
-  if (filtered) {
-    out.torque_filter = rows.filter();
-    out.filter_reach = rows.reach();
-  } else if (out.torque_filter.active()) {
-    out.torque_filter_source += "; no friction term needs sign(dq): nothing to reproduce";
-  }
+  TrainingSet training = trainingSetOf(request.model, request.data_file, request.data,
+                                       request.rest_velocity, request.torque_filter);
+  out.preparation = std::move(training.preparation);
+  out.torque_filter = training.torque_filter;
+  out.torque_filter_source = std::move(training.torque_filter_source);
+  out.filter_reach = training.filter_reach;
+  out.rest = std::move(training.rest);
+  const Model& model = training.model;
+  const FitRows& rows = training.rows;
   out.method = request.method;
   out.prior_weight = request.prior_weight;
   out.data_file = request.data_file;
@@ -335,15 +352,7 @@ IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   } catch (const NumericalError& e) {  // unexcited parameters: the dataset's too
     throw NumericalError(request.data_file + ": " + e.what());
   }
-  if (out.result.pc)
-    for (int i : out.result.pc->inconsistent_links)
-      out.pc_inconsistent_links.push_back(model.link_names[i]);
-  Model identified = model;
-  identified.setStandardParameters(out.result.standard);
-  out.violations = consistencyViolations(identified);
-  describeFit(identified, kept, rows, out);
-  validate(request, identified, out);
-  if (!request.write_back_from.empty()) out.write_back = writeBack(request, identified, out);
+  finishIdentify(request, model, rows, kept, out);
   return out;
 }
 

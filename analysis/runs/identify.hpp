@@ -17,6 +17,7 @@
 #include "analysis/estimation/training_rows.hpp"
 #include "analysis/logs/rest.hpp"
 #include "analysis/records/prepare_record.hpp"
+#include "analysis/records/summary_record.hpp"
 #include "core/model.hpp"
 #include "core/parallel.hpp"
 #include "core/parameters.hpp"
@@ -86,6 +87,12 @@ struct IdentifyRequest {
   /// data_file says (none without one); an order of 0, none; otherwise its order and cutoff (its
   /// rate is the data's).
   TorqueFilterChoice torque_filter;
+  /// A least-squares summary of the training logs (dynid summarize; runs/summarize.hpp) instead of
+  /// data_file: the same estimate (ols, wls, pc) as their samples give, its hac covariance over
+  /// the summary's batches; no figures of the training fit (a summary holds no samples), and no
+  /// combined (its rollouts need them). `model` must be the summary's robot. Not owned.
+  const Summary* summary = nullptr;
+  std::string summary_name;  // names it in messages and records
 
   /// Throws InputError naming the first numeric field out of its range (core/option_ranges.hpp,
   /// as dynid identify's options). identifyRun checks its request first.
@@ -145,6 +152,8 @@ struct IdentifyOutcome {
   TorqueFilter torque_filter;
   std::string torque_filter_source;
   int filter_reach = 0;
+  /// From a summary: the logs it holds (their files, digests, samples, rest velocities, filters).
+  std::vector<SummarySource> summary_sources;
 };
 /// Throws InputError for a prior of another layout, or, with write_back_from, for an estimate
 /// that is not physically consistent (suggesting pc); ParseError for a bad dataset or URDF.

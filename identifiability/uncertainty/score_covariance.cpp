@@ -143,19 +143,23 @@ Eigen::MatrixXd ScoreCovariance::meat() const {
 }
 
 Eigen::MatrixXd ScoreCovariance::covariance() const {
+  return robustCovariance(normal(), joined(batch()));
+}
+
+Eigen::MatrixXd robustCovariance(const Eigen::MatrixXd& h, const std::vector<ScoreBatch>& batches) {
   // In unit-diagonal scaling (parameters of very different magnitudes), scaled back at the end:
   // with H = L L^T and G_b = L^-1 H_b L^-T (eigenvalues in [0, 1): batch b's leverage),
   // H^-1 (I - H_b H^-1)^-1/2 s_b = L^-T (I - G_b)^-1/2 L^-1 s_b.
-  const Eigen::MatrixXd h = normal();
+  const Eigen::Index d = h.rows();
   Eigen::VectorXd scale = h.diagonal().cwiseSqrt();
-  for (Eigen::Index i = 0; i < d_; ++i) scale[i] = scale[i] > 0.0 ? 1.0 / scale[i] : 1.0;
+  for (Eigen::Index i = 0; i < d; ++i) scale[i] = scale[i] > 0.0 ? 1.0 / scale[i] : 1.0;
   const Eigen::LLT<Eigen::MatrixXd> whole(scale.asDiagonal() * h * scale.asDiagonal());
   if (whole.info() != Eigen::Success)
     throw NumericalError("the covariance's normal matrix is not positive definite");
   const Eigen::MatrixXd l = whole.matrixL();
   const auto lower = l.triangularView<Eigen::Lower>();
-  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(d_, d_);
-  for (const Batch& b : joined(batch())) {
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(d, d);
+  for (const ScoreBatch& b : batches) {
     Eigen::MatrixXd g = scale.asDiagonal() * b.normal * scale.asDiagonal();
     lower.solveInPlace(g);                                   // L^-1 H_b
     g = lower.solve(Eigen::MatrixXd(g.transpose())).eval();  // L^-1 H_b L^-T (symmetric)

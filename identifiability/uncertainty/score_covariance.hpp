@@ -41,6 +41,17 @@ inline constexpr int kMaxScoreLag = 2048;
 /// The autocorrelation below which residuals `lag` samples apart count as independent.
 inline constexpr double kScoreIndependence = 0.05;
 
+/// One batch of consecutive samples: its rows' summed score s_b and normal matrix H_b (full,
+/// symmetric).
+struct ScoreBatch {
+  Eigen::VectorXd score;
+  Eigen::MatrixXd normal;
+};
+/// The covariance (CR2) over `batches`, whose normal matrices sum to `h` (d x d, symmetric). A
+/// direction only one batch sees (leverage 1) has its weight capped at 1000. Throws NumericalError
+/// when h is not positive definite.
+Eigen::MatrixXd robustCovariance(const Eigen::MatrixXd& h, const std::vector<ScoreBatch>& batches);
+
 class ScoreCovariance {
  public:
   /// For `num_unknowns` unknowns, `num_joints` rows per sample and about `expected_samples`
@@ -83,16 +94,11 @@ class ScoreCovariance {
   /// sum_b s_b s_b^T over the batches of batch() samples, times rows / (rows - unknowns): the
   /// batch-means sandwich's middle (for a pseudo-inverse of a singular H; no leverage correction).
   Eigen::MatrixXd meat() const;
-  /// The covariance (CR2) over the batches of batch() samples. A direction only one batch sees
-  /// (leverage 1) has its weight capped at 1000. Throws NumericalError when H is not positive
-  /// definite.
+  /// robustCovariance over the batches of batch() samples.
   Eigen::MatrixXd covariance() const;
 
  private:
-  struct Batch {
-    Eigen::VectorXd score;
-    Eigen::MatrixXd normal;  // lower triangle
-  };
+  using Batch = ScoreBatch;  // stored: the normal's lower triangle; joined: full
   /// The stored batches joined into batches of `length` samples.
   std::vector<Batch> joined(long long length) const;
   /// The autocorrelation sums of the next sample's residuals.

@@ -186,7 +186,7 @@ TEST(EstimateRecord, VersionFiveEmbedsItsRobotAndWhereItCameFrom) {
 
 // Version 6 adds what made it (records/provenance.hpp): read when present, and checked.
 TEST(EstimateRecord, VersionSixRecordsWhatMadeIt) {
-  EXPECT_EQ(kEstimateDocument.schema_version, 6);
+  EXPECT_EQ(kEstimateDocument.schema_version, 7);  // 7: data.sources; 6 read as it is
   const std::vector<std::string> names =
       standardParameterNames(makePuma560(false).parameterLayout());
   nlohmann::json values = nlohmann::json::object();

@@ -1,0 +1,144 @@
+// The runs wing's summarize room (analysis/runs/summarize.hpp): summarize() and the Summary it
+// returns (mergeable with +, picklable through its summary.json, what identify() takes as data).
+#include <pybind11/stl.h>
+
+#include "analysis/records/document.hpp"
+#include "analysis/runs/summarize.hpp"
+#include "core/errors.hpp"
+#include "data/io.hpp"
+#include "data/json_number.hpp"
+#include "python/run_support.hpp"
+#include "python/summary_result.hpp"
+#include "reports/summary_report.hpp"
+
+namespace dynid::python {
+namespace {
+
+SummaryResult summarize(const Model& model, const DataLike& data,
+                        const std::optional<std::vector<double>>& rest_velocity,
+                        const TorqueFilterLike& torque_filter, int samples, std::uint64_t seed,
+                        double tolerance, int threads, const PathLike& robot_spec) {
+  SummarizeRequest request;  // checked by summarizeRun
+  request.model = model;
+  request.robot_spec = pathArg(robot_spec, "robot_spec");
+  request.structural = StructuralOptions{samples, seed, tolerance};
+  request.threads = threads;
+  if (rest_velocity) request.rest_velocity = *rest_velocity;
+  request.torque_filter = torqueFilterArg(torque_filter);
+  const DataArg arg = dataArg(data, "data", model);
+  if (arg.arrays) {
+    request.data = arg.arrays;
+    request.data_name = arg.path;
+  } else {
+    request.data_files = {arg.path};
+  }
+  const PythonRun call("summarize", {arg.arrays ? std::string() : arg.path}, seed, threads);
+  SummarizeOutcome outcome;
+  {
+    py::gil_scoped_release release;  // the Dataset is kept alive by the caller's reference
+    outcome = summarizeRun(request);
+  }
+  return {std::move(outcome.summaries.front()), call.finish()};
+}
+
+/// The summary's name in a merge's messages: its logs.
+std::string nameOf(const Summary& s) {
+  if (s.sources.empty()) return "a summary";
+  const std::string first = s.sources.front().file.empty() ? "<arrays>" : s.sources.front().file;
+  return "the summary of " + first + (s.sources.size() > 1 ? " and more" : "");
+}
+
+SummaryResult merged(const SummaryResult& a, const SummaryResult& b) {
+  return {mergeSummaries({&a.summary, &b.summary}, {nameOf(a.summary), nameOf(b.summary)}), {}};
+}
+
+SummaryResult fromText(const std::string& text, const std::string& name) {
+  return {summaryFrom(parseJson(text, name), name), {}};
+}
+
+py::list sourcesOf(const Summary& s) {
+  py::list out;
+  for (const SummarySource& source : s.sources) {
+    py::dict d;
+    d["file"] = source.file;
+    d["sha256"] = source.sha256;
+    d["samples"] = source.samples;
+    d["rest_velocity"] = source.rest_velocity;
+    d["torque_filter"] = source.torque_filter.empty() ? py::object(py::none())
+                                                      : py::object(py::str(source.torque_filter));
+    out.append(d);
+  }
+  return out;
+}
+
+void bindSummary(py::module_& m) {
+  py::class_<SummaryResult>(
+      m, "Summary",
+      "A least-squares summary of one robot's logs (`dynid summarize`): per batch of samples and "
+      "joint, the triangular factor of the fit's rows, so that identify() on it gives what it "
+      "gives on the logs themselves (ols, wls, pc). Merge with + (or sum()); pickles through its "
+      "summary.json.")
+      .def_property_readonly(
+          "samples", [](const SummaryResult& r) { return r.summary.factors.numSamples(); },
+          "The samples summarized.")
+      .def_property_readonly(
+          "num_batches", [](const SummaryResult& r) { return r.summary.factors.batches().size(); },
+          "Its batches of consecutive samples (the covariance's).")
+      .def_property_readonly(
+          "sources", [](const SummaryResult& r) { return sourcesOf(r.summary); },
+          "The logs it holds: dicts of file, sha256, samples, rest_velocity, torque_filter.")
+      .def_property_readonly(
+          "model", [](const SummaryResult& r) { return r.summary.model; },
+          "The robot it was made for (drive terms and parameters as given).")
+      .def("__add__", &merged, py::arg("other"),
+           "The two summaries as one (their logs' rows together). Raises InputError for another "
+           "robot, drive terms or base parameters.")
+      .def(
+          "__radd__",
+          [](const SummaryResult& r, const py::object& other) {
+            if (py::isinstance<py::int_>(other) && other.cast<int>() == 0) return r;
+            throw py::type_error("a Summary adds to a Summary (or to 0, as sum() starts)");
+          },
+          py::arg("other"))
+      .def(
+          "to_json",
+          [](const SummaryResult& r) {
+            return jsonText(withCall(summaryJson(r.summary), r.provenance), 1) + "\n";
+          },
+          "summary.json, as `dynid summarize` writes it.")
+      .def_static(
+          "load",
+          [](const PathLike& path) {
+            const std::string file = pathArg(path, "path");
+            return fromText(readFile(file), file);
+          },
+          py::arg("path"), "A summary.json (dynid summarize) read back.")
+      .def(py::pickle(
+          [](const SummaryResult& r) {
+            return py::bytes(jsonText(withCall(summaryJson(r.summary), r.provenance), -1));
+          },
+          [](const py::bytes& state) { return fromText(std::string(state), "<pickle>"); }))
+      .def("__repr__", [](const SummaryResult& r) {
+        return "<dynid.Summary of " + std::to_string(r.summary.sources.size()) + " log(s), " +
+               std::to_string(r.summary.factors.numSamples()) + " samples, " +
+               std::to_string(r.summary.factors.batches().size()) + " batches>";
+      });
+}
+
+}  // namespace
+
+void bindRunsSummarize(py::module_& m) {
+  bindSummary(m);
+  m.def("summarize", &summarize, py::arg("model"), py::arg("data"),
+        py::arg("rest_velocity") = py::none(), py::arg("torque_filter") = "auto",
+        py::arg("samples") = StructuralOptions{}.samples,
+        py::arg("seed") = StructuralOptions{}.seed,
+        py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
+        py::arg("robot_spec") = "",
+        "The least-squares summary of one log (`data`: a dataset path, streamed, or a Dataset), "
+        "as `dynid summarize`: its rows as identify fits them (`rest_velocity` and "
+        "`torque_filter` as identify's). Summaries of logs merge with + and give identify() the "
+        "concatenated logs' estimate.");
+}
+
+}  // namespace dynid::python

@@ -1,0 +1,24 @@
+// summary.json (dynid summarize, the Python module's Summary.to_json): a least-squares summary of
+// one robot's logs, read back by analysis/records/summary_record.hpp.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "analysis/records/summary_record.hpp"
+
+namespace dynid {
+
+/// The document, without provenance (its writers stamp it).
+nlohmann::json summaryJson(const Summary& summary);
+
+/// Writes each (file name, summary) into `dir` as one set (all or none, reports/output.hpp), each
+/// stamped with the run's provenance. Returns the console lines: per file its logs, samples,
+/// batches and size.
+std::string writeSummaries(const std::string& dir,
+                           const std::vector<std::pair<std::string, Summary>>& named);
+
+}  // namespace dynid
