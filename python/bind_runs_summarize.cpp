@@ -86,7 +86,7 @@ void bindSummary(py::module_& m) {
           "Its batches of consecutive samples (the covariance's).")
       .def_property_readonly(
           "sources", [](const SummaryResult& r) { return sourcesOf(r.summary); },
-          "The logs it holds: dicts of file, sha256, samples, rest_velocity, torque_filter.")
+          "The logs it holds, as dicts of file, sha256, samples, rest_velocity and torque_filter.")
       .def_property_readonly(
           "model", [](const SummaryResult& r) { return r.summary.model; },
           "The robot it was made for (drive terms and parameters as given).")

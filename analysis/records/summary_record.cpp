@@ -100,6 +100,9 @@ LeastSquaresSummary::Batch batchFrom(const JsonReader& read, const json& value,
 
 Summary summaryFrom(const json& document, const std::string& file) {
   const JsonReader read(file);
+  if (!isDocumentOfKind(document, kSummaryDocument))
+    read.fail("kind", std::string("not a summary (expected kind ") + kSummaryDocument.kind +
+                          ", which dynid summarize writes)");
   read.header(document, kSummaryDocument.schema_version, kSummaryDocument.kind);
   read.onlyKeys(document, "",
                 {"schema_version", "kind", "model", "model_source", "structural", "base_parameters",

@@ -159,9 +159,13 @@ std::string fixtures() {
             "--evals-per-seed 10 --budget-evals 20 --segments 10 --threads 1 "
             "--checkpoint nlo.ckpt --out nlo",
         d + " identify --robot puma560 --data puma.csv --out estimate",
+        d + " summarize --robot puma560 --data puma.csv --out summaries",
+        d + " summarize --robot puma560 --drives --data short.csv --out summaries_drives",
         d + " batch manifest.json --shard 1/2 --out shard1",
         d + " batch manifest.json --shard 2/2 --out shard2",
-        "cp search/search.json search.json && cp estimate/estimate.json estimate.json",
+        "cp search/search.json search.json && cp estimate/estimate.json estimate.json && "
+        "cp summaries/puma.summary.json puma.summary.json && "
+        "cp summaries_drives/short.summary.json drives.summary.json",
         "touch complete"};
     std::ofstream(work + "/manifest.json")
         << R"({"schema_version": 1, "grid": {"method": ["ols"], "seed": [1, 2]},)"
