@@ -10,8 +10,10 @@
 #include <benchmark/benchmark.h>
 
 #include "analysis/runs/identify.hpp"
+#include "analysis/runs/summarize.hpp"
 #include "data/dataset_csv.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "identifiability/least_squares_summary.hpp"
 #include "identifiability/tall_qr.hpp"
 
 #include "core/parameters.hpp"
@@ -191,6 +193,63 @@ BENCHMARK(BM_RegressorAndUpdate)
     ->ArgNames({"samples", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+// `dynid summarize --robot puma560 --drives --data FILE --threads T` as the CLI runs it (the file
+// written aside): the log's training set, the file streamed into its summary's batches.
+void BM_SummarizeFile(benchmark::State& state) {
+  SummarizeRequest request;
+  request.model = makePuma560(true);
+  request.data_files = {datasetFile(request.model, state.range(0))};
+  request.threads = static_cast<int>(state.range(1));
+  for (auto _ : state) {
+    const SummarizeOutcome out = summarizeRun(request);
+    benchmark::DoNotOptimize(out.summaries.front().factors.batches().data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_SummarizeFile)
+    ->ArgsProduct({{100000}, {1, 2}})
+    ->ArgNames({"samples", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// Its kernel without the file: chunks of kStreamChunkSamples through SummaryBuilder on T threads
+// (the regressor of every sample, each joint's rows folded into its batch's factor).
+void BM_SummaryBuild(benchmark::State& state) {
+  const Model model = makePuma560(true);
+  const Trajectory dataset = pumaDataset(model, static_cast<double>(state.range(0) - 1) * 1e-3);
+  const BaseParameters base = structuralBaseParameters(model);
+  ThreadPool pool(static_cast<int>(state.range(1)));
+  std::vector<Trajectory> chunks;
+  for (int first = 0; first < dataset.numSamples(); first += kStreamChunkSamples)
+    chunks.push_back(
+        dataset.samples(first, std::min(kStreamChunkSamples, dataset.numSamples() - first)));
+  for (auto _ : state) {
+    SummaryBuilder builder(base, model);
+    for (const Trajectory& c : chunks) builder.addTrajectory(model, c, &pool);
+    benchmark::DoNotOptimize(builder.finish().batches().data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_SummaryBuild)
+    ->ArgsProduct({{100000}, {1, 2}})
+    ->ArgNames({"samples", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The floor's compute half: the joint torque regressor of every sample alone, one thread.
+void BM_RegressorOnly(benchmark::State& state) {
+  const Model model = makePuma560(true);
+  const Trajectory dataset = pumaDataset(model, static_cast<double>(state.range(0) - 1) * 1e-3);
+  Data data(model);
+  for (auto _ : state)
+    for (int k = 0; k < dataset.numSamples(); ++k)
+      benchmark::DoNotOptimize(
+          jointTorqueRegressor(model, data, dataset.q.col(k), dataset.dq.col(k), dataset.ddq.col(k))
+              .data());
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+BENCHMARK(BM_RegressorOnly)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

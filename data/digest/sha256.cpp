@@ -2,6 +2,10 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <mutex>
+
+#include <sys/stat.h>
 #include <vector>
 
 #include "core/errors.hpp"
@@ -90,7 +94,45 @@ std::string sha256Hex(std::string_view bytes) {
   return s.hex();
 }
 
+namespace {
+
+/// What identifies a file's contents without reading them: its device and inode, size and
+/// modification and change times (ctime moves on every write and cannot be set back).
+using FileKey = std::array<long long, 7>;
+
+bool fileKey(const std::string& file, FileKey& key) {
+  struct stat st {};
+  if (::stat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+  key = {static_cast<long long>(st.st_dev),          static_cast<long long>(st.st_ino),
+         static_cast<long long>(st.st_size),         static_cast<long long>(st.st_mtim.tv_sec),
+         static_cast<long long>(st.st_mtim.tv_nsec), static_cast<long long>(st.st_ctim.tv_sec),
+         static_cast<long long>(st.st_ctim.tv_nsec)};
+  return true;
+}
+
+}  // namespace
+
 std::string sha256OfFile(const std::string& file) {
+  // A file hashed before in this process, unchanged since (its key), is not read again: a
+  // command that records a log's digest in its document and in its provenance reads it once.
+  static std::mutex mutex;
+  static std::map<std::pair<std::string, FileKey>, std::string> known;
+  FileKey before{};
+  const bool keyed = fileKey(file, before);
+  if (keyed) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = known.find({file, before}); it != known.end()) return it->second;
+  }
+  const std::string digest = sha256OfStream(file);
+  FileKey after{};
+  if (keyed && fileKey(file, after) && after == before) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    known[{file, before}] = digest;
+  }
+  return digest;
+}
+
+std::string sha256OfStream(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError("cannot read '" + file + "'");
   Sha256 s;

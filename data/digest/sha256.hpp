@@ -29,6 +29,10 @@ class Sha256 {
 /// SHA-256 of `bytes`, as 64 lowercase hexadecimal digits.
 std::string sha256Hex(std::string_view bytes);
 /// SHA-256 of the file's contents, read in pieces. Throws InputError naming a file it cannot read.
+/// A regular file this process hashed before is not read again while its device, inode, size,
+/// modification and change times are the same.
 std::string sha256OfFile(const std::string& file);
+/// The same, always read.
+std::string sha256OfStream(const std::string& file);
 
 }  // namespace dynid

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "core/errors.hpp"
@@ -40,6 +41,17 @@ TEST(Sha256, PiecesGiveTheWholesDigest) {
   writeFileAtomically(file, text);
   EXPECT_EQ(sha256OfFile(file), whole);
   EXPECT_THROW(sha256OfFile(test::tempPath("no_such_file")), InputError);
+}
+
+TEST(Sha256, AFileRewrittenInPlaceIsHashedAgain) {
+  const std::string file = test::tempPath("sha256_rewritten.txt");
+  { std::ofstream(file) << "first contents"; }
+  EXPECT_EQ(sha256OfFile(file), sha256Hex("first contents"));
+  EXPECT_EQ(sha256OfFile(file), sha256Hex("first contents"));  // unchanged: remembered
+  // The same size, written in place (the same inode): its change time moves.
+  { std::fstream(file, std::ios::in | std::ios::out) << "other"; }
+  EXPECT_EQ(sha256OfFile(file), sha256Hex("other contents"));
+  EXPECT_EQ(sha256OfStream(file), sha256Hex("other contents"));
 }
 
 }  // namespace
