@@ -64,8 +64,9 @@ py::list sourcesOf(const Summary& s) {
     d["sha256"] = source.sha256;
     d["samples"] = source.samples;
     d["rest_velocity"] = source.rest_velocity;
-    d["torque_filter"] = source.torque_filter.empty() ? py::object(py::none())
-                                                      : py::object(py::str(source.torque_filter));
+    d["torque_filter"] = source.torque_filter.active()
+                             ? py::object(py::str(source.torque_filter.describe()))
+                             : py::object(py::none());
     out.append(d);
   }
   return out;

@@ -307,11 +307,11 @@ json dataJson(const IdentifyOutcome& o, long long samples) {
   if (o.summary_sources.empty()) return out;
   json sources = json::array();
   for (const SummarySource& s : o.summary_sources)
-    sources.push_back(
-        {{"file", s.file},
-         {"sha256", s.sha256},
-         {"samples", s.samples},
-         {"torque_filter", s.torque_filter.empty() ? json(nullptr) : json(s.torque_filter)}});
+    sources.push_back({{"file", s.file},
+                       {"sha256", s.sha256},
+                       {"samples", s.samples},
+                       {"torque_filter", s.torque_filter.active() ? json(s.torque_filter.describe())
+                                                                  : json(nullptr)}});
   out["sources"] = std::move(sources);
   return out;
 }

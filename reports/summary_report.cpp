@@ -19,12 +19,17 @@ json vectorJson(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());
 }
 
+json filterJson(const TorqueFilter& f) {
+  if (!f.active()) return nullptr;
+  return {{"order", f.order}, {"cutoff_hz", f.cutoff}, {"rate_hz", f.rate}};
+}
+
 json sourceJson(const SummarySource& s) {
   return {{"file", s.file},
           {"sha256", s.sha256},
           {"samples", s.samples},
           {"rest_velocity", s.rest_velocity},
-          {"torque_filter", s.torque_filter.empty() ? json(nullptr) : json(s.torque_filter)},
+          {"torque_filter", filterJson(s.torque_filter)},
           {"torque_filter_source", s.torque_filter_source}};
 }
 

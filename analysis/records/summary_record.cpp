@@ -42,7 +42,15 @@ SummarySource sourceFrom(const JsonReader& read, const json& value, const std::s
     read.fail(JsonReader::join(path, "rest_velocity"),
               "expected one per joint (" + std::to_string(joints) + ")");
   const json& filter = read.field(value, path, "torque_filter");
-  if (!filter.is_null()) out.torque_filter = read.string(value, path, "torque_filter");
+  if (!filter.is_null()) {
+    const std::string at = JsonReader::join(path, "torque_filter");
+    read.object(filter, at);
+    read.onlyKeys(filter, at, {"order", "cutoff_hz", "rate_hz"});
+    out.torque_filter.order = static_cast<int>(read.integer(filter, at, "order", 1, 16));
+    out.torque_filter.rate = read.number(filter, at, "rate_hz", 1e-9);
+    out.torque_filter.cutoff =
+        read.number(filter, at, "cutoff_hz", 1e-9, 0.5 * out.torque_filter.rate);
+  }
   out.torque_filter_source = read.string(value, path, "torque_filter_source");
   return out;
 }

@@ -12,6 +12,7 @@
 #include "core/model.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_summary.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 
@@ -26,7 +27,7 @@ struct SummarySource {
   std::string sha256;  // its content's (empty: data in memory)
   long long samples = 0;
   std::vector<double> rest_velocity;  // per joint, as the fit took them [rad/s or m/s]
-  std::string torque_filter;          // the filter the rows reproduce, described; empty: none
+  TorqueFilter torque_filter;         // the filter the rows reproduce (inactive: none)
   std::string torque_filter_source;   // where it came from, or why there is none
 };
 

@@ -1,5 +1,6 @@
 #include "analysis/runs/identify.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -282,7 +283,19 @@ IdentifyOutcome identifyFromSummary(const IdentifyRequest& request) {
   out.data_file = name;
   out.robot_spec = request.robot_spec;
   out.summary_sources = summary.sources;
+  // The logs' torque filter, when they share one: the held-out prediction reproduces it.
   out.torque_filter_source = "each log's own, as its summary records";
+  const auto same_filter = [&](const SummarySource& s) {
+    const TorqueFilter& f = summary.sources.front().torque_filter;
+    return s.torque_filter.order == f.order && s.torque_filter.cutoff == f.cutoff &&
+           std::abs(s.torque_filter.rate - f.rate) <= 1e-6 * f.rate;
+  };
+  if (!summary.sources.empty() && summary.sources.front().torque_filter.active() &&
+      std::all_of(summary.sources.begin(), summary.sources.end(), same_filter)) {
+    out.torque_filter = summary.sources.front().torque_filter;
+    out.filter_reach = filterReach(out.torque_filter);
+    out.torque_filter_source = "the summaries' logs' (each its own rows)";
+  }
   // The rest velocities: per joint the largest of the logs' (a joint at rest in any log is at
   // rest below it), for the held-out prediction.
   Model model = request.model;

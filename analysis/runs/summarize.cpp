@@ -55,7 +55,7 @@ std::optional<Summary> summarizeOne(const SummarizeRequest& request, const BaseP
   source.sha256 = data ? std::string() : sha256OfFile(file);
   source.samples = out.factors.numSamples();
   source.rest_velocity = model.rest_velocities;
-  if (training.filter_reach > 0) source.torque_filter = training.torque_filter.describe();
+  if (training.filter_reach > 0) source.torque_filter = training.torque_filter;
   source.torque_filter_source = training.torque_filter_source;
   out.sources.push_back(std::move(source));
   return out;

@@ -137,12 +137,13 @@ TEST(SummarizeRun, AFilteredLogsSummaryGivesItsOwnEstimate) {
   summarize.data_files = {logs.files[1]};  // the one with stops
   summarize.torque_filter = filter;
   const Summary summary = summarizeRun(summarize).summaries.front();
-  ASSERT_FALSE(summary.sources.front().torque_filter.empty());
+  ASSERT_TRUE(summary.sources.front().torque_filter.active());
   IdentifyRequest whole;
   whole.model = makePanda(true);
   whole.method = Method::kWls;
   whole.data_file = logs.files[1];
   whole.torque_filter = filter;
+  whole.validate_file = logs.files[2];
   const IdentifyOutcome reference = identifyRun(whole);
   ASSERT_GT(reference.filter_reach, 0);
   IdentifyRequest request = whole;
@@ -152,6 +153,11 @@ TEST(SummarizeRun, AFilteredLogsSummaryGivesItsOwnEstimate) {
   const Eigen::VectorXd& want = reference.result.estimate.beta;
   EXPECT_LT((o.result.estimate.beta - want).norm(), 1e-10 * want.norm());  // as above
   EXPECT_EQ(o.result.estimate.fitted_rows, reference.result.estimate.fitted_rows);
+  // The held-out prediction reproduces the logs' filter as the log's own identify does.
+  EXPECT_EQ(o.filter_reach, reference.filter_reach);
+  ASSERT_TRUE(o.validation && reference.validation);
+  EXPECT_NEAR(o.validation->relative_error, reference.validation->relative_error,
+              1e-9 * reference.validation->relative_error);  // the same estimate to 1e-10
 }
 
 TEST(SummarizeRun, RefusesToMergeAnotherRobotOrOtherDriveTerms) {
