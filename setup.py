@@ -1,7 +1,7 @@
 """`pip install .`: builds dynid with CMake and packs the Python module and the `dynid` program.
 
 pyproject.toml says why the backend is setuptools. The wheel holds the extension module `dynid`
-(with its type stubs, when python3-mypy made them) and the `dynid` program as a script: pip puts it
+(with its type stubs, when python3-mypy made them, and dynid_distributed.py, its Dask layer) and the `dynid` program as a script: pip puts it
 in the environment's bin/. Both link dynid's own libraries statically and Debian's shared ones
 (Ceres, NLopt, urdfdom, ...) from the system, with no run path into the build tree: the wheel is
 relocatable. Settings, from the environment:
@@ -72,6 +72,9 @@ class CMakeBuildExt(build_ext):
             stubs = tree / "python" / "dynid.pyi"
             if stubs.exists():
                 shutil.copy2(stubs, target.parent / "dynid.pyi")
+            # The Dask layer, pure Python beside the module (dynid.summarize_many imports it).
+            shutil.copy2(tree / "python" / "dynid_distributed.py",
+                         target.parent / "dynid_distributed.py")
 
 
 class ProgramScripts(build_scripts):

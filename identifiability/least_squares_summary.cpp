@@ -199,7 +199,7 @@ void SummaryBuilder::closeBatch() {
   batch.samples = open_samples_;
   for (TallQr& factor : open_->factors) {
     batch.factors.push_back(factor.r());
-    factor = TallQr(factor.cols());
+    factor.reset();
   }
   summary_.batches_.push_back(std::move(batch));
   summary_.samples_ += open_samples_;
@@ -223,22 +223,31 @@ void SummaryBuilder::addTrajectory(const Model& model, const Trajectory& data, T
   const int threads = pool ? pool->numThreads() : 1;
   if (static_cast<int>(workspaces_.size()) < threads)
     workspaces_.resize(static_cast<std::size_t>(threads));
+  if (static_cast<int>(adjusted_.size()) < threads)
+    adjusted_.resize(static_cast<std::size_t>(threads));
   for (int done = 0; done < m;) {
     // The samples up to the open batch's end: their rows, then each joint's folded in order.
     const int count =
         static_cast<int>(std::min<long long>(m - done, batch_length_ - open_samples_));
     const long long first = numSamples();
-    std::vector<TallQr::RowMajorMatrix> buffers;
-    for (int j = 0; j < n; ++j)
-      buffers.emplace_back(
-          count, static_cast<Eigen::Index>(gather_[static_cast<std::size_t>(j)].size()) + 1);
-    Eigen::MatrixXd taus(n, count);
+    // The rows' buffers, kept from call to call (grown, never shrunk): freeing and allocating a
+    // megabyte per chunk costs page faults, five times the work under a low malloc trim threshold
+    // (a Dask worker's 64 KiB).
+    if (taus_.cols() < count) {
+      buffers_.clear();
+      for (int j = 0; j < n; ++j)
+        buffers_.emplace_back(
+            count, static_cast<Eigen::Index>(gather_[static_cast<std::size_t>(j)].size()) + 1);
+      taus_.resize(n, count);
+    }
+    std::vector<TallQr::RowMajorMatrix>& buffers = buffers_;
+    Eigen::MatrixXd& taus = taus_;
     constexpr int kBlock = 64;
     const int tasks = (count + kBlock - 1) / kBlock;
     const auto task = [&](int index, int thread) {
       std::unique_ptr<Data>& own = workspaces_[static_cast<std::size_t>(thread)];
       if (!own) own = std::make_unique<Data>(model);
-      Eigen::MatrixXd adjusted;
+      Eigen::MatrixXd& adjusted = adjusted_[static_cast<std::size_t>(thread)];
       for (int k = index * kBlock; k < std::min(count, (index + 1) * kBlock); ++k) {
         const int sample = done + k;
         adjusted = jointTorqueRegressor(model, *own, data.q.col(sample), data.dq.col(sample),
@@ -256,7 +265,8 @@ void SummaryBuilder::addTrajectory(const Model& model, const Trajectory& data, T
       }
     };
     const auto fold = [&](int j, int) {
-      open_->factors[static_cast<std::size_t>(j)].addRowMajor(buffers[static_cast<std::size_t>(j)]);
+      open_->factors[static_cast<std::size_t>(j)].addRowMajor(
+          buffers[static_cast<std::size_t>(j)].topRows(count));
     };
     if (pool) {
       pool->parallelFor(tasks, task);

@@ -134,6 +134,10 @@ class SummaryBuilder {
   long long open_samples_ = 0;
   long long batch_length_ = kFirstSummaryBatch;
   std::vector<std::unique_ptr<Data>> workspaces_;
+  std::vector<Eigen::MatrixXd> adjusted_;  // per thread: a sample's regressor as the fit takes it
+  // A chunk's rows per joint (row-major) and torques, kept between calls.
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> buffers_;
+  Eigen::MatrixXd taus_;
 };
 
 }  // namespace dynid

@@ -238,6 +238,12 @@ TallQr::TallQr(Eigen::Index cols, Eigen::Index block_rows, Kernel kernel)
   avx2_ = kernel == Kernel::kAvx2 || (kernel == Kernel::kAuto && avx2Available());
 }
 
+void TallQr::reset() {
+  std::fill(r_.begin(), r_.end(), 0.0);
+  filled_ = 0;
+  added_ = 0;
+}
+
 template <class Rows>
 void TallQr::addRows(const Rows& rows) {
   if (rows.cols() != cols_)

@@ -49,6 +49,9 @@ class TallQr {
   void commitRows(Eigen::Index k);
   /// Reduces the buffered rows now (r() does too), so that the next row starts a new block.
   void flush();
+  /// Starts again with no rows (R zero), keeping its buffers: a factor per batch of a stream
+  /// without allocating (and zeroing) the row buffer each time.
+  void reset();
   /// R so far: cols x cols, upper triangular; rows beyond those added are zero (to rounding).
   Eigen::MatrixXd r();
   Eigen::Index cols() const { return cols_; }

@@ -330,6 +330,9 @@ void bindModelOutput(py::class_<Model>& model) {
            "Physical-consistency violations of the links' parameters, as dicts {link, link_name, "
            "condition, detail}; empty when every link is realisable (as `dynid model check`).")
       .def("to_json", &modelToJson, "The model as dynid JSON (loadable by load_model).")
+      // Pickled as its dynid JSON (what a Dask task, a multiprocessing pool or a file takes).
+      .def(py::pickle([](const Model& self) { return modelToJson(self); },
+                      [](const std::string& text) { return modelFromJson(text, "<pickle>"); }))
       .def("to_urdf", [](const Model& self) { return exportedModel(self, "urdf"); })
       .def("to_mjcf", [](const Model& self) { return exportedModel(self, "mjcf"); })
       .def(

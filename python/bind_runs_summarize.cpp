@@ -1,5 +1,8 @@
 // The runs wing's summarize room (analysis/runs/summarize.hpp): summarize() and the Summary it
 // returns (mergeable with +, picklable through its summary.json, what identify() takes as data).
+#include <cstdint>
+#include <cstring>
+
 #include <pybind11/stl.h>
 
 #include "analysis/records/document.hpp"
@@ -114,11 +117,36 @@ void bindSummary(py::module_& m) {
             return fromText(readFile(file), file);
           },
           py::arg("path"), "A summary.json (dynid summarize) read back.")
+      // Pickled as summary.json with its factors detached as raw binary64 (what a Dask transfer
+      // moves: no base64, no decimal text), read back through the same checks.
       .def(py::pickle(
           [](const SummaryResult& r) {
-            return py::bytes(jsonText(withCall(summaryJson(r.summary), r.provenance), -1));
+            std::vector<double> values;
+            const std::string doc =
+                jsonText(withCall(summaryJson(r.summary, &values), r.provenance), -1);
+            // One bytes object: the document's length (8 bytes), the document, the values.
+            std::string state(sizeof(std::uint64_t), '\0');
+            const std::uint64_t length = doc.size();
+            std::memcpy(state.data(), &length, sizeof(length));
+            state += doc;
+            state.append(reinterpret_cast<const char*>(values.data()),
+                         values.size() * sizeof(double));
+            return py::bytes(state);
           },
-          [](const py::bytes& state) { return fromText(std::string(state), "<pickle>"); }))
+          [](const py::bytes& pickled) {
+            const std::string state = pickled;
+            std::uint64_t length = 0;
+            if (state.size() >= sizeof(length)) std::memcpy(&length, state.data(), sizeof(length));
+            if (state.size() < sizeof(length) || length > state.size() - sizeof(length))
+              throw py::value_error("a Summary's pickle is cut short");
+            const std::string doc = state.substr(sizeof(length), length);
+            const std::string raw = state.substr(sizeof(length) + length);
+            if (raw.size() % sizeof(double) != 0)
+              throw py::value_error("a Summary's pickled factors are not whole doubles");
+            std::vector<double> values(raw.size() / sizeof(double));
+            std::memcpy(values.data(), raw.data(), raw.size());
+            return SummaryResult{summaryFrom(parseJson(doc, "<pickle>"), "<pickle>", &values), {}};
+          }))
       .def("__repr__", [](const SummaryResult& r) {
         return "<dynid.Summary of " + std::to_string(r.summary.sources.size()) + " log(s), " +
                std::to_string(r.summary.factors.numSamples()) + " samples, " +
@@ -140,6 +168,19 @@ void bindRunsSummarize(py::module_& m) {
         "as `dynid summarize`: its rows as identify fits them (`rest_velocity` and "
         "`torque_filter` as identify's). Summaries of logs merge with + and give identify() the "
         "concatenated logs' estimate.");
+  m.def(
+      "summarize_many",
+      [](const py::args& args, const py::kwargs& kwargs) {
+        return py::module_::import("dynid_distributed").attr("summarize_many")(*args, **kwargs);
+      },
+      "The merged Summary of many logs on a Dask cluster. Arguments: model, logs, client=None (a "
+      "distributed.Client; None: a local cluster of one worker per core), rest_velocity=None, "
+      "torque_filter='auto', robot_spec='', retries=2, logs_per_task=4. A task per "
+      "logs_per_task logs, merged as a tree in the logs' order (the same bits however the tasks "
+      "ran). Returns "
+      "SummarizeMany(summary, summarized, failed): a log that cannot be summarized is named with "
+      "its error in `failed`, the rest go on. The Dask layer is dynid_distributed.py, beside "
+      "this module.");
 }
 
 }  // namespace dynid::python

@@ -34,6 +34,8 @@ def fix(text: str) -> str:
     text = text.replace("numpy.ndarray[numpy.float64]", array)
     text = re.sub(r"numpy\.ndarray(?!\[)", array, text)
     text = text.replace("(self, *args, **kwargs)", "(self, *args: Any, **kwargs: Any)")
+    # A function that forwards to pure Python (summarize_many): its arguments as they come.
+    text = text.replace("(*args, **kwargs) -> object", "(*args: Any, **kwargs: Any) -> Any")
     # Bare containers (pybind11's py::dict and py::list): keys are names, values vary.
     text = re.sub(r"(?<![\w.])dict(?![\w\[])", "dict[str, Any]", text)
     text = re.sub(r"(?<![\w.])list(?![\w\[])", "list[Any]", text)

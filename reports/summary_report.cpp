@@ -33,18 +33,22 @@ json sourceJson(const SummarySource& s) {
           {"torque_filter_source", s.torque_filter_source}};
 }
 
-/// A batch's joints' upper triangles, row by row, in one base64 string.
-json batchJson(const LeastSquaresSummary::Batch& batch) {
-  std::vector<double> values;
+/// A batch's joints' upper triangles, row by row, in one base64 string (or appended to
+/// `detached`).
+json batchJson(const LeastSquaresSummary::Batch& batch, std::vector<double>* detached) {
+  std::vector<double> own;
+  std::vector<double>& values = detached != nullptr ? *detached : own;
   for (const Eigen::MatrixXd& r : batch.factors)
     for (Eigen::Index i = 0; i < r.rows(); ++i)
       for (Eigen::Index k = i; k < r.cols(); ++k) values.push_back(r(i, k));
-  return {{"samples", batch.samples}, {"factors", doublesToBase64(values.data(), values.size())}};
+  return {{"samples", batch.samples},
+          {"factors",
+           detached != nullptr ? std::string() : doublesToBase64(values.data(), values.size())}};
 }
 
 }  // namespace
 
-json summaryJson(const Summary& summary) {
+json summaryJson(const Summary& summary, std::vector<double>* detached) {
   json out = documentHeader(kSummaryDocument);
   out["model"] = json::parse(modelToJson(summary.model));
   out["model_source"] = modelSourceJson(summary.model_source);
@@ -58,7 +62,8 @@ json summaryJson(const Summary& summary) {
   out["sources"] = std::move(sources);
   const LeastSquaresSummary& f = summary.factors;
   json batches = json::array();
-  for (const LeastSquaresSummary::Batch& b : f.batches()) batches.push_back(batchJson(b));
+  if (detached != nullptr) detached->reserve(static_cast<std::size_t>(f.numValues()));
+  for (const LeastSquaresSummary::Batch& b : f.batches()) batches.push_back(batchJson(b, detached));
   out["least_squares"] = {{"encoding", kSummaryEncoding},
                           {"support", f.support()},
                           {"fitted_rows", vectorJson(f.fittedRows())},

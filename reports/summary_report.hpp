@@ -12,8 +12,10 @@
 
 namespace dynid {
 
-/// The document, without provenance (its writers stamp it).
-nlohmann::json summaryJson(const Summary& summary);
+/// The document, without provenance (its writers stamp it). With `detached`, the batches' values
+/// are appended there instead, each batch's "factors" "" (a binary form: the Python module's
+/// pickles; summaryFrom reads it back given the same values).
+nlohmann::json summaryJson(const Summary& summary, std::vector<double>* detached = nullptr);
 
 /// Writes each (file name, summary) into `dir` as one set (all or none, reports/output.hpp), each
 /// stamped with the run's provenance. Returns the console lines: per file its logs, samples,

@@ -18,7 +18,7 @@ packages=(
   gnuplot-nox clang-format universal-ctags
   zsh groff-base
   clang libclang-rt-14-dev llvm-14
-  pybind11-dev python3-dev python3-numpy python3-pytest python3-mypy
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-mypy python3-distributed
   python3-venv python3-setuptools python3-wheel
   libsqlite3-dev libzstd-dev liblz4-dev libbz2-dev zlib1g-dev python3-rosbag python3-sensor-msgs python3-roslz4
 )

@@ -73,19 +73,39 @@ std::vector<std::vector<int>> supportFrom(const JsonReader& read, const json& va
   return out;
 }
 
+/// Where the batches' values come from: each batch's base64 text, or an array beside the document
+/// (`detached`, the batches' values in order, each batch's "factors" then "").
+struct FactorValues {
+  const std::vector<double>* detached = nullptr;
+  std::size_t next = 0;  // the next detached value
+};
+
 /// One batch: its samples and every joint's upper triangle, row by row, in one base64 string.
 LeastSquaresSummary::Batch batchFrom(const JsonReader& read, const json& value,
                                      const std::string& path,
-                                     const std::vector<std::vector<int>>& support) {
+                                     const std::vector<std::vector<int>>& support,
+                                     FactorValues& source) {
   read.object(value, path);
   read.onlyKeys(value, path, {"samples", "factors"});
   LeastSquaresSummary::Batch out;
   out.samples = read.integer(value, path, "samples", 1, std::numeric_limits<int>::max());
   std::vector<double> values;
-  try {
-    values = doublesFromBase64(read.string(value, path, "factors"));
-  } catch (const InputError& e) {
-    read.fail(JsonReader::join(path, "factors"), e.what());
+  const std::string text = read.string(value, path, "factors");
+  if (source.detached != nullptr) {
+    if (!text.empty()) read.fail(JsonReader::join(path, "factors"), "expected \"\" (detached)");
+    std::size_t count = 0;
+    for (const std::vector<int>& s : support) count += (s.size() + 1) * (s.size() + 2) / 2;
+    if (source.next + count > source.detached->size())
+      read.fail(JsonReader::join(path, "factors"), "the detached values end before this batch's");
+    const auto first = source.detached->begin() + static_cast<long>(source.next);
+    values.assign(first, first + static_cast<long>(count));
+    source.next += count;
+  } else {
+    try {
+      values = doublesFromBase64(text);
+    } catch (const InputError& e) {
+      read.fail(JsonReader::join(path, "factors"), e.what());
+    }
   }
   std::size_t at = 0;
   for (const std::vector<int>& s : support) {
@@ -106,7 +126,8 @@ LeastSquaresSummary::Batch batchFrom(const JsonReader& read, const json& value,
 
 }  // namespace
 
-Summary summaryFrom(const json& document, const std::string& file) {
+Summary summaryFrom(const json& document, const std::string& file,
+                    const std::vector<double>* detached) {
   const JsonReader read(file);
   if (!isDocumentOfKind(document, kSummaryDocument))
     read.fail("kind", std::string("not a summary (expected kind ") + kSummaryDocument.kind +
@@ -143,9 +164,12 @@ Summary summaryFrom(const json& document, const std::string& file) {
   const json& batches =
       read.array(read.field(ls, "least_squares", "batches"), "least_squares.batches");
   std::vector<LeastSquaresSummary::Batch> parts;
+  FactorValues source{detached, 0};
   for (std::size_t i = 0; i < batches.size(); ++i)
-    parts.push_back(
-        batchFrom(read, batches[i], JsonReader::index("least_squares.batches", i), support));
+    parts.push_back(batchFrom(read, batches[i], JsonReader::index("least_squares.batches", i),
+                              support, source));
+  if (detached != nullptr && source.next != detached->size())
+    read.fail("least_squares.batches", "more detached values than the batches hold");
   try {
     out.factors = LeastSquaresSummary(num_base, support, std::move(parts),
                                       read.vector(read.field(ls, "least_squares", "fitted_rows"),

@@ -44,8 +44,10 @@ struct Summary {
 
 /// The summary in `document` (`file` names it in messages): kind dynid.summary, version 1,
 /// every field checked (the factors' sizes against the supports, the model's joints against the
-/// supports' count). Throws ParseError naming the file and the field.
-Summary summaryFrom(const nlohmann::json& document, const std::string& file);
+/// supports' count). Throws ParseError naming the file and the field. With `detached`, the
+/// batches' values are there, in order (summaryJson's detached form: each batch's "factors" "").
+Summary summaryFrom(const nlohmann::json& document, const std::string& file,
+                    const std::vector<double>* detached = nullptr);
 /// The same from a file (read through data/io's readFile: a command's input).
 Summary readSummary(const std::string& file);
 

@@ -39,6 +39,21 @@ TEST(TallQr, TriangularFactorOfAnyBlockingEqualsTheWholeQr) {
   }
 }
 
+TEST(TallQr, ResetStartsAgainAsANewFactorDoes) {
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(1500, 9), B = Eigen::MatrixXd::Random(700, 9);
+  for (TallQr::Kernel kernel : {TallQr::Kernel::kPortable, TallQr::Kernel::kAuto}) {
+    TallQr reused(9, 128, kernel);
+    reused.add(A);
+    reused.add(A.topRows(50));  // a part of a block left buffered
+    reused.reset();
+    EXPECT_EQ(reused.rowsAdded(), 0);
+    reused.add(B);
+    TallQr fresh(9, 128, kernel);
+    fresh.add(B);
+    EXPECT_EQ(reused.r(), fresh.r());  // the same rows, the same blocks: the same bits
+  }
+}
+
 TEST(TallQr, AppendedRightHandSideSolvesLeastSquares) {
   const Eigen::MatrixXd A = Eigen::MatrixXd::Random(3000, 5);
   const Eigen::VectorXd y = Eigen::VectorXd::Random(3000);

@@ -1,0 +1,105 @@
+"""dynid on a Dask cluster: least-squares summaries of many logs, computed where the workers are
+and merged as a tree (docs/FLEET.md). The C++ library stays engine-free; this module is the Python
+layer's, reached as dynid.summarize_many (the extension module imports it on first use).
+
+A task summarizes a few consecutive logs (`dynid.summarize` with one thread, the worker's own) and
+merges them; the summaries travel pickled (their summary.json, the factors bit for bit) and are
+merged pairwise in a fixed tree by the logs' order, so that the result is the same bits whichever
+worker ran what, in whatever order, and after a worker was lost and its tasks ran again. A log that cannot be summarized (unreadable,
+another robot's, a bad row) is named with its error in `failed`, and the rest go on.
+"""
+
+import collections
+import os
+
+import dynid
+
+SummarizeMany = collections.namedtuple("SummarizeMany", ["summary", "summarized", "failed"])
+SummarizeMany.__doc__ = """What summarize_many returns: the merged Summary of every log summarized
+(None when none was), the logs summarized in their given order, and {log: error} of the rest."""
+
+
+def _tree(items, merge):
+    """Pairwise merges in a fixed tree: (0 1) (2 3) ..., then their results the same way."""
+    while len(items) > 1:
+        items = [merge(items[i], items[i + 1]) if i + 1 < len(items) else items[i]
+                 for i in range(0, len(items), 2)]
+    return items[0] if items else None
+
+
+def _summarize_group(model, logs, rest_velocity, torque_filter, robot_spec):
+    """A task: its logs' summaries merged pairwise, and the errors of those that could not be
+    summarized (as text: a task that raised would be retried as if its worker had died, and the
+    message is what the user needs)."""
+    parts, failed = [], {}
+    for log in logs:
+        try:
+            parts.append(dynid.summarize(model, log, rest_velocity=rest_velocity,
+                                         torque_filter=torque_filter, threads=1,
+                                         robot_spec=robot_spec))
+        except Exception as e:  # noqa: BLE001 - every refusal is the log's, named in `failed`
+            failed[log] = f"{type(e).__name__}: {e}"
+    return _tree(parts, _merge), failed
+
+
+def _failed(outcome):
+    """A task's failures, without its summary (what comes back to the client)."""
+    return outcome[1]
+
+
+def _summary(outcome):
+    return outcome[0]
+
+
+def _merge(a, b):
+    if a is None or b is None:
+        return b if a is None else a
+    return a + b
+
+
+def _local_client():
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError as e:  # pragma: no cover - the installer provides it
+        raise ImportError("summarize_many runs on Dask: install Debian's python3-distributed "
+                          "(scripts/install-deps.sh does), or pass client=") from e
+    cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                           dashboard_address=None)
+    return Client(cluster), cluster
+
+
+def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="auto",
+                   robot_spec="", retries=2, logs_per_task=4):
+    """The least-squares summary of many logs on a Dask cluster: a task per `logs_per_task`
+    consecutive logs (dynid.summarize on a worker, one thread, merged pairwise there), then the
+    tasks' summaries merged pairwise as a tree on the workers. With `logs_per_task` a power of two
+    the tree is the logs' own pairwise tree, (0 1) (2 3) ..., whatever the cluster: the same bits
+    however many workers ran the tasks, in whatever order, and after a worker died and its tasks
+    ran again (`retries` times at most). `client`: a distributed.Client (any cluster: local,
+    Slurm through dask-jobqueue, ...); None starts a local cluster of one single-threaded worker
+    per core and closes it after. Returns SummarizeMany(summary, summarized, failed): a log that
+    cannot be summarized is named with its error in `failed` and left out; the rest go on."""
+    logs = [os.fspath(log) for log in logs]
+    if logs_per_task < 1:
+        raise ValueError("logs_per_task must be >= 1")
+    own = None
+    if client is None:
+        client, own = _local_client()
+    try:
+        groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
+        tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
+                               robot_spec, pure=False, retries=retries) for group in groups]
+        # Only the failures come back; the summaries stay on the workers, merged there as a
+        # tree, and only the root travels to the client: its memory holds one summary.
+        failed = {}
+        for one in client.gather(client.map(_failed, tasks, pure=False, retries=retries)):
+            failed.update(one)
+        summarized = [log for log in logs if log not in failed]
+        parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
+        root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
+        summary = root.result() if root is not None else None
+        return SummarizeMany(summary, summarized, failed)
+    finally:
+        if own is not None:
+            client.close()
+            own.close()
