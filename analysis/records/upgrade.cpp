@@ -65,7 +65,7 @@ constexpr const char* kProvenance = "provenance (which dynid, command and inputs
 constexpr const char* kModel = "model and model_source (the robot, embedded)";
 const Added kAdded[] = {
     {&kEstimateDocument, 6, kProvenance},
-    {&kEstimateDocument, 7, "data.sources (the logs of the summaries it was identified from)"},
+    // estimate.json 7's data.sources: absent in an earlier version, which came from a dataset.
     {&kExcitationDocument, 4, kProvenance},
     {&kMonitorThresholdsDocument, 5, kProvenance},
     {&kSearchDocument, 3, kProvenance},

@@ -155,7 +155,7 @@ TEST(EstimateRecord, VersionFourCarriesItsFitRows) {
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
   doc["schema_version"] = 3;  // an earlier version with a key it did not have: still read
   EXPECT_EQ(estimateRecordFrom(doc, "est.json").standard.size(), names.size());
-  doc["schema_version"] = 7;  // a later version: refused
+  doc["schema_version"] = 8;  // a later version: refused
   EXPECT_EQ(estimateFault(doc), "schema_version");
 }
 
