@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/common/identification.hpp"
+#include "tests/common/trajectories.hpp"
 
 #include "core/errors.hpp"
 #include "core/parallel.hpp"
@@ -12,6 +13,7 @@
 namespace dynid {
 namespace {
 
+using test::concatenated;
 using test::pumaBase;
 using test::pumaTrajectory;
 
@@ -22,24 +24,6 @@ LeastSquaresSummary summaryOf(const Model& model, const BaseParameters& base,
   for (int at = 0; at < data.numSamples(); at += chunk)
     builder.addTrajectory(model, data.samples(at, std::min(chunk, data.numSamples() - at)), pool);
   return builder.finish();
-}
-
-Trajectory concatenated(const std::vector<Trajectory>& parts) {
-  int total = 0;
-  for (const Trajectory& p : parts) total += p.numSamples();
-  Trajectory out;
-  out.resize(parts.front().numJoints(), total);
-  int at = 0;
-  for (const Trajectory& p : parts) {
-    const int m = p.numSamples();
-    out.time.segment(at, m) = p.time;
-    out.q.middleCols(at, m) = p.q;
-    out.dq.middleCols(at, m) = p.dq;
-    out.ddq.middleCols(at, m) = p.ddq;
-    out.tau.middleCols(at, m) = p.tau;
-    at += m;
-  }
-  return out;
 }
 
 BaseEstimate estimateOf(const Model& model, const BaseParameters& base,

@@ -7,6 +7,7 @@
 #include "core/simulate.hpp"
 #include "data/digest/base64.hpp"
 #include "data/puma560.hpp"
+#include "tests/common/identification.hpp"
 
 namespace dynid {
 namespace {
@@ -15,17 +16,7 @@ namespace {
 const Summary& pumaSummary() {
   static const Summary summary = [] {
     const Model puma = makePuma560(true);
-    SinusoidalReference r;
-    r.q0 = Eigen::VectorXd::Zero(6);
-    r.amplitude = Eigen::VectorXd::Constant(6, 0.8);
-    r.frequency = Eigen::VectorXd::LinSpaced(6, 0.5, 1.5);
-    r.phase = Eigen::VectorXd::LinSpaced(6, 0.0, 2.5);
-    TrackingController controller(puma, r, defaultGains(puma, r.q0, 8.0),
-                                  Eigen::VectorXd::Constant(6, 1e9));
-    SimulationOptions options;
-    options.duration = 1.0;
-    options.noise_tau = 0.1;
-    static const Trajectory data = simulate(puma, controller, options);
+    static const Trajectory data = test::pumaTrajectory(puma, 1.0, 0.1, 1);
     SummarizeRequest request;
     request.model = puma;
     request.robot_spec = "puma560";

@@ -11,6 +11,7 @@
 #include "data/dataset_csv.hpp"
 #include "data/panda.hpp"
 #include "tests/common/puma_runs.hpp"
+#include "tests/common/trajectories.hpp"
 
 namespace dynid {
 namespace {
@@ -35,28 +36,6 @@ std::string written(const Trajectory& data, const std::string& name) {
   return path;
 }
 
-/// The logs one after another, each a second after the last one's end (a gap, not a sample step:
-/// a filter's runs split there, as they do between logs).
-Trajectory concatenated(const std::vector<Trajectory>& parts) {
-  int total = 0;
-  for (const Trajectory& p : parts) total += p.numSamples();
-  Trajectory out;
-  out.resize(parts.front().numJoints(), total);
-  int at = 0;
-  double offset = 0.0;
-  for (const Trajectory& p : parts) {
-    const int m = p.numSamples();
-    out.time.segment(at, m) = p.time.array() + offset;
-    out.q.middleCols(at, m) = p.q;
-    out.dq.middleCols(at, m) = p.dq;
-    out.ddq.middleCols(at, m) = p.ddq;
-    out.tau.middleCols(at, m) = p.tau;
-    offset += p.time[m - 1] + 1.0;
-    at += m;
-  }
-  return out;
-}
-
 struct Logs {
   std::vector<std::string> files;
   std::string all;  // the logs concatenated, one file
@@ -69,7 +48,7 @@ const Logs& pandaLogs() {
     Logs out;
     for (std::size_t i = 0; i < parts.size(); ++i)
       out.files.push_back(written(parts[i], "summarize_log" + std::to_string(i) + ".csv"));
-    out.all = written(concatenated(parts), "summarize_all.csv");
+    out.all = written(test::concatenated(parts, 1.0), "summarize_all.csv");
     return out;
   }();
   return logs;
