@@ -89,14 +89,16 @@ def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="
         groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
         tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
                                robot_spec, pure=False, retries=retries) for group in groups]
-        # Only the failures come back; the summaries stay on the workers, merged there as a
-        # tree, and only the root travels to the client: its memory holds one summary.
+        # The tree of merges is submitted at once, so that a merge runs as soon as its two
+        # inputs are done, while later tasks still compute. Only the failures come back; the
+        # summaries stay on the workers, and only the root travels to the client: its memory
+        # holds one summary.
+        parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
+        root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
         failed = {}
         for one in client.gather(client.map(_failed, tasks, pure=False, retries=retries)):
             failed.update(one)
         summarized = [log for log in logs if log not in failed]
-        parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
-        root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
         summary = root.result() if root is not None else None
         return SummarizeMany(summary, summarized, failed)
     finally:
