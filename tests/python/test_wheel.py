@@ -66,3 +66,11 @@ def test_the_wheel_has_no_run_path_into_the_build(venv):
         dynamic = run(["readelf", "-d", str(binary)])
         paths = [line for line in dynamic.splitlines() if "RPATH" in line or "RUNPATH" in line]
         assert not [p for p in paths if BUILD in p or SOURCE in p], paths
+
+
+def test_the_dask_layer_is_beside_the_module(venv, tmp_path):
+    out = run([str(venv / "bin" / "python"), "-c",
+               "import dynid, dynid_distributed, os; "
+               "print(os.path.dirname(dynid.__file__) == "
+               "os.path.dirname(dynid_distributed.__file__))"], cwd=tmp_path)
+    assert out.strip() == "True", out
