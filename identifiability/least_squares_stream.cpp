@@ -226,17 +226,22 @@ void LeastSquaresStream::checkSizes(const Model& model, const Trajectory& data) 
         " standard parameters, the base parameters are of " + std::to_string(base_.numStandard()));
 }
 
+std::vector<std::vector<Eigen::Index>> regressorOffsets(
+    const std::vector<std::vector<int>>& columns, int num_joints,
+    const std::vector<int>* standard) {
+  std::vector<std::vector<Eigen::Index>> out(columns.size());
+  for (std::size_t j = 0; j < columns.size(); ++j)
+    for (int c : columns[j]) {
+      const int column = standard ? (*standard)[static_cast<std::size_t>(c)] : c;
+      out[j].push_back(static_cast<Eigen::Index>(column) * num_joints +
+                       static_cast<Eigen::Index>(j));
+    }
+  return out;
+}
+
 void LeastSquaresStream::makeGather() {
-  for (int j = 0; j < n_; ++j) {
-    std::vector<Eigen::Index> gather, zeros;
-    for (int c : support_[static_cast<std::size_t>(j)])
-      gather.push_back(
-          static_cast<Eigen::Index>(base_.independent[static_cast<std::size_t>(c)]) * n_ + j);
-    for (int s : zeros_[static_cast<std::size_t>(j)])
-      zeros.push_back(static_cast<Eigen::Index>(s) * n_ + j);
-    gather_.push_back(std::move(gather));
-    zero_offsets_.push_back(std::move(zeros));
-  }
+  gather_ = regressorOffsets(support_, n_, &base_.independent);
+  zero_offsets_ = regressorOffsets(zeros_, n_);
 }
 
 void LeastSquaresStream::addTaus(const Trajectory& data, long long first, const FitRows* rows) {

@@ -38,6 +38,12 @@ struct JointSupport {
   std::vector<std::vector<int>> support, zeros;
 };
 JointSupport jointSupport(const BaseParameters& base, const Model& model);
+/// Per joint j, where its row's entries of `columns[j]` lie in an n x p regressor's column-major
+/// storage (column * n + j), each column first mapped through `standard` when given (base column
+/// -> standard index: BaseParameters::independent).
+std::vector<std::vector<Eigen::Index>> regressorOffsets(
+    const std::vector<std::vector<int>>& columns, int num_joints,
+    const std::vector<int>* standard = nullptr);
 
 class LeastSquaresStream {
  public:

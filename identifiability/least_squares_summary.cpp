@@ -178,16 +178,9 @@ struct SummaryBuilder::Open {
 
 SummaryBuilder::SummaryBuilder(const BaseParameters& base, const Model& model)
     : base_(base), summary_(base, model), open_(std::make_unique<Open>()) {
-  const int n = model.numJoints();
-  for (int j = 0; j < n; ++j) {
-    const std::vector<int>& support = summary_.support_[static_cast<std::size_t>(j)];
-    std::vector<Eigen::Index> gather;
-    for (int c : support)
-      gather.push_back(
-          static_cast<Eigen::Index>(base.independent[static_cast<std::size_t>(c)]) * n + j);
-    gather_.push_back(std::move(gather));
+  gather_ = regressorOffsets(summary_.support_, model.numJoints(), &base.independent);
+  for (const std::vector<int>& support : summary_.support_)
     open_->factors.emplace_back(static_cast<Eigen::Index>(support.size()) + 1);
-  }
 }
 
 SummaryBuilder::SummaryBuilder(SummaryBuilder&&) noexcept = default;
@@ -250,11 +243,16 @@ void SummaryBuilder::addTrajectory(const Model& model, const Trajectory& data, T
       Eigen::MatrixXd& adjusted = adjusted_[static_cast<std::size_t>(thread)];
       for (int k = index * kBlock; k < std::min(count, (index + 1) * kBlock); ++k) {
         const int sample = done + k;
-        adjusted = jointTorqueRegressor(model, *own, data.q.col(sample), data.dq.col(sample),
-                                        data.ddq.col(sample));
+        // The workspace's regressor as it is; a copy only for the rows FitRows changes.
+        const Eigen::MatrixXd* regressor = &jointTorqueRegressor(
+            model, *own, data.q.col(sample), data.dq.col(sample), data.ddq.col(sample));
         taus.col(k) = data.tau.col(sample);
-        if (rows) rows->apply(first + k, data.dq.col(sample), adjusted, taus.col(k));
-        const double* y = adjusted.data();
+        if (rows) {
+          adjusted = *regressor;
+          rows->apply(first + k, data.dq.col(sample), adjusted, taus.col(k));
+          regressor = &adjusted;
+        }
+        const double* y = regressor->data();
         for (int j = 0; j < n; ++j) {
           const std::vector<Eigen::Index>& gather = gather_[static_cast<std::size_t>(j)];
           auto row = buffers[static_cast<std::size_t>(j)].row(k);

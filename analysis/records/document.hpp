@@ -29,8 +29,8 @@ struct DocumentType {
 // provenance (what made it: dynid's version and commit, the command, the working directory, the
 // inputs' SHA-256, seed, threads, when and how long, the document's own time fields;
 // records/provenance.hpp). The earlier versions are still read (they say nothing of it).
-// estimate.json 7: data.sources, the logs of the summaries it was identified from (identify
-// --summaries; absent for a dataset). Version 6 is read (every earlier one, as said above).
+// estimate.json 7: data.sources, the logs of the summaries it was identified from (an identify
+// request's `summary`; absent for a dataset). Version 6 is read (every earlier one, as said above).
 inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 7};  // identify
 // identifiability.json 2: provenance.
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};
@@ -82,7 +82,7 @@ inline constexpr DocumentType kMonitorDocument{"dynid.monitor", 6};  // dynid mo
 /// monitor.json, which embeds it once at its top). 5: provenance (thresholds.json only).
 inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_thresholds", 5};
 // summary.json (dynid summarize): a least-squares summary of one robot's logs (its batches'
-// triangular factors in base64), what identify --summaries reads.
+// triangular factors in base64), what an identify request's `summary` is read from.
 inline constexpr DocumentType kSummaryDocument{"dynid.summary", 1};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};

@@ -88,8 +88,8 @@ RerunPlan planRerun(const RerunRequest& request) {
           return (out / fs::path(value).filename()).string();
         }))
       plan.notes.push_back("the file its " + outputs[k] + " names goes into the new folder too");
-  // Standard input ("-" for an input, as `monitor --data -` reads a live stream) is not the
-  // recorded stream: the rerun would wait on this terminal's.
+  // Standard input ("-" for an input: a monitor reading a live stream) is not the recorded
+  // stream: the rerun would wait on this terminal's.
   for (const std::string& word : plan.arguments)
     if (word == "-" || (word.size() > 2 && word.compare(word.size() - 2, 2, "=-") == 0))
       throw InputError(request.document +

@@ -1,6 +1,6 @@
 // summary.json read back: a least-squares summary of one robot's logs (dynid summarize; the
-// Python module's Summary), what dynid identify --summaries, a merge and the Python module's
-// pickling read. Written by reports/summary_report.hpp.
+// Python module's Summary), what an identify request's `summary`, a merge and the Python
+// module's pickling read. Written by reports/summary_report.hpp.
 #pragma once
 
 #include <string>

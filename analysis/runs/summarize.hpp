@@ -1,6 +1,7 @@
 // The runs wing's room for dynid summarize: least-squares summaries of logs (one per log, memory
 // independent of its length, identifiability/least_squares_summary.hpp), their merge, and the
-// base parameters a summary is of. dynid identify --summaries estimates from one (identify.hpp).
+// base parameters a summary is of. identify estimates from one (its request's `summary`,
+// identify.hpp).
 #pragma once
 
 #include <string>
