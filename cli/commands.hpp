@@ -15,6 +15,7 @@ int runPredict(const std::vector<std::string>& args);
 int runIdentifiability(const std::vector<std::string>& args);
 int runIdentify(const std::vector<std::string>& args);
 int runSummarize(const std::vector<std::string>& args);
+int runFleet(const std::vector<std::string>& args);
 int runSearch(const std::vector<std::string>& args);
 int runRefine(const std::vector<std::string>& args);
 int runDemo(const std::vector<std::string>& args);

@@ -24,15 +24,6 @@ json filterJson(const TorqueFilter& f) {
   return {{"order", f.order}, {"cutoff_hz", f.cutoff}, {"rate_hz", f.rate}};
 }
 
-json sourceJson(const SummarySource& s) {
-  return {{"file", s.file},
-          {"sha256", s.sha256},
-          {"samples", s.samples},
-          {"rest_velocity", s.rest_velocity},
-          {"torque_filter", filterJson(s.torque_filter)},
-          {"torque_filter_source", s.torque_filter_source}};
-}
-
 /// A batch's joints' upper triangles, row by row, in one base64 string (or appended to
 /// `detached`).
 json batchJson(const LeastSquaresSummary::Batch& batch, std::vector<double>* detached) {
@@ -48,6 +39,15 @@ json batchJson(const LeastSquaresSummary::Batch& batch, std::vector<double>* det
 
 }  // namespace
 
+json summarySourceJson(const SummarySource& s) {
+  return {{"file", s.file},
+          {"sha256", s.sha256},
+          {"samples", s.samples},
+          {"rest_velocity", s.rest_velocity},
+          {"torque_filter", filterJson(s.torque_filter)},
+          {"torque_filter_source", s.torque_filter_source}};
+}
+
 json summaryJson(const Summary& summary, std::vector<double>* detached) {
   json out = documentHeader(kSummaryDocument);
   out["model"] = json::parse(modelToJson(summary.model));
@@ -58,7 +58,7 @@ json summaryJson(const Summary& summary, std::vector<double>* detached) {
   out["base_parameters"] = summary.base_names;
   out["samples"] = summary.factors.numSamples();
   json sources = json::array();
-  for (const SummarySource& s : summary.sources) sources.push_back(sourceJson(s));
+  for (const SummarySource& s : summary.sources) sources.push_back(summarySourceJson(s));
   out["sources"] = std::move(sources);
   const LeastSquaresSummary& f = summary.factors;
   json batches = json::array();

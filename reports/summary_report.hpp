@@ -12,6 +12,10 @@
 
 namespace dynid {
 
+/// One log of a summary: its file, sha256, samples, rest velocities and torque filter (as a
+/// summary's `sources` hold it; fleet.json's robots too).
+nlohmann::json summarySourceJson(const SummarySource& source);
+
 /// The document, without provenance (its writers stamp it). With `detached`, the batches' values
 /// are appended there instead, each batch's "factors" "" (a binary form: the Python module's
 /// pickles; summaryFrom reads it back given the same values).

@@ -10,7 +10,7 @@ import re
 import sys
 
 FLOORS = {"records": 1, "logs": 1, "excitation": 1, "estimation": 2, "runs": 3,
-          "studies": 4, "monitor": 4, "payload": 4}
+          "studies": 4, "monitor": 4, "payload": 4, "fleet": 4}
 INCLUDE = re.compile(r'#include "analysis/([a-z_]+)/')
 
 

@@ -84,6 +84,9 @@ inline constexpr DocumentType kMonitorThresholdsDocument{"dynid.monitor_threshol
 // summary.json (dynid summarize): a least-squares summary of one robot's logs (its batches'
 // triangular factors in base64), what an identify request's `summary` is read from.
 inline constexpr DocumentType kSummaryDocument{"dynid.summary", 1};
+// fleet.json (dynid fleet): robots of one model, the fleet's prior learnt from them, the robots and
+// parameters outside it, each robot's estimate alone and with the prior.
+inline constexpr DocumentType kFleetDocument{"dynid.fleet", 1};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 
