@@ -49,7 +49,12 @@ std::string cliFlag(std::string_view field) {
 std::string cliText(std::string_view text) {
   return respellFields(text, [](std::string_view field) {
     std::string flag = cliFlag(field);
-    return isFlag(flag) ? flag : "`" + std::string(field) + "`";
+    if (isFlag(flag)) return flag;
+    // Appended, not "`" + std::string(field) + "`": GCC 12's -Wrestrict misreads that (PR 105329).
+    std::string quoted(1, '`');
+    quoted.append(field);
+    quoted += '`';
+    return quoted;
   });
 }
 

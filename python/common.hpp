@@ -94,6 +94,10 @@ DYNID_PYTHON_TYPE_NAME(
     ProgressTag,
     "typing.Optional[typing.Callable[[typing.Dict[str, typing.Any]], typing.Optional[bool]]]");
 DYNID_PYTHON_TYPE_NAME(TorqueFilterTag, "typing.Union[str, float, typing.Tuple[float, int]]");
+DYNID_PYTHON_TYPE_NAME(FleetRobotsTag,
+                       "typing.Mapping[str, typing.Union[Summary, str, os.PathLike[str], "
+                       "typing.Sequence[typing.Union[str, os.PathLike[str]]]]]");
+DYNID_PYTHON_TYPE_NAME(ClientTag, "typing.Optional[typing.Any]");  // a distributed.Client
 DYNID_PYTHON_TYPE_NAME(StartTag, "typing.Union[Search, Estimate, str, os.PathLike[str]]");
 #undef DYNID_PYTHON_TYPE_NAME
 using ArrayLike = Typed<ArrayTag>;                  // a NumPy array or anything np.asarray takes
@@ -112,6 +116,8 @@ using TablesLike = Typed<TablesTag>;                // prepare's log files
 using StartLike = Typed<StartTag>;                  // refine's start: a result or its file
 using TorqueFilterLike = Typed<TorqueFilterTag>;    // "auto", "none", a cutoff or (cutoff, order)
 using ProgressLike = Typed<ProgressTag>;            // search's callback: dict -> False to stop
+using FleetRobotsLike = Typed<FleetRobotsTag>;      // fleet's robots: {name: Summary or logs}
+using ClientLike = Typed<ClientTag>;                // a Dask distributed.Client, or None
 
 /// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every
 /// message a binding reports (exceptions, warnings): the keyword argument's own name.
@@ -132,6 +138,7 @@ void bindExcitation(py::module_& m);     // bind_excitation.cpp
 void bindPayload(py::module_& m);        // bind_payload.cpp
 void bindMonitor(py::module_& m);        // bind_monitor.cpp
 void bindStudies(py::module_& m);        // bind_studies.cpp
+void bindFleet(py::module_& m);          // bind_fleet.cpp
 
 }  // namespace dynid::python
 

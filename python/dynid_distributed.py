@@ -5,8 +5,10 @@ layer's, reached as dynid.summarize_many (the extension module imports it on fir
 A task summarizes a few consecutive logs (`dynid.summarize` with one thread, the worker's own) and
 merges them; the summaries travel pickled (their summary.json, the factors bit for bit) and are
 merged pairwise in a fixed tree by the logs' order, so that the result is the same bits whichever
-worker ran what, in whatever order, and after a worker was lost and its tasks ran again. A log that cannot be summarized (unreadable,
-another robot's, a bad row) is named with its error in `failed`, and the rest go on.
+worker ran what, in whatever order, and after a worker was lost and its tasks ran again. A log
+that cannot be summarized (unreadable, another robot's, a bad row) is named with its error in
+`failed`, and the rest go on. dynid.fleet(..., client=) summarizes every robot's logs so, then
+learns the fleet from their summaries.
 """
 
 import collections
@@ -68,6 +70,28 @@ def _local_client():
     return Client(cluster), cluster
 
 
+def _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retries,
+            logs_per_task):
+    """The tasks of `logs` (a task per `logs_per_task`) and the root of their merge tree, all
+    submitted at once: a merge runs as soon as its two inputs are done, while later tasks still
+    compute. The summaries stay on the workers; only the root travels to the client (its memory
+    holds one summary)."""
+    groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
+    tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
+                           robot_spec, pure=False, retries=retries) for group in groups]
+    parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
+    root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
+    return tasks, root
+
+
+def _gather_failed(client, tasks, retries):
+    """{log: error} of the tasks' logs that could not be summarized (only these come back)."""
+    failed = {}
+    for one in client.gather(client.map(_failed, tasks, pure=False, retries=retries)):
+        failed.update(one)
+    return failed
+
+
 def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="auto",
                    robot_spec="", retries=2, logs_per_task=4):
     """The least-squares summary of many logs on a Dask cluster: a task per `logs_per_task`
@@ -86,21 +110,61 @@ def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="
     if client is None:
         client, own = _local_client()
     try:
-        groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
-        tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
-                               robot_spec, pure=False, retries=retries) for group in groups]
-        # The tree of merges is submitted at once, so that a merge runs as soon as its two
-        # inputs are done, while later tasks still compute. Only the failures come back; the
-        # summaries stay on the workers, and only the root travels to the client: its memory
-        # holds one summary.
-        parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
-        root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
-        failed = {}
-        for one in client.gather(client.map(_failed, tasks, pure=False, retries=retries)):
-            failed.update(one)
+        tasks, root = _submit(client, model, logs, rest_velocity, torque_filter, robot_spec,
+                              retries, logs_per_task)
+        failed = _gather_failed(client, tasks, retries)
         summarized = [log for log in logs if log not in failed]
         summary = root.result() if root is not None else None
         return SummarizeMany(summary, summarized, failed)
+    finally:
+        if own is not None:
+            client.close()
+            own.close()
+
+
+def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level=0.01,
+          rest_velocity=None, torque_filter="auto", robot_spec="", retries=2, logs_per_task=4):
+    """dynid.fleet with every robot's logs summarized on a Dask cluster: `robots` is {name: a
+    Summary, a log path or a list of log paths}; each robot's logs are summarized and merged on
+    the workers as summarize_many does (every robot's tasks submitted at once), then the fleet
+    is learnt here from the robots' summaries (dynid.fleet). `client`: a distributed.Client;
+    None starts a local cluster of one single-threaded worker per core and closes it after.
+    Returns fleet.json as a dict, with "failed": {log: error} for the logs that could not be
+    summarized (left out, their robot goes on with the rest; a robot none of whose logs could be
+    is left out of the fleet and named in "robots_left_out")."""
+    if logs_per_task < 1:
+        raise ValueError("logs_per_task must be >= 1")
+    own = None
+    if client is None:
+        client, own = _local_client()
+    try:
+        given, submitted = {}, {}
+        for name, value in robots.items():
+            if isinstance(value, dynid.Summary):
+                given[name] = value
+                continue
+            logs = ([os.fspath(value)] if isinstance(value, (str, os.PathLike))
+                    else [os.fspath(v) for v in value])
+            submitted[name] = _submit(client, model, logs, rest_velocity, torque_filter,
+                                      robot_spec, retries, logs_per_task)
+        failed = _gather_failed(client, [t for tasks, _ in submitted.values() for t in tasks],
+                                retries)
+        summaries, left_out = {}, []
+        for name in robots:
+            if name in given:
+                summaries[name] = given[name]
+                continue
+            root = submitted[name][1]
+            summary = root.result() if root is not None else None
+            if summary is None:
+                left_out.append(name)
+            else:
+                summaries[name] = summary
+        out = dynid.fleet(model, summaries, method=method, covariance=covariance,
+                          flag_level=flag_level, robot_spec=robot_spec)
+        out["failed"] = failed
+        out["robots_left_out"] = left_out
+        return out
     finally:
         if own is not None:
             client.close()
