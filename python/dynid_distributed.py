@@ -1,6 +1,7 @@
 """dynid on a Dask cluster: least-squares summaries of many logs, computed where the workers are
 and merged as a tree (docs/FLEET.md). The C++ library stays engine-free; this module is the Python
-layer's, reached as dynid.summarize_many (the extension module imports it on first use).
+layer's, reached as dynid.summarize_many, dynid.fleet(client=) and dynid.batch (the extension
+module imports it on first use).
 
 A task summarizes a few consecutive logs (`dynid.summarize` with one thread, the worker's own) and
 merges them; the summaries travel pickled (their summary.json, the factors bit for bit) and are
@@ -165,6 +166,46 @@ def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level
         out["failed"] = failed
         out["robots_left_out"] = left_out
         return out
+    finally:
+        if own is not None:
+            client.close()
+            own.close()
+
+
+def _batch_run(spec):
+    """A batch task: one run of the grid (its Study and method, measured), its record's text."""
+    return dynid._batch_run(spec)
+
+
+def batch(manifest, out, client=None, quick=False, retries=2):
+    """dynid batch on a Dask cluster: every run of the manifest's grid not yet stored in `out` is
+    a task (retried `retries` times when its worker dies); each run's record is stored in
+    out/runs/<run>.json here as it comes back, so that a batch stopped resumes where it was;
+    then results.csv and results.json are written, as `dynid batch` writes them. A run that
+    raised is named in "failed" with its error (the rest go on). `client`: a distributed.Client;
+    None starts a local cluster of one single-threaded worker per core and closes it after.
+    Returns results.json as a dict, with "failed": {run: error}."""
+    from distributed import as_completed
+
+    manifest, out = os.fspath(manifest), os.fspath(out)
+    todo = dynid._batch_plan(manifest, out, quick)
+    own = None
+    if client is None:
+        client, own = _local_client()
+    try:
+        names = {}
+        for name, spec in todo:
+            names[client.submit(_batch_run, spec, pure=False, retries=retries)] = name
+        failed = {}
+        for future in as_completed(list(names)):
+            name = names[future]
+            try:
+                dynid._batch_store(out, name, future.result())
+            except Exception as e:  # noqa: BLE001 - the run's, named in `failed`
+                failed[name] = f"{type(e).__name__}: {e}"
+        results = dynid._batch_finish(manifest, out, quick)
+        results["failed"] = failed
+        return results
     finally:
         if own is not None:
             client.close()

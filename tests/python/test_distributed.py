@@ -94,3 +94,26 @@ def test_a_worker_killed_mid_run_changes_nothing(logs, client):
     e_here = dynid.identify(model, serial(model, many), method="ols")
     # Groups of four: the logs' own pairwise tree, whichever worker ran what: the same bits.
     assert np.array_equal(e_cluster.beta, e_here.beta)
+
+
+def test_a_batch_on_the_cluster_is_the_clis_and_resumes(tmp_path, client):
+    manifest = tmp_path / "manifest.json"
+    manifest.write_text('{"schema_version": 1, "grid": {"method": ["ols", "wls"], "seed": [1, 2]},'
+                        ' "fixed": {"train_seconds": 1, "test_seconds": 1, "segments": 5}}\n')
+    run_cli("batch", manifest, "--quick", "--jobs", 1, "--out", tmp_path / "cli")
+    import json
+    cli = json.loads((tmp_path / "cli" / "results.json").read_text())
+    there = dynid.batch(manifest, tmp_path / "dask", client=client, quick=True)
+    assert there["failed"] == {}
+    assert there["runs_done"] == cli["runs_done"] == 4
+
+    def metrics(results):
+        # Every column but the wall time: the same bits on any worker.
+        return [{k: v for k, v in run.items() if k != "seconds"} for run in results["rows"]]
+
+    assert metrics(there) == metrics(cli)
+    # Stored as they came: a second call finds every run done and only writes the tables.
+    stored = sorted(p.name for p in (tmp_path / "dask" / "runs").iterdir())
+    assert len(stored) == 4
+    again = dynid.batch(manifest, tmp_path / "dask", client=client, quick=True)
+    assert metrics(again) == metrics(there)
