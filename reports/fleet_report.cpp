@@ -40,13 +40,15 @@ json robotJson(const FleetOutcome& o, const FleetRobot& r) {
           {"inflation", numberOrNull(r.inflation)},
           {"farthest",
            {{"name", o.base_names[static_cast<std::size_t>(far)]},
-            {"z", numberOrNull(r.verdict.z[far])}}},
+            {"z", numberOrNull(r.verdict.z[far])},
+            {"p_value", numberOrNull(r.verdict.p_value[far])}}},
           {"outside_parameters", outside},
           {"estimate", numbersOrNull(r.alone.beta)},
           {"std_dev", numbersOrNull(r.alone.std_dev)},
           {"posterior", numbersOrNull(r.verdict.posterior)},
           {"posterior_std", numbersOrNull(r.verdict.posterior_std)},
           {"z", numbersOrNull(r.verdict.z)},
+          {"p_value", numbersOrNull(r.verdict.p_value)},
           {"relative_error", numberOrNull(r.alone.relative_error)}};
 }
 
@@ -58,7 +60,7 @@ json fleetJson(const FleetOutcome& o) {
     const auto i = static_cast<Eigen::Index>(k);
     json outside = json::array();
     for (const FleetRobot& r : o.robots)
-      if (std::abs(r.verdict.z[i]) > o.prior.z_threshold) outside.push_back(r.name);
+      if (r.verdict.p_value[i] < o.prior.test_level) outside.push_back(r.name);
     parameters.push_back({{"name", o.base_names[k]},
                           {"expression", o.base_expressions[k]},
                           {"group", isFrictionName(o.base_names[k]) ? "friction" : "inertial"},
@@ -77,6 +79,7 @@ json fleetJson(const FleetOutcome& o) {
   out["method"] = methodName(o.method);
   out["covariance"] = covariancePolicyName(o.covariance);
   out["flag_level"] = o.options.flag_level;
+  out["test_level"] = numberOrNull(o.prior.test_level);
   out["z_threshold"] = numberOrNull(o.prior.z_threshold);
   out["rounds"] = o.prior.rounds;
   out["converged"] = o.prior.converged;
@@ -97,7 +100,9 @@ std::string headline(const FleetOutcome& o) {
     << o.base_names.size() << " base parameters): " << o.verdict << ". The prior was learnt from "
     << o.prior.learnt_from << " robots in " << o.prior.rounds
     << (o.prior.rounds == 1 ? " round" : " rounds") << "; a robot lies outside when a parameter's "
-    << "|z| exceeds " << formatNumber(o.prior.z_threshold, 3) << " (a "
+    << "p is below " << formatNumber(o.prior.test_level, 3) << " (|z| beyond "
+    << formatNumber(o.prior.z_threshold, 3)
+    << " when the fleet's spread is known, more when it rests on few robots; a "
     << formatNumber(100.0 * o.options.flag_level, 3)
     << " % chance that a fleet of robots alike has one flagged).";
   return s.str();
@@ -121,8 +126,11 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const FleetOutcome& 
                            methodName(o.method) + ", " + std::to_string(o.base_names.size()) +
                            " base parameters)"},
           {"Verdict", o.verdict},
-          {"How sure", "|z| against the fleet without the robot, beyond " +
-                           formatNumber(o.prior.z_threshold, 3) + ": a " +
+          {"How sure", "each parameter against the fleet without the robot, p below " +
+                           formatNumber(o.prior.test_level, 3) + " (|z| beyond " +
+                           formatNumber(o.prior.z_threshold, 3) +
+                           " with a known spread; Student t with the spread's own uncertainty): "
+                           "a " +
                            formatNumber(100.0 * o.options.flag_level, 3) +
                            " % chance of one false flag in the fleet (Bonferroni over robots x "
                            "parameters)"},
@@ -137,16 +145,18 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const FleetOutcome& 
 
 DocumentTable robotsTable(const FleetOutcome& o) {
   DocumentTable t;
-  t.header = {"robot", "logs", "samples", "outside", "farthest", "z", "sigma widened"};
+  t.header = {"robot", "logs", "samples", "outside", "farthest", "z", "p", "sigma widened"};
   for (const FleetRobot& r : o.robots) {
     const int k = r.verdict.farthest;
     t.rows.push_back({r.name, std::to_string(r.sources.size()), std::to_string(r.samples),
                       r.verdict.outside ? "yes" : "", o.base_names[static_cast<std::size_t>(k)],
-                      formatNumber(r.verdict.z[k], 3), formatNumber(r.inflation, 3)});
+                      formatNumber(r.verdict.z[k], 3), formatNumber(r.verdict.p_value[k], 2),
+                      formatNumber(r.inflation, 3)});
   }
   t.caption =
-      "Each robot's parameter farthest from the fleet without it, in sigma of the difference "
-      "(its own variance, the fleet's spread and the fleet mean's variance); sigma widened: the "
+      "Each robot's parameter farthest from the fleet without it (the smallest p), in sigma of "
+      "the difference (its own variance, the fleet's spread and the fleet mean's variance), and "
+      "its two-sided p (Student t: the spread rests on the other robots); sigma widened: the "
       "robust covariance's median inflation over the white one, applied to its covariance.";
   return t;
 }
@@ -158,7 +168,7 @@ DocumentTable parametersTable(const FleetOutcome& o) {
     const auto i = static_cast<Eigen::Index>(k);
     int outside = 0;
     for (const FleetRobot& r : o.robots)
-      outside += std::abs(r.verdict.z[i]) > o.prior.z_threshold ? 1 : 0;
+      outside += r.verdict.p_value[i] < o.prior.test_level ? 1 : 0;
     t.rows.push_back({o.base_names[k], isFrictionName(o.base_names[k]) ? "friction" : "inertial",
                       formatNumber(o.model_beta[i], 4), formatNumber(o.prior.mean[i], 5),
                       formatNumber(o.prior.spread[i], 3),

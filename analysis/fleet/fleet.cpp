@@ -186,8 +186,8 @@ std::string fleetVerdict(const FleetOutcome& o) {
   const std::string fleet = std::to_string(o.robots.size()) + " robots, " +
                             std::to_string(o.base_names.size()) + " base parameters";
   if (outside.empty())
-    return "every robot lies inside the fleet (" + fleet + "; no |z| above " +
-           formatNumber(o.prior.z_threshold, 3) + ")";
+    return "every robot lies inside the fleet (" + fleet + "; no p below " +
+           formatNumber(o.prior.test_level, 3) + ")";
   std::string s = std::to_string(outside.size()) + " of " + std::to_string(o.robots.size()) +
                   (outside.size() == 1 ? " robots lies" : " robots lie") + " outside the fleet: ";
   for (std::size_t i = 0; i < outside.size(); ++i) {

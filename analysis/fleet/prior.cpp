@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <boost/math/distributions/students_t.hpp>
 #include <boost/math/special_functions/erf.hpp>
 
 #include "core/errors.hpp"
@@ -46,6 +47,8 @@ void checkMembers(const std::vector<FleetMember>& members, const FleetOptions& o
 
 struct Round {
   Eigen::VectorXd mean, spread2, precision;  // precision: sum of the weights, per parameter
+  Eigen::VectorXd own_variance;              // the robots' mean own variance, per parameter
+  int robots = 0;                            // learnt from
 };
 
 /// The prior learnt from the members marked in `in`.
@@ -55,7 +58,8 @@ Round learn(const std::vector<FleetMember>& members, const std::vector<bool>& in
   for (std::size_t r = 0; r < members.size(); ++r)
     if (in[r]) idx.push_back(static_cast<int>(r));
   const auto m = static_cast<Eigen::Index>(idx.size());
-  Round out{Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p)};
+  Round out{Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p),
+            static_cast<int>(m)};
   Eigen::VectorXd x(m), v(m);
   for (Eigen::Index k = 0; k < p; ++k) {
     for (Eigen::Index i = 0; i < m; ++i) {
@@ -67,15 +71,25 @@ Round learn(const std::vector<FleetMember>& members, const std::vector<bool>& in
     out.spread2[k] = t;
     out.precision[k] = w.sum();
     out.mean[k] = (w * x.array()).sum() / w.sum();
+    out.own_variance[k] = v.mean();
   }
   return out;
 }
 
+/// A robot's z and two-sided p per parameter.
+struct Scores {
+  Eigen::VectorXd z, p;
+};
+
 /// Robot r's z against the prior learnt without it (`in` less r): the fleet it is compared with
 /// is the others', so that an odd robot neither widens the spread it is judged by nor moves the
-/// mean (what a new robot's estimate is predicted to lie within).
-Eigen::VectorXd zScores(const std::vector<FleetMember>& members, std::vector<bool> in,
-                        std::size_t r, const Round& with_r) {
+/// mean (what a new robot's estimate is predicted to lie within). Its p is Student t's: the
+/// spread rests on m robots, and its uncertainty widens the bound (Satterthwaite: the variance
+/// V = S_r + tau^2 + var mu has nu = (m - 1) (V / (tau^2 + S_mean))^2 degrees of freedom, its
+/// estimated part tau^2 + S_mean, the robots' spread about the mean, resting on m - 1); a robot
+/// whose own sigma dominates V is judged as by a Gaussian.
+Scores scores(const std::vector<FleetMember>& members, std::vector<bool> in, std::size_t r,
+              const Round& with_r) {
   const FleetMember& member = members[r];
   const bool learnt_from = in[r];
   Round without;
@@ -85,12 +99,20 @@ Eigen::VectorXd zScores(const std::vector<FleetMember>& members, std::vector<boo
   }
   const Round& p = learnt_from ? without : with_r;
   const Eigen::Index n = p.mean.size();
-  Eigen::VectorXd z(n);
+  Scores out{Eigen::VectorXd(n), Eigen::VectorXd(n)};
   for (Eigen::Index k = 0; k < n; ++k) {
     const double v = std::max(member.covariance(k, k), kVarianceFloor);
-    z[k] = (member.estimate[k] - p.mean[k]) / std::sqrt(v + p.spread2[k] + 1.0 / p.precision[k]);
+    const double total = v + p.spread2[k] + 1.0 / p.precision[k];
+    out.z[k] = (member.estimate[k] - p.mean[k]) / std::sqrt(total);
+    const double between = p.spread2[k] + p.own_variance[k];
+    const double ratio = total / std::max(between, kVarianceFloor);
+    const double nu = (p.robots - 1) * ratio * ratio;
+    const double tail = nu > 1e6 ? 0.5 * std::erfc(std::abs(out.z[k]) / std::sqrt(2.0))
+                                 : boost::math::cdf(boost::math::complement(
+                                       boost::math::students_t(nu), std::abs(out.z[k])));
+    out.p[k] = 2.0 * tail;
   }
-  return z;
+  return out;
 }
 
 /// The posterior of a robot inside the fleet.
@@ -134,16 +156,17 @@ FleetPrior fleetPrior(const std::vector<FleetMember>& members, const FleetOption
   // Two-sided: P(|Z| > z*) = flag_level / (robots x parameters).
   out.z_threshold =
       std::sqrt(2.0) * boost::math::erfc_inv(options.flag_level / static_cast<double>(n * p));
+  out.test_level = options.flag_level / static_cast<double>(n * p);
   const std::size_t fewest = std::max<std::size_t>(3, (n + 1) / 2);
   std::vector<bool> in(n, true);
   Round prior;
-  std::vector<Eigen::VectorXd> z(n);
+  std::vector<Scores> z(n);
   for (out.rounds = 1;; ++out.rounds) {
     prior = learn(members, in);
     std::vector<bool> next(n);
     for (std::size_t r = 0; r < n; ++r) {
-      z[r] = zScores(members, in, r, prior);
-      next[r] = z[r].cwiseAbs().maxCoeff() <= out.z_threshold;
+      z[r] = scores(members, in, r, prior);
+      next[r] = z[r].p.minCoeff() >= out.test_level;
     }
     if (next == in) break;
     if (static_cast<std::size_t>(std::count(next.begin(), next.end(), true)) < fewest) {
@@ -163,15 +186,18 @@ FleetPrior fleetPrior(const std::vector<FleetMember>& members, const FleetOption
   out.robots.resize(n);
   for (std::size_t r = 0; r < n; ++r) {
     FleetVerdict& v = out.robots[r];
-    v.z = z[r];
+    v.z = z[r].z;
+    v.p_value = z[r].p;
     v.learnt_from = in[r];
     std::vector<int> order(static_cast<std::size_t>(p));
     std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return std::abs(v.z[a]) > std::abs(v.z[b]); });
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return v.p_value[a] != v.p_value[b] ? v.p_value[a] < v.p_value[b]
+                                          : std::abs(v.z[a]) > std::abs(v.z[b]);
+    });
     v.farthest = order.front();
     for (int k : order)
-      if (std::abs(v.z[k]) > out.z_threshold) v.outside_parameters.push_back(k);
+      if (v.p_value[k] < out.test_level) v.outside_parameters.push_back(k);
     v.outside = !v.outside_parameters.empty();
     if (v.outside) {
       v.posterior = members[r].estimate;

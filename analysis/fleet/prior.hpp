@@ -8,14 +8,17 @@
 //   mu_k the weighted mean with those weights.
 // A robot lies outside the fleet when one of its parameters does: z_rk = (b_rk - mu_k^(-r)) /
 // sqrt(S_r,kk + tau_k^(-r)^2 + var mu_k^(-r)) (the prior learnt without robot r: an odd robot
-// neither widens the spread it is judged by nor moves the mean) beyond z*, the
-// two-sided bound at which robots x parameters Gaussian tests raise a false flag with probability
-// `flag_level` at most (Bonferroni). The prior is learnt again without the robots outside, until
-// the set holds (at most `max_rounds` rounds; never fewer than half the robots, nor than three,
-// learn it), so that an outlier neither widens tau nor moves mu.
-// A robot inside the fleet gets the posterior mu + T (S_r + T)^-1 (b_r - mu), covariance
-// T - T (S_r + T)^-1 T (T = diag(tau^2)): its own estimate where its data are sure, the fleet's
-// where they are not. A robot outside keeps its own estimate (the prior does not describe it).
+// neither widens the spread it is judged by nor moves the mean), when its two-sided p is below
+// flag_level / (robots x parameters) (Bonferroni: a fleet of robots alike has one flagged with
+// probability flag_level at most). p is Student t's with Satterthwaite's degrees of freedom, the
+// spread's own uncertainty (it rests on the robots compared with) widening the bound: with many
+// robots, or a robot whose own sigma dominates, the Gaussian's |z| > z*; with few, far more. The
+// prior is learnt again without the robots outside, until the set holds (at most `max_rounds`
+// rounds; never fewer than half the robots, nor than three, learn it), so that an outlier neither
+// widens tau nor moves mu. A robot inside the fleet gets the posterior mu + T (S_r + T)^-1 (b_r -
+// mu), covariance T - T (S_r + T)^-1 T (T = diag(tau^2)): its own estimate where its data are sure,
+// the fleet's where they are not. A robot outside keeps its own estimate (the prior does not
+// describe it).
 #pragma once
 
 #include <string>
@@ -41,9 +44,10 @@ struct FleetOptions {
 /// What the fleet says of one robot.
 struct FleetVerdict {
   Eigen::VectorXd z;                    // per base parameter, against the fleet without it
-  bool outside = false;                 // some |z_k| > z*
-  std::vector<int> outside_parameters;  // those k, by |z| decreasing
-  int farthest = 0;                     // the parameter of the largest |z|
+  Eigen::VectorXd p_value;              // two-sided, of z (Student t)
+  bool outside = false;                 // some p_k < the test level
+  std::vector<int> outside_parameters;  // those k, by p increasing
+  int farthest = 0;                     // the parameter of the smallest p
   bool learnt_from = false;             // among the robots the prior was learnt from
   Eigen::VectorXd posterior;            // inside: shrunk toward the fleet; outside: its own
   Eigen::VectorXd posterior_std;
@@ -53,7 +57,8 @@ struct FleetPrior {
   Eigen::VectorXd mean;      // mu, per base parameter
   Eigen::VectorXd spread;    // tau: the robots' spread about mu beyond their own sigma
   Eigen::VectorXd mean_std;  // the standard deviation of mu
-  double z_threshold = 0.0;  // z*
+  double test_level = 0.0;   // flag_level / (robots x parameters): a p below it flags
+  double z_threshold = 0.0;  // z*: the Gaussian bound at that level (the spread known exactly)
   int learnt_from = 0;       // robots the prior was learnt from
   int rounds = 0;            // rounds until the set held
   /// False when the robots outside would leave fewer than half the fleet (or three) to learn
