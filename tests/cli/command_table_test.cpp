@@ -21,10 +21,10 @@ using test::run;
 
 // Every command and subcommand a user can type (batch run is the batch's internal worker).
 const std::vector<std::string> kCommands = {
-    "model show",      "model check", "model export", "dynamics", "simulate", "prepare",
-    "identifiability", "excite",      "identify",     "predict",  "payload",  "monitor",
-    "audit",           "search",      "refine",       "demo",     "study",    "batch",
-    "batch merge",     "completion",  "man"};
+    "model show",      "model check", "model export", "dynamics",  "simulate", "prepare",
+    "identifiability", "excite",      "identify",     "predict",   "payload",  "monitor",
+    "audit",           "search",      "refine",       "demo",      "study",    "batch",
+    "batch merge",     "completion",  "man",          "summarize", "fleet"};
 
 TEST(CommandTable, DashHAndHelpAndHelpCommandOnEveryCommand) {
   for (const std::string& command : kCommands) {

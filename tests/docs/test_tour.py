@@ -33,7 +33,7 @@ def test_the_tours_commands_and_python_run_as_written(tmp_path):
     tour = tmp_path / "tour"
     for made in ("est/estimate.json", "pred/prediction.json", "payload/payload.json",
                  "watch/monitor.json", "study/study.json", "demo/summary.json",
-                 "batch/results.csv", "puma.xml"):
+                 "batch/results.csv", "puma.xml", "fleet/fleet.json"):
         assert (tour / made).exists(), made
     done = subprocess.run([sys.executable, "-c", python], cwd=tour, env=env,
                           capture_output=True, text=True)
