@@ -13,6 +13,7 @@ learns the fleet from their summaries.
 """
 
 import collections
+import contextlib
 import os
 
 import dynid
@@ -71,6 +72,20 @@ def _local_client():
     return Client(cluster), cluster
 
 
+@contextlib.contextmanager
+def _cluster(client):
+    """`client` as it is, or (None) a local cluster's, closed after."""
+    if client is not None:
+        yield client
+        return
+    own, cluster = _local_client()
+    try:
+        yield own
+    finally:
+        own.close()
+        cluster.close()
+
+
 def _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retries,
             logs_per_task):
     """The tasks of `logs` (a task per `logs_per_task`) and the root of their merge tree, all
@@ -107,20 +122,13 @@ def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="
     logs = [os.fspath(log) for log in logs]
     if logs_per_task < 1:
         raise ValueError("logs_per_task must be >= 1")
-    own = None
-    if client is None:
-        client, own = _local_client()
-    try:
+    with _cluster(client) as client:
         tasks, root = _submit(client, model, logs, rest_velocity, torque_filter, robot_spec,
                               retries, logs_per_task)
         failed = _gather_failed(client, tasks, retries)
         summarized = [log for log in logs if log not in failed]
         summary = root.result() if root is not None else None
         return SummarizeMany(summary, summarized, failed)
-    finally:
-        if own is not None:
-            client.close()
-            own.close()
 
 
 def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level=0.01,
@@ -135,10 +143,7 @@ def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level
     is left out of the fleet and named in "robots_left_out")."""
     if logs_per_task < 1:
         raise ValueError("logs_per_task must be >= 1")
-    own = None
-    if client is None:
-        client, own = _local_client()
-    try:
+    with _cluster(client) as client:
         given, submitted = {}, {}
         for name, value in robots.items():
             if isinstance(value, dynid.Summary):
@@ -166,10 +171,6 @@ def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level
         out["failed"] = failed
         out["robots_left_out"] = left_out
         return out
-    finally:
-        if own is not None:
-            client.close()
-            own.close()
 
 
 def _batch_run(spec):
@@ -189,10 +190,7 @@ def batch(manifest, out, client=None, quick=False, retries=2):
 
     manifest, out = os.fspath(manifest), os.fspath(out)
     todo = dynid._batch_plan(manifest, out, quick)
-    own = None
-    if client is None:
-        client, own = _local_client()
-    try:
+    with _cluster(client) as client:
         names = {}
         for name, spec in todo:
             names[client.submit(_batch_run, spec, pure=False, retries=retries)] = name
@@ -206,7 +204,3 @@ def batch(manifest, out, client=None, quick=False, retries=2):
         results = dynid._batch_finish(manifest, out, quick)
         results["failed"] = failed
         return results
-    finally:
-        if own is not None:
-            client.close()
-            own.close()
