@@ -2,16 +2,20 @@
 """dynid.summarize_many on a Dask local cluster of 1 and of 2 single-threaded workers: the
 speed-up of summarizing many logs (issue 70: at least 1.8 on two cores), and the same result.
 
-    PYTHONPATH=build/python python3 bench/dask_summarize.py --dynid build/bin/dynid
+    PYTHONPATH=build/python python3 bench/dask_summarize.py --dynid build/bin/dynid [--processes]
 
 Simulates --logs Panda logs of --seconds each (fv, fc, fo; once, in a scratch folder), then times
-summarize_many over them on each cluster (--repeats runs each, the median; each run on freshly
-fresh workers, the cluster's start not timed: the time is the work and its scheduling).
+summarize_many over them on each cluster (--repeats runs each, the median). Each run is a fresh
+Python process with a fresh cluster (its start not timed: the time is the work and its
+scheduling), so that nothing of an earlier run is kept (a log's digest is remembered by the
+process that hashed it). The workers are threads of that process, as dynid's default local
+cluster has them (dynid releases the GIL); --processes: worker processes under their nannies.
 """
 import argparse
 import os
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -28,7 +32,13 @@ def main():
     parser.add_argument("--seconds", type=float, default=20.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--per-task", type=int, default=4)
+    parser.add_argument("--processes", action="store_true")
+    parser.add_argument("--once", type=int, default=0)
+    parser.add_argument("--out")
+    parser.add_argument("files", nargs="*")
     args = parser.parse_args()
+    if args.once:
+        return once(args.once, args.files, args.out, args.per_task, args.processes)
     scratch = tempfile.mkdtemp(prefix="dynid_dask_bench_")
     logs = []
     for seed in range(1, args.logs + 1):
@@ -37,28 +47,37 @@ def main():
                         "fourier", "--duration", str(args.seconds), "--noise-tau", "0.1",
                         "--seed", str(seed), "--out", path], check=True, capture_output=True)
         logs.append(path)
-    model = dynid.load_model("panda", drives=True)
     medians, betas = {}, {}
     for workers in (1, 2):
         times = []
         for _ in range(args.repeats):
-            # A fresh cluster each run (its start not timed): nothing of an earlier run kept (a
-            # log's digest is remembered by the process that hashed it).
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
-            with Client(cluster) as client:
-                client.run(lambda: __import__("dynid"))
-                start = time.perf_counter()
-                done = dynid.summarize_many(model, logs, client=client,
-                                            logs_per_task=args.per_task)
-                times.append(time.perf_counter() - start)
-            cluster.close()
+            out = os.path.join(scratch, f"beta{workers}.npy")
+            done = subprocess.run(
+                [sys.executable, __file__, "--once", str(workers), "--out", out,
+                 "--per-task", str(args.per_task)] + (["--processes"] if args.processes else [])
+                + logs, check=True, capture_output=True, text=True)
+            times.append(float(done.stdout.split()[-1]))
         medians[workers] = statistics.median(times)
-        betas[workers] = dynid.identify(model, done.summary, method="ols").beta
+        betas[workers] = np.load(out)
         print(f"{workers} worker(s): {medians[workers]:.2f} s for {args.logs} logs of "
               f"{args.seconds:g} s ({args.logs / medians[workers]:.2f} logs/s)")
     print(f"speed-up: {medians[1] / medians[2]:.2f}; the same estimate: "
           f"{np.array_equal(betas[1], betas[2])}")
+
+
+def once(workers, logs, out, per_task, processes):
+    """One timed run in this fresh process: prints the seconds, saves the OLS estimate."""
+    model = dynid.load_model("panda", drives=True)
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
+                           dashboard_address=None)
+    with Client(cluster) as client:
+        client.run(lambda: __import__("dynid"))
+        start = time.perf_counter()
+        done = dynid.summarize_many(model, logs, client=client, logs_per_task=per_task)
+        seconds = time.perf_counter() - start
+    cluster.close()
+    np.save(out, dynid.identify(model, done.summary, method="ols").beta)
+    print(seconds)
 
 
 if __name__ == "__main__":

@@ -52,7 +52,9 @@ std::string nameOf(const Summary& s) {
 }
 
 SummaryResult merged(const SummaryResult& a, const SummaryResult& b) {
-  return {mergeSummaries({&a.summary, &b.summary}, {nameOf(a.summary), nameOf(b.summary)}), {}};
+  const std::vector<std::string> names = {nameOf(a.summary), nameOf(b.summary)};
+  py::gil_scoped_release release;  // a and b are kept alive by the caller's references
+  return {mergeSummaries({&a.summary, &b.summary}, names), {}};
 }
 
 SummaryResult fromText(const std::string& text, const std::string& name) {

@@ -67,7 +67,12 @@ def _local_client():
     except ImportError as e:  # pragma: no cover - the installer provides it
         raise ImportError("summarize_many runs on Dask: install Debian's python3-distributed "
                           "(scripts/install-deps.sh does), or pass client=") from e
-    cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=True,
+    # Workers as threads of this process: dynid releases the GIL while it computes, so they run
+    # in parallel, and summaries pass between them without pickling (bench/dask_summarize.py: 1.75
+    # times one worker on two cores, against 1.4 for worker processes, which Dask's nannies also
+    # start with MALLOC_TRIM_THRESHOLD_=65536, under which dynid's allocations cost 30 % more). A
+    # crash takes this process with it: pass a client of worker processes to isolate them.
+    cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=False,
                            dashboard_address=None)
     return Client(cluster), cluster
 
@@ -116,8 +121,8 @@ def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="
     the tree is the logs' own pairwise tree, (0 1) (2 3) ..., whatever the cluster: the same bits
     however many workers ran the tasks, in whatever order, and after a worker died and its tasks
     ran again (`retries` times at most). `client`: a distributed.Client (any cluster: local,
-    Slurm through dask-jobqueue, ...); None starts a local cluster of one single-threaded worker
-    per core and closes it after. Returns SummarizeMany(summary, summarized, failed): a log that
+    Slurm through dask-jobqueue, ...); None starts a local cluster of one worker thread per core
+    and closes it after. Returns SummarizeMany(summary, summarized, failed): a log that
     cannot be summarized is named with its error in `failed` and left out; the rest go on."""
     logs = [os.fspath(log) for log in logs]
     if logs_per_task < 1:
@@ -137,7 +142,7 @@ def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level
     Summary, a log path or a list of log paths}; each robot's logs are summarized and merged on
     the workers as summarize_many does (every robot's tasks submitted at once), then the fleet
     is learnt here from the robots' summaries (dynid.fleet). `client`: a distributed.Client;
-    None starts a local cluster of one single-threaded worker per core and closes it after.
+    None starts a local cluster of one worker thread per core and closes it after.
     Returns fleet.json as a dict, with "failed": {log: error} for the logs that could not be
     summarized (left out, their robot goes on with the rest; a robot none of whose logs could be
     is left out of the fleet and named in "robots_left_out")."""
@@ -184,7 +189,7 @@ def batch(manifest, out, client=None, quick=False, retries=2):
     out/runs/<run>.json here as it comes back, so that a batch stopped resumes where it was;
     then results.csv and results.json are written, as `dynid batch` writes them. A run that
     raised is named in "failed" with its error (the rest go on). `client`: a distributed.Client;
-    None starts a local cluster of one single-threaded worker per core and closes it after.
+    None starts a local cluster of one worker thread per core and closes it after.
     Returns results.json as a dict, with "failed": {run: error}."""
     from distributed import as_completed
 

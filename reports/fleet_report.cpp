@@ -67,6 +67,7 @@ json fleetJson(const FleetOutcome& o) {
                           {"model", numberOrNull(o.model_beta[i])},
                           {"mean", numberOrNull(o.prior.mean[i])},
                           {"spread", numberOrNull(o.prior.spread[i])},
+                          {"spread_upper", numberOrNull(o.prior.spread_upper[i])},
                           {"mean_std", numberOrNull(o.prior.mean_std[i])},
                           {"robots_outside", outside}});
   }
@@ -100,9 +101,9 @@ std::string headline(const FleetOutcome& o) {
     << o.base_names.size() << " base parameters): " << o.verdict << ". The prior was learnt from "
     << o.prior.learnt_from << " robots in " << o.prior.rounds
     << (o.prior.rounds == 1 ? " round" : " rounds") << "; a robot lies outside when a parameter's "
-    << "p is below " << formatNumber(o.prior.test_level, 3) << " (|z| beyond "
-    << formatNumber(o.prior.z_threshold, 3)
-    << " when the fleet's spread is known, more when it rests on few robots; a "
+    << "|z| against the fleet without it (its spread at the upper end of its 95 % interval) "
+    << "exceeds " << formatNumber(o.prior.z_threshold, 3) << " (p below "
+    << formatNumber(o.prior.test_level, 3) << "; a "
     << formatNumber(100.0 * o.options.flag_level, 3)
     << " % chance that a fleet of robots alike has one flagged).";
   return s.str();
@@ -126,14 +127,14 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const FleetOutcome& 
                            methodName(o.method) + ", " + std::to_string(o.base_names.size()) +
                            " base parameters)"},
           {"Verdict", o.verdict},
-          {"How sure", "each parameter against the fleet without the robot, p below " +
-                           formatNumber(o.prior.test_level, 3) + " (|z| beyond " +
-                           formatNumber(o.prior.z_threshold, 3) +
-                           " with a known spread; Student t with the spread's own uncertainty): "
-                           "a " +
-                           formatNumber(100.0 * o.options.flag_level, 3) +
-                           " % chance of one false flag in the fleet (Bonferroni over robots x "
-                           "parameters)"},
+          {"How sure",
+           "each parameter against the fleet without the robot, its spread at the "
+           "upper end of its 95 % interval: |z| beyond " +
+               formatNumber(o.prior.z_threshold, 3) + " (p below " +
+               formatNumber(o.prior.test_level, 3) + "): a " +
+               formatNumber(100.0 * o.options.flag_level, 3) +
+               " % chance of one false flag in the fleet (Bonferroni over robots x "
+               "parameters)"},
           {"Outside", outside.empty() ? "no robot" : outside},
           {"Next", outside.empty()
                        ? "the fleet's posterior estimates (fleet.json, posterior) are each "
@@ -156,7 +157,8 @@ DocumentTable robotsTable(const FleetOutcome& o) {
   t.caption =
       "Each robot's parameter farthest from the fleet without it (the smallest p), in sigma of "
       "the difference (its own variance, the fleet's spread and the fleet mean's variance), and "
-      "its two-sided p (Student t: the spread rests on the other robots); sigma widened: the "
+      "its two-sided p, the fleet's spread taken at the upper end of its 95 % interval (learnt "
+      "from a few robots, it may be larger than they show); sigma widened: the "
       "robust covariance's median inflation over the white one, applied to its covariance.";
   return t;
 }

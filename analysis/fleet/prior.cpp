@@ -7,7 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <boost/math/distributions/students_t.hpp>
+#include <boost/math/distributions/chi_squared.hpp>
 #include <boost/math/special_functions/erf.hpp>
 
 #include "core/errors.hpp"
@@ -47,7 +47,7 @@ void checkMembers(const std::vector<FleetMember>& members, const FleetOptions& o
 
 struct Round {
   Eigen::VectorXd mean, spread2, precision;  // precision: sum of the weights, per parameter
-  Eigen::VectorXd own_variance;              // the robots' mean own variance, per parameter
+  Eigen::VectorXd spread2_upper;             // the spread's upper confidence bound (Q-profile)
   int robots = 0;                            // learnt from
 };
 
@@ -71,7 +71,7 @@ Round learn(const std::vector<FleetMember>& members, const std::vector<bool>& in
     out.spread2[k] = t;
     out.precision[k] = w.sum();
     out.mean[k] = (w * x.array()).sum() / w.sum();
-    out.own_variance[k] = v.mean();
+    out.spread2_upper[k] = spreadUpperBound(x, v);
   }
   return out;
 }
@@ -83,11 +83,9 @@ struct Scores {
 
 /// Robot r's z against the prior learnt without it (`in` less r): the fleet it is compared with
 /// is the others', so that an odd robot neither widens the spread it is judged by nor moves the
-/// mean (what a new robot's estimate is predicted to lie within). Its p is Student t's: the
-/// spread rests on m robots, and its uncertainty widens the bound (Satterthwaite: the variance
-/// V = S_r + tau^2 + var mu has nu = (m - 1) (V / (tau^2 + S_mean))^2 degrees of freedom, its
-/// estimated part tau^2 + S_mean, the robots' spread about the mean, resting on m - 1); a robot
-/// whose own sigma dominates V is judged as by a Gaussian.
+/// mean (what a new robot's estimate is predicted to lie within). The spread it is judged by is
+/// the upper end of its confidence interval (Q-profile), not its point estimate: a spread learnt
+/// from a few robots may be larger than they show. p: the Gaussian's two-sided, of that z.
 Scores scores(const std::vector<FleetMember>& members, std::vector<bool> in, std::size_t r,
               const Round& with_r) {
   const FleetMember& member = members[r];
@@ -102,15 +100,9 @@ Scores scores(const std::vector<FleetMember>& members, std::vector<bool> in, std
   Scores out{Eigen::VectorXd(n), Eigen::VectorXd(n)};
   for (Eigen::Index k = 0; k < n; ++k) {
     const double v = std::max(member.covariance(k, k), kVarianceFloor);
-    const double total = v + p.spread2[k] + 1.0 / p.precision[k];
-    out.z[k] = (member.estimate[k] - p.mean[k]) / std::sqrt(total);
-    const double between = p.spread2[k] + p.own_variance[k];
-    const double ratio = total / std::max(between, kVarianceFloor);
-    const double nu = (p.robots - 1) * ratio * ratio;
-    const double tail = nu > 1e6 ? 0.5 * std::erfc(std::abs(out.z[k]) / std::sqrt(2.0))
-                                 : boost::math::cdf(boost::math::complement(
-                                       boost::math::students_t(nu), std::abs(out.z[k])));
-    out.p[k] = 2.0 * tail;
+    out.z[k] =
+        (member.estimate[k] - p.mean[k]) / std::sqrt(v + p.spread2_upper[k] + 1.0 / p.precision[k]);
+    out.p[k] = std::erfc(std::abs(out.z[k]) / std::sqrt(2.0));
   }
   return out;
 }
@@ -134,11 +126,20 @@ void shrink(const FleetMember& member, const Round& prior, FleetVerdict& verdict
 }  // namespace
 
 double pauleMandelSpread(const Eigen::VectorXd& values, const Eigen::VectorXd& variances) {
-  const double target = static_cast<double>(values.size() - 1);
+  return spreadWhere(values, variances, static_cast<double>(values.size() - 1));
+}
+
+double spreadUpperBound(const Eigen::VectorXd& values, const Eigen::VectorXd& variances) {
+  const boost::math::chi_squared chi2(static_cast<double>(values.size() - 1));
+  return spreadWhere(values, variances, boost::math::quantile(chi2, kSpreadBoundTail));
+}
+
+double spreadWhere(const Eigen::VectorXd& values, const Eigen::VectorXd& variances, double target) {
   if (weightedSquares(values, variances, 0.0) <= target) return 0.0;
   // Q(t) decreases in t: bracket the root by doubling from the values' own variance, then bisect.
   const double mean = values.mean();
-  double hi = std::max((values.array() - mean).square().sum() / target, kVarianceFloor);
+  double hi =
+      std::max((values.array() - mean).square().sum() / std::max(target, 1e-3), kVarianceFloor);
   while (weightedSquares(values, variances, hi) > target && hi < 1e300) hi *= 2.0;
   double lo = 0.0;
   for (int i = 0; i < 200 && hi - lo > 1e-14 * hi; ++i) {
@@ -181,6 +182,7 @@ FleetPrior fleetPrior(const std::vector<FleetMember>& members, const FleetOption
   }
   out.mean = prior.mean;
   out.spread = prior.spread2.cwiseSqrt();
+  out.spread_upper = prior.spread2_upper.cwiseSqrt();
   out.mean_std = prior.precision.cwiseInverse().cwiseSqrt();
   out.learnt_from = static_cast<int>(std::count(in.begin(), in.end(), true));
   out.robots.resize(n);

@@ -10,16 +10,26 @@
 
 namespace dynid {
 
-/// SHA-256 fed in pieces: update() any number of times, then hex() once.
+/// SHA-256 fed in pieces: update() any number of times, then hex() once. The compression runs on
+/// the CPU's SHA extensions (x86 SHA-NI) where it has them, else portably (the same digest).
 class Sha256 {
  public:
-  Sha256();
+  enum class Engine {
+    kFastest,   // SHA-NI when the CPU has it, else portable
+    kPortable,  // FIPS 180-4's rounds in plain C++ (the reference the tests compare with)
+  };
+  explicit Sha256(Engine engine = Engine::kFastest);
+  /// Whether kFastest runs on the CPU's SHA extensions here.
+  static bool cpuExtensions();
   void update(std::string_view bytes);
   /// The digest as 64 lowercase hexadecimal digits; the object is spent afterwards.
   std::string hex();
 
  private:
-  void block(const unsigned char* p);
+  /// Compresses `count` 64-byte blocks from `p` into h_.
+  void blocks(const unsigned char* p, std::size_t count);
+  void block(const unsigned char* p);  // the portable compression of one block
+  bool cpu_ = false;
   std::array<std::uint32_t, 8> h_;
   std::array<unsigned char, 64> buffer_{};
   std::size_t buffered_ = 0;

@@ -52,6 +52,18 @@ TEST(PauleMandelSpread, SolvesItsEquation) {
   EXPECT_NEAR(pauleMandelSpread(x, same), var - 0.2, 1e-10 * var);
 }
 
+TEST(SpreadUpperBound, IsTheQProfilesUpperEnd) {
+  const Eigen::VectorXd x = (Eigen::VectorXd(5) << 1.0, 3.0, -2.0, 0.5, 4.0).finished();
+  const Eigen::VectorXd same = Eigen::VectorXd::Constant(5, 0.2);
+  // Equal variances: SS / (0.2 + t) = the chi-square(4) quantile at 2.5 % (0.484418...).
+  const double ss = (x.array() - x.mean()).square().sum();
+  EXPECT_NEAR(spreadUpperBound(x, same), ss / 0.4844185570879303 - 0.2, 1e-9 * ss);
+  EXPECT_GT(spreadUpperBound(x, same), pauleMandelSpread(x, same));
+  // Values that agree far within their variances: no spread, not even at the upper end.
+  const Eigen::VectorXd close = (Eigen::VectorXd(4) << 1.0, 1.0001, 0.9999, 1.0).finished();
+  EXPECT_EQ(spreadUpperBound(close, Eigen::VectorXd::Constant(4, 1.0)), 0.0);
+}
+
 TEST(FleetPrior, LearnsTheSpreadAndFlagsNoRobotOfOnePopulation) {
   const Eigen::VectorXd mu = (Eigen::VectorXd(3) << 10.0, -2.0, 0.5).finished();
   const Eigen::VectorXd tau = (Eigen::VectorXd(3) << 0.5, 0.1, 0.0).finished();

@@ -23,6 +23,38 @@ TEST(Sha256, TheStandardsExamples) {
             "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
 
+// Both engines on the standard's examples, then the CPU's against the portable one on seeded bytes
+// of every length up to 300 and on 3 MB fed in uneven pieces (the multi-block path).
+TEST(Sha256, TheCpuExtensionsGiveThePortableDigest) {
+  for (const Sha256::Engine e : {Sha256::Engine::kPortable, Sha256::Engine::kFastest}) {
+    Sha256 abc(e);
+    abc.update("abc");
+    EXPECT_EQ(abc.hex(), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    Sha256 million(e);
+    million.update(std::string(1000000, 'a'));
+    EXPECT_EQ(million.hex(), "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
+  }
+  std::string bytes;
+  std::uint64_t x = 88172645463325252ull;
+  for (int i = 0; i < 3000000; ++i) {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;  // xorshift64
+    bytes += static_cast<char>(x & 0xff);
+  }
+  const auto digest = [&](Sha256::Engine e, std::size_t length, std::size_t piece) {
+    Sha256 s(e);
+    for (std::size_t at = 0; at < length; at += piece)
+      s.update(std::string_view(bytes).substr(at, std::min(piece, length - at)));
+    return s.hex();
+  };
+  for (std::size_t length = 0; length <= 300; ++length)
+    EXPECT_EQ(digest(Sha256::Engine::kFastest, length, 1000),
+              digest(Sha256::Engine::kPortable, length, 1000))
+        << length;
+  EXPECT_EQ(digest(Sha256::Engine::kFastest, bytes.size(), 65537),
+            digest(Sha256::Engine::kPortable, bytes.size(), 4096));
+  if (!Sha256::cpuExtensions()) GTEST_SKIP() << "no SHA extensions on this CPU: one engine";
+}
+
 TEST(Sha256, PiecesGiveTheWholesDigest) {
   std::string text;
   for (int i = 0; i < 1000; ++i) text += static_cast<char>('a' + i * 7 % 26);
