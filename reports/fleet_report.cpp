@@ -139,8 +139,8 @@ std::vector<std::pair<std::string, std::string>> verdictBox(const FleetOutcome& 
           {"Next", outside.empty()
                        ? "the fleet's posterior estimates (fleet.json, posterior) are each "
                          "robot's best: its own data where they are sure, the fleet's where not"
-                       : "look at the robots outside for a changed tool or payload (inertial "
-                         "parameters of the last links), worn or cold drives (friction), or "
+                       : "look at the robots outside for a changed tool, payload or part (inertial "
+                         "parameters), worn or cold drives (friction), or "
                          "another model; they keep their own estimates"}};
 }
 
