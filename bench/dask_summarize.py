@@ -34,11 +34,14 @@ def main():
     parser.add_argument("--per-task", type=int, default=4)
     parser.add_argument("--processes", action="store_true")
     parser.add_argument("--once", type=int, default=0)
+    parser.add_argument("--plain", type=int, default=0)
     parser.add_argument("--out")
     parser.add_argument("files", nargs="*")
     args = parser.parse_args()
     if args.once:
         return once(args.once, args.files, args.out, args.per_task, args.processes)
+    if args.plain:
+        return plain_threads(args.plain, args.files)
     scratch = tempfile.mkdtemp(prefix="dynid_dask_bench_")
     logs = []
     for seed in range(1, args.logs + 1):
@@ -63,6 +66,37 @@ def main():
               f"{args.seconds:g} s ({args.logs / medians[workers]:.2f} logs/s)")
     print(f"speed-up: {medians[1] / medians[2]:.2f}; the same estimate: "
           f"{np.array_equal(betas[1], betas[2])}")
+    # The ceiling: the same logs summarized by one and by two plain Python threads (half the logs
+    # each, merged in order), no Dask; each a fresh process too.
+    plain = {}
+    for threads in (1, 2):
+        times = [float(subprocess.run([sys.executable, __file__, "--plain", str(threads)] + logs,
+                                      check=True, capture_output=True, text=True).stdout.split()[-1])
+                 for _ in range(args.repeats)]
+        plain[threads] = statistics.median(times)
+    print(f"without Dask, 1 and 2 threads: {plain[1]:.2f} s, {plain[2]:.2f} s "
+          f"(speed-up {plain[1] / plain[2]:.2f})")
+
+
+def plain_threads(threads, logs):
+    """Summarizes the logs on `threads` Python threads (every threads-th log each); prints the
+    seconds."""
+    import threading
+    model = dynid.load_model("panda", drives=True)
+    parts = [None] * threads
+
+    def run(i):
+        for log in logs[i::threads]:
+            one = dynid.summarize(model, log, threads=1)
+            parts[i] = one if parts[i] is None else parts[i] + one
+
+    start = time.perf_counter()
+    workers = [threading.Thread(target=run, args=(i,)) for i in range(threads)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    print(time.perf_counter() - start)
 
 
 def once(workers, logs, out, per_task, processes):

@@ -46,19 +46,15 @@ def _summarize_group(model, logs, rest_velocity, torque_filter, robot_spec):
     return _tree(parts, _merge), failed
 
 
-def _failed(outcome):
-    """A task's failures, without its summary (what comes back to the client)."""
-    return outcome[1]
-
-
-def _summary(outcome):
-    return outcome[0]
-
-
 def _merge(a, b):
     if a is None or b is None:
         return b if a is None else a
     return a + b
+
+
+def _merge_outcomes(a, b):
+    """Two tasks' (summary, failed) as one: the summaries merged, the failures together."""
+    return _merge(a[0], b[0]), {**a[1], **b[1]}
 
 
 def _local_client():
@@ -68,10 +64,11 @@ def _local_client():
         raise ImportError("summarize_many runs on Dask: install Debian's python3-distributed "
                           "(scripts/install-deps.sh does), or pass client=") from e
     # Workers as threads of this process: dynid releases the GIL while it computes, so they run
-    # in parallel, and summaries pass between them without pickling (bench/dask_summarize.py: 1.75
-    # times one worker on two cores, against 1.4 for worker processes, which Dask's nannies also
-    # start with MALLOC_TRIM_THRESHOLD_=65536, under which dynid's allocations cost 30 % more). A
-    # crash takes this process with it: pass a client of worker processes to isolate them.
+    # in parallel, and summaries pass between them without pickling (bench/dask_summarize.py: two
+    # workers 1.69-1.80 times one on two cores, against 1.2 for worker processes, which Dask's
+    # nannies also start with MALLOC_TRIM_THRESHOLD_=65536, under which dynid's allocations cost
+    # 30 % more). A crash takes this process with it: pass a client of worker processes to
+    # isolate them.
     cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=False,
                            dashboard_address=None)
     return Client(cluster), cluster
@@ -93,24 +90,15 @@ def _cluster(client):
 
 def _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retries,
             logs_per_task):
-    """The tasks of `logs` (a task per `logs_per_task`) and the root of their merge tree, all
-    submitted at once: a merge runs as soon as its two inputs are done, while later tasks still
-    compute. The summaries stay on the workers; only the root travels to the client (its memory
-    holds one summary)."""
+    """The root of `logs`' tree (a task per `logs_per_task` logs, their (summary, failed) merged
+    pairwise), every task submitted at once: a merge runs as soon as its two inputs are done,
+    while later tasks still compute. The summaries stay on the workers until the root's (summary,
+    failed) comes back, so the client holds one summary. None for no logs."""
     groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
     tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
                            robot_spec, pure=False, retries=retries) for group in groups]
-    parts = [client.submit(_summary, task, pure=False, retries=retries) for task in tasks]
-    root = _tree(parts, lambda a, b: client.submit(_merge, a, b, pure=False, retries=retries))
-    return tasks, root
-
-
-def _gather_failed(client, tasks, retries):
-    """{log: error} of the tasks' logs that could not be summarized (only these come back)."""
-    failed = {}
-    for one in client.gather(client.map(_failed, tasks, pure=False, retries=retries)):
-        failed.update(one)
-    return failed
+    return _tree(tasks, lambda a, b: client.submit(_merge_outcomes, a, b, pure=False,
+                                                   retries=retries))
 
 
 def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="auto",
@@ -128,11 +116,10 @@ def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="
     if logs_per_task < 1:
         raise ValueError("logs_per_task must be >= 1")
     with _cluster(client) as client:
-        tasks, root = _submit(client, model, logs, rest_velocity, torque_filter, robot_spec,
-                              retries, logs_per_task)
-        failed = _gather_failed(client, tasks, retries)
+        root = _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retries,
+                       logs_per_task)
+        summary, failed = root.result() if root is not None else (None, {})
         summarized = [log for log in logs if log not in failed]
-        summary = root.result() if root is not None else None
         return SummarizeMany(summary, summarized, failed)
 
 
@@ -158,15 +145,15 @@ def fleet(model, robots, client=None, method="ols", covariance="hac", flag_level
                     else [os.fspath(v) for v in value])
             submitted[name] = _submit(client, model, logs, rest_velocity, torque_filter,
                                       robot_spec, retries, logs_per_task)
-        failed = _gather_failed(client, [t for tasks, _ in submitted.values() for t in tasks],
-                                retries)
-        summaries, left_out = {}, []
+        names = [name for name in submitted if submitted[name] is not None]
+        outcomes = dict(zip(names, client.gather([submitted[name] for name in names])))
+        summaries, left_out, failed = {}, [], {}
         for name in robots:
             if name in given:
                 summaries[name] = given[name]
                 continue
-            root = submitted[name][1]
-            summary = root.result() if root is not None else None
+            summary, errors = outcomes.get(name, (None, {}))
+            failed.update(errors)
             if summary is None:
                 left_out.append(name)
             else:
