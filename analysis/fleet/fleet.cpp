@@ -40,6 +40,15 @@ void FleetRequest::check() const {
 
 namespace {
 
+/// The robot and its files, for messages: "robot_a (robot_a/1.csv and 2 more)".
+std::string robotLabel(const FleetRobotInput& robot) {
+  const std::vector<std::string>& files =
+      robot.summary_files.empty() ? robot.data_files : robot.summary_files;
+  if (files.empty()) return robot.name + " (its summary)";
+  return robot.name + " (" + files.front() +
+         (files.size() > 1 ? " and " + std::to_string(files.size() - 1) + " more" : "") + ")";
+}
+
 /// The robot's logs as one summary (its own, read, or summarized here); nullopt when stopped.
 std::optional<Summary> robotSummary(const FleetRequest& request, const FleetRobotInput& robot) {
   if (robot.summary) return *robot.summary;
@@ -73,11 +82,7 @@ std::optional<Summary> robotSummary(const FleetRequest& request, const FleetRobo
 void checkSameRobot(const FleetRequest& request, const BaseParameters& base,
                     const std::vector<std::string>& base_names, const Summary& summary,
                     const FleetRobotInput& robot) {
-  const std::string what = robot.name + " (" +
-                           (!robot.summary_files.empty() ? robot.summary_files.front()
-                            : !robot.data_files.empty()  ? robot.data_files.front()
-                                                         : std::string("its summary")) +
-                           ")";
+  const std::string what = robotLabel(robot);
   std::string why = kinematicsDifference(summary.model, request.model, "the fleet's robot");
   if (why.empty() && summary.model.driveTerms().mask != request.model.driveTerms().mask)
     why = "its drive terms are " + driveTermsText(summary.model.driveTerms()) + ", the fleet's " +
@@ -102,10 +107,11 @@ FleetRobot estimateRobot(const FleetRequest& request, const BaseParameters& base
     out.alone =
         stream.estimate(weighted ? LeastSquaresMethod::kWeighted : LeastSquaresMethod::kOrdinary);
   } catch (const NumericalError& e) {
-    throw NumericalError(input.name + ": its logs do not determine its base parameters alone (" +
-                         e.what() + "); give it a longer or more exciting log");
+    throw NumericalError(robotLabel(input) + ": its logs do not determine its base parameters " +
+                         "alone (" + e.what() + "); give it a longer or more exciting log");
   } catch (const InputError& e) {
-    throw InputError(input.name + ": " + e.what());
+    throw InputError(robotLabel(input) + ": its logs do not determine its base parameters alone (" +
+                     e.what() + "); give it a longer log");
   }
   if (request.covariance == CovariancePolicy::kHac) {
     BaseEstimate robust = out.alone;
