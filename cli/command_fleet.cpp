@@ -6,6 +6,7 @@
 #include <map>
 
 #include "analysis/fleet/fleet.hpp"
+#include "analysis/records/fleet_manifest.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "reports/fleet_report.hpp"
@@ -44,6 +45,30 @@ std::vector<FleetRobotInput> robotsByFolder(const std::vector<std::string>& file
   return out;
 }
 
+/// The robots the options name: --data or --summaries grouped by folder, or a --manifest's.
+/// UsageError unless exactly one of the three is given, or for --rest-velocity or
+/// --torque-filter with summaries.
+std::vector<FleetRobotInput> robotsOf(const po::variables_map& vm) {
+  if ((given(vm, "data") ? 1 : 0) + (given(vm, "summaries") ? 1 : 0) +
+          (given(vm, "manifest") ? 1 : 0) !=
+      1)
+    throw UsageError(
+        "give the robots' logs (--data), their summaries (--summaries) or a manifest "
+        "(--manifest), one of them");
+  const bool summaries = given(vm, "summaries");
+  std::vector<FleetRobotInput> robots;
+  refuseUnused(vm, !summaries, {"rest-velocity", "torque-filter"},
+               "applies to --data: a summary holds its logs' rest velocities and torque filter");
+  if (given(vm, "manifest")) {
+    for (FleetManifestRobot& r : readFleetManifest(vm["manifest"].as<std::string>()))
+      robots.push_back({r.name, std::move(r.data), std::move(r.summaries), nullptr});
+  } else {
+    robots = robotsByFolder(vm[summaries ? "summaries" : "data"].as<std::vector<std::string>>(),
+                            summaries, summaries ? "summaries" : "data");
+  }
+  return robots;
+}
+
 }  // namespace
 
 int runFleet(const std::vector<std::string>& args) {
@@ -56,6 +81,8 @@ int runFleet(const std::vector<std::string>& args) {
       "robot_b/*.csv ...")(
       "summaries", po::value<std::vector<std::string>>()->multitoken(),
       "or their summaries (dynid summarize), each robot's in a folder named after it")(
+      "manifest", po::value<std::string>(),
+      "or a fleet manifest naming each robot and its logs or summaries (docs/FLEET.md)")(
       "method", po::value<std::string>()->default_value("ols"),
       "each robot's estimate: ols or wls")(
       "covariance", po::value<std::string>()->default_value("hac"),
@@ -74,24 +101,17 @@ int runFleet(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options,
                         "dynid fleet --robot R [--drive-terms T] --data robot_a/*.csv "
                         "robot_b/*.csv ... --out DIR\n       dynid fleet --robot R --summaries "
-                        "robot_a/*.summary.json ... --out DIR",
+                        "robot_a/*.summary.json ... --out DIR\n       dynid fleet --robot R "
+                        "--manifest fleet.json --out DIR",
                         vm))
     return kExitOk;
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);
-  if (given(vm, "data") == given(vm, "summaries"))
-    throw UsageError(
-        "give the robots' logs (--data) or their summaries (--summaries), one of them");
   FleetRequest request;
   request.model = loadRobotFromOptions(vm);
   request.robot_spec = vm["robot"].as<std::string>();
   request.structural = structuralOptions(vm);
-  const bool summaries = given(vm, "summaries");
-  refuseUnused(vm, !summaries, {"rest-velocity", "torque-filter"},
-               "applies to --data: a summary holds its logs' rest velocities and torque filter");
-  request.robots =
-      robotsByFolder(vm[summaries ? "summaries" : "data"].as<std::vector<std::string>>(), summaries,
-                     summaries ? "summaries" : "data");
+  request.robots = robotsOf(vm);
   request.method = parseOption(vm, "method", [](const std::string& name) {
     const Method m = parseMethod(name);
     if (m != Method::kOls && m != Method::kWls)

@@ -87,6 +87,8 @@ inline constexpr DocumentType kSummaryDocument{"dynid.summary", 1};
 // fleet.json (dynid fleet): robots of one model, the fleet's prior learnt from them, the robots and
 // parameters outside it, each robot's estimate alone and with the prior.
 inline constexpr DocumentType kFleetDocument{"dynid.fleet", 1};
+// A fleet manifest (dynid fleet --manifest): the robots and their logs or summaries.
+inline constexpr DocumentType kFleetManifestDocument{"dynid.fleet_manifest", 1};
 inline constexpr DocumentType kBatchRunDocument{"dynid.batch.run", 1};
 inline constexpr DocumentType kBatchResultsDocument{"dynid.batch.results", 1};
 

@@ -68,6 +68,18 @@ TEST(Cli, FleetFindsTheRobotWithAnUndeclaredMassFromLogsOrSummaries) {
     EXPECT_EQ(again["robots"][r]["posterior"], fleet["robots"][r]["posterior"]);
   }
   EXPECT_EQ(again["verdict"], fleet["verdict"]);
+  // A manifest naming the same robots and logs (paths beside it): the same fleet.
+  nlohmann::json manifest = {{"schema_version", 1}, {"kind", "dynid.fleet_manifest"}};
+  for (const std::string& robot : robots)
+    manifest["robots"].push_back(
+        {{"name", robot}, {"data", {robot + "/log1.csv", robot + "/log2.csv"}}});
+  std::ofstream(dir + "/fleet_manifest.json") << manifest.dump();
+  const test::Result from_manifest = run("fleet --robot puma560 --drives --manifest " + dir +
+                                         "/fleet_manifest.json --out " + dir + "/fleet_m");
+  ASSERT_EQ(from_manifest.code, 0) << from_manifest.err;
+  const auto listed = nlohmann::json::parse(readFile(dir + "/fleet_m/fleet.json"));
+  for (std::size_t r = 0; r < 5; ++r)
+    EXPECT_EQ(listed["robots"][r]["estimate"], fleet["robots"][r]["estimate"]);
 }
 
 }  // namespace
