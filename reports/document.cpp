@@ -46,6 +46,14 @@ std::string markdownCell(const std::string& text) {
   }
   return out;
 }
+/// A Markdown line of text: line breaks flattened, so that a name read from a file or folder
+/// (a robot's, a log's) cannot start a heading, a list or a quote of its own.
+std::string markdownLine(const std::string& text) {
+  std::string out = text;
+  for (char& c : out)
+    if (c == '\n' || c == '\r') c = ' ';
+  return out;
+}
 /// What a folded table shows before it is opened: its caption's first sentence and its size.
 std::string tableSummary(const DocumentTable& table) {
   std::string caption = table.caption.substr(0, table.caption.find(". "));
@@ -56,23 +64,24 @@ std::string tableSummary(const DocumentTable& table) {
 
 std::string Document::markdown() const {
   std::ostringstream out;
-  out << "# " << title_ << "\n";
+  out << "# " << markdownLine(title_) << "\n";
   for (const Block& b : blocks_) {
     out << "\n";
     switch (b.kind) {
       case Kind::kVerdict:
         out << "> **Verdict**\n>\n";
         for (std::size_t k = 0; k + 1 < b.text.size(); k += 2)
-          out << "> - **" << b.text[k] << ":** " << b.text[k + 1] << "\n";
+          out << "> - **" << markdownLine(b.text[k]) << ":** " << markdownLine(b.text[k + 1])
+              << "\n";
         break;
       case Kind::kHeading:
-        out << "## " << b.text[0] << "\n";
+        out << "## " << markdownLine(b.text[0]) << "\n";
         break;
       case Kind::kParagraph:
-        out << b.text[0] << "\n";
+        out << markdownLine(b.text[0]) << "\n";
         break;
       case Kind::kBullets:
-        for (const std::string& item : b.text) out << "- " << item << "\n";
+        for (const std::string& item : b.text) out << "- " << markdownLine(item) << "\n";
         break;
       case Kind::kTable: {
         const bool folded = b.table.rows.size() > kFoldRows;
@@ -88,7 +97,7 @@ std::string Document::markdown() const {
           for (const std::string& cell : row) out << " " << markdownCell(cell) << " |";
           out << "\n";
         }
-        if (!b.table.caption.empty()) out << "\n" << b.table.caption << "\n";
+        if (!b.table.caption.empty()) out << "\n" << markdownLine(b.table.caption) << "\n";
         if (folded) out << "\n</details>\n";
         break;
       }

@@ -34,6 +34,20 @@ TEST(Document, MarkdownEscapesTableCellsAndNumbersFigures) {
   EXPECT_TRUE(contains(md, "![Figure 2](torques.svg)\n\n**Figure 2.** the torques"));
 }
 
+// A name read from a folder or file (a robot's, a log's) with a line break must not start a
+// heading, a list or a quote of its own: every line of text is flattened, as table cells are.
+TEST(Document, MarkdownTextCannotStartBlocksOfItsOwn) {
+  Document doc("fleet\n# title");
+  doc.verdict({{"Outside", "robot\n# injected"}});
+  doc.heading("h\n- item");
+  doc.paragraph("a\n> quote");
+  doc.bullets({"b\n## heading"});
+  const std::string md = doc.markdown();
+  for (const char* start : {"\n# ", "\n- item", "\n> quote", "\n## heading"})
+    EXPECT_FALSE(contains(md, start)) << start << " in\n" << md;
+  EXPECT_TRUE(contains(md, "robot # injected")) << md;
+}
+
 TEST(Document, HtmlIsSelfContainedAndEscaped) {
   const Document doc = sampleDocument();
   const std::string html = doc.html();
