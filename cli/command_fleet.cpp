@@ -60,8 +60,13 @@ std::vector<FleetRobotInput> robotsOf(const po::variables_map& vm) {
   refuseUnused(vm, !summaries, {"rest-velocity", "torque-filter"},
                "applies to --data: a summary holds its logs' rest velocities and torque filter");
   if (given(vm, "manifest")) {
-    for (FleetManifestRobot& r : readFleetManifest(vm["manifest"].as<std::string>()))
+    for (FleetManifestRobot& r : readFleetManifest(vm["manifest"].as<std::string>())) {
+      refuseUnused(vm, r.summaries.empty(), {"rest-velocity", "torque-filter"},
+                   "applies to logs: the manifest's robot " + r.name +
+                       " is given by summaries, which hold their logs' rest velocities and "
+                       "torque filter");
       robots.push_back({r.name, std::move(r.data), std::move(r.summaries), nullptr});
+    }
   } else {
     robots = robotsByFolder(vm[summaries ? "summaries" : "data"].as<std::vector<std::string>>(),
                             summaries, summaries ? "summaries" : "data");

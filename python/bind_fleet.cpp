@@ -40,13 +40,17 @@ py::dict fleet(const Model& model, const FleetRobotsLike& robots, const std::str
                const ClientLike& client, const ProgressLike& progress) {
   if (!py::isinstance<py::dict>(robots))
     throw py::type_error("robots: expected a dict {name: a Summary, a log path or a list of them}");
-  if (!client.is_none())
-    return py::module_::import("dynid_distributed")
-        .attr("fleet")(model, robots, py::arg("client") = client, py::arg("method") = method,
-                       py::arg("covariance") = covariance, py::arg("flag_level") = flag_level,
-                       py::arg("rest_velocity") = rest_velocity,
-                       py::arg("torque_filter") = torque_filter, py::arg("robot_spec") = robot_spec)
-        .cast<py::dict>();
+  if (!client.is_none()) {
+    py::kwargs kwargs;
+    kwargs["client"] = client;
+    kwargs["method"] = method;
+    kwargs["covariance"] = covariance;
+    kwargs["flag_level"] = flag_level;
+    kwargs["rest_velocity"] = rest_velocity;
+    kwargs["torque_filter"] = torque_filter;
+    kwargs["robot_spec"] = robot_spec;
+    return callDistributed("fleet", py::make_tuple(model, robots), kwargs).cast<py::dict>();
+  }
   checkThreads(threads);
   FleetRequest request;
   request.model = model;

@@ -173,7 +173,7 @@ void bindRunsSummarize(py::module_& m) {
   m.def(
       "summarize_many",
       [](const py::args& args, const py::kwargs& kwargs) {
-        return py::module_::import("dynid_distributed").attr("summarize_many")(*args, **kwargs);
+        return callDistributed("summarize_many", args, kwargs);
       },
       "The merged Summary of many logs on a Dask cluster. Arguments: model, logs, client=None (a "
       "distributed.Client; None: a local cluster of one worker per core), rest_velocity=None, "

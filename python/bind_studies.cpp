@@ -99,7 +99,7 @@ void bindBatch(py::module_& m) {
   m.def(
       "batch",
       [](const py::args& args, const py::kwargs& kwargs) {
-        return py::module_::import("dynid_distributed").attr("batch")(*args, **kwargs);
+        return callDistributed("batch", args, kwargs);
       },
       "`dynid batch` on a Dask cluster. Arguments: manifest, out, client=None (a "
       "distributed.Client; None: a local cluster of one worker per core), quick=False, "

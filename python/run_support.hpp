@@ -136,6 +136,13 @@ class PythonRun {
 /// no call made (`call` empty: read from a file).
 nlohmann::json withCall(nlohmann::json document, const RunProvenance& call);
 
+/// The Dask layer's function `name` (python/dynid_distributed.py, beside the module) called with
+/// the arguments as given: what summarize_many, batch and fleet(client=) hand over to it.
+inline py::object callDistributed(const char* name, const py::args& args,
+                                  const py::kwargs& kwargs) {
+  return py::module_::import("dynid_distributed").attr(name)(*args, **kwargs);
+}
+
 /// Each of a run's warnings as a Python UserWarning (with the GIL held), as the CLI prints them.
 inline void warnAll(const std::vector<std::string>& warnings) {
   for (const std::string& w : warnings)

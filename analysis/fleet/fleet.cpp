@@ -49,9 +49,9 @@ std::string robotLabel(const FleetRobotInput& robot) {
          (files.size() > 1 ? " and " + std::to_string(files.size() - 1) + " more" : "") + ")";
 }
 
-/// The robot's logs as one summary (its own, read, or summarized here); nullopt when stopped.
+/// The robot's logs as one summary, read or summarized here (a summary in memory is used where
+/// it is); nullopt when stopped.
 std::optional<Summary> robotSummary(const FleetRequest& request, const FleetRobotInput& robot) {
-  if (robot.summary) return *robot.summary;
   std::vector<Summary> parts;
   std::vector<std::string> names;
   if (!robot.summary_files.empty()) {
@@ -95,10 +95,10 @@ void checkSameRobot(const FleetRequest& request, const BaseParameters& base,
 
 /// The robot's own estimate from its summary, its covariance as the request's policy gives it.
 FleetRobot estimateRobot(const FleetRequest& request, const BaseParameters& base,
-                         const FleetRobotInput& input, Summary summary) {
+                         const FleetRobotInput& input, const Summary& summary) {
   FleetRobot out;
   out.name = input.name;
-  out.sources = std::move(summary.sources);
+  out.sources = summary.sources;
   out.samples = summary.factors.numSamples();
   LeastSquaresStream stream(base, request.model);
   summary.factors.addTo(stream);
@@ -152,13 +152,15 @@ FleetOutcome fleetRun(const FleetRequest& request) {
     const FleetRobotInput& robot = request.robots[i];
     request.control.say("fleet: " + robot.name + " (" + std::to_string(i + 1) + " of " +
                         std::to_string(n) + ")");
-    std::optional<Summary> summary = robotSummary(request, robot);
-    if (!summary || request.control.check()) {
+    std::optional<Summary> read;
+    if (!robot.summary) read = robotSummary(request, robot);
+    if ((!robot.summary && !read) || request.control.check()) {
       out.interrupted = true;
       break;
     }
-    checkSameRobot(request, base, out.base_names, *summary, robot);
-    out.robots.push_back(estimateRobot(request, base, robot, std::move(*summary)));
+    const Summary& summary = robot.summary ? *robot.summary : *read;
+    checkSameRobot(request, base, out.base_names, summary, robot);
+    out.robots.push_back(estimateRobot(request, base, robot, summary));
   }
   if (out.interrupted && out.robots.size() < 3) {
     out.robots.clear();

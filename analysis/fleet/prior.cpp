@@ -48,7 +48,6 @@ void checkMembers(const std::vector<FleetMember>& members, const FleetOptions& o
 struct Round {
   Eigen::VectorXd mean, spread2, precision;  // precision: sum of the weights, per parameter
   Eigen::VectorXd spread2_upper;             // the spread's upper confidence bound (Q-profile)
-  int robots = 0;                            // learnt from
 };
 
 /// The prior learnt from the members marked in `in`.
@@ -58,8 +57,7 @@ Round learn(const std::vector<FleetMember>& members, const std::vector<bool>& in
   for (std::size_t r = 0; r < members.size(); ++r)
     if (in[r]) idx.push_back(static_cast<int>(r));
   const auto m = static_cast<Eigen::Index>(idx.size());
-  Round out{Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p),
-            static_cast<int>(m)};
+  Round out{Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p), Eigen::VectorXd(p)};
   Eigen::VectorXd x(m), v(m);
   for (Eigen::Index k = 0; k < p; ++k) {
     for (Eigen::Index i = 0; i < m; ++i) {
