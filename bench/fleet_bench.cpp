@@ -15,6 +15,9 @@
 //     the parameter error alone over the error with the prior (median over robots and seeds), the
 //     error being the torque it makes on a reference motion (a nominal 60 s log's base regressor
 //     W): |W (beta_hat - beta)| / |W beta|.
+//   - BM_FleetAcceptance/stribeck: the same with a model error every robot shares: each truth also
+//     has Stribeck friction, Fs = half its Fc on every joint, which the identified model (fv, fc,
+//     fo) does not carry (at every stop and reversal).
 // Run: build/bench/bench_fleet [--benchmark_filter=...]; DYNID_FLEET_SEEDS (default 20) seeds.
 #include <algorithm>
 #include <cmath>
@@ -99,7 +102,7 @@ double torqueError(const Eigen::MatrixXd& wtw, const Eigen::VectorXd& est,
   return std::sqrt(e.dot(wtw * e) / truth.dot(wtw * truth));
 }
 
-void BM_FleetAcceptance(benchmark::State& state) {
+void BM_FleetAcceptance(benchmark::State& state, bool stribeck) {
   const int seeds =
       std::getenv("DYNID_FLEET_SEEDS") ? std::atoi(std::getenv("DYNID_FLEET_SEEDS")) : 20;
   const Model nominal = nominalPanda();
@@ -119,14 +122,20 @@ void BM_FleetAcceptance(benchmark::State& state) {
       std::vector<Eigen::VectorXd> truths;
       for (int robot = 0; robot < kRobots; ++robot) {
         const Model truth = fleetRobot(nominal, robot, rng);
+        Eigen::VectorXd fs(truth.numJoints());
+        const int per = truth.parameterLayout().perLink();
+        const int fc =
+            kLinkParameterCount + truth.driveTerms().column(static_cast<int>(DriveTerm::kCoulomb));
+        for (int j = 0; j < truth.numJoints(); ++j)
+          fs[j] = 0.5 * truth.standardParameters()[j * per + fc];
         truths.push_back(base.project(truth.standardParameters()));
         const bool short_one = robot >= kShortFirst && robot <= kShortLast;
         std::vector<Summary> logs;
         for (int l = 0; l < (short_one ? 1 : 10); ++l)
           logs.push_back(summarize(
-              nominal,
-              test::fleetLog(truth, short_one ? 10.0 : 60.0,
-                             static_cast<std::uint64_t>(seed * 100000 + robot * 100 + l), kRate)));
+              nominal, test::fleetLog(truth, short_one ? 10.0 : 60.0,
+                                      static_cast<std::uint64_t>(seed * 100000 + robot * 100 + l),
+                                      kRate, 0.1, 1e-3, stribeck ? &fs : nullptr)));
         std::vector<const Summary*> all;
         for (const Summary& s : logs) all.push_back(&s);
         summaries.push_back(mergeSummaries(all, {}));
@@ -170,7 +179,10 @@ void BM_FleetAcceptance(benchmark::State& state) {
   state.counters["short_gain_median"] = gains[gains.size() / 2];
   state.counters["short_gain_min"] = gains.front();
 }
-BENCHMARK(BM_FleetAcceptance)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK_CAPTURE(BM_FleetAcceptance, model_as_identified, false)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_FleetAcceptance, stribeck, true)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace dynid

@@ -3,6 +3,7 @@
 // reference itself), with noise on the torques and the velocities.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 
@@ -17,9 +18,12 @@ namespace dynid::test {
 
 /// A log of `truth` at `rate` Hz: a seeded Fourier motion (0.1 Hz, 5 harmonics, 0.7 rad about the
 /// middle of the limits) with stops (4 s moves, 2 s holds, 0.5 s ramps), its torques from the
-/// regressor; Gaussian noise of `noise_tau` on tau and `noise_dq` on dq.
+/// regressor; Gaussian noise of `noise_tau` on tau and `noise_dq` on dq. With `stribeck` (per
+/// joint Fs), a Stribeck torque Fs sign(dq) exp(-(dq / 0.05)^2) on top, which a model without
+/// that drive term does not carry (a model error at every stop and reversal).
 inline Trajectory fleetLog(const Model& truth, double seconds, std::uint64_t seed, double rate,
-                           double noise_tau = 0.1, double noise_dq = 1e-3) {
+                           double noise_tau = 0.1, double noise_dq = 1e-3,
+                           const Eigen::VectorXd* stribeck = nullptr) {
   const int n = truth.numJoints();
   const FourierSeries f =
       randomFourier(defaultCentre(truth), Eigen::VectorXd::Constant(n, 0.7), 0.1, 5, seed);
@@ -45,6 +49,10 @@ inline Trajectory fleetLog(const Model& truth, double seconds, std::uint64_t see
     out.dq.col(k) = dq;
     out.ddq.col(k) = ddq;
     out.tau.col(k) = jointTorqueRegressor(truth, data, q, dq, ddq) * theta;
+    if (stribeck)
+      for (int j = 0; j < n; ++j)
+        out.tau(j, k) += (*stribeck)[j] * ((dq[j] > 0.0) - (dq[j] < 0.0)) *
+                         std::exp(-(dq[j] / 0.05) * (dq[j] / 0.05));
     for (int j = 0; j < n; ++j) {
       out.tau(j, k) += noise_tau * noise(rng);
       out.dq(j, k) += noise_dq * noise(rng);
