@@ -251,6 +251,47 @@ void BM_RegressorOnly(benchmark::State& state) {
 }
 BENCHMARK(BM_RegressorOnly)->Arg(100000)->ArgName("samples")->Unit(benchmark::kMillisecond);
 
+// Merging two summaries of over half kMaxSummaryBatches batches each (a 20 s PUMA log's with drive
+// terms, merged with itself): the batches appended and neighbours joined back below
+// kMaxSummaryBatches, as a merge tree's upper levels do for every merge.
+void BM_SummaryMerge(benchmark::State& state) {
+  const Model model = makePuma560(true);
+  const Trajectory dataset = pumaDataset(model, 20.0);
+  const BaseParameters base = structuralBaseParameters(model);
+  SummaryBuilder builder(base, model);
+  builder.addTrajectory(model, dataset);
+  LeastSquaresSummary full = builder.finish();
+  while (2 * static_cast<int>(full.batches().size()) <= kMaxSummaryBatches) full.merge(full);
+  for (auto _ : state) {
+    LeastSquaresSummary merged = full;
+    merged.merge(full);
+    benchmark::DoNotOptimize(merged.batches().data());
+  }
+}
+BENCHMARK(BM_SummaryMerge)->Unit(benchmark::kMillisecond);
+
+// The join of two batches' factors of one joint (n x n upper triangular, n the support and the
+// torque column): the dense reduction of their 2n rows (TallQr, the merge's kernel before) and
+// the triangular one (stackedTriangularFactor).
+void BM_FactorJoin(benchmark::State& state) {
+  const Eigen::Index n = state.range(0);
+  TallQr x(n), y(n);
+  x.add(Eigen::MatrixXd::Random(4 * n, n));
+  y.add(Eigen::MatrixXd::Random(4 * n, n));
+  const Eigen::MatrixXd a = x.r(), b = y.r();
+  for (auto _ : state) {
+    if (state.range(1) == 0) {
+      TallQr qr(n, 2 * n);
+      qr.add(a);
+      qr.add(b);
+      benchmark::DoNotOptimize(qr.r().data());
+    } else {
+      benchmark::DoNotOptimize(stackedTriangularFactor(a, b).data());
+    }
+  }
+}
+BENCHMARK(BM_FactorJoin)->ArgsProduct({{20, 65}, {0, 1}})->ArgNames({"n", "triangular"});
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "core/errors.hpp"
 
@@ -301,6 +302,38 @@ Eigen::MatrixXd TallQr::r() {
   for (Eigen::Index i = 0; i < cols_; ++i)
     out.row(i) = Eigen::Map<const Eigen::RowVectorXd>(r_.data() + i * stride_, cols_);
   return out.triangularView<Eigen::Upper>();
+}
+
+Eigen::MatrixXd stackedTriangularFactor(const Eigen::Ref<const Eigen::MatrixXd>& a,
+                                        const Eigen::Ref<const Eigen::MatrixXd>& b) {
+  const Eigen::Index n = a.cols();
+  if (a.rows() != n || b.rows() != n || b.cols() != n)
+    throw InputError("stacked triangular factors must be square and of one size (" +
+                     std::to_string(a.rows()) + "x" + std::to_string(n) + " and " +
+                     std::to_string(b.rows()) + "x" + std::to_string(b.cols()) + ")");
+  Eigen::MatrixXd r = a.triangularView<Eigen::Upper>();
+  Eigen::MatrixXd t = b.triangularView<Eigen::Upper>();  // column k: rows 0..k only, ever
+  Eigen::VectorXd v(n);
+  Eigen::RowVectorXd w(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    // Column k's entries to annihilate: T(0..k, k); the reflector maps (R_kk, them) to (beta, 0).
+    const Eigen::Index m = k + 1;
+    double diagonal = r(k, k);
+    const double tau = reflector(&diagonal, 0, t.col(k).data(), 1, m, v.data());
+    if (tau == 0.0) continue;
+    r(k, k) = diagonal;
+    t.col(k).head(m).setZero();
+    const Eigen::Index rest = n - k - 1;
+    if (rest == 0) continue;
+    // [R(k, k+1:); T(0..k, k+1:)] -= tau [1; v] ([1; v]^T [R(k, k+1:); T(0..k, k+1:)]).
+    auto tail = t.block(0, k + 1, m, rest);
+    w.head(rest).noalias() = v.head(m).transpose() * tail;
+    w.head(rest) += r.row(k).tail(rest);
+    w.head(rest) *= tau;
+    r.row(k).tail(rest) -= w.head(rest);
+    tail.noalias() -= v.head(m) * w.head(rest);
+  }
+  return r;
 }
 
 }  // namespace dynid

@@ -174,5 +174,48 @@ TEST(TallQr, SameBitsForAnyHandingOver) {
   EXPECT_THROW(small.commitRows(-1), InputError);
 }
 
+TEST(StackedTriangularFactor, IsTheFactorOfBothFactorsRows) {
+  // Graded columns (condition ~1e6) and a zero column in both: R^T R = A^T A + B^T B to
+  // round-off, and the zero column stays exactly zero.
+  for (Eigen::Index n : {1, 2, 7, 40, 65}) {
+    Eigen::MatrixXd X = Eigen::MatrixXd::Random(3 * n + 5, n),
+                    Y = Eigen::MatrixXd::Random(n + 9, n);
+    for (Eigen::Index c = 0; c < n; ++c) {
+      const double scale = std::pow(10.0, -6.0 * c / std::max<Eigen::Index>(n - 1, 1));
+      X.col(c) *= scale;
+      Y.col(c) *= scale;
+    }
+    if (n > 2) X.col(1).setZero(), Y.col(1).setZero();
+    TallQr x(n), y(n), both(n);
+    x.add(X);
+    y.add(Y);
+    both.add(X);
+    both.add(Y);
+    const Eigen::MatrixXd A = x.r(), B = y.r(), R = stackedTriangularFactor(A, B);
+    EXPECT_TRUE(R.isUpperTriangular(0.0)) << n;
+    const Eigen::MatrixXd gram = X.transpose() * X + Y.transpose() * Y;
+    EXPECT_LT((R.transpose() * R - gram).norm(), kTolerance * gram.norm()) << n;
+    // The same triangle as the dense reduction of every row, up to the rows' signs; the pivots to
+    // the accuracy the grading leaves (column n-1 is 1e-6 of column 0).
+    const Eigen::MatrixXd dense = both.r();
+    EXPECT_LT((R.diagonal().cwiseAbs() - dense.diagonal().cwiseAbs())
+                  .cwiseQuotient(dense.diagonal().cwiseAbs().cwiseMax(1e-300))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              1e-8)
+        << n;
+    if (n > 2) {
+      EXPECT_EQ(R.col(1).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ(R.row(1).cwiseAbs().maxCoeff(), 0.0);
+    }
+    EXPECT_EQ(R, stackedTriangularFactor(A, B));  // the same bits again
+  }
+  // A factor with nothing to add (B zero) is A itself.
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(6, 6).triangularView<Eigen::Upper>();
+  EXPECT_EQ(stackedTriangularFactor(A, Eigen::MatrixXd::Zero(6, 6)), A);
+  EXPECT_THROW(stackedTriangularFactor(A, Eigen::MatrixXd::Zero(5, 5)), InputError);
+  EXPECT_THROW(stackedTriangularFactor(Eigen::MatrixXd::Zero(6, 5), A), InputError);
+}
+
 }  // namespace
 }  // namespace dynid
