@@ -14,20 +14,12 @@ namespace dynid {
 
 namespace {
 
-/// The factor of two factors' rows stacked.
-Eigen::MatrixXd stackedFactor(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-  TallQr qr(a.cols(), a.rows() + b.rows());
-  qr.add(a);
-  qr.add(b);
-  return qr.r();
-}
-
 LeastSquaresSummary::Batch joinedBatch(const LeastSquaresSummary::Batch& a,
                                        const LeastSquaresSummary::Batch& b) {
   LeastSquaresSummary::Batch out;
   out.samples = a.samples + b.samples;
   for (std::size_t j = 0; j < a.factors.size(); ++j)
-    out.factors.push_back(stackedFactor(a.factors[j], b.factors[j]));
+    out.factors.push_back(stackedTriangularFactor(a.factors[j], b.factors[j]));
   return out;
 }
 
@@ -91,6 +83,7 @@ LeastSquaresSummary::LeastSquaresSummary(int num_base, std::vector<std::vector<i
 }
 
 void LeastSquaresSummary::joinBatchesBeyond(int most) {
+  if (most < 1) throw InputError("a summary keeps at least one batch, not " + std::to_string(most));
   while (static_cast<int>(batches_.size()) > most) {
     std::vector<Batch> joined;
     for (std::size_t i = 0; i < batches_.size(); i += 2)
@@ -101,6 +94,11 @@ void LeastSquaresSummary::joinBatchesBeyond(int most) {
 }
 
 void LeastSquaresSummary::merge(const LeastSquaresSummary& other) {
+  if (&other == this) {  // its batches appended to themselves: from a copy
+    const LeastSquaresSummary copy = other;
+    merge(copy);
+    return;
+  }
   if (support_.empty()) {  // an empty summary takes the other's layout
     *this = other;
     return;

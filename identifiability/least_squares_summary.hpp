@@ -64,8 +64,15 @@ class LeastSquaresSummary {
                       Eigen::VectorXd tau_squared, double max_abs_tau);
 
   /// Adds the batches of `other`, a summary of the same base parameters and supports (InputError
-  /// otherwise), after this one's; beyond kMaxSummaryBatches neighbours are joined.
+  /// otherwise), after this one's; beyond kMaxSummaryBatches neighbours are joined. `other` may be
+  /// this summary (its rows then counted twice).
   void merge(const LeastSquaresSummary& other);
+
+  /// Joins neighbouring batches (0 and 1, 2 and 3, ...) while there are more than `most` (>= 1;
+  /// InputError otherwise): a summary that will be merged with others can have the joins a merge
+  /// would make beyond kMaxSummaryBatches made beforehand (a Dask task's, in parallel, instead of
+  /// at the top of the merge tree).
+  void joinBatchesBeyond(int most);
 
   /// Adds every row of the summary to `stream` (LeastSquaresStream::addFactors), of the same base
   /// parameters and supports (InputError otherwise).
@@ -91,8 +98,6 @@ class LeastSquaresSummary {
 
  private:
   friend class SummaryBuilder;
-  /// Joins neighbouring batches (0 and 1, 2 and 3, ...) while there are more than `most`.
-  void joinBatchesBeyond(int most);
 
   int b_ = 0;
   std::vector<std::vector<int>> support_;

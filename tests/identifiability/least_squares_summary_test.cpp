@@ -126,6 +126,25 @@ TEST(LeastSquaresSummary, KeepsItsBatchesBoundedWhateverTheLength) {
   const BaseEstimate a = estimateOf(puma, base, one, LeastSquaresMethod::kOrdinary);
   const BaseEstimate b = estimateOf(puma, base, many, LeastSquaresMethod::kOrdinary);
   EXPECT_LT((a.beta - b.beta).norm(), 1e-10 * a.beta.norm());  // round-off of a stacked QR
+  // Joined beforehand to a share of the batches (a Dask task's): halved while above it, the
+  // samples all kept, the same estimate; merged then, nothing more is joined.
+  LeastSquaresSummary share = one;
+  share.joinBatchesBeyond(kMaxSummaryBatches / 12);
+  EXPECT_LE(static_cast<int>(share.batches().size()), kMaxSummaryBatches / 12);
+  EXPECT_GT(static_cast<int>(share.batches().size()), kMaxSummaryBatches / 24);
+  EXPECT_EQ(share.numSamples(), one.numSamples());
+  const BaseEstimate c = estimateOf(puma, base, share, LeastSquaresMethod::kOrdinary);
+  EXPECT_LT((a.beta - c.beta).norm(), 1e-10 * a.beta.norm());  // as above
+  LeastSquaresSummary appended;
+  for (int i = 0; i < 12; ++i) appended.merge(share);
+  EXPECT_EQ(appended.batches().size(), 12 * share.batches().size());
+  EXPECT_THROW(share.joinBatchesBeyond(0), InputError);
+  // Merged with itself: its rows twice (its own batches read before they are appended to).
+  LeastSquaresSummary twice = share;
+  twice.merge(twice);
+  EXPECT_EQ(twice.numSamples(), 2 * share.numSamples());
+  EXPECT_EQ(twice.batches().size(), 2 * share.batches().size());
+  EXPECT_EQ(twice.batches().back().factors, share.batches().back().factors);
 }
 
 TEST(LeastSquaresSummary, RefusesToMergeAnotherLayoutAndReadsOnlyConsistentParts) {
