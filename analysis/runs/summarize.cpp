@@ -1,5 +1,7 @@
 #include "analysis/runs/summarize.hpp"
 
+#include <algorithm>
+#include <memory>
 #include <optional>
 
 #include "analysis/estimation/streaming.hpp"
@@ -26,17 +28,26 @@ std::vector<std::string> baseNames(const BaseParameters& base) {
 std::optional<Summary> summarizeOne(const SummarizeRequest& request, const BaseParameters& base,
                                     const std::string& file, const Trajectory* data,
                                     ThreadPool& pool) {
+  DatasetHead head;  // the file read once where the training set allows
+  head.pool = &pool;
   const TrainingSet training =
-      trainingSetOf(request.model, file, data, request.rest_velocity, request.torque_filter);
+      trainingSetOf(request.model, file, data, request.rest_velocity, request.torque_filter, &head);
   const Model& model = training.model;
   SummaryBuilder builder(base, model);
   try {
     if (data) {
       builder.addTrajectory(model, *data, &pool, &training.rows);
     } else {
-      DatasetReader reader(file, model.numJoints());
+      for (Trajectory& chunk : head.chunks) {
+        if (request.control.check()) return std::nullopt;
+        builder.addTrajectory(model, chunk, &pool, &training.rows);
+        chunk = Trajectory();
+      }
+      std::unique_ptr<DatasetReader> reader =
+          head.reader ? std::move(head.reader)
+                      : std::make_unique<DatasetReader>(file, model.numJoints());
       Trajectory chunk;
-      while (reader.read(chunk, kStreamChunkSamples, &pool) > 0) {
+      while (reader->read(chunk, kStreamChunkSamples, &pool) > 0) {
         if (request.control.check()) return std::nullopt;
         builder.addTrajectory(model, chunk, &pool, &training.rows);
       }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "analysis/estimation/streaming.hpp"
 #include "analysis/runs/arm.hpp"
 #include "core/drive_terms.hpp"
 #include "core/errors.hpp"
@@ -21,6 +22,40 @@ Trajectory velocitiesFor(const std::string& file, const Trajectory* data, int n,
   out.q.resize(n, 0);
   out.ddq.resize(n, 0);
   out.tau.resize(n, 0);
+  return out;
+}
+
+/// Reads the file's first kRestSamples samples for their stamps and velocities (returned; q, ddq
+/// and tau with no samples), what the rest velocities are measured on. When the file ends within
+/// kWholeHeadSamples, its samples are kept whole in `head` with the reader (at the end); otherwise
+/// `head` keeps nothing and the stream reads the file again.
+Trajectory readHead(const std::string& file, int joints, DatasetHead& head) {
+  head.reader = std::make_unique<DatasetReader>(file, joints);
+  // Room for every sample (a shorter file's never touched), shrunk after.
+  Trajectory out;
+  out.time.resize(kRestSamples);
+  out.dq.resize(joints, kRestSamples);
+  int count = 0;
+  for (Trajectory chunk; count < kRestSamples;) {
+    const int got =
+        head.reader->read(chunk, std::min(kStreamChunkSamples, kRestSamples - count), head.pool);
+    if (got == 0) break;
+    out.time.segment(count, got) = chunk.time;
+    out.dq.middleCols(count, got) = chunk.dq;
+    count += got;
+    if (count <= kWholeHeadSamples) {
+      head.chunks.push_back(std::move(chunk));
+    } else if (!head.chunks.empty()) {
+      head.chunks.clear();
+      head.chunks.shrink_to_fit();
+    }
+  }
+  if (count > kWholeHeadSamples) head.reader.reset();
+  out.time.conservativeResize(count);
+  out.dq.conservativeResize(joints, count);
+  out.q.resize(joints, 0);
+  out.ddq.resize(joints, 0);
+  out.tau.resize(joints, 0);
   return out;
 }
 
@@ -56,13 +91,15 @@ bool needsSign(const Model& model) {
 
 TrainingSet trainingSetOf(const Model& model, const std::string& file, const Trajectory* data,
                           const std::vector<double>& rest_velocity,
-                          const TorqueFilterChoice& choice) {
+                          const TorqueFilterChoice& choice, DatasetHead* head) {
   TrainingSet out(model);
   if (!data) out.preparation = findPreparation(file);
   out.torque_filter = torqueFilterFor(choice, data, out.preparation, out.torque_filter_source);
   const bool filtered = out.torque_filter.active() && needsSign(model);
   {
-    const Trajectory velocities = velocitiesFor(file, data, model.numJoints(), filtered);
+    const bool once = head != nullptr && data == nullptr && !filtered;
+    const Trajectory velocities = once ? readHead(file, model.numJoints(), *head)
+                                       : velocitiesFor(file, data, model.numJoints(), filtered);
     out.rest = restOf(rest_velocity, velocities);
     out.model.rest_velocities = restThresholds(out.rest);
     try {

@@ -6,10 +6,16 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
+#include <random>
 
+#include "analysis/runs/arm.hpp"
+#include "analysis/runs/training.hpp"
 #include "core/errors.hpp"
+#include "core/rnea.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/panda.hpp"
+#include "data/puma560.hpp"
 #include "tests/common/puma_runs.hpp"
 #include "tests/common/trajectories.hpp"
 
@@ -183,6 +189,67 @@ TEST(SummarizeRun, StoppedItKeepsTheLogsReadWhole) {
   ASSERT_EQ(outcome.summaries.size(), 1u);
   EXPECT_EQ(outcome.summaries.front().sources.front().file, logs.files[0]);
   EXPECT_THROW(summarizeRun(SummarizeRequest{}), InputError);  // no data
+}
+
+/// `count` samples of the PUMA (with drive terms) on slow sines at 1 kHz, its rigid-body torque
+/// with noise: a long log without simulating it.
+Trajectory pumaSines(const Model& model, int count) {
+  Trajectory data;
+  data.time = Eigen::VectorXd::LinSpaced(count, 0.0, (count - 1) * 1e-3);
+  for (Eigen::MatrixXd* m : {&data.q, &data.dq, &data.ddq, &data.tau}) m->resize(6, count);
+  Data workspace(model);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (int k = 0; k < count; ++k) {
+    for (int j = 0; j < 6; ++j) {
+      const double w = 0.3 + 0.17 * j, t = data.time[k];
+      data.q(j, k) = 0.8 * std::sin(w * t + j);
+      data.dq(j, k) = 0.8 * w * std::cos(w * t + j);
+      data.ddq(j, k) = -0.8 * w * w * std::sin(w * t + j);
+    }
+    data.tau.col(k) = rnea(model, workspace, data.q.col(k), data.dq.col(k), data.ddq.col(k));
+    for (int j = 0; j < 6; ++j) data.tau(j, k) += noise(rng);
+  }
+  return data;
+}
+
+// A log read once (at most kWholeHeadSamples: its samples kept from the rest velocities' read for
+// the stream) and one longer than the rest velocities' measure (kRestSamples: read again, its head
+// not kept): each summary is the same bits as the summary of the same samples handed over in
+// memory (the builder takes them in any chunks), and gives identify's estimate on the file.
+TEST(SummarizeRun, ALogIsSummarizedAsItsSamplesInMemoryShortOrLong) {
+  const Model model = makePuma560(true);
+  for (const int count : {kWholeHeadSamples, kRestSamples + 3000}) {
+    const Trajectory data = pumaSines(model, count);
+    const std::string file = written(data, "summarize_long.csv");
+    SummarizeRequest request;
+    request.model = model;
+    request.data_files = {file};
+    const Summary from_file = summarizeRun(request).summaries.front();
+    request.data_files.clear();
+    request.data = &data;
+    const Summary in_memory = summarizeRun(request).summaries.front();
+    EXPECT_EQ(from_file.factors.numSamples(), count);
+    ASSERT_EQ(from_file.factors.batches().size(), in_memory.factors.batches().size()) << count;
+    for (std::size_t b = 0; b < in_memory.factors.batches().size(); ++b)
+      for (std::size_t j = 0; j < 6; ++j)
+        ASSERT_EQ(from_file.factors.batches()[b].factors[j],
+                  in_memory.factors.batches()[b].factors[j])
+            << count << " samples, batch " << b << " joint " << j;
+    EXPECT_EQ(from_file.sources.front().rest_velocity, in_memory.sources.front().rest_velocity);
+    IdentifyRequest whole;
+    whole.model = model;
+    whole.data_file = file;
+    const IdentifyOutcome reference = identifyRun(whole);
+    IdentifyRequest from_summary = whole;
+    from_summary.data_file.clear();
+    from_summary.summary = &from_file;
+    from_summary.summary_name = "long";
+    const Eigen::VectorXd& want = reference.result.estimate.beta;
+    // 1e-10 relative, the bound: the same rows' QR, folded batch by batch.
+    EXPECT_LT((identifyRun(from_summary).result.estimate.beta - want).norm(), 1e-10 * want.norm())
+        << count;
+  }
 }
 
 }  // namespace
