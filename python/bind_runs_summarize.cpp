@@ -1,5 +1,6 @@
 // The runs wing's summarize room (analysis/runs/summarize.hpp): summarize() and the Summary it
 // returns (mergeable with +, picklable through its summary.json, what identify() takes as data).
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -90,6 +91,17 @@ void bindSummary(py::module_& m) {
       .def_property_readonly(
           "num_batches", [](const SummaryResult& r) { return r.summary.factors.batches().size(); },
           "Its batches of consecutive samples (the covariance's).")
+      .def(
+          "_join_for",
+          [](SummaryResult& r, int shares) {
+            if (shares < 1) throw py::value_error("shares must be >= 1");
+            py::gil_scoped_release release;
+            r.summary.factors.joinBatchesBeyond(std::max(1, kMaxSummaryBatches / shares));
+          },
+          py::arg("shares"),
+          "In place: neighbouring batches joined while there are more than kMaxSummaryBatches / "
+          "`shares` (the Dask layer's tasks, whose `shares` summaries a merge tree then appends "
+          "without joining).")
       .def_property_readonly(
           "sources", [](const SummaryResult& r) { return sourcesOf(r.summary); },
           "The logs it holds, as dicts of file, sha256, samples, rest_velocity and torque_filter.")

@@ -31,10 +31,12 @@ def _tree(items, merge):
     return items[0] if items else None
 
 
-def _summarize_group(model, logs, rest_velocity, torque_filter, robot_spec):
+def _summarize_group(model, logs, rest_velocity, torque_filter, robot_spec, shares):
     """A task: its logs' summaries merged pairwise, and the errors of those that could not be
     summarized (as text: a task that raised would be retried as if its worker had died, and the
-    message is what the user needs)."""
+    message is what the user needs). Its summary keeps at most a `shares`-th of the batches a
+    summary keeps (neighbours joined here, in parallel with the other tasks), so that the merge
+    tree above only appends them: its top, which runs when every task is done, joins nothing."""
     parts, failed = [], {}
     for log in logs:
         try:
@@ -43,7 +45,10 @@ def _summarize_group(model, logs, rest_velocity, torque_filter, robot_spec):
                                          robot_spec=robot_spec))
         except Exception as e:  # noqa: BLE001 - every refusal is the log's, named in `failed`
             failed[log] = f"{type(e).__name__}: {e}"
-    return _tree(parts, _merge), failed
+    summary = _tree(parts, _merge)
+    if summary is not None:
+        summary._join_for(shares)
+    return summary, failed
 
 
 def _merge(a, b):
@@ -57,20 +62,26 @@ def _merge_outcomes(a, b):
     return _merge(a[0], b[0]), {**a[1], **b[1]}
 
 
-def _local_client():
+def _local_client(workers=None, processes=False):
+    """dynid's default local cluster: `workers` single-threaded workers (None: one per core), as
+    threads of this process unless `processes`; returns (client, cluster)."""
     try:
+        import dask
         from distributed import Client, LocalCluster
     except ImportError as e:  # pragma: no cover - the installer provides it
         raise ImportError("summarize_many runs on Dask: install Debian's python3-distributed "
                           "(scripts/install-deps.sh does), or pass client=") from e
     # Workers as threads of this process: dynid releases the GIL while it computes, so they run
     # in parallel, and summaries pass between them without pickling (bench/dask_summarize.py: two
-    # workers 1.69-1.80 times one on two cores, against 1.2 for worker processes, which Dask's
+    # workers 1.7-1.9 times one on two cores, against 1.2 for worker processes, which Dask's
     # nannies also start with MALLOC_TRIM_THRESHOLD_=65536, under which dynid's allocations cost
     # 30 % more). A crash takes this process with it: pass a client of worker processes to
-    # isolate them.
-    cluster = LocalCluster(n_workers=os.cpu_count() or 1, threads_per_worker=1, processes=False,
-                           dashboard_address=None)
+    # isolate them. A worker is sent a task when it has none left (worker-saturation 1.0, the
+    # scheduler's default holding one more): a task of a few seconds queued behind another while
+    # a worker idles waits for Dask's work stealing (~0.1 s, seen at the end of a run).
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1,
+                               processes=processes, dashboard_address=None)
     return Client(cluster), cluster
 
 
@@ -96,7 +107,8 @@ def _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retri
     failed) comes back, so the client holds one summary. None for no logs."""
     groups = [logs[i:i + logs_per_task] for i in range(0, len(logs), logs_per_task)]
     tasks = [client.submit(_summarize_group, model, group, rest_velocity, torque_filter,
-                           robot_spec, pure=False, retries=retries) for group in groups]
+                           robot_spec, len(groups), pure=False, retries=retries)
+             for group in groups]
     return _tree(tasks, lambda a, b: client.submit(_merge_outcomes, a, b, pure=False,
                                                    retries=retries))
 
@@ -104,11 +116,13 @@ def _submit(client, model, logs, rest_velocity, torque_filter, robot_spec, retri
 def summarize_many(model, logs, client=None, rest_velocity=None, torque_filter="auto",
                    robot_spec="", retries=2, logs_per_task=4):
     """The least-squares summary of many logs on a Dask cluster: a task per `logs_per_task`
-    consecutive logs (dynid.summarize on a worker, one thread, merged pairwise there), then the
-    tasks' summaries merged pairwise as a tree on the workers. With `logs_per_task` a power of two
-    the tree is the logs' own pairwise tree, (0 1) (2 3) ..., whatever the cluster: the same bits
-    however many workers ran the tasks, in whatever order, and after a worker died and its tasks
-    ran again (`retries` times at most). `client`: a distributed.Client (any cluster: local,
+    consecutive logs (dynid.summarize on a worker, one thread, merged pairwise there, its batches
+    joined down to its share of the 256 a summary keeps), then the tasks' summaries merged
+    pairwise as a tree on the workers. The tasks and the tree follow from the logs' order alone:
+    the same bits however many workers ran the tasks, in whatever order, and after a worker died
+    and its tasks ran again (`retries` times at most); where no batch needs joining, with
+    `logs_per_task` a power of two, the same bits as the logs' own pairwise tree, (0 1) (2 3) ...,
+    merged with + in one process. `client`: a distributed.Client (any cluster: local,
     Slurm through dask-jobqueue, ...); None starts a local cluster of one worker thread per core
     and closes it after. Returns SummarizeMany(summary, summarized, failed): a log that
     cannot be summarized is named with its error in `failed` and left out; the rest go on."""

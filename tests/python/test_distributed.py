@@ -96,6 +96,20 @@ def test_a_worker_killed_mid_run_changes_nothing(logs, client):
     assert np.array_equal(e_cluster.beta, e_here.beta)
 
 
+def test_the_tasks_join_their_batches_and_the_tree_only_appends(logs, client):
+    paths, _ = logs
+    model = dynid.load_model("puma560", drives=True)
+    many = paths * 8  # 64 logs of 8 batches, a task each: each keeps 256 / 64 = 4 batches
+    done = dynid.summarize_many(model, many, client=client, logs_per_task=1)
+    here = serial(model, many)  # 512 batches merged here, joined to 256 at the top
+    assert done.summary.num_batches == 256 == here.num_batches
+    assert done.summary.samples == here.samples
+    e_cluster = dynid.identify(model, done.summary, method="ols")
+    e_here = dynid.identify(model, here, method="ols")
+    # The same rows' QR, joined in the tasks rather than at the top: round-off apart.
+    assert np.linalg.norm(e_cluster.beta - e_here.beta) < 1e-12 * np.linalg.norm(e_here.beta)
+
+
 def test_a_batch_on_the_cluster_is_the_clis_and_resumes(tmp_path, client):
     manifest = tmp_path / "manifest.json"
     manifest.write_text('{"schema_version": 1, "grid": {"method": ["ols", "wls"], "seed": [1, 2]},'
