@@ -75,7 +75,7 @@ class TallQr {
 /// The triangular factor of two triangular factors' rows stacked: R (n x n, upper triangular) with
 /// R^T R = A^T A + B^T B, A and B upper triangular and n x n (InputError otherwise), by Householder
 /// reflections that visit only the triangles (LAPACK's triangular-pentagonal QR, tpqrt, with B
-/// triangular): (2/3) n^3 flops, a sixth of reducing the 2n stacked rows as dense ones. A column
+/// triangular): (2/3) n^3 flops, a fifth of reducing the 2n stacked rows as dense ones. A column
 /// zero in both stays exactly zero; the same bits for the same inputs.
 Eigen::MatrixXd stackedTriangularFactor(const Eigen::Ref<const Eigen::MatrixXd>& a,
                                         const Eigen::Ref<const Eigen::MatrixXd>& b);
