@@ -82,7 +82,8 @@ LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& ba
 LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& base,
                                      const LeastSquaresSource& source,
                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
-                                     const CombinedOptions& options, CombinedResult* detail) {
+                                     const CombinedOptions& options, CombinedResult* detail,
+                                     const Eigen::VectorXd* start_theta) {
   if (!pc.pc || !pc.pc->problem || !pc.pc->usable)
     throw InputError("the combined estimator starts from a usable physically consistent estimate");
   const PhysicalEstimate& start = *pc.pc;
@@ -92,8 +93,8 @@ LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& b
   torque.derivatives = [problem](const Eigen::VectorXd& theta, Eigen::VectorXd* g,
                                  Eigen::MatrixXd* h) { problem->derivatives(theta, g, h); };
   torque.scale = 0.5 * (problem->A * start.theta - problem->b).squaredNorm() + start.unexplained;
-  const CombinedResult result =
-      refineCombined(model, gc, base.coordinates(), torque, start.theta, options);
+  const CombinedResult result = refineCombined(model, gc, base.coordinates(), torque,
+                                               start_theta ? *start_theta : start.theta, options);
   LeastSquaresOutcome out = pc;
   out.standard = result.theta;
   out.estimate.beta = base.project(result.theta);

@@ -69,14 +69,16 @@ LeastSquaresOutcome leastSquaresEstimate(Method method, const BaseParameters& ba
                                          const PhysicalOptions& pc_options = {});
 
 /// The combined estimate (search/refinement/combined.hpp) from a pc outcome (`pc`, with its
-/// PhysicalEstimate): pc's problem is the torque term and its estimate the start. The outcome's
-/// standard vector and base fields are the combined estimate's (residuals from `source`; the
-/// covariance stays pc's, the torques' alone). Throws InputError when `pc` has no physically
-/// consistent estimate, NumericalError when its rollouts diverge.
+/// PhysicalEstimate): pc's problem is the torque term and its estimate the start (or `start`, a
+/// standard vector inside pc's physical set: a front's previous point). The outcome's standard
+/// vector and base fields are the combined estimate's (residuals from `source`; the covariance
+/// stays pc's, the torques' alone). Throws InputError when `pc` has no physically consistent
+/// estimate, NumericalError when its rollouts diverge.
 LeastSquaresOutcome combinedEstimate(const Model& model, const BaseParameters& base,
                                      const LeastSquaresSource& source,
                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
-                                     const CombinedOptions& options, CombinedResult* detail);
+                                     const CombinedOptions& options, CombinedResult* detail,
+                                     const Eigen::VectorXd* start = nullptr);
 
 /// One line on how a combined estimate ended: its termination, both criteria from start to end,
 /// and "no step was taken" when it stayed at pc's estimate.

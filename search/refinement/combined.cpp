@@ -225,11 +225,13 @@ CombinedResult startOfCombined(const Model& structure, const GcProblem& problem,
       !(out.initial_gc > 0.0))
     throw NumericalError("the combined estimator's start predicts no usable motion (GC error " +
                          formatNumber(out.initial_gc, 3, "n/a") + ")");
-  out.gc_scale = 0.5 * out.initial_gc;
+  out.gc_scale = 0.5 * (options.given_gc > 0.0 ? options.given_gc : out.initial_gc);
   out.gc_weight = w;
   if (options.noise_floor && w > 0.0)
-    out.gc_floor =
-        gcNoiseFloor(modelAt(structure, theta0), problem, options.floor_draws, options.num_threads);
+    out.gc_floor = options.given_floor >= 0.0
+                       ? options.given_floor
+                       : gcNoiseFloor(modelAt(structure, theta0), problem, options.floor_draws,
+                                      options.num_threads);
   const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
   current = CombinedValue{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
   current.cost = current.torque + w * gcShape(0.5 * current.gc, floor) / out.gc_scale;
@@ -272,6 +274,11 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
                               const Eigen::VectorXd& theta0, const CombinedOptions& options) {
   const auto t0 = Clock::now();
   checkInputs(structure, problem, base, torque, theta0, options.gc_weight);
+  if (!(options.given_gc >= 0.0) || !std::isfinite(options.given_gc) ||
+      !std::isfinite(options.given_floor))
+    throw InputError(
+        "the given GC normaliser and noise floor must be finite (and the normaliser "
+        ">= 0)");
   if (!std::isfinite(torque.cost(theta0)))
     throw InputError("the combined estimator's start is outside the physical set");
   const RunControl control = options.control.within(options.max_seconds, t0);

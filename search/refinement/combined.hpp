@@ -47,6 +47,12 @@ struct CombinedOptions {
   /// rollouts' input torques are noisy, and a more damped model predicts noisy data better).
   bool noise_floor = true;
   int floor_draws = 8;  // residual sequences per segment for the floor
+  /// The normalisers from elsewhere instead of the start's: G0 as a GC error (> 0; 0: the
+  /// start's) and the noise floor (>= 0; negative: the start's, when noise_floor). A front of
+  /// combined estimates gives every point the first start's, so that a weight means the same at
+  /// every point whichever point it starts from.
+  double given_gc = 0.0;
+  double given_floor = -1.0;
   int num_threads = 1;
   RunControl control = {};  // its flag and deadline stop the estimator between rollouts
 };

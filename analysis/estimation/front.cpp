@@ -1,0 +1,50 @@
+#include "analysis/estimation/front.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "core/errors.hpp"
+
+namespace dynid {
+
+std::vector<double> defaultFrontWeights() {
+  return {0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0};
+}
+
+std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& base,
+                                      const LeastSquaresSource& source,
+                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
+                                      const CombinedOptions& options,
+                                      const std::vector<double>& weights) {
+  if (weights.empty()) throw InputError("`front_weights` is empty");
+  for (std::size_t k = 0; k < weights.size(); ++k)
+    if (!(weights[k] > 0.0) || !std::isfinite(weights[k]) ||
+        (k > 0 && weights[k] <= weights[k - 1]))
+      throw InputError("`front_weights` must be finite, > 0 and increasing (entry " +
+                       std::to_string(k + 1) + ")");
+  std::vector<FrontPoint> out;
+  CombinedOptions point = options;
+  for (std::size_t k = 0; k < weights.size(); ++k) {
+    if (k > 0 && options.control.stopped()) break;
+    point.gc_weight = weights[k];
+    FrontPoint p;
+    p.weight = weights[k];
+    try {
+      p.estimate = combinedEstimate(model, base, source, pc, gc, point, &p.detail,
+                                    out.empty() ? nullptr : &out.back().estimate.standard);
+    } catch (const NumericalError&) {
+      if (out.empty()) throw;
+      break;  // the previous point's rollouts held, this start's not: the front ends there
+    }
+    if (out.empty()) {  // pc's normalisers for every later point
+      point.given_gc = p.detail.initial_gc;
+      point.given_floor = options.noise_floor ? p.detail.gc_floor : -1.0;
+    }
+    const bool stopped = options.control.stopped();
+    out.push_back(std::move(p));
+    if (stopped) break;
+  }
+  return out;
+}
+
+}  // namespace dynid

@@ -1,0 +1,40 @@
+// The front of consistent estimates between the best torque fit and the best motion prediction:
+// the combined estimator (search/refinement/combined.hpp) at a sweep of its GC weight w, each
+// point warm-started from the last. Every point minimises
+//     Phi_w(theta) = F(theta) / T0 + w g(G(P theta)) / G0
+// with the normalisers T0, G0 and the noise floor G_f of the pc estimate (the first start), so
+// that a weight means the same at every point whichever point it started from; w = 0 is pc
+// itself. Every point is physically consistent (F is +inf outside the physical set). Along the
+// front the training GC error falls and the torque term rises; which point to use is the
+// held-out data's question (analysis/studies/log_study.hpp). docs/REFINEMENT.md, "The front".
+#pragma once
+
+#include <vector>
+
+#include "analysis/estimation/pipeline.hpp"
+
+namespace dynid {
+
+/// The default sweep: 0.01, 0.03, 0.1, ..., 30, 100 (two points a decade): from a step barely off
+/// pc to past where the GC term rules (w = 1 is the combined estimator's default).
+std::vector<double> defaultFrontWeights();
+
+struct FrontPoint {
+  double weight = 0.0;
+  LeastSquaresOutcome estimate;  // standard: the point's parameters; covariance: pc's
+  CombinedResult detail;         // how it ended, its start and end criteria
+};
+
+/// The front from the pc outcome `pc` (a usable physically consistent estimate): `weights`
+/// ascending and > 0 (InputError otherwise, naming `front_weights`), the combined estimator at
+/// each with `options` (its budgets per point; gc_weight, given_gc and given_floor are set here),
+/// each point from the previous one's estimate (the first from pc's). Stops early, keeping the
+/// points so far, when the options' run control stops (interrupt or the run's deadline); a point
+/// whose start's rollouts diverge ends the sweep there (NumericalError only for the first).
+std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& base,
+                                      const LeastSquaresSource& source,
+                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
+                                      const CombinedOptions& options,
+                                      const std::vector<double>& weights);
+
+}  // namespace dynid

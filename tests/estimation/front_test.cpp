@@ -1,0 +1,98 @@
+// The combined estimator's front: every point physically consistent, each from the last with pc's
+// normalisers, the trade between the criteria along it, and its input checks.
+#include "analysis/estimation/front.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "core/perturb.hpp"
+#include "tests/common/identification.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+/// A noisy PUMA log, pc from a prior 20 % off the truth (as a CAD model is), 12 GC segments.
+struct FrontCase {
+  Model truth = makePuma560();
+  Model prior = perturbedModel(truth, 0.2, 5);
+  Trajectory data = test::pumaTrajectory(truth, 2.0, 0.5, 3);
+  BaseParameters base = test::pumaBase(truth);
+  Observation observation = observationFromTrajectory(truth, data);
+  LeastSquaresSource source;
+  LeastSquaresOutcome pc;
+  GcProblem gc;
+
+  FrontCase() {
+    source.observation = &observation;
+    pc = leastSquaresEstimate(Method::kPc, base, source, prior.standardParameters());
+    SegmentOptions options = normalisedSegments();
+    options.num_segments = 12;
+    gc = makeGcProblem(data, options);
+  }
+};
+
+CombinedOptions sweepOptions() {
+  CombinedOptions options;
+  options.max_seconds = 0.0;  // iterations bound each point: the same on any machine
+  options.max_iterations = 8;
+  options.noise_floor = false;  // the trade itself (this log's GC error is mostly noise)
+  return options;
+}
+
+TEST(CombinedFront, EveryPointIsConsistentAndTradesTorqueFitForMotion) {
+  const FrontCase s;
+  ASSERT_TRUE(s.pc.pc && s.pc.pc->usable);
+  const std::vector<double> weights = {0.1, 1.0, 10.0};
+  const std::vector<FrontPoint> front =
+      combinedFront(s.truth, s.base, s.source, s.pc, s.gc, sweepOptions(), weights);
+  ASSERT_EQ(front.size(), weights.size());
+  const PhysicalProblem& torque = *s.pc.pc->problem;
+  for (std::size_t k = 0; k < front.size(); ++k) {
+    const FrontPoint& p = front[k];
+    EXPECT_EQ(p.weight, weights[k]);
+    // F is finite exactly inside the physical set (every pseudo-inertia positive definite).
+    EXPECT_TRUE(std::isfinite(torque.cost(p.estimate.standard))) << k;
+    // Every point's normaliser is pc's: G0 the first start's GC error / 2.
+    EXPECT_EQ(p.detail.gc_scale, 0.5 * front.front().detail.initial_gc) << k;
+    if (k == 0) continue;
+    // Each point starts where the last ended and only improves its own cost there.
+    const FrontPoint& last = front[k - 1];
+    EXPECT_EQ(p.detail.initial_gc, last.detail.final_gc) << k;
+    EXPECT_LE(p.detail.final_cost, p.detail.initial_cost) << k;
+  }
+  // The first point starts at pc, the minimiser of the torque term; along the front the motion
+  // is predicted better and the torques fitted worse.
+  EXPECT_EQ(front.front().detail.initial_torque, front.front().detail.history.front().torque);
+  EXPECT_LT(front.back().detail.final_gc, front.front().detail.initial_gc);
+  EXPECT_LT(front.back().detail.final_gc, front.front().detail.final_gc);
+  EXPECT_GT(front.back().detail.final_torque, front.front().detail.final_torque);
+  // The first point is the combined estimate from pc at its weight: the same computation.
+  CombinedOptions one = sweepOptions();
+  one.gc_weight = weights[0];
+  CombinedResult detail;
+  const LeastSquaresOutcome direct =
+      combinedEstimate(s.truth, s.base, s.source, s.pc, s.gc, one, &detail);
+  EXPECT_EQ(direct.standard, front.front().estimate.standard);
+}
+
+TEST(CombinedFront, RefusesWeightsThatAreNotASweep) {
+  const FrontCase s;
+  for (const std::vector<double>& weights :
+       {std::vector<double>{}, {0.0, 1.0}, {1.0, 1.0}, {3.0, 1.0}, {1.0, INFINITY}}) {
+    try {
+      combinedFront(s.truth, s.base, s.source, s.pc, s.gc, sweepOptions(), weights);
+      FAIL() << "took " << weights.size() << " weights";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("`front_weights`"), std::string::npos) << e.what();
+    }
+  }
+  CombinedOptions bad = sweepOptions();
+  bad.given_gc = std::nan("");
+  EXPECT_THROW(combinedFront(s.truth, s.base, s.source, s.pc, s.gc, bad, {1.0}), InputError);
+}
+
+}  // namespace
+}  // namespace dynid
