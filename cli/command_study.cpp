@@ -2,6 +2,7 @@
 // (analysis/studies/log_study.hpp), with its report.
 #include <iostream>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/studies/log_study.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -26,6 +27,14 @@ int runStudy(const std::vector<std::string>& args) {
       "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
       "per refinement, and the combined estimator's")(
       "combined-weight", po::value<double>()->default_value(d.combined_weight))(
+      "front", po::bool_switch(),
+      "also sweep the combined estimator's GC weight (0.01 to 100, each point from the last) and "
+      "choose one estimate from every consistent one by --front-tolerance")(
+      "front-weights", po::value<std::string>(),
+      "the front's weights, comma-separated, increasing (implies --front)")(
+      "front-tolerance", po::value<double>()->default_value(d.front_tolerance),
+      "the chosen estimate's held-out torque error is at most this fraction above the best "
+      "physically consistent one's; among those, the least held-out GC error")(
       "raw-gc", po::bool_switch(),
       "GC errors in rad and rad/s (default: each joint's q and dq errors divided by their "
       "spread over the data, so no joint's velocity dominates the ranking)")(
@@ -53,6 +62,11 @@ int runStudy(const std::vector<std::string>& args) {
   request.segments.seed = vm["seed"].as<std::uint64_t>();
   request.segments.normalise = !vm["raw-gc"].as<bool>();
   request.combined_weight = vm["combined-weight"].as<double>();
+  if (vm.count("front-weights"))
+    request.front_weights = parseList(vm["front-weights"].as<std::string>(), "front-weights");
+  else if (vm["front"].as<bool>())
+    request.front_weights = defaultFrontWeights();
+  request.front_tolerance = vm["front-tolerance"].as<double>();
   request.search_seconds = vm["search-seconds"].as<double>();
   request.search_evaluations = vm["search-evaluations"].as<long>();
   if (request.search_seconds == 0.0 && request.search_evaluations == 0)

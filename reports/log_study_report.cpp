@@ -36,6 +36,31 @@ std::string heldOutErrors(const LogStudyRow& r) {
          formatNumber(r.gc_test, 3, "n/a");
 }
 
+/// A row's key, or "the front's point at w = 0.3" for the front's point `index`.
+std::string estimateLabel(const LogStudyOutcome& o, const std::string& key, int index) {
+  if (index < 0) return key;
+  return "the front's point at w = " + formatNumber(o.front[index].weight, 3, "n/a");
+}
+
+const LogStudyRow* choiceRow(const LogStudyOutcome& o, const StudyChoice& c) {
+  if (c.front_index >= 0) return &o.front[c.front_index].row;
+  return find(o, c.key);
+}
+
+/// The study's one recommendation once a front was swept: which estimate, and why.
+std::string choiceSentence(const LogStudyOutcome& o) {
+  const StudyChoice c = studyChoice(o, o.front_tolerance);
+  const LogStudyRow* chosen = choiceRow(o, c);
+  if (chosen == nullptr)
+    return "none: no physically consistent estimate (front included) has finite held-out errors.";
+  return estimateLabel(o, c.key, c.front_index) + " (" + heldOutErrors(*chosen) +
+         "): the least held-out GC error among the physically consistent estimates whose "
+         "held-out torque error is at most " +
+         formatNumber(100.0 * o.front_tolerance, 3, "n/a") + " % above the least of theirs (" +
+         estimateLabel(o, c.best_torque, c.best_front_index) + "'s; bound " +
+         percentText(c.torque_bound) + ").";
+}
+
 /// Rows whose held-out errors coincide (within 0.5 % in both: one point on the log-log figure)
 /// share one point, labelled "nlo = nlo_refined".
 struct FigurePoint {
@@ -86,18 +111,50 @@ std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
 
 }  // namespace
 
+namespace {
+
+nlohmann::json rowJson(const LogStudyRow& r) {
+  return {{"torque_relative_error_train", numberOrNull(r.torque_train)},
+          {"torque_relative_error_test", numberOrNull(r.torque_test)},
+          {"gc_error_train", numberOrNull(r.gc_train)},
+          {"gc_error_test", numberOrNull(r.gc_test)},
+          {"physically_consistent", r.consistent},
+          {"evaluations", r.evaluations},
+          {"seconds", r.seconds},
+          {"note", r.note}};
+}
+
+/// The front's points and the choice: which estimate, by which rule, at which bound.
+nlohmann::json frontJson(const LogStudyOutcome& o) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const FrontRow& f : o.front) {
+    nlohmann::json point = rowJson(f.row);
+    point["weight"] = f.weight;
+    points.push_back(point);
+  }
+  return {{"tolerance", o.front_tolerance}, {"points", points}};
+}
+
+nlohmann::json choiceJson(const LogStudyOutcome& o) {
+  const StudyChoice c = studyChoice(o, o.front_tolerance);
+  return {{"key", c.key.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.key)},
+          {"front_weight", c.front_index >= 0 ? nlohmann::json(o.front[c.front_index].weight)
+                                              : nlohmann::json(nullptr)},
+          {"best_torque",
+           c.best_torque.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.best_torque)},
+          {"torque_bound", c.key.empty() ? nlohmann::json(nullptr) : numberOrNull(c.torque_bound)},
+          {"rule",
+           "the least held-out GC error among the physically consistent estimates whose held-out "
+           "torque error is within (1 + tolerance) of the least of theirs"}};
+}
+
+}  // namespace
+
 nlohmann::json logStudyJson(const LogStudyOutcome& o) {
   nlohmann::json rows = nlohmann::json::object(), order = nlohmann::json::array();
   for (const LogStudyRow& r : o.rows) {
     order.push_back(r.key);
-    rows[r.key] = {{"torque_relative_error_train", numberOrNull(r.torque_train)},
-                   {"torque_relative_error_test", numberOrNull(r.torque_test)},
-                   {"gc_error_train", numberOrNull(r.gc_train)},
-                   {"gc_error_test", numberOrNull(r.gc_test)},
-                   {"physically_consistent", r.consistent},
-                   {"evaluations", r.evaluations},
-                   {"seconds", r.seconds},
-                   {"note", r.note}};
+    rows[r.key] = rowJson(r);
   }
   nlohmann::json out = {{"schema_version", kStudyDocument.schema_version},
                         {"kind", kStudyDocument.kind},
@@ -112,6 +169,8 @@ nlohmann::json logStudyJson(const LogStudyOutcome& o) {
                         {"num_standard", o.num_standard},
                         {"order", order},
                         {"methods", rows},
+                        {"front", frontJson(o)},
+                        {"choice", choiceJson(o)},
                         {"interrupted", o.interrupted},
                         {"seconds", o.seconds}};
   embedModel(out, o.model, o.source);  // the robot studied
@@ -132,11 +191,22 @@ std::string logStudyTable(const LogStudyOutcome& o) {
                   formatNumber(r.seconds, 3, "n/a").c_str());
     out << line;
   }
+  for (const FrontRow& f : o.front) {
+    const LogStudyRow& r = f.row;
+    const std::string key = "front w=" + formatNumber(f.weight, 3, "n/a");
+    std::snprintf(line, sizeof(line), "%-16s %12s %12s %12s %12s %10s %8s\n", key.c_str(),
+                  percentText(r.torque_train).c_str(), percentText(r.torque_test).c_str(),
+                  formatNumber(r.gc_train, 3, "n/a").c_str(),
+                  formatNumber(r.gc_test, 3, "n/a").c_str(), r.consistent ? "yes" : "no",
+                  formatNumber(r.seconds, 3, "n/a").c_str());
+    out << line;
+  }
   return out.str();
 }
 
 std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
   std::vector<std::string> out;
+  if (!o.front.empty()) out.push_back("Chosen: " + choiceSentence(o));
   const StudyVerdict v = studyVerdict(o.rows);
   const auto errors = heldOutErrors;
   const LogStudyRow* sim = find(o, v.simulation);
@@ -207,7 +277,17 @@ std::string shellWord(const std::string& word) {
 /// How to get the recommended estimate: the identify command that repeats the study's method
 /// with its settings (the non-default ones), or what to do for the input model or a search.
 std::string nextStep(const LogStudyOutcome& o, const StudyVerdict& v) {
-  const std::string key = !v.simulation.empty() ? v.simulation : v.control;
+  std::string key = !v.simulation.empty() ? v.simulation : v.control;
+  double combined_weight = o.combined_weight;
+  std::string from_front;
+  if (!o.front.empty()) {  // the chosen estimate; a front's point is combined at its weight
+    const StudyChoice c = studyChoice(o, o.front_tolerance);
+    key = c.front_index >= 0 ? "combined" : c.key;
+    if (c.front_index >= 0) {
+      combined_weight = o.front[c.front_index].weight;
+      from_front = " (from pc, where the front reached it from its previous point)";
+    }
+  }
   if (key.empty()) return "see the comparison below: no physically consistent estimate finished.";
   if (key == "model")
     return "the input model itself is the recommended one: use " + o.robot_spec +
@@ -225,8 +305,8 @@ std::string nextStep(const LogStudyOutcome& o, const StudyVerdict& v) {
   if ((key == "pc" || key == "combined") && o.prior_weight != kDefaultPriorWeight)
     command += " --prior-weight " + formatNumber(o.prior_weight, 17);
   if (key == "combined") {
-    if (o.combined_weight != 1.0)
-      command += " --combined-weight " + formatNumber(o.combined_weight, 17);
+    if (combined_weight != 1.0)
+      command += " --combined-weight " + formatNumber(combined_weight, 17);
     if (o.refine_seconds != 60.0)
       command += " --combined-seconds " + formatNumber(o.refine_seconds, 17);
     if (o.refine_iterations != 50)
@@ -240,7 +320,7 @@ std::string nextStep(const LogStudyOutcome& o, const StudyVerdict& v) {
   const bool urdf = o.robot_spec.size() > 5 && (o.robot_spec.ends_with(".urdf"));
   return "the recommended estimate is " + key + "'s: `" + command +
          (urdf ? " --write-urdf " + key + "/" + "identified.urdf" : std::string()) + "` writes it" +
-         (urdf ? " into a copy of the URDF" : "") +
+         from_front + (urdf ? " into a copy of the URDF" : "") +
          "; check it on another log with dynid predict; the details follow.";
 }
 
@@ -265,6 +345,7 @@ std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyO
       how += (how.empty() ? "" : "; ") + std::string("for control and monitoring ") + c->key +
              " (" + heldOutErrors(*c) + ")";
   }
+  if (!o.front.empty()) lines.emplace_back("Chosen", choiceSentence(o));
   lines.emplace_back("How well", how.empty()
                                      ? "no physically consistent estimate finished: none is "
                                        "recommended (see the comparison)"
@@ -314,6 +395,29 @@ Document logStudyDocument(const LogStudyOutcome& o) {
   for (const LogStudyRow& r : o.rows)
     legend.rows.push_back({r.key, describeKey(r.key) + (r.note.empty() ? "" : "; " + r.note)});
   doc.table(legend);
+  if (!o.front.empty()) {
+    doc.heading("The front");
+    doc.paragraph(
+        "The combined estimator at each GC weight w, each point started from the last, every "
+        "point with pc's normalisers: from the best physically consistent torque fit towards the "
+        "best motion prediction. Every point is physically consistent by construction.");
+    DocumentTable front;
+    front.header = {"w",
+                    "torque error, train",
+                    "torque error, held out",
+                    "GC train",
+                    "GC held out",
+                    "physically consistent",
+                    "iterations",
+                    "seconds"};
+    for (const FrontRow& f : o.front)
+      front.rows.push_back({formatNumber(f.weight, 3, "n/a"), percentText(f.row.torque_train),
+                            percentText(f.row.torque_test), formatNumber(f.row.gc_train, 3, "n/a"),
+                            formatNumber(f.row.gc_test, 3, "n/a"), f.row.consistent ? "yes" : "no",
+                            std::to_string(f.row.evaluations),
+                            formatNumber(f.row.seconds, 3, "n/a")});
+    doc.table(front);
+  }
   doc.heading("What to conclude");
   doc.bullets(logStudyConclusions(o));
   if (const std::optional<std::string> svg = errorFigure(o))

@@ -55,7 +55,9 @@ inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 4};
 // 6: provenance.
 inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 6};
 // study.json 2: model (the robot studied, nominal parameters) and model_source. 3: provenance.
-inline constexpr DocumentType kStudyDocument{"dynid.study", 3};
+// 4: front (the combined estimator's points, measured) and choice (the estimate chosen by its
+// rule).
+inline constexpr DocumentType kStudyDocument{"dynid.study", 4};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 2};               // 2: provenance
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json

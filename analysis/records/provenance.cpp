@@ -32,7 +32,7 @@ const std::vector<TimeFields>& timeFieldTable() {
       {"dynid.search", {"/seconds", "/history/*/seconds"}},
       {"dynid.refine", {"/seconds", "/cost_history/*/seconds"}},
       {"dynid.excitation", {"/optimiser/seconds"}},
-      {"dynid.study", {"/seconds", "/methods/*/seconds"}},
+      {"dynid.study", {"/seconds", "/methods/*/seconds", "/front/points/*/seconds"}},
       {"dynid.demo", {"/seconds", "/methods/*/seconds"}},
   };
   return table;

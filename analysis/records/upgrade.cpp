@@ -92,6 +92,7 @@ const Added kAdded[] = {
     {&kAuditDocument, 4, kProvenance},
     {&kStudyDocument, 2, kModel},
     {&kStudyDocument, 3, kProvenance},
+    {&kStudyDocument, 4, "front and choice (the combined estimator's front, the estimate chosen)"},
     {&kPrepareDocument, 2, "runs' file and time_offset, stalled repeats and current_to_torque"},
     {&kPrepareDocument, 3, kProvenance},
     {&kIdentifiabilityDocument, 2, kProvenance},

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <string>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/logs/rest.hpp"
 #include "core/errors.hpp"
@@ -49,7 +52,47 @@ void LogStudyRequest::check() const {
   checkOption("study", "refine-tolerance", refine_tolerance, "`refine_tolerance`");
   checkOption("study", "prior-weight", prior_weight, "`prior_weight`");
   checkOption("study", "combined-weight", combined_weight, "`combined_weight`");
+  checkOption("study", "front-tolerance", front_tolerance, "`front_tolerance`");
+  for (std::size_t k = 0; k < front_weights.size(); ++k)
+    if (!(front_weights[k] > 0.0) || !std::isfinite(front_weights[k]) ||
+        (k > 0 && front_weights[k] <= front_weights[k - 1]))
+      throw InputError("`front_weights` must be finite, > 0 and increasing (entry " +
+                       std::to_string(k + 1) + ")");
   checkOption("study", "threads", threads, "`threads`");
+}
+
+StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance) {
+  struct Candidate {
+    const LogStudyRow* row;
+    int front_index;
+  };
+  std::vector<Candidate> candidates;
+  for (const LogStudyRow& row : outcome.rows)
+    if (row.key != "start") candidates.push_back({&row, -1});
+  for (std::size_t k = 0; k < outcome.front.size(); ++k)
+    candidates.push_back({&outcome.front[k].row, static_cast<int>(k)});
+  const auto usable = [](const LogStudyRow& r) {
+    return r.consistent && std::isfinite(r.torque_test) && std::isfinite(r.gc_test);
+  };
+  StudyChoice out;
+  double best = 0.0;
+  for (const Candidate& c : candidates)
+    if (usable(*c.row) && (out.best_torque.empty() || c.row->torque_test < best)) {
+      best = c.row->torque_test;
+      out.best_torque = c.front_index < 0 ? c.row->key : "front";
+      out.best_front_index = c.front_index;
+    }
+  if (out.best_torque.empty()) return out;
+  out.torque_bound = (1.0 + tolerance) * best;
+  double gc = 0.0;
+  for (const Candidate& c : candidates)
+    if (usable(*c.row) && c.row->torque_test <= out.torque_bound &&
+        (out.key.empty() || c.row->gc_test < gc)) {
+      gc = c.row->gc_test;
+      out.key = c.front_index < 0 ? c.row->key : "front";
+      out.front_index = c.front_index;
+    }
+  return out;
 }
 
 StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows) {
@@ -97,6 +140,47 @@ EstimationProblem studyProblem(const LogStudyRequest& request, const Model& robo
   return problem;
 }
 
+/// The outcome's record of what was studied and with which settings.
+LogStudyOutcome settingsOf(const LogStudyRequest& request, const Model& robot) {
+  LogStudyOutcome out;
+  out.robot_spec = request.robot_spec;
+  out.model = request.robot;
+  out.source = request.robot_spec.empty() ? ModelSource{request.robot.name, "", ""}
+                                          : modelSourceOf(request.robot_spec);
+  out.data_file = request.data_file;
+  out.validate_file = request.validate_file;
+  out.drive_terms = driveTermsText(robot.driveTerms());
+  out.segments = request.segments;
+  out.prior_weight = request.prior_weight;
+  out.combined_weight = request.combined_weight;
+  out.refine_seconds = request.refine_seconds;
+  out.refine_iterations = request.refine_iterations;
+  out.front_tolerance = request.front_tolerance;
+  return out;
+}
+
+using MeasureRow = std::function<LogStudyRow(const std::string&, const Model&, long, double)>;
+
+/// The front's points (analysis/estimation/front.hpp) from pc, each measured as a method is.
+std::vector<FrontRow> frontRows(const LogStudyRequest& request, const Model& robot,
+                                const BaseParameters& base, const LeastSquaresSource& source,
+                                const LeastSquaresOutcome& pc, const GcProblem& train_gc,
+                                CombinedOptions options, int threads, const MeasureRow& measure) {
+  options.num_threads = threads;
+  options.control = request.control;
+  std::vector<FrontRow> out;
+  for (const FrontPoint& p :
+       combinedFront(robot, base, source, pc, train_gc, options, request.front_weights)) {
+    Model model = robot;
+    model.setStandardParameters(p.estimate.standard);
+    FrontRow row{p.weight, measure("front", model, p.detail.iterations, p.detail.seconds)};
+    row.row.note = combinedNote(p.detail);
+    row.row.moved = p.detail.moved;
+    out.push_back(row);
+  }
+  return out;
+}
+
 }  // namespace
 
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
@@ -111,19 +195,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // velocities (as identify's estimates are).
   Model robot = request.robot;
   robot.rest_velocities = restThresholds(measureRestVelocities(train.dq, train.time));
-  LogStudyOutcome out;
-  out.robot_spec = request.robot_spec;
-  out.model = request.robot;
-  out.source = request.robot_spec.empty() ? ModelSource{request.robot.name, "", ""}
-                                          : modelSourceOf(request.robot_spec);
-  out.data_file = request.data_file;
-  out.validate_file = request.validate_file;
-  out.drive_terms = driveTermsText(robot.driveTerms());
-  out.segments = request.segments;
-  out.prior_weight = request.prior_weight;
-  out.combined_weight = request.combined_weight;
-  out.refine_seconds = request.refine_seconds;
-  out.refine_iterations = request.refine_iterations;
+  LogStudyOutcome out = settingsOf(request, robot);
   out.train_samples = train.numSamples();
   out.test_samples = test.numSamples();
   const GcProblem train_gc = gcProblem(train, request.segments, request.data_file);
@@ -163,6 +235,8 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
   // from either can diverge).
   EstimationProblem problem = studyProblem(request, robot, base, observation, train_gc, threads);
+  const CombinedOptions combined = problem.combined;
+  const LeastSquaresSource source = problem.least_squares;
   MethodRunner runner(std::move(problem));
   const std::vector<Method> methods = request.methods.empty() ? allMethods() : request.methods;
   const bool searching = std::any_of(methods.begin(), methods.end(),
@@ -184,6 +258,12 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
     row.note = estimate.note;
     row.moved = estimate.moved;
     out.rows.push_back(row);
+  }
+  if (!request.front_weights.empty() && !stopped() && !out.interrupted) {
+    say("the front: combined at " + std::to_string(request.front_weights.size()) +
+        " GC weights, each from the last");
+    out.front = frontRows(request, robot, base, source, runner.leastSquares(Method::kPc), train_gc,
+                          combined, threads, measure);
   }
   out.interrupted = out.interrupted || stopped();
   out.seconds = since(t0);

@@ -40,6 +40,13 @@ struct LogStudyRequest {
   /// combined: the GC term's weight relative to the torque term's (CombinedOptions::gc_weight);
   /// its iterations, seconds and tolerance are the refinements'.
   double combined_weight = 1.0;
+  /// The front (analysis/estimation/front.hpp): the combined estimator at these GC weights (> 0,
+  /// increasing; empty: no front), each point with the refinements' budgets, then measured as a
+  /// method is.
+  std::vector<double> front_weights;
+  /// The choice (studyChoice): the least held-out GC error among the physically consistent
+  /// estimates whose held-out torque error is within (1 + front_tolerance) of the best of them.
+  double front_tolerance = 0.05;
   std::uint64_t seed = 1;
   int threads = kAllThreads;  // 0: every core
   RunControl control;
@@ -63,6 +70,13 @@ struct LogStudyRow {
   bool moved = true;  // refinements and combined: false when the result is where it started
 };
 
+/// A point of the front, measured as a method's row is (its key "front", its evaluations the
+/// combined estimator's iterations, its note how it ended).
+struct FrontRow {
+  double weight = 0.0;
+  LogStudyRow row;
+};
+
 struct LogStudyOutcome {
   std::string robot_spec, data_file, validate_file;
   Model model;         // the robot studied (nominal parameters), as study.json embeds it
@@ -79,6 +93,8 @@ struct LogStudyOutcome {
   int train_segments = 0, test_segments = 0;
   double horizon = 0.0;
   std::vector<LogStudyRow> rows;  // "model", "start", then each method in the request's order
+  std::vector<FrontRow> front;    // in weight order; empty when none was asked for
+  double front_tolerance = 0.0;   // the request's
   /// Where the first least-squares estimate's (ols, wls or pc, as run) training residual lies
   /// and whether it has the shape of friction (analysis/estimation/reversals.hpp); samples 0 when
   /// none ran.
@@ -98,6 +114,21 @@ struct StudyVerdict {
   bool oneForBoth() const { return !simulation.empty() && simulation == control; }
 };
 StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows);
+
+/// One estimate chosen by a stated rule on the held-out data: among the physically consistent
+/// estimates with finite held-out errors (the rows but the searches' "start", which is pc, and
+/// the front's points), the least held-out GC error whose held-out torque error is at most
+/// (1 + tolerance) times the least of theirs. The input model is a candidate as any other: where
+/// it predicts the motion best within the bound, it is chosen. Ties go to the earlier (the rows
+/// in order, then the front by weight).
+struct StudyChoice {
+  std::string key;            // a row's key, or "front"; empty when no estimate qualifies
+  int front_index = -1;       // the front's point (key "front")
+  double torque_bound = 0.0;  // (1 + tolerance) x the best consistent held-out torque error
+  std::string best_torque;    // the estimate whose torque error sets the bound (or "front")
+  int best_front_index = -1;  // the front's point that sets it
+};
+StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance);
 
 /// Throws InputError for an invalid setting (named), a dataset of another joint count, a held-out
 /// file that is missing (validate_file is required), data too short for one GC segment; ParseError

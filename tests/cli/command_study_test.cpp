@@ -38,7 +38,9 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
                        "best"))
       << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
-  EXPECT_EQ(j["schema_version"], 3);
+  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_TRUE(j["front"]["points"].empty());  // no --front
+  EXPECT_EQ(j["choice"]["key"], "pc");        // the only consistent row with finite errors
   EXPECT_EQ(j["provenance"]["command"][1], "study");
   EXPECT_EQ(j["model"]["name"], "puma560");  // the robot studied, embedded
   EXPECT_EQ(j["order"],
@@ -74,6 +76,50 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
   EXPECT_EQ(
       run("study --robot panda --data " + train + " --validate " + held + " --out " + none).code,
       1);
+  EXPECT_FALSE(std::filesystem::exists(none));
+}
+
+// --front: the combined estimator at each weight, every point measured and consistent, and the
+// estimate chosen by the stated rule written as the study's recommendation.
+TEST(Cli, StudyFrontSweepsTheCombinedWeightAndChoosesOneEstimate) {
+  const std::string train = test::tempPath("front_train.csv"),
+                    held = test::tempPath("front_held.csv"), dir = test::tempPath("front_study");
+  ASSERT_EQ(
+      run("simulate --robot puma560 --drives --duration 2 --noise-tau 0.3 --seed 4 --out " + train)
+          .code,
+      0);
+  ASSERT_EQ(
+      run("simulate --robot puma560 --drives --duration 1.5 --noise-tau 0.3 --seed 5 --out " + held)
+          .code,
+      0);
+  const std::string common = "study --robot puma560 --drive-terms fv,fc --data " + train +
+                             " --validate " + held +
+                             " --segments 8 --refine-iterations 3 --methods pc,combined ";
+  const Result r = run(common + "--front-weights 0.3,3 --threads 2 --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "front w=0.3")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Chosen: ")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
+  ASSERT_EQ(j["front"]["points"].size(), 2u);
+  for (const auto& p : j["front"]["points"]) EXPECT_TRUE(p["physically_consistent"].get<bool>());
+  EXPECT_EQ(j["front"]["points"][1]["weight"], 3.0);
+  EXPECT_EQ(j["front"]["tolerance"], 0.05);
+  ASSERT_FALSE(j["choice"]["key"].is_null());
+  // The chosen one's held-out torque error is within the bound the rule states.
+  const std::string key = j["choice"]["key"];
+  const auto chosen = key == "front"
+                          ? j["front"]["points"][j["choice"]["front_weight"] == 0.3 ? 0 : 1]
+                          : j["methods"][key];
+  EXPECT_LE(chosen["torque_relative_error_test"].get<double>(),
+            j["choice"]["torque_bound"].get<double>());
+  const std::string report = readFile(dir + "/report.md");
+  EXPECT_TRUE(contains(report, "## The front")) << report;
+  EXPECT_TRUE(contains(report, "Chosen: ")) << report;
+  // Weights that are not a sweep: refused before any work, the option named.
+  const std::string none = test::tempPath("front_never");
+  const Result bad = run(common + "--front-weights 1,0.5 --out " + none);
+  EXPECT_NE(bad.code, 0);
+  EXPECT_TRUE(contains(bad.err, "--front-weights")) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(none));
 }
 

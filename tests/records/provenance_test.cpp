@@ -104,8 +104,8 @@ TEST(Provenance, ARerunDiffersOnlyInItsTimesAndOutputFolder) {
 TEST(Provenance, EachKindNamesItsTimeFields) {
   EXPECT_EQ(timeFieldsOf("dynid.refine"),
             (std::vector<std::string>{"/seconds", "/cost_history/*/seconds"}));
-  EXPECT_EQ(timeFieldsOf("dynid.study"),
-            (std::vector<std::string>{"/seconds", "/methods/*/seconds"}));
+  EXPECT_EQ(timeFieldsOf("dynid.study"), (std::vector<std::string>{"/seconds", "/methods/*/seconds",
+                                                                   "/front/points/*/seconds"}));
   EXPECT_TRUE(timeFieldsOf("dynid.payload").empty());
   // A study's methods are an object: "*" steps through its members too.
   RunProvenance run = sampleRun();

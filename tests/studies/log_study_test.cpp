@@ -144,6 +144,35 @@ TEST(LogStudyVerdict, RecommendsOnlyConsistentEstimatesWithFiniteErrors) {
   EXPECT_EQ(v.best_torque, "ols");
 }
 
+TEST(LogStudyChoice, TheLeastGcErrorWithinTheToleranceOfTheBestConsistentTorqueFit) {
+  using test::studyRow;
+  LogStudyOutcome o;
+  o.rows = {studyRow("model", 0.095, 400.0, true), studyRow("start", 0.0269, 59300.0, true),
+            studyRow("ols", 0.020, 1e6, false), studyRow("pc", 0.0269, 59300.0, true),
+            studyRow("combined", 0.0269, 2970.0, true)};
+  o.front = {{0.1, studyRow("front", 0.0270, 1500.0, true)},
+             {1.0, studyRow("front", 0.0285, 900.0, true)},
+             {10.0, studyRow("front", 0.040, 500.0, true)}};
+  // ols fits best but is not consistent: the bound is 5 % above pc's (the first of the ties).
+  StudyChoice c = studyChoice(o, 0.05);
+  EXPECT_EQ(c.best_torque, "pc");
+  EXPECT_NEAR(c.torque_bound, 1.05 * 0.0269, 1e-15);
+  EXPECT_EQ(c.key, "front");
+  EXPECT_EQ(c.front_index, 0);
+  c = studyChoice(o, 0.1);  // the point at w = 1 (2.85 % <= 2.959 %) predicts better
+  EXPECT_EQ(c.front_index, 1);
+  // Wide enough to take the input model (9.5 %), which predicts the motion best: it is chosen,
+  // as any other estimate would be.
+  c = studyChoice(o, 4.0);
+  EXPECT_EQ(c.key, "model");
+  EXPECT_EQ(c.front_index, -1);
+  // Without a front, the rows alone; none consistent: nothing chosen.
+  o.front.clear();
+  EXPECT_EQ(studyChoice(o, 0.05).key, "combined");
+  for (LogStudyRow& r : o.rows) r.consistent = false;
+  EXPECT_TRUE(studyChoice(o, 0.05).key.empty());
+}
+
 TEST(LogStudy, CombinedTradesLittleTorqueFitForTheMotion) {
   Files f{test::tempPath("study_noisy_train.csv"), test::tempPath("study_noisy_test.csv")};
   const Model model = makePuma560(false);
@@ -164,6 +193,15 @@ TEST(LogStudy, CombinedTradesLittleTorqueFitForTheMotion) {
   // near its noise floor) it stays close to pc, its torque fit within 2 % of pc's.
   EXPECT_LE(combined.gc_train, pc.gc_train * (1.0 + 1e-9));
   EXPECT_LT(combined.torque_train, 1.02 * pc.torque_train);
+  EXPECT_TRUE(o.front.empty());  // none asked for
+  // Weights that are not a sweep: refused before any work, by field name.
+  r.front_weights = {1.0, 0.5};
+  try {
+    logStudyRun(r);
+    FAIL() << "a front of decreasing weights was swept";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("`front_weights`"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
