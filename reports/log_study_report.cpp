@@ -105,8 +105,47 @@ std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
       << ", " << p.gc << " left offset 1,0.7 font 'sans,10'\n";
     rows.append({p.torque_percent, p.gc});
   }
-  s << "$m << EOD\n" << rows << "EOD\nplot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa'\n";
+  s << "$m << EOD\n" << rows << "EOD\n";
+  // The front as a line through its points, from pc's end (w small) to the GC term's (w large),
+  // labelled at its last point; the chosen estimate ringed.
+  PlotRows front;
+  for (const FrontRow& f : o.front)
+    if (std::isfinite(f.row.torque_test) && std::isfinite(f.row.gc_test) &&
+        f.row.torque_test > 0.0 && f.row.gc_test > 0.0)
+      front.append({100.0 * f.row.torque_test, f.row.gc_test});
+  const bool has_front = !front.text().empty();
+  if (has_front) {
+    const LogStudyRow& last = o.front.back().row;
+    s << "set label " << index++ << " 'front' at " << 100.0 * last.torque_test << ", "
+      << last.gc_test << " left offset 1,-0.9 font 'sans,10' tc rgb '#cc6677'\n"
+      << "$f << EOD\n"
+      << front << "EOD\n";
+  }
+  PlotRows chosen;
+  const StudyChoice c = studyChoice(o, o.front_tolerance);
+  if (const LogStudyRow* r = o.front.empty() ? nullptr : choiceRow(o, c))
+    chosen.append({100.0 * r->torque_test, r->gc_test});
+  if (!chosen.text().empty()) s << "$c << EOD\n" << chosen << "EOD\n";
+  s << "plot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa'";
+  if (has_front) s << ", $f using 1:2 with linespoints pt 6 ps 0.9 lw 1.5 lc rgb '#cc6677'";
+  if (!chosen.text().empty()) s << ", $c using 1:2 with points pt 6 ps 2.6 lw 2 lc rgb '#222222'";
+  s << "\n";
   return gnuplotSvg(s);
+}
+
+/// front.csv: a row per point of the front, each number in the shortest text that reads back as it.
+std::string frontCsv(const LogStudyOutcome& o) {
+  std::string out =
+      "weight,torque_relative_error_train,torque_relative_error_test,gc_error_train,gc_error_test,"
+      "physically_consistent,iterations,seconds\n";
+  for (const FrontRow& f : o.front) {
+    const LogStudyRow& r = f.row;
+    out += formatNumber(f.weight, 0) + "," + formatNumber(r.torque_train, 0, "nan") + "," +
+           formatNumber(r.torque_test, 0, "nan") + "," + formatNumber(r.gc_train, 0, "nan") + "," +
+           formatNumber(r.gc_test, 0, "nan") + "," + (r.consistent ? "1" : "0") + "," +
+           std::to_string(r.evaluations) + "," + formatNumber(r.seconds, 0, "nan") + "\n";
+  }
+  return out;
 }
 
 }  // namespace
@@ -423,7 +462,11 @@ Document logStudyDocument(const LogStudyOutcome& o) {
   if (const std::optional<std::string> svg = errorFigure(o))
     doc.figure({"torque_vs_gc",
                 "Each model's held-out torque error against its held-out GC "
-                "error: the lower left is best at both.",
+                "error: the lower left is best at both." +
+                    std::string(o.front.empty() ? ""
+                                                : " The line is the front (the combined estimator "
+                                                  "from w small to large); the ring marks the "
+                                                  "chosen estimate."),
                 *svg});
   return doc;
 }
@@ -434,11 +477,13 @@ std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o) {
       {"study.json", jsonText(withProvenance(logStudyJson(o)), 2) + "\n"},
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
+  if (!o.front.empty()) files.emplace_back("front.csv", frontCsv(o));
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);
   writeReportFiles(dir, files);
   std::string out = logStudyTable(o);
   for (const std::string& sentence : logStudyConclusions(o)) out += sentence + "\n";
-  out += "report: " + dir + "/report.html (and report.md, study.json)\n";
+  out += "report: " + dir + "/report.html (and report.md, study.json" +
+         (o.front.empty() ? "" : ", front.csv") + ")\n";
   if (doc.figures().empty()) out += "warning: gnuplot did not run: the report has no figure\n";
   return out;
 }

@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
+#include "data/io.hpp"
+#include "tests/common/sample_models.hpp"
 #include "tests/common/study_rows.hpp"
 
 namespace dynid {
@@ -157,6 +160,47 @@ TEST(LogStudyReport, NextGivesTheIdentifyCommandOfTheRecommendedEstimate) {
                     "train.csv --validate test.csv --out pc` writes it;"),
             std::string::npos)
       << pc;
+}
+
+TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
+  LogStudyOutcome o = outcome({row("model", 0.04, 2600.0, true), row("pc", 0.0108, 1050.0, true),
+                               row("nlo", 0.0188, 116.0, false)});
+  o.drive_terms = "fv,fc,fo";
+  o.front_tolerance = 0.05;
+  o.front = {{0.3, row("front", 0.0109, 121.0, true)},
+             {1.0, row("front", 0.0111, 61.0, true)},
+             {10.0, row("front", 0.0116, 21.4, true)}};
+  const Document doc = logStudyDocument(o);
+  const std::string md = doc.markdown();
+  // The point at w = 1 (1.11 % <= 1.05 x 1.08 %) predicts best within the bound.
+  EXPECT_NE(md.find("> - **Chosen:** the front's point at w = 1 (held-out torque error 1.11 %, GC "
+                    "error 61)"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("--method combined --robot puma560 --drive-terms fv,fc,fo --data train.csv "
+                    "--validate test.csv --out combined` writes it (from pc, where the front "
+                    "reached it from its previous point)"),
+            std::string::npos)
+      << md;  // w = 1 is identify's default weight: no --combined-weight
+  EXPECT_NE(md.find("## The front"), std::string::npos);
+  EXPECT_NE(md.find("| 10 | 1.16 % | 1.16 % | 21.4 | 21.4 | yes |"), std::string::npos) << md;
+  const nlohmann::json j = logStudyJson(o);
+  EXPECT_EQ(j["schema_version"], 4);
+  ASSERT_EQ(j["front"]["points"].size(), 3u);
+  EXPECT_EQ(j["front"]["points"][2]["weight"], 10.0);
+  EXPECT_EQ(j["choice"]["key"], "front");
+  EXPECT_EQ(j["choice"]["front_weight"], 1.0);
+  EXPECT_EQ(j["choice"]["best_torque"], "pc");
+  // The figure draws the front and rings the chosen point.
+  ASSERT_EQ(doc.figures().size(), 1u);
+  EXPECT_NE(doc.figures().front().svg.find("front"), std::string::npos);
+  // front.csv beside the report: a row per point.
+  const std::string dir = test::tempPath("front_report");
+  writeLogStudy(dir, o);
+  const std::string csv = readFile(dir + "/front.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
+  EXPECT_EQ(csv.rfind("weight,torque_relative_error_train,", 0), 0u) << csv;
+  EXPECT_NE(csv.find("\n10,0.0116"), std::string::npos) << csv;
 }
 
 }  // namespace
