@@ -1,19 +1,24 @@
-// The studies wing: dynid audit (analysis/studies/audit.hpp), its document as a dict; the pieces
-// of a batch grid (analysis/studies/batch.hpp) that dynid.batch runs on a Dask cluster
-// (dynid_distributed.batch): the plan, one run, a run's record stored, the tables.
+// The studies wing: dynid audit (analysis/studies/audit.hpp) and dynid study
+// (analysis/studies/log_study.hpp), their documents as dicts; the pieces of a batch grid
+// (analysis/studies/batch.hpp) that dynid.batch runs on a Dask cluster (dynid_distributed.batch):
+// the plan, one run, a run's record stored, the tables.
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <tuple>
 
 #include <pybind11/stl.h>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/studies/audit.hpp"
 #include "analysis/studies/batch.hpp"
+#include "analysis/studies/log_study.hpp"
 #include "core/errors.hpp"
 #include "python/run_support.hpp"
 #include "reports/audit_report.hpp"
 #include "reports/batch_report.hpp"
+#include "reports/log_study_report.hpp"
 #include "reports/output.hpp"
 
 namespace dynid::python {
@@ -48,6 +53,70 @@ void bindAudit(py::module_& m) {
         py::arg("level") = kDefaultAuditLevel, py::arg("threads") = kAllThreads,
         "`dynid audit`: estimate.json paths, or log paths identified with `robot`, "
         "`drive_terms` and `method`. Returns audit.json as a dict (per-parameter tests, verdict).");
+}
+
+py::dict study(const Model& model, const PathLike& data, const PathLike& validate,
+               const std::string& methods, bool front,
+               const std::optional<std::vector<double>>& front_weights, double front_tolerance,
+               double search_seconds, long search_evaluations, int refine_iterations,
+               double refine_seconds, int segments, std::uint64_t seed, int threads,
+               const PathLike& robot_spec, const ProgressLike& progress) {
+  checkThreads(threads);
+  LogStudyRequest request;
+  request.robot = model;
+  request.robot_spec = pathArg(robot_spec, "robot_spec");
+  request.data_file = pathArg(data, "data");
+  request.validate_file = pathArg(validate, "validate");
+  request.methods = parseMethods(methods);
+  if (front_weights)
+    request.front_weights = *front_weights;
+  else if (front)
+    request.front_weights = defaultFrontWeights();
+  request.front_tolerance = front_tolerance;
+  request.search_seconds = search_seconds;
+  request.search_evaluations = search_evaluations;
+  request.refine_iterations = refine_iterations;
+  request.refine_seconds = refine_seconds;
+  request.segments.num_segments = segments;
+  request.seed = request.segments.seed = seed;
+  request.threads = threads;
+  Interrupt interrupt;
+  interrupt.setCallback(progress);
+  request.control.stop = interrupt.flag();
+  request.control.progress = [&](const std::string& line) {
+    interrupt.report([&] {
+      py::dict d;
+      d["line"] = line;
+      return d;
+    });
+  };
+  const PythonRun call("study", {request.data_file, request.validate_file}, seed, threads);
+  LogStudyOutcome out;
+  {
+    py::gil_scoped_release release;
+    out = logStudyRun(request);
+  }
+  interrupt.raiseIfFailed();
+  interrupt.warnIfStopped();
+  return parsedJson(withCall(logStudyJson(out), call.finish())).cast<py::dict>();
+}
+
+void bindStudy(py::module_& m) {
+  const LogStudyRequest d;
+  m.def("study", &study, py::arg("model"), py::arg("data"), py::arg("validate"),
+        py::arg("methods") = "all", py::arg("front") = false, py::arg("front_weights") = py::none(),
+        py::arg("front_tolerance") = d.front_tolerance,
+        py::arg("search_seconds") = d.search_seconds,
+        py::arg("search_evaluations") = d.search_evaluations,
+        py::arg("refine_iterations") = d.refine_iterations,
+        py::arg("refine_seconds") = d.refine_seconds, py::arg("segments") = d.segments.num_segments,
+        py::arg("seed") = d.seed, py::arg("threads") = kAllThreads, py::arg("robot_spec") = "",
+        py::arg("progress") = py::none(),
+        "`dynid study`: every method (`methods`, comma-separated, or all) on a training and a "
+        "held-out dataset, torque fit and motion prediction side by side; with `front` (or "
+        "`front_weights`) the combined estimator's front, and the estimate chosen from every "
+        "consistent one (`front_tolerance`). Returns study.json as a dict: `methods`, "
+        "`front.points` (each point's weight and errors) and `choice`.");
 }
 
 /// The runs of the manifest's grid still to do in `out`: [(name, spec as JSON text)], after
@@ -113,6 +182,7 @@ void bindBatch(py::module_& m) {
 
 void bindStudies(py::module_& m) {
   bindAudit(m);
+  bindStudy(m);
   bindBatch(m);
 }
 
