@@ -67,15 +67,7 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   r.limits = excitationLimits(robot, overrides);
   if (r.offset) checkOffsets(robot, r.limits, *r.offset);
   Interrupt interrupt;
-  interrupt.setCallback(progress);
-  r.control.stop = interrupt.flag();
-  r.control.progress = [&](const std::string& line) {  // after each start (any thread)
-    interrupt.report([&] {
-      py::dict d;
-      d["line"] = line;
-      return d;
-    });
-  };
+  interrupt.connect(r.control, progress);
   ExcitePy out{robot, {}, {}, {}};
   out.settings.robot = robot_spec.empty() ? robot.name : robot_spec;
   if (!robot_spec.empty()) out.settings.source = modelSourceOf(robot_spec);

@@ -65,15 +65,7 @@ py::dict fleet(const Model& model, const FleetRobotsLike& robots, const std::str
   request.torque_filter = torqueFilterArg(torque_filter);
   request.threads = threads;
   Interrupt interrupt;
-  interrupt.setCallback(progress);
-  request.control.stop = interrupt.flag();
-  request.control.progress = [&](const std::string& line) {
-    interrupt.report([&] {
-      py::dict d;
-      d["line"] = line;
-      return d;
-    });
-  };
+  interrupt.connect(request.control, progress);
   const PythonRun call("fleet", files, std::nullopt, threads);
   FleetOutcome out;
   {

@@ -81,15 +81,7 @@ py::dict study(const Model& model, const PathLike& data, const PathLike& validat
   request.seed = request.segments.seed = seed;
   request.threads = threads;
   Interrupt interrupt;
-  interrupt.setCallback(progress);
-  request.control.stop = interrupt.flag();
-  request.control.progress = [&](const std::string& line) {
-    interrupt.report([&] {
-      py::dict d;
-      d["line"] = line;
-      return d;
-    });
-  };
+  interrupt.connect(request.control, progress);
   const PythonRun call("study", {request.data_file, request.validate_file}, seed, threads);
   LogStudyOutcome out;
   {

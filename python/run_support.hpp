@@ -14,6 +14,7 @@
 
 #include "analysis/records/provenance.hpp"
 #include "core/integrators.hpp"
+#include "core/run_control.hpp"
 #include "data/dataset_csv.hpp"
 #include "data/json_number.hpp"
 #include "identifiability/least_squares.hpp"
@@ -45,6 +46,19 @@ class Interrupt {
     if (!callback.is_none() && !PyCallable_Check(callback.ptr()))
       throw py::type_error("progress: expected a callable taking a dict, or None");
     callback_ = callback;
+  }
+  /// `control`'s stop flag this one's, its progress lines reported as {"line": ...} to
+  /// `callback` (setCallback's): a run whose progress is plain lines.
+  void connect(RunControl& control, const py::object& callback) {
+    setCallback(callback);
+    control.stop = flag();
+    control.progress = [this](const std::string& line) {
+      report([&] {
+        py::dict d;
+        d["line"] = line;
+        return d;
+      });
+    };
   }
   /// Polls Ctrl-C, then calls the callback with `info` (built under the GIL). An exception in
   /// the callback stops the run and is raised once it has returned.
