@@ -73,7 +73,7 @@ def _local_client(workers=None, processes=False):
                           "(scripts/install-deps.sh does), or pass client=") from e
     # Workers as threads of this process: dynid releases the GIL while it computes, so they run
     # in parallel, and summaries pass between them without pickling (bench/dask_summarize.py: two
-    # workers 1.7-1.9 times one on two cores, against 1.2 for worker processes, which Dask's
+    # workers 1.83-1.95 times one on two cores, against 1.5 for worker processes, which Dask's
     # nannies also start with MALLOC_TRIM_THRESHOLD_=65536, under which dynid's allocations cost
     # 30 % more). A crash takes this process with it: pass a client of worker processes to
     # isolate them. A worker is sent a task when it has none left (worker-saturation 1.0, the
