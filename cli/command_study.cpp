@@ -1,15 +1,54 @@
 // dynid study: every method on the user's own log, torque fit and motion prediction side by side
 // (analysis/studies/log_study.hpp), with its report.
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "analysis/estimation/front.hpp"
 #include "analysis/studies/log_study.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "core/format.hpp"
 #include "reports/log_study_report.hpp"
 #include "reports/output.hpp"
 
 namespace dynid::cli {
+
+namespace {
+
+/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes.
+std::string shellWord(const std::string& word) {
+  const bool safe = !word.empty() && word.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                         "0123456789_./:=,+-@%") == std::string::npos;
+  if (safe) return word;
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+/// The report's next step as the dynid identify command that repeats it.
+std::string identifyCommand(const StudyRepeat& r) {
+  std::string command = "dynid identify --method " + r.method + " --robot " +
+                        shellWord(r.robot_spec) + " --drive-terms " + shellWord(r.drive_terms) +
+                        " --data " + shellWord(r.data_file) + " --validate " +
+                        shellWord(r.validate_file) + " --out " + shellWord(r.out);
+  const auto number = [&](const char* flag, const std::optional<double>& x) {
+    if (x) command += std::string(" ") + flag + " " + formatNumber(*x);
+  };
+  number("--prior-weight", r.prior_weight);
+  number("--combined-weight", r.combined_weight);
+  number("--combined-seconds", r.combined_seconds);
+  if (r.combined_iterations)
+    command += " --combined-iterations " + std::to_string(*r.combined_iterations);
+  number("--horizon", r.horizon);
+  if (r.segments) command += " --segments " + std::to_string(*r.segments);
+  if (r.raw_gc) command += " --raw-gc";
+  if (!r.write_urdf.empty()) command += " --write-urdf " + shellWord(r.write_urdf);
+  return command;
+}
+
+}  // namespace
 
 int runStudy(const std::vector<std::string>& args) {
   po::options_description options("dynid study");
@@ -84,7 +123,7 @@ int runStudy(const std::vector<std::string>& args) {
   const InterruptGuard guard;
   request.control.stop = guard.flag();
   const LogStudyOutcome outcome = logStudyRun(request);
-  std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome);
+  std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome, identifyCommand);
   return exitAfter(guard, "study",
                    "the report has the methods that finished and each stopped one's best so far");
 }

@@ -3,10 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "analysis/records/document.hpp"
 #include "analysis/records/provenance.hpp"
+#include "analysis/runs/identify.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "reports/model_report.hpp"
@@ -302,69 +305,43 @@ std::vector<std::string> logStudyConclusions(const LogStudyOutcome& o) {
 }
 
 namespace {
-/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes.
-std::string shellWord(const std::string& word) {
-  const bool safe = !word.empty() && word.find_first_not_of(
-                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                         "0123456789_./:=,+-@%") == std::string::npos;
-  if (safe) return word;
-  std::string out = "'";
-  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
+/// The recommended key and, for a front's point, its weight (the chosen estimate once a front
+/// was swept, else the verdict's).
+std::pair<std::string, std::optional<double>> recommended(const LogStudyOutcome& o) {
+  if (o.front.empty()) {
+    const StudyVerdict v = studyVerdict(o.rows);
+    return {!v.simulation.empty() ? v.simulation : v.control, std::nullopt};
+  }
+  const StudyChoice c = studyChoice(o, o.front_tolerance);
+  if (c.front_index < 0) return {c.key, std::nullopt};
+  return {"combined", o.front[c.front_index].weight};
 }
 
-/// How to get the recommended estimate: the identify command that repeats the study's method
-/// with its settings (the non-default ones), or what to do for the input model or a search.
-std::string nextStep(const LogStudyOutcome& o, const StudyVerdict& v) {
-  std::string key = !v.simulation.empty() ? v.simulation : v.control;
-  double combined_weight = o.combined_weight;
-  std::string from_front;
-  if (!o.front.empty()) {  // the chosen estimate; a front's point is combined at its weight
-    const StudyChoice c = studyChoice(o, o.front_tolerance);
-    key = c.front_index >= 0 ? "combined" : c.key;
-    if (c.front_index >= 0) {
-      combined_weight = o.front[c.front_index].weight;
-      from_front = " (from pc, where the front reached it from its previous point)";
-    }
-  }
+/// How to get the recommended estimate: the identify run that repeats it with the study's
+/// settings (spelt by `spell`), or what to do for the input model or a search.
+std::string nextStep(const LogStudyOutcome& o, const RepeatSpelling& spell) {
+  const std::string key = recommended(o).first;
   if (key.empty()) return "see the comparison below: no physically consistent estimate finished.";
   if (key == "model")
     return "the input model itself is the recommended one: use " + o.robot_spec +
            " as it is; the details follow.";
-  const bool identify = key == "ols" || key == "wls" || key == "pc" || key == "combined";
-  if (!identify)
+  const std::optional<StudyRepeat> repeat = studyRepeat(o);
+  if (!repeat)
     return "the recommended " + key +
            " estimate comes from a GC-error search: repeat it with dynid search and dynid "
            "refine (docs/SEARCH.md), then dynid predict; the details follow.";
-  const SegmentOptions defaults = normalisedSegments();
-  std::string command = "dynid identify --method " + key + " --robot " + shellWord(o.robot_spec) +
-                        " --drive-terms " + shellWord(o.drive_terms) + " --data " +
-                        shellWord(o.data_file) + " --validate " + shellWord(o.validate_file) +
-                        " --out " + key;
-  if ((key == "pc" || key == "combined") && o.prior_weight != kDefaultPriorWeight)
-    command += " --prior-weight " + formatNumber(o.prior_weight, 17);
-  if (key == "combined") {
-    if (combined_weight != 1.0)
-      command += " --combined-weight " + formatNumber(combined_weight, 17);
-    if (o.refine_seconds != 60.0)
-      command += " --combined-seconds " + formatNumber(o.refine_seconds, 17);
-    if (o.refine_iterations != 50)
-      command += " --combined-iterations " + std::to_string(o.refine_iterations);
-    if (o.segments.horizon != defaults.horizon)
-      command += " --horizon " + formatNumber(o.segments.horizon, 17);
-    if (o.segments.num_segments != defaults.num_segments)
-      command += " --segments " + std::to_string(o.segments.num_segments);
-    if (!o.segments.normalise) command += " --raw-gc";
-  }
-  const bool urdf = o.robot_spec.size() > 5 && (o.robot_spec.ends_with(".urdf"));
-  return "the recommended estimate is " + key + "'s: `" + command +
-         (urdf ? " --write-urdf " + key + "/" + "identified.urdf" : std::string()) + "` writes it" +
-         from_front + (urdf ? " into a copy of the URDF" : "") +
+  const bool urdf = !repeat->write_urdf.empty();
+  return "the recommended estimate is " + key + "'s: `" +
+         (spell ? spell(*repeat) : repeatByFields(*repeat)) + "` writes it" +
+         (repeat->from_front ? " (from pc, where the front reached it from its previous point)"
+                             : "") +
+         (urdf ? " into a copy of the URDF" : "") +
          "; check it on another log with dynid predict; the details follow.";
 }
 
 /// The verdict box: what was compared, which estimate to use for what, what is not determined.
-std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyOutcome& o) {
+std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyOutcome& o,
+                                                                 const RepeatSpelling& spell) {
   const StudyVerdict v = studyVerdict(o.rows);
   std::vector<std::pair<std::string, std::string>> lines;
   lines.emplace_back("Estimated", std::to_string(o.rows.size()) + " models of " + o.robot_spec +
@@ -393,14 +370,63 @@ std::vector<std::pair<std::string, std::string>> logStudyVerdict(const LogStudyO
                                            std::to_string(o.num_standard) +
                                            " standard parameter directions are invisible to "
                                            "torques and to the GC error alike.");
-  lines.emplace_back("Next", nextStep(o, v));
+  lines.emplace_back("Next", nextStep(o, spell));
   return lines;
 }
 }  // namespace
 
-Document logStudyDocument(const LogStudyOutcome& o) {
+std::optional<StudyRepeat> studyRepeat(const LogStudyOutcome& o) {
+  const auto [key, front_weight] = recommended(o);
+  if (key != "ols" && key != "wls" && key != "pc" && key != "combined") return std::nullopt;
+  StudyRepeat r;
+  r.method = key;
+  r.robot_spec = o.robot_spec;
+  r.drive_terms = o.drive_terms;
+  r.data_file = o.data_file;
+  r.validate_file = o.validate_file;
+  r.out = key;
+  if ((key == "pc" || key == "combined") && o.prior_weight != kDefaultPriorWeight)
+    r.prior_weight = o.prior_weight;
+  if (key == "combined") {
+    const IdentifyRequest identify;  // its defaults
+    const double weight = front_weight.value_or(o.combined_weight);
+    if (weight != identify.combined.gc_weight) r.combined_weight = weight;
+    if (o.refine_seconds != identify.combined.max_seconds) r.combined_seconds = o.refine_seconds;
+    if (o.refine_iterations != identify.combined.max_iterations)
+      r.combined_iterations = o.refine_iterations;
+    const SegmentOptions defaults = normalisedSegments();
+    if (o.segments.horizon != defaults.horizon) r.horizon = o.segments.horizon;
+    if (o.segments.num_segments != defaults.num_segments) r.segments = o.segments.num_segments;
+    r.raw_gc = !o.segments.normalise;
+    r.from_front = front_weight.has_value();
+  }
+  if (o.robot_spec.size() > 5 && o.robot_spec.ends_with(".urdf"))
+    r.write_urdf = key + "/identified.urdf";
+  return r;
+}
+
+std::string repeatByFields(const StudyRepeat& r) {
+  std::string out = "identify with method = " + r.method + ", robot_spec = " + r.robot_spec +
+                    ", drive_terms = " + r.drive_terms + ", data_file = " + r.data_file +
+                    ", validate_file = " + r.validate_file + ", out = " + r.out;
+  const auto number = [&](const char* field, const std::optional<double>& x) {
+    if (x) out += std::string(", ") + field + " = " + formatNumber(*x);
+  };
+  number("prior_weight", r.prior_weight);
+  number("combined_weight", r.combined_weight);
+  number("combined_seconds", r.combined_seconds);
+  number("horizon", r.horizon);
+  if (r.combined_iterations)
+    out += ", combined_iterations = " + std::to_string(*r.combined_iterations);
+  if (r.segments) out += ", segments = " + std::to_string(*r.segments);
+  if (r.raw_gc) out += ", raw_gc";
+  if (!r.write_urdf.empty()) out += ", write_urdf = " + r.write_urdf;
+  return out;
+}
+
+Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell) {
   Document doc("dynid study: " + o.robot_spec + " on " + o.data_file);
-  doc.verdict(logStudyVerdict(o));
+  doc.verdict(logStudyVerdict(o, spell));
   doc.paragraph(
       "Every estimation method on the user's own data, measured on the training data (" +
       std::to_string(o.train_samples) + " samples of " + o.data_file + ") and on held-out data (" +
@@ -471,8 +497,9 @@ Document logStudyDocument(const LogStudyOutcome& o) {
   return doc;
 }
 
-std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o) {
-  const Document doc = logStudyDocument(o);
+std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o,
+                          const RepeatSpelling& spell) {
+  const Document doc = logStudyDocument(o, spell);
   std::vector<std::pair<std::string, std::string>> files = {
       {"study.json", jsonText(withProvenance(logStudyJson(o)), 2) + "\n"},
       {"report.md", doc.markdown()},

@@ -3,6 +3,8 @@
 // conclude and a figure of torque error against GC error; and the console table.
 #pragma once
 
+#include <functional>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -18,9 +20,31 @@ std::string logStudyTable(const LogStudyOutcome& outcome);
 /// Sentences computed from the table: the best model for torques and for motion, held out, and
 /// whether they are the same.
 std::vector<std::string> logStudyConclusions(const LogStudyOutcome& outcome);
-Document logStudyDocument(const LogStudyOutcome& outcome);
+/// The identify run that repeats the study's recommended estimate (the chosen one when a front
+/// was swept), as identify's request fields: the report's next step. Only the settings that
+/// differ from identify's defaults are set; `write_urdf` for a URDF robot. The library names the
+/// fields; the caller (the CLI) spells them as a command line through a RepeatSpelling.
+struct StudyRepeat {
+  std::string method, robot_spec, drive_terms, data_file, validate_file, out, write_urdf;
+  std::optional<double> prior_weight, combined_weight, combined_seconds, horizon;
+  std::optional<int> combined_iterations, segments;
+  bool raw_gc = false;
+  bool from_front =
+      false;  // a front's point: repeated from pc, where the front came from its neighbour
+};
+/// The repeat of the recommended estimate; nullopt when it is not identify's (none, the input
+/// model, a search).
+std::optional<StudyRepeat> studyRepeat(const LogStudyOutcome& outcome);
+/// How a caller writes a repeat (the CLI: the dynid identify command). Empty: by field name.
+using RepeatSpelling = std::function<std::string(const StudyRepeat&)>;
+/// A repeat by identify's request fields ("identify with method = combined, combined_weight = 3,
+/// ...").
+std::string repeatByFields(const StudyRepeat& repeat);
+
+Document logStudyDocument(const LogStudyOutcome& outcome, const RepeatSpelling& spell = {});
 /// Writes study.json, report.md, report.html and the figure; returns the console text (the table,
 /// the conclusions and the files).
-std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& outcome);
+std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& outcome,
+                          const RepeatSpelling& spell = {});
 
 }  // namespace dynid

@@ -1,5 +1,6 @@
 // dynid study: every method on a dataset, torque fit and GC error side by side, and its errors.
 #include <filesystem>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -79,6 +80,38 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
   EXPECT_FALSE(std::filesystem::exists(none));
 }
 
+// The report's next step on a URDF whose path holds a space and a quote: one shell word each, and
+// the write-back into the identify run's own --out.
+TEST(Cli, StudyNextStepQuotesTheRobotPathAsOneShellWord) {
+  namespace fs = std::filesystem;
+  const std::string dir = test::tempPath("study quote");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string urdf = dir + "/bob's arm.urdf", train = dir + "/t.csv", held = dir + "/h.csv";
+  const auto word = [](const std::string& text) {  // for the test's own shell
+    std::string out = "'";
+    for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  };
+  ASSERT_EQ(run("model export --robot puma560 --format urdf --out " + word(urdf)).code, 0);
+  ASSERT_EQ(
+      run("simulate --robot puma560 --duration 1.5 --noise-tau 0.1 --out " + word(train)).code, 0);
+  ASSERT_EQ(
+      run("simulate --robot puma560 --duration 1 --noise-tau 0.1 --seed 2 --out " + word(held))
+          .code,
+      0);
+  const Result r = run("study --robot " + word(urdf) + " --data " + word(train) + " --validate " +
+                       word(held) + " --methods pc --segments 6 --out " + word(dir + "/s"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string report = readFile(dir + "/s/report.md");
+  EXPECT_TRUE(contains(report, "`dynid identify --method pc --robot '" + dir +
+                                   "/bob'\\''s arm.urdf' --drive-terms none --data '" + train +
+                                   "' --validate '" + held +
+                                   "' --out pc --write-urdf pc/identified.urdf` writes it into a "
+                                   "copy of the URDF"))
+      << report;
+}
+
 // --front: the combined estimator at each weight, every point measured and consistent, and the
 // estimate chosen by the stated rule written as the study's recommendation.
 TEST(Cli, StudyFrontSweepsTheCombinedWeightAndChoosesOneEstimate) {
@@ -115,6 +148,16 @@ TEST(Cli, StudyFrontSweepsTheCombinedWeightAndChoosesOneEstimate) {
   const std::string report = readFile(dir + "/report.md");
   EXPECT_TRUE(contains(report, "## The front")) << report;
   EXPECT_TRUE(contains(report, "Chosen: ")) << report;
+  // The next step is the identify command that repeats the choice, spelt by the CLI.
+  const std::string repeat = "dynid identify --method " +
+                             std::string(key == "front" ? "combined" : key) +
+                             " --robot puma560 --drive-terms fv,fc --data " + train;
+  EXPECT_TRUE(contains(report, repeat)) << report;
+  if (key == "front" && j["choice"]["front_weight"] != 1.0) {
+    std::ostringstream weight;  // "0.3" or "3", as the CLI writes it
+    weight << j["choice"]["front_weight"].get<double>();
+    EXPECT_TRUE(contains(report, "--combined-weight " + weight.str())) << report;
+  }
   // Weights that are not a sweep: refused before any work, the option named.
   const std::string none = test::tempPath("front_never");
   const Result bad = run(common + "--front-weights 1,0.5 --out " + none);

@@ -7,7 +7,9 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "core/parallel.hpp"
 #include "core/perturb.hpp"
+#include "search/gc_error.hpp"
 #include "tests/common/identification.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -65,7 +67,11 @@ TEST(CombinedFront, EveryPointIsConsistentAndTradesTorqueFitForMotion) {
   }
   // The first point starts at pc, the minimiser of the torque term; along the front the motion
   // is predicted better and the torques fitted worse.
-  EXPECT_EQ(front.front().detail.initial_torque, front.front().detail.history.front().torque);
+  Model at_pc = s.truth;
+  at_pc.setStandardParameters(s.pc.standard);
+  ThreadPool pool(1);
+  GcWorkspace workspace(1);
+  EXPECT_EQ(front.front().detail.initial_gc, gcError(at_pc, s.gc, workspace, pool));
   EXPECT_LT(front.back().detail.final_gc, front.front().detail.initial_gc);
   EXPECT_LT(front.back().detail.final_gc, front.front().detail.final_gc);
   EXPECT_GT(front.back().detail.final_torque, front.front().detail.final_torque);

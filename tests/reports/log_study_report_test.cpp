@@ -129,35 +129,43 @@ TEST(LogStudyReport, OpensWithAVerdictThatRecommendsOnlyAConsistentEstimate) {
   EXPECT_NE(none.find("no physically consistent estimate finished"), std::string::npos) << none;
 }
 
-TEST(LogStudyReport, NextGivesTheIdentifyCommandOfTheRecommendedEstimate) {
-  // combined recommended: its command with the study's inputs and non-default settings, the
-  // URDF's path (a space in it) quoted as one shell word, a write-back into its --out.
+TEST(LogStudyReport, NextGivesTheIdentifyRunOfTheRecommendedEstimate) {
+  // combined recommended: identify's request with the study's inputs and the settings that differ
+  // from identify's defaults, a write-back into its out for a URDF; by field name unless the
+  // caller spells it (the CLI: tests/cli/command_study_test.cpp).
   LogStudyOutcome o = outcome({row("pc", 0.011, 85.9, true), row("combined", 0.0112, 40.0, true)});
   o.robot_spec = "my arm.urdf";
   o.drive_terms = "fv,fc,fo";
   o.refine_seconds = 20.0;
+  const std::optional<StudyRepeat> r = studyRepeat(o);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->method, "combined");
+  EXPECT_EQ(r->combined_seconds, 20.0);
+  EXPECT_FALSE(r->combined_weight || r->combined_iterations || r->segments || r->prior_weight);
+  EXPECT_EQ(r->write_urdf, "combined/identified.urdf");
   const std::string md = logStudyDocument(o).markdown();
-  EXPECT_NE(md.find("`dynid identify --method combined --robot 'my arm.urdf' --drive-terms "
-                    "fv,fc,fo --data train.csv --validate test.csv --out combined "
-                    "--combined-seconds 20 --write-urdf combined/identified.urdf` writes it into "
+  EXPECT_NE(md.find("`identify with method = combined, robot_spec = my arm.urdf, drive_terms = "
+                    "fv,fc,fo, data_file = train.csv, validate_file = test.csv, out = combined, "
+                    "combined_seconds = 20, write_urdf = combined/identified.urdf` writes it into "
                     "a copy of the URDF"),
             std::string::npos)
       << md;
-  // A quote in the path: closed, escaped and reopened ('bob'\''s arm.urdf), one word to sh.
-  o.robot_spec = "bob's arm.urdf";
-  const std::string quoted = logStudyDocument(o).markdown();
-  EXPECT_NE(quoted.find("--robot 'bob'\\''s arm.urdf' --drive-terms"), std::string::npos) << quoted;
+  // A caller's spelling is what the report writes.
+  const std::string spelt =
+      logStudyDocument(o, [](const StudyRepeat& x) { return "run " + x.method; }).markdown();
+  EXPECT_NE(spelt.find("`run combined` writes it"), std::string::npos) << spelt;
   // The input model recommended: nothing to identify.
-  const std::string model =
-      logStudyDocument(outcome({row("model", 0.01, 30.0, true), row("pc", 0.02, 80.0, true)}))
-          .markdown();
-  EXPECT_NE(model.find("the input model itself is the recommended one: use puma560 as it is"),
-            std::string::npos)
-      << model;
+  const LogStudyOutcome model_best =
+      outcome({row("model", 0.01, 30.0, true), row("pc", 0.02, 80.0, true)});
+  EXPECT_FALSE(studyRepeat(model_best));
+  EXPECT_NE(logStudyDocument(model_best)
+                .markdown()
+                .find("the input model itself is the recommended one: use puma560 as it is"),
+            std::string::npos);
   // pc on a built-in robot: no write-back, the default settings left out.
   const std::string pc = logStudyDocument(outcome({row("pc", 0.011, 85.9, true)})).markdown();
-  EXPECT_NE(pc.find("`dynid identify --method pc --robot puma560 --drive-terms none --data "
-                    "train.csv --validate test.csv --out pc` writes it;"),
+  EXPECT_NE(pc.find("`identify with method = pc, robot_spec = puma560, drive_terms = none, "
+                    "data_file = train.csv, validate_file = test.csv, out = pc` writes it;"),
             std::string::npos)
       << pc;
 }
@@ -177,11 +185,11 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
                     "error 61)"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("--method combined --robot puma560 --drive-terms fv,fc,fo --data train.csv "
-                    "--validate test.csv --out combined` writes it (from pc, where the front "
-                    "reached it from its previous point)"),
+  EXPECT_NE(md.find("validate_file = test.csv, out = combined` writes it (from pc, where the "
+                    "front reached it from its previous point)"),
             std::string::npos)
-      << md;  // w = 1 is identify's default weight: no --combined-weight
+      << md;  // w = 1 is identify's default weight: no combined_weight
+  EXPECT_TRUE(studyRepeat(o)->from_front);
   EXPECT_NE(md.find("## The front"), std::string::npos);
   EXPECT_NE(md.find("| 10 | 1.16 % | 1.16 % | 21.4 | 21.4 | yes |"), std::string::npos) << md;
   const nlohmann::json j = logStudyJson(o);
@@ -201,6 +209,9 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
   EXPECT_EQ(csv.rfind("weight,torque_relative_error_train,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n10,0.0116"), std::string::npos) << csv;
+  // Another point chosen: its weight is the repeat's.
+  o.front[1].row.torque_test = 0.02;  // out of the bound: the point at w = 0.3 predicts best within
+  EXPECT_EQ(studyRepeat(o)->combined_weight, 0.3);
 }
 
 }  // namespace
