@@ -44,8 +44,11 @@ def test_the_front_and_the_choice_are_the_clis(logs):
         assert mine["gc_error_test"] == theirs["gc_error_test"]
         assert mine["torque_relative_error_test"] == theirs["torque_relative_error_test"]
     assert cli["choice"] == choice
-    # front=True: the default sweep, 0.01 to 100.
-    assert dynid.study.__doc__ and "front" in dynid.study.__doc__
+    # front=True: the default sweep, 0.01 to 100, two points a decade.
+    default = dynid.study(model, train, held, methods="pc", front=True, refine_iterations=1,
+                          segments=4, threads=1)
+    assert [p["weight"] for p in default["front"]["points"]] == [
+        0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0]
 
 
 def test_bad_weights_are_refused_by_their_name(logs):
