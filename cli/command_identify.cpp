@@ -31,14 +31,26 @@ void addCombinedOptions(po::options_description& options) {
       "the default holds the GC term there, since fitting noise biases the parameters)")(
       "combined-seconds", po::value<double>()->default_value(d.combined.max_seconds))(
       "combined-iterations", po::value<int>()->default_value(d.combined.max_iterations));
+  addFrontOptions(options,
+                  "combined: sweep the GC weight (0.01 to 100, each point from the last, "
+                  "--combined-weight unused) and take the estimate the held-out data (--validate) "
+                  "choose by --front-tolerance, as dynid study --front does");
 }
 
 /// Refuses them with another method (usage error), else reads them into the request.
 void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) {
-  refuseUnused(vm, request.method == Method::kCombined,
-               {"horizon", "segments", "raw-gc", "combined-weight", "no-gc-floor",
-                "combined-seconds", "combined-iterations"},
-               "applies to --method combined");
+  refuseUnused(
+      vm, request.method == Method::kCombined,
+      {"horizon", "segments", "raw-gc", "combined-weight", "no-gc-floor", "combined-seconds",
+       "combined-iterations", "front", "front-weights", "front-tolerance"},
+      "applies to --method combined");
+  request.front_weights = frontWeightsOption(vm);
+  if (!request.front_weights.empty() && !vm.count("validate"))
+    throw UsageError("--front chooses its estimate on held-out data: give --validate");
+  refuseUnused(vm, !request.front_weights.empty(), {"front-tolerance"}, "applies with --front");
+  refuseUnused(vm, request.front_weights.empty(), {"combined-weight"},
+               "is what --front sweeps (its weights: --front-weights)");
+  request.front_tolerance = vm["front-tolerance"].as<double>();
   request.segments.horizon = vm["horizon"].as<double>();
   request.segments.num_segments = vm["segments"].as<int>();
   request.segments.normalise = !vm["raw-gc"].as<bool>();
@@ -46,32 +58,6 @@ void readCombinedOptions(const po::variables_map& vm, IdentifyRequest& request) 
   request.combined.noise_floor = !vm["no-gc-floor"].as<bool>();
   request.combined.max_seconds = vm["combined-seconds"].as<double>();
   request.combined.max_iterations = vm["combined-iterations"].as<int>();
-}
-
-/// --write-urdf's checks, before the work: a URDF robot, a file (not -) that is no input, in a
-/// directory that exists or is --out's (writeWriteBack makes that one).
-void checkWriteBack(const po::variables_map& vm, IdentifyRequest& request) {
-  request.write_back_from = request.robot_spec;
-  if (!isUrdfSpec(request.write_back_from))
-    throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" +
-                     request.write_back_from + "'");
-  const std::string target = vm["write-urdf"].as<std::string>();
-  if (target == "-")
-    throw UsageError(
-        "--write-urdf writes two files (FILE and its .dynid.json); name a file, "
-        "not - (standard output)");
-  for (const std::string& path : {target, writeBackJsonPath(target)})
-    if (isInputFile(path))
-      throw UsageError("--write-urdf: '" + path +
-                       "' is an input of this command; name another file (the input stays)");
-  const std::filesystem::path parent = std::filesystem::path(target).parent_path();
-  std::error_code error;
-  const bool in_out =
-      !parent.empty() && parent.lexically_normal() ==
-                             std::filesystem::path(vm["out"].as<std::string>()).lexically_normal();
-  if (!parent.empty() && !in_out && !std::filesystem::is_directory(parent, error))
-    throw UsageError("--write-urdf: the directory '" + parent.string() +
-                     "' does not exist; create it, or name a file in --out's directory");
 }
 
 /// identify's options, in the order --help lists them.
@@ -185,7 +171,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (vm.count("validate")) request.validate_file = vm["validate"].as<std::string>();
   refuseUnused(vm, vm.count("validate") > 0, {"validate-raw"}, "applies with --validate");
   if (vm.count("validate-raw")) request.validate_raw_file = vm["validate-raw"].as<std::string>();
-  if (vm.count("write-urdf")) checkWriteBack(vm, request);
+  if (vm.count("write-urdf")) request.write_back_from = writeUrdfSource(vm, request.robot_spec);
   if (stderrIsTerminal())
     request.combined.control.progress = [](const std::string& line) {
       std::cerr << "[identify] " << line << "\n";

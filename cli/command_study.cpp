@@ -4,11 +4,11 @@
 #include <optional>
 #include <string>
 
-#include "analysis/estimation/front.hpp"
 #include "analysis/studies/log_study.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "core/format.hpp"
+#include "reports/identification_report.hpp"
 #include "reports/log_study_report.hpp"
 #include "reports/output.hpp"
 
@@ -44,6 +44,13 @@ std::string identifyCommand(const StudyRepeat& r) {
   number("--horizon", r.horizon);
   if (r.segments) command += " --segments " + std::to_string(*r.segments);
   if (r.raw_gc) command += " --raw-gc";
+  if (r.front && r.front_weights.empty()) command += " --front";
+  if (!r.front_weights.empty()) {
+    command += " --front-weights ";
+    for (std::size_t k = 0; k < r.front_weights.size(); ++k)
+      command += (k > 0 ? "," : "") + formatNumber(r.front_weights[k]);
+  }
+  number("--front-tolerance", r.front_tolerance);
   if (!r.write_urdf.empty()) command += " --write-urdf " + shellWord(r.write_urdf);
   return command;
 }
@@ -66,19 +73,18 @@ int runStudy(const std::vector<std::string>& args) {
       "refine-seconds", po::value<double>()->default_value(d.refine_seconds),
       "per refinement, and the combined estimator's")(
       "combined-weight", po::value<double>()->default_value(d.combined_weight))(
-      "front", po::bool_switch(),
-      "also sweep the combined estimator's GC weight (0.01 to 100, each point from the last) and "
-      "choose one estimate from every consistent one by --front-tolerance")(
-      "front-weights", po::value<std::string>(),
-      "the front's weights, comma-separated, increasing (implies --front)")(
-      "front-tolerance", po::value<double>()->default_value(d.front_tolerance),
-      "the chosen estimate's held-out torque error is at most this fraction above the best "
-      "physically consistent one's; among those, the least held-out GC error")(
       "raw-gc", po::bool_switch(),
       "GC errors in rad and rad/s (default: each joint's q and dq errors divided by their "
       "spread over the data, so no joint's velocity dominates the ranking)")(
       "seed", po::value<std::uint64_t>()->default_value(d.seed), "seed of the searches")(
-      "out", po::value<std::string>()->required(), "output directory");
+      "write-urdf", po::value<std::string>(),
+      "with --front, for a URDF robot: a copy of it carrying the chosen estimate, and the full "
+      "model as .dynid.json beside it")("out", po::value<std::string>()->required(),
+                                        "output directory");
+  addFrontOptions(options,
+                  "also sweep the combined estimator's GC weight (0.01 to 100, each point from "
+                  "the last) and choose one estimate from every consistent one by "
+                  "--front-tolerance (written as chosen.json)");
   addPriorWeightOption(options);
   addKeepRefinementOption(options);
   addThreadsOption(options);
@@ -101,11 +107,13 @@ int runStudy(const std::vector<std::string>& args) {
   request.segments.seed = vm["seed"].as<std::uint64_t>();
   request.segments.normalise = !vm["raw-gc"].as<bool>();
   request.combined_weight = vm["combined-weight"].as<double>();
-  if (vm.count("front-weights"))
-    request.front_weights = parseList(vm["front-weights"].as<std::string>(), "front-weights");
-  else if (vm["front"].as<bool>())
-    request.front_weights = defaultFrontWeights();
+  request.front_weights = frontWeightsOption(vm);
   request.front_tolerance = vm["front-tolerance"].as<double>();
+  if (vm.count("write-urdf")) {
+    if (request.front_weights.empty())
+      throw UsageError("--write-urdf writes the estimate chosen from the front: add --front");
+    request.write_back_from = writeUrdfSource(vm, request.robot_spec);
+  }
   request.search_seconds = vm["search-seconds"].as<double>();
   request.search_evaluations = vm["search-evaluations"].as<long>();
   if (request.search_seconds == 0.0 && request.search_evaluations == 0)
@@ -124,6 +132,8 @@ int runStudy(const std::vector<std::string>& args) {
   request.control.stop = guard.flag();
   const LogStudyOutcome outcome = logStudyRun(request);
   std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome, identifyCommand);
+  if (outcome.write_back)
+    std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
   return exitAfter(guard, "study",
                    "the report has the methods that finished and each stopped one's best so far");
 }

@@ -12,12 +12,14 @@
 
 #include <boost/make_shared.hpp>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/records/provenance.hpp"
 #include "cli/build_info.hpp"
 #include "cli/spelling.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/io.hpp"
+#include "reports/identification_report.hpp"
 #include "reports/output.hpp"
 
 namespace dynid::cli {
@@ -129,6 +131,44 @@ void addPriorWeightOption(po::options_description& options) {
 
 double priorWeightOption(const po::variables_map& vm) {
   return vm["prior-weight"].as<double>();  // > 0: core/option_ranges.hpp
+}
+
+void addFrontOptions(po::options_description& options, const char* front_help) {
+  options.add_options()("front", po::bool_switch(), front_help)(
+      "front-weights", po::value<std::string>(),
+      "the front's weights, comma-separated, increasing (implies --front)")(
+      "front-tolerance", po::value<double>()->default_value(0.05),
+      "the chosen estimate's held-out torque error is at most this fraction above the best "
+      "physically consistent one's; among those, the least held-out GC error");
+}
+
+std::vector<double> frontWeightsOption(const po::variables_map& vm) {
+  if (vm.count("front-weights"))
+    return parseList(vm["front-weights"].as<std::string>(), "front-weights");
+  return vm["front"].as<bool>() ? defaultFrontWeights() : std::vector<double>{};
+}
+
+std::string writeUrdfSource(const po::variables_map& vm, const std::string& robot_spec) {
+  if (!isUrdfSpec(robot_spec))
+    throw UsageError("--write-urdf needs a robot given as a .urdf file, not '" + robot_spec + "'");
+  const std::string target = vm["write-urdf"].as<std::string>();
+  if (target == "-")
+    throw UsageError(
+        "--write-urdf writes two files (FILE and its .dynid.json); name a file, "
+        "not - (standard output)");
+  for (const std::string& path : {target, writeBackJsonPath(target)})
+    if (isInputFile(path))
+      throw UsageError("--write-urdf: '" + path +
+                       "' is an input of this command; name another file (the input stays)");
+  const std::filesystem::path parent = std::filesystem::path(target).parent_path();
+  std::error_code error;
+  const bool in_out =
+      !parent.empty() && parent.lexically_normal() ==
+                             std::filesystem::path(vm["out"].as<std::string>()).lexically_normal();
+  if (!parent.empty() && !in_out && !std::filesystem::is_directory(parent, error))
+    throw UsageError("--write-urdf: the directory '" + parent.string() +
+                     "' does not exist; create it, or name a file in --out's directory");
+  return robot_spec;
 }
 
 void addKeepRefinementOption(po::options_description& options) {

@@ -128,6 +128,15 @@ StructuralOptions structuralOptions(const po::variables_map& vm);
 /// (physically_consistent.hpp: kDefaultPriorWeight, checkPriorWeight).
 void addPriorWeightOption(po::options_description& options);
 double priorWeightOption(const po::variables_map& vm);
+/// --write-urdf's checks, before the work (identify, study): a URDF robot, a file (not -) that is
+/// no input, in a directory that exists or is --out's (writeWriteBack makes that one). Returns the
+/// URDF to write into (robot_spec). UsageError otherwise.
+std::string writeUrdfSource(const po::variables_map& vm, const std::string& robot_spec);
+/// --front, --front-weights, --front-tolerance (study, identify --method combined; the tolerance's
+/// default is the requests' own, 0.05) and the weights (the default sweep with --front alone;
+/// empty without either).
+void addFrontOptions(po::options_description& options, const char* front_help);
+std::vector<double> frontWeightsOption(const po::variables_map& vm);
 /// --rest-velocity V[,V...] (identify, predict): each joint's rest velocity, one for all or one
 /// per joint of `joints` (analysis/logs/rest.hpp; joints 0: the count is the library's to check);
 /// empty when not given (measured on the data). UsageError for another count or a negative value.

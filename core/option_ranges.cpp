@@ -107,7 +107,7 @@ constexpr OptionRule kOptionRules[] = {
      {0.0, 1e6, false, false},
      "combined: the GC term's weight relative to the torque term's, each normalised by its "
      "value at the pc estimate"},
-    {"study",
+    {"",
      "front-tolerance",
      {0.0, 10.0, false, false},
      "the chosen estimate's held-out torque error may exceed the best physically consistent one's "

@@ -7,6 +7,7 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/runs/arm.hpp"
 #include "analysis/runs/identify.hpp"
@@ -43,17 +44,16 @@ std::vector<std::string> baseNames(const BaseParameters& b) {
   return out;
 }
 
-EstimateResult identify(const Model& model, const TrainingLike& data, const std::string& method,
-                        const OptionalDataLike& validate, const std::optional<Model>& prior,
-                        double prior_weight, int samples, std::uint64_t seed, double tolerance,
-                        int threads, const PathLike& robot_spec,
-                        const OptionalPathLike& validate_raw, std::optional<double> horizon,
-                        std::optional<int> segments, std::optional<bool> raw_gc,
-                        std::optional<double> combined_weight,
-                        std::optional<double> combined_seconds,
-                        std::optional<int> combined_iterations,
-                        const std::optional<std::vector<double>>& rest_velocity,
-                        const std::string& covariance, const TorqueFilterLike& torque_filter) {
+EstimateResult identify(
+    const Model& model, const TrainingLike& data, const std::string& method,
+    const OptionalDataLike& validate, const std::optional<Model>& prior, double prior_weight,
+    int samples, std::uint64_t seed, double tolerance, int threads, const PathLike& robot_spec,
+    const OptionalPathLike& validate_raw, std::optional<double> horizon,
+    std::optional<int> segments, std::optional<bool> raw_gc, std::optional<double> combined_weight,
+    std::optional<double> combined_seconds, std::optional<int> combined_iterations,
+    const std::optional<std::vector<double>>& rest_velocity, const std::string& covariance,
+    const TorqueFilterLike& torque_filter, bool front,
+    const std::optional<std::vector<double>>& front_weights, double front_tolerance) {
   if (method != "pc" && method != "combined" && (prior || prior_weight != kDefaultPriorWeight))
     throw py::value_error("prior and prior_weight apply to methods 'pc' and 'combined', not '" +
                           method + "'");
@@ -71,6 +71,14 @@ EstimateResult identify(const Model& model, const TrainingLike& data, const std:
   if (combined_weight) request.combined.gc_weight = *combined_weight;
   if (combined_seconds) request.combined.max_seconds = *combined_seconds;
   if (combined_iterations) request.combined.max_iterations = *combined_iterations;
+  // identify's --front, --front-weights, --front-tolerance (checked by identifyRun).
+  if (front_weights)
+    request.front_weights = *front_weights;
+  else if (front)
+    request.front_weights = defaultFrontWeights();
+  if (request.front_weights.empty() && front_tolerance != request.front_tolerance)
+    throw py::value_error("front_tolerance applies with front=True or front_weights");
+  request.front_tolerance = front_tolerance;
   request.model = model;
   request.method = parseMethod(method, identifyMethods());
   request.prior = prior;
@@ -313,6 +321,27 @@ void bindEstimateDetails(py::class_<EstimateResult>& estimate) {
             return out;
           },
           "Links whose estimate is not physically consistent (empty for pc).")
+      .def_property_readonly(
+          "front",
+          [](const EstimateResult& r) -> std::optional<py::list> {
+            if (!r.outcome.front) return std::nullopt;
+            const IdentifyFront& f = *r.outcome.front;
+            py::list out;
+            for (std::size_t k = 0; k < f.points.size(); ++k) {
+              const IdentifyFrontPoint& p = f.points[k];
+              py::dict d;
+              d["weight"] = p.weight;
+              d["torque_train"] = p.torque_train;
+              d["torque_test"] = p.test.torque;
+              d["gc_train"] = p.gc_train;
+              d["gc_test"] = p.test.gc;
+              d["chosen"] = static_cast<int>(k) == f.choice.index;
+              out.append(d);
+            }
+            return out;
+          },
+          "With front: each point (weight, torque_train, torque_test: relative torque errors, "
+          "gc_train, gc_test, chosen), in weight order; None without.")
       .def(
           "to_json",
           [](const EstimateResult& r) {
@@ -407,7 +436,9 @@ void bindIdentify(py::module_& m) {
       py::arg("raw_gc") = py::none(), py::arg("combined_weight") = py::none(),
       py::arg("combined_seconds") = py::none(), py::arg("combined_iterations") = py::none(),
       py::arg("rest_velocity") = py::none(), py::arg("covariance") = "hac",
-      py::arg("torque_filter") = "auto",
+      py::arg("torque_filter") = "auto", py::arg("front") = false,
+      py::arg("front_weights") = py::none(),
+      py::arg("front_tolerance") = IdentifyRequest{}.front_tolerance,
       "Least-squares estimate of the base parameters from `data` (a CSV path, streamed, a "
       "Dataset, or a Summary of logs, which gives their estimate: ols, wls or pc): method 'ols', "
       "'wls', 'pc' (physically consistent, toward `prior`, default "
@@ -424,7 +455,10 @@ void bindIdentify(py::module_& m) {
       "`torque_filter`: the low-pass the training torque went through, whose effect on the "
       "friction columns that need sign(dq) the fit reproduces: 'auto' (the prepare.json beside "
       "a data file; none for a Dataset), 'none', a cutoff [Hz] (order 4) or (cutoff, order) "
-      "(identify's --torque-filter). Raises "
+      "(identify's --torque-filter). `front`, `front_weights`, `front_tolerance` (method "
+      "'combined', with `validate`): the combined estimator at a sweep of GC weights, the "
+      "estimate the one the held-out data choose (identify's --front; the result's `front`). "
+      "Raises "
       "NumericalError when the data do not excite "
       "every base parameter.");
 }

@@ -108,7 +108,7 @@ void bindStudy(py::module_& m) {
         "held-out dataset, torque fit and motion prediction side by side; with `front` (or "
         "`front_weights`) the combined estimator's front, and the estimate chosen from every "
         "consistent one (`front_tolerance`). Returns study.json as a dict: `methods`, "
-        "`front.points` (each point's weight and errors) and `choice`.");
+        "`front.points` (each point's weight, errors and `standard` parameters) and `choice`.");
 }
 
 /// The runs of the manifest's grid still to do in `out`: [(name, spec as JSON text)], after

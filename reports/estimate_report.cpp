@@ -238,6 +238,32 @@ void combinedSection(Document& doc, const IdentifyOutcome& o) {
   doc.table(table);
 }
 
+/// identify --front: the front's points on the held-out data and the one chosen.
+void frontSection(Document& doc, const IdentifyOutcome& o) {
+  if (!o.front) return;
+  const IdentifyFront& f = *o.front;
+  const IdentifyFrontPoint& chosen = f.points[f.choice.index];
+  doc.heading("The front, and the estimate chosen from it");
+  doc.paragraph(
+      "The combined estimator at " + std::to_string(f.points.size()) +
+      " GC weights w, each point started from the last with pc's normalisers, every point "
+      "physically consistent. The estimate is the point at w = " +
+      formatNumber(chosen.weight, 3, "n/a") +
+      ": the least held-out GC error among the points whose held-out torque error is at most " +
+      formatNumber(100.0 * f.tolerance, 3, "n/a") + " % above the least of theirs (w = " +
+      formatNumber(f.points[f.choice.best_torque].weight, 3, "n/a") + "'s; bound " +
+      percentText(f.choice.torque_bound) + ").");
+  DocumentTable table;
+  table.header = {"w",        "torque error, train", "held out", "GC error, train",
+                  "held out", "iterations",          "seconds"};
+  for (const IdentifyFrontPoint& p : f.points)
+    table.rows.push_back({formatNumber(p.weight, 3, "n/a") + (&p == &chosen ? " (chosen)" : ""),
+                          percentText(p.torque_train), percentText(p.test.torque),
+                          formatNumber(p.gc_train, 4, "n/a"), formatNumber(p.test.gc, 4, "n/a"),
+                          std::to_string(p.iterations), formatNumber(p.seconds, 3, "n/a")});
+  doc.table(table);
+}
+
 void consistencySection(Document& doc, const Model& model, const IdentifyOutcome& o) {
   doc.heading("Physical consistency");
   if (o.result.pc)
@@ -449,6 +475,7 @@ Document identificationDocument(const Model& model, const IdentifyOutcome& o,
   std::vector<std::string> missing;
   torqueFitSection(doc, model, o, missing);
   combinedSection(doc, o);
+  frontSection(doc, o);
   if (o.preparation.present) preparationSection(doc, o.preparation);
   identifiabilitySection(model, doc, o);
   consistencySection(doc, model, o);

@@ -227,6 +227,30 @@ json combinedJson(const CombinedSummary& summary) {
       {"cost_history", combinedHistoryJson(c->detail)}};
 }
 
+/// estimate.json's "front" (identify --front): each point's weight and errors, and the choice.
+json frontJson(const IdentifyFront& front) {
+  json points = json::array();
+  for (const IdentifyFrontPoint& p : front.points)
+    points.push_back({{"weight", p.weight},
+                      {"torque_relative_error_train", numberOrNull(p.torque_train)},
+                      {"torque_relative_error_test", numberOrNull(p.test.torque)},
+                      {"gc_error_train", numberOrNull(p.gc_train)},
+                      {"gc_error_test", numberOrNull(p.test.gc)},
+                      {"physically_consistent", p.test.consistent},
+                      {"iterations", p.iterations},
+                      {"seconds", p.seconds},
+                      {"note", p.note}});
+  const FrontChoice& c = front.choice;
+  return {{"tolerance", front.tolerance},
+          {"points", points},
+          {"chosen_weight", front.points[c.index].weight},
+          {"best_torque_weight", front.points[c.best_torque].weight},
+          {"torque_bound", numberOrNull(c.torque_bound)},
+          {"rule",
+           "the least held-out GC error among the points whose held-out torque error is within "
+           "(1 + tolerance) of the least of theirs"}};
+}
+
 /// estimate.json's "torque_source" when the torques were motor currents (dynid prepare
 /// --current): the constants every parameter scales with, which monitor compares with the ones it
 /// is given for a recording; null otherwise.
@@ -377,6 +401,7 @@ json estimateJson(const Model& model, const IdentifyOutcome& outcome) {
         {"cost_history", pc->cost_history}};
   }
   if (const auto& c = outcome.combined) report["combined"] = combinedJson(*c);
+  if (const auto& front = outcome.front) report["front"] = frontJson(*front);
   if (const auto& back = outcome.write_back)
     report["write_back"] = {
         {"unseen_directions", back->unseen_directions},
@@ -459,6 +484,15 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
     if (outcome.validate_fit)
       if (const std::string line = atRestLine(outcome.validate_fit->rest); !line.empty())
         out << "\n  held out " << line;
+  }
+  if (const auto& f = outcome.front) {
+    const IdentifyFrontPoint& chosen = f->points[f->choice.index];
+    out << "\n  the front: " << f->points.size()
+        << " points (w = " << formatNumber(f->points.front().weight, 3) << " to "
+        << formatNumber(f->points.back().weight, 3)
+        << "); chosen w = " << formatNumber(chosen.weight, 3) << ": held-out GC error "
+        << formatNumber(chosen.test.gc, 4) << ", the least among the points within "
+        << formatNumber(100.0 * f->tolerance, 3) << " % of the least held-out torque error";
   }
   if (const std::string line = restVelocityLine(outcome.rest); !line.empty()) out << "\n  " << line;
   if (const std::string line = fitRowsLine(outcome); !line.empty()) out << "\n  " << line;

@@ -7,11 +7,13 @@
 #include <sstream>
 #include <utility>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/records/document.hpp"
 #include "analysis/records/provenance.hpp"
 #include "analysis/runs/identify.hpp"
 #include "core/format.hpp"
 #include "data/json_number.hpp"
+#include "data/model_json.hpp"
 #include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
@@ -45,15 +47,10 @@ std::string estimateLabel(const LogStudyOutcome& o, const std::string& key, int 
   return "the front's point at w = " + formatNumber(o.front[index].weight, 3, "n/a");
 }
 
-const LogStudyRow* choiceRow(const LogStudyOutcome& o, const StudyChoice& c) {
-  if (c.front_index >= 0) return &o.front[c.front_index].row;
-  return find(o, c.key);
-}
-
 /// The study's one recommendation once a front was swept: which estimate, and why.
 std::string choiceSentence(const LogStudyOutcome& o) {
   const StudyChoice c = studyChoice(o, o.front_tolerance);
-  const LogStudyRow* chosen = choiceRow(o, c);
+  const LogStudyRow* chosen = studyChosenRow(o, c);
   if (chosen == nullptr)
     return "none: no physically consistent estimate (front included) has finite held-out errors.";
   return estimateLabel(o, c.key, c.front_index) + " (" + heldOutErrors(*chosen) +
@@ -126,7 +123,7 @@ std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
   }
   PlotRows chosen;
   const StudyChoice c = studyChoice(o, o.front_tolerance);
-  if (const LogStudyRow* r = o.front.empty() ? nullptr : choiceRow(o, c))
+  if (const LogStudyRow* r = o.front.empty() ? nullptr : studyChosenRow(o, c))
     chosen.append({100.0 * r->torque_test, r->gc_test});
   if (!chosen.text().empty()) s << "$c << EOD\n" << chosen << "EOD\n";
   s << "plot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa'";
@@ -166,12 +163,22 @@ nlohmann::json rowJson(const LogStudyRow& r) {
           {"note", r.note}};
 }
 
+/// A row's standard parameters by name (the robot's layout).
+nlohmann::json standardJson(const Model& model, const Eigen::VectorXd& standard) {
+  nlohmann::json out = nlohmann::json::object();
+  const std::vector<std::string> names = standardParameterNames(model.parameterLayout());
+  for (Eigen::Index k = 0; k < standard.size() && k < static_cast<Eigen::Index>(names.size()); ++k)
+    out[names[k]] = numberOrNull(standard[k]);
+  return out;
+}
+
 /// The front's points and the choice: which estimate, by which rule, at which bound.
 nlohmann::json frontJson(const LogStudyOutcome& o) {
   nlohmann::json points = nlohmann::json::array();
   for (const FrontRow& f : o.front) {
     nlohmann::json point = rowJson(f.row);
     point["weight"] = f.weight;
+    point["standard"] = standardJson(o.model, f.row.standard);
     points.push_back(point);
   }
   return {{"tolerance", o.front_tolerance}, {"points", points}};
@@ -185,6 +192,7 @@ nlohmann::json choiceJson(const LogStudyOutcome& o) {
           {"best_torque",
            c.best_torque.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.best_torque)},
           {"torque_bound", c.key.empty() ? nlohmann::json(nullptr) : numberOrNull(c.torque_bound)},
+          {"estimate", c.key.empty() ? nlohmann::json(nullptr) : nlohmann::json("chosen.json")},
           {"rule",
            "the least held-out GC error among the physically consistent estimates whose held-out "
            "torque error is within (1 + tolerance) of the least of theirs"}};
@@ -331,10 +339,18 @@ std::string nextStep(const LogStudyOutcome& o, const RepeatSpelling& spell) {
            " estimate comes from a GC-error search: repeat it with dynid search and dynid "
            "refine (docs/SEARCH.md), then dynid predict; the details follow.";
   const bool urdf = !repeat->write_urdf.empty();
-  return "the recommended estimate is " + key + "'s: `" +
-         (spell ? spell(*repeat) : repeatByFields(*repeat)) + "` writes it" +
-         (repeat->from_front ? " (from pc, where the front reached it from its previous point)"
-                             : "") +
+  const std::string command = "`" + (spell ? spell(*repeat) : repeatByFields(*repeat)) + "`";
+  if (repeat->front)
+    return "the chosen estimate is in chosen.json (a dynid JSON model, for payload, monitor, "
+           "predict and simulate); " +
+           command + " sweeps the same front and writes its estimate.json" +
+           (urdf ? " and a copy of the URDF" : "") +
+           (repeat->front_differs
+                ? ", choosing among the front's points alone: here another point than this "
+                  "study's, whose torque bound an estimate off the front set"
+                : " (the same point)") +
+           "; check it on another log with dynid predict; the details follow.";
+  return "the recommended estimate is " + key + "'s: " + command + " writes it" +
          (urdf ? " into a copy of the URDF" : "") +
          "; check it on another log with dynid predict; the details follow.";
 }
@@ -389,8 +405,21 @@ std::optional<StudyRepeat> studyRepeat(const LogStudyOutcome& o) {
     r.prior_weight = o.prior_weight;
   if (key == "combined") {
     const IdentifyRequest identify;  // its defaults
-    const double weight = front_weight.value_or(o.combined_weight);
-    if (weight != identify.combined.gc_weight) r.combined_weight = weight;
+    if (front_weight) {
+      r.front = true;
+      std::vector<double> weights;
+      for (const FrontRow& f : o.front) weights.push_back(f.weight);
+      if (weights != defaultFrontWeights()) r.front_weights = weights;
+      if (o.front_tolerance != identify.front_tolerance) r.front_tolerance = o.front_tolerance;
+      // identify's choice: among the front's points alone.
+      std::vector<HeldOutErrors> errors;
+      for (const FrontRow& f : o.front)
+        errors.push_back({f.row.torque_test, f.row.gc_test, f.row.consistent});
+      const int index = chooseByHeldOut(errors, o.front_tolerance).index;
+      r.front_differs = index < 0 || o.front[index].weight != *front_weight;
+    } else if (o.combined_weight != identify.combined.gc_weight) {
+      r.combined_weight = o.combined_weight;
+    }
     if (o.refine_seconds != identify.combined.max_seconds) r.combined_seconds = o.refine_seconds;
     if (o.refine_iterations != identify.combined.max_iterations)
       r.combined_iterations = o.refine_iterations;
@@ -398,7 +427,6 @@ std::optional<StudyRepeat> studyRepeat(const LogStudyOutcome& o) {
     if (o.segments.horizon != defaults.horizon) r.horizon = o.segments.horizon;
     if (o.segments.num_segments != defaults.num_segments) r.segments = o.segments.num_segments;
     r.raw_gc = !o.segments.normalise;
-    r.from_front = front_weight.has_value();
   }
   if (o.robot_spec.size() > 5 && o.robot_spec.ends_with(".urdf"))
     r.write_urdf = key + "/identified.urdf";
@@ -420,6 +448,14 @@ std::string repeatByFields(const StudyRepeat& r) {
     out += ", combined_iterations = " + std::to_string(*r.combined_iterations);
   if (r.segments) out += ", segments = " + std::to_string(*r.segments);
   if (r.raw_gc) out += ", raw_gc";
+  if (r.front) {
+    out += ", front_weights = ";
+    const std::vector<double> weights =
+        r.front_weights.empty() ? defaultFrontWeights() : r.front_weights;
+    for (std::size_t k = 0; k < weights.size(); ++k)
+      out += (k > 0 ? "," : "") + formatNumber(weights[k]);
+  }
+  number("front_tolerance", r.front_tolerance);
   if (!r.write_urdf.empty()) out += ", write_urdf = " + r.write_urdf;
   return out;
 }
@@ -505,12 +541,25 @@ std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o,
       {"report.md", doc.markdown()},
       {"report.html", doc.html()}};
   if (!o.front.empty()) files.emplace_back("front.csv", frontCsv(o));
+  const StudyChoice choice = studyChoice(o, o.front_tolerance);
+  const LogStudyRow* chosen = o.front.empty() ? nullptr : studyChosenRow(o, choice);
+  const bool write_chosen =
+      chosen != nullptr && chosen->standard.size() == o.model.standardParameters().size();
+  if (write_chosen) {
+    Model model = o.model;
+    model.setStandardParameters(chosen->standard);
+    files.emplace_back("chosen.json", modelToJson(model));
+  }
   for (const Figure& f : doc.figures()) files.emplace_back(f.name + ".svg", f.svg);
   writeReportFiles(dir, files);
   std::string out = logStudyTable(o);
   for (const std::string& sentence : logStudyConclusions(o)) out += sentence + "\n";
   out += "report: " + dir + "/report.html (and report.md, study.json" +
          (o.front.empty() ? "" : ", front.csv") + ")\n";
+  if (write_chosen)
+    out += "the chosen estimate: " + dir +
+           "/chosen.json (a dynid JSON model: --arm of payload and monitor, --robot of predict "
+           "and simulate)\n";
   if (doc.figures().empty()) out += "warning: gnuplot did not run: the report has no figure\n";
   return out;
 }

@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -29,8 +30,14 @@ struct StudyRepeat {
   std::optional<double> prior_weight, combined_weight, combined_seconds, horizon;
   std::optional<int> combined_iterations, segments;
   bool raw_gc = false;
-  bool from_front =
-      false;  // a front's point: repeated from pc, where the front came from its neighbour
+  /// A front's point: identify's front (`front_weights`: the study's, empty for the default
+  /// sweep; `front_tolerance` when not the default). identify chooses among the front's points
+  /// only: `front_differs` when that takes another point than the study's choice (whose bound an
+  /// estimate off the front set).
+  bool front = false;
+  std::vector<double> front_weights;
+  std::optional<double> front_tolerance;
+  bool front_differs = false;
 };
 /// The repeat of the recommended estimate; nullopt when it is not identify's (none, the input
 /// model, a search).

@@ -11,17 +11,21 @@ std::vector<double> defaultFrontWeights() {
   return {0.01, 0.03, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0};
 }
 
-std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& base,
-                                      const LeastSquaresSource& source,
-                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
-                                      const CombinedOptions& options,
-                                      const std::vector<double>& weights) {
+void checkFrontWeights(const std::vector<double>& weights) {
   if (weights.empty()) throw InputError("`front_weights` is empty");
   for (std::size_t k = 0; k < weights.size(); ++k)
     if (!(weights[k] > 0.0) || !std::isfinite(weights[k]) ||
         (k > 0 && weights[k] <= weights[k - 1]))
       throw InputError("`front_weights` must be finite, > 0 and increasing (entry " +
                        std::to_string(k + 1) + ")");
+}
+
+std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& base,
+                                      const LeastSquaresSource& source,
+                                      const LeastSquaresOutcome& pc, const GcProblem& gc,
+                                      const CombinedOptions& options,
+                                      const std::vector<double>& weights) {
+  checkFrontWeights(weights);
   std::vector<FrontPoint> out;
   CombinedOptions point = options;
   for (std::size_t k = 0; k < weights.size(); ++k) {
@@ -44,6 +48,25 @@ std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& 
     out.push_back(std::move(p));
     if (stopped) break;
   }
+  return out;
+}
+
+FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double tolerance) {
+  const auto usable = [](const HeldOutErrors& e) {
+    return e.consistent && std::isfinite(e.torque) && std::isfinite(e.gc);
+  };
+  FrontChoice out;
+  const int n = static_cast<int>(candidates.size());
+  for (int k = 0; k < n; ++k)
+    if (usable(candidates[k]) &&
+        (out.best_torque < 0 || candidates[k].torque < candidates[out.best_torque].torque))
+      out.best_torque = k;
+  if (out.best_torque < 0) return out;
+  out.torque_bound = (1.0 + tolerance) * candidates[out.best_torque].torque;
+  for (int k = 0; k < n; ++k)
+    if (usable(candidates[k]) && candidates[k].torque <= out.torque_bound &&
+        (out.index < 0 || candidates[k].gc < candidates[out.index].gc))
+      out.index = k;
   return out;
 }
 

@@ -9,6 +9,7 @@
 // held-out data's question (analysis/studies/log_study.hpp). docs/REFINEMENT.md, "The front".
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "analysis/estimation/pipeline.hpp"
@@ -18,6 +19,10 @@ namespace dynid {
 /// The default sweep: 0.01, 0.03, 0.1, ..., 30, 100 (two points a decade): from a step barely off
 /// pc to past where the GC term rules (w = 1 is the combined estimator's default).
 std::vector<double> defaultFrontWeights();
+
+/// Throws InputError unless `weights` is non-empty, each finite and > 0, increasing (naming
+/// `front_weights` and the entry).
+void checkFrontWeights(const std::vector<double>& weights);
 
 struct FrontPoint {
   double weight = 0.0;
@@ -36,5 +41,23 @@ std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& 
                                       const LeastSquaresOutcome& pc, const GcProblem& gc,
                                       const CombinedOptions& options,
                                       const std::vector<double>& weights);
+
+/// An estimate's errors on held-out data: the relative torque error and the GC error.
+struct HeldOutErrors {
+  double torque = std::numeric_limits<double>::quiet_NaN();
+  double gc = std::numeric_limits<double>::quiet_NaN();
+  bool consistent = true;  // every link physically consistent
+};
+/// Which candidate the rule takes, and why.
+struct FrontChoice {
+  int index = -1;             // the chosen candidate; -1 when none qualifies
+  int best_torque = -1;       // the candidate whose torque error sets the bound
+  double torque_bound = 0.0;  // (1 + tolerance) x its torque error
+};
+/// The choice on held-out data (`dynid study --front`, `identify --front`): among the physically
+/// consistent candidates with finite errors, the least GC error whose torque error is at most
+/// (1 + tolerance) times the least of theirs. Nothing about any candidate is assumed: where the
+/// input model predicts the motion best within the bound, it is chosen. Ties go to the earlier.
+FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double tolerance);
 
 }  // namespace dynid

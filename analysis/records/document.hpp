@@ -31,7 +31,9 @@ struct DocumentType {
 // records/provenance.hpp). The earlier versions are still read (they say nothing of it).
 // estimate.json 7: data.sources, the logs of the summaries it was identified from (an identify
 // request's `summary`; absent for a dataset). Version 6 is read (every earlier one, as said above).
-inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 7};  // identify
+// estimate.json 8: front (identify --front: the combined estimator's points, each measured on the
+// held-out data, and the weight chosen); absent without --front. Version 7 is read.
+inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 8};  // identify
 // identifiability.json 2: provenance.
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};
 // search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and
@@ -57,7 +59,9 @@ inline constexpr DocumentType kPredictionDocument{"dynid.prediction", 6};
 // study.json 2: model (the robot studied, nominal parameters) and model_source. 3: provenance.
 // 4: front (the combined estimator's points, measured) and choice (the estimate chosen by its
 // rule).
-inline constexpr DocumentType kStudyDocument{"dynid.study", 4};
+// 5: each front point's standard parameters, and choice.estimate (chosen.json, the chosen estimate
+// as a dynid JSON model).
+inline constexpr DocumentType kStudyDocument{"dynid.study", 5};
 inline constexpr DocumentType kDemoDocument{"dynid.demo", 2};               // 2: provenance
 inline constexpr DocumentType kModelCheckDocument{"dynid.model_check", 1};  // model check --json
 inline constexpr DocumentType kDynamicsDocument{"dynid.dynamics", 1};       // dynamics --json

@@ -276,6 +276,7 @@ EstimateRecord estimateRecordFrom(const json& document, const std::string& file)
                  "reversals",
                  "base_covariance",
                  "combined",
+                 "front",
                  "torque_source",
                  "rest_velocity",
                  "fit_rows",

@@ -28,7 +28,8 @@ struct TimeFields {
 };
 const std::vector<TimeFields>& timeFieldTable() {
   static const std::vector<TimeFields> table = {
-      {"dynid.estimate", {"/combined/seconds", "/combined/cost_history/*/seconds"}},
+      {"dynid.estimate",
+       {"/combined/seconds", "/combined/cost_history/*/seconds", "/front/points/*/seconds"}},
       {"dynid.search", {"/seconds", "/history/*/seconds"}},
       {"dynid.refine", {"/seconds", "/cost_history/*/seconds"}},
       {"dynid.excitation", {"/optimiser/seconds"}},

@@ -66,6 +66,7 @@ constexpr const char* kModel = "model and model_source (the robot, embedded)";
 const Added kAdded[] = {
     {&kEstimateDocument, 6, kProvenance},
     // estimate.json 7's data.sources: absent in an earlier version, which came from a dataset.
+    // estimate.json 8's front: absent in an earlier version, which had no identify --front.
     {&kExcitationDocument, 4, kProvenance},
     {&kMonitorThresholdsDocument, 5, kProvenance},
     {&kSearchDocument, 3, kProvenance},
@@ -93,6 +94,7 @@ const Added kAdded[] = {
     {&kStudyDocument, 2, kModel},
     {&kStudyDocument, 3, kProvenance},
     {&kStudyDocument, 4, "front and choice (the combined estimator's front, the estimate chosen)"},
+    {&kStudyDocument, 5, "each front point's standard parameters and choice.estimate"},
     {&kPrepareDocument, 2, "runs' file and time_offset, stalled repeats and current_to_torque"},
     {&kPrepareDocument, 3, kProvenance},
     {&kIdentifiabilityDocument, 2, kProvenance},

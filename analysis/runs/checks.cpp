@@ -5,6 +5,7 @@
 // ranges and messages.
 #include <string>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/runs/identify.hpp"
 #include "analysis/runs/search.hpp"
 #include "analysis/runs/simulate.hpp"
@@ -43,6 +44,16 @@ void IdentifyRequest::check() const {
     checkOption(kCommand, "combined-seconds", combined.max_seconds, "`combined_seconds`");
     checkOption(kCommand, "combined-iterations", combined.max_iterations, "`combined_iterations`");
   }
+  if (front_weights.empty()) return;
+  if (method != Method::kCombined)
+    throw InputError("`front_weights` sweeps the combined estimator: `method` combined, not " +
+                     std::string(methodName(method)));
+  checkFrontWeights(front_weights);
+  checkOption(kCommand, "front-tolerance", front_tolerance, "`front_tolerance`");
+  if (validate == nullptr && validate_file.empty())
+    throw InputError(
+        "the front's estimate is chosen on held-out data: `front_weights` needs "
+        "`validate`");
 }
 
 void SummarizeRequest::check() const {

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include <Eigen/SVD>
 
@@ -70,13 +73,114 @@ GcProblem combinedProblem(const IdentifyRequest& request, const Trajectory* give
   }
 }
 
-/// The estimate of request.method through the estimation wing's runner, streaming the training
-/// data (memory independent of its length) and keeping samples for the figures; with combined,
-/// its two criteria against pc's on the training and held-out data.
-void estimate(const IdentifyRequest& request, const Model& model, const FitRows& rows,
-              IdentifyOutcome& out, SampleKeeper& kept) {
+/// The held-out data as the combined estimator's summary and the front measure an estimate on it.
+struct HeldOut {
+  Trajectory data;
+  GcProblem gc;
+  std::optional<FitRows> rows;  // through the training torque's filter, when the fit reproduced one
+
+  /// The held-out torque and GC errors of `model` with the parameters `standard`.
+  HeldOutErrors errorsOf(Model model, const Eigen::VectorXd& standard, ThreadPool& pool,
+                         GcWorkspace& workspace) const {
+    model.setStandardParameters(standard);
+    HeldOutErrors out;
+    out.torque = predictTorques(model, data, &pool, nullptr, nullptr, rows ? &*rows : nullptr)
+                     .validation.relative_error;
+    out.gc = gcError(model, gc, workspace, pool);
+    out.consistent = consistencyViolations(model).empty();
+    return out;
+  }
+};
+std::optional<HeldOut> heldOutOf(const IdentifyRequest& request, const Model& model,
+                                 const IdentifyOutcome& out) {
+  if (request.validate == nullptr && request.validate_file.empty()) return std::nullopt;
+  HeldOut held;
+  held.data = request.validate != nullptr
+                  ? *request.validate
+                  : readDatasetCsv(request.validate_file, model.numJoints());
+  held.gc = combinedProblem(request, &held.data, request.validate_file);
+  // As the estimate's own held-out error: through the training torque's filter, if any.
+  if (out.torque_filter.active() && out.filter_reach > 0) {
+    Trajectory velocities;
+    velocities.time = held.data.time;
+    velocities.dq = held.data.dq;
+    held.rows = trainingRows(model, velocities, out.torque_filter);
+  }
+  return held;
+}
+
+/// identify's front: combined at each of request.front_weights from pc, every point measured on
+/// the held-out data, the estimate the one chooseByHeldOut takes. Returns the chosen point's
+/// detail.
+CombinedResult sweepFront(const IdentifyRequest& request, const Model& model, MethodRunner& runner,
+                          const LeastSquaresSource& source, const GcProblem& train,
+                          const HeldOut& held, IdentifyOutcome& out) {
+  const LeastSquaresOutcome& pc = runner.leastSquares(Method::kPc);
+  CombinedOptions options = request.combined;
+  options.num_threads = runner.pool().numThreads();
+  options.control.say("identify: the front, combined at " +
+                      std::to_string(request.front_weights.size()) +
+                      " GC weights, each from the last");
+  const std::vector<FrontPoint> points =
+      combinedFront(model, out.base, source, pc, train, options, request.front_weights);
+  IdentifyFront front;
+  front.tolerance = request.front_tolerance;
+  GcWorkspace workspace(runner.pool().numThreads());
+  std::vector<HeldOutErrors> errors;
+  for (const FrontPoint& p : points) {
+    IdentifyFrontPoint row;
+    row.weight = p.weight;
+    row.torque_train = p.estimate.estimate.relative_error;
+    row.gc_train = p.detail.final_gc;
+    row.test = held.errorsOf(model, p.estimate.standard, runner.pool(), workspace);
+    row.iterations = p.detail.iterations;
+    row.seconds = p.detail.seconds;
+    row.note = combinedNote(p.detail);
+    errors.push_back(row.test);
+    front.points.push_back(std::move(row));
+  }
+  front.choice = chooseByHeldOut(errors, request.front_tolerance);
+  if (front.choice.index < 0)
+    throw NumericalError(request.validate_file +
+                         ": no point of the front has finite held-out errors (its rollouts "
+                         "diverge): no estimate to choose");
+  out.result = points[front.choice.index].estimate;
+  out.front = std::move(front);
+  CombinedResult detail = points[out.front->choice.index].detail;
+  detail.initial_gc = points.front().detail.initial_gc;  // pc's, as the summary compares with
+  return detail;
+}
+
+/// The combined estimate's two criteria against pc's, on the training and held-out data.
+CombinedSummary combinedSummary(const Model& model, const LeastSquaresOutcome& pc,
+                                const CombinedResult& detail, const GcProblem& train,
+                                const std::optional<HeldOut>& held, const IdentifyOutcome& out,
+                                ThreadPool& pool) {
+  CombinedSummary summary;
+  summary.detail = detail;
+  summary.train_segments = train.numSegments();
+  summary.torque_train_pc = pc.estimate.relative_error;
+  summary.gc_train_pc = detail.initial_gc;
+  summary.gc_train = detail.final_gc;
+  summary.gc_test_pc = summary.gc_test = std::numeric_limits<double>::quiet_NaN();
+  summary.torque_test_pc = std::numeric_limits<double>::quiet_NaN();
+  if (!held) return summary;
+  summary.test_segments = held->gc.numSegments();
+  GcWorkspace workspace(pool.numThreads());
+  const HeldOutErrors at_pc = held->errorsOf(model, pc.standard, pool, workspace);
+  summary.gc_test_pc = at_pc.gc;
+  summary.torque_test_pc = at_pc.torque;
+  Model identified = model;
+  identified.setStandardParameters(out.result.standard);
+  summary.gc_test = gcError(identified, held->gc, workspace, pool);
+  return summary;
+}
+
+/// The least-squares problem of the training data, streamed (memory independent of its length).
+EstimationProblem streamedProblem(const IdentifyRequest& request, const Model& model,
+                                  const FitRows& rows, LeastSquaresStream& stream,
+                                  const IdentifyOutcome& out, ThreadPool*& reader_pool) {
   const bool physical = takesPrior(request.method);
-  LeastSquaresStream stream(out.base, model);
   EstimationProblem problem;
   problem.model = model;
   problem.base = &out.base;
@@ -91,7 +195,6 @@ void estimate(const IdentifyRequest& request, const Model& model, const FitRows&
   problem.threads = resolveThreads(request.threads);
   problem.covariance = request.covariance;
   // The covariance's pass: the training data again, in the same chunks.
-  ThreadPool* reader_pool = nullptr;  // the runner's, once it exists
   if (request.data) {
     const Trajectory* data = request.data;
     problem.least_squares.replay = [data](const std::function<void(const Trajectory&)>& each) {
@@ -105,11 +208,23 @@ void estimate(const IdentifyRequest& request, const Model& model, const FitRows&
       while (reader.read(chunk, kStreamChunkSamples, reader_pool) > 0) each(chunk);
     };
   }
+  return problem;
+}
+
+/// The estimate of request.method through the estimation wing's runner, streaming the training
+/// data and keeping samples for the figures; with combined, its two criteria against pc's on the
+/// training and held-out data (and with front_weights, the front it was chosen from).
+void estimate(const IdentifyRequest& request, const Model& model, const FitRows& rows,
+              IdentifyOutcome& out, SampleKeeper& kept) {
+  LeastSquaresStream stream(out.base, model);
+  ThreadPool* reader_pool = nullptr;  // the runner's, once it exists
+  EstimationProblem problem = streamedProblem(request, model, rows, stream, out, reader_pool);
   std::optional<GcProblem> train;
   if (request.method == Method::kCombined) {
     train.emplace(combinedProblem(request, request.data, request.data_file));
     problem.train_gc = &*train;
   }
+  const LeastSquaresSource source = problem.least_squares;
   MethodRunner runner(std::move(problem));
   reader_pool = &runner.pool();
   if (request.data) {
@@ -119,43 +234,20 @@ void estimate(const IdentifyRequest& request, const Model& model, const FitRows&
     addDatasetFile(stream, model, request.data_file, runner.pool(), &kept, kStreamChunkSamples,
                    &rows);
   }
-  out.result = *runner.run(request.method).least_squares;
-  if (request.method != Method::kCombined) return;
-  const LeastSquaresOutcome& pc = runner.leastSquares(Method::kPc);
-  CombinedSummary summary;
-  summary.detail = *runner.combinedDetail();
-  summary.train_segments = train->numSegments();
-  summary.torque_train_pc = pc.estimate.relative_error;
-  summary.gc_train_pc = summary.detail.initial_gc;
-  summary.gc_train = summary.detail.final_gc;
-  summary.gc_test_pc = summary.gc_test = std::numeric_limits<double>::quiet_NaN();
-  summary.torque_test_pc = std::numeric_limits<double>::quiet_NaN();
-  if (request.validate != nullptr || !request.validate_file.empty()) {
-    const Trajectory held = request.validate != nullptr
-                                ? *request.validate
-                                : readDatasetCsv(request.validate_file, model.numJoints());
-    const GcProblem test = combinedProblem(request, &held, request.validate_file);
-    summary.test_segments = test.numSegments();
-    ThreadPool& pool = runner.pool();
-    GcWorkspace workspace(pool.numThreads());
-    Model pc_model = model, identified = model;
-    pc_model.setStandardParameters(pc.standard);
-    identified.setStandardParameters(out.result.standard);
-    summary.gc_test_pc = gcError(pc_model, test, workspace, pool);
-    summary.gc_test = gcError(identified, test, workspace, pool);
-    // As the estimate's own held-out error: through the training torque's filter, if any.
-    std::optional<FitRows> held_rows;
-    if (out.torque_filter.active() && out.filter_reach > 0) {
-      Trajectory velocities;
-      velocities.time = held.time;
-      velocities.dq = held.dq;
-      held_rows = trainingRows(pc_model, velocities, out.torque_filter);
-    }
-    summary.torque_test_pc =
-        predictTorques(pc_model, held, &pool, nullptr, nullptr, held_rows ? &*held_rows : nullptr)
-            .validation.relative_error;
+  if (request.method != Method::kCombined) {
+    out.result = *runner.run(request.method).least_squares;
+    return;
   }
-  out.combined = std::move(summary);
+  const std::optional<HeldOut> held = heldOutOf(request, model, out);
+  CombinedResult detail;
+  if (request.front_weights.empty()) {
+    out.result = *runner.run(Method::kCombined).least_squares;
+    detail = *runner.combinedDetail();
+  } else {
+    detail = sweepFront(request, model, runner, source, *train, *held, out);
+  }
+  out.combined = combinedSummary(model, runner.leastSquares(Method::kPc), detail, *train, held, out,
+                                 runner.pool());
 }
 
 /// The fit's statistics (the estimate's residuals, from the stream's factors) on the kept training
@@ -235,18 +327,8 @@ WriteBack writeBack(const IdentifyRequest& request, const Model& identified,
                      " estimate back: link '" + out.violations.front().link_name +
                      "' is not physically consistent (" + out.violations.front().condition +
                      "); use `method` pc");
-  WriteBack back;
-  back.urdf =
-      urdfWithParameters(readFile(request.write_back_from), request.write_back_from, identified);
-  back.model_json = modelToJson(identified);
-  back.unseen_directions = out.base.numStandard() - out.base.numBase();
-  for (const DriveTermInfo& row : kDriveTermTable)
-    if (row.urdf_dynamics.empty() && identified.driveTerms().has(row.term))
-      for (int j = 0; j < identified.numJoints(); ++j)
-        if (const double value = identified.drives()[j][row.term]; value != 0.0)
-          back.not_in_urdf.push_back(std::string(row.name) + std::to_string(j + 1) + " " +
-                                     formatNumber(value, 4) + " " + std::string(row.unit));
-  return back;
+  return estimateWriteBack(request.write_back_from, identified,
+                           out.base.numStandard() - out.base.numBase());
 }
 
 /// What follows an estimate: the consistency check, the fit's statistics, the held-out
@@ -332,6 +414,21 @@ IdentifyOutcome identifyFromSummary(const IdentifyRequest& request) {
 }
 
 }  // namespace
+
+WriteBack estimateWriteBack(const std::string& urdf_file, const Model& identified,
+                            int unseen_directions) {
+  WriteBack back;
+  back.urdf = urdfWithParameters(readFile(urdf_file), urdf_file, identified);
+  back.model_json = modelToJson(identified);
+  back.unseen_directions = unseen_directions;
+  for (const DriveTermInfo& row : kDriveTermTable)
+    if (row.urdf_dynamics.empty() && identified.driveTerms().has(row.term))
+      for (int j = 0; j < identified.numJoints(); ++j)
+        if (const double value = identified.drives()[j][row.term]; value != 0.0)
+          back.not_in_urdf.push_back(std::string(row.name) + std::to_string(j + 1) + " " +
+                                     formatNumber(value, 4) + " " + std::string(row.unit));
+  return back;
+}
 
 IdentifyOutcome identifyRun(const IdentifyRequest& request) {
   request.check();

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "analysis/estimation/front.hpp"
 #include "analysis/estimation/methods.hpp"
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/estimation/reversals.hpp"
@@ -61,6 +62,12 @@ struct IdentifyRequest {
   /// combined: its GC segments (normalised by default) and its weight and budgets.
   SegmentOptions segments = normalisedSegments();
   CombinedOptions combined;
+  /// combined: the front (analysis/estimation/front.hpp) at these GC weights instead of
+  /// combined.gc_weight alone, each point from the last, measured on the held-out data (required)
+  /// and the estimate chosen from it by chooseByHeldOut with front_tolerance: the estimate `dynid
+  /// study --front` chooses among the front's points. Empty: no front.
+  std::vector<double> front_weights;
+  double front_tolerance = 0.05;
   std::string data_file;
   std::string validate_file;  // empty: no held-out validation
   /// With validate_file: prepare --keep-raw-torque's validate_raw.csv, the held-out part's raw
@@ -107,6 +114,11 @@ struct WriteBack {
   /// with its value and unit: the written URDF goes without them, the JSON carries them.
   std::vector<std::string> not_in_urdf;
 };
+/// `identified` written into a copy of the URDF `urdf_file` (the robot it was loaded from) and as
+/// dynid JSON; `unseen_directions` the standard-parameter directions its data could not see.
+/// ParseError for an unreadable URDF. (identify's write-back; study's chosen estimate.)
+WriteBack estimateWriteBack(const std::string& urdf_file, const Model& identified,
+                            int unseen_directions);
 /// The combined estimate's two criteria, train and held out, against pc's.
 struct CombinedSummary {
   CombinedResult detail;
@@ -114,6 +126,20 @@ struct CombinedSummary {
   double gc_train_pc = 0.0, gc_train = 0.0;            // GC errors (normalised by default)
   double gc_test_pc = 0.0, gc_test = 0.0;              // NaN without held-out data
   double torque_train_pc = 0.0, torque_test_pc = 0.0;  // pc's relative torque errors
+};
+/// A point of identify's front: its weight, its errors on the training and held-out data.
+struct IdentifyFrontPoint {
+  double weight = 0.0;
+  double torque_train = 0.0, gc_train = 0.0;
+  HeldOutErrors test;
+  int iterations = 0;
+  double seconds = 0.0;
+  std::string note;  // how it ended (combinedNote)
+};
+struct IdentifyFront {
+  std::vector<IdentifyFrontPoint> points;
+  double tolerance = 0.0;
+  FrontChoice choice;  // indices into points; the estimate is points[choice.index]
 };
 struct IdentifyOutcome {
   Method method = Method::kOls;
@@ -131,6 +157,7 @@ struct IdentifyOutcome {
   int raw_skipped = 0;
   std::optional<WriteBack> write_back;      // when requested
   std::optional<CombinedSummary> combined;  // method combined
+  std::optional<IdentifyFront> front;       // with front_weights
   /// The robot file's SHA-256 when robot_spec names a file (empty for a built-in robot or data
   /// in memory's model): estimate.json records it beside the model it embeds.
   std::string robot_sha256;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "analysis/estimation/front.hpp"
 #include "analysis/estimation/pipeline.hpp"
@@ -53,46 +55,41 @@ void LogStudyRequest::check() const {
   checkOption("study", "prior-weight", prior_weight, "`prior_weight`");
   checkOption("study", "combined-weight", combined_weight, "`combined_weight`");
   checkOption("study", "front-tolerance", front_tolerance, "`front_tolerance`");
-  for (std::size_t k = 0; k < front_weights.size(); ++k)
-    if (!(front_weights[k] > 0.0) || !std::isfinite(front_weights[k]) ||
-        (k > 0 && front_weights[k] <= front_weights[k - 1]))
-      throw InputError("`front_weights` must be finite, > 0 and increasing (entry " +
-                       std::to_string(k + 1) + ")");
+  if (!front_weights.empty()) checkFrontWeights(front_weights);
   checkOption("study", "threads", threads, "`threads`");
+  if (!write_back_from.empty() && front_weights.empty())
+    throw InputError(
+        "`write_back_from` writes the estimate chosen from the front: it needs "
+        "`front_weights`");
 }
 
 StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance) {
-  struct Candidate {
-    const LogStudyRow* row;
-    int front_index;
-  };
-  std::vector<Candidate> candidates;
+  // The candidates: the rows but the searches' start (pc's estimate), then the front's points.
+  std::vector<std::pair<const LogStudyRow*, int>> rows;
   for (const LogStudyRow& row : outcome.rows)
-    if (row.key != "start") candidates.push_back({&row, -1});
+    if (row.key != "start") rows.emplace_back(&row, -1);
   for (std::size_t k = 0; k < outcome.front.size(); ++k)
-    candidates.push_back({&outcome.front[k].row, static_cast<int>(k)});
-  const auto usable = [](const LogStudyRow& r) {
-    return r.consistent && std::isfinite(r.torque_test) && std::isfinite(r.gc_test);
-  };
+    rows.emplace_back(&outcome.front[k].row, static_cast<int>(k));
+  std::vector<HeldOutErrors> errors;
+  for (const auto& [row, index] : rows)
+    errors.push_back({row->torque_test, row->gc_test, row->consistent});
+  const FrontChoice c = chooseByHeldOut(errors, tolerance);
   StudyChoice out;
-  double best = 0.0;
-  for (const Candidate& c : candidates)
-    if (usable(*c.row) && (out.best_torque.empty() || c.row->torque_test < best)) {
-      best = c.row->torque_test;
-      out.best_torque = c.front_index < 0 ? c.row->key : "front";
-      out.best_front_index = c.front_index;
-    }
-  if (out.best_torque.empty()) return out;
-  out.torque_bound = (1.0 + tolerance) * best;
-  double gc = 0.0;
-  for (const Candidate& c : candidates)
-    if (usable(*c.row) && c.row->torque_test <= out.torque_bound &&
-        (out.key.empty() || c.row->gc_test < gc)) {
-      gc = c.row->gc_test;
-      out.key = c.front_index < 0 ? c.row->key : "front";
-      out.front_index = c.front_index;
-    }
+  if (c.best_torque < 0) return out;
+  const auto keyOf = [&](int k) { return rows[k].second < 0 ? rows[k].first->key : "front"; };
+  out.best_torque = keyOf(c.best_torque);
+  out.best_front_index = rows[c.best_torque].second;
+  out.torque_bound = c.torque_bound;
+  out.key = keyOf(c.index);
+  out.front_index = rows[c.index].second;
   return out;
+}
+
+const LogStudyRow* studyChosenRow(const LogStudyOutcome& outcome, const StudyChoice& choice) {
+  if (choice.front_index >= 0) return &outcome.front[choice.front_index].row;
+  for (const LogStudyRow& row : outcome.rows)
+    if (!choice.key.empty() && row.key == choice.key) return &row;
+  return nullptr;
 }
 
 StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows) {
@@ -224,6 +221,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
     row.gc_train = gcError(model, train_gc, workspace, pool);
     row.gc_test = gcError(model, test_gc, workspace, pool);
     row.consistent = consistencyViolations(model).empty();
+    row.standard = model.standardParameters();
     row.evaluations = evaluations;
     row.seconds = seconds;
     return row;
@@ -266,6 +264,13 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
                           combined, threads, measure);
   }
   out.interrupted = out.interrupted || stopped();
+  if (!request.write_back_from.empty() && !out.front.empty())
+    if (const LogStudyRow* row = studyChosenRow(out, studyChoice(out, request.front_tolerance))) {
+      Model chosen = robot;
+      chosen.setStandardParameters(row->standard);
+      out.write_back =
+          estimateWriteBack(request.write_back_from, chosen, out.num_standard - out.num_base);
+    }
   out.seconds = since(t0);
   return out;
 }

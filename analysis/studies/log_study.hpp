@@ -8,13 +8,17 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "analysis/estimation/methods.hpp"
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/estimation/reversals.hpp"
 #include "analysis/runs/arm.hpp"
+#include "analysis/runs/identify.hpp"
 #include "search/gc_error.hpp"
 
 namespace dynid {
@@ -49,6 +53,9 @@ struct LogStudyRequest {
   double front_tolerance = 0.05;
   std::uint64_t seed = 1;
   int threads = kAllThreads;  // 0: every core
+  /// The URDF `robot` was loaded from, to write the chosen estimate into (a copy; empty: none).
+  /// Needs front_weights.
+  std::string write_back_from;
   RunControl control;
 
   /// Throws InputError when a dataset is missing, no search budget is set or a numeric field is
@@ -66,8 +73,9 @@ struct LogStudyRow {
   bool consistent = false;                       // every link physically consistent
   long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc)
   double seconds = 0.0;
-  std::string note;   // e.g. "stopped at its time budget"
-  bool moved = true;  // refinements and combined: false when the result is where it started
+  std::string note;          // e.g. "stopped at its time budget"
+  bool moved = true;         // refinements and combined: false when the result is where it started
+  Eigen::VectorXd standard;  // the model's standard parameters (the robot's layout)
 };
 
 /// A point of the front, measured as a method's row is (its key "front", its evaluations the
@@ -99,6 +107,8 @@ struct LogStudyOutcome {
   /// and whether it has the shape of friction (analysis/estimation/reversals.hpp); samples 0 when
   /// none ran.
   ReversalResidual fit_reversals;
+  /// The chosen estimate (studyChoice) written into the URDF, with write_back_from.
+  std::optional<WriteBack> write_back;
   bool interrupted = false;
   double seconds = 0.0;
 };
@@ -129,6 +139,8 @@ struct StudyChoice {
   int best_front_index = -1;  // the front's point that sets it
 };
 StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance);
+/// The row (or front point) `choice` names; nullptr when none.
+const LogStudyRow* studyChosenRow(const LogStudyOutcome& outcome, const StudyChoice& choice);
 
 /// Throws InputError for an invalid setting (named), a dataset of another joint count, a held-out
 /// file that is missing (validate_file is required), data too short for one GC segment; ParseError

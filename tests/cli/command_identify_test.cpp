@@ -431,5 +431,62 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
   }
 }
 
+// identify --method combined --front: the front's points on the held-out data in estimate.json,
+// the estimate the point the rule takes; the options refused where they do not apply.
+TEST(Cli, IdentifyFrontTakesThePointTheHeldOutDataChoose) {
+  const std::string train = test::tempPath("idfront_train.csv"),
+                    held = test::tempPath("idfront_held.csv"), dir = test::tempPath("idfront");
+  ASSERT_EQ(
+      run("simulate --robot puma560 --drives --duration 2 --noise-tau 0.3 --seed 4 --out " + train)
+          .code,
+      0);
+  ASSERT_EQ(
+      run("simulate --robot puma560 --drives --duration 1.5 --noise-tau 0.3 --seed 5 --out " + held)
+          .code,
+      0);
+  const std::string common =
+      "identify --method combined --robot puma560 --drive-terms fv,fc "
+      "--data " +
+      train + " --segments 8 --combined-iterations 3 ";
+  const Result r =
+      run(common + "--validate " + held + " --front-weights 0.3,3 --threads 2 --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "the front: 2 points")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/estimate.json"));
+  EXPECT_EQ(j["schema_version"], 8);
+  const auto& points = j["front"]["points"];
+  ASSERT_EQ(points.size(), 2u);
+  // The rule, recomputed from the recorded errors: the least held-out GC error within 5 % of the
+  // least held-out torque error.
+  const double best = std::min(points[0]["torque_relative_error_test"].get<double>(),
+                               points[1]["torque_relative_error_test"].get<double>());
+  int chosen = -1;
+  for (int k = 0; k < 2; ++k)
+    if (points[k]["torque_relative_error_test"].get<double>() <= 1.05 * best &&
+        (chosen < 0 ||
+         points[k]["gc_error_test"].get<double>() < points[chosen]["gc_error_test"].get<double>()))
+      chosen = k;
+  EXPECT_EQ(j["front"]["chosen_weight"], points[chosen]["weight"]);
+  // The estimate is that point: its held-out errors are the estimate's own.
+  EXPECT_DOUBLE_EQ(j["validation"]["relative_error"].get<double>(),
+                   points[chosen]["torque_relative_error_test"].get<double>());
+  EXPECT_DOUBLE_EQ(j["combined"]["gc_error_test"]["combined"].get<double>(),
+                   points[chosen]["gc_error_test"].get<double>());
+  EXPECT_TRUE(contains(readFile(dir + "/report.md"), "## The front, and the estimate chosen"));
+  // Refused before any work: no held-out data, another method, a weight with the sweep.
+  const std::string none = test::tempPath("idfront_never");
+  for (const std::string& bad :
+       {common + "--front --out " + none,
+        common + "--validate " + held + " --front --combined-weight 3 --out " + none,
+        "identify --method pc --robot puma560 --data " + train + " --validate " + held +
+            " --front --out " + none}) {
+    const Result refused = run(bad);
+    EXPECT_EQ(refused.code, 2) << bad;
+    EXPECT_TRUE(contains(refused.err, "--front") || contains(refused.err, "--combined-weight"))
+        << refused.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(none));
+}
+
 }  // namespace
 }  // namespace dynid

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "data/io.hpp"
+#include "data/robots.hpp"
 #include "tests/common/cli.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -39,7 +40,7 @@ TEST(Cli, StudyComparesEveryMethodOnTheUsersData) {
                        "best"))
       << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/study.json"));
-  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["schema_version"], 5);
   EXPECT_TRUE(j["front"]["points"].empty());  // no --front
   EXPECT_EQ(j["choice"]["key"], "pc");        // the only consistent row with finite errors
   EXPECT_EQ(j["provenance"]["command"][1], "study");
@@ -110,6 +111,24 @@ TEST(Cli, StudyNextStepQuotesTheRobotPathAsOneShellWord) {
                                    "' --out pc --write-urdf pc/identified.urdf` writes it into a "
                                    "copy of the URDF"))
       << report;
+  // With a front, --write-urdf writes the chosen estimate into a copy of the URDF (and its
+  // .dynid.json): the same parameters as chosen.json.
+  const Result front =
+      run("study --robot " + word(urdf) + " --data " + word(train) + " --validate " + word(held) +
+          " --methods pc --front-weights 1 --segments 6 --refine-iterations 2 "
+          "--write-urdf " +
+          word(dir + "/f/chosen.urdf") + " --out " + word(dir + "/f"));
+  ASSERT_EQ(front.code, 0) << front.err;
+  EXPECT_TRUE(contains(front.out, "wrote " + dir + "/f/chosen.urdf")) << front.out;
+  const Model written = loadRobot(dir + "/f/chosen.dynid.json");
+  const Model chosen = loadRobot(dir + "/f/chosen.json");
+  EXPECT_EQ(written.standardParameters(), chosen.standardParameters());
+  // Without a front there is no chosen estimate to write: refused before any work.
+  const Result refused =
+      run("study --robot " + word(urdf) + " --data " + word(train) + " --validate " + word(held) +
+          " --methods pc --write-urdf " + word(dir + "/g/x.urdf") + " --out " + word(dir + "/g"));
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_TRUE(contains(refused.err, "add --front")) << refused.err;
 }
 
 // --front: the combined estimator at each weight, every point measured and consistent, and the
@@ -153,10 +172,21 @@ TEST(Cli, StudyFrontSweepsTheCombinedWeightAndChoosesOneEstimate) {
                              std::string(key == "front" ? "combined" : key) +
                              " --robot puma560 --drive-terms fv,fc --data " + train;
   EXPECT_TRUE(contains(report, repeat)) << report;
-  if (key == "front" && j["choice"]["front_weight"] != 1.0) {
-    std::ostringstream weight;  // "0.3" or "3", as the CLI writes it
-    weight << j["choice"]["front_weight"].get<double>();
-    EXPECT_TRUE(contains(report, "--combined-weight " + weight.str())) << report;
+  if (key == "front") {
+    EXPECT_TRUE(contains(report, "--front-weights 0.3,3")) << report;
+    EXPECT_EQ(j["choice"]["estimate"], "chosen.json");
+    // chosen.json is the chosen estimate as a model: predict takes it as its robot, and its
+    // held-out torque error is the study's for that point.
+    const std::string predicted = test::tempPath("front_predict");
+    const Result p =
+        run("predict --robot " + dir + "/chosen.json --data " + held + " --out " + predicted);
+    ASSERT_EQ(p.code, 0) << p.err;
+    const auto prediction = nlohmann::json::parse(readFile(predicted + "/prediction.json"));
+    // The same model on the same samples; the study measured it with the training data's rest
+    // velocities, predict with the held-out data's: 1 % relative.
+    EXPECT_NEAR(prediction["relative_error"].get<double>(),
+                chosen["torque_relative_error_test"].get<double>(),
+                0.01 * chosen["torque_relative_error_test"].get<double>());
   }
   // Weights that are not a sweep: refused before any work, the option named.
   const std::string none = test::tempPath("front_never");

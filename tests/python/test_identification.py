@@ -116,6 +116,34 @@ def test_combined_with_its_options_equals_the_cli(tmp_path, puma_csv):
         dynid.identify(model, puma_csv, method="combined", combined_iterations=-1)
 
 
+def test_the_front_equals_the_cli_and_returns_its_points(tmp_path, puma_csv):
+    model = dynid.load_model("puma560-consistent")
+    held = tmp_path / "held.csv"
+    run_cli("simulate", "--robot", "puma560", "--duration", "1.5", "--noise-tau", "0.1",
+            "--seed", "5", "--out", held)
+    options = ["--combined-iterations", "2", "--combined-seconds", "0", "--segments", "8"]
+    run_cli("identify", "--robot", "puma560-consistent", "--data", puma_csv, "--validate", held,
+            "--method", "combined", "--front-weights", "0.3,3", *options, "--out",
+            tmp_path / "cli")
+    estimate = dynid.identify(model, puma_csv, method="combined", validate=str(held),
+                              front_weights=[0.3, 3.0], combined_iterations=2,
+                              combined_seconds=0.0, segments=8,
+                              robot_spec="puma560-consistent")
+    document = json.loads(estimate.to_json())
+    cli = read_json(tmp_path / "cli" / "estimate.json")
+    assert document["front"]["chosen_weight"] == cli["front"]["chosen_weight"]
+    assert [p["weight"] for p in estimate.front] == [0.3, 3.0]
+    assert sum(p["chosen"] for p in estimate.front) == 1
+    chosen = next(p for p in estimate.front if p["chosen"])
+    assert chosen["weight"] == document["front"]["chosen_weight"]
+    assert chosen["gc_test"] == document["combined"]["gc_error_test"]["combined"]
+    assert dynid.identify(model, puma_csv, method="pc").front is None
+    with pytest.raises(ValueError, match="front_tolerance applies"):
+        dynid.identify(model, puma_csv, method="combined", front_tolerance=0.1)
+    with pytest.raises(dynid.InputError, match="needs validate"):
+        dynid.identify(model, puma_csv, method="combined", front=True)
+
+
 def test_documents_record_the_call_that_made_them(tmp_path, puma, puma_csv):
     estimate = dynid.identify(puma, str(puma_csv), seed=5, threads=1)
     p = json.loads(estimate.to_json())["provenance"]

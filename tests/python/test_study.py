@@ -26,7 +26,7 @@ def test_the_front_and_the_choice_are_the_clis(logs):
     model = dynid.load_model("puma560", drive_terms="fv,fc")
     doc = dynid.study(model, train, held, methods="pc,combined", front_weights=[0.3, 3.0],
                       refine_iterations=3, segments=8, threads=1)
-    assert doc["kind"] == "dynid.study" and doc["schema_version"] == 4
+    assert doc["kind"] == "dynid.study" and doc["schema_version"] == 5
     points = doc["front"]["points"]
     assert [p["weight"] for p in points] == [0.3, 3.0]
     assert all(p["physically_consistent"] for p in points)

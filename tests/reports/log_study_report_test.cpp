@@ -185,16 +185,22 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
                     "error 61)"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("validate_file = test.csv, out = combined` writes it (from pc, where the "
-                    "front reached it from its previous point)"),
+  // The chosen estimate is chosen.json; identify --front repeats the sweep, and here its choice
+  // among the front's points alone (bound 1.05 x 1.09 %) is the same point.
+  EXPECT_NE(md.find("the chosen estimate is in chosen.json"), std::string::npos) << md;
+  EXPECT_NE(md.find("validate_file = test.csv, out = combined, front_weights = 0.3,1,10` sweeps "
+                    "the same front and writes its estimate.json (the same point)"),
             std::string::npos)
-      << md;  // w = 1 is identify's default weight: no combined_weight
-  EXPECT_TRUE(studyRepeat(o)->from_front);
+      << md;
+  EXPECT_TRUE(studyRepeat(o)->front);
+  EXPECT_FALSE(studyRepeat(o)->front_differs);
+  EXPECT_FALSE(studyRepeat(o)->combined_weight);
   EXPECT_NE(md.find("## The front"), std::string::npos);
   EXPECT_NE(md.find("| 10 | 1.16 % | 1.16 % | 21.4 | 21.4 | yes |"), std::string::npos) << md;
   const nlohmann::json j = logStudyJson(o);
-  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["schema_version"], 5);
   ASSERT_EQ(j["front"]["points"].size(), 3u);
+  EXPECT_EQ(j["choice"]["estimate"], "chosen.json");
   EXPECT_EQ(j["front"]["points"][2]["weight"], 10.0);
   EXPECT_EQ(j["choice"]["key"], "front");
   EXPECT_EQ(j["choice"]["front_weight"], 1.0);
@@ -209,9 +215,19 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4);
   EXPECT_EQ(csv.rfind("weight,torque_relative_error_train,", 0), 0u) << csv;
   EXPECT_NE(csv.find("\n10,0.0116"), std::string::npos) << csv;
-  // Another point chosen: its weight is the repeat's.
-  o.front[1].row.torque_test = 0.02;  // out of the bound: the point at w = 0.3 predicts best within
-  EXPECT_EQ(studyRepeat(o)->combined_weight, 0.3);
+  // Another point chosen by the study than by identify's rule: pc's 1.08 % sets the study's bound
+  // (1.134 %), the front's best 1.10 % identify's (1.155 %), which lets w = 1 in.
+  o.front[0].row.torque_test = 0.0110;
+  o.front[1].row.torque_test = 0.0114;
+  EXPECT_EQ(studyChoice(o, 0.05).front_index, 0);
+  EXPECT_TRUE(studyRepeat(o)->front_differs);
+  EXPECT_NE(logStudyDocument(o).markdown().find("choosing among the front's points alone: here "
+                                                "another point than this study's"),
+            std::string::npos);
+  // Other weights and tolerance than the defaults are repeated; the default sweep is --front.
+  o.front_tolerance = 0.1;
+  EXPECT_EQ(studyRepeat(o)->front_tolerance, 0.1);
+  EXPECT_EQ(studyRepeat(o)->front_weights, (std::vector<double>{0.3, 1.0, 10.0}));
 }
 
 }  // namespace
