@@ -47,8 +47,10 @@ std::string identifyCommand(const StudyRepeat& r) {
   if (r.front && r.front_weights.empty()) command += " --front";
   if (!r.front_weights.empty()) {
     command += " --front-weights ";
-    for (std::size_t k = 0; k < r.front_weights.size(); ++k)
-      command += (k > 0 ? "," : "") + formatNumber(r.front_weights[k]);
+    for (std::size_t k = 0; k < r.front_weights.size(); ++k) {
+      if (k > 0) command += ",";
+      command += formatNumber(r.front_weights[k]);
+    }
   }
   number("--front-tolerance", r.front_tolerance);
   if (!r.write_urdf.empty()) command += " --write-urdf " + shellWord(r.write_urdf);

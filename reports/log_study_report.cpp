@@ -14,6 +14,7 @@
 #include "core/format.hpp"
 #include "data/json_number.hpp"
 #include "data/model_json.hpp"
+#include "reports/log_study_figure.hpp"
 #include "reports/model_report.hpp"
 #include "reports/output.hpp"
 #include "reports/plots.hpp"
@@ -59,78 +60,6 @@ std::string choiceSentence(const LogStudyOutcome& o) {
          formatNumber(100.0 * o.front_tolerance, 3, "n/a") + " % above the least of theirs (" +
          estimateLabel(o, c.best_torque, c.best_front_index) + "'s; bound " +
          percentText(c.torque_bound) + ").";
-}
-
-/// Rows whose held-out errors coincide (within 0.5 % in both: one point on the log-log figure)
-/// share one point, labelled "nlo = nlo_refined".
-struct FigurePoint {
-  std::string label;
-  double torque_percent = 0.0, gc = 0.0;
-};
-std::vector<FigurePoint> figurePoints(const LogStudyOutcome& o) {
-  std::vector<FigurePoint> out;
-  const auto close = [](double a, double b) { return std::abs(a - b) <= 0.005 * std::max(a, b); };
-  for (const LogStudyRow& row : o.rows) {
-    if (!(std::isfinite(row.torque_test) && std::isfinite(row.gc_test) && row.torque_test > 0.0 &&
-          row.gc_test > 0.0))
-      continue;
-    const double t = 100.0 * row.torque_test;
-    bool merged = false;
-    for (FigurePoint& p : out)
-      if (close(p.torque_percent, t) && close(p.gc, row.gc_test)) {
-        p.label += " = " + row.key;
-        merged = true;
-        break;
-      }
-    if (!merged) out.push_back({row.key, t, row.gc_test});
-  }
-  return out;
-}
-
-std::optional<std::string> errorFigure(const LogStudyOutcome& o) {
-  const std::vector<FigurePoint> points = figurePoints(o);
-  if (points.empty()) return std::nullopt;
-  PlotScript s;
-  s.precision(9);
-  s << "set terminal svg size 800,520 font 'sans,11' background rgb 'white'\n"
-    << "set title 'held-out data: torque fit against motion prediction'\n"
-    << "set logscale xy\nset grid\nset key off\nset xlabel 'relative torque error [%]'\n"
-    << "set ylabel 'GC error'\nset offsets graph 0.08, graph 0.15, graph 0.1, graph 0.1\n";
-  // Names as written: each label a set label of escaped text (data-column labels would be
-  // enhanced text, nlo_refined drawn as nlo with a subscript r).
-  int index = 1;
-  PlotRows rows;
-  for (const FigurePoint& p : points) {
-    s << "set label " << index++ << " " << gnuplotString(p.label) << " at " << p.torque_percent
-      << ", " << p.gc << " left offset 1,0.7 font 'sans,10'\n";
-    rows.append({p.torque_percent, p.gc});
-  }
-  s << "$m << EOD\n" << rows << "EOD\n";
-  // The front as a line through its points, from pc's end (w small) to the GC term's (w large),
-  // labelled at its last point; the chosen estimate ringed.
-  PlotRows front;
-  for (const FrontRow& f : o.front)
-    if (std::isfinite(f.row.torque_test) && std::isfinite(f.row.gc_test) &&
-        f.row.torque_test > 0.0 && f.row.gc_test > 0.0)
-      front.append({100.0 * f.row.torque_test, f.row.gc_test});
-  const bool has_front = !front.text().empty();
-  if (has_front) {
-    const LogStudyRow& last = o.front.back().row;
-    s << "set label " << index++ << " 'front' at " << 100.0 * last.torque_test << ", "
-      << last.gc_test << " left offset 1,-0.9 font 'sans,10' tc rgb '#cc6677'\n"
-      << "$f << EOD\n"
-      << front << "EOD\n";
-  }
-  PlotRows chosen;
-  const StudyChoice c = studyChoice(o, o.front_tolerance);
-  if (const LogStudyRow* r = o.front.empty() ? nullptr : studyChosenRow(o, c))
-    chosen.append({100.0 * r->torque_test, r->gc_test});
-  if (!chosen.text().empty()) s << "$c << EOD\n" << chosen << "EOD\n";
-  s << "plot $m using 1:2 with points pt 7 ps 1.2 lc rgb '#4477aa'";
-  if (has_front) s << ", $f using 1:2 with linespoints pt 6 ps 0.9 lw 1.5 lc rgb '#cc6677'";
-  if (!chosen.text().empty()) s << ", $c using 1:2 with points pt 6 ps 2.6 lw 2 lc rgb '#222222'";
-  s << "\n";
-  return gnuplotSvg(s);
 }
 
 /// front.csv: a row per point of the front, each number in the shortest text that reads back as it.
@@ -452,8 +381,10 @@ std::string repeatByFields(const StudyRepeat& r) {
     out += ", front_weights = ";
     const std::vector<double> weights =
         r.front_weights.empty() ? defaultFrontWeights() : r.front_weights;
-    for (std::size_t k = 0; k < weights.size(); ++k)
-      out += (k > 0 ? "," : "") + formatNumber(weights[k]);
+    for (std::size_t k = 0; k < weights.size(); ++k) {
+      if (k > 0) out += ",";
+      out += formatNumber(weights[k]);
+    }
   }
   number("front_tolerance", r.front_tolerance);
   if (!r.write_urdf.empty()) out += ", write_urdf = " + r.write_urdf;
@@ -521,7 +452,7 @@ Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell)
   }
   doc.heading("What to conclude");
   doc.bullets(logStudyConclusions(o));
-  if (const std::optional<std::string> svg = errorFigure(o))
+  if (const std::optional<std::string> svg = studyFigure(o))
     doc.figure({"torque_vs_gc",
                 "Each model's held-out torque error against its held-out GC "
                 "error: the lower left is best at both." +

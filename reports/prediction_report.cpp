@@ -112,9 +112,10 @@ std::string restVelocityLine(const std::vector<RestVelocity>& rest) {
   std::string velocity, at_rest, sources;
   bool same = true;
   for (std::size_t j = 0; j < rest.size(); ++j) {
-    velocity += " " + formatNumber(rest[j].velocity, 3);
-    at_rest += " " + std::to_string(rest[j].samples_at_rest);
-    sources += (j == 0 ? "" : ",") + rest[j].source();
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on " " + a temporary.
+    velocity.append(" ").append(formatNumber(rest[j].velocity, 3));
+    at_rest.append(" ").append(std::to_string(rest[j].samples_at_rest));
+    sources.append(j == 0 ? "" : ",").append(rest[j].source());
     same = same && rest[j].source() == rest.front().source();
   }
   const std::string how =
