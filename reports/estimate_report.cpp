@@ -249,18 +249,24 @@ void frontSection(Document& doc, const IdentifyOutcome& o) {
       " GC weights w, each point started from the last with pc's normalisers, every point "
       "physically consistent. The estimate is the point at w = " +
       formatNumber(chosen.weight, 3, "n/a") +
-      ": the least held-out GC error among the points whose held-out torque error is at most " +
+      ": among the points whose held-out torque error is at most " +
       formatNumber(100.0 * f.tolerance, 3, "n/a") + " % above the least of theirs (w = " +
       formatNumber(f.points[f.choice.best_torque].weight, 3, "n/a") + "'s; bound " +
-      percentText(f.choice.torque_bound) + ").");
+      percentText(f.choice.torque_bound) + "), " +
+      (f.choice.at_floor
+           ? "whose held-out GC errors are all at their noise floors (what the torque noise alone "
+             "causes in the rollouts: the motion cannot tell them apart), the least held-out "
+             "torque error."
+           : "the least held-out GC error above its noise floor."));
   DocumentTable table;
-  table.header = {"w",        "torque error, train", "held out", "GC error, train",
-                  "held out", "iterations",          "seconds"};
+  table.header = {"w",        "torque error, train", "held out",   "GC error, train",
+                  "held out", "its noise floor",     "iterations", "seconds"};
   for (const IdentifyFrontPoint& p : f.points)
     table.rows.push_back({formatNumber(p.weight, 3, "n/a") + (&p == &chosen ? " (chosen)" : ""),
                           percentText(p.torque_train), percentText(p.test.torque),
                           formatNumber(p.gc_train, 4, "n/a"), formatNumber(p.test.gc, 4, "n/a"),
-                          std::to_string(p.iterations), formatNumber(p.seconds, 3, "n/a")});
+                          formatNumber(p.test.gc_floor, 4, "n/a"), std::to_string(p.iterations),
+                          formatNumber(p.seconds, 3, "n/a")});
   doc.table(table);
 }
 

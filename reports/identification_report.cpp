@@ -236,6 +236,7 @@ json frontJson(const IdentifyFront& front) {
                       {"torque_relative_error_test", numberOrNull(p.test.torque)},
                       {"gc_error_train", numberOrNull(p.gc_train)},
                       {"gc_error_test", numberOrNull(p.test.gc)},
+                      {"gc_noise_floor_test", numberOrNull(p.test.gc_floor)},
                       {"physically_consistent", p.test.consistent},
                       {"iterations", p.iterations},
                       {"seconds", p.seconds},
@@ -246,9 +247,11 @@ json frontJson(const IdentifyFront& front) {
           {"chosen_weight", front.points[c.index].weight},
           {"best_torque_weight", front.points[c.best_torque].weight},
           {"torque_bound", numberOrNull(c.torque_bound)},
+          {"at_noise_floor", c.at_floor},
           {"rule",
-           "the least held-out GC error among the points whose held-out torque error is within "
-           "(1 + tolerance) of the least of theirs"}};
+           "among the points whose held-out torque error is within (1 + tolerance) of the least "
+           "of theirs, the least held-out GC error above its noise floor (within 10 % of the "
+           "floor counts as at it); at the floor, the least held-out torque error"}};
 }
 
 /// estimate.json's "torque_source" when the torques were motor currents (dynid prepare
@@ -491,8 +494,12 @@ std::string estimateSummary(const Model& model, const IdentifyOutcome& outcome,
         << " points (w = " << formatNumber(f->points.front().weight, 3) << " to "
         << formatNumber(f->points.back().weight, 3)
         << "); chosen w = " << formatNumber(chosen.weight, 3) << ": held-out GC error "
-        << formatNumber(chosen.test.gc, 4) << ", the least among the points within "
-        << formatNumber(100.0 * f->tolerance, 3) << " % of the least held-out torque error";
+        << formatNumber(chosen.test.gc, 4) << " (its noise floor "
+        << formatNumber(chosen.test.gc_floor, 4) << "), "
+        << (f->choice.at_floor ? "every rival at its floor too: the least torque error"
+                               : "the least above its floor")
+        << " among the points within " << formatNumber(100.0 * f->tolerance, 3)
+        << " % of the least held-out torque error";
   }
   if (const std::string line = restVelocityLine(outcome.rest); !line.empty()) out << "\n  " << line;
   if (const std::string line = fitRowsLine(outcome); !line.empty()) out << "\n  " << line;

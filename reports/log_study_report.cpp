@@ -54,12 +54,21 @@ std::string choiceSentence(const LogStudyOutcome& o) {
   const LogStudyRow* chosen = studyChosenRow(o, c);
   if (chosen == nullptr)
     return "none: no physically consistent estimate (front included) has finite held-out errors.";
-  return estimateLabel(o, c.key, c.front_index) + " (" + heldOutErrors(*chosen) +
-         "): the least held-out GC error among the physically consistent estimates whose "
-         "held-out torque error is at most " +
-         formatNumber(100.0 * o.front_tolerance, 3, "n/a") + " % above the least of theirs (" +
-         estimateLabel(o, c.best_torque, c.best_front_index) + "'s; bound " +
-         percentText(c.torque_bound) + ").";
+  const std::string bound =
+      "held-out torque error is at most " + formatNumber(100.0 * o.front_tolerance, 3, "n/a") +
+      " % above the least of theirs (" + estimateLabel(o, c.best_torque, c.best_front_index) +
+      "'s; bound " + percentText(c.torque_bound) + ")";
+  const std::string what = estimateLabel(o, c.key, c.front_index) + " (" + heldOutErrors(*chosen);
+  if (c.at_floor)
+    return what + ", its noise floor " + formatNumber(chosen->gc_floor_test, 3, "n/a") +
+           "): among the physically consistent estimates whose " + bound +
+           ", the held-out GC errors are at their noise floors (what the torque noise alone "
+           "causes in the rollouts): the motion cannot tell them apart, so the least held-out "
+           "torque error decides.";
+  return what +
+         "): the least held-out GC error above its noise floor among the physically "
+         "consistent estimates whose " +
+         bound + ".";
 }
 
 /// front.csv: a row per point of the front, each number in the shortest text that reads back as it.
@@ -86,6 +95,7 @@ nlohmann::json rowJson(const LogStudyRow& r) {
           {"torque_relative_error_test", numberOrNull(r.torque_test)},
           {"gc_error_train", numberOrNull(r.gc_train)},
           {"gc_error_test", numberOrNull(r.gc_test)},
+          {"gc_noise_floor_test", numberOrNull(r.gc_floor_test)},
           {"physically_consistent", r.consistent},
           {"evaluations", r.evaluations},
           {"seconds", r.seconds},
@@ -122,9 +132,12 @@ nlohmann::json choiceJson(const LogStudyOutcome& o) {
            c.best_torque.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.best_torque)},
           {"torque_bound", c.key.empty() ? nlohmann::json(nullptr) : numberOrNull(c.torque_bound)},
           {"estimate", c.key.empty() ? nlohmann::json(nullptr) : nlohmann::json("chosen.json")},
+          {"at_noise_floor", c.key.empty() ? nlohmann::json(nullptr) : nlohmann::json(c.at_floor)},
           {"rule",
-           "the least held-out GC error among the physically consistent estimates whose held-out "
-           "torque error is within (1 + tolerance) of the least of theirs"}};
+           "among the physically consistent estimates whose held-out torque error is within "
+           "(1 + tolerance) of the least of theirs, the least held-out GC error above its noise "
+           "floor (within 10 % of the floor counts as at it); at the floor, the least held-out "
+           "torque error"}};
 }
 
 }  // namespace
@@ -343,7 +356,7 @@ std::optional<StudyRepeat> studyRepeat(const LogStudyOutcome& o) {
       // identify's choice: among the front's points alone.
       std::vector<HeldOutErrors> errors;
       for (const FrontRow& f : o.front)
-        errors.push_back({f.row.torque_test, f.row.gc_test, f.row.consistent});
+        errors.push_back({f.row.torque_test, f.row.gc_test, f.row.consistent, f.row.gc_floor_test});
       const int index = chooseByHeldOut(errors, o.front_tolerance).index;
       r.front_differs = index < 0 || o.front[index].weight != *front_weight;
     } else if (o.combined_weight != identify.combined.gc_weight) {
@@ -407,20 +420,19 @@ Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell)
       formatNumber(o.seconds, 3, "n/a") + " s in all.");
   doc.heading("Comparison");
   DocumentTable table;
-  table.header = {"model",
-                  "torque error, train",
-                  "torque error, held out",
-                  "GC train",
-                  "GC held out",
-                  "physically consistent",
-                  "evaluations",
+  table.header = {"model",       "torque error, train", "torque error, held out", "GC train",
+                  "GC held out", "its noise floor",     "physically consistent",  "evaluations",
                   "seconds"};
   for (const LogStudyRow& r : o.rows)
     table.rows.push_back({r.key, percentText(r.torque_train), percentText(r.torque_test),
                           formatNumber(r.gc_train, 3, "n/a"), formatNumber(r.gc_test, 3, "n/a"),
-                          r.consistent ? "yes" : "no", std::to_string(r.evaluations),
-                          formatNumber(r.seconds, 3, "n/a")});
-  table.caption = "Evaluations: GC evaluations for searches, iterations for refinements and pc.";
+                          formatNumber(r.gc_floor_test, 3, "n/a"), r.consistent ? "yes" : "no",
+                          std::to_string(r.evaluations), formatNumber(r.seconds, 3, "n/a")});
+  table.caption =
+      "Evaluations: GC evaluations for searches, iterations for refinements and pc. Noise floor: "
+      "the held-out GC error the torque noise alone causes with that model (the noise level of its "
+      "torque residual, rolled out); a GC error near its floor says nothing of the model, and a "
+      "model that damps the noise more sits lower.";
   doc.table(table);
   DocumentTable legend;
   legend.header = {"model", "what it is"};
@@ -434,19 +446,15 @@ Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell)
         "point with pc's normalisers: from the best physically consistent torque fit towards the "
         "best motion prediction. Every point is physically consistent by construction.");
     DocumentTable front;
-    front.header = {"w",
-                    "torque error, train",
-                    "torque error, held out",
-                    "GC train",
-                    "GC held out",
-                    "physically consistent",
-                    "iterations",
+    front.header = {"w",           "torque error, train", "torque error, held out", "GC train",
+                    "GC held out", "its noise floor",     "physically consistent",  "iterations",
                     "seconds"};
     for (const FrontRow& f : o.front)
       front.rows.push_back({formatNumber(f.weight, 3, "n/a"), percentText(f.row.torque_train),
                             percentText(f.row.torque_test), formatNumber(f.row.gc_train, 3, "n/a"),
-                            formatNumber(f.row.gc_test, 3, "n/a"), f.row.consistent ? "yes" : "no",
-                            std::to_string(f.row.evaluations),
+                            formatNumber(f.row.gc_test, 3, "n/a"),
+                            formatNumber(f.row.gc_floor_test, 3, "n/a"),
+                            f.row.consistent ? "yes" : "no", std::to_string(f.row.evaluations),
                             formatNumber(f.row.seconds, 3, "n/a")});
     doc.table(front);
   }

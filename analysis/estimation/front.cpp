@@ -51,6 +51,10 @@ std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& 
   return out;
 }
 
+double HeldOutErrors::gcExcess() const {
+  return gc <= kAtNoiseFloor * gc_floor ? 0.0 : gc - gc_floor;
+}
+
 FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double tolerance) {
   const auto usable = [](const HeldOutErrors& e) {
     return e.consistent && std::isfinite(e.torque) && std::isfinite(e.gc);
@@ -63,10 +67,15 @@ FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double
       out.best_torque = k;
   if (out.best_torque < 0) return out;
   out.torque_bound = (1.0 + tolerance) * candidates[out.best_torque].torque;
+  const auto better = [](const HeldOutErrors& a, const HeldOutErrors& b) {
+    if (a.gcExcess() != b.gcExcess()) return a.gcExcess() < b.gcExcess();
+    return a.torque < b.torque;
+  };
   for (int k = 0; k < n; ++k)
     if (usable(candidates[k]) && candidates[k].torque <= out.torque_bound &&
-        (out.index < 0 || candidates[k].gc < candidates[out.index].gc))
+        (out.index < 0 || better(candidates[k], candidates[out.index])))
       out.index = k;
+  out.at_floor = candidates[out.index].gcExcess() == 0.0;
   return out;
 }
 

@@ -42,22 +42,34 @@ std::vector<FrontPoint> combinedFront(const Model& model, const BaseParameters& 
                                       const CombinedOptions& options,
                                       const std::vector<double>& weights);
 
-/// An estimate's errors on held-out data: the relative torque error and the GC error.
+/// An estimate's errors on held-out data: the relative torque error, the GC error, and the GC error
+/// that the torque noise alone causes with this model (search/refinement/combined.hpp's
+/// gcNoiseFloor on the held-out rollouts; 0: not measured).
 struct HeldOutErrors {
   double torque = std::numeric_limits<double>::quiet_NaN();
   double gc = std::numeric_limits<double>::quiet_NaN();
   bool consistent = true;  // every link physically consistent
+  double gc_floor = 0.0;
+  /// The GC error the model's errors add above its noise floor: 0 within kAtNoiseFloor of the
+  /// floor (there the rollouts cannot tell the model from the truth: a model that damps the torque
+  /// noise more rolls out closer to the noisy states, however wrong), gc - gc_floor above it.
+  double gcExcess() const;
 };
+/// A GC error at most this factor above its noise floor is "at the floor".
+inline constexpr double kAtNoiseFloor = 1.1;
 /// Which candidate the rule takes, and why.
 struct FrontChoice {
   int index = -1;             // the chosen candidate; -1 when none qualifies
   int best_torque = -1;       // the candidate whose torque error sets the bound
   double torque_bound = 0.0;  // (1 + tolerance) x its torque error
+  bool at_floor = false;  // the chosen one's GC error is at its noise floor (so were its rivals')
 };
 /// The choice on held-out data (`dynid study --front`, `identify --front`): among the physically
-/// consistent candidates with finite errors, the least GC error whose torque error is at most
-/// (1 + tolerance) times the least of theirs. Nothing about any candidate is assumed: where the
-/// input model predicts the motion best within the bound, it is chosen. Ties go to the earlier.
+/// consistent candidates with finite errors whose torque error is at most (1 + tolerance) times the
+/// least of theirs, the least GC excess above the noise floor (gcExcess; without floors, the least
+/// GC error); candidates at their floors tie, and a tie goes to the least torque error (the motion
+/// cannot tell them apart, the torques can), then to the earlier. Nothing about any candidate is
+/// assumed: where the input model predicts the motion best within the bound, it is chosen.
 FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double tolerance);
 
 }  // namespace dynid

@@ -87,6 +87,7 @@ struct HeldOut {
     out.torque = predictTorques(model, data, &pool, nullptr, nullptr, rows ? &*rows : nullptr)
                      .validation.relative_error;
     out.gc = gcError(model, gc, workspace, pool);
+    out.gc_floor = gcNoiseFloor(model, gc, 8, pool.numThreads());
     out.consistent = consistencyViolations(model).empty();
     return out;
   }

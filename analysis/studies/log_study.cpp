@@ -15,6 +15,7 @@
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
 #include "data/dataset_csv.hpp"
+#include "search/refinement/combined.hpp"
 
 namespace dynid {
 
@@ -72,7 +73,7 @@ StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance) {
     rows.emplace_back(&outcome.front[k].row, static_cast<int>(k));
   std::vector<HeldOutErrors> errors;
   for (const auto& [row, index] : rows)
-    errors.push_back({row->torque_test, row->gc_test, row->consistent});
+    errors.push_back({row->torque_test, row->gc_test, row->consistent, row->gc_floor_test});
   const FrontChoice c = chooseByHeldOut(errors, tolerance);
   StudyChoice out;
   if (c.best_torque < 0) return out;
@@ -80,6 +81,7 @@ StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance) {
   out.best_torque = keyOf(c.best_torque);
   out.best_front_index = rows[c.best_torque].second;
   out.torque_bound = c.torque_bound;
+  out.at_floor = c.at_floor;
   out.key = keyOf(c.index);
   out.front_index = rows[c.index].second;
   return out;
@@ -220,6 +222,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
     row.torque_test = predictTorques(model, test).validation.relative_error;
     row.gc_train = gcError(model, train_gc, workspace, pool);
     row.gc_test = gcError(model, test_gc, workspace, pool);
+    row.gc_floor_test = gcNoiseFloor(model, test_gc, 8, threads);
     row.consistent = consistencyViolations(model).empty();
     row.standard = model.standardParameters();
     row.evaluations = evaluations;

@@ -70,8 +70,11 @@ struct LogStudyRow {
                     // estimate; only when a search runs), or a method name
   double torque_train = 0.0, torque_test = 0.0;  // relative torque errors
   double gc_train = 0.0, gc_test = 0.0;          // GC errors
-  bool consistent = false;                       // every link physically consistent
-  long evaluations = 0;  // GC evaluations (searches), iterations (refinements, pc)
+  /// The held-out GC error the torque noise alone causes with this model (gcNoiseFloor): the GC
+  /// error within kAtNoiseFloor of it says nothing of the model (analysis/estimation/front.hpp).
+  double gc_floor_test = 0.0;
+  bool consistent = false;  // every link physically consistent
+  long evaluations = 0;     // GC evaluations (searches), iterations (refinements, pc)
   double seconds = 0.0;
   std::string note;          // e.g. "stopped at its time budget"
   bool moved = true;         // refinements and combined: false when the result is where it started
@@ -125,18 +128,20 @@ struct StudyVerdict {
 };
 StudyVerdict studyVerdict(const std::vector<LogStudyRow>& rows);
 
-/// One estimate chosen by a stated rule on the held-out data: among the physically consistent
-/// estimates with finite held-out errors (the rows but the searches' "start", which is pc, and
-/// the front's points), the least held-out GC error whose held-out torque error is at most
-/// (1 + tolerance) times the least of theirs. The input model is a candidate as any other: where
-/// it predicts the motion best within the bound, it is chosen. Ties go to the earlier (the rows
-/// in order, then the front by weight).
+/// One estimate chosen by a stated rule on the held-out data (chooseByHeldOut,
+/// analysis/estimation/front.hpp): among the physically consistent estimates with finite held-out
+/// errors (the rows but the searches' "start", which is pc, and the front's points) whose held-out
+/// torque error is at most (1 + tolerance) times the least of theirs, the least held-out GC error
+/// above its noise floor; at the floor, the least torque error. The input model is a candidate as
+/// any other: where it predicts the motion best within the bound, it is chosen. Ties go to the
+/// earlier (the rows in order, then the front by weight).
 struct StudyChoice {
   std::string key;            // a row's key, or "front"; empty when no estimate qualifies
   int front_index = -1;       // the front's point (key "front")
   double torque_bound = 0.0;  // (1 + tolerance) x the best consistent held-out torque error
   std::string best_torque;    // the estimate whose torque error sets the bound (or "front")
   int best_front_index = -1;  // the front's point that sets it
+  bool at_floor = false;      // the chosen one's held-out GC error is at its noise floor
 };
 StudyChoice studyChoice(const LogStudyOutcome& outcome, double tolerance);
 /// The row (or front point) `choice` names; nullptr when none.

@@ -1,4 +1,5 @@
-"""Base-parameter errors, torque errors and GC errors of pc and combined (examples/combined/run.sh).
+"""Base-parameter errors, torque errors and GC errors of pc, combined and the front's chosen
+estimate (examples/combined/run.sh).
 
 compare.py OUT_DIR
 Base-parameter error: RMS over the base parameters of (estimate - truth) / max(|truth|, 1e-3),
@@ -10,7 +11,7 @@ import sys
 
 out = sys.argv[1]
 truth = [p["estimate"] for p in json.load(open(out + "/truth_ols/estimate.json"))["base_parameters"]]
-for method in ("pc", "combined"):
+for method in ("pc", "combined", "front"):
     d = json.load(open(f"{out}/{method}/estimate.json"))
     est = [p["estimate"] for p in d["base_parameters"]]
     rel = math.sqrt(sum(((e - t) / max(abs(t), 1e-3)) ** 2 for e, t in zip(est, truth)) / len(truth))
@@ -21,4 +22,9 @@ for method in ("pc", "combined"):
         line += (f"; GC train {c['gc_error_train']['pc']:.4g} -> {c['gc_error_train']['combined']:.4g}, "
                  f"held out {c['gc_error_test']['pc']:.4g} -> {c['gc_error_test']['combined']:.4g}, "
                  f"noise floor {c['gc_noise_floor']:.4g}")
+    if "front" in d:
+        f = d["front"]
+        consistent = sum(p["physically_consistent"] for p in f["points"])
+        line += (f"; front: {consistent} of {len(f['points'])} points physically consistent, "
+                 f"chosen w = {f['chosen_weight']:g}")
     print(line)

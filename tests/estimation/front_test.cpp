@@ -101,5 +101,37 @@ TEST(CombinedFront, RefusesWeightsThatAreNotASweep) {
   EXPECT_THROW(combinedFront(s.truth, s.base, s.source, s.pc, s.gc, bad, {1.0}), InputError);
 }
 
+// The choice: the torque bound first, then the GC error above each candidate's noise floor, the
+// torque error among those at their floors.
+TEST(ChooseByHeldOut, TakesTheLeastGcAboveTheNoiseFloorWithinTheTorqueBound) {
+  // Without floors: the least GC error within 5 % of the best torque error (1.0): 1.04 and 61.
+  std::vector<HeldOutErrors> c = {{1.00, 1000.0}, {1.04, 61.0}, {1.10, 10.0}};
+  FrontChoice choice = chooseByHeldOut(c, 0.05);
+  EXPECT_EQ(choice.best_torque, 0);
+  EXPECT_DOUBLE_EQ(choice.torque_bound, 1.05);
+  EXPECT_EQ(choice.index, 1);
+  EXPECT_FALSE(choice.at_floor);
+  // Inconsistent or not finite: never a candidate, nor the bound's.
+  c[0].consistent = false;
+  c[1].gc = std::nan("");
+  EXPECT_EQ(chooseByHeldOut(c, 0.05).index, 2);
+  // A simulated log's case: every GC error at its own floor (the truth 1791 at 1809, the input
+  // model 1479 at 1566, pc 2942 at 2876): the motion cannot tell them apart, the torques decide.
+  c = {{0.0417, 2942.0, true, 2876.0},
+       {0.0417, 1791.0, true, 1809.0},
+       {0.0418, 1479.0, true, 1566.0}};
+  choice = chooseByHeldOut(c, 0.05);
+  EXPECT_EQ(choice.index, 0);  // the least torque error (ties: the earlier)
+  EXPECT_TRUE(choice.at_floor);
+  // Above the floors, the excess decides, not the raw GC error: 100 over a floor of 50 beats 80
+  // over a floor of 5 (a model that damps the noise more is not a better model for that).
+  c = {{0.01, 80.0, true, 5.0}, {0.01, 100.0, true, 50.0}};
+  EXPECT_EQ(chooseByHeldOut(c, 0.05).index, 1);
+  EXPECT_DOUBLE_EQ(c[0].gcExcess(), 75.0);
+  EXPECT_DOUBLE_EQ(HeldOutErrors({0.01, 54.9, true, 50.0}).gcExcess(), 0.0);  // within 10 %
+  // Nothing usable: no choice.
+  EXPECT_EQ(chooseByHeldOut({{std::nan(""), 1.0}}, 0.05).index, -1);
+}
+
 }  // namespace
 }  // namespace dynid

@@ -196,7 +196,7 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
   EXPECT_FALSE(studyRepeat(o)->front_differs);
   EXPECT_FALSE(studyRepeat(o)->combined_weight);
   EXPECT_NE(md.find("## The front"), std::string::npos);
-  EXPECT_NE(md.find("| 10 | 1.16 % | 1.16 % | 21.4 | 21.4 | yes |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 10 | 1.16 % | 1.16 % | 21.4 | 21.4 | 0 | yes |"), std::string::npos) << md;
   const nlohmann::json j = logStudyJson(o);
   EXPECT_EQ(j["schema_version"], 5);
   ASSERT_EQ(j["front"]["points"].size(), 3u);
@@ -224,6 +224,17 @@ TEST(LogStudyReport, WithAFrontItOpensWithTheChoiceAndKeepsEveryPoint) {
   EXPECT_NE(logStudyDocument(o).markdown().find("choosing among the front's points alone: here "
                                                 "another point than this study's"),
             std::string::npos);
+  // Every candidate at its noise floor: the sentence says the motion cannot tell them apart.
+  LogStudyOutcome floor = o;
+  for (LogStudyRow& r : floor.rows) r.gc_floor_test = r.gc_test;
+  for (FrontRow& f : floor.front) f.row.gc_floor_test = f.row.gc_test;
+  const std::string at_floor = logStudyDocument(floor).markdown();
+  EXPECT_NE(at_floor.find("the motion cannot tell them apart, so the least held-out torque error "
+                          "decides"),
+            std::string::npos)
+      << at_floor;
+  EXPECT_EQ(logStudyJson(floor)["choice"]["key"], "pc");  // 1.08 %, the least torque error
+  EXPECT_TRUE(logStudyJson(floor)["choice"]["at_noise_floor"].get<bool>());
   // Other weights and tolerance than the defaults are repeated; the default sweep is --front.
   o.front_tolerance = 0.1;
   EXPECT_EQ(studyRepeat(o)->front_tolerance, 0.1);
