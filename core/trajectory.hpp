@@ -13,6 +13,11 @@ struct Trajectory {
 
   int numSamples() const { return static_cast<int>(time.size()); }
   int numJoints() const { return static_cast<int>(q.rows()); }
+  /// The mean sampling rate [Hz]: (samples - 1) over the time spanned; 0 with fewer than 2.
+  double meanRate() const {
+    const int n = numSamples();
+    return n < 2 || !(time[n - 1] > time[0]) ? 0.0 : (n - 1) / (time[n - 1] - time[0]);
+  }
   /// Allocates n x N zero matrices.
   void resize(int num_joints, int num_samples) {
     time.setZero(num_samples);

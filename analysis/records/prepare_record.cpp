@@ -1,5 +1,6 @@
 #include "analysis/records/prepare_record.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <limits>
 
@@ -78,6 +79,24 @@ PreparationFound findPreparation(const std::string& data_file) {
     // An unreadable record is not the dataset's problem: the report leaves the section out.
     return {};
   }
+}
+
+std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate) {
+  if (!found.record || found.record->tau_noise_rms.empty() || !(rate > 0.0)) return std::nullopt;
+  const PrepareRecord& r = *found.record;
+  TorqueNoise out;
+  out.sigma = Eigen::Map<const Eigen::VectorXd>(r.tau_noise_rms.data(),
+                                                static_cast<Eigen::Index>(r.tau_noise_rms.size()));
+  if (!out.sigma.allFinite()) return std::nullopt;
+  const double cutoff = r.tau_cutoff_hz.value_or(r.cutoff_hz);
+  if (cutoff > 0.0 && r.filter_order > 0) {
+    if (!(cutoff < 0.5 * rate) || !(r.resampled_rate > 0.0)) return std::nullopt;
+    out.order = r.filter_order;
+    out.cutoff = cutoff;
+    out.rate = rate;
+    out.sigma *= std::sqrt(std::min(rate / r.resampled_rate, 1.0));
+  }
+  return out;
 }
 
 }  // namespace dynid

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "search/refinement/combined.hpp"
+
 namespace dynid {
 
 /// The fields of prepare.json that an identification report restates.
@@ -47,5 +49,12 @@ struct PreparationFound {
 /// The prepare.json beside `data_file` when that file is a `dynid prepare` output (train.csv or
 /// validate.csv); an unreadable record is not the dataset's problem and is reported as such.
 PreparationFound findPreparation(const std::string& data_file);
+
+/// What a prepared log's record knows of its torque noise, for its GC noise floor at the dataset's
+/// `rate` [Hz] (search/refinement/combined.hpp's gcNoiseFloor): the raw noise level per joint
+/// (tau_noise_rms) and the torque's filter; a filtered log decimated to `rate` keeps the filtered
+/// noise's variance, so the level is scaled by sqrt(rate / resampled_rate). nullopt when there is
+/// no record, a joint's level is unknown, or the filter does not fit below rate / 2.
+std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate);
 
 }  // namespace dynid

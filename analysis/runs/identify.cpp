@@ -78,6 +78,7 @@ struct HeldOut {
   Trajectory data;
   GcProblem gc;
   std::optional<FitRows> rows;  // through the training torque's filter, when the fit reproduced one
+  std::optional<TorqueNoise> noise;  // as its preparation measured it (prepare.json beside it)
 
   /// The held-out torque and GC errors of `model` with the parameters `standard`.
   HeldOutErrors errorsOf(Model model, const Eigen::VectorXd& standard, ThreadPool& pool,
@@ -87,7 +88,7 @@ struct HeldOut {
     out.torque = predictTorques(model, data, &pool, nullptr, nullptr, rows ? &*rows : nullptr)
                      .validation.relative_error;
     out.gc = gcError(model, gc, workspace, pool);
-    out.gc_floor = gcNoiseFloor(model, gc, 8, pool.numThreads());
+    out.gc_floor = gcNoiseFloor(model, gc, 8, pool.numThreads(), noise ? &*noise : nullptr);
     out.consistent = consistencyViolations(model).empty();
     return out;
   }
@@ -100,6 +101,8 @@ std::optional<HeldOut> heldOutOf(const IdentifyRequest& request, const Model& mo
                   ? *request.validate
                   : readDatasetCsv(request.validate_file, model.numJoints());
   held.gc = combinedProblem(request, &held.data, request.validate_file);
+  if (request.validate == nullptr)
+    held.noise = torqueNoiseOf(findPreparation(request.validate_file), held.data.meanRate());
   // As the estimate's own held-out error: through the training torque's filter, if any.
   if (out.torque_filter.active() && out.filter_reach > 0) {
     Trajectory velocities;

@@ -11,6 +11,7 @@
 #include "analysis/estimation/front.hpp"
 #include "analysis/estimation/pipeline.hpp"
 #include "analysis/logs/rest.hpp"
+#include "analysis/records/prepare_record.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
 #include "core/option_ranges.hpp"
@@ -199,6 +200,10 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   out.test_samples = test.numSamples();
   const GcProblem train_gc = gcProblem(train, request.segments, request.data_file);
   const GcProblem test_gc = gcProblem(test, request.segments, request.validate_file);
+  // The held-out torque noise as its preparation measured it, for each model's noise floor (a
+  // filtered log's residual differences see little of the noise its rollouts integrate).
+  const std::optional<TorqueNoise> test_noise =
+      torqueNoiseOf(findPreparation(request.validate_file), test.meanRate());
   out.train_segments = train_gc.numSegments();
   out.test_segments = test_gc.numSegments();
   out.horizon = request.segments.horizon;
@@ -222,7 +227,8 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
     row.torque_test = predictTorques(model, test).validation.relative_error;
     row.gc_train = gcError(model, train_gc, workspace, pool);
     row.gc_test = gcError(model, test_gc, workspace, pool);
-    row.gc_floor_test = gcNoiseFloor(model, test_gc, 8, threads);
+    row.gc_floor_test =
+        gcNoiseFloor(model, test_gc, 8, threads, test_noise ? &*test_noise : nullptr);
     row.consistent = consistencyViolations(model).empty();
     row.standard = model.standardParameters();
     row.evaluations = evaluations;

@@ -16,6 +16,7 @@
 #include "core/integrators-inl.hpp"
 #include "core/parallel.hpp"
 #include "core/rnea.hpp"
+#include "core/signal.hpp"
 #include "search/gc_error.hpp"
 #include "search/refinement/costs.hpp"
 
@@ -129,33 +130,69 @@ void quadraticModel(const TorqueTerm& torque, const Eigen::VectorXd& theta,
 
 }  // namespace
 
-double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int num_threads) {
+namespace {
+
+/// The residual's noise level per joint: half the mean squared first difference (white noise of
+/// variance s^2 has differences of variance 2 s^2; a smooth model error has almost none).
+Eigen::VectorXd residualNoise(const Model& model, const Trajectory& data) {
+  const int n = model.numJoints(), samples = data.numSamples();
+  Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n), previous(n), residual(n);
+  Data d(model);
+  for (int k = 0; k < samples; ++k) {
+    residual = data.tau.col(k) - rnea(model, d, data.q.col(k), data.dq.col(k), data.ddq.col(k));
+    if (k > 0) sigma += (residual - previous).cwiseAbs2();
+    previous = residual;
+  }
+  return (sigma / (2.0 * std::max(samples - 1, 1))).cwiseSqrt();
+}
+
+/// The draws of filtered noise: per draw, white noise of `noise.sigma` over the whole log, each
+/// joint low-passed zero-phase, each segment's slice at (s draws + k) length.
+Eigen::MatrixXd filteredDraws(const TorqueNoise& noise, const GcProblem& problem, int draws,
+                              std::mt19937_64& random) {
+  const int n = static_cast<int>(noise.sigma.size()), samples = problem.data.numSamples();
+  const int length = problem.samples_per_segment, segments = problem.numSegments();
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const std::vector<Biquad> filter = butterworthLowPass(noise.order, noise.cutoff, noise.rate);
+  Eigen::MatrixXd out(n, static_cast<Eigen::Index>(segments) * draws * length);
+  Eigen::VectorXd white(samples);
+  for (int k = 0; k < draws; ++k)
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < samples; ++i) white[i] = noise.sigma[j] * normal(random);
+      filtfiltInPlace(filter, white);
+      for (int s = 0; s < segments; ++s)
+        out.row(j).segment((static_cast<Eigen::Index>(s) * draws + k) * length, length) =
+            white.segment(problem.starts[s], length).transpose();
+    }
+  return out;
+}
+
+}  // namespace
+
+double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int num_threads,
+                    const TorqueNoise* given) {
   const Trajectory& data = problem.data;
   const int n = model.numJoints(), samples = data.numSamples();
   const int length = problem.samples_per_segment, segments = problem.numSegments();
   if (data.numJoints() != n)
     throw InputError("the data has " + std::to_string(data.numJoints()) + " joints, the model " +
                      std::to_string(n));
+  if (given != nullptr && given->sigma.size() != n)
+    throw InputError("the torque noise has " + std::to_string(given->sigma.size()) +
+                     " joints, the model " + std::to_string(n));
   if (draws < 1 || segments == 0 || samples < length) return 0.0;
-  // The model's torque residual at every sample.
-  Eigen::MatrixXd residual(n, samples);
-  {
-    Data d(model);
-    for (int k = 0; k < samples; ++k)
-      residual.col(k) =
-          data.tau.col(k) - rnea(model, d, data.q.col(k), data.dq.col(k), data.ddq.col(k));
-  }
-  // The noise in the residuals: half the mean squared first difference per joint (white noise of
-  // variance s^2 has differences of variance 2 s^2; a smooth model error has almost none).
-  Eigen::VectorXd sigma = Eigen::VectorXd::Zero(n);
-  for (int k = 1; k < samples; ++k) sigma += (residual.col(k) - residual.col(k - 1)).cwiseAbs2();
-  sigma = (sigma / (2.0 * std::max(samples - 1, 1))).cwiseSqrt();
   // The draws: fixed seed, drawn in order, so the floor is the same for any thread count.
   std::mt19937_64 random(20261126);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  Eigen::MatrixXd noise(n, static_cast<Eigen::Index>(segments) * draws * length);
-  for (Eigen::Index k = 0; k < noise.cols(); ++k)
-    for (int j = 0; j < n; ++j) noise(j, k) = sigma[j] * normal(random);
+  Eigen::MatrixXd noise;
+  if (given != nullptr && given->order > 0) {
+    noise = filteredDraws(*given, problem, draws, random);
+  } else {
+    const Eigen::VectorXd sigma = given != nullptr ? given->sigma : residualNoise(model, data);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    noise.resize(n, static_cast<Eigen::Index>(segments) * draws * length);
+    for (Eigen::Index k = 0; k < noise.cols(); ++k)
+      for (int j = 0; j < n; ++j) noise(j, k) = sigma[j] * normal(random);
+  }
   Eigen::VectorXd per_segment = Eigen::VectorXd::Zero(segments);
   ThreadPool pool(std::max(num_threads, 1));
   pool.parallelFor(segments, [&](int s, int) {

@@ -102,8 +102,19 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
 /// plus white noise of that level (`draws` draws, fixed seed), the weighted squared end-state
 /// differences averaged over the draws and summed over the segments. The same for any thread
 /// count. Throws InputError on a joint-count mismatch.
+///
+/// `noise`, when given, is what the log's preparation knows of its torque noise (a prepared log's
+/// first differences see little of it: its filter removed the differences' noise, not the noise
+/// the rollouts integrate): white noise of noise->sigma per joint, low-passed by the zero-phase
+/// Butterworth the log's torque went through, drawn over the whole log and sliced per segment.
+struct TorqueNoise {
+  Eigen::VectorXd sigma;  // per joint [N m], at the log's own rate
+  int order = 0;          // the filter (0: none)
+  double cutoff = 0.0;    // [Hz]
+  double rate = 0.0;      // the log's sampling rate [Hz]
+};
 double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws = 8,
-                    int num_threads = 1);
+                    int num_threads = 1, const TorqueNoise* noise = nullptr);
 
 /// Phi at theta with the start's normalisers (for tests and reports): gc_scale is G0 and
 /// gc_floor the GC error's noise floor (a GC error, as CombinedResult::gc_floor; 0: none).

@@ -11,6 +11,7 @@
 
 #include "core/errors.hpp"
 #include "core/perturb.hpp"
+#include "core/signal.hpp"
 #include "identifiability/physically_consistent.hpp"
 #include "search/gc_error.hpp"
 #include "tests/common/identification.hpp"
@@ -126,6 +127,49 @@ TEST(Combined, TheNoiseFloorIsTheGcErrorTheTorqueNoiseCauses) {
   options.num_segments = 40;
   const GcProblem clean = makeGcProblem(test::pumaTrajectory(s.truth, 2.0, 0.0, 3), options);
   EXPECT_LT(gcNoiseFloor(s.truth, clean, 8, 1), 1e-9 * floor);
+}
+
+TEST(Combined, AFilteredLogsNoiseFloorComesFromItsPreparation) {
+  // White torque noise of 0.5 N m low-passed at 10 Hz (order 4, zero phase), as dynid prepare
+  // filters a log: its first differences see a fiftieth of it, the rollouts all of it. The floor
+  // from the residuals' differences misses it; the floor from the noise level and the filter
+  // (prepare.json's tau_noise_rms and filter) matches the truth's GC error, to the 1.5 of the
+  // white case above.
+  const Model truth = makePuma560();
+  Trajectory data = test::pumaTrajectory(truth, 2.0, 0.0, 3);
+  const double rate = data.meanRate();
+  const std::vector<Biquad> filter = butterworthLowPass(4, 10.0, rate);
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal(0.0, 0.5);
+  for (int j = 0; j < data.numJoints(); ++j) {
+    Eigen::VectorXd noise(data.numSamples());
+    for (Eigen::Index k = 0; k < noise.size(); ++k) noise[k] = normal(random);
+    data.tau.row(j) += filtfilt(filter, noise).transpose();
+  }
+  SegmentOptions options = normalisedSegments();
+  options.num_segments = 40;
+  const GcProblem gc = makeGcProblem(data, options);
+  ThreadPool pool(1);
+  GcWorkspace workspace(1);
+  const double truth_gc = gcError(truth, gc, workspace, pool);
+  TorqueNoise noise;
+  noise.sigma = Eigen::VectorXd::Constant(truth.numJoints(), 0.5);
+  noise.order = 4;
+  noise.cutoff = 10.0;
+  noise.rate = rate;
+  const double prepared = gcNoiseFloor(truth, gc, 8, 1, &noise);
+  EXPECT_GT(prepared, truth_gc / 1.5);
+  EXPECT_LT(prepared, truth_gc * 1.5);
+  EXPECT_LT(gcNoiseFloor(truth, gc, 8, 1), truth_gc / 5.0);
+  EXPECT_EQ(gcNoiseFloor(truth, gc, 8, 2, &noise), prepared);  // any thread count
+  // A given level without a filter: white noise of that level (four times the floor for twice
+  // the level, the rollouts being linear in small noise: 10 % for their curvature).
+  noise.order = 0;
+  const double white = gcNoiseFloor(truth, gc, 8, 1, &noise);
+  noise.sigma *= 2.0;
+  EXPECT_NEAR(gcNoiseFloor(truth, gc, 8, 1, &noise), 4.0 * white, 0.1 * 4.0 * white);
+  noise.sigma.resize(2);
+  EXPECT_THROW(gcNoiseFloor(truth, gc, 8, 1, &noise), InputError);
 }
 
 TEST(Combined, DoesNotFitTheGcErrorBelowItsNoiseFloor) {
