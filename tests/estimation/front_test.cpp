@@ -116,8 +116,8 @@ TEST(ChooseByHeldOut, TakesTheLeastGcAboveTheNoiseFloorWithinTheTorqueBound) {
   c[1].gc = std::nan("");
   EXPECT_EQ(chooseByHeldOut(c, 0.05).index, 2);
   // A simulated log's case: every GC error at its own floor (the truth 1791 at 1809, the input
-  // model 1479 at 1566, pc 2942 at 2876): the motion cannot tell them apart, the torques decide.
-  c = {{0.0417, 2942.0, true, 2876.0},
+  // model 1479 at 1566, pc 3199 at 3125): the motion cannot tell them apart, the torques decide.
+  c = {{0.0417, 3199.0, true, 3125.0},
        {0.0417, 1791.0, true, 1809.0},
        {0.0418, 1479.0, true, 1566.0}};
   choice = chooseByHeldOut(c, 0.05);
