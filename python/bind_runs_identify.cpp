@@ -340,8 +340,9 @@ void bindEstimateDetails(py::class_<EstimateResult>& estimate) {
             }
             return out;
           },
-          "With front: each point (weight, torque_train, torque_test: relative torque errors, "
-          "gc_train, gc_test, chosen), in weight order; None without.")
+          "Each point of the front, in weight order, as a dict (weight, torque_train and "
+          "torque_test as relative torque errors, gc_train, gc_test, chosen); None without a "
+          "front.")
       .def(
           "to_json",
           [](const EstimateResult& r) {

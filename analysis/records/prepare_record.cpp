@@ -81,8 +81,10 @@ PreparationFound findPreparation(const std::string& data_file) {
   }
 }
 
-std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate) {
-  if (!found.record || found.record->tau_noise_rms.empty() || !(rate > 0.0)) return std::nullopt;
+std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate, int joints) {
+  if (!found.record || !(rate > 0.0) ||
+      found.record->tau_noise_rms.size() != static_cast<std::size_t>(joints))
+    return std::nullopt;
   const PrepareRecord& r = *found.record;
   TorqueNoise out;
   out.sigma = Eigen::Map<const Eigen::VectorXd>(r.tau_noise_rms.data(),

@@ -54,7 +54,8 @@ PreparationFound findPreparation(const std::string& data_file);
 /// `rate` [Hz] (search/refinement/combined.hpp's gcNoiseFloor): the raw noise level per joint
 /// (tau_noise_rms) and the torque's filter; a filtered log decimated to `rate` keeps the filtered
 /// noise's variance, so the level is scaled by sqrt(rate / resampled_rate). nullopt when there is
-/// no record, a joint's level is unknown, or the filter does not fit below rate / 2.
-std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate);
+/// no record, it has another joint count than `joints`, a joint's level is unknown, or the filter
+/// does not fit below rate / 2.
+std::optional<TorqueNoise> torqueNoiseOf(const PreparationFound& found, double rate, int joints);
 
 }  // namespace dynid

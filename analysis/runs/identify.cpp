@@ -102,7 +102,8 @@ std::optional<HeldOut> heldOutOf(const IdentifyRequest& request, const Model& mo
                   : readDatasetCsv(request.validate_file, model.numJoints());
   held.gc = combinedProblem(request, &held.data, request.validate_file);
   if (request.validate == nullptr)
-    held.noise = torqueNoiseOf(findPreparation(request.validate_file), held.data.meanRate());
+    held.noise = torqueNoiseOf(findPreparation(request.validate_file), held.data.meanRate(),
+                               model.numJoints());
   // As the estimate's own held-out error: through the training torque's filter, if any.
   if (out.torque_filter.active() && out.filter_reach > 0) {
     Trajectory velocities;

@@ -203,7 +203,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // The held-out torque noise as its preparation measured it, for each model's noise floor (a
   // filtered log's residual differences see little of the noise its rollouts integrate).
   const std::optional<TorqueNoise> test_noise =
-      torqueNoiseOf(findPreparation(request.validate_file), test.meanRate());
+      torqueNoiseOf(findPreparation(request.validate_file), test.meanRate(), n);
   out.train_segments = train_gc.numSegments();
   out.test_segments = test_gc.numSegments();
   out.horizon = request.segments.horizon;

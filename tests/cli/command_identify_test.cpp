@@ -131,7 +131,7 @@ TEST(Cli, IdentifyReproducesPreparesTorqueFilter) {
                        "(prepare.json: the torque's low-pass)"))
       << r.out;
   const auto estimate = nlohmann::json::parse(readFile(dir + "/id/estimate.json"));
-  EXPECT_EQ(estimate["schema_version"], 7);
+  EXPECT_EQ(estimate["schema_version"], 8);
   const auto& rows = estimate["fit_rows"];
   EXPECT_EQ(rows["torque_filter"]["cutoff_hz"], 10.0);
   EXPECT_EQ(rows["torque_filter"]["order"], 4);

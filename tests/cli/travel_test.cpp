@@ -124,7 +124,7 @@ TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
   fs::create_directories(dir);
   const Result up = run("upgrade " + v1 + " --out " + dir + "/estimate.json");
   ASSERT_EQ(up.code, 0) << up.err;
-  EXPECT_TRUE(test::contains(up.err, "dynid.estimate version 1 -> 7")) << up.err;
+  EXPECT_TRUE(test::contains(up.err, "dynid.estimate version 1 -> 8")) << up.err;
   EXPECT_TRUE(test::contains(up.err, "note: embedded the robot it was made for")) << up.err;
   ASSERT_EQ(run("simulate --robot puma560 --duration 3 --out " + dir + "/d.csv").code, 0);
   nlohmann::json residuals[2];
@@ -134,7 +134,7 @@ TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
                          " --data " + dir + "/d.csv --out " + out);
     ASSERT_EQ(p.code, 0) << p.err;
     // predict says when it reads an older estimate as it is, as monitor and payload do.
-    EXPECT_EQ(test::contains(p.err, "is dynid.estimate version 1 (current 7): read as it is"),
+    EXPECT_EQ(test::contains(p.err, "is dynid.estimate version 1 (current 8): read as it is"),
               k == 0)
         << p.err;
     residuals[k] = nlohmann::json::parse(readFile(out + "/prediction.json"))["residual_rms"];
@@ -144,8 +144,8 @@ TEST(CliTravel, AnUpgradedEstimatePredictsAsTheOriginal) {
                        "/d.csv --out " + dir + "/mon");
   ASSERT_EQ(m.code, 0) << m.err;
   EXPECT_TRUE(test::contains(m.out + m.err,  // among its warnings, on its summary
-                             "is dynid.estimate version 1 (current 7): read as it is; "
-                             "upgrading the document rewrites it in version 7"))
+                             "is dynid.estimate version 1 (current 8): read as it is; "
+                             "upgrading the document rewrites it in version 8"))
       << m.out << m.err;
   // The output is a new file, never the document itself; a CSV is no document.
   EXPECT_EQ(run("upgrade " + dir + "/estimate.json --out " + dir + "/estimate.json").code, 2);

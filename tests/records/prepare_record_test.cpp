@@ -95,29 +95,31 @@ TEST(PrepareRecord, TorqueNoiseIsTheRawLevelThroughTheFilterAtTheDatasetsRate) {
   r.cutoff_hz = 10.0;
   r.resampled_rate = 1000.0;
   const PreparationFound found{true, r};
-  std::optional<TorqueNoise> n = torqueNoiseOf(found, 1000.0);
+  std::optional<TorqueNoise> n = torqueNoiseOf(found, 1000.0, 2);
   ASSERT_TRUE(n);
   EXPECT_EQ(n->order, 4);
   EXPECT_EQ(n->cutoff, 10.0);
   EXPECT_EQ(n->sigma[1], 0.2);
   // Decimated to 250 Hz after filtering: the filtered noise keeps its variance, so the white level
   // that gives it at 250 Hz is sqrt(250 / 1000) of the raw one.
-  n = torqueNoiseOf(found, 250.0);
+  n = torqueNoiseOf(found, 250.0, 2);
   ASSERT_TRUE(n);
   EXPECT_DOUBLE_EQ(n->sigma[0], 0.25);
   // The torque's own cutoff when prepare set one; none: white noise of the raw level.
   PreparationFound own = found;
   own.record->tau_cutoff_hz = 0.0;
-  n = torqueNoiseOf(own, 250.0);
+  n = torqueNoiseOf(own, 250.0, 2);
   ASSERT_TRUE(n);
   EXPECT_EQ(n->order, 0);
   EXPECT_EQ(n->sigma[0], 0.5);
-  // Nothing to go on: no record, an unknown level, a cutoff above the dataset's Nyquist rate.
-  EXPECT_FALSE(torqueNoiseOf(PreparationFound{}, 1000.0));
+  // Nothing to go on: no record, an unknown level, a cutoff above the dataset's Nyquist rate,
+  // another joint count.
+  EXPECT_FALSE(torqueNoiseOf(PreparationFound{}, 1000.0, 2));
   PreparationFound unknown = found;
   unknown.record->tau_noise_rms[1] = std::nan("");
-  EXPECT_FALSE(torqueNoiseOf(unknown, 1000.0));
-  EXPECT_FALSE(torqueNoiseOf(found, 15.0));
+  EXPECT_FALSE(torqueNoiseOf(unknown, 1000.0, 2));
+  EXPECT_FALSE(torqueNoiseOf(found, 15.0, 2));
+  EXPECT_FALSE(torqueNoiseOf(found, 1000.0, 6));  // another robot's record
 }
 
 }  // namespace
