@@ -181,6 +181,36 @@ std::vector<FrontRow> frontRows(const LogStudyRequest& request, const Model& rob
   return out;
 }
 
+/// The study's two datasets and their GC problems, and the held-out torque noise as its
+/// preparation measured it, for each model's noise floor (a filtered log's residual differences
+/// see little of the noise its rollouts integrate).
+struct StudyData {
+  Trajectory train, test;
+  GcProblem train_gc, test_gc;
+  std::optional<TorqueNoise> test_noise;
+};
+StudyData readStudyData(const LogStudyRequest& request) {
+  const int n = request.robot.numJoints();
+  StudyData d;
+  d.train = readDatasetCsv(request.data_file, n);
+  d.test = readDatasetCsv(request.validate_file, n);
+  d.train_gc = gcProblem(d.train, request.segments, request.data_file);
+  d.test_gc = gcProblem(d.test, request.segments, request.validate_file);
+  d.test_noise = torqueNoiseOf(findPreparation(request.validate_file), d.test.meanRate(), n);
+  return d;
+}
+
+/// The chosen estimate written into a copy of the URDF, when the request asks for it.
+std::optional<WriteBack> chosenWriteBack(const LogStudyRequest& request, const LogStudyOutcome& out,
+                                         const Model& robot) {
+  if (request.write_back_from.empty() || out.front.empty()) return std::nullopt;
+  const LogStudyRow* row = studyChosenRow(out, studyChoice(out, request.front_tolerance));
+  if (row == nullptr) return std::nullopt;
+  Model chosen = robot;
+  chosen.setStandardParameters(row->standard);
+  return estimateWriteBack(request.write_back_from, chosen, out.num_standard - out.num_base);
+}
+
 }  // namespace
 
 LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
@@ -188,24 +218,16 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   const auto t0 = Clock::now();
   const auto say = [&](const std::string& line) { request.control.say(line); };
   const auto stopped = [&] { return request.control.interrupted(); };
-  const int n = request.robot.numJoints();
-  const Trajectory train = readDatasetCsv(request.data_file, n);
-  const Trajectory test = readDatasetCsv(request.validate_file, n);
+  const StudyData d = readStudyData(request);
   // Every model of the study, the input's included, is at rest within the training data's rest
   // velocities (as identify's estimates are).
   Model robot = request.robot;
-  robot.rest_velocities = restThresholds(measureRestVelocities(train.dq, train.time));
+  robot.rest_velocities = restThresholds(measureRestVelocities(d.train.dq, d.train.time));
   LogStudyOutcome out = settingsOf(request, robot);
-  out.train_samples = train.numSamples();
-  out.test_samples = test.numSamples();
-  const GcProblem train_gc = gcProblem(train, request.segments, request.data_file);
-  const GcProblem test_gc = gcProblem(test, request.segments, request.validate_file);
-  // The held-out torque noise as its preparation measured it, for each model's noise floor (a
-  // filtered log's residual differences see little of the noise its rollouts integrate).
-  const std::optional<TorqueNoise> test_noise =
-      torqueNoiseOf(findPreparation(request.validate_file), test.meanRate(), n);
-  out.train_segments = train_gc.numSegments();
-  out.test_segments = test_gc.numSegments();
+  out.train_samples = d.train.numSamples();
+  out.test_samples = d.test.numSamples();
+  out.train_segments = d.train_gc.numSegments();
+  out.test_segments = d.test_gc.numSegments();
   out.horizon = request.segments.horizon;
   const int threads = resolveThreads(request.threads);
   ThreadPool pool(threads);  // the measurements'; the runner has its own
@@ -215,20 +237,20 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   const BaseParameters base = structuralBaseParameters(robot);
   out.num_base = base.numBase();
   out.num_standard = base.numStandard();
-  const Observation observation = observationFromTrajectory(robot, train);
+  const Observation observation = observationFromTrajectory(robot, d.train);
   const auto measure = [&](const std::string& key, const Model& model, long evaluations,
                            double seconds) {
     LogStudyRow row;
     row.key = key;
-    const Prediction fit = predictTorques(model, train);
+    const Prediction fit = predictTorques(model, d.train);
     row.torque_train = fit.validation.relative_error;
     if (out.fit_reversals.samples == 0 && (key == "ols" || key == "wls" || key == "pc"))
       out.fit_reversals = reversalResidual(fit);
-    row.torque_test = predictTorques(model, test).validation.relative_error;
-    row.gc_train = gcError(model, train_gc, workspace, pool);
-    row.gc_test = gcError(model, test_gc, workspace, pool);
+    row.torque_test = predictTorques(model, d.test).validation.relative_error;
+    row.gc_train = gcError(model, d.train_gc, workspace, pool);
+    row.gc_test = gcError(model, d.test_gc, workspace, pool);
     row.gc_floor_test =
-        gcNoiseFloor(model, test_gc, 8, threads, test_noise ? &*test_noise : nullptr);
+        gcNoiseFloor(model, d.test_gc, 8, threads, d.test_noise ? &*d.test_noise : nullptr);
     row.consistent = consistencyViolations(model).empty();
     row.standard = model.standardParameters();
     row.evaluations = evaluations;
@@ -241,7 +263,7 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   // estimate: the best torque fit that is a realisable body with friction that dissipates (the
   // input model often has no friction at all, and an OLS lift is rarely consistent, so rollouts
   // from either can diverge).
-  EstimationProblem problem = studyProblem(request, robot, base, observation, train_gc, threads);
+  EstimationProblem problem = studyProblem(request, robot, base, observation, d.train_gc, threads);
   const CombinedOptions combined = problem.combined;
   const LeastSquaresSource source = problem.least_squares;
   MethodRunner runner(std::move(problem));
@@ -269,17 +291,11 @@ LogStudyOutcome logStudyRun(const LogStudyRequest& request) {
   if (!request.front_weights.empty() && !stopped() && !out.interrupted) {
     say("the front: combined at " + std::to_string(request.front_weights.size()) +
         " GC weights, each from the last");
-    out.front = frontRows(request, robot, base, source, runner.leastSquares(Method::kPc), train_gc,
-                          combined, threads, measure);
+    out.front = frontRows(request, robot, base, source, runner.leastSquares(Method::kPc),
+                          d.train_gc, combined, threads, measure);
   }
   out.interrupted = out.interrupted || stopped();
-  if (!request.write_back_from.empty() && !out.front.empty())
-    if (const LogStudyRow* row = studyChosenRow(out, studyChoice(out, request.front_tolerance))) {
-      Model chosen = robot;
-      chosen.setStandardParameters(row->standard);
-      out.write_back =
-          estimateWriteBack(request.write_back_from, chosen, out.num_standard - out.num_base);
-    }
+  out.write_back = chosenWriteBack(request, out, robot);
   out.seconds = since(t0);
   return out;
 }
