@@ -121,28 +121,19 @@ StudyFigureLayout studyFigureLayout(const LogStudyOutcome& o) {
   const Window all = windowOf(c, std::vector<bool>(c.points.size(), true));
   const Window zoom = windowOf(c, c.zoom_member);
   const bool zoomed = zoomWorthwhile(c, all, zoom);
+  const auto panel = [](const char* title, LabelArea area, const Window& w) {
+    return StudyPanel{title, area, w.x0, w.x1, w.y0, w.y1};
+  };
   if (zoomed) {
     out.width = 1100;
     out.height = 560;
-    out.panels.push_back({"every model (the dashed box: the zoom at right)",
-                          {80, 530, 55, 500},
-                          all.x0,
-                          all.x1,
-                          all.y0,
-                          all.y1});
-    out.panels.push_back({"zoom: the physically consistent estimates",
-                          {630, 1080, 55, 500},
-                          zoom.x0,
-                          zoom.x1,
-                          zoom.y0,
-                          zoom.y1});
+    out.panels.push_back(
+        panel("every model (the dashed box: the zoom at right)", {80, 530, 55, 500}, all));
+    out.panels.push_back(
+        panel("zoom: the physically consistent estimates", {630, 1080, 55, 500}, zoom));
   } else {
-    out.panels.push_back({"held-out data: torque fit against motion prediction",
-                          {80, 780, 55, 480},
-                          all.x0,
-                          all.x1,
-                          all.y0,
-                          all.y1});
+    out.panels.push_back(
+        panel("held-out data: torque fit against motion prediction", {80, 780, 55, 480}, all));
   }
   for (std::size_t p = 0; p < out.panels.size(); ++p) {
     // The whole names what the zoom does not show; the zoom names what it shows.

@@ -434,16 +434,9 @@ TEST(Cli, PandaExampleRunsAndBeatsThePublishedFit) {
 // identify --method combined --front: the front's points on the held-out data in estimate.json,
 // the estimate the point the rule takes; the options refused where they do not apply.
 TEST(Cli, IdentifyFrontTakesThePointTheHeldOutDataChoose) {
-  const std::string train = test::tempPath("idfront_train.csv"),
-                    held = test::tempPath("idfront_held.csv"), dir = test::tempPath("idfront");
-  ASSERT_EQ(
-      run("simulate --robot puma560 --drives --duration 2 --noise-tau 0.3 --seed 4 --out " + train)
-          .code,
-      0);
-  ASSERT_EQ(
-      run("simulate --robot puma560 --drives --duration 1.5 --noise-tau 0.3 --seed 5 --out " + held)
-          .code,
-      0);
+  const auto [train, held] = test::noisyPumaPair("idfront");
+  ASSERT_FALSE(train.empty());
+  const std::string dir = test::tempPath("idfront");
   const std::string common =
       "identify --method combined --robot puma560 --drive-terms fv,fc "
       "--data " +

@@ -134,16 +134,9 @@ TEST(Cli, StudyNextStepQuotesTheRobotPathAsOneShellWord) {
 // --front: the combined estimator at each weight, every point measured and consistent, and the
 // estimate chosen by the stated rule written as the study's recommendation.
 TEST(Cli, StudyFrontSweepsTheCombinedWeightAndChoosesOneEstimate) {
-  const std::string train = test::tempPath("front_train.csv"),
-                    held = test::tempPath("front_held.csv"), dir = test::tempPath("front_study");
-  ASSERT_EQ(
-      run("simulate --robot puma560 --drives --duration 2 --noise-tau 0.3 --seed 4 --out " + train)
-          .code,
-      0);
-  ASSERT_EQ(
-      run("simulate --robot puma560 --drives --duration 1.5 --noise-tau 0.3 --seed 5 --out " + held)
-          .code,
-      0);
+  const auto [train, held] = test::noisyPumaPair("front");
+  ASSERT_FALSE(train.empty());
+  const std::string dir = test::tempPath("front_study");
   const std::string common = "study --robot puma560 --drive-terms fv,fc --data " + train +
                              " --validate " + held +
                              " --segments 8 --refine-iterations 3 --methods pc,combined ";

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "data/io.hpp"
@@ -28,6 +29,19 @@ inline Result run(const std::string& args) {
   r.out = readFile(out);
   r.err = readFile(err);
   return r;
+}
+
+/// A noisy PUMA log pair with the robot's drives (0.3 N m of torque noise): 2 s for training and
+/// 1.5 s held out, written as `prefix`_train.csv and `prefix`_held.csv in the tests' scratch
+/// directory (the fronts' tests: a short log whose GC error the combined estimator can lower).
+/// Returns their paths, empty when a simulation failed.
+inline std::pair<std::string, std::string> noisyPumaPair(const std::string& prefix) {
+  const std::string train = tempPath(prefix + "_train.csv"), held = tempPath(prefix + "_held.csv");
+  const std::string sim = "simulate --robot puma560 --drives --noise-tau 0.3 ";
+  if (run(sim + "--duration 2 --seed 4 --out " + train).code != 0 ||
+      run(sim + "--duration 1.5 --seed 5 --out " + held).code != 0)
+    return {};
+  return {train, held};
 }
 
 /// Whether an HTML report opens with its verdict box (its heading is the document's first
