@@ -57,10 +57,8 @@ std::string identifyCommand(const StudyRepeat& r) {
   return command;
 }
 
-}  // namespace
-
-int runStudy(const std::vector<std::string>& args) {
-  po::options_description options("dynid study");
+/// study's options, in the order --help lists them (every default the request's own).
+void addStudyOptions(po::options_description& options) {
   addRobotOptions(options);
   const LogStudyRequest d;  // every default is the request's own
   options.add_options()("data", po::value<std::string>()->required(), "training dataset CSV")(
@@ -90,6 +88,13 @@ int runStudy(const std::vector<std::string>& args) {
   addPriorWeightOption(options);
   addKeepRefinementOption(options);
   addThreadsOption(options);
+}
+
+}  // namespace
+
+int runStudy(const std::vector<std::string>& args) {
+  po::options_description options("dynid study");
+  addStudyOptions(options);
   po::variables_map vm;
   if (!parseCommandLine(args, options,
                         "dynid study --robot R [--drive-terms T] --data train.csv --validate "
@@ -136,6 +141,10 @@ int runStudy(const std::vector<std::string>& args) {
   std::cout << writeLogStudy(vm["out"].as<std::string>(), outcome, identifyCommand);
   if (outcome.write_back)
     std::cout << writeWriteBack(vm["write-urdf"].as<std::string>(), *outcome.write_back);
+  else if (vm.count("write-urdf"))
+    std::cerr << "warning: --write-urdf: no estimate was chosen ("
+              << (outcome.interrupted ? "interrupted before the front" : "none qualifies")
+              << "), so nothing was written\n";
   return exitAfter(guard, "study",
                    "the report has the methods that finished and each stopped one's best so far");
 }
