@@ -418,6 +418,18 @@ Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell)
       " s from the recorded states under the recorded torques. " + std::to_string(o.num_base) +
       " of the " + std::to_string(o.num_standard) + " standard parameters are identifiable. " +
       formatNumber(o.seconds, 3, "n/a") + " s in all.");
+  // The report opens with the picture: every model's torque fit against its motion prediction,
+  // and the front between them.
+  if (const std::optional<std::string> svg = studyFigure(o))
+    doc.figure({"torque_vs_gc",
+                "Each model's held-out torque error against its held-out GC "
+                "error: the lower left is best at both (when the physically consistent "
+                "estimates cluster far from the rest, a second panel zooms on them)." +
+                    std::string(o.front.empty() ? ""
+                                                : " The line is the front (the combined estimator "
+                                                  "from w small to large); the ring marks the "
+                                                  "chosen estimate."),
+                *svg});
   doc.heading("Comparison");
   DocumentTable table;
   table.header = {"model",       "torque error, train", "torque error, held out", "GC train",
@@ -460,15 +472,6 @@ Document logStudyDocument(const LogStudyOutcome& o, const RepeatSpelling& spell)
   }
   doc.heading("What to conclude");
   doc.bullets(logStudyConclusions(o));
-  if (const std::optional<std::string> svg = studyFigure(o))
-    doc.figure({"torque_vs_gc",
-                "Each model's held-out torque error against its held-out GC "
-                "error: the lower left is best at both." +
-                    std::string(o.front.empty() ? ""
-                                                : " The line is the front (the combined estimator "
-                                                  "from w small to large); the ring marks the "
-                                                  "chosen estimate."),
-                *svg});
   return doc;
 }
 
