@@ -238,7 +238,7 @@ void combinedSection(Document& doc, const IdentifyOutcome& o) {
   doc.table(table);
 }
 
-/// identify --front: the front's points on the held-out data and the one chosen.
+/// With `front_weights`: the front's points on the held-out data and the one chosen.
 void frontSection(Document& doc, const IdentifyOutcome& o) {
   if (!o.front) return;
   const IdentifyFront& f = *o.front;

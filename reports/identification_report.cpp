@@ -227,7 +227,7 @@ json combinedJson(const CombinedSummary& summary) {
       {"cost_history", combinedHistoryJson(c->detail)}};
 }
 
-/// estimate.json's "front" (identify --front): each point's weight and errors, and the choice.
+/// estimate.json's "front" (`front_weights`): each point's weight and errors, and the choice.
 json frontJson(const IdentifyFront& front) {
   json points = json::array();
   for (const IdentifyFrontPoint& p : front.points)

@@ -500,7 +500,7 @@ std::string writeLogStudy(const std::string& dir, const LogStudyOutcome& o,
          (o.front.empty() ? "" : ", front.csv") + ")\n";
   if (write_chosen)
     out += "the chosen estimate: " + dir +
-           "/chosen.json (a dynid JSON model: --arm of payload and monitor, --robot of predict "
+           "/chosen.json (a dynid JSON model: the arm of payload and monitor, the robot of predict "
            "and simulate)\n";
   if (doc.figures().empty()) out += "warning: gnuplot did not run: the report has no figure\n";
   return out;

@@ -64,12 +64,13 @@ struct FrontChoice {
   double torque_bound = 0.0;  // (1 + tolerance) x its torque error
   bool at_floor = false;  // the chosen one's GC error is at its noise floor (so were its rivals')
 };
-/// The choice on held-out data (`dynid study --front`, `identify --front`): among the physically
-/// consistent candidates with finite errors whose torque error is at most (1 + tolerance) times the
-/// least of theirs, the least GC excess above the noise floor (gcExcess; without floors, the least
-/// GC error); candidates at their floors tie, and a tie goes to the least torque error (the motion
-/// cannot tell them apart, the torques can), then to the earlier. Nothing about any candidate is
-/// assumed: where the input model predicts the motion best within the bound, it is chosen.
+/// The choice on held-out data (a study's and an identify request's `front_weights`): among the
+/// physically consistent candidates with finite errors whose torque error is at most (1 +
+/// tolerance) times the least of theirs, the least GC excess above the noise floor (gcExcess;
+/// without floors, the least GC error); candidates at their floors tie, and a tie goes to the least
+/// torque error (the motion cannot tell them apart, the torques can), then to the earlier. Nothing
+/// about any candidate is assumed: where the input model predicts the motion best within the bound,
+/// it is chosen.
 FrontChoice chooseByHeldOut(const std::vector<HeldOutErrors>& candidates, double tolerance);
 
 }  // namespace dynid

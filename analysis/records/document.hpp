@@ -31,8 +31,8 @@ struct DocumentType {
 // records/provenance.hpp). The earlier versions are still read (they say nothing of it).
 // estimate.json 7: data.sources, the logs of the summaries it was identified from (an identify
 // request's `summary`; absent for a dataset). Version 6 is read (every earlier one, as said above).
-// estimate.json 8: front (identify --front: the combined estimator's points, each measured on the
-// held-out data, and the weight chosen); absent without --front. Version 7 is read.
+// estimate.json 8: front (an identify request's `front_weights`: the combined estimator's points,
+// each measured on the held-out data, and the weight chosen); absent without. Version 7 is read.
 inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 8};  // identify
 // identifiability.json 2: provenance.
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};

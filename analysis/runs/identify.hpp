@@ -64,8 +64,8 @@ struct IdentifyRequest {
   CombinedOptions combined;
   /// combined: the front (analysis/estimation/front.hpp) at these GC weights instead of
   /// combined.gc_weight alone, each point from the last, measured on the held-out data (required)
-  /// and the estimate chosen from it by chooseByHeldOut with front_tolerance: the estimate `dynid
-  /// study --front` chooses among the front's points. Empty: no front.
+  /// and the estimate chosen from it by chooseByHeldOut with front_tolerance: the estimate a study
+  /// with the same `front_weights` chooses among the front's points. Empty: no front.
   std::vector<double> front_weights;
   double front_tolerance = 0.05;
   std::string data_file;
