@@ -12,6 +12,8 @@
 
 #include "core/aba.hpp"
 #include "core/crba.hpp"
+#include "core/floating/floating_regressor.hpp"
+#include "core/floating/floating_rnea.hpp"
 #include "core/integrators.hpp"
 #include "core/kinematics.hpp"
 #include "core/rnea.hpp"
@@ -120,6 +122,34 @@ TEST(NoMalloc, AlgorithmsAllocateNothing) {
     }
     EXPECT_EQ(made, 0) << (drives ? "with drives" : "without drives");
     EXPECT_TRUE(q.allFinite());
+  }
+}
+
+TEST(NoMalloc, FloatingBaseAlgorithmsAllocateNothing) {
+  for (bool drives : {false, true}) {
+    RigidInertia<double> trunk;
+    trunk.mass = 12.0, trunk.first_moment << 0.1, 0.0, -0.2, trunk.inertia.diagonal() << 0.4, 0.5,
+    0.3;
+    const FloatingModel model(makePuma560(drives), trunk);
+    FloatingData data(model);
+    const Eigen::VectorXd q = puma560Pose("qn"), dq = Eigen::VectorXd::Constant(6, 0.3),
+                          ddq = Eigen::VectorXd::Constant(6, -0.2),
+                          tau = Eigen::VectorXd::Constant(6, 1.0);
+    BaseMotion base;
+    base.twist << 0.1, -0.2, 0.3, 0.5, 0.0, -0.1;
+    base.acceleration << 0.2, 0.1, 0.0, -0.3, 0.4, 0.2;
+    const Vector6<double> wrench = Vector6<double>::Constant(2.0);
+    long made = -1;
+    {
+      const AllocationCount count;
+      floatingRnea(model, data, base, q, dq, ddq);
+      floatingRegressor(model, data, base, q, dq, ddq);
+      floatingCrba(model, data, q);
+      floatingForwardDynamics(model, data, base, q, dq, tau, wrench);
+      made = count.allocationsSoFar();
+    }
+    EXPECT_EQ(made, 0) << (drives ? "with drives" : "without drives");
+    EXPECT_TRUE(data.acceleration.allFinite());
   }
 }
 

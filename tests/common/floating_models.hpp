@@ -1,0 +1,35 @@
+// Floating-base test models, and the independent computation the floating algorithms are checked
+// against: the same robot with its free flyer as six virtual joints (three prismatic along the
+// world axes, then revolute z, y, x) through dynid's fixed-base algorithms.
+#pragma once
+
+#include <cstdint>
+#include <random>
+
+#include "core/floating/floating_data.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid::test {
+
+/// randomTree's limbs (`options`) under a random, physically consistent base body (2..10 kg).
+FloatingModel randomFloating(std::uint64_t seed, const RandomTreeOptions& options = {});
+
+/// The floating model with its free flyer as six virtual joints: bodies 0-4 massless, body 5 the
+/// base body, body 6 + i limb i. Drive terms only when `drives` (the virtual joints then carry
+/// them too, at zero).
+Model virtualChain(const FloatingModel& model, bool drives = false);
+
+/// A floating state drawn at random, and the same state as the virtual chain's coordinates.
+struct FloatingSample {
+  BaseMotion base;
+  Eigen::Vector3d position;
+  Eigen::VectorXd q, dq, ddq;                    // the limbs' (n)
+  Eigen::VectorXd chain_q, chain_dq, chain_ddq;  // the virtual chain's (6 + n)
+};
+
+/// Draws the chain's coordinates (Euler angles within +-1.2 rad, away from the chain's
+/// singularity) and derives the base's motion from the chain's own kinematics.
+FloatingSample randomFloatingSample(const FloatingModel& model, const Model& chain,
+                                    std::mt19937_64& rng);
+
+}  // namespace dynid::test
