@@ -291,7 +291,6 @@ void addRobotOptions(po::options_description& options, bool required) {
       "strict", po::bool_switch(), "treat URDF warnings as errors");
 }
 
-namespace {
 RobotOptions robotOptions(const po::variables_map& vm) {
   RobotOptions out;
   out.drives = vm["drives"].as<bool>();
@@ -306,7 +305,6 @@ RobotOptions robotOptions(const po::variables_map& vm) {
   }
   return out;
 }
-}  // namespace
 
 Model loadRobotFromOptions(const po::variables_map& vm,
                            const std::vector<std::string>& fixed_joints) {

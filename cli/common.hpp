@@ -111,6 +111,10 @@ bool receiveTimeOption(const po::variables_map& vm);
 /// a count other than `joints` (when > 0).
 std::vector<std::string> jointNamesOption(const po::variables_map& vm, int joints);
 
+/// The robot options (--drives, --drive-terms, --strict) as data/robots.hpp's RobotOptions.
+/// Throws UsageError for --drives with --drive-terms or an unknown drive term.
+RobotOptions robotOptions(const po::variables_map& vm);
+
 /// The options every robot-using command takes: --robot, --drives, --drive-terms, --strict
 /// (--robot required unless `required` is false).
 void addRobotOptions(po::options_description& options, bool required = true);

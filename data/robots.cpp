@@ -69,4 +69,16 @@ Model loadRobot(const std::string& spec, const RobotOptions& options,
   return model;
 }
 
+FloatingModel loadFloatingRobot(const std::string& spec, const RobotOptions& options,
+                                std::vector<std::string>* warnings) {
+  if (!isUrdfSpec(spec))
+    throw InputError("a floating-base robot is read from a URDF file, not '" + spec +
+                     "' (the built-in arms are fixed to their base)");
+  const bool drives = options.drives || options.drive_terms.has_value();
+  FloatingModel model =
+      loadFloatingUrdf(spec, {drives, options.strict, options.fixed_joints}, warnings);
+  if (options.drive_terms) model.setDriveTerms(*options.drive_terms);
+  return model;
+}
+
 }  // namespace dynid

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/floating/floating_model.hpp"
 #include "core/model.hpp"
 
 namespace dynid {
@@ -34,5 +35,11 @@ bool isUrdfSpec(const std::string& spec);
 
 Model loadRobot(const std::string& spec, const RobotOptions& options = {},
                 std::vector<std::string>* warnings = nullptr);
+
+/// A floating-base robot (`floating_base`): a URDF file through loadFloatingUrdf, its limbs' drive
+/// terms as loadRobot gives a URDF's. Throws InputError for any other robot (the built-in arms
+/// are fixed-base; a dynid JSON model has no floating form yet), ParseError for a malformed file.
+FloatingModel loadFloatingRobot(const std::string& spec, const RobotOptions& options = {},
+                                std::vector<std::string>* warnings = nullptr);
 
 }  // namespace dynid

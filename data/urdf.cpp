@@ -149,8 +149,19 @@ bool finitePose(const urdf::Pose& p) {
 class UrdfBuilder {
  public:
   UrdfBuilder(const urdf::ModelInterface& urdf, const std::string& file, const ElementIndex& index,
-              const UrdfOptions& options, std::vector<std::string>* warnings)
-      : urdf_(urdf), file_(file), index_(index), options_(options), warnings_(warnings) {}
+              const UrdfOptions& options, std::vector<std::string>* warnings, bool floating = false)
+      : urdf_(urdf),
+        file_(file),
+        index_(index),
+        options_(options),
+        warnings_(warnings),
+        floating_(floating) {}
+
+  /// After build() with `floating`: the base body's inertia (the root link and the links fixed to
+  /// it), its name, and every link's frame.
+  RigidInertia<double> base_inertia;
+  std::string base_name;
+  std::vector<BodyFrame> frames;
 
   Model build() {
     model_.name = urdf_.getName();
@@ -167,7 +178,7 @@ class UrdfBuilder {
     }
     for (const auto& [name, joint] : urdf_.joints_) checkJoint(*joint);
     for (const auto& [name, link] : urdf_.links_) checkLink(*link);
-    walk(*urdf_.getRoot());
+    walk(floatingRoot());
     addBodies();
     if (model_.numJoints() == 0)
       throw ParseError(file_, 0, "robot '" + model_.name + "'", "has no moving joint");
@@ -195,7 +206,13 @@ class UrdfBuilder {
     if (!isPrintableUtf8(joint.name)) failJoint(joint.name, kNotPrintable);
     switch (joint.type) {
       case urdf::Joint::FLOATING:
-        failJoint(joint.name, "floating joints are not supported (dynid models fixed-base robots)");
+        if (!floating_)
+          failJoint(
+              joint.name,
+              "is a floating joint: a floating-base robot is loaded as one (`floating_base`)");
+        if (joint.parent_link_name != urdf_.getRoot()->name)
+          failJoint(joint.name, "is a floating joint below the root: only the root's can be");
+        break;
       case urdf::Joint::PLANAR:
         failJoint(joint.name, "planar joints are not supported (1-dof joints only)");
       case urdf::Joint::UNKNOWN:
@@ -208,7 +225,7 @@ class UrdfBuilder {
     if (!std::isfinite(joint.axis.x) || !std::isfinite(joint.axis.y) ||
         !std::isfinite(joint.axis.z))
       failJoint(joint.name, "<axis> has a non-finite number");
-    if (joint.type != urdf::Joint::FIXED &&
+    if (joint.type != urdf::Joint::FIXED && joint.type != urdf::Joint::FLOATING &&
         std::sqrt(joint.axis.x * joint.axis.x + joint.axis.y * joint.axis.y +
                   joint.axis.z * joint.axis.z) < 1e-12)
       failJoint(joint.name, "<axis> is the zero vector");
@@ -296,6 +313,23 @@ class UrdfBuilder {
     return out;
   }
 
+  /// Where the robot starts: the root link, or for a floating base the child of the root's
+  /// floating joint, if it has one (the root then is the world, and may hold nothing else).
+  const urdf::Link& floatingRoot() const {
+    const urdf::Link& root = *urdf_.getRoot();
+    if (!floating_) return root;
+    for (const urdf::JointSharedPtr& joint : root.child_joints) {
+      if (joint->type != urdf::Joint::FLOATING) continue;
+      if (root.child_joints.size() != 1)
+        failLink(root.name, "holds the floating joint '" + joint->name +
+                                "' and other joints: the world link holds the robot alone");
+      const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
+      if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
+      return *child;
+    }
+    return root;
+  }
+
   /// A moving joint found by the walk: its parent (another record, or -1 for the base) and its
   /// placement in that parent's link frame (fixed joints in between composed in).
   struct MovingJoint {
@@ -320,6 +354,11 @@ class UrdfBuilder {
       Pose<double> link_in_body;
     };
     std::vector<Pending> stack = {{&root, -1, Pose<double>()}};
+    if (floating_) {
+      base_name = root.name;
+      base_inertia = linkInertia(root, false);
+      frames.push_back({root.name, -1, Pose<double>()});
+    }
     std::map<const urdf::Link*, const urdf::Joint*> reached_by;
     while (!stack.empty()) {
       const Pending p = stack.back();
@@ -394,14 +433,22 @@ class UrdfBuilder {
           model_.addBody(parent_body, m.child->name, joint.name, type, m.placement, axis,
                          Pose<double>(), linkInertia(*m.child, true), limits, drive);
     }
-    // Fixed children join their body (the base ignores its inertia: it does not move).
-    for (const Merge& merge : merges_)
-      if (merge.record >= 0) {
-        const int body = body_of[merge.record];
-        RigidInertia<double> merged = model_.inertias()[body];
-        merged += linkInertia(*merge.link, false).transformedBy(merge.placement);
-        model_.setLinkInertia(body, merged);
+    // Fixed children join their body (a fixed base ignores its inertia: it does not move; a
+    // floating one keeps it).
+    for (const Merge& merge : merges_) {
+      const int body = merge.record < 0 ? -1 : body_of[merge.record];
+      if (floating_) frames.push_back({merge.link->name, body, merge.placement});
+      if (body < 0) {
+        if (floating_)
+          base_inertia += linkInertia(*merge.link, false).transformedBy(merge.placement);
+        continue;
       }
+      RigidInertia<double> merged = model_.inertias()[body];
+      merged += linkInertia(*merge.link, false).transformedBy(merge.placement);
+      model_.setLinkInertia(body, merged);
+    }
+    if (floating_)
+      for (int r = 0; r < count; ++r) frames.push_back({moving_[r].child->name, body_of[r], {}});
   }
 
   int order(const std::string& joint) const {
@@ -414,6 +461,7 @@ class UrdfBuilder {
   const ElementIndex& index_;
   const UrdfOptions& options_;
   std::vector<std::string>* warnings_;
+  bool floating_ = false;
   std::vector<MovingJoint> moving_;
   std::vector<Merge> merges_;
   Model model_;
@@ -477,8 +525,10 @@ std::size_t xmlTagEnd(const std::string& text, std::size_t from) {
   return text.size();
 }
 
-Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options,
-                std::vector<std::string>* warnings) {
+namespace {
+/// urdfdom's model of the text, after dynid's own checks (UTF-8, depth, another format).
+urdf::ModelInterfaceSharedPtr parseUrdfModel(const std::string& text, const std::string& file,
+                                             const ElementIndex& index) {
   // XML is UTF-8 unless declared otherwise, and TinyXML, under urdfdom, reads past the end of a
   // document whose names hold broken UTF-8 (found by fuzzing, under AddressSanitizer).
   if (const std::size_t bad = firstInvalidUtf8(text); bad != std::string::npos) {
@@ -501,7 +551,6 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
     throw ParseError(file, line, root,
                      "an SDFormat (Gazebo) model, not a URDF: dynid reads robots from URDF files "
                      "and dynid JSON models (docs/MODEL.md)");
-  const ElementIndex index = indexElements(text);
   urdf::ModelInterfaceSharedPtr urdf;
   std::string error;
   {
@@ -522,7 +571,35 @@ Model parseUrdf(const std::string& text, const std::string& file, const UrdfOpti
     const int line = lineOfMessage(error, index, &element);
     throw ParseError(file, line, element, "urdfdom: " + error);
   }
+  return urdf;
+}
+}  // namespace
+
+Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options,
+                std::vector<std::string>* warnings) {
+  const ElementIndex index = indexElements(text);
+  const urdf::ModelInterfaceSharedPtr urdf = parseUrdfModel(text, file, index);
   return UrdfBuilder(*urdf, file, index, options, warnings).build();
+}
+
+FloatingModel parseFloatingUrdf(const std::string& text, const std::string& file,
+                                const UrdfOptions& options, std::vector<std::string>* warnings) {
+  const ElementIndex index = indexElements(text);
+  const urdf::ModelInterfaceSharedPtr urdf = parseUrdfModel(text, file, index);
+  UrdfBuilder builder(*urdf, file, index, options, warnings, true);
+  Model limbs = builder.build();
+  try {
+    FloatingModel out(std::move(limbs), builder.base_inertia, builder.base_name);
+    out.frames = std::move(builder.frames);
+    return out;
+  } catch (const InputError& e) {
+    throw ParseError(file, 0, "link '" + builder.base_name + "'", e.what());
+  }
+}
+
+FloatingModel loadFloatingUrdf(const std::string& path, const UrdfOptions& options,
+                               std::vector<std::string>* warnings) {
+  return parseFloatingUrdf(readFile(path), path, options, warnings);
 }
 
 Model loadUrdf(const std::string& path, const UrdfOptions& options,

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/floating/floating_model.hpp"
 #include "core/model.hpp"
 
 namespace dynid {
@@ -35,6 +36,18 @@ Model loadUrdf(const std::string& path, const UrdfOptions& options = {},
 /// Same as loadUrdf, from URDF text; `file` names the source in errors.
 Model parseUrdf(const std::string& text, const std::string& file, const UrdfOptions& options = {},
                 std::vector<std::string>* warnings = nullptr);
+
+/// Loads a floating-base robot (core/floating/floating_model.hpp): the root link and every link
+/// fixed to it are the base body (its frame the root's), the moving joints the limbs as loadUrdf
+/// builds them. A root that holds only a floating joint is the world: the base is that joint's
+/// child. The model's frames name every link (moving, merged or the base) with its body and
+/// placement, for contacts and sensors. Throws ParseError as loadUrdf does, and for a floating
+/// joint anywhere but at the root.
+FloatingModel loadFloatingUrdf(const std::string& path, const UrdfOptions& options = {},
+                               std::vector<std::string>* warnings = nullptr);
+FloatingModel parseFloatingUrdf(const std::string& text, const std::string& file,
+                                const UrdfOptions& options = {},
+                                std::vector<std::string>* warnings = nullptr);
 
 /// The model as URDF text, numbers in shortest round-trip form. URDF link frames are the joint
 /// frames: for models with a body placement after the joint (Denavit-Hartenberg), each link's

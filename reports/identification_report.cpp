@@ -304,7 +304,7 @@ std::string fitRowsLine(const IdentifyOutcome& o) {
   if (!filtered && !left_out) return "";
   std::string out = "rows fitted per joint:";
   for (Eigen::Index j = 0; j < n; ++j)
-    out += " " + std::to_string(static_cast<long long>(e.fitted_rows[j]));
+    out.append(" ").append(std::to_string(static_cast<long long>(e.fitted_rows[j])));
   out += " of " + std::to_string(e.num_samples) +
          " (a joint at rest has unknown static friction: its row is left out";
   if (filtered)

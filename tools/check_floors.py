@@ -9,7 +9,7 @@ import os
 import re
 import sys
 
-FLOORS = {"records": 1, "logs": 1, "excitation": 1, "estimation": 2, "runs": 3,
+FLOORS = {"records": 1, "logs": 1, "excitation": 1, "estimation": 2, "runs": 3, "floating": 3,
           "studies": 4, "monitor": 4, "payload": 4, "fleet": 4}
 INCLUDE = re.compile(r'#include "analysis/([a-z_]+)/')
 

@@ -60,10 +60,27 @@ Matrix3<Scalar> baseRotation(const Eigen::Matrix<Scalar, 4, 1>& wxyz,
   return quaternion.toRotationMatrix();
 }
 
+/// A named frame fixed on a body (a URDF link, moving or merged by a fixed joint): the body (-1
+/// the base, else a limb body) and the frame's placement in that body's link frame.
+struct BodyFrame {
+  std::string name;
+  int body = -1;
+  Pose<double> placement;
+};
+
 /// A floating-base robot: the base body's inertia and the limbs' Model, both read-only once built.
 template <typename Scalar>
 class FloatingModelTpl {
  public:
+  /// Named frames (contacts, sensors) on its bodies; they feed no computation but contacts'.
+  std::vector<BodyFrame> frames;
+  /// The frame of that name, or nullptr.
+  const BodyFrame* findFrame(const std::string& name) const {
+    for (const BodyFrame& f : frames)
+      if (f.name == name) return &f;
+    return nullptr;
+  }
+
   /// The limbs (finalized; bodies with parent -1 hang from the base) and the base body's inertia
   /// in the base frame about its origin. Throws InputError when the limbs are not finalized or the
   /// base inertia has a non-finite entry or a negative mass.
@@ -119,8 +136,10 @@ class FloatingModelTpl {
 
   template <typename NewScalar>
   FloatingModelTpl<NewScalar> cast() const {
-    return FloatingModelTpl<NewScalar>(limbs_.template cast<NewScalar>(),
-                                       base_inertia_.template cast<NewScalar>(), base_name_);
+    FloatingModelTpl<NewScalar> out(limbs_.template cast<NewScalar>(),
+                                    base_inertia_.template cast<NewScalar>(), base_name_);
+    out.frames = frames;
+    return out;
   }
 
  private:

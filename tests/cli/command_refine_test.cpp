@@ -43,7 +43,7 @@ TEST(Cli, RefineRefusesAnotherRobotThanTheStartWasMadeOn) {
                 .code,
             0);
   ASSERT_EQ(run("identify --robot " + urdf + " --data " + train + " --out " + dir + "/e").code, 0);
-  for (const std::string from : {dir + "/s/search.json", dir + "/e/estimate.json"}) {
+  for (const std::string& from : {dir + "/s/search.json", dir + "/e/estimate.json"}) {
     const Result r = run("refine --robot " + moved + " --from " + from + " --data " + train +
                          " --max-iterations 1 --out " + dir + "/r");
     EXPECT_EQ(r.code, 1) << from << ": " << r.err;

@@ -12,6 +12,7 @@
 #include "core/floating/floating_rnea.hpp"
 #include "core/kinematics.hpp"
 #include "core/regressor.hpp"
+#include "data/urdf.hpp"
 #include "identifiability/floating/sensor_sets.hpp"
 #include "tests/common/floating_models.hpp"
 
@@ -39,23 +40,34 @@ std::vector<Contact> leafContacts(const FloatingModel& model) {
 int svdRank(Eigen::MatrixXd W) {
   for (Eigen::Index c = 0; c < W.cols(); ++c)
     if (W.col(c).norm() > 0) W.col(c).normalize();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(W);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(W);
   const Eigen::VectorXd s = svd.singularValues();
   return static_cast<int>((s.array() > 1e-8 * s[0]).count());
 }
 
-/// The chain's contact Jacobian (3 rows per active contact, world axes, the chain's velocities).
+/// The chain's contact Jacobian (world axes, the chain's velocities): per active contact a point's
+/// linear velocity (3 rows) or a frame's angular and linear (6 rows).
 Eigen::MatrixXd chainJacobian(const Model& chain, Data& data,
                               const std::vector<const Contact*>& active, const Eigen::VectorXd& q) {
   forwardKinematics(chain, data, q);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 * static_cast<int>(active.size()), chain.numJoints());
-  for (std::size_t k = 0; k < active.size(); ++k) {
-    const int body = active[k]->body + 6;  // the chain's body of the floating body
-    const Eigen::Vector3d r = (data.oMi[body] * active[k]->placement).translation;
+  int rows = 0;
+  for (const Contact* c : active) rows += c->dimension();
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, chain.numJoints());
+  rows = 0;
+  for (const Contact* c : active) {
+    const int body = c->body + 6;  // the chain's body of the floating body
+    const Eigen::Vector3d r = (data.oMi[body] * c->placement).translation;
     for (int j = body; j >= 0; j = chain.parents()[j]) {
       const Vector6<double> s = data.oMj[j].actMotion(jointMotionAt(chain, j, 1.0));
-      J.block<3, 1>(3 * static_cast<int>(k), j) = s.tail<3>() + s.head<3>().cross(r);
+      const Eigen::Vector3d linear = s.tail<3>() + s.head<3>().cross(r);
+      if (c->kind == Contact::Kind::kPoint) {
+        J.block<3, 1>(rows, j) = linear;
+      } else {
+        J.block<3, 1>(rows, j) = s.head<3>();
+        J.block<3, 1>(rows + 3, j) = linear;
+      }
     }
+    rows += c->dimension();
   }
   return J;
 }
@@ -134,6 +146,39 @@ INSTANTIATE_TEST_SUITE_P(Seeds, SensorSetsOnTrees,
                                             ::testing::Values(FloatingMotion::kHolding,
                                                               FloatingMotion::kFree,
                                                               FloatingMotion::kSuspended)));
+
+/// The example robots (examples/floating/): ANYmal C on its four point feet, Romeo on its two flat
+/// soles; each set's count against the virtual chain's.
+TEST(SensorSets, ExampleRobotsCountsEqualTheVirtualChains) {
+  struct Robot {
+    const char* path;
+    std::vector<std::pair<const char*, Contact::Kind>> feet;
+  };
+  for (const Robot& robot :
+       {Robot{"examples/floating/anymal_c/anymal.urdf",
+              {{"LF_FOOT", Contact::Kind::kPoint},
+               {"RF_FOOT", Contact::Kind::kPoint},
+               {"LH_FOOT", Contact::Kind::kPoint},
+               {"RH_FOOT", Contact::Kind::kPoint}}},
+        Robot{"examples/floating/romeo/romeo_small.urdf",
+              {{"l_sole", Contact::Kind::kFrame}, {"r_sole", Contact::Kind::kFrame}}}}) {
+    SCOPED_TRACE(robot.path);
+    const FloatingModel model = loadFloatingUrdf(std::string(DYNID_SOURCE_DIR) + "/" + robot.path);
+    FloatingStructuralOptions options;
+    for (const auto& [name, kind] : robot.feet) {
+      const BodyFrame* frame = model.findFrame(name);
+      ASSERT_NE(frame, nullptr);
+      options.contacts.push_back({name, frame->body, frame->placement, kind});
+    }
+    const std::vector<SensorSetBase> sets =
+        floatingStructuralBase(model, {std::begin(kSensorSets), std::end(kSensorSets)}, options);
+    for (const SensorSetBase& s : sets) {
+      SCOPED_TRACE(sensorSetName(s.set));
+      EXPECT_EQ(s.base.numBase(),
+                chainRank(model, s.set, options.contacts, FloatingMotion::kHolding, 7));
+    }
+  }
+}
 
 TEST(SensorSets, DrivesNeedJointTorques) {
   const FloatingModel model = test::randomFloating(4, {.num_bodies = 5, .drives = true});

@@ -1,0 +1,123 @@
+#include "reports/floating_report.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
+#include "data/json_number.hpp"
+
+namespace dynid {
+
+using nlohmann::json;
+
+namespace {
+std::vector<std::string> namesOf(const BaseParameters& base, const std::vector<int>& columns) {
+  std::vector<std::string> out;
+  for (int k : columns) out.push_back(base.standard_names[static_cast<std::size_t>(k)]);
+  return out;
+}
+
+json contactJson(const Contact& c) {
+  return {{"name", c.name},
+          {"kind", c.kind == Contact::Kind::kPoint ? "point" : "frame"},
+          {"body", c.body}};
+}
+
+json setJson(const SensorSetBase& s, const Eigen::VectorXd& beta) {
+  const BaseParameters& base = s.base;
+  json bases = json::array();
+  for (int j = 0; j < base.numBase(); ++j)
+    bases.push_back(
+        {{"name", base.baseName(j)}, {"expression", base.expression(j)}, {"model_value", beta[j]}});
+  return {{"sensors", sensorSetName(s.set)},
+          {"description", sensorSetDescription(s.set)},
+          {"num_base", base.numBase()},
+          {"rank_gap", numberOrNull(base.rankGap())},
+          {"base_parameters", bases},
+          {"determined_alone", namesOf(base, s.determined_alone)},
+          {"never_seen", namesOf(base, base.zero_columns)}};
+}
+
+/// "torques_wrenches adds 12 to wrenches" lines' words.
+std::string gainText(const SensorGain& g) {
+  const bool torques = g.from == SensorSet::kWrenches;
+  return std::string(torques ? "the joint torques add " : "measuring the contact wrenches adds ") +
+         std::to_string(g.gained) + " base parameters to " + sensorSetName(g.from);
+}
+}  // namespace
+
+json floatingIdentifiabilityJson(const FloatingModel& model,
+                                 const FloatingIdentifiabilityOutcome& outcome) {
+  json sets = json::array(), contacts = json::array(), gains = json::array();
+  for (std::size_t k = 0; k < outcome.sets.size(); ++k)
+    sets.push_back(setJson(outcome.sets[k], outcome.model_beta[k]));
+  for (const Contact& c : outcome.contacts) contacts.push_back(contactJson(c));
+  for (const SensorGain& g : outcome.gains)
+    gains.push_back(
+        {{"from", sensorSetName(g.from)}, {"to", sensorSetName(g.to)}, {"gained", g.gained}});
+  json report = documentHeader(kFloatingIdentifiabilityDocument);
+  report.update({{"robot", model.name()},
+                 {"base_link", model.baseName()},
+                 {"joints", model.numJoints()},
+                 {"drive_terms", driveTermsKeys(model.limbs().driveTerms())},
+                 {"num_standard", model.numParameters()},
+                 {"standard_parameters", floatingParameterNames(model)},
+                 {"contacts", contacts},
+                 {"motion", floatingMotionName(outcome.motion)},
+                 {"sets", sets},
+                 {"gains", gains},
+                 {"structural",
+                  {{"method", "column-scaled Householder QR without pivoting (Gautier)"},
+                   {"random_states", outcome.structural.samples},
+                   {"seed", outcome.structural.seed}}}});
+  return report;
+}
+
+std::string floatingIdentifiabilityMarkdown(const FloatingModel& model,
+                                            const FloatingIdentifiabilityOutcome& outcome) {
+  std::ostringstream md;
+  md << "# What the sensors of " << model.name() << " determine\n\n";
+  md << "- Floating base `" << model.baseName() << "`, " << model.numJoints() << " joints, "
+     << model.numParameters() << " standard parameters (the base body's 10 first)\n";
+  md << "- Motion: " << floatingMotionName(outcome.motion) << "; contacts:";
+  if (outcome.contacts.empty()) md << " none";
+  for (const Contact& c : outcome.contacts)
+    md << " `" << c.name << "` (" << (c.kind == Contact::Kind::kPoint ? "point" : "frame") << ")";
+  md << "\n\n| sensors | base parameters | determined alone | never seen | rank gap |\n"
+        "|---|---|---|---|---|\n";
+  for (const SensorSetBase& s : outcome.sets)
+    md << "| " << sensorSetName(s.set) << " | " << s.base.numBase() << " | "
+       << s.determined_alone.size() << " | " << s.base.zero_columns.size() << " | "
+       << formatNumber(s.base.rankGap(), 3) << " |\n";
+  md << "\n";
+  for (const SensorGain& g : outcome.gains) md << "- " << gainText(g) << "\n";
+  for (const SensorSetBase& s : outcome.sets) {
+    md << "\n## " << sensorSetName(s.set) << "\n\n" << sensorSetDescription(s.set) << ".\n\n";
+    md << "Determined alone: ";
+    if (s.determined_alone.empty()) md << "(none)";
+    for (const std::string& n : namesOf(s.base, s.determined_alone)) md << "`" << n << "` ";
+    md << "\n\nBase parameters:\n\n| # | combination |\n|---|---|\n";
+    for (int j = 0; j < s.base.numBase(); ++j)
+      md << "| " << j + 1 << " | `" << s.base.expression(j) << "` |\n";
+  }
+  return md.str();
+}
+
+std::string floatingIdentifiabilitySummary(const FloatingModel& model,
+                                           const FloatingIdentifiabilityOutcome& outcome,
+                                           const std::string& dir) {
+  std::ostringstream out;
+  out << model.name() << " (floating base " << model.baseName() << ", "
+      << floatingMotionName(outcome.motion) << "): " << model.numParameters()
+      << " standard parameters\n";
+  for (const SensorSetBase& s : outcome.sets)
+    out << "  " << sensorSetName(s.set) << ": " << s.base.numBase() << " base parameters, "
+        << s.determined_alone.size() << " determined alone\n";
+  for (const SensorGain& g : outcome.gains) out << "  " << gainText(g) << "\n";
+  out << "wrote " << dir << "/floating_identifiability.json and " << dir
+      << "/floating_identifiability.md\n";
+  return out.str();
+}
+
+}  // namespace dynid
