@@ -39,6 +39,11 @@ struct BodyRegressor {
       nt.col(k) = sym(e, dw) + sym(cross(e, w), w);
     }
   }
+  /// A's non-zero blocks, for a caller that transforms A whole (the floating regressor's base
+  /// rows): A = [[0, -[g]x, N], [g, M2, 0]].
+  const Vector3<Scalar>& gTerm() const { return g; }
+  Matrix3<Scalar> m2() const { return m2t.transpose(); }
+  Eigen::Matrix<Scalar, 3, 6> n() const { return nt.transpose(); }
   /// s^T A as a column.
   Eigen::Matrix<Scalar, 10, 1> product(const Vector6<Scalar>& s) const {
     Eigen::Matrix<Scalar, 10, 1> out;

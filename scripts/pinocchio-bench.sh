@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Pinocchio beside dynid, in one run (docs/PERFORMANCE.md): WHAT is `regressor` (the joint torque
-# regressor on the PUMA 560, "The regressor") or `dynamics` (CRBA, ABA and an RK4 step on the PUMA
-# 560 and the Panda, "dynid against Pinocchio").
+# regressor on the PUMA 560, "The regressor"), `dynamics` (CRBA, ABA and an RK4 step on the PUMA
+# 560 and the Panda, "dynid against Pinocchio") or `floating` (free-flyer inverse dynamics,
+# regressor and mass matrix on ANYmal C and Romeo, examples/floating/, each loaded by its own URDF
+# parser: Pinocchio's src/parsers/urdf with Debian's urdfdom, "Floating bases").
 # Usage: scripts/pinocchio-bench.sh PINOCCHIO_SOURCE [BUILD_DIR] [WHAT]
 # PINOCCHIO_SOURCE is a Pinocchio source tree (3.7.0 measured: git clone --branch v3.7.0
 # https://github.com/stack-of-tasks/pinocchio); only its include/ is used, header-only, with the
@@ -11,13 +13,14 @@
 # defaults to regressor).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-usage="usage: scripts/pinocchio-bench.sh PINOCCHIO_SOURCE [BUILD_DIR] [regressor|dynamics]"
+usage="usage: scripts/pinocchio-bench.sh PINOCCHIO_SOURCE [BUILD_DIR] [regressor|dynamics|floating]"
 source_dir=${1:?$usage}
 build_dir=${2:-build}
 what=${3:-regressor}
 case "$what" in
   regressor) dynid_bench=bench_identification filter='BM_Regressor/' ;;
   dynamics) dynid_bench=bench_core filter='BM_(Crba|CrbaPanda|Aba/drives:0|AbaPanda|Rk4Step|Rk4StepPanda)$' ;;
+  floating) dynid_bench=bench_floating filter='BM_Floating' ;;
   *) echo "$usage" >&2; exit 2 ;;
 esac
 [ -f "$source_dir/include/pinocchio/fwd.hpp" ] || { echo "$source_dir: no include/pinocchio/fwd.hpp" >&2; exit 1; }
@@ -43,8 +46,19 @@ cat > "$work/include/pinocchio/deprecated.hpp" <<'H'
 #define PINOCCHIO_DEPRECATED __attribute__((deprecated))
 #define PINOCCHIO_DEPRECATED_MESSAGE(message) __attribute__((deprecated(message)))
 H
+extra=()
+if [ "$what" = floating ]; then
+  # Pinocchio's URDF parser: two sources of its own, its generated config header, and urdfdom
+  # (Debian's 3.x: std::shared_ptr and its own pointer typedefs, as Pinocchio's CMake detects).
+  mkdir -p "$work/include/pinocchio/parsers"
+  printf '#pragma once\n#define PINOCCHIO_PARSERS_DLLAPI\n' > "$work/include/pinocchio/parsers/config.hpp"
+  extra=(-DPINOCCHIO_URDFDOM_TYPEDEF_SHARED_PTR -DPINOCCHIO_URDFDOM_USE_STD_SHARED_PTR
+         "$source_dir/src/parsers/urdf/model.cpp" "$source_dir/src/parsers/urdf/utils.cpp"
+         -lurdfdom_model)
+fi
 g++ -std=c++20 -O3 -DNDEBUG -Wno-deprecated-declarations -I. -I"$work/include" -I"$source_dir/include" \
-  -I/usr/include/eigen3 "bench/pinocchio/$what.cpp" -o "$work/pinocchio_$what" -lbenchmark -lpthread
+  -I/usr/include/eigen3 "bench/pinocchio/$what.cpp" "${extra[@]}" -o "$work/pinocchio_$what" \
+  -lbenchmark -lpthread
 for round in 1 2 3 4; do
   "$work/pinocchio_$what" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true |
     grep median

@@ -21,9 +21,10 @@ template const MatrixX<double>& floatingCrba(const FloatingModel&, FloatingData&
 template const VectorX<double>& floatingForwardDynamics(
     const FloatingModel&, FloatingData&, const BaseMotion&, const ConstVectorRef<double>&,
     const ConstVectorRef<double>&, const ConstVectorRef<double>&, const Vector6<double>&);
-template const MatrixX<double>& floatingRegressor(const FloatingModel&, FloatingData&,
-                                                  const BaseMotion&, const ConstVectorRef<double>&,
-                                                  const ConstVectorRef<double>&,
-                                                  const ConstVectorRef<double>&);
+template const RowMatrixX<double>& floatingRegressor(const FloatingModel&, FloatingData&,
+                                                     const BaseMotion&,
+                                                     const ConstVectorRef<double>&,
+                                                     const ConstVectorRef<double>&,
+                                                     const ConstVectorRef<double>&);
 
 }  // namespace dynid

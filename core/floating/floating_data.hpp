@@ -12,6 +12,9 @@
 
 namespace dynid {
 
+template <typename Scalar>
+using RowMatrixX = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 /// The base's motion: its rotation (base to world, baseRotation of the quaternion), its twist
 /// (omega, v) in the base frame and the twist's derivative (floating_model.hpp's conventions).
 template <typename Scalar>
@@ -28,9 +31,10 @@ struct FloatingDataTpl {
       : limbs(model.limbs()),
         tau(VectorX<Scalar>::Zero(model.numVelocities())),
         acceleration(VectorX<Scalar>::Zero(model.numVelocities())),
-        Y(MatrixX<Scalar>::Zero(model.numVelocities(), model.numParameters())),
+        Y(RowMatrixX<Scalar>::Zero(model.numVelocities(), model.numParameters())),
         M(MatrixX<Scalar>::Zero(model.numVelocities(), model.numVelocities())),
-        llt(model.numVelocities()) {}
+        llt(model.numVelocities()),
+        base_axes(static_cast<std::size_t>(model.numJoints()), Vector6<Scalar>::Zero()) {}
 
   /// The limbs' workspace: liMi, v, a, f in joint frames as the fixed-base algorithms keep them;
   /// oMj and oMi place joint and link frames in the base frame (floatingRegressor sets oMj).
@@ -44,14 +48,17 @@ struct FloatingDataTpl {
   VectorX<Scalar> tau;
   /// The generalized acceleration (floatingForwardDynamics): dnu (6), then ddq.
   VectorX<Scalar> acceleration;
-  /// The regressor (floatingRegressor): (6 + n) x numParameters().
-  MatrixX<Scalar> Y;
+  /// The regressor (floatingRegressor): (6 + n) x numParameters(), row-major (each body writes
+  /// rows of ten contiguous entries).
+  RowMatrixX<Scalar> Y;
   /// The mass matrix (floatingCrba): (6 + n) x (6 + n), the base's block first.
   MatrixX<Scalar> M;
   /// The whole robot's composite inertia in the base frame (floatingCrba).
   RigidInertia<Scalar> base_composite;
   /// floatingForwardDynamics' factor of M.
   Eigen::LLT<MatrixX<Scalar>> llt;
+  /// floatingRegressor: each joint's motion axis S_j in the base frame.
+  std::vector<Vector6<Scalar>> base_axes;
 };
 using FloatingData = FloatingDataTpl<double>;
 

@@ -90,7 +90,13 @@ class FloatingModelTpl {
     if (!limbs_.finalized())
       throw InputError("the limbs' model '" + limbs_.name + "' was not finalized");
     checkBaseInertia(base_inertia_);
+    for (const Pose<Scalar>& B : limbs_.body_placements())
+      plain_bodies_.push_back(model_detail::isIdentity(B) ? 1 : 0);
   }
+
+  /// 1 where limb body i's link frame is its joint frame (body placement the identity: every URDF
+  /// link), so the regressor skips that transform.
+  const std::vector<char>& plainBodies() const { return plain_bodies_; }
 
   const ModelTpl<Scalar>& limbs() const { return limbs_; }
   const RigidInertia<Scalar>& baseInertia() const { return base_inertia_; }
@@ -154,6 +160,7 @@ class FloatingModelTpl {
   }
 
   ModelTpl<Scalar> limbs_;
+  std::vector<char> plain_bodies_;
   RigidInertia<Scalar> base_inertia_;
   std::string base_name_;
 };

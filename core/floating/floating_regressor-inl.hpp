@@ -7,62 +7,91 @@
 
 namespace dynid {
 
+namespace floating_detail {
+/// Y's six base rows over one body's ten columns: its body regressor A carried to the base frame
+/// as a force by `X` (the body's link frame in the base frame); returns that 6 x 10 block F.
 template <typename Scalar>
-const MatrixX<Scalar>& floatingRegressor(const FloatingModelTpl<Scalar>& model,
-                                         FloatingDataTpl<Scalar>& data,
-                                         const BaseMotionTpl<Scalar>& base,
-                                         const ConstVectorRef<Scalar>& q,
-                                         const ConstVectorRef<Scalar>& dq,
-                                         const ConstVectorRef<Scalar>& ddq) {
+DYNID_INLINE Eigen::Matrix<Scalar, 6, 10> setBaseRows(
+    const regressor_detail::BodyRegressor<Scalar>& A, const Pose<Scalar>& X, int column,
+    RowMatrixX<Scalar>& Y) {
+  const Matrix3<Scalar>& R = X.rotation;
+  const Vector3<Scalar>& t = X.translation;
+  const Vector3<Scalar> rg = R * A.gTerm();
+  const Matrix3<Scalar> rm2 = R * A.m2();
+  // R (-[g]x) column c is -R (g x e_c) = (R g) x (R e_c)... written as R's columns crossed: R (e_c
+  // x g) = (R e_c) x (R g).
+  Matrix3<Scalar> top;
+  for (int c = 0; c < 3; ++c)
+    top.col(c) = cross(Vector3<Scalar>(R.col(c)), rg) + cross(t, Vector3<Scalar>(rm2.col(c)));
+  const Eigen::Matrix<Scalar, 3, 6> rn = R * A.n();
+  Eigen::Matrix<Scalar, 6, 10> F;
+  F.template block<3, 1>(0, 0) = cross(t, rg);
+  F.template block<3, 3>(0, 1) = top;
+  F.template block<3, 6>(0, 4) = rn;
+  F.template block<3, 1>(3, 0) = rg;
+  F.template block<3, 3>(3, 1) = rm2;
+  F.template block<3, 6>(3, 4).setZero();
+  Y.template block<6, 10>(0, column) = F;
+  return F;
+}
+}  // namespace floating_detail
+
+// Flattened, as floatingRnea.
+template <typename Scalar>
+DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl<Scalar>& model,
+                                                          FloatingDataTpl<Scalar>& data,
+                                                          const BaseMotionTpl<Scalar>& base,
+                                                          const ConstVectorRef<Scalar>& q,
+                                                          const ConstVectorRef<Scalar>& dq,
+                                                          const ConstVectorRef<Scalar>& ddq) {
   checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
   checkState(limbs, ld, q, dq, ddq, "ddq");
-  floating_detail::forwardPass(model, data, base, q, dq, ddq);
-  const int n = limbs.numJoints();
   const ParameterLayout layout = limbs.parameterLayout();
   const std::vector<int>& parents = limbs.parents();
-  data.Y.setZero();
-  // The base wrench's row k is the power of the unit base motion e_k: e_k^T A theta for the base
-  // body, s^T A theta for a limb body with s = e_k expressed in its link frame (regressor-inl.hpp's
-  // duality: one motion carried down instead of A's ten columns carried up).
-  const regressor_detail::BodyRegressor<Scalar> base_body(data.base_v, data.base_a);
-  Vector6<Scalar> e = Vector6<Scalar>::Zero();
-  for (int k = 0; k < 6; ++k) {
-    e[k] = Scalar(1);
-    data.Y.row(k).template head<kLinkParameterCount>() = base_body.product(e).transpose();
-    e[k] = Scalar(0);
-  }
-  for (int i = 0; i < n; ++i) {
+  const DriveTerms terms = limbs.driveTerms();
+  // No setZero: the entries this function never writes (a joint's row over a body outside its
+  // subtree, a drive column's other rows) are structural zeros, zero since the Data was built
+  // (95 KB a call on Romeo otherwise).
+  // The base wrench's rows: each body's force A theta (A its body regressor, in its link frame)
+  // carried to the base frame as a force, X* A = [[R A_n + t x R A_f], [R A_f]] with A's blocks
+  // [[0, -[g]x, N], [g, M2, 0]] (regressor-inl.hpp) and (R, t) the link frame in the base frame.
+  // Each body's columns are filled as the forward pass reaches it.
+  const auto perBody = [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v,
+                           const Vector3<Scalar>& dw,
+                           const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
     const int p = parents[i];
     ld.oMj[i] = p < 0 ? ld.liMi[i] : ld.oMj[p] * ld.liMi[i];
     const Pose<Scalar>& B = limbs.body_placements()[i];
-    const regressor_detail::BodyRegressor<Scalar> A(B.actInvMotion(ld.v[i]),
-                                                    B.actInvMotion(ld.a[i]));
+    const bool plain = model.plainBodies()[static_cast<std::size_t>(i)] != 0;
+    Vector6<Scalar> vel, acc;
+    vel << w, v;
+    acc << dw, dv;
+    const regressor_detail::BodyRegressor<Scalar> A(plain ? vel : B.actInvMotion(vel),
+                                                    plain ? acc : B.actInvMotion(acc));
     const int column = FloatingModelTpl<Scalar>::limbColumn(layout.linkIndex(i, 0));
-    const Pose<Scalar> oMi = ld.oMj[i] * B;
-    for (int k = 0; k < 6; ++k) {
-      e[k] = Scalar(1);
-      data.Y.row(k).template segment<kLinkParameterCount>(column) =
-          A.product(oMi.actInvMotion(e)).transpose();
-      e[k] = Scalar(0);
-    }
-    // The joint rows as jointTorqueRegressor fills them: S_j carried down to link frame i.
-    const std::size_t row_i = static_cast<std::size_t>(i);
-    ld.joint_axes[row_i * n + row_i] = jointMotionAt(limbs, i, Scalar(1));
-    for (int j = p; j >= 0; j = parents[j])
-      ld.joint_axes[static_cast<std::size_t>(j) * n + row_i] =
-          ld.liMi[i].actInvMotion(ld.joint_axes[static_cast<std::size_t>(j) * n + p]);
+    const Eigen::Matrix<Scalar, 6, 10> F = floating_detail::setBaseRows(
+        A, plain ? ld.oMj[i] : Pose<Scalar>(ld.oMj[i] * B), column, data.Y);
+    // Joint j's row (j = i or an ancestor) is S_j^T jXi* A = (S_j in the base frame)^T F, by
+    // duality: F is body i's force regressor in the base frame.
+    data.base_axes[static_cast<std::size_t>(i)] =
+        ld.oMj[i].actMotion(jointMotionAt(limbs, i, Scalar(1)));
     for (int j = i; j >= 0; j = parents[j])
-      data.Y.row(6 + j).template segment<kLinkParameterCount>(column) =
-          A.product(B.actInvMotion(ld.joint_axes[static_cast<std::size_t>(j) * n + row_i]))
-              .transpose();
-    const DriveTerms terms = limbs.driveTerms();
+      data.Y.row(6 + j).template segment<kLinkParameterCount>(column).noalias() =
+          data.base_axes[static_cast<std::size_t>(j)].transpose() * F;
     for (int k = 0; k < kDriveTermCount; ++k)
       if (terms.has(k))
         data.Y(6 + i, FloatingModelTpl<Scalar>::limbColumn(layout.driveIndex(i, k))) =
             driveBasis(k, dq[i], ddq[i], limbs.restVelocity(i));
-  }
+  };
+  // The base body first: the forward pass sets its twist and acceleration before any limb's.
+  data.base_v = base.twist;
+  data.base_a = base.acceleration;
+  data.base_a.template tail<3>() -= transposeTimes(base.rotation, model.gravity());
+  floating_detail::setBaseRows(regressor_detail::BodyRegressor<Scalar>(data.base_v, data.base_a),
+                               Pose<Scalar>(), 0, data.Y);
+  floating_detail::forwardPass(model, data, base, q, dq, ddq, perBody);
   return data.Y;
 }
 

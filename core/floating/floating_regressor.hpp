@@ -11,19 +11,21 @@ namespace dynid {
 /// then the limbs' columns as jointTorqueRegressor orders them. The base rows see every body's
 /// inertial parameters and no drive term (the drives act between links). Y does not depend on the
 /// model's parameter values. Throws InputError on a size mismatch. Overwrites data.limbs' liMi,
-/// oMj, v, a, joint_axes, data.base_v, base_a and data.Y. Returns data.Y. Allocates nothing.
+/// oMj, v, a, data.base_axes, base_v, base_a and data.Y's structurally non-zero entries: the
+/// others are zero from the Data's construction and never written, so the caller must not write
+/// data.Y (copy it). Returns data.Y. Allocates nothing.
 template <typename Scalar>
-const MatrixX<Scalar>& floatingRegressor(const FloatingModelTpl<Scalar>& model,
-                                         FloatingDataTpl<Scalar>& data,
-                                         const BaseMotionTpl<Scalar>& base,
-                                         const ConstVectorRef<Scalar>& q,
-                                         const ConstVectorRef<Scalar>& dq,
-                                         const ConstVectorRef<Scalar>& ddq);
+const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl<Scalar>& model,
+                                            FloatingDataTpl<Scalar>& data,
+                                            const BaseMotionTpl<Scalar>& base,
+                                            const ConstVectorRef<Scalar>& q,
+                                            const ConstVectorRef<Scalar>& dq,
+                                            const ConstVectorRef<Scalar>& ddq);
 
-extern template const MatrixX<double>& floatingRegressor(const FloatingModel&, FloatingData&,
-                                                         const BaseMotion&,
-                                                         const ConstVectorRef<double>&,
-                                                         const ConstVectorRef<double>&,
-                                                         const ConstVectorRef<double>&);
+extern template const RowMatrixX<double>& floatingRegressor(const FloatingModel&, FloatingData&,
+                                                            const BaseMotion&,
+                                                            const ConstVectorRef<double>&,
+                                                            const ConstVectorRef<double>&,
+                                                            const ConstVectorRef<double>&);
 
 }  // namespace dynid

@@ -1,12 +1,75 @@
 // Template bodies of floating_rnea.hpp; include only to instantiate a new Scalar.
 #pragma once
 
+#include <algorithm>
+#include <type_traits>
+
 #include "core/floating/floating_rnea.hpp"
 #include "core/friction.hpp"
+#include "core/sin_cos.hpp"
 
 namespace dynid {
 
+// A lambda's body inlined into its caller (GCC and clang take the attribute after the parameters).
+#if defined(__GNUC__)
+#define DYNID_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define DYNID_INLINE_LAMBDA
+#endif
+
 namespace floating_detail {
+/// Joint i's transform from s = sin q_i, c = cos q_i: for an axis along x, y or z the placement's
+/// columns mixed (P Rx, P Ry, P Rz), else the model's own setRevoluteTransform.
+template <typename Scalar>
+DYNID_INLINE void revoluteTransform(const ModelTpl<Scalar>& limbs, int i, const Scalar& s,
+                                    const Scalar& c, Pose<Scalar>& out) {
+  const Pose<Scalar>& P = limbs.frame_placements()[i];
+  const AxisKind kind = limbs.axis_kinds()[i];
+  if (kind == AxisKind::kGeneral || kind == AxisKind::kZ) {
+    setRevoluteTransform(limbs, i, s, c, out);
+    return;
+  }
+  // Rx turns columns 1, 2: (c P1 + s P2, c P2 - s P1); Ry turns 2, 0: (c P2 + s P0, c P0 - s P2).
+  const Matrix3<Scalar>& R = P.rotation;
+  Matrix3<Scalar>& O = out.rotation;
+  if (kind == AxisKind::kX) {
+    for (int r = 0; r < 3; ++r) {
+      O(r, 0) = R(r, 0);
+      O(r, 1) = c * R(r, 1) + s * R(r, 2);
+      O(r, 2) = c * R(r, 2) - s * R(r, 1);
+    }
+  } else {
+    for (int r = 0; r < 3; ++r) {
+      O(r, 1) = R(r, 1);
+      O(r, 2) = c * R(r, 2) + s * R(r, 0);
+      O(r, 0) = c * R(r, 0) - s * R(r, 2);
+    }
+  }
+  out.translation = P.translation;
+}
+
+/// Every joint's transform liMi at q; for double, the sines and cosines eight at a time in SIMD
+/// registers (core/sin_cos.hpp, as crba takes them: within 1 ulp of the C library's).
+template <typename Scalar>
+void setJointTransforms(const ModelTpl<Scalar>& limbs, DataTpl<Scalar>& ld,
+                        const ConstVectorRef<Scalar>& q) {
+  const int n = limbs.numJoints();
+  if constexpr (std::is_same_v<Scalar, double>) {
+    SinCosBlock block;
+    for (int first = 0; first < n; first += SinCosBlock::kSize) {
+      const int count = std::min(SinCosBlock::kSize, n - first);
+      sinCosBlock(q.data() + first, count, block);
+      for (int k = 0, i = first; k < count; ++k, ++i)
+        if (limbs.joint_types()[i] == JointType::kPrismatic)
+          setJointTransform(limbs, i, q[i], ld.liMi[i]);
+        else
+          revoluteTransform(limbs, i, block.s[k], block.c[k], ld.liMi[i]);
+    }
+  } else {
+    for (int i = 0; i < n; ++i) setJointTransform(limbs, i, q[i], ld.liMi[i]);
+  }
+}
+
 /// The parent's velocity and acceleration of limb body i: the base's when it hangs from it.
 template <typename Scalar>
 const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>& limb,
@@ -14,51 +77,103 @@ const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>& limb,
   return parent < 0 ? base : limb[static_cast<std::size_t>(parent)];
 }
 
-/// The forward pass shared by inverse dynamics and the regressor: every body's twist and
-/// acceleration (gravity as the base's -g) in its joint frame, the base's in the base frame.
+/// w x (S_i x) for the angular half (lin false) or the linear half of joint i's motion S_i x,
+/// given the body's angular velocity w: for a unit axis e_k only two entries.
 template <typename Scalar>
-void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDataTpl<Scalar>& data,
-                 const BaseMotionTpl<Scalar>& base, const ConstVectorRef<Scalar>& q,
-                 const ConstVectorRef<Scalar>& dq, const ConstVectorRef<Scalar>& ddq) {
+DYNID_INLINE Vector3<Scalar> crossAxis(const ModelTpl<Scalar>& limbs, int i,
+                                       const Vector3<Scalar>& w, const Scalar& x) {
+  const int k = limbs.subspace_index()[i] % 3;
+  if (limbs.subspace_index()[i] < 0) return cross(w, Vector3<Scalar>(limbs.axes()[i] * x));
+  // w x e_k: k = 0 (0, w_z, -w_y), 1 (-w_z, 0, w_x), 2 (w_y, -w_x, 0).
+  Vector3<Scalar> out;
+  out[k] = Scalar(0);
+  out[(k + 1) % 3] = w[(k + 2) % 3] * x;
+  out[(k + 2) % 3] = -w[(k + 1) % 3] * x;
+  return out;
+}
+
+/// The forward pass shared by inverse dynamics and the regressor: every body's twist and
+/// acceleration (gravity as the base's -g) in its joint frame, the base's in the base frame. It
+/// works on 3-vector halves, as rnea does (mixed scalar and packed accesses to 6-vectors stall
+/// store forwarding), and hands each body's halves (i, w, v, dw, dv) to `body` while they are in
+/// registers (inverse dynamics: its force; the regressor: its columns).
+template <typename Scalar, typename PerBody>
+DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDataTpl<Scalar>& data,
+                              const BaseMotionTpl<Scalar>& base, const ConstVectorRef<Scalar>& q,
+                              const ConstVectorRef<Scalar>& dq, const ConstVectorRef<Scalar>& ddq,
+                              PerBody&& body) {
+  using V3 = Vector3<Scalar>;
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
   data.base_v = base.twist;
   data.base_a = base.acceleration;
   data.base_a.template tail<3>() -= transposeTimes(base.rotation, model.gravity());
   const int n = limbs.numJoints();
-  for (int i = 0; i < n; ++i) setJointTransform(limbs, i, q[i], ld.liMi[i]);
+  setJointTransforms(limbs, ld, q);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = ld.liMi[i];
     const int p = limbs.parents()[i];
-    Vector6<Scalar> vel = X.actInvMotion(parentOf(ld.v, data.base_v, p));
-    addJointMotion(limbs, i, dq[i], vel);
-    Vector6<Scalar> acc = X.actInvMotion(parentOf(ld.a, data.base_a, p));
-    acc += crossJointMotion(limbs, i, vel, dq[i]);
-    addJointMotion(limbs, i, ddq[i], acc);
-    ld.v[i] = vel;
-    ld.a[i] = acc;
+    const Vector6<Scalar>& vp = parentOf(ld.v, data.base_v, p);
+    const Vector6<Scalar>& ap = parentOf(ld.a, data.base_a, p);
+    const V3 wp = vp.template head<3>(), lp = vp.template tail<3>();
+    const V3 dwp = ap.template head<3>(), dlp = ap.template tail<3>();
+    // iXp m = (R^T w, R^T (v - t x w)); then + S dq, and the acceleration's v x S dq + S ddq.
+    V3 w = transposeTimes(X.rotation, wp);
+    V3 v = transposeTimes(X.rotation, V3(lp - cross(X.translation, wp)));
+    V3 dw = transposeTimes(X.rotation, dwp);
+    V3 dv = transposeTimes(X.rotation, V3(dlp - cross(X.translation, dwp)));
+    const int k = limbs.subspace_index()[i];
+    if (k >= 0 && k < 3) {  // revolute about e_k
+      dw += crossAxis(limbs, i, w, dq[i]);
+      dv += crossAxis(limbs, i, v, dq[i]);
+      w[k] += dq[i];
+      dw[k] += ddq[i];
+    } else if (k >= 3) {  // prismatic along e_(k-3)
+      dv += crossAxis(limbs, i, w, Scalar(2) * dq[i]) * Scalar(0.5);
+      v[k - 3] += dq[i];
+      dv[k - 3] += ddq[i];
+    } else {  // a general axis: the spatial algebra
+      Vector6<Scalar> vel, acc;
+      vel << w, v;
+      addJointMotion(limbs, i, dq[i], vel);
+      acc << dw, dv;
+      acc += crossJointMotion(limbs, i, vel, dq[i]);
+      addJointMotion(limbs, i, ddq[i], acc);
+      w = vel.template head<3>(), v = vel.template tail<3>();
+      dw = acc.template head<3>(), dv = acc.template tail<3>();
+    }
+    ld.v[i].template head<3>() = w, ld.v[i].template tail<3>() = v;
+    ld.a[i].template head<3>() = dw, ld.a[i].template tail<3>() = dv;
+    body(i, w, v, dw, dv);
   }
 }
 }  // namespace floating_detail
 
+// Flattened: the forward pass, its per-body step and the transforms inline into one loop.
 template <typename Scalar>
-const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>& model,
-                                    FloatingDataTpl<Scalar>& data,
-                                    const BaseMotionTpl<Scalar>& base,
-                                    const ConstVectorRef<Scalar>& q,
-                                    const ConstVectorRef<Scalar>& dq,
-                                    const ConstVectorRef<Scalar>& ddq) {
+DYNID_FLATTEN const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>& model,
+                                                  FloatingDataTpl<Scalar>& data,
+                                                  const BaseMotionTpl<Scalar>& base,
+                                                  const ConstVectorRef<Scalar>& q,
+                                                  const ConstVectorRef<Scalar>& dq,
+                                                  const ConstVectorRef<Scalar>& ddq) {
   checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
   checkState(limbs, ld, q, dq, ddq, "ddq");
-  floating_detail::forwardPass(model, data, base, q, dq, ddq);
-  // Each body's force f = I a + v x* (I v); the base body's likewise.
+  // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w).
+  floating_detail::forwardPass(
+      model, data, base, q, dq, ddq,
+      [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v, const Vector3<Scalar>& dw,
+          const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
+        const RigidInertia<Scalar>& I = limbs.frame_inertias()[i];
+        const Vector3<Scalar> hw = I.inertia * w + cross(I.first_moment, v);
+        const Vector3<Scalar> hv = I.mass * v - cross(I.first_moment, w);
+        ld.f[i].template head<3>() =
+            I.inertia * dw + cross(I.first_moment, dv) + cross(w, hw) + cross(v, hv);
+        ld.f[i].template tail<3>() = I.mass * dv - cross(I.first_moment, dw) + cross(w, hv);
+      });
   const int n = limbs.numJoints();
-  for (int i = 0; i < n; ++i) {
-    const RigidInertia<Scalar>& I = limbs.frame_inertias()[i];
-    ld.f[i] = I.apply(ld.a[i]) + crossForce(ld.v[i], I.apply(ld.v[i]));
-  }
   const RigidInertia<Scalar>& IB = model.baseInertia();
   data.base_f = IB.apply(data.base_a) + crossForce(data.base_v, IB.apply(data.base_v));
   // Backward pass: tau_i = S_i^T f_i (+ drives); each force carried to its parent, the roots'
@@ -67,8 +182,15 @@ const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>& model,
     Scalar tau_i = projectOnJoint(limbs, i, ld.f[i]);
     if (limbs.driveTerms().any()) tau_i += driveTorque(limbs, i, dq[i], ddq[i]);
     data.tau[6 + i] = tau_i;
+    // f_p += pXi* f_i = (R n + t x R f, R f), on halves.
     const int p = limbs.parents()[i];
-    (p < 0 ? data.base_f : ld.f[p]) += ld.liMi[i].actForce(ld.f[i]);
+    const Pose<Scalar>& X = ld.liMi[i];
+    const Vector3<Scalar> rf = X.rotation * Vector3<Scalar>(ld.f[i].template tail<3>());
+    const Vector3<Scalar> rn =
+        X.rotation * Vector3<Scalar>(ld.f[i].template head<3>()) + cross(X.translation, rf);
+    Vector6<Scalar>& fp = p < 0 ? data.base_f : ld.f[p];
+    fp.template head<3>() += rn;
+    fp.template tail<3>() += rf;
   }
   data.tau.template head<6>() = data.base_f;
   return data.tau;
@@ -83,7 +205,7 @@ const MatrixX<Scalar>& floatingCrba(const FloatingModelTpl<Scalar>& model,
   DataTpl<Scalar>& ld = data.limbs;
   checkSize(limbs, q, "q");
   const int n = limbs.numJoints();
-  for (int i = 0; i < n; ++i) setJointTransform(limbs, i, q[i], ld.liMi[i]);
+  floating_detail::setJointTransforms(limbs, ld, q);
   // Composite inertias, leaves first, each in its joint frame; the roots' into the base's.
   for (int i = 0; i < n; ++i) ld.composite[i] = limbs.frame_inertias()[i];
   data.base_composite = model.baseInertia();

@@ -1,0 +1,114 @@
+// The floating-base kernels on the example robots (examples/floating/): inverse dynamics, the
+// regressor and the mass matrix of ANYmal C (12 joints) and Romeo (31 joints), each over 64 random
+// states, as bench/pinocchio/floating.cpp times Pinocchio's free-flyer versions
+// (scripts/pinocchio-bench.sh PINOCCHIO floating).
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/floating/floating_regressor.hpp"
+#include "core/floating/floating_rnea.hpp"
+#include "core/regressor.hpp"
+#include "core/rnea.hpp"
+#include "data/urdf.hpp"
+
+namespace {
+
+using namespace dynid;
+
+const char* const kRobots[] = {"examples/floating/anymal_c/anymal.urdf",
+                               "examples/floating/romeo/romeo_small.urdf"};
+
+struct States {
+  std::vector<BaseMotion> base;
+  std::vector<Eigen::VectorXd> q, dq, ddq;
+};
+
+/// 64 states: a random unit quaternion, twist, acceleration and joint values in +-1.
+States randomStates(int n) {
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  States s;
+  for (int k = 0; k < 64; ++k) {
+    BaseMotion b;
+    b.rotation = baseRotation(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized().eval());
+    for (int i = 0; i < 6; ++i) b.twist[i] = u(rng), b.acceleration[i] = u(rng);
+    s.base.push_back(b);
+    Eigen::VectorXd q(n), dq(n), ddq(n);
+    for (int i = 0; i < n; ++i) q[i] = u(rng), dq[i] = u(rng), ddq[i] = u(rng);
+    s.q.push_back(q), s.dq.push_back(dq), s.ddq.push_back(ddq);
+  }
+  return s;
+}
+
+FloatingModel robot(const benchmark::State& state) {
+  return loadFloatingUrdf(std::string(DYNID_SOURCE_DIR) + "/" + kRobots[state.range(0)]);
+}
+
+void BM_FloatingRnea(benchmark::State& state) {
+  const FloatingModel model = robot(state);
+  FloatingData data(model);
+  const States s = randomStates(model.numJoints());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        floatingRnea(model, data, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % s.q.size();
+  }
+}
+BENCHMARK(BM_FloatingRnea)->Arg(0)->Arg(1)->ArgName("robot");
+
+void BM_FloatingRegressor(benchmark::State& state) {
+  const FloatingModel model = robot(state);
+  FloatingData data(model);
+  const States s = randomStates(model.numJoints());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        floatingRegressor(model, data, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % s.q.size();
+  }
+}
+BENCHMARK(BM_FloatingRegressor)->Arg(0)->Arg(1)->ArgName("robot");
+
+void BM_FloatingCrba(benchmark::State& state) {
+  const FloatingModel model = robot(state);
+  FloatingData data(model);
+  const States s = randomStates(model.numJoints());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(floatingCrba(model, data, s.q[k]).data());
+    k = (k + 1) % s.q.size();
+  }
+}
+BENCHMARK(BM_FloatingCrba)->Arg(0)->Arg(1)->ArgName("robot");
+
+// The fixed-base kernels on the same limbs (the base held still), for scale.
+void BM_FixedRneaOfLimbs(benchmark::State& state) {
+  const FloatingModel model = robot(state);
+  Data data(model.limbs());
+  const States s = randomStates(model.numJoints());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(rnea(model.limbs(), data, s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % s.q.size();
+  }
+}
+BENCHMARK(BM_FixedRneaOfLimbs)->Arg(0)->Arg(1)->ArgName("robot");
+void BM_FixedRegressorOfLimbs(benchmark::State& state) {
+  const FloatingModel model = robot(state);
+  Data data(model.limbs());
+  const States s = randomStates(model.numJoints());
+  std::size_t k = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        jointTorqueRegressor(model.limbs(), data, s.q[k], s.dq[k], s.ddq[k]).data());
+    k = (k + 1) % s.q.size();
+  }
+}
+BENCHMARK(BM_FixedRegressorOfLimbs)->Arg(0)->Arg(1)->ArgName("robot");
+}  // namespace
+
+BENCHMARK_MAIN();
