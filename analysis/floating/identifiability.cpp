@@ -45,10 +45,12 @@ FloatingIdentifiabilityOutcome floatingIdentifiabilityRun(
   out.contacts = contactsOf(model, request.contacts);
   out.motion = request.motion;
   out.structural = request.structural;
-  const std::vector<SensorSet> sets =
-      request.sensors.empty()
-          ? std::vector<SensorSet>(std::begin(kSensorSets), std::end(kSensorSets))
-          : request.sensors;
+  // By default every set, but wrenches in flight (nothing carries one).
+  std::vector<SensorSet> sets = request.sensors;
+  if (sets.empty())
+    for (SensorSet set : kSensorSets)
+      if (set != SensorSet::kWrenches || request.motion != FloatingMotion::kFree)
+        sets.push_back(set);
   FloatingStructuralOptions options{request.structural, out.contacts, request.motion};
   out.sets = floatingStructuralBase(model, sets, options);
   const Eigen::VectorXd theta = model.standardParameters();

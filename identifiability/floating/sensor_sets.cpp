@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "core/floating/floating_regressor.hpp"
+#include "core/floating/floating_rnea.hpp"
 
 namespace dynid {
 
@@ -190,12 +191,23 @@ FloatingState FloatingStateSampler::suspended() {
   return out;
 }
 
+FloatingState FloatingStateSampler::flight() {
+  const int n = model_.numJoints();
+  FloatingState out = generic();
+  const Eigen::VectorXd torque = randomVector(n, 10.0);
+  const Eigen::VectorXd acc = floatingForwardDynamics(model_, data_, out.base, out.q, out.dq,
+                                                      torque, Vector6<double>::Zero());
+  out.base.acceleration = acc.head<6>();
+  out.ddq = acc.tail(n);
+  return out;
+}
+
 FloatingState FloatingStateSampler::next() {
   switch (options_.motion) {
     case FloatingMotion::kHolding:
       return holding();
     case FloatingMotion::kFree:
-      return generic();
+      return flight();
     case FloatingMotion::kSuspended:
       return suspended();
   }
@@ -290,6 +302,12 @@ std::vector<SensorSetBase> floatingStructuralBase(const FloatingModel& model,
   options.structural.check();
   if (options.motion == FloatingMotion::kHolding && options.contacts.empty())
     throw InputError("a robot that holds contacts (`motion` holding) needs its `contacts`");
+  if (options.motion == FloatingMotion::kFree &&
+      std::find(sets.begin(), sets.end(), SensorSet::kWrenches) != sets.end())
+    throw InputError(
+        "in flight (`motion` free) nothing carries a wrench: the sensor set "
+        "wrenches measures zero, which fixes no parameter's scale; analyse it holding "
+        "contacts or suspended");
   const int p = model.numParameters();
   const int samples = options.structural.samples > 0 ? options.structural.samples
                                                      : std::max(100, 5 * p / model.numVelocities());

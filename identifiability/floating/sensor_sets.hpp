@@ -52,8 +52,8 @@ Eigen::VectorXd sensorMeasurements(SensorSet set, const Eigen::VectorXd& tau,
 /// How the robot moves in the data an analysis is for:
 ///   holding    a random subset of the contacts holds in each state (standing, walking; the
 ///              default; needs contacts): the motion keeps those contact points still;
-///   free       nothing holds (a robot in flight, or contacts that slide under measured wrenches):
-///              any base and joint motion;
+///   free       nothing holds (a robot in flight): no wrench on the base, the motion the forward
+///              dynamics gives (the sensor set wrenches then measures zero and is refused);
 ///   suspended  the base is held still (hung from a force-torque sensor, or on a stand): its twist
 ///              and acceleration zero; for torques_contacts the support's wrench is unknown and
 ///              eliminated like a contact's.
@@ -99,7 +99,11 @@ class FloatingStateSampler {
   FloatingState holding();
   /// The base held still (twist and acceleration zero), the joints anywhere.
   FloatingState suspended();
-  /// The options' motion: holding(), generic() or suspended().
+  /// In flight: generic()'s configuration and velocities, joint torques drawn within +-10 N m and
+  /// the accelerations the forward dynamics gives with no wrench on the base (the model's own
+  /// parameters: a state the robot can be in).
+  FloatingState flight();
+  /// The options' motion: holding(), flight() or suspended().
   FloatingState next();
   /// What holds at the state, as one Jacobian: the active contacts' stacked, and the base's
   /// own (identity on the base twist) when it is held; no rows in flight.

@@ -1,0 +1,39 @@
+// Simulated measurements of a floating robot (docs/FLOATING.md): random states of a motion class
+// (identifiability/floating/sensor_sets.hpp's FloatingStateSampler), the joint torques and contact
+// forces inverse dynamics needs there, noise on every measured channel.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "identifiability/floating/floating_fit.hpp"
+
+namespace dynid {
+
+struct FloatingSimulationOptions {
+  int samples = 200;
+  std::uint64_t seed = 1;
+  FloatingMotion motion = FloatingMotion::kHolding;
+  std::vector<Contact> contacts;
+  double torque_noise = 0.0;  // sd of each joint torque [N m]
+  double force_noise = 0.0;   // sd of each contact force component [N]
+  double moment_noise = 0.0;  // sd of each frame contact's moment component [N m]
+};
+
+/// The samples, and the noise variances they were drawn with (for generalized least squares).
+struct FloatingSimulation {
+  std::vector<FloatingMeasurement> samples;
+  Eigen::VectorXd torque_variance;
+};
+
+/// Measurements of `model` (its own parameters are the truth) in states of the options' motion:
+///   holding    the active contacts carry the base wrench inverse dynamics needs, by the
+///              least-norm forces (friction cones are not imposed), the joints the rest;
+///   suspended  the base's support carries it (measured as a frame contact at the base origin);
+///   free       nothing holds: FloatingStateSampler::flight (the forward dynamics' accelerations
+///              with no wrench on the base).
+/// Throws InputError as FloatingStateSampler does.
+FloatingSimulation simulateFloating(const FloatingModel& model,
+                                    const FloatingSimulationOptions& options);
+
+}  // namespace dynid

@@ -1,0 +1,54 @@
+// Least squares on a floating robot's sensor set (docs/FLOATING.md): the base parameters from the
+// rows sensor_sets.hpp gives, with each sample's noise carried through to its rows.
+//
+// Each sample measures the joint torques tau (noise sd sigma_tau per joint) and, per active
+// contact, its force lambda in base-frame axes (sd sigma_force per force component, sigma_moment
+// per moment component of a frame contact). Its rows' noise covariance follows from the rows:
+//   wrenches          y = J_b^T lambda              C = J_b^T S_l J_b
+//   torques_wrenches  y = (0, tau) + J^T lambda     C = diag(0, S_t) + J^T S_l J
+//   torques_contacts  y = N^T (0, tau)              C = N^T diag(0, S_t) N
+// (S_t, S_l the diagonal variances). Ordinary least squares ignores C and reports the white
+// covariance s^2 (W^T W)^-1; generalized least squares whitens each sample's rows by C^-1/2 and
+// reports s^2 (W^T C^-1 W)^-1 with s^2 the whitened residuals' variance (1 when the noise levels
+// are right), which is what makes its intervals calibrated when channels differ.
+#pragma once
+
+#include <vector>
+
+#include "identifiability/floating/sensor_sets.hpp"
+
+namespace dynid {
+
+/// One sample: its floating regressor, what holds (FloatingStateSampler::jacobian) and what was
+/// measured.
+struct FloatingMeasurement {
+  Eigen::MatrixXd Y;       // (6 + n) x p
+  Eigen::MatrixXd J;       // k x (6 + n), k >= 0
+  Eigen::VectorXd tau;     // n
+  Eigen::VectorXd forces;  // k: the active contacts' forces, J's rows' order
+  /// The force components' noise variances (k, J's rows' order: sigma_force^2 or sigma_moment^2).
+  Eigen::VectorXd force_variance;
+};
+
+struct FloatingFitOptions {
+  bool generalized = true;  // generalized least squares (else ordinary)
+  /// Each joint torque's noise variance (n entries; empty: all 1, the rows then weighted alike).
+  Eigen::VectorXd torque_variance;
+};
+
+struct FloatingFit {
+  Eigen::VectorXd beta;         // base parameters (base's order)
+  Eigen::MatrixXd covariance;   // of beta
+  Eigen::VectorXd sd;           // sqrt of its diagonal
+  double residual_scale = 0.0;  // s: the (whitened) residuals' standard deviation
+  int rows = 0;
+};
+
+/// The fit of `base` (a set's structural base parameters) on the samples' rows for `set`. Throws
+/// InputError when the rows cannot determine every base parameter (fewer rows than parameters, or
+/// a rank-deficient base regressor) or sizes disagree.
+FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
+                        const std::vector<FloatingMeasurement>& samples,
+                        const FloatingFitOptions& options = {});
+
+}  // namespace dynid
