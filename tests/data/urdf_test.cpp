@@ -179,7 +179,7 @@ void expectError(const std::string& text, const std::vector<std::string>& fragme
 
 TEST(Urdf, RejectsBadInputWithFileAndElement) {
   expectError(edited(R"(type="prismatic")", R"(type="floating")"),
-              {"robot.urdf:", "joint 'slider'", "floating joints are not supported"});
+              {"robot.urdf:", "joint 'slider'", "a floating-base robot is loaded as one"});
   expectError(edited(R"(type="prismatic")", R"(type="planar")"),
               {"joint 'slider'", "planar joints are not supported"});
   expectError(edited(R"(<mass value="0.7"/>)", R"(<mass value="-0.7"/>)"),
