@@ -47,68 +47,54 @@ FloatingModel robot(const benchmark::State& state) {
   return loadFloatingUrdf(std::string(DYNID_SOURCE_DIR) + "/" + kRobots[state.range(0)]);
 }
 
-void BM_FloatingRnea(benchmark::State& state) {
+/// Times `kernel(model, data, states, k)` (it returns a pointer to its result) over the 64 states.
+template <typename Kernel>
+void overStates(benchmark::State& state, Kernel kernel) {
   const FloatingModel model = robot(state);
   FloatingData data(model);
   const States s = randomStates(model.numJoints());
   std::size_t k = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        floatingRnea(model, data, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data());
+    benchmark::DoNotOptimize(kernel(model, data, s, k));
     k = (k + 1) % s.q.size();
   }
+}
+
+void BM_FloatingRnea(benchmark::State& state) {
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return floatingRnea(m, d, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data();
+  });
 }
 BENCHMARK(BM_FloatingRnea)->Arg(0)->Arg(1)->ArgName("robot");
 
 void BM_FloatingRegressor(benchmark::State& state) {
-  const FloatingModel model = robot(state);
-  FloatingData data(model);
-  const States s = randomStates(model.numJoints());
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        floatingRegressor(model, data, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return floatingRegressor(m, d, s.base[k], s.q[k], s.dq[k], s.ddq[k]).data();
+  });
 }
 BENCHMARK(BM_FloatingRegressor)->Arg(0)->Arg(1)->ArgName("robot");
 
 void BM_FloatingCrba(benchmark::State& state) {
-  const FloatingModel model = robot(state);
-  FloatingData data(model);
-  const States s = randomStates(model.numJoints());
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(floatingCrba(model, data, s.q[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return floatingCrba(m, d, s.q[k]).data();
+  });
 }
 BENCHMARK(BM_FloatingCrba)->Arg(0)->Arg(1)->ArgName("robot");
 
 // The fixed-base kernels on the same limbs (the base held still), for scale.
 void BM_FixedRneaOfLimbs(benchmark::State& state) {
-  const FloatingModel model = robot(state);
-  Data data(model.limbs());
-  const States s = randomStates(model.numJoints());
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(rnea(model.limbs(), data, s.q[k], s.dq[k], s.ddq[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return rnea(m.limbs(), d.limbs, s.q[k], s.dq[k], s.ddq[k]).data();
+  });
 }
 BENCHMARK(BM_FixedRneaOfLimbs)->Arg(0)->Arg(1)->ArgName("robot");
 void BM_FixedRegressorOfLimbs(benchmark::State& state) {
-  const FloatingModel model = robot(state);
-  Data data(model.limbs());
-  const States s = randomStates(model.numJoints());
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        jointTorqueRegressor(model.limbs(), data, s.q[k], s.dq[k], s.ddq[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return jointTorqueRegressor(m.limbs(), d.limbs, s.q[k], s.dq[k], s.ddq[k]).data();
+  });
 }
 BENCHMARK(BM_FixedRegressorOfLimbs)->Arg(0)->Arg(1)->ArgName("robot");
+
 }  // namespace
 
 BENCHMARK_MAIN();

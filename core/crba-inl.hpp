@@ -177,27 +177,61 @@ DYNID_FLATTEN void massMatrixFromTransforms(const ModelTpl<Scalar>& model, DataT
 }
 }  // namespace crba_detail
 
+namespace crba_detail {
+/// Revolute joint i's transform from s = sin q_i, c = cos q_i: for an axis along x or y the
+/// placement's columns turned (P Rx, P Ry: the same sums as the 3 x 3 product, without its zero
+/// terms), else setRevoluteTransform.
 template <typename Scalar>
-const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
-                            const ConstVectorRef<Scalar>& q) {
-  checkData(model, data);
-  checkSize(model, q, "q");
+DYNID_INLINE void revoluteTransformByColumns(const ModelTpl<Scalar>& model, int i, const Scalar& s,
+                                             const Scalar& c, Pose<Scalar>& out) {
+  const AxisKind kind = model.axis_kinds()[i];
+  if (kind != AxisKind::kX && kind != AxisKind::kY) {
+    setRevoluteTransform(model, i, s, c, out);
+    return;
+  }
+  const Pose<Scalar>& P = model.frame_placements()[i];
+  // Rx turns columns 1, 2: (c P1 + s P2, c P2 - s P1); Ry turns 2, 0: (c P2 + s P0, c P0 - s P2).
+  const int fixed = kind == AxisKind::kX ? 0 : 1, a = kind == AxisKind::kX ? 1 : 2,
+            b = kind == AxisKind::kX ? 2 : 0;
+  for (int r = 0; r < 3; ++r) {
+    out.rotation(r, fixed) = P.rotation(r, fixed);
+    out.rotation(r, a) = c * P.rotation(r, a) + s * P.rotation(r, b);
+    out.rotation(r, b) = c * P.rotation(r, b) - s * P.rotation(r, a);
+  }
+  out.translation = P.translation;
+}
+}  // namespace crba_detail
+
+/// Every joint's transform liMi at q; for double, the sines and cosines eight at a time in SIMD
+/// registers (core/sin_cos.hpp: within 1 ulp of the C library's, the same bits on every CPU).
+/// CRBA's and the floating algorithms' (core/floating/).
+template <typename Scalar>
+DYNID_INLINE void setJointTransformsBlock(const ModelTpl<Scalar>& model,
+                                          std::vector<Pose<Scalar>>& liMi,
+                                          const ConstVectorRef<Scalar>& q) {
   const int n = model.numJoints();
   if constexpr (std::is_same_v<Scalar, double>) {
-    // Every joint's sine and cosine at once, in SIMD registers (core/sin_cos.hpp), eight at a time.
     SinCosBlock block;
     for (int first = 0; first < n; first += SinCosBlock::kSize) {
       const int count = std::min(SinCosBlock::kSize, n - first);
       sinCosBlock(q.data() + first, count, block);
       for (int k = 0, i = first; k < count; ++k, ++i)
         if (model.joint_types()[i] == JointType::kPrismatic)
-          setJointTransform(model, i, q[i], data.liMi[i]);
+          setJointTransform(model, i, q[i], liMi[i]);
         else
-          setRevoluteTransform(model, i, block.s[k], block.c[k], data.liMi[i]);
+          crba_detail::revoluteTransformByColumns(model, i, block.s[k], block.c[k], liMi[i]);
     }
   } else {
-    for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], data.liMi[i]);
+    for (int i = 0; i < n; ++i) setJointTransform(model, i, q[i], liMi[i]);
   }
+}
+
+template <typename Scalar>
+const MatrixX<Scalar>& crba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                            const ConstVectorRef<Scalar>& q) {
+  checkData(model, data);
+  checkSize(model, q, "q");
+  setJointTransformsBlock(model, data.liMi, q);
   crba_detail::massMatrixFromTransforms(model, data);
   return data.M;
 }

@@ -47,40 +47,40 @@ States randomStates(const pinocchio::Model& model) {
   return s;
 }
 
-void BM_PinocchioFloatingRnea(benchmark::State& state) {
+/// Times `kernel(model, data, states, k)` (it returns a pointer to its result) over the 64 states.
+template <typename Kernel>
+void overStates(benchmark::State& state, Kernel kernel) {
   const pinocchio::Model model = robot(state);
   pinocchio::Data data(model);
   const States s = randomStates(model);
   std::size_t k = 0;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(pinocchio::rnea(model, data, s.q[k], s.v[k], s.a[k]).data());
+    benchmark::DoNotOptimize(kernel(model, data, s, k));
     k = (k + 1) % s.q.size();
   }
+}
+
+using Model = pinocchio::Model;
+using Data = pinocchio::Data;
+
+void BM_PinocchioFloatingRnea(benchmark::State& state) {
+  overStates(state, [](const Model& m, Data& d, const States& s, std::size_t k) {
+    return pinocchio::rnea(m, d, s.q[k], s.v[k], s.a[k]).data();
+  });
 }
 BENCHMARK(BM_PinocchioFloatingRnea)->Arg(0)->Arg(1)->ArgName("robot");
 
 void BM_PinocchioFloatingRegressor(benchmark::State& state) {
-  const pinocchio::Model model = robot(state);
-  pinocchio::Data data(model);
-  const States s = randomStates(model);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        pinocchio::computeJointTorqueRegressor(model, data, s.q[k], s.v[k], s.a[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const Model& m, Data& d, const States& s, std::size_t k) {
+    return pinocchio::computeJointTorqueRegressor(m, d, s.q[k], s.v[k], s.a[k]).data();
+  });
 }
 BENCHMARK(BM_PinocchioFloatingRegressor)->Arg(0)->Arg(1)->ArgName("robot");
 
 void BM_PinocchioFloatingCrba(benchmark::State& state) {
-  const pinocchio::Model model = robot(state);
-  pinocchio::Data data(model);
-  const States s = randomStates(model);
-  std::size_t k = 0;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(pinocchio::crba(model, data, s.q[k]).data());
-    k = (k + 1) % s.q.size();
-  }
+  overStates(state, [](const Model& m, Data& d, const States& s, std::size_t k) {
+    return pinocchio::crba(m, d, s.q[k]).data();
+  });
 }
 BENCHMARK(BM_PinocchioFloatingCrba)->Arg(0)->Arg(1)->ArgName("robot");
 

@@ -44,10 +44,8 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
                                                           const ConstVectorRef<Scalar>& q,
                                                           const ConstVectorRef<Scalar>& dq,
                                                           const ConstVectorRef<Scalar>& ddq) {
-  checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
-  checkState(limbs, ld, q, dq, ddq, "ddq");
   const ParameterLayout layout = limbs.parameterLayout();
   const std::vector<int>& parents = limbs.parents();
   const DriveTerms terms = limbs.driveTerms();
@@ -61,6 +59,12 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
   const auto perBody = [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v,
                            const Vector3<Scalar>& dw,
                            const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
+    if (i < 0) {  // the base body, in the base frame: its columns' base rows alone
+      floating_detail::setBaseRows(
+          regressor_detail::BodyRegressor<Scalar>(data.base_v, data.base_a), Pose<Scalar>(), 0,
+          data.Y);
+      return;
+    }
     const int p = parents[i];
     ld.oMj[i] = p < 0 ? ld.liMi[i] : ld.oMj[p] * ld.liMi[i];
     const Pose<Scalar>& B = limbs.body_placements()[i];
@@ -85,12 +89,6 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
         data.Y(6 + i, FloatingModelTpl<Scalar>::limbColumn(layout.driveIndex(i, k))) =
             driveBasis(k, dq[i], ddq[i], limbs.restVelocity(i));
   };
-  // The base body first: the forward pass sets its twist and acceleration before any limb's.
-  data.base_v = base.twist;
-  data.base_a = base.acceleration;
-  data.base_a.template tail<3>() -= transposeTimes(base.rotation, model.gravity());
-  floating_detail::setBaseRows(regressor_detail::BodyRegressor<Scalar>(data.base_v, data.base_a),
-                               Pose<Scalar>(), 0, data.Y);
   floating_detail::forwardPass(model, data, base, q, dq, ddq, perBody);
   return data.Y;
 }

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <type_traits>
 
+#include "core/crba-inl.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "core/friction.hpp"
-#include "core/sin_cos.hpp"
 
 namespace dynid {
 
@@ -18,62 +18,10 @@ namespace dynid {
 #endif
 
 namespace floating_detail {
-/// Joint i's transform from s = sin q_i, c = cos q_i: for an axis along x, y or z the placement's
-/// columns mixed (P Rx, P Ry, P Rz), else the model's own setRevoluteTransform.
-template <typename Scalar>
-DYNID_INLINE void revoluteTransform(const ModelTpl<Scalar>& limbs, int i, const Scalar& s,
-                                    const Scalar& c, Pose<Scalar>& out) {
-  const Pose<Scalar>& P = limbs.frame_placements()[i];
-  const AxisKind kind = limbs.axis_kinds()[i];
-  if (kind == AxisKind::kGeneral || kind == AxisKind::kZ) {
-    setRevoluteTransform(limbs, i, s, c, out);
-    return;
-  }
-  // Rx turns columns 1, 2: (c P1 + s P2, c P2 - s P1); Ry turns 2, 0: (c P2 + s P0, c P0 - s P2).
-  const Matrix3<Scalar>& R = P.rotation;
-  Matrix3<Scalar>& O = out.rotation;
-  if (kind == AxisKind::kX) {
-    for (int r = 0; r < 3; ++r) {
-      O(r, 0) = R(r, 0);
-      O(r, 1) = c * R(r, 1) + s * R(r, 2);
-      O(r, 2) = c * R(r, 2) - s * R(r, 1);
-    }
-  } else {
-    for (int r = 0; r < 3; ++r) {
-      O(r, 1) = R(r, 1);
-      O(r, 2) = c * R(r, 2) + s * R(r, 0);
-      O(r, 0) = c * R(r, 0) - s * R(r, 2);
-    }
-  }
-  out.translation = P.translation;
-}
-
-/// Every joint's transform liMi at q; for double, the sines and cosines eight at a time in SIMD
-/// registers (core/sin_cos.hpp, as crba takes them: within 1 ulp of the C library's).
-template <typename Scalar>
-void setJointTransforms(const ModelTpl<Scalar>& limbs, DataTpl<Scalar>& ld,
-                        const ConstVectorRef<Scalar>& q) {
-  const int n = limbs.numJoints();
-  if constexpr (std::is_same_v<Scalar, double>) {
-    SinCosBlock block;
-    for (int first = 0; first < n; first += SinCosBlock::kSize) {
-      const int count = std::min(SinCosBlock::kSize, n - first);
-      sinCosBlock(q.data() + first, count, block);
-      for (int k = 0, i = first; k < count; ++k, ++i)
-        if (limbs.joint_types()[i] == JointType::kPrismatic)
-          setJointTransform(limbs, i, q[i], ld.liMi[i]);
-        else
-          revoluteTransform(limbs, i, block.s[k], block.c[k], ld.liMi[i]);
-    }
-  } else {
-    for (int i = 0; i < n; ++i) setJointTransform(limbs, i, q[i], ld.liMi[i]);
-  }
-}
-
 /// The parent's velocity and acceleration of limb body i: the base's when it hangs from it.
 template <typename Scalar>
-const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>& limb,
-                                const Vector6<Scalar>& base, int parent) {
+DYNID_INLINE const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>& limb,
+                                             const Vector6<Scalar>& base, int parent) {
   return parent < 0 ? base : limb[static_cast<std::size_t>(parent)];
 }
 
@@ -96,20 +44,25 @@ DYNID_INLINE Vector3<Scalar> crossAxis(const ModelTpl<Scalar>& limbs, int i,
 /// acceleration (gravity as the base's -g) in its joint frame, the base's in the base frame. It
 /// works on 3-vector halves, as rnea does (mixed scalar and packed accesses to 6-vectors stall
 /// store forwarding), and hands each body's halves (i, w, v, dw, dv) to `body` while they are in
-/// registers (inverse dynamics: its force; the regressor: its columns).
+/// registers (inverse dynamics: its force; the regressor: its columns), the base body's first as
+/// body -1 (in the base frame). Checks the sizes and the Data first (InputError).
 template <typename Scalar, typename PerBody>
 DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDataTpl<Scalar>& data,
                               const BaseMotionTpl<Scalar>& base, const ConstVectorRef<Scalar>& q,
                               const ConstVectorRef<Scalar>& dq, const ConstVectorRef<Scalar>& ddq,
                               PerBody&& body) {
   using V3 = Vector3<Scalar>;
+  checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
+  checkState(limbs, ld, q, dq, ddq, "ddq");
   data.base_v = base.twist;
   data.base_a = base.acceleration;
   data.base_a.template tail<3>() -= transposeTimes(base.rotation, model.gravity());
+  body(-1, V3(data.base_v.template head<3>()), V3(data.base_v.template tail<3>()),
+       V3(data.base_a.template head<3>()), V3(data.base_a.template tail<3>()));
   const int n = limbs.numJoints();
-  setJointTransforms(limbs, ld, q);
+  setJointTransformsBlock(limbs, ld.liMi, q);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = ld.liMi[i];
     const int p = limbs.parents()[i];
@@ -157,15 +110,18 @@ DYNID_FLATTEN const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>
                                                   const ConstVectorRef<Scalar>& q,
                                                   const ConstVectorRef<Scalar>& dq,
                                                   const ConstVectorRef<Scalar>& ddq) {
-  checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
-  checkState(limbs, ld, q, dq, ddq, "ddq");
-  // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w).
+  // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w); the base body's too.
   floating_detail::forwardPass(
       model, data, base, q, dq, ddq,
       [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v, const Vector3<Scalar>& dw,
           const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
+        if (i < 0) {
+          const RigidInertia<Scalar>& IB = model.baseInertia();
+          data.base_f = IB.apply(data.base_a) + crossForce(data.base_v, IB.apply(data.base_v));
+          return;
+        }
         const RigidInertia<Scalar>& I = limbs.frame_inertias()[i];
         const Vector3<Scalar> hw = I.inertia * w + cross(I.first_moment, v);
         const Vector3<Scalar> hv = I.mass * v - cross(I.first_moment, w);
@@ -174,8 +130,6 @@ DYNID_FLATTEN const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>
         ld.f[i].template tail<3>() = I.mass * dv - cross(I.first_moment, dw) + cross(w, hv);
       });
   const int n = limbs.numJoints();
-  const RigidInertia<Scalar>& IB = model.baseInertia();
-  data.base_f = IB.apply(data.base_a) + crossForce(data.base_v, IB.apply(data.base_v));
   // Backward pass: tau_i = S_i^T f_i (+ drives); each force carried to its parent, the roots'
   // to the base body, whose total is the wrench the motion needs.
   for (int i = n - 1; i >= 0; --i) {
@@ -205,7 +159,7 @@ const MatrixX<Scalar>& floatingCrba(const FloatingModelTpl<Scalar>& model,
   DataTpl<Scalar>& ld = data.limbs;
   checkSize(limbs, q, "q");
   const int n = limbs.numJoints();
-  floating_detail::setJointTransforms(limbs, ld, q);
+  setJointTransformsBlock(limbs, ld.liMi, q);
   // Composite inertias, leaves first, each in its joint frame; the roots' into the base's.
   for (int i = 0; i < n; ++i) ld.composite[i] = limbs.frame_inertias()[i];
   data.base_composite = model.baseInertia();
