@@ -37,8 +37,7 @@ inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 8};  // identi
 // identifiability.json 2: provenance.
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};
 // identifiability --floating-base: what each sensor set of a floating robot determines.
-inline constexpr DocumentType kFloatingIdentifiabilityDocument{"dynid.floating_identifiability",
-                                                               1};
+inline constexpr DocumentType kFloatingIdentifiabilityDocument{"dynid.floating_identifiability", 1};
 // search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and
 // model_source; search.json 1 is still read by refine --from. 3: provenance (search.json 2 is
 // read).
