@@ -138,6 +138,7 @@ void bindExcitation(py::module_& m);     // bind_excitation.cpp
 void bindPayload(py::module_& m);        // bind_payload.cpp
 void bindMonitor(py::module_& m);        // bind_monitor.cpp
 void bindStudies(py::module_& m);        // bind_studies.cpp
+void bindFloating(py::module_& m);       // bind_floating.cpp
 void bindFleet(py::module_& m);          // bind_fleet.cpp
 
 }  // namespace dynid::python
