@@ -6,7 +6,6 @@
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
 #include "core/format.hpp"
-#include "data/io.hpp"
 #include "data/json_number.hpp"
 #include "data/robots.hpp"
 #include "reports/floating_report.hpp"
@@ -16,14 +15,6 @@
 namespace dynid::cli {
 
 namespace {
-std::vector<std::string> listOption(const po::variables_map& vm, const char* name) {
-  std::vector<std::string> out;
-  if (vm.count(name))
-    for (std::string_view item : splitFields(vm[name].as<std::string>()))
-      if (!item.empty()) out.emplace_back(item);
-  return out;
-}
-
 /// The floating-base analysis: what each sensor set determines.
 int runFloatingIdentifiability(const po::variables_map& vm) {
   if (vm.count("data"))
@@ -32,13 +23,11 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
         "measured yet; the analysis is structural (docs/FLOATING.md)");
   FloatingIdentifiabilityRequest request;
   request.structural = structuralOptions(vm);
-  request.contacts = listOption(vm, "contacts");
+  request.contacts = nameListOption(vm, "contacts");
   try {
-    for (const std::string& name : listOption(vm, "sensors"))
+    for (const std::string& name : nameListOption(vm, "sensors"))
       request.sensors.push_back(parseSensorSet(name));
-    request.motion = vm.count("motion") ? parseFloatingMotion(vm["motion"].as<std::string>())
-                     : request.contacts.empty() ? FloatingMotion::kFree
-                                                : FloatingMotion::kHolding;
+    if (vm.count("motion")) request.motion = parseFloatingMotion(vm["motion"].as<std::string>());
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }

@@ -57,17 +57,6 @@ void addSearchOptions(po::options_description& options, SearchRequest& r) {
   addThreadsOption(options);
 }
 
-/// "m2,cx3" -> {"m2", "cx3"}.
-std::vector<std::string> splitNames(const std::string& list) {
-  std::vector<std::string> out;
-  for (std::size_t start = 0; start <= list.size();) {
-    const std::size_t comma = std::min(list.find(',', start), list.size());
-    if (comma > start) out.push_back(list.substr(start, comma - start));
-    start = comma + 1;
-  }
-  return out;
-}
-
 /// What the bound options leave: the parsed ones and the checks.
 void readSearchSettings(const po::variables_map& vm, SearchRequest& r) {
   if (r.budget.max_evaluations < 0 || r.budget.max_seconds < 0)
@@ -76,7 +65,7 @@ void readSearchSettings(const po::variables_map& vm, SearchRequest& r) {
     throw UsageError("--mass-constraint must be on, off or auto");
   r.segments.integrator = parseOption(vm, "integrator", parseIntegrator);
   r.space.form = parseOption(vm, "form", parseParameterForm);
-  if (vm.count("fix")) r.space.fixed = splitNames(vm["fix"].as<std::string>());
+  r.space.fixed = nameListOption(vm, "fix");
   if (vm.count("total-mass")) r.total_mass = vm["total-mass"].as<double>();
   r.threads = threadsOption(vm);
   r.nlo.mutation_scale = r.ga.mutation_scale;

@@ -255,16 +255,22 @@ void addRecordingOptions(po::options_description& options) {
       "(default: --robot's own names), for a driver that names them otherwise (A1,A2,...)");
 }
 
-std::vector<std::string> jointNamesOption(const po::variables_map& vm, int joints) {
-  if (!vm.count("joint-names")) return {};
+std::vector<std::string> nameListOption(const po::variables_map& vm, const char* option) {
+  if (!vm.count(option)) return {};
   std::vector<std::string> names;
-  std::stringstream list(vm["joint-names"].as<std::string>());
+  std::stringstream list(vm[option].as<std::string>());
   for (std::string name; std::getline(list, name, ',');) {
-    if (name.empty()) throw UsageError("--joint-names: an empty name in the list");
+    if (name.empty()) throw UsageError(std::string("--") + option + ": an empty name in the list");
     if (std::find(names.begin(), names.end(), name) != names.end())
-      throw UsageError("--joint-names: '" + name + "' is named twice");
+      throw UsageError(std::string("--") + option + ": '" + name + "' is named twice");
     names.push_back(name);
   }
+  return names;
+}
+
+std::vector<std::string> jointNamesOption(const po::variables_map& vm, int joints) {
+  const std::vector<std::string> names = nameListOption(vm, "joint-names");
+  if (names.empty()) return {};
   if (joints > 0 && static_cast<int>(names.size()) != joints)
     throw UsageError("--joint-names gives " + std::to_string(names.size()) +
                      " names, the robot has " + std::to_string(joints) + " joints");

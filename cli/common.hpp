@@ -102,6 +102,10 @@ auto parseOption(const po::variables_map& vm, const char* option, F parse) {
 void addThreadsOption(po::options_description& options);
 int threadsOption(const po::variables_map& vm);
 
+/// A comma-separated list of names given to --`option` (empty when not given). Throws UsageError,
+/// naming the option, for an empty name or one named twice.
+std::vector<std::string> nameListOption(const po::variables_map& vm, const char* option);
+
 /// How a ROS recording's sensor_msgs/JointState messages are read (prepare, monitor): --topic,
 /// --stamp header|receive, --effort-topic.
 void addRecordingOptions(po::options_description& options);

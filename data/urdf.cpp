@@ -325,6 +325,10 @@ class UrdfBuilder {
                                 "' and other joints: the world link holds the robot alone");
       const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
       if (!child) failJoint(joint->name, "unknown child link '" + joint->child_link_name + "'");
+      if (root.inertial && root.inertial->mass != 0.0 && warnings_)
+        warnings_->push_back(file_ + ": link '" + root.name + "' holds the floating joint '" +
+                             joint->name +
+                             "', so it is the world: its <inertial> is not part of the robot");
       return *child;
     }
     return root;

@@ -72,6 +72,13 @@ Observation observationFromTrajectory(const Model& model, const Trajectory& traj
   return out;
 }
 
+std::pair<double, double> randomStateRange(const Model& model, int i) {
+  const JointLimits& l = model.limits[static_cast<std::size_t>(i)];
+  if (std::isfinite(l.lower) && std::isfinite(l.upper)) return {l.lower, l.upper};
+  const double span = model.joint_types()[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
+  return {-span, span};
+}
+
 Observation observationFromRandomStates(const Model& model, int num_samples, std::uint64_t seed) {
   if (num_samples < 1) throw InputError("need at least one random state");
   const int n = model.numJoints();
@@ -86,13 +93,7 @@ Observation observationFromRandomStates(const Model& model, int num_samples, std
   Eigen::VectorXd q(n), dq(n), ddq(n);
   for (int k = 0; k < num_samples; ++k) {
     for (int i = 0; i < n; ++i) {
-      const JointLimits& l = model.limits[i];
-      double lower = l.lower, upper = l.upper;
-      if (!std::isfinite(lower) || !std::isfinite(upper)) {
-        const double span =
-            model.joint_types()[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
-        lower = -span, upper = span;
-      }
+      const auto [lower, upper] = randomStateRange(model, i);
       q[i] = lower + (upper - lower) * unit(rng);
       dq[i] = -2.0 + 4.0 * unit(rng);
       ddq[i] = -5.0 + 10.0 * unit(rng);

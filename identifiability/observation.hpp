@@ -33,6 +33,11 @@ void checkFiniteSample(const Trajectory& trajectory, int k);
 /// One vectorised pass over the columns when all are finite (the usual case).
 void checkFiniteSamples(const Trajectory& trajectory);
 
+/// The range random states draw joint i's position from: its limits, or +-pi rad (+-1 m for a
+/// prismatic joint) when either is infinite. The structural analyses' one rule (this file's and
+/// the floating robots', identifiability/floating/sensor_sets.hpp).
+std::pair<double, double> randomStateRange(const Model& model, int i);
+
 /// W from seeded random states for structural analysis: q uniform within the joint limits
 /// (revolute joints without limits in [-pi, pi], prismatic in [-1, 1] m), dq uniform in
 /// [-2, 2] rad/s, ddq uniform in [-5, 5] rad/s^2; tau = W theta of the model. Throws InputError

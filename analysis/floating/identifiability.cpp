@@ -43,15 +43,15 @@ FloatingIdentifiabilityOutcome floatingIdentifiabilityRun(
   request.check();
   FloatingIdentifiabilityOutcome out;
   out.contacts = contactsOf(model, request.contacts);
-  out.motion = request.motion;
+  out.motion = request.motion.value_or(out.contacts.empty() ? FloatingMotion::kFree
+                                                            : FloatingMotion::kHolding);
   out.structural = request.structural;
   // By default every set, but wrenches in flight (nothing carries one).
   std::vector<SensorSet> sets = request.sensors;
   if (sets.empty())
     for (SensorSet set : kSensorSets)
-      if (set != SensorSet::kWrenches || request.motion != FloatingMotion::kFree)
-        sets.push_back(set);
-  FloatingStructuralOptions options{request.structural, out.contacts, request.motion};
+      if (set != SensorSet::kWrenches || out.motion != FloatingMotion::kFree) sets.push_back(set);
+  FloatingStructuralOptions options{request.structural, out.contacts, out.motion};
   out.sets = floatingStructuralBase(model, sets, options);
   const Eigen::VectorXd theta = model.standardParameters();
   for (const SensorSetBase& s : out.sets) out.model_beta.push_back(s.base.project(theta));

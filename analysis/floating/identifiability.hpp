@@ -2,6 +2,7 @@
 // what each sensor set determines (`dynid identifiability --floating-base`, docs/FLOATING.md).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,9 @@ struct FloatingIdentifiabilityRequest {
   std::vector<std::string> contacts;
   /// The sensor sets to analyse; empty: all three.
   std::vector<SensorSet> sensors;
-  /// The motion of the data the analysis is for; holding needs contacts.
-  FloatingMotion motion = FloatingMotion::kHolding;
+  /// The motion of the data the analysis is for; holding needs contacts. Unset: holding when
+  /// there are contacts, free (in flight) when there are none.
+  std::optional<FloatingMotion> motion;
   StructuralOptions structural;
   /// Throws InputError naming the field out of its range (structural's).
   void check() const { structural.check(); }

@@ -66,7 +66,8 @@ constexpr const char* kModel = "model and model_source (the robot, embedded)";
 const Added kAdded[] = {
     {&kEstimateDocument, 6, kProvenance},
     // estimate.json 7's data.sources: absent in an earlier version, which came from a dataset.
-    // estimate.json 8's front: absent in an earlier version, which had no identify front (`front_weights`).
+    // estimate.json 8's front: absent in an earlier version, which had no identify front
+    // (`front_weights`).
     {&kExcitationDocument, 4, kProvenance},
     {&kMonitorThresholdsDocument, 5, kProvenance},
     {&kSearchDocument, 3, kProvenance},

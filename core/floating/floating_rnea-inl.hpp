@@ -25,8 +25,8 @@ DYNID_INLINE const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>&
   return parent < 0 ? base : limb[static_cast<std::size_t>(parent)];
 }
 
-/// w x (S_i x) for the angular half (lin false) or the linear half of joint i's motion S_i x,
-/// given the body's angular velocity w: for a unit axis e_k only two entries.
+/// u x (e x), e joint i's unit axis (its motion's angular half for a revolute joint, its linear
+/// half for a prismatic one): two entries; a general axis by the full cross product.
 template <typename Scalar>
 DYNID_INLINE Vector3<Scalar> crossAxis(const ModelTpl<Scalar>& limbs, int i,
                                        const Vector3<Scalar>& w, const Scalar& x) {
@@ -81,8 +81,8 @@ DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDat
       dv += crossAxis(limbs, i, v, dq[i]);
       w[k] += dq[i];
       dw[k] += ddq[i];
-    } else if (k >= 3) {  // prismatic along e_(k-3)
-      dv += crossAxis(limbs, i, w, Scalar(2) * dq[i]) * Scalar(0.5);
+    } else if (k >= 3) {                    // prismatic along e_(k-3)
+      dv += crossAxis(limbs, i, w, dq[i]);  // v x (0, e dq) = (0, w x e dq)
       v[k - 3] += dq[i];
       dv[k - 3] += ddq[i];
     } else {  // a general axis: the spatial algebra

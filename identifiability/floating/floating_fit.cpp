@@ -84,7 +84,8 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
   Eigen::VectorXd scale = W.colwise().norm().transpose();
   for (Eigen::Index c = 0; c < p; ++c)
     if (scale[c] == 0.0) scale[c] = 1.0;
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(W * scale.cwiseInverse().asDiagonal());
+  const Eigen::MatrixXd scaled = W * scale.cwiseInverse().asDiagonal();
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(scaled);
   if (qr.rank() < p)
     throw InputError("the samples determine " + std::to_string(qr.rank()) + " of the " +
                      std::to_string(p) + " base parameters: the motion does not excite them all");
@@ -93,9 +94,13 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
   out.beta = qr.solve(y).cwiseQuotient(scale);
   const double rss = (W * out.beta - y).squaredNorm();
   out.residual_scale = std::sqrt(rss / static_cast<double>(rows - p));
-  const Eigen::MatrixXd information = W.transpose() * W;
-  out.covariance = out.residual_scale * out.residual_scale *
-                   information.ldlt().solve(Eigen::MatrixXd::Identity(p, p));
+  // s^2 (W^T W)^-1 = s^2 D^-1 (Ws^T Ws)^-1 D^-1, Ws = W D^-1 the unit-column matrix (the
+  // inverse taken where it is well conditioned).
+  const Eigen::MatrixXd information = scaled.transpose() * scaled;
+  const Eigen::VectorXd inverse_scale = scale.cwiseInverse();
+  out.covariance = out.residual_scale * out.residual_scale * inverse_scale.asDiagonal() *
+                   information.ldlt().solve(Eigen::MatrixXd::Identity(p, p)) *
+                   inverse_scale.asDiagonal();
   out.sd = out.covariance.diagonal().cwiseSqrt();
   return out;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include <Eigen/LU>
@@ -11,6 +10,7 @@
 #include "core/errors.hpp"
 #include "core/floating/floating_regressor.hpp"
 #include "core/floating/floating_rnea.hpp"
+#include "identifiability/observation.hpp"
 
 namespace dynid {
 
@@ -257,12 +257,7 @@ FloatingState FloatingStateSampler::configuration() {
   out.base.rotation = baseRotation(Eigen::Vector4d(quaternion.normalized()));
   out.q.resize(limbs.numJoints());
   for (int i = 0; i < limbs.numJoints(); ++i) {
-    const JointLimits& l = limbs.limits[i];
-    double lower = l.lower, upper = l.upper;
-    if (!std::isfinite(lower) || !std::isfinite(upper)) {
-      const double span = limbs.joint_types()[i] == JointType::kPrismatic ? 1.0 : std::numbers::pi;
-      lower = -span, upper = span;
-    }
+    const auto [lower, upper] = randomStateRange(limbs, i);
     out.q[i] = lower + (upper - lower) * unit_(rng_);
   }
   return out;

@@ -62,6 +62,19 @@ TEST(FloatingUrdf, TheBaseKeepsTheRootAndWhatIsFixedToIt) {
   EXPECT_EQ(model.findFrame("leg")->body, 0);
 }
 
+TEST(FloatingUrdf, AWorldWithMassIsSaidToBeTheWorld) {
+  std::string massive = kHopper;
+  massive.replace(
+      massive.find(R"(<link name="world"/>)"), 20,
+      R"(<link name="world"><inertial><mass value="100"/>)"
+      R"(<inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)");
+  std::vector<std::string> warnings;
+  const FloatingModel model = parseFloatingUrdf(massive, "hopper.urdf", {}, &warnings);
+  EXPECT_DOUBLE_EQ(model.baseInertia().mass, 3.0);  // the world's 100 kg are not the robot's
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("link 'world'"), std::string::npos) << warnings[0];
+}
+
 TEST(FloatingUrdf, AFloatingJointIsTheFloatingLoadersOnly) {
   try {
     parseUrdf(kHopper, "hopper.urdf");
