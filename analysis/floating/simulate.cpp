@@ -4,6 +4,7 @@
 
 #include <Eigen/QR>
 
+#include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
 
 namespace dynid {
@@ -59,6 +60,85 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
     for (Eigen::Index r = 0; r < m.forces.size(); ++r) m.forces[r] += sd[r] * normal(rng);
     for (int i = 0; i < n; ++i) m.tau[i] += options.torque_noise * normal(rng);
     out.samples.push_back(std::move(m));
+  }
+  return out;
+}
+
+FloatingDataset simulateFloatingDataset(const FloatingModel& model,
+                                        const FloatingSimulationOptions& options) {
+  FloatingStructuralOptions sampling;
+  sampling.structural.seed = options.seed;
+  sampling.contacts = options.contacts;
+  sampling.motion = options.motion;
+  FloatingStateSampler sampler(model, sampling);
+  FloatingData data(model);
+  std::mt19937_64 rng(options.seed ^ 0x5eed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  // The contacts the dataset measures: the options', and the base's support when suspended.
+  std::vector<Contact> contacts = options.contacts;
+  const bool suspended = options.motion == FloatingMotion::kSuspended;
+  if (suspended) {
+    Contact support;
+    support.name = model.baseName();
+    support.kind = Contact::Kind::kFrame;
+    if (model.findFrame(support.name) == nullptr)
+      throw InputError("the base link '" + support.name + "' is no frame of the model");
+    contacts.insert(contacts.begin(), support);
+  }
+  const int n = model.numJoints(), N = options.samples;
+  FloatingDataset out;
+  out.joints = model.limbs().joint_names;
+  out.time = Eigen::VectorXd::LinSpaced(N, 0.0, 0.01 * (N - 1));
+  out.orientation.resize(4, N);
+  out.twist.resize(6, N);
+  out.acceleration.resize(6, N);
+  for (Eigen::MatrixXd* m : {&out.q, &out.dq, &out.ddq, &out.tau}) m->resize(n, N);
+  for (const Contact& c : contacts) {
+    out.wrenches.push_back({c.name, Eigen::MatrixXd::Zero(c.dimension(), N)});
+    out.flags.push_back({c.name, std::vector<char>(static_cast<std::size_t>(N), 0)});
+  }
+  for (int k = 0; k < N; ++k) {
+    const FloatingState state = sampler.next();
+    const Eigen::Quaterniond orientation(state.base.rotation);
+    out.orientation.col(k) << orientation.w(), orientation.x(), orientation.y(), orientation.z();
+    out.twist.col(k) = state.base.twist;
+    out.acceleration.col(k) = state.base.acceleration;
+    out.q.col(k) = state.q;
+    out.dq.col(k) = state.dq;
+    out.ddq.col(k) = state.ddq;
+    const Eigen::MatrixXd J = sampler.jacobian(state);
+    const Eigen::VectorXd generalized =
+        floatingRnea(model, data, state.base, state.q, state.dq, state.ddq);
+    Eigen::VectorXd forces = Eigen::VectorXd::Zero(J.rows());
+    if (J.rows() > 0)
+      forces = J.leftCols<6>().transpose().completeOrthogonalDecomposition().solve(
+          Eigen::VectorXd(generalized.head<6>()));
+    out.tau.col(k) = generalized.tail(n);
+    if (J.rows() > 0) out.tau.col(k) -= J.rightCols(n).transpose() * forces;
+    // The holding contacts' forces (J's rows: the support's, then the active ones') in each
+    // contact's own axes.
+    std::vector<int> holding = state.active;
+    for (int& c : holding) c += suspended ? 1 : 0;
+    if (suspended) holding.insert(holding.begin(), 0);
+    Eigen::Index row = 0;
+    for (int c : holding) {
+      const Contact& contact = contacts[static_cast<std::size_t>(c)];
+      const Eigen::Matrix3d R = contactPose(model, data, contact, state.q).rotation;
+      Eigen::MatrixXd& w = out.wrenches[static_cast<std::size_t>(c)].values;
+      if (contact.kind == Contact::Kind::kFrame) {
+        w.col(k).head<3>() = R.transpose() * forces.segment<3>(row);
+        row += 3;
+      }
+      w.col(k).tail<3>() = R.transpose() * forces.segment<3>(row);
+      row += 3;
+      out.flags[static_cast<std::size_t>(c)].holding[static_cast<std::size_t>(k)] = 1;
+    }
+    for (int j = 0; j < n; ++j) out.tau(j, k) += options.torque_noise * normal(rng);
+    for (FloatingDataset::Wrench& w : out.wrenches)
+      for (Eigen::Index r = 0; r < w.values.rows(); ++r)
+        w.values(r, k) +=
+            (w.values.rows() == 6 && r < 3 ? options.moment_noise : options.force_noise) *
+            normal(rng);
   }
   return out;
 }

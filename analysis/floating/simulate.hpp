@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "data/floating/floating_dataset.hpp"
 #include "identifiability/floating/floating_fit.hpp"
 
 namespace dynid {
@@ -35,5 +36,13 @@ struct FloatingSimulation {
 /// Throws InputError as FloatingStateSampler does.
 FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& options);
+
+/// The same measurements as a dataset (data/floating/floating_dataset.hpp), one state a row
+/// (time a sample index at 0.01 s: the states are independent draws, not a trajectory): the base
+/// motion and joint states exact, the torques, and per contact its wrench in its frame's axes (a
+/// contact that does not hold reads noise about zero) and its flag; suspended adds the base's
+/// support as a frame contact at the base link. Noise as simulateFloating's.
+FloatingDataset simulateFloatingDataset(const FloatingModel& model,
+                                        const FloatingSimulationOptions& options);
 
 }  // namespace dynid

@@ -1,5 +1,7 @@
 #include "identifiability/floating/floating_fit.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -10,15 +12,16 @@
 namespace dynid {
 
 namespace {
-/// The rows' noise covariance for one sample (floating_fit.hpp's table).
+/// The rows' noise covariance for one sample (floating_fit.hpp's table), with the torques'
+/// variances `tv` (n) and the force rows' `fv` (J's rows).
 Eigen::MatrixXd rowCovariance(SensorSet set, const FloatingMeasurement& m,
-                              const Eigen::VectorXd& torque_variance) {
+                              const Eigen::VectorXd& tv, const Eigen::VectorXd& fv) {
   const Eigen::Index nv = m.Y.rows(), n = nv - 6;
   Eigen::VectorXd joint = Eigen::VectorXd::Zero(nv);
-  joint.tail(n) = torque_variance;
-  const Eigen::MatrixXd forces =
-      m.J.rows() > 0 ? Eigen::MatrixXd(m.J.transpose() * m.force_variance.asDiagonal() * m.J)
-                     : Eigen::MatrixXd::Zero(nv, nv);
+  joint.tail(n) = tv;
+  const Eigen::MatrixXd forces = m.J.rows() > 0
+                                     ? Eigen::MatrixXd(m.J.transpose() * fv.asDiagonal() * m.J)
+                                     : Eigen::MatrixXd::Zero(nv, nv);
   switch (set) {
     case SensorSet::kWrenches:
       return forces.topLeftCorner(6, 6);
@@ -32,42 +35,25 @@ Eigen::MatrixXd rowCovariance(SensorSet set, const FloatingMeasurement& m,
   }
   return Eigen::MatrixXd();
 }
-}  // namespace
 
-FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
-                        const std::vector<FloatingMeasurement>& samples,
-                        const FloatingFitOptions& options) {
-  const int p = base.numBase();
-  std::vector<Eigen::MatrixXd> blocks;
-  std::vector<Eigen::VectorXd> values;
+void checkSizes(const BaseParameters& base, const FloatingMeasurement& m) {
+  if (m.tau.size() != m.Y.rows() - 6 || m.forces.size() != m.J.rows() ||
+      m.force_variance.size() != m.J.rows() || m.Y.cols() != base.numStandard() ||
+      (!m.moment_rows.empty() && static_cast<Eigen::Index>(m.moment_rows.size()) != m.J.rows()))
+    throw InputError("a floating sample's sizes disagree: its regressor has " +
+                     std::to_string(m.Y.rows()) + " rows and " + std::to_string(m.Y.cols()) +
+                     " columns, " + std::to_string(m.tau.size()) + " torques, " +
+                     std::to_string(m.forces.size()) + " contact forces for " +
+                     std::to_string(m.J.rows()) + " Jacobian rows");
+}
+
+/// The samples' rows stacked (each block whitened by its covariance factor when `whiten` gives
+/// one) and solved with unit-norm columns (base parameters differ by orders of magnitude: a
+/// trunk's mass and a finger's inertia), then scaled back; the covariance s^2 (W^T W)^-1.
+FloatingFit solveStacked(int p, const std::vector<Eigen::MatrixXd>& blocks,
+                         const std::vector<Eigen::VectorXd>& values) {
   Eigen::Index rows = 0;
-  for (const FloatingMeasurement& m : samples) {
-    const Eigen::Index n = m.Y.rows() - 6;
-    if (m.tau.size() != n || m.forces.size() != m.J.rows() ||
-        m.force_variance.size() != m.J.rows() || m.Y.cols() != base.numStandard())
-      throw InputError("a floating sample's sizes disagree: its regressor has " +
-                       std::to_string(m.Y.rows()) + " rows and " + std::to_string(m.Y.cols()) +
-                       " columns, " + std::to_string(m.tau.size()) + " torques, " +
-                       std::to_string(m.forces.size()) + " contact forces for " +
-                       std::to_string(m.J.rows()) + " Jacobian rows");
-    Eigen::MatrixXd W = base.baseRegressor(sensorRows(set, m.Y, m.J));
-    Eigen::VectorXd y = sensorMeasurements(set, m.tau, m.J, m.forces);
-    if (options.generalized) {
-      const Eigen::VectorXd tv =
-          options.torque_variance.size() == n ? options.torque_variance : Eigen::VectorXd::Ones(n);
-      // Whitened by the covariance's Cholesky factor L (C = L L^T): L^-1 W, L^-1 y.
-      const Eigen::LLT<Eigen::MatrixXd> llt(rowCovariance(set, m, tv));
-      if (llt.info() != Eigen::Success)
-        throw InputError(
-            "a floating sample's row covariance is not positive definite: a "
-            "measured channel has zero noise variance");
-      llt.matrixL().solveInPlace(W);
-      llt.matrixL().solveInPlace(y);
-    }
-    rows += W.rows();
-    blocks.push_back(std::move(W));
-    values.push_back(std::move(y));
-  }
+  for (const Eigen::MatrixXd& b : blocks) rows += b.rows();
   if (rows <= p)
     throw InputError("the samples give " + std::to_string(rows) + " rows for " + std::to_string(p) +
                      " base parameters: record more samples");
@@ -79,8 +65,6 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
     y.segment(rows, values[k].size()) = values[k];
     rows += blocks[k].rows();
   }
-  // Solved with unit-norm columns (base parameters differ by orders of magnitude: a trunk's mass
-  // and a finger's inertia), then scaled back.
   Eigen::VectorXd scale = W.colwise().norm().transpose();
   for (Eigen::Index c = 0; c < p; ++c)
     if (scale[c] == 0.0) scale[c] = 1.0;
@@ -103,6 +87,147 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
                    inverse_scale.asDiagonal();
   out.sd = out.covariance.diagonal().cwiseSqrt();
   return out;
+}
+
+const char* kNotPositive =
+    "a floating sample's row covariance is not positive definite: a measured channel has zero "
+    "noise variance";
+}  // namespace
+
+FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
+                        const std::vector<FloatingMeasurement>& samples,
+                        const FloatingFitOptions& options) {
+  std::vector<Eigen::MatrixXd> blocks;
+  std::vector<Eigen::VectorXd> values;
+  for (const FloatingMeasurement& m : samples) {
+    checkSizes(base, m);
+    const Eigen::Index n = m.Y.rows() - 6;
+    Eigen::MatrixXd W = base.baseRegressor(sensorRows(set, m.Y, m.J));
+    Eigen::VectorXd y = sensorMeasurements(set, m.tau, m.J, m.forces);
+    if (options.generalized) {
+      const Eigen::VectorXd tv =
+          options.torque_variance.size() == n ? options.torque_variance : Eigen::VectorXd::Ones(n);
+      // Whitened by the covariance's Cholesky factor L (C = L L^T): L^-1 W, L^-1 y.
+      const Eigen::LLT<Eigen::MatrixXd> llt(rowCovariance(set, m, tv, m.force_variance));
+      if (llt.info() != Eigen::Success) throw InputError(kNotPositive);
+      llt.matrixL().solveInPlace(W);
+      llt.matrixL().solveInPlace(y);
+    }
+    blocks.push_back(std::move(W));
+    values.push_back(std::move(y));
+  }
+  return solveStacked(base.numBase(), blocks, values);
+}
+
+namespace {
+/// One sample's rows and, per channel (torques, forces, moments), its row covariance at unit
+/// variance (G_t, G_f, G_m).
+struct SampleRows {
+  Eigen::MatrixXd W;
+  Eigen::VectorXd y;
+  std::array<Eigen::MatrixXd, 3> G;
+};
+
+SampleRows sampleRows(const BaseParameters& base, SensorSet set, const FloatingMeasurement& m) {
+  checkSizes(base, m);
+  const Eigen::Index n = m.Y.rows() - 6, k = m.J.rows();
+  SampleRows out{base.baseRegressor(sensorRows(set, m.Y, m.J)),
+                 sensorMeasurements(set, m.tau, m.J, m.forces),
+                 {}};
+  Eigen::VectorXd forces(k), moments(k);
+  for (Eigen::Index r = 0; r < k; ++r) {
+    const bool moment = !m.moment_rows.empty() && m.moment_rows[static_cast<std::size_t>(r)];
+    forces[r] = moment ? 0.0 : 1.0;
+    moments[r] = moment ? 1.0 : 0.0;
+  }
+  out.G[0] = rowCovariance(set, m, Eigen::VectorXd::Ones(n), Eigen::VectorXd::Zero(k));
+  out.G[1] = rowCovariance(set, m, Eigen::VectorXd::Zero(n), forces);
+  out.G[2] = rowCovariance(set, m, Eigen::VectorXd::Zero(n), moments);
+  return out;
+}
+}  // namespace
+
+namespace {
+/// The samples' rows whitened by C = sum_g variance_g G_g: each sample's factor, rows and values.
+struct Whitened {
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> factors;
+  std::vector<Eigen::MatrixXd> blocks;
+  std::vector<Eigen::VectorXd> values;
+  int rows = 0;
+};
+
+Whitened whiten(const std::vector<SampleRows>& rows, const std::array<double, 3>& variance) {
+  Whitened out;
+  for (const SampleRows& s : rows) {
+    Eigen::MatrixXd C = variance[0] * s.G[0];
+    for (std::size_t g = 1; g < 3; ++g) C += variance[g] * s.G[g];
+    out.factors.emplace_back(C);
+    if (out.factors.back().info() != Eigen::Success) throw InputError(kNotPositive);
+    out.blocks.push_back(out.factors.back().matrixL().solve(s.W));
+    out.values.push_back(out.factors.back().matrixL().solve(s.y));
+    out.rows += static_cast<int>(s.W.rows());
+  }
+  return out;
+}
+
+/// The least-squares solution by the normal equations (unit-scaled, a fourth of the QR's work:
+/// for the iterations' weights; the reported fit is solveStacked's).
+Eigen::VectorXd normalSolve(int p, const Whitened& w) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(p, p);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(p);
+  for (std::size_t k = 0; k < w.blocks.size(); ++k) {
+    A.selfadjointView<Eigen::Lower>().rankUpdate(w.blocks[k].transpose());
+    b.noalias() += w.blocks[k].transpose() * w.values[k];
+  }
+  A.triangularView<Eigen::Upper>() = A.transpose();
+  Eigen::VectorXd scale = A.diagonal().cwiseSqrt();
+  for (Eigen::Index c = 0; c < p; ++c)
+    if (scale[c] == 0.0) scale[c] = 1.0;
+  const Eigen::MatrixXd scaled =
+      scale.cwiseInverse().asDiagonal() * A * scale.cwiseInverse().asDiagonal();
+  return scaled.ldlt().solve(b.cwiseQuotient(scale)).cwiseQuotient(scale);
+}
+}  // namespace
+
+FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
+                                const std::vector<FloatingMeasurement>& samples,
+                                ChannelVariances* estimated) {
+  std::vector<SampleRows> rows;
+  for (const FloatingMeasurement& m : samples) rows.push_back(sampleRows(base, set, m));
+  std::array<double, 3> variance = {1.0, 1.0, 1.0}, least = {0.0, 0.0, 0.0};
+  const int p = base.numBase();
+  {  // Rows that do not determine the parameters are refused before any weighting.
+    const Whitened w = whiten(rows, variance);
+    solveStacked(p, w.blocks, w.values);
+  }
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const Whitened w = whiten(rows, variance);
+    const Eigen::VectorXd beta = normalSolve(p, w);
+    std::array<double, 3> u{}, d{};
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Eigen::VectorXd z = w.factors[k].solve(Eigen::VectorXd(rows[k].W * beta - rows[k].y));
+      for (std::size_t g = 0; g < 3; ++g) {
+        u[g] += z.dot(rows[k].G[g] * z);
+        d[g] += w.factors[k].solve(rows[k].G[g]).trace();
+      }
+    }
+    const double dof = static_cast<double>(w.rows - p) / w.rows;
+    double change = 0.0;
+    for (std::size_t g = 0; g < 3; ++g) {
+      if (d[g] <= 0.0) continue;  // a channel the set does not read
+      const double next = std::max(variance[g] * u[g] / (dof * d[g]), least[g]);
+      change = std::max(change, std::abs(next - variance[g]) / variance[g]);
+      variance[g] = next;
+      // A channel the rows barely see (a sole's moments beside its forces' lever arms) can run
+      // to zero, and C with it (two soles' forces alone cannot twist the base about the line
+      // through them): each stays above 1e-6 of its first estimate.
+      if (iteration == 0) least[g] = 1e-6 * next;
+    }
+    if (change < 1e-5) break;
+  }
+  if (estimated != nullptr) *estimated = {variance[0], variance[1], variance[2]};
+  const Whitened w = whiten(rows, variance);
+  return solveStacked(p, w.blocks, w.values);
 }
 
 }  // namespace dynid

@@ -28,6 +28,9 @@ struct FloatingMeasurement {
   Eigen::VectorXd forces;  // k: the active contacts' forces, J's rows' order
   /// The force components' noise variances (k, J's rows' order: sigma_force^2 or sigma_moment^2).
   Eigen::VectorXd force_variance;
+  /// 1 for a force row that is a moment (a frame contact's first three), J's rows' order; empty:
+  /// none is. Read by fitFloatingFeasible, which estimates forces' and moments' noise apart.
+  std::vector<char> moment_rows;
 };
 
 struct FloatingFitOptions {
@@ -50,5 +53,26 @@ struct FloatingFit {
 FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
                         const std::vector<FloatingMeasurement>& samples,
                         const FloatingFitOptions& options = {});
+
+/// The noise variances of a robot's channels: every joint torque's [N^2 m^2], every contact force
+/// component's [N^2] and every contact moment component's [N^2 m^2].
+struct ChannelVariances {
+  double torque = 1.0, force = 1.0, moment = 1.0;
+};
+
+/// Generalized least squares with the channels' variances estimated from the data (feasible
+/// GLS): each sample's row covariance is C = s_t^2 G_t + s_f^2 G_f + s_m^2 G_m (the table above,
+/// per channel), and the variances are the fixed point of
+///   s_g^2 <- s_g^2 * sum_k r_k^T C_k^-1 G_g,k C_k^-1 r_k / ((R - p) / R * sum_k tr(C_k^-1 G_g,k))
+/// (r_k a sample's residual, R rows, p parameters: restricted maximum likelihood's update with
+/// the leverage taken as its mean), iterated until they change by less than 1e-5 relative (at most
+/// 100 times), each kept above 1e-6 of its first estimate (a channel the rows barely see runs to
+/// zero otherwise, and C with it). A channel the set does not read keeps its variance (torques
+/// for wrenches, forces and moments for torques_contacts). The same sensors feed every set: the
+/// richest (torques_wrenches) estimates them best. Returns the fit at the estimated variances,
+/// which `estimated` receives. Throws as fitFloating.
+FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
+                                const std::vector<FloatingMeasurement>& samples,
+                                ChannelVariances* estimated = nullptr);
 
 }  // namespace dynid

@@ -2,8 +2,13 @@
 
 #include "core/parameters.hpp"
 #include "core/rnea.hpp"
+#include "data/urdf.hpp"
 
 namespace dynid::test {
+
+FloatingModel loadExample(const FloatingExample& example) {
+  return loadFloatingUrdf(std::string(DYNID_SOURCE_DIR) + "/" + example.path);
+}
 
 FloatingModel randomFloating(std::uint64_t seed, const RandomTreeOptions& options) {
   std::mt19937_64 rng(seed + 1000);

@@ -5,11 +5,26 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "core/floating/floating_data.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid::test {
+
+/// An example robot of examples/floating/ and the contacts it stands on.
+struct FloatingExample {
+  const char* path;  // relative to the source tree
+  std::vector<std::string> contacts;
+};
+/// ANYmal C on its four point feet; Romeo on its two flat soles.
+inline const FloatingExample kAnymalExample{"examples/floating/anymal_c/anymal.urdf",
+                                            {"LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT"}};
+inline const FloatingExample kRomeoExample{"examples/floating/romeo/romeo_small.urdf",
+                                           {"l_sole:frame", "r_sole:frame"}};
+/// The example's model, read from the source tree.
+FloatingModel loadExample(const FloatingExample& example);
 
 /// randomTree's limbs (`options`) under a random, physically consistent base body (2..10 kg).
 FloatingModel randomFloating(std::uint64_t seed, const RandomTreeOptions& options = {});

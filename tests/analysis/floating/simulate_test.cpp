@@ -8,22 +8,18 @@
 
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/simulate.hpp"
-#include "data/urdf.hpp"
+#include "tests/common/floating_models.hpp"
 
 namespace dynid {
 namespace {
 
-struct Robot {
-  const char* path;
-  std::vector<std::string> contacts;
-};
-
-const Robot kAnymal{"examples/floating/anymal_c/anymal.urdf",
-                    {"LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT"}};
-const Robot kRomeo{"examples/floating/romeo/romeo_small.urdf", {"l_sole:frame", "r_sole:frame"}};
+using test::FloatingExample;
+using Robot = FloatingExample;
+const Robot& kAnymal = test::kAnymalExample;
+const Robot& kRomeo = test::kRomeoExample;
 
 FloatingModel load(const Robot& robot) {
-  FloatingModel model = loadFloatingUrdf(std::string(DYNID_SOURCE_DIR) + "/" + robot.path);
+  FloatingModel model = test::loadExample(robot);
   model.setDriveTerms(DriveTerms::of({DriveTerm::kViscous, DriveTerm::kCoulomb}));
   // Friction the data can see: Fv 0.5 N m s/rad, Fc 1 N m on every joint.
   Eigen::VectorXd theta = model.standardParameters();

@@ -1,0 +1,85 @@
+// Estimation on a floating robot's data (`dynid identify --floating-base`, docs/FLOATING.md): the
+// base parameters of each sensor set the dataset measures, by least squares on that set's rows,
+// with the measures of how well they hold: the residual, held-out prediction, and the distance
+// from the model's own parameters in standard deviations.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "data/floating/floating_dataset.hpp"
+#include "identifiability/floating/floating_fit.hpp"
+
+namespace dynid {
+
+/// How the rows are weighted: ordinary least squares, or generalized least squares with every
+/// channel's noise estimated from the data (fitFloatingFeasible): torques, forces and moments of
+/// different sizes and units weighted by what they carry.
+enum class FloatingMethod { kOls, kWls };
+/// "ols", "wls".
+const char* floatingMethodName(FloatingMethod method);
+/// Throws InputError naming `method` and the names.
+FloatingMethod parseFloatingMethod(const std::string& text);
+
+struct FloatingIdentifyRequest {
+  /// The contacts (FloatingIdentifiabilityRequest::contacts' form); empty: the dataset's own, each
+  /// frame with a wrench (a frame contact for six components, a point for three) or a flag (a
+  /// point).
+  std::vector<std::string> contacts;
+  /// The sets to estimate; empty: every set the dataset measures (wrenches: a wrench at every
+  /// contact; torques_wrenches: torques too; torques_contacts: torques and a flag at every
+  /// contact).
+  std::vector<SensorSet> sensors;
+  /// The motion class the structural base parameters are drawn for; unset: suspended when a
+  /// contact is on the base body, holding with contacts, free without.
+  std::optional<FloatingMotion> motion;
+  FloatingMethod method = FloatingMethod::kWls;
+  StructuralOptions structural;
+  void check() const { structural.check(); }
+};
+
+/// One set's estimate, or why it has none.
+struct FloatingSetEstimate {
+  SensorSetBase base;   // the set's structural base parameters
+  std::string refused;  // empty: estimated; else why the data do not determine them
+  FloatingFit fit;
+  /// wls: the channel variances the fit is weighted by, torques_wrenches' estimate for every set
+  /// when it has one (the same sensors feed them all), else the set's own.
+  ChannelVariances variances;
+  Eigen::VectorXd model_beta;  // the model's own base parameters
+  /// ||W beta - y|| / ||y|| in percent, on the data and on the held-out data (NaN without).
+  double residual_percent = 0.0, validation_percent = 0.0;
+  /// ||beta - model_beta|| / ||model_beta|| in percent (the paper's parameter error, against the
+  /// model read: the truth when it made the data), and the RMS of (beta - model_beta) / sd.
+  double model_error_percent = 0.0, model_z_rms = 0.0;
+};
+
+struct FloatingIdentifyOutcome {
+  std::vector<Contact> contacts;
+  FloatingMotion motion = FloatingMotion::kHolding;
+  FloatingMethod method = FloatingMethod::kWls;
+  int samples = 0, validation_samples = 0;
+  std::vector<FloatingSetEstimate> sets;
+  std::vector<std::string> warnings;
+};
+
+/// One sample's measurement for `set` (FloatingMeasurement): the regressor at the sample's state,
+/// and the contacts' Jacobians and forces in base-frame axes (every contact's wrench for the
+/// wrench sets; the holding contacts by their flags for torques_contacts). Throws InputError when
+/// the dataset lacks what the set reads.
+FloatingMeasurement floatingMeasurement(const FloatingModel& model, FloatingData& data,
+                                        const FloatingDataset& dataset,
+                                        const std::vector<Contact>& contacts, SensorSet set,
+                                        int sample);
+
+/// Estimates each set on `data` (and checks it on `validation` when it has samples). Throws
+/// InputError for a bad request, contacts the dataset and the request disagree on, a requested
+/// set the dataset cannot feed; a set whose rows do not determine its base parameters is reported
+/// refused.
+FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
+                                            const FloatingIdentifyRequest& request,
+                                            const FloatingDataset& data,
+                                            const FloatingDataset* validation = nullptr);
+
+}  // namespace dynid

@@ -1,0 +1,74 @@
+// Floating-base datasets (docs/FLOATING.md, "Datasets"): a floating robot's samples as a CSV table
+// whose columns are named, in any order, one sample per row, SI units:
+//   t                                   time [s], increasing
+//   base:qw, base:qx, base:qy, base:qz  the base orientation, a unit quaternion rotating base-frame
+//                                       vectors into the world (within 1e-3 of unit: normalised)
+//   base:wx .. base:wz, base:vx .. vz   the base twist (omega, v) in the base frame
+//   base:dwx .. base:dwz, base:dvx ..   its derivative (floating_model.hpp's convention)
+//   q:J, dq:J, ddq:J                    every joint J of the model, by name
+//   tau:J                               the joint torques, for every joint or none
+//   wrench:F:fx, :fy, :fz               a contact force the environment exerts on frame F (a
+//                                       link of the model), through F's origin, in F's axes
+//   wrench:F:nx, :ny, :nz               with those, a moment about F's origin: a wrench
+//   contact:F                           1 when the contact at F holds, 0 when not (a flag)
+// A frame may carry a wrench, a flag or both.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/floating/floating_model.hpp"
+
+namespace dynid {
+
+struct FloatingDataset {
+  /// A contact force measured at a named frame: 3 rows (fx, fy, fz) or 6 (nx, ny, nz, fx, fy, fz:
+  /// dynid's angular-first order), one column per sample, in the frame's axes.
+  struct Wrench {
+    std::string frame;
+    Eigen::MatrixXd values;
+  };
+  /// Whether the contact at a named frame holds, per sample (0 or 1).
+  struct Flag {
+    std::string frame;
+    std::vector<char> holding;
+  };
+
+  std::string file;                 // where it was read from (empty: in memory)
+  std::vector<std::string> joints;  // the model's joint names, the rows of q, dq, ddq, tau
+  Eigen::VectorXd time;             // N
+  Eigen::Matrix4Xd orientation;     // (w, x, y, z) per sample, unit
+  Eigen::Matrix<double, 6, Eigen::Dynamic> twist, acceleration;  // base frame, (omega, v)
+  Eigen::MatrixXd q, dq, ddq;                                    // n x N
+  Eigen::MatrixXd tau;  // n x N, or 0 x N: no torque measured
+  std::vector<Wrench> wrenches;
+  std::vector<Flag> flags;
+  std::vector<int> lines;  // the file line of each sample (empty: in memory)
+
+  int numSamples() const { return static_cast<int>(time.size()); }
+  bool hasTorques() const { return tau.rows() > 0; }
+  /// The wrench or flag of a frame, or nullptr.
+  const Wrench* findWrench(const std::string& frame) const;
+  const Flag* findFlag(const std::string& frame) const;
+  /// The file line of sample k for messages (k + 2 when the dataset was not read from a file).
+  int line(int k) const { return lines.empty() ? k + 2 : lines[static_cast<std::size_t>(k)]; }
+};
+
+/// The header of a dataset of that shape (its columns in the order writeFloatingDataset writes).
+std::string floatingDatasetHeader(const FloatingDataset& dataset);
+
+/// Writes the dataset atomically (data/io.hpp), numbers in shortest round-trip form. Throws
+/// InputError when its sizes disagree, Error when the file cannot be written.
+void writeFloatingDataset(const std::string& path, const FloatingDataset& dataset);
+
+/// Reads a dataset of `model`. Throws ParseError naming the file, the line and the column of what
+/// is wrong: an unknown column, a joint the model lacks or a joint it has that the file lacks, a
+/// wrench or flag in a frame the model does not have (the frames named), a wrench without all of
+/// fx, fy, fz or with some moment components only, torques for some joints only, a field that is
+/// not a finite number, a flag that is not 0 or 1, a quaternion that is not unit (its norm),
+/// time not increasing, a file with no sample; Error when it cannot be read.
+FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel& model);
+
+}  // namespace dynid
