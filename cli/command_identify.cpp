@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "analysis/runs/summarize.hpp"
+#include "cli/command_floating.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -68,7 +69,8 @@ void addIdentifyOptions(po::options_description& options) {
       "method", po::value<std::string>()->default_value("ols"),
       "ols (ordinary), wls (weighted per joint, Gautier), pc (physically consistent: least "
       "squares regularised by the entropic divergence from the prior) or combined (pc's fit of "
-      "the torques and the motion's GC residuals together, physically consistent)")(
+      "the torques and the motion's GC residuals together, physically consistent); with "
+      "--floating-base ols or wls (each channel's noise estimated; the default there)")(
       "prior", po::value<std::string>(),
       "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
       "data", po::value<std::string>(), "training dataset CSV")(
@@ -95,6 +97,9 @@ void addIdentifyOptions(po::options_description& options) {
                         "friction columns that need sign(dq) the fit reproduces (parallel "
                         "filtering)");
   addCombinedOptions(options);
+  addFloatingOptions(options,
+                     "estimates each sensor set the floating dataset --data feeds "
+                     "(floating_identification.json, .md)");
   addPriorWeightOption(options);
   addRestVelocityOption(options);
   addThreadsOption(options);
@@ -150,9 +155,13 @@ int runIdentify(const std::vector<std::string>& args) {
   const std::string usage =
       "dynid identify --method ols|wls|pc|combined --robot R [--drives] --data train.csv "
       "[--validate test.csv] --out DIR\n       dynid identify --method ols|wls|pc --summaries "
-      "S.summary.json... [--validate test.csv] --out DIR";
+      "S.summary.json... [--validate test.csv] --out DIR\n       dynid identify --robot R.urdf "
+      "--floating-base --data F.csv [--contacts L1,L2:frame] [--sensors S1,S2] [--method ols|wls] "
+      "--out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
+  if (vm["floating-base"].as<bool>()) return runFloatingIdentify(vm);
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion"});
   IdentifyRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });

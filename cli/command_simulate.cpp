@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "cli/command_floating.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -62,6 +63,12 @@ void addSimulateOptions(po::options_description& options) {
       ".truth.csv for .csv; - for standard output)")(
       "out", po::value<std::string>()->required(),
       "dataset CSV to write, or - for standard output");
+  addFloatingOptions(options,
+                     "writes a floating dataset of random states (docs/FLOATING.md): the joint "
+                     "torques and contact wrenches inverse dynamics needs, with noise");
+  options.add_options()("samples", po::value<int>())("noise-force",
+                                                     po::value<double>()->default_value(0.0))(
+      "noise-moment", po::value<double>()->default_value(0.0));
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -205,8 +212,15 @@ int runSimulate(const std::vector<std::string>& args) {
   addSimulateOptions(options);
   addThreadsOption(options);  // the dataset's rows are formatted on them
   po::variables_map vm;
-  if (!parseCommandLine(args, options, "dynid simulate --robot R [options] --out FILE.csv", vm))
+  if (!parseCommandLine(args, options,
+                        "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
+                        "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
+                        "[--samples N] [--noise-tau S] [--noise-force S] --out FILE.csv",
+                        vm))
     return kExitOk;
+  if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
+  refuseFloatingOptions(
+      vm, {"contacts", "sensors", "motion", "samples", "noise-force", "noise-moment"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

@@ -18,12 +18,6 @@ std::vector<std::string> namesOf(const BaseParameters& base, const std::vector<i
   return out;
 }
 
-json contactJson(const Contact& c) {
-  return {{"name", c.name},
-          {"kind", c.kind == Contact::Kind::kPoint ? "point" : "frame"},
-          {"body", c.body}};
-}
-
 json setJson(const SensorSetBase& s, const Eigen::VectorXd& beta) {
   const BaseParameters& base = s.base;
   json bases = json::array();
@@ -47,12 +41,18 @@ std::string gainText(const SensorGain& g) {
 }
 }  // namespace
 
+json floatingContactJson(const Contact& c) {
+  return {{"name", c.name},
+          {"kind", c.kind == Contact::Kind::kPoint ? "point" : "frame"},
+          {"body", c.body}};
+}
+
 json floatingIdentifiabilityJson(const FloatingModel& model,
                                  const FloatingIdentifiabilityOutcome& outcome) {
   json sets = json::array(), contacts = json::array(), gains = json::array();
   for (std::size_t k = 0; k < outcome.sets.size(); ++k)
     sets.push_back(setJson(outcome.sets[k], outcome.model_beta[k]));
-  for (const Contact& c : outcome.contacts) contacts.push_back(contactJson(c));
+  for (const Contact& c : outcome.contacts) contacts.push_back(floatingContactJson(c));
   for (const SensorGain& g : outcome.gains)
     gains.push_back(
         {{"from", sensorSetName(g.from)}, {"to", sensorSetName(g.to)}, {"gained", g.gained}});

@@ -10,6 +10,9 @@
 
 namespace dynid {
 
+/// A contact as the floating documents write it: name, kind (point or frame), body.
+nlohmann::json floatingContactJson(const Contact& contact);
+
 nlohmann::json floatingIdentifiabilityJson(const FloatingModel& model,
                                            const FloatingIdentifiabilityOutcome& outcome);
 std::string floatingIdentifiabilityMarkdown(const FloatingModel& model,

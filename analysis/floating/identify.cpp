@@ -16,7 +16,9 @@ const char* floatingMethodName(FloatingMethod method) {
 FloatingMethod parseFloatingMethod(const std::string& text) {
   if (text == "ols") return FloatingMethod::kOls;
   if (text == "wls") return FloatingMethod::kWls;
-  throw InputError("`method`: '" + text + "' is no floating-base method (ols, wls)");
+  throw InputError("`method` is '" + text +
+                   "'; a floating base takes ols or wls (pc and combined are not built for "
+                   "floating bases)");
 }
 
 namespace {
@@ -106,8 +108,12 @@ FloatingFit fitSet(const FloatingIdentifyRequest& request, FloatingSetEstimate& 
     options.generalized = false;
     return fitFloating(out.base.base, set, samples, options);
   }
-  if (!shared) return fitFloatingFeasible(out.base.base, set, samples, &out.variances);
+  if (!shared) {
+    out.variances_from = set;
+    return fitFloatingFeasible(out.base.base, set, samples, &out.variances);
+  }
   out.variances = *shared;
+  out.variances_from = SensorSet::kTorquesAndWrenches;
   for (FloatingMeasurement& m : samples)
     for (Eigen::Index r = 0; r < m.force_variance.size(); ++r)
       m.force_variance[r] =

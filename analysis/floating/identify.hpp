@@ -47,6 +47,9 @@ struct FloatingSetEstimate {
   /// wls: the channel variances the fit is weighted by, torques_wrenches' estimate for every set
   /// when it has one (the same sensors feed them all), else the set's own.
   ChannelVariances variances;
+  /// The set whose rows estimated them (a channel it does not read keeps 1: torques for
+  /// wrenches, forces and moments for torques_contacts).
+  SensorSet variances_from = SensorSet::kTorquesAndWrenches;
   Eigen::VectorXd model_beta;  // the model's own base parameters
   /// ||W beta - y|| / ||y|| in percent, on the data and on the held-out data (NaN without).
   double residual_percent = 0.0, validation_percent = 0.0;

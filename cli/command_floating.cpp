@@ -1,0 +1,170 @@
+// The floating-base branches of identifiability, identify and simulate (--floating-base): the
+// floating wing's front end (analysis/floating/, docs/FLOATING.md).
+#include "cli/command_floating.hpp"
+
+#include <iostream>
+#include <set>
+
+#include "analysis/floating/identifiability.hpp"
+#include "analysis/floating/identify.hpp"
+#include "analysis/floating/simulate.hpp"
+#include "analysis/records/provenance.hpp"
+#include "cli/common.hpp"
+#include "cli/spelling.hpp"
+#include "core/format.hpp"
+#include "data/floating/floating_dataset.hpp"
+#include "data/io.hpp"
+#include "data/json_number.hpp"
+#include "data/robots.hpp"
+#include "reports/floating_identification_report.hpp"
+#include "reports/floating_report.hpp"
+#include "reports/output.hpp"
+
+namespace dynid::cli {
+
+namespace {
+/// Refuses every option given that a floating-base run of the command does not read.
+void refuseOutside(const po::variables_map& vm, const std::set<std::string>& read,
+                   const char* command) {
+  static const std::set<std::string> robot = {"robot", "drives", "drive-terms", "strict",
+                                              "floating-base"};
+  for (const auto& [name, value] : vm)
+    if (!value.defaulted() && !read.count(name) && !robot.count(name))
+      throw UsageError("--" + name + " does not apply to " + command +
+                       " --floating-base (docs/FLOATING.md)");
+}
+
+FloatingModel loadFloating(const po::variables_map& vm) {
+  std::vector<std::string> warnings;
+  FloatingModel model =
+      loadFloatingRobot(vm["robot"].as<std::string>(), robotOptions(vm), &warnings);
+  printWarnings(warnings);
+  return model;
+}
+
+/// --sensors and --motion as the request's; usage errors naming the flag.
+void readSetsAndMotion(const po::variables_map& vm, std::vector<SensorSet>& sensors,
+                       std::optional<FloatingMotion>& motion) {
+  try {
+    for (const std::string& name : nameListOption(vm, "sensors"))
+      sensors.push_back(parseSensorSet(name));
+    if (vm.count("motion")) motion = parseFloatingMotion(vm["motion"].as<std::string>());
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+}
+}  // namespace
+
+void addFloatingOptions(po::options_description& options, const std::string& does) {
+  options.add_options()(
+      "floating-base", po::bool_switch(),
+      ("the robot (a URDF) floats: a free-flyer joint at its root; " + does).c_str())(
+      "contacts", po::value<std::string>(),
+      "with --floating-base: the links that touch the world, comma-separated, each NAME (a point "
+      "force), NAME:point or NAME:frame (a wrench, a flat foot)")(
+      "sensors", po::value<std::string>(),
+      "with --floating-base: wrenches, torques_wrenches, torques_contacts (comma-separated; "
+      "default all)")(
+      "motion", po::value<std::string>(),
+      "with --floating-base: holding (contacts hold; the default with --contacts), free (nothing "
+      "holds; the default without) or suspended (the base held still)");
+}
+
+void refuseFloatingOptions(const po::variables_map& vm,
+                           std::initializer_list<const char*> options) {
+  for (const char* option : options)
+    if (vm.count(option) && !vm[option].defaulted())
+      throw UsageError(std::string("--") + option + " needs --floating-base");
+}
+
+int runFloatingIdentifiability(const po::variables_map& vm) {
+  if (vm.count("data"))
+    throw UsageError(
+        "--data with --floating-base: a floating-base dataset's excitation is not "
+        "measured yet; the analysis is structural (docs/FLOATING.md)");
+  FloatingIdentifiabilityRequest request;
+  request.structural = structuralOptions(vm);
+  request.contacts = nameListOption(vm, "contacts");
+  readSetsAndMotion(vm, request.sensors, request.motion);
+  const FloatingModel model = loadFloating(vm);
+  const FloatingIdentifiabilityOutcome outcome = floatingIdentifiabilityRun(model, request);
+  const std::string dir = vm["out"].as<std::string>();
+  writeReportFiles(
+      dir, {{"floating_identifiability.json",
+             jsonText(withProvenance(floatingIdentifiabilityJson(model, outcome)), 2) + "\n"},
+            {"floating_identifiability.md", floatingIdentifiabilityMarkdown(model, outcome)}});
+  for (const SensorSetBase& s : outcome.sets)
+    if (s.base.rankGap() < 1e4)
+      std::cerr << "warning: " << sensorSetName(s.set) << ": the rank gap is only "
+                << formatNumber(s.base.rankGap(), 4)
+                << " (below 1e4): a close call; try more --samples\n";
+  std::cout << floatingIdentifiabilitySummary(model, outcome, dir);
+  return kExitOk;
+}
+
+int runFloatingIdentify(const po::variables_map& vm) {
+  refuseOutside(vm,
+                {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples",
+                 "seed", "tolerance", "threads"},
+                "identify");
+  if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
+  if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
+  FloatingIdentifyRequest request;
+  try {
+    if (!vm["method"].defaulted())  // ols or wls; the request's default (wls) otherwise
+      request.method = parseFloatingMethod(vm["method"].as<std::string>());
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+  request.structural = structuralOptions(vm);
+  request.contacts = nameListOption(vm, "contacts");
+  readSetsAndMotion(vm, request.sensors, request.motion);
+  const FloatingModel model = loadFloating(vm);
+  FloatingDataSources sources{vm["data"].as<std::string>(), ""};
+  const FloatingDataset data = readFloatingDataset(sources.data, model);
+  std::optional<FloatingDataset> validation;
+  if (vm.count("validate")) {
+    sources.validation = vm["validate"].as<std::string>();
+    validation = readFloatingDataset(sources.validation, model);
+  }
+  const FloatingIdentifyOutcome outcome =
+      floatingIdentifyRun(model, request, data, validation ? &*validation : nullptr);
+  const std::string dir = vm["out"].as<std::string>();
+  writeReportFiles(
+      dir,
+      {{"floating_identification.json",
+        jsonText(withProvenance(floatingIdentificationJson(model, outcome, sources)), 2) + "\n"},
+       {"floating_identification.md", floatingIdentificationMarkdown(model, outcome, sources)}});
+  std::cout << cliText(floatingIdentificationSummary(model, outcome, dir));
+  return kExitOk;
+}
+
+int runFloatingSimulate(const po::variables_map& vm) {
+  refuseOutside(vm,
+                {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
+                 "noise-moment", "threads"},
+                "simulate");
+  const FloatingModel model = loadFloating(vm);
+  FloatingSimulationOptions options;
+  options.contacts = contactsOf(model, nameListOption(vm, "contacts"));
+  std::optional<FloatingMotion> motion;
+  std::vector<SensorSet> unused;
+  readSetsAndMotion(vm, unused, motion);
+  options.motion =
+      motion.value_or(options.contacts.empty() ? FloatingMotion::kFree : FloatingMotion::kHolding);
+  options.samples = vm.count("samples") ? vm["samples"].as<int>() : 200;
+  options.seed = vm["seed"].as<std::uint64_t>();
+  options.torque_noise = vm["noise-tau"].as<double>();
+  options.force_noise = vm["noise-force"].as<double>();
+  options.moment_noise = vm["noise-moment"].as<double>();
+  const std::string out = vm["out"].as<std::string>();
+  writeFloatingDataset(out, simulateFloatingDataset(model, options));
+  (out == "-" ? std::cerr : std::cout)
+      << model.name() << " (floating base " << model.baseName() << ", "
+      << floatingMotionName(options.motion) << "): " << options.samples
+      << " random states, one a row (independent draws, not a trajectory), to "
+      << (out == "-" ? "standard output" : out) << "\n";
+  return kExitOk;
+}
+
+}  // namespace dynid::cli

@@ -1,0 +1,157 @@
+#include "reports/floating_identification_report.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "analysis/records/document.hpp"
+#include "core/format.hpp"
+#include "data/json_number.hpp"
+#include "reports/floating_report.hpp"
+
+namespace dynid {
+
+using nlohmann::json;
+
+namespace {
+/// The channels' noise standard deviations the weighted fit used, each null where the data have
+/// no such channel or the estimating set does not read it.
+json noiseJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& s) {
+  if (outcome.method == FloatingMethod::kOls) return nullptr;
+  bool frames = false, wrenches = false;
+  for (const Contact& c : outcome.contacts) frames = frames || c.kind == Contact::Kind::kFrame;
+  wrenches = !outcome.contacts.empty() && s.variances_from != SensorSet::kTorquesAndContactFlags;
+  const bool torques = s.variances_from != SensorSet::kWrenches;
+  const auto sd = [](bool read, double variance) {
+    return read ? json(std::sqrt(variance)) : json(nullptr);
+  };
+  return {{"torque", sd(torques, s.variances.torque)},
+          {"force", sd(wrenches, s.variances.force)},
+          {"moment", sd(wrenches && frames, s.variances.moment)},
+          {"estimated_by", sensorSetName(s.variances_from)}};
+}
+
+json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& s) {
+  const BaseParameters& base = s.base.base;
+  json out = {{"sensors", sensorSetName(s.base.set)},
+              {"description", sensorSetDescription(s.base.set)},
+              {"num_base", base.numBase()},
+              {"refused", s.refused.empty() ? json(nullptr) : json(s.refused)}};
+  if (!s.refused.empty()) return out;
+  json parameters = json::array();
+  for (int j = 0; j < base.numBase(); ++j) {
+    const double z = (s.fit.beta[j] - s.model_beta[j]) / s.fit.sd[j];
+    parameters.push_back({{"name", base.baseName(j)},
+                          {"expression", base.expression(j)},
+                          {"estimate", s.fit.beta[j]},
+                          {"sd", numberOrNull(s.fit.sd[j])},
+                          {"model_value", s.model_beta[j]},
+                          {"z", numberOrNull(z)}});
+  }
+  out.update({{"rows", s.fit.rows},
+              {"residual_scale", s.fit.residual_scale},
+              {"noise_sd", noiseJson(outcome, s)},
+              {"residual_percent", s.residual_percent},
+              {"validation_percent", numberOrNull(s.validation_percent)},
+              {"model_error_percent", s.model_error_percent},
+              {"model_z_rms", numberOrNull(s.model_z_rms)},
+              {"base_parameters", parameters}});
+  return out;
+}
+
+std::string percent(double x) { return formatNumber(x, 3) + " %"; }
+}  // namespace
+
+json floatingIdentificationJson(const FloatingModel& model, const FloatingIdentifyOutcome& outcome,
+                                const FloatingDataSources& sources) {
+  json sets = json::array(), contacts = json::array();
+  for (const FloatingSetEstimate& s : outcome.sets) sets.push_back(setJson(outcome, s));
+  for (const Contact& c : outcome.contacts) contacts.push_back(floatingContactJson(c));
+  json report = documentHeader(kFloatingIdentificationDocument);
+  report.update(
+      {{"robot", model.name()},
+       {"base_link", model.baseName()},
+       {"joints", model.numJoints()},
+       {"drive_terms", driveTermsKeys(model.limbs().driveTerms())},
+       {"num_standard", model.numParameters()},
+       {"standard_parameters", floatingParameterNames(model)},
+       {"data", {{"file", sources.data}, {"samples", outcome.samples}}},
+       {"validation", sources.validation.empty() ? json(nullptr)
+                                                 : json{{"file", sources.validation},
+                                                        {"samples", outcome.validation_samples}}},
+       {"contacts", contacts},
+       {"motion", floatingMotionName(outcome.motion)},
+       {"method", floatingMethodName(outcome.method)},
+       {"sets", sets}});
+  return report;
+}
+
+std::string floatingIdentificationMarkdown(const FloatingModel& model,
+                                           const FloatingIdentifyOutcome& outcome,
+                                           const FloatingDataSources& sources) {
+  std::ostringstream md;
+  md << "# " << model.name() << "'s base parameters from a floating-base dataset\n\n";
+  md << "- Data: `" << sources.data << "`, " << outcome.samples << " samples";
+  if (!sources.validation.empty())
+    md << "; held out: `" << sources.validation << "`, " << outcome.validation_samples
+       << " samples";
+  md << "\n- Method: " << floatingMethodName(outcome.method)
+     << (outcome.method == FloatingMethod::kWls
+             ? " (each channel's noise estimated from the data, every row weighted by it)"
+             : " (every row alike)")
+     << "; motion: " << floatingMotionName(outcome.motion) << "; contacts:";
+  if (outcome.contacts.empty()) md << " none";
+  for (const Contact& c : outcome.contacts)
+    md << " `" << c.name << "` (" << (c.kind == Contact::Kind::kPoint ? "point" : "frame") << ")";
+  md << "\n\nThe residual is ||W beta - y|| / ||y|| over the set's rows; the error against the "
+        "model compares the estimate with the model's own base parameters (the truth when the "
+        "model made the data), in percent of their norm and in standard deviations (z RMS 1: "
+        "intervals that hold).\n\n";
+  md << "| sensors | base parameters | residual | held out | from the model | z RMS |\n"
+        "|---|---|---|---|---|---|\n";
+  for (const FloatingSetEstimate& s : outcome.sets) {
+    md << "| " << sensorSetName(s.base.set) << " | " << s.base.base.numBase() << " | ";
+    if (!s.refused.empty()) {
+      md << "not estimated: " << s.refused << " | | | |\n";
+      continue;
+    }
+    md << percent(s.residual_percent) << " | "
+       << (std::isnan(s.validation_percent) ? "-" : percent(s.validation_percent)) << " | "
+       << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3) << " |\n";
+  }
+  for (const FloatingSetEstimate& s : outcome.sets) {
+    if (!s.refused.empty()) continue;
+    md << "\n## " << sensorSetName(s.base.set) << "\n\n"
+       << sensorSetDescription(s.base.set)
+       << ".\n\n| # | combination | estimate | sd | model |\n|---|---|---|---|---|\n";
+    for (int j = 0; j < s.base.base.numBase(); ++j)
+      md << "| " << j + 1 << " | `" << s.base.base.expression(j) << "` | "
+         << formatNumber(s.fit.beta[j], 6) << " | " << formatNumber(s.fit.sd[j], 3) << " | "
+         << formatNumber(s.model_beta[j], 6) << " |\n";
+  }
+  return md.str();
+}
+
+std::string floatingIdentificationSummary(const FloatingModel& model,
+                                          const FloatingIdentifyOutcome& outcome,
+                                          const std::string& dir) {
+  std::ostringstream out;
+  out << model.name() << " (floating base " << model.baseName() << ", "
+      << floatingMotionName(outcome.motion) << ", " << floatingMethodName(outcome.method)
+      << "): " << outcome.samples << " samples\n";
+  for (const FloatingSetEstimate& s : outcome.sets) {
+    out << "  " << sensorSetName(s.base.set) << ": ";
+    if (!s.refused.empty()) {
+      out << "not estimated: " << s.refused << "\n";
+      continue;
+    }
+    out << s.base.base.numBase() << " base parameters, residual " << percent(s.residual_percent);
+    if (!std::isnan(s.validation_percent)) out << ", held out " << percent(s.validation_percent);
+    out << ", " << percent(s.model_error_percent) << " from the model (z RMS "
+        << formatNumber(s.model_z_rms, 3) << ")\n";
+  }
+  out << "wrote " << dir << "/floating_identification.json and " << dir
+      << "/floating_identification.md\n";
+  return out.str();
+}
+
+}  // namespace dynid

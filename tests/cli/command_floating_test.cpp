@@ -1,0 +1,145 @@
+// The floating-base branches (cli/command_floating.cpp): identifiability, simulate and identify
+// with --floating-base, on the example quadruped and humanoid (examples/floating/).
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "data/io.hpp"
+#include "tests/common/cli.hpp"
+#include "tests/common/sample_models.hpp"
+
+namespace dynid {
+namespace {
+
+using test::contains;
+using test::Result;
+using test::run;
+
+const std::string kAnymal =
+    std::string(DYNID_SOURCE_DIR) + "/examples/floating/anymal_c/anymal.urdf";
+const std::string kRomeo =
+    std::string(DYNID_SOURCE_DIR) + "/examples/floating/romeo/romeo_small.urdf";
+const char* kFeet = "LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT";
+
+/// ANYmal C (examples/floating/anymal_c) on its four point feet: every sensor set's count, the
+/// drives' columns seen only by joint torques.
+TEST(Cli, IdentifiabilityOfAFloatingBase) {
+  const std::string dir = test::tempPath("ident-floating");
+  const std::string& robot = kAnymal;
+  const Result r = run("identifiability --robot " + robot +
+                       " --floating-base --contacts LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT "
+                       "--drive-terms fv,fc --out " +
+                       dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/floating_identifiability.json"));
+  EXPECT_EQ(j["kind"], "dynid.floating_identifiability");
+  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["motion"], "holding");
+  EXPECT_EQ(j["joints"], 12);
+  EXPECT_EQ(j["num_standard"], 10 + 12 * 12);  // the base body's 10, each limb's 10 + Fv, Fc
+  ASSERT_EQ(j["sets"].size(), 3u);
+  const int wrenches = j["sets"][0]["num_base"], full = j["sets"][1]["num_base"];
+  const int flags = j["sets"][2]["num_base"];
+  // The six base rows see every inertial base parameter the whole body does (Ayusawa et al.
+  // 2014), but no friction: the joints' 24 friction parameters are what the torques add.
+  EXPECT_EQ(full - wrenches, 24);
+  EXPECT_EQ(flags, full);
+  EXPECT_EQ(j["gains"][0]["gained"], 24);
+  EXPECT_TRUE(contains(r.out, "the joint torques add 24 base parameters to wrenches")) << r.out;
+  const std::string md = readFile(dir + "/floating_identifiability.md");
+  EXPECT_TRUE(contains(md, "| torques_contacts |")) << md;
+}
+
+TEST(Cli, IdentifiabilityOfAFloatingBaseRefusesWhatItCannotUse) {
+  const std::string& robot = kAnymal;
+  const std::string dir = test::tempPath("ident-floating-bad");
+  // A contact the robot lacks: the field, the name and the links there are.
+  Result r =
+      run("identifiability --robot " + robot + " --floating-base --contacts LF_PAW --out " + dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "--contacts")) << r.err;
+  EXPECT_TRUE(contains(r.err, "'LF_PAW'")) << r.err;
+  EXPECT_TRUE(contains(r.err, "LF_FOOT")) << r.err;
+  // Floating-only options without --floating-base, an unknown sensor set, a built-in arm.
+  EXPECT_EQ(run("identifiability --robot puma560 --contacts a --out " + dir).code, 2);
+  r = run("identifiability --robot " + robot + " --floating-base --sensors imu --out " + dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--sensors")) << r.err;
+  EXPECT_EQ(run("identifiability --robot puma560 --floating-base --out " + dir).code, 1);
+  // Holding without contacts.
+  r = run("identifiability --robot " + robot + " --floating-base --motion holding --out " + dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "--contacts")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/floating_identifiability.json"));
+}
+
+/// simulate writes a floating dataset; identify estimates every set it feeds, and the noise-free
+/// estimate is the model's own base parameters (the humanoid on its soles: frame contacts).
+TEST(Cli, SimulateAndIdentifyAFloatingBase) {
+  const std::string dir = test::tempPath("floating-identify");
+  std::filesystem::create_directories(dir);
+  for (const char* seed : {"1", "2"}) {
+    const Result r = run("simulate --robot " + kRomeo +
+                         " --floating-base --contacts l_sole:frame,r_sole:frame --samples 60 "
+                         "--seed " +
+                         std::string(seed) + " --out " + dir + "/d" + seed + ".csv");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(contains(r.out, "60 random states")) << r.out;
+  }
+  const Result r = run("identify --robot " + kRomeo + " --floating-base --method ols --data " +
+                       dir + "/d1.csv --validate " + dir + "/d2.csv --out " + dir + "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "torques_contacts:")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
+  EXPECT_EQ(j["kind"], "dynid.floating_identification");
+  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["method"], "ols");
+  EXPECT_EQ(j["motion"], "holding");
+  EXPECT_EQ(j["contacts"][0]["kind"], "frame");
+  EXPECT_EQ(j["validation"]["samples"], 60);
+  ASSERT_EQ(j["sets"].size(), 3u);
+  for (const auto& set : j["sets"]) {
+    ASSERT_TRUE(set["refused"].is_null()) << set["refused"];
+    // Noise-free: 1e-9 relative (the issue's), in percent.
+    EXPECT_LT(set["model_error_percent"].get<double>(), 1e-7) << set["sensors"];
+    EXPECT_LT(set["validation_percent"].get<double>(), 1e-7) << set["sensors"];
+    EXPECT_EQ(set["base_parameters"].size(), set["num_base"]);
+  }
+  EXPECT_TRUE(j.contains("provenance"));
+  const std::string md = readFile(dir + "/est/floating_identification.md");
+  EXPECT_TRUE(contains(md, "| torques_wrenches |")) << md;
+}
+
+/// With noise and wls (the default), each channel's noise comes out of the data.
+TEST(Cli, IdentifyAFloatingBaseEstimatesItsNoise) {
+  const std::string dir = test::tempPath("floating-noise");
+  std::filesystem::create_directories(dir);
+  Result r = run("simulate --robot " + kAnymal + " --floating-base --contacts " + kFeet +
+                 " --samples 300 --noise-tau 0.5 --noise-force 2 --out " + dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("identify --robot " + kAnymal + " --floating-base --data " + dir + "/d.csv --out " + dir +
+          "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
+  EXPECT_EQ(j["method"], "wls");
+  const auto& noise = j["sets"][1]["noise_sd"];
+  EXPECT_EQ(noise["estimated_by"], "torques_wrenches");
+  // Thousands of residuals: each sd within a few percent of the simulated; 10 % is the bound.
+  EXPECT_NEAR(noise["torque"].get<double>(), 0.5, 0.05);
+  EXPECT_NEAR(noise["force"].get<double>(), 2.0, 0.2);
+  EXPECT_TRUE(noise["moment"].is_null());  // point feet carry no moment
+}
+
+/// The dataset to standard output, read back from a file.
+TEST(Cli, SimulateAFloatingBaseToStandardOutput) {
+  const Result r = run("simulate --robot " + kAnymal +
+                       " --floating-base --motion suspended --samples 4 --out -");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrench:base:nx")) << r.out;  // the support, at the base link
+  EXPECT_TRUE(contains(r.err, "suspended")) << r.err;
+}
+
+}  // namespace
+}  // namespace dynid
