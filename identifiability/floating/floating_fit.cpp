@@ -51,7 +51,7 @@ void checkSizes(const BaseParameters& base, const FloatingMeasurement& m) {
 /// one) and solved with unit-norm columns (base parameters differ by orders of magnitude: a
 /// trunk's mass and a finger's inertia), then scaled back; the covariance s^2 (W^T W)^-1.
 FloatingFit solveStacked(int p, const std::vector<Eigen::MatrixXd>& blocks,
-                         const std::vector<Eigen::VectorXd>& values) {
+                         const std::vector<Eigen::VectorXd>& values, int exact_rows = 0) {
   Eigen::Index rows = 0;
   for (const Eigen::MatrixXd& b : blocks) rows += b.rows();
   if (rows <= p)
@@ -77,7 +77,10 @@ FloatingFit solveStacked(int p, const std::vector<Eigen::MatrixXd>& blocks,
   out.rows = static_cast<int>(rows);
   out.beta = qr.solve(y).cwiseQuotient(scale);
   const double rss = (W * out.beta - y).squaredNorm();
-  out.residual_scale = std::sqrt(rss / static_cast<double>(rows - p));
+  // The near-constraint rows (factorCovariance) carry no noise: they are no residual degrees of
+  // freedom.
+  out.residual_scale =
+      std::sqrt(rss / static_cast<double>(std::max<Eigen::Index>(rows - exact_rows - p, 1)));
   // s^2 (W^T W)^-1 = s^2 D^-1 (Ws^T Ws)^-1 D^-1, Ws = W D^-1 the unit-column matrix (the
   // inverse taken where it is well conditioned).
   const Eigen::MatrixXd information = scaled.transpose() * scaled;
@@ -92,6 +95,24 @@ FloatingFit solveStacked(int p, const std::vector<Eigen::MatrixXd>& blocks,
 const char* kNotPositive =
     "a floating sample's row covariance is not positive definite: a measured channel has zero "
     "noise variance";
+
+/// The Cholesky factor of a sample's row covariance. Rows no noisy channel reaches (the base rows
+/// in flight: nothing is measured there, the momentum equations hold as they are) have zero
+/// variance: they are kept as near-constraints, with 1e-6 of the largest variance (an sd a
+/// thousandth of the noisiest channel's: far stiffer than any measured row, and no more, so that
+/// the normal equations keep their digits).
+/// `exact_rows` counts them.
+Eigen::LLT<Eigen::MatrixXd> factorCovariance(Eigen::MatrixXd C, int& exact_rows) {
+  Eigen::LLT<Eigen::MatrixXd> llt(C);
+  if (llt.info() == Eigen::Success) return llt;
+  const double largest = C.size() > 0 ? C.diagonal().maxCoeff() : 0.0;
+  if (!(largest > 0.0)) throw InputError(kNotPositive);
+  exact_rows += static_cast<int>((C.diagonal().array() <= 0.0).count());
+  C.diagonal().array() += 1e-6 * largest;
+  llt.compute(C);
+  if (llt.info() != Eigen::Success) throw InputError(kNotPositive);
+  return llt;
+}
 }  // namespace
 
 FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
@@ -99,6 +120,7 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
                         const FloatingFitOptions& options) {
   std::vector<Eigen::MatrixXd> blocks;
   std::vector<Eigen::VectorXd> values;
+  int exact_rows = 0;
   for (const FloatingMeasurement& m : samples) {
     checkSizes(base, m);
     const Eigen::Index n = m.Y.rows() - 6;
@@ -108,15 +130,15 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
       const Eigen::VectorXd tv =
           options.torque_variance.size() == n ? options.torque_variance : Eigen::VectorXd::Ones(n);
       // Whitened by the covariance's Cholesky factor L (C = L L^T): L^-1 W, L^-1 y.
-      const Eigen::LLT<Eigen::MatrixXd> llt(rowCovariance(set, m, tv, m.force_variance));
-      if (llt.info() != Eigen::Success) throw InputError(kNotPositive);
+      const Eigen::LLT<Eigen::MatrixXd> llt =
+          factorCovariance(rowCovariance(set, m, tv, m.force_variance), exact_rows);
       llt.matrixL().solveInPlace(W);
       llt.matrixL().solveInPlace(y);
     }
     blocks.push_back(std::move(W));
     values.push_back(std::move(y));
   }
-  return solveStacked(base.numBase(), blocks, values);
+  return solveStacked(base.numBase(), blocks, values, exact_rows);
 }
 
 namespace {
@@ -153,7 +175,7 @@ struct Whitened {
   std::vector<Eigen::LLT<Eigen::MatrixXd>> factors;
   std::vector<Eigen::MatrixXd> blocks;
   std::vector<Eigen::VectorXd> values;
-  int rows = 0;
+  int rows = 0, exact_rows = 0;
 };
 
 Whitened whiten(const std::vector<SampleRows>& rows, const std::array<double, 3>& variance) {
@@ -161,8 +183,7 @@ Whitened whiten(const std::vector<SampleRows>& rows, const std::array<double, 3>
   for (const SampleRows& s : rows) {
     Eigen::MatrixXd C = variance[0] * s.G[0];
     for (std::size_t g = 1; g < 3; ++g) C += variance[g] * s.G[g];
-    out.factors.emplace_back(C);
-    if (out.factors.back().info() != Eigen::Success) throw InputError(kNotPositive);
+    out.factors.push_back(factorCovariance(std::move(C), out.exact_rows));
     out.blocks.push_back(out.factors.back().matrixL().solve(s.W));
     out.values.push_back(out.factors.back().matrixL().solve(s.y));
     out.rows += static_cast<int>(s.W.rows());
@@ -198,7 +219,7 @@ FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
   const int p = base.numBase();
   {  // Rows that do not determine the parameters are refused before any weighting.
     const Whitened w = whiten(rows, variance);
-    solveStacked(p, w.blocks, w.values);
+    solveStacked(p, w.blocks, w.values, w.exact_rows);
   }
   for (int iteration = 0; iteration < 100; ++iteration) {
     const Whitened w = whiten(rows, variance);
@@ -211,7 +232,8 @@ FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
         d[g] += w.factors[k].solve(rows[k].G[g]).trace();
       }
     }
-    const double dof = static_cast<double>(w.rows - p) / w.rows;
+    const int noisy = w.rows - w.exact_rows;
+    const double dof = static_cast<double>(noisy - p) / noisy;
     double change = 0.0;
     for (std::size_t g = 0; g < 3; ++g) {
       if (d[g] <= 0.0) continue;  // a channel the set does not read
@@ -227,7 +249,7 @@ FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
   }
   if (estimated != nullptr) *estimated = {variance[0], variance[1], variance[2]};
   const Whitened w = whiten(rows, variance);
-  return solveStacked(p, w.blocks, w.values);
+  return solveStacked(p, w.blocks, w.values, w.exact_rows);
 }
 
 }  // namespace dynid

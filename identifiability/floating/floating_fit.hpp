@@ -10,7 +10,9 @@
 // (S_t, S_l the diagonal variances). Ordinary least squares ignores C and reports the white
 // covariance s^2 (W^T W)^-1; generalized least squares whitens each sample's rows by C^-1/2 and
 // reports s^2 (W^T C^-1 W)^-1 with s^2 the whitened residuals' variance (1 when the noise levels
-// are right), which is what makes its intervals calibrated when channels differ.
+// are right), which is what makes its intervals calibrated when channels differ. Rows no channel
+// reaches (the base rows in flight, which hold exactly in this noise model) are weighted as
+// near-constraints: their variance 1e-6 of the sample's largest.
 #pragma once
 
 #include <vector>
