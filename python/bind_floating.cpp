@@ -1,6 +1,6 @@
 // The floating wing: what each sensor set of a floating-base robot determines
-// (analysis/floating/identifiability.hpp, `dynid identifiability --floating-base`), its document
-// as a dict.
+// (analysis/floating/identifiability.hpp, `dynid identifiability --floating-base`), simulated
+// floating datasets (simulate.hpp) and the estimate on them (identify.hpp), documents as dicts.
 #include <optional>
 #include <string>
 #include <vector>
@@ -8,8 +8,11 @@
 #include <pybind11/stl.h>
 
 #include "analysis/floating/identifiability.hpp"
+#include "analysis/floating/identify.hpp"
+#include "analysis/floating/simulate.hpp"
 #include "data/robots.hpp"
 #include "python/run_support.hpp"
+#include "reports/floating_identification_report.hpp"
 #include "reports/floating_report.hpp"
 
 namespace dynid::python {
@@ -40,9 +43,84 @@ py::object floatingIdentifiability(const PathLike& robot,
   return parsedJson(floatingIdentifiabilityJson(model, outcome));
 }
 
+FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms) {
+  RobotOptions options;
+  if (!drive_terms.is_none()) options.drive_terms = driveTermsArg(drive_terms, "drive_terms");
+  return loadFloatingRobot(pathArg(robot, "robot"), options);
+}
+
+py::object floatingIdentify(const PathLike& robot, const PathLike& data,
+                            const OptionalPathLike& validate,
+                            const std::optional<std::vector<std::string>>& contacts,
+                            const std::optional<std::vector<std::string>>& sensors,
+                            const std::optional<std::string>& motion, const std::string& method,
+                            const TermsLike& drive_terms, int samples, std::uint64_t seed) {
+  FloatingIdentifyRequest request;
+  request.contacts = contacts.value_or(std::vector<std::string>{});
+  for (const std::string& name : sensors.value_or(std::vector<std::string>{}))
+    request.sensors.push_back(parseSensorSet(name));
+  if (motion) request.motion = parseFloatingMotion(*motion);
+  request.method = parseFloatingMethod(method);
+  request.structural.samples = samples;
+  request.structural.seed = seed;
+  const FloatingModel model = floatingRobot(robot, drive_terms);
+  FloatingDataSources sources{pathArg(data, "data"), ""};
+  const FloatingDataset training = readFloatingDataset(sources.data, model);
+  std::optional<FloatingDataset> held_out;
+  if (!validate.is_none()) {
+    sources.validation = pathArg(validate, "validate");
+    held_out = readFloatingDataset(sources.validation, model);
+  }
+  FloatingIdentifyOutcome outcome;
+  {
+    py::gil_scoped_release release;
+    outcome = floatingIdentifyRun(model, request, training, held_out ? &*held_out : nullptr);
+  }
+  return parsedJson(floatingIdentificationJson(model, outcome, sources));
+}
+
+std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
+                               const std::optional<std::vector<std::string>>& contacts,
+                               const std::optional<std::string>& motion, int samples,
+                               std::uint64_t seed, double noise_tau, double noise_force,
+                               double noise_moment, const TermsLike& drive_terms) {
+  const FloatingModel model = floatingRobot(robot, drive_terms);
+  FloatingSimulationOptions options;
+  options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
+  options.motion = motion                     ? parseFloatingMotion(*motion)
+                   : options.contacts.empty() ? FloatingMotion::kFree
+                                              : FloatingMotion::kHolding;
+  options.samples = samples;
+  options.seed = seed;
+  options.torque_noise = noise_tau;
+  options.force_noise = noise_force;
+  options.moment_noise = noise_moment;
+  const std::string path = pathArg(out, "out");
+  {
+    py::gil_scoped_release release;
+    writeFloatingDataset(path, simulateFloatingDataset(model, options));
+  }
+  return path;
+}
+
 }  // namespace
 
 void bindFloating(py::module_& m) {
+  m.def("floating_identify", &floatingIdentify, py::arg("robot"), py::arg("data"),
+        py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
+        py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",
+        py::arg("drive_terms") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
+        "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
+        "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
+        "(each channel's noise estimated) or ols. Returns floating_identification.json as a dict "
+        "(docs/FLOATING.md).");
+  m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
+        py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
+        py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
+        py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
+        "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
+        "(holding, the default with contacts; free; suspended) written to `out`, with noise on "
+        "the torques, contact forces and moments. Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),
         py::arg("contacts") = py::none(), py::arg("sensors") = py::none(),
         py::arg("motion") = py::none(), py::arg("drive_terms") = py::none(), py::arg("samples") = 0,

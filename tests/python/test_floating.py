@@ -31,3 +31,30 @@ def test_floating_identifiability_names_what_is_wrong():
         dynid.floating_identifiability(ANYMAL, contacts=FEET, sensors=["imu"])
     with pytest.raises(ValueError, match="motion"):
         dynid.floating_identifiability(ANYMAL, motion="free", sensors=["wrenches"])
+
+
+def test_simulate_and_identify_a_floating_base_equal_the_clis(tmp_path):
+    train = dynid.simulate_floating(ANYMAL, tmp_path / "train.csv", contacts=FEET, samples=200,
+                                    noise_tau=0.5, noise_force=2.0, seed=3)
+    dynid.simulate_floating(ANYMAL, tmp_path / "test.csv", contacts=FEET, samples=100, seed=4)
+    doc = dynid.floating_identify(ANYMAL, train, validate=tmp_path / "test.csv")
+    assert doc["kind"] == "dynid.floating_identification"
+    assert doc["method"] == "wls"
+    assert [s["sensors"] for s in doc["sets"]] == ["wrenches", "torques_wrenches",
+                                                  "torques_contacts"]
+    noise = doc["sets"][1]["noise_sd"]
+    # 2400 torque and force residuals: each sd within a few percent; 10 % is the bound.
+    assert noise["torque"] == pytest.approx(0.5, rel=0.1)
+    assert noise["force"] == pytest.approx(2.0, rel=0.1)
+    run_cli("identify", "--robot", ANYMAL, "--floating-base", "--data", train, "--validate",
+            tmp_path / "test.csv", "--out", tmp_path / "cli")
+    cli = read_json(tmp_path / "cli" / "floating_identification.json")
+    assert less_provenance(doc) == less_provenance(cli)
+
+
+def test_floating_identify_names_what_is_wrong(tmp_path):
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=20)
+    with pytest.raises(ValueError, match="method"):
+        dynid.floating_identify(ANYMAL, data, method="pc")
+    with pytest.raises(ValueError, match="contacts"):
+        dynid.floating_identify(ANYMAL, data, contacts=["LF_FOOT"])
