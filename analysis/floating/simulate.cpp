@@ -27,18 +27,33 @@ Eigen::VectorXd forceSd(const FloatingState& state, const FloatingSimulationOpti
   }
   return Eigen::Map<Eigen::VectorXd>(sd.data(), static_cast<Eigen::Index>(sd.size()));
 }
+FloatingStructuralOptions samplingOf(const FloatingSimulationOptions& o) {
+  FloatingStructuralOptions sampling;
+  sampling.structural.seed = o.seed;
+  sampling.contacts = o.contacts;
+  sampling.motion = o.motion;
+  return sampling;
+}
+
+/// What both simulations draw with: the seeded states of the options' motion, a workspace and the
+/// noise's generator.
+struct Draws {
+  Draws(const FloatingModel& model, const FloatingSimulationOptions& o)
+      : sampling(samplingOf(o)), sampler(model, sampling), data(model), rng(o.seed ^ 0x5eed) {}
+  FloatingStructuralOptions sampling;  // before the sampler, which keeps a reference to it
+  FloatingStateSampler sampler;
+  FloatingData data;
+  std::mt19937_64 rng;
+  std::normal_distribution<double> normal{0.0, 1.0};
+};
 }  // namespace
 
 FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& options) {
-  FloatingStructuralOptions sampling;
-  sampling.structural.seed = options.seed;
-  sampling.contacts = options.contacts;
-  sampling.motion = options.motion;
-  FloatingStateSampler sampler(model, sampling);
-  FloatingData data(model);
-  std::mt19937_64 rng(options.seed ^ 0x5eed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  Draws draws(model, options);
+  FloatingStateSampler& sampler = draws.sampler;
+  FloatingData& data = draws.data;
+  const auto normal = [&draws] { return draws.normal(draws.rng); };
   const int n = model.numJoints();
   FloatingSimulation out;
   out.torque_variance = Eigen::VectorXd::Constant(n, options.torque_noise * options.torque_noise);
@@ -57,8 +72,8 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
     if (m.J.rows() > 0) m.tau -= m.J.rightCols(n).transpose() * m.forces;
     const Eigen::VectorXd sd = forceSd(state, options);
     m.force_variance = sd.cwiseProduct(sd);
-    for (Eigen::Index r = 0; r < m.forces.size(); ++r) m.forces[r] += sd[r] * normal(rng);
-    for (int i = 0; i < n; ++i) m.tau[i] += options.torque_noise * normal(rng);
+    for (Eigen::Index r = 0; r < m.forces.size(); ++r) m.forces[r] += sd[r] * normal();
+    for (int i = 0; i < n; ++i) m.tau[i] += options.torque_noise * normal();
     out.samples.push_back(std::move(m));
   }
   return out;
@@ -66,14 +81,10 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
 
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
                                         const FloatingSimulationOptions& options) {
-  FloatingStructuralOptions sampling;
-  sampling.structural.seed = options.seed;
-  sampling.contacts = options.contacts;
-  sampling.motion = options.motion;
-  FloatingStateSampler sampler(model, sampling);
-  FloatingData data(model);
-  std::mt19937_64 rng(options.seed ^ 0x5eed);
-  std::normal_distribution<double> normal(0.0, 1.0);
+  Draws draws(model, options);
+  FloatingStateSampler& sampler = draws.sampler;
+  FloatingData& data = draws.data;
+  const auto normal = [&draws] { return draws.normal(draws.rng); };
   // The contacts the dataset measures: the options', and the base's support when suspended.
   std::vector<Contact> contacts = options.contacts;
   const bool suspended = options.motion == FloatingMotion::kSuspended;
@@ -133,12 +144,11 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
       row += 3;
       out.flags[static_cast<std::size_t>(c)].holding[static_cast<std::size_t>(k)] = 1;
     }
-    for (int j = 0; j < n; ++j) out.tau(j, k) += options.torque_noise * normal(rng);
+    for (int j = 0; j < n; ++j) out.tau(j, k) += options.torque_noise * normal();
     for (FloatingDataset::Wrench& w : out.wrenches)
       for (Eigen::Index r = 0; r < w.values.rows(); ++r)
         w.values(r, k) +=
-            (w.values.rows() == 6 && r < 3 ? options.moment_noise : options.force_noise) *
-            normal(rng);
+            (w.values.rows() == 6 && r < 3 ? options.moment_noise : options.force_noise) * normal();
   }
   return out;
 }
