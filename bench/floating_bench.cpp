@@ -1,13 +1,14 @@
 // The floating-base kernels on the example robots (examples/floating/): inverse dynamics, the
-// regressor and the mass matrix of ANYmal C (12 joints) and Romeo (31 joints), each over 64 random
-// states, as bench/pinocchio/floating.cpp times Pinocchio's free-flyer versions
-// (scripts/pinocchio-bench.sh PINOCCHIO floating).
+// regressor, the mass matrix and forward dynamics (by the mass matrix and by ABA) of ANYmal C (12
+// joints) and Romeo (31 joints), each over 64 random states, as bench/pinocchio/floating.cpp times
+// Pinocchio's free-flyer versions (scripts/pinocchio-bench.sh PINOCCHIO floating).
 #include <benchmark/benchmark.h>
 
 #include <random>
 #include <string>
 #include <vector>
 
+#include "core/floating/floating_aba.hpp"
 #include "core/floating/floating_regressor.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "core/regressor.hpp"
@@ -80,6 +81,23 @@ void BM_FloatingCrba(benchmark::State& state) {
   });
 }
 BENCHMARK(BM_FloatingCrba)->Arg(0)->Arg(1)->ArgName("robot");
+
+// Forward dynamics with the joint torques of the state's ddq column (any values do), no wrench.
+void BM_FloatingForwardDynamics(benchmark::State& state) {
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return floatingForwardDynamics(m, d, s.base[k], s.q[k], s.dq[k], s.ddq[k],
+                                   Vector6<double>::Zero())
+        .data();
+  });
+}
+BENCHMARK(BM_FloatingForwardDynamics)->Arg(0)->Arg(1)->ArgName("robot");
+
+void BM_FloatingAba(benchmark::State& state) {
+  overStates(state, [](const FloatingModel& m, FloatingData& d, const States& s, std::size_t k) {
+    return floatingAba(m, d, s.base[k], s.q[k], s.dq[k], s.ddq[k], Vector6<double>::Zero()).data();
+  });
+}
+BENCHMARK(BM_FloatingAba)->Arg(0)->Arg(1)->ArgName("robot");
 
 // The fixed-base kernels on the same limbs (the base held still), for scale.
 void BM_FixedRneaOfLimbs(benchmark::State& state) {

@@ -197,16 +197,31 @@ template <typename Scalar>
 inline constexpr auto kPermutedTransforms =
     permutedTransforms<Scalar>(std::make_integer_sequence<int, 6>());
 
-/// ABA's pass 1 (velocities, bias forces, articulated inertias initialised), pass 2 (leaves to
-/// root: U, D, u, the parents' inertias and bias forces) and pass 3 (root to leaves: ddq).
+/// What a floating base hands the passes (core/floating/floating_aba.hpp): the root bodies' parent
+/// is the base, whose twist, articulated inertia, bias force and acceleration these are. A fixed
+/// base passes none (kFloating false): its roots' parent is still.
 template <typename Scalar>
+struct AbaRoot {
+  const Vector6<Scalar>* twist = nullptr;         // pass 1: the base's twist (base frame)
+  Matrix6<Scalar>* inertia = nullptr;             // pass 2: the base's articulated inertia so far
+  Vector6<Scalar>* bias = nullptr;                // pass 2: ... and bias force
+  const Vector6<Scalar>* acceleration = nullptr;  // pass 3: the base's (gravity as -g)
+};
+
+/// ABA's pass 1 (velocities, bias forces, articulated inertias initialised), pass 2 (leaves to
+/// root: U, D, u, the parents' inertias and bias forces) and pass 3 (root to leaves: ddq). With
+/// kFloating, the roots hang from `root`'s base.
+template <bool kFloating = false, typename Scalar>
 DYNID_INLINE void abaVelocityPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                                   const ConstVectorRef<Scalar>& dq,
-                                  const ConstVectorRef<Scalar>& tau);
-template <typename Scalar>
-DYNID_INLINE void abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data);
-template <typename Scalar>
-DYNID_INLINE void abaAccelerationPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data);
+                                  const ConstVectorRef<Scalar>& tau,
+                                  const AbaRoot<Scalar>& root = {});
+template <bool kFloating = false, typename Scalar>
+DYNID_INLINE void abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                 const AbaRoot<Scalar>& root = {});
+template <bool kFloating = false, typename Scalar>
+DYNID_INLINE void abaAccelerationPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                      const AbaRoot<Scalar>& root = {});
 
 /// ABA's three passes with data.liMi already holding the joint transforms at q (the sizes checked
 /// by the caller). Inlined into aba and into abaAtTransforms.
@@ -239,10 +254,11 @@ const VectorX<Scalar>& aba(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
 
 /// Pass 1: velocities v_i, velocity-product accelerations c_i = v_i x S dq, and the rigid-body
 /// inertias and bias forces pA_i = v_i x* I v_i.
-template <typename Scalar>
+template <bool kFloating, typename Scalar>
 DYNID_INLINE void aba_detail::abaVelocityPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
                                               const ConstVectorRef<Scalar>& dq,
-                                              const ConstVectorRef<Scalar>& tau) {
+                                              const ConstVectorRef<Scalar>& tau,
+                                              const AbaRoot<Scalar>& root) {
   const int n = model.numJoints();
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = data.liMi[i];
@@ -250,13 +266,14 @@ DYNID_INLINE void aba_detail::abaVelocityPass(const ModelTpl<Scalar>& model, Dat
     const Vector6<Scalar>& S = model.motion_subspaces()[i];
     const Vector3<Scalar> sw = S.template head<3>() * dq[i], sv = S.template tail<3>() * dq[i];
     Vector3<Scalar> w, vl;
-    if (p < 0) {
+    if (!kFloating && p < 0) {
       w = sw;
       vl = sv;
       data.c[i].setZero();
     } else {
       // v = iXp v_p + S dq; c = v x S dq = (iXp v_p) x S dq, since (S dq) x (S dq) = 0.
-      const Vector3<Scalar> wp = data.v[p].template head<3>(), vp = data.v[p].template tail<3>();
+      const Vector6<Scalar>& parent = kFloating && p < 0 ? *root.twist : data.v[p];
+      const Vector3<Scalar> wp = parent.template head<3>(), vp = parent.template tail<3>();
       const Vector3<Scalar> wj = X.rotation.transpose() * wp;
       const Vector3<Scalar> vj = X.rotation.transpose() * (vp - cross(X.translation, wp));
       data.c[i].template head<3>() = cross(wj, sw);
@@ -279,8 +296,9 @@ DYNID_INLINE void aba_detail::abaVelocityPass(const ModelTpl<Scalar>& model, Dat
 
 /// Pass 2 (leaves to root): U = IA S, D = S^T U + Ia, u = tau - S^T pA; the parent receives
 /// IA - U U^T / D and pA + Ia c + U u / D.
-template <typename Scalar>
-DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data) {
+template <bool kFloating, typename Scalar>
+DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, DataTpl<Scalar>& data,
+                                             const AbaRoot<Scalar>& root) {
   const int n = model.numJoints();
   for (int i = n - 1; i >= 0; --i) {
     // A joint no child has added to (a leaf) reads its rigid-body inertia in place.
@@ -297,50 +315,55 @@ DYNID_INLINE void aba_detail::abaInertiaPass(const ModelTpl<Scalar>& model, Data
     data.D_inv[i] = inv_d;
     data.u[i] -= projectOnJoint(model, i, data.bias_force[i]);
     const int p = model.parents()[i];
-    if (p < 0) continue;
+    if (!kFloating && p < 0) continue;
     // pa = pA + Ia c + U u / D with Ia c = IA c - U (U . c) / D. Pass 3 needs u - U . c too.
     data.u_minus_Uc[i] = data.u[i] - data.U[i].dot(data.c[i]);
     Vector6<Scalar> pa = data.bias_force[i];
     pa.noalias() += IA * data.c[i];
     pa += data.U[i] * (data.u_minus_Uc[i] * inv_d);
     const Pose<Scalar>& X = data.liMi[i];
-    Matrix6<Scalar>& parent = data.articulated_inertia[p];
+    // A floating base's inertia starts as its rigid-body inertia (the caller's).
+    const bool on_base = kFloating && p < 0;
+    Matrix6<Scalar>& parent = on_base ? *root.inertia : data.articulated_inertia[p];
+    Vector6<Scalar>& bias_parent = on_base ? *root.bias : data.bias_force[p];
     // The first child (the highest index) starts from the parent's rigid-body inertia.
     const Matrix6<Scalar>& base =
-        data.articulated_written[p] ? parent : model.frame_inertia_matrices()[p];
-    data.articulated_written[p] = 1;
+        on_base || data.articulated_written[p] ? parent : model.frame_inertia_matrices()[p];
+    if (!on_base) data.articulated_written[p] = 1;
     const Vector3<Scalar>& s = model.placement_shift()[i];
     const Vector6<Scalar>& U = data.U[i];
     Vector6<Scalar>& Up = data.U_parent[i];
     const int permutation = model.placement_permutation()[i];
     if (permutation >= 0)
       kPermutedTransforms<Scalar>[permutation](X, s, IA, U, inv_d, base, parent, Up, pa,
-                                               data.bias_force[p]);
+                                               bias_parent);
     else
-      addTransformedInertia(X, IA, U, inv_d, base, parent, Up, pa, data.bias_force[p]);
+      addTransformedInertia(X, IA, U, inv_d, base, parent, Up, pa, bias_parent);
   }
 }
 
 /// Pass 3 (root to leaves): a' = iXp a_p + c, ddq = (u - U^T a') / D, a = a' + S ddq. With
 /// U^T iXp a_p = (pXi* U)^T a_p (pass 2's U_parent), ddq needs only a dot product with a_p, and
 /// the transform of a_p runs beside it: the chain from joint to joint is shorter.
-template <typename Scalar>
+template <bool kFloating, typename Scalar>
 DYNID_INLINE void aba_detail::abaAccelerationPass(const ModelTpl<Scalar>& model,
-                                                  DataTpl<Scalar>& data) {
+                                                  DataTpl<Scalar>& data,
+                                                  const AbaRoot<Scalar>& root) {
   const int n = model.numJoints();
   for (int i = 0; i < n; ++i) {
     const int p = model.parents()[i];
     const Pose<Scalar>& X = data.liMi[i];
     Vector3<Scalar> dw, dv;
     Scalar ddq;
-    if (p < 0) {
+    if (!kFloating && p < 0) {
       dw = data.c[i].template head<3>();
       dv.noalias() = X.rotation.transpose() * (-model.gravity());
       dv += data.c[i].template tail<3>();
       const Scalar ua = data.U[i].template head<3>().dot(dw) + data.U[i].template tail<3>().dot(dv);
       ddq = (data.u[i] - ua) * data.D_inv[i];
     } else {
-      const Vector3<Scalar> dwp = data.a[p].template head<3>(), dvp = data.a[p].template tail<3>();
+      const Vector6<Scalar>& parent = kFloating && p < 0 ? *root.acceleration : data.a[p];
+      const Vector3<Scalar> dwp = parent.template head<3>(), dvp = parent.template tail<3>();
       const Scalar ua = data.U_parent[i].template head<3>().dot(dwp) +
                         data.U_parent[i].template tail<3>().dot(dvp);
       ddq = (data.u_minus_Uc[i] - ua) * data.D_inv[i];

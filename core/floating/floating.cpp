@@ -1,3 +1,4 @@
+#include "core/floating/floating_aba-inl.hpp"
 #include "core/floating/floating_regressor-inl.hpp"
 #include "core/floating/floating_rnea-inl.hpp"
 
@@ -21,6 +22,10 @@ template const MatrixX<double>& floatingCrba(const FloatingModel&, FloatingData&
 template const VectorX<double>& floatingForwardDynamics(
     const FloatingModel&, FloatingData&, const BaseMotion&, const ConstVectorRef<double>&,
     const ConstVectorRef<double>&, const ConstVectorRef<double>&, const Vector6<double>&);
+template const VectorX<double>& floatingAba(const FloatingModel&, FloatingData&, const BaseMotion&,
+                                            const ConstVectorRef<double>&,
+                                            const ConstVectorRef<double>&,
+                                            const ConstVectorRef<double>&, const Vector6<double>&);
 template const RowMatrixX<double>& floatingRegressor(const FloatingModel&, FloatingData&,
                                                      const BaseMotion&,
                                                      const ConstVectorRef<double>&,

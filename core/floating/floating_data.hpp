@@ -55,6 +55,10 @@ struct FloatingDataTpl {
   MatrixX<Scalar> M;
   /// The whole robot's composite inertia in the base frame (floatingCrba).
   RigidInertia<Scalar> base_composite;
+  /// floatingAba: the base's articulated inertia and bias force (the limbs' handed to it), base
+  /// frame.
+  Matrix6<Scalar> base_articulated = Matrix6<Scalar>::Zero();
+  Vector6<Scalar> base_bias = Vector6<Scalar>::Zero();
   /// floatingForwardDynamics' factor of M.
   Eigen::LLT<MatrixX<Scalar>> llt;
   /// floatingRegressor: each joint's motion axis S_j in the base frame.

@@ -18,6 +18,8 @@ constexpr const char* kOrientation[] = {"qw", "qx", "qy", "qz"};
 constexpr const char* kTwist[] = {"wx", "wy", "wz", "vx", "vy", "vz"};
 constexpr const char* kAcceleration[] = {"dwx", "dwy", "dwz", "dvx", "dvy", "dvz"};
 constexpr const char* kJointBlocks[] = {"q", "dq", "ddq", "tau"};
+/// An IMU's gyro (rad/s) and accelerometer (specific force, m/s^2) columns, in its frame's axes.
+constexpr const char* kImu[] = {"wx", "wy", "wz", "ax", "ay", "az"};
 /// A wrench's components in its rows' order (a point's force: the last three).
 constexpr const char* kWrench[] = {"nx", "ny", "nz", "fx", "fy", "fz"};
 
@@ -30,7 +32,8 @@ std::string_view trim(std::string_view s) {
 
 /// Where a column's values go.
 struct Target {
-  enum Kind { kTime, kOrientation, kTwist, kAcceleration, kJoint, kWrench, kFlag } kind = kTime;
+  enum Kind { kTime, kOrientation, kTwist, kAcceleration, kJoint, kWrench, kFlag, kImu };
+  Kind kind = kTime;
   int block = 0;  // joint columns: q, dq, ddq, tau
   int index = 0;  // the component, joint, wrench or flag
   int row = 0;    // a wrench's component row (0..5; a point's force is 3..5 until it is known)
@@ -99,6 +102,7 @@ class HeaderReader {
       fail(c, name,
            "'" + rest + "' is no joint of '" + model_.name() + "'; its joints: " + known(joints));
     }
+    if (kind == "imu") return imuTarget(c, name, rest);
     if (kind == "wrench" || kind == "contact") {
       std::string frame = rest, component;
       if (kind == "wrench") {
@@ -131,7 +135,33 @@ class HeaderReader {
     fail(c, name,
          "unknown column '" + name +
              "'; a floating dataset has t, base:..., q:J, dq:J, "
-             "ddq:J, tau:J, wrench:F:fx.. and contact:F columns (docs/FLOATING.md)");
+             "ddq:J, tau:J, wrench:F:fx.., contact:F and imu:F:wx.. columns (docs/FLOATING.md)");
+  }
+
+  /// imu:F:wx .. az: one IMU, on the base body.
+  Target imuTarget(std::size_t c, const std::string& name, const std::string& rest) {
+    const std::size_t last = rest.rfind(':');
+    const std::string frame = last == std::string::npos ? rest : rest.substr(0, last);
+    const int k = last == std::string::npos ? -1 : indexOf(kImu, 6, rest.substr(last + 1));
+    if (k < 0)
+      fail(c, name,
+           "an IMU column is imu:FRAME:wx (wy, wz: the gyro; ax, ay, az: the "
+           "accelerometer)");
+    const BodyFrame* f = model_.findFrame(frame);
+    if (f == nullptr)
+      fail(c, name,
+           "'" + frame + "' is no frame of '" + model_.name() +
+               "' (an IMU in an unknown frame); "
+               "its frames: " +
+               known(frames_));
+    if (f->body >= 0)
+      fail(c, name,
+           "the IMU's frame '" + frame + "' is on a limb: only an IMU on the base body ('" +
+               model_.baseName() + "' or a link fixed to it) gives the base's motion");
+    if (!out_.imu_frame.empty() && out_.imu_frame != frame)
+      fail(c, name, "a second IMU ('" + out_.imu_frame + "' and '" + frame + "'): give one");
+    out_.imu_frame = frame;
+    return {Target::kImu, 0, k};
   }
 
   void checkComplete(const std::map<std::string, int>& seen) const {
@@ -141,8 +171,16 @@ class HeaderReader {
     };
     require("t");
     for (const char* k : kOrientation) require(std::string("base:") + k);
-    for (const char* k : kTwist) require(std::string("base:") + k);
-    for (const char* k : kAcceleration) require(std::string("base:") + k);
+    if (out_.imu_frame.empty()) {
+      for (const char* k : kTwist) require(std::string("base:") + k);
+      for (const char* k : kAcceleration) require(std::string("base:") + k);
+    } else {
+      for (const char* k : kImu) require("imu:" + out_.imu_frame + ":" + k);
+      for (const auto& [name, column] : seen)
+        if (name.rfind("base:", 0) == 0 && indexOf(kOrientation, 4, name.substr(5)) < 0)
+          throw ParseError(file_, 1, name,
+                           "the base's motion from base: columns and from an IMU: give one");
+    }
     for (int block = 0; block < 3; ++block)
       for (const std::string& j : out_.joints) require(std::string(kJointBlocks[block]) + ":" + j);
     bool any_tau = false;
@@ -242,6 +280,112 @@ void writeFloatingDataset(const std::string& path, const FloatingDataset& d) {
   out.commit();
 }
 
+namespace {
+/// The dataset's signals sized for N samples of the header's columns.
+void sizeSignals(FloatingDataset& out, const std::vector<Target>& targets,
+                 const std::vector<std::array<bool, 6>>& wrench_components, Eigen::Index N) {
+  const Eigen::Index n = static_cast<Eigen::Index>(out.joints.size());
+  out.time.resize(N);
+  out.orientation.resize(4, N);
+  out.twist.resize(6, N);
+  out.acceleration.resize(6, N);
+  for (Eigen::MatrixXd* m : {&out.q, &out.dq, &out.ddq}) m->resize(n, N);
+  bool torques = false;
+  for (const Target& t : targets) torques = torques || (t.kind == Target::kJoint && t.block == 3);
+  out.tau.resize(torques ? n : 0, N);
+  for (std::size_t w = 0; w < out.wrenches.size(); ++w)
+    out.wrenches[w].values.resize(wrench_components[w][0] ? 6 : 3, N);
+  for (auto& f : out.flags) f.holding.resize(static_cast<std::size_t>(N));
+}
+
+/// Sample k's values (one per column) into the dataset, the IMU's into `imu`; its flags, time
+/// order and quaternion checked.
+void assignRow(FloatingDataset& out, const std::vector<Target>& targets,
+               const std::vector<std::string>& names, const double* row, Eigen::Index k,
+               Eigen::Matrix<double, 6, Eigen::Dynamic>& imu) {
+  const int file_line = out.line(static_cast<int>(k));
+  for (std::size_t c = 0; c < targets.size(); ++c) {
+    const Target& t = targets[c];
+    const double x = row[c];
+    switch (t.kind) {
+      case Target::kTime:
+        out.time[k] = x;
+        break;
+      case Target::kOrientation:
+        out.orientation(t.index, k) = x;
+        break;
+      case Target::kTwist:
+        out.twist(t.index, k) = x;
+        break;
+      case Target::kAcceleration:
+        out.acceleration(t.index, k) = x;
+        break;
+      case Target::kImu:
+        imu(t.index, k) = x;
+        break;
+      case Target::kJoint: {
+        Eigen::MatrixXd* m[] = {&out.q, &out.dq, &out.ddq, &out.tau};
+        (*m[t.block])(t.index, k) = x;
+        break;
+      }
+      case Target::kWrench: {
+        Eigen::MatrixXd& v = out.wrenches[static_cast<std::size_t>(t.index)].values;
+        v(v.rows() == 6 ? t.row : t.row - 3, k) = x;
+        break;
+      }
+      case Target::kFlag:
+        if (x != 0.0 && x != 1.0)
+          throw ParseError(out.file, file_line, names[c],
+                           "a contact flag is 0 or 1, not " + formatNumber(x));
+        out.flags[static_cast<std::size_t>(t.index)].holding[static_cast<std::size_t>(k)] =
+            x != 0.0;
+        break;
+    }
+  }
+  if (k > 0 && !(out.time[k] > out.time[k - 1]))
+    throw ParseError(out.file, file_line, "t",
+                     "time " + formatNumber(out.time[k]) + " does not increase (the row before: " +
+                         formatNumber(out.time[k - 1]) + ")");
+  const double norm = out.orientation.col(k).norm();
+  if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
+    throw ParseError(out.file, file_line, "base:qw",
+                     "the base orientation (base:qw, base:qx, base:qy, base:qz) has norm " +
+                         formatNumber(norm, 6) + "; a unit quaternion is within " +
+                         formatNumber(kQuaternionNormTolerance) + " of 1");
+  out.orientation.col(k) /= norm;
+}
+
+/// The base's twist and its derivative from the IMU's signals (floating_dataset.hpp's rule).
+void baseMotionFromImu(const FloatingModel& model, FloatingDataset& d,
+                       const Eigen::Matrix<double, 6, Eigen::Dynamic>& imu) {
+  const Eigen::Index N = d.time.size();
+  if (N < 2)
+    throw ParseError(d.file, d.line(0), "imu:" + d.imu_frame + ":wx",
+                     "one sample: the base's angular acceleration from an IMU needs two or more");
+  const Pose<double>& F = model.findFrame(d.imu_frame)->placement;
+  Eigen::Matrix3Xd w(3, N);
+  for (Eigen::Index k = 0; k < N; ++k) w.col(k) = F.rotation * imu.col(k).head<3>();
+  for (Eigen::Index k = 0; k < N; ++k) {
+    Eigen::Vector3d alpha;
+    if (k == 0 || k == N - 1) {  // one-sided
+      const Eigen::Index a = k == 0 ? 0 : N - 2;
+      alpha = (w.col(a + 1) - w.col(a)) / (d.time[a + 1] - d.time[a]);
+    } else {  // the derivative at t_k of the parabola through the three samples
+      const double h1 = d.time[k] - d.time[k - 1], h2 = d.time[k + 1] - d.time[k];
+      alpha = -h2 / (h1 * (h1 + h2)) * w.col(k - 1) + (h2 - h1) / (h1 * h2) * w.col(k) +
+              h1 / (h2 * (h1 + h2)) * w.col(k + 1);
+    }
+    const Eigen::Matrix3d R = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    const Eigen::Vector3d omega = w.col(k), r = F.translation;
+    // The IMU point's acceleration in base axes, then the base origin's.
+    const Eigen::Vector3d at_imu =
+        F.rotation * imu.col(k).tail<3>() + R.transpose() * model.gravity();
+    d.twist.col(k) << omega, Eigen::Vector3d::Zero();
+    d.acceleration.col(k) << alpha, at_imu - alpha.cross(r) - omega.cross(omega.cross(r));
+  }
+}
+}  // namespace
+
 FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel& model) {
   FloatingDataset out;
   out.file = path;
@@ -269,69 +413,11 @@ FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel
   }
   const Eigen::Index N = static_cast<Eigen::Index>(out.lines.size());
   if (N == 0) throw ParseError(path, 2, "", "no sample: the file has a header and no row");
-  const Eigen::Index n = static_cast<Eigen::Index>(out.joints.size());
-  out.time.resize(N);
-  out.orientation.resize(4, N);
-  out.twist.resize(6, N);
-  out.acceleration.resize(6, N);
-  for (Eigen::MatrixXd* m : {&out.q, &out.dq, &out.ddq}) m->resize(n, N);
-  bool torques = false;
-  for (const Target& t : targets) torques = torques || (t.kind == Target::kJoint && t.block == 3);
-  out.tau.resize(torques ? n : 0, N);
-  for (std::size_t w = 0; w < out.wrenches.size(); ++w)
-    out.wrenches[w].values.resize(header_reader.wrench_components[w][0] ? 6 : 3, N);
-  for (auto& f : out.flags) f.holding.resize(static_cast<std::size_t>(N));
-  for (Eigen::Index k = 0; k < N; ++k) {
-    const double* row = values.data() + k * static_cast<Eigen::Index>(columns);
-    for (std::size_t c = 0; c < columns; ++c) {
-      const Target& t = targets[c];
-      const double x = row[c];
-      switch (t.kind) {
-        case Target::kTime:
-          out.time[k] = x;
-          break;
-        case Target::kOrientation:
-          out.orientation(t.index, k) = x;
-          break;
-        case Target::kTwist:
-          out.twist(t.index, k) = x;
-          break;
-        case Target::kAcceleration:
-          out.acceleration(t.index, k) = x;
-          break;
-        case Target::kJoint: {
-          Eigen::MatrixXd* m[] = {&out.q, &out.dq, &out.ddq, &out.tau};
-          (*m[t.block])(t.index, k) = x;
-          break;
-        }
-        case Target::kWrench: {
-          Eigen::MatrixXd& v = out.wrenches[static_cast<std::size_t>(t.index)].values;
-          v(v.rows() == 6 ? t.row : t.row - 3, k) = x;
-          break;
-        }
-        case Target::kFlag:
-          if (x != 0.0 && x != 1.0)
-            throw ParseError(path, out.line(static_cast<int>(k)), names[c],
-                             "a contact flag is 0 or 1, not " + formatNumber(x));
-          out.flags[static_cast<std::size_t>(t.index)].holding[static_cast<std::size_t>(k)] =
-              x != 0.0;
-          break;
-      }
-    }
-    const int file_line = out.line(static_cast<int>(k));
-    if (k > 0 && !(out.time[k] > out.time[k - 1]))
-      throw ParseError(path, file_line, "t",
-                       "time " + formatNumber(out.time[k]) +
-                           " does not increase (the row before: " + formatNumber(out.time[k - 1]) +
-                           ")");
-    const double norm = out.orientation.col(k).norm();
-    if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
-      throw ParseError(path, file_line, "base:qw",
-                       "the base orientation (base:qw, base:qx, base:qy, base:qz) has norm " +
-                           formatNumber(norm, 6) + "; a unit quaternion is within " +
-                           formatNumber(kQuaternionNormTolerance) + " of 1");
-    out.orientation.col(k) /= norm;
-  }
+  sizeSignals(out, targets, header_reader.wrench_components, N);
+  Eigen::Matrix<double, 6, Eigen::Dynamic> imu(6, out.imu_frame.empty() ? 0 : N);
+  for (Eigen::Index k = 0; k < N; ++k)
+    assignRow(out, targets, names, values.data() + k * static_cast<Eigen::Index>(columns), k, imu);
+  if (!out.imu_frame.empty()) baseMotionFromImu(model, out, imu);
   return out;
 }
 

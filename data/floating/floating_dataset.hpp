@@ -11,7 +11,18 @@
 //                                       link of the model), through F's origin, in F's axes
 //   wrench:F:nx, :ny, :nz               with those, a moment about F's origin: a wrench
 //   contact:F                           1 when the contact at F holds, 0 when not (a flag)
+//   imu:F:wx, :wy, :wz, :ax, :ay, :az   instead of the base twist and its derivative: an IMU on
+//                                       the base body at frame F, its gyro [rad/s] and its
+//                                       accelerometer's specific force [m/s^2] in F's axes
 // A frame may carry a wrench, a flag or both.
+//
+// From an IMU the base's motion is what the dynamics need, not the twist a state estimator would
+// give: omega from the gyro, its derivative by differences over t (three-point, uneven steps;
+// one-sided at the ends), and the base origin's acceleration from the specific force (plus
+// gravity, minus the IMU's lever arm); the base's linear velocity is set to zero and its
+// derivative to that acceleration. The forces do not depend on the base's linear velocity given
+// its origin's acceleration (a moving frame's inertial forces are its accelerations' and its
+// angular velocity's), so the rows are the same.
 #pragma once
 
 #include <string>
@@ -46,6 +57,8 @@ struct FloatingDataset {
   std::vector<Wrench> wrenches;
   std::vector<Flag> flags;
   std::vector<int> lines;  // the file line of each sample (empty: in memory)
+  /// The IMU frame the base's motion came from (empty: base: columns).
+  std::string imu_frame;
 
   int numSamples() const { return static_cast<int>(time.size()); }
   bool hasTorques() const { return tau.rows() > 0; }
@@ -68,7 +81,8 @@ void writeFloatingDataset(const std::string& path, const FloatingDataset& datase
 /// wrench or flag in a frame the model does not have (the frames named), a wrench without all of
 /// fx, fy, fz or with some moment components only, torques for some joints only, a field that is
 /// not a finite number, a flag that is not 0 or 1, a quaternion that is not unit (its norm),
-/// time not increasing, a file with no sample; Error when it cannot be read.
+/// time not increasing, a file with no sample, an IMU not on the base body, two IMUs, an IMU and
+/// base: twist columns both, an IMU with one sample (no derivative); Error when it cannot be read.
 FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel& model);
 
 }  // namespace dynid

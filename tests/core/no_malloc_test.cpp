@@ -12,6 +12,7 @@
 
 #include "core/aba.hpp"
 #include "core/crba.hpp"
+#include "core/floating/floating_aba.hpp"
 #include "core/floating/floating_regressor.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "core/integrators.hpp"
@@ -146,6 +147,7 @@ TEST(NoMalloc, FloatingBaseAlgorithmsAllocateNothing) {
       floatingRegressor(model, data, base, q, dq, ddq);
       floatingCrba(model, data, q);
       floatingForwardDynamics(model, data, base, q, dq, tau, wrench);
+      floatingAba(model, data, base, q, dq, tau, wrench);
       made = count.allocationsSoFar();
     }
     EXPECT_EQ(made, 0) << (drives ? "with drives" : "without drives");

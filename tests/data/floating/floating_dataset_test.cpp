@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <random>
 
 #include "core/errors.hpp"
+#include "core/floating/floating_rnea.hpp"
+#include "core/format.hpp"
 #include "data/urdf.hpp"
 #include "tests/common/sample_models.hpp"
 #include "tests/common/text.hpp"
@@ -209,6 +212,111 @@ TEST(FloatingDataset, AFlagIsZeroOrOne) {
     EXPECT_TRUE(test::contains(e.what(), "contact:RF_FOOT") &&
                 test::contains(e.what(), "a contact flag is 0 or 1, not 2"))
         << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace dynid
+
+namespace dynid {
+namespace {
+
+/// A smooth base motion recorded by the IMU on ANYmal's imu_link (off the base origin, rotated):
+/// the motion read from it gives the inverse dynamics of the true twist and its derivative (the
+/// base's linear velocity does not enter the forces, given its origin's acceleration).
+TEST(FloatingDatasetImu, TheBaseMotionFromAnImuGivesTheSameDynamics) {
+  const FloatingModel& model = anymal();
+  const Pose<double>& F = model.findFrame("imu_link")->placement;
+  const int n = model.numJoints(), N = 201;
+  const double dt = 1e-3;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd q(n, N), dq(n, N), ddq(n, N);
+  for (Eigen::Index k = 0; k < q.size(); ++k)
+    q.data()[k] = u(rng), dq.data()[k] = u(rng), ddq.data()[k] = u(rng);
+  std::vector<BaseMotion> truth;
+  std::string text = "t,base:qw,base:qx,base:qy,base:qz";
+  for (const char* c : {"wx", "wy", "wz", "ax", "ay", "az"})
+    text += std::string(",imu:imu_link:") + c;
+  for (const char* block : {"q:", "dq:", "ddq:"})
+    for (const std::string& j : model.limbs().joint_names) text += "," + std::string(block) + j;
+  text += "\n";
+  for (int k = 0; k < N; ++k) {
+    const double t = k * dt;
+    BaseMotion b;
+    b.rotation = rotationFromRpy(0.1 * std::sin(t), 0.2 * t, 0.3);
+    const Eigen::Vector3d w(0.5 * std::sin(2 * t), 0.3 * std::cos(3 * t), 0.2 * std::sin(t));
+    const Eigen::Vector3d dw(std::cos(2 * t), -0.9 * std::sin(3 * t), 0.2 * std::cos(t));
+    const Eigen::Vector3d v(0.4 * std::cos(t), 0.1 * t, -0.2 * std::sin(2 * t));
+    const Eigen::Vector3d dv(-0.4 * std::sin(t), 0.1, -0.4 * std::cos(2 * t));
+    b.twist << w, v;
+    b.acceleration << dw, dv;
+    truth.push_back(b);
+    // The IMU point's classical acceleration, then the specific force and rate in its axes.
+    const Eigen::Vector3d origin = dv + w.cross(v), r = F.translation;
+    const Eigen::Vector3d at_imu = origin + dw.cross(r) + w.cross(w.cross(r));
+    const Eigen::Vector3d specific =
+        F.rotation.transpose() * (at_imu - b.rotation.transpose() * model.gravity());
+    const Eigen::Vector3d gyro = F.rotation.transpose() * w;
+    const Eigen::Quaterniond o(b.rotation);
+    text += formatNumber(t);
+    for (double x : {o.w(), o.x(), o.y(), o.z()}) text += "," + formatNumber(x);
+    for (int c = 0; c < 3; ++c) text += "," + formatNumber(gyro[c]);
+    for (int c = 0; c < 3; ++c) text += "," + formatNumber(specific[c]);
+    for (const Eigen::MatrixXd* m : {&q, &dq, &ddq})
+      for (int j = 0; j < n; ++j) text += "," + formatNumber((*m)(j, k));
+    text += "\n";
+  }
+  const std::string path = test::tempPath("floating_imu.csv");
+  std::ofstream(path) << text;
+  const FloatingDataset d = readFloatingDataset(path, model);
+  EXPECT_EQ(d.imu_frame, "imu_link");
+  FloatingData data(model);
+  // The ends take one-sided differences (first order in dt): compared inside.
+  for (int k = 1; k + 1 < N; ++k) {
+    BaseMotion read;
+    read.rotation = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    read.twist = d.twist.col(k);
+    read.acceleration = d.acceleration.col(k);
+    EXPECT_TRUE(read.twist.tail<3>().isZero());
+    const Eigen::VectorXd expected = floatingRnea(model, data, truth[static_cast<std::size_t>(k)],
+                                                  q.col(k), dq.col(k), ddq.col(k));
+    const Eigen::VectorXd got = floatingRnea(model, data, read, q.col(k), dq.col(k), ddq.col(k));
+    // The three-point derivative of omega errs by dt^2 / 6 |omega'''| ~ 1e-6 rad/s^2 at dt = 1 ms;
+    // times the robot's inertia, a millionth of the forces and torques.
+    EXPECT_LT((got - expected).norm() / expected.norm(), 1e-6) << "sample " << k;
+  }
+}
+
+TEST(FloatingDatasetImu, AnImuOnALimbOrBesideTheBaseColumnsIsRefused) {
+  const std::string path = test::tempPath("floating_imu_bad.csv");
+  writeFloatingDataset(path, randomDataset(3));
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The twist columns renamed as an IMU's: the derivative's base: columns remain.
+  std::string both = text;
+  for (const char* c : {"wx", "wy", "wz"})
+    replaceFirst(both, std::string("base:") + c, std::string("imu:imu_link:") + c);
+  replaceFirst(both, "base:vx", "imu:imu_link:ax");
+  replaceFirst(both, "base:vy", "imu:imu_link:ay");
+  replaceFirst(both, "base:vz", "imu:imu_link:az");
+  std::ofstream(path) << both;
+  try {
+    readFloatingDataset(path, anymal());
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_TRUE(test::contains(e.what(), "from base: columns and from an IMU: give one"))
+        << e.what();
+  }
+  std::string limb = both;
+  for (const char* c : {"wx", "wy", "wz", "ax", "ay", "az"})
+    replaceFirst(limb, std::string("imu:imu_link:") + c, std::string("imu:LF_SHANK:") + c);
+  std::ofstream(path) << limb;
+  try {
+    readFloatingDataset(path, anymal());
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_TRUE(test::contains(e.what(), "'LF_SHANK' is on a limb")) << e.what();
   }
 }
 
