@@ -1,7 +1,7 @@
 // libFuzzer target: the floating dataset reader (data/floating/floating_dataset.hpp; the base's
-// motion from base: columns or from an IMU), against a
-// one-joint floating robot (base `b`, joint `j`, frames `l` and `f`). A dataset it accepts must be
-// written and read back to the same numbers (the orientation within a rounding: it is normalised).
+// motion from base: columns or from an IMU), against a one-joint floating robot (base `b`, joint
+// `j`, frames `l` and `f`). A dataset it accepts must be written and read back to the same numbers
+// (the orientation within a rounding: it is normalised).
 #include <cstdint>
 
 #include "core/errors.hpp"
