@@ -7,6 +7,7 @@
 
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
+#include "analysis/floating/payload.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "analysis/records/provenance.hpp"
 #include "cli/common.hpp"
@@ -105,7 +106,7 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
 int runFloatingIdentify(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples",
-                 "seed", "tolerance", "threads"},
+                 "seed", "tolerance", "threads", "payload-link"},
                 "identify");
   if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
@@ -129,13 +130,15 @@ int runFloatingIdentify(const po::variables_map& vm) {
   }
   const FloatingIdentifyOutcome outcome =
       floatingIdentifyRun(model, request, data, validation ? &*validation : nullptr);
+  if (vm.count("payload-link"))
+    sources.payloads = floatingPayloads(model, outcome, data, vm["payload-link"].as<std::string>());
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(
       dir,
       {{"floating_identification.json",
         jsonText(withProvenance(floatingIdentificationJson(model, outcome, sources)), 2) + "\n"},
        {"floating_identification.md", floatingIdentificationMarkdown(model, outcome, sources)}});
-  std::cout << cliText(floatingIdentificationSummary(model, outcome, dir));
+  std::cout << cliText(floatingIdentificationSummary(model, outcome, sources, dir));
   return kExitOk;
 }
 

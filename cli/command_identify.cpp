@@ -100,6 +100,10 @@ void addIdentifyOptions(po::options_description& options) {
   addFloatingOptions(options,
                      "estimates each sensor set the floating dataset --data feeds "
                      "(floating_identification.json, .md)");
+  options.add_options()("payload-link", po::value<std::string>(),
+                        "with --floating-base: also the payload fixed to this link (a box on the "
+                        "base, a tool on an arm): its ten parameters from each set, the robot "
+                        "read as unloaded");
   addPriorWeightOption(options);
   addRestVelocityOption(options);
   addThreadsOption(options);
@@ -161,7 +165,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingIdentify(vm);
-  refuseFloatingOptions(vm, {"contacts", "sensors", "motion"});
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "payload-link"});
   IdentifyRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });

@@ -9,6 +9,7 @@
 
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
+#include "analysis/floating/payload.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "data/robots.hpp"
 #include "python/run_support.hpp"
@@ -54,7 +55,8 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
                             const std::optional<std::vector<std::string>>& contacts,
                             const std::optional<std::vector<std::string>>& sensors,
                             const std::optional<std::string>& motion, const std::string& method,
-                            const TermsLike& drive_terms, int samples, std::uint64_t seed) {
+                            const TermsLike& drive_terms, int samples, std::uint64_t seed,
+                            const std::optional<std::string>& payload_link) {
   FloatingIdentifyRequest request;
   request.contacts = contacts.value_or(std::vector<std::string>{});
   for (const std::string& name : sensors.value_or(std::vector<std::string>{}))
@@ -75,6 +77,7 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   {
     py::gil_scoped_release release;
     outcome = floatingIdentifyRun(model, request, training, held_out ? &*held_out : nullptr);
+    if (payload_link) sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
   }
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
@@ -110,10 +113,12 @@ void bindFloating(py::module_& m) {
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",
         py::arg("drive_terms") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
+        py::arg("payload_link") = py::none(),
         "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
         "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
-        "(each channel's noise estimated) or ols. Returns floating_identification.json as a dict "
-        "(docs/FLOATING.md).");
+        "(each channel's noise estimated) or ols; with payload_link, the payload fixed to that "
+        "link as well (the robot read as unloaded). Returns floating_identification.json as a "
+        "dict (docs/FLOATING.md).");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
         py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,

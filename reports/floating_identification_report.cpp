@@ -59,6 +59,34 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
 }
 
 std::string percent(double x) { return formatNumber(x, 3) + " %"; }
+
+/// The payload's ten parameters with their sd, its mass and centre of mass (in its body's frame).
+json payloadJson(const std::vector<FloatingPayload>& payloads,
+                 const FloatingIdentifyOutcome& outcome) {
+  if (payloads.empty()) return nullptr;
+  json sets = json::array();
+  for (std::size_t k = 0; k < payloads.size(); ++k) {
+    const FloatingPayload& p = payloads[k];
+    json set = {{"sensors", sensorSetName(outcome.sets[k].base.set)},
+                {"refused", p.refused.empty() ? json(nullptr) : json(p.refused)}};
+    if (p.refused.empty()) {
+      json parameters = json::array();
+      for (int j = 0; j < kLinkParameterCount; ++j)
+        parameters.push_back({{"name", kLinkParameterNames[j]},
+                              {"value", p.phi[j]},
+                              {"sd", numberOrNull(std::sqrt(p.covariance(j, j)))}});
+      set.update({{"parameters", parameters},
+                  {"mass", p.phi[0]},
+                  {"mass_sd", numberOrNull(std::sqrt(p.covariance(0, 0)))},
+                  {"com", json::array({numberOrNull(p.phi[1] / p.phi[0]),
+                                       numberOrNull(p.phi[2] / p.phi[0]),
+                                       numberOrNull(p.phi[3] / p.phi[0])})},
+                  {"residual_scale", p.residual_scale}});
+    }
+    sets.push_back(set);
+  }
+  return {{"link", payloads.front().link}, {"body", payloads.front().body}, {"sets", sets}};
+}
 }  // namespace
 
 json floatingIdentificationJson(const FloatingModel& model, const FloatingIdentifyOutcome& outcome,
@@ -81,7 +109,8 @@ json floatingIdentificationJson(const FloatingModel& model, const FloatingIdenti
        {"contacts", contacts},
        {"motion", floatingMotionName(outcome.motion)},
        {"method", floatingMethodName(outcome.method)},
-       {"sets", sets}});
+       {"sets", sets},
+       {"payload", payloadJson(sources.payloads, outcome)}});
   return report;
 }
 
@@ -118,6 +147,25 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
        << (std::isnan(s.validation_percent) ? "-" : percent(s.validation_percent)) << " | "
        << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3) << " |\n";
   }
+  if (!sources.payloads.empty()) {
+    const FloatingPayload& first = sources.payloads.front();
+    md << "\n## The payload on `" << first.link << "`\n\nIts ten parameters about the origin of `"
+       << first.body
+       << "`'s frame, in its axes, from what the model leaves of each set's rows (the model is the "
+          "unloaded robot: its errors enter the payload).\n\n| sensors | mass [kg] | centre of "
+          "mass [m] | m sd [kg] |\n|---|---|---|---|\n";
+    for (std::size_t k = 0; k < sources.payloads.size(); ++k) {
+      const FloatingPayload& p = sources.payloads[k];
+      md << "| " << sensorSetName(outcome.sets[k].base.set) << " | ";
+      if (!p.refused.empty()) {
+        md << "not estimated: " << p.refused << " | | |\n";
+        continue;
+      }
+      md << formatNumber(p.phi[0], 4) << " | " << formatNumber(p.phi[1] / p.phi[0], 3) << ", "
+         << formatNumber(p.phi[2] / p.phi[0], 3) << ", " << formatNumber(p.phi[3] / p.phi[0], 3)
+         << " | " << formatNumber(std::sqrt(p.covariance(0, 0)), 2) << " |\n";
+    }
+  }
   for (const FloatingSetEstimate& s : outcome.sets) {
     if (!s.refused.empty()) continue;
     md << "\n## " << sensorSetName(s.base.set) << "\n\n"
@@ -133,6 +181,7 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
 
 std::string floatingIdentificationSummary(const FloatingModel& model,
                                           const FloatingIdentifyOutcome& outcome,
+                                          const FloatingDataSources& sources,
                                           const std::string& dir) {
   std::ostringstream out;
   out << model.name() << " (floating base " << model.baseName() << ", "
@@ -148,6 +197,17 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
     if (!std::isnan(s.validation_percent)) out << ", held out " << percent(s.validation_percent);
     out << ", " << percent(s.model_error_percent) << " from the model (z RMS "
         << formatNumber(s.model_z_rms, 3) << ")\n";
+  }
+  for (std::size_t k = 0; k < sources.payloads.size(); ++k) {
+    const FloatingPayload& p = sources.payloads[k];
+    out << "  payload on " << p.link << " from " << sensorSetName(outcome.sets[k].base.set) << ": ";
+    if (!p.refused.empty())
+      out << "not estimated: " << p.refused << "\n";
+    else
+      out << formatNumber(p.phi[0], 4) << " +- "
+          << formatNumber(2 * std::sqrt(p.covariance(0, 0)), 2) << " kg at "
+          << formatNumber(p.phi[1] / p.phi[0], 3) << ", " << formatNumber(p.phi[2] / p.phi[0], 3)
+          << ", " << formatNumber(p.phi[3] / p.phi[0], 3) << " m\n";
   }
   out << "wrote " << dir << "/floating_identification.json and " << dir
       << "/floating_identification.md\n";

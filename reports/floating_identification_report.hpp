@@ -7,12 +7,15 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/floating/identify.hpp"
+#include "analysis/floating/payload.hpp"
 
 namespace dynid {
 
-/// Where the data came from, for the documents.
+/// Where the data came from, and the payload estimated on them (empty: none asked), for the
+/// documents.
 struct FloatingDataSources {
-  std::string data, validation;  // files (validation empty: none)
+  std::string data, validation;           // files (validation empty: none)
+  std::vector<FloatingPayload> payloads;  // one per set (FloatingIdentifyOutcome::sets' order)
 };
 
 nlohmann::json floatingIdentificationJson(const FloatingModel& model,
@@ -24,6 +27,7 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
 /// One line per sensor set (its estimate's measures, or why it has none), then the files written.
 std::string floatingIdentificationSummary(const FloatingModel& model,
                                           const FloatingIdentifyOutcome& outcome,
+                                          const FloatingDataSources& sources,
                                           const std::string& dir);
 
 }  // namespace dynid

@@ -141,6 +141,32 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
   return solveStacked(base.numBase(), blocks, values, exact_rows);
 }
 
+FloatingFit fitFloatingRows(SensorSet set, const std::vector<FloatingMeasurement>& samples,
+                            const std::vector<Eigen::MatrixXd>& W,
+                            const std::vector<Eigen::VectorXd>& y,
+                            const ChannelVariances* variances) {
+  if (W.size() != samples.size() || y.size() != samples.size() || W.empty())
+    throw InputError("fitFloatingRows: one block of rows per sample, and one sample at least");
+  std::vector<Eigen::MatrixXd> blocks = W;
+  std::vector<Eigen::VectorXd> values = y;
+  int exact_rows = 0;
+  if (variances != nullptr)
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      const FloatingMeasurement& m = samples[k];
+      Eigen::VectorXd fv(m.J.rows());
+      for (Eigen::Index r = 0; r < fv.size(); ++r)
+        fv[r] = !m.moment_rows.empty() && m.moment_rows[static_cast<std::size_t>(r)]
+                    ? variances->moment
+                    : variances->force;
+      const Eigen::LLT<Eigen::MatrixXd> llt = factorCovariance(
+          rowCovariance(set, m, Eigen::VectorXd::Constant(m.tau.size(), variances->torque), fv),
+          exact_rows);
+      llt.matrixL().solveInPlace(blocks[k]);
+      llt.matrixL().solveInPlace(values[k]);
+    }
+  return solveStacked(static_cast<int>(W.front().cols()), blocks, values, exact_rows);
+}
+
 namespace {
 /// One sample's rows and, per channel (torques, forces, moments), its row covariance at unit
 /// variance (G_t, G_f, G_m).

@@ -77,4 +77,13 @@ FloatingFit fitFloatingFeasible(const BaseParameters& base, SensorSet set,
                                 const std::vector<FloatingMeasurement>& samples,
                                 ChannelVariances* estimated = nullptr);
 
+/// Least squares of rows the caller forms from each sample (W[k] x = y[k], W[k] of the set's row
+/// count: a few columns of its rows, and what the rest of the model leaves of its measurements),
+/// weighted by the set's row covariance at `variances` (ordinary least squares when null), with
+/// unit-norm columns in the solve. Throws InputError as fitFloating.
+FloatingFit fitFloatingRows(SensorSet set, const std::vector<FloatingMeasurement>& samples,
+                            const std::vector<Eigen::MatrixXd>& W,
+                            const std::vector<Eigen::VectorXd>& y,
+                            const ChannelVariances* variances);
+
 }  // namespace dynid

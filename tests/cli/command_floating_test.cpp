@@ -132,6 +132,46 @@ TEST(Cli, IdentifyAFloatingBaseEstimatesItsNoise) {
   EXPECT_TRUE(noise["moment"].is_null());  // point feet carry no moment
 }
 
+/// A 2 kg box bolted to ANYmal's base (a fixed link in a copy of its URDF): simulated on the loaded
+/// robot, estimated with the unloaded one's URDF and --payload-link.
+TEST(Cli, IdentifyAPayloadOnAFloatingBase) {
+  const std::string dir = test::tempPath("floating-payload");
+  std::filesystem::create_directories(dir);
+  std::string urdf = readFile(kAnymal);
+  const std::string box = R"(<link name="box"><inertial><mass value="2.0"/>)"
+                          R"(<inertia ixx="0.006" ixy="0" ixz="0" iyy="0.008" iyz="0" izz="0.01"/>)"
+                          R"(</inertial></link><joint name="box_mount" type="fixed">)"
+                          R"(<parent link="base"/><child link="box"/><origin xyz="0.1 0 0.15"/>)"
+                          R"(</joint></robot>)";
+  urdf.replace(urdf.rfind("</robot>"), 8, box);
+  const std::string loaded = dir + "/loaded.urdf";
+  std::ofstream(loaded) << urdf;
+  Result r = run("simulate --robot " + loaded + " --floating-base --contacts " + kFeet +
+                 " --samples 100 --out " + dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --data " + dir +
+          "/d.csv --payload-link base --out " + dir + "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "payload on base from wrenches: 2 ")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
+  ASSERT_EQ(j["payload"]["sets"].size(), 3u);
+  for (const auto& set : j["payload"]["sets"]) {
+    // Noise-free: 1e-9 relative.
+    EXPECT_NEAR(set["mass"].get<double>(), 2.0, 2e-9) << set["sensors"];
+    EXPECT_NEAR(set["com"][0].get<double>(), 0.1, 1e-9) << set["sensors"];
+    EXPECT_NEAR(set["com"][2].get<double>(), 0.15, 1e-9) << set["sensors"];
+  }
+  // Only with --floating-base; a link the robot lacks.
+  EXPECT_EQ(run("identify --robot puma560 --data " + dir + "/d.csv --payload-link base --out " +
+                dir + "/x")
+                .code,
+            2);
+  r = run("identify --robot " + kAnymal + " --floating-base --data " + dir +
+          "/d.csv --payload-link backpack --out " + dir + "/x");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "--payload-link: 'backpack'")) << r.err;
+}
+
 /// The dataset to standard output, read back from a file.
 TEST(Cli, SimulateAFloatingBaseToStandardOutput) {
   const Result r = run("simulate --robot " + kAnymal +

@@ -58,3 +58,11 @@ def test_floating_identify_names_what_is_wrong(tmp_path):
         dynid.floating_identify(ANYMAL, data, method="pc")
     with pytest.raises(ValueError, match="contacts"):
         dynid.floating_identify(ANYMAL, data, contacts=["LF_FOOT"])
+
+
+def test_floating_identify_a_payload(tmp_path):
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=60)
+    doc = dynid.floating_identify(ANYMAL, data, method="ols", payload_link="base")
+    # The robot read is the one simulated: no payload, to round-off.
+    for s in doc["payload"]["sets"]:
+        assert abs(s["mass"]) < 1e-9
