@@ -1,5 +1,5 @@
-// The floating-base branches of identifiability, identify and simulate (--floating-base): the
-// floating wing's front end (analysis/floating/, docs/FLOATING.md).
+// The floating-base branches of identifiability, identify, prepare and simulate (--floating-base):
+// the floating wing's front end (analysis/floating/, docs/FLOATING.md).
 #include "cli/command_floating.hpp"
 
 #include <iostream>
@@ -8,6 +8,7 @@
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
 #include "analysis/floating/payload.hpp"
+#include "analysis/floating/prepare.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "analysis/records/provenance.hpp"
 #include "cli/common.hpp"
@@ -18,6 +19,7 @@
 #include "data/json_number.hpp"
 #include "data/robots.hpp"
 #include "reports/floating_identification_report.hpp"
+#include "reports/floating_prepare_report.hpp"
 #include "reports/floating_report.hpp"
 #include "reports/output.hpp"
 
@@ -121,7 +123,7 @@ int runFloatingIdentify(const po::variables_map& vm) {
   request.contacts = nameListOption(vm, "contacts");
   readSetsAndMotion(vm, request.sensors, request.motion);
   const FloatingModel model = loadFloating(vm);
-  FloatingDataSources sources{vm["data"].as<std::string>(), ""};
+  FloatingDataSources sources{vm["data"].as<std::string>(), "", {}};
   const FloatingDataset data = readFloatingDataset(sources.data, model);
   std::optional<FloatingDataset> validation;
   if (vm.count("validate")) {
@@ -139,6 +141,64 @@ int runFloatingIdentify(const po::variables_map& vm) {
         jsonText(withProvenance(floatingIdentificationJson(model, outcome, sources)), 2) + "\n"},
        {"floating_identification.md", floatingIdentificationMarkdown(model, outcome, sources)}});
   std::cout << cliText(floatingIdentificationSummary(model, outcome, sources, dir));
+  return kExitOk;
+}
+
+int runFloatingPrepare(const po::variables_map& vm) {
+  refuseOutside(vm,
+                {"log", "out", "topic", "imu-topic", "wrench-topics", "stamp", "rate", "cutoff",
+                 "order", "max-gap", "trim", "threads"},
+                "prepare");
+  if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
+  const auto logs =
+      vm.count("log") ? vm["log"].as<std::vector<std::string>>() : std::vector<std::string>{};
+  if (logs.size() != 1)
+    throw UsageError(
+        "--floating-base needs --log with one recording (.mcap, .db3, .bag, a bag "
+        "directory)");
+  FloatingLogTopics topics;
+  if (vm.count("topic")) topics.joint_topic = vm["topic"].as<std::string>();
+  if (vm.count("imu-topic")) topics.imu_topic = vm["imu-topic"].as<std::string>();
+  topics.wrench_topics = nameListOption(vm, "wrench-topics");
+  FloatingPrepareOptions options;
+  options.rate = vm["rate"].as<double>();
+  const std::string cutoff = vm["cutoff"].as<std::string>();
+  if (cutoff == "auto")
+    throw UsageError(
+        "--cutoff auto (from q's spectrum) does not apply to prepare --floating-base: "
+        "give a frequency [Hz], 0 (none) or default");
+  if (cutoff != "default") {
+    const std::vector<double> value = parseList(cutoff, "cutoff");
+    if (value.size() != 1 || !(value[0] >= 0.0))
+      throw UsageError(
+          "--cutoff with --floating-base must be a frequency >= 0 [Hz] or default, "
+          "not '" +
+          cutoff + "'");
+    options.cutoff = value[0];
+  }
+  options.order = vm["order"].as<int>();
+  options.max_gap = vm["max-gap"].as<double>();
+  options.trim = vm["trim"].as<double>();
+  options.receive_time = receiveTimeOption(vm);
+  try {
+    options.check();
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+  std::vector<std::string> warnings;  // prepare reads the robot's joints and frames, not its mass
+  const FloatingModel model = loadFloatingRobot(vm["robot"].as<std::string>(), {}, &warnings);
+  printWarnings(warnings);
+  FloatingPrepareOutcome outcome = prepareFloatingBag(model, logs.front(), topics, options);
+  cliTexts(outcome.warnings);
+  printWarnings(outcome.warnings, "dynid prepare: warning: ");
+  const std::string dir = vm["out"].as<std::string>();
+  OutputSet files(dir);
+  writeFloatingDataset(files.stream("floating_dataset.csv"), outcome.dataset);
+  files.add("floating_prepare.json",
+            jsonText(withProvenance(floatingPrepareJson(model, logs.front(), outcome)), 2) + "\n");
+  files.publish();
+  std::cout << cliText(floatingPrepareSummary(model, outcome, dir + "/floating_dataset.csv",
+                                              dir + "/floating_prepare.json"));
   return kExitOk;
 }
 

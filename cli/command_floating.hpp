@@ -1,5 +1,5 @@
-// The floating-base branches of identifiability, identify and simulate (--floating-base), in one
-// room: each command hands its parsed options over when --floating-base is given.
+// The floating-base branches of identifiability, identify, prepare and simulate (--floating-base),
+// in one room: each command hands its parsed options over when --floating-base is given.
 #pragma once
 
 #include <initializer_list>
@@ -21,6 +21,8 @@ void refuseFloatingOptions(const po::variables_map& vm, std::initializer_list<co
 int runFloatingIdentifiability(const po::variables_map& vm);
 /// dynid identify --floating-base: each set's estimate on a floating dataset.
 int runFloatingIdentify(const po::variables_map& vm);
+/// dynid prepare --floating-base: a recording into a floating dataset.
+int runFloatingPrepare(const po::variables_map& vm);
 /// dynid simulate --floating-base: a floating dataset of random states.
 int runFloatingSimulate(const po::variables_map& vm);
 

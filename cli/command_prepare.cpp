@@ -2,6 +2,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "cli/command_floating.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -81,7 +82,14 @@ void addPrepareOptions(po::options_description& options) {
       "validate-fraction", po::value<double>()->default_value(d.validate_fraction))(
       "validate-runs", po::value<std::string>(), "hold out whole runs: 1-based, e.g. 3,4")(
       "validate-time", po::value<std::string>(), "hold out time ranges [s], e.g. 30:45,80:90")(
-      "out", po::value<std::string>()->required(), "output directory");
+      "out", po::value<std::string>()->required(), "output directory")(
+      "floating-base", po::bool_switch(),
+      "the robot (--robot, a URDF) floats: one recording's JointState, sensor_msgs/Imu (on the "
+      "base body) and geometry_msgs/WrenchStamped topics into floating_dataset.csv "
+      "(docs/FLOATING.md)")("imu-topic", po::value<std::string>(),
+                            "with --floating-base: the Imu topic (default: the only one)")(
+      "wrench-topics", po::value<std::string>(),
+      "with --floating-base: the WrenchStamped topics, comma-separated (default: every one)");
 }
 
 std::string text(const po::variables_map& vm, const char* key) {
@@ -301,9 +309,12 @@ int runPrepare(const std::vector<std::string>& args) {
   const std::string usage =
       "dynid prepare (--log log.csv... --q SEL --tau SEL | --log "
       "rec.mcap|rec.db3|bag_dir|rec.bag... [--robot R] "
-      "| --time-file F --q-file F --tau-file F --joints N) --out DIR";
+      "| --time-file F --q-file F --tau-file F --joints N "
+      "| --floating-base --robot URDF --log rec) --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
+  if (vm["floating-base"].as<bool>()) return runFloatingPrepare(vm);
+  refuseFloatingOptions(vm, {"imu-topic", "wrench-topics"});
   LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);

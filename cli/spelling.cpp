@@ -14,8 +14,11 @@ namespace dynid::cli {
 
 namespace {
 
-/// The fields whose flag is not their own name: a table's column selectors (LogSource).
-constexpr std::array<std::pair<std::string_view, std::string_view>, 5> kFlagOf = {{
+/// The fields whose flag is not their own name: a table's column selectors (LogSource), a floating
+/// recording's joint topic and stamps (FloatingLogTopics, FloatingPrepareOptions).
+constexpr std::array<std::pair<std::string_view, std::string_view>, 7> kFlagOf = {{
+    {"joint_topic", "--topic"},
+    {"receive_time", "--stamp"},
     {"time_column", "--time"},
     {"q_columns", "--q"},
     {"dq_columns", "--dq"},

@@ -1,6 +1,7 @@
 // The floating wing: what each sensor set of a floating-base robot determines
 // (analysis/floating/identifiability.hpp, `dynid identifiability --floating-base`), simulated
-// floating datasets (simulate.hpp) and the estimate on them (identify.hpp), documents as dicts.
+// floating datasets (simulate.hpp), datasets prepared from recordings (prepare.hpp) and the
+// estimate on them (identify.hpp), documents as dicts.
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,10 +11,12 @@
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
 #include "analysis/floating/payload.hpp"
+#include "analysis/floating/prepare.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "data/robots.hpp"
 #include "python/run_support.hpp"
 #include "reports/floating_identification_report.hpp"
+#include "reports/floating_prepare_report.hpp"
 #include "reports/floating_report.hpp"
 
 namespace dynid::python {
@@ -66,7 +69,7 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   request.structural.samples = samples;
   request.structural.seed = seed;
   const FloatingModel model = floatingRobot(robot, drive_terms);
-  FloatingDataSources sources{pathArg(data, "data"), ""};
+  FloatingDataSources sources{pathArg(data, "data"), "", {}};
   const FloatingDataset training = readFloatingDataset(sources.data, model);
   std::optional<FloatingDataset> held_out;
   if (!validate.is_none()) {
@@ -106,9 +109,51 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   return path;
 }
 
+py::object prepareFloating(const PathLike& robot, const PathLike& log, const PathLike& out,
+                           const std::optional<std::string>& joint_topic,
+                           const std::optional<std::string>& imu_topic,
+                           const std::optional<std::vector<std::string>>& wrench_topics,
+                           double rate, const std::optional<double>& cutoff, int order,
+                           double max_gap, const std::optional<double>& trim,
+                           const std::string& stamp, const TermsLike& drive_terms) {
+  const FloatingModel model = floatingRobot(robot, drive_terms);
+  FloatingLogTopics topics;
+  topics.joint_topic = joint_topic.value_or("");
+  topics.imu_topic = imu_topic.value_or("");
+  topics.wrench_topics = wrench_topics.value_or(std::vector<std::string>{});
+  FloatingPrepareOptions options;
+  options.rate = rate;
+  if (cutoff) options.cutoff = *cutoff;
+  options.order = order;
+  options.max_gap = max_gap;
+  if (trim) options.trim = *trim;
+  if (stamp != "header" && stamp != "receive")
+    throw InputError("`stamp` must be header or receive, not '" + stamp + "'");
+  options.receive_time = stamp == "receive";
+  const std::string recording = pathArg(log, "log"), path = pathArg(out, "out");
+  FloatingPrepareOutcome outcome;
+  {
+    py::gil_scoped_release release;
+    outcome = prepareFloatingBag(model, recording, topics, options);
+    writeFloatingDataset(path, outcome.dataset);
+  }
+  return parsedJson(floatingPrepareJson(model, recording, outcome));
+}
+
 }  // namespace
 
 void bindFloating(py::module_& m) {
+  m.def("prepare_floating", &prepareFloating, py::arg("robot"), py::arg("log"), py::arg("out"),
+        py::arg("joint_topic") = py::none(), py::arg("imu_topic") = py::none(),
+        py::arg("wrench_topics") = py::none(), py::arg("rate") = 0.0,
+        py::arg("cutoff") = py::none(), py::arg("order") = 4, py::arg("max_gap") = 0.0,
+        py::arg("trim") = py::none(), py::arg("stamp") = "header",
+        py::arg("drive_terms") = py::none(),
+        "`dynid prepare --floating-base`: a floating-base robot (a URDF path) and a recording "
+        "(.mcap, .db3, .bag, a bag directory) with JointState, Imu (on the base body) and "
+        "WrenchStamped topics (each the only one of its type, or named), resampled to one time "
+        "base, low-passed alike (cutoff None: 10 Hz, 0: none) and differentiated, written to "
+        "`out` as a floating dataset. Returns floating_prepare.json as a dict (docs/FLOATING.md).");
   m.def("floating_identify", &floatingIdentify, py::arg("robot"), py::arg("data"),
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",

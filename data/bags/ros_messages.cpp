@@ -36,6 +36,10 @@ class CdrReader {
     if (n == 0 || s.back() != '\0') c_.fail(field, "a string without its terminating NUL");
     return std::string(s.substr(0, n - 1));
   }
+  template <std::size_t N>
+  void fixed(std::array<double, N>& out, const char* field) {  // float64[N]: no length
+    for (double& x : out) x = get<double>(field);
+  }
   std::vector<double> doubles(const char* field) {
     const std::uint32_t n = count(field, 8);
     std::vector<double> out(n);
@@ -58,24 +62,49 @@ class CdrReader {
   std::size_t origin_;
 };
 
+/// The encapsulation header: plain CDR of either byte order, else a ParseError naming `type`.
+CdrReader openCdr(Cursor& c, const char* type) {
+  const auto kind = c.get<std::uint16_t>("encapsulation");
+  c.get<std::uint16_t>("encapsulation options");
+  // The kind is big-endian on the wire: 0x0000 CDR_BE, 0x0001 CDR_LE (read here byte-swapped).
+  if (kind != 0x0000 && kind != 0x0100)
+    c.fail("encapsulation", "not plain CDR (kind 0x" +
+                                std::to_string(((kind & 0xff) << 8) | (kind >> 8)) + "): " + type +
+                                " is read from CDR only");
+  return CdrReader(c, kind == 0x0000);
+}
+
+/// std_msgs/Header in CDR: the stamp [ns], and the frame_id into `frame` (when not null).
+std::int64_t cdrHeader(CdrReader& r, std::string* frame) {
+  const auto sec = r.get<std::int32_t>("header.stamp.sec");
+  const auto nanosec = r.get<std::uint32_t>("header.stamp.nanosec");
+  std::string frame_id = r.string("header.frame_id");
+  if (frame) *frame = std::move(frame_id);
+  return static_cast<std::int64_t>(sec) * 1000000000 + nanosec;
+}
+
+/// std_msgs/Header in ROS 1 (seq, stamp, frame_id).
+std::int64_t ros1Header(Cursor& c, std::string* frame) {
+  c.get<std::uint32_t>("header.seq");
+  const auto sec = c.get<std::uint32_t>("header.stamp.secs");
+  const auto nsec = c.get<std::uint32_t>("header.stamp.nsecs");
+  const std::string_view frame_id = c.string("header.frame_id");
+  if (frame) *frame = std::string(frame_id);
+  return static_cast<std::int64_t>(sec) * 1000000000 + nsec;
+}
+
+template <std::size_t N>
+void ros1Fixed(Cursor& c, std::array<double, N>& out, const char* field) {
+  for (double& x : out) x = c.get<double>(field);
+}
+
 }  // namespace
 
 void decodeJointStateCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
                          JointStateMessage& out) {
   Cursor c(bytes, file, base);
-  const auto kind = c.get<std::uint16_t>("encapsulation");
-  c.get<std::uint16_t>("encapsulation options");
-  // The kind is big-endian on the wire: 0x0000 CDR_BE, 0x0001 CDR_LE (read here byte-swapped).
-  const bool big = kind == 0x0000;
-  if (kind != 0x0000 && kind != 0x0100)
-    c.fail("encapsulation", "not plain CDR (kind 0x" +
-                                std::to_string(((kind & 0xff) << 8) | (kind >> 8)) +
-                                "): JointState is read from CDR only");
-  CdrReader r(c, big);
-  const auto sec = r.get<std::int32_t>("header.stamp.sec");
-  const auto nanosec = r.get<std::uint32_t>("header.stamp.nanosec");
-  out.stamp_ns = static_cast<std::int64_t>(sec) * 1000000000 + nanosec;
-  r.string("header.frame_id");
+  CdrReader r = openCdr(c, "JointState");
+  out.stamp_ns = cdrHeader(r, nullptr);
   const std::uint32_t names = r.count("name", 5);  // a length and a NUL at least
   out.name.resize(names);
   for (std::string& n : out.name) n = r.string("name");
@@ -87,11 +116,7 @@ void decodeJointStateCdr(std::string_view bytes, const std::string& file, std::u
 void decodeJointStateRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
                           JointStateMessage& out) {
   Cursor c(bytes, file, base);
-  c.get<std::uint32_t>("header.seq");
-  const auto sec = c.get<std::uint32_t>("header.stamp.secs");
-  const auto nsec = c.get<std::uint32_t>("header.stamp.nsecs");
-  out.stamp_ns = static_cast<std::int64_t>(sec) * 1000000000 + nsec;
-  c.string("header.frame_id");
+  out.stamp_ns = ros1Header(c, nullptr);
   const auto names = c.get<std::uint32_t>("name");
   if (names > c.remaining() / 4) c.fail("name", "more names than the bytes left hold");
   out.name.resize(names);
@@ -104,6 +129,50 @@ void decodeJointStateRos1(std::string_view bytes, const std::string& file, std::
     target->resize(n);
     for (double& x : *target) x = c.get<double>(field);
   }
+}
+
+void decodeImuCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
+                  ImuMessage& out) {
+  Cursor c(bytes, file, base);
+  CdrReader r = openCdr(c, "Imu");
+  out.stamp_ns = cdrHeader(r, &out.frame_id);
+  r.fixed(out.orientation, "orientation");
+  r.fixed(out.orientation_covariance, "orientation_covariance");
+  r.fixed(out.angular_velocity, "angular_velocity");
+  std::array<double, 9> skipped;
+  r.fixed(skipped, "angular_velocity_covariance");
+  r.fixed(out.linear_acceleration, "linear_acceleration");
+  r.fixed(skipped, "linear_acceleration_covariance");
+}
+
+void decodeImuRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
+                   ImuMessage& out) {
+  Cursor c(bytes, file, base);
+  out.stamp_ns = ros1Header(c, &out.frame_id);
+  ros1Fixed(c, out.orientation, "orientation");
+  ros1Fixed(c, out.orientation_covariance, "orientation_covariance");
+  ros1Fixed(c, out.angular_velocity, "angular_velocity");
+  std::array<double, 9> skipped;
+  ros1Fixed(c, skipped, "angular_velocity_covariance");
+  ros1Fixed(c, out.linear_acceleration, "linear_acceleration");
+  ros1Fixed(c, skipped, "linear_acceleration_covariance");
+}
+
+void decodeWrenchStampedCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
+                            WrenchStampedMessage& out) {
+  Cursor c(bytes, file, base);
+  CdrReader r = openCdr(c, "WrenchStamped");
+  out.stamp_ns = cdrHeader(r, &out.frame_id);
+  r.fixed(out.force, "wrench.force");
+  r.fixed(out.torque, "wrench.torque");
+}
+
+void decodeWrenchStampedRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
+                             WrenchStampedMessage& out) {
+  Cursor c(bytes, file, base);
+  out.stamp_ns = ros1Header(c, &out.frame_id);
+  ros1Fixed(c, out.force, "wrench.force");
+  ros1Fixed(c, out.torque, "wrench.torque");
 }
 
 }  // namespace dynid::bags

@@ -1,9 +1,12 @@
-// The one message type identification needs, sensor_msgs/JointState, decoded from what bags hold:
-// ROS 2's CDR (XCDR1, either byte order, as rosbag2 and MCAP store it) and ROS 1's serialization.
-// A small reader of these fields rather than Debian's libfastcdr: the layout is four fields long,
-// and a generic CDR library would still need the type written out by hand (no IDL here).
+// The message types identification needs, decoded from what bags hold: sensor_msgs/JointState (a
+// fixed-base arm's log), and for a floating base sensor_msgs/Imu and geometry_msgs/WrenchStamped;
+// from ROS 2's CDR (XCDR1, either byte order, as rosbag2 and MCAP store it) and ROS 1's
+// serialization. A small reader of these fields rather than Debian's libfastcdr: each layout is a
+// header and a few arrays, and a generic CDR library would still need the types written out by
+// hand (no IDL here).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -31,5 +34,41 @@ void decodeJointStateCdr(std::string_view bytes, const std::string& file, std::u
 /// Decodes a ROS 1 JointState (header seq, stamp, frame_id; then the arrays). Errors as above.
 void decodeJointStateRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
                           JointStateMessage& out);
+
+/// sensor_msgs/Imu: the orientation of frame_id in its world (a quaternion x, y, z, w; unknown when
+/// orientation_covariance[0] is -1, as the message's definition says), the gyro [rad/s] and the
+/// accelerometer's specific force [m/s^2], both in frame_id's axes.
+struct ImuMessage {
+  std::int64_t stamp_ns = 0;
+  std::string frame_id;
+  std::array<double, 4> orientation{};  // x, y, z, w
+  std::array<double, 9> orientation_covariance{};
+  std::array<double, 3> angular_velocity{}, linear_acceleration{};
+  bool hasOrientation() const { return orientation_covariance[0] != -1.0; }
+};
+
+/// geometry_msgs/WrenchStamped: a force [N] and a torque [N m] in frame_id's axes.
+struct WrenchStampedMessage {
+  std::int64_t stamp_ns = 0;
+  std::string frame_id;
+  std::array<double, 3> force{}, torque{};
+};
+
+inline constexpr std::string_view kImuRos2 = "sensor_msgs/msg/Imu";
+inline constexpr std::string_view kImuRos1 = "sensor_msgs/Imu";
+inline constexpr std::string_view kWrenchStampedRos2 = "geometry_msgs/msg/WrenchStamped";
+inline constexpr std::string_view kWrenchStampedRos1 = "geometry_msgs/WrenchStamped";
+
+/// Decode an Imu or a WrenchStamped, CDR (ROS 2) or ROS 1; errors as the JointState decoders'
+/// (a message shorter than its fields, a frame_id without its NUL, not plain CDR). Bytes after the
+/// last field are ignored (as ROS ignores them).
+void decodeImuCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
+                  ImuMessage& out);
+void decodeImuRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
+                   ImuMessage& out);
+void decodeWrenchStampedCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
+                            WrenchStampedMessage& out);
+void decodeWrenchStampedRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
+                             WrenchStampedMessage& out);
 
 }  // namespace dynid::bags

@@ -247,7 +247,13 @@ std::string floatingDatasetHeader(const FloatingDataset& d) {
   return out;
 }
 
-void writeFloatingDataset(const std::string& path, const FloatingDataset& d) {
+void writeFloatingDataset(const std::string& path, const FloatingDataset& dataset) {
+  AtomicWriter out(path);
+  writeFloatingDataset(out, dataset);
+  out.commit();
+}
+
+void writeFloatingDataset(AtomicWriter& out, const FloatingDataset& d) {
   const Eigen::Index N = d.time.size(), n = static_cast<Eigen::Index>(d.joints.size());
   bool ok = d.orientation.cols() == N && d.twist.cols() == N && d.acceleration.cols() == N &&
             d.q.rows() == n && d.q.cols() == N && d.dq.rows() == n && d.dq.cols() == N &&
@@ -257,7 +263,6 @@ void writeFloatingDataset(const std::string& path, const FloatingDataset& d) {
     ok = ok && (w.values.rows() == 3 || w.values.rows() == 6) && w.values.cols() == N;
   for (const auto& f : d.flags) ok = ok && static_cast<Eigen::Index>(f.holding.size()) == N;
   if (!ok) throw InputError("a floating dataset's signals disagree in size");
-  AtomicWriter out(path);
   out.write(floatingDatasetHeader(d) + "\n");
   std::string row;
   for (Eigen::Index k = 0; k < N; ++k) {
@@ -277,7 +282,6 @@ void writeFloatingDataset(const std::string& path, const FloatingDataset& d) {
     row += '\n';
     out.write(row);
   }
-  out.commit();
 }
 
 namespace {
@@ -363,28 +367,36 @@ void baseMotionFromImu(const FloatingModel& model, FloatingDataset& d,
     throw ParseError(d.file, d.line(0), "imu:" + d.imu_frame + ":wx",
                      "one sample: the base's angular acceleration from an IMU needs two or more");
   const Pose<double>& F = model.findFrame(d.imu_frame)->placement;
-  Eigen::Matrix3Xd w(3, N);
-  for (Eigen::Index k = 0; k < N; ++k) w.col(k) = F.rotation * imu.col(k).head<3>();
   for (Eigen::Index k = 0; k < N; ++k) {
-    Eigen::Vector3d alpha;
+    Eigen::Vector3d dgyro;
     if (k == 0 || k == N - 1) {  // one-sided
       const Eigen::Index a = k == 0 ? 0 : N - 2;
-      alpha = (w.col(a + 1) - w.col(a)) / (d.time[a + 1] - d.time[a]);
+      dgyro = (imu.col(a + 1).head<3>() - imu.col(a).head<3>()) / (d.time[a + 1] - d.time[a]);
     } else {  // the derivative at t_k of the parabola through the three samples
       const double h1 = d.time[k] - d.time[k - 1], h2 = d.time[k + 1] - d.time[k];
-      alpha = -h2 / (h1 * (h1 + h2)) * w.col(k - 1) + (h2 - h1) / (h1 * h2) * w.col(k) +
-              h1 / (h2 * (h1 + h2)) * w.col(k + 1);
+      dgyro = -h2 / (h1 * (h1 + h2)) * imu.col(k - 1).head<3>() +
+              (h2 - h1) / (h1 * h2) * imu.col(k).head<3>() +
+              h1 / (h2 * (h1 + h2)) * imu.col(k + 1).head<3>();
     }
     const Eigen::Matrix3d R = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
-    const Eigen::Vector3d omega = w.col(k), r = F.translation;
-    // The IMU point's acceleration in base axes, then the base origin's.
-    const Eigen::Vector3d at_imu =
-        F.rotation * imu.col(k).tail<3>() + R.transpose() * model.gravity();
-    d.twist.col(k) << omega, Eigen::Vector3d::Zero();
-    d.acceleration.col(k) << alpha, at_imu - alpha.cross(r) - omega.cross(omega.cross(r));
+    imuBaseMotion(model, F, R, imu.col(k).head<3>(), dgyro, imu.col(k).tail<3>(), d.twist.col(k),
+                  d.acceleration.col(k));
   }
 }
 }  // namespace
+
+void imuBaseMotion(const FloatingModel& model, const Pose<double>& imu,
+                   const Eigen::Matrix3d& rotation, const Eigen::Vector3d& gyro,
+                   const Eigen::Vector3d& dgyro, const Eigen::Vector3d& specific_force,
+                   Eigen::Ref<Vector6<double>> twist, Eigen::Ref<Vector6<double>> acceleration) {
+  const Eigen::Vector3d omega = imu.rotation * gyro, alpha = imu.rotation * dgyro;
+  const Eigen::Vector3d& r = imu.translation;
+  // The IMU point's acceleration in base axes, then the base origin's.
+  const Eigen::Vector3d at_imu =
+      imu.rotation * specific_force + rotation.transpose() * model.gravity();
+  twist << omega, Eigen::Vector3d::Zero();
+  acceleration << alpha, at_imu - alpha.cross(r) - omega.cross(omega.cross(r));
+}
 
 FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel& model) {
   FloatingDataset out;

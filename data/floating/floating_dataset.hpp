@@ -31,6 +31,7 @@
 #include <Eigen/Core>
 
 #include "core/floating/floating_model.hpp"
+#include "data/io.hpp"
 
 namespace dynid {
 
@@ -75,6 +76,16 @@ std::string floatingDatasetHeader(const FloatingDataset& dataset);
 /// Writes the dataset atomically (data/io.hpp), numbers in shortest round-trip form. Throws
 /// InputError when its sizes disagree, Error when the file cannot be written.
 void writeFloatingDataset(const std::string& path, const FloatingDataset& dataset);
+/// The same rows into a writer the caller commits (an output set's file).
+void writeFloatingDataset(AtomicWriter& out, const FloatingDataset& dataset);
+
+/// The base's twist and its derivative at one sample from an IMU on the base body at placement
+/// `imu` (in the base frame), by the rule above: `rotation` the base's orientation (base to world),
+/// the gyro, its time derivative and the specific force, all three in the IMU's axes.
+void imuBaseMotion(const FloatingModel& model, const Pose<double>& imu,
+                   const Eigen::Matrix3d& rotation, const Eigen::Vector3d& gyro,
+                   const Eigen::Vector3d& dgyro, const Eigen::Vector3d& specific_force,
+                   Eigen::Ref<Vector6<double>> twist, Eigen::Ref<Vector6<double>> acceleration);
 
 /// Reads a dataset of `model`. Throws ParseError naming the file, the line and the column of what
 /// is wrong: an unknown column, a joint the model lacks or a joint it has that the file lacks, a

@@ -1,5 +1,5 @@
-// The floating-base branches (cli/command_floating.cpp): identifiability, simulate and identify
-// with --floating-base, on the example quadruped and humanoid (examples/floating/).
+// The floating-base branches (cli/command_floating.cpp): identifiability, simulate, prepare and
+// identify with --floating-base, on the example quadruped and humanoid (examples/floating/).
 #include <filesystem>
 #include <fstream>
 
@@ -8,6 +8,8 @@
 
 #include "data/io.hpp"
 #include "tests/common/cli.hpp"
+#include "tests/common/floating_bag.hpp"
+#include "tests/common/floating_models.hpp"
 #include "tests/common/sample_models.hpp"
 
 namespace dynid {
@@ -179,6 +181,49 @@ TEST(Cli, SimulateAFloatingBaseToStandardOutput) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "wrench:base:nx")) << r.out;  // the support, at the base link
   EXPECT_TRUE(contains(r.err, "suspended")) << r.err;
+}
+
+/// A suspended robot's recording (joints, IMU and force-torque sensor at three rates) prepared
+/// into a floating dataset, then identified from it.
+TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const std::string bag = test::tempPath("suspended-cli.db3");
+  test::writeSuspendedRecording(bag, model, test::SuspendedMotion(model, 2), {});
+  const std::string dir = test::tempPath("prepare-floating");
+  Result r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag + " --out " + dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/floating_prepare.json"));
+  EXPECT_EQ(j["kind"], "dynid.floating_prepare");
+  EXPECT_EQ(j["schema_version"], 1);
+  ASSERT_EQ(j["topics"].size(), 3u);
+  EXPECT_EQ(j["topics"][1]["frame"], "imu_link");
+  EXPECT_EQ(j["cutoff"], 10.0);
+  EXPECT_EQ(j["runs"], 1);
+  EXPECT_TRUE(j["torques"].get<bool>());
+  EXPECT_TRUE(contains(r.out, "/ft (geometry_msgs/msg/WrenchStamped, in face_rear)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "every topic resampled to")) << r.out;
+  r = run("identify --floating-base --robot " + kAnymal + " --data " + dir +
+          "/floating_dataset.csv --method ols --sensors wrenches --out " + dir + "/id");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto id = nlohmann::json::parse(readFile(dir + "/id/floating_identification.json"));
+  EXPECT_EQ(id["motion"], "suspended");  // the sensor's frame is on the base body
+  // What cannot be used is said with this command's flags: a topic the recording lacks (exit 1),
+  // options that need --floating-base or do not apply to it (exit 2).
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag +
+          " --imu-topic /imu/data --out " + dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err, "no topic '/imu/data' (--imu-topic)")) << r.err;
+  r = run("prepare --robot " + kAnymal + " --log " + bag + " --imu-topic /imu --out " + dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--imu-topic needs --floating-base")) << r.err;
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag + " --cutoff auto --out " +
+          dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--cutoff auto (from q's spectrum) does not apply")) << r.err;
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag + " --decimate 2 --out " +
+          dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--decimate does not apply to prepare --floating-base")) << r.err;
 }
 
 }  // namespace

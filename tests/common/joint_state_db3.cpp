@@ -44,7 +44,8 @@ void JointStateDb3::check(int rc) {
     throw Error(std::string("sqlite: ") + sqlite3_errmsg(db_));
 }
 
-JointStateDb3::JointStateDb3(const std::string& path, const std::vector<std::string>& topics) {
+JointStateDb3::JointStateDb3(const std::string& path, const std::vector<std::string>& topics,
+                             const std::vector<std::string>& types) {
   std::filesystem::remove(path);
   check(sqlite3_open(path.c_str(), &db_));
   check(sqlite3_exec(db_,
@@ -57,13 +58,14 @@ JointStateDb3::JointStateDb3(const std::string& path, const std::vector<std::str
                      "CREATE INDEX timestamp_idx ON messages (timestamp ASC);",
                      nullptr, nullptr, nullptr));
   sqlite3_stmt* insert_topic = nullptr;
-  check(sqlite3_prepare_v2(db_,
-                           "INSERT INTO topics VALUES (?, ?, 'sensor_msgs/msg/JointState', 'cdr', "
-                           "'')",
-                           -1, &insert_topic, nullptr));
+  check(sqlite3_prepare_v2(db_, "INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", -1, &insert_topic,
+                           nullptr));
   for (std::size_t i = 0; i < topics.size(); ++i) {
     sqlite3_bind_int(insert_topic, 1, static_cast<int>(i + 1));
     sqlite3_bind_text(insert_topic, 2, topics[i].c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(insert_topic, 3,
+                      i < types.size() ? types[i].c_str() : "sensor_msgs/msg/JointState", -1,
+                      SQLITE_TRANSIENT);
     check(sqlite3_step(insert_topic));
     sqlite3_reset(insert_topic);
   }
@@ -73,15 +75,18 @@ JointStateDb3::JointStateDb3(const std::string& path, const std::vector<std::str
                            -1, &insert_, nullptr));
 }
 
-void JointStateDb3::add(std::int64_t stamp_ns, std::int64_t receive_ns,
-                        const std::vector<std::string>& names, const double* q, const double* dq,
-                        const double* tau, int topic) {
-  const std::string& bytes = cdr_.encode(stamp_ns, names, q, dq, tau);
+void JointStateDb3::addEncoded(int topic, std::int64_t receive_ns, const std::string& bytes) {
   sqlite3_bind_int(insert_, 1, topic + 1);
   sqlite3_bind_int64(insert_, 2, receive_ns);
   sqlite3_bind_blob(insert_, 3, bytes.data(), static_cast<int>(bytes.size()), SQLITE_STATIC);
   check(sqlite3_step(insert_));
   sqlite3_reset(insert_);
+}
+
+void JointStateDb3::add(std::int64_t stamp_ns, std::int64_t receive_ns,
+                        const std::vector<std::string>& names, const double* q, const double* dq,
+                        const double* tau, int topic) {
+  addEncoded(topic, receive_ns, cdr_.encode(stamp_ns, names, q, dq, tau));
 }
 
 void JointStateDb3::close() {

@@ -1,5 +1,6 @@
 // sensor_msgs/JointState recordings for tests and benchmarks: messages encoded as ROS 2 CDR (little
-// endian, XCDR1 alignment) and a rosbag2 SQLite file (.db3) written by SQLite itself. No gtest: the
+// endian, XCDR1 alignment) and a rosbag2 SQLite file (.db3) written by SQLite itself; topics of
+// other types take messages encoded elsewhere (tests/common/floating_bag.hpp). No gtest: the
 // benchmarks compile this file too.
 #pragma once
 
@@ -33,14 +34,18 @@ class JointStateDb3 {
  public:
   /// Creates `path` (replacing a file there) with these topics. Throws dynid::Error when SQLite
   /// fails.
+  /// `types`: each topic's message type (e.g. sensor_msgs/msg/Imu); empty: JointState for all.
   explicit JointStateDb3(const std::string& path,
-                         const std::vector<std::string>& topics = {"/joint_states"});
+                         const std::vector<std::string>& topics = {"/joint_states"},
+                         const std::vector<std::string>& types = {});
   JointStateDb3(const JointStateDb3&) = delete;
   JointStateDb3& operator=(const JointStateDb3&) = delete;
   ~JointStateDb3();
   /// One message on topics[topic]: stamped stamp_ns, received receive_ns (the recorder's clock).
   void add(std::int64_t stamp_ns, std::int64_t receive_ns, const std::vector<std::string>& names,
            const double* q, const double* dq, const double* tau, int topic = 0);
+  /// One message already encoded (CDR) on topics[topic].
+  void addEncoded(int topic, std::int64_t receive_ns, const std::string& bytes);
   void close();
 
  private:

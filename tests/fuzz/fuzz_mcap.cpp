@@ -1,5 +1,6 @@
-// libFuzzer target: the MCAP reader (data/bags/mcap.hpp) and the JointState decoders
-// (data/bags/ros_messages.hpp) on every message it hands over, as both CDR and ROS 1.
+// libFuzzer target: the MCAP reader (data/bags/mcap.hpp) and the message decoders
+// (data/bags/ros_messages.hpp: JointState, Imu, WrenchStamped) on every message it hands over, as
+// both CDR and ROS 1.
 #include <cstdint>
 
 #include "core/errors.hpp"
@@ -25,6 +26,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             __builtin_trap();
         } catch (const dynid::Error&) {
         }
+        // The floating base's messages: fixed-size fields, a frame_id within the bytes.
+        dynid::bags::ImuMessage imu;
+        dynid::bags::WrenchStampedMessage wrench;
+        try {
+          (cdr ? dynid::bags::decodeImuCdr : dynid::bags::decodeImuRos1)(m.data, path, m.offset,
+                                                                         imu);
+        } catch (const dynid::Error&) {
+        }
+        try {
+          (cdr ? dynid::bags::decodeWrenchStampedCdr : dynid::bags::decodeWrenchStampedRos1)(
+              m.data, path, m.offset, wrench);
+        } catch (const dynid::Error&) {
+        }
+        if (imu.frame_id.size() > m.data.size() || wrench.frame_id.size() > m.data.size())
+          __builtin_trap();
       }
     });
   } catch (const dynid::Error&) {

@@ -1,5 +1,7 @@
 """Floating-base robots (docs/FLOATING.md): what each sensor set determines, equal to the CLI's."""
 import os
+import sqlite3
+import struct
 from pathlib import Path
 
 import pytest
@@ -66,3 +68,75 @@ def test_floating_identify_a_payload(tmp_path):
     # The robot read is the one simulated: no payload, to round-off.
     for s in doc["payload"]["sets"]:
         assert abs(s["mass"]) < 1e-9
+
+
+def _cdr(header_stamp_ns, frame, doubles, prefix=b""):
+    """A ROS 2 CDR message (little endian, XCDR1): header, then `prefix`, then float64s aligned."""
+    body = struct.pack("<iI", header_stamp_ns // 10**9, header_stamp_ns % 10**9)
+    body += struct.pack("<I", len(frame) + 1) + frame.encode() + b"\0" + prefix
+    body += b"\0" * (-len(body) % 8)
+    return b"\x00\x01\x00\x00" + body + struct.pack(f"<{len(doubles)}d", *doubles)
+
+
+def _joint_state(stamp_ns, names, q, tau):
+    """sensor_msgs/JointState: names, then positions, no velocities, efforts."""
+    def aligned(b, n):
+        return b + b"\0" * (-len(b) % n)
+    body = struct.pack("<iI", stamp_ns // 10**9, stamp_ns % 10**9) + struct.pack("<I", 1) + b"\0"
+    body = aligned(body, 4) + struct.pack("<I", len(names))
+    for name in names:
+        body = aligned(body, 4) + struct.pack("<I", len(name) + 1) + name.encode() + b"\0"
+    for values in (q, [], tau):
+        body = aligned(body, 4) + struct.pack("<I", len(values))
+        if values:
+            body = aligned(body, 8) + struct.pack(f"<{len(values)}d", *values)
+    return b"\x00\x01\x00\x00" + body
+
+
+def _standing_recording(path, joints):
+    """A robot held still for 2 s: joints at 500 Hz, an IMU at 400 Hz reading gravity, a
+    force-torque sensor at 1 kHz; rosbag2 SQLite, written here from the message definitions."""
+    db = sqlite3.connect(path)
+    db.executescript(
+        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+        " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+        "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,"
+        " timestamp INTEGER NOT NULL, data BLOB NOT NULL);")
+    db.executemany("INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')",
+                   [(1, "/joint_states", "sensor_msgs/msg/JointState"),
+                    (2, "/imu", "sensor_msgs/msg/Imu"),
+                    (3, "/ft", "geometry_msgs/msg/WrenchStamped")])
+    rows = []
+    for k in range(1001):
+        t = 10**9 + k * 2 * 10**6
+        rows.append((1, t, _joint_state(t, joints, [0.1] * len(joints), [1.0] * len(joints))))
+    imu = [0, 0, 0, 1] + [0] * 9 + [0, 0, 0] + [0] * 9 + [0, 0, 9.81] + [0] * 9
+    for k in range(801):
+        t = 10**9 + k * 2500000
+        rows.append((2, t, _cdr(t, "imu_link", imu)))
+    for k in range(2001):
+        t = 10**9 + k * 10**6
+        rows.append((3, t, _cdr(t, "face_rear", [0, 0, 500.0, 0, 0, 0])))
+    db.executemany("INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ?, ?)", rows)
+    db.commit()
+    db.close()
+
+
+def test_prepare_floating_equals_the_clis(tmp_path):
+    joints = [f"{leg}_{part}" for leg in ("LF", "RF", "LH", "RH") for part in ("HAA", "HFE", "KFE")]
+    bag = tmp_path / "standing.db3"
+    _standing_recording(bag, joints)
+    doc = dynid.prepare_floating(ANYMAL, bag, tmp_path / "floating.csv")
+    assert doc["kind"] == "dynid.floating_prepare"
+    assert [t["topic"] for t in doc["topics"]] == ["/joint_states", "/imu", "/ft"]
+    assert doc["rate"] == pytest.approx(500.0)
+    # 2 s of overlap less the 0.2 s trim at each end, at 500 Hz.
+    assert doc["samples"] == 801
+    run_cli("prepare", "--floating-base", "--robot", ANYMAL, "--log", bag, "--out",
+            tmp_path / "cli")
+    cli = read_json(tmp_path / "cli" / "floating_prepare.json")
+    assert less_provenance(doc) == less_provenance(cli)
+    assert (tmp_path / "floating.csv").read_bytes() == \
+        (tmp_path / "cli" / "floating_dataset.csv").read_bytes()
+    with pytest.raises(ValueError, match="imu_topic"):
+        dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", imu_topic="/imu/data")

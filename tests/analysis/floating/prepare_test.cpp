@@ -1,0 +1,211 @@
+// A floating robot's recording prepared into a dataset (analysis/floating/prepare.hpp): a robot
+// hung from a force-torque sensor on a moving support (tests/common/floating_bag), its joints,
+// IMU and sensor recorded at three rates with jittered stamps. The prepared signals meet the
+// closed-form motion, the prepared wrench and torques are what inverse dynamics of the prepared
+// motion gives (and what a fit leaves of them is the preparation's error), a gap in one topic
+// splits the log around it, and what a recording cannot give is refused by name.
+#include "analysis/floating/prepare.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sqlite3.h>
+
+#include <cmath>
+
+#include "analysis/floating/identify.hpp"
+#include "core/errors.hpp"
+#include "core/floating/floating_rnea.hpp"
+#include "tests/common/floating_bag.hpp"
+#include "tests/common/floating_models.hpp"
+#include "tests/common/joint_state_db3.hpp"
+#include "tests/common/sample_models.hpp"
+#include "tests/common/text.hpp"
+
+namespace dynid {
+namespace {
+
+/// The largest |a - b| over the columns, against b's largest magnitude.
+double relativeGap(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+}
+
+struct Prepared {
+  FloatingModel model = test::loadExample(test::kAnymalExample);
+  test::SuspendedMotion motion;
+  FloatingPrepareOutcome out;
+  explicit Prepared(const test::SuspendedRecordingOptions& recording = {},
+                    bool support_moves = true, const FloatingPrepareOptions& options = {})
+      : motion(model, 3, support_moves) {
+    const std::string path = test::tempPath("suspended.db3");
+    test::writeSuspendedRecording(path, model, motion, recording);
+    out = prepareFloatingBag(model, path, {}, options);
+  }
+};
+
+TEST(FloatingPrepare, ThreeTopicsAtThreeRatesMeetTheMotion) {
+  test::SuspendedRecordingOptions recording;
+  recording.joint_start = 0.1;  // the joints start later: the span is theirs
+  const Prepared p(recording);
+  const FloatingDataset& d = p.out.dataset;
+  EXPECT_NEAR(p.out.rate, 500.0, 1.0);  // the joints' median step, jittered by 20 %
+  EXPECT_EQ(p.out.cutoff, 10.0);
+  EXPECT_EQ(p.out.runs, 1);
+  ASSERT_EQ(p.out.topics.size(), 3u);
+  EXPECT_EQ(p.out.topics[1].frame, "imu_link");
+  EXPECT_EQ(p.out.topics[2].frame, "face_rear");
+  // The span the joints cover (time counts from their first stamp), less the filter's 0.2 s trim
+  // at each end.
+  EXPECT_NEAR(d.time[0], 0.2, 2.0 / p.out.rate);
+  EXPECT_NEAR(d.time[d.numSamples() - 1], 5.7, 2.0 / p.out.rate);
+  ASSERT_TRUE(d.hasTorques());
+  ASSERT_EQ(d.wrenches.size(), 1u);
+  EXPECT_EQ(d.wrenches[0].frame, "face_rear");
+  const int N = d.numSamples(), n = p.model.numJoints();
+  Eigen::MatrixXd q(n, N), dq(n, N), ddq(n, N), omega(3, N), alpha(3, N), a0(3, N), R(9, N),
+      got_a0(3, N), got_R(9, N);
+  for (int k = 0; k < N; ++k) {
+    const double t = d.time[k] + recording.joint_start;
+    const BaseMotion b = p.motion.base(t);
+    q.col(k) = p.motion.q(t);
+    dq.col(k) = p.motion.dq(t);
+    ddq.col(k) = p.motion.ddq(t);
+    omega.col(k) = b.twist.head<3>();
+    alpha.col(k) = b.acceleration.head<3>();
+    a0.col(k) = p.motion.originAcceleration(t);
+    R.col(k) = Eigen::Map<const Eigen::VectorXd>(b.rotation.data(), 9);
+    // The prepared twist's v is zero: its derivative is the origin's classical acceleration.
+    got_a0.col(k) =
+        d.acceleration.col(k).tail<3>() + d.twist.col(k).head<3>().cross(d.twist.col(k).tail<3>());
+    const Eigen::Matrix3d got = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    got_R.col(k) = Eigen::Map<const Eigen::VectorXd>(got.data(), 9);
+  }
+  // Linear interpolation of 400-1000 Hz samples of 0.2-0.6 Hz sines is within h^2/8 |x''| of
+  // them (4e-6 of their peak at 400 Hz), central differences within h^2/6 |x'''|; a 10 Hz
+  // zero-phase low-pass changes them by 1e-10: 1e-4 leaves room for the two differentiations.
+  EXPECT_LT(relativeGap(d.q, q), 1e-4);
+  EXPECT_LT(relativeGap(d.dq, dq), 1e-4);
+  // ddq: the interpolation's error changes from sample to sample (the stamps are jittered and
+  // the grid's rate is the median step's); differentiated it grows by 1/h, and what the 10 Hz
+  // filter leaves of it is 2e-4 of the peak: 1e-3.
+  EXPECT_LT(relativeGap(d.ddq, ddq), 1e-3);
+  EXPECT_LT(relativeGap(d.twist.topRows<3>(), omega), 1e-4);
+  EXPECT_LT(relativeGap(d.acceleration.topRows<3>(), alpha), 1e-4);
+  EXPECT_LT(relativeGap(got_a0, a0), 1e-4);
+  EXPECT_LT(relativeGap(got_R, R), 1e-4);
+}
+
+TEST(FloatingPrepare, TheWrenchAndTorquesAreThePreparedMotionsInverseDynamics) {
+  const Prepared p;
+  const FloatingDataset& d = p.out.dataset;
+  FloatingData data(p.model);
+  const Pose<double>& S = p.model.findFrame("face_rear")->placement;
+  const int N = d.numSamples(), n = p.model.numJoints();
+  Eigen::MatrixXd measured(6 + n, N), predicted(6 + n, N);
+  for (int k = 0; k < N; ++k) {
+    BaseMotion b;
+    b.rotation = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    b.twist = d.twist.col(k);
+    b.acceleration = d.acceleration.col(k);
+    predicted.col(k) = floatingRnea(p.model, data, b, d.q.col(k), d.dq.col(k), d.ddq.col(k));
+    // The sensor's wrench about the base origin, in base axes.
+    const Eigen::Vector3d n_s = d.wrenches[0].values.col(k).head<3>();
+    const Eigen::Vector3d f_s = d.wrenches[0].values.col(k).tail<3>();
+    const Eigen::Vector3d f = S.rotation * f_s;
+    measured.col(k) << S.rotation * n_s + S.translation.cross(f), f, d.tau.col(k);
+  }
+  // The signals' own 1e-4 (above) through the dynamics.
+  EXPECT_LT(relativeGap(predicted, measured), 1e-4);
+}
+
+/// Estimation on a prepared recording of a robot held still by its sensor (the suspended motion
+/// class): the fit leaves only the preparation's error (measured 2.4e-5 %). Six seconds of one
+/// swing of the joints do not determine the parameters themselves (that needs an excitation
+/// designed for it, docs/FLOATING.md), so the residual is what is checked, not the estimate.
+TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
+  const Prepared p({}, /*support_moves=*/false);
+  FloatingIdentifyRequest request;
+  request.method = FloatingMethod::kOls;
+  const FloatingIdentifyOutcome fit = floatingIdentifyRun(p.model, request, p.out.dataset);
+  EXPECT_EQ(fit.motion, FloatingMotion::kSuspended);  // the sensor is on the base body
+  for (const FloatingSetEstimate& s : fit.sets) {
+    SCOPED_TRACE(sensorSetName(s.base.set));
+    if (!s.refused.empty()) continue;     // six seconds of one motion need not excite every set
+    EXPECT_LT(s.residual_percent, 1e-2);  // the 1e-4 above, in percent
+  }
+}
+
+TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
+  test::SuspendedRecordingOptions recording;
+  recording.seconds = 8.0;
+  const std::string path = test::tempPath("suspended_gap.db3");
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const test::SuspendedMotion motion(model, 4);
+  test::writeSuspendedRecording(path, model, motion, recording);
+  // The IMU's messages between 3 and 3.5 s removed, as a dropped connection would (stamps and
+  // receive times count from 1 s).
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db,
+                         "DELETE FROM messages WHERE topic_id = 2 AND timestamp > 4000000000 AND "
+                         "timestamp < 4500000000",
+                         nullptr, nullptr, nullptr),
+            SQLITE_OK);
+  sqlite3_close(db);
+  const FloatingPrepareOutcome out = prepareFloatingBag(model, path, {}, {});
+  EXPECT_EQ(out.runs, 2);
+  EXPECT_EQ(out.topics[1].gaps, 1);
+  const FloatingDataset& d = out.dataset;
+  for (int k = 0; k < d.numSamples(); ++k)
+    EXPECT_FALSE(d.time[k] > 3.0 - 0.2 && d.time[k] < 3.5 + 0.2) << d.time[k];
+  for (int k = 1; k < d.numSamples(); ++k) ASSERT_GT(d.time[k], d.time[k - 1]);
+  Eigen::MatrixXd q(model.numJoints(), d.numSamples());
+  for (int k = 0; k < d.numSamples(); ++k) q.col(k) = motion.q(d.time[k]);
+  EXPECT_LT(relativeGap(d.q, q), 1e-4);  // each run filtered on its own: no edge from the gap
+}
+
+/// prepareFloatingBag's InputError on a recording written with `recording`.
+std::string refusal(const test::SuspendedRecordingOptions& recording,
+                    const FloatingLogTopics& topics = {}) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const std::string path = test::tempPath("refused.db3");
+  test::writeSuspendedRecording(path, model, test::SuspendedMotion(model, 1), recording);
+  try {
+    prepareFloatingBag(model, path, topics, {});
+  } catch (const InputError& e) {
+    EXPECT_TRUE(test::contains(e.what(), path)) << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << "prepared";
+  return "";
+}
+
+TEST(FloatingPrepare, WhatARecordingCannotGiveIsRefusedByName) {
+  test::SuspendedRecordingOptions recording;
+  recording.seconds = 2.0;
+  recording.orientation = false;
+  EXPECT_TRUE(test::contains(refusal(recording), "orientation_covariance[0] = -1"));
+  recording.orientation = true;
+  recording.wrench_frame_id = "ft_sensor";
+  const std::string unknown = refusal(recording);
+  EXPECT_TRUE(test::contains(unknown, "frame_id 'ft_sensor' is no frame of")) << unknown;
+  EXPECT_TRUE(test::contains(unknown, "a wrench in an unknown frame")) << unknown;
+  recording.wrench_frame_id.clear();
+  recording.imu_frame = "LF_SHANK";
+  EXPECT_TRUE(test::contains(refusal(recording), "the IMU's frame 'LF_SHANK' is on a limb"));
+  recording.imu_frame = "imu_link";
+  recording.joint_start = 1.5;
+  recording.imu_end = 1.0;
+  EXPECT_TRUE(test::contains(refusal(recording), "the topics never all cover one time"));
+  recording.joint_start = 0.0;
+  recording.imu_end = -1.0;
+  FloatingLogTopics topics;
+  topics.imu_topic = "/imu/data";
+  const std::string absent = refusal(recording, topics);
+  EXPECT_TRUE(test::contains(absent, "no topic '/imu/data' (`imu_topic`)")) << absent;
+  EXPECT_TRUE(test::contains(absent, "/imu")) << absent;  // the one there is
+  topics.imu_topic = "/ft";
+  EXPECT_TRUE(test::contains(refusal(recording, topics), "holds geometry_msgs/msg/WrenchStamped"));
+}
+
+}  // namespace
+}  // namespace dynid
