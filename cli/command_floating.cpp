@@ -108,7 +108,7 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
 int runFloatingIdentify(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples",
-                 "seed", "tolerance", "threads", "payload-link"},
+                 "seed", "tolerance", "threads", "payload-link", "prior-weight"},
                 "identify");
   if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
@@ -119,6 +119,9 @@ int runFloatingIdentify(const po::variables_map& vm) {
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
+  if (!vm["prior-weight"].defaulted() && request.method != FloatingMethod::kPc)
+    throw UsageError("--prior-weight applies to --method pc");
+  request.prior_weight = priorWeightOption(vm);
   request.structural = structuralOptions(vm);
   request.contacts = nameListOption(vm, "contacts");
   readSetsAndMotion(vm, request.sensors, request.motion);

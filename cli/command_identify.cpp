@@ -70,7 +70,7 @@ void addIdentifyOptions(po::options_description& options) {
       "ols (ordinary), wls (weighted per joint, Gautier), pc (physically consistent: least "
       "squares regularised by the entropic divergence from the prior) or combined (pc's fit of "
       "the torques and the motion's GC residuals together, physically consistent); with "
-      "--floating-base ols or wls (each channel's noise estimated; the default there)")(
+      "--floating-base ols, wls (each channel's noise estimated; the default there) or pc")(
       "prior", po::value<std::string>(),
       "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
       "data", po::value<std::string>(), "training dataset CSV")(
@@ -160,7 +160,8 @@ int runIdentify(const std::vector<std::string>& args) {
       "dynid identify --method ols|wls|pc|combined --robot R [--drives] --data train.csv "
       "[--validate test.csv] --out DIR\n       dynid identify --method ols|wls|pc --summaries "
       "S.summary.json... [--validate test.csv] --out DIR\n       dynid identify --robot R.urdf "
-      "--floating-base --data F.csv [--contacts L1,L2:frame] [--sensors S1,S2] [--method ols|wls] "
+      "--floating-base --data F.csv [--contacts L1,L2:frame] [--sensors S1,S2] [--method "
+      "ols|wls|pc] "
       "--out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it

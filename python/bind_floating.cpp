@@ -59,8 +59,9 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
                             const std::optional<std::vector<std::string>>& sensors,
                             const std::optional<std::string>& motion, const std::string& method,
                             const TermsLike& drive_terms, int samples, std::uint64_t seed,
-                            const std::optional<std::string>& payload_link) {
+                            const std::optional<std::string>& payload_link, double prior_weight) {
   FloatingIdentifyRequest request;
+  request.prior_weight = prior_weight;
   request.contacts = contacts.value_or(std::vector<std::string>{});
   for (const std::string& name : sensors.value_or(std::vector<std::string>{}))
     request.sensors.push_back(parseSensorSet(name));
@@ -158,10 +159,12 @@ void bindFloating(py::module_& m) {
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",
         py::arg("drive_terms") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
-        py::arg("payload_link") = py::none(),
+        py::arg("payload_link") = py::none(), py::arg("prior_weight") = kDefaultPriorWeight,
         "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
         "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
-        "(each channel's noise estimated) or ols; with payload_link, the payload fixed to that "
+        "(each channel's noise estimated), ols, or pc (weighted as wls, every body physically "
+        "consistent, the robot's own parameters the prior at prior_weight); with payload_link, "
+        "the payload fixed to that "
         "link as well (the robot read as unloaded). Returns floating_identification.json as a "
         "dict (docs/FLOATING.md).");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),

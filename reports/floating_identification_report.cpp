@@ -47,8 +47,17 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
                           {"model_value", s.model_beta[j]},
                           {"z", numberOrNull(z)}});
   }
+  json physical = nullptr;
+  if (s.physical)
+    physical = {
+        {"converged", s.physical->converged},
+        {"termination", s.physical->termination},
+        {"iterations", s.physical->iterations},
+        {"standard", std::vector<double>(s.physical->theta.data(),
+                                         s.physical->theta.data() + s.physical->theta.size())}};
   out.update({{"rows", s.fit.rows},
               {"residual_scale", s.fit.residual_scale},
+              {"physical", physical},
               {"noise_sd", noiseJson(outcome, s)},
               {"residual_percent", s.residual_percent},
               {"validation_percent", numberOrNull(s.validation_percent)},
@@ -126,6 +135,10 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
   md << "\n- Method: " << floatingMethodName(outcome.method)
      << (outcome.method == FloatingMethod::kWls
              ? " (each channel's noise estimated from the data, every row weighted by it)"
+         : outcome.method == FloatingMethod::kPc
+             ? " (weighted as wls; every body's pseudo-inertia positive definite, the "
+               "non-negative drive terms positive, the model's parameters the prior; sd as wls's, "
+               "the constraints taken as inactive)"
              : " (every row alike)")
      << "; motion: " << floatingMotionName(outcome.motion) << "; contacts:";
   if (outcome.contacts.empty()) md << " none";
@@ -196,7 +209,11 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
     out << s.base.base.numBase() << " base parameters, residual " << percent(s.residual_percent);
     if (!std::isnan(s.validation_percent)) out << ", held out " << percent(s.validation_percent);
     out << ", " << percent(s.model_error_percent) << " from the model (z RMS "
-        << formatNumber(s.model_z_rms, 3) << ")\n";
+        << formatNumber(s.model_z_rms, 3) << ")";
+    if (s.physical)
+      out << (s.physical->converged ? ", physically consistent in " : ", NOT CONVERGED after ")
+          << s.physical->iterations << " Newton steps";
+    out << "\n";
   }
   for (std::size_t k = 0; k < sources.payloads.size(); ++k) {
     const FloatingPayload& p = sources.payloads[k];

@@ -10,15 +10,16 @@
 namespace dynid {
 
 const char* floatingMethodName(FloatingMethod method) {
-  return method == FloatingMethod::kOls ? "ols" : "wls";
+  return method == FloatingMethod::kOls ? "ols" : method == FloatingMethod::kWls ? "wls" : "pc";
 }
 
 FloatingMethod parseFloatingMethod(const std::string& text) {
   if (text == "ols") return FloatingMethod::kOls;
   if (text == "wls") return FloatingMethod::kWls;
+  if (text == "pc") return FloatingMethod::kPc;
   throw InputError("`method` is '" + text +
-                   "'; a floating base takes ols or wls (pc and combined are not built for "
-                   "floating bases)");
+                   "'; a floating base takes ols, wls or pc (the combined estimator needs GC "
+                   "rollouts, not built for floating bases)");
 }
 
 namespace {
@@ -137,6 +138,13 @@ void estimate(const FloatingModel& model, const FloatingIdentifyRequest& request
     out.refused = e.what();
     return;
   }
+  if (request.method == FloatingMethod::kPc) {  // weighted as wls, then held physical
+    PhysicalOptions options;
+    options.prior_weight = request.prior_weight;
+    out.physical = fitFloatingPhysical(model, out.base.base, set, samples, out.variances,
+                                       model.standardParameters(), options);
+    out.fit.beta = out.physical->beta;
+  }
   out.residual_percent = residualPercent(model, data, contacts, out.base, out.fit.beta);
   out.validation_percent =
       validation != nullptr ? residualPercent(model, *validation, contacts, out.base, out.fit.beta)
@@ -240,7 +248,7 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   for (FloatingSetEstimate& s : out.sets)
     if (s.base.set == SensorSet::kTorquesAndWrenches) {
       estimate(model, request, out.contacts, data, validation, std::nullopt, s);
-      if (s.refused.empty() && request.method == FloatingMethod::kWls) shared = s.variances;
+      if (s.refused.empty() && request.method != FloatingMethod::kOls) shared = s.variances;
     }
   for (FloatingSetEstimate& s : out.sets)
     if (s.base.set != SensorSet::kTorquesAndWrenches)

@@ -10,14 +10,16 @@
 
 #include "data/floating/floating_dataset.hpp"
 #include "identifiability/floating/floating_fit.hpp"
+#include "identifiability/floating/floating_physical.hpp"
 
 namespace dynid {
 
 /// How the rows are weighted: ordinary least squares, or generalized least squares with every
 /// channel's noise estimated from the data (fitFloatingFeasible): torques, forces and moments of
-/// different sizes and units weighted by what they carry.
-enum class FloatingMethod { kOls, kWls };
-/// "ols", "wls".
+/// different sizes and units weighted by what they carry; pc: weighted as wls, every body
+/// physically consistent (fitFloatingPhysical).
+enum class FloatingMethod { kOls, kWls, kPc };
+/// "ols", "wls", "pc".
 const char* floatingMethodName(FloatingMethod method);
 /// Throws InputError naming `method` and the names.
 FloatingMethod parseFloatingMethod(const std::string& text);
@@ -35,15 +37,23 @@ struct FloatingIdentifyRequest {
   /// contact is on the base body, holding with contacts, free without.
   std::optional<FloatingMotion> motion;
   FloatingMethod method = FloatingMethod::kWls;
+  /// pc: the weight of the divergence from the model's own parameters (PhysicalOptions').
+  double prior_weight = kDefaultPriorWeight;
   StructuralOptions structural;
-  void check() const { structural.check(); }
+  void check() const {
+    structural.check();
+    checkPriorWeight(prior_weight);
+  }
 };
 
 /// One set's estimate, or why it has none.
 struct FloatingSetEstimate {
   SensorSetBase base;   // the set's structural base parameters
   std::string refused;  // empty: estimated; else why the data do not determine them
+  /// The weighted fit (pc: its covariance is the estimate's, the constraints taken as inactive).
   FloatingFit fit;
+  /// pc: the physically consistent estimate (fit.beta is its beta).
+  std::optional<FloatingPhysicalEstimate> physical;
   /// wls: the channel variances the fit is weighted by, torques_wrenches' estimate for every set
   /// when it has one (the same sensors feed them all), else the set's own.
   ChannelVariances variances;

@@ -38,7 +38,7 @@ std::vector<FloatingPayload> floatingPayloads(const FloatingModel& model,
       y.push_back(sensorMeasurements(s.base.set, m.tau, m.J, m.forces) - rows * theta);
     }
     try {
-      const bool weighted = estimate.method == FloatingMethod::kWls && s.refused.empty();
+      const bool weighted = estimate.method != FloatingMethod::kOls && s.refused.empty();
       const FloatingFit fit =
           fitFloatingRows(s.base.set, samples, W, y, weighted ? &s.variances : nullptr);
       p.phi = fit.beta;

@@ -38,7 +38,8 @@ inline constexpr DocumentType kEstimateDocument{"dynid.estimate", 8};  // identi
 inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 2};
 // identifiability --floating-base: what each sensor set of a floating robot determines.
 inline constexpr DocumentType kFloatingIdentifiabilityDocument{"dynid.floating_identifiability", 1};
-// identify --floating-base: each sensor set's estimate on a floating-base dataset.
+// identify --floating-base: each sensor set's estimate on a floating-base dataset (with pc, each
+// set's `physical`).
 inline constexpr DocumentType kFloatingIdentificationDocument{"dynid.floating_identification", 1};
 // prepare --floating-base: a floating robot's recording prepared into a floating dataset.
 inline constexpr DocumentType kFloatingPrepareDocument{"dynid.floating_prepare", 1};

@@ -141,6 +141,22 @@ FloatingFit fitFloating(const BaseParameters& base, SensorSet set,
   return solveStacked(base.numBase(), blocks, values, exact_rows);
 }
 
+namespace {
+/// One sample's rows and measurements whitened by its row covariance at the channels' variances.
+void whitenAt(SensorSet set, const FloatingMeasurement& m, const ChannelVariances& variances,
+              Eigen::MatrixXd& W, Eigen::VectorXd& y, int& exact_rows) {
+  Eigen::VectorXd fv(m.J.rows());
+  for (Eigen::Index r = 0; r < fv.size(); ++r)
+    fv[r] = !m.moment_rows.empty() && m.moment_rows[static_cast<std::size_t>(r)] ? variances.moment
+                                                                                 : variances.force;
+  const Eigen::LLT<Eigen::MatrixXd> llt = factorCovariance(
+      rowCovariance(set, m, Eigen::VectorXd::Constant(m.tau.size(), variances.torque), fv),
+      exact_rows);
+  llt.matrixL().solveInPlace(W);
+  llt.matrixL().solveInPlace(y);
+}
+}  // namespace
+
 FloatingFit fitFloatingRows(SensorSet set, const std::vector<FloatingMeasurement>& samples,
                             const std::vector<Eigen::MatrixXd>& W,
                             const std::vector<Eigen::VectorXd>& y,
@@ -151,20 +167,38 @@ FloatingFit fitFloatingRows(SensorSet set, const std::vector<FloatingMeasurement
   std::vector<Eigen::VectorXd> values = y;
   int exact_rows = 0;
   if (variances != nullptr)
-    for (std::size_t k = 0; k < samples.size(); ++k) {
-      const FloatingMeasurement& m = samples[k];
-      Eigen::VectorXd fv(m.J.rows());
-      for (Eigen::Index r = 0; r < fv.size(); ++r)
-        fv[r] = !m.moment_rows.empty() && m.moment_rows[static_cast<std::size_t>(r)]
-                    ? variances->moment
-                    : variances->force;
-      const Eigen::LLT<Eigen::MatrixXd> llt = factorCovariance(
-          rowCovariance(set, m, Eigen::VectorXd::Constant(m.tau.size(), variances->torque), fv),
-          exact_rows);
-      llt.matrixL().solveInPlace(blocks[k]);
-      llt.matrixL().solveInPlace(values[k]);
-    }
+    for (std::size_t k = 0; k < samples.size(); ++k)
+      whitenAt(set, samples[k], *variances, blocks[k], values[k], exact_rows);
   return solveStacked(static_cast<int>(W.front().cols()), blocks, values, exact_rows);
+}
+
+Eigen::MatrixXd floatingStandardFactor(SensorSet set,
+                                       const std::vector<FloatingMeasurement>& samples,
+                                       const ChannelVariances* variances) {
+  if (samples.empty()) throw InputError("floatingStandardFactor: no sample");
+  const Eigen::Index p = samples.front().Y.cols();
+  std::vector<Eigen::MatrixXd> blocks;
+  Eigen::Index rows = 0;
+  int exact_rows = 0;
+  for (const FloatingMeasurement& m : samples) {
+    if (m.Y.cols() != p)
+      throw InputError("floatingStandardFactor: samples of " + std::to_string(p) + " and " +
+                       std::to_string(m.Y.cols()) + " parameters");
+    Eigen::MatrixXd W = sensorRows(set, m.Y, m.J);
+    Eigen::VectorXd y = sensorMeasurements(set, m.tau, m.J, m.forces);
+    if (variances != nullptr) whitenAt(set, m, *variances, W, y, exact_rows);
+    blocks.emplace_back(W.rows(), p + 1);
+    blocks.back() << W, y;
+    rows += W.rows();
+  }
+  Eigen::MatrixXd stacked = Eigen::MatrixXd::Zero(std::max(rows, p + 1), p + 1);
+  Eigen::Index at = 0;
+  for (const Eigen::MatrixXd& b : blocks) {
+    stacked.middleRows(at, b.rows()) = b;
+    at += b.rows();
+  }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(stacked);
+  return qr.matrixQR().topRows(p + 1).triangularView<Eigen::Upper>();
 }
 
 namespace {

@@ -86,4 +86,13 @@ FloatingFit fitFloatingRows(SensorSet set, const std::vector<FloatingMeasurement
                             const std::vector<Eigen::VectorXd>& y,
                             const ChannelVariances* variances);
 
+/// The set's rows in standard coordinates (sensorRows: every column of the floating vector),
+/// stacked over the samples, whitened by their row covariance at `variances` (unweighted when
+/// null) and compressed to the (p + 1)-square upper triangle R of the QR of [W | y], so that
+/// |W theta - y|^2 = |R(0:p, 0:p) theta - R(0:p, p)|^2 + R(p, p)^2 for every theta. Throws
+/// InputError for no sample or samples of different sizes.
+Eigen::MatrixXd floatingStandardFactor(SensorSet set,
+                                       const std::vector<FloatingMeasurement>& samples,
+                                       const ChannelVariances* variances);
+
 }  // namespace dynid

@@ -132,6 +132,21 @@ TEST(Cli, IdentifyAFloatingBaseEstimatesItsNoise) {
   EXPECT_NEAR(noise["torque"].get<double>(), 0.5, 0.05);
   EXPECT_NEAR(noise["force"].get<double>(), 2.0, 0.2);
   EXPECT_TRUE(noise["moment"].is_null());  // point feet carry no moment
+  EXPECT_TRUE(j["sets"][1]["physical"].is_null());
+  // pc: weighted the same, every body consistent; its prior weight is refused with another method.
+  r = run("identify --robot " + kAnymal + " --floating-base --method pc --data " + dir +
+          "/d.csv --sensors torques_wrenches --out " + dir + "/pc");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "physically consistent in")) << r.out;
+  const auto pc = nlohmann::json::parse(readFile(dir + "/pc/floating_identification.json"));
+  EXPECT_EQ(pc["method"], "pc");
+  EXPECT_TRUE(pc["sets"][0]["physical"]["converged"].get<bool>());
+  EXPECT_EQ(pc["sets"][0]["physical"]["standard"].size(), pc["standard_parameters"].size());
+  EXPECT_NEAR(pc["sets"][0]["noise_sd"]["torque"].get<double>(), 0.5, 0.05);
+  r = run("identify --robot " + kAnymal + " --floating-base --prior-weight 2 --data " + dir +
+          "/d.csv --out " + dir + "/x");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--prior-weight applies to --method pc")) << r.err;
 }
 
 /// A 2 kg box bolted to ANYmal's base (a fixed link in a copy of its URDF): simulated on the loaded

@@ -57,7 +57,7 @@ def test_simulate_and_identify_a_floating_base_equal_the_clis(tmp_path):
 def test_floating_identify_names_what_is_wrong(tmp_path):
     data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=20)
     with pytest.raises(ValueError, match="method"):
-        dynid.floating_identify(ANYMAL, data, method="pc")
+        dynid.floating_identify(ANYMAL, data, method="combined")
     with pytest.raises(ValueError, match="contacts"):
         dynid.floating_identify(ANYMAL, data, contacts=["LF_FOOT"])
 
