@@ -191,7 +191,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
   std::vector<std::string> warnings;  // prepare reads the robot's joints and frames, not its mass
   const FloatingModel model = loadFloatingRobot(vm["robot"].as<std::string>(), {}, &warnings);
   printWarnings(warnings);
-  FloatingPrepareOutcome outcome = prepareFloatingBag(model, logs.front(), topics, options);
+  FloatingPrepareOutcome outcome = prepareFloatingLog(model, logs.front(), topics, options);
   cliTexts(outcome.warnings);
   printWarnings(outcome.warnings, "dynid prepare: warning: ");
   const std::string dir = vm["out"].as<std::string>();

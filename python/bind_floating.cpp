@@ -135,7 +135,7 @@ py::object prepareFloating(const PathLike& robot, const PathLike& log, const Pat
   FloatingPrepareOutcome outcome;
   {
     py::gil_scoped_release release;
-    outcome = prepareFloatingBag(model, recording, topics, options);
+    outcome = prepareFloatingLog(model, recording, topics, options);
     writeFloatingDataset(path, outcome.dataset);
   }
   return parsedJson(floatingPrepareJson(model, recording, outcome));

@@ -10,6 +10,7 @@
 #include "core/signal.hpp"
 #include "data/bags/bag.hpp"
 #include "data/bags/ros_messages.hpp"
+#include "data/floating/floating_log.hpp"
 
 namespace dynid {
 
@@ -25,14 +26,16 @@ void FloatingPrepareOptions::check() const {
 
 namespace {
 
-enum class Kind { kJoints, kImu, kWrench };
+enum class Kind { kJoints, kImu, kWrench, kFlag };
 
 /// One topic's messages as rows of numbers, in the order read.
 struct Stream {
   Kind kind = Kind::kJoints;
   FloatingTopicSummary summary;
-  std::vector<std::int64_t> stamps;
-  std::vector<double> values;  // row-major, `width` per message
+  std::vector<std::int64_t> stamps;  // a bag's [ns]
+  std::vector<double> seconds;       // [s] from the joint topic's first stamp (a table's t)
+  std::vector<double> values;        // row-major, `width` per message; an IMU's orientation the
+                                     // base's
   int width = 0;
   bool has_dq = false, has_tau = false;  // joints
   Eigen::VectorXd time;                  // [s] from the origin, sorted, without repeats
@@ -198,8 +201,17 @@ void readStreams(const FloatingModel& model, const std::string& path, bool recei
         throw InputError(where +
                          ": the IMU gives no orientation (orientation_covariance[0] = "
                          "-1): gravity's direction in the base frame needs it");
+      // The IMU's orientation, then the base's: world <- IMU times (base <- IMU)^T.
       const auto& o = imu.orientation;
-      s.values.insert(s.values.end(), {o[3], o[0], o[1], o[2]});
+      const Eigen::Vector4d wxyz(o[3], o[0], o[1], o[2]);
+      if (!(std::abs(wxyz.norm() - 1.0) <= kQuaternionNormTolerance))
+        throw InputError(where + ", message " + std::to_string(s.stamps.size() + 1) +
+                         ": the orientation's norm is " + formatNumber(wxyz.norm(), 6) +
+                         ", not a unit quaternion");
+      const Eigen::Quaterniond base_q =
+          Eigen::Quaterniond(wxyz[0], wxyz[1], wxyz[2], wxyz[3]).normalized() *
+          Eigen::Quaterniond(model.findFrame(imu.frame_id)->placement.rotation).conjugate();
+      s.values.insert(s.values.end(), {base_q.w(), base_q.x(), base_q.y(), base_q.z()});
       s.values.insert(s.values.end(), imu.angular_velocity.begin(), imu.angular_velocity.end());
       s.values.insert(s.values.end(), imu.linear_acceleration.begin(),
                       imu.linear_acceleration.end());
@@ -228,25 +240,27 @@ void readStreams(const FloatingModel& model, const std::string& path, bool recei
   }
 }
 
-/// Sorted by stamp (stable), repeated stamps dropped (the first kept), times in seconds from
-/// `origin`; an IMU's quaternions each on the previous one's side (q and -q are one rotation:
-/// interpolating between them would pass through zero); the median step, the gap limit and the
-/// gaps.
-void orderStream(Stream& s, std::int64_t origin, double max_gap) {
-  std::vector<std::size_t> order(s.stamps.size());
+/// Sorted by time (stable), repeated times dropped (the first kept); an IMU's quaternions each on
+/// the previous one's side (q and -q are one rotation: interpolating between them would pass
+/// through zero); the median step, the gap limit and the gaps.
+void orderStream(Stream& s, double max_gap) {
+  std::vector<std::size_t> order(s.seconds.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return s.stamps[a] < s.stamps[b]; });
+                   [&](std::size_t a, std::size_t b) { return s.seconds[a] < s.seconds[b]; });
   std::vector<std::size_t> kept;
   for (std::size_t i : order)
-    if (kept.empty() || s.stamps[i] != s.stamps[kept.back()]) kept.push_back(i);
+    if (kept.empty() || s.seconds[i] != s.seconds[kept.back()]) kept.push_back(i);
   s.summary.repeated = static_cast<long long>(order.size() - kept.size());
   const auto N = static_cast<Eigen::Index>(kept.size());
+  if (N < 2)
+    throw InputError(s.summary.topic + ": " + std::to_string(N) +
+                     " sample(s) at distinct times; a signal needs two or more");
   s.time.resize(N);
   s.rows.resize(N, s.width);
   for (Eigen::Index k = 0; k < N; ++k) {
     const std::size_t i = kept[static_cast<std::size_t>(k)];
-    s.time[k] = static_cast<double>(s.stamps[i] - origin) * 1e-9;
+    s.time[k] = s.seconds[i];
     for (int c = 0; c < s.width; ++c)
       s.rows(k, c) = s.values[i * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(c)];
   }
@@ -265,6 +279,7 @@ void orderStream(Stream& s, std::int64_t origin, double max_gap) {
       s.gaps.emplace_back(s.time[k - 1], s.time[k]);
   s.summary.gaps = static_cast<int>(s.gaps.size());
   s.stamps = {};
+  s.seconds = {};
   s.values = {};
 }
 
@@ -345,9 +360,19 @@ std::vector<Run> findRuns(const std::vector<Stream>& streams, const std::string&
   return runs;
 }
 
-/// A stream over a run: resampled, low-passed (when a cutoff is set).
+/// A stream over a run: resampled, low-passed (when a cutoff is set); a flag held from its last
+/// sample at or before each time (never interpolated or filtered).
 Eigen::MatrixXd runSignals(const Stream& s, double t0, const FloatingPrepareOutcome& out,
                            Eigen::Index count, const std::vector<Biquad>& filter) {
+  if (s.kind == Kind::kFlag) {
+    Eigen::MatrixXd x(count, 1);
+    for (Eigen::Index k = 0; k < count; ++k) {
+      const double t = t0 + static_cast<double>(k) / out.rate;
+      const auto after = std::upper_bound(s.time.data(), s.time.data() + s.time.size(), t + 1e-9);
+      x(k, 0) = s.rows(std::max<Eigen::Index>(after - s.time.data() - 1, 0), 0);
+    }
+    return x;
+  }
   Eigen::MatrixXd x = resampleLinear(s.time, s.rows, t0, out.rate, static_cast<int>(count));
   if (!filter.empty())
     for (Eigen::Index c = 0; c < x.cols(); ++c) {
@@ -366,9 +391,10 @@ void appendRun(const FloatingModel& model, const std::vector<Stream>& streams, c
   const int n = model.numJoints();
   const Eigen::MatrixXd joints = runSignals(streams[0], t0, out, run.count, filter);
   const Eigen::MatrixXd imu = runSignals(streams[1], t0, out, run.count, filter);
-  std::vector<Eigen::MatrixXd> wrenches;
-  for (std::size_t w = 2; w < streams.size(); ++w)
-    wrenches.push_back(runSignals(streams[w], t0, out, run.count, filter));
+  std::vector<Eigen::MatrixXd> wrenches, flags;
+  for (std::size_t k = 2; k < streams.size(); ++k)
+    (streams[k].kind == Kind::kFlag ? flags : wrenches)
+        .push_back(runSignals(streams[k], t0, out, run.count, filter));
   Eigen::MatrixXd dq(run.count, n), ddq(run.count, n), dgyro(run.count, 3);
   for (int j = 0; j < n; ++j) {
     dq.col(j) =
@@ -381,12 +407,9 @@ void appendRun(const FloatingModel& model, const std::vector<Stream>& streams, c
   const int tau_at = streams[0].has_dq ? 2 * n : n;
   for (Eigen::Index k = trim; k < run.count - trim; ++k, ++at) {
     d.time[at] = t0 + static_cast<double>(k) * h;
-    // The IMU's orientation, then the base's: world <- IMU times (base <- IMU)^T.
-    const Eigen::Quaterniond imu_q(imu(k, 0), imu(k, 1), imu(k, 2), imu(k, 3));
-    const Eigen::Quaterniond base_q =
-        imu_q.normalized() * Eigen::Quaterniond(F.rotation).conjugate();
-    d.orientation.col(at) << base_q.w(), base_q.x(), base_q.y(), base_q.z();
-    imuBaseMotion(model, F, base_q.toRotationMatrix(), imu.row(k).segment<3>(4).transpose(),
+    const Eigen::Vector4d base_q = imu.row(k).head<4>().transpose().normalized();
+    d.orientation.col(at) = base_q;
+    imuBaseMotion(model, F, baseRotation(base_q), imu.row(k).segment<3>(4).transpose(),
                   dgyro.row(k).transpose(), imu.row(k).segment<3>(7).transpose(), d.twist.col(at),
                   d.acceleration.col(at));
     d.q.col(at) = joints.row(k).head(n).transpose();
@@ -395,26 +418,25 @@ void appendRun(const FloatingModel& model, const std::vector<Stream>& streams, c
     if (d.hasTorques()) d.tau.col(at) = joints.row(k).segment(tau_at, n).transpose();
     for (std::size_t w = 0; w < wrenches.size(); ++w)
       d.wrenches[w].values.col(at) = wrenches[w].row(k).transpose();
+    for (std::size_t f = 0; f < flags.size(); ++f)
+      d.flags[f].holding[static_cast<std::size_t>(at)] = flags[f](k, 0) != 0.0 ? 1 : 0;
   }
 }
 
-}  // namespace
-
-FloatingPrepareOutcome prepareFloatingBag(const FloatingModel& model, const std::string& path,
-                                          const FloatingLogTopics& topics,
-                                          const FloatingPrepareOptions& options) {
-  options.check();
+/// The streams (joints, the IMU, the wrenches, then the flags; times in seconds) into the
+/// dataset: ordered, on one time base over the runs, filtered and differentiated.
+FloatingPrepareOutcome prepareStreams(const FloatingModel& model, const std::string& path,
+                                      std::vector<Stream>& streams,
+                                      const FloatingPrepareOptions& options) {
   FloatingPrepareOutcome out;
-  std::vector<Stream> streams = chooseStreams(path, topics);
-  readStreams(model, path, options.receive_time, streams);
   for (std::size_t a = 2; a < streams.size(); ++a)
     for (std::size_t b = 2; b < a; ++b)
-      if (streams[a].summary.frame == streams[b].summary.frame)
-        throw InputError(path + ": topics " + streams[b].summary.topic + " and " +
-                         streams[a].summary.topic + " both measure a wrench in frame '" +
+      if (streams[a].kind == streams[b].kind &&
+          streams[a].summary.frame == streams[b].summary.frame)
+        throw InputError(path + ": " + streams[b].summary.topic + " and " +
+                         streams[a].summary.topic + " both measure frame '" +
                          streams[a].summary.frame + "'");
-  const std::int64_t origin = *std::min_element(streams[0].stamps.begin(), streams[0].stamps.end());
-  for (Stream& s : streams) orderStream(s, origin, options.max_gap);
+  for (Stream& s : streams) orderStream(s, options.max_gap);
   chooseRates(streams[0], options, out);
   const std::vector<Run> runs = findRuns(streams, path, out);
   const std::vector<Biquad> filter = out.cutoff > 0.0
@@ -435,19 +457,71 @@ FloatingPrepareOutcome prepareFloatingBag(const FloatingModel& model, const std:
   d.dq.resize(n, total);
   d.ddq.resize(n, total);
   d.tau.resize(streams[0].has_tau ? n : 0, total);
-  for (std::size_t w = 2; w < streams.size(); ++w)
-    d.wrenches.push_back({streams[w].summary.frame, Eigen::MatrixXd(6, total)});
+  for (std::size_t k = 2; k < streams.size(); ++k) {
+    if (streams[k].kind == Kind::kFlag)
+      d.flags.push_back({streams[k].summary.frame, std::vector<char>(total, 0)});
+    else
+      d.wrenches.push_back({streams[k].summary.frame, Eigen::MatrixXd(streams[k].width, total)});
+  }
   Eigen::Index at = 0;
   for (const Run& r : runs) appendRun(model, streams, r, out, filter, at, d);
   for (const Stream& s : streams) out.topics.push_back(s.summary);
   if (!streams[0].has_tau)
-    out.warnings.push_back(
-        "the joint messages carry no effort: a dataset without joint torques "
-        "(the wrenches set only)");
+    out.warnings.push_back("the log has no joint torques: a dataset for the wrenches set only");
   if (out.runs_dropped > 0)
     out.warnings.push_back(std::to_string(out.runs_dropped) +
                            " run(s) between gaps too short for the filter's trim were dropped");
   return out;
+}
+
+/// A table's sensors as streams, named by their columns.
+std::vector<Stream> tableStreams(const FloatingLogTable& table) {
+  std::vector<Stream> out;
+  const auto add = [&](const FloatingLogSignal& signal, Kind kind, const std::string& name) {
+    Stream s;
+    s.kind = kind;
+    s.summary.topic = name;
+    s.summary.type = "table columns";
+    s.summary.frame = signal.frame;
+    s.summary.messages = signal.samples();
+    s.width = signal.width;
+    s.seconds = signal.time;
+    s.values = signal.values;
+    out.push_back(std::move(s));
+  };
+  add(table.joints, Kind::kJoints, "q:*");
+  out.back().has_dq = table.has_dq;
+  out.back().has_tau = table.has_tau;
+  add(table.imu, Kind::kImu, "imu:" + table.imu.frame + ":*");
+  for (const FloatingLogSignal& w : table.wrenches)
+    add(w, Kind::kWrench, "wrench:" + w.frame + ":*");
+  for (const FloatingLogSignal& f : table.flags) add(f, Kind::kFlag, "contact:" + f.frame);
+  return out;
+}
+
+}  // namespace
+
+FloatingPrepareOutcome prepareFloatingLog(const FloatingModel& model, const std::string& path,
+                                          const FloatingLogTopics& topics,
+                                          const FloatingPrepareOptions& options) {
+  options.check();
+  if (!bags::isBag(path)) {
+    if (!topics.joint_topic.empty() || !topics.imu_topic.empty() || !topics.wrench_topics.empty() ||
+        options.receive_time)
+      throw InputError(
+          "`joint_topic`, `imu_topic`, `wrench_topics` and `receive_time` apply to "
+          "recordings, not to a table (" +
+          path + ")");
+    std::vector<Stream> streams = tableStreams(readFloatingLogTable(path, model));
+    return prepareStreams(model, path, streams, options);
+  }
+  std::vector<Stream> streams = chooseStreams(path, topics);
+  readStreams(model, path, options.receive_time, streams);
+  const std::int64_t origin = *std::min_element(streams[0].stamps.begin(), streams[0].stamps.end());
+  for (Stream& s : streams)
+    for (std::int64_t stamp : s.stamps)
+      s.seconds.push_back(static_cast<double>(stamp - origin) * 1e-9);
+  return prepareStreams(model, path, streams, options);
 }
 
 }  // namespace dynid

@@ -1,19 +1,22 @@
-// A floating robot's recording in, a floating dataset out (`dynid prepare --floating-base`,
-// docs/FLOATING.md "From a recording"). A ROS bag (data/bags/bag.hpp) with three kinds of topic:
+// A floating robot's raw log in, a floating dataset out (`dynid prepare --floating-base`,
+// docs/FLOATING.md "From a recording"). Either a ROS bag (data/bags/bag.hpp) with three kinds of
+// topic:
 //   sensor_msgs/JointState         q, dq when logged, the efforts as joint torques when logged;
 //   sensor_msgs/Imu                an IMU on the base body (its header's frame_id a frame of the
 //                                  model): orientation, gyro, specific force;
 //   geometry_msgs/WrenchStamped    a contact wrench per topic, in its header's frame_id's axes
-//                                  about that frame's origin (a frame of the model).
-// Topics at different rates, with jitter, are the common case: every topic is resampled (linear)
-// onto one uniform time base over the span all of them cover, at the joint topic's median rate;
-// a step in any topic longer than the gap limit splits the log there (the samples between a
-// topic's two messages that far apart are not interpolated), and each run is then filtered and
-// differentiated on its own. Every signal is low-passed by the same zero-phase Butterworth
-// ("parallel filtering": the same lag-free distortion on both sides of tau = Y theta); dq is the
-// logged velocity (filtered) or q's derivative, ddq dq's; the base's angular acceleration the
-// filtered gyro's derivative; the base's motion then follows the IMU rule of
-// data/floating/floating_dataset.hpp (imuBaseMotion).
+//                                  about that frame's origin (a frame of the model);
+// or a table (data/floating/floating_log.hpp: the same signals as named columns, each sensor's
+// fields empty in the rows where it has no sample, and contact flags).
+// Sensors at different rates, with jitter, are the common case: every signal is resampled
+// (linear; a flag held from its last sample) onto one uniform time base over the span all of
+// them cover, at the joints' median rate; a step in any signal longer than the gap limit splits
+// the log there (no sample is interpolated across it), and each run is then filtered and
+// differentiated on its own. Every signal but the flags is low-passed by the same zero-phase
+// Butterworth ("parallel filtering": the same lag-free distortion on both sides of
+// tau = Y theta); dq is the logged velocity (filtered) or q's derivative, ddq dq's; the base's
+// angular acceleration the filtered gyro's derivative; the base's motion then follows the IMU
+// rule of data/floating/floating_dataset.hpp (imuBaseMotion).
 #pragma once
 
 #include <string>
@@ -65,14 +68,15 @@ struct FloatingPrepareOutcome {
   std::vector<std::string> warnings;
 };
 
-/// Reads `path` for `model` and prepares its floating dataset. Throws InputError naming the
-/// recording, the topic and what is wrong: no topic of a needed type or several without a name, a
-/// named topic absent or of another type, joints of the model the messages lack, an IMU whose
-/// orientation is unknown (orientation_covariance[0] = -1) or whose frame_id is not a frame on the
-/// base body, a wrench in a frame the model lacks (the frames named) or two topics in one frame,
-/// header stamps all zero (use the receive time), topics that never overlap in time, no run long
-/// enough to filter; ParseError for damage (bags' own).
-FloatingPrepareOutcome prepareFloatingBag(const FloatingModel& model, const std::string& path,
+/// Reads `path` for `model` (a recording when bags::isBag says so, else a table) and prepares its
+/// floating dataset. Throws ParseError for a table's faults (floating_log.hpp) and InputError
+/// naming the recording, the topic and what is wrong: topics given for a table, no topic of a
+/// needed type or several without a name, a named topic absent or of another type, joints of the
+/// model the messages lack, an IMU whose orientation is unknown (orientation_covariance[0] = -1) or
+/// whose frame_id is not a frame on the base body, a wrench in a frame the model lacks (the frames
+/// named) or two topics in one frame, header stamps all zero (use the receive time), topics that
+/// never overlap in time, no run long enough to filter; ParseError for damage (bags' own).
+FloatingPrepareOutcome prepareFloatingLog(const FloatingModel& model, const std::string& path,
                                           const FloatingLogTopics& topics,
                                           const FloatingPrepareOptions& options);
 

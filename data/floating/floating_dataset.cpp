@@ -9,26 +9,13 @@
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "data/floating/floating_columns.hpp"
 #include "data/io.hpp"
 
 namespace dynid {
 
 namespace {
-constexpr const char* kOrientation[] = {"qw", "qx", "qy", "qz"};
-constexpr const char* kTwist[] = {"wx", "wy", "wz", "vx", "vy", "vz"};
-constexpr const char* kAcceleration[] = {"dwx", "dwy", "dwz", "dvx", "dvy", "dvz"};
-constexpr const char* kJointBlocks[] = {"q", "dq", "ddq", "tau"};
-/// An IMU's gyro (rad/s) and accelerometer (specific force, m/s^2) columns, in its frame's axes.
-constexpr const char* kImu[] = {"wx", "wy", "wz", "ax", "ay", "az"};
-/// A wrench's components in its rows' order (a point's force: the last three).
-constexpr const char* kWrench[] = {"nx", "ny", "nz", "fx", "fy", "fz"};
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
-}
+using namespace floating_columns;
 
 /// Where a column's values go.
 struct Target {
@@ -38,18 +25,6 @@ struct Target {
   int index = 0;  // the component, joint, wrench or flag
   int row = 0;    // a wrench's component row (0..5; a point's force is 3..5 until it is known)
 };
-
-std::string known(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
-int indexOf(const char* const* names, int count, std::string_view name) {
-  for (int k = 0; k < count; ++k)
-    if (name == names[k]) return k;
-  return -1;
-}
 
 /// The header's columns, checked against the model: what each column holds.
 class HeaderReader {
@@ -100,7 +75,7 @@ class HeaderReader {
       for (std::size_t j = 0; j < joints.size(); ++j)
         if (joints[j] == rest) return {Target::kJoint, block, static_cast<int>(j)};
       fail(c, name,
-           "'" + rest + "' is no joint of '" + model_.name() + "'; its joints: " + known(joints));
+           "'" + rest + "' is no joint of '" + model_.name() + "'; its joints: " + listed(joints));
     }
     if (kind == "imu") return imuTarget(c, name, rest);
     if (kind == "wrench" || kind == "contact") {
@@ -115,7 +90,7 @@ class HeaderReader {
       if (model_.findFrame(frame) == nullptr)
         fail(c, name,
              "'" + frame + "' is no frame of '" + model_.name() + "' (a " + kind +
-                 " in an unknown frame); its frames: " + known(frames_));
+                 " in an unknown frame); its frames: " + listed(frames_));
       if (kind == "contact") {
         out_.flags.push_back({frame, {}});
         return {Target::kFlag, 0, static_cast<int>(out_.flags.size() - 1)};
@@ -153,7 +128,7 @@ class HeaderReader {
            "'" + frame + "' is no frame of '" + model_.name() +
                "' (an IMU in an unknown frame); "
                "its frames: " +
-               known(frames_));
+               listed(frames_));
     if (f->body >= 0)
       fail(c, name,
            "the IMU's frame '" + frame + "' is on a limb: only an IMU on the base body ('" +
@@ -202,18 +177,6 @@ class HeaderReader {
   std::vector<std::string> frames_;
 };
 
-double parseField(std::string_view field, const std::string& file, int line,
-                  const std::string& column) {
-  field = trim(field);
-  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
-  double x = 0.0;
-  const auto parsed = std::from_chars(field.data(), field.data() + field.size(), x);
-  if (field.empty() || parsed.ptr != field.data() + field.size() || parsed.ec != std::errc())
-    throw ParseError(file, line, column, "'" + std::string(field) + "' is not a finite number");
-  if (!std::isfinite(x))
-    throw ParseError(file, line, column, "'" + std::string(field) + "' is not finite");
-  return x;
-}
 }  // namespace
 
 const FloatingDataset::Wrench* FloatingDataset::findWrench(const std::string& frame) const {

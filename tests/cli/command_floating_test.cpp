@@ -235,6 +235,22 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
           dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(r.err, "--cutoff auto (from q's spectrum) does not apply")) << r.err;
+  // The same sensors as one table's columns, each row one sensor's sample.
+  const std::string table = test::tempPath("suspended-cli.csv");
+  test::writeSuspendedTable(table, model, test::SuspendedMotion(model, 2), {});
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + table + " --out " + dir +
+          "/table");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto t = nlohmann::json::parse(readFile(dir + "/table/floating_prepare.json"));
+  EXPECT_EQ(t["topics"][0]["topic"], "q:*");
+  EXPECT_EQ(t["topics"][3]["topic"], "contact:face_rear");
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + table +
+          " --imu-topic /imu --out " + dir);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_TRUE(contains(r.err,
+                       "--topic, --imu-topic, --wrench-topics and --stamp apply to "
+                       "recordings, not to a table"))
+      << r.err;
   r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag + " --decimate 2 --out " +
           dir);
   EXPECT_EQ(r.code, 2);

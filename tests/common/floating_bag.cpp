@@ -1,7 +1,11 @@
 #include "tests/common/floating_bag.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
 #include <random>
+#include <sstream>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -149,12 +153,19 @@ Eigen::VectorXd SuspendedMotion::ddq(double t) const {
   return -amplitude_.array() * w * w * (w * t + phase_.array()).sin();
 }
 
-void writeSuspendedRecording(const std::string& path, const FloatingModel& model,
-                             const SuspendedMotion& motion,
-                             const SuspendedRecordingOptions& options) {
-  JointStateDb3 bag(
-      path, {"/joint_states", "/imu", "/ft"},
-      {"sensor_msgs/msg/JointState", "sensor_msgs/msg/Imu", "geometry_msgs/msg/WrenchStamped"});
+namespace {
+/// Each sensor's samples of the motion (the joints', the IMU's, the sensor's), sensor by sensor,
+/// each at its rate with its jittered stamps [ns, from 1 s].
+struct SuspendedSink {
+  std::function<void(std::int64_t, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                     const Eigen::VectorXd& tau)>
+      joints;
+  std::function<void(std::int64_t, const ImuSample&, const Eigen::Matrix3d& base_rotation)> imu;
+  std::function<void(std::int64_t, const WrenchSample&)> wrench;
+};
+
+void suspendedSamples(const FloatingModel& model, const SuspendedMotion& motion,
+                      const SuspendedRecordingOptions& options, const SuspendedSink& sink) {
   std::mt19937_64 rng(options.seed + 1000);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   FloatingData data(model);
@@ -174,9 +185,7 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
     const double t = time(ns);
     const Eigen::VectorXd q = motion.q(t), dq = motion.dq(t);
     const Eigen::VectorXd& tau = floatingRnea(model, data, motion.base(t), q, dq, motion.ddq(t));
-    const Eigen::VectorXd effort = tau.tail(n);
-    bag.add(ns, ns + 1000000, model.limbs().joint_names, q.data(), dq.data(),
-            options.torques ? effort.data() : nullptr, 0);
+    sink.joints(ns, q, dq, tau.tail(n));
   }
   for (std::int64_t ns :
        stamps(options.imu_rate, 0.0, options.imu_end < 0.0 ? options.seconds : options.imu_end)) {
@@ -193,7 +202,7 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
     m.gyro = I.rotation.transpose() * omega;
     m.accel = I.rotation.transpose() * (at_imu - b.rotation.transpose() * model.gravity());
     m.orientation_covariance0 = options.orientation ? 0.0 : -1.0;
-    bag.addEncoded(1, ns + 1000000, cdrImu(m));
+    sink.imu(ns, m, b.rotation);
   }
   for (std::int64_t ns : stamps(options.wrench_rate, 0.0, options.seconds)) {
     const double t = time(ns);
@@ -205,9 +214,82 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
     const Eigen::Vector3d n_base = w.head<3>(), f_base = w.segment<3>(3);
     m.force = S.rotation.transpose() * f_base;
     m.torque = S.rotation.transpose() * (n_base - S.translation.cross(f_base));
-    bag.addEncoded(2, ns + 1000000, cdrWrench(m));
+    sink.wrench(ns, m);
   }
+}
+}  // namespace
+
+void writeSuspendedRecording(const std::string& path, const FloatingModel& model,
+                             const SuspendedMotion& motion,
+                             const SuspendedRecordingOptions& options) {
+  JointStateDb3 bag(
+      path, {"/joint_states", "/imu", "/ft"},
+      {"sensor_msgs/msg/JointState", "sensor_msgs/msg/Imu", "geometry_msgs/msg/WrenchStamped"});
+  SuspendedSink sink;
+  sink.joints = [&](std::int64_t ns, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                    const Eigen::VectorXd& tau) {
+    bag.add(ns, ns + 1000000, model.limbs().joint_names, q.data(), dq.data(),
+            options.torques ? tau.data() : nullptr, 0);
+  };
+  sink.imu = [&](std::int64_t ns, const ImuSample& m, const Eigen::Matrix3d&) {
+    bag.addEncoded(1, ns + 1000000, cdrImu(m));
+  };
+  sink.wrench = [&](std::int64_t ns, const WrenchSample& m) {
+    bag.addEncoded(2, ns + 1000000, cdrWrench(m));
+  };
+  suspendedSamples(model, motion, options, sink);
   bag.close();
+}
+
+void writeSuspendedTable(const std::string& path, const FloatingModel& model,
+                         const SuspendedMotion& motion, const SuspendedRecordingOptions& options) {
+  const int n = model.numJoints();
+  const std::string& imu = options.imu_frame;
+  const std::string& ft = options.sensor_frame;
+  std::string header = "t";
+  for (const char* block : {"q", "dq", "tau"})
+    for (const std::string& j : model.limbs().joint_names)
+      header += std::string(",") + block + ":" + j;
+  for (const char* c : {"qw", "qx", "qy", "qz"}) header += std::string(",base:") + c;
+  for (const char* c : {"wx", "wy", "wz", "ax", "ay", "az"}) header += ",imu:" + imu + ":" + c;
+  for (const char* c : {"nx", "ny", "nz", "fx", "fy", "fz"}) header += ",wrench:" + ft + ":" + c;
+  header += ",contact:" + ft;
+  // Each row one sensor's sample, the other sensors' fields empty; rows in time order.
+  std::multimap<std::int64_t, std::string> rows;
+  const auto row = [&](std::int64_t ns, int skip_before, const std::vector<double>& values,
+                       int skip_after) {
+    std::ostringstream line;
+    line.precision(17);
+    line << static_cast<double>(ns - 1000000000) * 1e-9 << std::string(skip_before, ',');
+    for (double v : values) line << ',' << v;
+    line << std::string(skip_after, ',');
+    rows.emplace(ns, line.str());
+  };
+  SuspendedSink sink;
+  sink.joints = [&](std::int64_t ns, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
+                    const Eigen::VectorXd& tau) {
+    std::vector<double> v(q.data(), q.data() + n);
+    v.insert(v.end(), dq.data(), dq.data() + n);
+    v.insert(v.end(), tau.data(), tau.data() + n);
+    row(ns, 0, v, 4 + 6 + 6 + 1);
+  };
+  sink.imu = [&](std::int64_t ns, const ImuSample& m, const Eigen::Matrix3d& base_rotation) {
+    const Eigen::Quaterniond b(base_rotation);
+    row(ns, 3 * n,
+        {b.w(), b.x(), b.y(), b.z(), m.gyro[0], m.gyro[1], m.gyro[2], m.accel[0], m.accel[1],
+         m.accel[2]},
+        6 + 1);
+  };
+  sink.wrench = [&](std::int64_t ns, const WrenchSample& m) {
+    row(ns, 3 * n + 10,
+        {m.torque[0], m.torque[1], m.torque[2], m.force[0], m.force[1], m.force[2],
+         ns < 1000000000 + 3000000000 ? 1.0 : 0.0},
+        0);
+  };
+  suspendedSamples(model, motion, options, sink);
+  std::ofstream out(path);
+  out << header << "\n";
+  for (const auto& [key, line] : rows) out << line << "\n";
 }
 
 }  // namespace dynid::test

@@ -72,4 +72,10 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
                              const SuspendedMotion& motion,
                              const SuspendedRecordingOptions& options);
 
+/// The same samples as a table (data/floating/floating_log.hpp): each row one sensor's sample,
+/// the others' fields empty; the sensor's frame also carries a contact flag, 1 for its samples
+/// before 3 s and 0 after.
+void writeSuspendedTable(const std::string& path, const FloatingModel& model,
+                         const SuspendedMotion& motion, const SuspendedRecordingOptions& options);
+
 }  // namespace dynid::test

@@ -15,6 +15,7 @@
 #include "analysis/floating/identify.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
+#include "data/io.hpp"
 #include "tests/common/floating_bag.hpp"
 #include "tests/common/floating_models.hpp"
 #include "tests/common/joint_state_db3.hpp"
@@ -38,7 +39,7 @@ struct Prepared {
       : motion(model, 3, support_moves) {
     const std::string path = test::tempPath("suspended.db3");
     test::writeSuspendedRecording(path, model, motion, recording);
-    out = prepareFloatingBag(model, path, {}, options);
+    out = prepareFloatingLog(model, path, {}, options);
   }
 };
 
@@ -151,7 +152,7 @@ TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
                          nullptr, nullptr, nullptr),
             SQLITE_OK);
   sqlite3_close(db);
-  const FloatingPrepareOutcome out = prepareFloatingBag(model, path, {}, {});
+  const FloatingPrepareOutcome out = prepareFloatingLog(model, path, {}, {});
   EXPECT_EQ(out.runs, 2);
   EXPECT_EQ(out.topics[1].gaps, 1);
   const FloatingDataset& d = out.dataset;
@@ -163,14 +164,81 @@ TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
   EXPECT_LT(relativeGap(d.q, q), 1e-4);  // each run filtered on its own: no edge from the gap
 }
 
-/// prepareFloatingBag's InputError on a recording written with `recording`.
+/// The same sensors in one table, each row one sensor's sample (the others' fields empty), and a
+/// contact flag: the same signals as from the recording, the flag held between its samples.
+TEST(FloatingPrepare, ATableOfSensorsAtThreeRatesMeetsTheMotion) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const test::SuspendedMotion motion(model, 3);
+  const std::string path = test::tempPath("suspended_table.csv");
+  test::writeSuspendedTable(path, model, motion, {});
+  const FloatingPrepareOutcome out = prepareFloatingLog(model, path, {}, {});
+  const FloatingDataset& d = out.dataset;
+  ASSERT_EQ(out.topics.size(), 4u);
+  EXPECT_EQ(out.topics[0].topic, "q:*");
+  EXPECT_EQ(out.topics[1].frame, "imu_link");
+  EXPECT_NEAR(out.rate, 500.0, 1.0);
+  ASSERT_EQ(d.wrenches.size(), 1u);
+  ASSERT_EQ(d.flags.size(), 1u);
+  const int N = d.numSamples();
+  Eigen::MatrixXd q(model.numJoints(), N), omega(3, N);
+  for (int k = 0; k < N; ++k) {
+    q.col(k) = motion.q(d.time[k]);
+    omega.col(k) = motion.base(d.time[k]).twist.head<3>();
+    // The flag's samples (1 kHz) say 1 before 3 s: held, it changes within a millisecond there.
+    if (std::abs(d.time[k] - 3.0) > 2e-3)
+      EXPECT_EQ(d.flags[0].holding[static_cast<std::size_t>(k)], d.time[k] < 3.0 ? 1 : 0)
+          << d.time[k];
+  }
+  // As from the recording (above): the same interpolation and filter.
+  EXPECT_LT(relativeGap(d.q, q), 1e-4);
+  EXPECT_LT(relativeGap(d.twist.topRows<3>(), omega), 1e-4);
+}
+
+TEST(FloatingPrepare, ATablesFaultsAreNamedWithTheirLineAndColumn) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const test::SuspendedMotion motion(model, 3);
+  test::SuspendedRecordingOptions short_log;
+  short_log.seconds = 0.5;
+  const std::string path = test::tempPath("table_faults.csv");
+  test::writeSuspendedTable(path, model, motion, short_log);
+  const std::string text = readFile(path);
+  const auto refused = [&](const std::string& table) {
+    const std::string bad = test::writeTemp("bad_table.csv", table);
+    try {
+      prepareFloatingLog(model, bad, {}, {});
+    } catch (const ParseError& e) {
+      EXPECT_TRUE(test::contains(e.what(), bad)) << e.what();
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "prepared";
+    return std::string();
+  };
+  // The first row (a joint sample) with its q:LF_HAA field emptied: the line and the column.
+  std::string partly = text;
+  const std::size_t first = partly.find(',', partly.find('\n')) + 1;
+  partly.erase(first, partly.find(',', first) - first);
+  const std::string e1 = refused(partly);
+  EXPECT_TRUE(test::contains(e1, ":2") && test::contains(e1, "q:LF_HAA")) << e1;
+  EXPECT_TRUE(test::contains(e1, "a sensor's sample is all of its fields or none")) << e1;
+  std::string ddq = text;
+  ddq.replace(ddq.find("dq:LF_HAA"), 9, "ddq:LF_HAA");
+  EXPECT_TRUE(test::contains(refused(ddq), "ddq is what a preparation derives"));
+  std::string frame = text;
+  frame.replace(frame.find("contact:face_rear"), 17, "contact:ft_sensor");
+  EXPECT_TRUE(test::contains(refused(frame), "'ft_sensor' is no frame of"));
+  std::string twist = text;
+  twist.replace(twist.find("base:qw"), 7, "base:wx");
+  EXPECT_TRUE(test::contains(refused(twist), "its twist comes from the IMU"));
+}
+
+/// prepareFloatingLog's InputError on a recording written with `recording`.
 std::string refusal(const test::SuspendedRecordingOptions& recording,
                     const FloatingLogTopics& topics = {}) {
   const FloatingModel model = test::loadExample(test::kAnymalExample);
   const std::string path = test::tempPath("refused.db3");
   test::writeSuspendedRecording(path, model, test::SuspendedMotion(model, 1), recording);
   try {
-    prepareFloatingBag(model, path, topics, {});
+    prepareFloatingLog(model, path, topics, {});
   } catch (const InputError& e) {
     EXPECT_TRUE(test::contains(e.what(), path)) << e.what();
     return e.what();
