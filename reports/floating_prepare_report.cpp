@@ -48,8 +48,9 @@ std::string floatingPrepareSummary(const FloatingModel& model,
   out << model.name() << " (floating base " << model.baseName() << "):\n";
   for (const FloatingTopicSummary& t : outcome.topics)
     out << "  " << t.topic << " (" << t.type << (t.frame.empty() ? "" : ", in " + t.frame)
-        << "): " << t.messages << " messages, median step " << formatNumber(t.median_step * 1e3, 4)
-        << " ms" << (t.gaps > 0 ? ", " + std::to_string(t.gaps) + " gap(s)" : "")
+        << "): " << t.messages << (t.type == "table columns" ? " samples" : " messages")
+        << ", median step " << formatNumber(t.median_step * 1e3, 4) << " ms"
+        << (t.gaps > 0 ? ", " + std::to_string(t.gaps) + " gap(s)" : "")
         << (t.repeated > 0 ? ", " + std::to_string(t.repeated) + " repeated stamp(s) dropped" : "")
         << "\n";
   out << "  every topic resampled to " << formatNumber(outcome.rate, 6) << " Hz ("
