@@ -10,6 +10,7 @@
 #include "analysis/floating/payload.hpp"
 #include "analysis/floating/prepare.hpp"
 #include "analysis/floating/simulate.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "analysis/records/provenance.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -208,7 +209,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
 int runFloatingSimulate(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads"},
+                 "noise-moment", "threads", "trajectory"},
                 "simulate");
   const FloatingModel model = loadFloating(vm);
   FloatingSimulationOptions options;
@@ -216,19 +217,31 @@ int runFloatingSimulate(const po::variables_map& vm) {
   std::optional<FloatingMotion> motion;
   std::vector<SensorSet> unused;
   readSetsAndMotion(vm, unused, motion);
-  options.motion =
-      motion.value_or(options.contacts.empty() ? FloatingMotion::kFree : FloatingMotion::kHolding);
+  if (vm.count("trajectory"))
+    options.trajectory =
+        readExcitationDesign(vm["trajectory"].as<std::string>(), model.numJoints());
+  options.motion = motion.value_or(options.trajectory         ? FloatingMotion::kSuspended
+                                   : options.contacts.empty() ? FloatingMotion::kFree
+                                                              : FloatingMotion::kHolding);
   options.samples = vm.count("samples") ? vm["samples"].as<int>() : 200;
   options.seed = vm["seed"].as<std::uint64_t>();
   options.torque_noise = vm["noise-tau"].as<double>();
   options.force_noise = vm["noise-force"].as<double>();
   options.moment_noise = vm["noise-moment"].as<double>();
   const std::string out = vm["out"].as<std::string>();
-  writeFloatingDataset(out, simulateFloatingDataset(model, options));
+  FloatingDataset dataset;
+  try {
+    dataset = simulateFloatingDataset(model, options);
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+  writeFloatingDataset(out, dataset);
   (out == "-" ? std::cerr : std::cout)
       << model.name() << " (floating base " << model.baseName() << ", "
       << floatingMotionName(options.motion) << "): " << options.samples
-      << " random states, one a row (independent draws, not a trajectory), to "
+      << (options.trajectory
+              ? " states of the design over one period, the base held still, to "
+              : " random states, one a row (independent draws, not a trajectory), to ")
       << (out == "-" ? "standard output" : out) << "\n";
   return kExitOk;
 }

@@ -13,6 +13,7 @@
 #include "analysis/floating/payload.hpp"
 #include "analysis/floating/prepare.hpp"
 #include "analysis/floating/simulate.hpp"
+#include "analysis/records/excitation_record.hpp"
 #include "data/robots.hpp"
 #include "python/run_support.hpp"
 #include "reports/floating_identification_report.hpp"
@@ -90,11 +91,15 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<std::vector<std::string>>& contacts,
                                const std::optional<std::string>& motion, int samples,
                                std::uint64_t seed, double noise_tau, double noise_force,
-                               double noise_moment, const TermsLike& drive_terms) {
+                               double noise_moment, const TermsLike& drive_terms,
+                               const OptionalPathLike& trajectory) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
+  if (!trajectory.is_none())
+    options.trajectory = readExcitationDesign(pathArg(trajectory, "trajectory"), model.numJoints());
   options.motion = motion                     ? parseFloatingMotion(*motion)
+                   : options.trajectory       ? FloatingMotion::kSuspended
                    : options.contacts.empty() ? FloatingMotion::kFree
                                               : FloatingMotion::kHolding;
   options.samples = samples;
@@ -171,9 +176,12 @@ void bindFloating(py::module_& m) {
         py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
         py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
+        py::arg("trajectory") = py::none(),
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
         "(holding, the default with contacts; free; suspended) written to `out`, with noise on "
-        "the torques, contact forces and moments. Returns the path.");
+        "the torques, contact forces and moments; with trajectory (an excitation.json of the "
+        "robot with its base fixed), `samples` states of that design over one period, the base "
+        "held still. Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),
         py::arg("contacts") = py::none(), py::arg("sensors") = py::none(),
         py::arg("motion") = py::none(), py::arg("drive_terms") = py::none(), py::arg("samples") = 0,

@@ -35,16 +35,43 @@ FloatingStructuralOptions samplingOf(const FloatingSimulationOptions& o) {
   return sampling;
 }
 
-/// What both simulations draw with: the seeded states of the options' motion, a workspace and the
-/// noise's generator.
+/// What both simulations draw with: the seeded states of the options' motion (or the design's,
+/// in order), a workspace and the noise's generator.
 struct Draws {
   Draws(const FloatingModel& model, const FloatingSimulationOptions& o)
-      : sampling(samplingOf(o)), sampler(model, sampling), data(model), rng(o.seed ^ 0x5eed) {}
+      : sampling(samplingOf(o)),
+        sampler(model, sampling),
+        data(model),
+        rng(o.seed ^ 0x5eed),
+        options(o) {
+    if (!o.trajectory) return;
+    if (o.motion != FloatingMotion::kSuspended)
+      throw InputError(
+          "`trajectory`: a designed motion is simulated on a suspended robot (its base "
+          "held still), not " +
+          std::string(floatingMotionName(o.motion)));
+    if (o.trajectory->numJoints() != model.numJoints())
+      throw InputError("`trajectory` moves " + std::to_string(o.trajectory->numJoints()) +
+                       " joints; the robot has " + std::to_string(model.numJoints()));
+  }
+  /// State k of the options' samples.
+  FloatingState next(int k) {
+    if (!options.trajectory) return sampler.next();
+    FloatingState state;
+    state.base_held = true;  // rotation identity, twist and acceleration zero
+    evaluateReference(*options.trajectory, time(k), state.q, state.dq, state.ddq);
+    return state;
+  }
+  /// Sample k's time: the design's, evenly over one period, else an index at 0.01 s.
+  double time(int k) const {
+    return options.trajectory ? options.trajectory->period * k / options.samples : 0.01 * k;
+  }
   FloatingStructuralOptions sampling;  // before the sampler, which keeps a reference to it
   FloatingStateSampler sampler;
   FloatingData data;
   std::mt19937_64 rng;
   std::normal_distribution<double> normal{0.0, 1.0};
+  const FloatingSimulationOptions& options;
 };
 }  // namespace
 
@@ -58,7 +85,7 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
   FloatingSimulation out;
   out.torque_variance = Eigen::VectorXd::Constant(n, options.torque_noise * options.torque_noise);
   for (int k = 0; k < options.samples; ++k) {
-    FloatingState state = sampler.next();
+    FloatingState state = draws.next(k);
     FloatingMeasurement m;
     m.J = sampler.jacobian(state);
     const Eigen::VectorXd generalized =
@@ -99,7 +126,8 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
   const int n = model.numJoints(), N = options.samples;
   FloatingDataset out;
   out.joints = model.limbs().joint_names;
-  out.time = Eigen::VectorXd::LinSpaced(N, 0.0, 0.01 * (N - 1));
+  out.time.resize(N);
+  for (int k = 0; k < N; ++k) out.time[k] = draws.time(k);
   out.orientation.resize(4, N);
   out.twist.resize(6, N);
   out.acceleration.resize(6, N);
@@ -109,7 +137,7 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
     out.flags.push_back({c.name, std::vector<char>(static_cast<std::size_t>(N), 0)});
   }
   for (int k = 0; k < N; ++k) {
-    const FloatingState state = sampler.next();
+    const FloatingState state = draws.next(k);
     const Eigen::Quaterniond orientation(state.base.rotation);
     out.orientation.col(k) << orientation.w(), orientation.x(), orientation.y(), orientation.z();
     out.twist.col(k) = state.base.twist;

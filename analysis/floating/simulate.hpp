@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "core/controllers.hpp"
 #include "data/floating/floating_dataset.hpp"
 #include "identifiability/floating/floating_fit.hpp"
 
@@ -19,6 +21,10 @@ struct FloatingSimulationOptions {
   double torque_noise = 0.0;  // sd of each joint torque [N m]
   double force_noise = 0.0;   // sd of each contact force component [N]
   double moment_noise = 0.0;  // sd of each frame contact's moment component [N m]
+  /// The joints follow this design (`dynid excite` of the robot with its base fixed) instead of
+  /// random states: `samples` states evenly over one period, the base held still (the suspended
+  /// motion only: a robot on a stand or hung from its sensor). Unset: random states.
+  std::optional<FourierSeries> trajectory;
 };
 
 /// The samples, and the noise variances they were drawn with (for generalized least squares).
@@ -27,7 +33,9 @@ struct FloatingSimulation {
   Eigen::VectorXd torque_variance;
 };
 
-/// Measurements of `model` (its own parameters are the truth) in states of the options' motion:
+/// Measurements of `model` (its own parameters are the truth) in states of the options' motion
+/// (a design: see FloatingSimulationOptions::trajectory; InputError naming `trajectory` for another
+/// motion than suspended or a design of another joint count):
 ///   holding    the active contacts carry the base wrench inverse dynamics needs, by the
 ///              least-norm forces (friction cones are not imposed), the joints the rest;
 ///   suspended  the base's support carries it (measured as a frame contact at the base origin);
@@ -38,7 +46,8 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& options);
 
 /// The same measurements as a dataset (data/floating/floating_dataset.hpp), one state a row
-/// (time a sample index at 0.01 s: the states are independent draws, not a trajectory): the base
+/// (time a sample index at 0.01 s: the states are independent draws, not a trajectory; with a
+/// design, the design's time over its period): the base
 /// motion and joint states exact, the torques, and per contact its wrench in its frame's axes (a
 /// contact that does not hold reads noise about zero) and its flag; suspended adds the base's
 /// support as a frame contact at the base link. Noise as simulateFloating's.

@@ -257,5 +257,21 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
   EXPECT_TRUE(contains(r.err, "--decimate does not apply to prepare --floating-base")) << r.err;
 }
 
+/// A design `dynid excite` made for ANYmal with its base fixed
+/// (tests/data/floating/fixtures/anymal_excitation.json), simulated on the suspended robot.
+TEST(Cli, SimulateADesignOnASuspendedFloatingBase) {
+  const std::string dir = test::tempPath("floating-design");
+  std::filesystem::create_directories(dir);
+  const Result r = run("simulate --robot " + kAnymal + " --floating-base --trajectory " +
+                       std::string(DYNID_SOURCE_DIR) +
+                       "/tests/data/floating/fixtures/anymal_excitation.json --samples 100 "
+                       "--out " +
+                       dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "suspended): 100 states of the design over one period")) << r.out;
+  const std::string csv = readFile(dir + "/d.csv");
+  EXPECT_TRUE(contains(csv, "wrench:base:nx")) << csv.substr(0, 400);  // the support's sensor
+}
+
 }  // namespace
 }  // namespace dynid

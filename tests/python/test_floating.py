@@ -140,3 +140,12 @@ def test_prepare_floating_equals_the_clis(tmp_path):
         (tmp_path / "cli" / "floating_dataset.csv").read_bytes()
     with pytest.raises(ValueError, match="imu_topic"):
         dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", imu_topic="/imu/data")
+
+
+def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
+    design = Path(os.environ["DYNID_SOURCE_DIR"]) / "tests/data/floating/fixtures/anymal_excitation.json"
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=design, samples=50)
+    doc = dynid.floating_identify(ANYMAL, data, method="ols", sensors=["torques_contacts"])
+    assert doc["motion"] == "suspended"  # the support's wrench is at the base link
+    with pytest.raises(ValueError, match="trajectory"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", trajectory=design, motion="free")

@@ -7,8 +7,11 @@
 #include <cmath>
 
 #include "analysis/floating/identifiability.hpp"
+#include "analysis/floating/identify.hpp"
 #include "analysis/floating/simulate.hpp"
+#include "core/errors.hpp"
 #include "tests/common/floating_models.hpp"
+#include "tests/common/text.hpp"
 
 namespace dynid {
 namespace {
@@ -117,6 +120,53 @@ TEST(Noisy, GeneralizedLeastSquaresIntervalsAreCalibrated) {
     // 8 x ~100 values: the RMS of a standard normal sample that size is within 0.05 of 1 (3 sd).
     EXPECT_GT(rms, 0.9);
     EXPECT_LT(rms, 1.1);
+  }
+}
+
+/// A designed motion (a Fourier series, as `dynid excite` makes for the robot with its base
+/// fixed) simulated on the suspended robot: the design's states at its times, the base held still
+/// in one orientation; its noise-free data give torques_contacts exactly, and the wrench sets all
+/// but the whole body's first moment along gravity, which a base that never tilts cannot show.
+TEST(DesignedMotion, IsSimulatedOnTheSuspendedRobotAndSaysWhatItCannotShow) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  FourierSeries design;
+  design.period = 10.0;
+  const int n = model.numJoints();
+  design.offset = Eigen::VectorXd::Zero(n);
+  std::srand(3);
+  design.a = 0.4 * Eigen::MatrixXd::Random(n, 5);
+  design.b = 0.4 * Eigen::MatrixXd::Random(n, 5);
+  FloatingSimulationOptions options;
+  options.samples = 400;
+  options.motion = FloatingMotion::kSuspended;
+  options.trajectory = design;
+  const FloatingDataset data = simulateFloatingDataset(model, options);
+  Eigen::VectorXd q, dq, ddq;
+  for (int k = 0; k < data.numSamples(); k += 57) {
+    EXPECT_DOUBLE_EQ(data.time[k], 10.0 * k / 400.0);
+    evaluateReference(design, data.time[k], q, dq, ddq);
+    EXPECT_EQ(Eigen::VectorXd(data.q.col(k)), q);
+    EXPECT_EQ(Eigen::VectorXd(data.ddq.col(k)), ddq);
+    EXPECT_EQ(data.twist.col(k).norm() + data.acceleration.col(k).norm(), 0.0);
+    EXPECT_EQ(data.orientation.col(k), Eigen::Vector4d(1, 0, 0, 0));
+  }
+  FloatingIdentifyRequest request;
+  request.method = FloatingMethod::kOls;
+  const FloatingIdentifyOutcome out = floatingIdentifyRun(model, request, data);
+  ASSERT_EQ(out.sets.size(), 3u);
+  EXPECT_TRUE(test::contains(out.sets[0].refused, "determine 79 of the 80")) << out.sets[0].refused;
+  ASSERT_TRUE(out.sets[2].refused.empty()) << out.sets[2].refused;
+  EXPECT_LT(out.sets[2].model_error_percent, 1e-7);  // 1e-9 relative, in percent
+  options.motion = FloatingMotion::kHolding;
+  options.contacts = contactsOf(model, test::kAnymalExample.contacts);
+  try {
+    simulateFloatingDataset(model, options);
+    FAIL() << "a design on a standing robot was simulated";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(test::contains(e.what(),
+                               "`trajectory`: a designed motion is simulated on a "
+                               "suspended robot"))
+        << e.what();
   }
 }
 
