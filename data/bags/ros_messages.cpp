@@ -36,6 +36,14 @@ class CdrReader {
     if (n == 0 || s.back() != '\0') c_.fail(field, "a string without its terminating NUL");
     return std::string(s.substr(0, n - 1));
   }
+  /// std_msgs/Header: the stamp [ns], and the frame_id into `frame` (when not null).
+  std::int64_t header(std::string* frame) {
+    const auto sec = get<std::int32_t>("header.stamp.sec");
+    const auto nanosec = get<std::uint32_t>("header.stamp.nanosec");
+    std::string frame_id = string("header.frame_id");
+    if (frame) *frame = std::move(frame_id);
+    return static_cast<std::int64_t>(sec) * 1000000000 + nanosec;
+  }
   template <std::size_t N>
   void fixed(std::array<double, N>& out, const char* field) {  // float64[N]: no length
     for (double& x : out) x = get<double>(field);
@@ -74,15 +82,6 @@ CdrReader openCdr(Cursor& c, const char* type) {
   return CdrReader(c, kind == 0x0000);
 }
 
-/// std_msgs/Header in CDR: the stamp [ns], and the frame_id into `frame` (when not null).
-std::int64_t cdrHeader(CdrReader& r, std::string* frame) {
-  const auto sec = r.get<std::int32_t>("header.stamp.sec");
-  const auto nanosec = r.get<std::uint32_t>("header.stamp.nanosec");
-  std::string frame_id = r.string("header.frame_id");
-  if (frame) *frame = std::move(frame_id);
-  return static_cast<std::int64_t>(sec) * 1000000000 + nanosec;
-}
-
 /// std_msgs/Header in ROS 1 (seq, stamp, frame_id).
 std::int64_t ros1Header(Cursor& c, std::string* frame) {
   c.get<std::uint32_t>("header.seq");
@@ -93,9 +92,39 @@ std::int64_t ros1Header(Cursor& c, std::string* frame) {
   return static_cast<std::int64_t>(sec) * 1000000000 + nsec;
 }
 
-template <std::size_t N>
-void ros1Fixed(Cursor& c, std::array<double, N>& out, const char* field) {
-  for (double& x : out) x = c.get<double>(field);
+/// ROS 1's fields through the calls CdrReader offers (no alignment, no encapsulation).
+class Ros1Reader {
+ public:
+  explicit Ros1Reader(Cursor& c) : c_(c) {}
+  std::int64_t header(std::string* frame) { return ros1Header(c_, frame); }
+  template <std::size_t N>
+  void fixed(std::array<double, N>& out, const char* field) {
+    for (double& x : out) x = c_.get<double>(field);
+  }
+
+ private:
+  Cursor& c_;
+};
+
+/// sensor_msgs/Imu's fields, in either encoding's reader.
+template <class Reader>
+void imuFields(Reader& r, ImuMessage& out) {
+  out.stamp_ns = r.header(&out.frame_id);
+  r.fixed(out.orientation, "orientation");
+  r.fixed(out.orientation_covariance, "orientation_covariance");
+  r.fixed(out.angular_velocity, "angular_velocity");
+  std::array<double, 9> skipped;
+  r.fixed(skipped, "angular_velocity_covariance");
+  r.fixed(out.linear_acceleration, "linear_acceleration");
+  r.fixed(skipped, "linear_acceleration_covariance");
+}
+
+/// geometry_msgs/WrenchStamped's fields, in either encoding's reader.
+template <class Reader>
+void wrenchFields(Reader& r, WrenchStampedMessage& out) {
+  out.stamp_ns = r.header(&out.frame_id);
+  r.fixed(out.force, "wrench.force");
+  r.fixed(out.torque, "wrench.torque");
 }
 
 }  // namespace
@@ -104,7 +133,7 @@ void decodeJointStateCdr(std::string_view bytes, const std::string& file, std::u
                          JointStateMessage& out) {
   Cursor c(bytes, file, base);
   CdrReader r = openCdr(c, "JointState");
-  out.stamp_ns = cdrHeader(r, nullptr);
+  out.stamp_ns = r.header(nullptr);
   const std::uint32_t names = r.count("name", 5);  // a length and a NUL at least
   out.name.resize(names);
   for (std::string& n : out.name) n = r.string("name");
@@ -135,44 +164,28 @@ void decodeImuCdr(std::string_view bytes, const std::string& file, std::uint64_t
                   ImuMessage& out) {
   Cursor c(bytes, file, base);
   CdrReader r = openCdr(c, "Imu");
-  out.stamp_ns = cdrHeader(r, &out.frame_id);
-  r.fixed(out.orientation, "orientation");
-  r.fixed(out.orientation_covariance, "orientation_covariance");
-  r.fixed(out.angular_velocity, "angular_velocity");
-  std::array<double, 9> skipped;
-  r.fixed(skipped, "angular_velocity_covariance");
-  r.fixed(out.linear_acceleration, "linear_acceleration");
-  r.fixed(skipped, "linear_acceleration_covariance");
+  imuFields(r, out);
 }
 
 void decodeImuRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
                    ImuMessage& out) {
   Cursor c(bytes, file, base);
-  out.stamp_ns = ros1Header(c, &out.frame_id);
-  ros1Fixed(c, out.orientation, "orientation");
-  ros1Fixed(c, out.orientation_covariance, "orientation_covariance");
-  ros1Fixed(c, out.angular_velocity, "angular_velocity");
-  std::array<double, 9> skipped;
-  ros1Fixed(c, skipped, "angular_velocity_covariance");
-  ros1Fixed(c, out.linear_acceleration, "linear_acceleration");
-  ros1Fixed(c, skipped, "linear_acceleration_covariance");
+  Ros1Reader r(c);
+  imuFields(r, out);
 }
 
 void decodeWrenchStampedCdr(std::string_view bytes, const std::string& file, std::uint64_t base,
                             WrenchStampedMessage& out) {
   Cursor c(bytes, file, base);
   CdrReader r = openCdr(c, "WrenchStamped");
-  out.stamp_ns = cdrHeader(r, &out.frame_id);
-  r.fixed(out.force, "wrench.force");
-  r.fixed(out.torque, "wrench.torque");
+  wrenchFields(r, out);
 }
 
 void decodeWrenchStampedRos1(std::string_view bytes, const std::string& file, std::uint64_t base,
                              WrenchStampedMessage& out) {
   Cursor c(bytes, file, base);
-  out.stamp_ns = ros1Header(c, &out.frame_id);
-  ros1Fixed(c, out.force, "wrench.force");
-  ros1Fixed(c, out.torque, "wrench.torque");
+  Ros1Reader r(c);
+  wrenchFields(r, out);
 }
 
 }  // namespace dynid::bags

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/errors.hpp"
+#include "data/io.hpp"
 
 namespace dynid::floating_columns {
 
@@ -55,5 +56,44 @@ inline double parseField(std::string_view field, const std::string& file, int li
     throw ParseError(file, line, column, "'" + std::string(field) + "' is not finite");
   return x;
 }
+
+/// A named-column table read row by row: its header's names (trimmed), then each row that is not
+/// blank, as many fields as the header has (else a ParseError naming the line).
+class ColumnTable {
+ public:
+  /// Throws ParseError when the file has no header (`what`: "a floating dataset").
+  ColumnTable(const std::string& path, const char* what) : lines_(path), path_(path) {
+    std::string_view line;
+    if (!lines_.next(line) || trim(line).empty())
+      throw ParseError(path, 1, "",
+                       std::string("no header: ") + what + " starts with its column names");
+    header_ = splitFields(line);
+    for (std::string_view f : header_) names_.emplace_back(trim(f));
+  }
+  const std::vector<std::string>& names() const { return names_; }
+  /// The header's fields as read (valid until the first next()).
+  const std::vector<std::string_view>& headerFields() const { return header_; }
+  /// The next row's fields into `fields` (views valid until the next call); false at the end.
+  bool next(std::vector<std::string_view>& fields) {
+    std::string_view line;
+    while (lines_.next(line)) {
+      if (trim(line).empty()) continue;
+      fields = splitFields(line);
+      if (fields.size() != names_.size())
+        throw ParseError(path_, lines_.lineNumber(), "",
+                         "row has " + std::to_string(fields.size()) + " fields, the header has " +
+                             std::to_string(names_.size()));
+      return true;
+    }
+    return false;
+  }
+  int line() const { return lines_.lineNumber(); }
+
+ private:
+  LineReader lines_;
+  std::string path_;
+  std::vector<std::string_view> header_;
+  std::vector<std::string> names_;
+};
 
 }  // namespace dynid::floating_columns

@@ -364,27 +364,17 @@ void imuBaseMotion(const FloatingModel& model, const Pose<double>& imu,
 FloatingDataset readFloatingDataset(const std::string& path, const FloatingModel& model) {
   FloatingDataset out;
   out.file = path;
-  LineReader lines(path);
-  std::string_view line;
-  if (!lines.next(line) || trim(line).empty())
-    throw ParseError(path, 1, "", "no header: a floating dataset starts with its column names");
+  ColumnTable table(path, "a floating dataset");
   HeaderReader header_reader(path, model, out);
-  std::vector<std::string_view> fields = splitFields(line);
-  std::vector<std::string> names;
-  for (std::string_view f : fields) names.emplace_back(trim(f));
-  const std::vector<Target> targets = header_reader.read(fields);
+  const std::vector<std::string>& names = table.names();
+  const std::vector<Target> targets = header_reader.read(table.headerFields());
   const std::size_t columns = targets.size();
   std::vector<double> values;
-  while (lines.next(line)) {
-    if (trim(line).empty()) continue;
-    fields = splitFields(line);
-    if (fields.size() != columns)
-      throw ParseError(path, lines.lineNumber(), "",
-                       "row has " + std::to_string(fields.size()) + " fields, the header has " +
-                           std::to_string(columns));
+  std::vector<std::string_view> fields;
+  while (table.next(fields)) {
     for (std::size_t c = 0; c < columns; ++c)
-      values.push_back(parseField(fields[c], path, lines.lineNumber(), names[c]));
-    out.lines.push_back(lines.lineNumber());
+      values.push_back(parseField(fields[c], path, table.line(), names[c]));
+    out.lines.push_back(table.line());
   }
   const Eigen::Index N = static_cast<Eigen::Index>(out.lines.size());
   if (N == 0) throw ParseError(path, 2, "", "no sample: the file has a header and no row");

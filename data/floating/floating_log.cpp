@@ -216,24 +216,15 @@ void addSample(const SignalColumns& s, const std::vector<std::string_view>& fiel
 FloatingLogTable readFloatingLogTable(const std::string& path, const FloatingModel& model) {
   FloatingLogTable out;
   out.file = path;
-  LineReader lines(path);
-  std::string_view line;
-  if (!lines.next(line) || trim(line).empty())
-    throw ParseError(path, 1, "", "no header: a floating log starts with its column names");
-  std::vector<std::string> names;
-  for (std::string_view f : splitFields(line)) names.emplace_back(trim(f));
+  ColumnTable table(path, "a floating log");
+  const std::vector<std::string>& names = table.names();
   LogHeader header(path, model, names);
   const std::vector<SignalColumns> signals = header.signals(out);
   const std::size_t flags_from = signals.size() - out.flags.size();
   int rows = 0;
-  while (lines.next(line)) {
-    if (trim(line).empty()) continue;
-    const std::vector<std::string_view> fields = splitFields(line);
-    const int at = lines.lineNumber();
-    if (fields.size() != names.size())
-      throw ParseError(path, at, "",
-                       "row has " + std::to_string(fields.size()) + " fields, the header has " +
-                           std::to_string(names.size()));
+  std::vector<std::string_view> fields;
+  while (table.next(fields)) {
+    const int at = table.line();
     const double t = parseField(fields[static_cast<std::size_t>(header.time())], path, at, "t");
     for (std::size_t s = 0; s < signals.size(); ++s)
       addSample(signals[s], fields, names, t, path, at, s >= flags_from);

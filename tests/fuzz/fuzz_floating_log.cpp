@@ -13,16 +13,6 @@
 #include "tests/fuzz/fuzz_input.hpp"
 
 namespace {
-const char* kRobot = R"(<robot name="r">
-  <link name="b"><inertial><mass value="2"/>
-    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
-  <link name="l"><inertial><mass value="1"/>
-    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <link name="f"/>
-  <joint name="j" type="revolute"><parent link="b"/><child link="l"/><axis xyz="0 1 0"/>
-    <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
-  <joint name="s" type="fixed"><parent link="l"/><child link="f"/><origin xyz="0 0 -0.3"/></joint>
-</robot>)";
 
 void check(const dynid::FloatingLogSignal& s) {
   if (s.values.size() != static_cast<std::size_t>(s.width) * s.time.size() ||
@@ -34,7 +24,8 @@ void check(const dynid::FloatingLogSignal& s) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const dynid::FloatingModel model = dynid::parseFloatingUrdf(kRobot, "r.urdf");
+  static const dynid::FloatingModel model =
+      dynid::parseFloatingUrdf(dynid::fuzz::kOneJointFloatingRobot, "r.urdf");
   const std::string path = dynid::fuzz::inputFile(data, size, ".csv");
   try {
     const dynid::FloatingLogTable table = dynid::readFloatingLogTable(path, model);

@@ -30,4 +30,17 @@ inline std::string text(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
 }
 
+/// The floating targets' robot: a one-joint floating robot, base `b`, joint `j`, frames `l` and
+/// `f` (a point below the limb).
+inline constexpr const char* kOneJointFloatingRobot = R"(<robot name="r">
+  <link name="b"><inertial><mass value="2"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <link name="l"><inertial><mass value="1"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="f"/>
+  <joint name="j" type="revolute"><parent link="b"/><child link="l"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" effort="10" velocity="1"/></joint>
+  <joint name="s" type="fixed"><parent link="l"/><child link="f"/><origin xyz="0 0 -0.3"/></joint>
+</robot>)";
+
 }  // namespace dynid::fuzz

@@ -81,18 +81,19 @@ TEST(FloatingPrepare, ThreeTopicsAtThreeRatesMeetTheMotion) {
     got_R.col(k) = Eigen::Map<const Eigen::VectorXd>(got.data(), 9);
   }
   // Linear interpolation of 400-1000 Hz samples of 0.2-0.6 Hz sines is within h^2/8 |x''| of
-  // them (4e-6 of their peak at 400 Hz), central differences within h^2/6 |x'''|; a 10 Hz
-  // zero-phase low-pass changes them by 1e-10: 1e-4 leaves room for the two differentiations.
+  // them (4e-6 of their peak at 400 Hz); a 10 Hz zero-phase low-pass changes them by 1e-10: 1e-4
+  // for what is interpolated as it was logged.
   EXPECT_LT(relativeGap(d.q, q), 1e-4);
   EXPECT_LT(relativeGap(d.dq, dq), 1e-4);
-  // ddq: the interpolation's error changes from sample to sample (the stamps are jittered and
-  // the grid's rate is the median step's); differentiated it grows by 1/h, and what the 10 Hz
-  // filter leaves of it is 2e-4 of the peak: 1e-3.
-  EXPECT_LT(relativeGap(d.ddq, ddq), 1e-3);
   EXPECT_LT(relativeGap(d.twist.topRows<3>(), omega), 1e-4);
-  EXPECT_LT(relativeGap(d.acceleration.topRows<3>(), alpha), 1e-4);
-  EXPECT_LT(relativeGap(got_a0, a0), 1e-4);
   EXPECT_LT(relativeGap(got_R, R), 1e-4);
+  // What is differentiated (ddq from dq, the base's angular acceleration from the gyro and the
+  // origin's acceleration through it): the interpolation's error changes from sample to sample
+  // (the stamps are jittered and the grid's rate is the median step's); differentiated it grows
+  // by 1/h, and what the 10 Hz filter leaves of it is 1e-4 to 2e-4 of the peak: 1e-3.
+  EXPECT_LT(relativeGap(d.ddq, ddq), 1e-3);
+  EXPECT_LT(relativeGap(d.acceleration.topRows<3>(), alpha), 1e-3);
+  EXPECT_LT(relativeGap(got_a0, a0), 1e-3);
 }
 
 TEST(FloatingPrepare, TheWrenchAndTorquesAreThePreparedMotionsInverseDynamics) {
@@ -114,8 +115,9 @@ TEST(FloatingPrepare, TheWrenchAndTorquesAreThePreparedMotionsInverseDynamics) {
     const Eigen::Vector3d f = S.rotation * f_s;
     measured.col(k) << S.rotation * n_s + S.translation.cross(f), f, d.tau.col(k);
   }
-  // The signals' own 1e-4 (above) through the dynamics.
-  EXPECT_LT(relativeGap(predicted, measured), 1e-4);
+  // The signals' own errors (above: 1e-3 for the accelerations) through the dynamics; a frame or
+  // sign mistake shows at 1e-1.
+  EXPECT_LT(relativeGap(predicted, measured), 1e-3);
 }
 
 /// Estimation on a prepared recording of a robot held still by its sensor (the suspended motion
@@ -131,7 +133,7 @@ TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
   for (const FloatingSetEstimate& s : fit.sets) {
     SCOPED_TRACE(sensorSetName(s.base.set));
     if (!s.refused.empty()) continue;     // six seconds of one motion need not excite every set
-    EXPECT_LT(s.residual_percent, 1e-2);  // the 1e-4 above, in percent
+    EXPECT_LT(s.residual_percent, 1e-2);  // measured 2.4e-5 %; the signals' 1e-4, in percent
   }
 }
 
