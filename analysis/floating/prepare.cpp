@@ -423,6 +423,24 @@ void appendRun(const FloatingModel& model, const std::vector<Stream>& streams, c
   }
 }
 
+/// A signal sampled slower than twice the band the output keeps (the cutoff; without a filter,
+/// half the output rate) is mostly its linear interpolation there: its derivatives (the base's
+/// angular acceleration from a slow IMU) step at its own samples. Said, with the rates.
+void slowSignalWarnings(const std::vector<Stream>& streams, FloatingPrepareOutcome& out) {
+  const double band = out.cutoff > 0.0 ? out.cutoff : out.rate / 2.0;
+  for (const Stream& s : streams) {
+    const double rate = 1.0 / s.summary.median_step;
+    if (s.kind == Kind::kFlag || !(rate < 2.0 * band)) continue;
+    out.warnings.push_back(
+        s.summary.topic + " is sampled at " + formatNumber(rate, 4) + " Hz, below twice the " +
+        formatNumber(band, 4) + " Hz the dataset keeps (" +
+        (out.cutoff > 0.0 ? "the low-pass" : "half its rate") +
+        "): between its samples the dataset holds their straight line, and its derivatives " +
+        (s.kind == Kind::kImu ? "(the base's angular acceleration) " : "") +
+        "step at them; a `cutoff` below half its rate keeps only what it measured");
+  }
+}
+
 /// The streams (joints, the IMU, the wrenches, then the flags; times in seconds) into the
 /// dataset: ordered, on one time base over the runs, filtered and differentiated.
 FloatingPrepareOutcome prepareStreams(const FloatingModel& model, const std::string& path,
@@ -471,6 +489,7 @@ FloatingPrepareOutcome prepareStreams(const FloatingModel& model, const std::str
   if (out.runs_dropped > 0)
     out.warnings.push_back(std::to_string(out.runs_dropped) +
                            " run(s) between gaps too short for the filter's trim were dropped");
+  slowSignalWarnings(streams, out);
   return out;
 }
 

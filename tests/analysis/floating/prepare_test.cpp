@@ -233,6 +233,23 @@ TEST(FloatingPrepare, ATablesFaultsAreNamedWithTheirLineAndColumn) {
   EXPECT_TRUE(test::contains(refused(twist), "its twist comes from the IMU"));
 }
 
+/// An IMU slower than twice the low-pass is said to be, with its rate; below it, it is not.
+TEST(FloatingPrepare, ASlowImuIsSaidToBe) {
+  test::SuspendedRecordingOptions recording;
+  recording.seconds = 3.0;
+  recording.imu_rate = 15.0;
+  recording.jitter = 0.0;  // its rate exactly 15 Hz in the message
+  const Prepared slow(recording);
+  ASSERT_EQ(slow.out.warnings.size(), 1u);
+  EXPECT_TRUE(test::contains(slow.out.warnings[0],
+                             "/imu is sampled at 15 Hz, below twice the "
+                             "10 Hz the dataset keeps (the low-pass)"))
+      << slow.out.warnings[0];
+  FloatingPrepareOptions low;
+  low.cutoff = 5.0;  // below half the IMU's rate: nothing to say
+  EXPECT_TRUE(Prepared(recording, true, low).out.warnings.empty());
+}
+
 /// prepareFloatingLog's InputError on a recording written with `recording`.
 std::string refusal(const test::SuspendedRecordingOptions& recording,
                     const FloatingLogTopics& topics = {}) {
