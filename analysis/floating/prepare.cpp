@@ -7,6 +7,7 @@
 
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "core/option_ranges.hpp"
 #include "core/signal.hpp"
 #include "data/bags/bag.hpp"
 #include "data/bags/ros_messages.hpp"
@@ -15,13 +16,13 @@
 namespace dynid {
 
 void FloatingPrepareOptions::check() const {
-  if (!(rate >= 0.0) || !std::isfinite(rate))
-    throw InputError("`rate` must be 0 (the joint topic's) or a positive rate [Hz]");
-  if (!std::isfinite(cutoff)) throw InputError("`cutoff` must be a finite frequency [Hz]");
-  if (order < 1 || order > 12) throw InputError("`order` must be within 1..12");
-  if (!(max_gap >= 0.0) || !std::isfinite(max_gap))
-    throw InputError("`max_gap` must be 0 (5 median steps) or a positive time [s]");
-  if (!std::isfinite(trim)) throw InputError("`trim` must be a finite time [s]");
+  // The ranges of prepare's own options (core/option_ranges.hpp), named as this request's fields.
+  checkOption("prepare", "rate", rate, "`rate`");
+  checkOption("prepare", "order", order, "`order`");
+  checkOption("prepare", "max-gap", max_gap, "`max_gap`");
+  checkOption("prepare", "trim", trim, "`trim`");
+  if (!std::isfinite(cutoff) || cutoff > 1e7)
+    throw InputError("`cutoff` must be a frequency [Hz] below 1e7, 0 (none) or < 0 (the default)");
 }
 
 namespace {

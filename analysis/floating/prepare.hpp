@@ -44,7 +44,8 @@ struct FloatingPrepareOptions {
   double max_gap = 0.0;  // a topic's step beyond it splits the log [s]; 0: 5 of its median steps
   double trim = -1.0;    // dropped at each run's ends [s]; < 0: 2 / cutoff (none unfiltered)
   bool receive_time = false;  // stamps from the recorder's receive time, not the headers
-  /// Throws InputError naming the field (`rate`, `cutoff`, `order`, `max_gap`) out of range.
+  /// Throws InputError naming the field (`rate`, `cutoff`, `order`, `max_gap`, `trim`) out of
+  /// prepare's ranges (core/option_ranges.hpp).
   void check() const;
 };
 

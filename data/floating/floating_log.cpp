@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/errors.hpp"
+#include "core/format.hpp"
 #include "data/floating/floating_columns.hpp"
 #include "data/io.hpp"
 
@@ -131,8 +132,8 @@ class LogHeader {
       if (k < 0)
         fail(c,
              "a raw log's base columns are its orientation (base:qw .. base:qz); its twist "
-             "comes from the IMU (a prepared dataset's base:wx .. columns are read by "
-             "identify --data)");
+             "comes from the IMU (a table with base:wx .. columns is a prepared dataset, read "
+             "as a dataset)");
       return once(imu_cols_[static_cast<std::size_t>(k)], c);
     }
     if (kind == "imu") {
@@ -228,6 +229,16 @@ FloatingLogTable readFloatingLogTable(const std::string& path, const FloatingMod
     const double t = parseField(fields[static_cast<std::size_t>(header.time())], path, at, "t");
     for (std::size_t s = 0; s < signals.size(); ++s)
       addSample(signals[s], fields, names, t, path, at, s >= flags_from);
+    // The orientation of an IMU sample in this row: unit, as a dataset's (normalised within
+    // kQuaternionNormTolerance of it by the preparation).
+    if (!out.imu.lines.empty() && out.imu.lines.back() == at) {
+      const double* q = out.imu.values.data() + out.imu.values.size() - 10;
+      const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance))
+        throw ParseError(path, at, "base:qw",
+                         "the base orientation (base:qw, base:qx, base:qy, base:qz) has norm " +
+                             formatNumber(norm, 6) + ": not a unit quaternion");
+    }
     ++rows;
   }
   if (rows == 0) throw ParseError(path, 2, "", "no sample: the file has a header and no row");

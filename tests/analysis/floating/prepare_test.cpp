@@ -130,11 +130,14 @@ TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
   request.method = FloatingMethod::kOls;
   const FloatingIdentifyOutcome fit = floatingIdentifyRun(p.model, request, p.out.dataset);
   EXPECT_EQ(fit.motion, FloatingMotion::kSuspended);  // the sensor is on the base body
+  int estimated = 0;
   for (const FloatingSetEstimate& s : fit.sets) {
     SCOPED_TRACE(sensorSetName(s.base.set));
     if (!s.refused.empty()) continue;     // six seconds of one motion need not excite every set
     EXPECT_LT(s.residual_percent, 1e-2);  // measured 2.4e-5 %; the signals' 1e-4, in percent
+    ++estimated;
   }
+  EXPECT_GE(estimated, 2);  // both wrench sets are (measured): the check is not vacuous
 }
 
 TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
@@ -231,6 +234,29 @@ TEST(FloatingPrepare, ATablesFaultsAreNamedWithTheirLineAndColumn) {
   std::string twist = text;
   twist.replace(twist.find("base:qw"), 7, "base:wx");
   EXPECT_TRUE(test::contains(refused(twist), "its twist comes from the IMU"));
+  // The first IMU row's base:qw set to 2 (after t and every joint's q, dq, tau): its line, the
+  // column and the norm.
+  std::string scaled;
+  int line = 0, bad_line = 0;
+  for (std::size_t from = 0; from < text.size(); ++line) {
+    const std::size_t end = text.find('\n', from);
+    std::string row = text.substr(from, end - from);
+    from = end + 1;
+    std::vector<std::string> cells;
+    for (std::string_view cell : splitFields(row)) cells.emplace_back(cell);
+    const std::size_t qw = 1 + 3 * static_cast<std::size_t>(model.numJoints());
+    if (line > 0 && bad_line == 0 && !cells[qw].empty()) {
+      cells[qw] = "2";
+      bad_line = line + 1;
+      row.clear();
+      for (std::size_t c = 0; c < cells.size(); ++c) row += (c > 0 ? "," : "") + cells[c];
+    }
+    scaled += row + "\n";
+  }
+  const std::string e2 = refused(scaled);
+  EXPECT_TRUE(test::contains(e2, ":" + std::to_string(bad_line)) && test::contains(e2, "base:qw") &&
+              test::contains(e2, "not a unit quaternion"))
+      << e2;
 }
 
 /// An IMU slower than twice the low-pass is said to be, with its rate; below it, it is not.
