@@ -130,14 +130,21 @@ TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
   request.method = FloatingMethod::kOls;
   const FloatingIdentifyOutcome fit = floatingIdentifyRun(p.model, request, p.out.dataset);
   EXPECT_EQ(fit.motion, FloatingMotion::kSuspended);  // the sensor is on the base body
-  int estimated = 0;
+  ASSERT_EQ(fit.sets.size(), 2u);  // the wrench sets (the recording has no contact flags)
   for (const FloatingSetEstimate& s : fit.sets) {
     SCOPED_TRACE(sensorSetName(s.base.set));
-    if (!s.refused.empty()) continue;     // six seconds of one motion need not excite every set
-    EXPECT_LT(s.residual_percent, 1e-2);  // measured 2.4e-5 %; the signals' 1e-4, in percent
-    ++estimated;
+    // A base that never tilts cannot show the whole body's first moment along gravity: only the
+    // preparation's 1e-4 errors excite it, and whether that counts as determined is a rank call
+    // at the edge (GCC's build estimates it, clang's refuses: measured). Either the set is
+    // refused for exactly that one combination, or its fit leaves only the preparation's error
+    // (measured 2.4e-5 %; the signals' 1e-4, in percent).
+    if (!s.refused.empty())
+      EXPECT_TRUE(test::contains(s.refused, "determine 79 of the 80") ||
+                  test::contains(s.refused, "determine 91 of the 92"))
+          << s.refused;
+    else
+      EXPECT_LT(s.residual_percent, 1e-2);
   }
-  EXPECT_GE(estimated, 2);  // both wrench sets are (measured): the check is not vacuous
 }
 
 TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
