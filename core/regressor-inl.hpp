@@ -20,9 +20,13 @@ namespace regressor_detail {
 /// M2^T = -[dw]x + w w^T - |w|^2 1 (regressor_test: Y theta = RNEA for random theta).
 template <typename Scalar>
 struct BodyRegressor {
-  BodyRegressor(const Vector6<Scalar>& v, const Vector6<Scalar>& a) {
-    const Vector3<Scalar> w = v.template head<3>(), vl = v.template tail<3>();
-    const Vector3<Scalar> dw = a.template head<3>(), al = a.template tail<3>();
+  BodyRegressor(const Vector6<Scalar>& v, const Vector6<Scalar>& a)
+      : BodyRegressor(Vector3<Scalar>(v.template head<3>()), Vector3<Scalar>(v.template tail<3>()),
+                      Vector3<Scalar>(a.template head<3>()),
+                      Vector3<Scalar>(a.template tail<3>())) {}
+  /// From the halves: twist (w, vl) and its derivative (dw, al).
+  DYNID_INLINE BodyRegressor(const Vector3<Scalar>& w, const Vector3<Scalar>& vl,
+                             const Vector3<Scalar>& dw, const Vector3<Scalar>& al) {
     g = al + cross(w, vl);
     const Scalar ww = w.squaredNorm();
     m2t(0, 0) = w.x() * w.x() - ww, m2t(1, 1) = w.y() * w.y() - ww, m2t(2, 2) = w.z() * w.z() - ww;
@@ -42,8 +46,18 @@ struct BodyRegressor {
   /// A's non-zero blocks, for a caller that transforms A whole (the floating regressor's base
   /// rows): A = [[0, -[g]x, N], [g, M2, 0]].
   const Vector3<Scalar>& gTerm() const { return g; }
-  Matrix3<Scalar> m2() const { return m2t.transpose(); }
-  Eigen::Matrix<Scalar, 3, 6> n() const { return nt.transpose(); }
+  auto m2() const { return m2t.transpose(); }
+  auto n() const { return nt.transpose(); }
+  /// s^T A for s = (e_k, 0), a unit rotation about axis k (0-2), into `row` (ten entries): (0, g x
+  /// e_k, N^T's column k).
+  template <typename Row>
+  DYNID_INLINE void ownRevoluteRow(int k, Row&& row) const {
+    row(0) = Scalar(0);
+    row(1 + k) = Scalar(0);
+    row(1 + (k + 1) % 3) = g[(k + 2) % 3];
+    row(1 + (k + 2) % 3) = -g[(k + 1) % 3];
+    row.template tail<6>() = nt.col(k);
+  }
   /// s^T A as a column.
   Eigen::Matrix<Scalar, 10, 1> product(const Vector6<Scalar>& s) const {
     Eigen::Matrix<Scalar, 10, 1> out;

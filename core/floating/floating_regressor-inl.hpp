@@ -34,6 +34,59 @@ DYNID_INLINE Eigen::Matrix<Scalar, 6, 10> setBaseRows(
   Y.template block<6, 10>(0, column) = F;
   return F;
 }
+
+/// A body's regressor in its link frame from its halves in the joint frame, B the link frame in
+/// the joint frame.
+template <typename Scalar>
+regressor_detail::BodyRegressor<Scalar> linkRegressor(const Pose<Scalar>& B,
+                                                      const Vector3<Scalar>& w,
+                                                      const Vector3<Scalar>& v,
+                                                      const Vector3<Scalar>& dw,
+                                                      const Vector3<Scalar>& dv) {
+  Vector6<Scalar> vel, acc;
+  vel << w, v;
+  acc << dw, dv;
+  return regressor_detail::BodyRegressor<Scalar>(B.actInvMotion(vel), B.actInvMotion(acc));
+}
+
+/// Joint i's motion axis S_i in the base frame, X its joint frame there: a revolute e_k is (R e_k,
+/// t x R e_k), R's column k.
+template <typename Scalar>
+DYNID_INLINE void setBaseAxis(const ModelTpl<Scalar>& limbs, int i, const Pose<Scalar>& X,
+                              Vector6<Scalar>& axis) {
+  const int k = limbs.subspace_index()[i];
+  if (k < 0 || k >= 3) {
+    axis = X.actMotion(jointMotionAt(limbs, i, Scalar(1)));
+    return;
+  }
+  const Vector3<Scalar> r = X.rotation.col(k);
+  axis.template head<3>() = r;
+  axis.template tail<3>() = cross(X.translation, r);
+}
+
+/// s^T F into `row` (ten entries), F a force regressor from setBaseRows: its lower right 3 x 6
+/// block is zero, so the inertia's six columns read s's angular half alone (42 products, not 60).
+template <typename Scalar, typename Row>
+DYNID_INLINE void setJointRow(const Vector6<Scalar>& s, const Eigen::Matrix<Scalar, 6, 10>& F,
+                              Row&& row) {
+  row.template head<4>().noalias() = s.transpose() * F.template leftCols<4>();
+  row.template tail<6>().noalias() =
+      s.template head<3>().transpose() * F.template block<3, 6>(0, 4);
+}
+
+/// Joint i's own row over body i's columns: S_i^T A in the link frame (X* is X^-T, so S^T X* A =
+/// (X^-1 S)^T A), where a revolute axis e_k reads two entries of g and a column of N^T.
+template <typename Scalar, typename Row>
+DYNID_INLINE void setOwnRow(const ModelTpl<Scalar>& limbs, int i, bool plain,
+                            const regressor_detail::BodyRegressor<Scalar>& A, Row&& row) {
+  const int k = limbs.subspace_index()[i];
+  if (plain && k >= 0 && k < 3) {
+    A.ownRevoluteRow(k, row);
+    return;
+  }
+  const Vector6<Scalar> s = jointMotionAt(limbs, i, Scalar(1));
+  row = A.product(plain ? s : limbs.body_placements()[i].actInvMotion(s)).transpose();
+}
 }  // namespace floating_detail
 
 // Flattened, as floatingRnea.
@@ -69,21 +122,21 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
     ld.oMj[i] = p < 0 ? ld.liMi[i] : ld.oMj[p] * ld.liMi[i];
     const Pose<Scalar>& B = limbs.body_placements()[i];
     const bool plain = model.plainBodies()[static_cast<std::size_t>(i)] != 0;
-    Vector6<Scalar> vel, acc;
-    vel << w, v;
-    acc << dw, dv;
-    const regressor_detail::BodyRegressor<Scalar> A(plain ? vel : B.actInvMotion(vel),
-                                                    plain ? acc : B.actInvMotion(acc));
     const int column = FloatingModelTpl<Scalar>::limbColumn(layout.linkIndex(i, 0));
-    const Eigen::Matrix<Scalar, 6, 10> F = floating_detail::setBaseRows(
-        A, plain ? ld.oMj[i] : Pose<Scalar>(ld.oMj[i] * B), column, data.Y);
+    const regressor_detail::BodyRegressor<Scalar> A =
+        plain ? regressor_detail::BodyRegressor<Scalar>(w, v, dw, dv)
+              : floating_detail::linkRegressor(B, w, v, dw, dv);
+    const Eigen::Matrix<Scalar, 6, 10> F =
+        plain ? floating_detail::setBaseRows(A, ld.oMj[i], column, data.Y)
+              : floating_detail::setBaseRows(A, Pose<Scalar>(ld.oMj[i] * B), column, data.Y);
     // Joint j's row (j = i or an ancestor) is S_j^T jXi* A = (S_j in the base frame)^T F, by
-    // duality: F is body i's force regressor in the base frame.
-    data.base_axes[static_cast<std::size_t>(i)] =
-        ld.oMj[i].actMotion(jointMotionAt(limbs, i, Scalar(1)));
-    for (int j = i; j >= 0; j = parents[j])
-      data.Y.row(6 + j).template segment<kLinkParameterCount>(column).noalias() =
-          data.base_axes[static_cast<std::size_t>(j)].transpose() * F;
+    // duality: F is body i's force regressor in the base frame; joint i's own, S_i^T A.
+    floating_detail::setBaseAxis(limbs, i, ld.oMj[i], data.base_axes[static_cast<std::size_t>(i)]);
+    floating_detail::setOwnRow(limbs, i, plain, A,
+                               data.Y.row(6 + i).template segment<kLinkParameterCount>(column));
+    for (int j = parents[i]; j >= 0; j = parents[j])
+      floating_detail::setJointRow(data.base_axes[static_cast<std::size_t>(j)], F,
+                                   data.Y.row(6 + j).template segment<kLinkParameterCount>(column));
     for (int k = 0; k < kDriveTermCount; ++k)
       if (terms.has(k))
         data.Y(6 + i, FloatingModelTpl<Scalar>::limbColumn(layout.driveIndex(i, k))) =
