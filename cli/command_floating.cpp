@@ -209,7 +209,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
 int runFloatingSimulate(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads", "trajectory"},
+                 "noise-moment", "threads", "trajectory", "friction-cone"},
                 "simulate");
   const FloatingModel model = loadFloating(vm);
   FloatingSimulationOptions options;
@@ -228,10 +228,12 @@ int runFloatingSimulate(const po::variables_map& vm) {
   options.torque_noise = vm["noise-tau"].as<double>();
   options.force_noise = vm["noise-force"].as<double>();
   options.moment_noise = vm["noise-moment"].as<double>();
+  options.friction_cone = vm["friction-cone"].as<double>();
   const std::string out = vm["out"].as<std::string>();
   FloatingDataset dataset;
+  int drawn = 0;
   try {
-    dataset = simulateFloatingDataset(model, options);
+    dataset = simulateFloatingDataset(model, options, &drawn);
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
@@ -243,6 +245,11 @@ int runFloatingSimulate(const po::variables_map& vm) {
               ? " states of the design over one period, the base held still, to "
               : " random states, one a row (independent draws, not a trajectory), to ")
       << (out == "-" ? "standard output" : out) << "\n";
+  if (options.friction_cone > 0.0)
+    (out == "-" ? std::cerr : std::cout)
+        << "  the contacts' forces within friction cones of mu " << options.friction_cone << ": "
+        << drawn << " states drawn, " << drawn - options.samples
+        << " of them left out (no forces within the cones carry their base wrench)\n";
   return kExitOk;
 }
 

@@ -68,7 +68,8 @@ void addSimulateOptions(po::options_description& options) {
                      "torques and contact wrenches inverse dynamics needs, with noise");
   options.add_options()("samples", po::value<int>())("noise-force",
                                                      po::value<double>()->default_value(0.0))(
-      "noise-moment", po::value<double>()->default_value(0.0));
+      "noise-moment", po::value<double>()->default_value(0.0))(
+      "friction-cone", po::value<double>()->default_value(0.0));
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -212,15 +213,16 @@ int runSimulate(const std::vector<std::string>& args) {
   addSimulateOptions(options);
   addThreadsOption(options);  // the dataset's rows are formatted on them
   po::variables_map vm;
-  if (!parseCommandLine(args, options,
-                        "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
-                        "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
-                        "[--samples N] [--noise-tau S] [--noise-force S] --out FILE.csv",
-                        vm))
+  if (!parseCommandLine(
+          args, options,
+          "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
+          "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
+          "[--samples N] [--noise-tau S] [--noise-force S] [--friction-cone MU] --out FILE.csv",
+          vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
-  refuseFloatingOptions(
-      vm, {"contacts", "sensors", "motion", "samples", "noise-force", "noise-moment"});
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
+                             "noise-moment", "friction-cone"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

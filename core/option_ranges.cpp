@@ -31,6 +31,12 @@ constexpr OptionRule kOptionRules[] = {
     {"", "noise-force", kNonNegative, "... on recorded contact forces [N] (a floating base)"},
     {"", "noise-moment", kNonNegative, "... on recorded contact moments [N m] (a floating base)"},
     {"simulate", "samples", {1.0, 1e6, false, false}, "a floating base's states, one a row"},
+    {"simulate",
+     "friction-cone",
+     {0.0, 1e3, false, false},
+     "a floating base holding: the ground's friction coefficient mu; the contacts' forces the "
+     "least-norm ones within cones about its normal, a state they cannot hold drawn again (0: no "
+     "cones)"},
     {"",
      "amplitude",
      {0.0, 100.0, false, false},

@@ -1,11 +1,12 @@
 #include "analysis/floating/simulate.hpp"
 
+#include <cmath>
 #include <random>
 
-#include <Eigen/QR>
-
+#include "analysis/floating/contact_forces.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -35,27 +36,97 @@ FloatingStructuralOptions samplingOf(const FloatingSimulationOptions& o) {
   return sampling;
 }
 
+/// A state and what holds it: the Jacobian of what holds, the generalized force inverse dynamics
+/// needs there (base wrench, joint torques) and the holding contacts' forces (the Jacobian's rows).
+struct HeldState {
+  FloatingState state;
+  Eigen::MatrixXd J;
+  Eigen::VectorXd generalized, forces;
+};
+
+/// The cones of a state's holding contacts: each point contact's force, each frame contact's force
+/// after its moment; the ground's normal against gravity, in the base's axes.
+ContactCones conesOf(const FloatingModel& model, const FloatingSimulationOptions& o,
+                     const FloatingState& state) {
+  ContactCones cones;
+  cones.friction = o.friction_cone;
+  cones.up = -(state.base.rotation.transpose() * model.gravity()).normalized();
+  int row = 0;
+  for (int c : state.active) {
+    const bool frame = o.contacts[static_cast<std::size_t>(c)].kind == Contact::Kind::kFrame;
+    cones.coned.push_back(frame ? row + 3 : row);
+    row += frame ? 6 : 3;
+  }
+  return cones;
+}
+
+/// Draws a state within the cones can hold this many times before giving up on a sample.
+constexpr int kDrawsPerSample = 200;
+
 /// What both simulations draw with: the seeded states of the options' motion (or the design's,
 /// in order), a workspace and the noise's generator.
 struct Draws {
-  Draws(const FloatingModel& model, const FloatingSimulationOptions& o)
-      : sampling(samplingOf(o)),
-        sampler(model, sampling),
-        data(model),
+  Draws(const FloatingModel& m, const FloatingSimulationOptions& o)
+      : model(m),
+        sampling(samplingOf(o)),
+        sampler(m, sampling),
+        data(m),
         rng(o.seed ^ 0x5eed),
         options(o) {
+    checkFriction();
     if (!o.trajectory) return;
     if (o.motion != FloatingMotion::kSuspended)
       throw InputError(
           "`trajectory`: a designed motion is simulated on a suspended robot (its base "
           "held still), not " +
           std::string(floatingMotionName(o.motion)));
-    if (o.trajectory->numJoints() != model.numJoints())
+    if (o.trajectory->numJoints() != m.numJoints())
       throw InputError("`trajectory` moves " + std::to_string(o.trajectory->numJoints()) +
-                       " joints; the robot has " + std::to_string(model.numJoints()));
+                       " joints; the robot has " + std::to_string(m.numJoints()));
   }
-  /// State k of the options' samples.
-  FloatingState next(int k) {
+  void checkFriction() const {
+    if (!(options.friction_cone >= 0.0) || !std::isfinite(options.friction_cone))
+      throw InputError("`friction_cone` must be a finite coefficient >= 0 (0: no cones), not " +
+                       formatNumber(options.friction_cone));
+    if (options.friction_cone == 0.0) return;
+    if (options.motion != FloatingMotion::kHolding)
+      throw InputError(
+          "`friction_cone`: cones bound the forces of contacts on the ground (the holding "
+          "motion), not " +
+          std::string(floatingMotionName(options.motion)));
+    if (model.gravity().norm() == 0.0)
+      throw InputError(
+          "`friction_cone`: the cones stand on the ground's normal, against gravity, "
+          "and this model has none");
+  }
+  /// State k of the options' samples, with what holds it: a random state is drawn again while
+  /// the cones cannot carry its base wrench (InputError naming `friction_cone` after
+  /// kDrawsPerSample).
+  HeldState next(int k) {
+    for (int attempt = 0; attempt < kDrawsPerSample; ++attempt) {
+      ++drawn;
+      HeldState held;
+      held.state = draw(k);
+      held.J = sampler.jacobian(held.state);
+      const FloatingState& s = held.state;
+      held.generalized = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+      held.forces = Eigen::VectorXd::Zero(held.J.rows());
+      if (held.J.rows() == 0) return held;
+      const std::optional<Eigen::VectorXd> forces =
+          contactForces(held.J.leftCols<6>().transpose(),
+                        Eigen::VectorXd(held.generalized.head<6>()), conesOf(model, options, s));
+      if (forces) {
+        held.forces = *forces;
+        return held;
+      }
+    }
+    throw InputError("`friction_cone`: in " + std::to_string(kDrawsPerSample) +
+                     " random states the contacts that hold could not carry the base wrench "
+                     "within cones of mu " +
+                     formatNumber(options.friction_cone) +
+                     " (a larger coefficient, or more contacts)");
+  }
+  FloatingState draw(int k) {
     if (!options.trajectory) return sampler.next();
     FloatingState state;
     state.base_held = true;  // rotation identity, twist and acceleration zero
@@ -66,12 +137,14 @@ struct Draws {
   double time(int k) const {
     return options.trajectory ? options.trajectory->period * k / options.samples : 0.01 * k;
   }
+  const FloatingModel& model;
   FloatingStructuralOptions sampling;  // before the sampler, which keeps a reference to it
   FloatingStateSampler sampler;
   FloatingData data;
   std::mt19937_64 rng;
   std::normal_distribution<double> normal{0.0, 1.0};
   const FloatingSimulationOptions& options;
+  int drawn = 0;
 };
 }  // namespace
 
@@ -79,37 +152,31 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& options) {
   Draws draws(model, options);
   FloatingStateSampler& sampler = draws.sampler;
-  FloatingData& data = draws.data;
   const auto normal = [&draws] { return draws.normal(draws.rng); };
   const int n = model.numJoints();
   FloatingSimulation out;
   out.torque_variance = Eigen::VectorXd::Constant(n, options.torque_noise * options.torque_noise);
   for (int k = 0; k < options.samples; ++k) {
-    FloatingState state = draws.next(k);
+    HeldState held = draws.next(k);
     FloatingMeasurement m;
-    m.J = sampler.jacobian(state);
-    const Eigen::VectorXd generalized =
-        floatingRnea(model, data, state.base, state.q, state.dq, state.ddq);
-    m.Y = sampler.regressor(state);
-    m.forces = Eigen::VectorXd::Zero(m.J.rows());
-    if (m.J.rows() > 0)
-      m.forces = m.J.leftCols<6>().transpose().completeOrthogonalDecomposition().solve(
-          Eigen::VectorXd(generalized.head<6>()));
-    m.tau = generalized.tail(n);
+    m.J = std::move(held.J);
+    m.Y = sampler.regressor(held.state);
+    m.forces = std::move(held.forces);
+    m.tau = held.generalized.tail(n);
     if (m.J.rows() > 0) m.tau -= m.J.rightCols(n).transpose() * m.forces;
-    const Eigen::VectorXd sd = forceSd(state, options);
+    const Eigen::VectorXd sd = forceSd(held.state, options);
     m.force_variance = sd.cwiseProduct(sd);
     for (Eigen::Index r = 0; r < m.forces.size(); ++r) m.forces[r] += sd[r] * normal();
     for (int i = 0; i < n; ++i) m.tau[i] += options.torque_noise * normal();
     out.samples.push_back(std::move(m));
   }
+  out.drawn = draws.drawn;
   return out;
 }
 
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
-                                        const FloatingSimulationOptions& options) {
+                                        const FloatingSimulationOptions& options, int* drawn) {
   Draws draws(model, options);
-  FloatingStateSampler& sampler = draws.sampler;
   FloatingData& data = draws.data;
   const auto normal = [&draws] { return draws.normal(draws.rng); };
   // The contacts the dataset measures: the options', and the base's support when suspended.
@@ -137,7 +204,8 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
     out.flags.push_back({c.name, std::vector<char>(static_cast<std::size_t>(N), 0)});
   }
   for (int k = 0; k < N; ++k) {
-    const FloatingState state = draws.next(k);
+    const HeldState held = draws.next(k);
+    const FloatingState& state = held.state;
     const Eigen::Quaterniond orientation(state.base.rotation);
     out.orientation.col(k) << orientation.w(), orientation.x(), orientation.y(), orientation.z();
     out.twist.col(k) = state.base.twist;
@@ -145,14 +213,9 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
     out.q.col(k) = state.q;
     out.dq.col(k) = state.dq;
     out.ddq.col(k) = state.ddq;
-    const Eigen::MatrixXd J = sampler.jacobian(state);
-    const Eigen::VectorXd generalized =
-        floatingRnea(model, data, state.base, state.q, state.dq, state.ddq);
-    Eigen::VectorXd forces = Eigen::VectorXd::Zero(J.rows());
-    if (J.rows() > 0)
-      forces = J.leftCols<6>().transpose().completeOrthogonalDecomposition().solve(
-          Eigen::VectorXd(generalized.head<6>()));
-    out.tau.col(k) = generalized.tail(n);
+    const Eigen::MatrixXd& J = held.J;
+    const Eigen::VectorXd& forces = held.forces;
+    out.tau.col(k) = held.generalized.tail(n);
     if (J.rows() > 0) out.tau.col(k) -= J.rightCols(n).transpose() * forces;
     // The holding contacts' forces (J's rows: the support's, then the active ones') in each
     // contact's own axes.
@@ -178,6 +241,7 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
         w.values(r, k) +=
             (w.values.rows() == 6 && r < 3 ? options.moment_noise : options.force_noise) * normal();
   }
+  if (drawn != nullptr) *drawn = draws.drawn;
   return out;
 }
 

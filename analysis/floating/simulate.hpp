@@ -25,23 +25,32 @@ struct FloatingSimulationOptions {
   /// random states: `samples` states evenly over one period, the base held still (the suspended
   /// motion only: a robot on a stand or hung from its sensor). Unset: random states.
   std::optional<FourierSeries> trajectory;
+  /// The friction coefficient mu of the ground under the holding contacts: their forces are the
+  /// least-norm ones within cones of half-angle atan(mu) about the ground's normal (against
+  /// gravity; a frame contact's force, its moment free), and a random state they cannot hold is
+  /// drawn again. 0: the least-norm forces, no cones (a contact may pull). Holding motion only.
+  double friction_cone = 0.0;
 };
 
 /// The samples, and the noise variances they were drawn with (for generalized least squares).
 struct FloatingSimulation {
   std::vector<FloatingMeasurement> samples;
   Eigen::VectorXd torque_variance;
+  /// The states drawn: the samples and those the cones could not hold (`friction_cone`).
+  int drawn = 0;
 };
 
 /// Measurements of `model` (its own parameters are the truth) in states of the options' motion
 /// (a design: see FloatingSimulationOptions::trajectory; InputError naming `trajectory` for another
 /// motion than suspended or a design of another joint count):
 ///   holding    the active contacts carry the base wrench inverse dynamics needs, by the
-///              least-norm forces (friction cones are not imposed), the joints the rest;
+///              least-norm forces (within friction cones with `friction_cone`: contact_forces.hpp),
+///              the joints the rest;
 ///   suspended  the base's support carries it (measured as a frame contact at the base origin);
 ///   free       nothing holds: FloatingStateSampler::flight (the forward dynamics' accelerations
 ///              with no wrench on the base).
-/// Throws InputError as FloatingStateSampler does.
+/// Throws InputError as FloatingStateSampler does, and naming `friction_cone` (negative or not
+/// finite; with another motion than holding; a model without gravity; no state held in 200 draws).
 FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& options);
 
@@ -50,8 +59,10 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
 /// design, the design's time over its period): the base
 /// motion and joint states exact, the torques, and per contact its wrench in its frame's axes (a
 /// contact that does not hold reads noise about zero) and its flag; suspended adds the base's
-/// support as a frame contact at the base link. Noise as simulateFloating's.
+/// support as a frame contact at the base link. Noise as simulateFloating's; `drawn`, when given,
+/// receives the states drawn (FloatingSimulation::drawn).
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
-                                        const FloatingSimulationOptions& options);
+                                        const FloatingSimulationOptions& options,
+                                        int* drawn = nullptr);
 
 }  // namespace dynid

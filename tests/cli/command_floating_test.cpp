@@ -273,5 +273,19 @@ TEST(Cli, SimulateADesignOnASuspendedFloatingBase) {
   EXPECT_TRUE(contains(csv, "wrench:base:nx")) << csv.substr(0, 400);  // the support's sensor
 }
 
+/// Friction cones under ANYmal's feet: the console says how many states were drawn to keep the
+/// samples the cones hold.
+TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {
+  const std::string dir = test::tempPath("floating-cones");
+  std::filesystem::create_directories(dir);
+  const Result r = run("simulate --robot " + kAnymal +
+                       " --floating-base --contacts LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT --samples 50 "
+                       "--friction-cone 0.6 --out " +
+                       dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "within friction cones of mu 0.6: ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "states drawn")) << r.out;
+}
+
 }  // namespace
 }  // namespace dynid

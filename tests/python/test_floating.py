@@ -149,3 +149,12 @@ def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
     assert doc["motion"] == "suspended"  # the support's wrench is at the base link
     with pytest.raises(ValueError, match="trajectory"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", trajectory=design, motion="free")
+
+
+def test_simulate_floating_keeps_the_feet_within_friction_cones(tmp_path):
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=40,
+                                   friction_cone=0.6)
+    doc = dynid.floating_identify(ANYMAL, data, method="ols", sensors=["wrenches"])
+    assert doc["motion"] == "holding"
+    with pytest.raises(ValueError, match="friction_cone"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="suspended", friction_cone=0.5)

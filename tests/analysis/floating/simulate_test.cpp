@@ -43,17 +43,16 @@ std::vector<SensorSetBase> structural(const FloatingModel& model, const Robot& r
   return floatingIdentifiabilityRun(model, request).sets;
 }
 
-class NoiseFree : public ::testing::TestWithParam<std::tuple<int, FloatingMotion>> {};
-
-TEST_P(NoiseFree, EverySetRecoversItsCombinations) {
-  const auto [which, motion] = GetParam();
-  const Robot& robot = which == 0 ? kAnymal : kRomeo;
+/// Every set's base parameters from noise-free measurements of the robot in the motion (the
+/// contacts' forces within cones of mu `friction_cone` when it is not 0) to 1e-9.
+void expectRecovery(const Robot& robot, FloatingMotion motion, double friction_cone) {
   const FloatingModel model = load(robot);
   FloatingSimulationOptions options;
-  options.samples = which == 0 ? 150 : 100;
+  options.samples = &robot == &kAnymal ? 150 : 100;
   options.seed = 11;
   options.motion = motion;
   options.contacts = contactsOf(model, robot.contacts);
+  options.friction_cone = friction_cone;
   const FloatingSimulation sim = simulateFloating(model, options);
   const Eigen::VectorXd theta = model.standardParameters();
   for (const SensorSetBase& s : structural(model, robot, motion)) {
@@ -83,11 +82,88 @@ TEST_P(NoiseFree, EverySetRecoversItsCombinations) {
   }
 }
 
+class NoiseFree : public ::testing::TestWithParam<std::tuple<int, FloatingMotion>> {};
+
+TEST_P(NoiseFree, EverySetRecoversItsCombinations) {
+  const auto [which, motion] = GetParam();
+  expectRecovery(which == 0 ? kAnymal : kRomeo, motion, 0.0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, NoiseFree,
                          ::testing::Combine(::testing::Values(0, 1),
                                             ::testing::Values(FloatingMotion::kHolding,
                                                               FloatingMotion::kSuspended,
                                                               FloatingMotion::kFree)));
+
+/// On the ground, friction cones of mu 0.6: each holding foot of ANYmal pushes within its cone in
+/// the world's axes, the cones bind (the least-norm forces would leave them), states the cones
+/// cannot hold are drawn again, and every set still recovers its combinations.
+TEST(FrictionCones, EveryFootPushesWithinItsConeAndTheSetsStillRecover) {
+  const double mu = 0.6;
+  const FloatingModel model = load(kAnymal);
+  FloatingSimulationOptions options;
+  options.samples = 150;
+  options.seed = 11;
+  options.contacts = contactsOf(model, kAnymal.contacts);
+  options.friction_cone = mu;
+  int drawn = 0;
+  const FloatingDataset data = simulateFloatingDataset(model, options, &drawn);
+  EXPECT_GT(drawn, options.samples);  // random holding states: some need a pull or a slide
+  FloatingData work(model);
+  const Eigen::Vector3d up = -model.gravity().normalized();
+  int binding = 0, holding = 0;
+  for (int k = 0; k < options.samples; ++k) {
+    const Eigen::Vector4d q = data.orientation.col(k);
+    const Eigen::Matrix3d base = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+    double scale = 0.0;  // the sample's total contact force, the tolerances' unit
+    for (const FloatingDataset::Wrench& w : data.wrenches) scale += w.values.col(k).norm();
+    for (std::size_t c = 0; c < options.contacts.size(); ++c) {
+      if (!data.flags[c].holding[static_cast<std::size_t>(k)]) {
+        EXPECT_EQ(data.wrenches[c].values.col(k).norm(), 0.0);
+        continue;
+      }
+      ++holding;
+      const Eigen::Matrix3d axes =
+          base * contactPose(model, work, options.contacts[c], data.q.col(k)).rotation;
+      const Eigen::Vector3d f = axes * data.wrenches[c].values.col(k);
+      const double normal = up.dot(f), tangent = (f - normal * up).norm();
+      // The solver's tolerance: 1e-9 of the wrench it carries.
+      EXPECT_GE(normal, -1e-9 * scale);
+      EXPECT_LE(tangent, mu * normal + 1e-9 * scale);
+      if (tangent > mu * normal - 1e-6 * scale) ++binding;
+    }
+  }
+  EXPECT_GT(binding, holding / 20) << binding << " of " << holding << " at the cone's edge";
+  expectRecovery(kAnymal, FloatingMotion::kHolding, mu);
+  expectRecovery(kRomeo, FloatingMotion::kHolding, mu);
+}
+
+/// Runs the simulation and expects an InputError whose message holds every fragment.
+void expectRefused(const FloatingModel& model, const FloatingSimulationOptions& options,
+                   std::initializer_list<const char*> fragments) {
+  try {
+    simulateFloating(model, options);
+    ADD_FAILURE() << "not refused";
+  } catch (const InputError& e) {
+    for (const char* fragment : fragments)
+      EXPECT_TRUE(test::contains(e.what(), fragment)) << e.what();
+  }
+}
+
+TEST(FrictionCones, AreRefusedWhereNoContactStandsOnTheGround) {
+  const FloatingModel model = load(kAnymal);
+  FloatingSimulationOptions options;
+  options.contacts = contactsOf(model, kAnymal.contacts);
+  options.friction_cone = -0.1;
+  EXPECT_THROW(simulateFloating(model, options), InputError);
+  options.friction_cone = 0.5;
+  options.motion = FloatingMotion::kSuspended;
+  expectRefused(model, options, {"`friction_cone`", "suspended"});
+  // So narrow a cone that no random state of a quadruped is held.
+  options.motion = FloatingMotion::kHolding;
+  options.friction_cone = 1e-6;
+  expectRefused(model, options, {"`friction_cone`", "200 random states"});
+}
 
 /// z = (beta_hat - beta) / sd over every base parameter and 8 seeds: its RMS is 1 when the
 /// intervals are calibrated.
