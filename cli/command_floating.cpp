@@ -151,7 +151,7 @@ int runFloatingIdentify(const po::variables_map& vm) {
 int runFloatingPrepare(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"log", "out", "topic", "imu-topic", "wrench-topics", "stamp", "rate", "cutoff",
-                 "order", "max-gap", "trim", "threads"},
+                 "order", "max-gap", "trim", "threads", "contact-threshold"},
                 "prepare");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
   const auto logs =
@@ -184,6 +184,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
   options.max_gap = vm["max-gap"].as<double>();
   options.trim = vm["trim"].as<double>();
   options.receive_time = receiveTimeOption(vm);
+  options.contact_threshold = vm["contact-threshold"].as<double>();
   try {
     options.check();
   } catch (const InputError& e) {

@@ -89,7 +89,8 @@ void addPrepareOptions(po::options_description& options) {
       "(docs/FLOATING.md)")("imu-topic", po::value<std::string>(),
                             "with --floating-base: the Imu topic (default: the only one)")(
       "wrench-topics", po::value<std::string>(),
-      "with --floating-base: the WrenchStamped topics, comma-separated (default: every one)");
+      "with --floating-base: the WrenchStamped topics, comma-separated (default: every one)")(
+      "contact-threshold", po::value<double>()->default_value(0.0));
 }
 
 std::string text(const po::variables_map& vm, const char* key) {
@@ -314,7 +315,7 @@ int runPrepare(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingPrepare(vm);
-  refuseFloatingOptions(vm, {"imu-topic", "wrench-topics"});
+  refuseFloatingOptions(vm, {"imu-topic", "wrench-topics", "contact-threshold"});
   LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);

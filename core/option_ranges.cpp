@@ -125,6 +125,11 @@ constexpr OptionRule kOptionRules[] = {
     {"", "combined-iterations", kAtLeastOneIteration, "combined: Levenberg-Marquardt iterations"},
     // prepare
     {"prepare", "rate", {1e-3, 1e7, false, true}, "resampling rate [Hz] (0: median)"},
+    {"prepare",
+     "contact-threshold",
+     {0.0, 1e7, false, false},
+     "with --floating-base: contact flags from the wrenches, a frame holding where its "
+     "low-passed force's norm reaches this [N] (0: none)"},
     {"", "joints", {0.0, 1000.0, false, false}, "joints (files: required)"},
     {"", "order", {1.0, 12.0, false, false}, "Butterworth order"},
     {"", "decimate", {1.0, 1e6, false, false}, "keep every Nth sample"},

@@ -122,7 +122,8 @@ py::object prepareFloating(const PathLike& robot, const PathLike& log, const Pat
                            const std::optional<std::vector<std::string>>& wrench_topics,
                            double rate, const std::optional<double>& cutoff, int order,
                            double max_gap, const std::optional<double>& trim,
-                           const std::string& stamp, const TermsLike& drive_terms) {
+                           const std::string& stamp, const TermsLike& drive_terms,
+                           double contact_threshold) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingLogTopics topics;
   topics.joint_topic = joint_topic.value_or("");
@@ -137,6 +138,7 @@ py::object prepareFloating(const PathLike& robot, const PathLike& log, const Pat
   if (stamp != "header" && stamp != "receive")
     throw InputError("`stamp` must be header or receive, not '" + stamp + "'");
   options.receive_time = stamp == "receive";
+  options.contact_threshold = contact_threshold;
   const std::string recording = pathArg(log, "log"), path = pathArg(out, "out");
   FloatingPrepareOutcome outcome;
   {
@@ -155,12 +157,14 @@ void bindFloating(py::module_& m) {
         py::arg("wrench_topics") = py::none(), py::arg("rate") = 0.0,
         py::arg("cutoff") = py::none(), py::arg("order") = 4, py::arg("max_gap") = 0.0,
         py::arg("trim") = py::none(), py::arg("stamp") = "header",
-        py::arg("drive_terms") = py::none(),
+        py::arg("drive_terms") = py::none(), py::arg("contact_threshold") = 0.0,
         "`dynid prepare --floating-base`: a floating-base robot (a URDF path) and a recording "
         "(.mcap, .db3, .bag, a bag directory) with JointState, Imu (on the base body) and "
         "WrenchStamped topics (each the only one of its type, or named), resampled to one time "
         "base, low-passed alike (cutoff None: 10 Hz, 0: none) and differentiated, written to "
-        "`out` as a floating dataset. Returns floating_prepare.json as a dict (docs/FLOATING.md).");
+        "`out` as a floating dataset; with contact_threshold [N], a contact flag per wrench "
+        "frame, holding where its force's norm reaches it. Returns floating_prepare.json as a "
+        "dict (docs/FLOATING.md).");
   m.def("floating_identify", &floatingIdentify, py::arg("robot"), py::arg("data"),
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",

@@ -22,22 +22,29 @@ json floatingPrepareJson(const FloatingModel& model, const std::string& recordin
                       {"gap_limit", t.gap_limit},
                       {"gaps", t.gaps}});
   const FloatingDataset& d = outcome.dataset;
+  json thresholded = json::array();
+  for (const auto& [frame, share] : outcome.thresholded)
+    thresholded.push_back({{"frame", frame}, {"holding_fraction", share}});
   json report = documentHeader(kFloatingPrepareDocument);
-  report.update({{"robot", model.name()},
-                 {"base_link", model.baseName()},
-                 {"recording", recording},
-                 {"topics", topics},
-                 {"rate", outcome.rate},
-                 {"rate_reason", outcome.rate_reason},
-                 {"cutoff", outcome.cutoff},
-                 {"cutoff_reason", outcome.cutoff_reason},
-                 {"trim", outcome.trim},
-                 {"span", {outcome.span_from, outcome.span_to}},
-                 {"runs", outcome.runs},
-                 {"runs_dropped", outcome.runs_dropped},
-                 {"samples", d.numSamples()},
-                 {"torques", d.hasTorques()},
-                 {"warnings", outcome.warnings}});
+  report.update(
+      {{"robot", model.name()},
+       {"base_link", model.baseName()},
+       {"recording", recording},
+       {"topics", topics},
+       {"rate", outcome.rate},
+       {"rate_reason", outcome.rate_reason},
+       {"cutoff", outcome.cutoff},
+       {"cutoff_reason", outcome.cutoff_reason},
+       {"trim", outcome.trim},
+       {"span", {outcome.span_from, outcome.span_to}},
+       {"runs", outcome.runs},
+       {"runs_dropped", outcome.runs_dropped},
+       {"samples", d.numSamples()},
+       {"torques", d.hasTorques()},
+       {"contact_threshold",
+        outcome.contact_threshold > 0.0 ? json(outcome.contact_threshold) : json(nullptr)},
+       {"thresholded_contacts", thresholded},
+       {"warnings", outcome.warnings}});
   return report;
 }
 
@@ -60,6 +67,13 @@ std::string floatingPrepareSummary(const FloatingModel& model,
       << " (" << outcome.cutoff_reason << "), " << formatNumber(outcome.trim, 4)
       << " s trimmed at each run's ends; " << outcome.runs << " run(s), "
       << outcome.dataset.numSamples() << " samples\n";
+  if (!outcome.thresholded.empty()) {
+    out << "  contact flags where the force reaches " << formatNumber(outcome.contact_threshold, 6)
+        << " N:";
+    for (const auto& [frame, share] : outcome.thresholded)
+      out << " " << frame << " holds in " << formatNumber(100.0 * share, 3) << " %;";
+    out << " the samples\n";
+  }
   out << "  wrote " << dataset << " and " << document << "\n";
   return out.str();
 }

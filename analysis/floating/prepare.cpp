@@ -21,6 +21,7 @@ void FloatingPrepareOptions::check() const {
   checkOption("prepare", "order", order, "`order`");
   checkOption("prepare", "max-gap", max_gap, "`max_gap`");
   checkOption("prepare", "trim", trim, "`trim`");
+  checkOption("prepare", "contact-threshold", contact_threshold, "`contact_threshold`");
   if (!std::isfinite(cutoff) || cutoff > 1e7)
     throw InputError("`cutoff` must be a frequency [Hz] below 1e7, 0 (none) or < 0 (the default)");
 }
@@ -442,6 +443,33 @@ void slowSignalWarnings(const std::vector<Stream>& streams, FloatingPrepareOutco
   }
 }
 
+/// Contact flags from the prepared wrenches: a frame holds where its force's norm reaches the
+/// threshold; a frame with a flag of its own keeps it (said).
+void thresholdFlags(const std::string& path, double threshold, FloatingPrepareOutcome& out) {
+  if (threshold <= 0.0) return;
+  FloatingDataset& d = out.dataset;
+  if (d.wrenches.empty())
+    throw InputError(path + ": `contact_threshold` sets contact flags from wrenches, and the log " +
+                     "has none");
+  const int N = d.numSamples();
+  for (const FloatingDataset::Wrench& w : d.wrenches) {
+    if (d.findFlag(w.frame) != nullptr) {
+      out.warnings.push_back("`contact_threshold` leaves the contact flag of " + w.frame +
+                             " as the log records it");
+      continue;
+    }
+    FloatingDataset::Flag flag{w.frame, std::vector<char>(static_cast<std::size_t>(N), 0)};
+    int held = 0;
+    for (int k = 0; k < N; ++k) {
+      const bool holds = w.values.col(k).tail<3>().norm() >= threshold;
+      flag.holding[static_cast<std::size_t>(k)] = holds ? 1 : 0;
+      held += holds ? 1 : 0;
+    }
+    out.thresholded.emplace_back(w.frame, N > 0 ? static_cast<double>(held) / N : 0.0);
+    d.flags.push_back(std::move(flag));
+  }
+}
+
 /// The streams (joints, the IMU, the wrenches, then the flags; times in seconds) into the
 /// dataset: ordered, on one time base over the runs, filtered and differentiated.
 FloatingPrepareOutcome prepareStreams(const FloatingModel& model, const std::string& path,
@@ -484,6 +512,8 @@ FloatingPrepareOutcome prepareStreams(const FloatingModel& model, const std::str
   }
   Eigen::Index at = 0;
   for (const Run& r : runs) appendRun(model, streams, r, out, filter, at, d);
+  out.contact_threshold = options.contact_threshold;
+  thresholdFlags(path, options.contact_threshold, out);
   for (const Stream& s : streams) out.topics.push_back(s.summary);
   if (!streams[0].has_tau)
     out.warnings.push_back("the log has no joint torques: a dataset for the wrenches set only");

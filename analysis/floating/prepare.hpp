@@ -44,7 +44,11 @@ struct FloatingPrepareOptions {
   double max_gap = 0.0;  // a topic's step beyond it splits the log [s]; 0: 5 of its median steps
   double trim = -1.0;    // dropped at each run's ends [s]; < 0: 2 / cutoff (none unfiltered)
   bool receive_time = false;  // stamps from the recorder's receive time, not the headers
-  /// Throws InputError naming the field (`rate`, `cutoff`, `order`, `max_gap`, `trim`) out of
+  /// Contact flags from the wrenches [N]: a wrench's frame holds where the prepared (low-passed)
+  /// force's norm reaches it; a frame whose flag the log records keeps that one. 0: none.
+  double contact_threshold = 0.0;
+  /// Throws InputError naming the field (`rate`, `cutoff`, `order`, `max_gap`, `trim`,
+  /// `contact_threshold`) out of
   /// prepare's ranges (core/option_ranges.hpp).
   void check() const;
 };
@@ -66,6 +70,10 @@ struct FloatingPrepareOutcome {
   /// The span every topic covers [s from the joint topic's first stamp], and the runs kept in it.
   double span_from = 0.0, span_to = 0.0;
   int runs = 0, runs_dropped = 0;  // dropped: too short for the filter's trim
+  /// The flags set from the wrenches' force (`contact_threshold`): each frame and the share of the
+  /// samples in which it holds.
+  std::vector<std::pair<std::string, double>> thresholded;
+  double contact_threshold = 0.0;  // [N] the option's value (0: none)
   std::vector<std::string> warnings;
 };
 
@@ -76,7 +84,8 @@ struct FloatingPrepareOutcome {
 /// model the messages lack, an IMU whose orientation is unknown (orientation_covariance[0] = -1) or
 /// whose frame_id is not a frame on the base body, a wrench in a frame the model lacks (the frames
 /// named) or two topics in one frame, header stamps all zero (use the receive time), topics that
-/// never overlap in time, no run long enough to filter; ParseError for damage (bags' own).
+/// never overlap in time, no run long enough to filter, a `contact_threshold` with no wrench to
+/// apply it to; ParseError for damage (bags' own).
 FloatingPrepareOutcome prepareFloatingLog(const FloatingModel& model, const std::string& path,
                                           const FloatingLogTopics& topics,
                                           const FloatingPrepareOptions& options);

@@ -42,7 +42,7 @@ inline constexpr DocumentType kFloatingIdentifiabilityDocument{"dynid.floating_i
 // set's `physical`).
 inline constexpr DocumentType kFloatingIdentificationDocument{"dynid.floating_identification", 1};
 // prepare --floating-base: a floating robot's recording prepared into a floating dataset.
-inline constexpr DocumentType kFloatingPrepareDocument{"dynid.floating_prepare", 1};
+inline constexpr DocumentType kFloatingPrepareDocument{"dynid.floating_prepare", 2};
 // search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and
 // model_source; search.json 1 is still read by refine --from. 3: provenance (search.json 2 is
 // read).

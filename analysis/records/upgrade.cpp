@@ -22,7 +22,7 @@ const DocumentType* kindOf(const json& d, const std::string& file) {
       &kSearchDocument,          &kRefineDocument,      &kPredictionDocument,
       &kPayloadDocument,         &kPayloadBodyDocument, &kMonitorDocument,
       &kAuditDocument,           &kStudyDocument,       &kPrepareDocument,
-      &kIdentifiabilityDocument, &kDemoDocument};
+      &kIdentifiabilityDocument, &kDemoDocument,        &kFloatingPrepareDocument};
   if (d.contains("kind")) {
     for (const DocumentType* t : kUpgradable)
       if (d["kind"] == t->kind) return t;
@@ -100,6 +100,7 @@ const Added kAdded[] = {
     {&kPrepareDocument, 3, kProvenance},
     {&kIdentifiabilityDocument, 2, kProvenance},
     {&kDemoDocument, 2, kProvenance},
+    {&kFloatingPrepareDocument, 2, "contact_threshold and thresholded_contacts"},
 };
 
 /// One note per version after `from` whose additions the document lacks.

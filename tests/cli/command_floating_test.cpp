@@ -209,7 +209,8 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(readFile(dir + "/floating_prepare.json"));
   EXPECT_EQ(j["kind"], "dynid.floating_prepare");
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_TRUE(j["contact_threshold"].is_null());
   ASSERT_EQ(j["topics"].size(), 3u);
   EXPECT_EQ(j["topics"][1]["frame"], "imu_link");
   EXPECT_EQ(j["cutoff"], 10.0);
@@ -222,6 +223,20 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto id = nlohmann::json::parse(readFile(dir + "/id/floating_identification.json"));
   EXPECT_EQ(id["motion"], "suspended");  // the sensor's frame is on the base body
+  // Contact flags from the sensor's force (the robot weighs about 500 N): the dataset then feeds
+  // the torques with contact flags.
+  r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag +
+          " --contact-threshold 300 --out " + dir + "/flags");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "contact flags where the force reaches 300 N: face_rear holds in"))
+      << r.out;
+  const auto flags = nlohmann::json::parse(readFile(dir + "/flags/floating_prepare.json"));
+  EXPECT_EQ(flags["contact_threshold"], 300.0);
+  ASSERT_EQ(flags["thresholded_contacts"].size(), 1u);
+  r = run("identify --floating-base --robot " + kAnymal + " --data " + dir +
+          "/flags/floating_dataset.csv --method ols --sensors torques_contacts --out " + dir +
+          "/flags/id");
+  ASSERT_EQ(r.code, 0) << r.err;
   // What cannot be used is said with this command's flags: a topic the recording lacks (exit 1),
   // options that need --floating-base or do not apply to it (exit 2).
   r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag +

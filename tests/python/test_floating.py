@@ -140,6 +140,12 @@ def test_prepare_floating_equals_the_clis(tmp_path):
         (tmp_path / "cli" / "floating_dataset.csv").read_bytes()
     with pytest.raises(ValueError, match="imu_topic"):
         dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", imu_topic="/imu/data")
+    # The sensor reads 500 N throughout: a flag at its frame, holding in every sample.
+    flagged = dynid.prepare_floating(ANYMAL, bag, tmp_path / "flags.csv", contact_threshold=100)
+    assert flagged["thresholded_contacts"] == [{"frame": "face_rear", "holding_fraction": 1.0}]
+    assert "contact:face_rear" in (tmp_path / "flags.csv").read_text().splitlines()[0]
+    with pytest.raises(ValueError, match="contact_threshold"):
+        dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", contact_threshold=-1)
 
 
 def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):

@@ -120,6 +120,59 @@ TEST(FloatingPrepare, TheWrenchAndTorquesAreThePreparedMotionsInverseDynamics) {
   EXPECT_LT(relativeGap(predicted, measured), 1e-3);
 }
 
+/// Contact flags from a wrench: a threshold inside the range of the support's force (the robot's
+/// weight and its swinging) flags the sensor's frame where the prepared force reaches it; away
+/// from the threshold, the flag is what the force inverse dynamics of the prepared motion needs
+/// says (a moment or a frame mistaken shows there), and the share is reported.
+TEST(FloatingPrepare, AThresholdOnAWrenchFlagsItsFrameWhereTheForceReachesIt) {
+  const Prepared plain;
+  ASSERT_TRUE(plain.out.dataset.flags.empty());
+  const FloatingDataset& d0 = plain.out.dataset;
+  std::vector<double> norms;
+  for (int k = 0; k < d0.numSamples(); ++k)
+    norms.push_back(d0.wrenches[0].values.col(k).tail<3>().norm());
+  std::nth_element(norms.begin(), norms.begin() + norms.size() / 2, norms.end());
+  FloatingPrepareOptions options;
+  options.contact_threshold = norms[norms.size() / 2];
+  const Prepared p({}, true, options);
+  const FloatingDataset& d = p.out.dataset;
+  ASSERT_EQ(d.flags.size(), 1u);
+  EXPECT_EQ(d.flags[0].frame, "face_rear");
+  ASSERT_EQ(p.out.thresholded.size(), 1u);
+  EXPECT_NEAR(p.out.thresholded[0].second, 0.5, 0.01);  // the median: half the samples
+  FloatingData data(p.model);
+  const Eigen::Matrix3d S = p.model.findFrame("face_rear")->placement.rotation;
+  int compared = 0;
+  for (int k = 0; k < d.numSamples(); ++k) {
+    BaseMotion b;
+    b.rotation = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    b.twist = d.twist.col(k);
+    b.acceleration = d.acceleration.col(k);
+    const Eigen::VectorXd needed =
+        floatingRnea(p.model, data, b, d.q.col(k), d.dq.col(k), d.ddq.col(k));
+    const double force = (S.transpose() * needed.segment<3>(3)).norm();
+    // The prepared force is inverse dynamics' within 1e-3 (above): 1 % keeps clear of it.
+    if (std::abs(force - options.contact_threshold) < 1e-2 * options.contact_threshold) continue;
+    ++compared;
+    EXPECT_EQ(d.flags[0].holding[static_cast<std::size_t>(k)],
+              force >= options.contact_threshold ? 1 : 0)
+        << d.time[k];
+  }
+  EXPECT_GT(compared, d.numSamples() / 2);
+  // A table's own flag at the sensor's frame is kept, and said to be.
+  const std::string path = test::tempPath("threshold_table.csv");
+  test::writeSuspendedTable(path, p.model, p.motion, {});
+  const FloatingPrepareOutcome table = prepareFloatingLog(p.model, path, {}, options);
+  EXPECT_TRUE(table.thresholded.empty());
+  ASSERT_EQ(table.dataset.flags.size(), 1u);
+  bool said = false;
+  for (const std::string& w : table.warnings)
+    said = said || test::contains(w, "leaves the contact flag of face_rear");
+  EXPECT_TRUE(said);
+  options.contact_threshold = -1.0;
+  EXPECT_THROW(prepareFloatingLog(p.model, path, {}, options), InputError);
+}
+
 /// Estimation on a prepared recording of a robot held still by its sensor (the suspended motion
 /// class): the fit leaves only the preparation's error (measured 2.4e-5 %). Six seconds of one
 /// swing of the joints do not determine the parameters themselves (that needs an excitation
