@@ -151,7 +151,7 @@ int runFloatingIdentify(const po::variables_map& vm) {
 int runFloatingPrepare(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"log", "out", "topic", "imu-topic", "wrench-topics", "stamp", "rate", "cutoff",
-                 "order", "max-gap", "trim", "threads", "contact-threshold"},
+                 "order", "max-gap", "trim", "threads", "contact-threshold", "contact-topics"},
                 "prepare");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
   const auto logs =
@@ -164,6 +164,14 @@ int runFloatingPrepare(const po::variables_map& vm) {
   if (vm.count("topic")) topics.joint_topic = vm["topic"].as<std::string>();
   if (vm.count("imu-topic")) topics.imu_topic = vm["imu-topic"].as<std::string>();
   topics.wrench_topics = nameListOption(vm, "wrench-topics");
+  for (const std::string& pair : nameListOption(vm, "contact-topics")) {
+    const std::size_t eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == pair.size())
+      throw UsageError("--contact-topics takes TOPIC=FRAME pairs, comma-separated, not '" + pair +
+                       "'");
+    if (!topics.contact_topics.emplace(pair.substr(0, eq), pair.substr(eq + 1)).second)
+      throw UsageError("--contact-topics names " + pair.substr(0, eq) + " twice");
+  }
   FloatingPrepareOptions options;
   options.rate = vm["rate"].as<double>();
   const std::string cutoff = vm["cutoff"].as<std::string>();

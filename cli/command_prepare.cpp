@@ -90,7 +90,10 @@ void addPrepareOptions(po::options_description& options) {
                             "with --floating-base: the Imu topic (default: the only one)")(
       "wrench-topics", po::value<std::string>(),
       "with --floating-base: the WrenchStamped topics, comma-separated (default: every one)")(
-      "contact-threshold", po::value<double>()->default_value(0.0));
+      "contact-threshold", po::value<double>()->default_value(0.0))(
+      "contact-topics", po::value<std::string>(),
+      "with --floating-base: std_msgs/Bool topics as contact flags, TOPIC=FRAME comma-separated "
+      "(e.g. /lf_contact=LF_FOOT)");
 }
 
 std::string text(const po::variables_map& vm, const char* key) {
@@ -315,7 +318,7 @@ int runPrepare(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingPrepare(vm);
-  refuseFloatingOptions(vm, {"imu-topic", "wrench-topics", "contact-threshold"});
+  refuseFloatingOptions(vm, {"imu-topic", "wrench-topics", "contact-threshold", "contact-topics"});
   LogSource source = logSource(vm);
   PrepareOptions o;
   readProcessing(vm, o);

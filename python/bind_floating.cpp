@@ -2,6 +2,7 @@
 // (analysis/floating/identifiability.hpp, `dynid identifiability --floating-base`), simulated
 // floating datasets (simulate.hpp), datasets prepared from recordings (prepare.hpp) and the
 // estimate on them (identify.hpp), documents as dicts.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -116,19 +117,20 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   return path;
 }
 
-py::object prepareFloating(const PathLike& robot, const PathLike& log, const PathLike& out,
-                           const std::optional<std::string>& joint_topic,
-                           const std::optional<std::string>& imu_topic,
-                           const std::optional<std::vector<std::string>>& wrench_topics,
-                           double rate, const std::optional<double>& cutoff, int order,
-                           double max_gap, const std::optional<double>& trim,
-                           const std::string& stamp, const TermsLike& drive_terms,
-                           double contact_threshold) {
+py::object prepareFloating(
+    const PathLike& robot, const PathLike& log, const PathLike& out,
+    const std::optional<std::string>& joint_topic, const std::optional<std::string>& imu_topic,
+    const std::optional<std::vector<std::string>>& wrench_topics, double rate,
+    const std::optional<double>& cutoff, int order, double max_gap,
+    const std::optional<double>& trim, const std::string& stamp, const TermsLike& drive_terms,
+    double contact_threshold,
+    const std::optional<std::map<std::string, std::string>>& contact_topics) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingLogTopics topics;
   topics.joint_topic = joint_topic.value_or("");
   topics.imu_topic = imu_topic.value_or("");
   topics.wrench_topics = wrench_topics.value_or(std::vector<std::string>{});
+  if (contact_topics) topics.contact_topics = *contact_topics;
   FloatingPrepareOptions options;
   options.rate = rate;
   if (cutoff) options.cutoff = *cutoff;
@@ -158,12 +160,14 @@ void bindFloating(py::module_& m) {
         py::arg("cutoff") = py::none(), py::arg("order") = 4, py::arg("max_gap") = 0.0,
         py::arg("trim") = py::none(), py::arg("stamp") = "header",
         py::arg("drive_terms") = py::none(), py::arg("contact_threshold") = 0.0,
+        py::arg("contact_topics") = py::none(),
         "`dynid prepare --floating-base`: a floating-base robot (a URDF path) and a recording "
         "(.mcap, .db3, .bag, a bag directory) with JointState, Imu (on the base body) and "
         "WrenchStamped topics (each the only one of its type, or named), resampled to one time "
         "base, low-passed alike (cutoff None: 10 Hz, 0: none) and differentiated, written to "
         "`out` as a floating dataset; with contact_threshold [N], a contact flag per wrench "
-        "frame, holding where its force's norm reaches it. Returns floating_prepare.json as a "
+        "frame, holding where its force's norm reaches it; contact_topics: std_msgs/Bool "
+        "topics as contact flags, {topic: frame}. Returns floating_prepare.json as a "
         "dict (docs/FLOATING.md).");
   m.def("floating_identify", &floatingIdentify, py::arg("robot"), py::arg("data"),
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),

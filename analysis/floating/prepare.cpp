@@ -112,8 +112,26 @@ std::vector<Stream> chooseStreams(const std::string& path, const FloatingLogTopi
                                   path, "wrench_topics");
     out.push_back(std::move(s));
   }
+  for (const auto& [topic, frame] : topics.contact_topics) {
+    Stream s;
+    s.kind = Kind::kFlag;
+    s.summary.topic =
+        chooseTopic(types, topic, bags::kBoolRos2, bags::kBoolRos1, path, "contact_topics");
+    s.summary.frame = frame;
+    out.push_back(std::move(s));
+  }
   for (Stream& s : out) s.summary.type = types.at(s.summary.topic);
   return out;
+}
+
+/// A contact topic's frame: a frame of the model (its frames listed otherwise).
+void checkContactFrame(const FloatingModel& model, const Stream& s, const std::string& path) {
+  if (model.findFrame(s.summary.frame) != nullptr) return;
+  std::vector<std::string> names;
+  for (const BodyFrame& b : model.frames) names.push_back(b.name);
+  throw InputError(path + ", topic " + s.summary.topic + " (`contact_topics`): '" +
+                   s.summary.frame + "' is no frame of '" + model.name() +
+                   "'; its frames: " + listed(names));
 }
 
 /// The joint message's values in the model's joint order: q, then dq and tau when the first
@@ -177,6 +195,7 @@ void readStreams(const FloatingModel& model, const std::string& path, bool recei
   std::map<std::string, Stream*> by_topic;
   std::vector<std::string> names;
   for (Stream& s : streams) {
+    if (s.kind == Kind::kFlag) checkContactFrame(model, s, path);
     by_topic[s.summary.topic] = &s;
     names.push_back(s.summary.topic);
   }
@@ -219,6 +238,13 @@ void readStreams(const FloatingModel& model, const std::string& path, bool recei
                       imu.linear_acceleration.end());
       s.width = 10;
       stamp = imu.stamp_ns;
+    } else if (s.kind == Kind::kFlag) {
+      const bool holds = cdr ? bags::decodeBoolCdr(m.data, file, m.offset)
+                             : bags::decodeBoolRos1(m.data, file, m.offset);
+      s.values.push_back(holds ? 1.0 : 0.0);
+      s.width = 1;
+      s.stamps.push_back(m.receive_ns);  // no header
+      return;
     } else {
       cdr ? bags::decodeWrenchStampedCdr(m.data, file, m.offset, wrench)
           : bags::decodeWrenchStampedRos1(m.data, file, m.offset, wrench);
@@ -557,9 +583,10 @@ FloatingPrepareOutcome prepareFloatingLog(const FloatingModel& model, const std:
   options.check();
   if (!bags::isBag(path)) {
     if (!topics.joint_topic.empty() || !topics.imu_topic.empty() || !topics.wrench_topics.empty() ||
-        options.receive_time)
+        !topics.contact_topics.empty() || options.receive_time)
       throw InputError(
-          "`joint_topic`, `imu_topic`, `wrench_topics` and `receive_time` apply to "
+          "`joint_topic`, `imu_topic`, `wrench_topics`, `contact_topics` and `receive_time` apply "
+          "to "
           "recordings, not to a table (" +
           path + ")");
     std::vector<Stream> streams = tableStreams(readFloatingLogTable(path, model));

@@ -1,11 +1,13 @@
 // A floating robot's raw log in, a floating dataset out (`dynid prepare --floating-base`,
-// docs/FLOATING.md "From a recording"). Either a ROS bag (data/bags/bag.hpp) with three kinds of
+// docs/FLOATING.md "From a recording"). Either a ROS bag (data/bags/bag.hpp) with four kinds of
 // topic:
 //   sensor_msgs/JointState         q, dq when logged, the efforts as joint torques when logged;
 //   sensor_msgs/Imu                an IMU on the base body (its header's frame_id a frame of the
 //                                  model): orientation, gyro, specific force;
 //   geometry_msgs/WrenchStamped    a contact wrench per topic, in its header's frame_id's axes
 //                                  about that frame's origin (a frame of the model);
+//   std_msgs/Bool                  a contact flag per topic, at the frame the request names for it
+//                                  (no header: timed by the recorder's receive time);
 // or a table (data/floating/floating_log.hpp: the same signals as named columns, each sensor's
 // fields empty in the rows where it has no sample, and contact flags).
 // Sensors at different rates, with jitter, are the common case: every signal is resampled
@@ -19,6 +21,7 @@
 // rule of data/floating/floating_dataset.hpp (imuBaseMotion).
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -34,6 +37,8 @@ struct FloatingLogTopics {
   /// The WrenchStamped topics; empty: every one the recording has (none: a dataset without
   /// wrenches, e.g. for torques with contact flags).
   std::vector<std::string> wrench_topics;
+  /// std_msgs/Bool topics, each a contact flag at a frame of the model (topic -> frame).
+  std::map<std::string, std::string> contact_topics;
 };
 
 struct FloatingPrepareOptions {
@@ -81,11 +86,11 @@ struct FloatingPrepareOutcome {
 /// floating dataset. Throws ParseError for a table's faults (floating_log.hpp) and InputError
 /// naming the recording, the topic and what is wrong: topics given for a table, no topic of a
 /// needed type or several without a name, a named topic absent or of another type, joints of the
-/// model the messages lack, an IMU whose orientation is unknown (orientation_covariance[0] = -1) or
-/// whose frame_id is not a frame on the base body, a wrench in a frame the model lacks (the frames
-/// named) or two topics in one frame, header stamps all zero (use the receive time), topics that
-/// never overlap in time, no run long enough to filter, a `contact_threshold` with no wrench to
-/// apply it to; ParseError for damage (bags' own).
+/// model the messages lack, a contact topic's frame the model lacks, an IMU whose orientation is
+/// unknown (orientation_covariance[0] = -1) or whose frame_id is not a frame on the base body, a
+/// wrench in a frame the model lacks (the frames named) or two topics in one frame, header stamps
+/// all zero (use the receive time), topics that never overlap in time, no run long enough to
+/// filter, a `contact_threshold` with no wrench to apply it to; ParseError for damage (bags' own).
 FloatingPrepareOutcome prepareFloatingLog(const FloatingModel& model, const std::string& path,
                                           const FloatingLogTopics& topics,
                                           const FloatingPrepareOptions& options);

@@ -188,4 +188,23 @@ void decodeWrenchStampedRos1(std::string_view bytes, const std::string& file, st
   wrenchFields(r, out);
 }
 
+namespace {
+bool boolValue(Cursor& c) {
+  const auto value = c.get<std::uint8_t>("data");
+  if (value > 1) c.fail("data", "a Bool is 0 or 1, not " + std::to_string(value));
+  return value == 1;
+}
+}  // namespace
+
+bool decodeBoolCdr(std::string_view bytes, const std::string& file, std::uint64_t base) {
+  Cursor c(bytes, file, base);
+  openCdr(c, "Bool");
+  return boolValue(c);
+}
+
+bool decodeBoolRos1(std::string_view bytes, const std::string& file, std::uint64_t base) {
+  Cursor c(bytes, file, base);
+  return boolValue(c);
+}
+
 }  // namespace dynid::bags

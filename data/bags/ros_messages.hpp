@@ -59,6 +59,16 @@ inline constexpr std::string_view kImuRos1 = "sensor_msgs/Imu";
 inline constexpr std::string_view kWrenchStampedRos2 = "geometry_msgs/msg/WrenchStamped";
 inline constexpr std::string_view kWrenchStampedRos1 = "geometry_msgs/WrenchStamped";
 
+/// std_msgs/Bool: one byte, 0 or 1 (a foot's contact switch). It has no header: its time is the
+/// recorder's receive time.
+inline constexpr std::string_view kBoolRos2 = "std_msgs/msg/Bool";
+inline constexpr std::string_view kBoolRos1 = "std_msgs/Bool";
+
+/// Decode a Bool, CDR (ROS 2) or ROS 1: ParseError for a message without its byte, a byte other
+/// than 0 or 1, or not plain CDR; bytes after it are ignored.
+bool decodeBoolCdr(std::string_view bytes, const std::string& file, std::uint64_t base);
+bool decodeBoolRos1(std::string_view bytes, const std::string& file, std::uint64_t base);
+
 /// Decode an Imu or a WrenchStamped, CDR (ROS 2) or ROS 1; errors as the JointState decoders'
 /// (a message shorter than its fields, a frame_id without its NUL, not plain CDR). Bytes after the
 /// last field are ignored (as ROS ignores them).

@@ -222,9 +222,9 @@ void suspendedSamples(const FloatingModel& model, const SuspendedMotion& motion,
 void writeSuspendedRecording(const std::string& path, const FloatingModel& model,
                              const SuspendedMotion& motion,
                              const SuspendedRecordingOptions& options) {
-  JointStateDb3 bag(
-      path, {"/joint_states", "/imu", "/ft"},
-      {"sensor_msgs/msg/JointState", "sensor_msgs/msg/Imu", "geometry_msgs/msg/WrenchStamped"});
+  JointStateDb3 bag(path, {"/joint_states", "/imu", "/ft", "/contact"},
+                    {"sensor_msgs/msg/JointState", "sensor_msgs/msg/Imu",
+                     "geometry_msgs/msg/WrenchStamped", "std_msgs/msg/Bool"});
   SuspendedSink sink;
   sink.joints = [&](std::int64_t ns, const Eigen::VectorXd& q, const Eigen::VectorXd& dq,
                     const Eigen::VectorXd& tau) {
@@ -238,6 +238,11 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
     bag.addEncoded(2, ns + 1000000, cdrWrench(m));
   };
   suspendedSamples(model, motion, options, sink);
+  // The switch: no header, so its time is the receive time (stamps from 1e9 ns, as the sensors').
+  for (int k = 0; options.contact_switch && k <= std::lround(options.seconds * 100.0); ++k) {
+    const std::int64_t ns = 1000000000 + 10000000LL * k;
+    bag.addEncoded(3, ns, std::string("\x00\x01\x00\x00", 4) + (k < 300 ? '\x01' : '\x00'));
+  }
   bag.close();
 }
 

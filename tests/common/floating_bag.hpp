@@ -63,6 +63,7 @@ struct SuspendedRecordingOptions {
   double joint_start = 0.0;     // the joint topic's first stamp [s] (the others start at 0)
   double imu_end = -1.0;        // the IMU's last stamp at most [s]; < 0: seconds
   std::string wrench_frame_id;  // the wrench messages' frame_id; empty: sensor_frame
+  bool contact_switch = false;  // a std_msgs/Bool topic /contact at 100 Hz: 1 before 3 s, then 0
 };
 
 /// Writes a .db3 recording of the motion: /joint_states (every joint), /imu (in imu_frame),

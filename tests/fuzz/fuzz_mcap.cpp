@@ -1,6 +1,6 @@
 // libFuzzer target: the MCAP reader (data/bags/mcap.hpp) and the message decoders
-// (data/bags/ros_messages.hpp: JointState, Imu, WrenchStamped) on every message it hands over, as
-// both CDR and ROS 1.
+// (data/bags/ros_messages.hpp: JointState, Imu, WrenchStamped, Bool) on every message it hands
+// over, as both CDR and ROS 1.
 #include <cstdint>
 
 #include "core/errors.hpp"
@@ -41,6 +41,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         if (imu.frame_id.size() > m.data.size() || wrench.frame_id.size() > m.data.size())
           __builtin_trap();
+        try {
+          (cdr ? dynid::bags::decodeBoolCdr : dynid::bags::decodeBoolRos1)(m.data, path, m.offset);
+        } catch (const dynid::Error&) {
+        }
       }
     });
   } catch (const dynid::Error&) {

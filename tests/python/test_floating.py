@@ -146,6 +146,9 @@ def test_prepare_floating_equals_the_clis(tmp_path):
     assert "contact:face_rear" in (tmp_path / "flags.csv").read_text().splitlines()[0]
     with pytest.raises(ValueError, match="contact_threshold"):
         dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", contact_threshold=-1)
+    # A contact topic must be a std_msgs/Bool one.
+    with pytest.raises(ValueError, match="not std_msgs/msg/Bool"):
+        dynid.prepare_floating(ANYMAL, bag, tmp_path / "x.csv", contact_topics={"/ft": "LF_FOOT"})
 
 
 def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):

@@ -173,6 +173,53 @@ TEST(FloatingPrepare, AThresholdOnAWrenchFlagsItsFrameWhereTheForceReachesIt) {
   EXPECT_THROW(prepareFloatingLog(p.model, path, {}, options), InputError);
 }
 
+/// A contact switch's std_msgs/Bool topic (no header: timed by its receive time) as a flag at the
+/// frame the request names, held between its samples; a frame the model lacks, a topic of another
+/// type and contact topics for a table are refused by name.
+TEST(FloatingPrepare, ABoolTopicIsAContactFlagAtItsFrame) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const test::SuspendedMotion motion(model, 3);
+  test::SuspendedRecordingOptions recording;
+  recording.contact_switch = true;
+  const std::string path = test::tempPath("switch.db3");
+  test::writeSuspendedRecording(path, model, motion, recording);
+  FloatingLogTopics topics;
+  topics.contact_topics = {{"/contact", "LF_FOOT"}};
+  const FloatingPrepareOutcome out = prepareFloatingLog(model, path, topics, {});
+  const FloatingDataset& d = out.dataset;
+  ASSERT_EQ(d.flags.size(), 1u);
+  EXPECT_EQ(d.flags[0].frame, "LF_FOOT");
+  ASSERT_EQ(out.topics.size(), 4u);
+  EXPECT_EQ(out.topics[3].type, "std_msgs/msg/Bool");
+  int checked = 0;
+  for (int k = 0; k < d.numSamples(); ++k) {
+    if (std::abs(d.time[k] - 3.0) < 2e-3) continue;  // the switch's step, held from 3.0 s
+    ++checked;
+    EXPECT_EQ(d.flags[0].holding[static_cast<std::size_t>(k)], d.time[k] < 3.0 ? 1 : 0)
+        << d.time[k];
+  }
+  EXPECT_GT(checked, d.numSamples() / 2);
+  const auto refusal = [&](const FloatingLogTopics& t, const std::string& log) {
+    try {
+      prepareFloatingLog(model, log, t, {});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("not refused");
+  };
+  topics.contact_topics = {{"/contact", "LF_PAW"}};
+  std::string why = refusal(topics, path);
+  EXPECT_TRUE(test::contains(why, "'LF_PAW' is no frame")) << why;
+  EXPECT_TRUE(test::contains(why, "`contact_topics`")) << why;
+  topics.contact_topics = {{"/ft", "LF_FOOT"}};
+  why = refusal(topics, path);
+  EXPECT_TRUE(test::contains(why, "not std_msgs/msg/Bool")) << why;
+  const std::string table = test::tempPath("switch_table.csv");
+  test::writeSuspendedTable(table, model, motion, {});
+  why = refusal(topics, table);
+  EXPECT_TRUE(test::contains(why, "`contact_topics`")) << why;
+}
+
 /// Estimation on a prepared recording of a robot held still by its sensor (the suspended motion
 /// class): the fit leaves only the preparation's error (measured 2.4e-5 %). Six seconds of one
 /// swing of the joints do not determine the parameters themselves (that needs an excitation

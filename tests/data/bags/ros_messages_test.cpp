@@ -117,5 +117,25 @@ TEST(RosMessages, AWrenchStampedDecodesInBothEncodings) {
   EXPECT_THROW(decodeWrenchStampedCdr(other, "bag.db3", 0, m), ParseError);
 }
 
+TEST(RosMessages, ABoolDecodesInBothEncodingsAndIsZeroOrOne) {
+  // CDR: the encapsulation header (little-endian CDR), then the byte; ROS 1: the byte alone.
+  const std::string cdr_true("\x00\x01\x00\x00\x01", 5), cdr_false("\x00\x01\x00\x00\x00", 5);
+  EXPECT_TRUE(decodeBoolCdr(cdr_true, "bag.db3", 0));
+  EXPECT_FALSE(decodeBoolCdr(cdr_false, "bag.db3", 0));
+  EXPECT_TRUE(decodeBoolRos1(std::string("\x01", 1), "bag.bag", 0));
+  EXPECT_FALSE(decodeBoolRos1(std::string("\x00", 1), "bag.bag", 0));
+  EXPECT_THROW(decodeBoolCdr(cdr_true.substr(0, 4), "bag.db3", 0), ParseError);  // no byte
+  EXPECT_THROW(decodeBoolRos1("", "bag.bag", 0), ParseError);
+  try {
+    decodeBoolRos1(std::string("\x02", 1), "bag.bag", 40);
+    ADD_FAILURE() << "a Bool of 2 was read";
+  } catch (const ParseError& e) {
+    EXPECT_NE(std::string(e.what()).find("0 or 1, not 2"), std::string::npos) << e.what();
+  }
+  std::string other = cdr_true;
+  other[1] = 0x03;  // PL_CDR_LE
+  EXPECT_THROW(decodeBoolCdr(other, "bag.db3", 0), ParseError);
+}
+
 }  // namespace
 }  // namespace dynid::bags
