@@ -109,7 +109,7 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
 int runFloatingIdentify(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples",
-                 "seed", "tolerance", "threads", "payload-link", "prior-weight"},
+                 "seed", "tolerance", "threads", "payload-link", "prior-weight", "unloaded"},
                 "identify");
   if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
@@ -136,8 +136,17 @@ int runFloatingIdentify(const po::variables_map& vm) {
   }
   const FloatingIdentifyOutcome outcome =
       floatingIdentifyRun(model, request, data, validation ? &*validation : nullptr);
-  if (vm.count("payload-link"))
+  if (vm.count("unloaded") && !vm.count("payload-link"))
+    throw UsageError("--unloaded needs --payload-link (the link the payload is fixed to)");
+  if (vm.count("unloaded")) {
+    sources.unloaded = vm["unloaded"].as<std::string>();
+    const FloatingIdentifyOutcome unloaded =
+        floatingIdentifyRun(model, request, readFloatingDataset(sources.unloaded, model));
+    sources.payloads =
+        floatingPayloadsFromPair(model, outcome, unloaded, vm["payload-link"].as<std::string>());
+  } else if (vm.count("payload-link")) {
     sources.payloads = floatingPayloads(model, outcome, data, vm["payload-link"].as<std::string>());
+  }
   const std::string dir = vm["out"].as<std::string>();
   writeReportFiles(
       dir,

@@ -103,7 +103,10 @@ void addIdentifyOptions(po::options_description& options) {
   options.add_options()("payload-link", po::value<std::string>(),
                         "with --floating-base: also the payload fixed to this link (a box on the "
                         "base, a tool on an arm): its ten parameters from each set, the robot "
-                        "read as unloaded");
+                        "read as unloaded")(
+      "unloaded", po::value<std::string>(),
+      "with --payload-link: a floating dataset of the robot without the payload; the payload "
+      "then comes from the two datasets' estimates, not from the robot's parameters");
   addPriorWeightOption(options);
   addRestVelocityOption(options);
   addThreadsOption(options);
@@ -166,7 +169,7 @@ int runIdentify(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingIdentify(vm);
-  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "payload-link"});
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "payload-link", "unloaded"});
   IdentifyRequest request;
   request.method = parseOption(
       vm, "method", [](const std::string& name) { return parseMethod(name, identifyMethods()); });

@@ -61,7 +61,8 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
                             const std::optional<std::vector<std::string>>& sensors,
                             const std::optional<std::string>& motion, const std::string& method,
                             const TermsLike& drive_terms, int samples, std::uint64_t seed,
-                            const std::optional<std::string>& payload_link, double prior_weight) {
+                            const std::optional<std::string>& payload_link, double prior_weight,
+                            const OptionalPathLike& unloaded) {
   FloatingIdentifyRequest request;
   request.prior_weight = prior_weight;
   request.contacts = contacts.value_or(std::vector<std::string>{});
@@ -79,11 +80,22 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
     sources.validation = pathArg(validate, "validate");
     held_out = readFloatingDataset(sources.validation, model);
   }
+  if (!unloaded.is_none() && !payload_link)
+    throw InputError("`unloaded` needs `payload_link` (the link the payload is fixed to)");
+  std::optional<FloatingDataset> unloaded_data;
+  if (!unloaded.is_none()) {
+    sources.unloaded = pathArg(unloaded, "unloaded");
+    unloaded_data = readFloatingDataset(sources.unloaded, model);
+  }
   FloatingIdentifyOutcome outcome;
   {
     py::gil_scoped_release release;
     outcome = floatingIdentifyRun(model, request, training, held_out ? &*held_out : nullptr);
-    if (payload_link) sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
+    if (unloaded_data)
+      sources.payloads = floatingPayloadsFromPair(
+          model, outcome, floatingIdentifyRun(model, request, *unloaded_data), *payload_link);
+    else if (payload_link)
+      sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
   }
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
@@ -174,13 +186,14 @@ void bindFloating(py::module_& m) {
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",
         py::arg("drive_terms") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
         py::arg("payload_link") = py::none(), py::arg("prior_weight") = kDefaultPriorWeight,
+        py::arg("unloaded") = py::none(),
         "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
         "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
         "(each channel's noise estimated), ols, or pc (weighted as wls, every body physically "
         "consistent, the robot's own parameters the prior at prior_weight); with payload_link, "
-        "the payload fixed to that "
-        "link as well (the robot read as unloaded). Returns floating_identification.json as a "
-        "dict (docs/FLOATING.md).");
+        "the payload fixed to that link as well (the robot read as unloaded; with unloaded, a "
+        "dataset of the robot without it, from the two datasets' estimates instead). Returns "
+        "floating_identification.json as a dict (docs/FLOATING.md).");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
         py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,

@@ -70,8 +70,8 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
 std::string percent(double x) { return formatNumber(x, 3) + " %"; }
 
 /// The payload's ten parameters with their sd, its mass and centre of mass (in its body's frame).
-json payloadJson(const std::vector<FloatingPayload>& payloads,
-                 const FloatingIdentifyOutcome& outcome) {
+json payloadJson(const FloatingDataSources& sources, const FloatingIdentifyOutcome& outcome) {
+  const std::vector<FloatingPayload>& payloads = sources.payloads;
   if (payloads.empty()) return nullptr;
   json sets = json::array();
   for (std::size_t k = 0; k < payloads.size(); ++k) {
@@ -94,7 +94,11 @@ json payloadJson(const std::vector<FloatingPayload>& payloads,
     }
     sets.push_back(set);
   }
-  return {{"link", payloads.front().link}, {"body", payloads.front().body}, {"sets", sets}};
+  return {{"link", payloads.front().link},
+          {"body", payloads.front().body},
+          {"from", sources.unloaded.empty() ? "model" : "unloaded_data"},
+          {"unloaded", sources.unloaded.empty() ? json(nullptr) : json(sources.unloaded)},
+          {"sets", sets}};
 }
 }  // namespace
 
@@ -119,7 +123,7 @@ json floatingIdentificationJson(const FloatingModel& model, const FloatingIdenti
        {"motion", floatingMotionName(outcome.motion)},
        {"method", floatingMethodName(outcome.method)},
        {"sets", sets},
-       {"payload", payloadJson(sources.payloads, outcome)}});
+       {"payload", payloadJson(sources, outcome)}});
   return report;
 }
 
@@ -163,20 +167,28 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
   if (!sources.payloads.empty()) {
     const FloatingPayload& first = sources.payloads.front();
     md << "\n## The payload on `" << first.link << "`\n\nIts ten parameters about the origin of `"
-       << first.body
-       << "`'s frame, in its axes, from what the model leaves of each set's rows (the model is the "
-          "unloaded robot: its errors enter the payload).\n\n| sensors | mass [kg] | centre of "
-          "mass [m] | m sd [kg] |\n|---|---|---|---|\n";
+       << first.body << "`'s frame, in its axes, "
+       << (sources.unloaded.empty()
+               ? std::string("from what the model leaves of each set's rows (the model is the "
+                             "unloaded robot: its errors enter the payload).")
+               : "from the difference of each set's base parameters on these data and on the "
+                 "unloaded robot's, `" +
+                     sources.unloaded +
+                     "` (the robot's parameters unused; a residual scale far above 1 says "
+                     "something besides the payload changed between the two).")
+       << "\n\n| sensors | mass [kg] | centre of mass [m] | m sd [kg] | residual scale "
+          "|\n|---|---|---|---|---|\n";
     for (std::size_t k = 0; k < sources.payloads.size(); ++k) {
       const FloatingPayload& p = sources.payloads[k];
       md << "| " << sensorSetName(outcome.sets[k].base.set) << " | ";
       if (!p.refused.empty()) {
-        md << "not estimated: " << p.refused << " | | |\n";
+        md << "not estimated: " << p.refused << " | | | |\n";
         continue;
       }
       md << formatNumber(p.phi[0], 4) << " | " << formatNumber(p.phi[1] / p.phi[0], 3) << ", "
          << formatNumber(p.phi[2] / p.phi[0], 3) << ", " << formatNumber(p.phi[3] / p.phi[0], 3)
-         << " | " << formatNumber(std::sqrt(p.covariance(0, 0)), 2) << " |\n";
+         << " | " << formatNumber(std::sqrt(p.covariance(0, 0)), 2) << " | "
+         << formatNumber(p.residual_scale, 3) << " |\n";
     }
   }
   for (const FloatingSetEstimate& s : outcome.sets) {
@@ -224,7 +236,11 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
       out << formatNumber(p.phi[0], 4) << " +- "
           << formatNumber(2 * std::sqrt(p.covariance(0, 0)), 2) << " kg at "
           << formatNumber(p.phi[1] / p.phi[0], 3) << ", " << formatNumber(p.phi[2] / p.phi[0], 3)
-          << ", " << formatNumber(p.phi[3] / p.phi[0], 3) << " m\n";
+          << ", " << formatNumber(p.phi[3] / p.phi[0], 3) << " m"
+          << (sources.unloaded.empty() ? std::string()
+                                       : " (from the unloaded data; residual scale " +
+                                             formatNumber(p.residual_scale, 3) + ")")
+          << "\n";
   }
   out << "wrote " << dir << "/floating_identification.json and " << dir
       << "/floating_identification.md\n";

@@ -16,6 +16,9 @@ namespace dynid {
 struct FloatingDataSources {
   std::string data, validation;           // files (validation empty: none)
   std::vector<FloatingPayload> payloads;  // one per set (FloatingIdentifyOutcome::sets' order)
+  /// The unloaded robot's dataset the payloads come from (floatingPayloadsFromPair); empty: from
+  /// the robot's parameters (floatingPayloads).
+  std::string unloaded;
 };
 
 nlohmann::json floatingIdentificationJson(const FloatingModel& model,

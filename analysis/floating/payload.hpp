@@ -29,4 +29,19 @@ std::vector<FloatingPayload> floatingPayloads(const FloatingModel& model,
                                               const FloatingIdentifyOutcome& estimate,
                                               const FloatingDataset& data, const std::string& link);
 
+/// The payload on `link` from a loaded/unloaded pair, without the robot's parameters: each set's
+/// base parameters estimated on both (`loaded`, `unloaded`: the same request's outcomes), whose
+/// difference is P phi (P: how the link's ten parameters enter the set's base parameters; the
+/// model's kinematics alone), solved by generalized least squares with the two estimates'
+/// covariances summed. residual_scale is sqrt(r^T S^-1 r / (p - 10)) over the p base parameters:
+/// about 1 when only the payload changed between the two, larger when something else did (another
+/// link, friction). A set refused in either, with a structural base that differs between the two
+/// (other contacts or motion), or whose P has rank below 10 (the payload's parameters the set's
+/// rows cannot tell apart) is refused with the reason. Throws InputError naming `payload_link`
+/// for a link the model lacks, and `unloaded` when the outcomes hold other sets.
+std::vector<FloatingPayload> floatingPayloadsFromPair(const FloatingModel& model,
+                                                      const FloatingIdentifyOutcome& loaded,
+                                                      const FloatingIdentifyOutcome& unloaded,
+                                                      const std::string& link);
+
 }  // namespace dynid

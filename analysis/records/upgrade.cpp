@@ -17,12 +17,22 @@ using json = nlohmann::json;
 /// The kinds with earlier versions, and how a document of each is told when it has no "kind"
 /// (estimate.json and search.json 1 did not write one).
 const DocumentType* kindOf(const json& d, const std::string& file) {
-  static const DocumentType* const kUpgradable[] = {
-      &kEstimateDocument,        &kExcitationDocument,  &kMonitorThresholdsDocument,
-      &kSearchDocument,          &kRefineDocument,      &kPredictionDocument,
-      &kPayloadDocument,         &kPayloadBodyDocument, &kMonitorDocument,
-      &kAuditDocument,           &kStudyDocument,       &kPrepareDocument,
-      &kIdentifiabilityDocument, &kDemoDocument,        &kFloatingPrepareDocument};
+  static const DocumentType* const kUpgradable[] = {&kEstimateDocument,
+                                                    &kExcitationDocument,
+                                                    &kMonitorThresholdsDocument,
+                                                    &kSearchDocument,
+                                                    &kRefineDocument,
+                                                    &kPredictionDocument,
+                                                    &kPayloadDocument,
+                                                    &kPayloadBodyDocument,
+                                                    &kMonitorDocument,
+                                                    &kAuditDocument,
+                                                    &kStudyDocument,
+                                                    &kPrepareDocument,
+                                                    &kIdentifiabilityDocument,
+                                                    &kDemoDocument,
+                                                    &kFloatingPrepareDocument,
+                                                    &kFloatingIdentificationDocument};
   if (d.contains("kind")) {
     for (const DocumentType* t : kUpgradable)
       if (d["kind"] == t->kind) return t;
@@ -101,6 +111,8 @@ const Added kAdded[] = {
     {&kIdentifiabilityDocument, 2, kProvenance},
     {&kDemoDocument, 2, kProvenance},
     {&kFloatingPrepareDocument, 2, "contact_threshold and thresholded_contacts"},
+    {&kFloatingIdentificationDocument, 2,
+     "payload.from and payload.unloaded (a payload from a loaded/unloaded pair)"},
 };
 
 /// One note per version after `from` whose additions the document lacks.

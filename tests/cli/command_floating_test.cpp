@@ -96,7 +96,7 @@ TEST(Cli, SimulateAndIdentifyAFloatingBase) {
   EXPECT_TRUE(contains(r.out, "torques_contacts:")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
   EXPECT_EQ(j["kind"], "dynid.floating_identification");
-  EXPECT_EQ(j["schema_version"], 1);
+  EXPECT_EQ(j["schema_version"], 2);
   EXPECT_EQ(j["method"], "ols");
   EXPECT_EQ(j["motion"], "holding");
   EXPECT_EQ(j["contacts"][0]["kind"], "frame");
@@ -178,6 +178,22 @@ TEST(Cli, IdentifyAPayloadOnAFloatingBase) {
     EXPECT_NEAR(set["com"][0].get<double>(), 0.1, 1e-9) << set["sensors"];
     EXPECT_NEAR(set["com"][2].get<double>(), 0.15, 1e-9) << set["sensors"];
   }
+  // From a loaded/unloaded pair, the robot's parameters unused (noise-free: exact).
+  r = run("simulate --robot " + kAnymal + " --floating-base --contacts " + kFeet +
+          " --samples 100 --seed 2 --out " + dir + "/u.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --data " + dir +
+          "/d.csv --unloaded " + dir + "/u.csv --payload-link base --out " + dir + "/pair");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "(from the unloaded data; residual scale")) << r.out;
+  const auto pair = nlohmann::json::parse(readFile(dir + "/pair/floating_identification.json"));
+  EXPECT_EQ(pair["payload"]["from"], "unloaded_data");
+  for (const auto& set : pair["payload"]["sets"])
+    EXPECT_NEAR(set["mass"].get<double>(), 2.0, 1e-8) << set["sensors"];  // two fits' round-off
+  r = run("identify --robot " + kAnymal + " --floating-base --data " + dir + "/d.csv --unloaded " +
+          dir + "/u.csv --out " + dir + "/x");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--unloaded needs --payload-link")) << r.err;
   // Only with --floating-base; a link the robot lacks.
   EXPECT_EQ(run("identify --robot puma560 --data " + dir + "/d.csv --payload-link base --out " +
                 dir + "/x")

@@ -68,6 +68,14 @@ def test_floating_identify_a_payload(tmp_path):
     # The robot read is the one simulated: no payload, to round-off.
     for s in doc["payload"]["sets"]:
         assert abs(s["mass"]) < 1e-9
+    # From a pair (here the same robot twice: no payload either), the robot's parameters unused.
+    other = dynid.simulate_floating(ANYMAL, tmp_path / "u.csv", contacts=FEET, samples=60, seed=2)
+    pair = dynid.floating_identify(ANYMAL, data, method="ols", payload_link="base", unloaded=other)
+    assert pair["payload"]["from"] == "unloaded_data"
+    for s in pair["payload"]["sets"]:
+        assert abs(s["mass"]) < 1e-8
+    with pytest.raises(ValueError, match="payload_link"):
+        dynid.floating_identify(ANYMAL, data, unloaded=other)
 
 
 def _cdr(header_stamp_ns, frame, doubles, prefix=b""):

@@ -147,7 +147,8 @@ TEST(Upgrade, DocumentsNoCommandReadsBackUpgradeToo) {
   for (const DocumentType* type :
        {&kPredictionDocument, &kPayloadDocument, &kPayloadBodyDocument, &kMonitorDocument,
         &kAuditDocument, &kStudyDocument, &kRefineDocument, &kPrepareDocument,
-        &kIdentifiabilityDocument, &kDemoDocument, &kFloatingPrepareDocument}) {
+        &kIdentifiabilityDocument, &kDemoDocument, &kFloatingPrepareDocument,
+        &kFloatingIdentificationDocument}) {
     const nlohmann::json first = {{"schema_version", 1}, {"kind", type->kind}};
     const UpgradeOutcome up = upgradeDocument({asFile("first.json", first), ""});
     EXPECT_EQ(up.from, 1) << type->kind;
