@@ -181,6 +181,20 @@ namespace crba_detail {
 /// Revolute joint i's transform from s = sin q_i, c = cos q_i: for an axis along x or y the
 /// placement's columns turned (P Rx, P Ry: the same sums as the 3 x 3 product, without its zero
 /// terms), else setRevoluteTransform.
+/// P R_axis(q) for axis 0 (x) or 1 (y), from s = sin q, c = cos q: two of P's columns turned.
+template <typename Scalar>
+DYNID_INLINE void turnPlacementColumns(const Pose<Scalar>& P, int axis, const Scalar& s,
+                                       const Scalar& c, Pose<Scalar>& out) {
+  // Rx turns columns 1, 2: (c P1 + s P2, c P2 - s P1); Ry turns 2, 0: (c P2 + s P0, c P0 - s P2).
+  const int fixed = axis, a = axis == 0 ? 1 : 2, b = axis == 0 ? 2 : 0;
+  for (int r = 0; r < 3; ++r) {
+    out.rotation(r, fixed) = P.rotation(r, fixed);
+    out.rotation(r, a) = c * P.rotation(r, a) + s * P.rotation(r, b);
+    out.rotation(r, b) = c * P.rotation(r, b) - s * P.rotation(r, a);
+  }
+  out.translation = P.translation;
+}
+
 template <typename Scalar>
 DYNID_INLINE void revoluteTransformByColumns(const ModelTpl<Scalar>& model, int i, const Scalar& s,
                                              const Scalar& c, Pose<Scalar>& out) {
@@ -189,16 +203,7 @@ DYNID_INLINE void revoluteTransformByColumns(const ModelTpl<Scalar>& model, int 
     setRevoluteTransform(model, i, s, c, out);
     return;
   }
-  const Pose<Scalar>& P = model.frame_placements()[i];
-  // Rx turns columns 1, 2: (c P1 + s P2, c P2 - s P1); Ry turns 2, 0: (c P2 + s P0, c P0 - s P2).
-  const int fixed = kind == AxisKind::kX ? 0 : 1, a = kind == AxisKind::kX ? 1 : 2,
-            b = kind == AxisKind::kX ? 2 : 0;
-  for (int r = 0; r < 3; ++r) {
-    out.rotation(r, fixed) = P.rotation(r, fixed);
-    out.rotation(r, a) = c * P.rotation(r, a) + s * P.rotation(r, b);
-    out.rotation(r, b) = c * P.rotation(r, b) - s * P.rotation(r, a);
-  }
-  out.translation = P.translation;
+  turnPlacementColumns(model.frame_placements()[i], kind == AxisKind::kX ? 0 : 1, s, c, out);
 }
 }  // namespace crba_detail
 

@@ -92,11 +92,18 @@ class FloatingModelTpl {
     checkBaseInertia(base_inertia_);
     for (const Pose<Scalar>& B : limbs_.body_placements())
       plain_bodies_.push_back(model_detail::isIdentity(B) ? 1 : 0);
+    setRevoluteAxes();
   }
 
   /// 1 where limb body i's link frame is its joint frame (body placement the identity: every URDF
   /// link), so the regressor skips that transform.
   const std::vector<char>& plainBodies() const { return plain_bodies_; }
+
+  /// r (0-2) where limb joint i is revolute about +e_r or -e_r of its joint frame (URDF joints
+  /// whose axis is negated, as half of ANYmal C's are), -1 otherwise; and that axis' sign (+-1).
+  /// The floating kernels take these on the unit axis' fast path, the angle's sign folded in.
+  const std::vector<int>& revoluteAxes() const { return revolute_axes_; }
+  const std::vector<int>& axisSigns() const { return axis_signs_; }
 
   const ModelTpl<Scalar>& limbs() const { return limbs_; }
   const RigidInertia<Scalar>& baseInertia() const { return base_inertia_; }
@@ -159,8 +166,26 @@ class FloatingModelTpl {
       throw InputError("the base body's mass is negative");
   }
 
+  void setRevoluteAxes() {
+    for (int i = 0; i < limbs_.numJoints(); ++i) {
+      int axis = -1, sign = 1;
+      if (limbs_.joint_types()[i] != JointType::kPrismatic) {
+        const Vector3<Scalar>& a = limbs_.axes()[i];
+        const Eigen::Vector3d e(model_detail::value(a.x()), model_detail::value(a.y()),
+                                model_detail::value(a.z()));
+        for (int r = 0; r < 3; ++r) {
+          if (e == Eigen::Vector3d::Unit(r)) axis = r;
+          if (e == -Eigen::Vector3d::Unit(r)) axis = r, sign = -1;
+        }
+      }
+      revolute_axes_.push_back(axis);
+      axis_signs_.push_back(sign);
+    }
+  }
+
   ModelTpl<Scalar> limbs_;
   std::vector<char> plain_bodies_;
+  std::vector<int> revolute_axes_, axis_signs_;
   RigidInertia<Scalar> base_inertia_;
   std::string base_name_;
 };

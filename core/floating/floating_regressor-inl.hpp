@@ -52,14 +52,15 @@ regressor_detail::BodyRegressor<Scalar> linkRegressor(const Pose<Scalar>& B,
 /// Joint i's motion axis S_i in the base frame, X its joint frame there: a revolute e_k is (R e_k,
 /// t x R e_k), R's column k.
 template <typename Scalar>
-DYNID_INLINE void setBaseAxis(const ModelTpl<Scalar>& limbs, int i, const Pose<Scalar>& X,
+DYNID_INLINE void setBaseAxis(const FloatingModelTpl<Scalar>& model, int i, const Pose<Scalar>& X,
                               Vector6<Scalar>& axis) {
-  const int k = limbs.subspace_index()[i];
-  if (k < 0 || k >= 3) {
-    axis = X.actMotion(jointMotionAt(limbs, i, Scalar(1)));
+  const int k = model.revoluteAxes()[i];
+  if (k < 0) {
+    axis = X.actMotion(jointMotionAt(model.limbs(), i, Scalar(1)));
     return;
   }
-  const Vector3<Scalar> r = X.rotation.col(k);
+  const Vector3<Scalar> r = model.axisSigns()[i] > 0 ? Vector3<Scalar>(X.rotation.col(k))
+                                                     : Vector3<Scalar>(-X.rotation.col(k));
   axis.template head<3>() = r;
   axis.template tail<3>() = cross(X.translation, r);
 }
@@ -77,13 +78,15 @@ DYNID_INLINE void setJointRow(const Vector6<Scalar>& s, const Eigen::Matrix<Scal
 /// Joint i's own row over body i's columns: S_i^T A in the link frame (X* is X^-T, so S^T X* A =
 /// (X^-1 S)^T A), where a revolute axis e_k reads two entries of g and a column of N^T.
 template <typename Scalar, typename Row>
-DYNID_INLINE void setOwnRow(const ModelTpl<Scalar>& limbs, int i, bool plain,
+DYNID_INLINE void setOwnRow(const FloatingModelTpl<Scalar>& model, int i, bool plain,
                             const regressor_detail::BodyRegressor<Scalar>& A, Row&& row) {
-  const int k = limbs.subspace_index()[i];
-  if (plain && k >= 0 && k < 3) {
-    A.ownRevoluteRow(k, row);
+  const int r = model.revoluteAxes()[i];
+  if (plain && r >= 0) {
+    A.ownRevoluteRow(r, row);
+    if (model.axisSigns()[i] < 0) row = -row;
     return;
   }
+  const ModelTpl<Scalar>& limbs = model.limbs();
   const Vector6<Scalar> s = jointMotionAt(limbs, i, Scalar(1));
   row = A.product(plain ? s : limbs.body_placements()[i].actInvMotion(s)).transpose();
 }
@@ -131,8 +134,8 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
               : floating_detail::setBaseRows(A, Pose<Scalar>(ld.oMj[i] * B), column, data.Y);
     // Joint j's row (j = i or an ancestor) is S_j^T jXi* A = (S_j in the base frame)^T F, by
     // duality: F is body i's force regressor in the base frame; joint i's own, S_i^T A.
-    floating_detail::setBaseAxis(limbs, i, ld.oMj[i], data.base_axes[static_cast<std::size_t>(i)]);
-    floating_detail::setOwnRow(limbs, i, plain, A,
+    floating_detail::setBaseAxis(model, i, ld.oMj[i], data.base_axes[static_cast<std::size_t>(i)]);
+    floating_detail::setOwnRow(model, i, plain, A,
                                data.Y.row(6 + i).template segment<kLinkParameterCount>(column));
     for (int j = parents[i]; j >= 0; j = parents[j])
       floating_detail::setJointRow(data.base_axes[static_cast<std::size_t>(j)], F,

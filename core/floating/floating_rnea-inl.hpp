@@ -25,19 +25,45 @@ DYNID_INLINE const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>&
   return parent < 0 ? base : limb[static_cast<std::size_t>(parent)];
 }
 
-/// u x (e x), e joint i's unit axis (its motion's angular half for a revolute joint, its linear
-/// half for a prismatic one): two entries; a general axis by the full cross product.
+/// w x (e_k x): two entries.
 template <typename Scalar>
-DYNID_INLINE Vector3<Scalar> crossAxis(const ModelTpl<Scalar>& limbs, int i,
-                                       const Vector3<Scalar>& w, const Scalar& x) {
-  const int k = limbs.subspace_index()[i] % 3;
-  if (limbs.subspace_index()[i] < 0) return cross(w, Vector3<Scalar>(limbs.axes()[i] * x));
+DYNID_INLINE Vector3<Scalar> crossUnit(const Vector3<Scalar>& w, int k, const Scalar& x) {
   // w x e_k: k = 0 (0, w_z, -w_y), 1 (-w_z, 0, w_x), 2 (w_y, -w_x, 0).
   Vector3<Scalar> out;
   out[k] = Scalar(0);
   out[(k + 1) % 3] = w[(k + 2) % 3] * x;
   out[(k + 2) % 3] = -w[(k + 1) % 3] * x;
   return out;
+}
+
+/// The limbs' joint transforms liMi at q, as setJointTransformsBlock writes them, a joint about
+/// -e_x or -e_y also by turning its placement's columns (the rotation by q about -e_k is the one
+/// by -q about e_k: the sine negated).
+template <typename Scalar>
+DYNID_INLINE void setLimbTransforms(const FloatingModelTpl<Scalar>& model,
+                                    std::vector<Pose<Scalar>>& liMi,
+                                    const ConstVectorRef<Scalar>& q) {
+  const ModelTpl<Scalar>& limbs = model.limbs();
+  if constexpr (std::is_same_v<Scalar, double>) {
+    const int n = limbs.numJoints();
+    SinCosBlock block;
+    for (int first = 0; first < n; first += SinCosBlock::kSize) {
+      const int count = std::min(SinCosBlock::kSize, n - first);
+      sinCosBlock(q.data() + first, count, block);
+      for (int k = 0, i = first; k < count; ++k, ++i) {
+        const int r = model.revoluteAxes()[i];
+        if (r < 0)
+          setJointTransform(limbs, i, q[i], liMi[i]);
+        else if (r == 2 || model.axisSigns()[i] > 0)
+          crba_detail::revoluteTransformByColumns(limbs, i, block.s[k], block.c[k], liMi[i]);
+        else
+          crba_detail::turnPlacementColumns(limbs.frame_placements()[i], r, -block.s[k], block.c[k],
+                                            liMi[i]);
+      }
+    }
+  } else {
+    setJointTransformsBlock(limbs, liMi, q);
+  }
 }
 
 /// The forward pass shared by inverse dynamics and the regressor: every body's twist and
@@ -62,7 +88,7 @@ DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDat
   body(-1, V3(data.base_v.template head<3>()), V3(data.base_v.template tail<3>()),
        V3(data.base_a.template head<3>()), V3(data.base_a.template tail<3>()));
   const int n = limbs.numJoints();
-  setJointTransformsBlock(limbs, ld.liMi, q);
+  setLimbTransforms(model, ld.liMi, q);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = ld.liMi[i];
     const int p = limbs.parents()[i];
@@ -75,14 +101,15 @@ DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDat
     V3 v = transposeTimes(X.rotation, V3(lp - cross(X.translation, wp)));
     V3 dw = transposeTimes(X.rotation, dwp);
     V3 dv = transposeTimes(X.rotation, V3(dlp - cross(X.translation, dwp)));
-    const int k = limbs.subspace_index()[i];
-    if (k >= 0 && k < 3) {  // revolute about e_k
-      dw += crossAxis(limbs, i, w, dq[i]);
-      dv += crossAxis(limbs, i, v, dq[i]);
-      w[k] += dq[i];
-      dw[k] += ddq[i];
-    } else if (k >= 3) {                    // prismatic along e_(k-3)
-      dv += crossAxis(limbs, i, w, dq[i]);  // v x (0, e dq) = (0, w x e dq)
+    const int k = limbs.subspace_index()[i], r = model.revoluteAxes()[i];
+    if (r >= 0) {  // revolute about +-e_r: the rates' sign folded in
+      const Scalar x = model.axisSigns()[i] > 0 ? dq[i] : Scalar(-dq[i]);
+      dw += crossUnit(w, r, x);
+      dv += crossUnit(v, r, x);
+      w[r] += x;
+      dw[r] += model.axisSigns()[i] > 0 ? ddq[i] : Scalar(-ddq[i]);
+    } else if (k >= 3) {                 // prismatic along e_(k-3)
+      dv += crossUnit(w, k - 3, dq[i]);  // v x (0, e dq) = (0, w x e dq)
       v[k - 3] += dq[i];
       dv[k - 3] += ddq[i];
     } else {  // a general axis: the spatial algebra
@@ -133,7 +160,10 @@ DYNID_FLATTEN const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>
   // Backward pass: tau_i = S_i^T f_i (+ drives); each force carried to its parent, the roots'
   // to the base body, whose total is the wrench the motion needs.
   for (int i = n - 1; i >= 0; --i) {
-    Scalar tau_i = projectOnJoint(limbs, i, ld.f[i]);
+    const int r = model.revoluteAxes()[i];
+    Scalar tau_i = r < 0                      ? projectOnJoint(limbs, i, ld.f[i])
+                   : model.axisSigns()[i] > 0 ? ld.f[i][r]
+                                              : Scalar(-ld.f[i][r]);
     if (limbs.driveTerms().any()) tau_i += driveTorque(limbs, i, dq[i], ddq[i]);
     data.tau[6 + i] = tau_i;
     // f_p += pXi* f_i = (R n + t x R f, R f), on halves.

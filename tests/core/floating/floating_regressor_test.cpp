@@ -64,5 +64,28 @@ TEST_P(FloatingRegressorOnTrees, JointRowsAreTheVirtualChainsRegressor) {
 
 INSTANTIATE_TEST_SUITE_P(Seeds, FloatingRegressorOnTrees, ::testing::Values(1, 2, 3));
 
+/// The example robots (half of ANYmal C's joints about -e_x, on the unit axis' fast path): the
+/// joint rows are the virtual chain's fixed-base regressor, and Y theta the inverse dynamics.
+TEST(FloatingRegressor, OnTheExampleRobotsIsTheChainsAndTheInverseDynamics) {
+  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample}) {
+    const FloatingModel model = test::loadExample(*example);
+    const Model chain = test::virtualChain(model);
+    FloatingData data(model);
+    Data chain_data(chain);
+    std::mt19937_64 rng(5);
+    const int n = model.numJoints();
+    for (int trial = 0; trial < 5; ++trial) {
+      const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
+      const Eigen::MatrixXd Y = floatingRegressor(model, data, s.base, s.q, s.dq, s.ddq);
+      const Eigen::MatrixXd Yc =
+          jointTorqueRegressor(chain, chain_data, s.chain_q, s.chain_dq, s.chain_ddq);
+      const Eigen::MatrixXd joints = Yc.bottomRows(n).rightCols(10 * (n + 1));
+      EXPECT_LT((Y.bottomRows(n) - joints).norm(), 1e-12 * std::max(1.0, joints.norm()));
+      const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+      EXPECT_LT((Y * model.standardParameters() - tau).norm(), 1e-12 * std::max(1.0, tau.norm()));
+    }
+  }
+}
+
 }  // namespace
 }  // namespace dynid

@@ -3,6 +3,8 @@
 #include <ceres/jet.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/floating/floating_rnea-inl.hpp"
 #include "core/rnea.hpp"
 #include "tests/common/floating_models.hpp"
@@ -34,6 +36,29 @@ TEST_P(FloatingRneaOnTrees, EqualsTheVirtualChainsFixedBaseRnea) {
     EXPECT_LT(relative(tau.tail(model.numJoints()), chain_tau.tail(model.numJoints())), kTolerance);
     EXPECT_LT(relative(tau.head<6>(), chain_data.f[5]), kTolerance);
   }
+}
+
+/// The example robots through the same check: half of ANYmal C's joints turn about -e_x, which the
+/// floating kernels take on the unit axis' fast path (the chain's fixed-base RNEA by the general
+/// axis' spatial algebra).
+TEST(FloatingRnea, OnTheExampleRobotsEqualsTheVirtualChainsFixedBaseRnea) {
+  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample}) {
+    const FloatingModel model = test::loadExample(*example);
+    const Model chain = test::virtualChain(model);
+    FloatingData data(model);
+    Data chain_data(chain);
+    std::mt19937_64 rng(7);
+    for (int trial = 0; trial < 10; ++trial) {
+      const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
+      const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+      const Eigen::VectorXd chain_tau = rnea(chain, chain_data, s.chain_q, s.chain_dq, s.chain_ddq);
+      EXPECT_LT(relative(tau.tail(model.numJoints()), chain_tau.tail(model.numJoints())),
+                kTolerance);
+      EXPECT_LT(relative(tau.head<6>(), chain_data.f[5]), kTolerance);
+    }
+  }
+  const FloatingModel anymal = test::loadExample(test::kAnymalExample);
+  EXPECT_EQ(std::count(anymal.axisSigns().begin(), anymal.axisSigns().end(), -1), 6);
 }
 
 TEST_P(FloatingRneaOnTrees, MassMatrixAndBiasGiveTheInverseDynamics) {
