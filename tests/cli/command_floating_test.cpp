@@ -279,8 +279,8 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
           " --imu-topic /imu --out " + dir);
   EXPECT_EQ(r.code, 1);
   EXPECT_TRUE(contains(r.err,
-                       "--topic, --imu-topic, --wrench-topics and --stamp apply to "
-                       "recordings, not to a table"))
+                       "--topic, --imu-topic, --wrench-topics, --contact-topics and --stamp "
+                       "apply to recordings, not to a table"))
       << r.err;
   r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag + " --decimate 2 --out " +
           dir);

@@ -44,14 +44,15 @@ TEST_P(FloatingRegressorOnTrees, TimesAnyParametersIsTheInverseDynamics) {
   }
 }
 
-TEST_P(FloatingRegressorOnTrees, JointRowsAreTheVirtualChainsRegressor) {
-  const FloatingModel model = test::randomFloating(GetParam(), {.num_bodies = 8});
+/// Over `trials` random states: Y's joint rows are the virtual chain's fixed-base regressor, and
+/// Y theta the floating inverse dynamics.
+void expectTheChainsRows(const FloatingModel& model, std::uint64_t seed, int trials) {
   const Model chain = test::virtualChain(model);
   FloatingData data(model);
   Data chain_data(chain);
-  std::mt19937_64 rng(GetParam() + 11);
+  std::mt19937_64 rng(seed);
   const int n = model.numJoints();
-  for (int trial = 0; trial < 10; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
     const Eigen::MatrixXd Y = floatingRegressor(model, data, s.base, s.q, s.dq, s.ddq);
     const Eigen::MatrixXd Yc =
@@ -59,32 +60,21 @@ TEST_P(FloatingRegressorOnTrees, JointRowsAreTheVirtualChainsRegressor) {
     // Chain columns: the virtual bodies' 50, then the base body (chain body 5), then the limbs.
     const Eigen::MatrixXd joints = Yc.bottomRows(n).rightCols(10 * (n + 1));
     EXPECT_LT((Y.bottomRows(n) - joints).norm(), 1e-12 * std::max(1.0, joints.norm()));
+    const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+    EXPECT_LT((Y * model.standardParameters() - tau).norm(), 1e-12 * std::max(1.0, tau.norm()));
   }
+}
+
+TEST_P(FloatingRegressorOnTrees, JointRowsAreTheVirtualChainsRegressor) {
+  expectTheChainsRows(test::randomFloating(GetParam(), {.num_bodies = 8}), GetParam() + 11, 10);
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, FloatingRegressorOnTrees, ::testing::Values(1, 2, 3));
 
-/// The example robots (half of ANYmal C's joints about -e_x, on the unit axis' fast path): the
-/// joint rows are the virtual chain's fixed-base regressor, and Y theta the inverse dynamics.
+/// The example robots (half of ANYmal C's joints about -e_x, on the unit axis' fast path).
 TEST(FloatingRegressor, OnTheExampleRobotsIsTheChainsAndTheInverseDynamics) {
-  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample}) {
-    const FloatingModel model = test::loadExample(*example);
-    const Model chain = test::virtualChain(model);
-    FloatingData data(model);
-    Data chain_data(chain);
-    std::mt19937_64 rng(5);
-    const int n = model.numJoints();
-    for (int trial = 0; trial < 5; ++trial) {
-      const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
-      const Eigen::MatrixXd Y = floatingRegressor(model, data, s.base, s.q, s.dq, s.ddq);
-      const Eigen::MatrixXd Yc =
-          jointTorqueRegressor(chain, chain_data, s.chain_q, s.chain_dq, s.chain_ddq);
-      const Eigen::MatrixXd joints = Yc.bottomRows(n).rightCols(10 * (n + 1));
-      EXPECT_LT((Y.bottomRows(n) - joints).norm(), 1e-12 * std::max(1.0, joints.norm()));
-      const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
-      EXPECT_LT((Y * model.standardParameters() - tau).norm(), 1e-12 * std::max(1.0, tau.norm()));
-    }
-  }
+  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample})
+    expectTheChainsRows(test::loadExample(*example), 5, 5);
 }
 
 }  // namespace

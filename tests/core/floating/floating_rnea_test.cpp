@@ -21,42 +21,33 @@ double relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 class FloatingRneaOnTrees : public ::testing::TestWithParam<int> {};
 
-TEST_P(FloatingRneaOnTrees, EqualsTheVirtualChainsFixedBaseRnea) {
-  const FloatingModel model = test::randomFloating(GetParam(), {.num_bodies = 8});
+/// Over `trials` random states: the joints' torques are the virtual chain's; the base wrench is
+/// the force the chain's sixth joint transmits into the base body (its joint frame is the base
+/// frame).
+void expectTheChainsRnea(const FloatingModel& model, std::uint64_t seed, int trials) {
   const Model chain = test::virtualChain(model);
   FloatingData data(model);
   Data chain_data(chain);
-  std::mt19937_64 rng(GetParam());
-  for (int trial = 0; trial < 20; ++trial) {
+  std::mt19937_64 rng(seed);
+  for (int trial = 0; trial < trials; ++trial) {
     const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
     const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
     const Eigen::VectorXd chain_tau = rnea(chain, chain_data, s.chain_q, s.chain_dq, s.chain_ddq);
-    // The joints' torques are the chain's; the base wrench is the force the chain's sixth joint
-    // transmits into the base body (its joint frame is the base frame).
     EXPECT_LT(relative(tau.tail(model.numJoints()), chain_tau.tail(model.numJoints())), kTolerance);
     EXPECT_LT(relative(tau.head<6>(), chain_data.f[5]), kTolerance);
   }
+}
+
+TEST_P(FloatingRneaOnTrees, EqualsTheVirtualChainsFixedBaseRnea) {
+  expectTheChainsRnea(test::randomFloating(GetParam(), {.num_bodies = 8}), GetParam(), 20);
 }
 
 /// The example robots through the same check: half of ANYmal C's joints turn about -e_x, which the
 /// floating kernels take on the unit axis' fast path (the chain's fixed-base RNEA by the general
 /// axis' spatial algebra).
 TEST(FloatingRnea, OnTheExampleRobotsEqualsTheVirtualChainsFixedBaseRnea) {
-  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample}) {
-    const FloatingModel model = test::loadExample(*example);
-    const Model chain = test::virtualChain(model);
-    FloatingData data(model);
-    Data chain_data(chain);
-    std::mt19937_64 rng(7);
-    for (int trial = 0; trial < 10; ++trial) {
-      const test::FloatingSample s = test::randomFloatingSample(model, chain, rng);
-      const Eigen::VectorXd tau = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
-      const Eigen::VectorXd chain_tau = rnea(chain, chain_data, s.chain_q, s.chain_dq, s.chain_ddq);
-      EXPECT_LT(relative(tau.tail(model.numJoints()), chain_tau.tail(model.numJoints())),
-                kTolerance);
-      EXPECT_LT(relative(tau.head<6>(), chain_data.f[5]), kTolerance);
-    }
-  }
+  for (const test::FloatingExample* example : {&test::kAnymalExample, &test::kRomeoExample})
+    expectTheChainsRnea(test::loadExample(*example), 7, 10);
   const FloatingModel anymal = test::loadExample(test::kAnymalExample);
   EXPECT_EQ(std::count(anymal.axisSigns().begin(), anymal.axisSigns().end(), -1), 6);
 }
