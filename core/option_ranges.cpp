@@ -128,7 +128,7 @@ constexpr OptionRule kOptionRules[] = {
     {"prepare",
      "contact-threshold",
      {0.0, 1e7, false, false},
-     "with --floating-base: contact flags from the wrenches, a frame holding where its "
+     "a floating base: contact flags from the wrenches, a frame holding where its "
      "low-passed force's norm reaches this [N] (0: none)"},
     {"", "joints", {0.0, 1000.0, false, false}, "joints (files: required)"},
     {"", "order", {1.0, 12.0, false, false}, "Butterworth order"},

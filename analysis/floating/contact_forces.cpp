@@ -56,22 +56,24 @@ std::optional<Eigen::VectorXd> contactForces(const Eigen::MatrixXd& map,
   // least), P = 1 - map^+ map the null space's projector.
   const Eigen::MatrixXd P =
       Eigen::MatrixXd::Identity(map.cols(), map.cols()) - solver.pseudoInverse() * map;
-  const auto inCones = [&](const Eigen::VectorXd& x) {
-    Eigen::VectorXd g = x;
+  const auto projectInCones = [&](Eigen::VectorXd& x) {
     for (int row : cones.coned)
-      g.segment<3>(row) = projectOnCone(x.segment<3>(row), cones.up, cones.friction);
-    return g;
+      x.segment<3>(row) = projectOnCone(x.segment<3>(row), cones.up, cones.friction);
   };
-  // ADMM on min |f|^2 s.t. f affine, g in the cones, f = g (scaled by the wrench's norm).
+  // ADMM on min |f|^2 s.t. f affine, g in the cones, f = g (scaled by the wrench's norm); the
+  // iterates in place (no allocation per iteration: a state the cones cannot hold runs them all).
   const double rho = 1.0;
-  Eigen::VectorXd g = inCones(least / scale), u = Eigen::VectorXd::Zero(map.cols());
-  Eigen::VectorXd f = least / scale;
+  const Eigen::Index m = map.cols();
   const Eigen::VectorXd base = least / scale;
+  Eigen::VectorXd f = base, g = base, u = Eigen::VectorXd::Zero(m), step(m), previous(m);
+  projectInCones(g);
   for (int iteration = 0; iteration < 20000; ++iteration) {
-    const Eigen::VectorXd target = (rho / (2.0 + rho)) * (g - u);
-    f = base + P * (target - base);
-    const Eigen::VectorXd previous = g;
-    g = inCones(f + u);
+    step = (rho / (2.0 + rho)) * (g - u) - base;
+    f = base;
+    f.noalias() += P * step;
+    previous = g;
+    g = f + u;
+    projectInCones(g);
     u += f - g;
     if ((f - g).norm() < 1e-10 && rho * (g - previous).norm() < 1e-10) break;
   }

@@ -124,14 +124,19 @@ std::vector<Stream> chooseStreams(const std::string& path, const FloatingLogTopi
   return out;
 }
 
+/// The model's frames, listed for a message that names an unknown one.
+std::string frameList(const FloatingModel& model) {
+  std::vector<std::string> names;
+  for (const BodyFrame& b : model.frames) names.push_back(b.name);
+  return listed(names);
+}
+
 /// A contact topic's frame: a frame of the model (its frames listed otherwise).
 void checkContactFrame(const FloatingModel& model, const Stream& s, const std::string& path) {
   if (model.findFrame(s.summary.frame) != nullptr) return;
-  std::vector<std::string> names;
-  for (const BodyFrame& b : model.frames) names.push_back(b.name);
   throw InputError(path + ", topic " + s.summary.topic + " (`contact_topics`): '" +
                    s.summary.frame + "' is no frame of '" + model.name() +
-                   "'; its frames: " + listed(names));
+                   "'; its frames: " + frameList(model));
 }
 
 /// The joint message's values in the model's joint order: q, then dq and tau when the first
@@ -176,13 +181,10 @@ void checkFrame(const FloatingModel& model, const std::string& frame, Stream& s,
   }
   s.summary.frame = frame;
   const BodyFrame* f = model.findFrame(frame);
-  if (f == nullptr) {
-    std::vector<std::string> names;
-    for (const BodyFrame& b : model.frames) names.push_back(b.name);
+  if (f == nullptr)
     throw InputError(where + ": frame_id '" + frame + "' is no frame of '" + model.name() + "' (" +
                      (s.kind == Kind::kImu ? "an IMU" : "a wrench") +
-                     " in an unknown frame); its frames: " + listed(names));
-  }
+                     " in an unknown frame); its frames: " + frameList(model));
   if (s.kind == Kind::kImu && f->body != -1)
     throw InputError(where + ": the IMU's frame '" + frame +
                      "' is on a limb: only an IMU on the base body ('" + model.baseName() +
@@ -302,7 +304,9 @@ void orderStream(Stream& s, double max_gap) {
   std::nth_element(steps.begin(), steps.begin() + static_cast<long>(steps.size() / 2), steps.end());
   s.summary.median_step = steps[steps.size() / 2];
   s.summary.gap_limit = max_gap > 0.0 ? max_gap : 5.0 * s.summary.median_step;
-  for (Eigen::Index k = 1; k < N; ++k)
+  // A flag holds from each message to the next (a contact switch may publish only when it
+  // changes): its silences are no gaps.
+  for (Eigen::Index k = 1; k < N && s.kind != Kind::kFlag; ++k)
     if (s.time[k] - s.time[k - 1] > s.summary.gap_limit)
       s.gaps.emplace_back(s.time[k - 1], s.time[k]);
   s.summary.gaps = static_cast<int>(s.gaps.size());
@@ -347,7 +351,8 @@ std::vector<Run> findRuns(const std::vector<Stream>& streams, const std::string&
   std::string spans;
   for (const Stream& s : streams) {
     out.span_from = std::max(out.span_from, s.time[0]);
-    out.span_to = std::min(out.span_to, s.time[s.time.size() - 1]);
+    // A flag's last message holds to the end of the other signals.
+    if (s.kind != Kind::kFlag) out.span_to = std::min(out.span_to, s.time[s.time.size() - 1]);
     spans += (spans.empty() ? "" : ", ") + s.summary.topic + " " + formatNumber(s.time[0], 6) +
              " to " + formatNumber(s.time[s.time.size() - 1], 6) + " s";
   }

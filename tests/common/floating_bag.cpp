@@ -240,8 +240,10 @@ void writeSuspendedRecording(const std::string& path, const FloatingModel& model
   suspendedSamples(model, motion, options, sink);
   // The switch: no header, so its time is the receive time (stamps from 1e9 ns, as the sensors').
   for (int k = 0; options.contact_switch && k <= std::lround(options.seconds * 100.0); ++k) {
+    if (options.switch_on_change && k != 0 && k != 300 && k != 450) continue;
     const std::int64_t ns = 1000000000 + 10000000LL * k;
-    bag.addEncoded(3, ns, std::string("\x00\x01\x00\x00", 4) + (k < 300 ? '\x01' : '\x00'));
+    const bool holds = k < 300 || (options.switch_on_change && k >= 450);
+    bag.addEncoded(3, ns, std::string("\x00\x01\x00\x00", 4) + (holds ? '\x01' : '\x00'));
   }
   bag.close();
 }

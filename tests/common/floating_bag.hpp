@@ -64,6 +64,9 @@ struct SuspendedRecordingOptions {
   double imu_end = -1.0;        // the IMU's last stamp at most [s]; < 0: seconds
   std::string wrench_frame_id;  // the wrench messages' frame_id; empty: sensor_frame
   bool contact_switch = false;  // a std_msgs/Bool topic /contact at 100 Hz: 1 before 3 s, then 0
+  // With contact_switch: the switch publishes only when it changes (1 at 0 s, 0 at 3 s, 1 at 4.5
+  // s).
+  bool switch_on_change = false;
 };
 
 /// Writes a .db3 recording of the motion: /joint_states (every joint), /imu (in imu_frame),

@@ -160,6 +160,34 @@ TEST(FloatingPayload, FromALoadedUnloadedPairItNeedsNoRobotParameters) {
   }
 }
 
+/// A pair whose sets cannot tell the payload's ten parameters apart is refused, with how many
+/// they see: a robot held still by its base sees the base body only through gravity.
+TEST(FloatingPayload, APairThatCannotSeeThePayloadIsRefusedWithWhatItSees) {
+  const FloatingModel model = test::loadExampleWithViscous(test::kAnymalExample);
+  FloatingSimulationOptions options;
+  options.samples = 150;
+  options.motion = FloatingMotion::kSuspended;
+  options.torque_noise = 0.5;
+  options.force_noise = 2.0;
+  options.moment_noise = 0.5;
+  const FloatingDataset a = test::simulatedThroughFile(model, test::kAnymalExample, options);
+  options.seed = 2;
+  const FloatingDataset b = test::simulatedThroughFile(model, test::kAnymalExample, options);
+  const FloatingIdentifyRequest request;
+  const std::vector<FloatingPayload> pair =
+      floatingPayloadsFromPair(model, floatingIdentifyRun(model, request, a),
+                               floatingIdentifyRun(model, request, b), "base");
+  int seen = 0;
+  for (const FloatingPayload& p : pair) {
+    if (test::contains(p.refused, "the loaded data") || test::contains(p.refused, "the unloaded"))
+      continue;  // a set the suspended robot's data do not determine at all
+    ++seen;
+    EXPECT_TRUE(test::contains(p.refused, "combinations of the payload's 10 parameters"))
+        << p.refused;
+  }
+  EXPECT_GT(seen, 0);
+}
+
 TEST(FloatingPayload, ALinkTheModelLacksIsNamed) {
   const FloatingModel model = test::loadExampleWithViscous(test::kAnymalExample);
   FloatingSimulationOptions options;

@@ -199,6 +199,21 @@ TEST(FloatingPrepare, ABoolTopicIsAContactFlagAtItsFrame) {
         << d.time[k];
   }
   EXPECT_GT(checked, d.numSamples() / 2);
+  // A switch that publishes only when it changes: its silences are held, not gaps, and its last
+  // message holds to the end (the span and the runs are the sensors').
+  recording.switch_on_change = true;
+  test::writeSuspendedRecording(path, model, motion, recording);
+  const FloatingPrepareOutcome sparse = prepareFloatingLog(model, path, topics, {});
+  EXPECT_EQ(sparse.runs, out.runs);
+  EXPECT_EQ(sparse.dataset.numSamples(), d.numSamples());
+  EXPECT_EQ(sparse.topics[3].gaps, 0);
+  for (int k = 0; k < sparse.dataset.numSamples(); ++k) {
+    const double t = sparse.dataset.time[k];
+    if (std::abs(t - 3.0) < 2e-3 || std::abs(t - 4.5) < 2e-3) continue;
+    EXPECT_EQ(sparse.dataset.flags[0].holding[static_cast<std::size_t>(k)],
+              t < 3.0 || t > 4.5 ? 1 : 0)
+        << t;
+  }
   const auto refusal = [&](const FloatingLogTopics& t, const std::string& log) {
     try {
       prepareFloatingLog(model, log, t, {});
