@@ -28,20 +28,20 @@ struct BodyRegressor {
   DYNID_INLINE BodyRegressor(const Vector3<Scalar>& w, const Vector3<Scalar>& vl,
                              const Vector3<Scalar>& dw, const Vector3<Scalar>& al) {
     g = al + cross(w, vl);
-    const Scalar ww = w.squaredNorm();
-    m2t(0, 0) = w.x() * w.x() - ww, m2t(1, 1) = w.y() * w.y() - ww, m2t(2, 2) = w.z() * w.z() - ww;
+    const Scalar xx = w.x() * w.x(), yy = w.y() * w.y(), zz = w.z() * w.z();
+    const Scalar ww = xx + yy + zz;
+    m2t(0, 0) = xx - ww, m2t(1, 1) = yy - ww, m2t(2, 2) = zz - ww;
     const Scalar xy = w.x() * w.y(), xz = w.x() * w.z(), yz = w.y() * w.z();
     m2t(0, 1) = xy + dw.z(), m2t(1, 0) = xy - dw.z();
     m2t(0, 2) = xz - dw.y(), m2t(2, 0) = xz + dw.y();
     m2t(1, 2) = yz + dw.x(), m2t(2, 1) = yz - dw.x();
     // Column k of N^T is N^T e_k = sym(e_k, dw) + sym(e_k x w, w), where sym(u, x) = [u0 x0,
     // u0 x1 + u1 x0, u0 x2 + u2 x0, u1 x1, u1 x2 + u2 x1, u2 x2] is u^T L(x) (and
-    // s^T [w]x = (s x w)^T).
-    for (int k = 0; k < 3; ++k) {
-      Vector3<Scalar> e = Vector3<Scalar>::Zero();
-      e(k) = Scalar(1);
-      nt.col(k) = sym(e, dw) + sym(cross(e, w), w);
-    }
+    // s^T [w]x = (s x w)^T); written out, e_k's zeros dropped (IEEE arithmetic keeps 0 x as a
+    // product), they share w's six products with M2.
+    nt.col(0) << dw.x(), dw.y() - xz, dw.z() + xy, -yz, yy - zz, yz;
+    nt.col(1) << xz, dw.x() + yz, zz - xx, dw.y(), dw.z() - xy, -xz;
+    nt.col(2) << -xy, xx - yy, dw.x() - yz, xy, dw.y() + xz, dw.z();
   }
   /// A's non-zero blocks, for a caller that transforms A whole (the floating regressor's base
   /// rows): A = [[0, -[g]x, N], [g, M2, 0]].
@@ -70,12 +70,6 @@ struct BodyRegressor {
   }
 
  private:
-  static Eigen::Matrix<Scalar, 6, 1> sym(const Vector3<Scalar>& u, const Vector3<Scalar>& x) {
-    Eigen::Matrix<Scalar, 6, 1> out;
-    out << u.x() * x.x(), u.x() * x.y() + u.y() * x.x(), u.x() * x.z() + u.z() * x.x(),
-        u.y() * x.y(), u.y() * x.z() + u.z() * x.y(), u.z() * x.z();
-    return out;
-  }
   Vector3<Scalar> g;
   Matrix3<Scalar> m2t;
   Eigen::Matrix<Scalar, 6, 3> nt;

@@ -8,30 +8,41 @@
 namespace dynid {
 
 namespace floating_detail {
-/// Y's six base rows over one body's ten columns: its body regressor A carried to the base frame
-/// as a force by `X` (the body's link frame in the base frame); returns that 6 x 10 block F.
+/// A body's force regressor in the base frame, row-major so that its rows are Y's.
 template <typename Scalar>
-DYNID_INLINE Eigen::Matrix<Scalar, 6, 10> setBaseRows(
-    const regressor_detail::BodyRegressor<Scalar>& A, const Pose<Scalar>& X, int column,
-    RowMatrixX<Scalar>& Y) {
+using ForceRows = Eigen::Matrix<Scalar, 6, 10, Eigen::RowMajor>;
+
+/// Y's six base rows over one body's ten columns: its body regressor A carried to the base frame
+/// as a force by `X` (the body's link frame in the base frame); returns that 6 x 10 block F. F's
+/// lower right 3 x 6 block is zero: neither computed nor written (Y's entries there are zero
+/// from the Data's construction).
+template <typename Scalar>
+DYNID_INLINE ForceRows<Scalar> setBaseRows(const regressor_detail::BodyRegressor<Scalar>& A,
+                                           const Pose<Scalar>& X, int column,
+                                           RowMatrixX<Scalar>& Y) {
   const Matrix3<Scalar>& R = X.rotation;
   const Vector3<Scalar>& t = X.translation;
   const Vector3<Scalar> rg = R * A.gTerm();
   const Matrix3<Scalar> rm2 = R * A.m2();
+  ForceRows<Scalar> F;
   // R (-[g]x) column c is -R (g x e_c) = (R g) x (R e_c)... written as R's columns crossed: R (e_c
   // x g) = (R e_c) x (R g).
-  Matrix3<Scalar> top;
-  for (int c = 0; c < 3; ++c)
-    top.col(c) = cross(Vector3<Scalar>(R.col(c)), rg) + cross(t, Vector3<Scalar>(rm2.col(c)));
-  const Eigen::Matrix<Scalar, 3, 6> rn = R * A.n();
-  Eigen::Matrix<Scalar, 6, 10> F;
+  for (int c = 0; c < 3; ++c) {
+    const Vector3<Scalar> top =
+        cross(Vector3<Scalar>(R.col(c)), rg) + cross(t, Vector3<Scalar>(rm2.col(c)));
+    F.template block<3, 1>(0, 1 + c) = top;
+  }
   F.template block<3, 1>(0, 0) = cross(t, rg);
-  F.template block<3, 3>(0, 1) = top;
-  F.template block<3, 6>(0, 4) = rn;
+  // R N, N = A.n() (3 x 6): row r is R's row r combining N^T's columns.
+  const auto nt = A.n().transpose();
+  for (int r = 0; r < 3; ++r)
+    F.template block<1, 6>(r, 4) = R(r, 0) * nt.col(0).transpose() +
+                                   R(r, 1) * nt.col(1).transpose() +
+                                   R(r, 2) * nt.col(2).transpose();
   F.template block<3, 1>(3, 0) = rg;
   F.template block<3, 3>(3, 1) = rm2;
-  F.template block<3, 6>(3, 4).setZero();
-  Y.template block<6, 10>(0, column) = F;
+  Y.template block<3, 10>(0, column) = F.template topRows<3>();
+  Y.template block<3, 4>(3, column) = F.template block<3, 4>(3, 0);
   return F;
 }
 
@@ -66,13 +77,15 @@ DYNID_INLINE void setBaseAxis(const FloatingModelTpl<Scalar>& model, int i, cons
 }
 
 /// s^T F into `row` (ten entries), F a force regressor from setBaseRows: its lower right 3 x 6
-/// block is zero, so the inertia's six columns read s's angular half alone (42 products, not 60).
+/// block is zero, so the inertia's six columns read s's angular half alone (42 products, not 60),
+/// each a combination of F's rows.
 template <typename Scalar, typename Row>
-DYNID_INLINE void setJointRow(const Vector6<Scalar>& s, const Eigen::Matrix<Scalar, 6, 10>& F,
-                              Row&& row) {
-  row.template head<4>().noalias() = s.transpose() * F.template leftCols<4>();
-  row.template tail<6>().noalias() =
-      s.template head<3>().transpose() * F.template block<3, 6>(0, 4);
+DYNID_INLINE void setJointRow(const Vector6<Scalar>& s, const ForceRows<Scalar>& F, Row&& row) {
+  Eigen::Matrix<Scalar, 1, 10> out = s[0] * F.row(0) + s[1] * F.row(1) + s[2] * F.row(2);
+  out.template head<4>() += s[3] * F.template block<1, 4>(3, 0) +
+                            s[4] * F.template block<1, 4>(4, 0) +
+                            s[5] * F.template block<1, 4>(5, 0);
+  row = out;
 }
 
 /// Joint i's own row over body i's columns: S_i^T A in the link frame (X* is X^-T, so S^T X* A =
@@ -129,7 +142,7 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
     const regressor_detail::BodyRegressor<Scalar> A =
         plain ? regressor_detail::BodyRegressor<Scalar>(w, v, dw, dv)
               : floating_detail::linkRegressor(B, w, v, dw, dv);
-    const Eigen::Matrix<Scalar, 6, 10> F =
+    const floating_detail::ForceRows<Scalar> F =
         plain ? floating_detail::setBaseRows(A, ld.oMj[i], column, data.Y)
               : floating_detail::setBaseRows(A, Pose<Scalar>(ld.oMj[i] * B), column, data.Y);
     // Joint j's row (j = i or an ancestor) is S_j^T jXi* A = (S_j in the base frame)^T F, by
