@@ -71,7 +71,9 @@ void addFloatingOptions(po::options_description& options, const std::string& doe
       "default all)")(
       "motion", po::value<std::string>(),
       "with --floating-base: holding (contacts hold; the default with --contacts), free (nothing "
-      "holds; the default without) or suspended (the base held still)");
+      "holds; the default without), suspended (the base held still) or carried (the base moved "
+      "by its support: a mobile platform, a motion stand); identify's default for data with a "
+      "contact on the base: carried when the base moves in the data, else suspended");
 }
 
 void refuseFloatingOptions(const po::variables_map& vm,
@@ -127,15 +129,17 @@ int runFloatingIdentify(const po::variables_map& vm) {
   request.contacts = nameListOption(vm, "contacts");
   readSetsAndMotion(vm, request.sensors, request.motion);
   const FloatingModel model = loadFloating(vm);
-  FloatingDataSources sources{vm["data"].as<std::string>(), "", {}};
+  FloatingDataSources sources{vm["data"].as<std::string>(), "", {}, ""};
   const FloatingDataset data = readFloatingDataset(sources.data, model);
   std::optional<FloatingDataset> validation;
   if (vm.count("validate")) {
     sources.validation = vm["validate"].as<std::string>();
     validation = readFloatingDataset(sources.validation, model);
   }
-  const FloatingIdentifyOutcome outcome =
+  FloatingIdentifyOutcome outcome =
       floatingIdentifyRun(model, request, data, validation ? &*validation : nullptr);
+  cliTexts(outcome.warnings);
+  printWarnings(outcome.warnings, "dynid identify: warning: ");
   if (vm.count("unloaded") && !vm.count("payload-link"))
     throw UsageError("--unloaded needs --payload-link (the link the payload is fixed to)");
   if (vm.count("unloaded")) {

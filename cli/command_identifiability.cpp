@@ -29,7 +29,7 @@ int runIdentifiability(const std::vector<std::string>& args) {
   const std::string usage =
       "dynid identifiability --robot R [--drives] [--data F.csv] [--samples N] [--seed S] --out "
       "DIR\n       dynid identifiability --robot R.urdf --floating-base [--contacts L1,L2:frame] "
-      "[--sensors S1,S2] [--motion holding|free|suspended] --out DIR";
+      "[--sensors S1,S2] [--motion holding|free|suspended|carried] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingIdentifiability(vm);

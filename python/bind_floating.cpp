@@ -73,7 +73,7 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   request.structural.samples = samples;
   request.structural.seed = seed;
   const FloatingModel model = floatingRobot(robot, drive_terms);
-  FloatingDataSources sources{pathArg(data, "data"), "", {}};
+  FloatingDataSources sources{pathArg(data, "data"), "", {}, ""};
   const FloatingDataset training = readFloatingDataset(sources.data, model);
   std::optional<FloatingDataset> held_out;
   if (!validate.is_none()) {
@@ -97,6 +97,8 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
     else if (payload_link)
       sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
   }
+  pythonTexts(outcome.warnings);
+  warnAll(outcome.warnings);
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
 
@@ -193,14 +195,17 @@ void bindFloating(py::module_& m) {
         "consistent, the robot's own parameters the prior at prior_weight); with payload_link, "
         "the payload fixed to that link as well (the robot read as unloaded; with unloaded, a "
         "dataset of the robot without it, from the two datasets' estimates instead). Returns "
-        "floating_identification.json as a dict (docs/FLOATING.md).");
+        "floating_identification.json as a dict (docs/FLOATING.md); motion as the CLI's --motion "
+        "(unset with a contact on the base: carried when the base moves in the data, else "
+        "suspended).");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
         py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
         py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
         py::arg("trajectory") = py::none(), py::arg("friction_cone") = 0.0,
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
-        "(holding, the default with contacts; free; suspended) written to `out`, with noise on "
+        "(holding, the default with contacts; free; suspended; carried: the base moved by its "
+        "support, whose wrench is measured) written to `out`, with noise on "
         "the torques, contact forces and moments; with trajectory (an excitation.json of the "
         "robot with its base fixed), `samples` states of that design over one period, the base "
         "held still; with friction_cone (mu, holding), the contacts' forces within friction "
@@ -213,7 +218,7 @@ void bindFloating(py::module_& m) {
         "`dynid identifiability --floating-base`: a floating-base robot (a URDF path) and its "
         "contacts (link names, each optionally ':point' or ':frame'); what each sensor set "
         "(wrenches, torques_wrenches, torques_contacts; default all) determines in the motion "
-        "(holding, the default with contacts; free, without; suspended). Returns "
+        "(holding, the default with contacts; free, without; suspended; carried). Returns "
         "floating_identifiability.json as a dict (docs/FLOATING.md).");
 }
 

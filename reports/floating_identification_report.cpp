@@ -148,6 +148,7 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
   if (outcome.contacts.empty()) md << " none";
   for (const Contact& c : outcome.contacts)
     md << " `" << c.name << "` (" << (c.kind == Contact::Kind::kPoint ? "point" : "frame") << ")";
+  for (const std::string& w : outcome.warnings) md << "\n- Warning: " << w;
   md << "\n\nThe residual is ||W beta - y|| / ||y|| over the set's rows; the error against the "
         "model compares the estimate with the model's own base parameters (the truth when the "
         "model made the data), in percent of their norm and in standard deviations (z RMS 1: "

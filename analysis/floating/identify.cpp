@@ -6,6 +6,7 @@
 #include "analysis/floating/identifiability.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_regressor.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 
@@ -25,6 +26,31 @@ FloatingMethod parseFloatingMethod(const std::string& text) {
 namespace {
 std::string inFile(const FloatingDataset& d) {
   return d.file.empty() ? std::string("the dataset") : "'" + d.file + "'";
+}
+
+/// A supported base moves when the RMS of its angular rate reaches this [rad/s] or that of its
+/// linear acceleration this [m/s^2]: ten times a MEMS IMU's noise over a 100 Hz band (about 0.005
+/// rad/s and 0.02 m/s^2), far below a support that turns or carries the robot (a 0.2 Hz swing of
+/// 0.1 rad reaches 0.09 rad/s).
+constexpr double kMovingRate = 0.05, kMovingAcceleration = 0.2;
+
+/// The motion of a robot on a support (a contact on the base body): carried when the base moves
+/// in the data, suspended when it is still; a warning says which and why.
+FloatingMotion supportedMotion(const FloatingDataset& data, std::vector<std::string>& warnings) {
+  const Eigen::Index n = data.twist.cols();
+  if (n == 0) return FloatingMotion::kSuspended;
+  const double rate = std::sqrt(data.twist.topRows<3>().squaredNorm() / static_cast<double>(n));
+  const double acceleration =
+      std::sqrt(data.acceleration.bottomRows<3>().squaredNorm() / static_cast<double>(n));
+  const bool moves = rate >= kMovingRate || acceleration >= kMovingAcceleration;
+  warnings.push_back(
+      "a contact on the base body: its support " +
+      std::string(moves ? "moves the base (carried)" : "holds the base still (suspended)") +
+      " by the data, the base's RMS angular rate " + formatNumber(rate, 3) +
+      " rad/s and linear acceleration " + formatNumber(acceleration, 3) + " m/s^2 (carried from " +
+      formatNumber(kMovingRate) + " or " + formatNumber(kMovingAcceleration) +
+      "); set `motion` to say otherwise");
+  return moves ? FloatingMotion::kCarried : FloatingMotion::kSuspended;
 }
 
 /// The contacts: the request's, or the dataset's own; each checked against what the dataset
@@ -211,7 +237,7 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   out.samples = data.numSamples();
   out.validation_samples = validation != nullptr ? validation->numSamples() : 0;
   // The structural base's motion class, and the contacts that hold in it (the base's support is
-  // the sampler's own when suspended).
+  // the sampler's own when suspended or carried).
   std::vector<Contact> holding;
   bool on_base = false;
   for (const Contact& c : out.contacts) {
@@ -220,9 +246,14 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
     else
       holding.push_back(c);
   }
-  out.motion = request.motion.value_or(on_base           ? FloatingMotion::kSuspended
-                                       : holding.empty() ? FloatingMotion::kFree
-                                                         : FloatingMotion::kHolding);
+  if (request.motion)
+    out.motion = *request.motion;
+  else
+    out.motion = on_base           ? supportedMotion(data, out.warnings)
+                 : holding.empty() ? FloatingMotion::kFree
+                                   : FloatingMotion::kHolding;
+  const bool supported =
+      out.motion == FloatingMotion::kSuspended || out.motion == FloatingMotion::kCarried;
   std::vector<SensorSet> sets = request.sensors;
   for (SensorSet set : sets)
     if (const std::string why = missing(set, data, out.contacts); !why.empty())
@@ -233,9 +264,8 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   if (sets.empty())
     throw InputError(inFile(data) + " feeds no sensor set: " +
                      missing(SensorSet::kTorquesAndWrenches, data, out.contacts));
-  const FloatingStructuralOptions options{
-      request.structural, out.motion == FloatingMotion::kSuspended ? holding : out.contacts,
-      out.motion};
+  const FloatingStructuralOptions options{request.structural, supported ? holding : out.contacts,
+                                          out.motion};
   const Eigen::VectorXd theta = model.standardParameters();
   for (SensorSetBase& base : floatingStructuralBase(model, sets, options)) {
     out.sets.emplace_back();

@@ -12,7 +12,7 @@ namespace dynid {
 
 namespace {
 /// Each force row's noise sd: a point contact's three forces, a frame contact's three moments
-/// then three forces; the held base's (suspended) six rows come first, a frame's.
+/// then three forces; the held base's (suspended, carried) six rows come first, a frame's.
 Eigen::VectorXd forceSd(const FloatingState& state, const FloatingSimulationOptions& o) {
   std::vector<double> sd;
   const auto frame = [&] {
@@ -179,10 +179,12 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
   Draws draws(model, options);
   FloatingData& data = draws.data;
   const auto normal = [&draws] { return draws.normal(draws.rng); };
-  // The contacts the dataset measures: the options', and the base's support when suspended.
+  // The contacts the dataset measures: the options', and the base's support when suspended or
+  // carried.
   std::vector<Contact> contacts = options.contacts;
-  const bool suspended = options.motion == FloatingMotion::kSuspended;
-  if (suspended) {
+  const bool supported =
+      options.motion == FloatingMotion::kSuspended || options.motion == FloatingMotion::kCarried;
+  if (supported) {
     Contact support;
     support.name = model.baseName();
     support.kind = Contact::Kind::kFrame;
@@ -220,8 +222,8 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
     // The holding contacts' forces (J's rows: the support's, then the active ones') in each
     // contact's own axes.
     std::vector<int> holding = state.active;
-    for (int& c : holding) c += suspended ? 1 : 0;
-    if (suspended) holding.insert(holding.begin(), 0);
+    for (int& c : holding) c += supported ? 1 : 0;
+    if (supported) holding.insert(holding.begin(), 0);
     Eigen::Index row = 0;
     for (int c : holding) {
       const Contact& contact = contacts[static_cast<std::size_t>(c)];

@@ -47,6 +47,8 @@ struct FloatingSimulation {
 ///              least-norm forces (within friction cones with `friction_cone`: contact_forces.hpp),
 ///              the joints the rest;
 ///   suspended  the base's support carries it (measured as a frame contact at the base origin);
+///   carried    the base moves as its support drives it, the support's wrench measured as
+///              suspended's;
 ///   free       nothing holds: FloatingStateSampler::flight (the forward dynamics' accelerations
 ///              with no wrench on the base).
 /// Throws InputError as FloatingStateSampler does, and naming `friction_cone` (negative or not
@@ -58,9 +60,9 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
 /// (time a sample index at 0.01 s: the states are independent draws, not a trajectory; with a
 /// design, the design's time over its period): the base
 /// motion and joint states exact, the torques, and per contact its wrench in its frame's axes (a
-/// contact that does not hold reads noise about zero) and its flag; suspended adds the base's
-/// support as a frame contact at the base link. Noise as simulateFloating's; `drawn`, when given,
-/// receives the states drawn (FloatingSimulation::drawn).
+/// contact that does not hold reads noise about zero) and its flag; suspended and carried add the
+/// base's support as a frame contact at the base link. Noise as simulateFloating's; `drawn`, when
+/// given, receives the states drawn (FloatingSimulation::drawn).
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
                                         const FloatingSimulationOptions& options,
                                         int* drawn = nullptr);

@@ -54,15 +54,18 @@ const char* floatingMotionName(FloatingMotion motion) {
       return "free";
     case FloatingMotion::kSuspended:
       return "suspended";
+    case FloatingMotion::kCarried:
+      return "carried";
   }
   return "unknown";
 }
 
 FloatingMotion parseFloatingMotion(std::string_view text) {
-  for (FloatingMotion m :
-       {FloatingMotion::kHolding, FloatingMotion::kFree, FloatingMotion::kSuspended})
+  for (FloatingMotion m : {FloatingMotion::kHolding, FloatingMotion::kFree,
+                           FloatingMotion::kSuspended, FloatingMotion::kCarried})
     if (text == floatingMotionName(m)) return m;
-  throw InputError("`motion` is '" + std::string(text) + "'; expected holding, free or suspended");
+  throw InputError("`motion` is '" + std::string(text) +
+                   "'; expected holding, free, suspended or carried");
 }
 
 namespace {
@@ -191,6 +194,12 @@ FloatingState FloatingStateSampler::suspended() {
   return out;
 }
 
+FloatingState FloatingStateSampler::carried() {
+  FloatingState out = generic();
+  out.base_held = true;
+  return out;
+}
+
 FloatingState FloatingStateSampler::flight() {
   const int n = model_.numJoints();
   FloatingState out = generic();
@@ -210,6 +219,8 @@ FloatingState FloatingStateSampler::next() {
       return flight();
     case FloatingMotion::kSuspended:
       return suspended();
+    case FloatingMotion::kCarried:
+      return carried();
   }
   return generic();
 }

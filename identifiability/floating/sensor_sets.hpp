@@ -56,9 +56,13 @@ Eigen::VectorXd sensorMeasurements(SensorSet set, const Eigen::VectorXd& tau,
 ///              dynamics gives (the sensor set wrenches then measures zero and is refused);
 ///   suspended  the base is held still (hung from a force-torque sensor, or on a stand): its twist
 ///              and acceleration zero; for torques_contacts the support's wrench is unknown and
-///              eliminated like a contact's.
-enum class FloatingMotion { kHolding, kFree, kSuspended };
-/// "holding", "free", "suspended".
+///              eliminated like a contact's;
+///   carried    the base is moved by a support that carries it (a mobile platform, a motion
+///              stand, a crane or an arm holding the robot): the base moves as it is driven (any
+///              twist and acceleration), the support's wrench at the base's origin measured for
+///              the wrench sets and eliminated for torques_contacts, as suspended's.
+enum class FloatingMotion { kHolding, kFree, kSuspended, kCarried };
+/// "holding", "free", "suspended", "carried".
 const char* floatingMotionName(FloatingMotion motion);
 /// Throws InputError naming `motion` and the names.
 FloatingMotion parseFloatingMotion(std::string_view text);
@@ -73,7 +77,8 @@ struct FloatingStructuralOptions {
 };
 
 /// A state of a floating robot: the base's motion, the joints', which contacts hold (indices into
-/// the options' contacts) and whether the base itself is held (suspended).
+/// the options' contacts) and whether the base itself is held (suspended, carried: a support's
+/// wrench acts on it).
 struct FloatingState {
   BaseMotion base;
   Eigen::VectorXd q, dq, ddq;
@@ -99,11 +104,13 @@ class FloatingStateSampler {
   FloatingState holding();
   /// The base held still (twist and acceleration zero), the joints anywhere.
   FloatingState suspended();
+  /// The base moved by its support: generic()'s motion, the support's wrench acting on the base.
+  FloatingState carried();
   /// In flight: generic()'s configuration and velocities, joint torques drawn within +-10 N m and
   /// the accelerations the forward dynamics gives with no wrench on the base (the model's own
   /// parameters: a state the robot can be in).
   FloatingState flight();
-  /// The options' motion: holding(), flight() or suspended().
+  /// The options' motion: holding(), flight(), suspended() or carried().
   FloatingState next();
   /// What holds at the state, as one Jacobian: the active contacts' stacked, and the base's
   /// own (identity on the base twist) when it is held; no rows in flight.

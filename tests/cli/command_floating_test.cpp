@@ -238,7 +238,9 @@ TEST(Cli, PrepareAFloatingRecordingThenIdentifyIt) {
           "/floating_dataset.csv --method ols --sensors wrenches --out " + dir + "/id");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto id = nlohmann::json::parse(readFile(dir + "/id/floating_identification.json"));
-  EXPECT_EQ(id["motion"], "suspended");  // the sensor's frame is on the base body
+  // The sensor's frame is on the base body, and its support turns and moves the robot.
+  EXPECT_EQ(id["motion"], "carried");
+  EXPECT_TRUE(contains(r.err, "its support moves the base (carried) by the data")) << r.err;
   // Contact flags from the sensor's force (the robot weighs about 500 N): the dataset then feeds
   // the torques with contact flags.
   r = run("prepare --floating-base --robot " + kAnymal + " --log " + bag +

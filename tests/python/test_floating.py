@@ -175,3 +175,17 @@ def test_simulate_floating_keeps_the_feet_within_friction_cones(tmp_path):
     assert doc["motion"] == "holding"
     with pytest.raises(ValueError, match="friction_cone"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="suspended", friction_cone=0.5)
+
+
+def test_a_base_its_support_moves_is_carried(tmp_path):
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", motion="carried", samples=60,
+                                   noise_tau=0.5, noise_force=2.0, noise_moment=0.5)
+    # The support's wrench is at the base link and the base moves: identify says it takes it as
+    # carried, with the field's Python name.
+    with pytest.warns(UserWarning, match=r"moves the base \(carried\).*set motion to say otherwise"):
+        doc = dynid.floating_identify(ANYMAL, data, method="ols")
+    assert doc["motion"] == "carried"
+    counts = {s["sensors"]: s["num_base"] for s in doc["sets"]}
+    assert counts == {"wrenches": 94, "torques_wrenches": 94, "torques_contacts": 84}
+    with pytest.raises(ValueError, match="holding, free, suspended or carried"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="platform")

@@ -89,11 +89,11 @@ TEST_P(NoiseFree, EverySetRecoversItsCombinations) {
   expectRecovery(which == 0 ? kAnymal : kRomeo, motion, 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Robots, NoiseFree,
-                         ::testing::Combine(::testing::Values(0, 1),
-                                            ::testing::Values(FloatingMotion::kHolding,
-                                                              FloatingMotion::kSuspended,
-                                                              FloatingMotion::kFree)));
+INSTANTIATE_TEST_SUITE_P(
+    Robots, NoiseFree,
+    ::testing::Combine(::testing::Values(0, 1),
+                       ::testing::Values(FloatingMotion::kHolding, FloatingMotion::kSuspended,
+                                         FloatingMotion::kFree, FloatingMotion::kCarried)));
 
 /// On the ground, friction cones of mu 0.6: each holding foot of ANYmal pushes within its cone in
 /// the world's axes, the cones bind (the least-norm forces would leave them), states the cones
@@ -166,11 +166,14 @@ TEST(FrictionCones, AreRefusedWhereNoContactStandsOnTheGround) {
 }
 
 /// z = (beta_hat - beta) / sd over every base parameter and 8 seeds: its RMS is 1 when the
-/// intervals are calibrated.
-TEST(Noisy, GeneralizedLeastSquaresIntervalsAreCalibrated) {
+/// intervals are calibrated; on the ground, and on a base its support carries.
+class Noisy : public ::testing::TestWithParam<FloatingMotion> {};
+
+TEST_P(Noisy, GeneralizedLeastSquaresIntervalsAreCalibrated) {
   const FloatingModel model = load(kAnymal);
   const Eigen::VectorXd theta = model.standardParameters();
-  const std::vector<SensorSetBase> sets = structural(model, kAnymal, FloatingMotion::kHolding);
+  const FloatingMotion motion = GetParam();
+  const std::vector<SensorSetBase> sets = structural(model, kAnymal, motion);
   for (const SensorSetBase& s : sets) {
     SCOPED_TRACE(sensorSetName(s.set));
     const Eigen::VectorXd truth = s.base.project(theta);
@@ -180,9 +183,11 @@ TEST(Noisy, GeneralizedLeastSquaresIntervalsAreCalibrated) {
       FloatingSimulationOptions options;
       options.samples = 300;
       options.seed = seed;
+      options.motion = motion;
       options.contacts = contactsOf(model, kAnymal.contacts);
       options.torque_noise = 0.5;  // N m: a current-sensing joint's level
       options.force_noise = 2.0;   // N: a foot force sensor's
+      options.moment_noise = 0.5;  // N m: the carried base's support sensor's moments
       const FloatingSimulation sim = simulateFloating(model, options);
       const FloatingFit fit =
           fitFloating(s.base, s.set, sim.samples, {.torque_variance = sim.torque_variance});
@@ -198,6 +203,9 @@ TEST(Noisy, GeneralizedLeastSquaresIntervalsAreCalibrated) {
     EXPECT_LT(rms, 1.1);
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Motions, Noisy,
+                         ::testing::Values(FloatingMotion::kHolding, FloatingMotion::kCarried));
 
 /// A designed motion (a Fourier series, as `dynid excite` makes for the robot with its base
 /// fixed) simulated on the suspended robot: the design's states at its times, the base held still

@@ -76,8 +76,9 @@ Eigen::MatrixXd chainJacobian(const Model& chain, Data& data,
 /// The sensor set's rank through the virtual chain: its regressor's rows (the six virtual joints'
 /// torques are the base wrench in another basis) over the base body's and limbs' columns, in
 /// states of the motion's class: holding (velocities in the null space of the chain's own contact
-/// Jacobian, accelerations that keep the points still), free, or suspended (the virtual joints
-/// still); for contact flags the rows orthogonal to what holds.
+/// Jacobian, accelerations that keep the points still), free, suspended (the virtual joints
+/// still) or carried (the virtual joints moving as drawn, their torques the support's wrench); for
+/// contact flags the rows orthogonal to what holds.
 int chainRank(const FloatingModel& model, SensorSet set, const std::vector<Contact>& contacts,
               FloatingMotion motion, std::uint64_t seed) {
   const Model chain = test::virtualChain(model);
@@ -99,6 +100,8 @@ int chainRank(const FloatingModel& model, SensorSet set, const std::vector<Conta
     } else if (motion == FloatingMotion::kSuspended) {
       dq.head<6>().setZero(), ddq.head<6>().setZero();
       J = Eigen::MatrixXd::Identity(6, nv);  // the virtual joints held
+    } else if (motion == FloatingMotion::kCarried) {
+      J = Eigen::MatrixXd::Identity(6, nv);  // the virtual joints driven by the support
     } else if (motion == FloatingMotion::kHolding) {
       std::vector<const Contact*> active;
       for (const Contact& c : contacts)
@@ -153,11 +156,11 @@ TEST_P(SensorSetsOnTrees, CountsEqualTheVirtualChains) {
   for (const SensorSetBase& s : sets) EXPECT_LE(s.base.numBase(), full.base.numBase());
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, SensorSetsOnTrees,
-                         ::testing::Combine(::testing::Values(1, 2, 3),
-                                            ::testing::Values(FloatingMotion::kHolding,
-                                                              FloatingMotion::kFree,
-                                                              FloatingMotion::kSuspended)));
+INSTANTIATE_TEST_SUITE_P(
+    Seeds, SensorSetsOnTrees,
+    ::testing::Combine(::testing::Values(1, 2, 3),
+                       ::testing::Values(FloatingMotion::kHolding, FloatingMotion::kFree,
+                                         FloatingMotion::kSuspended, FloatingMotion::kCarried)));
 
 /// The example robots (examples/floating/): ANYmal C on its four point feet, Romeo on its two flat
 /// soles; each set's count against the virtual chain's.
