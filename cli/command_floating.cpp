@@ -231,7 +231,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
 int runFloatingSimulate(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads", "trajectory", "friction-cone"},
+                 "noise-moment", "threads", "trajectory", "friction-cone", "sole"},
                 "simulate");
   const FloatingModel model = loadFloating(vm);
   FloatingSimulationOptions options;
@@ -251,6 +251,10 @@ int runFloatingSimulate(const po::variables_map& vm) {
   options.force_noise = vm["noise-force"].as<double>();
   options.moment_noise = vm["noise-moment"].as<double>();
   options.friction_cone = vm["friction-cone"].as<double>();
+  if (vm.count("sole")) {
+    const std::vector<double> sole = fixedList(vm, "sole", 2, "two numbers: length,width [m]");
+    options.sole = Eigen::Vector2d(sole[0], sole[1]);
+  }
   const std::string out = vm["out"].as<std::string>();
   FloatingDataset dataset;
   int drawn = 0;
@@ -272,6 +276,12 @@ int runFloatingSimulate(const po::variables_map& vm) {
         << "  the contacts' forces within friction cones of mu " << options.friction_cone << ": "
         << drawn << " states drawn, " << drawn - options.samples
         << " of them left out (no forces within the cones carry their base wrench)\n";
+  if (!options.sole.isZero())
+    (out == "-" ? std::cerr : std::cout)
+        << "  every frame contact on a sole of " << formatNumber(options.sole[0]) << " x "
+        << formatNumber(options.sole[1])
+        << " m: its wrench that of four corner forces within the cones, its centre of pressure "
+           "in the sole\n";
   return kExitOk;
 }
 

@@ -69,7 +69,12 @@ void addSimulateOptions(po::options_description& options) {
   options.add_options()("samples", po::value<int>())("noise-force",
                                                      po::value<double>()->default_value(0.0))(
       "noise-moment", po::value<double>()->default_value(0.0))(
-      "friction-cone", po::value<double>()->default_value(0.0));
+      "friction-cone", po::value<double>()->default_value(0.0))(
+      "sole", po::value<std::string>(),
+      "with --floating-base and --friction-cone: a flat sole LENGTH,WIDTH [m] under every frame "
+      "contact (along its frame's x and y, centred at its origin): its wrench is that of four "
+      "corner forces within the cones about the sole's normal, so its centre of pressure stays "
+      "in the sole");
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -217,12 +222,13 @@ int runSimulate(const std::vector<std::string>& args) {
           args, options,
           "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
           "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
-          "[--samples N] [--noise-tau S] [--noise-force S] [--friction-cone MU] --out FILE.csv",
+          "[--samples N] [--noise-tau S] [--noise-force S] [--friction-cone MU [--sole L,W]] --out "
+          "FILE.csv",
           vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
   refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
-                             "noise-moment", "friction-cone"});
+                             "noise-moment", "friction-cone", "sole"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

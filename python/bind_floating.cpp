@@ -107,7 +107,8 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<std::string>& motion, int samples,
                                std::uint64_t seed, double noise_tau, double noise_force,
                                double noise_moment, const TermsLike& drive_terms,
-                               const OptionalPathLike& trajectory, double friction_cone) {
+                               const OptionalPathLike& trajectory, double friction_cone,
+                               const std::optional<std::pair<double, double>>& sole) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
@@ -123,6 +124,7 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   options.force_noise = noise_force;
   options.moment_noise = noise_moment;
   options.friction_cone = friction_cone;
+  if (sole) options.sole = Eigen::Vector2d(sole->first, sole->second);
   const std::string path = pathArg(out, "out");
   {
     py::gil_scoped_release release;
@@ -203,14 +205,17 @@ void bindFloating(py::module_& m) {
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
         py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
         py::arg("trajectory") = py::none(), py::arg("friction_cone") = 0.0,
+        py::arg("sole") = py::none(),
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
         "(holding, the default with contacts; free; suspended; carried: the base moved by its "
         "support, whose wrench is measured) written to `out`, with noise on "
         "the torques, contact forces and moments; with trajectory (an excitation.json of the "
         "robot with its base fixed), `samples` states of that design over one period, the base "
         "held still; with friction_cone (mu, holding), the contacts' forces within friction "
-        "cones about the ground's normal, states they cannot hold drawn again. Returns the "
-        "path.");
+        "cones about the ground's normal, states they cannot hold drawn again; with sole "
+        "(length, width) [m] too, every frame contact's wrench that of its sole's four corner "
+        "forces within the cones about the sole's normal (its centre of pressure in the sole). "
+        "Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),
         py::arg("contacts") = py::none(), py::arg("sensors") = py::none(),
         py::arg("motion") = py::none(), py::arg("drive_terms") = py::none(), py::arg("samples") = 0,

@@ -39,6 +39,9 @@ void checkCones(const Eigen::MatrixXd& map, const Eigen::VectorXd& wrench,
     if (row < 0 || row + 3 > map.cols())
       throw InputError("contact forces: a coned force at row " + std::to_string(row) + " of " +
                        std::to_string(map.cols()));
+  if (!cones.axes.empty() && cones.axes.size() != cones.coned.size())
+    throw InputError("contact forces: " + std::to_string(cones.axes.size()) + " cone axes for " +
+                     std::to_string(cones.coned.size()) + " coned forces");
   if (!(cones.friction >= 0.0) || !std::isfinite(cones.friction))
     throw InputError("`friction` must be finite and non-negative");
 }
@@ -57,8 +60,9 @@ std::optional<Eigen::VectorXd> contactForces(const Eigen::MatrixXd& map,
   const Eigen::MatrixXd P =
       Eigen::MatrixXd::Identity(map.cols(), map.cols()) - solver.pseudoInverse() * map;
   const auto projectInCones = [&](Eigen::VectorXd& x) {
-    for (int row : cones.coned)
-      x.segment<3>(row) = projectOnCone(x.segment<3>(row), cones.up, cones.friction);
+    for (std::size_t k = 0; k < cones.coned.size(); ++k)
+      x.segment<3>(cones.coned[k]) =
+          projectOnCone(x.segment<3>(cones.coned[k]), cones.axis(k), cones.friction);
   };
   // ADMM on min |f|^2 s.t. f affine, g in the cones, f = g (scaled by the wrench's norm); the
   // iterates in place (no allocation per iteration: a state the cones cannot hold runs them all).
@@ -79,8 +83,9 @@ std::optional<Eigen::VectorXd> contactForces(const Eigen::MatrixXd& map,
   }
   f *= scale;
   double excess = 0.0;
-  for (int row : cones.coned)
-    excess = std::max(excess, coneExcess(f.segment<3>(row), cones.up, cones.friction));
+  for (std::size_t k = 0; k < cones.coned.size(); ++k)
+    excess =
+        std::max(excess, coneExcess(f.segment<3>(cones.coned[k]), cones.axis(k), cones.friction));
   if (excess > 1e-9 * scale) return std::nullopt;
   return f;
 }

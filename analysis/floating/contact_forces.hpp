@@ -10,16 +10,18 @@
 
 namespace dynid {
 
-/// The forces' layout and the cones: `rows` is how many force rows the contacts have (stacked as
-/// the contact Jacobian's rows), `coned` the first row of each 3-D force that must stay in its
-/// cone (a point contact's force; a frame contact's force, after its moment's three rows, its
-/// moment left free: the sole's size is not in the model), `up` the ground's normal in the same
-/// axes (unit), `friction` the coefficient mu (the cone's half-angle is atan(mu)); 0 imposes no
-/// cone.
+/// The cones: `coned` the first row of each 3-D force that must stay in its cone (a point
+/// contact's force; a frame contact's force, after its moment's three rows, its moment left free;
+/// a sole's corner's force), `up` the ground's normal in the forces' axes (unit), `axes` each coned
+/// force's own cone axis (unit, as many as `coned`; empty: `up` for every one), `friction` the
+/// coefficient mu (the cone's half-angle is atan(mu)); 0 imposes no cone.
 struct ContactCones {
   std::vector<int> coned;
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  std::vector<Eigen::Vector3d> axes;
   double friction = 0.0;
+  /// The cone axis of coned force k.
+  const Eigen::Vector3d& axis(std::size_t k) const { return axes.empty() ? up : axes[k]; }
 };
 
 /// The forces f (stacked as the Jacobian's rows) with `map` f = `wrench` (map: 6 x rows, the
@@ -30,8 +32,8 @@ struct ContactCones {
 /// cones cannot carry the wrench (the forces that carry it leave a cone by more than 1e-9 of the
 /// wrench's norm after 20000 iterations: no such forces, or a state so close to the cones' edge
 /// that the method does not settle). Without friction, the least-norm solution (never nullopt
-/// while `map` has rank 6). Throws InputError on sizes that disagree or a `coned` row out of
-/// range.
+/// while `map` has rank 6). Throws InputError on sizes that disagree, a `coned` row out of range
+/// or `axes` that are not one per coned force.
 std::optional<Eigen::VectorXd> contactForces(const Eigen::MatrixXd& map,
                                              const Eigen::VectorXd& wrench,
                                              const ContactCones& cones);

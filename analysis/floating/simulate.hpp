@@ -30,6 +30,13 @@ struct FloatingSimulationOptions {
   /// gravity; a frame contact's force, its moment free), and a random state they cannot hold is
   /// drawn again. 0: the least-norm forces, no cones (a contact may pull). Holding motion only.
   double friction_cone = 0.0;
+  /// A flat sole under every frame contact that holds: its length (along the frame's x) and width
+  /// (along y) [m], centred at the frame's origin. The contact's wrench is then that of four
+  /// forces at the rectangle's corners, each within the cone of `friction_cone` about the sole's
+  /// normal (the frame's z: the ground under a sole lies along it), least-norm: the centre of
+  /// pressure stays in the rectangle and the moment about the normal within what friction gives.
+  /// Zero: a frame contact's moment free. Needs friction_cone and a frame contact.
+  Eigen::Vector2d sole = Eigen::Vector2d::Zero();
 };
 
 /// The samples, and the noise variances they were drawn with (for generalized least squares).

@@ -318,6 +318,13 @@ TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "within friction cones of mu 0.6: ")) << r.out;
   EXPECT_TRUE(contains(r.out, "states drawn")) << r.out;
+  // A humanoid on flat soles: their centres of pressure kept in 0.2 x 0.1 m.
+  const Result soles = run("simulate --robot " + kRomeo +
+                           " --floating-base --contacts l_sole:frame,r_sole:frame --samples 20 "
+                           "--friction-cone 0.8 --sole 0.2,0.1 --out " +
+                           dir + "/soles.csv");
+  ASSERT_EQ(soles.code, 0) << soles.err;
+  EXPECT_TRUE(contains(soles.out, "every frame contact on a sole of 0.2 x 0.1 m")) << soles.out;
 }
 
 }  // namespace

@@ -189,3 +189,18 @@ def test_a_base_its_support_moves_is_carried(tmp_path):
     assert counts == {"wrenches": 94, "torques_wrenches": 94, "torques_contacts": 84}
     with pytest.raises(ValueError, match="holding, free, suspended or carried"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="platform")
+
+
+def test_simulate_floating_keeps_a_soles_centre_of_pressure_in_it(tmp_path):
+    romeo = Path(os.environ["DYNID_SOURCE_DIR"]) / "examples/floating/romeo/romeo_small.urdf"
+    data = dynid.simulate_floating(romeo, tmp_path / "d.csv", contacts=["l_sole:frame", "r_sole:frame"],
+                                   samples=20, friction_cone=0.8, sole=(0.2, 0.1))
+    header, *rows = [line.split(",") for line in Path(data).read_text().splitlines()]
+    col = {name: k for k, name in enumerate(header)}
+    for row in rows:
+        for sole in ("l_sole", "r_sole"):
+            n_x, n_y, f_z = (float(row[col[f"wrench:{sole}:{c}"]]) for c in ("nx", "ny", "fz"))
+            if row[col[f"contact:{sole}"]] == "1":  # the centre of pressure within 0.2 x 0.1 m
+                assert abs(n_y) <= 0.1 * f_z + 1e-6 and abs(n_x) <= 0.05 * f_z + 1e-6
+    with pytest.raises(ValueError, match="sole"):
+        dynid.simulate_floating(romeo, tmp_path / "x.csv", contacts=["l_sole:frame"], sole=(0.2, 0.1))

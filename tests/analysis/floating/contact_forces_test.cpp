@@ -107,6 +107,21 @@ TEST(ContactForces, AFrameContactsMomentIsFreeAndItsForceConed) {
   EXPECT_LT((*f - wrench).norm(), 1e-9 * wrench.norm());
 }
 
+TEST(ContactForces, EachConeStandsOnItsOwnAxis) {
+  // One point carrying a force along x: inside a cone about x, outside every cone about z.
+  const Eigen::MatrixXd map = pointMap({Eigen::Vector3d::Zero()});
+  Eigen::VectorXd wrench = Eigen::VectorXd::Zero(6);
+  wrench.tail<3>() << 10.0, 1.0, 0.0;
+  ContactCones cones = conesOf(1, 0.5);
+  EXPECT_FALSE(contactForces(map, wrench, cones).has_value());
+  cones.axes = {Eigen::Vector3d::UnitX()};
+  const std::optional<Eigen::VectorXd> f = contactForces(map, wrench, cones);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_LT((*f - wrench.tail<3>()).norm(), 1e-9 * wrench.norm());
+  cones.axes.push_back(Eigen::Vector3d::UnitZ());  // two axes for one cone
+  EXPECT_THROW(contactForces(map, wrench, cones), InputError);
+}
+
 TEST(ContactForces, SizesThatDisagreeAreRefused) {
   const Eigen::MatrixXd map = pointMap({Eigen::Vector3d::Zero()});
   EXPECT_THROW(contactForces(map, Eigen::VectorXd::Zero(5), {}), InputError);
