@@ -231,7 +231,7 @@ int runFloatingPrepare(const po::variables_map& vm) {
 int runFloatingSimulate(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads", "trajectory", "friction-cone", "sole"},
+                 "noise-moment", "threads", "trajectory", "friction-cone", "sole", "motion-from"},
                 "simulate");
   const FloatingModel model = loadFloating(vm);
   FloatingSimulationOptions options;
@@ -242,9 +242,16 @@ int runFloatingSimulate(const po::variables_map& vm) {
   if (vm.count("trajectory"))
     options.trajectory =
         readExcitationDesign(vm["trajectory"].as<std::string>(), model.numJoints());
-  options.motion = motion.value_or(options.trajectory         ? FloatingMotion::kSuspended
-                                   : options.contacts.empty() ? FloatingMotion::kFree
-                                                              : FloatingMotion::kHolding);
+  if (vm.count("motion-from")) {
+    if (vm.count("samples"))
+      throw UsageError("--samples does not apply to --motion-from (its samples are the file's)");
+    options.motion_from = std::make_shared<const FloatingDataset>(
+        readFloatingDataset(vm["motion-from"].as<std::string>(), model));
+  }
+  options.motion = motion.value_or(options.trajectory ? FloatingMotion::kSuspended
+                                   : options.contacts.empty() && !options.motion_from
+                                       ? FloatingMotion::kFree
+                                       : FloatingMotion::kHolding);
   options.samples = vm.count("samples") ? vm["samples"].as<int>() : 200;
   options.seed = vm["seed"].as<std::uint64_t>();
   options.torque_noise = vm["noise-tau"].as<double>();
@@ -258,20 +265,44 @@ int runFloatingSimulate(const po::variables_map& vm) {
   const std::string out = vm["out"].as<std::string>();
   FloatingDataset dataset;
   int drawn = 0;
+  std::vector<int> outside, unsupported;
   try {
-    dataset = simulateFloatingDataset(model, options, &drawn);
+    dataset = simulateFloatingDataset(model, options, &drawn, &outside, &unsupported);
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
   writeFloatingDataset(out, dataset);
   (out == "-" ? std::cerr : std::cout)
       << model.name() << " (floating base " << model.baseName() << ", "
-      << floatingMotionName(options.motion) << "): " << options.samples
-      << (options.trajectory
+      << floatingMotionName(options.motion) << "): " << dataset.numSamples()
+      << (options.motion_from
+              ? " states of the motion of " + vm["motion-from"].as<std::string>() + ", to "
+          : options.trajectory
               ? " states of the design over one period, the base held still, to "
               : " random states, one a row (independent draws, not a trajectory), to ")
       << (out == "-" ? "standard output" : out) << "\n";
-  if (options.friction_cone > 0.0)
+  std::cout.flush();  // the summary before the warnings, wherever both streams go
+  const auto at = [&dataset](const std::vector<int>& samples) {
+    return "from t = " + formatNumber(dataset.time[samples.front()]) + " s";
+  };
+  if (!outside.empty())
+    printWarnings({std::to_string(outside.size()) +
+                   " of the motion's samples need a contact to "
+                   "pull or slide (" +
+                   at(outside) +
+                   "): no forces within the cones carry "
+                   "their base wrench; written with the least-norm forces"},
+                  "dynid simulate: warning: ");
+  if (!unsupported.empty())
+    printWarnings({std::to_string(unsupported.size()) +
+                   " of the motion's samples need a wrench "
+                   "the contacts holding there cannot carry (" +
+                   at(unsupported) +
+                   "; fewer than six independent directions, e.g. two point feet, or none): "
+                   "written with the least-squares forces, where the floating equations do not "
+                   "hold"},
+                  "dynid simulate: warning: ");
+  if (options.friction_cone > 0.0 && !options.motion_from)
     (out == "-" ? std::cerr : std::cout)
         << "  the contacts' forces within friction cones of mu " << options.friction_cone << ": "
         << drawn << " states drawn, " << drawn - options.samples

@@ -74,7 +74,11 @@ void addSimulateOptions(po::options_description& options) {
       "with --floating-base and --friction-cone: a flat sole LENGTH,WIDTH [m] under every frame "
       "contact (along its frame's x and y, centred at its origin): its wrench is that of four "
       "corner forces within the cones about the sole's normal, so its centre of pressure stays "
-      "in the sole");
+      "in the sole")(
+      "motion-from", po::value<std::string>(),
+      "with --floating-base: the motion of this floating dataset (its time, base and joints, "
+      "sample by sample; its torques and wrenches not read) instead of random states, the "
+      "contacts holding where its contact:F flags say (default contacts: its flagged frames)");
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -218,17 +222,17 @@ int runSimulate(const std::vector<std::string>& args) {
   addSimulateOptions(options);
   addThreadsOption(options);  // the dataset's rows are formatted on them
   po::variables_map vm;
-  if (!parseCommandLine(
-          args, options,
-          "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
-          "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
-          "[--samples N] [--noise-tau S] [--noise-force S] [--friction-cone MU [--sole L,W]] --out "
-          "FILE.csv",
-          vm))
+  if (!parseCommandLine(args, options,
+                        "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
+                        "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
+                        "[--samples N | --motion-from D.csv] [--noise-tau S] [--noise-force S] "
+                        "[--friction-cone MU "
+                        "[--sole L,W]] --out FILE.csv",
+                        vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
   refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
-                             "noise-moment", "friction-cone", "sole"});
+                             "noise-moment", "friction-cone", "sole", "motion-from"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

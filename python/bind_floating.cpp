@@ -108,16 +108,20 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                std::uint64_t seed, double noise_tau, double noise_force,
                                double noise_moment, const TermsLike& drive_terms,
                                const OptionalPathLike& trajectory, double friction_cone,
-                               const std::optional<std::pair<double, double>>& sole) {
+                               const std::optional<std::pair<double, double>>& sole,
+                               const OptionalPathLike& motion_from) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
   if (!trajectory.is_none())
     options.trajectory = readExcitationDesign(pathArg(trajectory, "trajectory"), model.numJoints());
-  options.motion = motion                     ? parseFloatingMotion(*motion)
-                   : options.trajectory       ? FloatingMotion::kSuspended
-                   : options.contacts.empty() ? FloatingMotion::kFree
-                                              : FloatingMotion::kHolding;
+  if (!motion_from.is_none())
+    options.motion_from = std::make_shared<const FloatingDataset>(
+        readFloatingDataset(pathArg(motion_from, "motion_from"), model));
+  options.motion = motion                                             ? parseFloatingMotion(*motion)
+                   : options.trajectory                               ? FloatingMotion::kSuspended
+                   : options.contacts.empty() && !options.motion_from ? FloatingMotion::kFree
+                                                                      : FloatingMotion::kHolding;
   options.samples = samples;
   options.seed = seed;
   options.torque_noise = noise_tau;
@@ -126,10 +130,23 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   options.friction_cone = friction_cone;
   if (sole) options.sole = Eigen::Vector2d(sole->first, sole->second);
   const std::string path = pathArg(out, "out");
+  std::vector<int> outside, unsupported;
   {
     py::gil_scoped_release release;
-    writeFloatingDataset(path, simulateFloatingDataset(model, options));
+    writeFloatingDataset(path,
+                         simulateFloatingDataset(model, options, nullptr, &outside, &unsupported));
   }
+  std::vector<std::string> warnings;
+  if (!outside.empty())
+    warnings.push_back(std::to_string(outside.size()) +
+                       " of the motion's samples need a contact to pull or slide: written with "
+                       "the least-norm forces");
+  if (!unsupported.empty())
+    warnings.push_back(std::to_string(unsupported.size()) +
+                       " of the motion's samples need a wrench the contacts holding there cannot "
+                       "carry: written with the least-squares forces, where the floating "
+                       "equations do not hold");
+  warnAll(warnings);
   return path;
 }
 
@@ -205,7 +222,7 @@ void bindFloating(py::module_& m) {
         py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
         py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
         py::arg("trajectory") = py::none(), py::arg("friction_cone") = 0.0,
-        py::arg("sole") = py::none(),
+        py::arg("sole") = py::none(), py::arg("motion_from") = py::none(),
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
         "(holding, the default with contacts; free; suspended; carried: the base moved by its "
         "support, whose wrench is measured) written to `out`, with noise on "
@@ -214,8 +231,9 @@ void bindFloating(py::module_& m) {
         "held still; with friction_cone (mu, holding), the contacts' forces within friction "
         "cones about the ground's normal, states they cannot hold drawn again; with sole "
         "(length, width) [m] too, every frame contact's wrench that of its sole's four corner "
-        "forces within the cones about the sole's normal (its centre of pressure in the sole). "
-        "Returns the path.");
+        "forces within the cones about the sole's normal (its centre of pressure in the sole); "
+        "with motion_from (a floating dataset's path), its motion sample by sample instead of "
+        "random states, the contacts holding where its flags say. Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),
         py::arg("contacts") = py::none(), py::arg("sensors") = py::none(),
         py::arg("motion") = py::none(), py::arg("drive_terms") = py::none(), py::arg("samples") = 0,

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "analysis/floating/contact_forces.hpp"
+#include "analysis/floating/identifiability.hpp"
 #include "core/errors.hpp"
 #include "core/floating/contact_jacobian.hpp"
 #include "core/floating/floating_rnea.hpp"
@@ -125,6 +126,7 @@ struct Draws {
         rng(o.seed ^ 0x5eed),
         options(o) {
     checkFriction();
+    checkGivenMotion();
     if (!o.trajectory) return;
     if (o.motion != FloatingMotion::kSuspended)
       throw InputError(
@@ -151,6 +153,54 @@ struct Draws {
           "`friction_cone`: the cones stand on the ground's normal, against gravity, "
           "and this model has none");
   }
+  /// The given motion's flags, one per contact (holding), checked against the options.
+  void checkGivenMotion() {
+    if (!options.motion_from) return;
+    const FloatingDataset& d = *options.motion_from;
+    if (options.trajectory)
+      throw InputError("`motion_from` and `trajectory` are two motions: give one");
+    if (options.motion == FloatingMotion::kFree)
+      throw InputError(
+          "`motion_from`: a given motion is simulated holding its contacts, suspended or "
+          "carried, not free (in flight its accelerations would have to be the forward "
+          "dynamics')");
+    if (d.q.rows() != model.numJoints())
+      throw InputError("`motion_from` moves " + std::to_string(d.q.rows()) +
+                       " joints; the robot has " + std::to_string(model.numJoints()));
+    if (options.motion != FloatingMotion::kHolding) return;
+    if (options.contacts.empty())
+      throw InputError("`motion_from`: " + where(d) +
+                       " has no contact flag and `contacts` is empty: nothing holds the robot "
+                       "(give them, or `motion` suspended or carried)");
+    for (const Contact& c : options.contacts) {
+      const FloatingDataset::Flag* flag = d.findFlag(c.name);
+      if (flag == nullptr)
+        throw InputError("`motion_from`: " + where(d) + " has no flag for the contact at " +
+                         c.name + " (column contact:" + c.name +
+                         "): a given motion says when each contact holds");
+      flags.push_back(flag);
+    }
+  }
+  static std::string where(const FloatingDataset& d) {
+    return d.file.empty() ? std::string("the dataset") : "'" + d.file + "'";
+  }
+  /// Sample k of the given motion, holding where its flags say.
+  FloatingState given(int k) const {
+    const FloatingDataset& d = *options.motion_from;
+    FloatingState s;
+    s.base.rotation = baseRotation(Eigen::Vector4d(d.orientation.col(k)));
+    s.base.twist = d.twist.col(k);
+    s.base.acceleration = d.acceleration.col(k);
+    s.q = d.q.col(k), s.dq = d.dq.col(k), s.ddq = d.ddq.col(k);
+    s.base_held = options.motion != FloatingMotion::kHolding;
+    for (std::size_t c = 0; c < flags.size(); ++c)
+      if (flags[c]->holding[static_cast<std::size_t>(k)] != 0)
+        s.active.push_back(static_cast<int>(c));
+    return s;
+  }
+  int samples() const {
+    return options.motion_from ? options.motion_from->numSamples() : options.samples;
+  }
   void checkSole() const {
     const Eigen::Vector2d& sole = options.sole;
     if (!(sole.minCoeff() >= 0.0) || !sole.allFinite() ||
@@ -172,6 +222,7 @@ struct Draws {
   /// the cones cannot carry its base wrench (InputError naming `friction_cone` after
   /// kDrawsPerSample, or kDrawsPerSampleOnSoles).
   HeldState next(int k) {
+    if (options.motion_from) return nextGiven(k);
     const int draws = options.sole.isZero() ? kDrawsPerSample : kDrawsPerSampleOnSoles;
     for (int attempt = 0; attempt < draws; ++attempt) {
       ++drawn;
@@ -195,7 +246,35 @@ struct Draws {
                      formatNumber(options.friction_cone) +
                      " (a larger coefficient, or more contacts)");
   }
+  /// Sample k of the given motion with what holds it: the forces within the cones, else the
+  /// least-norm ones (`outside`); where the holding contacts cannot carry the base wrench at all
+  /// (their base columns of rank < 6, or none holds), the least-squares ones (`unsupported`).
+  HeldState nextGiven(int k) {
+    ++drawn;
+    HeldState held;
+    held.state = given(k);
+    held.J = sampler.jacobian(held.state);
+    const FloatingState& s = held.state;
+    held.generalized = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+    const Eigen::VectorXd wrench = held.generalized.head<6>();
+    const double tolerance = 1e-9 * held.generalized.norm();
+    held.forces = Eigen::VectorXd::Zero(held.J.rows());
+    if (held.J.rows() == 0) {
+      if (wrench.norm() > tolerance) unsupported.push_back(k);
+      return held;
+    }
+    std::optional<Eigen::VectorXd> forces = holdingForces(model, data, options, s, held.J, wrench);
+    const Eigen::MatrixXd map = held.J.leftCols<6>().transpose();
+    if (!forces) {
+      forces = contactForces(map, wrench, {});
+      outside.push_back(k);
+    }
+    held.forces = *forces;
+    if ((map * held.forces - wrench).norm() > tolerance) unsupported.push_back(k);
+    return held;
+  }
   FloatingState draw(int k) {
+    if (options.motion_from) return given(k);
     if (!options.trajectory) return sampler.next();
     FloatingState state;
     state.base_held = true;  // rotation identity, twist and acceleration zero
@@ -204,6 +283,7 @@ struct Draws {
   }
   /// Sample k's time: the design's, evenly over one period, else an index at 0.01 s.
   double time(int k) const {
+    if (options.motion_from) return options.motion_from->time[k];
     return options.trajectory ? options.trajectory->period * k / options.samples : 0.01 * k;
   }
   const FloatingModel& model;
@@ -213,19 +293,39 @@ struct Draws {
   std::mt19937_64 rng;
   std::normal_distribution<double> normal{0.0, 1.0};
   const FloatingSimulationOptions& options;
+  std::vector<const FloatingDataset::Flag*> flags;  // the given motion's, one per contact
   int drawn = 0;
+  std::vector<int> outside;      // given samples outside the cones
+  std::vector<int> unsupported;  // given samples whose base wrench nothing holding carries
 };
+
+/// The options with a given motion's contacts when none are named (holding): its flagged frames,
+/// a frame contact where it has a six-component wrench, a point otherwise.
+FloatingSimulationOptions withGivenContacts(const FloatingModel& model,
+                                            const FloatingSimulationOptions& requested) {
+  FloatingSimulationOptions out = requested;
+  if (!out.motion_from || !out.contacts.empty() || out.motion != FloatingMotion::kHolding)
+    return out;
+  std::vector<std::string> specs;
+  for (const FloatingDataset::Flag& flag : out.motion_from->flags) {
+    const FloatingDataset::Wrench* w = out.motion_from->findWrench(flag.frame);
+    specs.push_back(flag.frame + (w != nullptr && w->values.rows() == 6 ? ":frame" : ""));
+  }
+  out.contacts = contactsOf(model, specs);
+  return out;
+}
 }  // namespace
 
 FloatingSimulation simulateFloating(const FloatingModel& model,
-                                    const FloatingSimulationOptions& options) {
+                                    const FloatingSimulationOptions& requested) {
+  const FloatingSimulationOptions options = withGivenContacts(model, requested);
   Draws draws(model, options);
   FloatingStateSampler& sampler = draws.sampler;
   const auto normal = [&draws] { return draws.normal(draws.rng); };
   const int n = model.numJoints();
   FloatingSimulation out;
   out.torque_variance = Eigen::VectorXd::Constant(n, options.torque_noise * options.torque_noise);
-  for (int k = 0; k < options.samples; ++k) {
+  for (int k = 0; k < draws.samples(); ++k) {
     HeldState held = draws.next(k);
     FloatingMeasurement m;
     m.J = std::move(held.J);
@@ -240,11 +340,16 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
     out.samples.push_back(std::move(m));
   }
   out.drawn = draws.drawn;
+  out.outside_cones = draws.outside;
+  out.unsupported = draws.unsupported;
   return out;
 }
 
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
-                                        const FloatingSimulationOptions& options, int* drawn) {
+                                        const FloatingSimulationOptions& requested, int* drawn,
+                                        std::vector<int>* outside_cones,
+                                        std::vector<int>* unsupported) {
+  const FloatingSimulationOptions options = withGivenContacts(model, requested);
   Draws draws(model, options);
   FloatingData& data = draws.data;
   const auto normal = [&draws] { return draws.normal(draws.rng); };
@@ -261,7 +366,7 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
       throw InputError("the base link '" + support.name + "' is no frame of the model");
     contacts.insert(contacts.begin(), support);
   }
-  const int n = model.numJoints(), N = options.samples;
+  const int n = model.numJoints(), N = draws.samples();
   FloatingDataset out;
   out.joints = model.limbs().joint_names;
   out.time.resize(N);
@@ -313,6 +418,8 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
             (w.values.rows() == 6 && r < 3 ? options.moment_noise : options.force_noise) * normal();
   }
   if (drawn != nullptr) *drawn = draws.drawn;
+  if (outside_cones != nullptr) *outside_cones = draws.outside;
+  if (unsupported != nullptr) *unsupported = draws.unsupported;
   return out;
 }
 

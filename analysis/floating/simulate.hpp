@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -37,6 +38,15 @@ struct FloatingSimulationOptions {
   /// pressure stays in the rectangle and the moment about the normal within what friction gives.
   /// Zero: a frame contact's moment free. Needs friction_cone and a frame contact.
   Eigen::Vector2d sole = Eigen::Vector2d::Zero();
+  /// The robot moves as this dataset says, sample by sample (a recording's prepared motion,
+  /// another simulator's: its time, base orientation, twist and acceleration, q, dq and ddq; its
+  /// torques and wrenches are not read) instead of random states; `samples` is its count. Holding:
+  /// each contact holds where the dataset's flag at its frame says (every contact needs one;
+  /// no `contacts`: the dataset's flagged frames, a frame contact where it has a six-component
+  /// wrench, a point otherwise); suspended and carried: the base's support carries it. A sample
+  /// whose base wrench no forces within the friction cones carry gets the least-norm forces
+  /// (FloatingSimulation::outside_cones). Not with `trajectory` or in flight.
+  std::shared_ptr<const FloatingDataset> motion_from;
 };
 
 /// The samples, and the noise variances they were drawn with (for generalized least squares).
@@ -45,6 +55,14 @@ struct FloatingSimulation {
   Eigen::VectorXd torque_variance;
   /// The states drawn: the samples and those the cones could not hold (`friction_cone`).
   int drawn = 0;
+  /// With `motion_from`: the samples whose base wrench no forces within the cones carry (a pull or
+  /// a slide), given the least-norm forces instead.
+  std::vector<int> outside_cones;
+  /// With `motion_from`: the samples whose base wrench the holding contacts cannot carry at all
+  /// (their Jacobian's base columns of rank < 6, as two point feet, or none holding while the
+  /// motion needs a wrench), given the least-squares forces: there the floating equations do not
+  /// hold.
+  std::vector<int> unsupported;
 };
 
 /// Measurements of `model` (its own parameters are the truth) in states of the options' motion
@@ -65,13 +83,15 @@ FloatingSimulation simulateFloating(const FloatingModel& model,
 
 /// The same measurements as a dataset (data/floating/floating_dataset.hpp), one state a row
 /// (time a sample index at 0.01 s: the states are independent draws, not a trajectory; with a
-/// design, the design's time over its period): the base
+/// design, the design's time over its period; with a given motion, its time): the base
 /// motion and joint states exact, the torques, and per contact its wrench in its frame's axes (a
 /// contact that does not hold reads noise about zero) and its flag; suspended and carried add the
-/// base's support as a frame contact at the base link. Noise as simulateFloating's; `drawn`, when
-/// given, receives the states drawn (FloatingSimulation::drawn).
+/// base's support as a frame contact at the base link. Noise as simulateFloating's; `drawn`,
+/// `outside_cones` and `unsupported`, when given, receive FloatingSimulation's.
 FloatingDataset simulateFloatingDataset(const FloatingModel& model,
                                         const FloatingSimulationOptions& options,
-                                        int* drawn = nullptr);
+                                        int* drawn = nullptr,
+                                        std::vector<int>* outside_cones = nullptr,
+                                        std::vector<int>* unsupported = nullptr);
 
 }  // namespace dynid

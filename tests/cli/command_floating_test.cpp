@@ -325,6 +325,13 @@ TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {
                            dir + "/soles.csv");
   ASSERT_EQ(soles.code, 0) << soles.err;
   EXPECT_TRUE(contains(soles.out, "every frame contact on a sole of 0.2 x 0.1 m")) << soles.out;
+  // The first dataset's motion simulated again within cones too narrow for some of its states.
+  const Result along = run("simulate --robot " + kAnymal + " --floating-base --motion-from " + dir +
+                           "/d.csv --friction-cone 0.3 --out " + dir + "/again.csv");
+  ASSERT_EQ(along.code, 0) << along.err;
+  EXPECT_TRUE(contains(along.out, "50 states of the motion of " + dir + "/d.csv")) << along.out;
+  EXPECT_TRUE(contains(along.err, "of the motion's samples need a contact to pull or slide"))
+      << along.err;
 }
 
 }  // namespace

@@ -204,3 +204,18 @@ def test_simulate_floating_keeps_a_soles_centre_of_pressure_in_it(tmp_path):
                 assert abs(n_y) <= 0.1 * f_z + 1e-6 and abs(n_x) <= 0.05 * f_z + 1e-6
     with pytest.raises(ValueError, match="sole"):
         dynid.simulate_floating(romeo, tmp_path / "x.csv", contacts=["l_sole:frame"], sole=(0.2, 0.1))
+
+
+def test_simulate_floating_along_a_given_motion(tmp_path):
+    first = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=20, seed=4)
+    again = dynid.simulate_floating(ANYMAL, tmp_path / "again.csv", motion_from=first)
+    # Noise-free, the same torques and wrenches: the same file but for the last digits.
+    a, b = (Path(p).read_text().splitlines() for p in (first, again))
+    assert a[0] == b[0] and len(a) == len(b)
+    for x, y in zip(a[1:], b[1:]):
+        for u, v in zip(x.split(","), y.split(",")):
+            assert abs(float(u) - float(v)) <= 1e-9 * (1 + abs(float(u)))
+    with pytest.warns(UserWarning, match="pull or slide"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "cones.csv", motion_from=first, friction_cone=0.2)
+    with pytest.raises(ValueError, match="motion_from"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion_from=first, motion="free")

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "analysis/floating/identify.hpp"
+#include "analysis/floating/simulate.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "data/io.hpp"
@@ -118,6 +119,19 @@ TEST(FloatingPrepare, TheWrenchAndTorquesAreThePreparedMotionsInverseDynamics) {
   // The signals' own errors (above: 1e-3 for the accelerations) through the dynamics; a frame or
   // sign mistake shows at 1e-1.
   EXPECT_LT(relativeGap(predicted, measured), 1e-3);
+  // The prepared motion simulated again, the support carrying the base (its wrench at the base
+  // link's origin, in its axes): exactly that inverse dynamics, at the recording's times.
+  FloatingSimulationOptions along;
+  along.motion = FloatingMotion::kCarried;
+  along.motion_from = std::make_shared<const FloatingDataset>(d);
+  const FloatingDataset again = simulateFloatingDataset(p.model, along);
+  ASSERT_EQ(again.numSamples(), N);
+  EXPECT_EQ(again.time, d.time);
+  ASSERT_EQ(again.wrenches.size(), 1u);
+  EXPECT_EQ(again.wrenches[0].frame, p.model.baseName());
+  Eigen::MatrixXd simulated(6 + n, N);
+  simulated << again.wrenches[0].values, again.tau;
+  EXPECT_LT(relativeGap(simulated, predicted), 1e-12);
 }
 
 /// Contact flags from a wrench: a threshold inside the range of the support's force (the robot's

@@ -237,6 +237,69 @@ TEST(FrictionCones, ASoleIsRefusedWhereItCannotStand) {
   expectRefused(anymal, options, {"`sole`", "no frame contact"});
 }
 
+/// A given motion (another dataset's time, base and joints, its flags saying what holds):
+/// noise-free, the torques, wrenches and flags of the dataset it came from; within cones too
+/// narrow for some of its states, those keep their least-norm forces and are named.
+TEST(GivenMotion, ReproducesTheDatasetItCameFrom) {
+  const FloatingModel model = load(kAnymal);
+  FloatingSimulationOptions options;
+  options.samples = 40;
+  options.seed = 3;
+  options.contacts = contactsOf(model, kAnymal.contacts);
+  const FloatingDataset original = simulateFloatingDataset(model, options);
+  FloatingSimulationOptions along;  // its contacts: the dataset's flagged frames
+  along.motion_from = std::make_shared<const FloatingDataset>(original);
+  std::vector<int> outside, unsupported;
+  const FloatingDataset again =
+      simulateFloatingDataset(model, along, nullptr, &outside, &unsupported);
+  EXPECT_TRUE(outside.empty());
+  EXPECT_TRUE(unsupported.empty());
+  ASSERT_EQ(again.numSamples(), original.numSamples());
+  EXPECT_EQ(again.time, original.time);
+  EXPECT_LT((again.tau - original.tau).norm(), 1e-9 * original.tau.norm());
+  ASSERT_EQ(again.wrenches.size(), original.wrenches.size());
+  for (std::size_t c = 0; c < again.wrenches.size(); ++c) {
+    EXPECT_EQ(again.wrenches[c].frame, original.wrenches[c].frame);
+    const Eigen::MatrixXd& w = original.wrenches[c].values;
+    EXPECT_LE((again.wrenches[c].values - w).norm(), 1e-9 * w.norm());
+    EXPECT_EQ(again.flags[c].holding, original.flags[c].holding);
+  }
+  // Random states need a pull or a slide at mu 0.3 now and then: kept, with the least-norm forces.
+  along.friction_cone = 0.3;
+  const FloatingDataset coned =
+      simulateFloatingDataset(model, along, nullptr, &outside, &unsupported);
+  EXPECT_FALSE(outside.empty());
+  EXPECT_LT(outside.size(), 40u);
+  EXPECT_TRUE(unsupported.empty());
+  for (int k : outside)
+    for (std::size_t c = 0; c < coned.wrenches.size(); ++c)
+      EXPECT_LE((coned.wrenches[c].values.col(k) - original.wrenches[c].values.col(k)).norm(),
+                1e-9 * original.wrenches[c].values.col(k).norm() + 1e-12);
+}
+
+TEST(GivenMotion, IsRefusedWhereItCannotBeSimulated) {
+  const FloatingModel model = load(kAnymal);
+  FloatingSimulationOptions options;
+  options.samples = 5;
+  options.contacts = contactsOf(model, kAnymal.contacts);
+  FloatingSimulationOptions along;
+  along.motion_from =
+      std::make_shared<const FloatingDataset>(simulateFloatingDataset(model, options));
+  along.motion = FloatingMotion::kFree;
+  expectRefused(model, along, {"`motion_from`", "not free"});
+  along.motion = FloatingMotion::kHolding;
+  along.contacts = contactsOf(model, {model.baseName() + ":frame"});
+  expectRefused(model, along, {"`motion_from`", "no flag for the contact at"});
+  along.contacts.clear();
+  FloatingDataset unflagged = *along.motion_from;
+  unflagged.flags.clear();
+  along.motion_from = std::make_shared<const FloatingDataset>(unflagged);
+  expectRefused(model, along, {"`motion_from`", "no contact flag"});
+  along.trajectory = FourierSeries();
+  along.motion = FloatingMotion::kSuspended;
+  expectRefused(model, along, {"`motion_from` and `trajectory`"});
+}
+
 /// z = (beta_hat - beta) / sd over every base parameter and 8 seeds: its RMS is 1 when the
 /// intervals are calibrated; on the ground, and on a base its support carries.
 class Noisy : public ::testing::TestWithParam<FloatingMotion> {};
