@@ -163,7 +163,7 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
     }
     md << percent(s.residual_percent) << " | "
        << (std::isnan(s.validation_percent) ? "-" : percent(s.validation_percent)) << " | "
-       << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3) << " |\n";
+       << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3, "-") << " |\n";
   }
   if (!sources.payloads.empty()) {
     const FloatingPayload& first = sources.payloads.front();
@@ -222,7 +222,7 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
     out << s.base.base.numBase() << " base parameters, residual " << percent(s.residual_percent);
     if (!std::isnan(s.validation_percent)) out << ", held out " << percent(s.validation_percent);
     out << ", " << percent(s.model_error_percent) << " from the model (z RMS "
-        << formatNumber(s.model_z_rms, 3) << ")";
+        << formatNumber(s.model_z_rms, 3, "undefined: a residual at round-off gives no sd") << ")";
     if (s.physical)
       out << (s.physical->converged ? ", physically consistent in " : ", NOT CONVERGED after ")
           << s.physical->iterations << " Newton steps";
