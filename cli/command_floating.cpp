@@ -285,23 +285,21 @@ int runFloatingSimulate(const po::variables_map& vm) {
   const auto at = [&dataset](const std::vector<int>& samples) {
     return "from t = " + formatNumber(dataset.time[samples.front()]) + " s";
   };
+  std::vector<std::string> warnings;
   if (!outside.empty())
-    printWarnings({std::to_string(outside.size()) +
-                   " of the motion's samples need a contact to "
-                   "pull or slide (" +
-                   at(outside) +
-                   "): no forces within the cones carry "
-                   "their base wrench; written with the least-norm forces"},
-                  "dynid simulate: warning: ");
+    warnings.push_back(std::to_string(outside.size()) +
+                       " of the motion's samples need a contact to pull or slide (" + at(outside) +
+                       "): no forces within the cones carry their base wrench; written with the "
+                       "least-norm forces");
   if (!unsupported.empty())
-    printWarnings({std::to_string(unsupported.size()) +
-                   " of the motion's samples need a wrench "
-                   "the contacts holding there cannot carry (" +
-                   at(unsupported) +
-                   "; fewer than six independent directions, e.g. two point feet, or none): "
-                   "written with the least-squares forces, where the floating equations do not "
-                   "hold"},
-                  "dynid simulate: warning: ");
+    warnings.push_back(std::to_string(unsupported.size()) +
+                       " of the motion's samples need a wrench the contacts holding there cannot "
+                       "carry (" +
+                       at(unsupported) +
+                       "; fewer than six independent directions, e.g. two point feet, or none): "
+                       "written with the least-squares forces, where the floating equations do "
+                       "not hold");
+  printWarnings(warnings, "dynid simulate: warning: ");
   if (options.friction_cone > 0.0 && !options.motion_from)
     (out == "-" ? std::cerr : std::cout)
         << "  the contacts' forces within friction cones of mu " << options.friction_cone << ": "

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "analysis/floating/contact_forces.hpp"
 #include "analysis/floating/identifiability.hpp"
@@ -218,6 +219,18 @@ struct Draws {
         "`sole`: no frame contact among the `contacts` stands on a sole (a point "
         "contact has none)");
   }
+  /// A state drawn, with the Jacobian of what holds it and the generalized force its motion needs
+  /// (its forces zero until they are shared).
+  HeldState dynamicsOf(FloatingState state) {
+    ++drawn;
+    HeldState held;
+    held.state = std::move(state);
+    held.J = sampler.jacobian(held.state);
+    const FloatingState& s = held.state;
+    held.generalized = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
+    held.forces = Eigen::VectorXd::Zero(held.J.rows());
+    return held;
+  }
   /// State k of the options' samples, with what holds it: a random state is drawn again while
   /// the cones cannot carry its base wrench (InputError naming `friction_cone` after
   /// kDrawsPerSample, or kDrawsPerSampleOnSoles).
@@ -225,16 +238,10 @@ struct Draws {
     if (options.motion_from) return nextGiven(k);
     const int draws = options.sole.isZero() ? kDrawsPerSample : kDrawsPerSampleOnSoles;
     for (int attempt = 0; attempt < draws; ++attempt) {
-      ++drawn;
-      HeldState held;
-      held.state = draw(k);
-      held.J = sampler.jacobian(held.state);
-      const FloatingState& s = held.state;
-      held.generalized = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
-      held.forces = Eigen::VectorXd::Zero(held.J.rows());
+      HeldState held = dynamicsOf(draw(k));
       if (held.J.rows() == 0) return held;
       const std::optional<Eigen::VectorXd> forces = holdingForces(
-          model, data, options, s, held.J, Eigen::VectorXd(held.generalized.head<6>()));
+          model, data, options, held.state, held.J, Eigen::VectorXd(held.generalized.head<6>()));
       if (forces) {
         held.forces = *forces;
         return held;
@@ -250,15 +257,10 @@ struct Draws {
   /// least-norm ones (`outside`); where the holding contacts cannot carry the base wrench at all
   /// (their base columns of rank < 6, or none holds), the least-squares ones (`unsupported`).
   HeldState nextGiven(int k) {
-    ++drawn;
-    HeldState held;
-    held.state = given(k);
-    held.J = sampler.jacobian(held.state);
+    HeldState held = dynamicsOf(given(k));
     const FloatingState& s = held.state;
-    held.generalized = floatingRnea(model, data, s.base, s.q, s.dq, s.ddq);
     const Eigen::VectorXd wrench = held.generalized.head<6>();
     const double tolerance = 1e-9 * held.generalized.norm();
-    held.forces = Eigen::VectorXd::Zero(held.J.rows());
     if (held.J.rows() == 0) {
       if (wrench.norm() > tolerance) unsupported.push_back(k);
       return held;

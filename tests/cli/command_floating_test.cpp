@@ -320,7 +320,7 @@ TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {
   EXPECT_TRUE(contains(r.out, "states drawn")) << r.out;
   // A humanoid on flat soles: their centres of pressure kept in 0.2 x 0.1 m.
   const Result soles = run("simulate --robot " + kRomeo +
-                           " --floating-base --contacts l_sole:frame,r_sole:frame --samples 20 "
+                           " --floating-base --contacts l_sole:frame,r_sole:frame --samples 3 "
                            "--friction-cone 0.8 --sole 0.2,0.1 --out " +
                            dir + "/soles.csv");
   ASSERT_EQ(soles.code, 0) << soles.err;
