@@ -35,8 +35,8 @@ struct FloatingIdentifyRequest {
   std::vector<SensorSet> sensors;
   /// The motion class the structural base parameters are drawn for; unset: with a contact on
   /// the base body, carried when the base moves in the data (RMS angular rate >= 0.05 rad/s or
-  /// linear acceleration >= 0.2 m/s^2) and suspended when not (a warning says which); holding with
-  /// contacts, free without.
+  /// the linear acceleration's spread about its mean >= 0.2 m/s^2) and suspended when not (a
+  /// warning says which); holding with contacts, free without.
   std::optional<FloatingMotion> motion;
   FloatingMethod method = FloatingMethod::kWls;
   /// pc: the weight of the divergence from the model's own parameters (PhysicalOptions').

@@ -315,6 +315,11 @@ TEST(FloatingPrepare, ACarriedRecordingIsIdentifiedAsCarried) {
   ASSERT_FALSE(suspended.warnings.empty());
   EXPECT_TRUE(test::contains(suspended.warnings[0], "holds the base still (suspended)"))
       << suspended.warnings[0];
+  // An accelerometer's bias (or gravity through an orientation a few degrees off) is constant: a
+  // still base with 0.5 m/s^2 of it is still judged still.
+  FloatingDataset biased = held.out.dataset;
+  biased.acceleration.bottomRows<3>().colwise() += Eigen::Vector3d(0.3, -0.4, 0.0);
+  EXPECT_EQ(floatingIdentifyRun(held.model, request, biased).motion, FloatingMotion::kSuspended);
 }
 
 TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
