@@ -228,12 +228,11 @@ int runFloatingPrepare(const po::variables_map& vm) {
   return kExitOk;
 }
 
-int runFloatingSimulate(const po::variables_map& vm) {
-  refuseOutside(vm,
-                {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads", "trajectory", "friction-cone", "sole", "motion-from"},
-                "simulate");
-  const FloatingModel model = loadFloating(vm);
+namespace {
+/// simulate --floating-base's options as the library's (UsageError for --samples beside
+/// --motion-from and a --sole that is not two numbers).
+FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
+                                            const FloatingModel& model) {
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, nameListOption(vm, "contacts"));
   std::optional<FloatingMotion> motion;
@@ -262,6 +261,17 @@ int runFloatingSimulate(const po::variables_map& vm) {
     const std::vector<double> sole = fixedList(vm, "sole", 2, "two numbers: length,width [m]");
     options.sole = Eigen::Vector2d(sole[0], sole[1]);
   }
+  return options;
+}
+}  // namespace
+
+int runFloatingSimulate(const po::variables_map& vm) {
+  refuseOutside(vm,
+                {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
+                 "noise-moment", "threads", "trajectory", "friction-cone", "sole", "motion-from"},
+                "simulate");
+  const FloatingModel model = loadFloating(vm);
+  const FloatingSimulationOptions options = simulationOptions(vm, model);
   const std::string out = vm["out"].as<std::string>();
   FloatingDataset dataset;
   int drawn = 0;
@@ -272,45 +282,14 @@ int runFloatingSimulate(const po::variables_map& vm) {
     throw UsageError(cliText(e.what()));
   }
   writeFloatingDataset(out, dataset);
+  const std::string motion_file =
+      vm.count("motion-from") ? vm["motion-from"].as<std::string>() : "";
   (out == "-" ? std::cerr : std::cout)
-      << model.name() << " (floating base " << model.baseName() << ", "
-      << floatingMotionName(options.motion) << "): " << dataset.numSamples()
-      << (options.motion_from
-              ? " states of the motion of " + vm["motion-from"].as<std::string>() + ", to "
-          : options.trajectory
-              ? " states of the design over one period, the base held still, to "
-              : " random states, one a row (independent draws, not a trajectory), to ")
-      << (out == "-" ? "standard output" : out) << "\n";
+      << floatingSimulationSummary(model, options, dataset, drawn, motion_file, out);
   std::cout.flush();  // the summary before the warnings, wherever both streams go
-  const auto at = [&dataset](const std::vector<int>& samples) {
-    return "from t = " + formatNumber(dataset.time[samples.front()]) + " s";
-  };
-  std::vector<std::string> warnings;
-  if (!outside.empty())
-    warnings.push_back(std::to_string(outside.size()) +
-                       " of the motion's samples need a contact to pull or slide (" + at(outside) +
-                       "): no forces within the cones carry their base wrench; written with the "
-                       "least-norm forces");
-  if (!unsupported.empty())
-    warnings.push_back(std::to_string(unsupported.size()) +
-                       " of the motion's samples need a wrench the contacts holding there cannot "
-                       "carry (" +
-                       at(unsupported) +
-                       "; fewer than six independent directions, e.g. two point feet, or none): "
-                       "written with the least-squares forces, where the floating equations do "
-                       "not hold");
+  std::vector<std::string> warnings = givenMotionWarnings(dataset, outside, unsupported);
+  cliTexts(warnings);
   printWarnings(warnings, "dynid simulate: warning: ");
-  if (options.friction_cone > 0.0 && !options.motion_from)
-    (out == "-" ? std::cerr : std::cout)
-        << "  the contacts' forces within friction cones of mu " << options.friction_cone << ": "
-        << drawn << " states drawn, " << drawn - options.samples
-        << " of them left out (no forces within the cones carry their base wrench)\n";
-  if (!options.sole.isZero())
-    (out == "-" ? std::cerr : std::cout)
-        << "  every frame contact on a sole of " << formatNumber(options.sole[0]) << " x "
-        << formatNumber(options.sole[1])
-        << " m: its wrench that of four corner forces within the cones, its centre of pressure "
-           "in the sole\n";
   return kExitOk;
 }
 

@@ -104,10 +104,11 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
 
 std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<std::vector<std::string>>& contacts,
-                               const std::optional<std::string>& motion, int samples,
-                               std::uint64_t seed, double noise_tau, double noise_force,
-                               double noise_moment, const TermsLike& drive_terms,
-                               const OptionalPathLike& trajectory, double friction_cone,
+                               const std::optional<std::string>& motion,
+                               const std::optional<int>& samples, std::uint64_t seed,
+                               double noise_tau, double noise_force, double noise_moment,
+                               const TermsLike& drive_terms, const OptionalPathLike& trajectory,
+                               double friction_cone,
                                const std::optional<std::pair<double, double>>& sole,
                                const OptionalPathLike& motion_from) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
@@ -115,14 +116,17 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
   if (!trajectory.is_none())
     options.trajectory = readExcitationDesign(pathArg(trajectory, "trajectory"), model.numJoints());
-  if (!motion_from.is_none())
+  if (!motion_from.is_none()) {
+    if (samples)
+      throw InputError("`samples` does not apply to `motion_from` (its samples are the file's)");
     options.motion_from = std::make_shared<const FloatingDataset>(
         readFloatingDataset(pathArg(motion_from, "motion_from"), model));
+  }
   options.motion = motion                                             ? parseFloatingMotion(*motion)
                    : options.trajectory                               ? FloatingMotion::kSuspended
                    : options.contacts.empty() && !options.motion_from ? FloatingMotion::kFree
                                                                       : FloatingMotion::kHolding;
-  options.samples = samples;
+  options.samples = samples.value_or(200);
   options.seed = seed;
   options.torque_noise = noise_tau;
   options.force_noise = noise_force;
@@ -131,21 +135,14 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   if (sole) options.sole = Eigen::Vector2d(sole->first, sole->second);
   const std::string path = pathArg(out, "out");
   std::vector<int> outside, unsupported;
+  FloatingDataset dataset;
   {
     py::gil_scoped_release release;
-    writeFloatingDataset(path,
-                         simulateFloatingDataset(model, options, nullptr, &outside, &unsupported));
+    dataset = simulateFloatingDataset(model, options, nullptr, &outside, &unsupported);
+    writeFloatingDataset(path, dataset);
   }
-  std::vector<std::string> warnings;
-  if (!outside.empty())
-    warnings.push_back(std::to_string(outside.size()) +
-                       " of the motion's samples need a contact to pull or slide: written with "
-                       "the least-norm forces");
-  if (!unsupported.empty())
-    warnings.push_back(std::to_string(unsupported.size()) +
-                       " of the motion's samples need a wrench the contacts holding there cannot "
-                       "carry: written with the least-squares forces, where the floating "
-                       "equations do not hold");
+  std::vector<std::string> warnings = givenMotionWarnings(dataset, outside, unsupported);
+  pythonTexts(warnings);
   warnAll(warnings);
   return path;
 }
@@ -218,11 +215,12 @@ void bindFloating(py::module_& m) {
         "(unset with a contact on the base: carried when the base moves in the data, else "
         "suspended).");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
-        py::arg("contacts") = py::none(), py::arg("motion") = py::none(), py::arg("samples") = 200,
-        py::arg("seed") = 1, py::arg("noise_tau") = 0.0, py::arg("noise_force") = 0.0,
-        py::arg("noise_moment") = 0.0, py::arg("drive_terms") = py::none(),
-        py::arg("trajectory") = py::none(), py::arg("friction_cone") = 0.0,
-        py::arg("sole") = py::none(), py::arg("motion_from") = py::none(),
+        py::arg("contacts") = py::none(), py::arg("motion") = py::none(),
+        py::arg("samples") = py::none(), py::arg("seed") = 1, py::arg("noise_tau") = 0.0,
+        py::arg("noise_force") = 0.0, py::arg("noise_moment") = 0.0,
+        py::arg("drive_terms") = py::none(), py::arg("trajectory") = py::none(),
+        py::arg("friction_cone") = 0.0, py::arg("sole") = py::none(),
+        py::arg("motion_from") = py::none(),
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
         "(holding, the default with contacts; free; suspended; carried: the base moved by its "
         "support, whose wrench is measured) written to `out`, with noise on "

@@ -120,4 +120,29 @@ std::string floatingIdentifiabilitySummary(const FloatingModel& model,
   return out.str();
 }
 
+std::string floatingSimulationSummary(const FloatingModel& model,
+                                      const FloatingSimulationOptions& options,
+                                      const FloatingDataset& dataset, int drawn,
+                                      const std::string& motion_file, const std::string& out) {
+  std::ostringstream text;
+  text << model.name() << " (floating base " << model.baseName() << ", "
+       << floatingMotionName(options.motion) << "): " << dataset.numSamples()
+       << (options.motion_from ? " states of the motion of " + motion_file + ", to "
+           : options.trajectory
+               ? " states of the design over one period, the base held still, to "
+               : " random states, one a row (independent draws, not a trajectory), to ")
+       << (out == "-" ? "standard output" : out) << "\n";
+  if (options.friction_cone > 0.0 && !options.motion_from)
+    text << "  the contacts' forces within friction cones of mu "
+         << formatNumber(options.friction_cone) << ": " << drawn << " states drawn, "
+         << drawn - dataset.numSamples()
+         << " of them left out (no forces within the cones carry their base wrench)\n";
+  if (!options.sole.isZero())
+    text << "  every frame contact on a sole of " << formatNumber(options.sole[0]) << " x "
+         << formatNumber(options.sole[1])
+         << " m: its wrench that of four corner forces within the cones, its centre of pressure "
+            "in the sole\n";
+  return text.str();
+}
+
 }  // namespace dynid

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "analysis/floating/identifiability.hpp"
+#include "analysis/floating/simulate.hpp"
 
 namespace dynid {
 
@@ -21,5 +22,13 @@ std::string floatingIdentifiabilityMarkdown(const FloatingModel& model,
 std::string floatingIdentifiabilitySummary(const FloatingModel& model,
                                            const FloatingIdentifiabilityOutcome& outcome,
                                            const std::string& dir);
+
+/// `dynid simulate --floating-base`'s console lines: what was simulated (random states, a design,
+/// or the motion of `motion_file`) to `out` ("-": standard output), how many states the cones
+/// left out of `drawn`, and the soles.
+std::string floatingSimulationSummary(const FloatingModel& model,
+                                      const FloatingSimulationOptions& options,
+                                      const FloatingDataset& dataset, int drawn,
+                                      const std::string& motion_file, const std::string& out);
 
 }  // namespace dynid

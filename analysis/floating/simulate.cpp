@@ -425,4 +425,25 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
   return out;
 }
 
+std::vector<std::string> givenMotionWarnings(const FloatingDataset& simulated,
+                                             const std::vector<int>& outside_cones,
+                                             const std::vector<int>& unsupported) {
+  const auto counted = [&simulated](const std::vector<int>& samples) {
+    return std::to_string(samples.size()) +
+           " of the motion's samples (from t = " + formatNumber(simulated.time[samples.front()]) +
+           " s)";
+  };
+  std::vector<std::string> out;
+  if (!outside_cones.empty())
+    out.push_back(counted(outside_cones) +
+                  " need a contact to pull or slide: no forces within the cones carry their base "
+                  "wrench; written with the least-norm forces");
+  if (!unsupported.empty())
+    out.push_back(counted(unsupported) +
+                  " need a wrench the contacts holding there cannot carry (fewer than six "
+                  "independent directions, e.g. two point feet, or none): written with the "
+                  "least-squares forces, where the floating equations do not hold");
+  return out;
+}
+
 }  // namespace dynid

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/controllers.hpp"
@@ -93,5 +94,12 @@ FloatingDataset simulateFloatingDataset(const FloatingModel& model,
                                         int* drawn = nullptr,
                                         std::vector<int>* outside_cones = nullptr,
                                         std::vector<int>* unsupported = nullptr);
+
+/// What a simulation along a given motion says of the samples it could not give forces within the
+/// cones (`outside_cones`) or at all (`unsupported`), with their count and the first one's time in
+/// `simulated`; empty when there are none.
+std::vector<std::string> givenMotionWarnings(const FloatingDataset& simulated,
+                                             const std::vector<int>& outside_cones,
+                                             const std::vector<int>& unsupported);
 
 }  // namespace dynid

@@ -215,7 +215,9 @@ def test_simulate_floating_along_a_given_motion(tmp_path):
     for x, y in zip(a[1:], b[1:]):
         for u, v in zip(x.split(","), y.split(",")):
             assert abs(float(u) - float(v)) <= 1e-9 * (1 + abs(float(u)))
-    with pytest.warns(UserWarning, match="pull or slide"):
+    with pytest.warns(UserWarning, match=r"of the motion's samples \(from t = .* s\) need a contact to pull or slide"):
         dynid.simulate_floating(ANYMAL, tmp_path / "cones.csv", motion_from=first, friction_cone=0.2)
     with pytest.raises(ValueError, match="motion_from"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion_from=first, motion="free")
+    with pytest.raises(ValueError, match="samples does not apply to motion_from"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion_from=first, samples=5)

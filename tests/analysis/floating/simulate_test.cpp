@@ -275,6 +275,27 @@ TEST(GivenMotion, ReproducesTheDatasetItCameFrom) {
     for (std::size_t c = 0; c < coned.wrenches.size(); ++c)
       EXPECT_LE((coned.wrenches[c].values.col(k) - original.wrenches[c].values.col(k)).norm(),
                 1e-9 * original.wrenches[c].values.col(k).norm() + 1e-12);
+  std::vector<std::string> said = givenMotionWarnings(coned, outside, unsupported);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_TRUE(test::contains(
+      said[0], std::to_string(outside.size()) + " of the motion's samples (from t = "))
+      << said[0];
+  // One point foot cannot carry a moment about itself: where it alone holds, the wrench is
+  // not carried, and every such sample is named.
+  FloatingDataset one_foot = original;
+  for (std::size_t c = 1; c < one_foot.flags.size(); ++c)
+    std::fill(one_foot.flags[c].holding.begin(), one_foot.flags[c].holding.end(), 0);
+  std::fill(one_foot.flags[0].holding.begin(), one_foot.flags[0].holding.end(), 1);
+  along.friction_cone = 0.0;
+  along.motion_from = std::make_shared<const FloatingDataset>(one_foot);
+  const FloatingDataset lone =
+      simulateFloatingDataset(model, along, nullptr, &outside, &unsupported);
+  EXPECT_TRUE(outside.empty());
+  EXPECT_EQ(unsupported.size(), 40u);
+  said = givenMotionWarnings(lone, outside, unsupported);
+  ASSERT_EQ(said.size(), 1u);
+  EXPECT_TRUE(test::contains(said[0], "40 of the motion's samples (from t = 0 s) need a wrench"))
+      << said[0];
 }
 
 TEST(GivenMotion, IsRefusedWhereItCannotBeSimulated) {
