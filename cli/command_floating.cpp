@@ -144,8 +144,8 @@ int runFloatingIdentify(const po::variables_map& vm) {
     throw UsageError("--unloaded needs --payload-link (the link the payload is fixed to)");
   if (vm.count("unloaded")) {
     sources.unloaded = vm["unloaded"].as<std::string>();
-    const FloatingIdentifyOutcome unloaded =
-        floatingIdentifyRun(model, request, readFloatingDataset(sources.unloaded, model));
+    const FloatingIdentifyOutcome unloaded = floatingIdentifyRun(
+        model, pairedRequest(request, outcome), readFloatingDataset(sources.unloaded, model));
     sources.payloads =
         floatingPayloadsFromPair(model, outcome, unloaded, vm["payload-link"].as<std::string>());
   } else if (vm.count("payload-link")) {

@@ -93,7 +93,9 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
     outcome = floatingIdentifyRun(model, request, training, held_out ? &*held_out : nullptr);
     if (unloaded_data)
       sources.payloads = floatingPayloadsFromPair(
-          model, outcome, floatingIdentifyRun(model, request, *unloaded_data), *payload_link);
+          model, outcome,
+          floatingIdentifyRun(model, pairedRequest(request, outcome), *unloaded_data),
+          *payload_link);
     else if (payload_link)
       sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
   }

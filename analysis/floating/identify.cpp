@@ -289,4 +289,11 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   return out;
 }
 
+FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
+                                      const FloatingIdentifyOutcome& loaded) {
+  FloatingIdentifyRequest out = request;
+  out.motion = loaded.motion;
+  return out;
+}
+
 }  // namespace dynid

@@ -88,6 +88,12 @@ FloatingMeasurement floatingMeasurement(const FloatingModel& model, FloatingData
                                         const std::vector<Contact>& contacts, SensorSet set,
                                         int sample);
 
+/// The request for the other dataset of a loaded/unloaded pair: `request` with the motion class
+/// the loaded data were analysed in (a default taken from one dataset's motion must not differ
+/// between the two, or their base parameters would).
+FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
+                                      const FloatingIdentifyOutcome& loaded);
+
 /// Estimates each set on `data` (and checks it on `validation` when it has samples). Throws
 /// InputError for a bad request, contacts the dataset and the request disagree on, a requested
 /// set the dataset cannot feed; a set whose rows do not determine its base parameters is reported

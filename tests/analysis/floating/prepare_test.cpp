@@ -320,6 +320,12 @@ TEST(FloatingPrepare, ACarriedRecordingIsIdentifiedAsCarried) {
   FloatingDataset biased = held.out.dataset;
   biased.acceleration.bottomRows<3>().colwise() += Eigen::Vector3d(0.3, -0.4, 0.0);
   EXPECT_EQ(floatingIdentifyRun(held.model, request, biased).motion, FloatingMotion::kSuspended);
+  // A loaded/unloaded pair's other dataset is analysed in the first one's motion class, whatever
+  // its own motion would say, so that their base parameters are the same combinations.
+  const FloatingIdentifyOutcome paired =
+      floatingIdentifyRun(held.model, pairedRequest(request, fit), held.out.dataset);
+  EXPECT_EQ(paired.motion, FloatingMotion::kCarried);
+  EXPECT_TRUE(paired.warnings.empty());
 }
 
 TEST(FloatingPrepare, AGapInOneTopicSplitsTheLogAroundIt) {
