@@ -9,6 +9,7 @@
 #include "core/checks.hpp"
 #include "core/data.hpp"
 #include "core/floating/floating_model.hpp"
+#include "core/floating/lane_pairs.hpp"
 
 namespace dynid {
 
@@ -34,7 +35,9 @@ struct FloatingDataTpl {
         Y(RowMatrixX<Scalar>::Zero(model.numVelocities(), model.numParameters())),
         M(MatrixX<Scalar>::Zero(model.numVelocities(), model.numVelocities())),
         llt(model.numVelocities()),
-        base_axes(static_cast<std::size_t>(model.numJoints()), Vector6<Scalar>::Zero()) {}
+        base_axes(static_cast<std::size_t>(model.numJoints()), Vector6<Scalar>::Zero()),
+        motions(static_cast<std::size_t>(model.numJoints())),
+        forces(static_cast<std::size_t>(model.numJoints())) {}
 
   /// The limbs' workspace: liMi, v, a, f in joint frames as the fixed-base algorithms keep them;
   /// oMj and oMi place joint and link frames in the base frame (floatingRegressor sets oMj).
@@ -63,6 +66,13 @@ struct FloatingDataTpl {
   Eigen::LLT<MatrixX<Scalar>> llt;
   /// floatingRegressor: each joint's motion axis S_j in the base frame.
   std::vector<Vector6<Scalar>> base_axes;
+  /// The forward pass (floatingRnea, floatingRegressor): each limb body's velocity and
+  /// acceleration in its joint frame as lane pairs (lane_pairs.hpp), the base body's in the base
+  /// frame.
+  std::vector<MotionPair<Scalar>> motions;
+  MotionPair<Scalar> base_motion;
+  /// floatingRnea's backward pass: each limb body's force (moment, force) as lane pairs.
+  std::vector<Pair3<Scalar>> forces;
 };
 using FloatingData = FloatingDataTpl<double>;
 

@@ -125,9 +125,7 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
   // carried to the base frame as a force, X* A = [[R A_n + t x R A_f], [R A_f]] with A's blocks
   // [[0, -[g]x, N], [g, M2, 0]] (regressor-inl.hpp) and (R, t) the link frame in the base frame.
   // Each body's columns are filled as the forward pass reaches it.
-  const auto perBody = [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v,
-                           const Vector3<Scalar>& dw,
-                           const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
+  const auto perBody = [&](int i, const MotionPair<Scalar>& m) DYNID_INLINE_LAMBDA {
     if (i < 0) {  // the base body, in the base frame: its columns' base rows alone
       floating_detail::setBaseRows(
           regressor_detail::BodyRegressor<Scalar>(data.base_v, data.base_a), Pose<Scalar>(), 0,
@@ -139,6 +137,8 @@ DYNID_FLATTEN const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl
     const Pose<Scalar>& B = limbs.body_placements()[i];
     const bool plain = model.plainBodies()[static_cast<std::size_t>(i)] != 0;
     const int column = FloatingModelTpl<Scalar>::limbColumn(layout.linkIndex(i, 0));
+    const Vector3<Scalar> w = m.angular.lane(0), v = m.linear.lane(0);
+    const Vector3<Scalar> dw = m.angular.lane(1), dv = m.linear.lane(1);
     const regressor_detail::BodyRegressor<Scalar> A =
         plain ? regressor_detail::BodyRegressor<Scalar>(w, v, dw, dv)
               : floating_detail::linkRegressor(B, w, v, dw, dv);

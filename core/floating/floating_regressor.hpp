@@ -11,9 +11,9 @@ namespace dynid {
 /// then the limbs' columns as jointTorqueRegressor orders them. The base rows see every body's
 /// inertial parameters and no drive term (the drives act between links). Y does not depend on the
 /// model's parameter values. Throws InputError on a size mismatch. Overwrites data.limbs' liMi,
-/// oMj, v, a, data.base_axes, base_v, base_a and data.Y's structurally non-zero entries: the
-/// others are zero from the Data's construction and never written, so the caller must not write
-/// data.Y (copy it). Returns data.Y. Allocates nothing.
+/// oMj, data.motions, base_motion, base_axes, base_v, base_a and data.Y's structurally non-zero
+/// entries: the others are zero from the Data's construction and never written, so the caller must
+/// not write data.Y (copy it). Returns data.Y. Allocates nothing.
 template <typename Scalar>
 const RowMatrixX<Scalar>& floatingRegressor(const FloatingModelTpl<Scalar>& model,
                                             FloatingDataTpl<Scalar>& data,

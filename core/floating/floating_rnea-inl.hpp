@@ -6,6 +6,7 @@
 
 #include "core/crba-inl.hpp"
 #include "core/floating/floating_rnea.hpp"
+#include "core/floating/lane_pairs.hpp"
 #include "core/friction.hpp"
 
 namespace dynid {
@@ -23,17 +24,6 @@ template <typename Scalar>
 DYNID_INLINE const Vector6<Scalar>& parentOf(const std::vector<Vector6<Scalar>>& limb,
                                              const Vector6<Scalar>& base, int parent) {
   return parent < 0 ? base : limb[static_cast<std::size_t>(parent)];
-}
-
-/// w x (e_k x): two entries.
-template <typename Scalar>
-DYNID_INLINE Vector3<Scalar> crossUnit(const Vector3<Scalar>& w, int k, const Scalar& x) {
-  // w x e_k: k = 0 (0, w_z, -w_y), 1 (-w_z, 0, w_x), 2 (w_y, -w_x, 0).
-  Vector3<Scalar> out;
-  out[k] = Scalar(0);
-  out[(k + 1) % 3] = w[(k + 2) % 3] * x;
-  out[(k + 2) % 3] = -w[(k + 1) % 3] * x;
-  return out;
 }
 
 /// The limbs' joint transforms liMi at q, as setJointTransformsBlock writes them, a joint about
@@ -67,9 +57,9 @@ DYNID_INLINE void setLimbTransforms(const FloatingModelTpl<Scalar>& model,
 }
 
 /// The forward pass shared by inverse dynamics and the regressor: every body's twist and
-/// acceleration (gravity as the base's -g) in its joint frame, the base's in the base frame. It
-/// works on 3-vector halves, as rnea does (mixed scalar and packed accesses to 6-vectors stall
-/// store forwarding), and hands each body's halves (i, w, v, dw, dv) to `body` while they are in
+/// acceleration (gravity as the base's -g) in its joint frame, the base's in the base frame, as
+/// lane pairs (lane_pairs.hpp: the velocity's and the acceleration's halves moved by one
+/// instruction each), kept in data.motions. Each body's pairs go to `body` while they are in
 /// registers (inverse dynamics: its force; the regressor: its columns), the base body's first as
 /// body -1 (in the base frame). Checks the sizes and the Data first (InputError).
 template <typename Scalar, typename PerBody>
@@ -77,55 +67,64 @@ DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDat
                               const BaseMotionTpl<Scalar>& base, const ConstVectorRef<Scalar>& q,
                               const ConstVectorRef<Scalar>& dq, const ConstVectorRef<Scalar>& ddq,
                               PerBody&& body) {
-  using V3 = Vector3<Scalar>;
   checkFloatingData(model, data);
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
-  checkState(limbs, ld, q, dq, ddq, "ddq");
+  checkSize(limbs, q, "q");
+  checkSize(limbs, dq, "dq");
+  checkSize(limbs, ddq, "ddq");
   data.base_v = base.twist;
   data.base_a = base.acceleration;
   data.base_a.template tail<3>() -= transposeTimes(base.rotation, model.gravity());
-  body(-1, V3(data.base_v.template head<3>()), V3(data.base_v.template tail<3>()),
-       V3(data.base_a.template head<3>()), V3(data.base_a.template tail<3>()));
+  data.base_motion = MotionPair<Scalar>::of(data.base_v, data.base_a);
+  body(-1, data.base_motion);
   const int n = limbs.numJoints();
   setLimbTransforms(model, ld.liMi, q);
   for (int i = 0; i < n; ++i) {
     const Pose<Scalar>& X = ld.liMi[i];
     const int p = limbs.parents()[i];
-    const Vector6<Scalar>& vp = parentOf(ld.v, data.base_v, p);
-    const Vector6<Scalar>& ap = parentOf(ld.a, data.base_a, p);
-    const V3 wp = vp.template head<3>(), lp = vp.template tail<3>();
-    const V3 dwp = ap.template head<3>(), dlp = ap.template tail<3>();
-    // iXp m = (R^T w, R^T (v - t x w)); then + S dq, and the acceleration's v x S dq + S ddq.
-    V3 w = transposeTimes(X.rotation, wp);
-    V3 v = transposeTimes(X.rotation, V3(lp - cross(X.translation, wp)));
-    V3 dw = transposeTimes(X.rotation, dwp);
-    V3 dv = transposeTimes(X.rotation, V3(dlp - cross(X.translation, dwp)));
+    const MotionPair<Scalar>& parent =
+        p < 0 ? data.base_motion : data.motions[static_cast<std::size_t>(p)];
+    // iXp m = (R^T w, R^T (v - t x w)) in both lanes; then + S dq, and the acceleration's
+    // v x S dq + S ddq.
+    MotionPair<Scalar> m{
+        transposeTimes(X.rotation, parent.angular),
+        transposeTimes(X.rotation, parent.linear - cross(X.translation, parent.angular))};
     const int k = limbs.subspace_index()[i], r = model.revoluteAxes()[i];
     if (r >= 0) {  // revolute about +-e_r: the rates' sign folded in
-      const Scalar x = model.axisSigns()[i] > 0 ? dq[i] : Scalar(-dq[i]);
-      dw += crossUnit(w, r, x);
-      dv += crossUnit(v, r, x);
-      w[r] += x;
-      dw[r] += model.axisSigns()[i] > 0 ? ddq[i] : Scalar(-ddq[i]);
-    } else if (k >= 3) {                 // prismatic along e_(k-3)
-      dv += crossUnit(w, k - 3, dq[i]);  // v x (0, e dq) = (0, w x e dq)
-      v[k - 3] += dq[i];
-      dv[k - 3] += ddq[i];
+      const bool plus = model.axisSigns()[i] > 0;
+      const Scalar x = plus ? dq[i] : Scalar(-dq[i]);
+      addRateCross(m.angular, m.angular, r, x);
+      addRateCross(m.linear, m.linear, r, x);
+      m.angular.c[r] += lane_detail::make(x, plus ? ddq[i] : Scalar(-ddq[i]));
+    } else if (k >= 3) {  // prismatic along e_(k-3): v x (0, e dq) = (0, w x e dq)
+      addRateCross(m.angular, m.linear, k - 3, dq[i]);
+      m.linear.c[k - 3] += lane_detail::make(dq[i], ddq[i]);
     } else {  // a general axis: the spatial algebra
-      Vector6<Scalar> vel, acc;
-      vel << w, v;
+      Vector6<Scalar> vel = m.velocity(), acc = m.acceleration();
       addJointMotion(limbs, i, dq[i], vel);
-      acc << dw, dv;
       acc += crossJointMotion(limbs, i, vel, dq[i]);
       addJointMotion(limbs, i, ddq[i], acc);
-      w = vel.template head<3>(), v = vel.template tail<3>();
-      dw = acc.template head<3>(), dv = acc.template tail<3>();
+      m = MotionPair<Scalar>::of(vel, acc);
     }
-    ld.v[i].template head<3>() = w, ld.v[i].template tail<3>() = v;
-    ld.a[i].template head<3>() = dw, ld.a[i].template tail<3>() = dv;
-    body(i, w, v, dw, dv);
+    data.motions[static_cast<std::size_t>(i)] = m;
+    body(i, m);
   }
+}
+
+/// A body's force f = I a + v x* (I v) as (moment, force) lanes, from its motion's lanes: with
+/// I v = (hw, hv) = (I_o w + c x v, m v - c x w), f = (I_o dw + c x dv + w x hw + v x hv,
+/// m dv - c x dw + w x hv), c the first moment.
+template <typename Scalar>
+DYNID_INLINE Pair3<Scalar> bodyForce(const RigidInertia<Scalar>& I, const MotionPair<Scalar>& m) {
+  // Both lanes at once: A = (hw, I_o dw + c x dv), B = (hv, m dv - c x dw).
+  const Pair3<Scalar> A = times(I.inertia, m.angular) + cross(I.first_moment, m.linear);
+  const Pair3<Scalar> B = m.linear * I.mass - cross(I.first_moment, m.angular);
+  // + (w x hw, w x hv), then + (v x hv, 0): v x B's lanes, its second dropped.
+  const Pair3<Scalar> vB = cross(Vector3<Scalar>(m.linear.lane(0)), B);
+  return Pair3<Scalar>::highs(A, B) +
+         cross(Vector3<Scalar>(m.angular.lane(0)), Pair3<Scalar>::lows(A, B)) +
+         Pair3<Scalar>::lows(vB, Pair3<Scalar>::zero());
 }
 }  // namespace floating_detail
 
@@ -139,43 +138,41 @@ DYNID_FLATTEN const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>
                                                   const ConstVectorRef<Scalar>& ddq) {
   const ModelTpl<Scalar>& limbs = model.limbs();
   DataTpl<Scalar>& ld = data.limbs;
-  // f = I a + v x* (I v), with I v = (I_o w + h x v, m v - h x w); the base body's too.
-  floating_detail::forwardPass(
-      model, data, base, q, dq, ddq,
-      [&](int i, const Vector3<Scalar>& w, const Vector3<Scalar>& v, const Vector3<Scalar>& dw,
-          const Vector3<Scalar>& dv) DYNID_INLINE_LAMBDA {
-        if (i < 0) {
-          const RigidInertia<Scalar>& IB = model.baseInertia();
-          data.base_f = IB.apply(data.base_a) + crossForce(data.base_v, IB.apply(data.base_v));
-          return;
-        }
-        const RigidInertia<Scalar>& I = limbs.frame_inertias()[i];
-        const Vector3<Scalar> hw = I.inertia * w + cross(I.first_moment, v);
-        const Vector3<Scalar> hv = I.mass * v - cross(I.first_moment, w);
-        ld.f[i].template head<3>() =
-            I.inertia * dw + cross(I.first_moment, dv) + cross(w, hw) + cross(v, hv);
-        ld.f[i].template tail<3>() = I.mass * dv - cross(I.first_moment, dw) + cross(w, hv);
-      });
+  Pair3<Scalar> base_force;
+  floating_detail::forwardPass(model, data, base, q, dq, ddq,
+                               [&](int i, const MotionPair<Scalar>& m) DYNID_INLINE_LAMBDA {
+                                 if (i < 0)
+                                   base_force = floating_detail::bodyForce(model.baseInertia(), m);
+                                 else
+                                   data.forces[static_cast<std::size_t>(i)] =
+                                       floating_detail::bodyForce(limbs.frame_inertias()[i], m);
+                               });
   const int n = limbs.numJoints();
   // Backward pass: tau_i = S_i^T f_i (+ drives); each force carried to its parent, the roots'
   // to the base body, whose total is the wrench the motion needs.
   for (int i = n - 1; i >= 0; --i) {
+    const Pair3<Scalar>& f = data.forces[static_cast<std::size_t>(i)];
     const int r = model.revoluteAxes()[i];
-    Scalar tau_i = r < 0                      ? projectOnJoint(limbs, i, ld.f[i])
-                   : model.axisSigns()[i] > 0 ? ld.f[i][r]
-                                              : Scalar(-ld.f[i][r]);
+    Scalar tau_i;
+    if (r < 0) {
+      Vector6<Scalar> f6;
+      f6 << f.lane(0), f.lane(1);
+      tau_i = projectOnJoint(limbs, i, f6);
+    } else {
+      tau_i = model.axisSigns()[i] > 0 ? f.c[r](0) : Scalar(-f.c[r](0));
+    }
     if (limbs.driveTerms().any()) tau_i += driveTorque(limbs, i, dq[i], ddq[i]);
     data.tau[6 + i] = tau_i;
-    // f_p += pXi* f_i = (R n + t x R f, R f), on halves.
+    // f_p += pXi* f_i = (R n + t x R f, R f), both lanes' rotations at once.
     const int p = limbs.parents()[i];
     const Pose<Scalar>& X = ld.liMi[i];
-    const Vector3<Scalar> rf = X.rotation * Vector3<Scalar>(ld.f[i].template tail<3>());
-    const Vector3<Scalar> rn =
-        X.rotation * Vector3<Scalar>(ld.f[i].template head<3>()) + cross(X.translation, rf);
-    Vector6<Scalar>& fp = p < 0 ? data.base_f : ld.f[p];
-    fp.template head<3>() += rn;
-    fp.template tail<3>() += rf;
+    const Pair3<Scalar> moved = times(X.rotation, f);
+    // (t x R f, 0): t x both lanes, the first dropped.
+    const Pair3<Scalar> offset =
+        Pair3<Scalar>::highs(cross(X.translation, moved), Pair3<Scalar>::zero());
+    (p < 0 ? base_force : data.forces[static_cast<std::size_t>(p)]) += moved + offset;
   }
+  data.base_f << base_force.lane(0), base_force.lane(1);
   data.tau.template head<6>() = data.base_f;
   return data.tau;
 }

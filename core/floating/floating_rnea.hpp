@@ -9,8 +9,9 @@ namespace dynid {
 /// Inverse dynamics: the generalized force (w, tau) = M(q) (dnu, ddq) + h(q, nu, dq) (+ the
 /// limbs' drive terms on tau), w the wrench (n, f) about the base origin in base-frame axes that
 /// the motion needs from outside the robot. q, dq, ddq have n entries. Throws InputError on a size
-/// mismatch or a Data built for another model. Overwrites data.limbs' liMi, v, a, f and tau,
-/// data.base_v, base_a, base_f, data.tau. Returns data.tau (6 + n). Allocates nothing.
+/// mismatch or a Data built for another model. Overwrites data.limbs' liMi, data.motions,
+/// base_motion, forces, base_v, base_a, base_f and tau. Returns data.tau (6 + n). Allocates
+/// nothing.
 template <typename Scalar>
 const VectorX<Scalar>& floatingRnea(const FloatingModelTpl<Scalar>& model,
                                     FloatingDataTpl<Scalar>& data,
