@@ -229,8 +229,28 @@ int runFloatingPrepare(const po::variables_map& vm) {
 }
 
 namespace {
+/// --sole: LENGTH,WIDTH (a rectangle centred at the frame) or X1,Y1,X2,Y2,X3,Y3[,...] (corners).
+std::vector<Eigen::Vector2d> soleOption(const po::variables_map& vm) {
+  const std::vector<double> v = parseList(vm["sole"].as<std::string>(), "sole");
+  if (v.size() == 2) {
+    try {
+      return rectangularSole(v[0], v[1]);
+    } catch (const InputError& e) {
+      throw UsageError(cliText(e.what()));
+    }
+  }
+  if (v.size() < 6 || v.size() % 2 != 0)
+    throw UsageError(
+        "--sole takes LENGTH,WIDTH [m] (a rectangle centred at the frame) or the corners "
+        "X1,Y1,X2,Y2,X3,Y3[,...] [m] in the frame's x-y plane, not " +
+        std::to_string(v.size()) + " numbers");
+  std::vector<Eigen::Vector2d> corners;
+  for (std::size_t k = 0; k < v.size(); k += 2) corners.emplace_back(v[k], v[k + 1]);
+  return corners;
+}
+
 /// simulate --floating-base's options as the library's (UsageError for --samples beside
-/// --motion-from and a --sole that is not two numbers).
+/// --motion-from and a --sole that is neither a size nor corners).
 FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
                                             const FloatingModel& model) {
   FloatingSimulationOptions options;
@@ -257,10 +277,7 @@ FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
   options.force_noise = vm["noise-force"].as<double>();
   options.moment_noise = vm["noise-moment"].as<double>();
   options.friction_cone = vm["friction-cone"].as<double>();
-  if (vm.count("sole")) {
-    const std::vector<double> sole = fixedList(vm, "sole", 2, "two numbers: length,width [m]");
-    options.sole = Eigen::Vector2d(sole[0], sole[1]);
-  }
+  if (vm.count("sole")) options.sole = soleOption(vm);
   return options;
 }
 }  // namespace

@@ -71,10 +71,11 @@ void addSimulateOptions(po::options_description& options) {
       "noise-moment", po::value<double>()->default_value(0.0))(
       "friction-cone", po::value<double>()->default_value(0.0))(
       "sole", po::value<std::string>(),
-      "with --floating-base and --friction-cone: a flat sole LENGTH,WIDTH [m] under every frame "
-      "contact (along its frame's x and y, centred at its origin): its wrench is that of four "
+      "with --floating-base and --friction-cone: a flat sole under every frame contact, "
+      "LENGTH,WIDTH [m] (a rectangle along its frame's x and y, centred at its origin) or its "
+      "corners X1,Y1,X2,Y2,X3,Y3[,...] [m] in the frame's x-y plane: its wrench is that of "
       "corner forces within the cones about the sole's normal, so its centre of pressure stays "
-      "in the sole")(
+      "in the corners' convex hull")(
       "motion-from", po::value<std::string>(),
       "with --floating-base: the motion of this floating dataset (its time, base and joints, "
       "sample by sample; its torques and wrenches not read) instead of random states, the "
@@ -227,7 +228,7 @@ int runSimulate(const std::vector<std::string>& args) {
                         "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
                         "[--samples N | --motion-from D.csv] [--noise-tau S] [--noise-force S] "
                         "[--friction-cone MU "
-                        "[--sole L,W]] --out FILE.csv",
+                        "[--sole L,W|X1,Y1,...]] --out FILE.csv",
                         vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);

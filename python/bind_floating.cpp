@@ -104,14 +104,39 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
 
+/// sole=(length, width) [m], a rectangle centred at the frame, or [(x, y), ...] [m], its corners.
+std::vector<Eigen::Vector2d> soleOf(const py::object& sole) {
+  const InputError bad("`sole` is (length, width) [m] or a sequence of corners (x, y) [m]");
+  const auto number = [&](py::handle h) {
+    try {
+      return h.cast<double>();
+    } catch (const py::cast_error&) {
+      throw bad;
+    }
+  };
+  const auto sequence = [](py::handle h) {
+    return py::isinstance<py::sequence>(h) && !py::isinstance<py::str>(h);
+  };
+  if (!sequence(sole)) throw bad;
+  const py::sequence items = sole.cast<py::sequence>();
+  if (items.size() == 2 && !sequence(items[0]) && !sequence(items[1]))
+    return rectangularSole(number(items[0]), number(items[1]));
+  std::vector<Eigen::Vector2d> corners;
+  for (py::handle item : items) {
+    if (!sequence(item) || py::len(item) != 2) throw bad;
+    const py::sequence xy = py::reinterpret_borrow<py::sequence>(item);
+    corners.emplace_back(number(xy[0]), number(xy[1]));
+  }
+  return corners;
+}
+
 std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<std::vector<std::string>>& contacts,
                                const std::optional<std::string>& motion,
                                const std::optional<int>& samples, std::uint64_t seed,
                                double noise_tau, double noise_force, double noise_moment,
                                const TermsLike& drive_terms, const OptionalPathLike& trajectory,
-                               double friction_cone,
-                               const std::optional<std::pair<double, double>>& sole,
+                               double friction_cone, const py::object& sole,
                                const OptionalPathLike& motion_from) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
@@ -134,7 +159,7 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   options.force_noise = noise_force;
   options.moment_noise = noise_moment;
   options.friction_cone = friction_cone;
-  if (sole) options.sole = Eigen::Vector2d(sole->first, sole->second);
+  if (!sole.is_none()) options.sole = soleOf(sole);
   const std::string path = pathArg(out, "out");
   std::vector<int> outside, unsupported;
   FloatingDataset dataset;
@@ -230,8 +255,10 @@ void bindFloating(py::module_& m) {
         "robot with its base fixed), `samples` states of that design over one period, the base "
         "held still; with friction_cone (mu, holding), the contacts' forces within friction "
         "cones about the ground's normal, states they cannot hold drawn again; with sole "
-        "(length, width) [m] too, every frame contact's wrench that of its sole's four corner "
-        "forces within the cones about the sole's normal (its centre of pressure in the sole); "
+        "(length, width) [m] (a rectangle centred at the frame) or its corners [(x, y), ...] "
+        "[m] in the frame's x-y plane too, every frame contact's wrench that of its sole's corner "
+        "forces within the cones about the sole's normal (its centre of pressure in the "
+        "corners' convex hull); "
         "with motion_from (a floating dataset's path), its motion sample by sample instead of "
         "random states, the contacts holding where its flags say. Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),

@@ -120,6 +120,20 @@ std::string floatingIdentifiabilitySummary(const FloatingModel& model,
   return out.str();
 }
 
+namespace {
+/// "L x W m" for a rectangle centred at the frame, else the corners.
+std::string soleText(const std::vector<Eigen::Vector2d>& sole) {
+  const Eigen::Vector2d half = sole[0].cwiseAbs();
+  if (sole == rectangularSole(2.0 * half.x(), 2.0 * half.y()))
+    return formatNumber(2.0 * half.x()) + " x " + formatNumber(2.0 * half.y()) + " m";
+  std::string text = std::to_string(sole.size()) + " corners";
+  for (std::size_t k = 0; k < sole.size(); ++k)
+    text += (k == 0 ? " (" : ", (") + formatNumber(sole[k].x()) + ", " + formatNumber(sole[k].y()) +
+            ")";
+  return text + " m";
+}
+}  // namespace
+
 std::string floatingSimulationSummary(const FloatingModel& model,
                                       const FloatingSimulationOptions& options,
                                       const FloatingDataset& dataset, int drawn,
@@ -137,11 +151,10 @@ std::string floatingSimulationSummary(const FloatingModel& model,
          << formatNumber(options.friction_cone) << ": " << drawn << " states drawn, "
          << drawn - dataset.numSamples()
          << " of them left out (no forces within the cones carry their base wrench)\n";
-  if (!options.sole.isZero())
-    text << "  every frame contact on a sole of " << formatNumber(options.sole[0]) << " x "
-         << formatNumber(options.sole[1])
-         << " m: its wrench that of four corner forces within the cones, its centre of pressure "
-            "in the sole\n";
+  if (!options.sole.empty())
+    text << "  every frame contact on a sole of " << soleText(options.sole)
+         << ": its wrench that of " << options.sole.size()
+         << " corner forces within the cones, its centre of pressure in the sole\n";
   return text.str();
 }
 

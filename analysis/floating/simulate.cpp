@@ -66,7 +66,7 @@ ContactCones conesOf(const FloatingModel& model, const FloatingSimulationOptions
 
 /// The base wrench's split among the holding contacts (J's rows: a point's force, a frame's moment
 /// about its origin then its force, in the base's axes), within the cones: conesOf's, or with a
-/// sole each frame contact's wrench that of the forces at its sole's four corners, each coned
+/// sole each frame contact's wrench that of the forces at its sole's corners, each coned
 /// about the sole's normal (FloatingSimulationOptions::sole). nullopt when they cannot carry it.
 std::optional<Eigen::VectorXd> holdingForces(const FloatingModel& model, FloatingData& data,
                                              const FloatingSimulationOptions& o,
@@ -74,13 +74,14 @@ std::optional<Eigen::VectorXd> holdingForces(const FloatingModel& model, Floatin
                                              const Eigen::VectorXd& wrench) {
   const Eigen::MatrixXd map = J.leftCols<6>().transpose();
   const ContactCones cones = conesOf(model, o, state);
-  if (o.sole.isZero()) return contactForces(map, wrench, cones);
-  // The unknowns (3 a point, 12 a sole's corners) and E, the map from them to J's rows.
+  if (o.sole.empty()) return contactForces(map, wrench, cones);
+  // The unknowns (3 a point, 3 a sole's corner) and E, the map from them to J's rows.
   const auto isFrame = [&](int c) {
     return o.contacts[static_cast<std::size_t>(c)].kind == Contact::Kind::kFrame;
   };
   Eigen::Index unknowns = 0;
-  for (int c : state.active) unknowns += isFrame(c) ? 12 : 3;
+  const auto corners_count = static_cast<Eigen::Index>(o.sole.size());
+  for (int c : state.active) unknowns += isFrame(c) ? 3 * corners_count : 3;
   Eigen::MatrixXd E = Eigen::MatrixXd::Zero(J.rows(), unknowns);
   ContactCones corners;
   corners.friction = o.friction_cone;
@@ -95,9 +96,8 @@ std::optional<Eigen::VectorXd> holdingForces(const FloatingModel& model, Floatin
     }
     const Eigen::Matrix3d R =
         contactPose(model, data, o.contacts[static_cast<std::size_t>(c)], state.q).rotation;
-    for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector3d corner((k & 1 ? 0.5 : -0.5) * o.sole[0],
-                                   (k & 2 ? 0.5 : -0.5) * o.sole[1], 0.0);
+    for (const Eigen::Vector2d& xy : o.sole) {
+      const Eigen::Vector3d corner(xy.x(), xy.y(), 0.0);
       E.block<3, 3>(row, unknown) = skew(Eigen::Vector3d(R * corner));
       E.block<3, 3>(row + 3, unknown).setIdentity();
       corners.coned.push_back(static_cast<int>(unknown));
@@ -109,6 +109,19 @@ std::optional<Eigen::VectorXd> holdingForces(const FloatingModel& model, Floatin
   const std::optional<Eigen::VectorXd> x = contactForces(map * E, wrench, corners);
   if (!x) return std::nullopt;
   return Eigen::VectorXd(E * *x);
+}
+
+/// Whether the corners span an area: some corner off the line through the first and the one
+/// farthest from it (beyond round-off of that distance squared).
+bool enclosesArea(const std::vector<Eigen::Vector2d>& corners) {
+  Eigen::Vector2d far = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& c : corners)
+    if ((c - corners[0]).squaredNorm() > far.squaredNorm()) far = c - corners[0];
+  for (const Eigen::Vector2d& c : corners) {
+    const Eigen::Vector2d d = c - corners[0];
+    if (std::abs(far.x() * d.y() - far.y() * d.x()) > 1e-9 * far.squaredNorm()) return true;
+  }
+  return false;
 }
 
 /// Draws a state within the cones can hold this many times before giving up on a sample; with
@@ -203,14 +216,17 @@ struct Draws {
     return options.motion_from ? options.motion_from->numSamples() : options.samples;
   }
   void checkSole() const {
-    const Eigen::Vector2d& sole = options.sole;
-    if (!(sole.minCoeff() >= 0.0) || !sole.allFinite() ||
-        (sole.minCoeff() == 0.0 && !sole.isZero()))
+    const std::vector<Eigen::Vector2d>& sole = options.sole;
+    if (sole.empty()) return;
+    for (std::size_t k = 0; k < sole.size(); ++k)
+      if (!sole[k].allFinite())
+        throw InputError("`sole`: corner " + std::to_string(k + 1) + " is not finite (" +
+                         formatNumber(sole[k].x()) + ", " + formatNumber(sole[k].y()) + ")");
+    if (sole.size() < 3 || !enclosesArea(sole))
       throw InputError(
-          "`sole` is a length and a width, both positive and finite (or both 0: no "
-          "sole), not " +
-          formatNumber(sole[0]) + ", " + formatNumber(sole[1]));
-    if (sole.isZero()) return;
+          "`sole` needs three or more corners not all on one line (a support "
+          "polygon with an area), not " +
+          std::to_string(sole.size()) + (sole.size() < 3 ? "" : " on a line"));
     if (options.friction_cone == 0.0)
       throw InputError("`sole`: a sole's corners push within friction cones; give `friction_cone`");
     for (const Contact& c : options.contacts)
@@ -236,7 +252,7 @@ struct Draws {
   /// kDrawsPerSample, or kDrawsPerSampleOnSoles).
   HeldState next(int k) {
     if (options.motion_from) return nextGiven(k);
-    const int draws = options.sole.isZero() ? kDrawsPerSample : kDrawsPerSampleOnSoles;
+    const int draws = options.sole.empty() ? kDrawsPerSample : kDrawsPerSampleOnSoles;
     for (int attempt = 0; attempt < draws; ++attempt) {
       HeldState held = dynamicsOf(draw(k));
       if (held.J.rows() == 0) return held;
@@ -317,6 +333,14 @@ FloatingSimulationOptions withGivenContacts(const FloatingModel& model,
   return out;
 }
 }  // namespace
+
+std::vector<Eigen::Vector2d> rectangularSole(double length, double width) {
+  if (!(length > 0.0 && width > 0.0 && std::isfinite(length) && std::isfinite(width)))
+    throw InputError("`sole`: a rectangle's length and width are both positive and finite, not " +
+                     formatNumber(length) + ", " + formatNumber(width));
+  const double x = 0.5 * length, y = 0.5 * width;
+  return {{-x, -y}, {x, -y}, {x, y}, {-x, y}};
+}
 
 FloatingSimulation simulateFloating(const FloatingModel& model,
                                     const FloatingSimulationOptions& requested) {

@@ -32,13 +32,15 @@ struct FloatingSimulationOptions {
   /// gravity; a frame contact's force, its moment free), and a random state they cannot hold is
   /// drawn again. 0: the least-norm forces, no cones (a contact may pull). Holding motion only.
   double friction_cone = 0.0;
-  /// A flat sole under every frame contact that holds: its length (along the frame's x) and width
-  /// (along y) [m], centred at the frame's origin. The contact's wrench is then that of four
-  /// forces at the rectangle's corners, each within the cone of `friction_cone` about the sole's
-  /// normal (the frame's z: the ground under a sole lies along it), least-norm: the centre of
-  /// pressure stays in the rectangle and the moment about the normal within what friction gives.
-  /// Zero: a frame contact's moment free. Needs friction_cone and a frame contact.
-  Eigen::Vector2d sole = Eigen::Vector2d::Zero();
+  /// A flat sole under every frame contact that holds: its corners (x, y) in the frame's x-y
+  /// plane [m], three or more, not all on one line (rectangularSole for a rectangle centred at
+  /// the frame's origin; an ankle frame behind a sole's middle, a foot's outline). The contact's
+  /// wrench is then that of forces at the corners, each within the cone of `friction_cone` about
+  /// the sole's normal (the frame's z: the ground under a sole lies along it), least-norm: the
+  /// centre of pressure stays in the corners' convex hull (the support polygon) and the moment
+  /// about the normal within what friction gives. Empty: a frame contact's moment free. Needs
+  /// friction_cone and a frame contact.
+  std::vector<Eigen::Vector2d> sole;
   /// The robot moves as this dataset says, sample by sample (a recording's prepared motion,
   /// another simulator's: its time, base orientation, twist and acceleration, q, dq and ddq; its
   /// torques and wrenches are not read) instead of random states; `samples` is its count. Holding:
@@ -49,6 +51,11 @@ struct FloatingSimulationOptions {
   /// (FloatingSimulation::outside_cones). Not with `trajectory` or in flight.
   std::shared_ptr<const FloatingDataset> motion_from;
 };
+
+/// A rectangle's corners, length along x and width along y, centred at the origin (a sole for
+/// FloatingSimulationOptions::sole). Throws InputError (naming `sole`) unless both are positive
+/// and finite.
+std::vector<Eigen::Vector2d> rectangularSole(double length, double width);
 
 /// The samples, and the noise variances they were drawn with (for generalized least squares).
 struct FloatingSimulation {

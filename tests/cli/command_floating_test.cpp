@@ -324,7 +324,21 @@ TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {
                            "--friction-cone 0.8 --sole 0.2,0.1 --out " +
                            dir + "/soles.csv");
   ASSERT_EQ(soles.code, 0) << soles.err;
-  EXPECT_TRUE(contains(soles.out, "every frame contact on a sole of 0.2 x 0.1 m")) << soles.out;
+  EXPECT_TRUE(
+      contains(soles.out,
+               "every frame contact on a sole of 0.2 x 0.1 m: its wrench that of 4 corner forces"))
+      << soles.out;
+  // A foot's outline, its ankle frame 5 cm from the heel: the corners said back.
+  const Result outline =
+      run("simulate --robot " + kRomeo +
+          " --floating-base --contacts l_sole:frame,r_sole:frame --samples 2 "
+          "--friction-cone 0.8 --sole -0.05,-0.05,0.15,-0.05,0.19,0,0.15,0.05,-0.05,0.05 --out " +
+          dir + "/outline.csv");
+  ASSERT_EQ(outline.code, 0) << outline.err;
+  EXPECT_TRUE(contains(outline.out,
+                       "on a sole of 5 corners (-0.05, -0.05), (0.15, -0.05), (0.19, 0), "
+                       "(0.15, 0.05), (-0.05, 0.05) m: its wrench that of 5 corner forces"))
+      << outline.out;
   // The first dataset's motion simulated again within cones too narrow for some of its states.
   const Result along = run("simulate --robot " + kAnymal + " --floating-base --motion-from " + dir +
                            "/d.csv --friction-cone 0.3 --out " + dir + "/again.csv");

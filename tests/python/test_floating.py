@@ -4,6 +4,7 @@ import sqlite3
 import struct
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import dynid
@@ -204,6 +205,25 @@ def test_simulate_floating_keeps_a_soles_centre_of_pressure_in_it(tmp_path):
                 assert abs(n_y) <= 0.1 * f_z + 1e-6 and abs(n_x) <= 0.05 * f_z + 1e-6
     with pytest.raises(ValueError, match="sole"):
         dynid.simulate_floating(romeo, tmp_path / "x.csv", contacts=["l_sole:frame"], sole=(0.2, 0.1))
+
+
+def test_simulate_floating_takes_a_soles_corners(tmp_path):
+    romeo = Path(os.environ["DYNID_SOURCE_DIR"]) / "examples/floating/romeo/romeo_small.urdf"
+    # A sole reaching 0.15 m ahead of the ankle frame and 0.05 m behind it, 0.1 m wide.
+    corners = np.array([[-0.05, -0.05], [0.15, -0.05], [0.15, 0.05], [-0.05, 0.05]])
+    data = dynid.simulate_floating(romeo, tmp_path / "d.csv", contacts=["l_sole:frame", "r_sole:frame"],
+                                   samples=8, friction_cone=0.8, sole=corners)
+    header, *rows = [line.split(",") for line in Path(data).read_text().splitlines()]
+    col = {name: k for k, name in enumerate(header)}
+    for row in rows:
+        for sole in ("l_sole", "r_sole"):
+            n_x, n_y, f_z = (float(row[col[f"wrench:{sole}:{c}"]]) for c in ("nx", "ny", "fz"))
+            if row[col[f"contact:{sole}"]] == "1":  # the centre of pressure (-n_y, n_x) / f_z inside
+                assert -0.05 * f_z - 1e-6 <= -n_y <= 0.15 * f_z + 1e-6 and abs(n_x) <= 0.05 * f_z + 1e-6
+    for bad in ([(0.0, 0.0), (0.1, 0.0)], [(0.0, 0.0), (0.1, 0.0, 0.2)], "0.2,0.1", [(0.0, 0.0), (0.1, "x")]):
+        with pytest.raises(ValueError, match="sole"):
+            dynid.simulate_floating(romeo, tmp_path / "x.csv", contacts=["l_sole:frame"], friction_cone=0.8,
+                                    sole=bad)
 
 
 def test_simulate_floating_along_a_given_motion(tmp_path):

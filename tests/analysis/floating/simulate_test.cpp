@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
@@ -138,6 +140,40 @@ TEST(FrictionCones, EveryFootPushesWithinItsConeAndTheSetsStillRecover) {
   expectRecovery(kRomeo, FloatingMotion::kHolding, mu);
 }
 
+/// Expects every holding sole of `data` to push, its tangential force within the cone of mu and
+/// its centre of pressure in the convex polygon `corners` (counter-clockwise); returns how many
+/// centres of pressure lie at the polygon's edge, and counts the holding soles in `holding`.
+int expectWithinSoles(const FloatingDataset& data, const FloatingSimulationOptions& options,
+                      const std::vector<Eigen::Vector2d>& corners, int& holding) {
+  int at_edge = 0;
+  holding = 0;
+  for (int k = 0; k < data.numSamples(); ++k) {
+    double scale = 0.0;  // the sample's total contact wrench, the tolerances' unit
+    for (const FloatingDataset::Wrench& w : data.wrenches) scale += w.values.col(k).norm();
+    for (std::size_t c = 0; c < options.contacts.size(); ++c) {
+      if (!data.flags[c].holding[static_cast<std::size_t>(k)]) continue;
+      ++holding;
+      const Eigen::VectorXd w = data.wrenches[c].values.col(k);  // (n, f) in the sole's axes
+      const double fz = w[5];
+      EXPECT_GE(fz, -1e-9 * scale);
+      EXPECT_LE(w.segment<2>(3).norm(), options.friction_cone * fz + 1e-9 * scale);
+      // The centre of pressure p = (-n_y, n_x) / f_z, written without the division: on the inner
+      // side of every edge a -> b, (b - a) x (p - a) >= 0, times f_z.
+      const Eigen::Vector2d pf(-w[1], w[0]);
+      double closest = std::numeric_limits<double>::infinity();
+      for (std::size_t e = 0; e < corners.size(); ++e) {
+        const Eigen::Vector2d a = corners[e], b = corners[(e + 1) % corners.size()];
+        const Eigen::Vector2d d = pf - fz * a, edge = b - a;
+        const double inside = (edge.x() * d.y() - edge.y() * d.x()) / edge.norm();
+        EXPECT_GE(inside, -1e-9 * scale) << "sample " << k << ", edge " << e;
+        closest = std::min(closest, inside);
+      }
+      if (closest < 1e-6 * scale) ++at_edge;
+    }
+  }
+  return at_edge;
+}
+
 /// Romeo standing on soles of 0.2 x 0.1 m (mu 0.8): every holding sole's wrench, in its own axes,
 /// is that of forces at its corners within their cones about its normal, so its normal force
 /// pushes, its centre of pressure lies in the rectangle and its tangential force within the cone;
@@ -147,35 +183,16 @@ TEST(FrictionCones, EveryFootPushesWithinItsConeAndTheSetsStillRecover) {
 /// are mostly double support, a closed chain through both legs, and the wrench sets' conditioning
 /// suffers: 0.04 % and 0.5 % from the truth noise-free, docs/FLOATING.md.)
 TEST(FrictionCones, ASolesCentreOfPressureStaysInIt) {
-  const double mu = 0.8, length = 0.2, width = 0.1;
   const FloatingModel model = load(kRomeo);
   FloatingSimulationOptions options;
   options.samples = 45;  // 3 % of random states stand on such soles: about 1500 draws
   options.seed = 5;
   options.contacts = contactsOf(model, kRomeo.contacts);
-  options.friction_cone = mu;
-  options.sole = Eigen::Vector2d(length, width);
-  int drawn = 0;
+  options.friction_cone = 0.8;
+  options.sole = rectangularSole(0.2, 0.1);
+  int drawn = 0, holding = 0;
   const FloatingDataset data = simulateFloatingDataset(model, options, &drawn);
-  int at_edge = 0, holding = 0;
-  for (int k = 0; k < options.samples; ++k) {
-    double scale = 0.0;  // the sample's total contact wrench, the tolerances' unit
-    for (const FloatingDataset::Wrench& w : data.wrenches) scale += w.values.col(k).norm();
-    for (std::size_t c = 0; c < options.contacts.size(); ++c) {
-      if (!data.flags[c].holding[static_cast<std::size_t>(k)]) continue;
-      ++holding;
-      const Eigen::VectorXd w = data.wrenches[c].values.col(k);  // (n, f) in the sole's axes
-      const double fz = w[5];
-      EXPECT_GE(fz, -1e-9 * scale);
-      // The centre of pressure (-n_y / f_z, n_x / f_z), written without the division.
-      EXPECT_LE(std::abs(w[1]), 0.5 * length * fz + 1e-9 * scale);
-      EXPECT_LE(std::abs(w[0]), 0.5 * width * fz + 1e-9 * scale);
-      EXPECT_LE(w.segment<2>(3).norm(), mu * fz + 1e-9 * scale);
-      if (std::abs(w[1]) > 0.5 * length * fz - 1e-6 * scale ||
-          std::abs(w[0]) > 0.5 * width * fz - 1e-6 * scale)
-        ++at_edge;
-    }
-  }
+  const int at_edge = expectWithinSoles(data, options, options.sole, holding);
   EXPECT_GT(at_edge, 0) << "of " << holding << " holding soles";
   EXPECT_GE(drawn, options.samples);
   FloatingIdentifyRequest request;
@@ -191,6 +208,31 @@ TEST(FrictionCones, ASolesCentreOfPressureStaysInIt) {
     ASSERT_TRUE(s.refused.empty()) << s.refused;
     EXPECT_LT(s.residual_percent, 1e-7);  // 1e-9 relative: the solver's; measured 1e-12 %
   }
+}
+
+/// A sole that is not a rectangle centred at its frame: a foot's outline, five corners, the ankle
+/// frame 5 cm from its heel (counter-clockwise). Every holding sole's centre of pressure stays in
+/// that pentagon, some at its edge, none beyond it (behind the ankle by more than the heel's 5 cm,
+/// in particular), and the data fit to round-off.
+TEST(FrictionCones, ASolePolygonOffTheFrameHoldsItsCentreOfPressure) {
+  const FloatingModel model = load(kRomeo);
+  FloatingSimulationOptions options;
+  options.samples = 12;  // 3 % of random states stand: about 400 draws
+  options.seed = 3;
+  options.contacts = contactsOf(model, kRomeo.contacts);
+  options.friction_cone = 0.8;
+  options.sole = {{-0.05, -0.05}, {0.15, -0.05}, {0.19, 0.0}, {0.15, 0.05}, {-0.05, 0.05}};
+  int holding = 0;
+  const FloatingDataset data = simulateFloatingDataset(model, options);
+  EXPECT_GT(expectWithinSoles(data, options, options.sole, holding), 0)
+      << "of " << holding << " holding soles";
+  FloatingIdentifyRequest request;
+  request.method = FloatingMethod::kOls;
+  request.sensors = {SensorSet::kTorquesAndWrenches};
+  const FloatingIdentifyOutcome fit = floatingIdentifyRun(model, request, data);
+  ASSERT_EQ(fit.sets.size(), 1u);
+  ASSERT_TRUE(fit.sets[0].refused.empty()) << fit.sets[0].refused;
+  EXPECT_LT(fit.sets[0].residual_percent, 1e-7);  // 1e-9 relative: the solver's
 }
 
 /// Runs the simulation and expects an InputError whose message holds every fragment.
@@ -224,16 +266,27 @@ TEST(FrictionCones, ASoleIsRefusedWhereItCannotStand) {
   const FloatingModel model = load(kRomeo);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, kRomeo.contacts);
-  options.sole = Eigen::Vector2d(0.2, 0.1);
+  options.sole = rectangularSole(0.2, 0.1);
   expectRefused(model, options, {"`sole`", "`friction_cone`"});
   options.friction_cone = 0.8;
-  options.sole = Eigen::Vector2d(0.2, 0.0);
-  expectRefused(model, options, {"`sole`", "both positive"});
-  options.sole = Eigen::Vector2d(0.2, -0.1);
-  expectRefused(model, options, {"`sole`", "both positive"});
+  for (const auto& [length, width] : {std::pair{0.2, 0.0}, {0.2, -0.1}, {NAN, 0.1}}) {
+    try {
+      rectangularSole(length, width);
+      ADD_FAILURE() << length << " x " << width << " not refused";
+    } catch (const InputError& e) {
+      EXPECT_TRUE(test::contains(e.what(), "`sole`")) << e.what();
+      EXPECT_TRUE(test::contains(e.what(), "both positive")) << e.what();
+    }
+  }
+  options.sole = {{0.0, 0.0}, {0.1, 0.0}};
+  expectRefused(model, options, {"`sole`", "three or more corners", "not 2"});
+  options.sole = {{0.0, 0.0}, {0.1, 0.05}, {0.2, 0.1}, {-0.1, -0.05}};
+  expectRefused(model, options, {"`sole`", "not all on one line", "on a line"});
+  options.sole = {{0.0, 0.0}, {0.1, 0.0}, {0.0, INFINITY}};
+  expectRefused(model, options, {"`sole`", "corner 3 is not finite"});
   const FloatingModel anymal = load(kAnymal);  // point feet
   options.contacts = contactsOf(anymal, kAnymal.contacts);
-  options.sole = Eigen::Vector2d(0.2, 0.1);
+  options.sole = rectangularSole(0.2, 0.1);
   expectRefused(anymal, options, {"`sole`", "no frame contact"});
 }
 
