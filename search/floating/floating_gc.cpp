@@ -1,0 +1,183 @@
+#include "search/floating/floating_gc.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "core/errors.hpp"
+#include "core/floating/floating_rnea.hpp"
+
+namespace dynid {
+namespace {
+
+/// The rolled-out state: the base's orientation (w, x, y, z) and twist, q, dq; and its rate.
+struct FloatingState {
+  Eigen::Vector4d orientation;
+  Vector6<double> twist;
+  Eigen::VectorXd q, dq;
+};
+
+/// a + h b, each part.
+FloatingState step(const FloatingState& a, double h, const FloatingState& b) {
+  return {a.orientation + h * b.orientation, a.twist + h * b.twist, a.q + h * b.q, a.dq + h * b.dq};
+}
+
+/// The quaternion product a b, both (w, x, y, z).
+Eigen::Vector4d times(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
+  const Eigen::Vector3d u = a.tail<3>(), v = b.tail<3>();
+  Eigen::Vector4d out;
+  out[0] = a[0] * b[0] - u.dot(v);
+  out.tail<3>() = a[0] * v + b[0] * u + cross(u, v);
+  return out;
+}
+
+/// The segments' starts: every non-overlapping segment of each run (runs split where a step
+/// exceeds 1.5 periods), then at most `wanted` of them evenly spaced (0: all).
+std::vector<int> segmentStarts(const Eigen::VectorXd& time, double period, int samples,
+                               int wanted) {
+  std::vector<int> all;
+  const int n = static_cast<int>(time.size());
+  int run = 0;
+  for (int k = 1; k <= n; ++k) {
+    if (k < n && time[k] - time[k - 1] <= 1.5 * period) continue;
+    for (int s = run; s + samples < k; s += samples) all.push_back(s);  // a run is [run, k)
+    run = k;
+  }
+  if (wanted == 0 || static_cast<int>(all.size()) <= wanted) return all;
+  std::vector<int> picked;
+  for (int i = 0; i < wanted; ++i)
+    picked.push_back(all[static_cast<std::size_t>(i * static_cast<long>(all.size()) / wanted)]);
+  return picked;
+}
+
+/// The forward dynamics along a recording: the state's rate with sample k's torques and wrenches.
+class FloatingRollout {
+ public:
+  FloatingRollout(const FloatingModel& model, const FloatingGcData& data)
+      : model_(model), data_(data), work_(model) {}
+
+  FloatingState rate(const FloatingState& s, int k) {
+    const int n = model_.numJoints();
+    BaseMotion base;
+    base.rotation = baseRotation(Eigen::Vector4d(s.orientation.normalized()));
+    base.twist = s.twist;
+    // The contacts' measured wrenches as a generalized force J^T lambda, lambda in base axes.
+    Eigen::VectorXd external = Eigen::VectorXd::Zero(6 + n);
+    for (std::size_t c = 0; c < data_.contacts.size(); ++c) {
+      const Contact& contact = data_.contacts[c];
+      const Eigen::Matrix3d R = contactPose(model_, work_, contact, s.q).rotation;
+      Eigen::VectorXd lambda(contact.dimension());
+      for (int r = 0; r < contact.dimension(); r += 3)
+        lambda.segment<3>(r) = R * data_.wrenches[c].col(k).segment<3>(r);
+      external.noalias() += contactJacobian(model_, work_, contact, s.q).transpose() * lambda;
+    }
+    const Eigen::VectorXd tau = data_.tau.col(k) + external.tail(n);
+    const Eigen::VectorXd& a = floatingForwardDynamics(model_, work_, base, s.q, s.dq, tau,
+                                                       Vector6<double>(external.head<6>()));
+    Eigen::Vector4d omega = Eigen::Vector4d::Zero();
+    omega.tail<3>() = s.twist.head<3>();
+    return {0.5 * times(s.orientation, omega), a.head<6>(), s.dq, a.tail(n)};
+  }
+
+  /// One RK4 step of length h with sample k's inputs; the orientation normalised after it.
+  void rk4(FloatingState& s, int k, double h) {
+    const FloatingState k1 = rate(s, k), k2 = rate(step(s, 0.5 * h, k1), k);
+    const FloatingState k3 = rate(step(s, 0.5 * h, k2), k), k4 = rate(step(s, h, k3), k);
+    s = step(s, h / 6.0,
+             {k1.orientation + 2.0 * k2.orientation + 2.0 * k3.orientation + k4.orientation,
+              k1.twist + 2.0 * k2.twist + 2.0 * k3.twist + k4.twist,
+              k1.q + 2.0 * k2.q + 2.0 * k3.q + k4.q, k1.dq + 2.0 * k2.dq + 2.0 * k3.dq + k4.dq});
+    s.orientation.normalize();
+  }
+
+  FloatingState recorded(int k) const {
+    return {data_.orientation.col(k).normalized(), data_.twist.col(k), data_.q.col(k),
+            data_.dq.col(k)};
+  }
+
+  /// The squared error at sample `end` of a segment rolled out from `start`.
+  double segment(int start, int end, int substeps) {
+    FloatingState s = recorded(start);
+    for (int k = start; k < end; ++k) {
+      const double h = (data_.time[k + 1] - data_.time[k]) / substeps;
+      for (int i = 0; i < substeps; ++i) rk4(s, k, h);
+    }
+    const FloatingState r = recorded(end);
+    // The rotation between them: the angle of conj(predicted) recorded.
+    Eigen::Vector4d conj = s.orientation;
+    conj.tail<3>() = -conj.tail<3>();
+    const Eigen::Vector4d d = times(conj, r.orientation);
+    const double angle = 2.0 * std::atan2(d.tail<3>().norm(), std::abs(d[0]));
+    const double error = (s.q - r.q).squaredNorm() + (s.dq - r.dq).squaredNorm() +
+                         (s.twist - r.twist).squaredNorm() + angle * angle;
+    return std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
+  }
+
+ private:
+  const FloatingModel& model_;
+  const FloatingGcData& data_;
+  FloatingData work_;
+};
+
+void checkData(const FloatingModel& model, const FloatingGcData& data) {
+  const Eigen::Index n = model.numJoints(), samples = data.time.size();
+  const auto check = [&](bool ok, const char* field, const std::string& what) {
+    if (!ok) throw InputError(std::string("`") + field + "`: " + what);
+  };
+  check(samples >= 2, "time", "two or more samples are needed, not " + std::to_string(samples));
+  for (Eigen::Index k = 1; k < samples; ++k)
+    check(data.time[k] > data.time[k - 1], "time",
+          "sample " + std::to_string(k + 1) + " is not after the one before it");
+  check(data.orientation.cols() == samples, "orientation", "one column a sample");
+  check(data.twist.cols() == samples, "twist", "one column a sample");
+  for (const auto& [m, field] : {std::pair{&data.q, "q"}, {&data.dq, "dq"}, {&data.tau, "tau"}})
+    check(m->rows() == n && m->cols() == samples, field,
+          std::to_string(n) + " x " + std::to_string(samples) + " (joints x samples), not " +
+              std::to_string(m->rows()) + " x " + std::to_string(m->cols()));
+  check(data.wrenches.size() == data.contacts.size(), "wrenches", "one matrix a contact");
+  for (std::size_t c = 0; c < data.contacts.size(); ++c) {
+    const Contact& contact = data.contacts[c];
+    check(contact.body >= -1 && contact.body < n, "contacts",
+          contact.name + "'s body is not the model's");
+    check(data.wrenches[c].rows() == contact.dimension() && data.wrenches[c].cols() == samples,
+          "wrenches",
+          contact.name + "'s is " + std::to_string(contact.dimension()) + " x " +
+              std::to_string(samples) + " (its components x samples)");
+  }
+}
+
+}  // namespace
+
+FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
+                                 const FloatingGcOptions& options) {
+  checkData(candidate, data);
+  if (!(options.horizon > 0.0) || !std::isfinite(options.horizon))
+    throw InputError("`horizon` is positive and finite");
+  if (options.num_segments < 0) throw InputError("`num_segments` is 0 (every one) or positive");
+  if (options.substeps < 1) throw InputError("`substeps` is 1 or more");
+  Eigen::VectorXd steps =
+      data.time.tail(data.time.size() - 1) - data.time.head(data.time.size() - 1);
+  std::sort(steps.data(), steps.data() + steps.size());
+  const double period = steps[steps.size() / 2];
+  const double ratio = options.horizon / period;
+  if (std::abs(ratio - std::round(ratio)) > 1e-6 * ratio || std::round(ratio) < 1.0)
+    throw InputError("`horizon`: " + std::to_string(options.horizon) +
+                     " s is not a whole number of sample periods (" + std::to_string(period) +
+                     " s)");
+  FloatingGcResult out;
+  out.samples_per_segment = static_cast<int>(std::round(ratio));
+  out.starts = segmentStarts(data.time, period, out.samples_per_segment, options.num_segments);
+  if (out.starts.empty())
+    throw InputError("`horizon`: no run of the data holds a segment of " +
+                     std::to_string(options.horizon) + " s");
+  FloatingRollout rollout(candidate, data);
+  out.segment_errors.resize(static_cast<Eigen::Index>(out.starts.size()));
+  for (std::size_t i = 0; i < out.starts.size(); ++i)
+    out.segment_errors[static_cast<Eigen::Index>(i)] =
+        rollout.segment(out.starts[i], out.starts[i] + out.samples_per_segment, options.substeps);
+  out.error = out.segment_errors.sum();
+  return out;
+}
+
+}  // namespace dynid

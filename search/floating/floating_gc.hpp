@@ -1,0 +1,59 @@
+// The GC error on a floating base (docs/FLOATING.md, "The GC error on a floating base"): short
+// segments of a floating robot's recorded motion rolled out from their recorded start (the base's
+// orientation and twist, q, dq) by the floating forward dynamics, driven by the recorded joint
+// torques and the wrenches measured at the contacts, and compared with the recorded state at the
+// segment's end. Contacts whose wrench is not measured (flags only) hold in the real motion by
+// forces no measurement gives, so they are not rolled out here: every contact needs its wrench
+// (or there is none: a robot in flight).
+#pragma once
+
+#include <vector>
+
+#include "core/floating/contact_jacobian.hpp"
+#include "search/gc_problem.hpp"
+
+namespace dynid {
+
+/// A floating robot's recorded motion, sample by sample (N samples, n joints): the base's
+/// orientation (w, x, y, z; base to world) and twist (omega, v; base frame), q, dq, the joint
+/// torques (the drives' output) and, for each contact, what it measured in its own frame's axes:
+/// a frame contact's wrench (n, f) about its origin (6 x N), a point contact's force (3 x N).
+struct FloatingGcData {
+  Eigen::VectorXd time;
+  Eigen::Matrix4Xd orientation;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> twist;
+  Eigen::MatrixXd q, dq, tau;
+  std::vector<Contact> contacts;
+  std::vector<Eigen::MatrixXd> wrenches;  // one per contact, in its order
+};
+
+/// The segments: `horizon` [s] a whole number of sample periods (the median step), evenly spaced
+/// starts, at most `num_segments` (0: every non-overlapping one), none across a gap (a step over
+/// 1.5 periods); `substeps` RK4 steps per sample period, the inputs held over each period.
+struct FloatingGcOptions {
+  double horizon = 0.05;
+  int num_segments = 100;
+  int substeps = 1;
+};
+
+struct FloatingGcResult {
+  /// Each segment's squared error at its end: the joints' (q, dq) and the base twist's entries
+  /// squared, plus the base's rotation angle between prediction and record squared (rad^2), summed
+  /// unweighted (as the paper's unnormalised GC error). A diverging segment counts as
+  /// kMaxSegmentError.
+  Eigen::VectorXd segment_errors;
+  std::vector<int> starts;  // each segment's first sample
+  int samples_per_segment = 0;
+  /// Their sum: the GC error.
+  double error = 0.0;
+};
+
+/// The GC error of `candidate` (its parameters) on `data`. Throws InputError (naming the field:
+/// `time`, `orientation`, `twist`, `q`, `dq`, `tau`, `wrenches`, `horizon`, `num_segments`,
+/// `substeps`) when the sizes disagree with the model or each other, a contact's body is not the
+/// model's, the horizon is not a whole number of sample periods (to 1e-6) or no run holds one
+/// segment.
+FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
+                                 const FloatingGcOptions& options);
+
+}  // namespace dynid
