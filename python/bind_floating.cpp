@@ -9,6 +9,7 @@
 
 #include <pybind11/stl.h>
 
+#include "analysis/floating/gc_data.hpp"
 #include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/identify.hpp"
 #include "analysis/floating/payload.hpp"
@@ -104,6 +105,27 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
 
+py::dict floatingGcErrorOf(const PathLike& robot, const PathLike& data,
+                           const std::optional<std::vector<std::string>>& contacts, double horizon,
+                           int num_segments, int substeps, const TermsLike& drive_terms) {
+  const FloatingModel model = floatingRobot(robot, drive_terms);
+  const FloatingDataset dataset = readFloatingDataset(pathArg(data, "data"), model);
+  const FloatingGcData recording =
+      floatingGcData(model, dataset, contacts.value_or(std::vector<std::string>{}));
+  FloatingGcResult result;
+  {
+    py::gil_scoped_release release;
+    result = floatingGcError(model, recording, {horizon, num_segments, substeps});
+  }
+  py::dict out;
+  out["error"] = result.error;
+  out["segment_errors"] = toNumpy(result.segment_errors);
+  out["starts"] = result.starts;
+  out["samples_per_segment"] = result.samples_per_segment;
+  out["horizon"] = result.horizon;
+  return out;
+}
+
 /// sole=(length, width) [m], a rectangle centred at the frame, or [(x, y), ...] [m], its corners.
 std::vector<Eigen::Vector2d> soleOf(const py::object& sole) {
   const InputError bad("`sole` is (length, width) [m] or a sequence of corners (x, y) [m]");
@@ -136,7 +158,7 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<int>& samples, std::uint64_t seed,
                                double noise_tau, double noise_force, double noise_moment,
                                const TermsLike& drive_terms, const OptionalPathLike& trajectory,
-                               double friction_cone, const py::object& sole,
+                               double friction_cone, const SoleLike& sole,
                                const OptionalPathLike& motion_from) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
@@ -226,6 +248,17 @@ void bindFloating(py::module_& m) {
         "frame, holding where its force's norm reaches it; contact_topics: std_msgs/Bool "
         "topics as contact flags, {topic: frame}. Returns floating_prepare.json as a "
         "dict (docs/FLOATING.md).");
+  m.def("floating_gc_error", &floatingGcErrorOf, py::arg("robot"), py::arg("data"),
+        py::arg("contacts") = py::none(), py::arg("horizon") = FloatingGcOptions{}.horizon,
+        py::arg("num_segments") = FloatingGcOptions{}.num_segments,
+        py::arg("substeps") = FloatingGcOptions{}.substeps, py::arg("drive_terms") = py::none(),
+        "The GC error on a floating base (docs/FLOATING.md): segments of a floating dataset "
+        "(path) rolled out from their recorded start by the robot's forward dynamics, driven by "
+        "its joint torques and the wrenches measured at the contacts (every frame the dataset "
+        "measures a wrench at when contacts is None), compared at their end in q, dq, the base "
+        "twist and the base's rotation angle. Returns {'error', 'segment_errors', 'starts' (each "
+        "segment's first sample), 'samples_per_segment', 'horizon' (the horizon taken to the "
+        "nearest whole number of sample periods)}.");
   m.def("floating_identify", &floatingIdentify, py::arg("robot"), py::arg("data"),
         py::arg("validate") = py::none(), py::arg("contacts") = py::none(),
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",

@@ -99,6 +99,10 @@ DYNID_PYTHON_TYPE_NAME(FleetRobotsTag,
                        "typing.Sequence[typing.Union[str, os.PathLike[str]]]]]");
 DYNID_PYTHON_TYPE_NAME(ClientTag, "typing.Optional[typing.Any]");  // a distributed.Client
 DYNID_PYTHON_TYPE_NAME(StartTag, "typing.Union[Search, Estimate, str, os.PathLike[str]]");
+DYNID_PYTHON_TYPE_NAME(
+    SoleTag,
+    "typing.Union[typing.Tuple[float, float], "
+    "typing.Sequence[typing.Tuple[float, float]], numpy.typing.ArrayLike, None]");
 #undef DYNID_PYTHON_TYPE_NAME
 using ArrayLike = Typed<ArrayTag>;                  // a NumPy array or anything np.asarray takes
 using OptionalArrayLike = Typed<OptionalArrayTag>;  // ... or None
@@ -108,16 +112,17 @@ using PathsLike = Typed<PathsTag>;                  // a list of paths, or None
 using DataLike = Typed<DataTag>;                    // a Dataset or a dataset CSV's path
 using OptionalDataLike = Typed<OptionalDataTag>;    // ... or None
 using TrainingLike = Typed<TrainingTag>;            // ... or a Summary (identify's data)
-using TermsLike = Typed<TermsTag>;                  // driveTermsArg's "fv,fc" or ["fv", "fc"]
-using OptionalFloat = Typed<OptionalFloatTag>;      // a number or None
-using PriorLike = Typed<PriorTag>;                  // payload's prior: a file or 10 values
-using FrequencyLike = Typed<FrequencyTag>;          // prepare's cutoffs: Hz, "auto"/"none", None
-using TablesLike = Typed<TablesTag>;                // prepare's log files
-using StartLike = Typed<StartTag>;                  // refine's start: a result or its file
-using TorqueFilterLike = Typed<TorqueFilterTag>;    // "auto", "none", a cutoff or (cutoff, order)
-using ProgressLike = Typed<ProgressTag>;            // search's callback: dict -> False to stop
-using FleetRobotsLike = Typed<FleetRobotsTag>;      // fleet's robots: {name: Summary or logs}
-using ClientLike = Typed<ClientTag>;                // a Dask distributed.Client, or None
+using SoleLike = Typed<SoleTag>;                  // (length, width), corners [(x, y), ...], or None
+using TermsLike = Typed<TermsTag>;                // driveTermsArg's "fv,fc" or ["fv", "fc"]
+using OptionalFloat = Typed<OptionalFloatTag>;    // a number or None
+using PriorLike = Typed<PriorTag>;                // payload's prior: a file or 10 values
+using FrequencyLike = Typed<FrequencyTag>;        // prepare's cutoffs: Hz, "auto"/"none", None
+using TablesLike = Typed<TablesTag>;              // prepare's log files
+using StartLike = Typed<StartTag>;                // refine's start: a result or its file
+using TorqueFilterLike = Typed<TorqueFilterTag>;  // "auto", "none", a cutoff or (cutoff, order)
+using ProgressLike = Typed<ProgressTag>;          // search's callback: dict -> False to stop
+using FleetRobotsLike = Typed<FleetRobotsTag>;    // fleet's robots: {name: Summary or logs}
+using ClientLike = Typed<ClientTag>;              // a Dask distributed.Client, or None
 
 /// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every
 /// message a binding reports (exceptions, warnings): the keyword argument's own name.

@@ -160,13 +160,15 @@ FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingG
       data.time.tail(data.time.size() - 1) - data.time.head(data.time.size() - 1);
   std::sort(steps.data(), steps.data() + steps.size());
   const double period = steps[steps.size() / 2];
-  const double ratio = options.horizon / period;
-  if (std::abs(ratio - std::round(ratio)) > 1e-6 * ratio || std::round(ratio) < 1.0)
+  // A recording's period is its median step, rarely a round number (a prepared log's 500.4 Hz):
+  // the horizon is taken to the nearest whole number of periods, and said (FloatingGcResult).
+  const double samples = std::round(options.horizon / period);
+  if (samples < 1.0)
     throw InputError("`horizon`: " + std::to_string(options.horizon) +
-                     " s is not a whole number of sample periods (" + std::to_string(period) +
-                     " s)");
+                     " s is shorter than half a sample period (" + std::to_string(period) + " s)");
   FloatingGcResult out;
-  out.samples_per_segment = static_cast<int>(std::round(ratio));
+  out.samples_per_segment = static_cast<int>(samples);
+  out.horizon = samples * period;
   out.starts = segmentStarts(data.time, period, out.samples_per_segment, options.num_segments);
   if (out.starts.empty())
     throw InputError("`horizon`: no run of the data holds a segment of " +

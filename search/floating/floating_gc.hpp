@@ -27,9 +27,10 @@ struct FloatingGcData {
   std::vector<Eigen::MatrixXd> wrenches;  // one per contact, in its order
 };
 
-/// The segments: `horizon` [s] a whole number of sample periods (the median step), evenly spaced
-/// starts, at most `num_segments` (0: every non-overlapping one), none across a gap (a step over
-/// 1.5 periods); `substeps` RK4 steps per sample period, the inputs held over each period.
+/// The segments: `horizon` [s], taken to the nearest whole number of sample periods (the median
+/// step; a recording's is rarely round), evenly spaced starts, at most `num_segments` (0: every
+/// non-overlapping one), none across a gap (a step over 1.5 periods); `substeps` RK4 steps per
+/// sample period, the inputs held over each period.
 struct FloatingGcOptions {
   double horizon = 0.05;
   int num_segments = 100;
@@ -44,6 +45,7 @@ struct FloatingGcResult {
   Eigen::VectorXd segment_errors;
   std::vector<int> starts;  // each segment's first sample
   int samples_per_segment = 0;
+  double horizon = 0.0;  // samples_per_segment sample periods [s]
   /// Their sum: the GC error.
   double error = 0.0;
 };
@@ -51,8 +53,7 @@ struct FloatingGcResult {
 /// The GC error of `candidate` (its parameters) on `data`. Throws InputError (naming the field:
 /// `time`, `orientation`, `twist`, `q`, `dq`, `tau`, `wrenches`, `horizon`, `num_segments`,
 /// `substeps`) when the sizes disagree with the model or each other, a contact's body is not the
-/// model's, the horizon is not a whole number of sample periods (to 1e-6) or no run holds one
-/// segment.
+/// model's, the horizon is shorter than half a sample period or no run holds one segment.
 FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
                                  const FloatingGcOptions& options);
 

@@ -78,6 +78,9 @@ TEST(FloatingGc, TheTrueModelFollowsASuspendedMotionToItsInputsHold) {
   const FloatingGcResult at_1k = floatingGcError(model, suspended(model, 1000.0, 0.5), segments());
   ASSERT_EQ(at_1k.starts.size(), 10u);
   EXPECT_EQ(at_1k.samples_per_segment, 20);
+  FloatingGcOptions near = segments();
+  near.horizon = 0.0203;  // the nearest whole number of periods: 20
+  EXPECT_EQ(floatingGcError(model, suspended(model, 1000.0, 0.5), near).samples_per_segment, 20);
   // The torques held over each 1 ms step: dq is off by about the horizon x half the step x the
   // joints' third derivative (0.02 x 5e-4 x 0.3 (2 pi 1.6)^3 ~ 3e-3 at most), squared and summed
   // over 12 joints and 10 segments: below 1e-3 (measured 1.2e-4).
@@ -116,7 +119,7 @@ TEST(FloatingGc, RefusesWhatItCannotRollOut) {
     }
   };
   FloatingGcOptions o = segments();
-  o.horizon = 0.0205;  // not a whole number of 1 ms periods
+  o.horizon = 0.0004;  // under half a 1 ms period
   refused(data, o, "`horizon`");
   o.horizon = 0.1;  // longer than the 50 ms recorded
   refused(data, o, "`horizon`");
