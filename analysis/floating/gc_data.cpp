@@ -14,14 +14,8 @@ FloatingGcData floatingGcData(const FloatingDataset& dataset,
     throw InputError(file +
                      ": the GC error rolls the motion out with the joint torques, and it "
                      "has none (tau:J columns)");
-  FloatingGcData out;
-  out.time = dataset.time;
-  out.orientation = dataset.orientation;
-  out.twist = dataset.twist;
-  out.q = dataset.q;
-  out.dq = dataset.dq;
-  out.tau = dataset.tau;
-  out.contacts = contacts;
+  FloatingGcData out{dataset.time, dataset.orientation, dataset.twist, dataset.q,
+                     dataset.dq,   dataset.tau,         contacts,      {}};
   for (const Contact& c : contacts) {
     const FloatingDataset::Wrench* w = dataset.findWrench(c.name);
     if (w == nullptr || w->values.rows() != c.dimension())
