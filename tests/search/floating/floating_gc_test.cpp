@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -105,6 +106,38 @@ TEST(FloatingGc, AWrongTrunkMassPredictsTheBaseFalling) {
   // off by more than the truth's whole error (measured 334x the truth's sum; 100x: a margin for
   // another compiler's round-off in the truth's small error).
   EXPECT_GT(wrong, 100.0 * truth) << wrong << " against " << truth;
+}
+
+/// A recording with a gap (a stall in the stamps, a log split): no segment spans it, and every
+/// one still follows the motion.
+TEST(FloatingGc, NoSegmentCrossesAGap) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const FloatingGcData whole = suspended(model, 1000.0, 0.3);
+  // Samples 100-159 dropped: 61 ms between samples 99 and 160.
+  std::vector<int> kept;
+  for (int k = 0; k < whole.time.size(); ++k)
+    if (k < 100 || k >= 160) kept.push_back(k);
+  FloatingGcData d = whole;
+  const auto keep = [&](const auto& m) {
+    Eigen::MatrixXd out(m.rows(), static_cast<Eigen::Index>(kept.size()));
+    for (std::size_t j = 0; j < kept.size(); ++j)
+      out.col(static_cast<Eigen::Index>(j)) = m.col(kept[j]);
+    return out;
+  };
+  d.time = keep(whole.time.transpose()).transpose();
+  d.orientation = keep(whole.orientation);
+  d.twist = keep(whole.twist);
+  d.q = keep(whole.q), d.dq = keep(whole.dq), d.tau = keep(whole.tau);
+  d.wrenches = {keep(whole.wrenches[0])};
+  FloatingGcOptions every = segments();
+  every.num_segments = 0;
+  const FloatingGcResult r = floatingGcError(model, d, every);
+  // 100 samples before the gap hold four segments of 20 steps (the fifth would end at sample
+  // 100), the 141 after it seven.
+  EXPECT_EQ(r.starts.size(), 11u);
+  for (int start : r.starts)
+    EXPECT_NEAR(d.time[start + r.samples_per_segment] - d.time[start], 0.02, 1e-9) << start;
+  EXPECT_LT(r.error, 1e-3);  // as the whole recording's (the hold's error)
 }
 
 TEST(FloatingGc, RefusesWhatItCannotRollOut) {
