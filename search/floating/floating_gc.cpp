@@ -166,6 +166,11 @@ FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingG
   if (samples < 1.0)
     throw InputError("`horizon`: " + std::to_string(options.horizon) +
                      " s is shorter than half a sample period (" + std::to_string(period) + " s)");
+  if (samples * options.substeps > kMaxSegmentSteps)
+    throw InputError("`substeps`: " + std::to_string(options.substeps) + " steps a period over " +
+                     std::to_string(static_cast<long>(samples)) +
+                     " periods is more than a segment may take (" +
+                     std::to_string(static_cast<long>(kMaxSegmentSteps)) + ")");
   FloatingGcResult out;
   out.samples_per_segment = static_cast<int>(samples);
   out.horizon = samples * period;

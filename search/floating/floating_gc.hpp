@@ -53,7 +53,8 @@ struct FloatingGcResult {
 /// The GC error of `candidate` (its parameters) on `data`. Throws InputError (naming the field:
 /// `time`, `orientation`, `twist`, `q`, `dq`, `tau`, `wrenches`, `horizon`, `num_segments`,
 /// `substeps`) when the sizes disagree with the model or each other, a contact's body is not the
-/// model's, the horizon is shorter than half a sample period or no run holds one segment.
+/// model's, the horizon is shorter than half a sample period, a segment would take more than
+/// kMaxSegmentSteps RK4 steps (substeps x its periods) or no run holds one segment.
 FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
                                  const FloatingGcOptions& options);
 

@@ -156,6 +156,9 @@ TEST(FloatingGc, RefusesWhatItCannotRollOut) {
   refused(data, o, "`horizon`");
   o.horizon = 0.1;  // longer than the 50 ms recorded
   refused(data, o, "`horizon`");
+  o = segments();
+  o.substeps = 100000;  // 20 periods x 1e5 steps: past the 1e6 steps a segment may take
+  refused(data, o, "`substeps`");
   FloatingGcData d = data;
   d.tau.conservativeResize(d.tau.rows() - 1, Eigen::NoChange);
   refused(d, segments(), "`tau`");
