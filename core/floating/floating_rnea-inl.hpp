@@ -94,9 +94,20 @@ DYNID_INLINE void forwardPass(const FloatingModelTpl<Scalar>& model, FloatingDat
     if (r >= 0) {  // revolute about +-e_r: the rates' sign folded in
       const bool plus = model.axisSigns()[i] > 0;
       const Scalar x = plus ? dq[i] : Scalar(-dq[i]);
-      addRateCross(m.angular, m.angular, r, x);
-      addRateCross(m.linear, m.linear, r, x);
-      m.angular.c[r] += lane_detail::make(x, plus ? ddq[i] : Scalar(-ddq[i]));
+      const Scalar xdd = plus ? ddq[i] : Scalar(-ddq[i]);
+      // The axis a constant in each branch: indexed at run time, the pairs live in memory
+      // (Romeo's regressor 4100 -> 3400 ns, ANYmal's inverse dynamics 617 -> 545 ns).
+      const auto about = [&]<int R>() DYNID_INLINE_LAMBDA {
+        addRateCross(m.angular, m.angular, R, x);
+        addRateCross(m.linear, m.linear, R, x);
+        m.angular.c[R] += lane_detail::make(x, xdd);
+      };
+      if (r == 0)
+        about.template operator()<0>();
+      else if (r == 1)
+        about.template operator()<1>();
+      else
+        about.template operator()<2>();
     } else if (k >= 3) {  // prismatic along e_(k-3): v x (0, e dq) = (0, w x e dq)
       addRateCross(m.angular, m.linear, k - 3, dq[i]);
       m.linear.c[k - 3] += lane_detail::make(dq[i], ddq[i]);
