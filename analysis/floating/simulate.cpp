@@ -111,6 +111,10 @@ std::optional<Eigen::VectorXd> holdingForces(const FloatingModel& model, Floatin
   return Eigen::VectorXd(E * *x);
 }
 
+/// The most corners a sole may have: each adds three unknowns to every draw's cone solve (up to
+/// 2000 draws a sample), so a list of thousands would run for hours.
+constexpr std::size_t kMaxSoleCorners = 32;
+
 /// Whether the corners span an area: some corner off the line through the first and the one
 /// farthest from it (beyond round-off of that distance squared).
 bool enclosesArea(const std::vector<Eigen::Vector2d>& corners) {
@@ -222,6 +226,11 @@ struct Draws {
       if (!sole[k].allFinite())
         throw InputError("`sole`: corner " + std::to_string(k + 1) + " is not finite (" +
                          formatNumber(sole[k].x()) + ", " + formatNumber(sole[k].y()) + ")");
+    if (sole.size() > kMaxSoleCorners)
+      throw InputError("`sole` has " + std::to_string(sole.size()) + " corners, more than " +
+                       std::to_string(kMaxSoleCorners) +
+                       " (each adds three unknowns to every state's force split; a foot's "
+                       "outline needs a handful)");
     if (sole.size() < 3 || !enclosesArea(sole))
       throw InputError(
           "`sole` needs three or more corners not all on one line (a support "

@@ -282,6 +282,11 @@ TEST(FrictionCones, ASoleIsRefusedWhereItCannotStand) {
   expectRefused(model, options, {"`sole`", "three or more corners", "not 2"});
   options.sole = {{0.0, 0.0}, {0.1, 0.05}, {0.2, 0.1}, {-0.1, -0.05}};
   expectRefused(model, options, {"`sole`", "not all on one line", "on a line"});
+  options.sole.assign(33, Eigen::Vector2d(0.1, 0.0));
+  for (int k = 0; k < 33; ++k)
+    options.sole[static_cast<std::size_t>(k)] =
+        0.1 * Eigen::Vector2d(std::cos(0.19 * k), std::sin(0.19 * k));
+  expectRefused(model, options, {"`sole`", "33 corners, more than 32"});
   options.sole = {{0.0, 0.0}, {0.1, 0.0}, {0.0, INFINITY}};
   expectRefused(model, options, {"`sole`", "corner 3 is not finite"});
   const FloatingModel anymal = load(kAnymal);  // point feet
