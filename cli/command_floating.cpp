@@ -109,10 +109,11 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
 }
 
 int runFloatingIdentify(const po::variables_map& vm) {
-  refuseOutside(vm,
-                {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples",
-                 "seed", "tolerance", "threads", "payload-link", "prior-weight", "unloaded"},
-                "identify");
+  refuseOutside(
+      vm,
+      {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples", "seed",
+       "tolerance", "threads", "payload-link", "prior-weight", "unloaded", "horizon", "segments"},
+      "identify");
   if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
   FloatingIdentifyRequest request;
@@ -128,6 +129,13 @@ int runFloatingIdentify(const po::variables_map& vm) {
   request.structural = structuralOptions(vm);
   request.contacts = nameListOption(vm, "contacts");
   readSetsAndMotion(vm, request.sensors, request.motion);
+  request.gc->horizon = vm["horizon"].as<double>();
+  request.gc->num_segments = vm["segments"].as<int>();
+  try {
+    request.gc->check();
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
   const FloatingModel model = loadFloating(vm);
   FloatingDataSources sources{vm["data"].as<std::string>(), "", {}, ""};
   const FloatingDataset data = readFloatingDataset(sources.data, model);
@@ -139,6 +147,8 @@ int runFloatingIdentify(const po::variables_map& vm) {
   FloatingIdentifyOutcome outcome =
       floatingIdentifyRun(model, request, data, validation ? &*validation : nullptr);
   cliTexts(outcome.warnings);
+  outcome.gc.refused = cliText(outcome.gc.refused);
+  outcome.gc.validation_refused = cliText(outcome.gc.validation_refused);
   printWarnings(outcome.warnings, "dynid identify: warning: ");
   if (vm.count("unloaded") && !vm.count("payload-link"))
     throw UsageError("--unloaded needs --payload-link (the link the payload is fixed to)");

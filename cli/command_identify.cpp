@@ -20,9 +20,10 @@ namespace {
 void addCombinedOptions(po::options_description& options) {
   const IdentifyRequest d;
   options.add_options()("horizon", po::value<double>()->default_value(d.segments.horizon),
-                        "combined: GC error horizon [s]")(
+                        "combined, and with --floating-base (each estimate's GC error): GC "
+                        "error horizon [s]")(
       "segments", po::value<int>()->default_value(d.segments.num_segments),
-      "combined: GC error segments (at most that fit)")(
+      "combined, and with --floating-base: GC error segments (at most that fit)")(
       "raw-gc", po::bool_switch(),
       "combined: GC residuals in rad and rad/s (default: each joint's q and dq errors divided by "
       "their spread over the data)")("combined-weight",

@@ -15,8 +15,9 @@ namespace dynid::cli {
 namespace {
 
 /// The fields whose flag is not their own name: a table's column selectors (LogSource), a floating
-/// recording's joint topic and stamps (FloatingLogTopics, FloatingPrepareOptions).
-constexpr std::array<std::pair<std::string_view, std::string_view>, 7> kFlagOf = {{
+/// recording's joint topic and stamps (FloatingLogTopics, FloatingPrepareOptions), the GC error's
+/// segment count (GcSegmentOptions, FloatingGcOptions).
+constexpr std::array<std::pair<std::string_view, std::string_view>, 8> kFlagOf = {{
     {"joint_topic", "--topic"},
     {"receive_time", "--stamp"},
     {"time_column", "--time"},
@@ -24,6 +25,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 7> kFlagOf =
     {"dq_columns", "--dq"},
     {"ddq_columns", "--ddq"},
     {"tau_columns", "--tau"},
+    {"num_segments", "--segments"},
 }};
 
 /// Whether `flag` ("--cutoff") is an option of some command: a name in backquotes that is none

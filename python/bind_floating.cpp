@@ -63,9 +63,10 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
                             const std::optional<std::string>& motion, const std::string& method,
                             const TermsLike& drive_terms, int samples, std::uint64_t seed,
                             const std::optional<std::string>& payload_link, double prior_weight,
-                            const OptionalPathLike& unloaded) {
+                            const OptionalPathLike& unloaded, double horizon, int num_segments) {
   FloatingIdentifyRequest request;
   request.prior_weight = prior_weight;
+  request.gc = FloatingGcOptions{horizon, num_segments};
   request.contacts = contacts.value_or(std::vector<std::string>{});
   for (const std::string& name : sensors.value_or(std::vector<std::string>{}))
     request.sensors.push_back(parseSensorSet(name));
@@ -101,6 +102,8 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
       sources.payloads = floatingPayloads(model, outcome, training, *payload_link);
   }
   pythonTexts(outcome.warnings);
+  outcome.gc.refused = pythonText(outcome.gc.refused);
+  outcome.gc.validation_refused = pythonText(outcome.gc.validation_refused);
   warnAll(outcome.warnings);
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
@@ -264,7 +267,8 @@ void bindFloating(py::module_& m) {
         py::arg("sensors") = py::none(), py::arg("motion") = py::none(), py::arg("method") = "wls",
         py::arg("drive_terms") = py::none(), py::arg("samples") = 0, py::arg("seed") = 1,
         py::arg("payload_link") = py::none(), py::arg("prior_weight") = kDefaultPriorWeight,
-        py::arg("unloaded") = py::none(),
+        py::arg("unloaded") = py::none(), py::arg("horizon") = FloatingGcOptions{}.horizon,
+        py::arg("num_segments") = FloatingGcOptions{}.num_segments,
         "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
         "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
         "(each channel's noise estimated), ols, or pc (weighted as wls, every body physically "
@@ -273,7 +277,8 @@ void bindFloating(py::module_& m) {
         "dataset of the robot without it, from the two datasets' estimates instead). Returns "
         "floating_identification.json as a dict (docs/FLOATING.md); motion as the CLI's --motion "
         "(unset with a contact on the base: carried when the base moves in the data, else "
-        "suspended).");
+        "suspended); each estimate's GC error (and the robot's own) over num_segments segments "
+        "of horizon [s] where the data are a motion with every contact's wrench ('gc').");
   m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
         py::arg("contacts") = py::none(), py::arg("motion") = py::none(),
         py::arg("samples") = py::none(), py::arg("seed") = 1, py::arg("noise_tau") = 0.0,

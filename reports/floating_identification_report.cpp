@@ -55,19 +55,102 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
         {"iterations", s.physical->iterations},
         {"standard", std::vector<double>(s.physical->theta.data(),
                                          s.physical->theta.data() + s.physical->theta.size())}};
-  out.update({{"rows", s.fit.rows},
-              {"residual_scale", s.fit.residual_scale},
-              {"physical", physical},
-              {"noise_sd", noiseJson(outcome, s)},
-              {"residual_percent", s.residual_percent},
-              {"validation_percent", numberOrNull(s.validation_percent)},
-              {"model_error_percent", s.model_error_percent},
-              {"model_z_rms", numberOrNull(s.model_z_rms)},
-              {"base_parameters", parameters}});
+  out.update(
+      {{"rows", s.fit.rows},
+       {"residual_scale", s.fit.residual_scale},
+       {"physical", physical},
+       {"noise_sd", noiseJson(outcome, s)},
+       {"residual_percent", s.residual_percent},
+       {"validation_percent", numberOrNull(s.validation_percent)},
+       {"model_error_percent", s.model_error_percent},
+       {"model_z_rms", numberOrNull(s.model_z_rms)},
+       {"gc_error", {{"train", numberOrNull(s.gc_train)}, {"test", numberOrNull(s.gc_test)}}},
+       {"base_parameters", parameters}});
   return out;
 }
 
 std::string percent(double x) { return formatNumber(x, 3) + " %"; }
+
+/// The report's paragraph on the GC error: how it was measured, or why not.
+std::string gcMarkdown(const FloatingGcSummary& gc) {
+  std::ostringstream md;
+  if (!gc.refused.empty() && (gc.validation_refused.empty() && gc.validation_segments == 0)) {
+    md << "GC error not measured: " << gc.refused << ".\n\n";
+    return md.str();
+  }
+  if (gc.refused.empty())
+    md << "The GC error (the paper's measure) rolls " << gc.segments << " segments of "
+       << formatNumber(gc.horizon, 4) << " s (" << gc.samples_per_segment
+       << " sample periods) of the recorded motion out from their recorded start by each "
+          "estimate (ols and wls: its base parameters, the rest the model's), driven by the "
+          "recorded joint torques and contact wrenches, and sums the squared differences of q, "
+          "dq, the base's "
+       << (gc.linear_velocity ? "twist" : "angular velocity")
+       << " and rotation angle at their ends";
+  else
+    md << "GC error not measured on the data: " << gc.refused;
+  if (gc.validation_segments > 0)
+    md << "; held out, " << gc.validation_segments << " segments";
+  else if (!gc.validation_refused.empty())
+    md << "; not on the held-out data: " << gc.validation_refused;
+  md << ".";
+  if (!std::isnan(gc.floor_train) || !std::isnan(gc.floor_test))
+    md << " The measured inputs' noise alone gives about " << formatNumber(gc.floor_train, 3, "-")
+       << " (held out " << formatNumber(gc.floor_test, 3, "-")
+       << "; the noise floor: the mean of GC(inputs + noise) - GC(inputs) over " << kGcFloorDraws
+       << " draws at the channels' estimated variances): GC errors closer than that roll the "
+          "motion out alike.";
+  if (!gc.linear_velocity)
+    md << " The base's linear velocity is left out: the data do not record it (an IMU's "
+          "dataset holds zero there while the base accelerates).";
+  md << "\n\n";
+  return md.str();
+}
+
+/// The console's line on the GC error: the model's own, or why there is none.
+std::string gcSummaryLine(const FloatingGcSummary& gc) {
+  if (!gc.refused.empty() && gc.validation_segments == 0)
+    return "GC error not measured: " + gc.refused;
+  std::string line = "GC error of the model's own parameters " +
+                     formatNumber(gc.model_train, 4, "-") + " (held out " +
+                     formatNumber(gc.model_test, 4, "-") + ")";
+  if (gc.refused.empty())
+    line += ", " + std::to_string(gc.segments) + " segments of " + formatNumber(gc.horizon, 4) +
+            " s" + (gc.linear_velocity ? "" : ", the base's linear velocity not recorded");
+  if (!std::isnan(gc.floor_train))
+    line += "; the inputs' noise alone gives about " + formatNumber(gc.floor_train, 3) +
+            " (held out " + formatNumber(gc.floor_test, 3, "-") + ")";
+  else
+    line += "; not on the data: " + gc.refused;
+  if (!gc.validation_refused.empty()) line += "; not held out: " + gc.validation_refused;
+  return line;
+}
+
+/// floating_identification.json's "gc": how the GC errors were measured, the model's own, or why
+/// there are none.
+json gcJson(const FloatingGcSummary& gc) {
+  const auto text = [](const std::string& t) { return t.empty() ? json(nullptr) : json(t); };
+  return {
+      {"refused", text(gc.refused)},
+      {"validation_refused", text(gc.validation_refused)},
+      {"horizon", gc.horizon},
+      {"samples_per_segment", gc.samples_per_segment},
+      {"segments_train", gc.segments},
+      {"segments_test", gc.validation_segments},
+      {"linear_velocity_compared", gc.linear_velocity},
+      {"model", {{"train", numberOrNull(gc.model_train)}, {"test", numberOrNull(gc.model_test)}}},
+      {"noise_floor",
+       {{"train", numberOrNull(gc.floor_train)}, {"test", numberOrNull(gc.floor_test)}}},
+      {"note",
+       "the paper's GC error on a floating base: segments of the recorded motion rolled out "
+       "from their recorded start by each estimate (ols, wls: its base parameters, the rest "
+       "the model's), driven by the recorded joint torques and contact wrenches, and the "
+       "squared differences of q, dq, the base's twist and rotation angle at their end, "
+       "summed over the segments; `model`: the model's own parameters; `noise_floor`: what "
+       "the measured inputs' noise alone gives (the mean of GC(inputs + noise) - GC(inputs) "
+       "over four draws at the channels' estimated variances; null with ols): GC errors "
+       "within it of each other roll the motion out alike"}};
+}
 
 /// The payload's ten parameters with their sd, its mass and centre of mass (in its body's frame).
 json payloadJson(const FloatingDataSources& sources, const FloatingIdentifyOutcome& outcome) {
@@ -123,6 +206,7 @@ json floatingIdentificationJson(const FloatingModel& model, const FloatingIdenti
        {"motion", floatingMotionName(outcome.motion)},
        {"method", floatingMethodName(outcome.method)},
        {"sets", sets},
+       {"gc", gcJson(outcome.gc)},
        {"payload", payloadJson(sources, outcome)}});
   return report;
 }
@@ -153,18 +237,23 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
         "model compares the estimate with the model's own base parameters (the truth when the "
         "model made the data), in percent of their norm and in standard deviations (z RMS 1: "
         "intervals that hold).\n\n";
-  md << "| sensors | base parameters | residual | held out | from the model | z RMS |\n"
-        "|---|---|---|---|---|---|\n";
+  md << gcMarkdown(outcome.gc);
+  md << "| sensors | base parameters | residual | held out | from the model | z RMS | GC error | "
+        "GC held out |\n|---|---|---|---|---|---|---|---|\n";
   for (const FloatingSetEstimate& s : outcome.sets) {
     md << "| " << sensorSetName(s.base.set) << " | " << s.base.base.numBase() << " | ";
     if (!s.refused.empty()) {
-      md << "not estimated: " << s.refused << " | | | |\n";
+      md << "not estimated: " << s.refused << " | | | | | |\n";
       continue;
     }
     md << percent(s.residual_percent) << " | "
        << (std::isnan(s.validation_percent) ? "-" : percent(s.validation_percent)) << " | "
-       << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3, "-") << " |\n";
+       << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3, "-") << " | "
+       << formatNumber(s.gc_train, 4, "-") << " | " << formatNumber(s.gc_test, 4, "-") << " |\n";
   }
+  if (outcome.gc.refused.empty() || outcome.gc.validation_refused.empty())
+    md << "| the model's own | | | | | | " << formatNumber(outcome.gc.model_train, 4, "-") << " | "
+       << formatNumber(outcome.gc.model_test, 4, "-") << " |\n";
   if (!sources.payloads.empty()) {
     const FloatingPayload& first = sources.payloads.front();
     md << "\n## The payload on `" << first.link << "`\n\nIts ten parameters about the origin of `"
@@ -226,8 +315,12 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
     if (s.physical)
       out << (s.physical->converged ? ", physically consistent in " : ", NOT CONVERGED after ")
           << s.physical->iterations << " Newton steps";
+    if (!std::isnan(s.gc_train) || !std::isnan(s.gc_test))
+      out << ", GC error " << formatNumber(s.gc_train, 4, "-") << " (held out "
+          << formatNumber(s.gc_test, 4, "-") << ")";
     out << "\n";
   }
+  out << "  " << gcSummaryLine(outcome.gc) << "\n";
   for (std::size_t k = 0; k < sources.payloads.size(); ++k) {
     const FloatingPayload& p = sources.payloads[k];
     out << "  payload on " << p.link << " from " << sensorSetName(outcome.sets[k].base.set) << ": ";

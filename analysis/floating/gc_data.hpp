@@ -14,7 +14,10 @@ namespace dynid {
 /// `contacts` (resolved against the model: a frame contact reads six wrench components, a point
 /// three), its measured wrench. Throws InputError naming the file when the dataset measures no
 /// joint torques or a contact has no wrench of its dimension (a contact known by its flag alone
-/// holds by forces no measurement gives: it cannot be rolled out).
+/// holds by forces no measurement gives: it cannot be rolled out). The base's linear velocity is
+/// taken as unrecorded (FloatingGcData::linear_velocity false) when the base motion came from an
+/// IMU, or when it is zero in every sample while the base's linear acceleration is not (a prepared
+/// IMU recording written out: a base that accelerates never stays still).
 FloatingGcData floatingGcData(const FloatingDataset& dataset, const std::vector<Contact>& contacts);
 
 /// The same with the contacts by name (contactsOf's specifications, "F" a point, "F:frame" a
@@ -22,5 +25,17 @@ FloatingGcData floatingGcData(const FloatingDataset& dataset, const std::vector<
 /// a point for three).
 FloatingGcData floatingGcData(const FloatingModel& model, const FloatingDataset& dataset,
                               const std::vector<std::string>& contacts);
+
+/// Why the dataset's samples are not one recorded motion a rollout can follow (empty: they are):
+/// between consecutive samples less than 1.5 median periods apart, the joints' step
+/// q(k+1) - q(k) and the trapezoid of dq over it, (t(k+1) - t(k)) (dq(k) + dq(k+1)) / 2, differ
+/// (largest joint) by more than half the larger of the two (medians over the steps) and by more
+/// than kMotionStepTolerance: independent states (a simulation's random ones) step by what dq
+/// does not explain. A robot with no joint is taken as a motion.
+std::string floatingMotionRefusal(const FloatingDataset& dataset);
+
+/// The step mismatch [rad] below which samples count as a motion whatever their steps: joints at
+/// rest step by their encoders' noise, far below it (1e-5 rad for a 16-bit encoder).
+inline constexpr double kMotionStepTolerance = 1e-3;
 
 }  // namespace dynid

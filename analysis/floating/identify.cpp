@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/floating/gc_measure.hpp"
 #include "analysis/floating/identifiability.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_regressor.hpp"
@@ -286,6 +287,7 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   for (FloatingSetEstimate& s : out.sets)
     if (s.base.set != SensorSet::kTorquesAndWrenches)
       estimate(model, request, out.contacts, data, validation, shared, s);
+  measureFloatingGc(model, request, data, validation, out);
   return out;
 }
 
@@ -293,6 +295,7 @@ FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
                                       const FloatingIdentifyOutcome& loaded) {
   FloatingIdentifyRequest out = request;
   out.motion = loaded.motion;
+  out.gc.reset();
   return out;
 }
 

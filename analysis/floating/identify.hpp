@@ -4,6 +4,7 @@
 // from the model's own parameters in standard deviations.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "data/floating/floating_dataset.hpp"
 #include "identifiability/floating/floating_fit.hpp"
 #include "identifiability/floating/floating_physical.hpp"
+#include "search/floating/floating_gc.hpp"
 
 namespace dynid {
 
@@ -41,10 +43,14 @@ struct FloatingIdentifyRequest {
   FloatingMethod method = FloatingMethod::kWls;
   /// pc: the weight of the divergence from the model's own parameters (PhysicalOptions').
   double prior_weight = kDefaultPriorWeight;
+  /// The GC error of every estimate and of the model's own parameters, on the data and the
+  /// held-out data (analysis/floating/gc_measure.hpp); unset: not measured.
+  std::optional<FloatingGcOptions> gc = FloatingGcOptions{};
   StructuralOptions structural;
   void check() const {
     structural.check();
     checkPriorWeight(prior_weight);
+    if (gc) gc->check();
   }
 };
 
@@ -68,7 +74,40 @@ struct FloatingSetEstimate {
   /// ||beta - model_beta|| / ||model_beta|| in percent (the paper's parameter error, against the
   /// model read: the truth when it made the data), and the RMS of (beta - model_beta) / sd.
   double model_error_percent = 0.0, model_z_rms = 0.0;
+  /// The estimate's GC error on the data and on the held-out data (FloatingGcSummary; NaN where
+  /// not measured).
+  double gc_train = std::numeric_limits<double>::quiet_NaN();
+  double gc_test = std::numeric_limits<double>::quiet_NaN();
 };
+
+/// The GC error measured on the identification's data (search/floating/floating_gc.hpp, the
+/// paper's measure on a floating base): segments of the recorded motion rolled out by each
+/// estimate, and by the model's own parameters for comparison.
+struct FloatingGcSummary {
+  /// Empty: measured on the data; else why not (not asked, no joint torques, a contact known by
+  /// its flag alone, samples that are not one motion, a recording too short for a segment).
+  std::string refused;
+  /// The same for the held-out data (empty also when there are none).
+  std::string validation_refused;
+  double horizon = 0.0;  // as taken: a whole number of sample periods [s]
+  int samples_per_segment = 0, segments = 0, validation_segments = 0;
+  /// Whether the base's linear velocity entered the error (FloatingGcData::linear_velocity).
+  bool linear_velocity = true;
+  /// The model's own parameters' GC error, on the data and held out (NaN where not measured).
+  double model_train = std::numeric_limits<double>::quiet_NaN();
+  double model_test = std::numeric_limits<double>::quiet_NaN();
+  /// The GC error the measured inputs' noise alone gives, on the data and held out (the floor:
+  /// an estimate whose GC error is within it of another's rolls the motion out as well): the
+  /// mean over kGcFloorDraws draws of GC(inputs + noise) - GC(inputs) with the model's own
+  /// parameters, the noise drawn at the channels' variances the weighted fit estimated (seeded by
+  /// the structural seed). NaN with ols, which estimates none.
+  double floor_train = std::numeric_limits<double>::quiet_NaN();
+  double floor_test = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// Draws of the inputs' noise the GC error's floor averages (FloatingGcSummary): each draw's
+/// difference carries a cross term of mean zero, whose spread four draws halve.
+inline constexpr int kGcFloorDraws = 4;
 
 struct FloatingIdentifyOutcome {
   std::vector<Contact> contacts;
@@ -76,6 +115,7 @@ struct FloatingIdentifyOutcome {
   FloatingMethod method = FloatingMethod::kWls;
   int samples = 0, validation_samples = 0;
   std::vector<FloatingSetEstimate> sets;
+  FloatingGcSummary gc;
   std::vector<std::string> warnings;
 };
 
@@ -90,11 +130,12 @@ FloatingMeasurement floatingMeasurement(const FloatingModel& model, FloatingData
 
 /// The request for the other dataset of a loaded/unloaded pair: `request` with the motion class
 /// the loaded data were analysed in (a default taken from one dataset's motion must not differ
-/// between the two, or their base parameters would).
+/// between the two, or their base parameters would), and no GC error (only the payload is read).
 FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
                                       const FloatingIdentifyOutcome& loaded);
 
-/// Estimates each set on `data` (and checks it on `validation` when it has samples). Throws
+/// Estimates each set on `data` (and checks it on `validation` when it has samples), then
+/// measures the GC errors the request asks for (measureFloatingGc). Throws
 /// InputError for a bad request, contacts the dataset and the request disagree on, a requested
 /// set the dataset cannot feed; a set whose rows do not determine its base parameters is reported
 /// refused.

@@ -113,6 +113,8 @@ const Added kAdded[] = {
     {&kFloatingPrepareDocument, 2, "contact_threshold and thresholded_contacts"},
     {&kFloatingIdentificationDocument, 2,
      "payload.from and payload.unloaded (a payload from a loaded/unloaded pair)"},
+    {&kFloatingIdentificationDocument, 3,
+     "gc and each set's gc_error (the GC error of each estimate)"},
 };
 
 /// One note per version after `from` whose additions the document lacks.

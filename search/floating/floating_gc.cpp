@@ -7,6 +7,7 @@
 
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
+#include "core/format.hpp"
 
 namespace dynid {
 namespace {
@@ -99,9 +100,18 @@ class FloatingRollout {
   /// The squared error at sample `end` of a segment rolled out from `start`.
   double segment(int start, int end, int substeps) {
     FloatingState s = recorded(start);
-    for (int k = start; k < end; ++k) {
-      const double h = (data_.time[k + 1] - data_.time[k]) / substeps;
-      for (int i = 0; i < substeps; ++i) rk4(s, k, h);
+    // A candidate far from physical (an unconstrained estimate's) can diverge: its state runs to
+    // infinity, its quaternion to zero, or its mass matrix stops being positive definite (the
+    // dynamics then throw). Such a segment counts as the cap, as a non-finite error does.
+    try {
+      for (int k = start; k < end; ++k) {
+        const double h = (data_.time[k + 1] - data_.time[k]) / substeps;
+        for (int i = 0; i < substeps; ++i) rk4(s, k, h);
+        if (!s.orientation.allFinite() || !s.twist.allFinite() || !s.dq.allFinite())
+          return kMaxSegmentError;
+      }
+    } catch (const Error&) {
+      return kMaxSegmentError;
     }
     const FloatingState r = recorded(end);
     // The rotation between them: the angle of conj(predicted) recorded.
@@ -109,8 +119,11 @@ class FloatingRollout {
     conj.tail<3>() = -conj.tail<3>();
     const Eigen::Vector4d d = times(conj, r.orientation);
     const double angle = 2.0 * std::atan2(d.tail<3>().norm(), std::abs(d[0]));
+    const double linear =
+        data_.linear_velocity ? (s.twist.tail<3>() - r.twist.tail<3>()).squaredNorm() : 0.0;
     const double error = (s.q - r.q).squaredNorm() + (s.dq - r.dq).squaredNorm() +
-                         (s.twist - r.twist).squaredNorm() + angle * angle;
+                         (s.twist.head<3>() - r.twist.head<3>()).squaredNorm() + linear +
+                         angle * angle;
     return std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
   }
 
@@ -149,13 +162,17 @@ void checkData(const FloatingModel& model, const FloatingGcData& data) {
 
 }  // namespace
 
+void FloatingGcOptions::check() const {
+  if (!(horizon > 0.0) || !std::isfinite(horizon))
+    throw InputError("`horizon` is positive and finite");
+  if (num_segments < 0) throw InputError("`num_segments` is 0 (every one) or positive");
+  if (substeps < 1) throw InputError("`substeps` is 1 or more");
+}
+
 FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
                                  const FloatingGcOptions& options) {
   checkData(candidate, data);
-  if (!(options.horizon > 0.0) || !std::isfinite(options.horizon))
-    throw InputError("`horizon` is positive and finite");
-  if (options.num_segments < 0) throw InputError("`num_segments` is 0 (every one) or positive");
-  if (options.substeps < 1) throw InputError("`substeps` is 1 or more");
+  options.check();
   Eigen::VectorXd steps =
       data.time.tail(data.time.size() - 1) - data.time.head(data.time.size() - 1);
   std::sort(steps.data(), steps.data() + steps.size());
@@ -164,8 +181,8 @@ FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingG
   // the horizon is taken to the nearest whole number of periods, and said (FloatingGcResult).
   const double samples = std::round(options.horizon / period);
   if (samples < 1.0)
-    throw InputError("`horizon`: " + std::to_string(options.horizon) +
-                     " s is shorter than half a sample period (" + std::to_string(period) + " s)");
+    throw InputError("`horizon`: " + formatNumber(options.horizon, 4) +
+                     " s is shorter than half a sample period (" + formatNumber(period, 4) + " s)");
   if (samples * options.substeps > kMaxSegmentSteps)
     throw InputError("`substeps`: " + std::to_string(options.substeps) + " steps a period over " +
                      std::to_string(static_cast<long>(samples)) +
@@ -177,7 +194,7 @@ FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingG
   out.starts = segmentStarts(data.time, period, out.samples_per_segment, options.num_segments);
   if (out.starts.empty())
     throw InputError("`horizon`: no run of the data holds a segment of " +
-                     std::to_string(options.horizon) + " s");
+                     formatNumber(options.horizon, 4) + " s");
   FloatingRollout rollout(candidate, data);
   out.segment_errors.resize(static_cast<Eigen::Index>(out.starts.size()));
   for (std::size_t i = 0; i < out.starts.size(); ++i)

@@ -25,6 +25,12 @@ struct FloatingGcData {
   Eigen::MatrixXd q, dq, tau;
   std::vector<Contact> contacts;
   std::vector<Eigen::MatrixXd> wrenches;  // one per contact, in its order
+  /// Whether `twist` records the base's linear velocity. False: it does not (a dataset whose base
+  /// motion came from an IMU holds zero there); the rollout starts from what it holds (the
+  /// joints, the base's rotation and angular velocity do not depend on the base's linear
+  /// velocity: the same motion seen from a frame in uniform translation) and the error leaves
+  /// the linear velocity out.
+  bool linear_velocity = true;
 };
 
 /// The segments: `horizon` [s], taken to the nearest whole number of sample periods (the median
@@ -35,13 +41,16 @@ struct FloatingGcOptions {
   double horizon = 0.05;
   int num_segments = 100;
   int substeps = 1;
+  /// Throws InputError naming `horizon` (not positive and finite), `num_segments` (negative) or
+  /// `substeps` (below 1).
+  void check() const;
 };
 
 struct FloatingGcResult {
   /// Each segment's squared error at its end: the joints' (q, dq) and the base twist's entries
-  /// squared, plus the base's rotation angle between prediction and record squared (rad^2), summed
-  /// unweighted (as the paper's unnormalised GC error). A diverging segment counts as
-  /// kMaxSegmentError.
+  /// (its angular velocity's only without FloatingGcData::linear_velocity) squared, plus the base's
+  /// rotation angle between prediction and record squared (rad^2), summed unweighted (as the
+  /// paper's unnormalised GC error). A diverging segment counts as kMaxSegmentError.
   Eigen::VectorXd segment_errors;
   std::vector<int> starts;  // each segment's first sample
   int samples_per_segment = 0;

@@ -96,9 +96,12 @@ TEST(Cli, SimulateAndIdentifyAFloatingBase) {
   EXPECT_TRUE(contains(r.out, "torques_contacts:")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
   EXPECT_EQ(j["kind"], "dynid.floating_identification");
-  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["schema_version"], 3);
   EXPECT_EQ(j["method"], "ols");
   EXPECT_EQ(j["motion"], "holding");
+  // Random states: no GC error, and why (the motion test of analysis/floating/gc_data.hpp).
+  EXPECT_TRUE(contains(j["gc"]["refused"].get<std::string>(), "not one motion")) << j["gc"];
+  EXPECT_TRUE(j["sets"][0]["gc_error"]["train"].is_null());
   EXPECT_EQ(j["contacts"][0]["kind"], "frame");
   EXPECT_EQ(j["validation"]["samples"], 60);
   ASSERT_EQ(j["sets"].size(), 3u);
@@ -304,6 +307,43 @@ TEST(Cli, SimulateADesignOnASuspendedFloatingBase) {
   EXPECT_TRUE(contains(r.out, "suspended): 100 states of the design over one period")) << r.out;
   const std::string csv = readFile(dir + "/d.csv");
   EXPECT_TRUE(contains(csv, "wrench:base:nx")) << csv.substr(0, 400);  // the support's sensor
+}
+
+/// identify measures each estimate's GC error on a motion (the design at 500 Hz), beside the
+/// model's own; --horizon and --segments set the segments.
+TEST(Cli, IdentifyAFloatingBaseMeasuresTheGcErrorOnAMotion) {
+  const std::string dir = test::tempPath("floating-gc");
+  std::filesystem::create_directories(dir);
+  Result r = run("simulate --robot " + kAnymal + " --floating-base --trajectory " +
+                 std::string(DYNID_SOURCE_DIR) +
+                 "/tests/data/floating/fixtures/anymal_excitation.json --samples 5000 --out " +
+                 dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --sensors " +
+          "torques_contacts --horizon 0.02 --segments 20 --data " + dir + "/d.csv --out " + dir +
+          "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "GC error of the model's own parameters")) << r.out;
+  EXPECT_TRUE(contains(r.out, "20 segments of 0.02 s")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
+  const auto& gc = j["gc"];
+  ASSERT_TRUE(gc["refused"].is_null()) << gc;
+  EXPECT_EQ(gc["samples_per_segment"], 10);  // 0.02 s at 500 Hz
+  EXPECT_EQ(gc["segments_train"], 20);
+  EXPECT_TRUE(gc["noise_floor"]["train"].is_null());  // ols estimates no channel noise
+  const double model = gc["model"]["train"].get<double>();
+  // Noise-free: the estimate is the model's base parameters to 1e-9, the rest the model's.
+  EXPECT_NEAR(j["sets"][0]["gc_error"]["train"].get<double>(), model, 1e-6 * model);
+  const std::string md = readFile(dir + "/est/floating_identification.md");
+  EXPECT_TRUE(contains(md, "| the model's own |")) << md;
+  // A horizon under half the 2 ms period: no GC error, said with the flag's spelling.
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --sensors " +
+          "torques_contacts --horizon 0.0005 --data " + dir + "/d.csv --out " + dir + "/short");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out,
+                       "GC error not measured: --horizon: 0.0005 s is shorter than half a "
+                       "sample period (0.002 s)"))
+      << r.out;
 }
 
 /// Friction cones under ANYmal's feet: the console says how many states were drawn to keep the

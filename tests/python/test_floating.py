@@ -165,6 +165,13 @@ def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
     data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=design, samples=50)
     doc = dynid.floating_identify(ANYMAL, data, method="ols", sensors=["torques_contacts"])
     assert doc["motion"] == "suspended"  # the support's wrench is at the base link
+    # 50 states over the design's 10 s are 5 Hz: a motion, but 0.05 s is under half a period.
+    assert "horizon" in doc["gc"]["refused"]
+    doc = dynid.floating_identify(ANYMAL, data, method="ols", sensors=["torques_contacts"],
+                                  horizon=0.4, num_segments=5)
+    assert doc["gc"]["refused"] is None and doc["gc"]["segments_train"] == 5
+    with pytest.raises(ValueError, match="horizon"):
+        dynid.floating_identify(ANYMAL, data, horizon=-1.0)
     with pytest.raises(ValueError, match="trajectory"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", trajectory=design, motion="free")
 

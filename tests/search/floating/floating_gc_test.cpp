@@ -112,9 +112,13 @@ TEST(FloatingGc, AWrongTrunkMassPredictsTheBaseFalling) {
 /// each sample in closed form (q0 (cos(wt/2), sin(wt/2) axis), the twist in the base frame), the
 /// sensor's wrench from inverse dynamics. The rollout turns the base as the twist says: a wrong
 /// sign or side in the quaternion's rate would leave 2 x 0.02 rad a segment, 1.6e-3 squared.
-TEST(FloatingGc, ASpinningBaseTurnsAsItsTwistSays) {
-  const FloatingModel model = test::loadExample(test::kAnymalExample);
-  const int n = model.numJoints(), samples = 301;  // 0.3 s at 1 kHz
+/// A base spinning at 1 rad/s about a tilted axis, its origin moving at `velocity` (world axes,
+/// constant: a uniform translation), the joints held at 0.3 rad or, with `swing`, swinging 0.2 rad
+/// about it at 1.3 Hz (each joint its own phase); the sensor's wrench and the torques from inverse
+/// dynamics; 0.3 s at 1 kHz.
+FloatingGcData spinning(const FloatingModel& model, const Eigen::Vector3d& velocity,
+                        bool swing = false) {
+  const int n = model.numJoints(), samples = 301;
   const Eigen::Vector3d axis = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
   const Eigen::Vector4d q0 = Eigen::Vector4d(0.9, 0.1, 0.3, -0.2).normalized();
   FloatingGcData d;
@@ -138,22 +142,67 @@ TEST(FloatingGc, ASpinningBaseTurnsAsItsTwistSays) {
                   cross(Eigen::Vector3d(q0.tail<3>()), Eigen::Vector3d(spin.tail<3>()));
     d.time[k] = t;
     d.orientation.col(k) = q;
-    d.twist.col(k).head<3>() = axis;
+    Eigen::VectorXd ddq = Eigen::VectorXd::Zero(n);
+    for (int j = 0; swing && j < n; ++j) {
+      const double w = 2.0 * M_PI * 1.3, phase = w * t + j;
+      d.q(j, k) = 0.3 + 0.2 * std::sin(phase);
+      d.dq(j, k) = 0.2 * w * std::cos(phase);
+      ddq[j] = -0.2 * w * w * std::sin(phase);
+    }
     BaseMotion base;
     base.rotation = baseRotation(q);
+    const Eigen::Vector3d v = base.rotation.transpose() * velocity;
+    d.twist.col(k) << axis, v;
     base.twist = d.twist.col(k);
-    const Eigen::VectorXd g =
-        floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), Eigen::VectorXd::Zero(n));
+    base.acceleration << Eigen::Vector3d::Zero(), -cross(axis, v);  // d/dt R^T V
+    const Eigen::VectorXd g = floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), ddq);
     d.tau.col(k) = g.tail(n);
     const Eigen::Vector3d f = g.segment<3>(3);
     d.wrenches[0].col(k) << X.rotation.transpose() * (g.head<3>() - cross(X.translation, f)),
         X.rotation.transpose() * f;
   }
-  const FloatingGcResult r = floatingGcError(model, d, segments());
+  return d;
+}
+
+TEST(FloatingGc, ASpinningBaseTurnsAsItsTwistSays) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const FloatingGcResult r =
+      floatingGcError(model, spinning(model, Eigen::Vector3d::Zero()), segments());
   // Gravity turns in the base frame at 1 rad/s, so the sensor's wrench changes: the hold's error
   // (measured 7.9e-8) against 1.0e-3 with the twist taken in world axes (measured, the only test
   // here a rotation mistake fails: the others' bases barely turn).
   EXPECT_LT(r.error, 1e-5) << r.error;
+}
+
+/// The base's linear velocity turns with the base (a uniform translation seen in its frame); where
+/// a dataset does not record it (an IMU's: zero), the rollout of everything else is the same.
+TEST(FloatingGc, ATranslatingBaseNeedsNoLinearVelocityForTheRest) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  FloatingGcData moving = spinning(model, Eigen::Vector3d(0.8, -0.5, 0.3), true);
+  // The base frame turns at 1 rad/s, so its v turns too; the joints swing: the hold's error.
+  EXPECT_LT(floatingGcError(model, moving, segments()).error, 1e-4);
+  moving.linear_velocity = false;
+  FloatingGcData unrecorded = moving;
+  unrecorded.twist.bottomRows<3>().setZero();
+  const double with = floatingGcError(model, moving, segments()).error;
+  const double without = floatingGcError(model, unrecorded, segments()).error;
+  // The joints' and the rotation's dynamics do not depend on a uniform translation: the two
+  // differ by round-off in the RK4 sums (1e-9 relative, far above it, far below any model's).
+  EXPECT_GT(with, 1e-9);  // the swinging joints' hold: an error round-off does not make
+  EXPECT_NEAR(without, with, 1e-9 * with) << with;
+}
+
+/// A candidate far from physical (a trunk of negative rotational inertia: its mass matrix not
+/// positive definite) diverges or throws inside the dynamics: each such segment counts as the cap,
+/// and the call still returns.
+TEST(FloatingGc, ADivergingCandidateCountsAsTheCap) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  FloatingModel wrong = model;
+  Eigen::VectorXd theta = wrong.standardParameters();
+  theta.segment<6>(4) *= -1.0;  // Ixx .. Izz
+  wrong.setStandardParameters(theta);
+  const FloatingGcResult r = floatingGcError(wrong, suspended(model, 1000.0, 0.5), segments());
+  EXPECT_EQ(r.segment_errors.maxCoeff(), kMaxSegmentError) << r.segment_errors.transpose();
 }
 
 /// A recording with a gap (a stall in the stamps, a log split): no segment spans it, and every

@@ -1,0 +1,134 @@
+#include "analysis/floating/gc_measure.hpp"
+
+#include <optional>
+#include <random>
+#include <string>
+
+#include "analysis/floating/gc_data.hpp"
+#include "core/errors.hpp"
+
+namespace dynid {
+
+FloatingModel floatingEstimateModel(const FloatingModel& model, const FloatingSetEstimate& set) {
+  FloatingModel out = model;
+  out.setStandardParameters(
+      set.physical ? set.physical->theta
+                   : set.base.base.standardFromBase(set.fit.beta, model.standardParameters()));
+  return out;
+}
+
+namespace {
+/// The dataset as a rollout's data, or nothing with `why` set.
+std::optional<FloatingGcData> rollable(const FloatingDataset& dataset,
+                                       const std::vector<Contact>& contacts, std::string& why) {
+  why = floatingMotionRefusal(dataset);
+  if (!why.empty()) return std::nullopt;
+  try {
+    return floatingGcData(dataset, contacts);
+  } catch (const InputError& e) {
+    why = e.what();
+    return std::nullopt;
+  }
+}
+
+/// The GC error of `candidate`, or nothing with `why` set when the data do not hold a segment of
+/// the horizon asked (the only refusal left once the data and the options are checked).
+std::optional<FloatingGcResult> measured(const FloatingModel& candidate, const FloatingGcData& data,
+                                         const FloatingGcOptions& options, std::string& why) {
+  try {
+    return floatingGcError(candidate, data, options);
+  } catch (const InputError& e) {
+    why = e.what();
+    return std::nullopt;
+  }
+}
+/// The channels' variances the weighted fits estimated: torques_wrenches' (it reads every channel
+/// and weights every set), else the torques' from a set that reads them and the forces' and
+/// moments' from one that reads those; nothing with ols, or when a channel the data have is not
+/// estimated.
+std::optional<ChannelVariances> estimatedVariances(const FloatingIdentifyOutcome& outcome) {
+  if (outcome.method == FloatingMethod::kOls) return std::nullopt;
+  std::optional<double> torque, force, moment;
+  for (const FloatingSetEstimate& s : outcome.sets) {
+    if (!s.refused.empty()) continue;
+    if (s.variances_from == SensorSet::kTorquesAndWrenches) return s.variances;
+    if (s.variances_from == SensorSet::kTorquesAndContactFlags) torque = s.variances.torque;
+    if (s.variances_from == SensorSet::kWrenches)
+      force = s.variances.force, moment = s.variances.moment;
+  }
+  if (!torque || (!outcome.contacts.empty() && !force)) return std::nullopt;
+  return ChannelVariances{*torque, force.value_or(1.0), moment.value_or(1.0)};
+}
+
+/// FloatingGcSummary's floor on `data`: the mean of GC(inputs + noise) - GC(inputs).
+double noiseFloor(const FloatingModel& model, const FloatingGcData& data,
+                  const FloatingGcOptions& options, const ChannelVariances& v, double error,
+                  std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const auto add = [&](Eigen::MatrixXd& m, Eigen::Index row, double sd) {
+    for (Eigen::Index k = 0; k < m.cols(); ++k) m(row, k) += sd * normal(rng);
+  };
+  double sum = 0.0;
+  for (int draw = 0; draw < kGcFloorDraws; ++draw) {
+    FloatingGcData noisy = data;
+    for (Eigen::Index j = 0; j < noisy.tau.rows(); ++j) add(noisy.tau, j, std::sqrt(v.torque));
+    for (std::size_t c = 0; c < noisy.contacts.size(); ++c) {
+      const bool frame = noisy.contacts[c].kind == Contact::Kind::kFrame;
+      Eigen::MatrixXd& w = noisy.wrenches[c];
+      for (Eigen::Index r = 0; r < w.rows(); ++r)
+        add(w, r, std::sqrt(frame && r < 3 ? v.moment : v.force));
+    }
+    sum += floatingGcError(model, noisy, options).error - error;
+  }
+  return sum / kGcFloorDraws;
+}
+}  // namespace
+
+void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest& request,
+                       const FloatingDataset& data, const FloatingDataset* validation,
+                       FloatingIdentifyOutcome& outcome) {
+  FloatingGcSummary& gc = outcome.gc;
+  if (!request.gc) {
+    gc.refused = "not asked (`gc`)";
+    return;
+  }
+  const FloatingGcOptions& options = *request.gc;
+  std::optional<FloatingGcData> train = rollable(data, outcome.contacts, gc.refused);
+  std::optional<FloatingGcData> test;
+  if (validation != nullptr) test = rollable(*validation, outcome.contacts, gc.validation_refused);
+  std::optional<FloatingGcResult> r;
+  if (train && (r = measured(model, *train, options, gc.refused))) {
+    gc.model_train = r->error;
+    gc.horizon = r->horizon;
+    gc.samples_per_segment = r->samples_per_segment;
+    gc.segments = static_cast<int>(r->starts.size());
+    gc.linear_velocity = train->linear_velocity;
+  } else {
+    train.reset();
+  }
+  if (test && (r = measured(model, *test, options, gc.validation_refused))) {
+    gc.model_test = r->error;
+    gc.validation_segments = static_cast<int>(r->starts.size());
+    if (!train) {
+      gc.horizon = r->horizon;
+      gc.samples_per_segment = r->samples_per_segment;
+    }
+    gc.linear_velocity = gc.linear_velocity && test->linear_velocity;
+  } else {
+    test.reset();
+  }
+  if (const std::optional<ChannelVariances> v = estimatedVariances(outcome)) {
+    const std::uint64_t seed = request.structural.seed;
+    if (train) gc.floor_train = noiseFloor(model, *train, options, *v, gc.model_train, seed);
+    if (test) gc.floor_test = noiseFloor(model, *test, options, *v, gc.model_test, seed + 1);
+  }
+  for (FloatingSetEstimate& s : outcome.sets) {
+    if (!s.refused.empty() || (!train && !test)) continue;
+    const FloatingModel estimate = floatingEstimateModel(model, s);
+    if (train) s.gc_train = floatingGcError(estimate, *train, options).error;
+    if (test) s.gc_test = floatingGcError(estimate, *test, options).error;
+  }
+}
+
+}  // namespace dynid
