@@ -55,26 +55,35 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
         {"iterations", s.physical->iterations},
         {"standard", std::vector<double>(s.physical->theta.data(),
                                          s.physical->theta.data() + s.physical->theta.size())}};
-  out.update(
-      {{"rows", s.fit.rows},
-       {"residual_scale", s.fit.residual_scale},
-       {"physical", physical},
-       {"noise_sd", noiseJson(outcome, s)},
-       {"residual_percent", s.residual_percent},
-       {"validation_percent", numberOrNull(s.validation_percent)},
-       {"model_error_percent", s.model_error_percent},
-       {"model_z_rms", numberOrNull(s.model_z_rms)},
-       {"gc_error", {{"train", numberOrNull(s.gc_train)}, {"test", numberOrNull(s.gc_test)}}},
-       {"base_parameters", parameters}});
+  out.update({{"rows", s.fit.rows},
+              {"residual_scale", s.fit.residual_scale},
+              {"physical", physical},
+              {"noise_sd", noiseJson(outcome, s)},
+              {"residual_percent", s.residual_percent},
+              {"validation_percent", numberOrNull(s.validation_percent)},
+              {"model_error_percent", s.model_error_percent},
+              {"model_z_rms", numberOrNull(s.model_z_rms)},
+              {"gc_error",
+               {{"train", numberOrNull(s.gc_train)},
+                {"test", numberOrNull(s.gc_test)},
+                {"noise_floor_train", numberOrNull(s.gc_floor_train)},
+                {"noise_floor_test", numberOrNull(s.gc_floor_test)}}},
+              {"base_parameters", parameters}});
   return out;
 }
 
 std::string percent(double x) { return formatNumber(x, 3) + " %"; }
 
+/// A GC error with its noise floor in parentheses where it has one ("-" where not measured).
+std::string withFloor(double error, double floor) {
+  return formatNumber(error, 4, "-") +
+         (std::isnan(floor) ? std::string() : " (" + formatNumber(floor, 3) + ")");
+}
+
 /// The report's paragraph on the GC error: how it was measured, or why not.
 std::string gcMarkdown(const FloatingGcSummary& gc) {
   std::ostringstream md;
-  if (!gc.refused.empty() && (gc.validation_refused.empty() && gc.validation_segments == 0)) {
+  if (!gc.refused.empty() && gc.validation_segments == 0) {
     md << "GC error not measured: " << gc.refused << ".\n\n";
     return md.str();
   }
@@ -95,11 +104,11 @@ std::string gcMarkdown(const FloatingGcSummary& gc) {
     md << "; not on the held-out data: " << gc.validation_refused;
   md << ".";
   if (!std::isnan(gc.floor_train) || !std::isnan(gc.floor_test))
-    md << " The measured inputs' noise alone gives about " << formatNumber(gc.floor_train, 3, "-")
-       << " (held out " << formatNumber(gc.floor_test, 3, "-")
-       << "; the noise floor: the mean of GC(inputs + noise) - GC(inputs) over " << kGcFloorDraws
-       << " draws at the channels' estimated variances): GC errors closer than that roll the "
-          "motion out alike.";
+    md << " In parentheses, each candidate's noise floor: what the measured inputs' noise alone "
+          "gives it (the mean of GC(inputs + noise) - GC(inputs) over "
+       << kGcFloorDraws
+       << " draws at the channels' estimated variances, the same for every candidate). A GC "
+          "error at its floor is all noise; what it has above it is the candidate's own.";
   if (!gc.linear_velocity)
     md << " The base's linear velocity is left out: the data do not record it (an IMU's "
           "dataset holds zero there while the base accelerates).";
@@ -112,17 +121,16 @@ std::string gcSummaryLine(const FloatingGcSummary& gc) {
   if (!gc.refused.empty() && gc.validation_segments == 0)
     return "GC error not measured: " + gc.refused;
   std::string line = "GC error of the model's own parameters " +
-                     formatNumber(gc.model_train, 4, "-") + " (held out " +
-                     formatNumber(gc.model_test, 4, "-") + ")";
+                     withFloor(gc.model_train, gc.floor_train) + ", held out " +
+                     withFloor(gc.model_test, gc.floor_test);
   if (gc.refused.empty())
-    line += ", " + std::to_string(gc.segments) + " segments of " + formatNumber(gc.horizon, 4) +
+    line += "; " + std::to_string(gc.segments) + " segments of " + formatNumber(gc.horizon, 4) +
             " s" + (gc.linear_velocity ? "" : ", the base's linear velocity not recorded");
-  if (!std::isnan(gc.floor_train))
-    line += "; the inputs' noise alone gives about " + formatNumber(gc.floor_train, 3) +
-            " (held out " + formatNumber(gc.floor_test, 3, "-") + ")";
   else
     line += "; not on the data: " + gc.refused;
   if (!gc.validation_refused.empty()) line += "; not held out: " + gc.validation_refused;
+  if (!std::isnan(gc.floor_train) || !std::isnan(gc.floor_test))
+    line += "; in parentheses the noise floors (what the inputs' noise alone gives each)";
   return line;
 }
 
@@ -139,17 +147,18 @@ json gcJson(const FloatingGcSummary& gc) {
       {"segments_test", gc.validation_segments},
       {"linear_velocity_compared", gc.linear_velocity},
       {"model", {{"train", numberOrNull(gc.model_train)}, {"test", numberOrNull(gc.model_test)}}},
-      {"noise_floor",
+      {"model_noise_floor",
        {{"train", numberOrNull(gc.floor_train)}, {"test", numberOrNull(gc.floor_test)}}},
       {"note",
        "the paper's GC error on a floating base: segments of the recorded motion rolled out "
        "from their recorded start by each estimate (ols, wls: its base parameters, the rest "
        "the model's), driven by the recorded joint torques and contact wrenches, and the "
        "squared differences of q, dq, the base's twist and rotation angle at their end, "
-       "summed over the segments; `model`: the model's own parameters; `noise_floor`: what "
-       "the measured inputs' noise alone gives (the mean of GC(inputs + noise) - GC(inputs) "
-       "over four draws at the channels' estimated variances; null with ols): GC errors "
-       "within it of each other roll the motion out alike"}};
+       "summed over the segments; `model`: the model's own parameters; a noise floor: what "
+       "the measured inputs' noise alone gives that candidate (the mean of GC(inputs + "
+       "noise) - GC(inputs) over four draws at the channels' estimated variances, the same "
+       "draws for every candidate; null with ols, or where the rollout diverged): a GC error "
+       "at its floor is all noise, what it has above it is the candidate's own"}};
 }
 
 /// The payload's ten parameters with their sd, its mass and centre of mass (in its body's frame).
@@ -249,11 +258,13 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
     md << percent(s.residual_percent) << " | "
        << (std::isnan(s.validation_percent) ? "-" : percent(s.validation_percent)) << " | "
        << percent(s.model_error_percent) << " | " << formatNumber(s.model_z_rms, 3, "-") << " | "
-       << formatNumber(s.gc_train, 4, "-") << " | " << formatNumber(s.gc_test, 4, "-") << " |\n";
+       << withFloor(s.gc_train, s.gc_floor_train) << " | " << withFloor(s.gc_test, s.gc_floor_test)
+       << " |\n";
   }
-  if (outcome.gc.refused.empty() || outcome.gc.validation_refused.empty())
-    md << "| the model's own | | | | | | " << formatNumber(outcome.gc.model_train, 4, "-") << " | "
-       << formatNumber(outcome.gc.model_test, 4, "-") << " |\n";
+  const FloatingGcSummary& gc = outcome.gc;
+  if (gc.refused.empty() || gc.validation_segments > 0)
+    md << "| the model's own | | | | | | " << withFloor(gc.model_train, gc.floor_train) << " | "
+       << withFloor(gc.model_test, gc.floor_test) << " |\n";
   if (!sources.payloads.empty()) {
     const FloatingPayload& first = sources.payloads.front();
     md << "\n## The payload on `" << first.link << "`\n\nIts ten parameters about the origin of `"
@@ -316,8 +327,8 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
       out << (s.physical->converged ? ", physically consistent in " : ", NOT CONVERGED after ")
           << s.physical->iterations << " Newton steps";
     if (!std::isnan(s.gc_train) || !std::isnan(s.gc_test))
-      out << ", GC error " << formatNumber(s.gc_train, 4, "-") << " (held out "
-          << formatNumber(s.gc_test, 4, "-") << ")";
+      out << ", GC error " << withFloor(s.gc_train, s.gc_floor_train) << ", held out "
+          << withFloor(s.gc_test, s.gc_floor_test);
     out << "\n";
   }
   out << "  " << gcSummaryLine(outcome.gc) << "\n";

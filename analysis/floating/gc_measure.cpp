@@ -1,5 +1,6 @@
 #include "analysis/floating/gc_measure.hpp"
 
+#include <limits>
 #include <optional>
 #include <random>
 #include <string>
@@ -60,10 +61,12 @@ std::optional<ChannelVariances> estimatedVariances(const FloatingIdentifyOutcome
   return ChannelVariances{*torque, force.value_or(1.0), moment.value_or(1.0)};
 }
 
-/// FloatingGcSummary's floor on `data`: the mean of GC(inputs + noise) - GC(inputs).
+/// FloatingGcSummary's floor on `data` for `model`, whose GC error there is `error`: the mean of
+/// GC(inputs + noise) - GC(inputs); NaN for a candidate whose rollout diverged (no floor).
 double noiseFloor(const FloatingModel& model, const FloatingGcData& data,
                   const FloatingGcOptions& options, const ChannelVariances& v, double error,
                   std::uint64_t seed) {
+  if (!(error < kMaxSegmentError)) return std::numeric_limits<double>::quiet_NaN();  // diverged
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   const auto add = [&](Eigen::MatrixXd& m, Eigen::Index row, double sd) {
@@ -118,16 +121,21 @@ void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest
   } else {
     test.reset();
   }
-  if (const std::optional<ChannelVariances> v = estimatedVariances(outcome)) {
-    const std::uint64_t seed = request.structural.seed;
-    if (train) gc.floor_train = noiseFloor(model, *train, options, *v, gc.model_train, seed);
-    if (test) gc.floor_test = noiseFloor(model, *test, options, *v, gc.model_test, seed + 1);
-  }
+  const std::optional<ChannelVariances> v = estimatedVariances(outcome);
+  const std::uint64_t seed = request.structural.seed;
+  if (v && train) gc.floor_train = noiseFloor(model, *train, options, *v, gc.model_train, seed);
+  if (v && test) gc.floor_test = noiseFloor(model, *test, options, *v, gc.model_test, seed + 1);
   for (FloatingSetEstimate& s : outcome.sets) {
     if (!s.refused.empty() || (!train && !test)) continue;
     const FloatingModel estimate = floatingEstimateModel(model, s);
-    if (train) s.gc_train = floatingGcError(estimate, *train, options).error;
-    if (test) s.gc_test = floatingGcError(estimate, *test, options).error;
+    if (train) {
+      s.gc_train = floatingGcError(estimate, *train, options).error;
+      if (v) s.gc_floor_train = noiseFloor(estimate, *train, options, *v, s.gc_train, seed);
+    }
+    if (test) {
+      s.gc_test = floatingGcError(estimate, *test, options).error;
+      if (v) s.gc_floor_test = noiseFloor(estimate, *test, options, *v, s.gc_test, seed + 1);
+    }
   }
 }
 

@@ -74,10 +74,12 @@ struct FloatingSetEstimate {
   /// ||beta - model_beta|| / ||model_beta|| in percent (the paper's parameter error, against the
   /// model read: the truth when it made the data), and the RMS of (beta - model_beta) / sd.
   double model_error_percent = 0.0, model_z_rms = 0.0;
-  /// The estimate's GC error on the data and on the held-out data (FloatingGcSummary; NaN where
-  /// not measured).
+  /// The estimate's GC error on the data and on the held-out data, and the floor the inputs'
+  /// noise gives it there (FloatingGcSummary; NaN where not measured).
   double gc_train = std::numeric_limits<double>::quiet_NaN();
   double gc_test = std::numeric_limits<double>::quiet_NaN();
+  double gc_floor_train = std::numeric_limits<double>::quiet_NaN();
+  double gc_floor_test = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The GC error measured on the identification's data (search/floating/floating_gc.hpp, the
@@ -96,11 +98,13 @@ struct FloatingGcSummary {
   /// The model's own parameters' GC error, on the data and held out (NaN where not measured).
   double model_train = std::numeric_limits<double>::quiet_NaN();
   double model_test = std::numeric_limits<double>::quiet_NaN();
-  /// The GC error the measured inputs' noise alone gives, on the data and held out (the floor:
-  /// an estimate whose GC error is within it of another's rolls the motion out as well): the
-  /// mean over kGcFloorDraws draws of GC(inputs + noise) - GC(inputs) with the model's own
-  /// parameters, the noise drawn at the channels' variances the weighted fit estimated (seeded by
-  /// the structural seed). NaN with ols, which estimates none.
+  /// The GC error the measured inputs' noise alone gives the model's own parameters, on the data
+  /// and held out (each estimate has its own: FloatingSetEstimate::gc_floor_train): the mean over
+  /// kGcFloorDraws draws of GC(inputs + noise) - GC(inputs), the noise drawn at the channels'
+  /// variances the weighted fit estimated, the same draws for every candidate (seeded by the
+  /// structural seed). A GC error at its floor is all noise; what it has above it is the
+  /// candidate's own (its squared bias). The floor grows as the candidate's inertia shrinks (the
+  /// same noisy torque accelerates a lighter robot more). NaN with ols, which estimates none.
   double floor_train = std::numeric_limits<double>::quiet_NaN();
   double floor_test = std::numeric_limits<double>::quiet_NaN();
 };

@@ -330,7 +330,7 @@ TEST(Cli, IdentifyAFloatingBaseMeasuresTheGcErrorOnAMotion) {
   ASSERT_TRUE(gc["refused"].is_null()) << gc;
   EXPECT_EQ(gc["samples_per_segment"], 10);  // 0.02 s at 500 Hz
   EXPECT_EQ(gc["segments_train"], 20);
-  EXPECT_TRUE(gc["noise_floor"]["train"].is_null());  // ols estimates no channel noise
+  EXPECT_TRUE(gc["model_noise_floor"]["train"].is_null());  // ols estimates no channel noise
   const double model = gc["model"]["train"].get<double>();
   // Noise-free: the estimate is the model's base parameters to 1e-9, the rest the model's.
   EXPECT_NEAR(j["sets"][0]["gc_error"]["train"].get<double>(), model, 1e-6 * model);

@@ -141,6 +141,8 @@ TEST(FloatingGcMeasure, TheNoiseFloorIsTheTrueModelsErrorOnNoisyInputs) {
   EXPECT_NEAR(out.gc.floor_train, out.gc.model_train, 0.2 * out.gc.model_train)
       << out.gc.floor_train;
   EXPECT_TRUE(std::isnan(out.gc.floor_test));
+  // The estimate's own floor, drawn with the same noise: its error is the noise's too.
+  EXPECT_NEAR(out.sets[0].gc_floor_train, out.sets[0].gc_train, 0.2 * out.sets[0].gc_train);
   request.method = FloatingMethod::kOls;  // no channel noise estimated: no floor
   EXPECT_TRUE(std::isnan(floatingIdentifyRun(model, request, data).gc.floor_train));
 }
