@@ -257,8 +257,9 @@ void bindFloating(py::module_& m) {
         py::arg("substeps") = FloatingGcOptions{}.substeps, py::arg("drive_terms") = py::none(),
         "The GC error on a floating base (docs/FLOATING.md): segments of a floating dataset "
         "(path) rolled out from their recorded start by the robot's forward dynamics, driven by "
-        "its joint torques and the wrenches measured at the contacts (every frame the dataset "
-        "measures a wrench at when contacts is None), compared at their end in q, dq, the base "
+        "its joint torques and the wrenches measured at the contacts, a contact known by its flag "
+        "alone held still while it holds (every frame the dataset measures a wrench at or flags "
+        "when contacts is None), compared at their end in q, dq, the base "
         "twist and the base's rotation angle. Returns {'error', 'segment_errors', 'starts' (each "
         "segment's first sample), 'samples_per_segment', 'horizon' (the horizon taken to the "
         "nearest whole number of sample periods)}.");

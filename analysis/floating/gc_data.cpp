@@ -39,25 +39,37 @@ FloatingGcData floatingGcData(const FloatingDataset& dataset,
   FloatingGcData out{dataset.time, dataset.orientation, dataset.twist, dataset.q,
                      dataset.dq,   dataset.tau,         contacts,      {}};
   out.linear_velocity = recordsLinearVelocity(dataset);
-  for (const Contact& c : contacts) {
+  out.flags.resize(contacts.size());
+  bool flagged = false;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const Contact& c = contacts[i];
     const FloatingDataset::Wrench* w = dataset.findWrench(c.name);
-    if (w == nullptr || w->values.rows() != c.dimension())
-      throw InputError(file + ": the GC error needs the " + std::to_string(c.dimension()) +
-                       "-component wrench measured at the contact '" + c.name +
-                       "' (wrench:" + c.name +
-                       ":...); a contact known by its flag alone holds "
-                       "by forces no measurement gives");
-    out.wrenches.push_back(w->values);
+    if (w != nullptr && w->values.rows() == c.dimension()) {
+      out.wrenches.push_back(w->values);
+      continue;
+    }
+    const FloatingDataset::Flag* f = dataset.findFlag(c.name);
+    if (f == nullptr)
+      throw InputError(file + ": the GC error needs at the contact '" + c.name + "' its " +
+                       std::to_string(c.dimension()) + "-component wrench (wrench:" + c.name +
+                       ":...) or its flag (contact:" + c.name + ")");
+    out.wrenches.emplace_back();
+    out.flags[i] = f->holding;
+    flagged = true;
   }
+  if (!flagged) out.flags.clear();
   return out;
 }
 
 FloatingGcData floatingGcData(const FloatingModel& model, const FloatingDataset& dataset,
                               const std::vector<std::string>& contacts) {
   std::vector<std::string> specs = contacts;
-  if (specs.empty())
+  if (specs.empty()) {
     for (const FloatingDataset::Wrench& w : dataset.wrenches)
       specs.push_back(w.frame + (w.values.rows() == 6 ? ":frame" : ""));
+    for (const FloatingDataset::Flag& f : dataset.flags)
+      if (dataset.findWrench(f.frame) == nullptr) specs.push_back(f.frame);
+  }
   return floatingGcData(dataset, contactsOf(model, specs));
 }
 

@@ -12,17 +12,17 @@ namespace dynid {
 
 /// The dataset's time, base orientation and twist, q, dq, joint torques and, for each of
 /// `contacts` (resolved against the model: a frame contact reads six wrench components, a point
-/// three), its measured wrench. Throws InputError naming the file when the dataset measures no
-/// joint torques or a contact has no wrench of its dimension (a contact known by its flag alone
-/// holds by forces no measurement gives: it cannot be rolled out). The base's linear velocity is
-/// taken as unrecorded (FloatingGcData::linear_velocity false) when the base motion came from an
-/// IMU, or when it is zero in every sample while the base's linear acceleration is not (a prepared
-/// IMU recording written out: a base that accelerates never stays still).
+/// three), its measured wrench, or its flag where it has no wrench of its dimension (the rollout
+/// then holds it still in the world while it holds: FloatingGcData::flags). Throws InputError
+/// naming the file when the dataset measures no joint torques or a contact has neither. The base's
+/// linear velocity is taken as unrecorded (FloatingGcData::linear_velocity false) when the base
+/// motion came from an IMU, or when it is zero in every sample while the base's linear acceleration
+/// is not (a prepared IMU recording written out: a base that accelerates never stays still).
 FloatingGcData floatingGcData(const FloatingDataset& dataset, const std::vector<Contact>& contacts);
 
 /// The same with the contacts by name (contactsOf's specifications, "F" a point, "F:frame" a
 /// frame); none: every frame the dataset measures a wrench at (a frame contact for six components,
-/// a point for three).
+/// a point for three), and every frame it flags without a wrench (a point).
 FloatingGcData floatingGcData(const FloatingModel& model, const FloatingDataset& dataset,
                               const std::vector<std::string>& contacts);
 

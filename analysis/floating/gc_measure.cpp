@@ -19,17 +19,29 @@ FloatingModel floatingEstimateModel(const FloatingModel& model, const FloatingSe
 }
 
 namespace {
-/// The dataset as a rollout's data, or nothing with `why` set.
+/// The dataset as a rollout's data, or nothing with `why` set. A carried base's support known by
+/// its flag alone cannot be rolled out: it holds the base while moving it, and the flag does not
+/// say how.
 std::optional<FloatingGcData> rollable(const FloatingDataset& dataset,
-                                       const std::vector<Contact>& contacts, std::string& why) {
+                                       const std::vector<Contact>& contacts, FloatingMotion motion,
+                                       std::string& why) {
   why = floatingMotionRefusal(dataset);
   if (!why.empty()) return std::nullopt;
+  FloatingGcData out;
   try {
-    return floatingGcData(dataset, contacts);
+    out = floatingGcData(dataset, contacts);
   } catch (const InputError& e) {
     why = e.what();
     return std::nullopt;
   }
+  for (std::size_t c = 0; c < contacts.size() && !out.flags.empty(); ++c)
+    if (motion == FloatingMotion::kCarried && contacts[c].body < 0 && !out.flags[c].empty()) {
+      why = "the support carrying the base ('" + contacts[c].name +
+            "') is known by its flag alone: it moves the base, and a flag does not say how (its "
+            "wrench would)";
+      return std::nullopt;
+    }
+  return out;
 }
 
 /// The GC error of `candidate`, or nothing with `why` set when the data do not hold a segment of
@@ -97,9 +109,11 @@ void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest
     return;
   }
   const FloatingGcOptions& options = *request.gc;
-  std::optional<FloatingGcData> train = rollable(data, outcome.contacts, gc.refused);
+  std::optional<FloatingGcData> train =
+      rollable(data, outcome.contacts, outcome.motion, gc.refused);
   std::optional<FloatingGcData> test;
-  if (validation != nullptr) test = rollable(*validation, outcome.contacts, gc.validation_refused);
+  if (validation != nullptr)
+    test = rollable(*validation, outcome.contacts, outcome.motion, gc.validation_refused);
   std::optional<FloatingGcResult> r;
   if (train && (r = measured(model, *train, options, gc.refused))) {
     gc.model_train = r->error;

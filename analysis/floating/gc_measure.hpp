@@ -14,11 +14,12 @@ FloatingModel floatingEstimateModel(const FloatingModel& model, const FloatingSe
 
 /// Fills outcome.gc and every estimated set's gc_train and gc_test as request.gc asks: each
 /// estimate (floatingEstimateModel) and the model's own parameters rolled out over `data`'s motion
-/// and `validation`'s (floatingGcError with outcome.contacts, every one of which needs its wrench
-/// measured), and the floor the inputs' noise gives (FloatingGcSummary). Data it cannot roll out
-/// are said in outcome.gc.refused (validation_refused), not thrown: no request (`gc` unset), no
-/// joint torques, a contact known by its flag alone, samples that are not one motion
-/// (floatingMotionRefusal), a horizon the data do not hold.
+/// and `validation`'s (floatingGcError with outcome.contacts, each pushing with its measured wrench
+/// or, known by its flag alone, held still while it holds), and the floor the inputs' noise gives
+/// (FloatingGcSummary). Data it cannot roll out are said in outcome.gc.refused
+/// (validation_refused), not thrown: no request (`gc` unset), no joint torques, a contact with
+/// neither wrench nor flag, a carried base's support known by its flag alone, samples that are not
+/// one motion (floatingMotionRefusal), a horizon the data do not hold.
 void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest& request,
                        const FloatingDataset& data, const FloatingDataset* validation,
                        FloatingIdentifyOutcome& outcome);

@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/QR>
+
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "core/format.hpp"
@@ -67,6 +69,7 @@ class FloatingRollout {
     Eigen::VectorXd external = Eigen::VectorXd::Zero(6 + n);
     for (std::size_t c = 0; c < data_.contacts.size(); ++c) {
       const Contact& contact = data_.contacts[c];
+      if (flagged(c)) continue;  // held below
       const Eigen::Matrix3d R = contactPose(model_, work_, contact, s.q).rotation;
       Eigen::VectorXd lambda(contact.dimension());
       for (int r = 0; r < contact.dimension(); r += 3)
@@ -74,11 +77,61 @@ class FloatingRollout {
       external.noalias() += contactJacobian(model_, work_, contact, s.q).transpose() * lambda;
     }
     const Eigen::VectorXd tau = data_.tau.col(k) + external.tail(n);
-    const Eigen::VectorXd& a = floatingForwardDynamics(model_, work_, base, s.q, s.dq, tau,
-                                                       Vector6<double>(external.head<6>()));
+    Eigen::VectorXd a = floatingForwardDynamics(model_, work_, base, s.q, s.dq, tau,
+                                                Vector6<double>(external.head<6>()));
+    hold(s, k, a);
     Eigen::Vector4d omega = Eigen::Vector4d::Zero();
     omega.tail<3>() = s.twist.head<3>();
     return {0.5 * times(s.orientation, omega), a.head<6>(), s.dq, a.tail(n)};
+  }
+
+  bool flagged(std::size_t c) const { return !data_.flags.empty() && !data_.flags[c].empty(); }
+
+  /// The contacts sample k flags as holding: their rows J and the rate J dnu must have (the
+  /// contact still in the world); 0 rows when none holds.
+  void holdingRows(const FloatingState& s, int k, Eigen::MatrixXd& J, Eigen::VectorXd& rate) {
+    const int nv = model_.numVelocities();
+    Eigen::VectorXd nu(nv);
+    nu << s.twist, s.dq;
+    // dJ nu by central differences of J along dq (J depends on q only), the step putting 1e-5
+    // rad on the fastest joint: 1e-10 relative truncation, 1e-11 round-off.
+    const double fastest = s.dq.lpNorm<Eigen::Infinity>();
+    const double h = fastest > 0.0 ? 1e-5 / fastest : 0.0;
+    J.resize(0, nv);
+    rate.resize(0);
+    for (std::size_t c = 0; c < data_.contacts.size(); ++c) {
+      if (!flagged(c) || !data_.flags[c][static_cast<std::size_t>(k)]) continue;
+      const Contact& contact = data_.contacts[c];
+      const Eigen::MatrixXd Jc = contactJacobian(model_, work_, contact, s.q);
+      Eigen::VectorXd djnu = Eigen::VectorXd::Zero(Jc.rows());
+      if (h > 0.0)
+        djnu = (contactJacobian(model_, work_, contact, s.q + h * s.dq) -
+                contactJacobian(model_, work_, contact, s.q - h * s.dq)) *
+               nu / (2.0 * h);
+      const Eigen::VectorXd v = Jc * nu;
+      const Eigen::Vector3d omega = s.twist.head<3>();
+      const Eigen::Index at = J.rows();
+      J.conservativeResize(at + Jc.rows(), nv);
+      rate.conservativeResize(at + Jc.rows());
+      J.bottomRows(Jc.rows()) = Jc;
+      for (Eigen::Index r = 0; r < Jc.rows(); r += 3)
+        rate.segment<3>(at + r) =
+            -djnu.segment<3>(r) - cross(omega, Eigen::Vector3d(v.segment<3>(r)));
+    }
+  }
+
+  /// Adds to the free acceleration `a` what the holding contacts' forces do (the header's rule),
+  /// with M's factor floatingForwardDynamics left in the workspace.
+  void hold(const FloatingState& s, int k, Eigen::VectorXd& a) {
+    if (data_.flags.empty()) return;
+    Eigen::MatrixXd J;
+    Eigen::VectorXd rate;
+    holdingRows(s, k, J, rate);
+    if (J.rows() == 0) return;
+    const Eigen::MatrixXd MinvJt = work_.llt.solve(J.transpose());
+    const Eigen::MatrixXd A = J * MinvJt;
+    const Eigen::VectorXd lambda = A.completeOrthogonalDecomposition().solve(rate - J * a);
+    a.noalias() += MinvJt * lambda;
   }
 
   /// One RK4 step of length h with sample k's inputs; the orientation normalised after it.
@@ -149,14 +202,21 @@ void checkData(const FloatingModel& model, const FloatingGcData& data) {
           std::to_string(n) + " x " + std::to_string(samples) + " (joints x samples), not " +
               std::to_string(m->rows()) + " x " + std::to_string(m->cols()));
   check(data.wrenches.size() == data.contacts.size(), "wrenches", "one matrix a contact");
+  check(data.flags.empty() || data.flags.size() == data.contacts.size(), "flags",
+        "none, or one list a contact");
   for (std::size_t c = 0; c < data.contacts.size(); ++c) {
     const Contact& contact = data.contacts[c];
     check(contact.body >= -1 && contact.body < n, "contacts",
           contact.name + "'s body is not the model's");
+    if (!data.flags.empty() && !data.flags[c].empty()) {
+      check(static_cast<Eigen::Index>(data.flags[c].size()) == samples, "flags",
+            contact.name + "'s are one a sample (" + std::to_string(samples) + ")");
+      continue;
+    }
     check(data.wrenches[c].rows() == contact.dimension() && data.wrenches[c].cols() == samples,
           "wrenches",
           contact.name + "'s is " + std::to_string(contact.dimension()) + " x " +
-              std::to_string(samples) + " (its components x samples)");
+              std::to_string(samples) + " (its components x samples), or give its flags");
   }
 }
 

@@ -2,9 +2,9 @@
 // segments of a floating robot's recorded motion rolled out from their recorded start (the base's
 // orientation and twist, q, dq) by the floating forward dynamics, driven by the recorded joint
 // torques and the wrenches measured at the contacts, and compared with the recorded state at the
-// segment's end. Contacts whose wrench is not measured (flags only) hold in the real motion by
-// forces no measurement gives, so they are not rolled out here: every contact needs its wrench
-// (or there is none: a robot in flight).
+// segment's end. A contact whose wrench is measured pushes with it; one known by its flag alone
+// holds where the flag says by the forces that keep it still in the world (a constrained forward
+// dynamics), whatever they are.
 #pragma once
 
 #include <vector>
@@ -17,14 +17,22 @@ namespace dynid {
 /// A floating robot's recorded motion, sample by sample (N samples, n joints): the base's
 /// orientation (w, x, y, z; base to world) and twist (omega, v; base frame), q, dq, the joint
 /// torques (the drives' output) and, for each contact, what it measured in its own frame's axes:
-/// a frame contact's wrench (n, f) about its origin (6 x N), a point contact's force (3 x N).
+/// a frame contact's wrench (n, f) about its origin (6 x N), a point contact's force (3 x N); or,
+/// for a contact whose wrench is not measured, its flag.
 struct FloatingGcData {
   Eigen::VectorXd time;
   Eigen::Matrix4Xd orientation;
   Eigen::Matrix<double, 6, Eigen::Dynamic> twist;
   Eigen::MatrixXd q, dq, tau;
   std::vector<Contact> contacts;
-  std::vector<Eigen::MatrixXd> wrenches;  // one per contact, in its order
+  std::vector<Eigen::MatrixXd> wrenches;  // one per contact, in its order (0 x 0: flagged)
+  /// Empty, or one per contact: empty where its wrench is measured, else N flags (1: it holds).
+  /// A holding contact stays still in the world: its velocity's rate is held at zero,
+  ///   J dnu = -dJ nu - omega x (J nu)   (each three rows; J in base-frame axes, nu = (twist, dq)),
+  /// by forces J^T lambda with lambda from (J M^-1 J^T) lambda = that - J dnu_free (the least-norm
+  /// one where the rows are redundant); a contact moving at a segment's start keeps that velocity
+  /// (the recorded state is not projected).
+  std::vector<std::vector<char>> flags;
   /// Whether `twist` records the base's linear velocity. False: it does not (a dataset whose base
   /// motion came from an IMU holds zero there); the rollout starts from what it holds (the
   /// joints, the base's rotation and angular velocity do not depend on the base's linear
@@ -61,9 +69,10 @@ struct FloatingGcResult {
 
 /// The GC error of `candidate` (its parameters) on `data`. Throws InputError (naming the field:
 /// `time`, `orientation`, `twist`, `q`, `dq`, `tau`, `wrenches`, `horizon`, `num_segments`,
-/// `substeps`) when the sizes disagree with the model or each other, a contact's body is not the
-/// model's, the horizon is shorter than half a sample period, a segment would take more than
-/// kMaxSegmentSteps RK4 steps (substeps x its periods) or no run holds one segment.
+/// `substeps`, `flags`) when the sizes disagree with the model or each other, a contact's body is
+/// not the model's, a contact has neither its wrench nor its flags, the horizon is shorter than
+/// half a sample period, a segment would take more than kMaxSegmentSteps RK4 steps (substeps x its
+/// periods) or no run holds one segment.
 FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
                                  const FloatingGcOptions& options);
 

@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "core/floating/floating_rnea.hpp"
 #include "tests/common/floating_models.hpp"
+#include "tests/common/text.hpp"
 
 namespace dynid {
 namespace {
@@ -203,6 +204,40 @@ TEST(FloatingGc, ADivergingCandidateCountsAsTheCap) {
   wrong.setStandardParameters(theta);
   const FloatingGcResult r = floatingGcError(wrong, suspended(model, 1000.0, 0.5), segments());
   EXPECT_EQ(r.segment_errors.maxCoeff(), kMaxSegmentError) << r.segment_errors.transpose();
+}
+
+/// The suspended motion's sensor known by its flag alone: the rollout holds the base still by
+/// whatever forces it takes, and the joints follow their torques as with the wrench measured; a
+/// flag that says the sensor let go drops the base.
+TEST(FloatingGc, AFlaggedContactHoldsWhereItsFlagSays) {
+  const FloatingModel model = test::loadExample(test::kAnymalExample);
+  const FloatingGcData measured = suspended(model, 1000.0, 0.5);
+  FloatingGcData flagged = measured;
+  flagged.wrenches = {Eigen::MatrixXd()};
+  flagged.flags = {std::vector<char>(static_cast<std::size_t>(measured.time.size()), 1)};
+  const double with_wrench = floatingGcError(model, measured, segments()).error;
+  const double held = floatingGcError(model, flagged, segments()).error;
+  // Measured 1.16e-4 with the wrench and 1.20e-4 held: the inputs' 1 ms hold either way.
+  EXPECT_LT(held, 2.0 * with_wrench) << held << " against " << with_wrench;
+  // The legs 10 % heavier: their own dynamics, which the held base does not hide (measured 0.144,
+  // 1200 times).
+  FloatingModel heavier = model;
+  Eigen::VectorXd theta = heavier.standardParameters();
+  theta.segment(kLinkParameterCount, 10 * model.numJoints()) *= 1.1;
+  heavier.setStandardParameters(theta);
+  const double wrong = floatingGcError(heavier, flagged, segments()).error;
+  EXPECT_GT(wrong, 10.0 * held) << wrong << " against " << held;
+  // Let go: the base falls and turns, reaching 0.2 m/s in 20 ms, the legs swinging it (measured
+  // 51).
+  flagged.flags[0].assign(flagged.flags[0].size(), 0);
+  EXPECT_GT(floatingGcError(model, flagged, segments()).error, 0.1);
+  flagged.flags[0].pop_back();
+  try {
+    floatingGcError(model, flagged, segments());
+    ADD_FAILURE() << "not refused";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(test::contains(e.what(), "`flags`")) << e.what();
+  }
 }
 
 /// A recording with a gap (a stall in the stamps, a log split): no segment spans it, and every
