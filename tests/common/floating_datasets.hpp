@@ -2,6 +2,7 @@
 // analysis floor, which the common test library does not link).
 #pragma once
 
+#include <cstdlib>
 #include <string>
 
 #include "analysis/floating/identifiability.hpp"
@@ -16,6 +17,20 @@ inline FloatingModel loadExampleWithViscous(const FloatingExample& robot) {
   FloatingModel model = loadExample(robot);
   model.setDriveTerms(DriveTerms::of({DriveTerm::kViscous}));
   return model;
+}
+
+/// A design of five harmonics for `model`'s joints over `period` [s], zero offset, every
+/// coefficient uniform in +-`amplitude` (std::rand seeded with `seed`, a then b).
+inline FourierSeries randomDesign(const FloatingModel& model, double period, double amplitude,
+                                  unsigned seed) {
+  FourierSeries design;
+  design.period = period;
+  const int n = model.numJoints();
+  design.offset = Eigen::VectorXd::Zero(n);
+  std::srand(seed);
+  design.a = amplitude * Eigen::MatrixXd::Random(n, 5);
+  design.b = amplitude * Eigen::MatrixXd::Random(n, 5);
+  return design;
 }
 
 /// A simulated dataset of the example on its contacts (none in flight), through its file: written

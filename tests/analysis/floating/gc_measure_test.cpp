@@ -10,7 +10,7 @@
 #include "analysis/floating/gc_data.hpp"
 #include "analysis/floating/gc_measure.hpp"
 #include "analysis/floating/simulate.hpp"
-#include "tests/common/floating_models.hpp"
+#include "tests/common/floating_datasets.hpp"
 #include "tests/common/text.hpp"
 
 namespace dynid {
@@ -19,17 +19,10 @@ namespace {
 /// The suspended ANYmal C's joints following a 2 s design of five harmonics, sampled at 1 kHz,
 /// the torques and the support's wrench from `robot`'s inverse dynamics, noise-free.
 FloatingDataset designed(const FloatingModel& robot) {
-  FourierSeries design;
-  design.period = 2.0;
-  const int n = robot.numJoints();
-  design.offset = Eigen::VectorXd::Zero(n);
-  std::srand(5);
-  design.a = 0.1 * Eigen::MatrixXd::Random(n, 5);
-  design.b = 0.1 * Eigen::MatrixXd::Random(n, 5);
   FloatingSimulationOptions options;
   options.samples = 2000;
   options.motion = FloatingMotion::kSuspended;
-  options.trajectory = design;
+  options.trajectory = test::randomDesign(robot, 2.0, 0.1, 5);
   return simulateFloatingDataset(robot, options);
 }
 

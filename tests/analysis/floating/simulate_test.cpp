@@ -12,6 +12,7 @@
 #include "analysis/floating/identify.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "core/errors.hpp"
+#include "tests/common/floating_datasets.hpp"
 #include "tests/common/floating_models.hpp"
 #include "tests/common/text.hpp"
 
@@ -427,13 +428,7 @@ INSTANTIATE_TEST_SUITE_P(Motions, Noisy,
 /// but the whole body's first moment along gravity, which a base that never tilts cannot show.
 TEST(DesignedMotion, IsSimulatedOnTheSuspendedRobotAndSaysWhatItCannotShow) {
   const FloatingModel model = test::loadExample(test::kAnymalExample);
-  FourierSeries design;
-  design.period = 10.0;
-  const int n = model.numJoints();
-  design.offset = Eigen::VectorXd::Zero(n);
-  std::srand(3);
-  design.a = 0.4 * Eigen::MatrixXd::Random(n, 5);
-  design.b = 0.4 * Eigen::MatrixXd::Random(n, 5);
+  const FourierSeries design = test::randomDesign(model, 10.0, 0.4, 3);
   FloatingSimulationOptions options;
   options.samples = 400;
   options.motion = FloatingMotion::kSuspended;
