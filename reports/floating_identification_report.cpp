@@ -92,7 +92,8 @@ std::string gcMarkdown(const FloatingGcSummary& gc) {
        << formatNumber(gc.horizon, 4) << " s (" << gc.samples_per_segment
        << " sample periods) of the recorded motion out from their recorded start by each "
           "estimate (ols and wls: its base parameters, the rest the model's), driven by the "
-          "recorded joint torques and contact wrenches, and sums the squared differences of q, "
+          "recorded joint torques and contact wrenches (a contact known by its flag alone held "
+          "still while it holds), and sums the squared differences of q, "
           "dq, the base's "
        << (gc.linear_velocity ? "twist" : "angular velocity")
        << " and rotation angle at their ends";
@@ -152,7 +153,8 @@ json gcJson(const FloatingGcSummary& gc) {
       {"note",
        "the paper's GC error on a floating base: segments of the recorded motion rolled out "
        "from their recorded start by each estimate (ols, wls: its base parameters, the rest "
-       "the model's), driven by the recorded joint torques and contact wrenches, and the "
+       "the model's), driven by the recorded joint torques and contact wrenches (a contact "
+       "known by its flag alone held still while it holds), and the "
        "squared differences of q, dq, the base's twist and rotation angle at their end, "
        "summed over the segments; `model`: the model's own parameters; a noise floor: what "
        "the measured inputs' noise alone gives that candidate (the mean of GC(inputs + "
