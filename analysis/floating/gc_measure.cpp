@@ -1,5 +1,7 @@
 #include "analysis/floating/gc_measure.hpp"
 
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <random>
@@ -55,6 +57,7 @@ std::optional<FloatingGcResult> measured(const FloatingModel& candidate, const F
     return std::nullopt;
   }
 }
+
 /// The channels' variances the weighted fits estimated: torques_wrenches' (it reads every channel
 /// and weights every set), else the torques' from a set that reads them and the forces' and
 /// moments' from one that reads those; nothing with ols, or when a channel the data have is not
