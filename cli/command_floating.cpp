@@ -259,6 +259,17 @@ std::vector<Eigen::Vector2d> soleOption(const po::variables_map& vm) {
   return corners;
 }
 
+/// --stand-tilts: R1,P1[,R2,P2,...] [rad], pairs of roll and pitch.
+std::vector<Eigen::Vector2d> standTiltsOption(const po::variables_map& vm) {
+  const std::vector<double> v = parseList(vm["stand-tilts"].as<std::string>(), "stand-tilts");
+  if (v.empty() || v.size() % 2 != 0)
+    throw UsageError("--stand-tilts takes pairs of roll and pitch [rad], R1,P1[,R2,P2,...], not " +
+                     std::to_string(v.size()) + " numbers");
+  std::vector<Eigen::Vector2d> tilts;
+  for (std::size_t k = 0; k < v.size(); k += 2) tilts.emplace_back(v[k], v[k + 1]);
+  return tilts;
+}
+
 /// simulate --floating-base's options as the library's (UsageError for --samples beside
 /// --motion-from and a --sole that is neither a size nor corners).
 FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
@@ -288,15 +299,17 @@ FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
   options.moment_noise = vm["noise-moment"].as<double>();
   options.friction_cone = vm["friction-cone"].as<double>();
   if (vm.count("sole")) options.sole = soleOption(vm);
+  if (vm.count("stand-tilts")) options.stand_tilts = standTiltsOption(vm);
   return options;
 }
 }  // namespace
 
 int runFloatingSimulate(const po::variables_map& vm) {
-  refuseOutside(vm,
-                {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force",
-                 "noise-moment", "threads", "trajectory", "friction-cone", "sole", "motion-from"},
-                "simulate");
+  refuseOutside(
+      vm,
+      {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force", "noise-moment",
+       "threads", "trajectory", "friction-cone", "sole", "stand-tilts", "motion-from"},
+      "simulate");
   const FloatingModel model = loadFloating(vm);
   const FloatingSimulationOptions options = simulationOptions(vm, model);
   const std::string out = vm["out"].as<std::string>();

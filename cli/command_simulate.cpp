@@ -76,6 +76,11 @@ void addSimulateOptions(po::options_description& options) {
       "corners X1,Y1,X2,Y2,X3,Y3[,...] [m] in the frame's x-y plane: its wrench is that of "
       "corner forces within the cones about the sole's normal, so its centre of pressure stays "
       "in the corners' convex hull")(
+      "stand-tilts", po::value<std::string>(),
+      "with --floating-base and --trajectory: the stand's orientations R1,P1[,R2,P2,...] (roll "
+      "and pitch [rad]), the design simulated for one period at each in turn, 1 s apart (a stand "
+      "tilted between recordings: one orientation cannot show the whole body's first moment "
+      "along gravity)")(
       "motion-from", po::value<std::string>(),
       "with --floating-base: the motion of this floating dataset (its time, base and joints, "
       "sample by sample; its torques and wrenches not read) instead of random states, the "
@@ -226,14 +231,16 @@ int runSimulate(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options,
                         "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
                         "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
-                        "[--samples N | --motion-from D.csv] [--noise-tau S] [--noise-force S] "
+                        "[--samples N | --motion-from D.csv | --trajectory E.json [--stand-tilts "
+                        "R1,P1,...]] [--noise-tau S] [--noise-force S] "
                         "[--friction-cone MU "
                         "[--sole L,W|X1,Y1,...]] --out FILE.csv",
                         vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
-  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
-                             "noise-moment", "friction-cone", "sole", "motion-from"});
+  refuseFloatingOptions(vm,
+                        {"contacts", "sensors", "motion", "samples", "noise-force", "noise-moment",
+                         "friction-cone", "sole", "stand-tilts", "motion-from"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -162,7 +163,8 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                double noise_tau, double noise_force, double noise_moment,
                                const TermsLike& drive_terms, const OptionalPathLike& trajectory,
                                double friction_cone, const SoleLike& sole,
-                               const OptionalPathLike& motion_from) {
+                               const OptionalPathLike& motion_from,
+                               const std::optional<std::vector<std::pair<double, double>>>& tilts) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
@@ -185,6 +187,8 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   options.moment_noise = noise_moment;
   options.friction_cone = friction_cone;
   if (!sole.is_none()) options.sole = soleOf(sole);
+  for (const auto& [roll, pitch] : tilts.value_or(std::vector<std::pair<double, double>>{}))
+    options.stand_tilts.emplace_back(roll, pitch);
   const std::string path = pathArg(out, "out");
   std::vector<int> outside, unsupported;
   FloatingDataset dataset;
@@ -286,13 +290,15 @@ void bindFloating(py::module_& m) {
         py::arg("noise_force") = 0.0, py::arg("noise_moment") = 0.0,
         py::arg("drive_terms") = py::none(), py::arg("trajectory") = py::none(),
         py::arg("friction_cone") = 0.0, py::arg("sole") = py::none(),
-        py::arg("motion_from") = py::none(),
+        py::arg("motion_from") = py::none(), py::arg("stand_tilts") = py::none(),
         "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
         "(holding, the default with contacts; free; suspended; carried: the base moved by its "
         "support, whose wrench is measured) written to `out`, with noise on "
         "the torques, contact forces and moments; with trajectory (an excitation.json of the "
         "robot with its base fixed), `samples` states of that design over one period, the base "
-        "held still; with friction_cone (mu, holding), the contacts' forces within friction "
+        "held still (with stand_tilts [(roll, pitch), ...] [rad], one period at each stand "
+        "orientation in turn, 1 s apart); with friction_cone (mu, holding), the contacts' forces "
+        "within friction "
         "cones about the ground's normal, states they cannot hold drawn again; with sole "
         "(length, width) [m] (a rectangle centred at the frame) or its corners [(x, y), ...] "
         "[m] in the frame's x-y plane too, every frame contact's wrench that of its sole's corner "

@@ -142,6 +142,10 @@ std::string floatingSimulationSummary(const FloatingModel& model,
   text << model.name() << " (floating base " << model.baseName() << ", "
        << floatingMotionName(options.motion) << "): " << dataset.numSamples()
        << (options.motion_from ? " states of the motion of " + motion_file + ", to "
+           : options.trajectory && !options.stand_tilts.empty()
+               ? " states of the design, one period at each of " +
+                     std::to_string(options.stand_tilts.size()) +
+                     " stand orientations 1 s apart, the base held still in each, to "
            : options.trajectory
                ? " states of the design over one period, the base held still, to "
                : " random states, one a row (independent draws, not a trajectory), to ")

@@ -145,6 +145,7 @@ struct Draws {
         options(o) {
     checkFriction();
     checkGivenMotion();
+    checkTilts();
     if (!o.trajectory) return;
     if (o.motion != FloatingMotion::kSuspended)
       throw InputError(
@@ -217,7 +218,23 @@ struct Draws {
     return s;
   }
   int samples() const {
-    return options.motion_from ? options.motion_from->numSamples() : options.samples;
+    return options.motion_from ? options.motion_from->numSamples() : options.samples * runs();
+  }
+  /// The design's runs: one a stand orientation (at least the upright one).
+  int runs() const {
+    return options.trajectory ? std::max<int>(1, static_cast<int>(options.stand_tilts.size())) : 1;
+  }
+  void checkTilts() const {
+    const std::vector<Eigen::Vector2d>& tilts = options.stand_tilts;
+    if (tilts.empty()) return;
+    if (!options.trajectory)
+      throw InputError("`stand_tilts` tilt the stand a design is simulated on: give `trajectory`");
+    if (static_cast<int>(tilts.size()) > kMaxStandTilts)
+      throw InputError("`stand_tilts`: " + std::to_string(tilts.size()) +
+                       " orientations; at most " + std::to_string(kMaxStandTilts));
+    for (std::size_t k = 0; k < tilts.size(); ++k)
+      if (!tilts[k].allFinite())
+        throw InputError("`stand_tilts`: orientation " + std::to_string(k + 1) + " is not finite");
   }
   void checkSole() const {
     const std::vector<Eigen::Vector2d>& sole = options.sole;
@@ -304,14 +321,25 @@ struct Draws {
     if (options.motion_from) return given(k);
     if (!options.trajectory) return sampler.next();
     FloatingState state;
-    state.base_held = true;  // rotation identity, twist and acceleration zero
-    evaluateReference(*options.trajectory, time(k), state.q, state.dq, state.ddq);
+    state.base_held = true;  // twist and acceleration zero; the stand's orientation
+    if (!options.stand_tilts.empty()) {
+      const Eigen::Vector2d& tilt =
+          options.stand_tilts[static_cast<std::size_t>(k / options.samples)];
+      state.base.rotation = rotationFromRpy(tilt[0], tilt[1], 0.0);
+    }
+    const double period = options.trajectory->period;
+    evaluateReference(*options.trajectory, period * (k % options.samples) / options.samples,
+                      state.q, state.dq, state.ddq);
     return state;
   }
-  /// Sample k's time: the design's, evenly over one period, else an index at 0.01 s.
+  /// Sample k's time: the design's, evenly over one period (each stand orientation's run after the
+  /// one before it, the period and 1 s later), else an index at 0.01 s.
   double time(int k) const {
     if (options.motion_from) return options.motion_from->time[k];
-    return options.trajectory ? options.trajectory->period * k / options.samples : 0.01 * k;
+    if (!options.trajectory) return 0.01 * k;
+    const double period = options.trajectory->period;
+    return (period + 1.0) * (k / options.samples) +
+           period * (k % options.samples) / options.samples;
   }
   const FloatingModel& model;
   FloatingStructuralOptions sampling;  // before the sampler, which keeps a reference to it

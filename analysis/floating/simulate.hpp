@@ -27,6 +27,12 @@ struct FloatingSimulationOptions {
   /// random states: `samples` states evenly over one period, the base held still (the suspended
   /// motion only: a robot on a stand or hung from its sensor). Unset: random states.
   std::optional<FourierSeries> trajectory;
+  /// With `trajectory`: the stand's orientations, each a (roll, pitch) [rad] (rotationFromRpy,
+  /// yaw 0), the design simulated once at each in turn (`samples` states each), each run after
+  /// the one before it by the period and a 1 s gap (no segment of a rollout crosses it): a stand
+  /// tilted between recordings, which shows the whole body's first moment along gravity that one
+  /// orientation cannot. Empty: upright only. At most kMaxStandTilts, each finite.
+  std::vector<Eigen::Vector2d> stand_tilts;
   /// The friction coefficient mu of the ground under the holding contacts: their forces are the
   /// least-norm ones within cones of half-angle atan(mu) about the ground's normal (against
   /// gravity; a frame contact's force, its moment free), and a random state they cannot hold is
@@ -51,6 +57,9 @@ struct FloatingSimulationOptions {
   /// (FloatingSimulation::outside_cones). Not with `trajectory` or in flight.
   std::shared_ptr<const FloatingDataset> motion_from;
 };
+
+/// The most stand orientations one simulation takes (FloatingSimulationOptions::stand_tilts).
+inline constexpr int kMaxStandTilts = 16;
 
 /// A rectangle's corners, length along x and width along y, centred at the origin (a sole for
 /// FloatingSimulationOptions::sole). Throws InputError (naming `sole`) unless both are positive

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The GC error in identify's report (docs/FLOATING.md, "In identify's report"): ANYmal C 10 %
 # heavier than its URDF (every link's mass and inertia times 1.1), suspended on a stand tilted to
-# three orientations (upright, 0.4 rad about x, 0.4 rad about y), each holding a 10 s design
-# (`dynid excite` of the robot with its base fixed, seed 1 for training and 2 held out) sampled at
-# 1 kHz; noise at two levels; identified with the URDF (wls, pc) and with the heavier robot itself.
+# three orientations (upright, 0.4 rad of roll, 0.4 rad of pitch: --stand-tilts), each holding a
+# 10 s design (`dynid excite` of the robot with its base fixed, seed 1 for training and 2 held out)
+# sampled at 1 kHz; noise at two levels; identified with the URDF (wls, pc) and with the heavier
+# robot itself.
 #   examples/floating/gc_in_identify.sh build/bin/dynid OUT_DIR
 set -euo pipefail
 dynid=$(realpath "$1")
@@ -21,27 +22,6 @@ open("anymal_heavier.urdf", "w").write(heavier)
 PY
 for s in 1 2; do
   "$dynid" excite --robot "$urdf" --drive-terms fv --seed "$s" --out "excite$s" > /dev/null
-  "$dynid" simulate --robot anymal_heavier.urdf --floating-base --trajectory "excite$s/excitation.json" \
-    --samples 10000 --drive-terms fv --seed "$s" --out "design$s.csv" > /dev/null
-  # The design's samples at the three orientations, 1 s apart (the motion's torques and wrenches
-  # are simulated again along it below).
-  python3 - "design$s.csv" "joined$s.csv" <<'PY'
-import csv, math, sys
-rows = list(csv.reader(open(sys.argv[1])))
-head, body = rows[0], rows[1:]
-iq = [head.index(c) for c in ("base:qw", "base:qx", "base:qy", "base:qz")]
-span = float(body[-1][0]) + 1.0
-out = [head]
-tilts = [(1, 0, 0, 0), (math.cos(0.2), math.sin(0.2), 0, 0), (math.cos(0.2), 0, math.sin(0.2), 0)]
-for k, quat in enumerate(tilts):
-    for r in body:
-        r = list(r)
-        r[0] = repr(float(r[0]) + k * span)
-        for i, v in zip(iq, quat):
-            r[i] = repr(float(v))
-        out.append(r)
-csv.writer(open(sys.argv[2], "w", newline="")).writerows(out)
-PY
 done
 for level in high low; do
   if [ "$level" = high ]; then
@@ -50,9 +30,9 @@ for level in high low; do
     noise=(--noise-tau 0.05 --noise-force 0.2 --noise-moment 0.05)
   fi
   for s in 1 2; do
-    "$dynid" simulate --robot anymal_heavier.urdf --floating-base --motion suspended \
-      --motion-from "joined$s.csv" --drive-terms fv --seed "$s" "${noise[@]}" \
-      --out "$level$s.csv" > /dev/null
+    "$dynid" simulate --robot anymal_heavier.urdf --floating-base --trajectory \
+      "excite$s/excitation.json" --stand-tilts 0,0,0.4,0,0,0.4 --samples 10000 \
+      --drive-terms fv --seed "$s" "${noise[@]}" --out "$level$s.csv" > /dev/null
   done
   for method in wls pc; do
     echo "== noise $level, the URDF, $method"

@@ -174,6 +174,13 @@ def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
         dynid.floating_identify(ANYMAL, data, horizon=-1.0)
     with pytest.raises(ValueError, match="trajectory"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", trajectory=design, motion="free")
+    tilted = dynid.simulate_floating(ANYMAL, tmp_path / "t.csv", trajectory=design, samples=50,
+                                     stand_tilts=[(0.0, 0.0), (0.4, 0.0), (0.0, 0.4)])
+    doc = dynid.floating_identify(ANYMAL, tilted, method="ols")
+    assert all(s["refused"] is None for s in doc["sets"])  # one orientation refuses the wrench sets
+    with pytest.raises(ValueError, match="stand_tilts"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="suspended",
+                                stand_tilts=[(0.4, 0.0)])
 
 
 def test_simulate_floating_keeps_the_feet_within_friction_cones(tmp_path):
