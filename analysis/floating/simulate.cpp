@@ -224,7 +224,11 @@ struct Draws {
   int runs() const {
     return options.trajectory ? std::max<int>(1, static_cast<int>(options.stand_tilts.size())) : 1;
   }
+  /// The samples asked (not with a given motion: its own) and the stand tilts.
   void checkTilts() const {
+    if (!options.motion_from && (options.samples < 1 || options.samples > kMaxFloatingSamples))
+      throw InputError("`samples` is 1 to " + std::to_string(kMaxFloatingSamples) + ", not " +
+                       std::to_string(options.samples));
     const std::vector<Eigen::Vector2d>& tilts = options.stand_tilts;
     if (tilts.empty()) return;
     if (!options.trajectory)

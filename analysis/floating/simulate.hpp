@@ -58,8 +58,10 @@ struct FloatingSimulationOptions {
   std::shared_ptr<const FloatingDataset> motion_from;
 };
 
-/// The most stand orientations one simulation takes (FloatingSimulationOptions::stand_tilts).
+/// The most stand orientations one simulation takes (FloatingSimulationOptions::stand_tilts), and
+/// the most samples (FloatingSimulationOptions::samples; a design's at each orientation).
 inline constexpr int kMaxStandTilts = 16;
+inline constexpr int kMaxFloatingSamples = 1000000;
 
 /// A rectangle's corners, length along x and width along y, centred at the origin (a sole for
 /// FloatingSimulationOptions::sole). Throws InputError (naming `sole`) unless both are positive

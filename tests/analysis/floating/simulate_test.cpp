@@ -494,6 +494,10 @@ TEST(DesignedMotion, OnATiltingStandDeterminesWhatOneOrientationCannot) {
   }
   options.stand_tilts.assign(17, Eigen::Vector2d::Zero());
   EXPECT_THROW(simulateFloatingDataset(model, options), InputError);
+  options.stand_tilts.resize(16);  // at most 16 of 1e6 samples each: no int overflows
+  options.samples = kMaxFloatingSamples + 1;
+  EXPECT_THROW(simulateFloatingDataset(model, options), InputError);
+  options.samples = 200;
   options.stand_tilts = {{0.1, std::nan("")}};
   EXPECT_THROW(simulateFloatingDataset(model, options), InputError);
   options.trajectory.reset();
