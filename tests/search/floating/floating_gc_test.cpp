@@ -29,6 +29,16 @@ Contact sensor() {
   return c;
 }
 
+/// Sample k's torques and sensor wrench from the generalized force g inverse dynamics gives: the
+/// base wrench (n_b, f_b) the motion needs is the sensor's, moved: f_b = R f, n_b = R n + p x f_b.
+void record(FloatingGcData& d, int k, const Eigen::VectorXd& g) {
+  const Pose<double>& X = d.contacts[0].placement;
+  d.tau.col(k) = g.tail(d.tau.rows());
+  const Eigen::Vector3d f = g.segment<3>(3);
+  d.wrenches[0].col(k) << X.rotation.transpose() * (g.head<3>() - cross(X.translation, f)),
+      X.rotation.transpose() * f;
+}
+
 /// `seconds` of the suspended motion sampled at `rate` [Hz]: the base still in a tilted
 /// orientation, each joint q0 + 0.3 sin(2 pi f t + phase), the torques and the sensor's wrench (in
 /// its axes, about its origin) from inverse dynamics.
@@ -45,7 +55,6 @@ FloatingGcData suspended(const FloatingModel& model, double rate, double seconds
   BaseMotion base;
   const Eigen::Vector4d tilt = Eigen::Vector4d(0.95, 0.2, -0.1, 0.15).normalized();
   base.rotation = baseRotation(tilt);
-  const Pose<double>& X = d.contacts[0].placement;
   for (int k = 0; k < samples; ++k) {
     const double t = k / rate;
     Eigen::VectorXd ddq(n);
@@ -57,13 +66,7 @@ FloatingGcData suspended(const FloatingModel& model, double rate, double seconds
     }
     d.time[k] = t;
     d.orientation.col(k) = tilt;
-    const Eigen::VectorXd g = floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), ddq);
-    d.tau.col(k) = g.tail(n);
-    // The base wrench (n_b, f_b) the motion needs is the sensor's, moved: f_b = R f, n_b = R n +
-    // p x f_b.
-    const Eigen::Vector3d f = g.segment<3>(3);
-    d.wrenches[0].col(k) << X.rotation.transpose() * (g.head<3>() - cross(X.translation, f)),
-        X.rotation.transpose() * f;
+    record(d, k, floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), ddq));
   }
   return d;
 }
@@ -131,7 +134,6 @@ FloatingGcData spinning(const FloatingModel& model, const Eigen::Vector3d& veloc
   d.tau.resize(n, samples);
   d.wrenches = {Eigen::MatrixXd(6, samples)};
   FloatingData data(model);
-  const Pose<double>& X = d.contacts[0].placement;
   for (int k = 0; k < samples; ++k) {
     const double t = k / 1000.0;
     Eigen::Vector4d spin;
@@ -156,11 +158,7 @@ FloatingGcData spinning(const FloatingModel& model, const Eigen::Vector3d& veloc
     d.twist.col(k) << axis, v;
     base.twist = d.twist.col(k);
     base.acceleration << Eigen::Vector3d::Zero(), -cross(axis, v);  // d/dt R^T V
-    const Eigen::VectorXd g = floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), ddq);
-    d.tau.col(k) = g.tail(n);
-    const Eigen::Vector3d f = g.segment<3>(3);
-    d.wrenches[0].col(k) << X.rotation.transpose() * (g.head<3>() - cross(X.translation, f)),
-        X.rotation.transpose() * f;
+    record(d, k, floatingRnea(model, data, base, d.q.col(k), d.dq.col(k), ddq));
   }
   return d;
 }
