@@ -11,6 +11,7 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "analysis/floating/gc_data.hpp"
 #include "analysis/floating/identifiability.hpp"
@@ -288,10 +289,9 @@ TEST(FloatingPrepare, ABoolTopicIsAContactFlagAtItsFrame) {
 }
 
 /// Estimation on a prepared recording of a robot held still by its sensor (the suspended motion
-/// class): the fit leaves only the preparation's error (measured 2.4e-5 %). Six seconds of one
-/// swing of the joints do not determine the parameters themselves (that needs an excitation
-/// designed for it, docs/FLOATING.md), so the residual is what is checked, not the estimate.
-TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
+/// class): the base never tilts, so the wrench sets are refused for the one combination that
+/// needs gravity from another side, naming the count.
+TEST(FloatingPrepare, ASuspendedRecordingIsRefusedWhatAStillBaseCannotShow) {
   const Prepared p({}, /*support_moves=*/false);
   FloatingIdentifyRequest request;
   request.method = FloatingMethod::kOls;
@@ -301,22 +301,20 @@ TEST(FloatingPrepare, ASuspendedRecordingsFitLeavesOnlyThePreparationsError) {
   for (const FloatingSetEstimate& s : fit.sets) {
     SCOPED_TRACE(sensorSetName(s.base.set));
     // A base that never tilts cannot show the whole body's first moment along gravity: only the
-    // preparation's 1e-4 errors excite it, and whether that counts as determined is a rank call
-    // at the edge (GCC's build estimates it, clang's refuses: measured). Either the set is
-    // refused for exactly that one combination, or its fit leaves only the preparation's error
-    // (measured 2.4e-5 %; the signals' 1e-4, in percent).
-    if (!s.refused.empty())
-      EXPECT_TRUE(test::contains(s.refused, "determine 79 of the 80") ||
-                  test::contains(s.refused, "determine 91 of the 92"))
-          << s.refused;
-    else
-      EXPECT_LT(s.residual_percent, 1e-2);
+    // preparation's errors excite it, far below the rank rule (1e-8 of the most excited), so the
+    // set is refused for exactly that one combination, on every compiler (Eigen's default rule,
+    // p eps, made it a call at the edge: GCC's build estimated it, clang's refused it).
+    std::printf("%s: %s\n", sensorSetName(s.base.set), s.refused.c_str());
+    EXPECT_TRUE(test::contains(s.refused, "determine 79 of the 80") ||
+                test::contains(s.refused, "determine 91 of the 92"))
+        << s.refused;
   }
 }
 
 /// The same robot on a support that turns and moves it: identify takes the motion class from the
 /// data (the base's RMS angular rate and acceleration, said in a warning), draws the structural
-/// base parameters for a carried base, and the fit again leaves only the preparation's error.
+/// base parameters for a carried base (six seconds of one swing do not determine three of them:
+/// refused by name), and taken as still the data leave the moving base's inertial forces.
 TEST(FloatingPrepare, ACarriedRecordingIsIdentifiedAsCarried) {
   const Prepared moving;
   FloatingIdentifyRequest request;
@@ -330,20 +328,21 @@ TEST(FloatingPrepare, ACarriedRecordingIsIdentifiedAsCarried) {
   ASSERT_EQ(fit.sets.size(), 2u);
   for (const FloatingSetEstimate& s : fit.sets) {
     SCOPED_TRACE(sensorSetName(s.base.set));
-    ASSERT_TRUE(s.refused.empty()) << s.refused;
-    EXPECT_LT(s.residual_percent, 1e-2);  // the signals' 1e-4 preparation error, in percent
+    // A carried base has 94 combinations; one slow swing excites 91 (the other three at 9e-14 of
+    // the most: measured), so the set is refused, naming the count.
+    EXPECT_TRUE(test::contains(s.refused, "determine 91 of the 94")) << s.refused;
   }
-  // Taken as suspended, the same data leave the moving base's inertial forces unexplained: a
-  // residual a thousand times the preparation's (measured 0.041 % and 0.23 % against 3.0e-5 % and
-  // 3.6e-5 %; a slow swing's inertial forces are small beside gravity's), checked at 100 times.
+  // Taken as suspended (a still base's 80 combinations, all excited), the same data leave the
+  // moving base's inertial forces unexplained: a residual above the preparation's error (the
+  // signals' 1e-4 of their peak, 1e-2 %; measured 0.041 % and 0.23 %).
   request.motion = FloatingMotion::kSuspended;
   const FloatingIdentifyOutcome still =
       floatingIdentifyRun(moving.model, request, moving.out.dataset);
   ASSERT_EQ(still.sets.size(), fit.sets.size());
-  for (std::size_t k = 0; k < still.sets.size(); ++k) {
-    SCOPED_TRACE(sensorSetName(still.sets[k].base.set));
-    ASSERT_TRUE(still.sets[k].refused.empty()) << still.sets[k].refused;
-    EXPECT_GT(still.sets[k].residual_percent, 100 * fit.sets[k].residual_percent);
+  for (const FloatingSetEstimate& s : still.sets) {
+    SCOPED_TRACE(sensorSetName(s.base.set));
+    ASSERT_TRUE(s.refused.empty()) << s.refused;
+    EXPECT_GT(s.residual_percent, 1e-2);
   }
   // A support held still is said to be.
   const Prepared held({}, /*support_moves=*/false);
