@@ -6,8 +6,11 @@
 #include <optional>
 
 #include "analysis/excitation/excite.hpp"
+#include "analysis/floating/stand_tilts.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
+#include "cli/spelling.hpp"
+#include "data/robots.hpp"
 #include "reports/excitation_report.hpp"
 #include "reports/output.hpp"
 
@@ -54,6 +57,14 @@ void addExciteOptions(po::options_description& options) {
       "segments", po::value<int>()->default_value(d.gc_segments))(
       "horizon", po::value<double>()->default_value(d.gc_horizon))(
       "torque-noise", po::value<double>()->default_value(d.torque_noise))(
+      "stands", po::value<int>(),
+      "for the robot on a stand with a force-torque sensor under its base: also choose this many "
+      "stand orientations (upright first) to run the design at, for its support's six rows "
+      "(docs/FLOATING.md)")("max-tilt",
+                            po::value<double>()->default_value(StandTiltRequest{}.max_tilt),
+                            "--stands: the largest roll and pitch [rad]")(
+      "tilt-grid", po::value<int>()->default_value(StandTiltRequest{}.tilt_grid),
+      "--stands: candidates per axis (odd)")(
       "out", po::value<std::string>()->required(),
       "output directory (excitation.json, excitation.csv, report.md, report.html)");
   addThreadsOption(options);
@@ -107,6 +118,48 @@ void applyLimitOptions(const po::variables_map& vm, ExciteRequest& request) {
       throw UsageError(std::string("--offset: ") + e.what());
     }
 }
+/// --stands, --max-tilt and --tilt-grid: the stand request (its design set after the run) and the
+/// robot with a floating base, both checked before the work.
+struct StandOptions {
+  StandTiltRequest request;
+  FloatingModel model;
+};
+
+std::optional<StandOptions> standOptions(const po::variables_map& vm,
+                                         const ExciteRequest& request) {
+  refuseUnused(vm, vm.count("stands") > 0, {"max-tilt", "tilt-grid"}, "applies to --stands");
+  if (!vm.count("stands")) return std::nullopt;
+  if (request.payload_link)
+    throw UsageError(
+        "--stands: a payload motion is for one link of an arm, not a robot on a stand");
+  StandTiltRequest stand;
+  stand.stands = vm["stands"].as<int>();
+  stand.max_tilt = vm["max-tilt"].as<double>();
+  stand.tilt_grid = vm["tilt-grid"].as<int>();
+  stand.structural = request.structural;
+  stand.design.period = request.period;  // the check's placeholder until the design is made
+  try {
+    stand.check();
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+  std::vector<std::string> warnings;  // said when the robot was loaded for the design
+  FloatingModel model =
+      loadFloatingRobot(vm["robot"].as<std::string>(), robotOptions(vm), &warnings);
+  return StandOptions{stand, std::move(model)};
+}
+
+/// The stand orientations for the design.
+StandDesign chooseStands(const StandOptions& options, const FourierSeries& design) {
+  StandTiltRequest request = options.request;
+  request.design = design;
+  StandDesign out;
+  out.choice = chooseStandTilts(options.model, request);
+  out.max_tilt = request.max_tilt;
+  out.grid = request.tilt_grid;
+  out.samples = request.samples;
+  return out;
+}
 }  // namespace
 
 int runExcite(const std::vector<std::string>& args) {
@@ -119,7 +172,7 @@ int runExcite(const std::vector<std::string>& args) {
       "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal|gc|relative-sd] "
       "[--period "
       "T] "
-      "[--harmonics H] [limits] [--seed S] --out DIR";
+      "[--harmonics H] [limits] [--stands K [--max-tilt R]] [--seed S] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it
@@ -144,6 +197,7 @@ int runExcite(const std::vector<std::string>& args) {
   applyPayloadOptions(vm, request);
   request.offset = optionalJointVector(vm, "offset", n, true);
   applyLimitOptions(vm, request);
+  const std::optional<StandOptions> stand = standOptions(vm, request);
   const InterruptGuard guard;
   request.control.stop = guard.flag();
   if (stderrIsTerminal())
@@ -168,6 +222,7 @@ int runExcite(const std::vector<std::string>& args) {
   settings.evaluations = request.evaluations;
   settings.period = request.period;
   settings.csv_rate = vm["csv-rate"].as<double>();
+  if (stand && !guard.interrupted()) settings.stand = chooseStands(*stand, outcome.design);
   std::cout << writeExcitation(dir, request.robot, settings, outcome);
   return exitAfter(guard, "excite", "wrote the best design so far to " + dir);
 }

@@ -270,6 +270,15 @@ std::vector<Eigen::Vector2d> standTiltsOption(const po::variables_map& vm) {
   return tilts;
 }
 
+/// "(0, 0), (-0.4, 0.4)": (roll, pitch) pairs.
+std::string standTiltsText(const std::vector<Eigen::Vector2d>& tilts) {
+  std::string out;
+  for (std::size_t k = 0; k < tilts.size(); ++k)
+    out += (k ? ", (" : "(") + formatNumber(tilts[k][0], 4) + ", " + formatNumber(tilts[k][1], 4) +
+           ")";
+  return out;
+}
+
 /// simulate --floating-base's options as the library's (UsageError for --samples beside
 /// --motion-from and a --sole that is neither a size nor corners).
 FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
@@ -279,9 +288,13 @@ FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
   std::optional<FloatingMotion> motion;
   std::vector<SensorSet> unused;
   readSetsAndMotion(vm, unused, motion);
-  if (vm.count("trajectory"))
-    options.trajectory =
-        readExcitationDesign(vm["trajectory"].as<std::string>(), model.numJoints());
+  std::vector<Eigen::Vector2d> design_tilts;  // the stand orientations excite chose, if any
+  if (vm.count("trajectory")) {
+    ExcitationDesignFile file =
+        readExcitationDesignFile(vm["trajectory"].as<std::string>(), model.numJoints());
+    options.trajectory = std::move(file.design);
+    design_tilts = std::move(file.stand_tilts);
+  }
   if (vm.count("motion-from")) {
     if (vm.count("samples"))
       throw UsageError("--samples does not apply to --motion-from (its samples are the file's)");
@@ -299,7 +312,7 @@ FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
   options.moment_noise = vm["noise-moment"].as<double>();
   options.friction_cone = vm["friction-cone"].as<double>();
   if (vm.count("sole")) options.sole = soleOption(vm);
-  if (vm.count("stand-tilts")) options.stand_tilts = standTiltsOption(vm);
+  options.stand_tilts = vm.count("stand-tilts") ? standTiltsOption(vm) : design_tilts;
   return options;
 }
 }  // namespace
@@ -324,8 +337,12 @@ int runFloatingSimulate(const po::variables_map& vm) {
   writeFloatingDataset(out, dataset);
   const std::string motion_file =
       vm.count("motion-from") ? vm["motion-from"].as<std::string>() : "";
-  (out == "-" ? std::cerr : std::cout)
-      << floatingSimulationSummary(model, options, dataset, drawn, motion_file, out);
+  std::ostream& console = out == "-" ? std::cerr : std::cout;
+  console << floatingSimulationSummary(model, options, dataset, drawn, motion_file, out);
+  if (!vm.count("stand-tilts") && !options.stand_tilts.empty())
+    console << "  the stand orientations the design chose (" << vm["trajectory"].as<std::string>()
+            << "'s `stand`; --stand-tilts overrides them): " << standTiltsText(options.stand_tilts)
+            << " rad\n";
   std::cout.flush();  // the summary before the warnings, wherever both streams go
   std::vector<std::string> warnings = givenMotionWarnings(dataset, outside, unsupported);
   cliTexts(warnings);

@@ -80,7 +80,7 @@ void addSimulateOptions(po::options_description& options) {
       "with --floating-base and --trajectory: the stand's orientations R1,P1[,R2,P2,...] (roll "
       "and pitch [rad]), the design simulated for one period at each in turn, 1 s apart (a stand "
       "tilted between recordings: one orientation cannot show the whole body's first moment "
-      "along gravity)")(
+      "along gravity; default: those the design chose, dynid excite --stands)")(
       "motion-from", po::value<std::string>(),
       "with --floating-base: the motion of this floating dataset (its time, base and joints, "
       "sample by sample; its torques and wrenches not read) instead of random states, the "

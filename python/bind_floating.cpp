@@ -168,8 +168,12 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
-  if (!trajectory.is_none())
-    options.trajectory = readExcitationDesign(pathArg(trajectory, "trajectory"), model.numJoints());
+  if (!trajectory.is_none()) {
+    ExcitationDesignFile file =
+        readExcitationDesignFile(pathArg(trajectory, "trajectory"), model.numJoints());
+    options.trajectory = std::move(file.design);
+    if (!tilts) options.stand_tilts = std::move(file.stand_tilts);  // the design's, if it chose
+  }
   if (!motion_from.is_none()) {
     if (samples)
       throw InputError("`samples` does not apply to `motion_from` (its samples are the file's)");
@@ -297,7 +301,8 @@ void bindFloating(py::module_& m) {
         "the torques, contact forces and moments; with trajectory (an excitation.json of the "
         "robot with its base fixed), `samples` states of that design over one period, the base "
         "held still (with stand_tilts [(roll, pitch), ...] [rad], one period at each stand "
-        "orientation in turn, 1 s apart); with friction_cone (mu, holding), the contacts' forces "
+        "orientation in turn, 1 s apart; None: those the design chose, if any); with friction_cone "
+        "(mu, holding), the contacts' forces "
         "within friction "
         "cones about the ground's normal, states they cannot hold drawn again; with sole "
         "(length, width) [m] (a rectangle centred at the frame) or its corners [(x, y), ...] "

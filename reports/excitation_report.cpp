@@ -163,6 +163,7 @@ nlohmann::json excitationJson(const Model& model, const ExcitationSettings& sett
             {"default_sinusoid", numberOrNull(o.baseline_gc)},
             {"designed_first_order", numberOrNull(o.gc_first_order)},
             {"default_sinusoid_first_order", numberOrNull(o.baseline_gc_first_order)}}},
+          {"stand", settings.stand ? standJson(*settings.stand) : nlohmann::json(nullptr)},
           {"check", checkJson(o.check)},
           {"default_sinusoid_check", checkJson(o.baseline_check)},
           {"optimiser",
@@ -323,6 +324,7 @@ Document excitationDocument(const Model& model, const ExcitationSettings& settin
   if (!o.baseline_check.violations.empty())
     doc.paragraph("The default sinusoid itself breaks these limits: " +
                   o.baseline_check.violations.front() + ".");
+  if (settings.stand) addStandSection(doc, *settings.stand);
 
   // Both figures drawn at once (one gnuplot each).
   const std::vector<std::optional<std::string>> svgs = drawConcurrently(
@@ -396,6 +398,7 @@ std::string writeExcitation(const std::string& dir, const Model& model,
       << (o.shrink < 1.0 ? " (coefficients shrunk by " + formatNumber(o.shrink, 4) + ")" : "")
       << "\nwrote " << dir << "/excitation.json, excitation.csv (" << settings.csv_rate
       << " Hz), report.md, report.html\n";
+  if (settings.stand) out << standSummary(*settings.stand);
   for (const std::string& note : o.limits.notes) out << "note: " << note << "\n";
   if (!missing.empty()) out << "warning: gnuplot did not run: the report has no figures\n";
   return out.str();

@@ -4,6 +4,7 @@
 // report (Markdown and HTML) with the joint trajectories against their limits.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "analysis/excitation/excite.hpp"
 #include "analysis/records/model_source.hpp"
 #include "reports/document.hpp"
+#include "reports/stand_tilts_report.hpp"
 
 namespace dynid {
 
@@ -21,6 +23,8 @@ struct ExcitationSettings {
   double period = 0.0;
   double csv_rate = 1000.0;  // samples per second of excitation.csv [Hz]
   ModelSource source;  // where the robot came from (excitation.json embeds it, with the model)
+  /// The stand orientations chosen for the design (`--stands`); unset: none (`stand` null).
+  std::optional<StandDesign> stand;
 };
 
 nlohmann::json excitationJson(const Model& model, const ExcitationSettings& settings,

@@ -54,8 +54,8 @@ inline constexpr DocumentType kRefineDocument{"dynid.refine", 3};  // 3: provena
 inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 3};
 // excitation.json 2: payload_link (dynid excite --payload); version 1 documents are still read.
 // 3: model is the robot designed for (a dynid JSON model; it was its name) and model_source.
-// 4: provenance.
-inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 4};
+// 4: provenance. 5: stand (the stand orientations `--stands` chose; null without).
+inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 5};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
 // 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
 // (the filter the comparison reproduced, or null) and torque_filter_source; compared_rows (the

@@ -38,6 +38,7 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
   if (version >= 2) keys.push_back("payload_link");
   if (version >= 3) keys.push_back("model_source");
   if (version >= 4) keys.push_back("provenance");
+  if (version >= 5) keys.push_back("stand");
   read.onlyKeysIn(document, "", keys);
   // The robot designed for, embedded for the record: checked for form, not used (a design is
   // for the --robot it is run on, whose joint count it must have).
@@ -76,6 +77,36 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
 
 FourierSeries readExcitationDesign(const std::string& path, int num_joints) {
   return excitationDesignFrom(parseJsonDocument(readFile(path), path), path, num_joints);
+}
+
+std::vector<Eigen::Vector2d> excitationStandTiltsFrom(const nlohmann::json& document,
+                                                      const std::string& file) {
+  const JsonReader read(file);
+  std::vector<Eigen::Vector2d> out;
+  const auto at = document.find("stand");
+  if (at == document.end() || at->is_null()) return out;
+  const nlohmann::json& stand = read.object(*at, "stand");
+  read.onlyKeys(stand, "stand",
+                {"tilts", "form", "max_tilt", "grid", "samples", "candidates", "criterion",
+                 "condition", "condition_added", "exchanges", "sets"});
+  const nlohmann::json& tilts = read.array(read.field(stand, "stand", "tilts"), "stand.tilts");
+  if (tilts.empty() || tilts.size() > 16)
+    read.fail("stand.tilts", "1 to 16 orientations, not " + std::to_string(tilts.size()));
+  for (std::size_t k = 0; k < tilts.size(); ++k) {
+    const std::string path = "stand.tilts[" + std::to_string(k) + "]";
+    const Eigen::VectorXd tilt = read.vector(tilts[k], path, 2);
+    if (tilt.cwiseAbs().maxCoeff() > M_PI / 2) read.fail(path, "a roll or pitch beyond +-pi/2 rad");
+    out.emplace_back(tilt[0], tilt[1]);
+  }
+  return out;
+}
+
+ExcitationDesignFile readExcitationDesignFile(const std::string& path, int num_joints) {
+  const nlohmann::json document = parseJsonDocument(readFile(path), path);
+  ExcitationDesignFile out;
+  out.design = excitationDesignFrom(document, path, num_joints);
+  out.stand_tilts = excitationStandTiltsFrom(document, path);
+  return out;
 }
 
 }  // namespace dynid

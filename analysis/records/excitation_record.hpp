@@ -3,6 +3,9 @@
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 #include <nlohmann/json.hpp>
 
@@ -17,5 +20,18 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
                                    int num_joints);
 /// The same from the file at `path` (readFile's limits apply).
 FourierSeries readExcitationDesign(const std::string& path, int num_joints);
+
+/// The stand orientations an excitation.json chose for its design (`stand.tilts`, version 5, each
+/// (roll, pitch) [rad] within +-pi/2, at most 16); none where `stand` is null or absent (versions
+/// before 5). Throws ParseError naming `file` and the field.
+std::vector<Eigen::Vector2d> excitationStandTiltsFrom(const nlohmann::json& document,
+                                                      const std::string& file);
+
+/// A design and its stand orientations from one reading of the file at `path`.
+struct ExcitationDesignFile {
+  FourierSeries design;
+  std::vector<Eigen::Vector2d> stand_tilts;
+};
+ExcitationDesignFile readExcitationDesignFile(const std::string& path, int num_joints);
 
 }  // namespace dynid

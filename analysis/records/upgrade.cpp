@@ -79,6 +79,9 @@ const Added kAdded[] = {
     // estimate.json 8's front: absent in an earlier version, which had no identify front
     // (`front_weights`).
     {&kExcitationDocument, 4, kProvenance},
+    {&kExcitationDocument, 5,
+     "stand (the stand orientations chosen for a suspended robot's design, `--stands`; none "
+     "then)"},
     {&kMonitorThresholdsDocument, 5, kProvenance},
     {&kSearchDocument, 3, kProvenance},
     {&kRefineDocument, 2, kModel},

@@ -1,5 +1,6 @@
 // The floating-base branches (cli/command_floating.cpp): identifiability, simulate, prepare and
 // identify with --floating-base, on the example quadruped and humanoid (examples/floating/).
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -307,6 +308,49 @@ TEST(Cli, SimulateADesignOnASuspendedFloatingBase) {
   EXPECT_TRUE(contains(r.out, "suspended): 100 states of the design over one period")) << r.out;
   const std::string csv = readFile(dir + "/d.csv");
   EXPECT_TRUE(contains(csv, "wrench:base:nx")) << csv.substr(0, 400);  // the support's sensor
+}
+
+/// excite --stands chooses the stand orientations for a suspended robot's design (upright first;
+/// excitation.json's `stand`, the report's section, the console's lines), and simulate runs the
+/// design at them unless --stand-tilts says otherwise: every set is then estimated.
+TEST(Cli, ExciteChoosesStandTiltsThatSimulateUses) {
+  const std::string dir = test::tempPath("floating-stands");
+  std::filesystem::create_directories(dir);
+  Result r = run("excite --robot " + kAnymal +
+                 " --starts 1 --evaluations 50 --period 5 --stands 3 --max-tilt 0.3 --tilt-grid "
+                 "5 --out " +
+                 dir + "/ex");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "stand orientations (roll, pitch) [rad]: (0, 0), ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "wrenches: 80 of 80, condition ")) << r.out;
+  EXPECT_TRUE(contains(r.out, "(upright alone 79 of 80)")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/ex/excitation.json"));
+  ASSERT_EQ(j["stand"]["tilts"].size(), 3u);
+  EXPECT_EQ(j["stand"]["tilts"][0], nlohmann::json({0.0, 0.0}));
+  EXPECT_EQ(j["stand"]["candidates"], 25);
+  for (const auto& tilt : j["stand"]["tilts"])
+    for (const auto& angle : tilt) EXPECT_LE(std::abs(angle.get<double>()), 0.3 + 1e-15);
+  EXPECT_TRUE(j["stand"]["sets"][0]["upright"]["condition"].is_null());
+  EXPECT_TRUE(contains(readFile(dir + "/ex/report.md"), "## Stand orientations"));
+  r = run("simulate --robot " + kAnymal + " --floating-base --trajectory " + dir +
+          "/ex/excitation.json --samples 100 --out " + dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "300 states of the design, one period at each of 3 stand")) << r.out;
+  EXPECT_TRUE(contains(r.out, "the stand orientations the design chose")) << r.out;
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --segments 1 --data " +
+          dir + "/d.csv --out " + dir + "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(contains(r.out, "not estimated")) << r.out;
+  // --stand-tilts overrides the design's: upright alone leaves the wrench sets refused.
+  r = run("simulate --robot " + kAnymal + " --floating-base --trajectory " + dir +
+          "/ex/excitation.json --stand-tilts 0,0 --samples 100 --out " + dir + "/upright.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(contains(r.out, "the design chose")) << r.out;
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --segments 1 --data " +
+          dir + "/upright.csv --out " + dir + "/upright");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrenches: not estimated: the samples determine 79 of the 80"))
+      << r.out;
 }
 
 /// identify measures each estimate's GC error on a motion (the design at 500 Hz), beside the

@@ -1,8 +1,10 @@
 // libFuzzer target: an excitation.json of dynid excite as simulate --trajectory and batch read it
-// (analysis/records/excitation_record.hpp, excitationDesignFrom). An accepted design must give a
-// finite motion.
+// (analysis/records/excitation_record.hpp, excitationDesignFrom, excitationStandTiltsFrom). An
+// accepted design must give a finite motion, and accepted stand orientations be finite, within a
+// right angle, at most 16.
 #include <algorithm>
 #include <cstdint>
+#include <vector>
 
 #include "analysis/records/excitation_record.hpp"
 #include "core/controllers.hpp"
@@ -25,6 +27,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       dynid::evaluateReference(d, t, q, dq, ddq);
       if (!q.allFinite() || !dq.allFinite() || !ddq.allFinite()) __builtin_trap();
     }
+    const std::vector<Eigen::Vector2d> tilts =
+        dynid::excitationStandTiltsFrom(doc, "excitation.json");
+    if (tilts.size() > 16) __builtin_trap();
+    for (const Eigen::Vector2d& tilt : tilts)
+      if (!tilt.allFinite() || tilt.cwiseAbs().maxCoeff() > 1.5707963267948966) __builtin_trap();
   } catch (const dynid::Error&) {
   }
   return 0;

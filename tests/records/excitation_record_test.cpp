@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "analysis/records/document.hpp"
 #include "core/errors.hpp"
@@ -57,6 +58,40 @@ TEST(ExcitationRecord, RefusesOtherDocumentsAndBadFieldsNamingThem) {
   bad = design();
   bad["surprise"] = 1;
   refused(bad, 2, "surprise");
+}
+
+/// Version 5's stand orientations (`dynid excite --stands`): read as written, none where `stand`
+/// is null, or absent in an older version; out of range or malformed, refused naming the entry.
+TEST(ExcitationRecord, ReadsTheStandTilts) {
+  nlohmann::json doc = design();
+  doc["stand"] = {{"tilts", {{0.0, 0.0}, {-0.4, 0.4}}}, {"max_tilt", 0.4}, {"grid", 9}};
+  std::vector<Eigen::Vector2d> tilts = excitationStandTiltsFrom(doc, "e.json");
+  ASSERT_EQ(tilts.size(), 2u);
+  EXPECT_EQ(tilts[1], Eigen::Vector2d(-0.4, 0.4));
+  doc["stand"] = nullptr;
+  EXPECT_TRUE(excitationStandTiltsFrom(doc, "e.json").empty());
+  doc.erase("stand");
+  doc["schema_version"] = 4;
+  EXPECT_TRUE(excitationStandTiltsFrom(doc, "e.json").empty());
+  doc["stand"] = nullptr;  // a key version 4 did not have
+  EXPECT_THROW(excitationDesignFrom(doc, "e.json", 2), ParseError);
+  const auto refused = [](const nlohmann::json& stand, const std::string& field) {
+    nlohmann::json bad = design();
+    bad["stand"] = stand;
+    try {
+      excitationStandTiltsFrom(bad, "e.json");
+      ADD_FAILURE() << "accepted, expected an error naming " << field;
+    } catch (const ParseError& e) {
+      EXPECT_TRUE(std::string(e.what()).find(field) != std::string::npos) << e.what();
+    }
+  };
+  refused({{"tilts", {{0.0, 0.0, 0.0}}}}, "stand.tilts[0]");
+  refused({{"tilts", {{0.0, 2.0}}}}, "stand.tilts[0]");
+  refused({{"tilts", nlohmann::json::array()}}, "stand.tilts");
+  refused({{"tilts", std::vector<std::vector<double>>(17, {0.0, 0.0})}}, "stand.tilts");
+  refused({{"max_tilt", 0.4}}, "stand.tilts");
+  refused({{"tilts", {{0.0, 0.0}}}, {"yaw", 1}}, "yaw");
+  refused(1, "stand");
 }
 
 }  // namespace

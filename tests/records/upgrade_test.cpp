@@ -67,7 +67,7 @@ TEST(Upgrade, AVersion1EstimateGetsItsRobotAndReadsAsCurrent) {
   }
 }
 
-// search.json 1 -> 3 and excitation.json 1 -> 4: what they did not record stays absent, said.
+// search.json 1 -> 3 and excitation.json 1 -> 5: what they did not record stays absent, said.
 TEST(Upgrade, Version1SearchesAndDesignsReadAsCurrent) {
   const UpgradeOutcome search = upgradeDocument({seed("search_json/ga_search.json"), ""});
   EXPECT_EQ(search.from, 1);
@@ -85,6 +85,12 @@ TEST(Upgrade, Version1SearchesAndDesignsReadAsCurrent) {
   const FourierSeries after = excitationDesignFrom(design.document, "upgraded", 6);
   EXPECT_EQ(after.a, before.a);
   EXPECT_EQ(after.offset, before.offset);
+  // Version 5's stand orientations: absent (none were chosen then), said, and read as none.
+  EXPECT_FALSE(design.document.contains("stand"));
+  bool said = false;
+  for (const std::string& note : design.notes) said = said || note.find("stand") != note.npos;
+  EXPECT_TRUE(said);
+  EXPECT_TRUE(excitationStandTiltsFrom(design.document, "upgraded").empty());
 }
 
 // thresholds.json 1 to 4 -> 5: the states and regimes they lacked are null, and they read back.

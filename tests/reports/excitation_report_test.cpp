@@ -1,5 +1,6 @@
 #include "reports/excitation_report.hpp"
 
+#include <limits>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -55,6 +56,38 @@ TEST(ExcitationReport, TheCsvHasOneRowPerSampleAndEveryColumn) {
   EXPECT_NE(doc.markdown().find("| joint6 |"), std::string::npos);
 }
 
+/// A design with stand orientations (`--stands`): excitation.json's `stand` reads back exactly,
+/// the report has its section; without, `stand` is null.
+TEST(ExcitationReport, TheStandOrientationsReadBackExactly) {
+  const Model puma = makePuma560(false);
+  const ExciteOutcome o = smallOutcome(puma);
+  ExcitationSettings settings{"puma560", 5, 1, 30, 10.0, 100.0};
+  EXPECT_TRUE(excitationJson(puma, settings, o)["stand"].is_null());
+  StandDesign stand;
+  stand.choice.tilts = {{0.0, 0.0}, {-0.1, 0.3}, {0.2, -0.3}};
+  stand.choice.condition_added = {std::numeric_limits<double>::infinity(), 120.0, 99.5};
+  stand.choice.condition = 99.5;
+  StandSetScore score;
+  score.combinations = 80;
+  score.determined = 79;
+  stand.choice.upright = {score};
+  score.determined = 80;
+  score.condition = 99.5;
+  stand.choice.chosen = {score};
+  stand.max_tilt = 0.3;
+  stand.grid = 7;
+  stand.samples = 200;
+  settings.stand = stand;
+  const nlohmann::json text = nlohmann::json::parse(jsonText(excitationJson(puma, settings, o), 2));
+  EXPECT_EQ(excitationStandTiltsFrom(text, "e.json"), stand.choice.tilts);
+  EXPECT_TRUE(text["stand"]["condition_added"][0].is_null());  // upright alone: not full rank
+  EXPECT_EQ(text["stand"]["sets"][0]["upright"]["determined"], 79);
+  const Document doc = excitationDocument(puma, settings, o, nullptr);
+  EXPECT_NE(doc.markdown().find("| wrenches | 80 | 79 of 80 | 80 of 80, condition 99.5 |"),
+            std::string::npos)
+      << doc.markdown();
+}
+
 TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
   const Model puma = makePuma560(false);
   const ExciteOutcome o = smallOutcome(puma);
@@ -76,7 +109,7 @@ TEST(ExcitationReport, TheDesignReadsBackExactlyAndStrictly) {
   };
   EXPECT_THROW(excitationDesignFrom(text, "e.json", 7), ParseError);  // another joint count
   nlohmann::json bad = text;
-  bad["schema_version"] = 5;  // a later version: refused (1 to 3 are read)
+  bad["schema_version"] = kExcitationDocument.schema_version + 1;  // a later version: refused
   expectRefused(bad, "schema_version");
   bad = text;
   bad["kind"] = "dynid.model";
