@@ -1,4 +1,5 @@
 """Floating-base robots (docs/FLOATING.md): what each sensor set determines, equal to the CLI's."""
+import json
 import os
 import sqlite3
 import struct
@@ -181,6 +182,23 @@ def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
     with pytest.raises(ValueError, match="stand_tilts"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="suspended",
                                 stand_tilts=[(0.4, 0.0)])
+
+
+def test_simulate_floating_runs_a_design_at_the_stand_orientations_it_chose(tmp_path):
+    fixture = Path(os.environ["DYNID_SOURCE_DIR"]) / "tests/data/floating/fixtures/anymal_excitation.json"
+    design = json.loads(fixture.read_text())
+    design["schema_version"] = 5  # as `dynid excite --stands 3` writes it
+    design["stand"] = {"tilts": [[0.0, 0.0], [-0.4, 0.4], [0.4, -0.4]]}
+    path = tmp_path / "stands.json"
+    path.write_text(json.dumps(design))
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=path, samples=50)
+    doc = dynid.floating_identify(ANYMAL, data, method="ols")
+    assert doc["data"]["samples"] == 150  # 50 states at each of the three
+    assert all(s["refused"] is None for s in doc["sets"])
+    upright = dynid.simulate_floating(ANYMAL, tmp_path / "u.csv", trajectory=path, samples=50,
+                                      stand_tilts=[(0.0, 0.0)])  # overrides the design's
+    doc = dynid.floating_identify(ANYMAL, upright, method="ols", sensors=["wrenches"])
+    assert doc["data"]["samples"] == 50 and "79 of the 80" in doc["sets"][0]["refused"]
 
 
 def test_simulate_floating_keeps_the_feet_within_friction_cones(tmp_path):
