@@ -26,9 +26,11 @@ void StandTiltRequest::check() const {
   require(max_tilt > 0.0 && max_tilt <= M_PI / 2,
           "`max_tilt` is in (0, pi/2] rad, not " + formatNumber(max_tilt));
   require(tilt_grid >= 3 && tilt_grid <= 21 && tilt_grid % 2 == 1,
-          "`tilt_grid` is odd, 3 to 21 (upright among the candidates), not " + std::to_string(tilt_grid));
-  require(stands <= tilt_grid * tilt_grid, "`stands`: " + std::to_string(stands) + " orientations of " +
-                                    std::to_string(tilt_grid * tilt_grid) + " candidates (a finer `tilt_grid`)");
+          "`tilt_grid` is odd, 3 to 21 (upright among the candidates), not " +
+              std::to_string(tilt_grid));
+  require(stands <= tilt_grid * tilt_grid,
+          "`stands`: " + std::to_string(stands) + " orientations of " +
+              std::to_string(tilt_grid * tilt_grid) + " candidates (a finer `tilt_grid`)");
   require(samples >= 10 && samples <= 10000,
           "`samples` is 10 to 10000 states per orientation, not " + std::to_string(samples));
   require(design.period > 0.0 && std::isfinite(design.period),

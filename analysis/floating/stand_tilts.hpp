@@ -31,9 +31,9 @@ struct StandTiltRequest {
   /// Orientations to choose, 1 to kMaxStandChoices: the first is the stand upright (as built), the
   /// others chosen in turn (greedy), then each exchanged for a better candidate while one is.
   int stands = 3;
-  /// The candidates: roll and pitch each on `tilt_grid` points evenly over [-max_tilt, max_tilt] [rad]
-  /// (yaw leaves gravity's direction in the base frame as it is). max_tilt in (0, pi/2]; tilt_grid odd,
-  /// 3 to 21, so upright is a candidate.
+  /// The candidates: roll and pitch each on `tilt_grid` points evenly over [-max_tilt, max_tilt]
+  /// [rad] (yaw leaves gravity's direction in the base frame as it is). max_tilt in (0, pi/2];
+  /// tilt_grid odd, 3 to 21, so upright is a candidate.
   double max_tilt = 0.4;
   int tilt_grid = 9;
   /// States of the design at each orientation (evenly over its period), 10 to 10000.
@@ -68,9 +68,9 @@ struct StandTiltChoice {
 /// Throws InputError for a request out of range or a design whose joint count is not the model's.
 StandTiltChoice chooseStandTilts(const FloatingModel& model, const StandTiltRequest& request);
 
-/// Every set's determined count and condition number on the request's design at the given orientations
-/// (the request's stands, max_tilt and tilt_grid unread): tilts chosen by hand, scored as a choice is.
-/// Throws InputError as chooseStandTilts, or for no tilt.
+/// Every set's determined count and condition number on the request's design at the given
+/// orientations (the request's stands, max_tilt and tilt_grid unread): tilts chosen by hand, scored
+/// as a choice is. Throws InputError as chooseStandTilts, or for no tilt.
 std::vector<StandSetScore> scoreStandTilts(const FloatingModel& model,
                                            const StandTiltRequest& request,
                                            const std::vector<Eigen::Vector2d>& tilts);
