@@ -224,6 +224,9 @@ int runExcite(const std::vector<std::string>& args) {
   settings.csv_rate = vm["csv-rate"].as<double>();
   if (stand && !guard.interrupted()) settings.stand = chooseStands(*stand, outcome.design);
   std::cout << writeExcitation(dir, request.robot, settings, outcome);
+  if (stand && guard.interrupted())
+    std::cerr << "dynid excite: interrupted before the stand orientations were chosen: "
+                 "excitation.json's stand is null (run excite again with --stands)\n";
   return exitAfter(guard, "excite", "wrote the best design so far to " + dir);
 }
 

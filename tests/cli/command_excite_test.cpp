@@ -26,8 +26,9 @@ TEST(Cli, ExciteWritesTheDesignItsTrajectoryAndAReport) {
   EXPECT_TRUE(contains(r.out, "every limit holds at 1000 Hz")) << r.out;
   EXPECT_TRUE(contains(r.out, "note: the model gives no velocity limit")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/excitation.json"));
-  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["schema_version"], 5);
   EXPECT_EQ(j["kind"], "dynid.excitation");
+  EXPECT_TRUE(j["stand"].is_null());  // no --stands
   // The robot designed for, embedded: a dynid model the design can be rerun on anywhere.
   EXPECT_EQ(j["model"]["name"], "puma560");
   EXPECT_EQ(j["model_source"],

@@ -172,7 +172,7 @@ TEST(Cli, SimulateSaysWhenItReadsAnOlderDesign) {
   const Result r = run("simulate --robot puma560 --trajectory " + v1 + " --duration 1 --out " +
                        test::tempPath("simulate_v1_design.csv"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(contains(r.err, "is dynid.excitation version 1 (current 4): read as it is")) << r.err;
+  EXPECT_TRUE(contains(r.err, "is dynid.excitation version 1 (current 5): read as it is")) << r.err;
 }
 
 }  // namespace
