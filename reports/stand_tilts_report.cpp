@@ -76,8 +76,8 @@ void addStandSection(Document& doc, const StandDesign& stand) {
       std::to_string(stand.samples) +
       " states of the design at each). A base that never tilts "
       "sees gravity from one side: its support's rows cannot show the whole body's first moment "
-      "along gravity. `dynid simulate --floating-base --trajectory excitation.json` simulates "
-      "the design at these orientations.");
+      "along gravity. A floating-base simulation of this design runs it at these orientations "
+      "unless other stand tilts are given.");
   DocumentTable table;
   table.header = {"sensor set", "combinations", "upright alone", "at the orientations"};
   for (std::size_t s = 0; s < c.chosen.size(); ++s)

@@ -80,8 +80,7 @@ const Added kAdded[] = {
     // (`front_weights`).
     {&kExcitationDocument, 4, kProvenance},
     {&kExcitationDocument, 5,
-     "stand (the stand orientations chosen for a suspended robot's design, `--stands`; none "
-     "then)"},
+     "stand (the stand orientations chosen for a suspended robot's design; none were then)"},
     {&kMonitorThresholdsDocument, 5, kProvenance},
     {&kSearchDocument, 3, kProvenance},
     {&kRefineDocument, 2, kModel},
