@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -150,8 +151,11 @@ class FloatingRollout {
             data_.dq.col(k)};
   }
 
-  /// The squared error at sample `end` of a segment rolled out from `start`.
-  double segment(int start, int end, int substeps) {
+  /// The end-state difference at sample `end` of a segment rolled out from `start`
+  /// (floatingGcResiduals' column), NaN where the rollout diverges.
+  Eigen::VectorXd residual(int start, int end, int substeps) {
+    const int n = model_.numJoints();
+    Eigen::VectorXd out = Eigen::VectorXd::Constant(2 * n + 9, std::nan(""));
     FloatingState s = recorded(start);
     // A candidate far from physical (an unconstrained estimate's) can diverge: its state runs to
     // infinity, its quaternion to zero, or its mass matrix stops being positive definite (the
@@ -160,24 +164,27 @@ class FloatingRollout {
       for (int k = start; k < end; ++k) {
         const double h = (data_.time[k + 1] - data_.time[k]) / substeps;
         for (int i = 0; i < substeps; ++i) rk4(s, k, h);
-        if (!s.orientation.allFinite() || !s.twist.allFinite() || !s.dq.allFinite())
-          return kMaxSegmentError;
+        if (!s.orientation.allFinite() || !s.twist.allFinite() || !s.dq.allFinite()) return out;
       }
     } catch (const Error&) {
-      return kMaxSegmentError;
+      return out;
     }
     const FloatingState r = recorded(end);
-    // The rotation between them: the angle of conj(predicted) recorded.
+    // The rotation from the prediction to the record: conj(predicted) recorded, as its angle
+    // times its axis (the shorter way round).
     Eigen::Vector4d conj = s.orientation;
     conj.tail<3>() = -conj.tail<3>();
-    const Eigen::Vector4d d = times(conj, r.orientation);
-    const double angle = 2.0 * std::atan2(d.tail<3>().norm(), std::abs(d[0]));
-    const double linear =
-        data_.linear_velocity ? (s.twist.tail<3>() - r.twist.tail<3>()).squaredNorm() : 0.0;
-    const double error = (s.q - r.q).squaredNorm() + (s.dq - r.dq).squaredNorm() +
-                         (s.twist.head<3>() - r.twist.head<3>()).squaredNorm() + linear +
-                         angle * angle;
-    return std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
+    Eigen::Vector4d d = times(conj, r.orientation);
+    if (d[0] < 0.0) d = -d;
+    const double sine = d.tail<3>().norm();
+    const double angle = 2.0 * std::atan2(sine, d[0]);
+    const Eigen::Vector3d rotation =
+        sine > 0.0 ? Eigen::Vector3d(angle / sine * d.tail<3>()) : Eigen::Vector3d::Zero();
+    out << s.q - r.q, s.dq - r.dq, s.twist.head<3>() - r.twist.head<3>(),
+        data_.linear_velocity ? Eigen::Vector3d(s.twist.tail<3>() - r.twist.tail<3>())
+                              : Eigen::Vector3d::Zero(),
+        rotation;
+    return out;
   }
 
  private:
@@ -229,9 +236,9 @@ void FloatingGcOptions::check() const {
   if (substeps < 1) throw InputError("`substeps` is 1 or more");
 }
 
-FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
-                                 const FloatingGcOptions& options) {
-  checkData(candidate, data);
+FloatingGcResult floatingGcSegments(const FloatingModel& model, const FloatingGcData& data,
+                                    const FloatingGcOptions& options) {
+  checkData(model, data);
   options.check();
   Eigen::VectorXd steps =
       data.time.tail(data.time.size() - 1) - data.time.head(data.time.size() - 1);
@@ -255,11 +262,42 @@ FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingG
   if (out.starts.empty())
     throw InputError("`horizon`: no run of the data holds a segment of " +
                      formatNumber(options.horizon, 4) + " s");
-  FloatingRollout rollout(candidate, data);
-  out.segment_errors.resize(static_cast<Eigen::Index>(out.starts.size()));
-  for (std::size_t i = 0; i < out.starts.size(); ++i)
-    out.segment_errors[static_cast<Eigen::Index>(i)] =
-        rollout.segment(out.starts[i], out.starts[i] + out.samples_per_segment, options.substeps);
+  return out;
+}
+
+Eigen::MatrixXd floatingGcResiduals(const FloatingModel& candidate, const FloatingGcData& data,
+                                    const FloatingGcResult& segments, int substeps,
+                                    ThreadPool* pool) {
+  const int count = static_cast<int>(segments.starts.size());
+  Eigen::MatrixXd out(2 * candidate.numJoints() + 9, count);
+  const auto one = [&](FloatingRollout& rollout, int i) {
+    const int start = segments.starts[static_cast<std::size_t>(i)];
+    out.col(i) = rollout.residual(start, start + segments.samples_per_segment, substeps);
+  };
+  if (pool == nullptr || pool->numThreads() == 1 || count < 2) {
+    FloatingRollout rollout(candidate, data);
+    for (int i = 0; i < count; ++i) one(rollout, i);
+    return out;
+  }
+  std::vector<std::unique_ptr<FloatingRollout>> rollouts;
+  for (int t = 0; t < pool->numThreads(); ++t)
+    rollouts.push_back(std::make_unique<FloatingRollout>(candidate, data));
+  pool->parallelFor(count, [&](int i, int thread) { one(*rollouts[thread], i); });
+  return out;
+}
+
+double floatingSegmentError(const Eigen::VectorXd& residual) {
+  const double error = residual.squaredNorm();
+  return std::isfinite(error) ? std::min(error, kMaxSegmentError) : kMaxSegmentError;
+}
+
+FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
+                                 const FloatingGcOptions& options) {
+  FloatingGcResult out = floatingGcSegments(candidate, data, options);
+  const Eigen::MatrixXd residuals = floatingGcResiduals(candidate, data, out, options.substeps);
+  out.segment_errors.resize(residuals.cols());
+  for (Eigen::Index i = 0; i < residuals.cols(); ++i)
+    out.segment_errors[i] = floatingSegmentError(residuals.col(i));
   out.error = out.segment_errors.sum();
   return out;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/floating/contact_jacobian.hpp"
+#include "core/parallel.hpp"
 #include "search/gc_problem.hpp"
 
 namespace dynid {
@@ -75,5 +76,25 @@ struct FloatingGcResult {
 /// periods) or no run holds one segment.
 FloatingGcResult floatingGcError(const FloatingModel& candidate, const FloatingGcData& data,
                                  const FloatingGcOptions& options);
+
+/// The segments floatingGcError rolls out (FloatingGcResult's starts, samples_per_segment and
+/// horizon; no errors), after checking the data and options as it does (its throws).
+FloatingGcResult floatingGcSegments(const FloatingModel& model, const FloatingGcData& data,
+                                    const FloatingGcOptions& options);
+
+/// Each segment's end-state difference, one column a segment of `segments`
+/// (floatingGcSegments'): q and dq (predicted minus recorded), the base's angular velocity, its
+/// linear velocity (zero without FloatingGcData::linear_velocity) and the rotation from the
+/// prediction to the record as a rotation vector (angle times axis, the shorter way round); 2 n
+/// + 9 rows, NaN where the rollout diverges. floatingSegmentError of a column is the segment's
+/// error. `pool` (optional) rolls the segments out in parallel: the same columns for any thread
+/// count. Expects data checked by floatingGcSegments.
+Eigen::MatrixXd floatingGcResiduals(const FloatingModel& candidate, const FloatingGcData& data,
+                                    const FloatingGcResult& segments, int substeps,
+                                    ThreadPool* pool = nullptr);
+
+/// A segment's error from its residual column: the squared norm, kMaxSegmentError where that is
+/// not finite or above it.
+double floatingSegmentError(const Eigen::VectorXd& residual);
 
 }  // namespace dynid

@@ -76,22 +76,52 @@ double gcShape(double g, double floor) {
 }
 
 /// Phi's parts at theta; the GC part is NaN when `control` stopped the evaluation.
-CombinedValue valueAt(const Model& structure, const GcProblem& problem, const TorqueTerm& torque,
-                      const Eigen::VectorXd& theta, double w, double g0, double floor,
-                      GcWorkspace& workspace, ThreadPool& pool, const RunControl& control) {
+CombinedValue valueAt(const TorqueTerm& torque, const GcTerm& gc, const Eigen::VectorXd& theta,
+                      double w, double g0, double floor, const RunControl& control) {
   CombinedValue v;
   v.torque = torque.cost(theta) / torque.scale;
   if (!std::isfinite(v.torque)) {
     v.cost = v.gc = std::numeric_limits<double>::infinity();
     return v;
   }
-  v.gc = gcError(modelAt(structure, theta), problem, workspace, pool, control);
+  v.gc = gc.error(theta, control);
   v.cost = v.torque + w * gcShape(0.5 * v.gc, floor) / g0;
   return v;
 }
 
+/// The fixed-base GC term: a GcProblem's rollouts on dynid's pool, the Jacobian by Ceres's
+/// automatic differentiation in the base parameters (linearise above).
+GcTerm fixedGcTerm(const Model& structure, const GcProblem& problem, const BaseCoordinates& base,
+                   const CombinedOptions& options) {
+  struct Shared {
+    explicit Shared(int threads) : pool(threads), workspace(pool.numThreads()) {}
+    ThreadPool pool;
+    GcWorkspace workspace;
+    Eigen::MatrixXd lift;
+  };
+  const auto shared = std::make_shared<Shared>(std::max(options.num_threads, 1));
+  if (base.projection.size() > 0)  // none for a value alone (combinedValue)
+    shared->lift = base.projection.completeOrthogonalDecomposition().pseudoInverse();
+  const Eigen::MatrixXd P = base.projection;
+  GcTerm out;
+  out.error = [&structure, &problem, shared](const Eigen::VectorXd& theta,
+                                             const RunControl& control) {
+    return gcError(modelAt(structure, theta), problem, shared->workspace, shared->pool, control);
+  };
+  out.linearise = [&structure, &problem, shared, P](const Eigen::VectorXd& theta,
+                                                    const RunControl& control, Eigen::VectorXd* r,
+                                                    Eigen::MatrixXd* J) {
+    return linearise(structure, problem, P, shared->lift, theta, shared->pool, control, r, J);
+  };
+  const int draws = options.floor_draws, threads = options.num_threads;
+  out.floor = [&structure, &problem, draws, threads](const Eigen::VectorXd& theta0) {
+    return gcNoiseFloor(modelAt(structure, theta0), problem, draws, threads);
+  };
+  return out;
+}
+
 void checkInputs(const Model& structure, const GcProblem& problem, const BaseCoordinates& base,
-                 const TorqueTerm& torque, const Eigen::VectorXd& theta, double gc_weight) {
+                 const Eigen::VectorXd& theta) {
   const int p = structure.parameterLayout().size();
   if (theta.size() != p)
     throw InputError("the start has " + std::to_string(theta.size()) + " parameters, expected " +
@@ -102,6 +132,9 @@ void checkInputs(const Model& structure, const GcProblem& problem, const BaseCoo
   if (problem.data.numJoints() != structure.numJoints())
     throw InputError("the data has " + std::to_string(problem.data.numJoints()) +
                      " joints, the model " + std::to_string(structure.numJoints()));
+}
+
+void checkTerms(const TorqueTerm& torque, double gc_weight) {
   if (!(gc_weight >= 0.0) || !std::isfinite(gc_weight))
     throw InputError("the GC weight must be finite and >= 0");
   if (!(torque.scale > 0.0) || !std::isfinite(torque.scale))
@@ -225,39 +258,45 @@ double gcNoiseFloor(const Model& model, const GcProblem& problem, int draws, int
 CombinedValue combinedValue(const Model& structure, const GcProblem& problem,
                             const TorqueTerm& torque, const Eigen::VectorXd& theta,
                             double gc_weight, double gc_scale, double gc_floor, int num_threads) {
-  ThreadPool pool(std::max(num_threads, 1));
-  GcWorkspace workspace(pool.numThreads());
-  return valueAt(structure, problem, torque, theta, gc_weight, gc_scale, 0.5 * gc_floor, workspace,
-                 pool, {});
+  CombinedOptions options;
+  options.num_threads = num_threads;
+  const GcTerm gc = fixedGcTerm(structure, problem, BaseCoordinates{}, options);
+  return valueAt(torque, gc, theta, gc_weight, gc_scale, 0.5 * gc_floor, {});
+}
+
+Eigen::VectorXd combinedGradientTerms(const TorqueTerm& torque, const GcTerm& gc,
+                                      const Eigen::VectorXd& theta, double gc_weight,
+                                      double gc_scale, double gc_floor) {
+  checkTerms(torque, gc_weight);
+  Eigen::VectorXd r, g;
+  Eigen::MatrixXd J, H;
+  if (!gc.linearise(theta, {}, &r, &J)) throw NumericalError("a GC rollout diverged");
+  quadraticModel(torque, theta, r, J, gc_weight, gc_scale, 0.5 * gc_floor, &g, &H);
+  return g;
 }
 
 Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& problem,
                                  const BaseCoordinates& base, const TorqueTerm& torque,
                                  const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
                                  double gc_floor, int num_threads) {
-  checkInputs(structure, problem, base, torque, theta, gc_weight);
-  ThreadPool pool(std::max(num_threads, 1));
-  const Eigen::MatrixXd lift = base.projection.completeOrthogonalDecomposition().pseudoInverse();
-  Eigen::VectorXd r, g;
-  Eigen::MatrixXd J, H;
-  if (!linearise(structure, problem, base.projection, lift, theta, pool, {}, &r, &J))
-    throw NumericalError("a GC rollout diverged");
-  quadraticModel(torque, theta, r, J, gc_weight, gc_scale, 0.5 * gc_floor, &g, &H);
-  return g;
+  checkInputs(structure, problem, base, theta);
+  CombinedOptions options;
+  options.num_threads = num_threads;
+  return combinedGradientTerms(torque, fixedGcTerm(structure, problem, base, options), theta,
+                               gc_weight, gc_scale, gc_floor);
 }
 
 namespace {
 
 /// The combined estimate at its start theta0: the GC error (refused when it predicts no usable
 /// motion), its scale and noise floor, the cost (`current`) and the history's first row.
-CombinedResult startOfCombined(const Model& structure, const GcProblem& problem,
-                               const TorqueTerm& torque, const Eigen::VectorXd& theta0,
-                               const CombinedOptions& options, Clock::time_point t0,
-                               GcWorkspace& workspace, ThreadPool& pool, CombinedValue& current) {
+CombinedResult startOfCombined(const TorqueTerm& torque, const GcTerm& gc,
+                               const Eigen::VectorXd& theta0, const CombinedOptions& options,
+                               Clock::time_point t0, CombinedValue& current) {
   const double w = options.gc_weight;
   CombinedResult out;
   out.theta = theta0;
-  out.initial_gc = gcError(modelAt(structure, theta0), problem, workspace, pool);
+  out.initial_gc = gc.error(theta0, {});
   if (!std::isfinite(out.initial_gc) || out.initial_gc >= kMaxSegmentError ||
       !(out.initial_gc > 0.0))
     throw NumericalError("the combined estimator's start predicts no usable motion (GC error " +
@@ -265,10 +304,9 @@ CombinedResult startOfCombined(const Model& structure, const GcProblem& problem,
   out.gc_scale = 0.5 * (options.given_gc > 0.0 ? options.given_gc : out.initial_gc);
   out.gc_weight = w;
   if (options.noise_floor && w > 0.0)
-    out.gc_floor = options.given_floor >= 0.0
-                       ? options.given_floor
-                       : gcNoiseFloor(modelAt(structure, theta0), problem, options.floor_draws,
-                                      options.num_threads);
+    out.gc_floor = options.given_floor >= 0.0 ? options.given_floor
+                   : gc.floor                 ? gc.floor(theta0)
+                                              : 0.0;
   const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
   current = CombinedValue{0.0, torque.cost(theta0) / torque.scale, out.initial_gc};
   current.cost = current.torque + w * gcShape(0.5 * current.gc, floor) / out.gc_scale;
@@ -309,8 +347,16 @@ void sayProgress(const CombinedOptions& options, const CombinedResult& out,
 CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
                               const BaseCoordinates& base, const TorqueTerm& torque,
                               const Eigen::VectorXd& theta0, const CombinedOptions& options) {
+  checkInputs(structure, problem, base, theta0);
+  return refineCombinedTerms(torque, fixedGcTerm(structure, problem, base, options), theta0,
+                             options);
+}
+
+CombinedResult refineCombinedTerms(const TorqueTerm& torque, const GcTerm& gc,
+                                   const Eigen::VectorXd& theta0, const CombinedOptions& options) {
   const auto t0 = Clock::now();
-  checkInputs(structure, problem, base, torque, theta0, options.gc_weight);
+  checkTerms(torque, options.gc_weight);
+  if (!gc.error || !gc.linearise) throw InputError("the GC term is not set");
   if (!(options.given_gc >= 0.0) || !std::isfinite(options.given_gc) ||
       !std::isfinite(options.given_floor))
     throw InputError(
@@ -319,14 +365,9 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
   if (!std::isfinite(torque.cost(theta0)))
     throw InputError("the combined estimator's start is outside the physical set");
   const RunControl control = options.control.within(options.max_seconds, t0);
-  ThreadPool pool(std::max(options.num_threads, 1));
-  GcWorkspace workspace(pool.numThreads());
-  const Eigen::MatrixXd& P = base.projection;
-  const Eigen::MatrixXd lift = P.completeOrthogonalDecomposition().pseudoInverse();
   const double w = options.gc_weight;
   CombinedValue current;
-  CombinedResult out =
-      startOfCombined(structure, problem, torque, theta0, options, t0, workspace, pool, current);
+  CombinedResult out = startOfCombined(torque, gc, theta0, options, t0, current);
   const double floor = 0.5 * out.gc_floor;  // in G = GC / 2
 
   const auto stop = [&](const std::string& why) {
@@ -350,7 +391,7 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
         break;
       }
       // With w = 0 the GC term has no say: F's derivatives alone.
-      if (w > 0.0 && !linearise(structure, problem, P, lift, out.theta, pool, control, &r, &J)) {
+      if (w > 0.0 && !gc.linearise(out.theta, control, &r, &J)) {
         if (control.stopped()) continue;  // the stop is reported at the loop's top
         out.termination = "NO_CONVERGENCE: a GC rollout diverged at the current estimate";
         break;
@@ -371,8 +412,7 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
       continue;
     }
     const Eigen::VectorXd trial = out.theta + delta;
-    const CombinedValue next = valueAt(structure, problem, torque, trial, w, out.gc_scale, floor,
-                                       workspace, pool, control);
+    const CombinedValue next = valueAt(torque, gc, trial, w, out.gc_scale, floor, control);
     if (std::isnan(next.gc) && control.stopped()) continue;
     const double actual = current.cost - next.cost;
     const double ratio = std::isfinite(next.cost) && next.gc < kMaxSegmentError

@@ -87,6 +87,29 @@ struct CombinedValue {
   double cost = 0.0, torque = 0.0, gc = 0.0;
 };
 
+/// The GC term G over the estimator's parameter vector theta, however its rollouts are made: the
+/// fixed-base rollouts of a GcProblem (refineCombined below) or a floating robot's
+/// (search/floating/floating_combined.hpp).
+struct GcTerm {
+  /// The GC error at theta (segments that diverge counted at kMaxSegmentError; NaN when
+  /// `control` stopped it).
+  std::function<double(const Eigen::VectorXd& theta, const RunControl& control)> error;
+  /// The GC residuals r at theta (the GC error is |r|^2) and their Jacobian in theta; false when a
+  /// rollout diverges or `control` stops.
+  std::function<bool(const Eigen::VectorXd& theta, const RunControl& control, Eigen::VectorXd* r,
+                     Eigen::MatrixXd* J)>
+      linearise;
+  /// The GC error's noise floor at the start theta0 (a GC error), used with
+  /// CombinedOptions::noise_floor when no floor is given; unset: 0.
+  std::function<double(const Eigen::VectorXd& theta0)> floor;
+};
+
+/// The combined estimate over any GC term (the Levenberg-Marquardt of refineCombined below, over
+/// the vector `theta0` has). Throws InputError for a bad weight or normaliser, an unset term or a
+/// start outside F's domain; NumericalError when the start's rollouts diverge.
+CombinedResult refineCombinedTerms(const TorqueTerm& torque, const GcTerm& gc,
+                                   const Eigen::VectorXd& theta0, const CombinedOptions& options);
+
 /// The combined estimate from `theta0` (p entries, inside F's domain, whose GC rollouts do not
 /// diverge). Throws InputError on size mismatches, a joint-count mismatch, gc_weight < 0,
 /// torque.scale <= 0 or a start outside F's domain; NumericalError when the start's rollouts
@@ -131,5 +154,11 @@ Eigen::VectorXd combinedGradient(const Model& structure, const GcProblem& proble
                                  const BaseCoordinates& base, const TorqueTerm& torque,
                                  const Eigen::VectorXd& theta, double gc_weight, double gc_scale,
                                  double gc_floor = 0.0, int num_threads = 1);
+
+/// Phi's gradient at theta over any GC term (combinedGradient's formula). Throws NumericalError
+/// when a rollout diverges.
+Eigen::VectorXd combinedGradientTerms(const TorqueTerm& torque, const GcTerm& gc,
+                                      const Eigen::VectorXd& theta, double gc_weight,
+                                      double gc_scale, double gc_floor = 0.0);
 
 }  // namespace dynid
