@@ -109,11 +109,28 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
 }
 
 int runFloatingIdentify(const po::variables_map& vm) {
-  refuseOutside(
-      vm,
-      {"method", "data", "validate", "out", "contacts", "sensors", "motion", "samples", "seed",
-       "tolerance", "threads", "payload-link", "prior-weight", "unloaded", "horizon", "segments"},
-      "identify");
+  refuseOutside(vm,
+                {"method",
+                 "data",
+                 "validate",
+                 "out",
+                 "contacts",
+                 "sensors",
+                 "motion",
+                 "samples",
+                 "seed",
+                 "tolerance",
+                 "threads",
+                 "payload-link",
+                 "prior-weight",
+                 "unloaded",
+                 "horizon",
+                 "segments",
+                 "combined-weight",
+                 "no-gc-floor",
+                 "combined-seconds",
+                 "combined-iterations"},
+                "identify");
   if (!vm.count("data")) throw UsageError("--floating-base needs --data (a floating dataset)");
   if (!vm.count("robot")) throw UsageError("--floating-base needs --robot (its URDF)");
   FloatingIdentifyRequest request;
@@ -123,19 +140,35 @@ int runFloatingIdentify(const po::variables_map& vm) {
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
-  if (!vm["prior-weight"].defaulted() && request.method != FloatingMethod::kPc)
-    throw UsageError("--prior-weight applies to --method pc");
+  const bool combined = request.method == FloatingMethod::kCombined;
+  if (!vm["prior-weight"].defaulted() && request.method != FloatingMethod::kPc && !combined)
+    throw UsageError("--prior-weight applies to --method pc or combined");
   request.prior_weight = priorWeightOption(vm);
+  refuseUnused(vm, combined,
+               {"combined-weight", "no-gc-floor", "combined-seconds", "combined-iterations"},
+               "applies to --method combined");
+  request.combined.gc_weight = vm["combined-weight"].as<double>();
+  request.combined.noise_floor = !vm["no-gc-floor"].as<bool>();
+  request.combined.max_seconds = vm["combined-seconds"].as<double>();
+  request.combined.max_iterations = vm["combined-iterations"].as<int>();
+  request.threads = threadsOption(vm);
   request.structural = structuralOptions(vm);
   request.contacts = nameListOption(vm, "contacts");
   readSetsAndMotion(vm, request.sensors, request.motion);
   request.gc->horizon = vm["horizon"].as<double>();
   request.gc->num_segments = vm["segments"].as<int>();
   try {
-    request.gc->check();
+    request.check();
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
+  if (stderrIsTerminal())
+    request.combined.control.progress = [](const std::string& line) {
+      std::cerr << "[identify] " << line << "\n";
+    };
+  // combined stops at its next rollout on Ctrl-C, keeping its best so far (as the fixed base's).
+  std::optional<InterruptGuard> guard;
+  if (combined) request.combined.control.stop = guard.emplace().flag();
   const FloatingModel model = loadFloating(vm);
   FloatingDataSources sources{vm["data"].as<std::string>(), "", {}, ""};
   const FloatingDataset data = readFloatingDataset(sources.data, model);
@@ -168,6 +201,7 @@ int runFloatingIdentify(const po::variables_map& vm) {
         jsonText(withProvenance(floatingIdentificationJson(model, outcome, sources)), 2) + "\n"},
        {"floating_identification.md", floatingIdentificationMarkdown(model, outcome, sources)}});
   std::cout << cliText(floatingIdentificationSummary(model, outcome, sources, dir));
+  if (guard) return exitAfter(*guard, "identify", "the combined estimates are their best so far");
   return kExitOk;
 }
 

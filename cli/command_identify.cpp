@@ -71,9 +71,9 @@ void addIdentifyOptions(po::options_description& options) {
       "ols (ordinary), wls (weighted per joint, Gautier), pc (physically consistent: least "
       "squares regularised by the entropic divergence from the prior) or combined (pc's fit of "
       "the torques and the motion's GC residuals together, physically consistent); with "
-      "--floating-base ols, wls (each channel's noise estimated; the default there) or pc")(
-      "prior", po::value<std::string>(),
-      "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
+      "--floating-base ols, wls (each channel's noise estimated; the default there), pc or "
+      "combined")("prior", po::value<std::string>(),
+                  "pc, combined: prior model (robot spec; default: the robot's own parameters)")(
       "data", po::value<std::string>(), "training dataset CSV")(
       "summaries", po::value<std::vector<std::string>>()->multitoken(),
       "or least-squares summaries of the training logs (dynid summarize), merged: the same ols, "

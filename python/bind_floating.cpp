@@ -64,8 +64,19 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
                             const std::optional<std::string>& motion, const std::string& method,
                             const TermsLike& drive_terms, int samples, std::uint64_t seed,
                             const std::optional<std::string>& payload_link, double prior_weight,
-                            const OptionalPathLike& unloaded, double horizon, int num_segments) {
+                            const OptionalPathLike& unloaded, double horizon, int num_segments,
+                            std::optional<double> combined_weight,
+                            std::optional<double> combined_seconds,
+                            std::optional<int> combined_iterations, int threads) {
   FloatingIdentifyRequest request;
+  // The combined estimator's options, as identify --floating-base's --combined-weight,
+  // --combined-seconds and --combined-iterations (checked by floatingIdentifyRun).
+  if (method != "combined" && (combined_weight || combined_seconds || combined_iterations))
+    throw py::value_error("combined_* apply to method 'combined', not '" + method + "'");
+  if (combined_weight) request.combined.gc_weight = *combined_weight;
+  if (combined_seconds) request.combined.max_seconds = *combined_seconds;
+  if (combined_iterations) request.combined.max_iterations = *combined_iterations;
+  request.threads = threads;
   request.prior_weight = prior_weight;
   request.gc = FloatingGcOptions{horizon, num_segments};
   request.contacts = contacts.value_or(std::vector<std::string>{});
@@ -278,10 +289,15 @@ void bindFloating(py::module_& m) {
         py::arg("payload_link") = py::none(), py::arg("prior_weight") = kDefaultPriorWeight,
         py::arg("unloaded") = py::none(), py::arg("horizon") = FloatingGcOptions{}.horizon,
         py::arg("num_segments") = FloatingGcOptions{}.num_segments,
+        py::arg("combined_weight") = py::none(), py::arg("combined_seconds") = py::none(),
+        py::arg("combined_iterations") = py::none(), py::arg("threads") = 1,
         "`dynid identify --floating-base`: a floating-base robot (a URDF path) and a floating "
         "dataset (path; validate: a held-out one); each sensor set the data feed estimated by wls "
-        "(each channel's noise estimated), ols, or pc (weighted as wls, every body physically "
-        "consistent, the robot's own parameters the prior at prior_weight); with payload_link, "
+        "(each channel's noise estimated), ols, pc (weighted as wls, every body physically "
+        "consistent, the robot's own parameters the prior at prior_weight) or combined (pc's "
+        "estimate refined to predict the data's motion too: the GC error over the segments "
+        "below, weighted by combined_weight (1), within combined_iterations (50) and "
+        "combined_seconds (60), its rollouts on threads); with payload_link, "
         "the payload fixed to that link as well (the robot read as unloaded; with unloaded, a "
         "dataset of the robot without it, from the two datasets' estimates instead). Returns "
         "floating_identification.json as a dict (docs/FLOATING.md); motion as the CLI's --motion "

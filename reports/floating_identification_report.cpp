@@ -30,6 +30,24 @@ json noiseJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate
           {"estimated_by", sensorSetName(s.variances_from)}};
 }
 
+/// The combined estimator's run (null without it): GC errors and torque terms at the start (pc's
+/// estimate) and the end, the floor, weight, linearisations, termination, whether it moved.
+json combinedJson(const FloatingSetEstimate& s) {
+  if (!s.combined) return nullptr;
+  const CombinedResult& c = *s.combined;
+  return {{"gc_weight", c.gc_weight},
+          {"gc_floor", c.gc_floor},
+          {"initial_gc", numberOrNull(c.initial_gc)},
+          {"final_gc", numberOrNull(c.final_gc)},
+          {"initial_torque", numberOrNull(c.initial_torque)},
+          {"final_torque", numberOrNull(c.final_torque)},
+          {"iterations", c.iterations},
+          {"moved", c.moved},
+          {"interrupted", c.interrupted},
+          {"termination", c.termination},
+          {"seconds", c.seconds}};
+}
+
 json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& s) {
   const BaseParameters& base = s.base.base;
   json out = {{"sensors", sensorSetName(s.base.set)},
@@ -58,6 +76,7 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
   out.update({{"rows", s.fit.rows},
               {"residual_scale", s.fit.residual_scale},
               {"physical", physical},
+              {"combined", combinedJson(s)},
               {"noise_sd", noiseJson(outcome, s)},
               {"residual_percent", s.residual_percent},
               {"validation_percent", numberOrNull(s.validation_percent)},
@@ -73,6 +92,17 @@ json setJson(const FloatingIdentifyOutcome& outcome, const FloatingSetEstimate& 
 }
 
 std::string percent(double x) { return formatNumber(x, 3) + " %"; }
+
+/// How the combined estimator went from pc's estimate (FloatingSetEstimate::combined), or why not.
+std::string combinedLine(const CombinedResult& c) {
+  std::string out = "combined from pc's: GC error " + formatNumber(c.initial_gc, 4) + " to " +
+                    formatNumber(c.final_gc, 4) + " (floor " + formatNumber(c.gc_floor, 3) +
+                    "), torque term " + formatNumber(c.initial_torque, 4) + " to " +
+                    formatNumber(c.final_torque, 4) + " in " + std::to_string(c.iterations) +
+                    " linearisations; " + c.termination;
+  if (!c.moved) out += " (no step taken: pc's estimate)";
+  return out;
+}
 
 /// A GC error with its noise floor in parentheses where it has one ("-" where not measured).
 std::string withFloor(double error, double floor) {
@@ -238,6 +268,10 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
              ? " (weighted as wls; every body's pseudo-inertia positive definite, the "
                "non-negative drive terms positive, the model's parameters the prior; sd as wls's, "
                "the constraints taken as inactive)"
+         : outcome.method == FloatingMethod::kCombined
+             ? " (pc's estimate refined to fit the rows and predict the data's motion together: "
+               "the set's pc objective plus the GC error of the data's segments, each normalised "
+               "at pc's estimate, the GC term held at its noise floor; sd as pc's)"
              : " (every row alike)")
      << "; motion: " << floatingMotionName(outcome.motion) << "; contacts:";
   if (outcome.contacts.empty()) md << " none";
@@ -296,9 +330,9 @@ std::string floatingIdentificationMarkdown(const FloatingModel& model,
   }
   for (const FloatingSetEstimate& s : outcome.sets) {
     if (!s.refused.empty()) continue;
-    md << "\n## " << sensorSetName(s.base.set) << "\n\n"
-       << sensorSetDescription(s.base.set)
-       << ".\n\n| # | combination | estimate | sd | model |\n|---|---|---|---|---|\n";
+    md << "\n## " << sensorSetName(s.base.set) << "\n\n" << sensorSetDescription(s.base.set) << ".";
+    if (s.combined) md << " The " << combinedLine(*s.combined) << ".";
+    md << "\n\n| # | combination | estimate | sd | model |\n|---|---|---|---|---|\n";
     for (int j = 0; j < s.base.base.numBase(); ++j)
       md << "| " << j + 1 << " | `" << s.base.base.expression(j) << "` | "
          << formatNumber(s.fit.beta[j], 6) << " | " << formatNumber(s.fit.sd[j], 3) << " | "
@@ -332,6 +366,7 @@ std::string floatingIdentificationSummary(const FloatingModel& model,
       out << ", GC error " << withFloor(s.gc_train, s.gc_floor_train) << ", held out "
           << withFloor(s.gc_test, s.gc_floor_test);
     out << "\n";
+    if (s.combined) out << "    " << combinedLine(*s.combined) << "\n";
   }
   out << "  " << gcSummaryLine(outcome.gc) << "\n";
   for (std::size_t k = 0; k < sources.payloads.size(); ++k) {

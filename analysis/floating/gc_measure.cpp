@@ -20,13 +20,9 @@ FloatingModel floatingEstimateModel(const FloatingModel& model, const FloatingSe
   return out;
 }
 
-namespace {
-/// The dataset as a rollout's data, or nothing with `why` set. A carried base's support known by
-/// its flag alone cannot be rolled out: it holds the base while moving it, and the flag does not
-/// say how.
-std::optional<FloatingGcData> rollable(const FloatingDataset& dataset,
-                                       const std::vector<Contact>& contacts, FloatingMotion motion,
-                                       std::string& why) {
+std::optional<FloatingGcData> floatingRollable(const FloatingDataset& dataset,
+                                               const std::vector<Contact>& contacts,
+                                               FloatingMotion motion, std::string& why) {
   why = floatingMotionRefusal(dataset);
   if (!why.empty()) return std::nullopt;
   FloatingGcData out;
@@ -46,6 +42,7 @@ std::optional<FloatingGcData> rollable(const FloatingDataset& dataset,
   return out;
 }
 
+namespace {
 /// The GC error of `candidate`, or nothing with `why` set when the data do not hold a segment of
 /// the horizon asked (the only refusal left once the data and the options are checked).
 std::optional<FloatingGcResult> measured(const FloatingModel& candidate, const FloatingGcData& data,
@@ -58,11 +55,9 @@ std::optional<FloatingGcResult> measured(const FloatingModel& candidate, const F
   }
 }
 
-/// The channels' variances the weighted fits estimated: torques_wrenches' (it reads every channel
-/// and weights every set), else the torques' from a set that reads them and the forces' and
-/// moments' from one that reads those; nothing with ols, or when a channel the data have is not
-/// estimated.
-std::optional<ChannelVariances> estimatedVariances(const FloatingIdentifyOutcome& outcome) {
+}  // namespace
+
+std::optional<ChannelVariances> floatingEstimatedVariances(const FloatingIdentifyOutcome& outcome) {
   if (outcome.method == FloatingMethod::kOls) return std::nullopt;
   std::optional<double> torque, force, moment;
   for (const FloatingSetEstimate& s : outcome.sets) {
@@ -76,11 +71,9 @@ std::optional<ChannelVariances> estimatedVariances(const FloatingIdentifyOutcome
   return ChannelVariances{*torque, force.value_or(1.0), moment.value_or(1.0)};
 }
 
-/// FloatingGcSummary's floor on `data` for `model`, whose GC error there is `error`: the mean of
-/// GC(inputs + noise) - GC(inputs); NaN for a candidate whose rollout diverged (no floor).
-double noiseFloor(const FloatingModel& model, const FloatingGcData& data,
-                  const FloatingGcOptions& options, const ChannelVariances& v, double error,
-                  std::uint64_t seed) {
+double floatingGcFloor(const FloatingModel& model, const FloatingGcData& data,
+                       const FloatingGcOptions& options, const ChannelVariances& v, double error,
+                       std::uint64_t seed) {
   if (!(error < kMaxSegmentError)) return std::numeric_limits<double>::quiet_NaN();  // diverged
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -101,7 +94,6 @@ double noiseFloor(const FloatingModel& model, const FloatingGcData& data,
   }
   return sum / kGcFloorDraws;
 }
-}  // namespace
 
 void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest& request,
                        const FloatingDataset& data, const FloatingDataset* validation,
@@ -113,10 +105,10 @@ void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest
   }
   const FloatingGcOptions& options = *request.gc;
   std::optional<FloatingGcData> train =
-      rollable(data, outcome.contacts, outcome.motion, gc.refused);
+      floatingRollable(data, outcome.contacts, outcome.motion, gc.refused);
   std::optional<FloatingGcData> test;
   if (validation != nullptr)
-    test = rollable(*validation, outcome.contacts, outcome.motion, gc.validation_refused);
+    test = floatingRollable(*validation, outcome.contacts, outcome.motion, gc.validation_refused);
   std::optional<FloatingGcResult> r;
   if (train && (r = measured(model, *train, options, gc.refused))) {
     gc.model_train = r->error;
@@ -138,20 +130,22 @@ void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest
   } else {
     test.reset();
   }
-  const std::optional<ChannelVariances> v = estimatedVariances(outcome);
+  const std::optional<ChannelVariances> v = floatingEstimatedVariances(outcome);
   const std::uint64_t seed = request.structural.seed;
-  if (v && train) gc.floor_train = noiseFloor(model, *train, options, *v, gc.model_train, seed);
-  if (v && test) gc.floor_test = noiseFloor(model, *test, options, *v, gc.model_test, seed + 1);
+  if (v && train)
+    gc.floor_train = floatingGcFloor(model, *train, options, *v, gc.model_train, seed);
+  if (v && test)
+    gc.floor_test = floatingGcFloor(model, *test, options, *v, gc.model_test, seed + 1);
   for (FloatingSetEstimate& s : outcome.sets) {
     if (!s.refused.empty() || (!train && !test)) continue;
     const FloatingModel estimate = floatingEstimateModel(model, s);
     if (train) {
       s.gc_train = floatingGcError(estimate, *train, options).error;
-      if (v) s.gc_floor_train = noiseFloor(estimate, *train, options, *v, s.gc_train, seed);
+      if (v) s.gc_floor_train = floatingGcFloor(estimate, *train, options, *v, s.gc_train, seed);
     }
     if (test) {
       s.gc_test = floatingGcError(estimate, *test, options).error;
-      if (v) s.gc_floor_test = noiseFloor(estimate, *test, options, *v, s.gc_test, seed + 1);
+      if (v) s.gc_floor_test = floatingGcFloor(estimate, *test, options, *v, s.gc_test, seed + 1);
     }
   }
 }

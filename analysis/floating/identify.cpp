@@ -3,25 +3,50 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/floating/combined.hpp"
 #include "analysis/floating/gc_measure.hpp"
 #include "analysis/floating/identifiability.hpp"
 #include "core/errors.hpp"
 #include "core/floating/floating_regressor.hpp"
 #include "core/format.hpp"
+#include "core/option_ranges.hpp"
 
 namespace dynid {
 
 const char* floatingMethodName(FloatingMethod method) {
-  return method == FloatingMethod::kOls ? "ols" : method == FloatingMethod::kWls ? "wls" : "pc";
+  switch (method) {
+    case FloatingMethod::kOls:
+      return "ols";
+    case FloatingMethod::kWls:
+      return "wls";
+    case FloatingMethod::kPc:
+      return "pc";
+    case FloatingMethod::kCombined:
+      return "combined";
+  }
+  return "?";
 }
 
 FloatingMethod parseFloatingMethod(const std::string& text) {
-  if (text == "ols") return FloatingMethod::kOls;
-  if (text == "wls") return FloatingMethod::kWls;
-  if (text == "pc") return FloatingMethod::kPc;
-  throw InputError("`method` is '" + text +
-                   "'; a floating base takes ols, wls or pc (the combined estimator needs GC "
-                   "rollouts, not built for floating bases)");
+  for (FloatingMethod m :
+       {FloatingMethod::kOls, FloatingMethod::kWls, FloatingMethod::kPc, FloatingMethod::kCombined})
+    if (text == floatingMethodName(m)) return m;
+  throw InputError("`method` is '" + text + "'; a floating base takes ols, wls, pc or combined");
+}
+
+void FloatingIdentifyRequest::check() const {
+  constexpr const char* kCommand = "identify";
+  structural.check();
+  checkPriorWeight(prior_weight);
+  if (gc) gc->check();
+  checkOption(kCommand, "threads", threads, "`threads`");
+  if (method != FloatingMethod::kCombined) return;
+  if (!gc)
+    throw InputError(
+        "`method`: combined rolls the data's motion out: it needs `gc` (the segments)");
+  checkOption(kCommand, "combined-weight", combined.gc_weight, "`combined_weight`");
+  checkOption(kCommand, "combined-seconds", combined.max_seconds, "`combined_seconds`");
+  checkOption(kCommand, "combined-iterations", combined.max_iterations, "`combined_iterations`");
 }
 
 namespace {
@@ -168,13 +193,21 @@ void estimate(const FloatingModel& model, const FloatingIdentifyRequest& request
     out.refused = e.what();
     return;
   }
-  if (request.method == FloatingMethod::kPc) {  // weighted as wls, then held physical
+  if (request.method == FloatingMethod::kPc ||
+      request.method == FloatingMethod::kCombined) {  // weighted as wls, then held physical
     PhysicalOptions options;
     options.prior_weight = request.prior_weight;
     out.physical = fitFloatingPhysical(model, out.base.base, set, samples, out.variances,
                                        model.standardParameters(), options);
     out.fit.beta = out.physical->beta;
   }
+  measureSetEstimate(model, contacts, data, validation, out);
+}
+}  // namespace
+
+void measureSetEstimate(const FloatingModel& model, const std::vector<Contact>& contacts,
+                        const FloatingDataset& data, const FloatingDataset* validation,
+                        FloatingSetEstimate& out) {
   out.residual_percent = residualPercent(model, data, contacts, out.base, out.fit.beta);
   out.validation_percent =
       validation != nullptr ? residualPercent(model, *validation, contacts, out.base, out.fit.beta)
@@ -184,7 +217,6 @@ void estimate(const FloatingModel& model, const FloatingIdentifyRequest& request
   out.model_z_rms =
       std::sqrt(error.cwiseQuotient(out.fit.sd).squaredNorm() / static_cast<double>(error.size()));
 }
-}  // namespace
 
 FloatingMeasurement floatingMeasurement(const FloatingModel& model, FloatingData& data,
                                         const FloatingDataset& dataset,
@@ -256,6 +288,8 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
     out.motion = on_base           ? supportedMotion(data, out.warnings)
                  : holding.empty() ? FloatingMotion::kFree
                                    : FloatingMotion::kHolding;
+  if (request.method == FloatingMethod::kCombined)  // refused before any fit
+    checkCombinedData(data, out.contacts, out.motion);
   const bool supported =
       out.motion == FloatingMotion::kSuspended || out.motion == FloatingMotion::kCarried;
   std::vector<SensorSet> sets = request.sensors;
@@ -287,6 +321,8 @@ FloatingIdentifyOutcome floatingIdentifyRun(const FloatingModel& model,
   for (FloatingSetEstimate& s : out.sets)
     if (s.base.set != SensorSet::kTorquesAndWrenches)
       estimate(model, request, out.contacts, data, validation, shared, s);
+  if (request.method == FloatingMethod::kCombined)
+    combineFloatingSets(model, request, data, validation, out);
   measureFloatingGc(model, request, data, validation, out);
   return out;
 }
@@ -295,7 +331,7 @@ FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
                                       const FloatingIdentifyOutcome& loaded) {
   FloatingIdentifyRequest out = request;
   out.motion = loaded.motion;
-  out.gc.reset();
+  if (out.method != FloatingMethod::kCombined) out.gc.reset();  // combined's rollouts need it
   return out;
 }
 

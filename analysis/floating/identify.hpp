@@ -12,6 +12,7 @@
 #include "data/floating/floating_dataset.hpp"
 #include "identifiability/floating/floating_fit.hpp"
 #include "identifiability/floating/floating_physical.hpp"
+#include "search/floating/floating_combined.hpp"
 #include "search/floating/floating_gc.hpp"
 
 namespace dynid {
@@ -19,9 +20,10 @@ namespace dynid {
 /// How the rows are weighted: ordinary least squares, or generalized least squares with every
 /// channel's noise estimated from the data (fitFloatingFeasible): torques, forces and moments of
 /// different sizes and units weighted by what they carry; pc: weighted as wls, every body
-/// physically consistent (fitFloatingPhysical).
-enum class FloatingMethod { kOls, kWls, kPc };
-/// "ols", "wls", "pc".
+/// physically consistent (fitFloatingPhysical); combined: pc's estimate refined to fit the rows
+/// and predict the data's motion together (analysis/floating/combined.hpp).
+enum class FloatingMethod { kOls, kWls, kPc, kCombined };
+/// "ols", "wls", "pc", "combined".
 const char* floatingMethodName(FloatingMethod method);
 /// Throws InputError naming `method` and the names.
 FloatingMethod parseFloatingMethod(const std::string& text);
@@ -46,12 +48,14 @@ struct FloatingIdentifyRequest {
   /// The GC error of every estimate and of the model's own parameters, on the data and the
   /// held-out data (analysis/floating/gc_measure.hpp); unset: not measured.
   std::optional<FloatingGcOptions> gc = FloatingGcOptions{};
+  /// combined: the combined estimator's weight, budget and noise floor (CombinedOptions; its
+  /// rollouts are `gc`'s segments, its floor the one the GC summary gives pc's estimate), and its
+  /// progress and stop.
+  CombinedOptions combined;
+  int threads =
+      1;  // combined: the rollouts' threads (0: every core; the same estimate for any count)
   StructuralOptions structural;
-  void check() const {
-    structural.check();
-    checkPriorWeight(prior_weight);
-    if (gc) gc->check();
-  }
+  void check() const;
 };
 
 /// One set's estimate, or why it has none.
@@ -62,6 +66,9 @@ struct FloatingSetEstimate {
   FloatingFit fit;
   /// pc: the physically consistent estimate (fit.beta is its beta).
   std::optional<FloatingPhysicalEstimate> physical;
+  /// combined: the combined estimator's run from pc's estimate (physical holds its result, and
+  /// fit its base parameters with pc's covariance).
+  std::optional<CombinedResult> combined;
   /// wls: the channel variances the fit is weighted by, torques_wrenches' estimate for every set
   /// when it has one (the same sensors feed them all), else the set's own.
   ChannelVariances variances;
@@ -132,9 +139,16 @@ FloatingMeasurement floatingMeasurement(const FloatingModel& model, FloatingData
                                         const std::vector<Contact>& contacts, SensorSet set,
                                         int sample);
 
+/// A set's measures of its estimate out.fit.beta: its residual on `data` and `validation` (when
+/// given), its distance from the model's own parameters (FloatingSetEstimate's fields).
+void measureSetEstimate(const FloatingModel& model, const std::vector<Contact>& contacts,
+                        const FloatingDataset& data, const FloatingDataset* validation,
+                        FloatingSetEstimate& out);
+
 /// The request for the other dataset of a loaded/unloaded pair: `request` with the motion class
 /// the loaded data were analysed in (a default taken from one dataset's motion must not differ
-/// between the two, or their base parameters would), and no GC error (only the payload is read).
+/// between the two, or their base parameters would), and no GC error (only the payload is read;
+/// combined keeps it: its rollouts are the estimator).
 FloatingIdentifyRequest pairedRequest(const FloatingIdentifyRequest& request,
                                       const FloatingIdentifyOutcome& loaded);
 

@@ -40,7 +40,7 @@ inline constexpr DocumentType kIdentifiabilityDocument{"dynid.identifiability", 
 inline constexpr DocumentType kFloatingIdentifiabilityDocument{"dynid.floating_identifiability", 1};
 // identify --floating-base: each sensor set's estimate on a floating-base dataset (with pc, each
 // set's `physical`).
-inline constexpr DocumentType kFloatingIdentificationDocument{"dynid.floating_identification", 3};
+inline constexpr DocumentType kFloatingIdentificationDocument{"dynid.floating_identification", 4};
 // prepare --floating-base: a floating robot's recording prepared into a floating dataset.
 inline constexpr DocumentType kFloatingPrepareDocument{"dynid.floating_prepare", 2};
 // search.json and refine.json 2: model (the robot searched or refined on, nominal parameters) and

@@ -117,6 +117,8 @@ const Added kAdded[] = {
      "payload.from and payload.unloaded (a payload from a loaded/unloaded pair)"},
     {&kFloatingIdentificationDocument, 3,
      "gc and each set's gc_error (the GC error of each estimate)"},
+    {&kFloatingIdentificationDocument, 4,
+     "each set's combined (the combined estimator's run, with that method)"},
 };
 
 /// One note per version after `from` whose additions the document lacks.

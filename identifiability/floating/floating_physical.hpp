@@ -6,6 +6,7 @@
 // drive terms (their columns are left out of the data, and the prior alone holds them).
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,21 @@ struct FloatingPhysicalEstimate {
   bool converged = false;
   std::string termination;  // solvePhysicalProblem's
   int iterations = 0;
+  /// The problem it solved (the combined estimator's torque term): its layout has the base body
+  /// as body 0 with drive-term entries the data never reach, held by the prior; `widened` is the
+  /// solution there (theta with those entries), and `unexplained` half the whitened residual's
+  /// squared norm no parameter can explain (R(p, p)^2 / 2 of floatingStandardFactor).
+  std::shared_ptr<const PhysicalProblem> problem;
+  Eigen::VectorXd widened;
+  double unexplained = 0.0;
 };
+
+/// The floating standard vector's entries in a FloatingPhysicalEstimate's widened layout: widened
+/// with `theta`'s values where the floating vector has them (the base body's drive entries left
+/// as `widened` holds them).
+Eigen::VectorXd widenFloating(const Eigen::VectorXd& theta, const Eigen::VectorXd& widened);
+/// The floating standard vector of a widened one (the base body's drive entries dropped).
+Eigen::VectorXd narrowFloating(const Eigen::VectorXd& widened, int num_parameters);
 
 /// The estimate of `set` on `samples` weighted by `variances` (the feasible GLS's, so that torques,
 /// forces and moments weigh by what they carry), `prior` a floating standard vector (the model's

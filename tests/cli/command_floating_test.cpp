@@ -97,7 +97,7 @@ TEST(Cli, SimulateAndIdentifyAFloatingBase) {
   EXPECT_TRUE(contains(r.out, "torques_contacts:")) << r.out;
   const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
   EXPECT_EQ(j["kind"], "dynid.floating_identification");
-  EXPECT_EQ(j["schema_version"], 3);
+  EXPECT_EQ(j["schema_version"], 4);
   EXPECT_EQ(j["method"], "ols");
   EXPECT_EQ(j["motion"], "holding");
   // Random states: no GC error, and why (the motion test of analysis/floating/gc_data.hpp).
@@ -388,6 +388,39 @@ TEST(Cli, IdentifyAFloatingBaseMeasuresTheGcErrorOnAMotion) {
                        "GC error not measured: --horizon: 0.0005 s is shorter than half a "
                        "sample period (0.002 s)"))
       << r.out;
+}
+
+/// identify --method combined refines each set's pc estimate with the GC error of the data's
+/// motion: the console, floating_identification.json's `combined` and the report say how it went.
+TEST(Cli, IdentifyAFloatingBaseByTheCombinedEstimator) {
+  const std::string dir = test::tempPath("floating-combined");
+  std::filesystem::create_directories(dir);
+  Result r = run("simulate --robot " + kAnymal + " --floating-base --trajectory " +
+                 std::string(DYNID_SOURCE_DIR) +
+                 "/tests/data/floating/fixtures/anymal_excitation.json --samples 2000 "
+                 "--noise-tau 0.05 --noise-force 0.2 --noise-moment 0.05 --out " +
+                 dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("identify --robot " + kAnymal + " --floating-base --method combined --sensors " +
+          "torques_contacts --horizon 0.02 --segments 10 --combined-iterations 3 --threads 2 "
+          "--data " +
+          dir + "/d.csv --out " + dir + "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "combined from pc's: GC error ")) << r.out;
+  // torques_contacts alone estimates no force's noise: no floor, said in the flag's spelling.
+  EXPECT_TRUE(contains(r.err, "no noise floor for the GC term")) << r.err;
+  EXPECT_TRUE(contains(r.err, "add torques_wrenches to --sensors")) << r.err;
+  const auto j = nlohmann::json::parse(readFile(dir + "/est/floating_identification.json"));
+  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["method"], "combined");
+  const auto& c = j["sets"][0]["combined"];
+  ASSERT_TRUE(c.is_object()) << j["sets"][0];
+  EXPECT_LE(c["iterations"].get<int>(), 3);
+  EXPECT_LE(c["final_gc"].get<double>(), c["initial_gc"].get<double>());
+  EXPECT_EQ(c["gc_weight"], 1.0);
+  // The GC error the summary reports is the combined estimate's own.
+  EXPECT_EQ(j["sets"][0]["gc_error"]["train"], c["final_gc"]);
+  EXPECT_TRUE(contains(readFile(dir + "/est/floating_identification.md"), "combined from pc's"));
 }
 
 /// Friction cones under ANYmal's feet: the console says how many states were drawn to keep the

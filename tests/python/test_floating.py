@@ -58,8 +58,10 @@ def test_simulate_and_identify_a_floating_base_equal_the_clis(tmp_path):
 
 def test_floating_identify_names_what_is_wrong(tmp_path):
     data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=20)
-    with pytest.raises(ValueError, match="method"):
-        dynid.floating_identify(ANYMAL, data, method="combined")
+    with pytest.raises(ValueError, match="method.*not one motion"):
+        dynid.floating_identify(ANYMAL, data, method="combined")  # random states: no rollout
+    with pytest.raises(ValueError, match="combined_"):
+        dynid.floating_identify(ANYMAL, data, method="pc", combined_weight=2.0)
     with pytest.raises(ValueError, match="contacts"):
         dynid.floating_identify(ANYMAL, data, contacts=["LF_FOOT"])
 
@@ -182,6 +184,20 @@ def test_simulate_floating_follows_a_design_on_the_suspended_robot(tmp_path):
     with pytest.raises(ValueError, match="stand_tilts"):
         dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", motion="suspended",
                                 stand_tilts=[(0.4, 0.0)])
+
+
+def test_floating_identify_by_the_combined_estimator(tmp_path):
+    design = Path(os.environ["DYNID_SOURCE_DIR"]) / "tests/data/floating/fixtures/anymal_excitation.json"
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=design, samples=700,
+                                   stand_tilts=[(0.0, 0.0), (0.4, 0.0), (0.0, 0.4)],
+                                   noise_tau=0.05, noise_force=0.2, noise_moment=0.05)
+    doc = dynid.floating_identify(ANYMAL, data, method="combined", sensors=["torques_wrenches"],
+                                  horizon=0.02, num_segments=5, combined_iterations=2, threads=2)
+    combined = doc["sets"][0]["combined"]
+    assert doc["method"] == "combined" and combined["iterations"] <= 2
+    assert combined["final_gc"] <= combined["initial_gc"]
+    assert combined["gc_floor"] > 0.0  # torques_wrenches estimates every channel's noise
+    assert doc["sets"][0]["gc_error"]["train"] == combined["final_gc"]
 
 
 def test_simulate_floating_runs_a_design_at_the_stand_orientations_it_chose(tmp_path):

@@ -16,24 +16,9 @@
 namespace dynid {
 namespace {
 
-/// The suspended ANYmal C's joints following a 2 s design of five harmonics, sampled at 1 kHz,
-/// the torques and the support's wrench from `robot`'s inverse dynamics, noise-free.
-FloatingDataset designed(const FloatingModel& robot) {
-  FloatingSimulationOptions options;
-  options.samples = 2000;
-  options.motion = FloatingMotion::kSuspended;
-  options.trajectory = test::randomDesign(robot, 2.0, 0.1, 5);
-  return simulateFloatingDataset(robot, options);
-}
-
-/// The model with every link's mass and inertia 10 % more (a maker's model off by that much).
-FloatingModel heavier(const FloatingModel& model) {
-  FloatingModel out = model;
-  Eigen::VectorXd theta = out.standardParameters();
-  theta *= 1.1;  // mass, first moments and inertia scale alike: the centres of mass unchanged
-  out.setStandardParameters(theta);
-  return out;
-}
+using test::designed;
+using test::heavier;
+using test::twoTilts;
 
 FloatingIdentifyRequest olsOnTorquesAndContacts() {
   FloatingIdentifyRequest request;
@@ -62,35 +47,6 @@ TEST(FloatingGcMeasure, AnEstimateOfTheRobotThatMadeTheDataRollsOutAsItDoes) {
   EXPECT_NEAR(out.sets[0].gc_test, gc.model_test, 1e-6 * gc.model_test);
   // The true model's error is the inputs' 1 ms hold over 50 ms segments.
   EXPECT_LT(gc.model_train, 1e-2) << gc.model_train;
-}
-
-/// `robot` suspended in two orientations, upright and tilted by 0.4 rad, the design's motion in
-/// each (the second after a 1 s gap): a stand tilted between two recordings, joined; `noise` on
-/// the joint torques [N m], the support's forces [N] (times 4) and moments [N m].
-FloatingDataset twoTilts(const FloatingModel& robot, double noise = 0.0) {
-  const FloatingDataset upright = designed(robot);
-  const Eigen::Index N = upright.numSamples();
-  auto joined = std::make_shared<FloatingDataset>(upright);
-  const auto twice = [N](auto& m) {
-    auto copy = m;
-    m.resize(m.rows(), 2 * N);
-    m << copy, copy;
-  };
-  twice(joined->orientation), twice(joined->twist), twice(joined->acceleration);
-  twice(joined->q), twice(joined->dq), twice(joined->ddq);
-  joined->time.resize(2 * N);
-  joined->time << upright.time, upright.time.array() + upright.time[N - 1] + 1.0;
-  const Eigen::Vector4d tilt(std::cos(0.2), std::sin(0.2), 0.0, 0.0);  // 0.4 rad about x
-  joined->orientation.rightCols(N).colwise() = tilt;
-  joined->tau.resize(0, 2 * N);
-  joined->wrenches.clear();
-  FloatingSimulationOptions options;
-  options.motion = FloatingMotion::kSuspended;
-  options.samples = static_cast<int>(2 * N);
-  options.motion_from = joined;
-  options.torque_noise = options.moment_noise = noise;
-  options.force_noise = 4.0 * noise;
-  return simulateFloatingDataset(robot, options);
 }
 
 TEST(FloatingGcMeasure, SaysHowMuchCloserTheEstimateRollsOutThanTheModelRead) {
