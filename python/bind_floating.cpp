@@ -101,6 +101,10 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
     sources.unloaded = pathArg(unloaded, "unloaded");
     unloaded_data = readFloatingDataset(sources.unloaded, model);
   }
+  // combined stops at its next rollout on Ctrl-C (KeyboardInterrupt), keeping its best so far.
+  Interrupt interrupt;
+  request.combined.control.stop = interrupt.flag();
+  request.combined.control.on_check = [&] { interrupt.poll(); };
   FloatingIdentifyOutcome outcome;
   {
     py::gil_scoped_release release;
@@ -117,6 +121,7 @@ py::object floatingIdentify(const PathLike& robot, const PathLike& data,
   outcome.gc.refused = pythonText(outcome.gc.refused);
   outcome.gc.validation_refused = pythonText(outcome.gc.validation_refused);
   warnAll(outcome.warnings);
+  interrupt.warnIfStopped();
   return parsedJson(floatingIdentificationJson(model, outcome, sources));
 }
 
