@@ -165,8 +165,7 @@ int runIdentify(const std::vector<std::string>& args) {
       "[--validate test.csv] --out DIR\n       dynid identify --method ols|wls|pc --summaries "
       "S.summary.json... [--validate test.csv] --out DIR\n       dynid identify --robot R.urdf "
       "--floating-base --data F.csv [--contacts L1,L2:frame] [--sensors S1,S2] [--method "
-      "ols|wls|pc] "
-      "--out DIR";
+      "ols|wls|pc|combined] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   outputDirectoryOption(vm);  // before the work, not after it
   if (vm["floating-base"].as<bool>()) return runFloatingIdentify(vm);
