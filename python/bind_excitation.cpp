@@ -9,11 +9,14 @@
 #include <pybind11/stl.h>
 
 #include "analysis/excitation/excite.hpp"
+#include "analysis/floating/stand_tilts.hpp"
 #include "analysis/records/document.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
+#include "data/robots.hpp"
 #include "python/run_support.hpp"
 #include "reports/excitation_report.hpp"
+#include "reports/stand_tilts_report.hpp"
 
 namespace dynid::python {
 namespace {
@@ -35,9 +38,35 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
                   const OptionalArrayLike& ddq_max, const OptionalArrayLike& tau_max,
                   double torque_margin, const std::optional<double>& floor, double base_radius,
                   int samples, std::uint64_t seed, double tolerance, int threads,
-                  const PathLike& robot_spec_arg, const ProgressLike& progress) {
+                  const PathLike& robot_spec_arg, const ProgressLike& progress,
+                  const std::optional<int>& stands, double max_tilt, int tilt_grid) {
   const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
   const int n = robot.numJoints();
+  // excite --stands: the robot's URDF loaded again with a floating base, checked before the work.
+  std::optional<StandTiltRequest> stand;
+  std::optional<FloatingModel> floating;
+  if (!stands &&
+      (max_tilt != StandTiltRequest{}.max_tilt || tilt_grid != StandTiltRequest{}.tilt_grid))
+    throw py::value_error("max_tilt and tilt_grid apply with stands");
+  if (stands) {
+    if (robot_spec.empty())
+      throw py::value_error(
+          "stands: give robot_spec, the robot's URDF (loaded with a floating base to choose the "
+          "stand's orientations)");
+    stand.emplace();
+    stand->stands = *stands;
+    stand->max_tilt = max_tilt;
+    stand->tilt_grid = tilt_grid;
+    stand->structural = {samples, seed, tolerance};
+    stand->design.period = period;  // the check's placeholder until the design is made
+    stand->check();
+    RobotOptions options;
+    options.drive_terms = robot.driveTerms();
+    floating = loadFloatingRobot(robot_spec, options);
+    if (floating->numJoints() != n)
+      throw py::value_error("stands: robot_spec has " + std::to_string(floating->numJoints()) +
+                            " moving joints with a floating base, the robot " + std::to_string(n));
+  }
   ExciteRequest r;  // checked by exciteRun
   r.robot = robot;
   r.criterion = parseExcitationCriterion(criterion);
@@ -79,6 +108,16 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
     py::gil_scoped_release release;
     out.outcome = exciteRun(r);
   }
+  if (stand && !interrupt.flag()->load()) {  // the orientations for the design, as the CLI's
+    stand->design = out.outcome.design;
+    py::gil_scoped_release release;
+    StandDesign chosen;
+    chosen.choice = chooseStandTilts(*floating, *stand);
+    chosen.max_tilt = stand->max_tilt;
+    chosen.grid = stand->tilt_grid;
+    chosen.samples = stand->samples;
+    out.settings.stand = std::move(chosen);
+  }
   out.provenance = call.finish();
   out.settings.starts = static_cast<int>(out.outcome.starts.size());  // 0 resolved
   interrupt.raiseIfFailed();
@@ -111,6 +150,17 @@ void bindExcite(py::module_& m) {
       .def_property_readonly(
           "termination", [](const ExcitePy& e) { return e.outcome.termination; },
           "Why the design stopped (evaluations, seconds, tolerance or interrupted).")
+      .def_property_readonly(
+          "stand_tilts",
+          [](const ExcitePy& e) -> std::optional<std::vector<std::pair<double, double>>> {
+            if (!e.settings.stand) return std::nullopt;
+            std::vector<std::pair<double, double>> out;
+            for (const Eigen::Vector2d& t : e.settings.stand->choice.tilts)
+              out.emplace_back(t[0], t[1]);
+            return out;
+          },
+          "The stand orientations (roll, pitch) [rad] chosen for the design with stands, upright "
+          "first (simulate_floating(trajectory=...) runs the design at them); None without.")
       .def(
           "sample",
           [](const ExcitePy& e, double rate) {
@@ -144,9 +194,14 @@ void bindExcite(py::module_& m) {
       py::arg("base_radius") = LimitOverrides{}.base_radius,
       py::arg("samples") = StructuralOptions{}.samples, py::arg("seed") = StructuralOptions{}.seed,
       py::arg("tolerance") = StructuralOptions{}.tolerance, py::arg("threads") = kAllThreads,
-      py::arg("robot_spec") = "", py::arg("progress") = py::none(),
+      py::arg("robot_spec") = "", py::arg("progress") = py::none(), py::arg("stands") = py::none(),
+      py::arg("max_tilt") = StandTiltRequest{}.max_tilt,
+      py::arg("tilt_grid") = StandTiltRequest{}.tilt_grid,
       "`dynid excite`: a periodic Fourier motion within the limits that excites the base "
       "parameters (criterion 'cond', 'cond-unscaled', 'd-optimal', 'gc' or 'relative-sd'). "
+      "stands=K (excite --stands, with robot_spec the robot's URDF): K orientations of a stand "
+      "with a force-torque sensor under the base for the design (roll and pitch within "
+      "max_tilt, tilt_grid candidates a side), in stand_tilts and to_json()'s stand. "
       "progress(info) is called as each start ends with a dict whose 'line' is the CLI's (the "
       "start, its criterion, the share done and the time left); returning False stops the "
       "design with the best start so far.");

@@ -200,6 +200,28 @@ def test_floating_identify_by_the_combined_estimator(tmp_path):
     assert doc["sets"][0]["gc_error"]["train"] == combined["final_gc"]
 
 
+def test_excite_chooses_a_stands_tilts_as_the_cli(tmp_path):
+    robot = dynid.load_model(ANYMAL)
+    design = dynid.excite(robot, starts=1, evaluations=30, period=5.0, stands=2, max_tilt=0.3,
+                          tilt_grid=3, robot_spec=ANYMAL, threads=1)
+    tilts = design.stand_tilts
+    assert len(tilts) == 2 and tilts[0] == (0.0, 0.0)  # upright first
+    assert all(abs(angle) <= 0.3 for tilt in tilts for angle in tilt)
+    doc = json.loads(design.to_json())
+    assert doc["stand"]["tilts"] == [list(t) for t in tilts] and doc["stand"]["candidates"] == 9
+    path = tmp_path / "excitation.json"
+    path.write_text(design.to_json())
+    data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=path, samples=20)
+    assert dynid.floating_identify(ANYMAL, data, method="ols")["data"]["samples"] == 40
+    assert dynid.excite(robot, starts=1, evaluations=5).stand_tilts is None
+    with pytest.raises(ValueError, match="robot_spec"):
+        dynid.excite(robot, starts=1, evaluations=5, stands=2)
+    with pytest.raises(ValueError, match="apply with stands"):
+        dynid.excite(robot, starts=1, evaluations=5, max_tilt=0.2)
+    with pytest.raises(ValueError, match="stands"):
+        dynid.excite(robot, starts=1, evaluations=5, stands=0, robot_spec=ANYMAL)
+
+
 def test_simulate_floating_runs_a_design_at_the_stand_orientations_it_chose(tmp_path):
     fixture = Path(os.environ["DYNID_SOURCE_DIR"]) / "tests/data/floating/fixtures/anymal_excitation.json"
     design = json.loads(fixture.read_text())
