@@ -26,8 +26,6 @@
 
 namespace dynid::cli {
 
-namespace {
-/// Refuses every option given that a floating-base run of the command does not read.
 void refuseOutside(const po::variables_map& vm, const std::set<std::string>& read,
                    const char* command) {
   static const std::set<std::string> robot = {"robot", "drives", "drive-terms", "strict",
@@ -57,7 +55,6 @@ void readSetsAndMotion(const po::variables_map& vm, std::vector<SensorSet>& sens
     throw UsageError(cliText(e.what()));
   }
 }
-}  // namespace
 
 void addFloatingOptions(po::options_description& options, const std::string& does) {
   options.add_options()(
@@ -108,7 +105,10 @@ int runFloatingIdentifiability(const po::variables_map& vm) {
   return kExitOk;
 }
 
-int runFloatingIdentify(const po::variables_map& vm) {
+namespace {
+/// identify --floating-base's options as the library's request, checked (usage errors naming
+/// the flag).
+FloatingIdentifyRequest floatingIdentifyRequest(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"method",
                  "data",
@@ -162,6 +162,13 @@ int runFloatingIdentify(const po::variables_map& vm) {
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
+  return request;
+}
+}  // namespace
+
+int runFloatingIdentify(const po::variables_map& vm) {
+  FloatingIdentifyRequest request = floatingIdentifyRequest(vm);
+  const bool combined = request.method == FloatingMethod::kCombined;
   if (stderrIsTerminal())
     request.combined.control.progress = [](const std::string& line) {
       std::cerr << "[identify] " << line << "\n";
@@ -269,118 +276,6 @@ int runFloatingPrepare(const po::variables_map& vm) {
   files.publish();
   std::cout << cliText(floatingPrepareSummary(model, outcome, dir + "/floating_dataset.csv",
                                               dir + "/floating_prepare.json"));
-  return kExitOk;
-}
-
-namespace {
-/// --sole: LENGTH,WIDTH (a rectangle centred at the frame) or X1,Y1,X2,Y2,X3,Y3[,...] (corners).
-std::vector<Eigen::Vector2d> soleOption(const po::variables_map& vm) {
-  const std::vector<double> v = parseList(vm["sole"].as<std::string>(), "sole");
-  if (v.size() == 2) {
-    try {
-      return rectangularSole(v[0], v[1]);
-    } catch (const InputError& e) {
-      throw UsageError(cliText(e.what()));
-    }
-  }
-  if (v.size() < 6 || v.size() % 2 != 0)
-    throw UsageError(
-        "--sole takes LENGTH,WIDTH [m] (a rectangle centred at the frame) or the corners "
-        "X1,Y1,X2,Y2,X3,Y3[,...] [m] in the frame's x-y plane, not " +
-        std::to_string(v.size()) + " numbers");
-  std::vector<Eigen::Vector2d> corners;
-  for (std::size_t k = 0; k < v.size(); k += 2) corners.emplace_back(v[k], v[k + 1]);
-  return corners;
-}
-
-/// --stand-tilts: R1,P1[,R2,P2,...] [rad], pairs of roll and pitch.
-std::vector<Eigen::Vector2d> standTiltsOption(const po::variables_map& vm) {
-  const std::vector<double> v = parseList(vm["stand-tilts"].as<std::string>(), "stand-tilts");
-  if (v.empty() || v.size() % 2 != 0)
-    throw UsageError("--stand-tilts takes pairs of roll and pitch [rad], R1,P1[,R2,P2,...], not " +
-                     std::to_string(v.size()) + " numbers");
-  std::vector<Eigen::Vector2d> tilts;
-  for (std::size_t k = 0; k < v.size(); k += 2) tilts.emplace_back(v[k], v[k + 1]);
-  return tilts;
-}
-
-/// "(0, 0), (-0.4, 0.4)": (roll, pitch) pairs.
-std::string standTiltsText(const std::vector<Eigen::Vector2d>& tilts) {
-  std::string out;
-  for (std::size_t k = 0; k < tilts.size(); ++k)
-    out += (k ? ", (" : "(") + formatNumber(tilts[k][0], 4) + ", " + formatNumber(tilts[k][1], 4) +
-           ")";
-  return out;
-}
-
-/// simulate --floating-base's options as the library's (UsageError for --samples beside
-/// --motion-from and a --sole that is neither a size nor corners).
-FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
-                                            const FloatingModel& model) {
-  FloatingSimulationOptions options;
-  options.contacts = contactsOf(model, nameListOption(vm, "contacts"));
-  std::optional<FloatingMotion> motion;
-  std::vector<SensorSet> unused;
-  readSetsAndMotion(vm, unused, motion);
-  std::vector<Eigen::Vector2d> design_tilts;  // the stand orientations excite chose, if any
-  if (vm.count("trajectory")) {
-    ExcitationDesignFile file =
-        readExcitationDesignFile(vm["trajectory"].as<std::string>(), model.numJoints());
-    options.trajectory = std::move(file.design);
-    design_tilts = std::move(file.stand_tilts);
-  }
-  if (vm.count("motion-from")) {
-    if (vm.count("samples"))
-      throw UsageError("--samples does not apply to --motion-from (its samples are the file's)");
-    options.motion_from = std::make_shared<const FloatingDataset>(
-        readFloatingDataset(vm["motion-from"].as<std::string>(), model));
-  }
-  options.motion = motion.value_or(options.trajectory ? FloatingMotion::kSuspended
-                                   : options.contacts.empty() && !options.motion_from
-                                       ? FloatingMotion::kFree
-                                       : FloatingMotion::kHolding);
-  options.samples = vm.count("samples") ? vm["samples"].as<int>() : 200;
-  options.seed = vm["seed"].as<std::uint64_t>();
-  options.torque_noise = vm["noise-tau"].as<double>();
-  options.force_noise = vm["noise-force"].as<double>();
-  options.moment_noise = vm["noise-moment"].as<double>();
-  options.friction_cone = vm["friction-cone"].as<double>();
-  if (vm.count("sole")) options.sole = soleOption(vm);
-  options.stand_tilts = vm.count("stand-tilts") ? standTiltsOption(vm) : design_tilts;
-  return options;
-}
-}  // namespace
-
-int runFloatingSimulate(const po::variables_map& vm) {
-  refuseOutside(
-      vm,
-      {"out", "contacts", "motion", "samples", "seed", "noise-tau", "noise-force", "noise-moment",
-       "threads", "trajectory", "friction-cone", "sole", "stand-tilts", "motion-from"},
-      "simulate");
-  const FloatingModel model = loadFloating(vm);
-  const FloatingSimulationOptions options = simulationOptions(vm, model);
-  const std::string out = vm["out"].as<std::string>();
-  FloatingDataset dataset;
-  int drawn = 0;
-  std::vector<int> outside, unsupported;
-  try {
-    dataset = simulateFloatingDataset(model, options, &drawn, &outside, &unsupported);
-  } catch (const InputError& e) {
-    throw UsageError(cliText(e.what()));
-  }
-  writeFloatingDataset(out, dataset);
-  const std::string motion_file =
-      vm.count("motion-from") ? vm["motion-from"].as<std::string>() : "";
-  std::ostream& console = out == "-" ? std::cerr : std::cout;
-  console << floatingSimulationSummary(model, options, dataset, drawn, motion_file, out);
-  if (!vm.count("stand-tilts") && !options.stand_tilts.empty())
-    console << "  the stand orientations the design chose (" << vm["trajectory"].as<std::string>()
-            << "'s `stand`; --stand-tilts overrides them): " << standTiltsText(options.stand_tilts)
-            << " rad\n";
-  std::cout.flush();  // the summary before the warnings, wherever both streams go
-  std::vector<std::string> warnings = givenMotionWarnings(dataset, outside, unsupported);
-  cliTexts(warnings);
-  printWarnings(warnings, "dynid simulate: warning: ");
   return kExitOk;
 }
 

@@ -1,11 +1,18 @@
-// The floating-base branches of identifiability, identify, prepare and simulate (--floating-base),
-// in one room: each command hands its parsed options over when --floating-base is given.
+// The floating-base branches of identifiability, identify, prepare and simulate (--floating-base;
+// simulate's in command_floating_simulate.cpp): each command hands its parsed options over when
+// --floating-base is given.
 #pragma once
 
 #include <initializer_list>
+#include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include <boost/program_options.hpp>
+
+#include "core/floating/floating_model.hpp"
+#include "identifiability/floating/sensor_sets.hpp"
 
 namespace dynid::cli {
 
@@ -13,6 +20,16 @@ namespace po = boost::program_options;
 
 /// --floating-base (its help ends with `does`: what the command then does), --contacts,
 /// --sensors and --motion.
+/// Refuses every option given that a floating-base run of the command does not read (the robot's
+/// options aside).
+void refuseOutside(const po::variables_map& vm, const std::set<std::string>& read,
+                   const char* command);
+/// --robot with a floating base; its warnings printed.
+FloatingModel loadFloating(const po::variables_map& vm);
+/// --sensors and --motion as the request's; usage errors naming the flag.
+void readSetsAndMotion(const po::variables_map& vm, std::vector<SensorSet>& sensors,
+                       std::optional<FloatingMotion>& motion);
+
 void addFloatingOptions(po::options_description& options, const std::string& does);
 /// UsageError "--X needs --floating-base" for each of `options` given without it.
 void refuseFloatingOptions(const po::variables_map& vm, std::initializer_list<const char*> options);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "analysis/floating/standing.hpp"
 #include "cli/command_floating.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
@@ -84,7 +85,17 @@ void addSimulateOptions(po::options_description& options) {
       "motion-from", po::value<std::string>(),
       "with --floating-base: the motion of this floating dataset (its time, base and joints, "
       "sample by sample; its torques and wrenches not read) instead of random states, the "
-      "contacts holding where its contact:F flags say (default contacts: its flagged frames)");
+      "contacts holding where its contact:F flags say (default contacts: its flagged frames)")(
+      "stance", po::value<std::string>(),
+      "with --floating-base and --contacts: a standing robot's joints at rest, q1,...,qn [rad]; "
+      "the base then sways (--sway, --turn, --sway-period) above contacts that stay where the "
+      "stance puts them, the legs following, --samples at --rate (default 200 Hz)")(
+      "sway", po::value<double>()->default_value(StandingMotionRequest{}.sway),
+      "with --stance: the base origin's amplitude along each world axis [m]")(
+      "turn", po::value<double>()->default_value(StandingMotionRequest{}.turn),
+      "with --stance: the amplitude of the base's turn about one axis [rad]")(
+      "sway-period", po::value<double>()->default_value(StandingMotionRequest{}.period),
+      "with --stance: the period the sway repeats over [s]");
 }
 
 /// The index (0-based) of `what` among `names`, or its 1-based number. UsageError otherwise.
@@ -232,15 +243,16 @@ int runSimulate(const std::vector<std::string>& args) {
                         "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
                         "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
                         "[--samples N | --motion-from D.csv | --trajectory E.json [--stand-tilts "
-                        "R1,P1,...]] [--noise-tau S] [--noise-force S] "
+                        "R1,P1,...] | --stance Q1,...,Qn [--sway M] [--turn R]] [--noise-tau S] "
+                        "[--noise-force S] "
                         "[--friction-cone MU "
                         "[--sole L,W|X1,Y1,...]] --out FILE.csv",
                         vm))
     return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
-  refuseFloatingOptions(vm,
-                        {"contacts", "sensors", "motion", "samples", "noise-force", "noise-moment",
-                         "friction-cone", "sole", "stand-tilts", "motion-from"});
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
+                             "noise-moment", "friction-cone", "sole", "stand-tilts", "motion-from",
+                             "stance", "sway", "turn", "sway-period"});
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");

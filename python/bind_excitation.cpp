@@ -30,6 +30,42 @@ struct ExcitePy {
   RunProvenance provenance;  // the call that made it
 };
 
+/// excite's stands, max_tilt and tilt_grid: the stand request (its design set after the run) and
+/// the robot's URDF loaded with a floating base, checked before the work; nothing without stands.
+struct StandChoice {
+  StandTiltRequest request;
+  FloatingModel model;
+};
+
+std::optional<StandChoice> standChoice(const Model& robot, const std::string& robot_spec,
+                                       const std::optional<int>& stands, double max_tilt,
+                                       int tilt_grid, const StructuralOptions& structural,
+                                       double period) {
+  if (!stands &&
+      (max_tilt != StandTiltRequest{}.max_tilt || tilt_grid != StandTiltRequest{}.tilt_grid))
+    throw py::value_error("max_tilt and tilt_grid apply with stands");
+  if (!stands) return std::nullopt;
+  if (robot_spec.empty())
+    throw py::value_error(
+        "stands: give robot_spec, the robot's URDF (loaded with a floating base to choose the "
+        "stand's orientations)");
+  StandTiltRequest request;
+  request.stands = *stands;
+  request.max_tilt = max_tilt;
+  request.tilt_grid = tilt_grid;
+  request.structural = structural;
+  request.design.period = period;  // the check's placeholder until the design is made
+  request.check();
+  RobotOptions options;
+  options.drive_terms = robot.driveTerms();
+  FloatingModel model = loadFloatingRobot(robot_spec, options);
+  if (model.numJoints() != robot.numJoints())
+    throw py::value_error("stands: robot_spec has " + std::to_string(model.numJoints()) +
+                          " moving joints with a floating base, the robot " +
+                          std::to_string(robot.numJoints()));
+  return StandChoice{std::move(request), std::move(model)};
+}
+
 ExcitePy excitePy(const Model& robot, const std::string& criterion, double period, int harmonics,
                   int starts, int evaluations, double budget_seconds, double grid_rate,
                   double check_rate, double torque_noise, int segments, double horizon,
@@ -43,30 +79,8 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
   const std::string robot_spec = pathArg(robot_spec_arg, "robot_spec");
   const int n = robot.numJoints();
   // excite --stands: the robot's URDF loaded again with a floating base, checked before the work.
-  std::optional<StandTiltRequest> stand;
-  std::optional<FloatingModel> floating;
-  if (!stands &&
-      (max_tilt != StandTiltRequest{}.max_tilt || tilt_grid != StandTiltRequest{}.tilt_grid))
-    throw py::value_error("max_tilt and tilt_grid apply with stands");
-  if (stands) {
-    if (robot_spec.empty())
-      throw py::value_error(
-          "stands: give robot_spec, the robot's URDF (loaded with a floating base to choose the "
-          "stand's orientations)");
-    stand.emplace();
-    stand->stands = *stands;
-    stand->max_tilt = max_tilt;
-    stand->tilt_grid = tilt_grid;
-    stand->structural = {samples, seed, tolerance};
-    stand->design.period = period;  // the check's placeholder until the design is made
-    stand->check();
-    RobotOptions options;
-    options.drive_terms = robot.driveTerms();
-    floating = loadFloatingRobot(robot_spec, options);
-    if (floating->numJoints() != n)
-      throw py::value_error("stands: robot_spec has " + std::to_string(floating->numJoints()) +
-                            " moving joints with a floating base, the robot " + std::to_string(n));
-  }
+  std::optional<StandChoice> stand = standChoice(robot, robot_spec, stands, max_tilt, tilt_grid,
+                                                 {samples, seed, tolerance}, period);
   ExciteRequest r;  // checked by exciteRun
   r.robot = robot;
   r.criterion = parseExcitationCriterion(criterion);
@@ -109,13 +123,13 @@ ExcitePy excitePy(const Model& robot, const std::string& criterion, double perio
     out.outcome = exciteRun(r);
   }
   if (stand && !interrupt.flag()->load()) {  // the orientations for the design, as the CLI's
-    stand->design = out.outcome.design;
+    stand->request.design = out.outcome.design;
     py::gil_scoped_release release;
     StandDesign chosen;
-    chosen.choice = chooseStandTilts(*floating, *stand);
-    chosen.max_tilt = stand->max_tilt;
-    chosen.grid = stand->tilt_grid;
-    chosen.samples = stand->samples;
+    chosen.choice = chooseStandTilts(stand->model, stand->request);
+    chosen.max_tilt = stand->request.max_tilt;
+    chosen.grid = stand->request.tilt_grid;
+    chosen.samples = stand->request.samples;
     out.settings.stand = std::move(chosen);
   }
   out.provenance = call.finish();

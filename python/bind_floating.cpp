@@ -16,6 +16,7 @@
 #include "analysis/floating/payload.hpp"
 #include "analysis/floating/prepare.hpp"
 #include "analysis/floating/simulate.hpp"
+#include "analysis/floating/standing.hpp"
 #include "analysis/records/excitation_record.hpp"
 #include "data/robots.hpp"
 #include "python/run_support.hpp"
@@ -180,10 +181,31 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const TermsLike& drive_terms, const OptionalPathLike& trajectory,
                                double friction_cone, const SoleLike& sole,
                                const OptionalPathLike& motion_from,
-                               const std::optional<std::vector<std::pair<double, double>>>& tilts) {
+                               const std::optional<std::vector<std::pair<double, double>>>& tilts,
+                               const std::optional<std::vector<double>>& stance, double sway,
+                               double turn, double sway_period, double rate) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
+  const StandingMotionRequest standing_defaults;
+  if (!stance && (sway != standing_defaults.sway || turn != standing_defaults.turn ||
+                  sway_period != standing_defaults.period || rate != standing_defaults.rate))
+    throw py::value_error("sway, turn, sway_period and rate apply with stance");
+  if (stance) {  // simulate --stance: the standing sway dynid generates, as the motion
+    if (!trajectory.is_none() || !motion_from.is_none())
+      throw py::value_error("stance generates the motion: not with trajectory or motion_from");
+    StandingMotionRequest request;
+    request.contacts = options.contacts;
+    request.stance = Eigen::Map<const Eigen::VectorXd>(stance->data(),
+                                                       static_cast<Eigen::Index>(stance->size()));
+    request.sway = sway;
+    request.turn = turn;
+    request.period = sway_period;
+    request.rate = rate;
+    if (samples) request.samples = *samples;
+    request.seed = seed;
+    options.motion_from = standingMotion(model, request);
+  }
   if (!trajectory.is_none()) {
     ExcitationDesignFile file =
         readExcitationDesignFile(pathArg(trajectory, "trajectory"), model.numJoints());
@@ -200,7 +222,7 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                    : options.trajectory                               ? FloatingMotion::kSuspended
                    : options.contacts.empty() && !options.motion_from ? FloatingMotion::kFree
                                                                       : FloatingMotion::kHolding;
-  options.samples = samples.value_or(200);
+  options.samples = options.motion_from ? options.motion_from->numSamples() : samples.value_or(200);
   options.seed = seed;
   options.torque_noise = noise_tau;
   options.force_noise = noise_force;
@@ -257,9 +279,44 @@ py::object prepareFloating(
   return parsedJson(floatingPrepareJson(model, recording, outcome));
 }
 
+/// simulate_floating (`dynid simulate --floating-base`).
+void bindSimulateFloating(py::module_& m) {
+  m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
+        py::arg("contacts") = py::none(), py::arg("motion") = py::none(),
+        py::arg("samples") = py::none(), py::arg("seed") = 1, py::arg("noise_tau") = 0.0,
+        py::arg("noise_force") = 0.0, py::arg("noise_moment") = 0.0,
+        py::arg("drive_terms") = py::none(), py::arg("trajectory") = py::none(),
+        py::arg("friction_cone") = 0.0, py::arg("sole") = py::none(),
+        py::arg("motion_from") = py::none(), py::arg("stand_tilts") = py::none(),
+        py::arg("stance") = py::none(), py::arg("sway") = StandingMotionRequest{}.sway,
+        py::arg("turn") = StandingMotionRequest{}.turn,
+        py::arg("sway_period") = StandingMotionRequest{}.period,
+        py::arg("rate") = StandingMotionRequest{}.rate,
+        "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
+        "(holding, the default with contacts; free; suspended; carried: the base moved by its "
+        "support, whose wrench is measured) written to `out`, with noise on "
+        "the torques, contact forces and moments; with trajectory (an excitation.json of the "
+        "robot with its base fixed), `samples` states of that design over one period, the base "
+        "held still (with stand_tilts [(roll, pitch), ...] [rad], one period at each stand "
+        "orientation in turn, 1 s apart; None: those the design chose, if any); with friction_cone "
+        "(mu, holding), the contacts' forces "
+        "within friction "
+        "cones about the ground's normal, states they cannot hold drawn again; with sole "
+        "(length, width) [m] (a rectangle centred at the frame) or its corners [(x, y), ...] "
+        "[m] in the frame's x-y plane too, every frame contact's wrench that of its sole's corner "
+        "forces within the cones about the sole's normal (its centre of pressure in the "
+        "corners' convex hull); "
+        "with motion_from (a floating dataset's path), its motion sample by sample instead of "
+        "random states, the contacts holding where its flags say; with stance (the joints at "
+        "rest [rad], contacts given), a standing sway dynid generates (simulate --stance: the "
+        "base sways by `sway` [m] and turns by `turn` [rad] over `sway_period` [s] above "
+        "contacts that stay still, the legs following; `samples` at `rate` [Hz]). Returns the "
+        "path.");
+}
 }  // namespace
 
 void bindFloating(py::module_& m) {
+  bindSimulateFloating(m);
   m.def("prepare_floating", &prepareFloating, py::arg("robot"), py::arg("log"), py::arg("out"),
         py::arg("joint_topic") = py::none(), py::arg("imu_topic") = py::none(),
         py::arg("wrench_topics") = py::none(), py::arg("rate") = 0.0,
@@ -309,29 +366,6 @@ void bindFloating(py::module_& m) {
         "(unset with a contact on the base: carried when the base moves in the data, else "
         "suspended); each estimate's GC error (and the robot's own) over num_segments segments "
         "of horizon [s] where the data are a motion with every contact's wrench ('gc').");
-  m.def("simulate_floating", &simulateFloatingTo, py::arg("robot"), py::arg("out"),
-        py::arg("contacts") = py::none(), py::arg("motion") = py::none(),
-        py::arg("samples") = py::none(), py::arg("seed") = 1, py::arg("noise_tau") = 0.0,
-        py::arg("noise_force") = 0.0, py::arg("noise_moment") = 0.0,
-        py::arg("drive_terms") = py::none(), py::arg("trajectory") = py::none(),
-        py::arg("friction_cone") = 0.0, py::arg("sole") = py::none(),
-        py::arg("motion_from") = py::none(), py::arg("stand_tilts") = py::none(),
-        "`dynid simulate --floating-base`: a floating dataset of random states of the motion "
-        "(holding, the default with contacts; free; suspended; carried: the base moved by its "
-        "support, whose wrench is measured) written to `out`, with noise on "
-        "the torques, contact forces and moments; with trajectory (an excitation.json of the "
-        "robot with its base fixed), `samples` states of that design over one period, the base "
-        "held still (with stand_tilts [(roll, pitch), ...] [rad], one period at each stand "
-        "orientation in turn, 1 s apart; None: those the design chose, if any); with friction_cone "
-        "(mu, holding), the contacts' forces "
-        "within friction "
-        "cones about the ground's normal, states they cannot hold drawn again; with sole "
-        "(length, width) [m] (a rectangle centred at the frame) or its corners [(x, y), ...] "
-        "[m] in the frame's x-y plane too, every frame contact's wrench that of its sole's corner "
-        "forces within the cones about the sole's normal (its centre of pressure in the "
-        "corners' convex hull); "
-        "with motion_from (a floating dataset's path), its motion sample by sample instead of "
-        "random states, the contacts holding where its flags say. Returns the path.");
   m.def("floating_identifiability", &floatingIdentifiability, py::arg("robot"),
         py::arg("contacts") = py::none(), py::arg("sensors") = py::none(),
         py::arg("motion") = py::none(), py::arg("drive_terms") = py::none(), py::arg("samples") = 0,

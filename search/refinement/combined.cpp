@@ -329,6 +329,20 @@ bool dampedStep(const Eigen::MatrixXd& H, const Eigen::VectorXd& g, double mu,
   return ldlt.info() == Eigen::Success && delta.allFinite() && predicted > 0.0;
 }
 
+/// The estimator's inputs: set terms, a finite weight and normalisers, a start inside F's domain.
+void checkStart(const TorqueTerm& torque, const GcTerm& gc, const Eigen::VectorXd& theta0,
+                const CombinedOptions& options) {
+  checkTerms(torque, options.gc_weight);
+  if (!gc.error || !gc.linearise) throw InputError("the GC term is not set");
+  if (!(options.given_gc >= 0.0) || !std::isfinite(options.given_gc) ||
+      !std::isfinite(options.given_floor))
+    throw InputError(
+        "the given GC normaliser and noise floor must be finite (and the normaliser "
+        ">= 0)");
+  if (!std::isfinite(torque.cost(theta0)))
+    throw InputError("the combined estimator's start is outside the physical set");
+}
+
 /// One progress line after an accepted step.
 void sayProgress(const CombinedOptions& options, const CombinedResult& out,
                  const CombinedValue& current) {
@@ -355,15 +369,7 @@ CombinedResult refineCombined(const Model& structure, const GcProblem& problem,
 CombinedResult refineCombinedTerms(const TorqueTerm& torque, const GcTerm& gc,
                                    const Eigen::VectorXd& theta0, const CombinedOptions& options) {
   const auto t0 = Clock::now();
-  checkTerms(torque, options.gc_weight);
-  if (!gc.error || !gc.linearise) throw InputError("the GC term is not set");
-  if (!(options.given_gc >= 0.0) || !std::isfinite(options.given_gc) ||
-      !std::isfinite(options.given_floor))
-    throw InputError(
-        "the given GC normaliser and noise floor must be finite (and the normaliser "
-        ">= 0)");
-  if (!std::isfinite(torque.cost(theta0)))
-    throw InputError("the combined estimator's start is outside the physical set");
+  checkStart(torque, gc, theta0, options);
   const RunControl control = options.control.within(options.max_seconds, t0);
   const double w = options.gc_weight;
   CombinedValue current;

@@ -423,6 +423,27 @@ TEST(Cli, IdentifyAFloatingBaseByTheCombinedEstimator) {
   EXPECT_TRUE(contains(readFile(dir + "/est/floating_identification.md"), "combined from pc's"));
 }
 
+/// simulate --stance generates a standing sway (the feet still, the legs following) and simulates
+/// along it; standing alone leaves combinations the sets cannot determine, which identify says.
+TEST(Cli, SimulateAStandingRobotsSway) {
+  const std::string dir = test::tempPath("floating-standing");
+  std::filesystem::create_directories(dir);
+  Result r =
+      run("simulate --robot " + kAnymal + " --floating-base --contacts " +
+          "LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT --stance 0,0.5,-1,0,0.5,-1,0,-0.5,1,0,-0.5,1 " +
+          "--sway 0.02 --turn 0.05 --samples 400 --friction-cone 0.6 --out " + dir + "/d.csv");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "400 states of the motion of a standing sway over the stance"))
+      << r.out;
+  EXPECT_TRUE(r.err.empty()) << r.err;  // every sample within the cones: no warning
+  r = run("identify --robot " + kAnymal + " --floating-base --method ols --segments 5 --data " +
+          dir + "/d.csv --out " + dir + "/est");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(
+      contains(r.out, "torques_wrenches: not estimated: the samples determine 91 of the 94"))
+      << r.out;
+}
+
 /// Friction cones under ANYmal's feet: the console says how many states were drawn to keep the
 /// samples the cones hold.
 TEST(Cli, SimulateAFloatingBaseWithinFrictionCones) {

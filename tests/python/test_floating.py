@@ -296,6 +296,21 @@ def test_simulate_floating_takes_a_soles_corners(tmp_path):
                                     sole=bad)
 
 
+def test_simulate_floating_generates_a_standing_sway(tmp_path):
+    stance = [0, 0.5, -1, 0, 0.5, -1, 0, -0.5, 1, 0, -0.5, 1]
+    path = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, stance=stance,
+                                   samples=300, friction_cone=0.6)
+    cli = tmp_path / "cli.csv"
+    run_cli("simulate", "--robot", ANYMAL, "--floating-base", "--contacts", ",".join(FEET),
+            "--stance", ",".join(str(x) for x in stance), "--samples", "300",
+            "--friction-cone", "0.6", "--out", cli)
+    assert Path(path).read_text() == cli.read_text()
+    with pytest.raises(ValueError, match="apply with stance"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", contacts=FEET, sway=0.1)
+    with pytest.raises(ValueError, match="lower sway or turn"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", contacts=FEET, stance=stance, sway=0.5)
+
+
 def test_simulate_floating_along_a_given_motion(tmp_path):
     first = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", contacts=FEET, samples=20, seed=4)
     again = dynid.simulate_floating(ANYMAL, tmp_path / "again.csv", motion_from=first)
