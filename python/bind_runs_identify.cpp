@@ -111,13 +111,20 @@ EstimateResult identify(
     request.validate = held.arrays;
   }
   if (!validate_raw.is_none()) request.validate_raw_file = pathArg(validate_raw, "validate_raw");
+  // combined stops at its next rollout on Ctrl-C (KeyboardInterrupt), keeping its best so far.
+  Interrupt interrupt;
+  request.combined.control.stop = interrupt.flag();
+  request.combined.control.on_check = [&] { interrupt.poll(); };
   EstimateResult out{model, {}, {}};
   const PythonRun call("identify",
                        {request.data_file, request.validate_file, request.validate_raw_file}, seed,
                        threads);
-  py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
-  out.outcome = identifyRun(request);
-  out.provenance = call.finish();
+  {
+    py::gil_scoped_release release;  // the Datasets are kept alive by the caller's references
+    out.outcome = identifyRun(request);
+    out.provenance = call.finish();
+  }
+  interrupt.warnIfStopped();
   return out;
 }
 
