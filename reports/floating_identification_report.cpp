@@ -95,11 +95,15 @@ std::string percent(double x) { return formatNumber(x, 3) + " %"; }
 
 /// How the combined estimator went from pc's estimate (FloatingSetEstimate::combined), or why not.
 std::string combinedLine(const CombinedResult& c) {
+  // The floor the GC term was held at is the estimate nearest the robot's, not this estimate's
+  // own (the set line's parentheses): said in words, so that the two are not read as one.
+  const std::string floor = c.gc_floor > 0.0 ? "held at " + formatNumber(c.gc_floor, 3) +
+                                                   ", the nearest estimate's noise floor"
+                                             : "no noise floor";
   std::string out = "combined from pc's: GC error " + formatNumber(c.initial_gc, 4) + " to " +
-                    formatNumber(c.final_gc, 4) + " (floor " + formatNumber(c.gc_floor, 3) +
-                    "), torque term " + formatNumber(c.initial_torque, 4) + " to " +
-                    formatNumber(c.final_torque, 4) + " in " + std::to_string(c.iterations) +
-                    " linearisations; " + c.termination;
+                    formatNumber(c.final_gc, 4) + " (" + floor + "), torque term " +
+                    formatNumber(c.initial_torque, 4) + " to " + formatNumber(c.final_torque, 4) +
+                    " in " + std::to_string(c.iterations) + " linearisations; " + c.termination;
   if (!c.moved) out += " (no step taken: pc's estimate)";
   return out;
 }
