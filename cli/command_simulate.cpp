@@ -15,6 +15,8 @@
 namespace dynid::cli {
 
 namespace {
+void addFloatingSimulateOptions(po::options_description& options);
+
 void addSimulateOptions(po::options_description& options) {
   const SimulateRequest d;  // every default is the request's own
   options.add_options()(
@@ -64,6 +66,11 @@ void addSimulateOptions(po::options_description& options) {
       ".truth.csv for .csv; - for standard output)")(
       "out", po::value<std::string>()->required(),
       "dataset CSV to write, or - for standard output");
+  addFloatingSimulateOptions(options);
+}
+
+/// simulate --floating-base's own options (docs/FLOATING.md).
+void addFloatingSimulateOptions(po::options_description& options) {
   addFloatingOptions(options,
                      "writes a floating dataset of random states (docs/FLOATING.md): the joint "
                      "torques and contact wrenches inverse dynamics needs, with noise");
