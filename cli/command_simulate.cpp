@@ -238,28 +238,8 @@ void summarizeAndWriteTruth(const po::variables_map& vm, const SimulateRequest& 
   }
 }
 
-}  // namespace
-
-int runSimulate(const std::vector<std::string>& args) {
-  po::options_description options("dynid simulate");
-  addRobotOptions(options);
-  addSimulateOptions(options);
-  addThreadsOption(options);  // the dataset's rows are formatted on them
-  po::variables_map vm;
-  if (!parseCommandLine(args, options,
-                        "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
-                        "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
-                        "[--samples N | --motion-from D.csv | --trajectory E.json [--stand-tilts "
-                        "R1,P1,...] | --stance Q1,...,Qn [--sway M] [--turn R]] [--noise-tau S] "
-                        "[--noise-force S] "
-                        "[--friction-cone MU "
-                        "[--sole L,W|X1,Y1,...]] --out FILE.csv",
-                        vm))
-    return kExitOk;
-  if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
-  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
-                             "noise-moment", "friction-cone", "sole", "stand-tilts", "motion-from",
-                             "stance", "sway", "turn", "sway-period"});
+/// The fixed-base simulate's options as the request (usage errors naming the flag).
+SimulateRequest simulateRequest(const po::variables_map& vm) {
   const std::string controller = vm["controller"].as<std::string>();
   if (controller != "sinusoidal" && controller != "fourier")
     throw UsageError("--controller must be sinusoidal or fourier, not '" + controller + "'");
@@ -309,6 +289,31 @@ int runSimulate(const std::vector<std::string>& args) {
     for (const std::string& spec : vm["disturbance"].as<std::vector<std::string>>())
       request.disturbances.push_back(parseDisturbance(spec, request.robot));
   refuseUnused(vm, !request.disturbances.empty(), {"truth-out"}, "applies with --disturbance");
+  return request;
+}
+}  // namespace
+
+int runSimulate(const std::vector<std::string>& args) {
+  po::options_description options("dynid simulate");
+  addRobotOptions(options);
+  addSimulateOptions(options);
+  addThreadsOption(options);  // the dataset's rows are formatted on them
+  po::variables_map vm;
+  if (!parseCommandLine(args, options,
+                        "dynid simulate --robot R [options] --out FILE.csv\n       dynid simulate "
+                        "--robot R.urdf --floating-base [--contacts L1,L2:frame] [--motion M] "
+                        "[--samples N | --motion-from D.csv | --trajectory E.json [--stand-tilts "
+                        "R1,P1,...] | --stance Q1,...,Qn [--sway M] [--turn R]] [--noise-tau S] "
+                        "[--noise-force S] "
+                        "[--friction-cone MU "
+                        "[--sole L,W|X1,Y1,...]] --out FILE.csv",
+                        vm))
+    return kExitOk;
+  if (vm["floating-base"].as<bool>()) return runFloatingSimulate(vm);
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "samples", "noise-force",
+                             "noise-moment", "friction-cone", "sole", "stand-tilts", "motion-from",
+                             "stance", "sway", "turn", "sway-period"});
+  const SimulateRequest request = simulateRequest(vm);
   const std::string out = vm["out"].as<std::string>();
   if (out == "-" && vm.count("truth-out") && vm["truth-out"].as<std::string>() == "-")
     throw UsageError("--out and --truth-out cannot both be - (standard output)");
