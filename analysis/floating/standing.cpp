@@ -24,6 +24,31 @@ struct BasePose {
   Vector6<double> twist, acceleration;
 };
 
+/// A designed sway's pose at t: the six coordinates' Fourier series, R = Rz(yaw) Ry(pitch)
+/// Rx(roll) built factor by factor, R_k = R_(k-1) Q_k with Q_k a turn by theta_k about axis e_k:
+/// the body rate w_k = Q_k^T w_(k-1) + theta_k' e_k and its derivative
+/// Q_k^T w_(k-1)' - theta_k' e_k x Q_k^T w_(k-1) + theta_k'' e_k, exact.
+BasePose designedPose(const FourierSeries& design, double t) {
+  Eigen::VectorXd c, dc, ddc;
+  evaluateReference(design, t, c, dc, ddc);
+  BasePose out;
+  out.R.setIdentity();
+  Eigen::Vector3d omega = Eigen::Vector3d::Zero(), domega = Eigen::Vector3d::Zero();
+  for (const int k : {5, 4, 3}) {  // yaw about z, pitch about y, roll about x
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(k - 3);
+    const Eigen::Matrix3d Q = axisAngle(axis, c[k]);
+    const Eigen::Vector3d carried = Q.transpose() * omega;
+    domega = Q.transpose() * domega - dc[k] * axis.cross(carried) + ddc[k] * axis;
+    omega = carried + dc[k] * axis;
+    out.R = out.R * Q;
+  }
+  out.p = c.head<3>();
+  const Eigen::Vector3d v = out.R.transpose() * dc.head<3>();
+  out.twist << omega, v;
+  out.acceleration << domega, out.R.transpose() * ddc.head<3>() - omega.cross(v);
+  return out;
+}
+
 class Sway {
  public:
   explicit Sway(const StandingMotionRequest& r) : r_(r) {
@@ -35,6 +60,7 @@ class Sway {
   }
 
   BasePose at(double t) const {
+    if (r_.base_design) return designedPose(*r_.base_design, t);
     const double w = 2.0 * std::numbers::pi / r_.period;
     Eigen::Vector3d p, dp, ddp;
     for (int i = 0; i < 3; ++i) {  // axis i at (i + 1) times the base frequency
@@ -62,27 +88,13 @@ class Sway {
   Eigen::Vector3d axis_;
 };
 
-/// The contacts' stacked Jacobian (base axes) at q.
-Eigen::MatrixXd stacked(const FloatingModel& model, FloatingData& data,
-                        const std::vector<Contact>& contacts, const Eigen::VectorXd& q) {
-  int rows = 0;
-  for (const Contact& c : contacts) rows += c.dimension();
-  Eigen::MatrixXd J(rows, model.numVelocities());
-  rows = 0;
-  for (const Contact& c : contacts) {
-    J.middleRows(rows, c.dimension()) = contactJacobian(model, data, c, q);
-    rows += c.dimension();
-  }
-  return J;
-}
-
 /// The contacts' pose error at q for the base at `base`, against their world poses `world`
 /// (base axes; a frame contact's rotation first, as its Jacobian's rows).
 Eigen::VectorXd poseError(const FloatingModel& model, FloatingData& data,
                           const std::vector<Contact>& contacts,
                           const std::vector<Pose<double>>& world, const BasePose& base,
                           const Eigen::VectorXd& q) {
-  Eigen::VectorXd e(stacked(model, data, contacts, q).rows());
+  Eigen::VectorXd e(stackedContactJacobian(model, data, contacts, q).rows());
   int row = 0;
   for (std::size_t c = 0; c < contacts.size(); ++c) {
     const Pose<double> now = contactPose(model, data, contacts[c], q);
@@ -108,7 +120,7 @@ bool followContacts(const FloatingModel& model, FloatingData& data,
   for (int iteration = 0; iteration < 50; ++iteration) {
     const Eigen::VectorXd e = poseError(model, data, contacts, world, base, q);
     if (e.lpNorm<Eigen::Infinity>() < 1e-12) return true;
-    const Eigen::MatrixXd Jq = stacked(model, data, contacts, q).rightCols(n);
+    const Eigen::MatrixXd Jq = stackedContactJacobian(model, data, contacts, q).rightCols(n);
     q += Jq.completeOrthogonalDecomposition().solve(e);
     if (!q.allFinite()) return false;
   }
@@ -116,6 +128,20 @@ bool followContacts(const FloatingModel& model, FloatingData& data,
 }
 
 }  // namespace
+
+Eigen::MatrixXd stackedContactJacobian(const FloatingModel& model, FloatingData& data,
+                                       const std::vector<Contact>& contacts,
+                                       const Eigen::VectorXd& q) {
+  int rows = 0;
+  for (const Contact& c : contacts) rows += c.dimension();
+  Eigen::MatrixXd J(rows, model.numVelocities());
+  rows = 0;
+  for (const Contact& c : contacts) {
+    J.middleRows(rows, c.dimension()) = contactJacobian(model, data, c, q);
+    rows += c.dimension();
+  }
+  return J;
+}
 
 void StandingMotionRequest::check() const {
   const auto need = [](bool ok, const char* what) {
@@ -128,6 +154,14 @@ void StandingMotionRequest::check() const {
   need(period > 0.0 && std::isfinite(period), "`period` is positive and finite [s]");
   need(rate > 0.0 && std::isfinite(rate), "`rate` is positive and finite [Hz]");
   need(samples >= 2 && samples <= kMaxFloatingSamples, "`samples` is 2 to 1000000");
+  if (!base_design) return;
+  const FourierSeries& d = *base_design;
+  need(d.offset.size() == 6 && d.a.rows() == 6 && d.b.rows() == 6 && d.a.cols() == d.b.cols() &&
+           d.a.cols() >= 1,
+       "`base_design` has six rows (x, y, z, roll, pitch, yaw) of as many harmonics");
+  need(d.period > 0.0 && std::isfinite(d.period), "`base_design`'s period is positive and finite");
+  need(d.offset.allFinite() && d.a.allFinite() && d.b.allFinite(),
+       "`base_design`'s coefficients are finite");
 }
 
 std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
@@ -151,21 +185,23 @@ std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
   for (const Contact& c : request.contacts)
     out->flags.push_back({c.name, std::vector<char>(static_cast<std::size_t>(N), 1)});
   const Sway sway(request);
+  const std::string lower =
+      request.base_design ? "a smaller `base_design`" : "lower `sway` or `turn`";
   Eigen::VectorXd q = request.stance;
   for (int k = 0; k < N; ++k) {
     const double t = k / request.rate;
     const BasePose base = sway.at(t);
     if (!followContacts(model, data, request.contacts, world, base, q))
       throw InputError("the legs cannot follow the sway at t = " + formatNumber(t, 4) +
-                       " s (a contact out of reach): lower `sway` or `turn`, or bend the `stance`");
-    for (int j = 0; j < n; ++j) {
+                       " s (a contact out of reach): " + lower + ", or bend the `stance`");
+    for (int j = 0; j < n && request.check_limits; ++j) {
       const JointLimits& limits = model.limbs().limits[static_cast<std::size_t>(j)];
       if (q[j] < limits.lower || q[j] > limits.upper)
         throw InputError("the legs follow the sway past " + model.limbs().joint_names[j] +
                          "'s limits at t = " + formatNumber(t, 4) + " s (" + formatNumber(q[j], 4) +
-                         " rad): lower `sway` or `turn`, or move the `stance`");
+                         " rad): " + lower + ", or move the `stance`");
     }
-    const Eigen::MatrixXd J = stacked(model, data, request.contacts, q);
+    const Eigen::MatrixXd J = stackedContactJacobian(model, data, request.contacts, q);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> legs(J.rightCols(n));
     const Eigen::VectorXd dq = legs.solve(-J.leftCols<6>() * base.twist);
     Eigen::VectorXd nu(6 + n);
@@ -174,8 +210,8 @@ std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
     Eigen::VectorXd djnu = Eigen::VectorXd::Zero(J.rows());
     if (fastest > 0.0) {
       const double h = 1e-6 / fastest;
-      djnu = (stacked(model, data, request.contacts, q + h * dq) -
-              stacked(model, data, request.contacts, q - h * dq)) *
+      djnu = (stackedContactJacobian(model, data, request.contacts, q + h * dq) -
+              stackedContactJacobian(model, data, request.contacts, q - h * dq)) *
              nu / (2.0 * h);
     }
     out->time[k] = t;

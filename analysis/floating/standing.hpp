@@ -7,8 +7,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "core/controllers.hpp"
 #include "core/floating/contact_jacobian.hpp"
 #include "data/floating/floating_dataset.hpp"
 
@@ -26,14 +28,28 @@ struct StandingMotionRequest {
   double sway = 0.02;
   double turn = 0.05;
   double period = 4.0;  // [s]: the motion repeats
+  /// A designed sway instead (`dynid excite --floating-base --stance`, standing_design.hpp): the
+  /// base's six coordinates x, y, z [m] (world axes, from where the stance puts the base) and roll,
+  /// pitch, yaw [rad] (R = Rz(yaw) Ry(pitch) Rx(roll)), a Fourier series of six rows over its own
+  /// period; `sway`, `turn`, `period` and `seed` are then unread.
+  std::optional<FourierSeries> base_design;
+  /// Whether a joint past its limits is refused (a design measures the margin itself).
+  bool check_limits = true;
   double rate = 200.0;  // samples per second
   int samples = 800;    // at t = k / rate
   std::uint64_t seed = 1;
   /// Throws InputError naming the field out of range: `contacts` empty, `stance` not finite,
   /// `sway`, `turn` negative or not finite, `period`, `rate` not positive and finite, `samples`
-  /// below 2 or above kMaxFloatingSamples.
+  /// below 2 or above kMaxFloatingSamples, a `base_design` that is not six finite rows with a
+  /// positive period.
   void check() const;
 };
+
+/// The contacts' Jacobians stacked in their order (base axes) at q: (sum of their dimensions) x
+/// (6 + n).
+Eigen::MatrixXd stackedContactJacobian(const FloatingModel& model, FloatingData& data,
+                                       const std::vector<Contact>& contacts,
+                                       const Eigen::VectorXd& q);
 
 /// The motion, every contact flagged as holding in every sample (no torque or wrench): the base's
 /// orientation, twist and its derivative in closed form, q by Newton's method on the contacts'

@@ -1,0 +1,412 @@
+#include "analysis/floating/standing_design.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iterator>
+#include <memory>
+#include <numbers>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include "analysis/floating/standing.hpp"
+#include "core/errors.hpp"
+#include "core/floating/floating_data.hpp"
+#include "core/floating/floating_regressor.hpp"
+#include "core/format.hpp"
+#include "search/cobyla.hpp"
+
+namespace dynid {
+
+void StandingDesignRequest::check() const {
+  const auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw InputError(what);
+  };
+  need(!contacts.empty(), "`contacts`: a standing robot holds on at least one");
+  need(stance.allFinite(), "`stance` is finite");
+  need(period >= 0.5 && period <= 120.0, "`period` is 0.5 to 120 s, not " + formatNumber(period));
+  need(harmonics >= 2 && harmonics <= 10,
+       "`harmonics` is 2 to 10, not " + std::to_string(harmonics));
+  need(max_sway > 0.0 && max_sway <= 1.0,
+       "`max_sway` is in (0, 1] m, not " + formatNumber(max_sway));
+  need(max_turn > 0.0 && max_turn <= std::numbers::pi / 4,
+       "`max_turn` is in (0, pi/4] rad, not " + formatNumber(max_turn));
+  need(joint_margin >= 0.0 && joint_margin <= 1.0,
+       "`joint_margin` is 0 to 1 rad, not " + formatNumber(joint_margin));
+  need(friction_cone >= 0.0 && friction_cone <= 10.0,
+       "`friction_cone` is 0 (none) to 10, not " + formatNumber(friction_cone));
+  need(grid_rate >= 1.0 && grid_rate <= 1000.0,
+       "`grid_rate` is 1 to 1000 samples a second, not " + formatNumber(grid_rate));
+  need(check_rate >= grid_rate && check_rate <= 10000.0,
+       "`check_rate` is `grid_rate` to 10000 samples a second, not " + formatNumber(check_rate));
+  need(period * check_rate <= 1e5, "`period` times `check_rate` is at most 100000 samples");
+  need(starts >= 1 && starts <= 64, "`starts` is 1 to 64, not " + std::to_string(starts));
+  need(evaluations >= 10 && evaluations <= 100000,
+       "`evaluations` is 10 to 100000, not " + std::to_string(evaluations));
+  need(max_seconds > 0.0, "`max_seconds` is positive (infinity: no budget)");
+  structural.check();
+}
+
+namespace {
+
+constexpr double kInfeasible = 1.0;  // every constraint's value where the legs cannot follow
+constexpr double kUnranked = 20.0;   // the objective (log10) of rows below the class's rank
+
+/// The free variables, scaled so that 1 is about a bound: per coordinate a_1..a_(H-1) and
+/// b_1..b_(H-1) as fractions of the bound times the base frequency; a_H and b_H follow from rest at
+/// t = 0, and the offset from the stance's pose there.
+class Coding {
+ public:
+  explicit Coding(const StandingDesignRequest& r) : r_(r) {}
+  int size() const { return 6 * 2 * (r_.harmonics - 1); }
+  FourierSeries decode(const double* x, double shrink = 1.0) const {
+    const int h = r_.harmonics;
+    const double w = 2.0 * std::numbers::pi / r_.period;
+    FourierSeries d;
+    d.period = r_.period;
+    d.offset.setZero(6);
+    d.a.resize(6, h);
+    d.b.resize(6, h);
+    for (int i = 0; i < 6; ++i) {
+      const double scale = shrink * (i < 3 ? r_.max_sway : r_.max_turn) * w;
+      const double* u = x + i * 2 * (h - 1);
+      double sum_a = 0.0, sum_kb = 0.0;
+      for (int k = 0; k < h - 1; ++k) {
+        d.a(i, k) = scale * u[k];
+        d.b(i, k) = scale * u[h - 1 + k];
+        sum_a += d.a(i, k);
+        sum_kb += (k + 1) * d.b(i, k);
+      }
+      d.a(i, h - 1) = -sum_a;
+      d.b(i, h - 1) = -sum_kb / h;
+      for (int k = 0; k < h; ++k) d.offset[i] += d.b(i, k) / (w * (k + 1));  // c(0) = 0
+    }
+    return d;
+  }
+
+ private:
+  const StandingDesignRequest& r_;
+};
+
+/// How a motion keeps the bounds: each value <= 0 where it does (COBYLA's constraints).
+struct Margins {
+  double sway = kInfeasible, turn = kInfeasible, joints = kInfeasible, speeds = kInfeasible,
+         cones = kInfeasible;
+  // Reported in the request's units.
+  double largest_sway = 0.0, largest_turn = 0.0, clearance = 0.0, cone_use = 0.0;
+  bool feasible() const {
+    return sway <= 0.0 && turn <= 0.0 && joints <= 0.0 && speeds <= 0.0 && cones <= 0.0;
+  }
+  double worst() const { return std::max({sway, turn, joints, speeds, cones}); }
+  bool followed() const { return !(sway == kInfeasible && cones == kInfeasible); }
+  /// The bound broken most, in the request's words.
+  std::string broken() const {
+    const double w = worst();
+    if (w == joints)
+      return "`joint_margin` (a joint " + formatNumber(clearance, 3) + " rad from a limit)";
+    if (w == cones) return "`friction_cone` (a foot's force outside its cone)";
+    if (w == speeds) return "the joints' velocity limits";
+    if (w == sway) return "`max_sway`";
+    return "`max_turn`";
+  }
+};
+
+/// A sway's motion, its rows for every set and its margins.
+class Evaluator {
+ public:
+  Evaluator(const FloatingModel& model, const StandingDesignRequest& request)
+      : model_(model), request_(request), data_(model), theta_(model.standardParameters()) {
+    FloatingStructuralOptions options;
+    options.structural = request.structural;
+    options.contacts = request.contacts;
+    options.motion = FloatingMotion::kHolding;
+    holding_ =
+        floatingStructuralBase(model, {std::begin(kSensorSets), std::end(kSensorSets)}, options);
+  }
+  const FloatingModel& model() const { return model_; }
+  const std::vector<SensorSetBase>& holding() const { return holding_; }
+  std::vector<BaseParameters>& standing() { return standing_; }
+
+  /// The motion at `rate` over one period, or nullptr where the legs cannot follow it.
+  std::shared_ptr<FloatingDataset> motion(const FourierSeries& design, double rate) const {
+    StandingMotionRequest r;
+    r.contacts = request_.contacts;
+    r.stance = request_.stance;
+    r.base_design = design;
+    r.check_limits = false;  // measured as a margin
+    r.rate = rate;
+    r.samples = std::max(2, static_cast<int>(std::lround(design.period * rate)));
+    try {
+      return standingMotion(model_, r);
+    } catch (const InputError&) {
+      return nullptr;
+    }
+  }
+  /// Set s's rows over the motion in the standard parameters.
+  Eigen::MatrixXd rows(std::size_t s, const FloatingDataset& m) {
+    Eigen::MatrixXd out;
+    for (int k = 0; k < m.numSamples(); ++k) {
+      const Eigen::MatrixXd block = sensorRows(holding_[s].set, regressor(m, k), jacobian(m, k));
+      if (out.size() == 0) out.resize(block.rows() * m.numSamples(), block.cols());
+      out.middleRows(block.rows() * k, block.rows()) = block;
+    }
+    return out;
+  }
+  Margins margins(const FourierSeries& design, const FloatingDataset& m) {
+    Margins out;
+    Eigen::VectorXd c, dc, ddc;
+    for (int k = 0; k < m.numSamples(); ++k) {
+      evaluateReference(design, m.time[k], c, dc, ddc);
+      out.largest_sway = std::max(out.largest_sway, c.head<3>().cwiseAbs().maxCoeff());
+      out.largest_turn = std::max(out.largest_turn, c.tail<3>().cwiseAbs().maxCoeff());
+    }
+    out.sway = out.largest_sway / request_.max_sway - 1.0;
+    out.turn = out.largest_turn / request_.max_turn - 1.0;
+    out.clearance = std::numeric_limits<double>::infinity();
+    double speed = 0.0;
+    for (int j = 0; j < model_.numJoints(); ++j) {
+      const JointLimits& limits = model_.limbs().limits[static_cast<std::size_t>(j)];
+      for (int k = 0; k < m.numSamples(); ++k) {
+        out.clearance =
+            std::min({out.clearance, m.q(j, k) - limits.lower, limits.upper - m.q(j, k)});
+        if (std::isfinite(limits.velocity) && limits.velocity > 0.0)
+          speed = std::max(speed, std::abs(m.dq(j, k)) / limits.velocity);
+      }
+    }
+    out.joints = request_.joint_margin - out.clearance;
+    out.speeds = speed - 1.0;
+    out.cones = 0.0;
+    if (request_.friction_cone > 0.0) conesOf(m, out);
+    return out;
+  }
+
+ private:
+  /// Sample k's regressor and its contacts' stacked Jacobian (at the model's own parameters).
+  Eigen::MatrixXd regressor(const FloatingDataset& m, int k) {
+    BaseMotion base;
+    const Eigen::Vector4d o = m.orientation.col(k);
+    base.rotation = Eigen::Quaterniond(o[0], o[1], o[2], o[3]).toRotationMatrix();
+    base.twist = m.twist.col(k);
+    base.acceleration = m.acceleration.col(k);
+    return floatingRegressor(model_, data_, base, m.q.col(k), m.dq.col(k), m.ddq.col(k));
+  }
+  Eigen::MatrixXd jacobian(const FloatingDataset& m, int k) {
+    return stackedContactJacobian(model_, data_, request_.contacts, m.q.col(k));
+  }
+  /// The least-norm forces that hold each sample, against the cones: each foot's (a sole's
+  /// force, after its moment) |tangential| - mu normal, over the force the contacts carry.
+  void conesOf(const FloatingDataset& m, Margins& out) {
+    const double mu = request_.friction_cone;
+    out.cones = -std::numeric_limits<double>::infinity();
+    for (int k = 0; k < m.numSamples(); ++k) {
+      const Eigen::VectorXd wrench = (regressor(m, k) * theta_).head<6>();
+      const Eigen::MatrixXd map = jacobian(m, k).leftCols<6>().transpose();
+      const Eigen::VectorXd f = map.completeOrthogonalDecomposition().solve(wrench);
+      const Eigen::Vector4d o = m.orientation.col(k);
+      const Eigen::Matrix3d R = Eigen::Quaterniond(o[0], o[1], o[2], o[3]).toRotationMatrix();
+      const Eigen::Vector3d up = -(R.transpose() * model_.gravity()).normalized();
+      const double carried = std::max(wrench.tail<3>().norm(), 1e-12);
+      int row = 0;
+      for (const Contact& c : request_.contacts) {
+        const bool frame = c.kind == Contact::Kind::kFrame;
+        const Eigen::Vector3d force = f.segment<3>(row + (frame ? 3 : 0));
+        row += c.dimension();
+        const double normal = force.dot(up), tangential = (force - normal * up).norm();
+        out.cones = std::max(out.cones, (tangential - mu * normal) / carried);
+        out.cone_use =
+            std::max(out.cone_use, normal > 0.0 ? tangential / (mu * normal)
+                                                : std::numeric_limits<double>::infinity());
+      }
+    }
+  }
+
+  const FloatingModel& model_;
+  const StandingDesignRequest& request_;
+  FloatingData data_;
+  Eigen::VectorXd theta_;
+  std::vector<SensorSetBase> holding_;
+  std::vector<BaseParameters> standing_;  // per set, in holding_'s order
+};
+
+/// log10 of the unit-column condition number of the rows in the standing class's base parameters
+/// (kUnranked below its rank).
+double criterionOf(const BaseParameters& standing, const Eigen::MatrixXd& W) {
+  const Eigen::MatrixXd W1 = standing.baseRegressor(W);
+  const double condition = scaledConditionNumber(W1);
+  return std::isfinite(condition) ? std::log10(condition) : kUnranked;
+}
+
+/// Random coefficients of start k (N(0, 0.3 / harmonic), the lower harmonics carrying more).
+std::vector<double> startPoint(const StandingDesignRequest& r, int k) {
+  std::mt19937_64 rng(r.seed * 1000003ULL + static_cast<std::uint64_t>(k));
+  std::normal_distribution<double> normal;
+  std::vector<double> x(static_cast<std::size_t>(6 * 2 * (r.harmonics - 1)));
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const int harmonic = static_cast<int>(i % static_cast<std::size_t>(r.harmonics - 1)) + 1;
+    x[i] = 0.3 * normal(rng) / harmonic;
+  }
+  return x;
+}
+
+/// The standing class's base parameters of every set: the rows of random sways of the stance (a
+/// tenth of the bounds and more) pooled, read as the structural analysis reads random states.
+void standingClass(Evaluator& evaluator, const StandingDesignRequest& r, const Coding& coding) {
+  std::vector<Eigen::MatrixXd> pooled(evaluator.holding().size());
+  int followed = 0;
+  for (int k = 0; k < 12 && followed < 6; ++k) {
+    const std::vector<double> x = startPoint(r, 1000 + k);
+    const double shrink = k < 6 ? 1.0 : 0.1;
+    const FourierSeries design = coding.decode(x.data(), shrink);
+    const std::shared_ptr<FloatingDataset> m = evaluator.motion(design, r.grid_rate);
+    if (!m) continue;
+    ++followed;
+    for (std::size_t s = 0; s < pooled.size(); ++s) {
+      const Eigen::MatrixXd block = evaluator.rows(s, *m);
+      pooled[s].conservativeResize(pooled[s].rows() + block.rows(), block.cols());
+      pooled[s].bottomRows(block.rows()) = block;
+    }
+  }
+  if (followed < 2)
+    throw InputError(
+        "`stance`: the legs cannot follow random sways of it (a contact out of reach): bend the "
+        "stance, or lower `max_sway` and `max_turn`");
+  for (std::size_t s = 0; s < pooled.size(); ++s)
+    evaluator.standing().push_back(computeBaseParameters(
+        pooled[s], evaluator.holding()[s].base.standard_names, r.structural.tolerance));
+}
+
+/// Every set's counts and condition number on a motion.
+std::vector<StandingSetScore> scoresOf(Evaluator& evaluator, const FloatingDataset& m) {
+  std::vector<StandingSetScore> out;
+  for (std::size_t s = 0; s < evaluator.holding().size(); ++s) {
+    const Eigen::MatrixXd W = evaluator.rows(s, m);
+    StandingSetScore score;
+    score.set = evaluator.holding()[s].set;
+    score.holding = evaluator.holding()[s].base.numBase();
+    score.standing = evaluator.standing()[s].numBase();
+    score.determined = measureExcitation(evaluator.holding()[s].base.baseRegressor(W)).rank;
+    const Eigen::MatrixXd W1 = evaluator.standing()[s].baseRegressor(W);
+    score.condition = measureExcitation(W1).rank == score.standing
+                          ? scaledConditionNumber(W1)
+                          : std::numeric_limits<double>::infinity();
+    out.push_back(score);
+  }
+  return out;
+}
+
+/// The best design checked at check_rate (shrunk by a tenth at a time while it breaks a bound
+/// between the optimiser's samples), scored with every set, beside `dynid simulate --stance`'s
+/// default sway over the same period.
+void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
+                          const Coding& coding, const std::vector<double>& x, StandingDesign& out) {
+  std::shared_ptr<FloatingDataset> m;
+  Margins margins;
+  for (int tries = 0; tries < 30; ++tries, out.shrink *= 0.9) {
+    out.base = coding.decode(x.data(), out.shrink);
+    m = evaluator.motion(out.base, r.check_rate);
+    if (m && (margins = evaluator.margins(out.base, *m)).feasible()) break;
+  }
+  if (!m || !margins.feasible())
+    throw Error("the best design breaks its bounds between the optimiser's samples even at " +
+                formatNumber(out.shrink, 2) + " of its size: raise `grid_rate`");
+  out.scores = scoresOf(evaluator, *m);
+  out.largest_sway = margins.largest_sway;
+  out.largest_turn = margins.largest_turn;
+  out.joint_clearance = margins.clearance;
+  out.cone_use = margins.cone_use;
+  StandingMotionRequest sway;
+  sway.contacts = r.contacts;
+  sway.stance = r.stance;
+  sway.period = r.period;
+  sway.rate = r.check_rate;
+  sway.samples = m->numSamples();
+  try {
+    out.baseline = scoresOf(evaluator, *standingMotion(evaluator.model(), sway));
+  } catch (const InputError& e) {
+    out.baseline_problem = e.what();
+  }
+}
+
+}  // namespace
+
+StandingDesign designStandingSway(const FloatingModel& model,
+                                  const StandingDesignRequest& request) {
+  request.check();
+  const auto started = std::chrono::steady_clock::now();
+  if (request.stance.size() != model.numJoints())
+    throw InputError("`stance` has " + std::to_string(request.stance.size()) +
+                     " joints, the model " + std::to_string(model.numJoints()));
+  const RunControl control = request.control.within(request.max_seconds, started);
+  const Coding coding(request);
+  Evaluator evaluator(model, request);
+  standingClass(evaluator, request, coding);
+  const auto chosen = static_cast<std::size_t>(
+      std::find(std::begin(kSensorSets), std::end(kSensorSets), request.set) -
+      std::begin(kSensorSets));
+  StandingDesign out;
+  Margins closest;  // of the points that broke a bound, the one that broke it least
+  std::vector<double> best;
+  double best_value = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < request.starts && !control.stopped(); ++k) {
+    std::vector<double> x = startPoint(request, k), start_best;
+    double start_value = std::numeric_limits<double>::quiet_NaN();
+    CobylaProblem problem;
+    problem.dimension = coding.size();
+    problem.inequalities = 5;
+    Margins last;
+    // COBYLA asks for the constraints right after the objective at the same point: the motion is
+    // made once, by the objective, and its margins kept for the constraints.
+    problem.objective = [&](const double* at) -> std::optional<double> {
+      if (control.check()) return std::nullopt;
+      ++out.evaluations;
+      const FourierSeries design = coding.decode(at);
+      const std::shared_ptr<FloatingDataset> m = evaluator.motion(design, request.grid_rate);
+      if (!m) {
+        last = Margins{};
+        return kUnranked;
+      }
+      last = evaluator.margins(design, *m);
+      if (!last.feasible() && last.worst() < closest.worst()) closest = last;
+      const double value = criterionOf(evaluator.standing()[chosen], evaluator.rows(chosen, *m));
+      if (last.feasible() && !(value >= start_value)) {
+        start_value = value;
+        start_best.assign(at, at + coding.size());
+      }
+      return value;
+    };
+    problem.inequality = [&](const double*, double* c) {
+      c[0] = last.sway, c[1] = last.turn, c[2] = last.joints, c[3] = last.speeds, c[4] = last.cones;
+    };
+    problem.initial_step = {0.1};
+    problem.max_evaluations = request.evaluations;
+    problem.xtol_rel = 1e-6;
+    runCobyla(problem, x);
+    out.start_objectives.push_back(start_value);
+    control.say("standing sway design: start " + std::to_string(k + 1) + " of " +
+                std::to_string(request.starts) + ": " +
+                (std::isnan(start_value)
+                     ? std::string("no sway within the bounds")
+                     : "condition number " + formatNumber(std::pow(10.0, start_value), 4)));
+    if (!std::isnan(start_value) && start_value < best_value) {
+      best_value = start_value;
+      best = start_best;
+      out.best_start = k;
+    }
+  }
+  out.termination = request.control.interrupted() ? "interrupted"
+                    : control.expired()           ? "seconds"
+                                                  : "evaluations";
+  if (best.empty() && !closest.followed())
+    throw Error(
+        "no start's sway could be followed (a contact out of the legs' reach at every point "
+        "tried): move the `stance`, or lower `max_sway` and `max_turn`");
+  if (best.empty())
+    throw Error("no start met the bounds: the nearest broke " + closest.broken() +
+                ": widen it, or move the `stance`");
+  finishStandingDesign(evaluator, request, coding, best, out);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return out;
+}
+
+}  // namespace dynid
