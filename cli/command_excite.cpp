@@ -7,6 +7,7 @@
 
 #include "analysis/excitation/excite.hpp"
 #include "analysis/floating/stand_tilts.hpp"
+#include "cli/command_floating.hpp"
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/spelling.hpp"
@@ -68,6 +69,7 @@ void addExciteOptions(po::options_description& options) {
       "out", po::value<std::string>()->required(),
       "output directory (excitation.json, excitation.csv, report.md, report.html)");
   addThreadsOption(options);
+  addFloatingExciteOptions(options);
 }
 
 /// --payload and --payload-link: a payload motion for that link (15 s, d-optimal by default).
@@ -172,8 +174,13 @@ int runExcite(const std::vector<std::string>& args) {
       "dynid excite --robot R [--drives] [--criterion cond|cond-unscaled|d-optimal|gc|relative-sd] "
       "[--period "
       "T] "
-      "[--harmonics H] [limits] [--stands K [--max-tilt R]] [--seed S] --out DIR";
+      "[--harmonics H] [limits] [--stands K [--max-tilt R]] [--seed S] --out DIR\n"
+      "       dynid excite --robot R.urdf --floating-base --contacts FEET --stance Q1,...,Qn "
+      "[--max-sway M] [--max-turn R] [--friction-cone MU] [--sensors SET] --out DIR";
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
+  if (vm["floating-base"].as<bool>()) return runFloatingExcite(vm);
+  refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "stance", "max-sway", "max-turn",
+                             "joint-margin", "friction-cone"});
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it
 

@@ -36,6 +36,11 @@ void refuseFloatingOptions(const po::variables_map& vm, std::initializer_list<co
 
 /// dynid identifiability --floating-base: what each sensor set determines.
 int runFloatingIdentifiability(const po::variables_map& vm);
+/// excite --floating-base's own options (--stance, --max-sway, ...; --floating-base, --contacts
+/// and --sensors among them).
+void addFloatingExciteOptions(po::options_description& options);
+/// dynid excite --floating-base: a standing robot's sway designed for identification.
+int runFloatingExcite(const po::variables_map& vm);
 /// dynid identify --floating-base: each set's estimate on a floating dataset.
 int runFloatingIdentify(const po::variables_map& vm);
 /// dynid prepare --floating-base: a recording into a floating dataset.

@@ -1,5 +1,6 @@
 // dynid simulate --floating-base (docs/FLOATING.md): random states, a design on a stand, a given
 // motion or a standing sway, with the joint torques and contact wrenches inverse dynamics needs.
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -89,6 +90,40 @@ std::shared_ptr<const FloatingDataset> standingOption(const po::variables_map& v
   return standingMotion(model, request);
 }
 
+/// --trajectory of a standing design (excite --floating-base --stance): its sway over the stance
+/// and feet it was made for (--contacts, when given, must be those), one period at --rate
+/// unless --samples says otherwise.
+std::shared_ptr<const FloatingDataset> standingDesignOption(const po::variables_map& vm,
+                                                            const FloatingModel& model,
+                                                            const StandingDesignRecord& design,
+                                                            std::vector<Contact>& contacts) {
+  if (vm.count("stance") || vm.count("motion-from"))
+    throw UsageError("--trajectory is a standing design: not with --stance or --motion-from");
+  const std::vector<Contact> feet = contactsOf(model, design.contacts);
+  if (!vm.count("contacts")) {
+    contacts = feet;
+  } else if (nameListOption(vm, "contacts") != design.contacts) {
+    std::string names;
+    for (const std::string& c : design.contacts) names += (names.empty() ? "" : ",") + c;
+    throw UsageError("--contacts: " + vm["trajectory"].as<std::string>() +
+                     " is a standing design for the feet " + names + " (leave --contacts out)");
+  }
+  StandingMotionRequest request;
+  request.contacts = feet;
+  request.stance = design.stance;
+  request.base_design = design.base;
+  if (given(vm, "rate")) request.rate = vm["rate"].as<double>();
+  request.samples = vm.count("samples")
+                        ? vm["samples"].as<int>()
+                        : static_cast<int>(std::lround(design.base.period * request.rate));
+  try {
+    request.check();
+  } catch (const InputError& e) {
+    throw UsageError(cliText(e.what()));
+  }
+  return standingMotion(model, request);
+}
+
 /// simulate --floating-base's options as the library's (UsageError for --samples beside
 /// --motion-from and a --sole that is neither a size nor corners).
 FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
@@ -102,8 +137,14 @@ FloatingSimulationOptions simulationOptions(const po::variables_map& vm,
   if (vm.count("trajectory")) {
     ExcitationDesignFile file =
         readExcitationDesignFile(vm["trajectory"].as<std::string>(), model.numJoints());
-    options.trajectory = std::move(file.design);
-    design_tilts = std::move(file.stand_tilts);
+    if (file.standing) {
+      options.motion_from = standingDesignOption(vm, model, *file.standing, options.contacts);
+    } else {
+      if (given(vm, "rate"))
+        throw UsageError("--rate applies to --stance or a standing design's --trajectory");
+      options.trajectory = std::move(file.design);
+      design_tilts = std::move(file.stand_tilts);
+    }
   }
   if (vm.count("motion-from")) {
     if (vm.count("samples"))
@@ -136,8 +177,9 @@ int runFloatingSimulate(const po::variables_map& vm) {
                  "noise-moment", "threads", "trajectory", "friction-cone", "sole", "stand-tilts",
                  "motion-from", "stance", "sway", "turn", "sway-period", "rate"},
                 "simulate");
-  refuseUnused(vm, vm.count("stance") > 0, {"sway", "turn", "sway-period", "rate"},
-               "applies to --stance");
+  refuseUnused(vm, vm.count("stance") > 0, {"sway", "turn", "sway-period"}, "applies to --stance");
+  if (given(vm, "rate") && !vm.count("stance") && !vm.count("trajectory"))
+    throw UsageError("--rate applies to --stance or a standing design's --trajectory");
   const FloatingModel model = loadFloating(vm);
   const FloatingSimulationOptions options = simulationOptions(vm, model);
   const std::string out = vm["out"].as<std::string>();
@@ -152,7 +194,9 @@ int runFloatingSimulate(const po::variables_map& vm) {
   writeFloatingDataset(out, dataset);
   const std::string motion_file = vm.count("motion-from") ? vm["motion-from"].as<std::string>()
                                   : vm.count("stance")    ? "a standing sway over the stance"
-                                                          : "";
+                                  : options.motion_from
+                                      ? "the standing sway of " + vm["trajectory"].as<std::string>()
+                                      : "";
   std::ostream& console = out == "-" ? std::cerr : std::cout;
   console << floatingSimulationSummary(model, options, dataset, drawn, motion_file, out);
   if (!vm.count("stand-tilts") && !options.stand_tilts.empty())

@@ -16,8 +16,9 @@ namespace {
 
 /// The fields whose flag is not their own name: a table's column selectors (LogSource), a floating
 /// recording's joint topic and stamps (FloatingLogTopics, FloatingPrepareOptions), the GC error's
-/// segment count (GcSegmentOptions, FloatingGcOptions).
-constexpr std::array<std::pair<std::string_view, std::string_view>, 8> kFlagOf = {{
+/// segment count (GcSegmentOptions, FloatingGcOptions), a standing design's sway (the design file
+/// simulate reads, StandingMotionRequest).
+constexpr std::array<std::pair<std::string_view, std::string_view>, 9> kFlagOf = {{
     {"joint_topic", "--topic"},
     {"receive_time", "--stamp"},
     {"time_column", "--time"},
@@ -26,6 +27,7 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 8> kFlagOf =
     {"ddq_columns", "--ddq"},
     {"tau_columns", "--tau"},
     {"num_segments", "--segments"},
+    {"base_design", "--trajectory"},
 }};
 
 /// Whether `flag` ("--cutoff") is an option of some command: a name in backquotes that is none

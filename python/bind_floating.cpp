@@ -2,6 +2,7 @@
 // (analysis/floating/identifiability.hpp, `dynid identifiability --floating-base`), simulated
 // floating datasets (simulate.hpp), datasets prepared from recordings (prepare.hpp) and the
 // estimate on them (identify.hpp), documents as dicts.
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -25,6 +26,13 @@
 #include "reports/floating_report.hpp"
 
 namespace dynid::python {
+
+FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms) {
+  RobotOptions options;
+  if (!drive_terms.is_none()) options.drive_terms = driveTermsArg(drive_terms, "drive_terms");
+  return loadFloatingRobot(pathArg(robot, "robot"), options);
+}
+
 namespace {
 
 py::object floatingIdentifiability(const PathLike& robot,
@@ -50,12 +58,6 @@ py::object floatingIdentifiability(const PathLike& robot,
     outcome = floatingIdentifiabilityRun(model, request);
   }
   return parsedJson(floatingIdentifiabilityJson(model, outcome));
-}
-
-FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms) {
-  RobotOptions options;
-  if (!drive_terms.is_none()) options.drive_terms = driveTermsArg(drive_terms, "drive_terms");
-  return loadFloatingRobot(pathArg(robot, "robot"), options);
 }
 
 py::object floatingIdentify(const PathLike& robot, const PathLike& data,
@@ -173,6 +175,25 @@ std::vector<Eigen::Vector2d> soleOf(const py::object& sole) {
   return corners;
 }
 
+/// A standing design's sway (excite_standing) over its stance and feet (`contacts`, when given,
+/// must be those; `feet` set to them), one period at `rate` unless `samples` says otherwise.
+std::shared_ptr<const FloatingDataset> standingDesignMotion(
+    const FloatingModel& model, const StandingDesignRecord& design,
+    const std::optional<std::vector<std::string>>& contacts, double rate,
+    const std::optional<int>& samples, std::vector<Contact>& feet) {
+  if (contacts && *contacts != design.contacts)
+    throw py::value_error(
+        "contacts: the trajectory is a standing design for other feet (leave "
+        "contacts out)");
+  StandingMotionRequest request;
+  request.contacts = feet = contactsOf(model, design.contacts);
+  request.stance = design.stance;
+  request.base_design = design.base;
+  request.rate = rate;
+  request.samples = samples.value_or(static_cast<int>(std::lround(design.base.period * rate)));
+  return standingMotion(model, request);
+}
+
 std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
                                const std::optional<std::vector<std::string>>& contacts,
                                const std::optional<std::string>& motion,
@@ -187,10 +208,18 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
   const FloatingModel model = floatingRobot(robot, drive_terms);
   FloatingSimulationOptions options;
   options.contacts = contactsOf(model, contacts.value_or(std::vector<std::string>{}));
+  std::optional<ExcitationDesignFile> file;
+  if (!trajectory.is_none())
+    file = readExcitationDesignFile(pathArg(trajectory, "trajectory"), model.numJoints());
+  const bool standing_design = file && file->standing;
   const StandingMotionRequest standing_defaults;
   if (!stance && (sway != standing_defaults.sway || turn != standing_defaults.turn ||
-                  sway_period != standing_defaults.period || rate != standing_defaults.rate))
-    throw py::value_error("sway, turn, sway_period and rate apply with stance");
+                  sway_period != standing_defaults.period))
+    throw py::value_error("sway, turn and sway_period apply with stance");
+  if (!stance && !standing_design && rate != standing_defaults.rate)
+    throw py::value_error("rate applies with stance or a standing design's trajectory");
+  if (standing_design && (stance || !motion_from.is_none()))
+    throw py::value_error("trajectory is a standing design: not with stance or motion_from");
   if (stance) {  // simulate --stance: the standing sway dynid generates, as the motion
     if (!trajectory.is_none() || !motion_from.is_none())
       throw py::value_error("stance generates the motion: not with trajectory or motion_from");
@@ -206,11 +235,12 @@ std::string simulateFloatingTo(const PathLike& robot, const PathLike& out,
     request.seed = seed;
     options.motion_from = standingMotion(model, request);
   }
-  if (!trajectory.is_none()) {
-    ExcitationDesignFile file =
-        readExcitationDesignFile(pathArg(trajectory, "trajectory"), model.numJoints());
-    options.trajectory = std::move(file.design);
-    if (!tilts) options.stand_tilts = std::move(file.stand_tilts);  // the design's, if it chose
+  if (standing_design) {
+    options.motion_from =
+        standingDesignMotion(model, *file->standing, contacts, rate, samples, options.contacts);
+  } else if (file) {
+    options.trajectory = std::move(file->design);
+    if (!tilts) options.stand_tilts = std::move(file->stand_tilts);  // the design's, if it chose
   }
   if (!motion_from.is_none()) {
     if (samples)
@@ -310,7 +340,9 @@ void bindSimulateFloating(py::module_& m) {
         "random states, the contacts holding where its flags say; with stance (the joints at "
         "rest [rad], contacts given), a standing sway dynid generates (simulate --stance: the "
         "base sways by `sway` [m] and turns by `turn` [rad] over `sway_period` [s] above "
-        "contacts that stay still, the legs following; `samples` at `rate` [Hz]). Returns the "
+        "contacts that stay still, the legs following; `samples` at `rate` [Hz]); with a "
+        "trajectory that is a standing design (excite_standing's standing_excitation.json), its "
+        "sway over its stance and feet, one period at `rate` unless `samples` says. Returns the "
         "path.");
 }
 }  // namespace

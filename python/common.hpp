@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "analysis/estimation/training_rows.hpp"
+#include "core/floating/floating_model.hpp"
 #include "core/model.hpp"
 #include "core/trajectory.hpp"
 
@@ -124,6 +125,9 @@ using ProgressLike = Typed<ProgressTag>;          // search's callback: dict -> 
 using FleetRobotsLike = Typed<FleetRobotsTag>;    // fleet's robots: {name: Summary or logs}
 using ClientLike = Typed<ClientTag>;              // a Dask distributed.Client, or None
 
+/// A floating-base robot (a URDF path) with the drive terms asked for (bind_floating.cpp).
+FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms);
+
 /// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every
 /// message a binding reports (exceptions, warnings): the keyword argument's own name.
 std::string pythonText(std::string_view text);
@@ -144,6 +148,7 @@ void bindPayload(py::module_& m);        // bind_payload.cpp
 void bindMonitor(py::module_& m);        // bind_monitor.cpp
 void bindStudies(py::module_& m);        // bind_studies.cpp
 void bindFloating(py::module_& m);       // bind_floating.cpp
+void bindStanding(py::module_& m);       // bind_standing.cpp
 void bindFleet(py::module_& m);          // bind_fleet.cpp
 
 }  // namespace dynid::python

@@ -73,6 +73,7 @@ PYBIND11_MODULE(dynid, m) {
   dynid::python::bindMonitor(m);
   dynid::python::bindStudies(m);
   dynid::python::bindFloating(m);
+  dynid::python::bindStanding(m);
   dynid::python::bindFleet(m);
   dynid::python::bindRunsSearch(m);
   dynid::python::bindExcitation(m);

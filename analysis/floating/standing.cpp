@@ -186,7 +186,7 @@ std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
     out->flags.push_back({c.name, std::vector<char>(static_cast<std::size_t>(N), 1)});
   const Sway sway(request);
   const std::string lower =
-      request.base_design ? "a smaller `base_design`" : "lower `sway` or `turn`";
+      request.base_design ? "a smaller sway (`base_design`)" : "lower `sway` or `turn`";
   Eigen::VectorXd q = request.stance;
   for (int k = 0; k < N; ++k) {
     const double t = k / request.rate;

@@ -403,7 +403,7 @@ StandingDesign designStandingSway(const FloatingModel& model,
         "tried): move the `stance`, or lower `max_sway` and `max_turn`");
   if (best.empty())
     throw Error("no start met the bounds: the nearest broke " + closest.broken() +
-                ": widen it, or move the `stance`");
+                ": relax it, or move the `stance`");
   finishStandingDesign(evaluator, request, coding, best, out);
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return out;

@@ -56,6 +56,10 @@ inline constexpr DocumentType kPrepareDocument{"dynid.prepare", 3};
 // 3: model is the robot designed for (a dynid JSON model; it was its name) and model_source.
 // 4: provenance. 5: stand (the stand orientations `--stands` chose; null without).
 inline constexpr DocumentType kExcitationDocument{"dynid.excitation", 5};
+// standing_excitation.json (excite --floating-base --stance): a standing robot's designed sway,
+// the stance and contacts it is for, what every sensor set determines on it and on the default
+// sway.
+inline constexpr DocumentType kStandingExcitationDocument{"dynid.standing_excitation", 1};
 // 2: per-joint errors named as in estimate.json (residual_rms, joint_relative_error).
 // 3: rest_velocity and at_rest (the prediction at rest: static friction's band). 4: torque_filter
 // (the filter the comparison reproduced, or null) and torque_filter_source; compared_rows (the

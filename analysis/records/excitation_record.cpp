@@ -11,6 +11,45 @@
 
 namespace dynid {
 
+namespace {
+
+/// A `design` object's Fourier series (period, harmonics, offset, a, b, form and `extra` keys) of
+/// `rows` rows (0: as many as its offset has), each row a `row` ("joint") in `unit` ("rad/s").
+FourierSeries fourierSeriesFrom(const JsonReader& read, const nlohmann::json& design, int rows,
+                                std::vector<std::string> extra, const std::string& row,
+                                const std::string& unit) {
+  extra.insert(extra.end(), {"period", "harmonics", "offset", "a", "b", "form"});
+  read.onlyKeysIn(design, "design", extra);
+  FourierSeries d;
+  d.period = read.number(design, "design", "period", 1e-6, 1e4);
+  const int h = static_cast<int>(read.integer(design, "design", "harmonics", 1, 1000));
+  d.offset =
+      read.vector(read.field(design, "design", "offset"), "design.offset", rows > 0 ? rows : -1);
+  rows = static_cast<int>(d.offset.size());
+  for (double x : d.offset)
+    if (std::abs(x) > kMaxModelLength) read.fail("design.offset", "an offset beyond +-1e6");
+  d.a.resize(rows, h);
+  d.b.resize(rows, h);
+  for (const char* key : {"a", "b"}) {
+    const std::string path = std::string("design.") + key;
+    const nlohmann::json& table = read.array(read.field(design, "design", key), path);
+    if (static_cast<int>(table.size()) != rows)
+      read.fail(path, "expected " + std::to_string(rows) + " rows (one per " + row + "), not " +
+                          std::to_string(table.size()));
+    Eigen::MatrixXd& m = key[0] == 'a' ? d.a : d.b;
+    for (int j = 0; j < rows; ++j) {
+      const std::string row_path = path + "[" + std::to_string(j) + "]";
+      const Eigen::VectorXd row = read.vector(table[j], row_path, h);
+      for (double x : row)
+        if (std::abs(x) > 1e6) read.fail(row_path, "a coefficient beyond +-1e6 " + unit);
+      m.row(j) = row.transpose();
+    }
+  }
+  return d;
+}
+
+}  // namespace
+
 FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::string& file,
                                    int num_joints) {
   const JsonReader read(file);
@@ -45,34 +84,8 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
   if (version >= 3 && document.contains("model")) read.object(document["model"], "model");
   if (document.contains("model_source"))
     modelSourceFrom(document["model_source"], file, "model_source");
-  const nlohmann::json& design = read.field(document, "", "design");
-  read.onlyKeys(design, "design", {"period", "harmonics", "offset", "a", "b", "form"});
-  FourierSeries d;
-  d.period = read.number(design, "design", "period", 1e-6, 1e4);
-  const int h = static_cast<int>(read.integer(design, "design", "harmonics", 1, 1000));
-  d.offset = read.vector(read.field(design, "design", "offset"), "design.offset",
-                         num_joints > 0 ? num_joints : -1);
-  num_joints = static_cast<int>(d.offset.size());
-  for (double x : d.offset)
-    if (std::abs(x) > kMaxModelLength) read.fail("design.offset", "an offset beyond +-1e6");
-  d.a.resize(num_joints, h);
-  d.b.resize(num_joints, h);
-  for (const char* key : {"a", "b"}) {
-    const std::string path = std::string("design.") + key;
-    const nlohmann::json& rows = read.array(read.field(design, "design", key), path);
-    if (static_cast<int>(rows.size()) != num_joints)
-      read.fail(path, "expected " + std::to_string(num_joints) + " rows (one per joint), not " +
-                          std::to_string(rows.size()));
-    Eigen::MatrixXd& m = key[0] == 'a' ? d.a : d.b;
-    for (int j = 0; j < num_joints; ++j) {
-      const std::string row_path = path + "[" + std::to_string(j) + "]";
-      const Eigen::VectorXd row = read.vector(rows[j], row_path, h);
-      for (double x : row)
-        if (std::abs(x) > 1e6) read.fail(row_path, "a coefficient beyond +-1e6 rad/s");
-      m.row(j) = row.transpose();
-    }
-  }
-  return d;
+  return fourierSeriesFrom(read, read.field(document, "", "design"), num_joints, {}, "joint",
+                           "rad/s");
 }
 
 FourierSeries readExcitationDesign(const std::string& path, int num_joints) {
@@ -101,9 +114,34 @@ std::vector<Eigen::Vector2d> excitationStandTiltsFrom(const nlohmann::json& docu
   return out;
 }
 
+StandingDesignRecord standingDesignFrom(const nlohmann::json& document, const std::string& file,
+                                        int num_joints) {
+  const JsonReader read(file);
+  read.header(document, documentVersion(document, kStandingExcitationDocument.schema_version),
+              kStandingExcitationDocument.kind);
+  read.onlyKeys(document, "",
+                {"schema_version", "kind", "robot", "model_source", "contacts", "stance", "set",
+                 "design", "limits", "designed", "sets", "criterion", "default_sway_problem",
+                 "optimiser", "provenance"});
+  StandingDesignRecord out;
+  out.contacts = read.strings(read.field(document, "", "contacts"), "contacts");
+  if (out.contacts.empty()) read.fail("contacts", "a standing robot holds on at least one");
+  out.stance =
+      read.vector(read.field(document, "", "stance"), "stance", num_joints > 0 ? num_joints : -1);
+  for (double x : out.stance)
+    if (std::abs(x) > 1e3) read.fail("stance", "a joint beyond +-1000");
+  out.base = fourierSeriesFrom(read, read.field(document, "", "design"), 6, {"coordinates"},
+                               "coordinate", "m/s or rad/s");
+  return out;
+}
+
 ExcitationDesignFile readExcitationDesignFile(const std::string& path, int num_joints) {
   const nlohmann::json document = parseJsonDocument(readFile(path), path);
   ExcitationDesignFile out;
+  if (isDocumentOfKind(document, kStandingExcitationDocument)) {
+    out.standing = standingDesignFrom(document, path, num_joints);
+    return out;
+  }
   out.design = excitationDesignFrom(document, path, num_joints);
   out.stand_tilts = excitationStandTiltsFrom(document, path);
   return out;

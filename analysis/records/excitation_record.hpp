@@ -2,6 +2,7 @@
 // simulation tracks or a study's training motion follows.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,10 +28,25 @@ FourierSeries readExcitationDesign(const std::string& path, int num_joints);
 std::vector<Eigen::Vector2d> excitationStandTiltsFrom(const nlohmann::json& document,
                                                       const std::string& file);
 
-/// A design and its stand orientations from one reading of the file at `path`.
+/// A standing robot's designed sway (standing_excitation.json, `dynid excite --floating-base
+/// --stance`): the contacts as given (NAME, NAME:frame), the joints at rest and the base's six
+/// coordinates (analysis/floating/standing.hpp's StandingMotionRequest::base_design).
+struct StandingDesignRecord {
+  std::vector<std::string> contacts;
+  Eigen::VectorXd stance;
+  FourierSeries base;
+};
+/// Read strictly for a robot of `num_joints` joints (0: as many as the stance has). Throws
+/// ParseError naming `file` and the field.
+StandingDesignRecord standingDesignFrom(const nlohmann::json& document, const std::string& file,
+                                        int num_joints);
+
+/// A design and its stand orientations from one reading of the file at `path`, or, for a
+/// standing_excitation.json, its standing design (`design` then empty).
 struct ExcitationDesignFile {
   FourierSeries design;
   std::vector<Eigen::Vector2d> stand_tilts;
+  std::optional<StandingDesignRecord> standing;
 };
 ExcitationDesignFile readExcitationDesignFile(const std::string& path, int num_joints);
 

@@ -354,3 +354,28 @@ def test_floating_gc_error_rolls_a_suspended_motion_out(tmp_path):
     assert 0 < gc["error"] < 5e-3
     with pytest.raises(ValueError, match="'LF_FOOT'"):  # no wrench is measured at a foot here
         dynid.floating_gc_error(ANYMAL, data, contacts=["LF_FOOT"])
+
+
+def test_excite_standing_equals_the_clis_design_and_simulate_follows_it(tmp_path):
+    stance = [0, 0.5, -1, 0, 0.5, -1, 0, -0.5, 1, 0, -0.5, 1]
+    doc = dynid.excite_standing(ANYMAL, FEET, stance, out=tmp_path / "s.json", friction_cone=0.6,
+                                starts=1, evaluations=40)
+    run_cli("excite", "--robot", ANYMAL, "--floating-base", "--contacts", ",".join(FEET),
+            "--stance", ",".join(str(x) for x in stance), "--friction-cone", "0.6", "--starts",
+            "1", "--evaluations", "40", "--out", tmp_path / "cli")
+    cli = read_json(tmp_path / "cli" / "standing_excitation.json")
+    assert doc["kind"] == "dynid.standing_excitation"
+    for key in ("design", "sets", "stance", "contacts", "limits", "designed"):
+        assert doc[key] == cli[key], key  # the same seed: the same sway, whatever the front end
+    assert read_json(tmp_path / "s.json")["design"] == doc["design"]
+    assert [s["design"]["determined"] for s in doc["sets"]] == [93, 94, 90]
+    path = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=tmp_path / "s.json",
+                                   friction_cone=0.6, rate=100)
+    assert dynid.floating_identify(ANYMAL, path, method="ols")["data"]["samples"] == 400
+    with pytest.raises(ValueError, match="standing design for other feet"):
+        dynid.simulate_floating(ANYMAL, tmp_path / "x.csv", trajectory=tmp_path / "s.json",
+                                contacts=FEET[:2])
+    with pytest.raises(ValueError, match="max_sway"):
+        dynid.excite_standing(ANYMAL, FEET, stance, max_sway=0.0)
+    with pytest.raises(ValueError, match="sensors"):
+        dynid.excite_standing(ANYMAL, FEET, stance, sensors="imu")
