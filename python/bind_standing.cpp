@@ -24,7 +24,7 @@ py::dict exciteStanding(const PathLike& robot, const std::vector<std::string>& c
                         double max_sway, double max_turn, double joint_margin, double friction_cone,
                         int starts, int evaluations, double grid_rate, double check_rate,
                         const std::optional<double>& budget_seconds, std::uint64_t seed,
-                        const TermsLike& drive_terms, const py::object& progress) {
+                        const TermsLike& drive_terms, const ProgressLike& progress) {
   const FloatingModel model = floatingRobot(robot, drive_terms);
   StandingDesignRequest request;
   request.contacts = contactsOf(model, contacts);

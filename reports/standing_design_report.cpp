@@ -176,8 +176,11 @@ std::string standingDesignSummary(const StandingDesignRequest& request,
   std::ostringstream out;
   out << "dynid excite --floating-base: a standing sway over "
       << formatNumber(design.base.period, 4) << " s for " << sensorSetName(request.set) << " ("
-      << design.evaluations << " evaluations, " << formatNumber(design.seconds, 3) << " s, "
-      << design.termination << ")\n";
+      << design.evaluations << " evaluations in " << formatNumber(design.seconds, 3) << " s"
+      << (design.termination == "seconds"       ? ", stopped by the time budget"
+          : design.termination == "interrupted" ? ", interrupted: the best sway so far"
+                                                : "")
+      << ")\n";
   for (std::size_t s = 0; s < design.scores.size(); ++s) {
     const StandingSetScore& d = design.scores[s];
     out << "  " << sensorSetName(d.set) << ": " << swayScoreText(d)

@@ -1,11 +1,13 @@
 // libFuzzer target: an excitation.json of dynid excite as simulate --trajectory and batch read it
-// (analysis/records/excitation_record.hpp, excitationDesignFrom, excitationStandTiltsFrom). An
-// accepted design must give a finite motion, and accepted stand orientations be finite, within a
-// right angle, at most 16.
+// (analysis/records/excitation_record.hpp, excitationDesignFrom, excitationStandTiltsFrom), and a
+// standing_excitation.json (standingDesignFrom). An accepted design must give a finite motion,
+// accepted stand orientations be finite, within a right angle, at most 16, and an accepted
+// standing design have six coordinates, a finite stance and contacts.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
 
+#include "analysis/records/document.hpp"
 #include "analysis/records/excitation_record.hpp"
 #include "core/controllers.hpp"
 #include "core/errors.hpp"
@@ -16,6 +18,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const nlohmann::json doc =
         dynid::parseJsonDocument(dynid::fuzz::text(data, size), "excitation.json");
+    if (dynid::isDocumentOfKind(doc, dynid::kStandingExcitationDocument)) {
+      const dynid::StandingDesignRecord s = dynid::standingDesignFrom(doc, "s.json", 0);
+      if (s.base.offset.size() != 6 || !s.stance.allFinite() || s.contacts.empty())
+        __builtin_trap();
+      Eigen::VectorXd c, dc, ddc;
+      dynid::evaluateReference(s.base, s.base.period / 3.0, c, dc, ddc);
+      if (!c.allFinite() || !dc.allFinite() || !ddc.allFinite()) __builtin_trap();
+      return 0;
+    }
     // The joint count the robot would have: the offsets' (as batch checks a manifest's designs).
     int joints = 6;
     if (doc.is_object() && doc.contains("design") && doc["design"].is_object() &&
