@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
 #include <boost/program_options.hpp>
 
 #include "core/floating/floating_model.hpp"
@@ -31,6 +32,9 @@ void readSetsAndMotion(const po::variables_map& vm, std::vector<SensorSet>& sens
                        std::optional<FloatingMotion>& motion);
 
 void addFloatingOptions(po::options_description& options, const std::string& does);
+/// --sole: LENGTH,WIDTH (a rectangle centred at the frame) or X1,Y1,X2,Y2,X3,Y3[,...] (corners);
+/// UsageError for anything else.
+std::vector<Eigen::Vector2d> soleOption(const po::variables_map& vm);
 /// UsageError "--X needs --floating-base" for each of `options` given without it.
 void refuseFloatingOptions(const po::variables_map& vm, std::initializer_list<const char*> options);
 

@@ -36,7 +36,10 @@ void addFloatingExciteOptions(po::options_description& options) {
       "with --stance: how far the joints stay inside their limits [rad]")(
       "friction-cone", po::value<double>()->default_value(d.friction_cone),
       "with --stance: the feet's friction coefficient, their forces kept within its cones "
-      "(0: none)");
+      "(0: none)")(
+      "sole", po::value<std::string>(),
+      "with --stance: a flat sole under every frame contact, LENGTH,WIDTH [m] or its corners "
+      "X1,Y1,X2,Y2,X3,Y3[,...] [m] (as simulate's): each centre of pressure kept in it");
 }
 
 namespace {
@@ -80,6 +83,7 @@ StandingDesignRequest standingRequest(const po::variables_map& vm, const Floatin
   r.max_turn = vm["max-turn"].as<double>();
   r.joint_margin = vm["joint-margin"].as<double>();
   r.friction_cone = vm["friction-cone"].as<double>();
+  if (vm.count("sole")) r.sole = soleOption(vm);
   r.structural = structuralOptions(vm);
   r.seed = vm["seed"].as<std::uint64_t>();
   try {
@@ -95,8 +99,8 @@ StandingDesignRequest standingRequest(const po::variables_map& vm, const Floatin
 int runFloatingExcite(const po::variables_map& vm) {
   refuseOutside(vm,
                 {"out", "contacts", "sensors", "stance", "max-sway", "max-turn", "joint-margin",
-                 "friction-cone", "period", "harmonics", "starts", "evaluations", "budget-seconds",
-                 "grid-rate", "check-rate", "samples", "seed", "tolerance"},
+                 "friction-cone", "sole", "period", "harmonics", "starts", "evaluations",
+                 "budget-seconds", "grid-rate", "check-rate", "samples", "seed", "tolerance"},
                 "excite");
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it

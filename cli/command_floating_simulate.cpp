@@ -18,26 +18,6 @@
 namespace dynid::cli {
 
 namespace {
-/// --sole: LENGTH,WIDTH (a rectangle centred at the frame) or X1,Y1,X2,Y2,X3,Y3[,...] (corners).
-std::vector<Eigen::Vector2d> soleOption(const po::variables_map& vm) {
-  const std::vector<double> v = parseList(vm["sole"].as<std::string>(), "sole");
-  if (v.size() == 2) {
-    try {
-      return rectangularSole(v[0], v[1]);
-    } catch (const InputError& e) {
-      throw UsageError(cliText(e.what()));
-    }
-  }
-  if (v.size() < 6 || v.size() % 2 != 0)
-    throw UsageError(
-        "--sole takes LENGTH,WIDTH [m] (a rectangle centred at the frame) or the corners "
-        "X1,Y1,X2,Y2,X3,Y3[,...] [m] in the frame's x-y plane, not " +
-        std::to_string(v.size()) + " numbers");
-  std::vector<Eigen::Vector2d> corners;
-  for (std::size_t k = 0; k < v.size(); k += 2) corners.emplace_back(v[k], v[k + 1]);
-  return corners;
-}
-
 /// --stand-tilts: R1,P1[,R2,P2,...] [rad], pairs of roll and pitch.
 std::vector<Eigen::Vector2d> standTiltsOption(const po::variables_map& vm) {
   const std::vector<double> v = parseList(vm["stand-tilts"].as<std::string>(), "stand-tilts");

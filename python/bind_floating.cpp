@@ -33,6 +33,32 @@ FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms)
   return loadFloatingRobot(pathArg(robot, "robot"), options);
 }
 
+/// sole=(length, width) [m], a rectangle centred at the frame, or [(x, y), ...] [m], its corners.
+std::vector<Eigen::Vector2d> soleOf(const py::object& sole) {
+  const InputError bad("`sole` is (length, width) [m] or a sequence of corners (x, y) [m]");
+  const auto number = [&](py::handle h) {
+    try {
+      return h.cast<double>();
+    } catch (const py::cast_error&) {
+      throw bad;
+    }
+  };
+  const auto sequence = [](py::handle h) {
+    return py::isinstance<py::sequence>(h) && !py::isinstance<py::str>(h);
+  };
+  if (!sequence(sole)) throw bad;
+  const py::sequence items = sole.cast<py::sequence>();
+  if (items.size() == 2 && !sequence(items[0]) && !sequence(items[1]))
+    return rectangularSole(number(items[0]), number(items[1]));
+  std::vector<Eigen::Vector2d> corners;
+  for (py::handle item : items) {
+    if (!sequence(item) || py::len(item) != 2) throw bad;
+    const py::sequence xy = py::reinterpret_borrow<py::sequence>(item);
+    corners.emplace_back(number(xy[0]), number(xy[1]));
+  }
+  return corners;
+}
+
 namespace {
 
 py::object floatingIdentifiability(const PathLike& robot,
@@ -147,32 +173,6 @@ py::dict floatingGcErrorOf(const PathLike& robot, const PathLike& data,
   out["samples_per_segment"] = result.samples_per_segment;
   out["horizon"] = result.horizon;
   return out;
-}
-
-/// sole=(length, width) [m], a rectangle centred at the frame, or [(x, y), ...] [m], its corners.
-std::vector<Eigen::Vector2d> soleOf(const py::object& sole) {
-  const InputError bad("`sole` is (length, width) [m] or a sequence of corners (x, y) [m]");
-  const auto number = [&](py::handle h) {
-    try {
-      return h.cast<double>();
-    } catch (const py::cast_error&) {
-      throw bad;
-    }
-  };
-  const auto sequence = [](py::handle h) {
-    return py::isinstance<py::sequence>(h) && !py::isinstance<py::str>(h);
-  };
-  if (!sequence(sole)) throw bad;
-  const py::sequence items = sole.cast<py::sequence>();
-  if (items.size() == 2 && !sequence(items[0]) && !sequence(items[1]))
-    return rectangularSole(number(items[0]), number(items[1]));
-  std::vector<Eigen::Vector2d> corners;
-  for (py::handle item : items) {
-    if (!sequence(item) || py::len(item) != 2) throw bad;
-    const py::sequence xy = py::reinterpret_borrow<py::sequence>(item);
-    corners.emplace_back(number(xy[0]), number(xy[1]));
-  }
-  return corners;
 }
 
 /// A standing design's sway (excite_standing) over its stance and feet (`contacts`, when given,

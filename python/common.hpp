@@ -127,6 +127,9 @@ using ClientLike = Typed<ClientTag>;              // a Dask distributed.Client, 
 
 /// A floating-base robot (a URDF path) with the drive terms asked for (bind_floating.cpp).
 FloatingModel floatingRobot(const PathLike& robot, const TermsLike& drive_terms);
+/// sole=(length, width) [m], a rectangle centred at the frame, or [(x, y), ...] [m], its corners
+/// (bind_floating.cpp).
+std::vector<Eigen::Vector2d> soleOf(const py::object& sole);
 
 /// The Python spelling of the request fields library messages name (`cutoff`: cutoff), for every
 /// message a binding reports (exceptions, warnings): the keyword argument's own name.

@@ -21,7 +21,8 @@ const char* kSwayForm =
 
 const char* kSwayCriterion =
     "the unit-column condition number of the set's base regressor over the sway, in the "
-    "standing class's base parameters (what random sways of this stance determine together)";
+    "standing class (the base parameters that random sways of this stance, and the design, "
+    "excite together, by identify's rank rule)";
 
 nlohmann::json coefficientRows(const Eigen::MatrixXd& m) {
   nlohmann::json out = nlohmann::json::array();
@@ -61,6 +62,9 @@ std::string swayBoundsText(const StandingDesignRequest& r, const StandingDesign&
            " % of cones of mu " + formatNumber(r.friction_cone, 3);
   else
     out += ", no friction cone imposed";
+  if (!r.sole.empty())
+    out += ", every centre of pressure at least " + formatNumber(d.sole_clearance, 3) +
+           " m inside its sole";
   return out;
 }
 
@@ -84,14 +88,18 @@ nlohmann::json standingDesignJson(const StandingDesignRequest& request,
       {"a", coefficientRows(design.base.a)},
       {"b", coefficientRows(design.base.b)},
       {"form", kSwayForm}};
+  nlohmann::json sole = nlohmann::json::array();
+  for (const Eigen::Vector2d& corner : request.sole) sole.push_back({corner.x(), corner.y()});
   out["limits"] = {{"max_sway", request.max_sway},
                    {"max_turn", request.max_turn},
                    {"joint_margin", request.joint_margin},
-                   {"friction_cone", request.friction_cone}};
+                   {"friction_cone", request.friction_cone},
+                   {"sole", sole}};
   out["designed"] = {{"largest_sway", design.largest_sway},
                      {"largest_turn", design.largest_turn},
                      {"joint_clearance", design.joint_clearance},
                      {"cone_use", design.cone_use},
+                     {"sole_clearance", numberOrNull(design.sole_clearance)},
                      {"shrink", design.shrink}};
   nlohmann::json sets = nlohmann::json::array();
   for (std::size_t s = 0; s < design.scores.size(); ++s) {

@@ -19,6 +19,10 @@
 
 namespace dynid {
 
+namespace {
+std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> p);
+}  // namespace
+
 void StandingDesignRequest::check() const {
   const auto need = [](bool ok, const std::string& what) {
     if (!ok) throw InputError(what);
@@ -36,6 +40,16 @@ void StandingDesignRequest::check() const {
        "`joint_margin` is 0 to 1 rad, not " + formatNumber(joint_margin));
   need(friction_cone >= 0.0 && friction_cone <= 10.0,
        "`friction_cone` is 0 (none) to 10, not " + formatNumber(friction_cone));
+  need(sole.empty() || (sole.size() >= 3 && sole.size() <= 32),
+       "`sole` has 3 to 32 corners, not " + std::to_string(sole.size()));
+  for (const Eigen::Vector2d& corner : sole)
+    need(corner.allFinite() && corner.cwiseAbs().maxCoeff() <= 10.0,
+         "`sole`'s corners are finite, within 10 m of the frame");
+  need(sole.empty() || convexHull(sole).size() >= 3, "`sole`'s corners enclose an area");
+  need(
+      sole.empty() || std::any_of(contacts.begin(), contacts.end(),
+                                  [](const Contact& c) { return c.kind == Contact::Kind::kFrame; }),
+      "`sole` is under a frame contact (NAME:frame), and every contact is a point");
   need(grid_rate >= 1.0 && grid_rate <= 1000.0,
        "`grid_rate` is 1 to 1000 samples a second, not " + formatNumber(grid_rate));
   need(check_rate >= grid_rate && check_rate <= 10000.0,
@@ -89,16 +103,58 @@ class Coding {
   const StandingDesignRequest& r_;
 };
 
+/// The convex hull of points, counter-clockwise (Andrew's monotone chain).
+std::vector<Eigen::Vector2d> convexHull(std::vector<Eigen::Vector2d> p) {
+  if (p.size() < 3) return p;
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  const auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a,
+                        const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {  // lower hull
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0.0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {  // upper hull
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0.0) --k;
+    h[k++] = p[i];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+/// How far a frame contact's centre of pressure lies outside its sole [m] (negative: inside, the
+/// distance to the nearest edge): its moment n and force f about and in the frame (z its normal),
+/// the centre (-n_y / f_z, n_x / f_z); a force that does not press the sole counts as 1 m out.
+double outsideSole(const Eigen::Vector3d& n, const Eigen::Vector3d& f,
+                   const std::vector<Eigen::Vector2d>& hull) {
+  if (!(f.z() > 0.0)) return 1.0;
+  const Eigen::Vector2d p(-n.y() / f.z(), n.x() / f.z());
+  double out = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Eigen::Vector2d a = hull[i], edge = hull[(i + 1) % hull.size()] - a;
+    const Eigen::Vector2d outward(edge.y(), -edge.x());  // right of a counter-clockwise edge
+    out = std::max(out, outward.dot(p - a) / outward.norm());
+  }
+  return out;
+}
+
 /// How a motion keeps the bounds: each value <= 0 where it does (COBYLA's constraints).
 struct Margins {
   double sway = kInfeasible, turn = kInfeasible, joints = kInfeasible, speeds = kInfeasible,
-         cones = kInfeasible;
+         cones = kInfeasible, soles = kInfeasible;
   // Reported in the request's units.
   double largest_sway = 0.0, largest_turn = 0.0, clearance = 0.0, cone_use = 0.0;
+  double sole_clearance = std::numeric_limits<double>::infinity();
   bool feasible() const {
-    return sway <= 0.0 && turn <= 0.0 && joints <= 0.0 && speeds <= 0.0 && cones <= 0.0;
+    return sway <= 0.0 && turn <= 0.0 && joints <= 0.0 && speeds <= 0.0 && cones <= 0.0 &&
+           soles <= 0.0;
   }
-  double worst() const { return std::max({sway, turn, joints, speeds, cones}); }
+  double worst() const { return std::max({sway, turn, joints, speeds, cones, soles}); }
   bool followed() const { return !(sway == kInfeasible && cones == kInfeasible); }
   /// The bound broken most, in the request's words.
   std::string broken() const {
@@ -106,6 +162,7 @@ struct Margins {
     if (w == joints)
       return "`joint_margin` (a joint " + formatNumber(clearance, 3) + " rad from a limit)";
     if (w == cones) return "`friction_cone` (a foot's force outside its cone)";
+    if (w == soles) return "`sole` (a centre of pressure outside its sole)";
     if (w == speeds) return "the joints' velocity limits";
     if (w == sway) return "`max_sway`";
     return "`max_turn`";
@@ -116,7 +173,11 @@ struct Margins {
 class Evaluator {
  public:
   Evaluator(const FloatingModel& model, const StandingDesignRequest& request)
-      : model_(model), request_(request), data_(model), theta_(model.standardParameters()) {
+      : model_(model),
+        request_(request),
+        data_(model),
+        theta_(model.standardParameters()),
+        hull_(convexHull(request.sole)) {
     FloatingStructuralOptions options;
     options.structural = request.structural;
     options.contacts = request.contacts;
@@ -126,7 +187,31 @@ class Evaluator {
   }
   const FloatingModel& model() const { return model_; }
   const std::vector<SensorSetBase>& holding() const { return holding_; }
-  std::vector<BaseParameters>& standing() { return standing_; }
+  /// Per set, the holding base parameters any sway of the stance excites (column indices).
+  const std::vector<std::vector<int>>& standing() const { return standing_; }
+  /// Adds a sway's rows to the standing class's pool (settle() reads it).
+  void pool(const FloatingDataset& m) {
+    pooled_.resize(holding_.size());
+    for (std::size_t s = 0; s < holding_.size(); ++s) {
+      const Eigen::MatrixXd block = rows(s, m);
+      pooled_[s].conservativeResize(pooled_[s].rows() + block.rows(), block.cols());
+      pooled_[s].bottomRows(block.rows()) = block;
+    }
+  }
+  /// The standing class of every set from the pool: the holding base parameters its rows excite
+  /// by identify's rule (measureExcitation: a pivot of the unit-column rows above 1e-8 of the
+  /// largest), so that a count here is the count identify gives the same motion.
+  void settle() {
+    standing_.clear();
+    for (std::size_t s = 0; s < holding_.size(); ++s) {
+      const Excitation seen = measureExcitation(pooled_[s]);
+      std::vector<int> columns;
+      for (int j = 0; j < pooled_[s].cols(); ++j)
+        if (std::find(seen.unexcited.begin(), seen.unexcited.end(), j) == seen.unexcited.end())
+          columns.push_back(j);
+      standing_.push_back(std::move(columns));
+    }
+  }
 
   /// The motion at `rate` over one period, or nullptr where the legs cannot follow it.
   std::shared_ptr<FloatingDataset> motion(const FourierSeries& design, double rate) const {
@@ -143,11 +228,12 @@ class Evaluator {
       return nullptr;
     }
   }
-  /// Set s's rows over the motion in the standard parameters.
+  /// Set s's rows over the motion in the holding class's base parameters.
   Eigen::MatrixXd rows(std::size_t s, const FloatingDataset& m) {
     Eigen::MatrixXd out;
     for (int k = 0; k < m.numSamples(); ++k) {
-      const Eigen::MatrixXd block = sensorRows(holding_[s].set, regressor(m, k), jacobian(m, k));
+      const Eigen::MatrixXd block = holding_[s].base.baseRegressor(
+          sensorRows(holding_[s].set, regressor(m, k), jacobian(m, k)));
       if (out.size() == 0) out.resize(block.rows() * m.numSamples(), block.cols());
       out.middleRows(block.rows() * k, block.rows()) = block;
     }
@@ -176,8 +262,8 @@ class Evaluator {
     }
     out.joints = request_.joint_margin - out.clearance;
     out.speeds = speed - 1.0;
-    out.cones = 0.0;
-    if (request_.friction_cone > 0.0) conesOf(m, out);
+    out.cones = out.soles = 0.0;
+    if (request_.friction_cone > 0.0 || !request_.sole.empty()) conesOf(m, out);
     return out;
   }
 
@@ -195,10 +281,12 @@ class Evaluator {
     return stackedContactJacobian(model_, data_, request_.contacts, m.q.col(k));
   }
   /// The least-norm forces that hold each sample, against the cones: each foot's (a sole's
-  /// force, after its moment) |tangential| - mu normal, over the force the contacts carry.
+  /// force, after its moment) |tangential| - mu normal, over the force the contacts carry; and
+  /// against the soles: each frame contact's centre of pressure outside its sole [m].
   void conesOf(const FloatingDataset& m, Margins& out) {
     const double mu = request_.friction_cone;
-    out.cones = -std::numeric_limits<double>::infinity();
+    out.cones = mu > 0.0 ? -std::numeric_limits<double>::infinity() : 0.0;
+    out.soles = request_.sole.empty() ? 0.0 : -std::numeric_limits<double>::infinity();
     for (int k = 0; k < m.numSamples(); ++k) {
       const Eigen::VectorXd wrench = (regressor(m, k) * theta_).head<6>();
       const Eigen::MatrixXd map = jacobian(m, k).leftCols<6>().transpose();
@@ -212,6 +300,14 @@ class Evaluator {
         const bool frame = c.kind == Contact::Kind::kFrame;
         const Eigen::Vector3d force = f.segment<3>(row + (frame ? 3 : 0));
         row += c.dimension();
+        if (frame && !request_.sole.empty()) {
+          const Eigen::Matrix3d Rc = contactPose(model_, data_, c, m.q.col(k)).rotation;
+          const double outside =
+              outsideSole(Rc.transpose() * f.segment<3>(row - 6), Rc.transpose() * force, hull_);
+          out.soles = std::max(out.soles, outside);
+          out.sole_clearance = std::min(out.sole_clearance, -outside);
+        }
+        if (mu <= 0.0) continue;
         const double normal = force.dot(up), tangential = (force - normal * up).norm();
         out.cones = std::max(out.cones, (tangential - mu * normal) / carried);
         out.cone_use =
@@ -226,13 +322,23 @@ class Evaluator {
   FloatingData data_;
   Eigen::VectorXd theta_;
   std::vector<SensorSetBase> holding_;
-  std::vector<BaseParameters> standing_;  // per set, in holding_'s order
+  std::vector<std::vector<int>> standing_;  // per set, in holding_'s order
+  std::vector<Eigen::Vector2d> hull_;       // the sole's convex hull, counter-clockwise
+  std::vector<Eigen::MatrixXd> pooled_;     // per set: the sways' rows (holding base parameters)
 };
 
 /// log10 of the unit-column condition number of the rows in the standing class's base parameters
 /// (kUnranked below its rank).
-double criterionOf(const BaseParameters& standing, const Eigen::MatrixXd& W) {
-  const Eigen::MatrixXd W1 = standing.baseRegressor(W);
+/// W's columns of the standing class.
+Eigen::MatrixXd classColumns(const std::vector<int>& standing, const Eigen::MatrixXd& W) {
+  Eigen::MatrixXd out(W.rows(), static_cast<Eigen::Index>(standing.size()));
+  for (std::size_t j = 0; j < standing.size(); ++j)
+    out.col(static_cast<Eigen::Index>(j)) = W.col(standing[j]);
+  return out;
+}
+
+double criterionOf(const std::vector<int>& standing, const Eigen::MatrixXd& W) {
+  const Eigen::MatrixXd W1 = classColumns(standing, W);
   const double condition = scaledConditionNumber(W1);
   return std::isfinite(condition) ? std::log10(condition) : kUnranked;
 }
@@ -249,31 +355,24 @@ std::vector<double> startPoint(const StandingDesignRequest& r, int k) {
   return x;
 }
 
-/// The standing class's base parameters of every set: the rows of random sways of the stance (a
-/// tenth of the bounds and more) pooled, read as the structural analysis reads random states.
+/// The standing class's base parameters of every set: the rows of random sways of the stance
+/// pooled (at the bounds, else at a half or a quarter of them where the legs cannot follow), read
+/// as the structural analysis reads random states.
 void standingClass(Evaluator& evaluator, const StandingDesignRequest& r, const Coding& coding) {
-  std::vector<Eigen::MatrixXd> pooled(evaluator.holding().size());
   int followed = 0;
-  for (int k = 0; k < 12 && followed < 6; ++k) {
+  for (int k = 0; k < 18 && followed < 6; ++k) {
     const std::vector<double> x = startPoint(r, 1000 + k);
-    const double shrink = k < 6 ? 1.0 : 0.1;
-    const FourierSeries design = coding.decode(x.data(), shrink);
-    const std::shared_ptr<FloatingDataset> m = evaluator.motion(design, r.grid_rate);
+    const std::shared_ptr<FloatingDataset> m =
+        evaluator.motion(coding.decode(x.data(), std::ldexp(1.0, -(k / 6))), r.grid_rate);
     if (!m) continue;
     ++followed;
-    for (std::size_t s = 0; s < pooled.size(); ++s) {
-      const Eigen::MatrixXd block = evaluator.rows(s, *m);
-      pooled[s].conservativeResize(pooled[s].rows() + block.rows(), block.cols());
-      pooled[s].bottomRows(block.rows()) = block;
-    }
+    evaluator.pool(*m);
   }
   if (followed < 2)
     throw InputError(
         "`stance`: the legs cannot follow random sways of it (a contact out of reach): bend the "
         "stance, or lower `max_sway` and `max_turn`");
-  for (std::size_t s = 0; s < pooled.size(); ++s)
-    evaluator.standing().push_back(computeBaseParameters(
-        pooled[s], evaluator.holding()[s].base.standard_names, r.structural.tolerance));
+  evaluator.settle();
 }
 
 /// Every set's counts and condition number on a motion.
@@ -284,9 +383,9 @@ std::vector<StandingSetScore> scoresOf(Evaluator& evaluator, const FloatingDatas
     StandingSetScore score;
     score.set = evaluator.holding()[s].set;
     score.holding = evaluator.holding()[s].base.numBase();
-    score.standing = evaluator.standing()[s].numBase();
-    score.determined = measureExcitation(evaluator.holding()[s].base.baseRegressor(W)).rank;
-    const Eigen::MatrixXd W1 = evaluator.standing()[s].baseRegressor(W);
+    score.standing = static_cast<int>(evaluator.standing()[s].size());
+    score.determined = measureExcitation(W).rank;
+    const Eigen::MatrixXd W1 = classColumns(evaluator.standing()[s], W);
     score.condition = measureExcitation(W1).rank == score.standing
                           ? scaledConditionNumber(W1)
                           : std::numeric_limits<double>::infinity();
@@ -310,11 +409,16 @@ void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
   if (!m || !margins.feasible())
     throw Error("the best design breaks its bounds between the optimiser's samples even at " +
                 formatNumber(out.shrink, 2) + " of its size: raise `grid_rate`");
+  // The design is a sway of the stance too: what it determines is in the class by definition
+  // (random sways that the legs could follow only at a fraction of the bounds can show less).
+  evaluator.pool(*m);
+  evaluator.settle();
   out.scores = scoresOf(evaluator, *m);
   out.largest_sway = margins.largest_sway;
   out.largest_turn = margins.largest_turn;
   out.joint_clearance = margins.clearance;
   out.cone_use = margins.cone_use;
+  out.sole_clearance = margins.sole_clearance;
   StandingMotionRequest sway;
   sway.contacts = r.contacts;
   sway.stance = r.stance;

@@ -12,8 +12,9 @@
 //
 // What a standing robot's motions can determine at all is less than what its holding states can
 // (four feet of a quadruped fixed in the world tie its legs' motion to the base's): the criterion
-// is read in the standing class's own base parameters, found as the structural analysis is, from
-// the rows of random sways of the same stance pooled.
+// is read in the standing class, the holding class's base parameters that the rows of random sways
+// of the same stance pooled excite, by identify's rank rule (the design's own rows pooled in at
+// the end).
 #pragma once
 
 #include <cstdint>
@@ -49,13 +50,17 @@ struct StandingDesignRequest {
   /// cones about the ground's normal at every sample (so `dynid simulate --friction-cone` never
   /// needs another split); 0 imposes none.
   double friction_cone = 0.0;
+  /// A flat sole under every frame contact (`dynid simulate --sole`'s corners in the frame's x-y
+  /// plane [m]; empty: none): the least-norm wrench that holds each sample keeps each frame
+  /// contact's centre of pressure in the corners' convex hull. 3 to 32 corners enclosing an area.
+  std::vector<Eigen::Vector2d> sole;
   double grid_rate = 10.0;    // samples per second of the optimiser's criterion and bounds
   double check_rate = 100.0;  // samples per second of the final check and the scores
   int starts = 4;             // 1 to 64, seeded: start k's draw depends on `seed` and k only
   int evaluations = 300;      // COBYLA evaluations per start, 10 to 100000
   double max_seconds = std::numeric_limits<double>::infinity();  // the whole design
-  /// The holding class's structural analysis (samples, seed, tolerance), also the standing class's
-  /// tolerance.
+  /// The holding class's structural analysis (samples, seed, tolerance); the standing class is read
+  /// by identify's rule, not this tolerance.
   StructuralOptions structural;
   std::uint64_t seed = 1;
   RunControl control;
@@ -83,8 +88,10 @@ struct StandingDesign {
   std::string baseline_problem;
   /// The design at check_rate: the largest excursion along an axis [m] and about one [rad], the
   /// smallest distance of a joint to its limits [rad], and the largest share of the cone a foot's
-  /// force uses (|tangential| / (mu normal); 0 without cones).
+  /// force uses (|tangential| / (mu normal); 0 without cones), and the smallest distance of a
+  /// centre of pressure to its sole's edge [m] (infinity without a sole).
   double largest_sway = 0.0, largest_turn = 0.0, joint_clearance = 0.0, cone_use = 0.0;
+  double sole_clearance = std::numeric_limits<double>::infinity();
   double shrink = 1.0;                   // the factor on the coefficients that made the check pass
   std::vector<double> start_objectives;  // log10 of each start's best feasible criterion; NaN: none
   int best_start = -1;
