@@ -180,7 +180,7 @@ int runExcite(const std::vector<std::string>& args) {
   if (!parseCommandLine(args, options, usage, vm)) return kExitOk;
   if (vm["floating-base"].as<bool>()) return runFloatingExcite(vm);
   refuseFloatingOptions(vm, {"contacts", "sensors", "motion", "stance", "max-sway", "max-turn",
-                             "joint-margin", "friction-cone", "sole"});
+                             "joint-margin", "max-swing", "friction-cone", "sole"});
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it
 

@@ -32,6 +32,9 @@ void addFloatingExciteOptions(po::options_description& options) {
       "with --stance: the base's largest excursion along each world axis [m]")(
       "max-turn", po::value<double>()->default_value(d.max_turn),
       "with --stance: the largest roll, pitch and yaw [rad]")(
+      "max-swing", po::value<double>()->default_value(d.max_swing),
+      "with --stance: the largest excursion from the stance of each joint no foot depends on (a "
+      "humanoid's arms, head and trunk), which the design moves too [rad] (0: they stay)")(
       "joint-margin", po::value<double>()->default_value(d.joint_margin),
       "with --stance: how far the joints stay inside their limits [rad]")(
       "friction-cone", po::value<double>()->default_value(d.friction_cone),
@@ -82,6 +85,7 @@ StandingDesignRequest standingRequest(const po::variables_map& vm, const Floatin
   r.max_sway = vm["max-sway"].as<double>();
   r.max_turn = vm["max-turn"].as<double>();
   r.joint_margin = vm["joint-margin"].as<double>();
+  r.max_swing = vm["max-swing"].as<double>();
   r.friction_cone = vm["friction-cone"].as<double>();
   if (vm.count("sole")) r.sole = soleOption(vm);
   r.structural = structuralOptions(vm);
@@ -97,10 +101,10 @@ StandingDesignRequest standingRequest(const po::variables_map& vm, const Floatin
 }  // namespace
 
 int runFloatingExcite(const po::variables_map& vm) {
-  refuseOutside(vm,
-                {"out", "contacts", "sensors", "stance", "max-sway", "max-turn", "joint-margin",
-                 "friction-cone", "sole", "period", "harmonics", "starts", "evaluations",
-                 "budget-seconds", "grid-rate", "check-rate", "samples", "seed", "tolerance"},
+  refuseOutside(vm, {"out",       "contacts",     "sensors",   "stance",        "max-sway",
+                     "max-turn",  "joint-margin", "max-swing", "friction-cone", "sole",
+                     "period",    "harmonics",    "starts",    "evaluations",   "budget-seconds",
+                     "grid-rate", "check-rate",   "samples",   "seed",          "tolerance"},
                 "excite");
   const std::string dir = outputDirectoryOption(vm);
   checkOutputDirectory(dir);  // before the work, not after it

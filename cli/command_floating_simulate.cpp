@@ -92,6 +92,7 @@ std::shared_ptr<const FloatingDataset> standingDesignOption(const po::variables_
   request.contacts = feet;
   request.stance = design.stance;
   request.base_design = design.base;
+  request.joint_design = design.joints;
   if (given(vm, "rate")) request.rate = vm["rate"].as<double>();
   request.samples = vm.count("samples")
                         ? vm["samples"].as<int>()

@@ -189,6 +189,7 @@ std::shared_ptr<const FloatingDataset> standingDesignMotion(
   request.contacts = feet = contactsOf(model, design.contacts);
   request.stance = design.stance;
   request.base_design = design.base;
+  request.joint_design = design.joints;
   request.rate = rate;
   request.samples = samples.value_or(static_cast<int>(std::lround(design.base.period * rate)));
   return standingMotion(model, request);

@@ -62,6 +62,9 @@ std::string swayBoundsText(const StandingDesignRequest& r, const StandingDesign&
            " % of cones of mu " + formatNumber(r.friction_cone, 3);
   else
     out += ", no friction cone imposed";
+  if (d.joints)
+    out += ", the joints no foot depends on within " + formatNumber(d.largest_swing, 3) +
+           " rad of the stance (of " + formatNumber(r.max_swing, 3) + ")";
   if (!r.sole.empty())
     out += ", every centre of pressure at least " + formatNumber(d.sole_clearance, 3) +
            " m inside its sole";
@@ -90,15 +93,28 @@ nlohmann::json standingDesignJson(const StandingDesignRequest& request,
       {"form", kSwayForm}};
   nlohmann::json sole = nlohmann::json::array();
   for (const Eigen::Vector2d& corner : request.sole) sole.push_back({corner.x(), corner.y()});
-  out["limits"] = {{"max_sway", request.max_sway},
-                   {"max_turn", request.max_turn},
-                   {"joint_margin", request.joint_margin},
-                   {"friction_cone", request.friction_cone},
-                   {"sole", sole}};
+  if (design.joints) {
+    const FourierSeries& j = *design.joints;
+    out["joint_design"] = {
+        {"period", j.period},
+        {"harmonics", j.harmonics()},
+        {"offset", std::vector<double>(j.offset.data(), j.offset.data() + j.offset.size())},
+        {"a", coefficientRows(j.a)},
+        {"b", coefficientRows(j.b)},
+        {"form",
+         "q_j(t) as `design`'s form, for the joints no foot depends on (the "
+         "rows of the others are zero and unread: the feet set them)"}};
+  } else {
+    out["joint_design"] = nullptr;
+  }
+  out["limits"] = {{"max_sway", request.max_sway},           {"max_turn", request.max_turn},
+                   {"max_swing", request.max_swing},         {"joint_margin", request.joint_margin},
+                   {"friction_cone", request.friction_cone}, {"sole", sole}};
   out["designed"] = {{"largest_sway", design.largest_sway},
                      {"largest_turn", design.largest_turn},
                      {"joint_clearance", design.joint_clearance},
                      {"cone_use", design.cone_use},
+                     {"largest_swing", design.largest_swing},
                      {"sole_clearance", numberOrNull(design.sole_clearance)},
                      {"shrink", design.shrink}};
   nlohmann::json sets = nlohmann::json::array();

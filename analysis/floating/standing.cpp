@@ -129,6 +129,14 @@ bool followContacts(const FloatingModel& model, FloatingData& data,
 
 }  // namespace
 
+std::vector<char> heldJoints(const FloatingModel& model, const std::vector<Contact>& contacts) {
+  std::vector<char> held(static_cast<std::size_t>(model.numJoints()), 0);
+  for (const Contact& c : contacts)
+    for (int b = c.body; b >= 0; b = model.limbs().parents()[static_cast<std::size_t>(b)])
+      held[static_cast<std::size_t>(b)] = 1;
+  return held;
+}
+
 Eigen::MatrixXd stackedContactJacobian(const FloatingModel& model, FloatingData& data,
                                        const std::vector<Contact>& contacts,
                                        const Eigen::VectorXd& q) {
@@ -187,19 +195,33 @@ std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
   const Sway sway(request);
   const std::string lower =
       request.base_design ? "a smaller sway (`base_design`)" : "lower `sway` or `turn`";
-  Eigen::VectorXd q = request.stance;
+  if (request.joint_design && request.joint_design->numJoints() != n)
+    throw InputError("`joint_design` has " + std::to_string(request.joint_design->numJoints()) +
+                     " rows, the model " + std::to_string(n) + " joints");
+  const std::vector<char> held = heldJoints(model, request.contacts);
+  Eigen::VectorXd q = request.stance, free_q, free_dq, free_ddq;  // the free joints' motion
   for (int k = 0; k < N; ++k) {
     const double t = k / request.rate;
     const BasePose base = sway.at(t);
+    if (request.joint_design) {
+      evaluateReference(*request.joint_design, t, free_q, free_dq, free_ddq);
+      for (int j = 0; j < n; ++j)
+        if (!held[static_cast<std::size_t>(j)]) q[j] = free_q[j];  // Newton leaves them there
+    }
     if (!followContacts(model, data, request.contacts, world, base, q))
       throw InputError("the legs cannot follow the sway at t = " + formatNumber(t, 4) +
                        " s (a contact out of reach): " + lower + ", or bend the `stance`");
     for (int j = 0; j < n && request.check_limits; ++j) {
       const JointLimits& limits = model.limbs().limits[static_cast<std::size_t>(j)];
       if (q[j] < limits.lower || q[j] > limits.upper)
-        throw InputError("the legs follow the sway past " + model.limbs().joint_names[j] +
-                         "'s limits at t = " + formatNumber(t, 4) + " s (" + formatNumber(q[j], 4) +
-                         " rad): " + lower + ", or move the `stance`");
+        throw InputError(
+            (held[static_cast<std::size_t>(j)] ? "the legs follow the sway past "
+                                               : "`joint_design` moves the joints "
+                                                 "past ") +
+            model.limbs().joint_names[j] + "'s limits at t = " + formatNumber(t, 4) + " s (" +
+            formatNumber(q[j], 4) + " rad): " +
+            (held[static_cast<std::size_t>(j)] ? lower : std::string("a smaller `joint_design`")) +
+            ", or move the `stance`");
     }
     const Eigen::MatrixXd J = stackedContactJacobian(model, data, request.contacts, q);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> legs(J.rightCols(n));
@@ -222,6 +244,9 @@ std::shared_ptr<FloatingDataset> standingMotion(const FloatingModel& model,
     out->q.col(k) = q;
     out->dq.col(k) = dq;
     out->ddq.col(k) = legs.solve(-J.leftCols<6>() * base.acceleration - djnu);
+    for (int j = 0; j < n && request.joint_design; ++j)
+      if (!held[static_cast<std::size_t>(j)])  // no contact's Jacobian has their columns
+        out->dq(j, k) = free_dq[j], out->ddq(j, k) = free_ddq[j];
   }
   return out;
 }

@@ -33,6 +33,10 @@ struct StandingMotionRequest {
   /// pitch, yaw [rad] (R = Rz(yaw) Ry(pitch) Rx(roll)), a Fourier series of six rows over its own
   /// period; `sway`, `turn`, `period` and `seed` are then unread.
   std::optional<FourierSeries> base_design;
+  /// The joints no contact depends on (a humanoid's arms, head and trunk) follow this series of n
+  /// rows (rows of the joints a contact depends on unread; their q from the contacts); without
+  /// it they stay at the stance.
+  std::optional<FourierSeries> joint_design;
   /// Whether a joint past its limits is refused (a design measures the margin itself).
   bool check_limits = true;
   double rate = 200.0;  // samples per second
@@ -44,6 +48,10 @@ struct StandingMotionRequest {
   /// positive period.
   void check() const;
 };
+
+/// Per joint, whether some contact depends on it (a joint on the path from a contact's body to the
+/// base).
+std::vector<char> heldJoints(const FloatingModel& model, const std::vector<Contact>& contacts);
 
 /// The contacts' Jacobians stacked in their order (base axes) at q: (sum of their dimensions) x
 /// (6 + n).

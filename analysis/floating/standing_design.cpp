@@ -36,6 +36,8 @@ void StandingDesignRequest::check() const {
        "`max_sway` is in (0, 1] m, not " + formatNumber(max_sway));
   need(max_turn > 0.0 && max_turn <= std::numbers::pi / 4,
        "`max_turn` is in (0, pi/4] rad, not " + formatNumber(max_turn));
+  need(max_swing >= 0.0 && max_swing <= std::numbers::pi,
+       "`max_swing` is 0 to pi rad, not " + formatNumber(max_swing));
   need(joint_margin >= 0.0 && joint_margin <= 1.0,
        "`joint_margin` is 0 to 1 rad, not " + formatNumber(joint_margin));
   need(friction_cone >= 0.0 && friction_cone <= 10.0,
@@ -67,40 +69,63 @@ namespace {
 constexpr double kInfeasible = 1.0;  // every constraint's value where the legs cannot follow
 constexpr double kUnranked = 20.0;   // the objective (log10) of rows below the class's rank
 
-/// The free variables, scaled so that 1 is about a bound: per coordinate a_1..a_(H-1) and
-/// b_1..b_(H-1) as fractions of the bound times the base frequency; a_H and b_H follow from rest at
-/// t = 0, and the offset from the stance's pose there.
+/// A candidate: the base's six coordinates and, where some joint is free, the free joints'.
+struct SwayDesign {
+  FourierSeries base;
+  std::optional<FourierSeries> joints;
+};
+
+/// The free variables, scaled so that 1 is about a bound: per coordinate (the base's six, then
+/// each joint no foot depends on) a_1..a_(H-1) and b_1..b_(H-1) as fractions of the bound times
+/// the base frequency; a_H and b_H follow from rest at t = 0, and the offset from the stance's
+/// pose there.
 class Coding {
  public:
-  explicit Coding(const StandingDesignRequest& r) : r_(r) {}
-  int size() const { return 6 * 2 * (r_.harmonics - 1); }
-  FourierSeries decode(const double* x, double shrink = 1.0) const {
-    const int h = r_.harmonics;
-    const double w = 2.0 * std::numbers::pi / r_.period;
-    FourierSeries d;
-    d.period = r_.period;
-    d.offset.setZero(6);
-    d.a.resize(6, h);
-    d.b.resize(6, h);
-    for (int i = 0; i < 6; ++i) {
-      const double scale = shrink * (i < 3 ? r_.max_sway : r_.max_turn) * w;
-      const double* u = x + i * 2 * (h - 1);
-      double sum_a = 0.0, sum_kb = 0.0;
-      for (int k = 0; k < h - 1; ++k) {
-        d.a(i, k) = scale * u[k];
-        d.b(i, k) = scale * u[h - 1 + k];
-        sum_a += d.a(i, k);
-        sum_kb += (k + 1) * d.b(i, k);
-      }
-      d.a(i, h - 1) = -sum_a;
-      d.b(i, h - 1) = -sum_kb / h;
-      for (int k = 0; k < h; ++k) d.offset[i] += d.b(i, k) / (w * (k + 1));  // c(0) = 0
-    }
-    return d;
+  Coding(const StandingDesignRequest& r, const std::vector<int>& free) : r_(r), free_(free) {}
+  int perCoordinate() const { return 2 * (r_.harmonics - 1); }
+  int size() const { return static_cast<int>(6 + free_.size()) * perCoordinate(); }
+  SwayDesign decode(const double* x, double shrink = 1.0) const {
+    SwayDesign out;
+    out.base = series(6);
+    for (int i = 0; i < 6; ++i)
+      row(x + i * perCoordinate(), shrink * (i < 3 ? r_.max_sway : r_.max_turn), i, out.base);
+    if (free_.empty()) return out;
+    out.joints = series(static_cast<int>(r_.stance.size()));
+    out.joints->offset = r_.stance;
+    for (std::size_t f = 0; f < free_.size(); ++f)
+      row(x + (6 + static_cast<int>(f)) * perCoordinate(), shrink * r_.max_swing, free_[f],
+          *out.joints);
+    return out;
   }
 
  private:
+  FourierSeries series(int rows) const {
+    FourierSeries d;
+    d.period = r_.period;
+    d.offset.setZero(rows);
+    d.a.setZero(rows, r_.harmonics);
+    d.b.setZero(rows, r_.harmonics);
+    return d;
+  }
+  /// Row i of d from the variables u for a coordinate bounded by `bound`: at rest at t = 0, where
+  /// its value is the offset it had.
+  void row(const double* u, double bound, int i, FourierSeries& d) const {
+    const int h = r_.harmonics;
+    const double w = 2.0 * std::numbers::pi / r_.period, scale = bound * w;
+    double sum_a = 0.0, sum_kb = 0.0;
+    for (int k = 0; k < h - 1; ++k) {
+      d.a(i, k) = scale * u[k];
+      d.b(i, k) = scale * u[h - 1 + k];
+      sum_a += d.a(i, k);
+      sum_kb += (k + 1) * d.b(i, k);
+    }
+    d.a(i, h - 1) = -sum_a;
+    d.b(i, h - 1) = -sum_kb / h;
+    for (int k = 0; k < h; ++k) d.offset[i] += d.b(i, k) / (w * (k + 1));  // c(0) as before
+  }
+
   const StandingDesignRequest& r_;
+  std::vector<int> free_;
 };
 
 /// The convex hull of points, counter-clockwise (Andrew's monotone chain).
@@ -146,15 +171,15 @@ double outsideSole(const Eigen::Vector3d& n, const Eigen::Vector3d& f,
 /// How a motion keeps the bounds: each value <= 0 where it does (COBYLA's constraints).
 struct Margins {
   double sway = kInfeasible, turn = kInfeasible, joints = kInfeasible, speeds = kInfeasible,
-         cones = kInfeasible, soles = kInfeasible;
+         cones = kInfeasible, soles = kInfeasible, swing = kInfeasible;
   // Reported in the request's units.
   double largest_sway = 0.0, largest_turn = 0.0, clearance = 0.0, cone_use = 0.0;
-  double sole_clearance = std::numeric_limits<double>::infinity();
+  double largest_swing = 0.0, sole_clearance = std::numeric_limits<double>::infinity();
   bool feasible() const {
     return sway <= 0.0 && turn <= 0.0 && joints <= 0.0 && speeds <= 0.0 && cones <= 0.0 &&
-           soles <= 0.0;
+           soles <= 0.0 && swing <= 0.0;
   }
-  double worst() const { return std::max({sway, turn, joints, speeds, cones, soles}); }
+  double worst() const { return std::max({sway, turn, joints, speeds, cones, soles, swing}); }
   bool followed() const { return !(sway == kInfeasible && cones == kInfeasible); }
   /// The bound broken most, in the request's words.
   std::string broken() const {
@@ -165,6 +190,7 @@ struct Margins {
     if (w == soles) return "`sole` (a centre of pressure outside its sole)";
     if (w == speeds) return "the joints' velocity limits";
     if (w == sway) return "`max_sway`";
+    if (w == swing) return "`max_swing`";
     return "`max_turn`";
   }
 };
@@ -214,14 +240,15 @@ class Evaluator {
   }
 
   /// The motion at `rate` over one period, or nullptr where the legs cannot follow it.
-  std::shared_ptr<FloatingDataset> motion(const FourierSeries& design, double rate) const {
+  std::shared_ptr<FloatingDataset> motion(const SwayDesign& design, double rate) const {
     StandingMotionRequest r;
     r.contacts = request_.contacts;
     r.stance = request_.stance;
-    r.base_design = design;
+    r.base_design = design.base;
+    r.joint_design = design.joints;
     r.check_limits = false;  // measured as a margin
     r.rate = rate;
-    r.samples = std::max(2, static_cast<int>(std::lround(design.period * rate)));
+    r.samples = std::max(2, static_cast<int>(std::lround(design.base.period * rate)));
     try {
       return standingMotion(model_, r);
     } catch (const InputError&) {
@@ -239,14 +266,20 @@ class Evaluator {
     }
     return out;
   }
-  Margins margins(const FourierSeries& design, const FloatingDataset& m) {
+  Margins margins(const SwayDesign& design, const FloatingDataset& m) {
     Margins out;
     Eigen::VectorXd c, dc, ddc;
     for (int k = 0; k < m.numSamples(); ++k) {
-      evaluateReference(design, m.time[k], c, dc, ddc);
+      evaluateReference(design.base, m.time[k], c, dc, ddc);
       out.largest_sway = std::max(out.largest_sway, c.head<3>().cwiseAbs().maxCoeff());
       out.largest_turn = std::max(out.largest_turn, c.tail<3>().cwiseAbs().maxCoeff());
     }
+    const std::vector<char> held = heldJoints(model_, request_.contacts);
+    for (int j = 0; j < model_.numJoints() && design.joints; ++j)
+      if (!held[static_cast<std::size_t>(j)])
+        out.largest_swing =
+            std::max(out.largest_swing, (m.q.row(j).array() - request_.stance[j]).abs().maxCoeff());
+    out.swing = request_.max_swing > 0.0 ? out.largest_swing / request_.max_swing - 1.0 : 0.0;
     out.sway = out.largest_sway / request_.max_sway - 1.0;
     out.turn = out.largest_turn / request_.max_turn - 1.0;
     out.clearance = std::numeric_limits<double>::infinity();
@@ -343,14 +376,18 @@ double criterionOf(const std::vector<int>& standing, const Eigen::MatrixXd& W) {
   return std::isfinite(condition) ? std::log10(condition) : kUnranked;
 }
 
-/// Random coefficients of start k (N(0, 0.3 / harmonic), the lower harmonics carrying more).
-std::vector<double> startPoint(const StandingDesignRequest& r, int k) {
+/// Random coefficients of start k (N(0, 0.3 / harmonic) for the base's coordinates, 0.1 for the
+/// free joints', the lower harmonics carrying more).
+std::vector<double> startPoint(const StandingDesignRequest& r, const Coding& coding, int k) {
   std::mt19937_64 rng(r.seed * 1000003ULL + static_cast<std::uint64_t>(k));
   std::normal_distribution<double> normal;
-  std::vector<double> x(static_cast<std::size_t>(6 * 2 * (r.harmonics - 1)));
+  std::vector<double> x(static_cast<std::size_t>(coding.size()));
+  const auto base = static_cast<std::size_t>(6 * coding.perCoordinate());
   for (std::size_t i = 0; i < x.size(); ++i) {
     const int harmonic = static_cast<int>(i % static_cast<std::size_t>(r.harmonics - 1)) + 1;
-    x[i] = 0.3 * normal(rng) / harmonic;
+    // The free joints start smaller: each of many may break its bound, and COBYLA starts best
+    // where none does.
+    x[i] = (i < base ? 0.3 : 0.1) * normal(rng) / harmonic;
   }
   return x;
 }
@@ -361,7 +398,7 @@ std::vector<double> startPoint(const StandingDesignRequest& r, int k) {
 void standingClass(Evaluator& evaluator, const StandingDesignRequest& r, const Coding& coding) {
   int followed = 0;
   for (int k = 0; k < 18 && followed < 6; ++k) {
-    const std::vector<double> x = startPoint(r, 1000 + k);
+    const std::vector<double> x = startPoint(r, coding, 1000 + k);
     const std::shared_ptr<FloatingDataset> m =
         evaluator.motion(coding.decode(x.data(), std::ldexp(1.0, -(k / 6))), r.grid_rate);
     if (!m) continue;
@@ -402,9 +439,11 @@ void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
   std::shared_ptr<FloatingDataset> m;
   Margins margins;
   for (int tries = 0; tries < 30; ++tries, out.shrink *= 0.9) {
-    out.base = coding.decode(x.data(), out.shrink);
-    m = evaluator.motion(out.base, r.check_rate);
-    if (m && (margins = evaluator.margins(out.base, *m)).feasible()) break;
+    const SwayDesign sway = coding.decode(x.data(), out.shrink);
+    out.base = sway.base;
+    out.joints = sway.joints;
+    m = evaluator.motion(sway, r.check_rate);
+    if (m && (margins = evaluator.margins(sway, *m)).feasible()) break;
   }
   if (!m || !margins.feasible())
     throw Error("the best design breaks its bounds between the optimiser's samples even at " +
@@ -418,6 +457,7 @@ void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
   out.largest_turn = margins.largest_turn;
   out.joint_clearance = margins.clearance;
   out.cone_use = margins.cone_use;
+  out.largest_swing = margins.largest_swing;
   out.sole_clearance = margins.sole_clearance;
   StandingMotionRequest sway;
   sway.contacts = r.contacts;
@@ -442,7 +482,11 @@ StandingDesign designStandingSway(const FloatingModel& model,
     throw InputError("`stance` has " + std::to_string(request.stance.size()) +
                      " joints, the model " + std::to_string(model.numJoints()));
   const RunControl control = request.control.within(request.max_seconds, started);
-  const Coding coding(request);
+  std::vector<int> free;  // the joints no foot depends on, which the design moves too
+  const std::vector<char> held = heldJoints(model, request.contacts);
+  for (int j = 0; j < model.numJoints() && request.max_swing > 0.0; ++j)
+    if (!held[static_cast<std::size_t>(j)]) free.push_back(j);
+  const Coding coding(request, free);
   Evaluator evaluator(model, request);
   standingClass(evaluator, request, coding);
   const auto chosen = static_cast<std::size_t>(
@@ -453,7 +497,7 @@ StandingDesign designStandingSway(const FloatingModel& model,
   std::vector<double> best;
   double best_value = std::numeric_limits<double>::infinity();
   for (int k = 0; k < request.starts && !control.stopped(); ++k) {
-    std::vector<double> x = startPoint(request, k), start_best;
+    std::vector<double> x = startPoint(request, coding, k), start_best;
     double start_value = std::numeric_limits<double>::quiet_NaN();
     CobylaProblem problem;
     problem.dimension = coding.size();
@@ -464,7 +508,7 @@ StandingDesign designStandingSway(const FloatingModel& model,
     problem.objective = [&](const double* at) -> std::optional<double> {
       if (control.check()) return std::nullopt;
       ++out.evaluations;
-      const FourierSeries design = coding.decode(at);
+      const SwayDesign design = coding.decode(at);
       const std::shared_ptr<FloatingDataset> m = evaluator.motion(design, request.grid_rate);
       if (!m) {
         last = Margins{};

@@ -44,6 +44,9 @@ struct StandingDesignRequest {
   /// yaw [rad]; both positive and finite (up to 1 m and pi/4).
   double max_sway = 0.04;
   double max_turn = 0.15;
+  /// The largest excursion from the stance of each joint no foot depends on (a humanoid's arms,
+  /// head and trunk), which the design moves too [rad], 0 (they stay at the stance) to pi.
+  double max_swing = 0.3;
   /// The joints stay this far inside their position limits [rad], 0 or more.
   double joint_margin = 0.05;
   /// The feet's friction coefficient: the least-norm forces that hold the motion stay within its
@@ -81,6 +84,10 @@ struct StandingDesign {
   /// The base's six coordinates (standing.hpp's StandingMotionRequest::base_design): rest and the
   /// stance's pose at t = 0.
   FourierSeries base;
+  /// The joints no foot depends on (StandingMotionRequest::joint_design: n rows, those of the
+  /// joints a foot depends on unread), at the stance at rest at t = 0; none when no joint is free
+  /// or `max_swing` is 0.
+  std::optional<FourierSeries> joints;
   std::vector<StandingSetScore> scores;  // every set, the design at check_rate over one period
   /// Every set on `dynid simulate --stance`'s default sway over the same period, or empty with
   /// the reason when its legs cannot follow it from this stance.
@@ -91,6 +98,7 @@ struct StandingDesign {
   /// force uses (|tangential| / (mu normal); 0 without cones), and the smallest distance of a
   /// centre of pressure to its sole's edge [m] (infinity without a sole).
   double largest_sway = 0.0, largest_turn = 0.0, joint_clearance = 0.0, cone_use = 0.0;
+  double largest_swing = 0.0;  // the free joints' largest excursion from the stance [rad]
   double sole_clearance = std::numeric_limits<double>::infinity();
   double shrink = 1.0;                   // the factor on the coefficients that made the check pass
   std::vector<double> start_objectives;  // log10 of each start's best feasible criterion; NaN: none

@@ -13,28 +13,28 @@ namespace dynid {
 
 namespace {
 
-/// A `design` object's Fourier series (period, harmonics, offset, a, b, form and `extra` keys) of
-/// `rows` rows (0: as many as its offset has), each row a `row` ("joint") in `unit` ("rad/s").
-FourierSeries fourierSeriesFrom(const JsonReader& read, const nlohmann::json& design, int rows,
-                                std::vector<std::string> extra, const std::string& row,
-                                const std::string& unit) {
+/// A `design` object's Fourier series (period, harmonics, offset, a, b, form and `extra` keys; `at`
+/// its path in the document) of `rows` rows (0: as many as its offset has), one per `each`
+/// ("joint") in `unit` ("rad/s").
+FourierSeries fourierSeriesFrom(const JsonReader& read, const nlohmann::json& design,
+                                const std::string& at, int rows, std::vector<std::string> extra,
+                                const std::string& each, const std::string& unit) {
   extra.insert(extra.end(), {"period", "harmonics", "offset", "a", "b", "form"});
-  read.onlyKeysIn(design, "design", extra);
+  read.onlyKeysIn(design, at, extra);
   FourierSeries d;
-  d.period = read.number(design, "design", "period", 1e-6, 1e4);
-  const int h = static_cast<int>(read.integer(design, "design", "harmonics", 1, 1000));
-  d.offset =
-      read.vector(read.field(design, "design", "offset"), "design.offset", rows > 0 ? rows : -1);
+  d.period = read.number(design, at, "period", 1e-6, 1e4);
+  const int h = static_cast<int>(read.integer(design, at, "harmonics", 1, 1000));
+  d.offset = read.vector(read.field(design, at, "offset"), at + ".offset", rows > 0 ? rows : -1);
   rows = static_cast<int>(d.offset.size());
   for (double x : d.offset)
-    if (std::abs(x) > kMaxModelLength) read.fail("design.offset", "an offset beyond +-1e6");
+    if (std::abs(x) > kMaxModelLength) read.fail(at + ".offset", "an offset beyond +-1e6");
   d.a.resize(rows, h);
   d.b.resize(rows, h);
   for (const char* key : {"a", "b"}) {
-    const std::string path = std::string("design.") + key;
-    const nlohmann::json& table = read.array(read.field(design, "design", key), path);
+    const std::string path = at + "." + key;
+    const nlohmann::json& table = read.array(read.field(design, at, key), path);
     if (static_cast<int>(table.size()) != rows)
-      read.fail(path, "expected " + std::to_string(rows) + " rows (one per " + row + "), not " +
+      read.fail(path, "expected " + std::to_string(rows) + " rows (one per " + each + "), not " +
                           std::to_string(table.size()));
     Eigen::MatrixXd& m = key[0] == 'a' ? d.a : d.b;
     for (int j = 0; j < rows; ++j) {
@@ -84,8 +84,8 @@ FourierSeries excitationDesignFrom(const nlohmann::json& document, const std::st
   if (version >= 3 && document.contains("model")) read.object(document["model"], "model");
   if (document.contains("model_source"))
     modelSourceFrom(document["model_source"], file, "model_source");
-  return fourierSeriesFrom(read, read.field(document, "", "design"), num_joints, {}, "joint",
-                           "rad/s");
+  return fourierSeriesFrom(read, read.field(document, "", "design"), "design", num_joints, {},
+                           "joint", "rad/s");
 }
 
 FourierSeries readExcitationDesign(const std::string& path, int num_joints) {
@@ -121,8 +121,8 @@ StandingDesignRecord standingDesignFrom(const nlohmann::json& document, const st
               kStandingExcitationDocument.kind);
   read.onlyKeys(document, "",
                 {"schema_version", "kind", "robot", "model_source", "contacts", "stance", "set",
-                 "design", "limits", "designed", "sets", "criterion", "default_sway_problem",
-                 "optimiser", "provenance"});
+                 "design", "joint_design", "limits", "designed", "sets", "criterion",
+                 "default_sway_problem", "optimiser", "provenance"});
   StandingDesignRecord out;
   out.contacts = read.strings(read.field(document, "", "contacts"), "contacts");
   if (out.contacts.empty()) read.fail("contacts", "a standing robot holds on at least one");
@@ -130,8 +130,11 @@ StandingDesignRecord standingDesignFrom(const nlohmann::json& document, const st
       read.vector(read.field(document, "", "stance"), "stance", num_joints > 0 ? num_joints : -1);
   for (double x : out.stance)
     if (std::abs(x) > 1e3) read.fail("stance", "a joint beyond +-1000");
-  out.base = fourierSeriesFrom(read, read.field(document, "", "design"), 6, {"coordinates"},
-                               "coordinate", "m/s or rad/s");
+  out.base = fourierSeriesFrom(read, read.field(document, "", "design"), "design", 6,
+                               {"coordinates"}, "coordinate", "m/s or rad/s");
+  if (const auto j = document.find("joint_design"); j != document.end() && !j->is_null())
+    out.joints = fourierSeriesFrom(read, *j, "joint_design", static_cast<int>(out.stance.size()),
+                                   {}, "joint", "rad/s");
   return out;
 }
 

@@ -35,6 +35,7 @@ struct StandingDesignRecord {
   std::vector<std::string> contacts;
   Eigen::VectorXd stance;
   FourierSeries base;
+  std::optional<FourierSeries> joints;  // the joints no foot depends on (`joint_design`), if any
 };
 /// Read strictly for a robot of `num_joints` joints (0: as many as the stance has). Throws
 /// ParseError naming `file` and the field.

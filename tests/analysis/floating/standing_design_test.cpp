@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -99,6 +100,7 @@ TEST(StandingDesign, KeepsAHumanoidsCentresOfPressureInItsSoles) {
   request.friction_cone = 0.8;
   request.sole = rectangularSole(0.2, 0.1);
   request.joint_margin = 0.02;  // the ankles' roll limits are near at this stance
+  request.max_swing = 0.0;      // the arms stay (moving them: 100 more variables to search)
   request.starts = 1;
   request.evaluations = 100;
   const StandingDesign design = designStandingSway(model, request);
@@ -122,6 +124,47 @@ TEST(StandingDesign, KeepsAHumanoidsCentresOfPressureInItsSoles) {
   EXPECT_TRUE(unsupported.empty());
   request.sole = {{0.0, 0.0}, {0.1, 0.0}, {0.2, 0.0}};  // on a line
   EXPECT_THROW(designStandingSway(model, request), InputError);
+}
+
+/// The joints no foot depends on follow a joint design of their own (a humanoid's arms while it
+/// sways): exactly the series, and the legs as without it (no foot depends on an arm).
+TEST(StandingDesign, TheFreeJointsFollowTheirOwnSeriesAndTheLegsDoNotSeeThem) {
+  const FloatingModel model = test::loadExample(test::kRomeoExample);
+  StandingMotionRequest r;
+  r.contacts = contactsOf(model, {"l_sole:frame", "r_sole:frame"});
+  r.stance = Eigen::VectorXd::Zero(31);
+  r.stance.head<12>() << 0, 0, -0.4, 0.8, -0.4, 0, 0, 0, -0.4, 0.8, -0.4, 0;
+  r.samples = 200;
+  r.check_limits = false;  // the series below is the test's, not a robot's (elbows at 0 rad)
+  const auto still = standingMotion(model, r);
+  FourierSeries arms;
+  arms.period = 2.0;
+  arms.offset = r.stance;
+  arms.a = Eigen::MatrixXd::Zero(31, 2);
+  arms.b = Eigen::MatrixXd::Zero(31, 2);
+  arms.a.block(12, 0, 19, 1).setConstant(0.2);  // every joint after the legs
+  arms.b.block(12, 1, 19, 1).setConstant(-0.1);
+  arms.a(0, 0) = 5.0;  // a leg's row: unread (the feet set the legs)
+  r.joint_design = arms;
+  const auto moving = standingMotion(model, r);
+  const std::vector<char> held = heldJoints(model, r.contacts);
+  ASSERT_EQ(std::count(held.begin(), held.end(), 1), 12);  // the legs' twelve
+  Eigen::VectorXd q, dq, ddq;
+  for (int k = 0; k < moving->numSamples(); ++k) {
+    evaluateReference(arms, moving->time[k], q, dq, ddq);
+    for (int j = 0; j < 31; ++j) {
+      if (held[static_cast<std::size_t>(j)]) {
+        EXPECT_EQ(moving->q(j, k), still->q(j, k)) << j;
+        EXPECT_EQ(moving->dq(j, k), still->dq(j, k)) << j;
+        continue;
+      }
+      EXPECT_EQ(moving->q(j, k), q[j]) << j;
+      EXPECT_EQ(moving->dq(j, k), dq[j]) << j;
+      EXPECT_EQ(moving->ddq(j, k), ddq[j]) << j;
+    }
+  }
+  r.joint_design->offset.resize(30);
+  EXPECT_THROW(standingMotion(model, r), InputError);
 }
 
 TEST(StandingDesign, ADesignedPoseIsTheDerivativeOfItsOrientation) {
