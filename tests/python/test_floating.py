@@ -202,8 +202,9 @@ def test_floating_identify_by_the_combined_estimator(tmp_path):
 
 def test_excite_chooses_a_stands_tilts_as_the_cli(tmp_path):
     robot = dynid.load_model(ANYMAL)
+    quick = dict(check_rate=100.0, segments=10)  # the design's check and GC Jacobian: not tested here
     design = dynid.excite(robot, starts=1, evaluations=30, period=5.0, stands=2, max_tilt=0.3,
-                          tilt_grid=3, robot_spec=ANYMAL, threads=1)
+                          tilt_grid=3, robot_spec=ANYMAL, threads=1, **quick)
     tilts = design.stand_tilts
     assert len(tilts) == 2 and tilts[0] == (0.0, 0.0)  # upright first
     assert all(abs(angle) <= 0.3 for tilt in tilts for angle in tilt)
@@ -213,7 +214,7 @@ def test_excite_chooses_a_stands_tilts_as_the_cli(tmp_path):
     path.write_text(design.to_json())
     data = dynid.simulate_floating(ANYMAL, tmp_path / "d.csv", trajectory=path, samples=20)
     assert dynid.floating_identify(ANYMAL, data, method="ols")["data"]["samples"] == 40
-    assert dynid.excite(robot, starts=1, evaluations=5).stand_tilts is None
+    assert dynid.excite(robot, starts=1, evaluations=5, period=2.0, **quick).stand_tilts is None
     with pytest.raises(ValueError, match="robot_spec"):
         dynid.excite(robot, starts=1, evaluations=5, stands=2)
     with pytest.raises(ValueError, match="apply with stands"):
