@@ -23,6 +23,13 @@ inline const FloatingExample kAnymalExample{"examples/floating/anymal_c/anymal.u
                                             {"LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT"}};
 inline const FloatingExample kRomeoExample{"examples/floating/romeo/romeo_small.urdf",
                                            {"l_sole:frame", "r_sole:frame"}};
+/// ANYmal C's joints standing with its knees bent (LF, RF, LH, RH; HAA, HFE, KFE each): the
+/// stance of the standing tests.
+inline Eigen::VectorXd anymalKneesBent() {
+  Eigen::VectorXd q(12);
+  q << 0, 0.5, -1, 0, 0.5, -1, 0, -0.5, 1, 0, -0.5, 1;
+  return q;
+}
 /// The example's model, read from the source tree.
 FloatingModel loadExample(const FloatingExample& example);
 

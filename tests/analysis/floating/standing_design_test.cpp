@@ -20,8 +20,7 @@ namespace {
 StandingDesignRequest anymalDesign(const FloatingModel& model) {
   StandingDesignRequest r;
   r.contacts = contactsOf(model, test::kAnymalExample.contacts);
-  r.stance.resize(12);
-  r.stance << 0, 0.5, -1, 0, 0.5, -1, 0, -0.5, 1, 0, -0.5, 1;  // LF, RF, LH, RH: knees bent
+  r.stance = test::anymalKneesBent();
   r.friction_cone = 0.6;
   r.starts = 2;
   r.evaluations = 150;

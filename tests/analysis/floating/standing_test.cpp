@@ -19,8 +19,7 @@ namespace {
 StandingMotionRequest anymalStance(const FloatingModel& model) {
   StandingMotionRequest r;
   r.contacts = contactsOf(model, test::kAnymalExample.contacts);
-  r.stance.resize(12);
-  r.stance << 0, 0.5, -1, 0, 0.5, -1, 0, -0.5, 1, 0, -0.5, 1;  // LF, RF, LH, RH: knees bent
+  r.stance = test::anymalKneesBent();
   return r;
 }
 
