@@ -103,6 +103,10 @@ void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest
     gc.refused = "not asked (`gc`)";
     return;
   }
+  if (request.combined.control.interrupted()) {  // a stop asks for the result now
+    gc.refused = gc.validation_refused = "interrupted before the GC errors were measured";
+    return;
+  }
   const FloatingGcOptions& options = *request.gc;
   std::optional<FloatingGcData> train =
       floatingRollable(data, outcome.contacts, outcome.motion, gc.refused);

@@ -44,7 +44,8 @@ double floatingGcFloor(const FloatingModel& model, const FloatingGcData& data,
 /// (FloatingGcSummary). Data it cannot roll out are said in outcome.gc.refused
 /// (validation_refused), not thrown: no request (`gc` unset), no joint torques, a contact with
 /// neither wrench nor flag, a carried base's support known by its flag alone, samples that are not
-/// one motion (floatingMotionRefusal), a horizon the data do not hold.
+/// one motion (floatingMotionRefusal), a horizon the data do not hold, and a run whose
+/// `combined.control` was interrupted (Ctrl-C: its result is wanted now).
 void measureFloatingGc(const FloatingModel& model, const FloatingIdentifyRequest& request,
                        const FloatingDataset& data, const FloatingDataset* validation,
                        FloatingIdentifyOutcome& outcome);

@@ -23,7 +23,7 @@ TEST(Cli, ExciteAStandingRobotsSwayThenSimulateAndIdentifyAlongIt) {
   test::Result r =
       test::run("excite --robot " + kStandingQuadruped +
                 " --floating-base --contacts LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT --stance " +
-                kKneesBent + " --friction-cone 0.6 --starts 1 --evaluations 80 --out " + dir);
+                kKneesBent + " --friction-cone 0.6 --starts 1 --evaluations 30 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
   // Every set at what any sway of this stance determines, the default sway below it (measured
   // 93, 94, 90 against 90, 91, 87 of 94).
