@@ -13,13 +13,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 urdf=$here/anymal_c/anymal.urdf
 mkdir -p "$out"
 cd "$out"
-python3 - "$urdf" <<'PY'
-import re, sys
-text = open(sys.argv[1]).read()
-heavier = re.sub(r'\b(value|ixx|ixy|ixz|iyy|iyz|izz)="([-0-9.eE+]+)"',
-                 lambda m: f'{m.group(1)}="{float(m.group(2)) * 1.1!r}"', text)
-open("anymal_heavier.urdf", "w").write(heavier)
-PY
+python3 "$here/heavier_urdf.py" "$urdf" anymal_heavier.urdf 1.1
 for s in 1 2; do
   "$dynid" excite --robot "$urdf" --drive-terms fv --seed "$s" --out "excite$s" > /dev/null
 done
