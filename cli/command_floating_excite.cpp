@@ -125,12 +125,17 @@ int runFloatingExcite(const po::variables_map& vm) {
                  "written\n";
     return kExitInterrupted;
   }
+  design.baseline_problem = cliText(design.baseline_problem);
   const StandingDesignSource source{vm["robot"].as<std::string>(), nameListOption(vm, "contacts")};
   writeReportFiles(
       dir, {{"standing_excitation.json",
              jsonText(withProvenance(standingDesignJson(request, design, source)), 2) + "\n"},
             {"standing_excitation.md", standingDesignMarkdown(request, design, source)}});
-  std::cout << standingDesignSummary(request, design, source, dir);
+  std::cout << "dynid excite --floating-base: "
+            << standingDesignSummary(request, design, source, dir)
+            << "  simulate along it: dynid simulate --robot " << shellWord(source.robot)
+            << " --floating-base --trajectory " << shellWord(dir + "/standing_excitation.json")
+            << " --out DATA.csv\n";
   return exitAfter(guard, "excite", "wrote the best sway so far to " + dir);
 }
 

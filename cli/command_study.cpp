@@ -16,17 +16,6 @@ namespace dynid::cli {
 
 namespace {
 
-/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes.
-std::string shellWord(const std::string& word) {
-  const bool safe = !word.empty() && word.find_first_not_of(
-                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
-                                         "0123456789_./:=,+-@%") == std::string::npos;
-  if (safe) return word;
-  std::string out = "'";
-  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 /// The report's next step as the dynid identify command that repeats it.
 std::string identifyCommand(const StudyRepeat& r) {
   std::string command = "dynid identify --method " + r.method + " --robot " +

@@ -337,6 +337,17 @@ StructuralOptions structuralOptions(const po::variables_map& vm) {
   return {vm["samples"].as<int>(), vm["seed"].as<std::uint64_t>(), vm["tolerance"].as<double>()};
 }
 
+/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes.
+std::string shellWord(const std::string& word) {
+  const bool safe = !word.empty() && word.find_first_not_of(
+                                         "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz"
+                                         "0123456789_./:=,+-@%") == std::string::npos;
+  if (safe) return word;
+  std::string out = "'";
+  for (char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 bool given(const po::variables_map& vm, const char* option) {
   return vm.count(option) > 0 && !vm[option].defaulted();
 }

@@ -163,6 +163,10 @@ bool keepIfBetterOption(const po::variables_map& vm);
 
 /// An option given on the command line (not a default).
 bool given(const po::variables_map& vm, const char* option);
+
+/// `word` as one shell word: as it is when it holds only safe characters, else in single quotes
+/// (a command line a user can paste, whatever the file names hold).
+std::string shellWord(const std::string& word);
 /// Throws UsageError when any of `options` is given while `used` is false: an option the chosen
 /// method or mode would ignore ("--population applies to --method ga and hybrid, not nlo").
 void refuseUnused(const po::variables_map& vm, bool used,

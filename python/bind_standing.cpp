@@ -59,6 +59,7 @@ py::dict exciteStanding(const PathLike& robot, const std::vector<std::string>& c
   }
   interrupt.raiseIfFailed();
   interrupt.warnIfStopped();
+  design.baseline_problem = pythonText(design.baseline_problem);
   const nlohmann::json document = withCall(
       standingDesignJson(request, design, {pathArg(robot, "robot"), contacts}), call.finish());
   if (!path.empty()) writeFileAtomically(path, jsonText(document, 2) + "\n");

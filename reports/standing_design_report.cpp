@@ -156,9 +156,10 @@ std::string standingDesignMarkdown(const StandingDesignRequest& request,
                                 sensorSetName(request.set) +
                                 (chosen ? ": " + swayScoreText(*chosen) : std::string())},
                {"Within", swayBoundsText(request, design)},
-               {"Next", "dynid simulate --robot " + source.robot +
-                            " --floating-base --trajectory standing_excitation.json "
-                            "--friction-cone MU --noise-tau S --out DATA.csv"}});
+               {"Next",
+                "run the sway on the robot, or simulate the robot along it "
+                "(standing_excitation.json is its trajectory), then identify the data it "
+                "gives"}});
   doc.heading("What each sensor set determines");
   DocumentTable table;
   table.header = {"set", "holding states", "any sway of this stance", "this design",
@@ -176,7 +177,8 @@ std::string standingDesignMarkdown(const StandingDesignRequest& request,
       "base's: a sway can determine fewer than holding states do.";
   doc.table(table);
   if (!design.baseline_problem.empty())
-    doc.paragraph("The default sway (`dynid simulate --stance`): " + design.baseline_problem);
+    doc.paragraph("The default sway (the one dynid generates over a stance): " +
+                  design.baseline_problem);
   doc.heading("How it was designed");
   doc.paragraph(std::string("Criterion: ") + kSwayCriterion + ". COBYLA from " +
                 std::to_string(design.start_objectives.size()) + " seeded starts (seed " +
@@ -198,9 +200,9 @@ std::string standingDesignSummary(const StandingDesignRequest& request,
                                   const StandingDesign& design, const StandingDesignSource& source,
                                   const std::string& dir) {
   std::ostringstream out;
-  out << "dynid excite --floating-base: a standing sway over "
-      << formatNumber(design.base.period, 4) << " s for " << sensorSetName(request.set) << " ("
-      << design.evaluations << " evaluations in " << formatNumber(design.seconds, 3) << " s"
+  out << "a standing sway over " << formatNumber(design.base.period, 4) << " s for "
+      << sensorSetName(request.set) << " (" << design.evaluations << " evaluations in "
+      << formatNumber(design.seconds, 3) << " s"
       << (design.termination == "seconds"       ? ", stopped by the time budget"
           : design.termination == "interrupted" ? ", interrupted: the best sway so far"
                                                 : "")
@@ -215,9 +217,7 @@ std::string standingDesignSummary(const StandingDesignRequest& request,
   if (!design.baseline_problem.empty())
     out << "  the default sway: " << design.baseline_problem << "\n";
   out << "  within the bounds: " << swayBoundsText(request, design) << "\n";
-  out << "  wrote " << dir << "/standing_excitation.json and standing_excitation.md; simulate "
-      << "along it: dynid simulate --robot " << source.robot << " --floating-base --trajectory "
-      << dir << "/standing_excitation.json --out DATA.csv\n";
+  out << "  wrote " << dir << "/standing_excitation.json and standing_excitation.md\n";
   return out.str();
 }
 

@@ -24,8 +24,8 @@ nlohmann::json standingDesignJson(const StandingDesignRequest& request,
 std::string standingDesignMarkdown(const StandingDesignRequest& request,
                                    const StandingDesign& design,
                                    const StandingDesignSource& source);
-/// The console's lines: every set's counts beside the default sway's, the design's extremes, the
-/// files in `dir` and how to simulate along it.
+/// The console's lines: every set's counts beside the default sway's, the design's extremes and
+/// the files in `dir` (the front end says how to simulate along it, in its own spelling).
 std::string standingDesignSummary(const StandingDesignRequest& request,
                                   const StandingDesign& design, const StandingDesignSource& source,
                                   const std::string& dir);

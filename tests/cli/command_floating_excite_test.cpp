@@ -64,5 +64,33 @@ TEST(Cli, ExciteAStandingRobotsSwayThenSimulateAndIdentifyAlongIt) {
       << r.out;
 }
 
+/// Names from anyone: the robot and the output folder with a quote, a space and a dollar sign.
+/// The command line the console prints to simulate along the design runs as printed.
+TEST(Cli, ExcitesPrintedSimulateCommandRunsWithHostileNames) {
+  const std::string dir = test::tempPath("it's a $HOME sway");
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string robot = dir + "/robot \"quoted\".urdf";
+  std::filesystem::copy_file(kStandingQuadruped, robot);
+  const auto quoted = [](const std::string& word) {
+    std::string out = "'";
+    for (const char c : word) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+  };
+  test::Result r =
+      test::run("excite --robot " + quoted(robot) +
+                " --floating-base --contacts LF_FOOT,RF_FOOT,LH_FOOT,RH_FOOT --stance " +
+                kKneesBent + " --starts 1 --evaluations 30 --out " + quoted(dir + "/d"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string lead = "simulate along it: dynid ", tail = " --out DATA.csv";
+  const std::size_t at = r.out.find(lead), end = r.out.find(tail);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  ASSERT_NE(end, std::string::npos) << r.out;
+  const std::string command = r.out.substr(at + lead.size(), end - at - lead.size());
+  r = test::run(command + " --samples 20 --out " + quoted(dir + "/data.csv"));
+  ASSERT_EQ(r.code, 0) << command << "\n" << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/data.csv"));
+}
+
 }  // namespace
 }  // namespace dynid
