@@ -79,29 +79,22 @@ std::shared_ptr<const FloatingDataset> standingDesignOption(const po::variables_
                                                             std::vector<Contact>& contacts) {
   if (vm.count("stance") || vm.count("motion-from"))
     throw UsageError("--trajectory is a standing design: not with --stance or --motion-from");
-  const std::vector<Contact> feet = contactsOf(model, design.contacts);
-  if (!vm.count("contacts")) {
-    contacts = feet;
-  } else if (nameListOption(vm, "contacts") != design.contacts) {
+  if (vm.count("contacts") && nameListOption(vm, "contacts") != design.contacts) {
     std::string names;
     for (const std::string& c : design.contacts) names += (names.empty() ? "" : ",") + c;
     throw UsageError("--contacts: " + vm["trajectory"].as<std::string>() +
                      " is a standing design for the feet " + names + " (leave --contacts out)");
   }
   StandingMotionRequest request;
-  request.contacts = feet;
-  request.stance = design.stance;
-  request.base_design = design.base;
-  request.joint_design = design.joints;
-  if (given(vm, "rate")) request.rate = vm["rate"].as<double>();
-  request.samples = vm.count("samples")
-                        ? vm["samples"].as<int>()
-                        : static_cast<int>(std::lround(design.base.period * request.rate));
   try {
+    request = standingDesignRequest(
+        model, design, given(vm, "rate") ? vm["rate"].as<double>() : StandingMotionRequest{}.rate,
+        vm.count("samples") ? vm["samples"].as<int>() : 0);
     request.check();
   } catch (const InputError& e) {
     throw UsageError(cliText(e.what()));
   }
+  contacts = request.contacts;
   return standingMotion(model, request);
 }
 

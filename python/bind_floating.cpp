@@ -185,13 +185,9 @@ std::shared_ptr<const FloatingDataset> standingDesignMotion(
     throw py::value_error(
         "contacts: the trajectory is a standing design for other feet (leave "
         "contacts out)");
-  StandingMotionRequest request;
-  request.contacts = feet = contactsOf(model, design.contacts);
-  request.stance = design.stance;
-  request.base_design = design.base;
-  request.joint_design = design.joints;
-  request.rate = rate;
-  request.samples = samples.value_or(static_cast<int>(std::lround(design.base.period * rate)));
+  const StandingMotionRequest request =
+      standingDesignRequest(model, design, rate, samples.value_or(0));
+  feet = request.contacts;
   return standingMotion(model, request);
 }
 

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/QR>
 
+#include "analysis/floating/identifiability.hpp"
 #include "analysis/floating/simulate.hpp"
 #include "core/errors.hpp"
 #include "core/format.hpp"
@@ -128,6 +129,25 @@ bool followContacts(const FloatingModel& model, FloatingData& data,
 }
 
 }  // namespace
+
+StandingMotionRequest standingDesignRequest(const FloatingModel& model,
+                                            const StandingDesignRecord& design, double rate,
+                                            int samples) {
+  const double period_samples = design.base.period * rate;
+  if (!(rate > 0.0 && std::isfinite(rate)) ||
+      (samples == 0 && period_samples > kMaxFloatingSamples))
+    throw InputError("`rate` is positive and finite, at most " +
+                     std::to_string(kMaxFloatingSamples) + " samples over the design's period (" +
+                     formatNumber(design.base.period) + " s), not " + formatNumber(rate) + " Hz");
+  StandingMotionRequest request;
+  request.contacts = contactsOf(model, design.contacts);
+  request.stance = design.stance;
+  request.base_design = design.base;
+  request.joint_design = design.joints;
+  request.rate = rate;
+  request.samples = samples > 0 ? samples : static_cast<int>(std::lround(period_samples));
+  return request;
+}
 
 std::vector<char> heldJoints(const FloatingModel& model, const std::vector<Contact>& contacts) {
   std::vector<char> held(static_cast<std::size_t>(model.numJoints()), 0);

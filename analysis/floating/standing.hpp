@@ -10,6 +10,7 @@
 #include <optional>
 #include <vector>
 
+#include "analysis/records/excitation_record.hpp"
 #include "core/controllers.hpp"
 #include "core/floating/contact_jacobian.hpp"
 #include "data/floating/floating_dataset.hpp"
@@ -48,6 +49,15 @@ struct StandingMotionRequest {
   /// positive period.
   void check() const;
 };
+
+/// A standing design read back (standing_excitation.json, `dynid excite --floating-base`) as the
+/// request that makes its motion: its feet, stance, sway and free joints' series, `samples`
+/// samples at `rate` [Hz] (0: one period). Throws InputError naming `rate` when it is not positive
+/// and finite or one period at it is more than kMaxFloatingSamples, and as contactsOf for a foot
+/// the model lacks.
+StandingMotionRequest standingDesignRequest(const FloatingModel& model,
+                                            const StandingDesignRecord& design, double rate,
+                                            int samples = 0);
 
 /// Per joint, whether some contact depends on it (a joint on the path from a contact's body to the
 /// base).
