@@ -195,6 +195,13 @@ struct Margins {
   }
 };
 
+/// A sway's samples with each sample's regressor (at the model's own parameters) and its feet's
+/// stacked Jacobian, made once: the criterion, the cones and the class all read them.
+struct SampledSway {
+  std::shared_ptr<const FloatingDataset> data;
+  std::vector<Eigen::MatrixXd> Y, J;
+};
+
 /// A sway's motion, its rows for every set and its margins.
 class Evaluator {
  public:
@@ -203,7 +210,8 @@ class Evaluator {
         request_(request),
         data_(model),
         theta_(model.standardParameters()),
-        hull_(convexHull(request.sole)) {
+        hull_(convexHull(request.sole)),
+        held_(heldJoints(model, request.contacts)) {
     FloatingStructuralOptions options;
     options.structural = request.structural;
     options.contacts = request.contacts;
@@ -216,7 +224,7 @@ class Evaluator {
   /// Per set, the holding base parameters any sway of the stance excites (column indices).
   const std::vector<std::vector<int>>& standing() const { return standing_; }
   /// Adds a sway's rows to the standing class's pool (settle() reads it).
-  void pool(const FloatingDataset& m) {
+  void pool(const SampledSway& m) {
     pooled_.resize(holding_.size());
     for (std::size_t s = 0; s < holding_.size(); ++s) {
       const Eigen::MatrixXd block = rows(s, m);
@@ -239,8 +247,8 @@ class Evaluator {
     }
   }
 
-  /// The motion at `rate` over one period, or nullptr where the legs cannot follow it.
-  std::shared_ptr<FloatingDataset> motion(const SwayDesign& design, double rate) const {
+  /// The motion at `rate` over one period, or none where the legs cannot follow it.
+  std::optional<SampledSway> motion(const SwayDesign& design, double rate) {
     StandingMotionRequest r;
     r.contacts = request_.contacts;
     r.stance = request_.stance;
@@ -249,24 +257,38 @@ class Evaluator {
     r.check_limits = false;  // measured as a margin
     r.rate = rate;
     r.samples = std::max(2, static_cast<int>(std::lround(design.base.period * rate)));
+    std::shared_ptr<FloatingDataset> m;
     try {
-      return standingMotion(model_, r);
+      m = standingMotion(model_, r);
     } catch (const InputError&) {
-      return nullptr;
+      return std::nullopt;
     }
+    return sampled(std::move(m));
+  }
+  /// The motion's samples with their regressors and Jacobians.
+  SampledSway sampled(std::shared_ptr<const FloatingDataset> m) {
+    SampledSway out;
+    for (int k = 0; k < m->numSamples(); ++k) {
+      out.Y.push_back(regressor(*m, k));
+      out.J.push_back(stackedContactJacobian(model_, data_, request_.contacts, m->q.col(k)));
+    }
+    out.data = std::move(m);
+    return out;
   }
   /// Set s's rows over the motion in the holding class's base parameters.
-  Eigen::MatrixXd rows(std::size_t s, const FloatingDataset& m) {
+  Eigen::MatrixXd rows(std::size_t s, const SampledSway& m) const {
     Eigen::MatrixXd out;
-    for (int k = 0; k < m.numSamples(); ++k) {
-      const Eigen::MatrixXd block = holding_[s].base.baseRegressor(
-          sensorRows(holding_[s].set, regressor(m, k), jacobian(m, k)));
-      if (out.size() == 0) out.resize(block.rows() * m.numSamples(), block.cols());
-      out.middleRows(block.rows() * k, block.rows()) = block;
+    const auto N = static_cast<Eigen::Index>(m.Y.size());
+    for (std::size_t k = 0; k < m.Y.size(); ++k) {
+      const Eigen::MatrixXd block =
+          holding_[s].base.baseRegressor(sensorRows(holding_[s].set, m.Y[k], m.J[k]));
+      if (out.size() == 0) out.resize(block.rows() * N, block.cols());
+      out.middleRows(block.rows() * static_cast<Eigen::Index>(k), block.rows()) = block;
     }
     return out;
   }
-  Margins margins(const SwayDesign& design, const FloatingDataset& m) {
+  Margins margins(const SwayDesign& design, const SampledSway& sway) {
+    const FloatingDataset& m = *sway.data;
     Margins out;
     Eigen::VectorXd c, dc, ddc;
     for (int k = 0; k < m.numSamples(); ++k) {
@@ -274,9 +296,8 @@ class Evaluator {
       out.largest_sway = std::max(out.largest_sway, c.head<3>().cwiseAbs().maxCoeff());
       out.largest_turn = std::max(out.largest_turn, c.tail<3>().cwiseAbs().maxCoeff());
     }
-    const std::vector<char> held = heldJoints(model_, request_.contacts);
     for (int j = 0; j < model_.numJoints() && design.joints; ++j)
-      if (!held[static_cast<std::size_t>(j)])
+      if (!held_[static_cast<std::size_t>(j)])
         out.largest_swing =
             std::max(out.largest_swing, (m.q.row(j).array() - request_.stance[j]).abs().maxCoeff());
     out.swing = request_.max_swing > 0.0 ? out.largest_swing / request_.max_swing - 1.0 : 0.0;
@@ -296,12 +317,12 @@ class Evaluator {
     out.joints = request_.joint_margin - out.clearance;
     out.speeds = speed - 1.0;
     out.cones = out.soles = 0.0;
-    if (request_.friction_cone > 0.0 || !request_.sole.empty()) conesOf(m, out);
+    if (request_.friction_cone > 0.0 || !request_.sole.empty()) conesOf(sway, out);
     return out;
   }
 
  private:
-  /// Sample k's regressor and its contacts' stacked Jacobian (at the model's own parameters).
+  /// Sample k's regressor.
   Eigen::MatrixXd regressor(const FloatingDataset& m, int k) {
     BaseMotion base;
     const Eigen::Vector4d o = m.orientation.col(k);
@@ -310,19 +331,18 @@ class Evaluator {
     base.acceleration = m.acceleration.col(k);
     return floatingRegressor(model_, data_, base, m.q.col(k), m.dq.col(k), m.ddq.col(k));
   }
-  Eigen::MatrixXd jacobian(const FloatingDataset& m, int k) {
-    return stackedContactJacobian(model_, data_, request_.contacts, m.q.col(k));
-  }
   /// The least-norm forces that hold each sample, against the cones: each foot's (a sole's
   /// force, after its moment) |tangential| - mu normal, over the force the contacts carry; and
   /// against the soles: each frame contact's centre of pressure outside its sole [m].
-  void conesOf(const FloatingDataset& m, Margins& out) {
+  void conesOf(const SampledSway& sway, Margins& out) {
+    const FloatingDataset& m = *sway.data;
     const double mu = request_.friction_cone;
     out.cones = mu > 0.0 ? -std::numeric_limits<double>::infinity() : 0.0;
     out.soles = request_.sole.empty() ? 0.0 : -std::numeric_limits<double>::infinity();
     for (int k = 0; k < m.numSamples(); ++k) {
-      const Eigen::VectorXd wrench = (regressor(m, k) * theta_).head<6>();
-      const Eigen::MatrixXd map = jacobian(m, k).leftCols<6>().transpose();
+      const auto at = static_cast<std::size_t>(k);
+      const Eigen::VectorXd wrench = (sway.Y[at] * theta_).head<6>();
+      const Eigen::MatrixXd map = sway.J[at].leftCols<6>().transpose();
       const Eigen::VectorXd f = map.completeOrthogonalDecomposition().solve(wrench);
       const Eigen::Vector4d o = m.orientation.col(k);
       const Eigen::Matrix3d R = Eigen::Quaterniond(o[0], o[1], o[2], o[3]).toRotationMatrix();
@@ -357,6 +377,7 @@ class Evaluator {
   std::vector<SensorSetBase> holding_;
   std::vector<std::vector<int>> standing_;  // per set, in holding_'s order
   std::vector<Eigen::Vector2d> hull_;       // the sole's convex hull, counter-clockwise
+  std::vector<char> held_;                  // the joints some foot depends on
   std::vector<Eigen::MatrixXd> pooled_;     // per set: the sways' rows (holding base parameters)
 };
 
@@ -399,7 +420,7 @@ void standingClass(Evaluator& evaluator, const StandingDesignRequest& r, const C
   int followed = 0;
   for (int k = 0; k < 18 && followed < 6; ++k) {
     const std::vector<double> x = startPoint(r, coding, 1000 + k);
-    const std::shared_ptr<FloatingDataset> m =
+    const std::optional<SampledSway> m =
         evaluator.motion(coding.decode(x.data(), std::ldexp(1.0, -(k / 6))), r.grid_rate);
     if (!m) continue;
     ++followed;
@@ -413,7 +434,7 @@ void standingClass(Evaluator& evaluator, const StandingDesignRequest& r, const C
 }
 
 /// Every set's counts and condition number on a motion.
-std::vector<StandingSetScore> scoresOf(Evaluator& evaluator, const FloatingDataset& m) {
+std::vector<StandingSetScore> scoresOf(const Evaluator& evaluator, const SampledSway& m) {
   std::vector<StandingSetScore> out;
   for (std::size_t s = 0; s < evaluator.holding().size(); ++s) {
     const Eigen::MatrixXd W = evaluator.rows(s, m);
@@ -436,7 +457,7 @@ std::vector<StandingSetScore> scoresOf(Evaluator& evaluator, const FloatingDatas
 /// default sway over the same period.
 void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
                           const Coding& coding, const std::vector<double>& x, StandingDesign& out) {
-  std::shared_ptr<FloatingDataset> m;
+  std::optional<SampledSway> m;
   Margins margins;
   for (int tries = 0; tries < 30; ++tries, out.shrink *= 0.9) {
     const SwayDesign sway = coding.decode(x.data(), out.shrink);
@@ -464,9 +485,9 @@ void finishStandingDesign(Evaluator& evaluator, const StandingDesignRequest& r,
   sway.stance = r.stance;
   sway.period = r.period;
   sway.rate = r.check_rate;
-  sway.samples = m->numSamples();
+  sway.samples = m->data->numSamples();
   try {
-    out.baseline = scoresOf(evaluator, *standingMotion(evaluator.model(), sway));
+    out.baseline = scoresOf(evaluator, evaluator.sampled(standingMotion(evaluator.model(), sway)));
   } catch (const InputError& e) {
     out.baseline_problem = e.what();
   }
@@ -509,7 +530,7 @@ StandingDesign designStandingSway(const FloatingModel& model,
       if (control.check()) return std::nullopt;
       ++out.evaluations;
       const SwayDesign design = coding.decode(at);
-      const std::shared_ptr<FloatingDataset> m = evaluator.motion(design, request.grid_rate);
+      const std::optional<SampledSway> m = evaluator.motion(design, request.grid_rate);
       if (!m) {
         last = Margins{};
         return kUnranked;
