@@ -188,7 +188,7 @@ struct Margins {
       return "`joint_margin` (a joint " + formatNumber(clearance, 3) + " rad from a limit)";
     if (w == cones) return "`friction_cone` (a foot's force outside its cone)";
     if (w == soles) return "`sole` (a centre of pressure outside its sole)";
-    if (w == speeds) return "the joints' velocity limits";
+    if (w == speeds) return "the joints' velocity limits (a longer `period` slows the sway)";
     if (w == sway) return "`max_sway`";
     if (w == swing) return "`max_swing`";
     return "`max_turn`";
