@@ -61,6 +61,10 @@ void addSimulateOptions(po::options_description& options) {
       "stops in the motion: move=M,hold=H[,ramp=R] [s]: M seconds of motion (slowing to a stop "
       "over its last R, starting over its first R; default 0.5), then H seconds holding the pose, "
       "over and over")(
+      "stiction", po::bool_switch(),
+      "a joint stops at zero velocity and sticks while its static friction can hold it, as a real "
+      "arm's does (default: its friction law's value, Coulomb's sign chattering about a resting "
+      "joint, as identify's and search's rollouts integrate it)")(
       "truth-out", po::value<std::string>(),
       "with --disturbance: the applied external joint torques, t,tau_ext1.. (default: OUT with "
       ".truth.csv for .csv; - for standard output)")(
@@ -256,6 +260,7 @@ SimulateRequest simulateRequest(const po::variables_map& vm) {
   sim.noise_dq = vm["noise-dq"].as<double>();
   sim.noise_tau = vm["noise-tau"].as<double>();
   sim.seed = vm["seed"].as<std::uint64_t>();
+  sim.stiction = vm["stiction"].as<bool>();
   request.harmonics = harmonics;
   request.fourier = controller == "fourier";
   refuseUnused(vm, !request.fourier, {"frequency", "phase"},

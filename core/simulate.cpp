@@ -12,8 +12,11 @@
 #include "core/aba.hpp"
 #include "core/crba.hpp"
 #include "core/errors.hpp"
+#include "core/friction.hpp"
+#include "core/integrators.hpp"
 #include "core/kinematics.hpp"
 #include "core/memory.hpp"
+#include "core/rnea.hpp"
 
 namespace dynid {
 
@@ -137,6 +140,139 @@ void externalTorque(const Model& truth, Data& data, const std::vector<Disturbanc
       out += wrenchJointTorques(truth, data, q, d.link, d.force, d.moment);
   }
 }
+
+/// Stick-slip friction between integration steps (SimulationOptions::stiction). A joint with a
+/// static band (its friction needs sign(dq)) that is within its velocity window of zero at a
+/// step's start, or crossed zero in the last step, stops and sticks when the friction holding it,
+/// given the torques and the other joints' motion, lies in its band; otherwise it keeps its
+/// velocity, and one at exactly zero slips toward the torque's side with the band's edge as its
+/// friction until its velocity leaves zero. Which joints stick is decided once per step (the torque
+/// is held over it) by releasing the joint furthest outside its band until every held one is in.
+class StickSlip {
+ public:
+  explicit StickSlip(const Model& truth) : n_(truth.numJoints()), lo_(n_), hi_(n_), edge_(n_) {
+    for (int j = 0; j < n_; ++j) {
+      const auto band = staticFrictionBand(truth, j);
+      lo_[j] = band.first, hi_[j] = band.second;
+      if (band.second > band.first) banded_.push_back(j);
+    }
+    stuck_.assign(static_cast<std::size_t>(n_), 0);
+    zero_.assign(static_cast<std::size_t>(n_), 0);
+  }
+  bool any() const { return !banded_.empty(); }
+
+  /// The velocity window within which a joint counts as stopping (Karnopp's): what half its static
+  /// band takes from its velocity in one step of length h, with the mass matrix at q. A joint that
+  /// approaches zero velocity smoothly would otherwise never reach it exactly.
+  void setWindow(const Model& m, Data& data, const Eigen::VectorXd& q, double h) {
+    const Eigen::MatrixXd& M = crba(m, data, q);
+    window_.setZero(n_);
+    for (int j : banded_) window_[j] = h * 0.5 * (hi_[j] - lo_[j]) / M(j, j);
+  }
+
+  /// Decides the step from (q, dq) under `tau`: the banded joints within their window (and those
+  /// in `also`) stop at zero velocity, and those the band cannot hold are released, in turn, the
+  /// furthest outside its band first; a released joint keeps the velocity it had. True when a
+  /// joint is stuck or slips from exactly zero velocity (the step then needs constrainedStep).
+  bool decide(const Model& m, Data& data, const Eigen::VectorXd& q, Eigen::VectorXd& dq,
+              const Eigen::VectorXd& tau, const std::vector<int>& also = {}) {
+    bool candidates = false;
+    saved_ = dq;
+    for (int j = 0; j < n_; ++j) stuck_[j] = zero_[j] = 0;
+    const auto stop = [&](int j) { stuck_[j] = zero_[j] = 1, dq[j] = 0.0, candidates = true; };
+    for (int j : banded_)
+      if (std::abs(dq[j]) <= window_[j]) stop(j);
+    for (int j : also) stop(j);
+    if (!candidates) return false;
+    for (;;) {
+      acceleration(m, data, q, dq, tau);
+      int worst = -1;
+      double most = 0.0;
+      for (int j : banded_) {
+        if (!stuck_[j]) continue;
+        const double f = held_[j], outside = std::max(f - hi_[j], lo_[j] - f) / (hi_[j] - lo_[j]);
+        if (outside > most) most = outside, worst = j;
+      }
+      if (worst < 0) break;
+      stuck_[worst] = 0;
+      edge_[worst] = held_[worst] > hi_[worst] ? hi_[worst] : lo_[worst];
+    }
+    bool constrained = false;
+    for (int j : banded_) {
+      if (zero_[j] && !stuck_[j] && saved_[j] != 0.0) zero_[j] = 0, dq[j] = saved_[j];
+      constrained = constrained || zero_[j];
+    }
+    return constrained;
+  }
+
+  /// ddq under the decision: zero on the stuck joints, M's free block solved for the rest, with
+  /// the edge friction of a slipping joint while its velocity is exactly zero; held_ receives
+  /// the friction each stuck joint needs.
+  const Eigen::VectorXd& acceleration(const Model& m, Data& data, const Eigen::VectorXd& q,
+                                      const Eigen::VectorXd& dq, const Eigen::VectorXd& tau) {
+    zero_ddq_.setZero(n_);
+    bias_ = tau - rnea(m, data, q, dq, zero_ddq_);
+    for (int j = 0; j < n_; ++j)
+      if (zero_[j] && !stuck_[j] && dq[j] == 0.0) bias_[j] -= edge_[j];
+    const Eigen::MatrixXd& M = crba(m, data, q);
+    free_.clear();
+    for (int j = 0; j < n_; ++j)
+      if (!stuck_[j]) free_.push_back(j);
+    const auto f = static_cast<Eigen::Index>(free_.size());
+    block_.resize(f, f);
+    rhs_.resize(f);
+    for (Eigen::Index a = 0; a < f; ++a) {
+      rhs_[a] = bias_[free_[a]];
+      for (Eigen::Index b = 0; b < f; ++b) block_(a, b) = M(free_[a], free_[b]);
+    }
+    ddq_.setZero(n_);
+    if (f > 0) {
+      const Eigen::VectorXd x = block_.ldlt().solve(rhs_);
+      for (Eigen::Index a = 0; a < f; ++a) ddq_[free_[a]] = x[a];
+    }
+    held_ = bias_ - M * ddq_;
+    return ddq_;
+  }
+
+  /// One step of `type` under the decision (the stuck joints' q and dq stay as they are).
+  void constrainedStep(IntegratorType type, const Model& m, Data& data, Eigen::VectorXd& q,
+                       Eigen::VectorXd& dq, const Eigen::VectorXd& tau, double h) {
+    if (type == IntegratorType::kSemiImplicitEuler) {
+      dq += h * acceleration(m, data, q, dq, tau);
+      q += h * dq;
+      return;
+    }
+    const Eigen::VectorXd q0 = q, dq0 = dq;
+    const Eigen::VectorXd a1 = acceleration(m, data, q0, dq0, tau);
+    const Eigen::VectorXd dq2 = dq0 + 0.5 * h * a1;
+    const Eigen::VectorXd a2 = acceleration(m, data, q0 + 0.5 * h * dq0, dq2, tau);
+    const Eigen::VectorXd dq3 = dq0 + 0.5 * h * a2;
+    const Eigen::VectorXd a3 = acceleration(m, data, q0 + 0.5 * h * dq2, dq3, tau);
+    const Eigen::VectorXd dq4 = dq0 + h * a3;
+    const Eigen::VectorXd a4 = acceleration(m, data, q0 + h * dq3, dq4, tau);
+    q = q0 + (h / 6.0) * (dq0 + 2.0 * dq2 + 2.0 * dq3 + dq4);
+    dq = dq0 + (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+  }
+
+  /// After a step from velocities `before`: a banded joint whose velocity changed sign (or reached
+  /// zero) is stopped at zero when its band holds it there under `tau`; else it goes on as
+  /// integrated (a reversal the torque drives through).
+  void settle(const Model& m, Data& data, const Eigen::VectorXd& q, const Eigen::VectorXd& before,
+              Eigen::VectorXd& dq, const Eigen::VectorXd& tau) {
+    crossed_.clear();
+    for (int j : banded_)
+      if (before[j] != 0.0 && (dq[j] == 0.0 || (dq[j] > 0.0) != (before[j] > 0.0)))
+        crossed_.push_back(j);
+    if (!crossed_.empty()) decide(m, data, q, dq, tau, crossed_);
+  }
+
+ private:
+  int n_;
+  Eigen::VectorXd lo_, hi_, edge_, window_, held_, bias_, ddq_, zero_ddq_, rhs_, saved_;
+  Eigen::MatrixXd block_;
+  std::vector<int> banded_, free_, crossed_;
+  std::vector<char> stuck_, zero_;
+};
 }  // namespace
 
 Eigen::VectorXd wrenchJointTorques(const Model& model, Data& data, const Eigen::VectorXd& q,
@@ -163,9 +299,14 @@ Eigen::VectorXd wrenchJointTorques(const Model& model, Data& data, const Eigen::
   return tau;
 }
 
-Trajectory simulate(const Model& truth, TrackingController& controller,
-                    const SimulationOptions& options, const std::vector<Disturbance>& disturbances,
-                    Eigen::MatrixXd* applied) {
+namespace {
+/// A run's size from its options: integration steps per recorded sample, and samples. Throws
+/// InputError for the settings simulate() refuses (its contract).
+struct RunSize {
+  long substeps = 0, samples = 0;
+};
+RunSize runSize(const Model& truth, const TrackingController& controller,
+                const SimulationOptions& options, const std::vector<Disturbance>& disturbances) {
   requirePositiveFinite(options.duration, "duration");
   requirePositiveFinite(options.step, "step");
   requirePositiveFinite(options.record_rate, "record rate");
@@ -179,23 +320,40 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
                      " joints, model '" + truth.name + "' has " + std::to_string(n));
   const double period = 1.0 / options.record_rate;
   const double ratio = period / options.step;
-  const long substeps = std::lround(ratio);
-  if (substeps < 1 || std::abs(ratio - static_cast<double>(substeps)) > 1e-9 * ratio)
+  RunSize size;
+  size.substeps = std::lround(ratio);
+  if (size.substeps < 1 || std::abs(ratio - static_cast<double>(size.substeps)) > 1e-9 * ratio)
     throw InputError("the recording period 1/rate = " + std::to_string(period) +
                      " s is not a whole multiple of the integration step " +
                      std::to_string(options.step) + " s");
-  const long samples = std::lround(std::floor(options.duration * options.record_rate + 1e-9)) + 1;
-  if (samples > 100'000'000) throw InputError("simulation would record more than 1e8 samples");
-  if (static_cast<double>(samples - 1) * static_cast<double>(substeps) > 1e9)
+  size.samples = std::lround(std::floor(options.duration * options.record_rate + 1e-9)) + 1;
+  if (size.samples > 100'000'000) throw InputError("simulation would record more than 1e8 samples");
+  if (static_cast<double>(size.samples - 1) * static_cast<double>(size.substeps) > 1e9)
     throw InputError("simulation would take more than 1e9 integration steps (duration / step)");
+  return size;
+}
+}  // namespace
 
+Trajectory simulate(const Model& truth, TrackingController& controller,
+                    const SimulationOptions& options, const std::vector<Disturbance>& disturbances,
+                    Eigen::MatrixXd* applied) {
+  const auto [substeps, samples] = runSize(truth, controller, options, disturbances);
+  const int n = truth.numJoints();
+  const double period = 1.0 / options.record_rate;
   Trajectory out;
   requireMemory(static_cast<double>(samples) * (1 + 4 * n) * sizeof(double),
                 "a simulation of " + std::to_string(samples) + " samples");
   out.resize(n, static_cast<int>(samples));
-  Data data(truth);
-  Eigen::VectorXd q, dq, ddq_ref;
+  // The simulated physics: with stiction, the truth's friction law without a measurement's rest
+  // velocities.
+  Model physics = truth;
+  if (options.stiction) physics.rest_velocities.clear();
+  Data data(physics);
+  StickSlip stick(physics);
+  const bool sticks = options.stiction && stick.any();
+  Eigen::VectorXd q, dq, ddq_ref, before;
   controller.desired(0.0, q, dq, ddq_ref);
+  if (sticks) stick.setWindow(physics, data, q, options.step);
   Eigen::VectorXd tau(n), external = Eigen::VectorXd::Zero(n), pushed(n);
   if (applied) applied->setZero(n, samples);
   for (long k = 0; k < samples; ++k) {
@@ -204,29 +362,40 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
     if (!q.allFinite() || !dq.allFinite()) {
       std::ostringstream msg;
       msg << "simulation of '" << truth.name << "' diverged at t = " << t << " s";
-      if (k > 0) msg << divergenceCause(truth, controller, options, out.q.col(k - 1));
+      if (k > 0) msg << divergenceCause(physics, controller, options, out.q.col(k - 1));
       throw NumericalError(msg.str());
     }
     controller.compute(t, q, dq, tau);
+    if (!disturbances.empty()) externalTorque(physics, data, disturbances, t, q, external);
+    pushed = tau + external;
+    // A joint that stops here is recorded stopped (its velocity within the window, set to zero).
+    bool held = sticks && stick.decide(physics, data, q, dq, pushed);
     out.time[k] = t;
     out.q.col(k) = q;
     out.dq.col(k) = dq;
     out.tau.col(k) = tau;
-    if (!disturbances.empty()) externalTorque(truth, data, disturbances, t, q, external);
     if (applied) applied->col(k) = external;
-    pushed = tau + external;
-    out.ddq.col(k) = aba(truth, data, q, dq, pushed);
+    out.ddq.col(k) =
+        held ? stick.acceleration(physics, data, q, dq, pushed) : aba(physics, data, q, dq, pushed);
     if (k + 1 == samples) break;
     // Hold tau over the recording period; the disturbances act at every step's start.
     for (long s = 0; s < substeps; ++s) {
-      if (disturbances.empty()) {
-        integratorStep(options.integrator, truth, data, q, dq, tau, options.step);
+      if (!disturbances.empty()) {
+        externalTorque(physics, data, disturbances, t + static_cast<double>(s) * options.step, q,
+                       external);
+        pushed = tau + external;
+      }
+      if (!sticks) {
+        integratorStep(options.integrator, physics, data, q, dq, pushed, options.step);
         continue;
       }
-      externalTorque(truth, data, disturbances, t + static_cast<double>(s) * options.step, q,
-                     external);
-      pushed = tau + external;
-      integratorStep(options.integrator, truth, data, q, dq, pushed, options.step);
+      if (s > 0) held = stick.decide(physics, data, q, dq, pushed);
+      before = dq;
+      if (held)
+        stick.constrainedStep(options.integrator, physics, data, q, dq, pushed, options.step);
+      else
+        integratorStep(options.integrator, physics, data, q, dq, pushed, options.step);
+      stick.settle(physics, data, q, before, dq, pushed);
     }
   }
   // Measurement noise on the recorded signals only.

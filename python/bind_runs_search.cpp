@@ -38,7 +38,7 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
                       const std::optional<Model>& controller_model, double controller_perturb,
                       const std::string& integrator, double noise_q, double noise_dq,
                       double noise_tau, std::uint64_t seed, const OptionalPathLike& trajectory,
-                      const std::optional<std::vector<double>>& pauses) {
+                      const std::optional<std::vector<double>>& pauses, bool stiction) {
   if (controller != "sinusoidal" && controller != "fourier")
     throw py::value_error("controller: expected 'sinusoidal' or 'fourier', not '" + controller +
                           "'");
@@ -69,6 +69,7 @@ Trajectory simulatePy(const Model& model, std::optional<double> duration, double
   s.noise_dq = noise_dq;
   s.noise_tau = noise_tau;
   s.seed = seed;
+  s.stiction = stiction;
   if (pauses) {
     if (pauses->size() < 2 || pauses->size() > 3)
       throw py::value_error("pauses: expected (move, hold) or (move, hold, ramp) [s]");
@@ -273,11 +274,12 @@ void bindSimulate(py::module_& m) {
       py::arg("noise_dq") = SimulateRequest{}.simulation.noise_dq,
       py::arg("noise_tau") = SimulateRequest{}.simulation.noise_tau,
       py::arg("seed") = SimulateRequest{}.simulation.seed, py::arg("trajectory") = py::none(),
-      py::arg("pauses") = py::none(),
+      py::arg("pauses") = py::none(), py::arg("stiction") = SimulateRequest{}.simulation.stiction,
       "`dynid simulate`: the robot under a tracking controller, returned as a Dataset. "
       "Per-joint settings take one number or n; trajectory: an excitation.json design, one period "
       "unless duration is given (default duration: 10 s); pauses: (move, hold[, ramp]) [s], stops "
-      "in the motion as simulate --pauses.");
+      "in the motion as simulate --pauses; stiction: a joint at zero velocity sticks while its "
+      "static friction can hold it, as simulate --stiction (default: its friction law's value).");
 
   m.def(
       "gc_error",

@@ -175,5 +175,22 @@ TEST(Cli, SimulateSaysWhenItReadsAnOlderDesign) {
   EXPECT_TRUE(contains(r.err, "is dynid.excitation version 1 (current 5): read as it is")) << r.err;
 }
 
+// --stiction: the paused arm's joints stop and stay at exactly zero velocity in its holds; without
+// it Coulomb's sign(dq) chatters about zero and none does.
+TEST(Cli, SimulateWithStictionHoldsTheArmAtRestInItsPauses) {
+  const std::string stuck = test::tempPath("stiction.csv"), chatter = test::tempPath("law.csv");
+  const std::string common =
+      "simulate --robot puma560 --drives --duration 6 --amplitude 0.4 --pauses "
+      "move=2,hold=1.5 --out ";
+  ASSERT_EQ(run(common + stuck + " --stiction").code, 0);
+  ASSERT_EQ(run(common + chatter).code, 0);
+  const Trajectory held = readDatasetCsv(stuck, 6), law = readDatasetCsv(chatter, 6);
+  for (int j = 0; j < 6; ++j) {
+    // Two holds of 1.5 s at 1 kHz: most of their 3000 samples stopped.
+    EXPECT_GT((held.dq.row(j).array() == 0.0).count(), 2000) << "joint " << j + 1;
+    EXPECT_LT((law.dq.row(j).array() == 0.0).count(), 10) << "joint " << j + 1;
+  }
+}
+
 }  // namespace
 }  // namespace dynid

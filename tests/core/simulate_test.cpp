@@ -4,7 +4,9 @@
 
 #include "core/aba.hpp"
 #include "core/errors.hpp"
+#include "core/friction.hpp"
 #include "core/kinematics.hpp"
+#include "core/rnea.hpp"
 #include "data/puma560.hpp"
 #include "tests/common/sample_models.hpp"
 
@@ -228,6 +230,88 @@ TEST(Simulate, NamesTheFrictionThatOutrunsTheStepAndAStepThatHolds) {
   TrackingController controller = sinusoidalController(model);
   const Trajectory tr = simulate(model, controller, options);
   EXPECT_TRUE(tr.q.allFinite() && tr.dq.allFinite());
+}
+
+// A resting joint is held by its static friction: a push inside the band leaves every recorded
+// signal as it was, bit for bit, where the law's sign(dq) (stiction off) lets it creep; a push
+// beyond the band breaks it away at once.
+TEST(Simulate, AJointAtRestSticksWhileItsStaticFrictionCanHoldIt) {
+  const Model model = makePuma560(true);  // Coulomb friction and its asymmetry through the gears
+  const int j = 1;                        // the shoulder, loaded by gravity
+  const auto [lo, hi] = staticFrictionBand(model, j);
+  ASSERT_LT(lo, 0.0);
+  ASSERT_GT(hi, 0.0);
+  const auto run = [&](double push, bool stiction) {
+    TrackingController hold = test::pumaSinusoidController(model, 0.0, 0.2, 0.6);
+    SimulationOptions options;
+    options.duration = 1.0;
+    options.stiction = stiction;
+    Disturbance d;
+    d.joint = j, d.start = 0.3, d.duration = 0.2, d.torque = push;
+    return simulate(model, hold, options, {d});
+  };
+  const Trajectory still = run(0.0, true);
+  EXPECT_EQ(still.dq.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(still.ddq.cwiseAbs().maxCoeff(), 0.0);
+  for (const double push : {0.9 * hi, 0.9 * lo}) {
+    const Trajectory held = run(push, true);
+    EXPECT_EQ(held.q, still.q) << push;
+    EXPECT_EQ(held.dq, still.dq) << push;
+    EXPECT_EQ(held.tau, still.tau) << push;
+    // Without stiction the same push moves the joint against the controller (kp ~ 1e3 N m/rad:
+    // about 1e-3 rad).
+    const Trajectory crept = run(push, false);
+    EXPECT_GT((crept.q.row(j) - still.q.row(j)).cwiseAbs().maxCoeff(), 1e-5) << push;
+  }
+  for (const double push : {1.1 * hi, 1.1 * lo}) {
+    const Trajectory broke = run(push, true);
+    const int k = 301;  // one sample after the push began
+    EXPECT_EQ(broke.dq(j, k - 1), 0.0);
+    EXPECT_GT(push * broke.dq(j, k), 0.0) << push;
+  }
+}
+
+// Every recorded sample obeys the truth's friction: its law where the joint moves, and a value
+// within the static band where it rests; a paused motion spends its holds stuck.
+TEST(Simulate, TheRecordedSamplesObeyTheFrictionLawMovingAndTheBandAtRest) {
+  const Model model = makePuma560(true);
+  const int n = model.numJoints();
+  Data data(model);
+  Pauses pauses;
+  pauses.move = 2.0, pauses.hold = 1.5, pauses.ramp = 0.5;
+  const auto run = [&](bool stiction) {
+    TrackingController controller = test::pumaSinusoidController(model, 0.4, 0.2, 0.6);
+    controller.setPauses(pauses);
+    SimulationOptions options;
+    options.duration = 7.0;
+    options.stiction = stiction;
+    return simulate(model, controller, options);
+  };
+  const Trajectory tr = run(true);
+  std::vector<int> resting(n, 0);
+  for (int k = 0; k < tr.numSamples(); ++k) {
+    const Eigen::VectorXd friction =
+        tr.tau.col(k) - rnea(model, data, tr.q.col(k), tr.dq.col(k), tr.ddq.col(k));
+    for (int i = 0; i < n; ++i) {
+      // Inverse dynamics of the recorded state against the forward step's: round-off of a few
+      // ulps of the torques (up to ~100 N m).
+      const double tol = 1e-9 * (1.0 + std::abs(tr.tau(i, k)));
+      if (tr.dq(i, k) != 0.0) {
+        EXPECT_NEAR(friction[i], 0.0, tol) << "t = " << tr.time[k] << ", joint " << i + 1;
+        continue;
+      }
+      ++resting[i];
+      const auto [lo, hi] = staticFrictionBand(model, i);
+      EXPECT_GE(friction[i], lo - tol) << "t = " << tr.time[k] << ", joint " << i + 1;
+      EXPECT_LE(friction[i], hi + tol) << "t = " << tr.time[k] << ", joint " << i + 1;
+    }
+  }
+  // Two holds of 1.5 s (3000 samples) and the slow ends of the moves around them.
+  for (int i = 0; i < n; ++i) EXPECT_GT(resting[i], 1500) << "joint " << i + 1;
+  // The law's sign(dq) lets the resting joints chatter about zero instead.
+  const Trajectory chatter = run(false);
+  for (int i = 0; i < n; ++i)
+    EXPECT_LT((chatter.dq.row(i).array() == 0.0).count(), 10) << "joint " << i + 1;
 }
 
 }  // namespace

@@ -158,6 +158,17 @@ def test_simulate_equals_the_cli_simulation(puma_csv):
         assert np.array_equal(getattr(data, field), getattr(cli, field))
 
 
+def test_simulate_with_stiction_holds_the_arm_in_its_pauses():
+    model = dynid.load_model("puma560", drives=True)
+    common = dict(duration=6, amplitude=0.4, pauses=(2.0, 1.5))
+    held = dynid.simulate(model, stiction=True, **common)
+    law = dynid.simulate(model, **common)
+    # Two holds of 1.5 s at 1 kHz: most of their 3000 samples stopped, each joint; the law's
+    # sign(dq) chatters about zero instead.
+    assert np.all(np.sum(held.dq == 0.0, axis=0) > 2000)
+    assert np.all(np.sum(law.dq == 0.0, axis=0) < 10)
+
+
 def test_dataset_from_arrays_is_checked_at_the_boundary():
     t = np.arange(5) * 0.01
     q = np.zeros((5, 2))
