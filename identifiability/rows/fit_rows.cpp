@@ -142,7 +142,7 @@ bool FitRows::fitted(long long s, int j, double dq_j) const {
                        std::to_string(fitted_.cols()) + " whose rows were measured");
     return fitted_(j, static_cast<Eigen::Index>(s)) != 0;
   }
-  return std::abs(dq_j) > model_.restVelocity(j);
+  return std::abs(dq_j) > kSignMargin * model_.restVelocity(j);
 }
 
 void FitRows::apply(long long s, const Eigen::Ref<const Eigen::VectorXd>& dq,

@@ -59,6 +59,18 @@ inline constexpr double kFilterReachShare = 0.01;
 inline constexpr double kDwellSpeedShare = 0.02;
 inline constexpr double kDwellAccelerationShare = 0.1;
 
+/// On an unfiltered log a row is fitted only where its joint's velocity is beyond kSignMargin
+/// times its rest velocity, so that its sign is the motion's and not the noise's. Measured from
+/// white velocity noise the rest velocity is 3 sigma (analysis/logs/rest.hpp), which a resting
+/// sample's noise passes once in 370: each such row then carries a sign(dq) friction the joint
+/// does not have, up to its static band off (25 N m through the PUMA's gears, against 0.5 N m of
+/// noise). At 5/3 of it, 5 sigma, once in 1.7 million. (On a filtered log the rows within the
+/// filter's reach of a resting sample are left out already, and so are such samples in a rest.) A
+/// simulated PUMA with stick-slip friction (60 s, stops, 1e-3 rad/s of velocity noise): 35 of 58 95
+/// % intervals held the truth at 3 sigma, Fv up to 24 % off; 55 at 5 sigma, as with noise-free
+/// velocities (docs/IDENTIFIABILITY.md).
+inline constexpr double kSignMargin = 5.0 / 3.0;
+
 /// The reach of `filter` in samples (filter active; InputError when its cutoff is not below half
 /// the rate).
 int filterReach(const TorqueFilter& filter);
@@ -67,8 +79,8 @@ int filterReach(const TorqueFilter& filter);
 /// a training set (its index in the set, from 0) and joint.
 class FitRows {
  public:
-  /// Every row by its own sample: joint j's row is left out where |dq_j| <= rest_j and the model
-  /// has a signed_by_velocity term. Stores nothing.
+  /// Every row by its own sample: joint j's row is left out where |dq_j| <= kSignMargin rest_j and
+  /// the model has a signed_by_velocity term. Stores nothing.
   explicit FitRows(const Model& model);
   /// For a dataset whose torque went through `filter`: `time` and `dq` (joints x samples) of every
   /// sample of the training set; runs split where a step exceeds 1.5 / filter.rate. Each run's

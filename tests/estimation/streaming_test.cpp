@@ -21,6 +21,7 @@
 #include "data/puma560.hpp"
 #include "identifiability/base_parameters.hpp"
 #include "identifiability/least_squares_stream.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 namespace {
@@ -227,7 +228,7 @@ TEST(Streaming, IdentifyGivesTheSameEstimateOnAnyThreadCount) {
       const Eigen::VectorXd r =
           data.tau.col(k) - rnea(identified, work, data.q.col(k), data.dq.col(k), data.ddq.col(k));
       for (int j = 0; j < 6; ++j)
-        if (std::abs(data.dq(j, k)) > identified.restVelocity(j)) {
+        if (std::abs(data.dq(j, k)) > kSignMargin * identified.restVelocity(j)) {
           squares[j] += r[j] * r[j];
           ++rows[j];
         }

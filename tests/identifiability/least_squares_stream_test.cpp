@@ -13,6 +13,7 @@
 #include "core/parallel.hpp"
 #include "core/regressor.hpp"
 #include "data/puma560.hpp"
+#include "identifiability/rows/fit_rows.hpp"
 
 namespace dynid {
 namespace {
@@ -97,7 +98,7 @@ TEST(LeastSquaresStream, RowsLeftOutAtRestAreTheDenseFitWithoutThem) {
   Eigen::VectorXd fitted = Eigen::VectorXd::Zero(6);
   for (Eigen::Index r = 0; r < all.W1.rows(); ++r) {
     const int j = static_cast<int>(r % 6);
-    if (std::abs(data.dq(j, r / 6)) > puma.restVelocity(j)) {
+    if (std::abs(data.dq(j, r / 6)) > kSignMargin * puma.restVelocity(j)) {
       kept.push_back(r);
       ++fitted[j];
     }
