@@ -45,8 +45,10 @@ double noiseLevel(const Eigen::VectorXd& v) {
 /// run they fall in). The first and the last run are cut by the log's ends, so their length says
 /// nothing: they never count (a log that ends 0.13 s after a reversal ends in a run of motion,
 /// not of chatter: the simulated PUMA's joint 3 then had a rest velocity of 0.23 rad/s). Returns
-/// the 99th percentile and counts the runs.
-double chatterLevel(const Eigen::VectorXd& v, const Eigen::VectorXd& time, long& runs) {
+/// the 99th percentile and counts the runs; 0 when the runs' median |v| is within
+/// kRestChatterSmoothness sigma of the white noise (3 sigma = `noise_level`).
+double chatterLevel(const Eigen::VectorXd& v, const Eigen::VectorXd& time, double noise_level,
+                    long& runs) {
   std::vector<double> chatter;
   runs = 0;
   const Eigen::Index n = v.size();
@@ -73,7 +75,9 @@ double chatterLevel(const Eigen::VectorXd& v, const Eigen::VectorXd& time, long&
   }
   // The last run is cut by the log's end: it does not count.
   if (runs < kRestMinChatterRuns) return 0.0;
-  return quantile(chatter, 0.99);
+  const double top = quantile(chatter, 0.99);
+  if (quantile(chatter, 0.5) <= kRestChatterSmoothness * noise_level / 3.0) return 0.0;
+  return top;
 }
 
 }  // namespace
@@ -101,7 +105,7 @@ std::vector<RestVelocity> measureRestVelocities(const Eigen::MatrixXd& dq,
     RestVelocity& r = out[static_cast<std::size_t>(j)];
     const Eigen::VectorXd v = dq.row(j).transpose();
     r.noise_level = noiseLevel(v);
-    r.chatter_level = chatterLevel(v, time, r.chatter_runs);
+    r.chatter_level = chatterLevel(v, time, r.noise_level, r.chatter_runs);
     r.velocity = std::max({r.noise_level, r.chatter_level, kRestVelocityFloor});
     r.samples = v.size();
     r.samples_at_rest = (v.array().abs() <= r.velocity).count();

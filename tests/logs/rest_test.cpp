@@ -66,6 +66,25 @@ TEST(RestVelocity, FilteredNoiseAtRestIsFoundFromItsChatter) {
   EXPECT_GT(r.samples_at_rest, 0.98 * n);
 }
 
+// A joint hunting in its static friction after stops: white noise at rest, and every 0.5 s a slip
+// of 50 ms at up to 15 sigma, alternately either way. The slips are motion, not the noise's
+// chatter: the rest velocity stays the white noise's 3 sigma (the 99th percentile of the short
+// runs would take the slips' speed).
+TEST(RestVelocity, SlipsOfAHuntingJointAreMotionNotChatter) {
+  const int n = 20000;
+  const double sigma = 1e-3;
+  Eigen::MatrixXd dq(1, n);
+  dq.row(0) = noise(n, sigma, 5);
+  for (int start = 250, slip = 0; start + 50 < n; start += 500, ++slip)
+    for (int k = 0; k < 50; ++k)
+      dq(0, start + k) += (slip % 2 ? -15.0 : 15.0) * sigma * std::sin(std::numbers::pi * k / 50.0);
+  const RestVelocity r = measureRestVelocities(dq, stamps(n))[0];
+  EXPECT_EQ(r.source(), "noise");
+  EXPECT_EQ(r.chatter_level, 0.0);
+  // 3 sigma from 20000 samples, 10 % of them in slips that shift the MAD a little: 10 %.
+  EXPECT_NEAR(r.velocity, 3.0 * sigma, 0.3 * sigma);
+}
+
 TEST(RestVelocity, CleanMotionHasNoRestButItsZeros) {
   // A 0.5 Hz sinusoid of 1 rad/s, no noise: reversals cross zero once each, nothing chatters.
   const int n = 8000;
