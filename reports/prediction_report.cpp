@@ -504,15 +504,18 @@ std::string writePrediction(const std::string& dir, const PredictOutcome& o,
   out << o.robot_spec << " (" << (o.method.empty() ? "estimate" : o.method) << ") on "
       << v.num_samples << " samples: relative torque error "
       << formatNumber(100.0 * v.relative_error, 3, "n/a") << " %; per joint RMS [N m]:";
-  for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j)
-    out << " " << formatNumber(v.torque_rms[j], 3, "n/a");
+  for (Eigen::Index j = 0; j < v.torque_rms.size(); ++j) {
+    // A joint with no row compared (at rest throughout) has no RMS to show.
+    const bool none = j < p.compared_rows.size() && p.compared_rows[j] == 0.0;
+    out << " " << (none ? std::string("n/a") : formatNumber(v.torque_rms[j], 3, "n/a"));
+  }
   if (const std::string line = comparedRowsLine(p); !line.empty()) out << "\n" << line;
   if (o.raw) out << "\n" << rawValidationLine(*o.raw, o.raw_skipped);
   const Eigen::VectorXd& coverage = p.band_coverage;
   if (coverage.size() > 0) {
     out << "\n95 % band coverage per joint [%]:";
     for (Eigen::Index j = 0; j < coverage.size(); ++j)
-      out << " " << formatNumber(100.0 * coverage[j], 3);
+      out << " " << formatNumber(100.0 * coverage[j], 3, "n/a");
     for (const std::string& w : bandWarnings(coverage)) out << "\nwarning: " << w;
   } else if (o.method == "model") {
     out << "\nno band: a model has no covariance (predict from identify's estimate.json for a "

@@ -146,7 +146,11 @@ class PredictionAccumulator {
     if (filtered_) addFilteredFriction(model_, *filtered_, out);
     out.rest = restPrediction();
     if (band_ && samples_ > 0) {
-      out.band_coverage = (inside_.array() / compared_.array().max(1.0)).matrix();
+      // A joint with no row compared (the whole log at rest) has no coverage: NaN, not 0.
+      out.band_coverage = (compared_.array() > 0.0)
+                              .select(inside_.array() / compared_.array().max(1.0),
+                                      std::numeric_limits<double>::quiet_NaN())
+                              .matrix();
       const Trajectory kept = keeper_.kept();
       Data data(model_);
       out.band.resize(model_.numJoints(), kept.numSamples());

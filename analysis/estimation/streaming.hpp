@@ -68,7 +68,8 @@ struct Prediction {
   Eigen::MatrixXd measured, predicted;  // and torques (n x kept) [N m]
   Eigen::MatrixXd velocity;             // and velocities dq (n x kept) [rad/s or m/s]
   /// With a band: per joint, the share of compared rows whose measured torque lies inside it, and
-  /// the kept samples' half widths (n x kept) [N m]; empty otherwise.
+  /// the kept samples' half widths (n x kept) [N m]; empty otherwise. NaN for a joint with no
+  /// row compared.
   Eigen::VectorXd band_coverage;
   Eigen::MatrixXd band;
 };

@@ -161,6 +161,43 @@ TEST(Cli, PredictDrawsTheBandAndWarnsWhenItDoesNotCoverTheData) {
   EXPECT_FALSE(contains(readFile(dir + "/p_old/predicted.csv").substr(0, 300), "band1"));
 }
 
+// An arm holding its pose throughout (simulate --stiction): every joint at rest, no row compared;
+// predict says so (coverage and RMS n/a) instead of a 0 % coverage and its warning.
+TEST(Cli, PredictOnAnArmAtRestThroughoutComparesNoRowAndSaysSo) {
+  const std::string dir = test::tempPath("cli_predict_rest");
+  std::filesystem::create_directories(dir);
+  const std::string common = "simulate --robot puma560 --drives --stiction --noise-tau 0.3 ";
+  ASSERT_EQ(run(common + "--controller fourier --duration 10 --noise-dq 0.001 --seed 11 --out " +
+                dir + "/train.csv")
+                .code,
+            0);
+  ASSERT_EQ(run(common + "--amplitude 0 --duration 2 --noise-dq 0.001 --seed 12 --out " + dir +
+                "/hold.csv")
+                .code,
+            0);
+  ASSERT_EQ(
+      run("identify --robot puma560 --drives --data " + dir + "/train.csv --out " + dir + "/est")
+          .code,
+      0);
+  const Result r = run("predict --estimate " + dir + "/est/estimate.json --data " + dir +
+                       "/hold.csv --out " + dir + "/p");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "per joint RMS [N m]: n/a n/a n/a n/a n/a n/a")) << r.out;
+  EXPECT_TRUE(contains(r.out, "95 % band coverage per joint [%]: n/a n/a n/a n/a n/a n/a"))
+      << r.out;
+  EXPECT_FALSE(contains(r.out, "warning")) << r.out;
+  const auto j = nlohmann::json::parse(readFile(dir + "/p/prediction.json"));
+  for (const auto& c : j["band"]["coverage"]) EXPECT_TRUE(c.is_null()) << j["band"];
+  EXPECT_TRUE(j["band"]["outside_expected"].empty());
+  // At rest the residual's spread is the sensor's noise, as the measured torque's: within 2 %,
+  // the prediction's own spread there (velocity noise through Fv) being under 0.01 of 0.3 N m.
+  for (std::size_t k = 0; k < 6; ++k)
+    EXPECT_NEAR(j["at_rest"]["residual_std"][k].get<double>(),
+                j["at_rest"]["measured_std"][k].get<double>(),
+                0.02 * j["at_rest"]["measured_std"][k].get<double>())
+        << k;
+}
+
 }  // namespace
 }  // namespace dynid
 
