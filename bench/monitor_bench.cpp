@@ -28,6 +28,9 @@
 //     the torque noise, 0.5 N m, for 0.2 s, in the holds) and 8 in motion (10 N m for 0.1 s),
 //     random joint and sign; and an hour of clean motion with stops. The same with the previous
 //     release's thresholds (one per joint, none at rest: a version 1 file) beside it.
+//     /<robot>_stiction: the truth simulated with stick-slip friction (SimulationOptions::
+//     stiction), each push at rest simulated away too, to count those the static friction held
+//     (nothing recorded changed).
 // Run: build/bench/bench_monitor  (several minutes on 2 cores; counters and a table on stdout).
 #include <algorithm>
 #include <cmath>
@@ -285,9 +288,10 @@ Model statesTruth(const Model& nominal, double bandwidth) {
 
 /// A log of `seconds` with stops: `move` s of motion, then `hold` s at rest, over and over.
 SimulateRequest pausedMotion(const Model& truth, double seconds, std::uint64_t seed, double phase,
-                             double move, double hold, double bandwidth) {
+                             double move, double hold, double bandwidth, bool stiction = false) {
   SimulateRequest r = motion(truth, seconds, seed, phase);
   r.bandwidth = bandwidth;
+  r.simulation.stiction = stiction;
   Pauses p;
   p.move = move, p.hold = hold, p.ramp = 0.5;
   r.pauses = p;
@@ -297,22 +301,48 @@ SimulateRequest pausedMotion(const Model& truth, double seconds, std::uint64_t s
 struct StatesScore {
   int rest_pushes = 0, rest_found = 0, moving_pushes = 0, moving_found = 0, false_alarms = 0;
   int rest_found_during = 0;  // an event started while the push at rest lasted
+  /// With stiction: pushes at rest the static friction held (every recorded signal the same, bit
+  /// for bit, as without the push), and those of the others found while they lasted.
+  int rest_held = 0, rest_moved_found_during = 0;
   double seconds = 0.0;
 };
+
+/// What the push `which` of `r` changed in the recorded samples (noise included) from its start to
+/// 0.5 s after its end, against the same run without it: the largest change of a torque [N m] and
+/// of a position [rad]. Held: a push the joint's static friction held, which nothing recorded can
+/// show (under 1e-9 N m and 1e-12 rad: at most the round-off of a later stick decision).
+struct PushTrace {
+  double tau = 0.0, q = 0.0;
+  bool held() const { return tau < 1e-9 && q < 1e-12; }
+};
+PushTrace pushTrace(const SimulateRequest& r, std::size_t which, const Trajectory& pushed) {
+  SimulateRequest without = r;
+  without.disturbances.erase(without.disturbances.begin() + static_cast<std::ptrdiff_t>(which));
+  const Trajectory other = simulateRun(without).trajectory;
+  const Disturbance& d = r.disturbances[which];
+  PushTrace out;
+  for (int k = 0; k < pushed.numSamples(); ++k) {
+    if (pushed.time[k] < d.start || pushed.time[k] > d.start + d.duration + 0.5) continue;
+    out.tau = std::max(out.tau, (pushed.tau.col(k) - other.tau.col(k)).cwiseAbs().maxCoeff());
+    out.q = std::max(out.q, (pushed.q.col(k) - other.q.col(k)).cwiseAbs().maxCoeff());
+  }
+  return out;
+}
 
 /// Pushes at rest (5 sigma_tau = 0.5 N m for 0.2 s, in the holds) and in motion (10 N m for 0.1 s),
 /// random joint and sign, monitored with `thresholds` (a calibration, or a file); found: an event
 /// starts within 50 ms.
 void scorePushes(const Model& truth, const std::string& arm, const std::string& tag,
-                 const MonitorRequest& base, int files, double bandwidth, StatesScore& score) {
+                 const MonitorRequest& base, int files, double bandwidth, bool stiction,
+                 StatesScore& score) {
   const int n = truth.numJoints();
   std::mt19937_64 rng(2027);
   std::uniform_int_distribution<int> joint(0, n - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int file = 0; file < files; ++file) {
     // Cycles of 7 s: 3 s of motion (full speed from 0.5 to 2.5 s), 4 s at rest.
-    SimulateRequest r = pausedMotion(truth, 56.0, 200 + file, 0.13 * file, 3.0, 4.0, bandwidth);
-    std::vector<bool> at_rest;
+    SimulateRequest r =
+        pausedMotion(truth, 56.0, 200 + file, 0.13 * file, 3.0, 4.0, bandwidth, stiction);
     for (int c = 0; c < 8; ++c) {
       Disturbance rest, moving;
       rest.joint = joint(rng), moving.joint = joint(rng);
@@ -346,15 +376,28 @@ void scorePushes(const Model& truth, const std::string& arm, const std::string& 
             file, e.start, e.end, e.at_rest ? "at rest" : "moving", e.peak_joint + 1, e.peak);
     }
     score.seconds += o.seconds;
-    for (const Disturbance& d : r.disturbances) {
+    for (std::size_t which = 0; which < r.disturbances.size(); ++which) {
+      const Disturbance& d = r.disturbances[which];
       const bool missed = std::any_of(o.truth->missed_starts.begin(), o.truth->missed_starts.end(),
                                       [&](double s) { return std::abs(s - d.start) < 2e-3; });
       const bool rest = d.duration > 0.15;
       const bool during = std::any_of(o.events.begin(), o.events.end(), [&](const MonitorEvent& e) {
         return e.start >= d.start - 1e-9 && e.start <= d.start + d.duration;
       });
+      const PushTrace trace =
+          rest && stiction ? pushTrace(r, which, pushed.trajectory) : PushTrace{1.0, 1.0};
+      const bool held = trace.held();
       if (rest) score.rest_found_during += during ? 1 : 0;
-      if (!during && rest)
+      score.rest_held += held ? 1 : 0;
+      if (rest && !held) score.rest_moved_found_during += during ? 1 : 0;
+      if (!during && rest && stiction)
+        std::printf(
+            "  not found at rest: log %d, joint %d, %.3g N m at %.3f s: %s (torques changed by up "
+            "to %.3g N m, positions by %.3g rad)\n",
+            file, d.joint + 1, d.torque, d.start,
+            held ? "held by its static friction, nothing recorded changed" : "it slipped",
+            trace.tau, trace.q);
+      else if (!during && rest)
         std::printf("  not found at rest: log %d, joint %d, %.3g N m at %.3f s\n", file,
                     d.joint + 1, d.torque, d.start);
       (rest ? score.rest_pushes : score.moving_pushes) += 1;
@@ -363,7 +406,7 @@ void scorePushes(const Model& truth, const std::string& arm, const std::string& 
   }
 }
 
-void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
+void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives, bool stiction) {
   for (auto _ : state) {
     // A stiff controller (20 Hz): at 2-5 Hz the simulated Panda hunts around its holds.
     const double bandwidth = 20.0;
@@ -373,14 +416,16 @@ void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
     const std::string arm = benchDir() + "/" + tag + "_states_identified.json";
     SimulateRequest training = motion(truth, 60.0, 11, 0.3);
     training.bandwidth = bandwidth;
+    training.simulation.stiction = stiction;
     writeFileAtomically(
         arm, modelToJson(identified(nominal_drives, logFile(training, tag + "_states_train"))));
     // Calibrated on another motion than the one watched: 4 s moves, 3 s holds, another phase.
     MonitorRequest calibrated;
-    calibrated.calibration_file = logFile(pausedMotion(truth, 120.0, 12, 0.7, 4.0, 3.0, bandwidth),
-                                          tag + "_states_calibration");
+    calibrated.calibration_file =
+        logFile(pausedMotion(truth, 120.0, 12, 0.7, 4.0, 3.0, bandwidth, stiction),
+                tag + "_states_calibration");
     StatesScore now, before;
-    scorePushes(truth, arm, tag, calibrated, 10, bandwidth, now);
+    scorePushes(truth, arm, tag, calibrated, 10, bandwidth, stiction, now);
     // The previous release: the same thresholds for the moving arm, none at rest.
     MonitorRequest clean = calibrated;
     clean.arm = arm;
@@ -389,13 +434,13 @@ void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
     MonitorRequest previous;
     previous.thresholds_file =
         test::writeThresholdsWithoutStates(thresholds, benchDir() + "/" + tag + "_v1.json");
-    scorePushes(truth, arm, tag, previous, 10, bandwidth, before);
+    scorePushes(truth, arm, tag, previous, 10, bandwidth, stiction, before);
     // An hour of clean motion with stops: 60 logs of 60 s, other seeds and phases.
     int clean_alarms = 0, clean_alarms_before = 0;
     for (int file = 0; file < 60; ++file) {
-      clean.data_file = logFile(
-          pausedMotion(truth, 60.0, 3000 + file, 0.05 * file, 3.0 + 0.05 * file, 2.0, bandwidth),
-          tag + "_states_clean");
+      clean.data_file = logFile(pausedMotion(truth, 60.0, 3000 + file, 0.05 * file,
+                                             3.0 + 0.05 * file, 2.0, bandwidth, stiction),
+                                tag + "_states_clean");
       const MonitorOutcome o = monitorRun(clean);
       clean_alarms += static_cast<int>(o.events.size());
       for (const MonitorEvent& e : o.events)  // what raised it: where, in which state
@@ -421,6 +466,12 @@ void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
           s.false_alarms, clean_hour);
     };
     line("arm states", now, clean_alarms);
+    if (stiction)
+      std::printf(
+          "  with stiction: %d of %d pushes at rest held by the joint's static friction (nothing "
+          "recorded changed); of the %d others, %d found while they lasted\n",
+          now.rest_held, now.rest_pushes, now.rest_pushes - now.rest_held,
+          now.rest_moved_found_during);
     line("previous release (no thresholds at rest)", before, clean_alarms_before);
     std::printf("  thresholds [N m], moving:");
     for (Eigen::Index j = 0; j < thresholds.values.size(); ++j)
@@ -431,10 +482,18 @@ void BM_MonitorStates(benchmark::State& state, const Model& nominal_drives) {
     std::printf("\n  calibration at rest: %.1f s of 120\n", thresholds.rest_seconds);
   }
 }
-BENCHMARK_CAPTURE(BM_MonitorStates, puma560, makePuma560(true))
+BENCHMARK_CAPTURE(BM_MonitorStates, puma560, makePuma560(true), false)
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(BM_MonitorStates, panda, makePanda(true))
+BENCHMARK_CAPTURE(BM_MonitorStates, panda, makePanda(true), false)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+// The same with stick-slip friction in the truth (SimulationOptions::stiction): a resting joint
+// held by its static friction, as a real arm's is.
+BENCHMARK_CAPTURE(BM_MonitorStates, puma560_stiction, makePuma560(true), true)
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(BM_MonitorStates, panda_stiction, makePanda(true), true)
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 
