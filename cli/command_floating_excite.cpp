@@ -131,8 +131,7 @@ int runFloatingExcite(const po::variables_map& vm) {
       dir, {{"standing_excitation.json",
              jsonText(withProvenance(standingDesignJson(request, design, source)), 2) + "\n"},
             {"standing_excitation.md", standingDesignMarkdown(request, design, source)}});
-  std::cout << "dynid excite --floating-base: "
-            << standingDesignSummary(request, design, source, dir)
+  std::cout << "dynid excite --floating-base: " << standingDesignSummary(request, design, dir)
             << "  simulate along it: dynid simulate --robot " << shellWord(source.robot)
             << " --floating-base --trajectory " << shellWord(dir + "/standing_excitation.json")
             << " --out DATA.csv\n";

@@ -197,8 +197,7 @@ std::string standingDesignMarkdown(const StandingDesignRequest& request,
 }
 
 std::string standingDesignSummary(const StandingDesignRequest& request,
-                                  const StandingDesign& design, const StandingDesignSource& source,
-                                  const std::string& dir) {
+                                  const StandingDesign& design, const std::string& dir) {
   std::ostringstream out;
   out << "a standing sway over " << formatNumber(design.base.period, 4) << " s for "
       << sensorSetName(request.set) << " (" << design.evaluations << " evaluations in "

@@ -27,7 +27,6 @@ std::string standingDesignMarkdown(const StandingDesignRequest& request,
 /// The console's lines: every set's counts beside the default sway's, the design's extremes and
 /// the files in `dir` (the front end says how to simulate along it, in its own spelling).
 std::string standingDesignSummary(const StandingDesignRequest& request,
-                                  const StandingDesign& design, const StandingDesignSource& source,
-                                  const std::string& dir);
+                                  const StandingDesign& design, const std::string& dir);
 
 }  // namespace dynid
