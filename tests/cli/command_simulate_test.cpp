@@ -186,7 +186,8 @@ TEST(Cli, SimulateWithStictionHoldsTheArmAtRestInItsPauses) {
   ASSERT_EQ(run(common + chatter).code, 0);
   const Trajectory held = readDatasetCsv(stuck, 6), law = readDatasetCsv(chatter, 6);
   for (int j = 0; j < 6; ++j) {
-    // Two holds of 1.5 s at 1 kHz: most of their 3000 samples stopped.
+    // The holds (1.5 s from 2 s, 0.5 s from 5.5 s: 2000 samples at 1 kHz) and the moves' slow
+    // ends and reversals that stick: 2278 to 2510 measured.
     EXPECT_GT((held.dq.row(j).array() == 0.0).count(), 2000) << "joint " << j + 1;
     EXPECT_LT((law.dq.row(j).array() == 0.0).count(), 10) << "joint " << j + 1;
   }
