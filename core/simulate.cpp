@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -227,10 +228,12 @@ class StickSlip {
     }
     ddq_.setZero(n_);
     if (f > 0) {
-      const Eigen::VectorXd x = block_.ldlt().solve(rhs_);
-      for (Eigen::Index a = 0; a < f; ++a) ddq_[free_[a]] = x[a];
+      ldlt_.compute(block_);  // allocates only when the set of free joints changes size
+      x_ = ldlt_.solve(rhs_);
+      for (Eigen::Index a = 0; a < f; ++a) ddq_[free_[a]] = x_[a];
     }
-    held_ = bias_ - M * ddq_;
+    held_ = bias_;
+    held_.noalias() -= M * ddq_;
     return ddq_;
   }
 
@@ -242,16 +245,24 @@ class StickSlip {
       q += h * dq;
       return;
     }
-    const Eigen::VectorXd q0 = q, dq0 = dq;
-    const Eigen::VectorXd a1 = acceleration(m, data, q0, dq0, tau);
-    const Eigen::VectorXd dq2 = dq0 + 0.5 * h * a1;
-    const Eigen::VectorXd a2 = acceleration(m, data, q0 + 0.5 * h * dq0, dq2, tau);
-    const Eigen::VectorXd dq3 = dq0 + 0.5 * h * a2;
-    const Eigen::VectorXd a3 = acceleration(m, data, q0 + 0.5 * h * dq2, dq3, tau);
-    const Eigen::VectorXd dq4 = dq0 + h * a3;
-    const Eigen::VectorXd a4 = acceleration(m, data, q0 + h * dq3, dq4, tau);
-    q = q0 + (h / 6.0) * (dq0 + 2.0 * dq2 + 2.0 * dq3 + dq4);
-    dq = dq0 + (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+    // Classical RK4 on (q, dq) with this acceleration; the stages in members (no allocation once
+    // sized). Stage i's state: q0 + c_i h v_{i-1}, dq0 + c_i h a_{i-1}.
+    q0_ = q, dq0_ = dq;
+    const double c[4] = {0.0, 0.5, 0.5, 1.0}, w[4] = {1.0, 2.0, 2.0, 1.0};
+    q.setZero(), dq.setZero();  // the weighted sums of the stages' velocities and accelerations
+    for (int i = 0; i < 4; ++i) {
+      if (i == 0) {
+        stage_q_ = q0_, stage_dq_ = dq0_;
+      } else {
+        stage_q_ = q0_ + (c[i] * h) * stage_dq_;  // the previous stage's velocity
+        stage_dq_ = dq0_ + (c[i] * h) * stage_a_;
+      }
+      q += w[i] * stage_dq_;
+      stage_a_ = acceleration(m, data, stage_q_, stage_dq_, tau);
+      dq += w[i] * stage_a_;
+    }
+    q = q0_ + (h / 6.0) * q;
+    dq = dq0_ + (h / 6.0) * dq;
   }
 
   /// After a step from velocities `before`: a banded joint whose velocity changed sign (or reached
@@ -268,8 +279,10 @@ class StickSlip {
 
  private:
   int n_;
-  Eigen::VectorXd lo_, hi_, edge_, window_, held_, bias_, ddq_, zero_ddq_, rhs_, saved_;
+  Eigen::VectorXd lo_, hi_, edge_, window_, held_, bias_, ddq_, zero_ddq_, rhs_, saved_, x_;
+  Eigen::VectorXd q0_, dq0_, stage_q_, stage_dq_, stage_a_;
   Eigen::MatrixXd block_;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt_;
   std::vector<int> banded_, free_, crossed_;
   std::vector<char> stuck_, zero_;
 };
@@ -345,9 +358,13 @@ Trajectory simulate(const Model& truth, TrackingController& controller,
                 "a simulation of " + std::to_string(samples) + " samples");
   out.resize(n, static_cast<int>(samples));
   // The simulated physics: with stiction, the truth's friction law without a measurement's rest
-  // velocities.
-  Model physics = truth;
-  if (options.stiction) physics.rest_velocities.clear();
+  // velocities (a copy only then).
+  std::optional<Model> cleared;
+  if (options.stiction && !truth.rest_velocities.empty()) {
+    cleared = truth;
+    cleared->rest_velocities.clear();
+  }
+  const Model& physics = cleared ? *cleared : truth;
   Data data(physics);
   StickSlip stick(physics);
   const bool sticks = options.stiction && stick.any();
