@@ -187,7 +187,9 @@ MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
                             const Eigen::VectorXd& gain, std::vector<std::string>& warnings) {
   const int n = model.numJoints();
   const FirstLook first = calibrationFirstLook(model, request, gain);
-  const StateStatistics stats = calibrationStatistics(model, request, gain, first, warnings);
+  // The observer's friction at rest from here on: the calibration's rest velocities.
+  const Model rested = withRestVelocities(model, first.rest_velocity);
+  const StateStatistics stats = calibrationStatistics(rested, request, gain, first, warnings);
   if (stats.pass.interrupted) throw InputError(kStoppedCalibrating);
   if (stats.moving.samples == 0)
     throw InputError(request.calibration_file +
@@ -217,7 +219,7 @@ MonitorThresholds calibrate(const Model& model, const MonitorRequest& request,
     throw InputError(request.calibration_file +
                      ": the calibration residual is zero on some joint (a log without motion or "
                      "torque?): no threshold can be set from it");
-  raiseToTheCleanRun(model, request, gain, out);
+  raiseToTheCleanRun(rested, request, gain, out);
   return out;
 }
 

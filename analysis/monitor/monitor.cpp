@@ -157,7 +157,8 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
           kMonitorThresholdsDocument.schema_version));
     gain = out.thresholds.gain;
   }
-  // The monitored pass.
+  // The monitored pass, with the friction at rest of the thresholds' rest velocities.
+  out.model = withRestVelocities(out.model, out.thresholds.rest_velocity);
   const bool direct_events = request.residual == MonitorResidual::kDirect;
   ResidualStatistics observer_stats, direct_stats;
   observer_stats.reset(n);
@@ -217,6 +218,13 @@ MonitorOutcome monitorRun(const MonitorRequest& request) {
                            "at a restart)");
   if (!request.truth_file.empty())
     out.truth = scoreEvents(truthEpisodes(request.truth_file, n), out.events);
+  return out;
+}
+
+Model withRestVelocities(const Model& model, const Eigen::VectorXd& rest_velocity) {
+  Model out = model;
+  if (rest_velocity.size() == model.numJoints())
+    out.rest_velocities.assign(rest_velocity.data(), rest_velocity.data() + rest_velocity.size());
   return out;
 }
 

@@ -93,6 +93,13 @@ struct MonitorOutcome {
 /// throws InputError (no thresholds); after it, it returns the events so far, interrupted.
 MonitorOutcome monitorRun(const MonitorRequest& request);
 
+/// `model` with the rest velocities the monitor measured (thresholds.rest_velocity: the
+/// calibration's, on the monitored sensor): its friction at rest is then the static friction's
+/// point value, not Fc sign(noise) (core/drive_terms.hpp), whatever the arm carried (an estimate's
+/// are its identification log's, a model or URDF carries none). `rest_velocity` of another size
+/// than the joints (thresholds saved without it) leaves the model as it is.
+Model withRestVelocities(const Model& model, const Eigen::VectorXd& rest_velocity);
+
 /// What a calibration run can confirm about its false-alarm rate. With no alarm in T seconds of
 /// clean calibration, the rate is below 3 / T at 95 % (the rule of three: P(no event) = exp(-3) =
 /// 5 %); a lower rate rests on the residual's Gaussian tail (Rice's formula), not on the data.
