@@ -74,8 +74,12 @@ std::string statesText(const MonitorOutcome& o) {
                                     : "";
   return "At rest (every joint within its rest velocity, measured on the calibration, for " +
          formatNumber(kRestSettleSeconds, 3) +
-         " s) a push is the residual's change from its level " +
-         "at rest, judged by thresholds at rest learnt from the calibration's " +
+         " s; within them the model's friction is the static friction's point value, not Fc "
+         "sign(dq)) a push is the residual's change from its level at rest once it has lasted " +
+         formatNumber(kRestPersistSeconds, 3) +
+         " s (while a joint stirs short of leaving rest, only a change that drives a stirring "
+         "joint counts: friction and a commanded start work against the motion), judged by "
+         "thresholds at rest learnt from the calibration's " +
          formatNumber(t.rest_seconds, 3) + " s at rest" + confirmed + ", " +
          formatNumber(ratio.minCoeff(), 3) + " to " + formatNumber(ratio.maxCoeff(), 3) +
          " times below the moving ones; the arm " + "was at rest " +

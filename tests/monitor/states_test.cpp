@@ -16,10 +16,11 @@ struct Feed {
   std::normal_distribution<double> gauss{0.0, 1.0};
   double t = 0.0;
   bool first = true;
+  Eigen::Vector2d share{1.0, 1.0};  // each joint's share of v
   ArmState run(double seconds, double v, double r, bool hold = false) {
     ArmState s = ArmState::kMoving;
     for (int k = 0; k < static_cast<int>(seconds * 1000.0 + 0.5); ++k) {
-      const Eigen::Vector2d dq(v + 2e-4 * gauss(rng), v + 2e-4 * gauss(rng));
+      const Eigen::Vector2d dq(share[0] * v + 2e-4 * gauss(rng), share[1] * v + 2e-4 * gauss(rng));
       const Eigen::Vector2d res(r + 0.01 * gauss(rng), -r + 0.01 * gauss(rng));
       s = states.update(t, first ? 0.0 : 1e-3, res, dq, hold);
       first = false;
@@ -53,6 +54,33 @@ TEST(StateResidual, AtRestAPushIsTheChangeFromTheLevelTheArmHeld) {
   EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.02);
   // A commanded motion leaves rest at once (kRestExitFactor rest velocities, smoothed over 20 ms).
   EXPECT_EQ(f.run(0.01, 0.1, 4.2), ArmState::kMoving);
+}
+
+// While the arm stirs at rest (a joint beyond its rest velocity, short of leaving rest), a change
+// counts only on a joint that stirs and where it drives that joint's motion: a change against it is
+// friction's, and one on a joint still held is the start's (its torque ramping into its friction).
+TEST(StateResidual, WhileTheArmStirsAChangeCountsWhereItDrivesAJointsMotion) {
+  Feed still, stirring, one;
+  still.share = Eigen::Vector2d(0.0, 0.0);
+  one.share = Eigen::Vector2d(1.0, 0.0);  // joint 1 stirs, joint 2 is held
+  for (Feed* f : {&still, &stirring, &one}) {
+    f->states.reset(Eigen::Vector2d(1e-3, 1e-3));
+    ASSERT_EQ(f->run(1.0, 0.0, 1.0), ArmState::kRest);
+  }
+  // The residual changes by +0.5 on joint 1 and -0.5 on joint 2 (Feed mirrors it), the level held
+  // as an event builds, at 2 rest velocities (+) where a joint stirs.
+  for (Feed* f : {&still, &stirring, &one})
+    ASSERT_EQ(f->run(0.3, 2e-3, 1.5, true), ArmState::kRest);
+  // Still: the smallest change over the last kRestPersistSeconds, 0.5 (1 - e^(-250/80)) = 0.478;
+  // 25 sigma of the smoothed noise (0.0008) is the bound.
+  EXPECT_NEAR(still.states.statistic()[0], 0.478, 0.02);
+  EXPECT_NEAR(still.states.statistic()[1], -0.478, 0.02);
+  // Stirring: joint 1's change drives its motion and counts; joint 2's works against it.
+  EXPECT_NEAR(stirring.states.statistic()[0], 0.478, 0.02);
+  EXPECT_EQ(stirring.states.statistic()[1], 0.0);
+  // Joint 1 stirs, joint 2 is held: joint 2's change does not count while the arm stirs.
+  EXPECT_NEAR(one.states.statistic()[0], 0.478, 0.02);
+  EXPECT_EQ(one.states.statistic()[1], 0.0);
 }
 
 TEST(StateResidual, ALevelStandsStillOnlySoLongAndAnEventAtRestSettlesAgain) {
