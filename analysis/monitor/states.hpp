@@ -38,10 +38,10 @@ inline constexpr double kRestSmoothingSeconds = 0.08;
 /// level are brief), and the thresholds at rest are learnt on that statistic. A commanded start
 /// ramps the torques of joints their static friction still holds until the arm leaves rest, which
 /// the residual shows as a change. At 20 ms the starts of the PUMA that sticks set its joint 2's
-/// threshold at rest to 0.27 N m (0.05 on its other joints); at 50 ms it was 0.05, and the starts
-/// of the clean hour with the law's friction raised 3 alarms, none once a still joint's change
-/// stopped counting while the arm stirs (StateResidual::update); at 100 ms the thresholds at rest
-/// fell to 0.02 N m and the holds' slow drifts raised 2 and 6 alarms.
+/// threshold at rest to 0.27 N m (0.04 to 0.06 on its other joints); at 50 ms it was 0.05, and the
+/// starts of the clean hour with the law's friction raised 3 alarms, none once a still joint's
+/// change stopped counting while the arm stirs (StateResidual::update); at 100 ms the thresholds
+/// at rest fell to 0.02 N m and the PUMA's clean hours raised 6 and 2 alarms at rest.
 inline constexpr double kRestPersistSeconds = 0.05;
 /// The level a push at rest is measured from follows slow drifts (creep into the pose, heating, an
 /// integrator) with this time constant [s], and stands still while the change is above half its
