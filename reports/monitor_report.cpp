@@ -72,17 +72,17 @@ std::string statesText(const MonitorOutcome& o) {
                                           formatNumber(3.0 / t.rest_seconds * 3600.0, 3) +
                                           " per hour at rest)"
                                     : "";
-  return "At rest (every joint within its rest velocity, measured on the calibration, for " +
+  return "At rest (every joint within its rest velocity, measured on the calibration; within them "
+         "the model's friction is the static friction's point value, not Fc sign(dq)) a push is "
+         "the residual's change from its level at rest once it has lasted " +
+         formatNumber(kRestPersistSeconds, 3) + " s; while the arm settles (its first " +
          formatNumber(kRestSettleSeconds, 3) +
-         " s; within them the model's friction is the static friction's point value, not Fc "
-         "sign(dq)) a push is the residual's change from its level at rest once it has lasted " +
-         formatNumber(kRestPersistSeconds, 3) +
-         " s (while a joint stirs short of leaving rest, only a change that drives a stirring "
-         "joint counts: friction and a commanded start work against the motion), judged by "
+         " s at rest) or stirs short of leaving rest, only a change that drives a stirring joint "
+         "counts (friction and a commanded start work against the motion). It is judged by "
          "thresholds at rest learnt from the calibration's " +
-         formatNumber(t.rest_seconds, 3) + " s at rest" + confirmed + ", " +
+         formatNumber(t.rest_seconds, 3) + " s settled at rest" + confirmed + ", " +
          formatNumber(ratio.minCoeff(), 3) + " to " + formatNumber(ratio.maxCoeff(), 3) +
-         " times below the moving ones; the arm " + "was at rest " +
+         " times below the moving ones; the arm " + "was settled at rest " +
          formatNumber(o.rest_seconds, 4) + " s of the " + formatNumber(o.seconds, 4) +
          " s watched.";
 }

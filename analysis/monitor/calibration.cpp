@@ -97,9 +97,12 @@ StateStatistics calibrationStatistics(const Model& model, const MonitorRequest& 
       [&](double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd* d,
           const Eigen::VectorXd& dq) {
         if (direct && !d) throw InputError(request.calibration_file + ": " + kDirectNeedsDdq);
-        const ArmState state = states.update(t, dt, direct ? *d : r, dq, false);
+        const ArmState raw = states.update(t, dt, direct ? *d : r, dq, false);
         const Eigen::VectorXi& regime = regimes.update(t, dt, dq);
-        const Eigen::VectorXd& x = states.statistic();
+        // Settling, the residual joins the moving statistics, as before the settling rule: the
+        // statistics at rest are those of a settled arm.
+        const ArmState state = states.settling() ? ArmState::kMoving : raw;
+        const Eigen::VectorXd& x = states.settling() ? (direct ? *d : r) : states.statistic();
         const bool follows = dt > 0.0 && state == previous_state;
         if (state == ArmState::kRest) {
           out.rest.add(x, follows ? &previous : nullptr, dt);

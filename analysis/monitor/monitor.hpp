@@ -69,11 +69,10 @@ struct MonitorOutcome {
   MonitorThresholds thresholds;
   std::vector<MonitorEvent> events;
   long long samples = 0;
-  double seconds = 0.0;  // from the first sample to the last
-  double rest_seconds =
-      0.0;                  // of which the arm was at rest (where the thresholds have a rest state)
-  int restarts = 0;         // gaps longer than max_gap
-  bool has_direct = false;  // the data carried ddq (files do; stdin may not)
+  double seconds = 0.0;       // from the first sample to the last
+  double rest_seconds = 0.0;  // of which settled at rest (where the thresholds have a rest state)
+  int restarts = 0;           // gaps longer than max_gap
+  bool has_direct = false;    // the data carried ddq (files do; stdin may not)
   Eigen::VectorXd observer_rms, observer_max, direct_rms, direct_max;  // over the data
   ResidualEnvelope observer_envelope, direct_envelope;
   std::optional<TruthScore> truth;

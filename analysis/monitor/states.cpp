@@ -12,13 +12,14 @@ void StateResidual::reset(const Eigen::VectorXd& rest_velocity) {
 
 void StateResidual::restart() {
   state_ = ArmState::kMoving;
-  still_ = false;
+  still_ = settling_ = false;
   fresh_ = true;
 }
 
 void StateResidual::settleAgain(double t) {
   if (state_ != ArmState::kRest) return;
   state_ = ArmState::kMoving;
+  settling_ = false;
   still_ = true;
   still_since_ = t;
 }
@@ -36,7 +37,8 @@ ArmState StateResidual::update(double t, double dt, const Eigen::VectorXd& r,
   if (fresh_ || dt <= 0.0) {  // the first sample, or after a gap: moving until it settles
     velocity_ = dq;
     smooth_ = r;
-    fresh_ = still_ = false;
+    fresh_ = still_ = settling_ = false;
+    restarted_ = true;
     state_ = ArmState::kMoving;
   } else {
     smooth(velocity_, dq, kVelocitySmoothingSeconds);
@@ -55,13 +57,23 @@ ArmState StateResidual::update(double t, double dt, const Eigen::VectorXd& r,
     still_ = true;
     still_since_ = t;
   }
-  if (state_ == ArmState::kMoving && still_ && t - still_since_ >= kRestSettleSeconds) {
+  // Still, the arm is at rest and settles: only a stirring joint's change that drives it counts
+  // (below), and the level is taken again once it has been still kRestSettleSeconds (unless an
+  // event builds; a push can slip its joint as it settles).
+  const bool settled = still_ && t - still_since_ >= kRestSettleSeconds;
+  // After a gap the observer starts again from zero: the first rest waits until settled.
+  if (speed > kRestExitFactor) restarted_ = false;
+  if ((state_ == ArmState::kMoving && still_ && (!restarted_ || settled)) ||
+      (settling_ && settled && !frozen_)) {
+    restarted_ = false;
     state_ = ArmState::kRest;
+    settling_ = !settled;
     level_ = smooth_;
     frozen_ = false;
     window_.assign(static_cast<std::size_t>(r.size()), {});
   } else if (state_ == ArmState::kRest && speed > kRestExitFactor) {
     state_ = ArmState::kMoving;
+    settling_ = false;
   }
   if (state_ == ArmState::kMoving) {
     statistic_ = r;
@@ -77,14 +89,15 @@ ArmState StateResidual::update(double t, double dt, const Eigen::VectorXd& r,
   // The smallest |change| over the window, per joint: a monotonic queue of (time, |change|).
   statistic_.resize(change_.size());
   for (Eigen::Index j = 0; j < change_.size(); ++j) {
-    // While the arm stirs (a joint beyond its rest velocity, none beyond the exit), a change counts
-    // only on a joint that stirs and where it drives that joint's motion. Friction, the model's
-    // error at rest, takes power out of the motion: a change against it is the static friction
-    // giving way, and on the joints still held, the controller's torque ramping into their
+    // While the arm settles or stirs (a joint beyond its rest velocity, none beyond the exit), a
+    // change counts only on a joint that stirs and where it drives that joint's motion. Friction,
+    // the model's error at rest, takes power out of the motion: a change against it is the static
+    // friction giving way, and on the joints still held, the controller's torque ramping into their
     // static friction as a commanded start begins. A push that slips its joint does work on it.
     // (The first took the PUMA that sticks from 0.62 to 0.27 N m at rest on joint 2, the second
     // its clean hour with the law's friction from 3 alarms to none: docs/MONITOR.md.)
-    if (!still_ && !(std::abs(velocity_[j]) > rest_velocity_[j] && change_[j] * velocity_[j] > 0.0))
+    if ((settling_ || !still_) &&
+        !(std::abs(velocity_[j]) > rest_velocity_[j] && change_[j] * velocity_[j] > 0.0))
       change_[j] = 0.0;
     auto& queue = window_[static_cast<std::size_t>(j)];
     const double size = std::abs(change_[j]);

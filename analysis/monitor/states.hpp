@@ -16,9 +16,13 @@ namespace dynid {
 // (docs/MONITOR.md, "The arm states"): the simulated Panda and PUMA 560 with a friction the
 // identification does not know, calibrated on another motion, pushes at rest and in motion.
 
-/// The arm is at rest once every joint's smoothed |dq| has stayed within its rest velocity this
-/// long [s]. The arm creeps into its static friction after a stop: at 0.2 s the level was taken
-/// before the creep ended, and a clean hour of the Panda raised 16 alarms at rest, at 0.5 s none.
+/// The arm is at rest once every joint's smoothed |dq| is within its rest velocity, and settled
+/// once it has stayed there this long [s]; settling, only a stirring joint's change that drives
+/// its motion counts (StateResidual::update), and the level is taken again once settled. The arm
+/// creeps into its static friction after a stop: at 0.2 s the level was taken before the creep
+/// ended, and a clean hour of the Panda raised 16 alarms at rest, at 0.5 s none. Before the
+/// settling rule a push within 0.5 s of the end of the hunting after a stop was judged moving: 5
+/// of the Panda's 80 pushes at rest, with the law's friction as with stick-slip.
 inline constexpr double kRestSettleSeconds = 0.5;
 /// It leaves rest when a joint's smoothed |dq| exceeds this many rest velocities: a push the
 /// controller holds deflects the arm at a few rest velocities; a commanded motion soon exceeds it.
@@ -64,7 +68,7 @@ class StateResidual {
   /// Forgets the past (a gap in the log): the arm is moving until it settles again.
   void restart();
   /// An event at rest ended at t: a push can leave the arm held by another static friction, so
-  /// the level is learnt again once the arm has been still kRestSettleSeconds from now.
+  /// the arm settles again, its level learnt again once it has been still kRestSettleSeconds.
   void settleAgain(double t);
   /// One sample: time t, step dt (0 after a restart), residual r and velocity dq. `hold_level`:
   /// the change at rest is above half its threshold (an event is building), so the level stands
@@ -75,6 +79,9 @@ class StateResidual {
                   bool hold_level);
   const Eigen::VectorXd& statistic() const { return statistic_; }
   ArmState state() const { return state_; }
+  /// At rest and settling: still for less than kRestSettleSeconds, where only a stirring joint's
+  /// change that drives it counts, and the level is taken again once it has settled.
+  bool settling() const { return settling_; }
   bool enabled() const { return rest_velocity_.size() > 0; }
 
  private:
@@ -84,7 +91,7 @@ class StateResidual {
   std::vector<std::deque<std::pair<double, double>>> window_;
   ArmState state_ = ArmState::kMoving;
   double still_since_ = 0.0, frozen_since_ = 0.0;
-  bool still_ = false, fresh_ = true, frozen_ = false;
+  bool still_ = false, fresh_ = true, frozen_ = false, settling_ = false, restarted_ = false;
 };
 
 }  // namespace dynid

@@ -25,7 +25,7 @@ bool Watch::sample(double t, double dt, const Eigen::VectorXd& r, const Eigen::V
   const Eigen::VectorXd& x = states_.statistic();
   if (!at_rest) regimeThresholds(thresholds_, regime, limits_);
   const Eigen::VectorXd& limits = at_rest ? thresholds_.values_at_rest : limits_;
-  if (at_rest) rest_seconds_ += dt;
+  if (at_rest && !states_.settling()) rest_seconds_ += dt;
   building_ = at_rest && (x.cwiseAbs().array() > 0.5 * limits.array()).any();
   const std::size_t before = events_.size();
   // At rest the statistic has been beyond its value for kRestPersistSeconds: the start is earlier.

@@ -26,7 +26,7 @@ class Watch {
   bool sample(double t, double dt, const Eigen::VectorXd& r, const Eigen::VectorXd& dq);
   /// The data ended (or were stopped) during an event.
   void close() { detector_.close(); }
-  double restSeconds() const { return rest_seconds_; }
+  double restSeconds() const { return rest_seconds_; }  // settled at rest
   /// Per joint, the largest |statistic| while an event was open (at rest, moving).
   const Eigen::VectorXd& eventPeakAtRest() const { return peak_rest_; }
   const Eigen::VectorXd& eventPeakMoving() const { return peak_moving_; }

@@ -40,7 +40,7 @@ struct MonitorThresholds {
   /// At rest, the thresholds of the residual's change from its level at rest [N m] (empty: the
   /// calibration held no pose long enough, and the moving thresholds apply at rest too).
   Eigen::VectorXd values_at_rest, calibration_rest_rms;
-  double rest_seconds = 0.0;  // the calibration's time at rest [s]
+  double rest_seconds = 0.0;  // the calibration's time settled at rest [s]
   /// Moving, thresholds per regime (version 3): the joint's speed and acceleration against these
   /// scales [rad/s, rad/s^2 or m/s, m/s^2], measured on the calibration (empty: one moving
   /// threshold, version 1 and 2 files).

@@ -36,11 +36,14 @@ TEST(StateResidual, AtRestAPushIsTheChangeFromTheLevelTheArmHeld) {
   // Moving: the statistic is the residual itself.
   EXPECT_EQ(f.run(1.0, 0.1, 3.0), ArmState::kMoving);
   EXPECT_NEAR(f.states.statistic()[0], 3.0, 0.05);  // 5 sigma of the residual noise
-  // Stopped: still moving until the arm has been still kRestSettleSeconds (from when the smoothed
-  // velocity fell within the rest velocity: 20 ms ln(100), 92 ms), then at rest, where the level
-  // the arm holds (static friction: 3.7 N m here) is not a push.
-  EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 3.7), ArmState::kMoving);
+  // Stopped: at rest once the smoothed velocity falls within the rest velocity (20 ms ln(100),
+  // 92 ms), settling until it has been still kRestSettleSeconds, then settled, where the level the
+  // arm holds (static friction: 3.7 N m here) is not a push.
+  EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 3.7), ArmState::kRest);
+  EXPECT_TRUE(f.states.settling());
+  EXPECT_EQ(f.states.statistic(), Eigen::Vector2d::Zero());  // settling, a still joint counts none
   EXPECT_EQ(f.run(0.15, 0.0, 3.7), ArmState::kRest);
+  EXPECT_FALSE(f.states.settling());
   EXPECT_EQ(f.run(1.0, 0.0, 3.7), ArmState::kRest);
   // The level the arm holds is taken away: what is left is the smoothed noise (0.01 sqrt(1 ms /
   // 160 ms) = 0.0008; the bound is 15 of those, and 1/56 of the 0.7 N m a wrong level leaves).
@@ -91,15 +94,20 @@ TEST(StateResidual, ALevelStandsStillOnlySoLongAndAnEventAtRestSettlesAgain) {
   // A new holding level with the level held: after kRestFreezeSeconds it follows again.
   f.run(kRestFreezeSeconds + 6 * kRestBaselineSeconds, 0.0, 1.6, true);
   EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.02);
-  // An event at rest ended: moving until still kRestSettleSeconds again, then at rest at the level
-  // of that moment.
+  // An event at rest ended: settling until still kRestSettleSeconds again, then settled at the
+  // level of that moment.
   f.states.settleAgain(f.t);
+  EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 2.0), ArmState::kRest);
+  EXPECT_TRUE(f.states.settling());
+  EXPECT_EQ(f.run(0.2, 0.0, 2.0), ArmState::kRest);
+  EXPECT_FALSE(f.states.settling());
+  EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.0125);  // as above: the noise
+  // A gap (dt = 0): the observer starts again from zero, so the arm is moving until it has settled
+  // (no settling state), then at rest.
+  f.first = true;
   EXPECT_EQ(f.run(kRestSettleSeconds - 0.01, 0.0, 2.0), ArmState::kMoving);
   EXPECT_EQ(f.run(0.2, 0.0, 2.0), ArmState::kRest);
-  EXPECT_LT(f.states.statistic().cwiseAbs().maxCoeff(), 0.0125);  // as above: the noise
-  // A gap (dt = 0): moving until it settles.
-  f.first = true;
-  EXPECT_EQ(f.run(0.1, 0.0, 2.0), ArmState::kMoving);
+  EXPECT_FALSE(f.states.settling());
   // Without rest velocities there is no rest state.
   StateResidual none;
   none.reset(Eigen::VectorXd());
