@@ -86,6 +86,24 @@ TEST(StateResidual, WhileTheArmStirsAChangeCountsWhereItDrivesAJointsMotion) {
   EXPECT_EQ(one.states.statistic()[1], 0.0);
 }
 
+// Settling (still for less than kRestSettleSeconds), a push that slips its joint is judged at rest:
+// the change that drives the stirring joint counts, a still joint's does not.
+TEST(StateResidual, SettlingAPushThatSlipsItsJointCountsAtRest) {
+  Feed f;
+  f.states.reset(Eigen::Vector2d(1e-3, 1e-3));
+  EXPECT_EQ(f.run(1.0, 0.1, 1.0), ArmState::kMoving);
+  f.run(0.15, 0.0, 1.0);  // stopped: still from about 92 ms on
+  ASSERT_EQ(f.states.state(), ArmState::kRest);
+  ASSERT_TRUE(f.states.settling());
+  // Joint 1 slips at 2 rest velocities under +0.5 N m (joint 2, held, sees -0.5), the level held.
+  f.share = Eigen::Vector2d(1.0, 0.0);
+  EXPECT_EQ(f.run(0.3, 2e-3, 1.5, true), ArmState::kRest);
+  EXPECT_TRUE(f.states.settling());  // stirring restarts the settling
+  // 0.5 (1 - e^(-250/80)) = 0.478 on joint 1, 25 sigma of the smoothed noise the bound; none on 2.
+  EXPECT_NEAR(f.states.statistic()[0], 0.478, 0.02);
+  EXPECT_EQ(f.states.statistic()[1], 0.0);
+}
+
 TEST(StateResidual, ALevelStandsStillOnlySoLongAndAnEventAtRestSettlesAgain) {
   Feed f;
   f.states.reset(Eigen::Vector2d(1e-3, 1e-3));
