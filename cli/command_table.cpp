@@ -137,7 +137,7 @@ std::string subcommandWords(const CommandEntry& entry) {
 }
 
 /// The options whose value is a robot: built-in names complete as well as files.
-const std::set<std::string>& robotOptions() {
+const std::set<std::string>& robotOptionNames() {
   static const std::set<std::string> names = {"robot", "init", "truth", "prior", "controller-robot",
                                               "arm"};
   return names;
@@ -228,7 +228,7 @@ std::string bashCompletion(const std::vector<CatalogueEntry>& catalogue) {
     text += "    '" + entry.path + "') opts='" + optionWords(entry, false) + "' valued=' " +
             optionWords(entry, true) + " ' ;;\n";
   std::string robots;
-  for (const std::string& r : robotOptions()) robots += (robots.empty() ? "--" : "|--") + r;
+  for (const std::string& r : robotOptionNames()) robots += (robots.empty() ? "--" : "|--") + r;
   text +=
       "  esac\n"
       "  if [[ $prev == --* && $valued == *\" $prev \"* ]]; then\n"
@@ -290,7 +290,7 @@ std::string zshCompletion(const std::vector<CatalogueEntry>& catalogue) {
     for (const OptionEntry& o : entry.options.options) {
       text += " \\\n        '--" + o.name + "[" + zshDescription(o.help) + "]";
       if (!o.parameter.empty())
-        text += robotOptions().count(o.name) ? ":robot:_files" : ":value:_files";
+        text += robotOptionNames().count(o.name) ? ":robot:_files" : ":value:_files";
       text += "'";
     }
     text += " \\\n        '*:file:_files' ;;\n";

@@ -3,23 +3,11 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/SVD>
-
 #include "core/errors.hpp"
 #include "core/regressor.hpp"
 #include "identifiability/tall_qr.hpp"
 
 namespace dynid {
-
-namespace {
-
-double conditionOf(const Eigen::MatrixXd& r) {
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
-  if (s.size() == 0 || !(s[s.size() - 1] > 0.0)) return std::numeric_limits<double>::infinity();
-  return s[0] / s[s.size() - 1];
-}
-
-}  // namespace
 
 MotionScore scoreMotion(const Model& model, const BaseParameters& base, const Trajectory& motion,
                         double torque_noise) {
@@ -48,11 +36,12 @@ MotionScore scoreMotion(const Model& model, const BaseParameters& base, const Tr
 
   MotionScore out;
   out.samples = samples;
-  out.condition = conditionOf(r);
+  out.condition = conditionNumber(r);
   // QR keeps column norms: those of W1 are those of R.
   const Eigen::VectorXd norms = r.colwise().norm().transpose();
-  out.condition_unit = norms.minCoeff() > 0.0 ? conditionOf(r * norms.cwiseInverse().asDiagonal())
-                                              : std::numeric_limits<double>::infinity();
+  out.condition_unit = norms.minCoeff() > 0.0
+                           ? conditionNumber(r * norms.cwiseInverse().asDiagonal())
+                           : std::numeric_limits<double>::infinity();
   const double rows_total = static_cast<double>(samples) * n;
   out.log_det = 0.0;
   for (int j = 0; j < b; ++j) out.log_det += 2.0 * std::log(std::abs(r(j, j)));

@@ -7,8 +7,6 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/SVD>
-
 #include "core/data.hpp"
 #include "core/errors.hpp"
 #include "core/regressor.hpp"
@@ -27,12 +25,6 @@ namespace {
 /// (a tall QR of kLanes small triangles per joint).
 constexpr int kLanes = 8;
 constexpr Eigen::Index kLaneRows = 128;
-
-double conditionOf(const Eigen::MatrixXd& r) {
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
-  return s.size() == 0 || s[s.size() - 1] == 0.0 ? std::numeric_limits<double>::infinity()
-                                                 : s[0] / s[s.size() - 1];
-}
 
 /// Everything a BaseEstimate takes from the (weighted) system's augmented factor [R | Q^T y].
 struct Solved {
@@ -66,8 +58,8 @@ Solved solveFactor(const Eigen::MatrixXd& r_augmented, Eigen::Index b, bool need
   const Eigen::VectorXd inv_norms = norms.cwiseInverse();
   out.covariance_unit =
       inv_norms.asDiagonal() * (inverse * inverse.transpose()) * inv_norms.asDiagonal();
-  out.condition_number = conditionOf(scaled);
-  out.condition_number_unscaled = conditionOf(r);
+  out.condition_number = conditionNumber(scaled);
+  out.condition_number_unscaled = conditionNumber(r);
   return out;
 }
 
