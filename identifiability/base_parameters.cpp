@@ -359,11 +359,16 @@ double scaledConditionNumber(const Eigen::MatrixXd& A) {
   const Eigen::VectorXd norms = A.colwise().norm().transpose();
   for (Eigen::Index j = 0; j < norms.size(); ++j)
     if (norms[j] == 0.0) return std::numeric_limits<double>::infinity();
+  if (A.rows() < A.cols()) return std::numeric_limits<double>::infinity();
   // Singular values of the small R factor equal those of A.
-  const Eigen::VectorXd s =
-      Eigen::JacobiSVD<Eigen::MatrixXd>(scaledTriangularFactor(A, norms)).singularValues();
-  if (A.rows() < A.cols() || s.size() == 0 || s[s.size() - 1] == 0.0)
-    return std::numeric_limits<double>::infinity();
+  return conditionNumber(scaledTriangularFactor(A, norms));
+}
+
+double conditionNumber(const Eigen::Ref<const Eigen::MatrixXd>& r) {
+  // Eigen's Jacobi SVD does not end on a NaN entry, and fails on an empty matrix: never handed one.
+  if (r.size() == 0 || !r.allFinite()) return std::numeric_limits<double>::infinity();
+  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
+  if (s.size() == 0 || !(s[s.size() - 1] > 0.0)) return std::numeric_limits<double>::infinity();
   return s[0] / s[s.size() - 1];
 }
 }  // namespace dynid

@@ -144,4 +144,8 @@ namespace dynid {
 /// Condition number (largest over smallest singular value) of A with unit-norm columns; infinity
 /// when A is rank deficient.
 double scaledConditionNumber(const Eigen::MatrixXd& A);
+/// The 2-norm condition number of r, its largest singular value over its smallest (a triangular
+/// factor R of A has A's): infinity when r is empty, has an entry that is not finite, or its
+/// smallest singular value is zero.
+double conditionNumber(const Eigen::Ref<const Eigen::MatrixXd>& r);
 }  // namespace dynid

@@ -6,8 +6,6 @@
 #include <limits>
 #include <string>
 
-#include <Eigen/SVD>
-
 #include "core/errors.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -336,12 +334,6 @@ Eigen::MatrixXd stackedTriangularFactor(const Eigen::Ref<const Eigen::MatrixXd>&
     tail.noalias() -= v.head(m) * w.head(rest);
   }
   return r;
-}
-
-double conditionNumber(const Eigen::Ref<const Eigen::MatrixXd>& r) {
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(r).singularValues();
-  if (s.size() == 0 || !(s[s.size() - 1] > 0.0)) return std::numeric_limits<double>::infinity();
-  return s[0] / s[s.size() - 1];
 }
 
 }  // namespace dynid

@@ -80,9 +80,4 @@ class TallQr {
 Eigen::MatrixXd stackedTriangularFactor(const Eigen::Ref<const Eigen::MatrixXd>& a,
                                         const Eigen::Ref<const Eigen::MatrixXd>& b);
 
-/// The 2-norm condition number of r, its largest singular value over its smallest (a factor R of A
-/// has A's): infinity when r is empty or its smallest singular value is not above zero (zero, or
-/// NaN from a NaN entry).
-double conditionNumber(const Eigen::Ref<const Eigen::MatrixXd>& r);
-
 }  // namespace dynid

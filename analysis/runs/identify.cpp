@@ -8,8 +8,6 @@
 #include <optional>
 #include <vector>
 
-#include <Eigen/SVD>
-
 #include "analysis/runs/arm.hpp"
 #include "analysis/runs/summarize.hpp"
 #include "analysis/runs/training.hpp"
@@ -47,12 +45,11 @@ IdentifiabilityOutcome identifiabilityRun(const Model& model, const StructuralOp
       addDatasetFile(stream, model, data_file, pool);
     const LeastSquaresStream::Factor f = stream.factor();
     Eigen::VectorXd r_diagonal = f.r_scaled.diagonal().cwiseAbs();
-    const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(f.r_scaled).singularValues();
-    const bool full = stream.numSamples() * model.numJoints() >= out.base.numBase() &&
-                      f.norms.minCoeff() > 0.0 && s.size() > 0 && s[s.size() - 1] > 0.0;
-    out.data =
-        DataExcitation{data_file, stream.numSamples(), excitationFromRDiagonal(r_diagonal),
-                       full ? s[0] / s[s.size() - 1] : std::numeric_limits<double>::infinity()};
+    const bool full =
+        stream.numSamples() * model.numJoints() >= out.base.numBase() && f.norms.minCoeff() > 0.0;
+    out.data = DataExcitation{
+        data_file, stream.numSamples(), excitationFromRDiagonal(r_diagonal),
+        full ? conditionNumber(f.r_scaled) : std::numeric_limits<double>::infinity()};
   }
   return out;
 }

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
+
+#include <Eigen/Geometry>
 
 #include "core/errors.hpp"
 #include "core/parameters.hpp"
@@ -211,6 +214,25 @@ TEST(BaseParameters, TheErrorScaleTreatsRoundOffZerosLikeZeros) {
   EXPECT_NEAR(baseParameterError(beta, truth, &max), std::sqrt((0.01 + 0.01) / 4.0), 1e-15);
   EXPECT_NEAR(max, 0.1, 1e-15);
   EXPECT_EQ(baseParameterScale(Eigen::VectorXd::Zero(2)), Eigen::VectorXd::Ones(2));
+}
+
+TEST(BaseParameters, TheConditionNumberIsTheSingularValuesRatioAndInfiniteWithoutOne) {
+  // A rotation times diag(4, 1): singular values 4 and 1 whatever the rotation.
+  const Eigen::Matrix2d rotation = Eigen::Rotation2Dd(0.3).toRotationMatrix();
+  const Eigen::MatrixXd r = rotation * Eigen::Vector2d(4.0, 1.0).asDiagonal();
+  EXPECT_NEAR(conditionNumber(r), 4.0, 1e-12);
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(conditionNumber(Eigen::MatrixXd(0, 0)), inf);
+  EXPECT_EQ(conditionNumber(Eigen::Matrix2d(Eigen::Vector2d(4.0, 0.0).asDiagonal())), inf);
+  // An entry that is not finite (Eigen's Jacobi SVD would not end on a NaN).
+  Eigen::MatrixXd nan = r;
+  nan(1, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(conditionNumber(nan), inf);
+  nan(1, 1) = inf;
+  EXPECT_EQ(conditionNumber(nan), inf);
+  // The scaled one is the condition number of A with unit columns: here 4 and 1 rotated are
+  // already orthogonal columns of norms 4 and 1, so 1.
+  EXPECT_NEAR(scaledConditionNumber(r), 1.0, 1e-12);
 }
 
 TEST(BaseParameters, RejectsBadInput) {
